@@ -1,0 +1,774 @@
+//! The HAL host: creates and owns the instance, runs realtime components
+//! and threads, and brings everything to a safe state on a fault or exit.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use super::clock::TickClock;
+use super::funct::{ExecEntry, ExecList, FunctCode, FunctCtx};
+use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
+use super::thread::{self, HostShared, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
+use crate::error::{HalError, Result};
+use crate::handles::{Param, Pin};
+use crate::objects::funct::{
+    add_entry_tx, delete_thread_tx, new_funct_tx, new_thread_tx, position_to_index,
+    remove_entry_tx, NewThread,
+};
+use crate::objects::{validate_instance_name, Component, ComponentKind, HostLock, Instance};
+use crate::shm::{paths, FunctRec, Segment, ThreadRec};
+
+/// Default size of the shared segment: 32 MiB, sixteen times LinuxCNC's.
+pub const DEFAULT_SHM_SIZE: u64 = 32 << 20;
+
+/// How to start a host.
+#[derive(Debug, Clone)]
+pub struct HostConfig {
+    /// Instance name (see [`crate::instance_from_env`]).
+    pub instance: String,
+    /// Segment size in bytes.
+    pub shm_size: u64,
+    /// Whether to ask for realtime scheduling.
+    pub realtime: RealtimeMode,
+}
+
+impl HostConfig {
+    /// A configuration for `instance` with default size; realtime is
+    /// attempted unless `HAL_NO_REALTIME` is set.
+    pub fn new(instance: &str) -> HostConfig {
+        HostConfig {
+            instance: instance.to_string(),
+            shm_size: std::env::var("HAL_SHM_SIZE")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(DEFAULT_SHM_SIZE),
+            realtime: if std::env::var_os("HAL_NO_REALTIME").is_some() {
+                RealtimeMode::Off
+            } else {
+                RealtimeMode::Auto
+            },
+        }
+    }
+}
+
+type Hook = Box<dyn FnMut() + Send>;
+
+struct FunctSlot {
+    name: String,
+    rec_off: u64,
+    code: Arc<FunctCode>,
+    reentrant: bool,
+    /// Threads whose list holds this function (host bookkeeping; the
+    /// segment's copy is for display only).
+    threads: Vec<String>,
+}
+
+struct HostThread {
+    ctl: Arc<ThreadCtl>,
+    join: Option<JoinHandle<()>>,
+    /// Code ids in execution order.
+    functs: Vec<usize>,
+}
+
+struct LoadedComp {
+    comp: Component,
+    functs: Vec<usize>,
+    safe_state: Option<Hook>,
+}
+
+#[derive(Default)]
+struct HostState {
+    functs: Vec<Option<FunctSlot>>,
+    by_name: HashMap<String, usize>,
+    threads: Vec<HostThread>,
+    comps: Vec<LoadedComp>,
+    memory_locked: bool,
+}
+
+/// The host of one HAL instance.
+pub struct Host {
+    inst: Instance,
+    shared: Arc<HostShared>,
+    state: Arc<Mutex<HostState>>,
+    supervisor: Option<JoinHandle<()>>,
+    notes: Mutex<Vec<String>>,
+    shut_down: AtomicBool,
+    _lock: HostLock,
+}
+
+impl Host {
+    /// Starts a host: takes the instance's lock (failing if another host
+    /// holds it), reclaims a segment left by a dead host, creates a fresh one.
+    pub fn create(config: HostConfig) -> Result<Host> {
+        validate_instance_name(&config.instance)?;
+        let lock = HostLock::acquire(&config.instance)?;
+        let mut notes = Vec::new();
+        let seg_path = paths::segment(&config.instance);
+        if seg_path.exists() {
+            // We hold the lock, so whoever made this is gone.
+            std::fs::remove_file(&seg_path)
+                .map_err(|e| HalError::io("removing stale segment", &seg_path, e))?;
+            notes.push(format!(
+                "reclaimed segment {} left by a host that died",
+                seg_path.display()
+            ));
+        }
+        let seg = Arc::new(Segment::create(&config.instance, config.shm_size)?);
+        let (realtime, cpu_note) = match config.realtime {
+            RealtimeMode::Off => (false, None),
+            RealtimeMode::Auto => match realtime::probe_fifo(TOP_PRIORITY) {
+                Ok(()) => (true, None),
+                Err(why) => (false, Some(why)),
+            },
+        };
+        if let Some(why) = cpu_note {
+            notes.push(format!(
+                "realtime scheduling unavailable, threads run without it \
+                 (serialised, no preemption): {why}"
+            ));
+        }
+        let shared = Arc::new(HostShared {
+            seg: seg.clone(),
+            running: AtomicBool::new(false),
+            gate: (Mutex::new(()), Condvar::new()),
+            serial: (!realtime).then(|| Mutex::new(())),
+            timing: AtomicBool::new(true),
+            fault: AtomicUsize::new(NO_FAULT),
+            fault_signal: (Mutex::new(0), Condvar::new()),
+            clock: TickClock::calibrate(),
+            realtime,
+        });
+        let state = Arc::new(Mutex::new(HostState::default()));
+        let supervisor = {
+            let shared = shared.clone();
+            let state = state.clone();
+            std::thread::Builder::new()
+                .name("hal-supervisor".into())
+                .spawn(move || supervise(shared, state))
+                .map_err(|e| HalError::io("starting supervisor thread", "", e))?
+        };
+        Ok(Host {
+            inst: Instance { seg },
+            shared,
+            state,
+            supervisor: Some(supervisor),
+            notes: Mutex::new(notes),
+            shut_down: AtomicBool::new(false),
+            _lock: lock,
+        })
+    }
+
+    /// The instance this host serves.
+    pub fn instance(&self) -> &Instance {
+        &self.inst
+    }
+
+    /// Whether threads run under SCHED_FIFO.
+    pub fn is_realtime(&self) -> bool {
+        self.shared.realtime
+    }
+
+    /// Notes about the set-up (missing permissions and how to grant them, a
+    /// reclaimed segment). Each is also printed once to stderr when it
+    /// first matters.
+    pub fn notes(&self) -> Vec<String> {
+        lock(&self.notes).clone()
+    }
+
+    fn add_note(&self, note: String) {
+        let mut n = lock(&self.notes);
+        if !n.contains(&note) {
+            eprintln!("HAL: note: {note}");
+            n.push(note);
+        }
+    }
+
+    /// Turns per-function timing (`<funct>.time`, `.tmax`) on or off; the
+    /// thread's own `time` is always measured.
+    pub fn set_function_timing(&self, on: bool) {
+        self.shared.timing.store(on, Relaxed);
+    }
+
+    /// Starts building a realtime component in this host.
+    pub fn new_rt_component(&self, name: &str) -> Result<RtComponentBuilder<'_>> {
+        let comp = self.inst.new_component(name, ComponentKind::Realtime)?;
+        Ok(RtComponentBuilder {
+            host: self,
+            comp: Some(comp),
+            functs: Vec::new(),
+            safe_state: None,
+        })
+    }
+
+    fn export_funct(
+        &self,
+        comp: &Component,
+        name: &str,
+        uses_fp: bool,
+        code: FunctCode,
+        reentrant: bool,
+    ) -> Result<usize> {
+        let mut st = lock(&self.state);
+        let code_id = st.functs.len();
+        let rec_off = self
+            .inst
+            .tx(|tx| new_funct_tx(tx, comp.offset(), name, code_id as u64, uses_fp, reentrant))?;
+        st.functs.push(Some(FunctSlot {
+            name: name.to_string(),
+            rec_off,
+            code: Arc::new(code),
+            reentrant,
+            threads: Vec::new(),
+        }));
+        st.by_name.insert(name.to_string(), code_id);
+        Ok(code_id)
+    }
+
+    fn drop_functs(&self, ids: &[usize]) {
+        let mut st = lock(&self.state);
+        for &id in ids {
+            if let Some(slot) = st.functs.get_mut(id).and_then(Option::take) {
+                st.by_name.remove(&slot.name);
+            }
+        }
+    }
+
+    /// Creates a thread (as `loadrt threads` does) with LinuxCNC's rules:
+    /// the first thread fixes the base period, later ones are rounded to a
+    /// multiple of it and must not be faster than any earlier one. Returns
+    /// the period in use. `cpu` pins this thread to a CPU explicitly.
+    pub fn create_thread(
+        &self,
+        name: &str,
+        period_ns: i64,
+        uses_fp: bool,
+        cpu: Option<usize>,
+    ) -> Result<i64> {
+        let mut st = lock(&self.state);
+        let (off, period) = self.inst.tx(|tx| {
+            new_thread_tx(
+                tx,
+                &NewThread {
+                    name,
+                    period: period_ns,
+                    uses_fp,
+                    cpu,
+                },
+            )
+        })?;
+        let seg = &self.inst.seg;
+        let built = (|| -> Result<(i32, Arc<ThreadCtl>)> {
+            let rec: &ThreadRec = seg.rec(off)?;
+            let priority = rec.priority.load(Relaxed) as i32;
+            let placement = cpu.or_else(|| {
+                if self.shared.realtime {
+                    realtime::default_cpu()
+                } else {
+                    None
+                }
+            });
+            let ctl = Arc::new(ThreadCtl {
+                name: name.to_string(),
+                period,
+                priority,
+                cpu: placement,
+                rec_off: off,
+                list: AtomicPtr::new(Box::into_raw(Box::default())),
+                epoch: AtomicU64::new(0),
+                idle: AtomicBool::new(true),
+                exit: AtomicBool::new(false),
+                time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
+                tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
+                beat: Pin::new(seg, rec.beat_pin.load(Relaxed))?,
+            });
+            Ok((priority, ctl))
+        })();
+        let (_, ctl) = match built {
+            Ok(b) => b,
+            Err(e) => {
+                let _ = self.inst.tx(|tx| delete_thread_tx(tx, off));
+                return Err(e);
+            }
+        };
+        let join = {
+            let ctl = ctl.clone();
+            let shared = self.shared.clone();
+            std::thread::Builder::new()
+                .name(format!("hal-{name}"))
+                .spawn(move || thread::run(ctl, shared))
+        };
+        let join = match join {
+            Ok(j) => j,
+            Err(e) => {
+                let _ = self.inst.tx(|tx| delete_thread_tx(tx, off));
+                // SAFETY: the list was never shared with a running executor.
+                drop(unsafe { Box::from_raw(ctl.list.load(SeqCst)) });
+                return Err(HalError::io("starting thread", "", e));
+            }
+        };
+        st.threads.push(HostThread {
+            ctl,
+            join: Some(join),
+            functs: Vec::new(),
+        });
+        drop(st);
+        for note in lock(&self.notes).clone() {
+            eprintln!("HAL: note: {note}");
+        }
+        Ok(period)
+    }
+
+    /// Deletes a thread; its functions stay loaded.
+    pub fn delete_thread(&self, name: &str) -> Result<()> {
+        let mut st = lock(&self.state);
+        let idx = thread_index(&st, name)?;
+        let mut t = st.threads.remove(idx);
+        t.ctl.exit.store(true, SeqCst);
+        self.wake_executors();
+        if let Some(j) = t.join.take() {
+            let _ = j.join();
+        }
+        for id in &t.functs {
+            if let Some(Some(slot)) = st.functs.get_mut(*id) {
+                slot.threads.retain(|n| n != name);
+            }
+        }
+        // SAFETY: the executor has exited; nobody else reads the list.
+        drop(unsafe { Box::from_raw(t.ctl.list.swap(std::ptr::null_mut(), SeqCst)) });
+        self.inst.tx(|tx| delete_thread_tx(tx, t.ctl.rec_off))
+    }
+
+    /// Adds a function to a thread (halcmd `addf`). `position` as halcmd:
+    /// -1 appends, 1 puts it first, -2 before the last, and so on.
+    pub fn addf(&self, funct: &str, thread: &str, position: i32) -> Result<()> {
+        let mut st = lock(&self.state);
+        let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
+            kind: "function",
+            name: funct.to_string(),
+        })?;
+        let ti = thread_index(&st, thread)?;
+        let slot = st.functs[id].as_ref().ok_or_else(|| HalError::NotFound {
+            kind: "function",
+            name: funct.to_string(),
+        })?;
+        if !slot.reentrant && !slot.threads.is_empty() {
+            return Err(HalError::FunctInUse {
+                funct: funct.to_string(),
+                thread: slot.threads[0].clone(),
+            });
+        }
+        let len = st.threads[ti].functs.len();
+        let index = position_to_index(position, len).ok_or_else(|| HalError::BadPosition {
+            thread: thread.to_string(),
+            position,
+            len,
+        })?;
+        let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        self.inst
+            .tx(|tx| add_entry_tx(tx, thread_off, rec_off, index))?;
+        st.threads[ti].functs.insert(index, id);
+        if let Some(slot) = st.functs[id].as_mut() {
+            slot.threads.push(thread.to_string());
+        }
+        self.publish(&st, ti)
+    }
+
+    /// Removes a function from a thread (halcmd `delf`); with no thread,
+    /// from every thread it is in.
+    pub fn delf(&self, funct: &str, thread: Option<&str>) -> Result<()> {
+        let mut st = lock(&self.state);
+        let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
+            kind: "function",
+            name: funct.to_string(),
+        })?;
+        let targets: Vec<usize> = match thread {
+            Some(t) => {
+                let ti = thread_index(&st, t)?;
+                if !st.threads[ti].functs.contains(&id) {
+                    return Err(HalError::FunctNotInThread {
+                        funct: funct.to_string(),
+                        thread: t.to_string(),
+                    });
+                }
+                vec![ti]
+            }
+            None => (0..st.threads.len())
+                .filter(|&i| st.threads[i].functs.contains(&id))
+                .collect(),
+        };
+        for ti in targets {
+            self.remove_from_thread(&mut st, ti, id)?;
+        }
+        Ok(())
+    }
+
+    fn remove_from_thread(&self, st: &mut HostState, ti: usize, id: usize) -> Result<()> {
+        let Some(slot) = st.functs.get(id).and_then(Option::as_ref) else {
+            return Ok(());
+        };
+        let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        self.inst
+            .tx(|tx| remove_entry_tx(tx, thread_off, rec_off).map(|_| ()))?;
+        let tname = st.threads[ti].ctl.name.clone();
+        if let Some(pos) = st.threads[ti].functs.iter().position(|&f| f == id) {
+            st.threads[ti].functs.remove(pos);
+        }
+        if let Some(Some(slot)) = st.functs.get_mut(id) {
+            if let Some(p) = slot.threads.iter().position(|n| *n == tname) {
+                slot.threads.remove(p);
+            }
+        }
+        self.publish(st, ti)
+    }
+
+    /// Builds thread `ti`'s list from the host's bookkeeping, swaps it in,
+    /// and frees the old one once the executor has passed a boundary.
+    fn publish(&self, st: &HostState, ti: usize) -> Result<()> {
+        let seg = &self.inst.seg;
+        let mut entries = Vec::with_capacity(st.threads[ti].functs.len());
+        for &id in &st.threads[ti].functs {
+            let Some(slot) = st.functs.get(id).and_then(Option::as_ref) else {
+                continue;
+            };
+            let rec: &FunctRec = seg.rec(slot.rec_off)?;
+            entries.push(ExecEntry {
+                code: slot.code.clone(),
+                code_id: id,
+                time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
+                tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
+                tmax_increased: Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
+            });
+        }
+        let ctl = &st.threads[ti].ctl;
+        let new = Box::into_raw(Box::new(ExecList { entries }));
+        let old = ctl.list.swap(new, SeqCst);
+        if wait_for_boundary(ctl, Duration::from_secs(10)) {
+            // SAFETY: the executor is idle or has finished a cycle since the
+            // swap, so it no longer references `old`.
+            drop(unsafe { Box::from_raw(old) });
+        } else {
+            // A function has been running for 10 s; keeping the old list
+            // alive (leaked) is the only safe choice.
+            self.add_note(format!(
+                "thread '{}' did not reach a cycle boundary within 10 s; an old function list was leaked",
+                ctl.name
+            ));
+        }
+        Ok(())
+    }
+
+    /// Starts all threads (halcmd `start`). Refused after a fault until
+    /// [`Host::clear_fault`].
+    pub fn start(&self) -> Result<()> {
+        let fault = self.shared.fault.load(Acquire);
+        if fault != NO_FAULT {
+            return Err(HalError::Faulted {
+                instance: self.inst.name().to_string(),
+                funct: self.funct_name(fault),
+            });
+        }
+        {
+            let mut st = lock(&self.state);
+            if !st.memory_locked {
+                st.memory_locked = true;
+                if let Err(why) = realtime::lock_memory() {
+                    drop(st);
+                    self.add_note(why);
+                }
+            }
+        }
+        self.shared.running.store(true, SeqCst);
+        self.wake_executors();
+        Ok(())
+    }
+
+    /// Stops all threads (halcmd `stop`). Threads freeze between cycles;
+    /// outputs keep their values: this is not a safe state. Returns once no
+    /// function is running.
+    pub fn stop(&self) {
+        self.shared.running.store(false, SeqCst);
+        let st = lock(&self.state);
+        for t in &st.threads {
+            wait_for_boundary(&t.ctl, Duration::from_secs(10));
+        }
+    }
+
+    /// Whether threads are started.
+    pub fn is_running(&self) -> bool {
+        self.shared.running.load(Acquire)
+    }
+
+    /// The function that panicked, if any.
+    pub fn fault(&self) -> Option<String> {
+        match self.shared.fault.load(Acquire) {
+            NO_FAULT => None,
+            id => Some(self.funct_name(id)),
+        }
+    }
+
+    /// Forgets a fault so that threads may be started again.
+    pub fn clear_fault(&self) {
+        self.shared.fault.store(NO_FAULT, SeqCst);
+    }
+
+    fn funct_name(&self, id: usize) -> String {
+        lock(&self.state)
+            .functs
+            .get(id)
+            .and_then(|s| s.as_ref().map(|s| s.name.clone()))
+            .unwrap_or_else(|| format!("#{id}"))
+    }
+
+    fn wake_executors(&self) {
+        let (m, cv) = &self.shared.gate;
+        let _g = lock(m);
+        cv.notify_all();
+    }
+
+    /// Unloads a realtime component: takes its functions out of every
+    /// thread (waiting for each thread to pass a boundary), calls its
+    /// safe-state hook, then frees it.
+    pub fn unload(&self, comp: &str) -> Result<()> {
+        let mut st = lock(&self.state);
+        let ci = st
+            .comps
+            .iter()
+            .position(|c| c.comp.name() == comp)
+            .ok_or_else(|| HalError::NotFound {
+                kind: "component",
+                name: comp.to_string(),
+            })?;
+        self.unload_at(&mut st, ci)
+    }
+
+    fn unload_at(&self, st: &mut HostState, ci: usize) -> Result<()> {
+        let ids = st.comps[ci].functs.clone();
+        for id in &ids {
+            for ti in 0..st.threads.len() {
+                while st.threads[ti].functs.contains(id) {
+                    self.remove_from_thread(st, ti, *id)?;
+                }
+            }
+        }
+        let mut lc = st.comps.remove(ci);
+        if let Some(hook) = lc.safe_state.as_mut() {
+            hook();
+        }
+        for id in &ids {
+            if let Some(slot) = st.functs.get_mut(*id).and_then(Option::take) {
+                st.by_name.remove(&slot.name);
+            }
+        }
+        drop(lc);
+        Ok(())
+    }
+
+    /// Names of the loaded realtime components, in load order.
+    pub fn loaded_components(&self) -> Vec<String> {
+        lock(&self.state)
+            .comps
+            .iter()
+            .map(|c| c.comp.name().to_string())
+            .collect()
+    }
+
+    /// Stops threads, calls every safe-state hook in reverse load order,
+    /// unloads everything and removes the segment. Called by `Drop` too.
+    pub fn shutdown(&self) {
+        if self.shut_down.swap(true, SeqCst) {
+            return;
+        }
+        self.shared.running.store(false, SeqCst);
+        let mut st = lock(&self.state);
+        for t in &st.threads {
+            t.ctl.exit.store(true, SeqCst);
+        }
+        self.wake_executors();
+        for t in &mut st.threads {
+            if let Some(j) = t.join.take() {
+                let _ = j.join();
+            }
+        }
+        for c in st.comps.iter_mut().rev() {
+            if let Some(h) = c.safe_state.as_mut() {
+                h();
+            }
+        }
+        while let Some(c) = st.comps.pop() {
+            drop(c);
+        }
+        for t in st.threads.drain(..) {
+            // SAFETY: every executor has exited.
+            let p = t.ctl.list.swap(std::ptr::null_mut(), SeqCst);
+            if !p.is_null() {
+                drop(unsafe { Box::from_raw(p) });
+            }
+        }
+        st.functs.clear();
+        drop(st);
+        {
+            let (m, cv) = &self.shared.fault_signal;
+            *lock(m) = SUPERVISOR_EXIT;
+            cv.notify_all();
+        }
+        self.inst.seg.unlink();
+    }
+}
+
+impl Drop for Host {
+    fn drop(&mut self) {
+        self.shutdown();
+        if let Some(s) = self.supervisor.take() {
+            let _ = s.join();
+        }
+    }
+}
+
+/// Waits until the executor is idle or has passed a boundary.
+fn wait_for_boundary(ctl: &ThreadCtl, limit: Duration) -> bool {
+    let e0 = ctl.epoch.load(SeqCst);
+    if ctl.idle.load(SeqCst) {
+        return true;
+    }
+    let start = Instant::now();
+    while ctl.epoch.load(SeqCst) == e0 && !ctl.idle.load(SeqCst) {
+        if start.elapsed() > limit {
+            return false;
+        }
+        std::thread::sleep(Duration::from_micros(50));
+    }
+    true
+}
+
+fn thread_index(st: &HostState, name: &str) -> Result<usize> {
+    st.threads
+        .iter()
+        .position(|t| t.ctl.name == name)
+        .ok_or_else(|| HalError::NotFound {
+            kind: "thread",
+            name: name.to_string(),
+        })
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Waits for a fault; then brings every component to its safe state.
+fn supervise(shared: Arc<HostShared>, state: Arc<Mutex<HostState>>) {
+    loop {
+        {
+            let (m, cv) = &shared.fault_signal;
+            let mut req = lock(m);
+            while *req == 0 {
+                req = cv.wait(req).unwrap_or_else(|e| e.into_inner());
+            }
+            if *req == SUPERVISOR_EXIT {
+                return;
+            }
+            *req = 0;
+        }
+        let fault = shared.fault.load(Acquire);
+        if fault == NO_FAULT {
+            continue;
+        }
+        let mut st = lock(&state);
+        let name = st
+            .functs
+            .get(fault)
+            .and_then(|s| s.as_ref().map(|s| s.name.clone()))
+            .unwrap_or_default();
+        eprintln!(
+            "HAL: function '{name}' panicked; all threads of instance '{}' halted, components put in their safe state",
+            shared.seg.instance()
+        );
+        if let Some(rec) = st.functs.get(fault).and_then(|s| s.as_ref()) {
+            shared.seg.header().fault_funct.store(rec.rec_off, SeqCst);
+        }
+        for c in st.comps.iter_mut().rev() {
+            if let Some(h) = c.safe_state.as_mut() {
+                h();
+            }
+        }
+    }
+}
+
+/// Builds a realtime component inside the host. Dropped without
+/// [`ready`](Self::ready), it removes everything it created.
+pub struct RtComponentBuilder<'h> {
+    host: &'h Host,
+    comp: Option<Component>,
+    functs: Vec<usize>,
+    safe_state: Option<Hook>,
+}
+
+impl RtComponentBuilder<'_> {
+    /// The component, to create pins, params and regions on.
+    pub fn component(&self) -> &Component {
+        self.comp.as_ref().expect("component present until ready")
+    }
+
+    /// Exports a non-reentrant function: it may be added to one thread.
+    pub fn funct(
+        &mut self,
+        name: &str,
+        uses_fp: bool,
+        f: impl FnMut(&FunctCtx) + Send + 'static,
+    ) -> Result<()> {
+        let code = FunctCode::Exclusive(std::cell::UnsafeCell::new(Box::new(f)));
+        let id = self
+            .host
+            .export_funct(self.component(), name, uses_fp, code, false)?;
+        self.functs.push(id);
+        Ok(())
+    }
+
+    /// Exports a reentrant function: it may be added to several threads.
+    pub fn funct_reentrant(
+        &mut self,
+        name: &str,
+        uses_fp: bool,
+        f: impl Fn(&FunctCtx) + Send + Sync + 'static,
+    ) -> Result<()> {
+        let code = FunctCode::Shared(Box::new(f));
+        let id = self
+            .host
+            .export_funct(self.component(), name, uses_fp, code, true)?;
+        self.functs.push(id);
+        Ok(())
+    }
+
+    /// Sets the hook that puts the component's outputs in a safe state
+    /// (outputs off, amplifiers disabled); called after a fault, at unload
+    /// and at host exit, in reverse load order.
+    pub fn on_safe_state(&mut self, f: impl FnMut() + Send + 'static) {
+        self.safe_state = Some(Box::new(f));
+    }
+
+    /// Marks the component ready and hands it to the host.
+    pub fn ready(mut self) -> Result<()> {
+        let comp = self.comp.take().expect("component present until ready");
+        if let Err(e) = comp.ready() {
+            self.comp = Some(comp);
+            return Err(e);
+        }
+        let mut st = lock(&self.host.state);
+        st.comps.push(LoadedComp {
+            comp,
+            functs: std::mem::take(&mut self.functs),
+            safe_state: self.safe_state.take(),
+        });
+        Ok(())
+    }
+}
+
+impl Drop for RtComponentBuilder<'_> {
+    fn drop(&mut self) {
+        if self.comp.is_some() {
+            self.host.drop_functs(&self.functs);
+            self.comp = None;
+        }
+    }
+}

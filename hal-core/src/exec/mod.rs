@@ -1,0 +1,11 @@
+//! The host side: realtime components, threads and their executor.
+
+pub mod clock;
+mod funct;
+mod host;
+pub mod realtime;
+mod thread;
+
+pub use funct::FunctCtx;
+pub use host::{Host, HostConfig, RtComponentBuilder, DEFAULT_SHM_SIZE};
+pub use realtime::{RealtimeMode, TOP_PRIORITY};

@@ -1,0 +1,137 @@
+//! Realtime set-up of executor threads: SCHED_FIFO priority, CPU placement,
+//! memory locking and timer slack, and a plain account of any permission
+//! that is missing.
+
+use std::fmt::Write as _;
+
+/// Priority of the fastest thread; each slower one gets one less.
+pub const TOP_PRIORITY: i32 = 90;
+
+/// How the host asks for realtime scheduling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RealtimeMode {
+    /// Use SCHED_FIFO when permitted, else run without it and say why.
+    Auto,
+    /// Never use SCHED_FIFO (threads are serialised by a lock instead).
+    Off,
+}
+
+/// Whether the current process may use SCHED_FIFO at `priority`: tries it
+/// on a short-lived probe thread so the caller's own policy is untouched.
+pub fn probe_fifo(priority: i32) -> Result<(), String> {
+    let handle = std::thread::spawn(move || set_fifo(priority));
+    handle
+        .join()
+        .unwrap_or_else(|_| Err("probe thread panicked".into()))
+}
+
+/// Puts the calling thread under SCHED_FIFO at `priority`.
+pub fn set_fifo(priority: i32) -> Result<(), String> {
+    let param = libc::sched_param {
+        sched_priority: priority,
+    };
+    // SAFETY: pthread_setschedparam on the calling thread with a valid param.
+    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+    if rc == 0 {
+        Ok(())
+    } else {
+        Err(explain_fifo_failure(rc, priority))
+    }
+}
+
+fn explain_fifo_failure(rc: i32, priority: i32) -> String {
+    let mut msg = format!(
+        "SCHED_FIFO priority {priority} refused ({})",
+        std::io::Error::from_raw_os_error(rc)
+    );
+    if rc == libc::EPERM {
+        let limit = rlimit(libc::RLIMIT_RTPRIO);
+        let _ = write!(
+            msg,
+            ": the rtprio limit is {} and the process lacks CAP_SYS_NICE. Grant it with \
+             a line '@hal - rtprio 99' in /etc/security/limits.d/hal.conf (then log in \
+             again), or 'setcap cap_sys_nice+ep' on the host binary, or run 'ulimit -r 99' \
+             as root before starting",
+            limit.map_or("unknown".to_string(), |l| l.to_string())
+        );
+        if let Ok(rt) = std::fs::read_to_string("/proc/sys/kernel/sched_rt_runtime_us") {
+            if rt.trim() == "0" {
+                msg.push_str(
+                    "; also kernel.sched_rt_runtime_us is 0, which forbids realtime tasks",
+                );
+            }
+        }
+    }
+    msg
+}
+
+/// Pins the calling thread to `cpu`.
+pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
+    let mut set = nix::sched::CpuSet::new();
+    set.set(cpu)
+        .map_err(|e| format!("CPU {cpu} cannot be used: {e}"))?;
+    nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(0), &set)
+        .map_err(|e| format!("pinning to CPU {cpu} failed: {e}"))
+}
+
+/// The CPU HAL threads share by default: the last one this process may use.
+pub fn default_cpu() -> Option<usize> {
+    let set = nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(0)).ok()?;
+    (0..nix::sched::CpuSet::count())
+        .rev()
+        .find(|&c| set.is_set(c).unwrap_or(false))
+}
+
+/// Locks the process's memory as it is touched. Returns a description of
+/// the problem if that is not permitted.
+pub fn lock_memory() -> Result<(), String> {
+    // MCL_ONFAULT locks pages as they are faulted in, so a large segment is
+    // not made resident (and charged) up front.
+    const MCL_ONFAULT: i32 = 4;
+    // SAFETY: mlockall only changes paging behaviour.
+    let rc = unsafe { libc::mlockall(libc::MCL_CURRENT | MCL_ONFAULT) };
+    if rc == 0 {
+        return Ok(());
+    }
+    let err = std::io::Error::last_os_error();
+    let limit = rlimit(libc::RLIMIT_MEMLOCK);
+    Err(format!(
+        "locking memory failed ({err}); the memlock limit is {} bytes. Grant it with a \
+         line '@hal - memlock unlimited' in /etc/security/limits.d/hal.conf (then log in \
+         again), or give the host CAP_IPC_LOCK",
+        limit.map_or("unknown".to_string(), |l| if l == u64::MAX {
+            "unlimited".to_string()
+        } else {
+            l.to_string()
+        })
+    ))
+}
+
+/// Sets the calling thread's timer slack to 1 ns.
+pub fn tight_timer_slack() {
+    // SAFETY: PR_SET_TIMERSLACK takes an integer argument only.
+    unsafe {
+        libc::prctl(libc::PR_SET_TIMERSLACK, 1 as libc::c_ulong, 0, 0, 0);
+    }
+}
+
+/// Touches `bytes` of the calling thread's stack so later use never faults.
+#[inline(never)]
+pub fn prefault_stack() {
+    let mut buf = [0u8; 64 * 1024];
+    for i in (0..buf.len()).step_by(4096) {
+        // SAFETY: volatile write into our own stack array.
+        unsafe { std::ptr::write_volatile(&mut buf[i], 1) };
+    }
+    std::hint::black_box(&buf);
+}
+
+fn rlimit(resource: libc::__rlimit_resource_t) -> Option<u64> {
+    let mut r = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit writes into the struct we pass.
+    let rc = unsafe { libc::getrlimit(resource, &mut r) };
+    (rc == 0).then_some(r.rlim_cur)
+}

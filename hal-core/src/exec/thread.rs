@@ -1,0 +1,198 @@
+//! The executor: one OS thread per HAL thread, running its function list
+//! every period to absolute deadlines on CLOCK_MONOTONIC.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::{Arc, Condvar, Mutex};
+
+use super::clock::{monotonic_ns, sleep_until, TickClock};
+use super::funct::{ExecList, FunctCtx};
+use super::realtime;
+use crate::handles::{Out, Param, Pin, Rw};
+use crate::shm::{latency_bucket, Segment, ThreadRec, HIST_BUCKETS};
+
+/// Supervisor request: a function faulted.
+pub(crate) const SUPERVISOR_FAULT: u8 = 1;
+/// Supervisor request: the host is shutting down.
+pub(crate) const SUPERVISOR_EXIT: u8 = 2;
+
+/// No function has faulted.
+pub(crate) const NO_FAULT: usize = usize::MAX;
+
+/// State the host shares with every executor.
+pub(crate) struct HostShared {
+    pub seg: Arc<Segment>,
+    /// Threads run their lists only while this is set (`start`/`stop`).
+    pub running: AtomicBool,
+    /// Executors park here while stopped.
+    pub gate: (Mutex<()>, Condvar),
+    /// Without realtime scheduling, held for a whole cycle so that two HAL
+    /// threads never run at once.
+    pub serial: Option<Mutex<()>>,
+    /// Per-function timing on or off.
+    pub timing: AtomicBool,
+    /// Code id of the function that panicked, or NO_FAULT.
+    pub fault: AtomicUsize,
+    /// Wakes the supervisor: [`SUPERVISOR_FAULT`] or [`SUPERVISOR_EXIT`].
+    pub fault_signal: (Mutex<u8>, Condvar),
+    pub clock: TickClock,
+    pub realtime: bool,
+}
+
+/// Control block of one executor, shared with the host.
+pub(crate) struct ThreadCtl {
+    pub name: String,
+    pub period: i64,
+    pub priority: i32,
+    pub cpu: Option<usize>,
+    pub rec_off: u64,
+    pub list: AtomicPtr<ExecList>,
+    /// Incremented at every cycle boundary and whenever the executor parks.
+    pub epoch: AtomicU64,
+    /// True while the executor holds no reference to its list.
+    pub idle: AtomicBool,
+    pub exit: AtomicBool,
+    pub time: Pin<i32, Out>,
+    pub tmax: Param<i32, Rw>,
+    pub beat: Pin<i64, Out>,
+}
+
+impl HostShared {
+    fn wait_for_start(&self, ctl: &ThreadCtl) {
+        let (lock, cv) = &self.gate;
+        let mut g = lock.lock().unwrap_or_else(|e| e.into_inner());
+        while !self.running.load(Acquire) && !ctl.exit.load(Acquire) {
+            g = cv.wait(g).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+
+    /// Called on the realtime thread when a function panicked: halts every
+    /// thread and wakes the supervisor, which does the rest.
+    fn report_fault(&self, code_id: usize) {
+        let _ = self
+            .fault
+            .compare_exchange(NO_FAULT, code_id, AcqRel, Acquire);
+        self.running.store(false, SeqCst);
+        let (lock, cv) = &self.fault_signal;
+        let mut req = lock.lock().unwrap_or_else(|e| e.into_inner());
+        if *req != SUPERVISOR_EXIT {
+            *req = SUPERVISOR_FAULT;
+        }
+        drop(req);
+        cv.notify_all();
+    }
+}
+
+/// The body of an executor thread.
+pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
+    if sh.realtime {
+        // Failures were reported when the host probed its permissions.
+        let _ = realtime::set_fifo(ctl.priority);
+    }
+    if let Some(cpu) = ctl.cpu {
+        let _ = realtime::pin_to_cpu(cpu);
+    }
+    realtime::tight_timer_slack();
+    realtime::prefault_stack();
+    let Ok(rec) = sh.seg.rec::<ThreadRec>(ctl.rec_off) else {
+        return;
+    };
+    let grace = &sh.seg.header().grace_epoch;
+    let ctx = FunctCtx::new(ctl.period);
+    let period = ctl.period as u64;
+    let clock = sh.clock;
+
+    'park: loop {
+        ctl.idle.store(true, SeqCst);
+        rec.seen_epoch.store(u64::MAX, SeqCst);
+        rec.running.store(0, Relaxed);
+        ctl.epoch.fetch_add(1, SeqCst);
+        sh.wait_for_start(&ctl);
+        if ctl.exit.load(Acquire) {
+            break;
+        }
+        rec.running.store(1, Relaxed);
+        let mut next = monotonic_ns() + period;
+        loop {
+            sleep_until(next);
+            if ctl.exit.load(Acquire) {
+                break 'park;
+            }
+            if !sh.running.load(Acquire) {
+                continue 'park;
+            }
+            let woke = monotonic_ns();
+            record_latency(rec, woke.saturating_sub(next));
+
+            // Announce that we may now hold references: first to the grace
+            // epoch (for retired value cells), then to our list.
+            ctl.idle.store(false, SeqCst);
+            rec.seen_epoch.store(grace.load(SeqCst), SeqCst);
+            let guard = sh
+                .serial
+                .as_ref()
+                .map(|m| m.lock().unwrap_or_else(|e| e.into_inner()));
+            // SAFETY: the host only frees a list after replacing it and
+            // seeing this thread pass a boundary (epoch bump) or idle.
+            let list = unsafe { &*ctl.list.load(SeqCst) };
+            let timing = sh.timing.load(Relaxed);
+            let start = clock.now();
+            let mut prev = start;
+            let mut faulted = false;
+            for e in &list.entries {
+                // SAFETY: a non-reentrant function is in this list only, and
+                // this thread runs its list sequentially.
+                let r = catch_unwind(AssertUnwindSafe(|| unsafe { e.code.call(&ctx) }));
+                if r.is_err() {
+                    sh.report_fault(e.code_id);
+                    faulted = true;
+                    break;
+                }
+                if timing {
+                    let now = clock.now();
+                    e.record(clock.to_ns(now.wrapping_sub(prev)));
+                    prev = now;
+                }
+            }
+            let end = if timing { prev } else { clock.now() };
+            let t = clock.to_ns(end.wrapping_sub(start)).min(i32::MAX as u64) as i32;
+            ctl.time.set(t);
+            if t > ctl.tmax.get() {
+                ctl.tmax.set(t);
+            }
+            ctl.beat.set(ctl.beat.get().wrapping_add(1));
+            rec.cycles.fetch_add(1, Relaxed);
+            drop(guard);
+            ctl.idle.store(true, SeqCst);
+            rec.seen_epoch.store(u64::MAX, SeqCst);
+            ctl.epoch.fetch_add(1, SeqCst);
+            if faulted {
+                continue 'park;
+            }
+
+            next += period;
+            let now = monotonic_ns();
+            if now > next {
+                // Deadlines already missed are skipped, each counted once.
+                let missed = (now - next) / period + 1;
+                rec.overruns.fetch_add(missed, Relaxed);
+                next += missed * period;
+            }
+        }
+    }
+    ctl.idle.store(true, SeqCst);
+    rec.seen_epoch.store(u64::MAX, SeqCst);
+    rec.running.store(0, Relaxed);
+    ctl.epoch.fetch_add(1, SeqCst);
+}
+
+fn record_latency(rec: &ThreadRec, ns: u64) {
+    let b = latency_bucket(ns).min(HIST_BUCKETS - 1);
+    rec.hist[b].fetch_add(1, Relaxed);
+    if ns < rec.lat_min_ns.load(Relaxed) {
+        rec.lat_min_ns.store(ns, Relaxed);
+    }
+    if ns > rec.lat_max_ns.load(Relaxed) {
+        rec.lat_max_ns.store(ns, Relaxed);
+    }
+}

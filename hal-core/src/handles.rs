@@ -1,0 +1,175 @@
+//! Typed pin and parameter handles for realtime code.
+//!
+//! A pin handle points at the pin's slot in the segment. The slot holds the
+//! offset of the value cell in use (the pin's own, or its signal's once
+//! linked), so `get` and `set` are one load of the slot plus one access to
+//! the cell: no allocation, lock or system call. The offset is clamped into
+//! the segment without a branch, so even a corrupted slot cannot make the
+//! process touch memory outside the segment.
+
+use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+use std::sync::Arc;
+
+use crate::error::Result;
+use crate::shm::{ParamRec, PinRec, Segment};
+use crate::types::{ParamDir, PinDir, PinValue};
+
+/// Marker for a pin direction.
+pub trait Direction: Send + Sync + 'static {
+    /// The direction this marker stands for.
+    const DIR: PinDir;
+}
+/// Marker for directions the owning component writes.
+pub trait Writable: Direction {}
+
+/// Input pin marker.
+pub struct In;
+/// Output pin marker.
+pub struct Out;
+/// Bidirectional pin marker.
+pub struct Io;
+impl Direction for In {
+    const DIR: PinDir = PinDir::In;
+}
+impl Direction for Out {
+    const DIR: PinDir = PinDir::Out;
+}
+impl Direction for Io {
+    const DIR: PinDir = PinDir::Io;
+}
+impl Writable for Out {}
+impl Writable for Io {}
+
+/// Marker for parameter access.
+pub trait ParamAccess: Send + Sync + 'static {
+    /// The access this marker stands for.
+    const DIR: ParamDir;
+}
+/// Read-only parameter marker (only the component writes it).
+pub struct Ro;
+/// Read-write parameter marker.
+pub struct Rw;
+impl ParamAccess for Ro {
+    const DIR: ParamDir = ParamDir::Ro;
+}
+impl ParamAccess for Rw {
+    const DIR: ParamDir = ParamDir::Rw;
+}
+
+/// A pin of value type `T` and direction `D`.
+pub struct Pin<T: PinValue, D: Direction> {
+    slot: *const AtomicU64,
+    base: *const u8,
+    limit: u64,
+    _seg: Arc<Segment>,
+    _marker: PhantomData<fn() -> (T, D)>,
+}
+
+// SAFETY: the handle only performs atomic accesses to shared memory that the
+// Arc keeps mapped; sharing or sending it between threads is sound.
+unsafe impl<T: PinValue, D: Direction> Send for Pin<T, D> {}
+// SAFETY: as above.
+unsafe impl<T: PinValue, D: Direction> Sync for Pin<T, D> {}
+
+impl<T: PinValue, D: Direction> Pin<T, D> {
+    pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<Self> {
+        let rec: &PinRec = seg.rec(off)?;
+        Ok(Pin {
+            slot: &rec.slot,
+            base: seg.base(),
+            limit: seg.cell_limit(),
+            _seg: seg.clone(),
+            _marker: PhantomData,
+        })
+    }
+
+    #[inline(always)]
+    fn cell(&self) -> &AtomicU64 {
+        // SAFETY: `slot` points into the mapping, which `_seg` keeps alive.
+        let off = unsafe { &*self.slot }.load(Relaxed);
+        let off = off.min(self.limit) & !7;
+        // SAFETY: `off` is clamped to [0, size-8] and 8-aligned, so the word
+        // lies inside the mapping; any bits are a valid AtomicU64.
+        unsafe { &*(self.base.add(off as usize) as *const AtomicU64) }
+    }
+
+    /// The pin's current value (its signal's, if linked).
+    #[inline(always)]
+    pub fn get(&self) -> T {
+        T::from_bits(self.cell().load(Relaxed))
+    }
+}
+
+impl<T: PinValue, D: Writable> Pin<T, D> {
+    /// Writes the pin (its signal, if linked).
+    #[inline(always)]
+    pub fn set(&self, v: T) {
+        self.cell().store(v.to_bits(), Relaxed)
+    }
+}
+
+impl<T: PinValue> Pin<T, In> {
+    /// Writes an input pin. A few LinuxCNC components correct their own
+    /// inputs (a limited frequency, a zero scale); this is for them.
+    #[inline(always)]
+    pub fn overwrite(&self, v: T) {
+        self.cell().store(v.to_bits(), Relaxed)
+    }
+}
+
+/// A parameter of value type `T`. The owning component may always write it;
+/// `A` says whether `setp` may.
+pub struct Param<T: PinValue, A: ParamAccess> {
+    value: *const AtomicU64,
+    _seg: Arc<Segment>,
+    _marker: PhantomData<fn() -> (T, A)>,
+}
+
+// SAFETY: as for Pin: atomic accesses to memory the Arc keeps mapped.
+unsafe impl<T: PinValue, A: ParamAccess> Send for Param<T, A> {}
+// SAFETY: as above.
+unsafe impl<T: PinValue, A: ParamAccess> Sync for Param<T, A> {}
+
+impl<T: PinValue, A: ParamAccess> Param<T, A> {
+    pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<Self> {
+        let rec: &ParamRec = seg.rec(off)?;
+        Ok(Param {
+            value: &rec.value,
+            _seg: seg.clone(),
+            _marker: PhantomData,
+        })
+    }
+
+    /// The parameter's value.
+    #[inline(always)]
+    pub fn get(&self) -> T {
+        // SAFETY: points into the mapping kept alive by `_seg`.
+        T::from_bits(unsafe { &*self.value }.load(Relaxed))
+    }
+
+    /// Sets the parameter.
+    #[inline(always)]
+    pub fn set(&self, v: T) {
+        // SAFETY: as in `get`.
+        unsafe { &*self.value }.store(v.to_bits(), Relaxed)
+    }
+}
+
+impl<T: PinValue + std::fmt::Debug, D: Direction> std::fmt::Debug for Pin<T, D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Pin")
+            .field("dir", &D::DIR)
+            .field("value", &self.get())
+            .finish()
+    }
+}
+
+impl<T: PinValue + std::fmt::Debug, A: ParamAccess> std::fmt::Debug for Param<T, A> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Param")
+            .field("dir", &A::DIR)
+            .field("value", &self.get())
+            .finish()
+    }
+}

@@ -1,0 +1,41 @@
+//! The HAL core: one HAL instance in shared memory that a host process, its
+//! realtime components and tools in other processes share.
+//!
+//! * [`Host`] creates the instance, runs realtime components and threads.
+//! * [`Instance`] is any process's view: components, pins, params, signals,
+//!   links, aliases, regions, and snapshots for display.
+//! * [`Pin`] and [`Param`] are the typed realtime handles.
+//! * [`RingWriter`]/[`RingReader`] and [`SeqLockWriter`]/[`SeqLockReader`]
+//!   are the lock-free channels between realtime code and other processes.
+//!
+//! Module overview: `shm` (the segment: layout, lock, journal, allocator),
+//! `objects` (the HAL objects and their rules), `handles` (realtime access),
+//! `exec` (host, threads, executor), `ring` and `seqlock` (channels),
+//! `userspace` (helpers for user-space component processes).
+
+pub mod error;
+mod exec;
+pub mod handles;
+pub mod name;
+mod objects;
+pub mod ring;
+pub mod seqlock;
+pub(crate) mod shm;
+pub mod types;
+pub mod userspace;
+
+pub use error::{HalError, Result};
+pub use exec::clock;
+pub use exec::realtime;
+pub use exec::{
+    FunctCtx, Host, HostConfig, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE, TOP_PRIORITY,
+};
+pub use handles::{In, Io, Out, Param, Pin, Ro, Rw};
+pub use objects::{
+    instance_from_env, validate_instance_name, AliasKind, Component, ComponentInfo, ComponentKind,
+    FunctInfo, Instance, ParamInfo, PinInfo, Region, RegionInfo, SignalInfo, ThreadInfo,
+};
+pub use ring::{RingReader, RingWriter};
+pub use seqlock::{SeqLockReader, SeqLockWriter};
+pub use shm::{latency_bucket, latency_bucket_floor_us, paths};
+pub use types::{HalType, ParamDir, PinDir, PinValue, Value};

@@ -1,0 +1,324 @@
+//! Consistent snapshots of the instance's objects, for show, list and save.
+
+use std::sync::atomic::Ordering::*;
+
+use super::component::ComponentKind;
+use super::funct::entries;
+use super::list;
+use super::param::{param_dir, param_type};
+use super::pin::{pin_dir, pin_type};
+use super::signal::sig_type;
+use super::Instance;
+use crate::error::Result;
+use crate::shm::*;
+use crate::types::{HalType, ParamDir, PinDir, Value};
+
+/// A component as `show comp` needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ComponentInfo {
+    pub name: String,
+    pub id: i32,
+    pub kind: ComponentKind,
+    pub ready: bool,
+    pub pid: i32,
+    /// The `loadrt` arguments, if recorded.
+    pub loadrt_args: Option<String>,
+}
+
+/// A pin as `show pin` needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PinInfo {
+    pub name: String,
+    /// The name before `alias`, if aliased.
+    pub orig_name: Option<String>,
+    pub owner_id: i32,
+    pub owner: String,
+    pub hal_type: HalType,
+    pub dir: PinDir,
+    pub value: Value,
+    pub signal: Option<String>,
+}
+
+/// A param as `show param` needs it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamInfo {
+    pub name: String,
+    pub orig_name: Option<String>,
+    pub owner_id: i32,
+    pub owner: String,
+    pub hal_type: HalType,
+    pub dir: ParamDir,
+    pub value: Value,
+}
+
+/// A signal with the pins linked to it, in pin-name order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalInfo {
+    pub name: String,
+    pub hal_type: HalType,
+    pub value: Value,
+    pub writers: u32,
+    pub bidirs: u32,
+    pub readers: u32,
+    pub pins: Vec<(String, PinDir)>,
+}
+
+/// A function's metadata.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FunctInfo {
+    pub name: String,
+    pub owner_id: i32,
+    pub owner: String,
+    pub uses_fp: bool,
+    pub reentrant: bool,
+    /// How many threads call it.
+    pub users: u32,
+    /// Last execution time and maximum, in ns.
+    pub time_ns: i32,
+    pub tmax_ns: i32,
+}
+
+/// A thread with its function list and statistics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThreadInfo {
+    pub name: String,
+    pub period: i64,
+    pub priority: i32,
+    pub uses_fp: bool,
+    pub cpu: Option<usize>,
+    pub functs: Vec<String>,
+    pub running: bool,
+    pub time_ns: i32,
+    pub tmax_ns: i32,
+    pub overruns: u64,
+    pub cycles: u64,
+    /// Wake-up latency extremes (ns); `None` before the first cycle.
+    pub latency_min_ns: Option<u64>,
+    pub latency_max_ns: Option<u64>,
+    /// Wake-up latency histogram; see [`crate::latency_bucket`].
+    pub latency_histogram: Vec<u64>,
+}
+
+/// A named memory region.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionInfo {
+    pub name: String,
+    pub owner_id: i32,
+    pub size: u64,
+}
+
+fn owner(seg: &Segment, off: u64) -> (i32, String) {
+    seg.rec::<CompRec>(off)
+        .map(|c| (c.id.load(Relaxed) as i32, c.name.get()))
+        .unwrap_or((0, String::new()))
+}
+
+fn opt_name(n: &Name) -> Option<String> {
+    (!n.is_empty()).then(|| n.get())
+}
+
+fn value_at(seg: &Segment, off: u64, t: HalType) -> Result<Value> {
+    Ok(Value::from_bits(t, seg.word(off)?.load(Relaxed)))
+}
+
+impl Instance {
+    /// All components, by name.
+    pub fn components(&self) -> Result<Vec<ComponentInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<CompRec>(seg, &seg.header().comps)
+                .map(|r| {
+                    let (_, c) = r?;
+                    let args = match c.args.load(Relaxed) {
+                        0 => None,
+                        b => {
+                            let blob: &BlobRec = seg.rec(b)?;
+                            let len = blob.len.load(Relaxed) as usize;
+                            let words = blob_words_of(seg, b)?;
+                            let mut bytes: Vec<u8> = words
+                                .iter()
+                                .flat_map(|w| w.load(Relaxed).to_le_bytes())
+                                .collect();
+                            bytes.truncate(len);
+                            Some(String::from_utf8_lossy(&bytes).into_owned())
+                        }
+                    };
+                    Ok(ComponentInfo {
+                        name: c.name.get(),
+                        id: c.id.load(Relaxed) as i32,
+                        kind: ComponentKind::from_code(c.kind.load(Relaxed)),
+                        ready: c.ready.load(Relaxed) != 0,
+                        pid: c.pid.load(Relaxed) as i32,
+                        loadrt_args: args,
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All pins, by name.
+    pub fn pins(&self) -> Result<Vec<PinInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<PinRec>(seg, &seg.header().pins)
+                .map(|r| {
+                    let (_, p) = r?;
+                    let t = pin_type(seg, p)?;
+                    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
+                    let sig = p.signal.load(Relaxed);
+                    Ok(PinInfo {
+                        name: p.name.get(),
+                        orig_name: opt_name(&p.orig_name),
+                        owner_id,
+                        owner,
+                        hal_type: t,
+                        dir: pin_dir(seg, p)?,
+                        value: value_at(seg, p.slot.load(Relaxed), t)?,
+                        signal: if sig == 0 {
+                            None
+                        } else {
+                            Some(seg.rec::<SigRec>(sig)?.name.get())
+                        },
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All params, by name.
+    pub fn params(&self) -> Result<Vec<ParamInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<ParamRec>(seg, &seg.header().params)
+                .map(|r| {
+                    let (_, p) = r?;
+                    let t = param_type(seg, p)?;
+                    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
+                    Ok(ParamInfo {
+                        name: p.name.get(),
+                        orig_name: opt_name(&p.orig_name),
+                        owner_id,
+                        owner,
+                        hal_type: t,
+                        dir: param_dir(p),
+                        value: Value::from_bits(t, p.value.load(Relaxed)),
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All signals, by name, with their pins.
+    pub fn signals(&self) -> Result<Vec<SignalInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<SigRec>(seg, &seg.header().signals)
+                .map(|r| {
+                    let (off, s) = r?;
+                    let t = sig_type(seg, s)?;
+                    let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
+                    Ok(SignalInfo {
+                        name: s.name.get(),
+                        hal_type: t,
+                        value: Value::from_bits(t, cell.value.load(Relaxed)),
+                        writers: s.writers.load(Relaxed) as u32,
+                        bidirs: s.bidirs.load(Relaxed) as u32,
+                        readers: s.readers.load(Relaxed) as u32,
+                        pins: super::signal::pins_of(seg, off)?,
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All functions, by name.
+    pub fn functs(&self) -> Result<Vec<FunctInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<FunctRec>(seg, &seg.header().functs)
+                .map(|r| {
+                    let (_, f) = r?;
+                    let (owner_id, owner) = owner(seg, f.owner.load(Relaxed));
+                    Ok(FunctInfo {
+                        name: f.name.get(),
+                        owner_id,
+                        owner,
+                        uses_fp: f.uses_fp.load(Relaxed) != 0,
+                        reentrant: f.reentrant.load(Relaxed) != 0,
+                        users: f.users.load(Relaxed) as u32,
+                        time_ns: seg
+                            .rec::<PinRec>(f.time_pin.load(Relaxed))
+                            .and_then(|p| seg.word(p.slot.load(Relaxed)))
+                            .map(|w| w.load(Relaxed) as i32)
+                            .unwrap_or(0),
+                        tmax_ns: seg
+                            .rec::<ParamRec>(f.tmax_param.load(Relaxed))
+                            .map(|p| p.value.load(Relaxed) as i32)
+                            .unwrap_or(0),
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All threads, slowest first (LinuxCNC's order).
+    pub fn threads(&self) -> Result<Vec<ThreadInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<ThreadRec>(seg, &seg.header().threads)
+                .map(|r| {
+                    let (_, t) = r?;
+                    let functs = entries(seg, t)?
+                        .into_iter()
+                        .map(|f| seg.rec::<FunctRec>(f).map(|f| f.name.get()))
+                        .collect::<Result<_>>()?;
+                    let lat_min = t.lat_min_ns.load(Relaxed);
+                    let cycles = t.cycles.load(Relaxed);
+                    Ok(ThreadInfo {
+                        name: t.name.get(),
+                        period: t.period.load(Relaxed) as i64,
+                        priority: t.priority.load(Relaxed) as i32,
+                        uses_fp: t.uses_fp.load(Relaxed) != 0,
+                        cpu: match t.cpu.load(Relaxed) {
+                            0 => None,
+                            c => Some(c as usize - 1),
+                        },
+                        functs,
+                        running: t.running.load(Relaxed) != 0,
+                        time_ns: seg
+                            .rec::<PinRec>(t.time_pin.load(Relaxed))
+                            .and_then(|p| seg.word(p.slot.load(Relaxed)))
+                            .map(|w| w.load(Relaxed) as i32)
+                            .unwrap_or(0),
+                        tmax_ns: seg
+                            .rec::<ParamRec>(t.tmax_param.load(Relaxed))
+                            .map(|p| p.value.load(Relaxed) as i32)
+                            .unwrap_or(0),
+                        overruns: t.overruns.load(Relaxed),
+                        cycles,
+                        latency_min_ns: (lat_min != u64::MAX).then_some(lat_min),
+                        latency_max_ns: (cycles > 0).then(|| t.lat_max_ns.load(Relaxed)),
+                        latency_histogram: t.hist.iter().map(|h| h.load(Relaxed)).collect(),
+                    })
+                })
+                .collect()
+        })
+    }
+
+    /// All named regions.
+    pub fn regions(&self) -> Result<Vec<RegionInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::iter::<RegionRec>(seg, &seg.header().regions)
+                .map(|r| {
+                    let (_, g) = r?;
+                    Ok(RegionInfo {
+                        name: g.name.get(),
+                        owner_id: owner(seg, g.owner.load(Relaxed)).0,
+                        size: g.size.load(Relaxed),
+                    })
+                })
+                .collect()
+        })
+    }
+}

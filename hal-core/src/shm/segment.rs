@@ -1,0 +1,275 @@
+//! Creating, attaching and addressing the segment.
+
+use std::fs::{File, OpenOptions};
+use std::mem::size_of;
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering::*};
+
+use memmap2::{MmapOptions, MmapRaw};
+
+use super::layout::*;
+use crate::error::{HalError, Result};
+
+/// Where an instance's files live.
+pub mod paths {
+    use std::path::PathBuf;
+
+    /// The shared-memory segment (a file in /dev/shm).
+    pub fn segment(instance: &str) -> PathBuf {
+        PathBuf::from(format!("/dev/shm/hal-{instance}"))
+    }
+
+    fn runtime_dir() -> PathBuf {
+        std::env::var_os("XDG_RUNTIME_DIR")
+            .map(PathBuf::from)
+            .filter(|p| p.is_dir())
+            .unwrap_or_else(std::env::temp_dir)
+    }
+
+    /// The lock file the host holds with flock while alive.
+    pub fn lock(instance: &str) -> PathBuf {
+        runtime_dir().join(format!("hal-{instance}.lock"))
+    }
+
+    /// The host's control socket.
+    pub fn socket(instance: &str) -> PathBuf {
+        runtime_dir().join(format!("hal-{instance}.sock"))
+    }
+}
+
+/// A mapped segment. Shared between threads of one process; each process
+/// maps it at its own address, so nothing in it is a pointer.
+pub(crate) struct Segment {
+    map: MmapRaw,
+    size: u64,
+    instance: String,
+    path: PathBuf,
+}
+
+// SAFETY: the mapping is shared memory that every process and thread accesses
+// only through atomic words (see layout.rs) and the robust mutex.
+unsafe impl Send for Segment {}
+// SAFETY: as above.
+unsafe impl Sync for Segment {}
+
+const HEADER_SIZE: u64 = (size_of::<Header>() as u64 + 63) & !63;
+
+impl Segment {
+    /// Creates and initialises a fresh segment of `size` bytes, all pages
+    /// allocated up front. Fails if the file exists.
+    pub(crate) fn create(instance: &str, size: u64) -> Result<Segment> {
+        let path = paths::segment(instance);
+        let min = HEADER_SIZE + (JOURNAL_CAP as u64) * 16 + 64 * 1024;
+        if size < min {
+            return Err(HalError::BadValue {
+                what: "segment size".into(),
+                reason: format!("{size} bytes is below the minimum of {min}"),
+            });
+        }
+        let file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create_new(true)
+            .mode(0o660)
+            .open(&path)
+            .map_err(|e| HalError::io("creating shared memory segment", &path, e))?;
+        let seg = Self::init_file(instance, &path, &file, size);
+        if seg.is_err() {
+            let _ = std::fs::remove_file(&path);
+        }
+        seg
+    }
+
+    fn init_file(instance: &str, path: &Path, file: &File, size: u64) -> Result<Segment> {
+        nix::fcntl::posix_fallocate(file, 0, size as i64).map_err(|e| {
+            HalError::io(
+                "allocating shared memory (is /dev/shm full?)",
+                path,
+                e.into(),
+            )
+        })?;
+        let map = MmapOptions::new()
+            .len(size as usize)
+            .map_raw(file)
+            .map_err(|e| HalError::io("mapping shared memory segment", path, e))?;
+        let seg = Segment {
+            map,
+            size,
+            instance: instance.to_string(),
+            path: path.to_path_buf(),
+        };
+        let h = seg.header();
+        h.version.store(LAYOUT_VERSION, Relaxed);
+        h.size.store(size, Relaxed);
+        h.host_pid.store(std::process::id() as u64, Relaxed);
+        h.mutex.init().map_err(|source| HalError::Os {
+            op: "initialising the HAL lock",
+            source,
+        })?;
+        h.journal_off.store(HEADER_SIZE, Relaxed);
+        h.alloc_top
+            .store(HEADER_SIZE + JOURNAL_CAP as u64 * 16, Relaxed);
+        h.next_comp_id.store(1, Relaxed);
+        h.next_funct_id.store(1, Relaxed);
+        h.magic.store(MAGIC, Release);
+        Ok(seg)
+    }
+
+    /// Maps an existing segment and checks its header.
+    pub(crate) fn attach(instance: &str) -> Result<Segment> {
+        let path = paths::segment(instance);
+        let not_running = || HalError::NotRunning {
+            instance: instance.to_string(),
+        };
+        let file = match OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(libc::O_NOFOLLOW)
+            .open(&path)
+        {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(not_running()),
+            Err(e) => return Err(HalError::io("opening shared memory segment", &path, e)),
+        };
+        let len = file
+            .metadata()
+            .map_err(|e| HalError::io("reading shared memory segment size", &path, e))?
+            .len();
+        let bad = |reason: String| HalError::BadSegment {
+            instance: instance.to_string(),
+            reason,
+        };
+        if len < HEADER_SIZE {
+            return Err(bad(format!("file is only {len} bytes")));
+        }
+        let map = MmapOptions::new()
+            .len(len as usize)
+            .map_raw(&file)
+            .map_err(|e| HalError::io("mapping shared memory segment", &path, e))?;
+        let seg = Segment {
+            map,
+            size: len,
+            instance: instance.to_string(),
+            path,
+        };
+        let h = seg.header();
+        match h.magic.load(Acquire) {
+            0 => return Err(not_running()),
+            MAGIC => {}
+            m => return Err(bad(format!("wrong magic number {m:#x}"))),
+        }
+        let version = h.version.load(Relaxed);
+        if version != LAYOUT_VERSION {
+            return Err(bad(format!(
+                "layout version {version}, this program understands {LAYOUT_VERSION}"
+            )));
+        }
+        if h.size.load(Relaxed) != len {
+            return Err(bad(format!(
+                "header says {} bytes, file has {len}",
+                h.size.load(Relaxed)
+            )));
+        }
+        let jo = h.journal_off.load(Relaxed);
+        if jo < HEADER_SIZE || jo + JOURNAL_CAP as u64 * 16 > len {
+            return Err(bad(format!("journal offset {jo:#x} out of range")));
+        }
+        Ok(seg)
+    }
+
+    /// Size of the mapping in bytes.
+    pub(crate) fn size(&self) -> u64 {
+        self.size
+    }
+
+    pub(crate) fn instance(&self) -> &str {
+        &self.instance
+    }
+
+    pub(crate) fn base(&self) -> *mut u8 {
+        self.map.as_mut_ptr()
+    }
+
+    pub(crate) fn header(&self) -> &Header {
+        // SAFETY: the mapping is at least HEADER_SIZE bytes (checked at create
+        // and attach), page aligned, and Header consists of atomics and the
+        // pthread mutex, for which any bit pattern is a valid Rust value.
+        unsafe { &*(self.base() as *const Header) }
+    }
+
+    fn check_range(&self, off: u64, len: u64) -> Result<()> {
+        if off == 0 || off % 8 != 0 || off.checked_add(len).is_none_or(|end| end > self.size) {
+            return Err(HalError::BadOffset {
+                offset: off,
+                size: self.size,
+            });
+        }
+        Ok(())
+    }
+
+    /// The record of type `T` at `off`, after checking bounds, alignment and tag.
+    pub(crate) fn rec<T: Record>(&self, off: u64) -> Result<&T> {
+        self.check_range(off, size_of::<T>() as u64)?;
+        // SAFETY: the range lies inside the mapping and is 8-byte aligned;
+        // every record type is repr(C) and made only of AtomicU64 words (or
+        // arrays of them), for which every bit pattern is valid.
+        let r = unsafe { &*(self.base().add(off as usize) as *const T) };
+        // The tag is the first word of every record.
+        // SAFETY: same range as above; the first word is an AtomicU64.
+        let tag = unsafe { &*(self.base().add(off as usize) as *const AtomicU64) }.load(Acquire);
+        if tag != T::TAG {
+            return Err(HalError::BadSegment {
+                instance: self.instance.clone(),
+                reason: format!(
+                    "record at {off:#x} has tag {tag:#x}, expected {:#x}",
+                    T::TAG
+                ),
+            });
+        }
+        Ok(r)
+    }
+
+    /// A run of `count` words at `off`, after a bounds check.
+    pub(crate) fn words(&self, off: u64, count: u64) -> Result<&[AtomicU64]> {
+        self.check_range(off, count.saturating_mul(8))?;
+        // SAFETY: bounds and alignment checked; AtomicU64 accepts any bits.
+        Ok(unsafe {
+            std::slice::from_raw_parts(
+                self.base().add(off as usize) as *const AtomicU64,
+                count as usize,
+            )
+        })
+    }
+
+    /// The word at `off` (bounds-checked).
+    pub(crate) fn word(&self, off: u64) -> Result<&AtomicU64> {
+        Ok(&self.words(off, 1)?[0])
+    }
+
+    /// Offset of a reference into this segment.
+    pub(crate) fn offset_of<T>(&self, r: &T) -> u64 {
+        (r as *const T as usize - self.base() as usize) as u64
+    }
+
+    /// Largest offset a value cell may start at; used to clamp offsets on
+    /// the realtime path instead of branching.
+    pub(crate) fn cell_limit(&self) -> u64 {
+        (self.size - 8) & !7
+    }
+
+    /// Journal entry `i` as (offset word, old value word).
+    pub(crate) fn journal_entry(&self, i: usize) -> (&AtomicU64, &AtomicU64) {
+        let base = self.header().journal_off.load(Relaxed) + i as u64 * 16;
+        // Checked at attach: the whole journal lies inside the mapping.
+        let w = self
+            .words(base, 2)
+            .expect("journal range was validated when the segment was attached");
+        (&w[0], &w[1])
+    }
+
+    /// Removes the segment file (the host does this on exit).
+    pub(crate) fn unlink(&self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}

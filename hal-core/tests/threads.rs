@@ -1,0 +1,305 @@
+//! Threads and the executor: order, periods, overruns, structural changes
+//! while running, faults, and mutual exclusion of HAL threads.
+
+mod common;
+
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::*};
+use std::sync::{Arc, Mutex};
+
+use common::*;
+use hal_core::*;
+
+#[test]
+fn functions_run_in_insert_order_every_period() {
+    let host = host("order");
+    let log = Arc::new(Mutex::new(Vec::<u8>::new()));
+    let mut b = host.new_rt_component("seq").unwrap();
+    for (name, tag) in [
+        ("seq.a", b'a'),
+        ("seq.b", b'b'),
+        ("seq.c", b'c'),
+        ("seq.d", b'd'),
+    ] {
+        let log = log.clone();
+        b.funct(name, false, move |_| log.lock().unwrap().push(tag))
+            .unwrap();
+    }
+    b.ready().unwrap();
+    assert_eq!(
+        host.create_thread("fast", 200_000, true, None).unwrap(),
+        200_000
+    );
+    host.addf("seq.b", "fast", -1).unwrap(); // b
+    host.addf("seq.a", "fast", 1).unwrap(); // a b
+    host.addf("seq.d", "fast", -1).unwrap(); // a b d
+    host.addf("seq.c", "fast", -2).unwrap(); // a b c d
+    assert_eq!(
+        host.instance().threads().unwrap()[0].functs,
+        ["seq.a", "seq.b", "seq.c", "seq.d"]
+    );
+    let beat = || match host.instance().pin_value("fast.threadbeat").unwrap() {
+        Value::S64(v) => v,
+        v => panic!("{v:?}"),
+    };
+    host.start().unwrap();
+    assert!(wait_until(30.0, || beat() >= 1100));
+    host.stop();
+    let cycles = beat() as usize;
+    let log = log.lock().unwrap();
+    assert_eq!(log.len(), cycles * 4, "every function once per cycle");
+    assert!(
+        log.chunks(4).all(|c| c == b"abcd"),
+        "order kept in every cycle"
+    );
+    let t = &host.instance().threads().unwrap()[0];
+    assert_eq!(t.cycles as usize, cycles);
+    assert_eq!(t.latency_histogram.iter().sum::<u64>(), t.cycles);
+    // Per-function timing pins and params exist and were written.
+    assert!(matches!(host.instance().param_value("seq.a.tmax").unwrap(), Value::S32(v) if v > 0));
+}
+
+#[test]
+fn bad_addf_and_thread_requests_are_refused() {
+    let host = host("addf");
+    let mut b = host.new_rt_component("c").unwrap();
+    b.funct("c.f", false, |_| {}).unwrap();
+    b.funct_reentrant("c.r", false, |_| {}).unwrap();
+    b.ready().unwrap();
+    host.create_thread("t1", 100_000, true, None).unwrap();
+    assert_eq!(
+        host.create_thread("t2", 1_040_000, true, None).unwrap(),
+        1_000_000,
+        "rounded to a base multiple"
+    );
+    assert!(matches!(
+        host.create_thread("t3", 50_000, true, None),
+        Err(HalError::PeriodBelowBase { .. })
+    ));
+    assert!(matches!(
+        host.create_thread("t3", 500_000, true, None),
+        Err(HalError::ThreadOrder { .. })
+    ));
+    assert!(matches!(
+        host.create_thread("t1", 2_000_000, true, None),
+        Err(HalError::Duplicate { kind: "thread", .. })
+    ));
+    assert!(matches!(
+        host.create_thread("t4", 0, true, None),
+        Err(HalError::ZeroPeriod { .. })
+    ));
+    assert!(matches!(
+        host.addf("c.f", "t1", 3),
+        Err(HalError::BadPosition { .. })
+    ));
+    assert!(matches!(
+        host.addf("c.f", "t1", 0),
+        Err(HalError::BadPosition { .. })
+    ));
+    assert!(matches!(
+        host.addf("nope", "t1", -1),
+        Err(HalError::NotFound {
+            kind: "function",
+            ..
+        })
+    ));
+    assert!(matches!(
+        host.addf("c.f", "nope", -1),
+        Err(HalError::NotFound { kind: "thread", .. })
+    ));
+    host.addf("c.f", "t1", -1).unwrap();
+    assert!(matches!(
+        host.addf("c.f", "t2", -1),
+        Err(HalError::FunctInUse { .. })
+    ));
+    host.addf("c.r", "t1", -1).unwrap();
+    host.addf("c.r", "t2", -1).unwrap();
+    assert!(matches!(
+        host.delf("c.f", Some("t2")),
+        Err(HalError::FunctNotInThread { .. })
+    ));
+    host.delf("c.f", None).unwrap();
+    host.addf("c.f", "t2", 1).unwrap();
+    let th = host.instance().threads().unwrap();
+    assert_eq!(th[0].name, "t2", "slowest first");
+    assert_eq!(th[0].functs, ["c.f", "c.r"]);
+    assert_eq!(th[1].functs, ["c.r"]);
+    host.unload("c").unwrap();
+    assert!(host
+        .instance()
+        .threads()
+        .unwrap()
+        .iter()
+        .all(|t| t.functs.is_empty()));
+    assert!(host.instance().functs().unwrap().is_empty());
+    host.delete_thread("t2").unwrap();
+    assert_eq!(host.instance().threads().unwrap().len(), 1);
+    assert!(host
+        .instance()
+        .components()
+        .unwrap()
+        .iter()
+        .all(|c| c.name != "__t2"));
+}
+
+#[test]
+fn overruns_are_counted() {
+    let host = host("overrun");
+    let mut b = host.new_rt_component("slow").unwrap();
+    let calls = Arc::new(AtomicU64::new(0));
+    let c2 = calls.clone();
+    b.funct("slow.sleep", false, move |_| {
+        if c2.fetch_add(1, Relaxed) % 2 == 0 {
+            std::thread::sleep(std::time::Duration::from_millis(3));
+        }
+    })
+    .unwrap();
+    b.ready().unwrap();
+    host.create_thread("t", 1_000_000, true, None).unwrap();
+    host.addf("slow.sleep", "t", -1).unwrap();
+    host.start().unwrap();
+    assert!(wait_until(10.0, || calls.load(Relaxed) >= 10));
+    host.stop();
+    let t = &host.instance().threads().unwrap()[0];
+    assert!(t.overruns >= 5, "overruns {}", t.overruns);
+    assert!(
+        matches!(host.instance().param_value("t.tmax").unwrap(), Value::S32(v) if v >= 3_000_000)
+    );
+}
+
+#[test]
+fn nets_change_while_threads_run() {
+    let host = host("livenet");
+    let inst = host.instance().clone();
+    let mut b = host.new_rt_component("cp").unwrap();
+    let input: Pin<f64, In> = b.component().pin("cp.in").unwrap();
+    let output: Pin<f64, Out> = b.component().pin("cp.out").unwrap();
+    b.funct("cp", true, move |_| output.set(input.get() + 1.0))
+        .unwrap();
+    b.ready().unwrap();
+    let src = inst.new_component("src", ComponentKind::User).unwrap();
+    let drive: Pin<f64, Out> = src.pin("src.out").unwrap();
+    let sink: Pin<f64, In> = src.pin("src.in").unwrap();
+    host.create_thread("t", 100_000, true, None).unwrap();
+    host.addf("cp", "t", -1).unwrap();
+    host.start().unwrap();
+    for i in 0..200 {
+        inst.newsig("a", HalType::Float).unwrap();
+        inst.newsig("b", HalType::Float).unwrap();
+        inst.link("src.out", "a").unwrap();
+        inst.link("cp.in", "a").unwrap();
+        inst.link("cp.out", "b").unwrap();
+        inst.link("src.in", "b").unwrap();
+        drive.set(i as f64);
+        assert!(
+            wait_until(5.0, || sink.get() == i as f64 + 1.0),
+            "value flows through the running thread"
+        );
+        if i % 2 == 0 {
+            inst.delsig("a").unwrap();
+            inst.delsig("b").unwrap();
+        } else {
+            for p in ["src.out", "cp.in", "cp.out", "src.in"] {
+                inst.unlink(p).unwrap();
+            }
+            inst.delsig_all().unwrap();
+        }
+    }
+    host.stop();
+}
+
+#[test]
+fn a_panicking_function_halts_threads_and_calls_safe_state() {
+    let host = host("panic");
+    let safe = Arc::new(AtomicBool::new(false));
+    let mut b = host.new_rt_component("bad").unwrap();
+    let n = Arc::new(AtomicU64::new(0));
+    let n2 = n.clone();
+    b.funct("bad.f", false, move |_| {
+        if n2.fetch_add(1, Relaxed) == 20 {
+            panic!("deliberate test panic");
+        }
+    })
+    .unwrap();
+    let s2 = safe.clone();
+    b.on_safe_state(move || s2.store(true, SeqCst));
+    b.ready().unwrap();
+    host.create_thread("t", 200_000, true, None).unwrap();
+    host.addf("bad.f", "t", -1).unwrap();
+    host.start().unwrap();
+    assert!(
+        wait_until(10.0, || safe.load(SeqCst)),
+        "safe-state hook called"
+    );
+    assert_eq!(host.fault().as_deref(), Some("bad.f"));
+    assert!(!host.is_running());
+    let calls = n.load(SeqCst);
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    assert_eq!(n.load(SeqCst), calls, "threads stay halted");
+    assert!(matches!(host.start(), Err(HalError::Faulted { .. })));
+    // The instance stays inspectable.
+    assert_eq!(host.instance().functs().unwrap()[0].name, "bad.f");
+}
+
+#[test]
+fn fast_thread_increments_slow_thread_resets_without_realtime() {
+    threads_test(RealtimeMode::Off);
+}
+
+#[test]
+fn fast_thread_increments_slow_thread_resets_with_realtime_if_permitted() {
+    threads_test(RealtimeMode::Auto);
+}
+
+/// LinuxCNC's threads test: a fast thread increments a counter with a
+/// read-modify-write, a slow one resets it. Every value the fast thread
+/// sees is its previous value + 1, or 1 right after a reset.
+/// The counter lives in one signal: the increment reads and writes it
+/// through an io pin in the fast thread, the reset writes it through
+/// another io pin in the slow thread.
+fn threads_test(realtime: RealtimeMode) {
+    let host = host_with("threads", realtime);
+    let inst = host.instance().clone();
+    let mut b = host.new_rt_component("threadtest").unwrap();
+    let count: Pin<u32, Io> = b.component().pin("threadtest.0.count").unwrap();
+    let zero: Pin<u32, Io> = b.component().pin("threadtest.0.zero").unwrap();
+    let mut ring = RingWriter::create(b.component(), "threadtest.samples", 8192, 1).unwrap();
+    b.funct("threadtest.0.increment", false, move |_| {
+        let v = count.get().wrapping_add(1);
+        count.set(v);
+        ring.push(&[v as u64]);
+    })
+    .unwrap();
+    b.funct("threadtest.0.reset", false, move |_| zero.set(0))
+        .unwrap();
+    b.ready().unwrap();
+    inst.newsig("count", HalType::U32).unwrap();
+    inst.link("threadtest.0.count", "count").unwrap();
+    inst.link("threadtest.0.zero", "count").unwrap();
+    let mut reader = RingReader::open(&inst, "threadtest.samples").unwrap();
+    host.create_thread("fast", 100_000, true, None).unwrap();
+    host.create_thread("slow", 1_000_000, true, None).unwrap();
+    host.addf("threadtest.0.increment", "fast", -1).unwrap();
+    host.addf("threadtest.0.reset", "slow", -1).unwrap();
+    host.start().unwrap();
+    let mut samples = Vec::new();
+    let mut rec = [0u64; 1];
+    let ok = wait_until(60.0, || {
+        while reader.pop(&mut rec) {
+            samples.push(rec[0] as u32);
+        }
+        samples.len() >= 3500
+    });
+    host.stop();
+    assert!(ok, "got {} samples", samples.len());
+    samples.truncate(3500);
+    assert_eq!(samples[0], 1);
+    let mut resets = 0;
+    for w in samples.windows(2) {
+        if w[1] == 1 {
+            resets += 1;
+        } else {
+            assert_eq!(w[1], w[0] + 1, "increment raced with reset: {samples:?}");
+        }
+    }
+    assert!(resets > 0);
+}
