@@ -1,6 +1,7 @@
 //! The code of realtime functions, kept in the host's private memory.
 
 use std::cell::UnsafeCell;
+use std::sync::Arc;
 
 use crate::handles::{Out, Param, Pin, Ro, Rw};
 
@@ -68,16 +69,14 @@ impl FunctCode {
     }
 }
 
-/// One function in an executor's list, with its timing outputs.
-pub(crate) struct ExecEntry {
-    pub code: std::sync::Arc<FunctCode>,
-    pub code_id: usize,
+/// The timing outputs of one function in an executor's list.
+pub(crate) struct TimingOut {
     pub time: Pin<i32, Out>,
     pub tmax: Param<i32, Rw>,
     pub tmax_increased: Param<bool, Ro>,
 }
 
-impl ExecEntry {
+impl TimingOut {
     /// Publishes one execution time.
     #[inline(always)]
     pub(crate) fn record(&self, ns: u64) {
@@ -91,8 +90,25 @@ impl ExecEntry {
     }
 }
 
-/// A thread's function list, replaced whole by the host.
+/// A thread's function list, replaced whole by the host. The calls sit in a
+/// dense array of their own so that a cycle without per-function timing
+/// walks only 8 bytes per function.
 #[derive(Default)]
 pub(crate) struct ExecList {
-    pub entries: Vec<ExecEntry>,
+    /// The code to call, in order; kept alive by `owners`.
+    pub calls: Vec<*const FunctCode>,
+    /// Timing outputs, parallel to `calls`.
+    pub timing: Vec<TimingOut>,
+    /// Host code ids, parallel to `calls` (for fault reports).
+    pub ids: Vec<usize>,
+    pub owners: Vec<Arc<FunctCode>>,
+}
+
+impl ExecList {
+    pub(crate) fn push(&mut self, code: Arc<FunctCode>, id: usize, timing: TimingOut) {
+        self.calls.push(Arc::as_ptr(&code));
+        self.owners.push(code);
+        self.ids.push(id);
+        self.timing.push(timing);
+    }
 }

@@ -8,7 +8,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::clock::TickClock;
-use super::funct::{ExecEntry, ExecList, FunctCode, FunctCtx};
+use super::funct::{ExecList, FunctCode, FunctCtx, TimingOut};
 use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
 use super::thread::{self, HostShared, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
 use crate::error::{HalError, Result};
@@ -427,22 +427,21 @@ impl Host {
     /// and frees the old one once the executor has passed a boundary.
     fn publish(&self, st: &HostState, ti: usize) -> Result<()> {
         let seg = &self.inst.seg;
-        let mut entries = Vec::with_capacity(st.threads[ti].functs.len());
+        let mut list = ExecList::default();
         for &id in &st.threads[ti].functs {
             let Some(slot) = st.functs.get(id).and_then(Option::as_ref) else {
                 continue;
             };
             let rec: &FunctRec = seg.rec(slot.rec_off)?;
-            entries.push(ExecEntry {
-                code: slot.code.clone(),
-                code_id: id,
+            let timing = TimingOut {
                 time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
                 tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 tmax_increased: Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
-            });
+            };
+            list.push(slot.code.clone(), id, timing);
         }
         let ctl = &st.threads[ti].ctl;
-        let new = Box::into_raw(Box::new(ExecList { entries }));
+        let new = Box::into_raw(Box::new(list));
         let old = ctl.list.swap(new, SeqCst);
         if wait_for_boundary(ctl, Duration::from_secs(10)) {
             // SAFETY: the executor is idle or has finished a cycle since the

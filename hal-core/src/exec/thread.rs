@@ -139,18 +139,19 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             let start = clock.now();
             let mut prev = start;
             let mut faulted = false;
-            for e in &list.entries {
-                // SAFETY: a non-reentrant function is in this list only, and
-                // this thread runs its list sequentially.
-                let r = catch_unwind(AssertUnwindSafe(|| unsafe { e.code.call(&ctx) }));
+            for (i, &code) in list.calls.iter().enumerate() {
+                // SAFETY: `code` is kept alive by `list.owners`; a
+                // non-reentrant function is in this list only, and this
+                // thread runs its list sequentially.
+                let r = catch_unwind(AssertUnwindSafe(|| unsafe { (*code).call(&ctx) }));
                 if r.is_err() {
-                    sh.report_fault(e.code_id);
+                    sh.report_fault(list.ids[i]);
                     faulted = true;
                     break;
                 }
                 if timing {
                     let now = clock.now();
-                    e.record(clock.to_ns(now.wrapping_sub(prev)));
+                    list.timing[i].record(clock.to_ns(now.wrapping_sub(prev)));
                     prev = now;
                 }
             }

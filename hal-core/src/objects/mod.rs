@@ -114,3 +114,27 @@ pub fn validate_instance_name(name: &str) -> Result<()> {
         })
     }
 }
+
+impl Instance {
+    /// Test support: starts a structural change (a half-created signal
+    /// `name` on the list, a component id taken), then stalls for `stall`
+    /// while holding the lock, then fails. Killing the process during the
+    /// stall is how tests show that a dead lock holder's change is rolled
+    /// back and the instance is not wedged.
+    #[doc(hidden)]
+    pub fn debug_stall_mid_change(&self, name: &str, stall: std::time::Duration) -> Result<()> {
+        use crate::shm::{BlockKind, SigRec};
+        self.tx(|tx| {
+            let h = tx.header();
+            tx.set(&h.next_comp_id, h.next_comp_id.load(Relaxed) + 1)?;
+            let (off, rec) = tx.alloc::<SigRec>(BlockKind::Signal)?;
+            rec.name.init(name);
+            list::insert_sorted(tx, &h.signals, off, rec)?;
+            std::thread::sleep(stall);
+            Err(HalError::BadValue {
+                what: "debug_stall_mid_change".into(),
+                reason: "stalled change abandoned".into(),
+            })
+        })
+    }
+}
