@@ -61,6 +61,7 @@ impl ParamAccess for Rw {
 pub struct Pin<T: PinValue, D: Direction> {
     slot: *const AtomicU64,
     base: *const u8,
+    floor: u64,
     limit: u64,
     _seg: Arc<Segment>,
     _marker: PhantomData<fn() -> (T, D)>,
@@ -78,6 +79,7 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
         Ok(Pin {
             slot: &rec.slot,
             base: seg.base(),
+            floor: seg.cell_floor(),
             limit: seg.cell_limit(),
             _seg: seg.clone(),
             _marker: PhantomData,
@@ -88,9 +90,10 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
     fn cell(&self) -> &AtomicU64 {
         // SAFETY: `slot` points into the mapping, which `_seg` keeps alive.
         let off = unsafe { &*self.slot }.load(Relaxed);
-        let off = off.min(self.limit) & !7;
-        // SAFETY: `off` is clamped to [0, size-8] and 8-aligned, so the word
-        // lies inside the mapping; any bits are a valid AtomicU64.
+        let off = off.clamp(self.floor, self.limit) & !7;
+        // SAFETY: `off` is clamped to [floor, size-8] and 8-aligned, so the
+        // word lies inside the mapping, past the header and journal; any
+        // bits are a valid AtomicU64.
         unsafe { &*(self.base.add(off as usize) as *const AtomicU64) }
     }
 

@@ -303,3 +303,34 @@ fn threads_test(realtime: RealtimeMode) {
     }
     assert!(resets > 0);
 }
+
+#[test]
+fn a_builder_dropped_after_addf_leaves_nothing_running() {
+    let host = host("builderdrop");
+    host.create_thread("t", 100_000, true, None).unwrap();
+    let calls = Arc::new(AtomicU64::new(0));
+    {
+        let mut b = host.new_rt_component("half").unwrap();
+        let c2 = calls.clone();
+        b.funct("half.f", false, move |_| {
+            c2.fetch_add(1, Relaxed);
+        })
+        .unwrap();
+        host.addf("half.f", "t", -1).unwrap();
+        host.start().unwrap();
+        assert!(wait_until(10.0, || calls.load(Relaxed) > 10));
+        // Dropped without ready(): as if its set-up failed.
+    }
+    let n = calls.load(Relaxed);
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    assert_eq!(calls.load(Relaxed), n, "the function no longer runs");
+    assert!(host.instance().threads().unwrap()[0].functs.is_empty());
+    assert!(host.instance().functs().unwrap().is_empty());
+    assert!(host
+        .instance()
+        .components()
+        .unwrap()
+        .iter()
+        .all(|c| c.name != "half"));
+    host.stop();
+}

@@ -226,8 +226,19 @@ impl Host {
         Ok(code_id)
     }
 
+    /// Removes functions of a component that never became ready, taking
+    /// them out of any thread first.
     fn drop_functs(&self, ids: &[usize]) {
         let mut st = lock(&self.state);
+        for id in ids {
+            for ti in 0..st.threads.len() {
+                while st.threads[ti].functs.contains(id) {
+                    if self.remove_from_thread(&mut st, ti, *id).is_err() {
+                        break;
+                    }
+                }
+            }
+        }
         for &id in ids {
             if let Some(slot) = st.functs.get_mut(id).and_then(Option::take) {
                 st.by_name.remove(&slot.name);
@@ -366,13 +377,18 @@ impl Host {
             len,
         })?;
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        let mut functs = st.threads[ti].functs.clone();
+        functs.insert(index, id);
+        // Everything that can fail happens before anything changes.
+        let list = self.build_list(&st, &functs)?;
         self.inst
             .tx(|tx| add_entry_tx(tx, thread_off, rec_off, index))?;
-        st.threads[ti].functs.insert(index, id);
+        self.swap_list(&st.threads[ti].ctl, list);
+        st.threads[ti].functs = functs;
         if let Some(slot) = st.functs[id].as_mut() {
             slot.threads.push(thread.to_string());
         }
-        self.publish(&st, ti)
+        Ok(())
     }
 
     /// Removes a function from a thread (halcmd `delf`); with no thread,
@@ -409,26 +425,29 @@ impl Host {
             return Ok(());
         };
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        let mut functs = st.threads[ti].functs.clone();
+        if let Some(pos) = functs.iter().position(|&f| f == id) {
+            functs.remove(pos);
+        }
+        let list = self.build_list(st, &functs)?;
         self.inst
             .tx(|tx| remove_entry_tx(tx, thread_off, rec_off).map(|_| ()))?;
+        self.swap_list(&st.threads[ti].ctl, list);
+        st.threads[ti].functs = functs;
         let tname = st.threads[ti].ctl.name.clone();
-        if let Some(pos) = st.threads[ti].functs.iter().position(|&f| f == id) {
-            st.threads[ti].functs.remove(pos);
-        }
         if let Some(Some(slot)) = st.functs.get_mut(id) {
             if let Some(p) = slot.threads.iter().position(|n| *n == tname) {
                 slot.threads.remove(p);
             }
         }
-        self.publish(st, ti)
+        Ok(())
     }
 
-    /// Builds thread `ti`'s list from the host's bookkeeping, swaps it in,
-    /// and frees the old one once the executor has passed a boundary.
-    fn publish(&self, st: &HostState, ti: usize) -> Result<()> {
+    /// Builds an executor list for the code ids `functs`.
+    fn build_list(&self, st: &HostState, functs: &[usize]) -> Result<ExecList> {
         let seg = &self.inst.seg;
         let mut list = ExecList::default();
-        for &id in &st.threads[ti].functs {
+        for &id in functs {
             let Some(slot) = st.functs.get(id).and_then(Option::as_ref) else {
                 continue;
             };
@@ -440,22 +459,29 @@ impl Host {
             };
             list.push(slot.code.clone(), id, timing);
         }
-        let ctl = &st.threads[ti].ctl;
+        Ok(list)
+    }
+
+    /// Swaps a thread's list and frees the old one once the executor has
+    /// passed a cycle boundary. Never gives up: freeing (or forgetting) a
+    /// list the executor may still run would let a non-reentrant function
+    /// run on two threads.
+    fn swap_list(&self, ctl: &ThreadCtl, list: ExecList) {
         let new = Box::into_raw(Box::new(list));
         let old = ctl.list.swap(new, SeqCst);
-        if wait_for_boundary(ctl, Duration::from_secs(10)) {
-            // SAFETY: the executor is idle or has finished a cycle since the
-            // swap, so it no longer references `old`.
-            drop(unsafe { Box::from_raw(old) });
-        } else {
-            // A function has been running for 10 s; keeping the old list
-            // alive (leaked) is the only safe choice.
-            self.add_note(format!(
-                "thread '{}' did not reach a cycle boundary within 10 s; an old function list was leaked",
-                ctl.name
-            ));
+        let mut warned = false;
+        while !wait_for_boundary(ctl, Duration::from_secs(10)) {
+            if !warned {
+                warned = true;
+                self.add_note(format!(
+                    "thread '{}' has not reached a cycle boundary for 10 s; still waiting",
+                    ctl.name
+                ));
+            }
         }
-        Ok(())
+        // SAFETY: the executor is idle or has finished a cycle since the
+        // swap, so it no longer references `old`.
+        drop(unsafe { Box::from_raw(old) });
     }
 
     /// Starts all threads (halcmd `start`). Refused after a fault until
@@ -686,6 +712,10 @@ fn supervise(shared: Arc<HostShared>, state: Arc<Mutex<HostState>>) {
         if let Some(rec) = st.functs.get(fault).and_then(|s| s.as_ref()) {
             shared.seg.header().fault_funct.store(rec.rec_off, SeqCst);
         }
+        // Cycles still in progress would overwrite the safe outputs.
+        for t in &st.threads {
+            wait_for_boundary(&t.ctl, Duration::from_secs(10));
+        }
         for c in st.comps.iter_mut().rev() {
             if let Some(h) = c.safe_state.as_mut() {
                 h();
@@ -710,6 +740,34 @@ impl RtComponentBuilder<'_> {
     }
 
     /// Exports a non-reentrant function: it may be added to one thread.
+    ///
+    /// Functions of one component may run in different threads, which
+    /// preempt each other. State they share must therefore be `Sync`
+    /// (atomics, pins): plain shared state does not compile.
+    ///
+    /// ```compile_fail
+    /// # use hal_core::*;
+    /// # fn build(host: &Host) -> Result<()> {
+    /// let mut b = host.new_rt_component("sg")?;
+    /// let freq = std::sync::Arc::new(std::cell::Cell::new(0.0));
+    /// let f2 = freq.clone();
+    /// b.funct("sg.update-freq", true, move |_| f2.set(1.0))?; // Cell is not Sync
+    /// b.funct("sg.make-pulses", true, move |_| { let _ = freq.get(); })?;
+    /// # Ok(()) }
+    /// ```
+    ///
+    /// ```no_run
+    /// # use hal_core::*;
+    /// # use std::sync::{Arc, atomic::{AtomicU64, Ordering::Relaxed}};
+    /// # fn build(host: &Host) -> Result<()> {
+    /// let mut b = host.new_rt_component("sg")?;
+    /// let freq = Arc::new(AtomicU64::new(0));
+    /// let f2 = freq.clone();
+    /// b.funct("sg.update-freq", true, move |_| f2.store(1.0f64.to_bits(), Relaxed))?;
+    /// b.funct("sg.make-pulses", true, move |_| { let _ = f64::from_bits(freq.load(Relaxed)); })?;
+    /// b.ready()
+    /// # }
+    /// ```
     pub fn funct(
         &mut self,
         name: &str,

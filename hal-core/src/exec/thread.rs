@@ -99,7 +99,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
     };
     let grace = &sh.seg.header().grace_epoch;
     let ctx = FunctCtx::new(ctl.period);
-    let period = ctl.period as u64;
+    let period = ctl.period.max(1) as u64;
     let clock = sh.clock;
 
     'park: loop {
@@ -127,6 +127,11 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             // Announce that we may now hold references: first to the grace
             // epoch (for retired value cells), then to our list.
             ctl.idle.store(false, SeqCst);
+            // Re-check after announcing: `stop` clears `running` and then
+            // looks at `idle`, so one of us sees the other.
+            if !sh.running.load(SeqCst) {
+                continue 'park;
+            }
             rec.seen_epoch.store(grace.load(SeqCst), SeqCst);
             let guard = sh
                 .serial

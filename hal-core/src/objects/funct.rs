@@ -145,7 +145,7 @@ pub(crate) fn add_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64, index: usi
     }
     tx.set(&e.next, link.load(Relaxed))?;
     tx.set(link, off)?;
-    tx.set(&f.users, f.users.load(Relaxed) + 1)
+    tx.set(&f.users, f.users.load(Relaxed).saturating_add(1))
 }
 
 /// Removes the first occurrence of `funct` from `thread`; false if absent.
@@ -196,12 +196,12 @@ pub(crate) fn new_thread_tx(tx: &mut Txn<'_>, spec: &NewThread<'_>) -> Result<(u
             name: name.to_string(),
         });
     }
-    let mut base = h.base_period.load(Relaxed) as i64;
-    let period = if base == 0 {
-        base = spec.period;
-        tx.set(&h.base_period, base as u64)?;
+    let stored = h.base_period.load(Relaxed);
+    let period = if stored == 0 || stored > i64::MAX as u64 {
+        tx.set(&h.base_period, spec.period as u64)?;
         spec.period
     } else {
+        let base = stored as i64;
         if spec.period < base {
             return Err(HalError::PeriodBelowBase {
                 name: name.to_string(),
@@ -209,7 +209,14 @@ pub(crate) fn new_thread_tx(tx: &mut Txn<'_>, spec: &NewThread<'_>) -> Result<(u
                 base,
             });
         }
-        base * ((spec.period + base / 2) / base)
+        spec.period
+            .checked_add(base / 2)
+            .map(|p| p / base)
+            .and_then(|n| n.checked_mul(base))
+            .filter(|&p| p > 0)
+            .ok_or_else(|| HalError::ZeroPeriod {
+                name: name.to_string(),
+            })?
     };
     let mut lowest_priority = u64::MAX;
     for item in list::iter::<ThreadRec>(seg, &h.threads) {
@@ -286,7 +293,9 @@ pub(crate) fn delete_thread_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let comp = t.owner.load(Relaxed);
     // Unlink from the (not name-sorted) thread list.
     let mut link = &h.threads;
-    while link.load(Relaxed) != 0 {
+    let mut budget = seg.size() / 64;
+    while link.load(Relaxed) != 0 && budget > 0 {
+        budget -= 1;
         let cur = link.load(Relaxed);
         let r: &ThreadRec = tx.rec(cur)?;
         if cur == off {

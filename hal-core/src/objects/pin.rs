@@ -168,7 +168,7 @@ impl Instance {
                 PinDir::Out => &s.writers,
                 PinDir::Io => &s.bidirs,
             };
-            tx.set(counter, counter.load(Relaxed) + 1)?;
+            tx.set(counter, counter.load(Relaxed).saturating_add(1))?;
             tx.set(&p.signal, sig_off)?;
             tx.set(&p.slot, seg.offset_of(&cell.value))?;
             let _ = pin_off;

@@ -35,10 +35,13 @@ impl Segment {
             }
             Ok(Acquired::OwnerDied) => {
                 rollback(self);
-                h.mutex.make_consistent().map_err(|source| HalError::Os {
-                    op: "recovering the HAL lock",
-                    source,
-                })?;
+                if let Err(source) = h.mutex.make_consistent() {
+                    h.mutex.unlock();
+                    return Err(HalError::Os {
+                        op: "recovering the HAL lock",
+                        source,
+                    });
+                }
             }
             Err(source) => {
                 return Err(HalError::Os {
@@ -152,9 +155,11 @@ impl<'a> Txn<'a> {
         let h = self.header();
         let mut prev: &AtomicU64 = &h.free[BlockKind::Blob as usize];
         let mut cur = prev.load(Relaxed);
-        while cur != 0 {
+        let mut budget = self.seg.size() / 64;
+        while cur != 0 && budget > 0 {
+            budget -= 1;
             let b: &BlobRec = self.rec(cur)?;
-            if b.capacity.load(Relaxed) + hdr >= need {
+            if b.capacity.load(Relaxed).saturating_add(hdr) >= need {
                 let next = b.next.load(Relaxed);
                 self.set(prev, next)?;
                 self.set(&b.next, 0)?;
@@ -190,7 +195,7 @@ impl<'a> Txn<'a> {
         let head = &self.header().free[kind as usize];
         let off = head.load(Relaxed);
         if off != 0 {
-            let next_word = self.seg.word(off + 8)?;
+            let next_word = self.seg.word(off.saturating_add(8))?;
             let next = next_word.load(Relaxed);
             self.set(head, next)?;
             self.set(next_word, 0)?;
@@ -220,7 +225,7 @@ impl<'a> Txn<'a> {
             return Ok(());
         }
         let head = &self.header().free[kind as usize];
-        let next_word = self.seg.word(off + 8)?;
+        let next_word = self.seg.word(off.saturating_add(8))?;
         self.set(next_word, head.load(Relaxed))?;
         self.set(head, off)
     }

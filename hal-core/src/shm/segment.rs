@@ -43,6 +43,8 @@ pub mod paths {
 pub(crate) struct Segment {
     map: MmapRaw,
     size: u64,
+    /// Journal offset, checked once and never reread from the segment.
+    journal_off: u64,
     instance: String,
     path: PathBuf,
 }
@@ -96,6 +98,7 @@ impl Segment {
         let seg = Segment {
             map,
             size,
+            journal_off: HEADER_SIZE,
             instance: instance.to_string(),
             path: path.to_path_buf(),
         };
@@ -147,9 +150,10 @@ impl Segment {
             .len(len as usize)
             .map_raw(&file)
             .map_err(|e| HalError::io("mapping shared memory segment", &path, e))?;
-        let seg = Segment {
+        let mut seg = Segment {
             map,
             size: len,
+            journal_off: 0,
             instance: instance.to_string(),
             path,
         };
@@ -172,9 +176,15 @@ impl Segment {
             )));
         }
         let jo = h.journal_off.load(Relaxed);
-        if jo < HEADER_SIZE || jo + JOURNAL_CAP as u64 * 16 > len {
+        if jo < HEADER_SIZE
+            || jo % 8 != 0
+            || jo
+                .checked_add(JOURNAL_CAP as u64 * 16)
+                .is_none_or(|end| end > len)
+        {
             return Err(bad(format!("journal offset {jo:#x} out of range")));
         }
+        seg.journal_off = jo;
         Ok(seg)
     }
 
@@ -258,14 +268,22 @@ impl Segment {
         (self.size - 8) & !7
     }
 
+    /// Smallest offset a value cell may start at: past the header and the
+    /// journal, so a corrupted slot can never aim a pin write at the lock.
+    pub(crate) fn cell_floor(&self) -> u64 {
+        self.journal_off + JOURNAL_CAP as u64 * 16
+    }
+
     /// Journal entry `i` as (offset word, old value word).
     pub(crate) fn journal_entry(&self, i: usize) -> (&AtomicU64, &AtomicU64) {
-        let base = self.header().journal_off.load(Relaxed) + i as u64 * 16;
-        // Checked at attach: the whole journal lies inside the mapping.
-        let w = self
-            .words(base, 2)
-            .expect("journal range was validated when the segment was attached");
-        (&w[0], &w[1])
+        let i = i.min(JOURNAL_CAP - 1) as u64;
+        let base = self.journal_off + i * 16;
+        // SAFETY: journal_off was checked at create/attach so that all
+        // JOURNAL_CAP entries lie inside the mapping, and i is clamped.
+        unsafe {
+            let p = self.base().add(base as usize) as *const AtomicU64;
+            (&*p, &*p.add(1))
+        }
     }
 
     /// Removes the segment file (the host does this on exit).
