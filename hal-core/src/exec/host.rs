@@ -94,6 +94,7 @@ pub struct Host {
     state: Arc<Mutex<HostState>>,
     supervisor: Option<JoinHandle<()>>,
     notes: Mutex<Vec<String>>,
+    notes_printed: AtomicBool,
     shut_down: AtomicBool,
     _lock: HostLock,
 }
@@ -155,6 +156,7 @@ impl Host {
             state,
             supervisor: Some(supervisor),
             notes: Mutex::new(notes),
+            notes_printed: AtomicBool::new(false),
             shut_down: AtomicBool::new(false),
             _lock: lock,
         })
@@ -180,7 +182,9 @@ impl Host {
     fn add_note(&self, note: String) {
         let mut n = lock(&self.notes);
         if !n.contains(&note) {
-            eprintln!("HAL: note: {note}");
+            if self.notes_printed.load(SeqCst) {
+                eprintln!("HAL: note: {note}");
+            }
             n.push(note);
         }
     }
@@ -325,8 +329,11 @@ impl Host {
             functs: Vec::new(),
         });
         drop(st);
-        for note in lock(&self.notes).clone() {
-            eprintln!("HAL: note: {note}");
+        // Set-up notes matter once threads exist; say them once.
+        if !self.notes_printed.swap(true, SeqCst) {
+            for note in lock(&self.notes).iter() {
+                eprintln!("HAL: note: {note}");
+            }
         }
         Ok(period)
     }

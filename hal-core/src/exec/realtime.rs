@@ -135,3 +135,24 @@ fn rlimit(resource: libc::__rlimit_resource_t) -> Option<u64> {
     let rc = unsafe { libc::getrlimit(resource, &mut r) };
     (rc == 0).then_some(r.rlim_cur)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_refused_priority_names_the_limit_and_the_remedy() {
+        let msg = explain_fifo_failure(libc::EPERM, 90);
+        assert!(msg.contains("rtprio limit is"), "{msg}");
+        assert!(msg.contains("CAP_SYS_NICE"), "{msg}");
+        assert!(msg.contains("limits.d"), "{msg}");
+        let other = explain_fifo_failure(libc::EINVAL, 90);
+        assert!(!other.contains("limits.d"), "{other}");
+    }
+
+    #[test]
+    fn the_default_cpu_is_one_we_may_use() {
+        let cpu = default_cpu().expect("some CPU is allowed");
+        pin_to_cpu(cpu).expect("pinning to an allowed CPU works");
+    }
+}

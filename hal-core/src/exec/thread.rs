@@ -143,22 +143,26 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             let timing = sh.timing.load(Relaxed);
             let start = clock.now();
             let mut prev = start;
-            let mut faulted = false;
-            for (i, &code) in list.calls.iter().enumerate() {
-                // SAFETY: `code` is kept alive by `list.owners`; a
-                // non-reentrant function is in this list only, and this
-                // thread runs its list sequentially.
-                let r = catch_unwind(AssertUnwindSafe(|| unsafe { (*code).call(&ctx) }));
-                if r.is_err() {
-                    sh.report_fault(list.ids[i]);
-                    faulted = true;
-                    break;
+            // One unwind guard for the whole list: a panic ends the cycle
+            // anyway, and `current` says which function it came from.
+            let mut current = 0usize;
+            let outcome = catch_unwind(AssertUnwindSafe(|| {
+                for (i, &code) in list.calls.iter().enumerate() {
+                    current = i;
+                    // SAFETY: `code` is kept alive by `list.owners`; a
+                    // non-reentrant function is in this list only, and this
+                    // thread runs its list sequentially.
+                    unsafe { (*code).call(&ctx) };
+                    if timing {
+                        let now = clock.now();
+                        list.timing[i].record(clock.to_ns(now.wrapping_sub(prev)));
+                        prev = now;
+                    }
                 }
-                if timing {
-                    let now = clock.now();
-                    list.timing[i].record(clock.to_ns(now.wrapping_sub(prev)));
-                    prev = now;
-                }
+            }));
+            let faulted = outcome.is_err();
+            if faulted {
+                sh.report_fault(list.ids.get(current).copied().unwrap_or(NO_FAULT - 1));
             }
             let end = if timing { prev } else { clock.now() };
             let t = clock.to_ns(end.wrapping_sub(start)).min(i32::MAX as u64) as i32;
