@@ -120,6 +120,18 @@ pub enum HalError {
     TooMany { kind: &'static str, limit: usize },
     #[error("bad value for {what}: {reason}")]
     BadValue { what: String, reason: String },
+    #[error("{module}: parameter '{param}': {reason}")]
+    ModuleParam {
+        module: String,
+        param: String,
+        reason: String,
+    },
+    #[error("module '{name}' not found")]
+    UnknownModule { name: String },
+    #[error("module '{name}' is already loaded")]
+    ModuleLoaded { name: String },
+    #[error("{module}: {reason}")]
+    ModuleLoad { module: String, reason: String },
     #[error("this operation needs the HAL host process")]
     NotHost,
     #[error("threads of instance '{instance}' are halted after a fault in function '{funct}'; unload and reload to recover")]

@@ -176,3 +176,48 @@ impl<T: PinValue + std::fmt::Debug, A: ParamAccess> std::fmt::Debug for Param<T,
             .finish()
     }
 }
+
+/// A pin whose type is chosen at run time (sampler and streamer columns):
+/// it reads and writes the 64-bit cell encoding of [`crate::Value`].
+pub struct RawPin<D: Direction> {
+    inner: Pin<u64, D>,
+    hal_type: crate::types::HalType,
+}
+
+impl<D: Direction> RawPin<D> {
+    pub(crate) fn new(
+        seg: &Arc<Segment>,
+        off: u64,
+        hal_type: crate::types::HalType,
+    ) -> Result<Self> {
+        Ok(RawPin {
+            inner: Pin::new(seg, off)?,
+            hal_type,
+        })
+    }
+
+    /// The pin's type.
+    pub fn hal_type(&self) -> crate::types::HalType {
+        self.hal_type
+    }
+
+    /// The cell encoding of the current value.
+    #[inline(always)]
+    pub fn get_bits(&self) -> u64 {
+        self.inner.get()
+    }
+
+    /// The current value.
+    pub fn value(&self) -> crate::types::Value {
+        crate::types::Value::from_bits(self.hal_type, self.get_bits())
+    }
+}
+
+impl<D: Writable> RawPin<D> {
+    /// Writes a cell encoding; it must be one of this pin's type (see
+    /// [`crate::Value::to_bits`]).
+    #[inline(always)]
+    pub fn set_bits(&self, bits: u64) {
+        self.inner.set(bits)
+    }
+}

@@ -16,6 +16,7 @@
 pub mod error;
 mod exec;
 pub mod handles;
+pub mod module;
 pub mod name;
 mod objects;
 pub mod ring;
@@ -30,7 +31,8 @@ pub use exec::realtime;
 pub use exec::{
     FunctCtx, Host, HostConfig, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE, TOP_PRIORITY,
 };
-pub use handles::{In, Io, Out, Param, Pin, Ro, Rw};
+pub use handles::{In, Io, Out, Param, Pin, RawPin, Ro, Rw};
+pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};
 pub use objects::{
     instance_from_env, validate_instance_name, AliasKind, Component, ComponentInfo, ComponentKind,
     FunctInfo, Instance, ParamInfo, PinInfo, Region, RegionInfo, SignalInfo, ThreadInfo,

@@ -13,6 +13,7 @@ use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
 use super::thread::{self, HostShared, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
 use crate::error::{HalError, Result};
 use crate::handles::{Param, Pin};
+use crate::module::{ModuleArgs, ModuleDef};
 use crate::objects::funct::{
     add_entry_tx, delete_thread_tx, new_funct_tx, new_thread_tx, position_to_index,
     remove_entry_tx, NewThread,
@@ -73,6 +74,8 @@ struct HostThread {
 }
 
 struct LoadedComp {
+    /// The `loadrt` module that made it, if any.
+    module: Option<&'static str>,
     comp: Component,
     functs: Vec<usize>,
     safe_state: Option<Hook>,
@@ -84,6 +87,8 @@ struct HostState {
     by_name: HashMap<String, usize>,
     threads: Vec<HostThread>,
     comps: Vec<LoadedComp>,
+    /// Loaded modules, in load order.
+    modules: Vec<&'static str>,
     memory_locked: bool,
 }
 
@@ -597,6 +602,91 @@ impl Host {
         Ok(())
     }
 
+    /// Loads a module (halcmd `loadrt`): parses `args` against its table
+    /// and runs its `load`. On any error, every component and thread the
+    /// load created is removed again.
+    pub fn loadrt(&self, def: &'static ModuleDef, args: &[String]) -> Result<()> {
+        if lock(&self.state).modules.contains(&def.name) {
+            return Err(HalError::ModuleLoaded {
+                name: def.name.to_string(),
+            });
+        }
+        let parsed = ModuleArgs::parse(def.name, def.params, args)?;
+        let (comps_before, threads_before) = {
+            let st = lock(&self.state);
+            (st.comps.len(), st.threads.len())
+        };
+        let result = (def.load)(self, &parsed).and_then(|()| {
+            let saved = match parsed.raw() {
+                r if r.is_empty() => def.name.to_string(),
+                r => format!("{} {r}", def.name),
+            };
+            let mut st = lock(&self.state);
+            for c in &mut st.comps[comps_before..] {
+                c.module = Some(def.name);
+                c.comp.set_loadrt_args(&saved)?;
+            }
+            st.modules.push(def.name);
+            Ok(())
+        });
+        if result.is_err() {
+            let mut st = lock(&self.state);
+            while st.comps.len() > comps_before {
+                let last = st.comps.len() - 1;
+                let _ = self.unload_at(&mut st, last);
+            }
+            let extra: Vec<String> = st.threads[threads_before.min(st.threads.len())..]
+                .iter()
+                .map(|t| t.ctl.name.clone())
+                .collect();
+            drop(st);
+            for t in extra.iter().rev() {
+                let _ = self.delete_thread(t);
+            }
+        }
+        result
+    }
+
+    /// Unloads a module (halcmd `unloadrt`), or every module for `all`,
+    /// newest first.
+    pub fn unloadrt(&self, name: &str) -> Result<()> {
+        let mut st = lock(&self.state);
+        let targets: Vec<&'static str> = if name == "all" {
+            st.modules.iter().rev().copied().collect()
+        } else {
+            match st.modules.iter().find(|m| **m == name) {
+                Some(m) => vec![*m],
+                None => {
+                    return Err(HalError::NotFound {
+                        kind: "module",
+                        name: name.to_string(),
+                    })
+                }
+            }
+        };
+        for m in targets {
+            while let Some(ci) = st.comps.iter().rposition(|c| c.module == Some(m)) {
+                self.unload_at(&mut st, ci)?;
+            }
+            st.modules.retain(|x| *x != m);
+        }
+        Ok(())
+    }
+
+    /// Names of the loaded modules, in load order.
+    pub fn loaded_modules(&self) -> Vec<&'static str> {
+        lock(&self.state).modules.clone()
+    }
+
+    /// Names of all threads, in creation order.
+    pub fn thread_names(&self) -> Vec<String> {
+        lock(&self.state)
+            .threads
+            .iter()
+            .map(|t| t.ctl.name.clone())
+            .collect()
+    }
+
     /// Names of the loaded realtime components, in load order.
     pub fn loaded_components(&self) -> Vec<String> {
         lock(&self.state)
@@ -820,6 +910,7 @@ impl RtComponentBuilder<'_> {
         }
         let mut st = lock(&self.host.state);
         st.comps.push(LoadedComp {
+            module: None,
             comp,
             functs: std::mem::take(&mut self.functs),
             safe_state: self.safe_state.take(),

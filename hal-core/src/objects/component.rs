@@ -5,7 +5,7 @@ use std::sync::atomic::Ordering::*;
 use super::list;
 use super::Instance;
 use crate::error::{HalError, Result};
-use crate::handles::{Direction, Param, ParamAccess, Pin};
+use crate::handles::{Direction, Param, ParamAccess, Pin, RawPin};
 use crate::name::validate;
 use crate::shm::*;
 use crate::types::PinValue;
@@ -204,6 +204,12 @@ impl Component {
             .inst
             .new_pin(self.off, name, T::HAL_TYPE, D::DIR, init.to_bits())?;
         Pin::new(&self.inst.seg, off)
+    }
+
+    /// Creates a pin whose type is chosen at run time, initially zero.
+    pub fn pin_raw<D: Direction>(&self, name: &str, t: crate::types::HalType) -> Result<RawPin<D>> {
+        let off = self.inst.new_pin(self.off, name, t, D::DIR, 0)?;
+        RawPin::new(&self.inst.seg, off, t)
     }
 
     /// Creates a parameter with an initial value.

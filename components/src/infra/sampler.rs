@@ -1,0 +1,72 @@
+//! `sampler`: copies pin values into a FIFO every time its function runs;
+//! `halsampler` prints them. One FIFO record is the sample number followed
+//! by one word per column.
+
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::{Host, In, Io, Out, Pin, RawPin, Result, RingWriter};
+
+use super::columns::{channels, fifo_name, MAX_CHANNELS};
+
+const PARAMS: &[ParamDecl] = &[
+    ParamDecl {
+        name: "cfg",
+        kind: ParamKind::StrArray(MAX_CHANNELS),
+        help: "column types per channel",
+    },
+    ParamDecl {
+        name: "depth",
+        kind: ParamKind::IntArray(MAX_CHANNELS),
+        help: "FIFO depth per channel",
+    },
+];
+
+/// The `sampler` module.
+pub static MODULE: ModuleDef = ModuleDef {
+    name: "sampler",
+    params: PARAMS,
+    help: "samples HAL pins into a realtime-to-user-space FIFO",
+    load,
+};
+
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let chans = channels("sampler", args.str_array("cfg"), args.int_array("depth"))?;
+    let mut b = host.new_rt_component("sampler")?;
+    for (n, (types, depth)) in chans.into_iter().enumerate() {
+        let c = b.component();
+        let pins: Vec<RawPin<In>> = types
+            .iter()
+            .enumerate()
+            .map(|(m, t)| c.pin_raw(&format!("sampler.{n}.pin.{m}"), *t))
+            .collect::<Result<_>>()?;
+        let enable: Pin<bool, In> = c.pin_init(&format!("sampler.{n}.enable"), true)?;
+        let full: Pin<bool, Out> = c.pin(&format!("sampler.{n}.full"))?;
+        let curr_depth: Pin<i32, Out> = c.pin(&format!("sampler.{n}.curr-depth"))?;
+        let overruns: Pin<i32, Io> = c.pin(&format!("sampler.{n}.overruns"))?;
+        let _sample_num: Pin<i32, Io> = c.pin(&format!("sampler.{n}.sample-num"))?;
+        let mut fifo = RingWriter::create(c, &fifo_name("sampler", n), depth, types.len() + 1)?;
+        let mut row = vec![0u64; types.len() + 1];
+        let mut sample: u32 = 0;
+        b.funct(&format!("sampler.{n}"), false, move |_| {
+            if !enable.get() {
+                curr_depth.set(fifo.len() as i32);
+                full.set(fifo.len() >= fifo.capacity());
+                return;
+            }
+            for (slot, pin) in row[1..].iter_mut().zip(&pins) {
+                *slot = pin.get_bits();
+            }
+            if fifo.len() >= fifo.capacity() {
+                overruns.set(overruns.get().wrapping_add(1));
+                full.set(true);
+                curr_depth.set(depth as i32);
+                return;
+            }
+            sample = sample.wrapping_add(1);
+            row[0] = sample as u64;
+            fifo.push(&row);
+            full.set(false);
+            curr_depth.set(fifo.len() as i32);
+        })?;
+    }
+    b.ready()
+}

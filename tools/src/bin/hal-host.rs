@@ -1,0 +1,41 @@
+//! The HAL host process for one instance (started by `halrun` and
+//! `realtime start`; not usually run by hand).
+
+use hal_core::{instance_from_env, HostConfig};
+
+fn main() {
+    let mut instance = instance_from_env();
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--instance" => match args.next() {
+                Some(v) => instance = v,
+                None => die("--instance needs a name"),
+            },
+            "-h" | "--help" => {
+                println!("usage: hal-host [--instance NAME]\nRuns the HAL host for an instance until 'realtime stop' or a signal.");
+                return;
+            }
+            other => die(&format!("unknown argument '{other}'")),
+        }
+    }
+    let ready_fd = std::env::var("HAL_HOST_READY_FD")
+        .ok()
+        .and_then(|s| s.parse::<i32>().ok());
+    let result = hal_tools::hostd::serve(HostConfig::new(&instance), || {
+        if let Some(fd) = ready_fd {
+            // Tell whoever started us that the socket is up, by closing
+            // the pipe they gave us.
+            // SAFETY: closing a descriptor number we were handed for this.
+            unsafe { libc::close(fd) };
+        }
+    });
+    if let Err(e) = result {
+        die(&e);
+    }
+}
+
+fn die(msg: &str) -> ! {
+    eprintln!("hal-host: {msg}");
+    std::process::exit(1);
+}

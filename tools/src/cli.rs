@@ -1,0 +1,127 @@
+//! Command-line handling shared by `halcmd` and `halrun`.
+
+use std::io::{BufRead, IsTerminal, Write};
+
+use hal_core::Instance;
+
+use crate::halcmd::ini::Ini;
+use crate::halcmd::{Options, Session};
+
+/// What halcmd's command line asked for.
+#[derive(Debug, Default)]
+pub struct HalcmdArgs {
+    pub opts: Options,
+    /// `-f [FILE]`: `Some(None)` reads stdin.
+    pub file: Option<Option<String>>,
+    /// A single command given on the command line.
+    pub command: Vec<String>,
+    /// `-e`: echo commands.
+    pub echo: bool,
+}
+
+/// Parses halcmd's options (`-f`, `-i`, `-k`, `-q`, `-Q`, `-s`, `-v`,
+/// `-V`, `-e`, `-R`); the first non-option word starts the command.
+pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
+    let mut out = HalcmdArgs::default();
+    let mut i = 0;
+    while i < args.len() {
+        let a = args[i].as_str();
+        match a {
+            "-f" => {
+                let file = args.get(i + 1).filter(|n| !n.starts_with('-')).cloned();
+                if file.is_some() {
+                    i += 1;
+                }
+                out.file = Some(file);
+            }
+            "-i" => {
+                let path = args.get(i + 1).ok_or("-i needs an INI file")?;
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| format!("reading INI file {path}: {e}"))?;
+                out.opts.ini = Some(Ini::parse(&text));
+                i += 1;
+            }
+            "-k" => out.opts.keep_going = true,
+            "-q" => out.opts.silent = false,
+            "-Q" => out.opts.silent = true,
+            "-s" => out.opts.script = true,
+            "-v" | "-V" => out.opts.verbose = true,
+            "-e" => out.echo = true,
+            "-R" => {}
+            _ if a.starts_with('-') && out.command.is_empty() => {
+                return Err(format!("unknown option '{a}'"))
+            }
+            _ => {
+                out.command = args[i..].to_vec();
+                break;
+            }
+        }
+        i += 1;
+    }
+    Ok(out)
+}
+
+/// Runs halcmd as its command line asks, on an attached instance. Returns
+/// the exit status.
+pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> i32 {
+    let mut stdout = std::io::stdout();
+    let mut stderr = std::io::stderr();
+    let mut session = Session::new(inst, args.opts, &mut stdout, &mut stderr);
+    if args.echo {
+        session.run_words(&["echo".to_string()]);
+    }
+    let mut ok = match &args.file {
+        Some(Some(path)) => match std::fs::read_to_string(path) {
+            Ok(text) => session.run_text(Some(path), &text),
+            Err(e) => {
+                eprintln!("halcmd: cannot read {path}: {e}");
+                return 1;
+            }
+        },
+        Some(None) => run_stream(&mut session, false),
+        None if !args.command.is_empty() => session.run_words(&args.command),
+        None => run_stream(&mut session, true),
+    };
+    if interactive_after {
+        ok &= run_stream(&mut session, true);
+    }
+    if ok {
+        0
+    } else {
+        1
+    }
+}
+
+/// Reads commands from stdin, with a prompt on a terminal.
+fn run_stream(session: &mut Session<'_>, prompt: bool) -> bool {
+    let stdin = std::io::stdin();
+    let prompt = prompt && stdin.is_terminal();
+    let mut ok = true;
+    let mut pending = String::new();
+    loop {
+        if prompt {
+            print!("halcmd: ");
+            let _ = std::io::stdout().flush();
+        }
+        let mut line = String::new();
+        match stdin.lock().read_line(&mut line) {
+            Ok(0) | Err(_) => break,
+            Ok(_) => {}
+        }
+        pending.push_str(&line);
+        if pending.trim_end_matches('\n').ends_with('\\') {
+            continue;
+        }
+        let text = std::mem::take(&mut pending);
+        if matches!(text.trim(), "exit" | "quit") {
+            break;
+        }
+        if !session.run_text(None, &text) {
+            ok = false;
+            if !session.opts.keep_going && !prompt {
+                break;
+            }
+        }
+    }
+    ok
+}

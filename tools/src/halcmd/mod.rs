@@ -1,0 +1,12 @@
+//! halcmd's language: reading HAL files and executing their commands
+//! against an instance (directly on the segment) and its host (over the
+//! control socket).
+
+pub mod cfmt;
+pub mod format;
+pub mod ini;
+pub mod lexer;
+pub mod session;
+pub mod values;
+
+pub use session::{Options, Session};

@@ -1,0 +1,424 @@
+//! A halcmd session: options, output streams, and the command dispatcher.
+
+use std::io::Write;
+use std::path::Path;
+
+use hal_core::{AliasKind, HalError, HalType, Instance, PinDir};
+
+use super::format;
+use super::ini::Ini;
+use super::lexer::{logical_lines, tokenize};
+use super::values::parse_value;
+use crate::protocol::{Client, ClientError};
+
+/// Options that change how commands run and report.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// Keep going after a failed command (`-k`).
+    pub keep_going: bool,
+    /// Print nothing but errors... (`-q`, the default) or nothing at all (`-Q`).
+    pub silent: bool,
+    /// Report each command's success (`-v`).
+    pub verbose: bool,
+    /// Script-friendly `show` output (`-s`).
+    pub script: bool,
+    /// The INI file for `[SECTION]KEY` substitution (`-i`).
+    pub ini: Option<Ini>,
+}
+
+/// The outcome of one command.
+pub type CmdResult = Result<(), String>;
+
+/// Executes halcmd commands.
+pub struct Session<'o> {
+    inst: Instance,
+    client: Option<Client>,
+    pub opts: Options,
+    out: &'o mut dyn Write,
+    err: &'o mut dyn Write,
+    echo: bool,
+    /// Where commands come from, for messages (`test.hal`, or none).
+    source: Option<String>,
+    line: usize,
+}
+
+impl<'o> Session<'o> {
+    /// A session on a running instance.
+    pub fn new(
+        inst: Instance,
+        opts: Options,
+        out: &'o mut dyn Write,
+        err: &'o mut dyn Write,
+    ) -> Self {
+        Session {
+            inst,
+            client: None,
+            opts,
+            out,
+            err,
+            echo: false,
+            source: None,
+            line: 0,
+        }
+    }
+
+    /// The instance this session works on.
+    pub fn instance(&self) -> &Instance {
+        &self.inst
+    }
+
+    fn host(&mut self, words: &[&str]) -> CmdResult {
+        if self.client.is_none() {
+            self.client = Some(Client::connect(self.inst.name()).map_err(|e| e.to_string())?);
+        }
+        let words: Vec<String> = words.iter().map(|s| s.to_string()).collect();
+        let client = self.client.as_mut().expect("connected above");
+        match client.call(&words) {
+            Ok(()) => Ok(()),
+            Err(ClientError::Refused(m)) => Err(m),
+            Err(e) => {
+                self.client = None;
+                Err(e.to_string())
+            }
+        }
+    }
+
+    /// Writes an error message with the file and line prefix.
+    pub fn report(&mut self, msg: &str) {
+        let prefix = match &self.source {
+            Some(f) => format!("{f}:{}: ", self.line),
+            None => String::new(),
+        };
+        let _ = writeln!(self.err, "{prefix}{msg}");
+    }
+
+    /// Runs every command of a file's text; `name` labels messages. Returns
+    /// false if a command failed (and, without `-k`, stops there).
+    pub fn run_text(&mut self, name: Option<&str>, text: &str) -> bool {
+        let saved = (self.source.take(), self.line);
+        self.source = name.map(str::to_string);
+        let mut ok = true;
+        for line in logical_lines(text) {
+            self.line = line.number;
+            let words = match tokenize(&line.text, self.opts.ini.as_ref()) {
+                Ok(w) => w,
+                Err(e) => {
+                    self.report(&e.to_string());
+                    ok = false;
+                    if self.opts.keep_going {
+                        continue;
+                    }
+                    break;
+                }
+            };
+            if words.is_empty() {
+                continue;
+            }
+            if !self.run_words(&words) {
+                ok = false;
+                if !self.opts.keep_going {
+                    break;
+                }
+            }
+        }
+        (self.source, self.line) = saved;
+        ok
+    }
+
+    /// Runs one command given as words; reports its error.
+    pub fn run_words(&mut self, words: &[String]) -> bool {
+        if self.echo {
+            let _ = writeln!(self.err, "{}", words.join(" "));
+        }
+        let w: Vec<&str> = words.iter().map(String::as_str).collect();
+        let result = self.dispatch(&w);
+        let _ = self.out.flush();
+        match result {
+            Ok(()) => true,
+            Err(msg) => {
+                self.report(&msg);
+                false
+            }
+        }
+    }
+
+    fn dispatch(&mut self, w: &[&str]) -> CmdResult {
+        // `name = value` is setp.
+        if w.len() == 3 && w[1] == "=" {
+            return self.setp(w[0], w[2]);
+        }
+        let args = &w[1..];
+        let need = |n: usize| -> CmdResult {
+            if args.len() < n {
+                Err(format!("{}: needs at least {n} argument(s)", w[0]))
+            } else {
+                Ok(())
+            }
+        };
+        match w[0] {
+            "loadrt" => {
+                need(1)?;
+                let mut v = vec!["loadrt"];
+                v.extend_from_slice(args);
+                self.host(&v).map_err(|e| {
+                    let _ = writeln!(self.err, "HAL: ERROR: {e}");
+                    format!("insmod for {} failed, returned -1", args[0])
+                })
+            }
+            "unloadrt" => {
+                need(1)?;
+                self.host(&["unloadrt", args[0]])
+            }
+            "unload" => {
+                need(1)?;
+                self.host(&["unloadrt", args[0]])
+            }
+            "addf" => {
+                need(2)?;
+                let mut v = vec!["addf", args[0], args[1]];
+                if let Some(p) = args.get(2) {
+                    v.push(p);
+                }
+                self.host(&v)
+            }
+            "delf" => {
+                need(1)?;
+                let mut v = vec!["delf", args[0]];
+                if let Some(t) = args.get(1) {
+                    v.push(t);
+                }
+                self.host(&v)
+            }
+            "start" => self.host(&["start"]),
+            "stop" => self.host(&["stop"]),
+            "setexact_for_test_suite_only" => {
+                let _ = writeln!(
+                    self.err,
+                    "HAL_LIB: WARNING: Exact base period set; realtime timing checks are relaxed (test suite only)"
+                );
+                self.host(&["setexact"])
+            }
+            "newsig" => {
+                need(2)?;
+                let t = HalType::from_name(args[1])
+                    .ok_or_else(|| format!("Unknown signal type '{}'", args[1]))?;
+                self.inst.newsig(args[0], t).map_err(|e| {
+                    let _ = writeln!(self.err, "HAL: ERROR: {e}");
+                    "newsig failed".to_string()
+                })
+            }
+            "delsig" => {
+                need(1)?;
+                if args[0] == "all" {
+                    self.inst.delsig_all().map_err(msg)
+                } else {
+                    self.inst.delsig(args[0]).map_err(msg)
+                }
+            }
+            "sets" => {
+                need(2)?;
+                let name = args[0];
+                let t = self
+                    .inst
+                    .signal_type(name)
+                    .map_err(|_| format!("signal '{name}' not found"))?;
+                let v = parse_value(t, args[1]).map_err(|e| format!("signal '{name}': {e}"))?;
+                self.inst.set_signal(name, v).map_err(|e| match e {
+                    HalError::SignalDriven { .. } => format!("signal '{name}': not writable"),
+                    other => other.to_string(),
+                })
+            }
+            "setp" => {
+                need(2)?;
+                self.setp(args[0], args[1])
+            }
+            "net" => {
+                need(1)?;
+                self.net(args[0], &args[1..])
+            }
+            "linkps" => {
+                need(2)?;
+                let sig = args
+                    .iter()
+                    .skip(1)
+                    .find(|a| !is_arrow(a))
+                    .ok_or("linkps: missing signal")?;
+                self.inst.link(args[0], sig).map_err(msg)
+            }
+            "linksp" => {
+                need(2)?;
+                let pin = args
+                    .iter()
+                    .skip(1)
+                    .find(|a| !is_arrow(a))
+                    .ok_or("linksp: missing pin")?;
+                self.inst.link(pin, args[0]).map_err(msg)
+            }
+            "unlinkp" => {
+                need(1)?;
+                self.inst.unlink(args[0]).map_err(msg)
+            }
+            "alias" | "unalias" => {
+                need(if w[0] == "alias" { 3 } else { 2 })?;
+                let kind = match args[0] {
+                    "pin" => AliasKind::Pin,
+                    "param" => AliasKind::Param,
+                    other => {
+                        return Err(format!(
+                            "{}: unknown type '{other}', use pin or param",
+                            w[0]
+                        ))
+                    }
+                };
+                if w[0] == "alias" {
+                    self.inst.alias(kind, args[1], args[2]).map_err(msg)
+                } else {
+                    self.inst.unalias(kind, args[1]).map_err(msg)
+                }
+            }
+            "echo" => {
+                self.echo = true;
+                Ok(())
+            }
+            "unecho" => {
+                self.echo = false;
+                Ok(())
+            }
+            "print" => {
+                let text = args.join(" ");
+                let _ = writeln!(self.err, "{}HALCMD MSG: \"{text}\"", self.location());
+                Ok(())
+            }
+            "source" => {
+                need(1)?;
+                let text = std::fs::read_to_string(args[0])
+                    .map_err(|e| format!("source {}: {e}", args[0]))?;
+                let name = Path::new(args[0]).to_string_lossy().into_owned();
+                if self.run_text(Some(&name), &text) {
+                    Ok(())
+                } else {
+                    Err(format!("source {} failed", args[0]))
+                }
+            }
+            "lock" | "unlock" | "debug" => Ok(()),
+            "show" | "list" | "save" | "getp" | "gets" | "ptype" | "stype" | "status" | "help" => {
+                let text = format::render(&self.inst, w, &self.opts)?;
+                let _ = self.out.write_all(text.as_bytes());
+                Ok(())
+            }
+            other => Err(format!("Unknown command '{other}'")),
+        }
+    }
+
+    fn location(&self) -> String {
+        match &self.source {
+            Some(f) => format!("{f}:{}: ", self.line),
+            None => String::new(),
+        }
+    }
+
+    fn setp(&mut self, name: &str, value: &str) -> CmdResult {
+        // A param wins over a pin of the same name.
+        let (_, t, is_param) = format::lookup(&self.inst, name)?
+            .ok_or_else(|| format!("parameter or pin '{name}': not found"))?;
+        let what = if is_param { "parameter" } else { "pin" };
+        let v = parse_value(t, value).map_err(|e| format!("{what} '{name}': {e}"))?;
+        let r = if is_param {
+            self.inst.set_param(name, v)
+        } else {
+            self.inst.set_pin(name, v)
+        };
+        r.map_err(|e| match e {
+            HalError::ParamReadOnly { .. }
+            | HalError::PinIsOutput { .. }
+            | HalError::PinConnected { .. } => {
+                format!("{what} '{name}': not writable")
+            }
+            other => other.to_string(),
+        })
+    }
+
+    fn net(&mut self, signal: &str, items: &[&str]) -> CmdResult {
+        let pins: Vec<&str> = items.iter().copied().filter(|a| !is_arrow(a)).collect();
+        let all = self.inst.pins().map_err(msg)?;
+        let find = |n: &str| {
+            all.iter()
+                .find(|p| p.name == n || p.orig_name.as_deref() == Some(n))
+        };
+        // Check everything first, so that a failing net changes nothing.
+        let existing = self
+            .inst
+            .signals()
+            .map_err(msg)?
+            .into_iter()
+            .find(|s| s.name == signal);
+        let mut sig_type = existing.as_ref().map(|s| s.hal_type);
+        let mut writer: Option<String> = existing.as_ref().and_then(|s| {
+            s.pins
+                .iter()
+                .find(|(_, d)| *d == PinDir::Out)
+                .map(|(n, _)| n.clone())
+        });
+        let mut bidirs = existing.as_ref().map_or(0, |s| s.bidirs);
+        for p in &pins {
+            let info = find(p).ok_or_else(|| format!("Pin '{p}' does not exist"))?;
+            if let Some(s) = &info.signal {
+                if s != signal {
+                    return Err(format!("Pin '{p}' was already linked to signal '{s}'"));
+                }
+                continue;
+            }
+            match sig_type {
+                Some(t) if t != info.hal_type => {
+                    return Err(format!(
+                        "Signal '{signal}' of type '{t}' cannot add pin '{p}' of type '{}'",
+                        info.hal_type
+                    ))
+                }
+                _ => sig_type = Some(info.hal_type),
+            }
+            match info.dir {
+                PinDir::Out => {
+                    if let Some(w) = &writer {
+                        return Err(format!(
+                            "Signal '{signal}' can not add OUT pin '{p}', it already has OUT pin '{w}'"
+                        ));
+                    }
+                    if bidirs > 0 {
+                        return Err(format!(
+                            "Signal '{signal}' can not add OUT pin '{p}', it already has I/O pins"
+                        ));
+                    }
+                    writer = Some(p.to_string());
+                }
+                PinDir::Io => {
+                    if let Some(w) = &writer {
+                        return Err(format!(
+                            "Signal '{signal}' can not add I/O pin '{p}', it already has OUT pin '{w}'"
+                        ));
+                    }
+                    bidirs += 1;
+                }
+                PinDir::In => {}
+            }
+        }
+        if existing.is_none() {
+            let t = sig_type.ok_or_else(|| {
+                format!("net: signal '{signal}' does not exist and no pin gives its type")
+            })?;
+            self.inst.newsig(signal, t).map_err(msg)?;
+        }
+        for p in pins {
+            self.inst.link(p, signal).map_err(msg)?;
+        }
+        Ok(())
+    }
+}
+
+fn is_arrow(s: &str) -> bool {
+    matches!(s, "=>" | "<=" | "<=>")
+}
+
+fn msg(e: HalError) -> String {
+    e.to_string()
+}

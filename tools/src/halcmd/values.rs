@@ -1,0 +1,165 @@
+//! Parsing values typed by the user (`setp`, `sets`), as halcmd does.
+
+use hal_core::module::parse_c_int;
+use hal_core::{HalType, Value};
+
+/// Why a value was refused; the Display text is halcmd's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum ValueError {
+    #[error("invalid argument")]
+    Invalid,
+    #[error("value out of range")]
+    OutOfRange,
+}
+
+/// Parses `text` as a value of type `t`.
+pub fn parse_value(t: HalType, text: &str) -> Result<Value, ValueError> {
+    parse_value_text(t, text).map_err(|_| classify(t, text))
+}
+
+/// Tells a number that does not fit from text that is no number.
+fn classify(t: HalType, text: &str) -> ValueError {
+    let numeric = match t {
+        HalType::Bit | HalType::Float => false,
+        _ => {
+            let body = text.trim_start().trim_start_matches(['+', '-']);
+            match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
+                Some(hex) => !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit()),
+                None => !body.is_empty() && body.chars().all(|c| c.is_ascii_digit()),
+            }
+        }
+    };
+    if numeric {
+        ValueError::OutOfRange
+    } else {
+        ValueError::Invalid
+    }
+}
+
+fn parse_value_text(t: HalType, text: &str) -> Result<Value, String> {
+    match t {
+        HalType::Bit => match text {
+            "1" | "TRUE" | "true" => Ok(Value::Bit(true)),
+            "0" | "FALSE" | "false" => Ok(Value::Bit(false)),
+            _ => Err(format!("value '{text}' invalid for bit")),
+        },
+        HalType::Float => parse_float(text)
+            .map(Value::Float)
+            .ok_or_else(|| format!("value '{text}' invalid for float")),
+        HalType::S32 => parse_c_int(text, 32)
+            .map(|v| Value::S32(v as i32))
+            .map_err(|_| format!("value '{text}' invalid for S32")),
+        HalType::S64 => parse_c_int(text, 64)
+            .map(Value::S64)
+            .map_err(|_| format!("value '{text}' invalid for S64")),
+        HalType::U32 => parse_c_uint(text)
+            .filter(|v| *v <= u32::MAX as u64)
+            .map(|v| Value::U32(v as u32))
+            .ok_or_else(|| format!("value '{text}' invalid for U32")),
+        HalType::U64 => parse_c_uint(text)
+            .map(Value::U64)
+            .ok_or_else(|| format!("value '{text}' invalid for U64")),
+    }
+}
+
+/// A float as `strtod` reads it, the whole text required.
+pub fn parse_float(text: &str) -> Option<f64> {
+    let t = text.trim_start();
+    if t.is_empty() {
+        return None;
+    }
+    if let Ok(v) = t.parse::<f64>() {
+        return Some(v);
+    }
+    // strtod also reads hexadecimal integers ("0x10").
+    let (neg, body) = match t.as_bytes()[0] {
+        b'-' => (true, &t[1..]),
+        b'+' => (false, &t[1..]),
+        _ => (false, t),
+    };
+    let hex = body
+        .strip_prefix("0x")
+        .or_else(|| body.strip_prefix("0X"))?;
+    let v = u128::from_str_radix(hex, 16).ok()? as f64;
+    Some(if neg { -v } else { v })
+}
+
+/// An unsigned integer, base 0 like `strtoul`, but refusing a minus sign
+/// (LinuxCNC refuses negative values for unsigned pins).
+fn parse_c_uint(text: &str) -> Option<u64> {
+    let t = text
+        .trim_start()
+        .strip_prefix('+')
+        .unwrap_or(text.trim_start());
+    let (radix, digits) = if let Some(h) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        (16, h)
+    } else if t.len() > 1 && t.starts_with('0') {
+        (8, &t[1..])
+    } else {
+        (10, t)
+    };
+    if digits.is_empty() || digits.starts_with(['+', '-']) {
+        return None;
+    }
+    u64::from_str_radix(digits, radix).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn accepts_what_halcmd_accepts() {
+        assert_eq!(parse_value(HalType::Bit, "TRUE"), Ok(Value::Bit(true)));
+        assert_eq!(parse_value(HalType::Bit, "false"), Ok(Value::Bit(false)));
+        assert_eq!(parse_value(HalType::Float, "1e-7"), Ok(Value::Float(1e-7)));
+        assert_eq!(
+            parse_value(HalType::Float, "-0.0").map(|v| v.to_bits()),
+            Ok((-0.0f64).to_bits())
+        );
+        assert_eq!(parse_value(HalType::Float, "0x10"), Ok(Value::Float(16.0)));
+        assert_eq!(parse_value(HalType::S32, "0xff"), Ok(Value::S32(255)));
+        assert_eq!(
+            parse_value(HalType::S32, "-2147483648"),
+            Ok(Value::S32(i32::MIN))
+        );
+        assert_eq!(
+            parse_value(HalType::U32, "4294967295"),
+            Ok(Value::U32(u32::MAX))
+        );
+        assert_eq!(
+            parse_value(HalType::U64, "18446744073709551615"),
+            Ok(Value::U64(u64::MAX))
+        );
+        assert_eq!(
+            parse_value(HalType::S64, "-9223372036854775808"),
+            Ok(Value::S64(i64::MIN))
+        );
+    }
+
+    #[test]
+    fn refuses_bad_values() {
+        for (t, s) in [
+            (HalType::Bit, "2"),
+            (HalType::Bit, "yes"),
+            (HalType::Float, "abc"),
+            (HalType::Float, "1.0x"),
+            (HalType::Float, ""),
+            (HalType::S32, "2147483648"),
+            (HalType::U32, "-1"),
+            (HalType::U32, "4294967296"),
+            (HalType::U64, "-0"),
+            (HalType::S64, "9223372036854775808"),
+        ] {
+            assert!(parse_value(t, s).is_err(), "{t} {s:?} accepted");
+        }
+        assert_eq!(parse_value(HalType::Bit, "2"), Err(ValueError::Invalid));
+        assert_eq!(parse_value(HalType::Float, "abc"), Err(ValueError::Invalid));
+        assert_eq!(
+            parse_value(HalType::S32, "2147483648"),
+            Err(ValueError::OutOfRange)
+        );
+        assert_eq!(parse_value(HalType::U32, "-1"), Err(ValueError::OutOfRange));
+        assert_eq!(parse_value(HalType::S32, "12abc"), Err(ValueError::Invalid));
+    }
+}

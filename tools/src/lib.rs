@@ -1,0 +1,8 @@
+//! The HAL tools: the host process, its socket protocol, and halcmd's
+//! language (used by the `halcmd` and `halrun` binaries).
+
+pub mod cli;
+pub mod halcmd;
+pub mod hostd;
+pub mod launch;
+pub mod protocol;

@@ -1,0 +1,170 @@
+//! The host's control protocol over its Unix socket.
+//!
+//! A request is one line: words separated by the unit separator (0x1F). A
+//! reply is one line: `ok`, or `err`, 0x1F, and a message. Words and
+//! messages never contain newlines or 0x1F (requests with them are refused
+//! before sending; messages have them replaced by spaces).
+
+use std::io::{BufRead, BufReader, Write};
+use std::os::unix::net::UnixStream;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use hal_core::paths;
+
+const SEP: char = '\u{1f}';
+
+/// Errors talking to the host.
+#[derive(Debug, thiserror::Error)]
+pub enum ClientError {
+    #[error("realtime not running for instance '{instance}'")]
+    NotRunning { instance: String },
+    #[error("talking to the HAL host at {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("argument contains a newline or control separator: {arg:?}")]
+    BadArgument { arg: String },
+    #[error("{0}")]
+    Refused(String),
+}
+
+/// Encodes a request line (without the newline).
+pub fn encode_request(words: &[String]) -> Result<String, ClientError> {
+    if let Some(bad) = words.iter().find(|w| w.contains(['\n', SEP])) {
+        return Err(ClientError::BadArgument { arg: bad.clone() });
+    }
+    Ok(words.join(&SEP.to_string()))
+}
+
+/// Decodes a request line into words.
+pub fn decode_request(line: &str) -> Vec<String> {
+    line.split(SEP).map(str::to_string).collect()
+}
+
+/// Encodes a reply line (without the newline).
+pub fn encode_reply(result: &Result<(), String>) -> String {
+    match result {
+        Ok(()) => "ok".to_string(),
+        Err(m) => format!("err{SEP}{}", m.replace(['\n', SEP], " ")),
+    }
+}
+
+/// Decodes a reply line.
+pub fn decode_reply(line: &str) -> Result<(), String> {
+    let line = line.trim_end_matches('\n');
+    if line == "ok" {
+        Ok(())
+    } else if let Some(m) = line.strip_prefix(&format!("err{SEP}")) {
+        Err(m.to_string())
+    } else {
+        Err(format!("malformed reply from the HAL host: {line:?}"))
+    }
+}
+
+/// A connection to an instance's host.
+pub struct Client {
+    reader: BufReader<UnixStream>,
+    writer: UnixStream,
+    path: PathBuf,
+}
+
+impl Client {
+    /// Connects to the host of `instance`.
+    pub fn connect(instance: &str) -> Result<Client, ClientError> {
+        let path = paths::socket(instance);
+        let stream = UnixStream::connect(&path).map_err(|e| match e.kind() {
+            std::io::ErrorKind::NotFound | std::io::ErrorKind::ConnectionRefused => {
+                ClientError::NotRunning {
+                    instance: instance.to_string(),
+                }
+            }
+            _ => ClientError::Io {
+                path: path.clone(),
+                source: e,
+            },
+        })?;
+        let io = |source| ClientError::Io {
+            path: path.clone(),
+            source,
+        };
+        let writer = stream.try_clone().map_err(io)?;
+        Ok(Client {
+            reader: BufReader::new(stream),
+            writer,
+            path,
+        })
+    }
+
+    /// Sends one request and waits for its reply.
+    pub fn call(&mut self, words: &[String]) -> Result<(), ClientError> {
+        let line = encode_request(words)?;
+        let io = |source| ClientError::Io {
+            path: self.path.clone(),
+            source,
+        };
+        self.writer
+            .write_all(format!("{line}\n").as_bytes())
+            .map_err(io)?;
+        let mut reply = String::new();
+        let n = self
+            .reader
+            .read_line(&mut reply)
+            .map_err(|source| ClientError::Io {
+                path: self.path.clone(),
+                source,
+            })?;
+        if n == 0 {
+            return Err(ClientError::Io {
+                path: self.path.clone(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    "the host closed the connection",
+                ),
+            });
+        }
+        decode_reply(&reply).map_err(ClientError::Refused)
+    }
+
+    /// Waits up to `timeout` for the host of `instance` to accept requests.
+    pub fn wait_for(instance: &str, timeout: Duration) -> Result<Client, ClientError> {
+        let end = std::time::Instant::now() + timeout;
+        loop {
+            match Client::connect(instance) {
+                Ok(mut c) => {
+                    if c.call(&["ping".to_string()]).is_ok() {
+                        return Ok(c);
+                    }
+                }
+                Err(ClientError::NotRunning { .. }) => {}
+                Err(e) => return Err(e),
+            }
+            if std::time::Instant::now() >= end {
+                return Err(ClientError::NotRunning {
+                    instance: instance.to_string(),
+                });
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn requests_and_replies_round_trip() {
+        let words = vec!["loadrt".to_string(), "threads".into(), "name1=a b".into()];
+        assert_eq!(decode_request(&encode_request(&words).unwrap()), words);
+        assert!(encode_request(&["a\nb".to_string()]).is_err());
+        assert_eq!(decode_reply(&encode_reply(&Ok(()))), Ok(()));
+        assert_eq!(
+            decode_reply(&encode_reply(&Err("bad\nthing".into()))),
+            Err("bad thing".into())
+        );
+        assert!(decode_reply("garbage").is_err());
+    }
+}
