@@ -221,3 +221,29 @@ impl<D: Writable> RawPin<D> {
         self.inner.set(bits)
     }
 }
+
+impl<T: PinValue, D: Direction> Clone for Pin<T, D> {
+    /// Another handle on the same pin (every access is atomic, so handles
+    /// may be shared by functions in different threads).
+    fn clone(&self) -> Self {
+        Pin {
+            slot: self.slot,
+            base: self.base,
+            floor: self.floor,
+            limit: self.limit,
+            _seg: self._seg.clone(),
+            _marker: PhantomData,
+        }
+    }
+}
+
+impl<T: PinValue, A: ParamAccess> Clone for Param<T, A> {
+    /// Another handle on the same parameter.
+    fn clone(&self) -> Self {
+        Param {
+            value: self.value,
+            _seg: self._seg.clone(),
+            _marker: PhantomData,
+        }
+    }
+}

@@ -29,6 +29,11 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     let signals = ExitSignals::install().map_err(|e| e.to_string())?;
     let instance = config.instance.clone();
     let host = Host::create(config).map_err(|e| e.to_string())?;
+    // LinuxCNC's own processes take the first component ids; reproduce its
+    // numbering so `show` output matches (the first loadrt gets id 6).
+    host.instance()
+        .advance_component_ids(4)
+        .map_err(|e| e.to_string())?;
     let registry = registry();
     let sock = paths::socket(&instance);
     // We hold the instance lock, so a socket file here is stale.

@@ -2,6 +2,7 @@
 //! language (used by the `halcmd` and `halrun` binaries).
 
 pub mod cli;
+pub mod fifo;
 pub mod halcmd;
 pub mod hostd;
 pub mod launch;

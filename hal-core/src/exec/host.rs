@@ -617,10 +617,9 @@ impl Host {
             (st.comps.len(), st.threads.len())
         };
         let result = (def.load)(self, &parsed).and_then(|()| {
-            let saved = match parsed.raw() {
-                r if r.is_empty() => def.name.to_string(),
-                r => format!("{} {r}", def.name),
-            };
+            // What `save` prints after `loadrt `: the name, a space, the
+            // arguments (LinuxCNC keeps the space when there are none).
+            let saved = format!("{} {}", def.name, parsed.raw());
             let mut st = lock(&self.state);
             for c in &mut st.comps[comps_before..] {
                 c.module = Some(def.name);

@@ -1,6 +1,6 @@
 //! halcmd's printed output, byte for byte as LinuxCNC prints it.
 
-use hal_core::{HalType, Instance, PinDir, Value};
+use hal_core::{ComponentKind, HalType, Instance, PinDir, Value};
 
 use super::cfmt::fmt_g;
 use super::session::Options;
@@ -205,12 +205,12 @@ fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
             .into_iter()
             .map(|t| t.name)
             .collect(),
-        "comp" => inst
-            .components()
-            .map_err(e)?
-            .into_iter()
-            .map(|c| c.name)
-            .collect(),
+        "comp" => {
+            // Newest first, as LinuxCNC keeps its component list.
+            let mut cs = inst.components().map_err(e)?;
+            cs.sort_by_key(|c| std::cmp::Reverse(c.id));
+            cs.into_iter().map(|c| c.name).collect()
+        }
         other => return Err(format!("Unknown 'list' type '{other}'")),
     };
     let mut out = String::new();
@@ -222,24 +222,182 @@ fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
     Ok(out)
 }
 
-/// Finds a param, else a pin, by name or original name: (value, type,
-/// is_param).
+fn show_comps(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+    let mut cs = inst.components().map_err(|e| e.to_string())?;
+    cs.sort_by_key(|c| std::cmp::Reverse(c.id));
+    let mut out = format!(
+        "Loaded HAL Components:\nID      Type  {:<47} PID   State\n",
+        "Name"
+    );
+    for c in cs.iter().filter(|c| matches(pats, &c.name)) {
+        let state = if c.ready { "ready" } else { "initializing" };
+        let (kind, pid) = match c.kind {
+            ComponentKind::User => ("User", c.pid.to_string()),
+            _ => ("RT", String::new()),
+        };
+        out.push_str(&format!(
+            " {:>5}  {kind:<4}  {:<47} {pid:>5} {state}\n",
+            c.id, c.name
+        ));
+    }
+    out.push('\n');
+    Ok(out)
+}
+
+fn show_functs(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+    let mut out = String::from(
+        "Exported Functions:\nOwner   CodeAddr      Arg           FP   Users   Name\n",
+    );
+    for (i, f) in inst.functs().map_err(|e| e.to_string())?.iter().enumerate() {
+        if matches(pats, &f.name) {
+            // Code lives in the host, so there is no address to show: the
+            // columns hold the function's index and 0.
+            out.push_str(&format!(
+                " {:05}  {:08x}  {:08x}  {:<3}  {:>5}   {}\n",
+                f.owner_id,
+                i,
+                0,
+                if f.uses_fp { "YES" } else { "NO" },
+                f.users,
+                f.name
+            ));
+        }
+    }
+    out.push('\n');
+    Ok(out)
+}
+
+fn show_threads(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+    let mut out = String::from(
+        "Realtime Threads:\n     Period  FP     Name               (     Time, Max-Time )\n",
+    );
+    for t in inst.threads().map_err(|e| e.to_string())? {
+        if !matches(pats, &t.name) {
+            continue;
+        }
+        out.push_str(&format!(
+            "{:>11}  {:<3}  {:>20} ( {:>8}, {:>8} )\n",
+            t.period,
+            if t.uses_fp { "YES" } else { "NO" },
+            t.name,
+            t.time_ns,
+            t.tmax_ns
+        ));
+        for (i, f) in t.functs.iter().enumerate() {
+            out.push_str(&format!("{:17}{:>2} {f}\n", "", i + 1));
+        }
+    }
+    out.push('\n');
+    Ok(out)
+}
+
+fn show_aliases(inst: &Instance, pats: &[&str], pins: bool) -> Result<String, String> {
+    let e = |e: hal_core::HalError| e.to_string();
+    let (title, pairs): (&str, Vec<(String, String)>) = if pins {
+        let v = inst.pins().map_err(e)?;
+        (
+            "Pin Aliases:",
+            v.into_iter()
+                .filter_map(|p| Some((p.name, p.orig_name?)))
+                .collect(),
+        )
+    } else {
+        let v = inst.params().map_err(e)?;
+        (
+            "Parameter Aliases:",
+            v.into_iter()
+                .filter_map(|p| Some((p.name, p.orig_name?)))
+                .collect(),
+        )
+    };
+    let mut out = format!("{title}\n {:<47}  {}\n", "Alias", "Original Name");
+    for (alias, orig) in pairs.iter().filter(|(a, _)| matches(pats, a)) {
+        out.push_str(&format!(" {alias:<47}  {orig}\n"));
+    }
+    out.push('\n');
+    Ok(out)
+}
+
+fn status(inst: &Instance) -> String {
+    format!(
+        "HAL locking status:\n  current lock value 0 (00)\n  HAL_LOCK_NONE - nothing is locked\n\
+         HAL memory status\n  used/total shared memory:   {}/{}\n  active components: {}\n\n",
+        inst.segment_used(),
+        inst.segment_size(),
+        inst.components().map(|c| c.len()).unwrap_or(0),
+    )
+}
+
+/// The commands `help` lists, with a line each.
+pub const HELP: &[(&str, &str)] = &[
+    ("loadrt", "loadrt MODULE [ARGS...]: load a realtime module"),
+    ("unloadrt", "unloadrt MODULE|all: unload realtime modules"),
+    ("loadusr", "loadusr [-W|-w|-i|-n NAME] PROGRAM [ARGS...]: start a user-space program"),
+    ("waitusr", "waitusr NAME: wait for a user-space component to exit"),
+    ("unloadusr", "unloadusr NAME|all: stop user-space components"),
+    ("unload", "unload NAME|all: unload a component of either kind"),
+    ("net", "net SIGNAL PIN [=>|<=|<=>] PIN...: connect pins, creating the signal"),
+    ("newsig", "newsig SIGNAL TYPE: create a signal"),
+    ("delsig", "delsig SIGNAL|all: delete signals"),
+    ("linkps", "linkps PIN [ARROW] SIGNAL: link a pin to a signal"),
+    ("linksp", "linksp SIGNAL [ARROW] PIN: link a signal to a pin"),
+    ("unlinkp", "unlinkp PIN: unlink a pin"),
+    ("setp", "setp NAME VALUE (or NAME = VALUE): set a pin or parameter"),
+    ("getp", "getp NAME: print a pin or parameter"),
+    ("ptype", "ptype NAME: print the type of a pin or parameter"),
+    ("sets", "sets SIGNAL VALUE: set a signal without a writer"),
+    ("gets", "gets SIGNAL: print a signal"),
+    ("stype", "stype SIGNAL: print the type of a signal"),
+    ("addf", "addf FUNCT THREAD [POSITION]: add a function to a thread"),
+    ("delf", "delf FUNCT [THREAD]: remove a function from a thread"),
+    ("start", "start: start the realtime threads"),
+    ("stop", "stop: stop the realtime threads (not a safe state)"),
+    ("show", "show [comp|pin|sig|param|funct|thread|alias|all] [PATTERN...]"),
+    ("list", "list comp|pin|sig|param|funct|thread [PATTERN...]: print names"),
+    ("save", "save [comp|alias|sig|sigu|link|linka|net|neta|netl|netla|param|thread|unconnectedinpins|all|allu] [FILE]"),
+    ("alias", "alias pin|param NAME ALIAS: give a second name"),
+    ("unalias", "unalias pin|param ALIAS: remove an alias"),
+    ("source", "source FILE: run the commands in FILE"),
+    ("echo", "echo / unecho: print each command before it runs"),
+    ("print", "print [MESSAGE]: print the file, line and message"),
+    ("status", "status [lock|mem|all]: print HAL status"),
+    ("lock", "lock [all|tune|none] / unlock [all|tune]: accepted for compatibility"),
+    ("debug", "debug [LEVEL]: accepted for compatibility"),
+    ("help", "help [COMMAND]: this help"),
+];
+
+fn help(cmd: Option<&str>) -> Result<String, String> {
+    match cmd {
+        None => Ok(HELP
+            .iter()
+            .map(|(_, h)| format!("  {h}\n"))
+            .collect::<String>()),
+        Some(c) => HELP
+            .iter()
+            .find(|(n, _)| *n == c)
+            .map(|(_, h)| format!("{h}\n"))
+            .ok_or_else(|| format!("No help for unknown command '{c}'")),
+    }
+}
+
+/// Finds a pin, else a param, by name or original name (halcmd looks
+/// pins up first): (value, type, is_param).
 pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, bool)>, String> {
     let e = |e: hal_core::HalError| e.to_string();
     if let Some(p) = inst
-        .params()
-        .map_err(e)?
-        .into_iter()
-        .find(|p| p.name == name || p.orig_name.as_deref() == Some(name))
-    {
-        return Ok(Some((p.value, p.hal_type, true)));
-    }
-    Ok(inst
         .pins()
         .map_err(e)?
         .into_iter()
         .find(|p| p.name == name || p.orig_name.as_deref() == Some(name))
-        .map(|p| (p.value, p.hal_type, false)))
+    {
+        return Ok(Some((p.value, p.hal_type, false)));
+    }
+    Ok(inst
+        .params()
+        .map_err(e)?
+        .into_iter()
+        .find(|p| p.name == name || p.orig_name.as_deref() == Some(name))
+        .map(|p| (p.value, p.hal_type, true)))
 }
 
 /// Renders the output of `show`, `list`, `getp`, `gets`, `ptype`, `stype`.
@@ -256,12 +414,21 @@ pub fn render(inst: &Instance, words: &[&str], _opts: &Options) -> Result<String
                 "pin" => show_pins(inst, pats),
                 "param" | "parameter" => show_params(inst, pats),
                 "sig" | "signal" => show_signals(inst, pats),
-                "all" => Ok(format!(
-                    "{}{}{}",
+                "comp" => show_comps(inst, pats),
+                "funct" | "function" => show_functs(inst, pats),
+                "thread" => show_threads(inst, pats),
+                "alias" => Ok(show_aliases(inst, pats, true)? + &show_aliases(inst, pats, false)?),
+                "all" => Ok([
+                    show_comps(inst, pats)?,
                     show_pins(inst, pats)?,
+                    show_aliases(inst, pats, true)?,
+                    show_signals(inst, pats)?,
                     show_params(inst, pats)?,
-                    show_signals(inst, pats)?
-                )),
+                    show_aliases(inst, pats, false)?,
+                    show_functs(inst, pats)?,
+                    show_threads(inst, pats)?,
+                ]
+                .concat()),
                 other => Err(format!("Unknown 'show' type '{other}'")),
             }
         }
@@ -293,7 +460,18 @@ pub fn render(inst: &Instance, words: &[&str], _opts: &Options) -> Result<String
                 .map_err(|_| format!("signal '{n}' not found"))?;
             Ok(format!("{t}\n"))
         }
-        other => Err(format!("{other}: not available")),
+        "save" => {
+            let text = super::save::save(inst, args.first().copied())?;
+            match args.get(1) {
+                Some(file) => std::fs::write(file, text)
+                    .map(|()| String::new())
+                    .map_err(|e| format!("save: {file}: {e}")),
+                None => Ok(text),
+            }
+        }
+        "status" => Ok(status(inst)),
+        "help" => help(args.first().copied()),
+        other => Err(format!("Unknown command '{other}'")),
     }
 }
 

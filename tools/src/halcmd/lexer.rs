@@ -57,18 +57,26 @@ pub fn logical_lines(text: &str) -> Vec<Line> {
     out
 }
 
-/// Splits a line into words: whitespace separates, `"..."` groups (quotes
-/// removed), `#` at the start of a word begins a comment. `$VAR`,
-/// `$(VAR)`, `[SECTION]KEY` and `[SECTION](KEY)` are substituted outside
-/// quotes.
+/// Splits a line into words as halcmd does: whitespace separates words
+/// except inside `"..."` runs; the quotes stay in the word (commands that
+/// want them gone, like `loadrt`, remove them); `#` at the start of a word
+/// begins a comment. `$VAR`, `$(VAR)`, `[SECTION]KEY` and
+/// `[SECTION](KEY)` are substituted outside quotes.
 pub fn tokenize(line: &str, ini: Option<&Ini>) -> Result<Vec<String>, LexError> {
     let mut words = Vec::new();
     let mut cur = String::new();
     let mut in_word = false;
+    let mut quoted = false;
     let chars: Vec<char> = line.chars().collect();
     let mut i = 0;
     while i < chars.len() {
         let c = chars[i];
+        if quoted {
+            cur.push(c);
+            quoted = c != '"';
+            i += 1;
+            continue;
+        }
         if c.is_whitespace() {
             if in_word {
                 words.push(std::mem::take(&mut cur));
@@ -83,12 +91,9 @@ pub fn tokenize(line: &str, ini: Option<&Ini>) -> Result<Vec<String>, LexError> 
         in_word = true;
         match c {
             '"' => {
-                let end = chars[i + 1..]
-                    .iter()
-                    .position(|&q| q == '"')
-                    .ok_or(LexError::UnterminatedQuote)?;
-                cur.extend(&chars[i + 1..i + 1 + end]);
-                i += end + 2;
+                quoted = true;
+                cur.push(c);
+                i += 1;
             }
             '$' => {
                 let (value, used) = env_subst(&chars[i..])?;
@@ -111,10 +116,33 @@ pub fn tokenize(line: &str, ini: Option<&Ini>) -> Result<Vec<String>, LexError> 
             }
         }
     }
+    if quoted {
+        return Err(LexError::UnterminatedQuote);
+    }
     if in_word {
         words.push(cur);
     }
     Ok(words)
+}
+
+/// The line without its comment, as echo mode prints it.
+pub fn without_comment(line: &str) -> &str {
+    let mut quoted = false;
+    let mut word_start = true;
+    for (i, c) in line.char_indices() {
+        match c {
+            '"' => quoted = !quoted,
+            '#' if !quoted && word_start => return line[..i].trim_end(),
+            _ => {}
+        }
+        word_start = !quoted && c.is_whitespace();
+    }
+    line.trim_end()
+}
+
+/// A word with every `"` removed.
+pub fn unquote(word: &str) -> String {
+    word.replace('"', "")
 }
 
 fn is_name_char(c: char) -> bool {
@@ -195,10 +223,17 @@ mod tests {
             words("net  a  b.c => d # comment"),
             ["net", "a", "b.c", "=>", "d"]
         );
-        assert_eq!(words(r#"print "hello world""#), ["print", "hello world"]);
+        assert_eq!(
+            words(r#"print "hello world""#),
+            ["print", r#""hello world""#]
+        );
         assert_eq!(
             words(r#"loadrt sampler cfg="ff b" depth=3"#),
-            ["loadrt", "sampler", "cfg=ff b", "depth=3"]
+            ["loadrt", "sampler", r#"cfg="ff b""#, "depth=3"]
+        );
+        assert_eq!(
+            words(r#"print "a \"quoted\" word""#),
+            ["print", r#""a \"quoted\" word""#]
         );
         assert_eq!(words("   # only a comment"), Vec::<String>::new());
         assert_eq!(words("setp a#b 1"), ["setp", "a#b", "1"]);
@@ -206,6 +241,13 @@ mod tests {
             tokenize("print \"open", None),
             Err(LexError::UnterminatedQuote)
         );
+        assert_eq!(without_comment("setp a 1 # c"), "setp a 1");
+        assert_eq!(without_comment("# only"), "");
+        assert_eq!(
+            without_comment(r##"print "# not" # yes"##),
+            r##"print "# not""##
+        );
+        assert_eq!(unquote(r#"cfg="ff""#), "cfg=ff");
     }
 
     #[test]

@@ -6,7 +6,9 @@ pub mod cfmt;
 pub mod format;
 pub mod ini;
 pub mod lexer;
+pub mod save;
 pub mod session;
+pub mod usr;
 pub mod values;
 
 pub use session::{Options, Session};

@@ -7,7 +7,7 @@ use hal_core::{AliasKind, HalError, HalType, Instance, PinDir};
 
 use super::format;
 use super::ini::Ini;
-use super::lexer::{logical_lines, tokenize};
+use super::lexer::{logical_lines, tokenize, unquote, without_comment};
 use super::values::parse_value;
 use crate::protocol::{Client, ClientError};
 
@@ -37,6 +37,8 @@ pub struct Session<'o> {
     out: &'o mut dyn Write,
     err: &'o mut dyn Write,
     echo: bool,
+    /// Programs started by `loadusr` that nobody waited for.
+    children: Vec<std::process::Child>,
     /// Where commands come from, for messages (`test.hal`, or none).
     source: Option<String>,
     line: usize,
@@ -57,6 +59,7 @@ impl<'o> Session<'o> {
             out,
             err,
             echo: false,
+            children: Vec::new(),
             source: None,
             line: 0,
         }
@@ -100,6 +103,14 @@ impl<'o> Session<'o> {
         let mut ok = true;
         for line in logical_lines(text) {
             self.line = line.number;
+            if self.echo {
+                let _ = writeln!(
+                    self.err,
+                    "({})<echo>: {}",
+                    line.number,
+                    without_comment(&line.text)
+                );
+            }
             let words = match tokenize(&line.text, self.opts.ini.as_ref()) {
                 Ok(w) => w,
                 Err(e) => {
@@ -127,9 +138,6 @@ impl<'o> Session<'o> {
 
     /// Runs one command given as words; reports its error.
     pub fn run_words(&mut self, words: &[String]) -> bool {
-        if self.echo {
-            let _ = writeln!(self.err, "{}", words.join(" "));
-        }
         let w: Vec<&str> = words.iter().map(String::as_str).collect();
         let result = self.dispatch(&w);
         let _ = self.out.flush();
@@ -158,8 +166,14 @@ impl<'o> Session<'o> {
         match w[0] {
             "loadrt" => {
                 need(1)?;
+                let unquoted: Vec<String> = args.iter().map(|a| unquote(a)).collect();
                 let mut v = vec!["loadrt"];
-                v.extend_from_slice(args);
+                v.extend(unquoted.iter().map(String::as_str));
+                // LinuxCNC numbers components from one counter that its
+                // helper processes also draw from: each loadrt uses two
+                // numbers before the module's own.
+                let next = self.inst.next_component_id().saturating_add(2);
+                self.inst.advance_component_ids(next).map_err(msg)?;
                 self.host(&v).map_err(|e| {
                     let _ = writeln!(self.err, "HAL: ERROR: {e}");
                     format!("insmod for {} failed, returned -1", args[0])
@@ -171,7 +185,20 @@ impl<'o> Session<'o> {
             }
             "unload" => {
                 need(1)?;
-                self.host(&["unloadrt", args[0]])
+                let user = args[0] == "all"
+                    || self
+                        .inst
+                        .components()
+                        .map_err(msg)?
+                        .iter()
+                        .any(|c| c.name == args[0] && c.kind == hal_core::ComponentKind::User);
+                if user {
+                    super::usr::unload(&self.inst, args[0], std::time::Duration::from_secs(10))?;
+                }
+                if args[0] == "all" || !user {
+                    self.host(&["unloadrt", args[0]])?;
+                }
+                Ok(())
             }
             "addf" => {
                 need(2)?;
@@ -192,9 +219,15 @@ impl<'o> Session<'o> {
             "start" => self.host(&["start"]),
             "stop" => self.host(&["stop"]),
             "setexact_for_test_suite_only" => {
+                if !self.inst.threads().map_err(msg)?.is_empty() {
+                    return Err(
+                        "HAL_LIB: Cannot run 'setexact' after a thread has been created".into(),
+                    );
+                }
                 let _ = writeln!(
                     self.err,
-                    "HAL_LIB: WARNING: Exact base period set; realtime timing checks are relaxed (test suite only)"
+                    "{}Warning: HAL_LIB: HAL will pretend that the exact base period requested is possible.\nThis mode is not suitable for running real hardware.",
+                    self.location()
                 );
                 self.host(&["setexact"])
             }
@@ -278,15 +311,21 @@ impl<'o> Session<'o> {
             }
             "echo" => {
                 self.echo = true;
+                let _ = writeln!(self.out, "Echo on");
                 Ok(())
             }
             "unecho" => {
                 self.echo = false;
+                let _ = writeln!(self.out, "Echo off");
                 Ok(())
             }
             "print" => {
-                let text = args.join(" ");
-                let _ = writeln!(self.err, "{}HALCMD MSG: \"{text}\"", self.location());
+                let text = if args.is_empty() {
+                    "(null)".to_string()
+                } else {
+                    args.join(" ")
+                };
+                let _ = writeln!(self.err, "{}HALCMD MSG: {text}", self.location());
                 Ok(())
             }
             "source" => {
@@ -299,6 +338,25 @@ impl<'o> Session<'o> {
                 } else {
                     Err(format!("source {} failed", args[0]))
                 }
+            }
+            "loadusr" => {
+                let spec = super::usr::parse(args)?;
+                // A user program registers with LinuxCNC's id counter twice.
+                let next = self.inst.next_component_id().saturating_add(2);
+                self.inst.advance_component_ids(next).map_err(msg)?;
+                let _ = self.out.flush();
+                if let Some(child) = super::usr::run(&self.inst, &spec)? {
+                    self.children.push(child);
+                }
+                Ok(())
+            }
+            "waitusr" => {
+                need(1)?;
+                super::usr::wait_gone(&self.inst, args[0])
+            }
+            "unloadusr" => {
+                need(1)?;
+                super::usr::unload(&self.inst, args[0], std::time::Duration::from_secs(10))
             }
             "lock" | "unlock" | "debug" => Ok(()),
             "show" | "list" | "save" | "getp" | "gets" | "ptype" | "stype" | "status" | "help" => {

@@ -20,7 +20,9 @@ pub fn parse_value(t: HalType, text: &str) -> Result<Value, ValueError> {
 /// Tells a number that does not fit from text that is no number.
 fn classify(t: HalType, text: &str) -> ValueError {
     let numeric = match t {
-        HalType::Bit | HalType::Float => false,
+        HalType::Bit => false,
+        // strtod's ERANGE: a number too large or too small for a double.
+        HalType::Float => float_out_of_range(text),
         _ => {
             let body = text.trim_start().trim_start_matches(['+', '-']);
             match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
@@ -38,12 +40,13 @@ fn classify(t: HalType, text: &str) -> ValueError {
 
 fn parse_value_text(t: HalType, text: &str) -> Result<Value, String> {
     match t {
-        HalType::Bit => match text {
-            "1" | "TRUE" | "true" => Ok(Value::Bit(true)),
-            "0" | "FALSE" | "false" => Ok(Value::Bit(false)),
+        HalType::Bit => match text.to_ascii_uppercase().as_str() {
+            "1" | "TRUE" | "ON" | "YES" => Ok(Value::Bit(true)),
+            "0" | "FALSE" | "OFF" | "NO" => Ok(Value::Bit(false)),
             _ => Err(format!("value '{text}' invalid for bit")),
         },
         HalType::Float => parse_float(text)
+            .filter(|_| !float_out_of_range(text))
             .map(Value::Float)
             .ok_or_else(|| format!("value '{text}' invalid for float")),
         HalType::S32 => parse_c_int(text, 32)
@@ -60,6 +63,20 @@ fn parse_value_text(t: HalType, text: &str) -> Result<Value, String> {
             .map(Value::U64)
             .ok_or_else(|| format!("value '{text}' invalid for U64")),
     }
+}
+
+/// Whether `text` is a decimal number that overflows or underflows a double.
+fn float_out_of_range(text: &str) -> bool {
+    let Ok(v) = text.trim().parse::<f64>() else {
+        return false;
+    };
+    let lower = text.trim().to_ascii_lowercase();
+    let named = lower.contains("inf") || lower.contains("nan");
+    let nonzero_digits = lower
+        .split('e')
+        .next()
+        .is_some_and(|m| m.chars().any(|c| ('1'..='9').contains(&c)));
+    (v.is_infinite() && !named) || (nonzero_digits && v.abs() < f64::MIN_POSITIVE)
 }
 
 /// A float as `strtod` reads it, the whole text required.
@@ -141,7 +158,7 @@ mod tests {
     fn refuses_bad_values() {
         for (t, s) in [
             (HalType::Bit, "2"),
-            (HalType::Bit, "yes"),
+            (HalType::Bit, "maybe"),
             (HalType::Float, "abc"),
             (HalType::Float, "1.0x"),
             (HalType::Float, ""),
@@ -161,5 +178,19 @@ mod tests {
         );
         assert_eq!(parse_value(HalType::U32, "-1"), Err(ValueError::OutOfRange));
         assert_eq!(parse_value(HalType::S32, "12abc"), Err(ValueError::Invalid));
+        assert_eq!(
+            parse_value(HalType::Float, "1e400"),
+            Err(ValueError::OutOfRange)
+        );
+        assert_eq!(
+            parse_value(HalType::Float, "1e-400"),
+            Err(ValueError::OutOfRange)
+        );
+        assert_eq!(
+            parse_value(HalType::Float, "-inf"),
+            Ok(Value::Float(f64::NEG_INFINITY))
+        );
+        assert_eq!(parse_value(HalType::Bit, "Yes"), Ok(Value::Bit(true)));
+        assert_eq!(parse_value(HalType::Bit, "off"), Ok(Value::Bit(false)));
     }
 }

@@ -1,0 +1,3 @@
+//! Counting components: counter.
+
+pub mod counter;

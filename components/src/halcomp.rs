@@ -1,0 +1,259 @@
+//! The halcompile conventions, shared by every component written in that
+//! style: `count=` or `names=` instances (and `personality=`), one HAL
+//! component per module named as `loadrt` names it, instance prefixes
+//! `<name-with-dashes>.<i>` or the given names, items `<prefix>.<item>`,
+//! and functions `<prefix>` (declared `_`) or `<prefix>.<funct>`.
+
+use hal_core::module::{ModuleArgs, ParamDecl, ParamKind};
+use hal_core::{
+    FunctCtx, HalError, Host, In, Io, Out, Param, Pin, PinValue, Result, Ro, RtComponentBuilder, Rw,
+};
+
+/// Longest instance name `names=` accepts (LinuxCNC's limit).
+pub const MAX_INSTANCE_NAME: usize = 47;
+/// Personality entries one load accepts.
+pub const MAX_PERSONALITY: usize = 64;
+
+/// A halcompile-style component.
+pub trait HalComp {
+    /// The `loadrt` name (`and2`, `conv_float_s32`).
+    const NAME: &'static str;
+    /// Whether the component takes `personality=`.
+    const PERSONALITY: bool = false;
+    /// Builds one instance.
+    fn build(inst: &mut Inst<'_, '_>) -> Result<()>;
+}
+
+/// Module parameters of a component without personality.
+pub const PARAMS: &[ParamDecl] = &[
+    ParamDecl {
+        name: "count",
+        kind: ParamKind::Int,
+        help: "number of instances",
+    },
+    ParamDecl {
+        name: "names",
+        kind: ParamKind::Str,
+        help: "names of the instances, comma separated",
+    },
+];
+
+/// Module parameters of a component with personality.
+pub const PARAMS_PERSONALITY: &[ParamDecl] = &[
+    ParamDecl {
+        name: "count",
+        kind: ParamKind::Int,
+        help: "number of instances",
+    },
+    ParamDecl {
+        name: "names",
+        kind: ParamKind::Str,
+        help: "names of the instances, comma separated",
+    },
+    ParamDecl {
+        name: "personality",
+        kind: ParamKind::IntArray(MAX_PERSONALITY),
+        help: "personality of each instance",
+    },
+];
+
+/// Declares the `ModuleDef` of a [`HalComp`].
+#[macro_export]
+macro_rules! halcomp_module {
+    ($vis:vis $static:ident, $ty:ty, $help:expr) => {
+        $vis static $static: hal_core::ModuleDef = hal_core::ModuleDef {
+            name: <$ty as $crate::halcomp::HalComp>::NAME,
+            params: if <$ty as $crate::halcomp::HalComp>::PERSONALITY {
+                $crate::halcomp::PARAMS_PERSONALITY
+            } else {
+                $crate::halcomp::PARAMS
+            },
+            help: $help,
+            load: $crate::halcomp::load::<$ty>,
+        };
+    };
+}
+
+/// The HAL name of a loadrt name: `_` becomes `-`, a leading `hal_` goes.
+pub fn hal_name(loadrt_name: &str) -> String {
+    loadrt_name
+        .strip_prefix("hal_")
+        .unwrap_or(loadrt_name)
+        .replace('_', "-")
+}
+
+/// The instance prefixes `count=`/`names=` ask for.
+pub fn instance_names(module: &str, args: &ModuleArgs) -> Result<Vec<String>> {
+    let bad = |param: &str, reason: String| HalError::ModuleParam {
+        module: module.to_string(),
+        param: param.to_string(),
+        reason,
+    };
+    let names = args.str("names").filter(|n| !n.is_empty());
+    let count = args.int("count").filter(|&c| c != 0);
+    match (count, names) {
+        (Some(_), Some(_)) => Err(HalError::ModuleLoad {
+            module: module.to_string(),
+            reason: "count= and names= are mutually exclusive".into(),
+        }),
+        (_, Some(names)) => names
+            .split(',')
+            .map(|n| {
+                if n.is_empty() {
+                    Err(bad("names", format!("empty instance name in '{names}'")))
+                } else if n.len() > MAX_INSTANCE_NAME {
+                    Err(bad(
+                        "names",
+                        format!("'{n}' is too long (at most {MAX_INSTANCE_NAME} characters)"),
+                    ))
+                } else {
+                    Ok(n.to_string())
+                }
+            })
+            .collect(),
+        (Some(c), None) if c < 0 => Err(bad("count", format!("{c} is negative"))),
+        (count, None) => {
+            let base = hal_name(module);
+            Ok((0..count.unwrap_or(1))
+                .map(|i| format!("{base}.{i}"))
+                .collect())
+        }
+    }
+}
+
+/// Loads every instance of `C` into one HAL component.
+pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let names = instance_names(C::NAME, args)?;
+    let personalities = args.int_array("personality");
+    let mut b = host.new_rt_component(C::NAME)?;
+    for (index, prefix) in names.into_iter().enumerate() {
+        let personality = personalities
+            .get(index % MAX_PERSONALITY)
+            .copied()
+            .unwrap_or(0);
+        let mut inst = Inst {
+            b: &mut b,
+            prefix,
+            index,
+            personality,
+        };
+        C::build(&mut inst)?;
+    }
+    b.ready()
+}
+
+/// One instance being built: its prefix, index and personality, and the
+/// means to create its pins, params and functions.
+pub struct Inst<'b, 'h> {
+    b: &'b mut RtComponentBuilder<'h>,
+    /// The instance prefix (`and2.0`, or the given name).
+    pub prefix: String,
+    /// Position in `count` order or the `names` list.
+    pub index: usize,
+    /// This instance's personality (0 if none given).
+    pub personality: i64,
+}
+
+impl Inst<'_, '_> {
+    fn item(&self, item: &str) -> String {
+        format!("{}.{item}", self.prefix)
+    }
+
+    /// An input pin `<prefix>.<item>` starting at zero.
+    pub fn pin_in<T: PinValue>(&mut self, item: &str) -> Result<Pin<T, In>> {
+        self.b.component().pin(&self.item(item))
+    }
+
+    /// An input pin with a default.
+    pub fn pin_in_init<T: PinValue>(&mut self, item: &str, init: T) -> Result<Pin<T, In>> {
+        self.b.component().pin_init(&self.item(item), init)
+    }
+
+    /// An output pin starting at zero.
+    pub fn pin_out<T: PinValue>(&mut self, item: &str) -> Result<Pin<T, Out>> {
+        self.b.component().pin(&self.item(item))
+    }
+
+    /// An output pin with a default.
+    pub fn pin_out_init<T: PinValue>(&mut self, item: &str, init: T) -> Result<Pin<T, Out>> {
+        self.b.component().pin_init(&self.item(item), init)
+    }
+
+    /// An I/O pin with a default.
+    pub fn pin_io<T: PinValue>(&mut self, item: &str, init: T) -> Result<Pin<T, Io>> {
+        self.b.component().pin_init(&self.item(item), init)
+    }
+
+    /// A pin whose type is chosen at load time.
+    pub fn pin_raw<D: hal_core::handles::Direction>(
+        &mut self,
+        item: &str,
+        t: hal_core::HalType,
+    ) -> Result<hal_core::RawPin<D>> {
+        self.b.component().pin_raw(&self.item(item), t)
+    }
+
+    /// A read-write param.
+    pub fn param_rw<T: PinValue>(&mut self, item: &str, init: T) -> Result<Param<T, Rw>> {
+        self.b.component().param(&self.item(item), init)
+    }
+
+    /// A read-only param.
+    pub fn param_ro<T: PinValue>(&mut self, item: &str, init: T) -> Result<Param<T, Ro>> {
+        self.b.component().param(&self.item(item), init)
+    }
+
+    /// Exports a function: `_` names it `<prefix>`, anything else
+    /// `<prefix>.<name>`.
+    pub fn funct(
+        &mut self,
+        name: &str,
+        uses_fp: bool,
+        f: impl FnMut(&FunctCtx) + Send + 'static,
+    ) -> Result<()> {
+        let full = if name == "_" {
+            self.prefix.clone()
+        } else {
+            self.item(name)
+        };
+        self.b.funct(&full, uses_fp, f)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> ModuleArgs {
+        let a: Vec<String> = a.iter().map(|s| s.to_string()).collect();
+        ModuleArgs::parse("conv_float_s32", PARAMS, &a).unwrap()
+    }
+
+    #[test]
+    fn instance_naming_follows_halcompile() {
+        assert_eq!(
+            instance_names("conv_float_s32", &args(&[])).unwrap(),
+            ["conv-float-s32.0"]
+        );
+        assert_eq!(
+            instance_names("and2", &args(&["count=3"])).unwrap(),
+            ["and2.0", "and2.1", "and2.2"]
+        );
+        assert_eq!(
+            instance_names("and2", &args(&["names=a,b.c"])).unwrap(),
+            ["a", "b.c"]
+        );
+        assert_eq!(
+            instance_names("and2", &args(&["names="])).unwrap(),
+            ["and2.0"]
+        );
+        assert_eq!(
+            instance_names("hal_x_y", &args(&["count=0"])).unwrap(),
+            ["x-y.0"]
+        );
+        assert!(instance_names("and2", &args(&["count=2", "names=a"])).is_err());
+        assert!(instance_names("and2", &args(&["names=a,,b"])).is_err());
+        assert!(instance_names("and2", &args(&[&format!("names={}", "n".repeat(48))])).is_err());
+        assert!(instance_names("and2", &args(&["count=-1"])).is_err());
+    }
+}

@@ -1,0 +1,76 @@
+//! halstreamer: feed lines of values into a `streamer` channel.
+
+use std::io::BufRead;
+use std::time::Duration;
+
+use hal_core::userspace::ExitSignals;
+use hal_core::{instance_from_env, Instance};
+use hal_tools::fifo::{open_streamer, parse_line};
+
+fn main() {
+    std::process::exit(match run() {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("halstreamer: {e}");
+            1
+        }
+    });
+}
+
+fn run() -> Result<i32, String> {
+    let mut chan = 0usize;
+    let mut file: Option<String> = None;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "-c" => {
+                chan = args
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .ok_or("-c needs a channel number")?
+            }
+            "-h" | "--help" => {
+                println!("usage: halstreamer [-c CHAN] [FILE]");
+                return Ok(0);
+            }
+            f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
+            other => return Err(format!("unknown argument '{other}'")),
+        }
+    }
+    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+    let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
+    let (mut ring, cols) = open_streamer(&inst, chan)?;
+    let mut input: Box<dyn BufRead> = match &file {
+        Some(f) => Box::new(std::io::BufReader::new(
+            std::fs::File::open(f).map_err(|e| format!("{f}: {e}"))?,
+        )),
+        None => Box::new(std::io::stdin().lock()),
+    };
+    let mut line = String::new();
+    let mut number = 0usize;
+    let mut failed = false;
+    loop {
+        line.clear();
+        match input.read_line(&mut line) {
+            Ok(0) => break,
+            Ok(_) => number += 1,
+            Err(e) => return Err(e.to_string()),
+        }
+        let record = match parse_line(&line, &cols) {
+            None => continue,
+            Some(Ok(r)) => r,
+            Some(Err(e)) => {
+                eprintln!("halstreamer: line {number}: {e}; line skipped");
+                failed = true;
+                continue;
+            }
+        };
+        while !ring.push(&record) {
+            if exit.requested() {
+                return Ok(1);
+            }
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+    Ok(if failed { 1 } else { 0 })
+}

@@ -1,0 +1,171 @@
+//! The text side of sampler and streamer FIFOs: finding a channel's
+//! columns, printing sampled records and parsing lines to stream.
+
+use hal_core::{HalType, Instance, RingReader, RingWriter, Value};
+
+use crate::halcmd::cfmt::fmt_f;
+use crate::halcmd::values::parse_float;
+
+/// The column types of channel `chan` of `module` (`sampler` or
+/// `streamer`), read from its `pin.M` pins.
+pub fn columns(inst: &Instance, module: &str, chan: usize) -> Result<Vec<HalType>, String> {
+    let prefix = format!("{module}.{chan}.pin.");
+    let mut cols: Vec<(usize, HalType)> = inst
+        .pins()
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .filter_map(|p| {
+            let m = p.name.strip_prefix(&prefix)?.parse::<usize>().ok()?;
+            Some((m, p.hal_type))
+        })
+        .collect();
+    if cols.is_empty() {
+        return Err(format!("{module} channel {chan} does not exist"));
+    }
+    cols.sort_by_key(|(m, _)| *m);
+    Ok(cols.into_iter().map(|(_, t)| t).collect())
+}
+
+/// Opens the FIFO of a sampler channel for reading.
+pub fn open_sampler(inst: &Instance, chan: usize) -> Result<(RingReader, Vec<HalType>), String> {
+    let cols = columns(inst, "sampler", chan)?;
+    let ring =
+        RingReader::open(inst, &format!("sampler.{chan}.fifo")).map_err(|e| e.to_string())?;
+    if ring.width() != cols.len() + 1 {
+        return Err(format!(
+            "sampler channel {chan}: FIFO does not match its pins"
+        ));
+    }
+    Ok((ring, cols))
+}
+
+/// Opens the FIFO of a streamer channel for writing.
+pub fn open_streamer(inst: &Instance, chan: usize) -> Result<(RingWriter, Vec<HalType>), String> {
+    let cols = columns(inst, "streamer", chan)?;
+    let ring =
+        RingWriter::open(inst, &format!("streamer.{chan}.fifo")).map_err(|e| e.to_string())?;
+    if ring.width() != cols.len() + 1 {
+        return Err(format!(
+            "streamer channel {chan}: FIFO does not match its pins"
+        ));
+    }
+    Ok((ring, cols))
+}
+
+/// One sampled record as halsampler prints it: each value followed by a
+/// space (floats `%f`, bits 0/1, integers in decimal), then a newline;
+/// with `tag`, the sample number minus one first.
+pub fn format_record(record: &[u64], cols: &[HalType], tag: bool) -> String {
+    let mut line = String::new();
+    if tag {
+        line.push_str(&format!("{} ", record[0].wrapping_sub(1) as u32));
+    }
+    for (t, bits) in cols.iter().zip(&record[1..]) {
+        let v = match Value::from_bits(*t, *bits) {
+            Value::Bit(b) => (b as u8).to_string(),
+            Value::Float(f) => fmt_f(f),
+            Value::S32(x) => x.to_string(),
+            Value::U32(x) => x.to_string(),
+            Value::S64(x) => x.to_string(),
+            Value::U64(x) => x.to_string(),
+        };
+        line.push_str(&v);
+        line.push(' ');
+    }
+    line.push('\n');
+    line
+}
+
+/// Parses one input line for a streamer. `None` for a comment line. Every
+/// field must be followed by whitespace (a last line without a newline is
+/// refused); text after the last field is ignored.
+pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, String>> {
+    if line.starts_with('#') {
+        return None;
+    }
+    let mut record = vec![0u64];
+    let mut rest = line;
+    for (i, t) in cols.iter().enumerate() {
+        let trimmed = rest.trim_start();
+        let end = trimmed.find(char::is_whitespace);
+        let Some(end) = end else {
+            return Some(Err(if trimmed.is_empty() {
+                format!("missing value for column {i}")
+            } else {
+                format!("value '{trimmed}' for column {i} is not followed by whitespace")
+            }));
+        };
+        let field = &trimmed[..end];
+        let bad = || format!("bad value '{field}' for column {i} ({t})");
+        let v = match t {
+            HalType::Bit => match field {
+                "0" => Value::Bit(false),
+                "1" => Value::Bit(true),
+                _ => return Some(Err(bad())),
+            },
+            HalType::Float => match parse_float(field) {
+                Some(f) => Value::Float(f),
+                None => return Some(Err(bad())),
+            },
+            HalType::S32 => match field.parse::<i32>() {
+                Ok(x) => Value::S32(x),
+                Err(_) => return Some(Err(bad())),
+            },
+            HalType::U32 => match field.parse::<u32>() {
+                Ok(x) => Value::U32(x),
+                Err(_) => return Some(Err(bad())),
+            },
+            HalType::S64 => match field.parse::<i64>() {
+                Ok(x) => Value::S64(x),
+                Err(_) => return Some(Err(bad())),
+            },
+            HalType::U64 => match field.parse::<u64>() {
+                Ok(x) => Value::U64(x),
+                Err(_) => return Some(Err(bad())),
+            },
+        };
+        record.push(v.to_bits());
+        rest = &trimmed[end..];
+    }
+    Some(Ok(record))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn records_print_like_halsampler() {
+        let cols = [HalType::Float, HalType::Bit, HalType::S32, HalType::U64];
+        let rec = [1, 1.5f64.to_bits(), 1, (-3i32) as i64 as u64, u64::MAX];
+        assert_eq!(
+            format_record(&rec, &cols, false),
+            "1.500000 1 -3 18446744073709551615 \n"
+        );
+        assert_eq!(
+            format_record(&rec, &cols, true),
+            "0 1.500000 1 -3 18446744073709551615 \n"
+        );
+    }
+
+    #[test]
+    fn lines_parse_like_halstreamer() {
+        let cols = [HalType::Float, HalType::Bit];
+        assert_eq!(parse_line("# c\n", &cols), None);
+        assert_eq!(
+            parse_line("2.5 1 # trailing\n", &cols),
+            Some(Ok(vec![0, 2.5f64.to_bits(), 1]))
+        );
+        assert!(
+            matches!(parse_line("2.5 1", &cols), Some(Err(_))),
+            "needs the newline"
+        );
+        assert!(matches!(parse_line("2.5 2\n", &cols), Some(Err(_))));
+        assert!(matches!(parse_line("x 1\n", &cols), Some(Err(_))));
+        assert!(matches!(parse_line("1\n", &cols), Some(Err(_))));
+        assert_eq!(
+            parse_line("-1 0\n", &[HalType::S32, HalType::U32]),
+            Some(Ok(vec![0, u64::MAX, 0]))
+        );
+    }
+}
