@@ -28,6 +28,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
         &infra::sampler::MODULE,
         &infra::streamer::MODULE,
         &counting::counter::MODULE,
+        &infra::threadtest::MODULE,
     ];
     v.extend(logic::modules());
     v.extend(convert::modules());

@@ -1,7 +1,7 @@
 //! Starting and stopping the host process of an instance.
 
 use std::path::PathBuf;
-use std::process::{Child, Command};
+use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use crate::protocol::{Client, ClientError};
@@ -19,15 +19,39 @@ pub fn host_binary() -> PathBuf {
     PathBuf::from("hal-host")
 }
 
-/// Starts a host for `instance` and waits until it answers.
-pub fn start_host(instance: &str) -> Result<Child, String> {
+/// Starts a host for `instance` and waits until it answers. A detached
+/// host gets a session of its own, so it outlives the shell that started
+/// it (`realtime start`).
+pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
     if Client::connect(instance).is_ok() {
         return Err(format!(
             "realtime is already running for instance '{instance}'"
         ));
     }
-    let mut child = Command::new(host_binary())
-        .args(["--instance", instance])
+    let mut cmd = Command::new(host_binary());
+    cmd.args(["--instance", instance]);
+    if detached {
+        use std::os::unix::process::CommandExt;
+        // A detached host writes its notes to a log beside its socket.
+        let log_path = log_path(instance);
+        let log = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(&log_path)
+            .map_err(|e| format!("opening {}: {e}", log_path.display()))?;
+        let log2 = log
+            .try_clone()
+            .map_err(|e| format!("opening {}: {e}", log_path.display()))?;
+        cmd.stdin(Stdio::null()).stdout(log).stderr(log2);
+        // SAFETY: setsid is async-signal-safe and touches no memory of ours.
+        unsafe {
+            cmd.pre_exec(|| {
+                libc::setsid();
+                Ok(())
+            });
+        }
+    }
+    let mut child = cmd
         .spawn()
         .map_err(|e| format!("starting {}: {e}", host_binary().display()))?;
     match Client::wait_for(instance, Duration::from_secs(20)) {
@@ -40,8 +64,24 @@ pub fn start_host(instance: &str) -> Result<Child, String> {
     }
 }
 
-/// Asks the host of `instance` to stop everything and exit.
-pub fn stop_host(instance: &str) -> Result<(), ClientError> {
+/// Where a detached host of `instance` writes its messages.
+pub fn log_path(instance: &str) -> PathBuf {
+    hal_core::paths::socket(instance).with_extension("log")
+}
+
+/// Asks the host of `instance` to stop everything and exit, and waits up
+/// to `limit` until it has.
+pub fn stop_host(instance: &str, limit: Duration) -> Result<(), ClientError> {
     let mut c = Client::connect(instance)?;
-    c.call(&["shutdown".to_string()])
+    c.call(&["shutdown".to_string()])?;
+    let end = std::time::Instant::now() + limit;
+    while hal_core::Instance::attach(instance).is_ok() {
+        if std::time::Instant::now() > end {
+            return Err(ClientError::Refused(format!(
+                "the host of instance '{instance}' did not exit"
+            )));
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    Ok(())
 }

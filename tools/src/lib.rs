@@ -6,4 +6,5 @@ pub mod fifo;
 pub mod halcmd;
 pub mod hostd;
 pub mod launch;
+pub mod meter;
 pub mod protocol;

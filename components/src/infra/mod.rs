@@ -5,3 +5,4 @@ pub mod columns;
 pub mod sampler;
 pub mod streamer;
 pub mod threads;
+pub mod threadtest;

@@ -13,7 +13,7 @@ fn main() {
         args.remove(0);
     }
     if args.first().map(String::as_str) == Some("-U") {
-        let _ = stop_host(&instance);
+        let _ = stop_host(&instance, std::time::Duration::from_secs(10));
         return;
     }
     if args.iter().any(|a| a == "-h" || a == "--help") {
@@ -27,7 +27,7 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let mut host = match start_host(&instance) {
+    let mut host = match start_host(&instance, false) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("halrun: {e}");
@@ -41,7 +41,7 @@ fn main() {
             1
         }
     };
-    if let Err(e) = stop_host(&instance) {
+    if let Err(e) = stop_host(&instance, std::time::Duration::from_secs(10)) {
         eprintln!("halrun: stopping realtime: {e}");
         let _ = host.kill();
     }

@@ -1,0 +1,81 @@
+//! halmeter: watch one pin, signal or parameter live in a terminal.
+
+use std::io::{IsTerminal, Write};
+use std::time::Duration;
+
+use hal_core::userspace::ExitSignals;
+use hal_core::{instance_from_env, Instance};
+use hal_tools::meter::{line, read, Kind};
+
+const USAGE: &str = "usage: halmeter [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME";
+
+fn main() {
+    std::process::exit(match run() {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("halmeter: {e}");
+            1
+        }
+    });
+}
+
+fn run() -> Result<(), String> {
+    let mut count: Option<u64> = None;
+    let mut period = Duration::from_millis(100);
+    let mut words = Vec::new();
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "-n" => {
+                count = Some(
+                    args.next()
+                        .and_then(|v| v.parse().ok())
+                        .ok_or("-n needs a count")?,
+                )
+            }
+            "-p" => {
+                let ms: u64 = args
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .ok_or("-p needs milliseconds")?;
+                period = Duration::from_millis(ms.max(1));
+            }
+            "-h" | "--help" => {
+                println!("{USAGE}");
+                return Ok(());
+            }
+            _ => words.push(a),
+        }
+    }
+    let (kind, name) = match words.as_slice() {
+        [name] => (None, name.clone()),
+        [k, name] => (
+            Some(Kind::from_word(k).ok_or_else(|| format!("unknown kind '{k}'; {USAGE}"))?),
+            name.clone(),
+        ),
+        _ => return Err(USAGE.into()),
+    };
+    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+    let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
+    let tty = std::io::stdout().is_terminal();
+    let mut out = std::io::stdout().lock();
+    let mut shown = 0u64;
+    while count.is_none_or(|n| shown < n) && !exit.requested() {
+        let (_, v) = read(&inst, kind, &name)?;
+        let text = line(&name, v);
+        if tty {
+            write!(out, "\r\x1b[K{text}").map_err(|e| e.to_string())?;
+        } else {
+            writeln!(out, "{text}").map_err(|e| e.to_string())?;
+        }
+        out.flush().map_err(|e| e.to_string())?;
+        shown += 1;
+        if count.is_none_or(|n| shown < n) {
+            std::thread::sleep(period);
+        }
+    }
+    if tty {
+        writeln!(out).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
