@@ -158,7 +158,11 @@ impl<'o> Session<'o> {
         let args = &w[1..];
         let need = |n: usize| -> CmdResult {
             if args.len() < n {
-                Err(format!("{}: needs at least {n} argument(s)", w[0]))
+                Err(format!(
+                    "{} requires at least {n} arguments, {} given",
+                    w[0],
+                    args.len()
+                ))
             } else {
                 Ok(())
             }
@@ -206,7 +210,7 @@ impl<'o> Session<'o> {
                 if let Some(p) = args.get(2) {
                     v.push(p);
                 }
-                self.host(&v)
+                self.host_or(&v, "addf failed")
             }
             "delf" => {
                 need(1)?;
@@ -214,7 +218,7 @@ impl<'o> Session<'o> {
                 if let Some(t) = args.get(1) {
                     v.push(t);
                 }
-                self.host(&v)
+                self.host_or(&v, "delf failed")
             }
             "start" => self.host(&["start"]),
             "stop" => self.host(&["stop"]),
@@ -276,7 +280,8 @@ impl<'o> Session<'o> {
                     .skip(1)
                     .find(|a| !is_arrow(a))
                     .ok_or("linkps: missing signal")?;
-                self.inst.link(args[0], sig).map_err(msg)
+                let r = self.inst.link(args[0], sig);
+                self.lib_or(r, "link failed")
             }
             "linksp" => {
                 need(2)?;
@@ -285,11 +290,13 @@ impl<'o> Session<'o> {
                     .skip(1)
                     .find(|a| !is_arrow(a))
                     .ok_or("linksp: missing pin")?;
-                self.inst.link(pin, args[0]).map_err(msg)
+                let r = self.inst.link(pin, args[0]);
+                self.lib_or(r, "link failed")
             }
             "unlinkp" => {
                 need(1)?;
-                self.inst.unlink(args[0]).map_err(msg)
+                let r = self.inst.unlink(args[0]);
+                self.lib_or(r, "unlink failed")
             }
             "alias" | "unalias" => {
                 need(if w[0] == "alias" { 3 } else { 2 })?;
@@ -366,6 +373,24 @@ impl<'o> Session<'o> {
             }
             other => Err(format!("Unknown command '{other}'")),
         }
+    }
+
+    /// A host request whose refusal is reported as LinuxCNC reports a
+    /// failing HAL library call: the library's message unprefixed, then
+    /// `what` with the file and line.
+    fn host_or(&mut self, words: &[&str], what: &str) -> CmdResult {
+        self.host(words).map_err(|e| {
+            let _ = writeln!(self.err, "HAL: ERROR: {e}");
+            what.to_string()
+        })
+    }
+
+    /// A segment operation's failure, reported like [`Self::host_or`].
+    fn lib_or<T>(&mut self, r: hal_core::Result<T>, what: &str) -> CmdResult {
+        r.map(|_| ()).map_err(|e| {
+            let _ = writeln!(self.err, "HAL: ERROR: {e}");
+            what.to_string()
+        })
     }
 
     fn location(&self) -> String {

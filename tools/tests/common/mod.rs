@@ -49,3 +49,63 @@ pub fn meaningful_stderr(text: &str) -> Vec<String> {
         .map(str::to_string)
         .collect()
 }
+
+/// A host served on a background thread of this process, for tests that
+/// drive a [`hal_tools::halcmd::Session`] directly.
+pub struct InProcessHost {
+    pub instance: String,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl InProcessHost {
+    pub fn start(tag: &str) -> InProcessHost {
+        let name = instance(tag);
+        let mut cfg = hal_core::HostConfig::new(&name);
+        cfg.shm_size = 8 << 20;
+        cfg.realtime = hal_core::RealtimeMode::Off;
+        let (tx, rx) = std::sync::mpsc::channel();
+        let thread = std::thread::spawn(move || {
+            hal_tools::hostd::serve(cfg, move || {
+                let _ = tx.send(());
+            })
+            .expect("host serves");
+        });
+        rx.recv_timeout(std::time::Duration::from_secs(20))
+            .expect("host ready");
+        InProcessHost {
+            instance: name,
+            thread: Some(thread),
+        }
+    }
+
+    pub fn instance(&self) -> hal_core::Instance {
+        hal_core::Instance::attach(&self.instance).expect("attach")
+    }
+
+    /// Runs `text` as file `name`; returns (ok, stdout, stderr).
+    pub fn run(&self, name: &str, text: &str, keep_going: bool) -> (bool, String, String) {
+        let (mut out, mut err) = (Vec::new(), Vec::new());
+        let opts = hal_tools::halcmd::Options {
+            keep_going,
+            ..Default::default()
+        };
+        let ok = {
+            let mut s = hal_tools::halcmd::Session::new(self.instance(), opts, &mut out, &mut err);
+            s.run_text(Some(name), text)
+        };
+        (
+            ok,
+            String::from_utf8_lossy(&out).into_owned(),
+            String::from_utf8_lossy(&err).into_owned(),
+        )
+    }
+}
+
+impl Drop for InProcessHost {
+    fn drop(&mut self) {
+        let _ = hal_tools::launch::stop_host(&self.instance, std::time::Duration::from_secs(10));
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}

@@ -1,0 +1,133 @@
+//! Every kind of bad HAL line gets its message, with the file and line,
+//! and changes nothing.
+
+mod common;
+
+use common::InProcessHost;
+
+const SETUP: &str = "loadrt and2\nloadrt mult2\nloadrt threads name1=t period1=1000000\n";
+
+#[test]
+fn every_kind_of_bad_line_has_its_message() {
+    let host = InProcessHost::start("badlines");
+    let (ok, _, err) = host.run("setup.hal", SETUP, false);
+    assert!(ok, "{err}");
+    let cases: &[(&str, &str)] = &[
+        ("frobnicate", "bad.hal:1: Unknown command 'frobnicate'\n"),
+        ("setp", "bad.hal:1: setp requires at least 2 arguments, 0 given\n"),
+        ("net", "bad.hal:1: net requires at least 1 arguments, 0 given\n"),
+        ("newsig x double", "bad.hal:1: Unknown signal type 'double'\n"),
+        ("newsig bad=name bit", "HAL: ERROR: bad signal name 'bad=name': names must not contain any of # = \" ' \\ < > $ ;\nbad.hal:1: newsig failed\n"),
+        ("net x nope.pin", "bad.hal:1: Pin 'nope.pin' does not exist\n"),
+        ("net y and2.0.out mult2.0.in0", "bad.hal:1: Signal 'y' of type 'bit' cannot add pin 'mult2.0.in0' of type 'float'\n"),
+        ("addf nope t", "HAL: ERROR: function 'nope' not found\nbad.hal:1: addf failed\n"),
+        ("addf and2.0 nope", "HAL: ERROR: thread 'nope' not found\nbad.hal:1: addf failed\n"),
+        ("addf and2.0 t 5", "HAL: ERROR: position 5 is out of range for thread 't' with 0 functions\nbad.hal:1: addf failed\n"),
+        ("delf and2.0 t", "HAL: ERROR: function 'and2.0' is not in thread 't'\nbad.hal:1: delf failed\n"),
+        ("loadrt and2", "HAL: ERROR: module 'and2' is already loaded\nbad.hal:1: insmod for and2 failed, returned -1\n"),
+        ("loadrt or2 count=x", "HAL: ERROR: or2: parameter 'count': 'x' is not a number\nbad.hal:1: insmod for or2 failed, returned -1\n"),
+        ("loadrt or2 bogus=1", "HAL: ERROR: or2: parameter 'bogus': unknown parameter\nbad.hal:1: insmod for or2 failed, returned -1\n"),
+        ("loadrt or2 count=1 names=a", "HAL: ERROR: or2: count= and names= are mutually exclusive\nbad.hal:1: insmod for or2 failed, returned -1\n"),
+        ("loadrt nosuch", "HAL: ERROR: module 'nosuch' not found\nbad.hal:1: insmod for nosuch failed, returned -1\n"),
+        ("loadrt sampler", "HAL: ERROR: sampler: no channels specified\nbad.hal:1: insmod for sampler failed, returned -1\n"),
+        ("loadrt threads name1=t period1=1000000", "HAL: ERROR: module 'threads' is already loaded\nbad.hal:1: insmod for threads failed, returned -1\n"),
+        ("setp and2.0.in0 2", "bad.hal:1: pin 'and2.0.in0': invalid argument\n"),
+        ("setp and2.0.out 1", "bad.hal:1: pin 'and2.0.out': not writable\n"),
+        ("setp mult2.0.in0 1e999", "bad.hal:1: pin 'mult2.0.in0': value out of range\n"),
+        ("setp and2.0.tmax-increased 1", "bad.hal:1: parameter 'and2.0.tmax-increased': not writable\n"),
+        ("setp nope 1", "bad.hal:1: parameter or pin 'nope': not found\n"),
+        ("getp nope", "bad.hal:1: parameter or pin 'nope': not found\n"),
+        ("ptype nope", "bad.hal:1: parameter or pin 'nope': not found\n"),
+        ("sets nope 1", "bad.hal:1: signal 'nope' not found\n"),
+        ("gets nope", "bad.hal:1: signal 'nope' not found\n"),
+        ("stype nope", "bad.hal:1: signal 'nope' not found\n"),
+        ("delsig nope", "bad.hal:1: signal 'nope' not found\n"),
+        ("linkps nope x", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: link failed\n"),
+        ("linksp x nope", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: link failed\n"),
+        ("unlinkp nope", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: unlink failed\n"),
+        ("alias thing a b", "bad.hal:1: alias: unknown type 'thing', use pin or param\n"),
+        ("alias pin nope x", "bad.hal:1: pin 'nope' not found\n"),
+        ("show things", "bad.hal:1: Unknown 'show' type 'things'\n"),
+        ("list things", "bad.hal:1: Unknown 'list' type 'things'\n"),
+        ("save things", "bad.hal:1: Unknown 'save' type 'things'\n"),
+        ("loadusr", "bad.hal:1: loadusr: needs a program to run\n"),
+        ("loadusr -x prog", "bad.hal:1: loadusr: unknown option '-x'\n"),
+        ("waitusr nope", "bad.hal:1: waitusr: component 'nope' not found or not a user component\n"),
+        ("unloadusr nope", "bad.hal:1: unloadusr: component 'nope' not found\n"),
+        ("print \"unterminated", "bad.hal:1: unterminated quoted string\n"),
+        ("setp x $NO_SUCH_VAR_HALCMD_TEST", "bad.hal:1: environment variable 'NO_SUCH_VAR_HALCMD_TEST' not found\n"),
+        ("setp x [EMC]NAME", "bad.hal:1: INI substitution [EMC]NAME used without an INI file (-i)\n"),
+        ("source /no/such/file.hal", "bad.hal:1: source /no/such/file.hal: No such file or directory (os error 2)\n"),
+        ("help nope", "bad.hal:1: No help for unknown command 'nope'\n"),
+    ];
+    let inst = host.instance();
+    let snapshot = |i: &hal_core::Instance| {
+        format!(
+            "{:?}{:?}{:?}{:?}",
+            i.pins().unwrap(),
+            i.signals().unwrap(),
+            i.params().unwrap(),
+            i.functs().unwrap()
+        )
+    };
+    let before = snapshot(&inst);
+    let mut wrong = Vec::new();
+    for (line, want) in cases {
+        let (ok, out, err) = host.run("bad.hal", line, false);
+        if ok || err != *want || !out.is_empty() {
+            wrong.push(format!(
+                "{line:?}\n  want {want:?}\n  got  {err:?} (ok {ok}, stdout {out:?})"
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    assert_eq!(
+        before,
+        snapshot(&inst),
+        "a failed command changed the instance"
+    );
+}
+
+#[test]
+fn a_file_stops_at_the_first_error_unless_keep_going() {
+    let host = InProcessHost::start("keepgoing");
+    let text = "loadrt and2\nbogus 1\nsetp and2.0.in0 1\nbogus 2\ngetp and2.0.in0\n";
+    let (ok, out, err) = host.run("f.hal", text, false);
+    assert!(!ok);
+    assert_eq!(out, "");
+    assert_eq!(err, "f.hal:2: Unknown command 'bogus'\n");
+    let (ok, out, err) = host.run(
+        "g.hal",
+        "setp and2.0.in0 0\nbogus 1\nsetp and2.0.in0 1\nbogus 2\ngetp and2.0.in0\n",
+        true,
+    );
+    assert!(!ok, "a failure still fails the run with -k");
+    assert_eq!(out, "TRUE\n");
+    assert_eq!(
+        err,
+        "g.hal:2: Unknown command 'bogus'\ng.hal:4: Unknown command 'bogus'\n"
+    );
+}
+
+#[test]
+fn ini_and_environment_substitution() {
+    let host = InProcessHost::start("subst");
+    let dir = std::env::temp_dir().join(common::instance("ini"));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("m.ini"), "[AXIS_X]\nMAX = 2.5\n").unwrap();
+    std::env::set_var("HALCMD_SUBST_TEST", "mult2");
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let opts = hal_tools::halcmd::Options {
+        ini: Some(hal_tools::halcmd::ini::Ini::parse(
+            &std::fs::read_to_string(dir.join("m.ini")).unwrap(),
+        )),
+        ..Default::default()
+    };
+    let ok = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err).run_text(
+        Some("s.hal"),
+        "loadrt $HALCMD_SUBST_TEST\nsetp $(HALCMD_SUBST_TEST).0.in0 [AXIS_X]MAX\ngetp mult2.0.in0\n",
+    );
+    assert!(ok, "{}", String::from_utf8_lossy(&err));
+    assert_eq!(String::from_utf8_lossy(&out), "2.5\n");
+    let _ = std::fs::remove_dir_all(dir);
+}
