@@ -334,3 +334,36 @@ fn a_builder_dropped_after_addf_leaves_nothing_running() {
         .all(|c| c.name != "half"));
     host.stop();
 }
+
+#[test]
+fn init_functions_run_once_before_the_list() {
+    let host = host("initf");
+    let log = Arc::new(Mutex::new(Vec::<u8>::new()));
+    let mut b = host.new_rt_component("c").unwrap();
+    for (name, tag) in [("c.init", b'i'), ("c.cycle", b'c')] {
+        let log = log.clone();
+        b.funct(name, false, move |_| log.lock().unwrap().push(tag))
+            .unwrap();
+    }
+    b.ready().unwrap();
+    host.create_thread("t", 200_000, true, None).unwrap();
+    host.addf("c.cycle", "t", -1).unwrap();
+    host.initf("c.init", "t").unwrap();
+    assert_eq!(
+        host.instance().threads().unwrap()[0].init_functs,
+        ["c.init"]
+    );
+    host.start().unwrap();
+    assert!(wait_until(10.0, || log.lock().unwrap().len() >= 20));
+    host.stop();
+    let log = log.lock().unwrap();
+    assert_eq!(log[0], b'i', "the init cycle comes first");
+    assert!(
+        log[1..].iter().all(|&t| t == b'c'),
+        "init runs once and replaces the first cycle"
+    );
+    assert!(
+        matches!(host.initf("c.init", "t"), Err(HalError::BadValue { .. })),
+        "too late after the init cycle"
+    );
+}

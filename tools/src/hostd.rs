@@ -119,6 +119,7 @@ fn execute(host: &Host, registry: &Registry, words: &[String]) -> (Result<(), St
             };
             pos.and_then(|p| host.addf(arg(1), arg(2), p).map_err(|e| e.to_string()))
         }
+        "initf" => host.initf(arg(1), arg(2)).map_err(|e| e.to_string()),
         "delf" => host
             .delf(arg(1), words.get(2).map(String::as_str))
             .map_err(|e| e.to_string()),

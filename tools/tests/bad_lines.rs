@@ -131,3 +131,34 @@ fn ini_and_environment_substitution() {
     assert_eq!(String::from_utf8_lossy(&out), "2.5\n");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn script_mode_show_is_one_line_per_object_without_titles() {
+    let host = InProcessHost::start("script");
+    let (ok, _, err) = host.run(
+        "s.hal",
+        "loadrt threads name1=t period1=1000000\nloadrt and2\naddf and2.0 t\nnet x and2.0.out and2.0.in0\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let opts = hal_tools::halcmd::Options {
+        script: true,
+        ..Default::default()
+    };
+    let mut s = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err);
+    let ok = s.run_text(
+        None,
+        "show sig\nshow thread\nshow pin and2.0.out\nlinkpp and2.0.in1 and2.0.out\n",
+    );
+    assert!(!ok, "linkpp onto a linked pin fails");
+    drop(s);
+    assert_eq!(
+        String::from_utf8_lossy(&out),
+        "bit FALSE x ==> and2.0.in0 <== and2.0.out\n1000000 YES t and2.0\nand2 bit OUT FALSE and2.0.out ==> x\n"
+    );
+    // linkpp failed: and2.0.out is already on x.
+    assert!(
+        String::from_utf8_lossy(&err).contains("Pin 'and2.0.out' was already linked to signal 'x'")
+    );
+}

@@ -102,6 +102,10 @@ pub(crate) struct ExecList {
     /// Host code ids, parallel to `calls` (for fault reports).
     pub ids: Vec<usize>,
     pub owners: Vec<Arc<FunctCode>>,
+    /// Functions of the init cycle (`initf`), run once instead of the
+    /// list on the first cycle after start; kept alive by `owners`.
+    pub init_calls: Vec<*const FunctCode>,
+    pub init_ids: Vec<usize>,
 }
 
 impl ExecList {
@@ -110,5 +114,11 @@ impl ExecList {
         self.owners.push(code);
         self.ids.push(id);
         self.timing.push(timing);
+    }
+
+    pub(crate) fn push_init(&mut self, code: Arc<FunctCode>, id: usize) {
+        self.init_calls.push(Arc::as_ptr(&code));
+        self.owners.push(code);
+        self.init_ids.push(id);
     }
 }

@@ -71,6 +71,15 @@ struct HostThread {
     join: Option<JoinHandle<()>>,
     /// Code ids in execution order.
     functs: Vec<usize>,
+    /// Code ids of the init cycle.
+    init: Vec<usize>,
+}
+
+impl HostThread {
+    /// Whether function `id` is in this thread's list or init list.
+    fn holds(&self, id: usize) -> bool {
+        self.functs.contains(&id) || self.init.contains(&id)
+    }
 }
 
 struct LoadedComp {
@@ -241,7 +250,7 @@ impl Host {
         let mut st = lock(&self.state);
         for id in ids {
             for ti in 0..st.threads.len() {
-                while st.threads[ti].functs.contains(id) {
+                while st.threads[ti].holds(*id) {
                     if self.remove_from_thread(&mut st, ti, *id).is_err() {
                         break;
                     }
@@ -299,6 +308,7 @@ impl Host {
                 epoch: AtomicU64::new(0),
                 idle: AtomicBool::new(true),
                 exit: AtomicBool::new(false),
+                init_done: AtomicBool::new(false),
                 time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
                 tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 beat: Pin::new(seg, rec.beat_pin.load(Relaxed))?,
@@ -332,6 +342,7 @@ impl Host {
             ctl,
             join: Some(join),
             functs: Vec::new(),
+            init: Vec::new(),
         });
         drop(st);
         // Set-up notes matter once threads exist; say them once.
@@ -392,11 +403,51 @@ impl Host {
         let mut functs = st.threads[ti].functs.clone();
         functs.insert(index, id);
         // Everything that can fail happens before anything changes.
-        let list = self.build_list(&st, &functs)?;
+        let list = self.build_list(&st, &functs, &st.threads[ti].init)?;
         self.inst
             .tx(|tx| add_entry_tx(tx, thread_off, rec_off, index))?;
         self.swap_list(&st.threads[ti].ctl, list);
         st.threads[ti].functs = functs;
+        if let Some(slot) = st.functs[id].as_mut() {
+            slot.threads.push(thread.to_string());
+        }
+        Ok(())
+    }
+
+    /// Registers a function for the init cycle of a thread (halcmd
+    /// `initf`): it runs once, on the thread's first cycle after `start`,
+    /// instead of the function list. Refused once that cycle has run.
+    pub fn initf(&self, funct: &str, thread: &str) -> Result<()> {
+        let mut st = lock(&self.state);
+        let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
+            kind: "function",
+            name: funct.to_string(),
+        })?;
+        let ti = thread_index(&st, thread)?;
+        if st.threads[ti].ctl.init_done.load(SeqCst) {
+            return Err(HalError::BadValue {
+                what: format!("initf {funct} {thread}"),
+                reason: format!("thread '{thread}' has already run its init cycle"),
+            });
+        }
+        let slot = st.functs[id].as_ref().ok_or_else(|| HalError::NotFound {
+            kind: "function",
+            name: funct.to_string(),
+        })?;
+        if !slot.reentrant && slot.threads.iter().any(|t| t != thread) {
+            return Err(HalError::FunctInUse {
+                funct: funct.to_string(),
+                thread: slot.threads[0].clone(),
+            });
+        }
+        let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        let mut init = st.threads[ti].init.clone();
+        init.push(id);
+        let list = self.build_list(&st, &st.threads[ti].functs, &init)?;
+        self.inst
+            .tx(|tx| crate::objects::funct::add_init_entry_tx(tx, thread_off, rec_off))?;
+        self.swap_list(&st.threads[ti].ctl, list);
+        st.threads[ti].init = init;
         if let Some(slot) = st.functs[id].as_mut() {
             slot.threads.push(thread.to_string());
         }
@@ -414,7 +465,7 @@ impl Host {
         let targets: Vec<usize> = match thread {
             Some(t) => {
                 let ti = thread_index(&st, t)?;
-                if !st.threads[ti].functs.contains(&id) {
+                if !st.threads[ti].holds(id) {
                     return Err(HalError::FunctNotInThread {
                         funct: funct.to_string(),
                         thread: t.to_string(),
@@ -423,7 +474,7 @@ impl Host {
                 vec![ti]
             }
             None => (0..st.threads.len())
-                .filter(|&i| st.threads[i].functs.contains(&id))
+                .filter(|&i| st.threads[i].holds(id))
                 .collect(),
         };
         for ti in targets {
@@ -441,11 +492,17 @@ impl Host {
         if let Some(pos) = functs.iter().position(|&f| f == id) {
             functs.remove(pos);
         }
-        let list = self.build_list(st, &functs)?;
+        let mut init = st.threads[ti].init.clone();
+        if let Some(pos) = init.iter().position(|&f| f == id) {
+            init.remove(pos);
+            functs = st.threads[ti].functs.clone();
+        }
+        let list = self.build_list(st, &functs, &init)?;
         self.inst
             .tx(|tx| remove_entry_tx(tx, thread_off, rec_off).map(|_| ()))?;
         self.swap_list(&st.threads[ti].ctl, list);
         st.threads[ti].functs = functs;
+        st.threads[ti].init = init;
         let tname = st.threads[ti].ctl.name.clone();
         if let Some(Some(slot)) = st.functs.get_mut(id) {
             if let Some(p) = slot.threads.iter().position(|n| *n == tname) {
@@ -456,9 +513,14 @@ impl Host {
     }
 
     /// Builds an executor list for the code ids `functs`.
-    fn build_list(&self, st: &HostState, functs: &[usize]) -> Result<ExecList> {
+    fn build_list(&self, st: &HostState, functs: &[usize], init: &[usize]) -> Result<ExecList> {
         let seg = &self.inst.seg;
         let mut list = ExecList::default();
+        for &id in init {
+            if let Some(slot) = st.functs.get(id).and_then(Option::as_ref) {
+                list.push_init(slot.code.clone(), id);
+            }
+        }
         for &id in functs {
             let Some(slot) = st.functs.get(id).and_then(Option::as_ref) else {
                 continue;
@@ -584,7 +646,7 @@ impl Host {
         let ids = st.comps[ci].functs.clone();
         for id in &ids {
             for ti in 0..st.threads.len() {
-                while st.threads[ti].functs.contains(id) {
+                while st.threads[ti].holds(*id) {
                     self.remove_from_thread(st, ti, *id)?;
                 }
             }

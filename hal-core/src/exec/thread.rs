@@ -52,6 +52,8 @@ pub(crate) struct ThreadCtl {
     /// True while the executor holds no reference to its list.
     pub idle: AtomicBool,
     pub exit: AtomicBool,
+    /// Set once the init cycle (`initf` functions) has run.
+    pub init_done: AtomicBool,
     pub time: Pin<i32, Out>,
     pub tmax: Param<i32, Rw>,
     pub beat: Pin<i64, Out>,
@@ -146,14 +148,21 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             // One unwind guard for the whole list: a panic ends the cycle
             // anyway, and `current` says which function it came from.
             let mut current = 0usize;
+            let init = !list.init_calls.is_empty() && !ctl.init_done.load(Acquire);
+            let (calls, ids) = if init {
+                ctl.init_done.store(true, Release);
+                (&list.init_calls, &list.init_ids)
+            } else {
+                (&list.calls, &list.ids)
+            };
             let outcome = catch_unwind(AssertUnwindSafe(|| {
-                for (i, &code) in list.calls.iter().enumerate() {
+                for (i, &code) in calls.iter().enumerate() {
                     current = i;
                     // SAFETY: `code` is kept alive by `list.owners`; a
                     // non-reentrant function is in this list only, and this
                     // thread runs its list sequentially.
                     unsafe { (*code).call(&ctx) };
-                    if timing {
+                    if timing && !init {
                         let now = clock.now();
                         list.timing[i].record(clock.to_ns(now.wrapping_sub(prev)));
                         prev = now;
@@ -162,7 +171,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             }));
             let faulted = outcome.is_err();
             if faulted {
-                sh.report_fault(list.ids.get(current).copied().unwrap_or(NO_FAULT - 1));
+                sh.report_fault(ids.get(current).copied().unwrap_or(NO_FAULT - 1));
             }
             let end = if timing { prev } else { clock.now() };
             let t = clock.to_ns(end.wrapping_sub(start)).min(i32::MAX as u64) as i32;

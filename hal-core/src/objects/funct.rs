@@ -2,7 +2,7 @@
 //! lives in the host's private table; the segment only holds its id there,
 //! so nothing written into the segment can make the host jump anywhere.
 
-use std::sync::atomic::Ordering::*;
+use std::sync::atomic::{AtomicU64, Ordering::*};
 
 use super::component::{new_component_tx, remove_component_tx, ComponentKind};
 use super::list;
@@ -97,8 +97,17 @@ pub(crate) fn remove_funct_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
 
 /// Function record offsets in a thread's list, in execution order.
 pub(crate) fn entries(seg: &Segment, thread: &ThreadRec) -> Result<Vec<u64>> {
+    list_entries(seg, &thread.functs)
+}
+
+/// Function record offsets in a thread's init list.
+pub(crate) fn init_entries(seg: &Segment, thread: &ThreadRec) -> Result<Vec<u64>> {
+    list_entries(seg, &thread.init_functs)
+}
+
+fn list_entries(seg: &Segment, head: &AtomicU64) -> Result<Vec<u64>> {
     let mut out = Vec::new();
-    let mut cur = thread.functs.load(Acquire);
+    let mut cur = head.load(Acquire);
     let mut budget = seg.size() / 64;
     while cur != 0 {
         if budget == 0 {
@@ -131,10 +140,21 @@ pub(crate) fn position_to_index(position: i32, len: usize) -> Option<usize> {
 /// caller against the list length) and counts the new user.
 pub(crate) fn add_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64, index: usize) -> Result<()> {
     let t: &ThreadRec = tx.rec(thread)?;
+    insert_entry_tx(tx, &t.functs, funct, index)
+}
+
+/// Appends `funct` to `thread`'s init list.
+pub(crate) fn add_init_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64) -> Result<()> {
+    let t: &ThreadRec = tx.rec(thread)?;
+    let n = init_entries(tx.seg(), t)?.len();
+    insert_entry_tx(tx, &t.init_functs, funct, n)
+}
+
+fn insert_entry_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64, index: usize) -> Result<()> {
     let f: &FunctRec = tx.rec(funct)?;
     let (off, e) = tx.alloc::<EntryRec>(BlockKind::Entry)?;
     e.funct.store(funct, Relaxed);
-    let mut link = &t.functs;
+    let mut link = head;
     for _ in 0..index {
         let cur = link.load(Relaxed);
         if cur == 0 {
@@ -151,7 +171,14 @@ pub(crate) fn add_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64, index: usi
 /// Removes the first occurrence of `funct` from `thread`; false if absent.
 pub(crate) fn remove_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64) -> Result<bool> {
     let t: &ThreadRec = tx.rec(thread)?;
-    let mut link = &t.functs;
+    if remove_from_list_tx(tx, &t.init_functs, funct)? {
+        return Ok(true);
+    }
+    remove_from_list_tx(tx, &t.functs, funct)
+}
+
+fn remove_from_list_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64) -> Result<bool> {
+    let mut link = head;
     let mut budget = tx.seg().size() / 64;
     while link.load(Relaxed) != 0 && budget > 0 {
         budget -= 1;
@@ -287,7 +314,7 @@ pub(crate) fn delete_thread_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let seg = tx.seg();
     let h = tx.header();
     let t: &ThreadRec = tx.rec(off)?;
-    for f in entries(seg, t)? {
+    for f in entries(seg, t)?.into_iter().chain(init_entries(seg, t)?) {
         remove_entry_tx(tx, off, f)?;
     }
     let comp = t.owner.load(Relaxed);

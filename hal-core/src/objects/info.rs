@@ -87,6 +87,8 @@ pub struct ThreadInfo {
     pub uses_fp: bool,
     pub cpu: Option<usize>,
     pub functs: Vec<String>,
+    /// Functions run once on the first cycle after start (`initf`).
+    pub init_functs: Vec<String>,
     pub running: bool,
     pub time_ns: i32,
     pub tmax_ns: i32,
@@ -272,6 +274,10 @@ impl Instance {
                         .into_iter()
                         .map(|f| seg.rec::<FunctRec>(f).map(|f| f.name.get()))
                         .collect::<Result<_>>()?;
+                    let init_functs = super::funct::init_entries(seg, t)?
+                        .into_iter()
+                        .map(|f| seg.rec::<FunctRec>(f).map(|f| f.name.get()))
+                        .collect::<Result<_>>()?;
                     let lat_min = t.lat_min_ns.load(Relaxed);
                     let cycles = t.cycles.load(Relaxed);
                     Ok(ThreadInfo {
@@ -284,6 +290,7 @@ impl Instance {
                             c => Some(c as usize - 1),
                         },
                         functs,
+                        init_functs,
                         running: t.running.load(Relaxed) != 0,
                         time_ns: seg
                             .rec::<PinRec>(t.time_pin.load(Relaxed))

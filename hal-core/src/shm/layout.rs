@@ -13,7 +13,7 @@ use super::mutex::RobustMutex;
 /// "HALSEGM1" as little-endian bytes.
 pub(crate) const MAGIC: u64 = u64::from_le_bytes(*b"HALSEGM1");
 /// Bumped whenever any layout in this file changes.
-pub(crate) const LAYOUT_VERSION: u64 = 1;
+pub(crate) const LAYOUT_VERSION: u64 = 2;
 /// Entries of the undo journal.
 pub(crate) const JOURNAL_CAP: usize = 65536;
 /// Buckets of a thread's wake-up latency histogram (see [`latency_bucket`]).
@@ -254,6 +254,8 @@ record!(
     /// CPU to pin to plus one; 0 for the default placement.
     cpu: AtomicU64,
     functs: AtomicU64,
+    /// Functions run once, on the first cycle after start (`initf`).
+    init_functs: AtomicU64,
     time_pin: AtomicU64,
     tmax_param: AtomicU64,
     beat_pin: AtomicU64,

@@ -349,6 +349,8 @@ pub const HELP: &[(&str, &str)] = &[
     ("gets", "gets SIGNAL: print a signal"),
     ("stype", "stype SIGNAL: print the type of a signal"),
     ("addf", "addf FUNCT THREAD [POSITION]: add a function to a thread"),
+        ("initf", "initf FUNCT THREAD: run a function once, on the thread's first cycle"),
+    ("linkpp", "linkpp PIN1 PIN2: connect two pins with a signal named after the first (obsolete)"),
     ("delf", "delf FUNCT [THREAD]: remove a function from a thread"),
     ("start", "start: start the realtime threads"),
     ("stop", "stop: stop the realtime threads (not a safe state)"),
@@ -401,7 +403,12 @@ pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, boo
 }
 
 /// Renders the output of `show`, `list`, `getp`, `gets`, `ptype`, `stype`.
-pub fn render(inst: &Instance, words: &[&str], _opts: &Options) -> Result<String, String> {
+pub fn render(inst: &Instance, words: &[&str], opts: &Options) -> Result<String, String> {
+    if opts.script && words[0] == "show" {
+        if let Some(text) = script::show(inst, &words[1..])? {
+            return Ok(text);
+        }
+    }
     let args = &words[1..];
     let not_found = |n: &str| format!("parameter or pin '{n}': not found");
     match words[0] {
@@ -497,5 +504,123 @@ mod tests {
         assert_eq!(r, "     6  bit   IN                  FALSE  and2.0.in0");
         let r = row(12, HalType::U64, "OUT", Value::U64(u64::MAX), "x");
         assert_eq!(r, "    12  u64   OUT    0xFFFFFFFFFFFFFFFF  x");
+    }
+}
+
+/// `show` in script mode (`-s`): no titles, component names instead of
+/// ids, one line per thread and per signal.
+mod script {
+    use super::{matches, show_value};
+    use hal_core::{Instance, PinDir};
+
+    fn e(err: hal_core::HalError) -> String {
+        err.to_string()
+    }
+
+    /// The script-mode text of `show KIND PATTERNS`, or `None` for kinds
+    /// printed the same in both modes.
+    pub fn show(inst: &Instance, args: &[&str]) -> Result<Option<String>, String> {
+        let (kind, pats) = match args.split_first() {
+            Some((k, rest)) => (*k, rest),
+            None => return Ok(None),
+        };
+        let mut out = String::new();
+        match kind {
+            "pin" => {
+                for p in inst
+                    .pins()
+                    .map_err(e)?
+                    .into_iter()
+                    .filter(|p| matches(pats, &p.name))
+                {
+                    out.push_str(&format!(
+                        "{} {} {} {} {}",
+                        p.owner,
+                        p.hal_type.name(),
+                        p.dir.label(),
+                        show_value(p.value),
+                        p.name
+                    ));
+                    if let Some(s) = p.signal {
+                        let a = match p.dir {
+                            PinDir::In => "<==",
+                            PinDir::Out => "==>",
+                            PinDir::Io => "<=>",
+                        };
+                        out.push_str(&format!(" {a} {s}"));
+                    }
+                    out.push('\n');
+                }
+            }
+            "param" | "parameter" => {
+                for p in inst
+                    .params()
+                    .map_err(e)?
+                    .into_iter()
+                    .filter(|p| matches(pats, &p.name))
+                {
+                    out.push_str(&format!(
+                        "{} {} {} {} {}\n",
+                        p.owner,
+                        p.hal_type.name(),
+                        p.dir.label(),
+                        show_value(p.value),
+                        p.name
+                    ));
+                }
+            }
+            "sig" | "signal" => {
+                for s in inst
+                    .signals()
+                    .map_err(e)?
+                    .into_iter()
+                    .filter(|s| matches(pats, &s.name))
+                {
+                    out.push_str(&format!(
+                        "{} {} {}",
+                        s.hal_type.name(),
+                        show_value(s.value),
+                        s.name
+                    ));
+                    for (pin, dir) in &s.pins {
+                        let a = match dir {
+                            PinDir::In => "==>",
+                            PinDir::Out => "<==",
+                            PinDir::Io => "<=>",
+                        };
+                        out.push_str(&format!(" {a} {pin}"));
+                    }
+                    out.push('\n');
+                }
+            }
+            "funct" | "function" => {
+                for f in inst
+                    .functs()
+                    .map_err(e)?
+                    .into_iter()
+                    .filter(|f| matches(pats, &f.name))
+                {
+                    let fp = if f.uses_fp { "YES" } else { "NO" };
+                    out.push_str(&format!("{} {fp} {} {}\n", f.owner, f.users, f.name));
+                }
+            }
+            "thread" => {
+                for t in inst
+                    .threads()
+                    .map_err(e)?
+                    .into_iter()
+                    .filter(|t| matches(pats, &t.name))
+                {
+                    let fp = if t.uses_fp { "YES" } else { "NO" };
+                    out.push_str(&format!("{} {fp} {}", t.period, t.name));
+                    for f in &t.functs {
+                        out.push_str(&format!(" {f}"));
+                    }
+                    out.push('\n');
+                }
+            }
+            _ => return Ok(None),
+        }
+        Ok(Some(out))
     }
 }

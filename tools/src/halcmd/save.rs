@@ -158,6 +158,9 @@ fn threads(inst: &Instance) -> R {
         for f in &t.functs {
             out.push_str(&format!("addf {f} {}\n", t.name));
         }
+        for f in &t.init_functs {
+            out.push_str(&format!("initf {f} {}\n", t.name));
+        }
     }
     Ok(out)
 }

@@ -86,8 +86,18 @@ impl<'o> Session<'o> {
         }
     }
 
-    /// Writes an error message with the file and line prefix.
+    /// Writes a HAL library error line (no file and line), unless `-Q`.
+    fn lib_error(&mut self, msg: &str) {
+        if !self.opts.silent {
+            let _ = writeln!(self.err, "HAL: ERROR: {msg}");
+        }
+    }
+
+    /// Writes an error message with the file and line prefix, unless `-Q`.
     pub fn report(&mut self, msg: &str) {
+        if self.opts.silent {
+            return;
+        }
         let prefix = match &self.source {
             Some(f) => format!("{f}:{}: ", self.line),
             None => String::new(),
@@ -142,7 +152,12 @@ impl<'o> Session<'o> {
         let result = self.dispatch(&w);
         let _ = self.out.flush();
         match result {
-            Ok(()) => true,
+            Ok(()) => {
+                if self.opts.verbose {
+                    let _ = writeln!(self.err, "{}'{}' done", self.location(), words.join(" "));
+                }
+                true
+            }
             Err(msg) => {
                 self.report(&msg);
                 false
@@ -179,7 +194,7 @@ impl<'o> Session<'o> {
                 let next = self.inst.next_component_id().saturating_add(2);
                 self.inst.advance_component_ids(next).map_err(msg)?;
                 self.host(&v).map_err(|e| {
-                    let _ = writeln!(self.err, "HAL: ERROR: {e}");
+                    self.lib_error(&e.to_string());
                     format!("insmod for {} failed, returned -1", args[0])
                 })
             }
@@ -220,6 +235,19 @@ impl<'o> Session<'o> {
                 }
                 self.host_or(&v, "delf failed")
             }
+            "initf" => {
+                need(2)?;
+                self.host_or(&["initf", args[0], args[1]], "initf failed")
+            }
+            "linkpp" => {
+                // Obsolete form: a signal named after the first pin.
+                need(2)?;
+                let pins: Vec<&str> = args.iter().copied().filter(|a| !is_arrow(a)).collect();
+                if pins.len() != 2 {
+                    return Err("linkpp requires exactly 2 pins".into());
+                }
+                self.net(pins[0], &pins)
+            }
             "start" => self.host(&["start"]),
             "stop" => self.host(&["stop"]),
             "setexact_for_test_suite_only" => {
@@ -240,7 +268,7 @@ impl<'o> Session<'o> {
                 let t = HalType::from_name(args[1])
                     .ok_or_else(|| format!("Unknown signal type '{}'", args[1]))?;
                 self.inst.newsig(args[0], t).map_err(|e| {
-                    let _ = writeln!(self.err, "HAL: ERROR: {e}");
+                    self.lib_error(&e.to_string());
                     "newsig failed".to_string()
                 })
             }
@@ -380,7 +408,7 @@ impl<'o> Session<'o> {
     /// `what` with the file and line.
     fn host_or(&mut self, words: &[&str], what: &str) -> CmdResult {
         self.host(words).map_err(|e| {
-            let _ = writeln!(self.err, "HAL: ERROR: {e}");
+            self.lib_error(&e.to_string());
             what.to_string()
         })
     }
@@ -388,7 +416,7 @@ impl<'o> Session<'o> {
     /// A segment operation's failure, reported like [`Self::host_or`].
     fn lib_or<T>(&mut self, r: hal_core::Result<T>, what: &str) -> CmdResult {
         r.map(|_| ()).map_err(|e| {
-            let _ = writeln!(self.err, "HAL: ERROR: {e}");
+            self.lib_error(&e.to_string());
             what.to_string()
         })
     }
