@@ -76,6 +76,42 @@ pub fn format_record(record: &[u64], cols: &[HalType], tag: bool) -> String {
     line
 }
 
+/// Sign and decimal digits of a whole field, as i128 (saturated).
+fn decimal(field: &str) -> Option<(bool, u128)> {
+    let (neg, digits) = match field.as_bytes().first()? {
+        b'-' => (true, &field[1..]),
+        b'+' => (false, &field[1..]),
+        _ => (false, field),
+    };
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    let mag = digits.bytes().fold(0u128, |acc, d| {
+        acc.saturating_mul(10).saturating_add((d - b'0') as u128)
+    });
+    Some((neg, mag))
+}
+
+/// C's `strtol` on a whole decimal field: saturates at the `long` range
+/// (the caller then keeps the low bits, as an assignment in C does).
+fn c_strtol(field: &str) -> Option<i64> {
+    let (neg, mag) = decimal(field)?;
+    let v = if neg {
+        -(mag.min(1 << 64) as i128)
+    } else {
+        mag.min(1 << 64) as i128
+    };
+    Some(v.clamp(i64::MIN as i128, i64::MAX as i128) as i64)
+}
+
+/// C's `strtoul` on a whole decimal field: saturates at the `unsigned
+/// long` range, and a minus sign negates in unsigned arithmetic.
+fn c_strtoul(field: &str) -> Option<u64> {
+    let (neg, mag) = decimal(field)?;
+    let m = mag.min(u64::MAX as u128) as u64;
+    Some(if neg { m.wrapping_neg() } else { m })
+}
+
 /// Parses one input line for a streamer. `None` for a comment line. Every
 /// field must be followed by whitespace (a last line without a newline is
 /// refused); text after the last field is ignored.
@@ -107,21 +143,21 @@ pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, Strin
                 Some(f) => Value::Float(f),
                 None => return Some(Err(bad())),
             },
-            HalType::S32 => match field.parse::<i32>() {
-                Ok(x) => Value::S32(x),
-                Err(_) => return Some(Err(bad())),
+            HalType::S32 => match c_strtol(field) {
+                Some(x) => Value::S32(x as i32),
+                None => return Some(Err(bad())),
             },
-            HalType::U32 => match field.parse::<u32>() {
-                Ok(x) => Value::U32(x),
-                Err(_) => return Some(Err(bad())),
+            HalType::U32 => match c_strtoul(field) {
+                Some(x) => Value::U32(x as u32),
+                None => return Some(Err(bad())),
             },
-            HalType::S64 => match field.parse::<i64>() {
-                Ok(x) => Value::S64(x),
-                Err(_) => return Some(Err(bad())),
+            HalType::S64 => match c_strtol(field) {
+                Some(x) => Value::S64(x),
+                None => return Some(Err(bad())),
             },
-            HalType::U64 => match field.parse::<u64>() {
-                Ok(x) => Value::U64(x),
-                Err(_) => return Some(Err(bad())),
+            HalType::U64 => match c_strtoul(field) {
+                Some(x) => Value::U64(x),
+                None => return Some(Err(bad())),
             },
         };
         record.push(v.to_bits());
@@ -167,5 +203,20 @@ mod tests {
             parse_line("-1 0\n", &[HalType::S32, HalType::U32]),
             Some(Ok(vec![0, u64::MAX, 0]))
         );
+        // As C: -1 into an unsigned column wraps, a too large s32 keeps its
+        // low bits, a too large s64 saturates.
+        assert_eq!(
+            parse_line("-1 -1\n", &[HalType::U32, HalType::U64]),
+            Some(Ok(vec![0, 0xFFFF_FFFF, u64::MAX]))
+        );
+        assert_eq!(
+            parse_line("4294967297\n", &[HalType::S32]),
+            Some(Ok(vec![0, 1]))
+        );
+        assert_eq!(
+            parse_line("99999999999999999999\n", &[HalType::S64]),
+            Some(Ok(vec![0, i64::MAX as u64]))
+        );
+        assert!(matches!(parse_line("12x\n", &[HalType::S32]), Some(Err(_))));
     }
 }

@@ -3,6 +3,8 @@
 
 use std::io::{BufRead, BufReader, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
+use std::sync::atomic::{AtomicBool, Ordering::SeqCst};
+use std::sync::Mutex;
 use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
@@ -17,14 +19,11 @@ pub fn registry() -> Registry {
     r
 }
 
-/// What a request asked the serve loop to do next.
-enum Next {
-    Continue,
-    Shutdown,
-}
-
 /// Runs a host for `config` until a `shutdown` request or a signal.
-/// `ready` is called once the socket accepts connections.
+/// `ready` is called once the socket accepts connections. Each connection
+/// is served by a thread of its own (a halcmd started by `loadusr` talks to
+/// the host while its parent's connection is open); requests are executed
+/// one at a time.
 pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     let signals = ExitSignals::install().map_err(|e| e.to_string())?;
     let instance = config.instance.clone();
@@ -44,68 +43,111 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
         .set_nonblocking(true)
         .map_err(|e| format!("control socket: {e}"))?;
     ready();
-    let result = loop {
-        if signals.requested() {
+    let stop = AtomicBool::new(false);
+    let exec_lock = Mutex::new(());
+    let result = std::thread::scope(|scope| loop {
+        if signals.requested() || stop.load(SeqCst) {
+            stop.store(true, SeqCst);
             break Ok(());
         }
         match listener.accept() {
-            Ok((stream, _)) => match handle(&host, &registry, stream, &signals) {
-                Next::Continue => {}
-                Next::Shutdown => break Ok(()),
-            },
+            Ok((stream, _)) => {
+                let ctx = Ctx {
+                    host: &host,
+                    registry: &registry,
+                    stop: &stop,
+                    exec_lock: &exec_lock,
+                    signals: &signals,
+                };
+                scope.spawn(move || ctx.handle(stream));
+            }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 std::thread::sleep(Duration::from_millis(5));
             }
-            Err(e) => break Err(format!("control socket: {e}")),
+            Err(e) => {
+                stop.store(true, SeqCst);
+                break Err(format!("control socket: {e}"));
+            }
         }
-    };
+    });
     drop(listener);
     let _ = std::fs::remove_file(&sock);
     host.shutdown();
     result
 }
 
-fn handle(host: &Host, registry: &Registry, stream: UnixStream, signals: &ExitSignals) -> Next {
-    let _ = stream.set_nonblocking(false);
-    let _ = stream.set_read_timeout(Some(Duration::from_millis(200)));
-    let Ok(mut writer) = stream.try_clone() else {
-        return Next::Continue;
-    };
-    let mut reader = BufReader::new(stream);
-    let mut line = String::new();
-    loop {
-        line.clear();
-        match reader.read_line(&mut line) {
-            Ok(0) => return Next::Continue,
-            Ok(_) => {}
-            Err(e)
-                if e.kind() == std::io::ErrorKind::WouldBlock
-                    || e.kind() == std::io::ErrorKind::TimedOut =>
-            {
-                if signals.requested() {
-                    return Next::Shutdown;
-                }
-                continue;
+/// What a connection thread needs.
+#[derive(Clone, Copy)]
+struct Ctx<'a> {
+    host: &'a Host,
+    registry: &'a Registry,
+    stop: &'a AtomicBool,
+    exec_lock: &'a Mutex<()>,
+    signals: &'a ExitSignals,
+}
+
+impl Ctx<'_> {
+    fn handle(self, stream: UnixStream) {
+        let _ = stream.set_nonblocking(false);
+        let _ = stream.set_read_timeout(Some(Duration::from_millis(100)));
+        let Ok(mut writer) = stream.try_clone() else {
+            return;
+        };
+        let mut reader = BufReader::new(stream);
+        let mut line = Vec::new();
+        loop {
+            if self.stop.load(SeqCst) || self.signals.requested() {
+                return;
             }
-            Err(_) => return Next::Continue,
-        }
-        let words = decode_request(line.trim_end_matches('\n'));
-        let (result, next) = execute(host, registry, &words);
-        let reply = encode_reply(&result);
-        if writer.write_all(format!("{reply}\n").as_bytes()).is_err() {
-            return next;
-        }
-        if let Next::Shutdown = next {
-            return next;
+            // A timeout may interrupt a line; what was read stays in
+            // `line` and the next read continues it.
+            match reader.read_until(b'\n', &mut line) {
+                Ok(0) => return,
+                Ok(_) if line.ends_with(b"\n") => {}
+                Ok(_) => continue,
+                Err(e)
+                    if e.kind() == std::io::ErrorKind::WouldBlock
+                        || e.kind() == std::io::ErrorKind::TimedOut =>
+                {
+                    continue
+                }
+                Err(_) => return,
+            }
+            let text = String::from_utf8_lossy(&line)
+                .trim_end_matches('\n')
+                .to_string();
+            line.clear();
+            let words = decode_request(&text);
+            let result = {
+                let _serial = self.exec_lock.lock().unwrap_or_else(|e| e.into_inner());
+                execute(self.host, self.registry, &words)
+            };
+            let (result, shutdown) = match result {
+                Ok(Next::Shutdown) => (Ok(()), true),
+                Ok(Next::Continue) => (Ok(()), false),
+                Err(e) => (Err(e), false),
+            };
+            let reply = encode_reply(&result);
+            let _ = writer.write_all(format!("{reply}\n").as_bytes());
+            if shutdown {
+                self.stop.store(true, SeqCst);
+                return;
+            }
         }
     }
 }
 
-fn execute(host: &Host, registry: &Registry, words: &[String]) -> (Result<(), String>, Next) {
+/// What a request asked the host to do next.
+enum Next {
+    Continue,
+    Shutdown,
+}
+
+fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, String> {
     let arg = |i: usize| words.get(i).map(String::as_str).unwrap_or("");
     let r = match arg(0) {
         "ping" | "setexact" => Ok(()),
-        "shutdown" => return (Ok(()), Next::Shutdown),
+        "shutdown" => return Ok(Next::Shutdown),
         "loadrt" => match registry.find(arg(1)) {
             Some(def) => host.loadrt(def, &words[2..]).map_err(|e| e.to_string()),
             None => Err(format!("module '{}' not found", arg(1))),
@@ -130,5 +172,5 @@ fn execute(host: &Host, registry: &Registry, words: &[String]) -> (Result<(), St
         }
         other => Err(format!("unknown host request '{other}'")),
     };
-    (r, Next::Continue)
+    r.map(|()| Next::Continue)
 }

@@ -30,8 +30,18 @@ pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
     }
     let mut cmd = Command::new(host_binary());
     cmd.args(["--instance", instance]);
+    use std::os::unix::process::CommandExt;
+    if !detached {
+        // If halrun dies, its host goes too (SIGTERM: a clean shutdown).
+        // SAFETY: prctl is async-signal-safe and touches no memory of ours.
+        unsafe {
+            cmd.pre_exec(|| {
+                libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM);
+                Ok(())
+            });
+        }
+    }
     if detached {
-        use std::os::unix::process::CommandExt;
         // A detached host writes its notes to a log beside its socket.
         let log_path = log_path(instance);
         let log = std::fs::OpenOptions::new()
@@ -54,12 +64,19 @@ pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
     let mut child = cmd
         .spawn()
         .map_err(|e| format!("starting {}: {e}", host_binary().display()))?;
-    match Client::wait_for(instance, Duration::from_secs(20)) {
-        Ok(_) => Ok(child),
-        Err(e) => {
-            let _ = child.kill();
-            let _ = child.wait();
-            Err(e.to_string())
+    let end = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        if let Ok(Some(status)) = child.try_wait() {
+            return Err(format!("the HAL host exited at start-up ({status})"));
+        }
+        match Client::wait_for(instance, Duration::from_millis(100)) {
+            Ok(_) => return Ok(child),
+            Err(_) if std::time::Instant::now() < end => {}
+            Err(e) => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(e.to_string());
+            }
         }
     }
 }

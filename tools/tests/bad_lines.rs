@@ -38,9 +38,12 @@ fn every_kind_of_bad_line_has_its_message() {
         ("setp nope 1", "bad.hal:1: parameter or pin 'nope': not found\n"),
         ("getp nope", "bad.hal:1: parameter or pin 'nope': not found\n"),
         ("ptype nope", "bad.hal:1: parameter or pin 'nope': not found\n"),
-        ("sets nope 1", "bad.hal:1: signal 'nope' not found\n"),
-        ("gets nope", "bad.hal:1: signal 'nope' not found\n"),
-        ("stype nope", "bad.hal:1: signal 'nope' not found\n"),
+        ("sets nope 1", "bad.hal:1: signal 'nope': not found\n"),
+        ("gets nope", "bad.hal:1: signal 'nope': not found\n"),
+        ("stype nope", "bad.hal:1: signal 'nope': not found\n"),
+        ("net q", "bad.hal:1: 'net' requires at least one pin, none given\n"),
+        ("net and2.0.in0 and2.0.in1", "bad.hal:1: Signal name 'and2.0.in0' must not be the same as a pin.  Did you omit the signal name?\n"),
+        ("waitusr and2", "bad.hal:1: waitusr: component 'and2' not found or not a user component\n"),
         ("delsig nope", "bad.hal:1: signal 'nope' not found\n"),
         ("linkps nope x", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: link failed\n"),
         ("linksp x nope", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: link failed\n"),
@@ -161,4 +164,30 @@ fn script_mode_show_is_one_line_per_object_without_titles() {
     assert!(
         String::from_utf8_lossy(&err).contains("Pin 'and2.0.out' was already linked to signal 'x'")
     );
+}
+
+#[test]
+fn arrows_of_any_shape_are_ignored_and_show_filters_by_type() {
+    let host = InProcessHost::start("arrows");
+    let (ok, out, err) = host.run(
+        "a.hal",
+        "loadrt and2\nloadrt mult2\nnet x and2.0.out ==> and2.0.in0\nnet y mult2.0.out => mult2.0.in0\nshow sig -tfloat\nshow pin -t bit and2.0.in\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "Signals:\nType                  Value  Name     (linked to)\nfloat                     0  y\n                                 ==> mult2.0.in0\n                                 <== mult2.0.out\n\n\
+         Component Pins:\nOwner   Type  Dir                 Value  Name\n     6  bit   IN                  FALSE  and2.0.in0 <== x\n     6  bit   IN                  FALSE  and2.0.in1\n\n"
+    );
+}
+
+#[test]
+fn a_halcmd_started_by_loadusr_talks_to_the_same_host() {
+    let host = InProcessHost::start("nested");
+    let halcmd = env!("CARGO_BIN_EXE_halcmd");
+    let text = format!("loadrt or2\nloadusr -w {halcmd} loadrt and2\nlist comp and2\n");
+    let (ok, out, err) = host.run("n.hal", &text, false);
+    assert!(ok, "{err}");
+    assert_eq!(out, "and2 \n");
 }

@@ -90,3 +90,35 @@ fn save_then_reload_gives_the_same_show() {
     );
     let _ = std::fs::remove_dir_all(&tmp);
 }
+
+#[test]
+fn killing_halrun_takes_its_host_down() {
+    let dir = std::env::temp_dir().join(instance("killed"));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("wait.hal"),
+        "loadrt threads\nloadusr -w sleep 30\n",
+    )
+    .unwrap();
+    let name = instance("killed-run");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_halrun"))
+        .args(["-f", "wait.hal"])
+        .current_dir(&dir)
+        .env("HAL_INSTANCE", &name)
+        .env("HAL_NO_REALTIME", "1")
+        .spawn()
+        .unwrap();
+    let up = (0..500).any(|_| {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        hal_core::Instance::attach(&name).is_ok_and(|i| !i.threads().unwrap_or_default().is_empty())
+    });
+    assert!(up, "the instance came up");
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let gone = (0..500).any(|_| {
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        hal_core::Instance::attach(&name).is_err()
+    });
+    assert!(gone, "the host outlived halrun");
+    let _ = std::fs::remove_dir_all(dir);
+}

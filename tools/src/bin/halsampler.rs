@@ -61,7 +61,7 @@ fn run() -> Result<i32, String> {
     let mut last: Option<u32> = None;
     while count.is_none_or(|n| printed < n) {
         if !ring.pop(&mut record) {
-            if exit.requested() {
+            if exit.requested() || !inst.host_alive() {
                 let _ = out.flush();
                 return Ok(1);
             }

@@ -88,10 +88,27 @@ fn row(owner: i32, t: HalType, dir: &str, value: Value, name: &str) -> String {
 
 const HEADER: &str = "Owner   Type  Dir                 Value  Name\n";
 
-fn show_pins(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+/// Splits a leading `-tTYPE` / `-t TYPE` off show's patterns.
+fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b str]), String> {
+    let (name, rest) = match pats {
+        ["-t", t, rest @ ..] => (*t, rest),
+        [first, rest @ ..] if first.starts_with("-t") => (&first[2..], rest),
+        _ => return Ok((None, pats)),
+    };
+    let t = match name {
+        "bool" => HalType::Bit,
+        "real" => HalType::Float,
+        "signed" => HalType::S32,
+        "unsigned" => HalType::U32,
+        other => HalType::from_name(other).ok_or_else(|| format!("unknown type '{other}'"))?,
+    };
+    Ok((Some(t), rest))
+}
+
+fn show_pins(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
     let mut out = format!("Component Pins:\n{HEADER}");
     for p in inst.pins().map_err(|e| e.to_string())? {
-        if !matches(pats, &p.name) {
+        if !matches(pats, &p.name) || only.is_some_and(|t| t != p.hal_type) {
             continue;
         }
         out.push_str(&row(
@@ -116,10 +133,10 @@ fn show_pins(inst: &Instance, pats: &[&str]) -> Result<String, String> {
     Ok(out)
 }
 
-fn show_params(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+fn show_params(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
     let mut out = format!("Parameters:\n{HEADER}");
     for p in inst.params().map_err(|e| e.to_string())? {
-        if matches(pats, &p.name) {
+        if matches(pats, &p.name) && only.is_none_or(|t| t == p.hal_type) {
             out.push_str(&row(
                 p.owner_id,
                 p.hal_type,
@@ -134,10 +151,10 @@ fn show_params(inst: &Instance, pats: &[&str]) -> Result<String, String> {
     Ok(out)
 }
 
-fn show_signals(inst: &Instance, pats: &[&str]) -> Result<String, String> {
+fn show_signals(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
     let mut out = String::from("Signals:\nType                  Value  Name     (linked to)\n");
     for s in inst.signals().map_err(|e| e.to_string())? {
-        if !matches(pats, &s.name) {
+        if !matches(pats, &s.name) || only.is_some_and(|t| t != s.hal_type) {
             continue;
         }
         out.push_str(&format!(
@@ -254,12 +271,7 @@ fn show_functs(inst: &Instance, pats: &[&str]) -> Result<String, String> {
             // columns hold the function's index and 0.
             out.push_str(&format!(
                 " {:05}  {:08x}  {:08x}  {:<3}  {:>5}   {}\n",
-                f.owner_id,
-                i,
-                0,
-                if f.uses_fp { "YES" } else { "NO" },
-                f.users,
-                f.name
+                f.owner_id, i, 0, "YES", f.users, f.name
             ));
         }
     }
@@ -277,11 +289,7 @@ fn show_threads(inst: &Instance, pats: &[&str]) -> Result<String, String> {
         }
         out.push_str(&format!(
             "{:>11}  {:<3}  {:>20} ( {:>8}, {:>8} )\n",
-            t.period,
-            if t.uses_fp { "YES" } else { "NO" },
-            t.name,
-            t.time_ns,
-            t.tmax_ns
+            t.period, "YES", t.name, t.time_ns, t.tmax_ns
         ));
         for (i, f) in t.functs.iter().enumerate() {
             out.push_str(&format!("{:17}{:>2} {f}\n", "", i + 1));
@@ -417,20 +425,22 @@ pub fn render(inst: &Instance, words: &[&str], opts: &Options) -> Result<String,
                 Some((k, rest)) => (*k, rest),
                 None => ("all", &[][..]),
             };
+            // `-tTYPE` (or `-t TYPE`) first: only items of that type.
+            let (type_filter, pats) = type_filter(pats)?;
             match kind {
-                "pin" => show_pins(inst, pats),
-                "param" | "parameter" => show_params(inst, pats),
-                "sig" | "signal" => show_signals(inst, pats),
+                "pin" => show_pins(inst, pats, type_filter),
+                "param" | "parameter" => show_params(inst, pats, type_filter),
+                "sig" | "signal" => show_signals(inst, pats, type_filter),
                 "comp" => show_comps(inst, pats),
                 "funct" | "function" => show_functs(inst, pats),
                 "thread" => show_threads(inst, pats),
                 "alias" => Ok(show_aliases(inst, pats, true)? + &show_aliases(inst, pats, false)?),
                 "all" => Ok([
                     show_comps(inst, pats)?,
-                    show_pins(inst, pats)?,
+                    show_pins(inst, pats, type_filter)?,
                     show_aliases(inst, pats, true)?,
-                    show_signals(inst, pats)?,
-                    show_params(inst, pats)?,
+                    show_signals(inst, pats, type_filter)?,
+                    show_params(inst, pats, type_filter)?,
                     show_aliases(inst, pats, false)?,
                     show_functs(inst, pats)?,
                     show_threads(inst, pats)?,
@@ -457,14 +467,14 @@ pub fn render(inst: &Instance, words: &[&str], opts: &Options) -> Result<String,
             let n = args.first().ok_or("gets: needs a signal")?;
             let v = inst
                 .signal_value(n)
-                .map_err(|_| format!("signal '{n}' not found"))?;
+                .map_err(|_| format!("signal '{n}': not found"))?;
             Ok(format!("{}\n", get_value(v)))
         }
         "stype" => {
             let n = args.first().ok_or("stype: needs a signal")?;
             let t = inst
                 .signal_type(n)
-                .map_err(|_| format!("signal '{n}' not found"))?;
+                .map_err(|_| format!("signal '{n}': not found"))?;
             Ok(format!("{t}\n"))
         }
         "save" => {

@@ -246,7 +246,7 @@ impl<'o> Session<'o> {
                 if pins.len() != 2 {
                     return Err("linkpp requires exactly 2 pins".into());
                 }
-                self.net(pins[0], &pins)
+                self.connect(pins[0], &pins)
             }
             "start" => self.host(&["start"]),
             "stop" => self.host(&["stop"]),
@@ -286,7 +286,7 @@ impl<'o> Session<'o> {
                 let t = self
                     .inst
                     .signal_type(name)
-                    .map_err(|_| format!("signal '{name}' not found"))?;
+                    .map_err(|_| format!("signal '{name}': not found"))?;
                 let v = parse_value(t, args[1]).map_err(|e| format!("signal '{name}': {e}"))?;
                 self.inst.set_signal(name, v).map_err(|e| match e {
                     HalError::SignalDriven { .. } => format!("signal '{name}': not writable"),
@@ -449,8 +449,23 @@ impl<'o> Session<'o> {
         })
     }
 
+    /// `net SIGNAL PIN...`: the user-facing checks, then [`Self::connect`].
     fn net(&mut self, signal: &str, items: &[&str]) -> CmdResult {
         let pins: Vec<&str> = items.iter().copied().filter(|a| !is_arrow(a)).collect();
+        if pins.is_empty() {
+            return Err("'net' requires at least one pin, none given".into());
+        }
+        if format::lookup(&self.inst, signal)?.is_some_and(|(_, _, is_param)| !is_param) {
+            return Err(format!(
+                "Signal name '{signal}' must not be the same as a pin.  Did you omit the signal name?"
+            ));
+        }
+        self.connect(signal, &pins)
+    }
+
+    /// Links `pins` to `signal`, creating it with the first pin's type.
+    /// Everything is checked before anything changes.
+    fn connect(&mut self, signal: &str, pins: &[&str]) -> CmdResult {
         let all = self.inst.pins().map_err(msg)?;
         let find = |n: &str| {
             all.iter()
@@ -470,8 +485,13 @@ impl<'o> Session<'o> {
                 .find(|(_, d)| *d == PinDir::Out)
                 .map(|(n, _)| n.clone())
         });
-        let mut bidirs = existing.as_ref().map_or(0, |s| s.bidirs);
-        for p in &pins {
+        let mut bidir: Option<String> = existing.as_ref().and_then(|s| {
+            s.pins
+                .iter()
+                .find(|(_, d)| *d == PinDir::Io)
+                .map(|(n, _)| n.clone())
+        });
+        for p in pins {
             let info = find(p).ok_or_else(|| format!("Pin '{p}' does not exist"))?;
             if let Some(s) = &info.signal {
                 if s != signal {
@@ -495,9 +515,9 @@ impl<'o> Session<'o> {
                             "Signal '{signal}' can not add OUT pin '{p}', it already has OUT pin '{w}'"
                         ));
                     }
-                    if bidirs > 0 {
+                    if let Some(b) = &bidir {
                         return Err(format!(
-                            "Signal '{signal}' can not add OUT pin '{p}', it already has I/O pins"
+                            "Signal '{signal}' can not add OUT pin '{p}', it already has I/O pin '{b}'"
                         ));
                     }
                     writer = Some(p.to_string());
@@ -508,7 +528,7 @@ impl<'o> Session<'o> {
                             "Signal '{signal}' can not add I/O pin '{p}', it already has OUT pin '{w}'"
                         ));
                     }
-                    bidirs += 1;
+                    bidir.get_or_insert_with(|| p.to_string());
                 }
                 PinDir::In => {}
             }
@@ -526,8 +546,26 @@ impl<'o> Session<'o> {
     }
 }
 
+/// Words halcmd treats as arrows and ignores (`=>`, `<=`, `<=>`, `==>`, ...).
 fn is_arrow(s: &str) -> bool {
-    matches!(s, "=>" | "<=" | "<=>")
+    s.starts_with('<') || s.starts_with('=')
+}
+
+impl Drop for Session<'_> {
+    /// Programs started by `loadusr` without waiting end with the session.
+    fn drop(&mut self) {
+        for child in &mut self.children {
+            if let Ok(None) = child.try_wait() {
+                let _ = nix::sys::signal::kill(
+                    nix::unistd::Pid::from_raw(child.id() as i32),
+                    nix::sys::signal::Signal::SIGTERM,
+                );
+            }
+        }
+        for child in &mut self.children {
+            let _ = child.wait();
+        }
+    }
 }
 
 fn msg(e: HalError) -> String {

@@ -118,19 +118,25 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>, String> {
 
 /// Waits until user component `name` is gone (`waitusr`).
 pub fn wait_gone(inst: &Instance, name: &str) -> Result<(), String> {
-    let exists = |inst: &Instance| -> Result<bool, String> {
+    let pid_of = |inst: &Instance| -> Result<Option<i32>, String> {
         Ok(inst
             .components()
             .map_err(|e| e.to_string())?
-            .iter()
-            .any(|c| c.name == name))
+            .into_iter()
+            .find(|c| c.name == name && c.kind == ComponentKind::User)
+            .map(|c| c.pid))
     };
-    if !exists(inst)? {
+    if pid_of(inst)?.is_none() {
         return Err(format!(
             "waitusr: component '{name}' not found or not a user component"
         ));
     }
-    while exists(inst)? {
+    while let Some(pid) = pid_of(inst)? {
+        // A process killed outright leaves its component behind: stop
+        // waiting once the process is gone.
+        if pid > 0 && nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), None).is_err() {
+            return Ok(());
+        }
         std::thread::sleep(Duration::from_millis(10));
     }
     Ok(())
