@@ -155,6 +155,19 @@ impl ModuleArgs {
     }
 }
 
+/// The radix C's base-0 conversions pick for unsigned digits `t` (`0x`
+/// hex, a leading `0` octal, else decimal), and the digits after the
+/// prefix.
+pub fn c_radix(t: &str) -> (u32, &str) {
+    if let Some(h) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        (16, h)
+    } else if t.len() > 1 && t.starts_with('0') {
+        (8, &t[1..])
+    } else {
+        (10, t)
+    }
+}
+
 /// Parses an integer as C's `strtol(s, &end, 0)` with the whole string
 /// required: optional sign, `0x` hex, leading `0` octal, else decimal.
 pub fn parse_c_int(s: &str, bits: u32) -> std::result::Result<i64, String> {
@@ -164,13 +177,7 @@ pub fn parse_c_int(s: &str, bits: u32) -> std::result::Result<i64, String> {
         Some(b'+') => (false, &t[1..]),
         _ => (false, t),
     };
-    let (radix, digits) = if let Some(h) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        (16, h)
-    } else if t.len() > 1 && t.starts_with('0') {
-        (8, &t[1..])
-    } else {
-        (10, t)
-    };
+    let (radix, digits) = c_radix(t);
     if digits.is_empty() {
         return Err(format!("'{s}' is not a number"));
     }

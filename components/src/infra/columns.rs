@@ -7,6 +7,20 @@ pub const MAX_COLUMNS: usize = 21;
 /// Most channels one sampler or streamer may have.
 pub const MAX_CHANNELS: usize = 8;
 
+/// Module parameters of sampler and streamer.
+pub const PARAMS: &[hal_core::ParamDecl] = &[
+    hal_core::ParamDecl {
+        name: "cfg",
+        kind: hal_core::ParamKind::StrArray(MAX_CHANNELS),
+        help: "column types per channel",
+    },
+    hal_core::ParamDecl {
+        name: "depth",
+        kind: hal_core::ParamKind::IntArray(MAX_CHANNELS),
+        help: "FIFO depth per channel",
+    },
+];
+
 /// Parses a cfg string: one letter per column.
 pub fn parse_cfg(module: &str, cfg: &str) -> Result<Vec<HalType>, HalError> {
     if cfg.len() > MAX_COLUMNS {

@@ -2,23 +2,10 @@
 //! `halsampler` prints them. One FIFO record is the sample number followed
 //! by one word per column.
 
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, RawPin, Result, RingWriter};
 
-use super::columns::{channels, fifo_name, MAX_CHANNELS};
-
-const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "cfg",
-        kind: ParamKind::StrArray(MAX_CHANNELS),
-        help: "column types per channel",
-    },
-    ParamDecl {
-        name: "depth",
-        kind: ParamKind::IntArray(MAX_CHANNELS),
-        help: "FIFO depth per channel",
-    },
-];
+use super::columns::{channels, fifo_name, PARAMS};
 
 /// The `sampler` module.
 pub static MODULE: ModuleDef = ModuleDef {

@@ -1,23 +1,10 @@
 //! `streamer`: the reverse of sampler. `halstreamer` fills a FIFO from text;
 //! the function pops one record per call onto output pins.
 
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, RawPin, Result, RingReader};
 
-use super::columns::{channels, fifo_name, MAX_CHANNELS};
-
-const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "cfg",
-        kind: ParamKind::StrArray(MAX_CHANNELS),
-        help: "column types per channel",
-    },
-    ParamDecl {
-        name: "depth",
-        kind: ParamKind::IntArray(MAX_CHANNELS),
-        help: "FIFO depth per channel",
-    },
-];
+use super::columns::{channels, fifo_name, PARAMS};
 
 /// The `streamer` module.
 pub static MODULE: ModuleDef = ModuleDef {

@@ -1,6 +1,6 @@
 //! Parsing values typed by the user (`setp`, `sets`), as halcmd does.
 
-use hal_core::module::parse_c_int;
+use hal_core::module::{c_radix, parse_c_int};
 use hal_core::{HalType, Value};
 
 /// Why a value was refused; the Display text is halcmd's.
@@ -108,13 +108,7 @@ fn parse_c_uint(text: &str) -> Option<u64> {
         .trim_start()
         .strip_prefix('+')
         .unwrap_or(text.trim_start());
-    let (radix, digits) = if let Some(h) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        (16, h)
-    } else if t.len() > 1 && t.starts_with('0') {
-        (8, &t[1..])
-    } else {
-        (10, t)
-    };
+    let (radix, digits) = c_radix(t);
     if digits.is_empty() || digits.starts_with(['+', '-']) {
         return None;
     }
