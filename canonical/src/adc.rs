@@ -1,0 +1,161 @@
+//! Analog inputs and outputs.
+
+use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+
+use crate::naming::ChannelNames;
+
+/// A canonical analog input channel.
+pub struct AdcIn {
+    value: Pin<f64, Out>,
+    scale: Param<f64, Rw>,
+    offset: Param<f64, Rw>,
+    bit_weight: Param<f64, Rw>,
+    hw_offset: Param<f64, Rw>,
+}
+
+impl AdcIn {
+    /// Exports channel `chan` on `comp`. `bit_weight` and `hw_offset` are
+    /// the converter's defaults (volts per count, volts at count 0).
+    pub fn export(
+        comp: &Component,
+        names: &ChannelNames,
+        chan: usize,
+        bit_weight: f64,
+        hw_offset: f64,
+    ) -> Result<AdcIn> {
+        Ok(AdcIn {
+            value: comp.pin(&names.item(chan, "value"))?,
+            scale: comp.param(&names.item(chan, "scale"), 1.0)?,
+            offset: comp.param(&names.item(chan, "offset"), 0.0)?,
+            bit_weight: comp.param(&names.item(chan, "bit_weight"), bit_weight)?,
+            hw_offset: comp.param(&names.item(chan, "hw_offset"), hw_offset)?,
+        })
+    }
+
+    /// Publishes a reading in volts: `value = volts * scale - offset`.
+    #[inline]
+    pub fn update_volts(&self, volts: f64) {
+        self.value.set(volts * self.scale.get() - self.offset.get());
+    }
+
+    /// Publishes a reading in converter counts.
+    #[inline]
+    pub fn update_counts(&self, counts: i64) {
+        self.update_volts(counts as f64 * self.bit_weight.get() - self.hw_offset.get());
+    }
+}
+
+/// Which optional params an analog output has.
+#[derive(Debug, Clone, Copy)]
+pub struct AdcOutOptions {
+    /// Export `high_limit` and `low_limit` with these defaults (volts).
+    pub limits: Option<(f64, f64)>,
+    /// Export `bit_weight` and `hw_offset` with these defaults, and the
+    /// converter's count range.
+    pub converter: Option<Converter>,
+}
+
+/// A digital-to-analog converter's characteristics.
+#[derive(Debug, Clone, Copy)]
+pub struct Converter {
+    pub bit_weight: f64,
+    pub hw_offset: f64,
+    pub min_count: i64,
+    pub max_count: i64,
+}
+
+/// A canonical analog output channel.
+pub struct AdcOut {
+    value: Pin<f64, In>,
+    enable: Pin<bool, In>,
+    scale: Param<f64, Rw>,
+    offset: Param<f64, Rw>,
+    limits: Option<(Param<f64, Rw>, Param<f64, Rw>)>,
+    converter: Option<ConverterParams>,
+}
+
+/// The exported converter params (`bit_weight`, `hw_offset`) and the
+/// converter's count range.
+struct ConverterParams {
+    bit_weight: Param<f64, Rw>,
+    hw_offset: Param<f64, Rw>,
+    min: i64,
+    max: i64,
+}
+
+impl AdcOut {
+    /// Exports channel `chan` on `comp`.
+    pub fn export(
+        comp: &Component,
+        names: &ChannelNames,
+        chan: usize,
+        opts: AdcOutOptions,
+    ) -> Result<AdcOut> {
+        let limits = match opts.limits {
+            Some((hi, lo)) => Some((
+                comp.param(&names.item(chan, "high_limit"), hi)?,
+                comp.param(&names.item(chan, "low_limit"), lo)?,
+            )),
+            None => None,
+        };
+        let converter = match opts.converter {
+            Some(c) => Some(ConverterParams {
+                bit_weight: comp.param(&names.item(chan, "bit_weight"), c.bit_weight)?,
+                hw_offset: comp.param(&names.item(chan, "hw_offset"), c.hw_offset)?,
+                min: c.min_count,
+                max: c.max_count,
+            }),
+            None => None,
+        };
+        Ok(AdcOut {
+            value: comp.pin(&names.item(chan, "value"))?,
+            enable: comp.pin(&names.item(chan, "enable"))?,
+            scale: comp.param(&names.item(chan, "scale"), 1.0)?,
+            offset: comp.param(&names.item(chan, "offset"), 0.0)?,
+            limits,
+            converter,
+        })
+    }
+
+    /// The volts to output, or `None` while disabled (hardware zero).
+    #[inline]
+    pub fn volts(&self) -> Option<f64> {
+        if !self.enable.get() {
+            return None;
+        }
+        let mut v = self.value.get() * self.scale.get() + self.offset.get();
+        // A NaN from upstream must not reach the hardware: output 0 V.
+        if v.is_nan() {
+            v = 0.0;
+        }
+        if let Some((hi, lo)) = &self.limits {
+            // Not f64::clamp: it panics when the user sets low above high.
+            if v > hi.get() {
+                v = hi.get();
+            }
+            if v < lo.get() {
+                v = lo.get();
+            }
+        }
+        Some(v)
+    }
+
+    /// Converter counts for the current output, clamped to the converter's
+    /// range; disabled gives the count closest to 0 V. `None` if no
+    /// converter was declared.
+    #[inline]
+    pub fn counts(&self) -> Option<i64> {
+        let c = self.converter.as_ref()?;
+        let (min, max) = (&c.min, &c.max);
+        let volts = self.volts().unwrap_or(0.0);
+        let bw = c.bit_weight.get();
+        let raw = if bw != 0.0 {
+            ((volts - c.hw_offset.get()) / bw).round()
+        } else {
+            0.0
+        };
+        // A NaN bit_weight or hw_offset (bad params) gives the lowest count.
+        let raw = if raw.is_nan() { *min as f64 } else { raw };
+        Some((raw.max(*min as f64).min(*max as f64)) as i64)
+    }
+}

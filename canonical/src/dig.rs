@@ -1,0 +1,56 @@
+//! Digital inputs and outputs.
+
+use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+
+use crate::naming::ChannelNames;
+
+/// A canonical digital input channel.
+pub struct DigIn {
+    input: Pin<bool, Out>,
+    input_not: Pin<bool, Out>,
+}
+
+impl DigIn {
+    /// Exports channel `chan`'s `in` and `in-not` pins on `comp`.
+    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<DigIn> {
+        Ok(DigIn {
+            input: comp.pin(&names.item(chan, "in"))?,
+            input_not: comp.pin_init(&names.item(chan, "in-not"), true)?,
+        })
+    }
+
+    /// Publishes the hardware level.
+    #[inline]
+    pub fn update(&self, level: bool) {
+        self.input.set(level);
+        self.input_not.set(!level);
+    }
+}
+
+/// A canonical digital output channel.
+pub struct DigOut {
+    out: Pin<bool, In>,
+    invert: Param<bool, Rw>,
+}
+
+impl DigOut {
+    /// Exports channel `chan`'s `out` pin and `invert` param on `comp`.
+    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<DigOut> {
+        Ok(DigOut {
+            out: comp.pin(&names.item(chan, "out"))?,
+            invert: comp.param(&names.item(chan, "invert"), false)?,
+        })
+    }
+
+    /// The level to drive the hardware with: `out XOR invert`.
+    #[inline]
+    pub fn level(&self) -> bool {
+        self.out.get() != self.invert.get()
+    }
+
+    /// The level of the safe state: `out` FALSE, inverted if asked.
+    #[inline]
+    pub fn safe_level(&self) -> bool {
+        self.invert.get()
+    }
+}

@@ -1,0 +1,68 @@
+//! The canonical device interfaces: the one definition of each io-type.
+//!
+//! A driver exports an io-type by calling its `export` function and gets
+//! the pins and params below, named `<device>.<num>.<io-type>.<chan>.<name>`
+//! (see [`naming`]), together with the shared behaviour. Every driver's
+//! digital input therefore looks and behaves like every other's.
+//!
+//! # digin: digital input
+//! | name | kind | type | dir | meaning |
+//! |---|---|---|---|---|
+//! | `in` | pin | bit | out | state of the hardware input |
+//! | `in-not` | pin | bit | out | the same, inverted |
+//!
+//! Behaviour: the driver's `read` calls [`DigIn::update`] with the raw
+//! level; both pins are written every time.
+//!
+//! # digout: digital output
+//! | name | kind | type | dir | meaning |
+//! |---|---|---|---|---|
+//! | `out` | pin | bit | in | value to write |
+//! | `invert` | param | bit | rw | invert before writing (default FALSE) |
+//!
+//! Behaviour: the driver's `write` drives the hardware with
+//! [`DigOut::level`] = `out XOR invert`. Its safe state is the level for
+//! `out` FALSE, the driver's choice of "off".
+//!
+//! # adcin: analog input
+//! | name | kind | type | dir | unit | meaning |
+//! |---|---|---|---|---|---|
+//! | `value` | pin | float | out | user units | `(reading * scale) - offset` |
+//! | `scale` | param | float | rw | user units per volt | default 1.0 |
+//! | `offset` | param | float | rw | user units | default 0.0 |
+//! | `bit_weight` | param | float | rw | volts per count | value of one LSB |
+//! | `hw_offset` | param | float | rw | volts | reading with 0 V applied |
+//!
+//! Behaviour: for a converter that gives counts, the reading in volts is
+//! `counts * bit_weight - hw_offset` ([`AdcIn::update_counts`]); a driver
+//! that reads volts directly calls [`AdcIn::update_volts`].
+//!
+//! # adcout: analog output
+//! | name | kind | type | dir | unit | meaning |
+//! |---|---|---|---|---|---|
+//! | `value` | pin | float | in | user units | value to write |
+//! | `enable` | pin | bit | in | | FALSE: the hardware outputs 0 |
+//! | `scale` | param | float | rw | volts per user unit | default 1.0 |
+//! | `offset` | param | float | rw | volts | default 0.0 |
+//! | `high_limit` | param | float | rw | volts | upper clamp (optional) |
+//! | `low_limit` | param | float | rw | volts | lower clamp (optional) |
+//! | `bit_weight` | param | float | rw | volts per count | (optional) |
+//! | `hw_offset` | param | float | rw | volts | output for count 0 (optional) |
+//!
+//! Behaviour: [`AdcOut::volts`] is `value * scale + offset` (0 V if that
+//! is NaN), clamped to the limits when the driver exports them, or `None`
+//! while `enable` is FALSE (the hardware's zero). [`AdcOut::counts`] turns volts into
+//! converter counts with `bit_weight` and `hw_offset`, rounded and clamped
+//! to the converter's range.
+//!
+//! Encoder, stepgen and pwm interfaces are the common pin sets of
+//! LinuxCNC's software components and hostmot2; their definitions join
+//! this crate with the components that implement them.
+
+pub mod adc;
+pub mod dig;
+pub mod naming;
+
+pub use adc::{AdcIn, AdcOut, AdcOutOptions};
+pub use dig::{DigIn, DigOut};
+pub use naming::ChannelNames;

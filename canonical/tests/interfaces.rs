@@ -1,0 +1,125 @@
+//! The canonical interfaces behave as their definitions say.
+
+use canonical::adc::Converter;
+use canonical::*;
+use hal_core::{ComponentKind, Host, HostConfig, RealtimeMode, Value};
+
+fn host(tag: &str) -> Host {
+    let mut cfg = HostConfig::new(&format!("canon-{tag}-{}", std::process::id()));
+    cfg.shm_size = 4 << 20;
+    cfg.realtime = RealtimeMode::Off;
+    Host::create(cfg).unwrap()
+}
+
+#[test]
+fn digital_inputs_and_outputs() {
+    let host = host("dig");
+    let inst = host.instance();
+    let comp = inst.new_component("dev", ComponentKind::User).unwrap();
+    let names = ChannelNames::canonical("dev", 0, "din", 16);
+    let din = DigIn::export(&comp, &names, 3).unwrap();
+    assert_eq!(
+        inst.pin_value("dev.0.din.03.in-not").unwrap(),
+        Value::Bit(true)
+    );
+    din.update(true);
+    assert_eq!(inst.pin_value("dev.0.din.03.in").unwrap(), Value::Bit(true));
+    assert_eq!(
+        inst.pin_value("dev.0.din.03.in-not").unwrap(),
+        Value::Bit(false)
+    );
+
+    let dout = DigOut::export(&comp, &ChannelNames::canonical("dev", 0, "dout", 4), 1).unwrap();
+    assert!(!dout.level());
+    inst.set_pin("dev.0.dout.1.out", Value::Bit(true)).unwrap();
+    assert!(dout.level());
+    inst.set_param("dev.0.dout.1.invert", Value::Bit(true))
+        .unwrap();
+    assert!(!dout.level());
+    assert!(dout.safe_level(), "off, inverted, is a high level");
+}
+
+#[test]
+fn analog_inputs_scale_and_offset() {
+    let host = host("adcin");
+    let inst = host.instance();
+    let comp = inst.new_component("dev", ComponentKind::User).unwrap();
+    let ain = AdcIn::export(
+        &comp,
+        &ChannelNames::canonical("dev", 0, "adcin", 8),
+        0,
+        10.0 / 2048.0,
+        10.0,
+    )
+    .unwrap();
+    ain.update_counts(3072);
+    assert_eq!(
+        inst.pin_value("dev.0.adcin.0.value").unwrap(),
+        Value::Float(5.0)
+    );
+    inst.set_param("dev.0.adcin.0.scale", Value::Float(2.0))
+        .unwrap();
+    inst.set_param("dev.0.adcin.0.offset", Value::Float(1.0))
+        .unwrap();
+    ain.update_volts(5.0);
+    assert_eq!(
+        inst.pin_value("dev.0.adcin.0.value").unwrap(),
+        Value::Float(9.0)
+    );
+}
+
+#[test]
+fn analog_outputs_enable_limits_and_counts() {
+    let host = host("adcout");
+    let inst = host.instance();
+    let comp = inst.new_component("dev", ComponentKind::User).unwrap();
+    let opts = AdcOutOptions {
+        limits: Some((10.0, -10.0)),
+        converter: Some(Converter {
+            bit_weight: 10.0 / 2048.0,
+            hw_offset: -10.0,
+            min_count: 0,
+            max_count: 4095,
+        }),
+    };
+    let aout = AdcOut::export(
+        &comp,
+        &ChannelNames::canonical("dev", 0, "adcout", 4),
+        2,
+        opts,
+    )
+    .unwrap();
+    assert_eq!(aout.volts(), None, "disabled by default");
+    assert_eq!(
+        aout.counts(),
+        Some(2048),
+        "disabled outputs the count for 0 V"
+    );
+    inst.set_pin("dev.0.adcout.2.enable", Value::Bit(true))
+        .unwrap();
+    inst.set_pin("dev.0.adcout.2.value", Value::Float(2.5))
+        .unwrap();
+    inst.set_param("dev.0.adcout.2.scale", Value::Float(2.0))
+        .unwrap();
+    inst.set_param("dev.0.adcout.2.offset", Value::Float(0.5))
+        .unwrap();
+    assert_eq!(aout.volts(), Some(5.5));
+    inst.set_pin("dev.0.adcout.2.value", Value::Float(100.0))
+        .unwrap();
+    assert_eq!(aout.volts(), Some(10.0), "clamped to high_limit");
+    assert_eq!(
+        aout.counts(),
+        Some(4095),
+        "clamped to the converter's range"
+    );
+    inst.set_pin("dev.0.adcout.2.value", Value::Float(f64::NAN))
+        .unwrap();
+    assert_eq!(aout.volts(), Some(0.0), "a NaN value outputs 0 V");
+    assert_eq!(aout.counts(), Some(2048));
+    // Limits set the wrong way round never panic.
+    inst.set_param("dev.0.adcout.2.low_limit", Value::Float(20.0))
+        .unwrap();
+    inst.set_pin("dev.0.adcout.2.value", Value::Float(0.0))
+        .unwrap();
+    assert_eq!(aout.volts(), Some(20.0));
+}
