@@ -367,3 +367,41 @@ fn init_functions_run_once_before_the_list() {
         "too late after the init cycle"
     );
 }
+
+#[test]
+fn a_faster_thread_runs_first_when_both_are_due() {
+    // Without realtime there are no priorities; the executor still keeps
+    // LinuxCNC's order. Repeated, since the failure was a race.
+    for round in 0..25 {
+        let host = host("order-fast");
+        let fast_calls = Arc::new(AtomicU64::new(0));
+        let seen_by_slow = Arc::new(Mutex::new(Vec::new()));
+        let mut b = host.new_rt_component("c").unwrap();
+        let f = fast_calls.clone();
+        b.funct("c.fast", false, move |_| {
+            f.fetch_add(1, SeqCst);
+        })
+        .unwrap();
+        let (f, s) = (fast_calls.clone(), seen_by_slow.clone());
+        b.funct("c.slow", false, move |_| {
+            s.lock().unwrap().push(f.load(SeqCst))
+        })
+        .unwrap();
+        b.ready().unwrap();
+        host.create_thread("fast", 100_000, true, None).unwrap();
+        host.create_thread("slow", 500_000, true, None).unwrap();
+        host.addf("c.fast", "fast", -1).unwrap();
+        host.addf("c.slow", "slow", -1).unwrap();
+        host.start().unwrap();
+        assert!(wait_until(10.0, || !seen_by_slow
+            .lock()
+            .unwrap()
+            .is_empty()));
+        host.stop();
+        let first = seen_by_slow.lock().unwrap()[0];
+        assert!(
+            first >= 1,
+            "round {round}: the slow thread's first cycle ran before the fast thread's"
+        );
+    }
+}

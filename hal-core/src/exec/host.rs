@@ -154,6 +154,7 @@ impl Host {
             fault_signal: (Mutex::new(0), Condvar::new()),
             clock: TickClock::calibrate(),
             realtime,
+            start_ns: AtomicU64::new(0),
         });
         let state = Arc::new(Mutex::new(HostState::default()));
         let supervisor = {
@@ -312,6 +313,9 @@ impl Host {
                 time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
                 tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 beat: Pin::new(seg, rec.beat_pin.load(Relaxed))?,
+                done_deadline: AtomicU64::new(0),
+                active: AtomicBool::new(false),
+                faster: st.threads.iter().map(|t| t.ctl.clone()).collect(),
             });
             Ok((priority, ctl))
         })();
@@ -578,6 +582,11 @@ impl Host {
                 }
             }
         }
+        // Threads start on a common grid a little ahead, so that all are
+        // awake before the first deadline and due together afterwards.
+        self.shared
+            .start_ns
+            .store(super::clock::monotonic_ns() + 200_000, SeqCst);
         self.shared.running.store(true, SeqCst);
         self.wake_executors();
         Ok(())

@@ -37,6 +37,10 @@ pub(crate) struct HostShared {
     pub fault_signal: (Mutex<u8>, Condvar),
     pub clock: TickClock,
     pub realtime: bool,
+    /// CLOCK_MONOTONIC time of the last `start`: every thread's deadlines
+    /// are multiples of its period after it, so threads whose periods
+    /// divide each other are due at the same instants.
+    pub start_ns: AtomicU64,
 }
 
 /// Control block of one executor, shared with the host.
@@ -57,6 +61,33 @@ pub(crate) struct ThreadCtl {
     pub time: Pin<i32, Out>,
     pub tmax: Param<i32, Rw>,
     pub beat: Pin<i64, Out>,
+    /// Deadline of the last cycle this executor finished.
+    pub done_deadline: AtomicU64,
+    /// Whether the executor is in its running loop (not parked).
+    pub active: AtomicBool,
+    /// Threads created before this one, so at least as fast.
+    pub faster: Vec<Arc<ThreadCtl>>,
+}
+
+impl ThreadCtl {
+    /// Waits until every faster thread has finished its cycle for
+    /// `deadline` (or is not running), at most `limit` ns. With SCHED_FIFO
+    /// on one CPU priorities already give this order; without realtime it
+    /// is what keeps a faster thread first when both are due at once.
+    fn wait_for_faster(&self, deadline: u64, limit: u64) {
+        let give_up = monotonic_ns() + limit;
+        for f in &self.faster {
+            while f.active.load(Acquire)
+                && !f.exit.load(Acquire)
+                && f.done_deadline.load(Acquire) < deadline
+            {
+                if monotonic_ns() > give_up {
+                    return;
+                }
+                std::thread::yield_now();
+            }
+        }
+    }
 }
 
 impl HostShared {
@@ -105,6 +136,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
     let clock = sh.clock;
 
     'park: loop {
+        ctl.active.store(false, Release);
         ctl.idle.store(true, SeqCst);
         rec.seen_epoch.store(u64::MAX, SeqCst);
         rec.running.store(0, Relaxed);
@@ -114,7 +146,11 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             break;
         }
         rec.running.store(1, Relaxed);
-        let mut next = monotonic_ns() + period;
+        // First deadline: the next multiple of the period after start.
+        let start = sh.start_ns.load(Acquire);
+        let now = monotonic_ns();
+        let mut next = start + period * ((now.saturating_sub(start)) / period + 1);
+        ctl.active.store(true, Release);
         loop {
             sleep_until(next);
             if ctl.exit.load(Acquire) {
@@ -135,6 +171,9 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
                 continue 'park;
             }
             rec.seen_epoch.store(grace.load(SeqCst), SeqCst);
+            if !ctl.faster.is_empty() {
+                ctl.wait_for_faster(next, period);
+            }
             let guard = sh
                 .serial
                 .as_ref()
@@ -182,6 +221,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             ctl.beat.set(ctl.beat.get().wrapping_add(1));
             rec.cycles.fetch_add(1, Relaxed);
             drop(guard);
+            ctl.done_deadline.store(next, Release);
             ctl.idle.store(true, SeqCst);
             rec.seen_epoch.store(u64::MAX, SeqCst);
             ctl.epoch.fetch_add(1, SeqCst);
@@ -199,6 +239,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             }
         }
     }
+    ctl.active.store(false, Release);
     ctl.idle.store(true, SeqCst);
     rec.seen_epoch.store(u64::MAX, SeqCst);
     rec.running.store(0, Relaxed);
