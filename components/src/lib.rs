@@ -10,14 +10,18 @@
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
 //! * `generators`: pwmgen, siggen.
+//! * `limits`: limit1, limit2, limit3, comp, wcomp, near, deadzone, minmax.
+//! * `filters`: lowpass, ilowpass, ddt, integ, biquad, lincurve.
 
 pub mod arith;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
 pub mod generators;
+pub mod filters;
 pub mod halcomp;
 pub mod infra;
+pub mod limits;
 pub mod logic;
 pub mod select;
 
@@ -37,5 +41,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(arith::modules());
     v.extend(select::modules());
     v.extend(generators::modules());
+    v.extend(limits::modules());
+    v.extend(filters::modules());
     v
 }
