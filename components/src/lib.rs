@@ -9,8 +9,12 @@
 //! * `arith`: mult2, sum2.
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
+//! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
+//!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
+//! * `bits`: bitslice, bitwise.
 
 pub mod arith;
+pub mod bits;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
@@ -18,6 +22,7 @@ pub mod halcomp;
 pub mod infra;
 pub mod logic;
 pub mod select;
+pub mod timing;
 
 use hal_core::ModuleDef;
 
@@ -34,5 +39,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(convert::modules());
     v.extend(arith::modules());
     v.extend(select::modules());
+    v.extend(timing::modules());
+    v.extend(bits::modules());
     v
 }
