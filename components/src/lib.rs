@@ -12,8 +12,12 @@
 //! * `generators`: pwmgen, siggen.
 //! * `limits`: limit1, limit2, limit3, comp, wcomp, near, deadzone, minmax.
 //! * `filters`: lowpass, ilowpass, ddt, integ, biquad, lincurve.
+//! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
+//!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
+//! * `bits`: bitslice, bitwise.
 
 pub mod arith;
+pub mod bits;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
@@ -24,6 +28,7 @@ pub mod infra;
 pub mod limits;
 pub mod logic;
 pub mod select;
+pub mod timing;
 
 use hal_core::ModuleDef;
 
@@ -43,5 +48,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(generators::modules());
     v.extend(limits::modules());
     v.extend(filters::modules());
+    v.extend(timing::modules());
+    v.extend(bits::modules());
     v
 }
