@@ -314,7 +314,7 @@ impl Host {
                 tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 beat: Pin::new(seg, rec.beat_pin.load(Relaxed))?,
                 done_deadline: AtomicU64::new(0),
-                active: AtomicBool::new(false),
+
                 faster: st.threads.iter().map(|t| t.ctl.clone()).collect(),
             });
             Ok((priority, ctl))

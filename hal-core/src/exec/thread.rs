@@ -63,27 +63,27 @@ pub(crate) struct ThreadCtl {
     pub beat: Pin<i64, Out>,
     /// Deadline of the last cycle this executor finished.
     pub done_deadline: AtomicU64,
-    /// Whether the executor is in its running loop (not parked).
-    pub active: AtomicBool,
+
     /// Threads created before this one, so at least as fast.
     pub faster: Vec<Arc<ThreadCtl>>,
 }
 
 impl ThreadCtl {
-    /// Waits until every faster thread has finished its cycle for
-    /// `deadline` (or is not running), at most `limit` ns. With SCHED_FIFO
-    /// on one CPU priorities already give this order; without realtime it
-    /// is what keeps a faster thread first when both are due at once.
-    fn wait_for_faster(&self, deadline: u64, limit: u64) {
-        let give_up = monotonic_ns() + limit;
+    /// Waits until every faster thread has finished its cycle for its
+    /// latest deadline at or before `deadline`, as long as threads run.
+    /// With SCHED_FIFO on one CPU, priorities already give this order;
+    /// without realtime this is what keeps a faster thread first when both
+    /// are due, as LinuxCNC's priorities do. Like a higher priority, a
+    /// faster thread that never finishes holds the slower one back.
+    fn wait_for_faster(&self, sh: &HostShared, deadline: u64) {
+        let start = sh.start_ns.load(Acquire);
         for f in &self.faster {
-            while f.active.load(Acquire)
+            let p = f.period.max(1) as u64;
+            let due = start + p * (deadline.saturating_sub(start) / p);
+            while sh.running.load(Acquire)
                 && !f.exit.load(Acquire)
-                && f.done_deadline.load(Acquire) < deadline
+                && f.done_deadline.load(Acquire) < due
             {
-                if monotonic_ns() > give_up {
-                    return;
-                }
                 std::thread::yield_now();
             }
         }
@@ -136,7 +136,6 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
     let clock = sh.clock;
 
     'park: loop {
-        ctl.active.store(false, Release);
         ctl.idle.store(true, SeqCst);
         rec.seen_epoch.store(u64::MAX, SeqCst);
         rec.running.store(0, Relaxed);
@@ -150,7 +149,6 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
         let start = sh.start_ns.load(Acquire);
         let now = monotonic_ns();
         let mut next = start + period * ((now.saturating_sub(start)) / period + 1);
-        ctl.active.store(true, Release);
         loop {
             sleep_until(next);
             if ctl.exit.load(Acquire) {
@@ -172,7 +170,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             }
             rec.seen_epoch.store(grace.load(SeqCst), SeqCst);
             if !ctl.faster.is_empty() {
-                ctl.wait_for_faster(next, period);
+                ctl.wait_for_faster(&sh, next);
             }
             let guard = sh
                 .serial
@@ -239,7 +237,6 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
             }
         }
     }
-    ctl.active.store(false, Release);
     ctl.idle.store(true, SeqCst);
     rec.seen_epoch.store(u64::MAX, SeqCst);
     rec.running.store(0, Relaxed);
