@@ -9,14 +9,20 @@
 //! * `arith`: mult2, sum2.
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
+//! * `gates`: logic (personality-configured gate).
+//! * `choosers`: mux16, mux_generic, select8.
+//! * `math`: abs, abs_s32, abs_s64, div2, scale, invert, hypot, blend.
 
 pub mod arith;
+pub mod choosers;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
+pub mod gates;
 pub mod halcomp;
 pub mod infra;
 pub mod logic;
+pub mod math;
 pub mod select;
 
 use hal_core::ModuleDef;
@@ -34,5 +40,8 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(convert::modules());
     v.extend(arith::modules());
     v.extend(select::modules());
+    v.extend(gates::modules());
+    v.extend(choosers::modules());
+    v.extend(math::modules());
     v
 }
