@@ -23,10 +23,21 @@ pub mod convert;
 pub mod counting;
 pub mod filters;
 pub mod generators;
+//! * `gates`: logic (personality-configured gate).
+//! * `choosers`: mux16, mux_generic, select8.
+//! * `math`: abs, abs_s32, abs_s64, div2, scale, invert, hypot, blend.
+
+pub mod arith;
+pub mod choosers;
+pub mod cmath;
+pub mod convert;
+pub mod counting;
+pub mod gates;
 pub mod halcomp;
 pub mod infra;
 pub mod limits;
 pub mod logic;
+pub mod math;
 pub mod select;
 pub mod timing;
 
@@ -50,5 +61,8 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(filters::modules());
     v.extend(timing::modules());
     v.extend(bits::modules());
+    v.extend(gates::modules());
+    v.extend(choosers::modules());
+    v.extend(math::modules());
     v
 }
