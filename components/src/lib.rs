@@ -9,6 +9,7 @@
 //! * `arith`: mult2, sum2.
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
+//! * `stepgen`: the software step generator.
 
 pub mod arith;
 pub mod cmath;
@@ -18,6 +19,7 @@ pub mod halcomp;
 pub mod infra;
 pub mod logic;
 pub mod select;
+pub mod stepgen;
 
 use hal_core::ModuleDef;
 
@@ -34,5 +36,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(convert::modules());
     v.extend(arith::modules());
     v.extend(select::modules());
+    v.extend(stepgen::modules());
     v
 }
