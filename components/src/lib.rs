@@ -15,6 +15,7 @@
 //! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
 //!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
 //! * `bits`: bitslice, bitwise.
+//! * `stepgen`: the software step generator.
 
 pub mod arith;
 pub mod bits;
@@ -40,6 +41,7 @@ pub mod logic;
 pub mod math;
 pub mod select;
 pub mod timing;
+pub mod stepgen;
 
 use hal_core::ModuleDef;
 
@@ -64,5 +66,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(gates::modules());
     v.extend(choosers::modules());
     v.extend(math::modules());
+    v.extend(stepgen::modules());
     v
 }
