@@ -9,6 +9,7 @@
 //! * `arith`: mult2, sum2.
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
+//! * `pid`: pid, timedelta.
 
 pub mod arith;
 pub mod cmath;
@@ -17,6 +18,7 @@ pub mod counting;
 pub mod halcomp;
 pub mod infra;
 pub mod logic;
+pub mod pid;
 pub mod select;
 
 use hal_core::ModuleDef;
@@ -34,5 +36,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(convert::modules());
     v.extend(arith::modules());
     v.extend(select::modules());
+    v.extend(pid::modules());
     v
 }
