@@ -16,6 +16,7 @@
 //!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
 //! * `bits`: bitslice, bitwise.
 //! * `stepgen`: the software step generator.
+//! * `pid`: pid, timedelta.
 
 pub mod arith;
 pub mod bits;
@@ -39,6 +40,7 @@ pub mod infra;
 pub mod limits;
 pub mod logic;
 pub mod math;
+pub mod pid;
 pub mod select;
 pub mod timing;
 pub mod stepgen;
@@ -67,5 +69,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(choosers::modules());
     v.extend(math::modules());
     v.extend(stepgen::modules());
+    v.extend(pid::modules());
     v
 }

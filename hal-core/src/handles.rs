@@ -60,6 +60,8 @@ impl ParamAccess for Rw {
 /// A pin of value type `T` and direction `D`.
 pub struct Pin<T: PinValue, D: Direction> {
     slot: *const AtomicU64,
+    /// The pin's own cell, read while the pin is not linked.
+    own: *const AtomicU64,
     base: *const u8,
     floor: u64,
     limit: u64,
@@ -78,6 +80,7 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
         let rec: &PinRec = seg.rec(off)?;
         Ok(Pin {
             slot: &rec.slot,
+            own: &rec.dummy,
             base: seg.base(),
             floor: seg.cell_floor(),
             limit: seg.cell_limit(),
@@ -118,6 +121,17 @@ impl<T: PinValue> Pin<T, In> {
     #[inline(always)]
     pub fn overwrite(&self, v: T) {
         self.cell().store(v.to_bits(), Relaxed)
+    }
+
+    /// Writes the pin's own cell, the value it reads while it is not
+    /// linked to a signal, whether or not it is linked now. A linked pin
+    /// keeps reading its signal. This is for components that supply an
+    /// input's value only when nothing is connected (pid estimates
+    /// `command-deriv` and `feedback-deriv` this way).
+    #[inline(always)]
+    pub fn set_unlinked(&self, v: T) {
+        // SAFETY: `own` points into the mapping, which `_seg` keeps alive.
+        unsafe { &*self.own }.store(v.to_bits(), Relaxed)
     }
 }
 
@@ -228,6 +242,7 @@ impl<T: PinValue, D: Direction> Clone for Pin<T, D> {
     fn clone(&self) -> Self {
         Pin {
             slot: self.slot,
+            own: self.own,
             base: self.base,
             floor: self.floor,
             limit: self.limit,
