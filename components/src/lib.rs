@@ -9,11 +9,13 @@
 //! * `arith`: mult2, sum2.
 //! * `select`: mux2, mux4, mux8.
 //! * `counting`: counter.
+//! * `encoder`: encoder, sim_encoder, encoder_ratio.
 
 pub mod arith;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
+pub mod encoder;
 pub mod halcomp;
 pub mod infra;
 pub mod logic;
@@ -34,5 +36,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(convert::modules());
     v.extend(arith::modules());
     v.extend(select::modules());
+    v.extend(encoder::modules());
     v
 }
