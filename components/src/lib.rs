@@ -17,6 +17,7 @@
 //! * `bits`: bitslice, bitwise.
 //! * `stepgen`: the software step generator.
 //! * `pid`: pid, timedelta.
+//! * `encoder`: encoder, sim_encoder, encoder_ratio.
 
 pub mod arith;
 pub mod bits;
@@ -35,6 +36,7 @@ pub mod cmath;
 pub mod convert;
 pub mod counting;
 pub mod gates;
+pub mod encoder;
 pub mod halcomp;
 pub mod infra;
 pub mod limits;
@@ -70,5 +72,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(math::modules());
     v.extend(stepgen::modules());
     v.extend(pid::modules());
+    v.extend(encoder::modules());
     v
 }
