@@ -20,6 +20,8 @@
 //! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
 //!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
 //! * `bits`: bitslice, bitwise; `convert`: the conv_<in>_<out> family.
+//! * `notice`: stderr messages posted from realtime functions, written by
+//!   a helper thread.
 
 pub mod arith;
 pub mod bits;
@@ -36,6 +38,7 @@ pub mod infra;
 pub mod limits;
 pub mod logic;
 pub mod math;
+pub mod notice;
 pub mod pid;
 pub mod select;
 pub mod stepgen;

@@ -5,7 +5,6 @@
 //! (`abs_f64`, [`Div2`], `invert`, ...) that the HAL glue calls with the
 //! pin values, so the behaviour can be tested without a HAL.
 
-pub mod notice;
 #[cfg(test)]
 pub(crate) mod testhost;
 
@@ -13,7 +12,7 @@ use hal_core::Result;
 
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
-use notice::Notice;
+use crate::notice::Notice;
 
 /// Outputs of the abs family for one input.
 #[derive(Debug, Clone, Copy, PartialEq)]
