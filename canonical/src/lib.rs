@@ -55,14 +55,25 @@
 //! converter counts with `bit_weight` and `hw_offset`, rounded and clamped
 //! to the converter's range.
 //!
-//! Encoder, stepgen and pwm interfaces are the common pin sets of
-//! LinuxCNC's software components and hostmot2; their definitions join
-//! this crate with the components that implement them.
+//! # encoder and pwm
+//! For drivers with hardware counters and PWM generators: [`encoder`] and
+//! [`pwm`] define the pins (hostmot2's names, which other boards follow)
+//! and the shared behaviour: wide counts from narrow counters, reset and
+//! the index-enable handshake, velocity from the time between counts,
+//! duty cycle from value and scale.
+//!
+//! The software components (stepgen, encoder, pwmgen in the components
+//! crate) keep LinuxCNC's historic names and exact arithmetic, which
+//! existing configurations and LinuxCNC's own test outputs depend on.
 
 pub mod adc;
 pub mod dig;
+pub mod encoder;
 pub mod naming;
+pub mod pwm;
 
 pub use adc::{AdcIn, AdcOut, AdcOutOptions};
 pub use dig::{DigIn, DigOut};
+pub use encoder::{Encoder, EncoderCore};
 pub use naming::ChannelNames;
+pub use pwm::Pwm;

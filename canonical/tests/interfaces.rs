@@ -123,3 +123,75 @@ fn analog_outputs_enable_limits_and_counts() {
         .unwrap();
     assert_eq!(aout.volts(), Some(20.0));
 }
+
+#[test]
+fn encoder_pins_follow_the_index_handshake() {
+    let host = host("enc");
+    let inst = host.instance();
+    let comp = inst.new_component("hm", ComponentKind::User).unwrap();
+    let names = ChannelNames::canonical("hm", 0, "encoder", 12);
+    let mut enc = Encoder::export(&comp, &names, 1, 16).unwrap();
+    inst.set_param("hm.0.encoder.01.scale", Value::Float(4.0))
+        .unwrap();
+    enc.update(0, None, 0);
+    enc.update(40, None, 1_000_000);
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.position").unwrap(),
+        Value::Float(10.0)
+    );
+    // Not armed: an index seen by the hardware changes nothing.
+    enc.update(44, Some(42), 2_000_000);
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.count").unwrap(),
+        Value::S32(44)
+    );
+    // Armed: count restarts at the index; index-enable is cleared.
+    inst.set_pin("hm.0.encoder.01.index-enable", Value::Bit(true))
+        .unwrap();
+    assert!(enc.index_armed());
+    enc.update(50, Some(46), 3_000_000);
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.count").unwrap(),
+        Value::S32(4)
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.rawcounts").unwrap(),
+        Value::S32(50)
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.position-latched").unwrap(),
+        Value::Float(11.5)
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.index-enable").unwrap(),
+        Value::Bit(false)
+    );
+    // A zero scale is replaced rather than dividing by zero.
+    inst.set_param("hm.0.encoder.01.scale", Value::Float(0.0))
+        .unwrap();
+    enc.update(52, None, 4_000_000);
+    assert_eq!(
+        inst.param_value("hm.0.encoder.01.scale").unwrap(),
+        Value::Float(1.0)
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.encoder.01.position").unwrap(),
+        Value::Float(6.0)
+    );
+}
+
+#[test]
+fn pwm_duty_follows_enable_value_and_scale() {
+    let host = host("pwm");
+    let inst = host.instance();
+    let comp = inst.new_component("hm", ComponentKind::User).unwrap();
+    let pwm = Pwm::export(&comp, &ChannelNames::canonical("hm", 0, "pwmgen", 4), 0).unwrap();
+    assert_eq!(pwm.duty(), None);
+    inst.set_pin("hm.0.pwmgen.0.enable", Value::Bit(true))
+        .unwrap();
+    inst.set_pin("hm.0.pwmgen.0.value", Value::Float(-5.0))
+        .unwrap();
+    inst.set_param("hm.0.pwmgen.0.scale", Value::Float(10.0))
+        .unwrap();
+    assert_eq!(pwm.duty(), Some(-0.5));
+}
