@@ -16,6 +16,7 @@ use crate::protocol::{decode_request, encode_reply};
 pub fn registry() -> Registry {
     let mut r = Registry::new();
     r.add(&hal_components::modules());
+    r.add(&[&hal_parport::MODULE]);
     r
 }
 

@@ -1,0 +1,303 @@
+//! The HAL binding: `loadrt hal_parport cfg="..."`.
+//!
+//! One realtime component `hal_parport` with, per port p (hardware.md 2.4):
+//!
+//! * `parport.p.pin-NN-in` / `-in-not` (bit OUT) for every input pin;
+//! * `parport.p.pin-NN-out` (bit IN), params `-out-invert` and
+//!   `-out-reset` (bit RW) for every output pin;
+//! * params `parport.p.reset-time`, `.debug1`, `.debug2` (u32 RW) when the
+//!   data pins are outputs (`debug1`/`debug2` are unused, as in LinuxCNC);
+//! * functions `parport.p.read`, `.write`, `.reset`;
+//!
+//! and the functions `parport.read-all` and `parport.write-all`. No
+//! function uses floating point. Output pins are canonical digital
+//! outputs ([`canonical::DigOut`]) under parport's historic names.
+//!
+//! The safe-state hook (after a fault, at unload and at exit) drives every
+//! output pin to its inactive level, the physical level of its
+//! `-out-invert`.
+
+use std::sync::Arc;
+
+use canonical::{ChannelNames, DigOut};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::{Component, HalError, Host, Out, Param, Pin, Result, Rw};
+
+use crate::cfg::{self, PortSpec, DEFAULT_CFG};
+use crate::clock::{Clock, MonotonicClock};
+use crate::driver::{Outputs, PortDriver};
+use crate::regs;
+use crate::select::{self, SysPaths};
+
+const NAME: &str = "hal_parport";
+
+const PARAMS: &[ParamDecl] = &[ParamDecl {
+    name: "cfg",
+    kind: ParamKind::Str,
+    help: "ports: \"<addr> [in|out|epp|x] [ppdev|raw|sim|simloop] ...\" (addr hex; <0x10 = parport number)",
+}];
+
+/// The `hal_parport` module.
+pub static MODULE: ModuleDef = ModuleDef {
+    name: NAME,
+    params: PARAMS,
+    help: "PC parallel port driver (ppdev, raw port I/O, or simulated)",
+    load,
+};
+
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    load_cfg(
+        host,
+        args.str("cfg").unwrap_or(DEFAULT_CFG),
+        &SysPaths::system(),
+        Arc::new(MonotonicClock),
+    )
+}
+
+/// An input pin pair.
+struct InPin {
+    on: Pin<bool, Out>,
+    off: Pin<bool, Out>,
+}
+
+impl InPin {
+    fn new(c: &Component, p: usize, pin: u8) -> Result<InPin> {
+        Ok(InPin {
+            on: c.pin(&format!("parport.{p}.pin-{pin:02}-in"))?,
+            off: c.pin(&format!("parport.{p}.pin-{pin:02}-in-not"))?,
+        })
+    }
+
+    #[inline]
+    fn set(&self, level: bool) {
+        self.on.set(level);
+        self.off.set(!level);
+    }
+}
+
+/// An output pin: the canonical digital output plus parport's reset flag.
+struct OutPin {
+    dig: DigOut,
+    reset: Param<bool, Rw>,
+}
+
+impl OutPin {
+    fn new(c: &Component, p: usize, pin: u8) -> Result<OutPin> {
+        let names = ChannelNames::custom(move |pin, item| {
+            let item = if item == "invert" { "out-invert" } else { item };
+            format!("parport.{p}.pin-{pin:02}-{item}")
+        });
+        Ok(OutPin {
+            dig: DigOut::export(c, &names, pin as usize)?,
+            reset: c.param(&names.item(pin as usize, "out-reset"), false)?,
+        })
+    }
+}
+
+/// Gathers `out XOR invert`, the reset mask and the reset values of a
+/// group of output pins, pin i on bit i.
+#[inline]
+fn gather(pins: &[OutPin]) -> (u8, u8, u8) {
+    let (mut v, mut mask, mut val) = (0u8, 0u8, 0u8);
+    for (b, p) in pins.iter().enumerate() {
+        if p.dig.level() {
+            v |= 1 << b;
+        }
+        if p.reset.get() {
+            mask |= 1 << b;
+            if p.dig.safe_level() {
+                val |= 1 << b;
+            }
+        }
+    }
+    (v, mask, val)
+}
+
+/// Invert bits of a group of output pins, pin i on bit i.
+fn inverts(pins: &[OutPin]) -> u8 {
+    pins.iter().enumerate().fold(
+        0,
+        |v, (b, p)| if p.dig.safe_level() { v | 1 << b } else { v },
+    )
+}
+
+/// One port's pins and driver.
+struct HalPort {
+    drv: PortDriver,
+    status_in: Vec<InPin>,
+    data_in: Vec<InPin>,
+    control_in: Vec<InPin>,
+    data_out: Vec<OutPin>,
+    control_out: Vec<OutPin>,
+    reset_time: Option<Param<u32, Rw>>,
+    _debug: Option<(Param<u32, Rw>, Param<u32, Rw>)>,
+}
+
+impl HalPort {
+    fn export(c: &Component, p: usize, drv: PortDriver) -> Result<HalPort> {
+        let mode = drv.mode();
+        let inputs = |pins: &[u8]| -> Result<Vec<InPin>> {
+            pins.iter().map(|&n| InPin::new(c, p, n)).collect()
+        };
+        let outputs = |pins: &[u8]| -> Result<Vec<OutPin>> {
+            pins.iter().map(|&n| OutPin::new(c, p, n)).collect()
+        };
+        // LinuxCNC's export order: status, data, timing params, control.
+        let status_in = inputs(&regs::STATUS_PINS)?;
+        let (data_in, data_out, reset_time, debug) = if mode.data_out() {
+            let out = outputs(&regs::DATA_PINS)?;
+            let rt = c.param(&format!("parport.{p}.reset-time"), 0u32)?;
+            let d1 = c.param(&format!("parport.{p}.debug1"), 0u32)?;
+            let d2 = c.param(&format!("parport.{p}.debug2"), 0u32)?;
+            (Vec::new(), out, Some(rt), Some((d1, d2)))
+        } else {
+            (inputs(&regs::DATA_PINS)?, Vec::new(), None, None)
+        };
+        let (control_in, control_out) = if mode.control_in() {
+            (inputs(&regs::CONTROL_PINS)?, Vec::new())
+        } else {
+            (Vec::new(), outputs(&regs::CONTROL_PINS)?)
+        };
+        Ok(HalPort {
+            drv,
+            status_in,
+            data_in,
+            control_in,
+            data_out,
+            control_out,
+            reset_time,
+            _debug: debug,
+        })
+    }
+
+    #[inline]
+    fn read(&self) {
+        let i = self.drv.read();
+        for (b, pin) in self.status_in.iter().enumerate() {
+            pin.set(i.status & (1 << (b as u32 + regs::STATUS_FIRST_BIT)) != 0);
+        }
+        if let Some(d) = i.data {
+            for (b, pin) in self.data_in.iter().enumerate() {
+                pin.set(d & (1 << b) != 0);
+            }
+        }
+        if let Some(c) = i.control {
+            for (b, pin) in self.control_in.iter().enumerate() {
+                pin.set(c & (1 << b) != 0);
+            }
+        }
+    }
+
+    #[inline]
+    fn write(&self) {
+        let (data, data_reset_mask, data_reset_val) = gather(&self.data_out);
+        let (control, control_reset_mask, control_reset_val) = gather(&self.control_out);
+        self.drv.write(&Outputs {
+            data,
+            data_reset_mask,
+            data_reset_val,
+            control,
+            control_reset_mask,
+            control_reset_val,
+        });
+    }
+
+    #[inline]
+    fn reset(&self, period: i64) {
+        // In `in` mode the parameter does not exist; its value is 0.
+        let rt = self.reset_time.as_ref().map_or(0, |p| p.get());
+        let used = self.drv.reset(rt, period);
+        if used != rt {
+            if let Some(p) = &self.reset_time {
+                p.set(used);
+            }
+        }
+    }
+
+    fn safe_state(&self) {
+        self.drv
+            .safe_state(inverts(&self.data_out), inverts(&self.control_out));
+    }
+}
+
+fn port_error(i: usize, spec: &PortSpec, e: impl std::fmt::Display) -> HalError {
+    HalError::ModuleLoad {
+        module: NAME.into(),
+        reason: format!("port {i} ({}, {} mode): {e}", spec.addr, spec.mode.name()),
+    }
+}
+
+/// Loads the driver for `cfg`, finding Linux's ports under `paths` and
+/// timing write/reset with `clock`. `loadrt` calls this with the real
+/// system paths and CLOCK_MONOTONIC; tests may pass their own.
+pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>) -> Result<()> {
+    let specs = cfg::parse(cfg).map_err(|e| HalError::ModuleParam {
+        module: NAME.into(),
+        param: "cfg".into(),
+        reason: e.to_string(),
+    })?;
+    // Open and claim every port before exporting anything; a failure
+    // drops (and so releases) the ports opened so far.
+    let mut opened = Vec::with_capacity(specs.len());
+    for (i, spec) in specs.iter().enumerate() {
+        let choice = select::choose(spec, paths).map_err(|e| port_error(i, spec, e))?;
+        let o =
+            select::open(&choice, spec.mode, clock.clone()).map_err(|e| port_error(i, spec, e))?;
+        if let Some(base) = o.io.base() {
+            if let Some(j) = opened
+                .iter()
+                .position(|(_, p): &(PortSpec, select::Opened)| p.io.base() == Some(base))
+            {
+                return Err(port_error(
+                    i,
+                    spec,
+                    format!("it is the same port as port {j} (base {base:#x})"),
+                ));
+            }
+        }
+        opened.push((*spec, o));
+    }
+    let mut b = host.new_rt_component(NAME)?;
+    let mut ports = Vec::with_capacity(opened.len());
+    let mut sims = Vec::new();
+    for (i, (spec, o)) in opened.into_iter().enumerate() {
+        let drv = PortDriver::new(spec.mode, o.io.clone(), clock.clone());
+        drv.init().map_err(|e| port_error(i, &spec, e))?;
+        ports.push(Arc::new(HalPort::export(b.component(), i, drv)?));
+        if let Some(s) = o.sim {
+            sims.push((i, s));
+        }
+    }
+    for (i, port) in ports.iter().enumerate() {
+        let p = port.clone();
+        b.funct(&format!("parport.{i}.read"), false, move |_| p.read())?;
+        let p = port.clone();
+        b.funct(&format!("parport.{i}.write"), false, move |_| p.write())?;
+        let p = port.clone();
+        b.funct(&format!("parport.{i}.reset"), false, move |ctx| {
+            p.reset(ctx.period())
+        })?;
+    }
+    let all = ports.clone();
+    b.funct("parport.read-all", false, move |_| {
+        for p in &all {
+            p.read();
+        }
+    })?;
+    let all = ports.clone();
+    b.funct("parport.write-all", false, move |_| {
+        for p in &all {
+            p.write();
+        }
+    })?;
+    b.on_safe_state(move || {
+        for p in &ports {
+            p.safe_state();
+        }
+    });
+    b.ready()?;
+    for (i, s) in &sims {
+        crate::sim::register(host.instance().name(), *i, s);
+    }
+    Ok(())
+}

@@ -1,0 +1,124 @@
+//! The bus the driver talks through: register access to one parallel port.
+//!
+//! [`PortIo`] is a register-level interface (data, status, control, ECR,
+//! direction, claim/release). It has three backends:
+//!
+//! * [`ppdev::PpdevPort`]: `/dev/parportN` through the ppdev ioctls. Needs
+//!   no privilege beyond access to the device node (group `lp`). Every
+//!   access is a system call, and the control register cannot be read back
+//!   live, so `x` mode and `epp` are refused on it.
+//! * [`raw::RawPort`]: `inb`/`outb` after `ioperm`. Needs `CAP_SYS_RAWIO`;
+//!   the permission is per thread and taken on the first access in each.
+//! * [`crate::sim::SimPort`]: the register-level simulator.
+//!
+//! Realtime functions call the accessors; they take `&self` so the
+//! functions of one port can run in different threads. Accessors never
+//! fail visibly (a realtime function has nobody to report to): a failed
+//! system call reads as 0xFF and is counted in [`PortIo::errors`].
+
+pub mod ppdev;
+pub mod raw;
+
+/// What went wrong opening or setting up a port.
+#[derive(Debug, thiserror::Error)]
+pub enum PortError {
+    /// The device node does not exist.
+    #[error("{path} does not exist (is the parport_pc and ppdev kernel module loaded?)")]
+    NoDevice { path: String },
+    /// Opening the device node failed.
+    #[error("cannot open {path}: {source}{hint}")]
+    Open {
+        path: String,
+        source: std::io::Error,
+        hint: &'static str,
+    },
+    /// An ioctl failed during setup.
+    #[error("{op} on {path} failed: {source}")]
+    Ioctl {
+        op: &'static str,
+        path: String,
+        source: std::io::Error,
+    },
+    /// Raw port I/O is not permitted.
+    #[error("no permission for raw port I/O at {addr:#x}: {reason}")]
+    NoPermission { addr: u16, reason: String },
+    /// The backend cannot do what the port's mode needs.
+    #[error("{0}")]
+    Unsupported(String),
+    /// The port's address could not be determined.
+    #[error("{0}")]
+    NotFound(String),
+}
+
+/// Register access to one parallel port.
+pub trait PortIo: Send + Sync {
+    /// Reads the data register.
+    fn read_data(&self) -> u8;
+    /// Writes the data register (the output latch).
+    fn write_data(&self, v: u8);
+    /// Reads the status register (raw, before the 0x80 correction).
+    fn read_status(&self) -> u8;
+    /// Reads the control register (raw, before the 0x0B correction).
+    fn read_control(&self) -> u8;
+    /// Writes the control register (raw). Bit 5 sets the data direction.
+    fn write_control(&self, v: u8);
+    /// Whether the port has an extended control register (a known
+    /// `base_hi`) this backend can write.
+    fn has_ecr(&self) -> bool;
+    /// Writes the ECR at `base_hi + 2`.
+    fn write_ecr(&self, v: u8) -> Result<(), PortError>;
+    /// Sets the data lines' direction (true = input).
+    fn set_data_dir(&self, input: bool) -> Result<(), PortError>;
+    /// Takes the port for exclusive use; must precede any access.
+    fn claim(&self) -> Result<(), PortError>;
+    /// Gives the port back (also done when the backend is dropped).
+    fn release(&self);
+    /// A description for messages: backend and device or address.
+    fn describe(&self) -> String;
+    /// The base I/O address, when known.
+    fn base(&self) -> Option<u16>;
+    /// How many accesses failed since the port was opened.
+    fn errors(&self) -> u64;
+}
+
+impl<T: PortIo + ?Sized> PortIo for std::sync::Arc<T> {
+    fn read_data(&self) -> u8 {
+        (**self).read_data()
+    }
+    fn write_data(&self, v: u8) {
+        (**self).write_data(v)
+    }
+    fn read_status(&self) -> u8 {
+        (**self).read_status()
+    }
+    fn read_control(&self) -> u8 {
+        (**self).read_control()
+    }
+    fn write_control(&self, v: u8) {
+        (**self).write_control(v)
+    }
+    fn has_ecr(&self) -> bool {
+        (**self).has_ecr()
+    }
+    fn write_ecr(&self, v: u8) -> Result<(), PortError> {
+        (**self).write_ecr(v)
+    }
+    fn set_data_dir(&self, input: bool) -> Result<(), PortError> {
+        (**self).set_data_dir(input)
+    }
+    fn claim(&self) -> Result<(), PortError> {
+        (**self).claim()
+    }
+    fn release(&self) {
+        (**self).release()
+    }
+    fn describe(&self) -> String {
+        (**self).describe()
+    }
+    fn base(&self) -> Option<u16> {
+        (**self).base()
+    }
+    fn errors(&self) -> u64 {
+        (**self).errors()
+    }
+}

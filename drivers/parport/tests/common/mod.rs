@@ -1,0 +1,88 @@
+//! Helpers shared by the hal_parport integration tests.
+#![allow(dead_code)]
+
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use hal_core::{Host, HostConfig, RealtimeMode, Value};
+use hal_parport::sim::SimPort;
+
+static COUNTER: AtomicU32 = AtomicU32::new(0);
+
+/// A host on an instance no other test uses, without realtime.
+pub fn host(tag: &str) -> Host {
+    let name = format!(
+        "pp-{tag}-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    );
+    let mut cfg = HostConfig::new(&name);
+    cfg.shm_size = 8 << 20;
+    cfg.realtime = RealtimeMode::Off;
+    Host::create(cfg).expect("host starts")
+}
+
+/// `loadrt hal_parport cfg=<cfg>`.
+pub fn loadrt(host: &Host, cfg: &str) -> hal_core::Result<()> {
+    host.loadrt(&hal_parport::MODULE, &[format!("cfg={cfg}")])
+}
+
+/// The simulated port `n` of the loaded module.
+pub fn sim(host: &Host, n: usize) -> Arc<SimPort> {
+    hal_parport::sim::find(host.instance().name(), n).expect("simulated port registered")
+}
+
+/// A bit pin's value.
+pub fn bit(host: &Host, pin: &str) -> bool {
+    match host
+        .instance()
+        .pin_value(pin)
+        .unwrap_or_else(|e| panic!("{pin}: {e}"))
+    {
+        Value::Bit(b) => b,
+        v => panic!("{pin} is {v:?}"),
+    }
+}
+
+/// Sets an unconnected input pin.
+pub fn set(host: &Host, pin: &str, v: bool) {
+    host.instance()
+        .set_pin(pin, Value::Bit(v))
+        .unwrap_or_else(|e| panic!("{pin}: {e}"));
+}
+
+/// Sets a bit or u32 parameter.
+pub fn setp(host: &Host, param: &str, v: Value) {
+    host.instance()
+        .set_param(param, v)
+        .unwrap_or_else(|e| panic!("{param}: {e}"));
+}
+
+/// A parameter's value.
+pub fn param(host: &Host, param: &str) -> Value {
+    host.instance()
+        .param_value(param)
+        .unwrap_or_else(|e| panic!("{param}: {e}"))
+}
+
+/// Creates thread `t` with `period_ns`, adds `functs` in order and starts.
+pub fn run(host: &Host, period_ns: i64, functs: &[&str]) {
+    host.create_thread("t", period_ns, false, None).unwrap();
+    for f in functs {
+        host.addf(f, "t", -1).unwrap();
+    }
+    host.start().unwrap();
+}
+
+/// Waits until `sim`'s status register has been read `n` more times:
+/// with read before write in the thread, two more reads mean a whole
+/// cycle ran after the caller's change.
+pub fn cycles(sim: &SimPort, n: u64) {
+    let start = sim.reads(hal_parport::regs::STATUS);
+    let end = Instant::now() + Duration::from_secs(10);
+    while sim.reads(hal_parport::regs::STATUS) < start + n {
+        assert!(Instant::now() < end, "thread did not run");
+        std::thread::sleep(Duration::from_micros(200));
+    }
+}
