@@ -7,4 +7,5 @@ pub mod halcmd;
 pub mod hostd;
 pub mod launch;
 pub mod meter;
+pub mod parport_tool;
 pub mod protocol;

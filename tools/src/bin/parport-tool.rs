@@ -1,0 +1,134 @@
+//! parport-tool: bring up a parallel port. List the ports, watch the
+//! inputs live, drive outputs pin by pin, or check a loopback test plug.
+//! A port is given as in hal_parport's cfg: `0`, `0x378`, `"0 x raw"`,
+//! `"0 simloop"` (the simulator with the plug, to try the tool).
+
+use std::io::{IsTerminal, Write};
+use std::time::Duration;
+
+use hal_core::userspace::ExitSignals;
+use hal_tools::parport_tool::{format_inputs, list, open, outputs_for, selftest};
+
+const USAGE: &str = "usage: parport-tool list
+       parport-tool watch PORT [-n COUNT]
+       parport-tool set PORT PIN=0|1 [PIN=0|1 ...]
+       parport-tool selftest PORT          (needs the loopback plug, see below)
+
+PORT is a hal_parport cfg string for one port, e.g. 0, 0x378, \"0 x\",
+\"0x378 x raw\", \"0 simloop\". The selftest plug wires 2-15, 3-13, 4-12,
+5-10, 6-11 (checked in out mode) and 7-1, 8-14, 9-16, 6-17 (also checked
+in x mode, which needs open-collector control lines).";
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let code = match run(&args) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("parport-tool: {e}");
+            1
+        }
+    };
+    std::process::exit(code);
+}
+
+fn run(args: &[String]) -> Result<i32, String> {
+    match args.first().map(String::as_str) {
+        Some("list") => {
+            let ports = list();
+            if ports.is_empty() {
+                println!("no parallel ports registered with Linux (is parport_pc loaded?)");
+            }
+            for p in ports {
+                println!("{p}");
+            }
+            Ok(0)
+        }
+        Some("watch") => {
+            let port = open(args.get(1).ok_or(USAGE)?)?;
+            let count: Option<u64> = match args.get(2).map(String::as_str) {
+                Some("-n") => Some(
+                    args.get(3)
+                        .and_then(|n| n.parse().ok())
+                        .ok_or("-n needs a count")?,
+                ),
+                _ => None,
+            };
+            let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+            let tty = std::io::stdout().is_terminal();
+            println!(
+                "{} ({} mode): pin:level",
+                port.description,
+                port.mode.name()
+            );
+            let mut shown = 0;
+            while count.is_none_or(|n| shown < n) && !exit.requested() {
+                let line = format_inputs(port.mode, &port.driver.read());
+                if tty {
+                    print!("\r{line}");
+                    let _ = std::io::stdout().flush();
+                } else {
+                    println!("{line}");
+                }
+                shown += 1;
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            if tty {
+                println!();
+            }
+            Ok(0)
+        }
+        Some("set") => {
+            let port = open(args.get(1).ok_or(USAGE)?)?;
+            let mut levels = Vec::new();
+            for a in &args[2..] {
+                let (pin, level) = a
+                    .split_once('=')
+                    .ok_or_else(|| format!("'{a}': expected PIN=0|1"))?;
+                let pin: u8 = pin
+                    .parse()
+                    .map_err(|_| format!("'{pin}' is not a pin number"))?;
+                if !hal_tools::parport_tool::is_output(port.mode, pin) {
+                    return Err(format!(
+                        "pin {pin} is not an output in {} mode",
+                        port.mode.name()
+                    ));
+                }
+                let high = match level {
+                    "1" => true,
+                    "0" => false,
+                    _ => return Err(format!("'{level}': use 0 or 1")),
+                };
+                levels.push((pin, high));
+            }
+            port.driver.write(&outputs_for(&levels));
+            println!("{}: outputs set; other outputs low", port.description);
+            Ok(0)
+        }
+        Some("selftest") => {
+            let port = open(args.get(1).ok_or(USAGE)?)?;
+            let results = selftest(&port);
+            if results.is_empty() {
+                return Err(format!(
+                    "nothing to test in {} mode; use out or x",
+                    port.mode.name()
+                ));
+            }
+            let mut failed = 0;
+            for w in &results {
+                println!(
+                    "pin {:02} -> pin {:02}: {}",
+                    w.out_pin,
+                    w.in_pin,
+                    if w.ok { "ok" } else { "FAILED" }
+                );
+                failed += usize::from(!w.ok);
+            }
+            println!("{} passed, {failed} failed", results.len() - failed);
+            Ok(i32::from(failed > 0))
+        }
+        _ => {
+            println!("{USAGE}");
+            Ok(if args.is_empty() { 0 } else { 2 })
+        }
+    }
+}

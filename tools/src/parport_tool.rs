@@ -1,0 +1,219 @@
+//! The parallel-port bring-up tool's logic: open a port as hal_parport
+//! would, show its inputs, drive its outputs, and check a loopback plug.
+
+use std::sync::Arc;
+
+use hal_parport::cfg::{self, Mode};
+use hal_parport::clock::{Clock, MonotonicClock};
+use hal_parport::driver::{Inputs, Outputs, PortDriver};
+use hal_parport::select::{self, linux_ports, SysPaths};
+use hal_parport::sim::Plug;
+
+/// An opened port with its driver.
+pub struct Port {
+    pub driver: PortDriver,
+    pub mode: Mode,
+    pub description: String,
+}
+
+/// Opens the first port of a hal_parport cfg string (`"0"`,
+/// `"0x378 x raw"`, `"0 simloop"`) and initialises it as the driver does.
+pub fn open(spec: &str) -> Result<Port, String> {
+    let specs = cfg::parse(spec).map_err(|e| e.to_string())?;
+    let spec = specs.first().ok_or("no port given")?;
+    let choice = select::choose(spec, &SysPaths::system()).map_err(|e| e.to_string())?;
+    let clock: Arc<dyn Clock> = Arc::new(MonotonicClock);
+    let opened = select::open(&choice, spec.mode, clock.clone()).map_err(|e| e.to_string())?;
+    let description = opened.io.describe();
+    let driver = PortDriver::new(spec.mode, opened.io, clock);
+    driver.init().map_err(|e| e.to_string())?;
+    Ok(Port {
+        driver,
+        mode: spec.mode,
+        description,
+    })
+}
+
+/// The ports Linux knows, one line each.
+pub fn list() -> Vec<String> {
+    let ports = linux_ports(&SysPaths::system());
+    ports
+        .iter()
+        .map(|p| {
+            let dev = format!("/dev/parport{}", p.num);
+            let access = if std::path::Path::new(&dev).exists() {
+                match std::fs::OpenOptions::new()
+                    .read(true)
+                    .write(true)
+                    .open(&dev)
+                {
+                    Ok(_) => "usable",
+                    Err(_) => "no permission (see udev/README.md)",
+                }
+            } else {
+                "no device node (load ppdev)"
+            };
+            let hi = p
+                .base_hi
+                .map(|h| format!(", ECR base {h:#x}"))
+                .unwrap_or_default();
+            format!("parport{}: base {:#x}{hi}, {dev}: {access}", p.num, p.base)
+        })
+        .collect()
+}
+
+/// The level of input pin `pin` in a reading, if it is an input.
+pub fn input_level(inputs: &Inputs, pin: u8) -> Option<bool> {
+    let status_bit = match pin {
+        15 => Some(3),
+        13 => Some(4),
+        12 => Some(5),
+        10 => Some(6),
+        11 => Some(7),
+        _ => None,
+    };
+    if let Some(b) = status_bit {
+        return Some(inputs.status & (1 << b) != 0);
+    }
+    if (2..=9).contains(&pin) {
+        return inputs.data.map(|d| d & (1 << (pin - 2)) != 0);
+    }
+    let control_bit = match pin {
+        1 => 0,
+        14 => 1,
+        16 => 2,
+        17 => 3,
+        _ => return None,
+    };
+    inputs.control.map(|c| c & (1 << control_bit) != 0)
+}
+
+/// The input pins of a mode, in DB-25 order.
+pub fn input_pins(mode: Mode) -> Vec<u8> {
+    (1..=17u8)
+        .filter(|&p| {
+            matches!(p, 10 | 11 | 12 | 13 | 15)
+                || (!mode.data_out() && (2..=9).contains(&p))
+                || (mode.control_in() && matches!(p, 1 | 14 | 16 | 17))
+        })
+        .collect()
+}
+
+/// Whether `pin` is an output in `mode`.
+pub fn is_output(mode: Mode, pin: u8) -> bool {
+    ((2..=9).contains(&pin) && mode.data_out())
+        || (matches!(pin, 1 | 14 | 16 | 17) && !mode.control_in())
+}
+
+/// Outputs with `levels` (pin, high) applied and every other output low.
+pub fn outputs_for(levels: &[(u8, bool)]) -> Outputs {
+    let mut o = Outputs::default();
+    for &(pin, high) in levels {
+        if !high {
+            continue;
+        }
+        match pin {
+            2..=9 => o.data |= 1 << (pin - 2),
+            1 => o.control |= 1,
+            14 => o.control |= 2,
+            16 => o.control |= 4,
+            17 => o.control |= 8,
+            _ => {}
+        }
+    }
+    o
+}
+
+/// One line showing every input of a reading.
+pub fn format_inputs(mode: Mode, inputs: &Inputs) -> String {
+    input_pins(mode)
+        .into_iter()
+        .map(|p| {
+            format!(
+                "{p:02}:{}",
+                input_level(inputs, p).map_or('?', |h| if h { '1' } else { '0' })
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The result of checking one wire of the loopback plug.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WireCheck {
+    pub out_pin: u8,
+    pub in_pin: u8,
+    /// The input followed the output high and low.
+    pub ok: bool,
+}
+
+/// Drives each output wired to an input through the test plug high and
+/// low, alone, and checks that the input follows. Wires without an output
+/// and an input in this mode are skipped.
+pub fn selftest(port: &Port) -> Vec<WireCheck> {
+    let mut results = Vec::new();
+    for &(a, b) in Plug::loopback().wires() {
+        let (out_pin, in_pin) = if is_output(port.mode, a) && input_pins(port.mode).contains(&b) {
+            (a, b)
+        } else if is_output(port.mode, b) && input_pins(port.mode).contains(&a) {
+            (b, a)
+        } else {
+            continue;
+        };
+        let mut ok = true;
+        for level in [true, false, true, false] {
+            // Control lines idle high (released): on the plug they share
+            // a net with a data pin, and a low one would hold it down.
+            let mut levels = vec![(1, true), (14, true), (16, true), (17, true)];
+            levels.retain(|(p, _)| *p != out_pin && is_output(port.mode, *p));
+            levels.push((out_pin, level));
+            port.driver.write(&outputs_for(&levels));
+            std::thread::sleep(std::time::Duration::from_micros(50));
+            ok &= input_level(&port.driver.read(), in_pin) == Some(level);
+        }
+        results.push(WireCheck {
+            out_pin,
+            in_pin,
+            ok,
+        });
+    }
+    port.driver.write(&Outputs::default());
+    results
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pins_of_each_mode() {
+        assert_eq!(input_pins(Mode::Out), [10, 11, 12, 13, 15]);
+        assert_eq!(input_pins(Mode::X), [1, 10, 11, 12, 13, 14, 15, 16, 17]);
+        assert_eq!(input_pins(Mode::In).len(), 13);
+        assert!(is_output(Mode::Out, 1) && is_output(Mode::Out, 9) && !is_output(Mode::Out, 10));
+        assert!(!is_output(Mode::X, 14) && !is_output(Mode::In, 5));
+        let o = outputs_for(&[(2, true), (9, true), (14, true), (3, false)]);
+        assert_eq!((o.data, o.control), (0x81, 0x02));
+    }
+
+    #[test]
+    fn a_loopback_plug_passes_and_an_open_port_fails() {
+        let port = open("0 out simloop").unwrap();
+        let r = selftest(&port);
+        assert_eq!(r.len(), 5, "{r:?}");
+        assert!(r.iter().all(|w| w.ok), "{r:?}");
+        let port = open("0 x simloop").unwrap();
+        let r = selftest(&port);
+        assert_eq!(r.len(), 9, "every wire is testable in x mode: {r:?}");
+        assert!(r.iter().all(|w| w.ok), "{r:?}");
+        // No plug: inputs float high and do not follow the outputs.
+        let port = open("0 out sim").unwrap();
+        assert!(selftest(&port).iter().all(|w| !w.ok));
+    }
+
+    #[test]
+    fn bad_port_specs_are_refused() {
+        assert!(open("zz").is_err());
+        assert!(open("").is_err());
+    }
+}
