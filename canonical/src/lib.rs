@@ -55,12 +55,14 @@
 //! converter counts with `bit_weight` and `hw_offset`, rounded and clamped
 //! to the converter's range.
 //!
-//! # encoder and pwm
-//! For drivers with hardware counters and PWM generators: [`encoder`] and
-//! [`pwm`] define the pins (hostmot2's names, which other boards follow)
-//! and the shared behaviour: wide counts from narrow counters, reset and
-//! the index-enable handshake, velocity from the time between counts,
-//! duty cycle from value and scale.
+//! # encoder, stepgen and pwm
+//! For drivers with hardware counters, step and PWM generators:
+//! [`encoder`], [`stepgen`] and [`pwm`] define the pins (hostmot2's
+//! names, which other boards follow) and the shared behaviour: wide counts
+//! from narrow counters, reset and the index-enable handshake, velocity
+//! from the time between counts; the step rate that reaches a position
+//! within maxvel and maxaccel, step timing in hardware clocks; duty cycle
+//! from value and scale. Each module's docs hold its table.
 //!
 //! The software components (stepgen, encoder, pwmgen in the components
 //! crate) keep LinuxCNC's historic names and exact arithmetic, which
@@ -71,9 +73,11 @@ pub mod dig;
 pub mod encoder;
 pub mod naming;
 pub mod pwm;
+pub mod stepgen;
 
 pub use adc::{AdcIn, AdcOut, AdcOutOptions};
 pub use dig::{DigIn, DigOut};
 pub use encoder::{Encoder, EncoderCore};
 pub use naming::ChannelNames;
 pub use pwm::Pwm;
+pub use stepgen::Stepgen;

@@ -195,3 +195,45 @@ fn pwm_duty_follows_enable_value_and_scale() {
         .unwrap();
     assert_eq!(pwm.duty(), Some(-0.5));
 }
+
+#[test]
+fn stepgen_rate_follows_enable_mode_and_scale() {
+    let host = host("stepgen");
+    let inst = host.instance();
+    let comp = inst.new_component("hm", ComponentKind::User).unwrap();
+    let mut sg =
+        Stepgen::export(&comp, &ChannelNames::canonical("hm", 0, "stepgen", 10), 0).unwrap();
+    let set = |n: &str, v: Value| {
+        if inst.set_pin(n, v).is_err() {
+            inst.set_param(n, v).unwrap();
+        }
+    };
+    set("hm.0.stepgen.0.position-scale", Value::Float(100.0));
+    set("hm.0.stepgen.0.maxaccel", Value::Float(0.0));
+    set("hm.0.stepgen.0.maxvel", Value::Float(5.0));
+    set("hm.0.stepgen.0.position-cmd", Value::Float(1.0));
+    assert_eq!(sg.update(0, 0.0, 1_000_000), 0.0, "disabled");
+    set("hm.0.stepgen.0.enable", Value::Bit(true));
+    assert_eq!(
+        sg.update(0, 0.0, 1_000_000),
+        500.0,
+        "5 units/s at 100 steps per unit"
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.stepgen.0.velocity-fb").unwrap(),
+        Value::Float(5.0)
+    );
+    set("hm.0.stepgen.0.control-type", Value::Bit(true));
+    set("hm.0.stepgen.0.velocity-cmd", Value::Float(-2.0));
+    assert_eq!(sg.update(250, 250.5, 1_000_000), -200.0);
+    assert_eq!(
+        inst.pin_value("hm.0.stepgen.0.counts").unwrap(),
+        Value::S32(250)
+    );
+    assert_eq!(
+        inst.pin_value("hm.0.stepgen.0.position-fb").unwrap(),
+        Value::Float(2.505)
+    );
+    set("hm.0.stepgen.0.steplen", Value::U32(5000));
+    assert_eq!(sg.timing(100_000_000).steplen, 500);
+}

@@ -1,0 +1,265 @@
+//! The canonical step generator, for drivers whose hardware makes the
+//! pulses (hostmot2 and the like): the driver reads the hardware's step
+//! count, calls [`Stepgen::update`] once per servo period, and programs
+//! the returned step rate and the step timing in hardware clocks.
+//!
+//! | name | kind | type | dir | unit | meaning |
+//! |---|---|---|---|---|---|
+//! | `position-cmd` | pin | float | in | units | target position (position mode) |
+//! | `velocity-cmd` | pin | float | in | units/s | target velocity (velocity mode) |
+//! | `control-type` | pin | bit | in | | FALSE position mode, TRUE velocity mode |
+//! | `enable` | pin | bit | in | | FALSE: no steps; the rate drops to 0 at once |
+//! | `counts` | pin | s32 | out | steps | steps made (low 32 bits) |
+//! | `position-fb` | pin | float | out | units | `counts / position-scale` |
+//! | `velocity-fb` | pin | float | out | units/s | the commanded rate, in units |
+//! | `position-scale` | param | float | rw | steps/unit | default 1.0; within 1e-20 of 0 is replaced by 1.0 |
+//! | `maxvel` | param | float | rw | units/s | 0: the most the step timing allows |
+//! | `maxaccel` | param | float | rw | units/s² | 0: no limit (default 1.0) |
+//! | `steplen` | param | u32 | rw | ns | step pulse length |
+//! | `stepspace` | param | u32 | rw | ns | least time between pulses |
+//! | `dirsetup` | param | u32 | rw | ns | direction stable before a step |
+//! | `dirhold` | param | u32 | rw | ns | direction stable after a step |
+//!
+//! Position mode drives the velocity toward the one that reaches
+//! `position-cmd` in the next period, capped by the stopping distance at
+//! `maxaccel` (so it arrives without overshoot) and by `maxvel`; the rate
+//! then changes by at most `maxaccel × period` per period. Velocity mode
+//! ramps toward `velocity-cmd` within the same limits. The fastest step
+//! rate is one step per `steplen + stepspace`.
+
+use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+
+use crate::naming::ChannelNames;
+
+/// The limits one update obeys, in units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// Steps per unit (non-zero).
+    pub scale: f64,
+    /// Units/s; 0 for "as fast as the timing allows".
+    pub maxvel: f64,
+    /// Units/s²; 0 for none.
+    pub maxaccel: f64,
+    /// Nanoseconds per step at the fastest: steplen + stepspace.
+    pub min_step_ns: u64,
+}
+
+impl Limits {
+    /// The velocity limit in units/s, from `maxvel` and the step timing.
+    pub fn vmax(&self) -> f64 {
+        let by_timing = if self.min_step_ns > 0 {
+            1e9 / self.min_step_ns as f64 / self.scale.abs()
+        } else {
+            f64::INFINITY
+        };
+        if self.maxvel > 0.0 {
+            self.maxvel.min(by_timing)
+        } else {
+            by_timing
+        }
+    }
+}
+
+/// The commanded rate of one period, in units/s, for position mode.
+pub fn position_rate(cmd: f64, fb: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
+    let err = cmd - fb;
+    let mut v = err / dt;
+    if lim.maxaccel > 0.0 {
+        // The fastest speed from which we can still stop at the target.
+        let stop = (2.0 * lim.maxaccel * err.abs()).sqrt();
+        v = v.clamp(-stop, stop);
+    }
+    limit(v, v_prev, dt, lim)
+}
+
+/// The commanded rate of one period, in units/s, for velocity mode.
+pub fn velocity_rate(cmd: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
+    limit(cmd, v_prev, dt, lim)
+}
+
+fn limit(v: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
+    let v = if v.is_nan() { 0.0 } else { v };
+    let vmax = lim.vmax();
+    let mut v = v.clamp(-vmax, vmax);
+    if lim.maxaccel > 0.0 {
+        let dv = lim.maxaccel * dt;
+        v = v.clamp(v_prev - dv, v_prev + dv);
+    }
+    v
+}
+
+/// Step timing in hardware clock ticks, each at least one tick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimingTicks {
+    pub steplen: u32,
+    pub stepspace: u32,
+    pub dirsetup: u32,
+    pub dirhold: u32,
+}
+
+/// Converts nanoseconds to ticks of a `clock_hz` clock, rounding up.
+pub fn ticks(ns: u32, clock_hz: u64) -> u32 {
+    let t = (ns as u128 * clock_hz as u128).div_ceil(1_000_000_000);
+    t.clamp(1, u32::MAX as u128) as u32
+}
+
+/// A canonical step generator channel.
+pub struct Stepgen {
+    position_cmd: Pin<f64, In>,
+    velocity_cmd: Pin<f64, In>,
+    control_type: Pin<bool, In>,
+    enable: Pin<bool, In>,
+    counts: Pin<i32, Out>,
+    position_fb: Pin<f64, Out>,
+    velocity_fb: Pin<f64, Out>,
+    position_scale: Param<f64, Rw>,
+    maxvel: Param<f64, Rw>,
+    maxaccel: Param<f64, Rw>,
+    steplen: Param<u32, Rw>,
+    stepspace: Param<u32, Rw>,
+    dirsetup: Param<u32, Rw>,
+    dirhold: Param<u32, Rw>,
+    rate: f64,
+}
+
+impl Stepgen {
+    /// Exports channel `chan` on `comp`.
+    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<Stepgen> {
+        let n = |s: &str| names.item(chan, s);
+        Ok(Stepgen {
+            position_cmd: comp.pin(&n("position-cmd"))?,
+            velocity_cmd: comp.pin(&n("velocity-cmd"))?,
+            control_type: comp.pin(&n("control-type"))?,
+            enable: comp.pin(&n("enable"))?,
+            counts: comp.pin(&n("counts"))?,
+            position_fb: comp.pin(&n("position-fb"))?,
+            velocity_fb: comp.pin(&n("velocity-fb"))?,
+            position_scale: comp.param(&n("position-scale"), 1.0)?,
+            maxvel: comp.param(&n("maxvel"), 0.0)?,
+            maxaccel: comp.param(&n("maxaccel"), 1.0)?,
+            steplen: comp.param(&n("steplen"), 0)?,
+            stepspace: comp.param(&n("stepspace"), 0)?,
+            dirsetup: comp.param(&n("dirsetup"), 0)?,
+            dirhold: comp.param(&n("dirhold"), 0)?,
+            rate: 0.0,
+        })
+    }
+
+    /// One servo period: `steps` is the hardware's step count (its low 32
+    /// bits are published), `fine_position` its position in steps with a
+    /// fraction if the hardware has one. Returns the step rate to program,
+    /// in steps/s (signed; 0 while disabled).
+    pub fn update(&mut self, steps: i64, fine_position: f64, period_ns: i64) -> f64 {
+        let mut scale = self.position_scale.get();
+        if scale.abs() < 1e-20 || scale.is_nan() {
+            scale = 1.0;
+            self.position_scale.set(1.0);
+        }
+        self.counts.set(steps as i32);
+        let fb = fine_position / scale;
+        self.position_fb.set(fb);
+        if !self.enable.get() || period_ns <= 0 {
+            self.rate = 0.0;
+            self.velocity_fb.set(0.0);
+            return 0.0;
+        }
+        let lim = Limits {
+            scale,
+            maxvel: self.maxvel.get(),
+            maxaccel: self.maxaccel.get(),
+            min_step_ns: self.steplen.get() as u64 + self.stepspace.get() as u64,
+        };
+        let dt = period_ns as f64 * 1e-9;
+        self.rate = if self.control_type.get() {
+            velocity_rate(self.velocity_cmd.get(), self.rate, dt, &lim)
+        } else {
+            position_rate(self.position_cmd.get(), fb, self.rate, dt, &lim)
+        };
+        self.velocity_fb.set(self.rate);
+        self.rate * scale
+    }
+
+    /// The step timing in ticks of a `clock_hz` hardware clock.
+    pub fn timing(&self, clock_hz: u64) -> TimingTicks {
+        TimingTicks {
+            steplen: ticks(self.steplen.get(), clock_hz),
+            stepspace: ticks(self.stepspace.get(), clock_hz),
+            dirsetup: ticks(self.dirsetup.get(), clock_hz),
+            dirhold: ticks(self.dirhold.get(), clock_hz),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LIM: Limits = Limits {
+        scale: 200.0,
+        maxvel: 10.0,
+        maxaccel: 50.0,
+        min_step_ns: 0,
+    };
+
+    /// Simulates the hardware following the commanded rate exactly.
+    fn run(cmd: f64, lim: &Limits, periods: usize) -> (f64, Vec<f64>) {
+        let dt = 0.001;
+        let (mut pos, mut v) = (0.0, 0.0);
+        let mut rates = Vec::new();
+        for _ in 0..periods {
+            v = position_rate(cmd, pos, v, dt, lim);
+            pos += v * dt;
+            rates.push(v);
+        }
+        (pos, rates)
+    }
+
+    #[test]
+    fn position_mode_arrives_within_the_limits() {
+        for target in [10.0, -3.7, 0.001, 25.0] {
+            let (pos, rates) = run(target, &LIM, 5000);
+            assert!(
+                (pos - target).abs() < 1e-9,
+                "target {target}: ended at {pos}"
+            );
+            let mut prev = 0.0;
+            for &v in &rates {
+                assert!(v.abs() <= LIM.maxvel + 1e-12);
+                assert!((v - prev).abs() <= LIM.maxaccel * 0.001 + 1e-9);
+                prev = v;
+            }
+            assert_eq!(*rates.last().unwrap(), 0.0, "stopped at the target");
+        }
+    }
+
+    #[test]
+    fn velocity_mode_ramps_and_timing_caps_the_rate() {
+        let lim = Limits {
+            min_step_ns: 100_000, // 10 kHz at the fastest
+            maxvel: 0.0,
+            ..LIM
+        };
+        assert!(
+            (lim.vmax() - 50.0).abs() < 1e-9,
+            "10 kHz / 200 steps per unit"
+        );
+        let mut v = 0.0;
+        for _ in 0..10 {
+            v = velocity_rate(100.0, v, 0.001, &lim);
+        }
+        assert!((v - 0.5).abs() < 1e-9, "ramping at 50 units/s²: {v}");
+        for _ in 0..5000 {
+            v = velocity_rate(100.0, v, 0.001, &lim);
+        }
+        assert!((v - 50.0).abs() < 1e-9, "capped by the step timing: {v}");
+        assert_eq!(velocity_rate(f64::NAN, 0.0, 0.001, &lim), 0.0);
+    }
+
+    #[test]
+    fn ticks_round_up_and_never_vanish() {
+        assert_eq!(ticks(5000, 100_000_000), 500);
+        assert_eq!(ticks(1, 100_000_000), 1);
+        assert_eq!(ticks(0, 100_000_000), 1);
+        assert_eq!(ticks(15, 100_000_000), 2);
+    }
+}
