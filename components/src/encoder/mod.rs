@@ -95,16 +95,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
 /// A HAL host on a fresh instance, for tests that load the modules.
 #[cfg(test)]
 pub(crate) fn test_host() -> hal_core::Host {
-    use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
-    static N: AtomicU32 = AtomicU32::new(0);
-    let mut cfg = hal_core::HostConfig::new(&format!(
-        "t-encfam-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Relaxed)
-    ));
-    cfg.shm_size = 4 << 20;
-    cfg.realtime = hal_core::RealtimeMode::Off;
-    hal_core::Host::create(cfg).expect("host starts")
+    hal_core::Host::create(hal_core::HostConfig::for_tests("encfam")).expect("host starts")
 }
 
 #[cfg(test)]

@@ -14,17 +14,8 @@ pub fn modules() -> Vec<&'static ModuleDef> {
 /// A HAL host on a private instance, for the family's tests.
 #[cfg(test)]
 pub(crate) fn test_host(tag: &str) -> hal_core::Host {
-    use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
-    static SEQ: AtomicU32 = AtomicU32::new(0);
-    let name = format!(
-        "t-gen-{tag}-{}-{}",
-        std::process::id(),
-        SEQ.fetch_add(1, Relaxed)
-    );
-    let mut cfg = hal_core::HostConfig::new(&name);
-    cfg.shm_size = 8 << 20;
-    cfg.realtime = hal_core::RealtimeMode::Off;
-    hal_core::Host::create(cfg).expect("test host starts")
+    hal_core::Host::create(hal_core::HostConfig::for_tests(&format!("gen-{tag}")))
+        .expect("test host starts")
 }
 
 /// The names of every pin in the host, sorted.

@@ -3,25 +3,14 @@
 //! thread for a number of cycles. Used to check the HAL glue (names,
 //! defaults, pins read back) on top of the unit tests of the arithmetic.
 
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, ModuleDef, RealtimeMode, Result, Value};
-
-static COUNTER: AtomicU32 = AtomicU32::new(0);
+use hal_core::{Host, HostConfig, ModuleDef, Result, Value};
 
 /// A host on an instance no other test (or test process) uses, without
 /// realtime scheduling and with a small segment.
 pub fn host(tag: &str) -> Host {
-    let name = format!(
-        "t-lim-{tag}-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    );
-    let mut cfg = HostConfig::new(&name);
-    cfg.shm_size = 4 << 20;
-    cfg.realtime = RealtimeMode::Off;
-    Host::create(cfg).expect("host starts")
+    Host::create(HostConfig::for_tests(&format!("lim-{tag}"))).expect("host starts")
 }
 
 /// `loadrt <def> <args...>`.

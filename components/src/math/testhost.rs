@@ -2,12 +2,9 @@
 //! host to load a module into, read and write its pins, and run its
 //! functions in a thread until an output settles.
 
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, ModuleDef, RealtimeMode, Value};
-
-static COUNTER: AtomicU32 = AtomicU32::new(0);
+use hal_core::{Host, HostConfig, ModuleDef, Value};
 
 /// A host on an instance no other test uses.
 pub struct TestHost {
@@ -19,16 +16,8 @@ pub struct TestHost {
 impl TestHost {
     /// A fresh host without realtime scheduling.
     pub fn new(tag: &str) -> TestHost {
-        let name = format!(
-            "tc-{tag}-{}-{}",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        );
-        let mut cfg = HostConfig::new(&name);
-        cfg.shm_size = 4 << 20;
-        cfg.realtime = RealtimeMode::Off;
         TestHost {
-            host: Host::create(cfg).expect("host starts"),
+            host: Host::create(HostConfig::for_tests(tag)).expect("host starts"),
             threads: 0,
         }
     }

@@ -279,12 +279,7 @@ mod tests {
     }
 
     fn host() -> Host {
-        static N: AtomicI32 = AtomicI32::new(0);
-        let name = format!("t-td-{}-{}", std::process::id(), N.fetch_add(1, Relaxed));
-        let mut cfg = hal_core::HostConfig::new(&name);
-        cfg.shm_size = 4 << 20;
-        cfg.realtime = hal_core::RealtimeMode::Off;
-        Host::create(cfg).expect("host starts")
+        Host::create(hal_core::HostConfig::for_tests("td")).expect("host starts")
     }
 
     fn load_args(h: &Host, args: &[&str]) -> Result<()> {

@@ -292,19 +292,10 @@ fn bench_entry_point_runs_many_channels() {
 
 mod hal {
     use super::*;
-    use hal_core::{HostConfig, RealtimeMode, Value};
-    use std::sync::atomic::{AtomicU32, Ordering};
+    use hal_core::{HostConfig, Value};
 
     fn host() -> Host {
-        static N: AtomicU32 = AtomicU32::new(0);
-        let mut cfg = HostConfig::new(&format!(
-            "t-stepgen-{}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        ));
-        cfg.shm_size = 4 << 20;
-        cfg.realtime = RealtimeMode::Off;
-        Host::create(cfg).expect("host starts")
+        Host::create(HostConfig::for_tests("stepgen")).expect("host starts")
     }
 
     fn load(h: &Host, words: &[&str]) -> Result<()> {

@@ -58,23 +58,12 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
 /// Helpers for tests that load modules into a private host.
 #[cfg(test)]
 pub(crate) mod testhost {
-    use std::sync::atomic::{AtomicU32, Ordering};
 
-    use hal_core::{Host, HostConfig, ModuleDef, RealtimeMode, Result};
-
-    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    use hal_core::{Host, HostConfig, ModuleDef, Result};
 
     /// A host on an instance no other test uses, without realtime.
     pub fn host() -> Host {
-        let name = format!(
-            "t-comp-{}-{}",
-            std::process::id(),
-            COUNTER.fetch_add(1, Ordering::Relaxed)
-        );
-        let mut cfg = HostConfig::new(&name);
-        cfg.shm_size = 4 << 20;
-        cfg.realtime = RealtimeMode::Off;
-        Host::create(cfg).expect("host starts")
+        Host::create(HostConfig::for_tests("comp")).expect("host starts")
     }
 
     /// Loads `def` with `args` into `host`.

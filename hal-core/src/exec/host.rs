@@ -36,6 +36,19 @@ pub struct HostConfig {
 }
 
 impl HostConfig {
+    /// A configuration for tests: an instance name no other test or test
+    /// process uses (`t-<tag>-<pid>-<n>`), a 4 MiB segment, no realtime
+    /// scheduling (tests run side by side).
+    pub fn for_tests(tag: &str) -> HostConfig {
+        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        let n = NEXT.fetch_add(1, Relaxed);
+        HostConfig {
+            instance: format!("t-{tag}-{}-{n}", std::process::id()),
+            shm_size: 4 << 20,
+            realtime: RealtimeMode::Off,
+        }
+    }
+
     /// A configuration for `instance` with default size; realtime is
     /// attempted unless `HAL_NO_REALTIME` is set.
     pub fn new(instance: &str) -> HostConfig {

@@ -705,20 +705,10 @@ fn closed_loop_autotune_then_control() {
 
 mod hal {
     use super::*;
-    use hal_core::{HostConfig, PinDir, RealtimeMode, Value};
-    use std::sync::atomic::{AtomicU32, Ordering};
+    use hal_core::{HostConfig, PinDir, Value};
 
     fn host() -> Host {
-        static N: AtomicU32 = AtomicU32::new(0);
-        let name = format!(
-            "t-pid-{}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        );
-        let mut cfg = HostConfig::new(&name);
-        cfg.shm_size = 4 << 20;
-        cfg.realtime = RealtimeMode::Off;
-        Host::create(cfg).expect("host starts")
+        Host::create(HostConfig::for_tests("pid")).expect("host starts")
     }
 
     fn load(host: &Host, args: &[&str]) -> Result<()> {
