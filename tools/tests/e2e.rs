@@ -122,3 +122,513 @@ fn killing_halrun_takes_its_host_down() {
     assert!(gone, "the host outlived halrun");
     let _ = std::fs::remove_dir_all(dir);
 }
+
+// ---------------------------------------------------------------------
+// Components end to end: stepgen, encoder and pid fed by streamer and
+// recorded by sampler, checked for exact output and for the properties
+// the components guarantee (components.md 3.1, 3.2, 3.5).
+// ---------------------------------------------------------------------
+
+/// Runs `tests/<name>/test.hal`, checks that it succeeded and that its
+/// stdout equals `expected` byte for byte, and returns the stdout.
+fn run_exact(name: &str) -> String {
+    let dir = case(name);
+    let out = halrun(&dir, &["-f", "test.hal"], name);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
+    let got = String::from_utf8_lossy(&out.stdout).into_owned();
+    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
+    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
+    got
+}
+
+/// The test's HAL file.
+fn hal_file(name: &str) -> String {
+    std::fs::read_to_string(case(name).join("test.hal")).unwrap()
+}
+
+/// The lines of a HAL file split into words, comments skipped.
+fn hal_commands(hal: &str) -> impl Iterator<Item = Vec<&str>> {
+    hal.lines()
+        .filter(|l| !l.trim_start().starts_with('#'))
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+}
+
+/// The value of `setp <name> <value>` in a HAL file.
+fn setp_value<T: std::str::FromStr>(hal: &str, name: &str) -> T {
+    hal_commands(hal)
+        .find(|w| w.len() == 3 && w[0] == "setp" && w[1] == name)
+        .map(|w| num(w[2]))
+        .unwrap_or_else(|| panic!("test.hal has no `setp {name}`"))
+}
+
+/// The value of `key=value` on a `loadrt` line of a HAL file.
+fn loadrt_value<T: std::str::FromStr>(hal: &str, key: &str) -> T {
+    let prefix = format!("{key}=");
+    hal_commands(hal)
+        .filter(|w| w.first() == Some(&"loadrt"))
+        .flat_map(|w| w.into_iter())
+        .find_map(|w| w.strip_prefix(&prefix).map(num))
+        .unwrap_or_else(|| panic!("test.hal has no loadrt {key}="))
+}
+
+/// N of `loadusr -w halsampler -n N`.
+fn sample_count(hal: &str) -> usize {
+    hal_commands(hal)
+        .find(|w| w.len() == 5 && w[..4] == ["loadusr", "-w", "halsampler", "-n"])
+        .map(|w| num(w[4]))
+        .expect("test.hal runs halsampler -n N")
+}
+
+/// The whitespace-separated fields of the first `n` lines of `text`
+/// (halsampler rows), each line required to have `cols` fields.
+fn sampled_rows(text: &str, n: usize, cols: usize) -> Vec<Vec<&str>> {
+    let rows: Vec<Vec<&str>> = text
+        .lines()
+        .take(n)
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    assert_eq!(rows.len(), n, "exactly {n} samples");
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), cols, "sample {i} has {} fields: {r:?}", r.len());
+    }
+    rows
+}
+
+/// A sampled bit (`0` or `1`).
+fn bit(field: &str) -> bool {
+    match field {
+        "0" => false,
+        "1" => true,
+        _ => panic!("not a bit: {field:?}"),
+    }
+}
+
+/// A sampled or configured number.
+fn num<T: std::str::FromStr>(field: &str) -> T {
+    field
+        .parse()
+        .unwrap_or_else(|_| panic!("not a number: {field:?}"))
+}
+
+/// A stepgen timing parameter in whole base periods, rounded up as
+/// update-freq rounds it (components.md 3.1 `ceil_mult`).
+fn periods(ns: u32, period: u32) -> usize {
+    if ns == 0 {
+        0
+    } else {
+        ((ns - 1) / period + 1) as usize
+    }
+}
+
+/// Checks a type-0 position-mode stepgen run: sampled columns
+/// position-cmd, step, dir, counts every base period, then `getp` of
+/// steplen, stepspace, dirsetup and dirhold. Properties (components.md
+/// 3.1): the timing parameters were rounded up to whole periods; every
+/// step pulse lasts at least steplen and every gap at least stepspace;
+/// dir changes only dirhold after the last falling edge and dirsetup
+/// before the next rising edge; the signed number of steps (dir is high
+/// for the negative direction) equals `counts` at every sample, and each
+/// commanded position × position-scale once its move has finished (a move
+/// cut short by a new command must at least be heading for it); dir
+/// changes exactly where the motion turns around.
+fn check_stepgen_exact(name: &str) {
+    let text = run_exact(name);
+    let hal = hal_file(name);
+    let period: u32 = loadrt_value(&hal, "period1");
+    let scale: f64 = setp_value(&hal, "stepgen.0.position-scale");
+    let n = sample_count(&hal);
+    let requested: Vec<u32> = ["steplen", "stepspace", "dirsetup", "dirhold"]
+        .iter()
+        .map(|p| setp_value(&hal, &format!("stepgen.0.{p}")))
+        .collect();
+
+    // The rounded parameters, as read back after the run.
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), n + 4, "{name}: samples plus four getp lines");
+    let rounded: Vec<u32> = lines[n..].iter().map(|l| num(l.trim())).collect();
+    let want: Vec<u32> = requested
+        .iter()
+        .map(|&v| periods(v, period) as u32 * period)
+        .collect();
+    assert_eq!(
+        rounded, want,
+        "{name}: timing parameters rounded up to periods"
+    );
+    for (r, q) in rounded.iter().zip(&requested) {
+        assert!(r > q, "{name}: the test wants values that need rounding");
+    }
+    let [steplen, stepspace, dirsetup, dirhold] =
+        [0, 1, 2, 3].map(|i| periods(requested[i], period));
+    assert!(steplen >= 2 && stepspace >= 2 && dirsetup >= 2 && dirhold >= 2);
+
+    let rows = sampled_rows(&text, n, 4);
+    let cmd: Vec<f64> = rows.iter().map(|r| num(r[0])).collect();
+    let step: Vec<bool> = rows.iter().map(|r| bit(r[1])).collect();
+    let dir: Vec<bool> = rows.iter().map(|r| bit(r[2])).collect();
+    let counts: Vec<i32> = rows.iter().map(|r| num(r[3])).collect();
+
+    // Edges; the pins start low before the first sample.
+    let was = |v: &[bool], i: usize| i > 0 && v[i - 1];
+    let rising: Vec<usize> = (0..n).filter(|&i| step[i] && !was(&step, i)).collect();
+    let falling: Vec<usize> = (0..n).filter(|&i| !step[i] && was(&step, i)).collect();
+    let dir_changes: Vec<usize> = (0..n).filter(|&i| dir[i] != was(&dir, i)).collect();
+    assert!(!step[n - 1], "{name}: the last pulse ended");
+    assert_eq!(rising.len(), falling.len());
+
+    for (k, (&r, &f)) in rising.iter().zip(&falling).enumerate() {
+        assert!(r < f);
+        assert!(
+            f - r >= steplen,
+            "{name}: pulse at sample {r} lasts {} periods < steplen {steplen}",
+            f - r
+        );
+        if let Some(&next) = rising.get(k + 1) {
+            assert!(
+                next - f >= stepspace,
+                "{name}: gap at sample {f} lasts {} periods < stepspace {stepspace}",
+                next - f
+            );
+        }
+    }
+    for &d in &dir_changes {
+        assert!(!step[d], "{name}: dir changed during a pulse at sample {d}");
+        if let Some(&f) = falling.iter().rev().find(|&&f| f <= d) {
+            assert!(
+                d - f >= dirhold,
+                "{name}: dir changed {} periods after the falling edge at {f} (dirhold {dirhold})",
+                d - f
+            );
+        }
+        if let Some(&r) = rising.iter().find(|&&r| r > d) {
+            assert!(
+                r - d >= dirsetup,
+                "{name}: dir changed {} periods before the rising edge at {r} (dirsetup {dirsetup})",
+                r - d
+            );
+        }
+    }
+
+    // Signed step count: at every sample it equals counts.
+    let mut net = 0i32;
+    for i in 0..n {
+        if rising.binary_search(&i).is_ok() {
+            net += if dir[i] { -1 } else { 1 };
+        }
+        assert_eq!(
+            net, counts[i],
+            "{name}: steps so far vs counts at sample {i}"
+        );
+    }
+
+    // Each command segment either reaches its position exactly, or is cut
+    // short by the next command while still heading for it (a reversal
+    // in mid-move). The last one is reached.
+    let mut targets = vec![];
+    let mut from = 0i32;
+    let mut cut_short = 0;
+    for i in 0..n {
+        if i + 1 == n || cmd[i + 1] != cmd[i] {
+            let want = (cmd[i] * scale).round() as i32;
+            let got = counts[i];
+            if got != want {
+                assert!(
+                    i + 1 < n && (got - from).signum() == (want - from).signum(),
+                    "{name}: position {} (sample {i}): at {got}, neither reached nor on the way from {from}",
+                    cmd[i]
+                );
+                cut_short += 1;
+            }
+            targets.push(want);
+            from = got;
+        }
+    }
+    assert!(targets.len() >= 4, "{name}: at least three moves");
+    assert!(
+        cut_short >= 1,
+        "{name}: one move is reversed before it ends"
+    );
+
+    // dir follows the direction of motion: it changes exactly where the
+    // count sequence turns around (it starts low, i.e. forward).
+    let mut heading = 1;
+    let mut turns = 0;
+    for w in counts.windows(2) {
+        let d = (w[1] - w[0]).signum();
+        if d != 0 && d != heading {
+            turns += 1;
+            heading = d;
+        }
+    }
+    assert!(turns >= 2, "{name}: the motion reverses at least twice");
+    assert_eq!(
+        dir_changes.len(),
+        turns,
+        "{name}: dir changes {dir_changes:?}"
+    );
+    let forward = rising.iter().filter(|&&r| !dir[r]).count() as i32;
+    let backward = rising.iter().filter(|&&r| dir[r]).count() as i32;
+    assert_eq!(
+        forward - backward,
+        *targets.last().unwrap(),
+        "{name}: net steps = final position × position-scale"
+    );
+    assert_eq!(counts[n - 1], *targets.last().unwrap());
+}
+
+#[test]
+fn stepgen_exact_25us_base_thread() {
+    check_stepgen_exact("stepgen-exact-25us");
+}
+
+#[test]
+fn stepgen_exact_50us_base_thread() {
+    check_stepgen_exact("stepgen-exact-50us");
+}
+
+/// One row of the encoder test stream: phase A, phase B, phase Z.
+type QuadRow = (bool, bool, bool);
+
+/// The forward quadrature cycle (A leads B), as (A, B).
+const QUAD_FORWARD: [(bool, bool); 4] =
+    [(false, false), (true, false), (true, true), (false, true)];
+
+/// The stream of `tests/encoder-modes/input`: 6 idle rows, 48 forward
+/// edges held 2 rows each with an index pulse on the rows after edge 28,
+/// 20 reverse edges held 3 rows each with a second index pulse after the
+/// 8th, 12 forward edges one row each, 10 idle rows.
+fn encoder_stream() -> Vec<QuadRow> {
+    let mut rows = Vec::new();
+    let mut phase = 0usize;
+    let idle = |rows: &mut Vec<QuadRow>, phase: usize, n: usize| {
+        let (a, b) = QUAD_FORWARD[phase];
+        rows.extend(std::iter::repeat_n((a, b, false), n));
+    };
+    // (direction, edges, rows per state, edge after which Z is high)
+    let moves: [(isize, usize, usize, Option<usize>); 3] =
+        [(1, 48, 2, Some(28)), (-1, 20, 3, Some(8)), (1, 12, 1, None)];
+    idle(&mut rows, phase, 6);
+    for (dir, edges, hold, z_after) in moves {
+        for e in 1..=edges {
+            phase = (phase as isize + dir).rem_euclid(4) as usize;
+            let (a, b) = QUAD_FORWARD[phase];
+            rows.extend(std::iter::repeat_n((a, b, z_after == Some(e)), hold));
+        }
+    }
+    idle(&mut rows, phase, 10);
+    rows
+}
+
+/// The stream as halstreamer input text.
+fn encoder_input_text(rows: &[QuadRow]) -> String {
+    rows.iter()
+        .map(|&(a, b, z)| format!("{} {} {}\n", a as u8, b as u8, z as u8))
+        .collect()
+}
+
+/// Raw counts after each row, decoded independently of the component:
+/// x4 counts every edge, x1 counts only A rising / falling while B is
+/// low, counter mode counts A rising edges up only.
+fn expected_raw_counts(rows: &[QuadRow]) -> [Vec<i32>; 3] {
+    let pos = |a: bool, b: bool| QUAD_FORWARD.iter().position(|&p| p == (a, b)).unwrap();
+    let (mut x4, mut x1, mut ctr) = (0i32, 0i32, 0i32);
+    let mut out = [vec![], vec![], vec![]];
+    let mut prev = (false, false);
+    for &(a, b, _) in rows {
+        match (pos(a, b) + 4 - pos(prev.0, prev.1)) % 4 {
+            1 => x4 += 1,
+            3 => x4 -= 1,
+            0 => {}
+            _ => panic!("the stream skips a quadrature state"),
+        }
+        match (prev, (a, b)) {
+            ((false, false), (true, false)) => x1 += 1,
+            ((true, false), (false, false)) => x1 -= 1,
+            _ => {}
+        }
+        if a && !prev.0 {
+            ctr += 1;
+        }
+        prev = (a, b);
+        out[0].push(x4);
+        out[1].push(x1);
+        out[2].push(ctr);
+    }
+    out
+}
+
+#[test]
+fn encoder_counts_in_every_mode_and_index_resets_once() {
+    let name = "encoder-modes";
+    let stream = encoder_stream();
+    let input_path = case(name).join("input");
+    let text = encoder_input_text(&stream);
+    if std::env::var_os("E2E_WRITE_INPUT").is_some() {
+        std::fs::write(&input_path, &text).unwrap();
+    }
+    assert_eq!(
+        std::fs::read_to_string(&input_path).unwrap(),
+        text,
+        "{name}/input is not what encoder_stream() makes (E2E_WRITE_INPUT=1 rewrites it)"
+    );
+
+    let out = run_exact(name);
+    let n = sample_count(&hal_file(name));
+    assert_eq!(n, stream.len(), "one sample per streamed row");
+    let rows = sampled_rows(&out, n, 9);
+    let raw = expected_raw_counts(&stream);
+
+    // The index fires on the first rising edge of Z (the component arms
+    // at its first capture-position, before any Z in the stream).
+    let z_rises: Vec<usize> = (1..n)
+        .filter(|&i| stream[i].2 && !stream[i - 1].2)
+        .collect();
+    assert_eq!(z_rises.len(), 2, "two index pulses in the stream");
+    let index_row = z_rises[0];
+
+    for (i, r) in rows.iter().enumerate() {
+        let inputs = (bit(r[0]), bit(r[1]), bit(r[2]));
+        assert_eq!(inputs, stream[i], "streamed row {i} sampled back");
+        for ch in 0..3 {
+            let reference = if i >= index_row {
+                raw[ch][index_row]
+            } else {
+                0
+            };
+            let want = raw[ch][i] - reference;
+            let got: i32 = num(r[3 + ch]);
+            assert_eq!(got, want, "encoder.{ch}.counts at sample {i}");
+        }
+        for ch in 0..2 {
+            assert_eq!(
+                bit(r[6 + ch]),
+                i < index_row,
+                "encoder.{ch}.index-enable at sample {i} (index at {index_row})"
+            );
+        }
+        let raw0: i32 = num(r[8]);
+        assert_eq!(raw0, raw[0][i], "encoder.0.rawcounts is never reset");
+    }
+    // At the index edge the counts are exactly zero in every mode.
+    for ch in 0..3 {
+        assert_eq!(
+            num::<i32>(rows[index_row][3 + ch]),
+            0,
+            "encoder.{ch} zeroed"
+        );
+    }
+    // Totals: x4 48 - 20 + 12 = 40 edges, x1 12 - 5 + 3 = 10 cycles,
+    // counter 12 + 5 + 3 = 20 rising A edges.
+    assert_eq!([raw[0][n - 1], raw[1][n - 1], raw[2][n - 1]], [40, 10, 20]);
+
+    // encoder.2 was armed with setp on its unconnected pin: cleared too.
+    let tail: Vec<&str> = out.lines().skip(n).map(str::trim).collect();
+    assert_eq!(tail.len(), 2, "two getp lines: {tail:?}");
+    assert!(
+        ["0", "FALSE"].contains(&tail[0]),
+        "encoder.2.index-enable: {}",
+        tail[0]
+    );
+    assert_eq!(num::<i32>(tail[1]), raw[2][n - 1], "encoder.2.rawcounts");
+}
+
+/// Checks one loop of `pid-plant` from its sampled columns.
+struct Loop<'a> {
+    name: &'a str,
+    cmd: &'a [f64],
+    output: Vec<f64>,
+    feedback: Vec<f64>,
+    error: Vec<f64>,
+    saturated: Vec<bool>,
+}
+
+impl Loop<'_> {
+    /// After each command step, the feedback settles to the command and
+    /// the error to 0 within `tol` in at most `settle` samples, and stays
+    /// there until the next step; the output is never saturated then.
+    fn settles(&self, settle: usize, tol: f64) {
+        let n = self.cmd.len();
+        let steps: Vec<usize> = (1..n).filter(|&i| self.cmd[i] != self.cmd[i - 1]).collect();
+        assert!(steps.len() >= 2, "the command steps at least twice");
+        for (k, &s) in steps.iter().enumerate() {
+            let end = steps.get(k + 1).copied().unwrap_or(n);
+            assert!(end - s > settle, "segment long enough to settle");
+            for i in s + settle..end {
+                let c = self.cmd[i];
+                assert!(
+                    (self.feedback[i] - c).abs() <= tol,
+                    "{}: feedback {} vs command {c} at sample {i}",
+                    self.name,
+                    self.feedback[i]
+                );
+                assert!(
+                    self.error[i].abs() <= tol,
+                    "{}: error {} at sample {i}",
+                    self.name,
+                    self.error[i]
+                );
+                assert!(!self.saturated[i], "{}: saturated at {i}", self.name);
+            }
+            // The step really moved the plant (not settled from the start).
+            assert!(
+                (self.feedback[s] - self.cmd[s]).abs() > 0.1,
+                "{}: feedback already at the command at sample {s}",
+                self.name
+            );
+        }
+    }
+}
+
+#[test]
+fn pid_drives_integrator_and_lag_plants_to_the_command() {
+    let name = "pid-plant";
+    let out = run_exact(name);
+    let hal = hal_file(name);
+    let n = sample_count(&hal);
+    let rows = sampled_rows(&out, n, 9);
+    let col = |c: usize| -> Vec<f64> { rows.iter().map(|r| num(r[c])).collect() };
+    let cmd = col(0);
+    let loop0 = Loop {
+        name: "pid.0 + integ",
+        cmd: &cmd,
+        output: col(1),
+        feedback: col(2),
+        error: col(3),
+        saturated: rows.iter().map(|r| bit(r[4])).collect(),
+    };
+    let loop1 = Loop {
+        name: "pid.1 + lowpass",
+        cmd: &cmd,
+        output: col(5),
+        feedback: col(6),
+        error: col(7),
+        saturated: rows.iter().map(|r| bit(r[8])).collect(),
+    };
+    loop0.settles(200, 1e-5);
+    loop1.settles(200, 1e-5);
+
+    // Loop 0's output is the integrator's speed: limited to maxoutput,
+    // and while saturated the plant ramps by exactly maxoutput × period.
+    let maxoutput: f64 = setp_value(&hal, "pid.0.maxoutput");
+    let period_s = loadrt_value::<f64>(&hal, "period1") * 1e-9;
+    let mut saturated_samples = 0;
+    for i in 1..n {
+        assert!(loop0.output[i].abs() <= maxoutput, "pid.0.output at {i}");
+        if loop0.saturated[i] {
+            saturated_samples += 1;
+            assert_eq!(loop0.output[i].abs(), maxoutput, "saturated output at {i}");
+            let moved = (loop0.feedback[i] - loop0.feedback[i - 1]).abs();
+            assert!(
+                (moved - maxoutput * period_s).abs() < 2e-6,
+                "ramp of {moved} per period at sample {i}"
+            );
+        }
+    }
+    assert!(saturated_samples >= 20, "the 1.0 step saturates loop 0");
+    // Loop 1 needs its integral term: with P alone a lag plant keeps a
+    // steady-state error, so a non-zero output holds the plant at the
+    // command.
+    let last = n - 1;
+    assert!((loop1.output[last] - cmd[last]).abs() < 1e-5);
+    assert!(loop1.output[last].abs() > 0.1);
+}
