@@ -117,13 +117,14 @@ impl EncoderCore {
         let dt = now_ns.saturating_sub(since);
         let moved = self.raw - self.last_change_raw;
         if moved != 0 {
+            if dt == 0 {
+                // No time has passed: keep these counts for the next
+                // update's interval rather than losing them.
+                return self.velocity;
+            }
             self.last_change_raw = self.raw;
             self.last_change_ns = Some(now_ns);
-            return if dt == 0 {
-                self.velocity
-            } else {
-                moved as f64 * 1e9 / dt as f64
-            };
+            return moved as f64 * 1e9 / dt as f64;
         }
         if dt >= timeout_ns {
             return 0.0;
@@ -282,6 +283,16 @@ mod tests {
                 .velocity,
             0.0
         );
+    }
+
+    #[test]
+    fn counts_in_an_update_without_time_are_kept() {
+        let mut e = EncoderCore::new(32);
+        e.update(0, None, 0, false, TIMEOUT);
+        e.update(10, None, MS, false, TIMEOUT);
+        e.update(20, None, MS, false, TIMEOUT); // same instant
+        let v = e.update(30, None, 2 * MS, false, TIMEOUT).velocity;
+        assert!((v - 20_000.0).abs() < 1e-6, "20 counts over 1 ms: {v}");
     }
 
     #[test]

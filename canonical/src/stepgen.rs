@@ -20,12 +20,16 @@
 //! | `dirsetup` | param | u32 | rw | ns | direction stable before a step |
 //! | `dirhold` | param | u32 | rw | ns | direction stable after a step |
 //!
-//! Position mode drives the velocity toward the one that reaches
-//! `position-cmd` in the next period, capped by the stopping distance at
-//! `maxaccel` (so it arrives without overshoot) and by `maxvel`; the rate
-//! then changes by at most `maxaccel × period` per period. Velocity mode
-//! ramps toward `velocity-cmd` within the same limits. The fastest step
-//! rate is one step per `steplen + stepspace`.
+//! Position mode commands the position command's own velocity (feed
+//! forward, so a moving target is followed without lag) plus a correction
+//! that closes the remaining error in one period, capped at the speed from
+//! which the error can still be stopped at `maxaccel` with the rate held
+//! for whole periods; the total is capped by `maxvel` and changes by at
+//! most `maxaccel × period` per period. Velocity mode ramps toward
+//! `velocity-cmd` within the same limits. The fastest step rate is one
+//! step per `steplen + stepspace`. A NaN command or feedback gives rate 0,
+//! and limits that are not finite numbers are ignored: nothing here can
+//! panic on what a user sets.
 
 use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
 
@@ -60,16 +64,24 @@ impl Limits {
     }
 }
 
-/// The commanded rate of one period, in units/s, for position mode.
-pub fn position_rate(cmd: f64, fb: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
-    let err = cmd - fb;
-    let mut v = err / dt;
-    if lim.maxaccel > 0.0 {
-        // The fastest speed from which we can still stop at the target.
-        let stop = (2.0 * lim.maxaccel * err.abs()).sqrt();
-        v = v.clamp(-stop, stop);
+/// The commanded rate of one period, in units/s, for position mode:
+/// `cmd` and `prev_cmd` are this and the previous period's command.
+pub fn position_rate(cmd: f64, prev_cmd: f64, fb: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
+    let ffw = (cmd - prev_cmd) / dt;
+    // The error left once the target's own motion is accounted for: zero
+    // while following a steady ramp one period behind.
+    let err = cmd - fb - ffw * dt;
+    let mut corr = err / dt;
+    let a = lim.maxaccel;
+    if a > 0.0 && a.is_finite() {
+        // The fastest correction from which the error can still be
+        // stopped, decelerating by a·dt each period: the largest v with
+        // v·dt·(n+1) - a·dt²·n(n+1)/2 <= |err| for v = n·a·dt.
+        let step = a * dt;
+        let stop = step * ((0.25 + 2.0 * err.abs() / (step * dt)).sqrt() - 0.5);
+        corr = corr.max(-stop).min(stop);
     }
-    limit(v, v_prev, dt, lim)
+    limit(ffw + corr, v_prev, dt, lim)
 }
 
 /// The commanded rate of one period, in units/s, for velocity mode.
@@ -78,12 +90,18 @@ pub fn velocity_rate(cmd: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
 }
 
 fn limit(v: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
-    let v = if v.is_nan() { 0.0 } else { v };
+    if !v.is_finite() || !v_prev.is_finite() {
+        return 0.0;
+    }
     let vmax = lim.vmax();
-    let mut v = v.clamp(-vmax, vmax);
-    if lim.maxaccel > 0.0 {
+    let mut v = if vmax.is_nan() {
+        v
+    } else {
+        v.max(-vmax).min(vmax)
+    };
+    if lim.maxaccel > 0.0 && lim.maxaccel.is_finite() {
         let dv = lim.maxaccel * dt;
-        v = v.clamp(v_prev - dv, v_prev + dv);
+        v = v.max(v_prev - dv).min(v_prev + dv);
     }
     v
 }
@@ -120,6 +138,8 @@ pub struct Stepgen {
     dirsetup: Param<u32, Rw>,
     dirhold: Param<u32, Rw>,
     rate: f64,
+    /// The previous period's position command (for feed forward).
+    prev_cmd: Option<f64>,
 }
 
 impl Stepgen {
@@ -142,6 +162,7 @@ impl Stepgen {
             dirsetup: comp.param(&n("dirsetup"), 0)?,
             dirhold: comp.param(&n("dirhold"), 0)?,
             rate: 0.0,
+            prev_cmd: None,
         })
     }
 
@@ -158,6 +179,8 @@ impl Stepgen {
         self.counts.set(steps as i32);
         let fb = fine_position / scale;
         self.position_fb.set(fb);
+        let cmd = self.position_cmd.get();
+        let prev_cmd = self.prev_cmd.replace(cmd).unwrap_or(cmd);
         if !self.enable.get() || period_ns <= 0 {
             self.rate = 0.0;
             self.velocity_fb.set(0.0);
@@ -173,7 +196,7 @@ impl Stepgen {
         self.rate = if self.control_type.get() {
             velocity_rate(self.velocity_cmd.get(), self.rate, dt, &lim)
         } else {
-            position_rate(self.position_cmd.get(), fb, self.rate, dt, &lim)
+            position_rate(cmd, prev_cmd, fb, self.rate, dt, &lim)
         };
         self.velocity_fb.set(self.rate);
         self.rate * scale
@@ -207,7 +230,7 @@ mod tests {
         let (mut pos, mut v) = (0.0, 0.0);
         let mut rates = Vec::new();
         for _ in 0..periods {
-            v = position_rate(cmd, pos, v, dt, lim);
+            v = position_rate(cmd, cmd, pos, v, dt, lim);
             pos += v * dt;
             rates.push(v);
         }
@@ -229,6 +252,73 @@ mod tests {
                 prev = v;
             }
             assert_eq!(*rates.last().unwrap(), 0.0, "stopped at the target");
+        }
+    }
+
+    #[test]
+    fn no_overshoot_for_a_sweep_of_targets() {
+        for i in 1..400 {
+            let target = i as f64 * 0.037;
+            let (pos, rates) = run(target, &LIM, 6000);
+            assert!(
+                (pos - target).abs() < 1e-9,
+                "target {target}: ended at {pos}"
+            );
+            // Never past the target by half a step (at 200 steps/unit).
+            let mut p: f64 = 0.0;
+            let mut worst: f64 = 0.0;
+            for v in &rates {
+                p += v * 0.001;
+                worst = worst.max(p - target);
+            }
+            assert!(
+                worst < 0.5 / LIM.scale,
+                "target {target}: overshot by {worst}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_moving_target_is_followed_without_lag() {
+        let (dt, speed) = (0.001, 5.0);
+        let (mut pos, mut v, mut prev) = (0.0, 0.0, 0.0);
+        let mut worst = 0.0f64;
+        for k in 1..3000 {
+            let cmd = speed * k as f64 * dt;
+            if k > 500 {
+                // A command is reached one period after it arrives.
+                worst = worst.max((cmd - pos).abs());
+            }
+            v = position_rate(cmd, prev, pos, v, dt, &LIM);
+            prev = cmd;
+            pos += v * dt;
+        }
+        assert!(
+            worst <= speed * dt + 1e-9,
+            "lag {worst} while following a 5 units/s ramp"
+        );
+    }
+
+    #[test]
+    fn bad_numbers_never_panic() {
+        let weird = [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0, -1.0, 1e300];
+        for &a in &weird {
+            for &m in &weird {
+                for &x in &weird {
+                    let lim = Limits {
+                        maxaccel: a,
+                        maxvel: m,
+                        ..LIM
+                    };
+                    let v = position_rate(x, 0.0, 1.0, 0.0, 0.001, &lim);
+                    let w = position_rate(1.0, x, x, x, 0.001, &lim);
+                    let u = velocity_rate(x, 0.0, 0.001, &lim);
+                    assert!(
+                        v.is_finite() && w.is_finite() && u.is_finite(),
+                        "{a} {m} {x}"
+                    );
+                }
+            }
         }
     }
 
