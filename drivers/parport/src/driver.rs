@@ -131,6 +131,12 @@ impl PortDriver {
             let c = self.io.read_control();
             self.io.write_control(c | regs::CONTROL_DIR_IN);
         }
+        if self.mode == Mode::X {
+            // Release the open-collector control lines at once: claiming
+            // the port may have left one pulled low until the first write.
+            self.io
+                .write_control(regs::CONTROL_LINES ^ regs::CONTROL_INVERTED);
+        }
         Ok(())
     }
 
@@ -191,10 +197,12 @@ impl PortDriver {
         } else {
             reset_time
         };
+        // A register `write` has not set yet is left alone: resetting it
+        // would drive pins (and, in `in` mode, clear the direction bit).
         let cached = self.outdata.load(Relaxed);
         let out = ((cached & !(self.reset_mask.load(Relaxed) as u16))
             ^ self.reset_val.load(Relaxed) as u16) as u8;
-        if out as u16 != cached {
+        if cached != NEVER_WRITTEN && out as u16 != cached {
             self.wait_until(
                 self.write_time
                     .load(Relaxed)
@@ -206,7 +214,7 @@ impl PortDriver {
         let cached = self.outdata_ctrl.load(Relaxed);
         let out = ((cached & !(self.reset_mask_ctrl.load(Relaxed) as u16))
             ^ self.reset_val_ctrl.load(Relaxed) as u16) as u8;
-        if out as u16 != cached {
+        if cached != NEVER_WRITTEN && out as u16 != cached {
             self.wait_until(
                 self.write_time_ctrl
                     .load(Relaxed)
@@ -272,6 +280,15 @@ mod tests {
 
     fn values(w: &[WriteRecord]) -> Vec<(u16, u8)> {
         w.iter().map(|r| (r.addr, r.value)).collect()
+    }
+
+    #[test]
+    fn x_mode_init_releases_the_control_lines() {
+        let (d, sim, _) = rig(Mode::X);
+        sim.write_control(0x0C); // what a claim may leave: pin 17 low
+        sim.clear_log();
+        d.init().unwrap();
+        assert_eq!(values(&sim.writes()), vec![(0x37A, 0x0F ^ 0x0B)]);
     }
 
     #[test]
@@ -398,13 +415,20 @@ mod tests {
     }
 
     #[test]
-    fn reset_before_any_write_writes_the_reset_values_once() {
-        // The caches start at 0xFF00, which no byte equals.
-        let (d, sim, _) = rig(Mode::In);
-        d.reset(0, 1_000_000);
-        assert_eq!(values(&sim.writes()), vec![(0x378, 0x00), (0x37A, 0x0B)]);
-        d.reset(0, 1_000_000);
-        assert_eq!(sim.writes().len(), 2);
+    fn reset_before_any_write_touches_nothing() {
+        // Until `write` has set a register, `reset` has nothing to return
+        // to its inactive level; writing the caches' placeholder would
+        // drive every pin and, in `in` mode, clear the direction bit.
+        for mode in [Mode::Out, Mode::In, Mode::X] {
+            let (d, sim, _) = rig(mode);
+            sim.clear_log();
+            d.reset(0, 1_000_000);
+            assert!(
+                sim.writes().is_empty(),
+                "{mode:?}: {:?}",
+                values(&sim.writes())
+            );
+        }
     }
 
     #[test]

@@ -190,7 +190,9 @@ pub fn choose(spec: &PortSpec, paths: &SysPaths) -> Result<Choice, PortError> {
         Backend::Raw => {
             let (base, base_hi) = match (spec.addr, known) {
                 (_, Some(p)) => (p.base, p.base_hi),
-                (PortAddr::Address(a), None) => (a, a.checked_add(regs::HI_OFFSET)),
+                // Not a port Linux knows: its ECR address is unknown, and
+                // base+0x400 may belong to another device on a PCI card.
+                (PortAddr::Address(a), None) => (a, None),
                 (PortAddr::Number(n), None) => return Err(unknown_number(n)),
             };
             Ok(Choice {
@@ -360,10 +362,12 @@ mod tests {
             (c.backend, c.base, c.dev),
             (Backend::Raw, Some(0x278), None)
         );
+        // An address Linux does not know: no ECR is guessed (base+0x400
+        // may be another device's on a PCI card).
         let c = pick("0xc000", &p).unwrap();
         assert_eq!(
             (c.backend, c.base, c.base_hi),
-            (Backend::Raw, Some(0xc000), Some(0xc400))
+            (Backend::Raw, Some(0xc000), None)
         );
         // x and epp need raw I/O; the Linux port is still claimed by ppdev.
         let c = pick("0 x", &p).unwrap();

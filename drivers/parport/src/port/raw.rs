@@ -28,13 +28,16 @@ const GRANT_SLOTS: usize = 8;
 struct Grants {
     bases: [u16; GRANT_SLOTS],
     next: usize,
+    /// ioperm was refused in this thread: do not ask again on every access.
+    refused: bool,
 }
 
 thread_local! {
     static GRANTED: Cell<Grants> = const {
         Cell::new(Grants {
-            bases: [0; GRANT_SLOTS],
+                        bases: [0; GRANT_SLOTS],
             next: 0,
+            refused: false,
         })
     };
 }
@@ -122,8 +125,14 @@ impl RawPort {
         if g.bases.contains(&self.base) {
             return true;
         }
+        if g.refused {
+            self.errors.fetch_add(1, Relaxed);
+            return false;
+        }
         if self.grant().is_err() {
             self.errors.fetch_add(1, Relaxed);
+            g.refused = true;
+            GRANTED.set(g);
             return false;
         }
         g.bases[g.next] = self.base;
