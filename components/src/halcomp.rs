@@ -11,6 +11,11 @@ use hal_core::{
 
 /// Longest instance name `names=` accepts (LinuxCNC's limit).
 pub const MAX_INSTANCE_NAME: usize = 47;
+/// Most instances one load may create: far more than any machine needs,
+/// and small enough that a mistyped count fails cleanly instead of
+/// exhausting memory.
+pub const MAX_INSTANCES: i64 = 4096;
+
 /// Personality entries one load accepts.
 pub const MAX_PERSONALITY: usize = 64;
 
@@ -112,6 +117,10 @@ pub fn instance_names(module: &str, args: &ModuleArgs) -> Result<Vec<String>> {
             })
             .collect(),
         (Some(c), None) if c < 0 => Err(bad("count", format!("{c} is negative"))),
+        (Some(c), None) if c > MAX_INSTANCES => Err(bad(
+            "count",
+            format!("{c} is more than the {MAX_INSTANCES} instances one load may create"),
+        )),
         (count, None) => {
             let base = hal_name(module);
             Ok((0..count.unwrap_or(1))
@@ -255,5 +264,12 @@ mod tests {
         assert!(instance_names("and2", &args(&["names=a,,b"])).is_err());
         assert!(instance_names("and2", &args(&[&format!("names={}", "n".repeat(48))])).is_err());
         assert!(instance_names("and2", &args(&["count=-1"])).is_err());
+        assert!(instance_names("and2", &args(&["count=2000000000"])).is_err());
+        assert_eq!(
+            instance_names("and2", &args(&["count=4096"]))
+                .unwrap()
+                .len(),
+            4096
+        );
     }
 }

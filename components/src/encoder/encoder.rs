@@ -418,15 +418,18 @@ struct SharedLink {
 
 impl SharedLink {
     fn load(&self) -> Link {
+        // The events first (acquire): the writer publishes them last, so
+        // the gaps and limits read after them are at least as new.
+        let mailbox = Mailbox {
+            count: EdgeStamp::unpack(self.count.load(Acquire)),
+            index: Tagged::unpack(self.index.load(Acquire)),
+            latch: Tagged::unpack(self.latch.load(Acquire)),
+        };
         Link {
             index_armed: self.index_armed.load(Relaxed),
             gaps: self.gaps.load(Relaxed),
             limit_dt: self.limit_dt.load(Relaxed),
-            mailbox: Mailbox {
-                count: EdgeStamp::unpack(self.count.load(Acquire)),
-                index: Tagged::unpack(self.index.load(Acquire)),
-                latch: Tagged::unpack(self.latch.load(Acquire)),
-            },
+            mailbox,
         }
     }
 

@@ -134,10 +134,17 @@ fn channel_names(args: &ModuleArgs) -> Result<Vec<String>> {
         });
     }
     if !names.is_empty() {
-        if let Some(i) = names.iter().position(|n| n.is_empty()) {
-            return Err(bad("names", format!("name {i} is empty")));
+        // The channels are the leading non-empty names (a trailing comma
+        // is harmless); a name after a gap would be silently lost, so it
+        // is refused.
+        let n = names.iter().take_while(|n| !n.is_empty()).count();
+        if let Some(i) = names[n..].iter().position(|n| !n.is_empty()) {
+            return Err(bad("names", format!("name {} follows an empty one", n + i)));
         }
-        return Ok(names.to_vec());
+        if n == 0 {
+            return Err(bad("names", "the first name is empty".into()));
+        }
+        return Ok(names[..n].to_vec());
     }
     let n = if num_chan == 0 { 1 } else { num_chan };
     if n < 1 || n > MAX_CHAN as i64 {

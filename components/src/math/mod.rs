@@ -344,10 +344,24 @@ impl HalComp for Blend {
 }
 halcomp_module!(pub BLEND, Blend, "perform linear interpolation between two values");
 
+/// `constant`: out = value. Removed from LinuxCNC in November 2025, but
+/// HAL files written for 2.9 and older use it; it costs nothing to keep
+/// them loading. `value` defaults to 0.0, as the real component did.
+pub struct Constant;
+impl HalComp for Constant {
+    const NAME: &'static str = "constant";
+    fn build(inst: &mut Inst<'_, '_>) -> Result<()> {
+        let out = inst.pin_out::<f64>("out")?;
+        let value = inst.param_rw::<f64>("value", 0.0)?;
+        inst.funct("_", true, move |_| out.set(value.get()))
+    }
+}
+halcomp_module!(pub CONSTANT, Constant, "a constant value on a pin (LinuxCNC 2.9)");
+
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
     vec![
-        &ABS, &ABS_S32, &ABS_S64, &DIV2, &SCALE, &INVERT, &HYPOT, &BLEND,
+        &ABS, &ABS_S32, &ABS_S64, &DIV2, &SCALE, &INVERT, &HYPOT, &BLEND, &CONSTANT,
     ]
 }
 

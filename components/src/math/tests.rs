@@ -275,3 +275,14 @@ fn components_compute_in_a_thread() {
     h.setp("blend.0.open", Bit(true));
     h.expect(&[], "blend.0.out", Float(5.0 + 3.0 * -4.0));
 }
+
+#[test]
+fn constant_puts_its_value_on_out() {
+    let mut h = TestHost::new("math-constant");
+    h.load(&CONSTANT, &["count=2"]).unwrap();
+    h.thread(&["constant.0", "constant.1"]);
+    h.setp("constant.1.value", Float(-2.5));
+    h.run(2);
+    assert_eq!(h.get("constant.0.out"), Float(0.0), "value defaults to 0.0");
+    assert_eq!(h.get("constant.1.out"), Float(-2.5));
+}

@@ -166,7 +166,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let mut state = TimeDelta::default();
         b.funct(prefix, true, move |ctx| {
             let mut io = pins.read();
-            let now = hal_core::clock::monotonic_ns() as i64;
+            // The cycle's wake-up time: no clock call in realtime code.
+            let now = ctx.now_ns() as i64;
             state.step(&mut io, now, ctx.period(), &counter);
             pins.write(&io);
         })?;

@@ -9,12 +9,30 @@ use crate::handles::{Out, Param, Pin, Ro, Rw};
 #[derive(Debug, Clone, Copy)]
 pub struct FunctCtx {
     period: i64,
+    now_ns: u64,
 }
 
 impl FunctCtx {
     /// A context for a thread of `period` ns (also for tests of components).
     pub fn new(period: i64) -> FunctCtx {
-        FunctCtx { period }
+        FunctCtx { period, now_ns: 0 }
+    }
+
+    /// A context at time `now_ns` (CLOCK_MONOTONIC), for tests.
+    pub fn at(period: i64, now_ns: u64) -> FunctCtx {
+        FunctCtx { period, now_ns }
+    }
+
+    /// When the thread woke for this cycle, in CLOCK_MONOTONIC ns: the
+    /// same for every function of the cycle. Functions needing the time
+    /// use this rather than a system call of their own.
+    #[inline(always)]
+    pub fn now_ns(&self) -> u64 {
+        self.now_ns
+    }
+
+    pub(crate) fn set_now(&mut self, now_ns: u64) {
+        self.now_ns = now_ns;
     }
 
     /// The period of the calling thread in ns (the configured period, not a

@@ -131,7 +131,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
         return;
     };
     let grace = &sh.seg.header().grace_epoch;
-    let ctx = FunctCtx::new(ctl.period);
+    let mut ctx = FunctCtx::new(ctl.period);
     let period = ctl.period.max(1) as u64;
     let clock = sh.clock;
 
@@ -158,6 +158,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
                 continue 'park;
             }
             let woke = monotonic_ns();
+            ctx.set_now(woke);
             record_latency(rec, woke.saturating_sub(next));
 
             // Announce that we may now hold references: first to the grace
