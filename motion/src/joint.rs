@@ -312,7 +312,13 @@ impl Joint {
 
     /// Updates the backlash correction from the commanded direction and
     /// moves the applied (filtered) value towards it with half the joint's
-    /// velocity (times `net_feed_scale`) and acceleration.
+    /// velocity (times `net_feed_scale`) and acceleration, in LinuxCNC's
+    /// arithmetic with one fix: LinuxCNC "cruises" even when its velocity
+    /// has decayed to a rounding crumb (1e-17), so the take-up can stall a
+    /// fraction short of the correction for ever (backlash 0.02 at 10 u/s,
+    /// 100 u/s², 1 ms stops at 0.00995 instead of 0.01). Here a cruise
+    /// slower than one acceleration step accelerates instead, so the
+    /// take-up always lands exactly on the correction.
     pub(crate) fn backlash_comp(&mut self, period: f64, net_feed_scale: f64) {
         if self.vel_cmd > 0.0 {
             self.backlash_corr = 0.5 * self.cfg.backlash;
@@ -343,7 +349,7 @@ impl Joint {
                     }
                     let ds_acc = 0.5 * dv_acc * period;
                     let ds_stop = 0.5 * (v + dv_acc) * (v + dv_acc) / a_max;
-                    if s_to_go > ds_stop + ds_vel + ds_acc {
+                    if s_to_go > ds_stop + ds_vel + ds_acc || v < a_max * period {
                         self.backlash_vel += dv_acc;
                         self.backlash_filt += ds_vel + ds_acc;
                     } else {
@@ -375,7 +381,7 @@ impl Joint {
                     }
                     let ds_acc = 0.5 * dv_acc * period;
                     let ds_stop = 0.5 * (v - dv_acc) * (v - dv_acc) / a_max;
-                    if s_to_go > ds_stop + ds_vel + ds_acc {
+                    if s_to_go > ds_stop + ds_vel + ds_acc || -v < a_max * period {
                         self.backlash_vel -= dv_acc;
                         self.backlash_filt -= ds_vel + ds_acc;
                     } else {
@@ -483,6 +489,20 @@ mod tests {
         j.homed = true;
         j.refresh_jog_limits();
         assert_eq!((j.min_jog_limit, j.max_jog_limit), (-10.0, 30.0));
+    }
+
+    #[test]
+    fn backlash_take_up_never_stalls_short() {
+        let mut j = active();
+        j.cfg.backlash = 0.02;
+        j.cfg.vel_limit = 10.0;
+        j.cfg.acc_limit = 100.0;
+        j.vel_cmd = 1.0;
+        for _ in 0..100 {
+            j.backlash_comp(0.001, 1.0);
+        }
+        assert_eq!(j.backlash_filt, 0.01);
+        assert_eq!(j.backlash_vel, 0.0);
     }
 
     #[test]

@@ -1166,3 +1166,6 @@ fn dir_of(vel: f64) -> Direction {
         Direction::Negative
     }
 }
+
+#[cfg(test)]
+mod tests;
