@@ -598,6 +598,44 @@ fn running_in_the_servo_thread_enables_jogs_and_trips() {
     );
     assert!(!bit(&h, "motion.jog-is-active"));
 
+    assert_eq!(
+        float(&h, "joint.1.f-error-lim"),
+        0.01,
+        "at rest: MIN_FERROR default"
+    );
+
+    // A hard limit trips; override, re-enable and jog off it.
+    inst.set_pin("joint.0.neg-lim-sw-in", Value::Bit(true))
+        .unwrap();
+    wait_for("the limit to disable", || !bit(&h, "motion.motion-enabled"));
+    assert!(bit(&h, "joint.0.neg-hard-limit") && bit(&h, "joint.0.error"));
+    assert_eq!(m.events(), [Event::JointOnLimit { joint: 0 }]);
+    m.command(Command::OverrideLimits { joint: 0 }).unwrap();
+    m.command(Command::Enable).unwrap();
+    wait_for("motion enabled again", || bit(&h, "motion.motion-enabled"));
+    assert_eq!(
+        m.command(Command::JogCont {
+            joint: 0,
+            vel: -1.0
+        }),
+        Err(Reject::OnHardLimit {
+            joint: 0,
+            dir: motion::Direction::Negative
+        })
+    );
+    m.command(Command::JogCont { joint: 0, vel: 5.0 }).unwrap();
+    wait_for("the joint to move", || float(&h, "joint.0.vel-cmd") > 0.0);
+    inst.set_pin("joint.0.neg-lim-sw-in", Value::Bit(false))
+        .unwrap();
+    m.command(Command::JogAbort { joint: 0 }).unwrap();
+    wait_for("the jog to stop", || bit(&h, "motion.in-position"));
+    assert!(bit(&h, "motion.motion-enabled"));
+    assert_eq!(
+        h.instance().param_value("motion.debug-s32-0").unwrap(),
+        Value::S32(0),
+        "the override ended with the jog"
+    );
+
     // An amplifier fault disables at once and is reported once.
     inst.set_pin("joint.2.amp-fault-in", Value::Bit(true))
         .unwrap();
