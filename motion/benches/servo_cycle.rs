@@ -1,0 +1,81 @@
+//! Prints the cost of one servo cycle of the motion controller core
+//! (`motion-controller` without the HAL pin copies) for 3, 6 and 9 joints,
+//! every joint jogging, with the motors looped back. Run with
+//! `cargo bench -p motion`. It prints figures; it checks nothing.
+
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Instant;
+
+use motion::kins::trivkins::Trivkins;
+use motion::{Command, KinematicsType, MotionConfig, MotionCore};
+
+fn machine(n: usize) -> MotionCore {
+    let kins = Arc::new(Trivkins::new(&"XYZABCUVW"[..n], KinematicsType::Identity).unwrap());
+    let mut m = MotionCore::new(
+        MotionConfig {
+            num_joints: n,
+            ..MotionConfig::default()
+        },
+        kins,
+    );
+    for j in 0..n as i32 {
+        for c in [
+            Command::JointActivate { joint: j },
+            Command::SetJointPositionLimits {
+                joint: j,
+                min: -1e6,
+                max: 1e6,
+            },
+            Command::SetJointVelLimit {
+                joint: j,
+                vel: 10.0,
+            },
+            Command::SetJointAccLimit {
+                joint: j,
+                acc: 100.0,
+            },
+            Command::SetJointBacklash {
+                joint: j,
+                backlash: 0.01,
+            },
+        ] {
+            m.command(&c).unwrap();
+        }
+    }
+    m.command(&Command::Enable).unwrap();
+    m.cycle(0.001);
+    m
+}
+
+fn main() {
+    const CYCLES: u32 = 200_000;
+    for n in [3, 6, 9] {
+        let mut m = machine(n);
+        for j in 0..n as i32 {
+            let vel = if j % 2 == 0 { 5.0 } else { -5.0 };
+            m.command(&Command::JogCont { joint: j, vel }).unwrap();
+        }
+        let start = Instant::now();
+        for k in 0..CYCLES {
+            for j in 0..n {
+                m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+            }
+            // Reverse now and then so the planners and backlash keep working.
+            if k % 20_000 == 0 {
+                for j in 0..n as i32 {
+                    let vel = if (j + (k / 20_000) as i32) % 2 == 0 {
+                        5.0
+                    } else {
+                        -5.0
+                    };
+                    m.command(&Command::JogCont { joint: j, vel }).unwrap();
+                }
+            }
+            m.cycle(black_box(0.001));
+        }
+        let ns = start.elapsed().as_nanos() as f64 / f64::from(CYCLES);
+        assert!(m.is_enabled());
+        println!("motion servo cycle, {n} joints: {ns:.0} ns");
+    }
+}

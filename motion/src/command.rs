@@ -1,0 +1,173 @@
+//! Commands to the motion controller and their typed results.
+//!
+//! LinuxCNC answers most refused commands with "OK" and a text message
+//! only; here every command is either applied completely or refused with a
+//! [`Reject`] that says why, and a refusal changes nothing. Commands and
+//! rejections are plain `Copy` data, so the realtime command handler can
+//! take and answer them without allocating.
+
+use crate::kins::Pose;
+
+/// A command, as LinuxCNC's `EMCMOT_*` commands of the same names.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command {
+    /// Stop every free-mode move at its acceleration limit, cancel jogs,
+    /// clear the motion and joint error flags and the amp fault flags.
+    Abort,
+    /// Request the enabled state (amplifiers on). Needs `motion.enable`.
+    Enable,
+    /// Request the disabled state: planners stopped, amplifiers off.
+    Disable,
+    /// Jog `joint` continuously at `vel` (sign = direction) until aborted
+    /// or until the jog limit.
+    JogCont { joint: i32, vel: f64 },
+    /// Move `joint` by `offset` (≥ 0) in the direction of `vel`, from the
+    /// planner's current target, so increments accumulate.
+    JogIncr { joint: i32, vel: f64, offset: f64 },
+    /// Move `joint` to `pos` (clamped into its jog limits) at speed `|vel|`.
+    JogAbs { joint: i32, vel: f64, pos: f64 },
+    /// Stop the jog of `joint` at its acceleration limit.
+    JogAbort { joint: i32 },
+    /// Make `joint` active: its inputs are read, it is planned and checked.
+    JointActivate { joint: i32 },
+    /// Make `joint` inactive; its amplifier is switched off too.
+    JointDeactivate { joint: i32 },
+    /// `joint < 0`: end any limit override. Otherwise override the hard
+    /// limits that are tripped now, until the end of the next jog.
+    OverrideLimits { joint: i32 },
+    /// The free-mode SCALE: every joint planner's velocity limit is
+    /// multiplied by it (clamped to 0..=1). LinuxCNC's FEED_SCALE has no
+    /// effect in free mode; here it is the jog override.
+    Scale { scale: f64 },
+    /// Soft limits of `joint`.
+    SetJointPositionLimits { joint: i32, min: f64, max: f64 },
+    /// Maximum velocity of `joint` (> 0).
+    SetJointVelLimit { joint: i32, vel: f64 },
+    /// Maximum acceleration of `joint` (> 0).
+    SetJointAccLimit { joint: i32, acc: f64 },
+    /// Following-error limit at standstill (≥ 0).
+    SetJointMinFerror { joint: i32, ferror: f64 },
+    /// Following-error limit at the joint's maximum velocity (≥ 0).
+    SetJointMaxFerror { joint: i32, ferror: f64 },
+    /// Backlash of `joint` (≥ 0), taken up at each reversal.
+    SetJointBacklash { joint: i32, backlash: f64 },
+    /// Restores the homing offset of `joint` (motor = joint + offset).
+    SetJointMotorOffset { joint: i32, offset: f64 },
+    /// The world pose used as the first guess of iterative forward
+    /// kinematics.
+    SetWorldHome { pose: Pose },
+}
+
+/// Which way a jog would move.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Towards larger positions.
+    Positive,
+    /// Towards smaller positions.
+    Negative,
+}
+
+impl std::fmt::Display for Direction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Direction::Positive => "positive",
+            Direction::Negative => "negative",
+        })
+    }
+}
+
+/// Why a command was refused. Nothing was changed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Reject {
+    /// The joint number is outside `0..num_joints`.
+    NoSuchJoint { joint: i32, num_joints: usize },
+    /// The joint is not active.
+    JointInactive { joint: usize },
+    /// `motion.enable` is false.
+    EnableInputFalse,
+    /// Motion is not enabled.
+    NotEnabled,
+    /// Motion is not in free mode.
+    NotFreeMode,
+    /// `motion.jog-inhibit` is true.
+    JogInhibited,
+    /// Homing is in progress.
+    HomingActive,
+    /// A jog wheel is moving this joint.
+    WheelJogActive { joint: usize },
+    /// The joint is moving.
+    JointMoving { joint: usize },
+    /// The joint's hard limit switch in that direction is tripped.
+    OnHardLimit { joint: usize, dir: Direction },
+    /// The joint is already at or beyond its jog limit in that direction.
+    PastSoftLimit { joint: usize, dir: Direction },
+    /// The incremental jog would end outside the jog limits.
+    TargetOutsideLimits {
+        joint: usize,
+        target: f64,
+        min: f64,
+        max: f64,
+    },
+    /// A velocity that is zero or not finite.
+    BadVelocity { vel: f64 },
+    /// A value that is negative, not finite or otherwise out of range.
+    BadValue { what: &'static str, value: f64 },
+    /// A minimum limit above the maximum.
+    LimitsReversed { min: f64, max: f64 },
+    /// The motion controller did not answer (its thread is not running).
+    Timeout,
+}
+
+impl std::fmt::Display for Reject {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Reject::NoSuchJoint { joint, num_joints } => {
+                write!(f, "joint {joint} does not exist (there are {num_joints})")
+            }
+            Reject::JointInactive { joint } => write!(f, "joint {joint} is not active"),
+            Reject::EnableInputFalse => f.write_str("can't enable motion, enable input is false"),
+            Reject::NotEnabled => f.write_str("motion is not enabled"),
+            Reject::NotFreeMode => f.write_str("motion is not in joint (free) mode"),
+            Reject::JogInhibited => f.write_str("jogging is inhibited by motion.jog-inhibit"),
+            Reject::HomingActive => f.write_str("can't jog while homing is in progress"),
+            Reject::WheelJogActive { joint } => {
+                write!(f, "joint {joint} is being moved by its jog wheel")
+            }
+            Reject::JointMoving { joint } => write!(f, "joint {joint} is moving"),
+            Reject::OnHardLimit { joint, dir } => {
+                write!(
+                    f,
+                    "can't jog joint {joint} further past its {dir} hard limit"
+                )
+            }
+            Reject::PastSoftLimit { joint, dir } => {
+                write!(
+                    f,
+                    "can't jog joint {joint} further past its {dir} soft limit"
+                )
+            }
+            Reject::TargetOutsideLimits {
+                joint,
+                target,
+                min,
+                max,
+            } => write!(
+                f,
+                "jog of joint {joint} to {target} would leave its jog limits [{min}, {max}]"
+            ),
+            Reject::BadVelocity { vel } => write!(f, "bad jog velocity {vel}"),
+            Reject::BadValue { what, value } => write!(f, "bad {what} {value}"),
+            Reject::LimitsReversed { min, max } => {
+                write!(f, "minimum limit {min} is above maximum limit {max}")
+            }
+            Reject::Timeout => {
+                f.write_str("the motion controller did not answer (is its thread running?)")
+            }
+        }
+    }
+}
+
+impl std::error::Error for Reject {}
+
+/// The result of a command.
+pub type CommandResult = Result<(), Reject>;

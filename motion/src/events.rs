@@ -1,0 +1,234 @@
+//! Messages the controller reports while it runs (LinuxCNC's
+//! `reportError`), carried from the realtime function to whoever reads
+//! them through a fixed-size lock-free ring: the realtime side never
+//! allocates, locks or blocks, and a full ring drops the newest message
+//! and counts it.
+
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::Mutex;
+
+use crate::command::Direction;
+
+/// Something the controller reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// A hard limit switch tripped on an enabled joint; motion disabled.
+    JointOnLimit { joint: usize },
+    /// An amplifier fault on an enabled joint; motion disabled.
+    JointAmpFault { joint: usize },
+    /// Following error over the limit on an enabled joint; motion disabled.
+    JointFollowingError { joint: usize },
+    /// `motion.enable` went false while enabled; motion disabled.
+    EnableInputStopped,
+    /// A misc error input is true; motion disabled.
+    MiscError { input: usize },
+    /// A spindle amplifier fault; motion disabled.
+    SpindleAmpFault { spindle: usize },
+    /// A homed joint's command left its soft limits.
+    SoftLimitExceeded { joint: usize, dir: Direction },
+    /// `motion.jog-stop` or `motion.jog-stop-immediate` ended the jogs.
+    JogStopped { immediate: bool },
+    /// The probe input rose during a jog; the jogs were stopped.
+    ProbeTrippedDuringJog,
+    /// Switching kinematics (`motion.switchkins-type`) failed.
+    KinsSwitchFailed { kins_type: i32 },
+}
+
+impl std::fmt::Display for Event {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Event::JointOnLimit { joint } => write!(f, "joint {joint} on limit switch error"),
+            Event::JointAmpFault { joint } => write!(f, "joint {joint} amplifier fault"),
+            Event::JointFollowingError { joint } => write!(f, "joint {joint} following error"),
+            Event::EnableInputStopped => f.write_str("motion stopped by enable input"),
+            Event::MiscError { input } => write!(f, "Motion Stopped by misc error {input}"),
+            Event::SpindleAmpFault { spindle } => write!(f, "spindle {spindle} amplifier fault"),
+            Event::SoftLimitExceeded { joint, dir } => {
+                let d = match dir {
+                    Direction::Positive => "POSITIVE",
+                    Direction::Negative => "NEGATIVE",
+                };
+                write!(f, "Exceeded {d} soft limit ({joint})")
+            }
+            Event::JogStopped { immediate: false } => f.write_str("Jog aborted by jog-stop"),
+            Event::JogStopped { immediate: true } => {
+                f.write_str("Jog aborted by jog-stop-immediate")
+            }
+            Event::ProbeTrippedDuringJog => f.write_str("Probe tripped during a joint jog."),
+            Event::KinsSwitchFailed { kins_type } => {
+                write!(f, "kinematics switch to type {kins_type} failed")
+            }
+        }
+    }
+}
+
+impl Event {
+    fn encode(self) -> u64 {
+        let (code, a, b): (u64, u64, u64) = match self {
+            Event::JointOnLimit { joint } => (1, joint as u64, 0),
+            Event::JointAmpFault { joint } => (2, joint as u64, 0),
+            Event::JointFollowingError { joint } => (3, joint as u64, 0),
+            Event::EnableInputStopped => (4, 0, 0),
+            Event::MiscError { input } => (5, input as u64, 0),
+            Event::SpindleAmpFault { spindle } => (6, spindle as u64, 0),
+            Event::SoftLimitExceeded { joint, dir } => {
+                (7, joint as u64, u64::from(dir == Direction::Positive))
+            }
+            Event::JogStopped { immediate } => (8, 0, u64::from(immediate)),
+            Event::ProbeTrippedDuringJog => (9, 0, 0),
+            Event::KinsSwitchFailed { kins_type } => (10, 0, kins_type as u32 as u64),
+        };
+        (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
+    }
+
+    fn decode(w: u64) -> Option<Event> {
+        let a = ((w >> 32) & 0xff_ffff) as usize;
+        let b = w & 0xffff_ffff;
+        Some(match w >> 56 {
+            1 => Event::JointOnLimit { joint: a },
+            2 => Event::JointAmpFault { joint: a },
+            3 => Event::JointFollowingError { joint: a },
+            4 => Event::EnableInputStopped,
+            5 => Event::MiscError { input: a },
+            6 => Event::SpindleAmpFault { spindle: a },
+            7 => Event::SoftLimitExceeded {
+                joint: a,
+                dir: if b == 1 {
+                    Direction::Positive
+                } else {
+                    Direction::Negative
+                },
+            },
+            8 => Event::JogStopped { immediate: b == 1 },
+            9 => Event::ProbeTrippedDuringJog,
+            10 => Event::KinsSwitchFailed {
+                kins_type: b as u32 as i32,
+            },
+            _ => return None,
+        })
+    }
+}
+
+/// How many messages the ring holds (LinuxCNC's error ring holds 32).
+pub const EVENT_CAPACITY: usize = 64;
+
+/// A single-producer ring of events. The realtime controller pushes;
+/// readers take messages in order (readers serialise among themselves).
+pub struct EventRing {
+    slots: [AtomicU64; EVENT_CAPACITY],
+    /// Messages written so far (the producer's index).
+    head: AtomicUsize,
+    /// Messages read so far.
+    tail: AtomicUsize,
+    dropped: AtomicU64,
+    reader: Mutex<()>,
+}
+
+impl Default for EventRing {
+    fn default() -> Self {
+        EventRing {
+            slots: std::array::from_fn(|_| AtomicU64::new(0)),
+            head: AtomicUsize::new(0),
+            tail: AtomicUsize::new(0),
+            dropped: AtomicU64::new(0),
+            reader: Mutex::new(()),
+        }
+    }
+}
+
+impl std::fmt::Debug for EventRing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EventRing")
+            .field("head", &self.head.load(Relaxed))
+            .field("tail", &self.tail.load(Relaxed))
+            .finish()
+    }
+}
+
+impl EventRing {
+    /// Adds a message (realtime side; one producer). Drops it if the ring
+    /// is full.
+    pub fn push(&self, e: Event) {
+        let head = self.head.load(Relaxed);
+        if head.wrapping_sub(self.tail.load(Acquire)) >= EVENT_CAPACITY {
+            self.dropped.fetch_add(1, Relaxed);
+            return;
+        }
+        self.slots[head % EVENT_CAPACITY].store(e.encode(), Relaxed);
+        self.head.store(head.wrapping_add(1), Release);
+    }
+
+    /// Takes every waiting message, oldest first.
+    pub fn drain(&self) -> Vec<Event> {
+        let _g = self.reader.lock().unwrap_or_else(|e| e.into_inner());
+        let mut out = Vec::new();
+        let mut tail = self.tail.load(Relaxed);
+        let head = self.head.load(Acquire);
+        while tail != head {
+            if let Some(e) = Event::decode(self.slots[tail % EVENT_CAPACITY].load(Relaxed)) {
+                out.push(e);
+            }
+            tail = tail.wrapping_add(1);
+        }
+        self.tail.store(tail, Release);
+        out
+    }
+
+    /// How many messages were dropped because the ring was full.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Relaxed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn events_round_trip_through_the_ring_in_order() {
+        let all = [
+            Event::JointOnLimit { joint: 3 },
+            Event::JointAmpFault { joint: 15 },
+            Event::JointFollowingError { joint: 0 },
+            Event::EnableInputStopped,
+            Event::MiscError { input: 63 },
+            Event::SpindleAmpFault { spindle: 7 },
+            Event::SoftLimitExceeded {
+                joint: 2,
+                dir: Direction::Positive,
+            },
+            Event::SoftLimitExceeded {
+                joint: 2,
+                dir: Direction::Negative,
+            },
+            Event::JogStopped { immediate: true },
+            Event::JogStopped { immediate: false },
+            Event::ProbeTrippedDuringJog,
+            Event::KinsSwitchFailed { kins_type: -2 },
+        ];
+        let r = EventRing::default();
+        for e in all {
+            r.push(e);
+        }
+        assert_eq!(r.drain(), all);
+        assert!(r.drain().is_empty());
+        assert_eq!(
+            Event::JointFollowingError { joint: 1 }.to_string(),
+            "joint 1 following error"
+        );
+    }
+
+    #[test]
+    fn a_full_ring_drops_the_newest_and_counts() {
+        let r = EventRing::default();
+        for j in 0..EVENT_CAPACITY + 5 {
+            r.push(Event::JointAmpFault { joint: j });
+        }
+        let got = r.drain();
+        assert_eq!(got.len(), EVENT_CAPACITY);
+        assert_eq!(got[0], Event::JointAmpFault { joint: 0 });
+        assert_eq!(r.dropped(), 5);
+        r.push(Event::EnableInputStopped);
+        assert_eq!(r.drain(), [Event::EnableInputStopped]);
+    }
+}

@@ -1,0 +1,130 @@
+//! Kinematics: the mapping between joint positions and the world pose
+//! (X Y Z A B C U V W), as a trait that kinematics modules implement and
+//! `motmod` calls every servo cycle.
+//!
+//! A kinematics module (`loadrt trivkins ...`) registers its
+//! implementation in [`KINEMATICS`] under the HAL instance's name; `motmod`
+//! looks it up when it loads, so the kinematics module must be loaded
+//! first, exactly as in LinuxCNC. See [`crate::registry`] for the lifetime
+//! rules.
+
+pub mod trivkins;
+
+use std::sync::Arc;
+
+use crate::registry::InstanceRegistry;
+
+/// Number of world axes.
+pub const NUM_AXES: usize = 9;
+
+/// The world axes in index order; HAL names use the lower-case letter.
+pub const AXIS_LETTERS: [char; NUM_AXES] = ['x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'];
+
+/// A world pose: X Y Z A B C U V W, indexed as [`AXIS_LETTERS`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Pose(pub [f64; NUM_AXES]);
+
+impl Pose {
+    /// The pose with every coordinate zero.
+    pub const ZERO: Pose = Pose([0.0; NUM_AXES]);
+}
+
+/// What a kinematics module can compute, and so how motion uses it
+/// (LinuxCNC's `KINEMATICS_TYPE`, with the same numbering).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(i32)]
+pub enum KinematicsType {
+    /// Joints and axes correspond one to one; forward kinematics work
+    /// without homing and world jogs are allowed before homing.
+    Identity = 1,
+    /// Only forward kinematics (motion cannot run world modes).
+    ForwardOnly = 2,
+    /// Only inverse kinematics: world feedback is faked from the command.
+    InverseOnly = 3,
+    /// Both directions, but forward kinematics need homed joints.
+    Both = 4,
+}
+
+/// The configuration flags LinuxCNC passes to every kinematics call:
+/// `forward` selects among several world solutions, `inverse` among
+/// several joint solutions. A call may update them to describe the
+/// solution it found. Motion keeps one pair for all calls.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct KinsFlags {
+    /// Forward-solution selector (LinuxCNC `fflags`).
+    pub forward: u64,
+    /// Inverse-solution selector (LinuxCNC `iflags`).
+    pub inverse: u64,
+}
+
+/// Why a kinematics call failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KinsError {
+    /// The pose or joint set has no solution (singularity, out of reach).
+    NoSolution,
+    /// An iterative solution did not converge.
+    NotConverged,
+    /// The module cannot do what was asked (a kinematics switch on a
+    /// module that cannot switch, an unknown type).
+    Unsupported,
+}
+
+impl std::fmt::Display for KinsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            KinsError::NoSolution => "no solution",
+            KinsError::NotConverged => "did not converge",
+            KinsError::Unsupported => "not supported by this kinematics",
+        })
+    }
+}
+
+/// A kinematics implementation. Calls come from the realtime servo
+/// function, so implementations must not allocate, lock or block.
+pub trait Kinematics: Send + Sync + 'static {
+    /// The module's name (`trivkins`).
+    fn name(&self) -> &str;
+
+    /// What the module can compute.
+    fn kins_type(&self) -> KinematicsType;
+
+    /// Joint positions to world pose. `pose` comes in holding the previous
+    /// result (the initial guess of iterative solvers); axes the module
+    /// does not compute keep their value.
+    fn forward(
+        &self,
+        joints: &[f64],
+        pose: &mut Pose,
+        flags: &mut KinsFlags,
+    ) -> Result<(), KinsError>;
+
+    /// World pose to joint positions. Joints the module does not compute
+    /// keep their value.
+    fn inverse(
+        &self,
+        pose: &Pose,
+        joints: &mut [f64],
+        flags: &mut KinsFlags,
+    ) -> Result<(), KinsError>;
+
+    /// Whether the module can switch between several kinematics at run
+    /// time (`motion.switchkins-type` is only exported if so).
+    fn is_switchable(&self) -> bool {
+        false
+    }
+
+    /// Switches to kinematics number `kins_type` (switchable modules only).
+    fn switch_to(&self, kins_type: i32) -> Result<(), KinsError> {
+        let _ = kins_type;
+        Err(KinsError::Unsupported)
+    }
+}
+
+/// The kinematics of each HAL instance.
+pub static KINEMATICS: InstanceRegistry<dyn Kinematics> = InstanceRegistry::new("kinematics");
+
+/// The kinematics loaded in `instance`, with the name of the module that
+/// provides it.
+pub fn kinematics_for(instance: &str) -> Option<(String, Arc<dyn Kinematics>)> {
+    KINEMATICS.get(instance)
+}

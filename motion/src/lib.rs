@@ -1,0 +1,37 @@
+//! The LinuxCNC-compatible motion controller.
+//!
+//! * [`kins`]: the [`Kinematics`](kins::Kinematics) trait, the per-instance
+//!   kinematics registry and the `trivkins` module.
+//! * [`motmod`]: the `motmod` module (pins, params, threads, the
+//!   `motion-command-handler` and `motion-controller` functions) and
+//!   [`MotionHandle`](motmod::MotionHandle), the Rust command interface.
+//! * [`core`]: the controller itself, independent of HAL: joints, the
+//!   enable state machine, free-mode jogs, limits, following error, faults.
+//! * [`simple_tp`]: the single-axis trapezoidal planner.
+//! * [`command`], [`events`], [`mailbox`], [`registry`]: commands and their
+//!   results, reported messages, the command hand-off, and how modules of
+//!   one instance find each other.
+//!
+//! Load order, as in LinuxCNC: `loadrt trivkins ...` (or another
+//! kinematics module), then `loadrt motmod ...`.
+
+pub mod command;
+pub mod core;
+pub mod events;
+pub mod joint;
+pub mod kins;
+pub mod mailbox;
+pub mod motmod;
+pub mod registry;
+pub mod simple_tp;
+
+pub use command::{Command, CommandResult, Direction, Reject};
+pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState};
+pub use events::Event;
+pub use kins::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
+pub use motmod::MotionHandle;
+
+/// The `loadrt` modules of this crate.
+pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
+    vec![&kins::trivkins::MODULE, &motmod::MODULE]
+}
