@@ -114,6 +114,8 @@ pub enum Reject {
     BadValue { what: &'static str, value: f64 },
     /// A minimum limit above the maximum.
     LimitsReversed { min: f64, max: f64 },
+    /// A joint may only be activated while motion is disabled.
+    ActivateWhileEnabled { joint: usize },
     /// The motion controller did not answer (its thread is not running).
     Timeout,
 }
@@ -125,6 +127,12 @@ impl std::fmt::Display for Reject {
                 write!(f, "joint {joint} does not exist (there are {num_joints})")
             }
             Reject::JointInactive { joint } => write!(f, "joint {joint} is not active"),
+            Reject::ActivateWhileEnabled { joint } => {
+                write!(
+                    f,
+                    "can't activate joint {joint} while motion is enabled; disable first"
+                )
+            }
             Reject::EnableInputFalse => f.write_str("can't enable motion, enable input is false"),
             Reject::NotEnabled => f.write_str("motion is not enabled"),
             Reject::NotFreeMode => f.write_str("motion is not in joint (free) mode"),

@@ -295,7 +295,12 @@ pub fn parse_params(args: &ModuleArgs, kins_type: KinematicsType) -> Result<Motm
     // LinuxCNC rounds the servo period to a whole multiple of the base
     // period: ratio = (int)(servo_sec / base_sec + 0.5).
     let ratio = ((servo as f64 * 1e-9) / (base as f64 * 1e-9) + 0.5) as i64;
-    let servo = base * ratio;
+    let servo = base.checked_mul(ratio).filter(|&s| s > 0).ok_or_else(|| {
+        bad(
+            "servo_period_nsec",
+            format!("{servo} ns is not a usable multiple of the base period {base} ns"),
+        )
+    })?;
     Ok(MotmodParams {
         num_joints: num_joints as usize,
         num_extrajoints: num_extrajoints as usize,

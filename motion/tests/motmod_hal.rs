@@ -483,6 +483,13 @@ fn bad_module_parameters_are_refused_and_leave_nothing() {
             "servo_period_nsec",
         ),
         (&["num_joints=x"][..], "num_joints"),
+        (
+            &[
+                "base_period_nsec=2",
+                "servo_period_nsec=9223372036854775807",
+            ][..],
+            "servo_period_nsec",
+        ),
         (&["nonsense=1"][..], "nonsense"),
     ] {
         match loadrt(&h, "motmod", args) {

@@ -484,6 +484,12 @@ impl MotionCore {
                 } else {
                     jt.free_tp.pos_cmd - offset
                 };
+                if !target.is_finite() {
+                    return Err(Reject::BadValue {
+                        what: "jog target",
+                        value: target,
+                    });
+                }
                 if target > jt.max_jog_limit || target < jt.min_jog_limit {
                     return Err(Reject::TargetOutsideLimits {
                         joint: j,
@@ -527,6 +533,11 @@ impl MotionCore {
             }
             Command::JointActivate { joint } => {
                 let j = self.joint_index(joint)?;
+                // Activated while enabled, the joint would move without
+                // being enabled, and so without its fault checks.
+                if self.enabled && !self.joints[j].active {
+                    return Err(Reject::ActivateWhileEnabled { joint: j });
+                }
                 self.joints[j].active = true;
                 Ok(())
             }
@@ -975,6 +986,9 @@ impl MotionCore {
                 break;
             }
             let distance = f64::from(delta) * inp.jog_scale;
+            if !distance.is_finite() {
+                continue;
+            }
             if distance > 0.0 && jt.phl {
                 continue;
             }
@@ -987,7 +1001,10 @@ impl MotionCore {
                 continue;
             }
             let frac = inp.jog_accel_fraction;
-            let acc = if (0.0..=1.0).contains(&frac) {
+            // A fraction of 0 would leave the planner unable to change
+            // speed (a joint in motion would never stop): only a fraction
+            // in (0, 1] scales the acceleration.
+            let acc = if frac > 0.0 && frac <= 1.0 {
                 jt.cfg.acc_limit * frac
             } else {
                 jt.cfg.acc_limit
@@ -1024,7 +1041,7 @@ impl MotionCore {
                         continue;
                     }
                     let frac = self.joint_inputs[j].jog_accel_fraction;
-                    jt.free_tp.max_acc = if jt.wheel_jog_active && (0.0..=1.0).contains(&frac) {
+                    jt.free_tp.max_acc = if jt.wheel_jog_active && frac > 0.0 && frac <= 1.0 {
                         jt.cfg.acc_limit * frac
                     } else {
                         jt.cfg.acc_limit

@@ -880,3 +880,64 @@ fn motor_offset_shifts_motor_but_not_joint_positions() {
     assert_eq!(js.pos_cmd, 2.5);
     assert_eq!(js.motor_pos_cmd, 10.0);
 }
+
+#[test]
+fn a_zero_jog_accel_fraction_still_stops_the_wheel_jog() {
+    let mut s = machine(1, KinematicsType::Identity);
+    s.m.joint_inputs[0].jog_enable = true;
+    s.m.joint_inputs[0].jog_scale = 0.01;
+    s.m.joint_inputs[0].jog_accel_fraction = 0.0;
+    s.cycle();
+    s.enable();
+    s.m.joint_inputs[0].jog_counts = 200; // 2 units
+    s.cycle();
+    s.settle(10_000);
+    assert!((s.j(0).pos_cmd - 2.0).abs() <= SimpleTp::tiny_dp(100.0, T));
+    assert!(s.m.is_enabled());
+}
+
+#[test]
+fn a_joint_cannot_be_activated_while_enabled() {
+    let mut s = machine(2, KinematicsType::Identity);
+    s.cmd(Command::JointDeactivate { joint: 1 }).unwrap();
+    s.enable();
+    assert_eq!(
+        s.cmd(Command::JointActivate { joint: 1 }),
+        Err(Reject::ActivateWhileEnabled { joint: 1 })
+    );
+    // An active joint may be "activated" again; disabled, any may be.
+    s.cmd(Command::JointActivate { joint: 0 }).unwrap();
+    s.cmd(Command::Disable).unwrap();
+    s.cycle();
+    s.cmd(Command::JointActivate { joint: 1 }).unwrap();
+}
+
+#[test]
+fn a_nan_feedback_trips_following_error() {
+    let mut s = machine(1, KinematicsType::Identity);
+    s.enable();
+    s.stuck[0] = Some(f64::NAN);
+    s.run(3);
+    assert!(s.j(0).following_error);
+    assert!(!s.m.is_enabled());
+}
+
+#[test]
+fn a_nan_jog_scale_moves_nothing_and_breaks_nothing() {
+    let mut s = machine(1, KinematicsType::Identity);
+    s.m.joint_inputs[0].jog_enable = true;
+    s.m.joint_inputs[0].jog_scale = f64::NAN;
+    s.cycle();
+    s.enable();
+    s.m.joint_inputs[0].jog_counts = 100;
+    s.run(5);
+    assert!(s.j(0).free_pos_cmd.is_finite());
+    s.cmd(Command::JogIncr {
+        joint: 0,
+        vel: 1.0,
+        offset: 0.5,
+    })
+    .unwrap();
+    s.settle(10_000);
+    assert!((s.j(0).pos_cmd - 0.5).abs() <= SimpleTp::tiny_dp(100.0, T));
+}
