@@ -291,8 +291,8 @@ impl Joint {
         if self.ferror_limit < self.cfg.min_ferror {
             self.ferror_limit = self.cfg.min_ferror;
         }
-        // Written so that a NaN error (a NaN feedback) trips it.
-        self.ferror_flag = !(abs_ferror <= self.ferror_limit);
+        // A NaN error (a NaN feedback) trips it too.
+        self.ferror_flag = abs_ferror.is_nan() || abs_ferror > self.ferror_limit;
         self.phl = inp.pos_lim_sw;
         self.nhl = inp.neg_lim_sw;
         self.fault = inp.amp_fault;
