@@ -664,7 +664,7 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
             .unwrap();
         inst.link(&format!("joint.{j}.motor-pos-fb"), &sig).unwrap();
     }
-    let mut c = MotionClient::open(&inst)
+    let mut c = MotionClient::open(inst)
         .unwrap()
         .with_timeout(Duration::from_millis(200));
     let s0 = c.status().unwrap();
@@ -760,7 +760,7 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
     );
 
     // A corrupt record written straight into the ring is answered, not run.
-    let mut w = hal_core::RingWriter::open(&inst, motion::channel::CMD_RING).unwrap();
+    let mut w = hal_core::RingWriter::open(inst, motion::channel::CMD_RING).unwrap();
     let mut rec = motion::channel::encode_command(999_999, &Command::Enable);
     rec[4] ^= 1;
     assert!(w.push(&rec));
