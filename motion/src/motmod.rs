@@ -13,8 +13,10 @@
 //! addf motion-controller servo-thread
 //! ```
 //!
-//! Commands reach the controller through [`MotionHandle`]: the handler
-//! function takes at most one per period and answers it. Both functions
+//! Commands reach the controller through [`MotionHandle`] (this process)
+//! or the shared-memory channel of [`crate::channel`] (any process, e.g.
+//! `motion-cmd`): the handler function takes them each period and answers
+//! each one; the controller publishes the status snapshot every cycle. Both functions
 //! belong in the same thread; if a configuration puts them in threads
 //! that preempt each other, the one that finds the controller busy skips
 //! its period (as LinuxCNC's handler skips when its mutex is held).
