@@ -18,6 +18,20 @@ pub enum Command {
     Enable,
     /// Request the disabled state: planners stopped, amplifiers off.
     Disable,
+    /// Request free (joint) mode. Always accepted; this controller has no
+    /// other mode yet, so it is already in effect.
+    Free,
+    /// Request teleop (world jog) mode. Refused: not implemented yet.
+    Teleop,
+    /// Request coordinated mode. Refused: not implemented yet.
+    Coord,
+    /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
+    /// amplifier follows ENABLE/DISABLE and has no side channel
+    /// (reference "→ Design").
+    EnableAmplifier { joint: i32 },
+    /// LinuxCNC's legacy DISABLE_AMPLIFIER: refused like
+    /// [`Command::EnableAmplifier`].
+    DisableAmplifier { joint: i32 },
     /// Jog `joint` continuously at `vel` (sign = direction) until aborted
     /// or until the jog limit.
     JogCont { joint: i32, vel: f64 },
@@ -118,6 +132,11 @@ pub enum Reject {
     ActivateWhileEnabled { joint: usize },
     /// The motion controller did not answer (its thread is not running).
     Timeout,
+    /// The command exists but this controller does not carry it out.
+    Unsupported { what: &'static str },
+    /// A command read from the shared-memory channel was corrupt or of an
+    /// unknown kind; it was not executed.
+    Malformed { error: crate::channel::WireError },
 }
 
 impl std::fmt::Display for Reject {
@@ -171,6 +190,8 @@ impl std::fmt::Display for Reject {
             Reject::Timeout => {
                 f.write_str("the motion controller did not answer (is its thread running?)")
             }
+            Reject::Unsupported { what } => write!(f, "not supported: {what}"),
+            Reject::Malformed { error } => write!(f, "malformed command: {error}"),
         }
     }
 }

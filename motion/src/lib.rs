@@ -15,6 +15,7 @@
 //! Load order, as in LinuxCNC: `loadrt trivkins ...` (or another
 //! kinematics module), then `loadrt motmod ...`.
 
+pub mod channel;
 pub mod command;
 pub mod core;
 pub mod events;
@@ -25,6 +26,7 @@ pub mod motmod;
 pub mod registry;
 pub mod simple_tp;
 
+pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Reject};
 pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState};
 pub use events::Event;

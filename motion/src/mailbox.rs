@@ -8,9 +8,9 @@
 //! `Copy` data: it never waits for the sender. Senders in several threads
 //! queue on a mutex on their side.
 //!
-//! (The command channel in the instance's shared memory, usable from other
-//! processes, replaces this in-process hand-off in the next milestone; the
-//! protocol is the same.)
+//! Other processes use the shared-memory channel of [`crate::channel`]
+//! instead; the handler serves both, through the same
+//! [`MotionCore::command`](crate::core::MotionCore::command).
 
 use std::cell::UnsafeCell;
 use std::sync::atomic::{AtomicU32, Ordering::*};

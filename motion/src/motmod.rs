@@ -13,21 +13,28 @@
 //! addf motion-controller servo-thread
 //! ```
 //!
-//! Commands reach the controller through [`MotionHandle`]: the handler
-//! function takes at most one per period and answers it. Both functions
+//! Commands reach the controller through [`MotionHandle`] (this process)
+//! or the shared-memory channel of [`crate::channel`] (any process, e.g.
+//! `motion-cmd`): the handler function takes them each period and answers
+//! each one; the controller publishes the status snapshot every cycle. Both functions
 //! belong in the same thread; if a configuration puts them in threads
 //! that preempt each other, the one that finds the controller busy skips
 //! its period (as LinuxCNC's handler skips when its mutex is held).
 
 use std::cell::UnsafeCell;
-use std::sync::atomic::{AtomicBool, Ordering::*};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::*};
 use std::sync::Arc;
 use std::time::Duration;
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{clock, Component, HalError, Host, In, Io, Out, Param, Pin, Result, Ro};
+use hal_core::{
+    clock, Component, HalError, Host, In, Io, Out, Param, Pin, Result, RingReader, RingWriter, Ro,
+    SeqLockWriter,
+};
 
-use crate::command::{Command, CommandResult};
+use crate::channel::{self, LastCommand, CMD_WORDS, STATUS_WORDS};
+
+use crate::command::{Command, CommandResult, Reject};
 use crate::core::{MotionConfig, MotionCore, MAX_IO, MAX_JOINTS, MAX_MISC_ERROR, MAX_SPINDLES};
 use crate::events::{Event, EventRing};
 use crate::kins::{kinematics_for, KinematicsType, AXIS_LETTERS, NUM_AXES};
@@ -984,6 +991,28 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     });
     let mailbox = Arc::new(Mailbox::default());
 
+    // The shared-memory command channel (see `channel`).
+    // The ring is created here (owned by motmod) and read here; clients
+    // open its writing end.
+    RingWriter::create(c, channel::CMD_RING, channel::RING_DEPTH, CMD_WORDS)?;
+    let mut cmd_ring = RingReader::open(host.instance(), channel::CMD_RING)?;
+    let mut reply_ring = RingWriter::create(
+        c,
+        channel::REPLY_RING,
+        channel::RING_DEPTH,
+        channel::REPLY_WORDS,
+    )?;
+    c.region(channel::LOCK, 16)?;
+    let mut status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
+    let mut status_buf = [0u64; STATUS_WORDS];
+    cell.with(|core| {
+        channel::fill_status(core, LastCommand::default(), 0, &mut status_buf);
+        status.write(&status_buf);
+    });
+    // Last answered serial and code, and the count served, handed from the
+    // handler to the controller, which publishes them with the status.
+    let last = Arc::new([AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)]);
+
     if p.servo_period_nsec > p.base_period_nsec {
         host.create_thread("base-thread", p.base_period_nsec, p.base_thread_fp, None)?;
     }
@@ -999,6 +1028,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let safe_amps: Vec<BOut> = io.joints.iter().map(|j| j.amp_enable.clone()).collect();
 
     let ctl_cell = cell.clone();
+    let ctl_last = last.clone();
     let mut last_ns: Option<u64> = None;
     b.funct("motion-controller", true, move |ctx| {
         let now = clock::monotonic_ns();
@@ -1009,13 +1039,20 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             io.read(core);
             core.cycle(ctx.fperiod());
             io.write(core);
+            let lc = LastCommand {
+                serial: ctl_last[0].load(Relaxed),
+                code: ctl_last[1].load(Relaxed),
+            };
+            channel::fill_status(core, lc, ctl_last[2].load(Relaxed), &mut status_buf);
+            status.write(&status_buf);
         });
     })?;
 
     let h_cell = cell.clone();
     let h_mailbox = mailbox.clone();
+    let mut rec = [0u64; CMD_WORDS];
     b.funct("motion-command-handler", true, move |_ctx| {
-        if !h_mailbox.has_command() {
+        if !h_mailbox.has_command() && cmd_ring.is_empty() {
             return;
         }
         h_cell.with(|core| {
@@ -1023,6 +1060,23 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             core.inputs.jog_inhibit = h_inputs.1.get();
             core.inputs.homing_inhibit = h_inputs.2.get();
             h_mailbox.serve(|cmd| core.command(cmd));
+            // Channel commands: only as many as there is room to answer.
+            for _ in 0..channel::MAX_PER_PERIOD {
+                if reply_ring.len() >= reply_ring.capacity() || !cmd_ring.pop(&mut rec) {
+                    break;
+                }
+                let (serial, result) = match channel::decode_command(&rec) {
+                    Ok((serial, cmd)) => (serial, core.command(&cmd)),
+                    Err((serial, error)) => (serial, Err(Reject::Malformed { error })),
+                };
+                reply_ring.push(&channel::encode_reply(serial, &result));
+                last[0].store(serial, Relaxed);
+                last[1].store(
+                    result.as_ref().err().map_or(0, channel::reject_code),
+                    Relaxed,
+                );
+                last[2].fetch_add(1, Relaxed);
+            }
         });
     })?;
 

@@ -656,3 +656,129 @@ fn running_in_the_servo_thread_enables_jogs_and_trips() {
     h.unloadrt("motmod").unwrap();
     assert!(MotionHandle::attach(inst.name()).is_none());
 }
+
+#[test]
+fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
+    use motion::{MotionClient, Reject};
+    let h = host("chan");
+    loadrt(&h, "trivkins", &["coordinates=xyz"]).unwrap();
+    loadrt(&h, "motmod", &["num_joints=3", "servo_period_nsec=1000000"]).unwrap();
+    let inst = h.instance();
+    for j in 0..3 {
+        let sig = format!("j{j}-pos");
+        inst.newsig(&sig, HalType::Float).unwrap();
+        inst.link(&format!("joint.{j}.motor-pos-cmd"), &sig)
+            .unwrap();
+        inst.link(&format!("joint.{j}.motor-pos-fb"), &sig).unwrap();
+    }
+    let mut c = MotionClient::open(inst)
+        .unwrap()
+        .with_timeout(Duration::from_millis(200));
+    let s0 = c.status().unwrap();
+    assert_eq!(
+        (s0.mode, s0.enabled, s0.joints.len()),
+        ("DISABLED", false, 3)
+    );
+    assert_eq!(s0.last.serial, 0);
+    // Not running: no answer.
+    let e = c.send(Command::Enable).unwrap_err();
+    assert_eq!(e.reason, Reject::Timeout);
+    // The stale command is still in the ring; it runs when the thread
+    // starts, and its late answer is discarded by the next send.
+    h.addf("motion-command-handler", "servo-thread", -1)
+        .unwrap();
+    h.addf("motion-controller", "servo-thread", -1).unwrap();
+    h.start().unwrap();
+    let mut c = c.with_timeout(Duration::from_secs(2));
+    // Undo the stale ENABLE before configuring.
+    c.send(Command::Disable).unwrap();
+    for j in 0..3 {
+        for cmd in [
+            Command::JointActivate { joint: j },
+            Command::SetJointPositionLimits {
+                joint: j,
+                min: -10.0,
+                max: 10.0,
+            },
+            Command::SetJointVelLimit {
+                joint: j,
+                vel: 20.0,
+            },
+            Command::SetJointAccLimit {
+                joint: j,
+                acc: 500.0,
+            },
+        ] {
+            c.send(cmd).unwrap();
+        }
+    }
+    // A rejection with its reason, code and text.
+    let r = c.send(Command::JogCont { joint: 7, vel: 1.0 }).unwrap_err();
+    assert_eq!(
+        r.reason,
+        Reject::NoSuchJoint {
+            joint: 7,
+            num_joints: 3
+        }
+    );
+    assert_eq!(r.code(), 1);
+    assert!(r.to_string().contains("joint 7 does not exist"), "{r}");
+    wait_for("the status to show the rejection", || {
+        let s = c.status().unwrap();
+        s.last.serial == r.serial && s.last.code == 1
+    });
+    let r = c.send(Command::Teleop).unwrap_err();
+    assert!(matches!(r.reason, Reject::Unsupported { .. }), "{r}");
+
+    let a = c.send(Command::Enable).unwrap();
+    assert!(a.serial > r.serial);
+    wait_for("enabled in the status", || {
+        let s = c.status().unwrap();
+        s.enabled && s.mode == "FREE" && s.joints.iter().all(|j| j.amp_enabled && j.active)
+    });
+    c.send(Command::JogIncr {
+        joint: 2,
+        vel: 10.0,
+        offset: 0.5,
+    })
+    .unwrap();
+    wait_for("the jog to show in the status", || {
+        let s = c.status().unwrap();
+        s.joints[2].pos_cmd > 0.0 && s.joints[2].pos_cmd < 0.5
+    });
+    wait_for("the jog to end", || {
+        let s = c.status().unwrap();
+        s.in_position && (s.joints[2].pos_cmd - 0.5).abs() < 1e-6
+    });
+    assert_eq!(
+        float(&h, "joint.2.pos-cmd"),
+        c.status().unwrap().joints[2].pos_cmd
+    );
+
+    // The same controller answers MotionHandle and the channel.
+    let m = MotionHandle::attach(inst.name()).unwrap();
+    m.command(Command::Disable).unwrap();
+    wait_for("disabled", || !c.status().unwrap().enabled);
+    assert_eq!(
+        c.send(Command::JogCont { joint: 0, vel: 1.0 })
+            .unwrap_err()
+            .reason,
+        Reject::NotEnabled
+    );
+
+    // A corrupt record written straight into the ring is answered, not run.
+    let mut w = hal_core::RingWriter::open(inst, motion::channel::CMD_RING).unwrap();
+    let mut rec = motion::channel::encode_command(999_999, &Command::Enable);
+    rec[4] ^= 1;
+    assert!(w.push(&rec));
+    wait_for("the corrupt record to be answered", || {
+        c.status().unwrap().last.serial == 999_999
+    });
+    let s = c.status().unwrap();
+    assert_eq!(
+        motion::channel::result_name(s.last.code),
+        "rejected: malformed"
+    );
+    assert!(!s.enabled, "the corrupt ENABLE did not run");
+    h.stop();
+}

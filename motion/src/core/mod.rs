@@ -573,6 +573,19 @@ impl MotionCore {
                 }
                 Ok(())
             }
+            Command::Free => Ok(()),
+            Command::Teleop => Err(Reject::Unsupported {
+                what: "teleop mode is not implemented yet (only free mode exists)",
+            }),
+            Command::Coord => Err(Reject::Unsupported {
+                what: "coordinated mode is not implemented yet (only free mode exists)",
+            }),
+            Command::EnableAmplifier { joint } | Command::DisableAmplifier { joint } => {
+                self.joint_index(joint)?;
+                Err(Reject::Unsupported {
+                    what: "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+                })
+            }
             Command::Scale { scale } => {
                 if scale.is_nan() {
                     return Err(Reject::BadValue {
