@@ -42,6 +42,8 @@ pub mod notice;
 pub mod pid;
 pub mod select;
 pub mod stepgen;
+#[cfg(test)]
+pub(crate) mod testing;
 pub mod timing;
 
 use hal_core::ModuleDef;

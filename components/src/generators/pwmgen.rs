@@ -508,7 +508,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{pin_names, test_host};
+    use super::super::pin_names;
     use super::*;
 
     const P: i64 = 50_000;
@@ -746,7 +746,7 @@ mod tests {
 
     #[test]
     fn pins_follow_output_types() {
-        let host = test_host("pwmgen-pins");
+        let host = crate::testing::host();
         host.loadrt(&MODULE, &args(&["output_type=0,1,2,-1,2"]))
             .unwrap();
         let pins = pin_names(&host);
@@ -786,7 +786,7 @@ mod tests {
 
     #[test]
     fn bad_output_types_fail_the_load() {
-        let host = test_host("pwmgen-bad");
+        let host = crate::testing::host();
         for bad in [
             &[][..],
             &["output_type=-1"],

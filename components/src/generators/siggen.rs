@@ -212,7 +212,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{pin_names, test_host};
+    use super::super::pin_names;
     use super::*;
 
     const T: f64 = 1_000_000.0 * 1e-9;
@@ -303,7 +303,7 @@ mod tests {
 
     #[test]
     fn channel_count_and_names() {
-        let host = test_host("siggen-n");
+        let host = crate::testing::host();
         host.loadrt(&MODULE, &args(&["num_chan=2"])).unwrap();
         let pins = pin_names(&host);
         assert!(pins.contains(&"siggen.1.cosine".to_string()));
@@ -332,7 +332,7 @@ mod tests {
 
     #[test]
     fn bad_module_parameters_fail_the_load() {
-        let host = test_host("siggen-bad");
+        let host = crate::testing::host();
         for bad in [
             &["num_chan=17"][..],
             &["num_chan=-1"],
