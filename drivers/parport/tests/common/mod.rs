@@ -79,9 +79,12 @@ pub fn run(host: &Host, period_ns: i64, functs: &[&str]) {
 /// with read before write in the thread, two more reads mean a whole
 /// cycle ran after the caller's change.
 pub fn cycles(sim: &SimPort, n: u64) {
+    // `read` reads the status register first and sets the HAL pins last,
+    // so the n-th counted read may still be running: wait for one more,
+    // which starts only after the n-th cycle has finished.
     let start = sim.reads(hal_parport::regs::STATUS);
     let end = Instant::now() + Duration::from_secs(10);
-    while sim.reads(hal_parport::regs::STATUS) < start + n {
+    while sim.reads(hal_parport::regs::STATUS) < start + n + 1 {
         assert!(Instant::now() < end, "thread did not run");
         std::thread::sleep(Duration::from_micros(200));
     }
