@@ -123,6 +123,54 @@ fn value_at(seg: &Segment, off: u64, t: HalType) -> Result<Value> {
     Ok(Value::from_bits(t, seg.word(off)?.load(Relaxed)))
 }
 
+fn pin_info(seg: &Segment, p: &PinRec) -> Result<PinInfo> {
+    let t = pin_type(seg, p)?;
+    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
+    let sig = p.signal.load(Relaxed);
+    Ok(PinInfo {
+        name: p.name.get(),
+        orig_name: opt_name(&p.orig_name),
+        owner_id,
+        owner,
+        hal_type: t,
+        dir: pin_dir(seg, p)?,
+        value: value_at(seg, p.slot.load(Relaxed), t)?,
+        signal: if sig == 0 {
+            None
+        } else {
+            Some(seg.rec::<SigRec>(sig)?.name.get())
+        },
+    })
+}
+
+fn param_info(seg: &Segment, p: &ParamRec) -> Result<ParamInfo> {
+    let t = param_type(seg, p)?;
+    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
+    Ok(ParamInfo {
+        name: p.name.get(),
+        orig_name: opt_name(&p.orig_name),
+        owner_id,
+        owner,
+        hal_type: t,
+        dir: param_dir(p),
+        value: Value::from_bits(t, p.value.load(Relaxed)),
+    })
+}
+
+fn signal_info(seg: &Segment, off: u64, s: &SigRec) -> Result<SignalInfo> {
+    let t = sig_type(seg, s)?;
+    let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
+    Ok(SignalInfo {
+        name: s.name.get(),
+        hal_type: t,
+        value: Value::from_bits(t, cell.value.load(Relaxed)),
+        writers: s.writers.load(Relaxed) as u32,
+        bidirs: s.bidirs.load(Relaxed) as u32,
+        readers: s.readers.load(Relaxed) as u32,
+        pins: super::signal::pins_of(seg, off)?,
+    })
+}
+
 impl Instance {
     /// All components, by name.
     pub fn components(&self) -> Result<Vec<ComponentInfo>> {
@@ -163,27 +211,38 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             list::iter::<PinRec>(seg, &seg.header().pins)
-                .map(|r| {
-                    let (_, p) = r?;
-                    let t = pin_type(seg, p)?;
-                    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
-                    let sig = p.signal.load(Relaxed);
-                    Ok(PinInfo {
-                        name: p.name.get(),
-                        orig_name: opt_name(&p.orig_name),
-                        owner_id,
-                        owner,
-                        hal_type: t,
-                        dir: pin_dir(seg, p)?,
-                        value: value_at(seg, p.slot.load(Relaxed), t)?,
-                        signal: if sig == 0 {
-                            None
-                        } else {
-                            Some(seg.rec::<SigRec>(sig)?.name.get())
-                        },
-                    })
-                })
+                .map(|r| pin_info(seg, r?.1))
                 .collect()
+        })
+    }
+
+    /// One pin, found by its name or its name before aliasing.
+    pub fn pin(&self, name: &str) -> Result<Option<PinInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            super::pin::find_pin(seg, name)?
+                .map(|(_, p)| pin_info(seg, p))
+                .transpose()
+        })
+    }
+
+    /// One param, found by its name or its name before aliasing.
+    pub fn param(&self, name: &str) -> Result<Option<ParamInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            super::param::find_param(seg, name)?
+                .map(|(_, p)| param_info(seg, p))
+                .transpose()
+        })
+    }
+
+    /// One signal, with its pins.
+    pub fn signal(&self, name: &str) -> Result<Option<SignalInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::find::<SigRec>(seg, &seg.header().signals, name)?
+                .map(|(off, s)| signal_info(seg, off, s))
+                .transpose()
         })
     }
 
@@ -192,20 +251,7 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             list::iter::<ParamRec>(seg, &seg.header().params)
-                .map(|r| {
-                    let (_, p) = r?;
-                    let t = param_type(seg, p)?;
-                    let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
-                    Ok(ParamInfo {
-                        name: p.name.get(),
-                        orig_name: opt_name(&p.orig_name),
-                        owner_id,
-                        owner,
-                        hal_type: t,
-                        dir: param_dir(p),
-                        value: Value::from_bits(t, p.value.load(Relaxed)),
-                    })
-                })
+                .map(|r| param_info(seg, r?.1))
                 .collect()
         })
     }
@@ -217,17 +263,7 @@ impl Instance {
             list::iter::<SigRec>(seg, &seg.header().signals)
                 .map(|r| {
                     let (off, s) = r?;
-                    let t = sig_type(seg, s)?;
-                    let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
-                    Ok(SignalInfo {
-                        name: s.name.get(),
-                        hal_type: t,
-                        value: Value::from_bits(t, cell.value.load(Relaxed)),
-                        writers: s.writers.load(Relaxed) as u32,
-                        bidirs: s.bidirs.load(Relaxed) as u32,
-                        readers: s.readers.load(Relaxed) as u32,
-                        pins: super::signal::pins_of(seg, off)?,
-                    })
+                    signal_info(seg, off, s)
                 })
                 .collect()
         })

@@ -81,12 +81,6 @@ impl Instance {
             Ok(())
         })
     }
-
-    /// Whether `name` is a pin, a param, both or neither; halcmd's `setp`
-    /// and `getp` accept either.
-    pub fn is_param(&self, name: &str) -> Result<bool> {
-        self.tx(|tx| Ok(find_param(tx.seg(), name)?.is_some()))
-    }
 }
 
 pub(crate) fn new_param_tx(

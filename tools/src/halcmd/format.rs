@@ -394,19 +394,12 @@ fn help(cmd: Option<&str>) -> Result<String, String> {
 /// pins up first): (value, type, is_param).
 pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, bool)>, String> {
     let e = |e: hal_core::HalError| e.to_string();
-    if let Some(p) = inst
-        .pins()
-        .map_err(e)?
-        .into_iter()
-        .find(|p| p.name == name || p.orig_name.as_deref() == Some(name))
-    {
+    if let Some(p) = inst.pin(name).map_err(e)? {
         return Ok(Some((p.value, p.hal_type, false)));
     }
     Ok(inst
-        .params()
+        .param(name)
         .map_err(e)?
-        .into_iter()
-        .find(|p| p.name == name || p.orig_name.as_deref() == Some(name))
         .map(|p| (p.value, p.hal_type, true)))
 }
 

@@ -466,18 +466,8 @@ impl<'o> Session<'o> {
     /// Links `pins` to `signal`, creating it with the first pin's type.
     /// Everything is checked before anything changes.
     fn connect(&mut self, signal: &str, pins: &[&str]) -> CmdResult {
-        let all = self.inst.pins().map_err(msg)?;
-        let find = |n: &str| {
-            all.iter()
-                .find(|p| p.name == n || p.orig_name.as_deref() == Some(n))
-        };
         // Check everything first, so that a failing net changes nothing.
-        let existing = self
-            .inst
-            .signals()
-            .map_err(msg)?
-            .into_iter()
-            .find(|s| s.name == signal);
+        let existing = self.inst.signal(signal).map_err(msg)?;
         let mut sig_type = existing.as_ref().map(|s| s.hal_type);
         let mut writer: Option<String> = existing.as_ref().and_then(|s| {
             s.pins
@@ -492,7 +482,11 @@ impl<'o> Session<'o> {
                 .map(|(n, _)| n.clone())
         });
         for p in pins {
-            let info = find(p).ok_or_else(|| format!("Pin '{p}' does not exist"))?;
+            let info = self
+                .inst
+                .pin(p)
+                .map_err(msg)?
+                .ok_or_else(|| format!("Pin '{p}' does not exist"))?;
             if let Some(s) = &info.signal {
                 if s != signal {
                     return Err(format!("Pin '{p}' was already linked to signal '{s}'"));
