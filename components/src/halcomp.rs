@@ -234,8 +234,7 @@ mod tests {
     use super::*;
 
     fn args(a: &[&str]) -> ModuleArgs {
-        let a: Vec<String> = a.iter().map(|s| s.to_string()).collect();
-        ModuleArgs::parse("conv_float_s32", PARAMS, &a).unwrap()
+        ModuleArgs::parse("conv_float_s32", PARAMS, a).unwrap()
     }
 
     #[test]

@@ -9,8 +9,7 @@ pub fn host() -> Host {
 
 /// Loads `def` with `args` into `host`.
 pub fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
-    let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-    host.loadrt(def, &args)
+    host.loadrt(def, args)
 }
 
 /// Names of every pin, sorted.

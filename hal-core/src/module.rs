@@ -53,10 +53,14 @@ pub struct ModuleArgs {
 impl ModuleArgs {
     /// Parses `key=value` words for `module` against `decls`. Every `"` is
     /// removed first, as LinuxCNC does.
-    pub fn parse(module: &str, decls: &[ParamDecl], args: &[String]) -> Result<ModuleArgs> {
+    pub fn parse<S: AsRef<str>>(
+        module: &str,
+        decls: &[ParamDecl],
+        args: &[S],
+    ) -> Result<ModuleArgs> {
         let mut out = ModuleArgs::default();
         for arg in args {
-            let arg = arg.replace('"', "");
+            let arg = arg.as_ref().replace('"', "");
             let bad = |param: &str, reason: String| HalError::ModuleParam {
                 module: module.to_string(),
                 param: param.to_string(),
@@ -282,8 +286,7 @@ mod tests {
     ];
 
     fn parse(args: &[&str]) -> Result<ModuleArgs> {
-        let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        ModuleArgs::parse("m", DECLS, &args)
+        ModuleArgs::parse("m", DECLS, args)
     }
 
     #[test]

@@ -18,8 +18,7 @@ fn loadrt(h: &Host, module: &str, args: &[&str]) -> Result<()> {
         .into_iter()
         .find(|d| d.name == module)
         .expect("module exists");
-    let v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-    h.loadrt(def, &v)
+    h.loadrt(def, args)
 }
 
 /// (name, type, dir) where dir is "IN", "OUT", "I/O" for pins and "RO",

@@ -1073,8 +1073,7 @@ mod tests {
         use hal_core::Value;
 
         fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
-            let a: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-            host.loadrt(def, &a)
+            host.loadrt(def, args)
         }
 
         fn pins(host: &Host) -> Vec<String> {

@@ -363,7 +363,7 @@ mod tests {
     #[test]
     fn loads_and_rejects_bad_params() {
         let h = super::super::test_host();
-        h.loadrt(&MODULE, &[]).unwrap();
+        h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert!(inst.pin_value("encoder-ratio.0.slave-teeth").is_ok());
         assert!(inst.pin_value("encoder-ratio.1.error").is_err());

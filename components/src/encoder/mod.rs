@@ -103,8 +103,7 @@ mod tests {
     use super::*;
 
     fn names(a: &[&str]) -> Result<Vec<String>> {
-        let a: Vec<String> = a.iter().map(|s| s.to_string()).collect();
-        let args = ModuleArgs::parse("encoder", CHANNEL_PARAMS, &a)?;
+        let args = ModuleArgs::parse("encoder", CHANNEL_PARAMS, a)?;
         channel_names("encoder", "encoder", 3, &args)
     }
 

@@ -417,7 +417,7 @@ mod tests {
     #[test]
     fn loads_with_defaults_and_rejects_bad_params() {
         let h = super::super::test_host();
-        h.loadrt(&MODULE, &[]).unwrap();
+        h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert_eq!(
             inst.pin_value("sim-encoder.0.ppr").unwrap(),

@@ -740,15 +740,10 @@ mod tests {
         assert_eq!(t.high_time, 5 * 2 * P);
     }
 
-    fn args(a: &[&str]) -> Vec<String> {
-        a.iter().map(|s| s.to_string()).collect()
-    }
-
     #[test]
     fn pins_follow_output_types() {
         let host = crate::testing::host();
-        host.loadrt(&MODULE, &args(&["output_type=0,1,2,-1,2"]))
-            .unwrap();
+        host.loadrt(&MODULE, &["output_type=0,1,2,-1,2"]).unwrap();
         let pins = pin_names(&host);
         let common = [
             "curr-dc",
@@ -794,7 +789,7 @@ mod tests {
             &["output_type=0,-2"],
             &["output_type=0,0,0,0,0,0,0,0,0"],
         ] {
-            let e = host.loadrt(&MODULE, &args(bad)).unwrap_err();
+            let e = host.loadrt(&MODULE, bad).unwrap_err();
             assert!(
                 matches!(&e, HalError::ModuleParam { param, .. } if param == "output_type"),
                 "{bad:?}: {e:?}"
@@ -802,7 +797,7 @@ mod tests {
             assert!(pin_names(&host).is_empty(), "{bad:?} left pins behind");
         }
         // An empty item is type 0.
-        host.loadrt(&MODULE, &args(&["output_type=,1"])).unwrap();
+        host.loadrt(&MODULE, &["output_type=,1"]).unwrap();
         assert!(pin_names(&host).contains(&"pwmgen.0.pwm".to_string()));
     }
 }

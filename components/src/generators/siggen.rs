@@ -297,14 +297,10 @@ mod tests {
         assert!(w.sawtooth < -1.0, "sawtooth leaves its range");
     }
 
-    fn args(a: &[&str]) -> Vec<String> {
-        a.iter().map(|s| s.to_string()).collect()
-    }
-
     #[test]
     fn channel_count_and_names() {
         let host = crate::testing::host();
-        host.loadrt(&MODULE, &args(&["num_chan=2"])).unwrap();
+        host.loadrt(&MODULE, &["num_chan=2"]).unwrap();
         let pins = pin_names(&host);
         assert!(pins.contains(&"siggen.1.cosine".to_string()));
         assert!(!pins.iter().any(|p| p.starts_with("siggen.2.")));
@@ -314,7 +310,7 @@ mod tests {
             "ten pins and update.time"
         );
         host.unloadrt("siggen").unwrap();
-        host.loadrt(&MODULE, &args(&["names=a,b.c"])).unwrap();
+        host.loadrt(&MODULE, &["names=a,b.c"]).unwrap();
         let pins = pin_names(&host);
         assert!(pins.contains(&"b.c.frequency".to_string()));
         assert!(pins.contains(&"a.update.time".to_string()));
@@ -323,10 +319,10 @@ mod tests {
             hal_core::Value::Float(1.0)
         );
         host.unloadrt("siggen").unwrap();
-        host.loadrt(&MODULE, &args(&["num_chan=0"])).unwrap();
+        host.loadrt(&MODULE, &["num_chan=0"]).unwrap();
         assert!(pin_names(&host).contains(&"siggen.0.sine".to_string()));
         host.unloadrt("siggen").unwrap();
-        host.loadrt(&MODULE, &args(&["num_chan=16"])).unwrap();
+        host.loadrt(&MODULE, &["num_chan=16"]).unwrap();
         assert!(pin_names(&host).contains(&"siggen.15.sine".to_string()));
     }
 
@@ -340,7 +336,7 @@ mod tests {
             &["names=a,,b"],
             &["names=a,b,c,d,e,f,g,h,i,j,k,l,m,n,o,p,q"],
         ] {
-            let e = host.loadrt(&MODULE, &args(bad)).unwrap_err();
+            let e = host.loadrt(&MODULE, bad).unwrap_err();
             assert!(
                 matches!(
                     e,
@@ -350,7 +346,7 @@ mod tests {
             );
             assert!(pin_names(&host).is_empty(), "{bad:?} left pins behind");
         }
-        let e = host.loadrt(&MODULE, &args(&["num_chan=17"])).unwrap_err();
+        let e = host.loadrt(&MODULE, &["num_chan=17"]).unwrap_err();
         assert!(e.to_string().contains("num_chan"), "{e}");
     }
 }

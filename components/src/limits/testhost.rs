@@ -15,8 +15,7 @@ pub fn host(tag: &str) -> Host {
 
 /// `loadrt <def> <args...>`.
 pub fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
-    let args: Vec<String> = args.iter().map(|a| a.to_string()).collect();
-    host.loadrt(def, &args)
+    host.loadrt(def, args)
 }
 
 /// The value of a pin.

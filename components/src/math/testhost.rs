@@ -24,8 +24,7 @@ impl TestHost {
 
     /// `loadrt def args...`.
     pub fn load(&self, def: &'static ModuleDef, args: &[&str]) -> hal_core::Result<()> {
-        let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        self.host.loadrt(def, &args)
+        self.host.loadrt(def, args)
     }
 
     /// Sorted names of every pin.

@@ -284,8 +284,7 @@ mod tests {
     }
 
     fn load_args(h: &Host, args: &[&str]) -> Result<()> {
-        let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        h.loadrt(&MODULE, &args)
+        h.loadrt(&MODULE, args)
     }
 
     #[test]

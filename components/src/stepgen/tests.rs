@@ -5,8 +5,7 @@ use super::model::Stepgen;
 use super::*;
 
 fn args(words: &[&str]) -> Result<ModuleArgs> {
-    let v: Vec<String> = words.iter().map(|s| s.to_string()).collect();
-    ModuleArgs::parse("stepgen", PARAMS, &v)
+    ModuleArgs::parse("stepgen", PARAMS, words)
 }
 
 fn config(words: &[&str]) -> Result<Vec<ChannelConfig>> {
@@ -299,8 +298,7 @@ mod hal {
     }
 
     fn load(h: &Host, words: &[&str]) -> Result<()> {
-        let v: Vec<String> = words.iter().map(|s| s.to_string()).collect();
-        h.loadrt(&MODULE, &v)
+        h.loadrt(&MODULE, words)
     }
 
     #[test]

@@ -420,7 +420,7 @@ fn bad_cfg_strings_are_refused_and_nothing_stays_loaded() {
 #[test]
 fn default_cfg_is_0x0278() {
     let host = host("default");
-    let e = host.loadrt(&hal_parport::MODULE, &[]);
+    let e = host.loadrt(&hal_parport::MODULE, &[] as &[&str]);
     // 0x278 without a Linux port is raw I/O; where ioperm is refused the
     // error names the port, where it works the port loads.
     match e {

@@ -689,7 +689,7 @@ impl Host {
     /// Loads a module (halcmd `loadrt`): parses `args` against its table
     /// and runs its `load`. On any error, every component and thread the
     /// load created is removed again.
-    pub fn loadrt(&self, def: &'static ModuleDef, args: &[String]) -> Result<()> {
+    pub fn loadrt<S: AsRef<str>>(&self, def: &'static ModuleDef, args: &[S]) -> Result<()> {
         if lock(&self.state).modules.contains(&def.name) {
             return Err(HalError::ModuleLoaded {
                 name: def.name.to_string(),

@@ -377,8 +377,7 @@ mod tests {
     }
 
     fn load(h: &Host, args: &[&str]) -> Result<()> {
-        let v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        h.loadrt(&MODULE, &v)
+        h.loadrt(&MODULE, args)
     }
 
     #[test]

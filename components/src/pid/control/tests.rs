@@ -712,8 +712,7 @@ mod hal {
     }
 
     fn load(host: &Host, args: &[&str]) -> Result<()> {
-        let args: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        host.loadrt(&MODULE, &args)
+        host.loadrt(&MODULE, args)
     }
 
     fn pin_names(host: &Host) -> Vec<String> {
