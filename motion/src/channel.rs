@@ -37,6 +37,7 @@ use hal_core::{HalError, Instance, Region, RingReader, RingWriter, SeqLockReader
 
 use crate::command::{Command, Direction, Reject};
 use crate::core::{MotionCore, MotionState, MAX_JOINTS};
+use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
 use crate::kins::{Pose, NUM_AXES};
 
 /// Name of the command ring region.
@@ -93,6 +94,9 @@ pub enum WireError {
     UnknownCode { code: u64 },
     /// The status snapshot's header is inconsistent.
     BadStatus,
+    /// A word that carries a whole number holds a fraction or a value out
+    /// of range.
+    BadInteger { index: usize },
 }
 
 impl WireError {
@@ -106,6 +110,7 @@ impl WireError {
             WireError::UnusedWordSet { index } => (6, index as u64),
             WireError::UnknownCode { code } => (7, code),
             WireError::BadStatus => (8, 0),
+            WireError::BadInteger { index } => (9, index as u64),
         }
     }
 
@@ -121,6 +126,9 @@ impl WireError {
             },
             7 => WireError::UnknownCode { code: detail },
             8 => WireError::BadStatus,
+            9 => WireError::BadInteger {
+                index: usize::try_from(detail).ok()?,
+            },
             _ => return None,
         })
     }
@@ -140,6 +148,9 @@ impl fmt::Display for WireError {
             WireError::UnusedWordSet { index } => write!(f, "unused word {index} is not zero"),
             WireError::UnknownCode { code } => write!(f, "unknown result code {code}"),
             WireError::BadStatus => f.write_str("inconsistent status snapshot"),
+            WireError::BadInteger { index } => {
+                write!(f, "word {index} does not hold a whole number in range")
+            }
         }
     }
 }
@@ -228,6 +239,43 @@ fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; NUM_AXES], usize) {
             let n = put(&pose.0);
             (24, None, a, n)
         }
+        Command::Home { joint } => (25, Some(joint), a, 0),
+        Command::Unhome { joint } => (26, Some(joint), a, 0),
+        Command::SetJointHomingParams { joint, config } => {
+            let n = put(&[
+                config.offset,
+                config.home,
+                config.final_vel,
+                config.search_vel,
+                config.latch_vel,
+                f64::from(config.flags.bits()),
+                f64::from(config.sequence),
+                if config.volatile_home { 1.0 } else { 0.0 },
+            ]);
+            (27, Some(joint), a, n)
+        }
+        Command::UpdateJointHomingParams {
+            joint,
+            offset,
+            home,
+            sequence,
+        } => {
+            let n = put(&[offset, home, f64::from(sequence)]);
+            (28, Some(joint), a, n)
+        }
+    }
+}
+
+/// The float arguments of `opcode` that carry integers, with their
+/// ranges: such an argument must be a whole number in range.
+fn integer_args(opcode: u64) -> &'static [(usize, f64, f64)] {
+    const U32: f64 = u32::MAX as f64;
+    const I32_MIN: f64 = i32::MIN as f64;
+    const I32_MAX: f64 = i32::MAX as f64;
+    match opcode {
+        27 => &[(5, 0.0, U32), (6, I32_MIN, I32_MAX), (7, 0.0, 1.0)],
+        28 => &[(2, I32_MIN, I32_MAX)],
+        _ => &[],
     }
 }
 
@@ -333,6 +381,36 @@ fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usi
             1,
         ),
         24 => c(Command::SetWorldHome { pose: Pose(*a) }, false, NUM_AXES),
+        25 => c(Command::Home { joint: j }, true, 0),
+        26 => c(Command::Unhome { joint: j }, true, 0),
+        // The integer arguments were checked by `decode_command`.
+        27 => c(
+            Command::SetJointHomingParams {
+                joint: j,
+                config: HomingConfig {
+                    offset: a[0],
+                    home: a[1],
+                    final_vel: a[2],
+                    search_vel: a[3],
+                    latch_vel: a[4],
+                    flags: HomeFlags::from_bits_retain(a[5] as u32),
+                    sequence: a[6] as i32,
+                    volatile_home: a[7] != 0.0,
+                },
+            },
+            true,
+            8,
+        ),
+        28 => c(
+            Command::UpdateJointHomingParams {
+                joint: j,
+                offset: a[0],
+                home: a[1],
+                sequence: a[2] as i32,
+            },
+            true,
+            3,
+        ),
         _ => None,
     }
 }
@@ -371,6 +449,12 @@ pub fn decode_command(w: &[u64; CMD_WORDS]) -> Result<(u64, Command), (u64, Wire
     let mut a = [0.0; NUM_AXES];
     for (i, v) in a.iter_mut().enumerate() {
         *v = f64::from_bits(w[ARGS + i]);
+    }
+    for &(i, lo, hi) in integer_args(w[2]) {
+        let v = a[i];
+        if !(v.fract() == 0.0 && v >= lo && v <= hi) {
+            return err(WireError::BadInteger { index: ARGS + i });
+        }
     }
     let Some((cmd, takes_joint, n)) = build(w[2], joint, &a) else {
         return err(WireError::UnknownOpcode { opcode: w[2] });
@@ -466,6 +550,18 @@ fn encode_reject(r: &Reject) -> (u64, [u64; 2], [f64; 3]) {
             (18, [c, d], [0.0; 3])
         }
         Reject::ActivateWhileEnabled { joint } => (19, [joint as u64, 0], [0.0; 3]),
+        Reject::HomingInhibited => (20, [0; 2], [0.0; 3]),
+        Reject::NothingToHome => (21, [0; 2], [0.0; 3]),
+        Reject::HomeSequenceGap { missing } => (22, [i(missing.into()), 0], [0.0; 3]),
+        Reject::AlreadyHomed { joint } => (23, [joint as u64, 0], [0.0; 3]),
+        Reject::SharedHomeSwitchClosed { joint } => (24, [joint as u64, 0], [0.0; 3]),
+        Reject::BadHomingConfig { joint, problem } => {
+            (25, [joint as u64, problem.code()], [0.0; 3])
+        }
+        Reject::SynchronizedJoint { joint } => (26, [joint as u64, 0], [0.0; 3]),
+        Reject::LockingIndexer { joint } => (27, [joint as u64, 0], [0.0; 3]),
+        Reject::NotFreeOrDisabled => (28, [0; 2], [0.0; 3]),
+        Reject::ExtraJointEnabled { joint } => (29, [joint as u64, 0], [0.0; 3]),
     }
 }
 
@@ -520,6 +616,21 @@ fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
             error: WireError::from_code(n[0], n[1])?,
         },
         19 => Reject::ActivateWhileEnabled { joint: joint()? },
+        20 => Reject::HomingInhibited,
+        21 => Reject::NothingToHome,
+        22 => Reject::HomeSequenceGap {
+            missing: i32::try_from(n[0] as i64).ok()?,
+        },
+        23 => Reject::AlreadyHomed { joint: joint()? },
+        24 => Reject::SharedHomeSwitchClosed { joint: joint()? },
+        25 => Reject::BadHomingConfig {
+            joint: joint()?,
+            problem: ConfigProblem::from_code(n[1])?,
+        },
+        26 => Reject::SynchronizedJoint { joint: joint()? },
+        27 => Reject::LockingIndexer { joint: joint()? },
+        28 => Reject::NotFreeOrDisabled,
+        29 => Reject::ExtraJointEnabled { joint: joint()? },
         _ => return None,
     })
 }
@@ -590,6 +701,8 @@ mod jflag {
     pub const HOMED: u64 = 256;
     pub const HOMING: u64 = 512;
     pub const JOGGING: u64 = 1024;
+    /// Bits 16..24 hold the homing state number.
+    pub const HOME_STATE_SHIFT: u32 = 16;
 }
 
 /// The last command the channel answered: its serial and result code.
@@ -639,8 +752,9 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
             | bit(s.following_error, jflag::FOLLOWING_ERROR)
             | bit(s.faulted, jflag::FAULTED)
             | bit(s.homed, jflag::HOMED)
-            | bit(s.homing, jflag::HOMING)
-            | bit(s.kb_jog_active, jflag::JOGGING);
+            | bit(core.joint_homing(j), jflag::HOMING)
+            | bit(s.kb_jog_active, jflag::JOGGING)
+            | ((core.home_state(j).number() as u64 & 0xff) << jflag::HOME_STATE_SHIFT);
         w[1] = s.pos_cmd.to_bits();
         w[2] = s.pos_fb.to_bits();
         w[3] = s.vel_cmd.to_bits();
@@ -669,6 +783,8 @@ pub struct JointState {
     pub homing: bool,
     /// A keyboard jog of this joint is active.
     pub jogging: bool,
+    /// The homing state (`joint.N.home-state`).
+    pub home_state: HomeState,
     /// Commanded position.
     pub pos_cmd: f64,
     /// Position feedback.
@@ -735,7 +851,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
             let b = STATUS_HEADER + j * JOINT_WORDS;
             let fl = w[b];
             let on = |m: u64| fl & m != 0;
-            JointState {
+            Ok(JointState {
                 active: on(jflag::ACTIVE),
                 amp_enabled: on(jflag::AMP_ENABLED),
                 in_position: on(jflag::IN_POSITION),
@@ -747,6 +863,8 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
                 homed: on(jflag::HOMED),
                 homing: on(jflag::HOMING),
                 jogging: on(jflag::JOGGING),
+                home_state: HomeState::from_number(((fl >> jflag::HOME_STATE_SHIFT) & 0xff) as i32)
+                    .ok_or(WireError::BadStatus)?,
                 pos_cmd: f(b + 1),
                 pos_fb: f(b + 2),
                 vel_cmd: f(b + 3),
@@ -754,9 +872,9 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
                 ferror_limit: f(b + 5),
                 min_limit: f(b + 6),
                 max_limit: f(b + 7),
-            }
+            })
         })
-        .collect();
+        .collect::<Result<Vec<_>, WireError>>()?;
     Ok(MotionStatus {
         enabled: h & flag::ENABLED != 0,
         mode,
@@ -802,6 +920,16 @@ pub fn result_name(code: u64) -> &'static str {
         17 => "rejected: unsupported",
         18 => "rejected: malformed",
         19 => "rejected: activate while enabled",
+        20 => "rejected: homing inhibited",
+        21 => "rejected: nothing to home",
+        22 => "rejected: home sequence gap",
+        23 => "rejected: already homed",
+        24 => "rejected: shared home switch closed",
+        25 => "rejected: bad homing configuration",
+        26 => "rejected: synchronised joint",
+        27 => "rejected: locking indexer",
+        28 => "rejected: not free or disabled",
+        29 => "rejected: extra joint enabled",
         _ => "unknown",
     }
 }
@@ -860,6 +988,10 @@ impl fmt::Display for MotionStatus {
                     flags.push(' ');
                     flags.push_str(name);
                 }
+            }
+            if j.home_state != HomeState::Idle {
+                flags.push_str(" home-state=");
+                flags.push_str(j.home_state.name());
             }
             writeln!(
                 f,

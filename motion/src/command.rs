@@ -6,6 +6,7 @@
 //! rejections are plain `Copy` data, so the realtime command handler can
 //! take and answer them without allocating.
 
+use crate::homing::{ConfigProblem, HomingConfig};
 use crate::kins::Pose;
 
 /// A command, as LinuxCNC's `EMCMOT_*` commands of the same names.
@@ -70,6 +71,25 @@ pub enum Command {
     /// The world pose used as the first guess of iterative forward
     /// kinematics.
     SetWorldHome { pose: Pose },
+    /// JOINT_HOME: home `joint` (its whole group if its HOME_SEQUENCE is
+    /// negative), or with −1 every joint in HOME_SEQUENCE order. Needs
+    /// free mode, motion enabled, `motion.homing-inhibit` false and no
+    /// homing in progress.
+    Home { joint: i32 },
+    /// JOINT_UNHOME: forget the reference of `joint`; −1 every active
+    /// joint, −2 the VOLATILE_HOME joints. Needs free mode or disabled,
+    /// and the joints standing still and not homing.
+    Unhome { joint: i32 },
+    /// SET_JOINT_HOMING_PARAMS: the whole homing configuration of `joint`.
+    SetJointHomingParams { joint: i32, config: HomingConfig },
+    /// UPDATE_JOINT_HOMING_PARAMS: HOME_OFFSET, HOME and HOME_SEQUENCE
+    /// only, allowed at run time (not while homing).
+    UpdateJointHomingParams {
+        joint: i32,
+        offset: f64,
+        home: f64,
+        sequence: i32,
+    },
 }
 
 /// Which way a jog would move.
@@ -137,6 +157,30 @@ pub enum Reject {
     /// A command read from the shared-memory channel was corrupt or of an
     /// unknown kind; it was not executed.
     Malformed { error: crate::channel::WireError },
+    /// `motion.homing-inhibit` is true.
+    HomingInhibited,
+    /// Home-all found no active joint with a HOME_SEQUENCE of 100 or less.
+    NothingToHome,
+    /// Home-all sequence numbers must start at 0 or 1 and have no gaps.
+    HomeSequenceGap { missing: i32 },
+    /// The joint is homed and may not be homed again (absolute encoder).
+    AlreadyHomed { joint: usize },
+    /// The joint's shared home switch is closed.
+    SharedHomeSwitchClosed { joint: usize },
+    /// The homing configuration cannot be used.
+    BadHomingConfig {
+        joint: usize,
+        problem: ConfigProblem,
+    },
+    /// The joint homes in a synchronised group: jogging it alone would
+    /// rack the gantry.
+    SynchronizedJoint { joint: usize },
+    /// The joint is a locking indexer; it only moves by homing.
+    LockingIndexer { joint: usize },
+    /// Unhoming needs free mode or motion disabled.
+    NotFreeOrDisabled,
+    /// An extra joint may only be unhomed while motion is disabled.
+    ExtraJointEnabled { joint: usize },
 }
 
 impl std::fmt::Display for Reject {
@@ -192,6 +236,37 @@ impl std::fmt::Display for Reject {
             }
             Reject::Unsupported { what } => write!(f, "not supported: {what}"),
             Reject::Malformed { error } => write!(f, "malformed command: {error}"),
+            Reject::HomingInhibited => f.write_str("homing is inhibited by motion.homing-inhibit"),
+            Reject::NothingToHome => f.write_str(
+                "no active joint has a HOME_SEQUENCE for home-all (0 to 100, or -1 to -100)",
+            ),
+            Reject::HomeSequenceGap { missing } => write!(
+                f,
+                "home-all sequence numbers must start at 0 or 1 and have no gaps: no joint has sequence {missing}"
+            ),
+            Reject::AlreadyHomed { joint } => write!(
+                f,
+                "joint {joint} is homed and must not be homed again (absolute encoder); unhome it first"
+            ),
+            Reject::SharedHomeSwitchClosed { joint } => {
+                write!(f, "can't home joint {joint} while its shared home switch is closed")
+            }
+            Reject::BadHomingConfig { joint, problem } => {
+                write!(f, "homing configuration of joint {joint}: {problem}")
+            }
+            Reject::SynchronizedJoint { joint } => write!(
+                f,
+                "can't jog joint {joint} alone: its HOME_SEQUENCE is synchronised (negative)"
+            ),
+            Reject::LockingIndexer { joint } => {
+                write!(f, "can't jog joint {joint}: it is a locking indexer")
+            }
+            Reject::NotFreeOrDisabled => {
+                f.write_str("must be in joint (free) mode or disabled to unhome")
+            }
+            Reject::ExtraJointEnabled { joint } => {
+                write!(f, "extra joint {joint} can only be unhomed while motion is disabled")
+            }
         }
     }
 }

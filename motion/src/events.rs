@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering::*};
 use std::sync::Mutex;
 
 use crate::command::Direction;
+use crate::homing::{HomeFault, HomeState};
 
 /// Something the controller reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -32,6 +33,12 @@ pub enum Event {
     ProbeTrippedDuringJog,
     /// Switching kinematics (`motion.switchkins-type`) failed.
     KinsSwitchFailed { kins_type: i32 },
+    /// Homing of `joint` failed in `state`; the sequence was aborted.
+    HomingAborted {
+        joint: usize,
+        fault: HomeFault,
+        state: HomeState,
+    },
 }
 
 impl std::fmt::Display for Event {
@@ -58,6 +65,14 @@ impl std::fmt::Display for Event {
             Event::KinsSwitchFailed { kins_type } => {
                 write!(f, "kinematics switch to type {kins_type} failed")
             }
+            Event::HomingAborted {
+                joint,
+                fault,
+                state,
+            } => write!(
+                f,
+                "homing of joint {joint} aborted in state {state}: {fault}"
+            ),
         }
     }
 }
@@ -77,6 +92,15 @@ impl Event {
             Event::JogStopped { immediate } => (8, 0, u64::from(immediate)),
             Event::ProbeTrippedDuringJog => (9, 0, 0),
             Event::KinsSwitchFailed { kins_type } => (10, 0, kins_type as u32 as u64),
+            Event::HomingAborted {
+                joint,
+                fault,
+                state,
+            } => (
+                11,
+                joint as u64,
+                (fault.code() << 8) | state.number() as u64,
+            ),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -103,6 +127,11 @@ impl Event {
             9 => Event::ProbeTrippedDuringJog,
             10 => Event::KinsSwitchFailed {
                 kins_type: b as u32 as i32,
+            },
+            11 => Event::HomingAborted {
+                joint: a,
+                fault: HomeFault::from_code(b >> 8)?,
+                state: HomeState::from_number((b & 0xff) as i32)?,
             },
             _ => return None,
         })
@@ -205,6 +234,16 @@ mod tests {
             Event::JogStopped { immediate: false },
             Event::ProbeTrippedDuringJog,
             Event::KinsSwitchFailed { kins_type: -2 },
+            Event::HomingAborted {
+                joint: 15,
+                fault: HomeFault::SwitchActiveBeforeLatch,
+                state: HomeState::RiseSearchStart,
+            },
+            Event::HomingAborted {
+                joint: 0,
+                fault: HomeFault::ProbeTripped,
+                state: HomeState::Abort,
+            },
         ];
         let r = EventRing::default();
         for e in all {

@@ -66,6 +66,8 @@ pub struct JointInputs {
     pub jog_accel_fraction: f64,
     /// `joint.N.posthome-cmd` (extra joints only).
     pub posthome_cmd: f64,
+    /// `joint.N.is-unlocked` (locking indexers only).
+    pub is_unlocked: bool,
 }
 
 impl Default for JointInputs {
@@ -83,6 +85,7 @@ impl Default for JointInputs {
             jog_vel_mode: false,
             jog_accel_fraction: 1.0,
             posthome_cmd: 0.0,
+            is_unlocked: false,
         }
     }
 }
@@ -274,10 +277,16 @@ impl Joint {
     /// Reads the feedback and switches of an active joint: joint
     /// feedback (6) from motor feedback (5), following error against the
     /// previous cycle's command and its speed-scaled limit, the hard-limit
-    /// and amp-fault flags.
-    pub(crate) fn process_inputs(&mut self, inp: &JointInputs) {
+    /// and amp-fault flags. In the cycle homing sees the index
+    /// (`index_hit`) the raw count may have jumped, so the feedback is
+    /// taken to equal the command; homing corrects it right after.
+    pub(crate) fn process_inputs(&mut self, inp: &JointInputs, index_hit: bool) {
         self.motor_pos_fb = inp.motor_pos_fb;
-        self.pos_fb = self.motor_pos_fb - (self.backlash_filt + self.motor_offset);
+        self.pos_fb = if index_hit {
+            self.pos_cmd
+        } else {
+            self.motor_pos_fb - (self.backlash_filt + self.motor_offset)
+        };
         self.ferror = self.pos_cmd - self.pos_fb;
         let abs_ferror = self.ferror.abs();
         if abs_ferror > self.ferror_high_mark {
@@ -414,10 +423,13 @@ mod tests {
         j.motor_offset = 2.0;
         j.backlash_filt = 0.25;
         j.pos_cmd = 1.0;
-        j.process_inputs(&JointInputs {
-            motor_pos_fb: 3.5,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                motor_pos_fb: 3.5,
+                ..Default::default()
+            },
+            false,
+        );
         assert_eq!(j.pos_fb, 3.5 - (0.25 + 2.0));
         assert_eq!(j.ferror, 1.0 - 1.25);
         assert_eq!(j.ferror_high_mark, 0.25);
@@ -431,34 +443,46 @@ mod tests {
         j.cfg.min_ferror = 0.01;
         j.vel_cmd = -4.0;
         j.pos_cmd = 0.0;
-        j.process_inputs(&JointInputs {
-            motor_pos_fb: 0.19,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                motor_pos_fb: 0.19,
+                ..Default::default()
+            },
+            false,
+        );
         assert_eq!(j.ferror_limit, 0.5 * 4.0 / 10.0);
         assert!(!j.ferror_flag);
-        j.process_inputs(&JointInputs {
-            motor_pos_fb: 0.2000001,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                motor_pos_fb: 0.2000001,
+                ..Default::default()
+            },
+            false,
+        );
         assert!(j.ferror_flag, "over the limit trips");
         // At rest the limit is the minimum.
         j.vel_cmd = 0.0;
-        j.process_inputs(&JointInputs {
-            motor_pos_fb: 0.009,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                motor_pos_fb: 0.009,
+                ..Default::default()
+            },
+            false,
+        );
         assert_eq!(j.ferror_limit, 0.01);
         assert!(!j.ferror_flag);
-        j.process_inputs(&JointInputs {
-            motor_pos_fb: -0.011,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                motor_pos_fb: -0.011,
+                ..Default::default()
+            },
+            false,
+        );
         assert!(j.ferror_flag);
         // No velocity limit: the minimum applies.
         j.cfg.vel_limit = 0.0;
         j.vel_cmd = 100.0;
-        j.process_inputs(&JointInputs::default());
+        j.process_inputs(&JointInputs::default(), false);
         assert_eq!(j.ferror_limit, 0.01);
         assert_eq!(j.ferror_high_mark, 0.2000001);
     }
@@ -466,16 +490,22 @@ mod tests {
     #[test]
     fn switches_and_fault_follow_the_inputs() {
         let mut j = active();
-        j.process_inputs(&JointInputs {
-            pos_lim_sw: true,
-            amp_fault: true,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                pos_lim_sw: true,
+                amp_fault: true,
+                ..Default::default()
+            },
+            false,
+        );
         assert!(j.phl && !j.nhl && j.fault);
-        j.process_inputs(&JointInputs {
-            neg_lim_sw: true,
-            ..Default::default()
-        });
+        j.process_inputs(
+            &JointInputs {
+                neg_lim_sw: true,
+                ..Default::default()
+            },
+            false,
+        );
         assert!(!j.phl && j.nhl && !j.fault);
     }
 

@@ -8,6 +8,7 @@
 //! * [`core`]: the controller itself, independent of HAL: joints, the
 //!   enable state machine, free-mode jogs, limits, following error, faults.
 //! * [`simple_tp`]: the single-axis trapezoidal planner.
+//! * [`homing`]: the homing state machines and the sequence manager.
 //! * [`command`], [`events`], [`mailbox`], [`registry`]: commands and their
 //!   results, reported messages, the command hand-off, and how modules of
 //!   one instance find each other.
@@ -19,6 +20,7 @@ pub mod channel;
 pub mod command;
 pub mod core;
 pub mod events;
+pub mod homing;
 pub mod joint;
 pub mod kins;
 pub mod mailbox;

@@ -871,6 +871,9 @@ impl HalIo {
             if let Some(p) = &jp.posthome_cmd {
                 ji.posthome_cmd = p.get();
             }
+            if let Some((_, is_unlocked)) = &jp.unlock {
+                ji.is_unlocked = is_unlocked.get();
+            }
         }
     }
 
@@ -923,13 +926,15 @@ impl HalIo {
             jp.neg_hard_limit.set(jt.nhl);
             jp.f_errored.set(jt.ferror_flag);
             jp.faulted.set(jt.fault);
-            jp.homing.set(jt.homing);
+            jp.homing.set(core.joint_homing(j));
             jp.homed.set(jt.homed);
-            jp.home_state.set(0);
+            jp.home_state.set(core.home_state(j).number());
+            // Only the edges: the encoder drives the same signal.
+            if let Some(v) = core.index_enable_drive(j) {
+                jp.index_enable.set(v);
+            }
             if let Some((unlock, _)) = &jp.unlock {
-                if !enabled {
-                    unlock.set(false);
-                }
+                unlock.set(enabled && core.unlock_output(j));
             }
         }
         let (pose, _) = core.carte_pos_cmd();

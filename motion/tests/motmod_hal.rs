@@ -781,3 +781,75 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
     assert!(!s.enabled, "the corrupt ENABLE did not run");
     h.stop();
 }
+
+#[test]
+fn homing_on_the_index_through_hal_pins() {
+    let h = host("home");
+    loadrt(&h, "trivkins", &["coordinates=x"]).unwrap();
+    loadrt(&h, "motmod", &["num_joints=1", "servo_period_nsec=1000000"]).unwrap();
+    let inst = h.instance();
+    inst.newsig("j0-pos", HalType::Float).unwrap();
+    inst.link("joint.0.motor-pos-cmd", "j0-pos").unwrap();
+    inst.link("joint.0.motor-pos-fb", "j0-pos").unwrap();
+    // The encoder's side of the index handshake is this test.
+    inst.newsig("j0-index", HalType::Bit).unwrap();
+    inst.link("joint.0.index-enable", "j0-index").unwrap();
+    let m = MotionHandle::attach(inst.name()).unwrap();
+    h.addf("motion-command-handler", "servo-thread", -1)
+        .unwrap();
+    h.addf("motion-controller", "servo-thread", -1).unwrap();
+    h.start().unwrap();
+    for c in [
+        Command::JointActivate { joint: 0 },
+        Command::SetJointPositionLimits {
+            joint: 0,
+            min: -10.0,
+            max: 10.0,
+        },
+        Command::SetJointVelLimit {
+            joint: 0,
+            vel: 20.0,
+        },
+        Command::SetJointAccLimit {
+            joint: 0,
+            acc: 500.0,
+        },
+        Command::SetJointHomingParams {
+            joint: 0,
+            config: motion::homing::HomingConfig {
+                offset: 2.0,
+                home: 3.0,
+                latch_vel: 1.0,
+                flags: motion::homing::HomeFlags::USE_INDEX,
+                sequence: 0,
+                ..Default::default()
+            },
+        },
+        Command::Enable,
+    ] {
+        m.command(c).unwrap();
+    }
+    wait_for("motion enabled", || bit(&h, "motion.motion-enabled"));
+    m.command(Command::Home { joint: 0 }).unwrap();
+    wait_for("the index to be armed", || bit(&h, "joint.0.index-enable"));
+    let state = |h: &Host| match h.instance().pin_value("joint.0.home-state").unwrap() {
+        Value::S32(v) => v,
+        v => panic!("{v:?}"),
+    };
+    assert_eq!(state(&h), 18, "INDEX_SEARCH_WAIT");
+    assert!(bit(&h, "joint.0.homing") && !bit(&h, "joint.0.homed"));
+    wait_for("the latch move", || float(&h, "joint.0.vel-cmd") > 0.5);
+    // The encoder sees the index: it restarts its count and clears the
+    // signal (here the count is the command, so zero it too).
+    inst.set_signal("j0-index", Value::Bit(false)).unwrap();
+    wait_for("homing to finish", || {
+        bit(&h, "joint.0.homed") && !bit(&h, "joint.0.homing")
+    });
+    assert_eq!(state(&h), 0);
+    wait_for("the final move", || bit(&h, "motion.in-position"));
+    assert_eq!(float(&h, "joint.0.pos-cmd"), 3.0);
+    assert!(!bit(&h, "joint.0.index-enable"), "nothing re-armed it");
+    assert!(bit(&h, "motion.is-all-homed"));
+    assert!(m.events().is_empty());
+    h.stop();
+}

@@ -69,6 +69,35 @@ fn all_commands() -> Vec<Command> {
             joint: i32::MIN,
             vel: f64::INFINITY,
         },
+        Command::Home { joint: -1 },
+        Command::Unhome { joint: -2 },
+        Command::SetJointHomingParams {
+            joint: 2,
+            config: HomingConfig {
+                offset: 1.5,
+                home: -2.25,
+                final_vel: 3.0,
+                search_vel: -4.0,
+                latch_vel: 0.5,
+                flags: HomeFlags::USE_INDEX | HomeFlags::IGNORE_LIMITS,
+                sequence: -3,
+                volatile_home: true,
+            },
+        },
+        Command::SetJointHomingParams {
+            joint: 0,
+            config: HomingConfig {
+                flags: HomeFlags::all(),
+                sequence: i32::MIN,
+                ..HomingConfig::default()
+            },
+        },
+        Command::UpdateJointHomingParams {
+            joint: 1,
+            offset: 0.1,
+            home: 0.2,
+            sequence: i32::MAX,
+        },
     ]
 }
 
@@ -82,11 +111,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_24_is_used() {
+fn every_opcode_from_1_to_28_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(|c| shape(c).0).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=24).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=28).collect::<Vec<_>>());
 }
 
 #[test]
@@ -120,7 +149,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 25, 1000, u64::MAX] {
+    for op in [0u64, 29, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(
@@ -146,6 +175,31 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
         assert_eq!(
             decode_command(&seal(w)),
             Err((9, WireError::UnusedWordSet { index }))
+        );
+    }
+    // Words carrying whole numbers must hold them.
+    let homing = encode_command(
+        9,
+        &Command::SetJointHomingParams {
+            joint: 0,
+            config: HomingConfig::default(),
+        },
+    );
+    for (index, v) in [
+        (9, 0.5),
+        (9, -1.0),
+        (9, 4294967296.0),
+        (10, 2147483648.0),
+        (10, f64::NAN),
+        (11, 2.0),
+        (11, 0.25),
+    ] {
+        let mut w = homing;
+        w[index] = f64::to_bits(v);
+        assert_eq!(
+            decode_command(&seal(w)),
+            Err((9, WireError::BadInteger { index })),
+            "{v}"
         );
     }
     // Random words never panic.
@@ -201,7 +255,22 @@ fn all_rejects() -> Vec<Reject> {
         Reject::LimitsReversed { min: 1.0, max: 0.0 },
         Reject::Timeout,
         Reject::ActivateWhileEnabled { joint: 1 },
+        Reject::HomingInhibited,
+        Reject::NothingToHome,
+        Reject::HomeSequenceGap { missing: 2 },
+        Reject::AlreadyHomed { joint: 1 },
+        Reject::SharedHomeSwitchClosed { joint: 2 },
+        Reject::SynchronizedJoint { joint: 0 },
+        Reject::LockingIndexer { joint: 3 },
+        Reject::NotFreeOrDisabled,
+        Reject::ExtraJointEnabled { joint: 4 },
     ];
+    for code in 1..=7 {
+        v.push(Reject::BadHomingConfig {
+            joint: 1,
+            problem: ConfigProblem::from_code(code).unwrap(),
+        });
+    }
     for what in WHATS {
         v.push(Reject::BadValue { what, value: -1.0 });
         v.push(Reject::Unsupported { what });
@@ -215,6 +284,7 @@ fn all_rejects() -> Vec<Reject> {
         WireError::UnusedWordSet { index: 7 },
         WireError::UnknownCode { code: 77 },
         WireError::BadStatus,
+        WireError::BadInteger { index: 10 },
     ] {
         v.push(Reject::Malformed { error });
     }
@@ -251,7 +321,7 @@ fn status_snapshot_decodes_and_validates_its_header() {
     w[3] = flag::ENABLED | flag::IN_POSITION;
     w[5] = 42;
     w[7] = 0.5f64.to_bits();
-    w[STATUS_HEADER] = jflag::ACTIVE | jflag::AMP_ENABLED;
+    w[STATUS_HEADER] = jflag::ACTIVE | jflag::AMP_ENABLED | (7 << jflag::HOME_STATE_SHIFT);
     w[STATUS_HEADER + 1] = 1.25f64.to_bits();
     let s = decode_status(&w).unwrap();
     assert!(s.enabled && s.in_position && !s.error);
@@ -259,7 +329,10 @@ fn status_snapshot_decodes_and_validates_its_header() {
     assert_eq!(s.joints.len(), 2);
     assert!(s.joints[0].active && s.joints[0].amp_enabled && !s.joints[1].active);
     assert_eq!(s.joints[0].pos_cmd, 1.25);
+    assert_eq!(s.joints[0].home_state, HomeState::InitialSearchWait);
+    assert_eq!(s.joints[1].home_state, HomeState::Idle);
     let text = s.to_string();
+    assert!(text.contains("home-state=INITIAL_SEARCH_WAIT"), "{text}");
     assert!(text.contains("mode FREE  enabled yes"), "{text}");
     assert!(text.contains("last command: serial 42 accepted"), "{text}");
 
@@ -276,4 +349,7 @@ fn status_snapshot_decodes_and_validates_its_header() {
     bad[2] = 7;
     assert_eq!(decode_status(&bad), Err(WireError::BadStatus));
     assert_eq!(decode_status(&w[..10]), Err(WireError::BadStatus));
+    let mut bad = w;
+    bad[STATUS_HEADER] |= 26 << jflag::HOME_STATE_SHIFT;
+    assert_eq!(decode_status(&bad), Err(WireError::BadStatus));
 }

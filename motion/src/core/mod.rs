@@ -44,6 +44,7 @@ use std::sync::Arc;
 
 use crate::command::{Command, CommandResult, Direction, Reject};
 use crate::events::{Event, EventRing};
+use crate::homing::{HomeFault, HomeFlags, HomeState, Homing, HomingConfig};
 use crate::joint::{Joint, JointInputs, JointStatus};
 use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose};
 
@@ -184,7 +185,8 @@ pub struct MotionCore {
     scale: f64,
     net_feed_scale: f64,
     enables_new: u8,
-    homing_active: bool,
+    /// The homing state machines and sequence manager.
+    homing: Homing,
     /// Whether jog moves since the last queued move unhome all joints
     /// (inverse-only kinematics).
     rehome_all: bool,
@@ -255,7 +257,7 @@ impl MotionCore {
             scale: 1.0,
             net_feed_scale: 1.0,
             enables_new: FS_ENABLED | SS_ENABLED | FH_ENABLED,
-            homing_active: false,
+            homing: Homing::new(cfg.num_joints),
             rehome_all: false,
             wheel_first_pass: true,
             old_probe: false,
@@ -361,7 +363,40 @@ impl MotionCore {
 
     /// Whether homing is in progress.
     pub fn homing_active(&self) -> bool {
-        self.homing_active
+        self.homing.is_active()
+    }
+
+    /// Joint `j`'s homing state (`joint.N.home-state`).
+    ///
+    /// # Panics
+    /// If `j` is not a joint number.
+    pub fn home_state(&self, j: usize) -> HomeState {
+        self.homing.joints[j].state
+    }
+
+    /// Joint `j`'s published `homing` flag: true while it homes, and
+    /// while the sequence it belongs to still runs (so a client does not
+    /// send a new HOME that would be refused).
+    pub fn joint_homing(&self, j: usize) -> bool {
+        self.joints[j].homing || self.homing.in_sequence(j)
+    }
+
+    /// Joint `j`'s homing configuration.
+    pub fn homing_config(&self, j: usize) -> HomingConfig {
+        self.homing.joints[j].cfg
+    }
+
+    /// What to write to joint `j`'s `index-enable` this cycle: only the
+    /// edges of homing's request, because the encoder drives the same
+    /// signal.
+    pub fn index_enable_drive(&self, j: usize) -> Option<bool> {
+        self.homing.joints[j].index_drive
+    }
+
+    /// Joint `j`'s `unlock` output (locking indexers); false while
+    /// disabled.
+    pub fn unlock_output(&self, j: usize) -> bool {
+        self.enabled && self.homing.joints[j].unlock
     }
 
     /// Whether every active joint is homed.
@@ -386,6 +421,12 @@ impl MotionCore {
     /// Requests the disabled state without a command (the safe-state hook).
     pub fn force_disable(&mut self) {
         self.enabling = false;
+    }
+
+    /// Every homing state joint `j` has entered.
+    #[cfg(test)]
+    pub(crate) fn homing_trace(&self, j: usize) -> &[HomeState] {
+        &self.homing.joints[j].trace
     }
 
     /// Marks joint `j` homed or not, as the homing state machine will.
@@ -438,11 +479,9 @@ impl MotionCore {
     pub fn command(&mut self, cmd: &Command) -> CommandResult {
         match *cmd {
             Command::Abort => {
+                self.homing.abort(&mut self.joints);
                 for j in &mut self.joints {
                     j.free_tp.enable = false;
-                    if j.homing {
-                        j.homing = false;
-                    }
                     j.error = false;
                     j.fault = false;
                 }
@@ -523,11 +562,11 @@ impl MotionCore {
             }
             Command::JogAbort { joint } => {
                 let j = self.joint_index(joint)?;
+                self.homing.cancel_joint(j, &mut self.joints);
                 let jt = &mut self.joints[j];
                 jt.free_tp.enable = false;
                 jt.kb_jog_active = false;
                 jt.wheel_jog_active = false;
-                jt.homing = false;
                 jt.error = false;
                 Ok(())
             }
@@ -543,6 +582,9 @@ impl MotionCore {
             }
             Command::JointDeactivate { joint } => {
                 let j = self.joint_index(joint)?;
+                if self.homing.in_sequence(j) {
+                    return Err(Reject::HomingActive);
+                }
                 let jt = &mut self.joints[j];
                 if jt.free_tp.active {
                     return Err(Reject::JointMoving { joint: j });
@@ -646,7 +688,112 @@ impl MotionCore {
                 self.world_home = pose;
                 Ok(())
             }
+            Command::Home { joint } => self.home(joint),
+            Command::Unhome { joint } => self.unhome(joint),
+            Command::SetJointHomingParams { joint, config } => {
+                let j = self.joint_index(joint)?;
+                config
+                    .check()
+                    .map_err(|problem| Reject::BadHomingConfig { joint: j, problem })?;
+                if self.homing.is_active() {
+                    return Err(Reject::HomingActive);
+                }
+                self.homing.joints[j].cfg = config;
+                Ok(())
+            }
+            Command::UpdateJointHomingParams {
+                joint,
+                offset,
+                home,
+                sequence,
+            } => {
+                let j = self.joint_index(joint)?;
+                let config = HomingConfig {
+                    offset,
+                    home,
+                    sequence,
+                    ..self.homing.joints[j].cfg
+                };
+                config
+                    .check()
+                    .map_err(|problem| Reject::BadHomingConfig { joint: j, problem })?;
+                if self.homing.is_active() {
+                    return Err(Reject::HomingActive);
+                }
+                self.homing.joints[j].cfg = config;
+                Ok(())
+            }
         }
+    }
+
+    /// JOINT_HOME with its requirements, in LinuxCNC's order.
+    fn home(&mut self, joint: i32) -> CommandResult {
+        if joint != -1 {
+            self.joint_index(joint)?;
+        }
+        if !self.enabled {
+            return Err(Reject::NotEnabled);
+        }
+        if self.state != MotionState::Free {
+            return Err(Reject::NotFreeMode);
+        }
+        if self.inputs.homing_inhibit {
+            return Err(Reject::HomingInhibited);
+        }
+        if self.homing.is_active() {
+            return Err(Reject::HomingActive);
+        }
+        self.homing.request(joint, &mut self.joints)
+    }
+
+    /// JOINT_UNHOME: one joint, every active joint (−1) or the volatile
+    /// ones (−2); for −1 and −2 all or nothing.
+    fn unhome(&mut self, joint: i32) -> CommandResult {
+        if !matches!(self.state, MotionState::Free | MotionState::Disabled) {
+            return Err(Reject::NotFreeOrDisabled);
+        }
+        let volatile_only = match joint {
+            -1 => false,
+            -2 => true,
+            _ => {
+                let j = self.joint_index(joint)?;
+                let jt = &self.joints[j];
+                if !jt.active {
+                    return Err(Reject::JointInactive { joint: j });
+                }
+                if jt.homing || self.homing.in_sequence(j) {
+                    return Err(Reject::HomingActive);
+                }
+                if jt.free_tp.active {
+                    return Err(Reject::JointMoving { joint: j });
+                }
+                if j >= self.kins_joints && self.enabled {
+                    return Err(Reject::ExtraJointEnabled { joint: j });
+                }
+                self.joints[j].homed = false;
+                return Ok(());
+            }
+        };
+        let chosen = |j: usize, jt: &Joint, homing: &Homing| {
+            jt.active && (!volatile_only || homing.joints[j].cfg.volatile_home)
+        };
+        for (j, jt) in self.joints.iter().enumerate() {
+            if !chosen(j, jt, &self.homing) {
+                continue;
+            }
+            if jt.homing || self.homing.in_sequence(j) {
+                return Err(Reject::HomingActive);
+            }
+            if jt.free_tp.active {
+                return Err(Reject::JointMoving { joint: j });
+            }
+        }
+        for j in 0..self.joints.len() {
+            if chosen(j, &self.joints[j], &self.homing) {
+                self.joints[j].homed = false;
+            }
+        }
+        Ok(())
     }
 
     /// The requirements every free-mode jog shares; returns the joint.
@@ -667,11 +814,18 @@ impl MotionCore {
         if self.inputs.jog_inhibit {
             return Err(Reject::JogInhibited);
         }
-        if self.homing_active {
+        if self.homing.is_active() {
             return Err(Reject::HomingActive);
         }
         if self.joints[j].wheel_jog_active {
             return Err(Reject::WheelJogActive { joint: j });
+        }
+        let flags = self.homing.joints[j].cfg.flags;
+        if flags.contains(HomeFlags::UNLOCK_FIRST) {
+            return Err(Reject::LockingIndexer { joint: j });
+        }
+        if self.homing.joints[j].cfg.is_synchronized() {
+            return Err(Reject::SynchronizedJoint { joint: j });
         }
         Ok(j)
     }
@@ -745,16 +899,26 @@ impl MotionCore {
         self.check_for_faults();
         self.set_operating_mode();
         self.handle_jog_wheels();
+        if self.state == MotionState::Free {
+            self.homing.run(&mut self.joints, period, &self.events);
+        }
         self.get_pos_cmds(period);
         self.compute_backlash(period);
         self.motor_commands();
+        self.homing.update_outputs();
         self.heartbeat = self.heartbeat.wrapping_add(1);
     }
 
     fn latch_homing_inputs(&mut self) {
-        for (jt, inp) in self.joints.iter_mut().zip(&self.joint_inputs) {
+        for ((jt, jh), inp) in self
+            .joints
+            .iter_mut()
+            .zip(&mut self.homing.joints)
+            .zip(&self.joint_inputs)
+        {
             jt.home_sw = inp.home_sw;
             jt.index_enable = inp.index_enable;
+            jh.is_unlocked = inp.is_unlocked;
         }
     }
 
@@ -798,11 +962,19 @@ impl MotionCore {
         }
         self.net_feed_scale = scale;
 
-        for (jt, inp) in self.joints.iter_mut().zip(&self.joint_inputs) {
+        for ((jt, jh), inp) in self
+            .joints
+            .iter_mut()
+            .zip(&self.homing.joints)
+            .zip(&self.joint_inputs)
+        {
             if !jt.active {
                 continue;
             }
-            jt.process_inputs(inp);
+            // In the cycle the encoder reports the index its count may
+            // have jumped: homing re-derives the feedback right after.
+            let index_hit = jh.index_seen(jt);
+            jt.process_inputs(inp, index_hit);
         }
         self.extra_joints_ferror();
 
@@ -879,6 +1051,16 @@ impl MotionCore {
     /// free mode).
     fn process_probe(&mut self) {
         let probe = self.inputs.probe_input;
+        if probe && !self.old_probe && self.homing.is_active() {
+            if let Some(joint) = (0..self.joints.len()).find(|&j| self.joints[j].homing) {
+                self.events.push(Event::HomingAborted {
+                    joint,
+                    fault: HomeFault::ProbeTripped,
+                    state: self.homing.joints[joint].state,
+                });
+            }
+            self.homing.abort(&mut self.joints);
+        }
         if probe && !self.old_probe {
             let mut stopped = false;
             for jt in &mut self.joints {
@@ -944,23 +1126,23 @@ impl MotionCore {
 
     fn set_operating_mode(&mut self) {
         if !self.enabling && self.enabled {
+            self.homing.abort(&mut self.joints);
             for jt in &mut self.joints {
                 jt.free_tp.enable = false;
                 jt.free_tp.curr_vel = 0.0;
                 if jt.active {
                     jt.inpos = true;
                     jt.enabled = false;
-                    jt.homing = false;
                 }
             }
             self.enabled = false;
         }
         if self.enabling && !self.enabled {
+            self.homing.abort(&mut self.joints);
             for jt in &mut self.joints {
                 jt.free_tp.curr_pos = jt.pos_cmd;
                 if jt.active {
                     jt.enabled = true;
-                    jt.homing = false;
                 }
                 jt.error = false;
             }
@@ -989,10 +1171,14 @@ impl MotionCore {
             if first || delta == 0 || !jt.active {
                 continue;
             }
-            if self.state != MotionState::Free || !inp.jog_enable || self.homing_active {
+            if self.state != MotionState::Free || !inp.jog_enable || self.homing.is_active() {
                 continue;
             }
             if jt.kb_jog_active {
+                continue;
+            }
+            let hcfg = &self.homing.joints[j].cfg;
+            if hcfg.flags.contains(HomeFlags::UNLOCK_FIRST) || hcfg.is_synchronized() {
                 continue;
             }
             if self.net_feed_scale < 0.0001 {

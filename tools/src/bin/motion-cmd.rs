@@ -6,6 +6,7 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
+use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::{Pose, NUM_AXES};
 use motion::{Command, MotionClient};
 
@@ -40,6 +41,11 @@ joints:
   jog-incr JOINT VEL DISTANCE   jog DISTANCE (>= 0) in the direction of VEL
   jog-abs JOINT VEL POSITION    jog to POSITION at speed |VEL|
   jog-abort JOINT               stop the jog of JOINT
+  home JOINT                    home JOINT (its group if its HOME_SEQUENCE
+                                is negative); JOINT -1: home all joints in
+                                HOME_SEQUENCE order
+  unhome JOINT                  forget the home of JOINT; -1 every joint,
+                                -2 the VOLATILE_HOME joints
 
 configuration:
   set-limits JOINT MIN MAX      soft position limits
@@ -51,6 +57,18 @@ configuration:
   set-motor-offset JOINT VALUE  homing offset (motor = joint + offset)
   set-world-home X Y Z A B C U V W
                                 world home pose
+  set-homing-params JOINT [KEY=VALUE...]
+                                the joint's whole homing configuration, with
+                                the [JOINT_n] INI keys HOME_OFFSET, HOME,
+                                HOME_SEARCH_VEL, HOME_LATCH_VEL,
+                                HOME_FINAL_VEL, HOME_SEQUENCE, HOME_USE_INDEX,
+                                HOME_INDEX_NO_ENCODER_RESET,
+                                HOME_IGNORE_LIMITS, HOME_IS_SHARED,
+                                HOME_ABSOLUTE_ENCODER (0, 1, 2),
+                                VOLATILE_HOME and LOCKING_INDEXER; keys left
+                                out take the INI defaults
+  update-homing-params JOINT OFFSET HOME SEQUENCE
+                                HOME_OFFSET, HOME and HOME_SEQUENCE only
 ";
 
 /// A usage error, printed with a hint to --help.
@@ -68,8 +86,94 @@ fn float(s: Option<&String>, what: &str) -> Result<f64, Usage> {
         .map_err(|_| Usage(format!("{what} must be a number, not '{s}'")))
 }
 
+/// An INI-style yes/no value.
+fn yes_no(key: &str, v: &str) -> Result<bool, Usage> {
+    match v.to_ascii_uppercase().as_str() {
+        "YES" | "TRUE" | "1" => Ok(true),
+        "NO" | "FALSE" | "0" => Ok(false),
+        _ => Err(Usage(format!("{key} must be YES or NO, not '{v}'"))),
+    }
+}
+
+/// `set-homing-params JOINT KEY=VALUE...`, with the INI defaults for the
+/// keys left out.
+fn homing_params(a: &[String]) -> Result<Command, Usage> {
+    let joint = int(a.first(), "JOINT")?;
+    let mut config = HomingConfig {
+        final_vel: -1.0,
+        sequence: 999,
+        ..HomingConfig::default()
+    };
+    let mut flags = Vec::new();
+    let mut values = Vec::new();
+    for arg in &a[1..] {
+        let (key, v) = arg
+            .split_once('=')
+            .ok_or_else(|| Usage(format!("'{arg}' is not KEY=VALUE")))?;
+        let key = key.to_ascii_uppercase();
+        let num = || {
+            v.parse::<f64>()
+                .map_err(|_| Usage(format!("{key} must be a number, not '{v}'")))
+        };
+        match key.as_str() {
+            "HOME_OFFSET" | "HOME" | "HOME_SEARCH_VEL" | "HOME_LATCH_VEL" | "HOME_FINAL_VEL" => {
+                values.push((key.clone(), num()?))
+            }
+            "HOME_SEQUENCE" => {
+                values.push((
+                    key.clone(),
+                    f64::from(v.parse::<i32>().map_err(|_| {
+                        Usage(format!("HOME_SEQUENCE must be an integer, not '{v}'"))
+                    })?),
+                ))
+            }
+            "HOME_USE_INDEX" => flags.push((HomeFlags::USE_INDEX, yes_no(&key, v)?)),
+            "HOME_INDEX_NO_ENCODER_RESET" => {
+                flags.push((HomeFlags::INDEX_NO_ENCODER_RESET, yes_no(&key, v)?))
+            }
+            "HOME_IGNORE_LIMITS" => flags.push((HomeFlags::IGNORE_LIMITS, yes_no(&key, v)?)),
+            "HOME_IS_SHARED" => flags.push((HomeFlags::IS_SHARED, yes_no(&key, v)?)),
+            "LOCKING_INDEXER" => flags.push((HomeFlags::UNLOCK_FIRST, yes_no(&key, v)?)),
+            "VOLATILE_HOME" => values.push((key.clone(), f64::from(u8::from(yes_no(&key, v)?)))),
+            "HOME_ABSOLUTE_ENCODER" => {
+                let (abs, no_final) = match v {
+                    "0" => (false, false),
+                    "1" => (true, false),
+                    "2" => (true, true),
+                    _ => {
+                        return Err(Usage(format!(
+                            "HOME_ABSOLUTE_ENCODER must be 0, 1 or 2, not '{v}'"
+                        )))
+                    }
+                };
+                flags.push((HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME, abs));
+                flags.push((HomeFlags::NO_FINAL_MOVE, no_final));
+            }
+            _ => return Err(Usage(format!("unknown homing key '{key}'"))),
+        }
+    }
+    for (f, on) in flags {
+        config.flags.set(f, on);
+    }
+    for (key, v) in values {
+        match key.as_str() {
+            "HOME_OFFSET" => config.offset = v,
+            "HOME" => config.home = v,
+            "HOME_SEARCH_VEL" => config.search_vel = v,
+            "HOME_LATCH_VEL" => config.latch_vel = v,
+            "HOME_FINAL_VEL" => config.final_vel = v,
+            "HOME_SEQUENCE" => config.sequence = v as i32,
+            _ => config.volatile_home = v != 0.0,
+        }
+    }
+    Ok(Command::SetJointHomingParams { joint, config })
+}
+
 /// Parses a command and its arguments.
 fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
+    if name == "set-homing-params" {
+        return homing_params(a);
+    }
     let j = || int(a.first(), "JOINT");
     let f = |i: usize, what: &str| float(a.get(i), what);
     let want = |n: usize| {
@@ -149,6 +253,14 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
             want(NUM_AXES)?;
             Command::SetWorldHome { pose }
         }
+        "home" => Command::Home { joint: j()? },
+        "unhome" => Command::Unhome { joint: j()? },
+        "update-homing-params" => Command::UpdateJointHomingParams {
+            joint: j()?,
+            offset: f(1, "OFFSET")?,
+            home: f(2, "HOME")?,
+            sequence: int(a.get(3), "SEQUENCE")?,
+        },
         _ => return Err(Usage(format!("unknown command '{name}'"))),
     };
     let n = match cmd {
@@ -164,7 +276,9 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
         | Command::JointDeactivate { .. }
         | Command::EnableAmplifier { .. }
         | Command::DisableAmplifier { .. }
-        | Command::JogAbort { .. } => 1,
+        | Command::JogAbort { .. }
+        | Command::Home { .. }
+        | Command::Unhome { .. } => 1,
         Command::JogCont { .. }
         | Command::SetJointVelLimit { .. }
         | Command::SetJointAccLimit { .. }
@@ -176,6 +290,8 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
         | Command::JogAbs { .. }
         | Command::SetJointPositionLimits { .. } => 3,
         Command::SetWorldHome { .. } => NUM_AXES,
+        Command::UpdateJointHomingParams { .. } => 4,
+        Command::SetJointHomingParams { .. } => a.len(),
     };
     want(n)?;
     Ok(cmd)
