@@ -73,24 +73,38 @@ impl SeqLockReader {
     }
 
     /// Copies a consistent snapshot into `out`. Retries while the writer is
-    /// mid-update; false if it never finished within the retry budget (a
-    /// writer that died mid-write).
+    /// mid-update: first spinning, then sleeping between attempts, because
+    /// a writer without realtime priority can be preempted mid-write for
+    /// milliseconds. False if no consistent copy was seen for about a
+    /// second (a writer that died mid-write). Readers are user-space code;
+    /// they may sleep.
     pub fn read(&self, out: &mut [u64]) -> bool {
-        let w = self.region.words();
-        for _ in 0..100_000 {
-            let s1 = w[SEQ].load(Acquire);
-            if s1 & 1 == 1 {
-                std::hint::spin_loop();
-                continue;
-            }
-            for (o, src) in out.iter_mut().zip(&w[DATA..DATA + self.len]) {
-                *o = src.load(Relaxed);
-            }
-            fence(Acquire);
-            if w[SEQ].load(Relaxed) == s1 {
+        const SPINS: u32 = 1000;
+        const SLEEPS: u32 = 10_000;
+        for attempt in 0..SPINS + SLEEPS {
+            if self.try_read(out) {
                 return true;
+            }
+            if attempt < SPINS {
+                std::hint::spin_loop();
+            } else {
+                std::thread::sleep(std::time::Duration::from_micros(100));
             }
         }
         false
+    }
+
+    /// One attempt: true if the copy in `out` is consistent.
+    fn try_read(&self, out: &mut [u64]) -> bool {
+        let w = self.region.words();
+        let s1 = w[SEQ].load(Acquire);
+        if s1 & 1 == 1 {
+            return false;
+        }
+        for (o, src) in out.iter_mut().zip(&w[DATA..DATA + self.len]) {
+            *o = src.load(Relaxed);
+        }
+        fence(Acquire);
+        w[SEQ].load(Relaxed) == s1
     }
 }

@@ -632,3 +632,57 @@ fn pid_drives_integrator_and_lag_plants_to_the_command() {
     assert!((loop1.output[last] - cmd[last]).abs() < 1e-5);
     assert!(loop1.output[last].abs() > 0.1);
 }
+
+/// motmod homes and jogs a three-joint stepper machine through stepgen and
+/// the simulated parallel port: the samples (taken while anything moves)
+/// equal `expected`, and they show the homing sequences in order, the
+/// feedback following the command, and the jogs ending where commanded.
+#[test]
+fn motion_homes_and_jogs_a_three_joint_machine() {
+    let name = "motion-home-jog";
+    let text = run_exact(name);
+    let mut lines = text.lines().filter(|l| !l.starts_with("accepted (serial"));
+    let n: usize = num(lines.next().expect("the sample count"));
+    let body: String = lines.map(|l| format!("{l}\n")).collect();
+    let rows = sampled_rows(&body, n, 9);
+    let f = |r: &Vec<&str>, c: usize| num::<f64>(r[c]);
+    let state = |r: &Vec<&str>, j: usize| num::<i32>(r[6 + j]);
+    // Z (sequence 0) homes alone, then X and Y (sequence 1) together.
+    let first_busy = |j: usize| rows.iter().position(|r| state(r, j) != 0).expect("homed");
+    let last_busy = |j: usize| rows.iter().rposition(|r| state(r, j) != 0).expect("homed");
+    assert!(last_busy(2) < first_busy(0));
+    assert_eq!(first_busy(0), first_busy(1));
+    // Every state of each path, in order.
+    let visits = |j: usize, path: &[i32]| {
+        let mut seen: Vec<i32> = rows.iter().map(|r| state(r, j)).collect();
+        seen.dedup();
+        let mut it = seen.iter();
+        for s in path {
+            assert!(it.any(|v| v == s), "joint {j} misses state {s}: {seen:?}");
+        }
+    };
+    visits(0, &[7, 10, 12, 21]); // search, backoff, rise latch, final move
+    visits(1, &[7, 14, 21]); // search, fall latch, final move
+    visits(2, &[7, 14, 21]);
+    // The feedback follows the command to within the following error
+    // limit (0.05 at rest) plus the 0.02-unit step.
+    for r in &rows {
+        for j in 0..3 {
+            let err = (f(r, j) - f(r, 3 + j)).abs();
+            assert!(err < 0.5, "joint {j} error {err} in {r:?}");
+        }
+    }
+    // Homed at HOME: X 9, Y 0, Z -1; then X jogged 2.5 back, Y to 2.25, Z
+    // to its upper soft limit 0.5.
+    let last = rows.last().unwrap();
+    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], [6.5, 2.25, 0.5]);
+    for j in 0..3 {
+        assert!((f(last, j) - f(last, 3 + j)).abs() <= 0.02);
+    }
+    assert!(rows
+        .iter()
+        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (9.0, 0.0, -1.0)));
+    for j in 0..3 {
+        assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
+    }
+}

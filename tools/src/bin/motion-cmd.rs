@@ -26,6 +26,12 @@ status:
   watch [-n MS] [-c COUNT]
                         refresh the status every MS milliseconds (default
                         200), COUNT times (default: until interrupted)
+  wait CONDITION        wait until CONDITION holds (exit 0) or --timeout
+                        passes (default 60 s here; exit 1, status shown).
+                        Only snapshots from two servo cycles after the
+                        start count, so a command just sent has taken
+                        effect. CONDITION: enabled, disabled, in-position,
+                        homing-done, all-homed, homed JOINT
 
 machine:
   enable | disable | abort
@@ -169,6 +175,98 @@ fn homing_params(a: &[String]) -> Result<Command, Usage> {
     Ok(Command::SetJointHomingParams { joint, config })
 }
 
+/// A status condition `wait` waits for.
+#[derive(Debug, Clone, Copy)]
+enum Condition {
+    Enabled,
+    Disabled,
+    InPosition,
+    HomingDone,
+    AllHomed,
+    Homed(usize),
+}
+
+impl Condition {
+    fn parse(a: &[String]) -> Result<Condition, Usage> {
+        let name = a
+            .first()
+            .ok_or_else(|| Usage("'wait' needs a condition".into()))?;
+        let (c, n) = match name.as_str() {
+            "enabled" => (Condition::Enabled, 1),
+            "disabled" => (Condition::Disabled, 1),
+            "in-position" => (Condition::InPosition, 1),
+            "homing-done" => (Condition::HomingDone, 1),
+            "all-homed" => (Condition::AllHomed, 1),
+            "homed" => {
+                let j = int(a.get(1), "JOINT")?;
+                let j = usize::try_from(j)
+                    .map_err(|_| Usage(format!("JOINT must not be negative, not {j}")))?;
+                (Condition::Homed(j), 2)
+            }
+            o => return Err(Usage(format!("unknown wait condition '{o}'"))),
+        };
+        if a.len() != n {
+            return Err(Usage(format!("'wait {name}' takes {} argument(s)", n - 1)));
+        }
+        Ok(c)
+    }
+
+    /// Whether the condition holds; `Err` when it never can.
+    fn holds(self, s: &motion::MotionStatus) -> Result<bool, String> {
+        Ok(match self {
+            Condition::Enabled => s.enabled,
+            Condition::Disabled => !s.enabled,
+            Condition::InPosition => s.in_position,
+            Condition::HomingDone => !s.homing_active,
+            Condition::AllHomed => s.all_homed,
+            Condition::Homed(j) => {
+                s.joints
+                    .get(j)
+                    .ok_or_else(|| {
+                        format!("joint {j} does not exist (there are {})", s.joints.len())
+                    })?
+                    .homed
+            }
+        })
+    }
+}
+
+/// Polls the status until `cond` holds in a snapshot taken at least two
+/// servo cycles after the start, or `limit` passes.
+fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode {
+    let start = std::time::Instant::now();
+    let mut first_beat = None;
+    loop {
+        let s = match client.status() {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("motion-cmd: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        let beat0 = *first_beat.get_or_insert(s.heartbeat);
+        if s.heartbeat.wrapping_sub(beat0) >= 2 {
+            match cond.holds(&s) {
+                Ok(true) => return ExitCode::SUCCESS,
+                Ok(false) => {}
+                Err(e) => {
+                    eprintln!("motion-cmd: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+        }
+        if start.elapsed() >= limit {
+            println!(
+                "timed out after {:.1} s waiting for {cond:?}",
+                limit.as_secs_f64()
+            );
+            print!("{s}");
+            return ExitCode::from(1);
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
 /// Parses a command and its arguments.
 fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
     if name == "set-homing-params" {
@@ -299,7 +397,7 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
 
 fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
     let mut instance = std::env::var("HAL_INSTANCE").unwrap_or_else(|_| "default".into());
-    let mut timeout = Duration::from_secs(1);
+    let mut timeout = None;
     let mut i = 0;
     while i < args.len() {
         match args[i].as_str() {
@@ -319,7 +417,7 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
                 if !(s.is_finite() && s > 0.0) {
                     return Err(Usage("--timeout must be a positive number".into()));
                 }
-                timeout = Duration::from_secs_f64(s);
+                timeout = Some(Duration::from_secs_f64(s));
                 i += 2;
             }
             _ => break,
@@ -334,6 +432,7 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
         Status,
         Watch { ms: u64, count: Option<u64> },
         Send(Command),
+        Wait(Condition),
     }
     let action = match name.as_str() {
         "status" if rest.is_empty() => Action::Status,
@@ -356,16 +455,22 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
             }
             Action::Watch { ms, count }
         }
+        "wait" => Action::Wait(Condition::parse(rest)?),
         _ => Action::Send(parse_command(name, rest)?),
     };
     let mut client = match MotionClient::attach(&instance) {
-        Ok(c) => c.with_timeout(timeout),
+        Ok(c) => c.with_timeout(timeout.unwrap_or(Duration::from_secs(1))),
         Err(e) => {
             eprintln!("motion-cmd: instance '{instance}': {e}");
             return Ok(ExitCode::from(2));
         }
     };
     match action {
+        Action::Wait(cond) => Ok(wait_for(
+            &client,
+            cond,
+            timeout.unwrap_or(Duration::from_secs(60)),
+        )),
         Action::Send(cmd) => match client.send(cmd) {
             Ok(a) => {
                 println!("accepted (serial {})", a.serial);
