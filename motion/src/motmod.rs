@@ -926,7 +926,7 @@ impl HalIo {
             jp.neg_hard_limit.set(jt.nhl);
             jp.f_errored.set(jt.ferror_flag);
             jp.faulted.set(jt.fault);
-            jp.homing.set(core.joint_homing(j));
+            jp.homing.set(jt.homing);
             jp.homed.set(jt.homed);
             jp.home_state.set(core.home_state(j).number());
             // Only the edges: the encoder drives the same signal.
@@ -986,6 +986,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             num_extrajoints: p.num_extrajoints,
             num_spindles: p.num_spindles,
             num_misc_error: p.num_misc_error,
+            unlock_joints_mask: p.unlock_joints_mask,
         },
         kins,
     );

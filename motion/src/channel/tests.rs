@@ -265,7 +265,7 @@ fn all_rejects() -> Vec<Reject> {
         Reject::NotFreeOrDisabled,
         Reject::ExtraJointEnabled { joint: 4 },
     ];
-    for code in 1..=7 {
+    for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
             joint: 1,
             problem: ConfigProblem::from_code(code).unwrap(),

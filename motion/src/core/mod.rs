@@ -44,7 +44,7 @@ use std::sync::Arc;
 
 use crate::command::{Command, CommandResult, Direction, Reject};
 use crate::events::{Event, EventRing};
-use crate::homing::{HomeFault, HomeFlags, HomeState, Homing, HomingConfig};
+use crate::homing::{ConfigProblem, HomeFault, HomeFlags, HomeState, Homing, HomingConfig};
 use crate::joint::{Joint, JointInputs, JointStatus};
 use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose};
 
@@ -77,6 +77,9 @@ pub struct MotionConfig {
     pub num_spindles: usize,
     /// Misc-error inputs (0..=64).
     pub num_misc_error: usize,
+    /// Joints with `unlock`/`is-unlocked` pins (bit n: joint n), the only
+    /// ones that may be locking indexers.
+    pub unlock_joints_mask: u32,
 }
 
 impl Default for MotionConfig {
@@ -86,6 +89,7 @@ impl Default for MotionConfig {
             num_extrajoints: 0,
             num_spindles: 1,
             num_misc_error: 0,
+            unlock_joints_mask: 0,
         }
     }
 }
@@ -678,6 +682,9 @@ impl MotionCore {
             }
             Command::SetJointMotorOffset { joint, offset } => {
                 let j = self.joint_index(joint)?;
+                if self.homing.is_active() {
+                    return Err(Reject::HomingActive);
+                }
                 self.joints[j].motor_offset = Self::finite("motor offset", offset)?;
                 Ok(())
             }
@@ -695,6 +702,13 @@ impl MotionCore {
                 config
                     .check()
                     .map_err(|problem| Reject::BadHomingConfig { joint: j, problem })?;
+                let lockable = j < 32 && self.cfg.unlock_joints_mask & (1 << j) != 0;
+                if config.flags.contains(HomeFlags::UNLOCK_FIRST) && !lockable {
+                    return Err(Reject::BadHomingConfig {
+                        joint: j,
+                        problem: ConfigProblem::NoUnlockPins,
+                    });
+                }
                 if self.homing.is_active() {
                     return Err(Reject::HomingActive);
                 }
@@ -743,7 +757,28 @@ impl MotionCore {
         if self.homing.is_active() {
             return Err(Reject::HomingActive);
         }
-        self.homing.request(joint, &mut self.joints)
+        // Homed extra joints follow posthome-cmd, not their planner.
+        let mut following_posthome = [false; MAX_JOINTS];
+        for (j, f) in following_posthome
+            .iter_mut()
+            .enumerate()
+            .take(self.joints.len())
+        {
+            *f = j >= self.kins_joints && self.joints[j].homed;
+        }
+        self.homing.request(joint, &mut self.joints)?;
+        // Homing one of them takes it back from posthome-cmd: its
+        // command restarts where it is.
+        for (j, jt) in self.joints.iter_mut().enumerate() {
+            if following_posthome[j] && self.homing.in_sequence(j) && !jt.homed {
+                jt.pos_cmd = jt.pos_fb;
+                jt.coarse_pos = jt.pos_fb;
+                jt.free_tp.curr_pos = jt.pos_fb;
+                jt.free_tp.pos_cmd = jt.pos_fb;
+                jt.free_tp.curr_vel = 0.0;
+            }
+        }
+        Ok(())
     }
 
     /// JOINT_UNHOME: one joint, every active joint (−1) or the volatile
@@ -787,6 +822,9 @@ impl MotionCore {
             if jt.free_tp.active {
                 return Err(Reject::JointMoving { joint: j });
             }
+            if j >= self.kins_joints && self.enabled && jt.homed {
+                return Err(Reject::ExtraJointEnabled { joint: j });
+            }
         }
         for j in 0..self.joints.len() {
             if chosen(j, &self.joints[j], &self.homing) {
@@ -824,7 +862,7 @@ impl MotionCore {
         if flags.contains(HomeFlags::UNLOCK_FIRST) {
             return Err(Reject::LockingIndexer { joint: j });
         }
-        if self.homing.joints[j].cfg.is_synchronized() {
+        if self.homing.is_synchronized(j) {
             return Err(Reject::SynchronizedJoint { joint: j });
         }
         Ok(j)
@@ -1126,6 +1164,13 @@ impl MotionCore {
 
     fn set_operating_mode(&mut self) {
         if !self.enabling && self.enabled {
+            if let Some(joint) = (0..self.joints.len()).find(|&j| self.joints[j].homing) {
+                self.events.push(Event::HomingAborted {
+                    joint,
+                    fault: HomeFault::Disabled,
+                    state: self.homing.joints[joint].state,
+                });
+            }
             self.homing.abort(&mut self.joints);
             for jt in &mut self.joints {
                 jt.free_tp.enable = false;
@@ -1177,8 +1222,11 @@ impl MotionCore {
             if jt.kb_jog_active {
                 continue;
             }
-            let hcfg = &self.homing.joints[j].cfg;
-            if hcfg.flags.contains(HomeFlags::UNLOCK_FIRST) || hcfg.is_synchronized() {
+            let locking = self.homing.joints[j]
+                .cfg
+                .flags
+                .contains(HomeFlags::UNLOCK_FIRST);
+            if locking || self.homing.is_synchronized(j) {
                 continue;
             }
             if self.net_feed_scale < 0.0001 {
@@ -1245,7 +1293,11 @@ impl MotionCore {
                     } else {
                         jt.cfg.acc_limit
                     };
-                    jt.free_tp.update(period, self.scale);
+                    // Homing moves ignore the jog override: the latch speed
+                    // must not change with it, and a zero override would
+                    // stall homing for ever.
+                    let scale = if jt.homing { 1.0 } else { self.scale };
+                    jt.free_tp.update(period, scale);
                     jt.pos_cmd = jt.free_tp.curr_pos;
                     jt.coarse_pos = jt.free_tp.curr_pos;
                     jt.vel_cmd = jt.free_tp.curr_vel;

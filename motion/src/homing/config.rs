@@ -91,6 +91,12 @@ pub enum ConfigProblem {
     NoFinalMoveWithoutAbsoluteEncoder,
     /// A sequence number whose magnitude does not fit.
     BadSequence,
+    /// LOCKING_INDEXER on a joint without `unlock` pins (motmod's
+    /// `unlock_joints_mask`).
+    NoUnlockPins,
+    /// An absolute-encoder locking indexer with a final move would move
+    /// while locked.
+    LockedFinalMove,
 }
 
 impl std::fmt::Display for ConfigProblem {
@@ -107,6 +113,12 @@ impl std::fmt::Display for ConfigProblem {
                 "'no final move' is only for HOME_ABSOLUTE_ENCODER"
             }
             ConfigProblem::BadSequence => "HOME_SEQUENCE out of range",
+            ConfigProblem::NoUnlockPins => {
+                "LOCKING_INDEXER needs the joint in motmod's unlock_joints_mask"
+            }
+            ConfigProblem::LockedFinalMove => {
+                "a locking indexer with HOME_ABSOLUTE_ENCODER must use 2 (no final move)"
+            }
         })
     }
 }
@@ -122,6 +134,8 @@ impl ConfigProblem {
             ConfigProblem::IndexWithoutLatch => 5,
             ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder => 6,
             ConfigProblem::BadSequence => 7,
+            ConfigProblem::NoUnlockPins => 8,
+            ConfigProblem::LockedFinalMove => 9,
         }
     }
 
@@ -135,6 +149,8 @@ impl ConfigProblem {
             5 => ConfigProblem::IndexWithoutLatch,
             6 => ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder,
             7 => ConfigProblem::BadSequence,
+            8 => ConfigProblem::NoUnlockPins,
+            9 => ConfigProblem::LockedFinalMove,
             _ => return None,
         })
     }
@@ -169,6 +185,9 @@ impl HomingConfig {
             return Err(ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder);
         }
         if f.contains(HomeFlags::ABSOLUTE_ENCODER) {
+            if f.contains(HomeFlags::UNLOCK_FIRST) && !f.contains(HomeFlags::NO_FINAL_MOVE) {
+                return Err(ConfigProblem::LockedFinalMove);
+            }
             // The velocities are not used.
             return Ok(());
         }

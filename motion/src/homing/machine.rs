@@ -197,7 +197,7 @@ impl JointHoming {
                 }
                 SetCoarsePosition => {
                     jt.set_home_position(self.cfg.offset);
-                    if search * latch > 0.0 {
+                    if (search > 0.0) == (latch > 0.0) {
                         FinalBackoffStart
                     } else {
                         FallSearchStart
@@ -303,11 +303,12 @@ impl JointHoming {
                 }
                 SetIndexPosition => {
                     self.index_request = false;
+                    // The feedback was stood in for by the command in this
+                    // cycle: derive it from the motor again.
+                    jt.set_index_position(self.cfg.offset);
                     if f.contains(HomeFlags::INDEX_NO_ENCODER_RESET) {
                         // The count did not restart at the index: shift it.
                         jt.set_home_position(self.cfg.offset);
-                    } else {
-                        jt.set_index_position(self.cfg.offset);
                     }
                     FinalMoveStart
                 }

@@ -18,7 +18,21 @@
 //! * the settle delay applies before the final move too;
 //! * requests that cannot run (sequence gaps, a closed shared switch, a
 //!   homed joint that must not re-home) are refused with a reason instead
-//!   of ending silently or failing later.
+//!   of ending silently or failing later; so are configurations that
+//!   cannot work (a locking indexer without unlock pins, or one with an
+//!   absolute encoder that would make its final move locked);
+//! * a joint is synchronised when any joint of its HOME_SEQUENCE
+//!   magnitude is negative (LinuxCNC too, but only once homing starts);
+//! * a jog-abort cancels homing only for a joint homing at that moment,
+//!   not for one that finished or waits for its turn;
+//! * a disable during homing is reported as a homing abort too.
+//!
+//! As in LinuxCNC, homing moves ignore the free-mode SCALE, so the latch
+//! speed, and with it the repeatability, does not depend on the override.
+//! Known limits: a synchronised group's absolute-encoder members start
+//! their final moves on their own, and an index seen by the encoder in
+//! the very cycle homing is aborted is not corrected for (both as in
+//! LinuxCNC).
 
 pub mod config;
 mod machine;
@@ -99,9 +113,7 @@ impl Homing {
                 return Err(Reject::NothingToHome);
             };
             if lowest > 1 {
-                return Err(Reject::HomeSequenceGap {
-                    missing: if used[0] { 1 } else { lowest as i32 - 1 },
-                });
+                return Err(Reject::HomeSequenceGap { missing: 1 });
             }
             let highest = used.iter().rposition(|&u| u).unwrap_or(lowest);
             if let Some(gap) = (lowest..=highest).find(|&k| !used[k]) {
@@ -269,11 +281,22 @@ impl Homing {
         self.finish();
     }
 
-    /// Cancels the sequence if joint `j` is part of it.
+    /// Cancels the sequence if joint `j` is homing in it now (not if it
+    /// finished or has yet to start: a jog-abort sent for such a joint
+    /// must not end the others' homing).
     pub fn cancel_joint(&mut self, j: usize, jts: &mut [Joint]) {
-        if self.in_sequence(j) {
+        if self.in_sequence(j) && self.joints[j].state != HomeState::Idle {
             self.abort(jts);
         }
+    }
+
+    /// Whether joint `j` belongs to a synchronised group: some joint with
+    /// the same HOME_SEQUENCE magnitude has a negative one.
+    pub fn is_synchronized(&self, j: usize) -> bool {
+        let mag = self.joints[j].cfg.sequence.unsigned_abs();
+        self.joints
+            .iter()
+            .any(|k| k.cfg.is_synchronized() && k.cfg.sequence.unsigned_abs() == mag)
     }
 
     /// The output stage: `index-enable` edges.

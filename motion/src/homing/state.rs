@@ -158,6 +158,8 @@ pub enum HomeFault {
     SwitchInactiveBeforeLatch,
     /// The probe input tripped during a homing move.
     ProbeTripped,
+    /// Motion was disabled (by a command or a fault) while homing.
+    Disabled,
 }
 
 impl HomeFault {
@@ -171,6 +173,7 @@ impl HomeFault {
             HomeFault::SwitchActiveBeforeLatch => 5,
             HomeFault::SwitchInactiveBeforeLatch => 6,
             HomeFault::ProbeTripped => 7,
+            HomeFault::Disabled => 8,
         }
     }
 
@@ -184,6 +187,7 @@ impl HomeFault {
             5 => HomeFault::SwitchActiveBeforeLatch,
             6 => HomeFault::SwitchInactiveBeforeLatch,
             7 => HomeFault::ProbeTripped,
+            8 => HomeFault::Disabled,
             _ => return None,
         })
     }
@@ -207,6 +211,7 @@ impl std::fmt::Display for HomeFault {
                 "home switch inactive before the start of the latch move"
             }
             HomeFault::ProbeTripped => "the probe tripped during the homing motion",
+            HomeFault::Disabled => "motion was disabled",
         })
     }
 }

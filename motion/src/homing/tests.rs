@@ -38,6 +38,9 @@ struct Axis {
     unlock_delay: usize,
     unlock_timer: usize,
     is_unlocked: bool,
+    /// Extra servo periods the motor lags its command.
+    lag: usize,
+    history: std::collections::VecDeque<f64>,
 }
 
 impl Default for Axis {
@@ -54,6 +57,8 @@ impl Default for Axis {
             unlock_delay: 5,
             unlock_timer: 0,
             is_unlocked: false,
+            lag: 0,
+            history: Default::default(),
         }
     }
 }
@@ -87,11 +92,20 @@ struct Rig {
 
 /// `n` trivkins joints, limits ±100, 10 u/s, 100 u/s², the given axes.
 fn rig(axes: Vec<Axis>) -> Rig {
+    rig_with_extra(axes, 0)
+}
+
+/// Like [`rig`], the last `extra` joints being extra joints; every joint
+/// has unlock pins.
+fn rig_with_extra(axes: Vec<Axis>, extra: usize) -> Rig {
     let n = axes.len();
-    let kins = Arc::new(Trivkins::new(&"XYZABCUVW"[..n], KinematicsType::Identity).unwrap());
+    let coords = &"XYZABCUVW"[..n - extra];
+    let kins = Arc::new(Trivkins::new(coords, KinematicsType::Identity).unwrap());
     let mut m = MotionCore::new(
         MotionConfig {
             num_joints: n,
+            num_extrajoints: extra,
+            unlock_joints_mask: u32::MAX,
             ..MotionConfig::default()
         },
         kins,
@@ -153,7 +167,13 @@ impl Rig {
             let from = a.x;
             if js.enabled {
                 // The drive closes its loop on the encoder count.
-                a.x = js.motor_pos_cmd + a.encoder_zero;
+                a.history.push_back(js.motor_pos_cmd + a.encoder_zero);
+                while a.history.len() > a.lag + 1 {
+                    a.history.pop_front();
+                }
+                a.x = a.history[0];
+            } else {
+                a.history.clear();
             }
             if a.index_pin {
                 if let Some(mark) = a.index_crossed(from, a.x) {
@@ -561,28 +581,27 @@ fn a_limit_switch_aborts_homing_unless_limits_are_ignored() {
         pos_lim: 5.0,
         ..switch_axis(0.0, 5.0, 1000.0)
     };
-    // Not ignored: the limit trips together with the switch; homing
-    // aborts and motion stays enabled (homing joints are exempt from the
-    // limit fault; the state machine handles it).
+    // Not ignored: the limit trips together with the switch and homing
+    // aborts (homing joints are exempt from the limit fault; the state
+    // machine handles it). The joint, no longer homing, is then on its
+    // limit: motion disables as for any tripped limit.
     let mut r = rig(vec![axis.clone()]);
     r.configure(0, cfg(4.0, -0.5));
     r.cmd(Command::Home { joint: 0 }).unwrap();
     r.home_to_end(20_000);
-    let ev = r.events();
-    assert!(
-        matches!(
-            ev[..],
-            [
-                Event::HomingAborted {
-                    joint: 0,
-                    fault: HomeFault::HitLimit,
-                    ..
-                },
-                ..
-            ]
-        ),
-        "{ev:?}"
+    r.cycle();
+    assert_eq!(
+        r.events(),
+        [
+            Event::HomingAborted {
+                joint: 0,
+                fault: HomeFault::HitLimit,
+                state: HomeState::FallSearchWait,
+            },
+            Event::JointOnLimit { joint: 0 }
+        ]
     );
+    assert!(!r.m.is_enabled());
     assert!(!r.m.joint(0).homed && !r.m.joint(0).homing);
     assert_eq!(r.m.home_state(0), HomeState::Idle);
     // Ignored: homing runs on the switch and finishes off it.
@@ -1213,8 +1232,322 @@ fn home_state_numbers_are_linuxcnc_s() {
     assert_eq!(HomeState::from_number(-1), None);
     assert_eq!(HomeState::FinalMoveWait.number(), 21);
     assert_eq!(HomeState::Abort.number(), 25);
-    for code in 1..=7 {
+    for code in 1..=8 {
         assert_eq!(HomeFault::from_code(code).unwrap().code(), code);
+    }
+    for code in 1..=9 {
         assert_eq!(ConfigProblem::from_code(code).unwrap().code(), code);
     }
+    assert_eq!(HomeFault::from_code(9), None);
+    assert_eq!(ConfigProblem::from_code(10), None);
+}
+
+#[test]
+fn index_without_encoder_reset_uses_the_feedback_with_a_lagging_drive() {
+    // The drive lags 20 periods: at 5 u/s the feedback is 0.1 behind the
+    // command when the index is seen.
+    let mut r = rig(vec![Axis {
+        x: 1.0,
+        index: Some((0.5, 1.0)),
+        resets_on_index: false,
+        lag: 20,
+        ..Axis::default()
+    }]);
+    // A delay line replays its queued commands after the command steps
+    // back to the feedback (a real drive would stop): allow for that.
+    for c in [
+        Command::SetJointMaxFerror {
+            joint: 0,
+            ferror: 5.0,
+        },
+        Command::SetJointMinFerror {
+            joint: 0,
+            ferror: 1.0,
+        },
+    ] {
+        r.cmd(c).unwrap();
+    }
+    r.configure(
+        0,
+        HomingConfig {
+            offset: 2.0,
+            home: 2.0,
+            flags: HomeFlags::USE_INDEX | HomeFlags::INDEX_NO_ENCODER_RESET,
+            ..cfg(0.0, -5.0)
+        },
+    );
+    r.cmd(Command::Home { joint: 0 }).unwrap();
+    r.home_to_end(20_000);
+    assert!(r.m.joint(0).homed, "{:?}", r.events());
+    // Within one latch step of the mark, not 0.1 off.
+    let mark = r.joint_of(0, 0.5);
+    assert!((mark - 2.0).abs() <= 5.0 * T + 1e-9, "mark at {mark}");
+}
+
+#[test]
+fn switch_homing_is_exact_with_a_lagging_drive_too() {
+    let mut r = rig(vec![Axis {
+        lag: 5,
+        ..switch_axis(0.0, 5.0, 1000.0)
+    }]);
+    r.configure(
+        0,
+        HomingConfig {
+            offset: 10.0,
+            home: 8.0,
+            ..cfg(4.0, 0.5)
+        },
+    );
+    r.cmd(Command::Home { joint: 0 }).unwrap();
+    r.home_to_end(20_000);
+    // The switch is read with the feedback, so the lag does not matter.
+    let edge = r.joint_of(0, 5.0);
+    assert!((10.0 - 0.5 * T - 1e-9..=10.0).contains(&edge), "{edge}");
+    assert!(r.events().is_empty());
+}
+
+#[test]
+fn a_switch_that_changes_while_settling_aborts_with_the_reason() {
+    // (state in which the switch is forced, switch forced closed?, velocities, fault)
+    let cases = [
+        (
+            HomeState::FinalBackoffStart,
+            false,
+            (4.0, 0.5),
+            HomeFault::SwitchInactiveBeforeBackoff,
+        ),
+        (
+            HomeState::RiseSearchStart,
+            true,
+            (4.0, 0.5),
+            HomeFault::SwitchActiveBeforeLatch,
+        ),
+        (
+            HomeState::FallSearchStart,
+            false,
+            (4.0, -0.5),
+            HomeFault::SwitchInactiveBeforeLatch,
+        ),
+    ];
+    for (at, closed, (search, latch), fault) in cases {
+        let mut r = rig(vec![switch_axis(0.0, 5.0, 1000.0)]);
+        r.configure(0, cfg(search, latch));
+        r.cmd(Command::Home { joint: 0 }).unwrap();
+        while r.m.home_state(0) != at {
+            r.cycle();
+            assert!(r.cycles < 20_000, "never reached {at}");
+        }
+        r.axes[0].home_sw = if closed {
+            Some((-1000.0, 1000.0))
+        } else {
+            None
+        };
+        r.home_to_end(1000);
+        assert_eq!(
+            r.events(),
+            [Event::HomingAborted {
+                joint: 0,
+                fault,
+                state: at,
+            }]
+        );
+        assert!(!r.m.joint(0).homed);
+    }
+}
+
+#[test]
+fn homing_takes_over_a_running_jog_and_ignores_the_jog_override() {
+    let mut r = rig(vec![switch_axis(0.0, 5.0, 1000.0)]);
+    r.configure(0, cfg(4.0, 0.5));
+    r.cmd(Command::JogCont {
+        joint: 0,
+        vel: -3.0,
+    })
+    .unwrap();
+    r.run(200);
+    assert!(r.m.joint(0).vel_cmd < 0.0);
+    // A zero override would stop jogs, but homing moves at full speed.
+    r.cmd(Command::Scale { scale: 0.0 }).unwrap();
+    r.cmd(Command::Home { joint: 0 }).unwrap();
+    r.cycle();
+    assert!(!r.m.joint(0).kb_jog_active, "the jog ended");
+    r.home_to_end(20_000);
+    assert!(r.m.joint(0).homed);
+    assert!(r.joint_of(0, 5.0).abs() <= 0.5 * T + 1e-9);
+    assert!(r.events().is_empty());
+}
+
+#[test]
+fn jog_abort_of_a_joint_not_homing_now_leaves_the_sequence_running() {
+    let mut r = rig(vec![
+        Axis::default(),
+        switch_axis(0.0, 5.0, 1000.0),
+        Axis::default(),
+    ]);
+    r.configure(0, cfg(0.0, 0.0));
+    r.configure(
+        1,
+        HomingConfig {
+            sequence: 1,
+            ..cfg(4.0, 0.5)
+        },
+    );
+    r.configure(
+        2,
+        HomingConfig {
+            sequence: 2,
+            ..cfg(0.0, 0.0)
+        },
+    );
+    r.cmd(Command::Home { joint: -1 }).unwrap();
+    while r.m.home_state(1) != HomeState::InitialSearchWait {
+        r.cycle();
+        assert!(r.cycles < 5000);
+    }
+    // Joint 0 has finished, joint 2 has not started: a GUI's key release.
+    r.cmd(Command::JogAbort { joint: 0 }).unwrap();
+    r.cmd(Command::JogAbort { joint: 2 }).unwrap();
+    r.home_to_end(20_000);
+    assert!(r.m.is_all_homed(), "{:?}", r.events());
+    // The joint homing now is cancelled by its own jog abort.
+    r.cmd(Command::Home { joint: 1 }).unwrap();
+    r.run(300);
+    r.cmd(Command::JogAbort { joint: 1 }).unwrap();
+    r.cycle();
+    assert!(!r.m.homing_active() && !r.m.joint(1).homed);
+    assert!(r.m.joint(0).homed && r.m.joint(2).homed);
+}
+
+#[test]
+fn a_gantry_partner_with_a_positive_number_is_synchronised_too() {
+    let mut r = rig(vec![Axis::default(), Axis::default()]);
+    r.configure(
+        0,
+        HomingConfig {
+            sequence: -1,
+            ..cfg(0.0, 0.0)
+        },
+    );
+    r.configure(
+        1,
+        HomingConfig {
+            sequence: 1,
+            ..cfg(0.0, 0.0)
+        },
+    );
+    for joint in 0..2 {
+        assert_eq!(
+            r.cmd(Command::JogCont { joint, vel: 1.0 }),
+            Err(Reject::SynchronizedJoint {
+                joint: joint as usize
+            })
+        );
+    }
+}
+
+#[test]
+fn locking_indexers_need_unlock_pins_and_no_move_while_locked() {
+    let kins = Arc::new(Trivkins::new("X", KinematicsType::Identity).unwrap());
+    let mut m = MotionCore::new(
+        MotionConfig {
+            num_joints: 1,
+            ..MotionConfig::default()
+        },
+        kins,
+    );
+    let locking = HomingConfig {
+        flags: HomeFlags::UNLOCK_FIRST,
+        ..cfg(0.0, 0.0)
+    };
+    assert_eq!(
+        m.command(&Command::SetJointHomingParams {
+            joint: 0,
+            config: locking
+        }),
+        Err(Reject::BadHomingConfig {
+            joint: 0,
+            problem: ConfigProblem::NoUnlockPins
+        })
+    );
+    let mut r = rig(vec![Axis::default()]);
+    let abs = HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME | HomeFlags::UNLOCK_FIRST;
+    assert_eq!(
+        r.cmd(Command::SetJointHomingParams {
+            joint: 0,
+            config: HomingConfig {
+                flags: abs,
+                ..locking
+            }
+        }),
+        Err(Reject::BadHomingConfig {
+            joint: 0,
+            problem: ConfigProblem::LockedFinalMove
+        })
+    );
+    r.configure(
+        0,
+        HomingConfig {
+            flags: abs | HomeFlags::NO_FINAL_MOVE,
+            ..locking
+        },
+    );
+}
+
+#[test]
+fn extra_joints_come_back_from_posthome_cmd_without_a_jump() {
+    let mut r = rig_with_extra(vec![Axis::default(), Axis::default()], 1);
+    r.configure(
+        1,
+        HomingConfig {
+            home: 5.0,
+            ..cfg(0.0, 0.0)
+        },
+    );
+    r.cmd(Command::Home { joint: 1 }).unwrap();
+    r.home_to_end(5000);
+    assert!(r.m.joint(1).homed);
+    // Homed: the extra joint follows posthome-cmd.
+    r.m.joint_inputs[1].posthome_cmd = 20.0;
+    r.run(5);
+    assert!((r.axes[1].x - 20.0).abs() < 1e-9);
+    // Unhoming it while enabled is refused, alone or with the others.
+    assert_eq!(
+        r.cmd(Command::Unhome { joint: 1 }),
+        Err(Reject::ExtraJointEnabled { joint: 1 })
+    );
+    assert_eq!(
+        r.cmd(Command::Unhome { joint: -1 }),
+        Err(Reject::ExtraJointEnabled { joint: 1 })
+    );
+    // Homing it again starts where it is: no following error.
+    r.cmd(Command::Home { joint: 1 }).unwrap();
+    r.home_to_end(20_000);
+    assert!(r.m.joint(1).homed, "{:?}", r.events());
+    assert!(r.events().is_empty());
+    assert!(r.m.is_enabled());
+}
+
+#[test]
+fn disabling_mid_homing_says_so() {
+    let mut r = rig(vec![switch_axis(0.0, 5.0, 1000.0)]);
+    r.configure(0, cfg(4.0, 0.5));
+    r.cmd(Command::Home { joint: 0 }).unwrap();
+    r.run(300);
+    r.cmd(Command::Disable).unwrap();
+    r.cycle();
+    assert_eq!(
+        r.events(),
+        [Event::HomingAborted {
+            joint: 0,
+            fault: HomeFault::Disabled,
+            state: HomeState::InitialSearchWait,
+        }]
+    );
+    assert_eq!(
+        r.cmd(Command::SetJointMotorOffset {
+            joint: 0,
+            offset: 1.0
+        }),
+        Ok(())
+    );
 }
