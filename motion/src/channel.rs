@@ -21,9 +21,9 @@
 //! corrupt answer or snapshot is reported to the client as an error.
 //!
 //! Command record, word by word: 0 version ([`CMD_VERSION`]), 1 serial
-//! (non-zero), 2 opcode, 3 joint (i32 sign-extended; zero for commands
-//! without a joint), 4..=12 up to nine float arguments (unused ones zero),
-//! 13 and 14 reserved (zero), 15 checksum.
+//! (non-zero), 2 opcode, 3 joint or axis number (i32 sign-extended; zero
+//! for commands without one), 4..=12 up to nine float arguments (unused
+//! ones zero), 13 and 14 reserved (zero), 15 checksum.
 //!
 //! Answer record: 0 version ([`REPLY_VERSION`]), 1 serial, 2 result code
 //! (0 accepted, else [`reject_code`]), 3 and 4 integer details, 5..=7
@@ -37,7 +37,7 @@ use hal_core::{HalError, Instance, Region, RingReader, RingWriter, SeqLockReader
 
 use crate::command::{Command, Direction, Reject};
 use crate::core::{MotionCore, MotionState, MAX_JOINTS};
-use crate::kins::{Pose, NUM_AXES};
+use crate::kins::{Pose, AXIS_LETTERS, NUM_AXES};
 
 /// Name of the command ring region.
 pub const CMD_RING: &str = "motmod.command";
@@ -58,15 +58,20 @@ pub const RING_DEPTH: usize = 16;
 pub const STATUS_HEADER: usize = 12;
 /// Words per joint in the status snapshot.
 pub const JOINT_WORDS: usize = 8;
+/// Where the per-axis blocks start, after the joint blocks.
+pub const AXES_START: usize = STATUS_HEADER + MAX_JOINTS * JOINT_WORDS;
+/// Words per world axis in the status snapshot.
+pub const AXIS_WORDS: usize = 5;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = STATUS_HEADER + MAX_JOINTS * JOINT_WORDS;
+pub const STATUS_WORDS: usize = AXES_START + NUM_AXES * AXIS_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 1.
 pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0001;
 /// Version word of an answer record: "MOTREP" and format 1.
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
-/// Version word of the status snapshot: "MOTSTA" and format 1.
-pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0001;
+/// Version word of the status snapshot: "MOTSTA" and format 2 (format 2
+/// added the axis blocks and the mode flags).
+pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0002;
 
 /// Float argument words of a command record.
 const ARGS: usize = 4;
@@ -228,6 +233,31 @@ fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; NUM_AXES], usize) {
             let n = put(&pose.0);
             (24, None, a, n)
         }
+        Command::AxisJogCont { axis, vel } => {
+            let n = put(&[vel]);
+            (25, Some(axis), a, n)
+        }
+        Command::AxisJogIncr { axis, vel, offset } => {
+            let n = put(&[vel, offset]);
+            (26, Some(axis), a, n)
+        }
+        Command::AxisJogAbs { axis, vel, pos } => {
+            let n = put(&[vel, pos]);
+            (27, Some(axis), a, n)
+        }
+        Command::AxisJogAbort { axis } => (28, Some(axis), a, 0),
+        Command::SetAxisPositionLimits { axis, min, max } => {
+            let n = put(&[min, max]);
+            (29, Some(axis), a, n)
+        }
+        Command::SetAxisVelLimit { axis, vel } => {
+            let n = put(&[vel]);
+            (30, Some(axis), a, n)
+        }
+        Command::SetAxisAccLimit { axis, acc } => {
+            let n = put(&[acc]);
+            (31, Some(axis), a, n)
+        }
     }
 }
 
@@ -333,6 +363,37 @@ fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usi
             1,
         ),
         24 => c(Command::SetWorldHome { pose: Pose(*a) }, false, NUM_AXES),
+        25 => c(Command::AxisJogCont { axis: j, vel: a[0] }, true, 1),
+        26 => c(
+            Command::AxisJogIncr {
+                axis: j,
+                vel: a[0],
+                offset: a[1],
+            },
+            true,
+            2,
+        ),
+        27 => c(
+            Command::AxisJogAbs {
+                axis: j,
+                vel: a[0],
+                pos: a[1],
+            },
+            true,
+            2,
+        ),
+        28 => c(Command::AxisJogAbort { axis: j }, true, 0),
+        29 => c(
+            Command::SetAxisPositionLimits {
+                axis: j,
+                min: a[0],
+                max: a[1],
+            },
+            true,
+            2,
+        ),
+        30 => c(Command::SetAxisVelLimit { axis: j, vel: a[0] }, true, 1),
+        31 => c(Command::SetAxisAccLimit { axis: j, acc: a[0] }, true, 1),
         _ => None,
     }
 }
@@ -384,7 +445,8 @@ pub fn decode_command(w: &[u64; CMD_WORDS]) -> Result<(u64, Command), (u64, Wire
     Ok((serial, cmd))
 }
 
-/// Texts a [`Reject`] may carry, by index on the wire.
+/// Texts a [`Reject`] may carry, by index on the wire. Only append: an
+/// entry's index is its wire code.
 const WHATS: &[&str] = &[
     "scale",
     "minimum limit",
@@ -400,9 +462,12 @@ const WHATS: &[&str] = &[
         "jog position",
     "jog target",
 
+    // Retired (teleop and coordinated modes exist now); kept so that the
+    // indices after them do not change.
     "teleop mode is not implemented yet (only free mode exists)",
     "coordinated mode is not implemented yet (only free mode exists)",
     "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+    "teleop and coordinated modes need inverse kinematics",
 ];
 
 fn what_index(what: &str) -> u64 {
@@ -466,6 +531,23 @@ fn encode_reject(r: &Reject) -> (u64, [u64; 2], [f64; 3]) {
             (18, [c, d], [0.0; 3])
         }
         Reject::ActivateWhileEnabled { joint } => (19, [joint as u64, 0], [0.0; 3]),
+        Reject::NotInPosition => (20, [0; 2], [0.0; 3]),
+        Reject::NotHomed => (21, [0; 2], [0.0; 3]),
+        Reject::NotTeleopMode => (22, [0; 2], [0.0; 3]),
+        Reject::JointJogInTeleop => (23, [0; 2], [0.0; 3]),
+        Reject::NoSuchAxis { axis } => (24, [i(axis as i64), 0], [0.0; 3]),
+        Reject::AxisNotInKinematics { axis } => (25, [axis as u64, 0], [0.0; 3]),
+        Reject::MotionError => (26, [0; 2], [0.0; 3]),
+        Reject::AxisWheelJogActive { axis } => (27, [axis as u64, 0], [0.0; 3]),
+        Reject::AxisPastLimit { axis, dir } => (28, [axis as u64, dir_code(dir)], [0.0; 3]),
+        Reject::AxisTargetOutsideLimits {
+            axis,
+            target,
+            min,
+            max,
+        } => (29, [axis as u64, 0], [target, min, max]),
+        Reject::KinematicsFailed => (30, [0; 2], [0.0; 3]),
+        Reject::ModeChangeJump { joint, jump } => (31, [joint as u64, 0], [jump, 0.0, 0.0]),
     }
 }
 
@@ -520,6 +602,31 @@ fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
             error: WireError::from_code(n[0], n[1])?,
         },
         19 => Reject::ActivateWhileEnabled { joint: joint()? },
+        20 => Reject::NotInPosition,
+        21 => Reject::NotHomed,
+        22 => Reject::NotTeleopMode,
+        23 => Reject::JointJogInTeleop,
+        24 => Reject::NoSuchAxis {
+            axis: i32::try_from(n[0] as i64).ok()?,
+        },
+        25 => Reject::AxisNotInKinematics { axis: joint()? },
+        26 => Reject::MotionError,
+        27 => Reject::AxisWheelJogActive { axis: joint()? },
+        28 => Reject::AxisPastLimit {
+            axis: joint()?,
+            dir: dir()?,
+        },
+        29 => Reject::AxisTargetOutsideLimits {
+            axis: joint()?,
+            target: f[0],
+            min: f[1],
+            max: f[2],
+        },
+        30 => Reject::KinematicsFailed,
+        31 => Reject::ModeChangeJump {
+            joint: joint()?,
+            jump: f[0],
+        },
         _ => return None,
     })
 }
@@ -575,6 +682,19 @@ mod flag {
     pub const HOMING_ACTIVE: u64 = 32;
     pub const ALL_HOMED: u64 = 64;
     pub const ENABLE_INPUT: u64 = 128;
+    /// The TELEOP flag (kept while disabled: the mode entered on enable).
+    pub const TELEOP_MODE: u64 = 256;
+    /// The COORD flag (likewise).
+    pub const COORD_MODE: u64 = 512;
+}
+
+/// Status flag bits of an axis's first word.
+mod aflag {
+    pub const IN_KINEMATICS: u64 = 1;
+    pub const TP_ENABLE: u64 = 2;
+    pub const KB_JOG: u64 = 4;
+    pub const WHEEL_JOG: u64 = 8;
+    pub const MOVING: u64 = 16;
 }
 
 /// Status flag bits of a joint's first word.
@@ -611,6 +731,8 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     out[2] = match core.state() {
         MotionState::Disabled => 0,
         MotionState::Free => 1,
+        MotionState::Teleop => 2,
+        MotionState::Coord => 3,
     };
     let bit = |b: bool, f: u64| if b { f } else { 0 };
     out[3] = bit(core.is_enabled(), flag::ENABLED)
@@ -620,7 +742,9 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         | bit(core.jog_is_active(), flag::JOG_ACTIVE)
         | bit(core.homing_active(), flag::HOMING_ACTIVE)
         | bit(core.is_all_homed(), flag::ALL_HOMED)
-        | bit(core.inputs.enable, flag::ENABLE_INPUT);
+        | bit(core.inputs.enable, flag::ENABLE_INPUT)
+        | bit(core.teleop_mode(), flag::TELEOP_MODE)
+        | bit(core.coord_mode(), flag::COORD_MODE);
     out[4] = core.heartbeat();
     out[5] = last.serial;
     out[6] = last.code;
@@ -649,6 +773,42 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         w[6] = s.config.min_pos_limit.to_bits();
         w[7] = s.config.max_pos_limit.to_bits();
     }
+    let (pose, _) = core.carte_pos_cmd();
+    for (a, &p) in pose.0.iter().enumerate() {
+        let Some(s) = core.axis(a) else { continue };
+        let w = &mut out[AXES_START + a * AXIS_WORDS..][..AXIS_WORDS];
+        w[0] = bit(core.axis_in_kinematics(a), aflag::IN_KINEMATICS)
+            | bit(s.teleop_tp_enable, aflag::TP_ENABLE)
+            | bit(s.kb_jog_active, aflag::KB_JOG)
+            | bit(s.wheel_jog_active, aflag::WHEEL_JOG)
+            | bit(s.teleop_tp_active, aflag::MOVING);
+        w[1] = p.to_bits();
+        w[2] = s.teleop_vel_cmd.to_bits();
+        w[3] = s.config.min_pos_limit.to_bits();
+        w[4] = s.config.max_pos_limit.to_bits();
+    }
+}
+
+/// One world axis in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// The kinematics compute this axis.
+    pub in_kinematics: bool,
+    /// Teleop planner enabled.
+    pub tp_enable: bool,
+    /// A keyboard (command) jog moves the axis.
+    pub kb_jogging: bool,
+    /// The jog wheel moves the axis.
+    pub wheel_jogging: bool,
+    /// The teleop planner moves.
+    pub moving: bool,
+    /// Commanded position (the world pose's coordinate).
+    pub pos_cmd: f64,
+    /// Teleop velocity.
+    pub vel_cmd: f64,
+    /// Position limits.
+    pub min_limit: f64,
+    pub max_limit: f64,
 }
 
 /// One joint in a [`MotionStatus`].
@@ -686,10 +846,14 @@ pub struct JointState {
 /// A consistent copy of the controller's status.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MotionStatus {
-    /// True when enabled (amplifiers on), in free mode.
+    /// True when enabled (amplifiers on).
     pub enabled: bool,
-    /// "DISABLED" or "FREE".
+    /// "DISABLED", "FREE", "TELEOP" or "COORD".
     pub mode: &'static str,
+    /// The TELEOP flag: in teleop mode, or entering it on enable.
+    pub teleop_mode: bool,
+    /// The COORD flag: in coordinated mode, or entering it on enable.
+    pub coord_mode: bool,
     pub in_position: bool,
     pub error: bool,
     pub on_soft_limit: bool,
@@ -709,6 +873,8 @@ pub struct MotionStatus {
     /// Joints whose hard limits are overridden.
     pub override_mask: u64,
     pub joints: Vec<JointState>,
+    /// The nine world axes, X Y Z A B C U V W.
+    pub axes: Vec<AxisState>,
 }
 
 /// Decodes a snapshot, validating its header.
@@ -726,6 +892,8 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
     let mode = match w[2] {
         0 => "DISABLED",
         1 => "FREE",
+        2 => "TELEOP",
+        3 => "COORD",
         _ => return Err(WireError::BadStatus),
     };
     let f = |i: usize| f64::from_bits(w[i]);
@@ -757,9 +925,28 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
             }
         })
         .collect();
+    let axes = (0..NUM_AXES)
+        .map(|a| {
+            let b = AXES_START + a * AXIS_WORDS;
+            let on = |m: u64| w[b] & m != 0;
+            AxisState {
+                in_kinematics: on(aflag::IN_KINEMATICS),
+                tp_enable: on(aflag::TP_ENABLE),
+                kb_jogging: on(aflag::KB_JOG),
+                wheel_jogging: on(aflag::WHEEL_JOG),
+                moving: on(aflag::MOVING),
+                pos_cmd: f(b + 1),
+                vel_cmd: f(b + 2),
+                min_limit: f(b + 3),
+                max_limit: f(b + 4),
+            }
+        })
+        .collect();
     Ok(MotionStatus {
         enabled: h & flag::ENABLED != 0,
         mode,
+        teleop_mode: h & flag::TELEOP_MODE != 0,
+        coord_mode: h & flag::COORD_MODE != 0,
         in_position: h & flag::IN_POSITION != 0,
         error: h & flag::ERROR != 0,
         on_soft_limit: h & flag::ON_SOFT_LIMIT != 0,
@@ -776,6 +963,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         override_mask: w[8],
         served: w[9],
         joints,
+        axes,
     })
 }
 
@@ -802,6 +990,18 @@ pub fn result_name(code: u64) -> &'static str {
         17 => "rejected: unsupported",
         18 => "rejected: malformed",
         19 => "rejected: activate while enabled",
+        20 => "rejected: not in position",
+        21 => "rejected: not homed",
+        22 => "rejected: not in teleop mode",
+        23 => "rejected: joint jog in teleop mode",
+        24 => "rejected: no such axis",
+        25 => "rejected: axis not in kinematics",
+        26 => "rejected: motion error",
+        27 => "rejected: axis wheel jog active",
+        28 => "rejected: axis past limit",
+        29 => "rejected: axis target outside limits",
+        30 => "rejected: kinematics failed",
+        31 => "rejected: mode change would jump",
         _ => "unknown",
     }
 }
@@ -828,6 +1028,10 @@ impl fmt::Display for MotionStatus {
             self.override_mask,
             self.heartbeat
         )?;
+        if !self.enabled && (self.teleop_mode || self.coord_mode) {
+            let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
+            writeln!(f, "mode on enable: {m}")?;
+        }
         if self.last.serial == 0 {
             writeln!(f, "last command: none")?;
         } else {
@@ -874,7 +1078,50 @@ impl fmt::Display for MotionStatus {
                 flags.trim_start()
             )?;
         }
+        if self.axes.iter().any(|a| a.in_kinematics) {
+            writeln!(
+                f,
+                "axis {:>12} {:>12} {:>12} {:>12}  flags",
+                "pos-cmd", "vel-cmd", "min-limit", "max-limit"
+            )?;
+        }
+        for (a, x) in self.axes.iter().enumerate() {
+            if !x.in_kinematics {
+                continue;
+            }
+            let mut flags = String::new();
+            for (on, name) in [
+                (x.moving, "moving"),
+                (x.kb_jogging, "jogging"),
+                (x.wheel_jogging, "wheel"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "{:<4} {:>12.6} {:>12.6} {:>12} {:>12} {}",
+                AXIS_LETTERS[a].to_ascii_uppercase(),
+                x.pos_cmd,
+                x.vel_cmd,
+                limit_text(x.min_limit),
+                limit_text(x.max_limit),
+                flags.trim_start()
+            )?;
+        }
         Ok(())
+    }
+}
+
+/// A limit for the status table: huge values (the ±1e99 "no limit"
+/// default) in exponent form, which `{}` would spell out in 100 digits.
+fn limit_text(v: f64) -> String {
+    if v.abs() >= 1e9 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

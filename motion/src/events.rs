@@ -32,6 +32,19 @@ pub enum Event {
     ProbeTrippedDuringJog,
     /// Switching kinematics (`motion.switchkins-type`) failed.
     KinsSwitchFailed { kins_type: i32 },
+    /// The inverse kinematics failed for the commanded pose in teleop or
+    /// coordinated mode; motion disabled.
+    InverseKinsFailed,
+    /// The inverse kinematics gave a joint position that is not finite;
+    /// motion disabled.
+    NonFiniteJoint { joint: usize },
+    /// The probe input rose during an axis (teleop) jog; the jogs were
+    /// stopped at once.
+    ProbeTrippedDuringAxisJog,
+    /// The teleop or coordinated mode remembered over a disable could not
+    /// be resumed on enable (joints no longer homed, or the kinematics
+    /// failed): motion is in free mode.
+    WorldModeDropped,
 }
 
 impl std::fmt::Display for Event {
@@ -58,6 +71,19 @@ impl std::fmt::Display for Event {
             Event::KinsSwitchFailed { kins_type } => {
                 write!(f, "kinematics switch to type {kins_type} failed")
             }
+            Event::InverseKinsFailed => {
+                f.write_str("kinematicsInverse failed for the commanded pose; motion disabled")
+            }
+            Event::NonFiniteJoint { joint } => write!(
+                f,
+                "joint {joint} position is not a finite number after inverse kinematics; motion disabled"
+            ),
+            Event::ProbeTrippedDuringAxisJog => {
+                f.write_str("Probe tripped during a coordinate jog.")
+            }
+            Event::WorldModeDropped => f.write_str(
+                "teleop/coordinated mode could not be resumed on enable; motion is in free mode",
+            ),
         }
     }
 }
@@ -77,6 +103,10 @@ impl Event {
             Event::JogStopped { immediate } => (8, 0, u64::from(immediate)),
             Event::ProbeTrippedDuringJog => (9, 0, 0),
             Event::KinsSwitchFailed { kins_type } => (10, 0, kins_type as u32 as u64),
+            Event::InverseKinsFailed => (11, 0, 0),
+            Event::NonFiniteJoint { joint } => (12, joint as u64, 0),
+            Event::ProbeTrippedDuringAxisJog => (13, 0, 0),
+            Event::WorldModeDropped => (14, 0, 0),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -104,6 +134,10 @@ impl Event {
             10 => Event::KinsSwitchFailed {
                 kins_type: b as u32 as i32,
             },
+            11 => Event::InverseKinsFailed,
+            12 => Event::NonFiniteJoint { joint: a },
+            13 => Event::ProbeTrippedDuringAxisJog,
+            14 => Event::WorldModeDropped,
             _ => return None,
         })
     }
@@ -205,6 +239,10 @@ mod tests {
             Event::JogStopped { immediate: false },
             Event::ProbeTrippedDuringJog,
             Event::KinsSwitchFailed { kins_type: -2 },
+            Event::InverseKinsFailed,
+            Event::NonFiniteJoint { joint: 5 },
+            Event::ProbeTrippedDuringAxisJog,
+            Event::WorldModeDropped,
         ];
         let r = EventRing::default();
         for e in all {

@@ -25,10 +25,13 @@
 //! Everything is preallocated when the core is built; a cycle or a command
 //! never allocates, locks or makes a system call.
 //!
-//! This milestone implements the disabled and free (joint) modes; teleop,
-//! coordinated mode, homing and the spindles come later (their HAL pins
-//! already exist). Deliberate differences from LinuxCNC, each following a
-//! "→ Design" note of the reference:
+//! Modes: disabled, free (joint) mode, teleop mode (world axis jogs through
+//! the inverse kinematics) and coordinated mode, which holds its pose until
+//! the queued trajectory planner exists; the world modes and the mode
+//! requests are in `teleop.rs`, whose documentation lists their
+//! differences from LinuxCNC. Homing and the spindles come later (their HAL
+//! pins already exist). Deliberate differences from LinuxCNC, each
+//! following a "→ Design" note of the reference:
 //! * every refused command returns a [`Reject`] and changes nothing, and a
 //!   refused jog does not set the joint's error flag;
 //! * the free-mode SCALE is applied to the free planners as a jog override
@@ -42,10 +45,15 @@
 
 use std::sync::Arc;
 
+use crate::axis::AxisInputs;
 use crate::command::{Command, CommandResult, Direction, Reject};
 use crate::events::{Event, EventRing};
 use crate::joint::{Joint, JointInputs, JointStatus};
-use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose};
+use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose, NUM_AXES};
+
+mod teleop;
+pub use teleop::MODE_ENTRY_TOLERANCE;
+use teleop::{Mode, World};
 
 /// Most joints (`EMCMOT_MAX_JOINTS`).
 pub const MAX_JOINTS: usize = 16;
@@ -144,6 +152,12 @@ pub enum MotionState {
     Disabled,
     /// Joint mode: every joint has its own planner.
     Free,
+    /// World jog mode: every axis has its own planner, the inverse
+    /// kinematics move the joints.
+    Teleop,
+    /// Coordinated mode: the commanded pose is held (no queued planner
+    /// yet), the inverse kinematics move the joints.
+    Coord,
 }
 
 /// The motion controller.
@@ -159,6 +173,10 @@ pub struct MotionCore {
     pub inputs: MotionInputs,
     /// Per-joint inputs, one per joint.
     pub joint_inputs: Vec<JointInputs>,
+    /// Per-axis jog-wheel inputs (X Y Z A B C U V W).
+    pub axis_inputs: [AxisInputs; NUM_AXES],
+    /// The mode (kept over a disable) and the nine axes.
+    world: World,
     events: Arc<EventRing>,
 
     /// Requested enabled state (set by commands, honoured by the cycle).
@@ -238,6 +256,8 @@ impl MotionCore {
             joints: vec![Joint::default(); cfg.num_joints],
             inputs: MotionInputs::default(),
             joint_inputs: vec![JointInputs::default(); cfg.num_joints],
+            axis_inputs: [AxisInputs::default(); NUM_AXES],
+            world: World::default(),
             events: Arc::new(EventRing::default()),
             enabling: false,
             enabled: false,
@@ -446,6 +466,7 @@ impl MotionCore {
                     j.error = false;
                     j.fault = false;
                 }
+                self.abort_axis_jogs(false);
                 self.error = false;
                 Ok(())
             }
@@ -543,6 +564,9 @@ impl MotionCore {
             }
             Command::JointDeactivate { joint } => {
                 let j = self.joint_index(joint)?;
+                if self.axes_moving() {
+                    return Err(Reject::JointMoving { joint: j });
+                }
                 let jt = &mut self.joints[j];
                 if jt.free_tp.active {
                     return Err(Reject::JointMoving { joint: j });
@@ -573,13 +597,9 @@ impl MotionCore {
                 }
                 Ok(())
             }
-            Command::Free => Ok(()),
-            Command::Teleop => Err(Reject::Unsupported {
-                what: "teleop mode is not implemented yet (only free mode exists)",
-            }),
-            Command::Coord => Err(Reject::Unsupported {
-                what: "coordinated mode is not implemented yet (only free mode exists)",
-            }),
+            Command::Free => self.request_mode(Mode::Free),
+            Command::Teleop => self.request_mode(Mode::Teleop),
+            Command::Coord => self.request_mode(Mode::Coord),
             Command::EnableAmplifier { joint } | Command::DisableAmplifier { joint } => {
                 self.joint_index(joint)?;
                 Err(Reject::Unsupported {
@@ -646,6 +666,15 @@ impl MotionCore {
                 self.world_home = pose;
                 Ok(())
             }
+            Command::AxisJogCont { axis, vel } => self.axis_jog_cont(axis, vel),
+            Command::AxisJogIncr { axis, vel, offset } => self.axis_jog_incr(axis, vel, offset),
+            Command::AxisJogAbs { axis, vel, pos } => self.axis_jog_abs(axis, vel, pos),
+            Command::AxisJogAbort { axis } => self.axis_jog_abort(axis),
+            Command::SetAxisPositionLimits { axis, min, max } => {
+                self.set_axis_position_limits(axis, min, max)
+            }
+            Command::SetAxisVelLimit { axis, vel } => self.set_axis_vel_limit(axis, vel),
+            Command::SetAxisAccLimit { axis, acc } => self.set_axis_acc_limit(axis, acc),
         }
     }
 
@@ -657,6 +686,9 @@ impl MotionCore {
         }
         if !self.enabled {
             return Err(Reject::NotEnabled);
+        }
+        if self.state == MotionState::Teleop {
+            return Err(Reject::JointJogInTeleop);
         }
         if self.state != MotionState::Free {
             return Err(Reject::NotFreeMode);
@@ -745,6 +777,7 @@ impl MotionCore {
         self.check_for_faults();
         self.set_operating_mode();
         self.handle_jog_wheels();
+        self.handle_axis_jog_wheels();
         self.get_pos_cmds(period);
         self.compute_backlash(period);
         self.motor_commands();
@@ -783,6 +816,7 @@ impl MotionCore {
                     &mut self.carte_pos_cmd,
                     &mut self.kins_flags,
                 );
+                self.world_kins_switched();
             }
         }
     }
@@ -818,6 +852,7 @@ impl MotionCore {
                     jt.wheel_jog_active = false;
                 }
             }
+            self.stop_axis_jogs(immediate);
             self.jog_is_active = false;
             self.events.push(Event::JogStopped { immediate });
         }
@@ -868,9 +903,14 @@ impl MotionCore {
                 }
             }
             KinematicsType::InverseOnly | KinematicsType::ForwardOnly => {
-                // No world modes yet, so the command is never a usable
-                // stand-in for the feedback.
-                self.carte_pos_fb_ok = false;
+                // Without forward kinematics the world command stands in
+                // for the feedback in the world modes (as LinuxCNC does);
+                // in free mode there is none.
+                let world = matches!(self.state, MotionState::Teleop | MotionState::Coord);
+                if world {
+                    self.carte_pos_fb = self.carte_pos_cmd;
+                }
+                self.carte_pos_fb_ok = world;
             }
         }
     }
@@ -889,6 +929,9 @@ impl MotionCore {
             }
             if stopped {
                 self.events.push(Event::ProbeTrippedDuringJog);
+            }
+            if self.stop_axis_jogs_on_probe() {
+                self.events.push(Event::ProbeTrippedDuringAxisJog);
             }
         }
         self.old_probe = probe;
@@ -953,6 +996,7 @@ impl MotionCore {
                     jt.homing = false;
                 }
             }
+            self.world_disable_edge();
             self.enabled = false;
         }
         if self.enabling && !self.enabled {
@@ -966,12 +1010,9 @@ impl MotionCore {
             }
             self.enabled = true;
             self.error = false;
+            self.world_enable_edge();
         }
-        self.state = if self.enabled {
-            MotionState::Free
-        } else {
-            MotionState::Disabled
-        };
+        self.state = self.operating_state();
     }
 
     /// MPG jogs: each joint's `jog-counts` moves its free planner target.
@@ -1113,6 +1154,8 @@ impl MotionCore {
                     }
                 }
             }
+            MotionState::Teleop => self.teleop_pos_cmds(period),
+            MotionState::Coord => self.coord_pos_cmds(period),
             MotionState::Disabled => {
                 self.carte_pos_cmd = self.carte_pos_fb;
                 for jt in &mut self.joints {
@@ -1123,6 +1166,7 @@ impl MotionCore {
             }
         }
         self.check_soft_limits();
+        self.teleop_soft_limit_stop();
     }
 
     /// The backup check: a homed joint commanded outside its soft limits
@@ -1184,8 +1228,9 @@ impl MotionCore {
             }
             jogging |= jt.kb_jog_active || jt.wheel_jog_active;
         }
+        let v2 = v2 + self.teleop_vel_squared();
         self.current_vel = if v2 > 0.0 { v2.sqrt() } else { 0.0 };
-        self.jog_is_active = jogging;
+        self.jog_is_active = jogging || self.axis_jogging();
     }
 }
 
@@ -1197,5 +1242,7 @@ fn dir_of(vel: f64) -> Direction {
     }
 }
 
+#[cfg(test)]
+mod teleop_tests;
 #[cfg(test)]
 mod tests;
