@@ -142,6 +142,10 @@ impl MotionCore {
         self.kins.has_axis(axis) != Some(false)
     }
 
+    pub(crate) fn axis_ref(&self, axis: usize) -> &Axis {
+        &self.world.axes[axis]
+    }
+
     /// The state the cycle derives from the enable flag and the mode.
     pub(super) fn operating_state(&self) -> MotionState {
         if !self.enabled {
