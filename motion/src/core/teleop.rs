@@ -208,7 +208,7 @@ impl MotionCore {
     /// last cycle), or homing runs.
     fn something_moves(&self) -> bool {
         !self.inpos
-            || self.homing_active
+            || self.homing_active()
             || self.joints.iter().any(|j| {
                 j.active && (j.free_tp.active || j.kb_jog_active || j.wheel_jog_active || j.homing)
             })
