@@ -21,9 +21,9 @@
 //! corrupt answer or snapshot is reported to the client as an error.
 //!
 //! Command record, word by word: 0 version ([`CMD_VERSION`]), 1 serial
-//! (non-zero), 2 opcode, 3 joint (i32 sign-extended; zero for commands
-//! without a joint), 4..=12 up to nine float arguments (unused ones zero),
-//! 13 and 14 reserved (zero), 15 checksum.
+//! (non-zero), 2 opcode, 3 joint or axis number (i32 sign-extended; zero
+//! for commands without one), 4..=12 up to nine float arguments (unused
+//! ones zero), 13 and 14 reserved (zero), 15 checksum.
 //!
 //! Answer record: 0 version ([`REPLY_VERSION`]), 1 serial, 2 result code
 //! (0 accepted, else [`reject_code`]), 3 and 4 integer details, 5..=7
@@ -38,7 +38,7 @@ use hal_core::{HalError, Instance, Region, RingReader, RingWriter, SeqLockReader
 use crate::command::{Command, Direction, Reject};
 use crate::core::{MotionCore, MotionState, MAX_JOINTS};
 use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
-use crate::kins::{Pose, NUM_AXES};
+use crate::kins::{Pose, AXIS_LETTERS, NUM_AXES};
 
 /// Name of the command ring region.
 pub const CMD_RING: &str = "motmod.command";
@@ -59,15 +59,20 @@ pub const RING_DEPTH: usize = 16;
 pub const STATUS_HEADER: usize = 12;
 /// Words per joint in the status snapshot.
 pub const JOINT_WORDS: usize = 8;
+/// Where the per-axis blocks start, after the joint blocks.
+pub const AXES_START: usize = STATUS_HEADER + MAX_JOINTS * JOINT_WORDS;
+/// Words per world axis in the status snapshot.
+pub const AXIS_WORDS: usize = 5;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = STATUS_HEADER + MAX_JOINTS * JOINT_WORDS;
+pub const STATUS_WORDS: usize = AXES_START + NUM_AXES * AXIS_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 1.
 pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0001;
 /// Version word of an answer record: "MOTREP" and format 1.
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
-/// Version word of the status snapshot: "MOTSTA" and format 1.
-pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0001;
+/// Version word of the status snapshot: "MOTSTA" and format 2 (format 2
+/// added the axis blocks and the mode flags).
+pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0002;
 
 /// Float argument words of a command record.
 const ARGS: usize = 4;
@@ -263,6 +268,32 @@ fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; NUM_AXES], usize) {
             let n = put(&[offset, home, f64::from(sequence)]);
             (28, Some(joint), a, n)
         }
+
+        Command::AxisJogCont { axis, vel } => {
+            let n = put(&[vel]);
+            (29, Some(axis), a, n)
+        }
+        Command::AxisJogIncr { axis, vel, offset } => {
+            let n = put(&[vel, offset]);
+            (30, Some(axis), a, n)
+        }
+        Command::AxisJogAbs { axis, vel, pos } => {
+            let n = put(&[vel, pos]);
+            (31, Some(axis), a, n)
+        }
+        Command::AxisJogAbort { axis } => (32, Some(axis), a, 0),
+        Command::SetAxisPositionLimits { axis, min, max } => {
+            let n = put(&[min, max]);
+            (33, Some(axis), a, n)
+        }
+        Command::SetAxisVelLimit { axis, vel } => {
+            let n = put(&[vel]);
+            (34, Some(axis), a, n)
+        }
+        Command::SetAxisAccLimit { axis, acc } => {
+            let n = put(&[acc]);
+            (35, Some(axis), a, n)
+        }
     }
 }
 
@@ -411,6 +442,37 @@ fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usi
             true,
             3,
         ),
+        29 => c(Command::AxisJogCont { axis: j, vel: a[0] }, true, 1),
+        30 => c(
+            Command::AxisJogIncr {
+                axis: j,
+                vel: a[0],
+                offset: a[1],
+            },
+            true,
+            2,
+        ),
+        31 => c(
+            Command::AxisJogAbs {
+                axis: j,
+                vel: a[0],
+                pos: a[1],
+            },
+            true,
+            2,
+        ),
+        32 => c(Command::AxisJogAbort { axis: j }, true, 0),
+        33 => c(
+            Command::SetAxisPositionLimits {
+                axis: j,
+                min: a[0],
+                max: a[1],
+            },
+            true,
+            2,
+        ),
+        34 => c(Command::SetAxisVelLimit { axis: j, vel: a[0] }, true, 1),
+        35 => c(Command::SetAxisAccLimit { axis: j, acc: a[0] }, true, 1),
         _ => None,
     }
 }
@@ -468,7 +530,8 @@ pub fn decode_command(w: &[u64; CMD_WORDS]) -> Result<(u64, Command), (u64, Wire
     Ok((serial, cmd))
 }
 
-/// Texts a [`Reject`] may carry, by index on the wire.
+/// Texts a [`Reject`] may carry, by index on the wire. Only append: an
+/// entry's index is its wire code.
 const WHATS: &[&str] = &[
     "scale",
     "minimum limit",
@@ -484,9 +547,12 @@ const WHATS: &[&str] = &[
         "jog position",
     "jog target",
 
+    // Retired (teleop and coordinated modes exist now); kept so that the
+    // indices after them do not change.
     "teleop mode is not implemented yet (only free mode exists)",
     "coordinated mode is not implemented yet (only free mode exists)",
     "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+    "teleop and coordinated modes need inverse kinematics",
 ];
 
 fn what_index(what: &str) -> u64 {
@@ -562,6 +628,23 @@ fn encode_reject(r: &Reject) -> (u64, [u64; 2], [f64; 3]) {
         Reject::LockingIndexer { joint } => (27, [joint as u64, 0], [0.0; 3]),
         Reject::NotFreeOrDisabled => (28, [0; 2], [0.0; 3]),
         Reject::ExtraJointEnabled { joint } => (29, [joint as u64, 0], [0.0; 3]),
+        Reject::NotInPosition => (30, [0; 2], [0.0; 3]),
+        Reject::NotHomed => (31, [0; 2], [0.0; 3]),
+        Reject::NotTeleopMode => (32, [0; 2], [0.0; 3]),
+        Reject::JointJogInTeleop => (33, [0; 2], [0.0; 3]),
+        Reject::NoSuchAxis { axis } => (34, [i(axis as i64), 0], [0.0; 3]),
+        Reject::AxisNotInKinematics { axis } => (35, [axis as u64, 0], [0.0; 3]),
+        Reject::MotionError => (36, [0; 2], [0.0; 3]),
+        Reject::AxisWheelJogActive { axis } => (37, [axis as u64, 0], [0.0; 3]),
+        Reject::AxisPastLimit { axis, dir } => (38, [axis as u64, dir_code(dir)], [0.0; 3]),
+        Reject::AxisTargetOutsideLimits {
+            axis,
+            target,
+            min,
+            max,
+        } => (39, [axis as u64, 0], [target, min, max]),
+        Reject::KinematicsFailed => (40, [0; 2], [0.0; 3]),
+        Reject::ModeChangeJump { joint, jump } => (41, [joint as u64, 0], [jump, 0.0, 0.0]),
     }
 }
 
@@ -631,6 +714,31 @@ fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
         27 => Reject::LockingIndexer { joint: joint()? },
         28 => Reject::NotFreeOrDisabled,
         29 => Reject::ExtraJointEnabled { joint: joint()? },
+        30 => Reject::NotInPosition,
+        31 => Reject::NotHomed,
+        32 => Reject::NotTeleopMode,
+        33 => Reject::JointJogInTeleop,
+        34 => Reject::NoSuchAxis {
+            axis: i32::try_from(n[0] as i64).ok()?,
+        },
+        35 => Reject::AxisNotInKinematics { axis: joint()? },
+        36 => Reject::MotionError,
+        37 => Reject::AxisWheelJogActive { axis: joint()? },
+        38 => Reject::AxisPastLimit {
+            axis: joint()?,
+            dir: dir()?,
+        },
+        39 => Reject::AxisTargetOutsideLimits {
+            axis: joint()?,
+            target: f[0],
+            min: f[1],
+            max: f[2],
+        },
+        40 => Reject::KinematicsFailed,
+        41 => Reject::ModeChangeJump {
+            joint: joint()?,
+            jump: f[0],
+        },
         _ => return None,
     })
 }
@@ -686,6 +794,19 @@ mod flag {
     pub const HOMING_ACTIVE: u64 = 32;
     pub const ALL_HOMED: u64 = 64;
     pub const ENABLE_INPUT: u64 = 128;
+    /// The TELEOP flag (kept while disabled: the mode entered on enable).
+    pub const TELEOP_MODE: u64 = 256;
+    /// The COORD flag (likewise).
+    pub const COORD_MODE: u64 = 512;
+}
+
+/// Status flag bits of an axis's first word.
+mod aflag {
+    pub const IN_KINEMATICS: u64 = 1;
+    pub const TP_ENABLE: u64 = 2;
+    pub const KB_JOG: u64 = 4;
+    pub const WHEEL_JOG: u64 = 8;
+    pub const MOVING: u64 = 16;
 }
 
 /// Status flag bits of a joint's first word.
@@ -724,6 +845,8 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     out[2] = match core.state() {
         MotionState::Disabled => 0,
         MotionState::Free => 1,
+        MotionState::Teleop => 2,
+        MotionState::Coord => 3,
     };
     let bit = |b: bool, f: u64| if b { f } else { 0 };
     out[3] = bit(core.is_enabled(), flag::ENABLED)
@@ -733,7 +856,9 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         | bit(core.jog_is_active(), flag::JOG_ACTIVE)
         | bit(core.homing_active(), flag::HOMING_ACTIVE)
         | bit(core.is_all_homed(), flag::ALL_HOMED)
-        | bit(core.inputs.enable, flag::ENABLE_INPUT);
+        | bit(core.inputs.enable, flag::ENABLE_INPUT)
+        | bit(core.teleop_mode(), flag::TELEOP_MODE)
+        | bit(core.coord_mode(), flag::COORD_MODE);
     out[4] = core.heartbeat();
     out[5] = last.serial;
     out[6] = last.code;
@@ -763,6 +888,42 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         w[6] = s.config.min_pos_limit.to_bits();
         w[7] = s.config.max_pos_limit.to_bits();
     }
+    let (pose, _) = core.carte_pos_cmd();
+    for (a, &p) in pose.0.iter().enumerate() {
+        let Some(s) = core.axis(a) else { continue };
+        let w = &mut out[AXES_START + a * AXIS_WORDS..][..AXIS_WORDS];
+        w[0] = bit(core.axis_in_kinematics(a), aflag::IN_KINEMATICS)
+            | bit(s.teleop_tp_enable, aflag::TP_ENABLE)
+            | bit(s.kb_jog_active, aflag::KB_JOG)
+            | bit(s.wheel_jog_active, aflag::WHEEL_JOG)
+            | bit(s.teleop_tp_active, aflag::MOVING);
+        w[1] = p.to_bits();
+        w[2] = s.teleop_vel_cmd.to_bits();
+        w[3] = s.config.min_pos_limit.to_bits();
+        w[4] = s.config.max_pos_limit.to_bits();
+    }
+}
+
+/// One world axis in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// The kinematics compute this axis.
+    pub in_kinematics: bool,
+    /// Teleop planner enabled.
+    pub tp_enable: bool,
+    /// A keyboard (command) jog moves the axis.
+    pub kb_jogging: bool,
+    /// The jog wheel moves the axis.
+    pub wheel_jogging: bool,
+    /// The teleop planner moves.
+    pub moving: bool,
+    /// Commanded position (the world pose's coordinate).
+    pub pos_cmd: f64,
+    /// Teleop velocity.
+    pub vel_cmd: f64,
+    /// Position limits.
+    pub min_limit: f64,
+    pub max_limit: f64,
 }
 
 /// One joint in a [`MotionStatus`].
@@ -802,10 +963,14 @@ pub struct JointState {
 /// A consistent copy of the controller's status.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct MotionStatus {
-    /// True when enabled (amplifiers on), in free mode.
+    /// True when enabled (amplifiers on).
     pub enabled: bool,
-    /// "DISABLED" or "FREE".
+    /// "DISABLED", "FREE", "TELEOP" or "COORD".
     pub mode: &'static str,
+    /// The TELEOP flag: in teleop mode, or entering it on enable.
+    pub teleop_mode: bool,
+    /// The COORD flag: in coordinated mode, or entering it on enable.
+    pub coord_mode: bool,
     pub in_position: bool,
     pub error: bool,
     pub on_soft_limit: bool,
@@ -825,6 +990,8 @@ pub struct MotionStatus {
     /// Joints whose hard limits are overridden.
     pub override_mask: u64,
     pub joints: Vec<JointState>,
+    /// The nine world axes, X Y Z A B C U V W.
+    pub axes: Vec<AxisState>,
 }
 
 /// Decodes a snapshot, validating its header.
@@ -842,6 +1009,8 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
     let mode = match w[2] {
         0 => "DISABLED",
         1 => "FREE",
+        2 => "TELEOP",
+        3 => "COORD",
         _ => return Err(WireError::BadStatus),
     };
     let f = |i: usize| f64::from_bits(w[i]);
@@ -875,9 +1044,28 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
             })
         })
         .collect::<Result<Vec<_>, WireError>>()?;
+    let axes = (0..NUM_AXES)
+        .map(|a| {
+            let b = AXES_START + a * AXIS_WORDS;
+            let on = |m: u64| w[b] & m != 0;
+            AxisState {
+                in_kinematics: on(aflag::IN_KINEMATICS),
+                tp_enable: on(aflag::TP_ENABLE),
+                kb_jogging: on(aflag::KB_JOG),
+                wheel_jogging: on(aflag::WHEEL_JOG),
+                moving: on(aflag::MOVING),
+                pos_cmd: f(b + 1),
+                vel_cmd: f(b + 2),
+                min_limit: f(b + 3),
+                max_limit: f(b + 4),
+            }
+        })
+        .collect();
     Ok(MotionStatus {
         enabled: h & flag::ENABLED != 0,
         mode,
+        teleop_mode: h & flag::TELEOP_MODE != 0,
+        coord_mode: h & flag::COORD_MODE != 0,
         in_position: h & flag::IN_POSITION != 0,
         error: h & flag::ERROR != 0,
         on_soft_limit: h & flag::ON_SOFT_LIMIT != 0,
@@ -894,6 +1082,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         override_mask: w[8],
         served: w[9],
         joints,
+        axes,
     })
 }
 
@@ -930,6 +1119,18 @@ pub fn result_name(code: u64) -> &'static str {
         27 => "rejected: locking indexer",
         28 => "rejected: not free or disabled",
         29 => "rejected: extra joint enabled",
+        30 => "rejected: not in position",
+        31 => "rejected: not homed",
+        32 => "rejected: not in teleop mode",
+        33 => "rejected: joint jog in teleop mode",
+        34 => "rejected: no such axis",
+        35 => "rejected: axis not in kinematics",
+        36 => "rejected: motion error",
+        37 => "rejected: axis wheel jog active",
+        38 => "rejected: axis past limit",
+        39 => "rejected: axis target outside limits",
+        40 => "rejected: kinematics failed",
+        41 => "rejected: mode change would jump",
         _ => "unknown",
     }
 }
@@ -956,6 +1157,10 @@ impl fmt::Display for MotionStatus {
             self.override_mask,
             self.heartbeat
         )?;
+        if !self.enabled && (self.teleop_mode || self.coord_mode) {
+            let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
+            writeln!(f, "mode on enable: {m}")?;
+        }
         if self.last.serial == 0 {
             writeln!(f, "last command: none")?;
         } else {
@@ -1006,7 +1211,50 @@ impl fmt::Display for MotionStatus {
                 flags.trim_start()
             )?;
         }
+        if self.axes.iter().any(|a| a.in_kinematics) {
+            writeln!(
+                f,
+                "axis {:>12} {:>12} {:>12} {:>12}  flags",
+                "pos-cmd", "vel-cmd", "min-limit", "max-limit"
+            )?;
+        }
+        for (a, x) in self.axes.iter().enumerate() {
+            if !x.in_kinematics {
+                continue;
+            }
+            let mut flags = String::new();
+            for (on, name) in [
+                (x.moving, "moving"),
+                (x.kb_jogging, "jogging"),
+                (x.wheel_jogging, "wheel"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "{:<4} {:>12.6} {:>12.6} {:>12} {:>12} {}",
+                AXIS_LETTERS[a].to_ascii_uppercase(),
+                x.pos_cmd,
+                x.vel_cmd,
+                limit_text(x.min_limit),
+                limit_text(x.max_limit),
+                flags.trim_start()
+            )?;
+        }
         Ok(())
+    }
+}
+
+/// A limit for the status table: huge values (the ±1e99 "no limit"
+/// default) in exponent form, which `{}` would spell out in 100 digits.
+fn limit_text(v: f64) -> String {
+    if v.abs() >= 1e9 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
     }
 }
 

@@ -19,12 +19,17 @@ pub enum Command {
     Enable,
     /// Request the disabled state: planners stopped, amplifiers off.
     Disable,
-    /// Request free (joint) mode. Always accepted; this controller has no
-    /// other mode yet, so it is already in effect.
+    /// Request free (joint) mode. Refused while something moves; while
+    /// motion is disabled it is remembered and takes effect on enable.
     Free,
-    /// Request teleop (world jog) mode. Refused: not implemented yet.
+    /// Request teleop (world jog) mode: axis jogs through the inverse
+    /// kinematics. Refused while something moves and, unless the
+    /// kinematics are identity, before every active joint is homed; while
+    /// motion is disabled it is remembered and takes effect on enable.
     Teleop,
-    /// Request coordinated mode. Refused: not implemented yet.
+    /// Request coordinated mode, with the same requirements as
+    /// [`Command::Teleop`]. There is no queued planner yet: the pose is
+    /// held.
     Coord,
     /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
     /// amplifier follows ENABLE/DISABLE and has no side channel
@@ -90,6 +95,23 @@ pub enum Command {
         home: f64,
         sequence: i32,
     },
+    /// Teleop mode: jog world axis `axis` (0..=8, X Y Z A B C U V W)
+    /// continuously at `vel` (sign = direction) towards its position limit.
+    AxisJogCont { axis: i32, vel: f64 },
+    /// Teleop mode: move `axis` by `offset` (≥ 0) in the direction of
+    /// `vel`, from the planner's current target, so increments accumulate.
+    AxisJogIncr { axis: i32, vel: f64, offset: f64 },
+    /// Teleop mode: move `axis` to `pos`, clamped into its position
+    /// limits, at speed `|vel|`.
+    AxisJogAbs { axis: i32, vel: f64, pos: f64 },
+    /// Stop the jog of `axis` at its acceleration limit.
+    AxisJogAbort { axis: i32 },
+    /// Position limits of world axis `axis`.
+    SetAxisPositionLimits { axis: i32, min: f64, max: f64 },
+    /// Maximum velocity of world axis `axis` (> 0).
+    SetAxisVelLimit { axis: i32, vel: f64 },
+    /// Maximum acceleration of world axis `axis` (> 0).
+    SetAxisAccLimit { axis: i32, acc: f64 },
 }
 
 /// Which way a jog would move.
@@ -181,6 +203,46 @@ pub enum Reject {
     NotFreeOrDisabled,
     /// An extra joint may only be unhomed while motion is disabled.
     ExtraJointEnabled { joint: usize },
+    /// A mode change while some planner moves (or homing runs).
+    NotInPosition,
+    /// Teleop or coordinated mode with non-identity kinematics before
+    /// every active joint is homed.
+    NotHomed,
+    /// An axis jog outside teleop mode.
+    NotTeleopMode,
+    /// A joint jog in teleop mode.
+    JointJogInTeleop,
+    /// The axis number is outside `0..9`.
+    NoSuchAxis { axis: i32 },
+    /// The kinematics do not compute this axis (not in their coordinates).
+    AxisNotInKinematics { axis: usize },
+    /// The motion error flag is set (e.g. a soft limit was exceeded).
+    MotionError,
+    /// A jog wheel is moving this axis.
+    AxisWheelJogActive { axis: usize },
+    /// The axis is already beyond its position limit in that direction.
+    AxisPastLimit { axis: usize, dir: Direction },
+    /// The incremental axis jog would end outside the axis limits.
+    AxisTargetOutsideLimits {
+        axis: usize,
+        target: f64,
+        min: f64,
+        max: f64,
+    },
+    /// The kinematics found no solution for the current joint positions
+    /// when entering a world mode.
+    KinematicsFailed,
+    /// Entering a world mode would step `joint` by `jump` at once: the
+    /// joints are not where the kinematics would put them (for example
+    /// the two joints of an unsquared gantry).
+    ModeChangeJump { joint: usize, jump: f64 },
+}
+
+/// The upper-case letter of world axis `axis` (`?` if there is none).
+pub fn axis_letter(axis: usize) -> char {
+    crate::kins::AXIS_LETTERS
+        .get(axis)
+        .map_or('?', |l| l.to_ascii_uppercase())
 }
 
 impl std::fmt::Display for Reject {
@@ -267,6 +329,59 @@ impl std::fmt::Display for Reject {
             Reject::ExtraJointEnabled { joint } => {
                 write!(f, "extra joint {joint} can only be unhomed while motion is disabled")
             }
+            Reject::NotInPosition => f.write_str(
+                "motion is not in position (something is moving); stop it before changing mode",
+            ),
+            Reject::NotHomed => {
+                f.write_str("all joints must be homed before going into teleop/coordinated mode")
+            }
+            Reject::NotTeleopMode => {
+                f.write_str("motion is not in teleop mode; axes can only be jogged in teleop mode")
+            }
+            Reject::JointJogInTeleop => f.write_str(
+                "motion is in teleop mode; jog an axis, or switch to free mode to jog a joint",
+            ),
+            Reject::NoSuchAxis { axis } => write!(
+                f,
+                "axis {axis} does not exist (axes are 0..8: X Y Z A B C U V W)"
+            ),
+            Reject::AxisNotInKinematics { axis } => write!(
+                f,
+                "axis {} is not one of the kinematics' coordinates",
+                axis_letter(axis)
+            ),
+            Reject::MotionError => {
+                f.write_str("the motion error flag is set (see the messages); ABORT clears it")
+            }
+            Reject::AxisWheelJogActive { axis } => write!(
+                f,
+                "axis {} is being moved by its jog wheel",
+                axis_letter(axis)
+            ),
+            Reject::AxisPastLimit { axis, dir } => write!(
+                f,
+                "can't jog axis {} further past its {dir} limit",
+                axis_letter(axis)
+            ),
+            Reject::AxisTargetOutsideLimits {
+                axis,
+                target,
+                min,
+                max,
+            } => write!(
+                f,
+                "jog of axis {} to {target} would leave its limits [{min}, {max}]",
+                axis_letter(axis)
+            ),
+            Reject::KinematicsFailed => {
+                f.write_str("the kinematics have no solution for the current joint positions")
+            }
+            Reject::ModeChangeJump { joint, jump } => write!(
+                f,
+                "entering the mode would move joint {joint} by {jump} at once: the joints are \
+                 not where the kinematics put them (an unsquared gantry?); align them in free \
+                 mode first"
+            ),
         }
     }
 }

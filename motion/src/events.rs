@@ -39,6 +39,19 @@ pub enum Event {
         fault: HomeFault,
         state: HomeState,
     },
+    /// The inverse kinematics failed for the commanded pose in teleop or
+    /// coordinated mode; motion disabled.
+    InverseKinsFailed,
+    /// The inverse kinematics gave a joint position that is not finite;
+    /// motion disabled.
+    NonFiniteJoint { joint: usize },
+    /// The probe input rose during an axis (teleop) jog; the jogs were
+    /// stopped at once.
+    ProbeTrippedDuringAxisJog,
+    /// The teleop or coordinated mode remembered over a disable could not
+    /// be resumed on enable (joints no longer homed, or the kinematics
+    /// failed): motion is in free mode.
+    WorldModeDropped,
 }
 
 impl std::fmt::Display for Event {
@@ -73,6 +86,19 @@ impl std::fmt::Display for Event {
                 f,
                 "homing of joint {joint} aborted in state {state}: {fault}"
             ),
+            Event::InverseKinsFailed => {
+                f.write_str("kinematicsInverse failed for the commanded pose; motion disabled")
+            }
+            Event::NonFiniteJoint { joint } => write!(
+                f,
+                "joint {joint} position is not a finite number after inverse kinematics; motion disabled"
+            ),
+            Event::ProbeTrippedDuringAxisJog => {
+                f.write_str("Probe tripped during a coordinate jog.")
+            }
+            Event::WorldModeDropped => f.write_str(
+                "teleop/coordinated mode could not be resumed on enable; motion is in free mode",
+            ),
         }
     }
 }
@@ -101,6 +127,10 @@ impl Event {
                 joint as u64,
                 (fault.code() << 8) | state.number() as u64,
             ),
+            Event::InverseKinsFailed => (12, 0, 0),
+            Event::NonFiniteJoint { joint } => (13, joint as u64, 0),
+            Event::ProbeTrippedDuringAxisJog => (14, 0, 0),
+            Event::WorldModeDropped => (15, 0, 0),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -133,6 +163,10 @@ impl Event {
                 fault: HomeFault::from_code(b >> 8)?,
                 state: HomeState::from_number((b & 0xff) as i32)?,
             },
+            12 => Event::InverseKinsFailed,
+            13 => Event::NonFiniteJoint { joint: a },
+            14 => Event::ProbeTrippedDuringAxisJog,
+            15 => Event::WorldModeDropped,
             _ => return None,
         })
     }
@@ -244,6 +278,10 @@ mod tests {
                 fault: HomeFault::ProbeTripped,
                 state: HomeState::Abort,
             },
+            Event::InverseKinsFailed,
+            Event::NonFiniteJoint { joint: 5 },
+            Event::ProbeTrippedDuringAxisJog,
+            Event::WorldModeDropped,
         ];
         let r = EventRing::default();
         for e in all {

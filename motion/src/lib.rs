@@ -6,7 +6,9 @@
 //!   `motion-command-handler` and `motion-controller` functions) and
 //!   [`MotionHandle`](motmod::MotionHandle), the Rust command interface.
 //! * [`core`]: the controller itself, independent of HAL: joints, the
-//!   enable state machine, free-mode jogs, limits, following error, faults.
+//!   enable state machine, the free, teleop and coordinated modes, joint
+//!   and axis jogs, limits, following error, faults.
+//! * [`joint`], [`axis`]: the state of one joint and of one world axis.
 //! * [`simple_tp`]: the single-axis trapezoidal planner.
 //! * [`homing`]: the homing state machines and the sequence manager.
 //! * [`command`], [`events`], [`mailbox`], [`registry`]: commands and their
@@ -16,6 +18,7 @@
 //! Load order, as in LinuxCNC: `loadrt trivkins ...` (or another
 //! kinematics module), then `loadrt motmod ...`.
 
+pub mod axis;
 pub mod channel;
 pub mod command;
 pub mod core;

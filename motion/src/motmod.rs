@@ -511,24 +511,24 @@ impl JointPins {
 
 struct AxisPins {
     pos_cmd: FOut,
-    // Inputs and outputs the teleop planners and external offsets will use.
-    _teleop_vel_cmd: FOut,
-    _teleop_pos_cmd: FOut,
-    _teleop_vel_lim: FOut,
-    _teleop_tp_enable: BOut,
+    teleop_vel_cmd: FOut,
+    teleop_pos_cmd: FOut,
+    teleop_vel_lim: FOut,
+    teleop_tp_enable: BOut,
+    // Inputs and outputs the external offsets will use.
     _eoffset_enable: BIn,
     _eoffset_clear: BIn,
     _eoffset_counts: Pin<i32, In>,
     _eoffset_scale: FIn,
     _eoffset: FOut,
     _eoffset_request: FOut,
-    _jog_enable: BIn,
-    _jog_scale: FIn,
-    _jog_counts: Pin<i32, In>,
-    _jog_vel_mode: BIn,
-    _kb_jog_active: BOut,
-    _wheel_jog_active: BOut,
-    _jog_accel_fraction: FIn,
+    jog_enable: BIn,
+    jog_scale: FIn,
+    jog_counts: Pin<i32, In>,
+    jog_vel_mode: BIn,
+    kb_jog_active: BOut,
+    wheel_jog_active: BOut,
+    jog_accel_fraction: FIn,
 }
 
 impl AxisPins {
@@ -536,23 +536,23 @@ impl AxisPins {
         let p = |item: &str| format!("axis.{l}.{item}");
         Ok(AxisPins {
             pos_cmd: c.pin(&p("pos-cmd"))?,
-            _teleop_vel_cmd: c.pin(&p("teleop-vel-cmd"))?,
-            _teleop_pos_cmd: c.pin(&p("teleop-pos-cmd"))?,
-            _teleop_vel_lim: c.pin(&p("teleop-vel-lim"))?,
-            _teleop_tp_enable: c.pin(&p("teleop-tp-enable"))?,
+            teleop_vel_cmd: c.pin(&p("teleop-vel-cmd"))?,
+            teleop_pos_cmd: c.pin(&p("teleop-pos-cmd"))?,
+            teleop_vel_lim: c.pin(&p("teleop-vel-lim"))?,
+            teleop_tp_enable: c.pin(&p("teleop-tp-enable"))?,
             _eoffset_enable: c.pin(&p("eoffset-enable"))?,
             _eoffset_clear: c.pin(&p("eoffset-clear"))?,
             _eoffset_counts: c.pin(&p("eoffset-counts"))?,
             _eoffset_scale: c.pin(&p("eoffset-scale"))?,
             _eoffset: c.pin(&p("eoffset"))?,
             _eoffset_request: c.pin(&p("eoffset-request"))?,
-            _jog_enable: c.pin(&p("jog-enable"))?,
-            _jog_scale: c.pin(&p("jog-scale"))?,
-            _jog_counts: c.pin(&p("jog-counts"))?,
-            _jog_vel_mode: c.pin(&p("jog-vel-mode"))?,
-            _kb_jog_active: c.pin(&p("kb-jog-active"))?,
-            _wheel_jog_active: c.pin(&p("wheel-jog-active"))?,
-            _jog_accel_fraction: c.pin_init(&p("jog-accel-fraction"), 1.0)?,
+            jog_enable: c.pin(&p("jog-enable"))?,
+            jog_scale: c.pin(&p("jog-scale"))?,
+            jog_counts: c.pin(&p("jog-counts"))?,
+            jog_vel_mode: c.pin(&p("jog-vel-mode"))?,
+            kb_jog_active: c.pin(&p("kb-jog-active"))?,
+            wheel_jog_active: c.pin(&p("wheel-jog-active"))?,
+            jog_accel_fraction: c.pin_init(&p("jog-accel-fraction"), 1.0)?,
         })
     }
 }
@@ -635,8 +635,11 @@ struct MotionPins {
     _later: LaterPins,
 }
 
-/// Outputs of the coordinated planner, I/O and tool offsets (driven once
-/// those parts exist) and the stale LinuxCNC debug params.
+/// Outputs of the queued coordinated planner, I/O and tool offsets (driven
+/// once those parts exist; until then `motion.motion-type` and
+/// `motion.program-line` read 0, "no segment executing", which is also
+/// right in teleop and in the holding coordinated mode) and the stale
+/// LinuxCNC debug params.
 struct LaterPins {
     _tp_reverse: BOut,
     _feed: [FOut; 5],
@@ -875,6 +878,13 @@ impl HalIo {
                 ji.is_unlocked = is_unlocked.get();
             }
         }
+        for (ai, ap) in core.axis_inputs.iter_mut().zip(&self.axes) {
+            ai.jog_counts = ap.jog_counts.get();
+            ai.jog_enable = ap.jog_enable.get();
+            ai.jog_scale = ap.jog_scale.get();
+            ai.jog_vel_mode = ap.jog_vel_mode.get();
+            ai.jog_accel_fraction = ap.jog_accel_fraction.get();
+        }
     }
 
     /// Writes the core's results to the HAL outputs.
@@ -882,8 +892,9 @@ impl HalIo {
         let m = &self.motion;
         m.motion_enabled.set(core.is_enabled());
         m.in_position.set(core.in_position());
-        m.coord_mode.set(false);
-        m.teleop_mode.set(false);
+        // LinuxCNC's COORD and TELEOP flags: kept while disabled.
+        m.coord_mode.set(core.coord_mode());
+        m.teleop_mode.set(core.teleop_mode());
         m.coord_error.set(core.error());
         m.on_soft_limit.set(core.on_soft_limit());
         m.current_vel.set(core.current_vel());
@@ -940,6 +951,13 @@ impl HalIo {
         let (pose, _) = core.carte_pos_cmd();
         for (a, ap) in self.axes.iter().enumerate() {
             ap.pos_cmd.set(pose.0[a]);
+            let ax = core.axis_ref(a);
+            ap.teleop_pos_cmd.set(ax.teleop_tp.pos_cmd);
+            ap.teleop_vel_cmd.set(ax.teleop_tp.curr_vel);
+            ap.teleop_vel_lim.set(ax.teleop_tp.max_vel);
+            ap.teleop_tp_enable.set(ax.teleop_tp.enable);
+            ap.kb_jog_active.set(ax.kb_jog_active);
+            ap.wheel_jog_active.set(ax.wheel_jog_active);
         }
     }
 }

@@ -726,8 +726,10 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
         let s = c.status().unwrap();
         s.last.serial == r.serial && s.last.code == 1
     });
-    let r = c.send(Command::Teleop).unwrap_err();
-    assert!(matches!(r.reason, Reject::Unsupported { .. }), "{r}");
+    let r = c
+        .send(Command::AxisJogCont { axis: 0, vel: 1.0 })
+        .unwrap_err();
+    assert_eq!(r.reason, Reject::NotEnabled, "{r}");
 
     let a = c.send(Command::Enable).unwrap();
     assert!(a.serial > r.serial);

@@ -98,6 +98,28 @@ fn all_commands() -> Vec<Command> {
             home: 0.2,
             sequence: i32::MAX,
         },
+        Command::AxisJogCont { axis: 2, vel: -1.5 },
+        Command::AxisJogIncr {
+            axis: 0,
+            vel: 3.0,
+            offset: 0.125,
+        },
+        Command::AxisJogAbs {
+            axis: 8,
+            vel: -2.0,
+            pos: 12.5,
+        },
+        Command::AxisJogAbort { axis: -1 },
+        Command::SetAxisPositionLimits {
+            axis: 1,
+            min: -1e99,
+            max: 1e99,
+        },
+        Command::SetAxisVelLimit { axis: 3, vel: 7.5 },
+        Command::SetAxisAccLimit {
+            axis: i32::MAX,
+            acc: 250.0,
+        },
     ]
 }
 
@@ -111,11 +133,43 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_28_is_used() {
+fn every_opcode_from_1_to_35_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(|c| shape(c).0).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=28).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=35).collect::<Vec<_>>());
+}
+
+#[test]
+fn axis_commands_carry_the_axis_in_the_joint_word() {
+    let w = encode_command(
+        3,
+        &Command::AxisJogIncr {
+            axis: 4,
+            vel: -1.0,
+            offset: 0.5,
+        },
+    );
+    assert_eq!((w[2], w[3]), (30, 4));
+    assert_eq!(w[4], (-1.0f64).to_bits());
+    assert_eq!(w[5], 0.5f64.to_bits());
+    assert!(w[6..CMD_WORDS - 1].iter().all(|&x| x == 0));
+    let w = encode_command(3, &Command::AxisJogAbort { axis: -2 });
+    assert_eq!((w[2], w[3]), (32, (-2i64) as u64));
+    // An axis word that is no i32 is refused like a joint word.
+    let mut w = encode_command(3, &Command::AxisJogAbort { axis: 1 });
+    w[3] = 1 << 35;
+    assert_eq!(
+        decode_command(&seal(w)),
+        Err((3, WireError::BadJoint { value: 1 << 35 }))
+    );
+    // A float the command does not take.
+    let mut w = encode_command(3, &Command::AxisJogCont { axis: 1, vel: 1.0 });
+    w[5] = 1;
+    assert_eq!(
+        decode_command(&seal(w)),
+        Err((3, WireError::UnusedWordSet { index: 5 }))
+    );
 }
 
 #[test]
@@ -149,7 +203,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 29, 1000, u64::MAX] {
+    for op in [0u64, 36, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(
@@ -264,6 +318,34 @@ fn all_rejects() -> Vec<Reject> {
         Reject::LockingIndexer { joint: 3 },
         Reject::NotFreeOrDisabled,
         Reject::ExtraJointEnabled { joint: 4 },
+        Reject::NotInPosition,
+        Reject::NotHomed,
+        Reject::NotTeleopMode,
+        Reject::JointJogInTeleop,
+        Reject::NoSuchAxis { axis: -7 },
+        Reject::NoSuchAxis { axis: i32::MAX },
+        Reject::AxisNotInKinematics { axis: 5 },
+        Reject::MotionError,
+        Reject::AxisWheelJogActive { axis: 8 },
+        Reject::AxisPastLimit {
+            axis: 0,
+            dir: Direction::Negative,
+        },
+        Reject::AxisPastLimit {
+            axis: 1,
+            dir: Direction::Positive,
+        },
+        Reject::AxisTargetOutsideLimits {
+            axis: 2,
+            target: -51.0,
+            min: -50.0,
+            max: 50.0,
+        },
+        Reject::KinematicsFailed,
+        Reject::ModeChangeJump {
+            joint: 3,
+            jump: 0.25,
+        },
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -352,4 +434,121 @@ fn status_snapshot_decodes_and_validates_its_header() {
     let mut bad = w;
     bad[STATUS_HEADER] |= 26 << jflag::HOME_STATE_SHIFT;
     assert_eq!(decode_status(&bad), Err(WireError::BadStatus));
+}
+
+#[test]
+fn every_reason_code_from_1_to_41_is_used_and_named() {
+    let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
+    codes.sort();
+    codes.dedup();
+    assert_eq!(codes, (1..=41).collect::<Vec<_>>());
+    for c in codes {
+        assert_ne!(result_name(c), "unknown", "{c}");
+    }
+    // Existing codes keep their numbers.
+    assert_eq!(reject_code(&Reject::ActivateWhileEnabled { joint: 0 }), 19);
+    assert_eq!(reject_code(&Reject::HomingInhibited), 20);
+    assert_eq!(reject_code(&Reject::NotInPosition), 30);
+    assert_eq!(reject_code(&Reject::KinematicsFailed), 40);
+}
+
+#[test]
+fn status_modes_and_axes_decode() {
+    let mut w = [0u64; STATUS_WORDS];
+    w[0] = STATUS_VERSION;
+    w[1] = 1;
+    for (code, name) in [(0, "DISABLED"), (1, "FREE"), (2, "TELEOP"), (3, "COORD")] {
+        w[2] = code;
+        assert_eq!(decode_status(&w).unwrap().mode, name);
+    }
+    let mut bad = w;
+    bad[2] = 4;
+    assert_eq!(decode_status(&bad), Err(WireError::BadStatus));
+    // The remembered mode while disabled.
+    w[2] = 0;
+    w[3] = flag::TELEOP_MODE;
+    let s = decode_status(&w).unwrap();
+    assert!(s.teleop_mode && !s.coord_mode);
+    assert!(s.to_string().contains("mode on enable: TELEOP"), "{s}");
+    // The axis blocks.
+    let b = AXES_START + 2 * AXIS_WORDS;
+    w[b] = aflag::IN_KINEMATICS | aflag::KB_JOG | aflag::MOVING;
+    w[b + 1] = 1.5f64.to_bits();
+    w[b + 2] = (-2.0f64).to_bits();
+    w[b + 3] = (-1e99f64).to_bits();
+    w[b + 4] = 10.0f64.to_bits();
+    let s = decode_status(&w).unwrap();
+    assert_eq!(s.axes.len(), NUM_AXES);
+    let z = s.axes[2];
+    assert!(z.in_kinematics && z.kb_jogging && z.moving && !z.wheel_jogging && !z.tp_enable);
+    assert_eq!(
+        (z.pos_cmd, z.vel_cmd, z.min_limit, z.max_limit),
+        (1.5, -2.0, -1e99, 10.0)
+    );
+    assert!(!s.axes[0].in_kinematics);
+    let text = s.to_string();
+    assert!(
+        text.lines().any(|l| l.starts_with("Z ")
+            && l.contains("1.500000")
+            && l.contains("-1e99")
+            && l.contains("moving jogging")),
+        "{text}"
+    );
+    assert!(!text.lines().any(|l| l.starts_with("X ")), "{text}");
+}
+
+#[test]
+fn a_core_in_teleop_publishes_its_mode_and_axes() {
+    use crate::kins::trivkins::Trivkins;
+    use crate::kins::KinematicsType;
+    use crate::{MotionConfig, MotionCore};
+    let kins = std::sync::Arc::new(Trivkins::new("xz", KinematicsType::Identity).unwrap());
+    let mut m = MotionCore::new(
+        MotionConfig {
+            num_joints: 2,
+            ..MotionConfig::default()
+        },
+        kins,
+    );
+    for j in 0..2 {
+        m.command(&Command::JointActivate { joint: j }).unwrap();
+    }
+    m.command(&Command::Teleop).unwrap();
+    let mut w = [0u64; STATUS_WORDS];
+    m.cycle(0.001);
+    fill_status(&m, LastCommand::default(), 0, &mut w);
+    let s = decode_status(&w).unwrap();
+    assert_eq!(
+        (s.mode, s.teleop_mode, s.enabled),
+        ("DISABLED", true, false)
+    );
+    m.command(&Command::Enable).unwrap();
+    m.cycle(0.001);
+    m.command(&Command::AxisJogCont { axis: 2, vel: 0.5 })
+        .unwrap();
+    m.cycle(0.001);
+    fill_status(&m, LastCommand::default(), 0, &mut w);
+    let s = decode_status(&w).unwrap();
+    assert_eq!((s.mode, s.teleop_mode, s.enabled), ("TELEOP", true, true));
+    let in_kins: Vec<bool> = s.axes.iter().map(|a| a.in_kinematics).collect();
+    assert_eq!(
+        in_kins,
+        [true, false, true, false, false, false, false, false, false]
+    );
+    let z = s.axes[2];
+    assert!(z.kb_jogging && z.moving && z.tp_enable);
+    assert_eq!(z.vel_cmd, 0.001, "A·T with the default acceleration 1");
+    assert_eq!(z.pos_cmd, m.carte_pos_cmd().0 .0[2]);
+    assert_eq!((z.min_limit, z.max_limit), (-1e99, 1e99));
+    m.command(&Command::AxisJogAbort { axis: 2 }).unwrap();
+    for _ in 0..10 {
+        m.cycle(0.001);
+    }
+    m.command(&Command::Coord).unwrap();
+    fill_status(&m, LastCommand::default(), 0, &mut w);
+    let s = decode_status(&w).unwrap();
+    assert_eq!(
+        (s.mode, s.coord_mode, s.teleop_mode),
+        ("COORD", true, false)
+    );
 }

@@ -25,10 +25,13 @@
 //! Everything is preallocated when the core is built; a cycle or a command
 //! never allocates, locks or makes a system call.
 //!
-//! This milestone implements the disabled and free (joint) modes; teleop,
-//! coordinated mode, homing and the spindles come later (their HAL pins
-//! already exist). Deliberate differences from LinuxCNC, each following a
-//! "→ Design" note of the reference:
+//! Modes: disabled, free (joint) mode, teleop mode (world axis jogs through
+//! the inverse kinematics) and coordinated mode, which holds its pose until
+//! the queued trajectory planner exists; the world modes and the mode
+//! requests are in `teleop.rs`, whose documentation lists their
+//! differences from LinuxCNC. Homing and the spindles come later (their HAL
+//! pins already exist). Deliberate differences from LinuxCNC, each
+//! following a "→ Design" note of the reference:
 //! * every refused command returns a [`Reject`] and changes nothing, and a
 //!   refused jog does not set the joint's error flag;
 //! * the free-mode SCALE is applied to the free planners as a jog override
@@ -42,11 +45,16 @@
 
 use std::sync::Arc;
 
+use crate::axis::AxisInputs;
 use crate::command::{Command, CommandResult, Direction, Reject};
 use crate::events::{Event, EventRing};
 use crate::homing::{ConfigProblem, HomeFault, HomeFlags, HomeState, Homing, HomingConfig};
 use crate::joint::{Joint, JointInputs, JointStatus};
-use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose};
+use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose, NUM_AXES};
+
+mod teleop;
+pub use teleop::MODE_ENTRY_TOLERANCE;
+use teleop::{Mode, World};
 
 /// Most joints (`EMCMOT_MAX_JOINTS`).
 pub const MAX_JOINTS: usize = 16;
@@ -149,6 +157,12 @@ pub enum MotionState {
     Disabled,
     /// Joint mode: every joint has its own planner.
     Free,
+    /// World jog mode: every axis has its own planner, the inverse
+    /// kinematics move the joints.
+    Teleop,
+    /// Coordinated mode: the commanded pose is held (no queued planner
+    /// yet), the inverse kinematics move the joints.
+    Coord,
 }
 
 /// The motion controller.
@@ -164,6 +178,10 @@ pub struct MotionCore {
     pub inputs: MotionInputs,
     /// Per-joint inputs, one per joint.
     pub joint_inputs: Vec<JointInputs>,
+    /// Per-axis jog-wheel inputs (X Y Z A B C U V W).
+    pub axis_inputs: [AxisInputs; NUM_AXES],
+    /// The mode (kept over a disable) and the nine axes.
+    world: World,
     events: Arc<EventRing>,
 
     /// Requested enabled state (set by commands, honoured by the cycle).
@@ -244,6 +262,8 @@ impl MotionCore {
             joints: vec![Joint::default(); cfg.num_joints],
             inputs: MotionInputs::default(),
             joint_inputs: vec![JointInputs::default(); cfg.num_joints],
+            axis_inputs: [AxisInputs::default(); NUM_AXES],
+            world: World::default(),
             events: Arc::new(EventRing::default()),
             enabling: false,
             enabled: false,
@@ -489,6 +509,7 @@ impl MotionCore {
                     j.error = false;
                     j.fault = false;
                 }
+                self.abort_axis_jogs(false);
                 self.error = false;
                 Ok(())
             }
@@ -589,6 +610,9 @@ impl MotionCore {
                 if self.homing.in_sequence(j) {
                     return Err(Reject::HomingActive);
                 }
+                if self.axes_moving() {
+                    return Err(Reject::JointMoving { joint: j });
+                }
                 let jt = &mut self.joints[j];
                 if jt.free_tp.active {
                     return Err(Reject::JointMoving { joint: j });
@@ -619,13 +643,9 @@ impl MotionCore {
                 }
                 Ok(())
             }
-            Command::Free => Ok(()),
-            Command::Teleop => Err(Reject::Unsupported {
-                what: "teleop mode is not implemented yet (only free mode exists)",
-            }),
-            Command::Coord => Err(Reject::Unsupported {
-                what: "coordinated mode is not implemented yet (only free mode exists)",
-            }),
+            Command::Free => self.request_mode(Mode::Free),
+            Command::Teleop => self.request_mode(Mode::Teleop),
+            Command::Coord => self.request_mode(Mode::Coord),
             Command::EnableAmplifier { joint } | Command::DisableAmplifier { joint } => {
                 self.joint_index(joint)?;
                 Err(Reject::Unsupported {
@@ -737,6 +757,15 @@ impl MotionCore {
                 self.homing.joints[j].cfg = config;
                 Ok(())
             }
+            Command::AxisJogCont { axis, vel } => self.axis_jog_cont(axis, vel),
+            Command::AxisJogIncr { axis, vel, offset } => self.axis_jog_incr(axis, vel, offset),
+            Command::AxisJogAbs { axis, vel, pos } => self.axis_jog_abs(axis, vel, pos),
+            Command::AxisJogAbort { axis } => self.axis_jog_abort(axis),
+            Command::SetAxisPositionLimits { axis, min, max } => {
+                self.set_axis_position_limits(axis, min, max)
+            }
+            Command::SetAxisVelLimit { axis, vel } => self.set_axis_vel_limit(axis, vel),
+            Command::SetAxisAccLimit { axis, acc } => self.set_axis_acc_limit(axis, acc),
         }
     }
 
@@ -843,6 +872,9 @@ impl MotionCore {
         if !self.enabled {
             return Err(Reject::NotEnabled);
         }
+        if self.state == MotionState::Teleop {
+            return Err(Reject::JointJogInTeleop);
+        }
         if self.state != MotionState::Free {
             return Err(Reject::NotFreeMode);
         }
@@ -937,10 +969,22 @@ impl MotionCore {
         self.check_for_faults();
         self.set_operating_mode();
         self.handle_jog_wheels();
+        self.handle_axis_jog_wheels();
+        let mut homed_all_now = false;
         if self.state == MotionState::Free {
+            let was_homing = self.homing.is_active();
             self.homing.run(&mut self.joints, period, &self.events);
+            homed_all_now = was_homing && !self.homing.is_active() && self.is_all_homed();
         }
         self.get_pos_cmds(period);
+        if homed_all_now {
+            // As LinuxCNC: once homing has homed every joint, motion goes
+            // to teleop mode by itself (world jogs from then on). Entered
+            // after this cycle's commands, so at the exact HOME positions.
+            // A refusal (kinematics that cannot reproduce the joints)
+            // leaves motion in free mode.
+            let _ = self.request_mode(teleop::Mode::Teleop);
+        }
         self.compute_backlash(period);
         self.motor_commands();
         self.homing.update_outputs();
@@ -985,6 +1029,7 @@ impl MotionCore {
                     &mut self.carte_pos_cmd,
                     &mut self.kins_flags,
                 );
+                self.world_kins_switched();
             }
         }
     }
@@ -1028,6 +1073,7 @@ impl MotionCore {
                     jt.wheel_jog_active = false;
                 }
             }
+            self.stop_axis_jogs(immediate);
             self.jog_is_active = false;
             self.events.push(Event::JogStopped { immediate });
         }
@@ -1078,9 +1124,14 @@ impl MotionCore {
                 }
             }
             KinematicsType::InverseOnly | KinematicsType::ForwardOnly => {
-                // No world modes yet, so the command is never a usable
-                // stand-in for the feedback.
-                self.carte_pos_fb_ok = false;
+                // Without forward kinematics the world command stands in
+                // for the feedback in the world modes (as LinuxCNC does);
+                // in free mode there is none.
+                let world = matches!(self.state, MotionState::Teleop | MotionState::Coord);
+                if world {
+                    self.carte_pos_fb = self.carte_pos_cmd;
+                }
+                self.carte_pos_fb_ok = world;
             }
         }
     }
@@ -1109,6 +1160,9 @@ impl MotionCore {
             }
             if stopped {
                 self.events.push(Event::ProbeTrippedDuringJog);
+            }
+            if self.stop_axis_jogs_on_probe() {
+                self.events.push(Event::ProbeTrippedDuringAxisJog);
             }
         }
         self.old_probe = probe;
@@ -1180,6 +1234,7 @@ impl MotionCore {
                     jt.enabled = false;
                 }
             }
+            self.world_disable_edge();
             self.enabled = false;
         }
         if self.enabling && !self.enabled {
@@ -1193,12 +1248,9 @@ impl MotionCore {
             }
             self.enabled = true;
             self.error = false;
+            self.world_enable_edge();
         }
-        self.state = if self.enabled {
-            MotionState::Free
-        } else {
-            MotionState::Disabled
-        };
+        self.state = self.operating_state();
     }
 
     /// MPG jogs: each joint's `jog-counts` moves its free planner target.
@@ -1351,6 +1403,8 @@ impl MotionCore {
                     }
                 }
             }
+            MotionState::Teleop => self.teleop_pos_cmds(period),
+            MotionState::Coord => self.coord_pos_cmds(period),
             MotionState::Disabled => {
                 self.carte_pos_cmd = self.carte_pos_fb;
                 for jt in &mut self.joints {
@@ -1361,6 +1415,7 @@ impl MotionCore {
             }
         }
         self.check_soft_limits();
+        self.teleop_soft_limit_stop();
     }
 
     /// The backup check: a homed joint commanded outside its soft limits
@@ -1422,8 +1477,9 @@ impl MotionCore {
             }
             jogging |= jt.kb_jog_active || jt.wheel_jog_active;
         }
+        let v2 = v2 + self.teleop_vel_squared();
         self.current_vel = if v2 > 0.0 { v2.sqrt() } else { 0.0 };
-        self.jog_is_active = jogging;
+        self.jog_is_active = jogging || self.axis_jogging();
     }
 }
 
@@ -1435,5 +1491,7 @@ fn dir_of(vel: f64) -> Direction {
     }
 }
 
+#[cfg(test)]
+mod teleop_tests;
 #[cfg(test)]
 mod tests;

@@ -898,6 +898,9 @@ fn absolute_encoders_set_the_position_without_searching() {
         ],
     );
     assert_eq!(r.m.joint(0).pos_cmd, 1.0);
+    // All homed: motion went to teleop by itself, as LinuxCNC does.
+    assert_eq!(r.m.state(), MotionState::Teleop);
+    r.cmd(Command::Free).unwrap();
     // No re-homing: a single request is refused, home-all skips it.
     assert_eq!(
         r.cmd(Command::Home { joint: 0 }),
@@ -1181,6 +1184,12 @@ fn unhome_rules() {
     r.cmd(Command::Home { joint: -1 }).unwrap();
     r.home_to_end(5000);
     assert!(r.m.is_all_homed());
+    // Teleop now: unhoming needs free mode (or disabled).
+    assert_eq!(
+        r.cmd(Command::Unhome { joint: -1 }),
+        Err(Reject::NotFreeOrDisabled)
+    );
+    r.cmd(Command::Free).unwrap();
     // −2: only the volatile ones.
     r.cmd(Command::Unhome { joint: -2 }).unwrap();
     assert!(r.m.joint(0).homed && !r.m.joint(1).homed && r.m.joint(2).homed);
@@ -1409,6 +1418,7 @@ fn jog_abort_of_a_joint_not_homing_now_leaves_the_sequence_running() {
     r.cmd(Command::JogAbort { joint: 2 }).unwrap();
     r.home_to_end(20_000);
     assert!(r.m.is_all_homed(), "{:?}", r.events());
+    r.cmd(Command::Free).unwrap();
     // The joint homing now is cancelled by its own jog abort.
     r.cmd(Command::Home { joint: 1 }).unwrap();
     r.run(300);

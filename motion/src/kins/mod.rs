@@ -107,6 +107,14 @@ pub trait Kinematics: Send + Sync + 'static {
         flags: &mut KinsFlags,
     ) -> Result<(), KinsError>;
 
+    /// Whether world axis `axis` (an index into [`AXIS_LETTERS`]) is one
+    /// of the coordinates the module computes: `None` when the module does
+    /// not say, and then motion lets every axis be jogged.
+    fn has_axis(&self, axis: usize) -> Option<bool> {
+        let _ = axis;
+        None
+    }
+
     /// Whether the module can switch between several kinematics at run
     /// time (`motion.switchkins-type` is only exported if so).
     fn is_switchable(&self) -> bool {

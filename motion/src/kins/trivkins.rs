@@ -232,6 +232,11 @@ impl Kinematics for Trivkins {
         }
         Ok(())
     }
+
+    /// The axes named in `coordinates=`.
+    fn has_axis(&self, axis: usize) -> Option<bool> {
+        Some(self.principal.get(axis).is_some_and(|p| p.is_some()))
+    }
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
@@ -291,6 +296,16 @@ mod tests {
         let k = kins("xyzy");
         assert_eq!(k.joints_of_axis(1).collect::<Vec<_>>(), vec![1, 3]);
         assert_eq!(k.principal[1], Some(1));
+    }
+
+    #[test]
+    fn knows_which_axes_are_its_coordinates() {
+        let k = kins("xz");
+        let has: Vec<_> = (0..NUM_AXES + 1).map(|a| k.has_axis(a)).collect();
+        assert_eq!(has[0], Some(true));
+        assert_eq!(has[1], Some(false));
+        assert_eq!(has[2], Some(true));
+        assert!(has[3..].iter().all(|h| *h == Some(false)), "{has:?}");
     }
 
     #[test]

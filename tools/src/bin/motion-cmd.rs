@@ -53,6 +53,18 @@ joints:
   unhome JOINT                  forget the home of JOINT; -1 every joint,
                                 -2 the VOLATILE_HOME joints
 
+axes (teleop mode):
+  AXIS is a letter x y z a b c u v w, or its number 0..8
+  axis-jog-cont AXIS VEL        jog until axis-jog-abort (sign of VEL =
+                                direction), at most to the axis limit
+  axis-jog-incr AXIS VEL DIST   jog DIST (>= 0) in the direction of VEL
+  axis-jog-abs AXIS VEL POS     jog to POS (clamped into the axis limits)
+                                at speed |VEL|
+  axis-jog-abort AXIS           stop the jog of AXIS
+  set-axis-limits AXIS MIN MAX  axis position limits
+  set-axis-vel-limit AXIS VEL   axis maximum velocity
+  set-axis-acc-limit AXIS ACC   axis maximum acceleration
+
 configuration:
   set-limits JOINT MIN MAX      soft position limits
   set-vel-limit JOINT VEL       maximum velocity
@@ -267,6 +279,24 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
     }
 }
 
+/// An axis: its letter (either case) or its number. Numbers out of range
+/// pass through, for the controller to refuse.
+fn axis(s: Option<&String>) -> Result<i32, Usage> {
+    let s = s.ok_or_else(|| Usage("missing AXIS".into()))?;
+    let mut chars = s.chars();
+    if let (Some(c), None) = (chars.next(), chars.next()) {
+        let c = c.to_ascii_lowercase();
+        if let Some(i) = motion::kins::AXIS_LETTERS.iter().position(|&l| l == c) {
+            return Ok(i as i32);
+        }
+    }
+    s.parse().map_err(|_| {
+        Usage(format!(
+            "AXIS must be one of x y z a b c u v w or a number, not '{s}'"
+        ))
+    })
+}
+
 /// Parses a command and its arguments.
 fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
     if name == "set-homing-params" {
@@ -343,6 +373,36 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
             joint: j()?,
             offset: f(1, "VALUE")?,
         },
+        "axis-jog-cont" => Command::AxisJogCont {
+            axis: axis(a.first())?,
+            vel: f(1, "VEL")?,
+        },
+        "axis-jog-incr" => Command::AxisJogIncr {
+            axis: axis(a.first())?,
+            vel: f(1, "VEL")?,
+            offset: f(2, "DIST")?,
+        },
+        "axis-jog-abs" => Command::AxisJogAbs {
+            axis: axis(a.first())?,
+            vel: f(1, "VEL")?,
+            pos: f(2, "POS")?,
+        },
+        "axis-jog-abort" => Command::AxisJogAbort {
+            axis: axis(a.first())?,
+        },
+        "set-axis-limits" => Command::SetAxisPositionLimits {
+            axis: axis(a.first())?,
+            min: f(1, "MIN")?,
+            max: f(2, "MAX")?,
+        },
+        "set-axis-vel-limit" => Command::SetAxisVelLimit {
+            axis: axis(a.first())?,
+            vel: f(1, "VEL")?,
+        },
+        "set-axis-acc-limit" => Command::SetAxisAccLimit {
+            axis: axis(a.first())?,
+            acc: f(1, "ACC")?,
+        },
         "set-world-home" => {
             let mut pose = Pose::ZERO;
             for (i, v) in pose.0.iter_mut().enumerate() {
@@ -390,6 +450,13 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
         Command::SetWorldHome { .. } => NUM_AXES,
         Command::UpdateJointHomingParams { .. } => 4,
         Command::SetJointHomingParams { .. } => a.len(),
+        Command::AxisJogAbort { .. } => 1,
+        Command::AxisJogCont { .. }
+        | Command::SetAxisVelLimit { .. }
+        | Command::SetAxisAccLimit { .. } => 2,
+        Command::AxisJogIncr { .. }
+        | Command::AxisJogAbs { .. }
+        | Command::SetAxisPositionLimits { .. } => 3,
     };
     want(n)?;
     Ok(cmd)
