@@ -1,12 +1,15 @@
 //! Prints the cost of one servo cycle of the motion controller core
-//! (`motion-controller` without the HAL pin copies) for 3, 6 and 9 joints,
-//! every joint jogging, with the motors looped back. Run with
+//! (`motion-controller` without the HAL pin copies) for 3, 6 and 9 joints
+//! with the motors looped back: every joint jogging in free mode, every
+//! joint homing (switch search, all in one sequence), and every axis
+//! jogging in teleop mode (inverse kinematics each cycle). Run with
 //! `cargo bench -p motion`. It prints figures; it checks nothing.
 
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 
+use motion::homing::HomingConfig;
 use motion::kins::trivkins::Trivkins;
 use motion::{Command, KinematicsType, MotionConfig, MotionCore};
 
@@ -76,6 +79,64 @@ fn main() {
         }
         let ns = start.elapsed().as_nanos() as f64 / f64::from(CYCLES);
         assert!(m.is_enabled());
-        println!("motion servo cycle, {n} joints: {ns:.0} ns");
+        println!("motion servo cycle, {n} joints jogging (free): {ns:.0} ns");
+    }
+    for n in [3, 6, 9] {
+        let mut m = machine(n);
+        for j in 0..n as i32 {
+            let config = HomingConfig {
+                search_vel: 1.0,
+                latch_vel: 0.1,
+                sequence: 0,
+                ..HomingConfig::default()
+            };
+            m.command(&Command::SetJointHomingParams { joint: j, config })
+                .unwrap();
+        }
+        m.command(&Command::Home { joint: -1 }).unwrap();
+        // The switch never closes within the measured cycles: a search.
+        let start = Instant::now();
+        for _ in 0..CYCLES {
+            for j in 0..n {
+                m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+            }
+            m.cycle(black_box(0.001));
+        }
+        let ns = start.elapsed().as_nanos() as f64 / f64::from(CYCLES);
+        assert!(m.homing_active());
+        println!("motion servo cycle, {n} joints homing: {ns:.0} ns");
+    }
+    for n in [3, 6, 9] {
+        let mut m = machine(n);
+        m.command(&Command::Teleop).unwrap();
+        for a in 0..n as i32 {
+            m.command(&Command::SetAxisVelLimit { axis: a, vel: 10.0 })
+                .unwrap();
+            m.command(&Command::SetAxisAccLimit {
+                axis: a,
+                acc: 100.0,
+            })
+            .unwrap();
+        }
+        let start = Instant::now();
+        for k in 0..CYCLES {
+            for j in 0..n {
+                m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+            }
+            if k % 20_000 == 0 {
+                for a in 0..n as i32 {
+                    let vel = if (a + (k / 20_000) as i32) % 2 == 0 {
+                        5.0
+                    } else {
+                        -5.0
+                    };
+                    m.command(&Command::AxisJogCont { axis: a, vel }).unwrap();
+                }
+            }
+            m.cycle(black_box(0.001));
+        }
+        let ns = start.elapsed().as_nanos() as f64 / f64::from(CYCLES);
+        assert!(m.is_enabled());
+        println!("motion servo cycle, {n} axes jogging (teleop): {ns:.0} ns");
     }
 }
