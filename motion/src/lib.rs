@@ -30,6 +30,8 @@ pub mod mailbox;
 pub mod motmod;
 pub mod registry;
 pub mod simple_tp;
+#[cfg(test)]
+mod test_support;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Reject};

@@ -20,34 +20,7 @@ fn machine(n: usize, kt: KinematicsType) -> Sim {
         },
         kins,
     );
-    for j in 0..n as i32 {
-        for c in [
-            Command::JointActivate { joint: j },
-            Command::SetJointPositionLimits {
-                joint: j,
-                min: -100.0,
-                max: 100.0,
-            },
-            Command::SetJointVelLimit {
-                joint: j,
-                vel: 10.0,
-            },
-            Command::SetJointAccLimit {
-                joint: j,
-                acc: 100.0,
-            },
-            Command::SetJointMinFerror {
-                joint: j,
-                ferror: 0.01,
-            },
-            Command::SetJointMaxFerror {
-                joint: j,
-                ferror: 1.0,
-            },
-        ] {
-            m.command(&c).unwrap();
-        }
-    }
+    crate::test_support::configure_test_joints(&mut m);
     Sim {
         m,
         lag: 1,
