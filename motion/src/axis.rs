@@ -137,12 +137,7 @@ impl Axis {
     /// Puts the planner at rest at `pos`, disabled, and ends any jog (on
     /// entering a world mode or leaving teleop).
     pub(crate) fn set_at_rest(&mut self, pos: f64) {
-        let tp = &mut self.teleop_tp;
-        tp.curr_pos = pos;
-        tp.pos_cmd = pos;
-        tp.curr_vel = 0.0;
-        tp.enable = false;
-        tp.active = false;
+        self.teleop_tp.set_at_rest(pos);
         self.kb_jog_active = false;
         self.wheel_jog_active = false;
     }

@@ -35,7 +35,7 @@ use std::time::{Duration, Instant};
 
 use hal_core::{HalError, Instance, Region, RingReader, RingWriter, SeqLockReader};
 
-use crate::command::{Command, Direction, Reject};
+use crate::command::{Command, Direction, Feature, Quantity, Reject};
 use crate::core::{MotionCore, MotionState, MAX_JOINTS};
 use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
 use crate::kins::{Pose, AXIS_LETTERS, NUM_AXES};
@@ -530,46 +530,6 @@ pub fn decode_command(w: &[u64; CMD_WORDS]) -> Result<(u64, Command), (u64, Wire
     Ok((serial, cmd))
 }
 
-/// Texts a [`Reject`] may carry, by index on the wire. Only append: an
-/// entry's index is its wire code.
-const WHATS: &[&str] = &[
-    "scale",
-    "minimum limit",
-    "maximum limit",
-    "velocity limit",
-    "acceleration limit",
-    "minimum following error",
-    "maximum following error",
-    "backlash",
-    "motor offset",
-    "world home coordinate",
-    "jog increment",
-        "jog position",
-    "jog target",
-
-    // Retired (teleop and coordinated modes exist now); kept so that the
-    // indices after them do not change.
-    "teleop mode is not implemented yet (only free mode exists)",
-    "coordinated mode is not implemented yet (only free mode exists)",
-    "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
-    "teleop and coordinated modes need inverse kinematics",
-];
-
-fn what_index(what: &str) -> u64 {
-    WHATS
-        .iter()
-        .position(|w| *w == what)
-        .map_or(u64::MAX, |i| i as u64)
-}
-
-fn what_text(i: u64) -> &'static str {
-    usize::try_from(i)
-        .ok()
-        .and_then(|i| WHATS.get(i))
-        .copied()
-        .unwrap_or("value")
-}
-
 fn dir_code(d: Direction) -> u64 {
     match d {
         Direction::Positive => 0,
@@ -607,10 +567,10 @@ fn encode_reject(r: &Reject) -> (u64, [u64; 2], [f64; 3]) {
             max,
         } => (12, [joint as u64, 0], [target, min, max]),
         Reject::BadVelocity { vel } => (13, [0; 2], [vel, 0.0, 0.0]),
-        Reject::BadValue { what, value } => (14, [0, what_index(what)], [value, 0.0, 0.0]),
+        Reject::BadValue { what, value } => (14, [0, what.code()], [value, 0.0, 0.0]),
         Reject::LimitsReversed { min, max } => (15, [0; 2], [min, max, 0.0]),
         Reject::Timeout => (16, [0; 2], [0.0; 3]),
-        Reject::Unsupported { what } => (17, [0, what_index(what)], [0.0; 3]),
+        Reject::Unsupported { what } => (17, [0, what.code()], [0.0; 3]),
         Reject::Malformed { error } => {
             let (c, d) = error.code();
             (18, [c, d], [0.0; 3])
@@ -684,7 +644,7 @@ fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
         },
         13 => Reject::BadVelocity { vel: f[0] },
         14 => Reject::BadValue {
-            what: what_text(n[1]),
+            what: Quantity::from_code(n[1])?,
             value: f[0],
         },
         15 => Reject::LimitsReversed {
@@ -693,7 +653,7 @@ fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
         },
         16 => Reject::Timeout,
         17 => Reject::Unsupported {
-            what: what_text(n[1]),
+            what: Feature::from_code(n[1])?,
         },
         18 => Reject::Malformed {
             error: WireError::from_code(n[0], n[1])?,
@@ -865,17 +825,18 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     out[7] = core.scale().to_bits();
     out[8] = core.override_limit_mask() as u64;
     out[9] = served;
+    // Read through references: this runs every servo cycle.
     for j in 0..n {
-        let s = core.joint(j);
+        let s = core.joint_ref(j);
         let w = &mut out[STATUS_HEADER + j * JOINT_WORDS..][..JOINT_WORDS];
         w[0] = bit(s.active, jflag::ACTIVE)
             | bit(s.enabled, jflag::AMP_ENABLED)
-            | bit(s.in_position, jflag::IN_POSITION)
+            | bit(s.inpos, jflag::IN_POSITION)
             | bit(s.error, jflag::ERROR)
-            | bit(s.pos_hard_limit, jflag::POS_HARD_LIMIT)
-            | bit(s.neg_hard_limit, jflag::NEG_HARD_LIMIT)
-            | bit(s.following_error, jflag::FOLLOWING_ERROR)
-            | bit(s.faulted, jflag::FAULTED)
+            | bit(s.phl, jflag::POS_HARD_LIMIT)
+            | bit(s.nhl, jflag::NEG_HARD_LIMIT)
+            | bit(s.ferror_flag, jflag::FOLLOWING_ERROR)
+            | bit(s.fault, jflag::FAULTED)
             | bit(s.homed, jflag::HOMED)
             | bit(core.joint_homing(j), jflag::HOMING)
             | bit(s.kb_jog_active, jflag::JOGGING)
@@ -885,22 +846,23 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         w[3] = s.vel_cmd.to_bits();
         w[4] = s.ferror.to_bits();
         w[5] = s.ferror_limit.to_bits();
-        w[6] = s.config.min_pos_limit.to_bits();
-        w[7] = s.config.max_pos_limit.to_bits();
+        w[6] = s.cfg.min_pos_limit.to_bits();
+        w[7] = s.cfg.max_pos_limit.to_bits();
     }
     let (pose, _) = core.carte_pos_cmd();
     for (a, &p) in pose.0.iter().enumerate() {
-        let Some(s) = core.axis(a) else { continue };
+        let s = core.axis_ref(a);
+        let tp = &s.teleop_tp;
         let w = &mut out[AXES_START + a * AXIS_WORDS..][..AXIS_WORDS];
         w[0] = bit(core.axis_in_kinematics(a), aflag::IN_KINEMATICS)
-            | bit(s.teleop_tp_enable, aflag::TP_ENABLE)
+            | bit(tp.enable, aflag::TP_ENABLE)
             | bit(s.kb_jog_active, aflag::KB_JOG)
             | bit(s.wheel_jog_active, aflag::WHEEL_JOG)
-            | bit(s.teleop_tp_active, aflag::MOVING);
+            | bit(tp.active, aflag::MOVING);
         w[1] = p.to_bits();
-        w[2] = s.teleop_vel_cmd.to_bits();
-        w[3] = s.config.min_pos_limit.to_bits();
-        w[4] = s.config.max_pos_limit.to_bits();
+        w[2] = tp.curr_vel.to_bits();
+        w[3] = s.cfg.min_pos_limit.to_bits();
+        w[4] = s.cfg.max_pos_limit.to_bits();
     }
 }
 

@@ -114,6 +114,135 @@ pub enum Command {
     SetAxisAccLimit { axis: i32, acc: f64 },
 }
 
+/// What a [`Reject::BadValue`] is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// The scale.
+    Scale,
+    /// The minimum limit.
+    MinimumLimit,
+    /// The maximum limit.
+    MaximumLimit,
+    /// The velocity limit.
+    VelocityLimit,
+    /// The acceleration limit.
+    AccelerationLimit,
+    /// The minimum following error.
+    MinimumFerror,
+    /// The maximum following error.
+    MaximumFerror,
+    /// The backlash.
+    Backlash,
+    /// The motor offset.
+    MotorOffset,
+    /// The world home coordinate.
+    WorldHomeCoordinate,
+    /// The jog increment.
+    JogIncrement,
+    /// The jog position.
+    JogPosition,
+    /// The jog target.
+    JogTarget,
+}
+
+impl Quantity {
+    /// Every value, in wire-code order.
+    pub const ALL: [Quantity; 13] = [
+        Quantity::Scale,
+        Quantity::MinimumLimit,
+        Quantity::MaximumLimit,
+        Quantity::VelocityLimit,
+        Quantity::AccelerationLimit,
+        Quantity::MinimumFerror,
+        Quantity::MaximumFerror,
+        Quantity::Backlash,
+        Quantity::MotorOffset,
+        Quantity::WorldHomeCoordinate,
+        Quantity::JogIncrement,
+        Quantity::JogPosition,
+        Quantity::JogTarget,
+    ];
+
+    /// The text used in messages.
+    pub fn text(self) -> &'static str {
+        match self {
+            Quantity::Scale => "scale",
+            Quantity::MinimumLimit => "minimum limit",
+            Quantity::MaximumLimit => "maximum limit",
+            Quantity::VelocityLimit => "velocity limit",
+            Quantity::AccelerationLimit => "acceleration limit",
+            Quantity::MinimumFerror => "minimum following error",
+            Quantity::MaximumFerror => "maximum following error",
+            Quantity::Backlash => "backlash",
+            Quantity::MotorOffset => "motor offset",
+            Quantity::WorldHomeCoordinate => "world home coordinate",
+            Quantity::JogIncrement => "jog increment",
+            Quantity::JogPosition => "jog position",
+            Quantity::JogTarget => "jog target",
+        }
+    }
+
+    /// The code on the wire.
+    pub fn code(self) -> u64 {
+        self as u64
+    }
+
+    /// The value with wire code `code`.
+    pub fn from_code(code: u64) -> Option<Quantity> {
+        usize::try_from(code)
+            .ok()
+            .and_then(|i| Self::ALL.get(i))
+            .copied()
+    }
+}
+
+impl std::fmt::Display for Quantity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.text())
+    }
+}
+
+/// What a [`Reject::Unsupported`] refuses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Feature {
+    /// A joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command.
+    AmplifierCommand,
+    /// Teleop and coordinated modes need inverse kinematics.
+    WorldModeWithoutInverse,
+}
+
+impl Feature {
+    /// Every value, in wire-code order.
+    pub const ALL: [Feature; 2] = [Feature::AmplifierCommand, Feature::WorldModeWithoutInverse];
+
+    /// The text used in messages.
+    pub fn text(self) -> &'static str {
+        match self {
+            Feature::AmplifierCommand => "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+            Feature::WorldModeWithoutInverse => "teleop and coordinated modes need inverse kinematics",
+        }
+    }
+
+    /// The code on the wire.
+    pub fn code(self) -> u64 {
+        self as u64
+    }
+
+    /// The value with wire code `code`.
+    pub fn from_code(code: u64) -> Option<Feature> {
+        usize::try_from(code)
+            .ok()
+            .and_then(|i| Self::ALL.get(i))
+            .copied()
+    }
+}
+
+impl std::fmt::Display for Feature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.text())
+    }
+}
+
 /// Which way a jog would move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {
@@ -167,7 +296,7 @@ pub enum Reject {
     /// A velocity that is zero or not finite.
     BadVelocity { vel: f64 },
     /// A value that is negative, not finite or otherwise out of range.
-    BadValue { what: &'static str, value: f64 },
+    BadValue { what: Quantity, value: f64 },
     /// A minimum limit above the maximum.
     LimitsReversed { min: f64, max: f64 },
     /// A joint may only be activated while motion is disabled.
@@ -175,7 +304,7 @@ pub enum Reject {
     /// The motion controller did not answer (its thread is not running).
     Timeout,
     /// The command exists but this controller does not carry it out.
-    Unsupported { what: &'static str },
+    Unsupported { what: Feature },
     /// A command read from the shared-memory channel was corrupt or of an
     /// unknown kind; it was not executed.
     Malformed { error: crate::channel::WireError },

@@ -34,7 +34,7 @@ pub mod simple_tp;
 mod test_support;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
-pub use command::{Command, CommandResult, Direction, Reject};
+pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
 pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState};
 pub use events::Event;
 pub use kins::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};

@@ -22,13 +22,13 @@
 //! its period (as LinuxCNC's handler skips when its mutex is held).
 
 use std::cell::UnsafeCell;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::*};
+use std::sync::atomic::{AtomicBool, Ordering::*};
 use std::sync::Arc;
 use std::time::Duration;
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{
-    clock, Component, HalError, Host, In, Io, Out, Param, Pin, Result, RingReader, RingWriter, Ro,
+    Component, HalError, Host, In, Io, Out, Param, Pin, Result, RingReader, RingWriter, Ro,
     SeqLockWriter,
 };
 
@@ -377,11 +377,21 @@ impl MotionHandle {
     }
 }
 
-/// The controller state both functions use. Each function claims it with
-/// an atomic flag for the duration of its body (never waiting).
+/// What both functions use: the controller, and the last command the
+/// handler answered through the channel (which the controller publishes
+/// with the status).
+struct Controller {
+    core: MotionCore,
+    last: LastCommand,
+    /// Channel commands answered so far.
+    served: u64,
+}
+
+/// The [`Controller`], which each function claims with an atomic flag for
+/// the duration of its body (never waiting).
 struct CoreCell {
     busy: AtomicBool,
-    core: UnsafeCell<MotionCore>,
+    ctl: UnsafeCell<Controller>,
 }
 
 // SAFETY: the core is only reached through `with`, which hands out the
@@ -389,7 +399,7 @@ struct CoreCell {
 unsafe impl Sync for CoreCell {}
 
 impl CoreCell {
-    fn with<R>(&self, f: impl FnOnce(&mut MotionCore) -> R) -> Option<R> {
+    fn with<R>(&self, f: impl FnOnce(&mut Controller) -> R) -> Option<R> {
         if self
             .busy
             .compare_exchange(false, true, Acquire, Relaxed)
@@ -398,7 +408,7 @@ impl CoreCell {
             return None;
         }
         // SAFETY: we hold the claim (see `impl Sync`).
-        let r = f(unsafe { &mut *self.core.get() });
+        let r = f(unsafe { &mut *self.ctl.get() });
         self.busy.store(false, Release);
         Some(r)
     }
@@ -908,7 +918,6 @@ impl HalIo {
             None => 0.0,
         });
         m.debug_s32_0.set(core.override_limit_mask() as i32);
-        let enabled = core.is_enabled();
         for (j, jp) in self.joints.iter().enumerate() {
             let jt = core.joint_ref(j);
             jp.motor_offset.set(jt.motor_offset);
@@ -945,7 +954,7 @@ impl HalIo {
                 jp.index_enable.set(v);
             }
             if let Some((unlock, _)) = &jp.unlock {
-                unlock.set(enabled && core.unlock_output(j));
+                unlock.set(core.unlock_output(j));
             }
         }
         let (pose, _) = core.carte_pos_cmd();
@@ -1011,7 +1020,11 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let events = core.events().clone();
     let cell = Arc::new(CoreCell {
         busy: AtomicBool::new(false),
-        core: UnsafeCell::new(core),
+        ctl: UnsafeCell::new(Controller {
+            core,
+            last: LastCommand::default(),
+            served: 0,
+        }),
     });
     let mailbox = Arc::new(Mailbox::default());
 
@@ -1029,13 +1042,10 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     c.region(channel::LOCK, 16)?;
     let mut status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
     let mut status_buf = [0u64; STATUS_WORDS];
-    cell.with(|core| {
-        channel::fill_status(core, LastCommand::default(), 0, &mut status_buf);
+    cell.with(|ctl| {
+        channel::fill_status(&ctl.core, ctl.last, ctl.served, &mut status_buf);
         status.write(&status_buf);
     });
-    // Last answered serial and code, and the count served, handed from the
-    // handler to the controller, which publishes them with the status.
-    let last = Arc::new([AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0)]);
 
     if p.servo_period_nsec > p.base_period_nsec {
         host.create_thread("base-thread", p.base_period_nsec, p.base_thread_fp, None)?;
@@ -1052,22 +1062,18 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let safe_amps: Vec<BOut> = io.joints.iter().map(|j| j.amp_enable.clone()).collect();
 
     let ctl_cell = cell.clone();
-    let ctl_last = last.clone();
     let mut last_ns: Option<u64> = None;
     b.funct("motion-controller", true, move |ctx| {
-        let now = clock::monotonic_ns();
+        let now = ctx.now_ns();
         let period = last_ns.map_or(0, |l| now.wrapping_sub(l));
         last_ns = Some(now);
         io.motion.last_period.set(period as u32);
-        ctl_cell.with(|core| {
+        ctl_cell.with(|ctl| {
+            let core = &mut ctl.core;
             io.read(core);
             core.cycle(ctx.fperiod());
             io.write(core);
-            let lc = LastCommand {
-                serial: ctl_last[0].load(Relaxed),
-                code: ctl_last[1].load(Relaxed),
-            };
-            channel::fill_status(core, lc, ctl_last[2].load(Relaxed), &mut status_buf);
+            channel::fill_status(core, ctl.last, ctl.served, &mut status_buf);
             status.write(&status_buf);
         });
     })?;
@@ -1079,7 +1085,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         if !h_mailbox.has_command() && cmd_ring.is_empty() {
             return;
         }
-        h_cell.with(|core| {
+        h_cell.with(|ctl| {
+            let core = &mut ctl.core;
             core.inputs.enable = h_inputs.0.get();
             core.inputs.jog_inhibit = h_inputs.1.get();
             core.inputs.homing_inhibit = h_inputs.2.get();
@@ -1094,12 +1101,11 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
                     Err((serial, error)) => (serial, Err(Reject::Malformed { error })),
                 };
                 reply_ring.push(&channel::encode_reply(serial, &result));
-                last[0].store(serial, Relaxed);
-                last[1].store(
-                    result.as_ref().err().map_or(0, channel::reject_code),
-                    Relaxed,
-                );
-                last[2].fetch_add(1, Relaxed);
+                ctl.last = LastCommand {
+                    serial,
+                    code: result.as_ref().err().map_or(0, channel::reject_code),
+                };
+                ctl.served += 1;
             }
         });
     })?;
@@ -1124,7 +1130,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         for a in &safe_amps {
             a.set(false);
         }
-        safe_cell.with(|core| core.force_disable());
+        safe_cell.with(|ctl| ctl.core.force_disable());
     });
     b.ready()
 }

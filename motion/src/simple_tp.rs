@@ -87,6 +87,16 @@ impl SimpleTp {
         self.curr_vel = 0.0;
         self.pos_cmd = self.curr_pos;
     }
+
+    /// Puts the planner at rest at `pos`: disabled, no velocity, target
+    /// `pos` (mode changes, re-synchronising to a joint's command).
+    pub fn set_at_rest(&mut self, pos: f64) {
+        self.curr_pos = pos;
+        self.pos_cmd = pos;
+        self.curr_vel = 0.0;
+        self.enable = false;
+        self.active = false;
+    }
 }
 
 #[cfg(test)]

@@ -4,22 +4,13 @@
 //! functions in the servo thread driven through `MotionHandle`.
 
 use std::collections::BTreeMap;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use hal_core::{HalError, HalType, Host, HostConfig, ParamDir, PinDir, Result, Value};
+mod common;
+
+use common::*;
+use hal_core::{HalError, HalType, Host, ParamDir, PinDir, Value};
 use motion::{Command, Event, MotionHandle, Reject};
-
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("mot-{tag}"))).expect("host starts")
-}
-
-fn loadrt(h: &Host, module: &str, args: &[&str]) -> Result<()> {
-    let def = motion::modules()
-        .into_iter()
-        .find(|d| d.name == module)
-        .expect("module exists");
-    h.loadrt(def, args)
-}
 
 /// (name, type, dir) where dir is "IN", "OUT", "I/O" for pins and "RO",
 /// "RW" for params.
@@ -507,28 +498,6 @@ fn bad_module_parameters_are_refused_and_leave_nothing() {
     assert!(MotionHandle::attach(h.instance().name()).is_some());
 }
 
-fn wait_for(what: &str, mut f: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(10);
-    while !f() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
-
-fn float(h: &Host, pin: &str) -> f64 {
-    match h.instance().pin_value(pin).unwrap() {
-        Value::Float(v) => v,
-        v => panic!("{pin}: {v:?}"),
-    }
-}
-
-fn bit(h: &Host, pin: &str) -> bool {
-    match h.instance().pin_value(pin).unwrap() {
-        Value::Bit(v) => v,
-        v => panic!("{pin}: {v:?}"),
-    }
-}
-
 #[test]
 fn running_in_the_servo_thread_enables_jogs_and_trips() {
     let h = host("run");
@@ -536,22 +505,13 @@ fn running_in_the_servo_thread_enables_jogs_and_trips() {
     loadrt(&h, "motmod", &["num_joints=3", "servo_period_nsec=1000000"]).unwrap();
     let inst = h.instance();
     // Loop each motor command back as its feedback.
-    for j in 0..3 {
-        let sig = format!("j{j}-pos");
-        inst.newsig(&sig, HalType::Float).unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-cmd"), &sig)
-            .unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-fb"), &sig).unwrap();
-    }
+    loop_back_motors(&h, 3);
     let m = MotionHandle::attach(inst.name()).expect("motmod registered");
     assert_eq!(m.num_joints(), 3);
     // Not running yet: nobody takes the command.
     assert_eq!(m.command(Command::Enable), Err(Reject::Timeout));
 
-    h.addf("motion-command-handler", "servo-thread", -1)
-        .unwrap();
-    h.addf("motion-controller", "servo-thread", -1).unwrap();
-    h.start().unwrap();
+    start_motion(&h);
     for j in 0..3 {
         for c in [
             Command::JointActivate { joint: j },
@@ -663,13 +623,7 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
     loadrt(&h, "trivkins", &["coordinates=xyz"]).unwrap();
     loadrt(&h, "motmod", &["num_joints=3", "servo_period_nsec=1000000"]).unwrap();
     let inst = h.instance();
-    for j in 0..3 {
-        let sig = format!("j{j}-pos");
-        inst.newsig(&sig, HalType::Float).unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-cmd"), &sig)
-            .unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-fb"), &sig).unwrap();
-    }
+    loop_back_motors(&h, 3);
     let mut c = MotionClient::open(inst)
         .unwrap()
         .with_timeout(Duration::from_millis(200));
@@ -684,10 +638,7 @@ fn the_shared_memory_channel_enables_jogs_reports_status_and_rejects() {
     assert_eq!(e.reason, Reject::Timeout);
     // The stale command is still in the ring; it runs when the thread
     // starts, and its late answer is discarded by the next send.
-    h.addf("motion-command-handler", "servo-thread", -1)
-        .unwrap();
-    h.addf("motion-controller", "servo-thread", -1).unwrap();
-    h.start().unwrap();
+    start_motion(&h);
     let mut c = c.with_timeout(Duration::from_secs(2));
     // Undo the stale ENABLE before configuring.
     c.send(Command::Disable).unwrap();
@@ -790,17 +741,12 @@ fn homing_on_the_index_through_hal_pins() {
     loadrt(&h, "trivkins", &["coordinates=x"]).unwrap();
     loadrt(&h, "motmod", &["num_joints=1", "servo_period_nsec=1000000"]).unwrap();
     let inst = h.instance();
-    inst.newsig("j0-pos", HalType::Float).unwrap();
-    inst.link("joint.0.motor-pos-cmd", "j0-pos").unwrap();
-    inst.link("joint.0.motor-pos-fb", "j0-pos").unwrap();
+    loop_back_motors(&h, 1);
     // The encoder's side of the index handshake is this test.
     inst.newsig("j0-index", HalType::Bit).unwrap();
     inst.link("joint.0.index-enable", "j0-index").unwrap();
     let m = MotionHandle::attach(inst.name()).unwrap();
-    h.addf("motion-command-handler", "servo-thread", -1)
-        .unwrap();
-    h.addf("motion-controller", "servo-thread", -1).unwrap();
-    h.start().unwrap();
+    start_motion(&h);
     for c in [
         Command::JointActivate { joint: 0 },
         Command::SetJointPositionLimits {

@@ -2,62 +2,22 @@
 //! thread, commands through the shared-memory channel, and the mode and
 //! `axis.L.*` pins (teleop planner, keyboard and wheel jogs) read back.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use hal_core::{HalType, Host, HostConfig, Value};
+mod common;
+
+use common::*;
+use hal_core::Value;
 use motion::{Command, MotionClient, Reject};
-
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("tel-{tag}"))).expect("host starts")
-}
-
-fn loadrt(h: &Host, module: &str, args: &[&str]) {
-    let def = motion::modules()
-        .into_iter()
-        .find(|d| d.name == module)
-        .expect("module exists");
-    h.loadrt(def, args).unwrap();
-}
-
-fn wait_for(what: &str, mut f: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(10);
-    while !f() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
-
-fn float(h: &Host, pin: &str) -> f64 {
-    match h.instance().pin_value(pin).unwrap() {
-        Value::Float(v) => v,
-        v => panic!("{pin}: {v:?}"),
-    }
-}
-
-fn bit(h: &Host, pin: &str) -> bool {
-    match h.instance().pin_value(pin).unwrap() {
-        Value::Bit(v) => v,
-        v => panic!("{pin}: {v:?}"),
-    }
-}
 
 #[test]
 fn teleop_jogs_through_the_channel_drive_the_axis_and_mode_pins() {
-    let h = host("run");
-    loadrt(&h, "trivkins", &["coordinates=xyz"]);
-    loadrt(&h, "motmod", &["num_joints=3"]);
+    let h = host("tel-run");
+    loadrt(&h, "trivkins", &["coordinates=xyz"]).unwrap();
+    loadrt(&h, "motmod", &["num_joints=3"]).unwrap();
     let inst = h.instance();
-    for j in 0..3 {
-        let sig = format!("j{j}-pos");
-        inst.newsig(&sig, HalType::Float).unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-cmd"), &sig)
-            .unwrap();
-        inst.link(&format!("joint.{j}.motor-pos-fb"), &sig).unwrap();
-    }
-    h.addf("motion-command-handler", "servo-thread", -1)
-        .unwrap();
-    h.addf("motion-controller", "servo-thread", -1).unwrap();
-    h.start().unwrap();
+    loop_back_motors(&h, 3);
+    start_motion(&h);
     let mut c = MotionClient::open(inst)
         .unwrap()
         .with_timeout(Duration::from_secs(2));

@@ -353,8 +353,10 @@ fn all_rejects() -> Vec<Reject> {
             problem: ConfigProblem::from_code(code).unwrap(),
         });
     }
-    for what in WHATS {
+    for what in Quantity::ALL {
         v.push(Reject::BadValue { what, value: -1.0 });
+    }
+    for what in Feature::ALL {
         v.push(Reject::Unsupported { what });
     }
     for error in [

@@ -45,8 +45,8 @@
 
 use std::sync::Arc;
 
-use crate::axis::AxisInputs;
-use crate::command::{Command, CommandResult, Direction, Reject};
+use crate::axis::{wheel_acc, AxisInputs};
+use crate::command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
 use crate::events::{Event, EventRing};
 use crate::homing::{ConfigProblem, HomeFault, HomeFlags, HomeState, Homing, HomingConfig};
 use crate::joint::{Joint, JointInputs, JointStatus};
@@ -473,7 +473,7 @@ impl MotionCore {
         }
     }
 
-    fn finite(what: &'static str, value: f64) -> Result<f64, Reject> {
+    fn finite(what: Quantity, value: f64) -> Result<f64, Reject> {
         if value.is_finite() {
             Ok(value)
         } else {
@@ -481,7 +481,7 @@ impl MotionCore {
         }
     }
 
-    fn non_negative(what: &'static str, value: f64) -> Result<f64, Reject> {
+    fn non_negative(what: Quantity, value: f64) -> Result<f64, Reject> {
         if value.is_finite() && value >= 0.0 {
             Ok(value)
         } else {
@@ -489,7 +489,7 @@ impl MotionCore {
         }
     }
 
-    fn positive(what: &'static str, value: f64) -> Result<f64, Reject> {
+    fn positive(what: Quantity, value: f64) -> Result<f64, Reject> {
         if value.is_finite() && value > 0.0 {
             Ok(value)
         } else {
@@ -539,7 +539,7 @@ impl MotionCore {
             }
             Command::JogIncr { joint, vel, offset } => {
                 let j = self.jog_checks(joint, vel)?;
-                let offset = Self::non_negative("jog increment", offset)?;
+                let offset = Self::non_negative(Quantity::JogIncrement, offset)?;
                 self.jog_direction_ok(j, dir_of(vel))?;
                 let jt = &mut self.joints[j];
                 jt.refresh_jog_limits();
@@ -550,7 +550,7 @@ impl MotionCore {
                 };
                 if !target.is_finite() {
                     return Err(Reject::BadValue {
-                        what: "jog target",
+                        what: Quantity::JogTarget,
                         value: target,
                     });
                 }
@@ -568,7 +568,7 @@ impl MotionCore {
             }
             Command::JogAbs { joint, vel, pos } => {
                 let j = self.jog_checks(joint, vel)?;
-                let pos = Self::finite("jog position", pos)?;
+                let pos = Self::finite(Quantity::JogPosition, pos)?;
                 let jt = &mut self.joints[j];
                 jt.refresh_jog_limits();
                 let target = pos.clamp(jt.min_jog_limit, jt.max_jog_limit);
@@ -589,9 +589,7 @@ impl MotionCore {
                 let j = self.joint_index(joint)?;
                 self.homing.cancel_joint(j, &mut self.joints);
                 let jt = &mut self.joints[j];
-                jt.free_tp.enable = false;
-                jt.kb_jog_active = false;
-                jt.wheel_jog_active = false;
+                jt.end_jogs(false);
                 jt.error = false;
                 Ok(())
             }
@@ -649,13 +647,13 @@ impl MotionCore {
             Command::EnableAmplifier { joint } | Command::DisableAmplifier { joint } => {
                 self.joint_index(joint)?;
                 Err(Reject::Unsupported {
-                    what: "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+                    what: Feature::AmplifierCommand,
                 })
             }
             Command::Scale { scale } => {
                 if scale.is_nan() {
                     return Err(Reject::BadValue {
-                        what: "scale",
+                        what: Quantity::Scale,
                         value: scale,
                     });
                 }
@@ -664,8 +662,8 @@ impl MotionCore {
             }
             Command::SetJointPositionLimits { joint, min, max } => {
                 let j = self.joint_index(joint)?;
-                let min = Self::finite("minimum limit", min)?;
-                let max = Self::finite("maximum limit", max)?;
+                let min = Self::finite(Quantity::MinimumLimit, min)?;
+                let max = Self::finite(Quantity::MaximumLimit, max)?;
                 if min > max {
                     return Err(Reject::LimitsReversed { min, max });
                 }
@@ -675,29 +673,29 @@ impl MotionCore {
             }
             Command::SetJointVelLimit { joint, vel } => {
                 let j = self.joint_index(joint)?;
-                self.joints[j].cfg.vel_limit = Self::positive("velocity limit", vel)?;
+                self.joints[j].cfg.vel_limit = Self::positive(Quantity::VelocityLimit, vel)?;
                 Ok(())
             }
             Command::SetJointAccLimit { joint, acc } => {
                 let j = self.joint_index(joint)?;
-                self.joints[j].cfg.acc_limit = Self::positive("acceleration limit", acc)?;
+                self.joints[j].cfg.acc_limit = Self::positive(Quantity::AccelerationLimit, acc)?;
                 Ok(())
             }
             Command::SetJointMinFerror { joint, ferror } => {
                 let j = self.joint_index(joint)?;
                 self.joints[j].cfg.min_ferror =
-                    Self::non_negative("minimum following error", ferror)?;
+                    Self::non_negative(Quantity::MinimumFerror, ferror)?;
                 Ok(())
             }
             Command::SetJointMaxFerror { joint, ferror } => {
                 let j = self.joint_index(joint)?;
                 self.joints[j].cfg.max_ferror =
-                    Self::non_negative("maximum following error", ferror)?;
+                    Self::non_negative(Quantity::MaximumFerror, ferror)?;
                 Ok(())
             }
             Command::SetJointBacklash { joint, backlash } => {
                 let j = self.joint_index(joint)?;
-                self.joints[j].cfg.backlash = Self::non_negative("backlash", backlash)?;
+                self.joints[j].cfg.backlash = Self::non_negative(Quantity::Backlash, backlash)?;
                 Ok(())
             }
             Command::SetJointMotorOffset { joint, offset } => {
@@ -705,12 +703,12 @@ impl MotionCore {
                 if self.homing.is_active() {
                     return Err(Reject::HomingActive);
                 }
-                self.joints[j].motor_offset = Self::finite("motor offset", offset)?;
+                self.joints[j].motor_offset = Self::finite(Quantity::MotorOffset, offset)?;
                 Ok(())
             }
             Command::SetWorldHome { pose } => {
                 for v in pose.0 {
-                    Self::finite("world home coordinate", v)?;
+                    Self::finite(Quantity::WorldHomeCoordinate, v)?;
                 }
                 self.world_home = pose;
                 Ok(())
@@ -802,9 +800,7 @@ impl MotionCore {
             if following_posthome[j] && self.homing.in_sequence(j) && !jt.homed {
                 jt.pos_cmd = jt.pos_fb;
                 jt.coarse_pos = jt.pos_fb;
-                jt.free_tp.curr_pos = jt.pos_fb;
-                jt.free_tp.pos_cmd = jt.pos_fb;
-                jt.free_tp.curr_vel = 0.0;
+                jt.rest_planner_at(jt.pos_fb);
             }
         }
         Ok(())
@@ -1020,10 +1016,7 @@ impl MotionCore {
                 self.error = true;
             }
             Ok(()) => {
-                let n = self.kins_joints;
-                for (p, jt) in self.positions.iter_mut().zip(&self.joints[..n]) {
-                    *p = jt.pos_cmd;
-                }
+                let n = self.load_positions(|jt| jt.pos_cmd);
                 let _ = self.kins.forward(
                     &self.positions[..n],
                     &mut self.carte_pos_cmd,
@@ -1065,12 +1058,7 @@ impl MotionCore {
             let immediate = self.inputs.jog_stop_immediate;
             for jt in &mut self.joints {
                 if jt.kb_jog_active || jt.wheel_jog_active {
-                    jt.free_tp.enable = false;
-                    if immediate {
-                        jt.free_tp.curr_vel = 0.0;
-                    }
-                    jt.kb_jog_active = false;
-                    jt.wheel_jog_active = false;
+                    jt.end_jogs(immediate);
                 }
             }
             self.stop_axis_jogs(immediate);
@@ -1091,39 +1079,49 @@ impl MotionCore {
         }
     }
 
-    fn forward_kins_feedback(&mut self) {
+    /// Copies a position of each kinematic joint into the kinematics
+    /// scratch; returns how many there are.
+    fn load_positions(&mut self, of: impl Fn(&Joint) -> f64) -> usize {
         let n = self.kins_joints;
         for (p, jt) in self.positions.iter_mut().zip(&self.joints[..n]) {
-            *p = jt.pos_fb;
+            *p = of(jt);
         }
+        n
+    }
+
+    /// Forward kinematics of the loaded positions into `pose`, with
+    /// LinuxCNC's validity rules: identity kinematics always compute and
+    /// are valid once every joint is homed; kinematics of both kinds
+    /// compute only once homed, starting from the world home when the
+    /// previous result was not valid. `None` for kinematics without a
+    /// usable forward direction (the caller decides).
+    fn forward_pose(&mut self, n: usize, pose: &mut Pose, was_ok: bool) -> Option<bool> {
         let all_homed = self.is_all_homed();
+        let q = &self.positions[..n];
         match self.kins_type {
             KinematicsType::Identity => {
-                let _ = self.kins.forward(
-                    &self.positions[..n],
-                    &mut self.carte_pos_fb,
-                    &mut self.kins_flags,
-                );
-                self.carte_pos_fb_ok = all_homed;
+                let _ = self.kins.forward(q, pose, &mut self.kins_flags);
+                Some(all_homed)
             }
-            KinematicsType::Both => {
-                if all_homed {
-                    if !self.carte_pos_fb_ok {
-                        self.carte_pos_fb = self.world_home;
-                    }
-                    self.carte_pos_fb_ok = self
-                        .kins
-                        .forward(
-                            &self.positions[..n],
-                            &mut self.carte_pos_fb,
-                            &mut self.kins_flags,
-                        )
-                        .is_ok();
-                } else {
-                    self.carte_pos_fb_ok = false;
+            KinematicsType::Both if all_homed => {
+                if !was_ok {
+                    *pose = self.world_home;
                 }
+                Some(self.kins.forward(q, pose, &mut self.kins_flags).is_ok())
             }
-            KinematicsType::InverseOnly | KinematicsType::ForwardOnly => {
+            KinematicsType::Both => Some(false),
+            KinematicsType::InverseOnly | KinematicsType::ForwardOnly => None,
+        }
+    }
+
+    fn forward_kins_feedback(&mut self) {
+        let n = self.load_positions(|jt| jt.pos_fb);
+        let mut pose = self.carte_pos_fb;
+        let ok = self.forward_pose(n, &mut pose, self.carte_pos_fb_ok);
+        self.carte_pos_fb = pose;
+        match ok {
+            Some(ok) => self.carte_pos_fb_ok = ok,
+            None => {
                 // Without forward kinematics the world command stands in
                 // for the feedback in the world modes (as LinuxCNC does);
                 // in free mode there is none.
@@ -1299,15 +1297,7 @@ impl MotionCore {
             if pos > jt.max_jog_limit || pos < jt.min_jog_limit {
                 continue;
             }
-            let frac = inp.jog_accel_fraction;
-            // A fraction of 0 would leave the planner unable to change
-            // speed (a joint in motion would never stop): only a fraction
-            // in (0, 1] scales the acceleration.
-            let acc = if frac > 0.0 && frac <= 1.0 {
-                jt.cfg.acc_limit * frac
-            } else {
-                jt.cfg.acc_limit
-            };
+            let acc = wheel_acc(jt.cfg.acc_limit, inp.jog_accel_fraction);
             if inp.jog_vel_mode {
                 let v = jt.cfg.vel_limit * self.net_feed_scale;
                 let stop_dist = v * v / (2.0 * acc);
@@ -1328,20 +1318,17 @@ impl MotionCore {
     }
 
     fn get_pos_cmds(&mut self, period: f64) {
-        let n = self.kins_joints;
-        for (p, jt) in self.positions.iter_mut().zip(&self.joints[..n]) {
-            *p = jt.coarse_pos;
-        }
         match self.state {
             MotionState::Free => {
+                // (1) is the forward kinematics of the previous cycle's (2).
+                let n = self.load_positions(|jt| jt.coarse_pos);
                 self.inpos = true;
                 for (j, jt) in self.joints.iter_mut().enumerate() {
                     if !jt.active || (j >= n && jt.homed) {
                         continue;
                     }
-                    let frac = self.joint_inputs[j].jog_accel_fraction;
-                    jt.free_tp.max_acc = if jt.wheel_jog_active && frac > 0.0 && frac <= 1.0 {
-                        jt.cfg.acc_limit * frac
+                    jt.free_tp.max_acc = if jt.wheel_jog_active {
+                        wheel_acc(jt.cfg.acc_limit, self.joint_inputs[j].jog_accel_fraction)
                     } else {
                         jt.cfg.acc_limit
                     };
@@ -1371,37 +1358,10 @@ impl MotionCore {
                     self.override_limit_mask = 0;
                     self.overriding = false;
                 }
-                let all_homed = self.is_all_homed();
-                match self.kins_type {
-                    KinematicsType::Identity => {
-                        let _ = self.kins.forward(
-                            &self.positions[..n],
-                            &mut self.carte_pos_cmd,
-                            &mut self.kins_flags,
-                        );
-                        self.carte_pos_cmd_ok = all_homed;
-                    }
-                    KinematicsType::Both => {
-                        if all_homed {
-                            if !self.carte_pos_cmd_ok {
-                                self.carte_pos_cmd = self.world_home;
-                            }
-                            self.carte_pos_cmd_ok = self
-                                .kins
-                                .forward(
-                                    &self.positions[..n],
-                                    &mut self.carte_pos_cmd,
-                                    &mut self.kins_flags,
-                                )
-                                .is_ok();
-                        } else {
-                            self.carte_pos_cmd_ok = false;
-                        }
-                    }
-                    KinematicsType::InverseOnly | KinematicsType::ForwardOnly => {
-                        self.carte_pos_cmd_ok = false;
-                    }
-                }
+                let mut pose = self.carte_pos_cmd;
+                let ok = self.forward_pose(n, &mut pose, self.carte_pos_cmd_ok);
+                self.carte_pos_cmd = pose;
+                self.carte_pos_cmd_ok = ok.unwrap_or(false);
             }
             MotionState::Teleop => self.teleop_pos_cmds(period),
             MotionState::Coord => self.coord_pos_cmds(period),

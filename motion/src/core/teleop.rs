@@ -195,7 +195,7 @@ impl MotionCore {
     fn world_mode_allowed(&self) -> CommandResult {
         if self.kins_type == KinematicsType::ForwardOnly {
             return Err(Reject::Unsupported {
-                what: "teleop and coordinated modes need inverse kinematics",
+                what: Feature::WorldModeWithoutInverse,
             });
         }
         if self.kins_type != KinematicsType::Identity && !self.is_all_homed() {
@@ -265,13 +265,7 @@ impl MotionCore {
     /// Enters teleop or coordinated mode at `carte_pos_cmd`.
     fn enter_world(&mut self, mode: Mode) {
         for jt in &mut self.joints {
-            let tp = &mut jt.free_tp;
-            tp.enable = false;
-            tp.curr_vel = 0.0;
-            tp.pos_cmd = tp.curr_pos;
-            tp.active = false;
-            jt.kb_jog_active = false;
-            jt.wheel_jog_active = false;
+            jt.rest_planner_at(jt.free_tp.curr_pos);
         }
         for (a, ax) in self.world.axes.iter_mut().enumerate() {
             ax.set_at_rest(self.carte_pos_cmd.0[a]);
@@ -291,15 +285,8 @@ impl MotionCore {
     /// at the joint's command, the axis planners at rest.
     fn enter_free(&mut self) {
         for jt in &mut self.joints {
-            let tp = &mut jt.free_tp;
-            tp.curr_pos = jt.pos_cmd;
-            tp.pos_cmd = jt.pos_cmd;
-            tp.curr_vel = 0.0;
-            tp.enable = false;
-            tp.active = false;
+            jt.rest_planner_at(jt.pos_cmd);
             jt.coarse_pos = jt.pos_cmd;
-            jt.kb_jog_active = false;
-            jt.wheel_jog_active = false;
         }
         for ax in &mut self.world.axes {
             let here = ax.teleop_tp.curr_pos;
@@ -339,9 +326,7 @@ impl MotionCore {
         }
         let mut ok = self.world_mode_allowed().is_ok();
         if ok {
-            for (p, jt) in self.positions.iter_mut().zip(&self.joints[..n]) {
-                *p = jt.pos_cmd;
-            }
+            self.load_positions(|jt| jt.pos_cmd);
             let mut pose = self.pose_guess();
             ok = self
                 .kins
@@ -442,7 +427,7 @@ impl MotionCore {
     /// target leaves the axis limits.
     pub(super) fn axis_jog_incr(&mut self, axis: i32, vel: f64, offset: f64) -> CommandResult {
         let a = self.axis_jog_checks(axis, vel)?;
-        let offset = Self::non_negative("jog increment", offset)?;
+        let offset = Self::non_negative(Quantity::JogIncrement, offset)?;
         let base = self.axis_jog_base(a);
         let target = if vel > 0.0 {
             base + offset
@@ -451,7 +436,7 @@ impl MotionCore {
         };
         if !target.is_finite() {
             return Err(Reject::BadValue {
-                what: "jog target",
+                what: Quantity::JogTarget,
                 value: target,
             });
         }
@@ -472,7 +457,7 @@ impl MotionCore {
     /// AXIS_JOG_ABS: to `pos` clamped into the axis limits.
     pub(super) fn axis_jog_abs(&mut self, axis: i32, vel: f64, pos: f64) -> CommandResult {
         let a = self.axis_jog_checks(axis, vel)?;
-        let pos = Self::finite("jog position", pos)?;
+        let pos = Self::finite(Quantity::JogPosition, pos)?;
         let cfg = self.world.axes[a].cfg;
         // Written out: `f64::clamp` would panic on reversed bounds, which
         // the limit commands never allow anyway.
@@ -503,8 +488,8 @@ impl MotionCore {
         max: f64,
     ) -> CommandResult {
         let a = axis_index(axis)?;
-        let min = Self::finite("minimum limit", min)?;
-        let max = Self::finite("maximum limit", max)?;
+        let min = Self::finite(Quantity::MinimumLimit, min)?;
+        let max = Self::finite(Quantity::MaximumLimit, max)?;
         if min > max {
             return Err(Reject::LimitsReversed { min, max });
         }
@@ -517,14 +502,14 @@ impl MotionCore {
     /// SET_AXIS_VEL_LIMIT.
     pub(super) fn set_axis_vel_limit(&mut self, axis: i32, vel: f64) -> CommandResult {
         let a = axis_index(axis)?;
-        self.world.axes[a].cfg.vel_limit = Self::positive("velocity limit", vel)?;
+        self.world.axes[a].cfg.vel_limit = Self::positive(Quantity::VelocityLimit, vel)?;
         Ok(())
     }
 
     /// SET_AXIS_ACC_LIMIT.
     pub(super) fn set_axis_acc_limit(&mut self, axis: i32, acc: f64) -> CommandResult {
         let a = axis_index(axis)?;
-        self.world.axes[a].cfg.acc_limit = Self::positive("acceleration limit", acc)?;
+        self.world.axes[a].cfg.acc_limit = Self::positive(Quantity::AccelerationLimit, acc)?;
         Ok(())
     }
 
@@ -686,10 +671,8 @@ impl MotionCore {
     /// active kinematic joints. On failure nothing is written: an event,
     /// the motion error, and motion disabled in this same cycle.
     fn joints_from_world(&mut self, period: f64) {
-        let n = self.kins_joints;
-        for (p, jt) in self.positions.iter_mut().zip(&self.joints[..n]) {
-            *p = jt.coarse_pos;
-        }
+        // The previous solution is the starting guess of iterative solvers.
+        let n = self.load_positions(|jt| jt.coarse_pos);
         let solved = self.kins.inverse(
             &self.carte_pos_cmd,
             &mut self.positions[..n],

@@ -11,13 +11,7 @@ use crate::axis::AxisStatus;
 use crate::kins::trivkins::Trivkins;
 use crate::kins::KinsError;
 use crate::simple_tp::SimpleTp;
-
-const T: f64 = 0.001;
-
-/// The core and its looped-back motors.
-struct Sim {
-    m: MotionCore,
-}
+use crate::test_support::{Sim, T};
 
 /// A machine of `n` joints on `kins`: joints active, limits ±100, 10 u/s,
 /// 100 u/s²; every axis limited to ±50, 10 u/s, 100 u/s².
@@ -46,7 +40,7 @@ fn build(kins: Arc<dyn Kinematics>, n: usize) -> Sim {
             m.command(&c).unwrap();
         }
     }
-    Sim { m }
+    Sim::new(m)
 }
 
 /// A trivkins machine with one joint per letter of `coords`.
@@ -60,49 +54,11 @@ fn xyz() -> Sim {
 }
 
 impl Sim {
-    fn cycle(&mut self) {
-        for j in 0..self.m.num_joints() {
-            self.m.joint_inputs[j].motor_pos_fb = self.m.joint(j).motor_pos_cmd;
-        }
-        self.m.cycle(T);
-    }
-
-    fn run(&mut self, n: usize) {
-        for _ in 0..n {
-            self.cycle();
-        }
-    }
-
-    /// Runs until in position; returns the number of periods.
-    fn settle(&mut self, limit: usize) -> usize {
-        for n in 0..limit {
-            self.cycle();
-            if self.m.in_position() {
-                return n + 1;
-            }
-        }
-        panic!("still moving after {limit} periods");
-    }
-
-    fn cmd(&mut self, c: Command) -> CommandResult {
-        self.m.command(&c)
-    }
-
-    fn enable(&mut self) {
-        self.cmd(Command::Enable).unwrap();
-        self.cycle();
-        assert!(self.m.is_enabled());
-    }
-
     /// Enabled, in teleop mode.
     fn teleop(&mut self) {
         self.enable();
         self.cmd(Command::Teleop).unwrap();
         assert_eq!(self.m.state(), MotionState::Teleop);
-    }
-
-    fn j(&self, j: usize) -> crate::joint::JointStatus {
-        self.m.joint(j)
     }
 
     fn x(&self, a: usize) -> AxisStatus {
@@ -111,10 +67,6 @@ impl Sim {
 
     fn pose(&self) -> [f64; NUM_AXES] {
         self.m.carte_pos_cmd().0 .0
-    }
-
-    fn events(&self) -> Vec<Event> {
-        self.m.events().drain()
     }
 
     /// Every axis's state, to show a refused command changed nothing.
@@ -763,7 +715,7 @@ fn refused_axis_jogs_say_why_and_change_nothing() {
                 offset: -1.0,
             },
             Reject::BadValue {
-                what: "jog increment",
+                what: Quantity::JogIncrement,
                 value: -1.0,
             },
         ),
@@ -803,7 +755,7 @@ fn refused_axis_jogs_say_why_and_change_nothing() {
         pos: f64::NAN,
     });
     assert!(
-        matches!(r, Err(Reject::BadValue { what: "jog position", value }) if value.is_nan()),
+        matches!(r, Err(Reject::BadValue { what: Quantity::JogPosition, value }) if value.is_nan()),
         "{r:?}"
     );
     s.m.inputs.jog_inhibit = true;
@@ -1273,14 +1225,14 @@ fn axis_configuration_is_validated() {
     assert!(matches!(
         s.cmd(c(0, f64::NAN, 1.0)),
         Err(Reject::BadValue {
-            what: "minimum limit",
+            what: Quantity::MinimumLimit,
             ..
         })
     ));
     assert!(matches!(
         s.cmd(c(0, 0.0, f64::INFINITY)),
         Err(Reject::BadValue {
-            what: "maximum limit",
+            what: Quantity::MaximumLimit,
             ..
         })
     ));

@@ -5,8 +5,7 @@
 use super::*;
 use crate::kins::trivkins::Trivkins;
 use crate::simple_tp::SimpleTp;
-
-const T: f64 = 0.001;
+use crate::test_support::{Sim, T};
 
 /// A machine of `n` trivkins joints (X, Y, Z, ...), all active, with limits
 /// ±100, 10 u/s, 100 u/s², following error 0.01..1.
@@ -21,77 +20,7 @@ fn machine(n: usize, kt: KinematicsType) -> Sim {
         kins,
     );
     crate::test_support::configure_test_joints(&mut m);
-    Sim {
-        m,
-        lag: 1,
-        history: vec![Vec::new(); n],
-        stuck: vec![None; n],
-    }
-}
-
-/// The core and its simulated motors.
-struct Sim {
-    m: MotionCore,
-    /// Periods between a motor command and the feedback showing it.
-    lag: usize,
-    history: Vec<Vec<f64>>,
-    /// A motor that does not move: its feedback stays here.
-    stuck: Vec<Option<f64>>,
-}
-
-impl Sim {
-    /// One servo period: the motors report, then the controller runs.
-    fn cycle(&mut self) {
-        for j in 0..self.m.num_joints() {
-            let h = &mut self.history[j];
-            h.push(self.m.joint(j).motor_pos_cmd);
-            let fb = if h.len() >= self.lag {
-                h[h.len() - self.lag]
-            } else {
-                h[0]
-            };
-            if h.len() > 64 {
-                h.remove(0);
-            }
-            self.m.joint_inputs[j].motor_pos_fb = self.stuck[j].unwrap_or(fb);
-        }
-        self.m.cycle(T);
-    }
-
-    fn run(&mut self, n: usize) {
-        for _ in 0..n {
-            self.cycle();
-        }
-    }
-
-    /// Runs until no joint moves (at most `limit` periods); returns how many.
-    fn settle(&mut self, limit: usize) -> usize {
-        for n in 0..limit {
-            self.cycle();
-            if self.m.in_position() {
-                return n + 1;
-            }
-        }
-        panic!("still moving after {limit} periods");
-    }
-
-    fn cmd(&mut self, c: Command) -> CommandResult {
-        self.m.command(&c)
-    }
-
-    fn enable(&mut self) {
-        self.cmd(Command::Enable).unwrap();
-        self.cycle();
-        assert!(self.m.is_enabled());
-    }
-
-    fn j(&self, j: usize) -> JointStatus {
-        self.m.joint(j)
-    }
-
-    fn events(&self) -> Vec<Event> {
-        self.m.events().drain()
-    }
+    Sim::new(m)
 }
 
 #[test]

@@ -133,7 +133,7 @@ impl JointHoming {
                     }
                     jt.homing = true;
                     jt.homed = false;
-                    jt.end_jogs();
+                    jt.end_jogs(false);
                     if absolute {
                         SetSwitchPosition
                     } else if f.contains(HomeFlags::UNLOCK_FIRST) {

@@ -44,9 +44,21 @@ impl Joint {
         self.free_tp.enable = false;
     }
 
-    /// Ends any jog of the joint: homing takes over its planner.
-    pub(crate) fn end_jogs(&mut self) {
-        self.free_tp.enable = false;
+    /// Ends any jog of the joint: a stop at the acceleration limit, or at
+    /// once (velocity zeroed) when `immediate`.
+    pub(crate) fn end_jogs(&mut self, immediate: bool) {
+        if immediate {
+            self.free_tp.stop_immediately();
+        } else {
+            self.free_tp.enable = false;
+        }
+        self.kb_jog_active = false;
+        self.wheel_jog_active = false;
+    }
+
+    /// Puts the free planner at rest at `pos` and ends any jog.
+    pub(crate) fn rest_planner_at(&mut self, pos: f64) {
+        self.free_tp.set_at_rest(pos);
         self.kb_jog_active = false;
         self.wheel_jog_active = false;
     }

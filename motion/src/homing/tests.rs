@@ -83,9 +83,7 @@ impl Axis {
 struct Rig {
     m: MotionCore,
     axes: Vec<Axis>,
-    /// Every homing state each joint went through, in order.
-    visited: Vec<Vec<HomeState>>,
-    /// The cycle in which each joint's final move started.
+    /// The cycle in which each joint's final move was first seen running.
     final_move_at: Vec<Option<usize>>,
     cycles: usize,
 }
@@ -114,7 +112,6 @@ fn rig_with_extra(axes: Vec<Axis>, extra: usize) -> Rig {
     let mut r = Rig {
         m,
         axes,
-        visited: vec![vec![HomeState::Idle]; n],
         final_move_at: vec![None; n],
         cycles: 0,
     };
@@ -180,12 +177,8 @@ impl Rig {
             if let Some(v) = self.m.index_enable_drive(j) {
                 a.index_pin = v;
             }
-            let st = self.m.home_state(j);
-            if self.visited[j].last() != Some(&st) {
-                self.visited[j].push(st);
-                if st == HomeState::FinalMoveWait {
-                    self.final_move_at[j] = Some(self.cycles);
-                }
+            if self.m.home_state(j) == HomeState::FinalMoveWait && self.final_move_at[j].is_none() {
+                self.final_move_at[j] = Some(self.cycles);
             }
         }
     }

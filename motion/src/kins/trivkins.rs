@@ -22,8 +22,7 @@ use super::{
     Kinematics, KinematicsType, KinsError, KinsFlags, Pose, AXIS_LETTERS, KINEMATICS, NUM_AXES,
 };
 
-/// Most joints LinuxCNC supports (`EMCMOT_MAX_JOINTS`).
-pub const MAX_JOINTS: usize = 16;
+pub use crate::core::MAX_JOINTS;
 
 /// Longest `coordinates=` value LinuxCNC accepts.
 pub const MAX_COORDINATES_CHARS: usize = 32;

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use motion::homing::{HomeFlags, HomingConfig};
-use motion::kins::{Pose, NUM_AXES};
+use motion::kins::Pose;
 use motion::{Command, MotionClient};
 
 const HELP: &str = "\
@@ -122,8 +122,6 @@ fn homing_params(a: &[String]) -> Result<Command, Usage> {
         sequence: 999,
         ..HomingConfig::default()
     };
-    let mut flags = Vec::new();
-    let mut values = Vec::new();
     for arg in &a[1..] {
         let (key, v) = arg
             .split_once('=')
@@ -133,26 +131,26 @@ fn homing_params(a: &[String]) -> Result<Command, Usage> {
             v.parse::<f64>()
                 .map_err(|_| Usage(format!("{key} must be a number, not '{v}'")))
         };
+        let flags = &mut config.flags;
         match key.as_str() {
-            "HOME_OFFSET" | "HOME" | "HOME_SEARCH_VEL" | "HOME_LATCH_VEL" | "HOME_FINAL_VEL" => {
-                values.push((key.clone(), num()?))
-            }
+            "HOME_OFFSET" => config.offset = num()?,
+            "HOME" => config.home = num()?,
+            "HOME_SEARCH_VEL" => config.search_vel = num()?,
+            "HOME_LATCH_VEL" => config.latch_vel = num()?,
+            "HOME_FINAL_VEL" => config.final_vel = num()?,
             "HOME_SEQUENCE" => {
-                values.push((
-                    key.clone(),
-                    f64::from(v.parse::<i32>().map_err(|_| {
-                        Usage(format!("HOME_SEQUENCE must be an integer, not '{v}'"))
-                    })?),
-                ))
+                config.sequence = v
+                    .parse()
+                    .map_err(|_| Usage(format!("HOME_SEQUENCE must be an integer, not '{v}'")))?
             }
-            "HOME_USE_INDEX" => flags.push((HomeFlags::USE_INDEX, yes_no(&key, v)?)),
+            "VOLATILE_HOME" => config.volatile_home = yes_no(&key, v)?,
+            "HOME_USE_INDEX" => flags.set(HomeFlags::USE_INDEX, yes_no(&key, v)?),
             "HOME_INDEX_NO_ENCODER_RESET" => {
-                flags.push((HomeFlags::INDEX_NO_ENCODER_RESET, yes_no(&key, v)?))
+                flags.set(HomeFlags::INDEX_NO_ENCODER_RESET, yes_no(&key, v)?)
             }
-            "HOME_IGNORE_LIMITS" => flags.push((HomeFlags::IGNORE_LIMITS, yes_no(&key, v)?)),
-            "HOME_IS_SHARED" => flags.push((HomeFlags::IS_SHARED, yes_no(&key, v)?)),
-            "LOCKING_INDEXER" => flags.push((HomeFlags::UNLOCK_FIRST, yes_no(&key, v)?)),
-            "VOLATILE_HOME" => values.push((key.clone(), f64::from(u8::from(yes_no(&key, v)?)))),
+            "HOME_IGNORE_LIMITS" => flags.set(HomeFlags::IGNORE_LIMITS, yes_no(&key, v)?),
+            "HOME_IS_SHARED" => flags.set(HomeFlags::IS_SHARED, yes_no(&key, v)?),
+            "LOCKING_INDEXER" => flags.set(HomeFlags::UNLOCK_FIRST, yes_no(&key, v)?),
             "HOME_ABSOLUTE_ENCODER" => {
                 let (abs, no_final) = match v {
                     "0" => (false, false),
@@ -164,24 +162,10 @@ fn homing_params(a: &[String]) -> Result<Command, Usage> {
                         )))
                     }
                 };
-                flags.push((HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME, abs));
-                flags.push((HomeFlags::NO_FINAL_MOVE, no_final));
+                flags.set(HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME, abs);
+                flags.set(HomeFlags::NO_FINAL_MOVE, no_final);
             }
             _ => return Err(Usage(format!("unknown homing key '{key}'"))),
-        }
-    }
-    for (f, on) in flags {
-        config.flags.set(f, on);
-    }
-    for (key, v) in values {
-        match key.as_str() {
-            "HOME_OFFSET" => config.offset = v,
-            "HOME" => config.home = v,
-            "HOME_SEARCH_VEL" => config.search_vel = v,
-            "HOME_LATCH_VEL" => config.latch_vel = v,
-            "HOME_FINAL_VEL" => config.final_vel = v,
-            "HOME_SEQUENCE" => config.sequence = v as i32,
-            _ => config.volatile_home = v != 0.0,
         }
     }
     Ok(Command::SetJointHomingParams { joint, config })
@@ -302,18 +286,16 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
     if name == "set-homing-params" {
         return homing_params(a);
     }
-    let j = || int(a.first(), "JOINT");
-    let f = |i: usize, what: &str| float(a.get(i), what);
-    let want = |n: usize| {
-        if a.len() == n {
-            Ok(())
-        } else {
-            Err(Usage(format!(
-                "'{name}' takes {n} argument(s), {} given",
-                a.len()
-            )))
-        }
+    // Each argument read marks how many the command takes, so the count
+    // check below cannot disagree with the parsing.
+    let takes = std::cell::Cell::new(0usize);
+    let arg = |i: usize| {
+        takes.set(takes.get().max(i + 1));
+        a.get(i)
     };
+    let j = || int(arg(0), "JOINT");
+    let f = |i: usize, what: &str| float(arg(i), what);
+    let ax = || axis(arg(0));
     let cmd = match name {
         "enable" => Command::Enable,
         "disable" => Command::Disable,
@@ -322,7 +304,7 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
         "teleop" => Command::Teleop,
         "coord" => Command::Coord,
         "scale" => Command::Scale {
-            scale: float(a.first(), "VALUE")?,
+            scale: f(0, "VALUE")?,
         },
         "override-limits" => Command::OverrideLimits { joint: j()? },
         "activate" => Command::JointActivate { joint: j()? },
@@ -374,33 +356,31 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
             offset: f(1, "VALUE")?,
         },
         "axis-jog-cont" => Command::AxisJogCont {
-            axis: axis(a.first())?,
+            axis: ax()?,
             vel: f(1, "VEL")?,
         },
         "axis-jog-incr" => Command::AxisJogIncr {
-            axis: axis(a.first())?,
+            axis: ax()?,
             vel: f(1, "VEL")?,
             offset: f(2, "DIST")?,
         },
         "axis-jog-abs" => Command::AxisJogAbs {
-            axis: axis(a.first())?,
+            axis: ax()?,
             vel: f(1, "VEL")?,
             pos: f(2, "POS")?,
         },
-        "axis-jog-abort" => Command::AxisJogAbort {
-            axis: axis(a.first())?,
-        },
+        "axis-jog-abort" => Command::AxisJogAbort { axis: ax()? },
         "set-axis-limits" => Command::SetAxisPositionLimits {
-            axis: axis(a.first())?,
+            axis: ax()?,
             min: f(1, "MIN")?,
             max: f(2, "MAX")?,
         },
         "set-axis-vel-limit" => Command::SetAxisVelLimit {
-            axis: axis(a.first())?,
+            axis: ax()?,
             vel: f(1, "VEL")?,
         },
         "set-axis-acc-limit" => Command::SetAxisAccLimit {
-            axis: axis(a.first())?,
+            axis: ax()?,
             acc: f(1, "ACC")?,
         },
         "set-world-home" => {
@@ -408,7 +388,6 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
             for (i, v) in pose.0.iter_mut().enumerate() {
                 *v = f(i, "coordinate")?;
             }
-            want(NUM_AXES)?;
             Command::SetWorldHome { pose }
         }
         "home" => Command::Home { joint: j()? },
@@ -417,53 +396,22 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
             joint: j()?,
             offset: f(1, "OFFSET")?,
             home: f(2, "HOME")?,
-            sequence: int(a.get(3), "SEQUENCE")?,
+            sequence: int(arg(3), "SEQUENCE")?,
         },
         _ => return Err(Usage(format!("unknown command '{name}'"))),
     };
-    let n = match cmd {
-        Command::Enable
-        | Command::Disable
-        | Command::Abort
-        | Command::Free
-        | Command::Teleop
-        | Command::Coord => 0,
-        Command::Scale { .. }
-        | Command::OverrideLimits { .. }
-        | Command::JointActivate { .. }
-        | Command::JointDeactivate { .. }
-        | Command::EnableAmplifier { .. }
-        | Command::DisableAmplifier { .. }
-        | Command::JogAbort { .. }
-        | Command::Home { .. }
-        | Command::Unhome { .. } => 1,
-        Command::JogCont { .. }
-        | Command::SetJointVelLimit { .. }
-        | Command::SetJointAccLimit { .. }
-        | Command::SetJointMinFerror { .. }
-        | Command::SetJointMaxFerror { .. }
-        | Command::SetJointBacklash { .. }
-        | Command::SetJointMotorOffset { .. } => 2,
-        Command::JogIncr { .. }
-        | Command::JogAbs { .. }
-        | Command::SetJointPositionLimits { .. } => 3,
-        Command::SetWorldHome { .. } => NUM_AXES,
-        Command::UpdateJointHomingParams { .. } => 4,
-        Command::SetJointHomingParams { .. } => a.len(),
-        Command::AxisJogAbort { .. } => 1,
-        Command::AxisJogCont { .. }
-        | Command::SetAxisVelLimit { .. }
-        | Command::SetAxisAccLimit { .. } => 2,
-        Command::AxisJogIncr { .. }
-        | Command::AxisJogAbs { .. }
-        | Command::SetAxisPositionLimits { .. } => 3,
-    };
-    want(n)?;
+    let n = takes.get();
+    if a.len() != n {
+        return Err(Usage(format!(
+            "'{name}' takes {n} argument(s), {} given",
+            a.len()
+        )));
+    }
     Ok(cmd)
 }
 
 fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
-    let mut instance = std::env::var("HAL_INSTANCE").unwrap_or_else(|_| "default".into());
+    let mut instance = hal_core::instance_from_env();
     let mut timeout = None;
     let mut i = 0;
     while i < args.len() {
