@@ -2,7 +2,7 @@
 
 use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
 
-use crate::naming::ChannelNames;
+use crate::naming::{ChannelNames, Interface};
 
 /// A canonical analog input channel.
 pub struct AdcIn {
@@ -11,6 +11,10 @@ pub struct AdcIn {
     offset: Param<f64, Rw>,
     bit_weight: Param<f64, Rw>,
     hw_offset: Param<f64, Rw>,
+}
+
+impl Interface for AdcIn {
+    const IO_TYPE: &'static str = "adcin";
 }
 
 impl AdcIn {
@@ -72,6 +76,10 @@ pub struct AdcOut {
     offset: Param<f64, Rw>,
     limits: Option<(Param<f64, Rw>, Param<f64, Rw>)>,
     converter: Option<ConverterParams>,
+}
+
+impl Interface for AdcOut {
+    const IO_TYPE: &'static str = "adcout";
 }
 
 /// The exported converter params (`bit_weight`, `hw_offset`) and the

@@ -2,12 +2,16 @@
 
 use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
 
-use crate::naming::ChannelNames;
+use crate::naming::{ChannelNames, Interface};
 
 /// A canonical digital input channel.
 pub struct DigIn {
     input: Pin<bool, Out>,
     input_not: Pin<bool, Out>,
+}
+
+impl Interface for DigIn {
+    const IO_TYPE: &'static str = "digin";
 }
 
 impl DigIn {
@@ -31,6 +35,10 @@ impl DigIn {
 pub struct DigOut {
     out: Pin<bool, In>,
     invert: Param<bool, Rw>,
+}
+
+impl Interface for DigOut {
+    const IO_TYPE: &'static str = "digout";
 }
 
 impl DigOut {

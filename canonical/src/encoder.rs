@@ -13,7 +13,7 @@
 //! | `velocity-rpm` | pin | float | out | units/min | `velocity * 60` |
 //! | `reset` | pin | bit | in | | while TRUE, count and position are 0 |
 //! | `index-enable` | pin | bit | io | | set TRUE to zero the count at the next index; cleared when it happens |
-//! | `scale` | param | float | rw | counts/unit | default 1.0; a value within 1e-20 of 0 is replaced by 1.0 |
+//! | `scale` | param | float | rw | counts/unit | default 1.0; a value within 1e-20 of 0 is replaced by 1.0 ([`usable_scale`]) |
 //! | `vel-timeout` | param | float | rw | s | no count for this long: velocity 0 (default 0.5) |
 //!
 //! Velocity comes from the time between counts, not counts per period, so
@@ -24,7 +24,8 @@
 
 use hal_core::{Component, In, Io, Out, Param, Pin, Result, Rw};
 
-use crate::naming::ChannelNames;
+use crate::naming::{ChannelNames, Interface};
+use crate::usable_scale;
 
 /// The encoder's arithmetic, independent of pins.
 #[derive(Debug, Clone)]
@@ -36,9 +37,9 @@ pub struct EncoderCore {
     /// `raw` value that `count` is measured from.
     zero: i64,
     last_change_raw: i64,
+    /// When the count last changed; `None` before the first reading.
     last_change_ns: Option<u64>,
     velocity: f64,
-    started: bool,
 }
 
 /// What one update produced.
@@ -63,7 +64,6 @@ impl EncoderCore {
             last_change_raw: 0,
             last_change_ns: None,
             velocity: 0.0,
-            started: false,
         }
     }
 
@@ -85,9 +85,8 @@ impl EncoderCore {
         reset: bool,
         vel_timeout_ns: u64,
     ) -> EncoderOutputs {
-        if !self.started {
+        if self.last_change_ns.is_none() {
             // The first reading defines zero.
-            self.started = true;
             self.last_hw = hw;
             self.last_change_ns = Some(now_ns);
         }
@@ -154,6 +153,10 @@ pub struct Encoder {
     vel_timeout: Param<f64, Rw>,
 }
 
+impl Interface for Encoder {
+    const IO_TYPE: &'static str = "encoder";
+}
+
 impl Encoder {
     /// Exports channel `chan` on `comp` for a `bits`-wide counter.
     pub fn export(
@@ -187,11 +190,7 @@ impl Encoder {
     /// Publishes a reading; `index_hw` is the latched counter value if the
     /// hardware saw an index while armed.
     pub fn update(&mut self, hw: u64, index_hw: Option<u64>, now_ns: u64) {
-        let mut scale = self.scale.get();
-        if scale.abs() < 1e-20 || scale.is_nan() {
-            scale = 1.0;
-            self.scale.set(1.0);
-        }
+        let scale = usable_scale(&self.scale);
         let timeout = self.vel_timeout.get();
         let timeout_ns = if timeout > 0.0 {
             (timeout * 1e9).min(u64::MAX as f64) as u64

@@ -2,8 +2,9 @@
 //!
 //! A driver exports an io-type by calling its `export` function and gets
 //! the pins and params below, named `<device>.<num>.<io-type>.<chan>.<name>`
-//! (see [`naming`]), together with the shared behaviour. Every driver's
-//! digital input therefore looks and behaves like every other's.
+//! (see [`naming`]; each interface holds its io-type in
+//! [`Interface::IO_TYPE`]), together with the shared behaviour. Every
+//! driver's digital input therefore looks and behaves like every other's.
 //!
 //! # digin: digital input
 //! | name | kind | type | dir | meaning |
@@ -62,7 +63,9 @@
 //! from narrow counters, reset and the index-enable handshake, velocity
 //! from the time between counts; the step rate that reaches a position
 //! within maxvel and maxaccel, step timing in hardware clocks; duty cycle
-//! from value and scale. Each module's docs hold its table.
+//! from value and scale. Each module's docs hold its table. Their io-types
+//! are `encoder`, `stepgen` and `pwmgen`; a scale they divide by follows
+//! one rule, [`usable_scale`].
 //!
 //! The software components (stepgen, encoder, pwmgen in the components
 //! crate) keep LinuxCNC's historic names and exact arithmetic, which
@@ -78,6 +81,23 @@ pub mod stepgen;
 pub use adc::{AdcIn, AdcOut, AdcOutOptions};
 pub use dig::{DigIn, DigOut};
 pub use encoder::{Encoder, EncoderCore};
-pub use naming::ChannelNames;
+pub use naming::{ChannelNames, Interface};
 pub use pwm::Pwm;
 pub use stepgen::Stepgen;
+
+use hal_core::{Param, Rw};
+
+/// The value of a scale param that the interface divides by, under
+/// LinuxCNC's rule (its encoder, stepgen and pwmgen alike): a value within
+/// 1e-20 of 0, or NaN, is replaced by 1.0 and written back into the
+/// param, so the user sees the value in force.
+#[inline]
+pub fn usable_scale(scale: &Param<f64, Rw>) -> f64 {
+    let s = scale.get();
+    if s.abs() < 1e-20 || s.is_nan() {
+        scale.set(1.0);
+        1.0
+    } else {
+        s
+    }
+}

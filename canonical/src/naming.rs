@@ -1,11 +1,17 @@
-//! Names of canonical pins, params and functions.
+//! Names of canonical pins and params.
 //!
-//! Pins and params: `<device>.<num>.<io-type>.<chan>.<name>`, the channel
-//! zero-padded to two digits when a device can have more than ten
-//! channels of that type (so names sort in channel order). Functions:
-//! `<device>.<num>[.<io-type>[-<range>]].read|write`. A driver whose users'
-//! configs already use other names (parport's `pin-NN-out`) supplies its
-//! own rule instead.
+//! `<device>.<num>.<io-type>.<chan>.<name>`, the io-type being the
+//! interface's own ([`Interface::IO_TYPE`]) and the channel zero-padded to
+//! two digits when a device can have more than ten channels of that type
+//! (so names sort in channel order). A driver whose users' configs
+//! already use other names (parport's `pin-NN-out`) supplies its own rule
+//! instead.
+
+/// A canonical interface: the io-type field of its names.
+pub trait Interface {
+    /// The io-type field (`digin`, `adcout`, `encoder`, ...).
+    const IO_TYPE: &'static str;
+}
 
 /// How one device names the channels of one io-type.
 pub struct ChannelNames {
@@ -21,12 +27,12 @@ enum Rule {
 type NameRule = dyn Fn(usize, &str) -> String + Send + Sync;
 
 impl ChannelNames {
-    /// Canonical names for `channels` channels of `io_type` on device
+    /// Canonical names for `channels` channels of interface `I` on device
     /// `device` number `num`.
-    pub fn canonical(device: &str, num: usize, io_type: &str, channels: usize) -> ChannelNames {
+    pub fn canonical<I: Interface>(device: &str, num: usize, channels: usize) -> ChannelNames {
         ChannelNames {
             rule: Rule::Canonical {
-                prefix: format!("{device}.{num}.{io_type}"),
+                prefix: format!("{device}.{num}.{}", I::IO_TYPE),
                 wide: channels > 10,
             },
         }
@@ -52,52 +58,26 @@ impl ChannelNames {
     }
 }
 
-/// The name of a read or write function: `<device>.<num>.read`, or with
-/// an io-type `<device>.<num>.<io-type>.read`, or with a channel range
-/// `<device>.<num>.<io-type>-<first>-<last>.read`.
-pub fn funct(
-    device: &str,
-    num: usize,
-    io_type: Option<&str>,
-    range: Option<(usize, usize)>,
-    verb: &str,
-) -> String {
-    match (io_type, range) {
-        (None, _) => format!("{device}.{num}.{verb}"),
-        (Some(t), None) => format!("{device}.{num}.{t}.{verb}"),
-        (Some(t), Some((a, b))) => format!("{device}.{num}.{t}-{a:02}-{b:02}.{verb}"),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{DigIn, Encoder};
 
     #[test]
     fn canonical_names_pad_channels_when_more_than_ten() {
         assert_eq!(
-            ChannelNames::canonical("motenc", 0, "encoder", 8).item(2, "position"),
+            ChannelNames::canonical::<Encoder>("motenc", 0, 8).item(2, "position"),
             "motenc.0.encoder.2.position"
         );
         assert_eq!(
-            ChannelNames::canonical("stg", 0, "din", 32).item(3, "in"),
-            "stg.0.din.03.in"
+            ChannelNames::canonical::<DigIn>("stg", 0, 32).item(3, "in"),
+            "stg.0.digin.03.in"
         );
         assert_eq!(
-            ChannelNames::canonical("stg", 1, "din", 32).item(17, "in-not"),
-            "stg.1.din.17.in-not"
+            ChannelNames::canonical::<DigIn>("stg", 1, 32).item(17, "in-not"),
+            "stg.1.digin.17.in-not"
         );
         let pp = ChannelNames::custom(|c, n| format!("parport.0.pin-{c:02}-{n}"));
         assert_eq!(pp.item(1, "out"), "parport.0.pin-01-out");
-    }
-
-    #[test]
-    fn function_names() {
-        assert_eq!(funct("motenc", 0, None, None, "read"), "motenc.0.read");
-        assert_eq!(funct("stg", 0, Some("din"), None, "read"), "stg.0.din.read");
-        assert_eq!(
-            funct("generic8255", 0, Some("din"), Some((9, 15)), "read"),
-            "generic8255.0.din-09-15.read"
-        );
     }
 }

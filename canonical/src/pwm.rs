@@ -1,21 +1,26 @@
-//! The canonical PWM output: the common part of hostmot2's pwmgen and the
-//! software pwmgen.
+//! The canonical PWM output, for drivers with hardware PWM generators
+//! (hostmot2's pwmgen names, which other boards follow). The software
+//! pwmgen in the components crate is separate: it keeps LinuxCNC's own
+//! pins and arithmetic.
 //!
 //! | name | kind | type | dir | meaning |
 //! |---|---|---|---|---|
 //! | `value` | pin | float | in | command, in user units |
 //! | `enable` | pin | bit | in | FALSE: no pulses, outputs off |
-//! | `scale` | param | float | rw | value that means 100 % duty (default 1.0) |
+//! | `scale` | param | float | rw | value that means 100 % duty (default 1.0); within 1e-20 of 0 is replaced by 1.0 ([`usable_scale`]) |
 //!
 //! Behaviour: duty cycle = `value / scale`, clipped to [-1, 1]; its sign
-//! is the direction. A NaN command, or a scale within 1e-20 of 0, gives 0
-//! duty: the motor stops rather than running away.
+//! is the direction. A NaN command gives 0 duty: the motor stops rather
+//! than running away.
 
 use hal_core::{Component, In, Param, Pin, Result, Rw};
 
-use crate::naming::ChannelNames;
+use crate::naming::{ChannelNames, Interface};
+use crate::usable_scale;
 
-/// The duty cycle for a command, as the interface defines it.
+/// The duty cycle for a command, as the interface defines it. `scale` is
+/// the one [`usable_scale`] leaves; should a direct caller pass one that
+/// still divides by zero, or a NaN, the duty is 0.
 pub fn duty(value: f64, scale: f64) -> f64 {
     if scale.abs() < 1e-20 || scale.is_nan() {
         return 0.0;
@@ -35,6 +40,10 @@ pub struct Pwm {
     scale: Param<f64, Rw>,
 }
 
+impl Interface for Pwm {
+    const IO_TYPE: &'static str = "pwmgen";
+}
+
 impl Pwm {
     /// Exports channel `chan` on `comp`.
     pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<Pwm> {
@@ -45,12 +54,12 @@ impl Pwm {
         })
     }
 
-    /// The duty cycle in [-1, 1], or `None` while disabled.
+    /// The duty cycle in [-1, 1], or `None` while disabled. A scale too
+    /// close to 0 is replaced by 1.0, enabled or not.
     #[inline]
     pub fn duty(&self) -> Option<f64> {
-        self.enable
-            .get()
-            .then(|| duty(self.value.get(), self.scale.get()))
+        let scale = usable_scale(&self.scale);
+        self.enable.get().then(|| duty(self.value.get(), scale))
     }
 }
 

@@ -12,7 +12,7 @@
 //! | `counts` | pin | s32 | out | steps | steps made (low 32 bits) |
 //! | `position-fb` | pin | float | out | units | `counts / position-scale` |
 //! | `velocity-fb` | pin | float | out | units/s | the commanded rate, in units |
-//! | `position-scale` | param | float | rw | steps/unit | default 1.0; within 1e-20 of 0 is replaced by 1.0 |
+//! | `position-scale` | param | float | rw | steps/unit | default 1.0; within 1e-20 of 0 is replaced by 1.0 ([`usable_scale`]) |
 //! | `maxvel` | param | float | rw | units/s | 0: the most the step timing allows |
 //! | `maxaccel` | param | float | rw | units/s² | 0: no limit (default 1.0) |
 //! | `steplen` | param | u32 | rw | ns | step pulse length |
@@ -33,7 +33,8 @@
 
 use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
 
-use crate::naming::ChannelNames;
+use crate::naming::{ChannelNames, Interface};
+use crate::usable_scale;
 
 /// The limits one update obeys, in units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -142,6 +143,10 @@ pub struct Stepgen {
     prev_cmd: Option<f64>,
 }
 
+impl Interface for Stepgen {
+    const IO_TYPE: &'static str = "stepgen";
+}
+
 impl Stepgen {
     /// Exports channel `chan` on `comp`.
     pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<Stepgen> {
@@ -171,11 +176,7 @@ impl Stepgen {
     /// fraction if the hardware has one. Returns the step rate to program,
     /// in steps/s (signed; 0 while disabled).
     pub fn update(&mut self, steps: i64, fine_position: f64, period_ns: i64) -> f64 {
-        let mut scale = self.position_scale.get();
-        if scale.abs() < 1e-20 || scale.is_nan() {
-            scale = 1.0;
-            self.position_scale.set(1.0);
-        }
+        let scale = usable_scale(&self.position_scale);
         self.counts.set(steps as i32);
         let fb = fine_position / scale;
         self.position_fb.set(fb);

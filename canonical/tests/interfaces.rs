@@ -2,13 +2,10 @@
 
 use canonical::adc::Converter;
 use canonical::*;
-use hal_core::{ComponentKind, Host, HostConfig, RealtimeMode, Value};
+use hal_core::{ComponentKind, Host, HostConfig, Value};
 
 fn host(tag: &str) -> Host {
-    let mut cfg = HostConfig::new(&format!("canon-{tag}-{}", std::process::id()));
-    cfg.shm_size = 4 << 20;
-    cfg.realtime = RealtimeMode::Off;
-    Host::create(cfg).unwrap()
+    Host::create(HostConfig::for_tests(&format!("canon-{tag}"))).unwrap()
 }
 
 #[test]
@@ -16,24 +13,28 @@ fn digital_inputs_and_outputs() {
     let host = host("dig");
     let inst = host.instance();
     let comp = inst.new_component("dev", ComponentKind::User).unwrap();
-    let names = ChannelNames::canonical("dev", 0, "din", 16);
+    let names = ChannelNames::canonical::<DigIn>("dev", 0, 16);
     let din = DigIn::export(&comp, &names, 3).unwrap();
     assert_eq!(
-        inst.pin_value("dev.0.din.03.in-not").unwrap(),
+        inst.pin_value("dev.0.digin.03.in-not").unwrap(),
         Value::Bit(true)
     );
     din.update(true);
-    assert_eq!(inst.pin_value("dev.0.din.03.in").unwrap(), Value::Bit(true));
     assert_eq!(
-        inst.pin_value("dev.0.din.03.in-not").unwrap(),
+        inst.pin_value("dev.0.digin.03.in").unwrap(),
+        Value::Bit(true)
+    );
+    assert_eq!(
+        inst.pin_value("dev.0.digin.03.in-not").unwrap(),
         Value::Bit(false)
     );
 
-    let dout = DigOut::export(&comp, &ChannelNames::canonical("dev", 0, "dout", 4), 1).unwrap();
+    let dout = DigOut::export(&comp, &ChannelNames::canonical::<DigOut>("dev", 0, 4), 1).unwrap();
     assert!(!dout.level());
-    inst.set_pin("dev.0.dout.1.out", Value::Bit(true)).unwrap();
+    inst.set_pin("dev.0.digout.1.out", Value::Bit(true))
+        .unwrap();
     assert!(dout.level());
-    inst.set_param("dev.0.dout.1.invert", Value::Bit(true))
+    inst.set_param("dev.0.digout.1.invert", Value::Bit(true))
         .unwrap();
     assert!(!dout.level());
     assert!(dout.safe_level(), "off, inverted, is a high level");
@@ -46,7 +47,7 @@ fn analog_inputs_scale_and_offset() {
     let comp = inst.new_component("dev", ComponentKind::User).unwrap();
     let ain = AdcIn::export(
         &comp,
-        &ChannelNames::canonical("dev", 0, "adcin", 8),
+        &ChannelNames::canonical::<AdcIn>("dev", 0, 8),
         0,
         10.0 / 2048.0,
         10.0,
@@ -84,7 +85,7 @@ fn analog_outputs_enable_limits_and_counts() {
     };
     let aout = AdcOut::export(
         &comp,
-        &ChannelNames::canonical("dev", 0, "adcout", 4),
+        &ChannelNames::canonical::<AdcOut>("dev", 0, 4),
         2,
         opts,
     )
@@ -129,7 +130,7 @@ fn encoder_pins_follow_the_index_handshake() {
     let host = host("enc");
     let inst = host.instance();
     let comp = inst.new_component("hm", ComponentKind::User).unwrap();
-    let names = ChannelNames::canonical("hm", 0, "encoder", 12);
+    let names = ChannelNames::canonical::<Encoder>("hm", 0, 12);
     let mut enc = Encoder::export(&comp, &names, 1, 16).unwrap();
     inst.set_param("hm.0.encoder.01.scale", Value::Float(4.0))
         .unwrap();
@@ -185,7 +186,7 @@ fn pwm_duty_follows_enable_value_and_scale() {
     let host = host("pwm");
     let inst = host.instance();
     let comp = inst.new_component("hm", ComponentKind::User).unwrap();
-    let pwm = Pwm::export(&comp, &ChannelNames::canonical("hm", 0, "pwmgen", 4), 0).unwrap();
+    let pwm = Pwm::export(&comp, &ChannelNames::canonical::<Pwm>("hm", 0, 4), 0).unwrap();
     assert_eq!(pwm.duty(), None);
     inst.set_pin("hm.0.pwmgen.0.enable", Value::Bit(true))
         .unwrap();
@@ -194,6 +195,26 @@ fn pwm_duty_follows_enable_value_and_scale() {
     inst.set_param("hm.0.pwmgen.0.scale", Value::Float(10.0))
         .unwrap();
     assert_eq!(pwm.duty(), Some(-0.5));
+    // A zero scale is replaced by 1.0, as the encoder's and stepgen's.
+    inst.set_param("hm.0.pwmgen.0.scale", Value::Float(0.0))
+        .unwrap();
+    assert_eq!(pwm.duty(), Some(-1.0));
+    assert_eq!(
+        inst.param_value("hm.0.pwmgen.0.scale").unwrap(),
+        Value::Float(1.0)
+    );
+}
+
+#[test]
+fn each_interface_names_its_own_io_type() {
+    // The io-type fields hal_canonical-devices defines, and hostmot2's.
+    assert_eq!(DigIn::IO_TYPE, "digin");
+    assert_eq!(DigOut::IO_TYPE, "digout");
+    assert_eq!(AdcIn::IO_TYPE, "adcin");
+    assert_eq!(AdcOut::IO_TYPE, "adcout");
+    assert_eq!(Encoder::IO_TYPE, "encoder");
+    assert_eq!(Stepgen::IO_TYPE, "stepgen");
+    assert_eq!(Pwm::IO_TYPE, "pwmgen");
 }
 
 #[test]
@@ -202,7 +223,7 @@ fn stepgen_rate_follows_enable_mode_and_scale() {
     let inst = host.instance();
     let comp = inst.new_component("hm", ComponentKind::User).unwrap();
     let mut sg =
-        Stepgen::export(&comp, &ChannelNames::canonical("hm", 0, "stepgen", 10), 0).unwrap();
+        Stepgen::export(&comp, &ChannelNames::canonical::<Stepgen>("hm", 0, 10), 0).unwrap();
     let set = |n: &str, v: Value| {
         if inst.set_pin(n, v).is_err() {
             inst.set_param(n, v).unwrap();

@@ -126,6 +126,13 @@ pub struct PortSpec {
     pub backend: Option<Backend>,
 }
 
+impl std::fmt::Display for PortSpec {
+    /// `<addr>, <mode> mode`, as messages name a port.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}, {} mode", self.addr, self.mode.name())
+    }
+}
+
 /// Why a cfg string was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CfgError {
@@ -138,7 +145,8 @@ pub enum CfgError {
     /// More than [`MAX_PORTS`] ports.
     #[error("{count} ports configured, at most {MAX_PORTS} are supported")]
     TooManyPorts { count: usize },
-    /// The same port twice.
+    /// The same port twice, written the same way (`0` and `0x378` for
+    /// one port are only found when the backends are chosen).
     #[error("port {addr} is configured twice")]
     Duplicate { addr: PortAddr },
 }

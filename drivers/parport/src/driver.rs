@@ -9,9 +9,10 @@
 //! that start at 0xFF00, a value no byte can equal, so the first `write`
 //! always reaches the hardware; later writes happen only on change.
 //!
-//! The state lives in atomics because `write` and `reset` of one port may
-//! be in different threads (LinuxCNC requires them in the same thread,
-//! but nothing enforces it).
+//! Data and control are each one `Latch`: cache, write time and reset
+//! request. The state lives in atomics because `write` and `reset` of one
+//! port may be in different threads (LinuxCNC requires them in the same
+//! thread, but nothing enforces it).
 
 use std::sync::atomic::{AtomicU16, AtomicU64, AtomicU8, Ordering::Relaxed};
 use std::sync::Arc;
@@ -55,19 +56,85 @@ pub struct Inputs {
     pub control: Option<u8>,
 }
 
+/// One output register's state: the last byte written, when, and what
+/// `reset` should return to its inactive level.
+struct Latch {
+    /// The last byte written, before any inversion correction;
+    /// [`NEVER_WRITTEN`] before the first write.
+    cached: AtomicU16,
+    /// When it was written (clock ns); `reset` waits from here.
+    written_at: AtomicU64,
+    /// Bits `reset` returns to `reset_val`.
+    reset_mask: AtomicU8,
+    /// Their inactive levels.
+    reset_val: AtomicU8,
+}
+
+impl Latch {
+    fn new() -> Latch {
+        Latch {
+            cached: AtomicU16::new(NEVER_WRITTEN),
+            written_at: AtomicU64::new(0),
+            reset_mask: AtomicU8::new(0),
+            reset_val: AtomicU8::new(0),
+        }
+    }
+
+    /// Puts `v` on the register with `put`, and remembers it and the time.
+    #[inline]
+    fn write(&self, v: u8, clock: &dyn Clock, put: impl FnOnce(u8)) {
+        put(v);
+        self.written_at.store(clock.now_ns(), Relaxed);
+        self.cached.store(v as u16, Relaxed);
+    }
+
+    /// [`write`](Self::write), only if `v` differs from the last byte.
+    #[inline]
+    fn write_if_changed(&self, v: u8, clock: &dyn Clock, put: impl FnOnce(u8)) {
+        if v as u16 != self.cached.load(Relaxed) {
+            self.write(v, clock, put);
+        }
+    }
+
+    /// Remembers which bits `reset` returns to which level.
+    #[inline]
+    fn set_reset(&self, mask: u8, val: u8) {
+        self.reset_val.store(val, Relaxed);
+        self.reset_mask.store(mask, Relaxed);
+    }
+
+    /// Returns the reset bits to their inactive levels with `put`, no
+    /// earlier than `reset_time` ns after the last write (busy-waiting).
+    /// A register never written is left alone: resetting it would drive
+    /// pins (and, in `in` mode, clear the direction bit). The write time
+    /// is kept, so the next `write` is timed from the real one.
+    #[inline]
+    fn reset(&self, reset_time: u32, clock: &dyn Clock, put: impl FnOnce(u8)) {
+        let cached = self.cached.load(Relaxed);
+        let out = ((cached & !(self.reset_mask.load(Relaxed) as u16))
+            ^ self.reset_val.load(Relaxed) as u16) as u8;
+        if cached != NEVER_WRITTEN && out as u16 != cached {
+            let deadline = self
+                .written_at
+                .load(Relaxed)
+                .wrapping_add(reset_time as u64);
+            while clock.now_ns() < deadline {
+                std::hint::spin_loop();
+            }
+            put(out);
+            self.cached.store(out as u16, Relaxed);
+        }
+    }
+}
+
 /// One port's driver state and its register access.
 pub struct PortDriver {
     mode: Mode,
     io: Arc<dyn PortIo>,
     clock: Arc<dyn Clock>,
-    outdata: AtomicU16,
-    outdata_ctrl: AtomicU16,
-    write_time: AtomicU64,
-    write_time_ctrl: AtomicU64,
-    reset_mask: AtomicU8,
-    reset_val: AtomicU8,
-    reset_mask_ctrl: AtomicU8,
-    reset_val_ctrl: AtomicU8,
+    data: Latch,
+    /// The control register, before the 0x0B correction.
+    control: Latch,
 }
 
 impl std::fmt::Debug for PortDriver {
@@ -75,8 +142,8 @@ impl std::fmt::Debug for PortDriver {
         f.debug_struct("PortDriver")
             .field("mode", &self.mode)
             .field("io", &self.io.describe())
-            .field("outdata", &self.outdata.load(Relaxed))
-            .field("outdata_ctrl", &self.outdata_ctrl.load(Relaxed))
+            .field("data", &self.data.cached.load(Relaxed))
+            .field("control", &self.control.cached.load(Relaxed))
             .finish()
     }
 }
@@ -88,14 +155,8 @@ impl PortDriver {
             mode,
             io,
             clock,
-            outdata: AtomicU16::new(NEVER_WRITTEN),
-            outdata_ctrl: AtomicU16::new(NEVER_WRITTEN),
-            write_time: AtomicU64::new(0),
-            write_time_ctrl: AtomicU64::new(0),
-            reset_mask: AtomicU8::new(0),
-            reset_val: AtomicU8::new(0),
-            reset_mask_ctrl: AtomicU8::new(0),
-            reset_val_ctrl: AtomicU8::new(0),
+            data: Latch::new(),
+            control: Latch::new(),
         }
     }
 
@@ -109,15 +170,16 @@ impl PortDriver {
         &self.io
     }
 
-    /// The cached last-written data byte ([`NEVER_WRITTEN`] before the
-    /// first write).
-    pub fn cached_data(&self) -> u16 {
-        self.outdata.load(Relaxed)
+    /// Writes the data register.
+    #[inline]
+    fn put_data(&self) -> impl FnOnce(u8) + '_ {
+        |v| self.io.write_data(v)
     }
 
-    /// The cached last-written control byte, before the 0x0B correction.
-    pub fn cached_control(&self) -> u16 {
-        self.outdata_ctrl.load(Relaxed)
+    /// Writes the control register, correcting for its inverters.
+    #[inline]
+    fn put_control(&self) -> impl FnOnce(u8) + '_ {
+        |v| self.io.write_control(v ^ regs::CONTROL_INVERTED)
     }
 
     /// The load-time set-up: `epp` puts the ECR in EPP mode (when the
@@ -155,14 +217,10 @@ impl PortDriver {
     /// byte changed, and remembers the reset masks for `reset`.
     #[inline]
     pub fn write(&self, o: &Outputs) {
+        let clock = &*self.clock;
         let mut ctrl = if self.mode.data_out() {
-            if o.data as u16 != self.outdata.load(Relaxed) {
-                self.io.write_data(o.data);
-                self.write_time.store(self.clock.now_ns(), Relaxed);
-                self.outdata.store(o.data as u16, Relaxed);
-            }
-            self.reset_val.store(o.data_reset_val, Relaxed);
-            self.reset_mask.store(o.data_reset_mask, Relaxed);
+            self.data.write_if_changed(o.data, clock, self.put_data());
+            self.data.set_reset(o.data_reset_mask, o.data_reset_val);
             0x00
         } else {
             regs::CONTROL_DIR_IN
@@ -172,16 +230,13 @@ impl PortDriver {
             ctrl |= regs::CONTROL_LINES;
         } else {
             ctrl |= o.control & regs::CONTROL_LINES;
-            self.reset_mask_ctrl
-                .store(o.control_reset_mask & regs::CONTROL_LINES, Relaxed);
-            self.reset_val_ctrl
-                .store(o.control_reset_val & regs::CONTROL_LINES, Relaxed);
+            self.control.set_reset(
+                o.control_reset_mask & regs::CONTROL_LINES,
+                o.control_reset_val & regs::CONTROL_LINES,
+            );
         }
-        if ctrl as u16 != self.outdata_ctrl.load(Relaxed) {
-            self.io.write_control(ctrl ^ regs::CONTROL_INVERTED);
-            self.write_time_ctrl.store(self.clock.now_ns(), Relaxed);
-            self.outdata_ctrl.store(ctrl as u16, Relaxed);
-        }
+        self.control
+            .write_if_changed(ctrl, clock, self.put_control());
     }
 
     /// `parport.N.reset`: returns every pin marked for reset to its
@@ -197,40 +252,10 @@ impl PortDriver {
         } else {
             reset_time
         };
-        // A register `write` has not set yet is left alone: resetting it
-        // would drive pins (and, in `in` mode, clear the direction bit).
-        let cached = self.outdata.load(Relaxed);
-        let out = ((cached & !(self.reset_mask.load(Relaxed) as u16))
-            ^ self.reset_val.load(Relaxed) as u16) as u8;
-        if cached != NEVER_WRITTEN && out as u16 != cached {
-            self.wait_until(
-                self.write_time
-                    .load(Relaxed)
-                    .wrapping_add(reset_time as u64),
-            );
-            self.io.write_data(out);
-            self.outdata.store(out as u16, Relaxed);
-        }
-        let cached = self.outdata_ctrl.load(Relaxed);
-        let out = ((cached & !(self.reset_mask_ctrl.load(Relaxed) as u16))
-            ^ self.reset_val_ctrl.load(Relaxed) as u16) as u8;
-        if cached != NEVER_WRITTEN && out as u16 != cached {
-            self.wait_until(
-                self.write_time_ctrl
-                    .load(Relaxed)
-                    .wrapping_add(reset_time as u64),
-            );
-            self.io.write_control(out ^ regs::CONTROL_INVERTED);
-            self.outdata_ctrl.store(out as u16, Relaxed);
-        }
+        let clock = &*self.clock;
+        self.data.reset(reset_time, clock, self.put_data());
+        self.control.reset(reset_time, clock, self.put_control());
         reset_time
-    }
-
-    #[inline]
-    fn wait_until(&self, deadline: u64) {
-        while self.clock.now_ns() < deadline {
-            std::hint::spin_loop();
-        }
     }
 
     /// Puts every output at its inactive level (`out` FALSE, i.e. the
@@ -239,11 +264,10 @@ impl PortDriver {
     /// order. The direction bit keeps its mode; `x` mode keeps its control
     /// lines released.
     pub fn safe_state(&self, data_invert: u8, control_invert: u8) {
+        let clock = &*self.clock;
         let mut ctrl = 0;
         if self.mode.data_out() {
-            self.io.write_data(data_invert);
-            self.write_time.store(self.clock.now_ns(), Relaxed);
-            self.outdata.store(data_invert as u16, Relaxed);
+            self.data.write(data_invert, clock, self.put_data());
         } else {
             ctrl = regs::CONTROL_DIR_IN;
         }
@@ -252,15 +276,23 @@ impl PortDriver {
         } else {
             control_invert & regs::CONTROL_LINES
         };
-        self.io.write_control(ctrl ^ regs::CONTROL_INVERTED);
-        self.write_time_ctrl.store(self.clock.now_ns(), Relaxed);
-        self.outdata_ctrl.store(ctrl as u16, Relaxed);
+        self.control.write(ctrl, clock, self.put_control());
     }
 }
 
 impl Drop for PortDriver {
-    /// Gives the port back when the driver goes (module unload).
+    /// Gives the port back when the driver goes (module unload), and says
+    /// once how many register accesses failed, if any did: the realtime
+    /// functions cannot report them (a failed read reads as 0xFF).
     fn drop(&mut self) {
+        let errors = self.io.errors();
+        if errors > 0 {
+            eprintln!(
+                "hal_parport: {}: {errors} register accesses failed while loaded \
+                 (failed reads read as 0xFF)",
+                self.io.describe()
+            );
+        }
         self.io.release();
     }
 }
@@ -455,8 +487,8 @@ mod tests {
         d.safe_state(0x81, 0x04);
         assert_eq!(sim.data_latch(), 0x81);
         assert_eq!(sim.control_latch(), 0x04 ^ 0x0B);
-        assert_eq!(d.cached_data(), 0x81);
-        assert_eq!(d.cached_control(), 0x04);
+        assert_eq!(d.data.cached.load(Relaxed), 0x81);
+        assert_eq!(d.control.cached.load(Relaxed), 0x04);
         let (d, sim, _) = rig(Mode::In);
         d.safe_state(0xFF, 0x01);
         assert_eq!(sim.control_latch(), (0x21) ^ 0x0B);

@@ -54,17 +54,31 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     )
 }
 
-/// An input pin pair.
+/// LinuxCNC's names for one port's pins and their params:
+/// `parport.<p>.pin-<NN>-<item>`, the channel being the DB-25 pin number.
+/// The canonical digital output's `invert` is parport's `out-invert`.
+fn port_names(p: usize) -> ChannelNames {
+    ChannelNames::custom(move |pin, item| {
+        let item = if item == "invert" { "out-invert" } else { item };
+        format!("parport.{p}.pin-{pin:02}-{item}")
+    })
+}
+
+/// An input pin pair, `-in` and `-in-not`.
+///
+/// Not [`canonical::DigIn`]: that one starts `in-not` TRUE, whereas
+/// LinuxCNC's hal_parport leaves both pins FALSE until the first `read`,
+/// which `halcmd show pin` after `loadrt` makes visible.
 struct InPin {
     on: Pin<bool, Out>,
     off: Pin<bool, Out>,
 }
 
 impl InPin {
-    fn new(c: &Component, p: usize, pin: u8) -> Result<InPin> {
+    fn new(c: &Component, names: &ChannelNames, pin: u8) -> Result<InPin> {
         Ok(InPin {
-            on: c.pin(&format!("parport.{p}.pin-{pin:02}-in"))?,
-            off: c.pin(&format!("parport.{p}.pin-{pin:02}-in-not"))?,
+            on: c.pin(&names.item(pin as usize, "in"))?,
+            off: c.pin(&names.item(pin as usize, "in-not"))?,
         })
     }
 
@@ -82,13 +96,9 @@ struct OutPin {
 }
 
 impl OutPin {
-    fn new(c: &Component, p: usize, pin: u8) -> Result<OutPin> {
-        let names = ChannelNames::custom(move |pin, item| {
-            let item = if item == "invert" { "out-invert" } else { item };
-            format!("parport.{p}.pin-{pin:02}-{item}")
-        });
+    fn new(c: &Component, names: &ChannelNames, pin: u8) -> Result<OutPin> {
         Ok(OutPin {
-            dig: DigOut::export(c, &names, pin as usize)?,
+            dig: DigOut::export(c, names, pin as usize)?,
             reset: c.param(&names.item(pin as usize, "out-reset"), false)?,
         })
     }
@@ -130,28 +140,29 @@ struct HalPort {
     data_out: Vec<OutPin>,
     control_out: Vec<OutPin>,
     reset_time: Option<Param<u32, Rw>>,
-    _debug: Option<(Param<u32, Rw>, Param<u32, Rw>)>,
 }
 
 impl HalPort {
     fn export(c: &Component, p: usize, drv: PortDriver) -> Result<HalPort> {
         let mode = drv.mode();
+        let names = port_names(p);
         let inputs = |pins: &[u8]| -> Result<Vec<InPin>> {
-            pins.iter().map(|&n| InPin::new(c, p, n)).collect()
+            pins.iter().map(|&n| InPin::new(c, &names, n)).collect()
         };
         let outputs = |pins: &[u8]| -> Result<Vec<OutPin>> {
-            pins.iter().map(|&n| OutPin::new(c, p, n)).collect()
+            pins.iter().map(|&n| OutPin::new(c, &names, n)).collect()
         };
         // LinuxCNC's export order: status, data, timing params, control.
         let status_in = inputs(&regs::STATUS_PINS)?;
-        let (data_in, data_out, reset_time, debug) = if mode.data_out() {
+        let (data_in, data_out, reset_time) = if mode.data_out() {
             let out = outputs(&regs::DATA_PINS)?;
             let rt = c.param(&format!("parport.{p}.reset-time"), 0u32)?;
-            let d1 = c.param(&format!("parport.{p}.debug1"), 0u32)?;
-            let d2 = c.param(&format!("parport.{p}.debug2"), 0u32)?;
-            (Vec::new(), out, Some(rt), Some((d1, d2)))
+            // Exported for LinuxCNC's configs, never read (as there).
+            let _: Param<u32, Rw> = c.param(&format!("parport.{p}.debug1"), 0u32)?;
+            let _: Param<u32, Rw> = c.param(&format!("parport.{p}.debug2"), 0u32)?;
+            (Vec::new(), out, Some(rt))
         } else {
-            (inputs(&regs::DATA_PINS)?, Vec::new(), None, None)
+            (inputs(&regs::DATA_PINS)?, Vec::new(), None)
         };
         let (control_in, control_out) = if mode.control_in() {
             (inputs(&regs::CONTROL_PINS)?, Vec::new())
@@ -166,7 +177,6 @@ impl HalPort {
             data_out,
             control_out,
             reset_time,
-            _debug: debug,
         })
     }
 
@@ -223,7 +233,7 @@ impl HalPort {
 fn port_error(i: usize, spec: &PortSpec, e: impl std::fmt::Display) -> HalError {
     HalError::ModuleLoad {
         module: NAME.into(),
-        reason: format!("port {i} ({}, {} mode): {e}", spec.addr, spec.mode.name()),
+        reason: format!("port {i} ({spec}): {e}"),
     }
 }
 
@@ -236,33 +246,25 @@ pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>)
         param: "cfg".into(),
         reason: e.to_string(),
     })?;
+    // Choose every backend first: two entries for one port must be
+    // refused before anything is claimed, since a second PPCLAIM of a
+    // port blocks forever.
+    let choices =
+        select::choose_all(&specs, paths).map_err(|(i, e)| port_error(i, &specs[i], e))?;
     // Open and claim every port before exporting anything; a failure
     // drops (and so releases) the ports opened so far.
     let mut opened = Vec::with_capacity(specs.len());
-    for (i, spec) in specs.iter().enumerate() {
-        let choice = select::choose(spec, paths).map_err(|e| port_error(i, spec, e))?;
-        let o =
-            select::open(&choice, spec.mode, clock.clone()).map_err(|e| port_error(i, spec, e))?;
-        if let Some(base) = o.io.base() {
-            if let Some(j) = opened
-                .iter()
-                .position(|(_, p): &(PortSpec, select::Opened)| p.io.base() == Some(base))
-            {
-                return Err(port_error(
-                    i,
-                    spec,
-                    format!("it is the same port as port {j} (base {base:#x})"),
-                ));
-            }
-        }
-        opened.push((*spec, o));
+    for (i, (spec, choice)) in specs.iter().zip(&choices).enumerate() {
+        opened.push(
+            select::open(choice, spec.mode, clock.clone()).map_err(|e| port_error(i, spec, e))?,
+        );
     }
     let mut b = host.new_rt_component(NAME)?;
     let mut ports = Vec::with_capacity(opened.len());
     let mut sims = Vec::new();
-    for (i, (spec, o)) in opened.into_iter().enumerate() {
-        let drv = PortDriver::new(spec.mode, o.io.clone(), clock.clone());
-        drv.init().map_err(|e| port_error(i, &spec, e))?;
+    for (i, (spec, o)) in specs.iter().zip(opened).enumerate() {
+        let drv = PortDriver::new(spec.mode, o.io, clock.clone());
+        drv.init().map_err(|e| port_error(i, spec, e))?;
         ports.push(Arc::new(HalPort::export(b.component(), i, drv)?));
         if let Some(s) = o.sim {
             sims.push((i, s));

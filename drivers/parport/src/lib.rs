@@ -34,8 +34,9 @@
 //! `x` and `epp` ports always use raw I/O, because ppdev cannot read live
 //! control lines or write the ECR. Combinations that cannot work (`x` or
 //! `epp` on ppdev, raw I/O without permission, a missing `/dev/parportN`,
-//! `in` on a port that is not bidirectional) are refused at `loadrt` with
-//! the port and the reason, and nothing stays loaded.
+//! `in` on a port that is not bidirectional, one port named twice, e.g.
+//! as `0` and by its address) are refused at `loadrt` with the port and
+//! the reason, and nothing stays loaded.
 //!
 //! # Behaviour
 //!

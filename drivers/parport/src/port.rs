@@ -1,7 +1,7 @@
 //! The bus the driver talks through: register access to one parallel port.
 //!
 //! [`PortIo`] is a register-level interface (data, status, control, ECR,
-//! direction, claim/release). It has three backends:
+//! claim/release; the data direction is control bit 5). It has three backends:
 //!
 //! * [`ppdev::PpdevPort`]: `/dev/parportN` through the ppdev ioctls. Needs
 //!   no privilege beyond access to the device node (group `lp`). Every
@@ -14,7 +14,8 @@
 //! Realtime functions call the accessors; they take `&self` so the
 //! functions of one port can run in different threads. Accessors never
 //! fail visibly (a realtime function has nobody to report to): a failed
-//! system call reads as 0xFF and is counted in [`PortIo::errors`].
+//! system call reads as 0xFF and is counted in [`PortIo::errors`], which
+//! the driver reports once, when it releases the port.
 
 pub mod ppdev;
 pub mod raw;
@@ -48,6 +49,16 @@ pub enum PortError {
     /// The port's address could not be determined.
     #[error("{0}")]
     NotFound(String),
+    /// Another entry of the same cfg string names this port too.
+    #[error("it is the same port as port {other} ({other_spec}): {shared}")]
+    SamePort {
+        /// The other entry's index.
+        other: usize,
+        /// The other entry as written (address and mode).
+        other_spec: String,
+        /// What the two share: the device node or the base address.
+        shared: String,
+    },
 }
 
 /// Register access to one parallel port.
@@ -67,58 +78,13 @@ pub trait PortIo: Send + Sync {
     fn has_ecr(&self) -> bool;
     /// Writes the ECR at `base_hi + 2`.
     fn write_ecr(&self, v: u8) -> Result<(), PortError>;
-    /// Sets the data lines' direction (true = input).
-    fn set_data_dir(&self, input: bool) -> Result<(), PortError>;
     /// Takes the port for exclusive use; must precede any access.
     fn claim(&self) -> Result<(), PortError>;
     /// Gives the port back (also done when the backend is dropped).
     fn release(&self);
     /// A description for messages: backend and device or address.
     fn describe(&self) -> String;
-    /// The base I/O address, when known.
-    fn base(&self) -> Option<u16>;
-    /// How many accesses failed since the port was opened.
+    /// How many accesses failed since the port was opened (the driver
+    /// reports a non-zero count when it lets the port go).
     fn errors(&self) -> u64;
-}
-
-impl<T: PortIo + ?Sized> PortIo for std::sync::Arc<T> {
-    fn read_data(&self) -> u8 {
-        (**self).read_data()
-    }
-    fn write_data(&self, v: u8) {
-        (**self).write_data(v)
-    }
-    fn read_status(&self) -> u8 {
-        (**self).read_status()
-    }
-    fn read_control(&self) -> u8 {
-        (**self).read_control()
-    }
-    fn write_control(&self, v: u8) {
-        (**self).write_control(v)
-    }
-    fn has_ecr(&self) -> bool {
-        (**self).has_ecr()
-    }
-    fn write_ecr(&self, v: u8) -> Result<(), PortError> {
-        (**self).write_ecr(v)
-    }
-    fn set_data_dir(&self, input: bool) -> Result<(), PortError> {
-        (**self).set_data_dir(input)
-    }
-    fn claim(&self) -> Result<(), PortError> {
-        (**self).claim()
-    }
-    fn release(&self) {
-        (**self).release()
-    }
-    fn describe(&self) -> String {
-        (**self).describe()
-    }
-    fn base(&self) -> Option<u16> {
-        (**self).base()
-    }
-    fn errors(&self) -> u64 {
-        (**self).errors()
-    }
 }

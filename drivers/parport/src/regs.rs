@@ -79,16 +79,6 @@ pub fn pin_reg(pin: u8) -> Option<PinReg> {
         .map(|b| PinReg::Control(b as u8))
 }
 
-/// Whether the hardware inverts the line of DB-25 pin `pin` between the
-/// register bit and the connector.
-pub fn pin_inverted(pin: u8) -> bool {
-    match pin_reg(pin) {
-        Some(PinReg::Status(b)) => STATUS_INVERTED & (1 << b) != 0,
-        Some(PinReg::Control(b)) => CONTROL_INVERTED & (1 << b) != 0,
-        _ => false,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -114,7 +104,14 @@ mod tests {
 
     #[test]
     fn inverted_lines_match_the_xor_masks() {
-        let inv: Vec<u8> = (1..=17).filter(|&p| pin_inverted(p)).collect();
+        // The pins whose line the hardware inverts between the register
+        // bit and the connector.
+        let inverted = |pin| match pin_reg(pin) {
+            Some(PinReg::Status(b)) => STATUS_INVERTED & (1 << b) != 0,
+            Some(PinReg::Control(b)) => CONTROL_INVERTED & (1 << b) != 0,
+            _ => false,
+        };
+        let inv: Vec<u8> = (1..=17).filter(|&p| inverted(p)).collect();
         assert_eq!(inv, vec![1, 11, 14, 17]);
     }
 }

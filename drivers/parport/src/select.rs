@@ -13,7 +13,11 @@
 //!   Linux knows it, so nothing else uses it meanwhile.
 //!
 //! An explicit backend that cannot work for the port or its mode is an
-//! error naming the port and the reason.
+//! error naming the port and the reason. [`choose_all`] chooses every
+//! port of one `loadrt` before any is opened, reading Linux's list once,
+//! and refuses two entries that are one port (`0` and `0x378` when
+//! parport0 is at 0x378): the second `PPCLAIM` of a port would block
+//! forever. [`open`] then claims each port once.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -95,17 +99,84 @@ pub fn sim_base(n: u8) -> u16 {
 
 /// The backend chosen for a port, with what it needs to open.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Choice {
-    /// Which backend.
-    pub backend: Backend,
-    /// The ppdev node (for ppdev, or to claim a raw port).
-    pub dev: Option<PathBuf>,
-    /// The base address, when known.
-    pub base: Option<u16>,
-    /// The ECP register address, when known.
-    pub base_hi: Option<u16>,
+pub enum Choice {
+    /// `/dev/parportN` through ppdev.
+    Ppdev {
+        /// The device node.
+        dev: PathBuf,
+        /// The base address, when /proc lists the port.
+        base: Option<u16>,
+        /// The ECP register address, when /proc lists one.
+        base_hi: Option<u16>,
+    },
+    /// `inb`/`outb` after `ioperm`.
+    Raw {
+        /// The base address.
+        base: u16,
+        /// The ECP register address, when Linux knows the port and it has
+        /// one (never guessed: base+0x400 may be another device's).
+        base_hi: Option<u16>,
+        /// The ppdev node to claim the port through, when Linux knows it,
+        /// so nothing else uses the port meanwhile.
+        claim_via: Option<PathBuf>,
+    },
+    /// The simulator.
+    Sim {
+        /// The simulated base address.
+        base: u16,
+        /// The simulated ECP register address.
+        base_hi: Option<u16>,
+        /// Whether the loopback plug is in the connector.
+        loopback: bool,
+    },
 }
 
+impl Choice {
+    /// Which backend.
+    pub fn backend(&self) -> Backend {
+        match self {
+            Choice::Ppdev { .. } => Backend::Ppdev,
+            Choice::Raw { .. } => Backend::Raw,
+            Choice::Sim {
+                loopback: false, ..
+            } => Backend::Sim,
+            Choice::Sim { loopback: true, .. } => Backend::SimLoop,
+        }
+    }
+
+    /// The ppdev node the port is opened or claimed through, if any.
+    pub fn dev(&self) -> Option<&Path> {
+        match self {
+            Choice::Ppdev { dev, .. } => Some(dev),
+            Choice::Raw { claim_via, .. } => claim_via.as_deref(),
+            Choice::Sim { .. } => None,
+        }
+    }
+
+    /// The base address, when known.
+    pub fn base(&self) -> Option<u16> {
+        match *self {
+            Choice::Ppdev { base, .. } => base,
+            Choice::Raw { base, .. } | Choice::Sim { base, .. } => Some(base),
+        }
+    }
+
+    /// What `self` and `other` share if they are the same port: the
+    /// device node or the base address.
+    fn shared_with(&self, other: &Choice) -> Option<String> {
+        if let (Some(a), Some(b)) = (self.dev(), other.dev()) {
+            if a == b {
+                return Some(format!("both use {}", a.display()));
+            }
+        }
+        match (self.base(), other.base()) {
+            (Some(a), Some(b)) if a == b => Some(format!("both are at base {a:#x}")),
+            _ => None,
+        }
+    }
+}
+
+/// Why a mode needs raw I/O, if it does.
 fn need_raw(mode: Mode) -> Option<&'static str> {
     match mode {
         Mode::X => Some(
@@ -117,9 +188,46 @@ fn need_raw(mode: Mode) -> Option<&'static str> {
     }
 }
 
-/// Chooses the backend of `spec` (no device is opened).
+/// Chooses the backend of `spec` (no device is opened). Reads Linux's
+/// port list; to choose several ports, [`choose_all`] reads it once.
 pub fn choose(spec: &PortSpec, paths: &SysPaths) -> Result<Choice, PortError> {
+    choose_among(spec, &linux_ports(paths), paths)
+}
+
+/// Chooses the backend of every port of one `loadrt`, reading Linux's
+/// port list once, and refuses two entries that are the same port (the
+/// same device node or base address, e.g. `0` and `0x378` when parport0
+/// is at 0x378). Nothing is opened: claiming one port twice would block
+/// in `PPCLAIM` forever. An error comes with the index of the entry it
+/// concerns.
+pub fn choose_all(specs: &[PortSpec], paths: &SysPaths) -> Result<Vec<Choice>, (usize, PortError)> {
     let linux = linux_ports(paths);
+    let mut choices: Vec<Choice> = Vec::with_capacity(specs.len());
+    for (i, spec) in specs.iter().enumerate() {
+        let c = choose_among(spec, &linux, paths).map_err(|e| (i, e))?;
+        for (j, earlier) in choices.iter().enumerate() {
+            if let Some(shared) = c.shared_with(earlier) {
+                return Err((
+                    i,
+                    PortError::SamePort {
+                        other: j,
+                        other_spec: specs[j].to_string(),
+                        shared,
+                    },
+                ));
+            }
+        }
+        choices.push(c);
+    }
+    Ok(choices)
+}
+
+/// [`choose`] with Linux's port list already read.
+fn choose_among(
+    spec: &PortSpec,
+    linux: &[LinuxPort],
+    paths: &SysPaths,
+) -> Result<Choice, PortError> {
     let known = match spec.addr {
         PortAddr::Number(n) => linux.iter().find(|p| p.num == n).copied(),
         PortAddr::Address(a) => linux.iter().find(|p| p.base == a).copied(),
@@ -135,25 +243,16 @@ pub fn choose(spec: &PortSpec, paths: &SysPaths) -> Result<Choice, PortError> {
         None if node.is_some() => Backend::Ppdev,
         None => Backend::Raw,
     };
-    let unknown_number = |n: u8| {
-        PortError::NotFound(format!(
-            "Linux has no parport{n}: {} does not exist and {} lists no such port \
-             (load the parport_pc and ppdev kernel modules, or give the I/O address)",
-            paths.dev_node(n).display(),
-            paths.proc_parport.display()
-        ))
-    };
     match backend {
         Backend::Sim | Backend::SimLoop => {
             let base = match spec.addr {
                 PortAddr::Number(n) => sim_base(n),
                 PortAddr::Address(a) => a,
             };
-            Ok(Choice {
-                backend,
-                dev: None,
-                base: Some(base),
+            Ok(Choice::Sim {
+                base,
                 base_hi: base.checked_add(regs::HI_OFFSET),
+                loopback: backend == Backend::SimLoop,
             })
         }
         Backend::Ppdev => {
@@ -162,27 +261,24 @@ pub fn choose(spec: &PortSpec, paths: &SysPaths) -> Result<Choice, PortError> {
                     "{why}; use the raw backend (needs CAP_SYS_RAWIO)"
                 )));
             }
-            let dev = match spec.addr {
-                PortAddr::Number(n) => paths.dev_node(n),
-                PortAddr::Address(a) => match known {
-                    Some(p) => paths.dev_node(p.num),
-                    None => {
-                        return Err(PortError::NotFound(format!(
-                            "no Linux parport has base address {a:#x} ({} lists none), \
-                             so ppdev cannot reach it; use the raw backend",
-                            paths.proc_parport.display()
-                        )))
-                    }
-                },
+            let dev = match (spec.addr, known) {
+                (PortAddr::Number(n), _) => paths.dev_node(n),
+                (PortAddr::Address(_), Some(p)) => paths.dev_node(p.num),
+                (PortAddr::Address(a), None) => {
+                    return Err(PortError::NotFound(format!(
+                        "no Linux parport has base address {a:#x} ({} lists none), \
+                         so ppdev cannot reach it; use the raw backend",
+                        paths.proc_parport.display()
+                    )))
+                }
             };
-            if !dev.exists() {
+            if node.is_none() {
                 return Err(PortError::NoDevice {
                     path: dev.display().to_string(),
                 });
             }
-            Ok(Choice {
-                backend,
-                dev: Some(dev),
+            Ok(Choice::Ppdev {
+                dev,
                 base: known.map(|p| p.base),
                 base_hi: known.and_then(|p| p.base_hi),
             })
@@ -193,13 +289,19 @@ pub fn choose(spec: &PortSpec, paths: &SysPaths) -> Result<Choice, PortError> {
                 // Not a port Linux knows: its ECR address is unknown, and
                 // base+0x400 may belong to another device on a PCI card.
                 (PortAddr::Address(a), None) => (a, None),
-                (PortAddr::Number(n), None) => return Err(unknown_number(n)),
+                (PortAddr::Number(n), None) => {
+                    return Err(PortError::NotFound(format!(
+                        "Linux has no parport{n}: {} does not exist and {} lists no such port \
+                         (load the parport_pc and ppdev kernel modules, or give the I/O address)",
+                        paths.dev_node(n).display(),
+                        paths.proc_parport.display()
+                    )))
+                }
             };
-            Ok(Choice {
-                backend,
-                dev: node,
-                base: Some(base),
+            Ok(Choice::Raw {
+                base,
                 base_hi,
+                claim_via: node,
             })
         }
     }
@@ -211,28 +313,21 @@ pub struct Opened {
     pub io: Arc<dyn PortIo>,
     /// The simulator, for the sim backends.
     pub sim: Option<Arc<SimPort>>,
-    /// The backend in use.
-    pub backend: Backend,
 }
 
 impl std::fmt::Debug for Opened {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Opened")
             .field("io", &self.io.describe())
-            .field("backend", &self.backend)
             .finish()
     }
 }
 
 /// Checks, after the claim, that a ppdev port can serve `mode`: `in`
-/// needs a bidirectional port (`PARPORT_MODE_TRISTATE`); `x` and `epp`
-/// need raw I/O.
+/// needs a bidirectional port (`PARPORT_MODE_TRISTATE`), which only the
+/// claimed port reports. (`x` and `epp` never get this far: [`choose`]
+/// refuses them on ppdev.)
 pub fn check_ppdev_mode<I: PpIoctl>(p: &PpdevPort<I>, mode: Mode) -> Result<(), PortError> {
-    if let Some(why) = need_raw(mode) {
-        return Err(PortError::Unsupported(format!(
-            "{why}; use the raw backend (needs CAP_SYS_RAWIO)"
-        )));
-    }
     if mode == Mode::In && p.modes() & MODE_TRISTATE == 0 {
         return Err(PortError::Unsupported(format!(
             "in mode needs a bidirectional port, and {} reports no PARPORT_MODE_TRISTATE \
@@ -246,50 +341,50 @@ pub fn check_ppdev_mode<I: PpIoctl>(p: &PpdevPort<I>, mode: Mode) -> Result<(), 
 /// Opens and claims the port `choice` describes, checking that the
 /// backend can serve `mode`. `clock` stamps a simulator's log.
 pub fn open(choice: &Choice, mode: Mode, clock: Arc<dyn Clock>) -> Result<Opened, PortError> {
-    let opened = match choice.backend {
-        Backend::Sim | Backend::SimLoop => {
-            let base = choice.base.unwrap_or(0x378);
+    match choice {
+        &Choice::Sim {
+            base,
+            base_hi,
+            loopback,
+        } => {
             let mut cfg = SimConfig::new(base);
-            cfg.base_hi = choice.base_hi;
-            if choice.backend == Backend::SimLoop {
+            cfg.base_hi = base_hi;
+            if loopback {
                 cfg = cfg.with_loopback();
             }
             let sim = Arc::new(SimPort::new(cfg, clock));
-            Opened {
+            sim.claim()?;
+            Ok(Opened {
                 io: sim.clone(),
                 sim: Some(sim),
-                backend: choice.backend,
-            }
+            })
         }
-        Backend::Ppdev => {
-            let dev = choice.dev.as_deref().unwrap_or(Path::new("/dev/parport0"));
-            let p = PpdevPort::open(&dev.display().to_string(), choice.base)?;
+        Choice::Ppdev { dev, base, .. } => {
+            let p = PpdevPort::open(&dev.display().to_string(), *base)?;
             p.claim()?;
             check_ppdev_mode(&p, mode)?;
-            Opened {
+            Ok(Opened {
                 io: Arc::new(p),
                 sim: None,
-                backend: Backend::Ppdev,
-            }
+            })
         }
-        Backend::Raw => {
-            let base = choice.base.ok_or_else(|| {
-                PortError::NotFound("raw port I/O needs the port's address".into())
-            })?;
-            let claim_via = match &choice.dev {
-                Some(d) => Some(PpdevPort::open(&d.display().to_string(), Some(base))?),
+        Choice::Raw {
+            base,
+            base_hi,
+            claim_via,
+        } => {
+            let claim_via = match claim_via {
+                Some(d) => Some(PpdevPort::open(&d.display().to_string(), Some(*base))?),
                 None => None,
             };
-            let p = RawPort::open(base, choice.base_hi, claim_via)?;
-            Opened {
+            let p = RawPort::open(*base, *base_hi, claim_via)?;
+            p.claim()?;
+            Ok(Opened {
                 io: Arc::new(p),
                 sim: None,
-                backend: Backend::Raw,
-            }
+            })
         }
-    };
-    opened.io.claim()?;
-    Ok(opened)
+    }
 }
 
 #[cfg(test)]
@@ -353,29 +448,81 @@ mod tests {
     fn default_backend_prefers_ppdev_then_raw() {
         let (_t, p) = tree("auto", &[(0, 0x378, 0x778, true), (1, 0x278, 0, false)]);
         let c = pick("0", &p).unwrap();
-        assert_eq!(c.backend, Backend::Ppdev);
-        assert_eq!(c.dev, Some(p.dev.join("parport0")));
-        assert_eq!((c.base, c.base_hi), (Some(0x378), Some(0x778)));
-        assert_eq!(pick("0x378", &p).unwrap().backend, Backend::Ppdev);
+        assert_eq!(c.backend(), Backend::Ppdev);
+        assert_eq!(
+            c,
+            Choice::Ppdev {
+                dev: p.dev.join("parport0"),
+                base: Some(0x378),
+                base_hi: Some(0x778)
+            }
+        );
+        assert_eq!(pick("0x378", &p).unwrap().backend(), Backend::Ppdev);
         let c = pick("1", &p).unwrap();
         assert_eq!(
-            (c.backend, c.base, c.dev),
-            (Backend::Raw, Some(0x278), None)
+            c,
+            Choice::Raw {
+                base: 0x278,
+                base_hi: None,
+                claim_via: None
+            }
         );
         // An address Linux does not know: no ECR is guessed (base+0x400
         // may be another device's on a PCI card).
         let c = pick("0xc000", &p).unwrap();
         assert_eq!(
-            (c.backend, c.base, c.base_hi),
-            (Backend::Raw, Some(0xc000), None)
+            c,
+            Choice::Raw {
+                base: 0xc000,
+                base_hi: None,
+                claim_via: None
+            }
         );
         // x and epp need raw I/O; the Linux port is still claimed by ppdev.
         let c = pick("0 x", &p).unwrap();
-        assert_eq!(c.backend, Backend::Raw);
-        assert_eq!(c.dev, Some(p.dev.join("parport0")));
-        assert_eq!(pick("0x378 epp", &p).unwrap().backend, Backend::Raw);
+        assert_eq!(c.backend(), Backend::Raw);
+        assert_eq!(c.dev(), Some(p.dev.join("parport0").as_path()));
+        assert_eq!(pick("0x378 epp", &p).unwrap().backend(), Backend::Raw);
         let e = pick("3", &p).unwrap_err().to_string();
         assert!(e.contains("Linux has no parport3"), "{e}");
+    }
+
+    #[test]
+    fn one_port_named_twice_is_refused_before_anything_is_opened() {
+        // parport0 is at 0x378: "0" and "0x378" are the same port, which
+        // the cfg parser cannot see. Opening both would block in the
+        // second PPCLAIM forever, so the chooser must refuse them.
+        let (_t, p) = tree("twice", &[(0, 0x378, 0x778, true), (1, 0x278, 0, true)]);
+        let all = |cfg: &str| choose_all(&parse(cfg).unwrap(), &p);
+        for (cfg, shared) in [
+            ("0 0x378", "parport0"),
+            ("0 x 0x378", "parport0"),
+            ("0x378 epp 0", "parport0"),
+            ("1 0 sim 0x278 raw", "parport1"),
+            ("0 sim 0x378 sim", "base 0x378"),
+            ("2 simloop 0x3bc sim", "base 0x3bc"),
+        ] {
+            let (i, e) = all(cfg).expect_err(cfg);
+            let e = e.to_string();
+            assert!(i > 0, "{cfg}: the later entry is the one refused");
+            assert!(e.contains("same port as port"), "{cfg}: {e}");
+            assert!(e.contains(shared), "{cfg}: {e}");
+        }
+        let (i, e) = all("0 x 0x378").unwrap_err();
+        assert_eq!(i, 1);
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "it is the same port as port 0 (parport0, x mode): both use {}",
+                p.dev.join("parport0").display()
+            )
+        );
+        // Different ports are fine, on every backend.
+        let c = all("0 1 sim 0x3bc raw").unwrap();
+        assert_eq!(
+            c.iter().map(Choice::backend).collect::<Vec<_>>(),
+            vec![Backend::Ppdev, Backend::Sim, Backend::Raw]
+        );
     }
 
     #[test]
@@ -397,7 +544,14 @@ mod tests {
     fn sim_backends_need_nothing_from_the_system() {
         let (_t, p) = tree("sim", &[]);
         let c = pick("1 simloop", &p).unwrap();
-        assert_eq!((c.base, c.base_hi), (Some(0x278), Some(0x678)));
+        assert_eq!(
+            c,
+            Choice::Sim {
+                base: 0x278,
+                base_hi: Some(0x678),
+                loopback: true
+            }
+        );
         let o = open(&c, Mode::Out, Arc::new(crate::clock::MonotonicClock)).unwrap();
         assert!(o.sim.as_ref().unwrap().plug().is_some());
         assert!(o.sim.as_ref().unwrap().is_claimed());

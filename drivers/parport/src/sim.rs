@@ -516,15 +516,6 @@ impl PortIo for SimPort {
             ))),
         }
     }
-    fn set_data_dir(&self, input: bool) -> Result<(), PortError> {
-        let c = self.control.load(Relaxed);
-        self.write_control(if input {
-            c | regs::CONTROL_DIR_IN
-        } else {
-            c & !regs::CONTROL_DIR_IN
-        });
-        Ok(())
-    }
     fn claim(&self) -> Result<(), PortError> {
         if self.claimed.swap(true, Relaxed) {
             return Err(PortError::Unsupported(format!(
@@ -542,9 +533,6 @@ impl PortIo for SimPort {
             Some(_) => format!("simulator at {:#x} with loopback plug", self.base),
             None => format!("simulator at {:#x}", self.base),
         }
-    }
-    fn base(&self) -> Option<u16> {
-        Some(self.base)
     }
     fn errors(&self) -> u64 {
         0

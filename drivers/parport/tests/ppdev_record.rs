@@ -3,12 +3,12 @@
 
 use std::sync::Arc;
 
-use hal_parport::cfg::Mode;
+use hal_parport::cfg::{Backend, Mode, PortAddr, PortSpec};
 use hal_parport::clock::SimClock;
 use hal_parport::driver::{Outputs, PortDriver};
 use hal_parport::port::ppdev::{Ioctl, PpdevPort, RecordingIoctl, MODE_PCSPP, MODE_TRISTATE};
 use hal_parport::port::PortIo;
-use hal_parport::select::check_ppdev_mode;
+use hal_parport::select::{check_ppdev_mode, choose, SysPaths};
 
 fn driver(mode: Mode, modes: u32) -> (PortDriver, Arc<RecordingIoctl>) {
     let rec = Arc::new(RecordingIoctl::new(modes));
@@ -97,7 +97,29 @@ fn in_mode_sequence_uses_ppdatadir() {
 }
 
 #[test]
-fn modes_that_ppdev_cannot_serve_are_refused_after_claim() {
+fn modes_that_ppdev_cannot_serve_are_refused() {
+    // x and epp: refused when the backend is chosen, before any open.
+    let nowhere = SysPaths {
+        dev: "/nonexistent-dev".into(),
+        proc_parport: "/nonexistent-proc".into(),
+    };
+    let on_ppdev = |mode| PortSpec {
+        addr: PortAddr::Number(3),
+        mode,
+        backend: Some(Backend::Ppdev),
+    };
+    let e = choose(&on_ppdev(Mode::X), &nowhere)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("PPRCONTROL returns the kernel's cached copy"),
+        "{e}"
+    );
+    let e = choose(&on_ppdev(Mode::Epp), &nowhere)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("ECR"), "{e}");
+    // in: refused after the claim, which reports the port's modes.
     let rec = Arc::new(RecordingIoctl::new(MODE_PCSPP));
     let port = PpdevPort::with_ioctl(rec.clone(), "/dev/parport3", None);
     port.claim().unwrap();
@@ -106,13 +128,6 @@ fn modes_that_ppdev_cannot_serve_are_refused_after_claim() {
         e.contains("/dev/parport3 reports no PARPORT_MODE_TRISTATE"),
         "{e}"
     );
-    let e = check_ppdev_mode(&port, Mode::X).unwrap_err().to_string();
-    assert!(
-        e.contains("PPRCONTROL returns the kernel's cached copy"),
-        "{e}"
-    );
-    let e = check_ppdev_mode(&port, Mode::Epp).unwrap_err().to_string();
-    assert!(e.contains("ECR"), "{e}");
     assert!(check_ppdev_mode(&port, Mode::Out).is_ok());
     drop(port);
     assert_eq!(

@@ -3,9 +3,14 @@
 
 mod common;
 
+use std::sync::Arc;
+
 use common::*;
 use hal_core::Value;
+use hal_parport::clock::MonotonicClock;
+use hal_parport::load_cfg;
 use hal_parport::regs;
+use hal_parport::select::SysPaths;
 
 const OUT_PINS: [u8; 12] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 14, 16, 17];
 const STATUS_PINS: [u8; 5] = [10, 11, 12, 13, 15];
@@ -415,6 +420,47 @@ fn bad_cfg_strings_are_refused_and_nothing_stays_loaded() {
         // The same instance loads a good cfg afterwards.
         loadrt(&host, "1 sim").unwrap();
     }
+}
+
+#[test]
+fn one_linux_port_named_twice_is_refused_before_it_is_claimed() {
+    // A fake /proc and /dev with parport0 at 0x378. Its node is a plain
+    // file, so claiming it would fail (ENOTTY); on a real port the second
+    // PPCLAIM of one port blocks forever. The entries must be refused
+    // before either is opened, naming both.
+    let root = std::env::temp_dir().join(format!("pp-twice-{}", std::process::id()));
+    let paths = SysPaths {
+        dev: root.join("dev"),
+        proc_parport: root.join("proc"),
+    };
+    std::fs::create_dir_all(paths.proc_parport.join("parport0")).unwrap();
+    std::fs::create_dir_all(&paths.dev).unwrap();
+    std::fs::write(
+        paths.proc_parport.join("parport0").join("base-addr"),
+        "888\t1912\n",
+    )
+    .unwrap();
+    std::fs::write(paths.dev.join("parport0"), b"").unwrap();
+    for (cfg, first, second) in [
+        ("0 0x378", "parport0, out mode", "0x378, out mode"),
+        ("0 x 0x378", "parport0, x mode", "0x378, out mode"),
+        ("0x378 in 1 sim 0", "0x378, in mode", "parport0, out mode"),
+    ] {
+        let host = host("twice");
+        let e = load_cfg(&host, cfg, &paths, Arc::new(MonotonicClock))
+            .expect_err(cfg)
+            .to_string();
+        assert!(
+            e.contains(&format!(
+                "({second}): it is the same port as port 0 ({first})"
+            )),
+            "{cfg}: {e}"
+        );
+        assert!(e.contains("parport0"), "{cfg}: {e}");
+        assert!(!e.contains("PPCLAIM"), "{cfg}: nothing was claimed: {e}");
+        assert!(host.loaded_components().is_empty(), "{cfg}");
+    }
+    let _ = std::fs::remove_dir_all(&root);
 }
 
 #[test]

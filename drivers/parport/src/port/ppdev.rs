@@ -14,8 +14,8 @@
 
 use std::fs::{File, OpenOptions};
 use std::os::fd::AsRawFd;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering::Relaxed};
+use std::sync::{Arc, Mutex};
 
 use super::{PortError, PortIo};
 use crate::regs;
@@ -24,10 +24,6 @@ use crate::regs;
 pub const MODE_PCSPP: u32 = 0x01;
 /// `PARPORT_MODE_TRISTATE`: the data lines can be inputs.
 pub const MODE_TRISTATE: u32 = 0x02;
-/// `PARPORT_MODE_EPP`.
-pub const MODE_EPP: u32 = 0x04;
-/// `PARPORT_MODE_ECP`.
-pub const MODE_ECP: u32 = 0x08;
 
 /// The ppdev ioctls this backend uses, one method each.
 pub trait PpIoctl: Send + Sync {
@@ -72,21 +68,21 @@ pub struct DevParport {
 impl DevParport {
     /// Opens the device node read-write.
     pub fn open(path: &str) -> Result<DevParport, PortError> {
-        if !std::path::Path::new(path).exists() {
-            return Err(PortError::NoDevice { path: path.into() });
-        }
         let file = OpenOptions::new()
             .read(true)
             .write(true)
             .open(path)
-            .map_err(|source| PortError::Open {
-                path: path.into(),
-                hint: if source.kind() == std::io::ErrorKind::PermissionDenied {
-                    " (add the user to group lp, or install the udev rule KERNEL==\"parport[0-9]*\", GROUP=\"lp\", MODE=\"0660\")"
-                } else {
-                    ""
+            .map_err(|source| match source.kind() {
+                std::io::ErrorKind::NotFound => PortError::NoDevice { path: path.into() },
+                kind => PortError::Open {
+                    path: path.into(),
+                    hint: if kind == std::io::ErrorKind::PermissionDenied {
+                        " (add the user to group lp, or install the udev rule KERNEL==\"parport[0-9]*\", GROUP=\"lp\", MODE=\"0660\")"
+                    } else {
+                        ""
+                    },
+                    source,
                 },
-                source,
             })?;
         Ok(DevParport { file })
     }
@@ -167,43 +163,90 @@ pub enum Ioctl {
     DataDir(bool),
 }
 
-/// A fake device that records every ioctl and answers from a small
-/// model: data and control read back what was written (control: its low
-/// four bits, as parport_pc's cache does), status is a fixed value.
+/// A fake `/dev/parportN` handle that records every ioctl and answers
+/// as ppdev does. Handles opened on one port ([`open_again`]) share its
+/// registers and its owner:
+///
+/// * `PPCLAIM` takes the port. On a port another handle holds, the real
+///   ioctl blocks until that handle releases it, so a driver that claims
+///   one port twice hangs; the fake panics instead, so such a test fails
+///   rather than hangs. `PPCLAIM` on a handle that already holds the
+///   port answers `EINVAL`, as ppdev does.
+/// * Register ioctls and `PPRELEASE` on a handle that does not hold the
+///   port answer `EINVAL` ("claim the port first").
+/// * Dropping the handle (closing the file) releases the port.
+///
+/// The registers: data and control read back what was written (control:
+/// its low four bits, as parport_pc's cache does), status is a fixed
+/// value set with [`set_status`].
+///
+/// [`open_again`]: RecordingIoctl::open_again
+/// [`set_status`]: RecordingIoctl::set_status
 #[derive(Debug)]
 pub struct RecordingIoctl {
     calls: Mutex<Vec<Ioctl>>,
+    port: Arc<FakePort>,
+    /// This handle's id on the port (non-zero).
+    id: u32,
+    /// The errno `PPCLAIM` answers, for a port that cannot be claimed.
+    claim_errno: Option<i32>,
+}
+
+/// The kernel side of a fake port, shared by its handles.
+#[derive(Debug)]
+struct FakePort {
     modes: u32,
-    status: std::sync::atomic::AtomicU8,
-    data: std::sync::atomic::AtomicU8,
-    control: std::sync::atomic::AtomicU8,
-    fail_claim: bool,
+    status: AtomicU8,
+    data: AtomicU8,
+    control: AtomicU8,
+    /// The id of the handle holding the port, 0 when free.
+    holder: AtomicU32,
+    /// The last handle id given out.
+    handles: AtomicU32,
 }
 
 impl RecordingIoctl {
-    /// A fake port with capability bits `modes`.
+    /// A handle on a new fake port with capability bits `modes`.
     pub fn new(modes: u32) -> RecordingIoctl {
-        RecordingIoctl {
-            calls: Mutex::new(Vec::new()),
+        let port = Arc::new(FakePort {
             modes,
             status: 0x78.into(),
             data: 0.into(),
             control: 0.into(),
-            fail_claim: false,
-        }
+            holder: 0.into(),
+            handles: 0.into(),
+        });
+        RecordingIoctl::on(port, None)
     }
 
-    /// A fake port whose `PPCLAIM` fails with EBUSY.
-    pub fn busy() -> RecordingIoctl {
+    /// A handle on a port whose driver has gone away (parport_pc unloaded
+    /// after the node was opened): `PPCLAIM` cannot register with the
+    /// port and answers `ENXIO`, as ppdev does.
+    pub fn unregistered() -> RecordingIoctl {
+        let mut r = RecordingIoctl::new(MODE_PCSPP);
+        r.claim_errno = Some(libc::ENXIO);
+        r
+    }
+
+    /// Another handle on the same port, as a second `open()` of the
+    /// device node gives; it records its own calls.
+    pub fn open_again(&self) -> RecordingIoctl {
+        RecordingIoctl::on(self.port.clone(), self.claim_errno)
+    }
+
+    fn on(port: Arc<FakePort>, claim_errno: Option<i32>) -> RecordingIoctl {
+        let id = port.handles.fetch_add(1, Relaxed) + 1;
         RecordingIoctl {
-            fail_claim: true,
-            ..RecordingIoctl::new(MODE_PCSPP)
+            calls: Mutex::new(Vec::new()),
+            port,
+            id,
+            claim_errno,
         }
     }
 
     /// Sets what `PPRSTATUS` returns.
     pub fn set_status(&self, v: u8) {
-        self.status.store(v, Relaxed);
+        self.port.status.store(v, Relaxed);
     }
 
     /// The calls so far.
@@ -216,52 +259,84 @@ impl RecordingIoctl {
         self.calls.lock().unwrap_or_else(|e| e.into_inner()).clear();
     }
 
-    fn rec(&self, c: Ioctl) {
+    /// Records `c`, then answers `EINVAL` unless this handle holds the
+    /// port, as ppdev does for everything but the claim.
+    fn rec(&self, c: Ioctl) -> std::io::Result<()> {
         self.calls.lock().unwrap_or_else(|e| e.into_inner()).push(c);
+        if self.port.holder.load(Relaxed) == self.id {
+            Ok(())
+        } else {
+            Err(std::io::Error::from_raw_os_error(libc::EINVAL))
+        }
+    }
+}
+
+impl Drop for RecordingIoctl {
+    /// Closing the file releases the port if this handle holds it.
+    fn drop(&mut self) {
+        let _ = self
+            .port
+            .holder
+            .compare_exchange(self.id, 0, Relaxed, Relaxed);
     }
 }
 
 impl PpIoctl for RecordingIoctl {
     fn claim(&self) -> std::io::Result<()> {
-        self.rec(Ioctl::Claim);
-        if self.fail_claim {
-            return Err(std::io::Error::from_raw_os_error(libc::EBUSY));
+        self.calls
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(Ioctl::Claim);
+        if let Some(errno) = self.claim_errno {
+            return Err(std::io::Error::from_raw_os_error(errno));
         }
-        Ok(())
+        match self
+            .port
+            .holder
+            .compare_exchange(0, self.id, Relaxed, Relaxed)
+        {
+            Ok(_) => Ok(()),
+            Err(h) if h == self.id => Err(std::io::Error::from_raw_os_error(libc::EINVAL)),
+            Err(h) => panic!(
+                "PPCLAIM on a port handle {h} holds: the real ioctl blocks until that handle \
+                 releases it, so this would hang"
+            ),
+        }
     }
     fn release(&self) -> std::io::Result<()> {
-        self.rec(Ioctl::Release);
+        self.rec(Ioctl::Release)?;
+        self.port.holder.store(0, Relaxed);
         Ok(())
     }
     fn get_modes(&self) -> std::io::Result<u32> {
-        self.rec(Ioctl::GetModes);
-        Ok(self.modes)
+        // PPGETMODES is answered whether or not the port is claimed.
+        let _ = self.rec(Ioctl::GetModes);
+        Ok(self.port.modes)
     }
     fn read_data(&self) -> std::io::Result<u8> {
-        self.rec(Ioctl::ReadData);
-        Ok(self.data.load(Relaxed))
+        self.rec(Ioctl::ReadData)?;
+        Ok(self.port.data.load(Relaxed))
     }
     fn write_data(&self, v: u8) -> std::io::Result<()> {
-        self.rec(Ioctl::WriteData(v));
-        self.data.store(v, Relaxed);
+        self.rec(Ioctl::WriteData(v))?;
+        self.port.data.store(v, Relaxed);
         Ok(())
     }
     fn read_status(&self) -> std::io::Result<u8> {
-        self.rec(Ioctl::ReadStatus);
-        Ok(self.status.load(Relaxed))
+        self.rec(Ioctl::ReadStatus)?;
+        Ok(self.port.status.load(Relaxed))
     }
     fn read_control(&self) -> std::io::Result<u8> {
-        self.rec(Ioctl::ReadControl);
-        Ok(self.control.load(Relaxed))
+        self.rec(Ioctl::ReadControl)?;
+        Ok(self.port.control.load(Relaxed))
     }
     fn write_control(&self, v: u8) -> std::io::Result<()> {
-        self.rec(Ioctl::WriteControl(v));
-        self.control.store(v & regs::CONTROL_LINES, Relaxed);
+        self.rec(Ioctl::WriteControl(v))?;
+        self.port.control.store(v & regs::CONTROL_LINES, Relaxed);
         Ok(())
     }
     fn data_dir(&self, input: bool) -> std::io::Result<()> {
-        self.rec(Ioctl::DataDir(input));
-        Ok(())
+        self.rec(Ioctl::DataDir(input))
     }
 }
 
@@ -309,7 +384,8 @@ pub struct PpdevPort<I: PpIoctl = DevParport> {
 
 impl PpdevPort<DevParport> {
     /// Opens `path` (e.g. `/dev/parport0`); `base` is the I/O address from
-    /// /proc, if known (for messages only).
+    /// /proc, if known (for messages only). A missing node is
+    /// [`PortError::NoDevice`].
     pub fn open(path: &str, base: Option<u16>) -> Result<Self, PortError> {
         Ok(PpdevPort::with_ioctl(DevParport::open(path)?, path, base))
     }
@@ -395,17 +471,6 @@ impl<I: PpIoctl> PortIo for PpdevPort<I> {
             self.path
         )))
     }
-    fn set_data_dir(&self, input: bool) -> Result<(), PortError> {
-        self.dev
-            .data_dir(input)
-            .map_err(|source| PortError::Ioctl {
-                op: "PPDATADIR",
-                path: self.path.clone(),
-                source,
-            })?;
-        self.dir_input.store(input, Relaxed);
-        Ok(())
-    }
     fn claim(&self) -> Result<(), PortError> {
         if self.claimed.load(Relaxed) {
             return Ok(());
@@ -439,9 +504,6 @@ impl<I: PpIoctl> PortIo for PpdevPort<I> {
             Some(b) => format!("ppdev {} (base {b:#x})", self.path),
             None => format!("ppdev {}", self.path),
         }
-    }
-    fn base(&self) -> Option<u16> {
-        self.base
     }
     fn errors(&self) -> u64 {
         self.errors.load(Relaxed)
@@ -498,12 +560,46 @@ mod tests {
     }
 
     #[test]
-    fn busy_port_is_a_clear_error() {
-        let p = PpdevPort::with_ioctl(RecordingIoctl::busy(), "/dev/parport1", None);
+    fn failed_claim_is_a_clear_error() {
+        let p = PpdevPort::with_ioctl(RecordingIoctl::unregistered(), "/dev/parport1", None);
         let e = p.claim().unwrap_err().to_string();
         assert!(e.contains("PPCLAIM on /dev/parport1 failed"), "{e}");
         assert!(p.write_ecr(0x94).is_err());
         assert!(!p.has_ecr());
+    }
+
+    #[test]
+    fn the_fake_shares_one_port_between_handles_as_ppdev_does() {
+        let first = RecordingIoctl::new(MODE_PCSPP);
+        let second = first.open_again();
+        // Registers need the claim.
+        assert_eq!(
+            second.read_status().unwrap_err().raw_os_error(),
+            Some(libc::EINVAL)
+        );
+        first.claim().unwrap();
+        assert_eq!(
+            first.claim().unwrap_err().raw_os_error(),
+            Some(libc::EINVAL),
+            "already claimed by this handle"
+        );
+        first.write_data(0x5A).unwrap();
+        // The second handle would block in PPCLAIM: the fake panics.
+        let blocked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| second.claim()));
+        let why = blocked.unwrap_err();
+        let why = why.downcast_ref::<String>().unwrap();
+        assert!(
+            why.contains("blocks until that handle releases it"),
+            "{why}"
+        );
+        // Closing the first handle releases the port.
+        drop(first);
+        second.claim().unwrap();
+        assert_eq!(
+            second.read_data().unwrap(),
+            0x5A,
+            "the registers are shared"
+        );
     }
 
     #[test]

@@ -226,16 +226,6 @@ impl PortIo for RawPort {
             ))),
         }
     }
-    fn set_data_dir(&self, input: bool) -> Result<(), PortError> {
-        let c = self.read_control();
-        let c = if input {
-            c | regs::CONTROL_DIR_IN
-        } else {
-            c & !regs::CONTROL_DIR_IN
-        };
-        self.write_control(c);
-        Ok(())
-    }
     fn claim(&self) -> Result<(), PortError> {
         match &self.claim_via {
             Some(p) => p.claim(),
@@ -252,9 +242,6 @@ impl PortIo for RawPort {
             Some(p) => format!("raw I/O at {:#x} (claimed through {})", self.base, p.path()),
             None => format!("raw I/O at {:#x}", self.base),
         }
-    }
-    fn base(&self) -> Option<u16> {
-        Some(self.base)
     }
     fn errors(&self) -> u64 {
         self.errors.load(Relaxed)

@@ -1,25 +1,17 @@
 //! Helpers shared by the hal_parport integration tests.
 #![allow(dead_code)]
 
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, RealtimeMode, Value};
+use hal_core::{Host, HostConfig, Value};
 use hal_parport::sim::SimPort;
 
-static COUNTER: AtomicU32 = AtomicU32::new(0);
-
-/// A host on an instance no other test uses, without realtime.
+/// A host on an instance no other test uses, without realtime, with room
+/// for eight ports.
 pub fn host(tag: &str) -> Host {
-    let name = format!(
-        "pp-{tag}-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    );
-    let mut cfg = HostConfig::new(&name);
+    let mut cfg = HostConfig::for_tests(&format!("pp-{tag}"));
     cfg.shm_size = 8 << 20;
-    cfg.realtime = RealtimeMode::Off;
     Host::create(cfg).expect("host starts")
 }
 
