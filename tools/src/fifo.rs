@@ -1,55 +1,55 @@
 //! The text side of sampler and streamer FIFOs: finding a channel's
 //! columns, printing sampled records and parsing lines to stream.
 
+use hal_components::infra::columns::{fifo_name, pin_name};
 use hal_core::{HalType, Instance, RingReader, RingWriter, Value};
 
 use crate::halcmd::cfmt::fmt_f;
 use crate::halcmd::values::parse_float;
 
 /// The column types of channel `chan` of `module` (`sampler` or
-/// `streamer`), read from its `pin.M` pins.
+/// `streamer`), read from its `pin.M` pins, looked up one by one.
 pub fn columns(inst: &Instance, module: &str, chan: usize) -> Result<Vec<HalType>, String> {
-    let prefix = format!("{module}.{chan}.pin.");
-    let mut cols: Vec<(usize, HalType)> = inst
-        .pins()
+    let mut cols = Vec::new();
+    while let Some(p) = inst
+        .pin(&pin_name(module, chan, cols.len()))
         .map_err(|e| e.to_string())?
-        .into_iter()
-        .filter_map(|p| {
-            let m = p.name.strip_prefix(&prefix)?.parse::<usize>().ok()?;
-            Some((m, p.hal_type))
-        })
-        .collect();
+    {
+        cols.push(p.hal_type);
+    }
     if cols.is_empty() {
         return Err(format!("{module} channel {chan} does not exist"));
     }
-    cols.sort_by_key(|(m, _)| *m);
-    Ok(cols.into_iter().map(|(_, t)| t).collect())
+    Ok(cols)
+}
+
+/// Opens the FIFO of channel `chan` of `module` with `open` and checks
+/// that its records have a word for the sample number and one per column.
+fn open_channel<R>(
+    inst: &Instance,
+    module: &str,
+    chan: usize,
+    open: fn(&Instance, &str) -> hal_core::Result<R>,
+    width: fn(&R) -> usize,
+) -> Result<(R, Vec<HalType>), String> {
+    let cols = columns(inst, module, chan)?;
+    let ring = open(inst, &fifo_name(module, chan)).map_err(|e| e.to_string())?;
+    if width(&ring) != cols.len() + 1 {
+        return Err(format!(
+            "{module} channel {chan}: FIFO does not match its pins"
+        ));
+    }
+    Ok((ring, cols))
 }
 
 /// Opens the FIFO of a sampler channel for reading.
 pub fn open_sampler(inst: &Instance, chan: usize) -> Result<(RingReader, Vec<HalType>), String> {
-    let cols = columns(inst, "sampler", chan)?;
-    let ring =
-        RingReader::open(inst, &format!("sampler.{chan}.fifo")).map_err(|e| e.to_string())?;
-    if ring.width() != cols.len() + 1 {
-        return Err(format!(
-            "sampler channel {chan}: FIFO does not match its pins"
-        ));
-    }
-    Ok((ring, cols))
+    open_channel(inst, "sampler", chan, RingReader::open, RingReader::width)
 }
 
 /// Opens the FIFO of a streamer channel for writing.
 pub fn open_streamer(inst: &Instance, chan: usize) -> Result<(RingWriter, Vec<HalType>), String> {
-    let cols = columns(inst, "streamer", chan)?;
-    let ring =
-        RingWriter::open(inst, &format!("streamer.{chan}.fifo")).map_err(|e| e.to_string())?;
-    if ring.width() != cols.len() + 1 {
-        return Err(format!(
-            "streamer channel {chan}: FIFO does not match its pins"
-        ));
-    }
-    Ok((ring, cols))
+    open_channel(inst, "streamer", chan, RingWriter::open, RingWriter::width)
 }
 
 /// One sampled record as halsampler prints it: each value followed by a

@@ -148,7 +148,7 @@ enum Next {
 fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, String> {
     let arg = |i: usize| words.get(i).map(String::as_str).unwrap_or("");
     let r = match arg(0) {
-        "ping" | "setexact" => Ok(()),
+        "ping" => Ok(()),
         "shutdown" => return Ok(Next::Shutdown),
         "loadrt" => match registry.find(arg(1)) {
             Some(def) => host.loadrt(def, &words[2..]).map_err(|e| e.to_string()),

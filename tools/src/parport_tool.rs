@@ -6,6 +6,7 @@ use std::sync::Arc;
 use hal_parport::cfg::{self, Mode};
 use hal_parport::clock::{Clock, MonotonicClock};
 use hal_parport::driver::{Inputs, Outputs, PortDriver};
+use hal_parport::regs::{pin_reg, PinReg, CONTROL_PINS};
 use hal_parport::select::{self, linux_ports, SysPaths};
 use hal_parport::sim::Plug;
 
@@ -62,62 +63,45 @@ pub fn list() -> Vec<String> {
         .collect()
 }
 
-/// The level of input pin `pin` in a reading, if it is an input.
+/// The level of input pin `pin` in a reading, if it is an input: status
+/// pins always, data and control pins when the mode reads them.
 pub fn input_level(inputs: &Inputs, pin: u8) -> Option<bool> {
-    let status_bit = match pin {
-        15 => Some(3),
-        13 => Some(4),
-        12 => Some(5),
-        10 => Some(6),
-        11 => Some(7),
-        _ => None,
-    };
-    if let Some(b) = status_bit {
-        return Some(inputs.status & (1 << b) != 0);
+    let bit = |byte: u8, b: u8| byte & (1 << b) != 0;
+    match pin_reg(pin)? {
+        PinReg::Status(b) => Some(bit(inputs.status, b)),
+        PinReg::Data(b) => inputs.data.map(|d| bit(d, b)),
+        PinReg::Control(b) => inputs.control.map(|c| bit(c, b)),
     }
-    if (2..=9).contains(&pin) {
-        return inputs.data.map(|d| d & (1 << (pin - 2)) != 0);
-    }
-    let control_bit = match pin {
-        1 => 0,
-        14 => 1,
-        16 => 2,
-        17 => 3,
-        _ => return None,
-    };
-    inputs.control.map(|c| c & (1 << control_bit) != 0)
 }
 
 /// The input pins of a mode, in DB-25 order.
 pub fn input_pins(mode: Mode) -> Vec<u8> {
     (1..=17u8)
-        .filter(|&p| {
-            matches!(p, 10 | 11 | 12 | 13 | 15)
-                || (!mode.data_out() && (2..=9).contains(&p))
-                || (mode.control_in() && matches!(p, 1 | 14 | 16 | 17))
+        .filter(|&p| match pin_reg(p) {
+            Some(PinReg::Status(_)) => true,
+            Some(PinReg::Data(_)) => !mode.data_out(),
+            Some(PinReg::Control(_)) => mode.control_in(),
+            None => false,
         })
         .collect()
 }
 
 /// Whether `pin` is an output in `mode`.
 pub fn is_output(mode: Mode, pin: u8) -> bool {
-    ((2..=9).contains(&pin) && mode.data_out())
-        || (matches!(pin, 1 | 14 | 16 | 17) && !mode.control_in())
+    match pin_reg(pin) {
+        Some(PinReg::Data(_)) => mode.data_out(),
+        Some(PinReg::Control(_)) => !mode.control_in(),
+        _ => false,
+    }
 }
 
 /// Outputs with `levels` (pin, high) applied and every other output low.
 pub fn outputs_for(levels: &[(u8, bool)]) -> Outputs {
     let mut o = Outputs::default();
-    for &(pin, high) in levels {
-        if !high {
-            continue;
-        }
-        match pin {
-            2..=9 => o.data |= 1 << (pin - 2),
-            1 => o.control |= 1,
-            14 => o.control |= 2,
-            16 => o.control |= 4,
-            17 => o.control |= 8,
+    for &(pin, _) in levels.iter().filter(|(_, high)| *high) {
+        match pin_reg(pin) {
+            Some(PinReg::Data(b)) => o.data |= 1 << b,
+            Some(PinReg::Control(b)) => o.control |= 1 << b,
             _ => {}
         }
     }
@@ -164,8 +148,11 @@ pub fn selftest(port: &Port) -> Vec<WireCheck> {
         for level in [true, false, true, false] {
             // Control lines idle high (released): on the plug they share
             // a net with a data pin, and a low one would hold it down.
-            let mut levels = vec![(1, true), (14, true), (16, true), (17, true)];
-            levels.retain(|(p, _)| *p != out_pin && is_output(port.mode, *p));
+            let mut levels: Vec<(u8, bool)> = CONTROL_PINS
+                .iter()
+                .filter(|&&p| p != out_pin && is_output(port.mode, p))
+                .map(|&p| (p, true))
+                .collect();
             levels.push((out_pin, level));
             port.driver.write(&outputs_for(&levels));
             std::thread::sleep(std::time::Duration::from_micros(50));

@@ -14,8 +14,24 @@ fn every_kind_of_bad_line_has_its_message() {
     assert!(ok, "{err}");
     let cases: &[(&str, &str)] = &[
         ("frobnicate", "bad.hal:1: Unknown command 'frobnicate'\n"),
-        ("setp", "bad.hal:1: setp requires at least 2 arguments, 0 given\n"),
+        // Argument counts, in LinuxCNC's words: "at least" for commands
+        // that take more, "at most" for those that take fewer; arrows are
+        // not counted where they are allowed.
+        ("setp", "bad.hal:1: setp requires 2 arguments, 0 given\n"),
+        ("setp and2.0.in0 1 2", "bad.hal:1: setp requires 2 arguments, 3 given\n"),
+        ("and2.0.in0 = 1 2", "bad.hal:1: Unknown command 'and2.0.in0'\n"),
         ("net", "bad.hal:1: net requires at least 1 arguments, 0 given\n"),
+        ("list", "bad.hal:1: list requires at least 1 arguments, 0 given\n"),
+        ("delf and2.0 t x", "bad.hal:1: delf requires at most 2 arguments, 3 given\n"),
+        ("start now", "bad.hal:1: start requires 0 arguments, 1 given\n"),
+        ("getp a b", "bad.hal:1: getp requires 1 arguments, 2 given\n"),
+        ("linkps and2.0.in0 =>", "bad.hal:1: linkps requires 2 arguments, 1 given\n"),
+        ("linkps and2.0.in0 => x y", "bad.hal:1: linkps requires 2 arguments, 3 given\n"),
+        ("linksp x <= and2.0.in0 and2.0.in1", "bad.hal:1: linksp requires 2 arguments, 3 given\n"),
+        ("linkpp and2.0.in0 =>", "bad.hal:1: linkpp requires 2 arguments, 1 given\n"),
+        ("alias pin and2.0.in0", "bad.hal:1: alias requires 3 arguments, 2 given\n"),
+        ("show pin -tbogus", "bad.hal:1: unknown type 'bogus'\n"),
+        ("list pin -t bogus", "bad.hal:1: unknown type 'bogus'\n"),
         ("newsig x double", "bad.hal:1: Unknown signal type 'double'\n"),
         ("newsig bad=name bit", "HAL: ERROR: bad signal name 'bad=name': names must not contain any of # = \" ' \\ < > $ ;\nbad.hal:1: newsig failed\n"),
         ("net x nope.pin", "bad.hal:1: Pin 'nope.pin' does not exist\n"),
@@ -49,12 +65,16 @@ fn every_kind_of_bad_line_has_its_message() {
         ("linksp x nope", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: link failed\n"),
         ("unlinkp nope", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: unlink failed\n"),
         ("alias thing a b", "bad.hal:1: alias: unknown type 'thing', use pin or param\n"),
-        ("alias pin nope x", "bad.hal:1: pin 'nope' not found\n"),
+        ("alias pin nope x", "HAL: ERROR: pin 'nope' not found\nbad.hal:1: alias failed\n"),
+        ("unalias param nope", "HAL: ERROR: param 'nope' not found\nbad.hal:1: unalias failed\n"),
+        ("unload nope", "bad.hal:1: component 'nope' is not loaded\n"),
         ("show things", "bad.hal:1: Unknown 'show' type 'things'\n"),
         ("list things", "bad.hal:1: Unknown 'list' type 'things'\n"),
         ("save things", "bad.hal:1: Unknown 'save' type 'things'\n"),
         ("loadusr", "bad.hal:1: loadusr: needs a program to run\n"),
         ("loadusr -x prog", "bad.hal:1: loadusr: unknown option '-x'\n"),
+        ("loadusr -Wx prog", "bad.hal:1: loadusr: unknown option '-x'\n"),
+        ("loadusr -Wn", "bad.hal:1: loadusr: -n needs a name\n"),
         ("waitusr nope", "bad.hal:1: waitusr: component 'nope' not found or not a user component\n"),
         ("unloadusr nope", "bad.hal:1: unloadusr: component 'nope' not found\n"),
         ("print \"unterminated", "bad.hal:1: unterminated quoted string\n"),
@@ -190,4 +210,95 @@ fn a_halcmd_started_by_loadusr_talks_to_the_same_host() {
     let (ok, out, err) = host.run("n.hal", &text, false);
     assert!(ok, "{err}");
     assert_eq!(out, "and2 \n");
+}
+
+#[test]
+fn type_filters_work_in_script_mode_and_in_list() {
+    let host = InProcessHost::start("tfilter");
+    let (ok, out, err) = host.run(
+        "t.hal",
+        "loadrt and2\nloadrt mult2\nlist pin -t bit\nlist pin -tfloat mult2.0.in\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "and2.0.in0 and2.0.in1 and2.0.out \nmult2.0.in0 mult2.0.in1 \n"
+    );
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let opts = hal_tools::halcmd::Options {
+        script: true,
+        ..Default::default()
+    };
+    let mut s = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err);
+    let ok = s.run_text(None, "show pin -tbit\nshow pin -t float mult2.0.in\n");
+    drop(s);
+    assert!(ok, "{}", String::from_utf8_lossy(&err));
+    assert_eq!(
+        String::from_utf8_lossy(&out),
+        "and2 bit IN FALSE and2.0.in0\nand2 bit IN FALSE and2.0.in1\nand2 bit OUT FALSE and2.0.out\n\
+         mult2 float IN 0 mult2.0.in0\nmult2 float IN 0 mult2.0.in1\n"
+    );
+}
+
+#[test]
+fn a_param_wins_over_a_pin_of_the_same_name() {
+    use hal_core::{ComponentKind, In, Param, Pin, Rw, Value};
+    let host = InProcessHost::start("samename");
+    let inst = host.instance();
+    let c = inst.new_component("same", ComponentKind::User).unwrap();
+    let _pin: Pin<f64, In> = c.pin("same.x").unwrap();
+    let _param: Param<u32, Rw> = c.param("same.x", 7).unwrap();
+    let _only_param: Param<u32, Rw> = c.param("same.p", 1).unwrap();
+    let (ok, out, err) = host.run(
+        "p.hal",
+        "loadrt and2\ngetp same.x\nptype same.x\nsetp same.x 9\ngetp same.x\n\
+         same.x = 11\ngetp same.x\nnet same.p and2.0.out\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    assert_eq!(out, "7\nu32\n9\n11\n");
+    assert_eq!(
+        inst.pin_value("same.x").unwrap(),
+        Value::Float(0.0),
+        "the pin is untouched"
+    );
+    // A signal may take a param's name but not a pin's, even when a param
+    // has that name too.
+    let (ok, _, err) = host.run("q.hal", "net same.x and2.0.in0\n", false);
+    assert!(!ok);
+    assert_eq!(
+        err,
+        "q.hal:1: Signal name 'same.x' must not be the same as a pin.  Did you omit the signal name?\n"
+    );
+}
+
+#[test]
+fn loadusr_flags_combine_in_one_word() {
+    let host = InProcessHost::start("usrflags");
+    // -w and -i together: a failing program is waited for and forgiven.
+    let (ok, _, err) = host.run("u.hal", "loadusr -wi false\n", false);
+    assert!(ok, "{err}");
+    let (ok, _, err) = host.run("u.hal", "loadusr -w false\n", false);
+    assert!(!ok);
+    assert!(err.starts_with("u.hal:1: false exited with "), "{err}");
+    // -Wn NAME: the word after -Wn is the name, the next the program.
+    let (ok, _, err) = host.run("u.hal", "loadusr -Wn spindle true\n", false);
+    assert!(!ok);
+    assert!(
+        err.starts_with("u.hal:1: true exited (") && err.ends_with(") without becoming ready\n"),
+        "{err}"
+    );
+}
+
+#[test]
+fn unload_finds_the_component_and_unloads_its_module() {
+    let host = InProcessHost::start("unload");
+    let (ok, out, err) = host.run(
+        "u.hal",
+        "loadrt or2\nloadrt and2\nunload or2\nlist comp or2\nlist comp and2\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    assert_eq!(out, "\nand2 \n");
 }

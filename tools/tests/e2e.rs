@@ -8,16 +8,6 @@ fn case(name: &str) -> std::path::PathBuf {
     root().join("tests").join(name)
 }
 
-fn assert_expected(name: &str) {
-    let dir = case(name);
-    let out = halrun(&dir, &["-f", "test.hal"], name);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
-    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
-    let got = String::from_utf8_lossy(&out.stdout);
-    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
-}
-
 #[test]
 fn fast_thread_increments_slow_thread_resets() {
     let out = halrun(&case("threads"), &["-f", "test.hal"], "threads");
@@ -54,12 +44,12 @@ fn fast_thread_increments_slow_thread_resets() {
 
 #[test]
 fn streamer_to_sampler_round_trip() {
-    assert_expected("stream-roundtrip");
+    run_exact("stream-roundtrip");
 }
 
 #[test]
 fn nets_change_while_threads_run() {
-    assert_expected("nets");
+    run_exact("nets");
 }
 
 const SHOW: &str =

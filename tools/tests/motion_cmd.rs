@@ -4,55 +4,7 @@
 
 mod common;
 
-use std::process::{Command, Output};
-use std::time::{Duration, Instant};
-
-fn run(bin: &str, args: &[&str], instance: &str) -> Output {
-    Command::new(bin)
-        .args(args)
-        .env("HAL_INSTANCE", instance)
-        .env("HAL_NO_REALTIME", "1")
-        .output()
-        .expect("runs")
-}
-
-fn halcmd(args: &[&str], instance: &str) {
-    let out = run(env!("CARGO_BIN_EXE_halcmd"), args, instance);
-    assert!(
-        out.status.success(),
-        "halcmd {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// Runs motion-cmd; (exit code, stdout, stderr).
-fn mcmd(args: &[&str], instance: &str) -> (i32, String, String) {
-    let out = run(env!("CARGO_BIN_EXE_motion-cmd"), args, instance);
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn accepted(args: &[&str], instance: &str) {
-    let (code, out, err) = mcmd(args, instance);
-    assert_eq!(code, 0, "motion-cmd {args:?}: {out}{err}");
-    assert!(out.starts_with("accepted (serial "), "{out}");
-}
-
-fn wait_status(instance: &str, what: &str, f: impl Fn(&str) -> bool) -> String {
-    let end = Instant::now() + Duration::from_secs(10);
-    loop {
-        let (code, out, err) = mcmd(&["status"], instance);
-        assert_eq!(code, 0, "{err}");
-        if f(&out) {
-            return out;
-        }
-        assert!(Instant::now() < end, "timed out waiting for {what}:\n{out}");
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
+use common::{accepted, mcmd, run, start_motion_instance, wait_status};
 
 #[test]
 fn motion_cmd_enables_and_jogs_a_joint_of_a_running_instance() {
@@ -68,24 +20,7 @@ fn motion_cmd_enables_and_jogs_a_joint_of_a_running_instance() {
     assert_eq!(code, 2, "no instance running: {err}");
 
     let realtime = env!("CARGO_BIN_EXE_realtime");
-    assert!(run(realtime, &["start"], &inst).status.success());
-    halcmd(&["loadrt", "trivkins", "coordinates=xyz"], &inst);
-    halcmd(&["loadrt", "motmod", "num_joints=3"], &inst);
-    for j in 0..3 {
-        let sig = format!("j{j}pos");
-        halcmd(
-            &[
-                "net",
-                &sig,
-                &format!("joint.{j}.motor-pos-cmd"),
-                &format!("joint.{j}.motor-pos-fb"),
-            ],
-            &inst,
-        );
-    }
-    halcmd(&["addf", "motion-command-handler", "servo-thread"], &inst);
-    halcmd(&["addf", "motion-controller", "servo-thread"], &inst);
-    halcmd(&["start"], &inst);
+    start_motion_instance(&inst);
 
     let s = wait_status(&inst, "the first status", |s| s.contains("mode DISABLED"));
     assert!(s.contains("last command: none"), "{s}");

@@ -3,26 +3,7 @@
 
 mod common;
 
-use std::process::{Command, Output};
-
-fn run(bin: &str, args: &[&str], instance: &str) -> Output {
-    Command::new(bin)
-        .args(args)
-        .env("HAL_INSTANCE", instance)
-        .env("HAL_NO_REALTIME", "1")
-        .output()
-        .expect("runs")
-}
-
-fn halcmd(args: &[&str], instance: &str) -> String {
-    let out = run(env!("CARGO_BIN_EXE_halcmd"), args, instance);
-    assert!(
-        out.status.success(),
-        "halcmd {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
+use common::{halcmd, run};
 
 #[test]
 fn halcmd_works_on_a_running_instance_from_another_process() {

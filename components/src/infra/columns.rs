@@ -82,6 +82,11 @@ pub fn fifo_name(module: &str, n: usize) -> String {
     format!("{module}.{n}.fifo")
 }
 
+/// Name of the pin of column `m` of channel `n` of `module`.
+pub fn pin_name(module: &str, n: usize, m: usize) -> String {
+    format!("{module}.{n}.pin.{m}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,7 +5,7 @@
 use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, RawPin, Result, RingWriter};
 
-use super::columns::{channels, fifo_name, PARAMS};
+use super::columns::{channels, fifo_name, pin_name, PARAMS};
 
 /// The `sampler` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -23,7 +23,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let pins: Vec<RawPin<In>> = types
             .iter()
             .enumerate()
-            .map(|(m, t)| c.pin_raw(&format!("sampler.{n}.pin.{m}"), *t))
+            .map(|(m, t)| c.pin_raw(&pin_name("sampler", n, m), *t))
             .collect::<Result<_>>()?;
         let enable: Pin<bool, In> = c.pin_init(&format!("sampler.{n}.enable"), true)?;
         let full: Pin<bool, Out> = c.pin(&format!("sampler.{n}.full"))?;
@@ -42,17 +42,17 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             for (slot, pin) in row[1..].iter_mut().zip(&pins) {
                 *slot = pin.get_bits();
             }
-            if fifo.len() >= fifo.capacity() {
+            // The sample number counts records written, not attempts.
+            row[0] = sample.wrapping_add(1) as u64;
+            if fifo.push(&row) {
+                sample = sample.wrapping_add(1);
+                full.set(false);
+                curr_depth.set(fifo.len() as i32);
+            } else {
                 overruns.set(overruns.get().wrapping_add(1));
                 full.set(true);
                 curr_depth.set(depth as i32);
-                return;
             }
-            sample = sample.wrapping_add(1);
-            row[0] = sample as u64;
-            fifo.push(&row);
-            full.set(false);
-            curr_depth.set(fifo.len() as i32);
         })?;
     }
     b.ready()

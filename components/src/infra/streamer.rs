@@ -4,7 +4,7 @@
 use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, RawPin, Result, RingReader};
 
-use super::columns::{channels, fifo_name, PARAMS};
+use super::columns::{channels, fifo_name, pin_name, PARAMS};
 
 /// The `streamer` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -22,7 +22,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let pins: Vec<RawPin<Out>> = types
             .iter()
             .enumerate()
-            .map(|(m, t)| c.pin_raw(&format!("streamer.{n}.pin.{m}"), *t))
+            .map(|(m, t)| c.pin_raw(&pin_name("streamer", n, m), *t))
             .collect::<Result<_>>()?;
         let enable: Pin<bool, In> = c.pin_init(&format!("streamer.{n}.enable"), true)?;
         let empty: Pin<bool, Out> = c.pin_init(&format!("streamer.{n}.empty"), true)?;

@@ -18,11 +18,6 @@ impl FunctCtx {
         FunctCtx { period, now_ns: 0 }
     }
 
-    /// A context at time `now_ns` (CLOCK_MONOTONIC), for tests.
-    pub fn at(period: i64, now_ns: u64) -> FunctCtx {
-        FunctCtx { period, now_ns }
-    }
-
     /// When the thread woke for this cycle, in CLOCK_MONOTONIC ns: the
     /// same for every function of the cycle. Functions needing the time
     /// use this rather than a system call of their own.

@@ -505,14 +505,14 @@ impl Host {
             return Ok(());
         };
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
+        // One entry per call, an init entry before a cyclic one, as
+        // remove_entry_tx takes it off the thread's lists.
         let mut functs = st.threads[ti].functs.clone();
-        if let Some(pos) = functs.iter().position(|&f| f == id) {
-            functs.remove(pos);
-        }
         let mut init = st.threads[ti].init.clone();
         if let Some(pos) = init.iter().position(|&f| f == id) {
             init.remove(pos);
-            functs = st.threads[ti].functs.clone();
+        } else if let Some(pos) = functs.iter().position(|&f| f == id) {
+            functs.remove(pos);
         }
         let list = self.build_list(st, &functs, &init)?;
         self.inst
@@ -759,15 +759,6 @@ impl Host {
     /// Names of the loaded modules, in load order.
     pub fn loaded_modules(&self) -> Vec<&'static str> {
         lock(&self.state).modules.clone()
-    }
-
-    /// Names of all threads, in creation order.
-    pub fn thread_names(&self) -> Vec<String> {
-        lock(&self.state)
-            .threads
-            .iter()
-            .map(|t| t.ctl.name.clone())
-            .collect()
     }
 
     /// Names of the loaded realtime components, in load order.

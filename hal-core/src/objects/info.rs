@@ -123,6 +123,30 @@ fn value_at(seg: &Segment, off: u64, t: HalType) -> Result<Value> {
     Ok(Value::from_bits(t, seg.word(off)?.load(Relaxed)))
 }
 
+fn component_info(seg: &Segment, c: &CompRec) -> Result<ComponentInfo> {
+    let loadrt_args = match c.args.load(Relaxed) {
+        0 => None,
+        b => {
+            let blob: &BlobRec = seg.rec(b)?;
+            let len = blob.len.load(Relaxed) as usize;
+            let mut bytes: Vec<u8> = blob_words_of(seg, b)?
+                .iter()
+                .flat_map(|w| w.load(Relaxed).to_le_bytes())
+                .collect();
+            bytes.truncate(len);
+            Some(String::from_utf8_lossy(&bytes).into_owned())
+        }
+    };
+    Ok(ComponentInfo {
+        name: c.name.get(),
+        id: c.id.load(Relaxed) as i32,
+        kind: ComponentKind::from_code(c.kind.load(Relaxed)),
+        ready: c.ready.load(Relaxed) != 0,
+        pid: c.pid.load(Relaxed) as i32,
+        loadrt_args,
+    })
+}
+
 fn pin_info(seg: &Segment, p: &PinRec) -> Result<PinInfo> {
     let t = pin_type(seg, p)?;
     let (owner_id, owner) = owner(seg, p.owner.load(Relaxed));
@@ -177,32 +201,18 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             list::iter::<CompRec>(seg, &seg.header().comps)
-                .map(|r| {
-                    let (_, c) = r?;
-                    let args = match c.args.load(Relaxed) {
-                        0 => None,
-                        b => {
-                            let blob: &BlobRec = seg.rec(b)?;
-                            let len = blob.len.load(Relaxed) as usize;
-                            let words = blob_words_of(seg, b)?;
-                            let mut bytes: Vec<u8> = words
-                                .iter()
-                                .flat_map(|w| w.load(Relaxed).to_le_bytes())
-                                .collect();
-                            bytes.truncate(len);
-                            Some(String::from_utf8_lossy(&bytes).into_owned())
-                        }
-                    };
-                    Ok(ComponentInfo {
-                        name: c.name.get(),
-                        id: c.id.load(Relaxed) as i32,
-                        kind: ComponentKind::from_code(c.kind.load(Relaxed)),
-                        ready: c.ready.load(Relaxed) != 0,
-                        pid: c.pid.load(Relaxed) as i32,
-                        loadrt_args: args,
-                    })
-                })
+                .map(|r| component_info(seg, r?.1))
                 .collect()
+        })
+    }
+
+    /// One component, found by its name.
+    pub fn component(&self, name: &str) -> Result<Option<ComponentInfo>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            list::find::<CompRec>(seg, &seg.header().comps, name)?
+                .map(|(_, c)| component_info(seg, c))
+                .transpose()
         })
     }
 

@@ -19,17 +19,8 @@ fn main() {
             other => die(&format!("unknown argument '{other}'")),
         }
     }
-    let ready_fd = std::env::var("HAL_HOST_READY_FD")
-        .ok()
-        .and_then(|s| s.parse::<i32>().ok());
-    let result = hal_tools::hostd::serve(HostConfig::new(&instance), || {
-        if let Some(fd) = ready_fd {
-            // Tell whoever started us that the socket is up, by closing
-            // the pipe they gave us.
-            // SAFETY: closing a descriptor number we were handed for this.
-            unsafe { libc::close(fd) };
-        }
-    });
+    // Whoever started us polls the socket until it answers (launch.rs).
+    let result = hal_tools::hostd::serve(HostConfig::new(&instance), || {});
     if let Err(e) = result {
         die(&e);
     }

@@ -1,9 +1,11 @@
 //! halcmd's printed output, byte for byte as LinuxCNC prints it.
 
-use hal_core::{ComponentKind, HalType, Instance, PinDir, Value};
+use hal_core::{
+    ComponentInfo, ComponentKind, FunctInfo, HalType, Instance, ParamInfo, PinDir, PinInfo,
+    SignalInfo, ThreadInfo, Value,
+};
 
 use super::cfmt::fmt_g;
-use super::session::Options;
 
 /// Whether `name` matches one of `patterns` the way halcmd matches: a
 /// pattern matches a name it is a prefix of, or that it matches as a shell
@@ -70,10 +72,22 @@ pub fn get_value(v: Value) -> String {
     }
 }
 
-fn arrow(dir: PinDir) -> &'static str {
+/// The arrow `show` and `save` print from a pin's side: an input pin
+/// receives from its signal.
+pub fn pin_arrow(dir: PinDir) -> &'static str {
     match dir {
         PinDir::In => "<==",
         PinDir::Out => "==>",
+        PinDir::Io => "<=>",
+    }
+}
+
+/// The arrow `show` and `save` print from a signal's side: the signal
+/// feeds an input pin.
+pub fn sig_arrow(dir: PinDir) -> &'static str {
+    match dir {
+        PinDir::In => "==>",
+        PinDir::Out => "<==",
         PinDir::Io => "<=>",
     }
 }
@@ -88,7 +102,8 @@ fn row(owner: i32, t: HalType, dir: &str, value: Value, name: &str) -> String {
 
 const HEADER: &str = "Owner   Type  Dir                 Value  Name\n";
 
-/// Splits a leading `-tTYPE` / `-t TYPE` off show's patterns.
+/// Splits a leading `-tTYPE` / `-t TYPE` off the patterns of `show` and
+/// `list`.
 fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b str]), String> {
     let (name, rest) = match pats {
         ["-t", t, rest @ ..] => (*t, rest),
@@ -105,89 +120,286 @@ fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b
     Ok((Some(t), rest))
 }
 
-fn show_pins(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
-    let mut out = format!("Component Pins:\n{HEADER}");
-    for p in inst.pins().map_err(|e| e.to_string())? {
-        if !matches(pats, &p.name) || only.is_some_and(|t| t != p.hal_type) {
-            continue;
-        }
-        out.push_str(&row(
-            p.owner_id,
-            p.hal_type,
-            p.dir.label(),
-            p.value,
-            &p.name,
-        ));
-        if let Some(s) = &p.signal {
-            // From the pin's side: an input receives from the signal.
-            let a = match p.dir {
-                PinDir::In => "<==",
-                PinDir::Out => "==>",
-                PinDir::Io => "<=>",
-            };
-            out.push_str(&format!(" {a} {s}"));
-        }
-        out.push('\n');
-    }
-    out.push('\n');
-    Ok(out)
+/// How `show` prints: the patterns names must match, the `-t` type filter
+/// (pins, params and signals), and script mode (`-s`), which leaves out
+/// titles and blank lines and prints each object on one line.
+struct Show<'a> {
+    pats: &'a [&'a str],
+    only: Option<HalType>,
+    script: bool,
 }
 
-fn show_params(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
-    let mut out = format!("Parameters:\n{HEADER}");
-    for p in inst.params().map_err(|e| e.to_string())? {
-        if matches(pats, &p.name) && only.is_none_or(|t| t == p.hal_type) {
-            out.push_str(&row(
-                p.owner_id,
-                p.hal_type,
-                p.dir.label(),
-                p.value,
-                &p.name,
+impl Show<'_> {
+    /// Whether an object named `name` (of type `t`, if typed) is shown.
+    fn keeps(&self, name: &str, t: Option<HalType>) -> bool {
+        matches(self.pats, name) && t.zip(self.only).is_none_or(|(t, only)| t == only)
+    }
+
+    /// A section: its title lines, its rows, a blank line; script mode
+    /// prints the rows alone.
+    fn section(&self, title: &str, rows: String) -> String {
+        if self.script {
+            rows
+        } else {
+            format!("{title}{rows}\n")
+        }
+    }
+
+    fn comps(&self, comps: &[ComponentInfo]) -> String {
+        let mut cs: Vec<&ComponentInfo> =
+            comps.iter().filter(|c| self.keeps(&c.name, None)).collect();
+        cs.sort_by_key(|c| std::cmp::Reverse(c.id));
+        let mut rows = String::new();
+        for c in cs {
+            let state = if c.ready { "ready" } else { "initializing" };
+            let (kind, pid) = match c.kind {
+                ComponentKind::User => ("User", c.pid.to_string()),
+                _ => ("RT", String::new()),
+            };
+            rows.push_str(&format!(
+                " {:>5}  {kind:<4}  {:<47} {pid:>5} {state}\n",
+                c.id, c.name
             ));
-            out.push('\n');
         }
+        let title = format!(
+            "Loaded HAL Components:\nID      Type  {:<47} PID   State\n",
+            "Name"
+        );
+        self.section(&title, rows)
     }
-    out.push('\n');
-    Ok(out)
+
+    fn pins(&self, pins: &[PinInfo]) -> String {
+        let mut rows = String::new();
+        for p in pins
+            .iter()
+            .filter(|p| self.keeps(&p.name, Some(p.hal_type)))
+        {
+            if self.script {
+                rows.push_str(&format!(
+                    "{} {} {} {} {}",
+                    p.owner,
+                    p.hal_type.name(),
+                    p.dir.label(),
+                    show_value(p.value),
+                    p.name
+                ));
+            } else {
+                rows.push_str(&row(
+                    p.owner_id,
+                    p.hal_type,
+                    p.dir.label(),
+                    p.value,
+                    &p.name,
+                ));
+            }
+            if let Some(s) = &p.signal {
+                rows.push_str(&format!(" {} {s}", pin_arrow(p.dir)));
+            }
+            rows.push('\n');
+        }
+        self.section(&format!("Component Pins:\n{HEADER}"), rows)
+    }
+
+    fn params(&self, params: &[ParamInfo]) -> String {
+        let mut rows = String::new();
+        for p in params
+            .iter()
+            .filter(|p| self.keeps(&p.name, Some(p.hal_type)))
+        {
+            if self.script {
+                rows.push_str(&format!(
+                    "{} {} {} {} {}\n",
+                    p.owner,
+                    p.hal_type.name(),
+                    p.dir.label(),
+                    show_value(p.value),
+                    p.name
+                ));
+            } else {
+                rows.push_str(&row(
+                    p.owner_id,
+                    p.hal_type,
+                    p.dir.label(),
+                    p.value,
+                    &p.name,
+                ));
+                rows.push('\n');
+            }
+        }
+        self.section(&format!("Parameters:\n{HEADER}"), rows)
+    }
+
+    fn signals(&self, sigs: &[SignalInfo]) -> String {
+        let mut rows = String::new();
+        for s in sigs
+            .iter()
+            .filter(|s| self.keeps(&s.name, Some(s.hal_type)))
+        {
+            if self.script {
+                rows.push_str(&format!(
+                    "{} {} {}",
+                    s.hal_type.name(),
+                    show_value(s.value),
+                    s.name
+                ));
+                for (pin, dir) in &s.pins {
+                    rows.push_str(&format!(" {} {pin}", sig_arrow(*dir)));
+                }
+                rows.push('\n');
+            } else {
+                rows.push_str(&format!(
+                    "{:<5} {:>21}  {}\n",
+                    s.hal_type.name(),
+                    show_value(s.value),
+                    s.name
+                ));
+                for (pin, dir) in &s.pins {
+                    rows.push_str(&format!("{:33}{} {pin}\n", "", sig_arrow(*dir)));
+                }
+            }
+        }
+        self.section(
+            "Signals:\nType                  Value  Name     (linked to)\n",
+            rows,
+        )
+    }
+
+    fn functs(&self, functs: &[FunctInfo]) -> String {
+        let mut rows = String::new();
+        for (i, f) in functs.iter().enumerate() {
+            if !self.keeps(&f.name, None) {
+                continue;
+            }
+            if self.script {
+                let fp = if f.uses_fp { "YES" } else { "NO" };
+                rows.push_str(&format!("{} {fp} {} {}\n", f.owner, f.users, f.name));
+            } else {
+                // Code lives in the host, so there is no address to show:
+                // the columns hold the function's index and 0.
+                rows.push_str(&format!(
+                    " {:05}  {:08x}  {:08x}  {:<3}  {:>5}   {}\n",
+                    f.owner_id, i, 0, "YES", f.users, f.name
+                ));
+            }
+        }
+        self.section(
+            "Exported Functions:\nOwner   CodeAddr      Arg           FP   Users   Name\n",
+            rows,
+        )
+    }
+
+    fn threads(&self, threads: &[ThreadInfo]) -> String {
+        let mut rows = String::new();
+        for t in threads.iter().filter(|t| self.keeps(&t.name, None)) {
+            if self.script {
+                let fp = if t.uses_fp { "YES" } else { "NO" };
+                rows.push_str(&format!("{} {fp} {}", t.period, t.name));
+                for f in &t.functs {
+                    rows.push_str(&format!(" {f}"));
+                }
+                rows.push('\n');
+            } else {
+                rows.push_str(&format!(
+                    "{:>11}  {:<3}  {:>20} ( {:>8}, {:>8} )\n",
+                    t.period, "YES", t.name, t.time_ns, t.tmax_ns
+                ));
+                for (i, f) in t.functs.iter().enumerate() {
+                    rows.push_str(&format!("{:17}{:>2} {f}\n", "", i + 1));
+                }
+            }
+        }
+        self.section(
+            "Realtime Threads:\n     Period  FP     Name               (     Time, Max-Time )\n",
+            rows,
+        )
+    }
+
+    /// The aliases among `(name, name before aliasing)` pairs, under
+    /// `title` (`Pin Aliases:` or `Parameter Aliases:`).
+    fn aliases<'n>(
+        &self,
+        title: &str,
+        pairs: impl Iterator<Item = (&'n str, Option<&'n str>)>,
+    ) -> String {
+        let mut rows = String::new();
+        for (alias, orig) in pairs.filter_map(|(a, o)| Some((a, o?))) {
+            if !self.keeps(alias, None) {
+                continue;
+            }
+            if self.script {
+                rows.push_str(&format!(" {alias}  {orig}\n"));
+            } else {
+                rows.push_str(&format!(" {alias:<47}  {orig}\n"));
+            }
+        }
+        self.section(
+            &format!("{title}\n {:<47}  {}\n", "Alias", "Original Name"),
+            rows,
+        )
+    }
+
+    fn pin_aliases(&self, pins: &[PinInfo]) -> String {
+        let pairs = pins
+            .iter()
+            .map(|p| (p.name.as_str(), p.orig_name.as_deref()));
+        self.aliases("Pin Aliases:", pairs)
+    }
+
+    fn param_aliases(&self, params: &[ParamInfo]) -> String {
+        let pairs = params
+            .iter()
+            .map(|p| (p.name.as_str(), p.orig_name.as_deref()));
+        self.aliases("Parameter Aliases:", pairs)
+    }
 }
 
-fn show_signals(inst: &Instance, pats: &[&str], only: Option<HalType>) -> Result<String, String> {
-    let mut out = String::from("Signals:\nType                  Value  Name     (linked to)\n");
-    for s in inst.signals().map_err(|e| e.to_string())? {
-        if !matches(pats, &s.name) || only.is_some_and(|t| t != s.hal_type) {
-            continue;
+/// `show [KIND] [-tTYPE] [PATTERN...]`.
+fn show(inst: &Instance, args: &[&str], script: bool) -> Result<String, String> {
+    let e = |e: hal_core::HalError| e.to_string();
+    let (kind, pats) = match args.split_first() {
+        Some((k, rest)) => (*k, rest),
+        None => ("all", &[][..]),
+    };
+    let (only, pats) = type_filter(pats)?;
+    let show = Show { pats, only, script };
+    Ok(match kind {
+        "pin" => show.pins(&inst.pins().map_err(e)?),
+        "param" | "parameter" => show.params(&inst.params().map_err(e)?),
+        "sig" | "signal" => show.signals(&inst.signals().map_err(e)?),
+        "comp" => show.comps(&inst.components().map_err(e)?),
+        "funct" | "function" => show.functs(&inst.functs().map_err(e)?),
+        "thread" => show.threads(&inst.threads().map_err(e)?),
+        "alias" => {
+            show.pin_aliases(&inst.pins().map_err(e)?)
+                + &show.param_aliases(&inst.params().map_err(e)?)
         }
-        out.push_str(&format!(
-            "{:<5} {:>21}  {}\n",
-            s.hal_type.name(),
-            show_value(s.value),
-            s.name
-        ));
-        for (pin, dir) in &s.pins {
-            // From the signal's side: an input pin is fed by it.
-            let a = match dir {
-                PinDir::In => arrow(PinDir::Out),
-                PinDir::Out => arrow(PinDir::In),
-                PinDir::Io => arrow(PinDir::Io),
-            };
-            out.push_str(&format!("{:33}{a} {pin}\n", ""));
+        "all" => {
+            // One snapshot of pins and params serves their tables and
+            // their aliases.
+            let pins = inst.pins().map_err(e)?;
+            let params = inst.params().map_err(e)?;
+            [
+                show.comps(&inst.components().map_err(e)?),
+                show.pins(&pins),
+                show.pin_aliases(&pins),
+                show.signals(&inst.signals().map_err(e)?),
+                show.params(&params),
+                show.param_aliases(&params),
+                show.functs(&inst.functs().map_err(e)?),
+                show.threads(&inst.threads().map_err(e)?),
+            ]
+            .concat()
         }
-    }
-    out.push('\n');
-    Ok(out)
+        other => return Err(format!("Unknown 'show' type '{other}'")),
+    })
 }
 
+/// `list KIND [-tTYPE] [PATTERN...]`: names only, on one line.
 fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
     let e = |e: hal_core::HalError| e.to_string();
-    // `-tTYPE` as first pattern restricts pins, params and signals by type.
-    let (type_filter, pats) = match pats.first().and_then(|p| p.strip_prefix("-t")) {
-        Some(t) => (
-            Some(HalType::from_name(t).ok_or_else(|| format!("unknown type '{t}'"))?),
-            &pats[1..],
-        ),
-        None => (None, pats),
-    };
-    let keep = |t: HalType| type_filter.is_none_or(|f| f == t);
+    // `-tTYPE` restricts pins, params and signals by type.
+    let (only, pats) = type_filter(pats)?;
+    let keep = |t: HalType| only.is_none_or(|o| o == t);
     let names: Vec<String> = match kind {
         "pin" => inst
             .pins()
@@ -239,93 +451,6 @@ fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
     Ok(out)
 }
 
-fn show_comps(inst: &Instance, pats: &[&str]) -> Result<String, String> {
-    let mut cs = inst.components().map_err(|e| e.to_string())?;
-    cs.sort_by_key(|c| std::cmp::Reverse(c.id));
-    let mut out = format!(
-        "Loaded HAL Components:\nID      Type  {:<47} PID   State\n",
-        "Name"
-    );
-    for c in cs.iter().filter(|c| matches(pats, &c.name)) {
-        let state = if c.ready { "ready" } else { "initializing" };
-        let (kind, pid) = match c.kind {
-            ComponentKind::User => ("User", c.pid.to_string()),
-            _ => ("RT", String::new()),
-        };
-        out.push_str(&format!(
-            " {:>5}  {kind:<4}  {:<47} {pid:>5} {state}\n",
-            c.id, c.name
-        ));
-    }
-    out.push('\n');
-    Ok(out)
-}
-
-fn show_functs(inst: &Instance, pats: &[&str]) -> Result<String, String> {
-    let mut out = String::from(
-        "Exported Functions:\nOwner   CodeAddr      Arg           FP   Users   Name\n",
-    );
-    for (i, f) in inst.functs().map_err(|e| e.to_string())?.iter().enumerate() {
-        if matches(pats, &f.name) {
-            // Code lives in the host, so there is no address to show: the
-            // columns hold the function's index and 0.
-            out.push_str(&format!(
-                " {:05}  {:08x}  {:08x}  {:<3}  {:>5}   {}\n",
-                f.owner_id, i, 0, "YES", f.users, f.name
-            ));
-        }
-    }
-    out.push('\n');
-    Ok(out)
-}
-
-fn show_threads(inst: &Instance, pats: &[&str]) -> Result<String, String> {
-    let mut out = String::from(
-        "Realtime Threads:\n     Period  FP     Name               (     Time, Max-Time )\n",
-    );
-    for t in inst.threads().map_err(|e| e.to_string())? {
-        if !matches(pats, &t.name) {
-            continue;
-        }
-        out.push_str(&format!(
-            "{:>11}  {:<3}  {:>20} ( {:>8}, {:>8} )\n",
-            t.period, "YES", t.name, t.time_ns, t.tmax_ns
-        ));
-        for (i, f) in t.functs.iter().enumerate() {
-            out.push_str(&format!("{:17}{:>2} {f}\n", "", i + 1));
-        }
-    }
-    out.push('\n');
-    Ok(out)
-}
-
-fn show_aliases(inst: &Instance, pats: &[&str], pins: bool) -> Result<String, String> {
-    let e = |e: hal_core::HalError| e.to_string();
-    let (title, pairs): (&str, Vec<(String, String)>) = if pins {
-        let v = inst.pins().map_err(e)?;
-        (
-            "Pin Aliases:",
-            v.into_iter()
-                .filter_map(|p| Some((p.name, p.orig_name?)))
-                .collect(),
-        )
-    } else {
-        let v = inst.params().map_err(e)?;
-        (
-            "Parameter Aliases:",
-            v.into_iter()
-                .filter_map(|p| Some((p.name, p.orig_name?)))
-                .collect(),
-        )
-    };
-    let mut out = format!("{title}\n {:<47}  {}\n", "Alias", "Original Name");
-    for (alias, orig) in pairs.iter().filter(|(a, _)| matches(pats, a)) {
-        out.push_str(&format!(" {alias:<47}  {orig}\n"));
-    }
-    out.push('\n');
-    Ok(out)
-}
-
 fn status(inst: &Instance) -> String {
     format!(
         "HAL locking status:\n  current lock value 0 (00)\n  HAL_LOCK_NONE - nothing is locked\n\
@@ -357,7 +482,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("gets", "gets SIGNAL: print a signal"),
     ("stype", "stype SIGNAL: print the type of a signal"),
     ("addf", "addf FUNCT THREAD [POSITION]: add a function to a thread"),
-        ("initf", "initf FUNCT THREAD: run a function once, on the thread's first cycle"),
+    ("initf", "initf FUNCT THREAD: run a function once, on the thread's first cycle"),
     ("linkpp", "linkpp PIN1 PIN2: connect two pins with a signal named after the first (obsolete)"),
     ("delf", "delf FUNCT [THREAD]: remove a function from a thread"),
     ("start", "start: start the realtime threads"),
@@ -390,81 +515,44 @@ fn help(cmd: Option<&str>) -> Result<String, String> {
     }
 }
 
-/// Finds a pin, else a param, by name or original name (halcmd looks
-/// pins up first): (value, type, is_param).
+/// Finds a param, else a pin, by name or original name: when both exist,
+/// halcmd acts on the parameter. Returns (value, type, is_param).
 pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, bool)>, String> {
     let e = |e: hal_core::HalError| e.to_string();
-    if let Some(p) = inst.pin(name).map_err(e)? {
-        return Ok(Some((p.value, p.hal_type, false)));
+    if let Some(p) = inst.param(name).map_err(e)? {
+        return Ok(Some((p.value, p.hal_type, true)));
     }
     Ok(inst
-        .param(name)
+        .pin(name)
         .map_err(e)?
-        .map(|p| (p.value, p.hal_type, true)))
+        .map(|p| (p.value, p.hal_type, false)))
 }
 
-/// Renders the output of `show`, `list`, `getp`, `gets`, `ptype`, `stype`.
-pub fn render(inst: &Instance, words: &[&str], opts: &Options) -> Result<String, String> {
-    if opts.script && words[0] == "show" {
-        if let Some(text) = script::show(inst, &words[1..])? {
-            return Ok(text);
-        }
-    }
-    let args = &words[1..];
+/// Renders the output of `show`, `list`, `save`, `getp`, `gets`, `ptype`,
+/// `stype`, `status` and `help`. The arguments have been counted against
+/// the command table already; `script` is `-s`.
+pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result<String, String> {
     let not_found = |n: &str| format!("parameter or pin '{n}': not found");
-    match words[0] {
-        "show" => {
-            let (kind, pats) = match args.split_first() {
-                Some((k, rest)) => (*k, rest),
-                None => ("all", &[][..]),
-            };
-            // `-tTYPE` (or `-t TYPE`) first: only items of that type.
-            let (type_filter, pats) = type_filter(pats)?;
-            match kind {
-                "pin" => show_pins(inst, pats, type_filter),
-                "param" | "parameter" => show_params(inst, pats, type_filter),
-                "sig" | "signal" => show_signals(inst, pats, type_filter),
-                "comp" => show_comps(inst, pats),
-                "funct" | "function" => show_functs(inst, pats),
-                "thread" => show_threads(inst, pats),
-                "alias" => Ok(show_aliases(inst, pats, true)? + &show_aliases(inst, pats, false)?),
-                "all" => Ok([
-                    show_comps(inst, pats)?,
-                    show_pins(inst, pats, type_filter)?,
-                    show_aliases(inst, pats, true)?,
-                    show_signals(inst, pats, type_filter)?,
-                    show_params(inst, pats, type_filter)?,
-                    show_aliases(inst, pats, false)?,
-                    show_functs(inst, pats)?,
-                    show_threads(inst, pats)?,
-                ]
-                .concat()),
-                other => Err(format!("Unknown 'show' type '{other}'")),
-            }
-        }
-        "list" => {
-            let (kind, pats) = args.split_first().ok_or("list: needs a type")?;
-            list(inst, kind, pats)
-        }
+    match cmd {
+        "show" => show(inst, args, script),
+        "list" => list(inst, args[0], &args[1..]),
         "getp" => {
-            let n = args.first().ok_or("getp: needs a name")?;
-            let (v, _, _) = lookup(inst, n)?.ok_or_else(|| not_found(n))?;
+            let (v, _, _) = lookup(inst, args[0])?.ok_or_else(|| not_found(args[0]))?;
             Ok(format!("{}\n", get_value(v)))
         }
         "ptype" => {
-            let n = args.first().ok_or("ptype: needs a name")?;
-            let (_, t, _) = lookup(inst, n)?.ok_or_else(|| not_found(n))?;
+            let (_, t, _) = lookup(inst, args[0])?.ok_or_else(|| not_found(args[0]))?;
             Ok(format!("{t}\n"))
         }
         "gets" => {
-            let n = args.first().ok_or("gets: needs a signal")?;
+            let n = args[0];
             let v = inst
                 .signal_value(n)
                 .map_err(|_| format!("signal '{n}': not found"))?;
             Ok(format!("{}\n", get_value(v)))
         }
         "stype" => {
-            let n = args.first().ok_or("stype: needs a signal")?;
+            let n = args[0];
             let t = inst
                 .signal_type(n)
                 .map_err(|_| format!("signal '{n}': not found"))?;
@@ -507,123 +595,5 @@ mod tests {
         assert_eq!(r, "     6  bit   IN                  FALSE  and2.0.in0");
         let r = row(12, HalType::U64, "OUT", Value::U64(u64::MAX), "x");
         assert_eq!(r, "    12  u64   OUT    0xFFFFFFFFFFFFFFFF  x");
-    }
-}
-
-/// `show` in script mode (`-s`): no titles, component names instead of
-/// ids, one line per thread and per signal.
-mod script {
-    use super::{matches, show_value};
-    use hal_core::{Instance, PinDir};
-
-    fn e(err: hal_core::HalError) -> String {
-        err.to_string()
-    }
-
-    /// The script-mode text of `show KIND PATTERNS`, or `None` for kinds
-    /// printed the same in both modes.
-    pub fn show(inst: &Instance, args: &[&str]) -> Result<Option<String>, String> {
-        let (kind, pats) = match args.split_first() {
-            Some((k, rest)) => (*k, rest),
-            None => return Ok(None),
-        };
-        let mut out = String::new();
-        match kind {
-            "pin" => {
-                for p in inst
-                    .pins()
-                    .map_err(e)?
-                    .into_iter()
-                    .filter(|p| matches(pats, &p.name))
-                {
-                    out.push_str(&format!(
-                        "{} {} {} {} {}",
-                        p.owner,
-                        p.hal_type.name(),
-                        p.dir.label(),
-                        show_value(p.value),
-                        p.name
-                    ));
-                    if let Some(s) = p.signal {
-                        let a = match p.dir {
-                            PinDir::In => "<==",
-                            PinDir::Out => "==>",
-                            PinDir::Io => "<=>",
-                        };
-                        out.push_str(&format!(" {a} {s}"));
-                    }
-                    out.push('\n');
-                }
-            }
-            "param" | "parameter" => {
-                for p in inst
-                    .params()
-                    .map_err(e)?
-                    .into_iter()
-                    .filter(|p| matches(pats, &p.name))
-                {
-                    out.push_str(&format!(
-                        "{} {} {} {} {}\n",
-                        p.owner,
-                        p.hal_type.name(),
-                        p.dir.label(),
-                        show_value(p.value),
-                        p.name
-                    ));
-                }
-            }
-            "sig" | "signal" => {
-                for s in inst
-                    .signals()
-                    .map_err(e)?
-                    .into_iter()
-                    .filter(|s| matches(pats, &s.name))
-                {
-                    out.push_str(&format!(
-                        "{} {} {}",
-                        s.hal_type.name(),
-                        show_value(s.value),
-                        s.name
-                    ));
-                    for (pin, dir) in &s.pins {
-                        let a = match dir {
-                            PinDir::In => "==>",
-                            PinDir::Out => "<==",
-                            PinDir::Io => "<=>",
-                        };
-                        out.push_str(&format!(" {a} {pin}"));
-                    }
-                    out.push('\n');
-                }
-            }
-            "funct" | "function" => {
-                for f in inst
-                    .functs()
-                    .map_err(e)?
-                    .into_iter()
-                    .filter(|f| matches(pats, &f.name))
-                {
-                    let fp = if f.uses_fp { "YES" } else { "NO" };
-                    out.push_str(&format!("{} {fp} {} {}\n", f.owner, f.users, f.name));
-                }
-            }
-            "thread" => {
-                for t in inst
-                    .threads()
-                    .map_err(e)?
-                    .into_iter()
-                    .filter(|t| matches(pats, &t.name))
-                {
-                    let fp = if t.uses_fp { "YES" } else { "NO" };
-                    out.push_str(&format!("{} {fp} {}", t.period, t.name));
-                    for f in &t.functs {
-                        out.push_str(&format!(" {f}"));
-                    }
-                    out.push('\n');
-                }
-            }
-            _ => return Ok(None),
-        }
-        Ok(Some(out))
     }
 }

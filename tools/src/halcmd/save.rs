@@ -1,8 +1,11 @@
 //! `save`: the instance written back as halcmd commands.
 
-use hal_core::{ComponentKind, HalType, Instance, PinDir, SignalInfo};
+use hal_core::{
+    ComponentInfo, ComponentKind, HalType, Instance, ParamInfo, PinDir, PinInfo, SignalInfo,
+    ThreadInfo,
+};
 
-use super::format::show_value;
+use super::format::{pin_arrow, show_value, sig_arrow};
 
 type R = Result<String, String>;
 
@@ -15,29 +18,14 @@ fn t5(t: HalType) -> String {
     format!("{:<5}", t.name())
 }
 
-/// The arrow from a pin's side (`linka`).
-fn arrow_pin(d: PinDir) -> &'static str {
-    match d {
-        PinDir::In => "<==",
-        PinDir::Out => "==>",
-        PinDir::Io => "<=>",
-    }
-}
-
-/// The arrow from a signal's side (`neta`).
-fn arrow_sig(d: PinDir) -> &'static str {
-    match d {
-        PinDir::In => "==>",
-        PinDir::Out => "<==",
-        PinDir::Io => "<=>",
-    }
-}
-
-fn comps(inst: &Instance) -> R {
-    let mut cs = inst.components().map_err(e)?;
+fn comps(comps: &[ComponentInfo]) -> String {
+    let mut cs: Vec<&ComponentInfo> = comps
+        .iter()
+        .filter(|c| c.kind != ComponentKind::User)
+        .collect();
     cs.sort_by_key(|c| c.id);
     let mut out = String::from("# components\n");
-    for c in cs.iter().filter(|c| c.kind != ComponentKind::User) {
+    for c in cs {
         match &c.loadrt_args {
             Some(a) => out.push_str(&format!("loadrt {a}\n")),
             None => out.push_str(&format!(
@@ -46,23 +34,23 @@ fn comps(inst: &Instance) -> R {
             )),
         }
     }
-    Ok(out)
+    out
 }
 
-fn aliases(inst: &Instance) -> R {
+fn aliases(pins: &[PinInfo], params: &[ParamInfo]) -> String {
     let mut out = String::from("# pin aliases\n");
-    for p in inst.pins().map_err(e)? {
-        if let Some(o) = p.orig_name {
+    for p in pins {
+        if let Some(o) = &p.orig_name {
             out.push_str(&format!("alias pin {o} {}\n", p.name));
         }
     }
     out.push_str("# param aliases\n");
-    for p in inst.params().map_err(e)? {
-        if let Some(o) = p.orig_name {
+    for p in params {
+        if let Some(o) = &p.orig_name {
             out.push_str(&format!("alias param {o} {}\n", p.name));
         }
     }
-    Ok(out)
+    out
 }
 
 fn signals(sigs: &[SignalInfo], unlinked_only: bool) -> String {
@@ -75,15 +63,15 @@ fn signals(sigs: &[SignalInfo], unlinked_only: bool) -> String {
     out
 }
 
-fn links(inst: &Instance, arrows: bool) -> R {
+fn links(pins: &[PinInfo], arrows: bool) -> String {
     let mut out = String::from("# links\n");
-    for p in inst.pins().map_err(e)? {
-        if let Some(s) = p.signal {
-            let a = if arrows { arrow_pin(p.dir) } else { "" };
+    for p in pins {
+        if let Some(s) = &p.signal {
+            let a = if arrows { pin_arrow(p.dir) } else { "" };
             out.push_str(&format!("linkps {} {a} {s}\n", p.name));
         }
     }
-    Ok(out)
+    out
 }
 
 fn nets(sigs: &[SignalInfo], arrows: bool) -> String {
@@ -91,7 +79,7 @@ fn nets(sigs: &[SignalInfo], arrows: bool) -> String {
     for s in sigs {
         out.push_str(&format!("newsig {} {}\n", s.name, t5(s.hal_type)));
         for (pin, dir) in &s.pins {
-            let a = if arrows { arrow_sig(*dir) } else { "" };
+            let a = if arrows { sig_arrow(*dir) } else { "" };
             out.push_str(&format!("linksp {} {a} {pin}\n", s.name));
         }
     }
@@ -142,19 +130,19 @@ fn net_lines(sigs: &[SignalInfo], arrows: bool) -> String {
     out
 }
 
-fn params(inst: &Instance) -> R {
+fn params(params: &[ParamInfo]) -> String {
     let mut out = String::from("# parameter values\n");
-    for p in inst.params().map_err(e)? {
+    for p in params {
         if p.dir == hal_core::ParamDir::Rw {
             out.push_str(&format!("setp {} {:>20}\n", p.name, show_value(p.value)));
         }
     }
-    Ok(out)
+    out
 }
 
-fn threads(inst: &Instance) -> R {
+fn threads(threads: &[ThreadInfo]) -> String {
     let mut out = String::from("# realtime thread/function links\n");
-    for t in inst.threads().map_err(e)? {
+    for t in threads {
         for f in &t.functs {
             out.push_str(&format!("addf {f} {}\n", t.name));
         }
@@ -162,60 +150,51 @@ fn threads(inst: &Instance) -> R {
             out.push_str(&format!("initf {f} {}\n", t.name));
         }
     }
-    Ok(out)
+    out
 }
 
-fn unconnected(inst: &Instance) -> R {
+fn unconnected(pins: &[PinInfo]) -> String {
     let mut out = String::from("# unconnected pin values\n");
-    for p in inst.pins().map_err(e)? {
+    for p in pins {
         if p.signal.is_none() && p.dir != PinDir::Out {
             out.push_str(&format!("setp {} {:>20}\n", p.name, show_value(p.value)));
         }
     }
-    Ok(out)
+    out
 }
 
-/// Renders `save [TYPE]`.
+/// Renders `save [TYPE]`; each kind of object is read once.
 pub fn save(inst: &Instance, kind: Option<&str>) -> R {
-    let sigs = || inst.signals().map_err(e);
     Ok(match kind.unwrap_or("all") {
-        "comp" => comps(inst)?,
-        "alias" => aliases(inst)?,
-        "sig" | "signal" => signals(&sigs()?, false),
-        "sigu" => signals(&sigs()?, true),
-        "link" => links(inst, false)?,
-        "linka" => links(inst, true)?,
-        "net" => nets(&sigs()?, false),
-        "neta" => nets(&sigs()?, true),
-        "netl" => net_lines(&sigs()?, false),
-        "netla" | "netal" => net_lines(&sigs()?, true),
-        "param" | "parameter" => params(inst)?,
-        "thread" => threads(inst)?,
-        "unconnectedinpins" => unconnected(inst)?,
-        "all" => {
-            let s = sigs()?;
-            [
-                comps(inst)?,
-                aliases(inst)?,
-                signals(&s, true),
-                net_lines(&s, true),
-                params(inst)?,
-                threads(inst)?,
-            ]
-            .concat()
-        }
-        "allu" => {
-            let s = sigs()?;
-            [
-                comps(inst)?,
-                aliases(inst)?,
-                signals(&s, true),
-                net_lines(&s, true),
-                params(inst)?,
-                unconnected(inst)?,
-                threads(inst)?,
-            ]
-            .concat()
+        "comp" => comps(&inst.components().map_err(e)?),
+        "alias" => aliases(&inst.pins().map_err(e)?, &inst.params().map_err(e)?),
+        "sig" | "signal" => signals(&inst.signals().map_err(e)?, false),
+        "sigu" => signals(&inst.signals().map_err(e)?, true),
+        "link" => links(&inst.pins().map_err(e)?, false),
+        "linka" => links(&inst.pins().map_err(e)?, true),
+        "net" => nets(&inst.signals().map_err(e)?, false),
+        "neta" => nets(&inst.signals().map_err(e)?, true),
+        "netl" => net_lines(&inst.signals().map_err(e)?, false),
+        "netla" | "netal" => net_lines(&inst.signals().map_err(e)?, true),
+        "param" | "parameter" => params(&inst.params().map_err(e)?),
+        "thread" => threads(&inst.threads().map_err(e)?),
+        "unconnectedinpins" => unconnected(&inst.pins().map_err(e)?),
+        kind @ ("all" | "allu") => {
+            // One snapshot of pins, params and signals serves every
+            // section that lists them.
+            let pins = inst.pins().map_err(e)?;
+            let pars = inst.params().map_err(e)?;
+            let sigs = inst.signals().map_err(e)?;
+            let mut out = comps(&inst.components().map_err(e)?);
+            out += &aliases(&pins, &pars);
+            out += &signals(&sigs, true);
+            out += &net_lines(&sigs, true);
+            out += &params(&pars);
+            if kind == "allu" {
+                out += &unconnected(&pins);
+            }
+            out += &threads(&inst.threads().map_err(e)?);
+            out
         }
         other => return Err(format!("Unknown 'save' type '{other}'")),
     })

@@ -2,8 +2,9 @@
 
 use std::io::Write;
 use std::path::Path;
+use std::time::Duration;
 
-use hal_core::{AliasKind, HalError, HalType, Instance, PinDir};
+use hal_core::{AliasKind, ComponentKind, HalError, HalType, Instance, PinDir};
 
 use super::format;
 use super::ini::Ini;
@@ -95,14 +96,9 @@ impl<'o> Session<'o> {
 
     /// Writes an error message with the file and line prefix, unless `-Q`.
     pub fn report(&mut self, msg: &str) {
-        if self.opts.silent {
-            return;
+        if !self.opts.silent {
+            let _ = writeln!(self.err, "{}{msg}", self.location());
         }
-        let prefix = match &self.source {
-            Some(f) => format!("{f}:{}: ", self.line),
-            None => String::new(),
-        };
-        let _ = writeln!(self.err, "{prefix}{msg}");
     }
 
     /// Runs every command of a file's text; `name` labels messages. Returns
@@ -166,26 +162,18 @@ impl<'o> Session<'o> {
     }
 
     fn dispatch(&mut self, w: &[&str]) -> CmdResult {
-        // `name = value` is setp.
-        if w.len() == 3 && w[1] == "=" {
-            return self.setp(w[0], w[2]);
-        }
-        let args = &w[1..];
-        let need = |n: usize| -> CmdResult {
-            if args.len() < n {
-                Err(format!(
-                    "{} requires at least {n} arguments, {} given",
-                    w[0],
-                    args.len()
-                ))
-            } else {
-                Ok(())
+        let Some(spec) = COMMANDS.iter().find(|c| c.name == w[0]) else {
+            // `name = value` is setp.
+            if w.len() == 3 && w[1] == "=" {
+                return self.setp(w[0], w[2]);
             }
+            return Err(format!("Unknown command '{}'", w[0]));
         };
-        match w[0] {
+        let args = spec.arguments(&w[1..])?;
+        let a = args.as_slice();
+        match spec.name {
             "loadrt" => {
-                need(1)?;
-                let unquoted: Vec<String> = args.iter().map(|a| unquote(a)).collect();
+                let unquoted: Vec<String> = a.iter().map(|s| unquote(s)).collect();
                 let mut v = vec!["loadrt"];
                 v.extend(unquoted.iter().map(String::as_str));
                 // LinuxCNC numbers components from one counter that its
@@ -195,154 +183,101 @@ impl<'o> Session<'o> {
                 self.inst.advance_component_ids(next).map_err(msg)?;
                 self.host(&v).map_err(|e| {
                     self.lib_error(&e.to_string());
-                    format!("insmod for {} failed, returned -1", args[0])
+                    format!("insmod for {} failed, returned -1", a[0])
                 })
             }
-            "unloadrt" => {
-                need(1)?;
-                self.host(&["unloadrt", args[0]])
-            }
-            "unload" => {
-                need(1)?;
-                let user = args[0] == "all"
-                    || self
-                        .inst
-                        .components()
-                        .map_err(msg)?
-                        .iter()
-                        .any(|c| c.name == args[0] && c.kind == hal_core::ComponentKind::User);
-                if user {
-                    super::usr::unload(&self.inst, args[0], std::time::Duration::from_secs(10))?;
-                }
-                if args[0] == "all" || !user {
-                    self.host(&["unloadrt", args[0]])?;
-                }
-                Ok(())
-            }
+            "unloadrt" => self.host(&["unloadrt", a[0]]),
+            "unload" => self.unload(a[0]),
             "addf" => {
-                need(2)?;
-                let mut v = vec!["addf", args[0], args[1]];
-                if let Some(p) = args.get(2) {
-                    v.push(p);
-                }
+                // A position after the thread is optional; LinuxCNC
+                // ignores anything beyond it.
+                let mut v = vec!["addf", a[0], a[1]];
+                v.extend(a.get(2).copied());
                 self.host_or(&v, "addf failed")
             }
             "delf" => {
-                need(1)?;
-                let mut v = vec!["delf", args[0]];
-                if let Some(t) = args.get(1) {
-                    v.push(t);
-                }
+                let mut v = vec!["delf"];
+                v.extend(a.iter().copied());
                 self.host_or(&v, "delf failed")
             }
-            "initf" => {
-                need(2)?;
-                self.host_or(&["initf", args[0], args[1]], "initf failed")
-            }
-            "linkpp" => {
-                // Obsolete form: a signal named after the first pin.
-                need(2)?;
-                let pins: Vec<&str> = args.iter().copied().filter(|a| !is_arrow(a)).collect();
-                if pins.len() != 2 {
-                    return Err("linkpp requires exactly 2 pins".into());
-                }
-                self.connect(pins[0], &pins)
-            }
+            "initf" => self.host_or(&["initf", a[0], a[1]], "initf failed"),
+            // Obsolete form: a signal named after the first pin.
+            "linkpp" => self.connect(a[0], a),
             "start" => self.host(&["start"]),
             "stop" => self.host(&["stop"]),
             "setexact_for_test_suite_only" => {
-                if !self.inst.threads().map_err(msg)?.is_empty() {
+                // LinuxCNC refuses once a base period exists, that is once
+                // any thread was ever created.
+                if self.inst.base_period() != 0 {
                     return Err(
                         "HAL_LIB: Cannot run 'setexact' after a thread has been created".into(),
                     );
                 }
+                // Thread periods are always exact here: only the warning
+                // remains to be given.
                 let _ = writeln!(
                     self.err,
                     "{}Warning: HAL_LIB: HAL will pretend that the exact base period requested is possible.\nThis mode is not suitable for running real hardware.",
                     self.location()
                 );
-                self.host(&["setexact"])
+                Ok(())
             }
             "newsig" => {
-                need(2)?;
-                let t = HalType::from_name(args[1])
-                    .ok_or_else(|| format!("Unknown signal type '{}'", args[1]))?;
-                self.inst.newsig(args[0], t).map_err(|e| {
-                    self.lib_error(&e.to_string());
-                    "newsig failed".to_string()
-                })
+                let t = HalType::from_name(a[1])
+                    .ok_or_else(|| format!("Unknown signal type '{}'", a[1]))?;
+                let r = self.inst.newsig(a[0], t);
+                self.lib_or(r, "newsig failed")
             }
             "delsig" => {
-                need(1)?;
-                if args[0] == "all" {
+                if a[0] == "all" {
                     self.inst.delsig_all().map_err(msg)
                 } else {
-                    self.inst.delsig(args[0]).map_err(msg)
+                    self.inst.delsig(a[0]).map_err(msg)
                 }
             }
             "sets" => {
-                need(2)?;
-                let name = args[0];
+                let name = a[0];
                 let t = self
                     .inst
                     .signal_type(name)
                     .map_err(|_| format!("signal '{name}': not found"))?;
-                let v = parse_value(t, args[1]).map_err(|e| format!("signal '{name}': {e}"))?;
+                let v = parse_value(t, a[1]).map_err(|e| format!("signal '{name}': {e}"))?;
                 self.inst.set_signal(name, v).map_err(|e| match e {
                     HalError::SignalDriven { .. } => format!("signal '{name}': not writable"),
                     other => other.to_string(),
                 })
             }
-            "setp" => {
-                need(2)?;
-                self.setp(args[0], args[1])
-            }
-            "net" => {
-                need(1)?;
-                self.net(args[0], &args[1..])
-            }
+            "setp" => self.setp(a[0], a[1]),
+            "net" => self.net(a[0], &a[1..]),
             "linkps" => {
-                need(2)?;
-                let sig = args
-                    .iter()
-                    .skip(1)
-                    .find(|a| !is_arrow(a))
-                    .ok_or("linkps: missing signal")?;
-                let r = self.inst.link(args[0], sig);
+                let r = self.inst.link(a[0], a[1]);
                 self.lib_or(r, "link failed")
             }
             "linksp" => {
-                need(2)?;
-                let pin = args
-                    .iter()
-                    .skip(1)
-                    .find(|a| !is_arrow(a))
-                    .ok_or("linksp: missing pin")?;
-                let r = self.inst.link(pin, args[0]);
+                let r = self.inst.link(a[1], a[0]);
                 self.lib_or(r, "link failed")
             }
             "unlinkp" => {
-                need(1)?;
-                let r = self.inst.unlink(args[0]);
+                let r = self.inst.unlink(a[0]);
                 self.lib_or(r, "unlink failed")
             }
             "alias" | "unalias" => {
-                need(if w[0] == "alias" { 3 } else { 2 })?;
-                let kind = match args[0] {
+                let what = spec.name;
+                let kind = match a[0] {
                     "pin" => AliasKind::Pin,
                     "param" => AliasKind::Param,
                     other => {
-                        return Err(format!(
-                            "{}: unknown type '{other}', use pin or param",
-                            w[0]
-                        ))
+                        return Err(format!("{what}: unknown type '{other}', use pin or param"))
                     }
                 };
-                if w[0] == "alias" {
-                    self.inst.alias(kind, args[1], args[2]).map_err(msg)
+                // As LinuxCNC's do_alias_cmd: the library's message, then
+                // "alias failed" (or "unalias failed") at the line.
+                let r = if what == "alias" {
+                    self.inst.alias(kind, a[1], a[2])
                 } else {
-                    self.inst.unalias(kind, args[1]).map_err(msg)
-                }
+                    self.inst.unalias(kind, a[1])
+                };
+                self.lib_or(r, &format!("{what} failed"))
             }
             "echo" => {
                 self.echo = true;
@@ -355,27 +290,26 @@ impl<'o> Session<'o> {
                 Ok(())
             }
             "print" => {
-                let text = if args.is_empty() {
+                let text = if a.is_empty() {
                     "(null)".to_string()
                 } else {
-                    args.join(" ")
+                    a.join(" ")
                 };
                 let _ = writeln!(self.err, "{}HALCMD MSG: {text}", self.location());
                 Ok(())
             }
             "source" => {
-                need(1)?;
-                let text = std::fs::read_to_string(args[0])
-                    .map_err(|e| format!("source {}: {e}", args[0]))?;
-                let name = Path::new(args[0]).to_string_lossy().into_owned();
+                let text =
+                    std::fs::read_to_string(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
+                let name = Path::new(a[0]).to_string_lossy().into_owned();
                 if self.run_text(Some(&name), &text) {
                     Ok(())
                 } else {
-                    Err(format!("source {} failed", args[0]))
+                    Err(format!("source {} failed", a[0]))
                 }
             }
             "loadusr" => {
-                let spec = super::usr::parse(args)?;
+                let spec = super::usr::parse(a)?;
                 // A user program registers with LinuxCNC's id counter twice.
                 let next = self.inst.next_component_id().saturating_add(2);
                 self.inst.advance_component_ids(next).map_err(msg)?;
@@ -385,21 +319,31 @@ impl<'o> Session<'o> {
                 }
                 Ok(())
             }
-            "waitusr" => {
-                need(1)?;
-                super::usr::wait_gone(&self.inst, args[0])
-            }
-            "unloadusr" => {
-                need(1)?;
-                super::usr::unload(&self.inst, args[0], std::time::Duration::from_secs(10))
-            }
+            "waitusr" => super::usr::wait_gone(&self.inst, a[0]),
+            "unloadusr" => super::usr::unload(&self.inst, a[0], UNLOAD_LIMIT),
             "lock" | "unlock" | "debug" => Ok(()),
-            "show" | "list" | "save" | "getp" | "gets" | "ptype" | "stype" | "status" | "help" => {
-                let text = format::render(&self.inst, w, &self.opts)?;
+            cmd => {
+                // show, list, save, getp, gets, ptype, stype, status, help.
+                let text = format::render(&self.inst, cmd, a, self.opts.script)?;
                 let _ = self.out.write_all(text.as_bytes());
                 Ok(())
             }
-            other => Err(format!("Unknown command '{other}'")),
+        }
+    }
+
+    /// `unload NAME|all`: a user component is stopped, a realtime one
+    /// unloaded with its module.
+    fn unload(&mut self, name: &str) -> CmdResult {
+        if name == "all" {
+            super::usr::unload(&self.inst, name, UNLOAD_LIMIT)?;
+            return self.host(&["unloadrt", name]);
+        }
+        match self.inst.component(name).map_err(msg)? {
+            None => Err(format!("component '{name}' is not loaded")),
+            Some(c) if c.kind == ComponentKind::User => {
+                super::usr::unload(&self.inst, name, UNLOAD_LIMIT)
+            }
+            Some(_) => self.host(&["unloadrt", name]),
         }
     }
 
@@ -449,18 +393,18 @@ impl<'o> Session<'o> {
         })
     }
 
-    /// `net SIGNAL PIN...`: the user-facing checks, then [`Self::connect`].
-    fn net(&mut self, signal: &str, items: &[&str]) -> CmdResult {
-        let pins: Vec<&str> = items.iter().copied().filter(|a| !is_arrow(a)).collect();
+    /// `net SIGNAL PIN...` (arrows already removed): the user-facing
+    /// checks, then [`Self::connect`].
+    fn net(&mut self, signal: &str, pins: &[&str]) -> CmdResult {
         if pins.is_empty() {
             return Err("'net' requires at least one pin, none given".into());
         }
-        if format::lookup(&self.inst, signal)?.is_some_and(|(_, _, is_param)| !is_param) {
+        if self.inst.pin(signal).map_err(msg)?.is_some() {
             return Err(format!(
                 "Signal name '{signal}' must not be the same as a pin.  Did you omit the signal name?"
             ));
         }
-        self.connect(signal, &pins)
+        self.connect(signal, pins)
     }
 
     /// Links `pins` to `signal`, creating it with the first pin's type.
@@ -540,9 +484,111 @@ impl<'o> Session<'o> {
     }
 }
 
-/// Words halcmd treats as arrows and ignores (`=>`, `<=`, `<=>`, `==>`, ...).
+/// Words halcmd treats as arrows and drops (`=>`, `<=`, `<=>`, `==>`, ...):
+/// any word starting with `<` or `=`, as LinuxCNC's parser.
 fn is_arrow(s: &str) -> bool {
     s.starts_with('<') || s.starts_with('=')
+}
+
+/// How long `unload` and `unloadusr` wait for a user component to leave.
+const UNLOAD_LIMIT: Duration = Duration::from_secs(10);
+
+/// More arguments may follow the counted ones (LinuxCNC's `A_PLUS`).
+const PLUS: u8 = 1;
+/// Fewer arguments may be given (`A_OPTIONAL`).
+const OPTIONAL: u8 = 2;
+/// Arrows are dropped before counting (`A_REMOVE_ARROWS`).
+const ARROWS: u8 = 4;
+
+/// A command and the arguments it takes, as in LinuxCNC's command table.
+struct CommandSpec {
+    name: &'static str,
+    /// How many arguments it takes.
+    args: usize,
+    /// [`PLUS`], [`OPTIONAL`], [`ARROWS`].
+    flags: u8,
+}
+
+const fn cmd(name: &'static str, args: usize, flags: u8) -> CommandSpec {
+    CommandSpec { name, args, flags }
+}
+
+/// Every command, with its argument count. `print` takes any words (they
+/// are printed joined); `initf` takes no position, which this host does
+/// not support.
+const COMMANDS: &[CommandSpec] = &[
+    cmd("addf", 2, PLUS),
+    cmd("alias", 3, 0),
+    cmd("debug", 1, OPTIONAL),
+    cmd("delf", 2, OPTIONAL),
+    cmd("delsig", 1, 0),
+    cmd("echo", 0, 0),
+    cmd("getp", 1, 0),
+    cmd("gets", 1, 0),
+    cmd("help", 1, OPTIONAL),
+    cmd("initf", 2, 0),
+    cmd("linkpp", 2, ARROWS),
+    cmd("linkps", 2, ARROWS),
+    cmd("linksp", 2, ARROWS),
+    cmd("list", 1, PLUS),
+    cmd("loadrt", 1, PLUS),
+    cmd("loadusr", 0, PLUS),
+    cmd("lock", 1, OPTIONAL),
+    cmd("net", 1, PLUS | ARROWS),
+    cmd("newsig", 2, 0),
+    cmd("print", 0, PLUS),
+    cmd("ptype", 1, 0),
+    cmd("save", 2, OPTIONAL),
+    cmd("setexact_for_test_suite_only", 0, 0),
+    cmd("setp", 2, 0),
+    cmd("sets", 2, 0),
+    cmd("show", 1, OPTIONAL | PLUS),
+    cmd("source", 1, 0),
+    cmd("start", 0, 0),
+    cmd("status", 1, OPTIONAL),
+    cmd("stop", 0, 0),
+    cmd("stype", 1, 0),
+    cmd("unalias", 2, 0),
+    cmd("unecho", 0, 0),
+    cmd("unlinkp", 1, 0),
+    cmd("unload", 1, 0),
+    cmd("unloadrt", 1, 0),
+    cmd("unloadusr", 1, 0),
+    cmd("unlock", 1, OPTIONAL),
+    cmd("waitusr", 1, 0),
+];
+
+impl CommandSpec {
+    /// The arguments of one use of the command (arrows dropped if it takes
+    /// none), or LinuxCNC's message when there are too few or too many.
+    fn arguments<'w>(&self, words: &[&'w str]) -> Result<Vec<&'w str>, String> {
+        let args: Vec<&str> = words
+            .iter()
+            .copied()
+            .filter(|w| self.flags & ARROWS == 0 || !is_arrow(w))
+            .collect();
+        let given = args.len();
+        let (plus, optional) = (self.flags & PLUS != 0, self.flags & OPTIONAL != 0);
+        let bound = if given < self.args && !optional {
+            if plus {
+                "at least "
+            } else {
+                ""
+            }
+        } else if given > self.args && !plus {
+            if optional {
+                "at most "
+            } else {
+                ""
+            }
+        } else {
+            return Ok(args);
+        };
+        Err(format!(
+            "{} requires {bound}{} arguments, {given} given",
+            self.name, self.args
+        ))
+    }
 }
 
 impl Drop for Session<'_> {

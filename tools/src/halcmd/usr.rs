@@ -6,6 +6,8 @@ use std::time::{Duration, Instant};
 
 use hal_core::{ComponentKind, Instance};
 
+use super::lexer::unquote;
+
 /// Options of one `loadusr`.
 #[derive(Debug, Default, PartialEq, Eq)]
 pub struct LoadUsr {
@@ -21,34 +23,57 @@ pub struct LoadUsr {
     pub args: Vec<String>,
 }
 
-/// Parses `loadusr`'s arguments.
+/// Parses `loadusr`'s arguments as LinuxCNC does with `getopt("+wWin:")`:
+/// flags may be combined in one word (`-Wn name`, `-wi`), `-n` takes the
+/// rest of its word or the next word, and the first word that is not an
+/// option (or the word after `--`) is the program.
 pub fn parse(args: &[&str]) -> Result<LoadUsr, String> {
     let mut out = LoadUsr::default();
     let mut i = 0;
-    while i < args.len() {
-        match args[i] {
-            "-W" => out.wait_ready = true,
-            "-w" => out.wait_exit = true,
-            "-i" => out.ignore_status = true,
-            "-n" => {
-                i += 1;
-                out.name = Some(args.get(i).ok_or("loadusr: -n needs a name")?.to_string());
-            }
-            a if a.starts_with('-') && out.program.is_empty() => {
-                return Err(format!("loadusr: unknown option '{a}'"))
-            }
-            _ => {
-                out.program = args[i].to_string();
-                out.args = args[i + 1..].iter().map(|s| s.replace('"', "")).collect();
-                break;
+    while let Some(word) = args.get(i) {
+        i += 1;
+        if *word == "--" {
+            break;
+        }
+        let Some(flags) = word.strip_prefix('-').filter(|f| !f.is_empty()) else {
+            // Not an option: the program.
+            i -= 1;
+            break;
+        };
+        for (at, c) in flags.char_indices() {
+            match c {
+                'W' => out.wait_ready = true,
+                'w' => out.wait_exit = true,
+                'i' => out.ignore_status = true,
+                'n' => {
+                    let rest = &flags[at + 1..];
+                    let name = if rest.is_empty() {
+                        i += 1;
+                        *args.get(i - 1).ok_or("loadusr: -n needs a name")?
+                    } else {
+                        rest
+                    };
+                    out.name = Some(name.to_string());
+                    break;
+                }
+                other => return Err(format!("loadusr: unknown option '-{other}'")),
             }
         }
-        i += 1;
     }
-    if out.program.is_empty() {
-        return Err("loadusr: needs a program to run".into());
-    }
+    let (program, rest) = args[i..]
+        .split_first()
+        .ok_or("loadusr: needs a program to run")?;
+    out.program = program.to_string();
+    out.args = rest.iter().map(|a| unquote(a)).collect();
     Ok(out)
+}
+
+/// The component a program is expected to register when `-W` has no
+/// `-n`: its file name without directory and extension, as LinuxCNC
+/// guesses (`loadusr -W ./foo.py` waits for `foo`).
+fn guess_comp_name(program: &str) -> &str {
+    let base = program.rsplit('/').next().unwrap_or(program);
+    base.rfind('.').map_or(base, |dot| &base[..dot])
 }
 
 /// PATH with the directory of the running tools first, so that programs
@@ -82,18 +107,15 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>, String> {
         .spawn()
         .map_err(|e| format!("loadusr: cannot run '{}': {e}", spec.program))?;
     if spec.wait_ready {
-        let name = spec.name.clone().unwrap_or_else(|| {
-            std::path::Path::new(&spec.program)
-                .file_name()
-                .map(|f| f.to_string_lossy().into_owned())
-                .unwrap_or_default()
-        });
+        let name = spec
+            .name
+            .as_deref()
+            .unwrap_or_else(|| guess_comp_name(&spec.program));
         loop {
             let ready = inst
-                .components()
+                .component(name)
                 .map_err(|e| e.to_string())?
-                .iter()
-                .any(|c| c.name == name && c.ready);
+                .is_some_and(|c| c.ready);
             if ready {
                 break;
             }
@@ -120,10 +142,9 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>, String> {
 pub fn wait_gone(inst: &Instance, name: &str) -> Result<(), String> {
     let pid_of = |inst: &Instance| -> Result<Option<i32>, String> {
         Ok(inst
-            .components()
+            .component(name)
             .map_err(|e| e.to_string())?
-            .into_iter()
-            .find(|c| c.name == name && c.kind == ComponentKind::User)
+            .filter(|c| c.kind == ComponentKind::User)
             .map(|c| c.pid))
     };
     if pid_of(inst)?.is_none() {
@@ -145,11 +166,15 @@ pub fn wait_gone(inst: &Instance, name: &str) -> Result<(), String> {
 /// Sends SIGTERM to user component `name` (or every one, for `all`) and
 /// waits up to `limit` for it to leave.
 pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String> {
-    let targets: Vec<(String, i32)> = inst
-        .components()
-        .map_err(|e| e.to_string())?
+    let e = |e: hal_core::HalError| e.to_string();
+    let users = if name == "all" {
+        inst.components().map_err(e)?
+    } else {
+        inst.component(name).map_err(e)?.into_iter().collect()
+    };
+    let targets: Vec<(String, i32)> = users
         .into_iter()
-        .filter(|c| c.kind == ComponentKind::User && (name == "all" || c.name == name))
+        .filter(|c| c.kind == ComponentKind::User)
         .map(|c| (c.name, c.pid))
         .collect();
     if targets.is_empty() && name != "all" {
@@ -169,12 +194,7 @@ pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String
         if pid == me {
             continue;
         }
-        while inst
-            .components()
-            .map_err(|e| e.to_string())?
-            .iter()
-            .any(|c| c.name == n)
-        {
+        while inst.component(&n).map_err(e)?.is_some() {
             if Instant::now() > end {
                 return Err(format!("unloadusr: '{n}' did not exit"));
             }
@@ -199,5 +219,46 @@ mod tests {
         assert!(l.wait_exit && l.ignore_status);
         assert!(parse(&["-w"]).is_err());
         assert!(parse(&["-x", "prog"]).is_err());
+    }
+
+    #[test]
+    fn flags_combine_in_one_word_as_with_getopt() {
+        // The example of the HAL manual: `loadusr -Wn spindle prog`.
+        let l = parse(&["-Wn", "spindle", "prog", "-x"]).unwrap();
+        assert!(l.wait_ready && !l.wait_exit && !l.ignore_status);
+        assert_eq!(l.name.as_deref(), Some("spindle"));
+        assert_eq!(l.program, "prog");
+        assert_eq!(l.args, ["-x"], "options end at the program");
+        // -n takes the rest of its word.
+        let l = parse(&["-wiWnmeter", "halmeter"]).unwrap();
+        assert!(l.wait_exit && l.ignore_status && l.wait_ready);
+        assert_eq!(l.name.as_deref(), Some("meter"));
+        assert_eq!(l.program, "halmeter");
+        // `--` ends the options; the word after it is the program.
+        let l = parse(&["-w", "--", "-odd-name", "a"]).unwrap();
+        assert!(l.wait_exit);
+        assert_eq!(
+            (l.program.as_str(), l.args.as_slice()),
+            ("-odd-name", &["a".to_string()][..])
+        );
+        assert_eq!(parse(&["-Wn"]), Err("loadusr: -n needs a name".into()));
+        assert_eq!(
+            parse(&["-Wx", "prog"]),
+            Err("loadusr: unknown option '-x'".into())
+        );
+        assert_eq!(
+            parse(&["-W"]),
+            Err("loadusr: needs a program to run".into())
+        );
+        // Arguments lose their quotes, as before the program runs.
+        assert_eq!(parse(&["sh", "\"a b\""]).unwrap().args, ["a b"]);
+    }
+
+    #[test]
+    fn the_guessed_component_name_has_no_directory_or_extension() {
+        assert_eq!(guess_comp_name("foo.py"), "foo");
+        assert_eq!(guess_comp_name("/usr/bin/halmeter"), "halmeter");
+        assert_eq!(guess_comp_name("./dir.d/prog"), "prog");
+        assert_eq!(guess_comp_name("a.b.c"), "a.b");
     }
 }

@@ -14,54 +14,45 @@ pub enum ValueError {
 
 /// Parses `text` as a value of type `t`.
 pub fn parse_value(t: HalType, text: &str) -> Result<Value, ValueError> {
-    parse_value_text(t, text).map_err(|_| classify(t, text))
+    match t {
+        HalType::Bit => match text.to_ascii_uppercase().as_str() {
+            "1" | "TRUE" | "ON" | "YES" => Ok(Value::Bit(true)),
+            "0" | "FALSE" | "OFF" | "NO" => Ok(Value::Bit(false)),
+            _ => Err(ValueError::Invalid),
+        },
+        // strtod's ERANGE: a number too large or too small for a double.
+        HalType::Float if float_out_of_range(text) => Err(ValueError::OutOfRange),
+        HalType::Float => parse_float(text)
+            .map(Value::Float)
+            .ok_or(ValueError::Invalid),
+        HalType::S32 => parse_c_int(text, 32)
+            .map(|v| Value::S32(v as i32))
+            .map_err(|_| int_error(text)),
+        HalType::S64 => parse_c_int(text, 64)
+            .map(Value::S64)
+            .map_err(|_| int_error(text)),
+        HalType::U32 => parse_c_uint(text)
+            .filter(|v| *v <= u32::MAX as u64)
+            .map(|v| Value::U32(v as u32))
+            .ok_or_else(|| int_error(text)),
+        HalType::U64 => parse_c_uint(text)
+            .map(Value::U64)
+            .ok_or_else(|| int_error(text)),
+    }
 }
 
-/// Tells a number that does not fit from text that is no number.
-fn classify(t: HalType, text: &str) -> ValueError {
-    let numeric = match t {
-        HalType::Bit => false,
-        // strtod's ERANGE: a number too large or too small for a double.
-        HalType::Float => float_out_of_range(text),
-        _ => {
-            let body = text.trim_start().trim_start_matches(['+', '-']);
-            match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
-                Some(hex) => !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit()),
-                None => !body.is_empty() && body.chars().all(|c| c.is_ascii_digit()),
-            }
-        }
+/// Why an integer was refused: a number that does not fit (also a
+/// negative one for an unsigned type) or text that is no number.
+fn int_error(text: &str) -> ValueError {
+    let body = text.trim_start().trim_start_matches(['+', '-']);
+    let numeric = match body.strip_prefix("0x").or_else(|| body.strip_prefix("0X")) {
+        Some(hex) => !hex.is_empty() && hex.chars().all(|c| c.is_ascii_hexdigit()),
+        None => !body.is_empty() && body.chars().all(|c| c.is_ascii_digit()),
     };
     if numeric {
         ValueError::OutOfRange
     } else {
         ValueError::Invalid
-    }
-}
-
-fn parse_value_text(t: HalType, text: &str) -> Result<Value, String> {
-    match t {
-        HalType::Bit => match text.to_ascii_uppercase().as_str() {
-            "1" | "TRUE" | "ON" | "YES" => Ok(Value::Bit(true)),
-            "0" | "FALSE" | "OFF" | "NO" => Ok(Value::Bit(false)),
-            _ => Err(format!("value '{text}' invalid for bit")),
-        },
-        HalType::Float => parse_float(text)
-            .filter(|_| !float_out_of_range(text))
-            .map(Value::Float)
-            .ok_or_else(|| format!("value '{text}' invalid for float")),
-        HalType::S32 => parse_c_int(text, 32)
-            .map(|v| Value::S32(v as i32))
-            .map_err(|_| format!("value '{text}' invalid for S32")),
-        HalType::S64 => parse_c_int(text, 64)
-            .map(Value::S64)
-            .map_err(|_| format!("value '{text}' invalid for S64")),
-        HalType::U32 => parse_c_uint(text)
-            .filter(|v| *v <= u32::MAX as u64)
-            .map(|v| Value::U32(v as u32))
-            .ok_or_else(|| format!("value '{text}' invalid for U32")),
-        HalType::U64 => parse_c_uint(text)
-            .map(Value::U64)
-            .ok_or_else(|| format!("value '{text}' invalid for U64")),
     }
 }
 

@@ -3,9 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicU32, Ordering};
-
-static COUNTER: AtomicU32 = AtomicU32::new(0);
+use std::time::{Duration, Instant};
 
 /// The workspace root.
 pub fn root() -> PathBuf {
@@ -17,11 +15,7 @@ pub fn root() -> PathBuf {
 
 /// An instance name no other test uses.
 pub fn instance(tag: &str) -> String {
-    format!(
-        "e2e-{tag}-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    )
+    hal_core::HostConfig::for_tests(tag).instance
 }
 
 /// Runs `halrun ARGS` in `dir` on a fresh instance, without realtime
@@ -59,10 +53,9 @@ pub struct InProcessHost {
 
 impl InProcessHost {
     pub fn start(tag: &str) -> InProcessHost {
-        let name = instance(tag);
-        let mut cfg = hal_core::HostConfig::new(&name);
+        let mut cfg = hal_core::HostConfig::for_tests(tag);
         cfg.shm_size = 8 << 20;
-        cfg.realtime = hal_core::RealtimeMode::Off;
+        let name = cfg.instance.clone();
         let (tx, rx) = std::sync::mpsc::channel();
         let thread = std::thread::spawn(move || {
             hal_tools::hostd::serve(cfg, move || {
@@ -70,7 +63,7 @@ impl InProcessHost {
             })
             .expect("host serves");
         });
-        rx.recv_timeout(std::time::Duration::from_secs(20))
+        rx.recv_timeout(Duration::from_secs(20))
             .expect("host ready");
         InProcessHost {
             instance: name,
@@ -103,9 +96,90 @@ impl InProcessHost {
 
 impl Drop for InProcessHost {
     fn drop(&mut self) {
-        let _ = hal_tools::launch::stop_host(&self.instance, std::time::Duration::from_secs(10));
+        let _ = hal_tools::launch::stop_host(&self.instance, Duration::from_secs(10));
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
     }
+}
+
+/// Runs one of the tools on `instance`, without realtime scheduling.
+pub fn run(bin: &str, args: &[&str], instance: &str) -> Output {
+    Command::new(bin)
+        .args(args)
+        .env("HAL_INSTANCE", instance)
+        .env("HAL_NO_REALTIME", "1")
+        .output()
+        .expect("runs")
+}
+
+/// Runs `halcmd ARGS` on `instance`, which must succeed; returns stdout.
+pub fn halcmd(args: &[&str], instance: &str) -> String {
+    let out = run(env!("CARGO_BIN_EXE_halcmd"), args, instance);
+    assert!(
+        out.status.success(),
+        "halcmd {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs motion-cmd; (exit code, stdout, stderr).
+pub fn mcmd(args: &[&str], instance: &str) -> (i32, String, String) {
+    let out = run(env!("CARGO_BIN_EXE_motion-cmd"), args, instance);
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Runs motion-cmd, which must have its command accepted.
+pub fn accepted(args: &[&str], instance: &str) {
+    let (code, out, err) = mcmd(args, instance);
+    assert_eq!(code, 0, "motion-cmd {args:?}: {out}{err}");
+    assert!(out.starts_with("accepted (serial "), "{out}");
+}
+
+/// Polls `motion-cmd status` until `f` accepts it (10 s at most, `what`
+/// names the wait in the failure); returns that status.
+pub fn wait_status(instance: &str, what: &str, f: impl Fn(&str) -> bool) -> String {
+    let end = Instant::now() + Duration::from_secs(10);
+    loop {
+        let (code, out, err) = mcmd(&["status"], instance);
+        assert_eq!(code, 0, "{err}");
+        if f(&out) {
+            return out;
+        }
+        assert!(Instant::now() < end, "timed out waiting for {what}:\n{out}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// `realtime start` on `instance`, then motmod with trivkins (x y z) and
+/// three joints whose position commands feed back, its functions on the
+/// servo thread, and the threads started.
+pub fn start_motion_instance(instance: &str) {
+    let realtime = env!("CARGO_BIN_EXE_realtime");
+    assert!(run(realtime, &["start"], instance).status.success());
+    halcmd(&["loadrt", "trivkins", "coordinates=xyz"], instance);
+    halcmd(&["loadrt", "motmod", "num_joints=3"], instance);
+    for j in 0..3 {
+        let sig = format!("j{j}pos");
+        halcmd(
+            &[
+                "net",
+                &sig,
+                &format!("joint.{j}.motor-pos-cmd"),
+                &format!("joint.{j}.motor-pos-fb"),
+            ],
+            instance,
+        );
+    }
+    halcmd(
+        &["addf", "motion-command-handler", "servo-thread"],
+        instance,
+    );
+    halcmd(&["addf", "motion-controller", "servo-thread"], instance);
+    halcmd(&["start"], instance);
 }
