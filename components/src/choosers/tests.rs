@@ -2,7 +2,7 @@
 
 use super::mux_generic::{self, convert, select_value, Config, Selection};
 use super::*;
-use crate::math::testhost::TestHost;
+use crate::testing::TestHost;
 use hal_core::Value::{Bit, Float, S32, U32};
 use hal_core::{HalError, HalType};
 

@@ -1069,21 +1069,8 @@ mod tests {
 
     mod hosted {
         use super::super::*;
-        use crate::encoder::test_host as host;
+        use crate::testing::{host, load, pin_names as pins};
         use hal_core::Value;
-
-        fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
-            host.loadrt(def, args)
-        }
-
-        fn pins(host: &Host) -> Vec<String> {
-            host.instance()
-                .pins()
-                .unwrap()
-                .into_iter()
-                .map(|p| p.name)
-                .collect()
-        }
 
         #[test]
         fn load_creates_channels_pins_and_functions() {

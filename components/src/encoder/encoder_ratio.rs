@@ -362,7 +362,7 @@ mod tests {
 
     #[test]
     fn loads_and_rejects_bad_params() {
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert!(inst.pin_value("encoder-ratio.0.slave-teeth").is_ok());
@@ -370,7 +370,7 @@ mod tests {
         let f: Vec<String> = inst.functs().unwrap().into_iter().map(|f| f.name).collect();
         assert!(f.contains(&"encoder-ratio.sample".to_string()));
         assert!(f.contains(&"encoder-ratio.update".to_string()));
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         assert!(h.loadrt(&MODULE, &["num_chan=9".to_string()]).is_err());
         assert!(h
             .loadrt(&MODULE, &["names=a,b,c,d,e,f,g,h,i".to_string()])

@@ -92,12 +92,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     ]
 }
 
-/// A HAL host on a fresh instance, for tests that load the modules.
-#[cfg(test)]
-pub(crate) fn test_host() -> hal_core::Host {
-    hal_core::Host::create(hal_core::HostConfig::for_tests("encfam")).expect("host starts")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

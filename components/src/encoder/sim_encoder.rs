@@ -416,7 +416,7 @@ mod tests {
 
     #[test]
     fn loads_with_defaults_and_rejects_bad_params() {
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert_eq!(
@@ -426,7 +426,7 @@ mod tests {
         let f: Vec<String> = inst.functs().unwrap().into_iter().map(|f| f.name).collect();
         assert!(f.contains(&"sim-encoder.make-pulses".to_string()));
         assert!(f.contains(&"sim-encoder.update-speed".to_string()));
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         assert!(h.loadrt(&MODULE, &["num_chan=9".to_string()]).is_err());
         h.loadrt(&MODULE, &["names=a,b,c,d,e,f,g,h".to_string()])
             .unwrap();

@@ -120,7 +120,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::testhost::TestHost;
+    use crate::testing::TestHost;
     use hal_core::Value::Bit;
 
     #[test]

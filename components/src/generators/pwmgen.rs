@@ -508,8 +508,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pin_names;
     use super::*;
+    use crate::testing::pin_names;
 
     const P: i64 = 50_000;
 

@@ -212,8 +212,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pin_names;
     use super::*;
+    use crate::testing::pin_names;
 
     const T: f64 = 1_000_000.0 * 1e-9;
 

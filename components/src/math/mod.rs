@@ -5,9 +5,6 @@
 //! (`abs_f64`, [`Div2`], `invert`, ...) that the HAL glue calls with the
 //! pin values, so the behaviour can be tested without a HAL.
 
-#[cfg(test)]
-pub(crate) mod testhost;
-
 use hal_core::Result;
 
 use crate::halcomp::{HalComp, Inst};

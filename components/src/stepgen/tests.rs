@@ -291,11 +291,8 @@ fn bench_entry_point_runs_many_channels() {
 
 mod hal {
     use super::*;
-    use hal_core::{HostConfig, Value};
-
-    fn host() -> Host {
-        Host::create(HostConfig::for_tests("stepgen")).expect("host starts")
-    }
+    use crate::testing::host;
+    use hal_core::Value;
 
     fn load(h: &Host, words: &[&str]) -> Result<()> {
         h.loadrt(&MODULE, words)
