@@ -13,7 +13,7 @@ use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
 use super::{channel_names, CHANNEL_PARAMS};
-use crate::cmath::f64_to_i64;
+use crate::cmath::{f64_to_i64, ScaleCache};
 
 /// The `sim_encoder` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -148,15 +148,15 @@ impl Default for Timing {
 /// The update-speed half of one channel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedCalc {
-    old_scale: f64,
-    scale_mult: f64,
+    /// `1 / scale`, starting from LinuxCNC's old scale 0.0 and reciprocal
+    /// 1.0.
+    scale: ScaleCache,
 }
 
 impl Default for SpeedCalc {
     fn default() -> Self {
         SpeedCalc {
-            old_scale: 0.0,
-            scale_mult: 1.0,
+            scale: ScaleCache::new(0.0, 1.0),
         }
     }
 }
@@ -172,14 +172,8 @@ impl SpeedCalc {
     /// near-zero scale is replaced by 1.0.
     #[inline]
     pub fn addval(&mut self, t: &Timing, speed: f64, scale: &mut f64, ppr: u32) -> i64 {
-        if *scale != self.old_scale {
-            self.old_scale = *scale;
-            if *scale > -1e-20 && *scale < 1e-20 {
-                *scale = 1.0;
-            }
-            self.scale_mult = 1.0 / *scale;
-        }
-        let mut f = (speed * self.scale_mult) * ppr as f64 * 4.0;
+        let scale_mult = self.scale.check(scale, 1.0);
+        let mut f = (speed * scale_mult) * ppr as f64 * 4.0;
         if f > t.maxf {
             f = t.maxf;
         } else if f < -t.maxf {

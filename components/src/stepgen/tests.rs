@@ -272,21 +272,18 @@ fn model_matches_golden_type2_velocity() {
 #[test]
 fn bench_entry_point_runs_many_channels() {
     let cfg = config(&["step_type=0,1,2,3,4,5,6,7,8,9,10,11,12,13,14"]).unwrap();
-    let mut chans: Vec<PulseChannel> = cfg
-        .iter()
-        .map(|c| {
-            let mut p = PulseChannel::new(c.step_type);
-            p.dds.target_addval = 1 << 26; // a quarter step per call
-            p
-        })
-        .collect();
+    let mut sg = Stepgen::new(&cfg);
+    for c in &mut sg.chans {
+        c.enable = true;
+        c.dds.target_addval = 1 << 26; // a quarter step per call
+    }
     let mut steps = 0;
     for _ in 0..8 {
-        steps += make_pulses_pass(1000, &mut chans);
+        steps += sg.make_pulses(1000);
     }
     // Every channel steps at calls 2 and 6.
-    assert_eq!(steps, 2 * chans.len());
-    assert!(chans.iter().all(|c| c.rawcounts == 2));
+    assert_eq!(steps, 2 * sg.chans.len());
+    assert!(sg.chans.iter().all(|c| c.rawcounts == 2));
 }
 
 mod hal {
