@@ -29,8 +29,9 @@ use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
 use super::quadrature::{QuadDecoder, QuadMode, Step};
-use super::{channel_names, CHANNEL_PARAMS};
+use super::{CHANNEL_PARAMS, MAX_CHAN};
 use crate::cmath::{f64_to_i32, ScaleCache};
+use crate::halcomp::channel_names;
 
 /// The `encoder` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -487,7 +488,7 @@ struct CaptureChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("encoder", "encoder", DEFAULT_CHANNELS, args)?;
+    let names = channel_names("encoder", "encoder", DEFAULT_CHANNELS, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("encoder")?;
     let mut update = Vec::with_capacity(names.len());
     let mut capture = Vec::with_capacity(names.len());

@@ -13,7 +13,8 @@ use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
 use super::quadrature::{QuadDecoder, QuadMode, Step};
-use super::{channel_names, CHANNEL_PARAMS};
+use super::{CHANNEL_PARAMS, MAX_CHAN};
+use crate::halcomp::channel_names;
 
 /// The `encoder_ratio` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -159,7 +160,7 @@ struct UpdateChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("encoder_ratio", "encoder-ratio", 1, args)?;
+    let names = channel_names("encoder_ratio", "encoder-ratio", 1, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("encoder_ratio")?;
     let mut samples = Vec::with_capacity(names.len());
     let mut updates = Vec::with_capacity(names.len());

@@ -12,8 +12,9 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
-use super::{channel_names, CHANNEL_PARAMS};
+use super::{CHANNEL_PARAMS, MAX_CHAN};
 use crate::cmath::{f64_to_i64, ScaleCache};
+use crate::halcomp::channel_names;
 
 /// The `sim_encoder` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -202,7 +203,7 @@ struct SpeedChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("sim_encoder", "sim-encoder", 1, args)?;
+    let names = channel_names("sim_encoder", "sim-encoder", 1, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("sim_encoder")?;
     let mut pulses = Vec::with_capacity(names.len());
     let mut speeds = Vec::with_capacity(names.len());

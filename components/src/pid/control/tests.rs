@@ -839,6 +839,10 @@ mod hal {
             ),
             (&["num_chan=x"], "num_chan"),
             (&["bogus=1"], "bogus"),
+            // As for encoder, a name after an empty one is refused rather
+            // than silently dropped.
+            (&["names=a,,b"], "empty channel name"),
+            (&["names=,x"], "empty channel name"),
         ];
         for (args, why) in cases {
             let h = host();
