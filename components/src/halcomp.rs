@@ -29,32 +29,27 @@ pub trait HalComp {
     fn build(inst: &mut Inst<'_, '_>) -> Result<()>;
 }
 
+/// `count=`: the number of instances.
+const COUNT: ParamDecl = ParamDecl {
+    name: "count",
+    kind: ParamKind::Int,
+    help: "number of instances",
+};
+
+/// `names=`: the instance names.
+const NAMES: ParamDecl = ParamDecl {
+    name: "names",
+    kind: ParamKind::Str,
+    help: "names of the instances, comma separated",
+};
+
 /// Module parameters of a component without personality.
-pub const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "count",
-        kind: ParamKind::Int,
-        help: "number of instances",
-    },
-    ParamDecl {
-        name: "names",
-        kind: ParamKind::Str,
-        help: "names of the instances, comma separated",
-    },
-];
+pub const PARAMS: &[ParamDecl] = &[COUNT, NAMES];
 
 /// Module parameters of a component with personality.
 pub const PARAMS_PERSONALITY: &[ParamDecl] = &[
-    ParamDecl {
-        name: "count",
-        kind: ParamKind::Int,
-        help: "number of instances",
-    },
-    ParamDecl {
-        name: "names",
-        kind: ParamKind::Str,
-        help: "names of the instances, comma separated",
-    },
+    COUNT,
+    NAMES,
     ParamDecl {
         name: "personality",
         kind: ParamKind::IntArray(MAX_PERSONALITY),
@@ -194,7 +189,6 @@ pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
         let mut inst = Inst {
             b: &mut b,
             prefix,
-            index,
             personality,
         };
         C::build(&mut inst)?;
@@ -202,15 +196,15 @@ pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
     b.ready()
 }
 
-/// One instance being built: its prefix, index and personality, and the
-/// means to create its pins, params and functions.
+/// One instance being built: its prefix and personality, and the means
+/// to create its pins, params and functions.
 pub struct Inst<'b, 'h> {
     b: &'b mut RtComponentBuilder<'h>,
     /// The instance prefix (`and2.0`, or the given name).
     pub prefix: String,
-    /// Position in `count` order or the `names` list.
-    pub index: usize,
-    /// This instance's personality (0 if none given).
+    /// This instance's personality (0 if none given): entry `i % 64` of
+    /// `personality=` for the instance at position `i` in `count` order
+    /// or the `names` list.
     pub personality: i64,
 }
 

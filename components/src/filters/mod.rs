@@ -28,16 +28,10 @@ pub fn lowpass(input: f64, load: bool, gain: f64, out: f64) -> f64 {
 
 /// ilowpass: a low-pass filter on integers, computed in floating point
 /// and rounded half up.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Ilowpass {
     /// The filtered value (before scaling), starting at 0.
     pub value: f64,
-}
-
-impl Default for Ilowpass {
-    fn default() -> Self {
-        Ilowpass { value: 0.0 }
-    }
 }
 
 impl Ilowpass {
