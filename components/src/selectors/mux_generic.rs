@@ -163,10 +163,7 @@ impl Selection {
 
 /// The select value from the select bits and `sel-int` (u32, wrapping).
 pub fn select_value(bits: impl IntoIterator<Item = bool>, sel_int: u32) -> u32 {
-    bits.into_iter()
-        .enumerate()
-        .fold(0u32, |s, (i, b)| s.wrapping_add((b as u32) << i))
-        .wrapping_add(sel_int)
+    super::bits_value(bits).wrapping_add(sel_int)
 }
 
 /// One instance's handles.
