@@ -6,7 +6,8 @@
 //! `stepgen.make-pulses` (integer DDS, fastest thread),
 //! `stepgen.update-freq` (the velocity controller) and
 //! `stepgen.capture-position` (feedback). The logic lives in host-free
-//! structs ([`pulses`], [`freq`]); this module is the HAL glue.
+//! structs ([`pulses`], [`freq`]) that [`model`] runs without a host (for
+//! tests and benchmarks); this module is the HAL glue.
 //!
 //! Load: `loadrt stepgen step_type=T0,T1,... [ctrl_type=p|v,...]
 //! [user_step_type=b0,b1,...]`.

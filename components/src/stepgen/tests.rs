@@ -162,6 +162,22 @@ fn startup_period_quirk_depends_on_function_order() {
 }
 
 #[test]
+fn update_freq_and_capture_position_share_the_scale_cache() {
+    let mut sg = Stepgen::new(&config(&["step_type=0"]).unwrap());
+    sg.update_freq(50_000);
+    sg.capture_position();
+    // capture-position corrects a zero scale and remembers the 0.0...
+    sg.chans[0].params.position_scale = 0.0;
+    sg.capture_position();
+    assert_eq!(sg.chans[0].params.position_scale, 1.0);
+    // ...so update-freq, seeing 0.0 written again, finds no change and
+    // leaves it (LinuxCNC keeps one old_scale per channel).
+    sg.chans[0].params.position_scale = 0.0;
+    sg.update_freq(50_000);
+    assert_eq!(sg.chans[0].params.position_scale, 0.0);
+}
+
+#[test]
 fn velocity_mode_runs_at_the_commanded_rate() {
     let cfg = config(&["step_type=1", "ctrl_type=v"]).unwrap();
     let mut sg = Stepgen::new(&cfg);
