@@ -3,7 +3,8 @@
 //! (3 channels) and one pid loop's `do-pid-calcs`.
 //!
 //! Part 1 calls the components' host-free entry points directly
-//! ([`make_pulses_pass`], the encoder's [`Counter`], pid's [`Pid::step`]),
+//! (stepgen's host-free [`Stepgen`], the encoder's [`Counter`], pid's
+//! [`Pid::step`]),
 //! so it measures the per-call logic alone. Part 2 loads the real modules
 //! into a [`Host`] and runs them in a thread, reading each function's
 //! `.time` pin every cycle: that adds the pin reads and writes of the HAL
@@ -18,9 +19,10 @@ use std::time::{Duration, Instant};
 use hal_components::encoder::encoder::{Counter, CounterInputs, Link};
 use hal_components::encoder::quadrature::QuadMode;
 use hal_components::pid::control::{Pid, PidIo};
-use hal_components::stepgen::pulses::{PulseTiming, PICKOFF};
+use hal_components::stepgen::model::Stepgen;
+use hal_components::stepgen::pulses::PICKOFF;
 use hal_components::stepgen::steptype::StepType;
-use hal_components::stepgen::{make_pulses_pass, PulseChannel};
+use hal_components::stepgen::ChannelConfig;
 use hal_core::*;
 
 /// Base-thread period the host-free stepgen and encoder passes assume (ns).
@@ -78,31 +80,30 @@ fn row(label: &str, calls: u64, mut f: impl FnMut(u64)) {
 /// rates (one step per 3, 4 and 5 calls), each reversing every 4096 calls
 /// so that the ramp, the direction hold and the timers all get exercised.
 fn stepgen_pass() -> impl FnMut(u64) {
-    let step0 = StepType::builtin(0).expect("type 0 exists");
-    let mut chans: Vec<PulseChannel> = (0..3)
-        .map(|i| {
-            let mut c = PulseChannel::new(step0);
-            c.timing = PulseTiming {
-                steplen: BASE_NS as u32,
-                hold: BASE_NS as u32,
-                setup: BASE_NS as u32,
-            };
-            c.dds.target_addval = (1i64 << PICKOFF) / (3 + i);
-            c.dds.deltalim = 1 << 22;
-            c
-        })
-        .collect();
+    let step0 = ChannelConfig {
+        step_type: StepType::builtin(0).expect("type 0 exists"),
+        velocity_mode: false,
+    };
+    let mut sg = Stepgen::new(&[step0; 3]);
+    for (i, c) in (0..).zip(sg.chans.iter_mut()) {
+        c.enable = true;
+        c.params.steplen = BASE_NS as u32;
+        c.params.hold = BASE_NS as u32;
+        c.params.setup = BASE_NS as u32;
+        c.dds.target_addval = (1i64 << PICKOFF) / (3 + i);
+        c.dds.deltalim = 1 << 22;
+    }
     let mut n: u64 = 0;
     move |calls| {
         let mut steps = 0;
         for _ in 0..calls {
             n += 1;
             if n % 4096 == 0 {
-                for c in chans.iter_mut() {
+                for c in sg.chans.iter_mut() {
                     c.dds.target_addval = -c.dds.target_addval;
                 }
             }
-            steps += make_pulses_pass(black_box(BASE_NS), black_box(&mut chans[..]));
+            steps += black_box(&mut sg).make_pulses(black_box(BASE_NS));
         }
         black_box(steps);
     }
@@ -202,19 +203,9 @@ fn through_host() -> Result<()> {
     let name = format!("comp-bench-{}", std::process::id());
     let host = Host::create(HostConfig::new(&name))?;
     let inst = host.instance();
-    let args = |a: &[&str]| a.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    host.loadrt(
-        &hal_components::stepgen::MODULE,
-        &args(&["step_type=0,0,0"]),
-    )?;
-    host.loadrt(
-        &hal_components::encoder::encoder::MODULE,
-        &args(&["num_chan=3"]),
-    )?;
-    host.loadrt(
-        &hal_components::pid::control::MODULE,
-        &args(&["num_chan=1"]),
-    )?;
+    host.loadrt(&hal_components::stepgen::MODULE, &["step_type=0,0,0"])?;
+    host.loadrt(&hal_components::encoder::encoder::MODULE, &["num_chan=3"])?;
+    host.loadrt(&hal_components::pid::control::MODULE, &["num_chan=1"])?;
 
     // A driver that moves the stepgen commands, feeds the encoders a
     // quadrature sweep and closes the pid loop around an integrator, and

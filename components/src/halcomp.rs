@@ -29,32 +29,27 @@ pub trait HalComp {
     fn build(inst: &mut Inst<'_, '_>) -> Result<()>;
 }
 
+/// `count=`: the number of instances.
+const COUNT: ParamDecl = ParamDecl {
+    name: "count",
+    kind: ParamKind::Int,
+    help: "number of instances",
+};
+
+/// `names=`: the instance names.
+const NAMES: ParamDecl = ParamDecl {
+    name: "names",
+    kind: ParamKind::Str,
+    help: "names of the instances, comma separated",
+};
+
 /// Module parameters of a component without personality.
-pub const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "count",
-        kind: ParamKind::Int,
-        help: "number of instances",
-    },
-    ParamDecl {
-        name: "names",
-        kind: ParamKind::Str,
-        help: "names of the instances, comma separated",
-    },
-];
+pub const PARAMS: &[ParamDecl] = &[COUNT, NAMES];
 
 /// Module parameters of a component with personality.
 pub const PARAMS_PERSONALITY: &[ParamDecl] = &[
-    ParamDecl {
-        name: "count",
-        kind: ParamKind::Int,
-        help: "number of instances",
-    },
-    ParamDecl {
-        name: "names",
-        kind: ParamKind::Str,
-        help: "names of the instances, comma separated",
-    },
+    COUNT,
+    NAMES,
     ParamDecl {
         name: "personality",
         kind: ParamKind::IntArray(MAX_PERSONALITY),
@@ -130,6 +125,57 @@ pub fn instance_names(module: &str, args: &ModuleArgs) -> Result<Vec<String>> {
     }
 }
 
+/// The channel prefixes a `num_chan=` / `names=` load asks for, for the
+/// components written directly in C (encoder, sim_encoder,
+/// encoder_ratio, pid, siggen); `names` is a string array param.
+///
+/// As in LinuxCNC: `num_chan=0` or no `num_chan` with no names means
+/// `default` channels named `<base>.<i>`; a non-zero `num_chan` together
+/// with a name is an error; `num_chan` must be 1..=`max`; with names, the
+/// channels are the leading non-empty names (a trailing comma is
+/// harmless). A non-empty name after an empty one (LinuxCNC would
+/// silently drop it) is rejected, like halcompile's empty instance names.
+pub fn channel_names(
+    module: &str,
+    base: &str,
+    default: usize,
+    max: usize,
+    args: &ModuleArgs,
+) -> Result<Vec<String>> {
+    let bad = |param: &str, reason: String| HalError::ModuleParam {
+        module: module.to_string(),
+        param: param.to_string(),
+        reason,
+    };
+    let given = args.str_array("names");
+    let leading = given.iter().take_while(|n| !n.is_empty()).count();
+    if given[leading..].iter().any(|n| !n.is_empty()) {
+        return Err(bad(
+            "names",
+            format!("empty channel name in '{}'", given.join(",")),
+        ));
+    }
+    let num_chan = args.int("num_chan").unwrap_or(0);
+    if num_chan != 0 && leading > 0 {
+        return Err(HalError::ModuleLoad {
+            module: module.to_string(),
+            reason: "num_chan= and names= are mutually exclusive".into(),
+        });
+    }
+    if leading > 0 {
+        return Ok(given[..leading].to_vec());
+    }
+    let n = if num_chan == 0 {
+        default as i64
+    } else {
+        num_chan
+    };
+    if !(1..=max as i64).contains(&n) {
+        return Err(bad("num_chan", format!("{n} is out of range 1-{max}")));
+    }
+    Ok((0..n).map(|i| format!("{base}.{i}")).collect())
+}
+
 /// Loads every instance of `C` into one HAL component.
 pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
     let names = instance_names(C::NAME, args)?;
@@ -143,7 +189,6 @@ pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
         let mut inst = Inst {
             b: &mut b,
             prefix,
-            index,
             personality,
         };
         C::build(&mut inst)?;
@@ -151,15 +196,15 @@ pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
     b.ready()
 }
 
-/// One instance being built: its prefix, index and personality, and the
-/// means to create its pins, params and functions.
+/// One instance being built: its prefix and personality, and the means
+/// to create its pins, params and functions.
 pub struct Inst<'b, 'h> {
     b: &'b mut RtComponentBuilder<'h>,
     /// The instance prefix (`and2.0`, or the given name).
     pub prefix: String,
-    /// Position in `count` order or the `names` list.
-    pub index: usize,
-    /// This instance's personality (0 if none given).
+    /// This instance's personality (0 if none given): entry `i % 64` of
+    /// `personality=` for the instance at position `i` in `count` order
+    /// or the `names` list.
     pub personality: i64,
 }
 
@@ -270,5 +315,68 @@ mod tests {
                 .len(),
             4096
         );
+    }
+
+    /// `channel_names` as encoder calls it (3 channels by default, 8 at
+    /// most).
+    fn chan_names(a: &[&str]) -> Result<Vec<String>> {
+        use crate::encoder::{CHANNEL_PARAMS, MAX_CHAN};
+        let args = ModuleArgs::parse("encoder", CHANNEL_PARAMS, a)?;
+        channel_names("encoder", "encoder", 3, MAX_CHAN, &args)
+    }
+
+    #[test]
+    fn channel_defaults_and_counts() {
+        assert_eq!(
+            chan_names(&[]).unwrap(),
+            ["encoder.0", "encoder.1", "encoder.2"]
+        );
+        assert_eq!(chan_names(&["num_chan=0"]).unwrap().len(), 3);
+        assert_eq!(chan_names(&["num_chan=1"]).unwrap(), ["encoder.0"]);
+        assert_eq!(chan_names(&["num_chan=8"]).unwrap().len(), 8);
+        assert_eq!(chan_names(&["names="]).unwrap().len(), 3);
+        assert_eq!(chan_names(&["names=,"]).unwrap().len(), 3);
+    }
+
+    #[test]
+    fn bad_channel_counts_fail_naming_the_parameter() {
+        for bad in ["num_chan=9", "num_chan=-1"] {
+            match chan_names(&[bad]) {
+                Err(HalError::ModuleParam { param, .. }) => assert_eq!(param, "num_chan"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        assert!(matches!(
+            chan_names(&["num_chan=x"]),
+            Err(HalError::ModuleParam { .. })
+        ));
+    }
+
+    #[test]
+    fn channel_names_give_prefixes() {
+        assert_eq!(chan_names(&["names=x,y.z"]).unwrap(), ["x", "y.z"]);
+        assert_eq!(chan_names(&["names=a,"]).unwrap(), ["a"]);
+        let eight = "names=a,b,c,d,e,f,g,h";
+        assert_eq!(chan_names(&[eight]).unwrap().len(), 8);
+        assert!(matches!(
+            chan_names(&["names=a,b,c,d,e,f,g,h,i"]),
+            Err(HalError::ModuleParam { .. })
+        ));
+        for gap in ["names=a,,b", "names=,x"] {
+            assert!(
+                matches!(chan_names(&[gap]), Err(HalError::ModuleParam { .. })),
+                "{gap}"
+            );
+        }
+        // num_chan=0 is "not given", so it combines with names.
+        assert_eq!(chan_names(&["num_chan=0", "names=a"]).unwrap(), ["a"]);
+    }
+
+    #[test]
+    fn num_chan_and_names_are_exclusive() {
+        match chan_names(&["num_chan=2", "names=a"]) {
+            Err(HalError::ModuleLoad { reason, .. }) => assert!(reason.contains("exclusive")),
+            other => panic!("{other:?}"),
+        }
     }
 }

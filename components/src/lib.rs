@@ -3,18 +3,20 @@
 //! states each one's behaviour; the golden files check it against
 //! LinuxCNC's own output.
 //!
-//! * `halcomp`: the halcompile conventions (instances, naming) shared by
-//!   the simple components; `cmath`: C's float-to-integer conversions.
+//! * `halcomp`: the halcompile conventions (instances, naming, and the
+//!   `num_chan=`/`names=` channels of the C-style components) shared by
+//!   the components; `cmath`: C's float-to-integer conversions and the
+//!   cached scale reciprocal.
 //! * `infra`: threads, sampler, streamer, threadtest.
 //! * `stepgen`: stepgen (every step type, position and velocity control).
 //! * `encoder`: encoder, sim_encoder, encoder_ratio.
 //! * `counting`: counter.
 //! * `generators`: pwmgen, siggen.
 //! * `pid`: pid, timedelta.
-//! * `logic`: and2, or2, xor2, not; `gates`: logic.
-//! * `select`: mux2, mux4, mux8; `choosers`: mux16, mux_generic, select8.
-//! * `arith`: mult2, sum2; `math`: abs, abs_s32, abs_s64, div2, scale,
-//!   invert, hypot, blend.
+//! * `gates`: and2, or2, xor2, not, logic.
+//! * `selectors`: mux2, mux4, mux8, mux16, mux_generic, select8.
+//! * `math`: abs, abs_s32, abs_s64, sum2, mult2, div2, scale, invert,
+//!   hypot, blend, constant.
 //! * `limits`: limit1, limit2, limit3, comp, wcomp, near, deadzone, minmax.
 //! * `filters`: lowpass, ilowpass, ddt, integ, biquad, lincurve.
 //! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
@@ -23,9 +25,7 @@
 //! * `notice`: stderr messages posted from realtime functions, written by
 //!   a helper thread.
 
-pub mod arith;
 pub mod bits;
-pub mod choosers;
 pub mod cmath;
 pub mod convert;
 pub mod counting;
@@ -36,11 +36,10 @@ pub mod generators;
 pub mod halcomp;
 pub mod infra;
 pub mod limits;
-pub mod logic;
 pub mod math;
 pub mod notice;
 pub mod pid;
-pub mod select;
+pub mod selectors;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -57,17 +56,14 @@ pub fn modules() -> Vec<&'static ModuleDef> {
         &counting::counter::MODULE,
         &infra::threadtest::MODULE,
     ];
-    v.extend(logic::modules());
     v.extend(convert::modules());
-    v.extend(arith::modules());
-    v.extend(select::modules());
     v.extend(generators::modules());
     v.extend(limits::modules());
     v.extend(filters::modules());
     v.extend(timing::modules());
     v.extend(bits::modules());
     v.extend(gates::modules());
-    v.extend(choosers::modules());
+    v.extend(selectors::modules());
     v.extend(math::modules());
     v.extend(stepgen::modules());
     v.extend(pid::modules());

@@ -98,19 +98,6 @@ impl Notice {
             c.fetch_add(1, Ordering::Release);
         }
     }
-
-    /// Writes every pending message now.
-    pub fn flush(&self) {
-        self.board.flush();
-    }
-
-    /// How many times text `i` has been posted.
-    pub fn posted(&self, i: usize) -> u32 {
-        self.board
-            .posted
-            .get(i)
-            .map_or(0, |c| c.load(Ordering::Acquire))
-    }
 }
 
 impl Drop for Notice {
@@ -123,6 +110,15 @@ impl Drop for Notice {
 mod tests {
     use super::*;
 
+    /// How many times text `i` of `n` has been posted (0 outside the
+    /// table).
+    fn posted(n: &Notice, i: usize) -> u32 {
+        n.board
+            .posted
+            .get(i)
+            .map_or(0, |c| c.load(Ordering::Acquire))
+    }
+
     #[test]
     fn posts_are_counted_and_flushed_once() {
         static TEXTS: &[&str] = &["", ""];
@@ -131,10 +127,10 @@ mod tests {
         n.post(0);
         n.post(1);
         n.post(7); // out of the table: ignored
-        assert_eq!((n.posted(0), n.posted(1), n.posted(7)), (2, 1, 0));
-        n.flush();
+        assert_eq!((posted(&n, 0), posted(&n, 1), posted(&n, 7)), (2, 1, 0));
+        n.board.flush();
         assert_eq!(*n.board.written.lock().unwrap(), vec![2, 1]);
-        n.flush();
+        n.board.flush();
         assert_eq!(*n.board.written.lock().unwrap(), vec![2, 1]);
     }
 }

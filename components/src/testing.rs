@@ -1,6 +1,13 @@
-//! Helpers for tests that load modules into a private host.
+//! Test support shared by every family: a private HAL host to load
+//! modules into, list what they created, read and write pins and params,
+//! and run their functions in a thread.
+//!
+//! The free functions work on a plain [`Host`]; [`TestHost`] wraps one
+//! with the item accessors and a thread runner, and dereferences to it.
 
-use hal_core::{Host, HostConfig, ModuleDef, Result};
+use std::time::{Duration, Instant};
+
+use hal_core::{Host, HostConfig, ModuleDef, Result, Value};
 
 /// A host on an instance no other test uses, without realtime.
 pub fn host() -> Host {
@@ -12,41 +19,174 @@ pub fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
     host.loadrt(def, args)
 }
 
-/// Names of every pin, sorted.
-pub fn pin_names(host: &Host) -> Vec<String> {
-    let mut v: Vec<String> = host
-        .instance()
-        .pins()
-        .unwrap()
-        .into_iter()
-        .map(|p| p.name)
-        .collect();
+/// `names` sorted.
+fn sorted(names: impl Iterator<Item = String>) -> Vec<String> {
+    let mut v: Vec<String> = names.collect();
     v.sort();
     v
+}
+
+/// Names of every pin, sorted.
+pub fn pin_names(host: &Host) -> Vec<String> {
+    sorted(host.instance().pins().unwrap().into_iter().map(|p| p.name))
 }
 
 /// Names of every param, sorted.
 pub fn param_names(host: &Host) -> Vec<String> {
-    let mut v: Vec<String> = host
-        .instance()
-        .params()
-        .unwrap()
-        .into_iter()
-        .map(|p| p.name)
-        .collect();
-    v.sort();
-    v
+    sorted(
+        host.instance()
+            .params()
+            .unwrap()
+            .into_iter()
+            .map(|p| p.name),
+    )
 }
 
 /// Names of every function, sorted.
 pub fn funct_names(host: &Host) -> Vec<String> {
-    let mut v: Vec<String> = host
-        .instance()
-        .functs()
-        .unwrap()
-        .into_iter()
-        .map(|f| f.name)
-        .collect();
-    v.sort();
-    v
+    sorted(
+        host.instance()
+            .functs()
+            .unwrap()
+            .into_iter()
+            .map(|f| f.name),
+    )
+}
+
+/// A float value, or a panic naming what it was.
+pub fn float(v: Value) -> f64 {
+    match v {
+        Value::Float(f) => f,
+        v => panic!("not a float: {v:?}"),
+    }
+}
+
+/// A host on an instance no other test uses, with accessors by item name
+/// and the threads the test has created.
+pub struct TestHost {
+    /// The host itself.
+    pub host: Host,
+    threads: usize,
+}
+
+impl std::ops::Deref for TestHost {
+    type Target = Host;
+
+    fn deref(&self) -> &Host {
+        &self.host
+    }
+}
+
+impl TestHost {
+    /// A fresh host without realtime scheduling; `tag` goes into the
+    /// instance name.
+    pub fn new(tag: &str) -> TestHost {
+        TestHost {
+            host: Host::create(HostConfig::for_tests(tag)).expect("host starts"),
+            threads: 0,
+        }
+    }
+
+    /// `loadrt def args...`.
+    pub fn load(&self, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
+        self.host.loadrt(def, args)
+    }
+
+    /// Sorted names of every pin, without the function timing ones
+    /// (`<funct>.time`).
+    pub fn pins(&self) -> Vec<String> {
+        let mut v = pin_names(&self.host);
+        v.retain(|n| !n.ends_with(".time"));
+        v
+    }
+
+    /// Sorted names of every param, without the function timing ones
+    /// (`<funct>.tmax`, `<funct>.tmax-increased`).
+    pub fn params(&self) -> Vec<String> {
+        let mut v = param_names(&self.host);
+        v.retain(|n| !n.ends_with(".tmax") && !n.ends_with(".tmax-increased"));
+        v
+    }
+
+    /// Sorted names of every function.
+    pub fn functs(&self) -> Vec<String> {
+        funct_names(&self.host)
+    }
+
+    /// Sorted names of every pin and param starting with `prefix`, the
+    /// function timing ones included.
+    pub fn items(&self, prefix: &str) -> Vec<String> {
+        let inst = self.host.instance();
+        sorted(
+            inst.pins()
+                .unwrap()
+                .into_iter()
+                .map(|p| p.name)
+                .chain(inst.params().unwrap().into_iter().map(|p| p.name))
+                .filter(|n| n.starts_with(prefix)),
+        )
+    }
+
+    /// Writes an unconnected pin.
+    pub fn set(&self, pin: &str, v: Value) {
+        self.host.instance().set_pin(pin, v).expect(pin);
+    }
+
+    /// Reads a pin (panics naming it if it does not exist).
+    pub fn get(&self, pin: &str) -> Value {
+        self.host.instance().pin_value(pin).expect(pin)
+    }
+
+    /// Writes a param.
+    pub fn setp(&self, param: &str, v: Value) {
+        self.host.instance().set_param(param, v).expect(param);
+    }
+
+    /// Reads a param (panics naming it if it does not exist).
+    pub fn getp(&self, param: &str) -> Value {
+        self.host.instance().param_value(param).expect(param)
+    }
+
+    /// Puts `functs` in a new 1 ms thread (not started yet).
+    pub fn thread(&mut self, functs: &[&str]) {
+        let name = format!("t{}", self.threads);
+        self.threads += 1;
+        self.host
+            .create_thread(&name, 1_000_000, true, None)
+            .unwrap();
+        for f in functs {
+            self.host.addf(f, &name, -1).unwrap();
+        }
+    }
+
+    /// Cycles run so far by the first thread.
+    fn cycles(&self) -> u64 {
+        self.host.instance().threads().unwrap()[0].cycles
+    }
+
+    /// Runs the threads for at least `n` more cycles (panics after 10 s),
+    /// stops them and returns how many cycles the first thread has run in
+    /// all: with one thread started once, exactly how many times each of
+    /// its functions ran.
+    pub fn run(&self, n: u64) -> u64 {
+        let target = self.cycles() + n;
+        self.host.start().unwrap();
+        let end = Instant::now() + Duration::from_secs(10);
+        while self.cycles() < target {
+            assert!(Instant::now() < end, "threads did not run");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        self.host.stop();
+        self.cycles()
+    }
+
+    /// Sets the inputs, runs a few cycles and checks that `pin` reads
+    /// `want`.
+    pub fn expect(&self, inputs: &[(&str, Value)], pin: &str, want: Value) {
+        for (p, v) in inputs {
+            self.set(p, *v);
+        }
+        self.run(2);
+        assert_eq!(self.get(pin), want, "{pin} after {inputs:?}");
+    }
 }

@@ -94,7 +94,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     #[test]
     fn bits_of_a_u32() {
@@ -123,15 +123,15 @@ mod tests {
 
     #[test]
     fn bitslice_pins_follow_personality_and_bad_ones_fail() {
-        let host = testhost::host();
-        let err = testhost::load(&host, &BITSLICE, &["count=2", "personality=3,33"]).unwrap_err();
+        let host = testing::host();
+        let err = testing::load(&host, &BITSLICE, &["count=2", "personality=3,33"]).unwrap_err();
         assert!(
             matches!(&err, HalError::ModuleParam { param, .. } if param == "personality"),
             "{err}"
         );
-        assert!(testhost::pin_names(&host).is_empty());
-        testhost::load(&host, &BITSLICE, &["count=3", "personality=3,12"]).unwrap();
-        let pins = testhost::pin_names(&host);
+        assert!(testing::pin_names(&host).is_empty());
+        testing::load(&host, &BITSLICE, &["count=3", "personality=3,12"]).unwrap();
+        let pins = testing::pin_names(&host);
         assert!(pins.contains(&"bitslice.0.out-02".to_string()));
         assert!(!pins.contains(&"bitslice.0.out-03".to_string()));
         assert!(pins.contains(&"bitslice.1.out-11".to_string()));
@@ -142,8 +142,8 @@ mod tests {
 
     #[test]
     fn bitwise_loads() {
-        let host = testhost::host();
-        testhost::load(&host, &BITWISE, &[]).unwrap();
-        assert!(testhost::pin_names(&host).contains(&"bitwise.0.out-xnor".to_string()));
+        let host = testing::host();
+        testing::load(&host, &BITWISE, &[]).unwrap();
+        assert!(testing::pin_names(&host).contains(&"bitwise.0.out-xnor".to_string()));
     }
 }

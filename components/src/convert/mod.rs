@@ -80,57 +80,96 @@ fn same(a: Value, b: Value) -> bool {
     }
 }
 
-/// One conversion step; returns the output and the new out-of-range flag
-/// (`None` leaves it unchanged, as wrap mode does when nothing was lost).
-pub fn step(v: Value, to: HalType, clamp: bool) -> (Value, Option<bool>) {
-    let from = v.hal_type();
-    let (test_hi, test_lo) = tested_bounds(from, to);
-    let (lo, hi) = range(to);
-    if clamp {
-        let (above, below) = match num(v) {
-            Num::Int(i) => (i > hi, i < lo),
-            Num::Float(f) => (f > hi as f64, f < lo as f64),
-        };
-        if test_hi && above {
-            return (c_convert(Value::U64(hi as u64), to), Some(true));
+/// One `conv_<in>_<out>` pair, with its bounds worked out once at load
+/// rather than on every call.
+#[derive(Debug, Clone, Copy)]
+pub struct Conversion {
+    from: HalType,
+    to: HalType,
+    /// The source can exceed the target's top.
+    test_hi: bool,
+    /// The source can go below the target's bottom.
+    test_lo: bool,
+    /// The target's range, as integers (integer sources) and as floats
+    /// (float sources).
+    lo: i128,
+    hi: i128,
+    lo_f: f64,
+    hi_f: f64,
+    /// What clamping to the top or the bottom outputs.
+    top: Value,
+    bottom: Value,
+}
+
+impl Conversion {
+    /// The conversion from `from` to `to`.
+    pub fn new(from: HalType, to: HalType) -> Conversion {
+        let (test_hi, test_lo) = tested_bounds(from, to);
+        let (lo, hi) = range(to);
+        Conversion {
+            from,
+            to,
+            test_hi,
+            test_lo,
+            lo,
+            hi,
+            lo_f: lo as f64,
+            hi_f: hi as f64,
+            top: c_convert(Value::U64(hi as u64), to),
+            bottom: c_convert(Value::S64(lo as i64), to),
         }
-        if test_lo && below {
-            return (c_convert(Value::S64(lo as i64), to), Some(true));
-        }
-        return (c_convert(v, to), Some(false));
     }
-    let out = c_convert(v, to);
-    let lost = !same(c_convert(out, from), v);
-    (out, lost.then_some(true))
+
+    /// Whether the pair can lose information, and so has a `clamp` param
+    /// and an `out-of-range` pin.
+    pub fn checked(&self) -> bool {
+        self.test_hi || self.test_lo
+    }
+
+    /// One conversion of `v` (of the source type); returns the output and
+    /// the new out-of-range flag (`None` leaves it unchanged, as wrap mode
+    /// does when nothing was lost).
+    #[inline]
+    pub fn step(&self, v: Value, clamp: bool) -> (Value, Option<bool>) {
+        if clamp {
+            let (above, below) = match num(v) {
+                Num::Int(i) => (i > self.hi, i < self.lo),
+                Num::Float(f) => (f > self.hi_f, f < self.lo_f),
+            };
+            if self.test_hi && above {
+                return (self.top, Some(true));
+            }
+            if self.test_lo && below {
+                return (self.bottom, Some(true));
+            }
+            return (c_convert(v, self.to), Some(false));
+        }
+        let out = c_convert(v, self.to);
+        let lost = !same(c_convert(out, self.from), v);
+        (out, lost.then_some(true))
+    }
 }
 
 /// Builds one conversion instance.
 fn build(inst: &mut Inst<'_, '_>, from: HalType, to: HalType) -> Result<()> {
     let input = inst.pin_raw::<In>("in", from)?;
     let output = inst.pin_raw::<Out>("out", to)?;
-    let (hi, lo) = tested_bounds(from, to);
-    if !(hi || lo) {
-        return inst.funct(
-            "_",
-            from == HalType::Float || to == HalType::Float,
-            move |_| {
-                output.set_bits(c_convert(input.value(), to).to_bits());
-            },
-        );
+    let uses_fp = from == HalType::Float || to == HalType::Float;
+    let conv = Conversion::new(from, to);
+    if !conv.checked() {
+        return inst.funct("_", uses_fp, move |_| {
+            output.set_bits(c_convert(input.value(), to).to_bits());
+        });
     }
     let out_of_range = inst.pin_out::<bool>("out-of-range")?;
     let clamp = inst.param_rw::<bool>("clamp", false)?;
-    inst.funct(
-        "_",
-        from == HalType::Float || to == HalType::Float,
-        move |_| {
-            let (out, flag) = step(input.value(), to, clamp.get());
-            output.set_bits(out.to_bits());
-            if let Some(f) = flag {
-                out_of_range.set(f);
-            }
-        },
-    )
+    inst.funct("_", uses_fp, move |_| {
+        let (out, flag) = conv.step(input.value(), clamp.get());
+        output.set_bits(out.to_bits());
+        if let Some(f) = flag {
+            out_of_range.set(f);
+        }
+    })
 }
 
 macro_rules! conv {
@@ -188,6 +227,11 @@ conv! {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One conversion of `v` to `to`.
+    fn step(v: Value, to: HalType, clamp: bool) -> (Value, Option<bool>) {
+        Conversion::new(v.hal_type(), to).step(v, clamp)
+    }
 
     #[test]
     fn bounds_follow_the_reference_table() {

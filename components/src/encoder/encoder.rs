@@ -29,8 +29,9 @@ use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
 use super::quadrature::{QuadDecoder, QuadMode, Step};
-use super::{channel_names, CHANNEL_PARAMS};
-use crate::cmath::f64_to_i32;
+use super::{CHANNEL_PARAMS, MAX_CHAN};
+use crate::cmath::{f64_to_i32, ScaleCache};
+use crate::halcomp::channel_names;
 
 /// The `encoder` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -284,9 +285,9 @@ pub struct Capture {
     timestamp: u32,
     index_count: i32,
     latch_count: i32,
-    old_scale: f64,
-    /// 1 / position-scale.
-    scale: f64,
+    /// 1 / position-scale, starting from LinuxCNC's old scale 1.0 and
+    /// reciprocal 1.0.
+    scale: ScaleCache,
     counts_since_timeout: i32,
 }
 
@@ -298,8 +299,7 @@ impl Default for Capture {
             timestamp: 0,
             index_count: 0,
             latch_count: 0,
-            old_scale: 1.0,
-            scale: 1.0,
+            scale: ScaleCache::new(1.0, 1.0),
             counts_since_timeout: 0,
         }
     }
@@ -330,17 +330,7 @@ impl Capture {
         let count_detected = mb.count != self.seen.count;
         self.seen = mb;
         link.index_armed = io.index_enable;
-        let s = io.position_scale;
-        if s != self.old_scale {
-            self.old_scale = s;
-            let s = if s > -1e-20 && s < 1e-20 {
-                io.position_scale = 1.0;
-                1.0
-            } else {
-                s
-            };
-            self.scale = 1.0 / s;
-        }
+        let scale = self.scale.check(&mut io.position_scale, 1.0);
         if io.min_speed_estimate == 0.0 {
             io.min_speed_estimate = 1.0;
         }
@@ -368,15 +358,15 @@ impl Capture {
             if self.counts_since_timeout < 2 {
                 self.counts_since_timeout += 1;
             } else {
-                io.velocity = (dcount as f64 * self.scale) / (dtime as f64 * 1e-9);
+                io.velocity = (dcount as f64 * scale) / (dtime as f64 * 1e-9);
             }
         } else if self.counts_since_timeout != 0 {
             let dtime = timebase.wrapping_sub(self.timestamp);
             if io.missing_teeth != 0 && dtime as f64 > 1.5 * link.limit_dt as f64 {
                 // Inside a tooth gap: keep the velocity.
-            } else if (dtime as f64) < 1e9 / (io.min_speed_estimate * self.scale) {
+            } else if (dtime as f64) < 1e9 / (io.min_speed_estimate * scale) {
                 // No new edge: the speed is at most one count per dtime.
-                let v = (self.scale / (dtime as f64 * 1e-9)).abs();
+                let v = (scale / (dtime as f64 * 1e-9)).abs();
                 if v < io.velocity {
                     io.velocity = v;
                 }
@@ -392,13 +382,13 @@ impl Capture {
         }
         let counts = self.raw_count.wrapping_sub(self.index_count);
         let counts_latched = self.latch_count.wrapping_sub(self.index_count);
-        let position = counts as f64 * self.scale;
+        let position = counts as f64 * scale;
         let dtime = timebase.wrapping_sub(self.timestamp);
         CaptureOutputs {
             counts,
             counts_latched,
             position,
-            position_latched: counts_latched as f64 * self.scale,
+            position_latched: counts_latched as f64 * scale,
             position_interpolated: position + io.velocity * (dtime as f64 * 1e-9),
             velocity_rpm: io.velocity * 60.0,
         }
@@ -498,7 +488,7 @@ struct CaptureChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("encoder", "encoder", DEFAULT_CHANNELS, args)?;
+    let names = channel_names("encoder", "encoder", DEFAULT_CHANNELS, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("encoder")?;
     let mut update = Vec::with_capacity(names.len());
     let mut capture = Vec::with_capacity(names.len());
@@ -1069,21 +1059,8 @@ mod tests {
 
     mod hosted {
         use super::super::*;
-        use crate::encoder::test_host as host;
+        use crate::testing::{host, load, pin_names as pins};
         use hal_core::Value;
-
-        fn load(host: &Host, def: &'static ModuleDef, args: &[&str]) -> Result<()> {
-            host.loadrt(def, args)
-        }
-
-        fn pins(host: &Host) -> Vec<String> {
-            host.instance()
-                .pins()
-                .unwrap()
-                .into_iter()
-                .map(|p| p.name)
-                .collect()
-        }
 
         #[test]
         fn load_creates_channels_pins_and_functions() {

@@ -13,7 +13,8 @@ use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
 use super::quadrature::{QuadDecoder, QuadMode, Step};
-use super::{channel_names, CHANNEL_PARAMS};
+use super::{CHANNEL_PARAMS, MAX_CHAN};
+use crate::halcomp::channel_names;
 
 /// The `encoder_ratio` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -159,7 +160,7 @@ struct UpdateChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("encoder_ratio", "encoder-ratio", 1, args)?;
+    let names = channel_names("encoder_ratio", "encoder-ratio", 1, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("encoder_ratio")?;
     let mut samples = Vec::with_capacity(names.len());
     let mut updates = Vec::with_capacity(names.len());
@@ -362,7 +363,7 @@ mod tests {
 
     #[test]
     fn loads_and_rejects_bad_params() {
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert!(inst.pin_value("encoder-ratio.0.slave-teeth").is_ok());
@@ -370,7 +371,7 @@ mod tests {
         let f: Vec<String> = inst.functs().unwrap().into_iter().map(|f| f.name).collect();
         assert!(f.contains(&"encoder-ratio.sample".to_string()));
         assert!(f.contains(&"encoder-ratio.update".to_string()));
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         assert!(h.loadrt(&MODULE, &["num_chan=9".to_string()]).is_err());
         assert!(h
             .loadrt(&MODULE, &["names=a,b,c,d,e,f,g,h,i".to_string()])

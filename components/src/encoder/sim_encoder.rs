@@ -12,8 +12,9 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Host, In, Io, Out, Pin, Result};
 
-use super::{channel_names, CHANNEL_PARAMS};
-use crate::cmath::f64_to_i64;
+use super::{CHANNEL_PARAMS, MAX_CHAN};
+use crate::cmath::{f64_to_i64, ScaleCache};
+use crate::halcomp::channel_names;
 
 /// The `sim_encoder` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -148,15 +149,15 @@ impl Default for Timing {
 /// The update-speed half of one channel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedCalc {
-    old_scale: f64,
-    scale_mult: f64,
+    /// `1 / scale`, starting from LinuxCNC's old scale 0.0 and reciprocal
+    /// 1.0.
+    scale: ScaleCache,
 }
 
 impl Default for SpeedCalc {
     fn default() -> Self {
         SpeedCalc {
-            old_scale: 0.0,
-            scale_mult: 1.0,
+            scale: ScaleCache::new(0.0, 1.0),
         }
     }
 }
@@ -172,14 +173,8 @@ impl SpeedCalc {
     /// near-zero scale is replaced by 1.0.
     #[inline]
     pub fn addval(&mut self, t: &Timing, speed: f64, scale: &mut f64, ppr: u32) -> i64 {
-        if *scale != self.old_scale {
-            self.old_scale = *scale;
-            if *scale > -1e-20 && *scale < 1e-20 {
-                *scale = 1.0;
-            }
-            self.scale_mult = 1.0 / *scale;
-        }
-        let mut f = (speed * self.scale_mult) * ppr as f64 * 4.0;
+        let scale_mult = self.scale.check(scale, 1.0);
+        let mut f = (speed * scale_mult) * ppr as f64 * 4.0;
         if f > t.maxf {
             f = t.maxf;
         } else if f < -t.maxf {
@@ -208,7 +203,7 @@ struct SpeedChan {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names("sim_encoder", "sim-encoder", 1, args)?;
+    let names = channel_names("sim_encoder", "sim-encoder", 1, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("sim_encoder")?;
     let mut pulses = Vec::with_capacity(names.len());
     let mut speeds = Vec::with_capacity(names.len());
@@ -416,7 +411,7 @@ mod tests {
 
     #[test]
     fn loads_with_defaults_and_rejects_bad_params() {
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         h.loadrt(&MODULE, &[] as &[&str]).unwrap();
         let inst = h.instance();
         assert_eq!(
@@ -426,7 +421,7 @@ mod tests {
         let f: Vec<String> = inst.functs().unwrap().into_iter().map(|f| f.name).collect();
         assert!(f.contains(&"sim-encoder.make-pulses".to_string()));
         assert!(f.contains(&"sim-encoder.update-speed".to_string()));
-        let h = super::super::test_host();
+        let h = crate::testing::host();
         assert!(h.loadrt(&MODULE, &["num_chan=9".to_string()]).is_err());
         h.loadrt(&MODULE, &["names=a,b,c,d,e,f,g,h".to_string()])
             .unwrap();

@@ -28,16 +28,10 @@ pub fn lowpass(input: f64, load: bool, gain: f64, out: f64) -> f64 {
 
 /// ilowpass: a low-pass filter on integers, computed in floating point
 /// and rounded half up.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Ilowpass {
     /// The filtered value (before scaling), starting at 0.
     pub value: f64,
-}
-
-impl Default for Ilowpass {
-    fn default() -> Self {
-        Ilowpass { value: 0.0 }
-    }
 }
 
 impl Ilowpass {
@@ -254,32 +248,32 @@ mod tests {
 
     mod hal {
         use super::super::*;
-        use crate::limits::testhost::*;
+        use crate::testing::{float, TestHost};
         use hal_core::Value;
 
         #[test]
         fn names_and_defaults() {
-            let h = host("fnames");
+            let h = TestHost::new("lim-fnames");
             for def in modules() {
-                load(&h, def, &[]).unwrap();
+                h.load(def, &[]).unwrap();
             }
-            assert_eq!(param(&h, "lowpass.0.gain"), Value::Float(0.0));
-            assert_eq!(param(&h, "ilowpass.0.scale"), Value::Float(1024.0));
-            assert_eq!(param(&h, "ilowpass.0.gain"), Value::Float(0.5));
-            assert_eq!(pin(&h, "ilowpass.0.out"), Value::S32(0));
-            assert_eq!(pin(&h, "integ.0.gain"), Value::Float(1.0));
-            assert_eq!(pin(&h, "integ.0.max"), Value::Float(1e20));
-            assert_eq!(pin(&h, "integ.0.min"), Value::Float(-1e20));
-            assert_eq!(pin(&h, "biquad.0.Q"), Value::Float(biquad::DEFAULT_Q));
-            assert_eq!(pin(&h, "biquad.0.f0"), Value::Float(250.0));
-            assert_eq!(pin(&h, "biquad.0.type"), Value::U32(0));
-            assert_eq!(param(&h, "biquad.0.n0"), Value::Float(1.0));
+            assert_eq!(h.getp("lowpass.0.gain"), Value::Float(0.0));
+            assert_eq!(h.getp("ilowpass.0.scale"), Value::Float(1024.0));
+            assert_eq!(h.getp("ilowpass.0.gain"), Value::Float(0.5));
+            assert_eq!(h.get("ilowpass.0.out"), Value::S32(0));
+            assert_eq!(h.get("integ.0.gain"), Value::Float(1.0));
+            assert_eq!(h.get("integ.0.max"), Value::Float(1e20));
+            assert_eq!(h.get("integ.0.min"), Value::Float(-1e20));
+            assert_eq!(h.get("biquad.0.Q"), Value::Float(biquad::DEFAULT_Q));
+            assert_eq!(h.get("biquad.0.f0"), Value::Float(250.0));
+            assert_eq!(h.get("biquad.0.type"), Value::U32(0));
+            assert_eq!(h.getp("biquad.0.n0"), Value::Float(1.0));
             for p in ["biquad.0.s1", "biquad.0.s2", "biquad.0.valid", "ddt.0.out"] {
-                pin(&h, p);
+                h.get(p);
             }
             // lincurve with no personality: two breakpoints.
             assert_eq!(
-                items(&h, "lincurve.0."),
+                h.items("lincurve.0."),
                 [
                     "lincurve.0.in",
                     "lincurve.0.out",
@@ -297,48 +291,44 @@ mod tests {
 
         #[test]
         fn lincurve_personality_is_clamped_per_instance() {
-            let h = host("lcp");
-            load(
-                &h,
-                &lincurve::LINCURVE,
-                &["names=a,b,c", "personality=5,40"],
-            )
-            .unwrap();
-            let count = |p: &str| items(&h, p).len();
+            let h = TestHost::new("lim-lcp");
+            h.load(&lincurve::LINCURVE, &["names=a,b,c", "personality=5,40"])
+                .unwrap();
+            let count = |p: &str| h.items(p).len();
             assert_eq!(count("a.x-val-"), 5);
             assert_eq!(count("b.x-val-"), 16);
             assert_eq!(count("b.y-val-"), 16);
-            param(&h, "b.y-val-15");
+            h.getp("b.y-val-15");
             // Not given: 0, clamped to 2.
             assert_eq!(count("c.x-val-"), 2);
         }
 
         #[test]
         fn filters_run_in_a_thread() {
-            let h = host("frun");
+            let mut h = TestHost::new("lim-frun");
             for def in modules() {
-                load(&h, def, &[]).unwrap();
+                h.load(def, &[]).unwrap();
             }
             // integ: out grows by gain * in * T per cycle.
-            set_pin(&h, "integ.0.in", Value::Float(1.0));
-            set_pin(&h, "integ.0.gain", Value::Float(2.0));
+            h.set("integ.0.in", Value::Float(1.0));
+            h.set("integ.0.gain", Value::Float(2.0));
             // ddt of a constant: only the first call is non-zero.
-            set_pin(&h, "ddt.0.in", Value::Float(3.0));
+            h.set("ddt.0.in", Value::Float(3.0));
             // lowpass with load copies the input.
-            set_pin(&h, "lowpass.0.in", Value::Float(4.0));
-            set_pin(&h, "lowpass.0.load", Value::Bit(true));
-            set_pin(&h, "ilowpass.0.in", Value::S32(7));
-            set_param(&h, "ilowpass.0.gain", Value::Float(1.0));
-            set_param(&h, "ilowpass.0.scale", Value::Float(1.0));
+            h.set("lowpass.0.in", Value::Float(4.0));
+            h.set("lowpass.0.load", Value::Bit(true));
+            h.set("ilowpass.0.in", Value::S32(7));
+            h.setp("ilowpass.0.gain", Value::Float(1.0));
+            h.setp("ilowpass.0.scale", Value::Float(1.0));
             // biquad low-pass, designed on the rising edge of enable.
-            set_pin(&h, "biquad.0.type", Value::U32(1));
-            set_pin(&h, "biquad.0.f0", Value::Float(50.0));
-            set_pin(&h, "biquad.0.enable", Value::Bit(true));
-            set_pin(&h, "biquad.0.in", Value::Float(1.0));
+            h.set("biquad.0.type", Value::U32(1));
+            h.set("biquad.0.f0", Value::Float(50.0));
+            h.set("biquad.0.enable", Value::Bit(true));
+            h.set("biquad.0.in", Value::Float(1.0));
             // lincurve: 0..10 maps to 0..100.
-            set_param(&h, "lincurve.0.x-val-01", Value::Float(10.0));
-            set_param(&h, "lincurve.0.y-val-01", Value::Float(100.0));
-            set_pin(&h, "lincurve.0.in", Value::Float(2.5));
+            h.setp("lincurve.0.x-val-01", Value::Float(10.0));
+            h.setp("lincurve.0.y-val-01", Value::Float(100.0));
+            h.set("lincurve.0.in", Value::Float(2.5));
             let functs = [
                 "integ.0",
                 "ddt.0",
@@ -347,18 +337,19 @@ mod tests {
                 "biquad.0",
                 "lincurve.0",
             ];
-            let n = run(&h, &functs, 10);
-            let integ = float(pin(&h, "integ.0.out"));
+            h.thread(&functs);
+            let n = h.run(10);
+            let integ = float(h.get("integ.0.out"));
             assert!((integ - 0.002 * n as f64).abs() < 1e-9, "{integ} after {n}");
-            assert_eq!(pin(&h, "ddt.0.out"), Value::Float(0.0));
-            assert_eq!(pin(&h, "lowpass.0.out"), Value::Float(4.0));
-            assert_eq!(pin(&h, "ilowpass.0.out"), Value::S32(7));
-            assert_eq!(pin(&h, "biquad.0.valid"), Value::Bit(true));
+            assert_eq!(h.get("ddt.0.out"), Value::Float(0.0));
+            assert_eq!(h.get("lowpass.0.out"), Value::Float(4.0));
+            assert_eq!(h.get("ilowpass.0.out"), Value::S32(7));
+            assert_eq!(h.get("biquad.0.valid"), Value::Bit(true));
             let c = biquad::design(1, 50.0, biquad::DEFAULT_Q, 1_000_000).unwrap();
-            assert_eq!(param(&h, "biquad.0.n0"), Value::Float(c.n0));
-            assert_eq!(param(&h, "biquad.0.d2"), Value::Float(c.d2));
-            assert_eq!(pin(&h, "lincurve.0.out"), Value::Float(25.0));
-            assert_eq!(pin(&h, "lincurve.0.out-io"), Value::Float(25.0));
+            assert_eq!(h.getp("biquad.0.n0"), Value::Float(c.n0));
+            assert_eq!(h.getp("biquad.0.d2"), Value::Float(c.d2));
+            assert_eq!(h.get("lincurve.0.out"), Value::Float(25.0));
+            assert_eq!(h.get("lincurve.0.out-io"), Value::Float(25.0));
         }
     }
 }

@@ -10,7 +10,3 @@ use hal_core::ModuleDef;
 pub fn modules() -> Vec<&'static ModuleDef> {
     vec![&pwmgen::MODULE, &siggen::MODULE]
 }
-
-/// A HAL host on a private instance, for the family's tests.
-#[cfg(test)]
-pub(crate) use crate::testing::pin_names;

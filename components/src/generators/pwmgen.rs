@@ -14,7 +14,7 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Io, Out, Pin, Result};
 
-use crate::cmath::{f64_to_i32, f64_to_i64};
+use crate::cmath::{f64_to_i32, f64_to_i64, ScaleCache};
 
 /// Most channels one load may create.
 pub const MAX_CHAN: usize = 8;
@@ -187,8 +187,9 @@ pub struct Generator {
     mode: Mode,
     period: i64,
     high_time: i64,
-    old_scale: f64,
-    scale_recip: f64,
+    /// `1 / scale`, starting from LinuxCNC's old scale `scale + 1.0` (so
+    /// the default scale is examined at once) and an unset reciprocal.
+    scale: ScaleCache,
     old_pwm_freq: f64,
     periods: i32,
     periods_recip: f64,
@@ -203,8 +204,7 @@ impl Generator {
             mode: Mode::Disabled,
             period: 50_000,
             high_time: 0,
-            old_scale: Settings::default().scale + 1.0,
-            scale_recip: 0.0,
+            scale: ScaleCache::new(Settings::default().scale + 1.0, 0.0),
             old_pwm_freq: -1.0,
             periods: 0,
             periods_recip: 0.0,
@@ -235,13 +235,7 @@ impl Generator {
             s.max_dc = s.min_dc;
         }
         // The reciprocal of the scale, recomputed only when it changes.
-        if s.scale != self.old_scale {
-            self.old_scale = s.scale;
-            if s.scale < 1e-20 && s.scale > -1e-20 {
-                s.scale = 1.0;
-            }
-            self.scale_recip = 1.0 / s.scale;
-        }
+        let scale_recip = self.scale.check(&mut s.scale, 1.0);
         let new_mode = if !cmd.enable {
             Mode::Disabled
         } else if s.pwm_freq == 0.0 {
@@ -283,7 +277,7 @@ impl Generator {
             self.old_pwm_freq = s.pwm_freq;
         }
         // Command to duty cycle, limited in magnitude to min-dc..max-dc.
-        let mut dc = cmd.value * self.scale_recip + cmd.offset;
+        let mut dc = cmd.value * scale_recip + cmd.offset;
         if self.output_type == 0 && dc < 0.0 {
             dc = 0.0;
         }
@@ -508,8 +502,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pin_names;
     use super::*;
+    use crate::testing::pin_names;
 
     const P: i64 = 50_000;
 

@@ -7,7 +7,9 @@
 //! one function `P.update`.
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{HalError, Host, In, Out, Pin, Result};
+use hal_core::{Host, In, Out, Pin, Result};
+
+use crate::halcomp::channel_names;
 
 /// Most channels one load may create.
 pub const MAX_CHAN: usize = 16;
@@ -112,47 +114,6 @@ impl SigGen {
     }
 }
 
-/// The channel prefixes `num_chan=`/`names=` ask for.
-fn channel_names(args: &ModuleArgs) -> Result<Vec<String>> {
-    let bad = |param: &str, reason: String| HalError::ModuleParam {
-        module: "siggen".into(),
-        param: param.into(),
-        reason,
-    };
-    let names = args.str_array("names");
-    // `names=` with nothing after it counts as not given.
-    let names = if names.len() == 1 && names[0].is_empty() {
-        &[][..]
-    } else {
-        names
-    };
-    let num_chan = args.int("num_chan").unwrap_or(0);
-    if num_chan != 0 && !names.is_empty() {
-        return Err(HalError::ModuleLoad {
-            module: "siggen".into(),
-            reason: "num_chan= and names= are mutually exclusive".into(),
-        });
-    }
-    if !names.is_empty() {
-        // The channels are the leading non-empty names (a trailing comma
-        // is harmless); a name after a gap would be silently lost, so it
-        // is refused.
-        let n = names.iter().take_while(|n| !n.is_empty()).count();
-        if let Some(i) = names[n..].iter().position(|n| !n.is_empty()) {
-            return Err(bad("names", format!("name {} follows an empty one", n + i)));
-        }
-        if n == 0 {
-            return Err(bad("names", "the first name is empty".into()));
-        }
-        return Ok(names[..n].to_vec());
-    }
-    let n = if num_chan == 0 { 1 } else { num_chan };
-    if n < 1 || n > MAX_CHAN as i64 {
-        return Err(bad("num_chan", format!("{n} is out of range 1-{MAX_CHAN}")));
-    }
-    Ok((0..n).map(|i| format!("siggen.{i}")).collect())
-}
-
 /// The pins of one channel.
 struct Channel {
     square: Pin<f64, Out>,
@@ -168,7 +129,7 @@ struct Channel {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = channel_names(args)?;
+    let names = channel_names("siggen", "siggen", 1, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("siggen")?;
     for prefix in names {
         let c = b.component();
@@ -212,8 +173,9 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pin_names;
     use super::*;
+    use crate::testing::pin_names;
+    use hal_core::HalError;
 
     const T: f64 = 1_000_000.0 * 1e-9;
 

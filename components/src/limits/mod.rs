@@ -6,8 +6,6 @@
 //! and reused; the HAL glue reads the pins, calls it and writes the pins.
 
 pub mod limit3;
-#[cfg(test)]
-pub(crate) mod testhost;
 
 use hal_core::Result;
 
@@ -466,17 +464,17 @@ mod tests {
 
     mod hal {
         use super::super::*;
-        use crate::limits::testhost::*;
+        use crate::testing::{float, TestHost};
         use hal_core::Value;
 
         #[test]
         fn names_and_defaults() {
-            let h = host("names");
+            let h = TestHost::new("lim-names");
             for def in modules() {
-                load(&h, def, &[]).unwrap();
+                h.load(def, &[]).unwrap();
             }
             assert_eq!(
-                items(&h, "limit3.0."),
+                h.items("limit3.0."),
                 [
                     "limit3.0.enable",
                     "limit3.0.in",
@@ -492,23 +490,23 @@ mod tests {
                     "limit3.0.tmax-increased",
                 ]
             );
-            assert_eq!(pin(&h, "limit3.0.enable"), Value::Bit(true));
-            assert_eq!(pin(&h, "limit3.0.smooth-steps"), Value::U32(2));
-            assert_eq!(pin(&h, "limit3.0.maxa"), Value::Float(1e7));
-            assert_eq!(pin(&h, "limit2.0.maxv"), Value::Float(1e20));
-            assert_eq!(pin(&h, "limit1.0.min"), Value::Float(-1e20));
-            assert_eq!(param(&h, "comp.0.hyst"), Value::Float(0.0));
-            assert_eq!(param(&h, "near.0.scale"), Value::Float(1.0));
-            assert_eq!(param(&h, "near.0.difference"), Value::Float(0.0));
-            assert_eq!(param(&h, "deadzone.0.threshold"), Value::Float(1.0));
-            assert_eq!(param(&h, "deadzone.0.center"), Value::Float(0.0));
+            assert_eq!(h.get("limit3.0.enable"), Value::Bit(true));
+            assert_eq!(h.get("limit3.0.smooth-steps"), Value::U32(2));
+            assert_eq!(h.get("limit3.0.maxa"), Value::Float(1e7));
+            assert_eq!(h.get("limit2.0.maxv"), Value::Float(1e20));
+            assert_eq!(h.get("limit1.0.min"), Value::Float(-1e20));
+            assert_eq!(h.getp("comp.0.hyst"), Value::Float(0.0));
+            assert_eq!(h.getp("near.0.scale"), Value::Float(1.0));
+            assert_eq!(h.getp("near.0.difference"), Value::Float(0.0));
+            assert_eq!(h.getp("deadzone.0.threshold"), Value::Float(1.0));
+            assert_eq!(h.getp("deadzone.0.center"), Value::Float(0.0));
             for p in [
                 "wcomp.0.under",
                 "wcomp.0.over",
                 "minmax.0.max",
                 "minmax.0.min",
             ] {
-                pin(&h, p);
+                h.get(p);
             }
             let funcs: Vec<String> = h
                 .instance()
@@ -533,37 +531,38 @@ mod tests {
 
         #[test]
         fn count_and_names_select_instances() {
-            let h = host("inst");
-            load(&h, &LIMIT1, &["count=3"]).unwrap();
-            pin(&h, "limit1.2.out");
-            load(&h, &NEAR, &["names=a.b,c"]).unwrap();
-            pin(&h, "a.b.out");
-            pin(&h, "c.in1");
+            let h = TestHost::new("lim-inst");
+            h.load(&LIMIT1, &["count=3"]).unwrap();
+            h.get("limit1.2.out");
+            h.load(&NEAR, &["names=a.b,c"]).unwrap();
+            h.get("a.b.out");
+            h.get("c.in1");
             // Both at once is a load error that leaves nothing behind.
-            assert!(load(&h, &COMP, &["count=2", "names=x"]).is_err());
-            assert!(items(&h, "comp").is_empty());
-            assert!(items(&h, "x.").is_empty());
+            assert!(h.load(&COMP, &["count=2", "names=x"]).is_err());
+            assert!(h.items("comp").is_empty());
+            assert!(h.items("x.").is_empty());
         }
 
         #[test]
         fn limit3_runs_and_reads_its_output_back() {
-            let h = host("l3");
-            load(&h, &LIMIT3, &[]).unwrap();
-            load(&h, &COMP, &[]).unwrap();
-            load(&h, &MINMAX, &[]).unwrap();
-            set_pin(&h, "limit3.0.in", Value::Float(500.0));
-            set_pin(&h, "limit3.0.maxv", Value::Float(500.0));
+            let mut h = TestHost::new("lim-l3");
+            h.load(&LIMIT3, &[]).unwrap();
+            h.load(&COMP, &[]).unwrap();
+            h.load(&MINMAX, &[]).unwrap();
+            h.set("limit3.0.in", Value::Float(500.0));
+            h.set("limit3.0.maxv", Value::Float(500.0));
             // comp: in1 above in0 beyond the hysteresis band.
-            set_pin(&h, "comp.0.in1", Value::Float(1.0));
-            set_param(&h, "comp.0.hyst", Value::Float(0.5));
-            set_pin(&h, "minmax.0.in", Value::Float(-2.0));
-            let n = run(&h, &["limit3.0", "comp.0", "minmax.0"], 20);
-            let out = float(pin(&h, "limit3.0.out"));
+            h.set("comp.0.in1", Value::Float(1.0));
+            h.setp("comp.0.hyst", Value::Float(0.5));
+            h.set("minmax.0.in", Value::Float(-2.0));
+            h.thread(&["limit3.0", "comp.0", "minmax.0"]);
+            let n = h.run(20);
+            let out = float(h.get("limit3.0.out"));
             assert_eq!(format!("{out:.6}"), format!("{:.6}", 0.5 * n as f64));
-            assert_eq!(pin(&h, "comp.0.out"), Value::Bit(true));
-            assert_eq!(pin(&h, "comp.0.equal"), Value::Bit(false));
-            assert_eq!(pin(&h, "minmax.0.min"), Value::Float(-2.0));
-            assert_eq!(pin(&h, "minmax.0.max"), Value::Float(0.0));
+            assert_eq!(h.get("comp.0.out"), Value::Bit(true));
+            assert_eq!(h.get("comp.0.equal"), Value::Bit(false));
+            assert_eq!(h.get("minmax.0.min"), Value::Float(-2.0));
+            assert_eq!(h.get("minmax.0.max"), Value::Float(0.0));
         }
     }
 }

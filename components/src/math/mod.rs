@@ -1,12 +1,9 @@
-//! Arithmetic on single values: abs, abs_s32, abs_s64, div2, scale,
-//! invert, hypot, blend.
+//! Arithmetic (reference section 6): abs, abs_s32, abs_s64, sum2, mult2,
+//! div2, scale, invert, hypot, blend, constant.
 //!
 //! Each component's per-call arithmetic is a plain function or struct
 //! (`abs_f64`, [`Div2`], `invert`, ...) that the HAL glue calls with the
 //! pin values, so the behaviour can be tested without a HAL.
-
-#[cfg(test)]
-pub(crate) mod testhost;
 
 use hal_core::Result;
 
@@ -358,10 +355,41 @@ impl HalComp for Constant {
 }
 halcomp_module!(pub CONSTANT, Constant, "a constant value on a pin (LinuxCNC 2.9)");
 
+/// `mult2`: out = in0 * in1.
+pub struct Mult2;
+impl HalComp for Mult2 {
+    const NAME: &'static str = "mult2";
+    fn build(inst: &mut Inst<'_, '_>) -> Result<()> {
+        let in0 = inst.pin_in::<f64>("in0")?;
+        let in1 = inst.pin_in::<f64>("in1")?;
+        let out = inst.pin_out::<f64>("out")?;
+        inst.funct("_", true, move |_| out.set(in0.get() * in1.get()))
+    }
+}
+halcomp_module!(pub MULT2, Mult2, "product of two inputs");
+
+/// `sum2`: out = (in0 * gain0 + in1 * gain1) + offset.
+pub struct Sum2;
+impl HalComp for Sum2 {
+    const NAME: &'static str = "sum2";
+    fn build(inst: &mut Inst<'_, '_>) -> Result<()> {
+        let in0 = inst.pin_in::<f64>("in0")?;
+        let in1 = inst.pin_in::<f64>("in1")?;
+        let out = inst.pin_out::<f64>("out")?;
+        let gain0 = inst.param_rw::<f64>("gain0", 1.0)?;
+        let gain1 = inst.param_rw::<f64>("gain1", 1.0)?;
+        let offset = inst.param_rw::<f64>("offset", 0.0)?;
+        inst.funct("_", true, move |_| {
+            out.set((in0.get() * gain0.get() + in1.get() * gain1.get()) + offset.get())
+        })
+    }
+}
+halcomp_module!(pub SUM2, Sum2, "weighted sum of two inputs");
+
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
     vec![
-        &ABS, &ABS_S32, &ABS_S64, &DIV2, &SCALE, &INVERT, &HYPOT, &BLEND, &CONSTANT,
+        &ABS, &ABS_S32, &ABS_S64, &SUM2, &MULT2, &DIV2, &SCALE, &INVERT, &HYPOT, &BLEND, &CONSTANT,
     ]
 }
 

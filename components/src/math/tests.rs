@@ -1,7 +1,7 @@
 //! Tests of the math family: the arithmetic directly, then the HAL glue.
 
 use super::*;
-use crate::math::testhost::TestHost;
+use crate::testing::TestHost;
 use hal_core::Value::{Bit, Float, S32, S64};
 
 #[test]

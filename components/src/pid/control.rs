@@ -8,7 +8,9 @@
 //! function reads the pins, calls [`Pid::step`] and writes the pins back.
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{HalError, Host, In, Io, Out, Pin, Result};
+use hal_core::{Host, In, Io, Out, Pin, Result};
+
+use crate::halcomp::channel_names;
 
 /// Most loops one load creates.
 pub const MAX_CHAN: usize = 16;
@@ -658,43 +660,9 @@ impl LoopPins {
     }
 }
 
-/// The loop prefixes `num_chan=`/`names=` ask for.
-fn loop_names(args: &ModuleArgs) -> Result<Vec<String>> {
-    let bad = |param: &str, reason: String| HalError::ModuleParam {
-        module: "pid".into(),
-        param: param.into(),
-        reason,
-    };
-    let num_chan = args.int("num_chan").unwrap_or(0);
-    // As in LinuxCNC, the names are the leading non-empty items.
-    let names: Vec<String> = args
-        .str_array("names")
-        .iter()
-        .take_while(|n| !n.is_empty())
-        .cloned()
-        .collect();
-    if num_chan != 0 && !names.is_empty() {
-        return Err(HalError::ModuleLoad {
-            module: "pid".into(),
-            reason: "num_chan= and names= are mutually exclusive".into(),
-        });
-    }
-    if !names.is_empty() {
-        return Ok(names);
-    }
-    let n = if num_chan == 0 {
-        DEFAULT_CHAN as i64
-    } else {
-        num_chan
-    };
-    if !(1..=MAX_CHAN as i64).contains(&n) {
-        return Err(bad("num_chan", format!("{n} is out of range 1-{MAX_CHAN}")));
-    }
-    Ok((0..n).map(|i| format!("pid.{i}")).collect())
-}
-
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = loop_names(args)?;
+    // The same num_chan/names rules as encoder.
+    let names = channel_names("pid", "pid", DEFAULT_CHAN, MAX_CHAN, args)?;
     let debug = args.int("debug").unwrap_or(0) > 0;
     let mut b = host.new_rt_component("pid")?;
     for prefix in &names {

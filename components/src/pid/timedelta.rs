@@ -178,6 +178,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::host;
 
     const P: i64 = 1_000_000;
 
@@ -277,10 +278,6 @@ mod tests {
         // The counter wraps too (C int with -fwrapv).
         assert_eq!(k.load(Relaxed), i32::MIN);
         assert_eq!(io.avg_err, want as f64 / i32::MIN as f64);
-    }
-
-    fn host() -> Host {
-        Host::create(hal_core::HostConfig::for_tests("td")).expect("host starts")
     }
 
     fn load_args(h: &Host, args: &[&str]) -> Result<()> {

@@ -2,9 +2,9 @@
 //! controller that sets the DDS rate, and the position feedback,
 //! independent of HAL pins.
 
-use crate::cmath::f64_to_i64;
+use crate::cmath::{f64_to_i64, ScaleCache};
 
-use super::pulses::{HALF_STEP, PICKOFF};
+use super::pulses::{Dds, HALF_STEP, PICKOFF};
 use super::steptype::StepType;
 
 /// `2^PICKOFF` as a float: accumulator units per step.
@@ -87,39 +87,22 @@ impl FreqTiming {
     }
 }
 
-/// The reciprocal of `position-scale`, recomputed when the scale changes.
-/// update-freq and capture-position share it.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ScaleCache {
-    /// The scale last seen (as it was before any correction).
-    pub old_scale: f64,
-    /// `1 / (2^PICKOFF * scale)`: accumulator units to position units.
-    pub recip: f64,
-}
+/// `1 / 2^PICKOFF`, folded into the scale reciprocal so that it converts
+/// accumulator units straight to position units.
+const STEP_UNIT: f64 = 1.0 / ONE_STEP_F;
 
-impl ScaleCache {
-    /// Checks `scale` (the `position-scale` param): when it changed, a
-    /// magnitude below 1e-20 is corrected to 1.0 in place and the
-    /// reciprocal recomputed. **Quirk:** an exact 0.0 the first time
-    /// equals the initial `old_scale` and is never corrected.
-    #[inline]
-    pub fn check(&mut self, scale: &mut f64) {
-        if *scale != self.old_scale {
-            self.old_scale = *scale;
-            if *scale > -1e-20 && *scale < 1e-20 {
-                *scale = 1.0;
-            }
-            self.recip = (1.0 / ONE_STEP_F) / *scale;
-        }
-    }
-}
+/// The `position-scale` cache update-freq and capture-position share, in
+/// its load-time state: old scale and reciprocal 0.0. **Quirk:** an exact
+/// 0.0 scale the first time equals the initial old scale and is never
+/// corrected.
+pub const INITIAL_SCALE_CACHE: ScaleCache = ScaleCache::new(0.0, 0.0);
 
 /// capture-position for one channel: returns (`counts`, `position-fb`).
 #[inline]
 pub fn capture(accum: i64, scale: &mut f64, cache: &mut ScaleCache) -> (i32, f64) {
     let counts = (accum >> PICKOFF) as i32;
-    cache.check(scale);
-    (counts, accum.wrapping_sub(HALF_STEP) as f64 * cache.recip)
+    let recip = cache.check(scale, STEP_UNIT);
+    (counts, accum.wrapping_sub(HALF_STEP) as f64 * recip)
 }
 
 /// The channel parameters update-freq reads and may rewrite. Timing
@@ -177,6 +160,26 @@ pub enum FreqOut {
     },
 }
 
+impl FreqOut {
+    /// Writes this result into the DDS registers make-pulses reads.
+    #[inline(always)]
+    pub fn apply(self, dds: &mut Dds) {
+        match self {
+            FreqOut::Stopped => {
+                dds.addval = 0;
+                dds.target_addval = 0;
+            }
+            FreqOut::Target {
+                target_addval,
+                deltalim,
+            } => {
+                dds.target_addval = target_addval;
+                dds.deltalim = deltalim;
+            }
+        }
+    }
+}
+
 /// What update-freq keeps per channel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FreqCtl {
@@ -188,11 +191,6 @@ pub struct FreqCtl {
     old_stepspace: u32,
     old_hold: u32,
     old_setup: u32,
-    /// Whether `maxvel` has been lowered to the hardware limit at least
-    /// once. LinuxCNC prints a message the first time; a realtime
-    /// function here may not make system calls, so the flag records it
-    /// and the lowered `maxvel` parameter shows it.
-    pub maxvel_limited: bool,
 }
 
 impl FreqCtl {
@@ -207,13 +205,7 @@ impl FreqCtl {
             old_stepspace: u32::MAX,
             old_hold: u32::MAX,
             old_setup: u32::MAX,
-            maxvel_limited: false,
         }
-    }
-
-    /// Whether the channel is in velocity mode.
-    pub fn velocity_mode(&self) -> bool {
-        self.velocity_mode
     }
 
     /// One update-freq call for this channel. `t` are the module's time
@@ -232,7 +224,9 @@ impl FreqCtl {
         cmd: f64,
         accum: i64,
     ) -> FreqOut {
-        cache.check(&mut p.position_scale);
+        // Only the correction matters here; the reciprocal is computed for
+        // capture-position, which shares the cache.
+        cache.check(&mut p.position_scale, STEP_UNIT);
         let s = p.position_scale;
         if newperiod {
             self.old_steplen = u32::MAX;
@@ -280,7 +274,9 @@ impl FreqCtl {
         if p.maxvel <= 0.0 {
             p.maxvel = 0.0;
         } else if p.maxvel * abs_s > max_freq {
-            self.maxvel_limited = true;
+            // LinuxCNC also prints a message, once per channel, giving
+            // the requested and the possible step rates; that is not
+            // reproduced (the lowered parameter shows the limit).
             p.maxvel = max_freq / abs_s;
         } else {
             max_freq = p.maxvel * abs_s;
@@ -407,14 +403,14 @@ mod tests {
 
     #[test]
     fn scale_correction_and_the_zero_quirk() {
-        let mut c = ScaleCache::default();
+        let mut c = INITIAL_SCALE_CACHE;
         let mut s = 0.0;
-        c.check(&mut s);
+        c.check(&mut s, STEP_UNIT);
         assert_eq!((s, c.recip), (0.0, 0.0), "0.0 at first is never seen");
         let (_, fb) = capture(HALF_STEP + (5 << PICKOFF), &mut s, &mut c);
         assert_eq!(fb, 0.0);
         let mut s = 1e-30;
-        c.check(&mut s);
+        c.check(&mut s, STEP_UNIT);
         assert_eq!(s, 1.0);
         assert_eq!(c.old_scale, 1e-30);
         assert_eq!(c.recip, 1.0 / ONE_STEP_F);
@@ -423,13 +419,13 @@ mod tests {
         assert_eq!((counts, fb), (5, -2.5));
         // Once 0.0 follows another scale it is corrected.
         let mut s = 0.0;
-        c.check(&mut s);
+        c.check(&mut s, STEP_UNIT);
         assert_eq!(s, 1.0);
     }
 
     #[test]
     fn capture_floors_counts_and_keeps_sub_step_position() {
-        let mut c = ScaleCache::default();
+        let mut c = INITIAL_SCALE_CACHE;
         let mut s = 4.0;
         let (counts, fb) = capture(-(1 << (PICKOFF - 2)), &mut s, &mut c);
         assert_eq!(counts, -1);
@@ -440,7 +436,7 @@ mod tests {
     fn timing_params_round_to_the_period_and_rerun_on_new_period() {
         let mut f = ctl(0, false);
         let t = FreqTiming::default();
-        let mut cache = ScaleCache::default();
+        let mut cache = INITIAL_SCALE_CACHE;
         let mut p = params(0);
         p.steplen = 0;
         p.stepspace = 60_000;
@@ -473,7 +469,7 @@ mod tests {
     fn disabled_stops_at_once_and_tracks_the_command() {
         let mut f = ctl(0, false);
         let t = FreqTiming::default();
-        let mut cache = ScaleCache::default();
+        let mut cache = INITIAL_SCALE_CACHE;
         let mut p = params(0);
         p.position_scale = 10.0;
         p.frequency = 1234.0;
@@ -487,7 +483,7 @@ mod tests {
     fn maxvel_and_maxaccel_are_limited_by_the_hardware() {
         let mut f = ctl(0, true);
         let t = FreqTiming::default();
-        let mut cache = ScaleCache::default();
+        let mut cache = INITIAL_SCALE_CACHE;
         let mut p = params(0);
         p.steplen = 50_000;
         p.stepspace = 50_000;
@@ -495,7 +491,6 @@ mod tests {
         p.maxvel = 1000.0; // 100000 steps/s, above 1/100 µs = 10000
         p.maxaccel = 1e9;
         let out = f.update(&t, false, 50_000, &mut cache, &mut p, true, 1e9, HALF_STEP);
-        assert!(f.maxvel_limited);
         let max_freq = 1.0 / (100_000.0 * 1e-9);
         assert_eq!(p.maxvel, max_freq / 100.0);
         assert_eq!(p.maxaccel, max_freq * t.recip_dt / 100.0);
@@ -521,7 +516,7 @@ mod tests {
         let mut f = ctl(2, true);
         let mut t = FreqTiming::default();
         let np = t.update(25_000, 25_000);
-        let mut cache = ScaleCache::default();
+        let mut cache = INITIAL_SCALE_CACHE;
         let mut p = params(2);
         p.position_scale = 2000.0;
         p.maxvel = 5.0;
@@ -552,7 +547,7 @@ mod tests {
     fn position_mode_without_limits_jumps_to_the_command_velocity() {
         let mut f = ctl(0, false);
         let t = FreqTiming::default();
-        let mut cache = ScaleCache::default();
+        let mut cache = INITIAL_SCALE_CACHE;
         let mut p = params(0);
         // Already at the commanded position: no motion.
         let out = f.update(&t, false, 50_000, &mut cache, &mut p, true, 0.0, HALF_STEP);

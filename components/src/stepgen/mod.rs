@@ -6,7 +6,8 @@
 //! `stepgen.make-pulses` (integer DDS, fastest thread),
 //! `stepgen.update-freq` (the velocity controller) and
 //! `stepgen.capture-position` (feedback). The logic lives in host-free
-//! structs ([`pulses`], [`freq`]); this module is the HAL glue.
+//! structs ([`pulses`], [`freq`]) that [`model`] runs without a host (for
+//! tests and benchmarks); this module is the HAL glue.
 //!
 //! Load: `loadrt stepgen step_type=T0,T1,... [ctrl_type=p|v,...]
 //! [user_step_type=b0,b1,...]`.
@@ -22,11 +23,10 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Out, Param, Pin, PinValue, Result, Ro, Rw};
 
-use freq::{FreqCtl, FreqOut, FreqParams, FreqTiming, ScaleCache, INITIAL_PERIOD_NS};
+use crate::cmath::ScaleCache;
+use freq::{FreqCtl, FreqParams, FreqTiming, INITIAL_PERIOD_NS, INITIAL_SCALE_CACHE};
 use pulses::{Dds, PulseGen, PulseTiming};
 use steptype::{phase_name, StepType, MAX_CYCLE};
-
-pub use pulses::{make_pulses_pass, PulseChannel};
 
 /// Most channels one load creates.
 pub const MAX_CHAN: usize = 16;
@@ -85,20 +85,20 @@ fn param_error(param: &str, reason: String) -> HalError {
 /// `v`/`V`: velocity); `user_step_type` is type 15's table, ending at the
 /// first -1.
 pub fn parse_config(args: &ModuleArgs) -> Result<Vec<ChannelConfig>> {
-    let user: Vec<i64> = args
+    let patterns: Vec<i64> = args
         .int_array("user_step_type")
         .iter()
         .copied()
         .take_while(|&v| v != -1)
         .collect();
-    for &v in &user {
-        if !(0..32).contains(&v) {
-            return Err(param_error(
-                "user_step_type",
-                format!("{v} uses more than 5 bits (phases A-E)"),
-            ));
-        }
-    }
+    // Type 15's table, built once for every channel of that type. As in
+    // LinuxCNC the patterns are checked even if no channel uses them; only
+    // their absence waits for a type-15 channel to be an error.
+    let user = if patterns.is_empty() {
+        None
+    } else {
+        Some(StepType::user(&patterns).map_err(|r| param_error("user_step_type", r))?)
+    };
     let ctrl = args.str_array("ctrl_type");
     let mut chans = Vec::new();
     for (n, &t) in args.int_array("step_type").iter().enumerate() {
@@ -107,10 +107,10 @@ pub fn parse_config(args: &ModuleArgs) -> Result<Vec<ChannelConfig>> {
         }
         let step_type = match t {
             0..=14 => StepType::builtin(t as u8),
-            15 => Some(StepType::user(&user).map_err(|r| {
+            15 => Some(user.ok_or_else(|| {
                 param_error(
                     "user_step_type",
-                    format!("channel {n} has step type 15: {r}"),
+                    format!("channel {n} has step type 15: give at least one pattern"),
                 )
             })?),
             _ => None,
@@ -155,7 +155,11 @@ struct Shared {
     addval: AtomicI64,
     target_addval: AtomicI64,
     deltalim: AtomicI64,
-    /// [`ScaleCache`] fields, as f64 bits.
+    /// The `position-scale` cache of update-freq and capture-position
+    /// ([`ScaleCache`] fields, as f64 bits). It is one cache, as in
+    /// LinuxCNC: with one per function, a near-zero scale written again
+    /// after one function corrected it would be corrected by the other,
+    /// where LinuxCNC leaves it alone.
     old_scale: AtomicU64,
     scale_recip: AtomicU64,
 }
@@ -163,7 +167,7 @@ struct Shared {
 impl Shared {
     fn new() -> Shared {
         let d = Dds::default();
-        let c = ScaleCache::default();
+        let c = INITIAL_SCALE_CACHE;
         Shared {
             accum: AtomicI64::new(d.accum),
             addval: AtomicI64::new(d.addval),
@@ -174,11 +178,43 @@ impl Shared {
         }
     }
 
-    fn scale_cache(&self) -> ScaleCache {
-        ScaleCache {
-            old_scale: f64::from_bits(self.old_scale.load(Relaxed)),
-            recip: f64::from_bits(self.scale_recip.load(Relaxed)),
+    /// The DDS registers as they are now.
+    #[inline(always)]
+    fn dds(&self) -> Dds {
+        Dds {
+            accum: self.accum.load(Relaxed),
+            addval: self.addval.load(Relaxed),
+            target_addval: self.target_addval.load(Relaxed),
+            deltalim: self.deltalim.load(Relaxed),
         }
+    }
+
+    /// Stores the DDS registers that differ from `before`. The other
+    /// function may write `addval` and `accum` meanwhile; a register this
+    /// function left alone is not overwritten.
+    #[inline(always)]
+    fn store_dds(&self, before: &Dds, after: &Dds) {
+        for (reg, old, new) in [
+            (&self.accum, before.accum, after.accum),
+            (&self.addval, before.addval, after.addval),
+            (
+                &self.target_addval,
+                before.target_addval,
+                after.target_addval,
+            ),
+            (&self.deltalim, before.deltalim, after.deltalim),
+        ] {
+            if old != new {
+                reg.store(new, Relaxed);
+            }
+        }
+    }
+
+    fn scale_cache(&self) -> ScaleCache {
+        ScaleCache::new(
+            f64::from_bits(self.old_scale.load(Relaxed)),
+            f64::from_bits(self.scale_recip.load(Relaxed)),
+        )
     }
 
     fn store_scale_cache(&self, c: &ScaleCache) {
@@ -371,21 +407,14 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
 #[inline(always)]
 fn make_pulses_channel(ch: &mut PulseChan, period: i64) {
     let sh = &*ch.shared;
-    let addval = sh.addval.load(Relaxed);
-    let mut dds = Dds {
-        accum: sh.accum.load(Relaxed),
-        addval,
-        target_addval: sh.target_addval.load(Relaxed),
-        deltalim: sh.deltalim.load(Relaxed),
-    };
+    let before = sh.dds();
+    let mut dds = before;
+    let timing = &ch.timing;
     let r = ch
         .gen
-        .update(period, ch.enable.get(), ch.timing.pulse_timing(), &mut dds);
-    if dds.addval != addval {
-        sh.addval.store(dds.addval, Relaxed);
-    }
+        .update(period, ch.enable.get(), || timing.pulse_timing(), &mut dds);
+    sh.store_dds(&before, &dds);
     if r.advanced {
-        sh.accum.store(dds.accum, Relaxed);
         ch.rawcounts.set(dds.counts());
     }
     let bits = ch.gen.outputs();
@@ -411,20 +440,25 @@ fn update_freq_channel(ch: &mut FreqChan, timing: &FreqTiming, newperiod: bool, 
         frequency: ch.frequency.get(),
     };
     let mut p = before;
-    let mut cache = ch.shared.scale_cache();
+    let sh = &*ch.shared;
+    let mut cache = sh.scale_cache();
     let cache_before = cache;
-    let out = ch.ctl.update(
-        timing,
-        newperiod,
-        periodns,
-        &mut cache,
-        &mut p,
-        ch.enable.get(),
-        ch.cmd.get(),
-        ch.shared.accum.load(Relaxed),
-    );
+    let dds_before = sh.dds();
+    let mut dds = dds_before;
+    ch.ctl
+        .update(
+            timing,
+            newperiod,
+            periodns,
+            &mut cache,
+            &mut p,
+            ch.enable.get(),
+            ch.cmd.get(),
+            dds.accum,
+        )
+        .apply(&mut dds);
     if cache != cache_before {
-        ch.shared.store_scale_cache(&cache);
+        sh.store_scale_cache(&cache);
     }
     write_back(&ch.position_scale, before.position_scale, p.position_scale);
     write_back(&ch.maxvel, before.maxvel, p.maxvel);
@@ -438,19 +472,8 @@ fn update_freq_channel(ch: &mut FreqChan, timing: &FreqTiming, newperiod: bool, 
     }
     write_back(&t.hold, before.hold, p.hold);
     ch.frequency.set(p.frequency);
-    match out {
-        FreqOut::Stopped => {
-            ch.shared.addval.store(0, Relaxed);
-            ch.shared.target_addval.store(0, Relaxed);
-        }
-        FreqOut::Target {
-            target_addval,
-            deltalim,
-        } => {
-            ch.shared.target_addval.store(target_addval, Relaxed);
-            ch.shared.deltalim.store(deltalim, Relaxed);
-        }
-    }
+    // Last, as in LinuxCNC: the new rate for make-pulses.
+    sh.store_dds(&dds_before, &dds);
 }
 
 #[cfg(test)]

@@ -1,11 +1,12 @@
 //! A host-free stepgen: the three functions over plain values, in the
 //! same arrangement as the HAL glue (shared DDS registers, the
-//! module-wide periods, parameters that the functions rewrite). For
-//! models, tests and benchmarks.
+//! module-wide periods, parameters that the functions rewrite). The one
+//! entry point for tests and benchmarks that run stepgen without a host.
 
-use super::freq::{self, FreqCtl, FreqOut, FreqParams, FreqTiming, ScaleCache, INITIAL_PERIOD_NS};
+use super::freq::{self, FreqCtl, FreqParams, FreqTiming, INITIAL_PERIOD_NS, INITIAL_SCALE_CACHE};
 use super::pulses::{Dds, PulseGen, PulseTiming};
 use super::ChannelConfig;
+use crate::cmath::ScaleCache;
 
 /// One channel: its pins and parameters as plain fields, and its state.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -42,7 +43,7 @@ impl ModelChannel {
             gen: PulseGen::new(*st),
             ctl: FreqCtl::new(st, cfg.velocity_mode),
             dds: Dds::default(),
-            cache: ScaleCache::default(),
+            cache: INITIAL_SCALE_CACHE,
             params: FreqParams {
                 setup: u32::from(st.has_setup()),
                 stepspace: u32::from(st.has_stepspace()),
@@ -79,50 +80,44 @@ impl Stepgen {
         }
     }
 
-    /// `stepgen.make-pulses` in a thread of `period` ns.
-    pub fn make_pulses(&mut self, period: i64) {
+    /// `stepgen.make-pulses` in a thread of `period` ns; returns how many
+    /// channels stepped.
+    pub fn make_pulses(&mut self, period: i64) -> usize {
         self.periodns = period;
+        let mut steps = 0;
         for c in &mut self.chans {
-            let timing = PulseTiming {
-                steplen: c.params.steplen,
-                hold: c.params.hold,
-                setup: c.params.setup,
+            let params = &c.params;
+            let timing = || PulseTiming {
+                steplen: params.steplen,
+                hold: params.hold,
+                setup: params.setup,
             };
             let r = c.gen.update(period, c.enable, timing, &mut c.dds);
             if r.advanced {
                 c.rawcounts = c.dds.counts();
             }
+            steps += usize::from(r.step);
             c.outputs = c.gen.outputs();
         }
+        steps
     }
 
     /// `stepgen.update-freq` in a thread of `period` ns.
     pub fn update_freq(&mut self, period: i64) {
         let newperiod = self.timing.update(self.periodns, period);
         for c in &mut self.chans {
-            let out = c.ctl.update(
-                &self.timing,
-                newperiod,
-                self.periodns,
-                &mut c.cache,
-                &mut c.params,
-                c.enable,
-                c.cmd,
-                c.dds.accum,
-            );
-            match out {
-                FreqOut::Stopped => {
-                    c.dds.addval = 0;
-                    c.dds.target_addval = 0;
-                }
-                FreqOut::Target {
-                    target_addval,
-                    deltalim,
-                } => {
-                    c.dds.target_addval = target_addval;
-                    c.dds.deltalim = deltalim;
-                }
-            }
+            c.ctl
+                .update(
+                    &self.timing,
+                    newperiod,
+                    self.periodns,
+                    &mut c.cache,
+                    &mut c.params,
+                    c.enable,
+                    c.cmd,
+                    c.dds.accum,
+                )
+                .apply(&mut c.dds);
         }
     }
 

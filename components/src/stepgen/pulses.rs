@@ -112,20 +112,17 @@ impl PulseGen {
         }
     }
 
-    /// The channel's step type.
-    pub fn step_type(&self) -> &StepType {
-        &self.step_type
-    }
-
     /// One make-pulses call for this channel: `period` is the thread's
-    /// period in ns, `enable` the enable pin, `timing` the current timing
-    /// parameters. Updates `dds.accum` and `dds.addval`.
+    /// period in ns, `enable` the enable pin; `timing` reads the current
+    /// timing parameters, and is called only when a step happens (as
+    /// LinuxCNC reads them only then). Updates `dds.accum` and
+    /// `dds.addval`.
     #[inline]
     pub fn update(
         &mut self,
         period: i64,
         enable: bool,
-        timing: PulseTiming,
+        timing: impl FnOnce() -> PulseTiming,
         dds: &mut Dds,
     ) -> PulseResult {
         // Count the timers down (compared as 64-bit signed values, as the
@@ -192,6 +189,7 @@ impl PulseGen {
         }
 
         if result.step {
+            let timing = timing();
             self.timer1 = timing.steplen;
             self.timer2 = self.timer1.wrapping_add(timing.hold);
             self.timer3 = self.timer2.wrapping_add(timing.setup);
@@ -228,102 +226,77 @@ impl PulseGen {
     }
 }
 
-/// One channel as a host-free make-pulses pass sees it: its generator,
-/// DDS registers and inputs, and the outputs of the last pass.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PulseChannel {
-    /// make-pulses' own state.
-    pub gen: PulseGen,
-    /// The DDS registers (`target_addval` and `deltalim` are inputs here).
-    pub dds: Dds,
-    /// The `enable` pin.
-    pub enable: bool,
-    /// The timing parameters.
-    pub timing: PulseTiming,
-    /// The `rawcounts` parameter.
-    pub rawcounts: i32,
-    /// Output bits, as [`PulseGen::outputs`].
-    pub outputs: u8,
-}
-
-impl PulseChannel {
-    /// A channel in its load-time state with default timing, enabled.
-    pub fn new(step_type: StepType) -> PulseChannel {
-        PulseChannel {
-            gen: PulseGen::new(step_type),
-            dds: Dds::default(),
-            enable: true,
-            timing: PulseTiming::default(),
-            rawcounts: 0,
-            outputs: 0,
-        }
-    }
-}
-
-/// One `stepgen.make-pulses` call over every channel, in channel order,
-/// without a HAL host (for benchmarks and models). Returns how many
-/// channels stepped.
-pub fn make_pulses_pass(period: i64, chans: &mut [PulseChannel]) -> usize {
-    let mut steps = 0;
-    for c in chans.iter_mut() {
-        let r = c.gen.update(period, c.enable, c.timing, &mut c.dds);
-        if r.advanced {
-            c.rawcounts = c.dds.counts();
-        }
-        steps += usize::from(r.step);
-        c.outputs = c.gen.outputs();
-    }
-    steps
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stepgen::model::Stepgen;
+    use crate::stepgen::ChannelConfig;
 
     const ONE_STEP: i64 = 1 << PICKOFF;
 
-    fn chan(kind: u8) -> PulseChannel {
-        PulseChannel::new(StepType::builtin(kind).unwrap())
+    /// A one-channel module of type `kind`, enabled, with the default
+    /// make-pulses timing (1 ns pulse and hold, no setup) whatever the
+    /// type.
+    fn chan(kind: u8) -> Stepgen {
+        let mut sg = Stepgen::new(&[ChannelConfig {
+            step_type: StepType::builtin(kind).unwrap(),
+            velocity_mode: false,
+        }]);
+        sg.chans[0].enable = true;
+        set_timing(&mut sg, PulseTiming::default());
+        sg
+    }
+
+    /// Sets the timing parameters make-pulses reads.
+    fn set_timing(sg: &mut Stepgen, t: PulseTiming) {
+        let p = &mut sg.chans[0].params;
+        (p.steplen, p.hold, p.setup) = (t.steplen, t.hold, t.setup);
     }
 
     #[test]
     fn step_occurs_when_crossing_half_steps() {
-        let mut c = [chan(0)];
-        c[0].timing = PulseTiming {
-            steplen: 100,
-            hold: 100,
-            setup: 100,
-        };
+        let mut sg = chan(0);
+        set_timing(
+            &mut sg,
+            PulseTiming {
+                steplen: 100,
+                hold: 100,
+                setup: 100,
+            },
+        );
         // A quarter step per call: steps on the 2nd, 6th and 10th calls
         // (call indexes 1, 5, 9), crossing positions
         // 1.0, 2.0, 3.0 (bit PICKOFF flips).
-        c[0].dds.target_addval = ONE_STEP / 4;
+        sg.chans[0].dds.target_addval = ONE_STEP / 4;
         let mut stepped = Vec::new();
         for call in 0..12 {
-            if make_pulses_pass(100, &mut c) == 1 {
+            if sg.make_pulses(100) == 1 {
                 stepped.push(call);
             }
         }
         assert_eq!(stepped, [1, 5, 9]);
-        assert_eq!(c[0].rawcounts, 3);
-        assert_eq!(c[0].dds.counts(), 3);
+        assert_eq!(sg.chans[0].rawcounts, 3);
+        assert_eq!(sg.chans[0].dds.counts(), 3);
     }
 
     #[test]
     fn step_pulse_lasts_steplen_rounded_up_to_calls() {
-        let mut c = [chan(0)];
-        c[0].timing = PulseTiming {
-            steplen: 250,
-            hold: 1,
-            setup: 1,
-        };
+        let mut sg = chan(0);
+        set_timing(
+            &mut sg,
+            PulseTiming {
+                steplen: 250,
+                hold: 1,
+                setup: 1,
+            },
+        );
         // An eighth of a step per call: the position reaches 1.0 (bit
         // PICKOFF flips) on the fourth call.
-        c[0].dds.target_addval = ONE_STEP / 8;
+        sg.chans[0].dds.target_addval = ONE_STEP / 8;
         let mut highs = Vec::new();
         for _ in 0..9 {
-            make_pulses_pass(100, &mut c);
-            highs.push(c[0].outputs & 1);
+            sg.make_pulses(100);
+            highs.push(sg.chans[0].outputs & 1);
         }
         // 250 ns rounds up to three 100 ns calls.
         assert_eq!(highs, [0, 0, 0, 1, 1, 1, 0, 0, 0]);
@@ -337,77 +310,88 @@ mod tests {
         g.timer3 = 50;
         g.hold_dds = true;
         let mut dds = Dds::default();
-        g.update(100, false, PulseTiming::default(), &mut dds);
+        g.update(100, false, PulseTiming::default, &mut dds);
         assert_eq!((g.timer1, g.timer2, g.timer3), (150, 0, 0));
         assert!(!g.hold_dds, "timer3 expiring releases the DDS");
         // A period longer than u32 is compared as a 64-bit value.
         g.timer1 = u32::MAX;
-        g.update(1 << 40, false, PulseTiming::default(), &mut dds);
+        g.update(1 << 40, false, PulseTiming::default, &mut dds);
         assert_eq!(g.timer1, 0);
     }
 
     #[test]
     fn disabled_channel_freezes_dds_but_drives_outputs() {
-        let mut c = [chan(2)];
-        c[0].enable = false;
-        c[0].dds.target_addval = ONE_STEP;
-        make_pulses_pass(1000, &mut c);
-        assert_eq!(c[0].dds.addval, 0);
-        assert_eq!(c[0].dds.accum, HALF_STEP);
+        let mut sg = chan(2);
+        sg.chans[0].enable = false;
+        sg.chans[0].dds.target_addval = ONE_STEP;
+        sg.make_pulses(1000);
+        assert_eq!(sg.chans[0].dds.addval, 0);
+        assert_eq!(sg.chans[0].dds.accum, HALF_STEP);
         // Quadrature state 0 drives phase-A before any motion.
-        assert_eq!(c[0].outputs, 1);
+        assert_eq!(sg.chans[0].outputs, 1);
     }
 
     #[test]
     fn ramp_is_limited_by_deltalim() {
-        let mut c = [chan(0)];
-        c[0].dds.target_addval = 1000;
-        c[0].dds.deltalim = 300;
+        let mut sg = chan(0);
+        sg.chans[0].dds.target_addval = 1000;
+        sg.chans[0].dds.deltalim = 300;
         let mut seen = Vec::new();
         for _ in 0..5 {
-            make_pulses_pass(1000, &mut c);
-            seen.push(c[0].dds.addval);
+            sg.make_pulses(1000);
+            seen.push(sg.chans[0].dds.addval);
         }
         assert_eq!(seen, [300, 600, 900, 1000, 1000]);
-        c[0].dds.target_addval = -1000;
-        make_pulses_pass(1000, &mut c);
-        assert_eq!(c[0].dds.addval, 700);
+        sg.chans[0].dds.target_addval = -1000;
+        sg.make_pulses(1000);
+        assert_eq!(sg.chans[0].dds.addval, 700);
         // deltalim 0 jumps straight to the target.
-        c[0].dds.deltalim = 0;
-        make_pulses_pass(1000, &mut c);
-        assert_eq!(c[0].dds.addval, -1000);
+        sg.chans[0].dds.deltalim = 0;
+        sg.make_pulses(1000);
+        assert_eq!(sg.chans[0].dds.addval, -1000);
     }
 
     #[test]
     fn reversal_waits_for_timer3_and_direction_for_timer2() {
-        let mut c = [chan(0)];
-        c[0].timing = PulseTiming {
-            steplen: 100,
-            hold: 200,
-            setup: 300,
-        };
+        let mut sg = chan(0);
+        set_timing(
+            &mut sg,
+            PulseTiming {
+                steplen: 100,
+                hold: 200,
+                setup: 300,
+            },
+        );
         // Just below one step per call forward: the first call steps.
-        c[0].dds.target_addval = ONE_STEP - 1;
-        make_pulses_pass(100, &mut c);
-        assert_eq!(c[0].outputs, 1, "step high, dir forward");
+        sg.chans[0].dds.target_addval = ONE_STEP - 1;
+        sg.make_pulses(100);
+        assert_eq!(sg.chans[0].outputs, 1, "step high, dir forward");
         assert_eq!(
-            (c[0].gen.timer1, c[0].gen.timer2, c[0].gen.timer3),
+            (
+                sg.chans[0].gen.timer1,
+                sg.chans[0].gen.timer2,
+                sg.chans[0].gen.timer3
+            ),
             (100, 300, 600)
         );
         // Reverse at once: addval crosses zero while timer3 runs.
-        c[0].dds.target_addval = -(ONE_STEP - 1);
-        let accum = c[0].dds.accum;
-        make_pulses_pass(100, &mut c);
-        assert!(c[0].gen.hold_dds);
-        assert_eq!(c[0].dds.accum, accum, "DDS frozen");
-        assert_eq!(c[0].dds.addval, -(ONE_STEP - 1));
-        assert_eq!(c[0].gen.curr_dir, 1, "timer2 still running");
-        assert_eq!(c[0].outputs, 0);
+        sg.chans[0].dds.target_addval = -(ONE_STEP - 1);
+        let accum = sg.chans[0].dds.accum;
+        sg.make_pulses(100);
+        assert!(sg.chans[0].gen.hold_dds);
+        assert_eq!(sg.chans[0].dds.accum, accum, "DDS frozen");
+        assert_eq!(sg.chans[0].dds.addval, -(ONE_STEP - 1));
+        assert_eq!(sg.chans[0].gen.curr_dir, 1, "timer2 still running");
+        assert_eq!(sg.chans[0].outputs, 0);
         // timer2 expires two calls later: dir flips; timer3 three after.
         let mut log = Vec::new();
         for _ in 0..6 {
-            make_pulses_pass(100, &mut c);
-            log.push((c[0].gen.hold_dds, c[0].gen.curr_dir, c[0].outputs));
+            sg.make_pulses(100);
+            log.push((
+                sg.chans[0].gen.hold_dds,
+                sg.chans[0].gen.curr_dir,
+                sg.chans[0].outputs,
+            ));
         }
         assert_eq!(log[0], (true, 1, 0));
         assert_eq!(log[1], (true, -1, 2));
@@ -417,53 +401,53 @@ mod tests {
 
     #[test]
     fn up_down_outputs_follow_direction() {
-        let mut c = [chan(1)];
-        c[0].timing.steplen = 100;
-        c[0].dds.target_addval = ONE_STEP - 1;
-        make_pulses_pass(100, &mut c);
-        assert_eq!(c[0].outputs, 1, "up");
-        make_pulses_pass(100, &mut c);
-        assert_eq!(c[0].outputs, 1, "second step");
-        c[0].dds.target_addval = -(ONE_STEP - 1);
-        c[0].gen.timer3 = 0;
-        c[0].gen.timer2 = 0;
+        let mut sg = chan(1);
+        sg.chans[0].params.steplen = 100;
+        sg.chans[0].dds.target_addval = ONE_STEP - 1;
+        sg.make_pulses(100);
+        assert_eq!(sg.chans[0].outputs, 1, "up");
+        sg.make_pulses(100);
+        assert_eq!(sg.chans[0].outputs, 1, "second step");
+        sg.chans[0].dds.target_addval = -(ONE_STEP - 1);
+        sg.chans[0].gen.timer3 = 0;
+        sg.chans[0].gen.timer2 = 0;
         // addval reverses, DDS moves back: the step is a down step.
-        make_pulses_pass(100, &mut c);
-        assert_eq!(c[0].outputs, 2, "down");
-        c[0].dds.target_addval = 0;
-        make_pulses_pass(1000, &mut c);
-        make_pulses_pass(1000, &mut c);
-        assert_eq!(c[0].outputs, 0);
+        sg.make_pulses(100);
+        assert_eq!(sg.chans[0].outputs, 2, "down");
+        sg.chans[0].dds.target_addval = 0;
+        sg.make_pulses(1000);
+        sg.make_pulses(1000);
+        assert_eq!(sg.chans[0].outputs, 0);
     }
 
     #[test]
     fn phase_state_wraps_both_ways() {
-        let mut c = [chan(3)];
-        c[0].timing.steplen = 10;
-        c[0].dds.target_addval = ONE_STEP;
+        let mut sg = chan(3);
+        sg.chans[0].params.steplen = 10;
+        sg.chans[0].dds.target_addval = ONE_STEP;
         let mut pats = Vec::new();
         for _ in 0..4 {
-            make_pulses_pass(100, &mut c);
-            pats.push(c[0].outputs);
+            sg.make_pulses(100);
+            pats.push(sg.chans[0].outputs);
         }
         assert_eq!(pats, [2, 4, 1, 2]);
         // Backwards through the table, wrapping below state 0.
-        c[0].dds.target_addval = -ONE_STEP;
-        c[0].gen.state = 0;
-        make_pulses_pass(100, &mut c);
-        assert_eq!((c[0].gen.state, c[0].outputs), (2, 4));
+        sg.chans[0].dds.target_addval = -ONE_STEP;
+        sg.chans[0].gen.state = 0;
+        sg.make_pulses(100);
+        assert_eq!((sg.chans[0].gen.state, sg.chans[0].outputs), (2, 4));
     }
 
     #[test]
     fn accumulator_wraps_and_counts_floor() {
-        let mut c = [chan(0)];
-        c[0].dds.accum = i64::MAX - 10;
-        c[0].dds.target_addval = 20;
-        make_pulses_pass(100, &mut c);
-        assert_eq!(c[0].dds.accum, i64::MIN + 9);
-        c[0].dds.accum = -1;
-        assert_eq!(c[0].dds.counts(), -1);
-        c[0].dds.accum = (5i64 << 32) << PICKOFF;
-        assert_eq!(c[0].dds.counts(), 0, "low 32 bits of the step count");
+        let mut sg = chan(0);
+        sg.chans[0].dds.accum = i64::MAX - 10;
+        sg.chans[0].dds.target_addval = 20;
+        sg.make_pulses(100);
+        assert_eq!(sg.chans[0].dds.accum, i64::MIN + 9);
+        sg.chans[0].dds.accum = -1;
+        assert_eq!(sg.chans[0].dds.counts(), -1);
+        sg.chans[0].dds.accum = (5i64 << 32) << PICKOFF;
+        assert_eq!(sg.chans[0].dds.counts(), 0, "low 32 bits of the step count");
     }
 }

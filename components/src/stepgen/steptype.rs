@@ -79,7 +79,7 @@ impl StepType {
         for (i, &p) in patterns.iter().enumerate() {
             if !(0..1 << MAX_PHASES).contains(&p) {
                 return Err(format!(
-                    "pattern {p} (item {i}) does not fit in {MAX_PHASES} bits"
+                    "pattern {i}: {p} uses more than {MAX_PHASES} bits (phases A-E)"
                 ));
             }
             t.table[i] = p as u8;

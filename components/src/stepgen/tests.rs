@@ -162,6 +162,22 @@ fn startup_period_quirk_depends_on_function_order() {
 }
 
 #[test]
+fn update_freq_and_capture_position_share_the_scale_cache() {
+    let mut sg = Stepgen::new(&config(&["step_type=0"]).unwrap());
+    sg.update_freq(50_000);
+    sg.capture_position();
+    // capture-position corrects a zero scale and remembers the 0.0...
+    sg.chans[0].params.position_scale = 0.0;
+    sg.capture_position();
+    assert_eq!(sg.chans[0].params.position_scale, 1.0);
+    // ...so update-freq, seeing 0.0 written again, finds no change and
+    // leaves it (LinuxCNC keeps one old_scale per channel).
+    sg.chans[0].params.position_scale = 0.0;
+    sg.update_freq(50_000);
+    assert_eq!(sg.chans[0].params.position_scale, 0.0);
+}
+
+#[test]
 fn velocity_mode_runs_at_the_commanded_rate() {
     let cfg = config(&["step_type=1", "ctrl_type=v"]).unwrap();
     let mut sg = Stepgen::new(&cfg);
@@ -272,30 +288,24 @@ fn model_matches_golden_type2_velocity() {
 #[test]
 fn bench_entry_point_runs_many_channels() {
     let cfg = config(&["step_type=0,1,2,3,4,5,6,7,8,9,10,11,12,13,14"]).unwrap();
-    let mut chans: Vec<PulseChannel> = cfg
-        .iter()
-        .map(|c| {
-            let mut p = PulseChannel::new(c.step_type);
-            p.dds.target_addval = 1 << 26; // a quarter step per call
-            p
-        })
-        .collect();
+    let mut sg = Stepgen::new(&cfg);
+    for c in &mut sg.chans {
+        c.enable = true;
+        c.dds.target_addval = 1 << 26; // a quarter step per call
+    }
     let mut steps = 0;
     for _ in 0..8 {
-        steps += make_pulses_pass(1000, &mut chans);
+        steps += sg.make_pulses(1000);
     }
     // Every channel steps at calls 2 and 6.
-    assert_eq!(steps, 2 * chans.len());
-    assert!(chans.iter().all(|c| c.rawcounts == 2));
+    assert_eq!(steps, 2 * sg.chans.len());
+    assert!(sg.chans.iter().all(|c| c.rawcounts == 2));
 }
 
 mod hal {
     use super::*;
-    use hal_core::{HostConfig, Value};
-
-    fn host() -> Host {
-        Host::create(HostConfig::for_tests("stepgen")).expect("host starts")
-    }
+    use crate::testing::host;
+    use hal_core::Value;
 
     fn load(h: &Host, words: &[&str]) -> Result<()> {
         h.loadrt(&MODULE, words)

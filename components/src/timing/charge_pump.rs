@@ -57,7 +57,7 @@ fn load(host: &Host, _args: &ModuleArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     #[test]
     fn counts_in_binary_while_enabled() {
@@ -82,11 +82,11 @@ mod tests {
 
     #[test]
     fn is_a_singleton() {
-        let host = testhost::host();
-        assert!(testhost::load(&host, &MODULE, &["count=2"]).is_err());
-        testhost::load(&host, &MODULE, &[]).unwrap();
+        let host = testing::host();
+        assert!(testing::load(&host, &MODULE, &["count=2"]).is_err());
+        testing::load(&host, &MODULE, &[]).unwrap();
         assert_eq!(
-            testhost::pin_names(&host),
+            testing::pin_names(&host),
             [
                 "charge-pump.enable",
                 "charge-pump.out",
@@ -95,6 +95,6 @@ mod tests {
                 "charge-pump.time"
             ]
         );
-        assert_eq!(testhost::funct_names(&host), ["charge-pump"]);
+        assert_eq!(testing::funct_names(&host), ["charge-pump"]);
     }
 }

@@ -157,7 +157,7 @@ halcomp_module!(pub DBOUNCE, DbounceComp, "debounce filter with a delay pin");
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     /// Runs a filter over `inputs`, returning `out` per call.
     fn run(delay: u32, inputs: &[bool]) -> Vec<bool> {
@@ -212,17 +212,17 @@ mod tests {
 
     #[test]
     fn debounce_loads_groups_and_fails_cleanly() {
-        let host = testhost::host();
-        let err = testhost::load(&host, &DEBOUNCE, &[]).unwrap_err();
+        let host = testing::host();
+        let err = testing::load(&host, &DEBOUNCE, &[]).unwrap_err();
         assert!(
             matches!(&err, HalError::ModuleParam { param, .. } if param == "cfg"),
             "{err}"
         );
-        assert!(testhost::load(&host, &DEBOUNCE, &["cfg=1,2,3,4,5,6,7,8,9"]).is_err());
-        assert!(testhost::load(&host, &DEBOUNCE, &["cfg=2,60"]).is_err());
-        assert!(testhost::pin_names(&host).is_empty());
-        testhost::load(&host, &DEBOUNCE, &["cfg=2,1"]).unwrap();
-        let pins = testhost::pin_names(&host);
+        assert!(testing::load(&host, &DEBOUNCE, &["cfg=1,2,3,4,5,6,7,8,9"]).is_err());
+        assert!(testing::load(&host, &DEBOUNCE, &["cfg=2,60"]).is_err());
+        assert!(testing::pin_names(&host).is_empty());
+        testing::load(&host, &DEBOUNCE, &["cfg=2,1"]).unwrap();
+        let pins = testing::pin_names(&host);
         for p in [
             "debounce.0.0.in",
             "debounce.0.1.out",
@@ -232,7 +232,7 @@ mod tests {
             assert!(pins.contains(&p.to_string()), "{p}");
         }
         assert!(!pins.contains(&"debounce.1.1.in".to_string()));
-        assert_eq!(testhost::funct_names(&host), ["debounce.0", "debounce.1"]);
+        assert_eq!(testing::funct_names(&host), ["debounce.0", "debounce.1"]);
         assert_eq!(
             host.instance().param_value("debounce.1.delay").unwrap(),
             hal_core::Value::S32(5)
@@ -241,8 +241,8 @@ mod tests {
 
     #[test]
     fn dbounce_loads() {
-        let host = testhost::host();
-        testhost::load(&host, &DBOUNCE, &["names=db"]).unwrap();
+        let host = testing::host();
+        testing::load(&host, &DBOUNCE, &["names=db"]).unwrap();
         assert_eq!(
             host.instance().pin_value("db.delay").unwrap(),
             hal_core::Value::U32(5)

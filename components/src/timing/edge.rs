@@ -120,7 +120,7 @@ halcomp_module!(pub MODULE, EdgeComp, "edge detector with a pulse output");
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     /// Runs `inputs` through a fresh edge; returns (out, out-invert) per call.
     fn run(vars: EdgeVars, inputs: &[bool], period: i64) -> Vec<(bool, bool)> {
@@ -234,14 +234,14 @@ mod tests {
 
     #[test]
     fn loads_with_halcompile_names() {
-        let host = testhost::host();
-        testhost::load(&host, &MODULE, &["names=e1"]).unwrap();
+        let host = testing::host();
+        testing::load(&host, &MODULE, &["names=e1"]).unwrap();
         assert_eq!(
-            testhost::pin_names(&host),
+            testing::pin_names(&host),
             ["e1.in", "e1.out", "e1.out-invert", "e1.time"]
         );
-        assert!(testhost::param_names(&host).contains(&"e1.time-left-ns".to_string()));
-        assert_eq!(testhost::funct_names(&host), ["e1"]);
+        assert!(testing::param_names(&host).contains(&"e1.time-left-ns".to_string()));
+        assert_eq!(testing::funct_names(&host), ["e1"]);
         assert_eq!(
             host.instance().param_value("e1.in-edge").unwrap(),
             hal_core::Value::Bit(true)

@@ -86,7 +86,7 @@ halcomp_module!(pub MODULE, EstopLatchComp, "e-stop latch with watchdog");
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     fn start() -> EstopLatchVars {
         EstopLatchVars {
@@ -145,8 +145,8 @@ mod tests {
 
     #[test]
     fn defaults() {
-        let host = testhost::host();
-        testhost::load(&host, &MODULE, &[]).unwrap();
+        let host = testing::host();
+        testing::load(&host, &MODULE, &[]).unwrap();
         let i = host.instance();
         assert_eq!(
             i.pin_value("estop-latch.0.ok-in").unwrap(),

@@ -54,6 +54,3 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &sample_hold::MODULE,
     ]
 }
-
-#[cfg(test)]
-pub(crate) use crate::testing as testhost;

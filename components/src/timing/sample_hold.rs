@@ -31,7 +31,7 @@ halcomp_module!(pub MODULE, SampleHoldComp, "sample and hold of an s32");
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     #[test]
     fn holds_while_hold_is_true() {
@@ -41,10 +41,10 @@ mod tests {
 
     #[test]
     fn prefix_uses_dashes() {
-        let host = testhost::host();
-        testhost::load(&host, &MODULE, &["count=2"]).unwrap();
+        let host = testing::host();
+        testing::load(&host, &MODULE, &["count=2"]).unwrap();
         assert_eq!(
-            testhost::funct_names(&host),
+            testing::funct_names(&host),
             ["sample-hold.0", "sample-hold.1"]
         );
     }

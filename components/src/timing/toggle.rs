@@ -202,7 +202,7 @@ halcomp_module!(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::timing::testhost;
+    use crate::testing;
 
     fn press(t: &mut Toggle, v: &mut ToggleVars, inputs: &[bool]) -> Vec<bool> {
         inputs
@@ -365,10 +365,10 @@ mod tests {
 
     #[test]
     fn both_load_with_their_items() {
-        let host = testhost::host();
-        testhost::load(&host, &TOGGLE, &["count=2"]).unwrap();
-        testhost::load(&host, &TOGGLE2NIST, &[]).unwrap();
-        let pins = testhost::pin_names(&host);
+        let host = testing::host();
+        testing::load(&host, &TOGGLE, &["count=2"]).unwrap();
+        testing::load(&host, &TOGGLE2NIST, &[]).unwrap();
+        let pins = testing::pin_names(&host);
         for p in [
             "toggle.1.in",
             "toggle.1.out",
@@ -380,6 +380,6 @@ mod tests {
         ] {
             assert!(pins.contains(&p.to_string()), "{p}");
         }
-        assert!(testhost::param_names(&host).contains(&"toggle.0.debounce".to_string()));
+        assert!(testing::param_names(&host).contains(&"toggle.0.debounce".to_string()));
     }
 }

@@ -705,33 +705,15 @@ fn closed_loop_autotune_then_control() {
 
 mod hal {
     use super::*;
-    use hal_core::{HostConfig, PinDir, Value};
+    use crate::testing::TestHost;
+    use hal_core::{PinDir, Value};
 
-    fn host() -> Host {
-        Host::create(HostConfig::for_tests("pid")).expect("host starts")
+    fn host() -> TestHost {
+        TestHost::new("pid")
     }
 
     fn load(host: &Host, args: &[&str]) -> Result<()> {
         host.loadrt(&MODULE, args)
-    }
-
-    fn pin_names(host: &Host) -> Vec<String> {
-        host.instance()
-            .pins()
-            .unwrap()
-            .into_iter()
-            .map(|p| p.name)
-            .filter(|n| !n.ends_with(".time"))
-            .collect()
-    }
-
-    fn funct_names(host: &Host) -> Vec<String> {
-        host.instance()
-            .functs()
-            .unwrap()
-            .into_iter()
-            .map(|f| f.name)
-            .collect()
     }
 
     const ITEMS: &[&str] = &[
@@ -795,11 +777,9 @@ mod hal {
     fn default_load_makes_three_loops_with_every_pin() {
         let h = host();
         load(&h, &[]).unwrap();
-        let mut got = pin_names(&h);
-        got.sort();
-        assert_eq!(got, expected_pins(&["pid.0", "pid.1", "pid.2"], false));
+        assert_eq!(h.pins(), expected_pins(&["pid.0", "pid.1", "pid.2"], false));
         assert_eq!(
-            funct_names(&h),
+            h.functs(),
             [
                 "pid.0.do-pid-calcs",
                 "pid.1.do-pid-calcs",
@@ -834,24 +814,17 @@ mod hal {
         load(&h, &["num_chan=16", "debug=1"]).unwrap();
         let names: Vec<String> = (0..16).map(|i| format!("pid.{i}")).collect();
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let mut got = pin_names(&h);
-        got.sort();
-        assert_eq!(got, expected_pins(&refs, true));
+        assert_eq!(h.pins(), expected_pins(&refs, true));
 
         let h = host();
         load(&h, &["names=x.pos,spindle,", "debug=0"]).unwrap();
-        let mut got = pin_names(&h);
-        got.sort();
-        assert_eq!(got, expected_pins(&["spindle", "x.pos"], false));
-        assert_eq!(
-            funct_names(&h),
-            ["spindle.do-pid-calcs", "x.pos.do-pid-calcs"]
-        );
+        assert_eq!(h.pins(), expected_pins(&["spindle", "x.pos"], false));
+        assert_eq!(h.functs(), ["spindle.do-pid-calcs", "x.pos.do-pid-calcs"]);
 
         // num_chan=0 with empty names is the default.
         let h = host();
         load(&h, &["num_chan=0", "names="]).unwrap();
-        assert_eq!(funct_names(&h).len(), 3);
+        assert_eq!(h.functs().len(), 3);
     }
 
     #[test]
@@ -866,18 +839,22 @@ mod hal {
             ),
             (&["num_chan=x"], "num_chan"),
             (&["bogus=1"], "bogus"),
+            // As for encoder, a name after an empty one is refused rather
+            // than silently dropped.
+            (&["names=a,,b"], "empty channel name"),
+            (&["names=,x"], "empty channel name"),
         ];
         for (args, why) in cases {
             let h = host();
             let err = load(&h, args).unwrap_err().to_string();
             assert!(err.contains(why), "{args:?}: {err}");
-            assert!(pin_names(&h).is_empty(), "{args:?}");
+            assert!(h.pins().is_empty(), "{args:?}");
             assert!(h.loaded_components().is_empty());
         }
         // A duplicate name fails on the duplicate pin.
         let h = host();
         assert!(load(&h, &["names=a,a"]).is_err());
-        assert!(pin_names(&h).is_empty());
+        assert!(h.pins().is_empty());
     }
 
     /// Runs the loaded functions in a 1 ms thread until `done` holds.

@@ -1,8 +1,8 @@
-//! Tests of mux16, mux_generic and select8.
+//! Tests of mux2/4/8's select bits, mux16, mux_generic and select8.
 
 use super::mux_generic::{self, convert, select_value, Config, Selection};
 use super::*;
-use crate::math::testhost::TestHost;
+use crate::testing::TestHost;
 use hal_core::Value::{Bit, Float, S32, U32};
 use hal_core::{HalError, HalType};
 
@@ -10,6 +10,14 @@ const P: f64 = 0.001;
 
 fn sel(n: u8) -> [bool; 4] {
     std::array::from_fn(|i| n >> i & 1 == 1)
+}
+
+#[test]
+fn select_bits_weigh_sel0_least() {
+    assert_eq!(bits_value([]), 0);
+    assert_eq!(bits_value([true]), 1);
+    assert_eq!(bits_value([false, true, true]), 6);
+    assert_eq!(bits_value([true; 10]), 1023);
 }
 
 #[test]

@@ -1,6 +1,6 @@
-//! Selectors beyond mux2/4/8: mux16 (with Gray code and debounce),
-//! mux_generic (any input/output type, C-style config), select8 (one-hot
-//! decoder).
+//! Selectors (reference section 5): mux2, mux4, mux8, mux16 (with Gray
+//! code and debounce), mux_generic (any input/output type, C-style
+//! config), select8 (one-hot decoder).
 
 pub mod mux_generic;
 
@@ -9,6 +9,53 @@ use hal_core::{In, Pin, Result};
 use crate::cmath::f64_to_i32;
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
+
+/// The number select bits spell, `sel0` (the first) the least
+/// significant. At most 32 bits.
+#[inline]
+pub fn bits_value(bits: impl IntoIterator<Item = bool>) -> u32 {
+    bits.into_iter()
+        .enumerate()
+        .fold(0, |v, (i, b)| v | u32::from(b) << i)
+}
+
+/// Builds a mux with `sels` select bits and 2^sels float inputs.
+fn mux(inst: &mut Inst<'_, '_>, sels: usize) -> Result<()> {
+    let sel: Vec<Pin<bool, In>> = if sels == 1 {
+        vec![inst.pin_in("sel")?]
+    } else {
+        (0..sels)
+            .map(|i| inst.pin_in(&format!("sel{i}")))
+            .collect::<Result<_>>()?
+    };
+    let inputs: Vec<Pin<f64, In>> = (0..1usize << sels)
+        .map(|i| inst.pin_in(&format!("in{i}")))
+        .collect::<Result<_>>()?;
+    let out = inst.pin_out::<f64>("out")?;
+    inst.funct("_", false, move |_| {
+        out.set(inputs[bits_value(sel.iter().map(Pin::get)) as usize].get());
+    })
+}
+
+macro_rules! muxes {
+    ($($ty:ident $static:ident $name:literal $sels:literal;)*) => {$(
+        #[doc = concat!("`", $name, "`: out = in<k>, k from the select bits.")]
+        pub struct $ty;
+        impl HalComp for $ty {
+            const NAME: &'static str = $name;
+            fn build(inst: &mut Inst<'_, '_>) -> Result<()> {
+                mux(inst, $sels)
+            }
+        }
+        halcomp_module!(pub $static, $ty, "selects one of several float inputs");
+    )*};
+}
+
+muxes! {
+    Mux2 MUX2 "mux2" 1;
+    Mux4 MUX4 "mux4" 2;
+    Mux8 MUX8 "mux8" 3;
+}
 
 /// Inputs of one mux16 call, besides the data inputs.
 #[derive(Debug, Clone, Copy, Default)]
@@ -51,15 +98,17 @@ impl Mux16 {
     /// The selected input number from the select bits (binary, or Gray
     /// code with `sel3` as the most significant bit).
     pub fn number(sel: [bool; 4], graycode: bool) -> i32 {
-        if graycode {
-            let g3 = sel[3];
-            let g2 = g3 ^ sel[2];
-            let g1 = g2 ^ sel[1];
-            let g0 = g1 ^ sel[0];
-            g0 as i32 + 2 * g1 as i32 + 4 * g2 as i32 + 8 * g3 as i32
+        let bits = if graycode {
+            // Each binary bit is the XOR of the Gray bits from the top
+            // down to it.
+            let b3 = sel[3];
+            let b2 = b3 ^ sel[2];
+            let b1 = b2 ^ sel[1];
+            [b1 ^ sel[0], b1, b2, b3]
         } else {
-            sel[0] as i32 + 2 * sel[1] as i32 + 4 * sel[2] as i32 + 8 * sel[3] as i32
-        }
+            sel
+        };
+        bits_value(bits) as i32
     }
 
     /// One call with period `fperiod` seconds.
@@ -161,7 +210,7 @@ halcomp_module!(pub SELECT8, Select8, "8-bit binary match detector");
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&MUX16, &mux_generic::MODULE, &SELECT8]
+    vec![&MUX2, &MUX4, &MUX8, &MUX16, &mux_generic::MODULE, &SELECT8]
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, HalType, Host, In, Out, Pin, RawPin, Result, Ro, Value};
 
 use crate::cmath::{f64_to_i32, f64_to_u32};
+use crate::convert::c_convert;
 
 /// Most instances one load creates (entries of `config`).
 pub const MAX_INSTANCES: usize = 100;
@@ -95,15 +96,13 @@ impl Config {
     }
 }
 
-/// Converts a selected input value to the output type.
+/// Converts a selected input value to the output type. Where mux_generic
+/// differs from a C cast it says so: a float is TRUE beyond +-2e-7, float
+/// to s32/u32 saturates (NaN gives C's value), and s32/u32 clamp to each
+/// other's range; everything else is the C conversion.
 pub fn convert(v: Value, to: HalType) -> Value {
     match (v, to) {
-        (Value::Bit(b), HalType::Bit) => Value::Bit(b),
-        (Value::Bit(b), HalType::Float) => Value::Float(if b { 1.0 } else { 0.0 }),
-        (Value::Bit(b), HalType::S32) => Value::S32(b as i32),
-        (Value::Bit(b), HalType::U32) => Value::U32(b as u32),
         (Value::Float(f), HalType::Bit) => Value::Bit(f.abs() > 2e-7),
-        (Value::Float(f), HalType::Float) => Value::Float(f),
         (Value::Float(f), HalType::S32) => Value::S32(if f > 2147483647.0 {
             i32::MAX
         } else if f < -2147483648.0 {
@@ -119,16 +118,9 @@ pub fn convert(v: Value, to: HalType) -> Value {
         } else {
             f64_to_u32(f)
         }),
-        (Value::S32(x), HalType::Bit) => Value::Bit(x != 0),
-        (Value::S32(x), HalType::Float) => Value::Float(x as f64),
-        (Value::S32(x), HalType::S32) => Value::S32(x),
         (Value::S32(x), HalType::U32) => Value::U32(x.max(0) as u32),
-        (Value::U32(x), HalType::Bit) => Value::Bit(x != 0),
-        (Value::U32(x), HalType::Float) => Value::Float(x as f64),
         (Value::U32(x), HalType::S32) => Value::S32(x.min(i32::MAX as u32) as i32),
-        (Value::U32(x), HalType::U32) => Value::U32(x),
-        // Only bit, float, s32 and u32 are configurable.
-        (_, to) => Value::zero(to),
+        (v, to) => c_convert(v, to),
     }
 }
 
@@ -171,10 +163,7 @@ impl Selection {
 
 /// The select value from the select bits and `sel-int` (u32, wrapping).
 pub fn select_value(bits: impl IntoIterator<Item = bool>, sel_int: u32) -> u32 {
-    bits.into_iter()
-        .enumerate()
-        .fold(0u32, |s, (i, b)| s.wrapping_add((b as u32) << i))
-        .wrapping_add(sel_int)
+    super::bits_value(bits).wrapping_add(sel_int)
 }
 
 /// One instance's handles.
