@@ -62,9 +62,13 @@ pub struct AdcOutOptions {
 /// A digital-to-analog converter's characteristics.
 #[derive(Debug, Clone, Copy)]
 pub struct Converter {
+    /// Volts per count: the default of the `bit_weight` param.
     pub bit_weight: f64,
+    /// Volts at count 0: the default of the `hw_offset` param.
     pub hw_offset: f64,
+    /// Lowest count the converter takes; outputs clamp to it.
     pub min_count: i64,
+    /// Highest count the converter takes; outputs clamp to it.
     pub max_count: i64,
 }
 

@@ -45,7 +45,9 @@ pub struct EncoderCore {
 /// What one update produced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EncoderOutputs {
+    /// Counts since the last reset or index, for the `count` pin.
     pub count: i64,
+    /// Counts since load, never zeroed, for the `rawcounts` pin.
     pub rawcounts: i64,
     /// Counts (relative to zero) where the index fired in this update.
     pub index_count: Option<i64>,

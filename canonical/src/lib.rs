@@ -71,6 +71,8 @@
 //! crate) keep LinuxCNC's historic names and exact arithmetic, which
 //! existing configurations and LinuxCNC's own test outputs depend on.
 
+#![forbid(unsafe_code)]
+
 pub mod adc;
 pub mod dig;
 pub mod encoder;

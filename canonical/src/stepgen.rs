@@ -110,9 +110,13 @@ fn limit(v: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
 /// Step timing in hardware clock ticks, each at least one tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TimingTicks {
+    /// Step pulse length.
     pub steplen: u32,
+    /// Least time between two pulses.
     pub stepspace: u32,
+    /// Direction held stable before a step.
     pub dirsetup: u32,
+    /// Direction held stable after a step.
     pub dirhold: u32,
 }
 

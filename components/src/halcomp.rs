@@ -61,6 +61,7 @@ pub const PARAMS_PERSONALITY: &[ParamDecl] = &[
 #[macro_export]
 macro_rules! halcomp_module {
     ($vis:vis $static:ident, $ty:ty, $help:expr) => {
+        #[doc = concat!("The `loadrt` entry of this component: ", $help, ".")]
         $vis static $static: hal_core::ModuleDef = hal_core::ModuleDef {
             name: <$ty as $crate::halcomp::HalComp>::NAME,
             params: if <$ty as $crate::halcomp::HalComp>::PERSONALITY {

@@ -25,6 +25,8 @@
 //! * `notice`: stderr messages posted from realtime functions, written by
 //!   a helper thread.
 
+#![forbid(unsafe_code)]
+
 pub mod bits;
 pub mod cmath;
 pub mod convert;

@@ -9,133 +9,326 @@ use crate::types::HalType;
 /// instance unchanged: an operation either completes or is rolled back.
 #[derive(Debug, thiserror::Error)]
 pub enum HalError {
+    /// A name has a character LinuxCNC does not allow, or is empty.
     #[error("bad {kind} name '{name}': {reason}")]
     BadName {
+        /// What the name is for: "pin", "signal", "thread", ...
         kind: &'static str,
+        /// The name as given.
         name: String,
+        /// Which rule it breaks.
         reason: &'static str,
     },
+    /// A name is longer than the segment stores.
     #[error("{kind} name '{name}' is {len} bytes long, at most {max} are allowed")]
     NameTooLong {
+        /// What the name is for.
         kind: &'static str,
+        /// The name as given.
         name: String,
+        /// Its length in bytes.
         len: usize,
+        /// The longest name allowed, in bytes.
         max: usize,
     },
+    /// An object of that kind and name already exists.
     #[error("duplicate {kind} '{name}'")]
-    Duplicate { kind: &'static str, name: String },
+    Duplicate {
+        /// The kind of object.
+        kind: &'static str,
+        /// The name already taken.
+        name: String,
+    },
+    /// No object of that kind has that name.
     #[error("{kind} '{name}' not found")]
-    NotFound { kind: &'static str, name: String },
+    NotFound {
+        /// The kind of object looked for.
+        kind: &'static str,
+        /// The name looked for.
+        name: String,
+    },
+    /// An object exists but has another HAL type than the caller asked for.
     #[error("{kind} '{name}' is {actual}, not {expected}")]
     WrongType {
+        /// The kind of object.
         kind: &'static str,
+        /// Its name.
         name: String,
+        /// The type the caller asked for.
         expected: HalType,
+        /// The type it has.
         actual: HalType,
     },
+    /// `net`/`linkps` joins a pin to a signal of another type.
     #[error("type mismatch: pin '{pin}' is {pin_type}, signal '{signal}' is {signal_type}")]
     TypeMismatch {
+        /// The pin being linked.
         pin: String,
+        /// Its type.
         pin_type: HalType,
+        /// The signal it was to join.
         signal: String,
+        /// The signal's type.
         signal_type: HalType,
     },
+    /// A second output pin would drive a signal: a signal has one writer.
     #[error("signal '{signal}' already has output pin '{writer}', cannot add output pin '{pin}'")]
     SignalHasWriter {
+        /// The signal.
         signal: String,
+        /// The output pin already driving it.
         writer: String,
+        /// The output pin refused.
         pin: String,
     },
+    /// An output pin would join a signal that I/O pins already share.
     #[error("signal '{signal}' already has I/O pin(s), cannot add output pin '{pin}'")]
-    SignalHasIoPins { signal: String, pin: String },
+    SignalHasIoPins {
+        /// The signal.
+        signal: String,
+        /// The output pin refused.
+        pin: String,
+    },
+    /// An I/O pin would join a signal that an output pin drives.
     #[error("signal '{signal}' already has an output pin, cannot add I/O pin '{pin}'")]
-    SignalHasOutputForIo { signal: String, pin: String },
+    SignalHasOutputForIo {
+        /// The signal.
+        signal: String,
+        /// The I/O pin refused.
+        pin: String,
+    },
+    /// The pin is linked to a signal already; `unlinkp` it first.
     #[error("pin '{pin}' is already linked to signal '{signal}'")]
-    PinAlreadyLinked { pin: String, signal: String },
+    PinAlreadyLinked {
+        /// The pin.
+        pin: String,
+        /// The signal it is linked to.
+        signal: String,
+    },
+    /// `setp` on a pin that a signal feeds: set the signal instead.
     #[error("pin '{pin}' is connected to signal '{signal}' and cannot be set directly")]
-    PinConnected { pin: String, signal: String },
+    PinConnected {
+        /// The pin.
+        pin: String,
+        /// The signal feeding it.
+        signal: String,
+    },
+    /// `sets` on a signal that an output pin drives.
     #[error("signal '{signal}' has writer '{writer}' and cannot be set directly")]
-    SignalDriven { signal: String, writer: String },
+    SignalDriven {
+        /// The signal.
+        signal: String,
+        /// The output pin driving it.
+        writer: String,
+    },
+    /// `setp` on a read-only parameter.
     #[error("param '{name}' is read-only")]
-    ParamReadOnly { name: String },
+    ParamReadOnly {
+        /// The parameter.
+        name: String,
+    },
+    /// `setp` on an output pin, which only its component writes.
     #[error("pin '{name}' is an output pin and cannot be set directly")]
-    PinIsOutput { name: String },
+    PinIsOutput {
+        /// The pin.
+        name: String,
+    },
+    /// No live host for the instance: nothing to attach to.
     #[error("realtime not running for instance '{instance}'")]
-    NotRunning { instance: String },
+    NotRunning {
+        /// The instance name.
+        instance: String,
+    },
+    /// Another host holds the instance lock.
     #[error("a HAL host is already running for instance '{instance}'")]
-    AlreadyRunning { instance: String },
+    AlreadyRunning {
+        /// The instance name.
+        instance: String,
+    },
+    /// An operating-system operation failed: on the segment, the lock
+    /// file or the socket, or starting a thread (then `path` is empty).
     #[error("{op} {path}: {source}")]
     Io {
+        /// What was being done ("mapping shared memory segment", ...).
         op: &'static str,
+        /// The file it was done to, if any.
         path: PathBuf,
+        /// The error the system reported.
         #[source]
         source: io::Error,
     },
+    /// A system call without a file name failed.
     #[error("{op}: {source}")]
     Os {
+        /// The call or its purpose.
         op: &'static str,
+        /// The error the system reported.
         #[source]
         source: nix::Error,
     },
+    /// The segment fails its header checks (magic, layout version, size) or its lock.
     #[error("segment of instance '{instance}' is not usable: {reason}")]
-    BadSegment { instance: String, reason: String },
-    #[error("offset {offset:#x} read from the segment is outside it or misaligned (segment size {size:#x})")]
-    BadOffset { offset: u64, size: u64 },
-    #[error("HAL shared memory is full: {requested} bytes wanted, {available} left (raise the segment size)")]
-    OutOfMemory { requested: u64, available: u64 },
-    #[error("the change is too large for one transaction ({limit} journal entries)")]
-    JournalFull { limit: usize },
-    #[error("thread '{name}': period must be greater than zero")]
-    ZeroPeriod { name: String },
-    #[error("thread '{name}': period {period} ns is shorter than the base period {base} ns")]
-    PeriodBelowBase {
-        name: String,
-        period: i64,
-        base: i64,
-    },
-    #[error("thread '{name}': period {period} ns is shorter than the period {previous} ns of thread '{previous_name}'; create threads fastest first")]
-    ThreadOrder {
-        name: String,
-        period: i64,
-        previous: i64,
-        previous_name: String,
-    },
-    #[error("function '{funct}' is not reentrant and is already in thread '{thread}'")]
-    FunctInUse { funct: String, thread: String },
-    #[error("function '{funct}' is not in thread '{thread}'")]
-    FunctNotInThread { funct: String, thread: String },
-    #[error("function '{funct}' is in thread '{thread}'; remove it with delf first")]
-    FunctStillInThread { funct: String, thread: String },
-    #[error("position {position} is out of range for thread '{thread}' with {len} functions")]
-    BadPosition {
-        thread: String,
-        position: i32,
-        len: usize,
-    },
-    #[error("component '{comp}' is not ready")]
-    NotReady { comp: String },
-    #[error("component '{comp}' belongs to process {owner}, not to this one")]
-    NotOwner { comp: String, owner: i32 },
-    #[error("too many {kind}s: the limit is {limit}")]
-    TooMany { kind: &'static str, limit: usize },
-    #[error("bad value for {what}: {reason}")]
-    BadValue { what: String, reason: String },
-    #[error("{module}: parameter '{param}': {reason}")]
-    ModuleParam {
-        module: String,
-        param: String,
+    BadSegment {
+        /// The instance the segment belongs to.
+        instance: String,
+        /// Which check failed.
         reason: String,
     },
+    /// An offset read from the segment points outside it or is misaligned: the segment is corrupt or hostile.
+    #[error("offset {offset:#x} read from the segment is outside it or misaligned (segment size {size:#x})")]
+    BadOffset {
+        /// The offset read.
+        offset: u64,
+        /// The size of the segment.
+        size: u64,
+    },
+    /// The segment has no room left for an allocation.
+    #[error("HAL shared memory is full: {requested} bytes wanted, {available} left (raise the segment size)")]
+    OutOfMemory {
+        /// Bytes asked for.
+        requested: u64,
+        /// Bytes still free.
+        available: u64,
+    },
+    /// One structural change needs more undo entries than the journal holds.
+    #[error("the change is too large for one transaction ({limit} journal entries)")]
+    JournalFull {
+        /// Entries the journal holds.
+        limit: usize,
+    },
+    /// A thread was asked for with period 0.
+    #[error("thread '{name}': period must be greater than zero")]
+    ZeroPeriod {
+        /// The thread.
+        name: String,
+    },
+    /// A thread period is shorter than the base period every period is a multiple of.
+    #[error("thread '{name}': period {period} ns is shorter than the base period {base} ns")]
+    PeriodBelowBase {
+        /// The thread.
+        name: String,
+        /// Its period in ns.
+        period: i64,
+        /// The base period in ns.
+        base: i64,
+    },
+    /// Threads must be created fastest first; this one is faster than an earlier one.
+    #[error("thread '{name}': period {period} ns is shorter than the period {previous} ns of thread '{previous_name}'; create threads fastest first")]
+    ThreadOrder {
+        /// The thread.
+        name: String,
+        /// Its period in ns.
+        period: i64,
+        /// The period of the earlier thread, in ns.
+        previous: i64,
+        /// The earlier thread.
+        previous_name: String,
+    },
+    /// `addf` of a non-reentrant function that some thread already runs.
+    #[error("function '{funct}' is not reentrant and is already in thread '{thread}'")]
+    FunctInUse {
+        /// The function.
+        funct: String,
+        /// The thread running it.
+        thread: String,
+    },
+    /// `delf` of a function the thread does not run.
+    #[error("function '{funct}' is not in thread '{thread}'")]
+    FunctNotInThread {
+        /// The function.
+        funct: String,
+        /// The thread.
+        thread: String,
+    },
+    /// A function cannot be removed while a thread still runs it.
+    #[error("function '{funct}' is in thread '{thread}'; remove it with delf first")]
+    FunctStillInThread {
+        /// The function.
+        funct: String,
+        /// The thread running it.
+        thread: String,
+    },
+    /// `addf` at a position past the end of the thread's function list.
+    #[error("position {position} is out of range for thread '{thread}' with {len} functions")]
+    BadPosition {
+        /// The thread.
+        thread: String,
+        /// The position asked for.
+        position: i32,
+        /// Functions the thread has now.
+        len: usize,
+    },
+    /// A component is used before its `ready` call.
+    #[error("component '{comp}' is not ready")]
+    NotReady {
+        /// The component.
+        comp: String,
+    },
+    /// A component is changed by a process that did not create it.
+    #[error("component '{comp}' belongs to process {owner}, not to this one")]
+    NotOwner {
+        /// The component.
+        comp: String,
+        /// PID of the process that owns it.
+        owner: i32,
+    },
+    /// The instance ran out of ids for a kind of object.
+    #[error("too many {kind}s: the limit is {limit}")]
+    TooMany {
+        /// The kind of object.
+        kind: &'static str,
+        /// How many ids there are.
+        limit: usize,
+    },
+    /// A value does not parse or is out of range for where it goes.
+    #[error("bad value for {what}: {reason}")]
+    BadValue {
+        /// Where the value was going (pin, param, argument).
+        what: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A `loadrt` parameter is unknown, malformed or out of range.
+    #[error("{module}: parameter '{param}': {reason}")]
+    ModuleParam {
+        /// The module being loaded.
+        module: String,
+        /// The parameter.
+        param: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// `loadrt` of a name the registry does not have.
     #[error("module '{name}' not found")]
-    UnknownModule { name: String },
+    UnknownModule {
+        /// The name asked for.
+        name: String,
+    },
+    /// `loadrt` of a module that is loaded already.
     #[error("module '{name}' is already loaded")]
-    ModuleLoaded { name: String },
+    ModuleLoaded {
+        /// The module.
+        name: String,
+    },
+    /// A module's load failed (bad combination of parameters, failed probe); nothing of it stays loaded.
     #[error("{module}: {reason}")]
-    ModuleLoad { module: String, reason: String },
+    ModuleLoad {
+        /// The module.
+        module: String,
+        /// Why it failed.
+        reason: String,
+    },
+    /// Loading, threads and functions run only in the host process; this process is a client.
     #[error("this operation needs the HAL host process")]
     NotHost,
+    /// A realtime function panicked; the threads stay stopped until the instance is recovered.
     #[error("threads of instance '{instance}' are halted after a fault in function '{funct}'; unload and reload to recover")]
-    Faulted { instance: String, funct: String },
+    Faulted {
+        /// The instance.
+        instance: String,
+        /// The function that faulted.
+        funct: String,
+    },
 }
 
 impl HalError {

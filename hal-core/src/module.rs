@@ -29,17 +29,24 @@ pub enum ParamKind {
 /// One declared module parameter.
 #[derive(Debug, Clone, Copy)]
 pub struct ParamDecl {
+    /// The key `loadrt` takes (`count`, `cfg`, `names`).
     pub name: &'static str,
+    /// What the value must parse as.
     pub kind: ParamKind,
+    /// One line for the module's help text.
     pub help: &'static str,
 }
 
 /// A parsed argument.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArgValue {
+    /// An `Int` or `Long` parameter's value.
     Int(i64),
+    /// A `Str` parameter's value, quotes removed.
     Str(String),
+    /// An `IntArray` or `LongArray` parameter's items.
     IntArray(Vec<i64>),
+    /// A `StrArray` parameter's items.
     StrArray(Vec<String>),
 }
 

@@ -6,11 +6,17 @@ use std::fmt;
 /// The type of a pin, parameter or signal.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum HalType {
+    /// `bit`: a boolean.
     Bit,
+    /// `float`: an f64.
     Float,
+    /// `s32`: a signed 32-bit integer.
     S32,
+    /// `u32`: an unsigned 32-bit integer.
     U32,
+    /// `s64`: a signed 64-bit integer.
     S64,
+    /// `u64`: an unsigned 64-bit integer.
     U64,
 }
 
@@ -67,8 +73,11 @@ impl fmt::Display for HalType {
 /// Direction of a pin, seen from the component that owns it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PinDir {
+    /// Read by its component, driven by a signal or `setp`.
     In,
+    /// Written by its component only; at most one per signal.
     Out,
+    /// Read and written by its component; shares a signal with other I/O pins but no output pin.
     Io,
 }
 
@@ -138,11 +147,17 @@ impl ParamDir {
 /// A typed HAL value, as read from or written to a pin, param or signal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Value {
+    /// A `bit` value.
     Bit(bool),
+    /// A `float` value.
     Float(f64),
+    /// An `s32` value.
     S32(i32),
+    /// A `u32` value.
     U32(u32),
+    /// An `s64` value.
     S64(i64),
+    /// A `u64` value.
     U64(u64),
 }
 

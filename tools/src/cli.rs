@@ -10,6 +10,7 @@ use crate::halcmd::{Options, Session};
 /// What halcmd's command line asked for.
 #[derive(Debug, Default)]
 pub struct HalcmdArgs {
+    /// `-k`, `-q`/`-Q`, `-v`, `-s` and `-i`, as the session runs with them.
     pub opts: Options,
     /// `-f [FILE]`: `Some(None)` reads stdin.
     pub file: Option<Option<String>>,

@@ -7,8 +7,11 @@ use crate::halcmd::format::get_value;
 /// The kind of object a meter watches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
+    /// `pin NAME`.
     Pin,
+    /// `sig NAME`.
     Signal,
+    /// `param NAME`.
     Param,
 }
 

@@ -12,8 +12,11 @@ use hal_parport::sim::Plug;
 
 /// An opened port with its driver.
 pub struct Port {
+    /// The driver over the opened backend.
     pub driver: PortDriver,
+    /// The port's direction from the cfg string (`out`, `in`, `epp`, `x`).
     pub mode: Mode,
+    /// Which backend and device were opened, as the tool prints it.
     pub description: String,
 }
 
@@ -125,7 +128,9 @@ pub fn format_inputs(mode: Mode, inputs: &Inputs) -> String {
 /// The result of checking one wire of the loopback plug.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct WireCheck {
+    /// DB-25 pin number of the output.
     pub out_pin: u8,
+    /// DB-25 pin number of the input wired to it.
     pub in_pin: u8,
     /// The input followed the output high and low.
     pub ok: bool,

@@ -17,16 +17,28 @@ const SEP: char = '\u{1f}';
 /// Errors talking to the host.
 #[derive(Debug, thiserror::Error)]
 pub enum ClientError {
+    /// No host answers on the instance's socket.
     #[error("realtime not running for instance '{instance}'")]
-    NotRunning { instance: String },
+    NotRunning {
+        /// The instance name.
+        instance: String,
+    },
+    /// The connection failed or broke mid-request.
     #[error("talking to the HAL host at {path}: {source}")]
     Io {
+        /// The host's socket.
         path: PathBuf,
+        /// The error from the socket.
         #[source]
         source: std::io::Error,
     },
+    /// A word would break the line protocol; refused before sending.
     #[error("argument contains a newline or control separator: {arg:?}")]
-    BadArgument { arg: String },
+    BadArgument {
+        /// The offending word.
+        arg: String,
+    },
+    /// The host answered `err` with this message.
     #[error("{0}")]
     Refused(String),
 }

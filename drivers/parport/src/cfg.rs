@@ -141,14 +141,25 @@ pub enum CfgError {
     Empty,
     /// A token where an address belongs is not one.
     #[error("bad port address '{token}': {reason}")]
-    BadAddress { token: String, reason: String },
+    BadAddress {
+        /// The token as written.
+        token: String,
+        /// Why it is not an address.
+        reason: String,
+    },
     /// More than [`MAX_PORTS`] ports.
     #[error("{count} ports configured, at most {MAX_PORTS} are supported")]
-    TooManyPorts { count: usize },
+    TooManyPorts {
+        /// How many ports the string names.
+        count: usize,
+    },
     /// The same port twice, written the same way (`0` and `0x378` for
     /// one port are only found when the backends are chosen).
     #[error("port {addr} is configured twice")]
-    Duplicate { addr: PortAddr },
+    Duplicate {
+        /// The port named twice.
+        addr: PortAddr,
+    },
 }
 
 fn is_sep(c: char) -> bool {

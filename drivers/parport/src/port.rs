@@ -25,24 +25,39 @@ pub mod raw;
 pub enum PortError {
     /// The device node does not exist.
     #[error("{path} does not exist (is the parport_pc and ppdev kernel module loaded?)")]
-    NoDevice { path: String },
+    NoDevice {
+        /// The `/dev/parportN` node looked for.
+        path: String,
+    },
     /// Opening the device node failed.
     #[error("cannot open {path}: {source}{hint}")]
     Open {
+        /// The device node.
         path: String,
+        /// The error the kernel returned.
         source: std::io::Error,
+        /// How to get access when it was refused (the group and udev
+        /// rule); empty otherwise.
         hint: &'static str,
     },
     /// An ioctl failed during setup.
     #[error("{op} on {path} failed: {source}")]
     Ioctl {
+        /// The ioctl (`PPCLAIM`, `PPSETMODE`, ...).
         op: &'static str,
+        /// The device node.
         path: String,
+        /// The error the kernel returned.
         source: std::io::Error,
     },
     /// Raw port I/O is not permitted.
     #[error("no permission for raw port I/O at {addr:#x}: {reason}")]
-    NoPermission { addr: u16, reason: String },
+    NoPermission {
+        /// The port's base address.
+        addr: u16,
+        /// What `ioperm` said and how to grant the permission.
+        reason: String,
+    },
     /// The backend cannot do what the port's mode needs.
     #[error("{0}")]
     Unsupported(String),

@@ -12,7 +12,9 @@ use crate::shm::*;
 /// Which kind of object an alias applies to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AliasKind {
+    /// `alias pin`.
     Pin,
+    /// `alias param`.
     Param,
 }
 

@@ -16,10 +16,15 @@ use crate::types::{HalType, ParamDir, PinDir, Value};
 /// A component as `show comp` needs it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ComponentInfo {
+    /// The component's name (`loadrt` name or the name a user-space component chose).
     pub name: String,
+    /// Its id, which `show` prints and owner ids refer to.
     pub id: i32,
+    /// User-space, realtime or the core's own.
     pub kind: ComponentKind,
+    /// Whether it has called `ready`; `waitusr` and `loadusr -W` wait on it.
     pub ready: bool,
+    /// The process that created it.
     pub pid: i32,
     /// The `loadrt` arguments, if recorded.
     pub loadrt_args: Option<String>,
@@ -28,74 +33,113 @@ pub struct ComponentInfo {
 /// A pin as `show pin` needs it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PinInfo {
+    /// The pin's name (its alias, if aliased).
     pub name: String,
     /// The name before `alias`, if aliased.
     pub orig_name: Option<String>,
+    /// Id of the component that owns it.
     pub owner_id: i32,
+    /// Name of the component that owns it.
     pub owner: String,
+    /// Its HAL type.
     pub hal_type: HalType,
+    /// In, out or io.
     pub dir: PinDir,
+    /// The value it reads now: its signal's, or its own when unlinked.
     pub value: Value,
+    /// The signal it is linked to, if any.
     pub signal: Option<String>,
 }
 
 /// A param as `show param` needs it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParamInfo {
+    /// The param's name (its alias, if aliased).
     pub name: String,
+    /// The name before `alias`, if aliased.
     pub orig_name: Option<String>,
+    /// Id of the component that owns it.
     pub owner_id: i32,
+    /// Name of the component that owns it.
     pub owner: String,
+    /// Its HAL type.
     pub hal_type: HalType,
+    /// Read-only or read-write.
     pub dir: ParamDir,
+    /// Its current value.
     pub value: Value,
 }
 
 /// A signal with the pins linked to it, in pin-name order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SignalInfo {
+    /// The signal's name.
     pub name: String,
+    /// Its HAL type.
     pub hal_type: HalType,
+    /// Its current value.
     pub value: Value,
+    /// Output pins linked to it (0 or 1).
     pub writers: u32,
+    /// I/O pins linked to it.
     pub bidirs: u32,
+    /// Input pins linked to it.
     pub readers: u32,
+    /// Every linked pin with its direction.
     pub pins: Vec<(String, PinDir)>,
 }
 
 /// A function's metadata.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FunctInfo {
+    /// The function's name, as `addf` takes it.
     pub name: String,
+    /// Id of the component that exported it.
     pub owner_id: i32,
+    /// Name of the component that exported it.
     pub owner: String,
+    /// Whether it was declared to use floating point.
     pub uses_fp: bool,
+    /// Whether several threads may run it (else `addf` refuses a second thread).
     pub reentrant: bool,
     /// How many threads call it.
     pub users: u32,
-    /// Last execution time and maximum, in ns.
+    /// Execution time of the last run, in ns (its `.time` pin).
     pub time_ns: i32,
+    /// Longest execution time seen, in ns (its `.tmax` param).
     pub tmax_ns: i32,
 }
 
 /// A thread with its function list and statistics.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThreadInfo {
+    /// The thread's name.
     pub name: String,
+    /// Its period in ns.
     pub period: i64,
+    /// Its SCHED_FIFO priority (faster threads get higher ones).
     pub priority: i32,
+    /// Whether it may run floating-point functions.
     pub uses_fp: bool,
+    /// The CPU it is pinned to, or `None` for the default placement.
     pub cpu: Option<usize>,
+    /// Functions it runs each cycle, in order.
     pub functs: Vec<String>,
     /// Functions run once on the first cycle after start (`initf`).
     pub init_functs: Vec<String>,
+    /// Whether it is running (`start`) or stopped.
     pub running: bool,
+    /// Execution time of the last cycle, in ns (its `.time` pin).
     pub time_ns: i32,
+    /// Longest cycle seen, in ns (its `.tmax` param).
     pub tmax_ns: i32,
+    /// Cycles that ended after the next one was due.
     pub overruns: u64,
+    /// Cycles run since start.
     pub cycles: u64,
-    /// Wake-up latency extremes (ns); `None` before the first cycle.
+    /// Wake-up latency minimum (ns); `None` before the first cycle.
     pub latency_min_ns: Option<u64>,
+    /// Wake-up latency maximum (ns); `None` before the first cycle.
     pub latency_max_ns: Option<u64>,
     /// Wake-up latency histogram; see [`crate::latency_bucket`].
     pub latency_histogram: Vec<u64>,
@@ -104,8 +148,11 @@ pub struct ThreadInfo {
 /// A named memory region.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegionInfo {
+    /// The region's name.
     pub name: String,
+    /// Id of the component that allocated it.
     pub owner_id: i32,
+    /// Its size in bytes.
     pub size: u64,
 }
 

@@ -6,14 +6,19 @@ use super::ini::Ini;
 /// A lexing error, with the reason.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum LexError {
+    /// A `"` opens a string that the line never closes.
     #[error("unterminated quoted string")]
     UnterminatedQuote,
+    /// `$VAR` or `$(VAR)` names a variable the environment lacks.
     #[error("environment variable '{0}' not found")]
     NoEnv(String),
+    /// `[SECTION]KEY` names a key the INI file lacks (section, key).
     #[error("INI variable [{0}]{1} not found")]
     NoIni(String, String),
+    /// `[SECTION]KEY` appears but halcmd was given no `-i` INI file (section, key).
     #[error("INI substitution [{0}]{1} used without an INI file (-i)")]
     NoIniFile(String, String),
+    /// A `$(NAME` or `[SECTION](KEY` without its closing parenthesis.
     #[error("malformed substitution '{0}'")]
     Malformed(String),
 }
@@ -21,7 +26,9 @@ pub enum LexError {
 /// A logical line: its number (of its first physical line) and its text.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Line {
+    /// Number of its first physical line, counting from 1.
     pub number: usize,
+    /// Its text, continuation lines joined.
     pub text: String,
 }
 

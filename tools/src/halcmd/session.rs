@@ -34,6 +34,7 @@ pub type CmdResult = Result<(), String>;
 pub struct Session<'o> {
     inst: Instance,
     client: Option<Client>,
+    /// How commands run and report; `-k` and friends may change mid-file.
     pub opts: Options,
     out: &'o mut dyn Write,
     err: &'o mut dyn Write,

@@ -19,7 +19,9 @@ pub struct LoadUsr {
     pub ignore_status: bool,
     /// `-n NAME`: the component name to wait for.
     pub name: Option<String>,
+    /// The program to start, looked up in PATH.
     pub program: String,
+    /// Its arguments.
     pub args: Vec<String>,
 }
 

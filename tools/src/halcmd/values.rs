@@ -6,8 +6,10 @@ use hal_core::{HalType, Value};
 /// Why a value was refused; the Display text is halcmd's.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum ValueError {
+    /// Not a number (or not a bit word) at all.
     #[error("invalid argument")]
     Invalid,
+    /// A number the type cannot hold.
     #[error("value out of range")]
     OutOfRange,
 }

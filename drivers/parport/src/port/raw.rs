@@ -144,7 +144,9 @@ impl RawPort {
     #[inline]
     fn inb(&self, addr: u16) -> u8 {
         if self.allowed() {
-            // SAFETY: this thread has ioperm access to `addr`.
+            // SAFETY: `allowed` just made sure this thread has ioperm
+            // access to the port's window, and every caller passes an
+            // address inside it (base + a register offset of regs).
             unsafe { port_in(addr) }
         } else {
             0xFF
@@ -154,17 +156,29 @@ impl RawPort {
     #[inline]
     fn outb(&self, addr: u16, v: u8) {
         if self.allowed() {
-            // SAFETY: this thread has ioperm access to `addr`.
+            // SAFETY: `allowed` just made sure this thread has ioperm
+            // access to the port's window, and every caller passes an
+            // address inside it (base + a register offset of regs).
             unsafe { port_out(addr, v) }
         }
     }
 }
 
+/// Reads one byte from I/O port `addr` (`inb`).
+///
+/// # Safety
+///
+/// The calling thread must hold I/O permission for `addr` (granted by
+/// `ioperm`; without it the CPU raises a general protection fault and the
+/// process dies with SIGSEGV), and `addr` must be a register of the port
+/// this backend owns: a read from another device's register can have side
+/// effects on it (clearing a status latch, popping a FIFO).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn port_in(addr: u16) -> u8 {
     let v: u8;
-    // SAFETY (caller): the thread has I/O permission for `addr`.
+    // SAFETY: the caller guarantees I/O permission for `addr` and that it
+    // is this port's register; the instruction touches no memory.
     unsafe {
         core::arch::asm!("in al, dx", out("al") v, in("dx") addr,
             options(nomem, nostack, preserves_flags));
@@ -172,21 +186,44 @@ unsafe fn port_in(addr: u16) -> u8 {
     v
 }
 
+/// Writes one byte to I/O port `addr` (`outb`).
+///
+/// # Safety
+///
+/// The calling thread must hold I/O permission for `addr` (granted by
+/// `ioperm`; without it the CPU raises a general protection fault and the
+/// process dies with SIGSEGV), and `addr` must be a register of the port
+/// this backend owns: a write elsewhere reprograms whatever device sits
+/// there.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn port_out(addr: u16, v: u8) {
-    // SAFETY (caller): the thread has I/O permission for `addr`.
+    // SAFETY: the caller guarantees I/O permission for `addr` and that it
+    // is this port's register; the instruction touches no memory.
     unsafe {
         core::arch::asm!("out dx, al", in("dx") addr, in("al") v,
             options(nomem, nostack, preserves_flags));
     }
 }
 
+/// Stands in for `inb` where there is no port I/O: reads as a floating
+/// bus (all ones). `open` refuses the raw backend on such targets, so it
+/// is never called.
+///
+/// # Safety
+///
+/// None needed; it is `unsafe` only to keep the x86-64 signature.
 #[cfg(not(target_arch = "x86_64"))]
 unsafe fn port_in(_addr: u16) -> u8 {
     0xFF
 }
 
+/// Stands in for `outb` where there is no port I/O: does nothing.
+/// `open` refuses the raw backend on such targets, so it is never called.
+///
+/// # Safety
+///
+/// None needed; it is `unsafe` only to keep the x86-64 signature.
 #[cfg(not(target_arch = "x86_64"))]
 unsafe fn port_out(_addr: u16, _v: u8) {}
 
