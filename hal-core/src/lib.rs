@@ -20,6 +20,7 @@ pub mod module;
 pub mod name;
 mod objects;
 pub mod ring;
+pub mod rtlog;
 pub mod seqlock;
 pub(crate) mod shm;
 pub mod types;
@@ -38,6 +39,7 @@ pub use objects::{
     FunctInfo, Instance, ParamInfo, PinInfo, Region, RegionInfo, SignalInfo, ThreadInfo,
 };
 pub use ring::{RingReader, RingWriter};
+pub use rtlog::{MsgLevel, RtLog};
 pub use seqlock::{SeqLockReader, SeqLockWriter};
 pub use shm::{latency_bucket, latency_bucket_floor_us, paths};
 pub use types::{HalType, ParamDir, PinDir, PinValue, Value};

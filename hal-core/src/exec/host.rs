@@ -19,6 +19,7 @@ use crate::objects::funct::{
     remove_entry_tx, NewThread,
 };
 use crate::objects::{validate_instance_name, Component, ComponentKind, HostLock, Instance};
+use crate::rtlog::{RtLog, RtLogService};
 use crate::shm::{paths, FunctRec, Segment, ThreadRec};
 
 /// Default size of the shared segment: 32 MiB, sixteen times LinuxCNC's.
@@ -123,6 +124,7 @@ pub struct Host {
     notes: Mutex<Vec<String>>,
     notes_printed: AtomicBool,
     shut_down: AtomicBool,
+    rt_log: RtLogService,
     _lock: HostLock,
 }
 
@@ -186,6 +188,7 @@ impl Host {
             notes: Mutex::new(notes),
             notes_printed: AtomicBool::new(false),
             shut_down: AtomicBool::new(false),
+            rt_log: RtLogService::new(),
             _lock: lock,
         })
     }
@@ -215,6 +218,19 @@ impl Host {
             }
             n.push(note);
         }
+    }
+
+    /// The realtime-safe message log ([`crate::rtlog`]): realtime
+    /// functions log through it, a thread of the host prints the messages
+    /// to stderr. The first call starts that thread.
+    pub fn rt_log(&self) -> RtLog {
+        self.rt_log.handle()
+    }
+
+    /// Prints the messages waiting in the realtime log now, instead of at
+    /// the drain thread's next turn.
+    pub fn flush_rt_log(&self) {
+        self.rt_log.flush();
     }
 
     /// Turns per-function timing (`<funct>.time`, `.tmax`) on or off; the
@@ -804,6 +820,8 @@ impl Host {
         }
         st.functs.clear();
         drop(st);
+        // What the safe-state hooks and the last cycles said.
+        self.rt_log.stop();
         {
             let (m, cv) = &self.shared.fault_signal;
             *lock(m) = SUPERVISOR_EXIT;

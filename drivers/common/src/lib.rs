@@ -1,0 +1,272 @@
+//! The shared driver layer: what every HAL driver crate (parport,
+//! hostmot2, motenc, stg, canservo, gpio, i2c, serial) builds on, so the
+//! drivers come out alike and nothing here is written twice.
+//!
+//! # A driver author's guide
+//!
+//! A driver crate has four parts (DESIGN.md "Drivers"): `regs` (the
+//! register map as named constants), the bus it talks through, `sim` (a
+//! register-level model of the board), and the HAL binding (`loadrt`
+//! parameters, probing, canonical exports, `read`/`write` functions).
+//! This crate supplies the bus, the simulator harness, PCI discovery, the
+//! parameter helpers and the fault machinery; the driver supplies only
+//! what is particular to its board.
+//!
+//! ## 1. Talk through a bus trait
+//!
+//! Write the driver against [`bus::RegWindow`] (32-bit registers in a
+//! memory window: PCI boards) or [`bus::PortBus`] (x86 I/O ports by
+//! absolute address: ISA cards, parallel ports), usually as
+//! `Arc<dyn RegWindow>` or a generic parameter. The driver never knows
+//! which backend it has:
+//!
+//! | hardware | backend |
+//! |---|---|
+//! | PCI memory BAR | [`pci::PciDevice::map_bar`] → [`bus::MmapWindow`] |
+//! | PCI I/O BAR | [`pci::PciDevice::io_bar`] → [`bus::SysfsIoBar`] |
+//! | legacy I/O ports | [`bus::IopermPorts`] (needs `CAP_SYS_RAWIO`), [`bus::DevPortPorts`] |
+//! | the simulator | [`sim::SimBoard`] around your model |
+//!
+//! Accessors take `&self`, never fail visibly and never panic: a failed
+//! access reads all ones and is counted in `errors()`. A realtime
+//! function that sees all ones where the board cannot return them (an ID
+//! register, a cookie) has lost the board: it trips its fault latch (§4).
+//! Batch register traffic with `read_burst`/`write_burst`. Call
+//! `bus.tick(ctx.now_ns())` once at the start of the `read` function:
+//! hardware ignores it, a simulated board takes its time from it.
+//!
+//! A board type that is neither (a CAN socket, a gpio chip, a tty) keeps
+//! its own small bus trait in the same shape: `&self` accessors, an
+//! `errors()` count, a real and a simulated backend.
+//!
+//! ## 2. Find the hardware
+//!
+//! PCI boards: an ID table of [`pci::PciMatch`] and [`pci::find`] over
+//! [`pci::Sysfs::system`] (tests: [`pci::fake::FakeSysfs`]); then
+//! [`pci::PciDevice::enable`] (keep the guard as long as the driver
+//! lives) and `map_bar`/`map_bar_window`/`io_bar`. Missing boards,
+//! permissions (naming the udev rule and the `hal` group), kernel
+//! lockdown and wrong or small BARs come back as [`DriverError`]s that
+//! say what and where. Port boards: [`bus::IopermPorts::open`] with the
+//! [`bus::PortRange`]s the board occupies, nothing wider.
+//!
+//! ## 3. Give it a simulator, selectable from `loadrt`
+//!
+//! Model the board as a [`sim::MemModel`] or [`sim::PortModel`] (plus
+//! [`sim::BoardModel::advance`]: counters count, watchdogs bite, only as
+//! simulated time passes) and drive the outside world through
+//! [`plant`] models (motors, steppers, encoders, switches), never a copy
+//! of your own. Wrap it in a [`sim::SimBoard`], which is a `RegWindow` or
+//! `PortBus`.
+//!
+//! The backend is a `loadrt` choice parsed one way everywhere:
+//! [`params::BackendTokens`] (`sim` always exists; variants start with
+//! `sim`). Under `loadrt` give the board a
+//! [`sim::SimClock::following_thread`] so it advances by the HAL
+//! thread's time, and [`sim::publish`] it after the component is ready,
+//! so tests and tools in the process can [`sim::find`] it and turn its
+//! shafts. In unit tests leave the board on its explicit clock and move
+//! time with [`sim::SimBoard::advance`]; check what the driver did in its
+//! [`sim::AccessLog`].
+//!
+//! ## 4. Faults and safe state
+//!
+//! Implement [`fault::SafeState`] (outputs off, DACs to 0 V, enables
+//! off, watchdog allowed to bite) and register it with
+//! [`fault::install`]: the host calls it after a panic in any realtime
+//! function, at unload and at exit. When a realtime function finds the
+//! hardware gone it trips a [`fault::FaultLatch`] with a static
+//! [`fault::Fault`]; the first trip returns true, so the function goes
+//! safe once and the latch says why once through the host's realtime log
+//! ([`hal_core::Host::rt_log`]: no allocation, lock or system call in the
+//! function; a host thread prints it).
+//!
+//! ## 5. Parameters and errors
+//!
+//! Read `loadrt` arguments through [`params::Params`]: defaults, ranges,
+//! per-board arrays with count checks, and messages naming module,
+//! parameter and item. Addresses: [`params::parse_hex`],
+//! [`params::parse_number`]. Turn layer errors into `loadrt` errors with
+//! [`ForModule::for_module`]. Open and check everything before exporting
+//! anything, so a failed `loadrt` leaves nothing behind.
+//!
+//! ## 6. Tests
+//!
+//! Mock-register tests run the driver on a `SimBoard` and assert on the
+//! access log; PCI tests run on a `FakeSysfs`; real-device tests go in
+//! one test binary per crate that the VM rig runs ([`vmrig`]: its
+//! ivshmem BAR and a host-side peer), skipping cleanly outside it.
+//!
+//! # Worked example
+//!
+//! A one-channel counter card: an ID register, a count register fed by
+//! an encoder on a shaft, and an output-enable register. The driver
+//! loads with `backend=sim` (or finds the card on the PCI bus), exports a
+//! count pin, and goes safe when the card stops answering.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+//! use hal_core::{Host, HostConfig, In, Out, Pin};
+//! use hal_driver::bus::{RegWindow, ALL_ONES};
+//! use hal_driver::fault::{self, Fault, FaultLatch, SafeState};
+//! use hal_driver::params::{Backend, BackendTokens, Params};
+//! use hal_driver::pci::{self, PciMatch, Sysfs};
+//! use hal_driver::plant::QuadEncoder;
+//! use hal_driver::sim::{self, BoardModel, MemModel, SimBoard, SimClock};
+//! use hal_driver::ForModule;
+//!
+//! // regs
+//! const ID: usize = 0x0;
+//! const COUNT: usize = 0x4;
+//! const ENABLE: usize = 0x8;
+//! const CARD_ID: u32 = 0xC0DE_0001;
+//!
+//! // sim: the card's registers over a plant encoder.
+//! struct CardModel { encoder: QuadEncoder, enabled: bool }
+//! impl BoardModel for CardModel {}
+//! impl MemModel for CardModel {
+//!     fn len(&self) -> usize { 0x10 }
+//!     fn read32(&mut self, offset: usize) -> u32 {
+//!         match offset { ID => CARD_ID, COUNT => self.encoder.count() as u32, ENABLE => self.enabled as u32, _ => 0 }
+//!     }
+//!     fn write32(&mut self, offset: usize, value: u32) {
+//!         if offset == ENABLE { self.enabled = value & 1 != 0 }
+//!     }
+//! }
+//!
+//! // The driver, on any RegWindow.
+//! static CARD_GONE: Fault = Fault::new(1, "card reads all ones, output disabled");
+//! struct Card { bus: Arc<dyn RegWindow>, count: Pin<i32, Out>, enable: Pin<bool, In>, latch: FaultLatch }
+//! impl Card {
+//!     fn read(&self, now_ns: u64) {
+//!         self.bus.tick(now_ns);
+//!         if self.bus.read32(ID) == ALL_ONES {
+//!             if self.latch.trip(&CARD_GONE) { self.go_safe(); }
+//!             return;
+//!         }
+//!         self.count.set(self.bus.read32(COUNT) as i32);
+//!     }
+//!     fn write(&self) {
+//!         if !self.latch.is_tripped() { self.bus.write32(ENABLE, self.enable.get() as u32) }
+//!     }
+//! }
+//! impl SafeState for Card {
+//!     fn go_safe(&self) { self.bus.write32(ENABLE, 0) }
+//! }
+//!
+//! // The HAL binding.
+//! const NAME: &str = "counter";
+//! const BACKENDS: BackendTokens = BackendTokens::new(&["pci"], &[]);
+//! const TABLE: &[PciMatch] = &[PciMatch::new(0x1234, 0x5678, "counter card")];
+//! static MODULE: ModuleDef = ModuleDef {
+//!     name: NAME,
+//!     params: &[ParamDecl { name: "backend", kind: ParamKind::Str, help: "pci|sim" }],
+//!     help: "a counter card",
+//!     load,
+//! };
+//!
+//! fn load(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
+//!     let p = Params::new(NAME, args);
+//!     let token = p.str_or("backend", "pci");
+//!     let backend = BACKENDS.parse(token).ok_or_else(|| {
+//!         p.error("backend", format!("'{token}' is not one of {}", BACKENDS.list()))
+//!     }).for_module(NAME)?;
+//!     // Open everything before exporting anything.
+//!     let (bus, sim): (Arc<dyn RegWindow>, _) = match backend {
+//!         Backend::Sim(_) => {
+//!             let model = CardModel { encoder: QuadEncoder::new(2000), enabled: false };
+//!             let board = Arc::new(SimBoard::new(model).with_clock(Arc::new(SimClock::following_thread())));
+//!             (board.clone(), Some(board))
+//!         }
+//!         Backend::Real(_) => {
+//!             let dev = pci::find(&Sysfs::system(), TABLE).for_module(NAME)?.remove(0);
+//!             // (a real driver keeps the enable guard as long as the card)
+//!             (Arc::new(dev.map_bar_window(0, 0x10).for_module(NAME)?), None)
+//!         }
+//!     };
+//!     let mut b = host.new_rt_component(NAME)?;
+//!     let card = Arc::new(Card {
+//!         bus,
+//!         count: b.component().pin("counter.0.count")?,
+//!         enable: b.component().pin("counter.0.enable")?,
+//!         latch: FaultLatch::new("counter.0").with_log(host.rt_log()).with_pin(b.component().pin("counter.0.fault")?),
+//!     });
+//!     let c = card.clone();
+//!     b.funct("counter.0.read", false, move |ctx| c.read(ctx.now_ns()))?;
+//!     let c = card.clone();
+//!     b.funct("counter.0.write", false, move |_| c.write())?;
+//!     fault::install(&mut b, card);
+//!     b.ready()?;
+//!     if let Some(board) = sim {
+//!         sim::publish(host.instance().name(), "counter.0", &board);
+//!     }
+//!     Ok(())
+//! }
+//!
+//! # fn main() -> hal_core::Result<()> {
+//! // Use: load on the simulator, turn the shaft, watch the pin.
+//! let host = Host::create(HostConfig::for_tests("counter-doc"))?;
+//! assert!(host.loadrt(&MODULE, &["backend=bogus"]).unwrap_err().to_string()
+//!     .contains("'bogus' is not one of pci|sim"));
+//! host.loadrt(&MODULE, &["backend=sim"])?;
+//! let board = sim::find::<SimBoard<CardModel>>(host.instance().name(), "counter.0").unwrap();
+//! board.with(|m| m.encoder.set_revs(1.5));
+//! host.instance().set_pin("counter.0.enable", hal_core::Value::Bit(true))?;
+//! host.create_thread("servo", 1_000_000, false, None)?;
+//! host.addf("counter.0.read", "servo", -1)?;
+//! host.addf("counter.0.write", "servo", -1)?;
+//! host.start()?;
+//! let count = || host.instance().pin_value("counter.0.count").unwrap();
+//! let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+//! while count() != hal_core::Value::S32(3000) || !board.with(|m| m.enabled) {
+//!     assert!(std::time::Instant::now() < end, "count or enable never arrived");
+//!     std::thread::sleep(std::time::Duration::from_millis(1));
+//! }
+//! host.stop();
+//! host.unloadrt(NAME)?; // the safe-state hook disables the output
+//! assert!(!board.with(|m| m.enabled));
+//! # Ok(()) }
+//! ```
+//!
+//! # Modules
+//!
+//! * [`bus`]: the bus traits and the real backends.
+//! * [`pci`]: sysfs discovery, enable, BARs; [`pci::fake`] for tests.
+//! * [`sim`]: the board-model harness, simulated time, the access log.
+//! * [`plant`]: motors, steppers, encoders, switches.
+//! * [`params`]: `loadrt` parameter helpers and backend tokens.
+//! * [`fault`]: safe state and the fault latch.
+//! * [`error`]: the error type, [`DriverError`].
+//! * [`lockdown`]: telling kernel lockdown from a missing permission.
+//! * [`vmrig`]: for tests in the VM rig.
+//!
+//! # Where this differs from the first sketch
+//!
+//! * Both bus traits have `describe()` (messages name the device) and
+//!   `tick(now_ns)` (the simulator's time source under `loadrt`; a no-op
+//!   on hardware), because a simulated board behind the trait must get
+//!   the thread's time without the driver knowing it is simulated.
+//! * `map_bar_window(n, len)` beside `map_bar(n)`: drivers map the window
+//!   they use and get `BarTooSmall` when the BAR is shorter.
+//! * `FaultLatch::trip` takes a `&'static Fault` (code and reason
+//!   declared together as a static), so a trip is one atomic pointer
+//!   store and the pair can never tear.
+//! * `SimClock` is one type for simulated time: explicit (tests, with an
+//!   optional step per reading so busy-waits end) or following the HAL
+//!   thread (`loadrt`).
+
+#![warn(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod bus;
+pub mod error;
+pub mod fault;
+pub mod lockdown;
+pub mod params;
+pub mod pci;
+pub mod plant;
+pub mod sim;
+pub mod vmrig;
+
+pub use error::{DriverError, ForModule, Result};
