@@ -150,3 +150,80 @@ fn a_user_space_component_leaves_cleanly_on_sigterm() {
     assert!(inst.pins().unwrap().is_empty());
     assert_eq!(inst.signals().unwrap()[0].writers, 0);
 }
+
+#[test]
+fn the_host_removes_a_killed_user_space_component() {
+    if let Some((role, name)) = child_role() {
+        if role == "doomed" {
+            let inst = Instance::attach(&name).unwrap();
+            let comp = inst.new_component("doomed", ComponentKind::User).unwrap();
+            let out: Pin<f64, Out> = comp.pin("doomed.out").unwrap();
+            let _param: Param<i32, Rw> = comp.param("doomed.gain", 3).unwrap();
+            let _region = comp.region("doomed.buffer", 64).unwrap();
+            inst.link("doomed.out", "fed").unwrap();
+            out.set(2.5);
+            comp.ready().unwrap();
+            // Waits to be killed; never leaves on its own.
+            loop {
+                std::thread::sleep(Duration::from_secs(1));
+            }
+        }
+        return;
+    }
+    let host = host("reap");
+    let inst = host.instance().clone();
+    inst.newsig("fed", HalType::Float).unwrap();
+    // A live user component of this very process must survive the reaper.
+    let mine = inst.new_component("mine", ComponentKind::User).unwrap();
+    let _p: Pin<bool, In> = mine.pin("mine.in").unwrap();
+    let mut child = spawn_child(
+        "the_host_removes_a_killed_user_space_component",
+        "doomed",
+        inst.name(),
+    );
+    assert!(wait_until(20.0, || inst
+        .component("doomed")
+        .unwrap()
+        .is_some_and(|c| c.ready)));
+    assert_eq!(inst.signals().unwrap()[0].writers, 1);
+    nix::sys::signal::kill(
+        nix::unistd::Pid::from_raw(child.id() as i32),
+        nix::sys::signal::Signal::SIGKILL,
+    )
+    .unwrap();
+    child.wait().unwrap();
+    assert!(wait_until(20.0, || inst
+        .component("doomed")
+        .unwrap()
+        .is_none()));
+    let pins: Vec<String> = inst.pins().unwrap().into_iter().map(|p| p.name).collect();
+    assert_eq!(pins, ["mine.in"], "only the live component's pin is left");
+    assert!(inst.param("doomed.gain").unwrap().is_none());
+    assert!(inst.region("doomed.buffer").is_err());
+    let fed = &inst.signals().unwrap()[0];
+    assert_eq!((fed.writers, fed.value), (0, Value::Float(2.5)));
+    // The reaper keeps running and leaves the live component alone.
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(inst.component("mine").unwrap().is_some());
+    drop(mine);
+    assert!(inst.component("mine").unwrap().is_none());
+}
+
+#[test]
+fn a_dead_owners_component_is_reaped_on_request_and_a_live_one_is_not() {
+    let host = host("reap-now");
+    let inst = host.instance().clone();
+    let live = inst.new_component("live", ComponentKind::User).unwrap();
+    // A second handle on the instance has its own open file, like
+    // another process; its components are alive while it holds them.
+    let other = Instance::attach(inst.name()).unwrap();
+    let theirs = other.new_component("theirs", ComponentKind::User).unwrap();
+    assert!(inst.reap_dead_components().unwrap().is_empty());
+    drop(theirs);
+    drop(live);
+    assert!(inst.components().unwrap().is_empty());
+    // A record reused by a new component is claimed afresh.
+    let again = other.new_component("again", ComponentKind::User).unwrap();
+    assert!(inst.reap_dead_components().unwrap().is_empty());
+    assert_eq!(again.name(), "again");
+}

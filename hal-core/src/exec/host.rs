@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use super::clock::TickClock;
 use super::funct::{ExecList, FunctCode, FunctCtx, TimingOut};
 use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
+use super::reaper::Reaper;
 use super::thread::{self, HostShared, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
 use crate::error::{HalError, Result};
 use crate::handles::{Param, Pin};
@@ -121,6 +122,8 @@ pub struct Host {
     shared: Arc<HostShared>,
     state: Arc<Mutex<HostState>>,
     supervisor: Option<JoinHandle<()>>,
+    /// Removes user-space components whose process died.
+    reaper: Reaper,
     notes: Mutex<Vec<String>>,
     notes_printed: AtomicBool,
     shut_down: AtomicBool,
@@ -172,6 +175,7 @@ impl Host {
             start_ns: AtomicU64::new(0),
         });
         let state = Arc::new(Mutex::new(HostState::default()));
+        let reaper = Reaper::start(Instance { seg: seg.clone() })?;
         let supervisor = {
             let shared = shared.clone();
             let state = state.clone();
@@ -185,6 +189,7 @@ impl Host {
             shared,
             state,
             supervisor: Some(supervisor),
+            reaper,
             notes: Mutex::new(notes),
             notes_printed: AtomicBool::new(false),
             shut_down: AtomicBool::new(false),
@@ -792,6 +797,7 @@ impl Host {
         if self.shut_down.swap(true, SeqCst) {
             return;
         }
+        self.reaper.stop();
         self.shared.running.store(false, SeqCst);
         let mut st = lock(&self.state);
         for t in &st.threads {

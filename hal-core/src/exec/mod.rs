@@ -4,6 +4,7 @@ pub mod clock;
 mod funct;
 mod host;
 pub mod realtime;
+mod reaper;
 mod thread;
 
 pub use funct::FunctCtx;

@@ -116,6 +116,9 @@ pub(crate) fn new_component_tx(
     rec.kind.store(kind.code(), Relaxed);
     rec.pid.store(std::process::id() as u64, Relaxed);
     list::insert_sorted(tx, &h.comps, off, rec)?;
+    if kind == ComponentKind::User {
+        super::owner::claim(tx.seg(), off)?;
+    }
     Ok((off, id as i32))
 }
 
@@ -164,8 +167,13 @@ pub(crate) fn remove_component_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
         tx.free(BlockKind::Region, r)?;
     }
     tx.free(BlockKind::Blob, comp.args.load(Relaxed))?;
+    let kind = ComponentKind::from_code(comp.kind.load(Relaxed));
     list::remove::<CompRec>(tx, &h.comps, off)?;
-    tx.free(BlockKind::Comp, off)
+    tx.free(BlockKind::Comp, off)?;
+    if kind == ComponentKind::User {
+        super::owner::release(seg, off);
+    }
+    Ok(())
 }
 
 impl Component {

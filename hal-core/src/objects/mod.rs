@@ -8,6 +8,7 @@ pub(crate) mod funct;
 mod info;
 pub(crate) mod list;
 mod liveness;
+mod owner;
 mod param;
 mod pin;
 mod region;

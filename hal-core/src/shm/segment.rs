@@ -42,6 +42,10 @@ pub mod paths {
 /// maps it at its own address, so nothing in it is a pointer.
 pub(crate) struct Segment {
     map: MmapRaw,
+    /// The open segment file. Kept for the mapping's whole life: the
+    /// byte-range locks that mark a live user-space component's owner
+    /// (see `objects::owner`) belong to this open file description.
+    file: File,
     size: u64,
     /// Journal offset, checked once and never reread from the segment.
     journal_off: u64,
@@ -76,15 +80,15 @@ impl Segment {
             .mode(0o660)
             .open(&path)
             .map_err(|e| HalError::io("creating shared memory segment", &path, e))?;
-        let seg = Self::init_file(instance, &path, &file, size);
+        let seg = Self::init_file(instance, &path, file, size);
         if seg.is_err() {
             let _ = std::fs::remove_file(&path);
         }
         seg
     }
 
-    fn init_file(instance: &str, path: &Path, file: &File, size: u64) -> Result<Segment> {
-        nix::fcntl::posix_fallocate(file, 0, size as i64).map_err(|e| {
+    fn init_file(instance: &str, path: &Path, file: File, size: u64) -> Result<Segment> {
+        nix::fcntl::posix_fallocate(&file, 0, size as i64).map_err(|e| {
             HalError::io(
                 "allocating shared memory (is /dev/shm full?)",
                 path,
@@ -93,10 +97,11 @@ impl Segment {
         })?;
         let map = MmapOptions::new()
             .len(size as usize)
-            .map_raw(file)
+            .map_raw(&file)
             .map_err(|e| HalError::io("mapping shared memory segment", path, e))?;
         let seg = Segment {
             map,
+            file,
             size,
             journal_off: HEADER_SIZE,
             instance: instance.to_string(),
@@ -152,6 +157,7 @@ impl Segment {
             .map_err(|e| HalError::io("mapping shared memory segment", &path, e))?;
         let mut seg = Segment {
             map,
+            file,
             size: len,
             journal_off: 0,
             instance: instance.to_string(),
@@ -284,6 +290,16 @@ impl Segment {
             let p = self.base().add(base as usize) as *const AtomicU64;
             (&*p, &*p.add(1))
         }
+    }
+
+    /// The open segment file.
+    pub(crate) fn file(&self) -> &File {
+        &self.file
+    }
+
+    /// Where the segment file lives.
+    pub(crate) fn path(&self) -> &Path {
+        &self.path
     }
 
     /// Removes the segment file (the host does this on exit).
