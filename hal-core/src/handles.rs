@@ -236,6 +236,59 @@ impl<D: Writable> RawPin<D> {
     }
 }
 
+impl RawPin<In> {
+    /// Writes an input pin's cell encoding (its signal's, if linked), as
+    /// [`Pin::overwrite`] does. LinuxCNC's Python components may write
+    /// their own input pins; this is for them.
+    #[inline(always)]
+    pub fn overwrite_bits(&self, bits: u64) {
+        self.inner.overwrite(bits)
+    }
+}
+
+/// A parameter whose type and access are chosen at run time: it reads and
+/// writes the 64-bit cell encoding of [`crate::Value`]. The owning
+/// component may always write it.
+pub struct RawParam {
+    inner: Param<u64, Rw>,
+    hal_type: crate::types::HalType,
+}
+
+impl RawParam {
+    pub(crate) fn new(
+        seg: &Arc<Segment>,
+        off: u64,
+        hal_type: crate::types::HalType,
+    ) -> Result<Self> {
+        Ok(RawParam {
+            inner: Param::new(seg, off)?,
+            hal_type,
+        })
+    }
+
+    /// The parameter's type.
+    pub fn hal_type(&self) -> crate::types::HalType {
+        self.hal_type
+    }
+
+    /// The cell encoding of the current value.
+    #[inline(always)]
+    pub fn get_bits(&self) -> u64 {
+        self.inner.get()
+    }
+
+    /// Writes a cell encoding; it must be one of this parameter's type.
+    #[inline(always)]
+    pub fn set_bits(&self, bits: u64) {
+        self.inner.set(bits)
+    }
+
+    /// The current value.
+    pub fn value(&self) -> crate::types::Value {
+        crate::types::Value::from_bits(self.hal_type, self.get_bits())
+    }
+}
+
 impl<T: PinValue, D: Direction> Clone for Pin<T, D> {
     /// Another handle on the same pin (every access is atomic, so handles
     /// may be shared by functions in different threads).

@@ -32,13 +32,13 @@ pub use exec::realtime;
 pub use exec::{
     FunctCtx, Host, HostConfig, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE, TOP_PRIORITY,
 };
-pub use handles::{In, Io, Out, Param, Pin, RawPin, Ro, Rw};
+pub use handles::{In, Io, Out, Param, Pin, RawParam, RawPin, Ro, Rw};
 pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};
 pub use objects::{
     instance_from_env, validate_instance_name, AliasKind, Component, ComponentInfo, ComponentKind,
     FunctInfo, Instance, ParamInfo, PinInfo, Region, RegionInfo, SignalInfo, ThreadInfo,
 };
-pub use ring::{RingReader, RingWriter};
+pub use ring::{RingReader, RingWriter, MAX_TYPED_COLUMNS};
 pub use rtlog::{MsgLevel, RtLog};
 pub use seqlock::{SeqLockReader, SeqLockWriter};
 pub use shm::{latency_bucket, latency_bucket_floor_us, paths};

@@ -5,18 +5,31 @@
 //! empty), as LinuxCNC's FIFOs do. Indices grow without wrapping; the slot
 //! is the index modulo D. The producer owns the head, the consumer the tail;
 //! neither ever blocks. Layout in the region, in words: head at 0, tail at 8
-//! (own cache lines), depth at 16, record width at 17, records from 24.
+//! (own cache lines), depth at 16, record width at 17, column count at 18
+//! and column types at 19 (see below), records from 24.
+//!
+//! A *typed* ring (a HAL stream, as sampler and streamer use) records the
+//! [`HalType`] of each column, so that a process attaching by name knows how
+//! to read it: each record is a sample number followed by one word per
+//! column. The column count is 0 for an untyped ring; the types are packed
+//! three bits each, first column lowest.
 
 use std::sync::atomic::{AtomicU64, Ordering::*};
 
 use crate::error::{HalError, Result};
 use crate::objects::{Component, Instance, Region};
+use crate::types::HalType;
 
 const HEAD: usize = 0;
 const TAIL: usize = 8;
 const DEPTH: usize = 16;
 const WIDTH: usize = 17;
+const COLUMNS: usize = 18;
+const TYPES: usize = 19;
 const DATA: usize = 24;
+
+/// Most columns a typed ring can describe (three bits each in one word).
+pub const MAX_TYPED_COLUMNS: usize = 21;
 
 struct Ring {
     region: Region,
@@ -79,6 +92,38 @@ impl Ring {
         })
     }
 
+    fn create_typed(comp: &Component, name: &str, depth: usize, types: &[HalType]) -> Result<Ring> {
+        if types.is_empty() || types.len() > MAX_TYPED_COLUMNS {
+            return Err(HalError::BadValue {
+                what: format!("ring '{name}'"),
+                reason: format!(
+                    "{} columns: a typed ring has 1 to {MAX_TYPED_COLUMNS}",
+                    types.len()
+                ),
+            });
+        }
+        let ring = Ring::create(comp, name, depth, types.len() + 1)?;
+        let packed = types
+            .iter()
+            .enumerate()
+            .fold(0u64, |acc, (i, t)| acc | (t.code() as u64) << (3 * i));
+        let w = ring.region.words();
+        w[TYPES].store(packed, Relaxed);
+        w[COLUMNS].store(types.len() as u64, Release);
+        Ok(ring)
+    }
+
+    fn column_types(&self) -> Option<Vec<HalType>> {
+        let n = self.word(COLUMNS).load(Acquire) as usize;
+        if n == 0 || n > MAX_TYPED_COLUMNS || n + 1 != self.width {
+            return None;
+        }
+        let packed = self.word(TYPES).load(Relaxed);
+        (0..n)
+            .map(|i| HalType::from_code(((packed >> (3 * i)) & 7) as u32))
+            .collect()
+    }
+
     fn word(&self, i: usize) -> &AtomicU64 {
         &self.region.words()[i]
     }
@@ -108,9 +153,32 @@ macro_rules! ring_end {
                 Ring::create(comp, name, depth, width).map($t)
             }
 
+            /// Creates a typed ring (a HAL stream) as a region owned by
+            /// `comp`: records are a sample number and one word per column.
+            pub fn create_typed(
+                comp: &Component,
+                name: &str,
+                depth: usize,
+                types: &[HalType],
+            ) -> Result<$t> {
+                Ring::create_typed(comp, name, depth, types).map($t)
+            }
+
             /// Opens a ring another component created.
             pub fn open(inst: &Instance, name: &str) -> Result<$t> {
                 Ring::open(inst, name).map($t)
+            }
+
+            /// The column types of a typed ring; `None` for an untyped one
+            /// (or one whose header does not describe its width).
+            pub fn column_types(&self) -> Option<Vec<HalType>> {
+                self.0.column_types()
+            }
+
+            /// The depth the ring was created with (one more than its
+            /// capacity).
+            pub fn depth(&self) -> usize {
+                self.0.depth as usize
             }
 
             /// Records waiting in the ring.

@@ -438,3 +438,62 @@ fn stale_segment_of_a_dead_host_is_reclaimed() {
     assert!(host.notes().iter().any(|n| n.contains("reclaimed")));
     assert!(host.instance().signals().unwrap().is_empty());
 }
+
+#[test]
+fn raw_params_and_writable_raw_inputs_follow_their_run_time_type() {
+    let host = host("raw");
+    let inst = host.instance().clone();
+    let c = inst.new_component("py", ComponentKind::User).unwrap();
+    let gain = c.param_raw("py.gain", HalType::S32, ParamDir::Rw).unwrap();
+    let ro = c.param_raw("py.count", HalType::U64, ParamDir::Ro).unwrap();
+    assert_eq!(gain.value(), Value::S32(0));
+    gain.set_bits(Value::S32(-7).to_bits());
+    assert_eq!(inst.param_value("py.gain").unwrap(), Value::S32(-7));
+    inst.set_param("py.gain", Value::S32(9)).unwrap();
+    assert_eq!(gain.value(), Value::S32(9));
+    assert_eq!(gain.hal_type(), HalType::S32);
+    // The owner writes a read-only param; setp may not.
+    ro.set_bits(u64::MAX);
+    assert_eq!(inst.param_value("py.count").unwrap(), Value::U64(u64::MAX));
+    assert!(matches!(
+        inst.set_param("py.count", Value::U64(1)),
+        Err(HalError::ParamReadOnly { .. })
+    ));
+    let input: RawPin<In> = c.pin_raw("py.in", HalType::Float).unwrap();
+    input.overwrite_bits(1.5f64.to_bits());
+    assert_eq!(inst.pin_value("py.in").unwrap(), Value::Float(1.5));
+    // Linked, the write goes to the signal.
+    inst.newsig("s", HalType::Float).unwrap();
+    inst.link("py.in", "s").unwrap();
+    input.overwrite_bits(2.5f64.to_bits());
+    assert_eq!(inst.signal_value("s").unwrap(), Value::Float(2.5));
+}
+
+#[test]
+fn a_typed_ring_tells_an_attaching_process_its_columns() {
+    let host = host("typed-ring");
+    let inst = host.instance().clone();
+    let c = inst.new_component("s", ComponentKind::User).unwrap();
+    let all = [
+        HalType::Bit,
+        HalType::Float,
+        HalType::S32,
+        HalType::U32,
+        HalType::S64,
+        HalType::U64,
+    ];
+    let w = RingWriter::create_typed(&c, "s.stream", 10, &all).unwrap();
+    assert_eq!((w.width(), w.depth(), w.capacity()), (7, 10, 9));
+    let r = RingReader::open(&inst, "s.stream").unwrap();
+    assert_eq!(r.column_types().as_deref(), Some(&all[..]));
+    let many = vec![HalType::U64; MAX_TYPED_COLUMNS];
+    let w = RingWriter::create_typed(&c, "s.wide", 2, &many).unwrap();
+    assert_eq!(w.column_types(), Some(many));
+    // An untyped ring says so; bad column counts are refused.
+    let u = RingWriter::create(&c, "s.plain", 4, 3).unwrap();
+    assert_eq!(u.column_types(), None);
+    assert!(RingWriter::create_typed(&c, "s.none", 4, &[]).is_err());
+    let too_many = vec![HalType::Bit; MAX_TYPED_COLUMNS + 1];
+    assert!(RingWriter::create_typed(&c, "s.over", 4, &too_many).is_err());
+    assert!(inst.region("s.none").is_err() && inst.region("s.over").is_err());
+}

@@ -30,7 +30,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let curr_depth: Pin<i32, Out> = c.pin(&format!("sampler.{n}.curr-depth"))?;
         let overruns: Pin<i32, Io> = c.pin(&format!("sampler.{n}.overruns"))?;
         let _sample_num: Pin<i32, Io> = c.pin(&format!("sampler.{n}.sample-num"))?;
-        let mut fifo = RingWriter::create(c, &fifo_name("sampler", n), depth, types.len() + 1)?;
+        let mut fifo = RingWriter::create_typed(c, &fifo_name("sampler", n), depth, &types)?;
         let mut row = vec![0u64; types.len() + 1];
         let mut sample: u32 = 0;
         b.funct(&format!("sampler.{n}"), false, move |_| {

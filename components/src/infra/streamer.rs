@@ -30,7 +30,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let underruns: Pin<i32, Io> = c.pin(&format!("streamer.{n}.underruns"))?;
         let clock: Pin<bool, In> = c.pin(&format!("streamer.{n}.clock"))?;
         let clock_mode: Pin<i32, In> = c.pin(&format!("streamer.{n}.clock-mode"))?;
-        let mut fifo = RingReader::create(c, &fifo_name("streamer", n), depth, types.len() + 1)?;
+        let mut fifo = RingReader::create_typed(c, &fifo_name("streamer", n), depth, &types)?;
         let mut row = vec![0u64; types.len() + 1];
         let mut edges: u8 = 0;
         b.funct(&format!("streamer.{n}"), false, move |_| {

@@ -5,7 +5,7 @@ use std::sync::atomic::Ordering::*;
 use super::list;
 use super::Instance;
 use crate::error::{HalError, Result};
-use crate::handles::{Direction, Param, ParamAccess, Pin, RawPin};
+use crate::handles::{Direction, Param, ParamAccess, Pin, RawParam, RawPin};
 use crate::name::validate;
 use crate::shm::*;
 use crate::types::PinValue;
@@ -226,6 +226,18 @@ impl Component {
             .inst
             .new_param(self.off, name, T::HAL_TYPE, A::DIR, init.to_bits())?;
         Param::new(&self.inst.seg, off)
+    }
+
+    /// Creates a parameter whose type and access are chosen at run time,
+    /// initially zero.
+    pub fn param_raw(
+        &self,
+        name: &str,
+        t: crate::types::HalType,
+        dir: crate::types::ParamDir,
+    ) -> Result<RawParam> {
+        let off = self.inst.new_param(self.off, name, t, dir, 0)?;
+        RawParam::new(&self.inst.seg, off, t)
     }
 
     /// Records the `loadrt` arguments the component was loaded with, for
