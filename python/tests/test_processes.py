@@ -1,0 +1,83 @@
+"""Python components as processes of their own: started by loadusr,
+counting on a thread, ended by SIGTERM, and removed however they end."""
+
+import signal
+import time
+
+import pytest
+
+import hal
+from conftest import SCRIPTS, wait_for
+
+
+def halcmd_file(hal_instance, name):
+    return hal_instance.run("halcmd", "-f", name, cwd=SCRIPTS)
+
+
+def test_loadusr_waits_for_a_python_component_to_be_ready(hal_instance):
+    r = halcmd_file(hal_instance, "loadusr.hal")
+    # getp found the params, so loadusr -W waited for each program.
+    lines = r.stdout.splitlines()
+    assert lines[0] == "1" and lines[1] == "5", r.stdout
+    assert "counter" in r.stdout and "User" in r.stdout
+    # The session's end stopped both programs (SIGTERM), and they left.
+    assert r.stdout.count("counter done") == 2
+    assert not hal.component_exists("counter") and not hal.component_exists("other")
+
+
+def test_a_component_counting_on_a_thread(hal_instance, children):
+    p = hal_instance.script("counter.py")
+    children.append(p)
+    wait_for(lambda: hal.component_is_ready("counter"), what="counter ready")
+    assert hal.get_value("counter.count") == 0
+    hal.set_p("counter.step", "3")
+    hal.set_p("counter.enable", "1")
+    wait_for(lambda: hal.get_value("counter.count") >= 30, what="counting")
+    hal.set_p("counter.enable", "0")
+    stopped = hal.get_value("counter.count")
+    time.sleep(0.05)
+    assert hal.get_value("counter.count") == stopped
+    assert stopped % 3 == 0
+    p.send_signal(signal.SIGTERM)
+    out, err = p.communicate(timeout=20)
+    assert p.returncode == 0, err
+    assert "counter done" in out
+    assert not hal.component_exists("counter")
+
+
+def test_pins_are_gone_after_the_process_is_killed(hal_instance, children):
+    p = hal_instance.script("holder.py", "doomed", "wait")
+    children.append(p)
+    assert p.stdout.readline() == "ready\n"
+    assert hal.pin_has_writer("doomed.out")
+    assert hal.get_info_signals()[0]["DRIVER"] == "doomed.out"
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    wait_for(lambda: not hal.component_exists("doomed"), what="the host to remove it")
+    assert hal.get_info_pins() == [] and hal.get_info_params() == []
+    assert hal.get_info_signals() == [
+        {"NAME": "held", "VALUE": 3.5, "DRIVER": None, "TYPE": hal.HAL_FLOAT}
+    ]
+    # The name can be used again.
+    hal.component("doomed").exit()
+
+
+@pytest.mark.parametrize("mode", ["return", "os-exit", "raise"])
+def test_pins_are_gone_however_the_process_ends(hal_instance, children, mode):
+    p = hal_instance.script("holder.py", "leaver", mode)
+    children.append(p)
+    assert p.stdout.readline() == "ready\n"
+    assert hal.component_exists("leaver")
+    p.communicate(input="go\n", timeout=20)
+    wait_for(lambda: not hal.component_exists("leaver"), what="the component to go")
+    assert hal.get_info_pins() == []
+
+
+def test_a_script_streams_into_a_streamer_and_reads_a_sampler(hal_instance):
+    r = halcmd_file(hal_instance, "streaming.hal")
+    assert "pass" in r.stdout, r.stdout + r.stderr
+
+
+def test_a_python_stream_between_two_programs(hal_instance):
+    r = halcmd_file(hal_instance, "pystreams.hal")
+    assert r.stdout.splitlines() == ["pass"], r.stdout + r.stderr
