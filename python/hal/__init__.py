@@ -133,11 +133,6 @@ class component(_hal.component):
     under `prefix.name` (the prefix defaults to the component's name), and
     read and written as `c["name"]` or `c.name`."""
 
-    def __init__(self, *args, **kwargs):
-        # Everything happens in the native constructor; this accepts the
-        # arguments so that subclasses may call it.
-        pass
-
     def newpin(self, *a, **kw):
         return Pin(_hal.component.newpin(self, *a, **kw))
 

@@ -7,7 +7,7 @@
 //! RuntimeError as LinuxCNC's does.
 
 use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex, RwLock, RwLockReadGuard, Weak};
+use std::sync::{Arc, Mutex, OnceLock, RwLock, RwLockReadGuard, Weak};
 
 use hal_core::{Component, ComponentKind, HalType, In, Io, Out, RawParam, RawPin, Value};
 use pyo3::exceptions::{PyAttributeError, PyRuntimeError, PyValueError};
@@ -76,8 +76,10 @@ struct Live {
 
 /// What a component object and its items share.
 pub(crate) struct Shared {
-    name: String,
-    id: i32,
+    /// Name and HAL id, set once the component is made.
+    made: OnceLock<(String, i32)>,
+    /// The component while it exists: `None` before `__init__` and after
+    /// `exit()`.
     live: RwLock<Option<Live>>,
 }
 
@@ -204,26 +206,42 @@ impl PyComponent {
 
 #[pymethods]
 impl PyComponent {
+    /// Allocates the object; `__init__` makes the HAL component, so that
+    /// subclasses may take arguments of their own and call
+    /// `hal.component.__init__(self, name)`, as with LinuxCNC's class.
     #[new]
+    #[pyo3(signature = (*_args, **_kwargs))]
+    fn new(_args: &Bound<'_, PyAny>, _kwargs: Option<&Bound<'_, PyAny>>) -> Self {
+        PyComponent {
+            shared: Arc::new(Shared {
+                made: OnceLock::new(),
+                live: RwLock::new(None),
+            }),
+        }
+    }
+
+    /// Makes the HAL component `name`; pins and params get `prefix`
+    /// (default: the name) before their own names.
     #[pyo3(signature = (name, prefix = None, /))]
-    fn new(name: &str, prefix: Option<&str>) -> PyResult<Self> {
+    fn __init__(&self, name: &str, prefix: Option<&str>) -> PyResult<()> {
+        let mut live = self.shared.live.write().unwrap_or_else(|e| e.into_inner());
+        if self.shared.made.get().is_some() {
+            return Err(error::new_err("the HAL component is already made"));
+        }
         let inst = shared().map_err(hal_error)?;
         let comp = inst
             .new_component(name, ComponentKind::User)
             .map_err(hal_error)?;
-        let shared = Arc::new(Shared {
-            name: name.to_string(),
-            id: comp.id(),
-            live: RwLock::new(Some(Live {
-                comp,
-                prefix: prefix.unwrap_or(name).to_string(),
-                items: BTreeMap::new(),
-            })),
+        let _ = self.shared.made.set((name.to_string(), comp.id()));
+        *live = Some(Live {
+            comp,
+            prefix: prefix.unwrap_or(name).to_string(),
+            items: BTreeMap::new(),
         });
         let mut all = ALL.lock().unwrap_or_else(|e| e.into_inner());
         all.retain(|w| w.strong_count() > 0);
-        all.push(Arc::downgrade(&shared));
-        Ok(PyComponent { shared })
+        all.push(Arc::downgrade(&self.shared));
+        Ok(())
     }
 
     /// Creates a pin: `newpin(name, type, dir)`.
@@ -358,13 +376,9 @@ impl PyComponent {
 
     fn __repr__(&self) -> String {
         let live = self.shared.read();
-        let (id, n) = live
-            .as_ref()
-            .map_or((0, 0), |l| (self.shared.id, l.items.len()));
-        format!(
-            "<hal component {}({id}) with {n} pins and params>",
-            self.shared.name
-        )
+        let (name, id) = self.shared.made.get().cloned().unwrap_or_default();
+        let (id, n) = live.as_ref().map_or((0, 0), |l| (id, l.items.len()));
+        format!("<hal component {name}({id}) with {n} pins and params>")
     }
 }
 

@@ -233,3 +233,23 @@ def test_without_a_running_hal(monkeypatch):
                     (hal.get_value, ("x",)), (hal.new_sig, ("s", hal.HAL_BIT))]:
         with pytest.raises(RuntimeError, match="realtime not running"):
             f(*args)
+
+
+def test_subclasses_make_the_component_in_their_own_init(hal_instance):
+    class Spindle(hal.component):
+        def __init__(self, rpm):
+            hal.component.__init__(self, "spindle")
+            self.newpin("rpm", hal.HAL_FLOAT, hal.HAL_OUT).set(rpm)
+
+    s = Spindle(3000)
+    assert hal.get_value("spindle.rpm") == 3000.0 and s["rpm"] == 3000.0
+    with pytest.raises(hal.error):
+        hal.component.__init__(s, "again")
+    # An object whose component was never made is unusable, not broken.
+    raw = hal.component.__new__(hal.component)
+    with pytest.raises(RuntimeError, match="closed HAL component"):
+        raw.newpin("x", hal.HAL_BIT, hal.HAL_IN)
+    # The native class works on its own too.
+    n = hal._hal.component("native", "pfx")
+    assert isinstance(n.newpin("x", hal.HAL_BIT, hal.HAL_IN), hal.item)
+    assert hal.pin_has_writer("pfx.x") is False
