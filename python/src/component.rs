@@ -60,11 +60,6 @@ impl Item {
             Handle::Param(p) => p.set_bits(bits),
         }
     }
-
-    fn write(&self, obj: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.set(to_value(obj, self.hal_type)?);
-        Ok(())
-    }
 }
 
 /// A component while it exists.
@@ -100,13 +95,36 @@ impl Shared {
         self.live.read().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Runs `f` on the live component, or raises RuntimeError.
+    /// Runs `f` on the live component, or raises RuntimeError. `f` must
+    /// not run Python code: that may let another thread take the GIL and
+    /// wait for this lock, while `f` waits for the GIL.
     fn with_live<T>(&self, f: impl FnOnce(&Live) -> PyResult<T>) -> PyResult<T> {
         f(self.read().as_ref().ok_or_else(closed)?)
     }
 
     fn item(&self, name: &str) -> PyResult<Arc<Item>> {
         self.with_live(|l| l.items.get(name).cloned().ok_or_else(|| no_item(name)))
+    }
+
+    /// An item's value, if the component still exists.
+    fn read_value(&self, item: &Item) -> PyResult<Value> {
+        self.with_live(|_| Ok(item.value()))
+    }
+
+    /// Writes an item, if the component still exists.
+    fn write_value(&self, item: &Item, v: Value) -> PyResult<()> {
+        self.with_live(|_| {
+            item.set(v);
+            Ok(())
+        })
+    }
+
+    /// Writes a Python object to an item: converted first, then written
+    /// under the lock.
+    fn write_object(&self, item: &Item, obj: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.with_live(|_| Ok(()))?;
+        let v = to_value(obj, item.hal_type)?;
+        self.write_value(item, v)
     }
 
     /// Removes the component from the HAL; later uses raise RuntimeError.
@@ -296,13 +314,17 @@ impl PyComponent {
 
     /// Every pin and param with its value, by name.
     fn getpins<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.shared.with_live(|l| {
-            let d = PyDict::new(py);
-            for (name, item) in &l.items {
-                d.set_item(name, to_python(py, item.value())?)?;
-            }
-            Ok(d)
-        })
+        let values: Vec<(String, Value)> = self.shared.with_live(|l| {
+            Ok(l.items
+                .iter()
+                .map(|(name, item)| (name.clone(), item.value()))
+                .collect())
+        })?;
+        let d = PyDict::new(py);
+        for (name, v) in values {
+            d.set_item(name, to_python(py, v)?)?;
+        }
+        Ok(d)
     }
 
     /// Marks the component ready (`loadusr -W` waits for this).
@@ -348,13 +370,15 @@ impl PyComponent {
 
     /// `c.name` for a pin or param, once normal lookup found nothing.
     fn __getattr__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
-        to_python(py, self.shared.item(name)?.value())
+        let item = self.shared.item(name)?;
+        to_python(py, self.shared.read_value(&item)?)
     }
 
     /// `c.name = value` writes a pin or param; there are no other
     /// attributes to set.
     fn __setattr__(&self, name: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.shared.item(name)?.write(value)
+        let item = self.shared.item(name)?;
+        self.shared.write_object(&item, value)
     }
 
     /// `c["name"]` reads as `c.name` does (so methods are found first).
@@ -390,13 +414,6 @@ pub(crate) struct PyItem {
     name: String,
 }
 
-impl PyItem {
-    /// Runs `f` on the item while its component exists.
-    fn live<T>(&self, f: impl FnOnce(&Item) -> PyResult<T>) -> PyResult<T> {
-        self.comp.with_live(|_| f(&self.item))
-    }
-}
-
 #[pymethods]
 impl PyItem {
     #[new]
@@ -407,12 +424,12 @@ impl PyItem {
 
     /// Writes the value.
     fn set(&self, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        self.live(|i| i.write(value))
+        self.comp.write_object(&self.item, value)
     }
 
     /// The current value.
     fn get(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        self.live(|i| to_python(py, i.value()))
+        to_python(py, self.comp.read_value(&self.item)?)
     }
 
     /// The type number (`hal.HAL_FLOAT`, ...).

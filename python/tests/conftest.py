@@ -61,10 +61,10 @@ class Hal:
     def __init__(self, name):
         self.name = name
 
-    def run(self, *args, check=True, **kw):
+    def run(self, *args, check=True, timeout=120, **kw):
         """Runs a HAL tool (`halcmd`, `halrun`, ...) on this instance."""
         r = subprocess.run(
-            [str(a) for a in args], capture_output=True, text=True, timeout=120, **kw
+            [str(a) for a in args], capture_output=True, text=True, timeout=timeout, **kw
         )
         if check and r.returncode != 0:
             pytest.fail("%s failed (%d):\n%s%s" % (args, r.returncode, r.stdout, r.stderr))

@@ -1,5 +1,8 @@
 """hal.component, its pins and params, on a live instance."""
 
+import sys
+import threading
+
 import pytest
 
 import hal
@@ -253,3 +256,56 @@ def test_subclasses_make_the_component_in_their_own_init(hal_instance):
     n = hal._hal.component("native", "pfx")
     assert isinstance(n.newpin("x", hal.HAL_BIT, hal.HAL_IN), hal.item)
     assert hal.pin_has_writer("pfx.x") is False
+
+
+EXIT_DURING_SLOW_WRITE = """
+import threading, time, hal
+c = hal.component("slow")
+c.newpin("s", hal.HAL_S32, hal.HAL_OUT)
+inside = threading.Event()
+class Slow:
+    def __index__(self):
+        inside.set()
+        time.sleep(0.05)  # lets the main thread run while converting
+        return 7
+outcome = []
+def write():
+    try:
+        c["s"] = Slow()
+        outcome.append("written")
+    except RuntimeError as e:
+        outcome.append("closed")
+t = threading.Thread(target=write)
+t.start()
+inside.wait()
+c.exit()
+t.join()
+print(outcome[0])
+"""
+
+
+def test_exit_while_another_thread_converts_a_value(hal_instance):
+    # A conversion may run Python code and let other threads run; exit()
+    # from one of them must neither deadlock nor let the write land.
+    r = hal_instance.run(sys.executable, "-c", EXIT_DURING_SLOW_WRITE, timeout=30)
+    assert r.stdout.strip() == "closed", r.stdout + r.stderr
+
+
+def test_threads_share_a_component(hal_instance):
+    c = hal.component("shared")
+    c.newpin("n", hal.HAL_S64, hal.HAL_OUT)
+    errors = []
+
+    def bump():
+        try:
+            for _ in range(2000):
+                c.getpin("n").set(c["n"] + 1)
+        except Exception as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    workers = [threading.Thread(target=bump) for _ in range(4)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    assert errors == [] and 0 < c["n"] <= 8000
