@@ -198,6 +198,28 @@ pub struct RawPin<D: Direction> {
     hal_type: crate::types::HalType,
 }
 
+/// The reading side shared by [`RawPin`] and [`RawParam`]: a typed handle
+/// on a value cell, read as its cell encoding.
+macro_rules! raw_reads {
+    ($what:literal) => {
+        #[doc = concat!("The ", $what, "'s type.")]
+        pub fn hal_type(&self) -> crate::types::HalType {
+            self.hal_type
+        }
+
+        /// The cell encoding of the current value.
+        #[inline(always)]
+        pub fn get_bits(&self) -> u64 {
+            self.inner.get()
+        }
+
+        /// The current value.
+        pub fn value(&self) -> crate::types::Value {
+            crate::types::Value::from_bits(self.hal_type, self.get_bits())
+        }
+    };
+}
+
 impl<D: Direction> RawPin<D> {
     pub(crate) fn new(
         seg: &Arc<Segment>,
@@ -210,21 +232,7 @@ impl<D: Direction> RawPin<D> {
         })
     }
 
-    /// The pin's type.
-    pub fn hal_type(&self) -> crate::types::HalType {
-        self.hal_type
-    }
-
-    /// The cell encoding of the current value.
-    #[inline(always)]
-    pub fn get_bits(&self) -> u64 {
-        self.inner.get()
-    }
-
-    /// The current value.
-    pub fn value(&self) -> crate::types::Value {
-        crate::types::Value::from_bits(self.hal_type, self.get_bits())
-    }
+    raw_reads!("pin");
 }
 
 impl<D: Writable> RawPin<D> {
@@ -266,26 +274,12 @@ impl RawParam {
         })
     }
 
-    /// The parameter's type.
-    pub fn hal_type(&self) -> crate::types::HalType {
-        self.hal_type
-    }
-
-    /// The cell encoding of the current value.
-    #[inline(always)]
-    pub fn get_bits(&self) -> u64 {
-        self.inner.get()
-    }
+    raw_reads!("parameter");
 
     /// Writes a cell encoding; it must be one of this parameter's type.
     #[inline(always)]
     pub fn set_bits(&self, bits: u64) {
         self.inner.set(bits)
-    }
-
-    /// The current value.
-    pub fn value(&self) -> crate::types::Value {
-        crate::types::Value::from_bits(self.hal_type, self.get_bits())
     }
 }
 

@@ -474,14 +474,7 @@ fn a_typed_ring_tells_an_attaching_process_its_columns() {
     let host = host("typed-ring");
     let inst = host.instance().clone();
     let c = inst.new_component("s", ComponentKind::User).unwrap();
-    let all = [
-        HalType::Bit,
-        HalType::Float,
-        HalType::S32,
-        HalType::U32,
-        HalType::S64,
-        HalType::U64,
-    ];
+    let all = HalType::ALL;
     let w = RingWriter::create_typed(&c, "s.stream", 10, &all).unwrap();
     assert_eq!((w.width(), w.depth(), w.capacity()), (7, 10, 9));
     let r = RingReader::open(&inst, "s.stream").unwrap();

@@ -8,6 +8,7 @@ use hal_tools::halcmd::values::parse_value;
 use pyo3::exceptions::{PyNameError, PyRuntimeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};
+use pyo3::IntoPyObjectExt;
 
 use crate::codes;
 use crate::convert::{to_python, to_value};
@@ -183,18 +184,31 @@ pub(crate) fn get_s(py: Python<'_>, name: &str) -> PyResult<Py<PyAny>> {
     to_python(py, v)
 }
 
+/// One entry of the `get_info_*` lists: `{'NAME', 'VALUE', key, 'TYPE'}`,
+/// in that order, as LinuxCNC builds them.
+fn info<'py>(
+    py: Python<'py>,
+    name: String,
+    value: Value,
+    (key, extra): (&str, Py<PyAny>),
+    t: HalType,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("NAME", name)?;
+    d.set_item("VALUE", to_python(py, value)?)?;
+    d.set_item(key, extra)?;
+    d.set_item("TYPE", codes::type_code(t))?;
+    Ok(d)
+}
+
 /// Every pin, by name: `{'NAME', 'VALUE', 'DIRECTION', 'TYPE'}`.
 #[pyfunction]
 pub(crate) fn get_info_pins<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     let pins = instance()?.pins().map_err(|e| runtime(e.to_string()))?;
     let list = PyList::empty(py);
     for p in pins {
-        let d = PyDict::new(py);
-        d.set_item("NAME", p.name)?;
-        d.set_item("VALUE", to_python(py, p.value)?)?;
-        d.set_item("DIRECTION", codes::pin_dir_code(p.dir))?;
-        d.set_item("TYPE", codes::type_code(p.hal_type))?;
-        list.append(d)?;
+        let dir = codes::pin_dir_code(p.dir).into_py_any(py)?;
+        list.append(info(py, p.name, p.value, ("DIRECTION", dir), p.hal_type)?)?;
     }
     Ok(list)
 }
@@ -211,12 +225,8 @@ pub(crate) fn get_info_signals<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyLi
             .iter()
             .find(|(_, dir)| *dir == PinDir::Out)
             .map(|(name, _)| name.clone());
-        let d = PyDict::new(py);
-        d.set_item("NAME", s.name)?;
-        d.set_item("VALUE", to_python(py, s.value)?)?;
-        d.set_item("DRIVER", driver)?;
-        d.set_item("TYPE", codes::type_code(s.hal_type))?;
-        list.append(d)?;
+        let driver = driver.into_py_any(py)?;
+        list.append(info(py, s.name, s.value, ("DRIVER", driver), s.hal_type)?)?;
     }
     Ok(list)
 }
@@ -227,12 +237,8 @@ pub(crate) fn get_info_params<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyLis
     let params = instance()?.params().map_err(|e| runtime(e.to_string()))?;
     let list = PyList::empty(py);
     for p in params {
-        let d = PyDict::new(py);
-        d.set_item("NAME", p.name)?;
-        d.set_item("VALUE", to_python(py, p.value)?)?;
-        d.set_item("DIRECTION", codes::param_dir_code(p.dir))?;
-        d.set_item("TYPE", codes::type_code(p.hal_type))?;
-        list.append(d)?;
+        let dir = codes::param_dir_code(p.dir).into_py_any(py)?;
+        list.append(info(py, p.name, p.value, ("DIRECTION", dir), p.hal_type)?)?;
     }
     Ok(list)
 }
