@@ -65,6 +65,9 @@ impl Item {
 /// A component while it exists.
 struct Live {
     comp: Component,
+    /// The process that made it: a forked child inherits the object but
+    /// must not remove its parent's component when it exits.
+    pid: u32,
     prefix: String,
     items: BTreeMap<String, Arc<Item>>,
 }
@@ -133,6 +136,16 @@ impl Shared {
         drop(live);
     }
 
+    /// Closes the component when its object is collected or the
+    /// interpreter exits; in a forked child the parent's component stays.
+    fn close_implicitly(&self) {
+        let live = self.live.write().unwrap_or_else(|e| e.into_inner()).take();
+        match live {
+            Some(l) if l.pid != std::process::id() => std::mem::forget(l),
+            other => drop(other),
+        }
+    }
+
     /// Whether the component still exists (for streams it owns).
     pub(crate) fn is_live(&self) -> bool {
         self.read().is_some()
@@ -151,7 +164,7 @@ impl Shared {
 pub(crate) fn close_all() {
     let all = std::mem::take(&mut *ALL.lock().unwrap_or_else(|e| e.into_inner()));
     for s in all.iter().filter_map(Weak::upgrade) {
-        s.close();
+        s.close_implicitly();
     }
 }
 
@@ -164,7 +177,7 @@ pub(crate) struct PyComponent {
 
 impl Drop for PyComponent {
     fn drop(&mut self) {
-        self.shared.close();
+        self.shared.close_implicitly();
     }
 }
 
@@ -253,6 +266,7 @@ impl PyComponent {
         let _ = self.shared.made.set((name.to_string(), comp.id()));
         *live = Some(Live {
             comp,
+            pid: std::process::id(),
             prefix: prefix.unwrap_or(name).to_string(),
             items: BTreeMap::new(),
         });

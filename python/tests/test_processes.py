@@ -81,3 +81,22 @@ def test_a_script_streams_into_a_streamer_and_reads_a_sampler(hal_instance):
 def test_a_python_stream_between_two_programs(hal_instance):
     r = halcmd_file(hal_instance, "pystreams.hal")
     assert r.stdout.splitlines() == ["pass"], r.stdout + r.stderr
+
+
+def test_a_forked_child_leaves_its_parents_component_alone(hal_instance):
+    import os
+
+    c = hal.component("parent")
+    c.newpin("x", hal.HAL_BIT, hal.HAL_OUT)
+    pid = os.fork()
+    if pid == 0:
+        # What the child's interpreter exit does; it must not remove the
+        # parent's component.
+        import atexit
+
+        atexit._run_exitfuncs()
+        del c
+        os._exit(0)
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0
+    assert hal.component_exists("parent") and c["x"] is False
