@@ -42,5 +42,18 @@ pub use motmod::MotionHandle;
 
 /// The `loadrt` modules of this crate.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&kins::trivkins::MODULE, &motmod::MODULE]
+    vec![
+        &kins::trivkins::MODULE,
+        &kins::corexykins::MODULE,
+        &kins::bipodkins::MODULE,
+        &kins::scarakins::MODULE,
+        &kins::pumakins::MODULE,
+        &kins::genserkins::MODULE,
+        &kins::lineardeltakins::MODULE,
+        &kins::rotarydeltakins::MODULE,
+        &kins::genhexkins::MODULE,
+        &kins::trt::XYZAC_MODULE,
+        &kins::trt::XYZBC_MODULE,
+        &motmod::MODULE,
+    ]
 }

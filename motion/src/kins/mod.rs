@@ -8,7 +8,20 @@
 //! first, exactly as in LinuxCNC. See [`crate::registry`] for the lifetime
 //! rules.
 
+pub mod bipodkins;
+pub mod corexykins;
+pub mod dh;
+pub mod genhexkins;
+pub mod genserkins;
+pub mod lineardeltakins;
+mod loader;
+pub mod math;
+pub mod pumakins;
+pub mod rotarydeltakins;
+pub mod scarakins;
+pub mod switchkins;
 pub mod trivkins;
+pub mod trt;
 
 use std::sync::Arc;
 
@@ -106,6 +119,21 @@ pub trait Kinematics: Send + Sync + 'static {
         joints: &mut [f64],
         flags: &mut KinsFlags,
     ) -> Result<(), KinsError>;
+
+    /// Sets `joints` and `pose` to a consistent home position
+    /// (LinuxCNC's `kinematicsHome`). `pose` comes in as the world home
+    /// (`[TRAJ]HOME`) and `joints` as the joints' home positions, when
+    /// known; the default keeps the pose and computes the joints from it
+    /// by inverse kinematics.
+    fn home(
+        &self,
+        pose: &mut Pose,
+        joints: &mut [f64],
+        flags: &mut KinsFlags,
+    ) -> Result<(), KinsError> {
+        *flags = KinsFlags::default();
+        self.inverse(pose, joints, flags)
+    }
 
     /// Whether world axis `axis` (an index into [`AXIS_LETTERS`]) is one
     /// of the coordinates the module computes: `None` when the module does
