@@ -7,6 +7,16 @@
 //! looks it up when it loads, so the kinematics module must be loaded
 //! first, exactly as in LinuxCNC. See [`crate::registry`] for the lifetime
 //! rules.
+//!
+//! The modules, under LinuxCNC's names: [`trivkins`], [`corexykins`],
+//! [`bipodkins`] (the kinematics note's example), [`scarakins`],
+//! [`pumakins`], [`genserkins`], [`lineardeltakins`], [`rotarydeltakins`],
+//! [`genhexkins`], and [`trt`] (`xyzac-trt-kins`, `xyzbc-trt-kins`). Those
+//! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
+//! geometry in HAL pins read at every call, and refuses poses it cannot
+//! reach, and singular ones, with a [`KinsError`]: no module writes a
+//! non-finite joint or pose. [`math`] and [`dh`] hold the geometry they
+//! share.
 
 pub mod bipodkins;
 pub mod corexykins;

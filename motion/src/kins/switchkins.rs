@@ -340,3 +340,67 @@ impl<K: Kinematics> Kinematics for Switchkins<K> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const SPEC: SwitchSpec = SwitchSpec {
+        module: "testkins",
+        required: "xyzac",
+        requires_letters: true,
+        allow_duplicates: false,
+        max_joints: 6,
+        honours_identity_first: false,
+        forward_iterates: false,
+        gui_pins: false,
+    };
+
+    #[test]
+    fn coordinates_follow_the_modules_rules() {
+        assert_eq!(
+            identity_map(&SPEC, None).unwrap().axis_of_joint(),
+            [0, 1, 2, 3, 5]
+        );
+        assert_eq!(
+            identity_map(&SPEC, Some("CAZYX")).unwrap().axis_of_joint(),
+            [5, 3, 2, 1, 0]
+        );
+        for (bad, why) in [
+            ("xyzc", "lacks A"),
+            ("xyzacc", "duplicates"),
+            ("xyzacuv", "at most 6"),
+            ("xyzaq", "invalid character"),
+        ] {
+            let e = identity_map(&SPEC, Some(bad)).unwrap_err().to_string();
+            assert!(e.contains(why) && e.contains("coordinates"), "{bad}: {e}");
+        }
+    }
+
+    proptest! {
+        // A fuzz target for `coordinates=` until the fuzz crate lands.
+        #![proptest_config(ProptestConfig::with_cases(10_000))]
+
+        /// Any `coordinates=` text either maps or is refused by name.
+        #[test]
+        fn any_coordinates_text_is_mapped_or_refused(
+            chars in prop::collection::vec(
+                prop::sample::select(&[
+                    'x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w', 'X', 'C', ' ', '\t', 'q', '\0',
+                    'é', '=', ',',
+                ][..]),
+                0..40,
+            ),
+        ) {
+            let text: String = chars.into_iter().collect();
+            match identity_map(&SPEC, Some(&text)) {
+                Ok(map) => prop_assert!(map.axis_of_joint().len() <= SPEC.max_joints),
+                Err(hal_core::HalError::ModuleParam { param, .. }) => {
+                    prop_assert_eq!(param, "coordinates")
+                }
+                Err(e) => prop_assert!(false, "{}", e),
+            }
+        }
+    }
+}

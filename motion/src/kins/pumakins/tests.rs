@@ -41,8 +41,8 @@ fn zero_position_of_a_puma_560() {
     // Upper arm and elbow offset along X, shoulder offset along Y,
     // forearm and tool down, the tool pointing down (a half roll).
     let want = [350.0, 70.0, -470.0];
-    for i in 0..3 {
-        assert!((p.0[i] - want[i]).abs() < 1e-9, "{p:?}");
+    for (got, want) in p.0.iter().zip(want) {
+        assert!((got - want).abs() < 1e-9, "{p:?}");
     }
     assert!((p.0[3].abs() - 180.0).abs() < 1e-9 && p.0[4].abs() < 1e-9 && p.0[5].abs() < 1e-9);
     // Joint 5 at 0° is a wrist singularity.
