@@ -214,10 +214,10 @@ pub struct TableKins {
 
 impl TableKins {
     /// The table kinematics with joints mapped by `coordinates` (which
-    /// must contain X Y Z, the tilt letter and C).
-    pub fn new(table: Table, coordinates: &str) -> std::result::Result<TableKins, KinsError> {
-        let map = switchkins::identity_map(&spec(table.tilt), Some(coordinates))
-            .map_err(|_| KinsError::Unsupported)?;
+    /// must contain X Y Z, the tilt letter and C); a refused map is the
+    /// error `loadrt` would give for it.
+    pub fn new(table: Table, coordinates: &str) -> Result<TableKins> {
+        let map = switchkins::identity_map(&spec(table.tilt), Some(coordinates))?;
         Ok(TableKins { table, map })
     }
 }
