@@ -24,6 +24,7 @@ use hal_core::{Host, Io, Pin, Result};
 
 use super::loader::{float_io, register};
 use super::math::finite;
+use super::pinned::{PinGeometry, Pinned};
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
 
 /// The `bipodkins` module.
@@ -114,48 +115,19 @@ struct Bipodkins {
     bx: Pin<f64, Io>,
 }
 
-impl Bipodkins {
+impl PinGeometry for Bipodkins {
+    const NAME: &'static str = "bipodkins";
+    type Geometry = Bipod;
+
     fn geometry(&self) -> Bipod {
         Bipod { bx: self.bx.get() }
-    }
-}
-
-impl Kinematics for Bipodkins {
-    fn name(&self) -> &str {
-        "bipodkins"
-    }
-
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
-        &self,
-        joints: &[f64],
-        pose: &mut Pose,
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().forward(joints, pose, flags)
-    }
-
-    fn inverse(
-        &self,
-        pose: &Pose,
-        joints: &mut [f64],
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().inverse(pose, joints, flags)
-    }
-
-    fn has_axis(&self, axis: usize) -> Option<bool> {
-        self.geometry().has_axis(axis)
     }
 }
 
 fn load(host: &Host, _args: &ModuleArgs) -> Result<()> {
     let b = host.new_rt_component("bipodkins")?;
     let bx = float_io(b.component(), "bipodkins.Bx", DEFAULT_BX)?;
-    register(host, b, "bipodkins", Arc::new(Bipodkins { bx }))
+    register(host, b, "bipodkins", Arc::new(Pinned(Bipodkins { bx })))
 }
 
 #[cfg(test)]

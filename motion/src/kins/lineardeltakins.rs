@@ -26,6 +26,7 @@ use hal_core::{Host, In, Pin, Result};
 
 use super::loader::{float_in, register};
 use super::math::{below_plane, finite, lower_sphere_intersection};
+use super::pinned::{PinGeometry, Pinned};
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose, NUM_AXES};
 
 /// The `lineardeltakins` module.
@@ -170,44 +171,15 @@ struct Lineardeltakins {
     l: Pin<f64, In>,
 }
 
-impl Lineardeltakins {
+impl PinGeometry for Lineardeltakins {
+    const NAME: &'static str = "lineardeltakins";
+    type Geometry = LinearDelta;
+
     fn geometry(&self) -> LinearDelta {
         LinearDelta {
             r: self.r.get(),
             l: self.l.get(),
         }
-    }
-}
-
-impl Kinematics for Lineardeltakins {
-    fn name(&self) -> &str {
-        "lineardeltakins"
-    }
-
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
-        &self,
-        joints: &[f64],
-        pose: &mut Pose,
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().forward(joints, pose, flags)
-    }
-
-    fn inverse(
-        &self,
-        pose: &Pose,
-        joints: &mut [f64],
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().inverse(pose, joints, flags)
-    }
-
-    fn has_axis(&self, axis: usize) -> Option<bool> {
-        self.geometry().has_axis(axis)
     }
 }
 
@@ -218,7 +190,7 @@ fn load(host: &Host, _args: &ModuleArgs) -> Result<()> {
         r: float_in(c, "lineardeltakins.R", DEFAULT_R)?,
         l: float_in(c, "lineardeltakins.L", DEFAULT_L)?,
     };
-    register(host, b, "lineardeltakins", Arc::new(kins))
+    register(host, b, "lineardeltakins", Arc::new(Pinned(kins)))
 }
 
 #[cfg(test)]

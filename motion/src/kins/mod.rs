@@ -26,6 +26,7 @@ pub mod genserkins;
 pub mod lineardeltakins;
 mod loader;
 pub mod math;
+mod pinned;
 pub mod pumakins;
 pub mod rotarydeltakins;
 pub mod scarakins;

@@ -26,6 +26,7 @@ use hal_core::{Component, Host, Io, Pin, Result};
 use super::dh::{chain, DhLink, Frame, LINKS};
 use super::loader::float_io;
 use super::math::{angle_diff, column, deg, finite, matrix_rpy, rad, rpy_matrix, scale, sub, Mat3};
+use super::pinned::{PinGeometry, Pinned};
 use super::switchkins::{self, SwitchSpec};
 use super::trivkins::Trivkins;
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
@@ -284,55 +285,27 @@ impl Kinematics for Puma {
 
 /// The module's own kinematics: the dimensions read from the pins at
 /// every call.
-pub struct Pumakins {
+struct Pumakins {
     dims: [Pin<f64, Io>; 5],
 }
 
 impl Pumakins {
-    fn export(c: &Component) -> Result<Pumakins> {
+    fn export(c: &Component) -> Result<Pinned<Pumakins>> {
         let names = ["A2", "A3", "D3", "D4", "D6"];
         let p = |i: usize| float_io(c, &format!("pumakins.{}", names[i]), DEFAULTS[i]);
-        Ok(Pumakins {
+        Ok(Pinned(Pumakins {
             dims: [p(0)?, p(1)?, p(2)?, p(3)?, p(4)?],
-        })
-    }
-
-    /// The dimensions on the pins now.
-    pub fn geometry(&self) -> Puma {
-        let [a2, a3, d3, d4, d6] = self.dims.each_ref().map(|p| p.get());
-        Puma { a2, a3, d3, d4, d6 }
+        }))
     }
 }
 
-impl Kinematics for Pumakins {
-    fn name(&self) -> &str {
-        "pumakins"
-    }
+impl PinGeometry for Pumakins {
+    const NAME: &'static str = "pumakins";
+    type Geometry = Puma;
 
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
-        &self,
-        joints: &[f64],
-        pose: &mut Pose,
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().forward(joints, pose, flags)
-    }
-
-    fn inverse(
-        &self,
-        pose: &Pose,
-        joints: &mut [f64],
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().inverse(pose, joints, flags)
-    }
-
-    fn has_axis(&self, axis: usize) -> Option<bool> {
-        Some(axis < 6)
+    fn geometry(&self) -> Puma {
+        let [a2, a3, d3, d4, d6] = self.dims.each_ref().map(|p| p.get());
+        Puma { a2, a3, d3, d4, d6 }
     }
 }
 

@@ -27,6 +27,7 @@ use hal_core::{Host, In, Pin, Result};
 
 use super::loader::{float_in, register};
 use super::math::{below_plane, deg, finite, lower_sphere_intersection, rad};
+use super::pinned::{PinGeometry, Pinned};
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose, NUM_AXES};
 
 /// The `rotarydeltakins` module.
@@ -202,7 +203,10 @@ struct Rotarydeltakins {
     pins: [Pin<f64, In>; 4],
 }
 
-impl Rotarydeltakins {
+impl PinGeometry for Rotarydeltakins {
+    const NAME: &'static str = "rotarydeltakins";
+    type Geometry = RotaryDelta;
+
     fn geometry(&self) -> RotaryDelta {
         let [platform_radius, thigh, shin, foot_radius] = self.pins.each_ref().map(|p| p.get());
         RotaryDelta {
@@ -214,38 +218,6 @@ impl Rotarydeltakins {
     }
 }
 
-impl Kinematics for Rotarydeltakins {
-    fn name(&self) -> &str {
-        "rotarydeltakins"
-    }
-
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
-        &self,
-        joints: &[f64],
-        pose: &mut Pose,
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().forward(joints, pose, flags)
-    }
-
-    fn inverse(
-        &self,
-        pose: &Pose,
-        joints: &mut [f64],
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().inverse(pose, joints, flags)
-    }
-
-    fn has_axis(&self, axis: usize) -> Option<bool> {
-        self.geometry().has_axis(axis)
-    }
-}
-
 fn load(host: &Host, _args: &ModuleArgs) -> Result<()> {
     let b = host.new_rt_component("rotarydeltakins")?;
     let c = b.component();
@@ -254,7 +226,7 @@ fn load(host: &Host, _args: &ModuleArgs) -> Result<()> {
     let kins = Rotarydeltakins {
         pins: [p(0)?, p(1)?, p(2)?, p(3)?],
     };
-    register(host, b, "rotarydeltakins", Arc::new(kins))
+    register(host, b, "rotarydeltakins", Arc::new(Pinned(kins)))
 }
 
 #[cfg(test)]

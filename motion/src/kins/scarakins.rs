@@ -27,6 +27,7 @@ use hal_core::{Component, Host, In, Pin, Result};
 
 use super::loader::float_in;
 use super::math::{deg, finite, rad};
+use super::pinned::{PinGeometry, Pinned};
 use super::switchkins::{self, SwitchSpec};
 use super::trivkins::Trivkins;
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
@@ -158,55 +159,27 @@ impl Kinematics for Scara {
 
 /// The module's own kinematics: the dimensions read from the pins at
 /// every call.
-pub struct Scarakins {
+struct Scarakins {
     d: [Pin<f64, In>; 6],
 }
 
 impl Scarakins {
-    fn export(c: &Component) -> Result<Scarakins> {
+    fn export(c: &Component) -> Result<Pinned<Scarakins>> {
         let p = |i: usize| float_in(c, &format!("scarakins.D{}", i + 1), DEFAULTS[i]);
-        Ok(Scarakins {
+        Ok(Pinned(Scarakins {
             d: [p(0)?, p(1)?, p(2)?, p(3)?, p(4)?, p(5)?],
-        })
-    }
-
-    /// The dimensions on the pins now.
-    pub fn geometry(&self) -> Scara {
-        Scara {
-            d: self.d.each_ref().map(|p| p.get()),
-        }
+        }))
     }
 }
 
-impl Kinematics for Scarakins {
-    fn name(&self) -> &str {
-        "scarakins"
-    }
+impl PinGeometry for Scarakins {
+    const NAME: &'static str = "scarakins";
+    type Geometry = Scara;
 
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
-        &self,
-        joints: &[f64],
-        pose: &mut Pose,
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().forward(joints, pose, flags)
-    }
-
-    fn inverse(
-        &self,
-        pose: &Pose,
-        joints: &mut [f64],
-        flags: &mut KinsFlags,
-    ) -> std::result::Result<(), KinsError> {
-        self.geometry().inverse(pose, joints, flags)
-    }
-
-    fn has_axis(&self, axis: usize) -> Option<bool> {
-        Some(axis < 6)
+    fn geometry(&self) -> Scara {
+        Scara {
+            d: self.d.each_ref().map(|p| p.get()),
+        }
     }
 }
 
