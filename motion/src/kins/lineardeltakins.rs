@@ -199,17 +199,11 @@ mod tests {
     use proptest::prelude::*;
 
     fn inv(k: &LinearDelta, p: [f64; 3]) -> std::result::Result<[f64; 3], KinsError> {
-        let mut pose = Pose::ZERO;
-        pose.0[..3].copy_from_slice(&p);
-        let mut j = [0.0; 3];
-        k.inverse(&pose, &mut j, &mut KinsFlags::default())
-            .map(|()| j)
+        crate::kins::testing::inverse(k, &p, [0.0; 3])
     }
 
     fn fwd(k: &LinearDelta, j: [f64; 3]) -> std::result::Result<[f64; 3], KinsError> {
-        let mut pose = Pose::ZERO;
-        k.forward(&j, &mut pose, &mut KinsFlags::default())
-            .map(|()| [pose.0[0], pose.0[1], pose.0[2]])
+        crate::kins::testing::forward(k, &j)
     }
 
     #[test]

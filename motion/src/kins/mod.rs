@@ -31,6 +31,8 @@ pub mod pumakins;
 pub mod rotarydeltakins;
 pub mod scarakins;
 pub mod switchkins;
+#[cfg(test)]
+mod testing;
 pub mod trivkins;
 pub mod trt;
 
