@@ -24,6 +24,8 @@
 //! silently ignores ports past the eighth, bad strings are refused with a
 //! message naming the token.
 
+use hal_driver::params::{parse_hex, BackendTokens, NumberError};
+
 /// The most ports one `loadrt` handles.
 pub const MAX_PORTS: usize = 8;
 
@@ -109,11 +111,18 @@ impl Backend {
     }
 
     fn from_token(t: &str) -> Option<Backend> {
-        [Backend::Ppdev, Backend::Raw, Backend::Sim, Backend::SimLoop]
-            .into_iter()
-            .find(|b| t.eq_ignore_ascii_case(b.name()))
+        Some(match TOKENS.parse(t)? {
+            hal_driver::params::Backend::Real("ppdev") => Backend::Ppdev,
+            hal_driver::params::Backend::Real(_) => Backend::Raw,
+            hal_driver::params::Backend::Sim("simloop") => Backend::SimLoop,
+            hal_driver::params::Backend::Sim(_) => Backend::Sim,
+        })
     }
 }
+
+/// The backend tokens, parsed by the driver layer's one rule for all
+/// drivers (whole words, any case; simulator tokens start with `sim`).
+pub const TOKENS: BackendTokens = BackendTokens::new(&["ppdev", "raw"], &["sim", "simloop"]);
 
 /// One configured port.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -177,34 +186,21 @@ fn mode_of(t: &str) -> Option<Mode> {
     }
 }
 
-/// Parses an address token: hex, optional `0x` prefix.
+/// Parses an address token: hex, optional `0x` prefix (the driver
+/// layer's [`parse_hex`]).
 pub fn parse_addr(t: &str) -> Result<PortAddr, CfgError> {
-    let bad = |reason: &str| CfgError::BadAddress {
-        token: t.to_string(),
-        reason: reason.to_string(),
-    };
-    let digits = t
-        .strip_prefix("0x")
-        .or_else(|| t.strip_prefix("0X"))
-        .unwrap_or(t);
-    if digits.is_empty() {
-        return Err(bad("no hex digits"));
-    }
-    if let Some(c) = digits.chars().find(|c| !c.is_ascii_hexdigit()) {
-        let reason = if mode_of(t).is_some() {
-            format!("'{c}' is not a hex digit (a port takes one type; is a port address missing before it?)")
-        } else {
-            format!("'{c}' is not a hex digit")
+    let v = parse_hex(t, 0xFFFF).map_err(|e| {
+        let reason = match e {
+            NumberError::BadHexDigit(_) if mode_of(t).is_some() => {
+                format!("{e} (a port takes one type; is a port address missing before it?)")
+            }
+            e => e.to_string(),
         };
-        return Err(bad(&reason));
-    }
-    let mut v: u32 = 0;
-    for c in digits.chars() {
-        v = v * 16 + c.to_digit(16).unwrap_or(0);
-        if v > 0xFFFF {
-            return Err(bad("larger than 0xffff"));
+        CfgError::BadAddress {
+            token: t.to_string(),
+            reason,
         }
-    }
+    })?;
     Ok(if v < 16 {
         PortAddr::Number(v as u8)
     } else {

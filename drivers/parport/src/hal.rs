@@ -22,6 +22,9 @@ use std::sync::Arc;
 use canonical::{ChannelNames, DigOut};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{Component, HalError, Host, Out, Param, Pin, Result, Rw};
+use hal_driver::fault::{self, SafeState};
+use hal_driver::params::Params;
+use hal_driver::DriverError;
 
 use crate::cfg::{self, PortSpec, DEFAULT_CFG};
 use crate::clock::{Clock, MonotonicClock};
@@ -48,7 +51,7 @@ pub static MODULE: ModuleDef = ModuleDef {
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     load_cfg(
         host,
-        args.str("cfg").unwrap_or(DEFAULT_CFG),
+        Params::new(NAME, args).str_or("cfg", DEFAULT_CFG),
         &SysPaths::system(),
         Arc::new(MonotonicClock),
     )
@@ -223,8 +226,12 @@ impl HalPort {
             }
         }
     }
+}
 
-    fn safe_state(&self) {
+impl SafeState for HalPort {
+    /// Every output at its inactive level, the physical level of its
+    /// `-out-invert`.
+    fn go_safe(&self) {
         self.drv
             .safe_state(inverts(&self.data_out), inverts(&self.control_out));
     }
@@ -241,10 +248,13 @@ fn port_error(i: usize, spec: &PortSpec, e: impl std::fmt::Display) -> HalError 
 /// timing write/reset with `clock`. `loadrt` calls this with the real
 /// system paths and CLOCK_MONOTONIC; tests may pass their own.
 pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>) -> Result<()> {
-    let specs = cfg::parse(cfg).map_err(|e| HalError::ModuleParam {
-        module: NAME.into(),
-        param: "cfg".into(),
-        reason: e.to_string(),
+    let specs = cfg::parse(cfg).map_err(|e| {
+        DriverError::BadParam {
+            module: NAME.into(),
+            param: "cfg".into(),
+            reason: e.to_string(),
+        }
+        .into_hal(NAME)
     })?;
     // Choose every backend first: two entries for one port must be
     // refused before anything is claimed, since a second PPCLAIM of a
@@ -292,11 +302,7 @@ pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>)
             p.write();
         }
     })?;
-    b.on_safe_state(move || {
-        for p in &ports {
-            p.safe_state();
-        }
-    });
+    fault::install(&mut b, ports);
     b.ready()?;
     for (i, s) in &sims {
         crate::sim::register(host.instance().name(), *i, s);

@@ -7,9 +7,15 @@
 //!   no privilege beyond access to the device node (group `lp`). Every
 //!   access is a system call, and the control register cannot be read back
 //!   live, so `x` mode and `epp` are refused on it.
-//! * [`raw::RawPort`]: `inb`/`outb` after `ioperm`. Needs `CAP_SYS_RAWIO`;
-//!   the permission is per thread and taken on the first access in each.
-//! * [`crate::sim::SimPort`]: the register-level simulator.
+//! * [`raw::RawPort`]: `inb`/`outb` after `ioperm`, through the driver
+//!   layer's [`IopermPorts`](hal_driver::bus::IopermPorts). Needs
+//!   `CAP_SYS_RAWIO`; the permission is per thread and taken on the first
+//!   access in each.
+//! * [`crate::sim::SimPort`]: the register-level simulator, a
+//!   [`SimBoard`](hal_driver::sim::SimBoard) on the same port bus.
+//!
+//! The raw backend and the simulator both reach the registers through a
+//! [`PortBus`] at the port's addresses ([`PortAt`]).
 //!
 //! Realtime functions call the accessors; they take `&self` so the
 //! functions of one port can run in different threads. Accessors never
@@ -19,6 +25,10 @@
 
 pub mod ppdev;
 pub mod raw;
+
+use hal_driver::bus::{PortBus, PortRange};
+
+use crate::regs;
 
 /// What went wrong opening or setting up a port.
 #[derive(Debug, thiserror::Error)]
@@ -102,4 +112,68 @@ pub trait PortIo: Send + Sync {
     /// How many accesses failed since the port was opened (the driver
     /// reports a non-zero count when it lets the port go).
     fn errors(&self) -> u64;
+}
+
+/// Where one port's registers sit on an I/O bus: `base` (data, status,
+/// control, EPP) and `base_hi` (the ECP registers, when known). The
+/// register accesses of [`PortIo`] through any [`PortBus`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PortAt {
+    /// The data register's address.
+    pub base: u16,
+    /// The ECP registers' address, when known.
+    pub base_hi: Option<u16>,
+}
+
+impl PortAt {
+    /// The I/O ranges the port occupies: 8 ports at `base`, 3 at
+    /// `base_hi`. An error when one runs past 0xffff.
+    pub fn ranges(&self) -> Result<Vec<PortRange>, hal_driver::DriverError> {
+        let mut r = vec![PortRange::new(self.base, regs::BASE_SPAN)?];
+        if let Some(hi) = self.base_hi {
+            r.push(PortRange::new(hi, regs::HI_SPAN)?);
+        }
+        Ok(r)
+    }
+
+    /// Reads the data register.
+    #[inline]
+    pub fn read_data(&self, bus: &impl PortBus) -> u8 {
+        bus.inb(self.base.wrapping_add(regs::DATA))
+    }
+
+    /// Writes the data register.
+    #[inline]
+    pub fn write_data(&self, bus: &impl PortBus, v: u8) {
+        bus.outb(self.base.wrapping_add(regs::DATA), v)
+    }
+
+    /// Reads the status register.
+    #[inline]
+    pub fn read_status(&self, bus: &impl PortBus) -> u8 {
+        bus.inb(self.base.wrapping_add(regs::STATUS))
+    }
+
+    /// Reads the control register.
+    #[inline]
+    pub fn read_control(&self, bus: &impl PortBus) -> u8 {
+        bus.inb(self.base.wrapping_add(regs::CONTROL))
+    }
+
+    /// Writes the control register.
+    #[inline]
+    pub fn write_control(&self, bus: &impl PortBus, v: u8) {
+        bus.outb(self.base.wrapping_add(regs::CONTROL), v)
+    }
+
+    /// Writes the ECR; false (nothing written) without a `base_hi`.
+    pub fn write_ecr(&self, bus: &impl PortBus, v: u8) -> bool {
+        match self.base_hi {
+            Some(hi) => {
+                bus.outb(hi.wrapping_add(regs::ECR), v);
+                true
+            }
+            None => false,
+        }
+    }
 }

@@ -20,20 +20,24 @@
 //! EPP registers (`base+3..7`) and the ECP window (`base_hi+0..2`) store
 //! what is written without side effects.
 //!
-//! Every register write is logged with a timestamp from the port's
-//! [`Clock`], so tests can check that the driver writes only on change
-//! and that `reset` writes no earlier than `reset-time` after `write`.
-//! The log is a lock-free ring keeping the newest writes; accessors never
-//! allocate or lock, so the simulator can sit behind realtime functions.
+//! The model is a [`PortModel`] inside the driver layer's [`SimBoard`],
+//! so [`SimPort`] reaches it through the same port bus as the raw
+//! backend. Every register write is logged in the board's [`AccessLog`]
+//! with a timestamp from the port's [`Clock`], so tests can check that
+//! the driver writes only on change and that `reset` writes no earlier
+//! than `reset-time` after `write`. The log keeps the newest writes in a
+//! buffer allocated up front; accessors never allocate, and the model's
+//! lock is the board's (uncontended: only tests and tools take it
+//! besides the driver).
 
-use std::sync::atomic::{
-    fence, AtomicBool, AtomicU32, AtomicU64, AtomicU8, Ordering::Acquire, Ordering::Relaxed,
-    Ordering::Release,
-};
-use std::sync::{Arc, Mutex, Weak};
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::sync::Arc;
+
+use hal_driver::bus::PortBus;
+use hal_driver::sim::{AccessLog, BoardModel, PortModel, SimBoard, Width};
 
 use crate::clock::Clock;
-use crate::port::{PortError, PortIo};
+use crate::port::{PortAt, PortError, PortIo};
 use crate::regs::{self, PinReg};
 
 /// What the outside world does to one pin.
@@ -46,7 +50,6 @@ pub enum Drive {
     /// Pulled low.
     Low,
 }
-
 /// A loopback plug: wires that join connector pins.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Plug {
@@ -138,168 +141,91 @@ pub struct WriteRecord {
     pub value: u8,
 }
 
-struct LogSlot {
-    seq: AtomicU64,
-    time: AtomicU64,
-    what: AtomicU32,
-}
-
 /// Number of pin slots (index = DB-25 pin number, 0 unused).
 const PINS: usize = 18;
 
-/// A simulated parallel port.
-pub struct SimPort {
-    base: u16,
-    base_hi: Option<u16>,
+/// The port's registers and connector: the board model.
+#[derive(Debug)]
+pub struct ParportModel {
+    at: PortAt,
     open_collector: bool,
-    plug: Option<Plug>,
     /// `net[p]`: the smallest pin number joined to pin `p` (itself if none).
     net: [u8; PINS],
-    data: AtomicU8,
-    control: AtomicU8,
-    epp: [AtomicU8; 5],
-    hi: [AtomicU8; 3],
-    drive: [AtomicU8; PINS],
-    claimed: AtomicBool,
-    reads: [AtomicU64; 3],
-    clock: Arc<dyn Clock>,
-    log: Box<[LogSlot]>,
-    head: AtomicU64,
-    floor: AtomicU64,
+    data: u8,
+    control: u8,
+    epp: [u8; 5],
+    hi: [u8; 3],
+    drive: [Drive; PINS],
+    reads: [u64; 3],
 }
 
-impl std::fmt::Debug for SimPort {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SimPort")
-            .field("base", &format_args!("{:#x}", self.base))
-            .field("data", &self.data.load(Relaxed))
-            .field("control", &self.control.load(Relaxed))
-            .finish()
-    }
-}
-
-const DRIVE_FLOAT: u8 = 0;
-const DRIVE_HIGH: u8 = 1;
-const DRIVE_LOW: u8 = 2;
-
-impl SimPort {
-    /// Builds a port; its log uses `clock`.
-    pub fn new(cfg: SimConfig, clock: Arc<dyn Clock>) -> SimPort {
-        let mut net: [u8; PINS] = std::array::from_fn(|i| i as u8);
-        if let Some(plug) = &cfg.plug {
-            // Join nets until nothing changes (few wires, done at build).
-            loop {
-                let mut changed = false;
-                for &(a, b) in plug.wires() {
-                    let (a, b) = (a as usize, b as usize);
-                    if a >= PINS || b >= PINS {
-                        continue;
-                    }
-                    let (na, nb) = (net[a], net[b]);
-                    let m = na.min(nb);
-                    for n in net.iter_mut() {
-                        if (*n == na || *n == nb) && *n != m {
-                            *n = m;
-                            changed = true;
-                        }
-                    }
-                }
-                if !changed {
-                    break;
+/// Joins the nets of `plug`'s wires: `net[p]` becomes the smallest pin
+/// on `p`'s net.
+fn nets(plug: Option<&Plug>) -> [u8; PINS] {
+    let mut net: [u8; PINS] = std::array::from_fn(|i| i as u8);
+    let Some(plug) = plug else { return net };
+    // Join nets until nothing changes (few wires, done at build).
+    loop {
+        let mut changed = false;
+        for &(a, b) in plug.wires() {
+            let (a, b) = (a as usize, b as usize);
+            if a >= PINS || b >= PINS {
+                continue;
+            }
+            let (na, nb) = (net[a], net[b]);
+            let m = na.min(nb);
+            for n in net.iter_mut() {
+                if (*n == na || *n == nb) && *n != m {
+                    *n = m;
+                    changed = true;
                 }
             }
         }
-        let cap = cfg.log_capacity.max(1);
-        SimPort {
-            base: cfg.base,
-            base_hi: cfg.base_hi,
+        if !changed {
+            return net;
+        }
+    }
+}
+
+impl ParportModel {
+    fn new(cfg: &SimConfig) -> ParportModel {
+        ParportModel {
+            at: PortAt {
+                base: cfg.base,
+                base_hi: cfg.base_hi,
+            },
             open_collector: cfg.open_collector,
-            plug: cfg.plug,
-            net,
-            data: AtomicU8::new(0),
-            control: AtomicU8::new(0),
-            epp: Default::default(),
-            hi: Default::default(),
-            drive: Default::default(),
-            claimed: AtomicBool::new(false),
-            reads: Default::default(),
-            clock,
-            log: (0..cap)
-                .map(|_| LogSlot {
-                    seq: AtomicU64::new(0),
-                    time: AtomicU64::new(0),
-                    what: AtomicU32::new(0),
-                })
-                .collect(),
-            head: AtomicU64::new(0),
-            floor: AtomicU64::new(0),
+            net: nets(cfg.plug.as_ref()),
+            data: 0,
+            control: 0,
+            epp: [0; 5],
+            hi: [0; 3],
+            drive: [Drive::Floating; PINS],
+            reads: [0; 3],
         }
     }
 
-    /// The base address.
-    pub fn base_addr(&self) -> u16 {
-        self.base
-    }
-
-    /// The plug in the connector, if any.
-    pub fn plug(&self) -> Option<&Plug> {
-        self.plug.as_ref()
-    }
-
-    // ---- plant side -------------------------------------------------
-
-    /// Makes the outside world drive `pin` (1..17; others are ignored).
-    pub fn drive(&self, pin: u8, d: Drive) {
-        if (1..=17).contains(&pin) {
-            let v = match d {
-                Drive::Floating => DRIVE_FLOAT,
-                Drive::High => DRIVE_HIGH,
-                Drive::Low => DRIVE_LOW,
-            };
-            self.drive[pin as usize].store(v, Relaxed);
-        }
-    }
-
-    /// Drives `pin` high or low.
-    pub fn set_input(&self, pin: u8, high: bool) {
-        self.drive(pin, if high { Drive::High } else { Drive::Low });
-    }
-
-    /// Lets every pin float again.
-    pub fn release_all(&self) {
-        for d in &self.drive {
-            d.store(DRIVE_FLOAT, Relaxed);
-        }
-    }
-
-    /// The electrical level of `pin` on the connector (true = high).
-    /// Ground pins (18..25) read low.
-    pub fn level(&self, pin: u8) -> bool {
+    /// The electrical level of `pin` (true = high); ground pins read low.
+    fn level(&self, pin: u8) -> bool {
         if !(1..=17).contains(&pin) {
             return false;
         }
         let n = self.net[pin as usize];
         // Anything pulling low wins; a driven-high or floating net is high.
-        for p in 1..PINS as u8 {
-            if self.net[p as usize] == n
-                && (self.drive[p as usize].load(Relaxed) == DRIVE_LOW
-                    || self.own_drive(p) == Some(false))
-            {
-                return false;
-            }
-        }
-        true
+        !(1..PINS as u8).any(|p| {
+            self.net[p as usize] == n
+                && (self.drive[p as usize] == Drive::Low || self.own_drive(p) == Some(false))
+        })
     }
 
     /// What the port itself does to `pin`: Some(level) if it drives it.
     fn own_drive(&self, pin: u8) -> Option<bool> {
         match regs::pin_reg(pin)? {
             PinReg::Data(b) => {
-                let ctrl = self.control.load(Relaxed);
-                (ctrl & regs::CONTROL_DIR_IN == 0).then(|| self.data.load(Relaxed) & (1 << b) != 0)
+                (self.control & regs::CONTROL_DIR_IN == 0).then(|| self.data & (1 << b) != 0)
             }
             PinReg::Control(b) => {
-                let bit = self.control.load(Relaxed) & (1 << b) != 0;
+                let bit = self.control & (1 << b) != 0;
                 let physical = bit != (regs::CONTROL_INVERTED & (1 << b) != 0);
                 if self.open_collector {
                     (!physical).then_some(false)
@@ -311,51 +237,35 @@ impl SimPort {
         }
     }
 
-    /// The data output latch.
-    pub fn data_latch(&self) -> u8 {
-        self.data.load(Relaxed)
+    /// Bits of `pins`' levels, pin `pins[i]` on bit i.
+    fn levels(&self, pins: &[u8]) -> u8 {
+        pins.iter()
+            .enumerate()
+            .fold(0, |v, (i, &p)| if self.level(p) { v | 1 << i } else { v })
     }
 
-    /// The control register latch.
-    pub fn control_latch(&self) -> u8 {
-        self.control.load(Relaxed)
+    /// Whether the port decodes `addr` (its `base` or `base_hi` window).
+    fn decodes(at: PortAt, addr: u16) -> bool {
+        addr.wrapping_sub(at.base) < regs::BASE_SPAN
+            || at
+                .base_hi
+                .is_some_and(|h| addr.wrapping_sub(h) < regs::HI_SPAN)
     }
 
-    /// The last byte written to the ECR (`base_hi + 2`).
-    pub fn ecr(&self) -> u8 {
-        self.hi[regs::ECR as usize].load(Relaxed)
-    }
-
-    /// Whether a driver holds the port.
-    pub fn is_claimed(&self) -> bool {
-        self.claimed.load(Relaxed)
-    }
-
-    /// How many times register `offset` (0..2) was read.
-    pub fn reads(&self, offset: u16) -> u64 {
-        self.reads
-            .get(offset as usize)
-            .map_or(0, |r| r.load(Relaxed))
-    }
-
-    // ---- bus side ---------------------------------------------------
-
-    /// Reads the byte at absolute I/O address `addr` (0xFF outside the
-    /// port's windows, as an empty ISA bus reads).
-    pub fn inb(&self, addr: u16) -> u8 {
-        let off = addr.wrapping_sub(self.base);
+    fn inb(&mut self, addr: u16) -> u8 {
+        let off = addr.wrapping_sub(self.at.base);
         if off < regs::BASE_SPAN {
             return match off {
                 regs::DATA => {
-                    self.reads[0].fetch_add(1, Relaxed);
-                    if self.control.load(Relaxed) & regs::CONTROL_DIR_IN == 0 {
-                        self.data.load(Relaxed)
+                    self.reads[0] += 1;
+                    if self.control & regs::CONTROL_DIR_IN == 0 {
+                        self.data
                     } else {
                         self.levels(&regs::DATA_PINS)
                     }
                 }
                 regs::STATUS => {
-                    self.reads[1].fetch_add(1, Relaxed);
+                    self.reads[1] += 1;
                     let mut v = regs::STATUS_UNUSED;
                     for (i, &p) in regs::STATUS_PINS.iter().enumerate() {
                         if self.level(p) {
@@ -365,69 +275,186 @@ impl SimPort {
                     v ^ regs::STATUS_INVERTED
                 }
                 regs::CONTROL => {
-                    self.reads[2].fetch_add(1, Relaxed);
-                    let latch = self.control.load(Relaxed);
+                    self.reads[2] += 1;
                     if self.open_collector {
                         let lines = self.levels(&regs::CONTROL_PINS) ^ regs::CONTROL_INVERTED;
-                        (latch & !regs::CONTROL_LINES) | lines
+                        (self.control & !regs::CONTROL_LINES) | lines
                     } else {
-                        latch
+                        self.control
                     }
                 }
-                o => self.epp[(o - regs::EPP_ADDR) as usize].load(Relaxed),
+                o => self.epp[(o - regs::EPP_ADDR) as usize],
             };
         }
-        if let Some(hi) = self.base_hi {
+        if let Some(hi) = self.at.base_hi {
             let off = addr.wrapping_sub(hi);
             if off < regs::HI_SPAN {
-                return self.hi[off as usize].load(Relaxed);
+                return self.hi[off as usize];
             }
         }
         0xFF
     }
 
-    /// Writes `v` at absolute I/O address `addr` (ignored outside the
-    /// port's windows, and for the read-only status register).
-    pub fn outb(&self, addr: u16, v: u8) {
-        let off = addr.wrapping_sub(self.base);
-        let known = if off < regs::BASE_SPAN {
+    fn outb(&mut self, addr: u16, v: u8) {
+        let off = addr.wrapping_sub(self.at.base);
+        if off < regs::BASE_SPAN {
             match off {
-                regs::DATA => self.data.store(v, Relaxed),
+                regs::DATA => self.data = v,
                 regs::STATUS => {}
-                regs::CONTROL => self.control.store(v, Relaxed),
-                o => self.epp[(o - regs::EPP_ADDR) as usize].store(v, Relaxed),
+                regs::CONTROL => self.control = v,
+                o => self.epp[(o - regs::EPP_ADDR) as usize] = v,
             }
-            true
         } else if let Some(hi) = self
+            .at
             .base_hi
             .filter(|h| addr.wrapping_sub(*h) < regs::HI_SPAN)
         {
-            self.hi[(addr - hi) as usize].store(v, Relaxed);
-            true
-        } else {
-            false
-        };
-        if known {
-            self.log_write(addr, v);
+            self.hi[(addr - hi) as usize] = v;
+        }
+    }
+}
+
+/// The parallel port is timeless: its lines follow the latches and the
+/// plant at once.
+impl BoardModel for ParportModel {
+    fn describe(&self) -> String {
+        format!("simulated parallel port at {:#x}", self.at.base)
+    }
+}
+
+/// Byte registers; a wider access touches consecutive ports, low byte
+/// first, as on an 8-bit ISA device.
+impl PortModel for ParportModel {
+    fn read(&mut self, port: u16, width: Width) -> u32 {
+        (0..width.bytes()).fold(0, |v, i| {
+            v | (self.inb(port.wrapping_add(i)) as u32) << (8 * i)
+        })
+    }
+
+    fn write(&mut self, port: u16, width: Width, value: u32) {
+        for i in 0..width.bytes() {
+            self.outb(port.wrapping_add(i), (value >> (8 * i)) as u8);
+        }
+    }
+}
+
+/// A simulated parallel port: the model on a [`SimBoard`], and the
+/// [`PortIo`] the driver uses.
+pub struct SimPort {
+    at: PortAt,
+    plug: Option<Plug>,
+    board: SimBoard<ParportModel>,
+    claimed: AtomicBool,
+}
+
+impl std::fmt::Debug for SimPort {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SimPort")
+            .field("base", &format_args!("{:#x}", self.at.base))
+            .field("data", &self.data_latch())
+            .field("control", &self.control_latch())
+            .finish()
+    }
+}
+
+impl SimPort {
+    /// Builds a port; its log uses `clock`.
+    pub fn new(cfg: SimConfig, clock: Arc<dyn Clock>) -> SimPort {
+        let board = SimBoard::new(ParportModel::new(&cfg))
+            .with_log(AccessLog::writes_only(cfg.log_capacity.max(1)))
+            .stamp_log_with(clock);
+        SimPort {
+            at: PortAt {
+                base: cfg.base,
+                base_hi: cfg.base_hi,
+            },
+            plug: cfg.plug,
+            board,
+            claimed: AtomicBool::new(false),
         }
     }
 
-    /// Bits of `pins`' levels, pin `pins[i]` on bit i.
-    fn levels(&self, pins: &[u8]) -> u8 {
-        pins.iter()
-            .enumerate()
-            .fold(0, |v, (i, &p)| if self.level(p) { v | 1 << i } else { v })
+    /// The base address.
+    pub fn base_addr(&self) -> u16 {
+        self.at.base
     }
 
-    fn log_write(&self, addr: u16, v: u8) {
-        let t = self.clock.now_ns();
-        let i = self.head.fetch_add(1, Relaxed);
-        let s = &self.log[(i % self.log.len() as u64) as usize];
-        s.seq.store(u64::MAX, Relaxed);
-        fence(Release);
-        s.time.store(t, Relaxed);
-        s.what.store((addr as u32) << 8 | v as u32, Relaxed);
-        s.seq.store(i + 1, Release);
+    /// The plug in the connector, if any.
+    pub fn plug(&self) -> Option<&Plug> {
+        self.plug.as_ref()
+    }
+
+    /// The board the port lives on (the model, its log).
+    pub fn board(&self) -> &SimBoard<ParportModel> {
+        &self.board
+    }
+
+    // ---- plant side -------------------------------------------------
+
+    /// Makes the outside world drive `pin` (1..17; others are ignored).
+    pub fn drive(&self, pin: u8, d: Drive) {
+        if (1..=17).contains(&pin) {
+            self.board.with(|m| m.drive[pin as usize] = d);
+        }
+    }
+
+    /// Drives `pin` high or low.
+    pub fn set_input(&self, pin: u8, high: bool) {
+        self.drive(pin, if high { Drive::High } else { Drive::Low });
+    }
+
+    /// Lets every pin float again.
+    pub fn release_all(&self) {
+        self.board.with(|m| m.drive = [Drive::Floating; PINS]);
+    }
+
+    /// The electrical level of `pin` on the connector (true = high).
+    /// Ground pins (18..25) read low.
+    pub fn level(&self, pin: u8) -> bool {
+        self.board.with(|m| m.level(pin))
+    }
+
+    /// The data output latch.
+    pub fn data_latch(&self) -> u8 {
+        self.board.with(|m| m.data)
+    }
+
+    /// The control register latch.
+    pub fn control_latch(&self) -> u8 {
+        self.board.with(|m| m.control)
+    }
+
+    /// The last byte written to the ECR (`base_hi + 2`).
+    pub fn ecr(&self) -> u8 {
+        self.board.with(|m| m.hi[regs::ECR as usize])
+    }
+
+    /// Whether a driver holds the port.
+    pub fn is_claimed(&self) -> bool {
+        self.claimed.load(Relaxed)
+    }
+
+    /// How many times register `offset` (0..2) was read.
+    pub fn reads(&self, offset: u16) -> u64 {
+        self.board
+            .with(|m| m.reads.get(offset as usize).copied().unwrap_or(0))
+    }
+
+    // ---- bus side ---------------------------------------------------
+
+    /// Reads the byte at absolute I/O address `addr` (0xFF outside the
+    /// port's windows, as an empty ISA bus reads).
+    pub fn inb(&self, addr: u16) -> u8 {
+        self.board.inb(addr)
+    }
+
+    /// Writes `v` at absolute I/O address `addr` (ignored, and not
+    /// logged, outside the port's windows; the read-only status register
+    /// ignores it).
+    pub fn outb(&self, addr: u16, v: u8) {
+        if ParportModel::decodes(self.at, addr) {
+            self.board.outb(addr, v);
+        }
     }
 
     // ---- log --------------------------------------------------------
@@ -435,30 +462,20 @@ impl SimPort {
     /// The logged writes since the last [`clear_log`](Self::clear_log),
     /// oldest first (at most the log's capacity).
     pub fn writes(&self) -> Vec<WriteRecord> {
-        let head = self.head.load(Acquire);
-        let cap = self.log.len() as u64;
-        let from = self.floor.load(Relaxed).max(head.saturating_sub(cap));
-        let mut out = Vec::with_capacity((head - from) as usize);
-        for i in from..head {
-            let s = &self.log[(i % cap) as usize];
-            let a = s.seq.load(Acquire);
-            let t = s.time.load(Relaxed);
-            let w = s.what.load(Relaxed);
-            fence(Acquire);
-            if a == i + 1 && s.seq.load(Relaxed) == a {
-                out.push(WriteRecord {
-                    time_ns: t,
-                    addr: (w >> 8) as u16,
-                    value: w as u8,
-                });
-            }
-        }
-        out
+        self.board
+            .accesses()
+            .iter()
+            .map(|a| WriteRecord {
+                time_ns: a.time_ns,
+                addr: a.addr as u16,
+                value: a.value as u8,
+            })
+            .collect()
     }
 
     /// The logged writes to base-relative register `offset`.
     pub fn writes_to(&self, offset: u16) -> Vec<WriteRecord> {
-        let addr = self.base.wrapping_add(offset);
+        let addr = self.at.base.wrapping_add(offset);
         self.writes()
             .into_iter()
             .filter(|w| w.addr == addr)
@@ -466,61 +483,57 @@ impl SimPort {
     }
 
     /// How many writes happened since the last clear (including any the
-    /// ring no longer holds).
+    /// log no longer holds).
     pub fn write_count(&self) -> u64 {
-        self.head.load(Relaxed) - self.floor.load(Relaxed)
+        self.board.access_count()
     }
 
     /// Forgets the log and the read counters.
     pub fn clear_log(&self) {
-        self.floor.store(self.head.load(Relaxed), Relaxed);
-        for r in &self.reads {
-            r.store(0, Relaxed);
-        }
+        self.board.clear_log();
+        self.board.with(|m| m.reads = [0; 3]);
     }
 }
 
 impl PortIo for SimPort {
     #[inline]
     fn read_data(&self) -> u8 {
-        self.inb(self.base.wrapping_add(regs::DATA))
+        self.at.read_data(&self.board)
     }
     #[inline]
     fn write_data(&self, v: u8) {
-        self.outb(self.base.wrapping_add(regs::DATA), v)
+        self.at.write_data(&self.board, v)
     }
     #[inline]
     fn read_status(&self) -> u8 {
-        self.inb(self.base.wrapping_add(regs::STATUS))
+        self.at.read_status(&self.board)
     }
     #[inline]
     fn read_control(&self) -> u8 {
-        self.inb(self.base.wrapping_add(regs::CONTROL))
+        self.at.read_control(&self.board)
     }
     #[inline]
     fn write_control(&self, v: u8) {
-        self.outb(self.base.wrapping_add(regs::CONTROL), v)
+        self.at.write_control(&self.board, v)
     }
     fn has_ecr(&self) -> bool {
-        self.base_hi.is_some()
+        self.at.base_hi.is_some()
     }
     fn write_ecr(&self, v: u8) -> Result<(), PortError> {
-        match self.base_hi {
-            Some(hi) => {
-                self.outb(hi.wrapping_add(regs::ECR), v);
-                Ok(())
-            }
-            None => Err(PortError::Unsupported(format!(
+        if self.at.write_ecr(&self.board, v) {
+            Ok(())
+        } else {
+            Err(PortError::Unsupported(format!(
                 "simulated port {:#x} has no ECR",
-                self.base
-            ))),
+                self.at.base
+            )))
         }
     }
     fn claim(&self) -> Result<(), PortError> {
         if self.claimed.swap(true, Relaxed) {
             return Err(PortError::Unsupported(format!(
                 "simulated port {:#x} is already claimed",
-                self.base
+                self.at.base
             )));
         }
         Ok(())
@@ -530,8 +543,8 @@ impl PortIo for SimPort {
     }
     fn describe(&self) -> String {
         match self.plug {
-            Some(_) => format!("simulator at {:#x} with loopback plug", self.base),
-            None => format!("simulator at {:#x}", self.base),
+            Some(_) => format!("simulator at {:#x} with loopback plug", self.at.base),
+            None => format!("simulator at {:#x}", self.at.base),
         }
     }
     fn errors(&self) -> u64 {
@@ -539,26 +552,22 @@ impl PortIo for SimPort {
     }
 }
 
-/// Simulated ports that `loadrt hal_parport` created, so tests and tools
-/// in the same process can reach them: keyed by HAL instance name and
-/// parport number, so several instances in one process stay apart.
-/// Entries are weak and disappear when the module is unloaded.
-static LOADED: Mutex<Vec<(String, usize, Weak<SimPort>)>> = Mutex::new(Vec::new());
+/// The key a loaded port is published under: `parport.<num>`.
+fn key(num: usize) -> String {
+    format!("parport.{num}")
+}
 
-/// Records that `port` is parport number `num` of instance `instance`.
+/// Records that `port` is parport number `num` of instance `instance`,
+/// so tests and tools in the same process can reach it while the module
+/// is loaded (the driver layer's board registry, [`hal_driver::sim::publish`]).
 pub(crate) fn register(instance: &str, num: usize, port: &Arc<SimPort>) {
-    let mut l = LOADED.lock().unwrap_or_else(|e| e.into_inner());
-    l.retain(|(i, n, w)| w.strong_count() > 0 && !(i == instance && *n == num));
-    l.push((instance.to_string(), num, Arc::downgrade(port)));
+    hal_driver::sim::publish(instance, &key(num), port);
 }
 
 /// The simulated port `num` that `loadrt hal_parport` made in instance
 /// `instance`, while that module is loaded.
 pub fn find(instance: &str, num: usize) -> Option<Arc<SimPort>> {
-    let l = LOADED.lock().unwrap_or_else(|e| e.into_inner());
-    l.iter()
-        .find(|(i, n, _)| i == instance && *n == num)
-        .and_then(|(_, _, w)| w.upgrade())
+    hal_driver::sim::find(instance, &key(num))
 }
 
 #[cfg(test)]
