@@ -256,9 +256,6 @@
 //!   optional step per reading so busy-waits end) or following the HAL
 //!   thread (`loadrt`).
 
-#![warn(missing_docs)]
-#![deny(unsafe_op_in_unsafe_fn)]
-
 pub mod bus;
 pub mod error;
 pub mod fault;

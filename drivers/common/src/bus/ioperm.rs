@@ -225,8 +225,16 @@ impl PortBus for IopermPorts {
     }
 }
 
-/// The port instructions. Callers must hold the I/O permission for the
-/// ports they touch.
+/// The port instructions.
+///
+/// # Safety (every function)
+///
+/// The calling thread must hold I/O permission for the ports touched
+/// (granted by `ioperm`; without it the CPU raises a general protection
+/// fault and the process dies with SIGSEGV), and they must belong to the
+/// device this bus was opened for: an access elsewhere can clear another
+/// device's status latch or reprogram it. [`IopermPorts`] checks both
+/// (declared ranges, per-thread grant) before every call.
 #[cfg(target_arch = "x86_64")]
 mod asm {
     use core::arch::asm;
