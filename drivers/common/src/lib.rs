@@ -259,6 +259,7 @@
 pub mod bus;
 pub mod error;
 pub mod fault;
+pub mod fuzzing;
 pub mod lockdown;
 pub mod params;
 pub mod pci;

@@ -148,11 +148,18 @@ fn read_id(dir: &Path, file: &str) -> Result<u16> {
         op: "reading",
         source: e,
     })?;
+    parse_id(&text, &path)
+}
+
+/// Parses the text of a sysfs ID file read from `path`: `0x` and four
+/// hex digits or fewer, surrounding whitespace allowed.
+pub fn parse_id(text: &str, path: &Path) -> Result<u16> {
     let t = text.trim();
     t.strip_prefix("0x")
+        .filter(|h| !h.is_empty() && h.len() <= 4 && h.bytes().all(|b| b.is_ascii_hexdigit()))
         .and_then(|h| u16::from_str_radix(h, 16).ok())
         .ok_or_else(|| DriverError::BadSysfs {
-            path,
+            path: path.to_path_buf(),
             reason: format!("expected a 16-bit ID like 0x2718, found '{t}'"),
         })
 }

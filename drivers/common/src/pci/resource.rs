@@ -73,6 +73,10 @@ fn hex(word: &str) -> Option<u64> {
     let digits = word
         .strip_prefix("0x")
         .or_else(|| word.strip_prefix("0X"))?;
+    // from_str_radix alone would also take a sign.
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
     u64::from_str_radix(digits, 16).ok()
 }
 
@@ -123,5 +127,10 @@ mod tests {
             .to_string();
         assert!(e.contains("/x/resource: line 2"), "{e}");
         assert!(parse("0x0 0x0\n", Path::new("r")).is_err());
+        assert!(
+            parse("0x+1 0x2 0x200\n", Path::new("r")).is_err(),
+            "no signs"
+        );
+        assert!(parse("0x1 0x10000000000000000 0x200\n", Path::new("r")).is_err());
     }
 }
