@@ -138,6 +138,10 @@ impl FaultLatch {
     /// call that tripped it (say why and go safe then); false when it was
     /// already tripped, whatever the fault (the first one stays).
     pub fn trip(&self, fault: &'static Fault) -> bool {
+        // Already tripped: a plain load, no locked instruction.
+        if self.is_tripped() {
+            return false;
+        }
         let p = fault as *const Fault as *mut Fault;
         if self
             .tripped

@@ -97,6 +97,16 @@
 //! one test binary per crate that the VM rig runs ([`vmrig`]: its
 //! ivshmem BAR and a host-side peer), skipping cleanly outside it.
 //!
+//! ## 7. A real one to read
+//!
+//! `drivers/parport` (hal_parport) is built this way: its raw backend is
+//! an [`bus::IopermPorts`] opened for the port's two register windows,
+//! its simulator a [`sim::PortModel`] on a [`sim::SimBoard`] whose
+//! writes-only [`sim::AccessLog`] its tests read, its backend tokens a
+//! [`params::BackendTokens`], and its outputs go to their inactive levels
+//! through [`fault::install`]. (Its ppdev backend keeps a bus trait of its
+//! own, `PortIo`: ppdev is an ioctl per register, not a port address.)
+//!
 //! # Worked example
 //!
 //! A one-channel counter card: an ID register, a count register fed by
@@ -240,6 +250,8 @@
 //! * [`error`]: the error type, [`DriverError`].
 //! * [`lockdown`]: telling kernel lockdown from a missing permission.
 //! * [`vmrig`]: for tests in the VM rig.
+//! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
+//!   address tokens.
 //!
 //! # Where this differs from the first sketch
 //!
