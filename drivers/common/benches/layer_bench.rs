@@ -6,7 +6,6 @@
 //! `cargo bench -p hal-driver`
 
 use std::hint::black_box;
-use std::time::Instant;
 
 use hal_core::RtLog;
 use hal_driver::bus::{MmapWindow, RegWindow};
@@ -15,16 +14,8 @@ use hal_driver::sim::{AccessLog, BoardModel, MemModel, SimBoard};
 
 const N: u64 = 1_000_000;
 
-fn per_call(what: &str, mut f: impl FnMut(u64)) {
-    for i in 0..N / 10 {
-        f(i);
-    }
-    let t = Instant::now();
-    for i in 0..N {
-        f(i);
-    }
-    let ns = t.elapsed().as_nanos() as f64 / N as f64;
-    println!("  {what:<48} {ns:8.1} ns");
+fn per_call(what: &str, f: impl FnMut(u64)) {
+    hal_driver::bench::per_call(what, N, f);
 }
 
 /// 64 KiB of plain registers.

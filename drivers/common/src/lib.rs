@@ -250,6 +250,7 @@
 //! * [`error`]: the error type, [`DriverError`].
 //! * [`lockdown`]: telling kernel lockdown from a missing permission.
 //! * [`vmrig`]: for tests in the VM rig.
+//! * [`bench`]: per-call timing for benchmark binaries.
 //! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
 //!   address tokens.
 //!
@@ -268,6 +269,7 @@
 //!   optional step per reading so busy-waits end) or following the HAL
 //!   thread (`loadrt`).
 
+pub mod bench;
 pub mod bus;
 pub mod error;
 pub mod fault;

@@ -8,7 +8,7 @@
 
 use std::hint::black_box;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
 use hal_parport::cfg::Mode;
@@ -18,16 +18,8 @@ use hal_parport::sim::{SimConfig, SimPort};
 
 const N: u64 = 2_000_000;
 
-fn per_call(what: &str, mut f: impl FnMut(u64)) {
-    for i in 0..N / 10 {
-        f(i);
-    }
-    let t = Instant::now();
-    for i in 0..N {
-        f(i);
-    }
-    let ns = t.elapsed().as_nanos() as f64 / N as f64;
-    println!("  {what:<44} {ns:8.1} ns");
+fn per_call(what: &str, f: impl FnMut(u64)) {
+    hal_driver::bench::per_call(what, N, f);
 }
 
 fn driver(mode: Mode) -> PortDriver {
