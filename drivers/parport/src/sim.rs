@@ -212,10 +212,14 @@ impl ParportModel {
         }
         let n = self.net[pin as usize];
         // Anything pulling low wins; a driven-high or floating net is high.
-        !(1..PINS as u8).any(|p| {
-            self.net[p as usize] == n
+        for p in 1..PINS as u8 {
+            if self.net[p as usize] == n
                 && (self.drive[p as usize] == Drive::Low || self.own_drive(p) == Some(false))
-        })
+            {
+                return false;
+            }
+        }
+        true
     }
 
     /// What the port itself does to `pin`: Some(level) if it drives it.
@@ -326,9 +330,14 @@ impl BoardModel for ParportModel {
 /// first, as on an 8-bit ISA device.
 impl PortModel for ParportModel {
     fn read(&mut self, port: u16, width: Width) -> u32 {
-        (0..width.bytes()).fold(0, |v, i| {
-            v | (self.inb(port.wrapping_add(i)) as u32) << (8 * i)
-        })
+        if width == Width::Byte {
+            return self.inb(port) as u32;
+        }
+        let mut v = 0;
+        for i in 0..width.bytes() {
+            v |= (self.inb(port.wrapping_add(i)) as u32) << (8 * i);
+        }
+        v
     }
 
     fn write(&mut self, port: u16, width: Width, value: u32) {
