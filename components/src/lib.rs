@@ -42,6 +42,8 @@ pub mod math;
 pub mod notice;
 pub mod pid;
 pub mod selectors;
+pub mod shared;
+pub mod sim;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -70,5 +72,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(stepgen::modules());
     v.extend(pid::modules());
     v.extend(encoder::modules());
+    v.extend(sim::modules());
     v
 }

@@ -1,4 +1,7 @@
-//! Integer and bit tools (reference section 10): bitslice, bitwise.
+//! Integer and bit tools (reference section 10): bitslice, bitwise. In
+//! their own files: bin2gray and gray2bin, bitmerge, weighted_sum.
+
+pub mod gray;
 
 use hal_core::{HalError, Out, Pin, Result};
 
@@ -88,7 +91,7 @@ halcomp_module!(pub BITWISE, BitwiseComp, "bitwise and, or, xor and complements 
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&BITSLICE, &BITWISE]
+    vec![&BITSLICE, &BITWISE, &gray::BIN2GRAY, &gray::GRAY2BIN]
 }
 
 #[cfg(test)]

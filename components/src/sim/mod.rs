@@ -1,0 +1,10 @@
+//! Simulated machine parts for configurations without hardware:
+//! sim_home_switch, sim_spindle.
+
+pub mod sim_home_switch;
+pub mod sim_spindle;
+
+/// Every module of this family.
+pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
+    vec![&sim_home_switch::MODULE, &sim_spindle::MODULE]
+}
