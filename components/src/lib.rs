@@ -41,9 +41,11 @@ pub mod limits;
 pub mod math;
 pub mod notice;
 pub mod pid;
+pub mod plasma;
 pub mod selectors;
 pub mod shared;
 pub mod sim;
+pub mod spindle;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -73,5 +75,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(pid::modules());
     v.extend(encoder::modules());
     v.extend(sim::modules());
+    v.extend(spindle::modules());
+    v.extend(plasma::modules());
     v
 }
