@@ -50,6 +50,7 @@ pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
 pub mod timing;
+pub mod toolchange;
 
 use hal_core::ModuleDef;
 
@@ -77,5 +78,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(sim::modules());
     v.extend(spindle::modules());
     v.extend(plasma::modules());
+    v.extend(toolchange::modules());
     v
 }
