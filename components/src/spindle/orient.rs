@@ -62,17 +62,15 @@ impl Orient {
         let mut bad_mode = false;
         v.is_oriented = false;
         match v.state {
-            0 => {
-                if v.enable {
-                    v.index_enable = false;
-                    if !self.last_enable {
-                        v.state = if v.mode > 2 {
-                            v.index_enable = true;
-                            3
-                        } else {
-                            1
-                        };
-                    }
+            0 if v.enable => {
+                v.index_enable = false;
+                if !self.last_enable {
+                    v.state = if v.mode > 2 {
+                        v.index_enable = true;
+                        3
+                    } else {
+                        1
+                    };
                 }
             }
             1 => {
