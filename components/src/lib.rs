@@ -39,6 +39,7 @@ pub mod halcomp;
 pub mod infra;
 pub mod limits;
 pub mod math;
+pub mod motor;
 pub mod notice;
 pub mod pid;
 pub mod plasma;
@@ -79,5 +80,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(spindle::modules());
     v.extend(plasma::modules());
     v.extend(toolchange::modules());
+    v.extend(motor::modules());
     v
 }
