@@ -41,6 +41,7 @@ pub mod limits;
 pub mod math;
 pub mod motor;
 pub mod notice;
+pub mod offsets;
 pub mod pid;
 pub mod plasma;
 pub mod selectors;
@@ -81,5 +82,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(plasma::modules());
     v.extend(toolchange::modules());
     v.extend(motor::modules());
+    v.extend(offsets::modules());
     v
 }
