@@ -39,7 +39,7 @@ mod tests {
     #[test]
     fn packs_lsb_first() {
         assert_eq!(merge([true, false, true].into_iter()), 5);
-        assert_eq!(merge(std::iter::repeat(true).take(32)), u32::MAX);
+        assert_eq!(merge(std::iter::repeat_n(true, 32)), u32::MAX);
         assert_eq!(merge(std::iter::empty()), 0);
     }
 
