@@ -1,9 +1,11 @@
 //! Selectors (reference section 5): mux2, mux4, mux8, mux16 (with Gray
 //! code and debounce), mux_generic (any input/output type, C-style
 //! config), select8 (one-hot decoder). In their own files: demux,
-//! output_buffer, multiswitch.
+//! demux_generic, enum (in `enums`), output_buffer, multiswitch.
 
 pub mod demux;
+pub mod demux_generic;
+pub mod enums;
 pub mod multiswitch;
 pub mod mux_generic;
 pub mod output_buffer;
@@ -224,6 +226,8 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &demux::MODULE,
         &output_buffer::MODULE,
         &multiswitch::MODULE,
+        &demux_generic::MODULE,
+        &enums::MODULE,
     ]
 }
 

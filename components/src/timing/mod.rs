@@ -1,7 +1,7 @@
 //! Edges, timers and latches (reference section 8): edge, flipflop,
 //! oneshot, timedelay, toggle, toggle2nist, debounce, dbounce, updown,
 //! charge_pump, estop_latch, sample_hold; and ton, tof and tp (the IEC
-//! timers), time, reset, safety_latch, watchdog.
+//! timers), time, reset, safety_latch, watchdog, multiclick.
 //!
 //! Each component keeps its per-call logic in a plain struct whose `step`
 //! works on a struct of pin and param values, so the logic can be tested
@@ -15,6 +15,7 @@ pub mod edge;
 pub mod estop_latch;
 pub mod flipflop;
 pub mod iec_timers;
+pub mod multiclick;
 pub mod oneshot;
 pub mod reset;
 pub mod safety_latch;
@@ -65,5 +66,6 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &reset::MODULE,
         &safety_latch::MODULE,
         &watchdog::MODULE,
+        &multiclick::MODULE,
     ]
 }
