@@ -37,6 +37,7 @@ pub mod gates;
 pub mod generators;
 pub mod halcomp;
 pub mod infra;
+pub mod joints;
 pub mod limits;
 pub mod math;
 pub mod motor;
@@ -83,5 +84,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(toolchange::modules());
     v.extend(motor::modules());
     v.extend(offsets::modules());
+    v.extend(joints::modules());
     v
 }

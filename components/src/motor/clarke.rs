@@ -16,12 +16,13 @@ const ONE_THIRD: f64 = 0.333333333333333;
 /// 1/sqrt(3).
 const INV_SQRT3: f64 = 0.577350269189626;
 /// 2/sqrt(3).
-const TWO_INV_SQRT3: f64 = 1.154700538379250;
+const TWO_INV_SQRT3: f64 = 1.15470053837925;
 /// sqrt(2)/3.
 const SQRT2_THIRD: f64 = 0.471404520791032;
 /// sqrt(3)/2.
 const SQRT3_HALF: f64 = 0.866025403784439;
-/// 1/sqrt(2).
+/// 1/sqrt(2), to LinuxCNC's 15 digits (not the closest double).
+#[allow(clippy::approx_constant)]
 const INV_SQRT2: f64 = 0.707106781186547;
 /// LinuxCNC's (slightly long) 2*pi for revolutions to radians.
 const REV_TO_RAD: f64 = 6.283185308;
