@@ -1,11 +1,12 @@
 //! Spindle helpers: gearchange (speed scaling and limits per gear),
-//! orient (the position command for M19 spindle orientation), spindle
+//! orient (the position command for M19 spindle orientation), spindle (in
+//! `speed`:
 //! (speed control with ramps and gears), spindle_monitor (at-speed and
 //! under-speed).
 
 pub mod gearchange;
 pub mod orient;
-pub mod spindle;
+pub mod speed;
 pub mod spindle_monitor;
 
 /// Every module of this family.
@@ -13,7 +14,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
     vec![
         &gearchange::MODULE,
         &orient::MODULE,
-        &spindle::MODULE,
+        &speed::MODULE,
         &spindle_monitor::MODULE,
     ]
 }
