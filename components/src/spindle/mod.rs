@@ -1,8 +1,7 @@
 //! Spindle helpers: gearchange (speed scaling and limits per gear),
-//! orient (the position command for M19 spindle orientation), spindle (in
-//! `speed`:
-//! (speed control with ramps and gears), spindle_monitor (at-speed and
-//! under-speed).
+//! orient (the position command for M19 spindle orientation), spindle
+//! (speed control with ramps and gears, in `speed`), spindle_monitor
+//! (at-speed and under-speed).
 
 pub mod gearchange;
 pub mod orient;
