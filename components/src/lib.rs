@@ -43,6 +43,7 @@ pub mod math;
 pub mod motor;
 pub mod notice;
 pub mod offsets;
+pub mod panel;
 pub mod pid;
 pub mod plasma;
 pub mod selectors;
@@ -85,5 +86,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(motor::modules());
     v.extend(offsets::modules());
     v.extend(joints::modules());
+    v.extend(panel::modules());
     v
 }

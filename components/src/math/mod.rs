@@ -1,12 +1,13 @@
 //! Arithmetic (reference section 6): abs, abs_s32, abs_s64, sum2, mult2,
 //! div2, scale, invert, hypot, blend, constant. In their own files:
-//! scaled_s32_sums, offset, knob2float, feedcomp.
+//! scaled_s32_sums, offset, knob2float, feedcomp, joyhandle.
 //!
 //! Each component's per-call arithmetic is a plain function or struct
 //! (`abs_f64`, [`Div2`], `invert`, ...) that the HAL glue calls with the
 //! pin values, so the behaviour can be tested without a HAL.
 
 pub mod feedcomp;
+pub mod joyhandle;
 pub mod knob2float;
 pub mod offset;
 pub mod scaled_s32_sums;
@@ -410,6 +411,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &offset::MODULE,
         &knob2float::MODULE,
         &feedcomp::MODULE,
+        &joyhandle::MODULE,
     ]
 }
 

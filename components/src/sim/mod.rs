@@ -1,10 +1,15 @@
 //! Simulated machine parts for configurations without hardware:
-//! sim_home_switch, sim_spindle.
+//! sim_home_switch, sim_spindle, sphereprobe.
 
 pub mod sim_home_switch;
 pub mod sim_spindle;
+pub mod sphereprobe;
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&sim_home_switch::MODULE, &sim_spindle::MODULE]
+    vec![
+        &sim_home_switch::MODULE,
+        &sim_spindle::MODULE,
+        &sphereprobe::MODULE,
+    ]
 }
