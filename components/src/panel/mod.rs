@@ -1,8 +1,11 @@
-//! Control panel and pendant helpers: xhc_hb04_util.
+//! Control panel and pendant helpers: xhc_hb04_util, anglejog (jogging
+//! two axes at an angle from one wheel), message (operator messages).
 
+pub mod anglejog;
+pub mod message;
 pub mod xhc_hb04_util;
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&xhc_hb04_util::MODULE]
+    vec![&xhc_hb04_util::MODULE, &anglejog::MODULE, &message::MODULE]
 }
