@@ -38,6 +38,7 @@ pub mod generators;
 pub mod halcomp;
 pub mod infra;
 pub mod joints;
+pub mod laser;
 pub mod limits;
 pub mod math;
 pub mod motor;
@@ -87,5 +88,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(offsets::modules());
     v.extend(joints::modules());
     v.extend(panel::modules());
+    v.extend(laser::modules());
     v
 }

@@ -10,6 +10,7 @@
 
 use hal_core::Result;
 
+use super::z_offset::ZOffset;
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
 
@@ -61,8 +62,7 @@ pub struct ThcOutputs {
 #[derive(Debug, Clone, Default)]
 pub struct Thc {
     /// The Z offset applied.
-    pub offset: f32,
-    last_z_in: f32,
+    pub z: ZOffset,
 }
 
 impl Thc {
@@ -83,38 +83,19 @@ impl Thc {
         let min_velocity = (i.requested_vel - i.requested_vel * (1.0 / i.velocity_tol)) as f32;
         let vel_status = i.current_vel > 0.0 && i.current_vel >= f64::from(min_velocity);
         if i.torch_on && i.arc_ok && vel_status {
-            if volts + i.voltage_tol > i.volts_requested {
-                self.offset = (f64::from(self.offset) - i.correction_vel) as f32;
-            }
-            if volts - i.voltage_tol < i.volts_requested {
-                self.offset = (f64::from(self.offset) + i.correction_vel) as f32;
-            }
-            self.last_z_in = 0.0;
+            self.z.correct(
+                volts + i.voltage_tol > i.volts_requested,
+                volts - i.voltage_tol < i.volts_requested,
+                i.correction_vel,
+            );
         }
         if !i.torch_on {
-            let z_diff = (i.z_pos_in - f64::from(self.last_z_in)) as f32;
-            if z_diff > 0.0 && self.offset != 0.0 {
-                if self.offset > 0.0 {
-                    self.offset = if self.offset > z_diff {
-                        self.offset - z_diff
-                    } else {
-                        0.0
-                    };
-                }
-                if self.offset < 0.0 {
-                    self.offset = if self.offset < z_diff {
-                        self.offset + z_diff
-                    } else {
-                        0.0
-                    };
-                }
-            }
-            self.last_z_in = i.z_pos_in as f32;
+            self.z.take_back(i.z_pos_in);
         }
         ThcOutputs {
             volts,
             vel_status: Some(vel_status),
-            z_pos_out: i.z_pos_in + f64::from(self.offset),
+            z_pos_out: self.z.z_out(i.z_pos_in),
             z_fb_out: i.z_pos_in,
         }
     }
@@ -214,59 +195,57 @@ mod tests {
         i.encoder_vel = 130.0; // 110 V: too high, torch moves down
         let o = t.step(&i);
         assert_eq!(o.vel_status, Some(true));
-        assert_eq!(t.offset, -0.01f32);
+        assert_eq!(t.z.offset, -0.01f32);
         assert_eq!(o.z_pos_out, 1.0 + f64::from(-0.01f32));
         assert_eq!(o.z_fb_out, 1.0);
         i.encoder_vel = 110.0; // 90 V: up again
         t.step(&i);
         t.step(&i);
         assert_eq!(
-            t.offset,
+            t.z.offset,
             ((-0.01f32 as f64 + 0.01) as f32 as f64 + 0.01) as f32
         );
         // Within tolerance both rules apply and cancel (in f32 steps).
-        let before = t.offset;
+        let before = t.z.offset;
         i.encoder_vel = 120.0;
         t.step(&i);
         assert_eq!(
-            t.offset,
+            t.z.offset,
             ((before as f64 - 0.01) as f32 as f64 + 0.01) as f32
         );
         // Below speed: no correction.
         i.encoder_vel = 130.0;
         i.current_vel = 50.0;
-        let before = t.offset;
+        let before = t.z.offset;
         assert_eq!(t.step(&i).vel_status, Some(false));
-        assert_eq!(t.offset, before);
+        assert_eq!(t.z.offset, before);
     }
 
     #[test]
     fn offset_is_taken_back_as_z_rises_with_the_torch_off() {
-        let mut t = Thc {
-            offset: -0.5,
-            ..Default::default()
-        };
+        let mut t = Thc::default();
+        t.z.offset = -0.5;
         let mut i = cutting();
         i.torch_on = false;
         i.z_pos_in = 0.0;
         t.step(&i); // remembers z
         i.z_pos_in = 0.2;
         t.step(&i);
-        assert_eq!(t.offset, -0.5f32 + 0.2f32);
+        assert_eq!(t.z.offset, -0.5f32 + 0.2f32);
         // A negative offset is raised by the whole rise, even past zero
         // (LinuxCNC's rule for that side).
         i.z_pos_in = 1.0;
         t.step(&i);
         let z_diff = (1.0 - f64::from(0.2f32)) as f32;
-        assert_eq!(t.offset, (-0.5f32 + 0.2f32) + z_diff);
+        assert_eq!(t.z.offset, (-0.5f32 + 0.2f32) + z_diff);
         // A positive offset larger than the rise shrinks by it, else
         // goes to zero.
         i.z_pos_in = 1.25;
         t.step(&i);
-        assert_eq!(t.offset, (-0.5f32 + 0.2f32) + z_diff - 0.25);
+        assert_eq!(t.z.offset, (-0.5f32 + 0.2f32) + z_diff - 0.25);
         i.z_pos_in = 3.0;
         t.step(&i);
-        assert_eq!(t.offset, 0.0);
+        assert_eq!(t.z.offset, 0.0);
         // Disabled: Z passes through, vel-status untouched.
         i.enable = false;
         let o = t.step(&i);
