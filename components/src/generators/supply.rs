@@ -59,7 +59,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             q.set(d.get());
             nq.set(!d.get());
             variable.set(value.get());
-            nvariable.set(value.get() * -1.0);
+            nvariable.set(-value.get());
         })?;
     }
     b.ready()?;

@@ -1,6 +1,7 @@
 //! Simulated machine parts for configurations without hardware:
-//! sim_home_switch, sim_spindle, sphereprobe.
+//! sim_home_switch, sim_spindle, sphereprobe, sim_axis_hardware.
 
+pub mod sim_axis_hardware;
 pub mod sim_home_switch;
 pub mod sim_spindle;
 pub mod sphereprobe;
@@ -11,5 +12,6 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &sim_home_switch::MODULE,
         &sim_spindle::MODULE,
         &sphereprobe::MODULE,
+        &sim_axis_hardware::MODULE,
     ]
 }
