@@ -140,7 +140,6 @@ mod tests {
             maxsw_lower: 10.0,
             minsw_upper: -10.0,
             minsw_lower: -12.0,
-            ..Default::default()
         };
         assert_eq!(axis_switches(&a, 0.01), (true, false, false));
         let at_max = AxisInputs {
