@@ -51,6 +51,7 @@ pub mod selectors;
 pub mod shared;
 pub mod sim;
 pub mod spindle;
+pub mod stats;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
@@ -89,5 +90,6 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(joints::modules());
     v.extend(panel::modules());
     v.extend(laser::modules());
+    v.extend(stats::modules());
     v
 }
