@@ -40,7 +40,8 @@
 //!   safety_latch, watchdog, multiclick (timing); supply (generators).
 //! * `notice`: stderr messages posted from realtime functions, written by
 //!   a helper thread. `shared`: state two functions of one component
-//!   share.
+//!   share. `loadrt_check`: the all-or-nothing `loadrt` invariant, for
+//!   fuzzing.
 
 #![forbid(unsafe_code)]
 
@@ -57,6 +58,7 @@ pub mod infra;
 pub mod joints;
 pub mod laser;
 pub mod limits;
+pub mod loadrt_check;
 pub mod math;
 pub mod motor;
 pub mod notice;
