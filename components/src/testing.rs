@@ -228,73 +228,38 @@ impl TestHost {
     /// <value>"` (`"out float out 0"`, `"enable bit in 1"`): names, types,
     /// directions and current values.
     pub fn check_pins(&self, prefix: &str, want: &[&str]) {
-        use hal_core::PinDir;
-        let start = format!("{prefix}.");
-        let mut got: Vec<_> = self
+        let got = self
             .host
             .instance()
             .pins()
             .unwrap()
             .into_iter()
-            .filter(|p| p.name.starts_with(&start) && !p.name.ends_with(".time"))
-            .map(|p| (p.name, p.hal_type, p.dir, p.value))
-            .collect();
-        got.sort_by(|a, b| a.0.cmp(&b.0));
-        let mut want: Vec<_> = want
-            .iter()
-            .map(|line| {
-                let f: Vec<&str> = line.split_whitespace().collect();
-                assert_eq!(f.len(), 4, "bad pin line '{line}'");
-                let t = parse_type(f[1]);
-                let dir = match f[2] {
-                    "in" => PinDir::In,
-                    "out" => PinDir::Out,
-                    "io" => PinDir::Io,
-                    d => panic!("bad direction '{d}' in '{line}'"),
-                };
-                (format!("{start}{}", f[0]), t, dir, parse_value(t, f[3]))
-            })
-            .collect();
-        want.sort_by(|a, b| a.0.cmp(&b.0));
-        assert_eq!(got, want, "pins of {prefix}");
+            .filter(|p| !p.name.ends_with(".time"))
+            .map(|p| (p.name, p.hal_type, p.dir.label().to_lowercase(), p.value));
+        check_items("pins", prefix, got, want, |d| match d {
+            "in" => "in",
+            "out" => "out",
+            "io" => "i/o",
+            _ => panic!("bad pin direction '{d}'"),
+        });
     }
 
     /// Checks the params under `<prefix>.` (function timing params aside)
     /// as [`TestHost::check_pins`] does pins; the direction is `ro` or
     /// `rw`.
     pub fn check_params(&self, prefix: &str, want: &[&str]) {
-        use hal_core::ParamDir;
-        let start = format!("{prefix}.");
-        let mut got: Vec<_> = self
+        let got = self
             .host
             .instance()
             .params()
             .unwrap()
             .into_iter()
-            .filter(|p| {
-                p.name.starts_with(&start)
-                    && !p.name.ends_with(".tmax")
-                    && !p.name.ends_with(".tmax-increased")
-            })
-            .map(|p| (p.name, p.hal_type, p.dir, p.value))
-            .collect();
-        got.sort_by(|a, b| a.0.cmp(&b.0));
-        let mut want: Vec<_> = want
-            .iter()
-            .map(|line| {
-                let f: Vec<&str> = line.split_whitespace().collect();
-                assert_eq!(f.len(), 4, "bad param line '{line}'");
-                let t = parse_type(f[1]);
-                let dir = match f[2] {
-                    "ro" => ParamDir::Ro,
-                    "rw" => ParamDir::Rw,
-                    d => panic!("bad access '{d}' in '{line}'"),
-                };
-                (format!("{start}{}", f[0]), t, dir, parse_value(t, f[3]))
-            })
-            .collect();
-        want.sort_by(|a, b| a.0.cmp(&b.0));
-        assert_eq!(got, want, "params of {prefix}");
+            .filter(|p| !p.name.ends_with(".tmax") && !p.name.ends_with(".tmax-increased"))
+            .map(|p| (p.name, p.hal_type, p.dir.label().to_lowercase(), p.value));
+        check_items("params", prefix, got, want, |d| match d {
+            "ro" | "rw" => d,
+            _ => panic!("bad param access '{d}'"),
+        });
     }
 
     /// Checks that loading `def` with `args` fails and leaves nothing of
@@ -320,4 +285,35 @@ impl TestHost {
             def.name
         );
     }
+}
+
+/// Compares the items (name, type, direction label, value) under
+/// `<prefix>.` with the `want` lines; `dir` maps a line's direction word
+/// to the label HAL listings use.
+fn check_items(
+    what: &str,
+    prefix: &str,
+    got: impl Iterator<Item = (String, hal_core::HalType, String, Value)>,
+    want: &[&str],
+    dir: impl Fn(&str) -> &str,
+) {
+    let start = format!("{prefix}.");
+    let mut got: Vec<_> = got.filter(|(n, ..)| n.starts_with(&start)).collect();
+    got.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut want: Vec<_> = want
+        .iter()
+        .map(|line| {
+            let f: Vec<&str> = line.split_whitespace().collect();
+            assert_eq!(f.len(), 4, "bad line '{line}'");
+            let t = parse_type(f[1]);
+            (
+                format!("{start}{}", f[0]),
+                t,
+                dir(f[2]).to_string(),
+                parse_value(t, f[3]),
+            )
+        })
+        .collect();
+    want.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(got, want, "{what} of {prefix}");
 }

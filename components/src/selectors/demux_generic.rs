@@ -5,9 +5,9 @@
 //! type, number of outputs, optional output type) and conversions.
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{HalError, Host, In, Out, Pin, RawPin, Result};
+use hal_core::{Host, In, Out, Pin, RawPin, Result};
 
-use super::mux_generic::{convert, select_value, Config, Selection, MAX_INSTANCES};
+use super::mux_generic::{convert, parse_configs, select_value, Selection, MAX_INSTANCES};
 
 const PARAMS: &[ParamDecl] = &[ParamDecl {
     name: "config",
@@ -24,22 +24,7 @@ pub static MODULE: ModuleDef = ModuleDef {
 };
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let bad = |reason: String| HalError::ModuleParam {
-        module: MODULE.name.into(),
-        param: "config".into(),
-        reason,
-    };
-    let config = args.str_array("config");
-    if config.is_empty() {
-        return Err(bad(
-            "missing: give one format per instance, e.g. config=\"bf8,uu4\"".into(),
-        ));
-    }
-    let cfgs: Vec<Config> = config
-        .iter()
-        .enumerate()
-        .map(|(i, s)| Config::parse(s).map_err(|e| bad(format!("instance {i}: {e}"))))
-        .collect::<Result<_>>()?;
+    let cfgs = parse_configs(MODULE.name, "bf8,uu4", args)?;
     let mut b = host.new_rt_component(MODULE.name)?;
     for (n, cfg) in cfgs.into_iter().enumerate() {
         let prefix = format!("demux-gen.{n:02}");
