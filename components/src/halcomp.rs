@@ -25,6 +25,12 @@ pub trait HalComp {
     const NAME: &'static str;
     /// Whether the component takes `personality=`.
     const PERSONALITY: bool = false;
+    /// The personality of an instance `personality=` does not cover
+    /// (halcompile's `option default_personality`).
+    const DEFAULT_PERSONALITY: i64 = 0;
+    /// A singleton (halcompile's `option singleton`): no `count=` or
+    /// `names=`, one instance whose prefix is the HAL name itself.
+    const SINGLETON: bool = false;
     /// Builds one instance.
     fn build(inst: &mut Inst<'_, '_>) -> Result<()>;
 }
@@ -46,16 +52,26 @@ const NAMES: ParamDecl = ParamDecl {
 /// Module parameters of a component without personality.
 pub const PARAMS: &[ParamDecl] = &[COUNT, NAMES];
 
+/// `personality=`: one integer per instance.
+pub const PERSONALITY: ParamDecl = ParamDecl {
+    name: "personality",
+    kind: ParamKind::IntArray(MAX_PERSONALITY),
+    help: "personality of each instance",
+};
+
 /// Module parameters of a component with personality.
-pub const PARAMS_PERSONALITY: &[ParamDecl] = &[
-    COUNT,
-    NAMES,
-    ParamDecl {
-        name: "personality",
-        kind: ParamKind::IntArray(MAX_PERSONALITY),
-        help: "personality of each instance",
-    },
-];
+pub const PARAMS_PERSONALITY: &[ParamDecl] = &[COUNT, NAMES, PERSONALITY];
+
+/// The module parameters a halcompile component declares: `count=` and
+/// `names=` unless it is a singleton, `personality=` if it has one.
+pub const fn params_of(personality: bool, singleton: bool) -> &'static [ParamDecl] {
+    match (personality, singleton) {
+        (false, false) => PARAMS,
+        (true, false) => PARAMS_PERSONALITY,
+        (false, true) => &[],
+        (true, true) => &[PERSONALITY],
+    }
+}
 
 /// Declares the `ModuleDef` of a [`HalComp`].
 #[macro_export]
@@ -64,11 +80,10 @@ macro_rules! halcomp_module {
         #[doc = concat!("The `loadrt` entry of this component: ", $help, ".")]
         $vis static $static: hal_core::ModuleDef = hal_core::ModuleDef {
             name: <$ty as $crate::halcomp::HalComp>::NAME,
-            params: if <$ty as $crate::halcomp::HalComp>::PERSONALITY {
-                $crate::halcomp::PARAMS_PERSONALITY
-            } else {
-                $crate::halcomp::PARAMS
-            },
+            params: $crate::halcomp::params_of(
+                <$ty as $crate::halcomp::HalComp>::PERSONALITY,
+                <$ty as $crate::halcomp::HalComp>::SINGLETON,
+            ),
             help: $help,
             load: $crate::halcomp::load::<$ty>,
         };
@@ -177,22 +192,50 @@ pub fn channel_names(
     Ok((0..n).map(|i| format!("{base}.{i}")).collect())
 }
 
+/// The personality of the instance at `index`: entry `index % 64` of
+/// `personality=`, or `default` where the list does not reach.
+pub fn personality_of(args: &ModuleArgs, index: usize, default: i64) -> i64 {
+    args.int_array("personality")
+        .get(index % MAX_PERSONALITY)
+        .copied()
+        .unwrap_or(default)
+}
+
 /// Loads every instance of `C` into one HAL component.
 pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let names = instance_names(C::NAME, args)?;
-    let personalities = args.int_array("personality");
-    let mut b = host.new_rt_component(C::NAME)?;
-    for (index, prefix) in names.into_iter().enumerate() {
-        let personality = personalities
-            .get(index % MAX_PERSONALITY)
-            .copied()
-            .unwrap_or(0);
+    let names = if C::SINGLETON {
+        vec![hal_name(C::NAME)]
+    } else {
+        instance_names(C::NAME, args)?
+    };
+    let instances = names
+        .into_iter()
+        .enumerate()
+        .map(|(i, prefix)| (prefix, personality_of(args, i, C::DEFAULT_PERSONALITY)))
+        .collect::<Vec<_>>();
+    load_instances(host, C::NAME, instances, |inst, _| C::build(inst))
+}
+
+/// Loads the given instances (prefix and personality each) into one HAL
+/// component named `comp`, calling `build` with each and its index. For
+/// components whose module parameters decide the instances themselves
+/// (halcompile's `option count_function`). Any error leaves nothing
+/// loaded.
+pub fn load_instances(
+    host: &Host,
+    comp: &str,
+    instances: Vec<(String, i64)>,
+    mut build: impl FnMut(&mut Inst<'_, '_>, usize) -> Result<()>,
+) -> Result<()> {
+    let mut b = host.new_rt_component(comp)?;
+    for (index, (prefix, personality)) in instances.into_iter().enumerate() {
         let mut inst = Inst {
             b: &mut b,
+            module: comp.to_string(),
             prefix,
             personality,
         };
-        C::build(&mut inst)?;
+        build(&mut inst, index)?;
     }
     b.ready()
 }
@@ -201,6 +244,7 @@ pub fn load<C: HalComp>(host: &Host, args: &ModuleArgs) -> Result<()> {
 /// to create its pins, params and functions.
 pub struct Inst<'b, 'h> {
     b: &'b mut RtComponentBuilder<'h>,
+    module: String,
     /// The instance prefix (`and2.0`, or the given name).
     pub prefix: String,
     /// This instance's personality (0 if none given): entry `i % 64` of
@@ -212,6 +256,50 @@ pub struct Inst<'b, 'h> {
 impl Inst<'_, '_> {
     fn item(&self, item: &str) -> String {
         format!("{}.{item}", self.prefix)
+    }
+
+    /// The length of an array declared `[max : len]`: `len` itself (a
+    /// negative one makes no elements, as halcompile's loop does), or an
+    /// error naming the instance when it is above `max` (halcompile
+    /// refuses the load then).
+    pub fn array_len(&self, max: usize, len: i64) -> Result<usize> {
+        if len <= max as i64 {
+            Ok(len.max(0) as usize)
+        } else {
+            Err(HalError::ModuleParam {
+                module: self.module.clone(),
+                param: "personality".into(),
+                reason: format!(
+                    "{}: {len} array elements asked for, at most {max} allowed",
+                    self.prefix
+                ),
+            })
+        }
+    }
+
+    /// An error about module parameter `param` of this load.
+    pub fn bad_param(&self, param: &str, reason: String) -> HalError {
+        HalError::ModuleParam {
+            module: self.module.clone(),
+            param: param.to_string(),
+            reason,
+        }
+    }
+
+    /// The component being built, for pins and params whose names do not
+    /// follow `<prefix>.<item>`.
+    pub fn component(&self) -> &hal_core::Component {
+        self.b.component()
+    }
+
+    /// Exports a function under its full name.
+    pub fn funct_named(
+        &mut self,
+        full: &str,
+        uses_fp: bool,
+        f: impl FnMut(&FunctCtx) + Send + 'static,
+    ) -> Result<()> {
+        self.b.funct(full, uses_fp, f)
     }
 
     /// An input pin `<prefix>.<item>` starting at zero.

@@ -21,9 +21,27 @@
 //! * `filters`: lowpass, ilowpass, ddt, integ, biquad, lincurve.
 //! * `timing`: edge, flipflop, oneshot, timedelay, toggle, toggle2nist,
 //!   debounce, dbounce, updown, charge_pump, estop_latch, sample_hold.
-//! * `bits`: bitslice, bitwise; `convert`: the conv_<in>_<out> family.
+//! * `bits`: bitslice, bitwise, bin2gray, gray2bin, bitmerge,
+//!   weighted_sum; `convert`: the conv_<in>_<out> family.
+//! * `sim`: sim_home_switch, sim_spindle, sim_axis_hardware, sim_parport,
+//!   sphereprobe, steptest, axistest.
+//! * `spindle`: gearchange, orient, spindle, spindle_monitor.
+//! * `toolchange`: carousel. `motor`: bldc, clarke2, clarke3, clarkeinv.
+//! * `offsets`: moveoff, eoffset_per_angle. `joints`: gantry,
+//!   differential, corexy_by_hal.
+//! * `plasma`: thc, thcud, ohmic. `laser`: laserpower.
+//! * `panel`: xhc_hb04_util, anglejog, message, matrix_kb,
+//!   sim_matrix_kb. `stats`: histobins, latencybins.
+//! * In the families above as well: match8, lut5, maj3, tristate_bit,
+//!   tristate_float (gates); demux, demux_generic, enum, output_buffer,
+//!   multiswitch (selectors); scaled_s32_sums, offset, knob2float,
+//!   feedcomp, joyhandle (math); limit_axis, simple_tp (limits);
+//!   filter_kalman, led_dim (filters); ton, tof, tp, time, reset,
+//!   safety_latch, watchdog, multiclick (timing); supply (generators).
 //! * `notice`: stderr messages posted from realtime functions, written by
-//!   a helper thread.
+//!   a helper thread. `shared`: state two functions of one component
+//!   share. `loadrt_check`: the all-or-nothing `loadrt` invariant, for
+//!   fuzzing.
 
 #![forbid(unsafe_code)]
 
@@ -37,15 +55,27 @@ pub mod gates;
 pub mod generators;
 pub mod halcomp;
 pub mod infra;
+pub mod joints;
+pub mod laser;
 pub mod limits;
+pub mod loadrt_check;
 pub mod math;
+pub mod motor;
 pub mod notice;
+pub mod offsets;
+pub mod panel;
 pub mod pid;
+pub mod plasma;
 pub mod selectors;
+pub mod shared;
+pub mod sim;
+pub mod spindle;
+pub mod stats;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
 pub mod timing;
+pub mod toolchange;
 
 use hal_core::ModuleDef;
 
@@ -70,5 +100,27 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     v.extend(stepgen::modules());
     v.extend(pid::modules());
     v.extend(encoder::modules());
+    v.extend(sim::modules());
+    v.extend(spindle::modules());
+    v.extend(plasma::modules());
+    v.extend(toolchange::modules());
+    v.extend(motor::modules());
+    v.extend(offsets::modules());
+    v.extend(joints::modules());
+    v.extend(panel::modules());
+    v.extend(laser::modules());
+    v.extend(stats::modules());
     v
+}
+
+#[cfg(test)]
+mod module_list_tests {
+    #[test]
+    fn every_module_name_is_unique() {
+        let mut names: Vec<&str> = super::modules().iter().map(|m| m.name).collect();
+        let n = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), n, "a module name is registered twice");
+    }
 }

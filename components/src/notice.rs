@@ -11,6 +11,7 @@
 //! written in order, but two different texts posted within one polling
 //! interval may come out in table order rather than posting order.
 
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex, Once, Weak};
 use std::time::Duration;
@@ -20,7 +21,7 @@ const POLL: Duration = Duration::from_millis(10);
 
 /// The posted counts of one notice, shared with the helper thread.
 struct Board {
-    texts: &'static [&'static str],
+    texts: Vec<Cow<'static, str>>,
     posted: Vec<AtomicU32>,
     /// How many posts of each text have been written (helper side only).
     written: Mutex<Vec<u32>>,
@@ -78,10 +79,17 @@ impl Notice {
     /// A notice able to post any of `texts` (by index). Call outside
     /// realtime (it allocates and may start the helper thread).
     pub fn new(texts: &'static [&'static str]) -> Notice {
+        Notice::with_texts(texts.iter().map(|&t| Cow::Borrowed(t)).collect())
+    }
+
+    /// A notice whose texts are made at load time (from module
+    /// parameters, say). Call outside realtime, as [`Notice::new`].
+    pub fn with_texts(texts: Vec<Cow<'static, str>>) -> Notice {
+        let n = texts.len();
         let board = Arc::new(Board {
             texts,
-            posted: texts.iter().map(|_| AtomicU32::new(0)).collect(),
-            written: Mutex::new(vec![0; texts.len()]),
+            posted: (0..n).map(|_| AtomicU32::new(0)).collect(),
+            written: Mutex::new(vec![0; n]),
         });
         BOARDS
             .lock()

@@ -190,3 +190,130 @@ impl TestHost {
         assert_eq!(self.get(pin), want, "{pin} after {inputs:?}");
     }
 }
+
+/// Parses a test's spelling of a value of type `t`: `0`/`1` for bits,
+/// decimal for the rest.
+fn parse_value(t: hal_core::HalType, s: &str) -> Value {
+    use hal_core::HalType as T;
+    fn num<N: std::str::FromStr>(t: hal_core::HalType, s: &str) -> N {
+        s.parse()
+            .unwrap_or_else(|_| panic!("bad {t:?} value '{s}' in a test table"))
+    }
+    match t {
+        T::Bit => Value::Bit(num::<u8>(t, s) != 0),
+        T::Float => Value::Float(num(t, s)),
+        T::S32 => Value::S32(num(t, s)),
+        T::U32 => Value::U32(num(t, s)),
+        T::S64 => Value::S64(num(t, s)),
+        T::U64 => Value::U64(num(t, s)),
+    }
+}
+
+fn parse_type(s: &str) -> hal_core::HalType {
+    use hal_core::HalType as T;
+    match s {
+        "bit" => T::Bit,
+        "float" => T::Float,
+        "s32" => T::S32,
+        "u32" => T::U32,
+        "s64" => T::S64,
+        "u64" => T::U64,
+        _ => panic!("bad type '{s}' in a test table"),
+    }
+}
+
+impl TestHost {
+    /// Checks that the pins under `<prefix>.` (function `.time` pins
+    /// aside) are exactly `want`, each written `"<item> <type> <dir>
+    /// <value>"` (`"out float out 0"`, `"enable bit in 1"`): names, types,
+    /// directions and current values.
+    pub fn check_pins(&self, prefix: &str, want: &[&str]) {
+        let got = self
+            .host
+            .instance()
+            .pins()
+            .unwrap()
+            .into_iter()
+            .filter(|p| !p.name.ends_with(".time"))
+            .map(|p| (p.name, p.hal_type, p.dir.label().to_lowercase(), p.value));
+        check_items("pins", prefix, got, want, |d| match d {
+            "in" => "in",
+            "out" => "out",
+            "io" => "i/o",
+            _ => panic!("bad pin direction '{d}'"),
+        });
+    }
+
+    /// Checks the params under `<prefix>.` (function timing params aside)
+    /// as [`TestHost::check_pins`] does pins; the direction is `ro` or
+    /// `rw`.
+    pub fn check_params(&self, prefix: &str, want: &[&str]) {
+        let got = self
+            .host
+            .instance()
+            .params()
+            .unwrap()
+            .into_iter()
+            .filter(|p| !p.name.ends_with(".tmax") && !p.name.ends_with(".tmax-increased"))
+            .map(|p| (p.name, p.hal_type, p.dir.label().to_lowercase(), p.value));
+        check_items("params", prefix, got, want, |d| match d {
+            "ro" | "rw" => d,
+            _ => panic!("bad param access '{d}'"),
+        });
+    }
+
+    /// Checks that loading `def` with `args` fails and leaves nothing of
+    /// it behind: no component, pin, param or function.
+    pub fn check_load_fails(&self, def: &'static ModuleDef, args: &[&str]) {
+        let before = (self.pins(), self.params(), self.functs());
+        let comps = self.host.loaded_components();
+        assert!(
+            self.host.loadrt(def, args).is_err(),
+            "{} {args:?} loaded",
+            def.name
+        );
+        assert_eq!(
+            self.host.loaded_components(),
+            comps,
+            "{} {args:?}",
+            def.name
+        );
+        assert_eq!(
+            (self.pins(), self.params(), self.functs()),
+            before,
+            "{} {args:?} left items behind",
+            def.name
+        );
+    }
+}
+
+/// Compares the items (name, type, direction label, value) under
+/// `<prefix>.` with the `want` lines; `dir` maps a line's direction word
+/// to the label HAL listings use.
+fn check_items(
+    what: &str,
+    prefix: &str,
+    got: impl Iterator<Item = (String, hal_core::HalType, String, Value)>,
+    want: &[&str],
+    dir: impl Fn(&str) -> &str,
+) {
+    let start = format!("{prefix}.");
+    let mut got: Vec<_> = got.filter(|(n, ..)| n.starts_with(&start)).collect();
+    got.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut want: Vec<_> = want
+        .iter()
+        .map(|line| {
+            let f: Vec<&str> = line.split_whitespace().collect();
+            assert_eq!(f.len(), 4, "bad line '{line}'");
+            let t = parse_type(f[1]);
+            (
+                format!("{start}{}", f[0]),
+                t,
+                dir(f[2]).to_string(),
+                parse_value(t, f[3]),
+            )
+        })
+        .collect();
+    want.sort_by(|a, b| a.0.cmp(&b.0));
+    assert_eq!(got, want, "{what} of {prefix}");
+}

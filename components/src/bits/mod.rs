@@ -1,4 +1,9 @@
-//! Integer and bit tools (reference section 10): bitslice, bitwise.
+//! Integer and bit tools (reference section 10): bitslice, bitwise. In
+//! their own files: bin2gray and gray2bin, bitmerge, weighted_sum.
+
+pub mod bitmerge;
+pub mod gray;
+pub mod weighted_sum;
 
 use hal_core::{HalError, Out, Pin, Result};
 
@@ -88,7 +93,14 @@ halcomp_module!(pub BITWISE, BitwiseComp, "bitwise and, or, xor and complements 
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&BITSLICE, &BITWISE]
+    vec![
+        &BITSLICE,
+        &BITWISE,
+        &gray::BIN2GRAY,
+        &gray::GRAY2BIN,
+        &bitmerge::MODULE,
+        &weighted_sum::MODULE,
+    ]
 }
 
 #[cfg(test)]

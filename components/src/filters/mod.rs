@@ -1,10 +1,13 @@
-//! Filters and calculus: lowpass, ilowpass, ddt, integ, biquad, lincurve.
+//! Filters and calculus: lowpass, ilowpass, ddt, integ, biquad, lincurve;
+//! in their own files also filter_kalman and led_dim.
 //!
 //! As in the other families, each component's per-call arithmetic is a
 //! plain function or struct independent of pins; the HAL glue reads the
 //! pins, calls it and writes the pins.
 
 pub mod biquad;
+pub mod filter_kalman;
+pub mod led_dim;
 pub mod lincurve;
 
 use hal_core::Result;
@@ -179,6 +182,8 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &INTEG,
         &biquad::BIQUAD,
         &lincurve::LINCURVE,
+        &filter_kalman::MODULE,
+        &led_dim::MODULE,
     ]
 }
 

@@ -1,7 +1,13 @@
 //! Logic gates (reference section 4): the fixed two-input gates and2,
 //! or2, xor2 and the inverter not, and `logic`, a configurable gate of up
 //! to 16 inputs whose personality picks the number of inputs and which of
-//! the and/or/xor/nand/nor outputs exist.
+//! the and/or/xor/nand/nor outputs exist. In their own files: match8,
+//! lut5, maj3, tristate_bit and tristate_float.
+
+pub mod lut5;
+pub mod maj3;
+pub mod match8;
+pub mod tristate;
 
 use hal_core::{HalError, In, Out, Pin, Result};
 
@@ -164,7 +170,18 @@ halcomp_module!(
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&AND2, &OR2, &XOR2, &NOT, &LOGIC]
+    vec![
+        &AND2,
+        &OR2,
+        &XOR2,
+        &NOT,
+        &LOGIC,
+        &match8::MODULE,
+        &lut5::MODULE,
+        &maj3::MODULE,
+        &tristate::TRISTATE_BIT,
+        &tristate::TRISTATE_FLOAT,
+    ]
 }
 
 #[cfg(test)]

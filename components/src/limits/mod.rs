@@ -1,11 +1,13 @@
 //! Limits and comparators: limit1, limit2, limit3, comp, wcomp, near,
-//! deadzone, minmax.
+//! deadzone, minmax; in their own files also limit_axis and simple_tp.
 //!
 //! Each component's per-call arithmetic lives in a plain function or
 //! struct that knows nothing about pins, so it can be tested directly
 //! and reused; the HAL glue reads the pins, calls it and writes the pins.
 
 pub mod limit3;
+pub mod limit_axis;
+pub mod simple_tp;
 
 use hal_core::Result;
 
@@ -320,7 +322,16 @@ halcomp_module!(pub MINMAX, MinmaxComp, "track the minimum and maximum values of
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
     vec![
-        &LIMIT1, &LIMIT2, &LIMIT3, &COMP, &WCOMP, &NEAR, &DEADZONE, &MINMAX,
+        &LIMIT1,
+        &LIMIT2,
+        &LIMIT3,
+        &COMP,
+        &WCOMP,
+        &NEAR,
+        &DEADZONE,
+        &MINMAX,
+        &limit_axis::MODULE,
+        &simple_tp::MODULE,
     ]
 }
 

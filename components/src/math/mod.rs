@@ -1,9 +1,16 @@
 //! Arithmetic (reference section 6): abs, abs_s32, abs_s64, sum2, mult2,
-//! div2, scale, invert, hypot, blend, constant.
+//! div2, scale, invert, hypot, blend, constant. In their own files:
+//! scaled_s32_sums, offset, knob2float, feedcomp, joyhandle.
 //!
 //! Each component's per-call arithmetic is a plain function or struct
 //! (`abs_f64`, [`Div2`], `invert`, ...) that the HAL glue calls with the
 //! pin values, so the behaviour can be tested without a HAL.
+
+pub mod feedcomp;
+pub mod joyhandle;
+pub mod knob2float;
+pub mod offset;
+pub mod scaled_s32_sums;
 
 use hal_core::Result;
 
@@ -389,7 +396,22 @@ halcomp_module!(pub SUM2, Sum2, "weighted sum of two inputs");
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
     vec![
-        &ABS, &ABS_S32, &ABS_S64, &SUM2, &MULT2, &DIV2, &SCALE, &INVERT, &HYPOT, &BLEND, &CONSTANT,
+        &ABS,
+        &ABS_S32,
+        &ABS_S64,
+        &SUM2,
+        &MULT2,
+        &DIV2,
+        &SCALE,
+        &INVERT,
+        &HYPOT,
+        &BLEND,
+        &CONSTANT,
+        &scaled_s32_sums::MODULE,
+        &offset::MODULE,
+        &knob2float::MODULE,
+        &feedcomp::MODULE,
+        &joyhandle::MODULE,
     ]
 }
 

@@ -21,7 +21,9 @@ pub const DEFAULT_CHAN: usize = 3;
 #[allow(clippy::approx_constant)]
 pub const PI_TRUNCATED: f64 = 3.141592653589;
 
-const PARAMS: &[ParamDecl] = &[
+/// The module parameters: `num_chan=`, `names=`, `debug=` (at_pid takes
+/// the same).
+pub const PARAMS: &[ParamDecl] = &[
     ParamDecl {
         name: "num_chan",
         kind: ParamKind::Int,

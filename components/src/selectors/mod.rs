@@ -1,8 +1,14 @@
 //! Selectors (reference section 5): mux2, mux4, mux8, mux16 (with Gray
 //! code and debounce), mux_generic (any input/output type, C-style
-//! config), select8 (one-hot decoder).
+//! config), select8 (one-hot decoder). In their own files: demux,
+//! demux_generic, enum (in `enums`), output_buffer, multiswitch.
 
+pub mod demux;
+pub mod demux_generic;
+pub mod enums;
+pub mod multiswitch;
 pub mod mux_generic;
+pub mod output_buffer;
 
 use hal_core::{In, Pin, Result};
 
@@ -210,7 +216,19 @@ halcomp_module!(pub SELECT8, Select8, "8-bit binary match detector");
 
 /// Every module of this family.
 pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
-    vec![&MUX2, &MUX4, &MUX8, &MUX16, &mux_generic::MODULE, &SELECT8]
+    vec![
+        &MUX2,
+        &MUX4,
+        &MUX8,
+        &MUX16,
+        &mux_generic::MODULE,
+        &SELECT8,
+        &demux::MODULE,
+        &output_buffer::MODULE,
+        &multiswitch::MODULE,
+        &demux_generic::MODULE,
+        &enums::MODULE,
+    ]
 }
 
 #[cfg(test)]

@@ -179,23 +179,29 @@ struct Instance {
     out: RawPin<Out>,
 }
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+/// The formats of a `config=` array (mux_generic's and demux_generic's),
+/// one per instance; `module` and `example` go into the errors.
+pub fn parse_configs(module: &str, example: &str, args: &ModuleArgs) -> Result<Vec<Config>> {
     let bad = |reason: String| HalError::ModuleParam {
-        module: MODULE.name.into(),
+        module: module.into(),
         param: "config".into(),
         reason,
     };
     let config = args.str_array("config");
     if config.is_empty() {
-        return Err(bad(
-            "missing: give one format per instance, e.g. config=\"ff4,bs2\"".into(),
-        ));
+        return Err(bad(format!(
+            "missing: give one format per instance, e.g. config=\"{example}\""
+        )));
     }
-    let cfgs: Vec<Config> = config
+    config
         .iter()
         .enumerate()
         .map(|(i, s)| Config::parse(s).map_err(|e| bad(format!("instance {i}: {e}"))))
-        .collect::<Result<_>>()?;
+        .collect()
+}
+
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let cfgs = parse_configs(MODULE.name, "ff4,bs2", args)?;
     let mut b = host.new_rt_component(MODULE.name)?;
     for (n, cfg) in cfgs.into_iter().enumerate() {
         let prefix = format!("mux-gen.{n:02}");

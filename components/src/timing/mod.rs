@@ -1,6 +1,7 @@
 //! Edges, timers and latches (reference section 8): edge, flipflop,
 //! oneshot, timedelay, toggle, toggle2nist, debounce, dbounce, updown,
-//! charge_pump, estop_latch, sample_hold.
+//! charge_pump, estop_latch, sample_hold; and ton, tof and tp (the IEC
+//! timers), time, reset, safety_latch, watchdog, multiclick.
 //!
 //! Each component keeps its per-call logic in a plain struct whose `step`
 //! works on a struct of pin and param values, so the logic can be tested
@@ -13,11 +14,17 @@ pub mod debounce;
 pub mod edge;
 pub mod estop_latch;
 pub mod flipflop;
+pub mod iec_timers;
+pub mod multiclick;
 pub mod oneshot;
+pub mod reset;
+pub mod safety_latch;
 pub mod sample_hold;
+pub mod time;
 pub mod timedelay;
 pub mod toggle;
 pub mod updown;
+pub mod watchdog;
 
 use hal_core::handles::Writable;
 use hal_core::PinValue;
@@ -52,5 +59,13 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &charge_pump::MODULE,
         &estop_latch::MODULE,
         &sample_hold::MODULE,
+        &iec_timers::TON,
+        &iec_timers::TOF,
+        &iec_timers::TP,
+        &time::MODULE,
+        &reset::MODULE,
+        &safety_latch::MODULE,
+        &watchdog::MODULE,
+        &multiclick::MODULE,
     ]
 }
