@@ -107,6 +107,17 @@ fn limit(v: f64, v_prev: f64, dt: f64, lim: &Limits) -> f64 {
     v
 }
 
+/// What [`Stepgen::command`] computed for one period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepCommand {
+    /// The step rate to program, steps/s (0 while disabled).
+    pub rate: f64,
+    /// The position command's own velocity, units/s.
+    pub feed_forward: f64,
+    /// Position command minus feedback, units.
+    pub position_error: f64,
+}
+
 /// Step timing in hardware clock ticks, each at least one tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TimingTicks {
@@ -180,16 +191,42 @@ impl Stepgen {
     /// fraction if the hardware has one. Returns the step rate to program,
     /// in steps/s (signed; 0 while disabled).
     pub fn update(&mut self, steps: i64, fine_position: f64, period_ns: i64) -> f64 {
+        self.publish_feedback(steps, fine_position);
+        self.command(fine_position, period_ns).rate
+    }
+
+    /// The feedback half of [`update`](Self::update), for drivers that
+    /// read the hardware in one function and program it in another
+    /// (hostmot2's `read` and `write`): publishes `counts` and
+    /// `position-fb`.
+    pub fn publish_feedback(&self, steps: i64, fine_position: f64) {
         let scale = usable_scale(&self.position_scale);
         self.counts.set(steps as i32);
+        self.position_fb.set(fine_position / scale);
+    }
+
+    /// The command half of [`update`](Self::update): the step rate for
+    /// this period from the hardware position `fine_position` (in steps),
+    /// with the quantities it was computed from.
+    pub fn command(&mut self, fine_position: f64, period_ns: i64) -> StepCommand {
+        let scale = usable_scale(&self.position_scale);
         let fb = fine_position / scale;
-        self.position_fb.set(fb);
         let cmd = self.position_cmd.get();
         let prev_cmd = self.prev_cmd.replace(cmd).unwrap_or(cmd);
+        let dt = period_ns as f64 * 1e-9;
+        let mut out = StepCommand {
+            rate: 0.0,
+            feed_forward: if period_ns > 0 {
+                (cmd - prev_cmd) / dt
+            } else {
+                0.0
+            },
+            position_error: cmd - fb,
+        };
         if !self.enable.get() || period_ns <= 0 {
             self.rate = 0.0;
             self.velocity_fb.set(0.0);
-            return 0.0;
+            return out;
         }
         let lim = Limits {
             scale,
@@ -197,14 +234,39 @@ impl Stepgen {
             maxaccel: self.maxaccel.get(),
             min_step_ns: self.steplen.get() as u64 + self.stepspace.get() as u64,
         };
-        let dt = period_ns as f64 * 1e-9;
         self.rate = if self.control_type.get() {
             velocity_rate(self.velocity_cmd.get(), self.rate, dt, &lim)
         } else {
             position_rate(cmd, prev_cmd, fb, self.rate, dt, &lim)
         };
         self.velocity_fb.set(self.rate);
-        self.rate * scale
+        out.rate = self.rate * scale;
+        out
+    }
+
+    /// The position scale in force (steps per unit, never 0).
+    pub fn scale(&self) -> f64 {
+        usable_scale(&self.position_scale)
+    }
+
+    /// The timing params in ns: steplen, stepspace, dirsetup, dirhold.
+    pub fn timing_ns(&self) -> [u32; 4] {
+        [
+            self.steplen.get(),
+            self.stepspace.get(),
+            self.dirsetup.get(),
+            self.dirhold.get(),
+        ]
+    }
+
+    /// Sets the timing params (ns; same order as
+    /// [`timing_ns`](Self::timing_ns)): a driver's defaults, or the
+    /// values its hardware can do when a user asked for more.
+    pub fn set_timing_ns(&self, ns: [u32; 4]) {
+        self.steplen.set(ns[0]);
+        self.stepspace.set(ns[1]);
+        self.dirsetup.set(ns[2]);
+        self.dirhold.set(ns[3]);
     }
 
     /// The step timing in ticks of a `clock_hz` hardware clock.

@@ -1,0 +1,410 @@
+//! A registered board: its modules, TRAM and transport, and the cycle
+//! functions `read`, `write`, `read_gpio`, `write_gpio` (hardware.md 5.7
+//! steps 11 to 14, 5.10).
+
+use hal_core::{Component, Param, Rw};
+
+use crate::config::Config;
+use crate::error::{Hm2Error, Result};
+use crate::firmware::Firmware;
+use crate::llio::Llio;
+use crate::log::{Level, MessageLog};
+use crate::modules::encoder::Encoders;
+use crate::modules::ioport::IoPort;
+use crate::modules::led::Leds;
+use crate::modules::pwmgen::Pwmgens;
+use crate::modules::raw::Raw;
+use crate::modules::stepgen::Stepgens;
+use crate::modules::watchdog::{Watchdog, WatchdogEvent};
+use crate::modules::{Export, Notify};
+use crate::regs::gtag;
+use crate::tram::Tram;
+use crate::transport::{TransferStats, Transport, TransportError};
+
+/// A board the driver runs.
+pub struct Board {
+    llio: Llio,
+    fw: Firmware,
+    transport: Box<dyn Transport>,
+    tram: Tram,
+    io_error: Param<bool, Rw>,
+    ioport: IoPort,
+    watchdog: Option<Watchdog>,
+    encoder: Option<Encoders>,
+    stepgen: Option<Stepgens>,
+    pwmgen: Option<Pwmgens>,
+    led: Option<Leds>,
+    raw: Option<Raw>,
+    say: Notify,
+    requested: bool,
+    started: bool,
+}
+
+impl Board {
+    /// Exports the board's HAL objects on `comp`, writes its whole
+    /// configuration, and runs a first read and write (LinuxCNC's
+    /// `hm2_register` after the descriptors are parsed).
+    pub fn register(
+        comp: &Component,
+        llio: Llio,
+        fw: Firmware,
+        config: &Config,
+        transport: Box<dyn Transport>,
+        say: Notify,
+        log: &mut MessageLog,
+    ) -> Result<Board> {
+        let prefix = llio.name.clone();
+        let io_error = comp.param(&format!("{prefix}.io_error"), false)?;
+        let mut tram = Tram::default();
+        let mut x = Export {
+            comp,
+            prefix: &prefix,
+            tram: &mut tram,
+        };
+        // IOPort's regions come first, then the modules in descriptor order.
+        let ioport = IoPort::export(&mut x, &fw.ioport, &fw.pins)?;
+        let (mut watchdog, mut encoder, mut stepgen, mut pwmgen, mut led) =
+            (None, None, None, None, None);
+        for md in &fw.mds {
+            match md.gtag {
+                gtag::WATCHDOG => {
+                    if let Some(m) = fw.watchdog.filter(|m| m.md.index == md.index) {
+                        watchdog = Some(Watchdog::export(&mut x, &m)?);
+                    }
+                }
+                gtag::ENCODER => {
+                    if let Some(m) = fw.encoder.filter(|m| m.md.index == md.index) {
+                        encoder = Some(Encoders::export(&mut x, &m)?);
+                    }
+                }
+                gtag::STEPGEN => {
+                    if let Some(m) = fw.stepgen.filter(|m| m.md.index == md.index) {
+                        stepgen = Some(Stepgens::export(&mut x, &m)?);
+                    }
+                }
+                gtag::PWMGEN => {
+                    if let Some(m) = fw.pwmgen.filter(|m| m.md.index == md.index) {
+                        pwmgen = Some(Pwmgens::export(&mut x, &m)?);
+                    }
+                }
+                gtag::LED => {
+                    if let Some(m) = fw.led.filter(|m| m.md.index == md.index) {
+                        led = Some(Leds::export(&mut x, &m)?);
+                    }
+                }
+                _ => {}
+            }
+        }
+        let raw = if config.enable_raw {
+            Some(Raw::export(&mut x)?)
+        } else {
+            None
+        };
+        let mut transport = transport;
+        let (reads, read_words, writes, write_words) = tram.sizes();
+        // Configuration writes of one cycle: at most a few per instance,
+        // plus a stepgen table (17 writes) per stepgen.
+        let instances: usize = [fw.encoder, fw.stepgen, fw.pwmgen, fw.led]
+            .iter()
+            .flatten()
+            .map(|m| m.instances as usize)
+            .sum::<usize>()
+            + fw.ioport.instances as usize;
+        let config_writes = 64 + 24 * instances;
+        transport.reserve(
+            reads,
+            read_words,
+            writes + config_writes,
+            write_words + config_writes,
+        );
+        let mut board = Board {
+            llio,
+            fw,
+            transport,
+            tram,
+            io_error,
+            ioport,
+            watchdog,
+            encoder,
+            stepgen,
+            pwmgen,
+            led,
+            raw,
+            say,
+            requested: false,
+            started: false,
+        };
+        board.initialize().map_err(|e| {
+            log.err(format!("{e}"));
+            Hm2Error::CommErrors
+        })?;
+        log.info("registered");
+        Ok(board)
+    }
+
+    /// Force-write, first TRAM read, first TRAM write (zeros).
+    fn initialize(&mut self) -> Result<(), TransportError> {
+        self.force_write()?;
+        self.transport.send_queued_writes()?;
+        self.tram.request_reads(self.transport.as_mut())?;
+        self.tram.receive_reads(self.transport.as_mut())?;
+        if let Some(e) = &mut self.encoder {
+            e.init_from_read(&self.tram.read_buf);
+        }
+        if let Some(s) = &mut self.stepgen {
+            s.init_from_read(&self.tram.read_buf);
+        }
+        self.tram.write_buf.fill(0);
+        self.tram.queue_writes(self.transport.as_mut())?;
+        self.transport.send_queued_writes()
+    }
+
+    /// Queues every module's whole configuration (`hm2_force_write`).
+    fn force_write(&mut self) -> Result<(), TransportError> {
+        let t = self.transport.as_mut();
+        if let Some(w) = &mut self.watchdog {
+            w.force_write(t)?;
+        }
+        self.ioport.force_write(t)?;
+        if let Some(e) = &mut self.encoder {
+            e.force_write(t)?;
+        }
+        if let Some(p) = &mut self.pwmgen {
+            p.force_write(t, &self.say)?;
+        }
+        if let Some(s) = &mut self.stepgen {
+            s.force_write(t, &self.say)?;
+        }
+        if let Some(l) = &mut self.led {
+            l.force_write(t)?;
+        }
+        Ok(())
+    }
+
+    /// The board's name (`hm2_5i25.0`).
+    pub fn name(&self) -> &str {
+        &self.llio.name
+    }
+
+    /// What the driver learned from the firmware.
+    pub fn firmware(&self) -> &Firmware {
+        &self.fw
+    }
+
+    /// Transfers so far.
+    pub fn stats(&self) -> TransferStats {
+        self.transport.stats()
+    }
+
+    /// Whether the transport splits reads (LinuxCNC's `read-request`).
+    pub fn split_read(&self) -> bool {
+        self.transport.split_read()
+    }
+
+    /// Whether `read_gpio`/`write_gpio` may run in another thread.
+    pub fn threadsafe(&self) -> bool {
+        self.transport.threadsafe()
+    }
+
+    /// Stops the board after a failed transfer: `io_error` goes TRUE (the
+    /// cycle functions then do nothing until the user clears it) and the
+    /// reason is said once. With writes stopped, the watchdog bites and
+    /// the firmware releases every output.
+    fn fail(&mut self, what: &'static str) {
+        if !self.io_error.get() {
+            self.io_error.set(true);
+            (self.say)(Level::Err, what);
+        }
+        self.requested = false;
+    }
+
+    /// `read-request`: sends this cycle's read request.
+    pub fn read_request(&mut self) {
+        if self.io_error.get() {
+            return;
+        }
+        if let Some(raw) = &self.raw {
+            let (start, addr) = raw.target();
+            self.tram.retarget_read(start, addr);
+        }
+        match self.tram.request_reads(self.transport.as_mut()) {
+            Ok(()) => self.requested = true,
+            Err(_) => self.fail("error queueing the read: io_error set, board stopped"),
+        }
+    }
+
+    /// `read`: every input pin from one burst of reads.
+    pub fn read(&mut self) {
+        if self.io_error.get() {
+            return;
+        }
+        if !self.requested {
+            self.read_request();
+            if !self.requested {
+                return;
+            }
+        }
+        self.requested = false;
+        if self.tram.receive_reads(self.transport.as_mut()).is_err() {
+            self.fail("error reading from the board: io_error set, board stopped");
+            return;
+        }
+        let buf = &self.tram.read_buf;
+        if let Some(w) = &mut self.watchdog {
+            if w.process_read(buf, &self.say) == WatchdogEvent::Bit {
+                // The firmware released every output; keep reading so the
+                // user sees the inputs, and wait for has_bit to be reset.
+            }
+        }
+        self.ioport.process_read(buf);
+        if let Some(e) = &mut self.encoder {
+            e.process_read(buf);
+        }
+        if let Some(s) = &mut self.stepgen {
+            s.process_read(buf);
+        }
+        if let Some(r) = &self.raw {
+            r.process_read(buf);
+        }
+    }
+
+    /// `write`: every output from one burst of writes, plus the
+    /// configuration registers whose pins or params changed.
+    pub fn write(&mut self, period_ns: i64) {
+        if self.io_error.get() {
+            return;
+        }
+        if let Err(e) = self.write_cycle(period_ns) {
+            let what = match e {
+                TransportError::QueueFull { .. } => {
+                    "too many register writes in one cycle: io_error set, board stopped"
+                }
+                _ => "error writing to the board: io_error set, board stopped",
+            };
+            self.fail(what);
+        }
+    }
+
+    fn write_cycle(&mut self, period_ns: i64) -> Result<(), TransportError> {
+        if self.watchdog.as_ref().is_some_and(|w| w.wants_recovery()) {
+            (self.say)(
+                Level::Err,
+                "trying to recover from IO error or Watchdog bite",
+            );
+            if let Some(w) = &mut self.watchdog {
+                w.recovered(self.transport.as_mut())?;
+            }
+            self.force_write()?;
+        }
+        if !self.started {
+            // Module outputs are driven from the first write on.
+            self.ioport.start();
+            self.started = true;
+        }
+        let buf = &mut self.tram.write_buf;
+        if let Some(w) = &self.watchdog {
+            w.prepare_write(buf);
+        }
+        self.ioport.prepare_write(buf);
+        if let Some(p) = &self.pwmgen {
+            p.prepare_write(buf);
+        }
+        if let Some(s) = &mut self.stepgen {
+            s.prepare_write(buf, period_ns);
+        }
+        let t = self.transport.as_mut();
+        self.tram.queue_writes(t)?;
+        self.ioport.write_config(t)?;
+        if let Some(w) = &mut self.watchdog {
+            w.write_config(t, period_ns, &self.say)?;
+        }
+        if let Some(e) = &mut self.encoder {
+            e.write_config(t)?;
+        }
+        if let Some(p) = &mut self.pwmgen {
+            p.write_config(t, &self.say)?;
+        }
+        if let Some(s) = &mut self.stepgen {
+            s.write_config(t, &self.say)?;
+        }
+        if let Some(l) = &mut self.led {
+            l.write_config(t)?;
+        }
+        let dump = match &self.raw {
+            Some(r) => r.write(t)?,
+            None => false,
+        };
+        t.send_queued_writes()?;
+        if dump {
+            self.dump_state();
+        }
+        Ok(())
+    }
+
+    /// `read_gpio`: the GPIO inputs only, outside TRAM.
+    pub fn read_gpio(&mut self) {
+        if self.io_error.get() {
+            return;
+        }
+        if self.ioport.read_gpio(self.transport.as_mut()).is_err() {
+            self.fail("error reading GPIO: io_error set, board stopped");
+        }
+    }
+
+    /// `write_gpio`: the GPIO outputs and their configuration only, plus
+    /// a pet of the watchdog, outside TRAM.
+    pub fn write_gpio(&mut self, period_ns: i64) {
+        if self.io_error.get() {
+            return;
+        }
+        let t = self.transport.as_mut();
+        let r = self.ioport.write_gpio(t).and_then(|()| {
+            if let Some(w) = &mut self.watchdog {
+                w.write_config(t, period_ns, &self.say)?;
+            }
+            t.send_queued_writes()
+        });
+        if r.is_err() {
+            self.fail("error writing GPIO: io_error set, board stopped");
+        }
+    }
+
+    /// Says what `raw.dump_state` asks for: a summary of the board.
+    fn dump_state(&self) {
+        let s = self.transport.stats();
+        let mut line = crate::util::LineBuf::<160>::new();
+        let _ = std::fmt::Write::write_fmt(
+            &mut line,
+            format_args!(
+                "dump_state: {} words read in {} bursts, {} written in {} bursts; \
+                 TRAM {} read words, {} write words; io_error {}",
+                s.words_read,
+                s.read_bursts,
+                s.words_written,
+                s.write_bursts,
+                self.tram.read_buf.len(),
+                self.tram.write_buf.len(),
+                self.io_error.get()
+            ),
+        );
+        (self.say)(Level::Info, line.as_str());
+    }
+
+    /// Safe state (after a fault, at unload and at exit): PWM disabled
+    /// and at 0, step rates 0, the watchdog made to bite at once, and
+    /// every pin made an input (what the bite does, done directly too).
+    pub fn go_safe(&mut self) {
+        let t = self.transport.as_mut();
+        if let Some(p) = &mut self.pwmgen {
+            let _ = p.go_safe(t);
+        }
+        if let Some(s) = &mut self.stepgen {
+            let _ = s.go_safe(t);
+        }
+        if let Some(w) = &mut self.watchdog {
+            let _ = w.bite_now(t);
+        }
+        // The bite takes a clock tick; release the pins now as well.
+        let _ = self.ioport.go_safe(t);
+    }
+}

@@ -1,0 +1,267 @@
+//! The crate's error type. Each variant's text is LinuxCNC's message for
+//! the same failure (hardware.md 5.7, hostmot2-more.md 4), so logs read
+//! as users of LinuxCNC know them; multi-line messages are separated by
+//! `\n` and every line is printed with the board's prefix
+//! (`hm2/hm2_5i25.0: `).
+
+use thiserror::Error;
+
+use crate::transport::TransportError;
+
+/// Everything that can make a board fail to register or a module
+/// parameter be refused.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum Hm2Error {
+    /// The low-level driver described itself wrongly (a bug in the caller).
+    #[error("invalid llio: {reason}")]
+    BadLlio {
+        /// What is wrong.
+        reason: String,
+    },
+    /// A config string token the driver does not know.
+    #[error("invalid token in config string: \"{token}\"")]
+    InvalidToken {
+        /// The token.
+        token: String,
+    },
+    /// A config string number that is not one.
+    #[error("invalid value in config string: \"{token}\": {reason}")]
+    BadConfigValue {
+        /// The token.
+        token: String,
+        /// Why.
+        reason: String,
+    },
+    /// `firmware=` was given: programming FPGAs is not supported.
+    #[error(
+        "firmware=\"{file}\": this driver does not program FPGAs; \
+         flash the firmware with mesaflash and load without firmware="
+    )]
+    FirmwareUnsupported {
+        /// The requested file.
+        file: String,
+    },
+    /// `sserial_port_N=` with N outside 0..3.
+    #[error(
+        "sserial_port tag must be in the form \"sserial_port_N=0123xx23\" where N may be 0 to 3"
+    )]
+    BadSserialTag,
+    /// The cookie is wrong: no (or no running) HostMot2 firmware.
+    #[error(
+        "invalid cookie, got 0x{found:08X}, expected 0x55AACAFE\n\
+         FPGA failed to initialize, or unexpected firmware?"
+    )]
+    BadCookie {
+        /// The word read at 0x0100.
+        found: u32,
+    },
+    /// The configuration name is not `HOSTMOT2`.
+    #[error("invalid config name, got '{found}', expected 'HOSTMOT2'")]
+    BadConfigName {
+        /// The 8 bytes, non-printables shown as `?`.
+        found: String,
+    },
+    /// The IDROM type is not 2 or 3.
+    #[error("invalid IDROM type {}, expected 2 or 3, aborting load", *.found as i32)]
+    BadIdromType {
+        /// The type word.
+        found: u32,
+    },
+    /// IDROM PortWidth differs from the board's pins per connector.
+    #[error(
+        "invalid IDROM PortWidth {}, this board has {expected} pins per connector, aborting load",
+        *.found as i32
+    )]
+    BadPortWidth {
+        /// PortWidth in the IDROM.
+        found: u32,
+        /// The board's pins per connector.
+        expected: u32,
+    },
+    /// IOWidth is not IOPorts × PortWidth.
+    #[error(
+        "IDROM IOWidth is {}, but IDROM IOPorts is {} and IDROM PortWidth is {} \
+         (inconsistent firmware), aborting driver load",
+        *.io_width as i32, *.io_ports as i32, *.port_width as i32
+    )]
+    InconsistentIoWidth {
+        /// IOWidth.
+        io_width: u32,
+        /// IOPorts.
+        io_ports: u32,
+        /// PortWidth.
+        port_width: u32,
+    },
+    /// IOPorts differs from the board's connector count.
+    #[error(
+        "IDROM IOPorts is {} but llio num_ioport_connectors is {expected}, \
+         driver and firmware are inconsistent, aborting driver load",
+        *.found as i32
+    )]
+    BadIoPorts {
+        /// IOPorts in the IDROM.
+        found: u32,
+        /// The board's connectors.
+        expected: u32,
+    },
+    /// More I/O pins than the driver handles.
+    #[error("IDROM IOWidth is {} but max is 1000", *.found as i32)]
+    TooManyPins {
+        /// IOWidth.
+        found: u32,
+    },
+    /// ClockLow below 1 MHz.
+    #[error("IDROM ClockLow is {}, that's too low, aborting driver load", *.found as i32)]
+    ClockLowTooLow {
+        /// ClockLow in Hz.
+        found: u32,
+    },
+    /// ClockHigh below 1 MHz.
+    #[error("IDROM ClockHigh is {}, that's too low, aborting driver load", *.found as i32)]
+    ClockHighTooLow {
+        /// ClockHigh in Hz.
+        found: u32,
+    },
+    /// A pin descriptor list shorter than IOWidth.
+    #[error("pin {pin} primary tag is 0 (end-of-list sentinel), expected {expected} pins!")]
+    PinListEnds {
+        /// The pin whose descriptor is the sentinel.
+        pin: u32,
+        /// IOWidth.
+        expected: u32,
+    },
+    /// A pin whose primary function is not IOPort.
+    #[error("pin {pin} primary tag is {tag} ({name}), not IOPort!")]
+    PinNotIoPort {
+        /// The pin.
+        pin: u32,
+        /// Its primary tag.
+        tag: u8,
+        /// The tag's name.
+        name: String,
+    },
+    /// A pin outside the connectors.
+    #[error("pin {pin}: Calculated port number ({port}) is invalid")]
+    BadPinPort {
+        /// The pin.
+        pin: u32,
+        /// The computed connector.
+        port: u32,
+    },
+    /// A pin past bit 31 of its port.
+    #[error("pin {pin}: Calculated bit number ({bit}) is invalid")]
+    BadPinBit {
+        /// The pin.
+        pin: u32,
+        /// The computed bit.
+        bit: u32,
+    },
+    /// A module descriptor's ClockTag is neither 1 nor 2.
+    #[error("Module Descriptor {index} (at 0x{addr:04x}) has invalid ClockTag {tag}")]
+    BadClockTag {
+        /// The descriptor's index.
+        index: usize,
+        /// Its address.
+        addr: u32,
+        /// The ClockTag.
+        tag: u8,
+    },
+    /// A register stride selector other than 0 or 1.
+    #[error("Module Descriptor {index} (at 0x{addr:04x}) has invalid RegisterStride {selector}")]
+    BadRegisterStride {
+        /// The descriptor's index.
+        index: usize,
+        /// Its address.
+        addr: u32,
+        /// The selector.
+        selector: u8,
+    },
+    /// An instance stride selector other than 0 or 1.
+    #[error("Module Descriptor {index} (at 0x{addr:04x}) has invalid InstanceStride {selector}")]
+    BadInstanceStride {
+        /// The descriptor's index.
+        index: usize,
+        /// Its address.
+        addr: u32,
+        /// The selector.
+        selector: u8,
+    },
+    /// A module descriptor whose shape the driver does not know.
+    #[error(
+        "{headline}\n    Version = {version}, NumRegisters = {num_registers}, \
+         InstanceStride = 0x{instance_stride:08X}, MultipleRegisters = 0x{multiple_registers:08X}"
+    )]
+    InconsistentMd {
+        /// LinuxCNC's message for this module.
+        headline: String,
+        /// The descriptor's version.
+        version: u8,
+        /// Its NumRegisters.
+        num_registers: u8,
+        /// Its resolved instance stride.
+        instance_stride: u32,
+        /// Its MultipleRegisters bitmap.
+        multiple_registers: u32,
+    },
+    /// A second descriptor for a module that may appear once.
+    #[error(
+        "found duplicate Module Descriptor for {name} (inconsistent firmware), not loading driver"
+    )]
+    DuplicateMd {
+        /// The module.
+        name: &'static str,
+    },
+    /// IOPort instances differ from IOPorts.
+    #[error(
+        "IDROM IOPorts is {idrom} but MD IOPort NumInstances is {md}, \
+         inconsistent firmware, aborting driver load"
+    )]
+    IoPortInstances {
+        /// IOPorts in the IDROM.
+        idrom: u32,
+        /// NumInstances of the IOPort descriptor.
+        md: u8,
+    },
+    /// No IOPort module: no pin could be driven.
+    #[error(
+        "the firmware has no IOPort Module Descriptor, so none of its {pins} pins can be \
+         used, not loading driver"
+    )]
+    NoIoPort {
+        /// IOWidth.
+        pins: u32,
+    },
+    /// A `num_<module>s=N` asking for more instances than the firmware has.
+    #[error("config.{key}={requested}, but only {available} are available, not loading driver")]
+    TooManyRequested {
+        /// The config key.
+        key: &'static str,
+        /// N.
+        requested: i32,
+        /// Instances in the firmware.
+        available: u32,
+    },
+    /// A register transfer failed while registering.
+    #[error("{op}: {source}")]
+    Transport {
+        /// What was being done, in LinuxCNC's words ("error reading hm2 cookie").
+        op: String,
+        /// What went wrong.
+        source: TransportError,
+    },
+    /// The first reads and writes after configuration failed.
+    #[error("comm errors while initializing firmware!")]
+    CommErrors,
+    /// HAL refused an object (a name clash, a full segment).
+    #[error("{0}")]
+    Hal(String),
+}
+
+impl From<hal_core::HalError> for Hm2Error {
+    fn from(e: hal_core::HalError) -> Hm2Error {
+        Hm2Error::Hal(e.to_string())
+    }
+}
+
+/// The crate's result type.
+pub type Result<T, E = Hm2Error> = std::result::Result<T, E>;

@@ -1,0 +1,147 @@
+//! The simulated boards `hm2_pci sim=...` offers, each a firmware of the
+//! kind Mesa ships for it (the descriptors are this simulator's, not a
+//! dump of a real bitfile):
+//!
+//! | name | board | connectors | firmware |
+//! |---|---|---|---|
+//! | `5i25` | 5i25, 7i76-style pin-out | P3, P2 × 17 | per connector 5 step generators (step/dir on DB-25 pins 1, 14, 2, 15, ...), 1 encoder (A, B, index), 4 GPIO; watchdog, 2 LEDs |
+//! | `6i25` | 6i25, servo pin-out | P3, P2 × 17 | P3: 4 encoders with probe (A, B, index), 5 GPIO; P2: 4 PWM generators with dither (PWM, dir, /enable), 5 GPIO |
+//! | `5i24` | 5i24 | P4, P3, P2 × 24 | P4: 8 encoders; P3: 8 PWM generators; P2: 8 step generators with index/probe latch (0xC2), 8 GPIO |
+//!
+//! All run ClockLow at 100 MHz and ClockHigh at 200 MHz, except the 6i25
+//! whose ClockLow is 66.67 MHz.
+
+use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
+use crate::regs::gtag;
+
+/// The board names [`preset`] knows.
+pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24"];
+
+/// The firmware of a simulated board, by name.
+pub fn preset(name: &str) -> Option<FirmwareSpec> {
+    match name {
+        "5i25" => Some(five_i25()),
+        "6i25" => Some(six_i25()),
+        "5i24" => Some(five_i24()),
+        _ => None,
+    }
+}
+
+fn name8(s: &str) -> [u8; 8] {
+    let mut b = [b' '; 8];
+    b[..s.len().min(8)].copy_from_slice(&s.as_bytes()[..s.len().min(8)]);
+    b
+}
+
+/// 5i25 with a 7i76-style firmware.
+fn five_i25() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    for conn in 0..2u8 {
+        for k in 0..5u8 {
+            pins.push(pd(gtag::STEPGEN, 5 * conn + k, 0x81));
+            pins.push(pd(gtag::STEPGEN, 5 * conn + k, 0x82));
+        }
+        for f in 1..=3 {
+            pins.push(pd(gtag::ENCODER, conn, f));
+        }
+        pins.extend(std::iter::repeat_n(gpio(), 4));
+    }
+    FirmwareSpec {
+        board: "5i25".into(),
+        board_name: name8("MESA5I25"),
+        fpga_part: "6slx9tqg144".into(),
+        fpga_size: 9,
+        fpga_pins: 144,
+        connectors: vec!["P3".into(), "P2".into()],
+        port_width: 17,
+        leds: 2,
+        clock_low: 100_000_000,
+        clock_high: 200_000_000,
+        modules: vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 2),
+            ModuleSpec::standard(gtag::ENCODER, 2, 2),
+            ModuleSpec::standard(gtag::STEPGEN, 2, 10),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    }
+}
+
+/// 6i25 with a servo firmware.
+fn six_i25() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    for k in 0..4u8 {
+        for f in 1..=3 {
+            pins.push(pd(gtag::ENCODER, k, f));
+        }
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 5));
+    for k in 0..4u8 {
+        for f in 0x81..=0x83 {
+            pins.push(pd(gtag::PWMGEN, k, f));
+        }
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 5));
+    FirmwareSpec {
+        board: "6i25".into(),
+        board_name: name8("MESA6I25"),
+        fpga_part: "6slx9tqg144".into(),
+        fpga_size: 9,
+        fpga_pins: 144,
+        connectors: vec!["P3".into(), "P2".into()],
+        port_width: 17,
+        leds: 2,
+        clock_low: 66_666_667,
+        clock_high: 200_000_000,
+        modules: vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 2),
+            ModuleSpec::standard(gtag::ENCODER, 0x83, 4),
+            ModuleSpec::standard(gtag::PWMGEN, 1, 4),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    }
+}
+
+/// 5i24 with 8 encoders, 8 PWM generators, 8 step generators.
+fn five_i24() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    for k in 0..8u8 {
+        for f in 1..=3 {
+            pins.push(pd(gtag::ENCODER, k, f));
+        }
+    }
+    for k in 0..8u8 {
+        for f in 0x81..=0x83 {
+            pins.push(pd(gtag::PWMGEN, k, f));
+        }
+    }
+    for k in 0..8u8 {
+        pins.push(pd(gtag::STEPGEN, k, 0x81));
+        pins.push(pd(gtag::STEPGEN, k, 0x82));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 8));
+    FirmwareSpec {
+        board: "5i24".into(),
+        board_name: name8("MESA5I24"),
+        fpga_part: "6slx16ftg256".into(),
+        fpga_size: 16,
+        fpga_pins: 256,
+        connectors: vec!["P4".into(), "P3".into(), "P2".into()],
+        port_width: 24,
+        leds: 2,
+        clock_low: 100_000_000,
+        clock_high: 200_000_000,
+        modules: vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 3),
+            ModuleSpec::standard(gtag::ENCODER, 3, 8),
+            ModuleSpec::standard(gtag::STEPGEN, 0xC2, 8),
+            ModuleSpec::standard(gtag::PWMGEN, 1, 8),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    }
+}
