@@ -17,6 +17,7 @@ pub fn registry() -> Registry {
     let mut r = Registry::new();
     r.add(&hal_components::modules());
     r.add(&[&hal_parport::MODULE]);
+    r.add(&hostmot2::hal::modules());
     r.add(&motion::modules());
     r
 }

@@ -3,6 +3,7 @@
 //! steps 11 to 14, 5.10).
 
 use hal_core::{Component, Param, Rw};
+use hal_driver::fault::{Fault, FaultLatch};
 
 use crate::config::Config;
 use crate::error::{Hm2Error, Result};
@@ -36,9 +37,32 @@ pub struct Board {
     led: Option<Leds>,
     raw: Option<Raw>,
     say: Notify,
+    latch: FaultLatch,
+    recover: bool,
     requested: bool,
     started: bool,
 }
+
+/// A transfer of the cycle's reads failed.
+static READ_FAILED: Fault = Fault::new(
+    1,
+    "error reading from the board: io_error set, board stopped (its watchdog releases the outputs)",
+);
+/// A transfer of the cycle's writes failed.
+static WRITE_FAILED: Fault = Fault::new(
+    2,
+    "error writing to the board: io_error set, board stopped (its watchdog releases the outputs)",
+);
+/// More writes in one cycle than the transport was sized for (a bug).
+static QUEUE_FULL: Fault = Fault::new(
+    3,
+    "too many register writes in one cycle: io_error set, board stopped",
+);
+/// `read_gpio` or `write_gpio` failed.
+static GPIO_FAILED: Fault = Fault::new(
+    4,
+    "error transferring GPIO: io_error set, board stopped (its watchdog releases the outputs)",
+);
 
 impl Board {
     /// Exports the board's HAL objects on `comp`, writes its whole
@@ -130,7 +154,9 @@ impl Board {
             pwmgen,
             led,
             raw,
+            latch: FaultLatch::new(format!("hm2/{prefix}")).with_log(say.log().clone()),
             say,
+            recover: false,
             requested: false,
             started: false,
         };
@@ -210,17 +236,29 @@ impl Board {
     /// cycle functions then do nothing until the user clears it) and the
     /// reason is said once. With writes stopped, the watchdog bites and
     /// the firmware releases every output.
-    fn fail(&mut self, what: &'static str) {
-        if !self.io_error.get() {
-            self.io_error.set(true);
-            (self.say)(Level::Err, what);
-        }
+    fn fail(&mut self, fault: &'static Fault) {
+        self.io_error.set(true);
+        self.latch.trip(fault);
         self.requested = false;
+    }
+
+    /// Whether the cycle functions may run: not while `io_error` is set;
+    /// once the user clears it after a failure, the next `write` rewrites
+    /// the whole configuration first.
+    #[inline]
+    fn usable(&mut self) -> bool {
+        if self.io_error.get() {
+            return false;
+        }
+        if self.latch.reset().is_some() {
+            self.recover = true;
+        }
+        true
     }
 
     /// `read-request`: sends this cycle's read request.
     pub fn read_request(&mut self) {
-        if self.io_error.get() {
+        if !self.usable() {
             return;
         }
         if let Some(raw) = &self.raw {
@@ -229,13 +267,14 @@ impl Board {
         }
         match self.tram.request_reads(self.transport.as_mut()) {
             Ok(()) => self.requested = true,
-            Err(_) => self.fail("error queueing the read: io_error set, board stopped"),
+            Err(TransportError::QueueFull { .. }) => self.fail(&QUEUE_FULL),
+            Err(_) => self.fail(&READ_FAILED),
         }
     }
 
     /// `read`: every input pin from one burst of reads.
     pub fn read(&mut self) {
-        if self.io_error.get() {
+        if !self.usable() {
             return;
         }
         if !self.requested {
@@ -246,7 +285,7 @@ impl Board {
         }
         self.requested = false;
         if self.tram.receive_reads(self.transport.as_mut()).is_err() {
-            self.fail("error reading from the board: io_error set, board stopped");
+            self.fail(&READ_FAILED);
             return;
         }
         let buf = &self.tram.read_buf;
@@ -271,30 +310,28 @@ impl Board {
     /// `write`: every output from one burst of writes, plus the
     /// configuration registers whose pins or params changed.
     pub fn write(&mut self, period_ns: i64) {
-        if self.io_error.get() {
+        if !self.usable() {
             return;
         }
-        if let Err(e) = self.write_cycle(period_ns) {
-            let what = match e {
-                TransportError::QueueFull { .. } => {
-                    "too many register writes in one cycle: io_error set, board stopped"
-                }
-                _ => "error writing to the board: io_error set, board stopped",
-            };
-            self.fail(what);
+        match self.write_cycle(period_ns) {
+            Ok(()) => {}
+            Err(TransportError::QueueFull { .. }) => self.fail(&QUEUE_FULL),
+            Err(_) => self.fail(&WRITE_FAILED),
         }
     }
 
     fn write_cycle(&mut self, period_ns: i64) -> Result<(), TransportError> {
-        if self.watchdog.as_ref().is_some_and(|w| w.wants_recovery()) {
-            (self.say)(
+        let bitten = self.watchdog.as_ref().is_some_and(|w| w.wants_recovery());
+        if bitten || self.recover {
+            self.say.say(
                 Level::Err,
-                "trying to recover from IO error or Watchdog bite",
+                format_args!("trying to recover from IO error or Watchdog bite"),
             );
             if let Some(w) = &mut self.watchdog {
                 w.recovered(self.transport.as_mut())?;
             }
             self.force_write()?;
+            self.recover = false;
         }
         if !self.started {
             // Module outputs are driven from the first write on.
@@ -343,18 +380,18 @@ impl Board {
 
     /// `read_gpio`: the GPIO inputs only, outside TRAM.
     pub fn read_gpio(&mut self) {
-        if self.io_error.get() {
+        if !self.usable() {
             return;
         }
         if self.ioport.read_gpio(self.transport.as_mut()).is_err() {
-            self.fail("error reading GPIO: io_error set, board stopped");
+            self.fail(&GPIO_FAILED);
         }
     }
 
     /// `write_gpio`: the GPIO outputs and their configuration only, plus
     /// a pet of the watchdog, outside TRAM.
     pub fn write_gpio(&mut self, period_ns: i64) {
-        if self.io_error.get() {
+        if !self.usable() {
             return;
         }
         let t = self.transport.as_mut();
@@ -365,16 +402,15 @@ impl Board {
             t.send_queued_writes()
         });
         if r.is_err() {
-            self.fail("error writing GPIO: io_error set, board stopped");
+            self.fail(&GPIO_FAILED);
         }
     }
 
     /// Says what `raw.dump_state` asks for: a summary of the board.
     fn dump_state(&self) {
         let s = self.transport.stats();
-        let mut line = crate::util::LineBuf::<160>::new();
-        let _ = std::fmt::Write::write_fmt(
-            &mut line,
+        self.say.say(
+            Level::Info,
             format_args!(
                 "dump_state: {} words read in {} bursts, {} written in {} bursts; \
                  TRAM {} read words, {} write words; io_error {}",
@@ -387,7 +423,6 @@ impl Board {
                 self.io_error.get()
             ),
         );
-        (self.say)(Level::Info, line.as_str());
     }
 
     /// Safe state (after a fault, at unload and at exit): PWM disabled

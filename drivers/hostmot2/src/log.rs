@@ -1,22 +1,19 @@
-//! Messages a board produces while it registers, with LinuxCNC's levels.
+//! Messages with LinuxCNC's levels and prefixes.
 //!
-//! Registration runs outside realtime, so it collects its messages here;
-//! the HAL binding prints them with the board's prefix (`hm2/hm2_5i25.0: `)
-//! whether registration succeeds or fails, as LinuxCNC's log shows both
-//! the warnings and the error that stopped a load.
+//! Registration runs outside realtime and collects its messages in a
+//! [`MessageLog`]; the HAL binding prints them with the board's prefix
+//! (`hm2/hm2_5i25.0: `) whether registration succeeds or fails, as
+//! LinuxCNC's log shows both the warnings and the error that stopped a
+//! load. Realtime functions say things through a [`BoardLog`]: the host's
+//! realtime log ([`hal_core::RtLog`]) with that prefix in front. Both obey
+//! the host's message level (errors only by default, as in LinuxCNC).
 
-/// LinuxCNC's message levels (`RTAPI_MSG_*`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Level {
-    /// An error.
-    Err = 1,
-    /// A warning.
-    Warn = 2,
-    /// Information (the pin list, "registered").
-    Info = 3,
-    /// Debugging (IDROM and descriptor dumps, when asked for).
-    Dbg = 4,
-}
+use std::fmt;
+use std::sync::Arc;
+
+use hal_core::RtLog;
+
+pub use hal_core::MsgLevel as Level;
 
 /// One message.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -76,5 +73,49 @@ impl MessageLog {
             .filter(|m| m.level <= max)
             .map(|m| format!("{prefix}{}", m.text))
             .collect()
+    }
+}
+
+/// The prefix of hostmot2's messages about a board: `hm2/<board>: `.
+pub fn prefix(board: &str) -> String {
+    format!("hm2/{board}: ")
+}
+
+/// A board's realtime message path.
+#[derive(Clone)]
+pub struct BoardLog {
+    log: RtLog,
+    prefix: Arc<str>,
+}
+
+impl BoardLog {
+    /// Messages about `board` into `log`.
+    pub fn new(log: RtLog, board: &str) -> BoardLog {
+        BoardLog {
+            log,
+            prefix: prefix(board).into(),
+        }
+    }
+
+    /// Says something, realtime-safe; false if filtered by level or lost.
+    pub fn say(&self, level: Level, args: fmt::Arguments<'_>) -> bool {
+        self.log.log(level, format_args!("{}{}", self.prefix, args))
+    }
+
+    /// The prefix, `hm2/<board>: `.
+    pub fn prefix(&self) -> &str {
+        &self.prefix
+    }
+
+    /// The log itself.
+    pub fn log(&self) -> &RtLog {
+        &self.log
+    }
+
+    /// Prints a registration's messages (they are not realtime).
+    pub fn replay(&self, messages: &MessageLog) {
+        for m in messages.messages() {
+            self.say(m.level, format_args!("{}", m.text));
+        }
     }
 }

@@ -12,17 +12,14 @@ pub mod raw;
 pub mod stepgen;
 pub mod watchdog;
 
-use std::sync::Arc;
-
 use hal_core::Component;
 
-use crate::log::Level;
 use crate::tram::Tram;
 use crate::transport::{Transport, TransportError};
 
 /// Where a realtime function's messages go: a message is said once per
 /// event (a watchdog bite, a clamped parameter), never every cycle.
-pub type Notify = Arc<dyn Fn(Level, &str) + Send + Sync>;
+pub use crate::log::BoardLog as Notify;
 
 /// What a module needs while the board registers.
 pub struct Export<'a> {

@@ -97,7 +97,6 @@ pub struct Pwmgens {
     pdm_frequency: Param<u32, Rw>,
     written: Option<Setup>,
     written_modes: Vec<Option<u32>>,
-    bits: u32,
 }
 
 impl Pwmgens {
@@ -135,7 +134,6 @@ impl Pwmgens {
             pdm_frequency,
             written: None,
             written_modes: vec![None; n],
-            bits: 12,
         })
     }
 
@@ -155,7 +153,10 @@ impl Pwmgens {
             t @ 1..=4 => t as u32,
             _ => {
                 c.output_type.set(1);
-                say(Level::Err, "pwmgen output-type must be 1 to 4, set to 1");
+                say.say(
+                    Level::Err,
+                    format_args!("pwmgen output-type must be 1 to 4, set to 1"),
+                );
                 1
             }
         }
@@ -171,17 +172,19 @@ impl Pwmgens {
         let (bits, pwm_dds, clamped) = pwm_dds(self.pwm_frequency.get(), clock);
         if let Some(hz) = clamped {
             self.pwm_frequency.set(hz);
-            say(
+            say.say(
                 Level::Err,
-                "pwmgen pwm_frequency too high for the board, clamped",
+                format_args!("pwmgen pwm_frequency too high for the board, clamped"),
             );
         }
         let (pdm_dds, clamped) = pdm_dds(self.pdm_frequency.get(), clock);
         if let Some(hz) = clamped {
             self.pdm_frequency.set(hz);
-            say(Level::Err, "pwmgen pdm_frequency out of range, clamped");
+            say.say(
+                Level::Err,
+                format_args!("pwmgen pdm_frequency out of range, clamped"),
+            );
         }
-        self.bits = bits;
         let mut enables = 0;
         for (i, c) in self.chans.iter().enumerate() {
             if c.pwm.duty().is_some() {
@@ -229,14 +232,17 @@ impl Pwmgens {
         Ok(())
     }
 
-    /// Computes every value word into the TRAM words.
+    /// Computes every value word into the TRAM words, at the resolution
+    /// the present `pwm_frequency` gives (so a new frequency and the
+    /// values for it take effect in the same cycle).
     pub fn prepare_write(&self, buf: &mut [u32]) {
+        let (bits, _, _) = pwm_dds(self.pwm_frequency.get(), self.md.clock_hz);
         let words = self.value_write.of_mut(buf);
         for (c, w) in self.chans.iter().zip(words.iter_mut()) {
             let d = c.pwm.duty().unwrap_or(0.0);
             let ty = c.output_type.get().clamp(1, 4) as u32;
             let dither = c.dither.as_ref().is_some_and(|d| d.get());
-            *w = value_word(d, ty, self.bits, c.offset_mode.get(), dither);
+            *w = value_word(d, ty, bits, c.offset_mode.get(), dither);
         }
     }
 

@@ -49,13 +49,14 @@ pub fn timing_value(ns: u32, clock: u32) -> (u32, Option<u32>) {
     }
 }
 
-/// The Rate register for `steps_per_s` at `clock`.
+/// The Rate register for `steps_per_s` at `clock`, rounded to the
+/// nearest step of the register.
 pub fn rate_value(steps_per_s: f64, clock: u32) -> u32 {
     let v = steps_per_s * 4_294_967_296.0 / clock as f64;
     let v = if v.is_nan() {
         0.0
     } else {
-        v.clamp(i32::MIN as f64, i32::MAX as f64)
+        v.round().clamp(i32::MIN as f64, i32::MAX as f64)
     };
     v as i32 as u32
 }
@@ -271,9 +272,9 @@ impl Stepgens {
             }
             if fixed != ns {
                 c.sg.set_timing_ns(fixed);
-                say(
+                say.say(
                     Level::Err,
-                    "stepgen timing too long for the board, clamped to 0x3FFF clocks",
+                    format_args!("stepgen timing too long for the board, clamped to 0x3FFF clocks"),
                 );
             }
             c.written_timing = Some(fixed);
@@ -294,7 +295,10 @@ impl Stepgens {
             if step_type > r::TABLE_MAX {
                 step_type = r::TABLE_MAX;
                 c.step_type.set(step_type);
-                say(Level::Err, "stepgen step_type is at most 16, set to 16");
+                say.say(
+                    Level::Err,
+                    format_args!("stepgen step_type is at most 16, set to 16"),
+                );
             }
             let mut mode = match step_type {
                 0 => r::TYPE_STEP_DIR,
@@ -364,10 +368,10 @@ mod tests {
             (0x3FFF, Some(163_840)),
             "clamped"
         );
-        assert_eq!(rate_value(1_000_000.0, 100_000_000), 42_949_672);
+        assert_eq!(rate_value(1_000_000.0, 100_000_000), 42_949_673);
         assert_eq!(
             rate_value(-1_000_000.0, 100_000_000),
-            (-42_949_672i32) as u32
+            (-42_949_673i32) as u32
         );
         assert_eq!(rate_value(f64::NAN, 100_000_000), 0);
         assert_eq!(rate_value(1e12, 100_000_000), i32::MAX as u32);

@@ -95,9 +95,9 @@ impl Watchdog {
         if status & r::STATUS_HAS_BIT != 0 && !self.bitten {
             self.bitten = true;
             self.has_bit.set(true);
-            say(
+            say.say(
                 Level::Err,
-                "Watchdog has bit! (set the .has_bit pin to False to resume)",
+                format_args!("Watchdog has bit! (set the .has_bit pin to False to resume)"),
             );
             return WatchdogEvent::Bit;
         }
@@ -147,9 +147,11 @@ impl Watchdog {
             let timeout = match clamped {
                 Some(ns) => {
                     self.timeout_ns.set(ns);
-                    say(
+                    say.say(
                         Level::Err,
-                        "watchdog timeout_ns too long, clamped to the longest the board can do",
+                        format_args!(
+                            "watchdog timeout_ns too long, clamped to the longest the board can do"
+                        ),
                     );
                     ns
                 }
@@ -164,10 +166,7 @@ impl Watchdog {
             && self.warned_period != Some((timeout, period_ns))
         {
             self.warned_period = Some((timeout, period_ns));
-            say(
-                Level::Warn,
-                "Watchdog timeout is less than 1.5 times the thread period: it will probably bite",
-            );
+            say.say(Level::Warn, format_args!("Watchdog timeout is less than 1.5 times the thread period: it will probably bite"));
         }
         Ok(())
     }

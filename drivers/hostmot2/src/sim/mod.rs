@@ -6,6 +6,7 @@
 pub mod boards;
 pub mod encoder;
 pub mod ioport;
+pub mod machine;
 pub mod model;
 pub mod pwm;
 pub mod stepgen;
@@ -14,3 +15,26 @@ pub mod world;
 
 pub use model::Hm2Model;
 pub use world::{Bench, EncoderIn, Inputs, Outputs, PwmOut, StepOut, World};
+
+use std::sync::Arc;
+
+use hal_driver::sim::SimBoard;
+
+use crate::window::WindowTransport;
+
+/// A simulated board as the driver sees it: the model behind the shared
+/// layer's [`SimBoard`] (a `RegWindow`).
+pub type SimHm2 = SimBoard<Hm2Model>;
+
+/// The transport to a simulated board.
+pub type SimTransport = WindowTransport<Arc<SimHm2>>;
+
+/// A simulated board running `spec`, wired to `world`, and a transport to it.
+pub fn board(
+    spec: crate::image::FirmwareSpec,
+    world: Box<dyn World>,
+) -> (Arc<SimHm2>, SimTransport) {
+    let board = Arc::new(SimBoard::new(Hm2Model::with_world(spec, world)));
+    let t = WindowTransport::new(board.clone());
+    (board, t)
+}

@@ -399,3 +399,27 @@ impl Hm2Model {
         self.led
     }
 }
+
+impl hal_driver::sim::BoardModel for Hm2Model {
+    fn advance(&mut self, dt_ns: u64) {
+        Hm2Model::advance(self, dt_ns)
+    }
+
+    fn describe(&self) -> String {
+        format!("simulated {} ({})", self.spec.board, self.spec.fpga_part)
+    }
+}
+
+impl hal_driver::sim::MemModel for Hm2Model {
+    fn len(&self) -> usize {
+        regs::WINDOW_BYTES
+    }
+
+    fn read32(&mut self, offset: usize) -> u32 {
+        Hm2Model::read32(self, offset)
+    }
+
+    fn write32(&mut self, offset: usize, value: u32) {
+        Hm2Model::write32(self, offset, value)
+    }
+}

@@ -1,0 +1,232 @@
+//! Machines at a simulated board's connectors, made of the shared plant
+//! models ([`hal_driver::plant`]): DC servo motors driven by PWM
+//! generators and read back by quadrature encoders, stepper axes driven
+//! by step generators, and switches on GPIO inputs.
+//!
+//! A switch is wired between its input and ground: closed contacts read
+//! low (`gpio.NNN.in` FALSE, `in_not` TRUE), open contacts read high
+//! through the board's pull-up.
+
+use hal_driver::plant::{DcMotor, DcMotorParams, QuadEncoder, StepperAxis, Switch};
+
+use super::world::{EncoderIn, Inputs, Outputs, World};
+
+/// A servo: motor `k` driven by PWM generator `pwm`, its encoder read by
+/// encoder instance `encoder`. Motor positions are in revolutions.
+#[derive(Debug, Clone)]
+pub struct Servo {
+    /// The PWM generator driving the motor.
+    pub pwm: usize,
+    /// The encoder instance reading the shaft.
+    pub encoder: usize,
+    /// The motor.
+    pub motor: DcMotor,
+    /// The encoder on its shaft.
+    pub shaft: QuadEncoder,
+    /// Supply voltage of the amplifier.
+    pub supply: f64,
+}
+
+/// A stepper axis driven by step generator `stepgen`.
+#[derive(Debug, Clone)]
+pub struct Stepper {
+    /// The step generator.
+    pub stepgen: usize,
+    /// The axis.
+    pub axis: StepperAxis,
+}
+
+/// What a switch is mounted on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mount {
+    /// Servo `k` (position in motor revolutions).
+    Servo(usize),
+    /// Stepper `k` (position in its units).
+    Stepper(usize),
+}
+
+/// A switch on an axis, wired to I/O pin `io`.
+#[derive(Debug, Clone, Copy)]
+pub struct InputSwitch {
+    /// The I/O pin.
+    pub io: usize,
+    /// The axis.
+    pub on: Mount,
+    /// The switch.
+    pub switch: Switch,
+}
+
+/// A machine: servos, steppers, switches. Encoders without a motor keep
+/// the count a test gives them in [`Machine::encoders`].
+#[derive(Debug, Clone, Default)]
+pub struct Machine {
+    /// The servos.
+    pub servos: Vec<Servo>,
+    /// The stepper axes.
+    pub steppers: Vec<Stepper>,
+    /// The switches.
+    pub switches: Vec<InputSwitch>,
+    /// Encoders no servo turns (tests set them).
+    pub encoders: Vec<EncoderIn>,
+    /// Pins driven from outside by tests (`None`: floating).
+    pub pins: Vec<Option<bool>>,
+}
+
+/// The motor of the simulated servo machines: 1 rev/s per volt, 20 ms
+/// mechanical time constant, 0.2 V of friction.
+pub const SERVO_MOTOR: DcMotorParams = DcMotorParams {
+    speed_per_volt: 1.0,
+    time_constant: 0.02,
+    friction: 0.2,
+};
+
+impl Machine {
+    /// Where axis `m` is.
+    pub fn position(&self, m: Mount) -> Option<f64> {
+        match m {
+            Mount::Servo(k) => self.servos.get(k).map(|s| s.motor.position()),
+            Mount::Stepper(k) => self.steppers.get(k).map(|s| s.axis.position()),
+        }
+    }
+}
+
+/// How long before the end of a step of `dt_ns` the shaft crossed into
+/// its present count, moving at `velocity` counts/s to `counts`.
+fn last_edge_ago(counts: f64, velocity: f64, dt_ns: u64) -> u64 {
+    if velocity == 0.0 {
+        return dt_ns;
+    }
+    let past = if velocity > 0.0 {
+        counts - counts.floor()
+    } else {
+        counts.ceil() - counts
+    };
+    ((past / velocity.abs()) * 1e9).min(dt_ns as f64) as u64
+}
+
+impl World for Machine {
+    fn advance(&mut self, dt_ns: u64, out: &Outputs, sense: &mut Inputs) {
+        for s in &mut self.steppers {
+            let n = out.steps.get(s.stepgen).map_or(0, |o| o.steps);
+            for _ in 0..n.unsigned_abs() {
+                s.axis.step(n > 0);
+            }
+        }
+        for (i, e) in sense.encoders.iter_mut().enumerate() {
+            if let Some(mine) = self.encoders.get_mut(i) {
+                *e = *mine;
+                mine.index_at = None;
+                mine.glitch = false;
+            }
+        }
+        for s in &mut self.servos {
+            let drive = out.pwm.get(s.pwm).copied().unwrap_or_default();
+            if drive.enabled {
+                s.motor.set_duty(drive.duty, s.supply);
+            } else {
+                s.motor.set_volts(0.0);
+            }
+            s.motor.advance(dt_ns);
+            let cpr = s.shaft.counts_per_rev() as f64;
+            let counts = s.motor.position() * cpr;
+            let moved = s.shaft.set_revs(s.motor.position());
+            if let Some(e) = sense.encoders.get_mut(s.encoder) {
+                *e = EncoderIn {
+                    count: s.shaft.count(),
+                    last_edge_ago_ns: last_edge_ago(counts, s.motor.velocity() * cpr, dt_ns),
+                    index_at: moved.first_index,
+                    glitch: false,
+                    a: s.shaft.a(),
+                    b: s.shaft.b(),
+                    z: s.shaft.z(),
+                };
+            }
+        }
+        for (i, p) in sense.pins.iter_mut().enumerate() {
+            *p = self.pins.get(i).copied().flatten();
+        }
+        for sw in &self.switches {
+            if let (Some(pos), Some(p)) = (self.position(sw.on), sense.pins.get_mut(sw.io)) {
+                if sw.switch.is_closed(pos) {
+                    *p = Some(false);
+                }
+            }
+        }
+    }
+
+    fn as_any(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
+
+/// The machine `hm2_pci sim=<board>` connects, by board name:
+///
+/// * `5i25`: a stepper axis of 100 steps per unit on each of the ten step
+///   generators; home switches closing at +10 units for axes 0, 1 and 2
+///   on I/O 13, 14 and 15 (P3 DB-25 pins 11, 12, 13).
+/// * `6i25`: four servos, PWM generator k driving motor k ([`SERVO_MOTOR`]
+///   on a 24 V supply) with encoder k on its shaft (4000 counts, index
+///   once per revolution); home switches closing at +2 revolutions for
+///   servos 0, 1 and 2 on I/O 12, 13 and 14 (P3 DB-25 pins 7, 8, 9).
+/// * `5i24`: eight servos as above on PWM/encoder 0..7 and eight stepper
+///   axes on step generators 0..7, no switches.
+pub fn preset(board: &str) -> Machine {
+    let servo = |k: usize| Servo {
+        pwm: k,
+        encoder: k,
+        motor: DcMotor::new(SERVO_MOTOR),
+        shaft: QuadEncoder::new(4000),
+        supply: 24.0,
+    };
+    let stepper = |k: usize| Stepper {
+        stepgen: k,
+        axis: StepperAxis::new(100.0),
+    };
+    match board {
+        "5i25" => Machine {
+            steppers: (0..10).map(stepper).collect(),
+            switches: (0..3)
+                .map(|k| InputSwitch {
+                    io: 13 + k,
+                    on: Mount::Stepper(k),
+                    switch: Switch::at_or_above(10.0),
+                })
+                .collect(),
+            ..Machine::default()
+        },
+        "6i25" => Machine {
+            servos: (0..4).map(servo).collect(),
+            switches: (0..3)
+                .map(|k| InputSwitch {
+                    io: 12 + k,
+                    on: Mount::Servo(k),
+                    switch: Switch::at_or_above(2.0),
+                })
+                .collect(),
+            ..Machine::default()
+        },
+        "5i24" => Machine {
+            servos: (0..8).map(servo).collect(),
+            steppers: (0..8).map(stepper).collect(),
+            ..Machine::default()
+        },
+        _ => Machine::default(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edges_are_placed_within_the_step() {
+        assert_eq!(last_edge_ago(10.25, 1000.0, 1_000_000), 250_000);
+        assert_eq!(last_edge_ago(9.75, -1000.0, 1_000_000), 250_000);
+        assert_eq!(last_edge_ago(10.0, 0.0, 1_000_000), 1_000_000);
+        assert_eq!(
+            last_edge_ago(10.9, 100.0, 1_000_000),
+            1_000_000,
+            "at most the step"
+        );
+    }
+}

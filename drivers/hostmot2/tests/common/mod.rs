@@ -1,0 +1,150 @@
+//! A simulated board registered on a HAL instance, driven cycle by cycle
+//! without threads, so module tests are exact.
+
+#![allow(dead_code)]
+
+use std::sync::Arc;
+
+use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
+use hal_driver::sim::{AccessLog, SimBoard};
+use hostmot2::board::Board;
+use hostmot2::config;
+use hostmot2::firmware::{self, Debug};
+use hostmot2::image::FirmwareSpec;
+use hostmot2::log::{BoardLog, MessageLog};
+use hostmot2::sim::{Hm2Model, SimHm2, World};
+use hostmot2::window::WindowTransport;
+
+/// The servo period the rig runs at.
+pub const PERIOD: i64 = 1_000_000;
+
+/// A board on the simulator.
+pub struct Rig {
+    /// Its board.
+    pub board: Board,
+    /// The simulated board.
+    pub sim: Arc<SimHm2>,
+    /// The HAL name prefix (`hm2_5i25.0`).
+    pub prefix: String,
+    /// The board's realtime messages.
+    pub log: RtLog,
+    /// The host (last: dropped after the board).
+    pub host: Host,
+}
+
+impl Rig {
+    /// Registers a board running `spec` wired to `world`, with `config`.
+    pub fn new(tag: &str, spec: FirmwareSpec, world: Box<dyn World>, config: &str) -> Rig {
+        let host = Host::create(HostConfig::for_tests(tag)).unwrap();
+        let llio = spec.llio(0);
+        let prefix = llio.name.clone();
+        let sim = Arc::new(
+            SimBoard::new(Hm2Model::with_world(spec, world)).with_log(AccessLog::new(100_000)),
+        );
+        let mut t = WindowTransport::new(sim.clone());
+        let config = config::parse(config).unwrap();
+        let mut msgs = MessageLog::default();
+        let fw = firmware::load(&llio, &config, Debug::default(), &mut t, &mut msgs).unwrap();
+        let log = RtLog::new(1024);
+        log.set_level(MsgLevel::All);
+        let b = host.new_rt_component("hm2_pci").unwrap();
+        let board = Board::register(
+            b.component(),
+            llio,
+            fw,
+            &config,
+            Box::new(t),
+            BoardLog::new(log.clone(), &prefix),
+            &mut msgs,
+        )
+        .unwrap();
+        b.ready().unwrap();
+        Rig {
+            board,
+            sim,
+            prefix,
+            log,
+            host,
+        }
+    }
+
+    /// One servo cycle: read, write, then a period passes.
+    pub fn cycle(&mut self) {
+        self.board.read();
+        self.board.write(PERIOD);
+        self.sim.advance(PERIOD as u64);
+    }
+
+    /// `n` cycles.
+    pub fn cycles(&mut self, n: usize) {
+        for _ in 0..n {
+            self.cycle();
+        }
+    }
+
+    fn full(&self, name: &str) -> String {
+        format!("{}.{name}", self.prefix)
+    }
+
+    /// Sets pin `<prefix>.<name>`.
+    pub fn set_pin(&self, name: &str, v: Value) {
+        self.host.instance().set_pin(&self.full(name), v).unwrap();
+    }
+
+    /// Sets param `<prefix>.<name>`.
+    pub fn set_param(&self, name: &str, v: Value) {
+        self.host.instance().set_param(&self.full(name), v).unwrap();
+    }
+
+    /// Pin `<prefix>.<name>`.
+    pub fn pin(&self, name: &str) -> Value {
+        self.host.instance().pin_value(&self.full(name)).unwrap()
+    }
+
+    /// Param `<prefix>.<name>`.
+    pub fn param(&self, name: &str) -> Value {
+        self.host.instance().param_value(&self.full(name)).unwrap()
+    }
+
+    /// A bit pin.
+    pub fn bit(&self, name: &str) -> bool {
+        match self.pin(name) {
+            Value::Bit(b) => b,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+
+    /// A float pin.
+    pub fn float(&self, name: &str) -> f64 {
+        match self.pin(name) {
+            Value::Float(f) => f,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+
+    /// An s32 pin.
+    pub fn s32(&self, name: &str) -> i32 {
+        match self.pin(name) {
+            Value::S32(v) => v,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+
+    /// A register of the simulated board.
+    pub fn reg(&self, addr: usize) -> u32 {
+        self.sim.with(|m| m.read32(addr))
+    }
+
+    /// The realtime messages said so far.
+    pub fn messages(&self) -> Vec<String> {
+        let mut v = Vec::new();
+        self.log.drain(|_, t| v.push(t.to_string()));
+        v
+    }
+
+    /// The world, as a `W`.
+    pub fn world<W: World, R>(&self, f: impl FnOnce(&mut W) -> R) -> R {
+        self.sim
+            .with(|m| f(m.world::<W>().expect("the world's type")))
+    }
+}
