@@ -676,3 +676,105 @@ fn motion_homes_and_jogs_a_three_joint_machine() {
         assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
     }
 }
+
+// ---------------------------------------------------------------------
+// hostmot2 machines on the simulated Mesa boards (configs/sim/hm2-*).
+// ---------------------------------------------------------------------
+
+/// The samples of a machine test: the count line, then 9 columns
+/// (pos-cmd, pos-fb, home-state of three joints).
+fn machine_rows(text: &str) -> Vec<Vec<&str>> {
+    let mut lines = text.lines().filter(|l| !l.starts_with("accepted (serial"));
+    let n: usize = num(lines.next().expect("the sample count"));
+    let rest = &text[text.find(&format!("{n}\n")).unwrap() + format!("{n}\n").len()..];
+    sampled_rows(rest, n, 9)
+}
+
+#[test]
+fn hm2_servo_machine_homes_on_index_and_reaches_its_positions() {
+    let text = run_exact("hm2-servo");
+    let rows = machine_rows(&text);
+    let f = |r: &Vec<&str>, c: usize| num::<f64>(r[c]);
+    let state = |r: &Vec<&str>, j: usize| num::<i32>(r[6 + j]);
+    // Z homes alone first, then X and Y together, each through the
+    // encoder's index (IndexSearchWait, 18).
+    let first_busy = |j: usize| rows.iter().position(|r| state(r, j) != 0).unwrap();
+    let last_busy = |j: usize| rows.iter().rposition(|r| state(r, j) != 0).unwrap();
+    assert!(last_busy(2) < first_busy(0));
+    assert_eq!(first_busy(0), first_busy(1));
+    for j in 0..3 {
+        let mut seen: Vec<i32> = rows.iter().map(|r| state(r, j)).collect();
+        seen.dedup();
+        let mut it = seen.iter();
+        for s in [7, 10, 12, 18, 21] {
+            assert!(it.any(|v| *v == s), "joint {j} misses state {s}: {seen:?}");
+        }
+    }
+    // The servo loops follow within 0.1 mm everywhere.
+    for r in &rows {
+        for j in 0..3 {
+            let err = (f(r, j) - f(r, 3 + j)).abs();
+            assert!(err < 0.1, "joint {j} error {err} in {r:?}");
+        }
+    }
+    // Homed at HOME (45, 0, -2), then X 12.5 back, Y to 7.25, Z up to
+    // 0.5; the motors stand within 0.01 mm of their commands.
+    assert!(rows
+        .iter()
+        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (45.0, 0.0, -2.0)));
+    let last = rows.last().unwrap();
+    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], [32.5, 7.25, 0.5]);
+    for j in 0..3 {
+        assert!((f(last, j) - f(last, 3 + j)).abs() <= 0.01, "{last:?}");
+        assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
+    }
+    // The watchdog never bit; the encoders count from the index, which
+    // is HOME_OFFSET (50, 20, 0) in joint positions.
+    let tail: Vec<&str> = text.lines().rev().take(4).collect();
+    assert_eq!(tail[3], "FALSE");
+    let enc = |k: usize| num::<f64>(tail[2 - k]);
+    assert!((enc(0) - (32.5 - 50.0)).abs() <= 0.01, "{tail:?}");
+    assert!((enc(1) - (7.25 - 20.0)).abs() <= 0.01, "{tail:?}");
+    assert!((enc(2) - 0.5).abs() <= 0.01, "{tail:?}");
+}
+
+#[test]
+fn hm2_stepper_machine_homes_and_reaches_its_positions() {
+    let text = run_exact("hm2-stepper");
+    let rows = machine_rows(&text);
+    let f = |r: &Vec<&str>, c: usize| num::<f64>(r[c]);
+    let state = |r: &Vec<&str>, j: usize| num::<i32>(r[6 + j]);
+    let first_busy = |j: usize| rows.iter().position(|r| state(r, j) != 0).unwrap();
+    let last_busy = |j: usize| rows.iter().rposition(|r| state(r, j) != 0).unwrap();
+    assert!(last_busy(2) < first_busy(0));
+    assert_eq!(first_busy(0), first_busy(1));
+    for (j, path) in [
+        (0, &[7, 10, 12, 21][..]),
+        (1, &[7, 14, 21]),
+        (2, &[7, 10, 12, 21]),
+    ] {
+        let mut seen: Vec<i32> = rows.iter().map(|r| state(r, j)).collect();
+        seen.dedup();
+        let mut it = seen.iter();
+        for s in path {
+            assert!(it.any(|v| v == s), "joint {j} misses state {s}: {seen:?}");
+        }
+    }
+    // The step generators follow within a tenth of a unit everywhere.
+    for r in &rows {
+        for j in 0..3 {
+            let err = (f(r, j) - f(r, 3 + j)).abs();
+            assert!(err < 0.1, "joint {j} error {err} in {r:?}");
+        }
+    }
+    assert!(rows
+        .iter()
+        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (9.0, 0.0, 8.0)));
+    let last = rows.last().unwrap();
+    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], [6.5, 2.25, 9.5]);
+    for j in 0..3 {
+        assert!((f(last, j) - f(last, 3 + j)).abs() <= 0.01, "{last:?}");
+        assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
+    }
+    assert!(text.ends_with("\nFALSE\n"), "the watchdog never bit");
+}

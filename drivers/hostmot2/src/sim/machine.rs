@@ -166,7 +166,7 @@ impl World for Machine {
 ///   on I/O 13, 14 and 15 (P3 DB-25 pins 11, 12, 13).
 /// * `6i25`: four servos, PWM generator k driving motor k ([`SERVO_MOTOR`]
 ///   on a 24 V supply) with encoder k on its shaft (4000 counts, index
-///   once per revolution); home switches closing at +2 revolutions for
+///   once per revolution); home switches closing at +2.25 revolutions for
 ///   servos 0, 1 and 2 on I/O 12, 13 and 14 (P3 DB-25 pins 7, 8, 9).
 /// * `5i24`: eight servos as above on PWM/encoder 0..7 and eight stepper
 ///   axes on step generators 0..7, no switches.
@@ -200,7 +200,7 @@ pub fn preset(board: &str) -> Machine {
                 .map(|k| InputSwitch {
                     io: 12 + k,
                     on: Mount::Servo(k),
-                    switch: Switch::at_or_above(2.0),
+                    switch: Switch::at_or_above(2.25),
                 })
                 .collect(),
             ..Machine::default()
