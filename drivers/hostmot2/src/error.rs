@@ -203,6 +203,21 @@ pub enum Hm2Error {
         /// Its MultipleRegisters bitmap.
         multiple_registers: u32,
     },
+    /// A module whose registers reach past the register window.
+    #[error(
+        "Module Descriptor {index} (at 0x{addr:04x}) for {name} puts its registers up to \
+         0x{end:X}, past the 64 KiB register window, not loading driver"
+    )]
+    MdOutsideWindow {
+        /// The descriptor's index.
+        index: usize,
+        /// Its address.
+        addr: u32,
+        /// The module.
+        name: String,
+        /// The end of its last register.
+        end: u64,
+    },
     /// A second descriptor for a module that may appear once.
     #[error(
         "found duplicate Module Descriptor for {name} (inconsistent firmware), not loading driver"

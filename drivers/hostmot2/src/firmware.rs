@@ -195,6 +195,7 @@ fn plan_modules(
     let mut seen = Seen::default();
     for m in mds.iter().filter(|m| m.gtag == gtag::IOPORT) {
         md::check_ioport(m)?;
+        md::check_window(m)?;
         seen.first(gtag::IOPORT)?;
         if idrom.io_ports != m.instances as u32 {
             return Err(Hm2Error::IoPortInstances {
@@ -208,6 +209,7 @@ fn plan_modules(
         match m.gtag {
             gtag::WATCHDOG => {
                 md::check_watchdog(m)?;
+                md::check_window(m)?;
                 seen.first(m.gtag)?;
                 if m.instances != 1 {
                     log.warn(format!(
@@ -221,6 +223,7 @@ fn plan_modules(
                 if let Some(w) = md::check_encoder(m)? {
                     log.warn(w);
                 }
+                md::check_window(m)?;
                 seen.first(m.gtag)?;
                 let n = config::instances("num_encoders", config.num_encoders, m.instances as u32)?;
                 plan.encoder = used(m, n);
@@ -229,18 +232,21 @@ fn plan_modules(
                 if let Some(w) = md::check_stepgen(m)? {
                     log.warn(w);
                 }
+                md::check_window(m)?;
                 seen.first(m.gtag)?;
                 let n = config::instances("num_stepgens", config.num_stepgens, m.instances as u32)?;
                 plan.stepgen = used(m, n);
             }
             gtag::PWMGEN => {
                 md::check_pwmgen(m)?;
+                md::check_window(m)?;
                 seen.first(m.gtag)?;
                 let n = config::instances("num_pwmgens", config.num_pwmgens, m.instances as u32)?;
                 plan.pwmgen = used(m, n);
             }
             gtag::LED => {
                 md::check_led(m)?;
+                md::check_window(m)?;
                 seen.first(m.gtag)?;
                 let have = llio.num_leds;
                 let n = match config.num_leds {

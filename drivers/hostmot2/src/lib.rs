@@ -5,6 +5,7 @@ pub mod board;
 pub mod config;
 pub mod error;
 pub mod firmware;
+pub mod fuzz;
 pub mod hal;
 pub mod idrom;
 pub mod image;

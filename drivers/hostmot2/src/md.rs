@@ -91,16 +91,18 @@ impl ModuleDescriptor {
         })
     }
 
-    /// Address of module-wide register `reg`.
+    /// Address of module-wide register `reg` (wrapping: [`check_window`]
+    /// has made sure the registers in use fit the window).
     #[inline]
     pub fn reg(&self, reg: usize) -> u32 {
-        self.base_address as u32 + reg as u32 * self.register_stride
+        (self.base_address as u32).wrapping_add((reg as u32).wrapping_mul(self.register_stride))
     }
 
     /// Address of register `reg` of instance `inst`.
     #[inline]
     pub fn inst_reg(&self, reg: usize, inst: usize) -> u32 {
-        self.reg(reg) + inst as u32 * self.instance_stride
+        self.reg(reg)
+            .wrapping_add((inst as u32).wrapping_mul(self.instance_stride))
     }
 
     /// LinuxCNC's name of the module.
@@ -173,6 +175,27 @@ pub fn read_all(t: &mut dyn Transport, idrom: &IdromHeader) -> Result<Vec<Module
         mds.push(ModuleDescriptor::decode(index, addr32, w, idrom)?);
     }
     Ok(mds)
+}
+
+/// Checks that every register of a module the driver uses lies in the
+/// 64 KiB window. LinuxCNC does not check this (a wild RegisterStride
+/// would make it access memory past the BAR); here it is a load error.
+pub fn check_window(md: &ModuleDescriptor) -> Result<()> {
+    let last_reg = md.num_registers.saturating_sub(1) as u64;
+    let last_inst = md.instances.saturating_sub(1) as u64;
+    let end = md.base_address as u64
+        + last_reg * md.register_stride as u64
+        + last_inst * md.instance_stride as u64
+        + 4;
+    if end > regs::WINDOW_BYTES as u64 {
+        return Err(Hm2Error::MdOutsideWindow {
+            index: md.index,
+            addr: md.addr,
+            name: md.name(),
+            end,
+        });
+    }
+    Ok(())
 }
 
 /// Checks an IOPort descriptor: (v0, 5 registers, stride 4, 0x1F).
