@@ -7,6 +7,7 @@ pub mod boards;
 pub mod encoder;
 pub mod ioport;
 pub mod machine;
+pub mod mirror;
 pub mod model;
 pub mod pwm;
 pub mod stepgen;
