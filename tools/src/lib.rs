@@ -1,6 +1,7 @@
 //! The HAL tools: the host process, its socket protocol, and halcmd's
 //! language (used by the `halcmd` and `halrun` binaries).
 
+pub mod board_tool;
 pub mod cli;
 pub mod fifo;
 pub mod halcmd;

@@ -15,6 +15,7 @@ pub mod md;
 pub mod modules;
 pub mod pci;
 pub mod pins;
+pub mod readhmid;
 pub mod regs;
 pub mod sim;
 pub mod test_patterns;

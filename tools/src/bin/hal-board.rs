@@ -1,0 +1,141 @@
+//! hal-board: bring up a PCI board. Lists the boards the suite's drivers
+//! know (and the simulated ones), prints a HostMot2 board's IDROM, module
+//! list and pin-out as `mesaflash --readhmid` does, reads and writes
+//! single registers, and watches a module's registers live.
+
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::time::Duration;
+
+use clap::{Parser, Subcommand};
+use hal_core::userspace::ExitSignals;
+use hal_driver::pci::Sysfs;
+use hal_tools::board_tool::{self, Board};
+
+const EXAMPLES: &str = "\
+Examples:
+  hal-board list
+  hal-board idrom 0000:02:00.0              # like mesaflash --readhmid
+  hal-board idrom sim:5i25                  # the simulated 5i25
+  hal-board read 0000:02:00.0 0x100         # the cookie: 55AACAFE
+  hal-board write 0000:02:00.0 0x200 0xC0000000   # both LEDs on
+  hal-board watch 0000:02:00.0 stepgen      # refreshes until Ctrl-C
+  hal-board watch sim:6i25 encoder -n 3 -i 100
+
+BOARD is a PCI bus address from `hal-board list`, or sim:5i25, sim:6i25,
+sim:5i24 for a simulated board (fresh for each command). Reading PCI
+boards needs access to their sysfs resource files: see udev/README.md.";
+
+/// Bring up a PCI board: list, identify, read and write registers.
+#[derive(Parser)]
+#[command(name = "hal-board", version, after_help = EXAMPLES)]
+struct Cli {
+    /// Where the PCI devices are (a test's fake sysfs tree).
+    #[arg(long, default_value = "/sys/bus/pci/devices", global = true)]
+    sysfs: PathBuf,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the boards on the PCI bus that a driver knows, and the simulated ones.
+    List,
+    /// Print the IDROM, the modules and the pin-out (mesaflash --readhmid).
+    #[command(alias = "readhmid")]
+    Idrom {
+        /// The board.
+        board: String,
+    },
+    /// Read one register; prints its value in hex.
+    Read {
+        /// The board.
+        board: String,
+        /// Register address (decimal or 0x hex).
+        addr: String,
+    },
+    /// Write one register.
+    Write {
+        /// The board.
+        board: String,
+        /// Register address (decimal or 0x hex).
+        addr: String,
+        /// Value (decimal or 0x hex).
+        value: String,
+    },
+    /// Watch a module's registers (stepgen, encoder, pwmgen, ioport, watchdog, led).
+    Watch {
+        /// The board.
+        board: String,
+        /// The module.
+        module: String,
+        /// Refresh interval in milliseconds.
+        #[arg(short, long, default_value_t = 500)]
+        interval: u64,
+        /// Stop after this many snapshots.
+        #[arg(short = 'n', long)]
+        count: Option<u64>,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    if let Err(e) = run(cli) {
+        eprintln!("hal-board: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    let sysfs = Sysfs::at(&cli.sysfs);
+    match cli.command {
+        Command::List => {
+            for line in board_tool::list(&sysfs) {
+                println!("{line}");
+            }
+        }
+        Command::Idrom { board } => {
+            let b = Board::open(&board, &sysfs)?;
+            print!("{}", board_tool::idrom(&b)?);
+        }
+        Command::Read { board, addr } => {
+            let addr = board_tool::parse_address(&addr)?;
+            let b = Board::open(&board, &sysfs)?;
+            println!("{:08X}", board_tool::read(&b, addr)?);
+        }
+        Command::Write { board, addr, value } => {
+            let addr = board_tool::parse_address(&addr)?;
+            let value = board_tool::parse_value(&value)?;
+            let b = Board::open(&board, &sysfs)?;
+            board_tool::write(&b, addr, value)?;
+        }
+        Command::Watch {
+            board,
+            module,
+            interval,
+            count,
+        } => {
+            let b = Board::open(&board, &sysfs)?;
+            let m = board_tool::find_module(&b, &module)?;
+            let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+            let tty = std::io::stdout().is_terminal();
+            let mut shown = 0;
+            while count.is_none_or(|n| shown < n) && !exit.requested() {
+                if shown > 0 {
+                    std::thread::sleep(Duration::from_millis(interval));
+                    b.advance(interval * 1_000_000);
+                }
+                let frame = board_tool::module_frame(&b, &m);
+                if tty {
+                    // Redraw in place: home the cursor, clear the screen.
+                    print!("\x1b[H\x1b[2J{frame}");
+                    let _ = std::io::stdout().flush();
+                } else {
+                    println!("{frame}");
+                }
+                shown += 1;
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,181 @@
+//! hal-board on a fake sysfs PCI tree (a 5i25 whose BAR file holds the
+//! simulated firmware's image) and on the simulated boards: list,
+//! idrom, read, write, watch, and its refusals.
+
+use std::process::{Command, Output};
+
+use hal_driver::pci::fake::{FakeBar, FakeSysfs};
+use hal_driver::pci::PciIds;
+use hostmot2::sim::boards;
+
+fn board_tool(sysfs: &FakeSysfs, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hal-board"))
+        .arg("--sysfs")
+        .arg(sysfs.dir())
+        .args(args)
+        .output()
+        .expect("hal-board runs")
+}
+
+fn stdout(o: &Output) -> String {
+    assert!(
+        o.status.success(),
+        "hal-board failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    assert!(!o.status.success(), "hal-board should have failed");
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fake tree with a 5i25 at 0000:02:00.0 holding the simulated
+/// firmware's registers, and an empty 5i24 at 0000:03:00.0.
+fn tree(tag: &str) -> FakeSysfs {
+    let fake = FakeSysfs::new(tag).unwrap();
+    let add = |address, id: u16| {
+        let ids = PciIds {
+            vendor: 0x2718,
+            device: id,
+            subvendor: 0x2718,
+            subdevice: id,
+        };
+        let bar = FakeBar::Mem {
+            start: 0xfe00_0000,
+            len: 0x1_0000,
+        };
+        fake.add_device(address, ids, &[bar]).unwrap()
+    };
+    let dir = add("0000:02:00.0", 0x5125);
+    let image = boards::preset("5i25").unwrap().image();
+    let bytes: Vec<u8> = image.iter().flat_map(|w| w.to_le_bytes()).collect();
+    std::fs::write(dir.join("resource0"), bytes).unwrap();
+    add("0000:03:00.0", 0x5124);
+    fake
+}
+
+#[test]
+fn lists_pci_and_simulated_boards() {
+    let fake = tree("hal-board-list");
+    let out = stdout(&board_tool(&fake, &["list"]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[0],
+        "0000:02:00.0  2718:5125 (subsystem 2718:5125)  5i25  hm2_pci: \
+         MESA5I25 (HostMot2, IDROM type 3, 2 × 17 I/O)"
+    );
+    assert!(
+        lines[1].starts_with("0000:03:00.0  2718:5124 (subsystem 2718:5124)  5i24  hm2_pci: (not readable: invalid cookie, got 0x00000000"),
+        "{}",
+        lines[1]
+    );
+    assert_eq!(lines[2], "simulated boards (hm2_pci sim=NAME):");
+    assert!(out.contains("sim:6i25  MESA6I25 (HostMot2, IDROM type 3, 2 × 17 I/O)\n"));
+    let empty = FakeSysfs::new("hal-board-empty").unwrap();
+    let out = stdout(&board_tool(&empty, &["list"]));
+    assert!(out.starts_with("no board any driver knows under "), "{out}");
+}
+
+#[test]
+fn idrom_is_printed_as_mesaflash_does() {
+    let fake = tree("hal-board-idrom");
+    let out = stdout(&board_tool(&fake, &["idrom", "0000:02:00.0"]));
+    assert!(out.starts_with("Configuration Name: HOSTMOT2\n\nGeneral configuration information:\n\n  BoardName : MESA5I25\n"));
+    assert!(out.contains("\n  Module: StepGen\n  There are 10 of StepGen in configuration\n"));
+    assert!(out.contains("\nIO Connections for P3\nDB25 pin#"));
+    assert!(out.contains(
+        "\n 1                      0   IOPort       StepGen          0        Step/Table1     (Out)\n"
+    ));
+    // The alias and a simulated board give the same listing.
+    let sim = stdout(&board_tool(&fake, &["readhmid", "sim:5i25"]));
+    assert_eq!(sim, out);
+    let e = stderr(&board_tool(&fake, &["idrom", "0000:03:00.0"]));
+    assert!(e.contains("invalid cookie, got 0x00000000"), "{e}");
+}
+
+#[test]
+fn single_registers_read_and_write() {
+    let fake = tree("hal-board-rw");
+    assert_eq!(
+        stdout(&board_tool(&fake, &["read", "0000:02:00.0", "0x100"])),
+        "55AACAFE\n"
+    );
+    assert_eq!(
+        stdout(&board_tool(&fake, &["read", "pci:0000:02:00.0", "256"])),
+        "55AACAFE\n"
+    );
+    stdout(&board_tool(
+        &fake,
+        &["write", "0000:02:00.0", "0x200", "0xC0000000"],
+    ));
+    assert_eq!(
+        stdout(&board_tool(&fake, &["read", "0000:02:00.0", "0x200"])),
+        "C0000000\n"
+    );
+    let enable = std::fs::read_to_string(fake.dir().join("0000:02:00.0/enable")).unwrap();
+    assert_eq!(enable.trim(), "0", "enabled only while the tool runs");
+    for (args, want) in [
+        (
+            &["read", "0000:02:00.0", "0x102"][..],
+            "registers are 4-aligned",
+        ),
+        (
+            &["read", "0000:02:00.0", "0x10000"][..],
+            "address '0x10000'",
+        ),
+        (&["read", "0000:02:00.0", "cafe"][..], "address 'cafe'"),
+        (
+            &["write", "0000:02:00.0", "0x200", "0x100000000"][..],
+            "value '0x100000000'",
+        ),
+        (
+            &["read", "0000:09:00.0", "0x100"][..],
+            "no HostMot2 board at '0000:09:00.0'",
+        ),
+        (
+            &["read", "sim:7i99", "0x100"][..],
+            "'7i99' is not a simulated board",
+        ),
+    ] {
+        let e = stderr(&board_tool(&fake, args));
+        assert!(
+            e.starts_with("hal-board: ") && e.contains(want),
+            "{args:?}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_modules_registers_are_watched() {
+    let fake = tree("hal-board-watch");
+    let out = stdout(&board_tool(
+        &fake,
+        &["watch", "0000:02:00.0", "stepgen", "-n", "2", "-i", "1"],
+    ));
+    let frames: Vec<&str> = out.split("\n\n").filter(|f| !f.trim().is_empty()).collect();
+    assert_eq!(frames.len(), 2, "{out}");
+    let lines: Vec<&str> = frames[0].lines().collect();
+    assert_eq!(
+        lines[0],
+        "5i25 at 0000:02:00.0 StepGen at 0x2000: 10 instance(s), version 2"
+    );
+    assert!(lines[1].starts_with("register         addr         0        1"));
+    assert_eq!(lines.len(), 2 + 10, "ten registers");
+    assert!(lines[2].starts_with("Rate             2000  00000000"));
+    assert!(lines[11].starts_with("MasterDDS        2900  00000000"));
+    // A simulated board's time moves between snapshots.
+    let out = stdout(&board_tool(
+        &fake,
+        &["watch", "sim:6i25", "qcount", "-n", "2", "-i", "5"],
+    ));
+    let ts: Vec<&str> = out.lines().filter(|l| l.starts_with("TSCount")).collect();
+    assert_eq!(ts.len(), 2);
+    assert_ne!(ts[0], ts[1]);
+    let e = stderr(&board_tool(
+        &fake,
+        &["watch", "sim:6i25", "stepgen", "-n", "1"],
+    ));
+    assert!(e.contains("the firmware has no module 'stepgen'"), "{e}");
+}
