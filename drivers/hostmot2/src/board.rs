@@ -343,7 +343,7 @@ impl Board {
             w.prepare_write(buf);
         }
         self.ioport.prepare_write(buf);
-        if let Some(p) = &self.pwmgen {
+        if let Some(p) = &mut self.pwmgen {
             p.prepare_write(buf);
         }
         if let Some(s) = &mut self.stepgen {

@@ -97,6 +97,9 @@ pub struct Pwmgens {
     pdm_frequency: Param<u32, Rw>,
     written: Option<Setup>,
     written_modes: Vec<Option<u32>>,
+    /// The PWM resolution for a frequency: (Hz, bits), recomputed when
+    /// the frequency changes.
+    bits: (u32, u32),
 }
 
 impl Pwmgens {
@@ -134,6 +137,7 @@ impl Pwmgens {
             pdm_frequency,
             written: None,
             written_modes: vec![None; n],
+            bits: (0, pwm_dds(0, m.md.clock_hz).0),
         })
     }
 
@@ -235,8 +239,12 @@ impl Pwmgens {
     /// Computes every value word into the TRAM words, at the resolution
     /// the present `pwm_frequency` gives (so a new frequency and the
     /// values for it take effect in the same cycle).
-    pub fn prepare_write(&self, buf: &mut [u32]) {
-        let (bits, _, _) = pwm_dds(self.pwm_frequency.get(), self.md.clock_hz);
+    pub fn prepare_write(&mut self, buf: &mut [u32]) {
+        let hz = self.pwm_frequency.get();
+        if self.bits.0 != hz {
+            self.bits = (hz, pwm_dds(hz, self.md.clock_hz).0);
+        }
+        let bits = self.bits.1;
         let words = self.value_write.of_mut(buf);
         for (c, w) in self.chans.iter().zip(words.iter_mut()) {
             let d = c.pwm.duty().unwrap_or(0.0);

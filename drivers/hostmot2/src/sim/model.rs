@@ -66,6 +66,11 @@ pub struct Hm2Model {
     emitted: Vec<i64>,
     rem_ns: u128,
     time_ns: u64,
+    /// Pin levels per port, as the Data registers read them.
+    levels: Vec<u32>,
+    /// Whether `levels` must be recomputed (a register was written or
+    /// time passed).
+    stale: bool,
 }
 
 impl std::fmt::Debug for Hm2Model {
@@ -172,6 +177,8 @@ impl Hm2Model {
             emitted: vec![0; n_sg],
             rem_ns: 0,
             time_ns: 0,
+            levels: vec![0; instances(&spec, gtag::IOPORT)],
+            stale: true,
             spec,
         }
     }
@@ -251,7 +258,13 @@ impl Hm2Model {
             Target::Nothing => 0,
             Target::Static => self.image[offset / 4],
             Target::IoPort(reg, port) => {
-                let levels = self.port_levels(port as usize);
+                if self.stale {
+                    for p in 0..self.levels.len() {
+                        self.levels[p] = self.port_levels(p);
+                    }
+                    self.stale = false;
+                }
+                let levels = self.levels.get(port as usize).copied().unwrap_or(0);
                 self.ioport.read(reg as usize, port as usize, levels)
             }
             Target::Watchdog(reg) => self.watchdog.as_ref().map_or(0, |w| w.read(reg as usize)),
@@ -267,6 +280,7 @@ impl Hm2Model {
         let Some(&t) = self.map.get(offset / 4) else {
             return;
         };
+        self.stale = true;
         match t {
             Target::Nothing | Target::Static => {}
             Target::IoPort(reg, port) => self.ioport.write(reg as usize, port as usize, v),
@@ -347,10 +361,12 @@ impl Hm2Model {
             self.stepgens.sense(i, index, probe);
         }
         self.time_ns += dt_ns;
+        self.stale = true;
     }
 
     /// The world at the connectors, if it is a `W`.
     pub fn world<W: World>(&mut self) -> Option<&mut W> {
+        self.stale = true;
         self.world.as_any().downcast_mut::<W>()
     }
 

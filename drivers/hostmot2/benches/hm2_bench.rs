@@ -1,0 +1,197 @@
+//! Prints ns per hostmot2 `read` and `write` for a 5i24 with 8 encoders,
+//! 8 step generators, 8 PWM generators and 72 I/O, and the register
+//! accesses of one cycle.
+//!
+//! `cargo bench -p hostmot2` runs the board's cycle functions directly
+//! (no thread), all modules enabled and moving, twice:
+//!
+//! * on the simulated transport (the firmware model behind hal-driver's
+//!   SimBoard, as `hm2_pci sim=5i24` runs), whose time includes the
+//!   model's work;
+//! * on a plain memory window that only stores words (what the driver
+//!   alone costs; a real BAR adds the bus's latency per access).
+
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Instant;
+
+use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
+use hal_driver::sim::{AccessLog, BoardModel, MemModel, SimBoard};
+use hostmot2::board::Board;
+use hostmot2::config;
+use hostmot2::firmware::{self, Debug};
+use hostmot2::log::{BoardLog, MessageLog};
+use hostmot2::sim::{boards, machine, Hm2Model};
+use hostmot2::transport::Transport;
+use hostmot2::window::WindowTransport;
+
+const PERIOD: i64 = 1_000_000;
+const CYCLES: u32 = 20_000;
+
+/// A window that stores what is written: registers without a board.
+struct Memory(Vec<u32>);
+impl BoardModel for Memory {}
+impl MemModel for Memory {
+    fn len(&self) -> usize {
+        self.0.len() * 4
+    }
+    fn read32(&mut self, offset: usize) -> u32 {
+        self.0[offset / 4]
+    }
+    fn write32(&mut self, offset: usize, value: u32) {
+        self.0[offset / 4] = value;
+    }
+}
+
+fn register(host: &Host, t: Box<dyn Transport>, mut probe: impl Transport) -> Board {
+    let spec = boards::preset("5i24").unwrap();
+    let llio = spec.llio(0);
+    let config = config::parse("").unwrap();
+    let mut msgs = MessageLog::default();
+    let fw = firmware::load(&llio, &config, Debug::default(), &mut probe, &mut msgs).unwrap();
+    let log = RtLog::new(64);
+    log.set_level(MsgLevel::None);
+    let b = host.new_rt_component("hm2_pci").unwrap();
+    let board = Board::register(
+        b.component(),
+        llio,
+        fw,
+        &config,
+        t,
+        BoardLog::new(log, "hm2_5i24.0"),
+        &mut msgs,
+    )
+    .unwrap();
+    b.ready().unwrap();
+    board
+}
+
+/// Every module enabled and commanded to move.
+fn enable_all(host: &Host) {
+    let i = host.instance();
+    for k in 0..8 {
+        let p = |n: &str| format!("hm2_5i24.0.{n}");
+        i.set_pin(&p(&format!("stepgen.{k:02}.enable")), Value::Bit(true))
+            .unwrap();
+        i.set_pin(
+            &p(&format!("stepgen.{k:02}.control-type")),
+            Value::Bit(true),
+        )
+        .unwrap();
+        i.set_pin(
+            &p(&format!("stepgen.{k:02}.velocity-cmd")),
+            Value::Float(0.5),
+        )
+        .unwrap();
+        i.set_pin(&p(&format!("pwmgen.{k:02}.enable")), Value::Bit(true))
+            .unwrap();
+        i.set_pin(&p(&format!("pwmgen.{k:02}.value")), Value::Float(0.3))
+            .unwrap();
+    }
+    for io in 64..72 {
+        let p = format!("hm2_5i24.0.gpio.{io:03}.is_output");
+        i.set_param(&p, Value::Bit(io % 2 == 0)).unwrap();
+    }
+}
+
+/// Read and write times of one run, ns per call.
+struct Times {
+    read: Vec<u64>,
+    write: Vec<u64>,
+}
+
+fn pct(v: &mut [u64], p: usize) -> f64 {
+    v.sort_unstable();
+    v[(v.len() - 1) * p / 100] as f64
+}
+
+/// Runs `CYCLES` cycles (read, write, then `between`), timing read and
+/// write separately.
+fn cycles(board: &mut Board, mut between: impl FnMut()) -> Times {
+    for _ in 0..CYCLES / 10 {
+        board.read();
+        board.write(PERIOD);
+        between();
+    }
+    let mut t = Times {
+        read: Vec::with_capacity(CYCLES as usize),
+        write: Vec::with_capacity(CYCLES as usize),
+    };
+    for _ in 0..CYCLES {
+        let t0 = Instant::now();
+        board.read();
+        let t1 = Instant::now();
+        board.write(PERIOD);
+        let t2 = Instant::now();
+        between();
+        t.read.push((t1 - t0).as_nanos() as u64);
+        t.write.push((t2 - t1).as_nanos() as u64);
+    }
+    t
+}
+
+/// Prints the median and the 10th percentile (the machine is shared:
+/// the low percentile is what a call costs when nothing preempts it).
+fn report(what: &str, mut t: Times) {
+    let (r50, r10) = (pct(&mut t.read, 50), pct(&mut t.read, 10));
+    let (w50, w10) = (pct(&mut t.write, 50), pct(&mut t.write, 10));
+    println!("  {what}:                 median      p10");
+    println!("    read                        {r50:8.0} ns {r10:8.0} ns");
+    println!("    write                       {w50:8.0} ns {w10:8.0} ns");
+    println!(
+        "    read + write                {:8.0} ns {:8.0} ns",
+        r50 + w50,
+        r10 + w10
+    );
+}
+
+fn main() {
+    println!(
+        "hostmot2 on a 5i24: 8 encoders, 8 stepgens, 8 PWM generators, 72 I/O ({CYCLES} cycles)"
+    );
+
+    let host = Host::create(HostConfig::for_tests("hm2-bench-sim")).unwrap();
+    let spec = boards::preset("5i24").unwrap();
+    let sim = Arc::new(
+        SimBoard::new(Hm2Model::with_world(
+            spec,
+            Box::new(machine::preset("5i24")),
+        ))
+        .with_log(AccessLog::new(1024)),
+    );
+    let mut board = register(
+        &host,
+        Box::new(WindowTransport::new(sim.clone())),
+        WindowTransport::new(sim.clone()),
+    );
+    enable_all(&host);
+    let t = cycles(&mut board, || sim.advance(PERIOD as u64));
+    report("simulated transport (model included)", t);
+    let before = board.stats();
+    sim.clear_log();
+    board.read();
+    let reads = sim.access_count();
+    sim.clear_log();
+    board.write(PERIOD);
+    let writes = sim.access_count();
+    let after = board.stats();
+    println!(
+        "  one cycle: {reads} register reads in {} bursts, {writes} register writes in {} bursts",
+        after.read_bursts - before.read_bursts,
+        after.write_bursts - before.write_bursts
+    );
+    drop(board);
+    drop(host);
+
+    let host = Host::create(HostConfig::for_tests("hm2-bench-mem")).unwrap();
+    let image = boards::preset("5i24").unwrap().image();
+    let mem = Arc::new(SimBoard::new(Memory(image)));
+    let mut board = register(
+        &host,
+        Box::new(WindowTransport::new(mem.clone())),
+        WindowTransport::new(mem.clone()),
+    );
+    enable_all(&host);
+    let t = cycles(&mut board, || black_box(()));
+    report("plain memory window (the driver alone)", t);
+}
