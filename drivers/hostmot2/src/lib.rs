@@ -1,5 +1,92 @@
-//! `hostmot2`: Mesa HostMot2 FPGA cards (LinuxCNC's `hostmot2`, `hm2_pci`
-//! and `hm2_test` drivers), with a simulator of the firmware.
+//! `hostmot2`: Mesa Anything I/O FPGA cards running HostMot2 firmware,
+//! compatible with LinuxCNC's `hostmot2`, `hm2_pci` and `hm2_test`
+//! drivers, with a simulator of the firmware.
+//!
+//! ```text
+//! loadrt hostmot2
+//! loadrt hm2_pci config="num_encoders=3 num_pwmgens=3 num_stepgens=0"
+//! addf hm2_5i25.0.read servo-thread
+//! addf hm2_5i25.0.write servo-thread
+//! ```
+//!
+//! # Loading
+//!
+//! `loadrt hostmot2` first (params `debug_idrom`, `debug_module_descriptors`,
+//! `debug_pin_descriptors`, `debug_modules`; `use_serial_numbers` and
+//! `sserial_baudrate` are accepted for smart serial, which is not
+//! supported yet), then a board driver:
+//!
+//! * `hm2_pci config="<board 0>,<board 1>,..."`: every Mesa PCI board
+//!   LinuxCNC knows (5i20 ... 3x20, 5i24, 5i25, 6i25 and their T
+//!   variants; [`pci::BOARDS`]), found through sysfs in bus-address order,
+//!   enabled, its FPGA window's BAR mapped (the shared driver layer,
+//!   `hal_driver::pci`). Access without root: the udev rules in `udev/`.
+//! * `hm2_test test_pattern=N`: LinuxCNC's test driver, a board serving
+//!   one of the broken register images 0..14 ([`test_patterns`]); each
+//!   load fails with LinuxCNC's message.
+//!
+//! The config string is LinuxCNC's ([`config`]): `num_encoders`,
+//! `num_stepgens`, `num_pwmgens`, `num_leds`, `stepgen_width`,
+//! `enable_raw`, and the tokens of modules not supported yet
+//! (`sserial_port_N`, `ssi_chan_N`, `num_3pwmgens`, ...: accepted and
+//! checked, their modules ignored so their pins stay GPIO). `firmware=`
+//! is refused: this driver never programs an FPGA (use mesaflash).
+//!
+//! # The simulator: `hm2_pci sim=...`
+//!
+//! `loadrt hm2_pci config="..." sim=5i25` (or `sim=6i25`, `sim=5i24`, a
+//! list for several boards) registers simulated boards instead of
+//! scanning the PCI bus. The choice of a parameter of `hm2_pci` rather
+//! than a module `hm2_sim`: a LinuxCNC configuration then runs without
+//! the card by adding one word to its `loadrt hm2_pci` line, and every
+//! HAL name (`hm2_5i25.0.*`), the config string, the functions and the
+//! registration path are those of the real board: the driver cannot tell
+//! the difference, since the simulator is a `RegWindow` like a mapped BAR.
+//! The boards' firmwares are in [`sim::boards`]; the machine at their
+//! connectors (motors, encoders, steppers, switches from
+//! `hal_driver::plant`) in [`sim::machine::preset`]. Simulated time moves
+//! one thread period per `read`, so a configuration runs the same way
+//! every time whatever the host's load. Tests and tools in the host's
+//! process reach a loaded simulated board with
+//! `hal_driver::sim::find::<sim::SimHm2>(instance, "hm2_5i25.0")`.
+//!
+//! # HAL names
+//!
+//! LinuxCNC's, as its code exports them (`hm2_<board>.<n>.<module>.<NN>.<pin>`,
+//! GPIO `gpio.NNN` with `in`, `in_not`, `out`, `is_output`,
+//! `is_opendrain`, `invert_output`, module output aliases such as
+//! `stepgen.00.step.invert_output`; functions `read`, `write`,
+//! `read_gpio`, `write_gpio`; params `io_error`,
+//! `watchdog.timeout_ns`, ...). The modules' details are in
+//! [`modules`]; encoders, step generators, PWM generators and digital
+//! I/O use the canonical interfaces' arithmetic and pin sets under these
+//! names.
+//!
+//! Differences from LinuxCNC, each deliberate: a board without an IOPort
+//! module (hm2_test pattern 12) is refused after LinuxCNC's messages
+//! instead of registering with no pins; a module whose registers reach
+//! past the 64 KiB window is refused; a config number that is not a
+//! number is refused instead of read as 0; step timing registers hold the
+//! time rounded up minus one clock (the firmware adds one), so steps are
+//! never shorter than asked nor a clock longer; the safe state (after a
+//! fault, at unload, at exit) disables PWM, zeroes step rates, makes the
+//! watchdog bite and releases every pin at once.
+//!
+//! # Crate layout
+//!
+//! The bus-independent core: [`regs`] (register map), [`llio`] (what a
+//! low-level driver says about its board), [`transport`] (the
+//! low-level transport trait: read, write, queued reads and writes, so a
+//! network transport sends one packet per direction per cycle),
+//! [`idrom`], [`md`], [`pins`] and [`firmware`] (reading and checking the
+//! firmware's description), [`tram`] (the per-cycle batched transfers),
+//! [`modules`] and [`board`] (the modules and the cycle functions),
+//! [`error`] and [`log`] (LinuxCNC's words and prefixes).
+//! Transports: [`window`] (a `RegWindow`: a PCI BAR or the simulator) and
+//! [`image::ImageTransport`] (a fixed image: hm2_test). The simulator:
+//! [`image`] (firmware descriptions and register images) and [`sim`]. The
+//! HAL binding: [`hal`] and [`pci`]. Also [`readhmid`] (the
+//! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
 
 pub mod board;
 pub mod config;
