@@ -690,44 +690,71 @@ fn machine_rows(text: &str) -> Vec<Vec<&str>> {
     sampled_rows(rest, n, 9)
 }
 
-#[test]
-fn hm2_servo_machine_homes_on_index_and_reaches_its_positions() {
-    let text = run_exact("hm2-servo");
+/// What a hm2 machine test checks: per joint the homing states it must
+/// pass through in order, the largest following error, where the joints
+/// are once homed and at the end.
+struct MachineRun<'a> {
+    states: [&'a [i32]; 3],
+    max_error: f64,
+    homed_at: [f64; 3],
+    ends_at: [f64; 3],
+}
+
+/// Runs tests/<name> exactly and checks its samples: Z (sequence 0)
+/// homes alone, then X and Y together; every joint passes through its
+/// states; the following error stays below `max_error`; the joints stand
+/// at `homed_at` after homing and end within 0.01 of `ends_at`, homed.
+fn check_machine(name: &str, want: &MachineRun) -> String {
+    let text = run_exact(name);
     let rows = machine_rows(&text);
     let f = |r: &Vec<&str>, c: usize| num::<f64>(r[c]);
     let state = |r: &Vec<&str>, j: usize| num::<i32>(r[6 + j]);
-    // Z homes alone first, then X and Y together, each through the
-    // encoder's index (IndexSearchWait, 18).
     let first_busy = |j: usize| rows.iter().position(|r| state(r, j) != 0).unwrap();
     let last_busy = |j: usize| rows.iter().rposition(|r| state(r, j) != 0).unwrap();
     assert!(last_busy(2) < first_busy(0));
     assert_eq!(first_busy(0), first_busy(1));
-    for j in 0..3 {
+    for (j, path) in want.states.iter().enumerate() {
         let mut seen: Vec<i32> = rows.iter().map(|r| state(r, j)).collect();
         seen.dedup();
         let mut it = seen.iter();
-        for s in [7, 10, 12, 18, 21] {
-            assert!(it.any(|v| *v == s), "joint {j} misses state {s}: {seen:?}");
+        for s in *path {
+            assert!(it.any(|v| v == s), "joint {j} misses state {s}: {seen:?}");
         }
     }
-    // The servo loops follow within 0.1 mm everywhere.
     for r in &rows {
         for j in 0..3 {
             let err = (f(r, j) - f(r, 3 + j)).abs();
-            assert!(err < 0.1, "joint {j} error {err} in {r:?}");
+            assert!(err < want.max_error, "joint {j} error {err} in {r:?}");
         }
     }
-    // Homed at HOME (45, 0, -2), then X 12.5 back, Y to 7.25, Z up to
-    // 0.5; the motors stand within 0.01 mm of their commands.
+    let [hx, hy, hz] = want.homed_at;
     assert!(rows
         .iter()
-        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (45.0, 0.0, -2.0)));
+        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (hx, hy, hz)));
     let last = rows.last().unwrap();
-    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], [32.5, 7.25, 0.5]);
+    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], want.ends_at);
     for j in 0..3 {
         assert!((f(last, j) - f(last, 3 + j)).abs() <= 0.01, "{last:?}");
         assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
     }
+    text
+}
+
+#[test]
+fn hm2_servo_machine_homes_on_index_and_reaches_its_positions() {
+    // Each joint homes through the encoder's index (IndexSearchWait, 18);
+    // the servo loops follow within 0.1 mm; homed at HOME (45, 0, -2),
+    // then X 12.5 back, Y to 7.25, Z up to 0.5.
+    let index_homing: &[i32] = &[7, 10, 12, 18, 21];
+    let text = check_machine(
+        "hm2-servo",
+        &MachineRun {
+            states: [index_homing; 3],
+            max_error: 0.1,
+            homed_at: [45.0, 0.0, -2.0],
+            ends_at: [32.5, 7.25, 0.5],
+        },
+    );
     // The watchdog never bit; the encoders count from the index, which
     // is HOME_OFFSET (50, 20, 0) in joint positions.
     let tail: Vec<&str> = text.lines().rev().take(4).collect();
@@ -740,41 +767,16 @@ fn hm2_servo_machine_homes_on_index_and_reaches_its_positions() {
 
 #[test]
 fn hm2_stepper_machine_homes_and_reaches_its_positions() {
-    let text = run_exact("hm2-stepper");
-    let rows = machine_rows(&text);
-    let f = |r: &Vec<&str>, c: usize| num::<f64>(r[c]);
-    let state = |r: &Vec<&str>, j: usize| num::<i32>(r[6 + j]);
-    let first_busy = |j: usize| rows.iter().position(|r| state(r, j) != 0).unwrap();
-    let last_busy = |j: usize| rows.iter().rposition(|r| state(r, j) != 0).unwrap();
-    assert!(last_busy(2) < first_busy(0));
-    assert_eq!(first_busy(0), first_busy(1));
-    for (j, path) in [
-        (0, &[7, 10, 12, 21][..]),
-        (1, &[7, 14, 21]),
-        (2, &[7, 10, 12, 21]),
-    ] {
-        let mut seen: Vec<i32> = rows.iter().map(|r| state(r, j)).collect();
-        seen.dedup();
-        let mut it = seen.iter();
-        for s in path {
-            assert!(it.any(|v| v == s), "joint {j} misses state {s}: {seen:?}");
-        }
-    }
-    // The step generators follow within a tenth of a unit everywhere.
-    for r in &rows {
-        for j in 0..3 {
-            let err = (f(r, j) - f(r, 3 + j)).abs();
-            assert!(err < 0.1, "joint {j} error {err} in {r:?}");
-        }
-    }
-    assert!(rows
-        .iter()
-        .any(|r| (f(r, 0), f(r, 1), f(r, 2)) == (9.0, 0.0, 8.0)));
-    let last = rows.last().unwrap();
-    assert_eq!([f(last, 0), f(last, 1), f(last, 2)], [6.5, 2.25, 9.5]);
-    for j in 0..3 {
-        assert!((f(last, j) - f(last, 3 + j)).abs() <= 0.01, "{last:?}");
-        assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
-    }
+    // X and Z latch on the switch closing, Y on it opening; the step
+    // generators follow within a tenth of a unit.
+    let text = check_machine(
+        "hm2-stepper",
+        &MachineRun {
+            states: [&[7, 10, 12, 21], &[7, 14, 21], &[7, 10, 12, 21]],
+            max_error: 0.1,
+            homed_at: [9.0, 0.0, 8.0],
+            ends_at: [6.5, 2.25, 9.5],
+        },
+    );
     assert!(text.ends_with("\nFALSE\n"), "the watchdog never bit");
 }

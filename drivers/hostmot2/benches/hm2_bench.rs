@@ -16,10 +16,11 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
-use hal_driver::sim::{AccessLog, BoardModel, MemModel, SimBoard};
+use hal_driver::sim::{AccessLog, SimBoard};
 use hostmot2::board::Board;
 use hostmot2::config;
-use hostmot2::firmware::{self, Debug};
+use hostmot2::firmware::Debug;
+use hostmot2::image::Memory;
 use hostmot2::log::{BoardLog, MessageLog};
 use hostmot2::sim::{boards, machine, Hm2Model};
 use hostmot2::transport::Transport;
@@ -28,38 +29,19 @@ use hostmot2::window::WindowTransport;
 const PERIOD: i64 = 1_000_000;
 const CYCLES: u32 = 20_000;
 
-/// A window that stores what is written: registers without a board.
-struct Memory(Vec<u32>);
-impl BoardModel for Memory {}
-impl MemModel for Memory {
-    fn len(&self) -> usize {
-        self.0.len() * 4
-    }
-    fn read32(&mut self, offset: usize) -> u32 {
-        self.0[offset / 4]
-    }
-    fn write32(&mut self, offset: usize, value: u32) {
-        self.0[offset / 4] = value;
-    }
-}
-
-fn register(host: &Host, t: Box<dyn Transport>, mut probe: impl Transport) -> Board {
+fn register(host: &Host, t: Box<dyn Transport>) -> Board {
     let spec = boards::preset("5i24").unwrap();
-    let llio = spec.llio(0);
-    let config = config::parse("").unwrap();
-    let mut msgs = MessageLog::default();
-    let fw = firmware::load(&llio, &config, Debug::default(), &mut probe, &mut msgs).unwrap();
     let log = RtLog::new(64);
     log.set_level(MsgLevel::None);
     let b = host.new_rt_component("hm2_pci").unwrap();
-    let board = Board::register(
+    let board = Board::open(
         b.component(),
-        llio,
-        fw,
-        &config,
+        spec.llio(0),
+        &config::Config::default(),
+        Debug::default(),
         t,
         BoardLog::new(log, "hm2_5i24.0"),
-        &mut msgs,
+        &mut MessageLog::default(),
     )
     .unwrap();
     b.ready().unwrap();
@@ -159,11 +141,7 @@ fn main() {
         ))
         .with_log(AccessLog::new(1024)),
     );
-    let mut board = register(
-        &host,
-        Box::new(WindowTransport::new(sim.clone())),
-        WindowTransport::new(sim.clone()),
-    );
+    let mut board = register(&host, Box::new(WindowTransport::new(sim.clone())));
     enable_all(&host);
     let t = cycles(&mut board, || sim.advance(PERIOD as u64));
     report("simulated transport (model included)", t);
@@ -186,11 +164,7 @@ fn main() {
     let host = Host::create(HostConfig::for_tests("hm2-bench-mem")).unwrap();
     let image = boards::preset("5i24").unwrap().image();
     let mem = Arc::new(SimBoard::new(Memory(image)));
-    let mut board = register(
-        &host,
-        Box::new(WindowTransport::new(mem.clone())),
-        WindowTransport::new(mem.clone()),
-    );
+    let mut board = register(&host, Box::new(WindowTransport::new(mem)));
     enable_all(&host);
     let t = cycles(&mut board, || black_box(()));
     report("plain memory window (the driver alone)", t);

@@ -168,6 +168,23 @@ impl Board {
         Ok(board)
     }
 
+    /// Reads the firmware's description over `transport` and registers
+    /// the board (`firmware::load`, then [`register`](Self::register)):
+    /// what LinuxCNC's `hm2_register` does once the llio is known. The
+    /// messages of both steps go to `log`, also when it fails.
+    pub fn open(
+        comp: &Component,
+        llio: Llio,
+        config: &Config,
+        debug: crate::firmware::Debug,
+        mut transport: Box<dyn Transport>,
+        say: Notify,
+        log: &mut MessageLog,
+    ) -> Result<Board> {
+        let fw = crate::firmware::load(&llio, config, debug, transport.as_mut(), log)?;
+        Board::register(comp, llio, fw, config, transport, say, log)
+    }
+
     /// Force-write, first TRAM read, first TRAM write (zeros).
     fn initialize(&mut self) -> Result<(), TransportError> {
         self.force_write()?;

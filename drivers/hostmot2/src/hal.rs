@@ -24,7 +24,7 @@ use hal_driver::{sim as layer_sim, ForModule};
 
 use crate::board::Board;
 use crate::config;
-use crate::firmware::{self, Debug};
+use crate::firmware::Debug;
 use crate::image::{FirmwareSpec, ImageTransport};
 use crate::llio::Llio;
 use crate::log::{BoardLog, MessageLog};
@@ -243,7 +243,7 @@ pub fn register_boards(
             }
         };
         let config = config::parse(config_for(configs, i)).map_err(|e| fail(&e, &blog))?;
-        let (mut transport, sim, keep): (Box<dyn Transport>, _, _) = match cand.source {
+        let (transport, sim, keep): (Box<dyn Transport>, _, _) = match cand.source {
             Source::Pci(opened) => {
                 let o = *opened;
                 (
@@ -260,20 +260,16 @@ pub fn register_boards(
             Source::Image(img) => (Box::new(ImageTransport::new(img, &name)), None, None),
         };
         let mut msgs = MessageLog::default();
-        let fw = firmware::load(&cand.llio, &config, debug, transport.as_mut(), &mut msgs);
-        print_debug(&msgs, &blog);
-        let fw = fw.map_err(|e| fail(&e, &blog))?;
-        let mut regs = MessageLog::default();
-        let board = Board::register(
+        let board = Board::open(
             b.component(),
             cand.llio,
-            fw,
             &config,
+            debug,
             transport,
             blog.clone(),
-            &mut regs,
+            &mut msgs,
         );
-        blog.replay(&regs);
+        print_messages(&msgs, &blog);
         let board = Arc::new(SharedBoard::new(board.map_err(|e| fail(&e, &blog))?, keep));
         export_functions(&mut b, &name, &board, sim.clone())?;
         log.info(format_args!(
@@ -297,7 +293,7 @@ pub fn register_boards(
 /// Prints registration messages: the debug dumps unconditionally (they
 /// exist only when asked for, and LinuxCNC prints them so), the rest
 /// through the log's level.
-fn print_debug(msgs: &MessageLog, blog: &BoardLog) {
+fn print_messages(msgs: &MessageLog, blog: &BoardLog) {
     for m in msgs.messages() {
         if m.level == MsgLevel::Dbg {
             eprintln!("{}{}", blog.prefix(), m.text);

@@ -27,6 +27,22 @@ fn read(t: &mut dyn Transport, addr: u32, buf: &mut [u32], what: &str) -> Result
     })
 }
 
+/// The cookie and name checked, the IDROM header as it is (unchecked).
+fn header(t: &mut dyn Transport) -> Result<IdromHeader> {
+    idrom::check_identity(t)?;
+    let mut w = [0u32; 1];
+    read(
+        t,
+        regs::IDROM_OFFSET_ADDR as u32,
+        &mut w,
+        "the IDROM offset",
+    )?;
+    let addr = w[0] & 0xFFFF;
+    let mut words = [0u32; regs::idrom::WORDS];
+    read(t, addr, &mut words, "the IDROM")?;
+    Ok(IdromHeader::from_words(addr, &words))
+}
+
 /// One module descriptor's raw fields.
 struct RawMd {
     tag: u8,
@@ -82,18 +98,8 @@ fn pin_column(port_width: u32, bit: u32, io: u32) -> u32 {
 /// Reads the board behind `t` and renders it as `--readhmid` does;
 /// `connectors` are the board's connector names (`??` where unknown).
 pub fn read_hmid(t: &mut dyn Transport, connectors: &[String]) -> Result<String> {
-    idrom::check_identity(t)?;
+    let h = header(t)?;
     let mut w = [0u32; 1];
-    read(
-        t,
-        regs::IDROM_OFFSET_ADDR as u32,
-        &mut w,
-        "the IDROM offset",
-    )?;
-    let addr = w[0] & 0xFFFF;
-    let mut words = [0u32; regs::idrom::WORDS];
-    read(t, addr, &mut words, "the IDROM")?;
-    let h = IdromHeader::from_words(addr, &words);
     let mds = read_mds(t, &h)?;
     let npins = h.io_width.min(MAX_PDS);
     let mut pds = Vec::with_capacity(npins as usize);
@@ -111,18 +117,7 @@ pub fn read_hmid(t: &mut dyn Transport, connectors: &[String]) -> Result<String>
 /// A one-line identification: `MESA5I25 (HostMot2, IDROM type 3, 2 × 17
 /// I/O)`, or why the board is not a HostMot2 one.
 pub fn identify(t: &mut dyn Transport) -> Result<String> {
-    idrom::check_identity(t)?;
-    let mut w = [0u32; 1];
-    read(
-        t,
-        regs::IDROM_OFFSET_ADDR as u32,
-        &mut w,
-        "the IDROM offset",
-    )?;
-    let addr = w[0] & 0xFFFF;
-    let mut words = [0u32; regs::idrom::WORDS];
-    read(t, addr, &mut words, "the IDROM")?;
-    let h = IdromHeader::from_words(addr, &words);
+    let h = header(t)?;
     Ok(format!(
         "{} (HostMot2, IDROM type {}, {} × {} I/O)",
         h.board_name(),

@@ -154,6 +154,34 @@ impl ReadQueue {
         self.items.clear();
         self.words = 0;
     }
+
+    /// Fills `out` with every queued read in order, each done by `read`
+    /// (address, destination), counts them in `stats` and empties the
+    /// queue; `out` must hold exactly the words queued.
+    pub fn receive(
+        &mut self,
+        out: &mut [u32],
+        stats: &mut TransferStats,
+        mut read: impl FnMut(u32, &mut [u32]),
+    ) -> Result<(), TransportError> {
+        let queued = self.words;
+        if out.len() != queued {
+            self.clear();
+            return Err(TransportError::QueueMismatch {
+                queued,
+                got: out.len(),
+            });
+        }
+        let mut at = 0;
+        for &(addr, n) in &self.items {
+            read(addr, &mut out[at..at + n]);
+            at += n;
+        }
+        stats.words_read += at as u64;
+        stats.read_bursts += self.items.len() as u64;
+        self.clear();
+        Ok(())
+    }
 }
 
 /// A fixed-capacity list of queued writes with their data.

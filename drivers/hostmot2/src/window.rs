@@ -80,22 +80,10 @@ impl<W: RegWindow> Transport for WindowTransport<W> {
     }
 
     fn receive_queued_reads(&mut self, out: &mut [u32]) -> Result<(), TransportError> {
-        if out.len() != self.reads.words() {
-            let e = TransportError::QueueMismatch {
-                queued: self.reads.words(),
-                got: out.len(),
-            };
-            self.reads.clear();
-            return Err(e);
-        }
-        let mut at = 0;
-        for &(addr, n) in self.reads.items() {
-            self.win.read_burst(addr as usize, &mut out[at..at + n]);
-            at += n;
-        }
-        self.stats.words_read += at as u64;
-        self.stats.read_bursts += self.reads.items().len() as u64;
-        self.reads.clear();
+        let win = &self.win;
+        self.reads.receive(out, &mut self.stats, |addr, dst| {
+            win.read_burst(addr as usize, dst)
+        })?;
         self.check()
     }
 

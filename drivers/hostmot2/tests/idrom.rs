@@ -19,6 +19,18 @@ fn load(spec: &FirmwareSpec, cfg: &str) -> (Result<firmware::Firmware, String>, 
     (r, log)
 }
 
+/// Loads `img` as a board described by `llio`, without config.
+fn load_image(
+    llio: &hostmot2::llio::Llio,
+    img: Vec<u32>,
+) -> (Result<firmware::Firmware, String>, MessageLog) {
+    let mut t = ImageTransport::new(img, "test");
+    let mut log = MessageLog::default();
+    let r = firmware::load(llio, &Config::default(), Debug::default(), &mut t, &mut log)
+        .map_err(|e| e.to_string());
+    (r, log)
+}
+
 #[test]
 fn every_simulated_board_loads() {
     for name in boards::PRESETS {
@@ -97,17 +109,8 @@ fn stepgen_width_masks_table_pins() {
 fn hm2_test_patterns_fail_with_linuxcncs_words() {
     for n in test_patterns::PATTERNS {
         let (llio, img) = test_patterns::pattern(n).unwrap();
-        let mut t = ImageTransport::new(img, "hm2_test");
-        let mut log = MessageLog::default();
-        let err = firmware::load(
-            &llio,
-            &Config::default(),
-            Debug::default(),
-            &mut t,
-            &mut log,
-        )
-        .expect_err("every pattern fails")
-        .to_string();
+        let (err, log) = load_image(&llio, img);
+        let err = err.expect_err("every pattern fails");
         let want = test_patterns::expected_message(n).unwrap();
         let logged = log.lines("", Level::Err);
         assert!(
@@ -117,16 +120,8 @@ fn hm2_test_patterns_fail_with_linuxcncs_words() {
     }
     assert!(test_patterns::pattern(15).is_none());
     let (llio, img) = test_patterns::pattern(0).unwrap();
-    let mut t = ImageTransport::new(img, "hm2_test");
-    let e = firmware::load(
-        &llio,
-        &Config::default(),
-        Debug::default(),
-        &mut t,
-        &mut MessageLog::default(),
-    )
-    .unwrap_err()
-    .to_string();
+    let (e, _log) = load_image(&llio, img);
+    let e = e.unwrap_err();
     assert_eq!(
         e.lines().nth(1),
         Some("FPGA failed to initialize, or unexpected firmware?")
@@ -136,16 +131,8 @@ fn hm2_test_patterns_fail_with_linuxcncs_words() {
 #[test]
 fn pattern_12_reports_every_pin() {
     let (llio, img) = test_patterns::pattern(12).unwrap();
-    let mut t = ImageTransport::new(img, "hm2_test");
-    let mut log = MessageLog::default();
-    let e = firmware::load(
-        &llio,
-        &Config::default(),
-        Debug::default(),
-        &mut t,
-        &mut log,
-    )
-    .unwrap_err();
+    let (e, log) = load_image(&llio, img);
+    let e = e.unwrap_err();
     let lines = log.lines("", Level::Err);
     assert_eq!(lines.len(), 48);
     assert_eq!(lines[46], "hm2_set_pin_source: invalid pin number 23");
@@ -222,29 +209,15 @@ fn descriptor_stride_and_clock_checks() {
     ] {
         let mut img = spec.image();
         img[md1 + word] = value;
-        let mut t = ImageTransport::new(img, "t");
-        let e = firmware::load(
-            &spec.llio(0),
-            &Config::default(),
-            Debug::default(),
-            &mut t,
-            &mut MessageLog::default(),
-        )
-        .unwrap_err();
+        let (e, _log) = load_image(&spec.llio(0), img);
+        let e = e.unwrap_err();
         assert_eq!(e.to_string(), want);
     }
     // A pin whose primary tag is not IOPort.
     let mut img = spec.image();
     img[(hostmot2::image::IDROM_ADDR + hostmot2::image::PD_OFFSET) as usize / 4 + 3] = 0x0400_0000;
-    let mut t = ImageTransport::new(img, "t");
-    let e = firmware::load(
-        &spec.llio(0),
-        &Config::default(),
-        Debug::default(),
-        &mut t,
-        &mut MessageLog::default(),
-    )
-    .unwrap_err();
+    let (e, _log) = load_image(&spec.llio(0), img);
+    let e = e.unwrap_err();
     assert_eq!(
         e.to_string(),
         "pin 3 primary tag is 4 (Encoder), not IOPort!"

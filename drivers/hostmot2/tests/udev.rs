@@ -71,7 +71,11 @@ fn every_hm2_pci_board_is_given_to_the_hal_group() {
                 && l.contains("/sys%p/enable")
                 && l.contains("chmod 0660")
         });
-        assert!(covered, "no udev rule gives the hal group {} ({})", ids, b.board);
+        assert!(
+            covered,
+            "no udev rule gives the hal group {} ({})",
+            ids, b.board
+        );
     }
     assert!(glob("0x3[34][0-9a-f][0-9a-f]", "0x3472"));
     assert!(!glob("0x3[34][0-9a-f][0-9a-f]", "0x3133"));

@@ -12,6 +12,7 @@
 //! whose ClockLow is 66.67 MHz.
 
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
+use crate::pins::PinDescriptor;
 use crate::regs::gtag;
 
 /// The board names [`preset`] knows.
@@ -27,10 +28,37 @@ pub fn preset(name: &str) -> Option<FirmwareSpec> {
     }
 }
 
-fn name8(s: &str) -> [u8; 8] {
-    let mut b = [b' '; 8];
-    b[..s.len().min(8)].copy_from_slice(&s.as_bytes()[..s.len().min(8)]);
-    b
+/// What distinguishes one board from another.
+struct Identity {
+    board: &'static str,
+    idrom_name: &'static str,
+    fpga_part: &'static str,
+    fpga_size: u32,
+    fpga_pins: u32,
+    connectors: &'static [&'static str],
+    port_width: u32,
+    clock_low: u32,
+}
+
+/// A board's firmware: its identity, 2 LEDs, ClockHigh 200 MHz.
+fn firmware(id: Identity, modules: Vec<ModuleSpec>, pins: Vec<PinDescriptor>) -> FirmwareSpec {
+    let mut board_name = [b' '; 8];
+    let n = id.idrom_name.len().min(8);
+    board_name[..n].copy_from_slice(&id.idrom_name.as_bytes()[..n]);
+    FirmwareSpec {
+        board: id.board.into(),
+        board_name,
+        fpga_part: id.fpga_part.into(),
+        fpga_size: id.fpga_size,
+        fpga_pins: id.fpga_pins,
+        connectors: id.connectors.iter().map(|c| c.to_string()).collect(),
+        port_width: id.port_width,
+        leds: 2,
+        clock_low: id.clock_low,
+        clock_high: 200_000_000,
+        modules,
+        pins,
+    }
 }
 
 /// 5i25 with a 7i76-style firmware.
@@ -46,18 +74,18 @@ fn five_i25() -> FirmwareSpec {
         }
         pins.extend(std::iter::repeat_n(gpio(), 4));
     }
-    FirmwareSpec {
-        board: "5i25".into(),
-        board_name: name8("MESA5I25"),
-        fpga_part: "6slx9tqg144".into(),
-        fpga_size: 9,
-        fpga_pins: 144,
-        connectors: vec!["P3".into(), "P2".into()],
-        port_width: 17,
-        leds: 2,
-        clock_low: 100_000_000,
-        clock_high: 200_000_000,
-        modules: vec![
+    firmware(
+        Identity {
+            board: "5i25",
+            idrom_name: "MESA5I25",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P3", "P2"],
+            port_width: 17,
+            clock_low: 100_000_000,
+        },
+        vec![
             ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
             ModuleSpec::standard(gtag::IOPORT, 0, 2),
             ModuleSpec::standard(gtag::ENCODER, 2, 2),
@@ -65,7 +93,7 @@ fn five_i25() -> FirmwareSpec {
             ModuleSpec::standard(gtag::LED, 0, 1),
         ],
         pins,
-    }
+    )
 }
 
 /// 6i25 with a servo firmware.
@@ -83,18 +111,18 @@ fn six_i25() -> FirmwareSpec {
         }
     }
     pins.extend(std::iter::repeat_n(gpio(), 5));
-    FirmwareSpec {
-        board: "6i25".into(),
-        board_name: name8("MESA6I25"),
-        fpga_part: "6slx9tqg144".into(),
-        fpga_size: 9,
-        fpga_pins: 144,
-        connectors: vec!["P3".into(), "P2".into()],
-        port_width: 17,
-        leds: 2,
-        clock_low: 66_666_667,
-        clock_high: 200_000_000,
-        modules: vec![
+    firmware(
+        Identity {
+            board: "6i25",
+            idrom_name: "MESA6I25",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P3", "P2"],
+            port_width: 17,
+            clock_low: 66_666_667,
+        },
+        vec![
             ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
             ModuleSpec::standard(gtag::IOPORT, 0, 2),
             ModuleSpec::standard(gtag::ENCODER, 0x83, 4),
@@ -102,7 +130,7 @@ fn six_i25() -> FirmwareSpec {
             ModuleSpec::standard(gtag::LED, 0, 1),
         ],
         pins,
-    }
+    )
 }
 
 /// 5i24 with 8 encoders, 8 PWM generators, 8 step generators.
@@ -123,18 +151,18 @@ fn five_i24() -> FirmwareSpec {
         pins.push(pd(gtag::STEPGEN, k, 0x82));
     }
     pins.extend(std::iter::repeat_n(gpio(), 8));
-    FirmwareSpec {
-        board: "5i24".into(),
-        board_name: name8("MESA5I24"),
-        fpga_part: "6slx16ftg256".into(),
-        fpga_size: 16,
-        fpga_pins: 256,
-        connectors: vec!["P4".into(), "P3".into(), "P2".into()],
-        port_width: 24,
-        leds: 2,
-        clock_low: 100_000_000,
-        clock_high: 200_000_000,
-        modules: vec![
+    firmware(
+        Identity {
+            board: "5i24",
+            idrom_name: "MESA5I24",
+            fpga_part: "6slx16ftg256",
+            fpga_size: 16,
+            fpga_pins: 256,
+            connectors: &["P4", "P3", "P2"],
+            port_width: 24,
+            clock_low: 100_000_000,
+        },
+        vec![
             ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
             ModuleSpec::standard(gtag::IOPORT, 0, 3),
             ModuleSpec::standard(gtag::ENCODER, 3, 8),
@@ -143,5 +171,5 @@ fn five_i24() -> FirmwareSpec {
             ModuleSpec::standard(gtag::LED, 0, 1),
         ],
         pins,
-    }
+    )
 }

@@ -70,23 +70,9 @@ impl Mirror {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::image::Memory;
     use crate::sim::boards;
     use hal_driver::sim::SimBoard;
-
-    /// A plain memory window: a model that stores what is written.
-    struct Memory(Vec<u32>);
-    impl hal_driver::sim::BoardModel for Memory {}
-    impl hal_driver::sim::MemModel for Memory {
-        fn len(&self) -> usize {
-            self.0.len() * 4
-        }
-        fn read32(&mut self, offset: usize) -> u32 {
-            self.0[offset / 4]
-        }
-        fn write32(&mut self, offset: usize, value: u32) {
-            self.0[offset / 4] = value;
-        }
-    }
 
     #[test]
     fn writes_reach_the_model_and_changes_come_back() {

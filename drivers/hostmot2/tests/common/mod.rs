@@ -9,7 +9,7 @@ use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
 use hal_driver::sim::{AccessLog, SimBoard};
 use hostmot2::board::Board;
 use hostmot2::config;
-use hostmot2::firmware::{self, Debug};
+use hostmot2::firmware::Debug;
 use hostmot2::image::FirmwareSpec;
 use hostmot2::log::{BoardLog, MessageLog};
 use hostmot2::sim::{Hm2Model, SimHm2, World};
@@ -41,21 +41,17 @@ impl Rig {
         let sim = Arc::new(
             SimBoard::new(Hm2Model::with_world(spec, world)).with_log(AccessLog::new(100_000)),
         );
-        let mut t = WindowTransport::new(sim.clone());
-        let config = config::parse(config).unwrap();
-        let mut msgs = MessageLog::default();
-        let fw = firmware::load(&llio, &config, Debug::default(), &mut t, &mut msgs).unwrap();
         let log = RtLog::new(1024);
         log.set_level(MsgLevel::All);
         let b = host.new_rt_component("hm2_pci").unwrap();
-        let board = Board::register(
+        let board = Board::open(
             b.component(),
             llio,
-            fw,
-            &config,
-            Box::new(t),
+            &config::parse(config).unwrap(),
+            Debug::default(),
+            Box::new(WindowTransport::new(sim.clone())),
             BoardLog::new(log.clone(), &prefix),
-            &mut msgs,
+            &mut MessageLog::default(),
         )
         .unwrap();
         b.ready().unwrap();
