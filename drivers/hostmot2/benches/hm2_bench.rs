@@ -3,7 +3,8 @@
 //! accesses of one cycle.
 //!
 //! `cargo bench -p hostmot2` runs the board's cycle functions directly
-//! (no thread), all modules enabled and moving, twice:
+//! (no thread), all modules enabled and moving, timed with hal-driver's
+//! `bench::per_call` (mean ns; the machine may be shared), twice:
 //!
 //! * on the simulated transport (the firmware model behind hal-driver's
 //!   SimBoard, as `hm2_pci sim=5i24` runs), whose time includes the
@@ -11,11 +12,12 @@
 //! * on a plain memory window that only stores words (what the driver
 //!   alone costs; a real BAR adds the bus's latency per access).
 
-use std::hint::black_box;
 use std::sync::Arc;
+
 use std::time::Instant;
 
 use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
+use hal_driver::bench::per_call;
 use hal_driver::sim::{AccessLog, SimBoard};
 use hostmot2::board::Board;
 use hostmot2::config;
@@ -27,7 +29,7 @@ use hostmot2::transport::Transport;
 use hostmot2::window::WindowTransport;
 
 const PERIOD: i64 = 1_000_000;
-const CYCLES: u32 = 20_000;
+const N: u64 = 20_000;
 
 fn register(host: &Host, t: Box<dyn Transport>) -> Board {
     let spec = boards::preset("5i24").unwrap();
@@ -87,19 +89,19 @@ fn pct(v: &mut [u64], p: usize) -> f64 {
     v[(v.len() - 1) * p / 100] as f64
 }
 
-/// Runs `CYCLES` cycles (read, write, then `between`), timing read and
+/// Runs `N` cycles (read, write, then `between`), timing read and
 /// write separately.
 fn cycles(board: &mut Board, mut between: impl FnMut()) -> Times {
-    for _ in 0..CYCLES / 10 {
+    for _ in 0..N / 10 {
         board.read();
         board.write(PERIOD);
         between();
     }
     let mut t = Times {
-        read: Vec::with_capacity(CYCLES as usize),
-        write: Vec::with_capacity(CYCLES as usize),
+        read: Vec::with_capacity(N as usize),
+        write: Vec::with_capacity(N as usize),
     };
-    for _ in 0..CYCLES {
+    for _ in 0..N {
         let t0 = Instant::now();
         board.read();
         let t1 = Instant::now();
@@ -112,8 +114,9 @@ fn cycles(board: &mut Board, mut between: impl FnMut()) -> Times {
     t
 }
 
-/// Prints the median and the 10th percentile (the machine is shared:
-/// the low percentile is what a call costs when nothing preempts it).
+/// Prints the median and the 10th percentile of each call: the machine
+/// is shared, and a mean counts every preemption; the low percentile is
+/// what a call costs when nothing preempts it.
 fn report(what: &str, mut t: Times) {
     let (r50, r10) = (pct(&mut t.read, 50), pct(&mut t.read, 10));
     let (w50, w10) = (pct(&mut t.write, 50), pct(&mut t.write, 10));
@@ -129,7 +132,7 @@ fn report(what: &str, mut t: Times) {
 
 fn main() {
     println!(
-        "hostmot2 on a 5i24: 8 encoders, 8 stepgens, 8 PWM generators, 72 I/O ({CYCLES} cycles)"
+        "hostmot2 on a 5i24: 8 encoders, 8 stepgens, 8 PWM generators, 72 I/O ({N} calls each)"
     );
 
     let host = Host::create(HostConfig::for_tests("hm2-bench-sim")).unwrap();
@@ -143,8 +146,19 @@ fn main() {
     );
     let mut board = register(&host, Box::new(WindowTransport::new(sim.clone())));
     enable_all(&host);
-    let t = cycles(&mut board, || sim.advance(PERIOD as u64));
-    report("simulated transport (model included)", t);
+    println!("  simulated transport (the firmware model's work included):");
+    let r = per_call("read", N, |_| board.read());
+    let w = per_call("write", N, |_| board.write(PERIOD));
+    println!("  {:<48} {:8.1} ns", "read + write", r + w);
+    per_call("read, write and 1 ms of simulated time", N / 10, |_| {
+        board.read();
+        board.write(PERIOD);
+        sim.advance(PERIOD as u64);
+    });
+    report(
+        "per cycle, simulated",
+        cycles(&mut board, || sim.advance(PERIOD as u64)),
+    );
     let before = board.stats();
     sim.clear_log();
     board.read();
@@ -166,6 +180,9 @@ fn main() {
     let mem = Arc::new(SimBoard::new(Memory(image)));
     let mut board = register(&host, Box::new(WindowTransport::new(mem)));
     enable_all(&host);
-    let t = cycles(&mut board, || black_box(()));
-    report("plain memory window (the driver alone)", t);
+    println!("  plain memory window (the driver alone):");
+    let r = per_call("read", N, |_| board.read());
+    let w = per_call("write", N, |_| board.write(PERIOD));
+    println!("  {:<48} {:8.1} ns", "read + write", r + w);
+    report("per cycle, the driver alone", cycles(&mut board, || ()));
 }
