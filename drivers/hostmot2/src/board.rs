@@ -423,6 +423,26 @@ impl Board {
         }
     }
 
+    /// Whether the board has a watchdog (LinuxCNC exports `pet_watchdog`
+    /// then).
+    pub fn has_watchdog(&self) -> bool {
+        self.watchdog.is_some()
+    }
+
+    /// `pet_watchdog`: pets the watchdog outside TRAM, for a thread that
+    /// runs more often than `write` (or when `write` runs slower than the
+    /// watchdog's timeout).
+    pub fn pet_watchdog(&mut self) {
+        if !self.usable() {
+            return;
+        }
+        if let Some(w) = &self.watchdog {
+            if w.pet_now(self.transport.as_mut()).is_err() {
+                self.fail(&WRITE_FAILED);
+            }
+        }
+    }
+
     /// Says what `raw.dump_state` asks for: a summary of the board.
     fn dump_state(&self) {
         let s = self.transport.stats();

@@ -5,8 +5,8 @@
 //! component `hostmot2` and holds the debugging switches. `hm2_pci` and
 //! `hm2_test` register their boards with it: the component `hm2_pci`
 //! (`hm2_test`) owns every board's pins and params, and each board
-//! exports `<board>.read`, `.write` and, the transport being thread-safe,
-//! `.read_gpio` and `.write_gpio`.
+//! exports `<board>.read`, `.write`, `.pet_watchdog` (with a watchdog)
+//! and, the transport being thread-safe, `.read_gpio` and `.write_gpio`.
 //!
 //! Messages carry LinuxCNC's prefixes (`hm2/hm2_5i25.0: ...`) and go
 //! through the host's realtime log, so they obey its level (errors only by
@@ -309,9 +309,9 @@ fn export_functions(
     board: &Arc<SharedBoard>,
     sim: Option<Arc<SimHm2>>,
 ) -> hal_core::Result<()> {
-    let (split, threadsafe) = board
-        .with(|bd| (bd.split_read(), bd.threadsafe()))
-        .unwrap_or((false, true));
+    let (split, threadsafe, watchdog) = board
+        .with(|bd| (bd.split_read(), bd.threadsafe(), bd.has_watchdog()))
+        .unwrap_or((false, true, false));
     let bd = board.clone();
     b.funct(&format!("{name}.read"), true, move |ctx| {
         if let Some(s) = &sim {
@@ -329,6 +329,12 @@ fn export_functions(
         let bd = board.clone();
         b.funct(&format!("{name}.read-request"), true, move |_| {
             bd.with(|bd| bd.read_request());
+        })?;
+    }
+    if watchdog {
+        let bd = board.clone();
+        b.funct(&format!("{name}.pet_watchdog"), false, move |_| {
+            bd.with(|bd| bd.pet_watchdog());
         })?;
     }
     if threadsafe {

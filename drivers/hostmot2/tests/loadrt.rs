@@ -59,6 +59,7 @@ fn simulated_boards_load_with_linuxcncs_names() {
         "hm2_6i25.0.write",
         "hm2_6i25.0.read_gpio",
         "hm2_6i25.0.write_gpio",
+        "hm2_6i25.0.pet_watchdog",
         "hm2_5i25.0.read",
         "hm2_5i25.0.write",
     ] {

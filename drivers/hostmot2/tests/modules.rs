@@ -168,6 +168,14 @@ fn watchdog_bites_when_writes_stop_and_recovers() {
     r.board.read();
     r.board.write(PERIOD);
     assert_eq!(r.reg(0x0C00), 999_999);
+    // pet_watchdog keeps it from biting while write does not run.
+    for _ in 0..20 {
+        r.board.read();
+        r.board.pet_watchdog();
+        r.sim.advance(PERIOD as u64);
+    }
+    assert_eq!(r.reg(0x0D00) & 1, 0, "petted: no bite");
+    r.board.write(PERIOD);
     // Shorter than 1.5 periods: a warning.
     r.set_param("watchdog.timeout_ns", U32(1_000_000));
     r.board.write(PERIOD);

@@ -171,6 +171,15 @@ impl Watchdog {
         Ok(())
     }
 
+    /// Pets the watchdog outside TRAM (`pet_watchdog`): nothing while
+    /// `has_bit` is set or before the first `write` armed it.
+    pub fn pet_now(&self, t: &mut dyn Transport) -> Result<(), TransportError> {
+        if self.has_bit.get() || self.armed.is_none() {
+            return Ok(());
+        }
+        t.write(self.md.reg(r::COOKIE_REG), &[r::PET])
+    }
+
     /// Makes the watchdog bite at once (unload and safe state): the
     /// firmware then stops driving every pin.
     pub fn bite_now(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
