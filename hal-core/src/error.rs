@@ -329,6 +329,12 @@ pub enum HalError {
         /// The function that faulted.
         funct: String,
     },
+    /// A structural change refused by `halcmd lock` (the operation).
+    #[error("{op} called while HAL locked")]
+    Locked {
+        /// The operation refused (LinuxCNC's function name, e.g. `hal_link`).
+        op: &'static str,
+    },
 }
 
 impl HalError {

@@ -35,8 +35,9 @@ pub use exec::{
 pub use handles::{In, Io, Out, Param, Pin, RawParam, RawPin, Ro, Rw};
 pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};
 pub use objects::{
-    instance_from_env, validate_instance_name, AliasKind, Component, ComponentInfo, ComponentKind,
-    FunctInfo, Instance, ParamInfo, PinInfo, Region, RegionInfo, SignalInfo, ThreadInfo,
+    instance_from_env, lock_bits, validate_instance_name, AliasKind, Component, ComponentInfo,
+    ComponentKind, FunctInfo, HalStatistics, Instance, ParamInfo, PinInfo, Region, RegionInfo,
+    SignalInfo, ThreadInfo,
 };
 pub use ring::{RingReader, RingWriter, MAX_TYPED_COLUMNS};
 pub use rtlog::{MsgLevel, RtLog};

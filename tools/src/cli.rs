@@ -37,9 +37,8 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
             }
             "-i" => {
                 let path = args.get(i + 1).ok_or("-i needs an INI file")?;
-                let text = std::fs::read_to_string(path)
-                    .map_err(|e| format!("reading INI file {path}: {e}"))?;
-                out.opts.ini = Some(Ini::parse(&text));
+                let ini = Ini::load(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+                out.opts.ini = Some(ini);
                 i += 1;
             }
             "-k" => out.opts.keep_going = true,
@@ -84,6 +83,9 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
         None => run_stream(&mut session, true),
     };
     if interactive_after {
+        // As halrun -I: the interactive session follows the file even if
+        // the file ended with `quit`.
+        session.resume();
         ok &= run_stream(&mut session, true);
     }
     if ok {
@@ -114,14 +116,14 @@ fn run_stream(session: &mut Session<'_>, prompt: bool) -> bool {
             continue;
         }
         let text = std::mem::take(&mut pending);
-        if matches!(text.trim(), "exit" | "quit") {
-            break;
-        }
         if !session.run_text(None, &text) {
             ok = false;
             if !session.opts.keep_going && !prompt {
                 break;
             }
+        }
+        if session.is_done() {
+            break;
         }
     }
     ok

@@ -169,10 +169,11 @@ fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, S
             .delf(arg(1), words.get(2).map(String::as_str))
             .map_err(|e| e.to_string()),
         "start" => host.start().map_err(|e| e.to_string()),
-        "stop" => {
-            host.stop();
-            Ok(())
-        }
+        "stop" => host
+            .instance()
+            .check_unlocked(hal_core::lock_bits::RUN, "stop_threads")
+            .map(|()| host.stop())
+            .map_err(|e| e.to_string()),
         other => Err(format!("unknown host request '{other}'")),
     };
     r.map(|()| Next::Continue)

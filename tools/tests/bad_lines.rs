@@ -78,8 +78,8 @@ fn every_kind_of_bad_line_has_its_message() {
         ("waitusr nope", "bad.hal:1: waitusr: component 'nope' not found or not a user component\n"),
         ("unloadusr nope", "bad.hal:1: unloadusr: component 'nope' not found\n"),
         ("print \"unterminated", "bad.hal:1: unterminated quoted string\n"),
-        ("setp x $NO_SUCH_VAR_HALCMD_TEST", "bad.hal:1: environment variable 'NO_SUCH_VAR_HALCMD_TEST' not found\n"),
-        ("setp x [EMC]NAME", "bad.hal:1: INI substitution [EMC]NAME used without an INI file (-i)\n"),
+        ("setp x $NO_SUCH_VAR_HALCMD_TEST", "bad.hal:1: Environment variable 'NO_SUCH_VAR_HALCMD_TEST' not found.\n"),
+        ("setp x [EMC]NAME", "bad.hal:1: Ini variable '[EMC]NAME' not found (no INI file given: use -i).\n"),
         ("source /no/such/file.hal", "bad.hal:1: source /no/such/file.hal: No such file or directory (os error 2)\n"),
         ("help nope", "bad.hal:1: No help for unknown command 'nope'\n"),
     ];

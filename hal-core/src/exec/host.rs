@@ -310,6 +310,8 @@ impl Host {
         uses_fp: bool,
         cpu: Option<usize>,
     ) -> Result<i64> {
+        self.inst
+            .check_unlocked(crate::lock_bits::CONFIG, "create_thread")?;
         let mut st = lock(&self.state);
         let (off, period) = self.inst.tx(|tx| {
             new_thread_tx(
@@ -415,6 +417,8 @@ impl Host {
     /// Adds a function to a thread (halcmd `addf`). `position` as halcmd:
     /// -1 appends, 1 puts it first, -2 before the last, and so on.
     pub fn addf(&self, funct: &str, thread: &str, position: i32) -> Result<()> {
+        self.inst
+            .check_unlocked(crate::lock_bits::CONFIG, "add_funct_to_thread")?;
         let mut st = lock(&self.state);
         let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
             kind: "function",
@@ -456,6 +460,8 @@ impl Host {
     /// `initf`): it runs once, on the thread's first cycle after `start`,
     /// instead of the function list. Refused once that cycle has run.
     pub fn initf(&self, funct: &str, thread: &str) -> Result<()> {
+        self.inst
+            .check_unlocked(crate::lock_bits::CONFIG, "add_funct_to_thread")?;
         let mut st = lock(&self.state);
         let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
             kind: "function",
@@ -495,6 +501,8 @@ impl Host {
     /// Removes a function from a thread (halcmd `delf`); with no thread,
     /// from every thread it is in.
     pub fn delf(&self, funct: &str, thread: Option<&str>) -> Result<()> {
+        self.inst
+            .check_unlocked(crate::lock_bits::CONFIG, "del_funct_from_thread")?;
         let mut st = lock(&self.state);
         let id = *st.by_name.get(funct).ok_or_else(|| HalError::NotFound {
             kind: "function",
@@ -599,6 +607,8 @@ impl Host {
     /// Starts all threads (halcmd `start`). Refused after a fault until
     /// [`Host::clear_fault`].
     pub fn start(&self) -> Result<()> {
+        self.inst
+            .check_unlocked(crate::lock_bits::RUN, "start_threads")?;
         let fault = self.shared.fault.load(Acquire);
         if fault != NO_FAULT {
             return Err(HalError::Faulted {
@@ -711,6 +721,7 @@ impl Host {
     /// and runs its `load`. On any error, every component and thread the
     /// load created is removed again.
     pub fn loadrt<S: AsRef<str>>(&self, def: &'static ModuleDef, args: &[S]) -> Result<()> {
+        self.inst.check_unlocked(crate::lock_bits::LOAD, "loadrt")?;
         if lock(&self.state).modules.contains(&def.name) {
             return Err(HalError::ModuleLoaded {
                 name: def.name.to_string(),

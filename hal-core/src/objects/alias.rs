@@ -22,6 +22,7 @@ impl Instance {
     /// Gives a pin or param a new name (halcmd `alias`). Aliasing an
     /// aliased object replaces the alias; the original name is kept.
     pub fn alias(&self, kind: AliasKind, name: &str, alias: &str) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, alias_op(kind))?;
         validate(kind_name(kind), alias)?;
         self.tx(|tx| {
             let seg = tx.seg();
@@ -48,6 +49,7 @@ impl Instance {
     /// Restores the original name of an aliased pin or param (halcmd
     /// `unalias`); `name` may be the alias or the original name.
     pub fn unalias(&self, kind: AliasKind, name: &str) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, alias_op(kind))?;
         self.tx(|tx| {
             let seg = tx.seg();
             let h = tx.header();
@@ -132,5 +134,13 @@ fn missing(kind: AliasKind, name: &str) -> HalError {
     HalError::NotFound {
         kind: kind_name(kind),
         name: name.to_string(),
+    }
+}
+
+/// The HAL library call a lock refusal names.
+fn alias_op(kind: AliasKind) -> &'static str {
+    match kind {
+        AliasKind::Pin => "pin_alias",
+        AliasKind::Param => "param_alias",
     }
 }

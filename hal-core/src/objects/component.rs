@@ -54,6 +54,7 @@ impl Instance {
     /// Creates a component owned by this process. It is not ready until
     /// [`Component::ready`] is called.
     pub fn new_component(&self, name: &str, kind: ComponentKind) -> Result<Component> {
+        self.check_unlocked(super::lock_bits::LOAD, "hal_init")?;
         let (off, id) = self.tx(|tx| new_component_tx(tx, name, kind))?;
         Ok(Component {
             inst: self.clone(),

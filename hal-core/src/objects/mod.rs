@@ -13,6 +13,7 @@ mod param;
 mod pin;
 mod region;
 mod signal;
+mod status;
 
 use std::sync::atomic::Ordering::*;
 use std::sync::Arc;
@@ -22,6 +23,7 @@ pub use component::{Component, ComponentKind};
 pub use info::*;
 pub(crate) use liveness::HostLock;
 pub use region::Region;
+pub use status::{lock_bits, HalStatistics};
 
 use crate::error::{HalError, Result};
 use crate::shm::{Segment, Txn};

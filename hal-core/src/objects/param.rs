@@ -62,6 +62,7 @@ impl Instance {
 
     /// Sets a read-write param (halcmd `setp` on a param).
     pub fn set_param(&self, name: &str, value: Value) -> Result<()> {
+        self.check_unlocked(super::lock_bits::PARAMS, "param_set")?;
         self.tx(|tx| {
             let seg = tx.seg();
             let (_, p) = require_param(seg, name)?;

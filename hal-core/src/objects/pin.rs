@@ -109,6 +109,7 @@ impl Instance {
     /// output pin together with I/O pins. Linking a pin to the signal it is
     /// already on is not an error.
     pub fn link(&self, pin: &str, signal: &str) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, "link")?;
         self.tx(|tx| {
             let seg = tx.seg();
             let (pin_off, p) = require_pin(seg, pin)?;
@@ -179,6 +180,7 @@ impl Instance {
     /// Disconnects a pin from its signal (halcmd `unlinkp`). A pin that is
     /// not linked is left alone.
     pub fn unlink(&self, pin: &str) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, "unlink")?;
         self.tx(|tx| {
             let (off, _) = require_pin(tx.seg(), pin)?;
             unlink_tx(tx, off)

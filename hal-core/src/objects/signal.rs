@@ -88,6 +88,7 @@ fn retire_cell(tx: &mut Txn<'_>, cell_off: u64) -> Result<()> {
 impl Instance {
     /// Creates a signal (halcmd `newsig`) with value zero.
     pub fn newsig(&self, name: &str, t: HalType) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, "signal_new")?;
         validate("signal", name)?;
         self.tx(|tx| {
             let seg = tx.seg();
@@ -110,6 +111,7 @@ impl Instance {
 
     /// Deletes a signal (halcmd `delsig`), unlinking every pin on it.
     pub fn delsig(&self, name: &str) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, "signal_delete")?;
         self.tx(|tx| {
             let (off, _) = require_signal(tx.seg(), name)?;
             delsig_tx(tx, off)
@@ -118,6 +120,7 @@ impl Instance {
 
     /// Deletes every signal (halcmd `delsig all`).
     pub fn delsig_all(&self) -> Result<()> {
+        self.check_unlocked(super::lock_bits::CONFIG, "signal_delete")?;
         self.tx(|tx| {
             let seg = tx.seg();
             let all: Vec<u64> = list::iter::<SigRec>(seg, &seg.header().signals)

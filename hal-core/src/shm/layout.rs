@@ -142,7 +142,10 @@ pub(crate) struct Header {
     pub fault_funct: AtomicU64,
     /// Set by `setexact_for_test_suite_only`-style callers; informational.
     pub exact_base_period: AtomicU64,
-    pub reserved: [AtomicU64; 16],
+    /// halcmd's `lock` level: LinuxCNC's `HAL_LOCK_*` bits (see
+    /// `objects::status`). Was reserved word 0, so the layout is unchanged.
+    pub lock_level: AtomicU64,
+    pub reserved: [AtomicU64; 15],
 }
 
 pub(crate) trait Record {

@@ -451,16 +451,6 @@ fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
     Ok(out)
 }
 
-fn status(inst: &Instance) -> String {
-    format!(
-        "HAL locking status:\n  current lock value 0 (00)\n  HAL_LOCK_NONE - nothing is locked\n\
-         HAL memory status\n  used/total shared memory:   {}/{}\n  active components: {}\n\n",
-        inst.segment_used(),
-        inst.segment_size(),
-        inst.components().map(|c| c.len()).unwrap_or(0),
-    )
-}
-
 /// The commands `help` lists, with a line each.
 pub const HELP: &[(&str, &str)] = &[
     ("loadrt", "loadrt MODULE [ARGS...]: load a realtime module"),
@@ -496,9 +486,11 @@ pub const HELP: &[(&str, &str)] = &[
     ("echo", "echo / unecho: print each command before it runs"),
     ("print", "print [MESSAGE]: print the file, line and message"),
     ("status", "status [lock|mem|all]: print HAL status"),
-    ("lock", "lock [all|tune|none] / unlock [all|tune]: accepted for compatibility"),
+    ("lock", "lock [all|none|tune|load|config|params|run]: lock HAL against changes"),
+    ("unlock", "unlock [all|none|tune|load|config|params|run]: unlock HAL"),
     ("debug", "debug [LEVEL]: accepted for compatibility"),
     ("help", "help [COMMAND]: this help"),
+    ("quit", "quit / exit: stop reading commands (the file ends successfully)"),
 ];
 
 fn help(cmd: Option<&str>) -> Result<String, String> {
@@ -567,7 +559,7 @@ pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result
                 None => Ok(text),
             }
         }
-        "status" => Ok(status(inst)),
+        "status" => super::lock::status(inst, args.first().copied()),
         "help" => help(args.first().copied()),
         other => Err(format!("Unknown command '{other}'")),
     }

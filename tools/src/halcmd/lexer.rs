@@ -3,23 +3,23 @@
 
 use super::ini::Ini;
 
-/// A lexing error, with the reason.
+/// A lexing error, with the reason; the texts are LinuxCNC's.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum LexError {
-    /// A `"` opens a string that the line never closes.
+    /// A `"` without its closing partner.
     #[error("unterminated quoted string")]
     UnterminatedQuote,
-    /// `$VAR` or `$(VAR)` names a variable the environment lacks.
-    #[error("environment variable '{0}' not found")]
+    /// `$NAME` or `$(NAME)` of a variable that is not set.
+    #[error("Environment variable '{0}' not found.")]
     NoEnv(String),
-    /// `[SECTION]KEY` names a key the INI file lacks (section, key).
-    #[error("INI variable [{0}]{1} not found")]
+    /// `[SECTION]KEY` that the INI file does not have.
+    #[error("Ini variable '[{0}]{1}' not found.")]
     NoIni(String, String),
-    /// `[SECTION]KEY` appears but halcmd was given no `-i` INI file (section, key).
-    #[error("INI substitution [{0}]{1} used without an INI file (-i)")]
+    /// `[SECTION]KEY` with no INI file given.
+    #[error("Ini variable '[{0}]{1}' not found (no INI file given: use -i).")]
     NoIniFile(String, String),
-    /// A `$(NAME` or `[SECTION](KEY` without its closing parenthesis.
-    #[error("malformed substitution '{0}'")]
+    /// `$(` or `[SECTION](` without the closing parenthesis.
+    #[error("Missing close parenthesis.")]
     Malformed(String),
 }
 
@@ -64,63 +64,38 @@ pub fn logical_lines(text: &str) -> Vec<Line> {
     out
 }
 
-/// Splits a line into words as halcmd does: whitespace separates words
-/// except inside `"..."` runs; the quotes stay in the word (commands that
-/// want them gone, like `loadrt`, remove them); `#` at the start of a word
-/// begins a comment. `$VAR`, `$(VAR)`, `[SECTION]KEY` and
-/// `[SECTION](KEY)` are substituted outside quotes.
+/// Splits a line into words as halcmd does. First the comment goes (a
+/// `#` that starts a word, outside quotes); then `$VAR`, `$(VAR)`,
+/// `[SECTION]KEY` and `[SECTION](KEY)` are substituted on the whole line,
+/// so a value with spaces becomes several words (`loadrt [KINS]KINEMATICS`
+/// with `KINEMATICS = trivkins coordinates=xz` loads trivkins with its
+/// parameter); then whitespace separates words except inside `"..."`
+/// runs, whose quotes stay in the word (commands that want them gone, like
+/// `loadrt`, remove them).
 pub fn tokenize(line: &str, ini: Option<&Ini>) -> Result<Vec<String>, LexError> {
+    let text = substitute(without_comment(line), ini)?;
+    split_words(&text)
+}
+
+/// Splits already substituted text at whitespace outside `"..."` runs.
+pub fn split_words(text: &str) -> Result<Vec<String>, LexError> {
     let mut words = Vec::new();
     let mut cur = String::new();
     let mut in_word = false;
     let mut quoted = false;
-    let chars: Vec<char> = line.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
+    for c in text.chars() {
         if quoted {
             cur.push(c);
             quoted = c != '"';
-            i += 1;
-            continue;
-        }
-        if c.is_whitespace() {
+        } else if c.is_whitespace() {
             if in_word {
                 words.push(std::mem::take(&mut cur));
                 in_word = false;
             }
-            i += 1;
-            continue;
-        }
-        if c == '#' && !in_word {
-            break;
-        }
-        in_word = true;
-        match c {
-            '"' => {
-                quoted = true;
-                cur.push(c);
-                i += 1;
-            }
-            '$' => {
-                let (value, used) = env_subst(&chars[i..])?;
-                cur.push_str(&value);
-                i += used;
-            }
-            '[' => match ini_subst(&chars[i..], ini)? {
-                Some((value, used)) => {
-                    cur.push_str(&value);
-                    i += used;
-                }
-                None => {
-                    cur.push(c);
-                    i += 1;
-                }
-            },
-            _ => {
-                cur.push(c);
-                i += 1;
-            }
+        } else {
+            in_word = true;
+            quoted = c == '"';
+            cur.push(c);
         }
     }
     if quoted {
@@ -130,6 +105,54 @@ pub fn tokenize(line: &str, ini: Option<&Ini>) -> Result<Vec<String>, LexError> 
         words.push(cur);
     }
     Ok(words)
+}
+
+/// Replaces every `$VAR`, `$(VAR)`, `[SECTION]KEY` and `[SECTION](KEY)`
+/// in `text`. A `$` or `[` that does not start one of these forms stays
+/// as written, and so does text inside `"..."` (LinuxCNC substitutes
+/// there too; keeping it lets `loadusr sh -c "..."` pass a shell its own
+/// `$(...)`).
+pub fn substitute(text: &str, ini: Option<&Ini>) -> Result<String, LexError> {
+    if !text.contains(['$', '[']) {
+        return Ok(text.to_string());
+    }
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(text.len());
+    let mut quoted = false;
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c == '"' {
+            quoted = !quoted;
+        }
+        if quoted {
+            out.push(c);
+            i += 1;
+            continue;
+        }
+        match c {
+            '$' => {
+                let (value, used) = env_subst(&chars[i..])?;
+                out.push_str(&value);
+                i += used;
+            }
+            '[' => match ini_subst(&chars[i..], ini)? {
+                Some((value, used)) => {
+                    out.push_str(&value);
+                    i += used;
+                }
+                None => {
+                    out.push(c);
+                    i += 1;
+                }
+            },
+            _ => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// The line without its comment, as echo mode prints it.
@@ -152,8 +175,9 @@ pub fn unquote(word: &str) -> String {
     word.replace('"', "")
 }
 
+/// Characters of a variable name after `$` or `[SECTION]` (LinuxCNC's set).
 fn is_name_char(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c == '_'
+    c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-')
 }
 
 /// `$VAR` or `$(VAR)` at the start of `s`; returns the value and the
@@ -184,11 +208,7 @@ fn ini_subst(s: &[char], ini: Option<&Ini>) -> Result<Option<(String, usize)>, L
         return Ok(None);
     };
     let section: String = s[1..close].iter().collect();
-    if section.is_empty()
-        || !section
-            .chars()
-            .all(|c| is_name_char(c) || c == '-' || c == '.')
-    {
+    if !section.chars().all(is_name_char) {
         return Ok(None);
     }
     let rest = &s[close + 1..];
@@ -198,10 +218,7 @@ fn ini_subst(s: &[char], ini: Option<&Ini>) -> Result<Option<(String, usize)>, L
         };
         (rest[1..end].iter().collect::<String>(), close + 1 + end + 1)
     } else {
-        let n = rest
-            .iter()
-            .take_while(|&&c| !c.is_whitespace() && c != '"')
-            .count();
+        let n = rest.iter().take_while(|&&c| is_name_char(c)).count();
         if n == 0 {
             return Ok(None);
         }
@@ -210,7 +227,12 @@ fn ini_subst(s: &[char], ini: Option<&Ini>) -> Result<Option<(String, usize)>, L
     let Some(ini) = ini else {
         return Err(LexError::NoIniFile(section, key));
     };
-    match ini.get(&section, &key) {
+    let found = if section.is_empty() {
+        ini.get_in_any(&key)
+    } else {
+        ini.get(&section, &key)
+    };
+    match found {
         Some(v) => Ok(Some((v.to_string(), used))),
         None => Err(LexError::NoIni(section, key)),
     }
@@ -305,5 +327,41 @@ mod tests {
         ));
         // Not a substitution: left alone.
         assert_eq!(words("a [ b"), ["a", "[", "b"]);
+    }
+
+    #[test]
+    fn substitution_happens_on_the_whole_line_before_splitting() {
+        let ini = Ini::parse(
+            "[KINS]\nKINEMATICS = trivkins coordinates=xz kinstype=both\n\
+             [EMCMOT]\nEMCMOT = motmod\nSERVO_PERIOD = 1000000\n[P]\nQ = \"a b\"\n",
+        );
+        assert_eq!(
+            tokenize("loadrt [KINS]KINEMATICS # kins", Some(&ini)).unwrap(),
+            ["loadrt", "trivkins", "coordinates=xz", "kinstype=both"]
+        );
+        assert_eq!(
+            tokenize(
+                "loadrt [EMCMOT]EMCMOT servo_period_nsec=[EMCMOT]SERVO_PERIOD num_joints=2",
+                Some(&ini)
+            )
+            .unwrap(),
+            ["loadrt", "motmod", "servo_period_nsec=1000000", "num_joints=2"]
+        );
+        // A quoted value stays one word; a key ends where name characters do.
+        assert_eq!(
+            tokenize("print [P]Q,[]EMCMOT", Some(&ini)).unwrap(),
+            ["print", "\"a b\",motmod"]
+        );
+        // Quoted text is left alone.
+        assert_eq!(
+            tokenize("loadusr sh -c \"x $(y) [P]Q\"", Some(&ini)).unwrap(),
+            ["loadusr", "sh", "-c", "\"x $(y) [P]Q\""]
+        );
+        std::env::set_var("HALCMD_LEXER_SPACES", "x y");
+        assert_eq!(words("a $HALCMD_LEXER_SPACES"), ["a", "x", "y"]);
+        assert_eq!(
+            LexError::NoIni("A".into(), "B".into()).to_string(),
+            "Ini variable '[A]B' not found."
+        );
     }
 }

@@ -4,8 +4,9 @@
 
 pub mod cfmt;
 pub mod format;
-pub mod ini;
+pub use crate::ini;
 pub mod lexer;
+pub mod lock;
 pub mod save;
 pub mod session;
 pub mod usr;

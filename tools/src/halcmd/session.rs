@@ -1,7 +1,9 @@
 //! A halcmd session: options, output streams, and the command dispatcher.
 
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::Path;
+use std::rc::Rc;
 use std::time::Duration;
 
 use hal_core::{AliasKind, ComponentKind, HalError, HalType, Instance, PinDir};
@@ -30,6 +32,30 @@ pub struct Options {
 /// The outcome of one command.
 pub type CmdResult = Result<(), String>;
 
+/// What a [`CommandFilter`] decides about a command.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Verdict {
+    /// Run it as written.
+    Run,
+    /// Run these words instead.
+    RunInstead(Vec<String>),
+    /// Do not run it; it counts as done.
+    Skip,
+}
+
+/// A hook that sees every command of a session before it runs: the
+/// launcher's TWOPASS processing and its rules for GUI components that a
+/// headless machine does not start. `at` is the file and line (`f.hal:3`),
+/// or empty for commands from elsewhere.
+pub trait CommandFilter {
+    /// Decides about `words`; an error fails the command with that message.
+    fn check(&mut self, inst: &Instance, words: &[String], at: &str) -> Result<Verdict, String>;
+}
+
+/// A shared handle on a filter (the launcher keeps another to read what the
+/// filter collected).
+pub type SharedFilter<'o> = Rc<RefCell<dyn CommandFilter + 'o>>;
+
 /// Executes halcmd commands.
 pub struct Session<'o> {
     inst: Instance,
@@ -44,6 +70,11 @@ pub struct Session<'o> {
     /// Where commands come from, for messages (`test.hal`, or none).
     source: Option<String>,
     line: usize,
+    /// Set by `quit`/`exit`: no more commands are read.
+    done: bool,
+    filter: Option<SharedFilter<'o>>,
+    /// Output and error text kept instead of written (see [`Session::captured`]).
+    capture: Option<(Vec<u8>, Vec<u8>)>,
 }
 
 impl<'o> Session<'o> {
@@ -64,12 +95,69 @@ impl<'o> Session<'o> {
             children: Vec::new(),
             source: None,
             line: 0,
+            done: false,
+            filter: None,
+            capture: None,
         }
     }
 
     /// The instance this session works on.
     pub fn instance(&self) -> &Instance {
         &self.inst
+    }
+
+    /// Whether `quit` or `exit` ended the session's input.
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// Reads commands again after `quit` or `exit`.
+    pub fn resume(&mut self) {
+        self.done = false;
+    }
+
+    /// Routes every later command through `filter` first.
+    pub fn set_filter(&mut self, filter: SharedFilter<'o>) {
+        self.filter = Some(filter);
+    }
+
+    /// Runs `f` with the session's output and error text kept instead of
+    /// written; returns its result and the text (haltcl's `hal` command
+    /// returns it to Tcl).
+    pub fn captured<R>(&mut self, f: impl FnOnce(&mut Self) -> R) -> (R, String, String) {
+        let saved = self.capture.replace((Vec::new(), Vec::new()));
+        let r = f(self);
+        let (out, err) = std::mem::replace(&mut self.capture, saved).unwrap_or_default();
+        (
+            r,
+            String::from_utf8_lossy(&out).into_owned(),
+            String::from_utf8_lossy(&err).into_owned(),
+        )
+    }
+
+    /// Runs one command as if it were line `line` of `file` (haltcl passes
+    /// the Tcl script's position).
+    pub fn run_words_at(&mut self, file: Option<&str>, line: usize, words: &[String]) -> bool {
+        let saved = (self.source.take(), self.line);
+        self.source = file.map(str::to_string);
+        self.line = line;
+        let ok = self.run_words(words);
+        (self.source, self.line) = saved;
+        ok
+    }
+
+    fn w_out(&mut self) -> &mut dyn Write {
+        match &mut self.capture {
+            Some((out, _)) => out,
+            None => &mut *self.out,
+        }
+    }
+
+    fn w_err(&mut self) -> &mut dyn Write {
+        match &mut self.capture {
+            Some((_, err)) => err,
+            None => &mut *self.err,
+        }
     }
 
     fn host(&mut self, words: &[&str]) -> CmdResult {
@@ -91,14 +179,15 @@ impl<'o> Session<'o> {
     /// Writes a HAL library error line (no file and line), unless `-Q`.
     fn lib_error(&mut self, msg: &str) {
         if !self.opts.silent {
-            let _ = writeln!(self.err, "HAL: ERROR: {msg}");
+            let _ = writeln!(self.w_err(), "HAL: ERROR: {msg}");
         }
     }
 
     /// Writes an error message with the file and line prefix, unless `-Q`.
     pub fn report(&mut self, msg: &str) {
         if !self.opts.silent {
-            let _ = writeln!(self.err, "{}{msg}", self.location());
+            let at = self.location();
+            let _ = writeln!(self.w_err(), "{at}{msg}");
         }
     }
 
@@ -112,7 +201,7 @@ impl<'o> Session<'o> {
             self.line = line.number;
             if self.echo {
                 let _ = writeln!(
-                    self.err,
+                    self.w_err(),
                     "({})<echo>: {}",
                     line.number,
                     without_comment(&line.text)
@@ -138,6 +227,9 @@ impl<'o> Session<'o> {
                     break;
                 }
             }
+            if self.done {
+                break;
+            }
         }
         (self.source, self.line) = saved;
         ok
@@ -145,13 +237,39 @@ impl<'o> Session<'o> {
 
     /// Runs one command given as words; reports its error.
     pub fn run_words(&mut self, words: &[String]) -> bool {
+        let verdict = match self.filter.clone() {
+            Some(f) => {
+                let at = self.location();
+                let at = at.trim_end_matches(": ");
+                let v = f.borrow_mut().check(&self.inst, words, at);
+                v
+            }
+            None => Ok(Verdict::Run),
+        };
+        let replaced;
+        let words = match verdict {
+            Ok(Verdict::Run) => words,
+            Ok(Verdict::RunInstead(w)) => {
+                replaced = w;
+                &replaced[..]
+            }
+            Ok(Verdict::Skip) => return true,
+            Err(msg) => {
+                self.report(&msg);
+                return false;
+            }
+        };
+        if words.is_empty() {
+            return true;
+        }
         let w: Vec<&str> = words.iter().map(String::as_str).collect();
         let result = self.dispatch(&w);
-        let _ = self.out.flush();
+        let _ = self.w_out().flush();
         match result {
             Ok(()) => {
                 if self.opts.verbose {
-                    let _ = writeln!(self.err, "{}'{}' done", self.location(), words.join(" "));
+                    let at = self.location();
+                    let _ = writeln!(self.w_err(), "{at}'{}' done", words.join(" "));
                 }
                 true
             }
@@ -216,10 +334,11 @@ impl<'o> Session<'o> {
                 }
                 // Thread periods are always exact here: only the warning
                 // remains to be given.
+                let at = self.location();
                 let _ = writeln!(
-                    self.err,
+                    self.w_err(),
                     "{}Warning: HAL_LIB: HAL will pretend that the exact base period requested is possible.\nThis mode is not suitable for running real hardware.",
-                    self.location()
+                    at
                 );
                 Ok(())
             }
@@ -282,12 +401,12 @@ impl<'o> Session<'o> {
             }
             "echo" => {
                 self.echo = true;
-                let _ = writeln!(self.out, "Echo on");
+                let _ = writeln!(self.w_out(), "Echo on");
                 Ok(())
             }
             "unecho" => {
                 self.echo = false;
-                let _ = writeln!(self.out, "Echo off");
+                let _ = writeln!(self.w_out(), "Echo off");
                 Ok(())
             }
             "print" => {
@@ -296,7 +415,8 @@ impl<'o> Session<'o> {
                 } else {
                     a.join(" ")
                 };
-                let _ = writeln!(self.err, "{}HALCMD MSG: {text}", self.location());
+                let at = self.location();
+                let _ = writeln!(self.w_err(), "{at}HALCMD MSG: {text}");
                 Ok(())
             }
             "source" => {
@@ -314,7 +434,10 @@ impl<'o> Session<'o> {
                 // A user program registers with LinuxCNC's id counter twice.
                 let next = self.inst.next_component_id().saturating_add(2);
                 self.inst.advance_component_ids(next).map_err(msg)?;
-                let _ = self.out.flush();
+                self.inst
+                    .check_unlocked(hal_core::lock_bits::LOAD, "loadusr")
+                    .map_err(msg)?;
+                let _ = self.w_out().flush();
                 if let Some(child) = super::usr::run(&self.inst, &spec)? {
                     self.children.push(child);
                 }
@@ -322,11 +445,24 @@ impl<'o> Session<'o> {
             }
             "waitusr" => super::usr::wait_gone(&self.inst, a[0]),
             "unloadusr" => super::usr::unload(&self.inst, a[0], UNLOAD_LIMIT),
-            "lock" | "unlock" | "debug" => Ok(()),
+            "lock" | "unlock" => {
+                let level = super::lock::next_level(
+                    self.inst.lock_level(),
+                    spec.name == "lock",
+                    a.first().copied(),
+                )?;
+                self.inst.set_lock_level(level);
+                Ok(())
+            }
+            "quit" | "exit" => {
+                self.done = true;
+                Ok(())
+            }
+            "debug" => Ok(()),
             cmd => {
                 // show, list, save, getp, gets, ptype, stype, status, help.
                 let text = format::render(&self.inst, cmd, a, self.opts.script)?;
-                let _ = self.out.write_all(text.as_bytes());
+                let _ = self.w_out().write_all(text.as_bytes());
                 Ok(())
             }
         }
@@ -390,6 +526,7 @@ impl<'o> Session<'o> {
             | HalError::PinConnected { .. } => {
                 format!("{what} '{name}': not writable")
             }
+            HalError::Locked { .. } => format!("{what} '{name}': {e}"),
             other => other.to_string(),
         })
     }
@@ -524,6 +661,7 @@ const COMMANDS: &[CommandSpec] = &[
     cmd("delf", 2, OPTIONAL),
     cmd("delsig", 1, 0),
     cmd("echo", 0, 0),
+    cmd("exit", 0, OPTIONAL | PLUS),
     cmd("getp", 1, 0),
     cmd("gets", 1, 0),
     cmd("help", 1, OPTIONAL),
@@ -538,6 +676,7 @@ const COMMANDS: &[CommandSpec] = &[
     cmd("net", 1, PLUS | ARROWS),
     cmd("newsig", 2, 0),
     cmd("print", 0, PLUS),
+    cmd("quit", 0, OPTIONAL | PLUS),
     cmd("ptype", 1, 0),
     cmd("save", 2, OPTIONAL),
     cmd("setexact_for_test_suite_only", 0, 0),
@@ -558,6 +697,11 @@ const COMMANDS: &[CommandSpec] = &[
     cmd("unlock", 1, OPTIONAL),
     cmd("waitusr", 1, 0),
 ];
+
+/// Every command's name, as `hal --commands` lists them.
+pub fn command_names() -> Vec<String> {
+    COMMANDS.iter().map(|c| c.name.to_string()).collect()
+}
 
 impl CommandSpec {
     /// The arguments of one use of the command (arrows dropped if it takes

@@ -73,7 +73,7 @@ pub fn parse(args: &[&str]) -> Result<LoadUsr, String> {
 /// The component a program is expected to register when `-W` has no
 /// `-n`: its file name without directory and extension, as LinuxCNC
 /// guesses (`loadusr -W ./foo.py` waits for `foo`).
-fn guess_comp_name(program: &str) -> &str {
+pub fn guess_comp_name(program: &str) -> &str {
     let base = program.rsplit('/').next().unwrap_or(program);
     base.rfind('.').map_or(base, |dot| &base[..dot])
 }
