@@ -78,15 +78,15 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
                 return 1;
             }
         },
-        Some(None) => run_stream(&mut session, false),
+        Some(None) => interactive(&mut session, false),
         None if !args.command.is_empty() => session.run_words(&args.command),
-        None => run_stream(&mut session, true),
+        None => interactive(&mut session, true),
     };
     if interactive_after {
         // As halrun -I: the interactive session follows the file even if
         // the file ended with `quit`.
         session.resume();
-        ok &= run_stream(&mut session, true);
+        ok &= interactive(&mut session, true);
     }
     if ok {
         0
@@ -95,8 +95,9 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
     }
 }
 
-/// Reads commands from stdin, with a prompt on a terminal.
-fn run_stream(session: &mut Session<'_>, prompt: bool) -> bool {
+/// Reads commands from stdin until EOF or `quit`, with a prompt when
+/// `prompt` and stdin is a terminal. Returns false if a command failed.
+pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
     let stdin = std::io::stdin();
     let prompt = prompt && stdin.is_terminal();
     let mut ok = true;

@@ -18,6 +18,7 @@ pub fn registry() -> Registry {
     r.add(&hal_components::modules());
     r.add(&[&hal_parport::MODULE]);
     r.add(&hostmot2::hal::modules());
+    r.add(&crate::launcher::tp_home::modules());
     r.add(&motion::modules());
     r
 }

@@ -23,6 +23,18 @@ pub fn host_binary() -> PathBuf {
 /// host gets a session of its own, so it outlives the shell that started
 /// it (`realtime start`).
 pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
+    start(instance, detached, false)
+}
+
+/// Starts a host for `instance` in a process group of its own, so that
+/// Ctrl-C in the terminal reaches only the caller, which then shuts the
+/// host down in order (the launcher brings the machine to its safe state
+/// first). The host still goes if the caller dies.
+pub fn start_host_own_group(instance: &str) -> Result<Child, String> {
+    start(instance, false, true)
+}
+
+fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, String> {
     if Client::connect(instance).is_ok() {
         return Err(format!(
             "realtime is already running for instance '{instance}'"
@@ -33,10 +45,14 @@ pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
     use std::os::unix::process::CommandExt;
     if !detached {
         // If halrun dies, its host goes too (SIGTERM: a clean shutdown).
-        // SAFETY: prctl is async-signal-safe and touches no memory of ours.
+        // SAFETY: prctl and setpgid are async-signal-safe and touch no memory
+        // of ours.
         unsafe {
-            cmd.pre_exec(|| {
+            cmd.pre_exec(move || {
                 libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM);
+                if own_group {
+                    libc::setpgid(0, 0);
+                }
                 Ok(())
             });
         }

@@ -10,6 +10,7 @@ pub mod ini;
 pub mod iocontrol;
 pub mod hostd;
 pub mod launch;
+pub mod launcher;
 pub mod meter;
 pub mod parport_tool;
 pub mod protocol;

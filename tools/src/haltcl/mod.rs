@@ -215,13 +215,11 @@ fn answer(
 ) -> Result<(bool, Vec<String>), HaltclError> {
     match fields.first().map(String::as_str) {
         Some("commands") => Ok((true, crate::halcmd::session::command_names())),
-        Some("ini") => {
-            let mut v = Vec::new();
-            for e in ini.map(Ini::entries).unwrap_or_default() {
-                v.extend([e.section.clone(), e.key.clone(), e.value.clone()]);
-            }
-            Ok((true, v))
-        }
+        Some("ini") => Ok((true, ini.map(ini_fields).unwrap_or_default())),
+        Some("parse-ini") if fields.len() == 2 => match Ini::load(Path::new(&fields[1])) {
+            Ok(parsed) => Ok((true, ini_fields(&parsed))),
+            Err(e) => Ok((false, vec![e.to_string()])),
+        },
         Some("job") => {
             let mut v = vec![
                 job.script
@@ -254,6 +252,15 @@ fn answer(
         }
         other => Err(HaltclError::Protocol(format!("unknown request {other:?}"))),
     }
+}
+
+/// Every INI entry as (section, key, value) fields.
+fn ini_fields(ini: &Ini) -> Vec<String> {
+    let mut v = Vec::new();
+    for e in ini.entries() {
+        v.extend([e.section.clone(), e.key.clone(), e.value.clone()]);
+    }
+    v
 }
 
 /// The words of a `hal` call as halcmd would see them. `loadrt`'s

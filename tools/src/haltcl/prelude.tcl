@@ -89,6 +89,21 @@ foreach {::haltcl::sec ::haltcl::key ::haltcl::val} $::haltcl::ini {
 }
 unset -nocomplain ::haltcl::ini ::haltcl::sec ::haltcl::key ::haltcl::val
 
+# What LinuxCNC's Tcl libraries `package require`: the hal command and
+# parse_ini (which here reads INI files as the launcher does, #INCLUDE
+# and all, into ::SECTION(KEY) lists).
+package provide Hal 1.0
+proc parse_ini {filename} {
+    lassign [::haltcl::call parse-ini $filename] status fields
+    if {$status ne "ok"} {
+        return -code error [lindex $fields 0]
+    }
+    foreach {sec key val} $fields {
+        lappend ::${sec}($key) $val
+    }
+}
+package provide Linuxcnc 1.0
+
 lassign [::haltcl::call job] _ ::haltcl::job
 lassign $::haltcl::job ::haltcl::script ::haltcl::prompt
 set ::argv [lrange $::haltcl::job 2 end]
