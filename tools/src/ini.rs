@@ -132,7 +132,10 @@ pub enum IniError {
 }
 
 fn at(origin: &Option<Origin>) -> String {
-    origin.as_ref().map(|o| format!("{o}: ")).unwrap_or_default()
+    origin
+        .as_ref()
+        .map(|o| format!("{o}: "))
+        .unwrap_or_default()
 }
 
 /// A note about a line that was not understood and was skipped.
@@ -302,7 +305,12 @@ impl Ini {
 
     /// A boolean: TRUE/YES/ON/1 or FALSE/NO/OFF/0, in any case.
     pub fn boolean(&self, section: &str, key: &str) -> Result<Option<bool>, IniError> {
-        self.typed(section, key, "a boolean (YES/NO, TRUE/FALSE, ON/OFF, 1/0)", parse_bool)
+        self.typed(
+            section,
+            key,
+            "a boolean (YES/NO, TRUE/FALSE, ON/OFF, 1/0)",
+            parse_bool,
+        )
     }
 
     /// A value that must be present.
@@ -325,15 +333,13 @@ impl Ini {
             return Ok(None);
         };
         let first = e.value.split_whitespace().next().unwrap_or("");
-        parse(first)
-            .map(Some)
-            .ok_or_else(|| IniError::BadValue {
-                origin: e.origin.clone(),
-                section: section.to_string(),
-                key: key.to_string(),
-                value: e.value.clone(),
-                expected,
-            })
+        parse(first).map(Some).ok_or_else(|| IniError::BadValue {
+            origin: e.origin.clone(),
+            section: section.to_string(),
+            key: key.to_string(),
+            value: e.value.clone(),
+            expected,
+        })
     }
 }
 
@@ -395,7 +401,13 @@ struct Parser<'a, 'r> {
 }
 
 impl Parser<'_, '_> {
-    fn text(&mut self, text: &str, file: Arc<str>, dir: &Path, depth: usize) -> Result<(), IniError> {
+    fn text(
+        &mut self,
+        text: &str,
+        file: Arc<str>,
+        dir: &Path,
+        depth: usize,
+    ) -> Result<(), IniError> {
         let lines: Vec<&str> = text.lines().collect();
         let mut i = 0;
         while i < lines.len() {
@@ -422,19 +434,28 @@ impl Parser<'_, '_> {
                     Some((name, rest)) => {
                         let rest = rest.trim();
                         if !(rest.is_empty() || rest.starts_with('#') || rest.starts_with(';')) {
-                            self.warn(origin.clone(), format!("text after section header ignored: {rest:?}"));
+                            self.warn(
+                                origin.clone(),
+                                format!("text after section header ignored: {rest:?}"),
+                            );
                         }
                         self.section = name.trim().to_string();
                         if !self.ini.sections.contains(&self.section) {
                             self.ini.sections.push(self.section.clone());
                         }
                     }
-                    None => self.warn(origin, format!("section header without ']' skipped: {line:?}")),
+                    None => self.warn(
+                        origin,
+                        format!("section header without ']' skipped: {line:?}"),
+                    ),
                 }
                 continue;
             }
             let Some((key, first)) = line.split_once('=') else {
-                self.warn(origin, format!("line is not KEY = VALUE, skipped: {line:?}"));
+                self.warn(
+                    origin,
+                    format!("line is not KEY = VALUE, skipped: {line:?}"),
+                );
                 continue;
             };
             let key = key.trim().to_string();
@@ -488,7 +509,13 @@ impl Parser<'_, '_> {
         Ok(())
     }
 
-    fn include(&mut self, name: &str, origin: Origin, dir: &Path, depth: usize) -> Result<(), IniError> {
+    fn include(
+        &mut self,
+        name: &str,
+        origin: Origin,
+        dir: &Path,
+        depth: usize,
+    ) -> Result<(), IniError> {
         if name.is_empty() {
             return Err(IniError::IncludeWithoutName { origin });
         }
@@ -685,7 +712,8 @@ fn unescape(s: &str) -> Result<String, Unescape> {
             }
             b'U' => {
                 let v = hex(i + 2, 8).ok_or_else(|| Unescape::Escape(escape_text()))?;
-                let ch = char::from_u32(v).ok_or_else(|| Unescape::Escape(s[start..start + 10].to_string()))?;
+                let ch = char::from_u32(v)
+                    .ok_or_else(|| Unescape::Escape(s[start..start + 10].to_string()))?;
                 if ch == '\0' {
                     return Err(Unescape::Text("contains a NUL character"));
                 }
@@ -782,7 +810,12 @@ mod tests {
              T = a\\tb\nSP = \\x20x\\x20\nKEEP = c:\\dir\n",
         );
         for k in ["A", "B", "C", "D"] {
-            assert_eq!(ini.get("E", k), Some("\u{1f600}"), "{k} {:?}", ini.warnings());
+            assert_eq!(
+                ini.get("E", k),
+                Some("\u{1f600}"),
+                "{k} {:?}",
+                ini.warnings()
+            );
         }
         assert_eq!(ini.get("E", "T"), Some("a\tb"));
         assert_eq!(ini.get("E", "SP"), Some(" x "));
@@ -814,10 +847,17 @@ mod tests {
     fn include_errors_name_the_line() {
         let mut read = files(&[("m.ini", "[A]\n#INCLUDE m.ini\n")]);
         let e = Ini::parse_with(Path::new("m.ini"), &mut read).unwrap_err();
-        assert!(e.to_string().starts_with("m.ini:2: recursive #INCLUDE"), "{e}");
+        assert!(
+            e.to_string().starts_with("m.ini:2: recursive #INCLUDE"),
+            "{e}"
+        );
         let mut read = files(&[("m.ini", "[A]\n\n#INCLUDE gone.inc\n")]);
         let e = Ini::parse_with(Path::new("m.ini"), &mut read).unwrap_err();
-        assert!(e.to_string().starts_with("m.ini:3: cannot read INI file gone.inc"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("m.ini:3: cannot read INI file gone.inc"),
+            "{e}"
+        );
         // A chain of 17 includes is one too many.
         let names: Vec<String> = (0..=17).map(|i| format!("f{i}.inc")).collect();
         let texts: Vec<String> = (0..=17)

@@ -79,7 +79,9 @@ fn parse(args: &[String]) -> Result<Request, String> {
                     r.ini = Some(value()?);
                     break;
                 }
-                'e' | 'k' | 'q' | 's' | 'v' | 'R' | 'Q' | 'V' => r.halcmd_opts.push(format!("-{c}")),
+                'e' | 'k' | 'q' | 's' | 'v' | 'R' | 'Q' | 'V' => {
+                    r.halcmd_opts.push(format!("-{c}"))
+                }
                 'U' | 'h' => unreachable!("handled before parsing"),
                 other => return Err(format!("unknown option -{other}")),
             }
@@ -117,7 +119,11 @@ fn main() {
     let kind = req
         .file
         .as_deref()
-        .map(|f| Path::new(f).extension().map(|e| e.to_string_lossy().to_string()))
+        .map(|f| {
+            Path::new(f)
+                .extension()
+                .map(|e| e.to_string_lossy().to_string())
+        })
         .map(Option::unwrap_or_default);
     if let Some(k) = &kind {
         if !matches!(k.as_str(), "hal" | "tcl" | "ini") {
@@ -183,12 +189,16 @@ fn run(inst: Instance, req: &Request, kind: Option<&str>) -> i32 {
                 script: req.file.as_ref().map(PathBuf::from),
                 ..TclJob::default()
             };
-            let mut status = with_session(inst.clone(), ini.clone(), |s| tcl_status(haltcl::run(s, ini.as_ref(), &job)));
+            let mut status = with_session(inst.clone(), ini.clone(), |s| {
+                tcl_status(haltcl::run(s, ini.as_ref(), &job))
+            });
             if req.interactive_tcl {
                 status = status.max(interactive_tcl(inst.clone(), req.ini.as_deref()));
             }
             if req.interactive_halcmd {
-                status = status.max(with_session(inst, None, |s| i32::from(!hal_tools::cli::interactive(s, true))));
+                status = status.max(with_session(inst, None, |s| {
+                    i32::from(!hal_tools::cli::interactive(s, true))
+                }));
             }
             status
         }
@@ -253,7 +263,11 @@ fn load_ini_or_die(path: &str) -> hal_tools::ini::Ini {
 }
 
 /// Runs `f` on a session writing to stdout and stderr.
-fn with_session<R>(inst: Instance, ini: Option<hal_tools::ini::Ini>, f: impl FnOnce(&mut Session<'_>) -> R) -> R {
+fn with_session<R>(
+    inst: Instance,
+    ini: Option<hal_tools::ini::Ini>,
+    f: impl FnOnce(&mut Session<'_>) -> R,
+) -> R {
     let (mut out, mut err) = (std::io::stdout(), std::io::stderr());
     let opts = hal_tools::halcmd::Options {
         ini,
@@ -269,7 +283,9 @@ fn interactive_tcl(inst: Instance, ini: Option<&str>) -> i32 {
         prompt: std::io::stdin().is_terminal(),
         ..TclJob::default()
     };
-    with_session(inst, ini.clone(), |s| tcl_status(haltcl::run(s, ini.as_ref(), &job)))
+    with_session(inst, ini.clone(), |s| {
+        tcl_status(haltcl::run(s, ini.as_ref(), &job))
+    })
 }
 
 fn tcl_status(r: Result<(), haltcl::HaltclError>) -> i32 {

@@ -18,7 +18,9 @@ fn main() {
     while let Some(a) = args.get(i) {
         match a.as_str() {
             "-i" | "-ini" => {
-                let Some(path) = args.get(i + 1) else { die("-i needs an INI file") };
+                let Some(path) = args.get(i + 1) else {
+                    die("-i needs an INI file")
+                };
                 match Ini::load(std::path::Path::new(path)) {
                     Ok(v) => ini = Some(v),
                     Err(e) => die(&e.to_string()),
@@ -34,7 +36,10 @@ fn main() {
     }
     let job = TclJob {
         script: args.get(i).map(PathBuf::from),
-        argv: args.get(i + 1..).map(<[String]>::to_vec).unwrap_or_default(),
+        argv: args
+            .get(i + 1..)
+            .map(<[String]>::to_vec)
+            .unwrap_or_default(),
         prompt: std::io::stdin().is_terminal(),
     };
     let inst = match Instance::attach(&instance_from_env()) {

@@ -58,7 +58,10 @@ fn main() -> ExitCode {
             ExitCode::from(1)
         }
         Err(TaskClientError::Io(e))
-            if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) =>
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
         {
             eprintln!(
                 "task-cmd: no answer within {:.1} s; the request goes on (see task-cmd status)",

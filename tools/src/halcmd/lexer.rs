@@ -345,7 +345,12 @@ mod tests {
                 Some(&ini)
             )
             .unwrap(),
-            ["loadrt", "motmod", "servo_period_nsec=1000000", "num_joints=2"]
+            [
+                "loadrt",
+                "motmod",
+                "servo_period_nsec=1000000",
+                "num_joints=2"
+            ]
         );
         // A quoted value stays one word; a key ends where name characters do.
         assert_eq!(

@@ -48,7 +48,10 @@ pub fn lock_status(level: u8) -> String {
         s.push_str("  HAL_LOCK_NONE - nothing is locked\n");
     }
     for (bit, text) in [
-        (LOAD, "  HAL_LOCK_LOAD    - loading of new components is locked\n"),
+        (
+            LOAD,
+            "  HAL_LOCK_LOAD    - loading of new components is locked\n",
+        ),
         (CONFIG, "  HAL_LOCK_CONFIG  - link and addf is locked\n"),
         (PARAMS, "  HAL_LOCK_PARAMS  - setting params is locked\n"),
         (RUN, "  HAL_LOCK_RUN     - running/stopping HAL is locked\n"),

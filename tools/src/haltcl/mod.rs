@@ -238,10 +238,12 @@ fn answer(
                 .map_err(|_| HaltclError::Protocol(format!("bad line number {:?}", fields[2])))?;
             let words = hal_words(&fields[3..]);
             let at = (!file.is_empty()).then(|| short_name(file));
-            let (ok, out, err) =
-                session.captured(|s| s.run_words_at(at.as_deref(), line, &words));
+            let (ok, out, err) = session.captured(|s| s.run_words_at(at.as_deref(), line, &words));
             if ok {
-                Ok((true, vec![out.strip_suffix('\n').unwrap_or(&out).to_string()]))
+                Ok((
+                    true,
+                    vec![out.strip_suffix('\n').unwrap_or(&out).to_string()],
+                ))
             } else {
                 let mut msg = err.trim_end().to_string();
                 if msg.is_empty() {
@@ -315,7 +317,8 @@ fn read_request(r: &mut impl BufRead) -> Result<Option<Vec<String>>, HaltclError
         r.read_exact(&mut buf)
             .map_err(|e| HaltclError::Protocol(format!("reading a field: {e}")))?;
         fields.push(
-            String::from_utf8(buf).map_err(|_| HaltclError::Protocol("field is not UTF-8".into()))?,
+            String::from_utf8(buf)
+                .map_err(|_| HaltclError::Protocol("field is not UTF-8".into()))?,
         );
     }
     Ok(Some(fields))
@@ -370,8 +373,17 @@ mod tests {
             ["loadrt", "trivkins", "coordinates=xz"]
         );
         assert_eq!(
-            w(&["loadrt", "hm2_pci", "config=\"num_encoders=1", "num_pwmgens=0\""]),
-            ["loadrt", "hm2_pci", "config=\"num_encoders=1 num_pwmgens=0\""]
+            w(&[
+                "loadrt",
+                "hm2_pci",
+                "config=\"num_encoders=1",
+                "num_pwmgens=0\""
+            ]),
+            [
+                "loadrt",
+                "hm2_pci",
+                "config=\"num_encoders=1 num_pwmgens=0\""
+            ]
         );
         assert_eq!(w(&["net", "a b", "c"]), ["net", "a b", "c"]);
     }

@@ -156,7 +156,7 @@ impl IoControl {
             save_to,
         };
         if !io.table.random {
-            io.table.slots[0] = None;
+            io.table.put(0, None);
         }
         io.out.tool_number = tool_in_spindle;
         io
@@ -178,10 +178,11 @@ impl IoControl {
         let spindle = self.tool_in_spindle;
         self.table = table;
         if !self.table.random {
-            self.table.slots[0] = self
+            let in_spindle = self
                 .table
                 .slot_of(spindle)
                 .and_then(|s| self.table.tool(s).cloned());
+            self.table.put(0, in_spindle);
         }
     }
 
@@ -268,9 +269,7 @@ impl IoControl {
         if !self.table.random && tool == 0 {
             return Ok(0);
         }
-        self.table
-            .slot_of(tool)
-            .ok_or(IoError::NoSuchTool { tool })
+        self.table.slot_of(tool).ok_or(IoError::NoSuchTool { tool })
     }
 
     fn prepare(&mut self, tool: i32) -> Result<Started, IoError> {
@@ -319,6 +318,9 @@ impl IoControl {
     /// the spindle for slot 0).
     fn load_slot(&mut self, slot: usize) {
         if self.table.random {
+            if slot >= self.table.slots.len() {
+                self.table.put(slot, None);
+            }
             self.table.slots.swap(0, slot);
             if let Some(path) = &self.save_to {
                 // A failed save leaves the file behind the machine: say so.
@@ -327,9 +329,10 @@ impl IoControl {
                 }
             }
         } else if slot == 0 {
-            self.table.slots[0] = None;
+            self.table.put(0, None);
         } else {
-            self.table.slots[0] = self.table.slots[slot].clone();
+            let tool = self.table.tool(slot).cloned();
+            self.table.put(0, tool);
         }
     }
 
@@ -485,16 +488,32 @@ mod tests {
         );
         let o = *io.outputs();
         assert!(o.tool_prepare);
-        assert_eq!((o.tool_prep_number, o.tool_prep_pocket, o.tool_prep_index), (2, 3, 2));
+        assert_eq!(
+            (o.tool_prep_number, o.tool_prep_pocket, o.tool_prep_index),
+            (2, 3, 2)
+        );
         assert!(io.step(&inputs(false, false)).is_empty());
-        assert_eq!(io.step(&inputs(true, false)), [IoEvent::Prepared { tool: 2 }]);
+        assert_eq!(
+            io.step(&inputs(true, false)),
+            [IoEvent::Prepared { tool: 2 }]
+        );
         assert!(!io.outputs().tool_prepare);
-        assert_eq!(io.request(&IoRequest::Load), Ok(Started::Waiting(Handshake::Change)));
+        assert_eq!(
+            io.request(&IoRequest::Load),
+            Ok(Started::Waiting(Handshake::Change))
+        );
         assert!(io.outputs().tool_change);
         assert_eq!(io.step(&inputs(true, true)), [IoEvent::Changed { tool: 2 }]);
         let o = *io.outputs();
-        assert_eq!((o.tool_number, o.tool_prep_number, o.tool_change), (2, 0, false));
-        assert_eq!(io.table().tool(0).unwrap().number, 2, "copied to the spindle slot");
+        assert_eq!(
+            (o.tool_number, o.tool_prep_number, o.tool_change),
+            (2, 0, false)
+        );
+        assert_eq!(
+            io.table().tool(0).unwrap().number,
+            2,
+            "copied to the spindle slot"
+        );
         // Loading the tool already in the spindle does nothing.
         io.request(&IoRequest::Prepare { tool: 2 }).unwrap();
         io.step(&inputs(true, false));
@@ -519,9 +538,16 @@ mod tests {
         io.step(&inputs(true, true));
         assert_eq!(io.tool_in_spindle(), 1);
         assert_eq!(io.table().tool(0).unwrap().number, 1);
-        assert_eq!(io.table().tool(5).unwrap().number, 7, "old tool went to pocket 5");
+        assert_eq!(
+            io.table().tool(5).unwrap().number,
+            7,
+            "old tool went to pocket 5"
+        );
         // The tool in the spindle needs no prepare handshake.
-        assert_eq!(io.request(&IoRequest::Prepare { tool: 1 }), Ok(Started::Done));
+        assert_eq!(
+            io.request(&IoRequest::Prepare { tool: 1 }),
+            Ok(Started::Done)
+        );
         assert_eq!(io.request(&IoRequest::Load), Ok(Started::Done));
     }
 

@@ -74,7 +74,8 @@ impl std::fmt::Display for TableProblem {
 /// A tool table: slot 0 is the spindle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ToolTable {
-    /// Slots; `None` is empty.
+    /// Slots; `None` is empty. Only as long as the highest slot used (at
+    /// most [`POCKETS_MAX`]).
     pub slots: Vec<Option<Tool>>,
     /// Whether slots are pockets (random changer).
     pub random: bool,
@@ -137,10 +138,18 @@ impl ToolTable {
     /// An empty table.
     pub fn empty(random: bool) -> ToolTable {
         ToolTable {
-            slots: vec![None; POCKETS_MAX],
+            slots: vec![None],
             random,
             problems: Vec::new(),
         }
+    }
+
+    /// Puts `tool` in `slot`, growing the table.
+    pub fn put(&mut self, slot: usize, tool: Option<Tool>) {
+        if slot >= self.slots.len() {
+            self.slots.resize(slot + 1, None);
+        }
+        self.slots[slot] = tool;
     }
 
     /// Parses the text of a table file named `file` (for messages).
@@ -182,21 +191,23 @@ impl ToolTable {
                 }
             } else {
                 if next_slot >= POCKETS_MAX {
-                    t.problems
-                        .push(problem(format!("more than {} tools; line skipped", POCKETS_MAX - 1)));
+                    t.problems.push(problem(format!(
+                        "more than {} tools; line skipped",
+                        POCKETS_MAX - 1
+                    )));
                     continue;
                 }
                 next_slot += 1;
                 next_slot - 1
             };
-            if t.slots[slot].is_some() {
+            if t.tool(slot).is_some() {
                 t.problems.push(problem(format!(
                     "pocket {} is listed more than once; line skipped",
                     tool.pocket
                 )));
                 continue;
             }
-            t.slots[slot] = Some(tool);
+            t.put(slot, Some(tool));
         }
         t
     }
@@ -211,7 +222,8 @@ impl ToolTable {
     /// random changer; on a non-random one slot 0 is a copy).
     pub fn slot_of(&self, number: i32) -> Option<usize> {
         let first = if self.random { 0 } else { 1 };
-        (first..self.slots.len()).find(|&i| self.slots[i].as_ref().is_some_and(|t| t.number == number))
+        (first..self.slots.len())
+            .find(|&i| self.slots[i].as_ref().is_some_and(|t| t.number == number))
     }
 
     /// The tool in slot `slot`.

@@ -90,7 +90,10 @@ impl JointLimits {
             Some(_) => {
                 let e = ini.entry(s, "HOME_ABSOLUTE_ENCODER").cloned();
                 return Err(IniError::BadValue {
-                    origin: e.as_ref().map(|e| e.origin.clone()).unwrap_or_else(|| ini_origin(ini)),
+                    origin: e
+                        .as_ref()
+                        .map(|e| e.origin.clone())
+                        .unwrap_or_else(|| ini_origin(ini)),
                     section: sec.clone(),
                     key: "HOME_ABSOLUTE_ENCODER".into(),
                     value: e.map(|e| e.value).unwrap_or_default(),
@@ -237,7 +240,11 @@ impl TrajSettings {
             arc_blend_gap_cycles: traj_real(ini, &["ARC_BLEND_GAP_CYCLES"], 4.0)?,
             arc_blend_optimization_depth: traj_real(ini, &["ARC_BLEND_OPTIMIZATION_DEPTH"], 50.0)?,
             arc_blend_ramp_freq: traj_real(ini, &["ARC_BLEND_RAMP_FREQ"], 100.0)?,
-            default_velocity: traj_real(ini, &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"], 1.0)?,
+            default_velocity: traj_real(
+                ini,
+                &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
+                1.0,
+            )?,
             max_velocity: traj_real(ini, &["MAX_LINEAR_VELOCITY", "MAX_VELOCITY"], NO_LIMIT)?,
             default_acceleration: traj_real(
                 ini,
@@ -305,9 +312,15 @@ mod tests {
         let j = JointLimits::from_ini(&ini, 0).unwrap();
         assert_eq!((j.max_velocity, j.ferror, j.min_ferror), (5.0, 0.5, 0.5));
         assert_eq!((j.min_limit, j.max_acceleration), (-NO_LIMIT, 1.0));
-        assert_eq!((j.homing.sequence, j.homing.use_index, j.homing.final_vel), (-1, true, -1.0));
+        assert_eq!(
+            (j.homing.sequence, j.homing.use_index, j.homing.final_vel),
+            (-1, true, -1.0)
+        );
         let e = JointLimits::from_ini(&ini, 1).unwrap_err().to_string();
-        assert!(e.contains("[JOINT_1]HOME_ABSOLUTE_ENCODER = \"3\" is not 0, 1 or 2"), "{e}");
+        assert!(
+            e.contains("[JOINT_1]HOME_ABSOLUTE_ENCODER = \"3\" is not 0, 1 or 2"),
+            "{e}"
+        );
         let t = TrajSettings::from_ini(&ini).unwrap();
         assert_eq!(t.home, Some([0., 0., 1., 0., 0., 0., 0., 0., 0.]));
         assert!(t.arc_blend_enable);

@@ -43,7 +43,11 @@ impl HalSide<'_> {
             .all("HAL", "HALFILE")
             .map(|e| self.search.resolve(e))
             .collect::<Result<Vec<_>, _>>()?;
-        match self.ini.entry("HAL", "TWOPASS").filter(|e| !e.value.is_empty()) {
+        match self
+            .ini
+            .entry("HAL", "TWOPASS")
+            .filter(|e| !e.value.is_empty())
+        {
             Some(e) => self.twopass(session, &files, &e.value),
             None => {
                 let mut result = Ok(());
@@ -62,7 +66,12 @@ impl HalSide<'_> {
     /// TWOPASS: pass 0 gathers `loadrt`s (a `.hal` file marked
     /// `#NOTWOPASS` runs whole instead, keeping going), the gathered
     /// modules load, pass 1 runs the rest.
-    fn twopass(&self, session: &mut Session<'_>, files: &[HalFile], options: &str) -> Result<(), LaunchError> {
+    fn twopass(
+        &self,
+        session: &mut Session<'_>,
+        files: &[HalFile],
+        options: &str,
+    ) -> Result<(), LaunchError> {
         let verbose = self.verbose || options.to_ascii_lowercase().contains("verbose");
         if verbose {
             eprintln!("twopass: invoked with <{options}> options");
@@ -73,7 +82,8 @@ impl HalSide<'_> {
                 eprintln!("twopass: found {}", f.path.display());
             }
             if f.kind() == "hal" {
-                let text = std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
+                let text =
+                    std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
                 if super::twopass::is_notwopass(&text) {
                     notwopass.push(f.path.clone());
                 }
@@ -112,7 +122,10 @@ impl HalSide<'_> {
         }
         self.rules.borrow_mut().twopass.finish_pass0();
         if !failed.is_empty() && !self.keep_going {
-            return Err(LaunchError::Failed(format!("twopass: {}", failed.join("; "))));
+            return Err(LaunchError::Failed(format!(
+                "twopass: {}",
+                failed.join("; ")
+            )));
         }
         self.rules.borrow_mut().phase = Phase::Pass1;
         let mut result = Ok(());
@@ -131,13 +144,7 @@ impl HalSide<'_> {
     /// Runs one HAL, Tcl or Python file.
     pub fn run_file(&self, session: &mut Session<'_>, f: &HalFile) -> Result<(), LaunchError> {
         self.note(&format!("running {}", f.display_name()));
-        let failed = || {
-            LaunchError::Failed(format!(
-                "{}: [HAL] file {} failed",
-                f.origin,
-                f.spec
-            ))
-        };
+        let failed = || LaunchError::Failed(format!("{}: [HAL] file {} failed", f.origin, f.spec));
         match f.kind().as_str() {
             "hal" => {
                 if !f.args.is_empty() {
@@ -147,7 +154,8 @@ impl HalSide<'_> {
                         f.args.join(" ")
                     );
                 }
-                let text = std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
+                let text =
+                    std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
                 let name = f.display_name();
                 if session.run_text(Some(&name), &text) {
                     Ok(())
@@ -196,11 +204,15 @@ impl HalSide<'_> {
             let words = match tokenize(&e.value, Some(self.ini)) {
                 Ok(w) => w,
                 Err(err) => {
-                    return Err(LaunchError::Failed(format!("{}: [HAL]HALCMD: {err}", e.origin)))
+                    return Err(LaunchError::Failed(format!(
+                        "{}: [HAL]HALCMD: {err}",
+                        e.origin
+                    )))
                 }
             };
             if !session.run_words_at(Some(&at), e.origin.line, &words) {
-                let err = LaunchError::Failed(format!("{}: [HAL]HALCMD = {} failed", e.origin, e.value));
+                let err =
+                    LaunchError::Failed(format!("{}: [HAL]HALCMD = {} failed", e.origin, e.value));
                 if !self.keep_going {
                     return Err(err);
                 }
@@ -214,7 +226,10 @@ impl HalSide<'_> {
     pub fn files_of(&self, session: &mut Session<'_>, key: &str) -> Result<(), LaunchError> {
         let mut result = Ok(());
         for e in self.ini.all("HAL", key) {
-            let r = self.search.resolve(e).and_then(|f| self.run_file(session, &f));
+            let r = self
+                .search
+                .resolve(e)
+                .and_then(|f| self.run_file(session, &f));
             if r.is_err() && !self.keep_going {
                 return r;
             }

@@ -95,14 +95,18 @@ impl SearchPath {
         }
         let mut tried = Vec::new();
         let path = if let Some(lib_name) = name.strip_prefix("LIB:") {
-            let lib = self
-                .lib
-                .as_ref()
-                .ok_or_else(|| fail("the library of standard HAL files (lib/hallib) was not found; set HALLIB_DIR".into()))?;
+            let lib = self.lib.as_ref().ok_or_else(|| {
+                fail(
+                    "the library of standard HAL files (lib/hallib) was not found; set HALLIB_DIR"
+                        .into(),
+                )
+            })?;
             tried.push(lib.join(lib_name));
             lib.join(lib_name)
         } else if let Some(rest) = name.strip_prefix("~/") {
-            let home = std::env::var_os("HOME").map(PathBuf::from).unwrap_or_default();
+            let home = std::env::var_os("HOME")
+                .map(PathBuf::from)
+                .unwrap_or_default();
             tried.push(home.join(rest));
             home.join(rest)
         } else if Path::new(name).is_absolute() {
@@ -127,7 +131,10 @@ impl SearchPath {
         };
         if !path.is_file() {
             let list: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
-            return Err(fail(format!("file not found (looked for {})", list.join(", "))));
+            return Err(fail(format!(
+                "file not found (looked for {})",
+                list.join(", ")
+            )));
         }
         Ok(HalFile {
             spec: entry.value.clone(),
@@ -171,14 +178,34 @@ mod tests {
             ini_dir: ini.clone(),
             lib: Some(lib.clone()),
         };
-        assert_eq!(sp.resolve(&entry("core_sim.hal")).unwrap().path, ini.join("core_sim.hal"));
-        assert_eq!(sp.resolve(&entry("LIB:core_sim.hal")).unwrap().path, lib.join("core_sim.hal"));
-        let tcl = sp.resolve(&entry("LIB:basic_sim.tcl -no_sim_spindle")).unwrap();
-        assert_eq!((tcl.kind(), tcl.args), ("tcl".to_string(), vec!["-no_sim_spindle".to_string()]));
-        assert_eq!(sp.resolve(&entry("basic_sim.tcl")).unwrap().path, lib.join("basic_sim.tcl"));
-        assert_eq!(sp.resolve(&entry("mine.hal")).unwrap().path, extra.join("mine.hal"));
+        assert_eq!(
+            sp.resolve(&entry("core_sim.hal")).unwrap().path,
+            ini.join("core_sim.hal")
+        );
+        assert_eq!(
+            sp.resolve(&entry("LIB:core_sim.hal")).unwrap().path,
+            lib.join("core_sim.hal")
+        );
+        let tcl = sp
+            .resolve(&entry("LIB:basic_sim.tcl -no_sim_spindle"))
+            .unwrap();
+        assert_eq!(
+            (tcl.kind(), tcl.args),
+            ("tcl".to_string(), vec!["-no_sim_spindle".to_string()])
+        );
+        assert_eq!(
+            sp.resolve(&entry("basic_sim.tcl")).unwrap().path,
+            lib.join("basic_sim.tcl")
+        );
+        assert_eq!(
+            sp.resolve(&entry("mine.hal")).unwrap().path,
+            extra.join("mine.hal")
+        );
         let e = sp.resolve(&entry("LIB:mine.hal")).unwrap_err().to_string();
-        assert!(e.starts_with("m.ini:7: [HAL]HALFILE = LIB:mine.hal: file not found"), "{e}");
+        assert!(
+            e.starts_with("m.ini:7: [HAL]HALFILE = LIB:mine.hal: file not found"),
+            "{e}"
+        );
         let _ = std::fs::remove_dir_all(root);
     }
 }

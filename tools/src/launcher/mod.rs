@@ -165,7 +165,11 @@ pub fn parse_args(args: &[String]) -> Result<Options, String> {
                 o.halfile_dirs.push(PathBuf::from(value(i)?));
                 i += 1;
             }
-            "-l" => return Err("-l (the last configuration) is not supported: name the INI file".into()),
+            "-l" => {
+                return Err(
+                    "-l (the last configuration) is not supported: name the INI file".into(),
+                )
+            }
             s if s.starts_with('-') => return Err(format!("unknown option '{s}'")),
             s => {
                 if ini.replace(PathBuf::from(s)).is_some() {
@@ -328,13 +332,19 @@ pub fn start_hal_side(
 pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
     let mut lines = Vec::new();
     if let Some(e) = ini.entry("DISPLAY", "DISPLAY") {
-        lines.push(format!("{}: GUI '{}' ([DISPLAY]DISPLAY)", e.origin, e.value));
+        lines.push(format!(
+            "{}: GUI '{}' ([DISPLAY]DISPLAY)",
+            e.origin, e.value
+        ));
     }
     if let Some(e) = ini.entry("HAL", "HALUI") {
         lines.push(format!("{}: halui ([HAL]HALUI = {})", e.origin, e.value));
     }
     for e in ini.all("APPLICATIONS", "APP") {
-        lines.push(format!("{}: application '{}' ([APPLICATIONS]APP)", e.origin, e.value));
+        lines.push(format!(
+            "{}: application '{}' ([APPLICATIONS]APP)",
+            e.origin, e.value
+        ));
     }
     for s in &rules.skipped {
         let pins = if s.gui_pins.is_empty() {
@@ -374,10 +384,16 @@ pub fn run(opts: &Options) -> i32 {
 fn run_machine(opts: &Options) -> Result<(), LaunchError> {
     let ini = load_ini(&opts.ini_path)?;
     let instance = hal_core::instance_from_env();
-    eprintln!("Machine configuration directory is '{}'", ini.dir().display());
+    eprintln!(
+        "Machine configuration directory is '{}'",
+        ini.dir().display()
+    );
     eprintln!(
         "Machine configuration file is '{}'",
-        opts.ini_path.file_name().unwrap_or_default().to_string_lossy()
+        opts.ini_path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
     );
     let signals = hal_core::userspace::ExitSignals::install()?;
     let mut host = crate::launch::start_host_own_group(&instance).map_err(LaunchError::Host)?;
@@ -410,7 +426,9 @@ fn run_on_host(
     }
     let startup = start_hal_side(&mut session, ini, opts)?;
     if !session.run_words(&["start".to_string()]) {
-        return Err(LaunchError::Failed("starting the realtime threads failed".into()));
+        return Err(LaunchError::Failed(
+            "starting the realtime threads failed".into(),
+        ));
     }
     let motion = motion_setup::MotionLink::connect(&inst);
     let mut motion = match motion {

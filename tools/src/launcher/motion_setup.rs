@@ -91,11 +91,9 @@ impl MotionLink {
     /// The command channel of the instance's `motmod`, or `None` if no
     /// motion controller is loaded.
     pub fn connect(inst: &Instance) -> Option<MotionLink> {
-        MotionClient::open(inst)
-            .ok()
-            .map(|c| MotionLink {
-                client: c.with_timeout(std::time::Duration::from_secs(2)),
-            })
+        MotionClient::open(inst).ok().map(|c| MotionLink {
+            client: c.with_timeout(std::time::Duration::from_secs(2)),
+        })
     }
 
     fn send(&mut self, cmd: Command) -> Result<(), String> {
@@ -115,7 +113,10 @@ impl MotionLink {
             let joint = j as i32;
             let steps: [(Command, &[&str]); 8] = [
                 (
-                    Command::SetJointBacklash { joint, backlash: l.backlash },
+                    Command::SetJointBacklash {
+                        joint,
+                        backlash: l.backlash,
+                    },
                     &["BACKLASH"],
                 ),
                 (
@@ -127,19 +128,31 @@ impl MotionLink {
                     &["MIN_LIMIT", "MAX_LIMIT"],
                 ),
                 (
-                    Command::SetJointMaxFerror { joint, ferror: l.ferror },
+                    Command::SetJointMaxFerror {
+                        joint,
+                        ferror: l.ferror,
+                    },
                     &["FERROR"],
                 ),
                 (
-                    Command::SetJointMinFerror { joint, ferror: l.min_ferror },
+                    Command::SetJointMinFerror {
+                        joint,
+                        ferror: l.min_ferror,
+                    },
                     &["MIN_FERROR", "FERROR"],
                 ),
                 (
-                    Command::SetJointVelLimit { joint, vel: l.max_velocity },
+                    Command::SetJointVelLimit {
+                        joint,
+                        vel: l.max_velocity,
+                    },
                     &["MAX_VELOCITY"],
                 ),
                 (
-                    Command::SetJointAccLimit { joint, acc: l.max_acceleration },
+                    Command::SetJointAccLimit {
+                        joint,
+                        acc: l.max_acceleration,
+                    },
                     &["MAX_ACCELERATION"],
                 ),
                 (
@@ -184,11 +197,17 @@ impl MotionLink {
                     &["MIN_LIMIT", "MAX_LIMIT"],
                 ),
                 (
-                    Command::SetAxisVelLimit { axis: a, vel: l.max_velocity },
+                    Command::SetAxisVelLimit {
+                        axis: a,
+                        vel: l.max_velocity,
+                    },
                     &["MAX_VELOCITY"],
                 ),
                 (
-                    Command::SetAxisAccLimit { axis: a, acc: l.max_acceleration },
+                    Command::SetAxisAccLimit {
+                        axis: a,
+                        acc: l.max_acceleration,
+                    },
                     &["MAX_ACCELERATION"],
                 ),
             ];
@@ -317,7 +336,11 @@ impl MotionLink {
                 if s.enabled { "enabled" } else { "disabled" },
                 s.mode,
                 s.joints.iter().filter(|j| j.active).count(),
-                if s.all_homed { "all homed" } else { "not all homed" }
+                if s.all_homed {
+                    "all homed"
+                } else {
+                    "not all homed"
+                }
             ),
             Err(e) => format!("motion: status not readable: {e}"),
         }

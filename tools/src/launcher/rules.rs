@@ -132,8 +132,8 @@ impl Rules {
         if !self.gui_comps.contains(comp) {
             return false;
         }
-        let exists = inst.pin(name).ok().flatten().is_some()
-            || inst.param(name).ok().flatten().is_some();
+        let exists =
+            inst.pin(name).ok().flatten().is_some() || inst.param(name).ok().flatten().is_some();
         !exists
     }
 

@@ -106,12 +106,20 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, String> {
         ["machine-on"] => TaskRequest::MachineOn,
         ["machine-off"] => TaskRequest::MachineOff,
         ["abort"] => TaskRequest::Abort,
-        ["tool-change", rest @ ..] if rest.len() == 1 => TaskRequest::ToolChange(tool(rest.first())?),
-        ["tool-prepare", rest @ ..] if rest.len() == 1 => TaskRequest::ToolPrepare(tool(rest.first())?),
+        ["tool-change", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::ToolChange(tool(rest.first())?)
+        }
+        ["tool-prepare", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::ToolPrepare(tool(rest.first())?)
+        }
         ["tool-load"] => TaskRequest::ToolLoad,
         ["set-tool", rest @ ..] if rest.len() == 1 => TaskRequest::SetTool(tool(rest.first())?),
-        ["coolant", "mist", rest @ ..] if rest.len() == 1 => TaskRequest::Mist(on_off(rest.first())?),
-        ["coolant", "flood", rest @ ..] if rest.len() == 1 => TaskRequest::Flood(on_off(rest.first())?),
+        ["coolant", "mist", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::Mist(on_off(rest.first())?)
+        }
+        ["coolant", "flood", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::Flood(on_off(rest.first())?)
+        }
         ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
         ["reload-tool-table"] => TaskRequest::ReloadToolTable,
         ["status"] => TaskRequest::Status,
@@ -180,7 +188,10 @@ impl Task {
             eprintln!("task: e-stop: iocontrol.0.emc-enable-in went FALSE");
             self.fail_all(server, "aborted: the e-stop chain opened");
         }
-        if inputs.emc_enable_in && self.state == MachineState::Estop && self.io.outputs().user_enable_out {
+        if inputs.emc_enable_in
+            && self.state == MachineState::Estop
+            && self.io.outputs().user_enable_out
+        {
             self.state = MachineState::Off;
         }
         let events = self.io.step(&inputs);
@@ -230,9 +241,11 @@ impl Task {
                 }
                 Waiting::EnableIn { until } if Instant::now() > until => server.reply(
                     id,
-                    Err("e-stop reset sent (user-enable-out TRUE), but iocontrol.0.emc-enable-in \
+                    Err(
+                        "e-stop reset sent (user-enable-out TRUE), but iocontrol.0.emc-enable-in \
                          stayed FALSE: the external e-stop chain is open"
-                        .into()),
+                            .into(),
+                    ),
                 ),
                 Waiting::Prepare { then_load } => {
                     let done = events.iter().find_map(|e| match e {
@@ -241,7 +254,9 @@ impl Task {
                     });
                     match (done, then_load) {
                         (None, _) => self.waiting.push((id, Waiting::Prepare { then_load })),
-                        (Some(tool), false) => server.reply(id, Ok(format!("tool {tool} prepared"))),
+                        (Some(tool), false) => {
+                            server.reply(id, Ok(format!("tool {tool} prepared")))
+                        }
                         (Some(_), true) => match self.io.request(&IoRequest::Load) {
                             Ok(Started::Done) => server.reply(id, Ok(self.in_spindle())),
                             Ok(Started::Waiting(_)) => self.waiting.push((id, Waiting::Change)),
@@ -384,7 +399,11 @@ impl Task {
             }
             TaskRequest::SetTool(tool) => Some(
                 self.require_on()
-                    .and_then(|()| self.io.request(&IoRequest::SetNumber { tool: *tool }).map_err(io_err))
+                    .and_then(|()| {
+                        self.io
+                            .request(&IoRequest::SetNumber { tool: *tool })
+                            .map_err(io_err)
+                    })
                     .map(|_| self.in_spindle()),
             ),
             TaskRequest::Mist(on) | TaskRequest::Flood(on) | TaskRequest::Lube(on) => {
@@ -403,7 +422,8 @@ impl Task {
                 None => Err("no [EMCIO]TOOL_TABLE is configured".into()),
                 Some(p) => match ToolTable::load(p, self.io.table().random) {
                     Ok(t) => {
-                        let problems: Vec<String> = t.problems.iter().map(|p| p.to_string()).collect();
+                        let problems: Vec<String> =
+                            t.problems.iter().map(|p| p.to_string()).collect();
                         self.io.reload(t);
                         let mut msg = format!("tool table {} reloaded", p.display());
                         for pr in problems {
@@ -465,11 +485,19 @@ mod tests {
 
     #[test]
     fn requests_parse() {
-        assert_eq!(parse_request(&w("tool-change 3")), Ok(TaskRequest::ToolChange(3)));
-        assert_eq!(parse_request(&w("coolant flood on")), Ok(TaskRequest::Flood(true)));
+        assert_eq!(
+            parse_request(&w("tool-change 3")),
+            Ok(TaskRequest::ToolChange(3))
+        );
+        assert_eq!(
+            parse_request(&w("coolant flood on")),
+            Ok(TaskRequest::Flood(true))
+        );
         assert_eq!(parse_request(&w("lube off")), Ok(TaskRequest::Lube(false)));
         assert!(parse_request(&w("tool-change x")).is_err());
         assert!(parse_request(&w("coolant mist maybe")).is_err());
-        assert!(parse_request(&w("fly")).unwrap_err().contains("unknown request 'fly'"));
+        assert!(parse_request(&w("fly"))
+            .unwrap_err()
+            .contains("unknown request 'fly'"));
     }
 }

@@ -222,13 +222,22 @@ impl TaskPins {
         for (joint, j) in self.joints.iter().enumerate() {
             let c: Vec<bool> = (i..i + 11).map(changed).collect();
             if c[0] {
-                out.push(IniChange::Backlash { joint, value: j.backlash.get() });
+                out.push(IniChange::Backlash {
+                    joint,
+                    value: j.backlash.get(),
+                });
             }
             if c[1] {
-                out.push(IniChange::Ferror { joint, value: j.ferror.get() });
+                out.push(IniChange::Ferror {
+                    joint,
+                    value: j.ferror.get(),
+                });
             }
             if c[2] {
-                out.push(IniChange::MinFerror { joint, value: j.min_ferror.get() });
+                out.push(IniChange::MinFerror {
+                    joint,
+                    value: j.min_ferror.get(),
+                });
             }
             if c[3] || c[4] {
                 out.push(IniChange::JointLimits {
@@ -238,13 +247,21 @@ impl TaskPins {
                 });
             }
             if c[5] {
-                out.push(IniChange::JointVel { joint, value: j.max_velocity.get() });
+                out.push(IniChange::JointVel {
+                    joint,
+                    value: j.max_velocity.get(),
+                });
             }
             if c[6] {
-                out.push(IniChange::JointAcc { joint, value: j.max_acceleration.get() });
+                out.push(IniChange::JointAcc {
+                    joint,
+                    value: j.max_acceleration.get(),
+                });
             }
             if c[7] {
-                out.push(IniChange::NotApplied { pin: "ini.N.max_jerk" });
+                out.push(IniChange::NotApplied {
+                    pin: "ini.N.max_jerk",
+                });
             }
             if c[8] || c[9] || c[10] {
                 out.push(IniChange::Homing {
@@ -266,13 +283,21 @@ impl TaskPins {
                 });
             }
             if c[2] {
-                out.push(IniChange::AxisVel { axis: a.axis, value: a.max_velocity.get() });
+                out.push(IniChange::AxisVel {
+                    axis: a.axis,
+                    value: a.max_velocity.get(),
+                });
             }
             if c[3] {
-                out.push(IniChange::AxisAcc { axis: a.axis, value: a.max_acceleration.get() });
+                out.push(IniChange::AxisAcc {
+                    axis: a.axis,
+                    value: a.max_acceleration.get(),
+                });
             }
             if c[4] {
-                out.push(IniChange::NotApplied { pin: "ini.L.max_jerk" });
+                out.push(IniChange::NotApplied {
+                    pin: "ini.L.max_jerk",
+                });
             }
             i += 5;
         }

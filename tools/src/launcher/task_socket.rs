@@ -111,7 +111,9 @@ impl TaskServer {
         let _ = c
             .stream
             .set_write_timeout(Some(std::time::Duration::from_secs(1)));
-        let _ = c.stream.write_all(format!("{tag}{UNIT}{text}\n").as_bytes());
+        let _ = c
+            .stream
+            .write_all(format!("{tag}{UNIT}{text}\n").as_bytes());
     }
 }
 
@@ -125,7 +127,9 @@ impl Drop for TaskServer {
 #[derive(Debug, thiserror::Error)]
 pub enum TaskClientError {
     /// No launcher listens for the instance.
-    #[error("no machine is running for instance '{instance}' (start it with: linuxcnc MACHINE.ini)")]
+    #[error(
+        "no machine is running for instance '{instance}' (start it with: linuxcnc MACHINE.ini)"
+    )]
     NotRunning { instance: String },
     /// The connection failed or the answer did not come in time.
     #[error("talking to the launcher: {0}")]

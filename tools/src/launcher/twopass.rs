@@ -30,9 +30,8 @@ pub struct TwoPass {
 
 /// A `count=`/`num_chan=` value: LinuxCNC adds them with Tcl's `incr`.
 fn whole(module: &str, item: &str, value: &str) -> Result<i64, String> {
-    crate::ini::parse_int(value).ok_or_else(|| {
-        format!("twopass: loadrt {module}: {item}={value} is not a whole number")
-    })
+    crate::ini::parse_int(value)
+        .ok_or_else(|| format!("twopass: loadrt {module}: {item}={value} is not a whole number"))
 }
 
 impl TwoPass {
@@ -71,12 +70,10 @@ impl TwoPass {
             if let Some(form) = form {
                 match g.form {
                     None => g.form = Some(form),
-                    Some(first) if first != form => {
-                        return Err(format!(
-                            "twopass: loadrt {module}: cannot mix count=, num_chan= and names= forms \
+                    Some(first) if first != form => return Err(format!(
+                        "twopass: loadrt {module}: cannot mix count=, num_chan= and names= forms \
                              (first used form: {first}=)"
-                        ))
-                    }
+                    )),
                     Some(_) => {}
                 }
             }

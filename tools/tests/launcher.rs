@@ -1,0 +1,188 @@
+//! `linuxcnc MACHINE.ini` end to end: the sim configurations start, run
+//! their threads, take task requests (e-stop reset, machine on, homing and
+//! jogging through motion-cmd, tool changes, coolant) and stop cleanly; a
+//! configuration that cannot load fails with one clear error.
+
+mod machine;
+
+use machine::{root, Machine, Scratch};
+
+#[test]
+fn the_mill_homes_jogs_changes_tools_and_stops_cleanly() {
+    let m = Machine::start(&root().join("configs/sim/mill/mill.ini"), "mill");
+    assert!(m.threads_run(), "threads run");
+    // The task pins start at the INI values.
+    assert_eq!(m.getp("ini.0.max_velocity"), "5");
+    assert_eq!(m.getp("ini.z.max_limit"), "5");
+    assert_eq!(m.getp("ini.2.home_sequence"), "0");
+    // Starts in e-stop; machine-on is refused until the e-stop is reset.
+    assert!(m.task_ok(&["status"]).starts_with("state: ESTOP"));
+    let (ok, _, err) = m.task(&["machine-on"]);
+    assert!(!ok && err.contains("e-stop"), "{err}");
+    assert_eq!(m.getp("iocontrol.0.user-enable-out"), "FALSE");
+    assert!(m.task_ok(&["estop-reset"]).contains("machine off"));
+    assert_eq!(m.getp("iocontrol.0.emc-enable-in"), "TRUE");
+    m.task_ok(&["machine-on"]);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE");
+    // Home on the simulated switches, then jog X in teleop mode.
+    m.motion(&["home", "-1"]);
+    m.motion(&["-t", "60", "wait", "all-homed"]);
+    m.motion(&["teleop"]);
+    m.motion(&["axis-jog-incr", "x", "5", "12.5"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert_eq!(m.getp("joint.0.pos-fb"), "12.5");
+    assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+    // Tool change through the (looped-back) handshakes.
+    assert_eq!(m.task_ok(&["tool-change", "3"]).trim(), "tool 3 in spindle");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "3");
+    let (ok, _, err) = m.task(&["tool-change", "42"]);
+    assert!(
+        !ok && err.contains("tool 42 is not in the tool table"),
+        "{err}"
+    );
+    m.task_ok(&["coolant", "flood", "on"]);
+    assert_eq!(m.halcmd(&["gets", "coolant-flood"]).trim(), "TRUE");
+    // The e-stop drops everything.
+    m.task_ok(&["estop"]);
+    assert_eq!(m.getp("iocontrol.0.coolant-flood"), "FALSE");
+    assert_eq!(m.getp("motion.motion-enabled"), "FALSE");
+    let err = m.stop();
+    // What was not started, and the pins that left alone, were said.
+    assert!(err.contains("GUI 'axis' ([DISPLAY]DISPLAY)"), "{err}");
+    assert!(err.contains("halui ([HAL]HALUI = halui)"), "{err}");
+    assert!(
+        err.contains("postgui.hal:4: net spindle-rpm => pyvcp.spindle-rpm"),
+        "{err}"
+    );
+    assert!(
+        err.contains("spindle.0.speed-out (signal spindle-rpm; pyvcp.spindle-rpm not created)"),
+        "{err}"
+    );
+    assert!(err.contains("stopping: e-stop, motion disabled"), "{err}");
+}
+
+#[test]
+fn the_lathe_runs_its_tcl_hal_file_and_turret() {
+    let m = Machine::start(&root().join("configs/sim/lathe/lathe.ini"), "lathe");
+    // lathe.tcl made a switch per joint from [TRAJ]COORDINATES.
+    let pins = m.halcmd(&["list", "pin", "home_*.out"]);
+    assert_eq!(pins.trim(), "home_x.out home_z.out");
+    assert!(m.threads_run());
+    // trivkins got its coordinates from the INI value with spaces.
+    assert!(m
+        .halcmd(&["show", "pin", "joint.1"])
+        .contains("joint.1.home-sw-in <== zhome"));
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    assert_eq!(m.task_ok(&["tool-change", "2"]).trim(), "tool 2 in spindle");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "2");
+    m.stop();
+}
+
+#[test]
+fn sigint_stops_the_machine_as_sigterm_does() {
+    let m = Machine::start(&root().join("configs/sim/lathe/lathe.ini"), "lathe-int");
+    let inst = m.instance.clone();
+    let (status, err) = m.stop_with(nix::sys::signal::Signal::SIGINT);
+    assert!(status.success(), "{err}");
+    assert!(hal_core::Instance::attach(&inst).is_err());
+}
+
+#[test]
+fn a_config_with_a_module_this_suite_lacks_fails_naming_it_file_and_line() {
+    let s = Scratch::new("lacking");
+    let ini = s.write(
+        "m.ini",
+        "[EMCMOT]\nEMCMOT = motmod\nBASE_PERIOD = 0\nSERVO_PERIOD = 1000000\n[KINS]\nKINEMATICS = trivkins\nJOINTS = 3\n\
+         [TRAJ]\nCOORDINATES = X Y Z\n[HAL]\nHALFILE = core_sim.hal\nHALFILE = sim_spindle_encoder.hal\n",
+    );
+    let m = Machine::spawn(&ini, "lacking", &[]);
+    let inst = m.instance.clone();
+    let (status, err) = m.wait_exit();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("HAL: ERROR: module 'sim_spindle' not found"),
+        "{err}"
+    );
+    assert!(
+        err.contains("sim_spindle_encoder.hal:5: insmod for sim_spindle failed"),
+        "{err}"
+    );
+    assert!(
+        err.contains("m.ini:12: [HAL] file sim_spindle_encoder.hal failed"),
+        "{err}"
+    );
+    assert!(
+        hal_core::Instance::attach(&inst).is_err(),
+        "nothing is left running"
+    );
+}
+
+#[test]
+fn a_missing_hal_file_and_a_bad_ini_value_are_named() {
+    let s = Scratch::new("badini");
+    let ini = s.write(
+        "m.ini",
+        "[KINS]\nJOINTS = 1\n[HAL]\nHALFILE = nowhere.hal\n",
+    );
+    let (status, err) = Machine::spawn(&ini, "badini", &[]).wait_exit();
+    assert_eq!(status.code(), Some(1));
+    assert!(
+        err.contains("m.ini:4: [HAL]HALFILE = nowhere.hal: file not found"),
+        "{err}"
+    );
+    let ini = s.write(
+        "j.ini",
+        "[KINS]\nKINEMATICS = trivkins coordinates=x\nJOINTS = 1\n[EMCMOT]\nSERVO_PERIOD = 1000000\n\
+         [JOINT_0]\nMAX_VELOCITY = fast\n[HAL]\nHALCMD = loadrt [KINS]KINEMATICS\n\
+         HALCMD = loadrt motmod num_joints=1\n",
+    );
+    let (status, err) = Machine::spawn(&ini, "badvalue", &[]).wait_exit();
+    assert_eq!(status.code(), Some(1));
+    assert!(
+        err.contains("j.ini:7: [JOINT_0]MAX_VELOCITY = \"fast\" is not a number"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_random_tool_changer_swaps_pockets_and_saves_its_table() {
+    let s = Scratch::new("random");
+    s.write(
+        "tools.tbl",
+        "T5 P0 ;in the spindle\nT7 P12 ;drill\nT8 P3 Zbad\n",
+    );
+    let ini = s.write(
+        "r.ini",
+        "[EMC]\nMACHINE = changer\n[EMCIO]\nTOOL_TABLE = tools.tbl\nRANDOM_TOOLCHANGER = 1\n\
+         [HAL]\nHALFILE = io.hal\n",
+    );
+    s.write(
+        "io.hal",
+        "loadrt threads name1=servo-thread period1=1000000\n\
+         net estop iocontrol.0.user-enable-out => iocontrol.0.emc-enable-in\n\
+         net prep iocontrol.0.tool-prepare => iocontrol.0.tool-prepared\n",
+    );
+    let m = Machine::start(&ini, "random");
+    assert!(m
+        .stderr()
+        .contains("tools.tbl:3: line skipped: 'Zbad': Z needs a number"));
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "5");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // tool-changed is not looped back: the change waits for it.
+    let (ok, _, err) = m.task(&["-t", "0.5", "tool-change", "7"]);
+    assert!(!ok && err.contains("no answer within"), "{err}");
+    assert_eq!(m.getp("iocontrol.0.tool-prep-pocket"), "12");
+    assert_eq!(m.getp("iocontrol.0.tool-change"), "TRUE");
+    m.halcmd(&["setp", "iocontrol.0.tool-changed", "1"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while m.getp("iocontrol.0.tool-number") != "7" {
+        assert!(std::time::Instant::now() < end, "the change did not end");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert_eq!(m.getp("iocontrol.0.tool-change"), "FALSE");
+    let table = std::fs::read_to_string(s.0.join("tools.tbl")).unwrap();
+    assert_eq!(table, "T7 P0 ;drill\nT5 P12 ;in the spindle\n");
+    m.stop();
+}

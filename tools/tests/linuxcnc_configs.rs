@@ -1,0 +1,127 @@
+//! Configurations shaped like LinuxCNC's own sim configurations
+//! (tests/linuxcnc-configs) run headless through `linuxcnc`: each loads,
+//! runs its threads, takes an e-stop reset and machine-on (and, where it
+//! has home switches, homes), and stops cleanly.
+
+mod machine;
+
+use machine::{root, Machine};
+
+fn config(dir: &str, ini: &str) -> std::path::PathBuf {
+    root().join("tests/linuxcnc-configs").join(dir).join(ini)
+}
+
+/// Starts the machine, checks its threads run, turns it on, runs
+/// `more` on it, stops it; returns its stderr.
+fn runs(dir: &str, ini: &str, more: impl FnOnce(&Machine)) -> String {
+    let m = Machine::start(&config(dir, ini), dir);
+    assert!(m.threads_run(), "{dir}: threads run\n{}", m.stderr());
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE", "{dir}");
+    more(&m);
+    m.stop()
+}
+
+fn home_all(m: &Machine) {
+    m.motion(&["home", "-1"]);
+    m.motion(&["-t", "60", "wait", "all-homed"]);
+}
+
+#[test]
+fn axis_mm_shape() {
+    let err = runs("axis-mm", "axis_mm.ini", |m| {
+        home_all(m);
+        assert_eq!(m.getp("joint.2.pos-fb"), "0");
+        assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+    });
+    assert!(err.contains("loadusr -W hal_manualtoolchange"), "{err}");
+    assert!(err.contains(
+        "iocontrol.0.tool-change (signal tool-change; hal_manualtoolchange.change not created)"
+    ));
+}
+
+#[test]
+fn basic_sim_tcl_shape() {
+    let err = runs("basic-sim", "xyz.ini", |m| {
+        // basic_sim.tcl's pass-through pid and sample-hold mux per joint.
+        assert!(m
+            .halcmd(&["show", "sig", "J0:pos-fb"])
+            .contains("==> joint.0.motor-pos-fb"));
+        m.motion(&["jog-incr", "0", "1", "0.5"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.0.pos-fb"), "0.5");
+        assert_eq!(m.halcmd(&["gets", "J0:vel"]).trim(), "0");
+    });
+    assert!(
+        err.contains("application 'halshow --fformat %.5f ./xyz.halshow' ([APPLICATIONS]APP)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn nine_axis_shape() {
+    runs("nine-axis", "axis_9axis.ini", |m| {
+        assert_eq!(m.getp("ini.8.max_velocity"), "1.2");
+        assert_eq!(m.getp("ini.w.max_limit"), "10");
+        m.motion(&["jog-incr", "5", "45", "90"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.5.pos-fb"), "90");
+    });
+}
+
+#[test]
+fn lathe_xz_shape() {
+    runs("lathe-xz", "lathe.ini", |m| {
+        home_all(m);
+        m.motion(&["teleop"]);
+        m.motion(&["axis-jog-incr", "z", "-1", "1.5"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.1.pos-fb"), "-1.5");
+        assert_eq!(m.task_ok(&["tool-change", "2"]).trim(), "tool 2 in spindle");
+    });
+}
+
+#[test]
+fn gantry_xyyz_shape() {
+    runs("gantry-xyyz", "gantry.ini", |m| {
+        home_all(m);
+        assert!(m.motion(&["status"]).contains("all-homed yes"));
+    });
+}
+
+#[test]
+fn includes_shape() {
+    runs("includes", "includes_demo.ini", |m| {
+        assert_eq!(m.getp("ini.1.home_sequence"), "1");
+        home_all(m);
+    });
+}
+
+#[test]
+fn twopass_shape() {
+    runs("twopass", "twopass.ini", |m| {
+        // One pid component with the three files' instances.
+        assert_eq!(
+            m.halcmd(&["list", "pin", "pid_*.command"]).trim(),
+            "pid_x.command pid_y.command pid_z.command"
+        );
+        m.motion(&["jog-incr", "2", "1", "0.25"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.2.pos-fb"), "0.25");
+    });
+}
+
+#[test]
+fn servo_pid_shape() {
+    let err = runs("servo-pid", "servo.ini", |m| {
+        m.motion(&["jog-incr", "0", "0.5", "0.1"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        let fb: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+        assert!((fb - 0.1).abs() < 0.01, "the servo loop follows: {fb}");
+    });
+    assert!(
+        err.contains("servo_postgui.hal:2: net Xpos-fb => pyvcp.x-position"),
+        "{err}"
+    );
+}
