@@ -30,11 +30,17 @@ pub enum IoRequest {
     /// Stop coolant and any tool handshake in progress.
     Abort,
     /// Prepare tool `tool` (T word; 0 unloads on a non-random changer).
-    Prepare { tool: i32 },
+    Prepare {
+        /// The tool number.
+        tool: i32,
+    },
     /// Change to the prepared tool (M6).
     Load,
     /// Declare tool `tool` in the spindle without a change (M61).
-    SetNumber { tool: i32 },
+    SetNumber {
+        /// The tool number.
+        tool: i32,
+    },
     /// Mist coolant on or off.
     Mist(bool),
     /// Flood coolant on or off.
@@ -66,7 +72,10 @@ pub enum Handshake {
 pub enum IoError {
     /// The tool is not in the tool table.
     #[error("tool {tool} is not in the tool table")]
-    NoSuchTool { tool: i32 },
+    NoSuchTool {
+        /// The tool number asked for.
+        tool: i32,
+    },
     /// M6 without a prepared tool.
     #[error("no tool is prepared (prepare one first)")]
     NothingPrepared,
@@ -119,9 +128,15 @@ pub struct IoOutputs {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum IoEvent {
     /// The prepare handshake finished.
-    Prepared { tool: i32 },
+    Prepared {
+        /// The prepared tool.
+        tool: i32,
+    },
     /// The change handshake finished: `tool` is in the spindle.
-    Changed { tool: i32 },
+    Changed {
+        /// The tool now in the spindle.
+        tool: i32,
+    },
 }
 
 /// iocontrol's logic.

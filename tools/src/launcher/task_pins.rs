@@ -11,32 +11,88 @@ use crate::ini::Ini;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum IniChange {
     /// `ini.N.backlash`.
-    Backlash { joint: usize, value: f64 },
+    Backlash {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.N.ferror`.
-    Ferror { joint: usize, value: f64 },
+    Ferror {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.N.min_ferror`.
-    MinFerror { joint: usize, value: f64 },
+    MinFerror {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.N.min_limit` / `max_limit`.
-    JointLimits { joint: usize, min: f64, max: f64 },
+    JointLimits {
+        /// The joint number.
+        joint: usize,
+        /// The lower limit.
+        min: f64,
+        /// The upper limit.
+        max: f64,
+    },
     /// `ini.N.max_velocity`.
-    JointVel { joint: usize, value: f64 },
+    JointVel {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.N.max_acceleration`.
-    JointAcc { joint: usize, value: f64 },
+    JointAcc {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.N.home`, `home_offset`, `home_sequence`.
     Homing {
+        /// The joint number.
         joint: usize,
+        /// `HOME`.
         home: f64,
+        /// `HOME_OFFSET`.
         offset: f64,
+        /// `HOME_SEQUENCE`.
         sequence: i32,
     },
     /// `ini.L.min_limit` / `max_limit` (L as an axis number).
-    AxisLimits { axis: usize, min: f64, max: f64 },
+    AxisLimits {
+        /// The axis number (X=0 … W=8).
+        axis: usize,
+        /// The lower limit.
+        min: f64,
+        /// The upper limit.
+        max: f64,
+    },
     /// `ini.L.max_velocity`.
-    AxisVel { axis: usize, value: f64 },
+    AxisVel {
+        /// The axis number (X=0 … W=8).
+        axis: usize,
+        /// The new value.
+        value: f64,
+    },
     /// `ini.L.max_acceleration`.
-    AxisAcc { axis: usize, value: f64 },
+    AxisAcc {
+        /// The axis number (X=0 … W=8).
+        axis: usize,
+        /// The new value.
+        value: f64,
+    },
     /// A pin whose setting the motion controller does not take yet.
-    NotApplied { pin: &'static str },
+    NotApplied {
+        /// The pin name.
+        pin: &'static str,
+    },
 }
 
 struct JointPins {

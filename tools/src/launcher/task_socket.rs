@@ -130,7 +130,10 @@ pub enum TaskClientError {
     #[error(
         "no machine is running for instance '{instance}' (start it with: linuxcnc MACHINE.ini)"
     )]
-    NotRunning { instance: String },
+    NotRunning {
+        /// The HAL instance name.
+        instance: String,
+    },
     /// The connection failed or the answer did not come in time.
     #[error("talking to the launcher: {0}")]
     Io(#[from] std::io::Error),

@@ -70,10 +70,12 @@ impl TwoPass {
             if let Some(form) = form {
                 match g.form {
                     None => g.form = Some(form),
-                    Some(first) if first != form => return Err(format!(
+                    Some(first) if first != form => {
+                        return Err(format!(
                         "twopass: loadrt {module}: cannot mix count=, num_chan= and names= forms \
                              (first used form: {first}=)"
-                    )),
+                    ))
+                    }
                     Some(_) => {}
                 }
             }
