@@ -53,10 +53,11 @@ proc setup_kins {axes} {
   }
   set kins [lindex $::KINS(KINEMATICS) end]
   eval loadrt $kins
-  if {[lindex $kins 0] eq "trivkins"} {
-    indices_for_trivkins $axes
-  } else {
-    puts stderr "setup_kins: unknown \[KINS\]KINEMATICS=<$::KINS(KINEMATICS)>"
+  # Other modules (xyzac-trt-kins, scarakins...) number their joints in
+  # the order of the coordinates as well.
+  indices_for_trivkins $axes
+  if {[lindex $kins 0] ne "trivkins"} {
+    puts stderr "setup_kins: using [lindex $kins 0], joints in the order of the coordinates"
   }
 }
 

@@ -125,3 +125,26 @@ fn servo_pid_shape() {
         "{err}"
     );
 }
+
+#[test]
+fn vismach_trt_shape() {
+    let err = runs("vismach-trt", "trt.ini", |m| {
+        // The kinematics of [KINS] and the HALCMD lines that do not name
+        // the vismach view.
+        assert_eq!(m.getp("xyzac-trt-kins.z-offset"), "10");
+        home_all(m);
+        m.motion(&["axis-jog-incr", "c", "30", "15"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.4.pos-fb"), "15");
+    });
+    assert!(
+        err.contains("trt.ini:22: loadusr -W xyzac-trt-gui"),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "xyzac-trt-kins.z-offset (signal :z-offset; xyzac-trt-gui.z-offset not created)"
+        ),
+        "{err}"
+    );
+}

@@ -111,6 +111,14 @@ fn base(program: &str) -> &str {
     program.rsplit('/').next().unwrap_or(program)
 }
 
+/// Whether `program` (a base name) is a GUI: one of [`GUI_PROGRAMS`], or a
+/// vismach 3-D view (`scaragui`, `xyzac-trt-gui`, `vismach`...), which
+/// LinuxCNC's sim configs start with `loadusr -W NAMEgui`.
+fn is_gui_program(program: &str) -> bool {
+    let program = program.strip_suffix(".py").unwrap_or(program);
+    GUI_PROGRAMS.contains(&program) || program == "vismach" || program.ends_with("gui")
+}
+
 impl Rules {
     /// Treats `name.*` pins as those of a GUI that is not started.
     pub fn add_gui_component(&mut self, name: &str) {
@@ -156,7 +164,7 @@ impl Rules {
                 let spec = usr::parse(&args).ok()?;
                 let program = base(&spec.program);
                 let nogui = spec.args.iter().any(|a| a == "--nogui");
-                if !GUI_PROGRAMS.contains(&program) || nogui {
+                if !is_gui_program(program) || nogui {
                     return None;
                 }
                 // pyvcp and gladevcp name their component with -c.
