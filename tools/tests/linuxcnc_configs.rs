@@ -100,7 +100,7 @@ fn includes_shape() {
 
 #[test]
 fn twopass_shape() {
-    runs("twopass", "twopass.ini", |m| {
+    let err = runs("twopass", "twopass.ini", |m| {
         // One pid component with the three files' instances.
         assert_eq!(
             m.halcmd(&["list", "pin", "pid_*.command"]).trim(),
@@ -110,6 +110,15 @@ fn twopass_shape() {
         m.motion(&["-t", "30", "wait", "in-position"]);
         assert_eq!(m.getp("joint.2.pos-fb"), "0.25");
     });
+    let passes: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("joint_z.tcl: pass"))
+        .collect();
+    assert_eq!(
+        passes,
+        ["joint_z.tcl: pass 0", "joint_z.tcl: pass 1"],
+        "{err}"
+    );
 }
 
 #[test]
@@ -147,4 +156,33 @@ fn vismach_trt_shape() {
         ),
         "{err}"
     );
+}
+
+#[test]
+fn ldelta_shape() {
+    let err = runs("ldelta", "ldelta.ini", |m| {
+        // sim_ldelta.hal from the library, found on the search path.
+        assert_eq!(m.getp("lineardeltakins.L"), "269");
+        home_all(m);
+        assert_eq!(m.getp("joint.0.pos-fb"), "270");
+    });
+    assert!(
+        err.contains("sim_ldelta.hal:8: loadusr -W lineardelta MIN_JOINT=-420"),
+        "{err}"
+    );
+}
+
+#[test]
+fn stepper_limits_shape() {
+    runs("stepper-limits", "stepper.ini", |m| {
+        // Step generators on the base thread; homing finds the window
+        // comparators' switches of simulated_limits.hal.
+        assert_eq!(m.getp("stepgen.0.position-scale"), "1000");
+        home_all(m);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        let x: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+        assert!(x.abs() < 1e-3, "X at HOME: {x}");
+        assert_eq!(m.halcmd(&["gets", "Xhome"]).trim(), "FALSE");
+        assert_eq!(m.halcmd(&["gets", "Zmaxlim"]).trim(), "FALSE");
+    });
 }

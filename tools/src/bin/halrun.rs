@@ -249,6 +249,7 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
     if req.interactive_tcl {
         let job = TclJob {
             prompt: std::io::stdin().is_terminal(),
+            twopass: None,
             ..TclJob::default()
         };
         status = status.max(tcl_status(haltcl::run(&mut session, Some(&ini), &job)));
@@ -281,6 +282,7 @@ fn interactive_tcl(inst: Instance, ini: Option<&str>) -> i32 {
     let ini = ini.map(load_ini_or_die);
     let job = TclJob {
         prompt: std::io::stdin().is_terminal(),
+        twopass: None,
         ..TclJob::default()
     };
     with_session(inst, ini.clone(), |s| {

@@ -41,6 +41,7 @@ fn main() {
             .map(<[String]>::to_vec)
             .unwrap_or_default(),
         prompt: std::io::stdin().is_terminal(),
+        twopass: None,
     };
     let inst = match Instance::attach(&instance_from_env()) {
         Ok(inst) => inst,

@@ -82,6 +82,10 @@ pub struct TclJob {
     pub argv: Vec<String>,
     /// Prompt with `haltcl: ` when reading stdin.
     pub prompt: bool,
+    /// The `[HAL]TWOPASS` pass (0 or 1) the file runs in, if any: the
+    /// script sees it as `[::tp::passnumber]`, as under LinuxCNC's
+    /// twopass.tcl.
+    pub twopass: Option<u8>,
 }
 
 /// The tclsh to run: `$HALTCL_TCLSH`, else `tclsh8.6`, else `tclsh`.
@@ -227,6 +231,7 @@ fn answer(
                     .map(|p| p.display().to_string())
                     .unwrap_or_default(),
                 if job.prompt { "1" } else { "0" }.to_string(),
+                job.twopass.map(|p| p.to_string()).unwrap_or_default(),
             ];
             v.extend(job.argv.iter().cloned());
             Ok((true, v))

@@ -105,8 +105,15 @@ proc parse_ini {filename} {
 package provide Linuxcnc 1.0
 
 lassign [::haltcl::call job] _ ::haltcl::job
-lassign $::haltcl::job ::haltcl::script ::haltcl::prompt
-set ::argv [lrange $::haltcl::job 2 end]
+lassign $::haltcl::job ::haltcl::script ::haltcl::prompt ::haltcl::pass
+set ::argv [lrange $::haltcl::job 3 end]
+# Under [HAL]TWOPASS, LinuxCNC's twopass.tcl runs the files in its ::tp
+# namespace; scripts ask it which pass runs.
+if {$::haltcl::pass ne ""} {
+    namespace eval ::tp {
+        proc passnumber {} {return $::haltcl::pass}
+    }
+}
 set ::argc [llength $::argv]
 
 proc ::haltcl::repl {} {

@@ -164,10 +164,16 @@ impl HalSide<'_> {
                 }
             }
             "tcl" => {
+                let twopass = match self.rules.borrow().phase {
+                    Phase::Normal => None,
+                    Phase::Pass0 => Some(0),
+                    Phase::Pass1 => Some(1),
+                };
                 let job = TclJob {
                     script: Some(f.path.clone()),
                     argv: f.args.clone(),
                     prompt: false,
+                    twopass,
                 };
                 haltcl::run(session, Some(self.ini), &job).map_err(|e| match e {
                     haltcl::HaltclError::Failed { .. } => failed(),

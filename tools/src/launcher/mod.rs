@@ -224,7 +224,10 @@ fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
             e.origin
         );
     }
-    let Some(e) = ini.entry("EMCIO", "TOOL_TABLE") else {
+    let Some(e) = ini
+        .entry("EMCIO", "TOOL_TABLE")
+        .filter(|e| !e.value.trim().is_empty())
+    else {
         return Ok((ToolTable::empty(random), None));
     };
     let path = ini.dir().join(&e.value);

@@ -37,6 +37,8 @@ const GUI_PROGRAMS: &[&str] = &[
     "tooledit",
     "halui",
     "classicladder",
+    "lineardelta",
+    "rotarydelta",
 ];
 
 /// HAL component names of GUIs: their pins never exist here.
