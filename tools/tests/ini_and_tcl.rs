@@ -121,6 +121,14 @@ l.hal:22: Locking failed: unknown lock type 'bogus' (use all, none, tune, load, 
     let realtime = env!("CARGO_BIN_EXE_realtime");
     let halcmd = env!("CARGO_BIN_EXE_halcmd");
     assert!(tool(realtime, &["start"], &inst, None).status.success());
+    // Stops the host even when an assertion below fails.
+    struct StopHost<'a>(&'a str, &'a str);
+    impl Drop for StopHost<'_> {
+        fn drop(&mut self) {
+            let _ = tool(self.0, &["stop"], self.1, None);
+        }
+    }
+    let _stop = StopHost(realtime, &inst);
     assert!(tool(halcmd, &["loadrt", "and2"], &inst, None)
         .status
         .success());
