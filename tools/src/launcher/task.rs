@@ -69,7 +69,7 @@ pub enum TaskRequest {
 
 /// The words `task-cmd` accepts, for its help text.
 pub const REQUESTS: &str = "\
-  estop                 assert the e-stop
+\x20 estop                 assert the e-stop
   estop-reset           release the e-stop (user-enable-out on, a pulse on
                         user-request-enable); waits for emc-enable-in
   machine-on | machine-off
