@@ -8,18 +8,10 @@ use std::process::{Child, Command, ExitStatus, Output, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// The workspace root.
-pub fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-/// An instance name no other test uses.
-pub fn instance(tag: &str) -> String {
-    hal_core::HostConfig::for_tests(tag).instance
-}
+#[path = "../common/mod.rs"]
+mod common;
+#[allow(unused_imports)]
+pub use common::{instance, root};
 
 /// A scratch directory of this test (removed by `Scratch::drop`).
 pub struct Scratch(pub PathBuf);
@@ -222,25 +214,10 @@ impl Machine {
 
     /// Sends `signal` (SIGTERM, SIGINT) and waits for the exit; returns
     /// the status and everything written to stderr.
-    pub fn stop_with(mut self, signal: nix::sys::signal::Signal) -> (ExitStatus, String) {
-        let mut child = self.child.take().unwrap();
-        let pid = nix::unistd::Pid::from_raw(child.id() as i32);
-        nix::sys::signal::kill(pid, signal).unwrap();
-        let end = Instant::now() + Duration::from_secs(60);
-        let status = loop {
-            if let Some(s) = child.try_wait().unwrap() {
-                break s;
-            }
-            assert!(
-                Instant::now() < end,
-                "linuxcnc did not stop:\n{}",
-                self.stderr()
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        // The reader thread gets EOF once the process is gone.
-        std::thread::sleep(Duration::from_millis(50));
-        (status, self.stderr())
+    pub fn stop_with(self, signal: nix::sys::signal::Signal) -> (ExitStatus, String) {
+        let pid = self.child.as_ref().unwrap().id() as i32;
+        nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), signal).unwrap();
+        self.wait_exit()
     }
 
     /// Waits for an exit without signalling (a start-up that fails).
