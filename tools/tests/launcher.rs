@@ -94,22 +94,26 @@ fn a_config_with_a_module_this_suite_lacks_fails_naming_it_file_and_line() {
     let ini = s.write(
         "m.ini",
         "[EMCMOT]\nEMCMOT = motmod\nBASE_PERIOD = 0\nSERVO_PERIOD = 1000000\n[KINS]\nKINEMATICS = trivkins\nJOINTS = 3\n\
-         [TRAJ]\nCOORDINATES = X Y Z\n[HAL]\nHALFILE = core_sim.hal\nHALFILE = sim_spindle_encoder.hal\n",
+         [TRAJ]\nCOORDINATES = X Y Z\n[HAL]\nHALFILE = core_sim.hal\nHALFILE = board.hal\n",
+    );
+    s.write(
+        "board.hal",
+        "# a board driver this suite does not have\nloadrt hal_nosuchboard\n",
     );
     let m = Machine::spawn(&ini, "lacking", &[]);
     let inst = m.instance.clone();
     let (status, err) = m.wait_exit();
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(
-        err.contains("HAL: ERROR: module 'sim_spindle' not found"),
+        err.contains("HAL: ERROR: module 'hal_nosuchboard' not found"),
         "{err}"
     );
     assert!(
-        err.contains("sim_spindle_encoder.hal:5: insmod for sim_spindle failed"),
+        err.contains("board.hal:2: insmod for hal_nosuchboard failed"),
         "{err}"
     );
     assert!(
-        err.contains("m.ini:12: [HAL] file sim_spindle_encoder.hal failed"),
+        err.contains("m.ini:12: [HAL] file board.hal failed"),
         "{err}"
     );
     assert!(

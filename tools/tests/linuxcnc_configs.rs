@@ -34,6 +34,8 @@ fn axis_mm_shape() {
         home_all(m);
         assert_eq!(m.getp("joint.2.pos-fb"), "0");
         assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+        // sim_spindle_encoder.hal: a stopped spindle is at its speed.
+        assert_eq!(m.halcmd(&["gets", "spindle-at-speed"]).trim(), "TRUE");
     });
     assert!(err.contains("loadusr -W hal_manualtoolchange"), "{err}");
     assert!(err.contains(
