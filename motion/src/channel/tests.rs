@@ -1,6 +1,11 @@
 //! Wire-format tests: round trips and rejection of every corrupt word.
 
+use super::records::shape;
+use super::snapshot::{aflag, flag, jflag};
 use super::*;
+use crate::command::{Command, Direction, Feature, Quantity, Reject};
+use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
+use crate::kins::Pose;
 
 fn all_commands() -> Vec<Command> {
     let mut pose = Pose::ZERO;

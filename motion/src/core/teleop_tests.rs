@@ -8,6 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 use super::*;
 use crate::axis::AxisStatus;
+use crate::command::{Command, Direction, Quantity, Reject};
+use crate::events::Event;
 use crate::kins::trivkins::Trivkins;
 use crate::kins::KinsError;
 use crate::simple_tp::SimpleTp;

@@ -1,0 +1,231 @@
+//! The controller's status as a client sees it: the decoded snapshot
+//! ([`MotionStatus`], one [`JointState`] per joint, one [`AxisState`] per
+//! world axis) and its text form for terminals.
+
+use std::fmt;
+
+use crate::command::result_name;
+use crate::homing::HomeState;
+use crate::kins::AXIS_LETTERS;
+
+/// The last command the channel answered: its serial and result code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LastCommand {
+    /// Serial number (0: none yet).
+    pub serial: u64,
+    /// 0 accepted, else the [`reject_code`](crate::command::reject_code).
+    pub code: u64,
+}
+
+/// One world axis in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// The kinematics compute this axis.
+    pub in_kinematics: bool,
+    /// Teleop planner enabled.
+    pub tp_enable: bool,
+    /// A keyboard (command) jog moves the axis.
+    pub kb_jogging: bool,
+    /// The jog wheel moves the axis.
+    pub wheel_jogging: bool,
+    /// The teleop planner moves.
+    pub moving: bool,
+    /// Commanded position (the world pose's coordinate).
+    pub pos_cmd: f64,
+    /// Teleop velocity.
+    pub vel_cmd: f64,
+    /// Position limits.
+    pub min_limit: f64,
+    pub max_limit: f64,
+}
+
+/// One joint in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointState {
+    pub active: bool,
+    /// Amplifier enabled (`joint.N.amp-enable-out`).
+    pub amp_enabled: bool,
+    pub in_position: bool,
+    pub error: bool,
+    pub pos_hard_limit: bool,
+    pub neg_hard_limit: bool,
+    /// Following error tripped.
+    pub following_error: bool,
+    /// Amplifier fault.
+    pub faulted: bool,
+    pub homed: bool,
+    pub homing: bool,
+    /// A keyboard jog of this joint is active.
+    pub jogging: bool,
+    /// The homing state (`joint.N.home-state`).
+    pub home_state: HomeState,
+    /// Commanded position.
+    pub pos_cmd: f64,
+    /// Position feedback.
+    pub pos_fb: f64,
+    /// Commanded velocity.
+    pub vel_cmd: f64,
+    /// Following error and its current limit.
+    pub ferror: f64,
+    pub ferror_limit: f64,
+    /// Soft limits.
+    pub min_limit: f64,
+    pub max_limit: f64,
+}
+
+/// A consistent copy of the controller's status.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MotionStatus {
+    /// True when enabled (amplifiers on).
+    pub enabled: bool,
+    /// "DISABLED", "FREE", "TELEOP" or "COORD".
+    pub mode: &'static str,
+    /// The TELEOP flag: in teleop mode, or entering it on enable.
+    pub teleop_mode: bool,
+    /// The COORD flag: in coordinated mode, or entering it on enable.
+    pub coord_mode: bool,
+    pub in_position: bool,
+    pub error: bool,
+    pub on_soft_limit: bool,
+    pub jog_active: bool,
+    pub homing_active: bool,
+    pub all_homed: bool,
+    /// `motion.enable` as last read.
+    pub enable_input: bool,
+    /// Servo cycles run.
+    pub heartbeat: u64,
+    /// The last command answered through the channel.
+    pub last: LastCommand,
+    /// Commands answered through the channel.
+    pub served: u64,
+    /// The free-mode SCALE.
+    pub scale: f64,
+    /// Joints whose hard limits are overridden.
+    pub override_mask: u64,
+    pub joints: Vec<JointState>,
+    /// The nine world axes, X Y Z A B C U V W.
+    pub axes: Vec<AxisState>,
+}
+
+impl fmt::Display for MotionStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let yn = |b: bool| if b { "yes" } else { "no" };
+        writeln!(
+            f,
+            "mode {}  enabled {}  enable-input {}  in-position {}  error {}  scale {}",
+            self.mode,
+            yn(self.enabled),
+            yn(self.enable_input),
+            yn(self.in_position),
+            yn(self.error),
+            self.scale
+        )?;
+        writeln!(
+            f,
+            "jog-active {}  on-soft-limit {}  all-homed {}  override-mask {:#x}  heartbeat {}",
+            yn(self.jog_active),
+            yn(self.on_soft_limit),
+            yn(self.all_homed),
+            self.override_mask,
+            self.heartbeat
+        )?;
+        if !self.enabled && (self.teleop_mode || self.coord_mode) {
+            let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
+            writeln!(f, "mode on enable: {m}")?;
+        }
+        if self.last.serial == 0 {
+            writeln!(f, "last command: none")?;
+        } else {
+            writeln!(
+                f,
+                "last command: serial {} {} (code {})",
+                self.last.serial,
+                result_name(self.last.code),
+                self.last.code
+            )?;
+        }
+        writeln!(
+            f,
+            "joint active amp homed {:>12} {:>12} {:>12} {:>10}  flags",
+            "pos-cmd", "pos-fb", "vel-cmd", "ferror"
+        )?;
+        for (n, j) in self.joints.iter().enumerate() {
+            let mut flags = String::new();
+            for (on, name) in [
+                (j.in_position, "inpos"),
+                (j.jogging, "jogging"),
+                (j.homing, "homing"),
+                (j.error, "error"),
+                (j.pos_hard_limit, "+hard-limit"),
+                (j.neg_hard_limit, "-hard-limit"),
+                (j.following_error, "ferror"),
+                (j.faulted, "amp-fault"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            if j.home_state != HomeState::Idle {
+                flags.push_str(" home-state=");
+                flags.push_str(j.home_state.name());
+            }
+            writeln!(
+                f,
+                "{n:<5} {:<6} {:<3} {:<5} {:>12.6} {:>12.6} {:>12.6} {:>10.6} {}",
+                yn(j.active),
+                yn(j.amp_enabled),
+                yn(j.homed),
+                j.pos_cmd,
+                j.pos_fb,
+                j.vel_cmd,
+                j.ferror,
+                flags.trim_start()
+            )?;
+        }
+        if self.axes.iter().any(|a| a.in_kinematics) {
+            writeln!(
+                f,
+                "axis {:>12} {:>12} {:>12} {:>12}  flags",
+                "pos-cmd", "vel-cmd", "min-limit", "max-limit"
+            )?;
+        }
+        for (a, x) in self.axes.iter().enumerate() {
+            if !x.in_kinematics {
+                continue;
+            }
+            let mut flags = String::new();
+            for (on, name) in [
+                (x.moving, "moving"),
+                (x.kb_jogging, "jogging"),
+                (x.wheel_jogging, "wheel"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "{:<4} {:>12.6} {:>12.6} {:>12} {:>12} {}",
+                AXIS_LETTERS[a].to_ascii_uppercase(),
+                x.pos_cmd,
+                x.vel_cmd,
+                limit_text(x.min_limit),
+                limit_text(x.max_limit),
+                flags.trim_start()
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// A limit for the status table: huge values (the ±1e99 "no limit"
+/// default) in exponent form, which `{}` would spell out in 100 digits.
+fn limit_text(v: f64) -> String {
+    if v.abs() >= 1e9 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
