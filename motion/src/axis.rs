@@ -25,6 +25,8 @@ pub struct AxisConfig {
     pub vel_limit: f64,
     /// Maximum acceleration of teleop jogs.
     pub acc_limit: f64,
+    /// Maximum jerk of coordinated moves (S-curve planning; 0: none).
+    pub jerk_limit: f64,
 }
 
 impl Default for AxisConfig {
@@ -34,6 +36,7 @@ impl Default for AxisConfig {
             max_pos_limit: 1e99,
             vel_limit: 1.0,
             acc_limit: 1.0,
+            jerk_limit: 0.0,
         }
     }
 }
@@ -211,6 +214,7 @@ mod tests {
                 max_pos_limit: max,
                 vel_limit: 10.0,
                 acc_limit: 100.0,
+                ..AxisConfig::default()
             },
             ..Axis::default()
         }

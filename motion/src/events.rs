@@ -52,6 +52,12 @@ pub enum Event {
     /// be resumed on enable (joints no longer homed, or the kinematics
     /// failed): motion is in free mode.
     WorldModeDropped,
+    /// A probing move ended without the input changing (G38.2: without
+    /// contact; G38.4: without losing contact); the queue was aborted.
+    ProbeNoContact { trip_on_clear: bool },
+    /// The probe input rose during a coordinated move that is not a
+    /// probing move; the queue was aborted.
+    ProbeTrippedDuringMove,
 }
 
 impl std::fmt::Display for Event {
@@ -99,6 +105,13 @@ impl std::fmt::Display for Event {
             Event::WorldModeDropped => f.write_str(
                 "teleop/coordinated mode could not be resumed on enable; motion is in free mode",
             ),
+            Event::ProbeNoContact {
+                trip_on_clear: false,
+            } => f.write_str("G38.2 move finished without making contact"),
+            Event::ProbeNoContact {
+                trip_on_clear: true,
+            } => f.write_str("G38.4 move finished without breaking contact"),
+            Event::ProbeTrippedDuringMove => f.write_str("Probe tripped during non-probe move."),
         }
     }
 }
@@ -131,6 +144,8 @@ impl Event {
             Event::NonFiniteJoint { joint } => (13, joint as u64, 0),
             Event::ProbeTrippedDuringAxisJog => (14, 0, 0),
             Event::WorldModeDropped => (15, 0, 0),
+            Event::ProbeNoContact { trip_on_clear } => (16, 0, u64::from(trip_on_clear)),
+            Event::ProbeTrippedDuringMove => (17, 0, 0),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -167,6 +182,10 @@ impl Event {
             13 => Event::NonFiniteJoint { joint: a },
             14 => Event::ProbeTrippedDuringAxisJog,
             15 => Event::WorldModeDropped,
+            16 => Event::ProbeNoContact {
+                trip_on_clear: b == 1,
+            },
+            17 => Event::ProbeTrippedDuringMove,
             _ => return None,
         })
     }
@@ -282,6 +301,10 @@ mod tests {
             Event::NonFiniteJoint { joint: 5 },
             Event::ProbeTrippedDuringAxisJog,
             Event::WorldModeDropped,
+            Event::ProbeNoContact {
+                trip_on_clear: true,
+            },
+            Event::ProbeTrippedDuringMove,
         ];
         let r = EventRing::default();
         for e in all {

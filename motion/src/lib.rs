@@ -26,6 +26,7 @@
 pub mod axis;
 pub mod channel;
 pub mod command;
+pub mod comp;
 pub mod core;
 pub mod events;
 pub mod homing;
@@ -39,6 +40,7 @@ pub mod sizes;
 pub mod status;
 #[cfg(test)]
 mod test_support;
+pub mod tp;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};

@@ -21,9 +21,10 @@
 //! corrupt answer or snapshot is reported to the client as an error.
 //!
 //! Command record, word by word: 0 version ([`CMD_VERSION`]), 1 serial
-//! (non-zero), 2 opcode, 3 joint or axis number (i32 sign-extended; zero
-//! for commands without one), 4..=12 up to nine float arguments (unused
-//! ones zero), 13 and 14 reserved (zero), 15 checksum.
+//! (non-zero), 2 opcode, 3 joint or axis number, or the motion id of a
+//! queued move (i32 sign-extended; zero for commands without one),
+//! 4..=27 up to 24 float arguments (unused ones zero; a pose is nine of
+//! them), 28..=30 reserved (zero), 31 checksum.
 //!
 //! Answer record: 0 version ([`REPLY_VERSION`]), 1 serial, 2 result code
 //! (0 accepted, else [`reject_code`]), 3 and 4 integer details, 5..=7
@@ -52,7 +53,7 @@ pub const STATUS: &str = "motmod.status";
 pub const LOCK: &str = "motmod.command-lock";
 
 /// Words per command record.
-pub const CMD_WORDS: usize = 16;
+pub const CMD_WORDS: usize = 32;
 /// Words per answer record.
 pub const REPLY_WORDS: usize = 9;
 /// Depth of both rings (holds one record fewer).
@@ -68,8 +69,9 @@ pub const AXIS_WORDS: usize = 5;
 /// Words of the status snapshot.
 pub const STATUS_WORDS: usize = AXES_START + NUM_AXES * AXIS_WORDS;
 
-/// Version word of a command record: "MOTCMD" and format 1.
-pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0001;
+/// Version word of a command record: "MOTCMD" and format 2 (format 2
+/// has 32 words, for the queueing commands' poses).
+pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0002;
 /// Version word of an answer record: "MOTREP" and format 1.
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
 /// Version word of the status snapshot: "MOTSTA" and format 2 (format 2
@@ -78,6 +80,8 @@ pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0002;
 
 /// Float argument words of a command record.
 pub(crate) const ARGS: usize = 4;
+/// How many float arguments a command record carries.
+pub(crate) const MAX_ARGS: usize = CMD_WORDS - ARGS - 4;
 /// Commands the handler takes per servo period at most.
 pub const MAX_PER_PERIOD: usize = 4;
 

@@ -2,15 +2,15 @@
 //! back, an answer as [`REPLY_WORDS`] words and back, each validated word
 //! by word.
 
-use super::{checksum, ARGS, CMD_VERSION, CMD_WORDS, REPLY_VERSION, REPLY_WORDS};
-use crate::command::{codes, Command, Reject, WireError};
+use super::{checksum, ARGS, CMD_VERSION, CMD_WORDS, MAX_ARGS, REPLY_VERSION, REPLY_WORDS};
+use crate::command::{codes, Command, LineKind, ProbeType, Reject, TermCond, WireError};
 use crate::homing::{HomeFlags, HomingConfig};
 use crate::kins::{Pose, NUM_AXES};
 
 /// (opcode, takes a joint, number of float arguments) of a command, and
 /// its joint and arguments.
-pub(super) fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; NUM_AXES], usize) {
-    let mut a = [0.0; NUM_AXES];
+pub(super) fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; MAX_ARGS], usize) {
+    let mut a = [0.0; MAX_ARGS];
     let mut put = |v: &[f64]| {
         a[..v.len()].copy_from_slice(v);
         v.len()
@@ -126,7 +126,129 @@ pub(super) fn shape(cmd: &Command) -> (u64, Option<i32>, [f64; NUM_AXES], usize)
             let n = put(&[acc]);
             (35, Some(axis), a, n)
         }
+        Command::Line { end, vel, kind, id } => {
+            let n = put_pose(&mut a, &end, &[vel, kind.code() as f64]);
+            (36, Some(id), a, n)
+        }
+        Command::Circle {
+            end,
+            center,
+            normal,
+            turns,
+            vel,
+            id,
+        } => {
+            let extra = [
+                center[0],
+                center[1],
+                center[2],
+                normal[0],
+                normal[1],
+                normal[2],
+                f64::from(turns),
+                vel,
+            ];
+            let n = put_pose(&mut a, &end, &extra);
+            (37, Some(id), a, n)
+        }
+        Command::Dwell { seconds, id } => {
+            let n = put(&[seconds]);
+            (38, Some(id), a, n)
+        }
+        Command::Probe {
+            end,
+            vel,
+            probe,
+            id,
+        } => {
+            let n = put_pose(&mut a, &end, &[vel, probe.bits() as f64]);
+            (39, Some(id), a, n)
+        }
+        Command::ClearProbeFlags => (40, None, a, 0),
+        Command::SetTermCond { cond, tolerance } => {
+            let n = put(&[cond.code() as f64, tolerance]);
+            (41, None, a, n)
+        }
+        Command::Pause => (42, None, a, 0),
+        Command::Resume => (43, None, a, 0),
+        Command::Step => (44, None, a, 0),
+        Command::FeedScale { scale } => {
+            let n = put(&[scale]);
+            (45, None, a, n)
+        }
+        Command::RapidScale { scale } => {
+            let n = put(&[scale]);
+            (46, None, a, n)
+        }
+        Command::SetMaxFeedOverride { scale } => {
+            let n = put(&[scale]);
+            (47, None, a, n)
+        }
+        Command::FeedScaleEnable { on } => {
+            let n = put(&[f64::from(u8::from(on))]);
+            (48, None, a, n)
+        }
+        Command::FeedHoldEnable { on } => {
+            let n = put(&[f64::from(u8::from(on))]);
+            (49, None, a, n)
+        }
+        Command::AdaptiveFeedEnable { on } => {
+            let n = put(&[f64::from(u8::from(on))]);
+            (50, None, a, n)
+        }
+        Command::SpindleScaleEnable { on } => {
+            let n = put(&[f64::from(u8::from(on))]);
+            (51, None, a, n)
+        }
+        Command::SetVelLimit { vel } => {
+            let n = put(&[vel]);
+            (52, None, a, n)
+        }
+        Command::SetAccLimit { acc } => {
+            let n = put(&[acc]);
+            (53, None, a, n)
+        }
+        Command::SetJerkLimit { jerk } => {
+            let n = put(&[jerk]);
+            (54, None, a, n)
+        }
+        Command::SetPlannerType { planner } => {
+            let n = put(&[f64::from(planner)]);
+            (55, None, a, n)
+        }
+        Command::SetJointJerkLimit { joint, jerk } => {
+            let n = put(&[jerk]);
+            (56, Some(joint), a, n)
+        }
+        Command::SetAxisJerkLimit { axis, jerk } => {
+            let n = put(&[jerk]);
+            (57, Some(axis), a, n)
+        }
+        Command::SetJointComp {
+            joint,
+            nominal,
+            forward,
+            reverse,
+        } => {
+            let n = put(&[nominal, forward, reverse]);
+            (58, Some(joint), a, n)
+        }
+        Command::ClearJointComp { joint } => (59, Some(joint), a, 0),
     }
+}
+
+/// Puts a pose and then `extra` into the argument words; returns how many.
+fn put_pose(a: &mut [f64; MAX_ARGS], p: &Pose, extra: &[f64]) -> usize {
+    a[..NUM_AXES].copy_from_slice(&p.0);
+    a[NUM_AXES..NUM_AXES + extra.len()].copy_from_slice(extra);
+    NUM_AXES + extra.len()
+}
+
+/// The pose in argument words `from..from + 9`.
+fn pose(a: &[f64; MAX_ARGS], from: usize) -> Pose {
+    let mut p = Pose::ZERO;
+    p.0.copy_from_slice(&a[from..from + NUM_AXES]);
+    p
 }
 
 /// The float arguments of `opcode` that carry integers, with their
@@ -138,13 +260,19 @@ fn integer_args(opcode: u64) -> &'static [(usize, f64, f64)] {
     match opcode {
         27 => &[(5, 0.0, U32), (6, I32_MIN, I32_MAX), (7, 0.0, 1.0)],
         28 => &[(2, I32_MIN, I32_MAX)],
+        36 => &[(10, 0.0, 1.0)],
+        37 => &[(15, I32_MIN, I32_MAX)],
+        39 => &[(10, 0.0, 3.0)],
+        41 => &[(0, 0.0, 2.0)],
+        48..=51 => &[(0, 0.0, 1.0)],
+        55 => &[(0, I32_MIN, I32_MAX)],
         _ => &[],
     }
 }
 
 /// Builds the command of `opcode` from its joint and float arguments; also
 /// says whether it takes a joint and how many floats.
-fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usize)> {
+fn build(opcode: u64, j: i32, a: &[f64; MAX_ARGS]) -> Option<(Command, bool, usize)> {
     let c = |cmd, joint, n| Some((cmd, joint, n));
     match opcode {
         1 => c(Command::Abort, false, 0),
@@ -243,7 +371,7 @@ fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usi
             true,
             1,
         ),
-        24 => c(Command::SetWorldHome { pose: Pose(*a) }, false, NUM_AXES),
+        24 => c(Command::SetWorldHome { pose: pose(a, 0) }, false, NUM_AXES),
         25 => c(Command::Home { joint: j }, true, 0),
         26 => c(Command::Unhome { joint: j }, true, 0),
         // The integer arguments were checked by `decode_command`.
@@ -305,6 +433,103 @@ fn build(opcode: u64, j: i32, a: &[f64; NUM_AXES]) -> Option<(Command, bool, usi
         ),
         34 => c(Command::SetAxisVelLimit { axis: j, vel: a[0] }, true, 1),
         35 => c(Command::SetAxisAccLimit { axis: j, acc: a[0] }, true, 1),
+        // The integer arguments were checked by `decode_command`.
+        36 => c(
+            Command::Line {
+                end: pose(a, 0),
+                vel: a[9],
+                kind: LineKind::from_code(a[10] as u64)?,
+                id: j,
+            },
+            true,
+            11,
+        ),
+        37 => c(
+            Command::Circle {
+                end: pose(a, 0),
+                center: [a[9], a[10], a[11]],
+                normal: [a[12], a[13], a[14]],
+                turns: a[15] as i32,
+                vel: a[16],
+                id: j,
+            },
+            true,
+            17,
+        ),
+        38 => c(
+            Command::Dwell {
+                seconds: a[0],
+                id: j,
+            },
+            true,
+            1,
+        ),
+        39 => c(
+            Command::Probe {
+                end: pose(a, 0),
+                vel: a[9],
+                probe: ProbeType::from_bits(a[10] as u64)?,
+                id: j,
+            },
+            true,
+            11,
+        ),
+        40 => c(Command::ClearProbeFlags, false, 0),
+        41 => c(
+            Command::SetTermCond {
+                cond: TermCond::from_code(a[0] as u64)?,
+                tolerance: a[1],
+            },
+            false,
+            2,
+        ),
+        42 => c(Command::Pause, false, 0),
+        43 => c(Command::Resume, false, 0),
+        44 => c(Command::Step, false, 0),
+        45 => c(Command::FeedScale { scale: a[0] }, false, 1),
+        46 => c(Command::RapidScale { scale: a[0] }, false, 1),
+        47 => c(Command::SetMaxFeedOverride { scale: a[0] }, false, 1),
+        48 => c(Command::FeedScaleEnable { on: a[0] != 0.0 }, false, 1),
+        49 => c(Command::FeedHoldEnable { on: a[0] != 0.0 }, false, 1),
+        50 => c(Command::AdaptiveFeedEnable { on: a[0] != 0.0 }, false, 1),
+        51 => c(Command::SpindleScaleEnable { on: a[0] != 0.0 }, false, 1),
+        52 => c(Command::SetVelLimit { vel: a[0] }, false, 1),
+        53 => c(Command::SetAccLimit { acc: a[0] }, false, 1),
+        54 => c(Command::SetJerkLimit { jerk: a[0] }, false, 1),
+        55 => c(
+            Command::SetPlannerType {
+                planner: a[0] as i32,
+            },
+            false,
+            1,
+        ),
+        56 => c(
+            Command::SetJointJerkLimit {
+                joint: j,
+                jerk: a[0],
+            },
+            true,
+            1,
+        ),
+        57 => c(
+            Command::SetAxisJerkLimit {
+                axis: j,
+                jerk: a[0],
+            },
+            true,
+            1,
+        ),
+        58 => c(
+            Command::SetJointComp {
+                joint: j,
+                nominal: a[0],
+                forward: a[1],
+                reverse: a[2],
+            },
+            true,
+            3,
+        ),
+        59 => c(Command::ClearJointComp { joint: j }, true, 0),
         _ => None,
     }
 }
@@ -340,7 +565,7 @@ pub fn decode_command(w: &[u64; CMD_WORDS]) -> Result<(u64, Command), (u64, Wire
     }
     let jw = w[3] as i64;
     let joint = i32::try_from(jw).map_err(|_| (serial, WireError::BadJoint { value: w[3] }))?;
-    let mut a = [0.0; NUM_AXES];
+    let mut a = [0.0; MAX_ARGS];
     for (i, v) in a.iter_mut().enumerate() {
         *v = f64::from_bits(w[ARGS + i]);
     }

@@ -83,6 +83,37 @@ pub fn encode_reject(r: &Reject) -> RejectWire {
         } => (39, [axis as u64, 0], [target, min, max]),
         Reject::KinematicsFailed => (40, [0; 2], [0.0; 3]),
         Reject::ModeChangeJump { joint, jump } => (41, [joint as u64, 0], [jump, 0.0, 0.0]),
+        Reject::NotCoordMode => (42, [0; 2], [0.0; 3]),
+        Reject::QueueFull { capacity } => (43, [capacity as u64, 0], [0.0; 3]),
+        Reject::Aborting => (44, [0; 2], [0.0; 3]),
+        Reject::OutsideAxisLimits {
+            axis,
+            value,
+            min,
+            max,
+        } => (45, [axis as u64, 0], [value, min, max]),
+        Reject::OutsideJointLimits {
+            joint,
+            value,
+            min,
+            max,
+        } => (46, [joint as u64, 0], [value, min, max]),
+        Reject::EndUnreachable => (47, [0; 2], [0.0; 3]),
+        Reject::HardLimitTripped { joint } => (48, [joint as u64, 0], [0.0; 3]),
+        Reject::BadArc => (49, [0; 2], [0.0; 3]),
+        Reject::NotPaused => (50, [0; 2], [0.0; 3]),
+        Reject::StillMoving => (51, [0; 2], [0.0; 3]),
+        Reject::ProbeAlreadyThere { trip_on_clear } => {
+            (52, [u64::from(trip_on_clear), 0], [0.0; 3])
+        }
+        Reject::NeedsJerkLimit { jerk } => (53, [0; 2], [jerk, 0.0, 0.0]),
+        Reject::CompNotIncreasing {
+            joint,
+            nominal,
+            previous,
+        } => (54, [joint as u64, 0], [nominal, previous, 0.0]),
+        Reject::CompTableFull { joint } => (55, [joint as u64, 0], [0.0; 3]),
+        Reject::MustBeDisabled => (56, [0; 2], [0.0; 3]),
     }
 }
 
@@ -179,6 +210,41 @@ pub fn decode_reject(code: u64, n: [u64; 2], f: [f64; 3]) -> Option<Reject> {
             joint: joint()?,
             jump: f[0],
         },
+        42 => Reject::NotCoordMode,
+        43 => Reject::QueueFull { capacity: joint()? },
+        44 => Reject::Aborting,
+        45 => Reject::OutsideAxisLimits {
+            axis: joint()?,
+            value: f[0],
+            min: f[1],
+            max: f[2],
+        },
+        46 => Reject::OutsideJointLimits {
+            joint: joint()?,
+            value: f[0],
+            min: f[1],
+            max: f[2],
+        },
+        47 => Reject::EndUnreachable,
+        48 => Reject::HardLimitTripped { joint: joint()? },
+        49 => Reject::BadArc,
+        50 => Reject::NotPaused,
+        51 => Reject::StillMoving,
+        52 => Reject::ProbeAlreadyThere {
+            trip_on_clear: match n[0] {
+                0 => false,
+                1 => true,
+                _ => return None,
+            },
+        },
+        53 => Reject::NeedsJerkLimit { jerk: f[0] },
+        54 => Reject::CompNotIncreasing {
+            joint: joint()?,
+            nominal: f[0],
+            previous: f[1],
+        },
+        55 => Reject::CompTableFull { joint: joint()? },
+        56 => Reject::MustBeDisabled,
         _ => return None,
     })
 }
@@ -228,6 +294,21 @@ pub fn result_name(code: u64) -> &'static str {
         39 => "rejected: axis target outside limits",
         40 => "rejected: kinematics failed",
         41 => "rejected: mode change would jump",
+        42 => "rejected: not in coordinated mode",
+        43 => "rejected: queue full",
+        44 => "rejected: aborting",
+        45 => "rejected: outside axis limits",
+        46 => "rejected: outside joint limits",
+        47 => "rejected: end unreachable",
+        48 => "rejected: hard limit tripped",
+        49 => "rejected: bad arc",
+        50 => "rejected: not paused",
+        51 => "rejected: still moving",
+        52 => "rejected: probe already there",
+        53 => "rejected: needs a jerk limit",
+        54 => "rejected: compensation not increasing",
+        55 => "rejected: compensation table full",
+        56 => "rejected: must be disabled",
         _ => "unknown",
     }
 }

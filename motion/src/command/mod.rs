@@ -10,10 +10,12 @@ use crate::homing::HomingConfig;
 use crate::kins::Pose;
 
 pub mod codes;
+mod queueing;
 mod reject;
 mod wire_error;
 
 pub use codes::{reject_code, result_name, RejectWire};
+pub use queueing::{LineKind, ProbeType, TermCond};
 pub use reject::{axis_letter, CommandResult, Direction, Feature, Quantity, Reject};
 pub use wire_error::WireError;
 
@@ -36,8 +38,7 @@ pub enum Command {
     /// motion is disabled it is remembered and takes effect on enable.
     Teleop,
     /// Request coordinated mode, with the same requirements as
-    /// [`Command::Teleop`]. There is no queued planner yet: the pose is
-    /// held.
+    /// [`Command::Teleop`]: the queued moves run in it.
     Coord,
     /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
     /// amplifier follows ENABLE/DISABLE and has no side channel
@@ -120,4 +121,101 @@ pub enum Command {
     SetAxisVelLimit { axis: i32, vel: f64 },
     /// Maximum acceleration of world axis `axis` (> 0).
     SetAxisAccLimit { axis: i32, acc: f64 },
+
+    // ---- Queueing and the coordinated planner (coordinated mode) ----
+    /// SET_LINE: queue a straight move to `end`. `vel` is the programmed
+    /// speed along the path (feed moves; ignored for rapids); `id` the
+    /// motion id reported while it runs (the program line).
+    Line {
+        end: Pose,
+        vel: f64,
+        kind: LineKind,
+        id: i32,
+    },
+    /// SET_CIRCLE: queue an arc or helix to `end` about the axis through
+    /// `center` along `normal`, counter-clockwise about `normal` (right-hand
+    /// rule) with `turns` extra full turns; a negative `turns` turns
+    /// clockwise with `-1 - turns` extra turns (LinuxCNC's encoding: G2 P n
+    /// is `-n`, G3 P n is `n - 1`). The other six axes move in proportion.
+    Circle {
+        end: Pose,
+        center: [f64; 3],
+        normal: [f64; 3],
+        turns: i32,
+        vel: f64,
+        id: i32,
+    },
+    /// Queue a pause of `seconds` (G4) after the moves before it stop.
+    Dwell { seconds: f64, id: i32 },
+    /// PROBE: queue a straight probing move (G38.x). Clears the tripped
+    /// flag; refused if the input already shows what is sought (unless
+    /// `probe.no_error`).
+    Probe {
+        end: Pose,
+        vel: f64,
+        probe: ProbeType,
+        id: i32,
+    },
+    /// CLEAR_PROBE_FLAGS: forget the last probe result.
+    ClearProbeFlags,
+    /// SET_TERM_COND: how the moves queued from now on end; `tolerance`
+    /// is the blend tolerance (G64 P) for [`TermCond::Blend`].
+    SetTermCond { cond: TermCond, tolerance: f64 },
+    /// PAUSE: the queued motion slows down along its path at its
+    /// acceleration limits and stops; the queue is kept.
+    Pause,
+    /// RESUME: continue after a pause (or a single step).
+    Resume,
+    /// STEP: while paused and at rest, run to the end of the current motion
+    /// id and pause again.
+    Step,
+    /// FEED_SCALE: the feed override (≥ 0, at most the maximum feed
+    /// override in effect).
+    FeedScale { scale: f64 },
+    /// RAPID_SCALE: the rapid override (0..=1).
+    RapidScale { scale: f64 },
+    /// SET_MAX_FEED_OVERRIDE: the largest feed override and adaptive feed
+    /// factor ([DISPLAY]MAX_FEED_OVERRIDE, ≥ 0).
+    SetMaxFeedOverride { scale: f64 },
+    /// FS_ENABLE (M50): whether the overrides apply to moves queued next.
+    FeedScaleEnable { on: bool },
+    /// FH_ENABLE (M53): whether `motion.feed-hold` applies to moves
+    /// queued next.
+    FeedHoldEnable { on: bool },
+    /// AF_ENABLE (M52): whether `motion.adaptive-feed` applies to moves
+    /// queued next.
+    AdaptiveFeedEnable { on: bool },
+    /// SS_ENABLE (M51): the spindle override enable, which also gates
+    /// `motion.feed-inhibit` (as LinuxCNC).
+    SpindleScaleEnable { on: bool },
+    /// SET_VEL_LIMIT: the tool-tip speed limit of every move that is not
+    /// purely rotary ([TRAJ]MAX_LINEAR_VELOCITY, > 0).
+    SetVelLimit { vel: f64 },
+    /// SET_ACC: the tangential acceleration limit of every move
+    /// ([TRAJ]MAX_LINEAR_ACCELERATION, > 0).
+    SetAccLimit { acc: f64 },
+    /// SET_JERK: the path jerk limit ([TRAJ]MAX_LINEAR_JERK, > 0).
+    SetJerkLimit { jerk: f64 },
+    /// SET_PLANNER_TYPE: 0 trapezoidal, 1 S-curve (needs a jerk limit of
+    /// at least 1). Applied at once when the queue is idle, otherwise as
+    /// soon as it is.
+    SetPlannerType { planner: i32 },
+    /// SET_JOINT_JERK_LIMIT: maximum jerk of `joint` (≥ 0; 0 no limit).
+    SetJointJerkLimit { joint: i32, jerk: f64 },
+    /// SET_AXIS_JERK_LIMIT: maximum jerk of world axis `axis` (≥ 0; 0 no
+    /// limit).
+    SetAxisJerkLimit { axis: i32, jerk: f64 },
+    /// SET_JOINT_COMP: append one entry to `joint`'s screw-error table:
+    /// at `nominal`, add `forward` to the command while moving in the
+    /// positive direction and `reverse` while moving in the negative one.
+    /// Nominals must increase; at most 256 entries. Only while disabled.
+    SetJointComp {
+        joint: i32,
+        nominal: f64,
+        forward: f64,
+        reverse: f64,
+    },
+    /// Empty `joint`'s screw-error table (BACKLASH applies again). Only
+    /// while disabled.
+    ClearJointComp { joint: i32 },
 }

@@ -33,11 +33,23 @@ pub enum Quantity {
     JogPosition,
     /// The jog target.
     JogTarget,
+    /// A coordinate of a queued move's end point or arc.
+    Coordinate,
+    /// The dwell time.
+    DwellTime,
+    /// The blend tolerance.
+    BlendTolerance,
+    /// The jerk limit.
+    JerkLimit,
+    /// A screw-compensation value.
+    CompValue,
+    /// The planner type.
+    PlannerType,
 }
 
 impl Quantity {
     /// Every value, in wire-code order.
-    pub const ALL: [Quantity; 13] = [
+    pub const ALL: [Quantity; 19] = [
         Quantity::Scale,
         Quantity::MinimumLimit,
         Quantity::MaximumLimit,
@@ -51,6 +63,12 @@ impl Quantity {
         Quantity::JogIncrement,
         Quantity::JogPosition,
         Quantity::JogTarget,
+        Quantity::Coordinate,
+        Quantity::DwellTime,
+        Quantity::BlendTolerance,
+        Quantity::JerkLimit,
+        Quantity::CompValue,
+        Quantity::PlannerType,
     ];
 
     /// The text used in messages.
@@ -69,6 +87,12 @@ impl Quantity {
             Quantity::JogIncrement => "jog increment",
             Quantity::JogPosition => "jog position",
             Quantity::JogTarget => "jog target",
+            Quantity::Coordinate => "coordinate",
+            Quantity::DwellTime => "dwell time",
+            Quantity::BlendTolerance => "blend tolerance",
+            Quantity::JerkLimit => "jerk limit",
+            Quantity::CompValue => "compensation value",
+            Quantity::PlannerType => "planner type",
         }
     }
 
@@ -255,6 +279,53 @@ pub enum Reject {
     /// joints are not where the kinematics would put them (for example
     /// the two joints of an unsquared gantry).
     ModeChangeJump { joint: usize, jump: f64 },
+    /// Moves are only queued in coordinated mode.
+    NotCoordMode,
+    /// The queue holds as many moves as it can; try again once some ran.
+    QueueFull { capacity: usize },
+    /// An abort is bringing the queued motion to a stop; nothing is queued
+    /// until it has.
+    Aborting,
+    /// The move would take `axis` to `value`, outside its limits.
+    OutsideAxisLimits {
+        axis: usize,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    /// The move would take `joint` to `value`, outside its soft limits.
+    OutsideJointLimits {
+        joint: usize,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    /// The kinematics have no solution for the move's end point.
+    EndUnreachable,
+    /// A hard limit switch of `joint` is tripped: no move is queued.
+    HardLimitTripped { joint: usize },
+    /// The arc's start or end lies on its centre's axis, or its normal is
+    /// zero.
+    BadArc,
+    /// STEP needs the queued motion paused.
+    NotPaused,
+    /// STEP needs the paused motion at rest.
+    StillMoving,
+    /// The probe input already shows what the probing move looks for
+    /// (tripped for G38.2, clear for G38.4).
+    ProbeAlreadyThere { trip_on_clear: bool },
+    /// The S-curve planner needs a jerk limit of at least 1.
+    NeedsJerkLimit { jerk: f64 },
+    /// Screw-compensation nominals must increase.
+    CompNotIncreasing {
+        joint: usize,
+        nominal: f64,
+        previous: f64,
+    },
+    /// A joint's screw-compensation table holds at most 256 entries.
+    CompTableFull { joint: usize },
+    /// This can only be changed while motion is disabled.
+    MustBeDisabled,
 }
 
 /// The upper-case letter of world axis `axis` (`?` if there is none).
@@ -401,6 +472,75 @@ impl std::fmt::Display for Reject {
                  not where the kinematics put them (an unsquared gantry?); align them in free \
                  mode first"
             ),
+            Reject::NotCoordMode => {
+                f.write_str("motion is not in coordinated mode; moves are only queued there")
+            }
+            Reject::QueueFull { capacity } => write!(
+                f,
+                "the motion queue is full ({capacity} moves); try again once some have run"
+            ),
+            Reject::Aborting => {
+                f.write_str("an abort is stopping the queued motion; queue again once it has")
+            }
+            Reject::OutsideAxisLimits {
+                axis,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "the move would take axis {} to {value}, outside its limits [{min}, {max}]",
+                axis_letter(axis)
+            ),
+            Reject::OutsideJointLimits {
+                joint,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "the move would take joint {joint} to {value}, outside its limits [{min}, {max}]"
+            ),
+            Reject::EndUnreachable => {
+                f.write_str("the kinematics have no solution for the move's end point")
+            }
+            Reject::HardLimitTripped { joint } => write!(
+                f,
+                "joint {joint} is on a hard limit switch; no move is queued until it is off"
+            ),
+            Reject::BadArc => f.write_str(
+                "the arc's start or end lies on its centre's axis, or its normal is zero",
+            ),
+            Reject::NotPaused => f.write_str("can't STEP while already executing; PAUSE first"),
+            Reject::StillMoving => {
+                f.write_str("can't STEP while the paused motion is still slowing down")
+            }
+            Reject::ProbeAlreadyThere {
+                trip_on_clear: false,
+            } => f.write_str("Probe is already tripped when starting G38.2 or G38.3 move"),
+            Reject::ProbeAlreadyThere {
+                trip_on_clear: true,
+            } => f.write_str("Probe is already clear when starting G38.4 or G38.5 move"),
+            Reject::NeedsJerkLimit { jerk } => write!(
+                f,
+                "the S-curve planner needs MAX_LINEAR_JERK of at least 1 (it is {jerk})"
+            ),
+            Reject::CompNotIncreasing {
+                joint,
+                nominal,
+                previous,
+            } => write!(
+                f,
+                "joint {joint}: compensation nominal {nominal} does not increase (the last was \
+                 {previous})"
+            ),
+            Reject::CompTableFull { joint } => write!(
+                f,
+                "joint {joint}: too many compensation entries (at most 256)"
+            ),
+            Reject::MustBeDisabled => {
+                f.write_str("this can only be changed while motion is disabled")
+            }
         }
     }
 }

@@ -2,9 +2,11 @@
 //! configuration command shares, the dispatch, and JOINT_HOME/JOINT_UNHOME.
 
 use super::jog::dir_of;
+use super::queue::Override;
 use super::*;
 use crate::command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
 use crate::homing::{ConfigProblem, HomeFlags};
+use crate::sizes::{AF_ENABLED, FH_ENABLED, FS_ENABLED, SS_ENABLED};
 
 impl MotionCore {
     // ----------------------------------------------------------------
@@ -51,6 +53,8 @@ impl MotionCore {
     pub fn command(&mut self, cmd: &Command) -> CommandResult {
         match *cmd {
             Command::Abort => {
+                self.tp.abort();
+                self.end_probing();
                 self.homing.abort(&mut self.joints);
                 for j in &mut self.joints {
                     j.free_tp.enable = false;
@@ -312,7 +316,97 @@ impl MotionCore {
             }
             Command::SetAxisVelLimit { axis, vel } => self.set_axis_vel_limit(axis, vel),
             Command::SetAxisAccLimit { axis, acc } => self.set_axis_acc_limit(axis, acc),
+            Command::Line { end, vel, kind, id } => self.queue_line(end, vel, kind, id),
+            Command::Circle {
+                end,
+                center,
+                normal,
+                turns,
+                vel,
+                id,
+            } => self.queue_circle(end, center, normal, turns, vel, id),
+            Command::Dwell { seconds, id } => self.queue_dwell(seconds, id),
+            Command::Probe {
+                end,
+                vel,
+                probe,
+                id,
+            } => self.queue_probe(end, vel, probe, id),
+            Command::ClearProbeFlags => {
+                self.probe.tripped = false;
+                Ok(())
+            }
+            Command::SetTermCond { cond, tolerance } => self.set_term_cond(cond, tolerance),
+            Command::Pause => {
+                self.tp.pause();
+                Ok(())
+            }
+            Command::Resume => {
+                self.tp.resume();
+                Ok(())
+            }
+            Command::Step => self.step(),
+            Command::FeedScale { scale } => self.set_override(Override::Feed, scale),
+            Command::RapidScale { scale } => self.set_override(Override::Rapid, scale),
+            Command::SetMaxFeedOverride { scale } => self.set_override(Override::Max, scale),
+            Command::FeedScaleEnable { on } => self.set_enable(FS_ENABLED, on),
+            Command::FeedHoldEnable { on } => self.set_enable(FH_ENABLED, on),
+            Command::AdaptiveFeedEnable { on } => self.set_enable(AF_ENABLED, on),
+            Command::SpindleScaleEnable { on } => self.set_enable(SS_ENABLED, on),
+            Command::SetVelLimit { vel } => self.set_traj_limit(Quantity::VelocityLimit, vel),
+            Command::SetAccLimit { acc } => self.set_traj_limit(Quantity::AccelerationLimit, acc),
+            Command::SetJerkLimit { jerk } => self.set_traj_limit(Quantity::JerkLimit, jerk),
+            Command::SetPlannerType { planner } => self.set_planner_type(planner),
+            Command::SetJointJerkLimit { joint, jerk } => {
+                let j = self.joint_index(joint)?;
+                self.joints[j].cfg.jerk_limit = Self::non_negative(Quantity::JerkLimit, jerk)?;
+                Ok(())
+            }
+            Command::SetAxisJerkLimit { axis, jerk } => self.set_axis_jerk_limit(axis, jerk),
+            Command::SetJointComp {
+                joint,
+                nominal,
+                forward,
+                reverse,
+            } => self.add_comp(joint, nominal, forward, reverse),
+            Command::ClearJointComp { joint } => {
+                let j = self.joint_index(joint)?;
+                if self.enabled {
+                    return Err(Reject::MustBeDisabled);
+                }
+                self.joints[j].comp.clear();
+                Ok(())
+            }
         }
+    }
+
+    /// SET_JOINT_COMP: one more table entry (only while disabled).
+    fn add_comp(&mut self, joint: i32, nominal: f64, forward: f64, reverse: f64) -> CommandResult {
+        use crate::comp::{CompEntry, CompPushError};
+        let j = self.joint_index(joint)?;
+        if self.enabled {
+            return Err(Reject::MustBeDisabled);
+        }
+        let e = CompEntry {
+            nominal,
+            forward,
+            reverse,
+        };
+        self.joints[j].comp.push(e).map_err(|err| match err {
+            CompPushError::NotIncreasing { previous } => Reject::CompNotIncreasing {
+                joint: j,
+                nominal,
+                previous,
+            },
+            CompPushError::Full => Reject::CompTableFull { joint: j },
+            CompPushError::NotFinite => Reject::BadValue {
+                what: Quantity::CompValue,
+                value: [nominal, forward, reverse]
+                    .into_iter()
+                    .find(|v| !v.is_finite())
+                    .unwrap_or(f64::NAN),
+            },
+        })
     }
 
     /// JOINT_HOME with its requirements, in LinuxCNC's order.

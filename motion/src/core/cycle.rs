@@ -197,6 +197,15 @@ impl MotionCore {
     /// free mode).
     pub(super) fn process_probe(&mut self) {
         let probe = self.inputs.probe_input;
+        if self.coord_probe(probe) {
+            self.old_probe = probe;
+            return;
+        }
+        if probe && !self.old_probe && self.state == MotionState::Coord && !self.tp.is_done() {
+            self.tp.abort();
+            self.error = true;
+            self.events.push(Event::ProbeTrippedDuringMove);
+        }
         if probe && !self.old_probe && self.homing.is_active() {
             if let Some(joint) = (0..self.joints.len()).find(|&j| self.joints[j].homing) {
                 self.events.push(Event::HomingAborted {
@@ -223,6 +232,53 @@ impl MotionCore {
             }
         }
         self.old_probe = probe;
+    }
+
+    /// A probing move (G38.x, reference §8.6): the input is sampled once
+    /// per servo cycle; when it shows what the move looks for, the
+    /// feedback pose of that cycle is latched and the motion stops along
+    /// the path; a move that ends without it is an error (G38.2, G38.4)
+    /// or just a result (G38.3, G38.5). True while a probing move runs.
+    fn coord_probe(&mut self, input: bool) -> bool {
+        let executing = if self.state == MotionState::Coord {
+            self.tp.probe_segment()
+        } else {
+            None
+        };
+        if let Some((kind, id)) = executing {
+            if !self.probe.probing {
+                self.probe.probing = true;
+                self.probe.kind = kind;
+                self.probe.id = id;
+            }
+        }
+        if !self.probe.probing {
+            return false;
+        }
+        if input != self.probe.kind.trip_on_clear {
+            self.probe.pos = self.carte_pos_fb;
+            self.probe.probing = false;
+            self.probe.tripped = true;
+            self.tp.abort();
+        } else if executing.map(|(_, id)| id) != Some(self.probe.id) {
+            // The move ended without the change.
+            self.probe.probing = false;
+            self.probe.pos = self.carte_pos_fb;
+            self.probe.tripped = false;
+            if !self.probe.kind.no_error {
+                self.error = true;
+                self.tp.abort();
+                self.events.push(Event::ProbeNoContact {
+                    trip_on_clear: self.probe.kind.trip_on_clear,
+                });
+            }
+        }
+        true
+    }
+
+    /// Ends probing without a result (abort, disable).
+    pub(super) fn end_probing(&mut self) {
+        self.probe.probing = false;
     }
 
     pub(super) fn check_for_faults(&mut self) {
@@ -367,8 +423,10 @@ impl MotionCore {
                 }
             }
         }
+        let was_on_limit = self.on_soft_limit;
         self.check_soft_limits();
         self.teleop_soft_limit_stop();
+        self.coord_soft_limit_stop(was_on_limit);
     }
 
     /// The backup check: a homed joint commanded outside its soft limits
@@ -408,7 +466,7 @@ impl MotionCore {
             if !jt.active || (j >= n && jt.homed) {
                 continue;
             }
-            jt.backlash_comp(period, self.net_feed_scale);
+            jt.backlash_comp(period);
         }
     }
 

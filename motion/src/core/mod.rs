@@ -49,16 +49,19 @@
 use std::sync::Arc;
 
 use crate::axis::AxisInputs;
+use crate::command::ProbeType;
 use crate::events::EventRing;
 use crate::homing::{HomeState, Homing, HomingConfig};
 use crate::joint::{Joint, JointInputs, JointStatus};
 use crate::kins::{Kinematics, KinematicsType, KinsFlags, Pose, NUM_AXES};
+use crate::tp::{Planner, PlannerStatus};
 
 mod commands;
 mod coord;
 mod cycle;
 mod jog;
 mod modes;
+mod queue;
 mod teleop;
 
 pub use crate::sizes::{
@@ -82,6 +85,8 @@ pub struct MotionConfig {
     /// Joints with `unlock`/`is-unlocked` pins (bit n: joint n), the only
     /// ones that may be locking indexers.
     pub unlock_joints_mask: u32,
+    /// The servo period the coordinated planner plans for, in ns.
+    pub servo_period_nsec: u64,
 }
 
 impl Default for MotionConfig {
@@ -92,6 +97,7 @@ impl Default for MotionConfig {
             num_spindles: 1,
             num_misc_error: 0,
             unlock_joints_mask: 0,
+            servo_period_nsec: 1_000_000,
         }
     }
 }
@@ -154,8 +160,8 @@ pub enum MotionState {
     /// World jog mode: every axis has its own planner, the inverse
     /// kinematics move the joints.
     Teleop,
-    /// Coordinated mode: the commanded pose is held (no queued planner
-    /// yet), the inverse kinematics move the joints.
+    /// Coordinated mode: the queued trajectory planner makes the pose,
+    /// the inverse kinematics move the joints.
     Coord,
 }
 
@@ -214,6 +220,31 @@ pub struct MotionCore {
     heartbeat: u64,
     /// Scratch for kinematics calls.
     positions: [f64; MAX_JOINTS],
+    /// The coordinated planner.
+    tp: Planner,
+    /// Feed override (FEED_SCALE), rapid override (RAPID_SCALE) and the
+    /// largest feed override allowed.
+    feed_scale: f64,
+    rapid_scale: f64,
+    max_feed_override: f64,
+    /// Probing (G38.x) state.
+    probe: ProbeState,
+}
+
+/// Where probing stands.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(crate) struct ProbeState {
+    /// A probing move is executing.
+    pub probing: bool,
+    /// What it looks for.
+    pub kind: ProbeType,
+    /// Its motion id.
+    pub id: i32,
+    /// The last probing move found what it looked for.
+    pub tripped: bool,
+    /// Where (the feedback pose when the input changed, or where the move
+    /// ended without it).
+    pub pos: Pose,
 }
 
 impl std::fmt::Debug for MotionCore {
@@ -223,6 +254,15 @@ impl std::fmt::Debug for MotionCore {
             .field("cfg", &self.cfg)
             .field("state", &self.state)
             .finish_non_exhaustive()
+    }
+}
+
+/// A servo period in seconds (1 ms if zero).
+fn period_secs(nsec: u64) -> f64 {
+    if nsec == 0 {
+        0.001
+    } else {
+        nsec as f64 * 1e-9
     }
 }
 
@@ -284,6 +324,11 @@ impl MotionCore {
             switchkins_type: 0,
             heartbeat: 0,
             positions: [0.0; MAX_JOINTS],
+            tp: Planner::new(period_secs(cfg.servo_period_nsec)),
+            feed_scale: 1.0,
+            rapid_scale: 1.0,
+            max_feed_override: 1.0,
+            probe: ProbeState::default(),
         }
     }
 
@@ -436,6 +481,31 @@ impl MotionCore {
         &self.joints[j]
     }
 
+    /// The coordinated planner's status.
+    pub fn planner(&self) -> PlannerStatus {
+        self.tp.status()
+    }
+
+    /// The planner's commanded pose (its goal while idle).
+    pub fn planner_pos(&self) -> Pose {
+        self.tp.pos()
+    }
+
+    /// Feed override, rapid override and the largest feed override.
+    pub fn overrides(&self) -> (f64, f64, f64) {
+        (self.feed_scale, self.rapid_scale, self.max_feed_override)
+    }
+
+    /// Whether a probing move is executing.
+    pub fn probing(&self) -> bool {
+        self.probe.probing
+    }
+
+    /// Whether the last probing move found what it looked for, and where.
+    pub fn probe_result(&self) -> (bool, Pose) {
+        (self.probe.tripped, self.probe.pos)
+    }
+
     /// Requests the disabled state without a command (the safe-state hook).
     pub fn force_disable(&mut self) {
         self.enabling = false;
@@ -454,6 +524,8 @@ impl MotionCore {
     }
 }
 
+#[cfg(test)]
+mod coord_tests;
 #[cfg(test)]
 mod teleop_tests;
 #[cfg(test)]

@@ -225,6 +225,8 @@ impl MotionCore {
             self.override_limit_mask = 0;
             self.overriding = false;
         }
+        // The queue starts empty at the pose (LinuxCNC's tpSetPos).
+        self.tp.set_pos(self.carte_pos_cmd);
         self.world.mode = mode;
         self.error = false;
         self.inpos = true;
@@ -254,6 +256,9 @@ impl MotionCore {
         for ax in &mut self.world.axes {
             ax.abort(true);
         }
+        // The drives are off: the queue goes at once (LinuxCNC's tpClear).
+        self.tp.clear();
+        self.end_probing();
         self.inpos = true;
         if self.kins_type == KinematicsType::InverseOnly {
             self.world.mode = Mode::Free;

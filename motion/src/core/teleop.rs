@@ -217,6 +217,13 @@ impl MotionCore {
         Ok(())
     }
 
+    /// SET_AXIS_JERK_LIMIT.
+    pub(super) fn set_axis_jerk_limit(&mut self, axis: i32, jerk: f64) -> CommandResult {
+        let a = axis_index(axis)?;
+        self.world.axes[a].cfg.jerk_limit = Self::non_negative(Quantity::JerkLimit, jerk)?;
+        Ok(())
+    }
+
     /// Ends every axis jog (ABORT: at the acceleration limits, each axis on
     /// its own, not along a path).
     pub(super) fn abort_axis_jogs(&mut self, immediate: bool) {

@@ -1,7 +1,7 @@
 //! Tests of the world modes: FREE/TELEOP/COORD requests and transitions,
 //! axis jogs (compared step by step with a reference planner, since the
 //! planner is deterministic), axis limits, kinematics faults, aborts and
-//! jog stops, wheels, and the holding coordinated mode. Each joint's motor
+//! jog stops, wheels, and entering coordinated mode. Each joint's motor
 //! is looped back: its feedback is the previous cycle's motor command.
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};

@@ -130,6 +130,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             num_spindles: p.num_spindles,
             num_misc_error: p.num_misc_error,
             unlock_joints_mask: p.unlock_joints_mask,
+            servo_period_nsec: p.servo_period_nsec as u64,
         },
         kins,
     );
