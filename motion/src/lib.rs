@@ -27,6 +27,7 @@ pub mod axis;
 pub mod channel;
 pub mod command;
 pub mod comp;
+pub mod comp_file;
 pub mod core;
 pub mod events;
 pub mod homing;

@@ -105,6 +105,50 @@ pub struct MotionStatus {
     pub joints: Vec<JointState>,
     /// The nine world axes, X Y Z A B C U V W.
     pub axes: Vec<AxisState>,
+    /// The coordinated planner and probing.
+    pub traj: TrajState,
+}
+
+/// The coordinated planner and probing in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TrajState {
+    /// The motion id executing, or the last one run.
+    pub exec_id: i32,
+    /// Moves queued, the executing one included.
+    pub depth: u64,
+    /// The queue is full: wait before queueing more.
+    pub queue_full: bool,
+    /// PAUSE is in effect (also after a single step).
+    pub paused: bool,
+    /// A single step runs.
+    pub stepping: bool,
+    /// An abort is bringing the queued motion to a stop.
+    pub aborting: bool,
+    /// The S-curve planner is in use.
+    pub scurve: bool,
+    /// A probing move runs.
+    pub probing: bool,
+    /// The last probing move found what it looked for.
+    pub probe_tripped: bool,
+    /// `motion.probe-input` as last read.
+    pub probe_input: bool,
+    /// Path speed now, and the speed asked for.
+    pub current_vel: f64,
+    pub requested_vel: f64,
+    /// Distance left in the executing move.
+    pub distance_to_go: f64,
+    /// Feed and rapid override, and the net scale in effect.
+    pub feed_scale: f64,
+    pub rapid_scale: f64,
+    pub net_scale: f64,
+    /// The executing move's type (LinuxCNC's `motion.motion-type`; 0 none).
+    pub motion_type: i32,
+    /// Where the last probing move tripped (or ended).
+    pub probed: [f64; 9],
+    /// The world feedback pose.
+    pub pos_fb: [f64; 9],
+    /// Where the last queued move ends (the next one starts there).
+    pub goal: [f64; 9],
 }
 
 impl fmt::Display for MotionStatus {
@@ -132,6 +176,43 @@ impl fmt::Display for MotionStatus {
         if !self.enabled && (self.teleop_mode || self.coord_mode) {
             let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
             writeln!(f, "mode on enable: {m}")?;
+        }
+        if self.coord_mode || self.traj.depth > 0 {
+            let t = &self.traj;
+            let mut flags = String::new();
+            for (on, name) in [
+                (t.paused, "paused"),
+                (t.stepping, "stepping"),
+                (t.aborting, "aborting"),
+                (t.queue_full, "queue-full"),
+                (t.probing, "probing"),
+                (t.scurve, "s-curve"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "line {}  queued {}  speed {:.6}  requested {:.6}  to-go {:.6}  feed {}  rapid {}{}",
+                t.exec_id,
+                t.depth,
+                t.current_vel,
+                t.requested_vel,
+                t.distance_to_go,
+                t.feed_scale,
+                t.rapid_scale,
+                flags
+            )?;
+        }
+        if self.traj.probe_tripped {
+            let p = &self.traj.probed;
+            writeln!(
+                f,
+                "probe tripped at X {:.6} Y {:.6} Z {:.6}",
+                p[0], p[1], p[2]
+            )?;
         }
         if self.last.serial == 0 {
             writeln!(f, "last command: none")?;

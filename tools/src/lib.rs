@@ -8,5 +8,7 @@ pub mod halcmd;
 pub mod hostd;
 pub mod launch;
 pub mod meter;
+pub mod motion_queue_args;
 pub mod parport_tool;
+pub mod part_program;
 pub mod protocol;

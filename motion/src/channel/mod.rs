@@ -38,7 +38,7 @@ mod records;
 mod snapshot;
 
 pub use crate::command::{reject_code, result_name, WireError};
-pub use crate::status::{AxisState, JointState, LastCommand, MotionStatus};
+pub use crate::status::{AxisState, JointState, LastCommand, MotionStatus, TrajState};
 pub use client::{Accepted, ClientError, MotionClient, Rejected, COMMAND_TIMEOUT};
 pub use records::{decode_command, decode_reply, encode_command, encode_reply};
 pub use snapshot::{decode_status, fill_status};
@@ -66,17 +66,22 @@ pub const JOINT_WORDS: usize = 8;
 pub const AXES_START: usize = STATUS_HEADER + MAX_JOINTS * JOINT_WORDS;
 /// Words per world axis in the status snapshot.
 pub const AXIS_WORDS: usize = 5;
+/// Where the coordinated-planner block starts, after the axis blocks.
+pub const TRAJ_START: usize = AXES_START + NUM_AXES * AXIS_WORDS;
+/// Words of the coordinated-planner block.
+pub const TRAJ_WORDS: usize = 37;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = AXES_START + NUM_AXES * AXIS_WORDS;
+pub const STATUS_WORDS: usize = TRAJ_START + TRAJ_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).
 pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0002;
 /// Version word of an answer record: "MOTREP" and format 1.
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
-/// Version word of the status snapshot: "MOTSTA" and format 2 (format 2
-/// added the axis blocks and the mode flags).
-pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0002;
+/// Version word of the status snapshot: "MOTSTA" and format 3 (format 2
+/// added the axis blocks and the mode flags, format 3 the coordinated
+/// planner block).
+pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0003;
 
 /// Float argument words of a command record.
 pub(crate) const ARGS: usize = 4;

@@ -1,13 +1,16 @@
 //! The status snapshot: [`fill_status`] writes it every servo cycle from
 //! the controller, [`decode_status`] checks and reads it in a client.
 
-use super::{AXES_START, AXIS_WORDS, JOINT_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS};
+use super::{
+    AXES_START, AXIS_WORDS, JOINT_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
+};
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState};
 use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
 use crate::sizes::MAX_JOINTS;
-use crate::status::{AxisState, JointState, LastCommand, MotionStatus};
+use crate::status::{AxisState, JointState, LastCommand, MotionStatus, TrajState};
+use crate::tp::PlannerType;
 
 /// Status flag bits of the header word 3.
 pub(super) mod flag {
@@ -49,6 +52,18 @@ pub(super) mod jflag {
     pub const JOGGING: u64 = 1024;
     /// Bits 16..24 hold the homing state number.
     pub const HOME_STATE_SHIFT: u32 = 16;
+}
+
+/// Flag bits of the coordinated-planner block's first word.
+pub(super) mod tflag {
+    pub const PAUSED: u64 = 1;
+    pub const STEPPING: u64 = 2;
+    pub const ABORTING: u64 = 4;
+    pub const QUEUE_FULL: u64 = 8;
+    pub const SCURVE: u64 = 16;
+    pub const PROBING: u64 = 32;
+    pub const PROBE_TRIPPED: u64 = 64;
+    pub const PROBE_INPUT: u64 = 128;
 }
 
 /// Fills `out` (at least [`STATUS_WORDS`] long) with the snapshot of
@@ -119,6 +134,37 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         w[2] = tp.curr_vel.to_bits();
         w[3] = s.cfg.min_pos_limit.to_bits();
         w[4] = s.cfg.max_pos_limit.to_bits();
+    }
+    let tp = core.planner();
+    let (feed, rapid, _) = core.overrides();
+    let (tripped, probed) = core.probe_result();
+    let w = &mut out[TRAJ_START..][..super::TRAJ_WORDS];
+    w[0] = bit(tp.paused, tflag::PAUSED)
+        | bit(tp.stepping, tflag::STEPPING)
+        | bit(tp.aborting, tflag::ABORTING)
+        | bit(tp.queue_full, tflag::QUEUE_FULL)
+        | bit(tp.planner == PlannerType::SCurve, tflag::SCURVE)
+        | bit(core.probing(), tflag::PROBING)
+        | bit(tripped, tflag::PROBE_TRIPPED)
+        | bit(core.inputs.probe_input, tflag::PROBE_INPUT);
+    w[1] = tp.exec_id as i64 as u64;
+    w[2] = tp.depth as u64;
+    w[3] = tp.current_vel.to_bits();
+    w[4] = tp.requested_vel.to_bits();
+    w[5] = tp.distance_to_go.to_bits();
+    w[6] = feed.to_bits();
+    w[7] = rapid.to_bits();
+    w[8] = tp.kind.map_or(0, |k| k.number()) as i64 as u64;
+    w[9] = tp.net_scale.to_bits();
+    for (o, v) in w[10..19].iter_mut().zip(probed.0) {
+        *o = v.to_bits();
+    }
+    let (fb, _) = core.carte_pos_fb();
+    for (o, v) in w[19..28].iter_mut().zip(fb.0) {
+        *o = v.to_bits();
+    }
+    for (o, v) in w[28..37].iter_mut().zip(core.planner_goal().0) {
+        *o = v.to_bits();
     }
 }
 
@@ -211,5 +257,43 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         served: w[9],
         joints,
         axes,
+        traj: decode_traj(&w[TRAJ_START..])?,
+    })
+}
+
+/// Decodes the coordinated-planner block.
+fn decode_traj(w: &[u64]) -> Result<TrajState, WireError> {
+    let f = |i: usize| f64::from_bits(w[i]);
+    let int = |i: usize| i32::try_from(w[i] as i64).map_err(|_| WireError::BadStatus);
+    let on = |m: u64| w[0] & m != 0;
+    let mut probed = [0.0; 9];
+    let mut pos_fb = [0.0; 9];
+    let mut goal = [0.0; 9];
+    for i in 0..9 {
+        probed[i] = f(10 + i);
+        pos_fb[i] = f(19 + i);
+        goal[i] = f(28 + i);
+    }
+    Ok(TrajState {
+        exec_id: int(1)?,
+        depth: w[2],
+        queue_full: on(tflag::QUEUE_FULL),
+        paused: on(tflag::PAUSED),
+        stepping: on(tflag::STEPPING),
+        aborting: on(tflag::ABORTING),
+        scurve: on(tflag::SCURVE),
+        probing: on(tflag::PROBING),
+        probe_tripped: on(tflag::PROBE_TRIPPED),
+        probe_input: on(tflag::PROBE_INPUT),
+        current_vel: f(3),
+        requested_vel: f(4),
+        distance_to_go: f(5),
+        feed_scale: f(6),
+        rapid_scale: f(7),
+        net_scale: f(9),
+        motion_type: int(8)?,
+        probed,
+        pos_fb,
+        goal,
     })
 }

@@ -489,7 +489,13 @@ impl MotionCore {
             jogging |= jt.kb_jog_active || jt.wheel_jog_active;
         }
         let v2 = v2 + self.teleop_vel_squared();
-        self.current_vel = if v2 > 0.0 { v2.sqrt() } else { 0.0 };
+        self.current_vel = if self.state == MotionState::Coord {
+            self.tp.status().current_vel
+        } else if v2 > 0.0 {
+            v2.sqrt()
+        } else {
+            0.0
+        };
         self.jog_is_active = jogging || self.axis_jogging();
     }
 }

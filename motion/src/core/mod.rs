@@ -486,9 +486,14 @@ impl MotionCore {
         self.tp.status()
     }
 
-    /// The planner's commanded pose (its goal while idle).
+    /// The planner's commanded pose.
     pub fn planner_pos(&self) -> Pose {
         self.tp.pos()
+    }
+
+    /// Where the last queued move ends: the next one starts there.
+    pub fn planner_goal(&self) -> Pose {
+        self.tp.goal()
     }
 
     /// Feed override, rapid override and the largest feed override.

@@ -234,24 +234,27 @@ pub(super) struct MotionPins {
     pub(super) debug_bit_0: Param<bool, Ro>,
     pub(super) debug_float_3: Param<f64, Ro>,
     pub(super) debug_s32_0: Param<i32, Ro>,
+    /// The coordinated planner's outputs: `motion.program-line`,
+    /// `motion.motion-type`, `motion.requested-vel`,
+    /// `motion.distance-to-go`, `motion.feed-upm`.
+    pub(super) program_line: Pin<i32, Out>,
+    pub(super) motion_type: Pin<i32, Out>,
+    pub(super) requested_vel: FOut,
+    pub(super) distance_to_go: FOut,
+    pub(super) feed_upm: FOut,
     /// Pins and params later milestones drive; they hold their defaults.
     pub(super) _later: LaterPins,
 }
 
-/// Outputs of the queued coordinated planner, I/O and tool offsets (driven
-/// once those parts exist; until then `motion.motion-type` and
-/// `motion.program-line` read 0, "no segment executing", which is also
-/// right in teleop and in the holding coordinated mode) and the stale
-/// LinuxCNC debug params.
+/// Outputs of parts that come later (reverse run, the feed rate in fixed
+/// units, which needs the machine's units, synchronised I/O, the
+/// interpreter's metadata, tool and external offsets) and the stale
+/// LinuxCNC debug params: they hold their defaults.
 pub(super) struct LaterPins {
     pub(super) _tp_reverse: BOut,
-    pub(super) _feed: [FOut; 5],
+    pub(super) _feed: [FOut; 4],
     pub(super) _dio: Vec<(BIn, BOut)>,
     pub(super) _aio: Vec<(FIn, FOut)>,
-    pub(super) _motion_type: Pin<i32, Out>,
-    pub(super) _requested_vel: FOut,
-    pub(super) _distance_to_go: FOut,
-    pub(super) _program_line: Pin<i32, Out>,
     pub(super) _interp_s32: [Pin<i32, Out>; 2],
     pub(super) _interp_float: [FOut; 7],
     pub(super) _interp_iscircle: BOut,
@@ -295,8 +298,8 @@ impl MotionPins {
         // Default TRUE, so simple machines can leave it unconnected.
         let enable = c.pin_init("motion.enable", true)?;
         let is_all_homed = c.pin("motion.is-all-homed")?;
+        let feed_upm = c.pin("motion.feed-upm")?;
         let feed = [
-            c.pin("motion.feed-upm")?,
             c.pin("motion.feed-inches-per-minute")?,
             c.pin("motion.feed-inches-per-second")?,
             c.pin("motion.feed-mm-per-minute")?,
@@ -404,15 +407,16 @@ impl MotionPins {
             debug_bit_0,
             debug_float_3,
             debug_s32_0,
+            program_line,
+            motion_type,
+            requested_vel,
+            distance_to_go,
+            feed_upm,
             _later: LaterPins {
                 _tp_reverse: tp_reverse,
                 _feed: feed,
                 _dio: dio,
                 _aio: aio,
-                _motion_type: motion_type,
-                _requested_vel: requested_vel,
-                _distance_to_go: distance_to_go,
-                _program_line: program_line,
                 _interp_s32: interp_s32,
                 _interp_float: interp_float,
                 _interp_iscircle: interp_iscircle,
@@ -511,6 +515,14 @@ impl HalIo {
             None => 0.0,
         });
         m.debug_s32_0.set(core.override_limit_mask() as i32);
+        let tp = core.planner();
+        let coord = core.state() == crate::core::MotionState::Coord;
+        m.program_line.set(if coord { tp.exec_id } else { 0 });
+        m.motion_type
+            .set(tp.kind.filter(|_| coord).map_or(0, |k| k.number()));
+        m.requested_vel.set(tp.requested_vel);
+        m.distance_to_go.set(tp.distance_to_go);
+        m.feed_upm.set(tp.requested_vel * 60.0);
         for (j, jp) in self.joints.iter().enumerate() {
             let jt = core.joint_ref(j);
             jp.motor_offset.set(jt.motor_offset);
