@@ -11,4 +11,6 @@ pub mod meter;
 pub mod motion_queue_args;
 pub mod parport_tool;
 pub mod part_program;
+pub mod plot;
 pub mod protocol;
+pub mod run_plot;

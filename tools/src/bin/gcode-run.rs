@@ -38,6 +38,8 @@ enum UnitsArg {
   gcode-run pocket.ngc                  run on the instance in $HAL_INSTANCE
   gcode-run -i mill --units inch part.ngc
   gcode-run --check part.ngc            only check the program
+  gcode-run --preload -q --no-keys part.ngc
+                                        queue it all first; quiet (scripts)
   echo r | gcode-run --optional-stop part.ngc
                                         resume after one M0/M1 stop
 
@@ -67,6 +69,11 @@ struct Args {
     /// Ignore the keyboard (standard input).
     #[arg(long)]
     no_keys: bool,
+    /// Queue the program (up to the queue's size or the first M0) before
+    /// starting it, so the motion does not depend on how fast moves
+    /// arrive (reproducible runs, tests).
+    #[arg(long)]
+    preload: bool,
 }
 
 fn main() -> ExitCode {
@@ -128,6 +135,7 @@ fn main() -> ExitCode {
     };
     let opts = RunOptions {
         optional_stop: args.optional_stop,
+        preload: args.preload,
         progress: !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
     };
     let outcome = run(&mut client, &name, lines, &steps, opts, &keys, &stop);

@@ -65,6 +65,10 @@ pub struct RunOptions {
     pub optional_stop: bool,
     /// Show a progress line (else only the outcome).
     pub progress: bool,
+    /// Queue the program (up to the queue's size or the first M0/M1)
+    /// while paused, then start it: the motion then does not depend on
+    /// how fast the moves arrive (reproducible runs).
+    pub preload: bool,
 }
 
 /// Reads the operator's keys from standard input in a thread: single
@@ -160,7 +164,25 @@ pub fn run(
     let mut started: Option<Instant> = None;
     let mut last_shown = Instant::now() - Duration::from_secs(1);
     let place = |loc: Loc| format!("{file}:{}:{}", loc.line, loc.column);
+    let mut preloading = opts.preload;
+    if preloading {
+        if let Err(r) = client.send(Command::Pause) {
+            return Outcome::Failed(format!("pause to preload: {}", r.reason));
+        }
+    }
     loop {
+        // Preloading ends when nothing more can be queued before starting.
+        let blocked = match steps.get(next) {
+            None | Some(Step::Pause(_)) | Some(Step::End(_)) => true,
+            Some(Step::OptionalPause(_)) => opts.optional_stop,
+            Some(Step::Send(..)) => false,
+        };
+        if preloading && blocked {
+            preloading = false;
+            if let Err(r) = client.send(Command::Resume) {
+                return Outcome::Failed(format!("start after preloading: {}", r.reason));
+            }
+        }
         let status = match client.status() {
             Ok(s) => s,
             Err(e) => return Outcome::Failed(format!("status: {e}")),
@@ -214,7 +236,17 @@ pub fn run(
                         next += 1;
                         busy = true;
                     }
-                    Err(r) if matches!(r.reason, Reject::QueueFull { .. }) => {}
+                    Err(r) if matches!(r.reason, Reject::QueueFull { .. }) => {
+                        if preloading {
+                            preloading = false;
+                            if let Err(r) = client.send(Command::Resume) {
+                                return Outcome::Failed(format!(
+                                    "start after preloading: {}",
+                                    r.reason
+                                ));
+                            }
+                        }
+                    }
                     Err(r) => {
                         let _ = client.send(Command::Abort);
                         finish_line(opts.progress);
