@@ -87,6 +87,7 @@ pub struct Axis {
 /// A copy of an axis's state for readers outside the controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisStatus {
+    /// The homing configuration.
     pub config: AxisConfig,
     /// Teleop planner target (`axis.L.teleop-pos-cmd`).
     pub teleop_pos_cmd: f64,
@@ -100,7 +101,9 @@ pub struct AxisStatus {
     pub teleop_tp_enable: bool,
     /// Teleop planner moving.
     pub teleop_tp_active: bool,
+    /// A keyboard (command) jog is active.
     pub kb_jog_active: bool,
+    /// A jog-wheel jog is active.
     pub wheel_jog_active: bool,
 }
 

@@ -1,4 +1,4 @@
-//! Reading a joint's COMP_FILE ([JOINT_n]COMP_FILE and COMP_FILE_TYPE):
+//! Reading a joint's COMP_FILE (`[JOINT_n]COMP_FILE` and COMP_FILE_TYPE):
 //! one entry per line, three numbers separated by white space — the
 //! nominal position, then two values whose meaning COMP_FILE_TYPE gives:
 //! * type 0: the *actual* positions reached when travelling to the

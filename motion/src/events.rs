@@ -14,29 +14,58 @@ use crate::homing::{HomeFault, HomeState};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
     /// A hard limit switch tripped on an enabled joint; motion disabled.
-    JointOnLimit { joint: usize },
+    JointOnLimit {
+        /// The joint number.
+        joint: usize,
+    },
     /// An amplifier fault on an enabled joint; motion disabled.
-    JointAmpFault { joint: usize },
+    JointAmpFault {
+        /// The joint number.
+        joint: usize,
+    },
     /// Following error over the limit on an enabled joint; motion disabled.
-    JointFollowingError { joint: usize },
+    JointFollowingError {
+        /// The joint number.
+        joint: usize,
+    },
     /// `motion.enable` went false while enabled; motion disabled.
     EnableInputStopped,
     /// A misc error input is true; motion disabled.
-    MiscError { input: usize },
+    MiscError {
+        /// The input number.
+        input: usize,
+    },
     /// A spindle amplifier fault; motion disabled.
-    SpindleAmpFault { spindle: usize },
+    SpindleAmpFault {
+        /// The spindle number.
+        spindle: usize,
+    },
     /// A homed joint's command left its soft limits.
-    SoftLimitExceeded { joint: usize, dir: Direction },
+    SoftLimitExceeded {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// `motion.jog-stop` or `motion.jog-stop-immediate` ended the jogs.
-    JogStopped { immediate: bool },
+    JogStopped {
+        /// Whether the jogs stopped at once (jog-stop-immediate).
+        immediate: bool,
+    },
     /// The probe input rose during a jog; the jogs were stopped.
     ProbeTrippedDuringJog,
     /// Switching kinematics (`motion.switchkins-type`) failed.
-    KinsSwitchFailed { kins_type: i32 },
+    KinsSwitchFailed {
+        /// The kinematics type asked for.
+        kins_type: i32,
+    },
     /// Homing of `joint` failed in `state`; the sequence was aborted.
     HomingAborted {
+        /// The joint number.
         joint: usize,
+        /// What went wrong.
         fault: HomeFault,
+        /// The homing state it was in.
         state: HomeState,
     },
     /// The inverse kinematics failed for the commanded pose in teleop or
@@ -44,7 +73,10 @@ pub enum Event {
     InverseKinsFailed,
     /// The inverse kinematics gave a joint position that is not finite;
     /// motion disabled.
-    NonFiniteJoint { joint: usize },
+    NonFiniteJoint {
+        /// The joint number.
+        joint: usize,
+    },
     /// The probe input rose during an axis (teleop) jog; the jogs were
     /// stopped at once.
     ProbeTrippedDuringAxisJog,
@@ -54,7 +86,10 @@ pub enum Event {
     WorldModeDropped,
     /// A probing move ended without the input changing (G38.2: without
     /// contact; G38.4: without losing contact); the queue was aborted.
-    ProbeNoContact { trip_on_clear: bool },
+    ProbeNoContact {
+        /// Whether the move looks for the input clearing (G38.4, G38.5).
+        trip_on_clear: bool,
+    },
     /// The probe input rose during a coordinated move that is not a
     /// probing move; the queue was aborted.
     ProbeTrippedDuringMove,

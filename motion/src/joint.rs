@@ -208,38 +208,67 @@ impl Default for Joint {
 /// A copy of a joint's state for readers outside the controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointStatus {
+    /// The homing configuration.
     pub config: JointConfig,
+    /// The joint is active.
     pub active: bool,
     /// Amplifier enabled.
     pub enabled: bool,
+    /// At rest.
     pub in_position: bool,
+    /// What was wrong.
     pub error: bool,
+    /// The positive limit switch is tripped.
     pub pos_hard_limit: bool,
+    /// The negative limit switch is tripped.
     pub neg_hard_limit: bool,
+    /// The following error is over its limit.
     pub following_error: bool,
+    /// The amplifier reports a fault.
     pub faulted: bool,
+    /// The joint is homed.
     pub homed: bool,
+    /// The joint is homing.
     pub homing: bool,
+    /// Commanded position before interpolation.
     pub coarse_pos: f64,
+    /// Commanded position.
     pub pos_cmd: f64,
+    /// Commanded velocity.
     pub vel_cmd: f64,
+    /// Commanded acceleration.
     pub acc_cmd: f64,
+    /// Motor position command.
     pub motor_pos_cmd: f64,
+    /// Motor position feedback.
     pub motor_pos_fb: f64,
+    /// Joint position feedback.
     pub pos_fb: f64,
+    /// Motor position minus joint position (set by homing).
     pub motor_offset: f64,
+    /// The backlash (or compensation) correction wanted.
     pub backlash_corr: f64,
+    /// The backlash (or compensation) correction applied, rate limited.
     pub backlash_filt: f64,
+    /// The backlash take-up's velocity.
     pub backlash_vel: f64,
+    /// Following error.
     pub ferror: f64,
+    /// The following-error limit now.
     pub ferror_limit: f64,
+    /// The largest |following error| seen.
     pub ferror_high_mark: f64,
     /// Free planner target, velocity limit and enable.
     pub free_pos_cmd: f64,
+    /// The free planner's velocity limit.
     pub free_vel_lim: f64,
+    /// The free planner is enabled.
     pub free_tp_enable: bool,
+    /// The free planner moves.
     pub free_tp_active: bool,
+    /// A keyboard (command) jog is active.
     pub kb_jog_active: bool,
+    /// A jog-wheel jog is active.
     pub wheel_jog_active: bool,
 }
 

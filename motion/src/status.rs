@@ -36,24 +36,32 @@ pub struct AxisState {
     pub vel_cmd: f64,
     /// Position limits.
     pub min_limit: f64,
+    /// Upper limit.
     pub max_limit: f64,
 }
 
 /// One joint in a [`MotionStatus`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct JointState {
+    /// The joint is active.
     pub active: bool,
     /// Amplifier enabled (`joint.N.amp-enable-out`).
     pub amp_enabled: bool,
+    /// At rest.
     pub in_position: bool,
+    /// What was wrong.
     pub error: bool,
+    /// The positive limit switch is tripped.
     pub pos_hard_limit: bool,
+    /// The negative limit switch is tripped.
     pub neg_hard_limit: bool,
     /// Following error tripped.
     pub following_error: bool,
     /// Amplifier fault.
     pub faulted: bool,
+    /// The joint is homed.
     pub homed: bool,
+    /// The joint is homing.
     pub homing: bool,
     /// A keyboard jog of this joint is active.
     pub jogging: bool,
@@ -67,9 +75,11 @@ pub struct JointState {
     pub vel_cmd: f64,
     /// Following error and its current limit.
     pub ferror: f64,
+    /// The following-error limit now.
     pub ferror_limit: f64,
     /// Soft limits.
     pub min_limit: f64,
+    /// Upper limit.
     pub max_limit: f64,
 }
 
@@ -84,11 +94,17 @@ pub struct MotionStatus {
     pub teleop_mode: bool,
     /// The COORD flag: in coordinated mode, or entering it on enable.
     pub coord_mode: bool,
+    /// At rest.
     pub in_position: bool,
+    /// What was wrong.
     pub error: bool,
+    /// A homed joint is commanded beyond its soft limits.
     pub on_soft_limit: bool,
+    /// A jog runs.
     pub jog_active: bool,
+    /// Homing runs.
     pub homing_active: bool,
+    /// Every active joint is homed.
     pub all_homed: bool,
     /// `motion.enable` as last read.
     pub enable_input: bool,
@@ -102,6 +118,7 @@ pub struct MotionStatus {
     pub scale: f64,
     /// Joints whose hard limits are overridden.
     pub override_mask: u64,
+    /// Every joint.
     pub joints: Vec<JointState>,
     /// The nine world axes, X Y Z A B C U V W.
     pub axes: Vec<AxisState>,
@@ -134,12 +151,15 @@ pub struct TrajState {
     pub probe_input: bool,
     /// Path speed now, and the speed asked for.
     pub current_vel: f64,
+    /// The path speed asked for now.
     pub requested_vel: f64,
     /// Distance left in the executing move.
     pub distance_to_go: f64,
     /// Feed and rapid override, and the net scale in effect.
     pub feed_scale: f64,
+    /// The rapid override.
     pub rapid_scale: f64,
+    /// The net feed scale in effect.
     pub net_scale: f64,
     /// The executing move's type (LinuxCNC's `motion.motion-type`; 0 none).
     pub motion_type: i32,

@@ -43,93 +43,231 @@ pub enum Command {
     /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
     /// amplifier follows ENABLE/DISABLE and has no side channel
     /// (reference "→ Design").
-    EnableAmplifier { joint: i32 },
+    EnableAmplifier {
+        /// The joint number.
+        joint: i32,
+    },
     /// LinuxCNC's legacy DISABLE_AMPLIFIER: refused like
     /// [`Command::EnableAmplifier`].
-    DisableAmplifier { joint: i32 },
+    DisableAmplifier {
+        /// The joint number.
+        joint: i32,
+    },
     /// Jog `joint` continuously at `vel` (sign = direction) until aborted
     /// or until the jog limit.
-    JogCont { joint: i32, vel: f64 },
+    JogCont {
+        /// The joint number.
+        joint: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+    },
     /// Move `joint` by `offset` (≥ 0) in the direction of `vel`, from the
     /// planner's current target, so increments accumulate.
-    JogIncr { joint: i32, vel: f64, offset: f64 },
+    JogIncr {
+        /// The joint number.
+        joint: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+        /// How far to move (at least 0).
+        offset: f64,
+    },
     /// Move `joint` to `pos` (clamped into its jog limits) at speed `|vel|`.
-    JogAbs { joint: i32, vel: f64, pos: f64 },
+    JogAbs {
+        /// The joint number.
+        joint: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+        /// Where to move.
+        pos: f64,
+    },
     /// Stop the jog of `joint` at its acceleration limit.
-    JogAbort { joint: i32 },
+    JogAbort {
+        /// The joint number.
+        joint: i32,
+    },
     /// Make `joint` active: its inputs are read, it is planned and checked.
-    JointActivate { joint: i32 },
+    JointActivate {
+        /// The joint number.
+        joint: i32,
+    },
     /// Make `joint` inactive; its amplifier is switched off too.
-    JointDeactivate { joint: i32 },
+    JointDeactivate {
+        /// The joint number.
+        joint: i32,
+    },
     /// `joint < 0`: end any limit override. Otherwise override the hard
     /// limits that are tripped now, until the end of the next jog.
-    OverrideLimits { joint: i32 },
+    OverrideLimits {
+        /// The joint number.
+        joint: i32,
+    },
     /// The free-mode SCALE: every joint planner's velocity limit is
     /// multiplied by it (clamped to 0..=1). LinuxCNC's FEED_SCALE has no
     /// effect in free mode; here it is the jog override.
-    Scale { scale: f64 },
+    Scale {
+        /// The scale, clamped to 0..=1.
+        scale: f64,
+    },
     /// Soft limits of `joint`.
-    SetJointPositionLimits { joint: i32, min: f64, max: f64 },
+    SetJointPositionLimits {
+        /// The joint number.
+        joint: i32,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// Maximum velocity of `joint` (> 0).
-    SetJointVelLimit { joint: i32, vel: f64 },
+    SetJointVelLimit {
+        /// The joint number.
+        joint: i32,
+        /// The velocity limit (> 0).
+        vel: f64,
+    },
     /// Maximum acceleration of `joint` (> 0).
-    SetJointAccLimit { joint: i32, acc: f64 },
+    SetJointAccLimit {
+        /// The joint number.
+        joint: i32,
+        /// Acceleration.
+        acc: f64,
+    },
     /// Following-error limit at standstill (≥ 0).
-    SetJointMinFerror { joint: i32, ferror: f64 },
+    SetJointMinFerror {
+        /// The joint number.
+        joint: i32,
+        /// Following error.
+        ferror: f64,
+    },
     /// Following-error limit at the joint's maximum velocity (≥ 0).
-    SetJointMaxFerror { joint: i32, ferror: f64 },
+    SetJointMaxFerror {
+        /// The joint number.
+        joint: i32,
+        /// Following error.
+        ferror: f64,
+    },
     /// Backlash of `joint` (≥ 0), taken up at each reversal.
-    SetJointBacklash { joint: i32, backlash: f64 },
+    SetJointBacklash {
+        /// The joint number.
+        joint: i32,
+        /// Backlash.
+        backlash: f64,
+    },
     /// Restores the homing offset of `joint` (motor = joint + offset).
-    SetJointMotorOffset { joint: i32, offset: f64 },
+    SetJointMotorOffset {
+        /// The joint number.
+        joint: i32,
+        /// The motor offset (motor position minus joint position).
+        offset: f64,
+    },
     /// The world pose used as the first guess of iterative forward
     /// kinematics.
-    SetWorldHome { pose: Pose },
+    SetWorldHome {
+        /// The world pose.
+        pose: Pose,
+    },
     /// JOINT_HOME: home `joint` (its whole group if its HOME_SEQUENCE is
     /// negative), or with −1 every joint in HOME_SEQUENCE order. Needs
     /// free mode, motion enabled, `motion.homing-inhibit` false and no
     /// homing in progress.
-    Home { joint: i32 },
+    Home {
+        /// The joint number.
+        joint: i32,
+    },
     /// JOINT_UNHOME: forget the reference of `joint`; −1 every active
     /// joint, −2 the VOLATILE_HOME joints. Needs free mode or disabled,
     /// and the joints standing still and not homing.
-    Unhome { joint: i32 },
+    Unhome {
+        /// The joint number.
+        joint: i32,
+    },
     /// SET_JOINT_HOMING_PARAMS: the whole homing configuration of `joint`.
-    SetJointHomingParams { joint: i32, config: HomingConfig },
+    SetJointHomingParams {
+        /// The joint number.
+        joint: i32,
+        /// The homing configuration.
+        config: HomingConfig,
+    },
     /// UPDATE_JOINT_HOMING_PARAMS: HOME_OFFSET, HOME and HOME_SEQUENCE
     /// only, allowed at run time (not while homing).
     UpdateJointHomingParams {
+        /// The joint number.
         joint: i32,
+        /// HOME_OFFSET.
         offset: f64,
+        /// HOME: where the joint goes after homing.
         home: f64,
+        /// HOME_SEQUENCE.
         sequence: i32,
     },
     /// Teleop mode: jog world axis `axis` (0..=8, X Y Z A B C U V W)
     /// continuously at `vel` (sign = direction) towards its position limit.
-    AxisJogCont { axis: i32, vel: f64 },
+    AxisJogCont {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+    },
     /// Teleop mode: move `axis` by `offset` (≥ 0) in the direction of
     /// `vel`, from the planner's current target, so increments accumulate.
-    AxisJogIncr { axis: i32, vel: f64, offset: f64 },
+    AxisJogIncr {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+        /// How far to move (at least 0).
+        offset: f64,
+    },
     /// Teleop mode: move `axis` to `pos`, clamped into its position
     /// limits, at speed `|vel|`.
-    AxisJogAbs { axis: i32, vel: f64, pos: f64 },
+    AxisJogAbs {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Velocity; its sign gives the direction.
+        vel: f64,
+        /// Where to move.
+        pos: f64,
+    },
     /// Stop the jog of `axis` at its acceleration limit.
-    AxisJogAbort { axis: i32 },
+    AxisJogAbort {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+    },
     /// Position limits of world axis `axis`.
-    SetAxisPositionLimits { axis: i32, min: f64, max: f64 },
+    SetAxisPositionLimits {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// Maximum velocity of world axis `axis` (> 0).
-    SetAxisVelLimit { axis: i32, vel: f64 },
+    SetAxisVelLimit {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// The velocity limit (> 0).
+        vel: f64,
+    },
     /// Maximum acceleration of world axis `axis` (> 0).
-    SetAxisAccLimit { axis: i32, acc: f64 },
+    SetAxisAccLimit {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Acceleration.
+        acc: f64,
+    },
 
     // ---- Queueing and the coordinated planner (coordinated mode) ----
     /// SET_LINE: queue a straight move to `end`. `vel` is the programmed
     /// speed along the path (feed moves; ignored for rapids); `id` the
     /// motion id reported while it runs (the program line).
     Line {
+        /// The end point.
         end: Pose,
+        /// Programmed speed along the path, units per second.
         vel: f64,
+        /// What kind of move.
         kind: LineKind,
+        /// The motion id reported while it runs (the program line).
         id: i32,
     },
     /// SET_CIRCLE: queue an arc or helix to `end` about the axis through
@@ -138,29 +276,49 @@ pub enum Command {
     /// clockwise with `-1 - turns` extra turns (LinuxCNC's encoding: G2 P n
     /// is `-n`, G3 P n is `n - 1`). The other six axes move in proportion.
     Circle {
+        /// The end point.
         end: Pose,
+        /// A point on the arc's axis (XYZ).
         center: [f64; 3],
+        /// The arc's axis direction (XYZ); it turns counter-clockwise about it.
         normal: [f64; 3],
+        /// Extra full turns (negative: clockwise, see above).
         turns: i32,
+        /// Programmed speed along the path, units per second.
         vel: f64,
+        /// The motion id reported while it runs (the program line).
         id: i32,
     },
     /// Queue a pause of `seconds` (G4) after the moves before it stop.
-    Dwell { seconds: f64, id: i32 },
+    Dwell {
+        /// How long, in seconds.
+        seconds: f64,
+        /// The motion id reported while it runs (the program line).
+        id: i32,
+    },
     /// PROBE: queue a straight probing move (G38.x). Clears the tripped
     /// flag; refused if the input already shows what is sought (unless
     /// `probe.no_error`).
     Probe {
+        /// The end point.
         end: Pose,
+        /// Programmed speed along the path, units per second.
         vel: f64,
+        /// What the probing move looks for.
         probe: ProbeType,
+        /// The motion id reported while it runs (the program line).
         id: i32,
     },
     /// CLEAR_PROBE_FLAGS: forget the last probe result.
     ClearProbeFlags,
     /// SET_TERM_COND: how the moves queued from now on end; `tolerance`
     /// is the blend tolerance (G64 P) for [`TermCond::Blend`].
-    SetTermCond { cond: TermCond, tolerance: f64 },
+    SetTermCond {
+        /// The termination condition.
+        cond: TermCond,
+        /// The blend tolerance (G64 P).
+        tolerance: f64,
+    },
     /// PAUSE: the queued motion slows down along its path at its
     /// acceleration limits and stops; the queue is kept.
     Pause,
@@ -171,51 +329,101 @@ pub enum Command {
     Step,
     /// FEED_SCALE: the feed override (≥ 0, at most the maximum feed
     /// override in effect).
-    FeedScale { scale: f64 },
+    FeedScale {
+        /// The scale factor.
+        scale: f64,
+    },
     /// RAPID_SCALE: the rapid override (0..=1).
-    RapidScale { scale: f64 },
+    RapidScale {
+        /// The scale factor.
+        scale: f64,
+    },
     /// SET_MAX_FEED_OVERRIDE: the largest feed override and adaptive feed
-    /// factor ([DISPLAY]MAX_FEED_OVERRIDE, ≥ 0).
-    SetMaxFeedOverride { scale: f64 },
+    /// factor (`[DISPLAY]MAX_FEED_OVERRIDE`, ≥ 0).
+    SetMaxFeedOverride {
+        /// The scale factor.
+        scale: f64,
+    },
     /// FS_ENABLE (M50): whether the overrides apply to moves queued next.
-    FeedScaleEnable { on: bool },
+    FeedScaleEnable {
+        /// On or off.
+        on: bool,
+    },
     /// FH_ENABLE (M53): whether `motion.feed-hold` applies to moves
     /// queued next.
-    FeedHoldEnable { on: bool },
+    FeedHoldEnable {
+        /// On or off.
+        on: bool,
+    },
     /// AF_ENABLE (M52): whether `motion.adaptive-feed` applies to moves
     /// queued next.
-    AdaptiveFeedEnable { on: bool },
+    AdaptiveFeedEnable {
+        /// On or off.
+        on: bool,
+    },
     /// SS_ENABLE (M51): the spindle override enable, which also gates
     /// `motion.feed-inhibit` (as LinuxCNC).
-    SpindleScaleEnable { on: bool },
+    SpindleScaleEnable {
+        /// On or off.
+        on: bool,
+    },
     /// SET_VEL_LIMIT: the tool-tip speed limit of every move that is not
-    /// purely rotary ([TRAJ]MAX_LINEAR_VELOCITY, > 0).
-    SetVelLimit { vel: f64 },
+    /// purely rotary (`[TRAJ]MAX_LINEAR_VELOCITY`, > 0).
+    SetVelLimit {
+        /// The velocity limit (> 0).
+        vel: f64,
+    },
     /// SET_ACC: the tangential acceleration limit of every move
-    /// ([TRAJ]MAX_LINEAR_ACCELERATION, > 0).
-    SetAccLimit { acc: f64 },
-    /// SET_JERK: the path jerk limit ([TRAJ]MAX_LINEAR_JERK, > 0).
-    SetJerkLimit { jerk: f64 },
+    /// (`[TRAJ]MAX_LINEAR_ACCELERATION`, > 0).
+    SetAccLimit {
+        /// Acceleration.
+        acc: f64,
+    },
+    /// SET_JERK: the path jerk limit (`[TRAJ]MAX_LINEAR_JERK`, > 0).
+    SetJerkLimit {
+        /// Jerk.
+        jerk: f64,
+    },
     /// SET_PLANNER_TYPE: 0 trapezoidal, 1 S-curve (needs a jerk limit of
     /// at least 1). Applied at once when the queue is idle, otherwise as
     /// soon as it is.
-    SetPlannerType { planner: i32 },
+    SetPlannerType {
+        /// The planner type.
+        planner: i32,
+    },
     /// SET_JOINT_JERK_LIMIT: maximum jerk of `joint` (≥ 0; 0 no limit).
-    SetJointJerkLimit { joint: i32, jerk: f64 },
+    SetJointJerkLimit {
+        /// The joint number.
+        joint: i32,
+        /// Jerk.
+        jerk: f64,
+    },
     /// SET_AXIS_JERK_LIMIT: maximum jerk of world axis `axis` (≥ 0; 0 no
     /// limit).
-    SetAxisJerkLimit { axis: i32, jerk: f64 },
+    SetAxisJerkLimit {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+        /// Jerk.
+        jerk: f64,
+    },
     /// SET_JOINT_COMP: append one entry to `joint`'s screw-error table:
     /// at `nominal`, add `forward` to the command while moving in the
     /// positive direction and `reverse` while moving in the negative one.
     /// Nominals must increase; at most 256 entries. Only while disabled.
     SetJointComp {
+        /// The joint number.
         joint: i32,
+        /// The nominal (commanded) position.
         nominal: f64,
+        /// Trim while moving in the positive direction.
         forward: f64,
+        /// Trim while moving in the negative direction.
         reverse: f64,
     },
     /// Empty `joint`'s screw-error table (BACKLASH applies again). Only
     /// while disabled.
-    ClearJointComp { joint: i32 },
+    ClearJointComp {
+        /// The joint number.
+        joint: i32,
+    },
 }

@@ -179,9 +179,17 @@ impl std::fmt::Display for Direction {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reject {
     /// The joint number is outside `0..num_joints`.
-    NoSuchJoint { joint: i32, num_joints: usize },
+    NoSuchJoint {
+        /// The joint number.
+        joint: i32,
+        /// How many joints there are.
+        num_joints: usize,
+    },
     /// The joint is not active.
-    JointInactive { joint: usize },
+    JointInactive {
+        /// The joint number.
+        joint: usize,
+    },
     /// `motion.enable` is false.
     EnableInputFalse,
     /// Motion is not enabled.
@@ -193,59 +201,121 @@ pub enum Reject {
     /// Homing is in progress.
     HomingActive,
     /// A jog wheel is moving this joint.
-    WheelJogActive { joint: usize },
+    WheelJogActive {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint is moving.
-    JointMoving { joint: usize },
+    JointMoving {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint's hard limit switch in that direction is tripped.
-    OnHardLimit { joint: usize, dir: Direction },
+    OnHardLimit {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The joint is already at or beyond its jog limit in that direction.
-    PastSoftLimit { joint: usize, dir: Direction },
+    PastSoftLimit {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The incremental jog would end outside the jog limits.
     TargetOutsideLimits {
+        /// The joint number.
         joint: usize,
+        /// The target position.
         target: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// A velocity that is zero or not finite.
-    BadVelocity { vel: f64 },
+    BadVelocity {
+        /// Velocity (its sign gives a jog's direction).
+        vel: f64,
+    },
     /// A value that is negative, not finite or otherwise out of range.
-    BadValue { what: Quantity, value: f64 },
+    BadValue {
+        /// What the value is.
+        what: Quantity,
+        /// The value.
+        value: f64,
+    },
     /// A minimum limit above the maximum.
-    LimitsReversed { min: f64, max: f64 },
+    LimitsReversed {
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// A joint may only be activated while motion is disabled.
-    ActivateWhileEnabled { joint: usize },
+    ActivateWhileEnabled {
+        /// The joint number.
+        joint: usize,
+    },
     /// The motion controller did not answer (its thread is not running).
     Timeout,
     /// The command exists but this controller does not carry it out.
-    Unsupported { what: Feature },
+    Unsupported {
+        /// What the value is.
+        what: Feature,
+    },
     /// A command read from the shared-memory channel was corrupt or of an
     /// unknown kind; it was not executed.
-    Malformed { error: WireError },
+    Malformed {
+        /// What was wrong.
+        error: WireError,
+    },
     /// `motion.homing-inhibit` is true.
     HomingInhibited,
     /// Home-all found no active joint with a HOME_SEQUENCE of 100 or less.
     NothingToHome,
     /// Home-all sequence numbers must start at 0 or 1 and have no gaps.
-    HomeSequenceGap { missing: i32 },
+    HomeSequenceGap {
+        /// The first sequence number missing.
+        missing: i32,
+    },
     /// The joint is homed and may not be homed again (absolute encoder).
-    AlreadyHomed { joint: usize },
+    AlreadyHomed {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint's shared home switch is closed.
-    SharedHomeSwitchClosed { joint: usize },
+    SharedHomeSwitchClosed {
+        /// The joint number.
+        joint: usize,
+    },
     /// The homing configuration cannot be used.
     BadHomingConfig {
+        /// The joint number.
         joint: usize,
+        /// What is wrong with it.
         problem: ConfigProblem,
     },
     /// The joint homes in a synchronised group: jogging it alone would
     /// rack the gantry.
-    SynchronizedJoint { joint: usize },
+    SynchronizedJoint {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint is a locking indexer; it only moves by homing.
-    LockingIndexer { joint: usize },
+    LockingIndexer {
+        /// The joint number.
+        joint: usize,
+    },
     /// Unhoming needs free mode or motion disabled.
     NotFreeOrDisabled,
     /// An extra joint may only be unhomed while motion is disabled.
-    ExtraJointEnabled { joint: usize },
+    ExtraJointEnabled {
+        /// The joint number.
+        joint: usize,
+    },
     /// A mode change while some planner moves (or homing runs).
     NotInPosition,
     /// Teleop or coordinated mode with non-identity kinematics before
@@ -256,20 +326,38 @@ pub enum Reject {
     /// A joint jog in teleop mode.
     JointJogInTeleop,
     /// The axis number is outside `0..9`.
-    NoSuchAxis { axis: i32 },
+    NoSuchAxis {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+    },
     /// The kinematics do not compute this axis (not in their coordinates).
-    AxisNotInKinematics { axis: usize },
+    AxisNotInKinematics {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+    },
     /// The motion error flag is set (e.g. a soft limit was exceeded).
     MotionError,
     /// A jog wheel is moving this axis.
-    AxisWheelJogActive { axis: usize },
+    AxisWheelJogActive {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+    },
     /// The axis is already beyond its position limit in that direction.
-    AxisPastLimit { axis: usize, dir: Direction },
+    AxisPastLimit {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The incremental axis jog would end outside the axis limits.
     AxisTargetOutsideLimits {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
         axis: usize,
+        /// The target position.
         target: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// The kinematics found no solution for the current joint positions
@@ -278,32 +366,51 @@ pub enum Reject {
     /// Entering a world mode would step `joint` by `jump` at once: the
     /// joints are not where the kinematics would put them (for example
     /// the two joints of an unsquared gantry).
-    ModeChangeJump { joint: usize, jump: f64 },
+    ModeChangeJump {
+        /// The joint number.
+        joint: usize,
+        /// How far the joint would step.
+        jump: f64,
+    },
     /// Moves are only queued in coordinated mode.
     NotCoordMode,
     /// The queue holds as many moves as it can; try again once some ran.
-    QueueFull { capacity: usize },
+    QueueFull {
+        /// How many moves the queue holds.
+        capacity: usize,
+    },
     /// An abort is bringing the queued motion to a stop; nothing is queued
     /// until it has.
     Aborting,
     /// The move would take `axis` to `value`, outside its limits.
     OutsideAxisLimits {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
         axis: usize,
+        /// The value.
         value: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// The move would take `joint` to `value`, outside its soft limits.
     OutsideJointLimits {
+        /// The joint number.
         joint: usize,
+        /// The value.
         value: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// The kinematics have no solution for the move's end point.
     EndUnreachable,
     /// A hard limit switch of `joint` is tripped: no move is queued.
-    HardLimitTripped { joint: usize },
+    HardLimitTripped {
+        /// The joint number.
+        joint: usize,
+    },
     /// The arc's start or end lies on its centre's axis, or its normal is
     /// zero.
     BadArc,
@@ -313,17 +420,29 @@ pub enum Reject {
     StillMoving,
     /// The probe input already shows what the probing move looks for
     /// (tripped for G38.2, clear for G38.4).
-    ProbeAlreadyThere { trip_on_clear: bool },
+    ProbeAlreadyThere {
+        /// Whether the move looks for the input clearing (G38.4, G38.5).
+        trip_on_clear: bool,
+    },
     /// The S-curve planner needs a jerk limit of at least 1.
-    NeedsJerkLimit { jerk: f64 },
+    NeedsJerkLimit {
+        /// Jerk.
+        jerk: f64,
+    },
     /// Screw-compensation nominals must increase.
     CompNotIncreasing {
+        /// The joint number.
         joint: usize,
+        /// The nominal (commanded) position.
         nominal: f64,
+        /// The nominal before it.
         previous: f64,
     },
     /// A joint's screw-compensation table holds at most 256 entries.
-    CompTableFull { joint: usize },
+    CompTableFull {
+        /// The joint number.
+        joint: usize,
+    },
     /// This can only be changed while motion is disabled.
     MustBeDisabled,
 }

@@ -8,25 +8,43 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WireError {
     /// The version word is not the one this build speaks.
-    BadVersion { found: u64 },
+    BadVersion {
+        /// The version word found.
+        found: u64,
+    },
     /// The checksum does not match the other words.
     BadChecksum,
     /// Serial number zero (reserved for "none").
     ZeroSerial,
     /// An opcode no command has.
-    UnknownOpcode { opcode: u64 },
+    UnknownOpcode {
+        /// The opcode found.
+        opcode: u64,
+    },
     /// A joint word that is not a sign-extended i32, or non-zero for a
     /// command without a joint.
-    BadJoint { value: u64 },
+    BadJoint {
+        /// The value.
+        value: u64,
+    },
     /// A word the command does not use is not zero.
-    UnusedWordSet { index: usize },
+    UnusedWordSet {
+        /// The word's index in the record.
+        index: usize,
+    },
     /// A result or reason code no answer has.
-    UnknownCode { code: u64 },
+    UnknownCode {
+        /// The code found.
+        code: u64,
+    },
     /// The status snapshot's header is inconsistent.
     BadStatus,
     /// A word that carries a whole number holds a fraction or a value out
     /// of range.
-    BadInteger { index: usize },
+    BadInteger {
+        /// The word's index in the record.
+        index: usize,
+    },
 }
 
 impl WireError {

@@ -301,7 +301,7 @@ impl MotionCore {
         Ok(())
     }
 
-    /// SET_VEL_LIMIT, SET_ACC and SET_JERK: the [TRAJ] limits.
+    /// SET_VEL_LIMIT, SET_ACC and SET_JERK: the `[TRAJ]` limits.
     pub(super) fn set_traj_limit(&mut self, what: Quantity, value: f64) -> CommandResult {
         if !(value.is_finite() && value > 0.0) {
             return Err(Reject::BadValue { what, value });

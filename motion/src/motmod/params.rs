@@ -108,21 +108,30 @@ pub struct IoNames {
 /// `motmod`'s module parameters, checked.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MotmodParams {
+    /// How many joints there are.
     pub num_joints: usize,
+    /// Extra joints (homed, not in the kinematics).
     pub num_extrajoints: usize,
+    /// Spindles.
     pub num_spindles: usize,
+    /// Digital I/O pins.
     pub dio: IoNames,
+    /// Analog I/O pins.
     pub aio: IoNames,
     /// Misc-error inputs: their names if given by name.
     pub num_misc_error: usize,
+    /// names_misc_errors: the inputs given by name.
     pub misc_error_names: Vec<String>,
+    /// Joints with unlock pins (bit n: joint n).
     pub unlock_joints_mask: u32,
     /// Base thread period; the base thread exists only if shorter than
     /// the servo period.
     pub base_period_nsec: i64,
     /// Servo period, a whole multiple of the base period.
     pub servo_period_nsec: i64,
+    /// Trajectory period (the servo period unless given).
     pub traj_period_nsec: i64,
+    /// base_thread_fp (accepted, ignored).
     pub base_thread_fp: bool,
 }
 

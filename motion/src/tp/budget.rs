@@ -1,11 +1,11 @@
 //! How fast a segment may go: its speed cap, tangential acceleration and
 //! tangential jerk, derived from every axis's limits through the
-//! segment's [`AxisFactors`], and the speed at which a corner between two
+//! segment's `AxisFactors`, and the speed at which a corner between two
 //! segments may be crossed.
 //!
 //! The rules, per axis `i` with limits `V_i`, `A_i`, `J_i`:
 //! * speed: `v · speed_i ≤ V_i`;
-//! * acceleration: the bound of [`AxisFactors::accel`] at the segment's
+//! * acceleration: the bound of `AxisFactors::accel` at the segment's
 //!   speed cap stays within `A_i`; the centripetal part is held to
 //!   [`NORMAL_SHARE`] of it, so some is left for speeding up and slowing
 //!   down along the arc;
@@ -14,7 +14,7 @@
 //!   jerk for the S-curve planner) free: crossing a kink at speed `c`
 //!   changes axis `i`'s velocity by `c·|Δt_i|` within one period, which the
 //!   corner cap keeps within that reserve;
-//! * jerk (S-curve planner): the bound of [`AxisFactors::jerk`] stays
+//! * jerk (S-curve planner): the bound of `AxisFactors::jerk` stays
 //!   within `J_i`, and a turn's centripetal acceleration, which appears in
 //!   one period where a straight move meets it, stays within the reserved
 //!   half of `J_i·T`.
@@ -58,7 +58,7 @@ impl Default for AxisLimits {
     }
 }
 
-/// Machine-wide limits of coordinated motion ([TRAJ]).
+/// Machine-wide limits of coordinated motion (`[TRAJ]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrajLimits {
     /// MAX_LINEAR_VELOCITY: tool-tip speed of any move that is not purely

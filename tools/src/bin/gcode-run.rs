@@ -54,7 +54,7 @@ struct Args {
     /// HAL instance (default: $HAL_INSTANCE or 'default').
     #[arg(short, long)]
     instance: Option<String>,
-    /// The machine's linear units ([TRAJ]LINEAR_UNITS).
+    /// The machine's linear units (`[TRAJ]LINEAR_UNITS`).
     #[arg(long, value_enum, default_value = "mm")]
     units: UnitsArg,
     /// Only check the program (from X0 Y0 Z0); no machine needed.
