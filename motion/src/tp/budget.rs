@@ -15,9 +15,12 @@
 //!   changes axis `i`'s velocity by `c·|Δt_i|` within one period, which the
 //!   corner cap keeps within that reserve;
 //! * jerk (S-curve planner): the bound of `AxisFactors::jerk` stays
-//!   within `J_i`, and a turn's centripetal acceleration, which appears in
-//!   one period where a straight move meets it, stays within the reserved
-//!   half of `J_i·T`.
+//!   within `J_i`; at a corner, the velocity jump and the jump of the
+//!   centripetal acceleration (where a straight move meets a turn), both
+//!   within one period, stay within the reserved half of `J_i`; and, as
+//!   LinuxCNC, a turn that may be entered at speed goes no faster than
+//!   `√(J·R·T)` (its centripetal acceleration `v²/R` may appear within
+//!   one period).
 //!
 //! Each segment's numbers are fixed when it is queued, so changing a later
 //! corner never changes what the executing segment may do.
@@ -154,7 +157,9 @@ pub(crate) fn budget(
             let turning = f.rot[i] * f.omega;
             vmax = vmax.min((NORMAL_SHARE * acc_share * lim.acc[i] / turning).sqrt());
             if scurve && kinks && lim.jerk[i] > 0.0 {
-                // The centripetal acceleration appears within one period.
+                // The centripetal acceleration changes within one period
+                // where the turn meets a straight move, and the discrete
+                // jerk of the turn itself: LinuxCNC's √(J·R·T) bound.
                 vmax = vmax.min((JERK_RESERVE * lim.jerk[i] * period / turning).sqrt());
             }
         }
@@ -224,26 +229,43 @@ fn tangential_acc(
     acc
 }
 
-/// The speed at which a corner may be crossed where the axes' velocity
-/// per unit of path jumps from `before` to `after` (the derivatives of
-/// the two segments' paths there): the jump, within one period, must fit
-/// the reserves.
-pub(crate) fn kink_cap(
-    before: &[f64; NUM_AXES],
-    after: &[f64; NUM_AXES],
-    lim: &AxisLimits,
-    period: f64,
-    planner: PlannerType,
-) -> f64 {
+/// The two sides of a corner: the axes' travel per unit of path
+/// (`d1`, the path's derivative) and its rate of change (`d2`, the
+/// curvature part) just before and just after it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Corner {
+    pub d1_before: [f64; NUM_AXES],
+    pub d1_after: [f64; NUM_AXES],
+    pub d2_before: [f64; NUM_AXES],
+    pub d2_after: [f64; NUM_AXES],
+}
+
+/// The speed at which a corner may be crossed. Crossing it at speed `c`
+/// changes axis `i`'s velocity by `c·|Δd1_i|` within one period, which
+/// must fit the acceleration reserve; for the S-curve planner that and
+/// the jump of the centripetal acceleration, `c²·|Δd2_i|`, must fit the
+/// jerk reserve within one period.
+pub(crate) fn corner_cap(c: &Corner, lim: &AxisLimits, period: f64, planner: PlannerType) -> f64 {
     let mut cap = f64::INFINITY;
     for i in 0..NUM_AXES {
-        let jump = (after[i] - before[i]).abs();
-        if jump <= 1e-15 {
-            continue;
+        let j1 = (c.d1_after[i] - c.d1_before[i]).abs();
+        let j2 = (c.d2_after[i] - c.d2_before[i]).abs();
+        if j1 > 1e-15 {
+            cap = cap.min(KINK_RESERVE * lim.acc[i] * period / j1);
         }
-        cap = cap.min(KINK_RESERVE * lim.acc[i] * period / jump);
         if planner == PlannerType::SCurve && lim.jerk[i] > 0.0 {
-            cap = cap.min(JERK_RESERVE * lim.jerk[i] * period * period / jump);
+            // a·c² + b·c ≤ J with a = j2/T, b = j1/T².
+            let budget = JERK_RESERVE * lim.jerk[i];
+            let a = j2 / period;
+            let b = j1 / (period * period);
+            let c_max = if a > 1e-15 {
+                (-b + (b * b + 4.0 * a * budget).sqrt()) / (2.0 * a)
+            } else if b > 1e-15 {
+                budget / b
+            } else {
+                f64::INFINITY
+            };
+            cap = cap.min(c_max);
         }
     }
     cap
@@ -331,20 +353,49 @@ mod tests {
     }
 
     #[test]
-    fn kink_caps_shrink_with_the_jump_and_ignore_untouched_axes() {
+    fn corner_caps_shrink_with_the_jumps_and_ignore_untouched_axes() {
         let lim = limits(10.0, 100.0, 1000.0);
         let mut a = [0.0; NUM_AXES];
         let mut b = [0.0; NUM_AXES];
         a[0] = 1.0;
         b[0] = 0.999;
         b[1] = 0.04;
-        let c = kink_cap(&a, &b, &lim, 0.001, PlannerType::Trapezoidal);
+        let z = [0.0; NUM_AXES];
+        let kink = Corner {
+            d1_before: a,
+            d1_after: b,
+            d2_before: z,
+            d2_after: z,
+        };
+        let c = corner_cap(&kink, &lim, 0.001, PlannerType::Trapezoidal);
         assert!((c - 0.1 * 100.0 * 0.001 / 0.04).abs() < 1e-12);
-        let s = kink_cap(&a, &b, &lim, 0.001, PlannerType::SCurve);
+        let s = corner_cap(&kink, &lim, 0.001, PlannerType::SCurve);
         assert!((s - 0.5 * 1000.0 * 1e-6 / 0.04).abs() < 1e-12);
+        let straight = Corner {
+            d1_before: a,
+            d1_after: a,
+            d2_before: z,
+            d2_after: z,
+        };
         assert_eq!(
-            kink_cap(&a, &a, &lim, 0.001, PlannerType::Trapezoidal),
+            corner_cap(&straight, &lim, 0.001, PlannerType::SCurve),
             f64::INFINITY
         );
+        // Into a circle of radius 2 along X: centripetal 1/2 per speed²
+        // on Y; the S-curve planner keeps c²/2 within 500·T.
+        let mut d2 = [0.0; NUM_AXES];
+        d2[1] = 0.5;
+        let into_arc = Corner {
+            d1_before: a,
+            d1_after: a,
+            d2_before: z,
+            d2_after: d2,
+        };
+        assert_eq!(
+            corner_cap(&into_arc, &lim, 0.001, PlannerType::Trapezoidal),
+            f64::INFINITY
+        );
+        let c = corner_cap(&into_arc, &lim, 0.001, PlannerType::SCurve);
+        assert!((c * c * 0.5 - 0.5).abs() < 1e-9, "{c}");
     }
 }

@@ -12,7 +12,7 @@
 //! A change may only lower how fast the executing segment may end if the
 //! executor can still keep it: otherwise the corner is left as a kink.
 
-use super::budget::{budget, kink_cap, Budget};
+use super::budget::{budget, corner_cap, Budget, Corner};
 use super::geom::{self, Path, MIN_LENGTH};
 use super::segment::{Ending, Segment, SegmentKind};
 use super::{AxisLimits, Planner, PlannerType};
@@ -120,13 +120,7 @@ impl Planner {
                 return;
             }
         }
-        let cap = kink_cap(
-            &prev.derivative(prev.len),
-            &seg.derivative(0.0),
-            lim,
-            self.period,
-            self.planner,
-        );
+        let cap = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
         // A corner that cannot be crossed faster than one period's speed
         // change is a stop (a reversal, a sharp corner).
         let slowest = prev.budget.acc.min(seg.budget.acc) * self.period;
@@ -281,6 +275,16 @@ impl Planner {
 fn joinable(a: SegmentKind, b: SegmentKind) -> bool {
     use SegmentKind::*;
     matches!((a, b), (Traverse, Traverse) | (Feed | Arc, Feed | Arc))
+}
+
+/// The corner where `a` ends and `b` starts.
+fn corner(a: &Segment, b: &Segment) -> Corner {
+    Corner {
+        d1_before: a.derivative(a.len),
+        d1_after: b.derivative(0.0),
+        d2_before: a.second_derivative(a.len),
+        d2_after: b.second_derivative(0.0),
+    }
 }
 
 /// A segment shortened to `len` must still take at least one period.

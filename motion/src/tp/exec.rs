@@ -250,17 +250,17 @@ impl Planner {
         let brake = vt <= 0.0;
         match self.scurve.mode {
             Mode::Idle => {
-                if brake {
-                    if self.v != 0.0 || self.a != 0.0 {
-                        self.start_brake(&head);
-                    }
-                } else {
+                if !brake {
                     self.start_position(vt, next_vt);
+                } else if (self.v != 0.0 || self.a != 0.0) && !self.start_brake(&head) {
+                    // No stop fits here: run this segment as planned.
+                    self.start_position(self.v.max(1e-9), next_vt);
                 }
             }
             Mode::Position => {
                 let want = head.ve.min(vt).min(next_vt.max(0.0));
                 if brake {
+                    // Stop as soon as a stop fits in this segment.
                     self.start_brake(&head);
                 } else if (vt - self.scurve.vt).abs() > 1e-9 * vt.max(1.0)
                     || want > self.scurve.vf + 1e-9
@@ -296,10 +296,9 @@ impl Planner {
         if !self
             .scurve
             .plan_position(self.s, self.v, self.a, head.len, vf, vt, b.acc, b.jerk)
+            && !self.start_brake(&head)
         {
-            // Only from rest can there be no profile (a degenerate
-            // segment); brake instead, which always exists.
-            self.start_brake(&head);
+            self.scurve.mode = Mode::Idle;
         }
     }
 
@@ -321,14 +320,12 @@ impl Planner {
         }
     }
 
-    fn start_brake(&mut self, head: &Segment) {
+    /// A stop, if it fits in the executing segment; false if not (the
+    /// profile in use is kept).
+    fn start_brake(&mut self, head: &Segment) -> bool {
         let b = head.budget;
-        if !self
-            .scurve
-            .plan_brake(self.s, self.v, self.a, b.acc, b.jerk)
-        {
-            self.scurve.mode = Mode::Idle;
-        }
+        self.scurve
+            .plan_brake_within(self.s, self.v, self.a, b.acc, b.jerk, head.len)
     }
 
     /// Advances the profile by one period and takes the pose from it.
@@ -385,28 +382,14 @@ impl Planner {
                     self.start_position(vt, after);
                 }
                 Mode::Brake => {
+                    // A stop stays within its segment.
                     let dur = self.scurve.duration();
                     let smp = self.scurve.sample(t);
                     self.scurve.t = t;
-                    let mut s = smp.pos - self.scurve.base;
+                    self.s = smp.pos.min(head.len);
                     self.v = smp.vel.max(0.0);
                     self.a = smp.acc;
-                    // Through corners into the next segments.
-                    while s > self.queue[0].len {
-                        let h = self.queue[0];
-                        if h.ve <= 0.0 || self.queue.len() == 1 {
-                            self.scurve.reset();
-                            self.v = 0.0;
-                            self.a = 0.0;
-                            self.land(&h);
-                            return;
-                        }
-                        s -= h.len;
-                        self.scurve.base += h.len;
-                        self.finish_head();
-                    }
-                    self.s = s;
-                    self.pos = self.queue[0].point(s);
+                    self.pos = head.point(self.s);
                     if t >= dur {
                         self.v = 0.0;
                         self.a = 0.0;

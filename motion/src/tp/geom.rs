@@ -223,6 +223,27 @@ impl Path {
         d
     }
 
+    /// `d² pose / d s²` at arc length `s`: the curvature part of each
+    /// axis's acceleration (zero for straight moves).
+    pub fn second_derivative(&self, s: f64, len: f64) -> [f64; NUM_AXES] {
+        let mut d = [0.0; NUM_AXES];
+        if let Path::Arc(a) = self {
+            if len > 0.0 {
+                let w = a.angle / len;
+                let phi = a.angle * s / len;
+                let r = a.r0 + a.dr * phi / a.angle;
+                let rp = a.dr / a.angle;
+                let (sn, cs) = phi.sin_cos();
+                for (i, o) in d.iter_mut().take(3).enumerate() {
+                    let radial = cs * a.e1[i] + sn * a.e2[i];
+                    let tangential = -sn * a.e1[i] + cs * a.e2[i];
+                    *o = w * w * (-r * radial + 2.0 * rp * tangential);
+                }
+            }
+        }
+        d
+    }
+
     /// The unit XYZ direction of travel at arc length `s`, if it moves in
     /// XYZ there.
     pub fn xyz_direction(&self, s: f64, len: f64) -> Option<V3> {

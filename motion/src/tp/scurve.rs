@@ -9,11 +9,12 @@
 //! crossed with zero path acceleration and the next profile starts from
 //! a known state; the look-ahead uses the closed forms of
 //! [`change_distance`]. PAUSE, ABORT and a zero feed scale switch to a
-//! braking profile (velocity target 0), which never runs past a point the
-//! position profile would have stopped at and keeps going into the next
-//! segments if it has to. A feed override change re-plans from the
-//! current state; a re-plan that would not keep the end speed is
-//! skipped (the override applies from the next segment).
+//! braking profile (velocity target 0) as soon as it comes to rest within
+//! the executing segment; until then the segment's own profile runs on to
+//! its end (and the check repeats in the next one), so no corner is ever
+//! entered other than as the look-ahead planned it. A feed override
+//! change re-plans from the current state; a re-plan that would not keep
+//! the end speed is skipped (the override applies from the next segment).
 
 use rsruckig::prelude::*;
 
@@ -104,12 +105,11 @@ pub(super) struct SCurve {
     otg: Ruckig<1, Quiet>,
     input: InputParameter<1>,
     traj: Trajectory<1>,
+    /// A profile being tried before it replaces `traj`.
+    trial: Trajectory<1>,
     pub mode: Mode,
     /// Time since the profile started.
     pub t: f64,
-    /// Profile position where the executing segment starts (a braking
-    /// profile may run through several segments).
-    pub base: f64,
     /// The speed limit the profile was made with.
     pub vt: f64,
     /// The end speed of a position profile.
@@ -135,9 +135,9 @@ impl SCurve {
             otg: Ruckig::new(None, period),
             input,
             traj: Trajectory::new(None),
+            trial: Trajectory::new(None),
             mode: Mode::Idle,
             t: 0.0,
-            base: 0.0,
             vt: 0.0,
             vf: 0.0,
             target: 0.0,
@@ -148,7 +148,6 @@ impl SCurve {
     pub fn reset(&mut self) {
         self.mode = Mode::Idle;
         self.t = 0.0;
-        self.base = 0.0;
     }
 
     /// Plans from (`s`, `v`, `a`) to (`len`, `vf`, 0) with speed limit
@@ -184,7 +183,6 @@ impl SCurve {
             Ok(RuckigResult::Working) => {
                 self.mode = Mode::Position;
                 self.t = 0.0;
-                self.base = 0.0;
                 self.vt = vt;
                 self.vf = vf.min(vt);
                 self.target = len;
@@ -195,8 +193,19 @@ impl SCurve {
     }
 
     /// Plans a stop from (`s`, `v`, `a`) with acceleration `acc` and jerk
-    /// `jerk`; `s` is measured from the executing segment's start.
-    pub fn plan_brake(&mut self, s: f64, v: f64, a: f64, acc: f64, jerk: f64) -> bool {
+    /// `jerk`, if it comes to rest no further than `limit` (the end of the
+    /// executing segment: a stop never runs into the next segment, whose
+    /// corner speeds assume it is entered without acceleration). True if
+    /// it replaced the profile in use.
+    pub fn plan_brake_within(
+        &mut self,
+        s: f64,
+        v: f64,
+        a: f64,
+        acc: f64,
+        jerk: f64,
+        limit: f64,
+    ) -> bool {
         let inp = &mut self.input;
         inp.control_interface = ControlInterface::Velocity;
         inp.current_position[0] = s;
@@ -211,15 +220,27 @@ impl SCurve {
         if !self.valid() {
             return false;
         }
-        match self.otg.calculate(&self.input, &mut self.traj) {
-            Ok(RuckigResult::Working) => {
-                self.mode = Mode::Brake;
-                self.t = 0.0;
-                self.base = 0.0;
-                true
-            }
-            _ => false,
+        match self.otg.calculate(&self.input, &mut self.trial) {
+            Ok(RuckigResult::Working) => {}
+            _ => return false,
         }
+        let mut p = DataArrayOrVec::<f64, 1>::new(None, 0.0);
+        let mut section = None;
+        self.trial.at_time(
+            self.trial.get_duration(),
+            &mut Some(&mut p),
+            &mut None,
+            &mut None,
+            &mut None,
+            &mut section,
+        );
+        if p[0] > limit + 1e-12 {
+            return false;
+        }
+        std::mem::swap(&mut self.traj, &mut self.trial);
+        self.mode = Mode::Brake;
+        self.t = 0.0;
+        true
     }
 
     /// Whether every input is a finite number and every limit positive
@@ -319,7 +340,12 @@ mod tests {
     #[test]
     fn a_brake_profile_stops_within_the_limits() {
         let mut sc = SCurve::new(0.001);
-        assert!(sc.plan_brake(0.0, 10.0, 50.0, 100.0, 2000.0));
+        assert!(
+            !sc.plan_brake_within(0.0, 10.0, 50.0, 100.0, 2000.0, 0.5),
+            "too far"
+        );
+        assert!(sc.plan_brake_within(0.0, 10.0, 50.0, 100.0, 2000.0, 100.0));
+        assert!(sc.sample(sc.duration()).pos <= 100.0);
         let end = sc.sample(sc.duration());
         assert!(end.vel.abs() < 1e-9 && end.acc.abs() < 1e-9);
         let mut t = 0.0;

@@ -99,6 +99,13 @@ impl Segment {
         self.path.derivative(s + self.start_cut, self.nominal_len)
     }
 
+    /// The curvature part of the axes' acceleration per unit of speed²
+    /// at progress `s`.
+    pub fn second_derivative(&self, s: f64) -> [f64; NUM_AXES] {
+        self.path
+            .second_derivative(s + self.start_cut, self.nominal_len)
+    }
+
     /// Whether this segment moves straight in XYZ only (a blend arc may
     /// replace its ends).
     pub fn blendable_line(&self) -> bool {
