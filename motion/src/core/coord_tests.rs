@@ -16,22 +16,7 @@ fn xyz() -> Sim {
     let kins = Arc::new(Trivkins::new("xyz", KinematicsType::Identity).unwrap());
     let mut m = MotionCore::new(MotionConfig::default(), kins);
     crate::test_support::configure_test_joints(&mut m);
-    for a in 0..3 {
-        for c in [
-            Command::SetAxisPositionLimits {
-                axis: a,
-                min: -50.0,
-                max: 50.0,
-            },
-            Command::SetAxisVelLimit { axis: a, vel: 10.0 },
-            Command::SetAxisAccLimit {
-                axis: a,
-                acc: 100.0,
-            },
-        ] {
-            m.command(&c).unwrap();
-        }
-    }
+    crate::test_support::configure_test_axes(&mut m, 50.0);
     Sim::new(m)
 }
 

@@ -49,20 +49,7 @@ impl Planner {
             .is_some_and(|p| p.ending != Ending::Stop && joinable(p.kind, kind));
         let own_not_stop = ending != Ending::Stop && probe.is_none();
         let kinks = prev_not_stop || own_not_stop;
-        let rotary_only = {
-            let f = path.factors(len);
-            f.speed(0) + f.speed(1) + f.speed(2) + f.speed(6) + f.speed(7) + f.speed(8) == 0.0
-        };
-        let Some(b) = budget(
-            &path.factors(len),
-            len,
-            lim,
-            &self.traj,
-            self.period,
-            kinks,
-            self.planner,
-            rotary_only,
-        ) else {
+        let Some(b) = self.budget_for(&path, len, lim, kinks) else {
             return;
         };
         let mut seg = Segment {
@@ -99,6 +86,23 @@ impl Planner {
             self.queue[n - 2].end_cap = 0.0;
             self.optimize();
         }
+    }
+
+    /// The budget of `path`, `len` long (see [`budget`]); the `[TRAJ]` speed
+    /// limit does not apply to purely rotary moves.
+    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, kinks: bool) -> Option<Budget> {
+        let f = path.factors(len);
+        let rotary_only = [0, 1, 2, 6, 7, 8].iter().all(|&i| f.speed(i) == 0.0);
+        budget(
+            &f,
+            len,
+            lim,
+            &self.traj,
+            self.period,
+            kinks,
+            self.planner,
+            rotary_only,
+        )
     }
 
     /// Sets up the corner between the last queued segment and `seg`.
@@ -171,16 +175,7 @@ impl Planner {
         if len < 1e-6 {
             return false;
         }
-        let Some(b) = budget(
-            &path.factors(len),
-            len,
-            lim,
-            &self.traj,
-            self.period,
-            true,
-            self.planner,
-            false,
-        ) else {
+        let Some(b) = self.budget_for(&path, len, lim, true) else {
             return false;
         };
         let arc_end = path.point(len, len);

@@ -328,6 +328,16 @@ impl Planner {
             .plan_brake_within(self.s, self.v, self.a, b.acc, b.jerk, head.len)
     }
 
+    /// The state and pose of the profile in use at its time `t`.
+    fn take_sample(&mut self, head: &Segment, t: f64) {
+        let smp = self.scurve.sample(t);
+        self.scurve.t = t;
+        self.s = smp.pos.min(head.len);
+        self.v = smp.vel.max(0.0);
+        self.a = smp.acc;
+        self.pos = head.point(self.s);
+    }
+
     /// Advances the profile by one period and takes the pose from it.
     fn sample_scurve(&mut self, scales: &ScaleInputs) {
         let mut t = self.scurve.t + self.period;
@@ -342,12 +352,7 @@ impl Planner {
                 Mode::Position => {
                     let dur = self.scurve.duration();
                     if t < dur {
-                        let smp = self.scurve.sample(t);
-                        self.scurve.t = t;
-                        self.s = smp.pos.min(head.len);
-                        self.v = smp.vel.max(0.0);
-                        self.a = smp.acc;
-                        self.pos = head.point(self.s);
+                        self.take_sample(&head, t);
                         return;
                     }
                     let vf = self.scurve.vf;
@@ -384,12 +389,7 @@ impl Planner {
                 Mode::Brake => {
                     // A stop stays within its segment.
                     let dur = self.scurve.duration();
-                    let smp = self.scurve.sample(t);
-                    self.scurve.t = t;
-                    self.s = smp.pos.min(head.len);
-                    self.v = smp.vel.max(0.0);
-                    self.a = smp.acc;
-                    self.pos = head.point(self.s);
+                    self.take_sample(&head, t);
                     if t >= dur {
                         self.v = 0.0;
                         self.a = 0.0;
