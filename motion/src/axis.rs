@@ -25,6 +25,8 @@ pub struct AxisConfig {
     pub vel_limit: f64,
     /// Maximum acceleration of teleop jogs.
     pub acc_limit: f64,
+    /// Maximum jerk of coordinated moves (S-curve planning; 0: none).
+    pub jerk_limit: f64,
 }
 
 impl Default for AxisConfig {
@@ -34,6 +36,7 @@ impl Default for AxisConfig {
             max_pos_limit: 1e99,
             vel_limit: 1.0,
             acc_limit: 1.0,
+            jerk_limit: 0.0,
         }
     }
 }
@@ -84,6 +87,7 @@ pub struct Axis {
 /// A copy of an axis's state for readers outside the controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AxisStatus {
+    /// The homing configuration.
     pub config: AxisConfig,
     /// Teleop planner target (`axis.L.teleop-pos-cmd`).
     pub teleop_pos_cmd: f64,
@@ -97,7 +101,9 @@ pub struct AxisStatus {
     pub teleop_tp_enable: bool,
     /// Teleop planner moving.
     pub teleop_tp_active: bool,
+    /// A keyboard (command) jog is active.
     pub kb_jog_active: bool,
+    /// A jog-wheel jog is active.
     pub wheel_jog_active: bool,
 }
 
@@ -211,6 +217,7 @@ mod tests {
                 max_pos_limit: max,
                 vel_limit: 10.0,
                 acc_limit: 100.0,
+                ..AxisConfig::default()
             },
             ..Axis::default()
         }

@@ -14,29 +14,58 @@ use crate::homing::{HomeFault, HomeState};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Event {
     /// A hard limit switch tripped on an enabled joint; motion disabled.
-    JointOnLimit { joint: usize },
+    JointOnLimit {
+        /// The joint number.
+        joint: usize,
+    },
     /// An amplifier fault on an enabled joint; motion disabled.
-    JointAmpFault { joint: usize },
+    JointAmpFault {
+        /// The joint number.
+        joint: usize,
+    },
     /// Following error over the limit on an enabled joint; motion disabled.
-    JointFollowingError { joint: usize },
+    JointFollowingError {
+        /// The joint number.
+        joint: usize,
+    },
     /// `motion.enable` went false while enabled; motion disabled.
     EnableInputStopped,
     /// A misc error input is true; motion disabled.
-    MiscError { input: usize },
+    MiscError {
+        /// The input number.
+        input: usize,
+    },
     /// A spindle amplifier fault; motion disabled.
-    SpindleAmpFault { spindle: usize },
+    SpindleAmpFault {
+        /// The spindle number.
+        spindle: usize,
+    },
     /// A homed joint's command left its soft limits.
-    SoftLimitExceeded { joint: usize, dir: Direction },
+    SoftLimitExceeded {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// `motion.jog-stop` or `motion.jog-stop-immediate` ended the jogs.
-    JogStopped { immediate: bool },
+    JogStopped {
+        /// Whether the jogs stopped at once (jog-stop-immediate).
+        immediate: bool,
+    },
     /// The probe input rose during a jog; the jogs were stopped.
     ProbeTrippedDuringJog,
     /// Switching kinematics (`motion.switchkins-type`) failed.
-    KinsSwitchFailed { kins_type: i32 },
+    KinsSwitchFailed {
+        /// The kinematics type asked for.
+        kins_type: i32,
+    },
     /// Homing of `joint` failed in `state`; the sequence was aborted.
     HomingAborted {
+        /// The joint number.
         joint: usize,
+        /// What went wrong.
         fault: HomeFault,
+        /// The homing state it was in.
         state: HomeState,
     },
     /// The inverse kinematics failed for the commanded pose in teleop or
@@ -44,7 +73,10 @@ pub enum Event {
     InverseKinsFailed,
     /// The inverse kinematics gave a joint position that is not finite;
     /// motion disabled.
-    NonFiniteJoint { joint: usize },
+    NonFiniteJoint {
+        /// The joint number.
+        joint: usize,
+    },
     /// The probe input rose during an axis (teleop) jog; the jogs were
     /// stopped at once.
     ProbeTrippedDuringAxisJog,
@@ -52,6 +84,15 @@ pub enum Event {
     /// be resumed on enable (joints no longer homed, or the kinematics
     /// failed): motion is in free mode.
     WorldModeDropped,
+    /// A probing move ended without the input changing (G38.2: without
+    /// contact; G38.4: without losing contact); the queue was aborted.
+    ProbeNoContact {
+        /// Whether the move looks for the input clearing (G38.4, G38.5).
+        trip_on_clear: bool,
+    },
+    /// The probe input rose during a coordinated move that is not a
+    /// probing move; the queue was aborted.
+    ProbeTrippedDuringMove,
 }
 
 impl std::fmt::Display for Event {
@@ -99,6 +140,13 @@ impl std::fmt::Display for Event {
             Event::WorldModeDropped => f.write_str(
                 "teleop/coordinated mode could not be resumed on enable; motion is in free mode",
             ),
+            Event::ProbeNoContact {
+                trip_on_clear: false,
+            } => f.write_str("G38.2 move finished without making contact"),
+            Event::ProbeNoContact {
+                trip_on_clear: true,
+            } => f.write_str("G38.4 move finished without breaking contact"),
+            Event::ProbeTrippedDuringMove => f.write_str("Probe tripped during non-probe move."),
         }
     }
 }
@@ -131,6 +179,8 @@ impl Event {
             Event::NonFiniteJoint { joint } => (13, joint as u64, 0),
             Event::ProbeTrippedDuringAxisJog => (14, 0, 0),
             Event::WorldModeDropped => (15, 0, 0),
+            Event::ProbeNoContact { trip_on_clear } => (16, 0, u64::from(trip_on_clear)),
+            Event::ProbeTrippedDuringMove => (17, 0, 0),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -167,6 +217,10 @@ impl Event {
             13 => Event::NonFiniteJoint { joint: a },
             14 => Event::ProbeTrippedDuringAxisJog,
             15 => Event::WorldModeDropped,
+            16 => Event::ProbeNoContact {
+                trip_on_clear: b == 1,
+            },
+            17 => Event::ProbeTrippedDuringMove,
             _ => return None,
         })
     }
@@ -282,6 +336,10 @@ mod tests {
             Event::NonFiniteJoint { joint: 5 },
             Event::ProbeTrippedDuringAxisJog,
             Event::WorldModeDropped,
+            Event::ProbeNoContact {
+                trip_on_clear: true,
+            },
+            Event::ProbeTrippedDuringMove,
         ];
         let r = EventRing::default();
         for e in all {

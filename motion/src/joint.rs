@@ -3,6 +3,7 @@
 //! chain, the flags and the free-mode planner).
 
 use crate::command::Direction;
+use crate::comp::CompTable;
 use crate::simple_tp::SimpleTp;
 
 /// The configuration of a joint. The defaults are LinuxCNC's module
@@ -23,6 +24,8 @@ pub struct JointConfig {
     pub max_ferror: f64,
     /// Backlash, taken up half each way at every reversal.
     pub backlash: f64,
+    /// Maximum jerk (S-curve planning; 0: no jerk limit).
+    pub jerk_limit: f64,
 }
 
 impl Default for JointConfig {
@@ -35,6 +38,7 @@ impl Default for JointConfig {
             min_ferror: 0.01,
             max_ferror: 1.0,
             backlash: 0.0,
+            jerk_limit: 0.0,
         }
     }
 }
@@ -153,6 +157,8 @@ pub struct Joint {
     pub(crate) old_jog_counts: i32,
     /// Whether the backup soft-limit check found this joint outside.
     pub(crate) soft_limit: Option<Direction>,
+    /// Leadscrew-error compensation (replaces the backlash when filled).
+    pub(crate) comp: CompTable,
 }
 
 impl Default for Joint {
@@ -194,6 +200,7 @@ impl Default for Joint {
             max_jog_limit: 0.0,
             old_jog_counts: 0,
             soft_limit: None,
+            comp: CompTable::default(),
         }
     }
 }
@@ -201,38 +208,67 @@ impl Default for Joint {
 /// A copy of a joint's state for readers outside the controller.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointStatus {
+    /// The homing configuration.
     pub config: JointConfig,
+    /// The joint is active.
     pub active: bool,
     /// Amplifier enabled.
     pub enabled: bool,
+    /// At rest.
     pub in_position: bool,
+    /// What was wrong.
     pub error: bool,
+    /// The positive limit switch is tripped.
     pub pos_hard_limit: bool,
+    /// The negative limit switch is tripped.
     pub neg_hard_limit: bool,
+    /// The following error is over its limit.
     pub following_error: bool,
+    /// The amplifier reports a fault.
     pub faulted: bool,
+    /// The joint is homed.
     pub homed: bool,
+    /// The joint is homing.
     pub homing: bool,
+    /// Commanded position before interpolation.
     pub coarse_pos: f64,
+    /// Commanded position.
     pub pos_cmd: f64,
+    /// Commanded velocity.
     pub vel_cmd: f64,
+    /// Commanded acceleration.
     pub acc_cmd: f64,
+    /// Motor position command.
     pub motor_pos_cmd: f64,
+    /// Motor position feedback.
     pub motor_pos_fb: f64,
+    /// Joint position feedback.
     pub pos_fb: f64,
+    /// Motor position minus joint position (set by homing).
     pub motor_offset: f64,
+    /// The backlash (or compensation) correction wanted.
     pub backlash_corr: f64,
+    /// The backlash (or compensation) correction applied, rate limited.
     pub backlash_filt: f64,
+    /// The backlash take-up's velocity.
     pub backlash_vel: f64,
+    /// Following error.
     pub ferror: f64,
+    /// The following-error limit now.
     pub ferror_limit: f64,
+    /// The largest |following error| seen.
     pub ferror_high_mark: f64,
     /// Free planner target, velocity limit and enable.
     pub free_pos_cmd: f64,
+    /// The free planner's velocity limit.
     pub free_vel_lim: f64,
+    /// The free planner is enabled.
     pub free_tp_enable: bool,
+    /// The free planner moves.
     pub free_tp_active: bool,
+    /// A keyboard (command) jog is active.
     pub kb_jog_active: bool,
+    /// A jog-wheel jog is active.
     pub wheel_jog_active: bool,
 }
 
@@ -320,22 +356,38 @@ impl Joint {
         }
     }
 
-    /// Updates the backlash correction from the commanded direction and
-    /// moves the applied (filtered) value towards it with half the joint's
-    /// velocity (times `net_feed_scale`) and acceleration, in LinuxCNC's
-    /// arithmetic with one fix: LinuxCNC "cruises" even when its velocity
-    /// has decayed to a rounding crumb (1e-17), so the take-up can stall a
-    /// fraction short of the correction for ever (backlash 0.02 at 10 u/s,
-    /// 100 u/s², 1 ms stops at 0.00995 instead of 0.01). Here a cruise
-    /// slower than one acceleration step accelerates instead, so the
-    /// take-up always lands exactly on the correction.
-    pub(crate) fn backlash_comp(&mut self, period: f64, net_feed_scale: f64) {
-        if self.vel_cmd > 0.0 {
-            self.backlash_corr = 0.5 * self.cfg.backlash;
-        } else if self.vel_cmd < 0.0 {
-            self.backlash_corr = -0.5 * self.cfg.backlash;
+    /// Updates the backlash (or compensation table) correction from the
+    /// commanded direction and moves the applied (filtered) value towards
+    /// it with half the joint's velocity and acceleration, in LinuxCNC's
+    /// arithmetic with two differences:
+    /// * the take-up speed does not follow the feed scale (LinuxCNC's
+    ///   follows it, so a feed hold freezes a take-up half way: reference
+    ///   §9.3 "→ Design");
+    /// * LinuxCNC "cruises" even when its velocity has decayed to a
+    ///   rounding crumb (1e-17), so the take-up can stall a fraction short
+    ///   of the correction for ever (backlash 0.02 at 10 u/s, 100 u/s²,
+    ///   1 ms stops at 0.00995 instead of 0.01). Here a cruise slower than
+    ///   one acceleration step accelerates instead, so the take-up always
+    ///   lands exactly on the correction.
+    ///
+    /// With a compensation table the correction is the table's trim for
+    /// the direction of motion at the commanded position; standing still
+    /// keeps the last one (as LinuxCNC).
+    pub(crate) fn backlash_comp(&mut self, period: f64) {
+        // Not at rest (a NaN command keeps the last correction).
+        if !self.vel_cmd.is_nan() && self.vel_cmd != 0.0 {
+            let forward = self.vel_cmd > 0.0;
+            self.backlash_corr = if self.comp.is_empty() {
+                if forward {
+                    0.5 * self.cfg.backlash
+                } else {
+                    -0.5 * self.cfg.backlash
+                }
+            } else {
+                self.comp.trim(self.pos_cmd, forward)
+            };
         }
-        let v_max = 0.5 * self.cfg.vel_limit * net_feed_scale;
+        let v_max = 0.5 * self.cfg.vel_limit;
         let a_max = 0.5 * self.cfg.acc_limit;
         let v = self.backlash_vel;
         if self.backlash_corr >= self.backlash_filt {
@@ -530,7 +582,7 @@ mod tests {
         j.cfg.acc_limit = 100.0;
         j.vel_cmd = 1.0;
         for _ in 0..100 {
-            j.backlash_comp(0.001, 1.0);
+            j.backlash_comp(0.001);
         }
         assert_eq!(j.backlash_filt, 0.01);
         assert_eq!(j.backlash_vel, 0.0);
@@ -547,7 +599,7 @@ mod tests {
         let mut prev_v = 0.0;
         let mut n = 0;
         loop {
-            j.backlash_comp(t, 1.0);
+            j.backlash_comp(t);
             assert_eq!(j.backlash_corr, 0.05);
             assert!(j.backlash_vel <= 5.0 + 1e-12, "half the joint speed");
             assert!(
@@ -564,12 +616,12 @@ mod tests {
         }
         // Standing still keeps the last direction's correction.
         j.vel_cmd = 0.0;
-        j.backlash_comp(t, 1.0);
+        j.backlash_comp(t);
         assert_eq!(j.backlash_filt, 0.05);
         // Reversal: the full backlash the other way.
         j.vel_cmd = -1.0;
         for _ in 0..10_000 {
-            j.backlash_comp(t, 1.0);
+            j.backlash_comp(t);
             assert!(j.backlash_vel >= -5.0 - 1e-12);
         }
         assert_eq!(j.backlash_corr, -0.05);

@@ -1,19 +1,24 @@
 //! The LinuxCNC-compatible motion controller.
 //!
-//! * [`kins`]: the [`Kinematics`](kins::Kinematics) trait, the per-instance
-//!   kinematics registry and the `trivkins` module.
-//! * [`motmod`]: the `motmod` module (pins, params, threads, the
-//!   `motion-command-handler` and `motion-controller` functions) and
-//!   [`MotionHandle`](motmod::MotionHandle), the Rust command interface.
-//! * [`core`]: the controller itself, independent of HAL: joints, the
-//!   enable state machine, the free, teleop and coordinated modes, joint
-//!   and axis jogs, limits, following error, faults.
-//! * [`joint`], [`axis`]: the state of one joint and of one world axis.
-//! * [`simple_tp`]: the single-axis trapezoidal planner.
-//! * [`homing`]: the homing state machines and the sequence manager.
-//! * [`command`], [`events`], [`mailbox`], [`registry`]: commands and their
-//!   results, reported messages, the command hand-off, and how modules of
-//!   one instance find each other.
+//! Three layers; a file only uses files of its own layer or below, so data
+//! flows one way: commands down into the core, status up out of it.
+//!
+//! * Types, at the bottom: [`sizes`] (the maxima), [`command`] (commands,
+//!   their rejections and the rejections' wire codes), [`events`] (reported
+//!   messages), [`status`] (the status a client reads), [`kins`] (the
+//!   [`Kinematics`] trait, poses, the per-instance
+//!   registry and the kinematics modules), the homing configuration and
+//!   state types ([`homing::config`], [`homing::state`]), and [`registry`].
+//! * The controller, independent of HAL: [`simple_tp`] (the single-axis
+//!   planner), [`joint`] and [`axis`] (one joint, one world axis), the
+//!   homing state machines and sequence manager ([`homing`]), and
+//!   [`core`]: joints, the enable state machine, the free, teleop and
+//!   coordinated modes, jogs, limits, following error, faults.
+//! * The bindings, on top: [`channel`] (the shared-memory command channel
+//!   and status snapshot, and [`MotionClient`]), [`mailbox`] (the in-process
+//!   command hand-off) and [`motmod`] (the `motmod` module: pins, params,
+//!   threads, the `motion-command-handler` and `motion-controller`
+//!   functions, and [`MotionHandle`]).
 //!
 //! Load order, as in LinuxCNC: `loadrt trivkins ...` (or another
 //! kinematics module), then `loadrt motmod ...`.
@@ -21,6 +26,8 @@
 pub mod axis;
 pub mod channel;
 pub mod command;
+pub mod comp;
+pub mod comp_file;
 pub mod core;
 pub mod events;
 pub mod homing;
@@ -30,8 +37,11 @@ pub mod mailbox;
 pub mod motmod;
 pub mod registry;
 pub mod simple_tp;
+pub mod sizes;
+pub mod status;
 #[cfg(test)]
 mod test_support;
+pub mod tp;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};

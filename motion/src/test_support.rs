@@ -42,6 +42,26 @@ pub(crate) fn configure_test_joints(m: &mut MotionCore) {
     }
 }
 
+/// Limits every world axis to ±`limit`, 10 u/s and 100 u/s².
+pub(crate) fn configure_test_axes(m: &mut MotionCore, limit: f64) {
+    for a in 0..crate::kins::NUM_AXES as i32 {
+        for c in [
+            Command::SetAxisPositionLimits {
+                axis: a,
+                min: -limit,
+                max: limit,
+            },
+            Command::SetAxisVelLimit { axis: a, vel: 10.0 },
+            Command::SetAxisAccLimit {
+                axis: a,
+                acc: 100.0,
+            },
+        ] {
+            m.command(&c).unwrap();
+        }
+    }
+}
+
 /// The core and its simulated motors.
 pub(crate) struct Sim {
     pub m: MotionCore,

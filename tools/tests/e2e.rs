@@ -780,3 +780,55 @@ fn hm2_stepper_machine_homes_and_reaches_its_positions() {
     );
     assert!(text.ends_with("\nFALSE\n"), "the watchdog never bit");
 }
+
+/// The README's simulated mill runs the shipped pocket program: the
+/// samples match the expected file exactly; every commanded point lies
+/// in the pocket (or on the way in and out), the cut is at Z -1, and the
+/// summary stays within the machine's limits.
+#[test]
+fn the_simulated_mill_runs_the_shipped_pocket() {
+    let name = "motion-part-program";
+    let text = run_exact(name);
+    let mut lines = text.lines().filter(|l| !l.starts_with("accepted (serial"));
+    let n: usize = num(lines.next().expect("the sample count"));
+    let rest: Vec<&str> = lines.collect();
+    let rows: Vec<Vec<f64>> = rest
+        .iter()
+        .take_while(|l| !l.starts_with("summary: "))
+        .map(|l| l.split_whitespace().map(num::<f64>).collect())
+        .collect();
+    assert_eq!(rows.len(), n.div_ceil(25), "every 25th of {n} samples");
+    let mut cut = false;
+    for r in &rows {
+        assert_eq!(r.len(), 9);
+        let (x, y, z) = (r[0], r[1], r[2]);
+        assert!((-1e-6..=16.0 + 1e-6).contains(&x), "{r:?}");
+        assert!((-1e-6..=10.0 + 1e-6).contains(&y), "{r:?}");
+        assert!((-1.0 - 1e-9..=1.0 + 1e-9).contains(&z), "{r:?}");
+        cut |= z == -1.0;
+        for j in 0..3 {
+            assert!(r[6 + j].abs() < 0.1, "following error in {r:?}");
+        }
+    }
+    assert!(cut, "the pocket is cut at Z -1");
+    let summary = rest
+        .iter()
+        .find_map(|l| l.strip_prefix("summary: "))
+        .expect("the summary line");
+    let figures: Vec<f64> = summary
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter(|w| !w.is_empty() && *w != ".")
+        .map(num)
+        .collect();
+    // seconds, ferror, speed, measured speed, acceleration (and the 2 of s^2)
+    assert!((figures[0] - n as f64 * 0.001).abs() < 1e-9, "{summary}");
+    assert!(figures[1] < 0.1, "{summary}");
+    assert!(
+        figures[2] <= 10.0 + 0.002,
+        "the sampled speed (6 decimals): {summary}"
+    );
+    assert!(figures[4] <= 100.0, "{summary}");
+    for j in 0..3 {
+        assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
+    }
+}

@@ -32,3 +32,39 @@ fn the_simulated_machine_reaches_its_targets() {
     }
     assert!(stdout.contains("base-thread"), "thread timing shown");
 }
+
+/// The README's main job: configs/sim/mill.hal enables and homes the
+/// simulated mill, runs pocket.ngc and writes the plot and the summary
+/// (run on a copy of the folder, so the repository stays clean).
+#[test]
+fn the_simulated_mill_runs_the_pocket_and_plots_it() {
+    let src = common::root().join("configs/sim");
+    let dir = std::env::temp_dir().join(format!("hal-mill-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for f in ["mill.hal", "mill-machine.hal", "pocket.ngc"] {
+        std::fs::copy(src.join(f), dir.join(f)).unwrap();
+    }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_halrun"))
+        .args(["-f", "mill.hal"])
+        .current_dir(&dir)
+        .env("HAL_INSTANCE", common::instance("mill"))
+        .env("HAL_NO_REALTIME", "1")
+        .env("HAL_SHM_SIZE", (8u64 << 20).to_string())
+        .output()
+        .expect("halrun runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("pocket.ngc: done in"), "{stdout}");
+    let summary = stdout
+        .lines()
+        .find(|l| l.contains("max following error"))
+        .expect("the summary");
+    assert!(summary.ends_with("plot pocket.png"), "{summary}");
+    let png = std::fs::read(dir.join("pocket.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,6 +1,13 @@
 //! Wire-format tests: round trips and rejection of every corrupt word.
 
+use super::records::shape;
+use super::snapshot::{aflag, flag, jflag};
 use super::*;
+use crate::command::{
+    Command, Direction, Feature, LineKind, ProbeType, Quantity, Reject, TermCond,
+};
+use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
+use crate::kins::Pose;
 
 fn all_commands() -> Vec<Command> {
     let mut pose = Pose::ZERO;
@@ -120,6 +127,67 @@ fn all_commands() -> Vec<Command> {
             axis: i32::MAX,
             acc: 250.0,
         },
+        Command::Line {
+            end: pose,
+            vel: 12.5,
+            kind: LineKind::Feed,
+            id: 42,
+        },
+        Command::Line {
+            end: pose,
+            vel: 0.0,
+            kind: LineKind::Traverse,
+            id: -1,
+        },
+        Command::Circle {
+            end: pose,
+            center: [1.0, -2.0, 0.5],
+            normal: [0.0, 0.0, 1.0],
+            turns: -3,
+            vel: 4.0,
+            id: i32::MAX,
+        },
+        Command::Dwell {
+            seconds: 0.75,
+            id: 7,
+        },
+        Command::Probe {
+            end: pose,
+            vel: 1.5,
+            probe: ProbeType::G38_5,
+            id: 8,
+        },
+        Command::ClearProbeFlags,
+        Command::SetTermCond {
+            cond: TermCond::Blend,
+            tolerance: 0.01,
+        },
+        Command::Pause,
+        Command::Resume,
+        Command::Step,
+        Command::FeedScale { scale: 1.25 },
+        Command::RapidScale { scale: 0.5 },
+        Command::SetMaxFeedOverride { scale: 2.0 },
+        Command::FeedScaleEnable { on: true },
+        Command::FeedHoldEnable { on: false },
+        Command::AdaptiveFeedEnable { on: true },
+        Command::SpindleScaleEnable { on: false },
+        Command::SetVelLimit { vel: 100.0 },
+        Command::SetAccLimit { acc: 1000.0 },
+        Command::SetJerkLimit { jerk: 1e5 },
+        Command::SetPlannerType { planner: 1 },
+        Command::SetJointJerkLimit {
+            joint: 2,
+            jerk: 5e4,
+        },
+        Command::SetAxisJerkLimit { axis: 1, jerk: 0.0 },
+        Command::SetJointComp {
+            joint: 0,
+            nominal: -1.0,
+            forward: 0.005,
+            reverse: -0.005,
+        },
+        Command::ClearJointComp { joint: 1 },
     ]
 }
 
@@ -133,11 +201,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_35_is_used() {
+fn every_opcode_from_1_to_59_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(|c| shape(c).0).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=35).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=59).collect::<Vec<_>>());
 }
 
 #[test]
@@ -203,7 +271,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 36, 1000, u64::MAX] {
+    for op in [0u64, 60, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(
@@ -346,6 +414,40 @@ fn all_rejects() -> Vec<Reject> {
             joint: 3,
             jump: 0.25,
         },
+        Reject::NotCoordMode,
+        Reject::QueueFull { capacity: 2000 },
+        Reject::Aborting,
+        Reject::OutsideAxisLimits {
+            axis: 8,
+            value: 3.5,
+            min: -1.0,
+            max: 3.0,
+        },
+        Reject::OutsideJointLimits {
+            joint: 15,
+            value: -7.0,
+            min: -6.0,
+            max: 6.0,
+        },
+        Reject::EndUnreachable,
+        Reject::HardLimitTripped { joint: 2 },
+        Reject::BadArc,
+        Reject::NotPaused,
+        Reject::StillMoving,
+        Reject::ProbeAlreadyThere {
+            trip_on_clear: false,
+        },
+        Reject::ProbeAlreadyThere {
+            trip_on_clear: true,
+        },
+        Reject::NeedsJerkLimit { jerk: 0.5 },
+        Reject::CompNotIncreasing {
+            joint: 1,
+            nominal: 2.0,
+            previous: 2.0,
+        },
+        Reject::CompTableFull { joint: 3 },
+        Reject::MustBeDisabled,
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -439,11 +541,11 @@ fn status_snapshot_decodes_and_validates_its_header() {
 }
 
 #[test]
-fn every_reason_code_from_1_to_41_is_used_and_named() {
+fn every_reason_code_from_1_to_56_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=41).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=56).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

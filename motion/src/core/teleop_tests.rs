@@ -1,13 +1,15 @@
 //! Tests of the world modes: FREE/TELEOP/COORD requests and transitions,
 //! axis jogs (compared step by step with a reference planner, since the
 //! planner is deterministic), axis limits, kinematics faults, aborts and
-//! jog stops, wheels, and the holding coordinated mode. Each joint's motor
+//! jog stops, wheels, and entering coordinated mode. Each joint's motor
 //! is looped back: its feedback is the previous cycle's motor command.
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 use super::*;
 use crate::axis::AxisStatus;
+use crate::command::{Command, Direction, Quantity, Reject};
+use crate::events::Event;
 use crate::kins::trivkins::Trivkins;
 use crate::kins::KinsError;
 use crate::simple_tp::SimpleTp;
@@ -24,22 +26,7 @@ fn build(kins: Arc<dyn Kinematics>, n: usize) -> Sim {
         kins,
     );
     crate::test_support::configure_test_joints(&mut m);
-    for a in 0..NUM_AXES as i32 {
-        for c in [
-            Command::SetAxisPositionLimits {
-                axis: a,
-                min: -50.0,
-                max: 50.0,
-            },
-            Command::SetAxisVelLimit { axis: a, vel: 10.0 },
-            Command::SetAxisAccLimit {
-                axis: a,
-                acc: 100.0,
-            },
-        ] {
-            m.command(&c).unwrap();
-        }
-    }
+    crate::test_support::configure_test_axes(&mut m, 50.0);
     Sim::new(m)
 }
 

@@ -3,6 +3,8 @@
 //! motor with lag), and switches and fault inputs are set by the test.
 
 use super::*;
+use crate::command::{Command, Direction, Reject};
+use crate::events::Event;
 use crate::kins::trivkins::Trivkins;
 use crate::simple_tp::SimpleTp;
 use crate::test_support::{Sim, T};

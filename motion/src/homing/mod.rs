@@ -46,9 +46,9 @@ pub use state::{HomeFault, HomeState};
 pub(crate) use machine::JointHoming;
 
 use crate::command::Reject;
-use crate::core::MAX_JOINTS;
 use crate::events::{Event, EventRing};
 use crate::joint::Joint;
+use crate::sizes::MAX_JOINTS;
 
 /// Where the sequence manager is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

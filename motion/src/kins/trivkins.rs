@@ -22,7 +22,7 @@ use super::{
     Kinematics, KinematicsType, KinsError, KinsFlags, Pose, AXIS_LETTERS, KINEMATICS, NUM_AXES,
 };
 
-pub use crate::core::MAX_JOINTS;
+pub use crate::sizes::MAX_JOINTS;
 
 /// Longest `coordinates=` value LinuxCNC accepts.
 pub const MAX_COORDINATES_CHARS: usize = 32;

@@ -6,6 +6,8 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
+use hal_tools::motion_queue_args;
+use motion::comp_file::{read_comp_file, CompFileType};
 use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
 use motion::{Command, MotionClient};
@@ -87,6 +89,38 @@ configuration:
                                 out take the INI defaults
   update-homing-params JOINT OFFSET HOME SEQUENCE
                                 HOME_OFFSET, HOME and HOME_SEQUENCE only
+  set-jerk-limit JOINT JERK     maximum jerk (S-curve planner; 0 none)
+  set-axis-jerk-limit AXIS JERK axis maximum jerk (0 none)
+  comp-entry JOINT NOMINAL FORWARD REVERSE
+                                append one screw-compensation entry (trims;
+                                nominals increasing; only while disabled)
+  clear-comp JOINT              empty the joint's compensation table
+  load-comp JOINT FILE TYPE     load a [JOINT_n]COMP_FILE of COMP_FILE_TYPE
+                                0 or 1 (replaces the table; errors name the
+                                file and line)
+
+coordinated moves (coord mode; END is AXIS=VALUE words, e.g. X=10 Y=-2;
+axes left out stay where the last queued move ends):
+  line ID VEL END...            straight feed move at VEL (units/s)
+  rapid ID END...               straight rapid (as fast as the axes allow)
+  arc ID VEL center=CX,CY,CZ [normal=NX,NY,NZ] [turns=N] END...
+                                arc or helix counter-clockwise about the
+                                normal (default 0,0,1); turns < 0 clockwise
+                                (G2 P n is turns=-n, G3 P n is turns=n-1)
+  probe ID VEL G38.2|G38.3|G38.4|G38.5 END...
+                                probing move
+  dwell ID SECONDS              wait, after the moves before have stopped
+  clear-probe                   forget the last probe result
+  term-cond stop|exact|blend [TOLERANCE]
+                                how the next moves end: G61.1, G61, G64 P
+  pause | resume | step         step: run to the end of the current id
+  feed-scale S | rapid-scale S | max-feed-override S
+  feed-scale-enable 0|1 | feed-hold-enable 0|1 | adaptive-feed-enable 0|1
+  spindle-scale-enable 0|1      M50 M53 M52 M51: for the moves queued next
+  set-traj-vel V | set-traj-acc A | set-traj-jerk J
+                                [TRAJ] MAX_LINEAR_VELOCITY, _ACCELERATION,
+                                _JERK
+  planner-type 0|1              trapezoidal or S-curve (PLANNER_TYPE)
 ";
 
 /// A usage error, printed with a hint to --help.
@@ -180,6 +214,8 @@ enum Condition {
     HomingDone,
     AllHomed,
     Homed(usize),
+    QueueDone,
+    Paused,
 }
 
 impl Condition {
@@ -193,6 +229,8 @@ impl Condition {
             "in-position" => (Condition::InPosition, 1),
             "homing-done" => (Condition::HomingDone, 1),
             "all-homed" => (Condition::AllHomed, 1),
+            "queue-done" => (Condition::QueueDone, 1),
+            "paused" => (Condition::Paused, 1),
             "homed" => {
                 let j = int(a.get(1), "JOINT")?;
                 let j = usize::try_from(j)
@@ -215,6 +253,8 @@ impl Condition {
             Condition::InPosition => s.in_position,
             Condition::HomingDone => !s.homing_active,
             Condition::AllHomed => s.all_homed,
+            Condition::QueueDone => s.traj.depth == 0 && s.in_position,
+            Condition::Paused => s.traj.paused && s.traj.current_vel == 0.0,
             Condition::Homed(j) => {
                 s.joints
                     .get(j)
@@ -263,22 +303,9 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
     }
 }
 
-/// An axis: its letter (either case) or its number. Numbers out of range
-/// pass through, for the controller to refuse.
+/// An axis: its letter (either case) or its number.
 fn axis(s: Option<&String>) -> Result<i32, Usage> {
-    let s = s.ok_or_else(|| Usage("missing AXIS".into()))?;
-    let mut chars = s.chars();
-    if let (Some(c), None) = (chars.next(), chars.next()) {
-        let c = c.to_ascii_lowercase();
-        if let Some(i) = motion::kins::AXIS_LETTERS.iter().position(|&l| l == c) {
-            return Ok(i as i32);
-        }
-    }
-    s.parse().map_err(|_| {
-        Usage(format!(
-            "AXIS must be one of x y z a b c u v w or a number, not '{s}'"
-        ))
-    })
+    motion_queue_args::axis(s).map_err(|e| Usage(e.0))
 }
 
 /// Parses a command and its arguments.
@@ -445,9 +472,18 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
     // Parse before connecting, so usage errors need no running instance.
     enum Action {
         Status,
-        Watch { ms: u64, count: Option<u64> },
+        Watch {
+            ms: u64,
+            count: Option<u64>,
+        },
         Send(Command),
         Wait(Condition),
+        /// A queueing command: parsed again once the goal is known.
+        Queue(String),
+        LoadComp {
+            joint: i32,
+            entries: Vec<Command>,
+        },
     }
     let action = match name.as_str() {
         "status" if rest.is_empty() => Action::Status,
@@ -471,6 +507,36 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
             Action::Watch { ms, count }
         }
         "wait" => Action::Wait(Condition::parse(rest)?),
+        "load-comp" => {
+            if rest.len() != 3 {
+                return Err(Usage("'load-comp' takes JOINT FILE TYPE".into()));
+            }
+            let joint = int(rest.first(), "JOINT")?;
+            let kind = CompFileType::from_ini(&rest[2]).map_err(|e| Usage(e.to_string()))?;
+            match read_comp_file(std::path::Path::new(&rest[1]), kind) {
+                Ok(entries) => Action::LoadComp {
+                    joint,
+                    entries: entries
+                        .into_iter()
+                        .map(|e| Command::SetJointComp {
+                            joint,
+                            nominal: e.nominal,
+                            forward: e.forward,
+                            reverse: e.reverse,
+                        })
+                        .collect(),
+                },
+                Err(e) => {
+                    eprintln!("motion-cmd: {e}");
+                    return Ok(ExitCode::from(2));
+                }
+            }
+        }
+        q if motion_queue_args::is_queue_command(q) => {
+            // Check the words now, so usage errors need no instance.
+            motion_queue_args::parse(q, rest, motion::Pose::ZERO).map_err(|e| Usage(e.0))?;
+            Action::Queue(q.to_string())
+        }
         _ => Action::Send(parse_command(name, rest)?),
     };
     let mut client = match MotionClient::attach(&instance) {
@@ -486,16 +552,28 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
             cond,
             timeout.unwrap_or(Duration::from_secs(60)),
         )),
-        Action::Send(cmd) => match client.send(cmd) {
-            Ok(a) => {
-                println!("accepted (serial {})", a.serial);
-                Ok(ExitCode::SUCCESS)
+        Action::Queue(q) => {
+            let goal = match client.status() {
+                Ok(s) => motion::Pose(s.traj.goal),
+                Err(e) => {
+                    eprintln!("motion-cmd: {e}");
+                    return Ok(ExitCode::from(2));
+                }
+            };
+            let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| Usage(e.0))?;
+            Ok(send(&mut client, cmd))
+        }
+        Action::LoadComp { joint, entries } => {
+            let mut code = send(&mut client, Command::ClearJointComp { joint });
+            for e in entries {
+                if code != ExitCode::SUCCESS {
+                    break;
+                }
+                code = send(&mut client, e);
             }
-            Err(r) => {
-                println!("{r}");
-                Ok(ExitCode::from(1))
-            }
-        },
+            Ok(code)
+        }
+        Action::Send(cmd) => Ok(send(&mut client, cmd)),
         Action::Status => match client.status() {
             Ok(s) => {
                 print!("{s}");
@@ -525,6 +603,20 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
                 }
                 std::thread::sleep(Duration::from_millis(ms));
             }
+        }
+    }
+}
+
+/// Sends one command and prints its answer.
+fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
+    match client.send(cmd) {
+        Ok(a) => {
+            println!("accepted (serial {})", a.serial);
+            ExitCode::SUCCESS
+        }
+        Err(r) => {
+            println!("{r}");
+            ExitCode::from(1)
         }
     }
 }

@@ -1,118 +1,8 @@
-//! Commands to the motion controller and their typed results.
-//!
-//! LinuxCNC answers most refused commands with "OK" and a text message
-//! only; here every command is either applied completely or refused with a
-//! [`Reject`] that says why, and a refusal changes nothing. Commands and
-//! rejections are plain `Copy` data, so the realtime command handler can
-//! take and answer them without allocating.
+//! Why a command was refused ([`Reject`]), with the values it names
+//! ([`Quantity`], [`Feature`], [`Direction`]).
 
-use crate::homing::{ConfigProblem, HomingConfig};
-use crate::kins::Pose;
-
-/// A command, as LinuxCNC's `EMCMOT_*` commands of the same names.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Command {
-    /// Stop every free-mode move at its acceleration limit, cancel jogs,
-    /// clear the motion and joint error flags and the amp fault flags.
-    Abort,
-    /// Request the enabled state (amplifiers on). Needs `motion.enable`.
-    Enable,
-    /// Request the disabled state: planners stopped, amplifiers off.
-    Disable,
-    /// Request free (joint) mode. Refused while something moves; while
-    /// motion is disabled it is remembered and takes effect on enable.
-    Free,
-    /// Request teleop (world jog) mode: axis jogs through the inverse
-    /// kinematics. Refused while something moves and, unless the
-    /// kinematics are identity, before every active joint is homed; while
-    /// motion is disabled it is remembered and takes effect on enable.
-    Teleop,
-    /// Request coordinated mode, with the same requirements as
-    /// [`Command::Teleop`]. There is no queued planner yet: the pose is
-    /// held.
-    Coord,
-    /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
-    /// amplifier follows ENABLE/DISABLE and has no side channel
-    /// (reference "→ Design").
-    EnableAmplifier { joint: i32 },
-    /// LinuxCNC's legacy DISABLE_AMPLIFIER: refused like
-    /// [`Command::EnableAmplifier`].
-    DisableAmplifier { joint: i32 },
-    /// Jog `joint` continuously at `vel` (sign = direction) until aborted
-    /// or until the jog limit.
-    JogCont { joint: i32, vel: f64 },
-    /// Move `joint` by `offset` (≥ 0) in the direction of `vel`, from the
-    /// planner's current target, so increments accumulate.
-    JogIncr { joint: i32, vel: f64, offset: f64 },
-    /// Move `joint` to `pos` (clamped into its jog limits) at speed `|vel|`.
-    JogAbs { joint: i32, vel: f64, pos: f64 },
-    /// Stop the jog of `joint` at its acceleration limit.
-    JogAbort { joint: i32 },
-    /// Make `joint` active: its inputs are read, it is planned and checked.
-    JointActivate { joint: i32 },
-    /// Make `joint` inactive; its amplifier is switched off too.
-    JointDeactivate { joint: i32 },
-    /// `joint < 0`: end any limit override. Otherwise override the hard
-    /// limits that are tripped now, until the end of the next jog.
-    OverrideLimits { joint: i32 },
-    /// The free-mode SCALE: every joint planner's velocity limit is
-    /// multiplied by it (clamped to 0..=1). LinuxCNC's FEED_SCALE has no
-    /// effect in free mode; here it is the jog override.
-    Scale { scale: f64 },
-    /// Soft limits of `joint`.
-    SetJointPositionLimits { joint: i32, min: f64, max: f64 },
-    /// Maximum velocity of `joint` (> 0).
-    SetJointVelLimit { joint: i32, vel: f64 },
-    /// Maximum acceleration of `joint` (> 0).
-    SetJointAccLimit { joint: i32, acc: f64 },
-    /// Following-error limit at standstill (≥ 0).
-    SetJointMinFerror { joint: i32, ferror: f64 },
-    /// Following-error limit at the joint's maximum velocity (≥ 0).
-    SetJointMaxFerror { joint: i32, ferror: f64 },
-    /// Backlash of `joint` (≥ 0), taken up at each reversal.
-    SetJointBacklash { joint: i32, backlash: f64 },
-    /// Restores the homing offset of `joint` (motor = joint + offset).
-    SetJointMotorOffset { joint: i32, offset: f64 },
-    /// The world pose used as the first guess of iterative forward
-    /// kinematics.
-    SetWorldHome { pose: Pose },
-    /// JOINT_HOME: home `joint` (its whole group if its HOME_SEQUENCE is
-    /// negative), or with −1 every joint in HOME_SEQUENCE order. Needs
-    /// free mode, motion enabled, `motion.homing-inhibit` false and no
-    /// homing in progress.
-    Home { joint: i32 },
-    /// JOINT_UNHOME: forget the reference of `joint`; −1 every active
-    /// joint, −2 the VOLATILE_HOME joints. Needs free mode or disabled,
-    /// and the joints standing still and not homing.
-    Unhome { joint: i32 },
-    /// SET_JOINT_HOMING_PARAMS: the whole homing configuration of `joint`.
-    SetJointHomingParams { joint: i32, config: HomingConfig },
-    /// UPDATE_JOINT_HOMING_PARAMS: HOME_OFFSET, HOME and HOME_SEQUENCE
-    /// only, allowed at run time (not while homing).
-    UpdateJointHomingParams {
-        joint: i32,
-        offset: f64,
-        home: f64,
-        sequence: i32,
-    },
-    /// Teleop mode: jog world axis `axis` (0..=8, X Y Z A B C U V W)
-    /// continuously at `vel` (sign = direction) towards its position limit.
-    AxisJogCont { axis: i32, vel: f64 },
-    /// Teleop mode: move `axis` by `offset` (≥ 0) in the direction of
-    /// `vel`, from the planner's current target, so increments accumulate.
-    AxisJogIncr { axis: i32, vel: f64, offset: f64 },
-    /// Teleop mode: move `axis` to `pos`, clamped into its position
-    /// limits, at speed `|vel|`.
-    AxisJogAbs { axis: i32, vel: f64, pos: f64 },
-    /// Stop the jog of `axis` at its acceleration limit.
-    AxisJogAbort { axis: i32 },
-    /// Position limits of world axis `axis`.
-    SetAxisPositionLimits { axis: i32, min: f64, max: f64 },
-    /// Maximum velocity of world axis `axis` (> 0).
-    SetAxisVelLimit { axis: i32, vel: f64 },
-    /// Maximum acceleration of world axis `axis` (> 0).
-    SetAxisAccLimit { axis: i32, acc: f64 },
-}
+use super::WireError;
+use crate::homing::ConfigProblem;
 
 /// What a [`Reject::BadValue`] is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -143,11 +33,23 @@ pub enum Quantity {
     JogPosition,
     /// The jog target.
     JogTarget,
+    /// A coordinate of a queued move's end point or arc.
+    Coordinate,
+    /// The dwell time.
+    DwellTime,
+    /// The blend tolerance.
+    BlendTolerance,
+    /// The jerk limit.
+    JerkLimit,
+    /// A screw-compensation value.
+    CompValue,
+    /// The planner type.
+    PlannerType,
 }
 
 impl Quantity {
     /// Every value, in wire-code order.
-    pub const ALL: [Quantity; 13] = [
+    pub const ALL: [Quantity; 19] = [
         Quantity::Scale,
         Quantity::MinimumLimit,
         Quantity::MaximumLimit,
@@ -161,6 +63,12 @@ impl Quantity {
         Quantity::JogIncrement,
         Quantity::JogPosition,
         Quantity::JogTarget,
+        Quantity::Coordinate,
+        Quantity::DwellTime,
+        Quantity::BlendTolerance,
+        Quantity::JerkLimit,
+        Quantity::CompValue,
+        Quantity::PlannerType,
     ];
 
     /// The text used in messages.
@@ -179,6 +87,12 @@ impl Quantity {
             Quantity::JogIncrement => "jog increment",
             Quantity::JogPosition => "jog position",
             Quantity::JogTarget => "jog target",
+            Quantity::Coordinate => "coordinate",
+            Quantity::DwellTime => "dwell time",
+            Quantity::BlendTolerance => "blend tolerance",
+            Quantity::JerkLimit => "jerk limit",
+            Quantity::CompValue => "compensation value",
+            Quantity::PlannerType => "planner type",
         }
     }
 
@@ -265,9 +179,17 @@ impl std::fmt::Display for Direction {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reject {
     /// The joint number is outside `0..num_joints`.
-    NoSuchJoint { joint: i32, num_joints: usize },
+    NoSuchJoint {
+        /// The joint number.
+        joint: i32,
+        /// How many joints there are.
+        num_joints: usize,
+    },
     /// The joint is not active.
-    JointInactive { joint: usize },
+    JointInactive {
+        /// The joint number.
+        joint: usize,
+    },
     /// `motion.enable` is false.
     EnableInputFalse,
     /// Motion is not enabled.
@@ -279,59 +201,121 @@ pub enum Reject {
     /// Homing is in progress.
     HomingActive,
     /// A jog wheel is moving this joint.
-    WheelJogActive { joint: usize },
+    WheelJogActive {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint is moving.
-    JointMoving { joint: usize },
+    JointMoving {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint's hard limit switch in that direction is tripped.
-    OnHardLimit { joint: usize, dir: Direction },
+    OnHardLimit {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The joint is already at or beyond its jog limit in that direction.
-    PastSoftLimit { joint: usize, dir: Direction },
+    PastSoftLimit {
+        /// The joint number.
+        joint: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The incremental jog would end outside the jog limits.
     TargetOutsideLimits {
+        /// The joint number.
         joint: usize,
+        /// The target position.
         target: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// A velocity that is zero or not finite.
-    BadVelocity { vel: f64 },
+    BadVelocity {
+        /// Velocity (its sign gives a jog's direction).
+        vel: f64,
+    },
     /// A value that is negative, not finite or otherwise out of range.
-    BadValue { what: Quantity, value: f64 },
+    BadValue {
+        /// What the value is.
+        what: Quantity,
+        /// The value.
+        value: f64,
+    },
     /// A minimum limit above the maximum.
-    LimitsReversed { min: f64, max: f64 },
+    LimitsReversed {
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
     /// A joint may only be activated while motion is disabled.
-    ActivateWhileEnabled { joint: usize },
+    ActivateWhileEnabled {
+        /// The joint number.
+        joint: usize,
+    },
     /// The motion controller did not answer (its thread is not running).
     Timeout,
     /// The command exists but this controller does not carry it out.
-    Unsupported { what: Feature },
+    Unsupported {
+        /// What the value is.
+        what: Feature,
+    },
     /// A command read from the shared-memory channel was corrupt or of an
     /// unknown kind; it was not executed.
-    Malformed { error: crate::channel::WireError },
+    Malformed {
+        /// What was wrong.
+        error: WireError,
+    },
     /// `motion.homing-inhibit` is true.
     HomingInhibited,
     /// Home-all found no active joint with a HOME_SEQUENCE of 100 or less.
     NothingToHome,
     /// Home-all sequence numbers must start at 0 or 1 and have no gaps.
-    HomeSequenceGap { missing: i32 },
+    HomeSequenceGap {
+        /// The first sequence number missing.
+        missing: i32,
+    },
     /// The joint is homed and may not be homed again (absolute encoder).
-    AlreadyHomed { joint: usize },
+    AlreadyHomed {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint's shared home switch is closed.
-    SharedHomeSwitchClosed { joint: usize },
+    SharedHomeSwitchClosed {
+        /// The joint number.
+        joint: usize,
+    },
     /// The homing configuration cannot be used.
     BadHomingConfig {
+        /// The joint number.
         joint: usize,
+        /// What is wrong with it.
         problem: ConfigProblem,
     },
     /// The joint homes in a synchronised group: jogging it alone would
     /// rack the gantry.
-    SynchronizedJoint { joint: usize },
+    SynchronizedJoint {
+        /// The joint number.
+        joint: usize,
+    },
     /// The joint is a locking indexer; it only moves by homing.
-    LockingIndexer { joint: usize },
+    LockingIndexer {
+        /// The joint number.
+        joint: usize,
+    },
     /// Unhoming needs free mode or motion disabled.
     NotFreeOrDisabled,
     /// An extra joint may only be unhomed while motion is disabled.
-    ExtraJointEnabled { joint: usize },
+    ExtraJointEnabled {
+        /// The joint number.
+        joint: usize,
+    },
     /// A mode change while some planner moves (or homing runs).
     NotInPosition,
     /// Teleop or coordinated mode with non-identity kinematics before
@@ -342,20 +326,38 @@ pub enum Reject {
     /// A joint jog in teleop mode.
     JointJogInTeleop,
     /// The axis number is outside `0..9`.
-    NoSuchAxis { axis: i32 },
+    NoSuchAxis {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: i32,
+    },
     /// The kinematics do not compute this axis (not in their coordinates).
-    AxisNotInKinematics { axis: usize },
+    AxisNotInKinematics {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+    },
     /// The motion error flag is set (e.g. a soft limit was exceeded).
     MotionError,
     /// A jog wheel is moving this axis.
-    AxisWheelJogActive { axis: usize },
+    AxisWheelJogActive {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+    },
     /// The axis is already beyond its position limit in that direction.
-    AxisPastLimit { axis: usize, dir: Direction },
+    AxisPastLimit {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+        /// The direction.
+        dir: Direction,
+    },
     /// The incremental axis jog would end outside the axis limits.
     AxisTargetOutsideLimits {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
         axis: usize,
+        /// The target position.
         target: f64,
+        /// Lower limit.
         min: f64,
+        /// Upper limit.
         max: f64,
     },
     /// The kinematics found no solution for the current joint positions
@@ -364,7 +366,85 @@ pub enum Reject {
     /// Entering a world mode would step `joint` by `jump` at once: the
     /// joints are not where the kinematics would put them (for example
     /// the two joints of an unsquared gantry).
-    ModeChangeJump { joint: usize, jump: f64 },
+    ModeChangeJump {
+        /// The joint number.
+        joint: usize,
+        /// How far the joint would step.
+        jump: f64,
+    },
+    /// Moves are only queued in coordinated mode.
+    NotCoordMode,
+    /// The queue holds as many moves as it can; try again once some ran.
+    QueueFull {
+        /// How many moves the queue holds.
+        capacity: usize,
+    },
+    /// An abort is bringing the queued motion to a stop; nothing is queued
+    /// until it has.
+    Aborting,
+    /// The move would take `axis` to `value`, outside its limits.
+    OutsideAxisLimits {
+        /// The world axis: 0..=8 for X Y Z A B C U V W.
+        axis: usize,
+        /// The value.
+        value: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
+    /// The move would take `joint` to `value`, outside its soft limits.
+    OutsideJointLimits {
+        /// The joint number.
+        joint: usize,
+        /// The value.
+        value: f64,
+        /// Lower limit.
+        min: f64,
+        /// Upper limit.
+        max: f64,
+    },
+    /// The kinematics have no solution for the move's end point.
+    EndUnreachable,
+    /// A hard limit switch of `joint` is tripped: no move is queued.
+    HardLimitTripped {
+        /// The joint number.
+        joint: usize,
+    },
+    /// The arc's start or end lies on its centre's axis, or its normal is
+    /// zero.
+    BadArc,
+    /// STEP needs the queued motion paused.
+    NotPaused,
+    /// STEP needs the paused motion at rest.
+    StillMoving,
+    /// The probe input already shows what the probing move looks for
+    /// (tripped for G38.2, clear for G38.4).
+    ProbeAlreadyThere {
+        /// Whether the move looks for the input clearing (G38.4, G38.5).
+        trip_on_clear: bool,
+    },
+    /// The S-curve planner needs a jerk limit of at least 1.
+    NeedsJerkLimit {
+        /// Jerk.
+        jerk: f64,
+    },
+    /// Screw-compensation nominals must increase.
+    CompNotIncreasing {
+        /// The joint number.
+        joint: usize,
+        /// The nominal (commanded) position.
+        nominal: f64,
+        /// The nominal before it.
+        previous: f64,
+    },
+    /// A joint's screw-compensation table holds at most 256 entries.
+    CompTableFull {
+        /// The joint number.
+        joint: usize,
+    },
+    /// This can only be changed while motion is disabled.
+    MustBeDisabled,
 }
 
 /// The upper-case letter of world axis `axis` (`?` if there is none).
@@ -511,6 +591,75 @@ impl std::fmt::Display for Reject {
                  not where the kinematics put them (an unsquared gantry?); align them in free \
                  mode first"
             ),
+            Reject::NotCoordMode => {
+                f.write_str("motion is not in coordinated mode; moves are only queued there")
+            }
+            Reject::QueueFull { capacity } => write!(
+                f,
+                "the motion queue is full ({capacity} moves); try again once some have run"
+            ),
+            Reject::Aborting => {
+                f.write_str("an abort is stopping the queued motion; queue again once it has")
+            }
+            Reject::OutsideAxisLimits {
+                axis,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "the move would take axis {} to {value}, outside its limits [{min}, {max}]",
+                axis_letter(axis)
+            ),
+            Reject::OutsideJointLimits {
+                joint,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "the move would take joint {joint} to {value}, outside its limits [{min}, {max}]"
+            ),
+            Reject::EndUnreachable => {
+                f.write_str("the kinematics have no solution for the move's end point")
+            }
+            Reject::HardLimitTripped { joint } => write!(
+                f,
+                "joint {joint} is on a hard limit switch; no move is queued until it is off"
+            ),
+            Reject::BadArc => f.write_str(
+                "the arc's start or end lies on its centre's axis, or its normal is zero",
+            ),
+            Reject::NotPaused => f.write_str("can't STEP while already executing; PAUSE first"),
+            Reject::StillMoving => {
+                f.write_str("can't STEP while the paused motion is still slowing down")
+            }
+            Reject::ProbeAlreadyThere {
+                trip_on_clear: false,
+            } => f.write_str("Probe is already tripped when starting G38.2 or G38.3 move"),
+            Reject::ProbeAlreadyThere {
+                trip_on_clear: true,
+            } => f.write_str("Probe is already clear when starting G38.4 or G38.5 move"),
+            Reject::NeedsJerkLimit { jerk } => write!(
+                f,
+                "the S-curve planner needs MAX_LINEAR_JERK of at least 1 (it is {jerk})"
+            ),
+            Reject::CompNotIncreasing {
+                joint,
+                nominal,
+                previous,
+            } => write!(
+                f,
+                "joint {joint}: compensation nominal {nominal} does not increase (the last was \
+                 {previous})"
+            ),
+            Reject::CompTableFull { joint } => write!(
+                f,
+                "joint {joint}: too many compensation entries (at most 256)"
+            ),
+            Reject::MustBeDisabled => {
+                f.write_str("this can only be changed while motion is disabled")
+            }
         }
     }
 }

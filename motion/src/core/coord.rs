@@ -1,0 +1,43 @@
+//! Coordinated mode: the queued trajectory planner ([`crate::tp`]) makes
+//! the commanded pose every servo period; the inverse kinematics turn it
+//! into joint commands (as in teleop mode, without LinuxCNC's cubic
+//! interpolator: the planner's output is already limited). In position
+//! means: nothing queued and at rest. A homed joint commanded beyond its
+//! soft limits stops the queued motion along its path (LinuxCNC only
+//! reports it, reference §4.4 "→ Design").
+
+use super::*;
+use crate::tp::ScaleInputs;
+
+impl MotionCore {
+    /// The scale inputs of this cycle.
+    fn scale_inputs(&self) -> ScaleInputs {
+        ScaleInputs {
+            feed: self.feed_scale,
+            rapid: self.rapid_scale,
+            adaptive: self.inputs.adaptive_feed,
+            feed_hold: self.inputs.feed_hold,
+            feed_inhibit: self.inputs.feed_inhibit,
+            max_feed_override: self.max_feed_override,
+        }
+    }
+
+    /// COORD position commands.
+    pub(super) fn coord_pos_cmds(&mut self, period: f64) {
+        self.abort_axis_jogs(true);
+        let scales = self.scale_inputs();
+        self.carte_pos_cmd = self.tp.run(&scales);
+        self.net_feed_scale = self.tp.status().net_scale;
+        self.carte_pos_cmd_ok = true;
+        self.joints_from_world(period);
+        self.inpos = self.tp.is_done();
+    }
+
+    /// The soft-limit stop: on the cycle a homed joint's command leaves its
+    /// soft limits in coordinated mode, the queued motion is aborted.
+    pub(super) fn coord_soft_limit_stop(&mut self, was_on_limit: bool) {
+        if self.state == MotionState::Coord && self.on_soft_limit && !was_on_limit {
+            self.tp.abort();
+        }
+    }
+}

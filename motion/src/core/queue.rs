@@ -1,0 +1,354 @@
+//! The queueing commands (SET_LINE, SET_CIRCLE, PROBE, dwells) with the
+//! checks every queued move passes, and the commands that steer the
+//! coordinated planner: termination condition, pause, resume, step,
+//! overrides, limits and the planner type.
+//!
+//! A move is queued only in coordinated mode with motion enabled, with no
+//! active joint on a hard limit, with finite coordinates, and if every
+//! point of its path stays within the axis limits (arcs are checked at
+//! their bulges, not only at their ends as LinuxCNC does) and the
+//! kinematics put every active joint of its end point within its soft
+//! limits. Its speed limits are each axis's own, lowered to what the
+//! joints it moves allow (through the kinematics at its end point: exact
+//! for identity kinematics, where each axis drives its joints one to one).
+
+use super::*;
+use crate::command::{CommandResult, LineKind, Quantity, Reject, TermCond};
+use crate::sizes::{AF_ENABLED, FH_ENABLED, FS_ENABLED, SS_ENABLED};
+use crate::tp::{AxisLimits, PlannerType};
+
+/// A finite coordinate, or a rejection naming it.
+fn coordinate(v: f64) -> Result<f64, Reject> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Reject::BadValue {
+            what: Quantity::Coordinate,
+            value: v,
+        })
+    }
+}
+
+/// A usable programmed speed.
+fn feed(vel: f64) -> Result<f64, Reject> {
+    if vel.is_finite() && vel > 0.0 {
+        Ok(vel)
+    } else {
+        Err(Reject::BadVelocity { vel })
+    }
+}
+
+impl MotionCore {
+    /// What every queued move needs from the machine.
+    fn queue_allowed(&self) -> CommandResult {
+        if !self.enabled {
+            return Err(Reject::NotEnabled);
+        }
+        if self.state != MotionState::Coord {
+            return Err(Reject::NotCoordMode);
+        }
+        if let Some(joint) = (0..self.joints.len())
+            .find(|&j| self.joints[j].active && (self.joints[j].phl || self.joints[j].nhl))
+        {
+            return Err(Reject::HardLimitTripped { joint });
+        }
+        Ok(())
+    }
+
+    /// Checks a move to `end` (an arc if `arc` is given): coordinates,
+    /// axis limits along the path, joint limits at the end.
+    fn check_move(&mut self, end: &Pose, arc: Option<([f64; 3], [f64; 3], i32)>) -> CommandResult {
+        for &v in &end.0 {
+            coordinate(v)?;
+        }
+        if let Some((c, n, _)) = arc {
+            for v in c.into_iter().chain(n) {
+                coordinate(v)?;
+            }
+        }
+        let (lo, hi) = self.tp.path_extent(end, arc).ok_or(Reject::BadArc)?;
+        for a in 0..NUM_AXES {
+            if !self.axis_in_kinematics(a) {
+                continue;
+            }
+            let cfg = self.world.axes[a].cfg;
+            if hi[a] > cfg.max_pos_limit {
+                return Err(Reject::OutsideAxisLimits {
+                    axis: a,
+                    value: hi[a],
+                    min: cfg.min_pos_limit,
+                    max: cfg.max_pos_limit,
+                });
+            }
+            if lo[a] < cfg.min_pos_limit {
+                return Err(Reject::OutsideAxisLimits {
+                    axis: a,
+                    value: lo[a],
+                    min: cfg.min_pos_limit,
+                    max: cfg.max_pos_limit,
+                });
+            }
+        }
+        let n = self.load_positions(|jt| jt.coarse_pos);
+        let mut flags = self.kins_flags;
+        self.kins
+            .inverse(end, &mut self.positions[..n], &mut flags)
+            .map_err(|_| Reject::EndUnreachable)?;
+        for (j, jt) in self.joints[..n].iter().enumerate() {
+            if !jt.active {
+                continue;
+            }
+            let q = self.positions[j];
+            if !q.is_finite() {
+                return Err(Reject::EndUnreachable);
+            }
+            if q > jt.cfg.max_pos_limit || q < jt.cfg.min_pos_limit {
+                return Err(Reject::OutsideJointLimits {
+                    joint: j,
+                    value: q,
+                    min: jt.cfg.min_pos_limit,
+                    max: jt.cfg.max_pos_limit,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The limits the planner uses for a move ending at `at`: each axis's,
+    /// lowered by those of the joints it moves (how much each joint moves
+    /// per unit of the axis, through the inverse kinematics there).
+    fn planning_limits(&mut self, at: &Pose) -> AxisLimits {
+        let mut lim = AxisLimits::default();
+        for a in 0..NUM_AXES {
+            let cfg = self.world.axes[a].cfg;
+            lim.vel[a] = cfg.vel_limit;
+            lim.acc[a] = cfg.acc_limit;
+            lim.jerk[a] = cfg.jerk_limit;
+        }
+        let n = self.load_positions(|jt| jt.coarse_pos);
+        let mut q0 = [0.0; MAX_JOINTS];
+        let mut flags = self.kins_flags;
+        if self
+            .kins
+            .inverse(at, &mut self.positions[..n], &mut flags)
+            .is_err()
+        {
+            return lim;
+        }
+        q0[..n].copy_from_slice(&self.positions[..n]);
+        for a in 0..NUM_AXES {
+            if !self.axis_in_kinematics(a) {
+                continue;
+            }
+            let delta = 1e-6 * at.0[a].abs().max(1.0);
+            let mut p = *at;
+            p.0[a] += delta;
+            let mut q1 = q0;
+            let mut flags = self.kins_flags;
+            if self.kins.inverse(&p, &mut q1[..n], &mut flags).is_err() {
+                continue;
+            }
+            for (j, jt) in self.joints[..n].iter().enumerate() {
+                if !jt.active {
+                    continue;
+                }
+                let ratio = (q1[j] - q0[j]).abs() / delta;
+                if !(ratio > 1e-9 && ratio.is_finite()) {
+                    continue;
+                }
+                lim.vel[a] = lim.vel[a].min(jt.cfg.vel_limit / ratio);
+                lim.acc[a] = lim.acc[a].min(jt.cfg.acc_limit / ratio);
+                if jt.cfg.jerk_limit > 0.0 {
+                    let j_axis = jt.cfg.jerk_limit / ratio;
+                    lim.jerk[a] = if lim.jerk[a] > 0.0 {
+                        lim.jerk[a].min(j_axis)
+                    } else {
+                        j_axis
+                    };
+                }
+            }
+        }
+        lim
+    }
+
+    /// SET_LINE.
+    pub(super) fn queue_line(
+        &mut self,
+        end: Pose,
+        vel: f64,
+        kind: LineKind,
+        id: i32,
+    ) -> CommandResult {
+        self.queue_allowed()?;
+        if kind == LineKind::Feed {
+            feed(vel)?;
+        }
+        self.check_move(&end, None)?;
+        let lim = self.planning_limits(&end);
+        self.tp
+            .add_line(end, kind, vel, id, self.enables_new, &lim)?;
+        self.queued();
+        Ok(())
+    }
+
+    /// SET_CIRCLE.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn queue_circle(
+        &mut self,
+        end: Pose,
+        center: [f64; 3],
+        normal: [f64; 3],
+        turns: i32,
+        vel: f64,
+        id: i32,
+    ) -> CommandResult {
+        self.queue_allowed()?;
+        feed(vel)?;
+        self.check_move(&end, Some((center, normal, turns)))?;
+        let lim = self.planning_limits(&end);
+        self.tp
+            .add_arc(end, center, normal, turns, vel, id, self.enables_new, &lim)?;
+        self.queued();
+        Ok(())
+    }
+
+    /// PROBE: clears the last result; refused if the input already shows
+    /// what the move looks for (unless errors are suppressed).
+    pub(super) fn queue_probe(
+        &mut self,
+        end: Pose,
+        vel: f64,
+        probe: ProbeType,
+        id: i32,
+    ) -> CommandResult {
+        self.queue_allowed()?;
+        feed(vel)?;
+        if !probe.no_error && self.inputs.probe_input != probe.trip_on_clear {
+            return Err(Reject::ProbeAlreadyThere {
+                trip_on_clear: probe.trip_on_clear,
+            });
+        }
+        self.check_move(&end, None)?;
+        let lim = self.planning_limits(&end);
+        self.tp
+            .add_probe(end, vel, probe, id, self.enables_new, &lim)?;
+        self.probe.tripped = false;
+        self.queued();
+        Ok(())
+    }
+
+    /// A dwell of `seconds`.
+    pub(super) fn queue_dwell(&mut self, seconds: f64, id: i32) -> CommandResult {
+        self.queue_allowed()?;
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return Err(Reject::BadValue {
+                what: Quantity::DwellTime,
+                value: seconds,
+            });
+        }
+        self.tp.add_dwell(seconds, id)?;
+        self.queued();
+        Ok(())
+    }
+
+    /// What every queued move does (as LinuxCNC's SET_LINE on success).
+    fn queued(&mut self) {
+        self.error = false;
+        self.rehome_all = true;
+    }
+
+    /// SET_TERM_COND.
+    pub(super) fn set_term_cond(&mut self, cond: TermCond, tolerance: f64) -> CommandResult {
+        if !(tolerance.is_finite() && tolerance >= 0.0) {
+            return Err(Reject::BadValue {
+                what: Quantity::BlendTolerance,
+                value: tolerance,
+            });
+        }
+        self.tp.set_term_cond(cond, tolerance);
+        Ok(())
+    }
+
+    /// STEP.
+    pub(super) fn step(&mut self) -> CommandResult {
+        self.tp.step()
+    }
+
+    /// FEED_SCALE, RAPID_SCALE and SET_MAX_FEED_OVERRIDE.
+    pub(super) fn set_override(&mut self, which: Override, scale: f64) -> CommandResult {
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(Reject::BadValue {
+                what: Quantity::Scale,
+                value: scale,
+            });
+        }
+        match which {
+            Override::Feed => self.feed_scale = scale,
+            Override::Rapid => self.rapid_scale = scale.min(1.0),
+            Override::Max => self.max_feed_override = scale,
+        }
+        Ok(())
+    }
+
+    /// FS/FH/AF/SS_ENABLE: sets or clears `bit` for the moves queued next.
+    pub(super) fn set_enable(&mut self, bit: u8, on: bool) -> CommandResult {
+        debug_assert!([FS_ENABLED, FH_ENABLED, AF_ENABLED, SS_ENABLED].contains(&bit));
+        if on {
+            self.enables_new |= bit;
+        } else {
+            self.enables_new &= !bit;
+        }
+        Ok(())
+    }
+
+    /// SET_VEL_LIMIT, SET_ACC and SET_JERK: the `[TRAJ]` limits.
+    pub(super) fn set_traj_limit(&mut self, what: Quantity, value: f64) -> CommandResult {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(Reject::BadValue { what, value });
+        }
+        let mut t = self.tp.traj_limits();
+        match what {
+            Quantity::VelocityLimit => t.max_vel = value,
+            Quantity::AccelerationLimit => t.max_acc = value,
+            _ => t.max_jerk = value.min(1e9),
+        }
+        if what == Quantity::JerkLimit
+            && t.max_jerk < 1.0
+            && self.tp.planner_type() == PlannerType::SCurve
+        {
+            return Err(Reject::NeedsJerkLimit { jerk: value });
+        }
+        self.tp.set_traj_limits(t);
+        Ok(())
+    }
+
+    /// SET_PLANNER_TYPE: 0 trapezoidal, 1 S-curve.
+    pub(super) fn set_planner_type(&mut self, planner: i32) -> CommandResult {
+        let p = match planner {
+            0 => PlannerType::Trapezoidal,
+            1 => {
+                let jerk = self.tp.traj_limits().max_jerk;
+                if jerk < 1.0 {
+                    return Err(Reject::NeedsJerkLimit { jerk });
+                }
+                PlannerType::SCurve
+            }
+            _ => {
+                return Err(Reject::BadValue {
+                    what: Quantity::PlannerType,
+                    value: f64::from(planner),
+                })
+            }
+        };
+        self.tp.set_planner_type(p);
+        Ok(())
+    }
+}
+
+/// Which override a scale command sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Override {
+    Feed,
+    Rapid,
+    Max,
+}

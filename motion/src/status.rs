@@ -1,0 +1,332 @@
+//! The controller's status as a client sees it: the decoded snapshot
+//! ([`MotionStatus`], one [`JointState`] per joint, one [`AxisState`] per
+//! world axis) and its text form for terminals.
+
+use std::fmt;
+
+use crate::command::result_name;
+use crate::homing::HomeState;
+use crate::kins::AXIS_LETTERS;
+
+/// The last command the channel answered: its serial and result code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct LastCommand {
+    /// Serial number (0: none yet).
+    pub serial: u64,
+    /// 0 accepted, else the [`reject_code`](crate::command::reject_code).
+    pub code: u64,
+}
+
+/// One world axis in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisState {
+    /// The kinematics compute this axis.
+    pub in_kinematics: bool,
+    /// Teleop planner enabled.
+    pub tp_enable: bool,
+    /// A keyboard (command) jog moves the axis.
+    pub kb_jogging: bool,
+    /// The jog wheel moves the axis.
+    pub wheel_jogging: bool,
+    /// The teleop planner moves.
+    pub moving: bool,
+    /// Commanded position (the world pose's coordinate).
+    pub pos_cmd: f64,
+    /// Teleop velocity.
+    pub vel_cmd: f64,
+    /// Position limits.
+    pub min_limit: f64,
+    /// Upper limit.
+    pub max_limit: f64,
+}
+
+/// One joint in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointState {
+    /// The joint is active.
+    pub active: bool,
+    /// Amplifier enabled (`joint.N.amp-enable-out`).
+    pub amp_enabled: bool,
+    /// At rest.
+    pub in_position: bool,
+    /// What was wrong.
+    pub error: bool,
+    /// The positive limit switch is tripped.
+    pub pos_hard_limit: bool,
+    /// The negative limit switch is tripped.
+    pub neg_hard_limit: bool,
+    /// Following error tripped.
+    pub following_error: bool,
+    /// Amplifier fault.
+    pub faulted: bool,
+    /// The joint is homed.
+    pub homed: bool,
+    /// The joint is homing.
+    pub homing: bool,
+    /// A keyboard jog of this joint is active.
+    pub jogging: bool,
+    /// The homing state (`joint.N.home-state`).
+    pub home_state: HomeState,
+    /// Commanded position.
+    pub pos_cmd: f64,
+    /// Position feedback.
+    pub pos_fb: f64,
+    /// Commanded velocity.
+    pub vel_cmd: f64,
+    /// Following error and its current limit.
+    pub ferror: f64,
+    /// The following-error limit now.
+    pub ferror_limit: f64,
+    /// Soft limits.
+    pub min_limit: f64,
+    /// Upper limit.
+    pub max_limit: f64,
+}
+
+/// A consistent copy of the controller's status.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MotionStatus {
+    /// True when enabled (amplifiers on).
+    pub enabled: bool,
+    /// "DISABLED", "FREE", "TELEOP" or "COORD".
+    pub mode: &'static str,
+    /// The TELEOP flag: in teleop mode, or entering it on enable.
+    pub teleop_mode: bool,
+    /// The COORD flag: in coordinated mode, or entering it on enable.
+    pub coord_mode: bool,
+    /// At rest.
+    pub in_position: bool,
+    /// What was wrong.
+    pub error: bool,
+    /// A homed joint is commanded beyond its soft limits.
+    pub on_soft_limit: bool,
+    /// A jog runs.
+    pub jog_active: bool,
+    /// Homing runs.
+    pub homing_active: bool,
+    /// Every active joint is homed.
+    pub all_homed: bool,
+    /// `motion.enable` as last read.
+    pub enable_input: bool,
+    /// Servo cycles run.
+    pub heartbeat: u64,
+    /// The last command answered through the channel.
+    pub last: LastCommand,
+    /// Commands answered through the channel.
+    pub served: u64,
+    /// The free-mode SCALE.
+    pub scale: f64,
+    /// Joints whose hard limits are overridden.
+    pub override_mask: u64,
+    /// Every joint.
+    pub joints: Vec<JointState>,
+    /// The nine world axes, X Y Z A B C U V W.
+    pub axes: Vec<AxisState>,
+    /// The coordinated planner and probing.
+    pub traj: TrajState,
+}
+
+/// The coordinated planner and probing in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TrajState {
+    /// The motion id executing, or the last one run.
+    pub exec_id: i32,
+    /// Moves queued, the executing one included.
+    pub depth: u64,
+    /// The queue is full: wait before queueing more.
+    pub queue_full: bool,
+    /// PAUSE is in effect (also after a single step).
+    pub paused: bool,
+    /// A single step runs.
+    pub stepping: bool,
+    /// An abort is bringing the queued motion to a stop.
+    pub aborting: bool,
+    /// The S-curve planner is in use.
+    pub scurve: bool,
+    /// A probing move runs.
+    pub probing: bool,
+    /// The last probing move found what it looked for.
+    pub probe_tripped: bool,
+    /// `motion.probe-input` as last read.
+    pub probe_input: bool,
+    /// Path speed now, and the speed asked for.
+    pub current_vel: f64,
+    /// The path speed asked for now.
+    pub requested_vel: f64,
+    /// Distance left in the executing move.
+    pub distance_to_go: f64,
+    /// Feed and rapid override, and the net scale in effect.
+    pub feed_scale: f64,
+    /// The rapid override.
+    pub rapid_scale: f64,
+    /// The net feed scale in effect.
+    pub net_scale: f64,
+    /// The executing move's type (LinuxCNC's `motion.motion-type`; 0 none).
+    pub motion_type: i32,
+    /// Where the last probing move tripped (or ended).
+    pub probed: [f64; 9],
+    /// The world feedback pose.
+    pub pos_fb: [f64; 9],
+    /// Where the last queued move ends (the next one starts there).
+    pub goal: [f64; 9],
+}
+
+impl fmt::Display for MotionStatus {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let yn = |b: bool| if b { "yes" } else { "no" };
+        writeln!(
+            f,
+            "mode {}  enabled {}  enable-input {}  in-position {}  error {}  scale {}",
+            self.mode,
+            yn(self.enabled),
+            yn(self.enable_input),
+            yn(self.in_position),
+            yn(self.error),
+            self.scale
+        )?;
+        writeln!(
+            f,
+            "jog-active {}  on-soft-limit {}  all-homed {}  override-mask {:#x}  heartbeat {}",
+            yn(self.jog_active),
+            yn(self.on_soft_limit),
+            yn(self.all_homed),
+            self.override_mask,
+            self.heartbeat
+        )?;
+        if !self.enabled && (self.teleop_mode || self.coord_mode) {
+            let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
+            writeln!(f, "mode on enable: {m}")?;
+        }
+        if self.coord_mode || self.traj.depth > 0 {
+            let t = &self.traj;
+            let mut flags = String::new();
+            for (on, name) in [
+                (t.paused, "paused"),
+                (t.stepping, "stepping"),
+                (t.aborting, "aborting"),
+                (t.queue_full, "queue-full"),
+                (t.probing, "probing"),
+                (t.scurve, "s-curve"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "line {}  queued {}  speed {:.6}  requested {:.6}  to-go {:.6}  feed {}  rapid {}{}",
+                t.exec_id,
+                t.depth,
+                t.current_vel,
+                t.requested_vel,
+                t.distance_to_go,
+                t.feed_scale,
+                t.rapid_scale,
+                flags
+            )?;
+        }
+        if self.traj.probe_tripped {
+            let p = &self.traj.probed;
+            writeln!(
+                f,
+                "probe tripped at X {:.6} Y {:.6} Z {:.6}",
+                p[0], p[1], p[2]
+            )?;
+        }
+        if self.last.serial == 0 {
+            writeln!(f, "last command: none")?;
+        } else {
+            writeln!(
+                f,
+                "last command: serial {} {} (code {})",
+                self.last.serial,
+                result_name(self.last.code),
+                self.last.code
+            )?;
+        }
+        writeln!(
+            f,
+            "joint active amp homed {:>12} {:>12} {:>12} {:>10}  flags",
+            "pos-cmd", "pos-fb", "vel-cmd", "ferror"
+        )?;
+        for (n, j) in self.joints.iter().enumerate() {
+            let mut flags = String::new();
+            for (on, name) in [
+                (j.in_position, "inpos"),
+                (j.jogging, "jogging"),
+                (j.homing, "homing"),
+                (j.error, "error"),
+                (j.pos_hard_limit, "+hard-limit"),
+                (j.neg_hard_limit, "-hard-limit"),
+                (j.following_error, "ferror"),
+                (j.faulted, "amp-fault"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            if j.home_state != HomeState::Idle {
+                flags.push_str(" home-state=");
+                flags.push_str(j.home_state.name());
+            }
+            writeln!(
+                f,
+                "{n:<5} {:<6} {:<3} {:<5} {:>12.6} {:>12.6} {:>12.6} {:>10.6} {}",
+                yn(j.active),
+                yn(j.amp_enabled),
+                yn(j.homed),
+                j.pos_cmd,
+                j.pos_fb,
+                j.vel_cmd,
+                j.ferror,
+                flags.trim_start()
+            )?;
+        }
+        if self.axes.iter().any(|a| a.in_kinematics) {
+            writeln!(
+                f,
+                "axis {:>12} {:>12} {:>12} {:>12}  flags",
+                "pos-cmd", "vel-cmd", "min-limit", "max-limit"
+            )?;
+        }
+        for (a, x) in self.axes.iter().enumerate() {
+            if !x.in_kinematics {
+                continue;
+            }
+            let mut flags = String::new();
+            for (on, name) in [
+                (x.moving, "moving"),
+                (x.kb_jogging, "jogging"),
+                (x.wheel_jogging, "wheel"),
+            ] {
+                if on {
+                    flags.push(' ');
+                    flags.push_str(name);
+                }
+            }
+            writeln!(
+                f,
+                "{:<4} {:>12.6} {:>12.6} {:>12} {:>12} {}",
+                AXIS_LETTERS[a].to_ascii_uppercase(),
+                x.pos_cmd,
+                x.vel_cmd,
+                limit_text(x.min_limit),
+                limit_text(x.max_limit),
+                flags.trim_start()
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// A limit for the status table: huge values (the ±1e99 "no limit"
+/// default) in exponent form, which `{}` would spell out in 100 digits.
+fn limit_text(v: f64) -> String {
+    if v.abs() >= 1e9 {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}

@@ -1,0 +1,291 @@
+//! Queueing a move: its budget, and what happens at the corner where it
+//! meets the last queued move.
+//!
+//! A corner is an exact stop when the last move asked for one (G61.1),
+//! when a rapid meets a feed move or the other way round, and around
+//! probing moves and dwells. Otherwise, under blending (G64) two straight
+//! XYZ moves get a blend arc tangent to both, as large as the tolerance,
+//! half of each move and the acceleration budget allow; every other
+//! corner is a kink crossed no faster than its [`kink_cap`], which is
+//! full speed for a tangent corner and next to nothing for a sharp one.
+//!
+//! A change may only lower how fast the executing segment may end if the
+//! executor can still keep it: otherwise the corner is left as a kink.
+
+use super::budget::{budget, corner_cap, Budget, Corner};
+use super::geom::{self, Path, MIN_LENGTH};
+use super::segment::{Ending, Segment, SegmentKind};
+use super::{AxisLimits, Planner, PlannerType};
+use crate::command::ProbeType;
+use crate::kins::Pose;
+
+/// How many segments' look-ahead values a corner change may touch (the
+/// look-ahead's depth).
+pub(super) const MAX_TOUCHED: usize = 128;
+
+impl Planner {
+    /// Builds a segment for `path` and queues it after the last one.
+    /// A zero-length move is dropped (it would not move anything).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn push(
+        &mut self,
+        path: Path,
+        end: &Pose,
+        kind: SegmentKind,
+        req_vel: f64,
+        probe: Option<ProbeType>,
+        id: i32,
+        enables: u8,
+        lim: &AxisLimits,
+    ) {
+        let len = path.length();
+        if len < MIN_LENGTH {
+            return;
+        }
+        let ending = self.ending();
+        let prev_not_stop = self
+            .queue
+            .back()
+            .is_some_and(|p| p.ending != Ending::Stop && joinable(p.kind, kind));
+        let own_not_stop = ending != Ending::Stop && probe.is_none();
+        let kinks = prev_not_stop || own_not_stop;
+        let Some(b) = self.budget_for(&path, len, lim, kinks) else {
+            return;
+        };
+        let mut seg = Segment {
+            id,
+            kind,
+            path,
+            end: *end,
+            len,
+            nominal_len: len,
+            start_cut: 0.0,
+            req_vel,
+            budget: b,
+            end_cap: 0.0,
+            ve: 0.0,
+            ending: if probe.is_some() {
+                Ending::Stop
+            } else {
+                ending
+            },
+            enables,
+            dwell: 0.0,
+            probe,
+            kinks,
+            step_stop: false,
+        };
+        self.goal = *end;
+        self.join(&mut seg, lim);
+        self.queue.push_back(seg);
+        self.optimize();
+        if !self.head_can_follow() {
+            // The executing segment cannot take the new corner at speed
+            // (it had planned to stop there): it stops there.
+            let n = self.queue.len();
+            self.queue[n - 2].end_cap = 0.0;
+            self.optimize();
+        }
+    }
+
+    /// The budget of `path`, `len` long (see [`budget`]); the `[TRAJ]` speed
+    /// limit does not apply to purely rotary moves.
+    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, kinks: bool) -> Option<Budget> {
+        let f = path.factors(len);
+        let rotary_only = [0, 1, 2, 6, 7, 8].iter().all(|&i| f.speed(i) == 0.0);
+        budget(
+            &f,
+            len,
+            lim,
+            &self.traj,
+            self.period,
+            kinks,
+            self.planner,
+            rotary_only,
+        )
+    }
+
+    /// Sets up the corner between the last queued segment and `seg`.
+    fn join(&mut self, seg: &mut Segment, lim: &AxisLimits) {
+        let Some(prev) = self.queue.back() else {
+            return;
+        };
+        let prev = *prev;
+        let stop = prev.ending == Ending::Stop
+            || seg.probe.is_some()
+            || prev.probe.is_some()
+            || !joinable(prev.kind, seg.kind);
+        if stop {
+            return;
+        }
+        if let Ending::Blend { tolerance } = prev.ending {
+            if prev.blendable_line() && seg.blendable_line() && self.try_blend(seg, tolerance, lim)
+            {
+                return;
+            }
+        }
+        let cap = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
+        // A corner that cannot be crossed faster than one period's speed
+        // change is a stop (a reversal, a sharp corner).
+        let slowest = prev.budget.acc.min(seg.budget.acc) * self.period;
+        let cap = cap.min(prev.budget.vmax).min(seg.budget.vmax);
+        if cap > slowest {
+            if let Some(last) = self.queue.back_mut() {
+                last.end_cap = cap;
+            }
+        }
+    }
+
+    /// Puts a blend arc between the last queued line and the line `seg`,
+    /// if one fits and the executor can keep the changed speeds. True if
+    /// it did.
+    fn try_blend(&mut self, seg: &mut Segment, tolerance: f64, lim: &AxisLimits) -> bool {
+        let n = self.queue.len();
+        let prev = self.queue[n - 1];
+        let (Some(u1), Some(u2)) = (
+            prev.path.xyz_direction(prev.len, prev.nominal_len),
+            seg.path.xyz_direction(0.0, seg.nominal_len),
+        ) else {
+            return false;
+        };
+        let quarter = 0.25 * prev.nominal_len.min(seg.nominal_len);
+        let tol = if tolerance > 0.0 {
+            tolerance.min(quarter)
+        } else {
+            quarter
+        };
+        // Each line gives at most half of itself to each of its corners.
+        let mut cut = geom::cut_for_tolerance(u1, u2, tol)
+            .min(0.5 * prev.nominal_len)
+            .min(prev.len)
+            .min(0.5 * seg.nominal_len);
+        if n == 1 {
+            // The executing line cannot lose what it has already run.
+            cut = cut.min(prev.len - self.s);
+        }
+        if cut.is_nan() || cut <= MIN_LENGTH {
+            return false;
+        }
+        let corner = prev.end();
+        let Some(blend) = geom::blend_arc(&corner, u1, u2, cut) else {
+            return false;
+        };
+        let path = Path::Arc(blend.arc);
+        let len = path.length();
+        if len < 1e-6 {
+            return false;
+        }
+        let Some(b) = self.budget_for(&path, len, lim, true) else {
+            return false;
+        };
+        let arc_end = path.point(len, len);
+        let arc = Segment {
+            id: prev.id,
+            end: arc_end,
+            // A blend between rapids is a rapid (rapid override, no feed).
+            kind: if prev.kind == SegmentKind::Traverse {
+                SegmentKind::Traverse
+            } else {
+                SegmentKind::Arc
+            },
+            path,
+            len,
+            nominal_len: len,
+            start_cut: 0.0,
+            req_vel: prev.req_vel.max(seg.req_vel),
+            budget: b,
+            end_cap: b.vmax.min(seg.budget.vmax),
+            ve: 0.0,
+            ending: prev.ending,
+            enables: prev.enables,
+            dwell: 0.0,
+            probe: None,
+            kinks: true,
+            step_stop: false,
+        };
+        // Remember what may change, to put it back if the executor could
+        // not follow.
+        let touched = n.min(MAX_TOUCHED);
+        let mut saved_ve = [0.0; MAX_TOUCHED];
+        for (k, v) in saved_ve.iter_mut().enumerate().take(touched) {
+            *v = self.queue[n - touched + k].ve;
+        }
+        let saved_seg = *seg;
+
+        let mut trimmed = prev;
+        trimmed.cut_end(cut);
+        trimmed.budget = cap_by_length(trimmed.budget, trimmed.len, self.period);
+        trimmed.end_cap = trimmed.budget.vmax.min(b.vmax);
+        let consumed = trimmed.len < MIN_LENGTH && (n > 1 || (self.s == 0.0 && self.v == 0.0));
+        seg.cut_start(cut);
+        seg.budget = cap_by_length(seg.budget, seg.len, self.period);
+        if consumed {
+            self.queue.pop_back();
+        } else {
+            self.queue[n - 1] = trimmed;
+        }
+        self.queue.push_back(arc);
+        // The new segment is not queued yet: the arc is the tail for now.
+        self.optimize();
+        if self.head_can_follow() {
+            return true;
+        }
+        // Undo.
+        self.queue.pop_back();
+        if consumed {
+            self.queue.push_back(prev);
+        } else {
+            self.queue[n - 1] = prev;
+        }
+        for (k, v) in saved_ve.iter().enumerate().take(touched) {
+            self.queue[n - touched + k].ve = *v;
+        }
+        *seg = saved_seg;
+        false
+    }
+
+    /// Whether the executing segment can still keep its (possibly
+    /// lowered) end speed and speed cap from the state the executor is in.
+    pub(super) fn head_can_follow(&self) -> bool {
+        let Some(head) = self.queue.front() else {
+            return true;
+        };
+        if self.v == 0.0 && self.a == 0.0 {
+            return true;
+        }
+        match self.planner {
+            PlannerType::Trapezoidal => {
+                let t = self.period;
+                let slowest = (self.v - head.budget.acc * t).max(0.0);
+                slowest <= head.budget.vmax + 1e-12 && slowest <= self.hard_brake_speed(head) + 1e-9
+            }
+            PlannerType::SCurve => self.scurve.keeps(head.ve, head.len),
+        }
+    }
+}
+
+/// Whether two kinds of move may meet without stopping: rapids only with
+/// rapids, feed moves and arcs with each other (LinuxCNC stops between
+/// traverse and feed moves).
+fn joinable(a: SegmentKind, b: SegmentKind) -> bool {
+    use SegmentKind::*;
+    matches!((a, b), (Traverse, Traverse) | (Feed | Arc, Feed | Arc))
+}
+
+/// The corner where `a` ends and `b` starts.
+fn corner(a: &Segment, b: &Segment) -> Corner {
+    Corner {
+        d1_before: a.derivative(a.len),
+        d1_after: b.derivative(0.0),
+        d2_before: a.second_derivative(a.len),
+        d2_after: b.second_derivative(0.0),
+    }
+}
+
+/// A segment shortened to `len` must still take at least one period.
+fn cap_by_length(b: Budget, len: f64, period: f64) -> Budget {
+    Budget {
+        vmax: b.vmax.min(len / period),
+        ..b
+    }
+}

@@ -1,0 +1,526 @@
+//! The coordinated trajectory planner: a queue of lines, arcs (circles,
+//! helices, spirals) and dwells, each with a motion id, run along the path
+//! once per servo period.
+//!
+//! * [`geom`]: where a segment is at each arc length, and the factors
+//!   that turn path speed into axis speeds.
+//! * [`budget`]: a segment's speed cap and tangential acceleration (and
+//!   jerk) from every axis's limits; the speed a corner may be crossed at.
+//! * `corners`: what happens where a new segment meets the last one:
+//!   exact stop, a kink crossed at its capped speed, or (blending, two
+//!   straight XYZ moves) a blend arc within the tolerance.
+//! * `lookahead`: how fast each corner may be crossed so that every later
+//!   corner and the final stop can still be kept ("rising tide", over the
+//!   whole queue after each new segment).
+//! * [`trapezoid`] and `scurve`: the two velocity planners along the path;
+//!   `exec` runs them and the queue (pause, step, abort, dwells).
+//!
+//! Guarantees, for the trapezoidal planner and, with jerk, the S-curve
+//! one: no axis ever moves faster, accelerates or (S-curve) jerks harder
+//! than its limit, measured on the positions the planner outputs every
+//! period; the path never leaves the programmed one except inside a blend
+//! arc, which stays within the blend tolerance; the last move ends
+//! exactly on its end point; PAUSE, STEP and ABORT slow down along the
+//! path within the same limits.
+//!
+//! Deliberate differences from LinuxCNC's planner:
+//! * limits come from the axes (and joints) themselves rather than from
+//!   per-move numbers the sender computes;
+//! * velocities are planned in discrete time, so stops land exactly and
+//!   the sampled motion keeps the limits (LinuxCNC's acceleration samples
+//!   overshoot at corners and segment splits);
+//! * no parabolic blending (segments overlapping in time): a corner is a
+//!   blend arc, a kink crossed at the speed the axes can take, or a stop;
+//!   arc-to-line and arc-to-arc corners that are not tangent are crossed
+//!   at their kink speed (often a near stop) rather than blended;
+//! * no reverse run, spindle-synchronised motion or rigid tapping yet;
+//! * a resume requested while the S-curve planner is still braking for a
+//!   pause takes effect once it is at rest.
+
+pub mod budget;
+mod corners;
+mod exec;
+pub mod geom;
+mod lookahead;
+mod scurve;
+mod segment;
+pub mod trapezoid;
+
+use std::collections::VecDeque;
+
+pub use budget::{AxisLimits, PlannerType, TrajLimits};
+pub use segment::SegmentKind;
+
+use crate::command::{LineKind, ProbeType, Reject, TermCond};
+use crate::kins::Pose;
+use crate::sizes::{FH_ENABLED, FS_ENABLED, SS_ENABLED};
+use segment::{Ending, Segment};
+
+/// Segments the queue holds (LinuxCNC's `DEFAULT_TC_QUEUE_SIZE`).
+pub const QUEUE_SIZE: usize = 2000;
+
+/// The overrides and inputs that set the feed scale, read every period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScaleInputs {
+    /// Feed override (FEED_SCALE).
+    pub feed: f64,
+    /// Rapid override (RAPID_SCALE).
+    pub rapid: f64,
+    /// `motion.adaptive-feed`.
+    pub adaptive: f64,
+    /// `motion.feed-hold`.
+    pub feed_hold: bool,
+    /// `motion.feed-inhibit`.
+    pub feed_inhibit: bool,
+    /// The largest feed override and adaptive factor.
+    pub max_feed_override: f64,
+}
+
+impl Default for ScaleInputs {
+    fn default() -> Self {
+        ScaleInputs {
+            feed: 1.0,
+            rapid: 1.0,
+            adaptive: 1.0,
+            feed_hold: false,
+            feed_inhibit: false,
+            max_feed_override: 1.0,
+        }
+    }
+}
+
+impl ScaleInputs {
+    /// The net scale for a segment queued with `enables` (LinuxCNC's
+    /// `net_feed_scale`, §4.3), clamped to `0..=max_feed_override`.
+    pub fn net(&self, enables: u8, traverse: bool) -> f64 {
+        use crate::sizes::AF_ENABLED;
+        let mut s = 1.0;
+        if enables & FS_ENABLED != 0 {
+            s *= if traverse { self.rapid } else { self.feed };
+        }
+        if enables & AF_ENABLED != 0 {
+            s *= self.adaptive.clamp(0.0, self.max_feed_override.max(0.0));
+        }
+        if enables & FH_ENABLED != 0 && self.feed_hold {
+            s = 0.0;
+        }
+        if enables & SS_ENABLED != 0 && self.feed_inhibit {
+            s = 0.0;
+        }
+        if s.is_nan() {
+            return 0.0;
+        }
+        s.clamp(0.0, self.max_feed_override.max(0.0))
+    }
+}
+
+/// A snapshot of the planner for status and pins.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannerStatus {
+    /// The motion id of the executing segment, or of the last one run.
+    pub exec_id: i32,
+    /// Segments queued, the executing one included.
+    pub depth: usize,
+    /// Whether the queue is (nearly) full.
+    pub queue_full: bool,
+    /// Queue empty and at rest.
+    pub done: bool,
+    /// PAUSE in effect (also set while waiting after a single step).
+    pub paused: bool,
+    /// A single step runs.
+    pub stepping: bool,
+    /// An abort is stopping the motion.
+    pub aborting: bool,
+    /// Path speed now.
+    pub current_vel: f64,
+    /// Path speed asked for now (programmed speed times the scale).
+    pub requested_vel: f64,
+    /// Distance left in the executing segment.
+    pub distance_to_go: f64,
+    /// The executing segment's kind, if any.
+    pub kind: Option<SegmentKind>,
+    /// The net feed scale of the executing segment.
+    pub net_scale: f64,
+    /// The planner in use.
+    pub planner: PlannerType,
+}
+
+/// The coordinated planner.
+pub struct Planner {
+    queue: VecDeque<Segment>,
+    period: f64,
+    traj: TrajLimits,
+    planner: PlannerType,
+    /// A planner type switch waiting for the queue to be idle.
+    pending_planner: Option<PlannerType>,
+    term: TermCond,
+    tolerance: f64,
+    /// The pose new segments start from (end of the last queued one).
+    goal: Pose,
+    /// The commanded pose.
+    pos: Pose,
+    /// Progress along the executing segment.
+    s: f64,
+    /// Path speed and (S-curve) acceleration.
+    v: f64,
+    a: f64,
+    /// One period at rest after an exact stop (see `exec`).
+    hold: bool,
+    /// The acceleration the period after a corner may use (the smaller
+    /// of the two segments'; infinite when no corner was just crossed).
+    cross_acc: f64,
+    dwell_left: Option<f64>,
+    exec_id: i32,
+    paused: bool,
+    stepping: bool,
+    step_id: i32,
+    aborting: bool,
+    requested_vel: f64,
+    net_scale: f64,
+    scurve: scurve::SCurve,
+}
+
+impl std::fmt::Debug for Planner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Planner")
+            .field("depth", &self.queue.len())
+            .field("pos", &self.pos)
+            .field("v", &self.v)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Planner {
+    /// An empty planner for servo period `period` seconds, at rest at the
+    /// origin. All memory is allocated here.
+    pub fn new(period: f64) -> Planner {
+        Planner {
+            queue: VecDeque::with_capacity(QUEUE_SIZE),
+            period,
+            traj: TrajLimits::default(),
+            planner: PlannerType::Trapezoidal,
+            pending_planner: None,
+            term: TermCond::Blend,
+            tolerance: 0.0,
+            goal: Pose::ZERO,
+            pos: Pose::ZERO,
+            s: 0.0,
+            v: 0.0,
+            a: 0.0,
+            hold: false,
+            cross_acc: f64::INFINITY,
+            dwell_left: None,
+            exec_id: 0,
+            paused: false,
+            stepping: false,
+            step_id: 0,
+            aborting: false,
+            requested_vel: 0.0,
+            net_scale: 1.0,
+            scurve: scurve::SCurve::new(period),
+        }
+    }
+
+    /// The commanded pose.
+    pub fn pos(&self) -> Pose {
+        self.pos
+    }
+
+    /// Whether nothing is queued and the motion is at rest.
+    pub fn is_done(&self) -> bool {
+        self.queue.is_empty() && self.v == 0.0 && !self.hold
+    }
+
+    /// The planner in use.
+    pub fn planner_type(&self) -> PlannerType {
+        self.planner
+    }
+
+    /// The machine-wide limits in use.
+    pub fn traj_limits(&self) -> TrajLimits {
+        self.traj
+    }
+
+    /// The status snapshot.
+    pub fn status(&self) -> PlannerStatus {
+        let head = self.queue.front();
+        PlannerStatus {
+            exec_id: self.exec_id,
+            depth: self.queue.len(),
+            queue_full: self.queue.len() >= QUEUE_SIZE,
+            done: self.is_done(),
+            paused: self.paused,
+            stepping: self.stepping,
+            aborting: self.aborting,
+            current_vel: self.v,
+            requested_vel: self.requested_vel,
+            distance_to_go: head.map_or(0.0, |h| (h.len - self.s).max(0.0)),
+            kind: head.map(|h| h.kind),
+            net_scale: self.net_scale,
+            planner: self.planner,
+        }
+    }
+
+    /// The executing segment's probe type and motion id, if it is a
+    /// probing move.
+    pub fn probe_segment(&self) -> Option<(ProbeType, i32)> {
+        self.queue.front().and_then(|h| h.probe.map(|p| (p, h.id)))
+    }
+
+    /// Puts the planner at rest at `pose` with an empty queue (entering
+    /// coordinated mode, enabling; LinuxCNC's `tpSetPos` + `tpClear`).
+    pub fn set_pos(&mut self, pose: Pose) {
+        self.clear();
+        self.pos = pose;
+        self.goal = pose;
+    }
+
+    /// Drops every segment at once, without slowing down (disable, faults:
+    /// the drives are off); the goal becomes the commanded pose.
+    pub fn clear(&mut self) {
+        self.queue.clear();
+        self.goal = self.pos;
+        self.s = 0.0;
+        self.v = 0.0;
+        self.a = 0.0;
+        self.hold = false;
+        self.cross_acc = f64::INFINITY;
+        self.dwell_left = None;
+        self.paused = false;
+        self.stepping = false;
+        self.aborting = false;
+        self.requested_vel = 0.0;
+        self.scurve.reset();
+        if let Some(p) = self.pending_planner.take() {
+            self.planner = p;
+        }
+    }
+
+    /// Sets the termination condition of the segments queued next.
+    pub fn set_term_cond(&mut self, cond: TermCond, tolerance: f64) {
+        self.term = cond;
+        self.tolerance = tolerance;
+    }
+
+    /// Sets the machine-wide limits (for segments queued next).
+    pub fn set_traj_limits(&mut self, traj: TrajLimits) {
+        self.traj = traj;
+    }
+
+    /// Switches the planner type now if idle, else once idle.
+    pub fn set_planner_type(&mut self, planner: PlannerType) {
+        if self.is_done() {
+            self.planner = planner;
+            self.pending_planner = None;
+        } else if planner == self.planner {
+            self.pending_planner = None;
+        } else {
+            self.pending_planner = Some(planner);
+        }
+    }
+
+    /// PAUSE: slow down along the path and stop; the queue is kept.
+    pub fn pause(&mut self) {
+        self.paused = true;
+    }
+
+    /// RESUME.
+    pub fn resume(&mut self) {
+        self.paused = false;
+        self.stepping = false;
+    }
+
+    /// ABORT: slow down along the path; once at rest the queue is
+    /// dropped. Nothing is queued meanwhile.
+    pub fn abort(&mut self) {
+        if self.queue.is_empty() && self.v == 0.0 {
+            self.clear();
+        } else {
+            self.aborting = true;
+        }
+    }
+
+    /// Whether an abort is in progress.
+    pub fn is_aborting(&self) -> bool {
+        self.aborting
+    }
+
+    /// The ending of a segment queued now.
+    fn ending(&self) -> Ending {
+        match self.term {
+            TermCond::Stop => Ending::Stop,
+            TermCond::ExactPath => Ending::ExactPath,
+            TermCond::Blend => Ending::Blend {
+                tolerance: self.tolerance,
+            },
+        }
+    }
+
+    /// Checks that a segment can be queued now.
+    fn can_queue(&self) -> Result<(), Reject> {
+        if self.aborting {
+            return Err(Reject::Aborting);
+        }
+        if self.queue.len() >= QUEUE_SIZE {
+            return Err(Reject::QueueFull {
+                capacity: QUEUE_SIZE,
+            });
+        }
+        Ok(())
+    }
+
+    /// The pose the next segment starts from.
+    pub fn goal(&self) -> Pose {
+        self.goal
+    }
+
+    /// Queues a straight move to `end` (see [`crate::Command::Line`]).
+    /// `enables` are the feed-override enable bits in effect.
+    pub fn add_line(
+        &mut self,
+        end: Pose,
+        kind: LineKind,
+        vel: f64,
+        id: i32,
+        enables: u8,
+        lim: &AxisLimits,
+    ) -> Result<(), Reject> {
+        self.can_queue()?;
+        let (kind, req) = match kind {
+            LineKind::Traverse => (SegmentKind::Traverse, f64::INFINITY),
+            LineKind::Feed => (SegmentKind::Feed, vel),
+        };
+        self.add_straight(end, kind, req, None, id, enables, lim)
+    }
+
+    /// Queues a straight probing move to `end`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_probe(
+        &mut self,
+        end: Pose,
+        vel: f64,
+        probe: ProbeType,
+        id: i32,
+        enables: u8,
+        lim: &AxisLimits,
+    ) -> Result<(), Reject> {
+        self.can_queue()?;
+        self.add_straight(end, SegmentKind::Probe, vel, Some(probe), id, enables, lim)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn add_straight(
+        &mut self,
+        end: Pose,
+        kind: SegmentKind,
+        req: f64,
+        probe: Option<ProbeType>,
+        id: i32,
+        enables: u8,
+        lim: &AxisLimits,
+    ) -> Result<(), Reject> {
+        let mut delta = [0.0; crate::kins::NUM_AXES];
+        for (i, d) in delta.iter_mut().enumerate() {
+            *d = end.0[i] - self.goal.0[i];
+        }
+        let path = geom::Path::Line {
+            start: self.goal,
+            delta,
+        };
+        self.push(path, &end, kind, req, probe, id, enables, lim);
+        Ok(())
+    }
+
+    /// Queues an arc (see [`crate::Command::Circle`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_arc(
+        &mut self,
+        end: Pose,
+        center: [f64; 3],
+        normal: [f64; 3],
+        turns: i32,
+        vel: f64,
+        id: i32,
+        enables: u8,
+        lim: &AxisLimits,
+    ) -> Result<(), Reject> {
+        self.can_queue()?;
+        let arc = geom::arc_move(&self.goal, &end, center, normal, turns).ok_or(Reject::BadArc)?;
+        self.push(
+            geom::Path::Arc(arc),
+            &end,
+            SegmentKind::Arc,
+            vel,
+            None,
+            id,
+            enables,
+            lim,
+        );
+        Ok(())
+    }
+
+    /// The path a straight or arc move to `end` would take from the goal,
+    /// for the caller's limit checks; `None` for an impossible arc.
+    pub fn path_extent(
+        &self,
+        end: &Pose,
+        arc: Option<([f64; 3], [f64; 3], i32)>,
+    ) -> Option<([f64; 9], [f64; 9])> {
+        let path = match arc {
+            None => {
+                let mut delta = [0.0; crate::kins::NUM_AXES];
+                for (i, d) in delta.iter_mut().enumerate() {
+                    *d = end.0[i] - self.goal.0[i];
+                }
+                geom::Path::Line {
+                    start: self.goal,
+                    delta,
+                }
+            }
+            Some((center, normal, turns)) => {
+                geom::Path::Arc(geom::arc_move(&self.goal, end, center, normal, turns)?)
+            }
+        };
+        Some(path.extent(path.length()))
+    }
+
+    /// Queues a dwell of `seconds`.
+    pub fn add_dwell(&mut self, seconds: f64, id: i32) -> Result<(), Reject> {
+        self.can_queue()?;
+        let seg = Segment {
+            id,
+            kind: SegmentKind::Dwell,
+            path: geom::Path::Line {
+                start: self.goal,
+                delta: [0.0; crate::kins::NUM_AXES],
+            },
+            end: self.goal,
+            len: 0.0,
+            nominal_len: 0.0,
+            start_cut: 0.0,
+            req_vel: 0.0,
+            budget: budget::Budget {
+                vmax: 0.0,
+                acc: 1.0,
+                jerk: 1.0,
+            },
+            end_cap: 0.0,
+            ve: 0.0,
+            ending: Ending::Stop,
+            enables: 0,
+            dwell: seconds,
+            probe: None,
+            kinks: false,
+            step_stop: false,
+        };
+        if let Some(last) = self.queue.back_mut() {
+            last.end_cap = 0.0;
+        }
+        self.queue.push_back(seg);
+        self.optimize();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,150 @@
+//! The servo cycle and the commands the realtime handler takes never
+//! allocate: coordinated motion with blends, arcs, pauses and aborts on
+//! both planners (the S-curve one calls Ruckig), counted by a global
+//! allocator that tallies allocations made by this thread while armed.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::Arc;
+
+use motion::command::{LineKind, TermCond};
+use motion::kins::trivkins::Trivkins;
+use motion::{Command, KinematicsType, MotionConfig, MotionCore, Pose};
+
+struct Counting;
+
+thread_local! {
+    static ARMED: Cell<bool> = const { Cell::new(false) };
+    static COUNT: Cell<u64> = const { Cell::new(0) };
+}
+
+// SAFETY: every call is passed to the system allocator unchanged; the
+// counters are thread-local cells touched without allocating.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if ARMED.with(Cell::get) {
+            COUNT.with(|c| c.set(c.get() + 1));
+        }
+        // SAFETY: the caller's layout, as GlobalAlloc requires.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` came from `alloc` above with this layout.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOC: Counting = Counting;
+
+/// Runs `f` and returns how many allocations it made.
+fn allocations(f: impl FnOnce()) -> u64 {
+    COUNT.with(|c| c.set(0));
+    ARMED.with(|a| a.set(true));
+    f();
+    ARMED.with(|a| a.set(false));
+    COUNT.with(Cell::get)
+}
+
+fn machine() -> MotionCore {
+    let kins = Arc::new(Trivkins::new("xyz", KinematicsType::Identity).unwrap());
+    let mut m = MotionCore::new(MotionConfig::default(), kins);
+    for j in 0..3 {
+        for c in [
+            Command::JointActivate { joint: j },
+            Command::SetJointPositionLimits {
+                joint: j,
+                min: -1e6,
+                max: 1e6,
+            },
+            Command::SetJointVelLimit {
+                joint: j,
+                vel: 10.0,
+            },
+            Command::SetJointAccLimit {
+                joint: j,
+                acc: 100.0,
+            },
+            Command::SetJointBacklash {
+                joint: j,
+                backlash: 0.01,
+            },
+            Command::SetAxisVelLimit { axis: j, vel: 10.0 },
+            Command::SetAxisAccLimit {
+                axis: j,
+                acc: 100.0,
+            },
+            Command::SetAxisJerkLimit { axis: j, jerk: 1e6 },
+        ] {
+            m.command(&c).unwrap();
+        }
+    }
+    m.command(&Command::SetJerkLimit { jerk: 1e6 }).unwrap();
+    m
+}
+
+fn step(m: &mut MotionCore) {
+    for j in 0..3 {
+        m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+    }
+    m.cycle(0.001);
+}
+
+#[test]
+fn cycles_and_commands_do_not_allocate() {
+    for planner in [0, 1] {
+        let mut m = machine();
+        m.command(&Command::SetPlannerType { planner }).unwrap();
+        m.command(&Command::Enable).unwrap();
+        step(&mut m);
+        m.command(&Command::Coord).unwrap();
+        let n = allocations(|| {
+            m.command(&Command::SetTermCond {
+                cond: TermCond::Blend,
+                tolerance: 0.05,
+            })
+            .unwrap();
+            for k in 0..40 {
+                let mut end = Pose::ZERO;
+                end.0[0] = k as f64;
+                end.0[1] = (k % 2) as f64;
+                let c = if k % 5 == 4 {
+                    // A half circle from the last point.
+                    Command::Circle {
+                        end,
+                        center: [k as f64 - 0.5, 0.5, 0.0],
+                        normal: [0.0, 0.0, 1.0],
+                        turns: 0,
+                        vel: 5.0,
+                        id: k,
+                    }
+                } else {
+                    Command::Line {
+                        end,
+                        vel: 8.0,
+                        kind: LineKind::Feed,
+                        id: k,
+                    }
+                };
+                let r = m.command(&c);
+                assert_eq!(r, Ok(()), "move {k}");
+            }
+            for k in 0..3000 {
+                step(&mut m);
+                match k {
+                    800 => m.command(&Command::Pause).unwrap(),
+                    1200 => m.command(&Command::Resume).unwrap(),
+                    1300 => m.command(&Command::FeedScale { scale: 0.5 }).unwrap(),
+                    2500 => m.command(&Command::Abort).unwrap(),
+                    _ => {}
+                }
+            }
+        });
+        assert_eq!(
+            n, 0,
+            "planner {planner}: {n} allocations in the realtime path"
+        );
+        assert!(m.planner().exec_id > 5, "it moved: {:?}", m.planner());
+    }
+}
