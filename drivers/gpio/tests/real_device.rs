@@ -12,9 +12,10 @@
 //! ```
 
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, Value};
+mod common;
+
+use common::*;
 use hal_driver::sim::MonotonicClock;
 use hal_gpio::cdev::CdevChips;
 use hal_gpio::cfg::{Bias, Direction, Drive};
@@ -147,34 +148,6 @@ fn nix_is_root() -> bool {
     unsafe { libc::geteuid() == 0 }
 }
 
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("gpio-rd-{tag}"))).expect("host")
-}
-
-fn bit(h: &Host, pin: &str) -> bool {
-    h.instance().pin_value(pin).unwrap() == Value::Bit(true)
-}
-
-fn set(h: &Host, pin: &str, v: bool) {
-    h.instance().set_pin(pin, Value::Bit(v)).unwrap();
-}
-
-fn wait_for(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(60);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
-
-fn run(h: &Host, functs: &[&str]) {
-    h.create_thread("t", 1_000_000, false, None).unwrap();
-    for f in functs {
-        h.addf(f, "t", -1).unwrap();
-    }
-    h.start().unwrap();
-}
-
 /// The test device: bank 0 with inputs IN0..IN3 on lines 0..3 and
 /// outputs OUT0..OUT3 on lines 8..11; bank 1 with IN9 on line 2 and OUT9
 /// on line 5.
@@ -206,7 +179,7 @@ fn inputs_follow_the_simulated_pins_across_two_chips() {
         return;
     }
     let sim = rig("hal-gpio-in");
-    let h = host("in");
+    let h = host("rd-in");
     h.loadrt(
         &hal_gpio::MODULE,
         &["inputs=HAL_IN0,HAL_IN1,HAL_IN9,HAL_IN3", "pullup=HAL_IN3"],
@@ -214,7 +187,7 @@ fn inputs_follow_the_simulated_pins_across_two_chips() {
     .unwrap();
     // The requested pull-up reached the chip: gpio-sim shows it.
     assert_eq!(sim.pull(0, 3), "pull-up");
-    run(&h, &["hal_gpio.read"]);
+    run(&h, 1_000_000, &["hal_gpio.read"]);
     sim.set_pull(0, 0, true);
     sim.set_pull(0, 1, false);
     sim.set_pull(1, 2, true);
@@ -241,7 +214,7 @@ fn outputs_and_active_low_read_back_through_sysfs() {
         return;
     }
     let sim = rig("hal-gpio-out");
-    let h = host("out");
+    let h = host("rd-out");
     h.loadrt(
         &hal_gpio::MODULE,
         &["outputs=HAL_OUT0,HAL_OUT1,HAL_OUT9", "invert=HAL_OUT1"],
@@ -255,7 +228,7 @@ fn outputs_and_active_low_read_back_through_sysfs() {
     assert!(info.used && info.active_low, "{info:?}");
     assert_eq!(info.consumer, "hal_gpio");
     assert_eq!(info.direction, gpiocdev::line::Direction::Output);
-    run(&h, &["hal_gpio.write"]);
+    run(&h, 1_000_000, &["hal_gpio.write"]);
     set(&h, "hal_gpio.HAL_OUT0-out", true);
     set(&h, "hal_gpio.HAL_OUT1-out", true);
     set(&h, "hal_gpio.HAL_OUT9-out", true);
@@ -320,7 +293,7 @@ fn drive_and_bias_flags_reach_the_kernel() {
         return;
     }
     let sim = rig("hal-gpio-flags");
-    let h = host("flags");
+    let h = host("rd-flags");
     h.loadrt(
         &hal_gpio::MODULE,
         &[
@@ -349,7 +322,7 @@ fn drive_and_bias_flags_reach_the_kernel() {
     // again by writing it). Open source active: driven high.
     sim.set_pull(0, 8, true);
     assert!(!sim.value(0, 8), "open drain inactive drives low");
-    run(&h, &["hal_gpio.write"]);
+    run(&h, 1_000_000, &["hal_gpio.write"]);
     set(&h, "hal_gpio.HAL_OUT0-out", true);
     set(&h, "hal_gpio.HAL_OUT1-out", true);
     wait_for("open source driven", || sim.value(0, 9));
@@ -372,7 +345,7 @@ fn names_found_nowhere_twice_or_busy_are_load_errors() {
         &[(4, &[(1, "HAL_DUP")]), (4, &[(3, "HAL_DUP")])],
     );
     let sim = rig("hal-gpio-names");
-    let h = host("names");
+    let h = host("rd-names");
     let e = h
         .loadrt(&hal_gpio::MODULE, &["outputs=HAL_OUT0,HAL_NOPE"])
         .unwrap_err()
@@ -427,14 +400,14 @@ fn an_unplugged_chip_trips_the_fault_and_nothing_hangs() {
         "hal-gpio-gone",
         &[(4, &[(0, "HAL_GONE_IN"), (1, "HAL_GONE_OUT")])],
     );
-    let h = host("gone");
+    let h = host("rd-gone");
     h.loadrt(
         &hal_gpio::MODULE,
         &["inputs=HAL_GONE_IN", "outputs=HAL_GONE_OUT,HAL_OUT0"],
     )
     .unwrap();
     set(&h, "hal_gpio.HAL_OUT0-out", true);
-    run(&h, &["hal_gpio.read", "hal_gpio.write"]);
+    run(&h, 1_000_000, &["hal_gpio.read", "hal_gpio.write"]);
     wait_for("output on", || keep.value(0, 8));
     gone.unplug();
     wait_for("fault said", || {

@@ -3,18 +3,17 @@
 //! thread, the load errors, and a chip removed mid-run.
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use hal_core::{HalType, Host, HostConfig, ParamDir, PinDir, Value};
+mod common;
+
+use common::*;
+use hal_core::{HalType, Host, ParamDir, PinDir, Value};
 use hal_driver::sim::MonotonicClock;
 use hal_gpio::cfg::Direction;
 use hal_gpio::chip::{ChipSet, LineSetting};
 use hal_gpio::regs::flags;
 use hal_gpio::sim::{SimChip, SimChips};
-
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("gpio-{tag}"))).expect("host starts")
-}
 
 fn loadrt(host: &Host, args: &[&str]) -> hal_core::Result<()> {
     host.loadrt(&hal_gpio::MODULE, args)
@@ -25,39 +24,11 @@ fn sim(host: &Host) -> Arc<SimChips> {
         .expect("simulated chips published")
 }
 
-fn bit(host: &Host, pin: &str) -> bool {
-    match host.instance().pin_value(pin).unwrap() {
-        Value::Bit(b) => b,
-        v => panic!("{pin} is {v:?}"),
-    }
-}
-
-fn set(host: &Host, pin: &str, v: bool) {
-    host.instance().set_pin(pin, Value::Bit(v)).unwrap();
-}
-
-/// Runs `functs` in a thread of `period_ns`.
-fn run(host: &Host, period_ns: i64, functs: &[&str]) {
-    host.create_thread("t", period_ns, false, None).unwrap();
-    for f in functs {
-        host.addf(f, "t", -1).unwrap();
-    }
-    host.start().unwrap();
-}
-
 /// Waits until the chip has been read `n` more times after this call
 /// (plus one, so the n-th cycle has finished).
 fn cycles(chip: &SimChip, n: u64) {
     let start = chip.gets();
     wait_for("thread cycles", || chip.gets() > start + n);
-}
-
-fn wait_for(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(20);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_micros(300));
-    }
 }
 
 const EXAMPLE: &[&str] = &[

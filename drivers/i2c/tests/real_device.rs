@@ -20,7 +20,11 @@ use std::process::Command;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, RtLog, Value};
+mod common;
+
+use common::*;
+
+use hal_core::{RtLog, Value};
 use hal_i2c::bus::I2cBus;
 use hal_i2c::chips::{DioCmd, Mcp23017Chip};
 use hal_i2c::hal::{ads1115, mcp23017, pca9685};
@@ -88,34 +92,10 @@ fn peek(bus: u32, addrs: &[u8]) -> LinuxBus {
     b
 }
 
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("i2c-rd-{tag}"))).expect("host")
-}
-
-fn wait_for(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(60);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
-}
-
-fn run(h: &Host, functs: &[&str]) {
-    h.create_thread("servo", 1_000_000, true, None).unwrap();
-    for f in functs {
-        h.addf(f, "servo", -1).unwrap();
-    }
-    h.start().unwrap();
-}
-
-fn set(h: &Host, pin: &str, v: Value) {
-    h.instance().set_pin(pin, v).unwrap();
-}
-
 #[test]
 fn pca9685_set_up_and_channels_on_the_stub() {
     let Some(n) = stub_bus() else { return };
-    let h = host("pca");
+    let h = host("rd-pca");
     h.loadrt(
         &pca9685::MODULE,
         &[&format!("bus={n}"), "address=0x40", "freq=50", "invert=1"],
@@ -158,7 +138,7 @@ fn mcp23017_directions_inputs_and_outputs_on_the_stub() {
     let s = peek(n, &[0x20]);
     // What the pins read: GPB0 and GPB2 high.
     s.write_word_data(0x20, mcp::GPIOA, 0x0500).unwrap();
-    let h = host("mcp");
+    let h = host("rd-mcp");
     h.loadrt(
         &mcp23017::MODULE,
         &[
@@ -215,7 +195,7 @@ fn ads1115_words_go_most_significant_byte_first() {
     // first. An SMBus word carries the first byte in its low half.
     s.write_word_data(0x48, ads::CONVERSION, 0x1234u16.swap_bytes())
         .unwrap();
-    let h = host("ads");
+    let h = host("rd-ads");
     h.loadrt(
         &ads1115::MODULE,
         &[
@@ -253,7 +233,7 @@ fn ads1115_words_go_most_significant_byte_first() {
 #[test]
 fn a_chip_that_does_not_answer_fails_the_load_naming_it() {
     let Some(n) = stub_bus() else { return };
-    let h = host("missing");
+    let h = host("rd-missing");
     let e = h
         .loadrt(&ads1115::MODULE, &[&format!("bus={n}"), "address=0x4a"])
         .unwrap_err()
@@ -280,7 +260,7 @@ fn an_address_a_kernel_driver_holds_is_refused() {
     }
     let dev = PathBuf::from(format!("/sys/bus/i2c/devices/i2c-{n}"));
     std::fs::write(dev.join("new_device"), "24c02 0x49").unwrap();
-    let h = host("busy");
+    let h = host("rd-busy");
     let e = h
         .loadrt(&ads1115::MODULE, &[&format!("bus={n}"), "address=0x49"])
         .unwrap_err()

@@ -4,53 +4,23 @@
 //! values, safe outputs, fault reset), shared buses, and load errors.
 
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
-use hal_core::{HalType, Host, HostConfig, ModuleDef, ParamDir, PinDir, Value};
+mod common;
+
+use common::*;
+use hal_core::{HalType, Host, ModuleDef, ParamDir, PinDir, Value};
 use hal_i2c::hal::{ads1115, mcp23017, pca9685, sim_bus};
 use hal_i2c::regs::pca9685 as pca;
 use hal_i2c::sim::{Ads1115, Kind, Mcp23017, Pca9685, SimBus};
 
-fn host(tag: &str) -> Host {
-    Host::create(HostConfig::for_tests(&format!("i2c-{tag}"))).expect("host starts")
-}
-
 fn load(h: &Host, m: &'static ModuleDef, args: &[&str]) -> hal_core::Result<()> {
     h.loadrt(m, args)
-}
-
-fn value(h: &Host, pin: &str) -> Value {
-    h.instance()
-        .pin_value(pin)
-        .unwrap_or_else(|e| panic!("{pin}: {e}"))
-}
-
-fn set(h: &Host, pin: &str, v: Value) {
-    h.instance()
-        .set_pin(pin, v)
-        .unwrap_or_else(|e| panic!("{pin}: {e}"));
 }
 
 fn setp(h: &Host, param: &str, v: Value) {
     h.instance()
         .set_param(param, v)
         .unwrap_or_else(|e| panic!("{param}: {e}"));
-}
-
-fn wait_for(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-}
-
-fn run(h: &Host, functs: &[&str]) {
-    h.create_thread("servo", 1_000_000, true, None).unwrap();
-    for f in functs {
-        h.addf(f, "servo", -1).unwrap();
-    }
-    h.start().unwrap();
 }
 
 fn bus(h: &Host, n: u32) -> Arc<SimBus> {

@@ -17,27 +17,17 @@
 //! transfers.
 
 use canonical::{AdcIn, ChannelNames};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{Host, Result};
-use hal_driver::fault;
 use hal_driver::params::Params;
 
-use super::{hal_err, prepare, read_common, start, ModuleChips, StatusPins, COMMON_PARAMS};
+use super::{build, per_chip, prepare_all, read_common, StatusPins, COMMON_PARAMS};
 use crate::chips::{AdcSettings, Ads1115Chip};
 use crate::regs::ads1115::{dr_for_sps, pga_for_mv, ADDRESSES};
 use crate::sim::Ads1115;
-use crate::worker::ChipSafe;
 
 /// The module's and component's name.
 pub const NAME: &str = "ads1115";
-
-const fn per_chip(name: &'static str, help: &'static str) -> ParamDecl {
-    ParamDecl {
-        name,
-        kind: ParamKind::IntArray(super::MAX_CHIPS),
-        help,
-    }
-}
 
 const PARAMS: &[ParamDecl] = &[
     COMMON_PARAMS[0],
@@ -114,50 +104,28 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             dr,
         });
     }
-    let mut prepared = Vec::with_capacity(n);
-    for (i, at) in chips.iter().enumerate() {
-        let name = format!("{NAME}.{i}");
-        prepared.push(
-            prepare(
-                host,
-                backend,
-                *at,
-                &name,
-                || Box::new(Ads1115::new()),
-                Ads1115Chip::new(at.addr, settings[i]),
-                &(),
-            )
-            .map_err(hal_err(NAME))?,
-        );
-    }
-    let mut b = host.new_rt_component(NAME)?;
-    let mut chips_state = ModuleChips {
-        safes: Vec::new(),
-        running: Vec::new(),
-    };
-    for (i, (prep, at)) in prepared.into_iter().zip(&chips).enumerate() {
-        let name = format!("{NAME}.{i}");
+    let prepared = prepare_all(
+        host,
+        backend,
+        NAME,
+        &chips,
+        || Box::new(Ads1115::new()),
+        |i, at| Ok((Ads1115Chip::new(at.addr, settings[i]), ())),
+    )?;
+    build(host, NAME, prepared, |b, i, name, ends| {
         let c = b.component();
         let s = settings[i];
         let names = ChannelNames::canonical::<AdcIn>(NAME, i, s.channels);
         let adcs = (0..s.channels)
             .map(|ch| AdcIn::export(c, &names, ch, s.lsb_volts(), 0.0))
             .collect::<Result<Vec<_>>>()?;
-        let status = StatusPins::export(c, &name)?;
-        let (running, ends) = start(host, prep, *at, &name);
+        let status = StatusPins::export(c, name)?;
         let mut st = ends.status;
         b.funct(&format!("{name}.read"), true, move |_| {
             let sample = status.update(&mut st).sample;
             for (ch, a) in adcs.iter().enumerate() {
                 a.update_counts(sample.counts[ch] as i64);
             }
-        })?;
-        chips_state.safes.push(ChipSafe { flags: ends.flags });
-        chips_state.running.push(running);
-    }
-    let chips_state = std::sync::Arc::new(chips_state);
-    fault::install(&mut b, chips_state.clone());
-    b.ready()?;
-    chips_state.publish_sims(host);
-    Ok(())
+        })
+    })
 }

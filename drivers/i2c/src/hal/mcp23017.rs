@@ -22,30 +22,20 @@
 //! at load (it would do nothing).
 
 use canonical::{ChannelNames, DigIn, DigOut};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{Host, Result};
-use hal_driver::fault;
 use hal_driver::params::Params;
 
-use super::{hal_err, prepare, read_common, start, ModuleChips, StatusPins, COMMON_PARAMS};
+use super::{build, per_chip, prepare_all, read_common, StatusPins, COMMON_PARAMS};
 use crate::chips::{DioCmd, Mcp23017Chip};
 use crate::regs::mcp23017::{ADDRESSES, OUTPUT_ONLY_PINS};
 use crate::sim::Mcp23017;
-use crate::worker::ChipSafe;
 
 /// The module's and component's name.
 pub const NAME: &str = "mcp23017";
 
 /// Pins per chip.
 pub const PINS: usize = 16;
-
-const fn per_chip(name: &'static str, help: &'static str) -> ParamDecl {
-    ParamDecl {
-        name,
-        kind: ParamKind::IntArray(super::MAX_CHIPS),
-        help,
-    }
-}
 
 const PARAMS: &[ParamDecl] = &[
     COMMON_PARAMS[0],
@@ -78,62 +68,46 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let dirs = p.ints_per("dir", n, 0xFFFF, 0..=0xFFFF).map_err(err)?;
     let pullups = p.ints_per("pullup", n, 0, 0..=0xFFFF).map_err(err)?;
     let gp7 = super::flags_per(&p, "gp7_input", n).map_err(err)?;
-    let mut prepared = Vec::with_capacity(n);
-    for (i, at) in chips.iter().enumerate() {
-        let (dir, pullup) = (dirs[i] as u16, pullups[i] as u16);
-        if pullup & !dir != 0 {
-            return Err(p
-                .item_error(
-                    "pullup",
-                    i,
-                    &format!("{pullup:#06x}"),
-                    format_args!(
-                        "pull-ups on output pins ({:#06x}) do nothing",
-                        pullup & !dir
-                    ),
-                )
-                .into_hal(NAME));
-        }
-        let name = format!("{NAME}.{i}");
-        prepared.push(
-            prepare(
-                host,
-                backend,
-                *at,
-                &name,
-                || Box::new(Mcp23017::new()),
-                Mcp23017Chip::new(at.addr, dir, pullup),
-                &DioCmd::default(),
-            )
-            .map_err(hal_err(NAME))?,
-        );
-    }
-    let mut b = host.new_rt_component(NAME)?;
-    let mut chips_state = ModuleChips {
-        safes: Vec::new(),
-        running: Vec::new(),
-    };
-    for (i, (prep, at)) in prepared.into_iter().zip(&chips).enumerate() {
-        let name = format!("{NAME}.{i}");
+    let prepared = prepare_all(
+        host,
+        backend,
+        NAME,
+        &chips,
+        || Box::new(Mcp23017::new()),
+        |i, at| {
+            let (dir, pullup) = (dirs[i] as u16, pullups[i] as u16);
+            if pullup & !dir != 0 {
+                return Err(p
+                    .item_error(
+                        "pullup",
+                        i,
+                        &format!("{pullup:#06x}"),
+                        format_args!(
+                            "pull-ups on output pins ({:#06x}) do nothing",
+                            pullup & !dir
+                        ),
+                    )
+                    .into_hal(NAME));
+            }
+            Ok((Mcp23017Chip::new(at.addr, dir, pullup), DioCmd::default()))
+        },
+    )?;
+    build(host, NAME, prepared, |b, i, name, ends| {
         let c = b.component();
         let dir = dirs[i] as u16;
-        let read_gp7 = gp7[i];
         let in_names = ChannelNames::canonical::<DigIn>(NAME, i, PINS);
         let out_names = ChannelNames::canonical::<DigOut>(NAME, i, PINS);
         let mut inputs = Vec::new();
         let mut outputs = Vec::new();
         for pin in 0..PINS {
             let bit = 1u16 << pin;
-            if dir & bit != 0 {
-                if bit & OUTPUT_ONLY_PINS == 0 || read_gp7 {
-                    inputs.push((pin, DigIn::export(c, &in_names, pin)?));
-                }
-            } else {
+            if dir & bit == 0 {
                 outputs.push((pin, DigOut::export(c, &out_names, pin)?));
+            } else if bit & OUTPUT_ONLY_PINS == 0 || gp7[i] {
+                inputs.push((pin, DigIn::export(c, &in_names, pin)?));
             }
         }
-        let status = StatusPins::export(c, &name)?;
-        let (running, ends) = start(host, prep, *at, &name);
+        let status = StatusPins::export(c, name)?;
         let (mut cmd, mut st) = (ends.cmd, ends.status);
         b.funct(&format!("{name}.read"), false, move |_| {
             let bits = status.update(&mut st).sample;
@@ -148,13 +122,6 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
                 out.safe |= (d.safe_level() as u16) << pin;
             }
             cmd.publish(out);
-        })?;
-        chips_state.safes.push(ChipSafe { flags: ends.flags });
-        chips_state.running.push(running);
-    }
-    let chips_state = std::sync::Arc::new(chips_state);
-    fault::install(&mut b, chips_state.clone());
-    b.ready()?;
-    chips_state.publish_sims(host);
-    Ok(())
+        })
+    })
 }

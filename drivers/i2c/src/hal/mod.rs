@@ -35,8 +35,8 @@ use std::ops::RangeInclusive;
 use std::sync::Arc;
 
 use hal_core::module::{ModuleArgs, ParamDecl, ParamKind};
-use hal_core::{Component, Host, In, Out, Pin, Result};
-use hal_driver::fault::SafeState;
+use hal_core::{Component, Host, In, Out, Pin, Result, RtComponentBuilder};
+use hal_driver::fault::{self, SafeState};
 use hal_driver::params::{Backend, BackendTokens, Params};
 use hal_driver::sim::SimClock;
 use hal_driver::DriverError;
@@ -76,6 +76,15 @@ pub const COMMON_PARAMS: [ParamDecl; 3] = [
         help: "dev (default: /dev/i2c-N) or sim (simulated chips)",
     },
 ];
+
+/// A per-chip integer parameter (`IntArray` of [`MAX_CHIPS`]).
+pub const fn per_chip(name: &'static str, help: &'static str) -> ParamDecl {
+    ParamDecl {
+        name,
+        kind: ParamKind::IntArray(MAX_CHIPS),
+        help,
+    }
+}
 
 /// Where a chip is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -252,6 +261,61 @@ pub fn prepare<C: Chip>(
     })
 }
 
+/// [`prepare`]s every chip of module `module` (chip i called `module.i`),
+/// `make` giving chip i's driver and the safe command it starts with,
+/// `model` the register model a simulated bus gets. Any failure fails
+/// the whole load; what was prepared is released.
+pub fn prepare_all<C: Chip>(
+    host: &Host,
+    backend: Backend,
+    module: &str,
+    chips: &[ChipAt],
+    model: fn() -> Box<dyn ChipModel>,
+    mut make: impl FnMut(usize, ChipAt) -> Result<(C, C::Cmd)>,
+) -> Result<Vec<(Prepared<C>, ChipAt)>> {
+    let mut prepared = Vec::with_capacity(chips.len());
+    for (i, &at) in chips.iter().enumerate() {
+        let (chip, safe) = make(i, at)?;
+        let name = format!("{module}.{i}");
+        let p = prepare(host, backend, at, &name, model, chip, &safe)
+            .map_err(|e| e.into_hal(module))?;
+        prepared.push((p, at));
+    }
+    Ok(prepared)
+}
+
+/// Makes component `module` for the `prepared` chips: puts each on its
+/// helper thread and lets `export` make its pins and functions (given
+/// the builder, the chip's index and HAL name, and the realtime ends of
+/// its hand-offs); then installs the safe-state hook, marks the
+/// component ready and publishes the simulated buses.
+pub fn build<C: Chip>(
+    host: &Host,
+    module: &str,
+    prepared: Vec<(Prepared<C>, ChipAt)>,
+    mut export: impl FnMut(&mut RtComponentBuilder<'_>, usize, &str, RealtimeEnds<C>) -> Result<()>,
+) -> Result<()> {
+    let mut b = host.new_rt_component(module)?;
+    let mut chips = ModuleChips {
+        safes: Vec::new(),
+        running: Vec::new(),
+    };
+    for (i, (prep, at)) in prepared.into_iter().enumerate() {
+        let name = format!("{module}.{i}");
+        let (running, ends) = start(host, prep, at, &name);
+        chips.safes.push(ChipSafe {
+            flags: ends.flags.clone(),
+        });
+        chips.running.push(running);
+        export(&mut b, i, &name, ends)?;
+    }
+    let chips = Arc::new(chips);
+    fault::install(&mut b, chips.clone());
+    b.ready()?;
+    chips.publish_sims(host);
+    Ok(())
+}
+
 /// What keeps a running chip on its helper thread.
 pub struct Running {
     _attachment: Attachment,
@@ -336,9 +400,4 @@ impl StatusPins {
         self.errors.set(st.errors);
         st
     }
-}
-
-/// `e` as a `loadrt` error of `module`.
-pub fn hal_err(module: &str) -> impl Fn(I2cError) -> hal_core::HalError + '_ {
-    move |e| e.into_hal(module)
 }

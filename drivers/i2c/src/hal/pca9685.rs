@@ -14,16 +14,14 @@
 //! channel, and every channel in the safe state, is full off.
 
 use canonical::{ChannelNames, Pwm};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{Host, Result};
-use hal_driver::fault;
 use hal_driver::params::Params;
 
-use super::{hal_err, prepare, read_common, start, ModuleChips, StatusPins, COMMON_PARAMS};
+use super::{build, per_chip, prepare_all, read_common, StatusPins, COMMON_PARAMS};
 use crate::chips::{Pca9685Chip, PwmCmd};
 use crate::regs::pca9685::{prescale_for, ADDRESSES, CHANNELS};
 use crate::sim::Pca9685;
-use crate::worker::ChipSafe;
 
 /// The module's and component's name.
 pub const NAME: &str = "pca9685";
@@ -34,21 +32,12 @@ pub const DEFAULT_FREQ: i64 = 1000;
 const PARAMS: &[ParamDecl] = &[
     COMMON_PARAMS[0],
     COMMON_PARAMS[1],
-    ParamDecl {
-        name: "freq",
-        kind: ParamKind::IntArray(super::MAX_CHIPS),
-        help: "PWM frequency of each chip, Hz (24..1526, default 1000)",
-    },
-    ParamDecl {
-        name: "invert",
-        kind: ParamKind::IntArray(super::MAX_CHIPS),
-        help: "1: invert the chip's outputs",
-    },
-    ParamDecl {
-        name: "opendrain",
-        kind: ParamKind::IntArray(super::MAX_CHIPS),
-        help: "1: open-drain outputs (default totem pole)",
-    },
+    per_chip(
+        "freq",
+        "PWM frequency of each chip, Hz (24..1526, default 1000)",
+    ),
+    per_chip("invert", "1: invert the chip's outputs"),
+    per_chip("opendrain", "1: open-drain outputs (default totem pole)"),
     COMMON_PARAMS[2],
 ];
 
@@ -69,46 +58,33 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         .map_err(|e| e.into_hal(NAME))?;
     let invert = super::flags_per(&p, "invert", n).map_err(|e| e.into_hal(NAME))?;
     let open_drain = super::flags_per(&p, "opendrain", n).map_err(|e| e.into_hal(NAME))?;
-    let mut prepared = Vec::with_capacity(n);
-    for (i, at) in chips.iter().enumerate() {
-        let prescale = prescale_for(freqs[i] as f64).ok_or_else(|| {
-            p.item_error(
-                "freq",
-                i,
-                &freqs[i].to_string(),
-                "the chip runs at 24..1526 Hz",
-            )
-            .into_hal(NAME)
-        })?;
-        let chip = Pca9685Chip::new(at.addr, prescale, invert[i], open_drain[i]);
-        let name = format!("{NAME}.{i}");
-        prepared.push(
-            prepare(
-                host,
-                backend,
-                *at,
-                &name,
-                || Box::new(Pca9685::new()),
-                chip,
-                &PwmCmd::default(),
-            )
-            .map_err(hal_err(NAME))?,
-        );
-    }
-    let mut b = host.new_rt_component(NAME)?;
-    let mut chips_state = ModuleChips {
-        safes: Vec::new(),
-        running: Vec::new(),
-    };
-    for (i, (prep, at)) in prepared.into_iter().zip(&chips).enumerate() {
-        let name = format!("{NAME}.{i}");
+    let prepared = prepare_all(
+        host,
+        backend,
+        NAME,
+        &chips,
+        || Box::new(Pca9685::new()),
+        |i, at| {
+            let prescale = prescale_for(freqs[i] as f64).ok_or_else(|| {
+                p.item_error(
+                    "freq",
+                    i,
+                    &freqs[i].to_string(),
+                    "the chip runs at 24..1526 Hz",
+                )
+                .into_hal(NAME)
+            })?;
+            let chip = Pca9685Chip::new(at.addr, prescale, invert[i], open_drain[i]);
+            Ok((chip, PwmCmd::default()))
+        },
+    )?;
+    build(host, NAME, prepared, |b, i, name, ends| {
         let c = b.component();
         let names = ChannelNames::canonical::<Pwm>(NAME, i, CHANNELS);
         let pwm = (0..CHANNELS)
             .map(|ch| Pwm::export(c, &names, ch))
             .collect::<Result<Vec<_>>>()?;
-        let status = StatusPins::export(c, &name)?;
-        let (running, ends) = start(host, prep, *at, &name);
+        let status = StatusPins::export(c, name)?;
         let (mut cmd, mut st) = (ends.cmd, ends.status);
         b.funct(&format!("{name}.read"), false, move |_| {
             status.update(&mut st);
@@ -119,13 +95,6 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
                 out.counts[k] = PwmCmd::counts_for(ch.duty().unwrap_or(0.0));
             }
             cmd.publish(out);
-        })?;
-        chips_state.safes.push(ChipSafe { flags: ends.flags });
-        chips_state.running.push(running);
-    }
-    let chips_state = std::sync::Arc::new(chips_state);
-    fault::install(&mut b, chips_state.clone());
-    b.ready()?;
-    chips_state.publish_sims(host);
-    Ok(())
+        })
+    })
 }
