@@ -19,6 +19,8 @@ pub fn registry() -> Registry {
     r.add(&[&hal_parport::MODULE]);
     r.add(&hostmot2::hal::modules());
     r.add(&crate::launcher::tp_home::modules());
+    r.add(&[&hal_gpio::MODULE]);
+    r.add(&hal_i2c::modules());
     r.add(&motion::modules());
     r
 }

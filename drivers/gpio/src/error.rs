@@ -1,0 +1,122 @@
+//! The crate's error type: what can go wrong at `loadrt`.
+
+use hal_core::HalError;
+use hal_driver::DriverError;
+
+/// What the udev rule is and how to get it, for permission errors.
+pub const UDEV_HINT: &str = "the rule for /dev/gpiochip* in udev/60-hal-suite.rules gives the \
+     group 'hal' access: install it (udev/README.md) and add the user to 'hal'";
+
+/// Why `loadrt hal_gpio` failed.
+#[derive(Debug, thiserror::Error)]
+pub enum GpioError {
+    /// A module parameter is wrong.
+    #[error(transparent)]
+    Param(#[from] DriverError),
+    /// No chip has a line of this name.
+    #[error("hal_gpio: parameter '{param}': item {item} \"{name}\": no GPIO line has this name (searched {searched}); names are case-sensitive and as `gpioinfo` prints them")]
+    LineNotFound {
+        /// The list that names it (`inputs`, `outputs`).
+        param: &'static str,
+        /// Its item number in the list.
+        item: usize,
+        /// The name.
+        name: String,
+        /// The chips searched.
+        searched: String,
+    },
+    /// The name is on more than one line.
+    #[error("hal_gpio: parameter '{param}': item {item} \"{name}\": the name is on more than one line ({places}), so it does not say which one to use")]
+    LineAmbiguous {
+        /// The list that names it.
+        param: &'static str,
+        /// Its item number in the list.
+        item: usize,
+        /// The name.
+        name: String,
+        /// Every line that has it (`gpiochip0 [label] line 5`).
+        places: String,
+    },
+    /// There are no GPIO chips at all.
+    #[error("hal_gpio: no GPIO chips found ({searched}): is the GPIO controller's kernel driver loaded?")]
+    NoChips {
+        /// Where discovery looked.
+        searched: String,
+    },
+    /// A chip could not be opened or asked about its lines.
+    #[error("hal_gpio: {op} {path}: {reason}")]
+    Chip {
+        /// The chip.
+        path: String,
+        /// What was being done (`opening`, `reading line info of`).
+        op: &'static str,
+        /// Why it failed, with a hint where one helps.
+        reason: String,
+    },
+    /// The kernel refused a line request.
+    #[error("hal_gpio: requesting {lines} on {chip}: {reason}")]
+    Request {
+        /// The chip.
+        chip: String,
+        /// The lines, by name.
+        lines: String,
+        /// The kernel's answer and, where known, who holds a line.
+        reason: String,
+    },
+}
+
+impl GpioError {
+    /// The error as a `loadrt` failure.
+    pub fn into_hal(self) -> HalError {
+        match self {
+            GpioError::Param(e) => e.into_hal(crate::hal::NAME),
+            GpioError::LineNotFound { param, .. } | GpioError::LineAmbiguous { param, .. } => {
+                let text = self.to_string();
+                let prefix = format!("hal_gpio: parameter '{param}': ");
+                HalError::ModuleParam {
+                    module: crate::hal::NAME.into(),
+                    param: param.into(),
+                    reason: text.strip_prefix(&prefix).unwrap_or(&text).to_string(),
+                }
+            }
+            other => {
+                let text = other.to_string();
+                HalError::ModuleLoad {
+                    module: crate::hal::NAME.into(),
+                    reason: text.strip_prefix("hal_gpio: ").unwrap_or(&text).to_string(),
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loadrt_errors_say_the_module_once() {
+        let e = GpioError::LineNotFound {
+            param: "inputs",
+            item: 1,
+            name: "GPIO99".into(),
+            searched: "gpiochip0 [pinctrl-bcm2711]".into(),
+        }
+        .into_hal();
+        let m = e.to_string();
+        assert_eq!(m.matches("hal_gpio").count(), 1, "{m}");
+        assert!(
+            m.contains("parameter 'inputs': item 1 \"GPIO99\": no GPIO line has this name"),
+            "{m}"
+        );
+        let e = GpioError::Request {
+            chip: "gpiochip0 [x]".into(),
+            lines: "GPIO5".into(),
+            reason: "busy".into(),
+        }
+        .into_hal();
+        let m = e.to_string();
+        assert_eq!(m.matches("hal_gpio").count(), 1, "{m}");
+        assert!(m.contains("requesting GPIO5 on gpiochip0 [x]: busy"), "{m}");
+    }
+}
