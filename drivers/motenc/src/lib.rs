@@ -103,10 +103,12 @@
 //! * [`sim`]: the register-level simulator with its motors.
 //! * [`open`]: backends, PCI discovery, board IDs.
 //! * [`hal`]: the HAL binding and [`MODULE`].
+//! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
 //! * [`error`](mod@error): [`MotencError`].
 
 pub mod board;
 pub mod error;
+pub mod fuzzing;
 pub mod hal;
 pub mod open;
 pub mod regs;

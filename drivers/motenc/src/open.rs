@@ -29,8 +29,8 @@ pub enum Source {
     Sim(Vec<(BoardKind, u8)>),
 }
 
-/// Parses `sim_boards` items: `100` or `lite` (any case).
-fn parse_kind(_: usize, text: &str) -> Result<BoardKind, String> {
+/// Parses a `sim_boards` item: `100` or `lite` (any case).
+pub fn parse_board_kind(text: &str) -> Result<BoardKind, String> {
     match text.to_ascii_lowercase().as_str() {
         "100" | "motenc-100" => Ok(BoardKind::Motenc100),
         "lite" | "motenc-lite" => Ok(BoardKind::MotencLite),
@@ -59,7 +59,12 @@ pub fn parse_source(args: &ModuleArgs) -> Result<Source, DriverError> {
         return Ok(Source::Pci);
     }
     let n = kinds_given.max(ids_given.len()).max(1);
-    let kinds = p.strs_per("sim_boards", n, parse_kind, |_| BoardKind::Motenc100)?;
+    let kinds = p.strs_per(
+        "sim_boards",
+        n,
+        |_, t| parse_board_kind(t),
+        |_| BoardKind::Motenc100,
+    )?;
     let mut boards = Vec::with_capacity(n);
     for (i, kind) in kinds.into_iter().enumerate() {
         let id = match ids_given.get(i) {
