@@ -341,25 +341,17 @@ impl Capture {
             ch.index_latch.set(hit(k));
             waiting[k] = ch.enc.index_armed() && !hit(k);
         }
-        let pair_waits = |p: usize| waiting[2 * p] || waiting[2 * p + 1];
-        let next = (0..4)
-            .map(|i| (self.pair + i) % 4)
-            .find(|&p| pair_waits(p))
-            .unwrap_or(self.pair);
-        let polarity = |k: usize| {
-            self.channels
-                .get(k)
-                .and_then(|ch| ch.polarity.as_ref())
-                .is_none_or(Pin::get)
-        };
-        let watch = if waiting[2 * next] || !waiting[2 * next + 1] {
-            2 * next
-        } else {
-            2 * next + 1
-        };
         let hits: [bool; regs::CHANNELS] = std::array::from_fn(hit);
-        d.select_index_pair(next, polarity(watch));
-        self.pair = next;
+        // The first axis still waiting, from the watched pair on; with
+        // none, the watch stays as it is.
+        let waiting_axis = (0..regs::CHANNELS)
+            .map(|i| (2 * self.pair + i) % regs::CHANNELS)
+            .find(|&k| waiting[k]);
+        if let Some(k) = waiting_axis {
+            let active_high = self.channels[k].polarity.as_ref().is_none_or(Pin::get);
+            d.select_index_pair(k / 2, active_high);
+            self.pair = k / 2;
+        }
         if !Model::One.brdtst_ok(d.clear_index_latches()) {
             return false;
         }
