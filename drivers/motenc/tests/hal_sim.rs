@@ -124,9 +124,6 @@ fn counters_count_and_index_enable_zeroes_them_at_the_index() {
 
     set(&host, "motenc.0.enc-01-index-enable", Value::Bit(true));
     host.start().unwrap();
-    wait("the board arms the index", || {
-        sim.with(|m| m.index_armed(1))
-    });
     wait("index-enable falls at the index", || {
         !bit(&host, "motenc.0.enc-01-index-enable")
     });
