@@ -19,6 +19,8 @@ pub fn registry() -> Registry {
     r.add(&[&hal_parport::MODULE]);
     r.add(&hostmot2::hal::modules());
     r.add(&crate::launcher::tp_home::modules());
+    r.add(&[&hal_motenc::MODULE]);
+    r.add(&[&hal_stg::MODULE]);
     r.add(&motion::modules());
     r
 }
