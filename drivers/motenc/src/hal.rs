@@ -233,7 +233,7 @@ fn export_board(
     let c: &Component = b.component();
     let p = |s: &str| format!("motenc.{id}.{s}");
     let enc_names = names(id, "enc");
-    let encoders = (0..kind.encoders())
+    let mut encoders = (0..kind.encoders())
         .map(|k| {
             Ok(EncChannel {
                 enc: Encoder::export(c, &enc_names, k, 32)?,
@@ -274,6 +274,17 @@ fn export_board(
         .with_code_pin(c.pin(&p("fault-code"))?);
 
     opened.drv.init();
+    // The first reading defines each encoder's zero: take it now, right
+    // after the counters were reset, so that no count made before the
+    // first encoder-read is lost.
+    let now0 = opened
+        .sim
+        .as_ref()
+        .map_or_else(hal_core::clock::monotonic_ns, |s| s.now_ns());
+    for (k, ch) in encoders.iter_mut().enumerate() {
+        ch.fed = opened.drv.count(k);
+        ch.enc.update(ch.fed as u64, None, now0);
+    }
     let errors_seen = opened.drv.bus().errors();
     let sh = Arc::new(Shared {
         drv: opened.drv,
@@ -288,7 +299,6 @@ fn export_board(
     });
 
     let s = sh.clone();
-    let mut encoders = encoders;
     b.funct(&p("encoder-read"), true, move |ctx| {
         encoder_read(&s, &mut encoders, ctx)
     })?;

@@ -609,3 +609,13 @@ fn bad_parameters_load_nothing() {
     );
     assert!(host.loaded_components().is_empty());
 }
+
+#[test]
+fn counts_made_between_load_and_the_first_read_are_kept() {
+    let host = host("first-read");
+    host.loadrt(&MODULE, &["backend=sim"]).unwrap();
+    let sim = board(&host, 0);
+    sim.with(|m| m.turn_to(3, -0.5));
+    run(&host, &["motenc.0.encoder-read"]);
+    wait("the count", || s32(&host, "motenc.0.enc-03-count") == -2000);
+}

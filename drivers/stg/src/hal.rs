@@ -105,7 +105,7 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
         };
         format!("stg.{k}.{item}")
     });
-    let channels = (0..num_chan)
+    let mut channels = (0..num_chan)
         .map(|k| {
             Ok(Channel {
                 enc: Encoder::export(c, &enc_names, k, regs::COUNTER_BITS)?,
@@ -167,6 +167,16 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
         .with_pin(c.pin("stg.fault")?)
         .with_code_pin(c.pin("stg.fault-code")?);
 
+    // The first reading defines each encoder's zero: take it now, right
+    // after the counters were reset, so that no count made before the
+    // first capture is lost.
+    let now0 = opened
+        .sim
+        .as_ref()
+        .map_or_else(hal_core::clock::monotonic_ns, |s| s.now_ns());
+    for (k, ch) in channels.iter_mut().enumerate() {
+        ch.enc.update(drv.latch_count(k) as u64, None, now0);
+    }
     let errors_seen = drv.bus().errors();
     let sh = Arc::new(Shared {
         drv,
