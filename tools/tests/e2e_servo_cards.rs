@@ -7,18 +7,6 @@ mod common;
 
 use common::*;
 
-/// Runs `tests/<name>/test.hal` and checks its stdout against `expected`.
-fn run_exact(name: &str) -> String {
-    let dir = root().join("tests").join(name);
-    let out = halrun(&dir, &["-f", "test.hal"], name);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
-    let got = String::from_utf8_lossy(&out.stdout).into_owned();
-    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
-    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
-    got
-}
-
 /// The machine's samples (pos-cmd, pos-fb and home-state of three
 /// joints per row) and the lines after them.
 fn samples(text: &str) -> (Vec<Vec<f64>>, Vec<&str>) {

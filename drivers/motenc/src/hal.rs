@@ -19,7 +19,7 @@ use canonical::{AdcIn, ChannelNames, DacOut, DigIn, DigOut, Encoder};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{Component, FunctCtx, Host, Io, Out, Param, Pin, Result, Rw};
 use hal_driver::bus::ALL_ONES;
-use hal_driver::fault::{self, Fault, FaultLatch, SafeState};
+use hal_driver::fault::{self, ErrorWatch, Fault, FaultLatch, SafeState};
 use hal_driver::pci::{EnableGuard, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
@@ -133,8 +133,8 @@ struct Shared {
     watchdog_control: AtomicU32,
     /// When the watchdog was last restarted (board time).
     last_kick_ns: AtomicU64,
-    /// Bus errors seen so far.
-    errors_seen: AtomicU64,
+    /// Failed bus accesses.
+    bus_errors: ErrorWatch,
     sim: Option<Arc<SimBoard<MotencModel>>>,
     _guard: Option<EnableGuard>,
 }
@@ -149,25 +149,14 @@ impl Shared {
     /// Trips the latch; the first trip puts the board in its safe state.
     #[inline]
     fn fail(&self, f: &'static Fault) {
-        if self.latch.trip(f) {
-            self.go_safe();
-        }
-    }
-
-    #[inline]
-    fn bus_failed(&self) -> bool {
-        let now = self.drv.bus().errors();
-        now != self.errors_seen.swap(now, Relaxed)
+        self.latch.trip_into(f, self);
     }
 
     /// The bits of FPGA `fpga`'s outputs from `level`.
     #[inline]
     fn output_bits(&self, fpga: usize, level: impl Fn(&DigOut) -> bool) -> u16 {
         let first = fpga * regs::OUTPUTS_PER_FPGA;
-        self.outputs[first..first + regs::OUTPUTS_PER_FPGA]
-            .iter()
-            .enumerate()
-            .fold(0, |v, (i, o)| if level(o) { v | 1 << i } else { v })
+        DigOut::pack(&self.outputs[first..first + regs::OUTPUTS_PER_FPGA], level) as u16
     }
 }
 
@@ -285,7 +274,7 @@ fn export_board(
         ch.fed = opened.drv.count(k);
         ch.enc.update(ch.fed as u64, None, now0);
     }
-    let errors_seen = opened.drv.bus().errors();
+    let bus_errors = ErrorWatch::new(opened.drv.bus().errors());
     let sh = Arc::new(Shared {
         drv: opened.drv,
         latch,
@@ -293,7 +282,7 @@ fn export_board(
         outputs,
         watchdog_control: AtomicU32::new(0),
         last_kick_ns: AtomicU64::new(0),
-        errors_seen: AtomicU64::new(errors_seen),
+        bus_errors,
         sim: opened.sim,
         _guard: opened.guard,
     });
@@ -372,7 +361,7 @@ fn encoder_read(sh: &Shared, encoders: &mut [EncChannel], ctx: &FunctCtx) {
             ch.armed = arm;
         }
     }
-    if sh.bus_failed() {
+    if sh.bus_errors.failed_since(sh.drv.bus().errors()) {
         sh.lost.store(true, Relaxed);
         sh.fail(&READBACK_FAILED);
         return;

@@ -2,10 +2,10 @@
 //! §4.5), behind the layer's [`SimBoard`](hal_driver::sim::SimBoard) so
 //! the driver runs on it exactly as on the card.
 //!
-//! The outside world: each encoder channel k has a DC servo motor
-//! ([`DcMotor`], position in revolutions) driven by DAC k through an
-//! amplifier of gain 1, with a quadrature encoder ([`QuadEncoder`]) on
-//! its shaft; the counter counts that encoder. Digital inputs, the E-stop
+//! The outside world: each encoder channel k is a [`ServoAxis`] (a DC
+//! motor, position in revolutions, with a quadrature encoder on its
+//! shaft) driven by DAC k through an amplifier of gain 1, enabled by the
+//! output its `amp_enable` names (0..31); the counter counts that encoder. Digital inputs, the E-stop
 //! input and the ADC voltages are set by hand; digital outputs and DAC
 //! voltages are read back. Everything moves only in
 //! [`advance`](BoardModel::advance).
@@ -28,7 +28,7 @@
 //! * [`unplug`](MotencModel::unplug) makes every register read all ones
 //!   and ignore writes, as a board that left the bus.
 
-use hal_driver::plant::{DcMotor, DcMotorParams, QuadEncoder};
+use hal_driver::plant::ServoAxis;
 use hal_driver::sim::{BoardModel, MemModel};
 
 use crate::board::BoardKind;
@@ -36,37 +36,6 @@ use crate::regs;
 
 /// Conversion time of one ADC channel.
 pub const ADC_NS_PER_CHANNEL: u64 = 5_000;
-/// Counts per revolution of the default encoders (1000 lines).
-pub const DEFAULT_COUNTS_PER_REV: u32 = 4000;
-/// The default motors: 2 rev/s per volt, 20 ms, 0.05 V of friction.
-pub const DEFAULT_MOTOR: DcMotorParams = DcMotorParams {
-    speed_per_volt: 2.0,
-    time_constant: 0.02,
-    friction: 0.05,
-};
-
-/// One encoder channel's mechanics: a motor driven by the DAC of the
-/// same number, and the encoder on its shaft.
-#[derive(Debug, Clone)]
-pub struct Axis {
-    /// The motor (position in revolutions).
-    pub motor: DcMotor,
-    /// The encoder on the shaft.
-    pub encoder: QuadEncoder,
-    /// The digital output that enables this axis's amplifier, if one
-    /// does; without one the amplifier is always on.
-    pub amp_enable: Option<usize>,
-}
-
-impl Default for Axis {
-    fn default() -> Axis {
-        Axis {
-            motor: DcMotor::new(DEFAULT_MOTOR),
-            encoder: QuadEncoder::new(DEFAULT_COUNTS_PER_REV),
-            amp_enable: None,
-        }
-    }
-}
 
 /// The most inputs a board has (MOTENC-100).
 const MAX_INPUTS: usize = 68;
@@ -79,7 +48,7 @@ pub struct MotencModel {
     version_reg: u32,
     present: bool,
     now_ns: u64,
-    axes: Vec<Axis>,
+    axes: Vec<ServoAxis>,
     counter_zero: [i64; 8],
     armed: [bool; 8],
     latched: [bool; 8],
@@ -111,7 +80,7 @@ impl MotencModel {
             version_reg: kind.version(),
             present: true,
             now_ns: 0,
-            axes: (0..kind.encoders()).map(|_| Axis::default()).collect(),
+            axes: (0..kind.encoders()).map(|_| ServoAxis::default()).collect(),
             counter_zero: [0; 8],
             armed: [false; 8],
             latched: [false; 8],
@@ -145,20 +114,20 @@ impl MotencModel {
     }
 
     /// Encoder channel `k`'s mechanics.
-    pub fn axis(&self, k: usize) -> &Axis {
+    pub fn axis(&self, k: usize) -> &ServoAxis {
         &self.axes[k]
     }
 
     /// Encoder channel `k`'s mechanics, to change.
-    pub fn axis_mut(&mut self, k: usize) -> &mut Axis {
+    pub fn axis_mut(&mut self, k: usize) -> &mut ServoAxis {
         &mut self.axes[k]
     }
 
     /// Turns encoder `k`'s shaft to `revs` by hand, counting and
     /// latching on the way as when the motor turns it.
     pub fn turn_to(&mut self, k: usize, revs: f64) {
-        self.axes[k].motor.set_position(revs);
-        self.sense_encoder(k);
+        let moved = self.axes[k].turn_to(revs);
+        self.sense_index(k, moved.first_index);
     }
 
     /// The hardware counter of encoder `k`.
@@ -260,12 +229,10 @@ impl MotencModel {
         self.version_reg = value;
     }
 
-    /// Reads encoder `k`'s shaft after its motor moved: counts, and
-    /// clears the counter at the index when armed.
-    fn sense_encoder(&mut self, k: usize) {
-        let axis = &mut self.axes[k];
-        let moved = axis.encoder.set_revs(axis.motor.position());
-        if let Some(at) = moved.first_index {
+    /// Encoder `k` crossed an index at shaft count `first_index`: an
+    /// armed counter clears there and latches.
+    fn sense_index(&mut self, k: usize, first_index: Option<i64>) {
+        if let Some(at) = first_index {
             if self.armed[k] && !self.latched[k] {
                 self.counter_zero[k] = at;
                 self.latched[k] = true;
@@ -345,9 +312,8 @@ impl BoardModel for MotencModel {
         }
         for k in 0..self.axes.len() {
             let volts = self.drive_volts(k);
-            self.axes[k].motor.set_volts(volts);
-            self.axes[k].motor.advance(dt_ns);
-            self.sense_encoder(k);
+            let moved = self.axes[k].drive(volts, dt_ns);
+            self.sense_index(k, moved.first_index);
         }
         if self.adc_busy_until.is_some_and(|t| t <= self.now_ns) {
             self.finish_adc();

@@ -3,13 +3,12 @@
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::Arc;
 
 use common::*;
 use hal_core::Value;
-use hal_driver::bus::{RegWindow, ALL_ONES};
 use hal_driver::sim::{AccessLog, Dir, SimBoard};
+use hal_driver::testing::Flaky;
 use hal_motenc::board::{identify, BoardKind, Motenc};
 use hal_motenc::open::Opened;
 use hal_motenc::regs;
@@ -464,44 +463,12 @@ fn a_board_that_goes_away_is_reported_and_left_alone() {
     assert_eq!(sim.with(|m| m.dac_code(3)), regs::DAC_ZERO);
 }
 
-/// A bus whose accesses fail (all ones, counted) once told to.
-struct FlakyBus {
-    inner: Arc<SimBoard<MotencModel>>,
-    failing: AtomicBool,
-    errors: std::sync::atomic::AtomicU64,
-}
-
-impl RegWindow for FlakyBus {
-    fn len(&self) -> usize {
-        self.inner.len()
-    }
-    fn read32(&self, offset: usize) -> u32 {
-        if self.failing.load(Relaxed) && offset < 0x20 && offset % 0x20 < 0x10 {
-            self.errors.fetch_add(1, Relaxed);
-            return ALL_ONES;
-        }
-        self.inner.read32(offset)
-    }
-    fn write32(&self, offset: usize, value: u32) {
-        self.inner.write32(offset, value)
-    }
-    fn errors(&self) -> u64 {
-        self.errors.load(Relaxed)
-    }
-    fn describe(&self) -> String {
-        "flaky".into()
-    }
-}
-
 #[test]
 fn counters_that_cannot_be_read_back_trip_the_fault() {
     let host = host("readback");
     let sim = Arc::new(SimBoard::new(MotencModel::new(BoardKind::Motenc100, 1)));
-    let bus = Arc::new(FlakyBus {
-        inner: sim.clone(),
-        failing: AtomicBool::new(false),
-        errors: Default::default(),
-    });
+    // The counters of FPGA 0 fail to read once told to.
+    let bus = Arc::new(Flaky::new(sim.clone(), |off| off < 0x10));
     let id = identify(&*bus).unwrap();
     hal_motenc::hal::load_opened(
         &host,
@@ -516,7 +483,7 @@ fn counters_that_cannot_be_read_back_trip_the_fault() {
     set(&host, "motenc.1.dac-00-value", Value::Float(2.0));
     run(&host, &["motenc.1.encoder-read", "motenc.1.dac-write"]);
     wait("driving", || sim.with(|m| m.dac_volts(0)) > 1.9);
-    bus.failing.store(true, Relaxed);
+    bus.set_failing(true);
     wait("the fault", || bit(&host, "motenc.1.fault"));
     assert_eq!(get(&host, "motenc.1.fault-code"), Value::U32(2));
     assert_eq!(sim.with(|m| m.dac_code(0)), regs::DAC_ZERO);

@@ -10,9 +10,10 @@
 //! microsecond, so hardware costs are of another order: a capture of 8
 //! channels makes about 40 accesses.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
+use hal_driver::bench::{hal_functions, print_functions};
 
 const READS: [&str; 3] = ["capture-position", "read-adcs", "di-read"];
 const WRITES: [&str; 2] = ["write-dacs", "do-write"];
@@ -33,51 +34,32 @@ fn bench(model: u8) -> hal_core::Result<()> {
         &["backend=sim".to_string(), format!("model={model}")],
     )?;
     let inst = host.instance();
+    // Every DAC drives its motor, half the channels wait for an index,
+    // outputs toggle between samples.
     for n in 0..8 {
         inst.set_pin(&format!("stg.{n}.dac-value"), Value::Float(1.0 + n as f64))?;
         inst.set_pin(&format!("stg.{n}.index-enable"), Value::Bit(n % 2 == 0))?;
     }
-    host.create_thread("t", 100_000, true, None)?;
-    for f in READS.iter().chain(&WRITES) {
-        host.addf(&format!("stg.{f}"), "t", -1)?;
-    }
-    host.start()?;
-    let mut sums = vec![(0f64, 0u64); READS.len() + WRITES.len()];
-    let end = Instant::now() + Duration::from_secs(2);
-    let mut toggle = false;
-    while Instant::now() < end {
-        toggle = !toggle;
+    let functs: Vec<String> = READS
+        .iter()
+        .chain(&WRITES)
+        .map(|f| format!("stg.{f}"))
+        .collect();
+    let functs: Vec<&str> = functs.iter().map(String::as_str).collect();
+    let times = hal_functions(&host, &functs, 100_000, Duration::from_secs(2), |round| {
         for n in (0..16).step_by(3) {
-            let _ = inst.set_pin(&format!("stg.out-{n:02}"), Value::Bit(toggle));
+            let on = Value::Bit(round % 2 == 0);
+            let _ = inst.set_pin(&format!("stg.out-{n:02}"), on);
         }
-        for (i, f) in READS.iter().chain(&WRITES).enumerate() {
-            if let Value::S32(ns) = inst.pin_value(&format!("stg.{f}.time"))? {
-                sums[i].0 += ns as f64;
-                sums[i].1 += 1;
-            }
-        }
-        std::thread::sleep(Duration::from_micros(150));
-    }
-    host.stop();
-    println!(
-        "hal_stg, simulated Model {}, 100 us thread (realtime: {}), mean of {} samples",
-        if model == 1 { "I" } else { "II" },
-        host.is_realtime(),
-        sums[0].1
-    );
-    let mut totals = [0.0; 2];
-    for (i, f) in READS.iter().chain(&WRITES).enumerate() {
-        let mean = sums[i].0 / sums[i].1.max(1) as f64;
-        let tmax = match inst.param_value(&format!("stg.{f}.tmax"))? {
-            Value::S32(v) => v,
-            _ => 0,
-        };
-        totals[(i >= READS.len()) as usize] += mean;
-        println!("  stg.{f:<20} {mean:8.0} ns   (max {tmax} ns)");
-    }
-    println!(
-        "  read total {:8.0} ns, write total {:8.0} ns",
-        totals[0], totals[1]
+    })?;
+    let m = if model == 1 { "I" } else { "II" };
+    print_functions(
+        &format!(
+            "hal_stg, simulated Model {m}, 100 us thread (realtime: {})",
+            host.is_realtime()
+        ),
+        &times,
+        READS.len(),
     );
     Ok(())
 }

@@ -7,13 +7,13 @@
 //! [`AdcIn`] (its `scale` is LinuxCNC's `adc-gain`), [`DigIn`] and
 //! [`DigOut`].
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::Arc;
 
 use canonical::{AdcIn, ChannelNames, DacOut, DigIn, DigOut, Encoder};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{Component, FunctCtx, Host, In, Out, Pin, Result};
-use hal_driver::fault::{self, Fault, FaultLatch, SafeState};
+use hal_driver::fault::{self, ErrorWatch, Fault, FaultLatch, SafeState};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
 
@@ -177,13 +177,13 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
     for (k, ch) in channels.iter_mut().enumerate() {
         ch.enc.update(drv.latch_count(k) as u64, None, now0);
     }
-    let errors_seen = drv.bus().errors();
+    let bus_errors = ErrorWatch::new(drv.bus().errors());
     let sh = Arc::new(Shared {
         drv,
         latch,
         lost: AtomicBool::new(false),
         outputs,
-        errors_seen: AtomicU64::new(errors_seen),
+        bus_errors,
         sim: opened.sim,
     });
     let s = sh.clone();
@@ -219,32 +219,18 @@ struct Shared {
     lost: AtomicBool,
     /// Output ports and their pins.
     outputs: Vec<(usize, Vec<DigOut>)>,
-    errors_seen: AtomicU64,
+    bus_errors: ErrorWatch,
     sim: Option<Arc<SimBoard<StgModel>>>,
 }
 
 impl Shared {
+    /// The board is lost: trips the latch; the first trip puts the board
+    /// in its safe state.
     #[inline]
     fn fail(&self, f: &'static Fault) {
         self.lost.store(true, Relaxed);
-        if self.latch.trip(f) {
-            self.go_safe();
-        }
+        self.latch.trip_into(f, self);
     }
-
-    #[inline]
-    fn bus_failed(&self) -> bool {
-        let now = self.drv.bus().errors();
-        now != self.errors_seen.swap(now, Relaxed)
-    }
-}
-
-/// The byte for an output port from `level` of its pins (pin i on bit i).
-#[inline]
-fn port_byte(pins: &[DigOut], level: impl Fn(&DigOut) -> bool) -> u8 {
-    pins.iter()
-        .enumerate()
-        .fold(0, |v, (i, p)| if level(p) { v | 1 << i } else { v })
 }
 
 impl SafeState for Shared {
@@ -253,7 +239,7 @@ impl SafeState for Shared {
         self.drv.zero_dacs();
         for (port, pins) in &self.outputs {
             self.drv
-                .write_port(*port, port_byte(pins, DigOut::safe_level));
+                .write_port(*port, DigOut::pack(pins, DigOut::safe_level) as u8);
         }
     }
 }
@@ -299,7 +285,7 @@ impl Capture {
             let hw = sh.drv.latch_count(k);
             ch.enc.update(hw as u64, index_at[k], now);
         }
-        if sh.bus_failed() {
+        if sh.bus_errors.failed_since(sh.drv.bus().errors()) {
             sh.fail(&READBACK_FAILED);
         }
     }
@@ -434,6 +420,7 @@ fn do_write(sh: &Shared) {
         return;
     }
     for (port, pins) in &sh.outputs {
-        sh.drv.write_port(*port, port_byte(pins, DigOut::level));
+        sh.drv
+            .write_port(*port, DigOut::pack(pins, DigOut::level) as u8);
     }
 }

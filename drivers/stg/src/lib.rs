@@ -135,6 +135,9 @@ pub mod open;
 pub mod regs;
 pub mod sim;
 
+#[cfg(test)]
+mod test_board;
+
 pub use detect::{probe, Model};
 pub use error::StgError;
 pub use hal::MODULE;

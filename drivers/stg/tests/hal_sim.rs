@@ -3,13 +3,12 @@
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::Relaxed};
 use std::sync::Arc;
 
 use common::*;
 use hal_core::Value;
-use hal_driver::bus::PortBus;
 use hal_driver::sim::{AccessLog, Dir, SimBoard, SimClock, Width};
+use hal_driver::testing::Flaky;
 use hal_stg::detect::Model;
 use hal_stg::dio::Dio;
 use hal_stg::driver::Stg;
@@ -402,64 +401,14 @@ fn a_board_that_goes_away_is_reported_and_left_alone() {
     }
 }
 
-/// A port bus whose reads fail (all ones, counted) once told to.
-struct FlakyBus {
-    inner: Arc<SimBoard<StgModel>>,
-    failing: AtomicBool,
-    errors: AtomicU64,
-}
-
-impl FlakyBus {
-    fn fails(&self, port: u16) -> bool {
-        // Counter data ports of the board at 0x220 only.
-        let fail = self.failing.load(Relaxed) && (0x220..0x230).contains(&port);
-        if fail {
-            self.errors.fetch_add(1, Relaxed);
-        }
-        fail
-    }
-}
-
-impl PortBus for FlakyBus {
-    fn inb(&self, port: u16) -> u8 {
-        if self.fails(port) {
-            0xFF
-        } else {
-            self.inner.inb(port)
-        }
-    }
-    fn outb(&self, port: u16, v: u8) {
-        self.inner.outb(port, v)
-    }
-    fn inw(&self, port: u16) -> u16 {
-        self.inner.inw(port)
-    }
-    fn outw(&self, port: u16, v: u16) {
-        self.inner.outw(port, v)
-    }
-    fn inl(&self, port: u16) -> u32 {
-        self.inner.inl(port)
-    }
-    fn outl(&self, port: u16, v: u32) {
-        self.inner.outl(port, v)
-    }
-    fn errors(&self) -> u64 {
-        self.errors.load(Relaxed)
-    }
-    fn describe(&self) -> String {
-        "flaky".into()
-    }
-}
-
 #[test]
 fn counters_that_cannot_be_read_back_trip_the_fault() {
     let host = host("readback");
     let sim = Arc::new(SimBoard::new(StgModel::new(Model::Two, 0x220)));
-    let bus = Arc::new(FlakyBus {
-        inner: sim.clone(),
-        failing: AtomicBool::new(false),
-        errors: AtomicU64::new(0),
-    });
+    // The counter data ports of the board at 0x220 fail once told to.
+    let bus = Arc::new(Flaky::new(sim.clone(), |port| {
+        (0x220..0x230).contains(&port)
+    }));
     let drv = Stg::new(
         bus.clone(),
         0x220,
@@ -487,7 +436,7 @@ fn counters_that_cannot_be_read_back_trip_the_fault() {
     wait("driving", || {
         sim.with(|m| m.dac_volts(3)) < -3.9 && m_out(&sim) == Some(0b100)
     });
-    bus.failing.store(true, Relaxed);
+    bus.set_failing(true);
     wait("the fault", || bit(&host, "stg.fault"));
     assert_eq!(get(&host, "stg.fault-code"), Value::U32(2));
     assert_eq!(

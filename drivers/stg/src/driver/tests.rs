@@ -2,21 +2,13 @@
 
 use std::sync::Arc;
 
-use hal_driver::sim::{AccessLog, Dir, SimBoard, SimClock, Width};
+use hal_driver::sim::{AccessLog, Dir, SimBoard, Width};
 
 use super::*;
 use crate::sim::StgModel;
 
 fn logged(model: Model, dio: &str) -> (Arc<SimBoard<StgModel>>, Stg) {
-    let sim = Arc::new(SimBoard::new(StgModel::new(model, 0x300)).with_log(AccessLog::new(10_000)));
-    let drv = Stg::new(
-        sim.clone(),
-        0x300,
-        model,
-        Dio::parse(dio).unwrap(),
-        Arc::new(SimClock::new(0, 1_000)),
-    );
-    (sim, drv)
+    crate::test_board::board(model, dio, Some(AccessLog::new(10_000)))
 }
 
 /// The writes of the log as (offset from base, value).

@@ -5,9 +5,11 @@
 //! The board decodes its two windows at its base address; every other
 //! port reads all ones, as an empty ISA bus. Inside:
 //!
-//! * eight LS7166 counters ([`Ls7166`]), each counting the quadrature
-//!   encoder on the shaft of a DC motor ([`DcMotor`], position in
-//!   revolutions) that DAC n drives through an amplifier of gain 1;
+//! * eight LS7166 counters ([`Ls7166`]), each counting the encoder of a
+//!   [`ServoAxis`] (a DC motor, position in revolutions, with a
+//!   quadrature encoder on its shaft) that DAC n drives through an
+//!   amplifier of gain 1, enabled by the digital line its `amp_enable`
+//!   names (port × 8 + bit, A = 0; a high output enables);
 //! * eight 13-bit DACs; an ADC with its multiplexer, a conversion time,
 //!   the end-of-conversion (Model I, in the 8259's IRR) or busy (Model
 //!   II, BRDTST bit 3) flag;
@@ -34,7 +36,7 @@ mod ppi;
 pub use ls7166::Ls7166;
 pub use ppi::Ppi;
 
-use hal_driver::plant::{DcMotor, DcMotorParams, QuadEncoder};
+use hal_driver::plant::{EncoderMove, ServoAxis};
 use hal_driver::sim::{BoardModel, PortModel, Width};
 
 use crate::detect::Model;
@@ -44,38 +46,6 @@ use crate::regs;
 pub const ADC_NS_AUTOZERO: u64 = 20_000;
 /// ADC conversion time without.
 pub const ADC_NS: u64 = 5_000;
-/// Counts per revolution of the default encoders (1000 lines).
-pub const DEFAULT_COUNTS_PER_REV: u32 = 4000;
-/// The default motors: 2 rev/s per volt, 20 ms, 0.05 V of friction.
-pub const DEFAULT_MOTOR: DcMotorParams = DcMotorParams {
-    speed_per_volt: 2.0,
-    time_constant: 0.02,
-    friction: 0.05,
-};
-
-/// One channel's mechanics: a motor driven by the DAC of the same
-/// number, and the encoder on its shaft.
-#[derive(Debug, Clone)]
-pub struct Axis {
-    /// The motor (position in revolutions).
-    pub motor: DcMotor,
-    /// The encoder on the shaft.
-    pub encoder: QuadEncoder,
-    /// The digital line (port × 8 + bit, A = 0) whose high level enables
-    /// this axis's amplifier, if one does; otherwise it is always on.
-    pub amp_enable: Option<usize>,
-}
-
-impl Default for Axis {
-    fn default() -> Axis {
-        Axis {
-            motor: DcMotor::new(DEFAULT_MOTOR),
-            encoder: QuadEncoder::new(DEFAULT_COUNTS_PER_REV),
-            amp_enable: None,
-        }
-    }
-}
-
 /// The board model.
 #[derive(Debug, Clone)]
 pub struct StgModel {
@@ -84,7 +54,7 @@ pub struct StgModel {
     present: bool,
     now_ns: u64,
     signature_pos: u8,
-    axes: Vec<Axis>,
+    axes: Vec<ServoAxis>,
     counters: [Ls7166; regs::CHANNELS],
     dacs: [u16; regs::CHANNELS],
     adc_volts: [f64; regs::CHANNELS],
@@ -119,7 +89,7 @@ impl StgModel {
             present: true,
             now_ns: 0,
             signature_pos: 0,
-            axes: (0..regs::CHANNELS).map(|_| Axis::default()).collect(),
+            axes: (0..regs::CHANNELS).map(|_| ServoAxis::default()).collect(),
             counters: Default::default(),
             dacs: [regs::DAC_ZERO; regs::CHANNELS],
             adc_volts: [0.0; regs::CHANNELS],
@@ -158,20 +128,19 @@ impl StgModel {
     }
 
     /// Channel `k`'s mechanics.
-    pub fn axis(&self, k: usize) -> &Axis {
+    pub fn axis(&self, k: usize) -> &ServoAxis {
         &self.axes[k]
     }
 
     /// Channel `k`'s mechanics, to change.
-    pub fn axis_mut(&mut self, k: usize) -> &mut Axis {
+    pub fn axis_mut(&mut self, k: usize) -> &mut ServoAxis {
         &mut self.axes[k]
     }
 
     /// Turns channel `k`'s shaft to `revs` by hand, counting and
     /// latching indexes on the way as when the motor turns it.
     pub fn turn_to(&mut self, k: usize, revs: f64) {
-        self.axes[k].motor.set_position(revs);
-        self.sense_encoder(k);
+        self.move_shaft(k, |a| a.turn_to(revs));
     }
 
     /// Counter `k`'s CNTR.
@@ -288,13 +257,12 @@ impl StgModel {
         (2 * p, 2 * p + 1)
     }
 
-    /// Channel `k`'s shaft moved to where its motor is: the index
-    /// latches and loads.
-    fn sense_encoder(&mut self, k: usize) {
+    /// Moves channel `k`'s shaft with `how`: the index latches and
+    /// loads on the way.
+    fn move_shaft(&mut self, k: usize, how: impl FnOnce(&mut ServoAxis) -> EncoderMove) {
         let was_active = self.index_active(k);
-        let axis = &mut self.axes[k];
-        let moved = axis.encoder.set_revs(axis.motor.position());
-        let now = axis.encoder.count();
+        let moved = how(&mut self.axes[k]);
+        let now = self.axes[k].encoder.count();
         match self.model {
             Model::Two => {
                 let bit = 1 << k;
@@ -560,9 +528,7 @@ impl BoardModel for StgModel {
         self.now_ns += dt_ns;
         for k in 0..regs::CHANNELS {
             let v = self.drive_volts(k);
-            self.axes[k].motor.set_volts(v);
-            self.axes[k].motor.advance(dt_ns);
-            self.sense_encoder(k);
+            self.move_shaft(k, |a| a.drive(v, dt_ns));
         }
         if let Some((done, ch)) = self.adc_busy {
             if done <= self.now_ns {

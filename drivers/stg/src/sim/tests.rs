@@ -3,21 +3,13 @@
 
 use std::sync::Arc;
 
-use hal_driver::sim::{SimBoard, SimClock};
+use hal_driver::sim::SimBoard;
 
 use super::*;
-use crate::dio::Dio;
 use crate::driver::Stg;
 
 fn board(model: Model, dio: &str) -> (Arc<SimBoard<StgModel>>, Stg) {
-    let sim = Arc::new(SimBoard::new(StgModel::new(model, 0x300)));
-    let drv = Stg::new(
-        sim.clone(),
-        0x300,
-        model,
-        Dio::parse(dio).unwrap(),
-        Arc::new(SimClock::new(0, 1_000)),
-    );
+    let (sim, drv) = crate::test_board::board(model, dio, None);
     drv.init();
     (sim, drv)
 }
