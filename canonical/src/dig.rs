@@ -61,4 +61,14 @@ impl DigOut {
     pub fn safe_level(&self) -> bool {
         self.invert.get()
     }
+
+    /// `level` of each of `outs` (up to 32) as one word, output i on bit
+    /// i: what a driver writes to a port register.
+    #[inline]
+    pub fn pack(outs: &[DigOut], level: impl Fn(&DigOut) -> bool) -> u32 {
+        outs.iter()
+            .take(32)
+            .enumerate()
+            .fold(0, |w, (i, o)| if level(o) { w | 1 << i } else { w })
+    }
 }

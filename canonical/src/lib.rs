@@ -56,6 +56,10 @@
 //! converter counts with `bit_weight` and `hw_offset`, rounded and clamped
 //! to the converter's range.
 //!
+//! LinuxCNC's servo-card drivers (hal_stg, hal_motenc) shape their analog
+//! outputs differently (`(value - offset) * gain`, no enable pin); they
+//! export [`DacOut`], that shape kept under the same io-type.
+//!
 //! # encoder, stepgen and pwm
 //! For drivers with hardware counters, step and PWM generators:
 //! [`encoder`], [`stepgen`] and [`pwm`] define the pins (hostmot2's
@@ -74,6 +78,7 @@
 #![forbid(unsafe_code)]
 
 pub mod adc;
+pub mod dac;
 pub mod dig;
 pub mod encoder;
 pub mod naming;
@@ -81,6 +86,7 @@ pub mod pwm;
 pub mod stepgen;
 
 pub use adc::{AdcIn, AdcOut, AdcOutOptions};
+pub use dac::DacOut;
 pub use dig::{DigIn, DigOut};
 pub use encoder::{Encoder, EncoderCore};
 pub use naming::{ChannelNames, Interface};

@@ -6,13 +6,16 @@
 //!
 //! A driver family joins the list with a [`Family`] in [`families`]: its
 //! name, its driver, its ID table and a function that identifies a found
-//! device (hostmot2 reads the FPGA's IDROM; a MOTENC entry would read its
-//! board ID register).
+//! device (hostmot2 reads the FPGA's IDROM; the MOTENC its boardVersion
+//! and board ID jumpers).
 
 use std::sync::Arc;
 
 use hal_driver::bus::{MmapWindow, RegWindow};
 use hal_driver::pci::{self, EnableGuard, PciDevice, PciMatch, Sysfs};
+use hal_driver::sim::SimBoard;
+use hal_motenc::sim::MotencModel;
+use hal_motenc::BoardKind;
 use hostmot2::image::FirmwareSpec;
 use hostmot2::md::{self, ModuleDescriptor};
 use hostmot2::pci::{PciBoard, BOARDS};
@@ -36,12 +39,34 @@ pub struct Family {
 
 /// Every family the tool knows.
 pub fn families() -> Vec<Family> {
-    vec![Family {
-        name: "Mesa HostMot2",
-        driver: "hm2_pci",
-        table: || hostmot2::pci::id_table(BOARDS),
-        identify: identify_hm2,
-    }]
+    vec![
+        Family {
+            name: "Mesa HostMot2",
+            driver: "hm2_pci",
+            table: || hostmot2::pci::id_table(BOARDS),
+            identify: identify_hm2,
+        },
+        Family {
+            name: "Vital Systems MOTENC",
+            driver: "hal_motenc",
+            table: || hal_motenc::regs::PCI_TABLE.to_vec(),
+            identify: identify_motenc,
+        },
+    ]
+}
+
+/// A MOTENC's kind, version and board ID jumpers, read from BAR 2.
+fn identify_motenc(dev: &PciDevice) -> String {
+    let open = || -> Result<String, String> {
+        let _on = dev.enable().map_err(|e| e.to_string())?;
+        let win = dev
+            .map_bar_window(hal_motenc::regs::BAR, hal_motenc::regs::WINDOW_LEN)
+            .map_err(|e| e.to_string())?;
+        hal_motenc::identify(&win)
+            .map(|id| id.to_string())
+            .map_err(|e| e.to_string())
+    };
+    open().unwrap_or_else(|e| format!("(not readable: {e})"))
 }
 
 fn identify_hm2(dev: &PciDevice) -> String {
@@ -93,6 +118,17 @@ pub fn list(sysfs: &Sysfs) -> Vec<String> {
         let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
         lines.push(format!("sim:{name}  {id}"));
     }
+    let motenc: Vec<String> = [BoardKind::Motenc100, BoardKind::MotencLite]
+        .into_iter()
+        .map(|k| {
+            let sim = SimBoard::new(MotencModel::new(k, 0));
+            hal_motenc::identify(&sim).map_or_else(|e| e.to_string(), |id| id.to_string())
+        })
+        .collect();
+    lines.push(format!(
+        "simulated MOTENC boards (hal_motenc backend=sim sim_boards=100|lite): {}",
+        motenc.join(", ")
+    ));
     lines
 }
 

@@ -21,6 +21,8 @@ pub fn registry() -> Registry {
     r.add(&crate::launcher::tp_home::modules());
     r.add(&[&hal_gpio::MODULE]);
     r.add(&hal_i2c::modules());
+    r.add(&[&hal_motenc::MODULE]);
+    r.add(&[&hal_stg::MODULE]);
     r.add(&motion::modules());
     r
 }

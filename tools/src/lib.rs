@@ -16,5 +16,6 @@ pub mod motion_queue_args;
 pub mod parport_tool;
 pub mod part_program;
 pub mod plot;
+pub mod port_probe;
 pub mod protocol;
 pub mod run_plot;

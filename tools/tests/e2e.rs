@@ -119,19 +119,6 @@ fn killing_halrun_takes_its_host_down() {
 // the components guarantee (components.md 3.1, 3.2, 3.5).
 // ---------------------------------------------------------------------
 
-/// Runs `tests/<name>/test.hal`, checks that it succeeded and that its
-/// stdout equals `expected` byte for byte, and returns the stdout.
-fn run_exact(name: &str) -> String {
-    let dir = case(name);
-    let out = halrun(&dir, &["-f", "test.hal"], name);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
-    let got = String::from_utf8_lossy(&out.stdout).into_owned();
-    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
-    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
-    got
-}
-
 /// The test's HAL file.
 fn hal_file(name: &str) -> String {
     std::fs::read_to_string(case(name).join("test.hal")).unwrap()

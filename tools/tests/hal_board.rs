@@ -179,3 +179,79 @@ fn a_modules_registers_are_watched() {
     ));
     assert!(e.contains("the firmware has no module 'stepgen'"), "{e}");
 }
+
+#[test]
+fn lists_motenc_boards_with_their_version_and_board_id() {
+    let fake = FakeSysfs::new("hal-board-motenc").unwrap();
+    let ids = PciIds {
+        vendor: 0x10B5,
+        device: 0x3001,
+        subvendor: 0x10B5,
+        subdevice: 0x9030,
+    };
+    let bars = [
+        FakeBar::Unused,
+        FakeBar::Unused,
+        FakeBar::Mem {
+            start: 0xfd00_0000,
+            len: 0x200,
+        },
+    ];
+    let lite = fake.add_device("0000:05:00.0", ids, &bars).unwrap();
+    let mut regs = vec![0u8; 0x200];
+    regs[0x14..0x18].copy_from_slice(&(2u32 << 16 | 0xFFFF).to_le_bytes()); // ID jumpers 2
+    regs[0x1C..0x20].copy_from_slice(&1u32.to_le_bytes()); // MOTENC-Lite
+    std::fs::write(lite.join("resource2"), &regs).unwrap();
+    let odd = fake.add_device("0000:06:00.0", ids, &bars).unwrap();
+    regs[0x1C..0x20].copy_from_slice(&9u32.to_le_bytes());
+    std::fs::write(odd.join("resource2"), &regs).unwrap();
+    let out = stdout(&board_tool(&fake, &["list"]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[0],
+        "0000:05:00.0  10b5:3001 (subsystem 10b5:9030)  MOTENC  hal_motenc: MOTENC-Lite \
+         (boardVersion 1, board ID jumpers 2)"
+    );
+    assert!(
+        lines[1].starts_with(
+            "0000:06:00.0  10b5:3001 (subsystem 10b5:9030)  MOTENC  hal_motenc: (not readable: "
+        ) && lines[1].contains("boardVersion is 0x9, expected 0 (MOTENC-100) or 1 (MOTENC-Lite)"),
+        "{}",
+        lines[1]
+    );
+    assert!(out.ends_with(
+        "simulated MOTENC boards (hal_motenc backend=sim sim_boards=100|lite): MOTENC-100 \
+         (boardVersion 0, board ID jumpers 0), MOTENC-Lite (boardVersion 1, board ID jumpers 0)\n"
+    ));
+    // Listing leaves the devices disabled again.
+    let enabled = std::fs::read_to_string(lite.join("enable")).unwrap();
+    assert_eq!(enabled.trim(), "0");
+}
+
+#[test]
+fn probe_reports_the_servo_to_go_model_or_that_nothing_answers() {
+    let none = FakeSysfs::new("hal-board-probe").unwrap();
+    let out = stdout(&board_tool(&none, &["probe", "0x300", "--via", "sim"]));
+    assert_eq!(
+        out,
+        "0x300: Servo-To-Go Model II (signature 0x74): loadrt hal_stg base=0x300 model=2\n"
+    );
+    let out = stdout(&board_tool(&none, &["probe", "--via", "sim1"]));
+    assert_eq!(
+        out,
+        "0x300: Servo-To-Go Model I (signature 0x75): loadrt hal_stg base=0x300 model=1\n"
+    );
+    let err = stderr(&board_tool(&none, &["probe", "0x3e0", "--via", "sim"]));
+    assert_eq!(
+        err,
+        "hal-board: no board answers at 0x3e0 (its board test register reads 0xff: nothing \
+         decodes the port)\n"
+    );
+    let err = stderr(&board_tool(&none, &["probe", "0x378", "--via", "sim"]));
+    assert_eq!(
+        err,
+        "hal-board: 0x378 is not a Servo-To-Go base address (0x200, 0x220, ... 0x3e0)\n"
+    );
+    let err = stderr(&board_tool(&none, &["probe", "--via", "isa"]));
+    assert!(err.contains("'isa' is not a way to the ports"), "{err}");
+}

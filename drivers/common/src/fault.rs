@@ -41,7 +41,7 @@
 //! # }
 //! ```
 
-use std::sync::atomic::{AtomicPtr, Ordering::*};
+use std::sync::atomic::{AtomicPtr, AtomicU64, Ordering::*};
 use std::sync::Arc;
 
 use hal_core::{Out, Pin, RtComponentBuilder, RtLog};
@@ -162,6 +162,17 @@ impl FaultLatch {
         true
     }
 
+    /// [`trip`](Self::trip), and on the first trip puts `state` in its
+    /// safe state at once: what a realtime function does when it finds
+    /// its hardware failing. Returns what `trip` returns.
+    pub fn trip_into(&self, fault: &'static Fault, state: &(impl SafeState + ?Sized)) -> bool {
+        let first = self.trip(fault);
+        if first {
+            state.go_safe();
+        }
+        first
+    }
+
     /// The fault that tripped the latch, if it is tripped.
     pub fn fault(&self) -> Option<&'static Fault> {
         let p = self.tripped.load(Acquire);
@@ -193,6 +204,31 @@ impl FaultLatch {
             pin.set(0);
         }
         old
+    }
+}
+
+/// Watches a bus's count of failed accesses
+/// ([`RegWindow::errors`](crate::bus::RegWindow::errors),
+/// [`PortBus::errors`](crate::bus::PortBus::errors)): whether any access
+/// failed since the last look. Atomics only, realtime-safe.
+#[derive(Debug)]
+pub struct ErrorWatch {
+    seen: AtomicU64,
+}
+
+impl ErrorWatch {
+    /// Starts watching a bus whose count is `errors_now`.
+    pub fn new(errors_now: u64) -> ErrorWatch {
+        ErrorWatch {
+            seen: AtomicU64::new(errors_now),
+        }
+    }
+
+    /// Whether the count moved since the last call (or since `new`),
+    /// given the bus's count now.
+    #[inline]
+    pub fn failed_since(&self, errors_now: u64) -> bool {
+        self.seen.swap(errors_now, Relaxed) != errors_now
     }
 }
 
@@ -248,6 +284,19 @@ mod tests {
         });
         assert_eq!(wins, 1);
         assert!(latch.is_tripped());
+    }
+
+    #[test]
+    fn trip_into_goes_safe_once_and_errors_are_watched() {
+        let latch = FaultLatch::new("drv.0");
+        let safe = Counter(Default::default());
+        assert!(latch.trip_into(&LOST, &safe));
+        assert!(!latch.trip_into(&OTHER, &safe));
+        assert_eq!(safe.0.load(Relaxed), 1);
+        let w = ErrorWatch::new(3);
+        assert!(!w.failed_since(3));
+        assert!(w.failed_since(4));
+        assert!(!w.failed_since(4));
     }
 
     struct Counter(std::sync::atomic::AtomicU32);

@@ -249,6 +249,7 @@
 //! * [`fault`]: safe state and the fault latch.
 //! * [`error`]: the error type, [`DriverError`].
 //! * [`lockdown`]: telling kernel lockdown from a missing permission.
+//! * [`testing`]: helpers for drivers' HAL tests.
 //! * [`vmrig`]: for tests in the VM rig.
 //! * [`bench`]: per-call timing for benchmark binaries.
 //! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
@@ -279,6 +280,7 @@ pub mod params;
 pub mod pci;
 pub mod plant;
 pub mod sim;
+pub mod testing;
 pub mod vmrig;
 
 pub use error::{DriverError, ForModule, Result};

@@ -1,7 +1,9 @@
 //! hal-board: bring up a PCI board. Lists the boards the suite's drivers
-//! know (and the simulated ones), prints a HostMot2 board's IDROM, module
-//! list and pin-out as `mesaflash --readhmid` does, reads and writes
-//! single registers, and watches a module's registers live.
+//! know (HostMot2 with their IDROM's name, MOTENC with their version and
+//! board ID; and the simulated ones), prints a HostMot2 board's IDROM,
+//! module list and pin-out as `mesaflash --readhmid` does, reads and
+//! writes single registers, and watches a module's registers live. For
+//! the ISA Servo-To-Go, `probe` reports the model at a base address.
 
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -11,6 +13,7 @@ use clap::{Parser, Subcommand};
 use hal_core::userspace::ExitSignals;
 use hal_driver::pci::Sysfs;
 use hal_tools::board_tool::{self, Board};
+use hal_tools::port_probe;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -21,10 +24,15 @@ Examples:
   hal-board write 0000:02:00.0 0x200 0xC0000000   # both LEDs on
   hal-board watch 0000:02:00.0 stepgen      # refreshes until Ctrl-C
   hal-board watch sim:6i25 encoder -n 3 -i 100
+  hal-board probe 0x300                     # which Servo-To-Go is at 0x300
+  hal-board probe                           # search 0x3e0 .. 0x200
+  hal-board probe 0x300 --via devport       # through /dev/port
 
 BOARD is a PCI bus address from `hal-board list`, or sim:5i25, sim:6i25,
 sim:5i24 for a simulated board (fresh for each command). Reading PCI
-boards needs access to their sysfs resource files: see udev/README.md.";
+boards needs access to their sysfs resource files: see udev/README.md.
+probe reads ISA ports: it needs CAP_SYS_RAWIO (--via ioperm or devport);
+--via sim or sim1 probes a simulated Model II or I at 0x300.";
 
 /// Bring up a PCI board: list, identify, read and write registers.
 #[derive(Parser)]
@@ -75,6 +83,14 @@ enum Command {
         /// Stop after this many snapshots.
         #[arg(short = 'n', long)]
         count: Option<u64>,
+    },
+    /// Report the Servo-To-Go model at an ISA base address, or search them all.
+    Probe {
+        /// Base address (0x200, 0x220, ... 0x3e0); none searches them all.
+        base: Option<String>,
+        /// How to reach the ports: ioperm, devport, sim (Model II at 0x300), sim1.
+        #[arg(long, default_value = "ioperm")]
+        via: String,
     },
 }
 
@@ -134,6 +150,13 @@ fn run(cli: Cli) -> Result<(), String> {
                     println!("{frame}");
                 }
                 shown += 1;
+            }
+        }
+        Command::Probe { base, via } => {
+            let via = port_probe::parse_via(&via)?;
+            let base = base.as_deref().map(port_probe::parse_base).transpose()?;
+            for line in port_probe::probe(base, via)? {
+                println!("{line}");
             }
         }
     }

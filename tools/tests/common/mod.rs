@@ -31,6 +31,19 @@ pub fn halrun(dir: &Path, args: &[&str], tag: &str) -> Output {
         .expect("halrun runs")
 }
 
+/// Runs `tests/<name>/test.hal`, checks that it succeeded and that its
+/// stdout equals `expected` byte for byte, and returns the stdout.
+pub fn run_exact(name: &str) -> String {
+    let dir = root().join("tests").join(name);
+    let out = halrun(&dir, &["-f", "test.hal"], name);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
+    let got = String::from_utf8_lossy(&out.stdout).into_owned();
+    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
+    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
+    got
+}
+
 /// The error lines of LinuxCNC's stderr that describe the user's mistake:
 /// without the lines about LinuxCNC's own process machinery.
 pub fn meaningful_stderr(text: &str) -> Vec<String> {

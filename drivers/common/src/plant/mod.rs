@@ -6,6 +6,8 @@
 //! * [`DcMotor`]: drive voltage or PWM duty → velocity → position, with
 //!   inertia, friction and a settable load.
 //! * [`StepperAxis`]: step/dir pulses or a step rate → position.
+//! * [`ServoAxis`]: a [`DcMotor`] with a [`QuadEncoder`] on its shaft,
+//!   driven by a servo card's output voltage.
 //! * [`QuadEncoder`]: shaft position → A/B/Z levels, count edges and the
 //!   index pulse once per revolution.
 //! * [`Switch`]: home and limit switches at positions.
@@ -27,10 +29,12 @@
 
 mod encoder;
 mod motor;
+mod servo;
 mod stepper;
 mod switch;
 
 pub use encoder::{EncoderMove, QuadEncoder};
 pub use motor::{DcMotor, DcMotorParams};
+pub use servo::{ServoAxis, SMALL_SERVO};
 pub use stepper::StepperAxis;
 pub use switch::Switch;
