@@ -246,6 +246,27 @@ fn non_utf8_is_refused_where_it_starts() {
     assert_eq!(e.to_string(), "p.ngc:2:5: not UTF-8 text");
 }
 
+#[test]
+fn huge_code_numbers_are_refused_not_wrapped() {
+    // 4294967297 times ten wraps a u32 to a small, valid-looking code.
+    assert_eq!(
+        err("G0 X1\nG 4294967297 X2\n"),
+        "p.ngc:2:1: G code number too large (at most 99999999)"
+    );
+    assert_eq!(
+        err("m999999999999\n"),
+        "p.ngc:1:1: M code number too large (at most 99999999)"
+    );
+    // Inside comments long numbers are text.
+    assert!(interpret(
+        "p.ngc",
+        b"(G4294967297\n) ; M99999999999\nG0 X1\n",
+        Pose::ZERO,
+        Units::Mm
+    )
+    .is_ok());
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 100_000, ..ProptestConfig::default() })]
 

@@ -86,6 +86,60 @@ fn value(src: &str, start: usize, length: usize) -> Option<f64> {
     cleaned.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
+/// The largest whole part a G, M or T number may have. The `gcode` crate
+/// stores such numbers times ten in a `u32`, and overflows (a panic with
+/// overflow checks, a wrapped and therefore wrong code without) from
+/// 429496730 on; no code is anywhere near this bound.
+const MAX_CODE_MAJOR: u64 = 99_999_999;
+
+/// Finds the first G, M or T word whose number has a whole part above
+/// [`MAX_CODE_MAJOR`], walking the text as the `gcode` crate's lexer does
+/// (comments in parentheses nest and may span lines, `;` comments run to
+/// the end of the line, blanks may stand between letter and number).
+/// Returns its byte offset and letter.
+fn oversized_code_number(src: &str) -> Option<(usize, char)> {
+    let bytes = src.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        match bytes[i] {
+            b'(' => {
+                let mut depth = 1u32;
+                i += 1;
+                while i < bytes.len() && depth > 0 {
+                    match bytes[i] {
+                        b'(' => depth += 1,
+                        b')' => depth -= 1,
+                        _ => {}
+                    }
+                    i += 1;
+                }
+            }
+            b';' => {
+                while i < bytes.len() && bytes[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            c @ (b'G' | b'g' | b'M' | b'm' | b'T' | b't') => {
+                let at = i;
+                i += 1;
+                while i < bytes.len() && matches!(bytes[i], b' ' | b'\t' | b'\r') {
+                    i += 1;
+                }
+                let mut major: u64 = 0;
+                while i < bytes.len() && bytes[i].is_ascii_digit() {
+                    major = (major * 10 + u64::from(bytes[i] - b'0')).min(MAX_CODE_MAJOR + 1);
+                    i += 1;
+                }
+                if major > MAX_CODE_MAJOR {
+                    return Some((at, char::from(c.to_ascii_uppercase())));
+                }
+            }
+            _ => i += 1,
+        }
+    }
+    None
+}
+
 /// Splits `src` into blocks, one per line (empty lines give empty
 /// blocks); `file` names it in errors.
 pub fn blocks(file: &str, src: &str) -> Result<Vec<(usize, Block)>, ProgramError> {
@@ -95,6 +149,12 @@ pub fn blocks(file: &str, src: &str) -> Result<Vec<(usize, Block)>, ProgramError
         loc: lines.loc(src, offset),
         message,
     };
+    if let Some((offset, code)) = oversized_code_number(src) {
+        return Err(err(
+            offset,
+            format!("{code} code number too large (at most {MAX_CODE_MAJOR})"),
+        ));
+    }
     let program = match gcode::parse(src) {
         Ok(p) => p,
         Err(diags) => {
