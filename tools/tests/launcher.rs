@@ -27,6 +27,9 @@ fn the_mill_homes_jogs_changes_tools_and_stops_cleanly() {
     // Home on the simulated switches, then jog X in teleop mode.
     m.motion(&["home", "-1"]);
     m.motion(&["-t", "60", "wait", "all-homed"]);
+    // The homed flags rise with the final move's command; the stepgen
+    // feedback settles a few cycles later, and a mode change waits for it.
+    m.motion(&["-t", "30", "wait", "in-position"]);
     m.motion(&["teleop"]);
     m.motion(&["axis-jog-incr", "x", "5", "12.5"]);
     m.motion(&["-t", "30", "wait", "in-position"]);

@@ -26,6 +26,8 @@ fn runs(dir: &str, ini: &str, more: impl FnOnce(&Machine)) -> String {
 fn home_all(m: &Machine) {
     m.motion(&["home", "-1"]);
     m.motion(&["-t", "60", "wait", "all-homed"]);
+    // Feedback settles a few cycles after the homed flags rise.
+    m.motion(&["-t", "30", "wait", "in-position"]);
 }
 
 #[test]
