@@ -9,6 +9,7 @@ pub mod haltcl;
 pub mod hostd;
 pub mod ini;
 pub mod iocontrol;
+pub mod latency;
 pub mod launch;
 pub mod launcher;
 pub mod meter;

@@ -1,0 +1,52 @@
+//! latency-test: LinuxCNC's latency test, headless (see
+//! `hal_tools::latency`).
+
+use std::io::IsTerminal;
+use std::process::ExitCode;
+
+use hal_core::userspace::ExitSignals;
+use hal_tools::latency::args::{parse, Parsed, HELP};
+use hal_tools::latency::session::Session;
+use hal_tools::latency::{measure, report, LatencyError};
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(LatencyError::Usage(m)) => {
+            eprintln!("latency-test: {m} (see latency-test --help)");
+            ExitCode::from(2)
+        }
+        Err(e) => {
+            eprintln!("latency-test: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: &[String]) -> Result<(), LatencyError> {
+    let cfg = match parse(args)? {
+        Parsed::Help => {
+            print!("{HELP}");
+            return Ok(());
+        }
+        Parsed::Run(cfg) => cfg,
+    };
+    let signals = ExitSignals::install().map_err(|e| LatencyError::Host(e.to_string()))?;
+    // A private instance: nothing else runs on it, and it goes with us.
+    let instance = format!("latency-test-{}", std::process::id());
+    let session = Session::start(&instance, &cfg)?;
+    let mut out = std::io::stdout();
+    let tty = out.is_terminal();
+    match cfg.duration {
+        Some(d) => println!(
+            "latency-test: measuring for {:.1} s (Ctrl-C ends it early)",
+            d.as_secs_f64()
+        ),
+        None => println!("latency-test: measuring until Ctrl-C"),
+    }
+    let (threads, perms) = measure(&session, &cfg, &mut out, tty, &|| signals.requested())?;
+    session.finish()?;
+    report(&threads, &perms, &cfg, &mut out)?;
+    Ok(())
+}
