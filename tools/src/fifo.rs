@@ -61,19 +61,24 @@ pub fn format_record(record: &[u64], cols: &[HalType], tag: bool) -> String {
         line.push_str(&format!("{} ", record[0].wrapping_sub(1) as u32));
     }
     for (t, bits) in cols.iter().zip(&record[1..]) {
-        let v = match Value::from_bits(*t, *bits) {
-            Value::Bit(b) => (b as u8).to_string(),
-            Value::Float(f) => fmt_f(f),
-            Value::S32(x) => x.to_string(),
-            Value::U32(x) => x.to_string(),
-            Value::S64(x) => x.to_string(),
-            Value::U64(x) => x.to_string(),
-        };
-        line.push_str(&v);
+        line.push_str(&format_value(*t, *bits));
         line.push(' ');
     }
     line.push('\n');
     line
+}
+
+/// One sampled value as halsampler prints it: floats `%f`, bits 0/1,
+/// integers in decimal.
+pub fn format_value(t: HalType, bits: u64) -> String {
+    match Value::from_bits(t, bits) {
+        Value::Bit(b) => (b as u8).to_string(),
+        Value::Float(f) => fmt_f(f),
+        Value::S32(x) => x.to_string(),
+        Value::U32(x) => x.to_string(),
+        Value::S64(x) => x.to_string(),
+        Value::U64(x) => x.to_string(),
+    }
 }
 
 /// Sign and decimal digits of a whole field, as i128 (saturated).

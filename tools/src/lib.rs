@@ -20,3 +20,4 @@ pub mod plot;
 pub mod port_probe;
 pub mod protocol;
 pub mod run_plot;
+pub mod scope;

@@ -127,7 +127,9 @@ pub fn parse(args: &[String]) -> Result<Parsed, LatencyError> {
                     .parse()
                     .ok()
                     .filter(|s: &f64| s.is_finite() && *s > 0.0 && *s < 1e9)
-                    .ok_or_else(|| usage(format!("{a}: '{v}' is not a positive number of seconds")))?;
+                    .ok_or_else(|| {
+                        usage(format!("{a}: '{v}' is not a positive number of seconds"))
+                    })?;
                 cfg.duration = Some(Duration::from_secs_f64(secs));
             }
             "--nobase" => nobase = true,
@@ -153,7 +155,11 @@ pub fn parse(args: &[String]) -> Result<Parsed, LatencyError> {
             cfg.base_ns = Some(period(base)?);
             cfg.servo_ns = period(servo)?;
         }
-        (true, _) => return Err(usage("--nobase takes at most one period, the servo's".into())),
+        (true, _) => {
+            return Err(usage(
+                "--nobase takes at most one period, the servo's".into(),
+            ))
+        }
         (false, _) => return Err(usage("at most two periods: base and servo".into())),
     }
     if nobase {

@@ -63,7 +63,9 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
     let height = SIZE.1 * n as u32 + 40;
     let root = plot::png(path, (SIZE.0, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let root = root.titled(title, ("sans-serif", 20)).map_err(|e| err(&e))?;
+    let root = root
+        .titled(title, ("sans-serif", 20))
+        .map_err(|e| err(&e))?;
     let panels = root.split_evenly((n, 1));
     let nb = shown_buckets(threads);
     let mut drawn = Drawn::default();
@@ -73,8 +75,10 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
             "{} ({}): MIN {} MAX {} US, {} CYCLES, {} OVERRUNS",
             t.name,
             period_text(t.period_ns),
-            t.min_ns.map_or("-".into(), |v| format!("{:.1}", v as f64 / 1e3)),
-            t.max_ns.map_or("-".into(), |v| format!("{:.1}", v as f64 / 1e3)),
+            t.min_ns
+                .map_or("-".into(), |v| format!("{:.1}", v as f64 / 1e3)),
+            t.max_ns
+                .map_or("-".into(), |v| format!("{:.1}", v as f64 / 1e3)),
             t.cycles,
             t.overruns
         );
@@ -105,10 +109,17 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
             let x = x_of(limit);
             if x < nb as f64 {
                 chart
-                    .draw_series(LineSeries::new([(x, 0.5), (x, top * 2.0)], RED.stroke_width(1)))
+                    .draw_series(LineSeries::new(
+                        [(x, 0.5), (x, top * 2.0)],
+                        RED.stroke_width(1),
+                    ))
                     .map_err(|e| err(&e))?;
                 chart
-                    .draw_series([Text::new(label, (x + 0.1, top * 1.5), ("sans-serif", 12).into_font().color(&RED))])
+                    .draw_series([Text::new(
+                        label,
+                        (x + 0.1, top * 1.5),
+                        ("sans-serif", 12).into_font().color(&RED),
+                    )])
                     .map_err(|e| err(&e))?;
             }
         }
@@ -122,7 +133,10 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
                 continue;
             }
             chart
-                .draw_series([Rectangle::new([(x0, 0.5), (x1, count as f64)], BAR_COLOR.filled())])
+                .draw_series([Rectangle::new(
+                    [(x0, 0.5), (x1, count as f64)],
+                    BAR_COLOR.filled(),
+                )])
                 .map_err(|e| err(&e))?;
             let (l, tp) = chart.backend_coord(&(x0, count as f64));
             let (r, bt) = chart.backend_coord(&(x1, 0.5));

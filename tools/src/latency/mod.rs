@@ -161,17 +161,14 @@ pub fn report(
         "NO REALTIME"
     };
     let title = format!("LATENCY TEST ({realtime}): {verdict_text}");
-    let drawn = histplot::draw(threads, &title, &cfg.png).map_err(|reason| {
-        LatencyError::Output {
+    let drawn =
+        histplot::draw(threads, &title, &cfg.png).map_err(|reason| LatencyError::Output {
             path: cfg.png.clone(),
             reason,
-        }
-    })?;
-    std::fs::write(&cfg.csv, report::histogram_csv(threads)).map_err(|e| {
-        LatencyError::Output {
-            path: cfg.csv.clone(),
-            reason: e.to_string(),
-        }
+        })?;
+    std::fs::write(&cfg.csv, report::histogram_csv(threads)).map_err(|e| LatencyError::Output {
+        path: cfg.csv.clone(),
+        reason: e.to_string(),
     })?;
     let _ = write!(out, "\n{}", report::summary_table(threads));
     let _ = writeln!(out, "\nverdict: {verdict_text}");

@@ -80,9 +80,10 @@ fn read_from(proc: &Path, sys: &Path, pid: u32, hal_threads: &[String]) -> Permi
         .unwrap_or_default();
     for name in hal_threads {
         let want = task_name(name);
-        let Some(task) = tasks.iter().find(|t| {
-            std::fs::read_to_string(t.join("comm")).is_ok_and(|c| c.trim_end() == want)
-        }) else {
+        let Some(task) = tasks
+            .iter()
+            .find(|t| std::fs::read_to_string(t.join("comm")).is_ok_and(|c| c.trim_end() == want))
+        else {
             continue;
         };
         let stat = std::fs::read_to_string(task.join("stat")).unwrap_or_default();
@@ -98,7 +99,8 @@ fn read_from(proc: &Path, sys: &Path, pid: u32, hal_threads: &[String]) -> Permi
     let status = std::fs::read_to_string(pdir.join("status")).unwrap_or_default();
     p.locked_kb = status_field(&status, "VmLck:")
         .and_then(|v| v.split_whitespace().next().and_then(|n| n.parse().ok()));
-    if let Some(eff) = status_field(&status, "CapEff:").and_then(|h| u64::from_str_radix(&h, 16).ok())
+    if let Some(eff) =
+        status_field(&status, "CapEff:").and_then(|h| u64::from_str_radix(&h, 16).ok())
     {
         for (bit, name) in [
             (CAP_SYS_NICE, "cap_sys_nice"),
@@ -113,7 +115,8 @@ fn read_from(proc: &Path, sys: &Path, pid: u32, hal_threads: &[String]) -> Permi
     let limits = std::fs::read_to_string(pdir.join("limits")).unwrap_or_default();
     p.rtprio_limit = soft_limit(&limits, "Max realtime priority");
     p.memlock_limit = soft_limit(&limits, "Max locked memory");
-    p.preempt_rt = std::fs::read_to_string(sys.join("kernel/realtime")).is_ok_and(|s| s.trim() == "1")
+    p.preempt_rt = std::fs::read_to_string(sys.join("kernel/realtime"))
+        .is_ok_and(|s| s.trim() == "1")
         || std::fs::read_to_string(proc.join("sys/kernel/version"))
             .is_ok_and(|v| v.contains("PREEMPT_RT"));
     let cpu = p
@@ -122,9 +125,9 @@ fn read_from(proc: &Path, sys: &Path, pid: u32, hal_threads: &[String]) -> Permi
         .and_then(|t| t.cpus.split([',', '-']).next().map(str::to_string))
         .filter(|c| !c.is_empty())
         .unwrap_or_else(|| "0".into());
-    p.governor = std::fs::read_to_string(
-        sys.join(format!("devices/system/cpu/cpu{cpu}/cpufreq/scaling_governor")),
-    )
+    p.governor = std::fs::read_to_string(sys.join(format!(
+        "devices/system/cpu/cpu{cpu}/cpufreq/scaling_governor"
+    )))
     .ok()
     .map(|s| s.trim().to_string());
     p.isolated = std::fs::read_to_string(sys.join("devices/system/cpu/isolated"))
@@ -264,8 +267,14 @@ mod tests {
             soft_limit(limits, "Max locked memory").as_deref(),
             Some("8388608 bytes")
         );
-        assert_eq!(soft_limit(limits, "Max realtime priority").as_deref(), Some("0"));
-        assert_eq!(status_field("VmLck:\t   12 kB\n", "VmLck:").as_deref(), Some("12 kB"));
+        assert_eq!(
+            soft_limit(limits, "Max realtime priority").as_deref(),
+            Some("0")
+        );
+        assert_eq!(
+            status_field("VmLck:\t   12 kB\n", "VmLck:").as_deref(),
+            Some("12 kB")
+        );
         assert_eq!(task_name("servo-thread"), "hal-servo-threa");
         assert_eq!(task_name("base"), "hal-base");
     }
@@ -289,6 +298,10 @@ mod tests {
         assert!(p.locked_kb.is_some());
         assert!(p.rtprio_limit.is_some() && p.memlock_limit.is_some());
         assert!(!p.realtime());
-        assert!(describe(&p).contains("WITHOUT realtime"), "{}", describe(&p));
+        assert!(
+            describe(&p).contains("WITHOUT realtime"),
+            "{}",
+            describe(&p)
+        );
     }
 }

@@ -105,7 +105,10 @@ pub fn parse_histogram_csv(text: &str) -> Result<Vec<(String, Vec<u64>)>, String
             return Err(format!("line {}: '{line}'", i + 2));
         }
         for (c, v) in counts.iter_mut().zip(&f[3..]) {
-            c.push(v.parse().map_err(|_| format!("line {}: bad count '{v}'", i + 2))?);
+            c.push(
+                v.parse()
+                    .map_err(|_| format!("line {}: bad count '{v}'", i + 2))?,
+            );
         }
     }
     Ok(names.into_iter().zip(counts).collect())
@@ -134,7 +137,9 @@ mod tests {
         h[17] = 1;
         let threads = [t("base-thread", h.clone()), t("servo-thread", vec![0; 64])];
         let csv = histogram_csv(&threads);
-        assert!(csv.starts_with("bucket,low_us,high_us,base-thread,servo-thread\n0,0,1,0,0\n1,1,2,10,0\n"));
+        assert!(csv.starts_with(
+            "bucket,low_us,high_us,base-thread,servo-thread\n0,0,1,0,0\n1,1,2,10,0\n"
+        ));
         assert!(csv.contains("\n17,20,24,1,0\n"), "{csv}");
         assert!(csv.ends_with(",0,0\n") && csv.lines().count() == 65);
         let back = parse_histogram_csv(&csv).unwrap();
@@ -149,9 +154,26 @@ mod tests {
         let table = summary_table(&[t("base-thread", h)]);
         let row = table.lines().nth(1).unwrap();
         let cols: Vec<&str> = row.split_whitespace().collect();
-        assert_eq!(cols, ["base-thread", "25", "us", "10", "1.2", "2.0", "2.0", "2.0", "17.9", "2"]);
+        assert_eq!(
+            cols,
+            [
+                "base-thread",
+                "25",
+                "us",
+                "10",
+                "1.2",
+                "2.0",
+                "2.0",
+                "2.0",
+                "17.9",
+                "2"
+            ]
+        );
         let live = live_line(1.0, &[t("servo-thread", vec![0; 64])]);
-        assert!(live.contains("servo-thread (25 us): min 1.2 us  max 17.9 us  overruns 2"), "{live}");
+        assert!(
+            live.contains("servo-thread (25 us): min 1.2 us  max 17.9 us  overruns 2"),
+            "{live}"
+        );
         assert_eq!(period_text(1_000_000), "1 ms");
         assert_eq!(period_text(25_000), "25 us");
     }

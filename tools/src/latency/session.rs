@@ -93,10 +93,13 @@ impl Session {
 
     /// The threads' figures now, fastest first.
     pub fn snapshot(&self) -> Result<Vec<ThreadStats>, LatencyError> {
-        let infos = self.inst.threads().map_err(|source| LatencyError::Instance {
-            instance: self.instance.clone(),
-            source,
-        })?;
+        let infos = self
+            .inst
+            .threads()
+            .map_err(|source| LatencyError::Instance {
+                instance: self.instance.clone(),
+                source,
+            })?;
         Ok(self
             .threads
             .iter()

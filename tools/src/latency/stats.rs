@@ -114,9 +114,7 @@ impl Verdict {
             Verdict::HardwareOnly => {
                 "hardware stepping only (max latency 50-500 us): no software stepping"
             }
-            Verdict::Neither => {
-                "neither software nor hardware stepping (max latency above 500 us)"
-            }
+            Verdict::Neither => "neither software nor hardware stepping (max latency above 500 us)",
         }
     }
 }

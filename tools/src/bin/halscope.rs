@@ -1,0 +1,38 @@
+//! halscope, headless: capture HAL pins to PNG, CSV or VCD (see
+//! `hal_tools::scope`).
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use hal_core::userspace::ExitSignals;
+use hal_core::{instance_from_env, Instance};
+use hal_tools::scope::args::Args;
+use hal_tools::scope::{capture, title, write_outputs, ScopeError};
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(ScopeError::Usage(m)) => {
+            eprintln!("halscope: {m} (see halscope --help)");
+            ExitCode::from(2)
+        }
+        Err(e) => {
+            eprintln!("halscope: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), ScopeError> {
+    let req = Args::parse().request()?;
+    let signals = ExitSignals::install().map_err(|e| ScopeError::Hal(e.to_string()))?;
+    let name = instance_from_env();
+    let inst =
+        Instance::attach(&name).map_err(|e| ScopeError::Hal(format!("instance '{name}': {e}")))?;
+    let record = capture(&inst, &req, &|| signals.requested())?;
+    write_outputs(&record, &req, &title(&record, &req))?;
+    for (path, _) in &req.outputs {
+        println!("halscope: wrote {}", path.display());
+    }
+    Ok(())
+}
