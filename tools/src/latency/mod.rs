@@ -160,7 +160,14 @@ pub fn report(
     } else {
         "NO REALTIME"
     };
-    let title = format!("LATENCY TEST ({realtime}): {verdict_text}");
+    let title = match verdict {
+        Some((v, max)) => format!(
+            "LATENCY TEST ({realtime}): MAX {:.1} US: {}",
+            max as f64 / 1000.0,
+            v.short()
+        ),
+        None => format!("LATENCY TEST ({realtime}): NO CYCLES"),
+    };
     let drawn =
         histplot::draw(threads, &title, &cfg.png).map_err(|reason| LatencyError::Output {
             path: cfg.png.clone(),

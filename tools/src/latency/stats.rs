@@ -101,6 +101,16 @@ impl Verdict {
         }
     }
 
+    /// A few words for the plot's title.
+    pub fn short(self) -> &'static str {
+        match self {
+            Verdict::SoftwareStepping => "SOFTWARE STEPPING OK",
+            Verdict::SoftwareSteppingSlow => "SOFTWARE STEPPING AT LOW STEP RATES",
+            Verdict::HardwareOnly => "HARDWARE STEPPING ONLY",
+            Verdict::Neither => "NEITHER SOFTWARE NOR HARDWARE STEPPING",
+        }
+    }
+
     /// One plain sentence.
     pub fn sentence(self) -> &'static str {
         match self {

@@ -21,6 +21,16 @@ const COLORS: [RGBColor; 4] = [
     RGBColor(120, 40, 160),
 ];
 
+/// An axis label with up to three decimals, without a sign on zero.
+fn axis_label(y: &f64) -> String {
+    let s = format!("{y:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    match s {
+        "-0" | "" => "0".to_string(),
+        s => s.to_string(),
+    }
+}
+
 /// Draws `r` into a PNG at `path` titled `title`.
 pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("{path}: {e}");
@@ -75,6 +85,8 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
         if bit {
             mesh.y_labels(2)
                 .y_label_formatter(&|y| if *y > 0.5 { "1".into() } else { "0".into() });
+        } else {
+            mesh.y_label_formatter(&axis_label);
         }
         if m + 1 == r.names.len() {
             mesh.x_desc("MS FROM TRIGGER");
@@ -113,4 +125,17 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
     }
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_labels_are_short_and_zero_has_no_sign() {
+        assert_eq!(axis_label(&-0.00001), "0");
+        assert_eq!(axis_label(&0.2), "0.2");
+        assert_eq!(axis_label(&-1.0), "-1");
+        assert_eq!(axis_label(&1234.5678), "1234.568");
+    }
 }
