@@ -142,6 +142,7 @@ fn rules_runtime_directory_and_limits_are_installed() {
         ["@hal - rtprio 99", "@hal - memlock unlimited"]
     );
     assert!(read("../udev/60-hal-suite.rules").contains("GROUP=\"hal\""));
+    assert_eq!(dest_of("../packaging/man/*.1"), "usr/share/man/man1/");
     let depends = deb["depends"].as_str().unwrap();
     assert!(
         depends.contains("libcap2-bin") && depends.contains("adduser"),
