@@ -15,7 +15,9 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
 
 fn render(cmd: clap::Command) -> Vec<u8> {
     let mut out = Vec::new();
-    clap_mangen::Man::new(cmd).render(&mut out).expect("renders");
+    clap_mangen::Man::new(cmd)
+        .render(&mut out)
+        .expect("renders");
     out
 }
 
