@@ -51,7 +51,8 @@ pub struct Args {
     /// Output files; the extension picks the format: .png, .csv, .vcd.
     #[arg(long, required = true)]
     pub out: Vec<PathBuf>,
-    /// Give up when no trigger came after this many seconds.
+    /// Give up when no trigger came after this many seconds (plus the
+    /// time the record takes).
     #[arg(long, default_value_t = 10.0)]
     pub timeout: f64,
 }

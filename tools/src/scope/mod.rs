@@ -104,7 +104,10 @@ pub fn capture(
     }
     let mut cap = Capture::new(req.samples, req.pre, trigger);
     let mut seen_overruns = overruns();
-    let end = Instant::now() + req.timeout;
+    // The timeout is for the trigger: the record itself takes its time.
+    let record_time =
+        Duration::from_nanos((req.samples as u64).saturating_mul(probe.period_ns.max(0) as u64));
+    let end = Instant::now() + req.timeout + record_time;
     loop {
         let mut got = false;
         while !cap.done() && ring.pop(&mut record) {
