@@ -150,3 +150,51 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
     root.present().map_err(|e| err(&e))?;
     Ok(drawn)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stats(name: &str, hist: &[(usize, u64)]) -> ThreadStats {
+        let mut histogram = vec![0u64; 64];
+        for &(b, n) in hist {
+            histogram[b] = n;
+        }
+        ThreadStats {
+            name: name.into(),
+            period_ns: 25_000,
+            cycles: histogram.iter().sum(),
+            overruns: 0,
+            min_ns: Some(1_500),
+            max_ns: Some(30_000),
+            histogram,
+        }
+    }
+
+    #[test]
+    fn one_bar_per_non_empty_bucket_taller_for_more_wake_ups() {
+        let threads = [
+            stats("base-thread", &[(1, 1000), (2, 10), (20, 1)]),
+            stats("servo-thread", &[(3, 5)]),
+        ];
+        let path = std::env::temp_dir().join(format!("histplot-{}.png", std::process::id()));
+        let drawn = draw(&threads, "TEST", path.to_str().unwrap()).unwrap();
+        let png = std::fs::read(&path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+        let buckets: Vec<(usize, usize)> =
+            drawn.bars.iter().map(|b| (b.thread, b.bucket)).collect();
+        assert_eq!(buckets, [(0, 1), (0, 2), (0, 20), (1, 3)]);
+        let height = |i: usize| drawn.bars[i].rect.3 - drawn.bars[i].rect.1;
+        // Log scale: 1000 wake-ups stand taller than 10, 10 taller than 1.
+        assert!(
+            height(0) > height(1) && height(1) > height(2),
+            "{:?}",
+            drawn.bars
+        );
+        // Every bucket up to the 50 us threshold is shown, empty or not.
+        let shown = shown_buckets(&threads);
+        assert!(shown > latency_bucket(50_000));
+        assert_eq!(drawn.bars.len() + drawn.empty.len(), 2 * shown);
+    }
+}

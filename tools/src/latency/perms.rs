@@ -282,13 +282,18 @@ mod tests {
     #[test]
     fn this_process_reads_as_a_host() {
         // A thread named like a HAL thread's executor, in this process.
+        // std names a thread from inside it, before the closure runs: the
+        // closure says when it runs.
         let (tx, rx) = std::sync::mpsc::channel::<()>();
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel::<()>();
         let t = std::thread::Builder::new()
             .name("hal-perm-test".into())
             .spawn(move || {
+                let _ = ready_tx.send(());
                 let _ = rx.recv();
             })
             .unwrap();
+        ready_rx.recv().unwrap();
         let p = read(std::process::id(), &["perm-test".to_string()]);
         tx.send(()).unwrap();
         t.join().unwrap();
