@@ -15,7 +15,9 @@ pub mod crc;
 pub mod error;
 pub mod line;
 pub mod modbus;
+pub mod opts;
 pub mod regs;
 pub mod sim;
+pub mod vfd;
 
 pub use error::{Result, SerialError};
