@@ -173,7 +173,7 @@ impl<L: SerialLine> Master<L> {
                 Ok(())
             }
             Err(e) => {
-                self.down_reason = e.to_string();
+                self.down_reason = why_down(&e);
                 self.reopen_at = Some(self.line.now() + self.config.reopen_interval);
                 Err(down(self))
             }
@@ -182,7 +182,7 @@ impl<L: SerialLine> Master<L> {
 
     fn line_failed(&mut self, e: SerialError) -> SerialError {
         self.stats.line_failures += 1;
-        self.down_reason = e.to_string();
+        self.down_reason = why_down(&e);
         self.reopen_at = Some(self.line.now() + self.config.reopen_interval);
         e
     }
@@ -263,6 +263,15 @@ impl<L: SerialLine> Master<L> {
             }
             got += n;
         }
+    }
+}
+
+/// Why the line is down, without repeating the device's name.
+fn why_down(e: &SerialError) -> String {
+    match e {
+        SerialError::Io { op, source, .. } => format!("{op} failed: {source}"),
+        SerialError::Open { reason, .. } => reason.clone(),
+        other => other.to_string(),
     }
 }
 

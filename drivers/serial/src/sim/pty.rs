@@ -7,14 +7,18 @@
 //! `/dev/serial/by-id/...` name, the link points at it again).
 
 use std::collections::VecDeque;
-use std::io::{Read, Write};
+use std::os::fd::{AsFd, OwnedFd};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use serialport::{SerialPort, TTYPort};
+use nix::fcntl::OFlag;
+use nix::poll::{PollFd, PollFlags, PollTimeout};
+use nix::pty::PtyMaster;
+use nix::sys::stat::Mode;
+use nix::sys::termios::{cfmakeraw, tcgetattr, tcsetattr, SetArg};
 
 use super::VfdSim;
 
@@ -22,11 +26,17 @@ use super::VfdSim;
 /// clock again.
 const POLL: Duration = Duration::from_millis(2);
 
+/// One pseudo-terminal pair.
+struct Pair {
+    master: PtyMaster,
+    /// A slave descriptor held open, so the pair lives while the
+    /// component under test closes and reopens its side.
+    _slave: OwnedFd,
+}
+
 struct State {
     sim: VfdSim,
-    /// The pty master and a slave descriptor held open, so the pair lives
-    /// while the component under test closes and reopens its side.
-    pair: Option<(TTYPort, TTYPort)>,
+    pair: Option<Pair>,
     path: String,
     link: Option<PathBuf>,
     pending: VecDeque<(Duration, Vec<u8>)>,
@@ -44,12 +54,49 @@ pub struct PtyVfd {
     thread: Option<JoinHandle<()>>,
 }
 
-fn open_pair() -> std::io::Result<(TTYPort, TTYPort, String)> {
-    let (master, slave) = TTYPort::pair().map_err(std::io::Error::from)?;
-    let path = slave
-        .name()
-        .ok_or_else(|| std::io::Error::other("the pty slave has no name"))?;
-    Ok((master, slave, path))
+/// A new pair in raw mode. Both descriptors are close-on-exec: a
+/// process started later (the component under test) must not hold the
+/// master, or closing it here would not hang up the slave.
+fn open_pair() -> std::io::Result<(Pair, String)> {
+    let master = nix::pty::posix_openpt(OFlag::O_RDWR | OFlag::O_NOCTTY | OFlag::O_CLOEXEC)?;
+    nix::pty::grantpt(&master)?;
+    nix::pty::unlockpt(&master)?;
+    let path = nix::pty::ptsname_r(&master)?;
+    let slave = nix::fcntl::open(
+        path.as_str(),
+        OFlag::O_RDWR | OFlag::O_NOCTTY | OFlag::O_CLOEXEC,
+        Mode::empty(),
+    )?;
+    let mut t = tcgetattr(&slave)?;
+    cfmakeraw(&mut t);
+    tcsetattr(&slave, SetArg::TCSANOW, &t)?;
+    Ok((
+        Pair {
+            master,
+            _slave: slave,
+        },
+        path,
+    ))
+}
+
+/// Waits up to `wait` for bytes from the master side; what came.
+fn read_some(master: &PtyMaster, buf: &mut [u8], wait: Duration) -> usize {
+    let timeout = PollTimeout::try_from(wait).unwrap_or(PollTimeout::MAX);
+    let mut fds = [PollFd::new(master.as_fd(), PollFlags::POLLIN)];
+    match nix::poll::poll(&mut fds, timeout) {
+        Ok(n) if n > 0 => nix::unistd::read(master, buf).unwrap_or(0),
+        _ => 0,
+    }
+}
+
+/// Writes all of `bytes` to the master side (the slave's input queue).
+fn write_all(master: &PtyMaster, mut bytes: &[u8]) {
+    while !bytes.is_empty() {
+        match nix::unistd::write(master, bytes) {
+            Ok(0) | Err(_) => return,
+            Ok(n) => bytes = &bytes[n..],
+        }
+    }
 }
 
 fn place_link(link: &Path, target: &str) -> std::io::Result<()> {
@@ -75,14 +122,14 @@ impl PtyVfd {
     }
 
     fn start_inner(sim: VfdSim, link: Option<PathBuf>) -> std::io::Result<PtyVfd> {
-        let (master, slave, path) = open_pair()?;
+        let (pair, path) = open_pair()?;
         if let Some(l) = &link {
             place_link(l, &path)?;
         }
         let inner = Arc::new(Inner {
             state: Mutex::new(State {
                 sim,
-                pair: Some((master, slave)),
+                pair: Some(pair),
                 path,
                 link,
                 pending: VecDeque::new(),
@@ -139,12 +186,12 @@ impl PtyVfd {
     /// Plugs it back on a new pair; the link follows. Returns the new
     /// pty slave.
     pub fn replug(&self) -> std::io::Result<String> {
-        let (master, slave, path) = open_pair()?;
+        let (pair, path) = open_pair()?;
         let mut st = self.lock();
         if let Some(l) = &st.link {
             place_link(l, &path)?;
         }
-        st.pair = Some((master, slave));
+        st.pair = Some(pair);
         st.path = path.clone();
         st.sim.set_unplugged(false);
         Ok(path)
@@ -184,7 +231,7 @@ fn serve(inner: &Inner) {
 /// sleep outside it (None: just let others have the lock).
 fn serve_once(epoch: Instant, st: &mut State, buf: &mut [u8]) -> Option<Duration> {
     let now = epoch.elapsed();
-    let Some((master, _)) = st.pair.as_mut() else {
+    let Some(pair) = st.pair.as_ref() else {
         st.sim.advance_to(now.as_nanos() as u64);
         return Some(POLL);
     };
@@ -192,10 +239,7 @@ fn serve_once(epoch: Instant, st: &mut State, buf: &mut [u8]) -> Option<Duration
         .pending
         .front()
         .map_or(POLL, |(due, _)| due.saturating_sub(now).min(POLL));
-    let got = match master.set_timeout(wait) {
-        Ok(()) => master.read(buf).unwrap_or(0),
-        Err(_) => 0,
-    };
+    let got = read_some(&pair.master, buf, wait);
     let now = epoch.elapsed();
     let now_ns = now.as_nanos() as u64;
     st.sim.feed(&buf[..got], now_ns);
@@ -204,7 +248,9 @@ fn serve_once(epoch: Instant, st: &mut State, buf: &mut [u8]) -> Option<Duration
     }
     while st.pending.front().is_some_and(|(due, _)| *due <= now) {
         if let Some((_, bytes)) = st.pending.pop_front() {
-            let _ = master.write_all(&bytes);
+            if let Some(pair) = &st.pair {
+                write_all(&pair.master, &bytes);
+            }
         }
     }
     None
