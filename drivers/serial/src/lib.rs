@@ -13,6 +13,7 @@
 
 pub mod crc;
 pub mod error;
+pub mod fuzzing;
 pub mod line;
 pub mod modbus;
 pub mod opts;

@@ -2,7 +2,8 @@
 //! layer's shape (hal-driver's guide, §1): accessors that describe it and
 //! count its errors, a real backend ([`TtyLine`], on the `serialport`
 //! crate) and a simulated one ([`SimLine`], a VFD model on simulated
-//! time). The Modbus master never knows which it has.
+//! time). The Modbus master never knows which it has. [`ScriptLine`]
+//! plays back fixed bytes, for exact-reply tests and the fuzz targets.
 //!
 //! The line also owns time, because RTU framing is timing: the silence
 //! between frames ([`SerialLine::idle`]) and the reply timeouts pass on
@@ -10,12 +11,14 @@
 //! is simulated time, so a test of timeouts and retries takes no wall
 //! time at all.
 
+mod script;
 mod settings;
 mod sim;
 mod tty;
 
 use std::time::Duration;
 
+pub use script::ScriptLine;
 pub use settings::{LineSettings, Parity};
 pub use sim::SimLine;
 pub use tty::TtyLine;
