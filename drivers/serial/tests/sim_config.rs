@@ -1,0 +1,72 @@
+//! configs/sim/spindle-vfd.hal, run as halrun runs it (a host serving the
+//! instance, a halcmd session reading the file, `loadusr` starting the
+//! real hy_vfd program): the simulated spindle comes up to speed.
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use hal_core::{HostConfig, Instance, Value};
+
+#[test]
+fn the_spindle_vfd_config_runs_without_hardware() {
+    let mut cfg = HostConfig::for_tests("vfd-config");
+    cfg.shm_size = 8 << 20;
+    let name = cfg.instance.clone();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let host = std::thread::spawn(move || {
+        hal_tools::hostd::serve(cfg, move || {
+            let _ = tx.send(());
+        })
+        .expect("the host serves");
+    });
+    rx.recv_timeout(Duration::from_secs(60))
+        .expect("host ready");
+    let inst = Instance::attach(&name).unwrap();
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/sim/spindle-vfd.hal");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    {
+        let mut session = hal_tools::halcmd::Session::new(
+            inst.clone(),
+            hal_tools::halcmd::Options::default(),
+            &mut out,
+            &mut err,
+        );
+        assert!(session.run_text(Some("spindle-vfd.hal"), &text));
+        // The file waits a second; a loaded machine may need longer.
+        let end = Instant::now() + Duration::from_secs(60);
+        while inst.pin_value("spindle-vfd.spindle-at-speed").unwrap() != Value::Bit(true) {
+            assert!(Instant::now() < end, "the spindle never reached its speed");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let fb = inst.pin_value("spindle-vfd.spindle-speed-fb").unwrap();
+        assert!(
+            matches!(fb, Value::Float(v) if (v - 12_000.0).abs() < 240.0),
+            "{fb:?}"
+        );
+        assert_eq!(
+            inst.pin_value("spindle-vfd.modbus-ok").unwrap(),
+            Value::Bit(true)
+        );
+        assert_eq!(
+            inst.pin_value("spindle-vfd.fault").unwrap(),
+            Value::Bit(false)
+        );
+    }
+    let out = String::from_utf8_lossy(&out);
+    let err = String::from_utf8_lossy(&err);
+    assert!(out.contains("spindle-vfd.OutF"), "{out}\n{err}");
+    assert!(out.contains("spindle-rpm"), "{out}");
+    assert!(out.contains("400  spindle-vfd.max-freq"), "{out}");
+    assert!(out.contains("24000  spindle-vfd.rated-motor-rev"), "{out}");
+    // The session ended the component with it.
+    let end = Instant::now() + Duration::from_secs(60);
+    while inst.component("spindle-vfd").unwrap().is_some() {
+        assert!(Instant::now() < end, "hy_vfd did not leave");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    drop(inst);
+    hal_tools::launch::stop_host(&name, Duration::from_secs(20)).unwrap();
+    host.join().unwrap();
+}
