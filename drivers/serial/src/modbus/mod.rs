@@ -3,7 +3,7 @@
 //! * [`frame`]: building requests, finding the end of a reply, checking
 //!   it (CRC, address, function, exception).
 //! * [`Master`]: one transaction at a time on a
-//!   [`SerialLine`](crate::line::SerialLine): the silence before each
+//!   [`SerialLine`]: the silence before each
 //!   request (3.5 characters, or 1.75 ms above 19 200 baud), the reply
 //!   and byte timeouts, retries of lost or garbled replies and of busy
 //!   slaves, and reopening a line that failed.
