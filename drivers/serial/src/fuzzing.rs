@@ -78,7 +78,7 @@ pub fn slave_request(bytes: &[u8]) {
                 500_000
             };
             sim.feed(piece, now);
-            for at in [now, now + 5_000_000] {
+            for at in [now, now + 2_500_000] {
                 if let Some(reply) = sim.poll(at) {
                     assert!(crc::is_valid(&reply.bytes), "{:02X?}", reply.bytes);
                     assert_eq!(reply.bytes[0], 1);

@@ -9,20 +9,12 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use common::*;
-use hal_core::{Component, ComponentKind, Host, Instance, PinDir, Value};
-use hal_serial::line::{LineSettings, Parity, SerialLine, SimLine};
+use hal_core::{PinDir, Value};
+use hal_serial::line::{LineSettings, Parity, SimLine};
 use hal_serial::regs::gt;
-use hal_serial::sim::{RunCommand, VfdSim};
+use hal_serial::sim::RunCommand;
 use hal_serial::vfd::gt::{parse_options, sim_drive, GtOptions, GtVfd};
 use hal_serial::vfd::Cycle;
-
-struct Rig {
-    _host: Host,
-    inst: Instance,
-    _comp: Component,
-    sim: Arc<Mutex<VfdSim>>,
-    vfd: GtVfd<SimLine>,
-}
 
 fn args(a: &[&str]) -> Vec<String> {
     a.iter().map(|s| s.to_string()).collect()
@@ -30,52 +22,18 @@ fn args(a: &[&str]) -> Vec<String> {
 
 const CLI: &[&str] = &["-S", "24000", "-F", "400", "-f", "120"];
 
-fn rig(tag: &str) -> Rig {
-    let host = host(tag);
-    let inst = host.instance().clone();
+type GtRig = Rig<GtVfd<SimLine>>;
+
+fn rig(tag: &str) -> GtRig {
     let opts: GtOptions = parse_options(&args(CLI)).unwrap().unwrap();
     let sim = Arc::new(Mutex::new(sim_drive(&opts)));
-    let comp = inst.new_component(&opts.name, ComponentKind::User).unwrap();
-    let vfd = GtVfd::new(&comp, opts, line(&sim)).unwrap();
-    comp.ready().unwrap();
-    Rig {
-        _host: host,
-        inst,
-        _comp: comp,
-        sim,
-        vfd,
-    }
+    let name = opts.name.clone();
+    Rig::new(tag, &name, sim, |comp, line| {
+        GtVfd::new(comp, opts, line).unwrap()
+    })
 }
 
-impl Rig {
-    fn cycle(&mut self) {
-        self.vfd.cycle();
-        let p = self.vfd.period();
-        self.vfd.master_mut().line_mut().idle(p);
-    }
-
-    fn cycles(&mut self, n: usize) {
-        for _ in 0..n {
-            self.cycle();
-        }
-    }
-
-    fn set(&self, pin: &str, v: Value) {
-        set(&self.inst, &format!("hy_gt_vfd.{pin}"), v);
-    }
-
-    fn float(&self, pin: &str) -> f64 {
-        float(&self.inst, &format!("hy_gt_vfd.{pin}"))
-    }
-
-    fn bit(&self, pin: &str) -> bool {
-        bit(&self.inst, &format!("hy_gt_vfd.{pin}"))
-    }
-
-    fn get(&self, pin: &str) -> Value {
-        get(&self.inst, &format!("hy_gt_vfd.{pin}"))
-    }
-
+impl GtRig {
     fn run(&self, rpm: f64) {
         self.set("spindle-on", Value::Bit(true));
         self.set("speed-cmd", Value::Float(rpm));
@@ -263,9 +221,9 @@ fn a_dead_drive_ends_the_cycle_and_raises_fault_then_recovers() {
     r.cycles(10);
     lock(&r.sim).faults.dead = true;
     take_requests(&r.sim);
-    let t0 = r.vfd.master_mut().line().now();
+    let t0 = r.now();
     r.vfd.cycle();
-    let took = r.vfd.master_mut().line().now() - t0;
+    let took = r.now() - t0;
     assert_eq!(
         take_requests(&r.sim).len(),
         6,

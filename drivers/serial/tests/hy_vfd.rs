@@ -4,79 +4,35 @@
 
 mod common;
 
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use common::*;
-use hal_core::{Component, ComponentKind, Host, Instance, PinDir, Value};
-use hal_serial::line::{LineSettings, Parity, SerialLine, SimLine};
-use hal_serial::sim::{Protocol, VfdSim};
+use hal_core::{PinDir, Value};
+use hal_serial::line::{LineSettings, Parity, SimLine};
+use hal_serial::sim::Protocol;
 use hal_serial::vfd::hy::{parse_options, HyOptions, HyVfd};
 use hal_serial::vfd::Cycle;
-
-struct Rig {
-    _host: Host,
-    inst: Instance,
-    _comp: Component,
-    sim: Arc<Mutex<VfdSim>>,
-    vfd: HyVfd<SimLine>,
-}
 
 fn args(a: &[&str]) -> Vec<String> {
     a.iter().map(|s| s.to_string()).collect()
 }
 
-fn rig_with(tag: &str, cli: &[&str]) -> Rig {
-    let host = host(tag);
-    let inst = host.instance().clone();
+type HyRig = Rig<HyVfd<SimLine>>;
+
+fn rig_with(tag: &str, cli: &[&str]) -> HyRig {
     let opts: HyOptions = parse_options(&args(cli)).unwrap().unwrap();
     let sim = drive(Protocol::Hy, opts.serial.settings);
-    let comp = inst.new_component(&opts.name, ComponentKind::User).unwrap();
-    let vfd = HyVfd::new(&comp, opts, line(&sim)).unwrap();
-    comp.ready().unwrap();
-    Rig {
-        _host: host,
-        inst,
-        _comp: comp,
-        sim,
-        vfd,
-    }
+    let name = opts.name.clone();
+    Rig::new(tag, &name, sim, |comp, line| {
+        HyVfd::new(comp, opts, line).unwrap()
+    })
 }
 
-fn rig(tag: &str) -> Rig {
+fn rig(tag: &str) -> HyRig {
     rig_with(tag, &[])
 }
 
-impl Rig {
-    /// One cycle, then the period passes on the line's clock.
-    fn cycle(&mut self) {
-        self.vfd.cycle();
-        let p = self.vfd.period();
-        self.vfd.master_mut().line_mut().idle(p);
-    }
-
-    fn cycles(&mut self, n: usize) {
-        for _ in 0..n {
-            self.cycle();
-        }
-    }
-
-    fn set(&self, pin: &str, v: Value) {
-        set(&self.inst, &format!("hy_vfd.{pin}"), v);
-    }
-
-    fn float(&self, pin: &str) -> f64 {
-        float(&self.inst, &format!("hy_vfd.{pin}"))
-    }
-
-    fn bit(&self, pin: &str) -> bool {
-        bit(&self.inst, &format!("hy_vfd.{pin}"))
-    }
-
-    fn get(&self, pin: &str) -> Value {
-        get(&self.inst, &format!("hy_vfd.{pin}"))
-    }
-
+impl HyRig {
     fn run_forward(&self, rpm: f64) {
         self.set("enable", Value::Bit(true));
         self.set("spindle-on", Value::Bit(true));
@@ -378,9 +334,9 @@ fn a_dead_drive_raises_fault_and_recovers() {
     r.cycles(10);
     assert!(r.bit("spindle-at-speed") && r.bit("hycomm-ok"));
     lock(&r.sim).faults.dead = true;
-    let t0 = r.vfd.master_mut().line().now();
+    let t0 = r.now();
     r.vfd.cycle();
-    let took = r.vfd.master_mut().line().now() - t0;
+    let took = r.now() - t0;
     // One status read, three attempts of 100 ms, and the cycle ends.
     assert!(took < Duration::from_millis(350), "{took:?}");
     assert!(!r.bit("modbus-ok") && r.bit("fault") && !r.bit("hycomm-ok"));

@@ -28,10 +28,9 @@
 
 use std::time::Duration;
 
-use hal_core::userspace::ExitSignals;
-use hal_core::{Component, ComponentKind, In, Instance, Out, Pin};
+use hal_core::{Component, In, Out, Pin};
 
-use super::{fatal, open_line, run, Cycle, Link, SerialOptions, SERIAL_SPECS};
+use super::{options_or_exit, serve, Cycle, Link, SerialOptions, SERIAL_SPECS};
 use crate::error::{Result, SerialError};
 use crate::line::{LineSettings, Parity, SerialLine};
 use crate::modbus::{Master, MasterConfig};
@@ -366,35 +365,21 @@ impl<L: SerialLine> Cycle for GtVfd<L> {
 /// line, attaches to the HAL instance and runs until told to stop.
 /// Returns the exit status.
 pub fn main(args: &[String]) -> i32 {
-    let program = NAME;
-    let o = match parse_options(args.get(1..).unwrap_or(&[])) {
-        Ok(Some(o)) => o,
-        Ok(None) => {
-            print!("{USAGE}");
-            return 0;
-        }
-        Err(e) => {
-            eprint!("{USAGE}");
-            return fatal(program, &e);
-        }
+    let parsed = parse_options(args.get(1..).unwrap_or(&[]));
+    let o = match options_or_exit(NAME, USAGE, parsed) {
+        Ok(o) => o,
+        Err(status) => return status,
     };
-    let run_it = || -> Result<()> {
-        let exit = ExitSignals::install()?;
-        let opened = open_line(&o.serial, || sim_drive(&o))?;
-        println!(
-            "{}: device='{}', {}, address={}",
-            o.name, o.serial.device, o.serial.settings, o.serial.slave
-        );
-        let inst = Instance::attach_default()?;
-        let comp = inst.new_component(&o.name, ComponentKind::User)?;
-        let mut vfd = GtVfd::new(&comp, o.clone(), opened.line)?;
-        comp.ready()?;
-        run(&mut vfd, &inst, &exit);
-        drop(opened.sim);
-        Ok(())
-    };
-    match run_it() {
-        Ok(()) => 0,
-        Err(e) => fatal(program, &e),
-    }
+    let banner = format!(
+        "{}: device='{}', {}, address={}",
+        o.name, o.serial.device, o.serial.settings, o.serial.slave
+    );
+    serve(
+        NAME,
+        &o.name,
+        &o.serial,
+        Some(banner),
+        || sim_drive(&o),
+        |comp, line| GtVfd::new(comp, o.clone(), line),
+    )
 }

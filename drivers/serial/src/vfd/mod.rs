@@ -183,3 +183,52 @@ pub fn fatal(program: &str, e: &SerialError) -> i32 {
     eprintln!("{program}: ERROR: {e}");
     1
 }
+
+/// The parsed options, or the exit status when the usage was asked for
+/// (0) or the command line is refused (1, with the usage and why).
+pub fn options_or_exit<O>(program: &str, usage: &str, parsed: Result<Option<O>>) -> Result<O, i32> {
+    match parsed {
+        Ok(Some(o)) => Ok(o),
+        Ok(None) => {
+            print!("{usage}");
+            Err(0)
+        }
+        Err(e) => {
+            eprint!("{usage}");
+            Err(fatal(program, &e))
+        }
+    }
+}
+
+/// The rest of a component program: opens the line (or the simulated
+/// drive `make_sim` builds, for `-d sim`), prints `banner` if any,
+/// attaches to the HAL instance, makes component `name` with `build`,
+/// marks it ready and runs it until told to stop. The exit status.
+pub fn serve<V: Cycle>(
+    program: &str,
+    name: &str,
+    serial: &SerialOptions,
+    banner: Option<String>,
+    make_sim: impl FnOnce() -> VfdSim,
+    build: impl FnOnce(&hal_core::Component, Box<dyn SerialLine>) -> hal_core::Result<V>,
+) -> i32 {
+    let run_it = || -> Result<()> {
+        let exit = ExitSignals::install()?;
+        let opened = open_line(serial, make_sim)?;
+        if let Some(b) = banner {
+            println!("{b}");
+        }
+        let inst = Instance::attach_default()?;
+        let comp = inst.new_component(name, hal_core::ComponentKind::User)?;
+        let mut vfd = build(&comp, opened.line)?;
+        comp.ready()?;
+        run(&mut vfd, &inst, &exit);
+        drop(vfd);
+        drop(opened.sim);
+        Ok(())
+    };
+    match run_it() {
+        Ok(()) => 0,
+        Err(e) => fatal(program, &e),
+    }
+}

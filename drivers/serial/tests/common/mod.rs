@@ -3,11 +3,98 @@
 #![allow(dead_code)]
 
 use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
 
-use hal_core::{Host, HostConfig, Instance, PinDir, Value};
+use hal_core::{Component, ComponentKind, Host, HostConfig, Instance, PinDir, Value};
+use hal_driver::sim::SimClock;
 use hal_serial::crc;
 use hal_serial::line::{LineSettings, SimLine};
 use hal_serial::sim::{Protocol, VfdSim};
+use hal_serial::vfd::Cycle;
+
+/// A component on the simulated drive, in an instance of its own, on
+/// simulated time.
+pub struct Rig<V: Cycle> {
+    _host: Host,
+    /// The instance.
+    pub inst: Instance,
+    _comp: Component,
+    /// The drive.
+    pub sim: Arc<Mutex<VfdSim>>,
+    /// The component.
+    pub vfd: V,
+    clock: Arc<SimClock>,
+    prefix: String,
+}
+
+impl<V: Cycle> Rig<V> {
+    /// Makes component `prefix` with `build` on a line to `sim`.
+    pub fn new(
+        tag: &str,
+        prefix: &str,
+        sim: Arc<Mutex<VfdSim>>,
+        build: impl FnOnce(&Component, SimLine) -> V,
+    ) -> Rig<V> {
+        let host = host(tag);
+        let inst = host.instance().clone();
+        let comp = inst.new_component(prefix, ComponentKind::User).unwrap();
+        let line = line(&sim);
+        let clock = line.clock().clone();
+        let vfd = build(&comp, line);
+        comp.ready().unwrap();
+        Rig {
+            _host: host,
+            inst,
+            _comp: comp,
+            sim,
+            vfd,
+            clock,
+            prefix: prefix.to_string(),
+        }
+    }
+
+    /// One cycle, then the period passes.
+    pub fn cycle(&mut self) {
+        self.vfd.cycle();
+        self.clock.advance(self.vfd.period().as_nanos() as u64);
+    }
+
+    /// `n` cycles.
+    pub fn cycles(&mut self, n: usize) {
+        for _ in 0..n {
+            self.cycle();
+        }
+    }
+
+    /// The line's clock.
+    pub fn now(&self) -> Duration {
+        Duration::from_nanos(self.clock.peek())
+    }
+
+    fn pin(&self, pin: &str) -> String {
+        format!("{}.{pin}", self.prefix)
+    }
+
+    /// Sets one of the component's pins.
+    pub fn set(&self, pin: &str, v: Value) {
+        set(&self.inst, &self.pin(pin), v);
+    }
+
+    /// Reads one of the component's float pins.
+    pub fn float(&self, pin: &str) -> f64 {
+        float(&self.inst, &self.pin(pin))
+    }
+
+    /// Reads one of the component's bit pins.
+    pub fn bit(&self, pin: &str) -> bool {
+        bit(&self.inst, &self.pin(pin))
+    }
+
+    /// Reads one of the component's pins.
+    pub fn get(&self, pin: &str) -> Value {
+        get(&self.inst, &self.pin(pin))
+    }
+}
 
 /// A host of its own for one test.
 pub fn host(tag: &str) -> Host {

@@ -41,15 +41,11 @@ mod cycle;
 mod options;
 mod pins;
 
-use hal_core::userspace::ExitSignals;
-use hal_core::{ComponentKind, Instance};
-
 pub use cycle::HyVfd;
 pub use options::{component_name, parse_options, HyOptions, RATES, USAGE};
 pub use pins::{HyPins, CNST_PINS, STATUS_PINS};
 
-use super::{fatal, open_line, run};
-use crate::error::Result;
+use super::{options_or_exit, serve};
 use crate::sim::{Protocol, VfdSim};
 
 /// The program's and component's default name.
@@ -65,40 +61,27 @@ pub fn sim_drive(o: &HyOptions) -> VfdSim {
 /// line, attaches to the HAL instance and runs until told to stop.
 /// Returns the exit status.
 pub fn main(args: &[String]) -> i32 {
-    let o = match parse_options(args.get(1..).unwrap_or(&[])) {
-        Ok(Some(o)) => o,
-        Ok(None) => {
-            print!("{USAGE}");
-            return 0;
-        }
-        Err(e) => {
-            eprint!("{USAGE}");
-            return fatal(NAME, &e);
-        }
+    let parsed = parse_options(args.get(1..).unwrap_or(&[]));
+    let o = match options_or_exit(NAME, USAGE, parsed) {
+        Ok(o) => o,
+        Err(status) => return status,
     };
-    let run_it = || -> Result<()> {
-        let exit = ExitSignals::install()?;
-        let opened = open_line(&o.serial, || sim_drive(&o))?;
-        if o.serial.master.debug {
-            println!(
-                "{}: device='{}', {}, address={}, PID={}",
-                o.name,
-                o.serial.device,
-                o.serial.settings,
-                o.serial.slave,
-                std::process::id()
-            );
-        }
-        let inst = Instance::attach_default()?;
-        let comp = inst.new_component(&o.name, ComponentKind::User)?;
-        let mut vfd = HyVfd::new(&comp, o.clone(), opened.line)?;
-        comp.ready()?;
-        run(&mut vfd, &inst, &exit);
-        drop(opened.sim);
-        Ok(())
-    };
-    match run_it() {
-        Ok(()) => 0,
-        Err(e) => fatal(NAME, &e),
-    }
+    let banner = o.serial.master.debug.then(|| {
+        format!(
+            "{}: device='{}', {}, address={}, PID={}",
+            o.name,
+            o.serial.device,
+            o.serial.settings,
+            o.serial.slave,
+            std::process::id()
+        )
+    });
+    serve(
+        NAME,
+        &o.name,
+        &o.serial,
+        banner,
+        || sim_drive(&o),
+        |comp, line| HyVfd::new(comp, o.clone(), line),
+    )
 }
