@@ -73,7 +73,7 @@ pub fn slave_request(bytes: &[u8]) {
         for piece in bytes.chunks(7) {
             // A piece whose first byte is odd comes after a long silence.
             now += if piece[0] & 1 == 1 {
-                10_000_000
+                3_000_000
             } else {
                 500_000
             };
