@@ -338,6 +338,10 @@ impl<L: SerialLine> Cycle for GtVfd<L> {
         } else {
             self.pins.readings[FAULT_INFO].get() as u32
         };
+        if self.link.lost() {
+            // Outputs safe before the fault pin says why.
+            self.pins.at_speed.set(false);
+        }
         self.link.end_cycle(fault);
         self.update_at_speed();
         let st = self.master.stats();

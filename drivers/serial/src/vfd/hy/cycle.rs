@@ -295,11 +295,12 @@ impl<L: SerialLine> Cycle for HyVfd<L> {
                 self.phase(r);
             }
         }
-        self.link.end_cycle(0);
         if self.link.lost() {
+            // Outputs safe before the fault pin says why.
             self.sent_freq = None;
             self.pins.at_speed.set(false);
         }
+        self.link.end_cycle(0);
         self.pins.hycomm_ok.set(self.good_phases > HYCOMM_MIN_OK);
         self.pins.retval.set(self.cycle_code as u32);
     }
