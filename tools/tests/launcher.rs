@@ -193,3 +193,177 @@ fn a_random_tool_changer_swaps_pockets_and_saves_its_table() {
     assert_eq!(table, "T7 P0 ;drill\nT5 P12 ;in the spindle\n");
     m.stop();
 }
+
+/// A machine with the coordinated planner configured from `[TRAJ]`: the
+/// S-curve planner (PLANNER_TYPE = 1), a path speed limit below the axes'
+/// own, a screw-error table on joint 0 and backlash on joint 1. The
+/// joints' commands come back as their feedback; the planner's path
+/// speed, acceleration and jerk are watched with minmax.
+fn planner_ini(s: &Scratch, comp: &str) -> std::path::PathBuf {
+    s.write("x.comp", comp);
+    s.write(
+        "sim.hal",
+        "loadrt [KINS]KINEMATICS\n\
+         loadrt [EMCMOT]EMCMOT servo_period_nsec=[EMCMOT]SERVO_PERIOD num_joints=[KINS]JOINTS\n\
+         loadrt ddt names=path_acc,path_jerk\n\
+         loadrt minmax names=speed,acc,jerk\n\
+         addf motion-command-handler servo-thread\naddf motion-controller servo-thread\n\
+         addf path_acc servo-thread\naddf path_jerk servo-thread\n\
+         addf speed servo-thread\naddf acc servo-thread\naddf jerk servo-thread\n\
+         net j0 joint.0.motor-pos-cmd => joint.0.motor-pos-fb\n\
+         net j1 joint.1.motor-pos-cmd => joint.1.motor-pos-fb\n\
+         net j2 joint.2.motor-pos-cmd => joint.2.motor-pos-fb\n\
+         net estop-loop iocontrol.0.user-enable-out iocontrol.0.emc-enable-in\n\
+         net path-vel motion.current-vel => path_acc.in speed.in\n\
+         net path-acc path_acc.out => path_jerk.in acc.in\n\
+         net path-jerk path_jerk.out => jerk.in\n",
+    );
+    let axis = "MAX_VELOCITY = 10\nMAX_ACCELERATION = 200\nMIN_LIMIT = -50\nMAX_LIMIT = 50\n";
+    let joint = "MAX_VELOCITY = 10\nMAX_ACCELERATION = 200\nMIN_LIMIT = -50\nMAX_LIMIT = 50\n";
+    s.write(
+        "p.ini",
+        &format!(
+            "[EMC]\nMACHINE = planner glue\n[EMCMOT]\nEMCMOT = motmod\nBASE_PERIOD = 0\n\
+             SERVO_PERIOD = 1000000\n[KINS]\nKINEMATICS = trivkins coordinates=xyz\nJOINTS = 3\n\
+             [DISPLAY]\nMAX_FEED_OVERRIDE = 1.5\n\
+             [TRAJ]\nCOORDINATES = X Y Z\nMAX_LINEAR_VELOCITY = 4\nMAX_LINEAR_ACCELERATION = 100\n\
+             MAX_LINEAR_JERK = 10000\nPLANNER_TYPE = 1\nARC_BLEND_ENABLE = 1\nARC_BLEND_GAP_CYCLES = 4\n\
+             [HAL]\nHALFILE = sim.hal\n\
+             [AXIS_X]\n{axis}[AXIS_Y]\n{axis}[AXIS_Z]\n{axis}\
+             [JOINT_0]\n{joint}BACKLASH = 0.5\nCOMP_FILE = x.comp\nCOMP_FILE_TYPE = 1\n\
+             [JOINT_1]\n{joint}BACKLASH = 0.02\n[JOINT_2]\n{joint}"
+        ),
+    )
+}
+
+/// `getp NAME` as a number.
+fn real(m: &Machine, pin: &str) -> f64 {
+    let v = m.getp(pin);
+    v.parse()
+        .unwrap_or_else(|_| panic!("{pin} = {v:?} is not a number"))
+}
+
+/// Waits (10 s at most) until `holds` is true of the machine.
+fn wait_until(m: &Machine, what: &str, holds: impl Fn(&Machine) -> bool) {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while !holds(m) {
+        assert!(
+            std::time::Instant::now() < end,
+            "{what} did not happen:\n{}",
+            m.stderr()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn traj_settings_and_a_comp_file_reach_the_planner() {
+    let s = Scratch::new("planner");
+    // COMP_FILE_TYPE 1: trims moving positive, moving negative.
+    let ini = planner_ini(
+        &s,
+        "# nominal forward reverse\n-10 0.010 -0.010\n0 0.020 -0.030\n10 0.040 -0.050\n",
+    );
+    let m = Machine::start(&ini, "planner");
+    let err = m.stderr();
+    assert!(
+        err.contains("p.ini:42: [JOINT_0]BACKLASH: not used: the joint has a COMP_FILE"),
+        "{err}"
+    );
+    assert!(
+        err.contains("p.ini:18: [TRAJ]ARC_BLEND_ENABLE (and ARC_BLEND_GAP_CYCLES): read, not sent"),
+        "{err}"
+    );
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    m.motion(&["coord"]);
+    assert!(
+        m.motion(&["status"]).contains(" s-curve"),
+        "S-curve planner"
+    );
+    // Ask for far more than MAX_LINEAR_VELOCITY: X forward, Y back.
+    m.halcmd(&["setp", "speed.reset", "1"]);
+    m.halcmd(&["setp", "acc.reset", "1"]);
+    m.halcmd(&["setp", "jerk.reset", "1"]);
+    m.halcmd(&["setp", "speed.reset", "0"]);
+    m.halcmd(&["setp", "acc.reset", "0"]);
+    m.halcmd(&["setp", "jerk.reset", "0"]);
+    m.motion(&["line", "7", "100", "X=4", "Y=-1"]);
+    m.motion(&["-t", "30", "wait", "queue-done"]);
+    // The path speed reached [TRAJ]MAX_LINEAR_VELOCITY and no more (the
+    // axes alone allow 10), the acceleration MAX_LINEAR_ACCELERATION (the
+    // axes allow 200) and the jerk stayed near MAX_LINEAR_JERK (a
+    // trapezoidal planner jumps to 100 in a 1 ms period: 1e5).
+    let speed = real(&m, "speed.max");
+    assert!(
+        (3.99..=4.0 + 1e-9).contains(&speed),
+        "max path speed {speed}"
+    );
+    let acc = real(&m, "acc.max");
+    assert!((90.0..=102.0).contains(&acc), "max path acceleration {acc}");
+    let jerk = real(&m, "jerk.max");
+    assert!(jerk <= 15000.0, "max path jerk {jerk}");
+    // Joint 0 moved positive to 4: the table's forward trim there,
+    // 0.020 + (0.040 - 0.020) * 0.4, not BACKLASH / 2. Joint 1 moved
+    // negative: half its BACKLASH the other way.
+    wait_until(&m, "the compensation is taken up", |m| {
+        real(m, "joint.0.backlash-filt") == real(m, "joint.0.backlash-corr")
+            && real(m, "joint.1.backlash-filt") == real(m, "joint.1.backlash-corr")
+    });
+    let trim = real(&m, "joint.0.backlash-corr");
+    assert!((trim - 0.028).abs() < 1e-6, "joint 0 trim {trim}");
+    let motor = real(&m, "joint.0.motor-pos-cmd") - real(&m, "joint.0.pos-cmd");
+    assert!(
+        (motor - 0.028).abs() < 1e-6,
+        "joint 0 motor - joint {motor}"
+    );
+    assert_eq!(real(&m, "joint.1.backlash-filt"), -0.01);
+    assert_eq!(real(&m, "joint.1.pos-cmd"), -1.0);
+    // The ini.traj_* pins are followed at run time.
+    m.halcmd(&["setp", "ini.traj_planner_type", "0"]);
+    wait_until(&m, "the trapezoidal planner", |m| {
+        !m.motion(&["status"]).contains(" s-curve")
+    });
+    m.halcmd(&["setp", "ini.traj_max_jerk", "0.5"]);
+    m.halcmd(&["setp", "ini.traj_planner_type", "1"]);
+    wait_until(&m, "the refusal", |m| {
+        m.stderr().contains(
+            "task: ini.traj_planner_type: the S-curve planner needs MAX_LINEAR_JERK of at least 1",
+        )
+    });
+    assert!(!m.motion(&["status"]).contains(" s-curve"));
+    m.stop();
+}
+
+#[test]
+fn a_malformed_comp_file_fails_the_launch_naming_file_and_line() {
+    let s = Scratch::new("badcomp");
+    let ini = planner_ini(&s, "-10 0.01 -0.01\n0 0.02\n10 0.04 -0.05\n");
+    let m = Machine::spawn(&ini, "badcomp", &[]);
+    let inst = m.instance.clone();
+    let (status, err) = m.wait_exit();
+    assert_eq!(status.code(), Some(1), "{err}");
+    let comp = s.0.join("x.comp");
+    let want = format!(
+        "p.ini:43: [JOINT_0]COMP_FILE: {}:2: expected three numbers",
+        comp.display()
+    );
+    assert!(err.contains(&want), "{want}\n{err}");
+    assert!(
+        hal_core::Instance::attach(&inst).is_err(),
+        "nothing is left running"
+    );
+    // Nominals out of order, and a COMP_FILE without its type.
+    s.write("x.comp", "0 0 0\n-1 0 0\n");
+    let (status, err) = Machine::spawn(&ini, "badcomp2", &[]).wait_exit();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("x.comp:2: nominal -1 does not increase"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&ini).unwrap();
+    s.write("p.ini", &text.replace("COMP_FILE_TYPE = 1\n", ""));
+    let (status, err) = Machine::spawn(&ini, "badcomp3", &[]).wait_exit();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(err.contains("[JOINT_0]COMP_FILE_TYPE"), "{err}");
+}

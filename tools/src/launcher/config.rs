@@ -3,6 +3,9 @@
 //! defaults for missing keys. A value of the wrong type is an error that
 //! names the file, line and key.
 
+use motion::comp::CompEntry;
+use motion::comp_file::{read_comp_file, CompFileType};
+
 use super::LaunchError;
 use crate::ini::{Ini, IniError};
 
@@ -261,6 +264,47 @@ impl TrajSettings {
             home,
         })
     }
+}
+
+/// `[DISPLAY]MAX_FEED_OVERRIDE`: the largest feed override (default 1).
+pub fn max_feed_override(ini: &Ini) -> Result<f64, LaunchError> {
+    Ok(real(ini, "DISPLAY", "MAX_FEED_OVERRIDE", 1.0)?)
+}
+
+/// The screw-error compensation table of `[JOINT_joint]COMP_FILE`, read
+/// with its COMP_FILE_TYPE (required with it: type 0 and type 1 read the
+/// same numbers in opposite ways, so there is no safe default); `None`
+/// without a COMP_FILE. A relative file name is taken from the INI
+/// file's directory, where LinuxCNC's script runs task.
+pub fn joint_comp(ini: &Ini, joint: usize) -> Result<Option<Vec<CompEntry>>, LaunchError> {
+    let sec = section_joint(joint);
+    let Some(file) = ini.entry(&sec, "COMP_FILE") else {
+        return Ok(None);
+    };
+    let at = |key: &str, origin: &crate::ini::Origin| format!("{origin}: [{sec}]{key}");
+    let type_entry = ini.required(&sec, "COMP_FILE_TYPE")?;
+    let kind =
+        CompFileType::from_ini(&type_entry.value).map_err(|source| LaunchError::CompFile {
+            at: at("COMP_FILE_TYPE", &type_entry.origin),
+            source,
+        })?;
+    let name = file.value.trim();
+    if name.is_empty() {
+        return Err(IniError::BadValue {
+            origin: file.origin.clone(),
+            section: sec.clone(),
+            key: "COMP_FILE".into(),
+            value: file.value.clone(),
+            expected: "a file name",
+        }
+        .into());
+    }
+    let entries =
+        read_comp_file(&ini.dir().join(name), kind).map_err(|source| LaunchError::CompFile {
+            at: at("COMP_FILE", &file.origin),
+            source,
+        })?;
+    Ok(Some(entries))
 }
 
 /// `[KINS]JOINTS` (LinuxCNC requires it).

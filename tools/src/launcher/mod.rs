@@ -74,6 +74,15 @@ pub enum LaunchError {
         /// Its reason.
         reason: String,
     },
+    /// A joint's COMP_FILE or COMP_FILE_TYPE is not usable.
+    #[error("{at}: {source}")]
+    CompFile {
+        /// The INI key.
+        at: String,
+        /// What is wrong with the file.
+        #[source]
+        source: motion::comp_file::CompFileError,
+    },
     /// The HAL instance.
     #[error(transparent)]
     Hal(#[from] hal_core::HalError),

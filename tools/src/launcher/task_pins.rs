@@ -88,11 +88,67 @@ pub enum IniChange {
         /// The new value.
         value: f64,
     },
-    /// A pin whose setting the motion controller does not take yet.
+    /// `ini.N.max_jerk`.
+    JointJerk {
+        /// The joint number.
+        joint: usize,
+        /// The new value.
+        value: f64,
+    },
+    /// `ini.L.max_jerk`.
+    AxisJerk {
+        /// The axis number (X=0 … W=8).
+        axis: usize,
+        /// The new value.
+        value: f64,
+    },
+    /// `ini.traj_max_acceleration`.
+    TrajAcc {
+        /// The new value.
+        value: f64,
+    },
+    /// `ini.traj_max_jerk`.
+    TrajJerk {
+        /// The new value.
+        value: f64,
+    },
+    /// `ini.traj_planner_type`.
+    PlannerType {
+        /// The new value.
+        value: i32,
+    },
+    /// A pin whose setting the motion controller has no equivalent of.
     NotApplied {
         /// The pin name.
         pin: &'static str,
     },
+}
+
+impl IniChange {
+    /// The name of the pin that changed.
+    pub fn pin(&self) -> String {
+        let axis = |a: usize| "xyzabcuvw".chars().nth(a).unwrap_or('?');
+        match *self {
+            IniChange::Backlash { joint, .. } => format!("ini.{joint}.backlash"),
+            IniChange::Ferror { joint, .. } => format!("ini.{joint}.ferror"),
+            IniChange::MinFerror { joint, .. } => format!("ini.{joint}.min_ferror"),
+            IniChange::JointLimits { joint, .. } => format!("ini.{joint}.min_limit/max_limit"),
+            IniChange::JointVel { joint, .. } => format!("ini.{joint}.max_velocity"),
+            IniChange::JointAcc { joint, .. } => format!("ini.{joint}.max_acceleration"),
+            IniChange::JointJerk { joint, .. } => format!("ini.{joint}.max_jerk"),
+            IniChange::Homing { joint, .. } => {
+                format!("ini.{joint}.home/home_offset/home_sequence")
+            }
+            IniChange::AxisLimits { axis: a, .. } => format!("ini.{}.min_limit/max_limit", axis(a)),
+            IniChange::AxisVel { axis: a, .. } => format!("ini.{}.max_velocity", axis(a)),
+            IniChange::AxisAcc { axis: a, .. } => format!("ini.{}.max_acceleration", axis(a)),
+            IniChange::AxisJerk { axis: a, .. } => format!("ini.{}.max_jerk", axis(a)),
+            IniChange::TrajAcc { .. } => "ini.traj_max_acceleration".into(),
+            IniChange::TrajJerk { .. } => "ini.traj_max_jerk".into(),
+            IniChange::PlannerType { .. } => "ini.traj_planner_type".into(),
+            IniChange::NotApplied { pin } => pin.into(),
+        }
+    }
 }
 
 struct JointPins {
@@ -128,6 +184,22 @@ enum TrajValue {
     Float(Pin<f64, In>),
     Bit(Pin<bool, In>),
     S32(Pin<i32, In>),
+}
+
+impl TrajPin {
+    /// What a change of this pin asks of the motion controller.
+    fn change(&self) -> IniChange {
+        match (self.name, &self.pin) {
+            ("ini.traj_max_acceleration", TrajValue::Float(p)) => {
+                IniChange::TrajAcc { value: p.get() }
+            }
+            ("ini.traj_max_jerk", TrajValue::Float(p)) => IniChange::TrajJerk { value: p.get() },
+            ("ini.traj_planner_type", TrajValue::S32(p)) => {
+                IniChange::PlannerType { value: p.get() }
+            }
+            (name, _) => IniChange::NotApplied { pin: name },
+        }
+    }
 }
 
 impl TrajValue {
@@ -315,8 +387,9 @@ impl TaskPins {
                 });
             }
             if c[7] {
-                out.push(IniChange::NotApplied {
-                    pin: "ini.N.max_jerk",
+                out.push(IniChange::JointJerk {
+                    joint,
+                    value: j.max_jerk.get(),
                 });
             }
             if c[8] || c[9] || c[10] {
@@ -351,15 +424,16 @@ impl TaskPins {
                 });
             }
             if c[4] {
-                out.push(IniChange::NotApplied {
-                    pin: "ini.L.max_jerk",
+                out.push(IniChange::AxisJerk {
+                    axis: a.axis,
+                    value: a.max_jerk.get(),
                 });
             }
             i += 5;
         }
         for t in &self.traj {
             if changed(i) {
-                out.push(IniChange::NotApplied { pin: t.name });
+                out.push(t.change());
             }
             i += 1;
         }
