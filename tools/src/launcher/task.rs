@@ -237,9 +237,10 @@ impl Task {
         for (id, w) in waiting {
             match w {
                 Waiting::EnableIn { .. } if enable_in => {
-                    server.reply(id, Ok("e-stop released; machine off".into()));
+                    self.answer(server, id, Ok("e-stop released; machine off".into()));
                 }
-                Waiting::EnableIn { until } if Instant::now() > until => server.reply(
+                Waiting::EnableIn { until } if Instant::now() > until => self.answer(
+                    server,
                     id,
                     Err(
                         "e-stop reset sent (user-enable-out TRUE), but iocontrol.0.emc-enable-in \
@@ -255,18 +256,18 @@ impl Task {
                     match (done, then_load) {
                         (None, _) => self.waiting.push((id, Waiting::Prepare { then_load })),
                         (Some(tool), false) => {
-                            server.reply(id, Ok(format!("tool {tool} prepared")))
+                            self.answer(server, id, Ok(format!("tool {tool} prepared")))
                         }
                         (Some(_), true) => match self.io.request(&IoRequest::Load) {
-                            Ok(Started::Done) => server.reply(id, Ok(self.in_spindle())),
+                            Ok(Started::Done) => self.answer(server, id, Ok(self.in_spindle())),
                             Ok(Started::Waiting(_)) => self.waiting.push((id, Waiting::Change)),
-                            Err(e) => server.reply(id, Err(e.to_string())),
+                            Err(e) => self.answer(server, id, Err(e.to_string())),
                         },
                     }
                 }
                 Waiting::Change => {
                     if events.iter().any(|e| matches!(e, IoEvent::Changed { .. })) {
-                        server.reply(id, Ok(self.in_spindle()));
+                        self.answer(server, id, Ok(self.in_spindle()));
                     } else {
                         self.waiting.push((id, Waiting::Change));
                     }
@@ -306,10 +307,17 @@ impl Task {
             }
         }
         let result = self.start(&req, id);
+        self.pins.write(self.io.outputs());
         if let Some(r) = result {
             server.reply(id, r);
         }
+    }
+
+    /// Answers a waiting request once the outputs it changed are on the
+    /// pins, so a client reading them after the answer sees them.
+    fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Result<String, String>) {
         self.pins.write(self.io.outputs());
+        server.reply(id, result);
     }
 
     /// Starts a request: `Some` answer now, `None` when it waits.
