@@ -319,11 +319,32 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
     );
     assert_eq!(real(&m, "joint.1.backlash-filt"), -0.01);
     assert_eq!(real(&m, "joint.1.pos-cmd"), -1.0);
-    // The ini.traj_* pins are followed at run time.
+    // The ini.traj_* pins are followed at run time (task reads them all
+    // in one pass, so once the planner type has changed, so has the speed
+    // limit).
+    m.halcmd(&["setp", "ini.traj_max_velocity", "2"]);
     m.halcmd(&["setp", "ini.traj_planner_type", "0"]);
     wait_until(&m, "the trapezoidal planner", |m| {
         !m.motion(&["status"]).contains(" s-curve")
     });
+    m.halcmd(&["setp", "speed.reset", "1"]);
+    m.halcmd(&["setp", "speed.reset", "0"]);
+    m.motion(&["line", "8", "100", "X=0", "Y=0"]);
+    m.motion(&["-t", "30", "wait", "queue-done"]);
+    let speed = real(&m, "speed.max");
+    assert!(
+        (1.99..=2.0 + 1e-9).contains(&speed),
+        "max path speed {speed}"
+    );
+    // Back to 0 moving negative: the table's reverse trim at 0; joint 1
+    // moved positive.
+    wait_until(&m, "the compensation is taken up", |m| {
+        real(m, "joint.0.backlash-filt") == real(m, "joint.0.backlash-corr")
+            && real(m, "joint.1.backlash-filt") == real(m, "joint.1.backlash-corr")
+    });
+    let trim = real(&m, "joint.0.backlash-corr");
+    assert!((trim + 0.030).abs() < 1e-6, "joint 0 trim {trim}");
+    assert_eq!(real(&m, "joint.1.backlash-filt"), 0.01);
     m.halcmd(&["setp", "ini.traj_max_jerk", "0.5"]);
     m.halcmd(&["setp", "ini.traj_planner_type", "1"]);
     wait_until(&m, "the refusal", |m| {

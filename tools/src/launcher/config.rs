@@ -281,13 +281,14 @@ pub fn joint_comp(ini: &Ini, joint: usize) -> Result<Option<Vec<CompEntry>>, Lau
     let Some(file) = ini.entry(&sec, "COMP_FILE") else {
         return Ok(None);
     };
-    let at = |key: &str, origin: &crate::ini::Origin| format!("{origin}: [{sec}]{key}");
     let type_entry = ini.required(&sec, "COMP_FILE_TYPE")?;
-    let kind =
-        CompFileType::from_ini(&type_entry.value).map_err(|source| LaunchError::CompFile {
-            at: at("COMP_FILE_TYPE", &type_entry.origin),
-            source,
-        })?;
+    let kind = CompFileType::from_ini(&type_entry.value).map_err(|_| IniError::BadValue {
+        origin: type_entry.origin.clone(),
+        section: sec.clone(),
+        key: "COMP_FILE_TYPE".into(),
+        value: type_entry.value.clone(),
+        expected: "0 or 1",
+    })?;
     let name = file.value.trim();
     if name.is_empty() {
         return Err(IniError::BadValue {
@@ -301,7 +302,7 @@ pub fn joint_comp(ini: &Ini, joint: usize) -> Result<Option<Vec<CompEntry>>, Lau
     }
     let entries =
         read_comp_file(&ini.dir().join(name), kind).map_err(|source| LaunchError::CompFile {
-            at: at("COMP_FILE", &file.origin),
+            at: format!("{}: [{sec}]COMP_FILE", file.origin),
             source,
         })?;
     Ok(Some(entries))
@@ -369,5 +370,27 @@ mod tests {
         assert_eq!(t.home, Some([0., 0., 1., 0., 0., 0., 0., 0., 0.]));
         assert!(t.arc_blend_enable);
         assert!(joint_count(&Ini::parse("[KINS]\n")).is_err());
+        assert_eq!(max_feed_override(&ini).unwrap(), 1.0);
+    }
+
+    #[test]
+    fn a_comp_file_needs_its_type_and_a_name() {
+        let comp = |joint: &str| {
+            let ini = Ini::parse(&format!("[KINS]\nJOINTS = 1\n[JOINT_0]\n{joint}"));
+            joint_comp(&ini, 0).map_err(|e| e.to_string())
+        };
+        assert_eq!(comp("BACKLASH = 0.1\n"), Ok(None));
+        let e = comp("COMP_FILE = x.comp\n").unwrap_err();
+        assert!(e.contains("[JOINT_0]COMP_FILE_TYPE"), "{e}");
+        let e = comp("COMP_FILE = x.comp\nCOMP_FILE_TYPE = 2\n").unwrap_err();
+        assert!(
+            e.contains("<ini>:5: [JOINT_0]COMP_FILE_TYPE = \"2\" is not 0 or 1"),
+            "{e}"
+        );
+        let e = comp("COMP_FILE =\nCOMP_FILE_TYPE = 1\n").unwrap_err();
+        assert!(
+            e.contains("<ini>:4: [JOINT_0]COMP_FILE = \"\" is not a file name"),
+            "{e}"
+        );
     }
 }

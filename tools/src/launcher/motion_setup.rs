@@ -30,7 +30,9 @@ const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
     ),
     (
         &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
-        "LinuxCNC's acceleration for teleop jogs; teleop jogs here keep each [AXIS_L]MAX_ACCELERATION",
+        "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
+         jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
+         MAX_LINEAR_ACCELERATION",
     ),
     (
         &[
@@ -437,6 +439,7 @@ impl MotionLink {
                 axis: axis as i32,
                 jerk: value,
             },
+            IniChange::TrajVel { value } => Command::SetVelLimit { vel: value },
             IniChange::TrajAcc { value } => Command::SetAccLimit { acc: value },
             IniChange::TrajJerk { value } => Command::SetJerkLimit { jerk: value },
             IniChange::PlannerType { value } => Command::SetPlannerType { planner: value },

@@ -102,6 +102,11 @@ pub enum IniChange {
         /// The new value.
         value: f64,
     },
+    /// `ini.traj_max_velocity`.
+    TrajVel {
+        /// The new value.
+        value: f64,
+    },
     /// `ini.traj_max_acceleration`.
     TrajAcc {
         /// The new value.
@@ -143,6 +148,7 @@ impl IniChange {
             IniChange::AxisVel { axis: a, .. } => format!("ini.{}.max_velocity", axis(a)),
             IniChange::AxisAcc { axis: a, .. } => format!("ini.{}.max_acceleration", axis(a)),
             IniChange::AxisJerk { axis: a, .. } => format!("ini.{}.max_jerk", axis(a)),
+            IniChange::TrajVel { .. } => "ini.traj_max_velocity".into(),
             IniChange::TrajAcc { .. } => "ini.traj_max_acceleration".into(),
             IniChange::TrajJerk { .. } => "ini.traj_max_jerk".into(),
             IniChange::PlannerType { .. } => "ini.traj_planner_type".into(),
@@ -190,6 +196,7 @@ impl TrajPin {
     /// What a change of this pin asks of the motion controller.
     fn change(&self) -> IniChange {
         match (self.name, &self.pin) {
+            ("ini.traj_max_velocity", TrajValue::Float(p)) => IniChange::TrajVel { value: p.get() },
             ("ini.traj_max_acceleration", TrajValue::Float(p)) => {
                 IniChange::TrajAcc { value: p.get() }
             }
@@ -287,6 +294,7 @@ impl TaskPins {
             float("ini.traj_default_acceleration", t.default_acceleration)?,
             float("ini.traj_default_velocity", t.default_velocity)?,
             float("ini.traj_max_acceleration", t.max_acceleration)?,
+            float("ini.traj_max_velocity", t.max_velocity)?,
             float("ini.traj_max_jerk", t.max_jerk)?,
             TrajPin {
                 name: "ini.traj_planner_type",
