@@ -256,6 +256,28 @@ fn wait_until(m: &Machine, what: &str, holds: impl Fn(&Machine) -> bool) {
     }
 }
 
+/// Resets the `minmax` instances `names` (at rest: their max drops to 0
+/// once a servo cycle has seen the reset).
+fn restart_watch(m: &Machine, names: &[&str]) {
+    for n in names {
+        m.halcmd(&["setp", &format!("{n}.reset"), "1"]);
+        wait_until(m, "the minmax reset", |m| {
+            real(m, &format!("{n}.max")) == 0.0
+        });
+        m.halcmd(&["setp", &format!("{n}.reset"), "0"]);
+    }
+}
+
+/// Waits until joints 0 and 1 have taken up their whole correction.
+fn comp_taken_up(m: &Machine) {
+    wait_until(m, "the compensation is taken up", |m| {
+        (0..2).all(|j| {
+            real(m, &format!("joint.{j}.backlash-filt"))
+                == real(m, &format!("joint.{j}.backlash-corr"))
+        })
+    });
+}
+
 #[test]
 fn traj_settings_and_a_comp_file_reach_the_planner() {
     let s = Scratch::new("planner");
@@ -282,12 +304,7 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
         "S-curve planner"
     );
     // Ask for far more than MAX_LINEAR_VELOCITY: X forward, Y back.
-    m.halcmd(&["setp", "speed.reset", "1"]);
-    m.halcmd(&["setp", "acc.reset", "1"]);
-    m.halcmd(&["setp", "jerk.reset", "1"]);
-    m.halcmd(&["setp", "speed.reset", "0"]);
-    m.halcmd(&["setp", "acc.reset", "0"]);
-    m.halcmd(&["setp", "jerk.reset", "0"]);
+    restart_watch(&m, &["speed", "acc", "jerk"]);
     m.motion(&["line", "7", "100", "X=4", "Y=-1"]);
     m.motion(&["-t", "30", "wait", "queue-done"]);
     // The path speed reached [TRAJ]MAX_LINEAR_VELOCITY and no more (the
@@ -306,10 +323,7 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
     // Joint 0 moved positive to 4: the table's forward trim there,
     // 0.020 + (0.040 - 0.020) * 0.4, not BACKLASH / 2. Joint 1 moved
     // negative: half its BACKLASH the other way.
-    wait_until(&m, "the compensation is taken up", |m| {
-        real(m, "joint.0.backlash-filt") == real(m, "joint.0.backlash-corr")
-            && real(m, "joint.1.backlash-filt") == real(m, "joint.1.backlash-corr")
-    });
+    comp_taken_up(&m);
     let trim = real(&m, "joint.0.backlash-corr");
     assert!((trim - 0.028).abs() < 1e-6, "joint 0 trim {trim}");
     let motor = real(&m, "joint.0.motor-pos-cmd") - real(&m, "joint.0.pos-cmd");
@@ -327,8 +341,7 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
     wait_until(&m, "the trapezoidal planner", |m| {
         !m.motion(&["status"]).contains(" s-curve")
     });
-    m.halcmd(&["setp", "speed.reset", "1"]);
-    m.halcmd(&["setp", "speed.reset", "0"]);
+    restart_watch(&m, &["speed"]);
     m.motion(&["line", "8", "100", "X=0", "Y=0"]);
     m.motion(&["-t", "30", "wait", "queue-done"]);
     let speed = real(&m, "speed.max");
@@ -338,10 +351,7 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
     );
     // Back to 0 moving negative: the table's reverse trim at 0; joint 1
     // moved positive.
-    wait_until(&m, "the compensation is taken up", |m| {
-        real(m, "joint.0.backlash-filt") == real(m, "joint.0.backlash-corr")
-            && real(m, "joint.1.backlash-filt") == real(m, "joint.1.backlash-corr")
-    });
+    comp_taken_up(&m);
     let trim = real(&m, "joint.0.backlash-corr");
     assert!((trim + 0.030).abs() < 1e-6, "joint 0 trim {trim}");
     assert_eq!(real(&m, "joint.1.backlash-filt"), 0.01);
