@@ -132,7 +132,7 @@ pub enum IniChange {
 impl IniChange {
     /// The name of the pin that changed.
     pub fn pin(&self) -> String {
-        let axis = |a: usize| "xyzabcuvw".chars().nth(a).unwrap_or('?');
+        let axis = |a: usize| motion::command::axis_letter(a).to_ascii_lowercase();
         match *self {
             IniChange::Backlash { joint, .. } => format!("ini.{joint}.backlash"),
             IniChange::Ferror { joint, .. } => format!("ini.{joint}.ferror"),
