@@ -93,7 +93,10 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
     fn cell(&self) -> &AtomicU64 {
         // SAFETY: `slot` points into the mapping, which `_seg` keeps alive.
         let off = unsafe { &*self.slot }.load(Relaxed);
-        let off = off.clamp(self.floor, self.limit) & !7;
+        // `max` then `min` rather than `clamp`: the bounds are ordered by
+        // construction, and `clamp`'s check of that costs a compare and a
+        // branch on every access.
+        let off = off.max(self.floor).min(self.limit) & !7;
         // SAFETY: `off` is clamped to [floor, size-8] and 8-aligned, so the
         // word lies inside the mapping, past the header and journal; any
         // bits are a valid AtomicU64.
