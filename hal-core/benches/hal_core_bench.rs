@@ -4,7 +4,9 @@
 //! wake-up latency with and without realtime scheduling.
 //!
 //! `cargo bench -p hal-core` runs everything (about 30 s);
-//! `cargo bench -p hal-core -- quick` skips the 10 s latency runs.
+//! `cargo bench -p hal-core -- quick` skips the 10 s latency runs;
+//! `cargo bench -p hal-core -- latency` runs only them (`HAL_NO_SHORT_SLICE=1`
+//! shows the non-realtime tail without the executor's short slice).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -13,6 +15,11 @@ use hal_core::*;
 
 fn main() -> Result<()> {
     let quick = std::env::args().any(|a| a == "quick");
+    if std::env::args().any(|a| a == "latency") {
+        println!("\nwake-up latency of a lone 1 ms thread over 5 s (us)");
+        latency(RealtimeMode::Auto)?;
+        return latency(RealtimeMode::Off);
+    }
     let name = format!("bench-{}", std::process::id());
     let host = Host::create(HostConfig::new(&name))?;
     println!(

@@ -163,6 +163,10 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>, allowed: Vec<usize>)
     if sh.realtime {
         // Failures were reported when the host probed its permissions.
         let _ = realtime::set_fifo(ctl.priority);
+    } else if std::env::var_os("HAL_NO_SHORT_SLICE").is_none() {
+        // Without realtime, a short fair-scheduler slice is what keeps the
+        // wake-up tail short (see `short_slice`).
+        let _ = realtime::short_slice();
     }
     ctl.attach_os_thread(&allowed);
     drop(allowed);
