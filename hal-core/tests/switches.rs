@@ -40,7 +40,7 @@ fn timing_off_leaves_time_at_zero_and_runs_every_function() {
         (true, MissedDeadline::Skip)
     );
     host.set_thread_timing("t", false).unwrap();
-    assert_eq!(host.thread_options("t").unwrap().0, false);
+    assert!(!host.thread_options("t").unwrap().0);
     host.start().unwrap();
     assert!(wait_until(30.0, || counts
         .iter()
@@ -56,11 +56,14 @@ fn timing_off_leaves_time_at_zero_and_runs_every_function() {
     // The thread's own time is still measured.
     assert!(s32(inst.param_value("t.tmax").unwrap()) > 0);
 
-    // Back on, the functions are timed again.
+    // Back on, the functions are timed again, through a signal too.
+    inst.newsig("f1-time", HalType::S32).unwrap();
+    inst.link("tm.f1.time", "f1-time").unwrap();
     host.set_thread_timing("t", true).unwrap();
     host.start().unwrap();
     assert!(wait_until(30.0, || {
         s32(inst.param_value("tm.f2.tmax").unwrap()) > 0
+            && s32(inst.signal_value("f1-time").unwrap()) > 0
     }));
     host.stop();
 }

@@ -2,9 +2,12 @@
 //! the dense lists executors walk.
 
 use std::ptr::NonNull;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use std::sync::Arc;
 
-use crate::handles::{Out, Param, Pin, Ro, Rw};
+use crate::handles::{Cells, Out, Param, Pin, Ro, Rw};
+use crate::shm::Segment;
+use crate::types::PinValue;
 
 /// What a realtime function receives each time it runs.
 #[derive(Debug, Clone, Copy)]
@@ -191,36 +194,62 @@ impl Call {
     }
 }
 
-/// The timing outputs of one function in an executor's list.
+/// The timing outputs of one function in an executor's list: its `.time`
+/// pin's slot and the value words of its `.tmax` and `.tmax-increased`
+/// params, 24 bytes (the list's [`Cells`] resolves the slot), so that
+/// timing a function reads little beyond the segment's own words.
 pub(crate) struct TimingOut {
-    pub time: Pin<i32, Out>,
-    pub tmax: Param<i32, Rw>,
-    pub tmax_increased: Param<bool, Ro>,
+    time_slot: NonNull<AtomicU64>,
+    tmax: NonNull<AtomicU64>,
+    tmax_increased: NonNull<AtomicU64>,
 }
 
 impl TimingOut {
+    /// The outputs of a function, from its record's pin and params.
+    pub(crate) fn new(
+        time: &Pin<i32, Out>,
+        tmax: &Param<i32, Rw>,
+        tmax_increased: &Param<bool, Ro>,
+    ) -> TimingOut {
+        TimingOut {
+            time_slot: NonNull::from(time.slot()),
+            tmax: NonNull::from(tmax.word()),
+            tmax_increased: NonNull::from(tmax_increased.word()),
+        }
+    }
+
     /// Publishes one execution time.
     #[inline(always)]
-    pub(crate) fn record(&self, ns: u64) {
+    pub(crate) fn record(&self, cells: &Cells, ns: u64) {
         let t = ns.min(i32::MAX as u64) as i32;
-        self.time.set(t);
-        let raised = t > self.tmax.get();
+        // SAFETY: the three words are in the mapping, which the list that
+        // holds this (its `_seg`) keeps alive.
+        let (slot, tmax, increased) = unsafe {
+            (
+                self.time_slot.as_ref(),
+                self.tmax.as_ref(),
+                self.tmax_increased.as_ref(),
+            )
+        };
+        cells.cell(slot).store(t.to_bits(), Relaxed);
+        let raised = t > i32::from_bits(tmax.load(Relaxed));
         if raised {
-            self.tmax.set(t);
+            tmax.store(t.to_bits(), Relaxed);
         }
-        self.tmax_increased.set(raised);
+        increased.store(raised.to_bits(), Relaxed);
     }
 }
 
 /// A thread's function list, replaced whole by the host. The calls sit in
 /// a dense array of their own so that a cycle without per-function timing
 /// walks only 16 bytes per function.
-#[derive(Default)]
 pub(crate) struct ExecList {
     /// The code to call, in order; kept alive by `owners`.
     pub calls: Vec<Call>,
     /// Timing outputs, parallel to `calls`.
     pub timing: Vec<TimingOut>,
+    /// Resolves the `.time` pins' slots.
+    pub cells: Cells,
     /// Host code ids, parallel to `calls` (for fault reports).
     pub ids: Vec<usize>,
     owners: Vec<Arc<FunctCode>>,
@@ -228,9 +257,24 @@ pub(crate) struct ExecList {
     /// list on the first cycle after start; kept alive by `owners`.
     pub init_calls: Vec<Call>,
     pub init_ids: Vec<usize>,
+    /// Keeps the mapping the timing outputs point into alive.
+    _seg: Arc<Segment>,
 }
 
 impl ExecList {
+    pub(crate) fn new(seg: &Arc<Segment>) -> ExecList {
+        ExecList {
+            calls: Vec::new(),
+            timing: Vec::new(),
+            cells: Cells::new(seg),
+            ids: Vec::new(),
+            owners: Vec::new(),
+            init_calls: Vec::new(),
+            init_ids: Vec::new(),
+            _seg: seg.clone(),
+        }
+    }
+
     pub(crate) fn push(&mut self, code: Arc<FunctCode>, id: usize, timing: TimingOut) {
         self.calls.push(code.entry());
         self.owners.push(code);

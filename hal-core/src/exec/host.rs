@@ -485,7 +485,7 @@ impl Host {
                 } else {
                     THREAD_NO_FUNCT_TIMING
                 }),
-                list: AtomicPtr::new(Box::into_raw(Box::default())),
+                list: AtomicPtr::new(Box::into_raw(Box::new(ExecList::new(seg)))),
                 epoch: AtomicU64::new(0),
                 idle: AtomicBool::new(true),
                 exit: AtomicBool::new(false),
@@ -706,7 +706,7 @@ impl Host {
     /// Builds an executor list for the code ids `functs`.
     fn build_list(&self, st: &HostState, functs: &[usize], init: &[usize]) -> Result<ExecList> {
         let seg = &self.inst.seg;
-        let mut list = ExecList::default();
+        let mut list = ExecList::new(seg);
         for &id in init {
             if let Some(slot) = st.functs.get(id).and_then(Option::as_ref) {
                 list.push_init(slot.code.clone(), id);
@@ -717,11 +717,11 @@ impl Host {
                 continue;
             };
             let rec: &FunctRec = seg.rec(slot.rec_off)?;
-            let timing = TimingOut {
-                time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
-                tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
-                tmax_increased: Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
-            };
+            let timing = TimingOut::new(
+                &Pin::new(seg, rec.time_pin.load(Relaxed))?,
+                &Param::new(seg, rec.tmax_param.load(Relaxed))?,
+                &Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
+            );
             list.push(slot.code.clone(), id, timing);
         }
         Ok(list)

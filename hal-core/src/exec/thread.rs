@@ -346,7 +346,7 @@ fn run_timed(
         // SAFETY: as in `run_untimed`.
         unsafe { call.run(ctx) };
         let now = ticks();
-        timing.record(clock.to_ns(now.wrapping_sub(prev)));
+        timing.record(&list.cells, clock.to_ns(now.wrapping_sub(prev)));
         prev = now;
     }
     prev
