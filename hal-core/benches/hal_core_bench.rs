@@ -1,8 +1,12 @@
 //! Prints the HAL core's figures: pin access through a signal, executor
-//! cost per function (timing on and off), and thread wake-up latency.
+//! cost per function (timing on and off), a thread's fixed cost per cycle
+//! (alone and with a sampler-style ring function), and the 1 ms thread's
+//! wake-up latency with and without realtime scheduling.
 //!
-//! `cargo bench -p hal-core` runs everything (about 25 s);
-//! `cargo bench -p hal-core -- quick` skips the 10 s latency run.
+//! `cargo bench -p hal-core` runs everything (about 30 s);
+//! `cargo bench -p hal-core -- quick` skips the 10 s latency runs;
+//! `cargo bench -p hal-core -- latency` runs only them (`HAL_NO_SHORT_SLICE=1`
+//! shows the non-realtime tail without the executor's short slice).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -11,6 +15,11 @@ use hal_core::*;
 
 fn main() -> Result<()> {
     let quick = std::env::args().any(|a| a == "quick");
+    if std::env::args().any(|a| a == "latency") {
+        println!("\nwake-up latency of a lone 1 ms thread over 5 s (us)");
+        latency(RealtimeMode::Auto)?;
+        return latency(RealtimeMode::Off);
+    }
     let name = format!("bench-{}", std::process::id());
     let host = Host::create(HostConfig::new(&name))?;
     println!(
@@ -19,8 +28,11 @@ fn main() -> Result<()> {
     );
     pin_access(&host)?;
     executor_cost(&host)?;
+    thread_cost()?;
     if !quick {
-        latency(&host)?;
+        println!("\nwake-up latency of a lone 1 ms thread over 5 s (us)");
+        latency(RealtimeMode::Auto)?;
+        latency(RealtimeMode::Off)?;
     }
     Ok(())
 }
@@ -109,25 +121,110 @@ fn executor_cost(host: &Host) -> Result<()> {
     host.delete_thread("cost")
 }
 
-fn latency(host: &Host) -> Result<()> {
-    // Thread creation rules want the fastest first and the first thread
-    // fixes the base period, so latency gets a host of its own.
-    let _ = host;
-    let lat = Host::create(HostConfig::new(&format!(
-        "bench-lat-{}",
-        std::process::id()
-    )))?;
+/// CPU time the kernel has charged to this process's thread named `comm`,
+/// in ns (`/proc/self/task/*/schedstat`, first field).
+fn thread_cpu_ns(comm: &str) -> Option<u64> {
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let dir = task.ok()?.path();
+        let name = std::fs::read_to_string(dir.join("comm")).unwrap_or_default();
+        if name.trim_end() == comm {
+            let stat = std::fs::read_to_string(dir.join("schedstat")).ok()?;
+            return stat.split_whitespace().next()?.parse().ok();
+        }
+    }
+    None
+}
+
+/// A 1 ms thread's whole cost per cycle as the kernel charges it (wake-up,
+/// the executor's bookkeeping, its time/tmax, the histogram, the
+/// functions), with one empty function and with a sampler-style function
+/// (four pins through signals into a ring that another thread drains).
+fn thread_cost() -> Result<()> {
+    const RUN: Duration = Duration::from_secs(3);
+    println!(
+        "\nthread cost per cycle, 1 ms thread, {} s each (CPU time charged to the thread)",
+        RUN.as_secs()
+    );
+    for (label, sampler) in [("one empty function", false), ("sampler, 4 pins", true)] {
+        let host = Host::create(HostConfig::new(&format!("bench-th-{}", std::process::id())))?;
+        let inst = host.instance();
+        let mut b = host.new_rt_component("smp")?;
+        let c = b.component();
+        if sampler {
+            let pins: Vec<Pin<f64, In>> = (0..4)
+                .map(|i| c.pin(&format!("smp.in.{i}")))
+                .collect::<Result<_>>()?;
+            let mut ring = RingWriter::create(c, "smp.fifo", 4000, 5)?;
+            let mut row = [0u64; 5];
+            let mut n = 0u64;
+            b.funct("smp.f", false, move |_| {
+                for (slot, p) in row[1..].iter_mut().zip(&pins) {
+                    *slot = p.get().to_bits();
+                }
+                n += 1;
+                row[0] = n;
+                black_box(ring.push(&row));
+                black_box(ring.len());
+            })?;
+        } else {
+            b.funct("smp.f", false, |_| {})?;
+        }
+        b.ready()?;
+        if sampler {
+            for i in 0..4 {
+                inst.newsig(&format!("smp-{i}"), HalType::Float)?;
+                inst.link(&format!("smp.in.{i}"), &format!("smp-{i}"))?;
+            }
+        }
+        host.create_thread("fixed", 1_000_000, true, None)?;
+        host.addf("smp.f", "fixed", -1)?;
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let drain = sampler.then(|| {
+            let mut reader = RingReader::open(inst, "smp.fifo").expect("ring");
+            let stop = stop.clone();
+            std::thread::spawn(move || {
+                let mut rec = [0u64; 5];
+                while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    while reader.pop(&mut rec) {}
+                    std::thread::sleep(Duration::from_millis(20));
+                }
+            })
+        });
+        host.start()?;
+        std::thread::sleep(Duration::from_millis(200));
+        let (c0, n0) = (thread_cpu_ns("hal-fixed"), inst.threads()?[0].cycles);
+        std::thread::sleep(RUN);
+        let (c1, n1) = (thread_cpu_ns("hal-fixed"), inst.threads()?[0].cycles);
+        host.stop();
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(d) = drain {
+            let _ = d.join();
+        }
+        match (c0, c1) {
+            (Some(c0), Some(c1)) if n1 > n0 => println!(
+                "  {label:<20}: {:.0} ns per cycle ({} cycles, realtime: {})",
+                (c1 - c0) as f64 / (n1 - n0) as f64,
+                n1 - n0,
+                host.is_realtime()
+            ),
+            _ => println!("  {label:<20}: no figure (schedstat unavailable or no cycles)"),
+        }
+        host.shutdown();
+    }
+    Ok(())
+}
+
+fn latency(mode: RealtimeMode) -> Result<()> {
+    let mut config = HostConfig::new(&format!("bench-lat-{}", std::process::id()));
+    config.realtime = mode;
+    let lat = Host::create(config)?;
     let mut b = lat.new_rt_component("idle")?;
-    b.funct("idle.base", false, |_| {})?;
     b.funct("idle.servo", false, |_| {})?;
     b.ready()?;
-    lat.create_thread("base", 50_000, true, None)?;
     lat.create_thread("servo", 1_000_000, true, None)?;
-    lat.addf("idle.base", "base", -1)?;
     lat.addf("idle.servo", "servo", -1)?;
-    println!("\nwake-up latency over 10 s, both threads running (us)");
     lat.start()?;
-    std::thread::sleep(Duration::from_secs(10));
+    std::thread::sleep(Duration::from_secs(5));
     lat.stop();
     for t in lat.instance().threads()? {
         let total: u64 = t.latency_histogram.iter().sum();
@@ -143,17 +240,17 @@ fn latency(host: &Host) -> Result<()> {
             0
         };
         println!(
-            "  {:<6} period {:>8} ns: min {:.1}, median {}, p99 {}, max {:.1} ({} cycles, {} overruns)",
-            t.name,
-            t.period,
+            "  realtime {:<5}: min {:.1}, p50 {}, p99 {}, p99.9 {}, max {:.1} ({} cycles, {} overruns)",
+            lat.is_realtime(),
             t.latency_min_ns.unwrap_or(0) as f64 / 1000.0,
             pct(0.5),
             pct(0.99),
+            pct(0.999),
             t.latency_max_ns.unwrap_or(0) as f64 / 1000.0,
             t.cycles,
             t.overruns
         );
     }
-    println!("  (median and p99 are histogram bucket floors: 1 us resolution below 16 us)");
+    lat.shutdown();
     Ok(())
 }

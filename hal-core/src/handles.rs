@@ -3,9 +3,9 @@
 //! A pin handle points at the pin's slot in the segment. The slot holds the
 //! offset of the value cell in use (the pin's own, or its signal's once
 //! linked), so `get` and `set` are one load of the slot plus one access to
-//! the cell: no allocation, lock or system call. The offset is clamped into
-//! the segment without a branch, so even a corrupted slot cannot make the
-//! process touch memory outside the segment.
+//! the cell: no allocation, lock or system call. An offset outside the
+//! segment's cells is clamped into them, so even a corrupted slot cannot
+//! make the process touch memory outside the segment.
 
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
@@ -57,14 +57,57 @@ impl ParamAccess for Rw {
     const DIR: ParamDir = ParamDir::Rw;
 }
 
+/// Where one process finds value cells: the mapping's address and the
+/// range of offsets a cell may have. Whoever holds one keeps the mapping
+/// alive.
+#[derive(Clone, Copy)]
+pub(crate) struct Cells {
+    base: *const u8,
+    /// The first offset a cell may have.
+    floor: u64,
+    /// How far past `floor` the last cell may start.
+    span: u64,
+}
+
+impl Cells {
+    pub(crate) fn new(seg: &Segment) -> Cells {
+        // A segment too small for any cell past its journal (only a
+        // malformed one can be) still keeps every access inside it.
+        let limit = seg.cell_limit();
+        let floor = seg.cell_floor().min(limit);
+        Cells {
+            base: seg.base(),
+            floor,
+            span: limit - floor,
+        }
+    }
+
+    /// The cell `slot` names.
+    #[inline(always)]
+    pub(crate) fn cell(&self, slot: &AtomicU64) -> &AtomicU64 {
+        let off = slot.load(Relaxed);
+        // A valid offset is checked with one compare and a branch the CPU
+        // always predicts, so the cell's load issues right behind the
+        // slot's; clamping with conditional moves put two more dependent
+        // steps between them. Anything else is clamped out of line.
+        let off = if off.wrapping_sub(self.floor) <= self.span && off & 7 == 0 {
+            off
+        } else {
+            clamp_cell(off, self.floor, self.floor + self.span)
+        };
+        // SAFETY: `off` lies in [floor, size-8] and is 8-aligned, so the word
+        // lies inside the mapping (kept alive by the holder), past the
+        // header and journal; any bits are a valid AtomicU64.
+        unsafe { &*(self.base.add(off as usize) as *const AtomicU64) }
+    }
+}
+
 /// A pin of value type `T` and direction `D`.
 pub struct Pin<T: PinValue, D: Direction> {
     slot: *const AtomicU64,
     /// The pin's own cell, read while the pin is not linked.
     own: *const AtomicU64,
-    base: *const u8,
-    floor: u64,
-    limit: u64,
+    cells: Cells,
     _seg: Arc<Segment>,
     _marker: PhantomData<fn() -> (T, D)>,
 }
@@ -81,9 +124,7 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
         Ok(Pin {
             slot: &rec.slot,
             own: &rec.dummy,
-            base: seg.base(),
-            floor: seg.cell_floor(),
-            limit: seg.cell_limit(),
+            cells: Cells::new(seg),
             _seg: seg.clone(),
             _marker: PhantomData,
         })
@@ -92,12 +133,13 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
     #[inline(always)]
     fn cell(&self) -> &AtomicU64 {
         // SAFETY: `slot` points into the mapping, which `_seg` keeps alive.
-        let off = unsafe { &*self.slot }.load(Relaxed);
-        let off = off.clamp(self.floor, self.limit) & !7;
-        // SAFETY: `off` is clamped to [floor, size-8] and 8-aligned, so the
-        // word lies inside the mapping, past the header and journal; any
-        // bits are a valid AtomicU64.
-        unsafe { &*(self.base.add(off as usize) as *const AtomicU64) }
+        self.cells.cell(unsafe { &*self.slot })
+    }
+
+    /// The pin's slot (for the executor's timing outputs).
+    pub(crate) fn slot(&self) -> &AtomicU64 {
+        // SAFETY: as in `cell`.
+        unsafe { &*self.slot }
     }
 
     /// The pin's current value (its signal's, if linked).
@@ -135,6 +177,14 @@ impl<T: PinValue> Pin<T, In> {
     }
 }
 
+/// Clamps a bad cell offset into `[floor, limit]` and aligns it (out of
+/// line: only a corrupted slot gets here).
+#[cold]
+#[inline(never)]
+fn clamp_cell(off: u64, floor: u64, limit: u64) -> u64 {
+    off.max(floor).min(limit) & !7
+}
+
 /// A parameter of value type `T`. The owning component may always write it;
 /// `A` says whether `setp` may.
 pub struct Param<T: PinValue, A: ParamAccess> {
@@ -156,6 +206,12 @@ impl<T: PinValue, A: ParamAccess> Param<T, A> {
             _seg: seg.clone(),
             _marker: PhantomData,
         })
+    }
+
+    /// The parameter's value word (for the executor's timing outputs).
+    pub(crate) fn word(&self) -> &AtomicU64 {
+        // SAFETY: points into the mapping kept alive by `_seg`.
+        unsafe { &*self.value }
     }
 
     /// The parameter's value.
@@ -290,9 +346,7 @@ impl<T: PinValue, D: Direction> Clone for Pin<T, D> {
         Pin {
             slot: self.slot,
             own: self.own,
-            base: self.base,
-            floor: self.floor,
-            limit: self.limit,
+            cells: self.cells,
             _seg: self._seg.clone(),
             _marker: PhantomData,
         }
@@ -307,5 +361,44 @@ impl<T: PinValue, A: ParamAccess> Clone for Param<T, A> {
             _seg: self._seg.clone(),
             _marker: PhantomData,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ComponentKind, Host, HostConfig};
+
+    #[test]
+    fn a_corrupted_slot_stays_inside_the_segments_cells() {
+        let host = Host::create(HostConfig::for_tests("handles-clamp")).unwrap();
+        let c = host
+            .instance()
+            .new_component("clamp", ComponentKind::User)
+            .unwrap();
+        let pin: Pin<u32, Out> = c.pin("clamp.out").unwrap();
+        pin.set(7);
+        assert_eq!(pin.get(), 7);
+        let first = pin.cells.floor;
+        let last = pin.cells.floor + pin.cells.span;
+        let at = |p: &Pin<u32, Out>| p.cell() as *const AtomicU64 as usize - p.cells.base as usize;
+        // SAFETY: the slot is in the mapping the handle keeps alive; the
+        // test stands in for a process that scribbled over it.
+        let slot = unsafe { &*pin.slot };
+        let good = slot.load(Relaxed);
+        for (bad, lands) in [
+            (0, first),
+            (3, first),
+            (first + 3, first),
+            (u64::MAX, last),
+            (last + 8, last),
+        ] {
+            slot.store(bad, Relaxed);
+            assert_eq!(at(&pin) as u64, lands, "slot {bad:#x}");
+        }
+        slot.store(last, Relaxed);
+        assert_eq!(at(&pin) as u64, last, "the last cell is a cell");
+        slot.store(good, Relaxed);
+        assert_eq!(pin.get(), 7);
     }
 }

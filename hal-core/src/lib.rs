@@ -30,7 +30,8 @@ pub use error::{HalError, Result};
 pub use exec::clock;
 pub use exec::realtime;
 pub use exec::{
-    FunctCtx, Host, HostConfig, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE, TOP_PRIORITY,
+    FunctCtx, Host, HostConfig, MissedDeadline, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE,
+    TOP_PRIORITY,
 };
 pub use handles::{In, Io, Out, Param, Pin, RawParam, RawPin, Ro, Rw};
 pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};

@@ -93,8 +93,9 @@ impl TickClock {
     }
 }
 
+/// The CPU's timestamp counter (CLOCK_MONOTONIC ns where there is none).
 #[inline(always)]
-fn rdtsc() -> u64 {
+pub(crate) fn rdtsc() -> u64 {
     #[cfg(target_arch = "x86_64")]
     {
         // SAFETY: rdtsc has no memory effects and exists on every x86_64 CPU.

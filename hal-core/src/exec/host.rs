@@ -11,7 +11,11 @@ use super::clock::TickClock;
 use super::funct::{ExecList, FunctCode, FunctCtx, TimingOut};
 use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
 use super::reaper::Reaper;
-use super::thread::{self, HostShared, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
+use super::thread::{
+    self, HostShared, Placement, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT, THREAD_CATCH_UP,
+    THREAD_NO_FUNCT_TIMING,
+};
+use super::MissedDeadline;
 use crate::error::{HalError, Result};
 use crate::handles::{Param, Pin};
 use crate::module::{ModuleArgs, ModuleDef};
@@ -35,6 +39,12 @@ pub struct HostConfig {
     pub shm_size: u64,
     /// Whether to ask for realtime scheduling.
     pub realtime: RealtimeMode,
+    /// The CPU every HAL thread runs on unless it is given its own (see
+    /// [`Host::set_thread_cpu`]), as text: LinuxCNC's `RTAPI_CPU_NUMBER`.
+    /// [`Host::create`] refuses a number that is not one of the process's
+    /// CPUs. `None`: under realtime the last CPU the process may use (as
+    /// LinuxCNC), without realtime any CPU.
+    pub rt_cpu: Option<String>,
 }
 
 impl HostConfig {
@@ -48,11 +58,13 @@ impl HostConfig {
             instance: format!("t-{tag}-{}-{n}", std::process::id()),
             shm_size: 4 << 20,
             realtime: RealtimeMode::Off,
+            rt_cpu: None,
         }
     }
 
     /// A configuration for `instance` with default size; realtime is
-    /// attempted unless `HAL_NO_REALTIME` is set.
+    /// attempted unless `HAL_NO_REALTIME` is set; `RTAPI_CPU_NUMBER`
+    /// chooses the threads' CPU.
     pub fn new(instance: &str) -> HostConfig {
         HostConfig {
             instance: instance.to_string(),
@@ -65,6 +77,7 @@ impl HostConfig {
             } else {
                 RealtimeMode::Auto
             },
+            rt_cpu: std::env::var("RTAPI_CPU_NUMBER").ok(),
         }
     }
 }
@@ -114,6 +127,8 @@ struct HostState {
     /// Loaded modules, in load order.
     modules: Vec<&'static str>,
     memory_locked: bool,
+    /// Per-function timing of threads created from now on.
+    timing_default: bool,
 }
 
 /// The host of one HAL instance.
@@ -128,6 +143,10 @@ pub struct Host {
     notes_printed: AtomicBool,
     shut_down: AtomicBool,
     rt_log: RtLogService,
+    /// CPUs the process may use, found at start.
+    allowed_cpus: Vec<usize>,
+    /// Where threads without a CPU of their own run (`None`: anywhere).
+    default_cpu: Option<usize>,
     _lock: HostLock,
 }
 
@@ -136,6 +155,18 @@ impl Host {
     /// holds it), reclaims a segment left by a dead host, creates a fresh one.
     pub fn create(config: HostConfig) -> Result<Host> {
         validate_instance_name(&config.instance)?;
+        let allowed_cpus = realtime::allowed_cpus();
+        let rt_cpu = match &config.rt_cpu {
+            Some(text) => Some(
+                realtime::parse_cpu("RTAPI_CPU_NUMBER", text, &allowed_cpus).map_err(|reason| {
+                    HalError::BadValue {
+                        what: "the realtime CPU".into(),
+                        reason,
+                    }
+                })?,
+            ),
+            None => None,
+        };
         let lock = HostLock::acquire(&config.instance)?;
         let mut notes = Vec::new();
         let seg_path = paths::segment(&config.instance);
@@ -167,14 +198,23 @@ impl Host {
             running: AtomicBool::new(false),
             gate: (Mutex::new(()), Condvar::new()),
             serial: (!realtime).then(|| Mutex::new(())),
-            timing: AtomicBool::new(true),
             fault: AtomicUsize::new(NO_FAULT),
             fault_signal: (Mutex::new(0), Condvar::new()),
             clock: TickClock::calibrate(),
             realtime,
             start_ns: AtomicU64::new(0),
         });
-        let state = Arc::new(Mutex::new(HostState::default()));
+        let state = Arc::new(Mutex::new(HostState {
+            timing_default: true,
+            ..HostState::default()
+        }));
+        let default_cpu = rt_cpu.or_else(|| {
+            if realtime {
+                allowed_cpus.last().copied()
+            } else {
+                None
+            }
+        });
         let reaper = Reaper::start(Instance { seg: seg.clone() })?;
         let supervisor = {
             let shared = shared.clone();
@@ -194,6 +234,8 @@ impl Host {
             notes_printed: AtomicBool::new(false),
             shut_down: AtomicBool::new(false),
             rt_log: RtLogService::new(),
+            allowed_cpus,
+            default_cpu,
             _lock: lock,
         })
     }
@@ -238,10 +280,111 @@ impl Host {
         self.rt_log.flush();
     }
 
-    /// Turns per-function timing (`<funct>.time`, `.tmax`) on or off; the
-    /// thread's own `time` is always measured.
+    /// Turns per-function timing (`<funct>.time`, `.tmax`) on or off for
+    /// every thread, and for threads created later; a thread's own `time`
+    /// is always measured.
     pub fn set_function_timing(&self, on: bool) {
-        self.shared.timing.store(on, Relaxed);
+        let mut st = lock(&self.state);
+        st.timing_default = on;
+        for t in &st.threads {
+            // A thread's record only goes away with the thread.
+            let _ = self.set_option(&t.ctl, THREAD_NO_FUNCT_TIMING, !on);
+        }
+    }
+
+    /// Turns per-function timing on or off for one thread (halcmd
+    /// `setthread THREAD timing=on|off`). Off, the thread's functions'
+    /// `.time`, `.tmax` and `.tmax-increased` keep their last values and
+    /// the thread reads the clock twice per cycle instead of once per
+    /// function.
+    pub fn set_thread_timing(&self, thread: &str, on: bool) -> Result<()> {
+        let st = lock(&self.state);
+        let ti = thread_index(&st, thread)?;
+        self.set_option(&st.threads[ti].ctl, THREAD_NO_FUNCT_TIMING, !on)
+    }
+
+    /// Chooses what a thread does with missed deadlines (halcmd
+    /// `setthread THREAD missed=skip|catch-up`); see [`MissedDeadline`].
+    pub fn set_missed_deadline(&self, thread: &str, policy: MissedDeadline) -> Result<()> {
+        let st = lock(&self.state);
+        let ti = thread_index(&st, thread)?;
+        let catch_up = policy == MissedDeadline::CatchUp;
+        self.set_option(&st.threads[ti].ctl, THREAD_CATCH_UP, catch_up)
+    }
+
+    fn set_option(&self, ctl: &ThreadCtl, bit: u64, set: bool) -> Result<()> {
+        if set {
+            ctl.options.fetch_or(bit, Relaxed);
+        } else {
+            ctl.options.fetch_and(!bit, Relaxed);
+        }
+        Ok(())
+    }
+
+    /// A thread's integrator switches: whether its functions are timed,
+    /// and what it does with missed deadlines.
+    pub fn thread_options(&self, thread: &str) -> Result<(bool, MissedDeadline)> {
+        let st = lock(&self.state);
+        let ti = thread_index(&st, thread)?;
+        let bits = st.threads[ti].ctl.options.load(Relaxed);
+        let policy = if bits & THREAD_CATCH_UP != 0 {
+            MissedDeadline::CatchUp
+        } else {
+            MissedDeadline::Skip
+        };
+        Ok((bits & THREAD_NO_FUNCT_TIMING == 0, policy))
+    }
+
+    /// Puts a thread on `cpu`, or back on the default placement for `None`
+    /// (halcmd `setthread THREAD cpu=N|default`); takes effect at once,
+    /// running or not. Two threads on different CPUs under realtime can
+    /// run at the same time: HAL files that rely on the faster thread
+    /// preempting the slower one must keep them on one CPU.
+    pub fn set_thread_cpu(&self, thread: &str, cpu: Option<usize>) -> Result<()> {
+        if let Some(c) = cpu {
+            if !self.allowed_cpus.contains(&c) {
+                return Err(HalError::BadValue {
+                    what: format!("CPU of thread '{thread}'"),
+                    reason: format!(
+                        "CPU {c} is not one this process may use ({})",
+                        realtime::cpu_list(&self.allowed_cpus)
+                    ),
+                });
+            }
+        }
+        let st = lock(&self.state);
+        let ti = thread_index(&st, thread)?;
+        let ctl = &st.threads[ti].ctl;
+        self.inst.tx(|tx| {
+            let rec: &ThreadRec = tx.rec(ctl.rec_off)?;
+            tx.set(&rec.cpu, cpu.map_or(0, |c| c as u64 + 1))
+        })?;
+        let mut p = lock(&ctl.placement);
+        p.cpu = cpu.or(self.default_cpu);
+        match p.tid {
+            Some(tid) => realtime::place_thread(tid, p.cpu, &self.allowed_cpus).map_err(|reason| {
+                HalError::BadValue {
+                    what: format!("CPU of thread '{thread}'"),
+                    reason,
+                }
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The CPUs a thread's OS thread may run on, as the kernel reports
+    /// them (`sched_getaffinity`); `None` before its OS thread has started.
+    pub fn thread_affinity(&self, thread: &str) -> Result<Option<Vec<usize>>> {
+        let st = lock(&self.state);
+        let ti = thread_index(&st, thread)?;
+        let tid = lock(&st.threads[ti].ctl.placement).tid;
+        tid.map(|tid| {
+            realtime::thread_affinity(tid).map_err(|source| HalError::BadValue {
+                what: format!("thread '{thread}'"),
+                reason: source,
+            })
+        })
+        .transpose()
     }
 
     /// Starts building a realtime component in this host.
@@ -328,20 +471,21 @@ impl Host {
         let built = (|| -> Result<(i32, Arc<ThreadCtl>)> {
             let rec: &ThreadRec = seg.rec(off)?;
             let priority = rec.priority.load(Relaxed) as i32;
-            let placement = cpu.or_else(|| {
-                if self.shared.realtime {
-                    realtime::default_cpu()
-                } else {
-                    None
-                }
-            });
             let ctl = Arc::new(ThreadCtl {
                 name: name.to_string(),
                 period,
                 priority,
-                cpu: placement,
+                placement: Mutex::new(Placement {
+                    cpu: cpu.or(self.default_cpu),
+                    tid: None,
+                }),
                 rec_off: off,
-                list: AtomicPtr::new(Box::into_raw(Box::default())),
+                options: AtomicU64::new(if st.timing_default {
+                    0
+                } else {
+                    THREAD_NO_FUNCT_TIMING
+                }),
+                list: AtomicPtr::new(Box::into_raw(Box::new(ExecList::new(seg)))),
                 epoch: AtomicU64::new(0),
                 idle: AtomicBool::new(true),
                 exit: AtomicBool::new(false),
@@ -365,9 +509,10 @@ impl Host {
         let join = {
             let ctl = ctl.clone();
             let shared = self.shared.clone();
+            let allowed = self.allowed_cpus.clone();
             std::thread::Builder::new()
                 .name(format!("hal-{name}"))
-                .spawn(move || thread::run(ctl, shared))
+                .spawn(move || thread::run(ctl, shared, allowed))
         };
         let join = match join {
             Ok(j) => j,
@@ -561,7 +706,7 @@ impl Host {
     /// Builds an executor list for the code ids `functs`.
     fn build_list(&self, st: &HostState, functs: &[usize], init: &[usize]) -> Result<ExecList> {
         let seg = &self.inst.seg;
-        let mut list = ExecList::default();
+        let mut list = ExecList::new(seg);
         for &id in init {
             if let Some(slot) = st.functs.get(id).and_then(Option::as_ref) {
                 list.push_init(slot.code.clone(), id);
@@ -572,11 +717,11 @@ impl Host {
                 continue;
             };
             let rec: &FunctRec = seg.rec(slot.rec_off)?;
-            let timing = TimingOut {
-                time: Pin::new(seg, rec.time_pin.load(Relaxed))?,
-                tmax: Param::new(seg, rec.tmax_param.load(Relaxed))?,
-                tmax_increased: Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
-            };
+            let timing = TimingOut::new(
+                &Pin::new(seg, rec.time_pin.load(Relaxed))?,
+                &Param::new(seg, rec.tmax_param.load(Relaxed))?,
+                &Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
+            );
             list.push(slot.code.clone(), id, timing);
         }
         Ok(list)
@@ -980,7 +1125,7 @@ impl RtComponentBuilder<'_> {
         uses_fp: bool,
         f: impl FnMut(&FunctCtx) + Send + 'static,
     ) -> Result<()> {
-        let code = FunctCode::Exclusive(std::cell::UnsafeCell::new(Box::new(f)));
+        let code = FunctCode::exclusive(f);
         let id = self
             .host
             .export_funct(self.component(), name, uses_fp, code, false)?;
@@ -995,7 +1140,7 @@ impl RtComponentBuilder<'_> {
         uses_fp: bool,
         f: impl Fn(&FunctCtx) + Send + Sync + 'static,
     ) -> Result<()> {
-        let code = FunctCode::Shared(Box::new(f));
+        let code = FunctCode::shared(f);
         let id = self
             .host
             .export_funct(self.component(), name, uses_fp, code, true)?;

@@ -65,21 +65,101 @@ fn explain_fifo_failure(rc: i32, priority: i32) -> String {
     msg
 }
 
-/// Pins the calling thread to `cpu`.
-pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
-    let mut set = nix::sched::CpuSet::new();
-    set.set(cpu)
-        .map_err(|e| format!("CPU {cpu} cannot be used: {e}"))?;
-    nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(0), &set)
-        .map_err(|e| format!("pinning to CPU {cpu} failed: {e}"))
+/// The kernel id of the calling thread.
+pub fn current_tid() -> i32 {
+    nix::unistd::gettid().as_raw()
 }
 
-/// The CPU HAL threads share by default: the last one this process may use.
+/// The CPUs this process may run on, in order.
+pub fn allowed_cpus() -> Vec<usize> {
+    match nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(0)) {
+        Ok(set) => (0..nix::sched::CpuSet::count())
+            .filter(|&c| set.is_set(c).unwrap_or(false))
+            .collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+/// Moves thread `tid` to `cpu`, or back to every CPU of `allowed` for
+/// `None`.
+pub fn place_thread(tid: i32, cpu: Option<usize>, allowed: &[usize]) -> Result<(), String> {
+    let mut set = nix::sched::CpuSet::new();
+    let cpus = match cpu {
+        Some(c) => std::slice::from_ref(&c).to_vec(),
+        None => allowed.to_vec(),
+    };
+    if cpus.is_empty() {
+        return Ok(());
+    }
+    for &c in &cpus {
+        set.set(c)
+            .map_err(|e| format!("CPU {c} cannot be used: {e}"))?;
+    }
+    nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(tid), &set).map_err(|e| match cpu {
+        Some(c) => format!("moving the thread to CPU {c} failed: {e}"),
+        None => format!("letting the thread run on every CPU failed: {e}"),
+    })
+}
+
+/// The CPUs thread `tid` may run on (`sched_getaffinity`).
+pub fn thread_affinity(tid: i32) -> Result<Vec<usize>, String> {
+    let set = nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(tid))
+        .map_err(|e| format!("reading the CPU affinity of thread {tid} failed: {e}"))?;
+    Ok((0..nix::sched::CpuSet::count())
+        .filter(|&c| set.is_set(c).unwrap_or(false))
+        .collect())
+}
+
+/// Pins the calling thread to `cpu`.
+pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
+    place_thread(0, Some(cpu), &[])
+}
+
+/// The CPU HAL threads share by default under realtime: the last one this
+/// process may use (LinuxCNC's choice, where isolated CPUs usually are).
 pub fn default_cpu() -> Option<usize> {
-    let set = nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(0)).ok()?;
-    (0..nix::sched::CpuSet::count())
-        .rev()
-        .find(|&c| set.is_set(c).unwrap_or(false))
+    allowed_cpus().last().copied()
+}
+
+/// Parses a CPU number given as text (LinuxCNC's `RTAPI_CPU_NUMBER`) and
+/// checks that the process may use that CPU.
+pub fn parse_cpu(what: &str, text: &str, allowed: &[usize]) -> Result<usize, String> {
+    let cpu: usize = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("{what}='{text}' is not a CPU number"))?;
+    if !allowed.contains(&cpu) {
+        return Err(format!(
+            "{what}={cpu}: this process may only use CPU {}",
+            cpu_list(allowed)
+        ));
+    }
+    Ok(cpu)
+}
+
+/// A CPU list as `0-3,6`.
+pub fn cpu_list(cpus: &[usize]) -> String {
+    let mut out = String::new();
+    let mut i = 0;
+    while i < cpus.len() {
+        let mut j = i;
+        while j + 1 < cpus.len() && cpus[j + 1] == cpus[j] + 1 {
+            j += 1;
+        }
+        if !out.is_empty() {
+            out.push(',');
+        }
+        if j > i {
+            let _ = write!(out, "{}-{}", cpus[i], cpus[j]);
+        } else {
+            let _ = write!(out, "{}", cpus[i]);
+        }
+        i = j + 1;
+    }
+    if out.is_empty() {
+        out.push_str("none");
+    }
+    out
 }
 
 /// Locks the process's memory as it is touched. Returns a description of
@@ -115,6 +195,50 @@ pub fn tight_timer_slack() {
     }
 }
 
+/// The slice asked for by [`short_slice`]: the kernel's smallest.
+const SHORT_SLICE_NS: u64 = 100_000;
+
+/// Asks the fair scheduler (EEVDF, Linux 6.12 and later) for a short time
+/// slice for the calling thread: a thread with a shorter slice gets an
+/// earlier virtual deadline, so when its timer fires it preempts the
+/// ordinary processes running on its CPU instead of waiting for their
+/// slices to end. Needs no privilege, leaves the nice value at 0, and is
+/// what keeps the wake-up tail short without realtime scheduling. Returns
+/// false where the kernel does not take the request (older kernels ignore
+/// or refuse it; nothing else changes).
+pub fn short_slice() -> bool {
+    // `struct sched_attr` as the kernel defines it (SCHED_ATTR_SIZE_VER1).
+    #[repr(C)]
+    struct SchedAttr {
+        size: u32,
+        policy: u32,
+        flags: u64,
+        nice: i32,
+        priority: u32,
+        runtime: u64,
+        deadline: u64,
+        period: u64,
+        util_min: u32,
+        util_max: u32,
+    }
+    let attr = SchedAttr {
+        size: std::mem::size_of::<SchedAttr>() as u32,
+        policy: libc::SCHED_OTHER as u32,
+        flags: 0,
+        nice: 0,
+        priority: 0,
+        runtime: SHORT_SLICE_NS,
+        deadline: 0,
+        period: 0,
+        util_min: 0,
+        util_max: 0,
+    };
+    // SAFETY: sched_setattr reads `size` bytes from a valid, initialised
+    // struct; pid 0 is the calling thread; flags 0.
+    let rc = unsafe { libc::syscall(libc::SYS_sched_setattr, 0, &attr as *const SchedAttr, 0) };
+    rc == 0
+}
+
 /// Touches `bytes` of the calling thread's stack so later use never faults.
 #[inline(never)]
 pub fn prefault_stack() {
@@ -148,6 +272,38 @@ mod tests {
         assert!(msg.contains("limits.d"), "{msg}");
         let other = explain_fifo_failure(libc::EINVAL, 90);
         assert!(!other.contains("limits.d"), "{other}");
+    }
+
+    #[test]
+    fn a_short_slice_keeps_the_thread_an_ordinary_one() {
+        std::thread::spawn(|| {
+            let took = short_slice();
+            // SAFETY: sched_getscheduler takes a pid only.
+            let policy = unsafe { libc::sched_getscheduler(0) };
+            assert_eq!(policy, libc::SCHED_OTHER, "short slice taken: {took}");
+            // Where the kernel shows the slice, it is the one asked for.
+            let sched = std::fs::read_to_string("/proc/thread-self/sched").unwrap_or_default();
+            if let Some(line) = sched.lines().find(|l| l.starts_with("se.slice")) {
+                let slice = line.rsplit(' ').next().unwrap_or("");
+                assert!(!took || slice == SHORT_SLICE_NS.to_string(), "{line}");
+            }
+        })
+        .join()
+        .unwrap();
+    }
+
+    #[test]
+    fn cpu_numbers_are_checked_against_the_allowed_set() {
+        assert_eq!(parse_cpu("RTAPI_CPU_NUMBER", " 1", &[0, 1]), Ok(1));
+        let e = parse_cpu("RTAPI_CPU_NUMBER", "x", &[0, 1]).unwrap_err();
+        assert!(
+            e.contains("RTAPI_CPU_NUMBER='x' is not a CPU number"),
+            "{e}"
+        );
+        let e = parse_cpu("RTAPI_CPU_NUMBER", "5", &[0, 1, 2, 6]).unwrap_err();
+        assert!(e.contains("may only use CPU 0-2,6"), "{e}");
+        assert_eq!(cpu_list(&[]), "none");
+        assert_eq!(cpu_list(&[3]), "3");
     }
 
     #[test]

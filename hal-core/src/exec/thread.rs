@@ -1,15 +1,26 @@
 //! The executor: one OS thread per HAL thread, running its function list
 //! every period to absolute deadlines on CLOCK_MONOTONIC.
+//!
+//! What a cycle costs beyond its functions is kept to a minimum: one clock
+//! read per function boundary when functions are timed (none when they are
+//! not), plain stores for the counters only this executor writes, and one
+//! fence to announce the cycle to the host instead of one locked
+//! instruction per flag.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering::*};
+use std::sync::atomic::{fence, AtomicBool, AtomicPtr, AtomicU64, AtomicUsize, Ordering::*};
 use std::sync::{Arc, Condvar, Mutex};
 
-use super::clock::{monotonic_ns, sleep_until, TickClock};
-use super::funct::{ExecList, FunctCtx};
+use super::clock::{monotonic_ns, rdtsc, sleep_until, TickClock};
+use super::funct::{Call, ExecList, FunctCtx};
 use super::realtime;
 use crate::handles::{Out, Param, Pin, Rw};
 use crate::shm::{latency_bucket, Segment, ThreadRec, HIST_BUCKETS};
+
+/// [`ThreadCtl::options`] bit: per-function timing is off.
+pub(crate) const THREAD_NO_FUNCT_TIMING: u64 = 1;
+/// [`ThreadCtl::options`] bit: late cycles run back to back.
+pub(crate) const THREAD_CATCH_UP: u64 = 2;
 
 /// Supervisor request: a function faulted.
 pub(crate) const SUPERVISOR_FAULT: u8 = 1;
@@ -29,8 +40,6 @@ pub(crate) struct HostShared {
     /// Without realtime scheduling, held for a whole cycle so that two HAL
     /// threads never run at once.
     pub serial: Option<Mutex<()>>,
-    /// Per-function timing on or off.
-    pub timing: AtomicBool,
     /// Code id of the function that panicked, or NO_FAULT.
     pub fault: AtomicUsize,
     /// Wakes the supervisor: [`SUPERVISOR_FAULT`] or [`SUPERVISOR_EXIT`].
@@ -43,15 +52,30 @@ pub(crate) struct HostShared {
     pub start_ns: AtomicU64,
 }
 
+/// Where an executor's OS thread runs: the CPU chosen for it (explicitly
+/// or by default; `None` for every CPU the process may use) and, once the
+/// thread has started, its kernel thread id. Changed under its mutex so
+/// that the host and the starting executor never apply two choices in the
+/// wrong order.
+#[derive(Debug, Default)]
+pub(crate) struct Placement {
+    pub cpu: Option<usize>,
+    pub tid: Option<i32>,
+}
+
 /// Control block of one executor, shared with the host.
 pub(crate) struct ThreadCtl {
     pub name: String,
     pub period: i64,
     pub priority: i32,
-    pub cpu: Option<usize>,
+    pub placement: Mutex<Placement>,
     pub rec_off: u64,
+    /// [`THREAD_NO_FUNCT_TIMING`] and [`THREAD_CATCH_UP`] bits; 0 is the
+    /// default (timing on, missed deadlines skipped). Read once a cycle.
+    pub options: AtomicU64,
     pub list: AtomicPtr<ExecList>,
-    /// Incremented at every cycle boundary and whenever the executor parks.
+    /// Incremented at every cycle boundary and whenever the executor parks;
+    /// only the executor writes it.
     pub epoch: AtomicU64,
     /// True while the executor holds no reference to its list.
     pub idle: AtomicBool,
@@ -88,6 +112,24 @@ impl ThreadCtl {
             }
         }
     }
+
+    /// Records the calling OS thread as this executor's and moves it to its
+    /// chosen CPU.
+    fn attach_os_thread(&self, allowed: &[usize]) {
+        let mut p = self.placement.lock().unwrap_or_else(|e| e.into_inner());
+        let tid = realtime::current_tid();
+        p.tid = Some(tid);
+        // A refused choice was reported when it was made.
+        let _ = realtime::place_thread(tid, p.cpu, allowed);
+    }
+
+    /// Marks the executor as holding nothing (parked or gone).
+    fn park(&self, rec: &ThreadRec) {
+        self.idle.store(true, SeqCst);
+        rec.seen_epoch.store(u64::MAX, SeqCst);
+        rec.running.store(0, Relaxed);
+        self.epoch.fetch_add(1, SeqCst);
+    }
 }
 
 impl HostShared {
@@ -117,14 +159,17 @@ impl HostShared {
 }
 
 /// The body of an executor thread.
-pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
+pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>, allowed: Vec<usize>) {
     if sh.realtime {
         // Failures were reported when the host probed its permissions.
         let _ = realtime::set_fifo(ctl.priority);
+    } else if std::env::var_os("HAL_NO_SHORT_SLICE").is_none() {
+        // Without realtime, a short fair-scheduler slice is what keeps the
+        // wake-up tail short (see `short_slice`).
+        let _ = realtime::short_slice();
     }
-    if let Some(cpu) = ctl.cpu {
-        let _ = realtime::pin_to_cpu(cpu);
-    }
+    ctl.attach_os_thread(&allowed);
+    drop(allowed);
     realtime::tight_timer_slack();
     realtime::prefault_stack();
     let Ok(rec) = sh.seg.rec::<ThreadRec>(ctl.rec_off) else {
@@ -133,13 +178,9 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
     let grace = &sh.seg.header().grace_epoch;
     let mut ctx = FunctCtx::new(ctl.period);
     let period = ctl.period.max(1) as u64;
-    let clock = sh.clock;
 
     'park: loop {
-        ctl.idle.store(true, SeqCst);
-        rec.seen_epoch.store(u64::MAX, SeqCst);
-        rec.running.store(0, Relaxed);
-        ctl.epoch.fetch_add(1, SeqCst);
+        ctl.park(rec);
         sh.wait_for_start(&ctl);
         if ctl.exit.load(Acquire) {
             break;
@@ -147,10 +188,13 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
         rec.running.store(1, Relaxed);
         // First deadline: the next multiple of the period after start.
         let start = sh.start_ns.load(Acquire);
-        let now = monotonic_ns();
+        let mut now = monotonic_ns();
         let mut next = start + period * ((now.saturating_sub(start)) / period + 1);
         loop {
-            sleep_until(next);
+            // A cycle already late (catching up) runs at once.
+            if now < next {
+                sleep_until(next);
+            }
             if ctl.exit.load(Acquire) {
                 break 'park;
             }
@@ -158,18 +202,22 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
                 continue 'park;
             }
             let woke = monotonic_ns();
-            ctx.set_now(woke);
+            ctx.set_cycle(next, woke);
             record_latency(rec, woke.saturating_sub(next));
 
-            // Announce that we may now hold references: first to the grace
-            // epoch (for retired value cells), then to our list.
-            ctl.idle.store(false, SeqCst);
-            // Re-check after announcing: `stop` clears `running` and then
-            // looks at `idle`, so one of us sees the other.
-            if !sh.running.load(SeqCst) {
+            // Announce that we may now hold references: to value cells as
+            // of the grace epoch we saw, and to our list. The fence orders
+            // these stores before every later load (the list pointer, pin
+            // slots, `running`): the host and the segment's writers store
+            // first and then look at these flags, so one of the two sides
+            // always sees the other.
+            ctl.idle.store(false, Relaxed);
+            let seen = grace.load(Relaxed);
+            rec.seen_epoch.store(seen, Relaxed);
+            fence(SeqCst);
+            if !sh.running.load(Relaxed) {
                 continue 'park;
             }
-            rec.seen_epoch.store(grace.load(SeqCst), SeqCst);
             if !ctl.faster.is_empty() {
                 ctl.wait_for_faster(&sh, next);
             }
@@ -179,74 +227,137 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>) {
                 .map(|m| m.lock().unwrap_or_else(|e| e.into_inner()));
             // SAFETY: the host only frees a list after replacing it and
             // seeing this thread pass a boundary (epoch bump) or idle.
-            let list = unsafe { &*ctl.list.load(SeqCst) };
-            let timing = sh.timing.load(Relaxed);
-            let start = clock.now();
-            let mut prev = start;
-            // One unwind guard for the whole list: a panic ends the cycle
-            // anyway, and `current` says which function it came from.
-            let mut current = 0usize;
-            let init = !list.init_calls.is_empty() && !ctl.init_done.load(Acquire);
-            let (calls, ids) = if init {
-                ctl.init_done.store(true, Release);
-                (&list.init_calls, &list.init_ids)
-            } else {
-                (&list.calls, &list.ids)
-            };
-            let outcome = catch_unwind(AssertUnwindSafe(|| {
-                for (i, &code) in calls.iter().enumerate() {
-                    current = i;
-                    // SAFETY: `code` is kept alive by `list.owners`; a
-                    // non-reentrant function is in this list only, and this
-                    // thread runs its list sequentially.
-                    unsafe { (*code).call(&ctx) };
-                    if timing && !init {
-                        let now = clock.now();
-                        list.timing[i].record(clock.to_ns(now.wrapping_sub(prev)));
-                        prev = now;
-                    }
-                }
-            }));
-            let faulted = outcome.is_err();
-            if faulted {
-                sh.report_fault(ids.get(current).copied().unwrap_or(NO_FAULT - 1));
-            }
-            let end = if timing { prev } else { clock.now() };
-            let t = clock.to_ns(end.wrapping_sub(start)).min(i32::MAX as u64) as i32;
-            ctl.time.set(t);
-            if t > ctl.tmax.get() {
-                ctl.tmax.set(t);
-            }
-            ctl.beat.set(ctl.beat.get().wrapping_add(1));
-            rec.cycles.fetch_add(1, Relaxed);
+            let list = unsafe { &*ctl.list.load(Acquire) };
+            let options = ctl.options.load(Relaxed);
+            let faulted = run_cycle(&ctl, &sh, list, &ctx, options & THREAD_NO_FUNCT_TIMING == 0);
+            // Only this executor writes its counters: no locked increment.
+            rec.cycles
+                .store(rec.cycles.load(Relaxed).wrapping_add(1), Relaxed);
             drop(guard);
             ctl.done_deadline.store(next, Release);
-            ctl.idle.store(true, SeqCst);
-            rec.seen_epoch.store(u64::MAX, SeqCst);
-            ctl.epoch.fetch_add(1, SeqCst);
+            rec.seen_epoch.store(u64::MAX, Release);
+            ctl.epoch
+                .store(ctl.epoch.load(Relaxed).wrapping_add(1), Release);
+            ctl.idle.store(true, Release);
             if faulted {
                 continue 'park;
             }
 
             next += period;
-            let now = monotonic_ns();
+            now = monotonic_ns();
             if now > next {
-                // Deadlines already missed are skipped, each counted once.
-                let missed = (now - next) / period + 1;
-                rec.overruns.fetch_add(missed, Relaxed);
-                next += missed * period;
+                let late = if options & THREAD_CATCH_UP != 0 {
+                    // The next cycle runs at once, late; it counts once.
+                    1
+                } else {
+                    // Deadlines already missed are skipped, each counted.
+                    let missed = (now - next) / period + 1;
+                    next += missed * period;
+                    missed
+                };
+                rec.overruns
+                    .store(rec.overruns.load(Relaxed).wrapping_add(late), Relaxed);
             }
         }
     }
-    ctl.idle.store(true, SeqCst);
-    rec.seen_epoch.store(u64::MAX, SeqCst);
-    rec.running.store(0, Relaxed);
-    ctl.epoch.fetch_add(1, SeqCst);
+    ctl.park(rec);
 }
 
+/// Runs one cycle's functions (or the init cycle's) and publishes the
+/// thread's time. Returns whether a function panicked.
+fn run_cycle(
+    ctl: &ThreadCtl,
+    sh: &HostShared,
+    list: &ExecList,
+    ctx: &FunctCtx,
+    timed: bool,
+) -> bool {
+    let clock = sh.clock;
+    let init = !list.init_calls.is_empty() && !ctl.init_done.load(Acquire);
+    // One unwind guard for the whole list: a panic ends the cycle anyway,
+    // and `current` says which function it came from.
+    let mut current = 0usize;
+    let start = clock.now();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        if init {
+            ctl.init_done.store(true, Release);
+            run_untimed(&list.init_calls, ctx, &mut current);
+            clock.now()
+        } else if !timed {
+            run_untimed(&list.calls, ctx, &mut current);
+            clock.now()
+        } else if clock.uses_tsc() {
+            run_timed(list, ctx, &clock, start, rdtsc, &mut current)
+        } else {
+            run_timed(list, ctx, &clock, start, monotonic_ns, &mut current)
+        }
+    }));
+    let (end, faulted) = match outcome {
+        Ok(end) => (end, false),
+        Err(_) => {
+            let ids = if init { &list.init_ids } else { &list.ids };
+            sh.report_fault(ids.get(current).copied().unwrap_or(NO_FAULT - 1));
+            (clock.now(), true)
+        }
+    };
+    let t = clock.to_ns(end.wrapping_sub(start)).min(i32::MAX as u64) as i32;
+    ctl.time.set(t);
+    if t > ctl.tmax.get() {
+        ctl.tmax.set(t);
+    }
+    ctl.beat.set(ctl.beat.get().wrapping_add(1));
+    faulted
+}
+
+/// Calls every function of `calls` in order.
+#[inline(always)]
+fn run_untimed(calls: &[Call], ctx: &FunctCtx, current: &mut usize) {
+    for (i, call) in calls.iter().enumerate() {
+        *current = i;
+        // SAFETY: the list's owners keep the code alive; a non-reentrant
+        // function is in this list only, and this thread runs its list
+        // sequentially.
+        unsafe { call.run(ctx) };
+    }
+}
+
+/// Calls every function of the list, reading the clock once per function
+/// boundary (the end of one function is the start of the next) and
+/// publishing each function's time. Returns the last reading.
+#[inline(always)]
+fn run_timed(
+    list: &ExecList,
+    ctx: &FunctCtx,
+    clock: &TickClock,
+    start: u64,
+    ticks: impl Fn() -> u64,
+    current: &mut usize,
+) -> u64 {
+    let mut prev = start;
+    let calls = &list.calls;
+    if let Some(first) = calls.first() {
+        first.prefetch();
+    }
+    for (i, (call, timing)) in calls.iter().zip(&list.timing).enumerate() {
+        *current = i;
+        if let Some(next) = calls.get(i + 1) {
+            next.prefetch();
+        }
+        // SAFETY: as in `run_untimed`.
+        unsafe { call.run(ctx) };
+        let now = ticks();
+        timing.record(&list.cells, clock.to_ns(now.wrapping_sub(prev)));
+        prev = now;
+    }
+    prev
+}
+
+/// Counts one wake-up latency. Only this executor writes the statistics,
+/// so plain loads and stores do (readers see each word whole).
 fn record_latency(rec: &ThreadRec, ns: u64) {
     let b = latency_bucket(ns).min(HIST_BUCKETS - 1);
-    rec.hist[b].fetch_add(1, Relaxed);
+    let bucket = &rec.hist[b];
+    bucket.store(bucket.load(Relaxed).wrapping_add(1), Relaxed);
     if ns < rec.lat_min_ns.load(Relaxed) {
         rec.lat_min_ns.store(ns, Relaxed);
     }
