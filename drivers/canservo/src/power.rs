@@ -324,16 +324,28 @@ pub enum AnyPower<'a> {
     OperationEnabled(Power<'a, OperationEnabled>),
     /// Quick stop active.
     QuickStopActive(Power<'a, QuickStopActive>),
-    /// Fault (or Fault reaction active, which ends there).
+    /// Fault.
     Fault(Power<'a, Fault>),
-    /// Not ready to switch on: nothing can be commanded yet.
+    /// Not ready to switch on or Fault reaction active past the
+    /// time-out, or an undefined statusword: nothing can be commanded.
     NotReady(u16),
 }
 
 impl<'a> AnyPower<'a> {
     /// Reads the statusword and returns the typed handle for the state.
+    /// The transient states (Not ready to switch on, Fault reaction
+    /// active) are waited out, up to `timeout`.
     pub fn read(sdo: &'a SdoClient<'a>, timeout: Duration) -> Result<AnyPower<'a>> {
-        let statusword = sdo.read_u16(obj::STATUSWORD, 0)?;
+        let end = Instant::now() + timeout;
+        let mut statusword = sdo.read_u16(obj::STATUSWORD, 0)?;
+        while matches!(
+            PowerState::from_statusword(statusword),
+            Some(PowerState::NotReadyToSwitchOn | PowerState::FaultReactionActive)
+        ) && Instant::now() < end
+        {
+            std::thread::sleep(Duration::from_millis(2));
+            statusword = sdo.read_u16(obj::STATUSWORD, 0)?;
+        }
         Ok(match PowerState::from_statusword(statusword) {
             Some(PowerState::SwitchOnDisabled) => {
                 AnyPower::SwitchOnDisabled(Power::new(sdo, timeout))
@@ -348,9 +360,7 @@ impl<'a> AnyPower<'a> {
             Some(PowerState::QuickStopActive) => {
                 AnyPower::QuickStopActive(Power::new(sdo, timeout))
             }
-            Some(PowerState::Fault | PowerState::FaultReactionActive) => {
-                AnyPower::Fault(Power::new(sdo, timeout))
-            }
+            Some(PowerState::Fault) => AnyPower::Fault(Power::new(sdo, timeout)),
             _ => AnyPower::NotReady(statusword),
         })
     }
@@ -373,16 +383,23 @@ impl<'a, S: StateType> Power<'a, S> {
     /// Writes `controlword` and waits for state `T`.
     fn go<T: StateType>(self, controlword: u16) -> Result<Power<'a, T>> {
         self.sdo.write_u16(obj::CONTROLWORD, 0, controlword)?;
+        self.wait_for(&[T::STATE], T::STATE.name())?;
+        Ok(Power::new(self.sdo, self.timeout))
+    }
+
+    /// Waits until the drive shows one of `states`; which one.
+    fn wait_for(&self, states: &[PowerState], name: &'static str) -> Result<PowerState> {
         let end = Instant::now() + self.timeout;
         loop {
             let statusword = self.sdo.read_u16(obj::STATUSWORD, 0)?;
-            if PowerState::from_statusword(statusword) == Some(T::STATE) {
-                return Ok(Power::new(self.sdo, self.timeout));
+            if let Some(s) = PowerState::from_statusword(statusword).filter(|s| states.contains(s))
+            {
+                return Ok(s);
             }
             if Instant::now() >= end {
                 return Err(Error::StateTimeout {
                     node: self.sdo.node(),
-                    state: T::STATE.name(),
+                    state: name,
                     timeout_ms: self.timeout.as_millis() as u64,
                     statusword,
                 });
@@ -390,6 +407,17 @@ impl<'a, S: StateType> Power<'a, S> {
             std::thread::sleep(Duration::from_millis(2));
         }
     }
+}
+
+/// Where a quick stop leaves a drive: still in Quick stop active
+/// (option codes 5..8, or while it decelerates) or, once stopped with
+/// option codes 0..4, in Switch on disabled.
+#[derive(Debug)]
+pub enum AfterQuickStop<'a> {
+    /// Quick stop active.
+    Active(Power<'a, QuickStopActive>),
+    /// Switch on disabled.
+    Disabled(Power<'a, SwitchOnDisabled>),
 }
 
 impl<'a> Power<'a, SwitchOnDisabled> {
@@ -444,9 +472,20 @@ impl<'a> Power<'a, OperationEnabled> {
         self.go(cw::DISABLE_VOLTAGE)
     }
 
-    /// Quick stop (11).
-    pub fn quick_stop(self) -> Result<Power<'a, QuickStopActive>> {
-        self.go(cw::QUICK_STOP_CMD)
+    /// Quick stop (11), and 12 when the drive's option code ends it in
+    /// Switch on disabled.
+    pub fn quick_stop(self) -> Result<AfterQuickStop<'a>> {
+        self.sdo
+            .write_u16(obj::CONTROLWORD, 0, cw::QUICK_STOP_CMD)?;
+        let states = [PowerState::QuickStopActive, PowerState::SwitchOnDisabled];
+        Ok(
+            match self.wait_for(&states, "quick stop active or switch on disabled")? {
+                PowerState::QuickStopActive => {
+                    AfterQuickStop::Active(Power::new(self.sdo, self.timeout))
+                }
+                _ => AfterQuickStop::Disabled(Power::new(self.sdo, self.timeout)),
+            },
+        )
     }
 }
 

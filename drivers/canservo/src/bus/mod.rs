@@ -25,6 +25,7 @@ pub use sim::{BusStats, SimBus, SimEndpoint};
 pub use socket::SocketCanBus;
 
 use crate::frame::{Frame, CAN_EFF_FLAG, CAN_RTR_FLAG, CAN_SFF_MASK};
+use crate::regs::{cob, err};
 
 /// One endpoint on a CAN bus.
 pub trait CanBus: Send + Sync {
@@ -101,6 +102,45 @@ impl Filters {
         Filters {
             frames: vec![Filter::all()],
             error_mask: crate::frame::CAN_EFF_MASK,
+        }
+    }
+
+    /// The realtime endpoint's filters for drives `nodes` (§6.11 step 1):
+    /// TPDO1, TPDO2, EMCY and heartbeat of each node, and the error
+    /// classes bus-off, controller, restarted, no-ACK and TX timeout.
+    pub fn realtime(nodes: &[u8]) -> Filters {
+        Filters {
+            frames: nodes
+                .iter()
+                .flat_map(|&n| {
+                    let n = u16::from(n);
+                    [
+                        Filter::exact(cob::TPDO[0] + n),
+                        Filter::exact(cob::TPDO[1] + n),
+                        Filter::exact(cob::EMCY + n),
+                        Filter::exact(cob::HEARTBEAT + n),
+                    ]
+                })
+                .collect(),
+            error_mask: err::MASTER_MASK,
+        }
+    }
+
+    /// A setup endpoint's filters (start-up, restarts, diagnostics):
+    /// SDO answers and boot-up/heartbeat of each of `nodes`.
+    pub fn setup(nodes: &[u8]) -> Filters {
+        Filters {
+            frames: nodes
+                .iter()
+                .flat_map(|&n| {
+                    let n = u16::from(n);
+                    [
+                        Filter::exact(cob::SDO_TX + n),
+                        Filter::exact(cob::HEARTBEAT + n),
+                    ]
+                })
+                .collect(),
+            error_mask: 0,
         }
     }
 

@@ -239,6 +239,12 @@ impl SimBus {
         self.lock().put_on_wire(now, frame, Source::External);
     }
 
+    /// Delivers a controller error frame to the endpoints that asked
+    /// for its class, as the kernel does.
+    pub fn inject_error(&self, frame: Frame) {
+        self.lock().error_frame(frame);
+    }
+
     /// Traffic so far.
     pub fn stats(&self) -> BusStats {
         self.lock().stats

@@ -7,6 +7,8 @@
 
 use hal_driver::plant::{DcMotor, DcMotorParams};
 
+use crate::units::counts as saturate;
+
 /// What the drive's loops are asked to do over one control step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Demand {
@@ -160,15 +162,6 @@ impl Axis {
     }
 }
 
-/// `x` rounded into the i32 range.
-pub fn saturate(x: f64) -> i32 {
-    if x.is_nan() {
-        0
-    } else {
-        x.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -202,7 +195,5 @@ mod tests {
             a.step(Demand::Off, 100_000);
         }
         assert_eq!(a.velocity(), 0.0);
-        assert_eq!(saturate(f64::NAN), 0);
-        assert_eq!(saturate(1e20), i32::MAX);
     }
 }

@@ -16,6 +16,10 @@ pub const CONTROL_STEP_NS: u64 = 100_000;
 /// A homing search that travels this far without finding its switch
 /// ends in a homing error.
 const HOMING_MAX_TRAVEL: f64 = 1.0e7;
+/// A stopping ramp whose reference reached zero ends after this long
+/// even if the axis still moves (a load driving it): the power stage
+/// then goes off, as a drive's brake-and-disable timer does.
+const RAMP_SETTLE_NS: u64 = 100_000_000;
 
 /// What happens when a stopping ramp reaches standstill.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,6 +75,8 @@ pub(super) struct Control {
     pub ramp_v: f64,
     /// A stopping ramp: deceleration and what follows.
     pub ramp: Option<(f64, RampEnd)>,
+    /// How long the ramp's reference has been at zero.
+    pub ramp_stopped_ns: u64,
     /// Following error (CSP) and how long it has been over the window.
     pub following_error: f64,
     pub ferr_over_ns: u64,
@@ -276,6 +282,7 @@ impl SimDrive {
 
     fn start_ramp(&mut self, decel: f64, end: RampEnd) {
         self.ctl.ramp_v = self.axis.velocity();
+        self.ctl.ramp_stopped_ns = 0;
         self.ctl.ramp = Some((decel.max(1.0), end));
     }
 
@@ -491,7 +498,12 @@ impl SimDrive {
             } else {
                 v - step * v.signum()
             };
-            if self.ctl.ramp_v == 0.0 && self.axis.velocity().abs() < decel * dt * 2.0 + 1.0 {
+            if self.ctl.ramp_v == 0.0 {
+                self.ctl.ramp_stopped_ns += dt_ns;
+            }
+            let still = self.axis.velocity().abs() < decel * dt * 2.0 + 1.0;
+            if self.ctl.ramp_v == 0.0 && (still || self.ctl.ramp_stopped_ns > RAMP_SETTLE_NS) {
+                self.ctl.ramp_stopped_ns = 0;
                 self.ctl.ramp = None;
                 self.ctl.hold = self.axis.position();
                 match end {

@@ -623,22 +623,22 @@ impl SimDrive {
         od.set(
             obj::VELOCITY_ACTUAL,
             0,
-            i64::from(super::axis::saturate(self.axis.velocity())),
+            i64::from(crate::units::counts(self.axis.velocity())),
         );
         od.set(
             obj::POSITION_DEMAND,
             0,
-            i64::from(super::axis::saturate(self.ctl.setpoint)),
+            i64::from(crate::units::counts(self.ctl.setpoint)),
         );
         od.set(
             obj::VELOCITY_DEMAND,
             0,
-            i64::from(super::axis::saturate(self.ctl.velocity_demand)),
+            i64::from(crate::units::counts(self.ctl.velocity_demand)),
         );
         od.set(
             obj::FOLLOWING_ERROR_ACTUAL,
             0,
-            i64::from(super::axis::saturate(self.ctl.following_error)),
+            i64::from(crate::units::counts(self.ctl.following_error)),
         );
         let current = self.axis.current_per_mille();
         od.set(obj::CURRENT_ACTUAL, 0, i64::from(current));
