@@ -267,6 +267,36 @@ fn a_communication_fault_is_recovered_by_the_helper() {
 }
 
 #[test]
+fn a_node_reset_from_the_bus_needs_one_fault_reset() {
+    let host = host("cs-nmt");
+    host.loadrt(&MODULE, &["backend=sim", "nodes=6", "diag_ms=0"])
+        .unwrap();
+    start(&host);
+    set(&host, "canservo.0.enable", Value::Bit(true));
+    wait("enabled", || {
+        pin(&host, "canservo.0.enabled") == Value::Bit(true)
+    });
+    // Someone resets the node's communication: it leaves Operational,
+    // and, being enabled, faults itself (0x6007) with EMCY 0x8130.
+    sim_bus(&host).inject(hal_canservo::frame::Frame::new(0, &[0x82, 6]));
+    wait("amp-fault", || {
+        pin(&host, "canservo.0.amp-fault") == Value::Bit(true)
+    });
+    set(&host, "canservo.0.enable", Value::Bit(false));
+    set(&host, "canservo.0.fault-reset", Value::Bit(true));
+    // One reset edge: the node is brought up again, then its CiA 402
+    // fault is reset.
+    wait("recovered", || {
+        pin(&host, "canservo.0.amp-fault") == Value::Bit(false)
+    });
+    assert_eq!(pin(&host, "canservo.0.state"), Value::S32(2));
+    set(&host, "canservo.0.enable", Value::Bit(true));
+    wait("enabled again", || {
+        pin(&host, "canservo.0.enabled") == Value::Bit(true)
+    });
+}
+
+#[test]
 fn parameter_errors_and_failed_loads_leave_nothing() {
     let host = host("cs-bad");
     for (args, want) in [

@@ -81,6 +81,8 @@ pub(super) struct DriveRt {
     reset: Reset,
     quick_stop_ns: Option<u64>,
     restarting: bool,
+    after_restart: bool,
+    comm_lost: bool,
 }
 
 impl DriveRt {
@@ -116,6 +118,8 @@ impl DriveRt {
             reset: Reset::Idle,
             quick_stop_ns: None,
             restarting: false,
+            after_restart: false,
+            comm_lost: false,
         }
     }
 
@@ -130,7 +134,11 @@ impl DriveRt {
 
     /// Trips the latch with `fault` and says so once, with the node and,
     /// for drive errors, the error code and its meaning.
-    pub fn trip(&self, fault: &'static Fault, log: Option<&RtLog>, code: u16) {
+    pub fn trip(&mut self, fault: &'static Fault, log: Option<&RtLog>, code: u16) {
+        // A communication fault decides how to recover even when another
+        // fault tripped the latch first (a node reset also makes the
+        // drive send an EMCY).
+        self.comm_lost |= faults::needs_restart(fault);
         if !self.latch.trip(fault) {
             return;
         }
@@ -222,6 +230,18 @@ impl DriveRt {
             self.poll_restart(log);
             return;
         }
+        if self.after_restart && self.seen_tpdo1 {
+            self.after_restart = false;
+            if matches!(
+                self.state(),
+                Some(PowerState::Fault | PowerState::FaultReactionActive)
+            ) {
+                self.reset = Reset::Low;
+            } else {
+                self.latch.reset();
+                self.needs_enable_edge = true;
+            }
+        }
         if expect_tpdo {
             if self.seen_tpdo1 && self.seen_tpdo2 {
                 self.misses = 0;
@@ -270,8 +290,9 @@ impl DriveRt {
                 self.shared.set_restart(Restart::Idle);
                 self.restarting = false;
                 self.fresh_supervision();
-                self.latch.reset();
-                self.needs_enable_edge = true;
+                // The latch clears once the first TPDO shows the drive
+                // is not in Fault (else after its fault reset too).
+                self.after_restart = true;
                 if let Some(log) = log {
                     log.info(format_args!(
                         "{}: brought up again after the fault reset",
@@ -289,6 +310,7 @@ impl DriveRt {
     }
 
     fn fresh_supervision(&mut self) {
+        self.comm_lost = false;
         self.misses = 0;
         self.last_heartbeat_ns = None;
         self.nmt_state = nmt::STATE_OPERATIONAL;
@@ -306,7 +328,7 @@ impl DriveRt {
             }
             return;
         };
-        if faults::needs_restart(fault) {
+        if self.comm_lost || faults::needs_restart(fault) {
             if helper {
                 self.restarting = true;
                 self.shared.set_restart(Restart::Requested);

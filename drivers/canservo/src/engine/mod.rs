@@ -257,8 +257,8 @@ impl Engine {
         self.bus.errors()
     }
 
-    fn trip_all(&self, fault: &'static hal_driver::fault::Fault) {
-        for d in &self.drives {
+    fn trip_all(&mut self, fault: &'static hal_driver::fault::Fault) {
+        for d in &mut self.drives {
             d.trip(fault, self.log.as_ref(), 0);
         }
     }

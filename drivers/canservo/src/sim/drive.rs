@@ -539,6 +539,7 @@ impl SimDrive {
             self.now_ns += dt_ns;
             return;
         }
+        self.load_knobs();
         let mut left = dt_ns;
         while left > 0 {
             let step = left.min(super::control::CONTROL_STEP_NS);

@@ -10,10 +10,21 @@ use super::SimDrive;
 use crate::bus::CanBus;
 use crate::frame::Frame;
 
+/// Shortest simulated time one advance covers: frames are handled the
+/// moment they arrive, time only needs to move this often, and each
+/// advance has a fixed cost.
+const MIN_ADVANCE_NS: u64 = 1_000_000;
+/// Longest simulated time one advance covers. A process that falls
+/// behind the wall clock (a slow or emulated machine) lets its drives'
+/// time run slower rather than jump: a jump would age every heartbeat
+/// still waiting in the socket and fault the drives for nothing.
+const MAX_ADVANCE_NS: u64 = 2_000_000;
+
 /// Runs `drives` on `bus` until `stop` is set: powers them up (each
 /// sends its boot-up message), then delivers frames as they arrive and
-/// advances the drives by the wall clock, waiting at most `step`
-/// between advances. Returns the number of frames the drives sent.
+/// advances the drives with the wall clock (at most [`MAX_ADVANCE_NS`]
+/// per round), waiting at most `step` between advances. Returns the
+/// number of frames the drives sent.
 pub fn run(bus: &dyn CanBus, drives: &mut [SimDrive], stop: &AtomicBool, step: Duration) -> u64 {
     let mut out = Vec::new();
     let mut sent = 0u64;
@@ -32,16 +43,17 @@ pub fn run(bus: &dyn CanBus, drives: &mut [SimDrive], stop: &AtomicBool, step: D
             }
         }
         let now = start.elapsed().as_nanos() as u64;
-        if now > last_ns {
+        if now >= last_ns + MIN_ADVANCE_NS {
+            let dt = (now - last_ns).min(MAX_ADVANCE_NS);
             for i in 0..drives.len() {
                 let mut mine = Vec::new();
-                drives[i].advance(now - last_ns, &mut mine);
+                drives[i].advance(dt, &mut mine);
                 for f in &mine {
                     deliver(drives, f, Some(i), &mut Vec::new());
                 }
                 out.extend(mine);
             }
-            last_ns = now;
+            last_ns += dt;
         }
     }
     sent + flush(bus, drives, &mut out)
