@@ -1,7 +1,8 @@
 //! The body of the fuzz target for everything that parses CAN frames from
 //! outside: the realtime engine's reception (TPDOs, EMCY, heartbeats,
 //! error frames, unknown identifiers), the SDO client reading a server's
-//! answers, and the simulated drive (NMT, SDO server, PDO engine, SYNC).
+//! answers, the simulated drive (NMT, SDO server, PDO engine, SYNC) and
+//! the bring-up tool's frame decoder.
 //! The workspace's `fuzz/` crate was not on main when this driver was
 //! written, so the body lives here as [`frames`] and a proptest
 //! (`tests/fuzz_frames.rs`) runs it over more than 100 000 random frames
@@ -104,6 +105,10 @@ pub fn frames(data: &[u8]) -> usize {
     engine_reception(&frames);
     sdo_answers(&frames);
     drive_reception(&frames);
+    let decoder = crate::decode::Decoder::canservo(&NODES, true);
+    for f in &frames {
+        assert!(!decoder.describe(f).is_empty());
+    }
     frames.len()
 }
 

@@ -75,11 +75,13 @@
 //!   helper. [`config`]: the `loadrt` parameters. [`hal`]: the HAL
 //!   binding and [`MODULE`].
 //! * [`sim`]: the simulated drive. [`rig`]: drives, bus and engine on
-//!   simulated time. [`fuzz`]: the frame fuzz target's body.
+//!   simulated time. [`decode`]: frames in words, for the bring-up tool.
+//!   [`fuzz`]: the frame fuzz target's body.
 
 pub mod bus;
 pub mod codes;
 pub mod config;
+pub mod decode;
 pub mod drivefile;
 pub mod engine;
 pub mod error;

@@ -2,11 +2,10 @@
 //! typestate API over SDO against a simulated drive whose time runs in a
 //! background thread.
 
-use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::Arc;
 use std::time::Duration;
 
-use hal_canservo::bus::{Filters, SimBus};
+use hal_canservo::bus::{Filters, SimBus, WallClock};
 use hal_canservo::power::{
     AfterQuickStop, AnyPower, OperationEnabled, Power, PowerState, SwitchOnDisabled,
 };
@@ -14,38 +13,17 @@ use hal_canservo::regs::obj;
 use hal_canservo::sdo::SdoClient;
 use hal_canservo::sim::Injection;
 
-/// A drive whose simulated time follows the wall clock until dropped.
+/// A drive whose simulated time follows the wall clock.
 struct Running {
     bus: Arc<SimBus>,
-    stop: Arc<AtomicBool>,
-    thread: Option<std::thread::JoinHandle<()>>,
+    _time: WallClock,
 }
 
 impl Running {
     fn new(node: u8) -> Running {
         let bus = SimBus::with_drives(&[node]);
-        let stop = Arc::new(AtomicBool::new(false));
-        let (b, s) = (bus.clone(), stop.clone());
-        let thread = std::thread::spawn(move || {
-            while !s.load(Relaxed) {
-                b.advance(1_000_000);
-                std::thread::sleep(Duration::from_micros(500));
-            }
-        });
-        Running {
-            bus,
-            stop,
-            thread: Some(thread),
-        }
-    }
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        self.stop.store(true, Relaxed);
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
+        let time = WallClock::run(bus.clone(), Duration::from_micros(500));
+        Running { bus, _time: time }
     }
 }
 

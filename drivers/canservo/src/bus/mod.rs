@@ -21,7 +21,7 @@ mod socket;
 
 use std::time::Duration;
 
-pub use sim::{BusStats, SimBus, SimEndpoint};
+pub use sim::{BusStats, SimBus, SimEndpoint, WallClock};
 pub use socket::SocketCanBus;
 
 use crate::frame::{Frame, CAN_EFF_FLAG, CAN_RTR_FLAG, CAN_SFF_MASK};

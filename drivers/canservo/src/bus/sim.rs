@@ -429,3 +429,42 @@ impl CanBus for SimEndpoint {
         self.bus.pump();
     }
 }
+
+/// Runs a [`SimBus`]'s time with the wall clock in a background thread
+/// until dropped: for tools and tests that talk to simulated drives the
+/// way they would to real ones, through blocking SDO and waits.
+#[derive(Debug)]
+pub struct WallClock {
+    stop: Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl WallClock {
+    /// Starts moving `bus`'s time on in steps of about `step`.
+    pub fn run(bus: Arc<SimBus>, step: Duration) -> WallClock {
+        let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let s = stop.clone();
+        let thread = std::thread::spawn(move || {
+            let mut last = Instant::now();
+            while !s.load(Relaxed) {
+                std::thread::sleep(step);
+                let now = Instant::now();
+                bus.advance((now - last).as_nanos() as u64);
+                last = now;
+            }
+        });
+        WallClock {
+            stop,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for WallClock {
+    fn drop(&mut self) {
+        self.stop.store(true, Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
