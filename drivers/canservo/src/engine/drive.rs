@@ -75,6 +75,7 @@ pub(super) struct DriveRt {
     home_complete: bool,
     home_clear: bool,
     home_prev: bool,
+    home_served: bool,
     tracking: bool,
     needs_enable_edge: bool,
     fault_reset_prev: bool,
@@ -112,6 +113,7 @@ impl DriveRt {
             home_complete: false,
             home_clear: false,
             home_prev: false,
+            home_served: false,
             tracking: true,
             needs_enable_edge: false,
             fault_reset_prev: false,
@@ -490,14 +492,23 @@ impl DriveRt {
         ))
     }
 
+    /// Homing follows the `home` level, so a request made while the
+    /// drive is still enabling starts once it is enabled; one request
+    /// homes once (`home_served` until `home` falls).
     fn plan_homing(&mut self, inp: &DriveInputs, enabled: bool) {
         let rising = inp.home && !self.home_prev;
         self.home_prev = inp.home;
         if rising {
             self.home_complete = false;
         }
+        if !inp.home {
+            self.home_served = false;
+        }
         match self.homing {
-            Homing::Idle if inp.home && enabled && rising => self.homing = Homing::Switching,
+            Homing::Idle if inp.home && enabled && !self.home_served => {
+                self.home_served = true;
+                self.homing = Homing::Switching;
+            }
             Homing::Switching | Homing::Running if !inp.home || !enabled => {
                 self.homing = Homing::Returning
             }
