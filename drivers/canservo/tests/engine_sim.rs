@@ -514,3 +514,18 @@ fn frames_that_cannot_be_sent_fault_after_three_periods() {
     assert_eq!(r.status(0).fault_code, faults::TX_FAILED.code);
     assert!(r.engine.bus_errors() >= 6);
 }
+
+#[test]
+fn latency_below_a_period_is_harmless_and_above_it_faults() {
+    let mut r = moving_rig(Mode::Csp);
+    r.bus.set_latency(400_000);
+    r.cycles(50);
+    assert!(
+        !r.status(0).amp_fault,
+        "TPDOs 0.4 ms late still come before the next read"
+    );
+    r.bus.set_latency(4_000_000);
+    let n = r.run_until(20, |r| r.status(0).amp_fault).expect("faults");
+    assert_eq!(n, 3, "three periods without TPDOs");
+    assert_eq!(r.status(0).fault_code, faults::TPDO_MISSING.code);
+}

@@ -72,6 +72,8 @@ pub(super) struct Knobs {
     velocity_threshold: f64,
     homing_switch_bit: u32,
     homing_speeds: (f64, f64),
+    pub heartbeat_ns: u64,
+    pub consumer_ns: [u64; 4],
 }
 
 /// The control state of the drive.
@@ -137,6 +139,10 @@ impl SimDrive {
                 _ => 2,
             },
             homing_speeds: (f(obj::HOMING_SPEEDS, 1), f(obj::HOMING_SPEEDS, 2)),
+            heartbeat_ns: u64::from(od.get(obj::PRODUCER_HEARTBEAT, 0)) * 1_000_000,
+            consumer_ns: std::array::from_fn(|s| {
+                u64::from(od.get(obj::CONSUMER_HEARTBEAT, s as u8 + 1) & 0xFFFF) * 1_000_000
+            }),
         };
     }
 

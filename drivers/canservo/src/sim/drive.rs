@@ -415,10 +415,12 @@ impl SimDrive {
                 }
                 1..=240 => {
                     if !st.started {
-                        st.started = !counting || start == 0 || counter == Some(start);
-                        if st.started {
-                            st.syncs = u32::from(t) - 1;
-                        }
+                        // With a SYNC start value the first transmission
+                        // is at the SYNC whose counter equals it; without
+                        // one, at the t-th SYNC.
+                        let by_counter = counting && start != 0;
+                        st.started = !by_counter || counter == Some(start);
+                        st.syncs = if by_counter { u32::from(t) - 1 } else { 0 };
                     }
                     if st.started {
                         st.syncs += 1;
@@ -533,7 +535,10 @@ impl SimDrive {
         self.send(out, Frame::new((cob_id & 0x7FF) as u16, &data));
     }
 
-    /// Lets `dt_ns` of simulated time pass.
+    /// Lets `dt_ns` of simulated time pass. The loops, monitors and
+    /// heartbeats run every control step inside it; the SDO time-out,
+    /// EMCY inhibit and event-driven TPDO timers at its end, so their
+    /// resolution is the caller's advance (one servo period on the bus).
     pub fn advance(&mut self, dt_ns: u64, out: &mut Vec<Frame>) {
         if self.fsa == PowerState::NotReadyToSwitchOn {
             self.now_ns += dt_ns;
@@ -546,6 +551,7 @@ impl SimDrive {
             self.control_step(step, out);
             self.now_ns += step;
             left -= step;
+            self.heartbeats(out);
         }
         self.timers(out);
         self.refresh_objects();
@@ -556,7 +562,17 @@ impl SimDrive {
             self.send(out, a);
         }
         self.flush_emcy(out);
-        let hb = u64::from(self.od.get(obj::PRODUCER_HEARTBEAT, 0)) * 1_000_000;
+        self.heartbeats(out);
+        if self.nmt == NmtState::Operational {
+            self.event_tpdos(out);
+        }
+    }
+
+    /// The heartbeat producer and the consumer time-outs, from the
+    /// periods copied out of the dictionary for this advance.
+    fn heartbeats(&mut self, out: &mut Vec<Frame>) {
+        let k = self.ctl.knobs;
+        let hb = k.heartbeat_ns;
         if hb > 0 && self.now_ns >= self.hb_next_ns && self.nmt != NmtState::Initialising {
             if !self.injected(Injection::HeartbeatLoss) {
                 let f = Frame::new(
@@ -567,17 +583,12 @@ impl SimDrive {
             }
             self.hb_next_ns = (self.hb_next_ns + hb).max(self.now_ns + hb / 2);
         }
-        for s in 0..4u8 {
-            let v = self.od.get(obj::CONSUMER_HEARTBEAT, s + 1);
-            let ms = u64::from(v & 0xFFFF);
-            let c = &mut self.consumers[usize::from(s)];
-            if c.armed && ms > 0 && self.now_ns > c.last_ns + ms * 1_000_000 {
+        for (s, timeout) in k.consumer_ns.iter().enumerate() {
+            let c = &mut self.consumers[s];
+            if c.armed && *timeout > 0 && self.now_ns > c.last_ns + timeout {
                 c.armed = false;
                 self.consumer_timeout(out);
             }
-        }
-        if self.nmt == NmtState::Operational {
-            self.event_tpdos(out);
         }
     }
 
@@ -741,9 +752,13 @@ impl ObjectAccess for SimDrive {
                 let fresh = dictionary::build(self.cfg.node, &self.cfg.identity);
                 self.od = fresh;
             }
-            (obj::PRODUCER_HEARTBEAT, 0) => self.hb_next_ns = self.now_ns,
+            (obj::PRODUCER_HEARTBEAT, 0) => {
+                self.hb_next_ns = self.now_ns;
+                self.load_knobs();
+            }
             (obj::CONSUMER_HEARTBEAT, s) => {
-                self.consumers[usize::from(s.clamp(1, 4) - 1)] = Consumer::default()
+                self.consumers[usize::from(s.clamp(1, 4) - 1)] = Consumer::default();
+                self.load_knobs();
             }
             (obj::CONTROLWORD, 0)
             | (obj::MODES_OF_OPERATION, 0)
