@@ -16,10 +16,10 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use hal_canservo::bus::CanBus;
-use hal_canservo::engine::{DriveInputs, DriveShared, Engine, EngineConfig};
+use hal_canservo::engine::{DriveInputs, Engine, EngineConfig};
 use hal_canservo::frame::Frame;
 use hal_canservo::rig::Rig;
-use hal_canservo::startup::{DeviceIdentity, Mode, NodeInfo, NodePlan};
+use hal_canservo::startup::Mode;
 
 const DRIVES: [u8; 6] = [1, 2, 3, 4, 5, 6];
 const PERIODS: usize = 20_000;
@@ -110,22 +110,7 @@ fn main() {
         frames: recorded.clone(),
         queue: Mutex::new(VecDeque::new()),
     });
-    let nodes = DRIVES
-        .iter()
-        .map(|&node| NodeInfo {
-            plan: NodePlan {
-                node,
-                mode: Mode::Csp,
-                file: None,
-            },
-            identity: DeviceIdentity::default(),
-        })
-        .collect();
-    let shared = DRIVES
-        .iter()
-        .map(|_| Arc::new(DriveShared::default()))
-        .collect();
-    let mut engine = Engine::new(replay, nodes, shared, EngineConfig::default(), None, false);
+    let mut engine = Engine::without_startup(replay, &DRIVES, Mode::Csp, EngineConfig::default());
     let inputs = [DriveInputs {
         enable: true,
         scale: 1000.0,

@@ -66,7 +66,8 @@ impl SdoType {
         }
     }
 
-    fn range(self) -> (i64, i64) {
+    /// The values the type holds.
+    pub fn range(self) -> (i64, i64) {
         match self {
             SdoType::U8 => (0, 0xFF),
             SdoType::U16 => (0, 0xFFFF),

@@ -17,11 +17,11 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use crate::bus::CanBus;
-use crate::engine::{DriveInputs, DriveShared, Engine, EngineConfig};
+use crate::engine::{DriveInputs, Engine, EngineConfig};
 use crate::frame::Frame;
 use crate::sdo::SdoClient;
 use crate::sim::{SimDrive, SimDriveConfig};
-use crate::startup::{DeviceIdentity, Mode, NodeInfo, NodePlan};
+use crate::startup::Mode;
 
 /// Node ids the fuzzer aims at.
 const NODES: [u8; 2] = [1, 2];
@@ -114,26 +114,11 @@ pub fn frames(data: &[u8]) -> usize {
 
 fn engine_reception(frames: &[Frame]) {
     let bus = Arc::new(QueueBus::default());
-    let nodes = NODES
-        .iter()
-        .map(|&node| NodeInfo {
-            plan: NodePlan {
-                node,
-                mode: Mode::Csp,
-                file: None,
-            },
-            identity: DeviceIdentity::default(),
-        })
-        .collect();
-    let shared = NODES
-        .iter()
-        .map(|_| Arc::new(DriveShared::default()))
-        .collect();
     let cfg = EngineConfig {
         rx_budget: 8,
         ..EngineConfig::default()
     };
-    let mut engine = Engine::new(bus.clone(), nodes, shared, cfg, None, false);
+    let mut engine = Engine::without_startup(bus.clone(), &NODES, Mode::Csp, cfg);
     let inputs = [DriveInputs {
         enable: true,
         ..DriveInputs::default()

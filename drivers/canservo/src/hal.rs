@@ -65,21 +65,7 @@ pub static MODULE: ModuleDef = ModuleDef {
 };
 
 /// The statusword bits as pins, in bit order.
-const STATUS_BITS: [(u16, &str); 13] = [
-    (sw::READY_TO_SWITCH_ON, "ready-to-switch-on"),
-    (sw::SWITCHED_ON, "switched-on"),
-    (sw::OPERATION_ENABLED, "operation-enabled"),
-    (sw::FAULT, "fault"),
-    (sw::VOLTAGE_ENABLED, "voltage-enabled"),
-    (sw::QUICK_STOP, "quick-stop"),
-    (sw::SWITCH_ON_DISABLED, "switch-on-disabled"),
-    (sw::WARNING, "warning"),
-    (sw::REMOTE, "remote"),
-    (sw::TARGET_REACHED, "target-reached"),
-    (sw::INTERNAL_LIMIT, "internal-limit"),
-    (sw::MODE_12, "mode-bit-12"),
-    (sw::MODE_13, "mode-bit-13"),
-];
+const STATUS_BITS: [(u16, &str); 13] = sw::NAMES;
 
 /// One drive's pins and params.
 struct DrivePins {

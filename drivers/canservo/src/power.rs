@@ -243,22 +243,7 @@ pub fn next_command(state: Option<PowerState>, goal: Goal) -> u16 {
 /// Decoded statusword bits, for displays.
 pub fn describe_statusword(statusword: u16) -> String {
     let state = PowerState::from_statusword(statusword).map_or("undefined state", |s| s.name());
-    let names = [
-        (sw::READY_TO_SWITCH_ON, "ready-to-switch-on"),
-        (sw::SWITCHED_ON, "switched-on"),
-        (sw::OPERATION_ENABLED, "operation-enabled"),
-        (sw::FAULT, "fault"),
-        (sw::VOLTAGE_ENABLED, "voltage-enabled"),
-        (sw::QUICK_STOP, "quick-stop(off)"),
-        (sw::SWITCH_ON_DISABLED, "switch-on-disabled"),
-        (sw::WARNING, "warning"),
-        (sw::REMOTE, "remote"),
-        (sw::TARGET_REACHED, "target-reached"),
-        (sw::INTERNAL_LIMIT, "internal-limit"),
-        (sw::MODE_12, "mode-bit-12"),
-        (sw::MODE_13, "mode-bit-13"),
-    ];
-    let set: Vec<&str> = names
+    let set: Vec<&str> = sw::NAMES
         .iter()
         .filter(|(b, _)| statusword & b != 0)
         .map(|(_, n)| *n)

@@ -304,6 +304,23 @@ pub mod sw {
     pub const MODE_12: u16 = 1 << 12;
     /// Mode specific: CSP following error, HM homing error.
     pub const MODE_13: u16 = 1 << 13;
+
+    /// The bits with their names (the `status.<name>` pins, displays).
+    pub const NAMES: [(u16, &str); 13] = [
+        (READY_TO_SWITCH_ON, "ready-to-switch-on"),
+        (SWITCHED_ON, "switched-on"),
+        (OPERATION_ENABLED, "operation-enabled"),
+        (FAULT, "fault"),
+        (VOLTAGE_ENABLED, "voltage-enabled"),
+        (QUICK_STOP, "quick-stop"),
+        (SWITCH_ON_DISABLED, "switch-on-disabled"),
+        (WARNING, "warning"),
+        (REMOTE, "remote"),
+        (TARGET_REACHED, "target-reached"),
+        (INTERNAL_LIMIT, "internal-limit"),
+        (MODE_12, "mode-bit-12"),
+        (MODE_13, "mode-bit-13"),
+    ];
 }
 
 /// Controlword (0x6040) bits and the standard commands (§6.8).

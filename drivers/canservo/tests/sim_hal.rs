@@ -213,6 +213,7 @@ fn a_fault_shows_on_the_pins_and_in_the_log() {
                 && l.contains("newest 0x2310 (continuous over-current)")
         })
     });
+    host.flush_rt_log();
     let log = host.rt_log().history();
     assert!(
         log.iter().any(|(_, l)| l == "canservo.0 (node 2): EMCY received: error code 0x2310 (continuous over-current); drive disabled"),
@@ -259,6 +260,7 @@ fn a_communication_fault_is_recovered_by_the_helper() {
     wait("enabled again", || {
         pin(&host, "canservo.0.enabled") == Value::Bit(true)
     });
+    host.flush_rt_log();
     assert!(host
         .rt_log()
         .history()

@@ -47,7 +47,7 @@ use crate::bus::CanBus;
 use crate::frame::{Frame, FrameKind};
 use crate::power::PowerState;
 use crate::regs::{cob, err, nmt};
-use crate::startup::NodeInfo;
+use crate::startup::{DeviceIdentity, Mode, NodeInfo, NodePlan};
 
 /// Frames read per `read` at most.
 pub const DEFAULT_RX_BUDGET: usize = 256;
@@ -220,6 +220,33 @@ impl Engine {
             error_frames: 0,
             frames_read: 0,
         }
+    }
+
+    /// An engine for drives at `nodes` in `mode` that were not brought
+    /// up by this process (no identity known, no helper): for replaying
+    /// recorded traffic and for fuzzing the reception.
+    pub fn without_startup(
+        bus: Arc<dyn CanBus>,
+        nodes: &[u8],
+        mode: Mode,
+        cfg: EngineConfig,
+    ) -> Engine {
+        let infos = nodes
+            .iter()
+            .map(|&node| NodeInfo {
+                plan: NodePlan {
+                    node,
+                    mode,
+                    file: None,
+                },
+                identity: DeviceIdentity::default(),
+            })
+            .collect();
+        let shared = nodes
+            .iter()
+            .map(|_| Arc::new(DriveShared::default()))
+            .collect();
+        Engine::new(bus, infos, shared, cfg, None, false)
     }
 
     /// Number of drives.

@@ -4,7 +4,7 @@
 //! defaults are CiA 402's predefined mappings (§6.7), all four PDOs of
 //! each direction valid with transmission type 255, as many drives ship.
 
-use super::od::{Access::*, Od, Ty::*};
+use super::od::{Access::*, Od, I16, I32, I8, U16, U32, U8};
 use crate::regs::{mode, obj};
 
 /// The identity and name a simulated drive reports.

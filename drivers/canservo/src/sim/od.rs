@@ -9,33 +9,35 @@
 use std::collections::BTreeMap;
 
 use crate::codes::AbortCode;
+use crate::drivefile::SdoType;
 
-/// An entry's data type.
+/// An entry's data type: an integer of the SDO types, or a string.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Ty {
-    /// UNSIGNED8.
-    U8,
-    /// UNSIGNED16.
-    U16,
-    /// UNSIGNED32.
-    U32,
-    /// INTEGER8.
-    I8,
-    /// INTEGER16.
-    I16,
-    /// INTEGER32.
-    I32,
+    /// An integer type.
+    Int(SdoType),
     /// VISIBLE_STRING.
     Str,
 }
+
+/// UNSIGNED8.
+pub const U8: Ty = Ty::Int(SdoType::U8);
+/// UNSIGNED16.
+pub const U16: Ty = Ty::Int(SdoType::U16);
+/// UNSIGNED32.
+pub const U32: Ty = Ty::Int(SdoType::U32);
+/// INTEGER8.
+pub const I8: Ty = Ty::Int(SdoType::I8);
+/// INTEGER16.
+pub const I16: Ty = Ty::Int(SdoType::I16);
+/// INTEGER32.
+pub const I32: Ty = Ty::Int(SdoType::I32);
 
 impl Ty {
     /// Size in bytes (strings: None).
     pub fn size(self) -> Option<usize> {
         match self {
-            Ty::U8 | Ty::I8 => Some(1),
-            Ty::U16 | Ty::I16 => Some(2),
-            Ty::U32 | Ty::I32 => Some(4),
+            Ty::Int(t) => Some(t.size()),
             Ty::Str => None,
         }
     }
@@ -48,24 +50,16 @@ impl Ty {
     /// `bits` read as this type, widened to i64.
     pub fn to_i64(self, bits: u32) -> i64 {
         match self {
-            Ty::U8 => i64::from(bits as u8),
-            Ty::U16 => i64::from(bits as u16),
-            Ty::U32 | Ty::Str => i64::from(bits),
-            Ty::I8 => i64::from(bits as u8 as i8),
-            Ty::I16 => i64::from(bits as u16 as i16),
-            Ty::I32 => i64::from(bits as i32),
+            Ty::Int(t) => t.decode(&bits.to_le_bytes()).unwrap_or(0),
+            Ty::Str => i64::from(bits),
         }
     }
 
     /// The full range of the type.
     fn range(self) -> (i64, i64) {
         match self {
-            Ty::U8 => (0, 0xFF),
-            Ty::U16 => (0, 0xFFFF),
-            Ty::U32 | Ty::Str => (0, 0xFFFF_FFFF),
-            Ty::I8 => (-128, 127),
-            Ty::I16 => (-32768, 32767),
-            Ty::I32 => (i64::from(i32::MIN), i64::from(i32::MAX)),
+            Ty::Int(t) => t.range(),
+            Ty::Str => (0, 0xFFFF_FFFF),
         }
     }
 }
@@ -296,10 +290,10 @@ mod tests {
 
     fn od() -> Od {
         let mut od = Od::new();
-        od.add(0x6060, 0, Ty::I8, Access::Rw, true, 0);
-        od.add(0x6041, 0, Ty::U16, Access::Ro, true, 0x250);
-        od.add(0x1016, 0, Ty::U8, Access::Const, false, 1);
-        od.add(0x1016, 1, Ty::U32, Access::Rw, false, 0);
+        od.add(0x6060, 0, I8, Access::Rw, true, 0);
+        od.add(0x6041, 0, U16, Access::Ro, true, 0x250);
+        od.add(0x1016, 0, U8, Access::Const, false, 1);
+        od.add(0x1016, 1, U32, Access::Rw, false, 0);
         od.add_str(0x1008, 0, Access::Const, "a drive with a long name");
         od.limit(0x6060, 0, -1, 10);
         od
