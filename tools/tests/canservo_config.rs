@@ -18,15 +18,35 @@ fn motion_homes_and_moves_three_can_servo_axes() {
     let dir = common::root().join("configs/sim");
     let out = common::halrun(&dir, &["-f", "canservo.hal"], "canservo");
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for (j, want) in [(0, 10.0), (1, -5.0), (2, -1.0)] {
-        assert_eq!(value(&stdout, &format!("joint.{j}.homed")), "TRUE", "joint {j} homed");
-        let pos: f64 = value(&stdout, &format!("joint.{j}.pos-fb")).parse().unwrap();
+        assert_eq!(
+            value(&stdout, &format!("joint.{j}.homed")),
+            "TRUE",
+            "joint {j} homed"
+        );
+        let pos: f64 = value(&stdout, &format!("joint.{j}.pos-fb"))
+            .parse()
+            .unwrap();
         assert!((pos - want).abs() < 0.01, "joint {j} at {pos}, not {want}");
-        let fb: f64 = value(&stdout, &format!("canservo.{j}.position-fb")).parse().unwrap();
+        let fb: f64 = value(&stdout, &format!("canservo.{j}.position-fb"))
+            .parse()
+            .unwrap();
         assert!((fb - want).abs() < 0.01, "drive {j} reports {fb}");
-        assert_eq!(value(&stdout, &format!("canservo.{j}.state")), "5", "drive {j} enabled");
+        assert_eq!(
+            value(&stdout, &format!("canservo.{j}.state")),
+            "5",
+            "drive {j} enabled"
+        );
         assert_eq!(value(&stdout, &format!("canservo.{j}.amp-fault")), "FALSE");
-        assert_eq!(value(&stdout, &format!("canservo.{j}.home-complete")), "TRUE", "drive {j} homed itself");
+        assert_eq!(
+            value(&stdout, &format!("canservo.{j}.home-complete")),
+            "TRUE",
+            "drive {j} homed itself"
+        );
     }
 }
