@@ -11,15 +11,14 @@
 //!
 //! Run: `cargo bench -p hal-canservo`.
 
-use std::collections::VecDeque;
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
-
 use hal_canservo::bus::CanBus;
 use hal_canservo::engine::{DriveInputs, Engine, EngineConfig};
 use hal_canservo::frame::Frame;
 use hal_canservo::rig::Rig;
 use hal_canservo::startup::Mode;
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
 const DRIVES: [u8; 6] = [1, 2, 3, 4, 5, 6];
 const PERIODS: usize = 20_000;
@@ -116,15 +115,6 @@ fn main() {
         scale: 1000.0,
         ..DriveInputs::default()
     }; 6];
-    let mut times = Vec::with_capacity(PERIODS);
-    for k in 0..PERIODS as u64 {
-        let now = (k + 1) * PERIOD_NS;
-        let t = Instant::now();
-        engine.read(now, &inputs);
-        engine.write(now, PERIOD_NS as i64, &inputs);
-        times.push(t.elapsed().as_nanos() as u64);
-    }
-    let (rmean, rmedian, rp99) = stats(times);
 
     let period_min_us = bits; // 1 bit time = 1 µs at 1 Mbit/s
     let at_70 = (bits / 0.7 / 250.0).ceil() * 250.0;
@@ -132,11 +122,28 @@ fn main() {
         "canservo: 6 drives, CSP, {PERIODS} periods of {} us",
         PERIOD_NS / 1000
     );
-    println!("  read+write per period, in-process bus: median {median} ns, p99 {p99} ns (mean {mean:.0} ns, raised by preemption on a loaded machine)");
     println!(
-        "  read+write per period, engine alone (replayed {} frames): median {rmedian} ns, p99 {rp99} ns (mean {rmean:.0} ns)",
-        recorded.len()
+        "  {:<48} {median:8} ns median, {p99} ns p99 (mean {mean:.0} ns: preemption on a loaded machine)",
+        "read + write per period, in-process bus"
     );
-    println!("  frames per period: {frames:.2} (6 RPDO + SYNC + 12 TPDO + heartbeats), {bits:.0} bit times worst case (stuffing included)");
-    println!("  on a 1 Mbit/s bus six drives need at least {period_min_us:.0} us per period; at most 70 % bus load: {at_70:.0} us");
+    hal_driver::bench::per_call(
+        &format!(
+            "read + write per period, engine alone ({} frames)",
+            recorded.len()
+        ),
+        PERIODS as u64,
+        |k| {
+            let now = (k + 1) * PERIOD_NS;
+            engine.read(now, &inputs);
+            engine.write(now, PERIOD_NS as i64, &inputs);
+        },
+    );
+    println!(
+        "  frames per period: {frames:.2} (6 RPDO + SYNC + 12 TPDO + heartbeats), \
+         {bits:.0} bit times worst case (stuffing included)"
+    );
+    println!(
+        "  on a 1 Mbit/s bus six drives need at least {period_min_us:.0} us per period; \
+         at most 70 % bus load: {at_70:.0} us"
+    );
 }
