@@ -402,7 +402,7 @@ pub mod err {
     pub const TX_TIMEOUT: u32 = 0x001;
     /// Lost arbitration.
     pub const LOSTARB: u32 = 0x002;
-    /// Controller problem (details in data[1]).
+    /// Controller problem (details in `data[1]`).
     pub const CRTL: u32 = 0x004;
     /// Protocol violation.
     pub const PROT: u32 = 0x008;
@@ -421,7 +421,7 @@ pub mod err {
     /// The classes the master asks for (§6.11 step 1).
     pub const MASTER_MASK: u32 = BUSOFF | CRTL | RESTARTED | ACK | TX_TIMEOUT;
 
-    /// data[1] of a CRTL error: RX buffer overflow.
+    /// `data[1]` of a CRTL error: RX buffer overflow.
     pub const CRTL_RX_OVERFLOW: u8 = 0x01;
     /// TX buffer overflow.
     pub const CRTL_TX_OVERFLOW: u8 = 0x02;

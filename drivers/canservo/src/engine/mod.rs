@@ -16,7 +16,8 @@
 //!
 //! # Faults
 //!
-//! Every detection trips the drive's [`FaultLatch`] in the `read` of the
+//! Every detection trips the drive's
+//! [`FaultLatch`](hal_driver::fault::FaultLatch) in the `read` of the
 //! period it is seen in (bus errors trip every drive), logs one line with
 //! the drive, the node and the cause, and asks the helper for the drive's
 //! error register and history. From that period's `write` on, the drive
