@@ -22,7 +22,8 @@ const MAX_ADVANCE_NS: u64 = 2_000_000;
 
 /// Runs `drives` on `bus` until `stop` is set: powers them up (each
 /// sends its boot-up message), then delivers frames as they arrive and
-/// advances the drives with the wall clock (at most 2 ms per round), waiting at most `step` between advances. Returns the
+/// advances the drives with the wall clock (at most 2 ms per round),
+/// waiting at most `step` for a frame between advances. Returns the
 /// number of frames the drives sent.
 pub fn run(bus: &dyn CanBus, drives: &mut [SimDrive], stop: &AtomicBool, step: Duration) -> u64 {
     let mut out = Vec::new();
