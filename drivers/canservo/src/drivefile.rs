@@ -20,11 +20,15 @@
 //! the line.
 
 use std::fmt;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::regs::describe_object;
 use crate::sdo::SdoClient;
+
+/// The longest drive file read (a real one is a few dozen lines).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 /// The type of an SDO value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,14 +88,20 @@ impl SdoType {
             Some(d) => (true, d),
             None => (false, text),
         };
-        let magnitude = match digits
+        let not_a_number = || format!("'{text}' is not a number");
+        let (radix, digits) = match digits
             .strip_prefix("0x")
             .or_else(|| digits.strip_prefix("0X"))
         {
-            Some(h) => i64::from_str_radix(h, 16),
-            None => digits.parse::<i64>(),
+            Some(h) => (16, h),
+            None => (10, digits),
+        };
+        // Only digits after the one sign: the standard parsers would
+        // also take "+5" and "--5".
+        if !digits.chars().all(|c| c.is_digit(radix)) {
+            return Err(not_a_number());
         }
-        .map_err(|_| format!("'{text}' is not a number"))?;
+        let magnitude = i64::from_str_radix(digits, radix).map_err(|_| not_a_number())?;
         let v = if neg { -magnitude } else { magnitude };
         let (lo, hi) = self.range();
         if !(lo..=hi).contains(&v) {
@@ -138,15 +148,21 @@ pub fn parse_object(text: &str) -> std::result::Result<(u16, u8), String> {
     let (i, s) = text
         .split_once(':')
         .ok_or_else(|| format!("'{text}' is not INDEX:SUB (e.g. 6098:00)"))?;
-    let hex = |t: &str| {
-        t.strip_prefix("0x")
+    // Hex digits only: `from_str_radix` alone would also take a sign.
+    fn hex(t: &str) -> &str {
+        let digits = t
+            .strip_prefix("0x")
             .or_else(|| t.strip_prefix("0X"))
-            .unwrap_or(t)
-            .to_string()
-    };
-    let index = u16::from_str_radix(&hex(i), 16)
+            .unwrap_or(t);
+        if digits.chars().all(|c| c.is_ascii_hexdigit()) {
+            digits
+        } else {
+            ""
+        }
+    }
+    let index = u16::from_str_radix(hex(i), 16)
         .map_err(|_| format!("index '{i}' is not a hexadecimal number up to FFFF"))?;
-    let sub = u8::from_str_radix(&hex(s), 16)
+    let sub = u8::from_str_radix(hex(s), 16)
         .map_err(|_| format!("sub-index '{s}' is not a hexadecimal number up to FF"))?;
     Ok((index, sub))
 }
@@ -176,12 +192,31 @@ pub struct DriveFile {
 }
 
 impl DriveFile {
-    /// Reads and parses the file at `path`.
+    /// Reads and parses the file at `path`: a regular file of UTF-8
+    /// text up to [`MAX_FILE_BYTES`], so a parameter naming a device or
+    /// a fifo (`/dev/zero`) is an error instead of a read that never ends.
     pub fn load(path: &Path) -> Result<DriveFile> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::DriveFileIo {
+        let io_error = |source| Error::DriveFileIo {
             path: path.to_path_buf(),
             source,
-        })?;
+        };
+        let file = std::fs::File::open(path).map_err(io_error)?;
+        if !file.metadata().map_err(io_error)?.is_file() {
+            return Err(io_error(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "not a regular file",
+            )));
+        }
+        let mut text = String::new();
+        file.take(MAX_FILE_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(io_error)?;
+        if text.len() as u64 > MAX_FILE_BYTES {
+            return Err(io_error(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!("longer than {MAX_FILE_BYTES} bytes"),
+            )));
+        }
         DriveFile::parse(path, &text)
     }
 
@@ -307,6 +342,13 @@ mod tests {
             ("6098:00 u8 300\n", "line 1: 300 does not fit u8 (0..=255)"),
             ("6098:00 u8 -1\n", "line 1: -1 does not fit u8"),
             ("6098:00 u8 x\n", "line 1: 'x' is not a number"),
+            ("6098:00 i8 --5\n", "line 1: '--5' is not a number"),
+            ("6098:00 u8 +5\n", "line 1: '+5' is not a number"),
+            ("6098:00 i8 -0x-5\n", "line 1: '-0x-5' is not a number"),
+            (
+                "+6098:00 u8 1\n",
+                "line 1: index '+6098' is not a hexadecimal number",
+            ),
             (
                 "g098:00 u8 1\n",
                 "line 1: index 'g098' is not a hexadecimal number",
@@ -321,6 +363,12 @@ mod tests {
             assert!(e.starts_with("drive file x.sdo, "), "{e}");
             assert!(e.contains(want), "{text:?}: {e}");
         }
+        let e = DriveFile::load(Path::new("/dev/zero")).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "drive file /dev/zero: not a regular file",
+            "a device is refused before it is read"
+        );
         let e = DriveFile::load(Path::new("/nonexistent/drive.sdo")).unwrap_err();
         assert!(
             e.to_string()
