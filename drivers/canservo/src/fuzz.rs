@@ -3,20 +3,30 @@
 //! error frames, unknown identifiers), the SDO client reading a server's
 //! answers, the simulated drive (NMT, SDO server, PDO engine, SYNC) and
 //! the bring-up tool's frame decoder.
+//! The other parsers of outside text have bodies here too: the per-drive
+//! SDO file ([`drive_file`]) and the `loadrt` parameters
+//! ([`module_params`]).
 //! The workspace's `fuzz/` crate was not on main when this driver was
-//! written, so the body lives here as [`frames`] and a proptest
-//! (`tests/fuzz_frames.rs`) runs it over more than 100 000 random frames
-//! on stable; a `fuzz/` target only needs to call it.
+//! written, so the bodies live here as `pub fn`s of bytes and proptests
+//! (`tests/fuzz_frames.rs`, `tests/fuzz_files.rs`) run each over more
+//! than 100 000 random frames or inputs on stable; a `fuzz/` target only
+//! needs to call them.
 //!
-//! What it checks beyond "no panic": a `read` never takes more frames
-//! than its budget (a flood cannot stall the cycle), and an SDO transfer
-//! against a hostile server ends.
+//! What [`frames`] checks beyond "no panic": a `read` never takes more
+//! frames than its budget (a flood cannot stall the cycle), and an SDO
+//! transfer against a hostile server ends.
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
+use std::path::Path;
+
+use hal_core::module::ModuleArgs;
+
 use crate::bus::CanBus;
+use crate::config;
+use crate::drivefile::DriveFile;
 use crate::engine::{DriveInputs, Engine, EngineConfig};
 use crate::frame::Frame;
 use crate::sdo::SdoClient;
@@ -169,4 +179,95 @@ fn drive_reception(frames: &[Frame]) {
         out.clear();
     }
     d.advance(10_000_000, &mut out);
+}
+
+/// Parses `data` as a drive file. Checks besides "no panic": an error
+/// names the file and a line of it; an accepted file's writes are in
+/// line order, each value fits its type, and the writes written out as
+/// `INDEX:SUB TYPE VALUE` lines parse back to the same writes. Returns
+/// the number of writes.
+pub fn drive_file(data: &[u8]) -> usize {
+    let Ok(text) = std::str::from_utf8(data) else {
+        // `DriveFile::load` refuses what is not UTF-8 before parsing.
+        return 0;
+    };
+    let path = Path::new("fuzz.sdo");
+    let lines = text.lines().count();
+    match DriveFile::parse(path, text) {
+        Err(e) => {
+            let said = e.to_string();
+            assert!(said.starts_with("drive file fuzz.sdo, line "), "{said}");
+            match e {
+                crate::Error::DriveFile { line, .. } => {
+                    assert!(
+                        (1..=lines).contains(&line),
+                        "line {line} of {lines}: {said}"
+                    )
+                }
+                other => panic!("not a line error: {other}"),
+            }
+            0
+        }
+        Ok(file) => {
+            let mut last = 0;
+            let mut again = String::new();
+            for w in &file.writes {
+                assert!(
+                    w.line > last && w.line <= lines,
+                    "line {} after {last}",
+                    w.line
+                );
+                last = w.line;
+                let (lo, hi) = w.ty.range();
+                assert!((lo..=hi).contains(&w.value), "{w:?}");
+                assert_eq!(w.ty.decode(&w.ty.bytes(w.value)), Some(w.value), "{w:?}");
+                again += &format!("{:04X}:{:02X} {} {}\n", w.index, w.sub, w.ty, w.value);
+            }
+            let back = DriveFile::parse(path, &again).expect("written-out writes parse");
+            let strip = |f: &DriveFile| -> Vec<_> {
+                f.writes
+                    .iter()
+                    .map(|w| (w.index, w.sub, w.ty, w.value))
+                    .collect()
+            };
+            assert_eq!(strip(&back), strip(&file));
+            file.writes.len()
+        }
+    }
+}
+
+/// Reads `data` as the words of a `loadrt canservo` line (split at
+/// whitespace) and parses them as the module does, up to opening the
+/// bus. Checks besides "no panic": every error names the module; an
+/// accepted line has one node plan, scale and home position per drive,
+/// node ids 1..=127 without repeats and scales that are finite and not
+/// zero. Returns whether it was accepted.
+///
+/// Words naming drive files read real files: the fuzzed bytes reach
+/// [`DriveFile::load`] as paths, which reads only regular files, at most
+/// [`crate::drivefile::MAX_FILE_BYTES`] of each.
+pub fn module_params(data: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(data);
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let parsed = ModuleArgs::parse(config::NAME, config::PARAMS, &words)
+        .map_err(|e| e.to_string())
+        .and_then(|args| config::parse(&args).map_err(|e| e.to_string()));
+    match parsed {
+        Err(e) => {
+            assert!(e.contains("canservo"), "{e}");
+            false
+        }
+        Ok(c) => {
+            let n = c.plans.len();
+            assert!((1..=config::MAX_DRIVES).contains(&n));
+            assert_eq!((c.scales.len(), c.sim_home.len()), (n, n));
+            for (i, p) in c.plans.iter().enumerate() {
+                assert!((1..=127).contains(&p.node), "{p:?}");
+                assert!(c.plans[..i].iter().all(|q| q.node != p.node));
+            }
+            assert!(c.scales.iter().all(|s| s.is_finite() && *s != 0.0));
+            assert!(c.engine.period_ns > 0 && c.engine.tpdo_misses > 0);
+            true
+        }
+    }
 }

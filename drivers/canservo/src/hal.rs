@@ -45,6 +45,7 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef};
 use hal_core::{Component, HalError, Host, In, Io, Out, Param, Pin, Result, Ro, Rw};
 use hal_driver::fault::{self, SafeState};
+use hal_driver::params::Backend;
 use hal_driver::sim::SimClock;
 use hal_driver::ForModule;
 
@@ -62,6 +63,17 @@ pub static MODULE: ModuleDef = ModuleDef {
     params: config::PARAMS,
     help: "CANopen CiA 402 servo drives over SocketCAN (or simulated: backend=sim)",
     load,
+};
+
+/// `canservo` with every drive simulated whatever `backend=` says: the
+/// form fuzzers and other tests that must never reach a real bus load
+/// (the parameters are parsed by the driver's own code, and a line that
+/// does not parse fails exactly as with [`MODULE`]).
+pub static SIM_ONLY_MODULE: ModuleDef = ModuleDef {
+    name: NAME,
+    params: config::PARAMS,
+    help: "canservo on simulated drives only (for fuzzing)",
+    load: load_sim_only,
 };
 
 /// The statusword bits as pins, in bit order.
@@ -202,7 +214,16 @@ fn open(cfg: &Config) -> Result<Opened> {
 }
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let cfg = config::parse(args).for_module(NAME)?;
+    load_config(host, config::parse(args).for_module(NAME)?)
+}
+
+fn load_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let mut cfg = config::parse(args).for_module(NAME)?;
+    cfg.backend = Backend::Sim("sim");
+    load_config(host, cfg)
+}
+
+fn load_config(host: &Host, cfg: Config) -> Result<()> {
     let (setup, rt, sim) = open(&cfg)?;
     // Bring the drives up to the point before NMT start; nothing moves
     // and no HAL object exists yet, so a failure leaves nothing behind.

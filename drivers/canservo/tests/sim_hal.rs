@@ -324,3 +324,25 @@ fn parameter_errors_and_failed_loads_leave_nothing() {
         assert!(host.instance().pins().unwrap().is_empty());
     }
 }
+
+#[test]
+fn the_sim_only_form_never_opens_a_socket() {
+    let host = host("cs-simonly");
+    // No such interface: MODULE would fail to open it.
+    let args = ["iface=nocan7", "backend=socketcan", "nodes=2"];
+    assert!(host.loadrt(&MODULE, &args).is_err());
+    host.loadrt(&hal_canservo::hal::SIM_ONLY_MODULE, &args)
+        .unwrap();
+    assert_eq!(
+        host.instance().param_value("canservo.0.node").unwrap(),
+        Value::U32(2)
+    );
+    sim_bus(&host);
+    host.unloadrt("canservo").unwrap();
+    let e = host
+        .loadrt(&hal_canservo::hal::SIM_ONLY_MODULE, &["nodes=0"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("canservo: parameter 'nodes'"), "{e}");
+    assert!(host.loaded_components().is_empty());
+}
