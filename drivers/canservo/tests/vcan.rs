@@ -145,21 +145,33 @@ fn start_up_and_csp_over_vcan_with_a_separate_drive_process() {
     host.addf("canservo.read", "servo", -1).unwrap();
     host.addf("canservo.write", "servo", -1).unwrap();
     host.start().unwrap();
-    wait("switch on disabled", || {
-        pin(&host, "canservo.0.state") == Value::S32(2)
+    // Both drives' first TPDOs: Switch on disabled, CSP, Operational.
+    wait("switch on disabled, CSP, operational", || {
+        (0..2).all(|d| {
+            pin(&host, &format!("canservo.{d}.state")) == Value::S32(2)
+                && pin(&host, &format!("canservo.{d}.mode")) == Value::S32(8)
+                && pin(&host, &format!("canservo.{d}.nmt-state")) == Value::U32(5)
+        })
     });
-    assert_eq!(pin(&host, "canservo.1.mode"), Value::S32(8));
-    assert_eq!(pin(&host, "canservo.1.nmt-state"), Value::U32(5));
 
     // CSP: both drives follow a move.
     for d in 0..2 {
         inst.set_pin(&format!("canservo.{d}.enable"), Value::Bit(true))
             .unwrap();
     }
-    wait("enabled", || {
-        pin(&host, "canservo.0.enabled") == Value::Bit(true)
-            && pin(&host, "canservo.1.enabled") == Value::Bit(true)
-    });
+    let end = Instant::now() + Duration::from_secs(60);
+    while pin(&host, "canservo.0.enabled") != Value::Bit(true)
+        || pin(&host, "canservo.1.enabled") != Value::Bit(true)
+    {
+        assert!(
+            Instant::now() < end,
+            "the drives did not enable: {} / {} / {:?}",
+            describe(&host, 0),
+            describe(&host, 1),
+            host.rt_log().history()
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
     for step in 1..=50 {
         let p = f64::from(step) * 0.01;
         inst.set_pin("canservo.0.position-cmd", Value::Float(p))
