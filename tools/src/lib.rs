@@ -2,6 +2,7 @@
 //! language (used by the `halcmd` and `halrun` binaries).
 
 pub mod board_tool;
+pub mod canservo_tool;
 pub mod cli;
 pub mod fifo;
 pub mod halcmd;
