@@ -63,6 +63,20 @@ static GPIO_FAILED: Fault = Fault::new(
     4,
     "error transferring GPIO: io_error set, board stopped (its watchdog releases the outputs)",
 );
+/// A network board lost too many packets.
+static PACKET_ERRORS: Fault = Fault::new(
+    5,
+    "packet-error-limit reached: io_error set, board stopped, outputs made safe (clear io_error to resume)",
+);
+
+/// The fault a failed transfer trips.
+fn fault_of(e: &TransportError, otherwise: &'static Fault) -> &'static Fault {
+    match e {
+        TransportError::QueueFull { .. } => &QUEUE_FULL,
+        TransportError::PacketErrors { .. } => &PACKET_ERRORS,
+        _ => otherwise,
+    }
+}
 
 impl Board {
     /// Exports the board's HAL objects on `comp`, writes its whole
@@ -251,11 +265,14 @@ impl Board {
 
     /// Stops the board after a failed transfer: `io_error` goes TRUE (the
     /// cycle functions then do nothing until the user clears it) and the
-    /// reason is said once. With writes stopped, the watchdog bites and
-    /// the firmware releases every output.
+    /// reason is said once. The outputs are made safe at once, as far as
+    /// the board can still be reached; with writes stopped its watchdog
+    /// bites and the firmware releases every output anyway.
     fn fail(&mut self, fault: &'static Fault) {
         self.io_error.set(true);
-        self.latch.trip(fault);
+        if self.latch.trip(fault) {
+            self.go_safe();
+        }
         self.requested = false;
     }
 
@@ -269,6 +286,7 @@ impl Board {
         }
         if self.latch.reset().is_some() {
             self.recover = true;
+            self.transport.recover();
         }
         true
     }
@@ -283,9 +301,9 @@ impl Board {
             self.tram.retarget_read(start, addr);
         }
         match self.tram.request_reads(self.transport.as_mut()) {
-            Ok(()) => self.requested = true,
-            Err(TransportError::QueueFull { .. }) => self.fail(&QUEUE_FULL),
-            Err(_) => self.fail(&READ_FAILED),
+            // A request that could not leave is counted; `read` skips.
+            Ok(()) | Err(TransportError::Lost) => self.requested = true,
+            Err(e) => self.fail(fault_of(&e, &READ_FAILED)),
         }
     }
 
@@ -301,9 +319,14 @@ impl Board {
             }
         }
         self.requested = false;
-        if self.tram.receive_reads(self.transport.as_mut()).is_err() {
-            self.fail(&READ_FAILED);
-            return;
+        match self.tram.receive_reads(self.transport.as_mut()) {
+            Ok(()) => {}
+            // A tolerated packet error: this cycle's inputs stay as they were.
+            Err(TransportError::Lost) => return,
+            Err(e) => {
+                self.fail(fault_of(&e, &READ_FAILED));
+                return;
+            }
         }
         let buf = &self.tram.read_buf;
         if let Some(w) = &mut self.watchdog {
@@ -330,10 +353,10 @@ impl Board {
         if !self.usable() {
             return;
         }
+        self.transport.set_cycle_period(period_ns);
         match self.write_cycle(period_ns) {
-            Ok(()) => {}
-            Err(TransportError::QueueFull { .. }) => self.fail(&QUEUE_FULL),
-            Err(_) => self.fail(&WRITE_FAILED),
+            Ok(()) | Err(TransportError::Lost) => {}
+            Err(e) => self.fail(fault_of(&e, &WRITE_FAILED)),
         }
     }
 
@@ -349,6 +372,10 @@ impl Board {
             }
             self.force_write()?;
             self.recover = false;
+        } else if self.transport.take_resync() {
+            // Packets were lost: write the whole configuration again,
+            // quietly (LinuxCNC's soft reset).
+            self.force_write()?;
         }
         if !self.started {
             // Module outputs are driven from the first write on.
@@ -478,5 +505,7 @@ impl Board {
         }
         // The bite takes a clock tick; release the pins now as well.
         let _ = self.ioport.go_safe(t);
+        // Module outputs are driven again from the next write on.
+        self.started = false;
     }
 }

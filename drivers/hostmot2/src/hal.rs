@@ -85,7 +85,7 @@ pub static HOSTMOT2_MODULE: ModuleDef = ModuleDef {
 };
 
 /// The core's settings, alive while `hostmot2` is loaded in an instance.
-struct Core {
+pub(crate) struct Core {
     debug: Debug,
 }
 
@@ -128,7 +128,7 @@ fn load_hostmot2(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
 
 /// The core's settings in `host`, or the error a board driver gives when
 /// `hostmot2` is not loaded.
-fn core(host: &Host, module: &str) -> hal_core::Result<Arc<Core>> {
+pub(crate) fn core(host: &Host, module: &str) -> hal_core::Result<Arc<Core>> {
     let name = host.instance().name();
     cores()
         .iter()
@@ -194,6 +194,8 @@ pub enum Source {
     Sim(Arc<SimHm2>),
     /// A fixed register image (hm2_test).
     Image(Vec<u32>),
+    /// A board on the network (hm2_eth), probed.
+    Eth(Box<crate::eth::EthTransport>),
 }
 
 /// A board to register: its llio, where it is, and what to say when it
@@ -258,6 +260,10 @@ pub fn register_boards(
                 None,
             ),
             Source::Image(img) => (Box::new(ImageTransport::new(img, &name)), None, None),
+            Source::Eth(mut t) => {
+                t.errors().export(b.component(), &name)?;
+                (t, None, None)
+            }
         };
         let mut msgs = MessageLog::default();
         let board = Board::open(
@@ -520,6 +526,11 @@ fn load_hm2_test(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
 }
 
 /// Every module this crate provides, for the host's registry.
-pub fn modules() -> [&'static ModuleDef; 3] {
-    [&HOSTMOT2_MODULE, &HM2_PCI_MODULE, &HM2_TEST_MODULE]
+pub fn modules() -> [&'static ModuleDef; 4] {
+    [
+        &HOSTMOT2_MODULE,
+        &HM2_PCI_MODULE,
+        &HM2_TEST_MODULE,
+        &crate::eth::hal::HM2_ETH_MODULE,
+    ]
 }

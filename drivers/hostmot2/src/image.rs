@@ -41,6 +41,8 @@ pub struct ModuleSpec {
     pub num_registers: u8,
     /// MultipleRegisters bitmap.
     pub multiple_registers: u32,
+    /// Which IDROM instance stride the module uses (0: 4 bytes, 1: 0x40).
+    pub instance_stride_sel: u8,
 }
 
 impl ModuleSpec {
@@ -55,6 +57,7 @@ impl ModuleSpec {
             gtag::ENCODER => (0x3000, 5, 0x03, Clock::Low),
             gtag::PWMGEN => (0x4000, 5, 0x03, Clock::High),
             gtag::LED => (0x0200, 1, 0, Clock::Low),
+            gtag::SSERIAL => (0x5A00, 6, 0x3C, Clock::Low),
             _ => (0x5000, 1, 0, Clock::Low),
         };
         ModuleSpec {
@@ -65,6 +68,17 @@ impl ModuleSpec {
             base,
             num_registers: regs,
             multiple_registers: multiple,
+            // Smart Serial ports are 0x40 apart, the rest 4.
+            instance_stride_sel: u8::from(tag == gtag::SSERIAL),
+        }
+    }
+
+    /// Bytes between instances (the IDROM strides this crate's images use).
+    pub fn instance_stride(&self) -> u32 {
+        if self.instance_stride_sel == 1 {
+            0x40
+        } else {
+            4
         }
     }
 
@@ -79,7 +93,9 @@ impl ModuleSpec {
                 | (self.version as u32) << 8
                 | (clock_tag as u32) << 16
                 | (self.instances as u32) << 24,
-            self.base as u32 | (self.num_registers as u32) << 16,
+            self.base as u32
+                | (self.num_registers as u32) << 16
+                | (self.instance_stride_sel as u32 & 0xF) << 28,
             self.multiple_registers,
         ]
     }

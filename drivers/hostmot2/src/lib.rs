@@ -91,11 +91,13 @@
 pub mod board;
 pub mod config;
 pub mod error;
+pub mod eth;
 pub mod firmware;
 pub mod fuzz;
 pub mod hal;
 pub mod idrom;
 pub mod image;
+pub mod lbp16;
 pub mod llio;
 pub mod log;
 pub mod md;

@@ -49,6 +49,39 @@ pub enum TransportError {
         /// Buffer size.
         got: usize,
     },
+    /// A network transfer of this cycle was lost, late or malformed and
+    /// counted as a packet error: the cycle's inputs are skipped, the
+    /// board keeps running.
+    #[error("packet lost, late or malformed (counted as a packet error)")]
+    Lost,
+    /// Packet errors reached `packet-error-limit`: the board stops.
+    #[error("packet-error-limit reached ({level} of {limit})")]
+    PacketErrors {
+        /// The error counter.
+        level: i32,
+        /// The limit.
+        limit: i32,
+    },
+    /// A board on the network never answered.
+    #[error("no reply from {peer} ({attempts} requests, {timeout_ms} ms each)")]
+    NoReply {
+        /// The board's address.
+        peer: String,
+        /// Requests sent.
+        attempts: u32,
+        /// How long each waited, ms.
+        timeout_ms: u64,
+    },
+    /// A socket operation failed.
+    #[error("{op} {peer}: {reason}")]
+    Socket {
+        /// What was done ("sending to").
+        op: &'static str,
+        /// The board's address.
+        peer: String,
+        /// The system's words.
+        reason: String,
+    },
 }
 
 /// Register transfers counted by a transport, for benchmarks and tests.
@@ -99,6 +132,17 @@ pub trait Transport: Send {
     }
     /// What the transport talks to, for messages (a PCI address, "simulated 5i25").
     fn describe(&self) -> String;
+    /// The period of the thread that runs the cycle (the network
+    /// transport's read timeout is a share of it). Called every `write`.
+    fn set_cycle_period(&mut self, _period_ns: i64) {}
+    /// Whether the board lost a write or a reply since the last call and
+    /// its whole configuration should be written again (LinuxCNC's
+    /// soft reset after a packet error).
+    fn take_resync(&mut self) -> bool {
+        false
+    }
+    /// The user cleared `io_error`: the transport forgets its failures.
+    fn recover(&mut self) {}
 }
 
 /// Checks that `words` words at `addr` stay inside the register window.

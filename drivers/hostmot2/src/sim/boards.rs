@@ -8,15 +8,26 @@
 //! | `6i25` | 6i25, servo pin-out | P3, P2 × 17 | P3: 4 encoders with probe (A, B, index), 5 GPIO; P2: 4 PWM generators with dither (PWM, dir, /enable), 5 GPIO |
 //! | `5i24` | 5i24 | P4, P3, P2 × 24 | P4: 8 encoders; P3: 8 PWM generators; P2: 8 step generators with index/probe latch (0xC2), 8 GPIO |
 //!
+//! and the Ethernet boards the `hm2-eth-sim` tool serves ([`ETH_PRESETS`]):
+//!
+//! | name | space-7 name | connectors | firmware |
+//! |---|---|---|---|
+//! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 11 GPIO; TB1: 5 step generators (step/dir), 1 encoder (A, B, index), 4 GPIO; TB2: 17 GPIO (the 11 isolated inputs and 6 outputs) |
+//! | `7i76e` | `7I76E-16` | P1, P2, P3 × 17 | P1 (the on-card 7i76): 5 step generators, Smart Serial port 0 channel 0, 1 encoder, 1 GPIO; P2, P3: GPIO |
+//!
 //! All run ClockLow at 100 MHz and ClockHigh at 200 MHz, except the 6i25
-//! whose ClockLow is 66.67 MHz.
+//! whose ClockLow is 66.67 MHz. Every board has a watchdog and 2 LEDs
+//! (the Ethernet ones 4).
 
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
 use crate::pins::PinDescriptor;
 use crate::regs::gtag;
 
-/// The board names [`preset`] knows.
+/// The PCI board names [`preset`] knows.
 pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24"];
+
+/// The Ethernet board names [`preset`] knows.
+pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e"];
 
 /// The firmware of a simulated board, by name.
 pub fn preset(name: &str) -> Option<FirmwareSpec> {
@@ -24,8 +35,104 @@ pub fn preset(name: &str) -> Option<FirmwareSpec> {
         "5i25" => Some(five_i25()),
         "6i25" => Some(six_i25()),
         "5i24" => Some(five_i24()),
+        "7i96s" => Some(seven_i96s()),
+        "7i76e" => Some(seven_i76e()),
         _ => None,
     }
+}
+
+/// The space-7 name of an Ethernet preset (`7I96S`).
+pub fn eth_name(name: &str) -> Option<&'static str> {
+    match name {
+        "7i96s" => Some("7I96S"),
+        "7i76e" => Some("7I76E-16"),
+        _ => None,
+    }
+}
+
+/// The pins of Smart Serial port `port` channel `chan`: RX, TX, TX enable.
+fn sserial_channel(port: u8, chan: u8) -> [PinDescriptor; 3] {
+    [
+        pd(gtag::SSERIAL, port, 0x01 + chan),
+        pd(gtag::SSERIAL, port, 0x81 + chan),
+        pd(gtag::SSERIAL, port, 0x91 + chan),
+    ]
+}
+
+/// 7i96S: Smart Serial on P1, steppers and an encoder on TB1, I/O on TB2.
+fn seven_i96s() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    pins.extend(sserial_channel(0, 0));
+    pins.extend(sserial_channel(0, 1));
+    pins.extend(std::iter::repeat_n(gpio(), 11));
+    for k in 0..5u8 {
+        pins.push(pd(gtag::STEPGEN, k, 0x81));
+        pins.push(pd(gtag::STEPGEN, k, 0x82));
+    }
+    for f in 1..=3 {
+        pins.push(pd(gtag::ENCODER, 0, f));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 4 + 17));
+    let mut fw = firmware(
+        Identity {
+            board: "7i96s",
+            idrom_name: "MESA7I96",
+            fpga_part: "T20F256",
+            fpga_size: 20,
+            fpga_pins: 256,
+            connectors: &["P1", "TB1", "TB2"],
+            port_width: 17,
+            clock_low: 100_000_000,
+        },
+        vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 3),
+            ModuleSpec::standard(gtag::ENCODER, 2, 1),
+            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
+            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    );
+    fw.leds = 4;
+    fw
+}
+
+/// 7i76E: the on-card 7i76's steppers, Smart Serial and encoder on P1.
+fn seven_i76e() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    for k in 0..5u8 {
+        pins.push(pd(gtag::STEPGEN, k, 0x81));
+        pins.push(pd(gtag::STEPGEN, k, 0x82));
+    }
+    pins.extend(sserial_channel(0, 0));
+    for f in 1..=3 {
+        pins.push(pd(gtag::ENCODER, 0, f));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 1 + 34));
+    let mut fw = firmware(
+        Identity {
+            board: "7i76e",
+            idrom_name: "MESA7I76",
+            fpga_part: "XC6SLX16",
+            fpga_size: 16,
+            fpga_pins: 256,
+            connectors: &["P1", "P2", "P3"],
+            port_width: 17,
+            clock_low: 100_000_000,
+        },
+        vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 3),
+            ModuleSpec::standard(gtag::ENCODER, 2, 1),
+            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
+            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    );
+    fw.leds = 4;
+    fw
 }
 
 /// What distinguishes one board from another.

@@ -170,6 +170,9 @@ impl World for Machine {
 ///   servos 0, 1 and 2 on I/O 12, 13 and 14 (P3 DB-25 pins 7, 8, 9).
 /// * `5i24`: eight servos as above on PWM/encoder 0..7 and eight stepper
 ///   axes on step generators 0..7, no switches.
+/// * `7i96s`: the `5i25` machine on the 7i96S's five step generators,
+///   its home switches on I/O 34, 35, 36 (the first inputs of TB2).
+/// * `7i76e`: the same with the switches on I/O 17, 18, 19 (P2).
 pub fn preset(board: &str) -> Machine {
     let servo = |k: usize| Servo {
         pwm: k,
@@ -182,18 +185,21 @@ pub fn preset(board: &str) -> Machine {
         stepgen: k,
         axis: StepperAxis::new(100.0),
     };
+    let steppers_with_switches = |n: usize, first_switch: usize| Machine {
+        steppers: (0..n).map(stepper).collect(),
+        switches: (0..3)
+            .map(|k| InputSwitch {
+                io: first_switch + k,
+                on: Mount::Stepper(k),
+                switch: Switch::at_or_above(10.0),
+            })
+            .collect(),
+        ..Machine::default()
+    };
     match board {
-        "5i25" => Machine {
-            steppers: (0..10).map(stepper).collect(),
-            switches: (0..3)
-                .map(|k| InputSwitch {
-                    io: 13 + k,
-                    on: Mount::Stepper(k),
-                    switch: Switch::at_or_above(10.0),
-                })
-                .collect(),
-            ..Machine::default()
-        },
+        "5i25" => steppers_with_switches(10, 13),
+        "7i96s" => steppers_with_switches(5, 34),
+        "7i76e" => steppers_with_switches(5, 17),
         "6i25" => Machine {
             servos: (0..4).map(servo).collect(),
             switches: (0..3)

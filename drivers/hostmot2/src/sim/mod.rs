@@ -5,6 +5,8 @@
 
 pub mod boards;
 pub mod encoder;
+pub mod eth;
+pub mod eth_server;
 pub mod ioport;
 pub mod machine;
 pub mod mirror;

@@ -133,7 +133,9 @@ impl Hm2Model {
                 let per_instance = m.multiple_registers & (1 << reg) != 0;
                 let count = if per_instance { m.instances } else { 1 };
                 for inst in 0..count {
-                    let addr = m.base as usize + reg as usize * 0x100 + inst as usize * 4;
+                    let addr = m.base as usize
+                        + reg as usize * 0x100
+                        + inst as usize * m.instance_stride() as usize;
                     let t = match m.gtag {
                         gtag::IOPORT => Target::IoPort(reg, inst),
                         gtag::WATCHDOG => Target::Watchdog(reg),

@@ -144,3 +144,5 @@ impl Rig {
             .with(|m| f(m.world::<W>().expect("the world's type")))
     }
 }
+
+pub mod eth;
