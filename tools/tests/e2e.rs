@@ -819,3 +819,35 @@ fn the_simulated_mill_runs_the_shipped_pocket() {
         assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
     }
 }
+
+#[test]
+fn hm2_eth_stepper_machine_over_udp_samples_as_on_the_pci_simulator() {
+    // The simulator listens on a port of this test's own.
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .unwrap()
+        .port();
+    let name = "hm2-eth-stepper";
+    let dir = case(name);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_halrun"))
+        .args(["-f", "test.hal"])
+        .current_dir(&dir)
+        .env("HAL_INSTANCE", instance(name))
+        .env("HAL_NO_REALTIME", "1")
+        .env("HAL_SHM_SIZE", (8u64 << 20).to_string())
+        .env("HM2_ETH_SIM_PORT", port.to_string())
+        .output()
+        .expect("halrun runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{name}: halrun failed: {stderr}");
+    let got = String::from_utf8_lossy(&out.stdout).into_owned();
+    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
+    assert_eq!(got, expected, "{name}: stdout differs (stderr: {stderr})");
+    // Sample for sample what the same machine does on the PCI simulator.
+    let pci = std::fs::read_to_string(case("hm2-stepper").join("expected")).unwrap();
+    assert_eq!(machine_rows(&got), machine_rows(&pci));
+    assert!(
+        got.ends_with("\nFALSE\n0\n"),
+        "the watchdog never bit, no packet error"
+    );
+}

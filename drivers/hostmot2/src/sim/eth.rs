@@ -17,8 +17,9 @@
 //! Time: a datagram that writes the read tag (space 4 0x10) is a cycle's
 //! read request; with [`EthBoard::with_period`] the board lets one period
 //! of simulated time pass before answering it, so a run over the network
-//! is as repeatable as one on the PCI simulator. Without it the caller
-//! moves time ([`EthBoard::model`]).
+//! is as repeatable as one on the PCI simulator. With
+//! [`EthBoard::with_wall_clock`] the host's time passes instead. Without
+//! either the caller moves time ([`EthBoard::model`]).
 //!
 //! A datagram that cannot be parsed is counted (space 6 parse errors,
 //! bad packets) and gets no answer, like a wrong-length reply the driver
@@ -74,6 +75,8 @@ pub struct EthBoard {
     info: [u8; INFO_BYTES],
     flash_address: u32,
     period_ns: Option<u64>,
+    /// With a wall clock: when the last datagram came.
+    wall: Option<Option<std::time::Instant>>,
     cycles: u64,
     resets: u64,
     /// The write enable of the datagram being executed.
@@ -123,6 +126,7 @@ impl EthBoard {
             info,
             flash_address: 0,
             period_ns: None,
+            wall: None,
             cycles: 0,
             resets: 0,
             write_enable: 0,
@@ -133,6 +137,14 @@ impl EthBoard {
     /// request is answered.
     pub fn with_period(mut self, period_ns: u64) -> EthBoard {
         self.period_ns = Some(period_ns);
+        self
+    }
+
+    /// Lets the host's time pass: before each datagram, the time since
+    /// the previous one (for interactive use; runs are not repeatable).
+    pub fn with_wall_clock(mut self) -> EthBoard {
+        self.wall = Some(None);
+        self.period_ns = None;
         self
     }
 
@@ -189,6 +201,12 @@ impl EthBoard {
                     self.bump(addr::CTRL_RX_BAD);
                     return false;
                 }
+            }
+        }
+        if let Some(last) = &mut self.wall {
+            let now = std::time::Instant::now();
+            if let Some(then) = last.replace(now) {
+                self.model.advance((now - then).as_nanos() as u64);
             }
         }
         if cycle {
