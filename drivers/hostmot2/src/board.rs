@@ -15,6 +15,7 @@ use crate::modules::ioport::IoPort;
 use crate::modules::led::Leds;
 use crate::modules::pwmgen::Pwmgens;
 use crate::modules::raw::Raw;
+use crate::modules::sserial::Sserial;
 use crate::modules::stepgen::Stepgens;
 use crate::modules::watchdog::{Watchdog, WatchdogEvent};
 use crate::modules::{Export, Notify};
@@ -35,6 +36,7 @@ pub struct Board {
     stepgen: Option<Stepgens>,
     pwmgen: Option<Pwmgens>,
     led: Option<Leds>,
+    sserial: Option<Sserial>,
     raw: Option<Raw>,
     say: Notify,
     latch: FaultLatch,
@@ -91,6 +93,22 @@ impl Board {
         say: Notify,
         log: &mut MessageLog,
     ) -> Result<Board> {
+        Board::register_with(comp, llio, fw, config, transport, say, log, false)
+    }
+
+    /// [`register`](Self::register), naming Smart Serial cards by unit
+    /// number when `serial_numbers` (hostmot2's `use_serial_numbers`).
+    #[allow(clippy::too_many_arguments)]
+    pub fn register_with(
+        comp: &Component,
+        llio: Llio,
+        fw: Firmware,
+        config: &Config,
+        transport: Box<dyn Transport>,
+        say: Notify,
+        log: &mut MessageLog,
+        serial_numbers: bool,
+    ) -> Result<Board> {
         let prefix = llio.name.clone();
         let io_error = comp.param(&format!("{prefix}.io_error"), false)?;
         let mut tram = Tram::default();
@@ -103,6 +121,7 @@ impl Board {
         let ioport = IoPort::export(&mut x, &fw.ioport, &fw.pins)?;
         let (mut watchdog, mut encoder, mut stepgen, mut pwmgen, mut led) =
             (None, None, None, None, None);
+        let mut sserial = None;
         for md in &fw.mds {
             match md.gtag {
                 gtag::WATCHDOG => {
@@ -128,6 +147,11 @@ impl Board {
                 gtag::LED => {
                     if let Some(m) = fw.led.filter(|m| m.md.index == md.index) {
                         led = Some(Leds::export(&mut x, &m)?);
+                    }
+                }
+                gtag::SSERIAL => {
+                    if let Some(f) = fw.sserial.as_ref().filter(|f| f.md.index == md.index) {
+                        sserial = Some(Sserial::export(&mut x, f, serial_numbers)?);
                     }
                 }
                 _ => {}
@@ -167,6 +191,7 @@ impl Board {
             stepgen,
             pwmgen,
             led,
+            sserial,
             raw,
             latch: FaultLatch::new(format!("hm2/{prefix}")).with_log(say.log().clone()),
             say,
@@ -196,7 +221,16 @@ impl Board {
         log: &mut MessageLog,
     ) -> Result<Board> {
         let fw = crate::firmware::load(&llio, config, debug, transport.as_mut(), log)?;
-        Board::register(comp, llio, fw, config, transport, say, log)
+        Board::register_with(
+            comp,
+            llio,
+            fw,
+            config,
+            transport,
+            say,
+            log,
+            debug.use_serial_numbers,
+        )
     }
 
     /// Force-write, first TRAM read, first TRAM write (zeros).
@@ -342,6 +376,9 @@ impl Board {
         if let Some(s) = &mut self.stepgen {
             s.process_read(buf);
         }
+        if let Some(s) = &mut self.sserial {
+            s.process_read(buf, &self.say);
+        }
         if let Some(r) = &self.raw {
             r.process_read(buf);
         }
@@ -393,6 +430,9 @@ impl Board {
         if let Some(s) = &mut self.stepgen {
             s.prepare_write(buf, period_ns);
         }
+        if let Some(s) = &mut self.sserial {
+            s.prepare_write(buf, period_ns, &self.say);
+        }
         let t = self.transport.as_mut();
         self.tram.queue_writes(t)?;
         self.ioport.write_config(t)?;
@@ -410,6 +450,9 @@ impl Board {
         }
         if let Some(l) = &mut self.led {
             l.write_config(t)?;
+        }
+        if let Some(s) = &mut self.sserial {
+            s.write_config(t)?;
         }
         let dump = match &self.raw {
             Some(r) => r.write(t)?,
@@ -448,6 +491,11 @@ impl Board {
         if r.is_err() {
             self.fail(&GPIO_FAILED);
         }
+    }
+
+    /// Whether a Smart Serial port is stopped by faults.
+    pub fn sserial_faulted(&self) -> bool {
+        self.sserial.as_ref().is_some_and(|s| s.faulted())
     }
 
     /// Whether the board has a watchdog (LinuxCNC exports `pet_watchdog`
@@ -498,6 +546,9 @@ impl Board {
             let _ = p.go_safe(t);
         }
         if let Some(s) = &mut self.stepgen {
+            let _ = s.go_safe(t);
+        }
+        if let Some(s) = &mut self.sserial {
             let _ = s.go_safe(t);
         }
         if let Some(w) = &mut self.watchdog {

@@ -8,12 +8,18 @@
 //! hex, leading-0 octal) but, unlike LinuxCNC, a token that is not a
 //! number is refused instead of read as 0.
 //!
+//! `sserial_port_N=<modes>` (N = 0..3) gives Smart Serial port N's
+//! channels their modes, left to right: a digit starts the channel in
+//! that mode, a lower-case `x` disables it (its pins stay GPIO), any
+//! other character is skipped and takes no channel; channels not named
+//! start in mode 0. The first such token limits the ports used to those
+//! named with a digit (`num_sserials`, as LinuxCNC counts it).
+//!
 //! Not supported, and said so: `firmware=` (this driver never programs an
-//! FPGA; flash it with mesaflash) is refused. The Smart Serial,
-//! absolute-encoder and other module tokens (`sserial_port_N`,
-//! `ssi_chan_N`, `num_3pwmgens`, ...) are accepted and validated as
-//! LinuxCNC does, but those modules are not supported yet: their
-//! descriptors are ignored and their pins stay GPIO.
+//! FPGA; flash it with mesaflash) is refused. The absolute-encoder and
+//! other module tokens (`ssi_chan_N`, `num_3pwmgens`, ...) are accepted
+//! and validated as LinuxCNC does, but those modules are not supported
+//! yet: their descriptors are ignored and their pins stay GPIO.
 
 use hal_core::module::parse_c_int;
 
@@ -36,6 +42,9 @@ pub struct Config {
     pub enable_raw: bool,
     /// `sserial_port_N` mode strings, as given.
     pub sserial_ports: [Option<String>; 4],
+    /// Smart Serial ports to use (−1 = all): 0 after the first
+    /// `sserial_port_N` token, raised to N + 1 by each one with a digit.
+    pub num_sserials: i32,
     /// Counts of modules this driver does not support, as given
     /// (`num_3pwmgens` ...), kept so `save` and messages can show them.
     pub unsupported: Vec<(String, i32)>,
@@ -53,6 +62,7 @@ impl Default for Config {
             stepgen_width: 2,
             enable_raw: false,
             sserial_ports: Default::default(),
+            num_sserials: -1,
             unsupported: Vec::new(),
             abs_encoder_formats: Vec::new(),
         }
@@ -146,6 +156,10 @@ pub fn parse(s: &str) -> Result<Config> {
                     });
                 }
                 c.sserial_ports[port] = Some(v.to_string());
+                c.num_sserials = c.num_sserials.max(0);
+                if v.bytes().any(|b| b.is_ascii_digit()) {
+                    c.num_sserials = c.num_sserials.max(port as i32 + 1);
+                }
             }
             (k, Some(v))
                 if ["ssi_chan_", "biss_chan_", "fanuc_chan_"].iter().any(|p| {
@@ -163,6 +177,30 @@ pub fn parse(s: &str) -> Result<Config> {
         }
     }
     Ok(c)
+}
+
+impl Config {
+    /// The modes of Smart Serial `port`'s eight channels: `None` for a
+    /// channel disabled with `x`, else the mode (0 unless given).
+    pub fn sserial_modes(&self, port: usize) -> [Option<u8>; crate::sserial::MAX_CHANNELS] {
+        let mut modes = [Some(0); crate::sserial::MAX_CHANNELS];
+        let Some(s) = self.sserial_ports.get(port).and_then(|s| s.as_deref()) else {
+            return modes;
+        };
+        let mut chan = 0;
+        for b in s.bytes() {
+            let m = match b {
+                b'0'..=b'9' => Some(b - b'0'),
+                b'x' => None,
+                _ => continue,
+            };
+            if let Some(slot) = modes.get_mut(chan) {
+                *slot = m;
+            }
+            chan += 1;
+        }
+        modes
+    }
 }
 
 /// How many instances of a module to use: `requested` of `available`
@@ -231,6 +269,38 @@ mod tests {
             let e = parse(s).unwrap_err().to_string();
             assert!(e.contains(want), "{s}: {e}");
         }
+    }
+
+    #[test]
+    fn sserial_modes_as_linuxcnc_reads_them() {
+        let c = parse("").unwrap();
+        assert_eq!(c.num_sserials, -1);
+        assert_eq!(c.sserial_modes(2), [Some(0); 8]);
+        let c = parse("sserial_port_0=0XXX").unwrap();
+        assert_eq!(c.num_sserials, 1);
+        assert_eq!(
+            c.sserial_modes(0),
+            [Some(0); 8],
+            "X is skipped, not disabled"
+        );
+        let c = parse("sserial_port_1=1x2-x sserial_port_0=xxxxxxxx").unwrap();
+        assert_eq!(c.num_sserials, 2);
+        assert_eq!(
+            c.sserial_modes(1),
+            [
+                Some(1),
+                None,
+                Some(2),
+                None,
+                Some(0),
+                Some(0),
+                Some(0),
+                Some(0)
+            ]
+        );
+        assert_eq!(c.sserial_modes(0), [None; 8]);
+        let c = parse("sserial_port_0=xxxxxxxx").unwrap();
+        assert_eq!(c.num_sserials, 0, "only x: the module is disabled");
     }
 
     #[test]

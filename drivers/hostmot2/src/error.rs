@@ -264,6 +264,16 @@ pub enum Hm2Error {
         /// What went wrong.
         source: TransportError,
     },
+    /// Smart Serial discovery failed or a remote card is unusable.
+    #[error("Smart Serial port {port}{}: {reason}", channel.map(|c| format!(" channel {c}")).unwrap_or_default())]
+    Sserial {
+        /// The port.
+        port: u8,
+        /// The channel, when it is about one.
+        channel: Option<u8>,
+        /// What is wrong.
+        reason: String,
+    },
     /// The first reads and writes after configuration failed.
     #[error("comm errors while initializing firmware!")]
     CommErrors,

@@ -9,6 +9,7 @@ use crate::idrom::{self, IdromHeader};
 use crate::llio::Llio;
 use crate::log::MessageLog;
 use crate::md::{self, ModuleDescriptor};
+use crate::modules::sserial::discovery::{self, SserialFirmware};
 use crate::pins::{self, InstancesUsed, IoPin};
 use crate::regs::gtag;
 use crate::transport::Transport;
@@ -24,6 +25,10 @@ pub struct Debug {
     pub pin_descriptors: bool,
     /// Log what each module uses.
     pub modules: bool,
+    /// Name Smart Serial cards by unit number (`use_serial_numbers`).
+    pub use_serial_numbers: bool,
+    /// Set every Smart Serial channel to this baud rate (`sserial_baudrate`).
+    pub sserial_baudrate: Option<u32>,
 }
 
 /// A module the driver will use: its descriptor and instances in use.
@@ -36,7 +41,7 @@ pub struct ModuleUse {
 }
 
 /// Everything the driver learned from a board before touching HAL.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Firmware {
     /// The IDROM header.
     pub idrom: IdromHeader,
@@ -56,6 +61,8 @@ pub struct Firmware {
     pub pwmgen: Option<ModuleUse>,
     /// LEDs in use.
     pub led: Option<ModuleUse>,
+    /// The Smart Serial ports in use and the cards found on them.
+    pub sserial: Option<SserialFirmware>,
 }
 
 /// Reads and checks everything, logging what LinuxCNC logs. On an error
@@ -94,10 +101,27 @@ pub fn load(
     }
     let plan = plan_modules(&mds, &idrom, llio, config, log)?;
     let ioport_instances = plan.ioport.map_or(0, |m| m.instances);
+    let sserial = match (plan.sserial, plan.ioport) {
+        (Some(s), Some(io)) => Some(discovery::discover(
+            t,
+            &discovery::Setup {
+                md: s.md,
+                ports: s.instances,
+                ioport: io.md,
+                port_width: idrom.port_width,
+                pins: &descs,
+                config,
+                baudrate: debug.sserial_baudrate,
+            },
+            log,
+        )?),
+        _ => None,
+    };
     let used = InstancesUsed {
         encoders: plan.encoder.map_or(0, |m| m.instances),
         stepgens: plan.stepgen.map_or(0, |m| m.instances),
         pwmgens: plan.pwmgen.map_or(0, |m| m.instances),
+        sserial: sserial.as_ref().map_or([0; 4], |s| s.masks()),
     };
     let pins = pins::allocate(
         &descs,
@@ -148,6 +172,7 @@ pub fn load(
         stepgen: plan.stepgen,
         pwmgen: plan.pwmgen,
         led: plan.led,
+        sserial,
     })
 }
 
@@ -159,6 +184,7 @@ struct Plan {
     stepgen: Option<ModuleUse>,
     pwmgen: Option<ModuleUse>,
     led: Option<ModuleUse>,
+    sserial: Option<ModuleUse>,
 }
 
 /// Remembers which modules were seen, to refuse duplicates even when a
@@ -260,6 +286,12 @@ fn plan_modules(
                     n => n as u32,
                 };
                 plan.led = used(m, n);
+            }
+            gtag::SSERIAL => {
+                md::check_sserial(m)?;
+                seen.first(m.gtag)?;
+                let n = config::instances("num_sserials", config.num_sserials, m.instances as u32)?;
+                plan.sserial = used(m, n);
             }
             tag => {
                 if gtag::name(tag).is_none() {

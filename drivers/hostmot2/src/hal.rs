@@ -67,12 +67,13 @@ const HOSTMOT2_PARAMS: &[ParamDecl] = &[
     ParamDecl {
         name: "use_serial_numbers",
         kind: ParamKind::Int,
-        help: "name smart-serial pins by serial number (smart serial is not supported yet)",
+        help:
+            "name Smart Serial cards hm2_<card>.<unit number> instead of by board, port and channel",
     },
     ParamDecl {
         name: "sserial_baudrate",
         kind: ParamKind::Int,
-        help: "smart-serial baud rate (smart serial is not supported yet)",
+        help: "set every Smart Serial channel to this baud rate at load (-1: leave it)",
     },
 ];
 
@@ -106,6 +107,11 @@ fn load_hostmot2(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
             module_descriptors: flag("debug_module_descriptors"),
             pin_descriptors: flag("debug_pin_descriptors"),
             modules: flag("debug_modules"),
+            use_serial_numbers: flag("use_serial_numbers"),
+            sserial_baudrate: args
+                .int("sserial_baudrate")
+                .filter(|&b| b > 0)
+                .map(|b| b.min(u32::MAX as i64) as u32),
         },
     });
     let log = host.rt_log();
@@ -371,7 +377,8 @@ const HM2_PCI_PARAMS: &[ParamDecl] = &[
     ParamDecl {
         name: "sim",
         kind: ParamKind::StrArray(MAX_BOARDS),
-        help: "simulated boards instead of the PCI bus: 5i25, 6i25 or 5i24, one per board",
+        help:
+            "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24 or 5i25-7i77, one per board",
     },
 ];
 

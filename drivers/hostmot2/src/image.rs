@@ -128,6 +128,9 @@ pub struct FirmwareSpec {
     pub modules: Vec<ModuleSpec>,
     /// One pin descriptor per I/O pin.
     pub pins: Vec<PinDescriptor>,
+    /// The simulator's remote cards on Smart Serial channels (not part of
+    /// the firmware's description: what is plugged in).
+    pub remotes: Vec<crate::sim::sserial::RemoteSpec>,
 }
 
 /// Where the IDROM goes.

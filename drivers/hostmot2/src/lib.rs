@@ -12,30 +12,43 @@
 //! # Loading
 //!
 //! `loadrt hostmot2` first (params `debug_idrom`, `debug_module_descriptors`,
-//! `debug_pin_descriptors`, `debug_modules`; `use_serial_numbers` and
-//! `sserial_baudrate` are accepted for smart serial, which is not
-//! supported yet), then a board driver:
+//! `debug_pin_descriptors`, `debug_modules`, and for Smart Serial
+//! `use_serial_numbers` and `sserial_baudrate`), then a board driver:
 //!
 //! * `hm2_pci config="<board 0>,<board 1>,..."`: every Mesa PCI board
 //!   LinuxCNC knows (5i20 ... 3x20, 5i24, 5i25, 6i25 and their T
 //!   variants; [`pci::BOARDS`]), found through sysfs in bus-address order,
 //!   enabled, its FPGA window's BAR mapped (the shared driver layer,
 //!   `hal_driver::pci`). Access without root: the udev rules in `udev/`.
+//! * `hm2_eth board_ip=... config=...`: Mesa's Ethernet boards (7I76E,
+//!   7I96S, 7I92, 7I95, 7I97, ...) over LBP16 on UDP, with LinuxCNC's
+//!   `read-request` function and packet-error pins and params
+//!   ([`eth`]); the host's ARP table and firewall are never changed (the
+//!   setup steps are in [`eth`]).
 //! * `hm2_test test_pattern=N`: LinuxCNC's test driver, a board serving
 //!   one of the broken register images 0..14 ([`test_patterns`]); each
 //!   load fails with LinuxCNC's message.
 //!
 //! The config string is LinuxCNC's ([`config`]): `num_encoders`,
 //! `num_stepgens`, `num_pwmgens`, `num_leds`, `stepgen_width`,
-//! `enable_raw`, and the tokens of modules not supported yet
-//! (`sserial_port_N`, `ssi_chan_N`, `num_3pwmgens`, ...: accepted and
+//! `sserial_port_N`, `enable_raw`, and the tokens of modules not
+//! supported yet (`ssi_chan_N`, `num_3pwmgens`, ...: accepted and
 //! checked, their modules ignored so their pins stay GPIO). `firmware=`
 //! is refused: this driver never programs an FPGA (use mesaflash).
 //!
+//! # Smart Serial
+//!
+//! Remote cards on the FPGA's Smart Serial ports (7I76, 7I77, ...) are
+//! found at load and their process data become HAL pins and params under
+//! LinuxCNC's names (`hm2_7i76e.0.7i76.0.0.input-05`, `output-03`,
+//! `spinout`, `analogin0`; [`modules::sserial`]); the shared protocol
+//! pieces are in [`sserial`].
+//!
 //! # The simulator: `hm2_pci sim=...`
 //!
-//! `loadrt hm2_pci config="..." sim=5i25` (or `sim=6i25`, `sim=5i24`, a
-//! list for several boards) registers simulated boards instead of
+//! `loadrt hm2_pci config="..." sim=5i25` (or `sim=6i25`, `sim=5i24`,
+//! `sim=5i25-7i77` with a simulated 7I77 on Smart Serial, a list for
+//! several boards) registers simulated boards instead of
 //! scanning the PCI bus. The choice of a parameter of `hm2_pci` rather
 //! than a module `hm2_sim`: a LinuxCNC configuration then runs without
 //! the card by adding one word to its `loadrt hm2_pci` line, and every
@@ -49,6 +62,16 @@
 //! every time whatever the host's load. Tests and tools in the host's
 //! process reach a loaded simulated board with
 //! `hal_driver::sim::find::<sim::SimHm2>(instance, "hm2_5i25.0")`.
+//!
+//! # The Ethernet simulator: `hm2-eth-sim`
+//!
+//! The firmware simulator's Ethernet face ([`sim::eth`],
+//! [`sim::eth_server`]) answers LBP16 on a UDP socket; the `hm2-eth-sim`
+//! tool runs it as a process of its own with a 7I96S or 7I76E
+//! personality (each with a simulated 7I76 on Smart Serial) and options
+//! to drop, delay or duplicate packets, so `loadrt hm2_eth
+//! board_ip=127.0.0.1` runs a configuration without the card. Simulated
+//! time moves one period per cycle's read request.
 //!
 //! # HAL names
 //!
@@ -82,10 +105,11 @@
 //! firmware's description), [`tram`] (the per-cycle batched transfers),
 //! [`modules`] and [`board`] (the modules and the cycle functions),
 //! [`error`] and [`log`] (LinuxCNC's words and prefixes).
-//! Transports: [`window`] (a `RegWindow`: a PCI BAR or the simulator) and
+//! Transports: [`window`] (a `RegWindow`: a PCI BAR or the simulator),
+//! [`eth::EthTransport`] (LBP16 over UDP, [`lbp16`]) and
 //! [`image::ImageTransport`] (a fixed image: hm2_test). The simulator:
 //! [`image`] (firmware descriptions and register images) and [`sim`]. The
-//! HAL binding: [`hal`] and [`pci`]. Also [`readhmid`] (the
+//! HAL binding: [`hal`], [`pci`] and [`eth`]. Also [`readhmid`] (the
 //! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
 
 pub mod board;
@@ -107,6 +131,7 @@ pub mod pins;
 pub mod readhmid;
 pub mod regs;
 pub mod sim;
+pub mod sserial;
 pub mod test_patterns;
 pub mod tram;
 pub mod transport;

@@ -260,3 +260,33 @@ pub fn check_led(md: &ModuleDescriptor) -> Result<()> {
         Err(md.inconsistent("inconsistent Module Descriptor for LED, not loading driver".into()))
     }
 }
+
+/// Checks a Smart Serial descriptor: (v0, 6 registers, instance stride
+/// 0x40, 0x3C); the layout of firmware before revision 22 (5 registers,
+/// 0x1F) is refused with LinuxCNC's message. Its per-channel registers
+/// must fit the window too.
+pub fn check_sserial(md: &ModuleDescriptor) -> Result<()> {
+    if md.version == 0 && md.shape_is(5, 0x40, 0x1F) {
+        return Err(md.inconsistent(
+            "The bitfile contains Smart Serial modules for a firmware revision < rev22. \
+             This Driver now requires rev22 or newer firmwares"
+                .into(),
+        ));
+    }
+    if md.version != 0 || !md.shape_is(6, 0x40, 0x3C) {
+        return Err(md.inconsistent("inconsistent Module Descriptor!".into()));
+    }
+    let end = md.base_address as u64
+        + 5 * md.register_stride as u64
+        + md.instances.saturating_sub(1) as u64 * md.instance_stride as u64
+        + 4 * crate::sserial::MAX_CHANNELS as u64;
+    if end > regs::WINDOW_BYTES as u64 {
+        return Err(Hm2Error::MdOutsideWindow {
+            index: md.index,
+            addr: md.addr,
+            name: md.name(),
+            end,
+        });
+    }
+    Ok(())
+}

@@ -156,6 +156,8 @@ pub struct InstancesUsed {
     pub stepgens: u32,
     /// PWM generators.
     pub pwmgens: u32,
+    /// Per Smart Serial port, the channels with a card (bit mask).
+    pub sserial: [u8; crate::sserial::MAX_PORTS],
 }
 
 impl InstancesUsed {
@@ -193,11 +195,20 @@ pub fn allocate(
                 "hm2_set_pin_direction_immediate: invalid pin number {io}"
             ));
         }
-        let n = used.of(d.sec_tag);
-        let unit_used = if d.is_global() {
-            n > 0
+        let (n, unit_used) = if d.sec_tag == gtag::SSERIAL {
+            // A channel's pins go to the module only when it has a card.
+            let mask = used.sserial.get(d.sec_unit as usize).copied().unwrap_or(0);
+            let chan = crate::sserial::PinRole::of(d.sec_pin).map(|r| r.channel());
+            let on = chan.is_some_and(|c| c < 8 && mask & (1 << c) != 0);
+            (u32::from(on), on)
         } else {
-            (d.sec_unit as u32) < n
+            let n = used.of(d.sec_tag);
+            let unit_used = if d.is_global() {
+                n > 0
+            } else {
+                (d.sec_unit as u32) < n
+            };
+            (n, unit_used)
         };
         let masked =
             d.sec_tag == gtag::STEPGEN && d.is_output() && d.function() as u32 > stepgen_width;
@@ -238,6 +249,18 @@ pub fn log_function_name(tag: u8, function: u8, output: bool) -> String {
         (gtag::PWMGEN, 1, _) => "Out0 (PWM or Up)",
         (gtag::PWMGEN, 2, _) => "Out1 (Dir or Down)",
         (gtag::PWMGEN, 3, _) => "Not-Enable",
+        (gtag::SSERIAL, f, o) => {
+            // Function codes keep the SecPin's high nibble (without the
+            // output bit): rx 0x0n, tx 0x0n out, txen 0x1n, ntxen 0x2n.
+            let n = f & 0x0F;
+            return match (f >> 4, o) {
+                (0, false) => format!("RX{}", n.wrapping_sub(1)),
+                (0, true) => format!("TX{}", n.wrapping_sub(1)),
+                (1, _) => format!("TXEN{}", n.wrapping_sub(1)),
+                (2, _) => format!("NTXEN{}", n.wrapping_sub(1)),
+                _ => format!("unknown-pin-{function}"),
+            };
+        }
         _ => return format!("unknown-pin-{function}"),
     };
     s.to_string()
@@ -281,6 +304,16 @@ pub fn mesaflash_function_name(tag: u8, sec_pin: u8, unit: u8) -> String {
     ];
     const QCOUNT: [&str; 5] = ["Quad-A", "Quad-B", "Quad-IDX", "Quad-IDXM", "Quad-Probe"];
     const PWM: [&str; 3] = ["PWM", "Dir", "/Enable"];
+    if tag == gtag::SSERIAL {
+        let c = sec_pin & 0x0F;
+        return match sec_pin & 0xF0 {
+            0x00 => format!("RXData{}", c.wrapping_sub(1)),
+            0x80 => format!("TXData{}", c.wrapping_sub(1)),
+            0x90 => format!("TXEn{}", c.wrapping_sub(1)),
+            0xA0 => format!("TestPin{}", c.wrapping_sub(1)),
+            _ => format!("Unknown-Gtag{tag}-Chan{unit}-Pin{sec_pin}"),
+        };
+    }
     let table: &[&str] = match tag {
         gtag::STEPGEN => &STEPGEN,
         gtag::ENCODER => &QCOUNT,
@@ -376,6 +409,7 @@ mod tests {
             encoders: 1,
             stepgens: 1,
             pwmgens: 0,
+            ..InstancesUsed::default()
         };
         let mut log = MessageLog::default();
         let pins = allocate(&descs, 8, 1, &used, 2, &mut log);

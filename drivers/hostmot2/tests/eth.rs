@@ -249,6 +249,7 @@ fn boards_are_identified_from_space_7_and_load_with_linuxcncs_names() {
     // Unloading makes each board safe: its pins released.
     a.shared().with(|b| b.model().write32(DDR_P1, 0x1FFFF));
     h.unloadrt("hm2_eth").unwrap();
+    common::eth::sync(&a);
     assert_eq!(a.shared().with(|b| b.model().read32(DDR_P1)), 0);
 }
 
@@ -328,11 +329,26 @@ fn run_axis(
 #[test]
 fn a_whole_cycle_is_one_datagram_each_way_and_matches_the_pci_simulator() {
     let mut eth = EthRig::new("hm2-eth-cycle", "7i96s", "num_encoders=0");
+    // A round trip: everything sent before has been executed.
+    eth.board.read_request();
+    eth.board.read();
     let before = eth.server.shared().counts.snapshot();
-    eth.cycle();
+    eth.server.shared().with(|b| b.record(true));
+    eth.board.write(PERIOD);
+    eth.board.read_request();
+    eth.board.read();
     let after = eth.server.shared().counts.snapshot();
-    assert_eq!(after[0] - before[0], 2, "a request and a write datagram");
+    assert_eq!(after[0] - before[0], 2, "a write and a request datagram");
     assert_eq!(after[1] - before[1], 1, "one reply");
+    let kinds: Vec<bool> = eth
+        .server
+        .shared()
+        .with(|b| b.take_recorded())
+        .iter()
+        .map(|d| hostmot2::lbp16::parse(d).flatten().all(|c| c.cmd.write))
+        .collect();
+    assert_eq!(kinds, [true, false], "the writes, then the request");
+    eth.board.write(PERIOD);
     let fb_eth = {
         let r = &mut eth;
         let host = r.host.instance();
@@ -511,6 +527,8 @@ fn at_the_limit_outputs_go_safe_and_clearing_io_error_recovers() {
     }
     assert_eq!(r.pin("packet-error-exceeded"), Value::Bit(true));
     assert_eq!(r.param("io_error"), Value::Bit(true));
+    // The board sends nothing more; let the checks below get through.
+    r.server.shared().set_faults(Faults::default());
     assert_eq!(r.reg(DDR_P1), 0, "every pin released");
     assert_eq!(r.reg(0x2000), 0, "no step rate");
     assert!(r
@@ -525,11 +543,12 @@ fn at_the_limit_outputs_go_safe_and_clearing_io_error_recovers() {
         "{msgs:?}"
     );
     // Nothing is sent while io_error holds.
+    r.sync();
     let before = counts(&r)[0];
     r.cycles(3);
-    assert_eq!(counts(&r)[0], before);
+    r.sync();
+    assert_eq!(counts(&r)[0], before + 2, "only the second sync's requests");
     // Packets return; the user clears io_error and the watchdog's bit.
-    r.server.shared().set_faults(Faults::default());
     r.set_param("io_error", Value::Bit(false));
     r.cycles(2);
     r.set_pin("watchdog.has_bit", Value::Bit(false));

@@ -234,6 +234,7 @@ fn debug_switches_log_the_descriptors() {
         module_descriptors: true,
         pin_descriptors: true,
         modules: true,
+        ..Debug::default()
     };
     firmware::load(&spec.llio(0), &Config::default(), all, &mut t, &mut log).unwrap();
     let dbg = log.lines("", Level::Dbg);

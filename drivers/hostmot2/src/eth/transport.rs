@@ -35,8 +35,8 @@
 //!
 //! Registration and tools read with [`Transport::read`]: one datagram
 //! per read, tagged through the space-6 scratch word so a late answer to
-//! an earlier read can never be taken for this one; up to three tries
-//! of 200 ms each, then [`TransportError::NoReply`] naming the board's
+//! an earlier read can never be taken for this one; up to four tries
+//! of 250 ms each, then [`TransportError::NoReply`] naming the board's
 //! address. Plain writes are one datagram each, without reply.
 
 use std::io;
@@ -52,9 +52,12 @@ use crate::lbp16::{self, addr, space, Command, Request, Width};
 use crate::transport::{ReadQueue, TransferStats, Transport, TransportError};
 
 /// How long a read outside the cycle waits for its reply.
-pub const SINGLE_TIMEOUT: Duration = Duration::from_millis(200);
+pub const SINGLE_TIMEOUT: Duration = Duration::from_millis(250);
 /// Tries of a read outside the cycle.
-pub const SINGLE_TRIES: u32 = 3;
+pub const SINGLE_TRIES: u32 = 4;
+/// How long the first cycle's reply may take while the board registers
+/// (no thread runs yet, so nothing waits on it).
+pub const REGISTRATION_TIMEOUT: Duration = Duration::from_secs(1);
 /// Bytes of cycle bookkeeping in a read reply: the packet counter (2),
 /// the read tag (4) and the write tag (4).
 const BOOKKEEPING_REPLY: usize = 10;
@@ -456,7 +459,7 @@ impl Transport for EthTransport {
         let timeout = if self.period_ns > 0 {
             Duration::from_nanos(self.errors.timeout_ns(self.period_ns))
         } else {
-            SINGLE_TIMEOUT
+            REGISTRATION_TIMEOUT
         };
         let deadline = sent_at + timeout;
         let read_tag = self.read_tag.to_le_bytes();

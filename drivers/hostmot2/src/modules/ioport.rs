@@ -37,6 +37,9 @@ struct GpioPin {
     opendrain: Option<Param<bool, Rw>>,
     /// Module outputs: `invert_output` (for GPIO it is the DigOut's).
     module_invert: Option<Param<bool, Rw>>,
+    /// A module output driven from load on, not from the first `write`
+    /// (Smart Serial: the links run before the HAL thread does).
+    immediate: bool,
 }
 
 /// The register values derived from the pins, per port.
@@ -112,6 +115,13 @@ impl IoPort {
                 output,
                 opendrain,
                 module_invert,
+                immediate: matches!(
+                    p.owner,
+                    PinOwner::Module {
+                        gtag: crate::regs::gtag::SSERIAL,
+                        ..
+                    }
+                ),
             });
         }
         alias_module_outputs(x, io_pins)?;
@@ -156,7 +166,7 @@ impl IoPort {
             }
             (None, Some(inv)) => {
                 regs.alt_source |= bit;
-                if self.started {
+                if self.started || p.immediate {
                     regs.ddr |= bit;
                     if od {
                         regs.open_drain |= bit;

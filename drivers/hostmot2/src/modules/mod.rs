@@ -9,6 +9,7 @@ pub mod ioport;
 pub mod led;
 pub mod pwmgen;
 pub mod raw;
+pub mod sserial;
 pub mod stepgen;
 pub mod watchdog;
 

@@ -7,6 +7,7 @@
 //! | `5i25` | 5i25, 7i76-style pin-out | P3, P2 × 17 | per connector 5 step generators (step/dir on DB-25 pins 1, 14, 2, 15, ...), 1 encoder (A, B, index), 4 GPIO; watchdog, 2 LEDs |
 //! | `6i25` | 6i25, servo pin-out | P3, P2 × 17 | P3: 4 encoders with probe (A, B, index), 5 GPIO; P2: 4 PWM generators with dither (PWM, dir, /enable), 5 GPIO |
 //! | `5i24` | 5i24 | P4, P3, P2 × 24 | P4: 8 encoders; P3: 8 PWM generators; P2: 8 step generators with index/probe latch (0xC2), 8 GPIO |
+//! | `5i25-7i77` | 5i25 | P3, P2 × 17 | P3: Smart Serial port 0 with 2 channels and a simulated 7I77 on them (I/O, analog), 1 encoder, 8 GPIO; P2: 5 step generators, 1 encoder, 4 GPIO |
 //!
 //! and the Ethernet boards the `hm2-eth-sim` tool serves ([`ETH_PRESETS`]):
 //!
@@ -15,6 +16,8 @@
 //! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 11 GPIO; TB1: 5 step generators (step/dir), 1 encoder (A, B, index), 4 GPIO; TB2: 17 GPIO (the 11 isolated inputs and 6 outputs) |
 //! | `7i76e` | `7I76E-16` | P1, P2, P3 × 17 | P1 (the on-card 7i76): 5 step generators, Smart Serial port 0 channel 0, 1 encoder, 1 GPIO; P2, P3: GPIO |
 //!
+//! A simulated 7I76 is plugged into channel 0 of each Ethernet board's
+//! Smart Serial port ([`seven_i76_on`]; [`seven_i77_on`] gives a 7I77).
 //! All run ClockLow at 100 MHz and ClockHigh at 200 MHz, except the 6i25
 //! whose ClockLow is 66.67 MHz. Every board has a watchdog and 2 LEDs
 //! (the Ethernet ones 4).
@@ -22,9 +25,10 @@
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
 use crate::pins::PinDescriptor;
 use crate::regs::gtag;
+use crate::sim::sserial::{RemoteKind, RemoteSpec};
 
 /// The PCI board names [`preset`] knows.
-pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24"];
+pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24", "5i25-7i77"];
 
 /// The Ethernet board names [`preset`] knows.
 pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e"];
@@ -35,6 +39,7 @@ pub fn preset(name: &str) -> Option<FirmwareSpec> {
         "5i25" => Some(five_i25()),
         "6i25" => Some(six_i25()),
         "5i24" => Some(five_i24()),
+        "5i25-7i77" => Some(five_i25_7i77()),
         "7i96s" => Some(seven_i96s()),
         "7i76e" => Some(seven_i76e()),
         _ => None,
@@ -50,6 +55,35 @@ pub fn eth_name(name: &str) -> Option<&'static str> {
     }
 }
 
+/// A simulated 7I76 on Smart Serial `port`, `channel`.
+pub fn seven_i76_on(port: u8, channel: u8) -> RemoteSpec {
+    RemoteSpec {
+        port,
+        channel,
+        kind: RemoteKind::SevenI76,
+        unit: 0x1234 + channel as u32,
+    }
+}
+
+/// A simulated 7I77 on Smart Serial `port`: its I/O on `channel`, its
+/// analog outputs on the next one.
+pub fn seven_i77_on(port: u8, channel: u8) -> [RemoteSpec; 2] {
+    [
+        RemoteSpec {
+            port,
+            channel,
+            kind: RemoteKind::SevenI77Io,
+            unit: 0x7700 + channel as u32,
+        },
+        RemoteSpec {
+            port,
+            channel: channel + 1,
+            kind: RemoteKind::SevenI77Analog,
+            unit: 0x7701 + channel as u32,
+        },
+    ]
+}
+
 /// The pins of Smart Serial port `port` channel `chan`: RX, TX, TX enable.
 fn sserial_channel(port: u8, chan: u8) -> [PinDescriptor; 3] {
     [
@@ -57,6 +91,48 @@ fn sserial_channel(port: u8, chan: u8) -> [PinDescriptor; 3] {
         pd(gtag::SSERIAL, port, 0x81 + chan),
         pd(gtag::SSERIAL, port, 0x91 + chan),
     ]
+}
+
+/// 5i25 with a Smart Serial port and a 7I77 on it.
+fn five_i25_7i77() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    pins.extend(sserial_channel(0, 0));
+    pins.extend(sserial_channel(0, 1));
+    for f in 1..=3 {
+        pins.push(pd(gtag::ENCODER, 0, f));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 8));
+    for k in 0..5u8 {
+        pins.push(pd(gtag::STEPGEN, k, 0x81));
+        pins.push(pd(gtag::STEPGEN, k, 0x82));
+    }
+    for f in 1..=3 {
+        pins.push(pd(gtag::ENCODER, 1, f));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 4));
+    let mut fw = firmware(
+        Identity {
+            board: "5i25",
+            idrom_name: "MESA5I25",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P3", "P2"],
+            port_width: 17,
+            clock_low: 100_000_000,
+        },
+        vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 2),
+            ModuleSpec::standard(gtag::ENCODER, 2, 2),
+            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
+            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    );
+    fw.remotes = seven_i77_on(0, 0).to_vec();
+    fw
 }
 
 /// 7i96S: Smart Serial on P1, steppers and an encoder on TB1, I/O on TB2.
@@ -95,6 +171,7 @@ fn seven_i96s() -> FirmwareSpec {
         pins,
     );
     fw.leds = 4;
+    fw.remotes = vec![seven_i76_on(0, 0)];
     fw
 }
 
@@ -132,6 +209,7 @@ fn seven_i76e() -> FirmwareSpec {
         pins,
     );
     fw.leds = 4;
+    fw.remotes = vec![seven_i76_on(0, 0)];
     fw
 }
 
@@ -165,6 +243,7 @@ fn firmware(id: Identity, modules: Vec<ModuleSpec>, pins: Vec<PinDescriptor>) ->
         clock_high: 200_000_000,
         modules,
         pins,
+        remotes: Vec::new(),
     }
 }
 

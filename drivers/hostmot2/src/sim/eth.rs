@@ -81,6 +81,8 @@ pub struct EthBoard {
     resets: u64,
     /// The write enable of the datagram being executed.
     write_enable: u16,
+    /// The datagrams received, when recording.
+    recorded: Option<Vec<Vec<u8>>>,
 }
 
 impl std::fmt::Debug for EthBoard {
@@ -130,6 +132,7 @@ impl EthBoard {
             cycles: 0,
             resets: 0,
             write_enable: 0,
+            recorded: None,
         }
     }
 
@@ -158,6 +161,19 @@ impl EthBoard {
         &self.identity
     }
 
+    /// Starts (or stops) keeping every datagram received.
+    pub fn record(&mut self, on: bool) {
+        self.recorded = on.then(Vec::new);
+    }
+
+    /// The datagrams kept since recording started, emptied.
+    pub fn take_recorded(&mut self) -> Vec<Vec<u8>> {
+        self.recorded
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
     /// Read requests of cycles seen (datagrams writing the read tag).
     pub fn cycles(&self) -> u64 {
         self.cycles
@@ -182,6 +198,11 @@ impl EthBoard {
     /// (into `reply`, which is cleared first).
     pub fn handle(&mut self, datagram: &[u8], reply: &mut Vec<u8>) -> bool {
         reply.clear();
+        if let Some(r) = &mut self.recorded {
+            if r.len() < 100_000 {
+                r.push(datagram.to_vec());
+            }
+        }
         self.bump(addr::CTRL_RX_PACKETS);
         self.bump(addr::CTRL_RX_UDP);
         // Parse everything first: a malformed datagram does nothing.

@@ -241,8 +241,10 @@ impl Server {
     }
 
     fn send(&self, bytes: &[u8], to: SocketAddr) {
-        if self.socket.send_to(bytes, to).is_ok() {
-            self.shared.counts.replies.fetch_add(1, Relaxed);
+        // Counted first: whoever receives it may look at the count.
+        self.shared.counts.replies.fetch_add(1, Relaxed);
+        if self.socket.send_to(bytes, to).is_err() {
+            self.shared.counts.replies.fetch_sub(1, Relaxed);
         }
     }
 }

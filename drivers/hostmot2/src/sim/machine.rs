@@ -173,6 +173,7 @@ impl World for Machine {
 /// * `7i96s`: the `5i25` machine on the 7i96S's five step generators,
 ///   its home switches on I/O 34, 35, 36 (the first inputs of TB2).
 /// * `7i76e`: the same with the switches on I/O 17, 18, 19 (P2).
+/// * `5i25-7i77`: stepper axes on the five step generators, no switches.
 pub fn preset(board: &str) -> Machine {
     let servo = |k: usize| Servo {
         pwm: k,
@@ -200,6 +201,10 @@ pub fn preset(board: &str) -> Machine {
         "5i25" => steppers_with_switches(10, 13),
         "7i96s" => steppers_with_switches(5, 34),
         "7i76e" => steppers_with_switches(5, 17),
+        "5i25-7i77" => Machine {
+            steppers: (0..5).map(stepper).collect(),
+            ..Machine::default()
+        },
         "6i25" => Machine {
             servos: (0..4).map(servo).collect(),
             switches: (0..3)

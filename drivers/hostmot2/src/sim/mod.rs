@@ -12,6 +12,7 @@ pub mod machine;
 pub mod mirror;
 pub mod model;
 pub mod pwm;
+pub mod sserial;
 pub mod stepgen;
 pub mod watchdog;
 pub mod world;

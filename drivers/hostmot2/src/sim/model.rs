@@ -10,6 +10,7 @@
 use super::encoder::{Counter, SimEncoders};
 use super::ioport::SimIoPort;
 use super::pwm::SimPwms;
+use super::sserial::SimSserial;
 use super::stepgen::{Gen, SimStepgens};
 use super::watchdog::SimWatchdog;
 use super::world::{Bench, EncoderIn, Inputs, Outputs, PwmOut, StepOut, World};
@@ -28,6 +29,8 @@ enum Target {
     Stepgen(u8, u8),
     Pwm(u8, u8),
     Led,
+    /// Smart Serial register, port, channel.
+    Sserial(u8, u8, u8),
 }
 
 /// The I/O pins of one module instance, by function.
@@ -52,6 +55,9 @@ pub struct Hm2Model {
     encoders: SimEncoders,
     stepgens: SimStepgens,
     pwms: SimPwms,
+    sserial: SimSserial,
+    /// Per Smart Serial port, the I/O pin of each channel's TX.
+    sserial_tx: Vec<[Option<usize>; crate::sserial::MAX_CHANNELS]>,
     led: u32,
     world: Box<dyn World>,
     enc_pins: Vec<FunctionPins>,
@@ -129,6 +135,27 @@ impl Hm2Model {
             *t = Target::Static;
         }
         for m in &spec.modules {
+            if m.gtag == gtag::SSERIAL {
+                // Command and data per port, then CS and three interface
+                // registers per channel (4 bytes apart).
+                for port in 0..m.instances {
+                    let base = m.base as usize + port as usize * m.instance_stride() as usize;
+                    for reg in 0..6u8 {
+                        let chans = if reg < 2 {
+                            1
+                        } else {
+                            crate::sserial::MAX_CHANNELS
+                        };
+                        for chan in 0..chans {
+                            let addr = base + reg as usize * 0x100 + 4 * chan;
+                            if let Some(slot) = map.get_mut(addr / 4) {
+                                *slot = Target::Sserial(reg, port, chan as u8);
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
             for reg in 0..m.num_registers {
                 let per_instance = m.multiple_registers & (1 << reg) != 0;
                 let count = if per_instance { m.instances } else { 1 };
@@ -155,7 +182,31 @@ impl Hm2Model {
         let n_sg = instances(&spec, gtag::STEPGEN);
         let n_pwm = instances(&spec, gtag::PWMGEN);
         let n_pins = spec.pins.len();
+        let n_ports = instances(&spec, gtag::SSERIAL);
+        let mut sserial_tx = vec![[None; crate::sserial::MAX_CHANNELS]; n_ports];
+        let mut channels = vec![0usize; n_ports];
+        for (io, p) in spec.pins.iter().enumerate() {
+            if p.sec_tag != gtag::SSERIAL || p.sec_unit as usize >= n_ports {
+                continue;
+            }
+            if let Some(role) = crate::sserial::PinRole::of(p.sec_pin) {
+                let c = role.channel() as usize;
+                if c < crate::sserial::MAX_CHANNELS {
+                    let port = p.sec_unit as usize;
+                    channels[port] = channels[port].max(c + 1);
+                    if let crate::sserial::PinRole::Tx(_) = role {
+                        sserial_tx[port][c] = Some(io);
+                    }
+                }
+            }
+        }
+        let mut sserial = SimSserial::new(&channels);
+        for r in &spec.remotes {
+            sserial.attach(r);
+        }
         Hm2Model {
+            sserial,
+            sserial_tx,
             image,
             map,
             clock_low: spec.clock_low as u64,
@@ -274,7 +325,18 @@ impl Hm2Model {
             Target::Stepgen(reg, i) => self.stepgens.read(reg as usize, i as usize),
             Target::Pwm(reg, i) => self.pwms.read(reg as usize, i as usize),
             Target::Led => self.led,
+            Target::Sserial(reg, port, chan) => self.sserial.read(reg, port, chan),
         }
+    }
+
+    /// The channels of Smart Serial `port` whose TX pin the board drives.
+    fn sserial_reachable(&self, port: usize) -> u8 {
+        self.sserial_tx.get(port).map_or(0, |tx| {
+            tx.iter().enumerate().fold(0, |m, (c, io)| match io {
+                Some(io) if self.ioport.module_drives(*io) => m | 1 << c,
+                _ => m,
+            })
+        })
     }
 
     /// A register write at byte `offset`.
@@ -295,6 +357,10 @@ impl Hm2Model {
             Target::Stepgen(reg, i) => self.stepgens.write(reg as usize, i as usize, v),
             Target::Pwm(reg, i) => self.pwms.write(reg as usize, i as usize, v),
             Target::Led => self.led = v,
+            Target::Sserial(reg, port, chan) => {
+                let reachable = self.sserial_reachable(port as usize);
+                self.sserial.write(reg, port, chan, v, reachable)
+            }
         }
     }
 
@@ -309,6 +375,7 @@ impl Hm2Model {
             }
         }
         self.stepgens.advance(ticks);
+        self.sserial.advance(dt_ns);
         for (i, g) in self.stepgens.gens.iter().enumerate() {
             let made = g.emitted - self.emitted[i];
             self.emitted[i] = g.emitted;
@@ -410,6 +477,11 @@ impl Hm2Model {
     /// The PWM module's registers.
     pub fn pwms(&self) -> &SimPwms {
         &self.pwms
+    }
+
+    /// The Smart Serial module and the cards on its channels.
+    pub fn sserial(&mut self) -> &mut SimSserial {
+        &mut self.sserial
     }
 
     /// The LED register.

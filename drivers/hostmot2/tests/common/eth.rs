@@ -22,7 +22,11 @@ pub const TEST_TIMEOUT_NS: i32 = 100_000_000;
 
 /// The simulated Ethernet board `preset` (its machine connected), served.
 pub fn serve(preset: &str, faults: Faults) -> Running {
-    let spec = boards::preset(preset).expect("preset");
+    serve_spec(preset, boards::preset(preset).expect("preset"), faults)
+}
+
+/// The Ethernet board `preset` running firmware `spec`, served.
+pub fn serve_spec(preset: &str, spec: hostmot2::image::FirmwareSpec, faults: Faults) -> Running {
     let model = Hm2Model::with_world(spec, Box::new(machine::preset(preset)));
     let identity = EthIdentity::new(boards::eth_name(preset).expect("an Ethernet preset"));
     eth_server::spawn(
@@ -30,6 +34,20 @@ pub fn serve(preset: &str, faults: Faults) -> Running {
         faults,
     )
     .expect("a UDP socket on 127.0.0.1")
+}
+
+/// Waits until `server` has executed every datagram sent to it so far:
+/// a round trip comes back after them, unless the kernel delivered an
+/// earlier loopback datagram from another CPU's queue later, so there
+/// is a second one after a moment.
+pub fn sync(server: &Running) {
+    let mut t = EthTransport::connect(server.addr()).unwrap();
+    let mut w = [0u16; 1];
+    for _ in 0..2 {
+        t.read16(hostmot2::lbp16::space::COMM_CTRL, false, 0, &mut w)
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
 }
 
 /// A board on the network.
@@ -49,7 +67,17 @@ pub struct EthRig {
 impl EthRig {
     /// Registers the simulated board `preset` with `config`.
     pub fn new(tag: &str, preset: &str, config: &str) -> EthRig {
-        let server = serve(preset, Faults::default());
+        EthRig::with_spec(tag, preset, boards::preset(preset).expect("preset"), config)
+    }
+
+    /// Registers the board `preset` running `spec` with `config`.
+    pub fn with_spec(
+        tag: &str,
+        preset: &str,
+        spec: hostmot2::image::FirmwareSpec,
+        config: &str,
+    ) -> EthRig {
+        let server = serve_spec(preset, spec, Faults::default());
         let host = Host::create(HostConfig::for_tests(tag)).unwrap();
         let name = boards::eth_name(preset).unwrap();
         let llio = lookup(name).unwrap().llio(0);
@@ -111,6 +139,14 @@ impl EthRig {
         self.host.instance().set_param(&self.full(name), v).unwrap();
     }
 
+    /// Sets pin or param `<prefix>.<name>`.
+    pub fn set(&self, name: &str, v: Value) {
+        let i = self.host.instance();
+        if i.set_pin(&self.full(name), v).is_err() {
+            i.set_param(&self.full(name), v).unwrap();
+        }
+    }
+
     /// Pin `<prefix>.<name>`.
     pub fn pin(&self, name: &str) -> Value {
         self.host.instance().pin_value(&self.full(name)).unwrap()
@@ -121,9 +157,33 @@ impl EthRig {
         self.host.instance().param_value(&self.full(name)).unwrap()
     }
 
-    /// A register of the simulated board.
+    /// A register of the simulated board, once it has executed every
+    /// datagram sent so far.
     pub fn reg(&self, addr: usize) -> u32 {
+        self.sync();
         self.server.shared().with(|b| b.model().read32(addr))
+    }
+
+    /// Runs `f` on the simulated board's Smart Serial card at `port`, `channel`.
+    pub fn remote<R>(
+        &self,
+        port: usize,
+        channel: usize,
+        f: impl FnOnce(&mut hostmot2::sim::sserial::SimRemote) -> R,
+    ) -> R {
+        self.server.shared().with(|b| {
+            f(b.model()
+                .sserial()
+                .remote(port, channel)
+                .expect("a card there"))
+        })
+    }
+
+    /// Waits until the simulator has executed every datagram sent so far
+    /// (its socket is one queue: a round trip of a request sent now
+    /// comes back after them).
+    pub fn sync(&self) {
+        sync(&self.server);
     }
 
     /// The realtime messages said so far.

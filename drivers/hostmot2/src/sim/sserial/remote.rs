@@ -1,0 +1,603 @@
+//! Simulated Smart Serial remote cards: the 7I76 (32 inputs, 16 outputs,
+//! spindle DAC) and the two channels of the 7I77 (I/O; six analog
+//! outputs with enables).
+//!
+//! Each describes itself as a real card does: a unit number, a name, and
+//! records in its memory (modes and globals in the GTOC, process data in
+//! one PTOC per mode). The record layouts are this simulator's (Mesa
+//! documents none; hostmot2-more.md 2.10): names and modes are the
+//! cards', widths and ranges chosen to fit 96 bits each way.
+//!
+//! | remote | modes | process data (mode-dependent part in brackets) |
+//! |---|---|---|
+//! | 7I76 | 0 `io_spin`, 1 `io_ana_spin`, 2 `io_enc_ana_spin_fv` | out: `Output` 16 bits, `SpinOut` 0..10 V (16 bits), `SpinEna`, `SpinDir`; in: `Input` 32 bits [1, 2: `AnalogIn0..3` 0..36 V (8 bits); 2: `FieldVoltage`, encoders `MPG0`, `MPG1` (8 bits)] |
+//! | 7I77 I/O | 0 `input_output`, 1 `io_analog`, 2 `io_analog_fieldvoltage`, 3 `io_encoder_analog_fieldvoltage` | out: `Output` 16 bits; in: `Input` 32 bits [≥ 1: `AnalogIn0..3`; ≥ 2: `FieldVoltage`; 3: `MPG0`, `MPG1`] |
+//! | 7I77 analog | 0 `analogout_enables` | out: `AnalogOut0..5` −10..10 V (13 bits signed), `AnalogEna`, `SpinEna` |
+//!
+//! Globals of every card: `SwRevision` (22), `NVUnitNumber`,
+//! `NVBaudRate`, `NVWatchDogTimeout` (ms, 50). The card's watchdog turns
+//! every output off when no process data came for that long while it
+//! runs, and reports it in its status until it is started again. A card
+//! whose cable is pulled ([`SimRemote::connected`] false) answers nothing.
+
+use crate::sserial::data;
+use crate::sserial::records::{data_type as t, dir, encode_table, DataRecord, ModeRecord};
+use crate::sserial::{remote_type, status};
+
+/// Which card.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RemoteKind {
+    /// 7I76.
+    SevenI76,
+    /// 7I77, its I/O channel.
+    SevenI77Io,
+    /// 7I77, its analog channel.
+    SevenI77Analog,
+}
+
+/// A remote card on a port's channel, for a firmware description.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RemoteSpec {
+    /// The Smart Serial port (instance).
+    pub port: u8,
+    /// The channel.
+    pub channel: u8,
+    /// The card.
+    pub kind: RemoteKind,
+    /// Its unit (serial) number, low 24 bits.
+    pub unit: u32,
+}
+
+/// Where the global values live in the card's memory.
+const PARAMS_AT: u16 = 0x600;
+/// Size of the card's memory.
+const MEMORY: usize = 0x800;
+
+fn rec(bits: u8, ty: u8, d: u8, min: f32, max: f32, unit: &str, name: &str) -> DataRecord {
+    DataRecord {
+        bits,
+        data_type: ty,
+        dir: d,
+        min,
+        max,
+        addr: 0,
+        unit: unit.into(),
+        name: name.into(),
+    }
+}
+
+fn analog_ins() -> Vec<DataRecord> {
+    (0..4)
+        .map(|k| {
+            rec(
+                8,
+                t::UNSIGNED,
+                dir::IN,
+                0.0,
+                36.0,
+                "V",
+                &format!("AnalogIn{k}"),
+            )
+        })
+        .collect()
+}
+
+fn field_voltage() -> DataRecord {
+    rec(8, t::UNSIGNED, dir::IN, 0.0, 36.0, "V", "FieldVoltage")
+}
+
+fn mpgs() -> Vec<DataRecord> {
+    (0..2)
+        .map(|k| {
+            rec(
+                8,
+                t::ENCODER,
+                dir::IN,
+                0.0,
+                1.0,
+                "count",
+                &format!("MPG{k}"),
+            )
+        })
+        .collect()
+}
+
+impl RemoteKind {
+    /// The card's type code and name.
+    fn identity(self) -> (u8, [u8; 4]) {
+        match self {
+            RemoteKind::SevenI76 => (remote_type::SEVEN_I76, *b"7I76"),
+            RemoteKind::SevenI77Io => (remote_type::SEVEN_I77_IO, *b"7I77"),
+            RemoteKind::SevenI77Analog => (remote_type::SEVEN_I77_ANALOG, *b"7I77"),
+        }
+    }
+
+    /// Its software modes.
+    pub fn modes(self) -> &'static [&'static str] {
+        match self {
+            RemoteKind::SevenI76 => &["io_spin", "io_ana_spin", "io_enc_ana_spin_fv"],
+            RemoteKind::SevenI77Io => &[
+                "input_output",
+                "io_analog",
+                "io_analog_fieldvoltage",
+                "io_encoder_analog_fieldvoltage",
+            ],
+            RemoteKind::SevenI77Analog => &["analogout_enables"],
+        }
+    }
+
+    /// The process data of `mode`, in wire order.
+    pub fn process_data(self, mode: u8) -> Vec<DataRecord> {
+        let mut v = Vec::new();
+        match self {
+            RemoteKind::SevenI76 => {
+                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, "none", "Output"));
+                v.push(rec(16, t::UNSIGNED, dir::OUT, 0.0, 10.0, "V", "SpinOut"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinEna"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinDir"));
+                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, "none", "Input"));
+                if mode >= 1 {
+                    v.extend(analog_ins());
+                }
+                if mode >= 2 {
+                    v.push(field_voltage());
+                    v.extend(mpgs());
+                }
+            }
+            RemoteKind::SevenI77Io => {
+                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, "none", "Output"));
+                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, "none", "Input"));
+                if mode >= 1 {
+                    v.extend(analog_ins());
+                }
+                if mode >= 2 {
+                    v.push(field_voltage());
+                }
+                if mode >= 3 {
+                    v.extend(mpgs());
+                }
+            }
+            RemoteKind::SevenI77Analog => {
+                for k in 0..6 {
+                    v.push(rec(
+                        13,
+                        t::SIGNED,
+                        dir::OUT,
+                        -10.0,
+                        10.0,
+                        "V",
+                        &format!("AnalogOut{k}"),
+                    ));
+                }
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "AnalogEna"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinEna"));
+            }
+        }
+        v
+    }
+}
+
+/// A process-data field's place and value.
+#[derive(Debug, Clone)]
+struct Field {
+    record: DataRecord,
+    /// Physical value (bit fields: the bits as an integer).
+    value: f64,
+    /// Encoders: the count.
+    count: i64,
+}
+
+/// One mode's process data.
+#[derive(Debug, Clone)]
+struct Mode {
+    ptoc: u16,
+    fields: Vec<Field>,
+}
+
+/// A simulated remote card.
+#[derive(Debug, Clone)]
+pub struct SimRemote {
+    kind: RemoteKind,
+    unit: u32,
+    memory: Vec<u8>,
+    gtoc: u16,
+    modes: Vec<Mode>,
+    mode: Option<u8>,
+    running: bool,
+    nonvolatile: bool,
+    /// Each global: name, address, bits.
+    params: Vec<(String, u16, u8)>,
+    quiet_ns: u64,
+    tripped: bool,
+    /// The cable: a card not connected answers nothing.
+    pub connected: bool,
+    /// Transfers of process data received.
+    pub transfers: u64,
+    /// Writes to its EEPROM.
+    pub eeprom_writes: u64,
+}
+
+/// The card's globals: (record, initial value).
+fn globals(unit: u32) -> Vec<(DataRecord, u32)> {
+    vec![
+        (
+            rec(16, t::UNSIGNED, dir::IN, 0.0, 65535.0, "none", "SwRevision"),
+            22,
+        ),
+        (
+            rec(
+                32,
+                t::NV_UNSIGNED,
+                dir::BOTH,
+                0.0,
+                0.0,
+                "none",
+                "NVUnitNumber",
+            ),
+            unit,
+        ),
+        (
+            rec(
+                8,
+                t::NV_UNSIGNED,
+                dir::BOTH,
+                0.0,
+                11.0,
+                "none",
+                "NVBaudRate",
+            ),
+            10,
+        ),
+        (
+            rec(
+                8,
+                t::NV_UNSIGNED,
+                dir::BOTH,
+                0.0,
+                255.0,
+                "ms",
+                "NVWatchDogTimeout",
+            ),
+            50,
+        ),
+    ]
+}
+
+impl SimRemote {
+    /// A card of `kind` with unit number `unit` (low 24 bits).
+    pub fn new(kind: RemoteKind, unit: u32) -> SimRemote {
+        let (code, _) = kind.identity();
+        let unit = (code as u32) << 24 | (unit & 0x00FF_FFFF);
+        let mut memory = vec![0u8; MEMORY];
+        let mut at = 0x10usize;
+        let mut place = |bytes: Vec<u8>, memory: &mut Vec<u8>| -> u16 {
+            let here = at;
+            memory[here..here + bytes.len()].copy_from_slice(&bytes);
+            at += bytes.len();
+            here as u16
+        };
+        // Globals and modes, then the GTOC.
+        let mut gtoc_entries = Vec::new();
+        let mut param_at = PARAMS_AT;
+        let mut initial = Vec::new();
+        let mut params = Vec::new();
+        for (mut r, v) in globals(unit) {
+            r.addr = param_at;
+            initial.push((param_at, r.bits, v));
+            params.push((r.name.clone(), param_at, r.bits));
+            param_at += (r.bits as u16).div_ceil(8).max(1);
+            gtoc_entries.push(place(r.encode(), &mut memory));
+        }
+        for (i, name) in kind.modes().iter().enumerate() {
+            let m = ModeRecord {
+                index: i as u8,
+                software: true,
+                name: name.to_string(),
+            };
+            gtoc_entries.push(place(m.encode(), &mut memory));
+        }
+        let gtoc = place(encode_table(&gtoc_entries), &mut memory);
+        let mut modes = Vec::new();
+        for i in 0..kind.modes().len() {
+            let records = kind.process_data(i as u8);
+            let entries: Vec<u16> = records
+                .iter()
+                .map(|r| place(r.encode(), &mut memory))
+                .collect();
+            let ptoc = place(encode_table(&entries), &mut memory);
+            modes.push(Mode {
+                ptoc,
+                fields: records
+                    .into_iter()
+                    .map(|record| Field {
+                        record,
+                        value: 0.0,
+                        count: 0,
+                    })
+                    .collect(),
+            });
+        }
+        for (a, bits, v) in initial {
+            let n = (bits as usize).div_ceil(8);
+            memory[a as usize..a as usize + n].copy_from_slice(&v.to_le_bytes()[..n]);
+        }
+        SimRemote {
+            kind,
+            unit,
+            memory,
+            gtoc,
+            modes,
+            mode: None,
+            running: false,
+            nonvolatile: false,
+            params,
+            quiet_ns: 0,
+            tripped: false,
+            connected: true,
+            transfers: 0,
+            eeprom_writes: 0,
+        }
+    }
+
+    /// Which card it is.
+    pub fn kind(&self) -> RemoteKind {
+        self.kind
+    }
+
+    /// The interface registers after a setup start in `mode`: unit,
+    /// name, GTOC << 16 | PTOC; `None` if the card has no such mode.
+    pub fn identify(&mut self, mode: u8) -> Option<[u32; 3]> {
+        let m = self.modes.get(mode as usize)?;
+        self.mode = Some(mode);
+        self.running = false;
+        let (_, name) = self.kind.identity();
+        Some([
+            self.unit,
+            u32::from_le_bytes(name),
+            (self.gtoc as u32) << 16 | m.ptoc as u32,
+        ])
+    }
+
+    /// Starts process data in `mode`; false if the card has no such mode.
+    pub fn start(&mut self, mode: u8) -> bool {
+        if (mode as usize) >= self.modes.len() {
+            return false;
+        }
+        self.mode = Some(mode);
+        self.running = true;
+        self.tripped = false;
+        self.quiet_ns = 0;
+        true
+    }
+
+    /// Stops process data (the watchdog keeps counting).
+    pub fn stop(&mut self) {
+        self.running = false;
+    }
+
+    /// Bytes of its memory (a setup-mode read).
+    pub fn read_memory(&self, addr: u16, n: usize) -> u64 {
+        let mut v = [0u8; 8];
+        for (i, b) in v.iter_mut().enumerate().take(n.min(8)) {
+            *b = self.memory.get(addr as usize + i).copied().unwrap_or(0);
+        }
+        u64::from_le_bytes(v)
+    }
+
+    /// A setup-mode write of `n` bytes.
+    pub fn write_memory(&mut self, addr: u16, n: usize, v: u64) {
+        if self.nonvolatile {
+            self.eeprom_writes += 1;
+        }
+        for i in 0..n.min(8) {
+            if let Some(b) = self.memory.get_mut(addr as usize + i) {
+                *b = (v >> (8 * i)) as u8;
+            }
+        }
+    }
+
+    /// Switches setup-mode accesses to the EEPROM (or back to RAM).
+    pub fn set_nonvolatile(&mut self, on: bool) {
+        self.nonvolatile = on;
+    }
+
+    /// A global's value, by the card's name of it.
+    pub fn global(&self, name: &str) -> Option<u32> {
+        let (_, addr, bits) = self.params.iter().find(|(n, _, _)| n == name)?;
+        Some(self.read_memory(*addr, (*bits as usize).div_ceil(8)) as u32)
+    }
+
+    fn watchdog_ns(&self) -> u64 {
+        self.global("NVWatchDogTimeout").unwrap_or(50) as u64 * 1_000_000
+    }
+
+    fn fields(&self) -> &[Field] {
+        self.mode
+            .and_then(|m| self.modes.get(m as usize))
+            .map_or(&[], |m| &m.fields)
+    }
+
+    fn fields_mut(&mut self) -> &mut [Field] {
+        match self.mode {
+            Some(m) => self
+                .modes
+                .get_mut(m as usize)
+                .map_or(&mut [], |m| &mut m.fields),
+            None => &mut [],
+        }
+    }
+
+    /// A process-data field's value in the running mode (bit fields as
+    /// integers, encoders as counts), by the card's name of it.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.fields()
+            .iter()
+            .find(|f| f.record.name == name)
+            .map(|f| {
+                if f.record.data_type == t::ENCODER {
+                    f.count as f64
+                } else {
+                    f.value
+                }
+            })
+    }
+
+    /// Sets an input field (what the card senses), by name.
+    pub fn set_value(&mut self, name: &str, v: f64) -> bool {
+        match self.fields_mut().iter_mut().find(|f| f.record.name == name) {
+            Some(f) => {
+                if f.record.data_type == t::ENCODER {
+                    f.count = v as i64;
+                } else {
+                    f.value = v;
+                }
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Whether its watchdog turned the outputs off.
+    pub fn watchdog_tripped(&self) -> bool {
+        self.tripped
+    }
+
+    /// Its status bits (reported in the channel's CS register).
+    pub fn status(&self) -> u32 {
+        if self.tripped {
+            status::WATCHDOG | status::REMOTE_FAULT
+        } else {
+            0
+        }
+    }
+
+    /// One process-data transfer: takes the host's stream from `out`,
+    /// answers with its own in `back`.
+    pub fn transfer(&mut self, out: &[u32], back: &mut [u32]) {
+        self.transfers += 1;
+        self.quiet_ns = 0;
+        let tripped = self.tripped;
+        let mut at_out = 0;
+        let mut at_in = 0;
+        back.fill(0);
+        for f in self.fields_mut() {
+            let r = &f.record;
+            let len = r.bits as usize;
+            if r.is_out() {
+                let raw = data::get_bits(out, at_out, len);
+                at_out += len;
+                if !tripped {
+                    f.value = match r.data_type {
+                        t::UNSIGNED => data::unsigned_value(raw, r.bits, r.max as f64),
+                        t::SIGNED => data::signed_value(raw, r.bits, r.max as f64),
+                        t::BOOLEAN => (raw != 0) as u8 as f64,
+                        _ => raw as f64,
+                    };
+                }
+            }
+            if r.is_in() {
+                let raw = match r.data_type {
+                    t::UNSIGNED => data::unsigned_raw(
+                        f.value,
+                        r.bits,
+                        r.max as f64,
+                        r.min as f64,
+                        r.max as f64,
+                    ),
+                    t::SIGNED => {
+                        data::signed_raw(f.value, r.bits, r.max as f64, r.min as f64, r.max as f64)
+                    }
+                    t::ENCODER => f.count as u64,
+                    t::BOOLEAN => (f.value != 0.0) as u64,
+                    _ => f.value as u64,
+                };
+                data::put_bits(back, at_in, len, raw);
+                at_in += len;
+            }
+        }
+    }
+
+    /// Lets `dt_ns` pass: without process data for the watchdog's time
+    /// a running card turns every output off.
+    pub fn advance(&mut self, dt_ns: u64) {
+        if self.mode.is_none() || self.tripped || !(self.running || self.transfers > 0) {
+            return;
+        }
+        self.quiet_ns = self.quiet_ns.saturating_add(dt_ns);
+        if self.quiet_ns > self.watchdog_ns() {
+            self.tripped = true;
+            for f in self.fields_mut() {
+                if f.record.is_out() {
+                    f.value = 0.0;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sserial::records::{read_record, read_table, Record, RecordError};
+
+    #[test]
+    fn cards_describe_themselves() {
+        let mut r = SimRemote::new(RemoteKind::SevenI76, 0x1234);
+        let [unit, name, tocs] = r.identify(2).unwrap();
+        assert_eq!(unit, 0x1000_1234);
+        assert_eq!(&name.to_le_bytes(), b"7I76");
+        let mut byte = |a: u16| -> Result<u8, RecordError> { Ok(r.read_memory(a, 1) as u8) };
+        let ptoc = read_table((tocs & 0xFFFF) as u16, &mut byte).unwrap();
+        let names: Vec<String> = ptoc
+            .iter()
+            .map(|&a| match read_record(a, &mut byte).unwrap() {
+                Record::Data(d) => d.name,
+                Record::Mode(m) => m.name,
+            })
+            .collect();
+        assert_eq!(
+            names[..5],
+            ["Output", "SpinOut", "SpinEna", "SpinDir", "Input"]
+        );
+        assert_eq!(names.len(), 12);
+        let gtoc = read_table((tocs >> 16) as u16, &mut byte).unwrap();
+        assert_eq!(gtoc.len(), 7, "4 globals, 3 modes");
+        assert_eq!(r.global("NVWatchDogTimeout"), Some(50));
+        assert_eq!(r.global("NVUnitNumber"), Some(0x1000_1234));
+        assert!(r.identify(3).is_none(), "no mode 3");
+    }
+
+    #[test]
+    fn process_data_and_the_watchdog() {
+        let mut r = SimRemote::new(RemoteKind::SevenI76, 1);
+        assert!(r.start(0));
+        r.set_value("Input", 0x8000_0001u32 as f64);
+        let mut out = [0u32; 3];
+        data::put_bits(&mut out, 0, 16, 0x0008);
+        data::put_bits(
+            &mut out,
+            16,
+            16,
+            data::unsigned_raw(5.0, 16, 10.0, 0.0, 10.0),
+        );
+        data::put_bits(&mut out, 32, 1, 1);
+        let mut back = [0u32; 3];
+        r.transfer(&out, &mut back);
+        assert_eq!(back[0], 0x8000_0001);
+        assert_eq!(r.value("Output"), Some(8.0));
+        assert!((r.value("SpinOut").unwrap() - 5.0).abs() < 1e-3);
+        assert_eq!(r.value("SpinEna"), Some(1.0));
+        r.advance(49_000_000);
+        assert!(!r.watchdog_tripped());
+        r.advance(2_000_000);
+        assert!(r.watchdog_tripped());
+        assert_eq!(r.value("Output"), Some(0.0), "outputs off");
+        assert_eq!(r.value("SpinEna"), Some(0.0));
+        assert_eq!(r.status() & status::WATCHDOG, status::WATCHDOG);
+        r.transfer(&out, &mut back);
+        assert_eq!(r.value("Output"), Some(0.0), "off until started again");
+        assert!(r.start(0));
+        r.transfer(&out, &mut back);
+        assert_eq!(r.value("Output"), Some(8.0));
+    }
+}
