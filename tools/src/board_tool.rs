@@ -1,21 +1,25 @@
 //! The board bring-up tool's logic (`hal-board`): a list of the boards on
 //! the PCI bus that the suite's drivers know, with each driver family's ID
 //! table and identification, the simulated boards, and register access
-//! to one board (IDROM listing, single reads and writes, a module's
-//! registers watched live).
+//! to one board, on the PCI bus, on the network (by IP address) or
+//! simulated (IDROM listing, single reads and writes, a module's
+//! registers watched live, the Smart Serial cards and their process
+//! data).
 //!
 //! A driver family joins the list with a [`Family`] in [`families`]: its
 //! name, its driver, its ID table and a function that identifies a found
 //! device (hostmot2 reads the FPGA's IDROM; the MOTENC its boardVersion
 //! and board ID jumpers).
 
+use std::net::SocketAddr;
 use std::sync::Arc;
 
-use hal_driver::bus::{MmapWindow, RegWindow};
+use hal_driver::bus::MmapWindow;
 use hal_driver::pci::{self, EnableGuard, PciDevice, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_motenc::sim::MotencModel;
 use hal_motenc::BoardKind;
+use hostmot2::eth::{self, EthTransport};
 use hostmot2::image::FirmwareSpec;
 use hostmot2::md::{self, ModuleDescriptor};
 use hostmot2::pci::{PciBoard, BOARDS};
@@ -111,8 +115,19 @@ pub fn list(sysfs: &Sysfs) -> Vec<String> {
             sysfs.root().display()
         ));
     }
+    lines.push(
+        "Ethernet boards are not scanned: give a board's address (hal-board idrom 192.168.1.121)"
+            .into(),
+    );
     lines.push("simulated boards (hm2_pci sim=NAME):".into());
     for name in boards::PRESETS {
+        let spec = boards::preset(name).expect("preset");
+        let mut t = sim::board(spec, Box::new(machine::preset(name))).1;
+        let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
+        lines.push(format!("sim:{name}  {id}"));
+    }
+    lines.push("simulated Ethernet boards (hm2-eth-sim --board NAME):".into());
+    for name in boards::ETH_PRESETS {
         let spec = boards::preset(name).expect("preset");
         let mut t = sim::board(spec, Box::new(machine::preset(name))).1;
         let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
@@ -152,13 +167,38 @@ pub enum Board {
         /// The board.
         board: Arc<SimHm2>,
     },
+    /// A board on the network.
+    Eth {
+        /// Its address.
+        addr: SocketAddr,
+        /// Its space-7 name (`7I96S`).
+        name: String,
+        /// What hm2_eth makes of it.
+        llio: hostmot2::llio::Llio,
+    },
 }
 
 impl Board {
-    /// Opens `which`: `sim:NAME` for a simulated board, else a PCI bus
-    /// address (`0000:02:00.0`, optionally `pci:` in front) of a
-    /// HostMot2 board under `sysfs`.
+    /// Opens `which`: `sim:NAME` for a simulated board, an IP address
+    /// (optionally `:port`) for an Ethernet board, else a PCI bus address
+    /// (`0000:02:00.0`, optionally `pci:` in front) of a HostMot2 board
+    /// under `sysfs`.
     pub fn open(which: &str, sysfs: &Sysfs) -> Result<Board, String> {
+        if let Ok(addr) = eth::hal::parse_board_address(which) {
+            let mut t = EthTransport::connect(addr).map_err(|e| e.to_string())?;
+            let found = eth::hal::probe(&mut t).map_err(|e| e.to_string())?;
+            let llio = match eth::boards::lookup(&found.name) {
+                Some(kind) => kind.llio(0),
+                None => {
+                    eth::hal::llio_from_idrom(&mut t, &found.name, 0).map_err(|e| e.to_string())?
+                }
+            };
+            return Ok(Board::Eth {
+                addr,
+                name: found.name,
+                llio,
+            });
+        }
         if let Some(name) = which.strip_prefix("sim:") {
             let spec = boards::preset(name).ok_or_else(|| {
                 format!(
@@ -194,19 +234,16 @@ impl Board {
     }
 
     /// A transport to the board's registers.
-    pub fn transport(&self) -> Box<dyn Transport> {
-        match self {
+    pub fn transport(&self) -> Result<Box<dyn Transport>, String> {
+        Ok(match self {
             Board::Pci { window, .. } => Box::new(WindowTransport::new(window.clone())),
             Board::Sim { board, .. } => Box::new(WindowTransport::new(board.clone())),
-        }
-    }
-
-    /// The board's registers as a window.
-    fn window(&self) -> Arc<dyn RegWindow> {
-        match self {
-            Board::Pci { window, .. } => window.clone(),
-            Board::Sim { board, .. } => board.clone(),
-        }
+            Board::Eth { addr, name, .. } => {
+                let mut t = EthTransport::connect(*addr).map_err(|e| e.to_string())?;
+                t.set_name(name);
+                Box::new(t)
+            }
+        })
     }
 
     /// The board's llio (connectors, pins per connector).
@@ -214,14 +251,17 @@ impl Board {
         match self {
             Board::Pci { kind, .. } => kind.llio(0),
             Board::Sim { spec, .. } => spec.llio(0),
+            Board::Eth { llio, .. } => llio.clone(),
         }
     }
 
-    /// What it is, for headers: `5i25 at 0000:02:00.0`, `simulated 5i25`.
+    /// What it is, for headers: `5i25 at 0000:02:00.0`, `simulated 5i25`,
+    /// `7I96S at 192.168.1.121:27181`.
     pub fn describe(&self) -> String {
         match self {
             Board::Pci { device, kind, .. } => format!("{} at {}", kind.board, device.address),
             Board::Sim { spec, .. } => format!("simulated {}", spec.board),
+            Board::Eth { addr, name, .. } => format!("{name} at {addr}"),
         }
     }
 
@@ -254,14 +294,14 @@ pub fn parse_value(s: &str) -> Result<u32, String> {
 /// The IDROM, modules and pin-out in `mesaflash --readhmid`'s layout.
 pub fn idrom(board: &Board) -> Result<String, String> {
     let connectors = board.llio().connectors;
-    readhmid::read_hmid(board.transport().as_mut(), &connectors).map_err(|e| e.to_string())
+    readhmid::read_hmid(board.transport()?.as_mut(), &connectors).map_err(|e| e.to_string())
 }
 
 /// Reads one register.
 pub fn read(board: &Board, addr: u32) -> Result<u32, String> {
     let mut w = [0u32; 1];
     board
-        .transport()
+        .transport()?
         .read(addr, &mut w)
         .map_err(|e| e.to_string())?;
     Ok(w[0])
@@ -270,16 +310,39 @@ pub fn read(board: &Board, addr: u32) -> Result<u32, String> {
 /// Writes one register.
 pub fn write(board: &Board, addr: u32, value: u32) -> Result<(), String> {
     board
-        .transport()
+        .transport()?
         .write(addr, &[value])
         .map_err(|e| e.to_string())
+}
+
+/// The Smart Serial ports, their cards and process data, found as the
+/// driver finds them with `config` (`sserial_port_0=...`; every port and
+/// channel in mode 0 by default). This resets the ports: not while a HAL
+/// runs the board.
+pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
+    let config = hostmot2::config::parse(config).map_err(|e| e.to_string())?;
+    let llio = board.llio();
+    let mut t = board.transport()?;
+    let mut log = hostmot2::log::MessageLog::default();
+    let fw = hostmot2::firmware::load(
+        &llio,
+        &config,
+        hostmot2::firmware::Debug::default(),
+        t.as_mut(),
+        &mut log,
+    )
+    .map_err(|e| e.to_string())?;
+    match fw.sserial {
+        Some(f) => Ok(hostmot2::sserial::report::report(&f, &llio.name)),
+        None => Ok("the firmware has no Smart Serial module\n".into()),
+    }
 }
 
 /// Finds the module named `name` (LinuxCNC's or mesaflash's name, any
 /// case: `stepgen`, `encoder`, `qcount`, `pwmgen`, `pwm`, `ioport`,
 /// `watchdog`, `led`).
 pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, String> {
-    let mut t = board.transport();
+    let mut t = board.transport()?;
     hostmot2::idrom::check_identity(t.as_mut()).map_err(|e| e.to_string())?;
     let h = hostmot2::idrom::read_header(t.as_mut(), &board.llio()).map_err(|e| e.to_string())?;
     let mds = md::read_all(t.as_mut(), &h).map_err(|e| e.to_string())?;
@@ -297,8 +360,8 @@ pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, String
 
 /// One snapshot of a module's registers: a line per register with its
 /// address and the value of every instance.
-pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> String {
-    let win = board.window();
+pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> Result<String, String> {
+    let mut t = board.transport()?;
     let names = readhmid::register_names(m.gtag);
     let mut out = format!(
         "{} {} at 0x{:04X}: {} instance(s), version {}\n{:<14} {:>6} ",
@@ -324,9 +387,12 @@ pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> String {
             1
         };
         for i in 0..n {
-            out.push_str(&format!(" {:08X}", win.read32(m.inst_reg(r, i) as usize)));
+            let mut w = [0u32];
+            t.read(m.inst_reg(r, i), &mut w)
+                .map_err(|e| e.to_string())?;
+            out.push_str(&format!(" {:08X}", w[0]));
         }
         out.push('\n');
     }
-    out
+    Ok(out)
 }

@@ -71,7 +71,12 @@ fn lists_pci_and_simulated_boards() {
         "{}",
         lines[1]
     );
-    assert_eq!(lines[2], "simulated boards (hm2_pci sim=NAME):");
+    assert_eq!(
+        lines[2],
+        "Ethernet boards are not scanned: give a board's address (hal-board idrom 192.168.1.121)"
+    );
+    assert_eq!(lines[3], "simulated boards (hm2_pci sim=NAME):");
+    assert!(out.contains("sim:7i96s  MESA7I96 (HostMot2, IDROM type 3, 3 × 17 I/O)\n"));
     assert!(out.contains("sim:6i25  MESA6I25 (HostMot2, IDROM type 3, 2 × 17 I/O)\n"));
     let empty = FakeSysfs::new("hal-board-empty").unwrap();
     let out = stdout(&board_tool(&empty, &["list"]));
@@ -254,4 +259,86 @@ fn probe_reports_the_servo_to_go_model_or_that_nothing_answers() {
     );
     let err = stderr(&board_tool(&none, &["probe", "--via", "isa"]));
     assert!(err.contains("'isa' is not a way to the ports"), "{err}");
+}
+
+/// hm2-eth-sim on a port of its own, stopped when dropped.
+struct EthSim {
+    child: std::process::Child,
+    addr: String,
+}
+
+impl EthSim {
+    fn start(args: &[&str]) -> EthSim {
+        use std::io::BufRead;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_hm2-eth-sim"))
+            .args(["--listen", "127.0.0.1:0"])
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .spawn()
+            .expect("hm2-eth-sim runs");
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let addr = line
+            .trim()
+            .rsplit(' ')
+            .next()
+            .expect("the address it answers on")
+            .to_string();
+        EthSim { child, addr }
+    }
+}
+
+impl Drop for EthSim {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn ethernet_boards_by_address_with_their_smart_serial_cards() {
+    let sim = EthSim::start(&["--board", "7i96s", "--remote", "7i77"]);
+    let fake = FakeSysfs::new("hal-board-eth").unwrap();
+    let out = stdout(&board_tool(&fake, &["idrom", &sim.addr]));
+    assert!(out.starts_with("Configuration Name: HOSTMOT2\n"), "{out}");
+    assert!(out.contains("  BoardName : MESA7I96\n"), "{out}");
+    assert!(out.contains("IO Connections for TB1"), "{out}");
+    assert!(out.contains("SSerial"), "{out}");
+    assert!(out.contains("TXData0"), "{out}");
+    assert_eq!(
+        stdout(&board_tool(&fake, &["read", &sim.addr, "0x100"])),
+        "55AACAFE\n"
+    );
+    let out = stdout(&board_tool(
+        &fake,
+        &["sserial", &sim.addr, "--config", "sserial_port_0=30"],
+    ));
+    assert!(
+        out.starts_with("Smart Serial port 0: firmware version 43, 2 channel(s), 2 card(s)\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains("  channel 0: 7I77, unit 0x12007700, mode 3 (io_encoder_analog_fieldvoltage)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("HAL names under hm2_7i96s.0.7i77.0.1.:"),
+        "{out}"
+    );
+    assert!(out.contains("AnalogOut5"), "{out}");
+    assert!(out.contains("analogout5\n"), "{out}");
+    assert!(out.contains("input-00 .. input-31"), "{out}");
+    assert!(out.contains("mpg1.count"), "{out}");
+    assert!(out.contains("nvwatchdogtimeout   = 50 (0x32) ms"), "{out}");
+    assert!(
+        out.contains("swrevision          = 22 (0x16), read only"),
+        "{out}"
+    );
+    // A board that never answers: the error names it.
+    let silent = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let addr = silent.local_addr().unwrap().to_string();
+    let err = stderr(&board_tool(&fake, &["idrom", &addr]));
+    assert!(err.contains(&format!("no reply from {addr}")), "{err}");
 }

@@ -1,9 +1,11 @@
-//! hal-board: bring up a PCI board. Lists the boards the suite's drivers
+//! hal-board: bring up a board. Lists the PCI boards the suite's drivers
 //! know (HostMot2 with their IDROM's name, MOTENC with their version and
 //! board ID; and the simulated ones), prints a HostMot2 board's IDROM,
-//! module list and pin-out as `mesaflash --readhmid` does, reads and
-//! writes single registers, and watches a module's registers live. For
-//! the ISA Servo-To-Go, `probe` reports the model at a base address.
+//! module list and pin-out as `mesaflash --readhmid` does (PCI, Ethernet by
+//! address, simulated), its Smart Serial cards with their process data,
+//! reads and writes single registers, and watches a module's registers
+//! live. For the ISA Servo-To-Go, `probe` reports the model at a base
+//! address.
 
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -27,14 +29,19 @@ Examples:
   hal-board probe 0x300                     # which Servo-To-Go is at 0x300
   hal-board probe                           # search 0x3e0 .. 0x200
   hal-board probe 0x300 --via devport       # through /dev/port
+  hal-board idrom 192.168.1.121             # an Ethernet board
+  hal-board sserial 192.168.1.121           # its Smart Serial cards
+  hal-board sserial 127.0.0.1:27181 --config sserial_port_0=2   # hm2-eth-sim
 
-BOARD is a PCI bus address from `hal-board list`, or sim:5i25, sim:6i25,
-sim:5i24 for a simulated board (fresh for each command). Reading PCI
-boards needs access to their sysfs resource files: see udev/README.md.
-probe reads ISA ports: it needs CAP_SYS_RAWIO (--via ioperm or devport);
---via sim or sim1 probes a simulated Model II or I at 0x300.";
+BOARD is a PCI bus address from `hal-board list`, an Ethernet board's IP
+address (optionally :port; boards answer on 27181), or sim:5i25,
+sim:6i25, sim:5i24, sim:5i25-7i77, sim:7i96s, sim:7i76e for a simulated
+board (fresh for each command). Reading PCI boards needs access to their
+sysfs resource files: see udev/README.md. probe reads ISA ports: it needs
+CAP_SYS_RAWIO (--via ioperm or devport); --via sim or sim1 probes a
+simulated Model II or I at 0x300.";
 
-/// Bring up a PCI board: list, identify, read and write registers.
+/// Bring up a board: list, identify, read and write registers.
 #[derive(Parser)]
 #[command(name = "hal-board", version, after_help = EXAMPLES)]
 struct Cli {
@@ -70,6 +77,15 @@ enum Command {
         addr: String,
         /// Value (decimal or 0x hex).
         value: String,
+    },
+    /// List the Smart Serial cards with their modes, process data and
+    /// globals (resets the ports: not while a HAL runs the board).
+    Sserial {
+        /// The board.
+        board: String,
+        /// Channel modes as in the config string (sserial_port_0=2x...).
+        #[arg(long, default_value = "")]
+        config: String,
     },
     /// Watch a module's registers (stepgen, encoder, pwmgen, ioport, watchdog, led).
     Watch {
@@ -125,6 +141,10 @@ fn run(cli: Cli) -> Result<(), String> {
             let b = Board::open(&board, &sysfs)?;
             board_tool::write(&b, addr, value)?;
         }
+        Command::Sserial { board, config } => {
+            let b = Board::open(&board, &sysfs)?;
+            print!("{}", board_tool::sserial(&b, &config)?);
+        }
         Command::Watch {
             board,
             module,
@@ -141,7 +161,7 @@ fn run(cli: Cli) -> Result<(), String> {
                     std::thread::sleep(Duration::from_millis(interval));
                     b.advance(interval * 1_000_000);
                 }
-                let frame = board_tool::module_frame(&b, &m);
+                let frame = board_tool::module_frame(&b, &m)?;
                 if tty {
                     // Redraw in place: home the cursor, clear the screen.
                     print!("\x1b[H\x1b[2J{frame}");

@@ -27,7 +27,8 @@ In a HAL file (loadusr -W waits until it listens; it exits with the HAL):
   loadrt hm2_eth board_ip=127.0.0.1 config=\"num_stepgens=3\"
 
 Boards: 7i96s (5 step generators, 1 encoder, Smart Serial on P1), 7i76e
-(the on-card 7i76's step generators and Smart Serial). The machine at the
+(the on-card 7i76's step generators and Smart Serial); a simulated 7I76
+on Smart Serial (--remote 7i77: a 7I77, --remote none). The machine at the
 connectors: stepper axes of 100 steps per unit on every step generator,
 home switches closing at +10 units for axes 0..2 (7i96s: I/O 34..36,
 7i76e: I/O 17..19). Simulated time moves one --period-ns per cycle's read
@@ -40,6 +41,10 @@ struct Cli {
     /// The board: 7i96s or 7i76e.
     #[arg(long, default_value = "7i96s")]
     board: String,
+    /// What is plugged into Smart Serial port 0: 7i76 (channel 0), 7i77
+    /// (channels 0 and 1) or none.
+    #[arg(long, default_value = "7i76")]
+    remote: String,
     /// Address to answer on (port 0: one the system picks).
     #[arg(long, default_value = "127.0.0.1:27181")]
     listen: SocketAddr,
@@ -93,7 +98,7 @@ fn rate(name: &str, p: f64) -> Result<f64, String> {
 }
 
 fn run(cli: Cli) -> Result<(), String> {
-    let spec = boards::preset(&cli.board)
+    let mut spec = boards::preset(&cli.board)
         .filter(|_| boards::eth_name(&cli.board).is_some())
         .ok_or_else(|| {
             format!(
@@ -102,6 +107,13 @@ fn run(cli: Cli) -> Result<(), String> {
                 boards::ETH_PRESETS.join(", ")
             )
         })?;
+    spec.remotes = match cli.remote.as_str() {
+        "7i76" => vec![boards::seven_i76_on(0, 0)],
+        "7i77" if cli.board == "7i96s" => boards::seven_i77_on(0, 0).to_vec(),
+        "7i77" => return Err("--remote 7i77 needs two channels: --board 7i96s".into()),
+        "none" => Vec::new(),
+        other => return Err(format!("--remote {other}: 7i76, 7i77 or none")),
+    };
     let faults = Faults {
         drop_requests: rate("drop-requests", cli.drop_requests)?,
         drop_writes: rate("drop-writes", cli.drop_writes)?,

@@ -93,7 +93,7 @@ pub fn probe(t: &mut EthTransport) -> Result<Probe, TransportError> {
 
 /// The llio of a board the table does not know: connectors and pins
 /// from its IDROM.
-fn llio_from_idrom(t: &mut EthTransport, name: &str, n: usize) -> Result<Llio, TransportError> {
+pub fn llio_from_idrom(t: &mut EthTransport, name: &str, n: usize) -> Result<Llio, TransportError> {
     let mut w = [0u32; 1];
     t.read(crate::regs::IDROM_OFFSET_ADDR as u32, &mut w)?;
     let idrom = w[0] & 0xFFFF;

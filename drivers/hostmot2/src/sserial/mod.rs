@@ -7,6 +7,7 @@
 
 pub mod data;
 pub mod records;
+pub mod report;
 
 /// Register indices of the module (register stride apart); the port's
 /// instance stride (0x40) and, for per-channel registers, 4 × channel
