@@ -1,7 +1,11 @@
 //! Fuzz bodies for the parsers of outside bytes in this crate: register
-//! images through the IDROM loader, and config strings. The workspace's
-//! fuzz crate (`hal-fuzz`) can call them as its targets; until it has
-//! them, this crate's tests run them for 100,000 generated cases each.
+//! images through the IDROM loader, config strings, replies from the
+//! network to hm2_eth's cycle requests, request datagrams to the
+//! simulated Ethernet board, Smart Serial cards' records, and whole
+//! hostile cards through discovery. The workspace's fuzz crate
+//! (`hal-fuzz`) can call them as its targets; until it has them, this
+//! crate's tests run them (100,000 generated cases each, fewer for the
+//! whole-card one, which runs discovery per case).
 //!
 //! A body panics on a finding: a panic in the code under test, or an
 //! accepted board that breaks what the driver relies on, or a refusal
@@ -109,7 +113,7 @@ pub fn idrom_image(data: &[u8]) {
             for p in &fw.pins {
                 assert!((p.port as usize) < case.llio.connectors.len() && p.bit < 32);
                 if let PinOwner::Module { gtag, .. } = p.owner {
-                    assert!([4, 5, 6].contains(&gtag), "pin {p:?}");
+                    assert!([4, 5, 6, 0xC1].contains(&gtag), "pin {p:?}");
                 }
             }
             for m in [
@@ -154,6 +158,193 @@ pub fn config_string(text: &str) {
                 .split_ascii_whitespace()
                 .any(|t| msg.contains(t) || msg.contains(t.split('=').nth(1).unwrap_or(t)));
             assert!(named || msg.contains("sserial_port"), "{msg} for {text:?}");
+        }
+    }
+}
+
+/// A datagram that came while hm2_eth waited for a cycle's reply, as
+/// `data` decodes it (words read, the cycle's tags, how the datagram was
+/// made: raw bytes, the right length with random tags, the right tags
+/// and random data, the right tags with a bad write tag, or one byte
+/// short or long of a right one): only a datagram of exactly the
+/// expected length echoing this cycle's read tag is taken, and its lost
+/// write is told exactly when its write tag differs.
+pub fn eth_reply(data: &[u8]) {
+    use crate::eth::transport::{classify, copy_words, reply_len, Reply};
+    let byte = |i: usize| data.get(i).copied().unwrap_or(0);
+    let words = byte(0) as usize % 80;
+    let read_tag = u32::from_le_bytes([byte(1), byte(2), byte(3), byte(4)]);
+    let write_tag =
+        (byte(5) & 1 == 1).then(|| u32::from_le_bytes([byte(6), byte(7), byte(8), byte(9)]));
+    let rest = data.get(11..).unwrap_or(&[]);
+    let n = reply_len(words);
+    let shaped = |tag_ok: bool, write_ok: bool| {
+        let mut r: Vec<u8> = rest.iter().copied().cycle().take(n).collect();
+        r.resize(n, 0);
+        if tag_ok {
+            r[n - 8..n - 4].copy_from_slice(&read_tag.to_le_bytes());
+        }
+        if let (true, Some(w)) = (write_ok, write_tag) {
+            r[n - 4..].copy_from_slice(&w.to_le_bytes());
+        }
+        r
+    };
+    let reply = match byte(10) % 6 {
+        0 => rest.to_vec(),
+        1 => shaped(false, false),
+        2 => shaped(true, true),
+        3 => shaped(true, false),
+        4 => {
+            let mut r = shaped(true, true);
+            r.pop();
+            r
+        }
+        _ => {
+            let mut r = shaped(true, true);
+            r.push(byte(11));
+            r
+        }
+    };
+    let verdict = classify(&reply, words, read_tag, write_tag);
+    let ours = reply.len() == n && reply[n - 8..n - 4] == read_tag.to_le_bytes();
+    match verdict {
+        Reply::Ours { lost_write } => {
+            assert!(ours, "a foreign datagram taken for the reply");
+            let differs = write_tag.is_some_and(|w| reply[n - 4..] != w.to_le_bytes());
+            assert_eq!(lost_write, differs);
+            let mut out = vec![0u32; words];
+            copy_words(&reply, &mut out);
+            for (i, w) in out.iter().enumerate() {
+                assert_eq!(w.to_le_bytes(), reply[4 * i..4 * i + 4]);
+            }
+        }
+        Reply::Foreign => assert!(!ours, "the cycle's reply refused"),
+    }
+}
+
+/// A request datagram from anyone on the network to the simulated
+/// Ethernet board: executed or refused, never a panic; a refused one is
+/// counted and answered with nothing, an answered one has exactly the
+/// bytes its reads ask for.
+pub fn lbp16_request(data: &[u8]) {
+    use crate::lbp16::{addr, parse};
+    use crate::sim::eth::{EthBoard, EthIdentity};
+    thread_local! {
+        // One board for every case: what a case writes stays, as it
+        // would on a board on the network.
+        static BOARD: std::cell::RefCell<EthBoard> = std::cell::RefCell::new({
+            let spec = boards::preset("7i96s").expect("preset");
+            EthBoard::new(crate::sim::Hm2Model::new(spec), EthIdentity::new("7I96S"))
+                .with_period(1_000_000)
+        });
+    }
+    BOARD.with(|b| lbp16_request_on(&mut b.borrow_mut(), data));
+    fn lbp16_request_on(b: &mut EthBoard, data: &[u8]) {
+        let mut reply = Vec::new();
+        let errors_before = b.counter(addr::CTRL_PARSE_ERRORS);
+        let parsed: Vec<_> = parse(data).collect();
+        let well_formed = parsed.iter().all(Result::is_ok);
+        let answered = b.handle(data, &mut reply);
+        if well_formed {
+            let want: usize = parsed
+                .iter()
+                .flatten()
+                .filter(|p| !p.cmd.write)
+                .map(|p| p.cmd.data_len())
+                .sum();
+            assert_eq!(reply.len(), want);
+            assert_eq!(answered, want > 0);
+        } else {
+            assert!(!answered && reply.is_empty());
+            assert_eq!(
+                b.counter(addr::CTRL_PARSE_ERRORS),
+                errors_before.wrapping_add(1)
+            );
+        }
+    }
+}
+
+/// A card's memory as the driver reads its tables and records: a
+/// record or a refusal with a reason, never a panic or an endless read.
+pub fn sserial_records(data: &[u8]) {
+    use crate::sserial::records::{read_record, read_table, Record, RecordError};
+    let mut reads = 0usize;
+    let mut byte = |a: u16| -> Result<u8, RecordError> {
+        reads += 1;
+        Ok(data.get(a as usize).copied().unwrap_or(0))
+    };
+    let start = u16::from_le_bytes([
+        data.first().copied().unwrap_or(0),
+        data.get(1).copied().unwrap_or(0),
+    ]) % (data.len().max(1) as u16);
+    if let Ok(table) = read_table(start, &mut byte) {
+        assert!(table.len() <= crate::sserial::records::MAX_TABLE);
+        for at in table {
+            match read_record(at, &mut byte) {
+                Ok(Record::Data(d)) => {
+                    assert!(!d.name.is_empty() && d.name.len() <= 48);
+                    assert!(d.name.bytes().all(|b| b.is_ascii_graphic()));
+                }
+                Ok(Record::Mode(m)) => assert!(m.name.len() <= 48),
+                Err(e) => assert!(!e.to_string().is_empty()),
+            }
+        }
+    }
+    assert!(reads <= 3 * 66 + 64 * 120, "bounded reads: {reads}");
+}
+
+/// A hostile card on Smart Serial port 0 channel 0 of a simulated 7i96S
+/// (its identity words and memory from `data`), through the driver's
+/// discovery: the board loads with the card's objects checked, or the
+/// load is refused saying which port and channel and why.
+pub fn sserial_card(data: &[u8]) {
+    use crate::sim::sserial::SimRemote;
+    use crate::window::WindowTransport;
+    let word = |i: usize| {
+        let b = |k| data.get(i + k).copied().unwrap_or(0);
+        u32::from_le_bytes([b(0), b(1), b(2), b(3)])
+    };
+    let mut ids = [word(0), word(4), word(8)];
+    // Mostly tables inside the memory the card has.
+    let len = data.len().saturating_sub(12).max(1) as u32;
+    if ids[2] & 0x8000_0000 == 0 {
+        ids[2] = (((ids[2] >> 16) % len) << 16) | ((ids[2] & 0xFFFF) % len);
+    }
+    let memory = data.get(12..).unwrap_or(&[]).to_vec();
+    let mut spec = boards::preset("7i96s").expect("preset");
+    spec.remotes.clear();
+    let mut model = crate::sim::Hm2Model::new(spec.clone());
+    model.sserial().ports[0].remotes[0] = Some(SimRemote::hostile(ids, memory));
+    let board = std::sync::Arc::new(hal_driver::sim::SimBoard::new(model));
+    let mut t = WindowTransport::new(board);
+    let mut log = MessageLog::default();
+    let llio = spec.llio(0);
+    match firmware::load(
+        &llio,
+        &config::Config::default(),
+        Debug::default(),
+        &mut t,
+        &mut log,
+    ) {
+        Ok(fw) => {
+            let s = fw.sserial.expect("the 7i96s has Smart Serial");
+            for r in s.ports.iter().flat_map(|p| &p.remotes) {
+                let (i, o) = r.widths();
+                assert!(i <= 96 && o <= 96, "{i} / {o} bits");
+                for p in &r.process {
+                    assert!(!p.name.is_empty());
+                    assert!(!crate::sserial::records::data_type::is_nonvolatile(
+                        p.data_type
+                    ));
+                }
+            }
+        }
+        Err(e) => {
+            let text = e.to_string();
+            assert!(
+                text.starts_with("Smart Serial port 0 channel 0: "),
+                "{text}"
+            );
         }
     }
 }

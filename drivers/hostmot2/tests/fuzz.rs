@@ -109,3 +109,142 @@ fn mutated_boards_register_or_refuse_without_panicking() {
         })
         .unwrap();
 }
+
+#[test]
+fn replies_to_cycle_requests_are_taken_only_when_they_are_the_reply() {
+    let bytes = prop::collection::vec(any::<u8>(), 0..200);
+    runner(100_000)
+        .run(&bytes, |data| {
+            fuzz::eth_reply(&data);
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn request_datagrams_to_the_simulated_board_never_panic() {
+    // Mostly well-formed commands, some cut short or garbled.
+    let command = (
+        any::<u16>(),
+        any::<u16>(),
+        prop::collection::vec(any::<u8>(), 0..24),
+    )
+        .prop_map(|(w, a, d)| {
+            let mut v = (w | 0x4000).to_le_bytes().to_vec();
+            v.extend(a.to_le_bytes());
+            v.extend(d);
+            v
+        });
+    let datagram = prop_oneof![
+        prop::collection::vec(command, 0..6).prop_map(|v| v.concat()),
+        prop::collection::vec(any::<u8>(), 0..64),
+    ];
+    runner(100_000)
+        .run(&datagram, |data| {
+            fuzz::lbp16_request(&data);
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn card_records_are_read_or_refused() {
+    let bytes = prop::collection::vec(any::<u8>(), 0..300);
+    runner(100_000)
+        .run(&bytes, |data| {
+            fuzz::sserial_records(&data);
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn hostile_cards_load_checked_or_are_refused_by_port_and_channel() {
+    let bytes = prop::collection::vec(any::<u8>(), 0..300);
+    runner(2_000)
+        .run(&bytes, |data| {
+            fuzz::sserial_card(&data);
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// The real receive path over a loopback socket: each case answers one
+/// cycle's request with up to three hostile datagrams (random bytes,
+/// short or long copies of the reply, the reply with another cycle's
+/// tag) and maybe the genuine reply after them; the transport returns
+/// the genuine data exactly when the genuine reply came, never a
+/// hostile datagram's.
+#[test]
+fn hostile_datagrams_on_the_socket_never_pass_for_the_reply() {
+    use hostmot2::eth::EthTransport;
+    use hostmot2::lbp16::{parse, space};
+    use hostmot2::transport::{Transport, TransportError};
+    use std::net::UdpSocket;
+
+    let board = UdpSocket::bind("127.0.0.1:0").unwrap();
+    board
+        .set_read_timeout(Some(std::time::Duration::from_secs(5)))
+        .unwrap();
+    let mut t = EthTransport::connect(board.local_addr().unwrap()).unwrap();
+    t.set_cycle_period(1_000_000);
+    t.reserve(2, 64, 2, 64);
+    let t = std::cell::RefCell::new(t);
+    let case = (
+        1usize..40,
+        prop::collection::vec((0u8..4, prop::collection::vec(any::<u8>(), 0..200)), 0..4),
+        any::<bool>(),
+    );
+    runner(5_000)
+        .run(&case, |(words, hostile, genuine)| {
+            let mut t = t.borrow_mut();
+            t.queue_read(0x1000, words).unwrap();
+            t.send_queued_reads().unwrap_or(());
+            let mut buf = [0u8; 2048];
+            let (n, from) = board.recv_from(&mut buf).unwrap();
+            let tag = parse(&buf[..n])
+                .flatten()
+                .find(|c| c.cmd.write && c.cmd.space == space::TIMER && c.addr == 0x10)
+                .map(|c| [c.data[0], c.data[1], c.data[2], c.data[3]])
+                .expect("the read tag");
+            let data: Vec<u32> = (0..words as u32)
+                .map(|i| i.wrapping_mul(0x9E37_79B9))
+                .collect();
+            let mut reply: Vec<u8> = data.iter().flat_map(|w| w.to_le_bytes()).collect();
+            reply.extend([0, 0]);
+            reply.extend(tag);
+            reply.extend([0, 0, 0, 0]);
+            for (kind, bytes) in &hostile {
+                let d = match kind {
+                    0 => bytes.clone(),
+                    1 => reply[..bytes.len().min(reply.len() - 1)].to_vec(),
+                    2 => [&reply[..], &bytes[..]].concat(),
+                    _ => {
+                        let mut r = reply.clone();
+                        let at = r.len() - 8;
+                        r[at] = r[at].wrapping_add(1 + bytes.first().copied().unwrap_or(0) % 200);
+                        r
+                    }
+                };
+                if d != reply {
+                    board.send_to(&d, from).unwrap();
+                }
+            }
+            if genuine {
+                board.send_to(&reply, from).unwrap();
+            }
+            let mut out = vec![0u32; words];
+            match t.receive_queued_reads(&mut out) {
+                Ok(()) => {
+                    assert!(genuine, "a hostile datagram taken for the reply");
+                    assert_eq!(out, data);
+                }
+                Err(TransportError::Lost | TransportError::PacketErrors { .. }) => {
+                    assert!(!genuine, "the genuine reply refused")
+                }
+                Err(e) => panic!("{e}"),
+            }
+            Ok(())
+        })
+        .unwrap();
+}

@@ -62,6 +62,47 @@ pub const REGISTRATION_TIMEOUT: Duration = Duration::from_secs(1);
 /// the read tag (4) and the write tag (4).
 const BOOKKEEPING_REPLY: usize = 10;
 
+/// What a datagram that came while a cycle waited for its reply is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Reply {
+    /// This cycle's reply; `lost_write` when its write tag shows that a
+    /// write datagram never arrived.
+    Ours {
+        /// A write was lost.
+        lost_write: bool,
+    },
+    /// Not this cycle's reply (late, duplicated, malformed or foreign):
+    /// discarded.
+    Foreign,
+}
+
+/// Bytes of the reply to a cycle's request of `words` words.
+pub fn reply_len(words: usize) -> usize {
+    4 * words + BOOKKEEPING_REPLY
+}
+
+/// Classifies `reply` for a cycle that read `words` words with
+/// `read_tag`, after the write tagged `write_tag` (none before the
+/// first write): only a datagram of exactly the expected length that
+/// echoes this cycle's read tag is its reply.
+pub fn classify(reply: &[u8], words: usize, read_tag: u32, write_tag: Option<u32>) -> Reply {
+    let n = reply_len(words);
+    if reply.len() != n || reply[n - 8..n - 4] != read_tag.to_le_bytes() {
+        return Reply::Foreign;
+    }
+    Reply::Ours {
+        lost_write: write_tag.is_some_and(|t| reply[n - 4..n] != t.to_le_bytes()),
+    }
+}
+
+/// Copies the data words at the start of a reply into `out`.
+#[inline]
+pub fn copy_words(reply: &[u8], out: &mut [u32]) {
+    for (w, b) in out.iter_mut().zip(reply.chunks_exact(4)) {
+        *w = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
+    }
+}
+
 /// Datagrams and bytes moved, for benchmarks.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Traffic {
@@ -455,31 +496,29 @@ impl Transport for EthTransport {
             // The request never left: its error is already counted.
             return Err(TransportError::Lost);
         };
-        let expected = 4 * words + BOOKKEEPING_REPLY;
         let timeout = if self.period_ns > 0 {
             Duration::from_nanos(self.errors.timeout_ns(self.period_ns))
         } else {
             REGISTRATION_TIMEOUT
         };
         let deadline = sent_at + timeout;
-        let read_tag = self.read_tag.to_le_bytes();
+        let write_tag = self.has_written.then_some(self.write_tag);
         loop {
             let n = match self.receive_until(deadline) {
                 Ok(n) => n,
                 Err(_) => return Err(self.packet_error()),
             };
-            if n != expected || self.reply[n - 8..n - 4] != read_tag {
-                // Late, duplicated or malformed: not this cycle's reply.
+            let reply = &self.reply[..n];
+            // Late, duplicated or malformed datagrams are not this
+            // cycle's reply: wait on.
+            let Reply::Ours { lost_write } = classify(reply, words, self.read_tag, write_tag)
+            else {
                 continue;
-            }
-            for (i, w) in out.iter_mut().enumerate() {
-                let b = &self.reply[4 * i..4 * i + 4];
-                *w = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
-            }
+            };
+            copy_words(reply, out);
             self.stats.words_read += words as u64;
             self.stats.read_bursts += regions as u64;
-            let echoed = &self.reply[n - 4..n];
-            if self.has_written && echoed != self.write_tag.to_le_bytes() {
+            if lost_write {
                 // A write datagram never arrived: the data is good, the
                 // configuration must be written again.
                 return match self.packet_error() {

@@ -215,6 +215,8 @@ pub struct SimRemote {
     pub transfers: u64,
     /// Writes to its EEPROM.
     pub eeprom_writes: u64,
+    /// A card that answers every setup start with these words.
+    fixed_ids: Option<[u32; 3]>,
 }
 
 /// The card's globals: (record, initial value).
@@ -336,7 +338,18 @@ impl SimRemote {
             connected: true,
             transfers: 0,
             eeprom_writes: 0,
+            fixed_ids: None,
         }
+    }
+
+    /// A card that says whatever `ids` and `memory` say (fuzzing the
+    /// driver's discovery): unit, name, GTOC << 16 | PTOC, and the bytes
+    /// its tables and records are read from (zeros past the end).
+    pub fn hostile(ids: [u32; 3], memory: Vec<u8>) -> SimRemote {
+        let mut r = SimRemote::new(RemoteKind::SevenI76, 0);
+        r.memory = memory;
+        r.fixed_ids = Some(ids);
+        r
     }
 
     /// Which card it is.
@@ -347,6 +360,9 @@ impl SimRemote {
     /// The interface registers after a setup start in `mode`: unit,
     /// name, GTOC << 16 | PTOC; `None` if the card has no such mode.
     pub fn identify(&mut self, mode: u8) -> Option<[u32; 3]> {
+        if let Some(ids) = self.fixed_ids {
+            return Some(ids);
+        }
         let m = self.modes.get(mode as usize)?;
         self.mode = Some(mode);
         self.running = false;
