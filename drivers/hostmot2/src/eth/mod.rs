@@ -33,14 +33,40 @@
 //!
 //! # The host's network
 //!
-//! LinuxCNC's hm2_eth changes the host: a permanent ARP entry for each
-//! board (so no ARP exchange happens in a realtime cycle) and firewall
-//! rules that reject every other packet on the board's interface (so
-//! nothing else adds latency there). This driver changes nothing on the
-//! host: those are setup steps, done once by the administrator
-//! (hostmot2 crate documentation, "Ethernet boards"), and the `firewall`
-//! parameter is accepted for compatibility only. Nothing is needed for a
-//! simulator on 127.0.0.1.
+//! LinuxCNC's hm2_eth changes the host at load: a permanent ARP entry
+//! for each board (read from the board's EEPROM: so no ARP exchange
+//! happens in a realtime cycle), and firewall rules (an iptables chain
+//! `hm2-eth-rules-output` or an nftables table `inet hm2_eth`) that let
+//! only the driver's packets to the board leave the board's interface,
+//! drop ICMP there and reject the rest, all removed at unload. It needs
+//! CAP_NET_ADMIN for both and warns when it cannot.
+//!
+//! This driver changes nothing on the host, ever: no capability is
+//! needed and a crash leaves nothing behind. The same effect is a setup
+//! step, done once by the administrator for the board's dedicated wired
+//! interface (say `enp3s0`, the host at 192.168.1.1/24, the board at
+//! 192.168.1.121; the MAC is in `hal-board idrom` and the load log):
+//!
+//! ```text
+//! # the link: a static address, no interrupt coalescing
+//! sudo ip addr add 192.168.1.1/24 dev enp3s0
+//! sudo ethtool -C enp3s0 rx-usecs 0
+//! # a permanent ARP entry: no ARP exchange in a realtime cycle
+//! sudo ip neigh replace 192.168.1.121 lladdr 00:60:1b:16:00:01 nud permanent dev enp3s0
+//! # nothing but the board's traffic on that interface
+//! sudo nft add table inet hm2_eth
+//! sudo nft add chain inet hm2_eth output '{ type filter hook output priority 0; policy accept; }'
+//! sudo nft add rule inet hm2_eth output oif enp3s0 ip daddr 192.168.1.121 udp dport 27181 accept
+//! sudo nft add rule inet hm2_eth output oif enp3s0 ip protocol icmp drop
+//! sudo nft add rule inet hm2_eth output oif enp3s0 reject with icmp type admin-prohibited
+//! ```
+//!
+//! (`sudo nft delete table inet hm2_eth` undoes the rules; make them
+//! permanent with the distribution's network and nftables
+//! configuration.) The `firewall` parameter is accepted for
+//! compatibility and changes nothing; for a board off the loopback the
+//! load says (at info level) that the host was left alone. Nothing is
+//! needed for a simulator on 127.0.0.1, where LinuxCNC too adds nothing.
 //!
 //! # Modules
 //!
