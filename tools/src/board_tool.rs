@@ -119,19 +119,20 @@ pub fn list(sysfs: &Sysfs) -> Vec<String> {
         "Ethernet boards are not scanned: give a board's address (hal-board idrom 192.168.1.121)"
             .into(),
     );
-    lines.push("simulated boards (hm2_pci sim=NAME):".into());
-    for name in boards::PRESETS {
-        let spec = boards::preset(name).expect("preset");
-        let mut t = sim::board(spec, Box::new(machine::preset(name))).1;
-        let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
-        lines.push(format!("sim:{name}  {id}"));
-    }
-    lines.push("simulated Ethernet boards (hm2-eth-sim --board NAME):".into());
-    for name in boards::ETH_PRESETS {
-        let spec = boards::preset(name).expect("preset");
-        let mut t = sim::board(spec, Box::new(machine::preset(name))).1;
-        let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
-        lines.push(format!("sim:{name}  {id}"));
+    for (title, names) in [
+        ("simulated boards (hm2_pci sim=NAME):", boards::PRESETS),
+        (
+            "simulated Ethernet boards (hm2-eth-sim --board NAME):",
+            boards::ETH_PRESETS,
+        ),
+    ] {
+        lines.push(title.into());
+        for name in names {
+            let spec = boards::preset(name).expect("preset");
+            let mut t = sim::board(spec, Box::new(machine::preset(name))).1;
+            let id = readhmid::identify(&mut t).unwrap_or_else(|e| e.to_string());
+            lines.push(format!("sim:{name}  {id}"));
+        }
     }
     let motenc: Vec<String> = [BoardKind::Motenc100, BoardKind::MotencLite]
         .into_iter()

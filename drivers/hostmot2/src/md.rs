@@ -181,12 +181,18 @@ pub fn read_all(t: &mut dyn Transport, idrom: &IdromHeader) -> Result<Vec<Module
 /// 64 KiB window. LinuxCNC does not check this (a wild RegisterStride
 /// would make it access memory past the BAR); here it is a load error.
 pub fn check_window(md: &ModuleDescriptor) -> Result<()> {
+    check_extent(md, 4)
+}
+
+/// Checks that a module's last register of its last instance, plus
+/// `tail` bytes, ends inside the window.
+fn check_extent(md: &ModuleDescriptor, tail: u64) -> Result<()> {
     let last_reg = md.num_registers.saturating_sub(1) as u64;
     let last_inst = md.instances.saturating_sub(1) as u64;
     let end = md.base_address as u64
         + last_reg * md.register_stride as u64
         + last_inst * md.instance_stride as u64
-        + 4;
+        + tail;
     if end > regs::WINDOW_BYTES as u64 {
         return Err(Hm2Error::MdOutsideWindow {
             index: md.index,
@@ -276,17 +282,6 @@ pub fn check_sserial(md: &ModuleDescriptor) -> Result<()> {
     if md.version != 0 || !md.shape_is(6, 0x40, 0x3C) {
         return Err(md.inconsistent("inconsistent Module Descriptor!".into()));
     }
-    let end = md.base_address as u64
-        + 5 * md.register_stride as u64
-        + md.instances.saturating_sub(1) as u64 * md.instance_stride as u64
-        + 4 * crate::sserial::MAX_CHANNELS as u64;
-    if end > regs::WINDOW_BYTES as u64 {
-        return Err(Hm2Error::MdOutsideWindow {
-            index: md.index,
-            addr: md.addr,
-            name: md.name(),
-            end,
-        });
-    }
-    Ok(())
+    // The last register of the last port, channel 7.
+    check_extent(md, 4 * crate::sserial::MAX_CHANNELS as u64)
 }

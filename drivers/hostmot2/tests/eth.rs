@@ -10,7 +10,7 @@ use std::net::UdpSocket;
 use std::time::Duration;
 
 use common::eth::{serve, EthRig};
-use common::{Rig, PERIOD};
+use common::{Named, Rig, PERIOD};
 use hal_core::{Host, HostConfig, Value};
 use hostmot2::eth::hal::{probe, HM2_ETH_MODULE};
 use hostmot2::eth::EthTransport;

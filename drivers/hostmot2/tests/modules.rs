@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{Rig, PERIOD};
+use common::{Named, Rig, PERIOD};
 use hal_core::Value::{Bit, Float, S32, U32};
 use hal_driver::sim::Dir;
 use hostmot2::image::{pd, FirmwareSpec};

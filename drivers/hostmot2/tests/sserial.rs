@@ -7,6 +7,7 @@
 mod common;
 
 use common::eth::EthRig;
+use common::Named;
 use hal_core::Value::{self, Bit, Float, S32, U32};
 use hal_core::{Host, HostConfig};
 use hostmot2::hal::{HM2_PCI_MODULE, HOSTMOT2_MODULE};

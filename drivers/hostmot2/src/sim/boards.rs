@@ -93,6 +93,26 @@ fn sserial_channel(port: u8, chan: u8) -> [PinDescriptor; 3] {
     ]
 }
 
+/// An Ethernet board's firmware: watchdog, 3 IOPorts, 1 encoder, 5 step
+/// generators, 1 Smart Serial port with a 7I76 on channel 0, 4 LEDs.
+fn eth_firmware(id: Identity, pins: Vec<PinDescriptor>) -> FirmwareSpec {
+    let mut fw = firmware(
+        id,
+        vec![
+            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+            ModuleSpec::standard(gtag::IOPORT, 0, 3),
+            ModuleSpec::standard(gtag::ENCODER, 2, 1),
+            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
+            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
+            ModuleSpec::standard(gtag::LED, 0, 1),
+        ],
+        pins,
+    );
+    fw.leds = 4;
+    fw.remotes = vec![seven_i76_on(0, 0)];
+    fw
+}
+
 /// 5i25 with a Smart Serial port and a 7I77 on it.
 fn five_i25_7i77() -> FirmwareSpec {
     let mut pins = Vec::new();
@@ -149,7 +169,7 @@ fn seven_i96s() -> FirmwareSpec {
         pins.push(pd(gtag::ENCODER, 0, f));
     }
     pins.extend(std::iter::repeat_n(gpio(), 4 + 17));
-    let mut fw = firmware(
+    eth_firmware(
         Identity {
             board: "7i96s",
             idrom_name: "MESA7I96",
@@ -160,19 +180,8 @@ fn seven_i96s() -> FirmwareSpec {
             port_width: 17,
             clock_low: 100_000_000,
         },
-        vec![
-            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
-            ModuleSpec::standard(gtag::IOPORT, 0, 3),
-            ModuleSpec::standard(gtag::ENCODER, 2, 1),
-            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
-            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
-            ModuleSpec::standard(gtag::LED, 0, 1),
-        ],
         pins,
-    );
-    fw.leds = 4;
-    fw.remotes = vec![seven_i76_on(0, 0)];
-    fw
+    )
 }
 
 /// 7i76E: the on-card 7i76's steppers, Smart Serial and encoder on P1.
@@ -187,7 +196,7 @@ fn seven_i76e() -> FirmwareSpec {
         pins.push(pd(gtag::ENCODER, 0, f));
     }
     pins.extend(std::iter::repeat_n(gpio(), 1 + 34));
-    let mut fw = firmware(
+    eth_firmware(
         Identity {
             board: "7i76e",
             idrom_name: "MESA7I76",
@@ -198,19 +207,8 @@ fn seven_i76e() -> FirmwareSpec {
             port_width: 17,
             clock_low: 100_000_000,
         },
-        vec![
-            ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
-            ModuleSpec::standard(gtag::IOPORT, 0, 3),
-            ModuleSpec::standard(gtag::ENCODER, 2, 1),
-            ModuleSpec::standard(gtag::STEPGEN, 2, 5),
-            ModuleSpec::standard(gtag::SSERIAL, 0, 1),
-            ModuleSpec::standard(gtag::LED, 0, 1),
-        ],
         pins,
-    );
-    fw.leds = 4;
-    fw.remotes = vec![seven_i76_on(0, 0)];
-    fw
+    )
 }
 
 /// What distinguishes one board from another.

@@ -3,6 +3,8 @@
 //! driven cycle by cycle without threads.
 
 use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
+
+use super::Named as _;
 use hostmot2::board::Board;
 use hostmot2::config;
 use hostmot2::eth::boards::lookup;
@@ -64,6 +66,16 @@ pub struct EthRig {
     pub host: Host,
 }
 
+impl super::Named for EthRig {
+    fn host(&self) -> &Host {
+        &self.host
+    }
+
+    fn prefix(&self) -> &str {
+        &self.prefix
+    }
+}
+
 impl EthRig {
     /// Registers the simulated board `preset` with `config`.
     pub fn new(tag: &str, preset: &str, config: &str) -> EthRig {
@@ -123,38 +135,6 @@ impl EthRig {
         for _ in 0..n {
             self.cycle();
         }
-    }
-
-    fn full(&self, name: &str) -> String {
-        format!("{}.{name}", self.prefix)
-    }
-
-    /// Sets pin `<prefix>.<name>`.
-    pub fn set_pin(&self, name: &str, v: Value) {
-        self.host.instance().set_pin(&self.full(name), v).unwrap();
-    }
-
-    /// Sets param `<prefix>.<name>`.
-    pub fn set_param(&self, name: &str, v: Value) {
-        self.host.instance().set_param(&self.full(name), v).unwrap();
-    }
-
-    /// Sets pin or param `<prefix>.<name>`.
-    pub fn set(&self, name: &str, v: Value) {
-        let i = self.host.instance();
-        if i.set_pin(&self.full(name), v).is_err() {
-            i.set_param(&self.full(name), v).unwrap();
-        }
-    }
-
-    /// Pin `<prefix>.<name>`.
-    pub fn pin(&self, name: &str) -> Value {
-        self.host.instance().pin_value(&self.full(name)).unwrap()
-    }
-
-    /// Param `<prefix>.<name>`.
-    pub fn param(&self, name: &str) -> Value {
-        self.host.instance().param_value(&self.full(name)).unwrap()
     }
 
     /// A register of the simulated board, once it has executed every

@@ -32,6 +32,87 @@ pub struct Rig {
     pub host: Host,
 }
 
+/// HAL objects of a board, by their names after its prefix.
+pub trait Named {
+    /// The host.
+    fn host(&self) -> &Host;
+    /// The board's prefix (`hm2_5i25.0`).
+    fn prefix(&self) -> &str;
+
+    /// `<prefix>.<name>`.
+    fn full(&self, name: &str) -> String {
+        format!("{}.{name}", self.prefix())
+    }
+
+    /// Sets pin `<prefix>.<name>`.
+    fn set_pin(&self, name: &str, v: Value) {
+        self.host().instance().set_pin(&self.full(name), v).unwrap();
+    }
+
+    /// Sets param `<prefix>.<name>`.
+    fn set_param(&self, name: &str, v: Value) {
+        self.host()
+            .instance()
+            .set_param(&self.full(name), v)
+            .unwrap();
+    }
+
+    /// Sets pin or param `<prefix>.<name>`.
+    fn set(&self, name: &str, v: Value) {
+        let i = self.host().instance();
+        if i.set_pin(&self.full(name), v).is_err() {
+            i.set_param(&self.full(name), v).unwrap();
+        }
+    }
+
+    /// Pin `<prefix>.<name>`.
+    fn pin(&self, name: &str) -> Value {
+        self.host().instance().pin_value(&self.full(name)).unwrap()
+    }
+
+    /// Param `<prefix>.<name>`.
+    fn param(&self, name: &str) -> Value {
+        self.host()
+            .instance()
+            .param_value(&self.full(name))
+            .unwrap()
+    }
+
+    /// A bit pin.
+    fn bit(&self, name: &str) -> bool {
+        match self.pin(name) {
+            Value::Bit(b) => b,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+
+    /// A float pin.
+    fn float(&self, name: &str) -> f64 {
+        match self.pin(name) {
+            Value::Float(f) => f,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+
+    /// An s32 pin.
+    fn s32(&self, name: &str) -> i32 {
+        match self.pin(name) {
+            Value::S32(v) => v,
+            v => panic!("{name} is {v:?}"),
+        }
+    }
+}
+
+impl Named for Rig {
+    fn host(&self) -> &Host {
+        &self.host
+    }
+
+    fn prefix(&self) -> &str {
+        &self.prefix
+    }
+}
+
 impl Rig {
     /// Registers a board running `spec` wired to `world`, with `config`.
     pub fn new(tag: &str, spec: FirmwareSpec, world: Box<dyn World>, config: &str) -> Rig {
@@ -75,54 +156,6 @@ impl Rig {
     pub fn cycles(&mut self, n: usize) {
         for _ in 0..n {
             self.cycle();
-        }
-    }
-
-    fn full(&self, name: &str) -> String {
-        format!("{}.{name}", self.prefix)
-    }
-
-    /// Sets pin `<prefix>.<name>`.
-    pub fn set_pin(&self, name: &str, v: Value) {
-        self.host.instance().set_pin(&self.full(name), v).unwrap();
-    }
-
-    /// Sets param `<prefix>.<name>`.
-    pub fn set_param(&self, name: &str, v: Value) {
-        self.host.instance().set_param(&self.full(name), v).unwrap();
-    }
-
-    /// Pin `<prefix>.<name>`.
-    pub fn pin(&self, name: &str) -> Value {
-        self.host.instance().pin_value(&self.full(name)).unwrap()
-    }
-
-    /// Param `<prefix>.<name>`.
-    pub fn param(&self, name: &str) -> Value {
-        self.host.instance().param_value(&self.full(name)).unwrap()
-    }
-
-    /// A bit pin.
-    pub fn bit(&self, name: &str) -> bool {
-        match self.pin(name) {
-            Value::Bit(b) => b,
-            v => panic!("{name} is {v:?}"),
-        }
-    }
-
-    /// A float pin.
-    pub fn float(&self, name: &str) -> f64 {
-        match self.pin(name) {
-            Value::Float(f) => f,
-            v => panic!("{name} is {v:?}"),
-        }
-    }
-
-    /// An s32 pin.
-    pub fn s32(&self, name: &str) -> i32 {
-        match self.pin(name) {
-            Value::S32(v) => v,
-            v => panic!("{name} is {v:?}"),
         }
     }
 

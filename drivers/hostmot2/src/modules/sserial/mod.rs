@@ -260,22 +260,21 @@ impl Sserial {
             let chan = r.channel as u32;
             let at = |reg_index: usize| md.inst_reg(reg_index, i as usize) + 4 * chan;
             let (in_bits, out_bits) = r.widths();
-            let cs_read = x.tram.add_read(at(reg::CS), 1);
             // The interface registers are 4 bytes apart per channel but a
-            // register stride apart from each other: one region each.
-            let in_read = (0..in_bits.div_ceil(32))
-                .map(|k| x.tram.add_read(at(reg::INTERFACE0 + k), 1))
-                .reduce(|a, b| Slot {
-                    start: a.start,
-                    words: a.words + b.words,
-                });
+            // register stride apart from each other: one region each, in
+            // a row of the TRAM buffer.
+            let interfaces = |bits: usize, add: &mut dyn FnMut(u32) -> Slot| {
+                (0..bits.div_ceil(32))
+                    .map(|k| add(at(reg::INTERFACE0 + k)))
+                    .reduce(|a, b| Slot {
+                        start: a.start,
+                        words: a.words + b.words,
+                    })
+            };
+            let cs_read = x.tram.add_read(at(reg::CS), 1);
+            let in_read = interfaces(in_bits, &mut |a| x.tram.add_read(a, 1));
             let cs_write = x.tram.add_write(at(reg::CS), 1);
-            let out_write = (0..out_bits.div_ceil(32))
-                .map(|k| x.tram.add_write(at(reg::INTERFACE0 + k), 1))
-                .reduce(|a, b| Slot {
-                    start: a.start,
-                    words: a.words + b.words,
-                });
+            let out_write = interfaces(out_bits, &mut |a| x.tram.add_write(a, 1));
             let (mut at_in, mut at_out) = (0, 0);
             let mut fields = Vec::new();
             for rec in &r.process {
