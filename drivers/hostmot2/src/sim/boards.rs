@@ -131,16 +131,7 @@ fn five_i25_7i77() -> FirmwareSpec {
     }
     pins.extend(std::iter::repeat_n(gpio(), 4));
     let mut fw = firmware(
-        Identity {
-            board: "5i25",
-            idrom_name: "MESA5I25",
-            fpga_part: "6slx9tqg144",
-            fpga_size: 9,
-            fpga_pins: 144,
-            connectors: &["P3", "P2"],
-            port_width: 17,
-            clock_low: 100_000_000,
-        },
+        FIVE_I25,
         vec![
             ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
             ModuleSpec::standard(gtag::IOPORT, 0, 2),
@@ -223,6 +214,18 @@ struct Identity {
     clock_low: u32,
 }
 
+/// The 5i25's identity, shared by its two personalities.
+const FIVE_I25: Identity = Identity {
+    board: "5i25",
+    idrom_name: "MESA5I25",
+    fpga_part: "6slx9tqg144",
+    fpga_size: 9,
+    fpga_pins: 144,
+    connectors: &["P3", "P2"],
+    port_width: 17,
+    clock_low: 100_000_000,
+};
+
 /// A board's firmware: its identity, 2 LEDs, ClockHigh 200 MHz.
 fn firmware(id: Identity, modules: Vec<ModuleSpec>, pins: Vec<PinDescriptor>) -> FirmwareSpec {
     let mut board_name = [b' '; 8];
@@ -259,16 +262,7 @@ fn five_i25() -> FirmwareSpec {
         pins.extend(std::iter::repeat_n(gpio(), 4));
     }
     firmware(
-        Identity {
-            board: "5i25",
-            idrom_name: "MESA5I25",
-            fpga_part: "6slx9tqg144",
-            fpga_size: 9,
-            fpga_pins: 144,
-            connectors: &["P3", "P2"],
-            port_width: 17,
-            clock_low: 100_000_000,
-        },
+        FIVE_I25,
         vec![
             ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
             ModuleSpec::standard(gtag::IOPORT, 0, 2),

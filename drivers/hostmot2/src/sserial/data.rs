@@ -49,6 +49,20 @@ fn full(len: u8) -> f64 {
     ((1u64 << len.clamp(1, 32)) - 1) as f64
 }
 
+/// `value` clamped to `min..=max` (NaN as 0), or `None` when `scalemax`
+/// cannot scale it (0 or not finite: the field is sent as 0).
+#[inline]
+fn limited(value: f64, scalemax: f64, min: f64, max: f64) -> Option<f64> {
+    if scalemax == 0.0 || !scalemax.is_finite() {
+        return None;
+    }
+    Some(if value.is_nan() {
+        0.0
+    } else {
+        value.max(min).min(max)
+    })
+}
+
 /// An unsigned field's value.
 #[inline]
 pub fn unsigned_value(raw: u64, len: u8, scalemax: f64) -> f64 {
@@ -58,14 +72,9 @@ pub fn unsigned_value(raw: u64, len: u8, scalemax: f64) -> f64 {
 /// An unsigned field's raw bits for `value`, clamped to `min..=max`.
 #[inline]
 pub fn unsigned_raw(value: f64, len: u8, scalemax: f64, min: f64, max: f64) -> u64 {
-    let v = if value.is_nan() {
-        0.0
-    } else {
-        value.max(min).min(max)
-    };
-    if scalemax == 0.0 || !scalemax.is_finite() {
+    let Some(v) = limited(value, scalemax, min, max) else {
         return 0;
-    }
+    };
     (v / scalemax * full(len)).round().clamp(0.0, full(len)) as u64
 }
 
@@ -81,14 +90,9 @@ pub fn signed_value(raw: u64, len: u8, scalemax: f64) -> f64 {
 #[inline]
 pub fn signed_raw(value: f64, len: u8, scalemax: f64, min: f64, max: f64) -> u64 {
     let len = len.clamp(1, 32) as u32;
-    let v = if value.is_nan() {
-        0.0
-    } else {
-        value.max(min).min(max)
-    };
-    if scalemax == 0.0 || !scalemax.is_finite() {
+    let Some(v) = limited(value, scalemax, min, max) else {
         return 0;
-    }
+    };
     let x = (v / scalemax * i32::MAX as f64).clamp(i32::MIN as f64, i32::MAX as f64) as i32;
     let mask = if len == 32 {
         u32::MAX
