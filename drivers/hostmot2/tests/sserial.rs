@@ -141,10 +141,13 @@ fn the_7i76_moves_its_process_data_both_ways() {
     r.cycles(2);
     // 4 of a 20 V full scale is 2 V at a card whose full scale is 10 V.
     assert!((r.remote(0, 0, |c| c.value("SpinOut")).unwrap() - 2.0).abs() < 1e-3);
-    // The inputs of a cycle arrive with the next read.
-    r.remote(0, 0, |c| c.set_value("Input", 0.0));
+    // The inputs of a cycle arrive with the next read. The change is
+    // made after this cycle's round trip: by then the board has handled
+    // the last write (writes get no reply) and its transfer has sampled
+    // the old inputs.
     r.board.read_request();
     r.board.read();
+    r.remote(0, 0, |c| c.set_value("Input", 0.0));
     r.board.write(common::PERIOD);
     assert_eq!(
         r.pin(&format!("{card}.input-05")),
