@@ -59,7 +59,21 @@ fn every_binary_is_packaged_and_nothing_is_setuid() {
     let deb = deb_table();
     assert_eq!(deb["name"].as_str(), Some("hal-suite"));
     let assets = assets(&deb);
-    for entry in std::fs::read_dir(crate_dir().join("src/bin")).unwrap() {
+    // The tools' own programs and the drivers' user-space programs
+    // (hy_vfd, canservo-sim, ...).
+    let mut bin_dirs = vec![crate_dir().join("src/bin")];
+    for driver in std::fs::read_dir(crate_dir().join("../drivers")).unwrap() {
+        let dir = driver.unwrap().path().join("src/bin");
+        if dir.is_dir() {
+            bin_dirs.push(dir);
+        }
+    }
+    let bins = bin_dirs
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap())
+        .collect::<Vec<_>>();
+    assert!(bins.len() > 20, "found only {} programs", bins.len());
+    for entry in bins {
         let file = entry.unwrap().file_name().into_string().unwrap();
         let bin = file.trim_end_matches(".rs");
         let src = format!("target/release/{bin}");
