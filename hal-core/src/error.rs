@@ -145,6 +145,33 @@ pub enum HalError {
         /// The instance name.
         instance: String,
     },
+    /// The runtime directory is unsafe or unusable: someone other than
+    /// its owner and the hal group could write into it, or it belongs to
+    /// neither root nor this user.
+    #[error("refusing the runtime directory {path}: {reason}")]
+    RuntimeDir {
+        /// The directory.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// No private runtime directory could be chosen for this user.
+    #[error("no private runtime directory for uid {uid}: XDG_RUNTIME_DIR is not set and /run/user/{uid} does not exist; set HAL_RUNTIME_DIR to a directory only you may write (mkdir -m 700 DIR)")]
+    NoRuntimeDir {
+        /// The user.
+        uid: u32,
+    },
+    /// The system refused access to an instance's file: says who may use
+    /// the instance and how to become one of them.
+    #[error("{op} {path}: permission denied: {advice}")]
+    PermissionDenied {
+        /// What was being done.
+        op: &'static str,
+        /// The file refused.
+        path: PathBuf,
+        /// Whose it is and how to be let in.
+        advice: String,
+    },
     /// An operating-system operation failed: on the segment, the lock
     /// file or the socket, or starting a thread (then `path` is empty).
     #[error("{op} {path}: {source}")]

@@ -19,6 +19,7 @@ pub mod handles;
 pub mod module;
 pub mod name;
 mod objects;
+pub mod paths;
 pub mod ring;
 pub mod rtlog;
 pub mod seqlock;
@@ -43,5 +44,5 @@ pub use objects::{
 pub use ring::{RingReader, RingWriter, MAX_TYPED_COLUMNS};
 pub use rtlog::{MsgLevel, RtLog};
 pub use seqlock::{SeqLockReader, SeqLockWriter};
-pub use shm::{latency_bucket, latency_bucket_floor_us, paths};
+pub use shm::{latency_bucket, latency_bucket_floor_us};
 pub use types::{HalType, ParamDir, PinDir, PinValue, Value};

@@ -2,7 +2,7 @@
 //! told to shut down or signalled, then brings everything to a safe state.
 
 use std::io::{BufRead, BufReader, Write};
-use std::os::unix::net::{UnixListener, UnixStream};
+use std::os::unix::net::UnixStream;
 use std::sync::atomic::{AtomicBool, Ordering::SeqCst};
 use std::sync::Mutex;
 use std::time::Duration;
@@ -43,11 +43,9 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
         .advance_component_ids(4)
         .map_err(|e| e.to_string())?;
     let registry = registry();
-    let sock = paths::socket(&instance);
+    let sock = paths::socket(&instance).map_err(|e| e.to_string())?;
     // We hold the instance lock, so a socket file here is stale.
-    let _ = std::fs::remove_file(&sock);
-    let listener = UnixListener::bind(&sock)
-        .map_err(|e| format!("binding the control socket {}: {e}", sock.display()))?;
+    let listener = paths::bind_socket(&sock).map_err(|e| format!("control socket: {e}"))?;
     listener
         .set_nonblocking(true)
         .map_err(|e| format!("control socket: {e}"))?;

@@ -59,15 +59,12 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
     }
     if detached {
         // A detached host writes its notes to a log beside its socket.
-        let log_path = log_path(instance);
-        let log = std::fs::OpenOptions::new()
-            .create(true)
-            .append(true)
-            .open(&log_path)
-            .map_err(|e| format!("opening {}: {e}", log_path.display()))?;
+        hal_core::paths::ensure_runtime_dir().map_err(|e| e.to_string())?;
+        let log_path = log_path(instance)?;
+        let log = hal_core::paths::create_log(&log_path).map_err(|e| e.to_string())?;
         let log2 = log
             .try_clone()
-            .map_err(|e| format!("opening {}: {e}", log_path.display()))?;
+            .map_err(|e| format!("{}: {e}", log_path.display()))?;
         cmd.stdin(Stdio::null()).stdout(log).stderr(log2);
         // SAFETY: setsid is async-signal-safe and touches no memory of ours.
         unsafe {
@@ -83,7 +80,17 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
     let end = std::time::Instant::now() + Duration::from_secs(20);
     loop {
         if let Ok(Some(status)) = child.try_wait() {
-            return Err(format!("the HAL host exited at start-up ({status})"));
+            // A detached host said why in its log.
+            let why = if detached {
+                log_path(instance)
+                    .ok()
+                    .and_then(|p| std::fs::read_to_string(p).ok())
+                    .map(|t| format!(": {}", t.trim_end()))
+                    .unwrap_or_default()
+            } else {
+                String::new()
+            };
+            return Err(format!("the HAL host exited at start-up ({status}){why}"));
         }
         match Client::wait_for(instance, Duration::from_millis(100)) {
             Ok(_) => return Ok(child),
@@ -98,8 +105,8 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
 }
 
 /// Where a detached host of `instance` writes its messages.
-pub fn log_path(instance: &str) -> PathBuf {
-    hal_core::paths::socket(instance).with_extension("log")
+pub fn log_path(instance: &str) -> Result<PathBuf, String> {
+    hal_core::paths::log(instance).map_err(|e| e.to_string())
 }
 
 /// Asks the host of `instance` to stop everything and exit, and waits up

@@ -38,6 +38,9 @@ pub enum ClientError {
         /// The offending word.
         arg: String,
     },
+    /// The runtime directory or the socket's permissions refused us.
+    #[error(transparent)]
+    Hal(hal_core::HalError),
     /// The host answered `err` with this message.
     #[error("{0}")]
     Refused(String),
@@ -86,12 +89,15 @@ pub struct Client {
 impl Client {
     /// Connects to the host of `instance`.
     pub fn connect(instance: &str) -> Result<Client, ClientError> {
-        let path = paths::socket(instance);
+        let path = paths::socket(instance).map_err(ClientError::Hal)?;
         let stream = UnixStream::connect(&path).map_err(|e| match e.kind() {
             std::io::ErrorKind::NotFound | std::io::ErrorKind::ConnectionRefused => {
                 ClientError::NotRunning {
                     instance: instance.to_string(),
                 }
+            }
+            std::io::ErrorKind::PermissionDenied => {
+                ClientError::Hal(paths::denied("connecting to", &path))
             }
             _ => ClientError::Io {
                 path: path.clone(),

@@ -24,8 +24,9 @@ use crate::objects::funct::{
     remove_entry_tx, NewThread,
 };
 use crate::objects::{validate_instance_name, Component, ComponentKind, HostLock, Instance};
+use crate::paths;
 use crate::rtlog::{RtLog, RtLogService};
-use crate::shm::{paths, FunctRec, Segment, ThreadRec};
+use crate::shm::{FunctRec, Segment, ThreadRec};
 
 /// Default size of the shared segment: 32 MiB, sixteen times LinuxCNC's.
 pub const DEFAULT_SHM_SIZE: u64 = 32 << 20;
@@ -170,7 +171,7 @@ impl Host {
         let lock = HostLock::acquire(&config.instance)?;
         let mut notes = Vec::new();
         let seg_path = paths::segment(&config.instance);
-        if seg_path.exists() {
+        if std::fs::symlink_metadata(&seg_path).is_ok() {
             // We hold the lock, so whoever made this is gone.
             std::fs::remove_file(&seg_path)
                 .map_err(|e| HalError::io("removing stale segment", &seg_path, e))?;

@@ -2,12 +2,12 @@
 //! would lie across PID namespaces and after reuse; a held flock cannot
 //! outlive its holder.
 
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::os::fd::AsRawFd;
-use std::os::unix::fs::{MetadataExt, OpenOptionsExt};
+use std::os::unix::fs::MetadataExt;
 
 use crate::error::{HalError, Result};
-use crate::shm::paths;
+use crate::paths;
 
 fn flock(f: &File, op: libc::c_int) -> std::io::Result<()> {
     // SAFETY: flock on a file descriptor we own; no memory is involved.
@@ -21,10 +21,13 @@ fn flock(f: &File, op: libc::c_int) -> std::io::Result<()> {
 
 /// True if some process holds the instance's lock file.
 pub(crate) fn host_alive(instance: &str) -> Result<bool> {
-    let path = paths::lock(instance);
-    let f = match File::open(&path) {
+    let path = paths::lock(instance)?;
+    let f = match paths::open_existing(&path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+            return Err(paths::denied("opening host lock file", &path))
+        }
         Err(e) => return Err(HalError::io("opening host lock file", &path, e)),
     };
     match flock(&f, libc::LOCK_SH) {
@@ -43,21 +46,34 @@ pub(crate) struct HostLock {
 }
 
 impl HostLock {
-    /// Takes the instance's lock, or fails with `AlreadyRunning`.
+    /// Takes the instance's lock, or fails with `AlreadyRunning`. Creates
+    /// the runtime directory if needed; a new lock file is created
+    /// exclusively and given to the hal group, one left by a dead host is
+    /// reused only if it is a plain file (a planted link or FIFO is
+    /// refused).
     pub(crate) fn acquire(instance: &str) -> Result<HostLock> {
-        let path = paths::lock(instance);
+        paths::ensure_runtime_dir()?;
+        let path = paths::lock(instance)?;
+        let group = paths::HalGroup::lookup();
         // The file may be unlinked by an exiting host between our open and
         // our flock; then we would hold a lock on a dead inode. Retry until
         // the locked file is the one at the path.
         for _ in 0..100 {
-            let file = OpenOptions::new()
-                .read(true)
-                .write(true)
-                .create(true)
-                .truncate(false)
-                .mode(0o664)
-                .open(&path)
-                .map_err(|e| HalError::io("creating host lock file", &path, e))?;
+            let (file, created) = match paths::create_new(&path) {
+                Ok(f) => (f, true),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    match paths::open_existing(&path) {
+                        Ok(f) => (f, false),
+                        // Removed meanwhile by an exiting host: try again.
+                        Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
+                        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+                            return Err(paths::denied("opening host lock file", &path))
+                        }
+                        Err(e) => return Err(HalError::io("opening host lock file", &path, e)),
+                    }
+                }
+                Err(e) => return Err(HalError::io("creating host lock file", &path, e)),
+            };
             match flock(&file, libc::LOCK_EX) {
                 Ok(()) => {}
                 Err(e) if e.raw_os_error() == Some(libc::EWOULDBLOCK) => {
@@ -70,9 +86,17 @@ impl HostLock {
             let held = file
                 .metadata()
                 .map_err(|e| HalError::io("checking host lock file", &path, e))?;
-            match std::fs::metadata(&path) {
+            match std::fs::symlink_metadata(&path) {
                 Ok(m) if m.ino() == held.ino() && m.dev() == held.dev() => {
-                    return Ok(HostLock { file, path })
+                    // A dead host's file keeps its owner; ours (or root's)
+                    // is given to the group, so members can test it.
+                    if created
+                        || held.uid() == nix::unistd::geteuid().as_raw()
+                        || nix::unistd::geteuid().is_root()
+                    {
+                        paths::share_fd(&file, &group, &path)?;
+                    }
+                    return Ok(HostLock { file, path });
                 }
                 _ => continue,
             }

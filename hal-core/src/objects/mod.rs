@@ -40,6 +40,9 @@ impl Instance {
     pub fn attach(name: &str) -> Result<Instance> {
         validate_instance_name(name)?;
         if !liveness::host_alive(name)? {
+            // A user outside the hal group may not see the lock of a
+            // running host at all; its segment tells them why.
+            Segment::check_access(name)?;
             return Err(HalError::NotRunning {
                 instance: name.to_string(),
             });

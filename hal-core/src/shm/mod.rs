@@ -12,5 +12,4 @@ pub(crate) use alloc::BlockKind;
 pub(crate) use journal::{blob_words as blob_words_of, Txn};
 pub(crate) use layout::*;
 pub use layout::{latency_bucket, latency_bucket_floor_us};
-pub use segment::paths;
 pub(crate) use segment::Segment;

@@ -10,33 +10,7 @@ use memmap2::{MmapOptions, MmapRaw};
 
 use super::layout::*;
 use crate::error::{HalError, Result};
-
-/// Where an instance's files live.
-pub mod paths {
-    use std::path::PathBuf;
-
-    /// The shared-memory segment (a file in /dev/shm).
-    pub fn segment(instance: &str) -> PathBuf {
-        PathBuf::from(format!("/dev/shm/hal-{instance}"))
-    }
-
-    fn runtime_dir() -> PathBuf {
-        std::env::var_os("XDG_RUNTIME_DIR")
-            .map(PathBuf::from)
-            .filter(|p| p.is_dir())
-            .unwrap_or_else(std::env::temp_dir)
-    }
-
-    /// The lock file the host holds with flock while alive.
-    pub fn lock(instance: &str) -> PathBuf {
-        runtime_dir().join(format!("hal-{instance}.lock"))
-    }
-
-    /// The host's control socket.
-    pub fn socket(instance: &str) -> PathBuf {
-        runtime_dir().join(format!("hal-{instance}.sock"))
-    }
-}
+use crate::paths;
 
 /// A mapped segment. Shared between threads of one process; each process
 /// maps it at its own address, so nothing in it is a pointer.
@@ -73,14 +47,12 @@ impl Segment {
                 reason: format!("{size} bytes is below the minimum of {min}"),
             });
         }
-        let file = OpenOptions::new()
-            .read(true)
-            .write(true)
-            .create_new(true)
-            .mode(0o660)
-            .open(&path)
+        // Exclusive and without following links: a file planted at the
+        // name (by a squatter) makes this fail instead of being used.
+        let file = paths::create_new(&path)
             .map_err(|e| HalError::io("creating shared memory segment", &path, e))?;
-        let seg = Self::init_file(instance, &path, file, size);
+        let seg = paths::share_fd(&file, &paths::HalGroup::lookup(), &path)
+            .and_then(|()| Self::init_file(instance, &path, file, size));
         if seg.is_err() {
             let _ = std::fs::remove_file(&path);
         }
@@ -124,6 +96,23 @@ impl Segment {
         Ok(seg)
     }
 
+    /// Fails with the hal group's advice if the segment of `instance`
+    /// exists but this user may not open it.
+    pub(crate) fn check_access(instance: &str) -> Result<()> {
+        let path = paths::segment(instance);
+        match OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
+            .open(&path)
+        {
+            Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+                Err(paths::denied("opening shared memory segment", &path))
+            }
+            _ => Ok(()),
+        }
+    }
+
     /// Maps an existing segment and checks its header.
     pub(crate) fn attach(instance: &str) -> Result<Segment> {
         let path = paths::segment(instance);
@@ -138,6 +127,9 @@ impl Segment {
         {
             Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(not_running()),
+            Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+                return Err(paths::denied("opening shared memory segment", &path))
+            }
             Err(e) => return Err(HalError::io("opening shared memory segment", &path, e)),
         };
         let len = file

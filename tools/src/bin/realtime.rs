@@ -40,7 +40,9 @@ fn start(instance: &str) -> i32 {
             std::mem::forget(child);
             eprintln!(
                 "realtime: started for instance '{instance}', messages go to {}",
-                hal_tools::launch::log_path(instance).display()
+                hal_tools::launch::log_path(instance)
+                    .unwrap_or_default()
+                    .display()
             );
             0
         }

@@ -464,8 +464,10 @@ fn run_on_host(
     };
     side.files_of(&mut session, "POSTGUI_HALFILE")?;
     report_skipped(ini, &startup.rules.borrow(), &inst);
-    let mut server = task_socket::TaskServer::bind(instance)
-        .map_err(|e| LaunchError::read(&task_socket::socket_path(instance), e))?;
+    let mut server = task_socket::TaskServer::bind(instance).map_err(|e| {
+        let path = task_socket::socket_path(instance).unwrap_or_default();
+        LaunchError::read(&path, e)
+    })?;
     if let Some(m) = &mut motion {
         // Task starts in e-stop with motion disabled.
         let _ = m.disable();

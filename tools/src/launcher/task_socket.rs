@@ -13,8 +13,8 @@ const UNIT: char = '\u{1f}';
 const LINE: char = '\u{1e}';
 
 /// Where the launcher of `instance` listens.
-pub fn socket_path(instance: &str) -> PathBuf {
-    hal_core::paths::socket(instance).with_file_name(format!("hal-{instance}-task.sock"))
+pub fn socket_path(instance: &str) -> std::io::Result<PathBuf> {
+    hal_core::paths::runtime_file(instance, "-task.sock").map_err(std::io::Error::other)
 }
 
 /// A connection waiting for its answer.
@@ -39,9 +39,8 @@ impl TaskServer {
     /// Listens for `instance` (a stale socket file is replaced: the HAL
     /// host's lock, held by our host, says no other launcher runs).
     pub fn bind(instance: &str) -> std::io::Result<TaskServer> {
-        let path = socket_path(instance);
-        let _ = std::fs::remove_file(&path);
-        let listener = UnixListener::bind(&path)?;
+        let path = socket_path(instance)?;
+        let listener = hal_core::paths::bind_socket(&path).map_err(std::io::Error::other)?;
         listener.set_nonblocking(true)?;
         Ok(TaskServer {
             listener,
@@ -148,7 +147,7 @@ pub fn request(
     words: &[String],
     timeout: std::time::Duration,
 ) -> Result<Result<String, String>, TaskClientError> {
-    let path = socket_path(instance);
+    let path = socket_path(instance)?;
     let mut s = UnixStream::connect(&path).map_err(|e| match e.kind() {
         ErrorKind::NotFound | ErrorKind::ConnectionRefused => TaskClientError::NotRunning {
             instance: instance.to_string(),
