@@ -52,6 +52,7 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     ready();
     let stop = AtomicBool::new(false);
     let exec_lock = Mutex::new(());
+    let held_open = Mutex::new(Vec::new());
     let result = std::thread::scope(|scope| loop {
         if signals.requested() || stop.load(SeqCst) {
             stop.store(true, SeqCst);
@@ -65,6 +66,7 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
                     stop: &stop,
                     exec_lock: &exec_lock,
                     signals: &signals,
+                    held_open: &held_open,
                 };
                 scope.spawn(move || ctx.handle(stream));
             }
@@ -80,6 +82,12 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     drop(listener);
     let _ = std::fs::remove_file(&sock);
     host.shutdown();
+    // Dropping the host releases the instance lock last of all.
+    drop(host);
+    // Whoever asked for the shutdown sees its connection close only now,
+    // when segment, socket and lock are gone: `realtime stop` waits for
+    // that, so a `realtime start` right after it finds the instance free.
+    drop(held_open);
     result
 }
 
@@ -91,6 +99,8 @@ struct Ctx<'a> {
     stop: &'a AtomicBool,
     exec_lock: &'a Mutex<()>,
     signals: &'a ExitSignals,
+    /// Connections that asked for the shutdown, closed once it is done.
+    held_open: &'a Mutex<Vec<UnixStream>>,
 }
 
 impl Ctx<'_> {
@@ -137,6 +147,9 @@ impl Ctx<'_> {
             let reply = encode_reply(&result);
             let _ = writer.write_all(format!("{reply}\n").as_bytes());
             if shutdown {
+                let mut held = self.held_open.lock().unwrap_or_else(|e| e.into_inner());
+                held.push(writer);
+                held.push(reader.into_inner());
                 self.stop.store(true, SeqCst);
                 return;
             }

@@ -110,18 +110,26 @@ pub fn log_path(instance: &str) -> Result<PathBuf, String> {
 }
 
 /// Asks the host of `instance` to stop everything and exit, and waits up
-/// to `limit` until it has.
+/// to `limit` until it has released everything: its segment, its socket
+/// and its lock (the host closes our connection only after that). On
+/// success a new host can start for the instance at once.
 pub fn stop_host(instance: &str, limit: Duration) -> Result<(), ClientError> {
     let mut c = Client::connect(instance)?;
     c.call(&["shutdown".to_string()])?;
     let end = std::time::Instant::now() + limit;
-    while hal_core::Instance::attach(instance).is_ok() {
-        if std::time::Instant::now() > end {
-            return Err(ClientError::Refused(format!(
-                "the host of instance '{instance}' did not exit"
-            )));
-        }
-        std::thread::sleep(Duration::from_millis(10));
+    let closed = c.wait_closed(limit);
+    // The connection also closes if the host dies; then check that the
+    // lock is free (a dead host's segment is reclaimed by the next one).
+    let mut alive = hal_core::Instance::attach(instance).is_ok();
+    while closed && alive && std::time::Instant::now() < end {
+        std::thread::sleep(Duration::from_millis(5));
+        alive = hal_core::Instance::attach(instance).is_ok();
+    }
+    if !closed || alive {
+        return Err(ClientError::Refused(format!(
+            "the host of instance '{instance}' did not exit within {} s",
+            limit.as_secs_f64()
+        )));
     }
     Ok(())
 }

@@ -146,6 +146,32 @@ impl Client {
         decode_reply(&reply).map_err(ClientError::Refused)
     }
 
+    /// Waits up to `limit` for the host to close this connection (after a
+    /// `shutdown` it does so once it has released everything). Returns
+    /// false if the limit passed first.
+    pub fn wait_closed(&mut self, limit: Duration) -> bool {
+        let end = std::time::Instant::now() + limit;
+        let mut scratch = Vec::new();
+        loop {
+            let left = end.saturating_duration_since(std::time::Instant::now());
+            if left.is_zero() {
+                return false;
+            }
+            let _ = self.reader.get_ref().set_read_timeout(Some(left));
+            scratch.clear();
+            match self.reader.read_until(b'\n', &mut scratch) {
+                Ok(0) => return true,
+                Ok(_) => {}
+                Err(e)
+                    if e.kind() == std::io::ErrorKind::WouldBlock
+                        || e.kind() == std::io::ErrorKind::TimedOut
+                        || e.kind() == std::io::ErrorKind::Interrupted => {}
+                // A reset connection is a closed one.
+                Err(_) => return true,
+            }
+        }
+    }
+
     /// Waits up to `timeout` for the host of `instance` to accept requests.
     pub fn wait_for(instance: &str, timeout: Duration) -> Result<Client, ClientError> {
         let end = std::time::Instant::now() + timeout;

@@ -1,21 +1,35 @@
-//! realtime: start, stop or query the HAL host of the instance named by
-//! `HAL_INSTANCE` (LinuxCNC's tests call it through `$REALTIME`).
+//! realtime: start, stop, restart or query the HAL host of the instance
+//! named by `HAL_INSTANCE` (LinuxCNC's tests call it through `$REALTIME`).
+//!
+//! `stop` returns once the host has exited and released its segment,
+//! socket and lock (or says it could not within its limit), so `start`
+//! may follow at once; `restart` is the two in one.
 
 use std::time::Duration;
 
 use hal_core::{instance_from_env, Instance};
 use hal_tools::launch::{start_host, stop_host};
+use hal_tools::protocol::ClientError;
+
+/// How long `stop` waits for the host to release everything.
+const STOP_LIMIT: Duration = Duration::from_secs(20);
+
+const USAGE: &str = "usage: realtime start|stop|restart|status";
 
 fn main() {
     let instance = instance_from_env();
-    let cmd = std::env::args().nth(1).unwrap_or_default();
-    let code = match cmd.as_str() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let cmd = match args.as_slice() {
+        [one] => one.as_str(),
+        _ => "",
+    };
+    let code = match cmd {
         "start" => start(&instance),
-        "stop" => stop(&instance),
-        "restart" => {
-            let _ = stop(&instance);
-            start(&instance)
-        }
+        "stop" => stop(&instance, false),
+        "restart" => match stop(&instance, true) {
+            0 => start(&instance),
+            failed => failed,
+        },
         "status" => {
             if Instance::attach(&instance).is_ok() {
                 println!("realtime running for instance '{instance}'");
@@ -25,8 +39,12 @@ fn main() {
                 1
             }
         }
+        "-h" | "--help" => {
+            println!("{USAGE}");
+            0
+        }
         _ => {
-            eprintln!("usage: realtime start|stop|restart|status");
+            eprintln!("{USAGE}");
             2
         }
     };
@@ -38,11 +56,10 @@ fn start(instance: &str) -> i32 {
         // The host lives on in its own session; we do not wait for it.
         Ok(child) => {
             std::mem::forget(child);
+            let log = hal_tools::launch::log_path(instance).unwrap_or_default();
             eprintln!(
                 "realtime: started for instance '{instance}', messages go to {}",
-                hal_tools::launch::log_path(instance)
-                    .unwrap_or_default()
-                    .display()
+                log.display()
             );
             0
         }
@@ -53,9 +70,11 @@ fn start(instance: &str) -> i32 {
     }
 }
 
-fn stop(instance: &str) -> i32 {
-    match stop_host(instance, Duration::from_secs(10)) {
+/// Stops the host; `quiet_if_stopped` makes "not running" a success.
+fn stop(instance: &str, quiet_if_stopped: bool) -> i32 {
+    match stop_host(instance, STOP_LIMIT) {
         Ok(()) => 0,
+        Err(ClientError::NotRunning { .. }) if quiet_if_stopped => 0,
         Err(e) => {
             eprintln!("realtime: {e}");
             1
