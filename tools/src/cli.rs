@@ -18,6 +18,31 @@ pub struct HalcmdArgs {
     pub command: Vec<String>,
     /// `-e`: echo commands.
     pub echo: bool,
+    /// `-h [COMMAND]`: print the usage (or COMMAND's help) and exit.
+    pub help: Option<Option<String>>,
+}
+
+/// What `halcmd -h` prints: the options, then every command.
+pub fn halcmd_usage() -> String {
+    let mut text = String::from(
+        "Usage:\n  halcmd [options] [COMMAND [ARGS...]]\n\n\
+         Options:\n\
+         \x20 -e            echo each command before it runs\n\
+         \x20 -f [FILE]     read commands from FILE, one per line (standard input\n\
+         \x20               without FILE) instead of the command line\n\
+         \x20 -i INIFILE    replace [SECTION]KEY in commands by values from INIFILE\n\
+         \x20 -k            keep going after a command fails (the default is to stop)\n\
+         \x20 -q            print errors only (the default)\n\
+         \x20 -Q            print nothing\n\
+         \x20 -R            release the HAL lock after a crash (accepted: the lock\n\
+         \x20               recovers by itself here)\n\
+         \x20 -s            script-friendly output: no headers, one line per item\n\
+         \x20 -v, -V        verbose: report the result of every command\n\
+         \x20 -h [COMMAND]  print this help, or the help of COMMAND, and exit\n\n\
+         Commands:\n",
+    );
+    text.push_str(&crate::halcmd::format::help(None).unwrap_or_default());
+    text
 }
 
 /// Parses halcmd's options (`-f`, `-i`, `-k`, `-q`, `-Q`, `-s`, `-v`,
@@ -48,6 +73,10 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
             "-v" | "-V" => out.opts.verbose = true,
             "-e" => out.echo = true,
             "-R" => {}
+            "-h" => {
+                out.help = Some(args.get(i + 1).cloned());
+                return Ok(out);
+            }
             _ if a.starts_with('-') && out.command.is_empty() => {
                 return Err(format!("unknown option '{a}'"))
             }
@@ -64,7 +93,7 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
 /// Runs halcmd as its command line asks, on an attached instance. Returns
 /// the exit status.
 pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> i32 {
-    let mut stdout = std::io::stdout();
+    let mut stdout = crate::stdio::stdout();
     let mut stderr = std::io::stderr();
     let mut session = Session::new(inst, args.opts, &mut stdout, &mut stderr);
     if args.echo {
@@ -104,7 +133,7 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
     let mut pending = String::new();
     loop {
         if prompt {
-            print!("halcmd: ");
+            crate::out!("halcmd: ");
             let _ = std::io::stdout().flush();
         }
         let mut line = String::new();

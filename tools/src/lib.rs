@@ -22,3 +22,4 @@ pub mod port_probe;
 pub mod protocol;
 pub mod run_plot;
 pub mod scope;
+pub mod stdio;

@@ -67,7 +67,7 @@ impl HalGroup {
             || Group::from_gid(Gid::from_raw(gid))
                 .ok()
                 .flatten()
-                .is_some_and(|g| g.mem.iter().any(|m| *m == user.name))
+                .is_some_and(|g| g.mem.contains(&user.name))
     }
 }
 

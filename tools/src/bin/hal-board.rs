@@ -123,17 +123,17 @@ fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::List => {
             for line in board_tool::list(&sysfs) {
-                println!("{line}");
+                hal_tools::outln!("{line}");
             }
         }
         Command::Idrom { board } => {
             let b = Board::open(&board, &sysfs)?;
-            print!("{}", board_tool::idrom(&b)?);
+            hal_tools::out!("{}", board_tool::idrom(&b)?);
         }
         Command::Read { board, addr } => {
             let addr = board_tool::parse_address(&addr)?;
             let b = Board::open(&board, &sysfs)?;
-            println!("{:08X}", board_tool::read(&b, addr)?);
+            hal_tools::outln!("{:08X}", board_tool::read(&b, addr)?);
         }
         Command::Write { board, addr, value } => {
             let addr = board_tool::parse_address(&addr)?;
@@ -164,10 +164,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 let frame = board_tool::module_frame(&b, &m)?;
                 if tty {
                     // Redraw in place: home the cursor, clear the screen.
-                    print!("\x1b[H\x1b[2J{frame}");
+                    hal_tools::out!("\x1b[H\x1b[2J{frame}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    println!("{frame}");
+                    hal_tools::outln!("{frame}");
                 }
                 shown += 1;
             }

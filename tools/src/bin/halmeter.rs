@@ -1,6 +1,6 @@
 //! halmeter: watch one pin, signal or parameter live in a terminal.
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
@@ -23,7 +23,7 @@ fn run() -> Result<(), String> {
     let mut count: Option<u64> = None;
     let mut period = Duration::from_millis(100);
     let mut words = Vec::new();
-    let mut args = std::env::args().skip(1);
+    let mut args = hal_tools::stdio::args_or_exit("halmeter", 1).into_iter();
     while let Some(a) = args.next() {
         match a.as_str() {
             "-n" => {
@@ -41,7 +41,7 @@ fn run() -> Result<(), String> {
                 period = Duration::from_millis(ms.max(1));
             }
             "-h" | "--help" => {
-                println!("{USAGE}");
+                hal_tools::outln!("{USAGE}");
                 return Ok(());
             }
             _ => words.push(a),
@@ -57,8 +57,8 @@ fn run() -> Result<(), String> {
     };
     let exit = ExitSignals::install().map_err(|e| e.to_string())?;
     let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
-    let tty = std::io::stdout().is_terminal();
-    let mut out = std::io::stdout().lock();
+    let mut out = hal_tools::stdio::stdout();
+    let tty = out.is_terminal();
     let mut shown = 0u64;
     while count.is_none_or(|n| shown < n) && !exit.requested() {
         let (_, v) = read(&inst, kind, &name)?;

@@ -82,7 +82,10 @@ fn parse(args: &[String]) -> Result<Request, String> {
                 'e' | 'k' | 'q' | 's' | 'v' | 'R' | 'Q' | 'V' => {
                     r.halcmd_opts.push(format!("-{c}"))
                 }
-                'U' | 'h' => unreachable!("handled before parsing"),
+                // Alone they are handled before parsing; in a group of
+                // flags they make no sense.
+                'U' => return Err("-U must be the only argument".into()),
+                'h' => return Err("-h must be given alone".into()),
                 other => return Err(format!("unknown option -{other}")),
             }
         }
@@ -100,7 +103,7 @@ fn parse(args: &[String]) -> Result<Request, String> {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = hal_tools::stdio::args_or_exit("halrun", 1);
     let instance = instance_from_env();
     if args.first().map(String::as_str) == Some("-U") {
         if args.len() > 1 {
@@ -109,7 +112,7 @@ fn main() {
         std::process::exit(unload(&instance));
     }
     if args.iter().any(|a| a == "-h" || a == "--help") {
-        println!("{USAGE}");
+        hal_tools::outln!("{USAGE}");
         return;
     }
     let req = match parse(&args) {
@@ -219,7 +222,7 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
         verbose: req.halcmd_opts.iter().any(|o| o == "-v" || o == "-V"),
         ..launcher::Options::default()
     };
-    let (mut out, mut err) = (std::io::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
     let hopts = hal_tools::halcmd::Options {
         keep_going: opts.keep_going,
         verbose: opts.verbose,
@@ -269,7 +272,7 @@ fn with_session<R>(
     ini: Option<hal_tools::ini::Ini>,
     f: impl FnOnce(&mut Session<'_>) -> R,
 ) -> R {
-    let (mut out, mut err) = (std::io::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
     let opts = hal_tools::halcmd::Options {
         ini,
         ..Default::default()

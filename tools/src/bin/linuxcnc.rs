@@ -4,9 +4,9 @@
 use hal_tools::launcher::{parse_args, run, USAGE};
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = hal_tools::stdio::args_or_exit("linuxcnc", 1);
     if args.iter().any(|a| a == "-h" || a == "--help") {
-        println!("{USAGE}");
+        hal_tools::outln!("{USAGE}");
         return;
     }
     match parse_args(&args) {

@@ -292,11 +292,11 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
             }
         }
         if start.elapsed() >= limit {
-            println!(
+            hal_tools::outln!(
                 "timed out after {:.1} s waiting for {cond:?}",
                 limit.as_secs_f64()
             );
-            print!("{s}");
+            hal_tools::out!("{s}");
             return ExitCode::from(1);
         }
         std::thread::sleep(Duration::from_millis(2));
@@ -444,7 +444,7 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
     while i < args.len() {
         match args[i].as_str() {
             "-h" | "--help" => {
-                print!("{HELP}");
+                hal_tools::out!("{HELP}");
                 return Ok(ExitCode::SUCCESS);
             }
             "-i" | "--instance" => {
@@ -455,11 +455,13 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
                 i += 2;
             }
             "-t" | "--timeout" => {
-                let s = float(args.get(i + 1), "--timeout")?;
-                if !(s.is_finite() && s > 0.0) {
-                    return Err(Usage("--timeout must be a positive number".into()));
-                }
-                timeout = Some(Duration::from_secs_f64(s));
+                let text = args.get(i + 1).map_or("", String::as_str);
+                // A year at most: far beyond any wait, and an Instant
+                // that far ahead still exists.
+                timeout = Some(
+                    hal_tools::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0)
+                        .map_err(Usage)?,
+                );
                 i += 2;
             }
             _ => break,
@@ -576,7 +578,7 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
         Action::Send(cmd) => Ok(send(&mut client, cmd)),
         Action::Status => match client.status() {
             Ok(s) => {
-                print!("{s}");
+                hal_tools::out!("{s}");
                 Ok(ExitCode::SUCCESS)
             }
             Err(e) => {
@@ -589,7 +591,7 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
             loop {
                 match client.status() {
                     // Home the cursor and clear, then the snapshot.
-                    Ok(s) => print!("\x1b[H\x1b[2J{s}"),
+                    Ok(s) => hal_tools::out!("\x1b[H\x1b[2J{s}"),
                     Err(e) => {
                         eprintln!("motion-cmd: {e}");
                         return Ok(ExitCode::from(2));
@@ -611,18 +613,18 @@ fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
 fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
     match client.send(cmd) {
         Ok(a) => {
-            println!("accepted (serial {})", a.serial);
+            hal_tools::outln!("accepted (serial {})", a.serial);
             ExitCode::SUCCESS
         }
         Err(r) => {
-            println!("{r}");
+            hal_tools::outln!("{r}");
             ExitCode::from(1)
         }
     }
 }
 
 fn main() -> ExitCode {
-    match run(std::env::args().skip(1).collect()) {
+    match run(hal_tools::stdio::args_or_exit("motion-cmd", 2)) {
         Ok(c) => c,
         Err(Usage(m)) => {
             eprintln!("motion-cmd: {m} (see motion-cmd --help)");

@@ -20,7 +20,7 @@ PORT is a hal_parport cfg string for one port, e.g. 0, 0x378, \"0 x\",
 in x mode, which needs open-collector control lines).";
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = hal_tools::stdio::args_or_exit("parport-tool", 1);
     let code = match run(&args) {
         Ok(code) => code,
         Err(e) => {
@@ -36,10 +36,12 @@ fn run(args: &[String]) -> Result<i32, String> {
         Some("list") => {
             let ports = list();
             if ports.is_empty() {
-                println!("no parallel ports registered with Linux (is parport_pc loaded?)");
+                hal_tools::outln!(
+                    "no parallel ports registered with Linux (is parport_pc loaded?)"
+                );
             }
             for p in ports {
-                println!("{p}");
+                hal_tools::outln!("{p}");
             }
             Ok(0)
         }
@@ -55,7 +57,7 @@ fn run(args: &[String]) -> Result<i32, String> {
             };
             let exit = ExitSignals::install().map_err(|e| e.to_string())?;
             let tty = std::io::stdout().is_terminal();
-            println!(
+            hal_tools::outln!(
                 "{} ({} mode): pin:level",
                 port.description,
                 port.mode.name()
@@ -64,16 +66,16 @@ fn run(args: &[String]) -> Result<i32, String> {
             while count.is_none_or(|n| shown < n) && !exit.requested() {
                 let line = format_inputs(port.mode, &port.driver.read());
                 if tty {
-                    print!("\r{line}");
+                    hal_tools::out!("\r{line}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    println!("{line}");
+                    hal_tools::outln!("{line}");
                 }
                 shown += 1;
                 std::thread::sleep(Duration::from_millis(100));
             }
             if tty {
-                println!();
+                hal_tools::outln!();
             }
             Ok(0)
         }
@@ -101,7 +103,7 @@ fn run(args: &[String]) -> Result<i32, String> {
                 levels.push((pin, high));
             }
             port.driver.write(&outputs_for(&levels));
-            println!("{}: outputs set; other outputs low", port.description);
+            hal_tools::outln!("{}: outputs set; other outputs low", port.description);
             Ok(0)
         }
         Some("selftest") => {
@@ -115,7 +117,7 @@ fn run(args: &[String]) -> Result<i32, String> {
             }
             let mut failed = 0;
             for w in &results {
-                println!(
+                hal_tools::outln!(
                     "pin {:02} -> pin {:02}: {}",
                     w.out_pin,
                     w.in_pin,
@@ -123,11 +125,11 @@ fn run(args: &[String]) -> Result<i32, String> {
                 );
                 failed += usize::from(!w.ok);
             }
-            println!("{} passed, {failed} failed", results.len() - failed);
+            hal_tools::outln!("{} passed, {failed} failed", results.len() - failed);
             Ok(i32::from(failed > 0))
         }
         _ => {
-            println!("{USAGE}");
+            hal_tools::outln!("{USAGE}");
             Ok(if args.is_empty() { 0 } else { 2 })
         }
     }

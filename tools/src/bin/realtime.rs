@@ -18,9 +18,9 @@ const USAGE: &str = "usage: realtime start|stop|restart|status";
 
 fn main() {
     let instance = instance_from_env();
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
     let cmd = match args.as_slice() {
-        [one] => one.as_str(),
+        [one] => one.to_str().unwrap_or(""),
         _ => "",
     };
     let code = match cmd {
@@ -32,15 +32,15 @@ fn main() {
         },
         "status" => {
             if Instance::attach(&instance).is_ok() {
-                println!("realtime running for instance '{instance}'");
+                hal_tools::outln!("realtime running for instance '{instance}'");
                 0
             } else {
-                println!("realtime not running for instance '{instance}'");
+                hal_tools::outln!("realtime not running for instance '{instance}'");
                 1
             }
         }
         "-h" | "--help" => {
-            println!("{USAGE}");
+            hal_tools::outln!("{USAGE}");
             0
         }
         _ => {

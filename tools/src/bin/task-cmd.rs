@@ -19,25 +19,31 @@ fn usage() -> String {
     )
 }
 
+/// The longest wait `-t` accepts: a day.
+const MAX_TIMEOUT_S: f64 = 86_400.0;
+
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = hal_tools::stdio::args_or_exit("task-cmd", 2);
     let mut instance = hal_core::instance_from_env();
     let mut timeout = Duration::from_secs(30);
     let mut i = 0;
     while let Some(a) = args.get(i) {
         match a.as_str() {
             "-h" | "--help" => {
-                println!("{}", usage());
+                hal_tools::outln!("{}", usage());
                 return ExitCode::SUCCESS;
             }
             "-i" | "--instance" => match args.get(i + 1) {
                 Some(v) => instance = v.clone(),
                 None => return usage_error("-i needs an instance name"),
             },
-            "-t" | "--timeout" => match args.get(i + 1).and_then(|v| v.parse::<f64>().ok()) {
-                Some(s) if s > 0.0 && s.is_finite() => timeout = Duration::from_secs_f64(s),
-                _ => return usage_error("-t needs a number of seconds"),
-            },
+            "-t" | "--timeout" => {
+                let text = args.get(i + 1).map_or("", String::as_str);
+                match hal_tools::stdio::parse_seconds("-t", text, MAX_TIMEOUT_S) {
+                    Ok(t) => timeout = t,
+                    Err(e) => return usage_error(&e),
+                }
+            }
             _ => break,
         }
         i += 2;
@@ -49,7 +55,7 @@ fn main() -> ExitCode {
     match request(&instance, words, timeout) {
         Ok(Ok(text)) => {
             if !text.is_empty() {
-                println!("{text}");
+                hal_tools::outln!("{text}");
             }
             ExitCode::SUCCESS
         }

@@ -493,7 +493,8 @@ pub const HELP: &[(&str, &str)] = &[
     ("quit", "quit / exit: stop reading commands (the file ends successfully)"),
 ];
 
-fn help(cmd: Option<&str>) -> Result<String, String> {
+/// The text of `help` (every command) or `help COMMAND`.
+pub fn help(cmd: Option<&str>) -> Result<String, String> {
     match cmd {
         None => Ok(HELP
             .iter()

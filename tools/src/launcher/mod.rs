@@ -425,7 +425,7 @@ fn run_on_host(
     signals: &hal_core::userspace::ExitSignals,
 ) -> Result<(), LaunchError> {
     let inst = Instance::attach(instance)?;
-    let (mut out, mut err) = (std::io::stdout(), std::io::stderr());
+    let (mut out, mut err) = (crate::stdio::stdout(), std::io::stderr());
     let hopts = HalcmdOptions {
         keep_going: opts.keep_going,
         verbose: opts.verbose,

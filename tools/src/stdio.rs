@@ -1,0 +1,169 @@
+//! What every tool does at its edges: arguments that may not be UTF-8,
+//! numbers that must be checked, and a standard output that may close
+//! under it (`halcmd show | head -1`).
+//!
+//! A tool whose standard output is closed ends quietly, as `yes | head`
+//! does: [`closed_stdout`] lets SIGPIPE end the process (Rust ignores the
+//! signal, so otherwise the next `println!` would panic). Tools print
+//! through [`outln!`](crate::outln) and [`out!`](crate::out), or write to
+//! [`stdout`], which do this for them.
+
+use std::ffi::OsString;
+use std::io::{self, Write};
+
+/// Ends the process as SIGPIPE would have: no message, status of a
+/// process killed by SIGPIPE.
+pub fn closed_stdout() -> ! {
+    // SAFETY: restoring the default action of SIGPIPE and raising it
+    // touches no memory of ours; the process ends here.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        libc::raise(libc::SIGPIPE);
+    }
+    std::process::exit(128 + libc::SIGPIPE);
+}
+
+/// Checks the result of a write to standard output: a closed pipe ends the
+/// process quietly; other errors are returned.
+pub fn checked(r: io::Result<()>) -> io::Result<()> {
+    match r {
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => closed_stdout(),
+        other => other,
+    }
+}
+
+/// Writes formatted text to standard output (flushed); ends the process
+/// quietly if standard output is closed. Used by [`out!`](crate::out) and
+/// [`outln!`](crate::outln).
+pub fn write_out(args: std::fmt::Arguments<'_>, newline: bool) {
+    let mut out = io::stdout().lock();
+    let r = out
+        .write_fmt(args)
+        .and_then(|()| {
+            if newline {
+                out.write_all(b"\n")
+            } else {
+                Ok(())
+            }
+        })
+        .and_then(|()| out.flush());
+    // Any other failure (a full disk behind a redirection) loses the text,
+    // as C's printf does: never a panic.
+    let _ = checked(r);
+}
+
+/// `println!` that ends the process quietly on a closed standard output.
+#[macro_export]
+macro_rules! outln {
+    () => { $crate::stdio::write_out(format_args!(""), true) };
+    ($($arg:tt)*) => { $crate::stdio::write_out(format_args!($($arg)*), true) };
+}
+
+/// `print!` (flushed) that ends the process quietly on a closed standard
+/// output.
+#[macro_export]
+macro_rules! out {
+    ($($arg:tt)*) => { $crate::stdio::write_out(format_args!($($arg)*), false) };
+}
+
+/// Standard output as a `Write` that ends the process quietly when the
+/// reader has gone.
+pub fn stdout() -> Stdout {
+    Stdout(io::stdout())
+}
+
+/// See [`stdout`].
+#[derive(Debug)]
+pub struct Stdout(io::Stdout);
+
+impl Write for Stdout {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match self.0.write(buf) {
+            Err(e) if e.kind() == io::ErrorKind::BrokenPipe => closed_stdout(),
+            other => other,
+        }
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        checked(self.0.flush())
+    }
+}
+
+impl Stdout {
+    /// Whether standard output is a terminal.
+    pub fn is_terminal(&self) -> bool {
+        std::io::IsTerminal::is_terminal(&self.0)
+    }
+}
+
+/// The program's arguments (without its name) as `String`s; an argument
+/// that is not UTF-8 is an error that says which one.
+pub fn args() -> Result<Vec<String>, String> {
+    args_from(std::env::args_os().skip(1))
+}
+
+/// [`args`], or the error printed as `tool: ...` and the process ended
+/// with status `code`.
+pub fn args_or_exit(tool: &str, code: i32) -> Vec<String> {
+    args().unwrap_or_else(|e| {
+        eprintln!("{tool}: {e}");
+        std::process::exit(code)
+    })
+}
+
+/// [`args`] over any list of arguments.
+pub fn args_from(args: impl IntoIterator<Item = OsString>) -> Result<Vec<String>, String> {
+    args.into_iter()
+        .enumerate()
+        .map(|(i, a)| {
+            a.into_string().map_err(|bad| {
+                format!(
+                    "argument {} ({}) is not valid UTF-8",
+                    i + 1,
+                    bad.to_string_lossy()
+                )
+            })
+        })
+        .collect()
+}
+
+/// Parses a number of seconds for a timeout or an interval: finite,
+/// greater than zero, at most `max_s`; `what` names it in the error.
+pub fn parse_seconds(what: &str, text: &str, max_s: f64) -> Result<std::time::Duration, String> {
+    let s: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("{what}: '{text}' is not a number of seconds"))?;
+    if !(s.is_finite() && s > 0.0 && s <= max_s) {
+        return Err(format!(
+            "{what}: {text} s is out of range (more than 0, at most {max_s} s)"
+        ));
+    }
+    Ok(std::time::Duration::from_secs_f64(s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::ffi::OsStringExt;
+
+    #[test]
+    fn arguments_must_be_utf8() {
+        let ok = args_from([OsString::from("a"), OsString::from("é")]).unwrap();
+        assert_eq!(ok, ["a", "é"]);
+        let e = args_from([OsString::from("a"), OsString::from_vec(vec![0xff, b'x'])]).unwrap_err();
+        assert!(e.contains("argument 2") && e.contains("UTF-8"), "{e}");
+    }
+
+    #[test]
+    fn seconds_are_checked() {
+        assert_eq!(
+            parse_seconds("-t", "1.5", 60.0),
+            Ok(std::time::Duration::from_millis(1500))
+        );
+        for bad in ["1e308", "-1", "0", "NaN", "inf", "", "x", "61"] {
+            let e = parse_seconds("-t", bad, 60.0).unwrap_err();
+            assert!(e.starts_with("-t: "), "{e}");
+        }
+    }
+}
