@@ -2,7 +2,9 @@
 counting on a thread, ended by SIGTERM, and removed however they end."""
 
 import signal
+import subprocess
 import time
+import types
 
 import pytest
 
@@ -10,19 +12,50 @@ import hal
 from conftest import SCRIPTS, wait_for
 
 
-def halcmd_file(hal_instance, name):
-    return hal_instance.run("halcmd", "-f", name, cwd=SCRIPTS)
+def halcmd_file(hal_instance, name, tmp_path):
+    """Runs halcmd -f NAME with its output into files of `tmp_path`: the
+    programs loadusr starts outlive halcmd and keep its stdout and stderr,
+    so a captured pipe would stay open as long as they run. Returns the
+    result with `stdout` and `stderr` as halcmd left them (`out` and `err`
+    are the files, which those programs may go on writing)."""
+    out, err = tmp_path / "out", tmp_path / "err"
+    with open(out, "w") as o, open(err, "w") as e:
+        r = subprocess.run(
+            ["halcmd", "-f", name],
+            cwd=SCRIPTS,
+            stdin=subprocess.DEVNULL,
+            stdout=o,
+            stderr=e,
+            timeout=120,
+        )
+    result = types.SimpleNamespace(
+        out=out, err=err, stdout=out.read_text(), stderr=err.read_text()
+    )
+    assert r.returncode == 0, result.stdout + result.stderr
+    return result
 
 
-def test_loadusr_waits_for_a_python_component_to_be_ready(hal_instance):
-    r = halcmd_file(hal_instance, "loadusr.hal")
+def test_loadusr_waits_for_ready_and_the_programs_outlive_halcmd(hal_instance, tmp_path):
+    r = halcmd_file(hal_instance, "loadusr.hal", tmp_path)
     # getp found the params, so loadusr -W waited for each program.
     lines = r.stdout.splitlines()
     assert lines[0] == "1" and lines[1] == "5", r.stdout
     assert "counter" in r.stdout and "User" in r.stdout
-    # The session's end stopped both programs (SIGTERM), and they left.
-    assert r.stdout.count("counter done") == 2
+    # As in LinuxCNC, halcmd has exited and both programs still run ...
+    assert hal.component_exists("counter") and hal.component_exists("other")
+    assert "counter done" not in r.out.read_text()
+    # ... until unloadusr stops them (SIGTERM), and they leave.
+    hal_instance.halcmd("unloadusr", "all")
+    wait_for(lambda: r.out.read_text().count("counter done") == 2, what="both programs to end")
     assert not hal.component_exists("counter") and not hal.component_exists("other")
+
+
+def test_realtime_stop_ends_the_programs_loadusr_started(hal_instance, tmp_path):
+    r = halcmd_file(hal_instance, "loadusr.hal", tmp_path)
+    assert hal.component_exists("counter") and hal.component_exists("other")
+    # The host stops them before it exits, and stop waits for the host.
+    hal_instance.run("realtime", "stop")
+    assert r.out.read_text().count("counter done") == 2
 
 
 def test_a_component_counting_on_a_thread(hal_instance, children):
@@ -73,13 +106,13 @@ def test_pins_are_gone_however_the_process_ends(hal_instance, children, mode):
     assert hal.get_info_pins() == []
 
 
-def test_a_script_streams_into_a_streamer_and_reads_a_sampler(hal_instance):
-    r = halcmd_file(hal_instance, "streaming.hal")
+def test_a_script_streams_into_a_streamer_and_reads_a_sampler(hal_instance, tmp_path):
+    r = halcmd_file(hal_instance, "streaming.hal", tmp_path)
     assert "pass" in r.stdout, r.stdout + r.stderr
 
 
-def test_a_python_stream_between_two_programs(hal_instance):
-    r = halcmd_file(hal_instance, "pystreams.hal")
+def test_a_python_stream_between_two_programs(hal_instance, tmp_path):
+    r = halcmd_file(hal_instance, "pystreams.hal", tmp_path)
     assert r.stdout.splitlines() == ["pass"], r.stdout + r.stderr
 
 

@@ -10,6 +10,7 @@ use std::time::Duration;
 use hal_core::userspace::ExitSignals;
 use hal_core::{paths, Host, HostConfig, Registry};
 
+use crate::adopt::Adopted;
 use crate::protocol::{decode_request, encode_reply};
 
 /// The registry of every module this suite provides.
@@ -53,6 +54,7 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     let stop = AtomicBool::new(false);
     let exec_lock = Mutex::new(());
     let held_open = Mutex::new(Vec::new());
+    let adopted = Adopted::new();
     let result = std::thread::scope(|scope| loop {
         if signals.requested() || stop.load(SeqCst) {
             stop.store(true, SeqCst);
@@ -67,6 +69,7 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
                     exec_lock: &exec_lock,
                     signals: &signals,
                     held_open: &held_open,
+                    adopted: &adopted,
                 };
                 scope.spawn(move || ctx.handle(stream));
             }
@@ -81,6 +84,10 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     });
     drop(listener);
     let _ = std::fs::remove_file(&sock);
+    // Programs loadusr started go first, as `unload all` does in LinuxCNC.
+    for note in adopted.stop_all(ADOPTED_GRACE) {
+        eprintln!("HAL: {note}");
+    }
     host.shutdown();
     // Dropping the host releases the instance lock last of all.
     drop(host);
@@ -101,6 +108,8 @@ struct Ctx<'a> {
     signals: &'a ExitSignals,
     /// Connections that asked for the shutdown, closed once it is done.
     held_open: &'a Mutex<Vec<UnixStream>>,
+    /// Programs `loadusr` started, stopped at shutdown.
+    adopted: &'a Adopted,
 }
 
 impl Ctx<'_> {
@@ -135,7 +144,13 @@ impl Ctx<'_> {
                 .to_string();
             line.clear();
             let words = decode_request(&text);
-            let result = {
+            let result = if words[0] == "adopt" {
+                // `adopt PID NAME`: needs the peer, not the HAL.
+                let arg = |i: usize| words.get(i).map_or("", String::as_str);
+                self.adopted
+                    .adopt(arg(1), arg(2), peer_pid(&writer))
+                    .map(|()| Next::Continue)
+            } else {
                 let _serial = self.exec_lock.lock().unwrap_or_else(|e| e.into_inner());
                 execute(self.host, self.registry, &words)
             };
@@ -155,6 +170,16 @@ impl Ctx<'_> {
             }
         }
     }
+}
+
+/// How long programs `loadusr` started get to end after SIGTERM.
+const ADOPTED_GRACE: Duration = Duration::from_secs(5);
+
+/// The PID of the process at the other end of a connection.
+fn peer_pid(stream: &UnixStream) -> Option<i32> {
+    nix::sys::socket::getsockopt(stream, nix::sys::socket::sockopt::PeerCredentials)
+        .ok()
+        .map(|c| c.pid())
 }
 
 /// What a request asked the host to do next.

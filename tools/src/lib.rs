@@ -1,6 +1,7 @@
 //! The HAL tools: the host process, its socket protocol, and halcmd's
 //! language (used by the `halcmd` and `halrun` binaries).
 
+pub mod adopt;
 pub mod board_tool;
 pub mod canservo_tool;
 pub mod cli;

@@ -65,8 +65,13 @@ pub struct Session<'o> {
     out: &'o mut dyn Write,
     err: &'o mut dyn Write,
     echo: bool,
-    /// Programs started by `loadusr` that nobody waited for.
+    /// Programs started by `loadusr` that nobody waited for and the host
+    /// could not adopt: they end with the session.
     children: Vec<std::process::Child>,
+    /// Programs the host adopted: they outlive the session, as in
+    /// LinuxCNC, and end with `unloadusr` or the instance. Kept only to
+    /// reap those that end while the session lasts.
+    adopted: Vec<std::process::Child>,
     /// Where commands come from, for messages (`test.hal`, or none).
     source: Option<String>,
     line: usize,
@@ -93,6 +98,7 @@ impl<'o> Session<'o> {
             err,
             echo: false,
             children: Vec::new(),
+            adopted: Vec::new(),
             source: None,
             line: 0,
             done: false,
@@ -439,7 +445,13 @@ impl<'o> Session<'o> {
                     .map_err(msg)?;
                 let _ = self.w_out().flush();
                 if let Some(child) = super::usr::run(&self.inst, &spec)? {
-                    self.children.push(child);
+                    self.adopted
+                        .retain_mut(|c| !matches!(c.try_wait(), Ok(Some(_))));
+                    let pid = child.id().to_string();
+                    match self.host(&["adopt", &pid, &spec.program]) {
+                        Ok(()) => self.adopted.push(child),
+                        Err(_) => self.children.push(child),
+                    }
                 }
                 Ok(())
             }
@@ -737,7 +749,8 @@ impl CommandSpec {
 }
 
 impl Drop for Session<'_> {
-    /// Programs started by `loadusr` without waiting end with the session.
+    /// Programs started by `loadusr` without waiting that the host did not
+    /// adopt end with the session; adopted ones live on.
     fn drop(&mut self) {
         for child in &mut self.children {
             if let Ok(None) = child.try_wait() {

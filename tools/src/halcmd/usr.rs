@@ -183,12 +183,17 @@ pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String
         return Err(format!("unloadusr: component '{name}' not found"));
     }
     let me = std::process::id() as i32;
-    for (_, pid) in &targets {
+    for (n, pid) in &targets {
         if *pid > 0 && *pid != me {
-            let _ = nix::sys::signal::kill(
+            let sent = nix::sys::signal::kill(
                 nix::unistd::Pid::from_raw(*pid),
                 nix::sys::signal::Signal::SIGTERM,
             );
+            if sent == Err(nix::errno::Errno::EPERM) {
+                return Err(format!(
+                    "unloadusr: '{n}' is process {pid} of another user: permission denied"
+                ));
+            }
         }
     }
     let end = Instant::now() + limit;
