@@ -89,13 +89,20 @@ pub struct Client {
 impl Client {
     /// Connects to the host of `instance`.
     pub fn connect(instance: &str) -> Result<Client, ClientError> {
-        let path = paths::socket(instance).map_err(ClientError::Hal)?;
+        // An instance out of reach says why: its segment names the group.
+        let not_running = || match paths::segment_access(instance) {
+            Err(e) => ClientError::Hal(e),
+            Ok(()) => ClientError::NotRunning {
+                instance: instance.to_string(),
+            },
+        };
+        let path = match paths::socket(instance) {
+            Ok(p) => p,
+            Err(hal_core::HalError::NoRuntimeDir { .. }) => return Err(not_running()),
+            Err(e) => return Err(ClientError::Hal(e)),
+        };
         let stream = UnixStream::connect(&path).map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound | std::io::ErrorKind::ConnectionRefused => {
-                ClientError::NotRunning {
-                    instance: instance.to_string(),
-                }
-            }
+            std::io::ErrorKind::NotFound | std::io::ErrorKind::ConnectionRefused => not_running(),
             std::io::ErrorKind::PermissionDenied => {
                 ClientError::Hal(paths::denied("connecting to", &path))
             }

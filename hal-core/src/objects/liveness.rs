@@ -21,7 +21,13 @@ fn flock(f: &File, op: libc::c_int) -> std::io::Result<()> {
 
 /// True if some process holds the instance's lock file.
 pub(crate) fn host_alive(instance: &str) -> Result<bool> {
-    let path = paths::lock(instance)?;
+    let path = match paths::lock(instance) {
+        Ok(p) => p,
+        // No runtime directory of our own: no host of ours. A host of
+        // root or the hal group is in /run/hal, which we could not use.
+        Err(HalError::NoRuntimeDir { .. }) => return Ok(false),
+        Err(e) => return Err(e),
+    };
     let f = match paths::open_existing(&path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),

@@ -42,7 +42,7 @@ impl Instance {
         if !liveness::host_alive(name)? {
             // A user outside the hal group may not see the lock of a
             // running host at all; its segment tells them why.
-            Segment::check_access(name)?;
+            crate::paths::segment_access(name)?;
             return Err(HalError::NotRunning {
                 instance: name.to_string(),
             });

@@ -12,6 +12,7 @@ mod dir;
 mod files;
 mod group;
 
+use std::os::unix::fs::OpenOptionsExt;
 use std::path::PathBuf;
 
 use crate::error::Result;
@@ -26,6 +27,23 @@ pub(crate) use group::share_fd;
 /// The shared-memory segment (a file in /dev/shm).
 pub fn segment(instance: &str) -> PathBuf {
     PathBuf::from(format!("/dev/shm/hal-{instance}"))
+}
+
+/// Fails with the hal group's advice if the segment of `instance` exists
+/// but this user may not open it: why a running instance is out of reach.
+pub fn segment_access(instance: &str) -> Result<()> {
+    let path = segment(instance);
+    match std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
+        .open(&path)
+    {
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
+            Err(denied("opening shared memory segment", &path))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// `hal-<instance><suffix>` in the runtime directory.

@@ -96,23 +96,6 @@ impl Segment {
         Ok(seg)
     }
 
-    /// Fails with the hal group's advice if the segment of `instance`
-    /// exists but this user may not open it.
-    pub(crate) fn check_access(instance: &str) -> Result<()> {
-        let path = paths::segment(instance);
-        match OpenOptions::new()
-            .read(true)
-            .write(true)
-            .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
-            .open(&path)
-        {
-            Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
-                Err(paths::denied("opening shared memory segment", &path))
-            }
-            _ => Ok(()),
-        }
-    }
-
     /// Maps an existing segment and checks its header.
     pub(crate) fn attach(instance: &str) -> Result<Segment> {
         let path = paths::segment(instance);
