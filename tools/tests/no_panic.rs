@@ -525,6 +525,16 @@ fn present_bins() -> Vec<(String, PathBuf)> {
     present
 }
 
+/// Fails with every failed run listed, if any of `count` runs failed.
+fn assert_none_failed(count: usize, failures: &[String]) {
+    assert!(
+        failures.is_empty(),
+        "{} of {count} runs failed:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
 #[test]
 fn no_binary_panics_on_hostile_arguments() {
     let began = Instant::now();
@@ -545,12 +555,7 @@ fn no_binary_panics_on_hostile_arguments() {
         "{count} runs with hostile arguments in {:.1} s",
         began.elapsed().as_secs_f64()
     );
-    assert!(
-        failures.is_empty(),
-        "{} of {count} runs failed:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    assert_none_failed(count, &failures);
 }
 
 #[test]
@@ -576,12 +581,7 @@ fn no_binary_panics_on_a_closed_stdout() {
     let realtime = env!("CARGO_BIN_EXE_realtime");
     assert!(common::run(realtime, &["stop"], &inst).status.success());
     let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
-    assert!(
-        failures.is_empty(),
-        "{} of {count} runs failed:\n{}",
-        failures.len(),
-        failures.join("\n")
-    );
+    assert_none_failed(count, &failures);
 }
 
 #[test]
