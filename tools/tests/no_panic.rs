@@ -178,6 +178,26 @@ const PROBES: &[Probe] = &[
         no_bare_run: None,
         live: &[&["-h"]],
     },
+    Probe {
+        bin: "latency-test",
+        templates: &[
+            &["-d", "{}"],
+            &["-d", "0.05", "--png", "{}"],
+            &["-d", "0.05", "--csv", "{}"],
+        ],
+        skip_options: &[
+            (
+                "--png",
+                "without -d it measures until Ctrl-C (a template gives -d)",
+            ),
+            (
+                "--csv",
+                "without -d it measures until Ctrl-C (a template gives -d)",
+            ),
+        ],
+        no_bare_run: Some("it measures until Ctrl-C"),
+        live: &[&["--help"], &["-d", "0.05"]],
+    },
 ];
 
 /// The hostile arguments.
@@ -300,6 +320,18 @@ impl Outcome {
     }
 }
 
+/// The working directory of every run, under cargo's scratch directory
+/// for tests: files a tool writes (latency-test's PNG and CSV, halscope's
+/// outputs) land there, never in the source tree.
+fn scratch_cwd() -> &'static Path {
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("no_panic-cwd");
+        std::fs::create_dir_all(&d).expect("scratch directory");
+        d
+    })
+}
+
 static NEXT_INSTANCE: AtomicUsize = AtomicUsize::new(0);
 
 /// Runs `exe args` with standard input empty, standard output discarded
@@ -316,6 +348,7 @@ fn run(exe: &Path, args: &[OsString], instance: &str, out: Out) -> Outcome {
     };
     let mut child = Command::new(exe)
         .args(args)
+        .current_dir(scratch_cwd())
         .env("HAL_INSTANCE", instance)
         .env("HAL_NO_REALTIME", "1")
         .env("HAL_SHM_SIZE", (4u64 << 20).to_string())

@@ -1,7 +1,6 @@
 //! latency-test: LinuxCNC's latency test, headless (see
 //! `hal_tools::latency`).
 
-use std::io::IsTerminal;
 use std::process::ExitCode;
 
 use hal_core::userspace::ExitSignals;
@@ -10,7 +9,7 @@ use hal_tools::latency::session::Session;
 use hal_tools::latency::{measure, report, LatencyError};
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args = hal_tools::stdio::args_or_exit("latency-test", 2);
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(LatencyError::Usage(m)) => {
@@ -27,7 +26,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), LatencyError> {
     let cfg = match parse(args)? {
         Parsed::Help => {
-            print!("{HELP}");
+            hal_tools::out!("{HELP}");
             return Ok(());
         }
         Parsed::Run(cfg) => cfg,
@@ -36,14 +35,15 @@ fn run(args: &[String]) -> Result<(), LatencyError> {
     // A private instance: nothing else runs on it, and it goes with us.
     let instance = format!("latency-test-{}", std::process::id());
     let session = Session::start(&instance, &cfg)?;
-    let mut out = std::io::stdout();
+    // A closed stdout ends the test quietly, as `yes | head` ends `yes`.
+    let mut out = hal_tools::stdio::stdout();
     let tty = out.is_terminal();
     match cfg.duration {
-        Some(d) => println!(
+        Some(d) => hal_tools::outln!(
             "latency-test: measuring for {:.1} s (Ctrl-C ends it early)",
             d.as_secs_f64()
         ),
-        None => println!("latency-test: measuring until Ctrl-C"),
+        None => hal_tools::outln!("latency-test: measuring until Ctrl-C"),
     }
     let (threads, perms) = measure(&session, &cfg, &mut out, tty, &|| signals.requested())?;
     session.finish()?;
