@@ -179,6 +179,24 @@ const PROBES: &[Probe] = &[
         live: &[&["-h"]],
     },
     Probe {
+        bin: "hm2-eth-sim",
+        templates: &[],
+        // Fault rates, timings and the seed take any number: a value the
+        // simulator accepts starts it serving until stopped.
+        skip_options: &[
+            ("--period-ns", "an accepted value serves until stopped"),
+            ("--drop-requests", "an accepted value serves until stopped"),
+            ("--drop-writes", "an accepted value serves until stopped"),
+            ("--drop-replies", "an accepted value serves until stopped"),
+            ("--delay", "an accepted value serves until stopped"),
+            ("--delay-us", "an accepted value serves until stopped"),
+            ("--duplicate", "an accepted value serves until stopped"),
+            ("--seed", "an accepted value serves until stopped"),
+        ],
+        no_bare_run: Some("it answers on its UDP port until stopped"),
+        live: &[&["--help"]],
+    },
+    Probe {
         bin: "latency-test",
         templates: &[
             &["-d", "{}"],
@@ -323,13 +341,20 @@ impl Outcome {
 /// The working directory of every run, under cargo's scratch directory
 /// for tests: files a tool writes (latency-test's PNG and CSV, halscope's
 /// outputs) land there, never in the source tree.
-fn scratch_cwd() -> &'static Path {
-    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
-    DIR.get_or_init(|| {
-        let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("no_panic-cwd");
-        std::fs::create_dir_all(&d).expect("scratch directory");
-        d
-    })
+///
+/// Each binary gets a directory of its own: a file one tool writes under a
+/// hostile name (latency-test's `--csv 1e308`) must not become the input
+/// another tool reads under that name (`linuxcnc 1e308` would start a
+/// machine from it and run until stopped).
+fn scratch_cwd(exe: &Path) -> PathBuf {
+    let name = exe
+        .file_name()
+        .map_or_else(|| "tool".into(), |n| n.to_os_string());
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("no_panic-cwd")
+        .join(name);
+    std::fs::create_dir_all(&d).expect("scratch directory");
+    d
 }
 
 static NEXT_INSTANCE: AtomicUsize = AtomicUsize::new(0);
@@ -348,7 +373,7 @@ fn run(exe: &Path, args: &[OsString], instance: &str, out: Out) -> Outcome {
     };
     let mut child = Command::new(exe)
         .args(args)
-        .current_dir(scratch_cwd())
+        .current_dir(scratch_cwd(exe))
         .env("HAL_INSTANCE", instance)
         .env("HAL_NO_REALTIME", "1")
         .env("HAL_SHM_SIZE", (4u64 << 20).to_string())
@@ -380,7 +405,12 @@ fn run(exe: &Path, args: &[OsString], instance: &str, out: Out) -> Outcome {
             .map(|p| Box::new(p) as Box<dyn Read + Send>),
     );
     // Generous: many runs share two loaded cores; a hang waits it out.
-    let end = Instant::now() + Duration::from_secs(60);
+    // HAL_NOPANIC_LIMIT_S shortens it when hunting a hang.
+    let limit = std::env::var("HAL_NOPANIC_LIMIT_S")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(60);
+    let end = Instant::now() + Duration::from_secs(limit);
     let mut hung = false;
     let status = loop {
         if let Ok(Some(s)) = child.try_wait() {

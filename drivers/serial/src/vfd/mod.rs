@@ -16,6 +16,7 @@ pub mod gt;
 pub mod hy;
 mod link;
 
+use std::io::Write as _;
 use std::time::{Duration, Instant};
 
 use hal_core::userspace::ExitSignals;
@@ -190,7 +191,9 @@ pub fn options_or_exit<O>(program: &str, usage: &str, parsed: Result<Option<O>>)
     match parsed {
         Ok(Some(o)) => Ok(o),
         Ok(None) => {
-            print!("{usage}");
+            // A reader that has gone (`hy_vfd -h | head -1`) ends it
+            // quietly: print! would panic on the broken pipe.
+            let _ = std::io::Write::write_all(&mut std::io::stdout(), usage.as_bytes());
             Err(0)
         }
         Err(e) => {
@@ -216,7 +219,7 @@ pub fn serve<V: Cycle>(
         let exit = ExitSignals::install()?;
         let opened = open_line(serial, make_sim)?;
         if let Some(b) = banner {
-            println!("{b}");
+            let _ = writeln!(std::io::stdout(), "{b}");
         }
         let inst = Instance::attach_default()?;
         let comp = inst.new_component(name, hal_core::ComponentKind::User)?;

@@ -1,6 +1,7 @@
 //! What `hy_vfd` does each cycle: the set-up reads and writes once
 //! enabled, then the status reads and the frequency and control writes.
 
+use std::io::Write as _;
 use std::time::Duration;
 
 use hal_core::Component;
@@ -94,13 +95,15 @@ impl<L: SerialLine> HyVfd<L> {
 
     /// Prints PD001..PD183 (`-y`).
     fn regdump(&mut self) {
-        println!("Current Register values list");
+        // Written without print!, which panics when stdout has gone.
+        let mut out = std::io::stdout();
+        let _ = writeln!(out, "Current Register values list");
         let slave = self.slave();
         for n in 1..=hy::PD_LAST {
-            match self.master.hy_read_parameter(slave, n) {
-                Ok(v) => println!("PD{n:03} = {v}"),
-                Err(_) => println!("PD{n:03} = INVALID"),
-            }
+            let _ = match self.master.hy_read_parameter(slave, n) {
+                Ok(v) => writeln!(out, "PD{n:03} = {v}"),
+                Err(_) => writeln!(out, "PD{n:03} = INVALID"),
+            };
         }
     }
 
