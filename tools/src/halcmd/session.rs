@@ -421,7 +421,7 @@ impl<'o> Session<'o> {
             }
             "source" => {
                 let text =
-                    std::fs::read_to_string(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
+                    super::lexer::read_text(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
                 let name = Path::new(a[0]).to_string_lossy().into_owned();
                 if self.run_text(Some(&name), &text) {
                     Ok(())
