@@ -35,15 +35,28 @@ pub fn registry() -> Registry {
 /// one at a time.
 pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     let signals = ExitSignals::install().map_err(|e| e.to_string())?;
-    let instance = config.instance.clone();
     let host = Host::create(config).map_err(|e| e.to_string())?;
     // LinuxCNC's own processes take the first component ids; reproduce its
     // numbering so `show` output matches (the first loadrt gets id 6).
     host.instance()
         .advance_component_ids(4)
         .map_err(|e| e.to_string())?;
-    let registry = registry();
-    let sock = paths::socket(&instance);
+    let result = serve_host(&host, &registry(), &signals, ready);
+    host.shutdown();
+    result
+}
+
+/// Serves the control socket of `host`, offering the modules of
+/// `registry`, as [`serve`] does, until a `shutdown` request or one of
+/// `signals`; leaves the host running. The fuzz targets serve a host they
+/// hold themselves, with drivers in simulated form only.
+pub fn serve_host(
+    host: &Host,
+    registry: &Registry,
+    signals: &ExitSignals,
+    ready: impl FnOnce(),
+) -> Result<(), String> {
+    let sock = paths::socket(host.instance().name());
     // We hold the instance lock, so a socket file here is stale.
     let _ = std::fs::remove_file(&sock);
     let listener = UnixListener::bind(&sock)
@@ -62,11 +75,11 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
         match listener.accept() {
             Ok((stream, _)) => {
                 let ctx = Ctx {
-                    host: &host,
-                    registry: &registry,
+                    host,
+                    registry,
                     stop: &stop,
                     exec_lock: &exec_lock,
-                    signals: &signals,
+                    signals,
                 };
                 scope.spawn(move || ctx.handle(stream));
             }
@@ -81,7 +94,6 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     });
     drop(listener);
     let _ = std::fs::remove_file(&sock);
-    host.shutdown();
     result
 }
 
