@@ -1,0 +1,226 @@
+//! HAL files through halcmd's command dispatcher, against a live host:
+//! a host of this process serves its socket on a thread as `realtime
+//! start` does; one halcmd session stays connected to it for every
+//! input, so an input costs its commands, not a connection.
+//!
+//! Each input is a HAL file run with `-k` (every line is tried). Lines
+//! whose command would reach outside the instance are dropped before it
+//! runs: `loadusr` (starts programs), `source` (reads any file, such as
+//! `/dev/zero`), `save` to a file, `waitusr` and `unloadusr`, and `start`
+//! (running threads make the outcome depend on timing; functions have
+//! tests of their own). Checked besides "no panic" (in halcmd or in the
+//! host, whose connection would break): the instance can be listed after
+//! every input, and `stop`, `unloadrt all`, `delsig all` then succeed and
+//! (with the threads deleted, which outlive their module) leave it as
+//! empty as it started.
+
+use std::cell::RefCell;
+use std::io::Write;
+use std::rc::Rc;
+use std::sync::Arc;
+use std::time::Duration;
+
+use hal_core::userspace::ExitSignals;
+use hal_core::{Host, Instance};
+use hal_tools::halcmd::lexer::{hal_text, logical_lines, tokenize};
+use hal_tools::halcmd::{Options, Session};
+use hal_tools::hostd::serve_host;
+use hal_tools::protocol::Client;
+
+use crate::registry::fuzz_registry;
+use crate::snapshot::delete_threads;
+use crate::snapshot::Snapshot;
+use crate::Target;
+
+/// The target.
+pub static TARGET: Target = Target {
+    name: "halcmd_dispatch",
+    run,
+    dictionary: &[
+        "loadrt ",
+        "unloadrt ",
+        "net ",
+        "newsig ",
+        "delsig ",
+        "sets ",
+        "gets ",
+        "setp ",
+        "getp ",
+        "ptype ",
+        "stype ",
+        "linkps ",
+        "linksp ",
+        "linkpp ",
+        "unlinkp ",
+        "addf ",
+        "delf ",
+        "initf ",
+        "show ",
+        "list ",
+        "alias ",
+        "unalias ",
+        "echo\n",
+        "unecho\n",
+        "print ",
+        "status",
+        "help ",
+        "save",
+        "stop\n",
+        "lock",
+        "unlock",
+        "setexact_for_test_suite_only\n",
+        " = ",
+        " => ",
+        " <= ",
+        " <=> ",
+        " all",
+        " pin",
+        " sig",
+        " param",
+        " funct",
+        " thread",
+        " comp",
+        " alias",
+        " -t ",
+        "bit",
+        "float",
+        "s32",
+        "u32",
+        "s64",
+        "u64",
+        "loadrt threads name1=t period1=1000000\n",
+        "loadrt and2 count=2\n",
+        "loadrt hal_parport cfg=\"0 out\"\n",
+        "and2.0",
+        "and2.0.in0",
+        "and2.0.out",
+        "t",
+        "\n",
+    ],
+    generate: None,
+};
+
+/// Commands that reach outside the instance or depend on timing; their
+/// lines are dropped.
+const DROPPED: &[&str] = &["loadusr", "source", "waitusr", "unloadusr", "start"];
+
+/// Commands that bring the instance back to empty after an input.
+const RESET: &str = "stop\nunloadrt all\ndelsig all\nunecho\n";
+
+/// halcmd's error stream, kept to explain a failed reset.
+#[derive(Clone, Default)]
+struct Messages(Rc<RefCell<Vec<u8>>>);
+
+impl Write for Messages {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+struct Fixture {
+    host: Arc<Host>,
+    server: Option<std::thread::JoinHandle<()>>,
+    messages: Messages,
+    session: Session<'static>,
+    empty: Snapshot,
+}
+
+impl Drop for Fixture {
+    fn drop(&mut self) {
+        // Stop serving (the host itself is shut down below, not by the
+        // request: it belongs to this fixture).
+        if let Ok(mut c) = Client::connect(self.host.instance().name()) {
+            let _ = c.call(&["shutdown".to_string()]);
+        }
+        if let Some(t) = self.server.take() {
+            let _ = t.join();
+        }
+        self.host.shutdown();
+    }
+}
+
+thread_local! {
+    static FIXTURE: RefCell<Option<Fixture>> = const { RefCell::new(None) };
+}
+
+fn start() -> Fixture {
+    let host = Arc::new(
+        Host::create(crate::host_config("dispatch", 8 << 20)).expect("fuzz host"),
+    );
+    let (tx, rx) = std::sync::mpsc::channel();
+    let served = host.clone();
+    let server = std::thread::spawn(move || {
+        let signals = ExitSignals::install().expect("signal handlers");
+        if let Err(e) = serve_host(&served, &fuzz_registry(), &signals, || {
+            let _ = tx.send(());
+        }) {
+            panic!("fuzz host: {e}");
+        }
+    });
+    rx.recv_timeout(Duration::from_secs(30))
+        .expect("fuzz host ready");
+    let inst = Instance::attach(host.instance().name()).expect("attach fuzz host");
+    // Output goes nowhere: the checks look at the instance. The session
+    // lives as long as the thread, so its streams are leaked (once).
+    let messages = Messages::default();
+    let out: &'static mut dyn Write = Box::leak(Box::new(std::io::sink()));
+    let err: &'static mut dyn Write = Box::leak(Box::new(messages.clone()));
+    let opts = Options {
+        keep_going: true,
+        ..Options::default()
+    };
+    let session = Session::new(inst, opts, out, err);
+    let empty = Snapshot::of(session.instance());
+    Fixture {
+        host,
+        server: Some(server),
+        messages,
+        session,
+        empty,
+    }
+}
+
+/// The input with the lines of [`DROPPED`] commands, and `save` to a
+/// file, left out.
+fn contained(text: &str) -> String {
+    let mut out = String::new();
+    for line in logical_lines(text) {
+        if let Ok(words) = tokenize(&line.text, None) {
+            let first = words.first().map(String::as_str).unwrap_or("");
+            if DROPPED.contains(&first) || (first == "save" && words.len() > 2) {
+                continue;
+            }
+        }
+        out.push_str(&line.text);
+        out.push('\n');
+    }
+    out
+}
+
+fn run(input: &[u8]) {
+    let text = contained(&hal_text(input));
+    FIXTURE.with(|cell| {
+        let mut cell = cell.borrow_mut();
+        let fx = cell.get_or_insert_with(start);
+        fx.session.run_text(Some("fuzz.hal"), &text);
+        Snapshot::of(fx.session.instance());
+        fx.messages.0.borrow_mut().clear();
+        if !fx.session.run_text(Some("reset.hal"), RESET) {
+            panic!(
+                "reset after {text:?} failed: {}",
+                String::from_utf8_lossy(&fx.messages.0.borrow())
+            );
+        }
+        fx.messages.0.borrow_mut().clear();
+        // Threads outlive the `threads` module, as in LinuxCNC; halcmd
+        // has no command to delete them, the host does.
+        delete_threads(&fx.host);
+        if let Some(diff) = fx.empty.difference(&Snapshot::of(fx.session.instance())) {
+            panic!("reset after {text:?} left: {diff}");
+        }
+    });
+}
