@@ -79,7 +79,11 @@ macro_rules! register_targets {
     };
 }
 
-/// The host configuration of a target's instance. Under `cargo test`, a
+/// The host configuration of a target's instance, with a segment of
+/// `shm_size` bytes. The targets use LinuxCNC's 2 MiB: a fuzzed `count=`
+/// in the thousands then runs out of memory (and is rolled back) in
+/// milliseconds, where a larger segment would let it build thousands of
+/// pins into sorted lists first. Under `cargo test`, a
 /// name no other test uses (removed when the test ends). Under libFuzzer,
 /// which ends the process without running destructors, a fixed name per
 /// target, so the next run reclaims the segment the last one left.

@@ -149,7 +149,7 @@ thread_local! {
 
 fn start() -> Fixture {
     let host = Arc::new(
-        Host::create(crate::host_config("dispatch", 8 << 20)).expect("fuzz host"),
+        Host::create(crate::host_config("dispatch", 2 << 20)).expect("fuzz host"),
     );
     let (tx, rx) = std::sync::mpsc::channel();
     let served = host.clone();

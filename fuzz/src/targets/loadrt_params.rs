@@ -74,7 +74,7 @@ fn fixture<R>(f: impl FnOnce(&Fixture) -> R) -> R {
     FIXTURE.with(|cell| {
         let mut cell = cell.borrow_mut();
         let fx = cell.get_or_insert_with(|| {
-            let host = Host::create(crate::host_config("loadrt", 8 << 20)).expect("test host");
+            let host = Host::create(crate::host_config("loadrt", 2 << 20)).expect("test host");
             let registry = fuzz_registry();
             let names = registry.names();
             let empty = Snapshot::of_host(&host);
