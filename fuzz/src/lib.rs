@@ -9,10 +9,10 @@
 //!
 //! The same target runs under two engines through bolero:
 //!
-//! * `cargo test -p hal-fuzz` (stable Rust): every stored corpus file,
-//!   then [`CASES`] inputs made by [`mutate::Mutator`] from the corpus
-//!   (or by the target's own generator), each from a random seed that a
-//!   failure prints.
+//! * `cargo test --release -p hal-fuzz` (stable Rust): every stored
+//!   corpus file, then [`CASES`] inputs made by [`mutate::Mutator`] from
+//!   the corpus (or by the target's own generator), each from a random
+//!   seed that a failure prints.
 //! * `cargo bolero test` (libFuzzer, coverage-guided; a nightly compiler
 //!   or `--rustc-bootstrap`): raw bytes, starting from the same corpus.
 
@@ -23,7 +23,10 @@ pub mod snapshot;
 pub mod targets;
 
 /// How many generated inputs `cargo test` runs per target, after the
-/// stored corpus. `BOLERO_RANDOM_ITERATIONS` overrides it.
+/// stored corpus: 100000 in an optimised build (`cargo test --release`,
+/// as CI runs it), 1000 as a smoke run in a debug build, where the
+/// dispatcher target is about five times slower.
+/// `BOLERO_RANDOM_ITERATIONS` overrides it.
 pub const CASES: usize = if cfg!(debug_assertions) {
     1_000
 } else {
