@@ -4,13 +4,15 @@
 use std::io::{BufRead, BufReader, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::sync::atomic::{AtomicBool, Ordering::SeqCst};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{paths, Host, HostConfig, Registry};
 
-use crate::protocol::{decode_request, encode_reply};
+use crate::protocol::{
+    decode_reply, decode_request, encode_reply, encode_request, ClientError, HostLink,
+};
 
 /// The registry of every module this suite provides.
 pub fn registry() -> Registry {
@@ -35,28 +37,15 @@ pub fn registry() -> Registry {
 /// one at a time.
 pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
     let signals = ExitSignals::install().map_err(|e| e.to_string())?;
+    let instance = config.instance.clone();
     let host = Host::create(config).map_err(|e| e.to_string())?;
     // LinuxCNC's own processes take the first component ids; reproduce its
     // numbering so `show` output matches (the first loadrt gets id 6).
     host.instance()
         .advance_component_ids(4)
         .map_err(|e| e.to_string())?;
-    let result = serve_host(&host, &registry(), &signals, ready);
-    host.shutdown();
-    result
-}
-
-/// Serves the control socket of `host`, offering the modules of
-/// `registry`, as [`serve`] does, until a `shutdown` request or one of
-/// `signals`; leaves the host running. The fuzz targets serve a host they
-/// hold themselves, with drivers in simulated form only.
-pub fn serve_host(
-    host: &Host,
-    registry: &Registry,
-    signals: &ExitSignals,
-    ready: impl FnOnce(),
-) -> Result<(), String> {
-    let sock = paths::socket(host.instance().name());
+    let registry = registry();
+    let sock = paths::socket(&instance);
     // We hold the instance lock, so a socket file here is stale.
     let _ = std::fs::remove_file(&sock);
     let listener = UnixListener::bind(&sock)
@@ -75,11 +64,11 @@ pub fn serve_host(
         match listener.accept() {
             Ok((stream, _)) => {
                 let ctx = Ctx {
-                    host,
-                    registry,
+                    host: &host,
+                    registry: &registry,
                     stop: &stop,
                     exec_lock: &exec_lock,
-                    signals,
+                    signals: &signals,
                 };
                 scope.spawn(move || ctx.handle(stream));
             }
@@ -94,6 +83,7 @@ pub fn serve_host(
     });
     drop(listener);
     let _ = std::fs::remove_file(&sock);
+    host.shutdown();
     result
 }
 
@@ -155,6 +145,32 @@ impl Ctx<'_> {
                 return;
             }
         }
+    }
+}
+
+/// A host of this process as a halcmd session's link to its host: each
+/// request runs as the socket's connection threads run it, without the
+/// socket and its two thread wake-ups per request. The fuzz targets drive
+/// their host this way, with drivers in simulated form only.
+pub struct InProcess {
+    host: Arc<Host>,
+    registry: Registry,
+}
+
+impl InProcess {
+    /// A link to `host`, offering the modules of `registry` to `loadrt`.
+    pub fn new(host: Arc<Host>, registry: Registry) -> InProcess {
+        InProcess { host, registry }
+    }
+}
+
+impl HostLink for InProcess {
+    /// Encodes and decodes the request and its reply as the socket does,
+    /// so a request behaves the same either way.
+    fn call(&mut self, words: &[String]) -> Result<(), ClientError> {
+        let words = decode_request(&encode_request(words)?);
+        let result = execute(&self.host, &self.registry, &words).map(|_| ());
+        decode_reply(&encode_reply(&result)).map_err(ClientError::Refused)
     }
 }
 

@@ -350,3 +350,32 @@ fn bytes_that_are_not_utf8_spoil_only_their_word() {
     assert_eq!(out.status.code(), Some(1));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A word with the protocol's separator (0x1F) is refused before it is
+/// sent; the session used to drop its link to the host for it, which a
+/// session on an in-process host (the fuzz target's) could not get back.
+#[test]
+fn a_word_the_protocol_refuses_keeps_the_link_to_the_host() {
+    let host = std::sync::Arc::new(
+        hal_core::Host::create(hal_core::HostConfig::for_tests("sepword")).unwrap(),
+    );
+    let inst = hal_core::Instance::attach(host.instance().name()).unwrap();
+    let link = hal_tools::hostd::InProcess::new(host.clone(), hal_tools::hostd::registry());
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let opts = hal_tools::halcmd::Options {
+        keep_going: true,
+        ..Default::default()
+    };
+    let ok = hal_tools::halcmd::Session::new(inst, opts, &mut out, &mut err)
+        .with_host_link(Box::new(link))
+        .run_text(
+            Some("s.hal"),
+            "loadrt and2 count=1\u{1f}\nloadrt or2\nshow comp or2\n",
+        );
+    let err = String::from_utf8_lossy(&err);
+    assert!(!ok);
+    assert!(err.contains("control separator"), "{err}");
+    assert!(!err.contains("s.hal:2"), "the next request failed: {err}");
+    assert!(String::from_utf8_lossy(&out).contains(" or2 "));
+    host.shutdown();
+}

@@ -1,31 +1,30 @@
-//! HAL files through halcmd's command dispatcher, against a live host:
-//! a host of this process serves its socket on a thread as `realtime
-//! start` does; one halcmd session stays connected to it for every
-//! input, so an input costs its commands, not a connection.
+//! HAL files through halcmd's command dispatcher, against a live host of
+//! this process. One halcmd session serves every input; the requests
+//! only the host carries out (`loadrt`, `addf`, `delf`, ...) go to the
+//! host through `hostd::InProcess`, which runs them as the host's socket
+//! connections do, without the socket: over the socket, an input cost
+//! two thread wake-ups per request, and on a busy machine the wake-ups
+//! were most of the time.
 //!
 //! Each input is a HAL file run with `-k` (every line is tried). Lines
 //! whose command would reach outside the instance are dropped before it
 //! runs: `loadusr` (starts programs), `source` (reads any file, such as
 //! `/dev/zero`), `save` to a file, `waitusr` and `unloadusr`, and `start`
 //! (running threads make the outcome depend on timing; functions have
-//! tests of their own). Checked besides "no panic" (in halcmd or in the
-//! host, whose connection would break): the instance can be listed after
-//! every input, and `stop`, `unloadrt all`, `delsig all` then succeed and
-//! (with the threads deleted, which outlive their module) leave it as
-//! empty as it started.
+//! tests of their own). Checked besides "no panic": the instance can be
+//! listed after every input, and `stop`, `unloadrt all`, `delsig all`
+//! then succeed and (with the threads deleted, which outlive their
+//! module) leave it as empty as it started.
 
 use std::cell::RefCell;
 use std::io::Write;
 use std::rc::Rc;
 use std::sync::Arc;
-use std::time::Duration;
 
-use hal_core::userspace::ExitSignals;
 use hal_core::{Host, Instance};
 use hal_tools::halcmd::lexer::{hal_text, logical_lines, tokenize};
 use hal_tools::halcmd::{Options, Session};
-use hal_tools::hostd::serve_host;
-use hal_tools::protocol::Client;
+use hal_tools::hostd::InProcess;
 
 use crate::registry::fuzz_registry;
 use crate::snapshot::delete_threads;
@@ -123,7 +122,6 @@ impl Write for Messages {
 
 struct Fixture {
     host: Arc<Host>,
-    server: Option<std::thread::JoinHandle<()>>,
     messages: Messages,
     session: Session<'static>,
     empty: Snapshot,
@@ -131,14 +129,6 @@ struct Fixture {
 
 impl Drop for Fixture {
     fn drop(&mut self) {
-        // Stop serving (the host itself is shut down below, not by the
-        // request: it belongs to this fixture).
-        if let Ok(mut c) = Client::connect(self.host.instance().name()) {
-            let _ = c.call(&["shutdown".to_string()]);
-        }
-        if let Some(t) = self.server.take() {
-            let _ = t.join();
-        }
         self.host.shutdown();
     }
 }
@@ -151,18 +141,6 @@ fn start() -> Fixture {
     let host = Arc::new(
         Host::create(crate::host_config("dispatch", 2 << 20)).expect("fuzz host"),
     );
-    let (tx, rx) = std::sync::mpsc::channel();
-    let served = host.clone();
-    let server = std::thread::spawn(move || {
-        let signals = ExitSignals::install().expect("signal handlers");
-        if let Err(e) = serve_host(&served, &fuzz_registry(), &signals, || {
-            let _ = tx.send(());
-        }) {
-            panic!("fuzz host: {e}");
-        }
-    });
-    rx.recv_timeout(Duration::from_secs(30))
-        .expect("fuzz host ready");
     let inst = Instance::attach(host.instance().name()).expect("attach fuzz host");
     // Output goes nowhere: the checks look at the instance. The session
     // lives as long as the thread, so its streams are leaked (once).
@@ -173,11 +151,11 @@ fn start() -> Fixture {
         keep_going: true,
         ..Options::default()
     };
-    let session = Session::new(inst, opts, out, err);
+    let link = InProcess::new(host.clone(), fuzz_registry());
+    let session = Session::new(inst, opts, out, err).with_host_link(Box::new(link));
     let empty = Snapshot::of(session.instance());
     Fixture {
         host,
-        server: Some(server),
         messages,
         session,
         empty,
