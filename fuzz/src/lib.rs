@@ -33,6 +33,14 @@ pub const CASES: usize = if cfg!(debug_assertions) {
     100_000
 };
 
+/// 0 to 256 random bytes: the generator of the targets whose input is
+/// binary (register images, bus replies), which the mutator's text edits
+/// and an empty corpus would keep short.
+pub fn random_bytes(rng: &mut fastrand::Rng) -> Vec<u8> {
+    let len = rng.usize(..=256);
+    std::iter::repeat_with(|| rng.u8(..)).take(len).collect()
+}
+
 /// One fuzz target.
 pub struct Target {
     /// The target's name: its module, its test and its corpus directory
