@@ -103,8 +103,9 @@ pub static TARGET: Target = Target {
 /// lines are dropped.
 const DROPPED: &[&str] = &["loadusr", "source", "waitusr", "unloadusr", "start"];
 
-/// Commands that bring the instance back to empty after an input.
-const RESET: &str = "stop\nunloadrt all\ndelsig all\nunecho\n";
+/// Commands that bring the instance back to empty after an input (which
+/// may have locked it).
+const RESET: &str = "unlock all\nstop\nunloadrt all\ndelsig all\nunecho\n";
 
 /// halcmd's error stream, kept to explain a failed reset.
 #[derive(Clone, Default)]
@@ -181,24 +182,26 @@ fn contained(text: &str) -> String {
 
 fn run(input: &[u8]) {
     let text = contained(&hal_text(input));
-    FIXTURE.with(|cell| {
-        let mut cell = cell.borrow_mut();
-        let fx = cell.get_or_insert_with(start);
-        fx.session.run_text(Some("fuzz.hal"), &text);
-        Snapshot::of(fx.session.instance());
-        fx.messages.0.borrow_mut().clear();
-        if !fx.session.run_text(Some("reset.hal"), RESET) {
-            panic!(
-                "reset after {text:?} failed: {}",
-                String::from_utf8_lossy(&fx.messages.0.borrow())
-            );
-        }
-        fx.messages.0.borrow_mut().clear();
-        // Threads outlive the `threads` module, as in LinuxCNC; halcmd
-        // has no command to delete them, the host does.
-        delete_threads(&fx.host);
-        if let Some(diff) = fx.empty.difference(&Snapshot::of(fx.session.instance())) {
-            panic!("reset after {text:?} left: {diff}");
-        }
-    });
+    // The fixture is taken out for the run and put back only if the run
+    // passes: after a finding, the next input (bolero shrinking it) gets
+    // a fresh host instead of the state the finding left.
+    let mut fixture = FIXTURE.with(|cell| cell.borrow_mut().take());
+    let fx = fixture.get_or_insert_with(start);
+    fx.session.run_text(Some("fuzz.hal"), &text);
+    Snapshot::of(fx.session.instance());
+    fx.messages.0.borrow_mut().clear();
+    if !fx.session.run_text(Some("reset.hal"), RESET) {
+        panic!(
+            "reset after {text:?} failed: {}",
+            String::from_utf8_lossy(&fx.messages.0.borrow())
+        );
+    }
+    fx.messages.0.borrow_mut().clear();
+    // Threads outlive the `threads` module, as in LinuxCNC; halcmd
+    // has no command to delete them, the host does.
+    delete_threads(&fx.host);
+    if let Some(diff) = fx.empty.difference(&Snapshot::of(fx.session.instance())) {
+        panic!("reset after {text:?} left: {diff}");
+    }
+    FIXTURE.with(|cell| *cell.borrow_mut() = fixture);
 }
