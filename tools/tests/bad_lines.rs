@@ -323,8 +323,9 @@ fn bytes_that_are_not_utf8_spoil_only_their_word() {
     assert_eq!(String::from_utf8_lossy(&out.stderr), want_err);
     assert_eq!(out.status.code(), Some(1));
 
+    // Commands on standard input: halrun without a file reads them there.
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_halrun"))
-        .args(["-k", "-f"])
+        .args(["-k"])
         .current_dir(&dir)
         .env("HAL_INSTANCE", common::instance("latin1-stdin"))
         .env("HAL_NO_REALTIME", "1")
