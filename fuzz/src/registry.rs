@@ -48,6 +48,7 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
     &PCA9685_SIM_ONLY,
     &MCP23017_SIM_ONLY,
     &ADS1115_SIM_ONLY,
+    &CANSERVO_SIM_ONLY,
 ];
 
 /// The modules that drive no hardware: components, motion, and the
@@ -163,6 +164,13 @@ backend_forced_to_sim!(
     ads1115_sim_only,
     hal_i2c::hal::ads1115::MODULE,
     hal_i2c::hal::BACKENDS
+);
+
+backend_forced_to_sim!(
+    CANSERVO_SIM_ONLY,
+    canservo_sim_only,
+    hal_canservo::MODULE,
+    hal_canservo::config::BACKENDS
 );
 
 /// `hm2_pci` with a PCI bus that has no boards: `sim=` boards load, a
