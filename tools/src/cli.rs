@@ -5,6 +5,7 @@ use std::io::{BufRead, IsTerminal, Write};
 use hal_core::Instance;
 
 use crate::halcmd::ini::Ini;
+use crate::halcmd::lexer::{hal_text, read_text};
 use crate::halcmd::{Options, Session};
 
 /// What halcmd's command line asked for.
@@ -100,7 +101,7 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
         session.run_words(&["echo".to_string()]);
     }
     let mut ok = match &args.file {
-        Some(Some(path)) => match std::fs::read_to_string(path) {
+        Some(Some(path)) => match read_text(path) {
             Ok(text) => session.run_text(Some(path), &text),
             Err(e) => {
                 eprintln!("halcmd: cannot read {path}: {e}");
@@ -136,12 +137,17 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
             crate::out!("halcmd: ");
             let _ = std::io::stdout().flush();
         }
-        let mut line = String::new();
-        match stdin.lock().read_line(&mut line) {
-            Ok(0) | Err(_) => break,
+        let mut line = Vec::new();
+        match stdin.lock().read_until(b'\n', &mut line) {
+            Ok(0) => break,
             Ok(_) => {}
+            Err(e) => {
+                eprintln!("halcmd: reading standard input: {e}");
+                ok = false;
+                break;
+            }
         }
-        pending.push_str(&line);
+        pending.push_str(&hal_text(&line));
         if pending.trim_end_matches('\n').ends_with('\\') {
             continue;
         }

@@ -117,6 +117,14 @@ fn c_strtoul(field: &str) -> Option<u64> {
     Some(if neg { m.wrapping_neg() } else { m })
 }
 
+/// Parses one line of halstreamer input as read: its bytes, up to and
+/// including the newline. As in LinuxCNC, which reads bytes, a byte that
+/// is not UTF-8 only spoils the field it is in (a comment may hold any),
+/// instead of ending the stream.
+pub fn parse_input_line(line: &[u8], cols: &[HalType]) -> Option<Result<Vec<u64>, String>> {
+    parse_line(&String::from_utf8_lossy(line), cols)
+}
+
 /// Parses one input line for a streamer. `None` for a comment line. Every
 /// field must be followed by whitespace (a last line without a newline is
 /// refused); text after the last field is ignored.
@@ -187,6 +195,20 @@ mod tests {
             format_record(&rec, &cols, true),
             "0 1.500000 1 -3 18446744073709551615 \n"
         );
+    }
+
+    #[test]
+    fn bytes_that_are_not_utf8_spoil_only_their_line() {
+        // Found by the halstreamer fuzz target: such a line used to end
+        // the whole stream.
+        let cols = [HalType::Float];
+        assert_eq!(parse_input_line(b"# caf\xe9\n", &cols), None);
+        assert_eq!(
+            parse_input_line(b"2.5 \xff\n", &cols),
+            Some(Ok(vec![0, 2.5f64.to_bits()]))
+        );
+        let e = parse_input_line(b"2\xff5\n", &cols).unwrap().unwrap_err();
+        assert!(e.contains("column 0"), "{e}");
     }
 
     #[test]

@@ -4,14 +4,16 @@
 use std::io::{BufRead, BufReader, Write};
 use std::os::unix::net::UnixStream;
 use std::sync::atomic::{AtomicBool, Ordering::SeqCst};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{paths, Host, HostConfig, Registry};
 
 use crate::adopt::Adopted;
-use crate::protocol::{decode_request, encode_reply};
+use crate::protocol::{
+    decode_reply, decode_request, encode_reply, encode_request, ClientError, HostLink,
+};
 
 /// The registry of every module this suite provides.
 pub fn registry() -> Registry {
@@ -180,6 +182,32 @@ fn peer_pid(stream: &UnixStream) -> Option<i32> {
     nix::sys::socket::getsockopt(stream, nix::sys::socket::sockopt::PeerCredentials)
         .ok()
         .map(|c| c.pid())
+}
+
+/// A host of this process as a halcmd session's link to its host: each
+/// request runs as the socket's connection threads run it, without the
+/// socket and its two thread wake-ups per request. The fuzz targets drive
+/// their host this way, with drivers in simulated form only.
+pub struct InProcess {
+    host: Arc<Host>,
+    registry: Registry,
+}
+
+impl InProcess {
+    /// A link to `host`, offering the modules of `registry` to `loadrt`.
+    pub fn new(host: Arc<Host>, registry: Registry) -> InProcess {
+        InProcess { host, registry }
+    }
+}
+
+impl HostLink for InProcess {
+    /// Encodes and decodes the request and its reply as the socket does,
+    /// so a request behaves the same either way.
+    fn call(&mut self, words: &[String]) -> Result<(), ClientError> {
+        let words = decode_request(&encode_request(words)?);
+        let result = execute(&self.host, &self.registry, &words).map(|_| ());
+        decode_reply(&encode_reply(&result)).map_err(ClientError::Refused)
+    }
 }
 
 /// What a request asked the host to do next.

@@ -192,7 +192,9 @@ impl Ini {
 
     /// Reads the INI file at `path` and everything it includes.
     pub fn load(path: &Path) -> Result<Ini, IniError> {
-        let mut read = |p: &Path| std::fs::read_to_string(p);
+        // Bytes that are not UTF-8 (a Latin-1 comment) read as U+FFFD,
+        // as in HAL files, instead of failing the whole file.
+        let mut read = |p: &Path| crate::halcmd::lexer::read_text(p);
         let mut ini = Ini::parse_with(path, &mut read)?;
         ini.path = Some(path.to_path_buf());
         Ok(ini)

@@ -79,6 +79,20 @@ pub fn decode_reply(line: &str) -> Result<(), String> {
     }
 }
 
+/// Where a halcmd session sends the requests only the host can carry out
+/// (`loadrt`, `addf`, `start`, ...): the host's socket ([`Client`]), or
+/// a host in the same process ([`crate::hostd::InProcess`]).
+pub trait HostLink {
+    /// Sends one request and waits for its reply.
+    fn call(&mut self, words: &[String]) -> Result<(), ClientError>;
+}
+
+impl HostLink for Client {
+    fn call(&mut self, words: &[String]) -> Result<(), ClientError> {
+        Client::call(self, words)
+    }
+}
+
 /// A connection to an instance's host.
 pub struct Client {
     reader: BufReader<UnixStream>,

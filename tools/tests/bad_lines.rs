@@ -302,3 +302,81 @@ fn unload_finds_the_component_and_unloads_its_module() {
     assert!(ok, "{err}");
     assert_eq!(out, "\nand2 \n");
 }
+
+/// Bytes that are not UTF-8 (a Latin-1 comment in an old config) used to
+/// fail the whole file, and on stdin to end it silently with success;
+/// found by the halcmd fuzz targets. As in LinuxCNC, such a byte only
+/// spoils the word it is in.
+#[test]
+fn bytes_that_are_not_utf8_spoil_only_their_word() {
+    let dir = std::env::temp_dir().join(common::instance("latin1"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = b"loadrt and2\n# Achse f\xfcr X\nsource inc.hal\nsetp and2.0.in\xff 1\nshow comp\n";
+    std::fs::write(dir.join("l1.hal"), text).unwrap();
+    std::fs::write(dir.join("inc.hal"), b"# \xe9t\xe9\nsetp and2.0.in0 1\n").unwrap();
+    std::fs::write(dir.join("m.ini"), b"# \xb0C\n[X]\nK = 1\n").unwrap();
+    let want_err = "l1.hal:4: parameter or pin 'and2.0.in\u{fffd}': not found\n";
+
+    let out = common::halrun(&dir, &["-k", "-i", "m.ini", "-f", "l1.hal"], "latin1-file");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains(" and2 "), "{stdout}");
+    assert_eq!(String::from_utf8_lossy(&out.stderr), want_err);
+    assert_eq!(out.status.code(), Some(1));
+
+    // Commands on standard input: halrun without a file reads them there.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_halrun"))
+        .args(["-k"])
+        .current_dir(&dir)
+        .env("HAL_INSTANCE", common::instance("latin1-stdin"))
+        .env("HAL_NO_REALTIME", "1")
+        .env("HAL_SHM_SIZE", (8u64 << 20).to_string())
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    use std::io::Write;
+    child.stdin.take().unwrap().write_all(text).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(" and2 "),
+        "the lines after the bytes ran: {stdout}"
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("'and2.0.in\u{fffd}': not found"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A word with the protocol's separator (0x1F) is refused before it is
+/// sent; the session used to drop its link to the host for it, which a
+/// session on an in-process host (the fuzz target's) could not get back.
+#[test]
+fn a_word_the_protocol_refuses_keeps_the_link_to_the_host() {
+    let host = std::sync::Arc::new(
+        hal_core::Host::create(hal_core::HostConfig::for_tests("sepword")).unwrap(),
+    );
+    let inst = hal_core::Instance::attach(host.instance().name()).unwrap();
+    let link = hal_tools::hostd::InProcess::new(host.clone(), hal_tools::hostd::registry());
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let opts = hal_tools::halcmd::Options {
+        keep_going: true,
+        ..Default::default()
+    };
+    let ok = hal_tools::halcmd::Session::new(inst, opts, &mut out, &mut err)
+        .with_host_link(Box::new(link))
+        .run_text(
+            Some("s.hal"),
+            "loadrt and2 count=1\u{1f}\nloadrt or2\nshow comp or2\n",
+        );
+    let err = String::from_utf8_lossy(&err);
+    assert!(!ok);
+    assert!(err.contains("control separator"), "{err}");
+    assert!(!err.contains("s.hal:2"), "the next request failed: {err}");
+    assert!(String::from_utf8_lossy(&out).contains(" or2 "));
+    host.shutdown();
+}

@@ -176,8 +176,11 @@ fn component_info(seg: &Segment, c: &CompRec) -> Result<ComponentInfo> {
         b => {
             let blob: &BlobRec = seg.rec(b)?;
             let len = blob.len.load(Relaxed) as usize;
+            // Only the words the text fills: a reused blob may be far
+            // larger than the text it holds.
             let mut bytes: Vec<u8> = blob_words_of(seg, b)?
                 .iter()
+                .take(len.div_ceil(8))
                 .flat_map(|w| w.load(Relaxed).to_le_bytes())
                 .collect();
             bytes.truncate(len);

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
-use hal_tools::fifo::{open_streamer, parse_line};
+use hal_tools::fifo::{open_streamer, parse_input_line};
 
 fn main() {
     std::process::exit(match run() {
@@ -46,17 +46,17 @@ fn run() -> Result<i32, String> {
         )),
         None => Box::new(std::io::stdin().lock()),
     };
-    let mut line = String::new();
+    let mut line = Vec::new();
     let mut number = 0usize;
 
     loop {
         line.clear();
-        match input.read_line(&mut line) {
+        match input.read_until(b'\n', &mut line) {
             Ok(0) => break,
             Ok(_) => number += 1,
             Err(e) => return Err(e.to_string()),
         }
-        let record = match parse_line(&line, &cols) {
+        let record = match parse_input_line(&line, &cols) {
             None => continue,
             Some(Ok(r)) => r,
             Some(Err(e)) => {

@@ -32,6 +32,19 @@ pub struct Line {
     pub text: String,
 }
 
+/// The text of HAL file or INI bytes. halcmd works on bytes, as
+/// LinuxCNC's does: bytes that are not UTF-8 (a Latin-1 comment in an old
+/// config) become U+FFFD instead of failing the whole file, so a comment
+/// stays a comment and a name with such a byte gets the name's error.
+pub fn hal_text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    String::from_utf8_lossy(bytes)
+}
+
+/// Reads a HAL or INI file as [`hal_text`].
+pub fn read_text(path: impl AsRef<std::path::Path>) -> std::io::Result<String> {
+    std::fs::read(path).map(|b| hal_text(&b).into_owned())
+}
+
 /// Joins lines ending in a backslash with the next one.
 pub fn logical_lines(text: &str) -> Vec<Line> {
     let mut out = Vec::new();

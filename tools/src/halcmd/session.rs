@@ -12,7 +12,7 @@ use super::format;
 use super::ini::Ini;
 use super::lexer::{logical_lines, tokenize, unquote, without_comment};
 use super::values::parse_value;
-use crate::protocol::{Client, ClientError};
+use crate::protocol::{Client, ClientError, HostLink};
 
 /// Options that change how commands run and report.
 #[derive(Debug, Clone, Default)]
@@ -59,7 +59,8 @@ pub type SharedFilter<'o> = Rc<RefCell<dyn CommandFilter + 'o>>;
 /// Executes halcmd commands.
 pub struct Session<'o> {
     inst: Instance,
-    client: Option<Client>,
+    /// Where host requests go; the socket, connected on first use.
+    client: Option<Box<dyn HostLink + 'o>>,
     /// How commands run and report; `-k` and friends may change mid-file.
     pub opts: Options,
     out: &'o mut dyn Write,
@@ -105,6 +106,13 @@ impl<'o> Session<'o> {
             filter: None,
             capture: None,
         }
+    }
+
+    /// Sends the session's host requests through `link` instead of the
+    /// host's socket (the fuzz targets run a host in their own process).
+    pub fn with_host_link(mut self, link: Box<dyn HostLink + 'o>) -> Self {
+        self.client = Some(link);
+        self
     }
 
     /// The instance this session works on.
@@ -168,13 +176,16 @@ impl<'o> Session<'o> {
 
     fn host(&mut self, words: &[&str]) -> CmdResult {
         if self.client.is_none() {
-            self.client = Some(Client::connect(self.inst.name()).map_err(|e| e.to_string())?);
+            let client = Client::connect(self.inst.name()).map_err(|e| e.to_string())?;
+            self.client = Some(Box::new(client));
         }
         let words: Vec<String> = words.iter().map(|s| s.to_string()).collect();
         let client = self.client.as_mut().expect("connected above");
         match client.call(&words) {
             Ok(()) => Ok(()),
             Err(ClientError::Refused(m)) => Err(m),
+            // Refused before sending: the link is still good.
+            Err(e @ ClientError::BadArgument { .. }) => Err(e.to_string()),
             Err(e) => {
                 self.client = None;
                 Err(e.to_string())
@@ -427,7 +438,7 @@ impl<'o> Session<'o> {
             }
             "source" => {
                 let text =
-                    std::fs::read_to_string(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
+                    super::lexer::read_text(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
                 let name = Path::new(a[0]).to_string_lossy().into_owned();
                 if self.run_text(Some(&name), &text) {
                     Ok(())
