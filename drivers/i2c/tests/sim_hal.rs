@@ -118,11 +118,14 @@ fn pca9685_set_up_frequency_mode2_and_duty() {
     )
     .unwrap();
     let b = bus(&h, 3);
-    let setup: Vec<_> = b
+    // The set-up runs inside loadrt; the bus helper thread may already
+    // have sent its first duty blocks after it, so only the start counts.
+    let mut setup: Vec<_> = b
         .transfers_to(0x55)
         .iter()
         .map(|t| (t.kind, t.reg, t.bytes().to_vec()))
         .collect();
+    setup.truncate(5);
     assert_eq!(
         setup,
         vec![
