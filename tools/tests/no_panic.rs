@@ -179,6 +179,16 @@ const PROBES: &[Probe] = &[
         live: &[&["-h"]],
     },
     Probe {
+        bin: "hal-fuzz-seed",
+        templates: &[],
+        skip_options: &[(
+            "--write",
+            "it rewrites fuzz/corpus/ in the source tree from the directory given",
+        )],
+        no_bare_run: None,
+        live: &[],
+    },
+    Probe {
         bin: "hm2-eth-sim",
         templates: &[],
         // Fault rates, timings and the seed take any number: a value the

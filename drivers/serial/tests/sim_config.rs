@@ -60,12 +60,9 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     assert!(out.contains("spindle-rpm"), "{out}");
     assert!(out.contains("400  spindle-vfd.max-freq"), "{out}");
     assert!(out.contains("24000  spindle-vfd.rated-motor-rev"), "{out}");
-    // The session ended the component with it.
-    let end = Instant::now() + Duration::from_secs(60);
-    while inst.component("spindle-vfd").unwrap().is_some() {
-        assert!(Instant::now() < end, "hy_vfd did not leave");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    // As in LinuxCNC, a program loadusr started outlives the halcmd
+    // session; the host stops it when the instance stops.
+    assert!(inst.component("spindle-vfd").unwrap().is_some());
     drop(inst);
     hal_tools::launch::stop_host(&name, Duration::from_secs(20)).unwrap();
     host.join().unwrap();

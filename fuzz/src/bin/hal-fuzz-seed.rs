@@ -4,7 +4,10 @@
 //! the LinuxCNC-style inputs written below. Files a fuzzer found bugs
 //! with (`regression-*`) are kept as they are.
 //!
-//!     cargo run -p hal-fuzz --bin hal-fuzz-seed [GOLDEN_DIR]
+//!     cargo run -p hal-fuzz --bin hal-fuzz-seed -- --write [GOLDEN_DIR]
+//!
+//! It rewrites files in the source tree, so it does nothing without
+//! `--write`.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -182,8 +185,17 @@ fn main() {
         .parent()
         .expect("workspace root")
         .to_path_buf();
-    let golden = std::env::args()
-        .nth(1)
+    let mut args = std::env::args_os().skip(1);
+    if args.next().is_none_or(|a| a != "--write") {
+        eprintln!(
+            "usage: hal-fuzz-seed --write [GOLDEN_DIR]\n\
+             rewrites the seed files of fuzz/corpus/ in the source tree \
+             (GOLDEN_DIR: ../shared/golden beside the checkout)"
+        );
+        std::process::exit(2);
+    }
+    let golden = args
+        .next()
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("../shared/golden"));
     let mut seeds: BTreeMap<&str, BTreeMap<String, Vec<u8>>> = BTreeMap::new();
