@@ -19,6 +19,7 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("canservo-tool", tool_args::canservo_tool::Cli::command()),
         ("hm2-eth-sim", tool_args::hm2_eth_sim::Cli::command()),
         ("canservo-sim", hal_canservo::sim_args::Args::command()),
+        ("parport-tool", tool_args::parport_tool::Cli::command()),
     ]
 }
 

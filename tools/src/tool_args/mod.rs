@@ -7,3 +7,4 @@ pub mod gcode_run;
 pub mod hal_board;
 pub mod hm2_eth_sim;
 pub mod motion_plot;
+pub mod parport_tool;
