@@ -20,6 +20,7 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("hm2-eth-sim", tool_args::hm2_eth_sim::Cli::command()),
         ("canservo-sim", hal_canservo::sim_args::Args::command()),
         ("parport-tool", tool_args::parport_tool::Cli::command()),
+        ("motion-cmd", tool_args::motion_cmd::Cli::command()),
     ]
 }
 

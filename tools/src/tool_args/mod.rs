@@ -6,5 +6,6 @@ pub mod canservo_tool;
 pub mod gcode_run;
 pub mod hal_board;
 pub mod hm2_eth_sim;
+pub mod motion_cmd;
 pub mod motion_plot;
 pub mod parport_tool;
