@@ -24,3 +24,4 @@ pub mod protocol;
 pub mod run_plot;
 pub mod scope;
 pub mod stdio;
+pub mod tool_args;

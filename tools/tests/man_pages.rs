@@ -10,7 +10,18 @@ use clap::CommandFactory;
 
 /// The tools whose man pages are generated: (name, command).
 fn pages() -> Vec<(&'static str, clap::Command)> {
-    vec![("halscope", hal_tools::scope::args::Args::command())]
+    use hal_tools::tool_args;
+    vec![
+        ("halscope", hal_tools::scope::args::Args::command()),
+        ("gcode-run", tool_args::gcode_run::Args::command()),
+        ("motion-plot", tool_args::motion_plot::Args::command()),
+        ("hal-board", tool_args::hal_board::Cli::command()),
+        ("canservo-tool", tool_args::canservo_tool::Cli::command()),
+        ("hm2-eth-sim", tool_args::hm2_eth_sim::Cli::command()),
+        ("canservo-sim", hal_canservo::sim_args::Args::command()),
+        ("parport-tool", tool_args::parport_tool::Cli::command()),
+        ("motion-cmd", tool_args::motion_cmd::Cli::command()),
+    ]
 }
 
 fn render(cmd: clap::Command) -> Vec<u8> {
@@ -25,7 +36,18 @@ fn render(cmd: clap::Command) -> Vec<u8> {
 fn man_pages_match_the_clap_definitions() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../packaging/man");
     let update = std::env::var_os("HAL_UPDATE_MAN").is_some();
-    for (name, cmd) in pages() {
+    let pages = pages();
+    // Every page in the package is one of these (none left behind by a
+    // renamed or removed tool).
+    let generated: Vec<String> = pages.iter().map(|(n, _)| format!("{n}.1")).collect();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let file = entry.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(
+            generated.contains(&file),
+            "packaging/man/{file} is not generated from a clap definition"
+        );
+    }
+    for (name, cmd) in pages {
         let page = render(cmd);
         let text = String::from_utf8_lossy(&page);
         // The examples of --help are in the page too.

@@ -94,6 +94,7 @@ pub mod regs;
 pub mod rig;
 pub mod sdo;
 pub mod sim;
+pub mod sim_args;
 pub mod startup;
 pub mod units;
 

@@ -1,80 +1,17 @@
 //! `gcode-run`: runs a G-code part program on the motion controller of a
 //! running HAL instance (see `--help`).
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use clap::{Parser, ValueEnum};
+use clap::Parser;
 use hal_tools::part_program::interp::{interpret, Step, Units};
 use hal_tools::part_program::run::{run, Keys, Outcome, RunOptions};
 use motion::{Command, MotionClient, Pose};
 
-/// The machine's linear units.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-enum UnitsArg {
-    /// Millimetres.
-    Mm,
-    /// Inches.
-    Inch,
-}
-
-/// Runs a G-code part program on the motion controller (motmod) of a
-/// running HAL instance: the whole program is checked first, then queued
-/// as coordinated moves while it runs. Keys while running: p (or space)
-/// pause, r resume, s single step (while paused), a (or q, Ctrl-C) abort.
-///
-/// The G-code subset: G0 G1 G2 G3 (I J K or R, P turns) G4 G17 G18 G19
-/// G20 G21 G61 G61.1 G64 P Q G90 G91 G90.1 G91.1, F (units per minute),
-/// M0 M1 M2 M30, N, comments; axis words X Y Z A B C U V W. Anything else
-/// is refused with file:line:column before anything moves.
-#[derive(Debug, Parser)]
-#[command(
-    name = "gcode-run",
-    version,
-    after_help = "Examples:
-  gcode-run pocket.ngc                  run on the instance in $HAL_INSTANCE
-  gcode-run -i mill --units inch part.ngc
-  gcode-run --check part.ngc            only check the program
-  gcode-run --preload -q --no-keys part.ngc
-                                        queue it all first; quiet (scripts)
-  echo r | gcode-run --optional-stop part.ngc
-                                        resume after one M0/M1 stop
-
-The machine must be enabled (and homed if its kinematics need it); the
-runner switches it to coordinated mode. Exit status: 0 the program ran,
-1 it was aborted or a move was refused, 2 the program or the arguments
-are wrong or the machine cannot be reached."
-)]
-struct Args {
-    /// The program file.
-    file: PathBuf,
-    /// HAL instance (default: $HAL_INSTANCE or 'default').
-    #[arg(short, long)]
-    instance: Option<String>,
-    /// The machine's linear units (`[TRAJ]LINEAR_UNITS`).
-    #[arg(long, value_enum, default_value = "mm")]
-    units: UnitsArg,
-    /// Only check the program (from X0 Y0 Z0); no machine needed.
-    #[arg(long)]
-    check: bool,
-    /// Stop at M1 too.
-    #[arg(long)]
-    optional_stop: bool,
-    /// No progress line.
-    #[arg(short, long)]
-    quiet: bool,
-    /// Ignore the keyboard (standard input).
-    #[arg(long)]
-    no_keys: bool,
-    /// Queue the program (up to the queue's size or the first M0) before
-    /// starting it, so the motion does not depend on how fast moves
-    /// arrive (reproducible runs, tests).
-    #[arg(long)]
-    preload: bool,
-}
+use hal_tools::tool_args::gcode_run::{Args, UnitsArg};
 
 fn main() -> ExitCode {
     let args = Args::parse();

@@ -2,7 +2,7 @@
 //! in a process of its own, so `loadrt hm2_eth` talks to it exactly as
 //! to a card on the network.
 
-use std::net::{SocketAddr, UdpSocket};
+use std::net::UdpSocket;
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::Arc;
 use std::time::Duration;
@@ -15,71 +15,7 @@ use hostmot2::sim::eth::{EthBoard, EthIdentity};
 use hostmot2::sim::eth_server::{Faults, Server};
 use hostmot2::sim::{machine, Hm2Model};
 
-const EXAMPLES: &str = "\
-Examples:
-  hm2-eth-sim --board 7i96s                     # on 127.0.0.1:27181
-  hm2-eth-sim --board 7i76e --listen 127.0.0.1:0   # a free port, printed
-  hm2-eth-sim --drop-replies 0.01 --delay 0.01 --delay-us 2000 --seed 7
-
-In a HAL file (loadusr -W waits until it listens; it exits with the HAL):
-  loadusr -W hm2-eth-sim --hal --board 7i96s
-  loadrt hostmot2
-  loadrt hm2_eth board_ip=127.0.0.1 config=\"num_stepgens=3\"
-
-Boards: 7i96s (5 step generators, 1 encoder, Smart Serial on P1), 7i76e
-(the on-card 7i76's step generators and Smart Serial); a simulated 7I76
-on Smart Serial (--remote 7i77: a 7I77, --remote none). The machine at the
-connectors: stepper axes of 100 steps per unit on every step generator,
-home switches closing at +10 units for axes 0..2 (7i96s: I/O 34..36,
-7i76e: I/O 17..19). Simulated time moves one --period-ns per cycle's read
-request, so every run is the same; --wall-clock follows the host's time.";
-
-/// A simulated Mesa Ethernet board (LBP16 over UDP).
-#[derive(Parser, Debug)]
-#[command(name = "hm2-eth-sim", version, after_help = EXAMPLES)]
-struct Cli {
-    /// The board: 7i96s or 7i76e.
-    #[arg(long, default_value = "7i96s")]
-    board: String,
-    /// What is plugged into Smart Serial port 0: 7i76 (channel 0), 7i77
-    /// (channels 0 and 1) or none.
-    #[arg(long, default_value = "7i76")]
-    remote: String,
-    /// Address to answer on (port 0: one the system picks).
-    #[arg(long, default_value = "127.0.0.1:27181")]
-    listen: SocketAddr,
-    /// Simulated time per cycle's read request, ns.
-    #[arg(long, default_value_t = 1_000_000)]
-    period_ns: u64,
-    /// Let the host's time pass instead (not repeatable).
-    #[arg(long)]
-    wall_clock: bool,
-    /// Join the HAL instance ($HAL_INSTANCE) as component hm2-eth-sim once
-    /// listening (for loadusr -W), and exit when it goes away.
-    #[arg(long)]
-    hal: bool,
-    /// Probability that a request with reads is lost.
-    #[arg(long, default_value_t = 0.0)]
-    drop_requests: f64,
-    /// Probability that a datagram of writes is lost.
-    #[arg(long, default_value_t = 0.0)]
-    drop_writes: f64,
-    /// Probability that a reply is lost.
-    #[arg(long, default_value_t = 0.0)]
-    drop_replies: f64,
-    /// Probability that a reply is delayed by --delay-us.
-    #[arg(long, default_value_t = 0.0)]
-    delay: f64,
-    /// How long a delayed reply is held back, us.
-    #[arg(long, default_value_t = 2000)]
-    delay_us: u64,
-    /// Probability that a reply is sent twice.
-    #[arg(long, default_value_t = 0.0)]
-    duplicate: f64,
-    /// Seed of the fault generator.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
-}
+use hal_tools::tool_args::hm2_eth_sim::Cli;
 
 fn main() {
     let cli = Cli::parse();

@@ -6,122 +6,13 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
+use clap::Parser;
 use hal_tools::motion_queue_args;
+use hal_tools::tool_args::motion_cmd::Cli;
 use motion::comp_file::{read_comp_file, CompFileType};
 use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
 use motion::{Command, MotionClient};
-
-const HELP: &str = "\
-usage: motion-cmd [-i INSTANCE] [-t SECONDS] COMMAND [ARGS...]
-
-Sends one command to the motion controller of a running HAL instance and
-prints whether it was accepted or rejected (with the reason).
-
-options:
-  -i, --instance NAME   HAL instance (default: $HAL_INSTANCE or 'default')
-  -t, --timeout SECS    how long to wait for the answer (default 1)
-  -h, --help            this text
-
-status:
-  status                print the status snapshot once
-  watch [-n MS] [-c COUNT]
-                        refresh the status every MS milliseconds (default
-                        200), COUNT times (default: until interrupted)
-  wait CONDITION        wait until CONDITION holds (exit 0) or --timeout
-                        passes (default 60 s here; exit 1, status shown).
-                        Only snapshots from two servo cycles after the
-                        start count, so a command just sent has taken
-                        effect. CONDITION: enabled, disabled, in-position,
-                        homing-done, all-homed, homed JOINT
-
-machine:
-  enable | disable | abort
-  free | teleop | coord         mode requests
-  scale VALUE                   jog speed scale, 0..1
-  override-limits JOINT         override tripped hard limits until the end
-                                of the next jog (JOINT -1: end the override)
-
-joints:
-  activate JOINT | deactivate JOINT
-  amp-enable JOINT | amp-disable JOINT
-  jog-cont JOINT VEL            jog until jog-abort (sign of VEL = direction)
-  jog-incr JOINT VEL DISTANCE   jog DISTANCE (>= 0) in the direction of VEL
-  jog-abs JOINT VEL POSITION    jog to POSITION at speed |VEL|
-  jog-abort JOINT               stop the jog of JOINT
-  home JOINT                    home JOINT (its group if its HOME_SEQUENCE
-                                is negative); JOINT -1: home all joints in
-                                HOME_SEQUENCE order
-  unhome JOINT                  forget the home of JOINT; -1 every joint,
-                                -2 the VOLATILE_HOME joints
-
-axes (teleop mode):
-  AXIS is a letter x y z a b c u v w, or its number 0..8
-  axis-jog-cont AXIS VEL        jog until axis-jog-abort (sign of VEL =
-                                direction), at most to the axis limit
-  axis-jog-incr AXIS VEL DIST   jog DIST (>= 0) in the direction of VEL
-  axis-jog-abs AXIS VEL POS     jog to POS (clamped into the axis limits)
-                                at speed |VEL|
-  axis-jog-abort AXIS           stop the jog of AXIS
-  set-axis-limits AXIS MIN MAX  axis position limits
-  set-axis-vel-limit AXIS VEL   axis maximum velocity
-  set-axis-acc-limit AXIS ACC   axis maximum acceleration
-
-configuration:
-  set-limits JOINT MIN MAX      soft position limits
-  set-vel-limit JOINT VEL       maximum velocity
-  set-acc-limit JOINT ACC       maximum acceleration
-  set-min-ferror JOINT VALUE    following-error limit at standstill
-  set-max-ferror JOINT VALUE    following-error limit at maximum velocity
-  set-backlash JOINT VALUE      backlash
-  set-motor-offset JOINT VALUE  homing offset (motor = joint + offset)
-  set-world-home X Y Z A B C U V W
-                                world home pose
-  set-homing-params JOINT [KEY=VALUE...]
-                                the joint's whole homing configuration, with
-                                the [JOINT_n] INI keys HOME_OFFSET, HOME,
-                                HOME_SEARCH_VEL, HOME_LATCH_VEL,
-                                HOME_FINAL_VEL, HOME_SEQUENCE, HOME_USE_INDEX,
-                                HOME_INDEX_NO_ENCODER_RESET,
-                                HOME_IGNORE_LIMITS, HOME_IS_SHARED,
-                                HOME_ABSOLUTE_ENCODER (0, 1, 2),
-                                VOLATILE_HOME and LOCKING_INDEXER; keys left
-                                out take the INI defaults
-  update-homing-params JOINT OFFSET HOME SEQUENCE
-                                HOME_OFFSET, HOME and HOME_SEQUENCE only
-  set-jerk-limit JOINT JERK     maximum jerk (S-curve planner; 0 none)
-  set-axis-jerk-limit AXIS JERK axis maximum jerk (0 none)
-  comp-entry JOINT NOMINAL FORWARD REVERSE
-                                append one screw-compensation entry (trims;
-                                nominals increasing; only while disabled)
-  clear-comp JOINT              empty the joint's compensation table
-  load-comp JOINT FILE TYPE     load a [JOINT_n]COMP_FILE of COMP_FILE_TYPE
-                                0 or 1 (replaces the table; errors name the
-                                file and line)
-
-coordinated moves (coord mode; END is AXIS=VALUE words, e.g. X=10 Y=-2;
-axes left out stay where the last queued move ends):
-  line ID VEL END...            straight feed move at VEL (units/s)
-  rapid ID END...               straight rapid (as fast as the axes allow)
-  arc ID VEL center=CX,CY,CZ [normal=NX,NY,NZ] [turns=N] END...
-                                arc or helix counter-clockwise about the
-                                normal (default 0,0,1); turns < 0 clockwise
-                                (G2 P n is turns=-n, G3 P n is turns=n-1)
-  probe ID VEL G38.2|G38.3|G38.4|G38.5 END...
-                                probing move
-  dwell ID SECONDS              wait, after the moves before have stopped
-  clear-probe                   forget the last probe result
-  term-cond stop|exact|blend [TOLERANCE]
-                                how the next moves end: G61.1, G61, G64 P
-  pause | resume | step         step: run to the end of the current id
-  feed-scale S | rapid-scale S | max-feed-override S
-  feed-scale-enable 0|1 | feed-hold-enable 0|1 | adaptive-feed-enable 0|1
-  spindle-scale-enable 0|1      M50 M53 M52 M51: for the moves queued next
-  set-traj-vel V | set-traj-acc A | set-traj-jerk J
-                                [TRAJ] MAX_LINEAR_VELOCITY, _ACCELERATION,
-                                _JERK
-  planner-type 0|1              trapezoidal or S-curve (PLANNER_TYPE)
-";
 
 /// A usage error, printed with a hint to --help.
 struct Usage(String);
@@ -437,40 +328,19 @@ fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
     Ok(cmd)
 }
 
-fn run(args: Vec<String>) -> Result<ExitCode, Usage> {
-    let mut instance = hal_core::instance_from_env();
-    let mut timeout = None;
-    let mut i = 0;
-    while i < args.len() {
-        match args[i].as_str() {
-            "-h" | "--help" => {
-                hal_tools::out!("{HELP}");
-                return Ok(ExitCode::SUCCESS);
-            }
-            "-i" | "--instance" => {
-                instance = args
-                    .get(i + 1)
-                    .ok_or_else(|| Usage("--instance needs a name".into()))?
-                    .clone();
-                i += 2;
-            }
-            "-t" | "--timeout" => {
-                let text = args.get(i + 1).map_or("", String::as_str);
-                // A year at most: far beyond any wait, and an Instant
-                // that far ahead still exists.
-                timeout = Some(
-                    hal_tools::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0)
-                        .map_err(Usage)?,
-                );
-                i += 2;
-            }
-            _ => break,
-        }
-    }
-    let Some(name) = args.get(i) else {
+fn run(cli: Cli) -> Result<ExitCode, Usage> {
+    let instance = cli.instance.unwrap_or_else(hal_core::instance_from_env);
+    // A year at most: far beyond any wait, and an Instant that far ahead
+    // still exists.
+    let timeout = match &cli.timeout {
+        Some(text) => Some(
+            hal_tools::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0).map_err(Usage)?,
+        ),
+        None => None,
+    };
+    let Some((name, rest)) = cli.command.split_first() else {
         return Err(Usage("no command given".into()));
     };
-    let rest = &args[i + 1..];
     // Parse before connecting, so usage errors need no running instance.
     enum Action {
         Status,
@@ -624,7 +494,7 @@ fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    match run(hal_tools::stdio::args_or_exit("motion-cmd", 2)) {
+    match run(Cli::parse()) {
         Ok(c) => c,
         Err(Usage(m)) => {
             eprintln!("motion-cmd: {m} (see motion-cmd --help)");

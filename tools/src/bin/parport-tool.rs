@@ -6,22 +6,14 @@
 use std::io::{IsTerminal, Write};
 use std::time::Duration;
 
+use clap::Parser;
 use hal_core::userspace::ExitSignals;
 use hal_tools::parport_tool::{format_inputs, list, open, outputs_for, selftest};
-
-const USAGE: &str = "usage: parport-tool list
-       parport-tool watch PORT [-n COUNT]
-       parport-tool set PORT PIN=0|1 [PIN=0|1 ...]
-       parport-tool selftest PORT          (needs the loopback plug, see below)
-
-PORT is a hal_parport cfg string for one port, e.g. 0, 0x378, \"0 x\",
-\"0x378 x raw\", \"0 simloop\". The selftest plug wires 2-15, 3-13, 4-12,
-5-10, 6-11 (checked in out mode) and 7-1, 8-14, 9-16, 6-17 (also checked
-in x mode, which needs open-collector control lines).";
+use hal_tools::tool_args::parport_tool::{Cli, Command};
 
 fn main() {
-    let args = hal_tools::stdio::args_or_exit("parport-tool", 1);
-    let code = match run(&args) {
+    let cli = Cli::parse();
+    let code = match run(cli.command) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("parport-tool: {e}");
@@ -31,9 +23,9 @@ fn main() {
     std::process::exit(code);
 }
 
-fn run(args: &[String]) -> Result<i32, String> {
-    match args.first().map(String::as_str) {
-        Some("list") => {
+fn run(command: Command) -> Result<i32, String> {
+    match command {
+        Command::List => {
             let ports = list();
             if ports.is_empty() {
                 hal_tools::outln!(
@@ -45,16 +37,8 @@ fn run(args: &[String]) -> Result<i32, String> {
             }
             Ok(0)
         }
-        Some("watch") => {
-            let port = open(args.get(1).ok_or(USAGE)?)?;
-            let count: Option<u64> = match args.get(2).map(String::as_str) {
-                Some("-n") => Some(
-                    args.get(3)
-                        .and_then(|n| n.parse().ok())
-                        .ok_or("-n needs a count")?,
-                ),
-                _ => None,
-            };
+        Command::Watch { port, count } => {
+            let port = open(&port)?;
             let exit = ExitSignals::install().map_err(|e| e.to_string())?;
             let tty = std::io::stdout().is_terminal();
             hal_tools::outln!(
@@ -79,10 +63,13 @@ fn run(args: &[String]) -> Result<i32, String> {
             }
             Ok(0)
         }
-        Some("set") => {
-            let port = open(args.get(1).ok_or(USAGE)?)?;
+        Command::Set {
+            port,
+            levels: wanted,
+        } => {
+            let port = open(&port)?;
             let mut levels = Vec::new();
-            for a in &args[2..] {
+            for a in &wanted {
                 let (pin, level) = a
                     .split_once('=')
                     .ok_or_else(|| format!("'{a}': expected PIN=0|1"))?;
@@ -106,8 +93,8 @@ fn run(args: &[String]) -> Result<i32, String> {
             hal_tools::outln!("{}: outputs set; other outputs low", port.description);
             Ok(0)
         }
-        Some("selftest") => {
-            let port = open(args.get(1).ok_or(USAGE)?)?;
+        Command::Selftest { port } => {
+            let port = open(&port)?;
             let results = selftest(&port);
             if results.is_empty() {
                 return Err(format!(
@@ -127,10 +114,6 @@ fn run(args: &[String]) -> Result<i32, String> {
             }
             hal_tools::outln!("{} passed, {failed} failed", results.len() - failed);
             Ok(i32::from(failed > 0))
-        }
-        _ => {
-            hal_tools::outln!("{USAGE}");
-            Ok(if args.is_empty() { 0 } else { 2 })
         }
     }
 }
