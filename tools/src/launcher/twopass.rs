@@ -34,6 +34,19 @@ fn whole(module: &str, item: &str, value: &str) -> Result<i64, String> {
         .ok_or_else(|| format!("twopass: loadrt {module}: {item}={value} is not a whole number"))
 }
 
+/// `so_far` plus the whole number `value` of `item`, refused when the sum
+/// leaves the i64 range (found by the fuzz target: two huge counts).
+fn sum(module: &str, item: &str, so_far: i64, value: &str) -> Result<i64, String> {
+    so_far
+        .checked_add(whole(module, item, value)?)
+        .ok_or_else(|| {
+            format!(
+                "twopass: loadrt {module}: {item}= values add up past {}",
+                i64::MAX
+            )
+        })
+}
+
 impl TwoPass {
     /// Nothing gathered yet.
     pub fn new() -> TwoPass {
@@ -80,8 +93,8 @@ impl TwoPass {
                 }
             }
             match item {
-                "count" => g.count += whole(module, item, value)?,
-                "num_chan" => g.num_chan += whole(module, item, value)?,
+                "count" => g.count = sum(module, item, g.count, value)?,
+                "num_chan" => g.num_chan = sum(module, item, g.num_chan, value)?,
                 "names" => g.names.push(value.to_string()),
                 "personality" => g.personality.push(value.to_string()),
                 "debug" => {
@@ -190,6 +203,15 @@ mod tests {
         assert!(tp.loaded_in_pass0("pid"));
         assert!(!tp.loaded_in_pass0("or2"));
         assert!(tp.gather(&w("pid count=1")).is_err());
+    }
+
+    #[test]
+    fn counts_that_add_up_past_the_range_are_refused() {
+        let mut tp = TwoPass::new();
+        let w = |s: &str| s.split_whitespace().map(str::to_string).collect::<Vec<_>>();
+        tp.gather(&w("and2 count=1")).unwrap();
+        let e = tp.gather(&w("and2 count=9223372036854775807")).unwrap_err();
+        assert!(e.contains("count= values add up past"), "{e}");
     }
 
     #[test]
