@@ -21,7 +21,7 @@ pub fn resource_file(bytes: &[u8]) {
             assert_eq!(regions.len(), text.lines().count());
             for r in regions {
                 if r.is_present() {
-                    assert!(r.end >= r.start && r.len() == r.end - r.start + 1);
+                    assert!(r.end >= r.start && r.len() == (r.end - r.start).saturating_add(1));
                     assert!(r.is_io() || r.is_mem());
                 } else {
                     assert_eq!(r.len(), 0);

@@ -33,10 +33,12 @@ impl Resource {
             && self.end != 0
     }
 
-    /// Its size in bytes (0 when absent).
+    /// Its size in bytes (0 when absent). A region claiming the whole
+    /// 64-bit space (a corrupt file: found by the fuzz target) reads as
+    /// u64::MAX bytes, which no mapping accepts.
     pub fn len(&self) -> u64 {
         if self.is_present() {
-            self.end - self.start + 1
+            (self.end - self.start).saturating_add(1)
         } else {
             0
         }
@@ -103,6 +105,16 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<Resource>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_region_over_the_whole_address_space_does_not_overflow() {
+        let r = Resource {
+            start: 0,
+            end: u64::MAX,
+            flags: IORESOURCE_MEM,
+        };
+        assert_eq!(r.len(), u64::MAX);
+    }
 
     #[test]
     fn parses_the_kernel_format() {
