@@ -199,6 +199,9 @@ impl SerialError {
     /// exception is its code negated.
     pub fn code(&self) -> i32 {
         match self {
+            // Exception 0 does not exist; a slave sending it answers
+            // badly (found by the reply fuzz body).
+            SerialError::Exception { code, .. } if code.0 == 0 => code::INVALID_EXCEPTION_CODE,
             SerialError::Exception { code, .. } => -i32::from(code.0),
             SerialError::Timeout { .. } | SerialError::Truncated { .. } => code::COMM_TIME_OUT,
             SerialError::Crc { .. } => code::INVALID_CRC,
@@ -253,6 +256,12 @@ mod tests {
         );
         assert_eq!(e.code(), -2);
         assert!(!e.is_retryable());
+        let zero = SerialError::Exception {
+            slave: 1,
+            function: 6,
+            code: ExceptionCode(0),
+        };
+        assert_eq!(zero.code(), code::INVALID_EXCEPTION_CODE);
         assert!(ExceptionCode(6).is_transient());
         assert_eq!(ExceptionCode(0x42).to_string(), "unknown exception 0x42");
         let t = SerialError::Timeout {
