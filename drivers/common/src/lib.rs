@@ -42,7 +42,7 @@
 //! ## 2. Find the hardware
 //!
 //! PCI boards: an ID table of [`pci::PciMatch`] and [`pci::find`] over
-//! [`pci::Sysfs::system`] (tests: [`pci::fake::FakeSysfs`]); then
+//! [`pci::Sysfs::system`] (tests: `pci::fake::FakeSysfs`, feature `testing`); then
 //! [`pci::PciDevice::enable`] (keep the guard as long as the driver
 //! lives) and `map_bar`/`map_bar_window`/`io_bar`. Missing boards,
 //! permissions (naming the udev rule and the `hal` group), kernel
@@ -242,14 +242,15 @@
 //! # Modules
 //!
 //! * [`bus`]: the bus traits and the real backends.
-//! * [`pci`]: sysfs discovery, enable, BARs; [`pci::fake`] for tests.
+//! * [`pci`]: sysfs discovery, enable, BARs; `pci::fake` for tests (feature `testing`).
 //! * [`sim`]: the board-model harness, simulated time, the access log.
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
 //! * [`error`]: the error type, [`DriverError`].
 //! * [`lockdown`]: telling kernel lockdown from a missing permission.
-//! * [`testing`]: helpers for drivers' HAL tests.
+//! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
+//!   feature so test doubles stay out of the normal API.
 //! * [`vmrig`]: for tests in the VM rig.
 //! * [`bench`]: per-call timing for benchmark binaries.
 //! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
@@ -280,6 +281,7 @@ pub mod params;
 pub mod pci;
 pub mod plant;
 pub mod sim;
+#[cfg(any(test, feature = "testing"))]
 pub mod testing;
 pub mod vmrig;
 

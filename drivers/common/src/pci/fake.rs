@@ -7,7 +7,6 @@
 
 use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
 
 use super::resource::{IORESOURCE_IO, IORESOURCE_MEM};
 use super::{PciIds, Sysfs};
@@ -36,21 +35,21 @@ pub enum FakeBar {
 /// A fake `/sys/bus/pci/devices`, removed when dropped.
 #[derive(Debug)]
 pub struct FakeSysfs {
+    /// Held for its removal on drop.
+    _tree: tempfile::TempDir,
     dir: PathBuf,
 }
 
 impl FakeSysfs {
-    /// An empty tree in a new directory of the temp dir, named after
-    /// `tag`, the process and a counter (created exclusively).
+    /// An empty tree in a new private directory (mode 0700, a random
+    /// name made by `mkdtemp`, so nobody can plant it first) whose name
+    /// starts with `tag`.
     pub fn new(tag: &str) -> io::Result<FakeSysfs> {
-        static NEXT: AtomicU32 = AtomicU32::new(0);
-        let dir = std::env::temp_dir().join(format!(
-            "hal-fake-sysfs-{tag}-{}-{}",
-            std::process::id(),
-            NEXT.fetch_add(1, Relaxed)
-        ));
-        std::fs::create_dir(&dir)?;
-        Ok(FakeSysfs { dir })
+        let tree = tempfile::Builder::new()
+            .prefix(&format!("hal-fake-sysfs-{tag}-"))
+            .tempdir()?;
+        let dir = tree.path().to_path_buf();
+        Ok(FakeSysfs { _tree: tree, dir })
     }
 
     /// The tree as a [`Sysfs`] root.
@@ -97,11 +96,5 @@ impl FakeSysfs {
         }
         std::fs::write(d.join("resource"), resource)?;
         Ok(d)
-    }
-}
-
-impl Drop for FakeSysfs {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
     }
 }

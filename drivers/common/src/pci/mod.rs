@@ -24,6 +24,7 @@
 //! ```
 
 mod device;
+#[cfg(any(test, feature = "testing"))]
 pub mod fake;
 pub mod resource;
 
