@@ -128,6 +128,9 @@ struct HostState {
     /// Loaded modules, in load order.
     modules: Vec<&'static str>,
     memory_locked: bool,
+    /// Held from the first `start` while the host lives (see
+    /// [`realtime::request_zero_cpu_latency`]).
+    cpu_latency: Option<realtime::CpuLatencyRequest>,
     /// Per-function timing of threads created from now on.
     timing_default: bool,
 }
@@ -775,12 +778,27 @@ impl Host {
         }
         {
             let mut st = lock(&self.state);
+            let mut notes = Vec::new();
             if !st.memory_locked {
                 st.memory_locked = true;
                 if let Err(why) = realtime::lock_memory() {
-                    drop(st);
-                    self.add_note(why);
+                    notes.push(why);
                 }
+                if std::env::var_os("HAL_NO_CPU_LATENCY").is_none() {
+                    match realtime::request_zero_cpu_latency() {
+                        Ok(request) => st.cpu_latency = Some(request),
+                        // Without realtime scheduling the request is a
+                        // bonus; its absence is not worth a note.
+                        Err(e) if self.shared.realtime => {
+                            notes.extend(realtime::explain_cpu_latency_failure(&e))
+                        }
+                        Err(_) => {}
+                    }
+                }
+            }
+            drop(st);
+            for why in notes {
+                self.add_note(why);
             }
         }
         // Threads start on a common grid a little ahead, so that all are
@@ -993,6 +1011,8 @@ impl Host {
             }
         }
         st.functs.clear();
+        // No thread runs any more: idle CPUs may sleep deeply again.
+        st.cpu_latency = None;
         drop(st);
         // What the safe-state hooks and the last cycles said.
         self.rt_log.stop();

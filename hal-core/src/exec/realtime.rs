@@ -187,6 +187,48 @@ pub fn lock_memory() -> Result<(), String> {
     ))
 }
 
+/// A standing request to the kernel's power management (PM QoS) that idle
+/// CPUs wake at once: while it is held, cpuidle keeps every CPU in its
+/// shallowest idle state (polling, or a halt the hypervisor leaves quickly)
+/// instead of a deep one whose exit delays the next timer wake-up. Released
+/// when dropped (the kernel drops the request when the file closes).
+#[derive(Debug)]
+pub struct CpuLatencyRequest {
+    _file: std::fs::File,
+}
+
+/// The PM QoS device that takes a process's CPU wake-up latency limit.
+const CPU_LATENCY_DEVICE: &str = "/dev/cpu_dma_latency";
+
+/// Asks for a CPU wake-up latency of 0 µs for as long as the returned
+/// request lives. Needs write access to /dev/cpu_dma_latency (root, or the
+/// `hal` group through the package's udev rule). Costs power: idle CPUs
+/// stay out of deep sleep.
+pub fn request_zero_cpu_latency() -> std::io::Result<CpuLatencyRequest> {
+    use std::io::Write;
+    // Opened for writing only, never created: a device node in /dev.
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .open(CPU_LATENCY_DEVICE)?;
+    // The device takes the limit as a binary s32 in microseconds.
+    file.write_all(&0i32.to_ne_bytes())?;
+    Ok(CpuLatencyRequest { _file: file })
+}
+
+/// What to tell an integrator whose host could not hold the CPU latency
+/// request, or `None` where there is nothing to do about it (no such
+/// device, as in many containers).
+pub fn explain_cpu_latency_failure(err: &std::io::Error) -> Option<String> {
+    match err.raw_os_error() {
+        Some(libc::ENOENT) | Some(libc::ENODEV) | Some(libc::ENXIO) => None,
+        _ => Some(format!(
+            "could not keep the CPUs out of deep idle states ({CPU_LATENCY_DEVICE}: {err}); \
+             wake-ups may be late by the CPU's idle exit time. The package's udev rule gives \
+             the 'hal' group write access to it"
+        )),
+    }
+}
+
 /// Sets the calling thread's timer slack to 1 ns.
 pub fn tight_timer_slack() {
     // SAFETY: PR_SET_TIMERSLACK takes an integer argument only.
@@ -272,6 +314,43 @@ mod tests {
         assert!(msg.contains("limits.d"), "{msg}");
         let other = explain_fifo_failure(libc::EINVAL, 90);
         assert!(!other.contains("limits.d"), "{other}");
+    }
+
+    /// The kernel's current CPU latency limit, as /dev/cpu_dma_latency
+    /// reports it (binary s32, microseconds).
+    fn current_cpu_latency_limit() -> std::io::Result<i32> {
+        use std::io::Read;
+        let mut v = [0u8; 4];
+        std::fs::File::open(CPU_LATENCY_DEVICE)?.read_exact(&mut v)?;
+        Ok(i32::from_ne_bytes(v))
+    }
+
+    #[test]
+    fn a_held_cpu_latency_request_sets_the_kernels_limit_to_zero() {
+        match request_zero_cpu_latency() {
+            Ok(request) => {
+                assert_eq!(current_cpu_latency_limit().unwrap(), 0);
+                drop(request);
+            }
+            Err(e) => {
+                // No PM QoS device (containers) or no access: what the host
+                // would say about it.
+                let note = explain_cpu_latency_failure(&e);
+                let missing = e.kind() == std::io::ErrorKind::NotFound;
+                assert_eq!(note.is_none(), missing, "{e}: {note:?}");
+                eprintln!("no CPU latency request here: {e}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_refused_cpu_latency_request_names_the_group_and_a_missing_device_is_quiet() {
+        let denied = std::io::Error::from_raw_os_error(libc::EACCES);
+        let note = explain_cpu_latency_failure(&denied).unwrap();
+        assert!(note.contains("/dev/cpu_dma_latency"), "{note}");
+        assert!(note.contains("'hal' group"), "{note}");
+        let missing = std::io::Error::from_raw_os_error(libc::ENOENT);
+        assert_eq!(explain_cpu_latency_failure(&missing), None);
     }
 
     #[test]
