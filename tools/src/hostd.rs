@@ -238,6 +238,7 @@ fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, S
         "delf" => host
             .delf(arg(1), words.get(2).map(String::as_str))
             .map_err(|e| e.to_string()),
+        "setthread" => crate::setthread::apply(host, &words[1..]),
         "start" => host.start().map_err(|e| e.to_string()),
         "stop" => host
             .instance()

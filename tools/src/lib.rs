@@ -23,5 +23,6 @@ pub mod port_probe;
 pub mod protocol;
 pub mod run_plot;
 pub mod scope;
+pub mod setthread;
 pub mod stdio;
 pub mod tool_args;

@@ -475,6 +475,7 @@ pub const HELP: &[(&str, &str)] = &[
     ("initf", "initf FUNCT THREAD: run a function once, on the thread's first cycle"),
     ("linkpp", "linkpp PIN1 PIN2: connect two pins with a signal named after the first (obsolete)"),
     ("delf", "delf FUNCT [THREAD]: remove a function from a thread"),
+    ("setthread", "setthread THREAD [timing=0|1] [cpu=N|default] [missed=skip|catch-up]: change a thread's switches"),
     ("start", "start: start the realtime threads"),
     ("stop", "stop: stop the realtime threads (not a safe state)"),
     ("show", "show [comp|pin|sig|param|funct|thread|alias|all] [PATTERN...]"),

@@ -323,6 +323,11 @@ impl<'o> Session<'o> {
                 })
             }
             "unloadrt" => self.host(&["unloadrt", a[0]]),
+            "setthread" => {
+                let mut v = vec!["setthread"];
+                v.extend(a.iter().copied());
+                self.host(&v)
+            }
             "unload" => self.unload(a[0]),
             "addf" => {
                 // A position after the thread is optional; LinuxCNC
@@ -705,6 +710,7 @@ const COMMANDS: &[CommandSpec] = &[
     cmd("setexact_for_test_suite_only", 0, 0),
     cmd("setp", 2, 0),
     cmd("sets", 2, 0),
+    cmd("setthread", 2, PLUS),
     cmd("show", 1, OPTIONAL | PLUS),
     cmd("source", 1, 0),
     cmd("start", 0, 0),
