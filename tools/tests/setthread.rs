@@ -75,6 +75,22 @@ fn setthread_changes_a_running_threads_switches_and_refuses_bad_lines_whole() {
     assert_eq!(affinity_of("t"), vec![cpu]);
     assert_eq!(s32(inst.param_value("sum2.0.tmax").unwrap()), 0, "untimed");
     assert!(s32(inst.param_value("sum2.1.tmax").unwrap()) > 0, "timed");
+    // `show thread` and `save thread` tell, for this thread only.
+    let switches = format!("timing=0 cpu={cpu} missed=catch-up");
+    let (ok, shown, err) = host.run("show.hal", "show thread", false);
+    assert!(ok, "{err}");
+    assert_eq!(shown.matches("switches:").count(), 1, "{shown}");
+    assert!(
+        shown.contains(&format!("switches: {switches}\n")),
+        "{shown}"
+    );
+    let (ok, saved, err) = host.run("save.hal", "save thread", false);
+    assert!(ok, "{err}");
+    assert!(
+        saved.contains(&format!("setthread t {switches}\n")),
+        "{saved}"
+    );
+    assert!(!saved.contains("setthread u"), "{saved}");
 
     // Each bad line says what is wrong and changes nothing, not even the
     // good switches before the bad one.
@@ -116,4 +132,8 @@ fn setthread_changes_a_running_threads_switches_and_refuses_bad_lines_whole() {
         .find(|t| t.name == "t")
         .unwrap();
     assert_eq!(t.cpu, None);
+    let (_, shown, _) = host.run("show.hal", "show thread", false);
+    assert!(!shown.contains("switches"), "{shown}");
+    let (_, saved, _) = host.run("save.hal", "save thread", false);
+    assert!(!saved.contains("setthread"), "{saved}");
 }

@@ -322,7 +322,16 @@ impl Host {
         } else {
             ctl.options.fetch_and(!bit, Relaxed);
         }
-        Ok(())
+        self.publish_options(ctl)
+    }
+
+    /// Copies a thread's switch bits into its segment record, where other
+    /// processes read them.
+    fn publish_options(&self, ctl: &ThreadCtl) -> Result<()> {
+        self.inst.tx(|tx| {
+            let rec: &ThreadRec = tx.rec(ctl.rec_off)?;
+            tx.set(&rec.options, ctl.options.load(Relaxed))
+        })
     }
 
     /// A thread's integrator switches: whether its functions are timed,
@@ -514,6 +523,7 @@ impl Host {
             });
             Ok((priority, ctl))
         })();
+        let built = built.and_then(|b| self.publish_options(&b.1).map(|()| b));
         let (_, ctl) = match built {
             Ok(b) => b,
             Err(e) => {

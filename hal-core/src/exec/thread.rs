@@ -16,11 +16,7 @@ use super::funct::{Call, ExecList, FunctCtx};
 use super::realtime;
 use crate::handles::{Out, Param, Pin, Rw};
 use crate::shm::{latency_bucket, Segment, ThreadRec, HIST_BUCKETS};
-
-/// [`ThreadCtl::options`] bit: per-function timing is off.
-pub(crate) const THREAD_NO_FUNCT_TIMING: u64 = 1;
-/// [`ThreadCtl::options`] bit: late cycles run back to back.
-pub(crate) const THREAD_CATCH_UP: u64 = 2;
+pub(crate) use crate::shm::{THREAD_CATCH_UP, THREAD_NO_FUNCT_TIMING};
 
 /// Supervisor request: a function faulted.
 pub(crate) const SUPERVISOR_FAULT: u8 = 1;

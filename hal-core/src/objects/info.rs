@@ -123,6 +123,10 @@ pub struct ThreadInfo {
     pub uses_fp: bool,
     /// The CPU it is pinned to, or `None` for the default placement.
     pub cpu: Option<usize>,
+    /// Whether its functions' `.time`/`.tmax` are measured (`timing=1`).
+    pub functs_timed: bool,
+    /// What it does with missed deadlines.
+    pub missed: crate::MissedDeadline,
     /// Functions it runs each cycle, in order.
     pub functs: Vec<String>,
     /// Functions run once on the first cycle after start (`initf`).
@@ -384,6 +388,12 @@ impl Instance {
                         cpu: match t.cpu.load(Relaxed) {
                             0 => None,
                             c => Some(c as usize - 1),
+                        },
+                        functs_timed: t.options.load(Relaxed) & THREAD_NO_FUNCT_TIMING == 0,
+                        missed: if t.options.load(Relaxed) & THREAD_CATCH_UP != 0 {
+                            crate::MissedDeadline::CatchUp
+                        } else {
+                            crate::MissedDeadline::Skip
                         },
                         functs,
                         init_functs,

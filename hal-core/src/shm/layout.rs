@@ -13,7 +13,13 @@ use super::mutex::RobustMutex;
 /// "HALSEGM1" as little-endian bytes.
 pub(crate) const MAGIC: u64 = u64::from_le_bytes(*b"HALSEGM1");
 /// Bumped whenever any layout in this file changes.
-pub(crate) const LAYOUT_VERSION: u64 = 2;
+pub(crate) const LAYOUT_VERSION: u64 = 3;
+
+/// A thread's switch bit (executor and [`ThreadRec`]'s `options`):
+/// per-function timing is off.
+pub(crate) const THREAD_NO_FUNCT_TIMING: u64 = 1;
+/// A thread's switch bit: late cycles run back to back.
+pub(crate) const THREAD_CATCH_UP: u64 = 2;
 /// Entries of the undo journal.
 pub(crate) const JOURNAL_CAP: usize = 65536;
 /// Buckets of a thread's wake-up latency histogram (see [`latency_bucket`]).
@@ -256,6 +262,9 @@ record!(
     uses_fp: AtomicU64,
     /// CPU to pin to plus one; 0 for the default placement.
     cpu: AtomicU64,
+    /// The executor's switch bits (function timing off, catch-up), as the
+    /// host last set them; for `show thread` and `save` in other processes.
+    options: AtomicU64,
     functs: AtomicU64,
     /// Functions run once, on the first cycle after start (`initf`).
     init_functs: AtomicU64,

@@ -303,6 +303,12 @@ impl Show<'_> {
                     "{:>11}  {:<3}  {:>20} ( {:>8}, {:>8} )\n",
                     t.period, "YES", t.name, t.time_ns, t.tmax_ns
                 ));
+                // Only switches away from the defaults: a thread without
+                // any shows exactly as in LinuxCNC.
+                let switches = thread_switches(t);
+                if !switches.is_empty() {
+                    rows.push_str(&format!("{:17}   switches: {switches}\n", ""));
+                }
                 for (i, f) in t.functs.iter().enumerate() {
                     rows.push_str(&format!("{:17}{:>2} {f}\n", "", i + 1));
                 }
@@ -449,6 +455,22 @@ fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
     }
     out.push('\n');
     Ok(out)
+}
+
+/// A thread's switches that differ from the defaults, as `setthread`
+/// takes them (`timing=0 cpu=1 missed=catch-up`); empty for none.
+pub fn thread_switches(t: &ThreadInfo) -> String {
+    let mut words = Vec::new();
+    if !t.functs_timed {
+        words.push("timing=0".to_string());
+    }
+    if let Some(cpu) = t.cpu {
+        words.push(format!("cpu={cpu}"));
+    }
+    if t.missed != hal_core::MissedDeadline::Skip {
+        words.push(format!("missed={}", t.missed.name()));
+    }
+    words.join(" ")
 }
 
 /// The commands `help` lists, with a line each.

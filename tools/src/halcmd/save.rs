@@ -5,7 +5,7 @@ use hal_core::{
     ThreadInfo,
 };
 
-use super::format::{pin_arrow, show_value, sig_arrow};
+use super::format::{pin_arrow, show_value, sig_arrow, thread_switches};
 
 type R = Result<String, String>;
 
@@ -148,6 +148,10 @@ fn threads(threads: &[ThreadInfo]) -> String {
         }
         for f in &t.init_functs {
             out.push_str(&format!("initf {f} {}\n", t.name));
+        }
+        let switches = thread_switches(t);
+        if !switches.is_empty() {
+            out.push_str(&format!("setthread {} {switches}\n", t.name));
         }
     }
     out
