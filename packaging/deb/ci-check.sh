@@ -32,6 +32,7 @@ has usr/lib/udev/rules.d/60-hal-suite.rules
 has usr/lib/tmpfiles.d/hal.conf
 has etc/security/limits.d/hal.conf
 has usr/share/man/man1/halscope.1.gz
+has usr/share/man/man9/threads.9.gz
 has usr/share/hal/hallib/core_sim.hal
 has usr/share/doc/hal-suite/examples/sim/mill.hal
 # No setuid or setgid bit on anything; the host is not world-executable.

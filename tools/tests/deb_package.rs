@@ -174,6 +174,7 @@ fn rules_runtime_directory_and_limits_are_installed() {
     );
     assert!(read("../udev/60-hal-suite.rules").contains("GROUP=\"hal\""));
     assert_eq!(dest_of("../packaging/man/*.1"), "usr/share/man/man1/");
+    assert_eq!(dest_of("../packaging/man9/*.9"), "usr/share/man/man9/");
     // The launcher finds the standard HAL files at ../share/hal/hallib
     // from its own directory.
     assert_eq!(dest_of("../lib/hallib/*"), "usr/share/hal/hallib/");
