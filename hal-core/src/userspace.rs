@@ -1,5 +1,5 @@
-//! Helpers for user-space component processes: leave the instance
-//! consistent when asked to exit.
+//! Helpers for user-space component processes: arguments that may not be
+//! UTF-8, and leaving the instance consistent when asked to exit.
 //!
 //! A user-space component is a [`crate::Component`] created through
 //! [`crate::Instance::attach`]; dropping it removes it and everything it
@@ -39,4 +39,38 @@ impl ExitSignals {
     pub fn requested(&self) -> bool {
         self.flag.load(Relaxed)
     }
+}
+
+/// The program's arguments (without its name) as `String`s; an argument
+/// that is not UTF-8 is an error that says which one (`std::env::args`
+/// would panic on it).
+pub fn args() -> std::result::Result<Vec<String>, String> {
+    args_from(std::env::args_os().skip(1))
+}
+
+/// [`args`], or the error printed as `tool: ...` and the process ended
+/// with status `code`.
+pub fn args_or_exit(tool: &str, code: i32) -> Vec<String> {
+    args().unwrap_or_else(|e| {
+        eprintln!("{tool}: {e}");
+        std::process::exit(code)
+    })
+}
+
+/// [`args`] over any list of arguments.
+pub fn args_from(
+    args: impl IntoIterator<Item = std::ffi::OsString>,
+) -> std::result::Result<Vec<String>, String> {
+    args.into_iter()
+        .enumerate()
+        .map(|(i, a)| {
+            a.into_string().map_err(|bad| {
+                format!(
+                    "argument {} ({}) is not valid UTF-8",
+                    i + 1,
+                    bad.to_string_lossy()
+                )
+            })
+        })
+        .collect()
 }

@@ -8,7 +8,6 @@
 //! through [`outln!`](crate::outln) and [`out!`](crate::out), or write to
 //! [`stdout`], which do this for them.
 
-use std::ffi::OsString;
 use std::io::{self, Write};
 
 /// Ends the process as SIGPIPE would have: no message, status of a
@@ -96,36 +95,9 @@ impl Stdout {
     }
 }
 
-/// The program's arguments (without its name) as `String`s; an argument
-/// that is not UTF-8 is an error that says which one.
-pub fn args() -> Result<Vec<String>, String> {
-    args_from(std::env::args_os().skip(1))
-}
-
-/// [`args`], or the error printed as `tool: ...` and the process ended
-/// with status `code`.
-pub fn args_or_exit(tool: &str, code: i32) -> Vec<String> {
-    args().unwrap_or_else(|e| {
-        eprintln!("{tool}: {e}");
-        std::process::exit(code)
-    })
-}
-
-/// [`args`] over any list of arguments.
-pub fn args_from(args: impl IntoIterator<Item = OsString>) -> Result<Vec<String>, String> {
-    args.into_iter()
-        .enumerate()
-        .map(|(i, a)| {
-            a.into_string().map_err(|bad| {
-                format!(
-                    "argument {} ({}) is not valid UTF-8",
-                    i + 1,
-                    bad.to_string_lossy()
-                )
-            })
-        })
-        .collect()
-}
+/// Argument decoding is shared with every program that hosts a
+/// user-space component (the VFD programs among them).
+pub use hal_core::userspace::{args, args_from, args_or_exit};
 
 /// Parses a number of seconds for a timeout or an interval: finite,
 /// greater than zero, at most `max_s`; `what` names it in the error.
@@ -145,6 +117,7 @@ pub fn parse_seconds(what: &str, text: &str, max_s: f64) -> Result<std::time::Du
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::ffi::OsString;
     use std::os::unix::ffi::OsStringExt;
 
     #[test]

@@ -2,17 +2,7 @@
 //! user-space HAL component (see `hal_serial::vfd::gt`).
 
 fn main() {
-    // Arguments are text; one that is not is refused by position, never
-    // a panic (std::env::args would panic on it).
-    let mut args: Vec<String> = Vec::new();
-    for (n, arg) in std::env::args_os().enumerate() {
-        match arg.into_string() {
-            Ok(a) => args.push(a),
-            Err(raw) => {
-                eprintln!("hy_gt_vfd: argument {n} is not UTF-8 text: {raw:?}");
-                std::process::exit(1);
-            }
-        }
-    }
+    let mut args = vec!["hy_gt_vfd".to_string()];
+    args.extend(hal_core::userspace::args_or_exit("hy_gt_vfd", 1));
     std::process::exit(hal_serial::vfd::gt::main(&args));
 }
