@@ -11,10 +11,7 @@ use super::clock::TickClock;
 use super::funct::{ExecList, FunctCode, FunctCtx, TimingOut};
 use super::realtime::{self, RealtimeMode, TOP_PRIORITY};
 use super::reaper::Reaper;
-use super::thread::{
-    self, HostShared, Placement, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT, THREAD_CATCH_UP,
-    THREAD_NO_FUNCT_TIMING,
-};
+use super::thread::{self, HostShared, Placement, ThreadCtl, NO_FAULT, SUPERVISOR_EXIT};
 use super::MissedDeadline;
 use crate::error::{HalError, Result};
 use crate::handles::{Param, Pin};
@@ -26,7 +23,7 @@ use crate::objects::funct::{
 use crate::objects::{validate_instance_name, Component, ComponentKind, HostLock, Instance};
 use crate::paths;
 use crate::rtlog::{RtLog, RtLogService};
-use crate::shm::{FunctRec, Segment, ThreadRec};
+use crate::shm::{FunctRec, Segment, ThreadRec, THREAD_CATCH_UP, THREAD_NO_FUNCT_TIMING};
 
 /// Default size of the shared segment: 32 MiB, sixteen times LinuxCNC's.
 pub const DEFAULT_SHM_SIZE: u64 = 32 << 20;

@@ -380,6 +380,7 @@ impl Instance {
                         .collect::<Result<_>>()?;
                     let lat_min = t.lat_min_ns.load(Relaxed);
                     let cycles = t.cycles.load(Relaxed);
+                    let options = t.options.load(Relaxed);
                     Ok(ThreadInfo {
                         name: t.name.get(),
                         period: t.period.load(Relaxed) as i64,
@@ -389,8 +390,8 @@ impl Instance {
                             0 => None,
                             c => Some(c as usize - 1),
                         },
-                        functs_timed: t.options.load(Relaxed) & THREAD_NO_FUNCT_TIMING == 0,
-                        missed: if t.options.load(Relaxed) & THREAD_CATCH_UP != 0 {
+                        functs_timed: options & THREAD_NO_FUNCT_TIMING == 0,
+                        missed: if options & THREAD_CATCH_UP != 0 {
                             crate::MissedDeadline::CatchUp
                         } else {
                             crate::MissedDeadline::Skip
