@@ -71,7 +71,7 @@ fn software_modules() -> Vec<&'static str> {
     hal_components::modules()
         .into_iter()
         .chain(motion::modules())
-        .chain(hal_tools::launcher::tp_home::modules())
+        .chain(motion::tp_home::modules())
         .map(|d| d.name)
         .collect()
 }

@@ -21,7 +21,7 @@ pub fn registry() -> Registry {
     r.add(&hal_components::modules());
     r.add(&[&hal_parport::MODULE]);
     r.add(&hostmot2::hal::modules());
-    r.add(&crate::launcher::tp_home::modules());
+    r.add(&motion::tp_home::modules());
     r.add(&[&hal_gpio::MODULE]);
     r.add(&hal_i2c::modules());
     r.add(&[&hal_motenc::MODULE]);

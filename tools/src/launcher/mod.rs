@@ -24,7 +24,6 @@ pub mod rules;
 pub mod task;
 pub mod task_pins;
 pub mod task_socket;
-pub mod tp_home;
 pub mod twopass;
 
 use std::cell::RefCell;
