@@ -4,9 +4,9 @@ use std::io::{BufRead, IsTerminal, Write};
 
 use hal_core::Instance;
 
-use crate::halcmd::ini::Ini;
-use crate::halcmd::lexer::{hal_text, read_text};
-use crate::halcmd::{Options, Session};
+use hal_lang::ini::Ini;
+use hal_lang::lexer::{hal_text, read_text};
+use hal_lang::{Options, Session};
 
 /// What halcmd's command line asked for.
 #[derive(Debug, Default)]
@@ -42,7 +42,7 @@ pub fn halcmd_usage() -> String {
          \x20 -h [COMMAND]  print this help, or the help of COMMAND, and exit\n\n\
          Commands:\n",
     );
-    text.push_str(&crate::halcmd::format::help(None).unwrap_or_default());
+    text.push_str(&hal_lang::format::help(None).unwrap_or_default());
     text
 }
 
@@ -94,7 +94,7 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
 /// Runs halcmd as its command line asks, on an attached instance. Returns
 /// the exit status.
 pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> i32 {
-    let mut stdout = crate::stdio::stdout();
+    let mut stdout = hal_lang::stdio::stdout();
     let mut stderr = std::io::stderr();
     let mut session = Session::new(inst, args.opts, &mut stdout, &mut stderr);
     if args.echo {
@@ -134,7 +134,7 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
     let mut pending = String::new();
     loop {
         if prompt {
-            crate::out!("halcmd: ");
+            hal_lang::out!("halcmd: ");
             let _ = std::io::stdout().flush();
         }
         let mut line = Vec::new();

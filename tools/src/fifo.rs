@@ -4,8 +4,8 @@
 use hal_components::infra::columns::{fifo_name, pin_name};
 use hal_core::{HalType, Instance, RingReader, RingWriter, Value};
 
-use crate::halcmd::cfmt::fmt_f;
-use crate::halcmd::values::parse_float;
+use hal_lang::fmt_f;
+use hal_lang::parse_float;
 
 /// The column types of channel `chan` of `module` (`sampler` or
 /// `streamer`), read from its `pin.M` pins, looked up one by one.

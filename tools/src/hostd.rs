@@ -11,7 +11,7 @@ use hal_core::userspace::ExitSignals;
 use hal_core::{paths, Host, HostConfig, Registry};
 
 use crate::adopt::Adopted;
-use crate::protocol::{
+use hal_lang::protocol::{
     decode_reply, decode_request, encode_reply, encode_request, ClientError, HostLink,
 };
 

@@ -2,7 +2,7 @@
 
 use hal_core::{Instance, Value};
 
-use crate::halcmd::format::get_value;
+use hal_lang::format::get_value;
 
 /// The kind of object a meter watches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

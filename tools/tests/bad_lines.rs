@@ -140,13 +140,13 @@ fn ini_and_environment_substitution() {
     std::fs::write(dir.join("m.ini"), "[AXIS_X]\nMAX = 2.5\n").unwrap();
     std::env::set_var("HALCMD_SUBST_TEST", "mult2");
     let (mut out, mut err) = (Vec::new(), Vec::new());
-    let opts = hal_tools::halcmd::Options {
-        ini: Some(hal_tools::halcmd::ini::Ini::parse(
+    let opts = hal_lang::Options {
+        ini: Some(hal_lang::ini::Ini::parse(
             &std::fs::read_to_string(dir.join("m.ini")).unwrap(),
         )),
         ..Default::default()
     };
-    let ok = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err).run_text(
+    let ok = hal_lang::Session::new(host.instance(), opts, &mut out, &mut err).run_text(
         Some("s.hal"),
         "loadrt $HALCMD_SUBST_TEST\nsetp $(HALCMD_SUBST_TEST).0.in0 [AXIS_X]MAX\ngetp mult2.0.in0\n",
     );
@@ -165,11 +165,11 @@ fn script_mode_show_is_one_line_per_object_without_titles() {
     );
     assert!(ok, "{err}");
     let (mut out, mut err) = (Vec::new(), Vec::new());
-    let opts = hal_tools::halcmd::Options {
+    let opts = hal_lang::Options {
         script: true,
         ..Default::default()
     };
-    let mut s = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err);
+    let mut s = hal_lang::Session::new(host.instance(), opts, &mut out, &mut err);
     let ok = s.run_text(
         None,
         "show sig\nshow thread\nshow pin and2.0.out\nlinkpp and2.0.in1 and2.0.out\n",
@@ -226,11 +226,11 @@ fn type_filters_work_in_script_mode_and_in_list() {
         "and2.0.in0 and2.0.in1 and2.0.out \nmult2.0.in0 mult2.0.in1 \n"
     );
     let (mut out, mut err) = (Vec::new(), Vec::new());
-    let opts = hal_tools::halcmd::Options {
+    let opts = hal_lang::Options {
         script: true,
         ..Default::default()
     };
-    let mut s = hal_tools::halcmd::Session::new(host.instance(), opts, &mut out, &mut err);
+    let mut s = hal_lang::Session::new(host.instance(), opts, &mut out, &mut err);
     let ok = s.run_text(None, "show pin -tbit\nshow pin -t float mult2.0.in\n");
     drop(s);
     assert!(ok, "{}", String::from_utf8_lossy(&err));
@@ -363,11 +363,11 @@ fn a_word_the_protocol_refuses_keeps_the_link_to_the_host() {
     let inst = hal_core::Instance::attach(host.instance().name()).unwrap();
     let link = hal_tools::hostd::InProcess::new(host.clone(), hal_tools::hostd::registry());
     let (mut out, mut err) = (Vec::new(), Vec::new());
-    let opts = hal_tools::halcmd::Options {
+    let opts = hal_lang::Options {
         keep_going: true,
         ..Default::default()
     };
-    let ok = hal_tools::halcmd::Session::new(inst, opts, &mut out, &mut err)
+    let ok = hal_lang::Session::new(inst, opts, &mut out, &mut err)
         .with_host_link(Box::new(link))
         .run_text(
             Some("s.hal"),

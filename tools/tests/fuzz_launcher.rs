@@ -4,7 +4,7 @@
 //! the fuzz/ targets; here 10^5 cases each on stable, built from the
 //! tokens that matter to each parser.
 
-use hal_tools::ini::fuzz_parse as ini_fuzz;
+use hal_lang::ini::fuzz_parse as ini_fuzz;
 use hal_tools::iocontrol::tooltable::fuzz_parse as tooltable_fuzz;
 use hal_tools::launcher::twopass::fuzz_gather;
 use proptest::prelude::*;

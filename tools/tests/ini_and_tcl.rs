@@ -151,7 +151,7 @@ l.hal:22: Locking failed: unknown lock type 'bogus' (use all, none, tune, load, 
         .status
         .success());
     assert!(hal_core::Instance::attach(&inst).is_err());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }
 
 #[test]
@@ -239,7 +239,7 @@ fn haltcl_runs_a_tcl_hal_file_with_ini_arrays() {
     assert!(ok, "{err}");
     assert_eq!(out, "p q and2.0.out and2.1.out \n");
     assert!(tool(realtime, &["stop"], &inst, None).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }
 
 #[test]

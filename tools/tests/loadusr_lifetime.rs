@@ -91,7 +91,7 @@ fn loadusr_programs_outlive_halcmd_and_end_with_realtime_stop() {
         .unwrap()
         .success());
     assert!(!running(pid), "realtime stop left the program running");
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

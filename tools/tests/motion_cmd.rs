@@ -64,5 +64,5 @@ fn motion_cmd_enables_and_jogs_a_joint_of_a_running_instance() {
     wait_status(&inst, "disabled", |s| s.contains("mode DISABLED"));
 
     assert!(run(realtime, &["stop"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }

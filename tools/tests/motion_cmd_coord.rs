@@ -104,6 +104,6 @@ fn moves_are_queued_and_programs_run_from_other_processes() {
     assert!(s.contains("in-position yes"), "{s}");
 
     assert!(run(realtime, &["stop"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -122,5 +122,5 @@ fn motion_cmd_jogs_axes_in_teleop_mode() {
     wait_status(&inst, "disabled", |s| s.contains("mode DISABLED"));
 
     assert!(run(realtime, &["stop"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }

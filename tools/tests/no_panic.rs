@@ -653,7 +653,7 @@ fn no_binary_panics_on_a_closed_stdout() {
     let failures = run_all(jobs);
     let realtime = env!("CARGO_BIN_EXE_realtime");
     assert!(common::run(realtime, &["stop"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
     assert_none_failed(count, &failures);
 }
 

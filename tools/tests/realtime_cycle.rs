@@ -49,7 +49,7 @@ fn three_instances_start_and_stop_side_by_side() {
                 assert!(!hal_core::paths::segment(&inst).exists());
                 assert!(!hal_core::paths::socket(&inst).unwrap().exists());
                 assert!(!hal_core::paths::lock(&inst).unwrap().exists());
-                let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+                let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
             })
         })
         .collect();
@@ -82,5 +82,5 @@ fn restart_starts_a_stopped_instance_and_replaces_a_running_one() {
     let again = realtime(&["stop"], &inst);
     assert!(!again.status.success());
     assert!(String::from_utf8_lossy(&again.stderr).contains("realtime not running"));
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }

@@ -40,7 +40,7 @@ fn halcmd_works_on_a_running_instance_from_another_process() {
 
     assert!(run(realtime, &["stop"], &inst).status.success());
     assert!(!run(realtime, &["status"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
     let gone = run(env!("CARGO_BIN_EXE_halcmd"), &["show"], &inst);
     assert!(String::from_utf8_lossy(&gone.stderr).contains("realtime not running"));
 }
@@ -68,5 +68,5 @@ fn halmeter_shows_a_pin_signal_and_param() {
     assert!(String::from_utf8_lossy(&missing.stderr)
         .contains("no pin, signal or parameter named 'nope'"));
     assert!(run(realtime, &["stop"], &inst).status.success());
-    let _ = std::fs::remove_file(hal_tools::launch::log_path(&inst).unwrap());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }

@@ -22,8 +22,8 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use hal_core::{Host, Instance};
-use hal_tools::halcmd::lexer::{hal_text, logical_lines, tokenize};
-use hal_tools::halcmd::{Options, Session};
+use hal_lang::lexer::{hal_text, logical_lines, tokenize};
+use hal_lang::{Options, Session};
 use hal_tools::hostd::InProcess;
 
 use crate::registry::fuzz_registry;

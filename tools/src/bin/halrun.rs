@@ -18,9 +18,9 @@ use std::time::Duration;
 
 use hal_core::{instance_from_env, Instance};
 use hal_tools::cli::{parse_halcmd_args, run_halcmd};
-use hal_tools::halcmd::Session;
-use hal_tools::haltcl::{self, TclJob};
-use hal_tools::launch::{start_host, stop_host};
+use hal_lang::Session;
+use hal_lang::haltcl::{self, TclJob};
+use hal_lang::host_process::{start_host, stop_host};
 use hal_tools::launcher;
 
 const USAGE: &str = "\
@@ -103,7 +103,7 @@ fn parse(args: &[String]) -> Result<Request, String> {
 }
 
 fn main() {
-    let args = hal_tools::stdio::args_or_exit("halrun", 1);
+    let args = hal_lang::stdio::args_or_exit("halrun", 1);
     let instance = instance_from_env();
     if args.first().map(String::as_str) == Some("-U") {
         if args.len() > 1 {
@@ -112,7 +112,7 @@ fn main() {
         std::process::exit(unload(&instance));
     }
     if args.iter().any(|a| a == "-h" || a == "--help") {
-        hal_tools::outln!("{USAGE}");
+        hal_lang::outln!("{USAGE}");
         return;
     }
     let req = match parse(&args) {
@@ -222,8 +222,8 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
         verbose: req.halcmd_opts.iter().any(|o| o == "-v" || o == "-V"),
         ..launcher::Options::default()
     };
-    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
-    let hopts = hal_tools::halcmd::Options {
+    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let hopts = hal_lang::Options {
         keep_going: opts.keep_going,
         verbose: opts.verbose,
         ini: Some(ini.clone()),
@@ -262,18 +262,18 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
     status
 }
 
-fn load_ini_or_die(path: &str) -> hal_tools::ini::Ini {
-    hal_tools::ini::Ini::load(Path::new(path)).unwrap_or_else(|e| die(&e.to_string()))
+fn load_ini_or_die(path: &str) -> hal_lang::ini::Ini {
+    hal_lang::ini::Ini::load(Path::new(path)).unwrap_or_else(|e| die(&e.to_string()))
 }
 
 /// Runs `f` on a session writing to stdout and stderr.
 fn with_session<R>(
     inst: Instance,
-    ini: Option<hal_tools::ini::Ini>,
+    ini: Option<hal_lang::ini::Ini>,
     f: impl FnOnce(&mut Session<'_>) -> R,
 ) -> R {
-    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
-    let opts = hal_tools::halcmd::Options {
+    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let opts = hal_lang::Options {
         ini,
         ..Default::default()
     };
@@ -308,7 +308,7 @@ fn tcl_status(r: Result<(), haltcl::HaltclError>) -> i32 {
 fn unload(instance: &str) -> i32 {
     match stop_host(instance, Duration::from_secs(10)) {
         Ok(()) => 0,
-        Err(hal_tools::protocol::ClientError::NotRunning { .. }) => {
+        Err(hal_lang::protocol::ClientError::NotRunning { .. }) => {
             eprintln!("halrun: realtime is not running for instance '{instance}'");
             0
         }

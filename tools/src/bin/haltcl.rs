@@ -5,14 +5,14 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use hal_core::{instance_from_env, Instance};
-use hal_tools::halcmd::{Options, Session};
-use hal_tools::haltcl::{run, TclJob};
-use hal_tools::ini::Ini;
+use hal_lang::{Options, Session};
+use hal_lang::haltcl::{run, TclJob};
+use hal_lang::ini::Ini;
 
 const USAGE: &str = "usage: haltcl [-i INI] [FILE.tcl [ARGS...]]";
 
 fn main() {
-    let args = hal_tools::stdio::args_or_exit("haltcl", 1);
+    let args = hal_lang::stdio::args_or_exit("haltcl", 1);
     let mut ini = None;
     let mut i = 0;
     while let Some(a) = args.get(i) {
@@ -28,7 +28,7 @@ fn main() {
                 i += 2;
             }
             "-h" | "--help" => {
-                hal_tools::outln!("{USAGE}");
+                hal_lang::outln!("{USAGE}");
                 return;
             }
             _ => break,
@@ -47,7 +47,7 @@ fn main() {
         Ok(inst) => inst,
         Err(e) => die(&e.to_string()),
     };
-    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
     let opts = Options {
         ini: ini.clone(),
         ..Options::default()
@@ -55,7 +55,7 @@ fn main() {
     let mut session = Session::new(inst, opts, &mut out, &mut err);
     if let Err(e) = run(&mut session, ini.as_ref(), &job) {
         // A failed script has printed its own error.
-        if !matches!(e, hal_tools::haltcl::HaltclError::Failed { .. }) {
+        if !matches!(e, hal_lang::haltcl::HaltclError::Failed { .. }) {
             eprintln!("{e}");
         }
         std::process::exit(1);

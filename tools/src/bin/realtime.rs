@@ -8,8 +8,8 @@
 use std::time::Duration;
 
 use hal_core::{instance_from_env, Instance};
-use hal_tools::launch::{start_host, stop_host};
-use hal_tools::protocol::ClientError;
+use hal_lang::host_process::{start_host, stop_host};
+use hal_lang::protocol::ClientError;
 
 /// How long `stop` waits for the host to release everything.
 const STOP_LIMIT: Duration = Duration::from_secs(20);
@@ -32,15 +32,15 @@ fn main() {
         },
         "status" => {
             if Instance::attach(&instance).is_ok() {
-                hal_tools::outln!("realtime running for instance '{instance}'");
+                hal_lang::outln!("realtime running for instance '{instance}'");
                 0
             } else {
-                hal_tools::outln!("realtime not running for instance '{instance}'");
+                hal_lang::outln!("realtime not running for instance '{instance}'");
                 1
             }
         }
         "-h" | "--help" => {
-            hal_tools::outln!("{USAGE}");
+            hal_lang::outln!("{USAGE}");
             0
         }
         _ => {
@@ -56,7 +56,7 @@ fn start(instance: &str) -> i32 {
         // The host lives on in its own session; we do not wait for it.
         Ok(child) => {
             std::mem::forget(child);
-            let log = hal_tools::launch::log_path(instance).unwrap_or_default();
+            let log = hal_lang::host_process::log_path(instance).unwrap_or_default();
             eprintln!(
                 "realtime: started for instance '{instance}', messages go to {}",
                 log.display()

@@ -11,8 +11,8 @@ use hal_core::Instance;
 use super::args::Config;
 use super::stats::ThreadStats;
 use super::LatencyError;
-use crate::launch::{start_host_own_group, stop_host};
-use crate::protocol::Client;
+use hal_lang::host_process::{start_host_own_group, stop_host};
+use hal_lang::protocol::Client;
 
 /// The base thread's name.
 pub const BASE_THREAD: &str = "base-thread";

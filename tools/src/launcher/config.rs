@@ -7,7 +7,7 @@ use motion::comp::CompEntry;
 use motion::comp_file::{read_comp_file, CompFileType};
 
 use super::LaunchError;
-use crate::ini::{Ini, IniError};
+use hal_lang::ini::{Ini, IniError};
 
 /// "No limit" as LinuxCNC writes it.
 pub const NO_LIMIT: f64 = 1e99;
@@ -138,8 +138,8 @@ impl JointLimits {
     }
 }
 
-fn ini_origin(ini: &Ini) -> crate::ini::Origin {
-    crate::ini::Origin {
+fn ini_origin(ini: &Ini) -> hal_lang::ini::Origin {
+    hal_lang::ini::Origin {
         file: std::sync::Arc::from(ini.name().as_str()),
         line: 0,
     }

@@ -10,10 +10,10 @@ use std::rc::Rc;
 use super::halfiles::{HalFile, SearchPath};
 use super::rules::{Phase, Rules};
 use super::LaunchError;
-use crate::halcmd::lexer::tokenize;
-use crate::halcmd::Session;
-use crate::haltcl::{self, TclJob};
-use crate::ini::Ini;
+use hal_lang::lexer::tokenize;
+use hal_lang::Session;
+use hal_lang::haltcl::{self, TclJob};
+use hal_lang::ini::Ini;
 
 /// Runs a machine's HAL files on a session whose filter is `rules`.
 pub struct HalSide<'a> {

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::LaunchError;
-use crate::ini::{Entry, Origin};
+use hal_lang::ini::{Entry, Origin};
 
 /// The library of standard HAL files this suite ships (`lib/hallib`):
 /// `$HALLIB_DIR` if set, else `lib/hallib` beside or above the running

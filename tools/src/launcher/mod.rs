@@ -33,8 +33,8 @@ use std::time::Duration;
 
 use hal_core::Instance;
 
-use crate::halcmd::{Options as HalcmdOptions, Session};
-use crate::ini::{Ini, IniError, Origin};
+use hal_lang::{Options as HalcmdOptions, Session};
+use hal_lang::ini::{Ini, IniError, Origin};
 use crate::iocontrol::{IoControl, IoPins, ToolTable};
 use hal_side::HalSide;
 use halfiles::SearchPath;
@@ -64,7 +64,7 @@ pub enum LaunchError {
     Failed(String),
     /// A Tcl file could not be run.
     #[error(transparent)]
-    Tcl(#[from] crate::haltcl::HaltclError),
+    Tcl(#[from] hal_lang::haltcl::HaltclError),
     /// The motion controller refused a setting.
     #[error("{at}: the motion controller refused the setting: {reason}")]
     Motion {
@@ -407,9 +407,9 @@ fn run_machine(opts: &Options) -> Result<(), LaunchError> {
             .to_string_lossy()
     );
     let signals = hal_core::userspace::ExitSignals::install()?;
-    let mut host = crate::launch::start_host_own_group(&instance).map_err(LaunchError::Host)?;
+    let mut host = hal_lang::host_process::start_host_own_group(&instance).map_err(LaunchError::Host)?;
     let result = run_on_host(&ini, opts, &instance, &signals);
-    if let Err(e) = crate::launch::stop_host(&instance, Duration::from_secs(20)) {
+    if let Err(e) = hal_lang::host_process::stop_host(&instance, Duration::from_secs(20)) {
         eprintln!("linuxcnc: stopping the HAL host: {e}");
         let _ = host.kill();
     }
@@ -424,7 +424,7 @@ fn run_on_host(
     signals: &hal_core::userspace::ExitSignals,
 ) -> Result<(), LaunchError> {
     let inst = Instance::attach(instance)?;
-    let (mut out, mut err) = (crate::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
     let hopts = HalcmdOptions {
         keep_going: opts.keep_going,
         verbose: opts.verbose,

@@ -18,7 +18,7 @@ use super::config::{
 };
 use super::task_pins::IniChange;
 use super::LaunchError;
-use crate::ini::Ini;
+use hal_lang::ini::Ini;
 
 /// `[TRAJ]` keys the motion controller has no setting for, with why:
 /// read (and shown as `ini.traj_*` pins where LinuxCNC has one), never

@@ -10,8 +10,8 @@ use std::collections::BTreeSet;
 use hal_core::Instance;
 
 use super::twopass::TwoPass;
-use crate::halcmd::session::{CommandFilter, Verdict};
-use crate::halcmd::usr;
+use hal_lang::session::{CommandFilter, Verdict};
+use hal_lang::usr;
 
 /// Programs that need a display, or are user interfaces a headless
 /// machine does not run.

@@ -5,7 +5,7 @@
 use hal_core::{Component, ComponentKind, In, Instance, Pin};
 
 use super::config::{axis_letters, joint_count, AxisLimits, JointLimits, TrajSettings};
-use crate::ini::Ini;
+use hal_lang::ini::Ini;
 
 /// A change of an `ini.*` pin, for the motion controller.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,7 +7,7 @@ use std::io::{ErrorKind, Read, Write};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::PathBuf;
 
-use crate::protocol::decode_request;
+use hal_lang::protocol::decode_request;
 
 const UNIT: char = '\u{1f}';
 const LINE: char = '\u{1e}';
@@ -154,7 +154,7 @@ pub fn request(
         },
         _ => TaskClientError::Io(e),
     })?;
-    let line = crate::protocol::encode_request(words)
+    let line = hal_lang::protocol::encode_request(words)
         .map_err(|e| TaskClientError::Malformed(e.to_string()))?;
     s.write_all(format!("{line}\n").as_bytes())?;
     s.set_read_timeout(Some(timeout))?;

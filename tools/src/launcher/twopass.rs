@@ -30,7 +30,7 @@ pub struct TwoPass {
 
 /// A `count=`/`num_chan=` value: LinuxCNC adds them with Tcl's `incr`.
 fn whole(module: &str, item: &str, value: &str) -> Result<i64, String> {
-    crate::ini::parse_int(value)
+    hal_lang::ini::parse_int(value)
         .ok_or_else(|| format!("twopass: loadrt {module}: {item}={value} is not a whole number"))
 }
 

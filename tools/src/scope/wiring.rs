@@ -11,7 +11,7 @@ use hal_components::infra::columns::pin_name;
 use hal_core::{HalType, Instance, PinDir};
 
 use super::ScopeError;
-use crate::protocol::Client;
+use hal_lang::protocol::Client;
 
 /// Depth of the FIFO halscope's own sampler gets: records the reader may
 /// fall behind by before samples are lost (about 0.2 s of a 25 µs thread).

@@ -58,7 +58,7 @@ pub fn meaningful_stderr(text: &str) -> Vec<String> {
 }
 
 /// A host served on a background thread of this process, for tests that
-/// drive a [`hal_tools::halcmd::Session`] directly.
+/// drive a [`hal_lang::Session`] directly.
 pub struct InProcessHost {
     pub instance: String,
     thread: Option<std::thread::JoinHandle<()>>,
@@ -91,12 +91,12 @@ impl InProcessHost {
     /// Runs `text` as file `name`; returns (ok, stdout, stderr).
     pub fn run(&self, name: &str, text: &str, keep_going: bool) -> (bool, String, String) {
         let (mut out, mut err) = (Vec::new(), Vec::new());
-        let opts = hal_tools::halcmd::Options {
+        let opts = hal_lang::Options {
             keep_going,
             ..Default::default()
         };
         let ok = {
-            let mut s = hal_tools::halcmd::Session::new(self.instance(), opts, &mut out, &mut err);
+            let mut s = hal_lang::Session::new(self.instance(), opts, &mut out, &mut err);
             s.run_text(Some(name), text)
         };
         (
@@ -109,7 +109,7 @@ impl InProcessHost {
 
 impl Drop for InProcessHost {
     fn drop(&mut self) {
-        let _ = hal_tools::launch::stop_host(&self.instance, Duration::from_secs(10));
+        let _ = hal_lang::host_process::stop_host(&self.instance, Duration::from_secs(10));
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }

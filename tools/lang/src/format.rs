@@ -5,7 +5,7 @@ use hal_core::{
     SignalInfo, ThreadInfo, Value,
 };
 
-use super::cfmt::fmt_g;
+use crate::cfmt::fmt_g;
 
 /// Whether `name` matches one of `patterns` the way halcmd matches: a
 /// pattern matches a name it is a prefix of, or that it matches as a shell
@@ -575,7 +575,7 @@ pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result
             Ok(format!("{t}\n"))
         }
         "save" => {
-            let text = super::save::save(inst, args.first().copied())?;
+            let text = crate::save::save(inst, args.first().copied())?;
             match args.get(1) {
                 Some(file) => std::fs::write(file, text)
                     .map(|()| String::new())
@@ -583,7 +583,7 @@ pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result
                 None => Ok(text),
             }
         }
-        "status" => super::lock::status(inst, args.first().copied()),
+        "status" => crate::lock::status(inst, args.first().copied()),
         "help" => help(args.first().copied()),
         other => Err(format!("Unknown command '{other}'")),
     }

@@ -8,10 +8,10 @@ use std::time::Duration;
 
 use hal_core::{AliasKind, ComponentKind, HalError, HalType, Instance, PinDir};
 
-use super::format;
-use super::ini::Ini;
-use super::lexer::{logical_lines, tokenize, unquote, without_comment};
-use super::values::parse_value;
+use crate::format;
+use crate::ini::Ini;
+use crate::lexer::{logical_lines, tokenize, unquote, without_comment};
+use crate::values::parse_value;
 use crate::protocol::{Client, ClientError, HostLink};
 
 /// Options that change how commands run and report.
@@ -443,7 +443,7 @@ impl<'o> Session<'o> {
             }
             "source" => {
                 let text =
-                    super::lexer::read_text(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
+                    crate::lexer::read_text(a[0]).map_err(|e| format!("source {}: {e}", a[0]))?;
                 let name = Path::new(a[0]).to_string_lossy().into_owned();
                 if self.run_text(Some(&name), &text) {
                     Ok(())
@@ -452,7 +452,7 @@ impl<'o> Session<'o> {
                 }
             }
             "loadusr" => {
-                let spec = super::usr::parse(a)?;
+                let spec = crate::usr::parse(a)?;
                 // A user program registers with LinuxCNC's id counter twice.
                 let next = self.inst.next_component_id().saturating_add(2);
                 self.inst.advance_component_ids(next).map_err(msg)?;
@@ -460,7 +460,7 @@ impl<'o> Session<'o> {
                     .check_unlocked(hal_core::lock_bits::LOAD, "loadusr")
                     .map_err(msg)?;
                 let _ = self.w_out().flush();
-                if let Some(child) = super::usr::run(&self.inst, &spec)? {
+                if let Some(child) = crate::usr::run(&self.inst, &spec)? {
                     self.adopted
                         .retain_mut(|c| !matches!(c.try_wait(), Ok(Some(_))));
                     let pid = child.id().to_string();
@@ -471,10 +471,10 @@ impl<'o> Session<'o> {
                 }
                 Ok(())
             }
-            "waitusr" => super::usr::wait_gone(&self.inst, a[0]),
-            "unloadusr" => super::usr::unload(&self.inst, a[0], UNLOAD_LIMIT),
+            "waitusr" => crate::usr::wait_gone(&self.inst, a[0]),
+            "unloadusr" => crate::usr::unload(&self.inst, a[0], UNLOAD_LIMIT),
             "lock" | "unlock" => {
-                let level = super::lock::next_level(
+                let level = crate::lock::next_level(
                     self.inst.lock_level(),
                     spec.name == "lock",
                     a.first().copied(),
@@ -500,13 +500,13 @@ impl<'o> Session<'o> {
     /// unloaded with its module.
     fn unload(&mut self, name: &str) -> CmdResult {
         if name == "all" {
-            super::usr::unload(&self.inst, name, UNLOAD_LIMIT)?;
+            crate::usr::unload(&self.inst, name, UNLOAD_LIMIT)?;
             return self.host(&["unloadrt", name]);
         }
         match self.inst.component(name).map_err(msg)? {
             None => Err(format!("component '{name}' is not loaded")),
             Some(c) if c.kind == ComponentKind::User => {
-                super::usr::unload(&self.inst, name, UNLOAD_LIMIT)
+                crate::usr::unload(&self.inst, name, UNLOAD_LIMIT)
             }
             Some(_) => self.host(&["unloadrt", name]),
         }

@@ -20,8 +20,8 @@ use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::halcmd::lexer::split_words;
-use crate::halcmd::Session;
+use crate::lexer::split_words;
+use crate::Session;
 use crate::ini::Ini;
 
 /// The Tcl side of the bridge.
@@ -218,7 +218,7 @@ fn answer(
     fields: &[String],
 ) -> Result<(bool, Vec<String>), HaltclError> {
     match fields.first().map(String::as_str) {
-        Some("commands") => Ok((true, crate::halcmd::session::command_names())),
+        Some("commands") => Ok((true, crate::session::command_names())),
         Some("ini") => Ok((true, ini.map(ini_fields).unwrap_or_default())),
         Some("parse-ini") if fields.len() == 2 => match Ini::load(Path::new(&fields[1])) {
             Ok(parsed) => Ok((true, ini_fields(&parsed))),

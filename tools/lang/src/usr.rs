@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use hal_core::{ComponentKind, Instance};
 
-use super::lexer::unquote;
+use crate::lexer::unquote;
 
 /// Options of one `loadusr`.
 #[derive(Debug, Default, PartialEq, Eq)]

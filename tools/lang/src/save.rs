@@ -5,7 +5,7 @@ use hal_core::{
     ThreadInfo,
 };
 
-use super::format::{pin_arrow, show_value, sig_arrow, thread_switches};
+use crate::format::{pin_arrow, show_value, sig_arrow, thread_switches};
 
 type R = Result<String, String>;
 

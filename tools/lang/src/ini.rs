@@ -194,7 +194,7 @@ impl Ini {
     pub fn load(path: &Path) -> Result<Ini, IniError> {
         // Bytes that are not UTF-8 (a Latin-1 comment) read as U+FFFD,
         // as in HAL files, instead of failing the whole file.
-        let mut read = |p: &Path| crate::halcmd::lexer::read_text(p);
+        let mut read = |p: &Path| crate::lexer::read_text(p);
         let mut ini = Ini::parse_with(path, &mut read)?;
         ini.path = Some(path.to_path_buf());
         Ok(ini)

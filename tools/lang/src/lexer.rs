@@ -1,7 +1,7 @@
 //! Turning HAL file text into commands: line continuation, comments,
 //! quoting and variable substitution, as halcmd does.
 
-use super::ini::Ini;
+use crate::ini::Ini;
 
 /// A lexing error, with the reason; the texts are LinuxCNC's.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
