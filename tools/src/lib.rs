@@ -1,12 +1,10 @@
 //! The HAL tools: the host process, its socket protocol, and halcmd's
 //! language (used by the `halcmd` and `halrun` binaries).
 
-pub mod adopt;
 pub mod board_tool;
 pub mod canservo_tool;
 pub mod cli;
 pub mod fifo;
-pub mod hostd;
 pub mod iocontrol;
 pub mod latency;
 pub mod launcher;
@@ -18,5 +16,4 @@ pub mod plot;
 pub mod port_probe;
 pub mod run_plot;
 pub mod scope;
-pub mod setthread;
 pub mod tool_args;

@@ -361,7 +361,7 @@ fn a_word_the_protocol_refuses_keeps_the_link_to_the_host() {
         hal_core::Host::create(hal_core::HostConfig::for_tests("sepword")).unwrap(),
     );
     let inst = hal_core::Instance::attach(host.instance().name()).unwrap();
-    let link = hal_tools::hostd::InProcess::new(host.clone(), hal_tools::hostd::registry());
+    let link = hal_host::InProcess::new(host.clone(), hal_host::registry());
     let (mut out, mut err) = (Vec::new(), Vec::new());
     let opts = hal_lang::Options {
         keep_going: true,

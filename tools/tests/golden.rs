@@ -63,7 +63,7 @@ fn golden_cases_with_provided_modules_match_linuxcnc() {
         eprintln!("no golden corpus at {}; skipped", golden.display());
         return;
     };
-    let provided: BTreeSet<String> = hal_tools::hostd::registry()
+    let provided: BTreeSet<String> = hal_host::registry()
         .names()
         .into_iter()
         .map(str::to_string)

@@ -14,7 +14,7 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     let name = cfg.instance.clone();
     let (tx, rx) = std::sync::mpsc::channel();
     let host = std::thread::spawn(move || {
-        hal_tools::hostd::serve(cfg, move || {
+        hal_host::serve(cfg, move || {
             let _ = tx.send(());
         })
         .expect("the host serves");

@@ -278,7 +278,7 @@ fn main() {
             text.as_bytes().to_vec(),
         );
     }
-    for name in hal_tools::hostd::registry().names() {
+    for name in hal_host::registry().names() {
         add(
             "loadrt_params",
             format!("module-{name}"),

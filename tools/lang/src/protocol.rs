@@ -81,7 +81,7 @@ pub fn decode_reply(line: &str) -> Result<(), String> {
 
 /// Where a halcmd session sends the requests only the host can carry out
 /// (`loadrt`, `addf`, `start`, ...): the host's socket ([`Client`]), or
-/// a host in the same process ([`crate::hostd::InProcess`]).
+/// a host in the same process (`hal_host::InProcess`).
 pub trait HostLink {
     /// Sends one request and waits for its reply.
     fn call(&mut self, words: &[String]) -> Result<(), ClientError>;

@@ -20,7 +20,7 @@ fn main() {
         }
     }
     // Whoever started us polls the socket until it answers (launch.rs).
-    let result = hal_tools::hostd::serve(HostConfig::new(&instance), || {});
+    let result = hal_host::serve(HostConfig::new(&instance), || {});
     if let Err(e) = result {
         die(&e);
     }

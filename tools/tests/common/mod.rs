@@ -71,7 +71,7 @@ impl InProcessHost {
         let name = cfg.instance.clone();
         let (tx, rx) = std::sync::mpsc::channel();
         let thread = std::thread::spawn(move || {
-            hal_tools::hostd::serve(cfg, move || {
+            hal_host::serve(cfg, move || {
                 let _ = tx.send(());
             })
             .expect("host serves");

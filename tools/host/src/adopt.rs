@@ -69,7 +69,8 @@ impl Adopted {
     }
 
     /// How many adopted programs are still running.
-    pub fn running(&self) -> usize {
+    #[cfg(test)]
+    fn running(&self) -> usize {
         lock(&self.programs)
             .iter()
             .filter(|p| !exited(&p.pidfd))
