@@ -7,8 +7,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use hal_tools::part_program::interp::{interpret, Step, Units};
-use hal_tools::part_program::run::{run, Keys, Outcome, RunOptions};
+use hal_launcher::part_program::interp::{interpret, Step, Units};
+use hal_launcher::part_program::run::{run, Keys, Outcome, RunOptions};
 use motion::{Command, MotionClient, Pose};
 
 use hal_tools::tool_args::gcode_run::{Args, UnitsArg};

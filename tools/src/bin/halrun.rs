@@ -21,7 +21,7 @@ use hal_tools::cli::{parse_halcmd_args, run_halcmd};
 use hal_lang::Session;
 use hal_lang::haltcl::{self, TclJob};
 use hal_lang::host_process::{start_host, stop_host};
-use hal_tools::launcher;
+use hal_launcher as launcher;
 
 const USAGE: &str = "\
 usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]

@@ -1,7 +1,7 @@
 //! linuxcnc: run a LinuxCNC machine configuration (its INI file) headless.
 //! See `hal_tools::launcher`.
 
-use hal_tools::launcher::{parse_args, run, USAGE};
+use hal_launcher::{parse_args, run, USAGE};
 
 fn main() {
     let args = hal_lang::stdio::args_or_exit("linuxcnc", 1);

@@ -6,8 +6,8 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use hal_tools::launcher::task::REQUESTS;
-use hal_tools::launcher::task_socket::{request, TaskClientError};
+use hal_launcher::REQUESTS;
+use hal_launcher::{request, TaskClientError};
 
 fn usage() -> String {
     format!(

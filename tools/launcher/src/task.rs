@@ -7,9 +7,9 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use super::motion_setup::MotionLink;
-use super::task_pins::TaskPins;
-use super::task_socket::{ConnId, TaskServer};
+use crate::motion_setup::MotionLink;
+use crate::task_pins::TaskPins;
+use crate::task_socket::{ConnId, TaskServer};
 use crate::iocontrol::{Handshake, IoControl, IoEvent, IoPins, IoRequest, Started, ToolTable};
 
 /// The machine state, as LinuxCNC's task keeps it.
@@ -172,11 +172,6 @@ impl Task {
         };
         t.pins.write(t.io.outputs());
         t
-    }
-
-    /// The machine state.
-    pub fn state(&self) -> MachineState {
-        self.state
     }
 
     /// One cycle: inputs, e-stop chain, handshakes, `ini.*` pins, motion

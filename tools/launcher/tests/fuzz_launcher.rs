@@ -5,8 +5,8 @@
 //! tokens that matter to each parser.
 
 use hal_lang::ini::fuzz_parse as ini_fuzz;
-use hal_tools::iocontrol::tooltable::fuzz_parse as tooltable_fuzz;
-use hal_tools::launcher::twopass::fuzz_gather;
+use hal_launcher::fuzz::tool_table as tooltable_fuzz;
+use hal_launcher::fuzz::twopass_loadrt as fuzz_gather;
 use proptest::prelude::*;
 
 const CASES: u32 = 100_000;

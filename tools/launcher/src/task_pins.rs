@@ -4,7 +4,7 @@
 
 use hal_core::{Component, ComponentKind, In, Instance, Pin};
 
-use super::config::{axis_letters, joint_count, AxisLimits, JointLimits, TrajSettings};
+use crate::config::{axis_letters, joint_count, AxisLimits, JointLimits, TrajSettings};
 use hal_lang::ini::Ini;
 
 /// A change of an `ini.*` pin, for the motion controller.
@@ -232,7 +232,7 @@ pub struct TaskPins {
 impl TaskPins {
     /// Creates the pins with the INI file's values (or LinuxCNC's
     /// defaults where a key is missing).
-    pub fn create(inst: &Instance, ini: &Ini) -> Result<TaskPins, super::LaunchError> {
+    pub fn create(inst: &Instance, ini: &Ini) -> Result<TaskPins, crate::LaunchError> {
         let c = inst.new_component("inihal", ComponentKind::User)?;
         let f = |name: String, v: f64| c.pin_init::<f64, In>(&name, v);
         let mut joints = Vec::new();

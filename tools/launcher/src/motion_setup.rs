@@ -12,12 +12,12 @@ use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
 use motion::{Command, MotionClient, Reject};
 
-use super::config::{
+use crate::config::{
     axis_letters, joint_comp, joint_count, max_feed_override, AxisLimits, HomingIni, JointLimits,
     TrajSettings,
 };
-use super::task_pins::IniChange;
-use super::LaunchError;
+use crate::task_pins::IniChange;
+use crate::LaunchError;
 use hal_lang::ini::Ini;
 
 /// `[TRAJ]` keys the motion controller has no setting for, with why:

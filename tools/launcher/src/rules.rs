@@ -9,7 +9,7 @@ use std::collections::BTreeSet;
 
 use hal_core::Instance;
 
-use super::twopass::TwoPass;
+use crate::twopass::TwoPass;
 use hal_lang::session::{CommandFilter, Verdict};
 use hal_lang::usr;
 

@@ -6,7 +6,7 @@
 use motion::comp::CompEntry;
 use motion::comp_file::{read_comp_file, CompFileType};
 
-use super::LaunchError;
+use crate::LaunchError;
 use hal_lang::ini::{Ini, IniError};
 
 /// "No limit" as LinuxCNC writes it.

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use hal_core::{Component, ComponentKind, In, Instance, Out, Param, Pin, Ro};
 
-pub use tooltable::{Tool, ToolTable};
+pub use tooltable::ToolTable;
 
 /// What task asks iocontrol to do (LinuxCNC's `EMC_IO_*`, `EMC_TOOL_*`,
 /// `EMC_COOLANT_*`, `EMC_LUBE_*` and `EMC_AUX_ESTOP_*` messages).

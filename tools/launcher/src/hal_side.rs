@@ -7,9 +7,9 @@ use std::cell::RefCell;
 use std::process::Command;
 use std::rc::Rc;
 
-use super::halfiles::{HalFile, SearchPath};
-use super::rules::{Phase, Rules};
-use super::LaunchError;
+use crate::halfiles::{HalFile, SearchPath};
+use crate::rules::{Phase, Rules};
+use crate::LaunchError;
 use hal_lang::lexer::tokenize;
 use hal_lang::Session;
 use hal_lang::haltcl::{self, TclJob};
@@ -84,7 +84,7 @@ impl HalSide<'_> {
             if f.kind() == "hal" {
                 let text =
                     std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
-                if super::twopass::is_notwopass(&text) {
+                if crate::twopass::is_notwopass(&text) {
                     notwopass.push(f.path.clone());
                 }
             }

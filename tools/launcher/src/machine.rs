@@ -16,16 +16,6 @@
 //! machine to its safe state: e-stop, motion disabled, `[HAL]SHUTDOWN`,
 //! every module's safe-state hook, everything unloaded.
 
-pub mod config;
-pub mod hal_side;
-pub mod halfiles;
-pub mod motion_setup;
-pub mod rules;
-pub mod task;
-pub mod task_pins;
-pub mod task_socket;
-pub mod twopass;
-
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -36,10 +26,10 @@ use hal_core::Instance;
 use hal_lang::{Options as HalcmdOptions, Session};
 use hal_lang::ini::{Ini, IniError, Origin};
 use crate::iocontrol::{IoControl, IoPins, ToolTable};
-use hal_side::HalSide;
-use halfiles::SearchPath;
-use rules::Rules;
-use task_pins::TaskPins;
+use crate::hal_side::HalSide;
+use crate::halfiles::SearchPath;
+use crate::rules::Rules;
+use crate::task_pins::TaskPins;
 
 /// Why the machine could not be started (or stopped cleanly).
 #[derive(Debug, thiserror::Error)]
@@ -216,7 +206,7 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
     let dir = ini.dir();
     std::env::set_current_dir(&dir).map_err(|e| LaunchError::read(&dir, e))?;
     std::env::set_var("INI_FILE_NAME", &abs);
-    if let Some(lib) = halfiles::hallib_dir() {
+    if let Some(lib) = crate::halfiles::hallib_dir() {
         std::env::set_var("HALLIB_DIR", lib);
     }
     Ok(ini)
@@ -262,7 +252,7 @@ pub fn search_path(ini: &Ini, extra: &[PathBuf]) -> SearchPath {
     SearchPath {
         extra: extra.to_vec(),
         ini_dir: ini.dir(),
-        lib: halfiles::hallib_dir(),
+        lib: crate::halfiles::hallib_dir(),
     }
 }
 
@@ -441,7 +431,7 @@ fn run_on_host(
             "starting the realtime threads failed".into(),
         ));
     }
-    let motion = motion_setup::MotionLink::connect(&inst);
+    let motion = crate::motion_setup::MotionLink::connect(&inst);
     let mut motion = match motion {
         Some(mut m) => {
             for note in m.configure(ini)? {
@@ -463,15 +453,15 @@ fn run_on_host(
     };
     side.files_of(&mut session, "POSTGUI_HALFILE")?;
     report_skipped(ini, &startup.rules.borrow(), &inst);
-    let mut server = task_socket::TaskServer::bind(instance).map_err(|e| {
-        let path = task_socket::socket_path(instance).unwrap_or_default();
+    let mut server = crate::task_socket::TaskServer::bind(instance).map_err(|e| {
+        let path = crate::task_socket::socket_path(instance).unwrap_or_default();
         LaunchError::read(&path, e)
     })?;
     if let Some(m) = &mut motion {
         // Task starts in e-stop with motion disabled.
         let _ = m.disable();
     }
-    let mut task = task::Task::new(
+    let mut task = crate::task::Task::new(
         startup.io,
         startup.io_pins,
         startup.task_pins,

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::LaunchError;
+use crate::LaunchError;
 use hal_lang::ini::{Entry, Origin};
 
 /// The library of standard HAL files this suite ships (`lib/hallib`):
@@ -26,7 +26,7 @@ pub fn hallib_dir() -> Option<PathBuf> {
         }
         candidates.push(dir.join("../share/hal/hallib"));
     }
-    candidates.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("../lib/hallib"));
+    candidates.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lib/hallib"));
     candidates
         .into_iter()
         .find(|c| c.is_dir())
