@@ -4,13 +4,8 @@
 pub mod board_tool;
 pub mod canservo_tool;
 pub mod cli;
-pub mod fifo;
-pub mod latency;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod parport_tool;
-pub mod plot;
 pub mod port_probe;
-pub mod run_plot;
-pub mod scope;
 pub mod tool_args;

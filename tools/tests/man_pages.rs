@@ -12,7 +12,7 @@ use clap::CommandFactory;
 fn pages() -> Vec<(&'static str, clap::Command)> {
     use hal_tools::tool_args;
     vec![
-        ("halscope", hal_tools::scope::args::Args::command()),
+        ("halscope", hal_scope::scope::args::Args::command()),
         ("gcode-run", tool_args::gcode_run::Args::command()),
         ("motion-plot", tool_args::motion_plot::Args::command()),
         ("hal-board", tool_args::hal_board::Cli::command()),

@@ -312,7 +312,7 @@ fn latency_test_short_run_writes_png_and_csv_of_the_threads_histograms() {
         "{stdout}"
     );
     let hist =
-        hal_tools::latency::report::parse_histogram_csv(&std::fs::read_to_string(&csv).unwrap())
+        hal_scope::latency::report::parse_histogram_csv(&std::fs::read_to_string(&csv).unwrap())
             .unwrap();
     let names: Vec<&str> = hist.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["base-thread", "servo-thread"]);

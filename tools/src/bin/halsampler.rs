@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
-use hal_tools::fifo::{format_record, open_sampler};
+use hal_scope::fifo::{format_record, open_sampler};
 
 fn main() {
     std::process::exit(match run() {

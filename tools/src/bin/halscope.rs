@@ -1,13 +1,13 @@
 //! halscope, headless: capture HAL pins to PNG, CSV or VCD (see
-//! `hal_tools::scope`).
+//! `hal_scope::scope`).
 
 use std::process::ExitCode;
 
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
-use hal_tools::scope::args::Args;
-use hal_tools::scope::{capture, title, write_outputs, ScopeError};
+use hal_scope::scope::args::Args;
+use hal_scope::scope::{capture, title, write_outputs, ScopeError};
 
 fn main() -> ExitCode {
     match run() {

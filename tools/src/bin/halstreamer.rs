@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
-use hal_tools::fifo::{open_streamer, parse_input_line};
+use hal_scope::fifo::{open_streamer, parse_input_line};
 
 fn main() {
     std::process::exit(match run() {

@@ -1,12 +1,12 @@
 //! latency-test: LinuxCNC's latency test, headless (see
-//! `hal_tools::latency`).
+//! `hal_scope::latency`).
 
 use std::process::ExitCode;
 
 use hal_core::userspace::ExitSignals;
-use hal_tools::latency::args::{parse, Parsed, HELP};
-use hal_tools::latency::session::Session;
-use hal_tools::latency::{measure, report, LatencyError};
+use hal_scope::latency::args::{parse, Parsed, HELP};
+use hal_scope::latency::session::Session;
+use hal_scope::latency::{measure, report, LatencyError};
 
 fn main() -> ExitCode {
     let args = hal_lang::stdio::args_or_exit("latency-test", 2);

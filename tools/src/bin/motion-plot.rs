@@ -4,7 +4,7 @@
 use std::process::ExitCode;
 
 use clap::Parser;
-use hal_tools::run_plot::{parse_samples, plot, summarize};
+use hal_scope::motion_plot::{parse_samples, plot, summarize};
 
 use hal_tools::tool_args::motion_plot::Args;
 

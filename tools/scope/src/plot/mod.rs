@@ -5,7 +5,7 @@
 //! freetype on the machine.
 //!
 //! ```no_run
-//! use hal_tools::plot::png;
+//! use hal_scope::plot::png;
 //! use plotters::prelude::*;
 //! let root = png("out.png", (800, 600)).into_drawing_area();
 //! root.fill(&WHITE).unwrap();
