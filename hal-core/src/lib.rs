@@ -23,6 +23,7 @@ pub mod paths;
 pub mod ring;
 pub mod rtlog;
 pub mod seqlock;
+pub mod stdio;
 pub(crate) mod shm;
 pub mod types;
 pub mod userspace;

@@ -94,7 +94,7 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
 /// Runs halcmd as its command line asks, on an attached instance. Returns
 /// the exit status.
 pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> i32 {
-    let mut stdout = hal_lang::stdio::stdout();
+    let mut stdout = crate::stdio::stdout();
     let mut stderr = std::io::stderr();
     let mut session = Session::new(inst, args.opts, &mut stdout, &mut stderr);
     if args.echo {
@@ -134,7 +134,7 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
     let mut pending = String::new();
     loop {
         if prompt {
-            hal_lang::out!("halcmd: ");
+            crate::out!("halcmd: ");
             let _ = std::io::stdout().flush();
         }
         let mut line = Vec::new();

@@ -9,3 +9,10 @@ pub mod motion_queue_args;
 pub mod parport_tool;
 pub mod port_probe;
 pub mod tool_args;
+
+pub mod stdio;
+mod error;
+
+pub use error::ToolsError;
+/// Printing to a standard output that may close: [`hal_core::stdio`].
+pub use hal_core::{out, outln};

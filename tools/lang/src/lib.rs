@@ -12,8 +12,6 @@
 //! - [`haltcl`]: Tcl HAL files, each `hal` call run on a [`Session`].
 //! - [`protocol`] and [`host_process`]: the client side of the host's
 //!   control socket, and starting and stopping a host process.
-//! - [`stdio`]: what every tool does at its edges (a closed standard
-//!   output, arguments that are not UTF-8).
 
 mod cfmt;
 pub mod format;
@@ -25,7 +23,6 @@ mod lock;
 pub mod protocol;
 mod save;
 pub mod session;
-pub mod stdio;
 pub mod usr;
 mod values;
 

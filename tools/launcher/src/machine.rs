@@ -414,7 +414,7 @@ fn run_on_host(
     signals: &hal_core::userspace::ExitSignals,
 ) -> Result<(), LaunchError> {
     let inst = Instance::attach(instance)?;
-    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_core::stdio::stdout(), std::io::stderr());
     let hopts = HalcmdOptions {
         keep_going: opts.keep_going,
         verbose: opts.verbose,

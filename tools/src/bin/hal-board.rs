@@ -31,17 +31,17 @@ fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::List => {
             for line in board_tool::list(&sysfs) {
-                hal_lang::outln!("{line}");
+                hal_tools::outln!("{line}");
             }
         }
         Command::Idrom { board } => {
             let b = Board::open(&board, &sysfs)?;
-            hal_lang::out!("{}", board_tool::idrom(&b)?);
+            hal_tools::out!("{}", board_tool::idrom(&b)?);
         }
         Command::Read { board, addr } => {
             let addr = board_tool::parse_address(&addr)?;
             let b = Board::open(&board, &sysfs)?;
-            hal_lang::outln!("{:08X}", board_tool::read(&b, addr)?);
+            hal_tools::outln!("{:08X}", board_tool::read(&b, addr)?);
         }
         Command::Write { board, addr, value } => {
             let addr = board_tool::parse_address(&addr)?;
@@ -72,10 +72,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 let frame = board_tool::module_frame(&b, &m)?;
                 if tty {
                     // Redraw in place: home the cursor, clear the screen.
-                    hal_lang::out!("\x1b[H\x1b[2J{frame}");
+                    hal_tools::out!("\x1b[H\x1b[2J{frame}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    hal_lang::outln!("{frame}");
+                    hal_tools::outln!("{frame}");
                 }
                 shown += 1;
             }

@@ -5,7 +5,7 @@ use hal_core::{instance_from_env, HostConfig};
 
 fn main() {
     let mut instance = instance_from_env();
-    let mut args = hal_lang::stdio::args_or_exit("hal-host", 1).into_iter();
+    let mut args = hal_tools::stdio::args_or_exit("hal-host", 1).into_iter();
     while let Some(a) = args.next() {
         match a.as_str() {
             "--instance" => match args.next() {
@@ -13,7 +13,7 @@ fn main() {
                 None => die("--instance needs a name"),
             },
             "-h" | "--help" => {
-                hal_lang::outln!("usage: hal-host [--instance NAME]\nRuns the HAL host for an instance until 'realtime stop' or a signal.");
+                hal_tools::outln!("usage: hal-host [--instance NAME]\nRuns the HAL host for an instance until 'realtime stop' or a signal.");
                 return;
             }
             other => die(&format!("unknown argument '{other}'")),

@@ -4,7 +4,7 @@ use hal_core::{instance_from_env, Instance};
 use hal_tools::cli::{halcmd_usage, parse_halcmd_args, run_halcmd};
 
 fn main() {
-    let args = hal_lang::stdio::args_or_exit("halcmd", 1);
+    let args = hal_tools::stdio::args_or_exit("halcmd", 1);
     let parsed = match parse_halcmd_args(&args) {
         Ok(p) => p,
         Err(e) => {
@@ -14,9 +14,9 @@ fn main() {
     };
     if let Some(topic) = &parsed.help {
         match topic {
-            None => hal_lang::out!("{}", halcmd_usage()),
+            None => hal_tools::out!("{}", halcmd_usage()),
             Some(cmd) => match hal_lang::format::help(Some(cmd)) {
-                Ok(text) => hal_lang::out!("{text}"),
+                Ok(text) => hal_tools::out!("{text}"),
                 Err(e) => {
                     eprintln!("halcmd: {e}");
                     std::process::exit(1);

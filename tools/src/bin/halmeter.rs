@@ -23,7 +23,7 @@ fn run() -> Result<(), String> {
     let mut count: Option<u64> = None;
     let mut period = Duration::from_millis(100);
     let mut words = Vec::new();
-    let mut args = hal_lang::stdio::args_or_exit("halmeter", 1).into_iter();
+    let mut args = hal_tools::stdio::args_or_exit("halmeter", 1).into_iter();
     while let Some(a) = args.next() {
         match a.as_str() {
             "-n" => {
@@ -41,7 +41,7 @@ fn run() -> Result<(), String> {
                 period = Duration::from_millis(ms.max(1));
             }
             "-h" | "--help" => {
-                hal_lang::outln!("{USAGE}");
+                hal_tools::outln!("{USAGE}");
                 return Ok(());
             }
             _ => words.push(a),
@@ -57,7 +57,7 @@ fn run() -> Result<(), String> {
     };
     let exit = ExitSignals::install().map_err(|e| e.to_string())?;
     let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
-    let mut out = hal_lang::stdio::stdout();
+    let mut out = hal_tools::stdio::stdout();
     let tty = out.is_terminal();
     let mut shown = 0u64;
     while count.is_none_or(|n| shown < n) && !exit.requested() {

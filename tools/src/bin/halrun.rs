@@ -103,7 +103,7 @@ fn parse(args: &[String]) -> Result<Request, String> {
 }
 
 fn main() {
-    let args = hal_lang::stdio::args_or_exit("halrun", 1);
+    let args = hal_tools::stdio::args_or_exit("halrun", 1);
     let instance = instance_from_env();
     if args.first().map(String::as_str) == Some("-U") {
         if args.len() > 1 {
@@ -112,7 +112,7 @@ fn main() {
         std::process::exit(unload(&instance));
     }
     if args.iter().any(|a| a == "-h" || a == "--help") {
-        hal_lang::outln!("{USAGE}");
+        hal_tools::outln!("{USAGE}");
         return;
     }
     let req = match parse(&args) {
@@ -222,7 +222,7 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
         verbose: req.halcmd_opts.iter().any(|o| o == "-v" || o == "-V"),
         ..launcher::Options::default()
     };
-    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
     let hopts = hal_lang::Options {
         keep_going: opts.keep_going,
         verbose: opts.verbose,
@@ -272,7 +272,7 @@ fn with_session<R>(
     ini: Option<hal_lang::ini::Ini>,
     f: impl FnOnce(&mut Session<'_>) -> R,
 ) -> R {
-    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
     let opts = hal_lang::Options {
         ini,
         ..Default::default()

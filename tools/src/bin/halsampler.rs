@@ -22,7 +22,7 @@ fn run() -> Result<i32, String> {
     let mut count: Option<u64> = None;
     let mut tag = false;
     let mut file: Option<String> = None;
-    let mut args = hal_lang::stdio::args_or_exit("halsampler", 1).into_iter();
+    let mut args = hal_tools::stdio::args_or_exit("halsampler", 1).into_iter();
     while let Some(a) = args.next() {
         match a.as_str() {
             "-c" => {
@@ -40,7 +40,7 @@ fn run() -> Result<i32, String> {
             }
             "-t" => tag = true,
             "-h" | "--help" => {
-                hal_lang::outln!("usage: halsampler [-c CHAN] [-n COUNT] [-t] [FILE]");
+                hal_tools::outln!("usage: halsampler [-c CHAN] [-n COUNT] [-t] [FILE]");
                 return Ok(0);
             }
             f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
@@ -54,7 +54,7 @@ fn run() -> Result<i32, String> {
         Some(f) => Box::new(std::io::BufWriter::new(
             std::fs::File::create(f).map_err(|e| format!("{f}: {e}"))?,
         )),
-        None => Box::new(std::io::BufWriter::new(hal_lang::stdio::stdout())),
+        None => Box::new(std::io::BufWriter::new(hal_tools::stdio::stdout())),
     };
     let mut record = vec![0u64; cols.len() + 1];
     let mut printed = 0u64;

@@ -32,7 +32,7 @@ fn run() -> Result<(), ScopeError> {
     let record = capture(&inst, &req, &|| signals.requested())?;
     write_outputs(&record, &req, &title(&record, &req))?;
     for (path, _) in &req.outputs {
-        hal_lang::outln!("halscope: wrote {}", path.display());
+        hal_tools::outln!("halscope: wrote {}", path.display());
     }
     Ok(())
 }

@@ -20,7 +20,7 @@ fn main() {
 fn run() -> Result<i32, String> {
     let mut chan = 0usize;
     let mut file: Option<String> = None;
-    let mut args = hal_lang::stdio::args_or_exit("halstreamer", 1).into_iter();
+    let mut args = hal_tools::stdio::args_or_exit("halstreamer", 1).into_iter();
     while let Some(a) = args.next() {
         match a.as_str() {
             "-c" => {
@@ -30,7 +30,7 @@ fn run() -> Result<i32, String> {
                     .ok_or("-c needs a channel number")?
             }
             "-h" | "--help" => {
-                hal_lang::outln!("usage: halstreamer [-c CHAN] [FILE]");
+                hal_tools::outln!("usage: halstreamer [-c CHAN] [FILE]");
                 return Ok(0);
             }
             f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),

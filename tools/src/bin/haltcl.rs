@@ -12,7 +12,7 @@ use hal_lang::ini::Ini;
 const USAGE: &str = "usage: haltcl [-i INI] [FILE.tcl [ARGS...]]";
 
 fn main() {
-    let args = hal_lang::stdio::args_or_exit("haltcl", 1);
+    let args = hal_tools::stdio::args_or_exit("haltcl", 1);
     let mut ini = None;
     let mut i = 0;
     while let Some(a) = args.get(i) {
@@ -28,7 +28,7 @@ fn main() {
                 i += 2;
             }
             "-h" | "--help" => {
-                hal_lang::outln!("{USAGE}");
+                hal_tools::outln!("{USAGE}");
                 return;
             }
             _ => break,
@@ -47,7 +47,7 @@ fn main() {
         Ok(inst) => inst,
         Err(e) => die(&e.to_string()),
     };
-    let (mut out, mut err) = (hal_lang::stdio::stdout(), std::io::stderr());
+    let (mut out, mut err) = (hal_tools::stdio::stdout(), std::io::stderr());
     let opts = Options {
         ini: ini.clone(),
         ..Options::default()

@@ -9,7 +9,7 @@ use hal_scope::latency::session::Session;
 use hal_scope::latency::{measure, report, LatencyError};
 
 fn main() -> ExitCode {
-    let args = hal_lang::stdio::args_or_exit("latency-test", 2);
+    let args = hal_tools::stdio::args_or_exit("latency-test", 2);
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(LatencyError::Usage(m)) => {
@@ -26,7 +26,7 @@ fn main() -> ExitCode {
 fn run(args: &[String]) -> Result<(), LatencyError> {
     let cfg = match parse(args)? {
         Parsed::Help => {
-            hal_lang::out!("{HELP}");
+            hal_tools::out!("{HELP}");
             return Ok(());
         }
         Parsed::Run(cfg) => cfg,
@@ -36,14 +36,14 @@ fn run(args: &[String]) -> Result<(), LatencyError> {
     let instance = format!("latency-test-{}", std::process::id());
     let session = Session::start(&instance, &cfg)?;
     // A closed stdout ends the test quietly, as `yes | head` ends `yes`.
-    let mut out = hal_lang::stdio::stdout();
+    let mut out = hal_tools::stdio::stdout();
     let tty = out.is_terminal();
     match cfg.duration {
-        Some(d) => hal_lang::outln!(
+        Some(d) => hal_tools::outln!(
             "latency-test: measuring for {:.1} s (Ctrl-C ends it early)",
             d.as_secs_f64()
         ),
-        None => hal_lang::outln!("latency-test: measuring until Ctrl-C"),
+        None => hal_tools::outln!("latency-test: measuring until Ctrl-C"),
     }
     let (threads, perms) = measure(&session, &cfg, &mut out, tty, &|| signals.requested())?;
     session.finish()?;

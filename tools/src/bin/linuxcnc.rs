@@ -4,9 +4,9 @@
 use hal_launcher::{parse_args, run, USAGE};
 
 fn main() {
-    let args = hal_lang::stdio::args_or_exit("linuxcnc", 1);
+    let args = hal_tools::stdio::args_or_exit("linuxcnc", 1);
     if args.iter().any(|a| a == "-h" || a == "--help") {
-        hal_lang::outln!("{USAGE}");
+        hal_tools::outln!("{USAGE}");
         return;
     }
     match parse_args(&args) {

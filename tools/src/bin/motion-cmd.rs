@@ -183,11 +183,11 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
             }
         }
         if start.elapsed() >= limit {
-            hal_lang::outln!(
+            hal_tools::outln!(
                 "timed out after {:.1} s waiting for {cond:?}",
                 limit.as_secs_f64()
             );
-            hal_lang::out!("{s}");
+            hal_tools::out!("{s}");
             return ExitCode::from(1);
         }
         std::thread::sleep(Duration::from_millis(2));
@@ -334,7 +334,8 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
     // still exists.
     let timeout = match &cli.timeout {
         Some(text) => Some(
-            hal_lang::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0).map_err(Usage)?,
+            hal_tools::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0)
+                .map_err(|e| Usage(e.to_string()))?,
         ),
         None => None,
     };
@@ -448,7 +449,7 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
         Action::Send(cmd) => Ok(send(&mut client, cmd)),
         Action::Status => match client.status() {
             Ok(s) => {
-                hal_lang::out!("{s}");
+                hal_tools::out!("{s}");
                 Ok(ExitCode::SUCCESS)
             }
             Err(e) => {
@@ -461,7 +462,7 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
             loop {
                 match client.status() {
                     // Home the cursor and clear, then the snapshot.
-                    Ok(s) => hal_lang::out!("\x1b[H\x1b[2J{s}"),
+                    Ok(s) => hal_tools::out!("\x1b[H\x1b[2J{s}"),
                     Err(e) => {
                         eprintln!("motion-cmd: {e}");
                         return Ok(ExitCode::from(2));
@@ -483,11 +484,11 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
 fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
     match client.send(cmd) {
         Ok(a) => {
-            hal_lang::outln!("accepted (serial {})", a.serial);
+            hal_tools::outln!("accepted (serial {})", a.serial);
             ExitCode::SUCCESS
         }
         Err(r) => {
-            hal_lang::outln!("{r}");
+            hal_tools::outln!("{r}");
             ExitCode::from(1)
         }
     }

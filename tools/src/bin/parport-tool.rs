@@ -28,12 +28,12 @@ fn run(command: Command) -> Result<i32, String> {
         Command::List => {
             let ports = list();
             if ports.is_empty() {
-                hal_lang::outln!(
+                hal_tools::outln!(
                     "no parallel ports registered with Linux (is parport_pc loaded?)"
                 );
             }
             for p in ports {
-                hal_lang::outln!("{p}");
+                hal_tools::outln!("{p}");
             }
             Ok(0)
         }
@@ -41,7 +41,7 @@ fn run(command: Command) -> Result<i32, String> {
             let port = open(&port)?;
             let exit = ExitSignals::install().map_err(|e| e.to_string())?;
             let tty = std::io::stdout().is_terminal();
-            hal_lang::outln!(
+            hal_tools::outln!(
                 "{} ({} mode): pin:level",
                 port.description,
                 port.mode.name()
@@ -50,16 +50,16 @@ fn run(command: Command) -> Result<i32, String> {
             while count.is_none_or(|n| shown < n) && !exit.requested() {
                 let line = format_inputs(port.mode, &port.driver.read());
                 if tty {
-                    hal_lang::out!("\r{line}");
+                    hal_tools::out!("\r{line}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    hal_lang::outln!("{line}");
+                    hal_tools::outln!("{line}");
                 }
                 shown += 1;
                 std::thread::sleep(Duration::from_millis(100));
             }
             if tty {
-                hal_lang::outln!();
+                hal_tools::outln!();
             }
             Ok(0)
         }
@@ -90,7 +90,7 @@ fn run(command: Command) -> Result<i32, String> {
                 levels.push((pin, high));
             }
             port.driver.write(&outputs_for(&levels));
-            hal_lang::outln!("{}: outputs set; other outputs low", port.description);
+            hal_tools::outln!("{}: outputs set; other outputs low", port.description);
             Ok(0)
         }
         Command::Selftest { port } => {
@@ -104,7 +104,7 @@ fn run(command: Command) -> Result<i32, String> {
             }
             let mut failed = 0;
             for w in &results {
-                hal_lang::outln!(
+                hal_tools::outln!(
                     "pin {:02} -> pin {:02}: {}",
                     w.out_pin,
                     w.in_pin,
@@ -112,7 +112,7 @@ fn run(command: Command) -> Result<i32, String> {
                 );
                 failed += usize::from(!w.ok);
             }
-            hal_lang::outln!("{} passed, {failed} failed", results.len() - failed);
+            hal_tools::outln!("{} passed, {failed} failed", results.len() - failed);
             Ok(i32::from(failed > 0))
         }
     }

@@ -32,15 +32,15 @@ fn main() {
         },
         "status" => {
             if Instance::attach(&instance).is_ok() {
-                hal_lang::outln!("realtime running for instance '{instance}'");
+                hal_tools::outln!("realtime running for instance '{instance}'");
                 0
             } else {
-                hal_lang::outln!("realtime not running for instance '{instance}'");
+                hal_tools::outln!("realtime not running for instance '{instance}'");
                 1
             }
         }
         "-h" | "--help" => {
-            hal_lang::outln!("{USAGE}");
+            hal_tools::outln!("{USAGE}");
             0
         }
         _ => {

@@ -23,14 +23,14 @@ fn usage() -> String {
 const MAX_TIMEOUT_S: f64 = 86_400.0;
 
 fn main() -> ExitCode {
-    let args = hal_lang::stdio::args_or_exit("task-cmd", 2);
+    let args = hal_tools::stdio::args_or_exit("task-cmd", 2);
     let mut instance = hal_core::instance_from_env();
     let mut timeout = Duration::from_secs(30);
     let mut i = 0;
     while let Some(a) = args.get(i) {
         match a.as_str() {
             "-h" | "--help" => {
-                hal_lang::outln!("{}", usage());
+                hal_tools::outln!("{}", usage());
                 return ExitCode::SUCCESS;
             }
             "-i" | "--instance" => match args.get(i + 1) {
@@ -39,9 +39,9 @@ fn main() -> ExitCode {
             },
             "-t" | "--timeout" => {
                 let text = args.get(i + 1).map_or("", String::as_str);
-                match hal_lang::stdio::parse_seconds("-t", text, MAX_TIMEOUT_S) {
+                match hal_tools::stdio::parse_seconds("-t", text, MAX_TIMEOUT_S) {
                     Ok(t) => timeout = t,
-                    Err(e) => return usage_error(&e),
+                    Err(e) => return usage_error(&e.to_string()),
                 }
             }
             _ => break,
@@ -55,7 +55,7 @@ fn main() -> ExitCode {
     match request(&instance, words, timeout) {
         Ok(Ok(text)) => {
             if !text.is_empty() {
-                hal_lang::outln!("{text}");
+                hal_tools::outln!("{text}");
             }
             ExitCode::SUCCESS
         }
