@@ -1,13 +1,9 @@
 //! The HAL tools: the host process, its socket protocol, and halcmd's
 //! language (used by the `halcmd` and `halrun` binaries).
 
-pub mod board_tool;
-pub mod canservo_tool;
 pub mod cli;
 pub mod meter;
 pub mod motion_queue_args;
-pub mod parport_tool;
-pub mod port_probe;
 pub mod tool_args;
 
 pub mod stdio;

@@ -15,11 +15,11 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("halscope", hal_scope::scope::args::Args::command()),
         ("gcode-run", tool_args::gcode_run::Args::command()),
         ("motion-plot", tool_args::motion_plot::Args::command()),
-        ("hal-board", tool_args::hal_board::Cli::command()),
-        ("canservo-tool", tool_args::canservo_tool::Cli::command()),
-        ("hm2-eth-sim", tool_args::hm2_eth_sim::Cli::command()),
+        ("hal-board", hostmot2::board_args::Cli::command()),
+        ("canservo-tool", hal_canservo::tool_args::Cli::command()),
+        ("hm2-eth-sim", hostmot2::eth_sim_args::Cli::command()),
         ("canservo-sim", hal_canservo::sim_args::Args::command()),
-        ("parport-tool", tool_args::parport_tool::Cli::command()),
+        ("parport-tool", hal_parport::tool_args::Cli::command()),
         ("motion-cmd", tool_args::motion_cmd::Cli::command()),
     ]
 }

@@ -2,10 +2,6 @@
 //! contract, in the library so tools/tests/man_pages.rs builds their man
 //! pages (packaging/man/) from the same definitions as `--help`.
 
-pub mod canservo_tool;
 pub mod gcode_run;
-pub mod hal_board;
-pub mod hm2_eth_sim;
 pub mod motion_cmd;
 pub mod motion_plot;
-pub mod parport_tool;

@@ -8,8 +8,8 @@ use std::time::Duration;
 
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
-use hal_tools::parport_tool::{format_inputs, list, open, outputs_for, selftest};
-use hal_tools::tool_args::parport_tool::{Cli, Command};
+use hal_parport::tool::{format_inputs, list, open, outputs_for, selftest};
+use hal_parport::tool_args::{Cli, Command};
 
 fn main() {
     let cli = Cli::parse();
@@ -28,12 +28,12 @@ fn run(command: Command) -> Result<i32, String> {
         Command::List => {
             let ports = list();
             if ports.is_empty() {
-                hal_tools::outln!(
+                hal_core::outln!(
                     "no parallel ports registered with Linux (is parport_pc loaded?)"
                 );
             }
             for p in ports {
-                hal_tools::outln!("{p}");
+                hal_core::outln!("{p}");
             }
             Ok(0)
         }
@@ -41,7 +41,7 @@ fn run(command: Command) -> Result<i32, String> {
             let port = open(&port)?;
             let exit = ExitSignals::install().map_err(|e| e.to_string())?;
             let tty = std::io::stdout().is_terminal();
-            hal_tools::outln!(
+            hal_core::outln!(
                 "{} ({} mode): pin:level",
                 port.description,
                 port.mode.name()
@@ -50,16 +50,16 @@ fn run(command: Command) -> Result<i32, String> {
             while count.is_none_or(|n| shown < n) && !exit.requested() {
                 let line = format_inputs(port.mode, &port.driver.read());
                 if tty {
-                    hal_tools::out!("\r{line}");
+                    hal_core::out!("\r{line}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    hal_tools::outln!("{line}");
+                    hal_core::outln!("{line}");
                 }
                 shown += 1;
                 std::thread::sleep(Duration::from_millis(100));
             }
             if tty {
-                hal_tools::outln!();
+                hal_core::outln!();
             }
             Ok(0)
         }
@@ -76,7 +76,7 @@ fn run(command: Command) -> Result<i32, String> {
                 let pin: u8 = pin
                     .parse()
                     .map_err(|_| format!("'{pin}' is not a pin number"))?;
-                if !hal_tools::parport_tool::is_output(port.mode, pin) {
+                if !hal_parport::tool::is_output(port.mode, pin) {
                     return Err(format!(
                         "pin {pin} is not an output in {} mode",
                         port.mode.name()
@@ -90,7 +90,7 @@ fn run(command: Command) -> Result<i32, String> {
                 levels.push((pin, high));
             }
             port.driver.write(&outputs_for(&levels));
-            hal_tools::outln!("{}: outputs set; other outputs low", port.description);
+            hal_core::outln!("{}: outputs set; other outputs low", port.description);
             Ok(0)
         }
         Command::Selftest { port } => {
@@ -104,7 +104,7 @@ fn run(command: Command) -> Result<i32, String> {
             }
             let mut failed = 0;
             for w in &results {
-                hal_tools::outln!(
+                hal_core::outln!(
                     "pin {:02} -> pin {:02}: {}",
                     w.out_pin,
                     w.in_pin,
@@ -112,7 +112,7 @@ fn run(command: Command) -> Result<i32, String> {
                 );
                 failed += usize::from(!w.ok);
             }
-            hal_tools::outln!("{} passed, {failed} failed", results.len() - failed);
+            hal_core::outln!("{} passed, {failed} failed", results.len() - failed);
             Ok(i32::from(failed > 0))
         }
     }

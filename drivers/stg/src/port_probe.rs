@@ -1,16 +1,16 @@
 //! `hal-board probe`: which Servo-To-Go answers at an ISA base address,
-//! read from the board test register's signature ([`hal_stg::probe`]),
+//! read from the board test register's signature ([`crate::probe`]),
 //! or at every address the board's jumpers can select. Reads only.
 
 use std::sync::Arc;
 
 use hal_driver::bus::{DevPortPorts, IopermPorts, PortBus, PortRange};
 use hal_driver::sim::SimBoard;
-use hal_stg::detect::Model;
-use hal_stg::open::SIM_DEFAULT_BASE;
-use hal_stg::regs::{BRDTST, CANDIDATE_BASES};
-use hal_stg::sim::StgModel;
-use hal_stg::StgError;
+use crate::detect::Model;
+use crate::open::SIM_DEFAULT_BASE;
+use crate::regs::{BRDTST, CANDIDATE_BASES};
+use crate::sim::StgModel;
+use crate::StgError;
 
 /// How the ports are reached.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,13 +70,13 @@ pub fn probe(base: Option<u16>, via: Via) -> Result<Vec<String>, String> {
         )
     };
     match base {
-        Some(b) => hal_stg::probe(&*bus, b)
+        Some(b) => crate::probe(&*bus, b)
             .map(|m| vec![found(b, m)])
             .map_err(|e| e.to_string()),
         None => {
             let lines: Vec<String> = bases
                 .iter()
-                .filter_map(|&b| hal_stg::probe(&*bus, b).ok().map(|m| found(b, m)))
+                .filter_map(|&b| crate::probe(&*bus, b).ok().map(|m| found(b, m)))
                 .collect();
             if lines.is_empty() {
                 Err(StgError::NotFound.to_string())

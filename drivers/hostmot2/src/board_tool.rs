@@ -19,15 +19,15 @@ use hal_driver::pci::{self, EnableGuard, PciDevice, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_motenc::sim::MotencModel;
 use hal_motenc::BoardKind;
-use hostmot2::eth::{self, EthTransport};
-use hostmot2::image::FirmwareSpec;
-use hostmot2::md::{self, ModuleDescriptor};
-use hostmot2::pci::{PciBoard, BOARDS};
-use hostmot2::readhmid;
-use hostmot2::regs::{gtag, WINDOW_BYTES};
-use hostmot2::sim::{self, boards, machine, SimHm2};
-use hostmot2::transport::Transport;
-use hostmot2::window::WindowTransport;
+use crate::eth::{self, EthTransport};
+use crate::image::FirmwareSpec;
+use crate::md::{self, ModuleDescriptor};
+use crate::pci::{PciBoard, BOARDS};
+use crate::readhmid;
+use crate::regs::{gtag, WINDOW_BYTES};
+use crate::sim::{self, boards, machine, SimHm2};
+use crate::transport::Transport;
+use crate::window::WindowTransport;
 
 /// A driver family's boards on the PCI bus.
 pub struct Family {
@@ -47,7 +47,7 @@ pub fn families() -> Vec<Family> {
         Family {
             name: "Mesa HostMot2",
             driver: "hm2_pci",
-            table: || hostmot2::pci::id_table(BOARDS),
+            table: || crate::pci::id_table(BOARDS),
             identify: identify_hm2,
         },
         Family {
@@ -74,7 +74,7 @@ fn identify_motenc(dev: &PciDevice) -> String {
 }
 
 fn identify_hm2(dev: &PciDevice) -> String {
-    let Some(kind) = hostmot2::pci::kind_of(BOARDS, dev) else {
+    let Some(kind) = crate::pci::kind_of(BOARDS, dev) else {
         return "not a known HostMot2 board".into();
     };
     let open = || -> Result<String, String> {
@@ -175,7 +175,7 @@ pub enum Board {
         /// Its space-7 name (`7I96S`).
         name: String,
         /// What hm2_eth makes of it.
-        llio: hostmot2::llio::Llio,
+        llio: crate::llio::Llio,
     },
 }
 
@@ -211,7 +211,7 @@ impl Board {
             return Ok(Board::Sim { spec, board });
         }
         let address = which.strip_prefix("pci:").unwrap_or(which);
-        let devs = pci::scan(sysfs, &hostmot2::pci::id_table(BOARDS)).map_err(|e| e.to_string())?;
+        let devs = pci::scan(sysfs, &crate::pci::id_table(BOARDS)).map_err(|e| e.to_string())?;
         let device = devs
             .into_iter()
             .find(|d| d.address == address)
@@ -221,7 +221,7 @@ impl Board {
                     sysfs.root().display()
                 )
             })?;
-        let kind = *hostmot2::pci::kind_of(BOARDS, &device).ok_or("unknown board kind")?;
+        let kind = *crate::pci::kind_of(BOARDS, &device).ok_or("unknown board kind")?;
         let enabled = device.enable().map_err(|e| e.to_string())?;
         let window = device
             .map_bar_window(kind.bar, WINDOW_BYTES)
@@ -248,7 +248,7 @@ impl Board {
     }
 
     /// The board's llio (connectors, pins per connector).
-    pub fn llio(&self) -> hostmot2::llio::Llio {
+    pub fn llio(&self) -> crate::llio::Llio {
         match self {
             Board::Pci { kind, .. } => kind.llio(0),
             Board::Sim { spec, .. } => spec.llio(0),
@@ -321,20 +321,20 @@ pub fn write(board: &Board, addr: u32, value: u32) -> Result<(), String> {
 /// channel in mode 0 by default). This resets the ports: not while a HAL
 /// runs the board.
 pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
-    let config = hostmot2::config::parse(config).map_err(|e| e.to_string())?;
+    let config = crate::config::parse(config).map_err(|e| e.to_string())?;
     let llio = board.llio();
     let mut t = board.transport()?;
-    let mut log = hostmot2::log::MessageLog::default();
-    let fw = hostmot2::firmware::load(
+    let mut log = crate::log::MessageLog::default();
+    let fw = crate::firmware::load(
         &llio,
         &config,
-        hostmot2::firmware::Debug::default(),
+        crate::firmware::Debug::default(),
         t.as_mut(),
         &mut log,
     )
     .map_err(|e| e.to_string())?;
     match fw.sserial {
-        Some(f) => Ok(hostmot2::sserial::report::report(&f, &llio.name)),
+        Some(f) => Ok(crate::sserial::report::report(&f, &llio.name)),
         None => Ok("the firmware has no Smart Serial module\n".into()),
     }
 }
@@ -344,8 +344,8 @@ pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
 /// `watchdog`, `led`).
 pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, String> {
     let mut t = board.transport()?;
-    hostmot2::idrom::check_identity(t.as_mut()).map_err(|e| e.to_string())?;
-    let h = hostmot2::idrom::read_header(t.as_mut(), &board.llio()).map_err(|e| e.to_string())?;
+    crate::idrom::check_identity(t.as_mut()).map_err(|e| e.to_string())?;
+    let h = crate::idrom::read_header(t.as_mut(), &board.llio()).map_err(|e| e.to_string())?;
     let mds = md::read_all(t.as_mut(), &h).map_err(|e| e.to_string())?;
     let want = name.to_ascii_lowercase();
     mds.into_iter()

@@ -6,13 +6,13 @@
 
 use std::time::{Duration, Instant};
 
-use hal_canservo::bus::{CanBus, Filters, SimBus, SocketCanBus, WallClock};
-use hal_canservo::decode::{nmt_state, Decoder};
-use hal_canservo::drivefile::{parse_object, SdoType};
-use hal_canservo::frame::Frame;
-use hal_canservo::power::{describe_statusword, AfterQuickStop, AnyPower, PowerState};
-use hal_canservo::regs::{cob, describe_object, mode, nmt, obj};
-use hal_canservo::sdo::SdoClient;
+use crate::bus::{CanBus, Filters, SimBus, SocketCanBus, WallClock};
+use crate::decode::{nmt_state, Decoder};
+use crate::drivefile::{parse_object, SdoType};
+use crate::frame::Frame;
+use crate::power::{describe_statusword, AfterQuickStop, AnyPower, PowerState};
+use crate::regs::{cob, describe_object, mode, nmt, obj};
+use crate::sdo::SdoClient;
 
 /// A bus to work on, with one endpoint that sees everything.
 pub struct Tool {
@@ -283,7 +283,7 @@ impl Tool {
         let mut lines = vec![
             format!("statusword {}", describe_statusword(statusword)),
             format!("mode {shown} ({})", mode::name(shown)),
-            format!("error code {}", hal_canservo::codes::ErrorCode(error)),
+            format!("error code {}", crate::codes::ErrorCode(error)),
             format!("error register {register:#04x}"),
         ];
         for (index, what) in [
@@ -317,8 +317,8 @@ impl Tool {
             sdo.write_i32(obj::TARGET_VELOCITY, 0, 0),
         ] {
             match r {
-                Err(hal_canservo::Error::SdoAbort { code, .. })
-                    if code == hal_canservo::codes::AbortCode::NO_OBJECT => {}
+                Err(crate::Error::SdoAbort { code, .. })
+                    if code == crate::codes::AbortCode::NO_OBJECT => {}
                 r => r.map_err(err)?,
             }
         }

@@ -15,7 +15,7 @@ use hostmot2::sim::eth::{EthBoard, EthIdentity};
 use hostmot2::sim::eth_server::{Faults, Server};
 use hostmot2::sim::{machine, Hm2Model};
 
-use hal_tools::tool_args::hm2_eth_sim::Cli;
+use hostmot2::eth_sim_args::Cli;
 
 fn main() {
     let cli = Cli::parse();

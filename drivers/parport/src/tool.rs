@@ -3,12 +3,12 @@
 
 use std::sync::Arc;
 
-use hal_parport::cfg::{self, Mode};
-use hal_parport::clock::{Clock, MonotonicClock};
-use hal_parport::driver::{Inputs, Outputs, PortDriver};
-use hal_parport::regs::{pin_reg, PinReg, CONTROL_PINS};
-use hal_parport::select::{self, linux_ports, SysPaths};
-use hal_parport::sim::Plug;
+use crate::cfg::{self, Mode};
+use crate::clock::{Clock, MonotonicClock};
+use crate::driver::{Inputs, Outputs, PortDriver};
+use crate::regs::{pin_reg, PinReg, CONTROL_PINS};
+use crate::select::{self, linux_ports, SysPaths};
+use crate::sim::Plug;
 
 /// An opened port with its driver.
 pub struct Port {

@@ -7,9 +7,9 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use hal_tools::canservo_tool::{Step, Tool, WatchOptions, STEPS};
+use hal_canservo::tool::{Step, Tool, WatchOptions, STEPS};
 
-use hal_tools::tool_args::canservo_tool::{Cli, Cmd};
+use hal_canservo::tool_args::{Cli, Cmd};
 
 fn run(cli: Cli) -> Result<Vec<String>, String> {
     let timeout = Duration::from_millis(cli.timeout_ms.max(1));

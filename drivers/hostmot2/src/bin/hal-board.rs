@@ -13,10 +13,10 @@ use std::time::Duration;
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
 use hal_driver::pci::Sysfs;
-use hal_tools::board_tool::{self, Board};
-use hal_tools::port_probe;
+use hostmot2::board_tool::{self, Board};
+use hal_stg::port_probe;
 
-use hal_tools::tool_args::hal_board::{Cli, Command};
+use hostmot2::board_args::{Cli, Command};
 
 fn main() {
     let cli = Cli::parse();
@@ -31,17 +31,17 @@ fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::List => {
             for line in board_tool::list(&sysfs) {
-                hal_tools::outln!("{line}");
+                hal_core::outln!("{line}");
             }
         }
         Command::Idrom { board } => {
             let b = Board::open(&board, &sysfs)?;
-            hal_tools::out!("{}", board_tool::idrom(&b)?);
+            hal_core::out!("{}", board_tool::idrom(&b)?);
         }
         Command::Read { board, addr } => {
             let addr = board_tool::parse_address(&addr)?;
             let b = Board::open(&board, &sysfs)?;
-            hal_tools::outln!("{:08X}", board_tool::read(&b, addr)?);
+            hal_core::outln!("{:08X}", board_tool::read(&b, addr)?);
         }
         Command::Write { board, addr, value } => {
             let addr = board_tool::parse_address(&addr)?;
@@ -72,10 +72,10 @@ fn run(cli: Cli) -> Result<(), String> {
                 let frame = board_tool::module_frame(&b, &m)?;
                 if tty {
                     // Redraw in place: home the cursor, clear the screen.
-                    hal_tools::out!("\x1b[H\x1b[2J{frame}");
+                    hal_core::out!("\x1b[H\x1b[2J{frame}");
                     let _ = std::io::stdout().flush();
                 } else {
-                    hal_tools::outln!("{frame}");
+                    hal_core::outln!("{frame}");
                 }
                 shown += 1;
             }
