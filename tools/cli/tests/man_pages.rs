@@ -34,7 +34,7 @@ fn render(cmd: clap::Command) -> Vec<u8> {
 
 #[test]
 fn man_pages_match_the_clap_definitions() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../packaging/man");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../packaging/man");
     let update = std::env::var_os("HAL_UPDATE_MAN").is_some();
     let pages = pages();
     // Every page in the package is one of these (none left behind by a

@@ -82,7 +82,7 @@ fn check_line(line: &str) -> Result<(), String> {
 
 #[test]
 fn the_rules_parse() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../udev");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../udev");
     let mut files = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();

@@ -1,5 +1,5 @@
 //! The Debian package's definition (`[package.metadata.deb]` of
-//! tools/Cargo.toml and packaging/deb/) checked against the tree: every
+//! tools/cli/Cargo.toml and packaging/deb/) checked against the tree: every
 //! binary, the udev rules, /run/hal, the limits of the group hal, the
 //! maintainer scripts; no setuid or setgid bit anywhere; and the postinst
 //! run against recording stand-ins for the system commands it calls.
@@ -61,11 +61,13 @@ fn every_binary_is_packaged_and_nothing_is_setuid() {
     let assets = assets(&deb);
     // The tools' own programs and the drivers' user-space programs
     // (hy_vfd, canservo-sim, ...).
-    let mut bin_dirs = vec![crate_dir().join("src/bin")];
-    for driver in std::fs::read_dir(crate_dir().join("../drivers")).unwrap() {
-        let dir = driver.unwrap().path().join("src/bin");
-        if dir.is_dir() {
-            bin_dirs.push(dir);
+    let mut bin_dirs = Vec::new();
+    for group in ["../../tools", "../../drivers"] {
+        for krate in std::fs::read_dir(crate_dir().join(group)).unwrap() {
+            let dir = krate.unwrap().path().join("src/bin");
+            if dir.is_dir() {
+                bin_dirs.push(dir);
+            }
         }
     }
     let bins = bin_dirs
@@ -139,15 +141,15 @@ fn rules_runtime_directory_and_limits_are_installed() {
             .unwrap_or_else(|| panic!("{src} is not packaged"))
     };
     assert_eq!(
-        dest_of("../udev/60-hal-suite.rules"),
+        dest_of("../../udev/60-hal-suite.rules"),
         "usr/lib/udev/rules.d/"
     );
     assert_eq!(
-        dest_of("../packaging/tmpfiles.d/hal.conf"),
+        dest_of("../../packaging/tmpfiles.d/hal.conf"),
         "usr/lib/tmpfiles.d/hal.conf"
     );
     assert_eq!(
-        dest_of("../packaging/limits.d/hal.conf"),
+        dest_of("../../packaging/limits.d/hal.conf"),
         "etc/security/limits.d/hal.conf"
     );
     let conf: Vec<&str> = deb["conf-files"]
@@ -165,19 +167,19 @@ fn rules_runtime_directory_and_limits_are_installed() {
             .collect()
     };
     assert_eq!(
-        lines(read("../packaging/tmpfiles.d/hal.conf")),
+        lines(read("../../packaging/tmpfiles.d/hal.conf")),
         ["d /run/hal 0770 root hal -"]
     );
     assert_eq!(
-        lines(read("../packaging/limits.d/hal.conf")),
+        lines(read("../../packaging/limits.d/hal.conf")),
         ["@hal - rtprio 99", "@hal - memlock unlimited"]
     );
-    assert!(read("../udev/60-hal-suite.rules").contains("GROUP=\"hal\""));
-    assert_eq!(dest_of("../packaging/man/*.1"), "usr/share/man/man1/");
-    assert_eq!(dest_of("../packaging/man9/*.9"), "usr/share/man/man9/");
+    assert!(read("../../udev/60-hal-suite.rules").contains("GROUP=\"hal\""));
+    assert_eq!(dest_of("../../packaging/man/*.1"), "usr/share/man/man1/");
+    assert_eq!(dest_of("../../packaging/man9/*.9"), "usr/share/man/man9/");
     // The launcher finds the standard HAL files at ../share/hal/hallib
     // from its own directory.
-    assert_eq!(dest_of("../lib/hallib/*"), "usr/share/hal/hallib/");
+    assert_eq!(dest_of("../../lib/hallib/*"), "usr/share/hal/hallib/");
     let depends = deb["depends"].as_str().unwrap();
     assert!(
         depends.contains("libcap2-bin") && depends.contains("adduser"),

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 fn page() -> String {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../packaging/man9/threads.9");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../packaging/man9/threads.9");
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
