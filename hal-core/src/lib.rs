@@ -23,8 +23,8 @@ pub mod paths;
 pub mod ring;
 pub mod rtlog;
 pub mod seqlock;
-pub mod stdio;
 pub(crate) mod shm;
+pub mod stdio;
 pub mod types;
 pub mod userspace;
 

@@ -19,6 +19,7 @@ use hal_driver::pci::{self, EnableGuard, PciDevice, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_motenc::sim::MotencModel;
 use hal_motenc::BoardKind;
+
 use crate::eth::{self, EthTransport};
 use crate::image::FirmwareSpec;
 use crate::md::{self, ModuleDescriptor};

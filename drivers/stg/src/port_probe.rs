@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use hal_driver::bus::{DevPortPorts, IopermPorts, PortBus, PortRange};
 use hal_driver::sim::SimBoard;
+
 use crate::detect::Model;
 use crate::open::SIM_DEFAULT_BASE;
 use crate::regs::{BRDTST, CANDIDATE_BASES};

@@ -3,10 +3,11 @@
 use std::io::{BufRead, IsTerminal, Write};
 
 use hal_core::Instance;
-
 use hal_lang::ini::Ini;
 use hal_lang::lexer::{hal_text, read_text};
 use hal_lang::{Options, Session};
+
+use crate::ToolsError;
 
 /// What halcmd's command line asked for.
 #[derive(Debug, Default)]
@@ -48,7 +49,7 @@ pub fn halcmd_usage() -> String {
 
 /// Parses halcmd's options (`-f`, `-i`, `-k`, `-q`, `-Q`, `-s`, `-v`,
 /// `-V`, `-e`, `-R`); the first non-option word starts the command.
-pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
+pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
     let mut out = HalcmdArgs::default();
     let mut i = 0;
     while i < args.len() {
@@ -62,8 +63,10 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
                 out.file = Some(file);
             }
             "-i" => {
-                let path = args.get(i + 1).ok_or("-i needs an INI file")?;
-                let ini = Ini::load(std::path::Path::new(path)).map_err(|e| e.to_string())?;
+                let path = args
+                    .get(i + 1)
+                    .ok_or_else(|| ToolsError::usage("-i needs an INI file"))?;
+                let ini = Ini::load(std::path::Path::new(path))?;
                 out.opts.ini = Some(ini);
                 i += 1;
             }
@@ -79,7 +82,7 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, String> {
                 return Ok(out);
             }
             _ if a.starts_with('-') && out.command.is_empty() => {
-                return Err(format!("unknown option '{a}'"))
+                return Err(ToolsError::usage(format!("unknown option '{a}'")))
             }
             _ => {
                 out.command = args[i..].to_vec();

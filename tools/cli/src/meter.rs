@@ -1,8 +1,9 @@
 //! What halmeter watches and how it reads it.
 
 use hal_core::{Instance, Value};
-
 use hal_lang::format::get_value;
+
+use crate::ToolsError;
 
 /// The kind of object a meter watches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,7 +30,7 @@ impl Kind {
 
 /// Reads the current value of `name` (of `kind`, or the first kind that
 /// has it: pin, signal, param).
-pub fn read(inst: &Instance, kind: Option<Kind>, name: &str) -> Result<(Kind, Value), String> {
+pub fn read(inst: &Instance, kind: Option<Kind>, name: &str) -> Result<(Kind, Value), ToolsError> {
     let kinds = match kind {
         Some(k) => vec![k],
         None => vec![Kind::Pin, Kind::Signal, Kind::Param],
@@ -44,7 +45,9 @@ pub fn read(inst: &Instance, kind: Option<Kind>, name: &str) -> Result<(Kind, Va
             return Ok((k, v));
         }
     }
-    Err(format!("no pin, signal or parameter named '{name}'"))
+    Err(ToolsError::NotFound {
+        name: name.to_string(),
+    })
 }
 
 /// One meter reading as printed.

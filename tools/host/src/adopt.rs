@@ -16,6 +16,8 @@ use std::time::{Duration, Instant};
 
 use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 
+use crate::error::HostError;
+
 /// One adopted program.
 struct Program {
     pidfd: OwnedFd,
@@ -37,25 +39,28 @@ impl Adopted {
 
     /// Adopts process `pid` (a decimal number), named `name` in messages,
     /// which must be a child of `requester` (the peer's PID).
-    pub fn adopt(&self, pid: &str, name: &str, requester: Option<i32>) -> Result<(), String> {
+    pub fn adopt(&self, pid: &str, name: &str, requester: Option<i32>) -> Result<(), HostError> {
         let pid: i32 = pid
             .parse()
             .ok()
             .filter(|p| *p > 0)
-            .ok_or_else(|| format!("adopt: '{pid}' is not a process id"))?;
-        let requester =
-            requester.ok_or("adopt: the requesting process is unknown (no peer credentials)")?;
-        let pidfd = pidfd_open(pid).map_err(|e| format!("adopt: process {pid}: {e}"))?;
+            .ok_or_else(|| HostError::BadPid {
+                pid: pid.to_string(),
+            })?;
+        let requester = requester.ok_or(HostError::NoPeer)?;
+        let pidfd = pidfd_open(pid).map_err(|source| HostError::Process { pid, source })?;
         // With the pidfd held, `pid` names this process for good; and as the
         // requester's unreaped child it cannot have been reused before.
         match parent_of(pid) {
             Ok(parent) if parent == requester => {}
             Ok(parent) => {
-                return Err(format!(
-                    "adopt: process {pid} is a child of {parent}, not of the requester {requester}"
-                ))
+                return Err(HostError::NotAChild {
+                    pid,
+                    parent,
+                    requester,
+                })
             }
-            Err(e) => return Err(format!("adopt: process {pid}: {e}")),
+            Err(source) => return Err(HostError::Process { pid, source }),
         }
         let mut list = lock(&self.programs);
         // Forget programs that have ended meanwhile.
@@ -193,7 +198,10 @@ mod tests {
         let me = std::process::id() as i32;
         let mut child = Command::new("sleep").arg("60").spawn().unwrap();
         let pid = child.id().to_string();
-        let e = adopted.adopt(&pid, "sleep", Some(me + 1)).unwrap_err();
+        let e = adopted
+            .adopt(&pid, "sleep", Some(me + 1))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("not of the requester"), "{e}");
         assert!(adopted.adopt("0", "x", Some(me)).is_err());
         assert!(adopted.adopt("nan", "x", Some(me)).is_err());

@@ -9,7 +9,9 @@
 //! [`InProcess`] instead of the socket (the fuzz targets and tests).
 
 mod adopt;
+mod error;
 mod server;
 mod setthread;
 
+pub use error::HostError;
 pub use server::{registry, serve, InProcess};

@@ -9,11 +9,12 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{paths, Host, HostConfig, Registry};
-
-use crate::adopt::Adopted;
 use hal_lang::protocol::{
     decode_reply, decode_request, encode_reply, encode_request, ClientError, HostLink,
 };
+
+use crate::adopt::Adopted;
+use crate::error::HostError;
 
 /// The registry of every module this suite provides.
 pub fn registry() -> Registry {
@@ -36,22 +37,20 @@ pub fn registry() -> Registry {
 /// is served by a thread of its own (a halcmd started by `loadusr` talks to
 /// the host while its parent's connection is open); requests are executed
 /// one at a time.
-pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
-    let signals = ExitSignals::install().map_err(|e| e.to_string())?;
+pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), HostError> {
+    let signals = ExitSignals::install()?;
     let instance = config.instance.clone();
-    let host = Host::create(config).map_err(|e| e.to_string())?;
+    let host = Host::create(config)?;
     // LinuxCNC's own processes take the first component ids; reproduce its
     // numbering so `show` output matches (the first loadrt gets id 6).
-    host.instance()
-        .advance_component_ids(4)
-        .map_err(|e| e.to_string())?;
+    host.instance().advance_component_ids(4)?;
     let registry = registry();
-    let sock = paths::socket(&instance).map_err(|e| e.to_string())?;
+    let sock = paths::socket(&instance)?;
     // We hold the instance lock, so a socket file here is stale.
-    let listener = paths::bind_socket(&sock).map_err(|e| format!("control socket: {e}"))?;
+    let listener = paths::bind_socket(&sock).map_err(|source| HostError::Bind { source })?;
     listener
         .set_nonblocking(true)
-        .map_err(|e| format!("control socket: {e}"))?;
+        .map_err(|source| HostError::Socket { source })?;
     ready();
     let stop = AtomicBool::new(false);
     let exec_lock = Mutex::new(());
@@ -80,7 +79,7 @@ pub fn serve(config: HostConfig, ready: impl FnOnce()) -> Result<(), String> {
             }
             Err(e) => {
                 stop.store(true, SeqCst);
-                break Err(format!("control socket: {e}"));
+                break Err(HostError::Socket { source: e });
             }
         }
     });
@@ -206,7 +205,7 @@ impl HostLink for InProcess {
     fn call(&mut self, words: &[String]) -> Result<(), ClientError> {
         let words = decode_request(&encode_request(words)?);
         let result = execute(&self.host, &self.registry, &words).map(|_| ());
-        decode_reply(&encode_reply(&result)).map_err(ClientError::Refused)
+        decode_reply(&encode_reply(&result))
     }
 }
 
@@ -216,36 +215,40 @@ enum Next {
     Shutdown,
 }
 
-fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, String> {
+fn execute(host: &Host, registry: &Registry, words: &[String]) -> Result<Next, HostError> {
     let arg = |i: usize| words.get(i).map(String::as_str).unwrap_or("");
     let r = match arg(0) {
         "ping" => Ok(()),
         "shutdown" => return Ok(Next::Shutdown),
         "loadrt" => match registry.find(arg(1)) {
-            Some(def) => host.loadrt(def, &words[2..]).map_err(|e| e.to_string()),
-            None => Err(format!("module '{}' not found", arg(1))),
+            Some(def) => Ok(host.loadrt(def, &words[2..])?),
+            None => Err(HostError::UnknownModule {
+                name: arg(1).to_string(),
+            }),
         },
-        "unloadrt" => host.unloadrt(arg(1)).map_err(|e| e.to_string()),
-        "unload" => host.unload(arg(1)).map_err(|e| e.to_string()),
+        "unloadrt" => Ok(host.unloadrt(arg(1))?),
+        "unload" => Ok(host.unload(arg(1))?),
         "addf" => {
             let pos = match words.get(3) {
-                None => Ok(-1),
-                Some(p) => p.parse::<i32>().map_err(|_| format!("bad position '{p}'")),
+                None => -1,
+                Some(p) => p
+                    .parse::<i32>()
+                    .map_err(|_| HostError::BadPosition { text: p.clone() })?,
             };
-            pos.and_then(|p| host.addf(arg(1), arg(2), p).map_err(|e| e.to_string()))
+            Ok(host.addf(arg(1), arg(2), pos)?)
         }
-        "initf" => host.initf(arg(1), arg(2)).map_err(|e| e.to_string()),
-        "delf" => host
-            .delf(arg(1), words.get(2).map(String::as_str))
-            .map_err(|e| e.to_string()),
+        "initf" => Ok(host.initf(arg(1), arg(2))?),
+        "delf" => Ok(host.delf(arg(1), words.get(2).map(String::as_str))?),
         "setthread" => crate::setthread::apply(host, &words[1..]),
-        "start" => host.start().map_err(|e| e.to_string()),
+        "start" => Ok(host.start()?),
         "stop" => host
             .instance()
             .check_unlocked(hal_core::lock_bits::RUN, "stop_threads")
             .map(|()| host.stop())
-            .map_err(|e| e.to_string()),
-        other => Err(format!("unknown host request '{other}'")),
+            .map_err(HostError::from),
+        other => Err(HostError::UnknownRequest {
+            word: other.to_string(),
+        }),
     };
     r.map(|()| Next::Continue)
 }

@@ -13,6 +13,8 @@
 
 use hal_core::{realtime, Host, MissedDeadline};
 
+use crate::error::HostError;
+
 /// One line's switches, checked.
 #[derive(Debug, Default, PartialEq)]
 struct Switches {
@@ -22,23 +24,26 @@ struct Switches {
     missed: Option<MissedDeadline>,
 }
 
-/// What `setthread` takes, for its messages.
-const USAGE: &str = "setthread THREAD [timing=0|1] [cpu=N|default] [missed=skip|catch-up]";
-
 /// Parses `KEY=VALUE` words for `thread`; `allowed` are the CPUs this
 /// process may use.
-fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, String> {
+fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, HostError> {
     if words.is_empty() {
-        return Err(format!(
-            "setthread {thread}: no switch given; usage: {USAGE}"
-        ));
+        return Err(HostError::NoSwitch {
+            thread: thread.to_string(),
+        });
     }
     let mut s = Switches::default();
     for word in words {
-        let (key, value) = word.split_once('=').ok_or_else(|| {
-            format!("setthread {thread}: '{word}' is not KEY=VALUE; usage: {USAGE}")
+        let (key, value) = word.split_once('=').ok_or_else(|| HostError::NotKeyValue {
+            thread: thread.to_string(),
+            word: word.to_string(),
         })?;
-        let bad = |what: &str| format!("setthread {thread}: {key}='{value}': {what}");
+        let bad = |reason: &str| HostError::BadSwitch {
+            thread: thread.to_string(),
+            key: key.to_string(),
+            value: value.to_string(),
+            reason: reason.to_string(),
+        };
         match key {
             "timing" => {
                 s.timing = Some(match value {
@@ -52,8 +57,12 @@ fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, 
                     None
                 } else {
                     Some(
-                        realtime::parse_cpu("cpu", value, allowed)
-                            .map_err(|why| format!("setthread {thread}: {why}"))?,
+                        realtime::parse_cpu("cpu", value, allowed).map_err(|reason| {
+                            HostError::BadCpu {
+                                thread: thread.to_string(),
+                                reason,
+                            }
+                        })?,
                     )
                 })
             }
@@ -64,9 +73,10 @@ fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, 
                 )
             }
             _ => {
-                return Err(format!(
-                    "setthread {thread}: unknown switch '{key}'; usage: {USAGE}"
-                ))
+                return Err(HostError::UnknownSwitch {
+                    thread: thread.to_string(),
+                    key: key.to_string(),
+                })
             }
         }
     }
@@ -75,28 +85,24 @@ fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, 
 
 /// Runs `setthread` on `host`; `words` are the thread's name and its
 /// switches.
-pub fn apply(host: &Host, words: &[String]) -> Result<(), String> {
+pub fn apply(host: &Host, words: &[String]) -> Result<(), HostError> {
     let Some((thread, switches)) = words.split_first() else {
-        return Err(format!("setthread: no thread given; usage: {USAGE}"));
+        return Err(HostError::NoThread);
     };
     let s = parse(thread, switches, &realtime::allowed_cpus())?;
     // A thread's switches are configuration, as `addf` is; and the thread
     // must exist before anything changes.
     host.instance()
-        .check_unlocked(hal_core::lock_bits::CONFIG, "setthread")
-        .map_err(|e| e.to_string())?;
-    host.thread_options(thread).map_err(|e| e.to_string())?;
+        .check_unlocked(hal_core::lock_bits::CONFIG, "setthread")?;
+    host.thread_options(thread)?;
     if let Some(cpu) = s.cpu {
-        host.set_thread_cpu(thread, cpu)
-            .map_err(|e| e.to_string())?;
+        host.set_thread_cpu(thread, cpu)?;
     }
     if let Some(on) = s.timing {
-        host.set_thread_timing(thread, on)
-            .map_err(|e| e.to_string())?;
+        host.set_thread_timing(thread, on)?;
     }
     if let Some(policy) = s.missed {
-        host.set_missed_deadline(thread, policy)
-            .map_err(|e| e.to_string())?;
+        host.set_missed_deadline(thread, policy)?;
     }
     Ok(())
 }
@@ -137,13 +143,15 @@ mod tests {
             ("colour=red", "unknown switch 'colour'"),
             ("timing", "'timing' is not KEY=VALUE"),
         ] {
-            let e = parse("t", &words(&["timing=1", bad]), &allowed).unwrap_err();
+            let e = parse("t", &words(&["timing=1", bad]), &allowed)
+                .unwrap_err()
+                .to_string();
             assert!(
                 e.contains(says) && e.starts_with("setthread t:"),
                 "{bad}: {e}"
             );
         }
-        let e = parse("t", &[], &allowed).unwrap_err();
+        let e = parse("t", &[], &allowed).unwrap_err().to_string();
         assert!(e.contains("no switch"), "{e}");
     }
 }

@@ -6,6 +6,7 @@ use hal_core::{
 };
 
 use crate::cfmt::fmt_g;
+use crate::error::{LangError, Result};
 
 /// Whether `name` matches one of `patterns` the way halcmd matches: a
 /// pattern matches a name it is a prefix of, or that it matches as a shell
@@ -104,7 +105,7 @@ const HEADER: &str = "Owner   Type  Dir                 Value  Name\n";
 
 /// Splits a leading `-tTYPE` / `-t TYPE` off the patterns of `show` and
 /// `list`.
-fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b str]), String> {
+fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b str])> {
     let (name, rest) = match pats {
         ["-t", t, rest @ ..] => (*t, rest),
         [first, rest @ ..] if first.starts_with("-t") => (&first[2..], rest),
@@ -115,7 +116,9 @@ fn type_filter<'a, 'b>(pats: &'a [&'b str]) -> Result<(Option<HalType>, &'a [&'b
         "real" => HalType::Float,
         "signed" => HalType::S32,
         "unsigned" => HalType::U32,
-        other => HalType::from_name(other).ok_or_else(|| format!("unknown type '{other}'"))?,
+        other => HalType::from_name(other).ok_or_else(|| LangError::UnknownType {
+            name: other.to_string(),
+        })?,
     };
     Ok((Some(t), rest))
 }
@@ -360,8 +363,7 @@ impl Show<'_> {
 }
 
 /// `show [KIND] [-tTYPE] [PATTERN...]`.
-fn show(inst: &Instance, args: &[&str], script: bool) -> Result<String, String> {
-    let e = |e: hal_core::HalError| e.to_string();
+fn show(inst: &Instance, args: &[&str], script: bool) -> Result<String> {
     let (kind, pats) = match args.split_first() {
         Some((k, rest)) => (*k, rest),
         None => ("all", &[][..]),
@@ -369,84 +371,77 @@ fn show(inst: &Instance, args: &[&str], script: bool) -> Result<String, String> 
     let (only, pats) = type_filter(pats)?;
     let show = Show { pats, only, script };
     Ok(match kind {
-        "pin" => show.pins(&inst.pins().map_err(e)?),
-        "param" | "parameter" => show.params(&inst.params().map_err(e)?),
-        "sig" | "signal" => show.signals(&inst.signals().map_err(e)?),
-        "comp" => show.comps(&inst.components().map_err(e)?),
-        "funct" | "function" => show.functs(&inst.functs().map_err(e)?),
-        "thread" => show.threads(&inst.threads().map_err(e)?),
-        "alias" => {
-            show.pin_aliases(&inst.pins().map_err(e)?)
-                + &show.param_aliases(&inst.params().map_err(e)?)
-        }
+        "pin" => show.pins(&inst.pins()?),
+        "param" | "parameter" => show.params(&inst.params()?),
+        "sig" | "signal" => show.signals(&inst.signals()?),
+        "comp" => show.comps(&inst.components()?),
+        "funct" | "function" => show.functs(&inst.functs()?),
+        "thread" => show.threads(&inst.threads()?),
+        "alias" => show.pin_aliases(&inst.pins()?) + &show.param_aliases(&inst.params()?),
         "all" => {
             // One snapshot of pins and params serves their tables and
             // their aliases.
-            let pins = inst.pins().map_err(e)?;
-            let params = inst.params().map_err(e)?;
+            let pins = inst.pins()?;
+            let params = inst.params()?;
             [
-                show.comps(&inst.components().map_err(e)?),
+                show.comps(&inst.components()?),
                 show.pins(&pins),
                 show.pin_aliases(&pins),
-                show.signals(&inst.signals().map_err(e)?),
+                show.signals(&inst.signals()?),
                 show.params(&params),
                 show.param_aliases(&params),
-                show.functs(&inst.functs().map_err(e)?),
-                show.threads(&inst.threads().map_err(e)?),
+                show.functs(&inst.functs()?),
+                show.threads(&inst.threads()?),
             ]
             .concat()
         }
-        other => return Err(format!("Unknown 'show' type '{other}'")),
+        other => {
+            return Err(LangError::UnknownKind {
+                command: "show",
+                kind: other.to_string(),
+            })
+        }
     })
 }
 
 /// `list KIND [-tTYPE] [PATTERN...]`: names only, on one line.
-fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String, String> {
-    let e = |e: hal_core::HalError| e.to_string();
+fn list(inst: &Instance, kind: &str, pats: &[&str]) -> Result<String> {
     // `-tTYPE` restricts pins, params and signals by type.
     let (only, pats) = type_filter(pats)?;
     let keep = |t: HalType| only.is_none_or(|o| o == t);
     let names: Vec<String> = match kind {
         "pin" => inst
-            .pins()
-            .map_err(e)?
+            .pins()?
             .into_iter()
             .filter(|p| keep(p.hal_type))
             .map(|p| p.name)
             .collect(),
         "sig" | "signal" => inst
-            .signals()
-            .map_err(e)?
+            .signals()?
             .into_iter()
             .filter(|s| keep(s.hal_type))
             .map(|s| s.name)
             .collect(),
         "param" | "parameter" => inst
-            .params()
-            .map_err(e)?
+            .params()?
             .into_iter()
             .filter(|p| keep(p.hal_type))
             .map(|p| p.name)
             .collect(),
-        "funct" | "function" => inst
-            .functs()
-            .map_err(e)?
-            .into_iter()
-            .map(|f| f.name)
-            .collect(),
-        "thread" => inst
-            .threads()
-            .map_err(e)?
-            .into_iter()
-            .map(|t| t.name)
-            .collect(),
+        "funct" | "function" => inst.functs()?.into_iter().map(|f| f.name).collect(),
+        "thread" => inst.threads()?.into_iter().map(|t| t.name).collect(),
         "comp" => {
             // Newest first, as LinuxCNC keeps its component list.
-            let mut cs = inst.components().map_err(e)?;
+            let mut cs = inst.components()?;
             cs.sort_by_key(|c| std::cmp::Reverse(c.id));
             cs.into_iter().map(|c| c.name).collect()
         }
-        other => return Err(format!("Unknown 'list' type '{other}'")),
+        other => {
+            return Err(LangError::UnknownKind {
+                command: "list",
+                kind: other.to_string(),
+            })
+        }
     };
     let mut out = String::new();
     for n in names.iter().filter(|n| matches(pats, n)) {
@@ -517,7 +512,7 @@ pub const HELP: &[(&str, &str)] = &[
 ];
 
 /// The text of `help` (every command) or `help COMMAND`.
-pub fn help(cmd: Option<&str>) -> Result<String, String> {
+pub fn help(cmd: Option<&str>) -> Result<String> {
     match cmd {
         None => Ok(HELP
             .iter()
@@ -527,28 +522,31 @@ pub fn help(cmd: Option<&str>) -> Result<String, String> {
             .iter()
             .find(|(n, _)| *n == c)
             .map(|(_, h)| format!("{h}\n"))
-            .ok_or_else(|| format!("No help for unknown command '{c}'")),
+            .ok_or_else(|| LangError::NoHelp {
+                command: c.to_string(),
+            }),
     }
 }
 
 /// Finds a param, else a pin, by name or original name: when both exist,
 /// halcmd acts on the parameter. Returns (value, type, is_param).
-pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, bool)>, String> {
-    let e = |e: hal_core::HalError| e.to_string();
-    if let Some(p) = inst.param(name).map_err(e)? {
+pub fn lookup(inst: &Instance, name: &str) -> Result<Option<(Value, HalType, bool)>> {
+    if let Some(p) = inst.param(name)? {
         return Ok(Some((p.value, p.hal_type, true)));
     }
-    Ok(inst
-        .pin(name)
-        .map_err(e)?
-        .map(|p| (p.value, p.hal_type, false)))
+    Ok(inst.pin(name)?.map(|p| (p.value, p.hal_type, false)))
 }
 
 /// Renders the output of `show`, `list`, `save`, `getp`, `gets`, `ptype`,
 /// `stype`, `status` and `help`. The arguments have been counted against
 /// the command table already; `script` is `-s`.
-pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result<String, String> {
-    let not_found = |n: &str| format!("parameter or pin '{n}': not found");
+pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result<String> {
+    let not_found = |n: &str| LangError::NoPinOrParam {
+        name: n.to_string(),
+    };
+    let no_signal = |n: &str| LangError::NoSignal {
+        name: n.to_string(),
+    };
     match cmd {
         "show" => show(inst, args, script),
         "list" => list(inst, args[0], &args[1..]),
@@ -562,30 +560,34 @@ pub fn render(inst: &Instance, cmd: &str, args: &[&str], script: bool) -> Result
         }
         "gets" => {
             let n = args[0];
-            let v = inst
-                .signal_value(n)
-                .map_err(|_| format!("signal '{n}': not found"))?;
+            let v = inst.signal_value(n).map_err(|_| no_signal(n))?;
             Ok(format!("{}\n", get_value(v)))
         }
         "stype" => {
             let n = args[0];
-            let t = inst
-                .signal_type(n)
-                .map_err(|_| format!("signal '{n}': not found"))?;
+            let t = inst.signal_type(n).map_err(|_| no_signal(n))?;
             Ok(format!("{t}\n"))
         }
         "save" => {
             let text = crate::save::save(inst, args.first().copied())?;
             match args.get(1) {
-                Some(file) => std::fs::write(file, text)
-                    .map(|()| String::new())
-                    .map_err(|e| format!("save: {file}: {e}")),
+                Some(file) => {
+                    std::fs::write(file, text)
+                        .map(|()| String::new())
+                        .map_err(|source| LangError::File {
+                            command: "save:",
+                            file: file.to_string(),
+                            source,
+                        })
+                }
                 None => Ok(text),
             }
         }
         "status" => crate::lock::status(inst, args.first().copied()),
         "help" => help(args.first().copied()),
-        other => Err(format!("Unknown command '{other}'")),
+        other => Err(LangError::UnknownCommand {
+            name: other.to_string(),
+        }),
     }
 }
 

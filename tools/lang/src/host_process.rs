@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
+use crate::error::{LangError, Result};
 use crate::protocol::{Client, ClientError};
 
 /// The `hal-host` binary next to the running executable.
@@ -22,7 +23,7 @@ pub fn host_binary() -> PathBuf {
 /// Starts a host for `instance` and waits until it answers. A detached
 /// host gets a session of its own, so it outlives the shell that started
 /// it (`realtime start`).
-pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
+pub fn start_host(instance: &str, detached: bool) -> Result<Child> {
     start(instance, detached, false)
 }
 
@@ -30,15 +31,15 @@ pub fn start_host(instance: &str, detached: bool) -> Result<Child, String> {
 /// Ctrl-C in the terminal reaches only the caller, which then shuts the
 /// host down in order (the launcher brings the machine to its safe state
 /// first). The host still goes if the caller dies.
-pub fn start_host_own_group(instance: &str) -> Result<Child, String> {
+pub fn start_host_own_group(instance: &str) -> Result<Child> {
     start(instance, false, true)
 }
 
-fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, String> {
+fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child> {
     if Client::connect(instance).is_ok() {
-        return Err(format!(
-            "realtime is already running for instance '{instance}'"
-        ));
+        return Err(LangError::AlreadyRunning {
+            instance: instance.to_string(),
+        });
     }
     let mut cmd = Command::new(host_binary());
     cmd.args(["--instance", instance]);
@@ -59,12 +60,13 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
     }
     if detached {
         // A detached host writes its notes to a log beside its socket.
-        hal_core::paths::ensure_runtime_dir().map_err(|e| e.to_string())?;
+        hal_core::paths::ensure_runtime_dir()?;
         let log_path = log_path(instance)?;
-        let log = hal_core::paths::create_log(&log_path).map_err(|e| e.to_string())?;
-        let log2 = log
-            .try_clone()
-            .map_err(|e| format!("{}: {e}", log_path.display()))?;
+        let log = hal_core::paths::create_log(&log_path)?;
+        let log2 = log.try_clone().map_err(|source| LangError::Log {
+            path: log_path.clone(),
+            source,
+        })?;
         cmd.stdin(Stdio::null()).stdout(log).stderr(log2);
         // SAFETY: setsid is async-signal-safe and touches no memory of ours.
         unsafe {
@@ -74,9 +76,10 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
             });
         }
     }
-    let mut child = cmd
-        .spawn()
-        .map_err(|e| format!("starting {}: {e}", host_binary().display()))?;
+    let mut child = cmd.spawn().map_err(|source| LangError::HostSpawn {
+        binary: host_binary(),
+        source,
+    })?;
     let end = std::time::Instant::now() + Duration::from_secs(20);
     loop {
         if let Ok(Some(status)) = child.try_wait() {
@@ -90,7 +93,7 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
             } else {
                 String::new()
             };
-            return Err(format!("the HAL host exited at start-up ({status}){why}"));
+            return Err(LangError::HostExited { status, why });
         }
         match Client::wait_for(instance, Duration::from_millis(100)) {
             Ok(_) => return Ok(child),
@@ -98,22 +101,22 @@ fn start(instance: &str, detached: bool, own_group: bool) -> Result<Child, Strin
             Err(e) => {
                 let _ = child.kill();
                 let _ = child.wait();
-                return Err(e.to_string());
+                return Err(e.into());
             }
         }
     }
 }
 
 /// Where a detached host of `instance` writes its messages.
-pub fn log_path(instance: &str) -> Result<PathBuf, String> {
-    hal_core::paths::log(instance).map_err(|e| e.to_string())
+pub fn log_path(instance: &str) -> Result<PathBuf> {
+    Ok(hal_core::paths::log(instance)?)
 }
 
 /// Asks the host of `instance` to stop everything and exit, and waits up
 /// to `limit` until it has released everything: its segment, its socket
 /// and its lock (the host closes our connection only after that). On
 /// success a new host can start for the instance at once.
-pub fn stop_host(instance: &str, limit: Duration) -> Result<(), ClientError> {
+pub fn stop_host(instance: &str, limit: Duration) -> std::result::Result<(), ClientError> {
     let mut c = Client::connect(instance)?;
     c.call(&["shutdown".to_string()])?;
     let end = std::time::Instant::now() + limit;

@@ -14,6 +14,7 @@
 //!   control socket, and starting and stopping a host process.
 
 mod cfmt;
+mod error;
 pub mod format;
 pub mod haltcl;
 pub mod host_process;
@@ -27,6 +28,7 @@ pub mod usr;
 mod values;
 
 pub use cfmt::fmt_f;
+pub use error::{LangError, Result};
 pub use ini::{Ini, IniError};
 pub use protocol::{Client, ClientError, HostLink};
 pub use session::{CommandFilter, Options, Session, SharedFilter, Verdict};

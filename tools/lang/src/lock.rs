@@ -4,13 +4,15 @@
 use hal_core::lock_bits::*;
 use hal_core::{HalStatistics, Instance};
 
+use crate::error::{LangError, Result};
+
 /// The lock level after `lock WORD` (`set` true) or `unlock WORD` from
 /// `current`. As LinuxCNC: `lock` and `lock all` lock everything, `lock
 /// none` nothing, `lock tune` loading and configuration only; `unlock`,
 /// `unlock all` and `unlock none` unlock everything, `unlock tune` the
 /// tune bits. Here also `load`, `config`, `params` and `run` lock or
 /// unlock their one bit, leaving the others as they are.
-pub fn next_level(current: u8, set: bool, word: Option<&str>) -> Result<u8, String> {
+pub fn next_level(current: u8, set: bool, word: Option<&str>) -> Result<u8> {
     let bit = |w: &str| match w {
         "load" => Some(LOAD),
         "config" => Some(CONFIG),
@@ -30,15 +32,17 @@ pub fn next_level(current: u8, set: bool, word: Option<&str>) -> Result<u8, Stri
     Ok(level)
 }
 
-fn unknown(set: bool, word: &str) -> String {
-    let (cmd, past) = if set {
+fn unknown(set: bool, word: &str) -> LangError {
+    let (command, action) = if set {
         ("lock", "Locking")
     } else {
         ("unlock", "Unlocking")
     };
-    format!(
-        "{past} failed: unknown {cmd} type '{word}' (use all, none, tune, load, config, params or run)"
-    )
+    LangError::LockWord {
+        action,
+        command,
+        word: word.to_string(),
+    }
 }
 
 /// `status lock`: the lock value and what each set bit locks.
@@ -81,17 +85,16 @@ pub fn mem_status(st: &HalStatistics) -> String {
 }
 
 /// `status [lock|mem|all]`.
-pub fn status(inst: &Instance, what: Option<&str>) -> Result<String, String> {
-    let mem = || {
-        inst.statistics()
-            .map(|s| mem_status(&s))
-            .map_err(|e| e.to_string())
-    };
+pub fn status(inst: &Instance, what: Option<&str>) -> Result<String> {
+    let mem = || -> Result<String> { Ok(mem_status(&inst.statistics()?)) };
     match what.unwrap_or("all") {
         "all" => Ok(lock_status(inst.lock_level()) + &mem()?),
         "lock" => Ok(lock_status(inst.lock_level())),
         "mem" => mem(),
-        other => Err(format!("Unknown 'status' type '{other}'")),
+        other => Err(LangError::UnknownKind {
+            command: "status",
+            kind: other.to_string(),
+        }),
     }
 }
 
@@ -101,15 +104,19 @@ mod tests {
 
     #[test]
     fn words_set_and_clear_bits_as_linuxcnc() {
-        assert_eq!(next_level(0, true, None), Ok(ALL));
-        assert_eq!(next_level(0, true, Some("tune")), Ok(TUNE));
-        assert_eq!(next_level(ALL, true, Some("none")), Ok(NONE));
-        assert_eq!(next_level(LOAD, true, Some("params")), Ok(LOAD | PARAMS));
-        assert_eq!(next_level(ALL, false, Some("tune")), Ok(ALL & !TUNE));
-        assert_eq!(next_level(TUNE | RUN, false, Some("run")), Ok(TUNE));
-        assert_eq!(next_level(ALL, false, None), Ok(NONE));
+        assert_eq!(next_level(0, true, None).unwrap(), ALL);
+        assert_eq!(next_level(0, true, Some("tune")).unwrap(), TUNE);
+        assert_eq!(next_level(ALL, true, Some("none")).unwrap(), NONE);
+        assert_eq!(
+            next_level(LOAD, true, Some("params")).unwrap(),
+            LOAD | PARAMS
+        );
+        assert_eq!(next_level(ALL, false, Some("tune")).unwrap(), ALL & !TUNE);
+        assert_eq!(next_level(TUNE | RUN, false, Some("run")).unwrap(), TUNE);
+        assert_eq!(next_level(ALL, false, None).unwrap(), NONE);
         assert!(next_level(0, true, Some("bogus"))
             .unwrap_err()
+            .to_string()
             .starts_with("Locking failed: unknown lock type 'bogus'"));
     }
 

@@ -44,6 +44,12 @@ pub enum ClientError {
     /// The host answered `err` with this message.
     #[error("{0}")]
     Refused(String),
+    /// The host's answer is not a reply of this protocol.
+    #[error("malformed reply from the HAL host: {line:?}")]
+    Malformed {
+        /// The line received.
+        line: String,
+    },
 }
 
 /// Encodes a request line (without the newline).
@@ -59,23 +65,27 @@ pub fn decode_request(line: &str) -> Vec<String> {
     line.split(SEP).map(str::to_string).collect()
 }
 
-/// Encodes a reply line (without the newline).
-pub fn encode_reply(result: &Result<(), String>) -> String {
+/// Encodes a reply line (without the newline): `ok`, or the error's
+/// message.
+pub fn encode_reply<E: std::fmt::Display>(result: &Result<(), E>) -> String {
     match result {
         Ok(()) => "ok".to_string(),
-        Err(m) => format!("err{SEP}{}", m.replace(['\n', SEP], " ")),
+        Err(m) => format!("err{SEP}{}", m.to_string().replace(['\n', SEP], " ")),
     }
 }
 
-/// Decodes a reply line.
-pub fn decode_reply(line: &str) -> Result<(), String> {
+/// Decodes a reply line: the host's refusal is [`ClientError::Refused`]
+/// with its message, a line that is no reply [`ClientError::Malformed`].
+pub fn decode_reply(line: &str) -> Result<(), ClientError> {
     let line = line.trim_end_matches('\n');
     if line == "ok" {
         Ok(())
     } else if let Some(m) = line.strip_prefix(&format!("err{SEP}")) {
-        Err(m.to_string())
+        Err(ClientError::Refused(m.to_string()))
     } else {
-        Err(format!("malformed reply from the HAL host: {line:?}"))
+        Err(ClientError::Malformed {
+            line: line.to_string(),
+        })
     }
 }
 
@@ -164,7 +174,7 @@ impl Client {
                 ),
             });
         }
-        decode_reply(&reply).map_err(ClientError::Refused)
+        decode_reply(&reply)
     }
 
     /// Waits up to `limit` for the host to close this connection (after a
@@ -225,11 +235,11 @@ mod tests {
         let words = vec!["loadrt".to_string(), "threads".into(), "name1=a b".into()];
         assert_eq!(decode_request(&encode_request(&words).unwrap()), words);
         assert!(encode_request(&["a\nb".to_string()]).is_err());
-        assert_eq!(decode_reply(&encode_reply(&Ok(()))), Ok(()));
-        assert_eq!(
-            decode_reply(&encode_reply(&Err("bad\nthing".into()))),
-            Err("bad thing".into())
-        );
+        assert!(decode_reply(&encode_reply::<String>(&Ok(()))).is_ok());
+        assert!(matches!(
+            decode_reply(&encode_reply(&Err("bad\nthing"))),
+            Err(ClientError::Refused(m)) if m == "bad thing"
+        ));
         assert!(decode_reply("garbage").is_err());
     }
 }

@@ -5,13 +5,8 @@ use hal_core::{
     ThreadInfo,
 };
 
+use crate::error::{LangError, Result};
 use crate::format::{pin_arrow, show_value, sig_arrow, thread_switches};
-
-type R = Result<String, String>;
-
-fn e(err: hal_core::HalError) -> String {
-    err.to_string()
-}
 
 /// `data_type` of LinuxCNC: the type name padded to five.
 fn t5(t: HalType) -> String {
@@ -168,28 +163,28 @@ fn unconnected(pins: &[PinInfo]) -> String {
 }
 
 /// Renders `save [TYPE]`; each kind of object is read once.
-pub fn save(inst: &Instance, kind: Option<&str>) -> R {
+pub fn save(inst: &Instance, kind: Option<&str>) -> Result<String> {
     Ok(match kind.unwrap_or("all") {
-        "comp" => comps(&inst.components().map_err(e)?),
-        "alias" => aliases(&inst.pins().map_err(e)?, &inst.params().map_err(e)?),
-        "sig" | "signal" => signals(&inst.signals().map_err(e)?, false),
-        "sigu" => signals(&inst.signals().map_err(e)?, true),
-        "link" => links(&inst.pins().map_err(e)?, false),
-        "linka" => links(&inst.pins().map_err(e)?, true),
-        "net" => nets(&inst.signals().map_err(e)?, false),
-        "neta" => nets(&inst.signals().map_err(e)?, true),
-        "netl" => net_lines(&inst.signals().map_err(e)?, false),
-        "netla" | "netal" => net_lines(&inst.signals().map_err(e)?, true),
-        "param" | "parameter" => params(&inst.params().map_err(e)?),
-        "thread" => threads(&inst.threads().map_err(e)?),
-        "unconnectedinpins" => unconnected(&inst.pins().map_err(e)?),
+        "comp" => comps(&inst.components()?),
+        "alias" => aliases(&inst.pins()?, &inst.params()?),
+        "sig" | "signal" => signals(&inst.signals()?, false),
+        "sigu" => signals(&inst.signals()?, true),
+        "link" => links(&inst.pins()?, false),
+        "linka" => links(&inst.pins()?, true),
+        "net" => nets(&inst.signals()?, false),
+        "neta" => nets(&inst.signals()?, true),
+        "netl" => net_lines(&inst.signals()?, false),
+        "netla" | "netal" => net_lines(&inst.signals()?, true),
+        "param" | "parameter" => params(&inst.params()?),
+        "thread" => threads(&inst.threads()?),
+        "unconnectedinpins" => unconnected(&inst.pins()?),
         kind @ ("all" | "allu") => {
             // One snapshot of pins, params and signals serves every
             // section that lists them.
-            let pins = inst.pins().map_err(e)?;
-            let pars = inst.params().map_err(e)?;
-            let sigs = inst.signals().map_err(e)?;
-            let mut out = comps(&inst.components().map_err(e)?);
+            let pins = inst.pins()?;
+            let pars = inst.params()?;
+            let sigs = inst.signals()?;
+            let mut out = comps(&inst.components()?);
             out += &aliases(&pins, &pars);
             out += &signals(&sigs, true);
             out += &net_lines(&sigs, true);
@@ -197,9 +192,14 @@ pub fn save(inst: &Instance, kind: Option<&str>) -> R {
             if kind == "allu" {
                 out += &unconnected(&pins);
             }
-            out += &threads(&inst.threads().map_err(e)?);
+            out += &threads(&inst.threads()?);
             out
         }
-        other => return Err(format!("Unknown 'save' type '{other}'")),
+        other => {
+            return Err(LangError::UnknownKind {
+                command: "save",
+                kind: other.to_string(),
+            })
+        }
     })
 }

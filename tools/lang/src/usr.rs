@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 
 use hal_core::{ComponentKind, Instance};
 
+use crate::error::{LangError, Result};
 use crate::lexer::unquote;
 
 /// Options of one `loadusr`.
@@ -29,7 +30,7 @@ pub struct LoadUsr {
 /// flags may be combined in one word (`-Wn name`, `-wi`), `-n` takes the
 /// rest of its word or the next word, and the first word that is not an
 /// option (or the word after `--`) is the program.
-pub fn parse(args: &[&str]) -> Result<LoadUsr, String> {
+pub fn parse(args: &[&str]) -> Result<LoadUsr> {
     let mut out = LoadUsr::default();
     let mut i = 0;
     while let Some(word) = args.get(i) {
@@ -51,20 +52,26 @@ pub fn parse(args: &[&str]) -> Result<LoadUsr, String> {
                     let rest = &flags[at + 1..];
                     let name = if rest.is_empty() {
                         i += 1;
-                        *args.get(i - 1).ok_or("loadusr: -n needs a name")?
+                        *args
+                            .get(i - 1)
+                            .ok_or_else(|| LangError::halcmd("loadusr: -n needs a name"))?
                     } else {
                         rest
                     };
                     out.name = Some(name.to_string());
                     break;
                 }
-                other => return Err(format!("loadusr: unknown option '-{other}'")),
+                other => {
+                    return Err(LangError::halcmd(format!(
+                        "loadusr: unknown option '-{other}'"
+                    )))
+                }
             }
         }
     }
     let (program, rest) = args[i..]
         .split_first()
-        .ok_or("loadusr: needs a program to run")?;
+        .ok_or_else(|| LangError::halcmd("loadusr: needs a program to run"))?;
     out.program = program.to_string();
     out.args = rest.iter().map(|a| unquote(a)).collect();
     Ok(out)
@@ -101,39 +108,44 @@ fn child_path() -> std::ffi::OsString {
 
 /// Starts the program and waits as asked. Returns the child if nobody
 /// waited for it to exit.
-pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>, String> {
+pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>> {
     let mut child = Command::new(&spec.program)
         .args(&spec.args)
         .env("HAL_INSTANCE", inst.name())
         .env("PATH", child_path())
         .spawn()
-        .map_err(|e| format!("loadusr: cannot run '{}': {e}", spec.program))?;
+        .map_err(|source| LangError::Spawn {
+            program: spec.program.clone(),
+            source,
+        })?;
     if spec.wait_ready {
         let name = spec
             .name
             .as_deref()
             .unwrap_or_else(|| guess_comp_name(&spec.program));
         loop {
-            let ready = inst
-                .component(name)
-                .map_err(|e| e.to_string())?
-                .is_some_and(|c| c.ready);
+            let ready = inst.component(name)?.is_some_and(|c| c.ready);
             if ready {
                 break;
             }
             if let Ok(Some(status)) = child.try_wait() {
-                return Err(format!(
+                return Err(LangError::halcmd(format!(
                     "{} exited ({status}) without becoming ready",
                     spec.program
-                ));
+                )));
             }
             std::thread::sleep(Duration::from_millis(10));
         }
     }
     if spec.wait_exit {
-        let status = child.wait().map_err(|e| format!("loadusr: {e}"))?;
+        let status = child
+            .wait()
+            .map_err(|e| LangError::halcmd(format!("loadusr: {e}")))?;
         if !status.success() && !spec.ignore_status {
-            return Err(format!("{} exited with {status}", spec.program));
+            return Err(LangError::halcmd(format!(
+                "{} exited with {status}",
+                spec.program
+            )));
         }
         return Ok(None);
     }
@@ -141,18 +153,17 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>, String> {
 }
 
 /// Waits until user component `name` is gone (`waitusr`).
-pub fn wait_gone(inst: &Instance, name: &str) -> Result<(), String> {
-    let pid_of = |inst: &Instance| -> Result<Option<i32>, String> {
+pub fn wait_gone(inst: &Instance, name: &str) -> Result<()> {
+    let pid_of = |inst: &Instance| -> Result<Option<i32>> {
         Ok(inst
-            .component(name)
-            .map_err(|e| e.to_string())?
+            .component(name)?
             .filter(|c| c.kind == ComponentKind::User)
             .map(|c| c.pid))
     };
     if pid_of(inst)?.is_none() {
-        return Err(format!(
+        return Err(LangError::halcmd(format!(
             "waitusr: component '{name}' not found or not a user component"
-        ));
+        )));
     }
     while let Some(pid) = pid_of(inst)? {
         // A process killed outright leaves its component behind: stop
@@ -167,12 +178,11 @@ pub fn wait_gone(inst: &Instance, name: &str) -> Result<(), String> {
 
 /// Sends SIGTERM to user component `name` (or every one, for `all`) and
 /// waits up to `limit` for it to leave.
-pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String> {
-    let e = |e: hal_core::HalError| e.to_string();
+pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<()> {
     let users = if name == "all" {
-        inst.components().map_err(e)?
+        inst.components()?
     } else {
-        inst.component(name).map_err(e)?.into_iter().collect()
+        inst.component(name)?.into_iter().collect()
     };
     let targets: Vec<(String, i32)> = users
         .into_iter()
@@ -180,7 +190,9 @@ pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String
         .map(|c| (c.name, c.pid))
         .collect();
     if targets.is_empty() && name != "all" {
-        return Err(format!("unloadusr: component '{name}' not found"));
+        return Err(LangError::halcmd(format!(
+            "unloadusr: component '{name}' not found"
+        )));
     }
     let me = std::process::id() as i32;
     for (n, pid) in &targets {
@@ -190,9 +202,9 @@ pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String
                 nix::sys::signal::Signal::SIGTERM,
             );
             if sent == Err(nix::errno::Errno::EPERM) {
-                return Err(format!(
+                return Err(LangError::halcmd(format!(
                     "unloadusr: '{n}' is process {pid} of another user: permission denied"
-                ));
+                )));
             }
         }
     }
@@ -201,9 +213,9 @@ pub fn unload(inst: &Instance, name: &str, limit: Duration) -> Result<(), String
         if pid == me {
             continue;
         }
-        while inst.component(&n).map_err(e)?.is_some() {
+        while inst.component(&n)?.is_some() {
             if Instant::now() > end {
-                return Err(format!("unloadusr: '{n}' did not exit"));
+                return Err(LangError::halcmd(format!("unloadusr: '{n}' did not exit")));
             }
             std::thread::sleep(Duration::from_millis(10));
         }
@@ -248,14 +260,17 @@ mod tests {
             (l.program.as_str(), l.args.as_slice()),
             ("-odd-name", &["a".to_string()][..])
         );
-        assert_eq!(parse(&["-Wn"]), Err("loadusr: -n needs a name".into()));
         assert_eq!(
-            parse(&["-Wx", "prog"]),
-            Err("loadusr: unknown option '-x'".into())
+            parse(&["-Wn"]).unwrap_err().to_string(),
+            "loadusr: -n needs a name"
         );
         assert_eq!(
-            parse(&["-W"]),
-            Err("loadusr: needs a program to run".into())
+            parse(&["-Wx", "prog"]).unwrap_err().to_string(),
+            "loadusr: unknown option '-x'"
+        );
+        assert_eq!(
+            parse(&["-W"]).unwrap_err().to_string(),
+            "loadusr: needs a program to run"
         );
         // Arguments lose their quotes, as before the program runs.
         assert_eq!(parse(&["sh", "\"a b\""]).unwrap().args, ["a b"]);

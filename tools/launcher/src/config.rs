@@ -3,11 +3,11 @@
 //! defaults for missing keys. A value of the wrong type is an error that
 //! names the file, line and key.
 
+use hal_lang::ini::{Ini, IniError};
 use motion::comp::CompEntry;
 use motion::comp_file::{read_comp_file, CompFileType};
 
 use crate::LaunchError;
-use hal_lang::ini::{Ini, IniError};
 
 /// "No limit" as LinuxCNC writes it.
 pub const NO_LIMIT: f64 = 1e99;

@@ -7,13 +7,14 @@ use std::cell::RefCell;
 use std::process::Command;
 use std::rc::Rc;
 
+use hal_lang::haltcl::{self, TclJob};
+use hal_lang::ini::Ini;
+use hal_lang::lexer::tokenize;
+use hal_lang::Session;
+
 use crate::halfiles::{HalFile, SearchPath};
 use crate::rules::{Phase, Rules};
 use crate::LaunchError;
-use hal_lang::lexer::tokenize;
-use hal_lang::Session;
-use hal_lang::haltcl::{self, TclJob};
-use hal_lang::ini::Ini;
 
 /// Runs a machine's HAL files on a session whose filter is `rules`.
 pub struct HalSide<'a> {

@@ -5,8 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::LaunchError;
 use hal_lang::ini::{Entry, Origin};
+
+use crate::LaunchError;
 
 /// The library of standard HAL files this suite ships (`lib/hallib`):
 /// `$HALLIB_DIR` if set, else `lib/hallib` beside or above the running

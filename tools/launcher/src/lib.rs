@@ -7,6 +7,7 @@
 //! controller (`gcode-run`).
 
 mod config;
+mod error;
 mod hal_side;
 mod halfiles;
 mod iocontrol;
@@ -19,13 +20,14 @@ mod task_pins;
 mod task_socket;
 mod twopass;
 
+pub use error::LaunchError;
 pub use machine::{
-    load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup,
-    LaunchError, Options, USAGE,
+    load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup, Options,
+    USAGE,
 };
 pub use rules::Rules;
 pub use task::REQUESTS;
-pub use task_socket::{request, TaskClientError};
+pub use task_socket::{request, TaskAnswer, TaskClientError};
 
 /// Entry points of the fuzz targets (fuzz/README.md) for the launcher's
 /// parsers of outside bytes.

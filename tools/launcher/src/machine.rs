@@ -22,82 +22,15 @@ use std::rc::Rc;
 use std::time::Duration;
 
 use hal_core::Instance;
-
+use hal_lang::ini::Ini;
 use hal_lang::{Options as HalcmdOptions, Session};
-use hal_lang::ini::{Ini, IniError, Origin};
-use crate::iocontrol::{IoControl, IoPins, ToolTable};
+
+use crate::error::LaunchError;
 use crate::hal_side::HalSide;
 use crate::halfiles::SearchPath;
+use crate::iocontrol::{IoControl, IoPins, ToolTable};
 use crate::rules::Rules;
 use crate::task_pins::TaskPins;
-
-/// Why the machine could not be started (or stopped cleanly).
-#[derive(Debug, thiserror::Error)]
-pub enum LaunchError {
-    /// The INI file, or a value in it.
-    #[error(transparent)]
-    Ini(#[from] IniError),
-    /// A file named in `[HAL]` is not usable.
-    #[error("{origin}: {key} = {spec}: {reason}")]
-    HalFile {
-        /// Where the INI file names it.
-        origin: Origin,
-        /// The key (`[HAL]HALFILE`).
-        key: String,
-        /// The value.
-        spec: String,
-        /// What is wrong.
-        reason: String,
-    },
-    /// A HAL file or command failed; its own error was printed above.
-    #[error("{0}")]
-    Failed(String),
-    /// A Tcl file could not be run.
-    #[error(transparent)]
-    Tcl(#[from] hal_lang::haltcl::HaltclError),
-    /// The motion controller refused a setting.
-    #[error("{at}: the motion controller refused the setting: {reason}")]
-    Motion {
-        /// The INI key.
-        at: String,
-        /// Its reason.
-        reason: String,
-    },
-    /// A joint's COMP_FILE or COMP_FILE_TYPE is not usable.
-    #[error("{at}: {source}")]
-    CompFile {
-        /// The INI key.
-        at: String,
-        /// What is wrong with the file.
-        #[source]
-        source: motion::comp_file::CompFileError,
-    },
-    /// The HAL instance.
-    #[error(transparent)]
-    Hal(#[from] hal_core::HalError),
-    /// A file could not be read.
-    #[error("{}: {source}", .path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// What went wrong.
-        #[source]
-        source: std::io::Error,
-    },
-    /// Starting or stopping the HAL host.
-    #[error("{0}")]
-    Host(String),
-}
-
-impl LaunchError {
-    /// A file read error.
-    pub fn read(path: &Path, source: std::io::Error) -> LaunchError {
-        LaunchError::Io {
-            path: path.to_path_buf(),
-            source,
-        }
-    }
-}
 
 /// The `linuxcnc` command line.
 #[derive(Debug, Clone, Default)]
@@ -136,7 +69,7 @@ coolant, status) and motion commands with motion-cmd.
   -H DIR      look for HAL files in DIR first (may be repeated)";
 
 /// Parses `linuxcnc`'s arguments.
-pub fn parse_args(args: &[String]) -> Result<Options, String> {
+pub fn parse_args(args: &[String]) -> Result<Options, LaunchError> {
     let mut o = Options::default();
     let mut i = 0;
     let mut ini = None;
@@ -144,7 +77,7 @@ pub fn parse_args(args: &[String]) -> Result<Options, String> {
         let value = |i: usize| {
             args.get(i + 1)
                 .cloned()
-                .ok_or_else(|| format!("{a} needs a value"))
+                .ok_or_else(|| LaunchError::OptionValue { option: a.clone() })
         };
         match a.as_str() {
             "-v" => o.verbose = true,
@@ -163,21 +96,23 @@ pub fn parse_args(args: &[String]) -> Result<Options, String> {
                 o.halfile_dirs.push(PathBuf::from(value(i)?));
                 i += 1;
             }
-            "-l" => {
-                return Err(
-                    "-l (the last configuration) is not supported: name the INI file".into(),
-                )
+            "-l" => return Err(LaunchError::LastConfig),
+            s if s.starts_with('-') => {
+                return Err(LaunchError::UnknownOption {
+                    option: s.to_string(),
+                })
             }
-            s if s.starts_with('-') => return Err(format!("unknown option '{s}'")),
             s => {
                 if ini.replace(PathBuf::from(s)).is_some() {
-                    return Err(format!("more than one INI file given ('{s}')"));
+                    return Err(LaunchError::TwoInis {
+                        second: s.to_string(),
+                    });
                 }
             }
         }
         i += 1;
     }
-    o.ini_path = ini.ok_or("no INI file given")?;
+    o.ini_path = ini.ok_or(LaunchError::NoIni)?;
     Ok(o)
 }
 
@@ -397,7 +332,7 @@ fn run_machine(opts: &Options) -> Result<(), LaunchError> {
             .to_string_lossy()
     );
     let signals = hal_core::userspace::ExitSignals::install()?;
-    let mut host = hal_lang::host_process::start_host_own_group(&instance).map_err(LaunchError::Host)?;
+    let mut host = hal_lang::host_process::start_host_own_group(&instance)?;
     let result = run_on_host(&ini, opts, &instance, &signals);
     if let Err(e) = hal_lang::host_process::stop_host(&instance, Duration::from_secs(20)) {
         eprintln!("linuxcnc: stopping the HAL host: {e}");
@@ -480,7 +415,7 @@ fn run_on_host(
         }
         task.step(&mut server);
         if !inst.host_alive() {
-            return Err(LaunchError::Host("the HAL host exited".into()));
+            return Err(LaunchError::HostExited);
         }
         std::thread::sleep(cycle);
     }

@@ -8,6 +8,7 @@
 //! the launcher in one place.
 
 use hal_core::Instance;
+use hal_lang::ini::Ini;
 use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
 use motion::{Command, MotionClient, Reject};
@@ -18,7 +19,6 @@ use crate::config::{
 };
 use crate::task_pins::IniChange;
 use crate::LaunchError;
-use hal_lang::ini::Ini;
 
 /// `[TRAJ]` keys the motion controller has no setting for, with why:
 /// read (and shown as `ini.traj_*` pins where LinuxCNC has one), never
@@ -65,16 +65,6 @@ pub struct MotionLink {
     client: MotionClient,
 }
 
-/// What a refusal means here.
-fn refusal(reason: Reject) -> String {
-    match reason {
-        Reject::Timeout => "the motion controller did not answer: is motion-command-handler \
-                            added to a running thread?"
-            .to_string(),
-        other => other.to_string(),
-    }
-}
-
 /// The INI position to name for a setting made of `keys` of `section`.
 fn at(ini: &Ini, section: &str, keys: &[&str]) -> String {
     keys.iter()
@@ -117,11 +107,8 @@ impl MotionLink {
         })
     }
 
-    fn send(&mut self, cmd: Command) -> Result<(), String> {
-        self.client
-            .send(cmd)
-            .map(|_| ())
-            .map_err(|r| refusal(r.reason))
+    fn send(&mut self, cmd: Command) -> Result<(), Reject> {
+        self.client.send(cmd).map(|_| ()).map_err(|r| r.reason)
     }
 
     /// Sends `cmd` for the INI setting of `keys` in `section`; a refusal
@@ -133,9 +120,9 @@ impl MotionLink {
         keys: &[&str],
         cmd: Command,
     ) -> Result<(), LaunchError> {
-        self.send(cmd).map_err(|reason| LaunchError::Motion {
+        self.send(cmd).map_err(|source| LaunchError::Motion {
             at: at(ini, section, keys),
-            reason,
+            source,
         })
     }
 
@@ -380,7 +367,7 @@ impl MotionLink {
     }
 
     /// Applies a changed `ini.*` pin.
-    pub fn apply(&mut self, change: &IniChange) -> Result<(), String> {
+    pub fn apply(&mut self, change: &IniChange) -> Result<(), LaunchError> {
         let cmd = match *change {
             IniChange::Backlash { joint, value } => Command::SetJointBacklash {
                 joint: joint as i32,
@@ -444,27 +431,29 @@ impl MotionLink {
             IniChange::TrajJerk { value } => Command::SetJerkLimit { jerk: value },
             IniChange::PlannerType { value } => Command::SetPlannerType { planner: value },
             IniChange::NotApplied { pin } => {
-                return Err(format!(
-                    "{pin}: not applied, the motion controller has no such setting"
-                ))
+                return Err(LaunchError::NotApplied {
+                    pin: pin.to_string(),
+                })
             }
         };
-        self.send(cmd)
-            .map_err(|reason| format!("{}: {reason}", change.pin()))
+        self.send(cmd).map_err(|source| LaunchError::IniPin {
+            pin: change.pin().to_string(),
+            source,
+        })
     }
 
     /// Machine on: amplifiers enabled.
-    pub fn enable(&mut self) -> Result<(), String> {
+    pub fn enable(&mut self) -> Result<(), Reject> {
         self.send(Command::Enable)
     }
 
     /// Machine off or e-stop: planners stopped, amplifiers off.
-    pub fn disable(&mut self) -> Result<(), String> {
+    pub fn disable(&mut self) -> Result<(), Reject> {
         self.send(Command::Disable)
     }
 
     /// Abort: every move stops.
-    pub fn abort(&mut self) -> Result<(), String> {
+    pub fn abort(&mut self) -> Result<(), Reject> {
         self.send(Command::Abort)
     }
 

@@ -8,10 +8,11 @@
 use std::collections::BTreeSet;
 
 use hal_core::Instance;
-
-use crate::twopass::TwoPass;
 use hal_lang::session::{CommandFilter, Verdict};
 use hal_lang::usr;
+use hal_lang::LangError;
+
+use crate::twopass::TwoPass;
 
 /// Programs that need a display, or are user interfaces a headless
 /// machine does not run.
@@ -244,7 +245,7 @@ impl Rules {
 }
 
 impl CommandFilter for Rules {
-    fn check(&mut self, inst: &Instance, words: &[String], at: &str) -> Result<Verdict, String> {
+    fn check(&mut self, inst: &Instance, words: &[String], at: &str) -> Result<Verdict, LangError> {
         let Some(cmd) = words.first().map(String::as_str) else {
             return Ok(Verdict::Run);
         };
@@ -254,7 +255,9 @@ impl CommandFilter for Rules {
         }
         match (self.phase, cmd) {
             (Phase::Pass0, "loadrt") => {
-                self.twopass.gather(&words[1..])?;
+                self.twopass
+                    .gather(&words[1..])
+                    .map_err(|e| LangError::Filter(Box::new(e)))?;
                 return Ok(Verdict::Skip);
             }
             (Phase::Pass0, "loadusr" | "source" | "quit" | "exit") => {}

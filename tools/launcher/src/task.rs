@@ -7,10 +7,14 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use crate::error::LaunchError;
+use crate::iocontrol::{Handshake, IoControl, IoEvent, IoPins, IoRequest, Started, ToolTable};
 use crate::motion_setup::MotionLink;
 use crate::task_pins::TaskPins;
 use crate::task_socket::{ConnId, TaskServer};
-use crate::iocontrol::{Handshake, IoControl, IoEvent, IoPins, IoRequest, Started, ToolTable};
+
+/// A request's answer: its text, or why it was refused.
+type Answer = Result<String, LaunchError>;
 
 /// The machine state, as LinuxCNC's task keeps it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,20 +88,24 @@ pub const REQUESTS: &str = "\
   status                machine state, tool, coolant, motion";
 
 /// Parses `task-cmd`'s words.
-pub fn parse_request(words: &[String]) -> Result<TaskRequest, String> {
+pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
     let w: Vec<&str> = words.iter().map(String::as_str).collect();
-    let tool = |s: Option<&&str>| -> Result<i32, String> {
-        let s = s.ok_or("missing TOOL number")?;
+    let tool = |s: Option<&&str>| -> Result<i32, LaunchError> {
+        let s = s.ok_or(LaunchError::MissingTool)?;
         s.parse::<i32>()
             .ok()
             .filter(|t| *t >= 0)
-            .ok_or_else(|| format!("TOOL must be a tool number, not '{s}'"))
+            .ok_or_else(|| LaunchError::BadTool {
+                word: s.to_string(),
+            })
     };
-    let on_off = |s: Option<&&str>| -> Result<bool, String> {
+    let on_off = |s: Option<&&str>| -> Result<bool, LaunchError> {
         match s.copied() {
             Some("on") => Ok(true),
             Some("off") => Ok(false),
-            other => Err(format!("expected on or off, not {other:?}")),
+            other => Err(LaunchError::OnOff {
+                given: other.map(str::to_string),
+            }),
         }
     };
     Ok(match w.as_slice() {
@@ -123,7 +131,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, String> {
         ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
         ["reload-tool-table"] => TaskRequest::ReloadToolTable,
         ["status"] => TaskRequest::Status,
-        _ => return Err(format!("unknown request '{}'", w.join(" "))),
+        _ => return Err(LaunchError::UnknownRequest { words: w.join(" ") }),
     })
 }
 
@@ -181,7 +189,7 @@ impl Task {
         if !inputs.emc_enable_in && self.state != MachineState::Estop {
             self.go_estop();
             eprintln!("task: e-stop: iocontrol.0.emc-enable-in went FALSE");
-            self.fail_all(server, "aborted: the e-stop chain opened");
+            self.fail_all(server, || LaunchError::ChainOpened);
         }
         if inputs.emc_enable_in
             && self.state == MachineState::Estop
@@ -195,7 +203,7 @@ impl Task {
             for change in ip.changes() {
                 let r = match &mut self.motion {
                     Some(m) => m.apply(&change),
-                    None => Err("no motion controller is loaded".into()),
+                    None => Err(LaunchError::NoMotion),
                 };
                 if let Err(e) = r {
                     eprintln!("task: {e}");
@@ -214,16 +222,16 @@ impl Task {
     fn go_estop(&mut self) {
         let _ = self.io.request(&IoRequest::EstopOn);
         if let Some(m) = &mut self.motion {
-            if let Err(e) = m.disable() {
-                eprintln!("task: disabling motion: {e}");
+            if let Err(source) = m.disable() {
+                eprintln!("task: {}", LaunchError::Disabling { source });
             }
         }
         self.state = MachineState::Estop;
     }
 
-    fn fail_all(&mut self, server: &mut TaskServer, why: &str) {
+    fn fail_all(&mut self, server: &mut TaskServer, why: impl Fn() -> LaunchError) {
         for (id, _) in self.waiting.drain(..) {
-            server.reply(id, Err(why.to_string()));
+            server.reply(id, Err(why()));
         }
     }
 
@@ -234,15 +242,9 @@ impl Task {
                 Waiting::EnableIn { .. } if enable_in => {
                     self.answer(server, id, Ok("e-stop released; machine off".into()));
                 }
-                Waiting::EnableIn { until } if Instant::now() > until => self.answer(
-                    server,
-                    id,
-                    Err(
-                        "e-stop reset sent (user-enable-out TRUE), but iocontrol.0.emc-enable-in \
-                         stayed FALSE: the external e-stop chain is open"
-                            .into(),
-                    ),
-                ),
+                Waiting::EnableIn { until } if Instant::now() > until => {
+                    self.answer(server, id, Err(LaunchError::ChainOpen))
+                }
                 Waiting::Prepare { then_load } => {
                     let done = events.iter().find_map(|e| match e {
                         IoEvent::Prepared { tool } => Some(*tool),
@@ -256,7 +258,7 @@ impl Task {
                         (Some(_), true) => match self.io.request(&IoRequest::Load) {
                             Ok(Started::Done) => self.answer(server, id, Ok(self.in_spindle())),
                             Ok(Started::Waiting(_)) => self.waiting.push((id, Waiting::Change)),
-                            Err(e) => self.answer(server, id, Err(e.to_string())),
+                            Err(e) => self.answer(server, id, Err(e.into())),
                         },
                     }
                 }
@@ -276,14 +278,13 @@ impl Task {
         format!("tool {} in spindle", self.io.tool_in_spindle())
     }
 
-    fn require_on(&self) -> Result<(), String> {
+    fn require_on(&self) -> Result<(), LaunchError> {
         if self.state == MachineState::On {
             Ok(())
         } else {
-            Err(format!(
-                "the machine is {} (estop-reset and machine-on first)",
-                self.state.name()
-            ))
+            Err(LaunchError::NotOn {
+                state: self.state.name(),
+            })
         }
     }
 
@@ -297,7 +298,7 @@ impl Task {
             for (waiter, w) in std::mem::take(&mut self.waiting) {
                 match w {
                     Waiting::EnableIn { .. } => self.waiting.push((waiter, w)),
-                    _ => server.reply(waiter, Err("aborted".into())),
+                    _ => server.reply(waiter, Err(LaunchError::Aborted)),
                 }
             }
         }
@@ -310,14 +311,13 @@ impl Task {
 
     /// Answers a waiting request once the outputs it changed are on the
     /// pins, so a client reading them after the answer sees them.
-    fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Result<String, String>) {
+    fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Answer) {
         self.pins.write(self.io.outputs());
         server.reply(id, result);
     }
 
     /// Starts a request: `Some` answer now, `None` when it waits.
-    fn start(&mut self, req: &TaskRequest, id: ConnId) -> Option<Result<String, String>> {
-        let io_err = |e: crate::iocontrol::IoError| e.to_string();
+    fn start(&mut self, req: &TaskRequest, id: ConnId) -> Option<Answer> {
         match req {
             TaskRequest::Estop => {
                 self.go_estop();
@@ -333,113 +333,124 @@ impl Task {
                 ));
                 None
             }
-            TaskRequest::MachineOn => Some(match self.state {
-                MachineState::Estop => Err("the machine is in e-stop (estop-reset first)".into()),
-                _ => {
-                    let r = match &mut self.motion {
-                        Some(m) => m.enable().map(|()| "machine on".to_string()),
-                        None => Ok("machine on (no motion controller is loaded)".to_string()),
-                    };
-                    if r.is_ok() {
-                        self.state = MachineState::On;
-                    }
-                    r.map_err(|e| format!("machine on refused by the motion controller: {e}"))
-                }
-            }),
-            TaskRequest::MachineOff => {
-                if let Some(m) = &mut self.motion {
-                    if let Err(e) = m.disable() {
-                        return Some(Err(format!("disabling motion: {e}")));
-                    }
-                }
-                if self.state == MachineState::On {
-                    self.state = MachineState::Off;
-                }
-                Some(Ok(format!("machine {}", self.state.name().to_lowercase())))
-            }
+            TaskRequest::MachineOn => Some(self.machine_on()),
+            TaskRequest::MachineOff => Some(self.machine_off()),
             TaskRequest::Abort => {
                 let _ = self.io.request(&IoRequest::Abort);
-                let r = match &mut self.motion {
-                    Some(m) => m.abort().map(|()| "aborted".to_string()),
+                Some(match &mut self.motion {
+                    Some(m) => m
+                        .abort()
+                        .map(|()| "aborted".to_string())
+                        .map_err(|source| LaunchError::MotionRefused { source }),
                     None => Ok("aborted".to_string()),
-                };
-                Some(r)
+                })
             }
             TaskRequest::ToolChange(tool) | TaskRequest::ToolPrepare(tool) => {
-                if let Err(e) = self.require_on() {
-                    return Some(Err(e));
-                }
                 let then_load = matches!(req, TaskRequest::ToolChange(_));
-                match self.io.request(&IoRequest::Prepare { tool: *tool }) {
-                    Err(e) => Some(Err(io_err(e))),
-                    Ok(Started::Waiting(_)) => {
-                        self.waiting.push((id, Waiting::Prepare { then_load }));
-                        None
-                    }
-                    Ok(Started::Done) if then_load => match self.io.request(&IoRequest::Load) {
-                        Ok(Started::Done) => Some(Ok(self.in_spindle())),
-                        Ok(Started::Waiting(_)) => {
-                            self.waiting.push((id, Waiting::Change));
-                            None
-                        }
-                        Err(e) => Some(Err(io_err(e))),
-                    },
-                    Ok(Started::Done) => Some(Ok(format!("tool {tool} prepared (in the spindle)"))),
-                }
+                self.tool_prepare(*tool, then_load, id)
             }
-            TaskRequest::ToolLoad => {
-                if let Err(e) = self.require_on() {
-                    return Some(Err(e));
-                }
-                match self.io.request(&IoRequest::Load) {
-                    Ok(Started::Done) => Some(Ok(self.in_spindle())),
-                    Ok(Started::Waiting(_)) => {
-                        self.waiting.push((id, Waiting::Change));
-                        None
-                    }
-                    Err(e) => Some(Err(io_err(e))),
-                }
-            }
+            TaskRequest::ToolLoad => self.tool_load(id),
             TaskRequest::SetTool(tool) => Some(
                 self.require_on()
-                    .and_then(|()| {
-                        self.io
-                            .request(&IoRequest::SetNumber { tool: *tool })
-                            .map_err(io_err)
-                    })
+                    .and_then(|()| Ok(self.io.request(&IoRequest::SetNumber { tool: *tool })?))
                     .map(|_| self.in_spindle()),
             ),
             TaskRequest::Mist(on) | TaskRequest::Flood(on) | TaskRequest::Lube(on) => {
-                if let Err(e) = self.require_on() {
-                    return Some(Err(e));
-                }
-                let (r, what) = match req {
-                    TaskRequest::Mist(_) => (IoRequest::Mist(*on), "mist coolant"),
-                    TaskRequest::Flood(_) => (IoRequest::Flood(*on), "flood coolant"),
-                    _ => (IoRequest::Lube(*on), "lube"),
-                };
-                let _ = self.io.request(&r);
-                Some(Ok(format!("{what} {}", if *on { "on" } else { "off" })))
+                Some(self.switch(req, *on))
             }
-            TaskRequest::ReloadToolTable => Some(match &self.table_path {
-                None => Err("no [EMCIO]TOOL_TABLE is configured".into()),
-                Some(p) => match ToolTable::load(p, self.io.table().random) {
-                    Ok(t) => {
-                        let problems: Vec<String> =
-                            t.problems.iter().map(|p| p.to_string()).collect();
-                        self.io.reload(t);
-                        let mut msg = format!("tool table {} reloaded", p.display());
-                        for pr in problems {
-                            msg.push('\n');
-                            msg.push_str(&pr);
-                        }
-                        Ok(msg)
-                    }
-                    Err(e) => Err(format!("reading {}: {e}", p.display())),
-                },
-            }),
+            TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
             TaskRequest::Status => Some(Ok(self.status())),
         }
+    }
+
+    /// Machine on: refused in e-stop; motion enabled if there is motion.
+    fn machine_on(&mut self) -> Answer {
+        if self.state == MachineState::Estop {
+            return Err(LaunchError::InEstop);
+        }
+        let r = match &mut self.motion {
+            Some(m) => m.enable().map(|()| "machine on".to_string()),
+            None => Ok("machine on (no motion controller is loaded)".to_string()),
+        };
+        if r.is_ok() {
+            self.state = MachineState::On;
+        }
+        r.map_err(|source| LaunchError::MachineOn { source })
+    }
+
+    /// Machine off: motion disabled; from on, the state becomes off.
+    fn machine_off(&mut self) -> Answer {
+        if let Some(m) = &mut self.motion {
+            m.disable()
+                .map_err(|source| LaunchError::Disabling { source })?;
+        }
+        if self.state == MachineState::On {
+            self.state = MachineState::Off;
+        }
+        Ok(format!("machine {}", self.state.name().to_lowercase()))
+    }
+
+    /// Prepares `tool` (T*n*), then for a change loads it (M6); answers
+    /// when the handshakes are done.
+    fn tool_prepare(&mut self, tool: i32, then_load: bool, id: ConnId) -> Option<Answer> {
+        if let Err(e) = self.require_on() {
+            return Some(Err(e));
+        }
+        match self.io.request(&IoRequest::Prepare { tool }) {
+            Err(e) => Some(Err(e.into())),
+            Ok(Started::Waiting(_)) => {
+                self.waiting.push((id, Waiting::Prepare { then_load }));
+                None
+            }
+            Ok(Started::Done) if then_load => self.tool_load(id),
+            Ok(Started::Done) => Some(Ok(format!("tool {tool} prepared (in the spindle)"))),
+        }
+    }
+
+    /// Loads the prepared tool (M6); answers when the handshake is done.
+    fn tool_load(&mut self, id: ConnId) -> Option<Answer> {
+        if let Err(e) = self.require_on() {
+            return Some(Err(e));
+        }
+        match self.io.request(&IoRequest::Load) {
+            Ok(Started::Done) => Some(Ok(self.in_spindle())),
+            Ok(Started::Waiting(_)) => {
+                self.waiting.push((id, Waiting::Change));
+                None
+            }
+            Err(e) => Some(Err(e.into())),
+        }
+    }
+
+    /// Mist, flood or lube on or off.
+    fn switch(&mut self, req: &TaskRequest, on: bool) -> Answer {
+        self.require_on()?;
+        let (r, what) = match req {
+            TaskRequest::Mist(_) => (IoRequest::Mist(on), "mist coolant"),
+            TaskRequest::Flood(_) => (IoRequest::Flood(on), "flood coolant"),
+            _ => (IoRequest::Lube(on), "lube"),
+        };
+        let _ = self.io.request(&r);
+        Ok(format!("{what} {}", if on { "on" } else { "off" }))
+    }
+
+    /// Reads the tool table file again; the answer lists its problems.
+    fn reload_tool_table(&mut self) -> Answer {
+        let path = self.table_path.as_ref().ok_or(LaunchError::NoToolTable)?;
+        let t = ToolTable::load(path, self.io.table().random).map_err(|source| {
+            LaunchError::ToolTable {
+                path: path.clone(),
+                source,
+            }
+        })?;
+        let problems: Vec<String> = t.problems.iter().map(|p| p.to_string()).collect();
+        self.io.reload(t);
+        let mut msg = format!("tool table {} reloaded", path.display());
+        for pr in problems {
+            msg.push('\n');
+            msg.push_str(&pr);
+        }
+        Ok(msg)
     }
 
     /// The state as text.
@@ -474,7 +485,7 @@ impl Task {
     pub fn shut_down(&mut self, server: &mut TaskServer) {
         self.go_estop();
         self.pins.write(self.io.outputs());
-        self.fail_all(server, "the machine is shutting down");
+        self.fail_all(server, || LaunchError::ShuttingDown);
     }
 }
 
@@ -489,18 +500,22 @@ mod tests {
     #[test]
     fn requests_parse() {
         assert_eq!(
-            parse_request(&w("tool-change 3")),
-            Ok(TaskRequest::ToolChange(3))
+            parse_request(&w("tool-change 3")).unwrap(),
+            TaskRequest::ToolChange(3)
         );
         assert_eq!(
-            parse_request(&w("coolant flood on")),
-            Ok(TaskRequest::Flood(true))
+            parse_request(&w("coolant flood on")).unwrap(),
+            TaskRequest::Flood(true)
         );
-        assert_eq!(parse_request(&w("lube off")), Ok(TaskRequest::Lube(false)));
+        assert_eq!(
+            parse_request(&w("lube off")).unwrap(),
+            TaskRequest::Lube(false)
+        );
         assert!(parse_request(&w("tool-change x")).is_err());
         assert!(parse_request(&w("coolant mist maybe")).is_err());
         assert!(parse_request(&w("fly"))
             .unwrap_err()
+            .to_string()
             .contains("unknown request 'fly'"));
     }
 }

@@ -3,9 +3,9 @@
 //! matching configuration to the motion controller.
 
 use hal_core::{Component, ComponentKind, In, Instance, Pin};
+use hal_lang::ini::Ini;
 
 use crate::config::{axis_letters, joint_count, AxisLimits, JointLimits, TrajSettings};
-use hal_lang::ini::Ini;
 
 /// A change of an `ini.*` pin, for the motion controller.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -9,6 +9,8 @@ use std::path::PathBuf;
 
 use hal_lang::protocol::decode_request;
 
+use crate::error::LaunchError;
+
 const UNIT: char = '\u{1f}';
 const LINE: char = '\u{1e}';
 
@@ -96,14 +98,14 @@ impl TaskServer {
     }
 
     /// Answers a request and closes its connection.
-    pub fn reply(&mut self, id: ConnId, result: Result<String, String>) {
+    pub fn reply(&mut self, id: ConnId, result: Result<String, LaunchError>) {
         let Some(i) = self.conns.iter().position(|c| c.id == id) else {
             return;
         };
         let mut c = self.conns.swap_remove(i);
         let (tag, text) = match result {
             Ok(t) => ("ok", t),
-            Err(t) => ("err", t),
+            Err(e) => ("err", e.to_string()),
         };
         let text = text.trim_end().replace('\n', &LINE.to_string());
         let _ = c.stream.set_nonblocking(false);
@@ -141,12 +143,21 @@ pub enum TaskClientError {
     Malformed(String),
 }
 
-/// Sends one request; `Ok(Ok(text))` if done, `Ok(Err(text))` if refused.
+/// The launcher's answer to a request.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TaskAnswer {
+    /// Done; what it says about it.
+    Done(String),
+    /// Refused; why, in the launcher's words.
+    Refused(String),
+}
+
+/// Sends one request and returns the launcher's answer.
 pub fn request(
     instance: &str,
     words: &[String],
     timeout: std::time::Duration,
-) -> Result<Result<String, String>, TaskClientError> {
+) -> Result<TaskAnswer, TaskClientError> {
     let path = socket_path(instance)?;
     let mut s = UnixStream::connect(&path).map_err(|e| match e.kind() {
         ErrorKind::NotFound | ErrorKind::ConnectionRefused => TaskClientError::NotRunning {
@@ -166,8 +177,8 @@ pub fn request(
         .ok_or_else(|| TaskClientError::Malformed(answer.to_string()))?;
     let text = text.replace(LINE, "\n");
     match tag {
-        "ok" => Ok(Ok(text)),
-        "err" => Ok(Err(text)),
+        "ok" => Ok(TaskAnswer::Done(text)),
+        "err" => Ok(TaskAnswer::Refused(text)),
         _ => Err(TaskClientError::Malformed(answer.to_string())),
     }
 }

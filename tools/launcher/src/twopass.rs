@@ -7,6 +7,8 @@
 //! files are read again and every other command runs in file order;
 //! `loadrt` of a module loaded in pass 0 is skipped and `loadusr` too.
 
+use crate::error::LaunchError;
+
 /// The loadrt lines of one module gathered in pass 0.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 struct Gathered {
@@ -29,21 +31,21 @@ pub struct TwoPass {
 }
 
 /// A `count=`/`num_chan=` value: LinuxCNC adds them with Tcl's `incr`.
-fn whole(module: &str, item: &str, value: &str) -> Result<i64, String> {
-    hal_lang::ini::parse_int(value)
-        .ok_or_else(|| format!("twopass: loadrt {module}: {item}={value} is not a whole number"))
+fn whole(module: &str, item: &str, value: &str) -> Result<i64, LaunchError> {
+    hal_lang::ini::parse_int(value).ok_or_else(|| LaunchError::TwoPass {
+        module: module.to_string(),
+        reason: format!("{item}={value} is not a whole number"),
+    })
 }
 
 /// `so_far` plus the whole number `value` of `item`, refused when the sum
 /// leaves the i64 range (found by the fuzz target: two huge counts).
-fn sum(module: &str, item: &str, so_far: i64, value: &str) -> Result<i64, String> {
+fn sum(module: &str, item: &str, so_far: i64, value: &str) -> Result<i64, LaunchError> {
     so_far
         .checked_add(whole(module, item, value)?)
-        .ok_or_else(|| {
-            format!(
-                "twopass: loadrt {module}: {item}= values add up past {}",
-                i64::MAX
-            )
+        .ok_or_else(|| LaunchError::TwoPass {
+            module: module.to_string(),
+            reason: format!("{item}= values add up past {}", i64::MAX),
         })
 }
 
@@ -54,12 +56,15 @@ impl TwoPass {
     }
 
     /// Gathers one `loadrt MODULE ARGS...` (the words after `loadrt`).
-    pub fn gather(&mut self, words: &[String]) -> Result<(), String> {
+    pub fn gather(&mut self, words: &[String]) -> Result<(), LaunchError> {
         let Some((module, args)) = words.split_first() else {
-            return Err("loadrt requires at least 1 arguments, 0 given".into());
+            return Err(LaunchError::TwoPassNoModule);
         };
         if self.loaded.contains(module) {
-            return Err(format!("twopass: loadrt {module}: already loaded"));
+            return Err(LaunchError::TwoPass {
+                module: module.clone(),
+                reason: "already loaded".into(),
+            });
         }
         let at = match self.modules.iter().position(|g| &g.module == module) {
             Some(i) => i,
@@ -84,10 +89,13 @@ impl TwoPass {
                 match g.form {
                     None => g.form = Some(form),
                     Some(first) if first != form => {
-                        return Err(format!(
-                        "twopass: loadrt {module}: cannot mix count=, num_chan= and names= forms \
-                             (first used form: {first}=)"
-                    ))
+                        return Err(LaunchError::TwoPass {
+                            module: module.clone(),
+                            reason: format!(
+                                "cannot mix count=, num_chan= and names= forms \
+                                 (first used form: {first}=)"
+                            ),
+                        })
                     }
                     Some(_) => {}
                 }
@@ -210,7 +218,10 @@ mod tests {
         let mut tp = TwoPass::new();
         let w = |s: &str| s.split_whitespace().map(str::to_string).collect::<Vec<_>>();
         tp.gather(&w("and2 count=1")).unwrap();
-        let e = tp.gather(&w("and2 count=9223372036854775807")).unwrap_err();
+        let e = tp
+            .gather(&w("and2 count=9223372036854775807"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("count= values add up past"), "{e}");
     }
 
@@ -218,7 +229,7 @@ mod tests {
     fn forms_may_not_mix() {
         let mut tp = TwoPass::new();
         tp.gather(&w("and2 count=1")).unwrap();
-        let e = tp.gather(&w("and2 names=a")).unwrap_err();
+        let e = tp.gather(&w("and2 names=a")).unwrap_err().to_string();
         assert!(e.contains("cannot mix"), "{e}");
         assert!(tp.gather(&w("or2 count=x")).is_err());
     }

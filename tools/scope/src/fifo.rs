@@ -3,22 +3,24 @@
 
 use hal_components::infra::columns::{fifo_name, pin_name};
 use hal_core::{HalType, Instance, RingReader, RingWriter, Value};
-
 use hal_lang::fmt_f;
 use hal_lang::parse_float;
 
+use crate::error::ScopeError;
+
 /// The column types of channel `chan` of `module` (`sampler` or
 /// `streamer`), read from its `pin.M` pins, looked up one by one.
-pub fn columns(inst: &Instance, module: &str, chan: usize) -> Result<Vec<HalType>, String> {
+pub fn columns(
+    inst: &Instance,
+    module: &'static str,
+    chan: usize,
+) -> Result<Vec<HalType>, ScopeError> {
     let mut cols = Vec::new();
-    while let Some(p) = inst
-        .pin(&pin_name(module, chan, cols.len()))
-        .map_err(|e| e.to_string())?
-    {
+    while let Some(p) = inst.pin(&pin_name(module, chan, cols.len()))? {
         cols.push(p.hal_type);
     }
     if cols.is_empty() {
-        return Err(format!("{module} channel {chan} does not exist"));
+        return Err(ScopeError::NoChannel { module, chan });
     }
     Ok(cols)
 }
@@ -27,28 +29,32 @@ pub fn columns(inst: &Instance, module: &str, chan: usize) -> Result<Vec<HalType
 /// that its records have a word for the sample number and one per column.
 fn open_channel<R>(
     inst: &Instance,
-    module: &str,
+    module: &'static str,
     chan: usize,
     open: fn(&Instance, &str) -> hal_core::Result<R>,
     width: fn(&R) -> usize,
-) -> Result<(R, Vec<HalType>), String> {
+) -> Result<(R, Vec<HalType>), ScopeError> {
     let cols = columns(inst, module, chan)?;
-    let ring = open(inst, &fifo_name(module, chan)).map_err(|e| e.to_string())?;
+    let ring = open(inst, &fifo_name(module, chan))?;
     if width(&ring) != cols.len() + 1 {
-        return Err(format!(
-            "{module} channel {chan}: FIFO does not match its pins"
-        ));
+        return Err(ScopeError::FifoMismatch { module, chan });
     }
     Ok((ring, cols))
 }
 
 /// Opens the FIFO of a sampler channel for reading.
-pub fn open_sampler(inst: &Instance, chan: usize) -> Result<(RingReader, Vec<HalType>), String> {
+pub fn open_sampler(
+    inst: &Instance,
+    chan: usize,
+) -> Result<(RingReader, Vec<HalType>), ScopeError> {
     open_channel(inst, "sampler", chan, RingReader::open, RingReader::width)
 }
 
 /// Opens the FIFO of a streamer channel for writing.
-pub fn open_streamer(inst: &Instance, chan: usize) -> Result<(RingWriter, Vec<HalType>), String> {
+pub fn open_streamer(
+    inst: &Instance,
+    chan: usize,
+) -> Result<(RingWriter, Vec<HalType>), ScopeError> {
     open_channel(inst, "streamer", chan, RingWriter::open, RingWriter::width)
 }
 
@@ -121,14 +127,14 @@ fn c_strtoul(field: &str) -> Option<u64> {
 /// including the newline. As in LinuxCNC, which reads bytes, a byte that
 /// is not UTF-8 only spoils the field it is in (a comment may hold any),
 /// instead of ending the stream.
-pub fn parse_input_line(line: &[u8], cols: &[HalType]) -> Option<Result<Vec<u64>, String>> {
+pub fn parse_input_line(line: &[u8], cols: &[HalType]) -> Option<Result<Vec<u64>, ScopeError>> {
     parse_line(&String::from_utf8_lossy(line), cols)
 }
 
 /// Parses one input line for a streamer. `None` for a comment line. Every
 /// field must be followed by whitespace (a last line without a newline is
 /// refused); text after the last field is ignored.
-pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, String>> {
+pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, ScopeError>> {
     if line.starts_with('#') {
         return None;
     }
@@ -139,13 +145,20 @@ pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, Strin
         let end = trimmed.find(char::is_whitespace);
         let Some(end) = end else {
             return Some(Err(if trimmed.is_empty() {
-                format!("missing value for column {i}")
+                ScopeError::MissingValue { column: i }
             } else {
-                format!("value '{trimmed}' for column {i} is not followed by whitespace")
+                ScopeError::NoWhitespace {
+                    value: trimmed.to_string(),
+                    column: i,
+                }
             }));
         };
         let field = &trimmed[..end];
-        let bad = || format!("bad value '{field}' for column {i} ({t})");
+        let bad = || ScopeError::BadValue {
+            value: field.to_string(),
+            column: i,
+            hal_type: *t,
+        };
         let v = match t {
             HalType::Bit => match field {
                 "0" => Value::Bit(false),
@@ -202,22 +215,25 @@ mod tests {
         // Found by the halstreamer fuzz target: such a line used to end
         // the whole stream.
         let cols = [HalType::Float];
-        assert_eq!(parse_input_line(b"# caf\xe9\n", &cols), None);
+        assert!(parse_input_line(b"# caf\xe9\n", &cols).is_none());
         assert_eq!(
-            parse_input_line(b"2.5 \xff\n", &cols),
-            Some(Ok(vec![0, 2.5f64.to_bits()]))
+            parse_input_line(b"2.5 \xff\n", &cols).and_then(Result::ok),
+            Some(vec![0, 2.5f64.to_bits()])
         );
-        let e = parse_input_line(b"2\xff5\n", &cols).unwrap().unwrap_err();
+        let e = parse_input_line(b"2\xff5\n", &cols)
+            .unwrap()
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("column 0"), "{e}");
     }
 
     #[test]
     fn lines_parse_like_halstreamer() {
         let cols = [HalType::Float, HalType::Bit];
-        assert_eq!(parse_line("# c\n", &cols), None);
+        assert!(parse_line("# c\n", &cols).is_none());
         assert_eq!(
-            parse_line("2.5 1 # trailing\n", &cols),
-            Some(Ok(vec![0, 2.5f64.to_bits(), 1]))
+            parse_line("2.5 1 # trailing\n", &cols).and_then(Result::ok),
+            Some(vec![0, 2.5f64.to_bits(), 1])
         );
         assert!(
             matches!(parse_line("2.5 1", &cols), Some(Err(_))),
@@ -227,22 +243,22 @@ mod tests {
         assert!(matches!(parse_line("x 1\n", &cols), Some(Err(_))));
         assert!(matches!(parse_line("1\n", &cols), Some(Err(_))));
         assert_eq!(
-            parse_line("-1 0\n", &[HalType::S32, HalType::U32]),
-            Some(Ok(vec![0, u64::MAX, 0]))
+            parse_line("-1 0\n", &[HalType::S32, HalType::U32]).and_then(Result::ok),
+            Some(vec![0, u64::MAX, 0])
         );
         // As C: -1 into an unsigned column wraps, a too large s32 keeps its
         // low bits, a too large s64 saturates.
         assert_eq!(
-            parse_line("-1 -1\n", &[HalType::U32, HalType::U64]),
-            Some(Ok(vec![0, 0xFFFF_FFFF, u64::MAX]))
+            parse_line("-1 -1\n", &[HalType::U32, HalType::U64]).and_then(Result::ok),
+            Some(vec![0, 0xFFFF_FFFF, u64::MAX])
         );
         assert_eq!(
-            parse_line("4294967297\n", &[HalType::S32]),
-            Some(Ok(vec![0, 1]))
+            parse_line("4294967297\n", &[HalType::S32]).and_then(Result::ok),
+            Some(vec![0, 1])
         );
         assert_eq!(
-            parse_line("99999999999999999999\n", &[HalType::S64]),
-            Some(Ok(vec![0, i64::MAX as u64]))
+            parse_line("99999999999999999999\n", &[HalType::S64]).and_then(Result::ok),
+            Some(vec![0, i64::MAX as u64])
         );
         assert!(matches!(parse_line("12x\n", &[HalType::S32]), Some(Err(_))));
     }

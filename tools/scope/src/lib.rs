@@ -8,8 +8,11 @@
 
 #![forbid(unsafe_code)]
 
+mod error;
 pub mod fifo;
 pub mod latency;
 pub mod motion_plot;
 pub mod plot;
 pub mod scope;
+
+pub use error::{Cause, ScopeError};

@@ -5,6 +5,7 @@
 
 use plotters::prelude::*;
 
+use crate::error::ScopeError;
 use crate::plot;
 
 /// One servo period's sample.
@@ -18,27 +19,8 @@ pub struct Sample {
     pub ferror: [f64; 3],
 }
 
-/// What is wrong with a samples file.
-#[derive(Debug, thiserror::Error)]
-pub enum SamplesError {
-    /// A line does not hold nine numbers.
-    #[error("{file}:{line}: expected nine numbers (X Y Z commanded, X Y Z measured, three following errors)")]
-    BadLine {
-        /// The file.
-        file: String,
-        /// The line, from 1.
-        line: usize,
-    },
-    /// No samples at all.
-    #[error("{file}: no samples")]
-    Empty {
-        /// The file.
-        file: String,
-    },
-}
-
 /// Reads halsampler's text.
-pub fn parse_samples(file: &str, text: &str) -> Result<Vec<Sample>, SamplesError> {
+pub fn parse_samples(file: &str, text: &str) -> Result<Vec<Sample>, ScopeError> {
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
         if line.trim().is_empty() {
@@ -48,12 +30,12 @@ pub fn parse_samples(file: &str, text: &str) -> Result<Vec<Sample>, SamplesError
             .split_whitespace()
             .map(str::parse)
             .collect::<Result<_, _>>()
-            .map_err(|_| SamplesError::BadLine {
+            .map_err(|_| ScopeError::BadLine {
                 file: file.into(),
                 line: i + 1,
             })?;
         if v.len() != 9 || v.iter().any(|x| !x.is_finite()) {
-            return Err(SamplesError::BadLine {
+            return Err(ScopeError::BadLine {
                 file: file.into(),
                 line: i + 1,
             });
@@ -65,7 +47,7 @@ pub fn parse_samples(file: &str, text: &str) -> Result<Vec<Sample>, SamplesError
         });
     }
     if out.is_empty() {
-        return Err(SamplesError::Empty { file: file.into() });
+        return Err(ScopeError::Empty { file: file.into() });
     }
     Ok(out)
 }
@@ -135,13 +117,13 @@ pub fn summarize(s: &[Sample], period: f64) -> Summary {
 }
 
 /// Draws the run into a PNG file at `path`.
-pub fn plot(s: &[Sample], period: f64, title: &str, path: &str) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| format!("{path}: {e}");
+pub fn plot(s: &[Sample], period: f64, title: &str, path: &str) -> Result<(), ScopeError> {
+    let file = path;
     let root = plot::png(path, (1400, 640)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(|e| ScopeError::plot(file, e))?;
     let root = root
         .titled(title, ("sans-serif", 22))
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     let (left, right) = root.split_horizontally(640);
 
     // The path, with equal scales on both axes.
@@ -166,22 +148,22 @@ pub fn plot(s: &[Sample], period: f64, title: &str, path: &str) -> Result<(), St
             cx - span / 2.0..cx + span / 2.0,
             cy - span / 2.0..cy + span / 2.0,
         )
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     path.configure_mesh()
         .x_desc("X")
         .y_desc("Y")
         .draw()
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     path.draw_series(LineSeries::new(
         s.iter().map(|x| (x.fb[0], x.fb[1])),
         RED.stroke_width(3),
     ))
-    .map_err(|e| err(&e))?;
+    .map_err(|e| ScopeError::plot(file, e))?;
     path.draw_series(LineSeries::new(
         s.iter().map(|x| (x.cmd[0], x.cmd[1])),
         &BLUE,
     ))
-    .map_err(|e| err(&e))?;
+    .map_err(|e| ScopeError::plot(file, e))?;
 
     // Speed over time.
     let vc = cmd_speed(s, period);
@@ -202,27 +184,27 @@ pub fn plot(s: &[Sample], period: f64, title: &str, path: &str) -> Result<(), St
         .x_label_area_size(34)
         .y_label_area_size(60)
         .build_cartesian_2d(0.0..tmax, 0.0..vmax)
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     speed
         .configure_mesh()
         .x_desc("TIME S")
         .y_desc("UNITS/S")
         .draw()
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     let t = |k: usize| k as f64 * period;
     speed
         .draw_series(LineSeries::new(
             vf.iter().enumerate().map(|(k, v)| (t(k), *v)),
             &RED,
         ))
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
     speed
         .draw_series(LineSeries::new(
             vc.iter().enumerate().map(|(k, v)| (t(k), *v)),
             &BLUE,
         ))
-        .map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(file, e))?;
+    root.present().map_err(|e| ScopeError::plot(file, e))?;
     Ok(())
 }
 

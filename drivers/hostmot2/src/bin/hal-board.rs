@@ -13,8 +13,8 @@ use std::time::Duration;
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
 use hal_driver::pci::Sysfs;
-use hostmot2::board_tool::{self, Board};
 use hal_stg::port_probe;
+use hostmot2::board_tool::{self, Board};
 
 use hostmot2::board_args::{Cli, Command};
 

@@ -28,9 +28,7 @@ fn run(command: Command) -> Result<i32, String> {
         Command::List => {
             let ports = list();
             if ports.is_empty() {
-                hal_core::outln!(
-                    "no parallel ports registered with Linux (is parport_pc loaded?)"
-                );
+                hal_core::outln!("no parallel ports registered with Linux (is parport_pc loaded?)");
             }
             for p in ports {
                 hal_core::outln!("{p}");

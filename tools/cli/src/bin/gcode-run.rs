@@ -9,9 +9,9 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 use hal_launcher::part_program::interp::{interpret, Step, Units};
 use hal_launcher::part_program::run::{run, Keys, Outcome, RunOptions};
-use motion::{Command, MotionClient, Pose};
-
 use hal_tools::tool_args::gcode_run::{Args, UnitsArg};
+use hal_tools::ToolsError;
+use motion::{Command, MotionClient, Pose};
 
 fn main() -> ExitCode {
     let args = Args::parse();
@@ -97,26 +97,26 @@ fn main() -> ExitCode {
 
 /// Puts the machine in coordinated mode (it must be enabled) and returns
 /// where its queue starts.
-fn enter_coord(client: &mut MotionClient) -> Result<Pose, String> {
-    let s = client.status().map_err(|e| e.to_string())?;
+fn enter_coord(client: &mut MotionClient) -> Result<Pose, ToolsError> {
+    let s = client.status()?;
     if !s.enabled {
-        return Err("the machine is not enabled (motion-cmd enable)".into());
+        return Err(ToolsError::NotEnabled);
     }
     if s.mode != "COORD" {
         client
             .send(Command::Coord)
-            .map_err(|r| format!("can't enter coordinated mode: {}", r.reason))?;
+            .map_err(|r| ToolsError::Coord { source: r.reason })?;
     }
     // A snapshot two cycles later shows the mode and the queue's start.
     let deadline = Instant::now() + Duration::from_secs(5);
-    let beat = client.status().map_err(|e| e.to_string())?.heartbeat;
+    let beat = client.status()?.heartbeat;
     loop {
-        let s = client.status().map_err(|e| e.to_string())?;
+        let s = client.status()?;
         if s.heartbeat.wrapping_sub(beat) >= 2 && s.mode == "COORD" {
             return Ok(Pose(s.traj.goal));
         }
         if Instant::now() > deadline {
-            return Err("the controller did not enter coordinated mode".into());
+            return Err(ToolsError::CoordTimeout);
         }
         std::thread::sleep(Duration::from_millis(2));
     }

@@ -22,7 +22,7 @@ fn main() {
     // Whoever started us polls the socket until it answers (launch.rs).
     let result = hal_host::serve(HostConfig::new(&instance), || {});
     if let Err(e) = result {
-        die(&e);
+        die(&e.to_string());
     }
 }
 

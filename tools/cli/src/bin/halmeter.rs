@@ -6,6 +6,7 @@ use std::time::Duration;
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
 use hal_tools::meter::{line, read, Kind};
+use hal_tools::ToolsError;
 
 const USAGE: &str = "usage: halmeter [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME";
 
@@ -19,7 +20,7 @@ fn main() {
     });
 }
 
-fn run() -> Result<(), String> {
+fn run() -> Result<(), ToolsError> {
     let mut count: Option<u64> = None;
     let mut period = Duration::from_millis(100);
     let mut words = Vec::new();
@@ -30,14 +31,14 @@ fn run() -> Result<(), String> {
                 count = Some(
                     args.next()
                         .and_then(|v| v.parse().ok())
-                        .ok_or("-n needs a count")?,
+                        .ok_or_else(|| ToolsError::usage("-n needs a count"))?,
                 )
             }
             "-p" => {
                 let ms: u64 = args
                     .next()
                     .and_then(|v| v.parse().ok())
-                    .ok_or("-p needs milliseconds")?;
+                    .ok_or_else(|| ToolsError::usage("-p needs milliseconds"))?;
                 period = Duration::from_millis(ms.max(1));
             }
             "-h" | "--help" => {
@@ -50,13 +51,16 @@ fn run() -> Result<(), String> {
     let (kind, name) = match words.as_slice() {
         [name] => (None, name.clone()),
         [k, name] => (
-            Some(Kind::from_word(k).ok_or_else(|| format!("unknown kind '{k}'; {USAGE}"))?),
+            Some(
+                Kind::from_word(k)
+                    .ok_or_else(|| ToolsError::usage(format!("unknown kind '{k}'; {USAGE}")))?,
+            ),
             name.clone(),
         ),
-        _ => return Err(USAGE.into()),
+        _ => return Err(ToolsError::usage(USAGE)),
     };
-    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
-    let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
+    let exit = ExitSignals::install()?;
+    let inst = Instance::attach(&instance_from_env())?;
     let mut out = hal_tools::stdio::stdout();
     let tty = out.is_terminal();
     let mut shown = 0u64;
@@ -64,18 +68,18 @@ fn run() -> Result<(), String> {
         let (_, v) = read(&inst, kind, &name)?;
         let text = line(&name, v);
         if tty {
-            write!(out, "\r\x1b[K{text}").map_err(|e| e.to_string())?;
+            write!(out, "\r\x1b[K{text}")?;
         } else {
-            writeln!(out, "{text}").map_err(|e| e.to_string())?;
+            writeln!(out, "{text}")?;
         }
-        out.flush().map_err(|e| e.to_string())?;
+        out.flush()?;
         shown += 1;
         if count.is_none_or(|n| shown < n) {
             std::thread::sleep(period);
         }
     }
     if tty {
-        writeln!(out).map_err(|e| e.to_string())?;
+        writeln!(out)?;
     }
     Ok(())
 }

@@ -17,11 +17,12 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use hal_core::{instance_from_env, Instance};
-use hal_tools::cli::{parse_halcmd_args, run_halcmd};
-use hal_lang::Session;
 use hal_lang::haltcl::{self, TclJob};
 use hal_lang::host_process::{start_host, stop_host};
+use hal_lang::Session;
 use hal_launcher as launcher;
+use hal_tools::cli::{parse_halcmd_args, run_halcmd};
+use hal_tools::ToolsError;
 
 const USAGE: &str = "\
 usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]
@@ -46,7 +47,7 @@ struct Request {
     file: Option<String>,
 }
 
-fn parse(args: &[String]) -> Result<Request, String> {
+fn parse(args: &[String]) -> Result<Request, ToolsError> {
     let mut r = Request::default();
     let mut positional = Vec::new();
     let mut i = 0;
@@ -58,7 +59,7 @@ fn parse(args: &[String]) -> Result<Request, String> {
         };
         for (at, c) in flags.char_indices() {
             // -f and -i take the rest of the word or the next word.
-            let mut value = || -> Result<String, String> {
+            let mut value = || -> Result<String, ToolsError> {
                 let rest = &flags[at + c.len_utf8()..];
                 if !rest.is_empty() {
                     return Ok(rest.to_string());
@@ -66,7 +67,7 @@ fn parse(args: &[String]) -> Result<Request, String> {
                 i += 1;
                 args.get(i - 1)
                     .cloned()
-                    .ok_or_else(|| format!("option -{c} needs a value"))
+                    .ok_or_else(|| ToolsError::usage(format!("option -{c} needs a value")))
             };
             match c {
                 'I' => r.interactive_halcmd = true,
@@ -84,18 +85,23 @@ fn parse(args: &[String]) -> Result<Request, String> {
                 }
                 // Alone they are handled before parsing; in a group of
                 // flags they make no sense.
-                'U' => return Err("-U must be the only argument".into()),
-                'h' => return Err("-h must be given alone".into()),
-                other => return Err(format!("unknown option -{other}")),
+                'U' => return Err(ToolsError::usage("-U must be the only argument")),
+                'h' => return Err(ToolsError::usage("-h must be given alone")),
+                other => return Err(ToolsError::usage(format!("unknown option -{other}"))),
             }
         }
     }
     if positional.len() > 1 {
-        return Err(format!("too many arguments <{}>", positional.join(" ")));
+        return Err(ToolsError::usage(format!(
+            "too many arguments <{}>",
+            positional.join(" ")
+        )));
     }
     if let Some(p) = positional.pop() {
         if let Some(f) = &r.file {
-            return Err(format!("Specified '-f {f}' and also <{p}>"));
+            return Err(ToolsError::usage(format!(
+                "Specified '-f {f}' and also <{p}>"
+            )));
         }
         r.file = Some(p);
     }
@@ -117,7 +123,7 @@ fn main() {
     }
     let req = match parse(&args) {
         Ok(r) => r,
-        Err(e) => die(&e),
+        Err(e) => die(e),
     };
     let kind = req
         .file
@@ -141,7 +147,7 @@ fn main() {
     }
     let mut host = match start_host(&instance, false) {
         Ok(c) => c,
-        Err(e) => die(&e),
+        Err(e) => die(e),
     };
     let status = match Instance::attach(&instance) {
         Ok(inst) => run(inst, &req, kind.as_deref()),
@@ -175,7 +181,7 @@ fn run(inst: Instance, req: &Request, kind: Option<&str>) -> i32 {
             }
             let parsed = match parse_halcmd_args(&words) {
                 Ok(p) => p,
-                Err(e) => die(&e),
+                Err(e) => die(e),
             };
             if req.interactive_tcl && req.file.is_some() {
                 let status = run_halcmd(inst.clone(), parsed, false);
@@ -214,7 +220,7 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
     let path = req.file.clone().unwrap_or_default();
     let ini = match launcher::load_ini(Path::new(&path)) {
         Ok(i) => i,
-        Err(e) => die(&e.to_string()),
+        Err(e) => die(e),
     };
     let opts = launcher::Options {
         ini_path: PathBuf::from(&path),
@@ -263,7 +269,7 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
 }
 
 fn load_ini_or_die(path: &str) -> hal_lang::ini::Ini {
-    hal_lang::ini::Ini::load(Path::new(path)).unwrap_or_else(|e| die(&e.to_string()))
+    hal_lang::ini::Ini::load(Path::new(path)).unwrap_or_else(|e| die(e))
 }
 
 /// Runs `f` on a session writing to stdout and stderr.
@@ -319,7 +325,7 @@ fn unload(instance: &str) -> i32 {
     }
 }
 
-fn die(msg: &str) -> ! {
+fn die(msg: impl std::fmt::Display) -> ! {
     eprintln!("halrun: {msg}");
     std::process::exit(1);
 }

@@ -6,6 +6,7 @@ use std::time::Duration;
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
 use hal_scope::fifo::{format_record, open_sampler};
+use hal_tools::ToolsError;
 
 fn main() {
     std::process::exit(match run() {
@@ -17,7 +18,7 @@ fn main() {
     });
 }
 
-fn run() -> Result<i32, String> {
+fn run() -> Result<i32, ToolsError> {
     let mut chan = 0usize;
     let mut count: Option<u64> = None;
     let mut tag = false;
@@ -29,13 +30,13 @@ fn run() -> Result<i32, String> {
                 chan = args
                     .next()
                     .and_then(|v| v.parse().ok())
-                    .ok_or("-c needs a channel number")?
+                    .ok_or_else(|| ToolsError::usage("-c needs a channel number"))?
             }
             "-n" => {
                 count = Some(
                     args.next()
                         .and_then(|v| v.parse().ok())
-                        .ok_or("-n needs a count")?,
+                        .ok_or_else(|| ToolsError::usage("-n needs a count"))?,
                 )
             }
             "-t" => tag = true,
@@ -44,16 +45,19 @@ fn run() -> Result<i32, String> {
                 return Ok(0);
             }
             f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
-            other => return Err(format!("unknown argument '{other}'")),
+            other => return Err(ToolsError::usage(format!("unknown argument '{other}'"))),
         }
     }
-    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
-    let inst = Instance::attach(&instance_from_env()).map_err(|e| e.to_string())?;
+    let exit = ExitSignals::install()?;
+    let inst = Instance::attach(&instance_from_env())?;
     let (mut ring, cols) = open_sampler(&inst, chan)?;
     let mut out: Box<dyn Write> = match &file {
-        Some(f) => Box::new(std::io::BufWriter::new(
-            std::fs::File::create(f).map_err(|e| format!("{f}: {e}"))?,
-        )),
+        Some(f) => Box::new(std::io::BufWriter::new(std::fs::File::create(f).map_err(
+            |source| ToolsError::File {
+                path: f.clone(),
+                source,
+            },
+        )?)),
         None => Box::new(std::io::BufWriter::new(hal_tools::stdio::stdout())),
     };
     let mut record = vec![0u64; cols.len() + 1];
@@ -71,13 +75,12 @@ fn run() -> Result<i32, String> {
         }
         let num = record[0] as u32;
         if last.is_some_and(|l| num != l.wrapping_add(1)) {
-            writeln!(out, "overrun").map_err(|e| e.to_string())?;
+            writeln!(out, "overrun")?;
         }
         last = Some(num);
-        out.write_all(format_record(&record, &cols, tag).as_bytes())
-            .map_err(|e| e.to_string())?;
+        out.write_all(format_record(&record, &cols, tag).as_bytes())?;
         printed += 1;
     }
-    out.flush().map_err(|e| e.to_string())?;
+    out.flush()?;
     Ok(0)
 }

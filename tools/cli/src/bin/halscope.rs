@@ -25,10 +25,12 @@ fn main() -> ExitCode {
 
 fn run() -> Result<(), ScopeError> {
     let req = Args::parse().request()?;
-    let signals = ExitSignals::install().map_err(|e| ScopeError::Hal(e.to_string()))?;
+    let signals = ExitSignals::install()?;
     let name = instance_from_env();
-    let inst =
-        Instance::attach(&name).map_err(|e| ScopeError::Hal(format!("instance '{name}': {e}")))?;
+    let inst = Instance::attach(&name).map_err(|source| ScopeError::Attach {
+        instance: name.clone(),
+        source,
+    })?;
     let record = capture(&inst, &req, &|| signals.requested())?;
     write_outputs(&record, &req, &title(&record, &req))?;
     for (path, _) in &req.outputs {

@@ -5,9 +5,9 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use hal_core::{instance_from_env, Instance};
-use hal_lang::{Options, Session};
 use hal_lang::haltcl::{run, TclJob};
 use hal_lang::ini::Ini;
+use hal_lang::{Options, Session};
 
 const USAGE: &str = "usage: haltcl [-i INI] [FILE.tcl [ARGS...]]";
 

@@ -31,7 +31,7 @@ fn run(args: &[String]) -> Result<(), LatencyError> {
         }
         Parsed::Run(cfg) => cfg,
     };
-    let signals = ExitSignals::install().map_err(|e| LatencyError::Host(e.to_string()))?;
+    let signals = ExitSignals::install().map_err(|e| LatencyError::Host(e.into()))?;
     // A private instance: nothing else runs on it, and it goes with us.
     let instance = format!("latency-test-{}", std::process::id());
     let session = Session::start(&instance, &cfg)?;

@@ -5,7 +5,6 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use hal_scope::motion_plot::{parse_samples, plot, summarize};
-
 use hal_tools::tool_args::motion_plot::Args;
 
 fn main() -> ExitCode {

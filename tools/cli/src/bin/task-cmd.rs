@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use hal_launcher::REQUESTS;
-use hal_launcher::{request, TaskClientError};
+use hal_launcher::{request, TaskAnswer, TaskClientError};
 
 fn usage() -> String {
     format!(
@@ -53,13 +53,13 @@ fn main() -> ExitCode {
         return usage_error("no request given");
     }
     match request(&instance, words, timeout) {
-        Ok(Ok(text)) => {
+        Ok(TaskAnswer::Done(text)) => {
             if !text.is_empty() {
                 hal_tools::outln!("{text}");
             }
             ExitCode::SUCCESS
         }
-        Ok(Err(text)) => {
+        Ok(TaskAnswer::Refused(text)) => {
             eprintln!("task-cmd: {text}");
             ExitCode::from(1)
         }

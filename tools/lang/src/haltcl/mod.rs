@@ -20,9 +20,9 @@ use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::ini::Ini;
 use crate::lexer::split_words;
 use crate::Session;
-use crate::ini::Ini;
 
 /// The Tcl side of the bridge.
 const PRELUDE: &str = include_str!("prelude.tcl");

@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use super::LatencyError;
+use crate::error::ScopeError as LatencyError;
 
 /// LinuxCNC's default base period: 25 µs.
 pub const DEFAULT_BASE_NS: i64 = 25_000;

@@ -6,6 +6,7 @@ use plotters::prelude::*;
 
 use super::report::period_text;
 use super::stats::ThreadStats;
+use crate::error::ScopeError;
 use crate::plot;
 
 /// The colour of the bars.
@@ -57,15 +58,14 @@ fn x_of(ns: u64) -> f64 {
 
 /// Draws the histograms of `threads` into a PNG at `path`, titled
 /// `title`. Returns where the bars went.
-pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, String> {
-    let err = |e: &dyn std::fmt::Display| format!("{path}: {e}");
+pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, ScopeError> {
     let n = threads.len().max(1);
     let height = SIZE.1 * n as u32 + 40;
     let root = plot::png(path, (SIZE.0, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(|e| ScopeError::plot(path, e))?;
     let root = root
         .titled(title, ("sans-serif", 20))
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(path, e))?;
     let panels = root.split_evenly((n, 1));
     let nb = shown_buckets(threads);
     let mut drawn = Drawn::default();
@@ -88,7 +88,7 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
             .x_label_area_size(36)
             .y_label_area_size(60)
             .build_cartesian_2d(0.0..nb as f64, (0.5..top * 2.0).log_scale())
-            .map_err(|e| err(&e))?;
+            .map_err(|e| ScopeError::plot(path, e))?;
         chart
             .configure_mesh()
             .disable_x_mesh()
@@ -104,7 +104,7 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
             .x_desc("LATENCY US (BUCKET EDGES)")
             .y_desc("WAKE-UPS")
             .draw()
-            .map_err(|e| err(&e))?;
+            .map_err(|e| ScopeError::plot(path, e))?;
         for (limit, label) in [(20_000u64, "20 US"), (50_000, "50 US"), (500_000, "500 US")] {
             let x = x_of(limit);
             if x < nb as f64 {
@@ -113,14 +113,14 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
                         [(x, 0.5), (x, top * 2.0)],
                         RED.stroke_width(1),
                     ))
-                    .map_err(|e| err(&e))?;
+                    .map_err(|e| ScopeError::plot(path, e))?;
                 chart
                     .draw_series([Text::new(
                         label,
                         (x + 0.1, top * 1.5),
                         ("sans-serif", 12).into_font().color(&RED),
                     )])
-                    .map_err(|e| err(&e))?;
+                    .map_err(|e| ScopeError::plot(path, e))?;
             }
         }
         for b in 0..nb {
@@ -137,7 +137,7 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
                     [(x0, 0.5), (x1, count as f64)],
                     BAR_COLOR.filled(),
                 )])
-                .map_err(|e| err(&e))?;
+                .map_err(|e| ScopeError::plot(path, e))?;
             let (l, tp) = chart.backend_coord(&(x0, count as f64));
             let (r, bt) = chart.backend_coord(&(x1, 0.5));
             drawn.bars.push(Bar {
@@ -147,7 +147,7 @@ pub fn draw(threads: &[ThreadStats], title: &str, path: &str) -> Result<Drawn, S
             });
         }
     }
-    root.present().map_err(|e| err(&e))?;
+    root.present().map_err(|e| ScopeError::plot(path, e))?;
     Ok(drawn)
 }
 

@@ -33,33 +33,9 @@ use perms::Permissions;
 use session::Session;
 use stats::ThreadStats;
 
-/// Everything that can stop a latency test.
-#[derive(Debug, thiserror::Error)]
-pub enum LatencyError {
-    /// The command line is wrong.
-    #[error("{0}")]
-    Usage(String),
-    /// The private HAL host did not start or refused a request.
-    #[error("the HAL host: {0}")]
-    Host(String),
-    /// Reading the instance failed.
-    #[error("reading the threads of instance '{instance}': {source}")]
-    Instance {
-        /// The private instance.
-        instance: String,
-        /// What the HAL core said.
-        #[source]
-        source: hal_core::HalError,
-    },
-    /// Writing an output file failed.
-    #[error("writing {path}: {reason}")]
-    Output {
-        /// The file.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-}
+/// What can stop a latency test: the crate's [`ScopeError`], under the
+/// name the latency test's code uses.
+pub use crate::error::ScopeError as LatencyError;
 
 /// How often the live line is refreshed on a terminal, and elsewhere.
 const LIVE_TTY: Duration = Duration::from_millis(250);
@@ -84,7 +60,7 @@ pub fn measure(
         let now = Instant::now();
         let done = cfg.duration.is_some_and(|d| now - start >= d) || interrupted();
         if !session.host_alive() {
-            return Err(LatencyError::Host("the host exited during the test".into()));
+            return Err(LatencyError::HostGone);
         }
         let snap = session.snapshot()?;
         // Each executor sets its scheduling before its first cycle.
@@ -168,14 +144,13 @@ pub fn report(
         ),
         None => format!("LATENCY TEST ({realtime}): NO CYCLES"),
     };
-    let drawn =
-        histplot::draw(threads, &title, &cfg.png).map_err(|reason| LatencyError::Output {
-            path: cfg.png.clone(),
-            reason,
-        })?;
+    let drawn = histplot::draw(threads, &title, &cfg.png).map_err(|e| LatencyError::Output {
+        path: cfg.png.clone(),
+        source: Box::new(e),
+    })?;
     std::fs::write(&cfg.csv, report::histogram_csv(threads)).map_err(|e| LatencyError::Output {
         path: cfg.csv.clone(),
-        reason: e.to_string(),
+        source: Box::new(e),
     })?;
     let _ = write!(out, "\n{}", report::summary_table(threads));
     let _ = writeln!(out, "\nverdict: {verdict_text}");

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use hal_core::latency_bucket_floor_us;
 
 use super::stats::ThreadStats;
+use crate::error::ScopeError;
 
 /// Microseconds with one decimal, or `-` when unknown.
 fn us(ns: Option<u64>) -> String {
@@ -91,24 +92,29 @@ pub fn histogram_csv(threads: &[ThreadStats]) -> String {
 
 /// Reads a CSV written by [`histogram_csv`] back: thread names and their
 /// counts per bucket.
-pub fn parse_histogram_csv(text: &str) -> Result<Vec<(String, Vec<u64>)>, String> {
+pub fn parse_histogram_csv(text: &str) -> Result<Vec<(String, Vec<u64>)>, ScopeError> {
     let mut lines = text.lines();
-    let header = lines.next().ok_or("empty CSV")?;
+    let header = lines.next().ok_or(ScopeError::CsvEmpty)?;
     let names: Vec<String> = header.split(',').skip(3).map(str::to_string).collect();
     if !header.starts_with("bucket,low_us,high_us") || names.is_empty() {
-        return Err(format!("unexpected header '{header}'"));
+        return Err(ScopeError::CsvHeader {
+            header: header.to_string(),
+        });
     }
     let mut counts = vec![Vec::new(); names.len()];
     for (i, line) in lines.enumerate() {
         let f: Vec<&str> = line.split(',').collect();
         if f.len() != names.len() + 3 || f[0] != i.to_string() {
-            return Err(format!("line {}: '{line}'", i + 2));
+            return Err(ScopeError::CsvLine {
+                line: i + 2,
+                text: line.to_string(),
+            });
         }
         for (c, v) in counts.iter_mut().zip(&f[3..]) {
-            c.push(
-                v.parse()
-                    .map_err(|_| format!("line {}: bad count '{v}'", i + 2))?,
-            );
+            c.push(v.parse().map_err(|_| ScopeError::CsvCount {
+                line: i + 2,
+                value: v.to_string(),
+            })?);
         }
     }
     Ok(names.into_iter().zip(counts).collect())

@@ -7,12 +7,12 @@ use std::process::Child;
 use std::time::Duration;
 
 use hal_core::Instance;
+use hal_lang::host_process::{start_host_own_group, stop_host};
+use hal_lang::protocol::Client;
 
 use super::args::Config;
 use super::stats::ThreadStats;
-use super::LatencyError;
-use hal_lang::host_process::{start_host_own_group, stop_host};
-use hal_lang::protocol::Client;
+use crate::error::ScopeError as LatencyError;
 
 /// The base thread's name.
 pub const BASE_THREAD: &str = "base-thread";
@@ -68,7 +68,10 @@ impl Session {
     fn call(&self, words: &[String]) -> Result<(), LatencyError> {
         Client::connect(&self.instance)
             .and_then(|mut c| c.call(words))
-            .map_err(|e| LatencyError::Host(format!("{}: {e}", words.join(" "))))
+            .map_err(|source| LatencyError::HostRequest {
+                command: words.join(" "),
+                source,
+            })
     }
 
     /// The instance's name.
@@ -127,7 +130,7 @@ impl Session {
             let _ = child.kill();
         }
         let _ = child.wait();
-        r.map_err(|e| LatencyError::Host(e.to_string()))
+        r.map_err(LatencyError::HostStop)
     }
 }
 

@@ -17,35 +17,13 @@ use std::time::{Duration, Instant};
 
 use hal_core::Instance;
 
+use crate::error::Cause;
+pub use crate::error::ScopeError;
+
 use args::{Format, Request, Source};
 use capture::{Capture, Trigger};
 use output::Record;
 use wiring::Probe;
-
-/// Everything that can stop a capture.
-#[derive(Debug, thiserror::Error)]
-pub enum ScopeError {
-    /// The command line asks for something that cannot be done.
-    #[error("{0}")]
-    Usage(String),
-    /// The HAL instance refused or failed.
-    #[error("HAL: {0}")]
-    Hal(String),
-    /// No complete record came in time.
-    #[error("{0}")]
-    Timeout(String),
-    /// Interrupted before the record was complete.
-    #[error("interrupted before the record was complete")]
-    Interrupted,
-    /// Writing an output failed.
-    #[error("writing {path}: {reason}")]
-    Output {
-        /// The file.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-}
 
 /// How long the reader sleeps when the FIFO is empty.
 const POLL: Duration = Duration::from_millis(1);
@@ -94,7 +72,8 @@ pub fn capture(
     };
     let trigger = trigger_of(req, &probe)?;
     probe.check_running(inst)?;
-    let (mut ring, _) = crate::fifo::open_sampler(inst, probe.channel).map_err(ScopeError::Hal)?;
+    let (mut ring, _) = crate::fifo::open_sampler(inst, probe.channel)
+        .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
     let overruns_pin = format!("sampler.{}.overruns", probe.channel);
     let overruns = || inst.pin_value(&overruns_pin).ok();
     let mut record = vec![0u64; probe.types.len() + 1];
@@ -129,7 +108,7 @@ pub fn capture(
             return Err(ScopeError::Interrupted);
         }
         if !inst.host_alive() {
-            return Err(ScopeError::Hal("the HAL host exited".into()));
+            return Err(ScopeError::HostExited);
         }
         if Instant::now() > end {
             return Err(ScopeError::Timeout(format!(
@@ -161,15 +140,15 @@ pub fn capture(
 pub fn write_outputs(r: &Record, req: &Request, thread_title: &str) -> Result<(), ScopeError> {
     for (path, format) in &req.outputs {
         let shown = path.display().to_string();
-        let fail = |reason: String| ScopeError::Output {
-            path: shown.clone(),
-            reason,
+        let written = match format {
+            Format::Csv => std::fs::write(path, output::csv(r)).map_err(Cause::from),
+            Format::Vcd => std::fs::write(path, output::vcd(r)).map_err(Cause::from),
+            Format::Png => plot::draw(r, thread_title, &shown).map_err(Cause::from),
         };
-        match format {
-            Format::Csv => std::fs::write(path, output::csv(r)).map_err(|e| fail(e.to_string()))?,
-            Format::Vcd => std::fs::write(path, output::vcd(r)).map_err(|e| fail(e.to_string()))?,
-            Format::Png => plot::draw(r, thread_title, &shown).map_err(fail)?,
-        }
+        written.map_err(|source| ScopeError::Output {
+            path: shown.clone(),
+            source,
+        })?;
     }
     Ok(())
 }

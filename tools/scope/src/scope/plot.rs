@@ -6,6 +6,7 @@ use plotters::prelude::*;
 
 use super::capture::numeric;
 use super::output::Record;
+use crate::error::ScopeError;
 use crate::plot;
 
 /// Width of the image, and height of one panel, in pixels.
@@ -32,8 +33,7 @@ fn axis_label(y: &f64) -> String {
 }
 
 /// Draws `r` into a PNG at `path` titled `title`.
-pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
-    let err = |e: &dyn std::fmt::Display| format!("{path}: {e}");
+pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), ScopeError> {
     let heights: Vec<u32> = r
         .types
         .iter()
@@ -47,10 +47,10 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
         .collect();
     let total: u32 = heights.iter().sum::<u32>() + 40;
     let root = plot::png(path, (PANEL.0, total)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(|e| ScopeError::plot(path, e))?;
     let mut area = root
         .titled(title, ("sans-serif", 18))
-        .map_err(|e| err(&e))?;
+        .map_err(|e| ScopeError::plot(path, e))?;
     let t0 = r.time_ms(0);
     let t1 = r.time_ms(r.rows.len().saturating_sub(1)).max(t0 + 1e-9);
     for (m, (name, t)) in r.names.iter().zip(&r.types).enumerate() {
@@ -79,7 +79,7 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
             .y_label_area_size(70)
             .caption(name.to_uppercase(), ("sans-serif", 14))
             .build_cartesian_2d(t0..t1, lo..hi)
-            .map_err(|e| err(&e))?;
+            .map_err(|e| ScopeError::plot(path, e))?;
         let mut mesh = chart.configure_mesh();
         mesh.x_label_formatter(&|x| format!("{x:.2}"));
         if bit {
@@ -91,7 +91,7 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
         if m + 1 == r.names.len() {
             mesh.x_desc("MS FROM TRIGGER");
         }
-        mesh.draw().map_err(|e| err(&e))?;
+        mesh.draw().map_err(|e| ScopeError::plot(path, e))?;
         let color = COLORS[m % COLORS.len()];
         let points: Vec<(f64, f64)> = if bit {
             // A logic trace: hold each level until the next sample.
@@ -116,14 +116,14 @@ pub fn draw(r: &Record, title: &str, path: &str) -> Result<(), String> {
         };
         chart
             .draw_series(LineSeries::new(points, color.stroke_width(2)))
-            .map_err(|e| err(&e))?;
+            .map_err(|e| ScopeError::plot(path, e))?;
         if r.trigger_index > 0 || t0 < 0.0 {
             chart
                 .draw_series(LineSeries::new([(0.0, lo), (0.0, hi)], RED.stroke_width(1)))
-                .map_err(|e| err(&e))?;
+                .map_err(|e| ScopeError::plot(path, e))?;
         }
     }
-    root.present().map_err(|e| err(&e))?;
+    root.present().map_err(|e| ScopeError::plot(path, e))?;
     Ok(())
 }
 

@@ -9,9 +9,9 @@
 
 use hal_components::infra::columns::pin_name;
 use hal_core::{HalType, Instance, PinDir};
+use hal_lang::protocol::Client;
 
 use super::ScopeError;
-use hal_lang::protocol::Client;
 
 /// Depth of the FIFO halscope's own sampler gets: records the reader may
 /// fall behind by before samples are lost (about 0.2 s of a 25 µs thread).
@@ -42,7 +42,7 @@ struct OwnSampler {
 }
 
 fn hal(e: hal_core::HalError) -> ScopeError {
-    ScopeError::Hal(e.to_string())
+    ScopeError::Hal(e)
 }
 
 fn cfg_letter(t: HalType) -> char {
@@ -78,7 +78,8 @@ fn period_of(inst: &Instance, thread: &str) -> Result<i64, ScopeError> {
 impl Probe {
     /// Uses channel `channel` of the sampler the configuration loaded.
     pub fn channel(inst: &Instance, channel: usize) -> Result<Probe, ScopeError> {
-        let types = crate::fifo::columns(inst, "sampler", channel).map_err(ScopeError::Hal)?;
+        let types = crate::fifo::columns(inst, "sampler", channel)
+            .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
         let mut names = Vec::new();
         for m in 0..types.len() {
             let pin = pin_name("sampler", channel, m);
@@ -178,7 +179,10 @@ impl Probe {
         let words: Vec<String> = words.iter().map(|w| w.to_string()).collect();
         Client::connect(&self.instance)
             .and_then(|mut c| c.call(&words))
-            .map_err(|e| ScopeError::Hal(format!("{}: {e}", words.join(" "))))
+            .map_err(|source| ScopeError::Request {
+                command: words.join(" "),
+                source,
+            })
     }
 
     /// Removes what halscope added; a second call does nothing.
