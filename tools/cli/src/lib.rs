@@ -14,6 +14,8 @@
 //! motion-cmd drive one machine): cargo builds for a package's tests only
 //! that package's binaries.
 
+#![forbid(unsafe_code)]
+
 pub mod cli;
 mod error;
 pub mod meter;

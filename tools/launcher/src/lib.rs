@@ -6,6 +6,8 @@
 //! [`part_program`] runs G-code through the interpreter on a live motion
 //! controller (`gcode-run`).
 
+#![forbid(unsafe_code)]
+
 mod config;
 mod error;
 mod hal_side;

@@ -372,7 +372,39 @@ impl Interp<'_> {
     /// One line.
     fn block(&mut self, line: usize, b: &Block, units: Units) -> Result<bool, ProgramError> {
         let id = line as i32;
-        // Codes: refuse the unknown, and two of one group.
+        let (motion, m_code) = self.check_codes(b)?;
+        self.modal_settings(b, units)?;
+        let dwell = b.codes.iter().find(|c| c.number == 40);
+        let term = b.codes.iter().find(|c| group(c.number) == 13);
+        self.check_words(b, motion, dwell, term)?;
+        if let Some(d) = dwell {
+            self.dwell(b, d, id)?;
+        }
+        if let Some(t) = term {
+            self.term_cond(b, t)?;
+        }
+        if let Some(m) = motion {
+            self.st.motion = Some(m.number);
+        }
+        self.motion_of_line(b, motion, dwell, id)?;
+        if let Some(m) = m_code {
+            self.flush();
+            match m.number {
+                0 => self.out.push(Step::Pause(m.loc)),
+                10 => self.out.push(Step::OptionalPause(m.loc)),
+                _ => {
+                    self.out.push(Step::End(m.loc));
+                    return Ok(false);
+                }
+            }
+        }
+        Ok(true)
+    }
+
+    /// Refuses the line's unknown codes, two codes of one group, more than
+    /// one M code and the words the runner does not know; returns its
+    /// motion code and its M code.
+    fn check_codes(&self, b: &Block) -> Result<(Option<Code>, Option<Code>), ProgramError> {
         let mut seen = Vec::new();
         let mut motion: Option<Code> = None;
         let mut ms = Vec::new();
@@ -415,15 +447,19 @@ impl Interp<'_> {
                 motion = Some(*c);
             }
         }
-        if ms.len() > 1 {
-            return Err(self.err(ms[1].loc, "only one M code per line"));
+        if let Some(second) = ms.get(1) {
+            return Err(self.err(second.loc, "only one M code per line"));
         }
         for l in ['D', 'E', 'H', 'L', 'O', 'S', 'T'] {
             if let Some(w) = b.get(l) {
                 return Err(self.err(w.loc, format!("the {l} word is not supported")));
             }
         }
-        // Units and distance modes first, then the feed.
+        Ok((motion, ms.first().copied()))
+    }
+
+    /// Units, distance modes and plane first, then the feed.
+    fn modal_settings(&mut self, b: &Block, units: Units) -> Result<(), ProgramError> {
         for c in &b.codes {
             match c.number {
                 200 => self.st.scale = units.mm() / 25.4,
@@ -442,9 +478,18 @@ impl Interp<'_> {
             }
             self.st.feed = Some(self.len(f) / 60.0);
         }
-        let dwell = b.codes.iter().find(|c| c.number == 40);
-        let term = b.codes.iter().find(|c| group(c.number) == 13);
-        // Which words the line's codes use.
+        Ok(())
+    }
+
+    /// Refuses P, Q, I, J, K and R words that no code of the line (or the
+    /// modal arc) takes.
+    fn check_words(
+        &self,
+        b: &Block,
+        motion: Option<Code>,
+        dwell: Option<&Code>,
+        term: Option<&Code>,
+    ) -> Result<(), ProgramError> {
         let uses_p = dwell.is_some()
             || term.is_some_and(|c| c.number == 640)
             || motion.is_some_and(|m| m.number == 20 || m.number == 30);
@@ -469,91 +514,93 @@ impl Interp<'_> {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// `G4 P<seconds>`.
+    fn dwell(&mut self, b: &Block, d: &Code, id: i32) -> Result<(), ProgramError> {
+        let p = b
+            .get('P')
+            .ok_or_else(|| self.err(d.loc, "G4 needs P (seconds)"))?;
+        if p.value < 0.0 {
+            return Err(self.err(p.loc, "the dwell time must not be negative"));
+        }
+        self.send(
+            Command::Dwell {
+                seconds: p.value,
+                id,
+            },
+            d.loc,
+        );
+        Ok(())
+    }
+
+    /// `G61`, `G61.1`, `G64 [P] [Q]`: the path's termination condition.
+    fn term_cond(&mut self, b: &Block, t: &Code) -> Result<(), ProgramError> {
+        let (cond, tol) = match t.number {
+            610 => (TermCond::ExactPath, 0.0),
+            611 => (TermCond::Stop, 0.0),
+            _ => (TermCond::Blend, b.get('P').map_or(0.0, |w| self.len(w))),
+        };
+        if tol < 0.0 {
+            return Err(self.err(t.loc, "G64 P must not be negative"));
+        }
+        self.st.naive = if t.number == 640 {
+            let q = b.get('Q').map_or(0.0, |w| self.len(w));
+            if q < 0.0 {
+                return Err(self.err(t.loc, "G64 Q must not be negative"));
+            }
+            q
+        } else {
+            0.0
+        };
+        self.send(
+            Command::SetTermCond {
+                cond,
+                tolerance: tol,
+            },
+            t.loc,
+        );
+        Ok(())
+    }
+
+    /// The line's move, in the modal motion mode, if it has axis words.
+    fn motion_of_line(
+        &mut self,
+        b: &Block,
+        motion: Option<Code>,
+        dwell: Option<&Code>,
+        id: i32,
+    ) -> Result<(), ProgramError> {
+        let Some(first_axis) = AXES.iter().find_map(|&l| b.get(l)) else {
+            return match motion {
+                Some(m) if m.number == 20 || m.number == 30 => {
+                    Err(self.err(m.loc, format!("{} with no end point", m.name())))
+                }
+                _ => Ok(()),
+            };
+        };
+        let Some(mode) = self.st.motion else {
+            return Err(self.err(
+                first_axis.loc,
+                "axis words with no motion mode (G0, G1, G2, G3)",
+            ));
+        };
         if let Some(d) = dwell {
-            let p = b
-                .get('P')
-                .ok_or_else(|| self.err(d.loc, "G4 needs P (seconds)"))?;
-            if p.value < 0.0 {
-                return Err(self.err(p.loc, "the dwell time must not be negative"));
-            }
-            self.send(
-                Command::Dwell {
-                    seconds: p.value,
-                    id,
-                },
-                d.loc,
-            );
+            return Err(self.err(d.loc, "G4 and a move on one line"));
         }
-        if let Some(t) = term {
-            let (cond, tol) = match t.number {
-                610 => (TermCond::ExactPath, 0.0),
-                611 => (TermCond::Stop, 0.0),
-                _ => (TermCond::Blend, b.get('P').map_or(0.0, |w| self.len(w))),
-            };
-            if tol < 0.0 {
-                return Err(self.err(t.loc, "G64 P must not be negative"));
-            }
-            self.st.naive = if t.number == 640 {
-                let q = b.get('Q').map_or(0.0, |w| self.len(w));
-                if q < 0.0 {
-                    return Err(self.err(t.loc, "G64 Q must not be negative"));
-                }
-                q
-            } else {
-                0.0
-            };
-            self.send(
-                Command::SetTermCond {
-                    cond,
-                    tolerance: tol,
-                },
-                t.loc,
-            );
+        let loc = motion.map_or(first_axis.loc, |m| m.loc);
+        let code = motion.unwrap_or(Code {
+            letter: 'G',
+            number: mode,
+            loc,
+        });
+        match mode {
+            0 => self.line(b, true, id, loc),
+            10 => self.line(b, false, id, loc),
+            20 => self.arc(b, true, id, code),
+            _ => self.arc(b, false, id, code),
         }
-        if let Some(m) = motion {
-            self.st.motion = Some(m.number);
-        }
-        let has_axes = AXES.iter().any(|&l| b.get(l).is_some());
-        if has_axes {
-            let Some(mode) = self.st.motion else {
-                let w = AXES.iter().find_map(|&l| b.get(l)).expect("has axes");
-                return Err(self.err(w.loc, "axis words with no motion mode (G0, G1, G2, G3)"));
-            };
-            if let Some(d) = dwell {
-                return Err(self.err(d.loc, "G4 and a move on one line"));
-            }
-            let loc = motion.map_or_else(
-                || AXES.iter().find_map(|&l| b.get(l)).expect("has axes").loc,
-                |m| m.loc,
-            );
-            let code = motion.unwrap_or(Code {
-                letter: 'G',
-                number: mode,
-                loc,
-            });
-            match mode {
-                0 => self.line(b, true, id, loc)?,
-                10 => self.line(b, false, id, loc)?,
-                20 => self.arc(b, true, id, code)?,
-                _ => self.arc(b, false, id, code)?,
-            }
-        } else if let Some(m) = motion {
-            if m.number == 20 || m.number == 30 {
-                return Err(self.err(m.loc, format!("{} with no end point", m.name())));
-            }
-        }
-        if let Some(m) = ms.first() {
-            self.flush();
-            match m.number {
-                0 => self.out.push(Step::Pause(m.loc)),
-                10 => self.out.push(Step::OptionalPause(m.loc)),
-                _ => {
-                    self.out.push(Step::End(m.loc));
-                    return Ok(false);
-                }
-            }
-        }
-        Ok(true)
     }
 }
 

@@ -4,6 +4,7 @@
 //! abort) and M0/M1 stops.
 
 use std::io::{IsTerminal, Read, Write};
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::mpsc::{channel, Receiver};
 use std::sync::Arc;
@@ -11,6 +12,7 @@ use std::time::{Duration, Instant};
 
 use motion::command::{Command, Reject};
 use motion::{MotionClient, MotionStatus};
+use nix::sys::termios::{self, LocalFlags, SetArg, SpecialCharacterIndices, Termios};
 
 use super::interp::Step;
 use super::Loc;
@@ -76,7 +78,7 @@ pub struct RunOptions {
 /// restored after), else one per line. Ends quietly at end of input.
 pub struct Keys {
     rx: Receiver<Key>,
-    saved: Option<libc::termios>,
+    saved: Option<Termios>,
 }
 
 impl Keys {
@@ -116,33 +118,22 @@ impl Keys {
 
 impl Drop for Keys {
     fn drop(&mut self) {
-        if let Some(t) = self.saved {
-            // SAFETY: restores the terminal settings read by `raw_mode`
-            // on standard input, a valid descriptor for the process's life.
-            unsafe {
-                libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t);
-            }
+        if let Some(t) = &self.saved {
+            let _ = termios::tcsetattr(std::io::stdin(), SetArg::TCSANOW, t);
         }
     }
 }
 
 /// Puts the terminal on standard input in non-canonical mode without
 /// echo (keys arrive one by one); returns the settings to restore.
-fn raw_mode() -> Option<libc::termios> {
-    // SAFETY: termios is plain data; tcgetattr fills it or fails.
-    let mut t: libc::termios = unsafe { std::mem::zeroed() };
-    // SAFETY: standard input is a valid descriptor; `t` is writable.
-    if unsafe { libc::tcgetattr(libc::STDIN_FILENO, &mut t) } != 0 {
-        return None;
-    }
-    let saved = t;
-    t.c_lflag &= !(libc::ICANON | libc::ECHO);
-    t.c_cc[libc::VMIN] = 1;
-    t.c_cc[libc::VTIME] = 0;
-    // SAFETY: as above, with settings derived from the current ones.
-    if unsafe { libc::tcsetattr(libc::STDIN_FILENO, libc::TCSANOW, &t) } != 0 {
-        return None;
-    }
+fn raw_mode() -> Option<Termios> {
+    let stdin = std::io::stdin();
+    let saved = termios::tcgetattr(&stdin).ok()?;
+    let mut t = saved.clone();
+    t.local_flags &= !(LocalFlags::ICANON | LocalFlags::ECHO);
+    t.control_chars[SpecialCharacterIndices::VMIN as usize] = 1;
+    t.control_chars[SpecialCharacterIndices::VTIME as usize] = 0;
+    termios::tcsetattr(&stdin, SetArg::TCSANOW, &t).ok()?;
     Some(saved)
 }
 
@@ -158,38 +149,37 @@ pub fn run(
     keys: &Keys,
     stop: &Arc<AtomicBool>,
 ) -> Outcome {
-    let mut next = 0;
-    let mut held: Option<Loc> = None;
-    let mut aborting = false;
-    let mut started: Option<Instant> = None;
-    let mut last_shown = Instant::now() - Duration::from_secs(1);
-    let place = |loc: Loc| format!("{file}:{}:{}", loc.line, loc.column);
-    let mut preloading = opts.preload;
-    if preloading {
-        if let Err(r) = client.send(Command::Pause) {
-            return Outcome::Failed(format!("pause to preload: {}", r.reason));
+    let mut r = Runner {
+        client,
+        file,
+        steps,
+        opts,
+        next: 0,
+        held: None,
+        aborting: false,
+        started: None,
+        preloading: opts.preload,
+    };
+    if r.preloading {
+        if let Err(rj) = r.client.send(Command::Pause) {
+            return Outcome::Failed(format!("pause to preload: {}", rj.reason));
         }
     }
+    let mut last_shown = Instant::now() - Duration::from_secs(1);
     loop {
         // Preloading ends when nothing more can be queued before starting.
-        let blocked = match steps.get(next) {
-            None | Some(Step::Pause(_)) | Some(Step::End(_)) => true,
-            Some(Step::OptionalPause(_)) => opts.optional_stop,
-            Some(Step::Send(..)) => false,
-        };
-        if preloading && blocked {
-            preloading = false;
-            if let Err(r) = client.send(Command::Resume) {
-                return Outcome::Failed(format!("start after preloading: {}", r.reason));
+        if r.blocked() {
+            if let Err(outcome) = r.end_preload() {
+                return outcome;
             }
         }
-        let status = match client.status() {
+        let status = match r.client.status() {
             Ok(s) => s,
             Err(e) => return Outcome::Failed(format!("status: {e}")),
         };
         let done = status.traj.depth == 0 && status.in_position;
         if opts.progress && last_shown.elapsed() > Duration::from_millis(100) {
-            show(&status, lines, held.is_some());
+            show(&status, lines, r.held.is_some());
             last_shown = Instant::now();
         }
         // Keys first: an abort wins over everything.
@@ -199,25 +189,9 @@ pub fn run(
             keys.next()
         };
         if let Some(k) = key {
-            let cmd = match k {
-                Key::Pause => Some(Command::Pause),
-                Key::Resume => {
-                    held = None;
-                    Some(Command::Resume)
-                }
-                Key::Step => Some(Command::Step),
-                Key::Abort => {
-                    aborting = true;
-                    Some(Command::Abort)
-                }
-            };
-            if let Some(cmd) = cmd {
-                if let Err(r) = client.send(cmd) {
-                    eprintln!("\n{}", r.reason);
-                }
-            }
+            r.key(k);
         }
-        if aborting {
+        if r.aborting {
             if done {
                 finish_line(opts.progress);
                 return Outcome::Aborted {
@@ -227,61 +201,131 @@ pub fn run(
             std::thread::sleep(Duration::from_millis(2));
             continue;
         }
-        let mut busy = false;
-        if held.is_none() {
-            match steps.get(next) {
-                Some(Step::Send(cmd, loc)) => match client.send(*cmd) {
-                    Ok(_) => {
-                        started.get_or_insert_with(Instant::now);
-                        next += 1;
-                        busy = true;
-                    }
-                    Err(r) if matches!(r.reason, Reject::QueueFull { .. }) => {
-                        if preloading {
-                            preloading = false;
-                            if let Err(r) = client.send(Command::Resume) {
-                                return Outcome::Failed(format!(
-                                    "start after preloading: {}",
-                                    r.reason
-                                ));
-                            }
-                        }
-                    }
-                    Err(r) => {
-                        let _ = client.send(Command::Abort);
-                        finish_line(opts.progress);
-                        return Outcome::Failed(format!("{}: {}", place(*loc), r.reason));
-                    }
-                },
-                Some(Step::Pause(loc)) | Some(Step::OptionalPause(loc)) => {
-                    let optional = matches!(steps[next], Step::OptionalPause(_));
-                    if optional && !opts.optional_stop {
-                        next += 1;
-                    } else if done {
-                        finish_line(opts.progress);
-                        eprintln!(
-                            "{}: {} pause: press r to resume",
-                            place(*loc),
-                            if optional { "M1" } else { "M0" }
-                        );
-                        held = Some(*loc);
-                        next += 1;
+        match r.advance(done) {
+            ControlFlow::Break(outcome) => return outcome,
+            ControlFlow::Continue(true) => {}
+            ControlFlow::Continue(false) => std::thread::sleep(Duration::from_millis(2)),
+        }
+    }
+}
+
+/// A run's way through its steps.
+struct Runner<'a> {
+    client: &'a mut MotionClient,
+    file: &'a str,
+    steps: &'a [Step],
+    opts: RunOptions,
+    /// The next step to send.
+    next: usize,
+    /// Where an M0 (or M1) holds the run until resumed.
+    held: Option<Loc>,
+    aborting: bool,
+    /// When the first move was queued.
+    started: Option<Instant>,
+    /// Queueing while paused (see [`RunOptions::preload`]).
+    preloading: bool,
+}
+
+impl Runner<'_> {
+    /// `file:line:column` of `loc`, for messages.
+    fn place(&self, loc: Loc) -> String {
+        format!("{}:{}:{}", self.file, loc.line, loc.column)
+    }
+
+    /// Whether the next step cannot be queued before the run starts.
+    fn blocked(&self) -> bool {
+        match self.steps.get(self.next) {
+            None | Some(Step::Pause(_)) | Some(Step::End(_)) => true,
+            Some(Step::OptionalPause(_)) => self.opts.optional_stop,
+            Some(Step::Send(..)) => false,
+        }
+    }
+
+    /// Starts the preloaded queue, if preloading.
+    fn end_preload(&mut self) -> Result<(), Outcome> {
+        if !self.preloading {
+            return Ok(());
+        }
+        self.preloading = false;
+        self.client
+            .send(Command::Resume)
+            .map(|_| ())
+            .map_err(|r| Outcome::Failed(format!("start after preloading: {}", r.reason)))
+    }
+
+    /// An operator's key: pause, resume, step or abort.
+    fn key(&mut self, k: Key) {
+        let cmd = match k {
+            Key::Pause => Command::Pause,
+            Key::Resume => {
+                self.held = None;
+                Command::Resume
+            }
+            Key::Step => Command::Step,
+            Key::Abort => {
+                self.aborting = true;
+                Command::Abort
+            }
+        };
+        if let Err(r) = self.client.send(cmd) {
+            eprintln!("\n{}", r.reason);
+        }
+    }
+
+    /// Sends the next step if it can go now (`done`: the queue is empty and
+    /// the machine in position). Continues with whether something was
+    /// sent; breaks with the run's outcome.
+    fn advance(&mut self, done: bool) -> ControlFlow<Outcome, bool> {
+        if self.held.is_some() {
+            return ControlFlow::Continue(false);
+        }
+        match self.steps.get(self.next) {
+            Some(Step::Send(cmd, loc)) => match self.client.send(*cmd) {
+                Ok(_) => {
+                    self.started.get_or_insert_with(Instant::now);
+                    self.next += 1;
+                    return ControlFlow::Continue(true);
+                }
+                Err(r) if matches!(r.reason, Reject::QueueFull { .. }) => {
+                    if let Err(outcome) = self.end_preload() {
+                        return ControlFlow::Break(outcome);
                     }
                 }
-                Some(Step::End(_)) => next = steps.len(),
-                None => {
-                    if done {
-                        finish_line(opts.progress);
-                        return Outcome::Done {
-                            seconds: started.map_or(0.0, |t| t.elapsed().as_secs_f64()),
-                        };
-                    }
+                Err(r) => {
+                    let _ = self.client.send(Command::Abort);
+                    finish_line(self.opts.progress);
+                    return ControlFlow::Break(Outcome::Failed(format!(
+                        "{}: {}",
+                        self.place(*loc),
+                        r.reason
+                    )));
+                }
+            },
+            Some(Step::Pause(loc)) | Some(Step::OptionalPause(loc)) => {
+                let optional = matches!(self.steps[self.next], Step::OptionalPause(_));
+                if optional && !self.opts.optional_stop {
+                    self.next += 1;
+                } else if done {
+                    finish_line(self.opts.progress);
+                    eprintln!(
+                        "{}: {} pause: press r to resume",
+                        self.place(*loc),
+                        if optional { "M1" } else { "M0" }
+                    );
+                    self.held = Some(*loc);
+                    self.next += 1;
                 }
             }
+            Some(Step::End(_)) => self.next = self.steps.len(),
+            None if done => {
+                finish_line(self.opts.progress);
+                return ControlFlow::Break(Outcome::Done {
+                    seconds: self.started.map_or(0.0, |t| t.elapsed().as_secs_f64()),
+                });
+            }
+            None => {}
         }
-        if !busy {
-            std::thread::sleep(Duration::from_millis(2));
-        }
+        ControlFlow::Continue(false)
     }
 }
 
