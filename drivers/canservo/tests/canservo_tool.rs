@@ -1,6 +1,9 @@
 //! `canservo-tool` on simulated drives (`--sim`): every command, its
 //! messages and exit statuses.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::process::{Command, Output};
 
 fn tool(args: &[&str]) -> Output {

@@ -2,6 +2,9 @@
 //! simulated firmware's image) and on the simulated boards: list,
 //! idrom, read, write, watch, and its refusals.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::process::{Command, Output};
 
 use hal_driver::pci::fake::{FakeBar, FakeSysfs};

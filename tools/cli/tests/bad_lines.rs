@@ -1,6 +1,9 @@
 //! Every kind of bad HAL line gets its message, with the file and line,
 //! and changes nothing.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::InProcessHost;

@@ -2,6 +2,9 @@
 //! in CSP, homes them through the drives' internal homing, and jogs two
 //! of them; every joint ends homed where it was sent, no drive faulted.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 /// The value column of `show pin` for pin `name`.

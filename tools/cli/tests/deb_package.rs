@@ -4,6 +4,9 @@
 //! maintainer scripts; no setuid or setgid bit anywhere; and the postinst
 //! run against recording stand-ins for the system commands it calls.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -1,5 +1,8 @@
 //! End-to-end HAL-file tests from the workspace's tests/ folder.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::*;

@@ -3,6 +3,9 @@
 //! configs/sim/*-servo-machine.hal) home on switch and index and reach
 //! their commanded positions; the samples equal `expected` byte for byte.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::*;

@@ -2,6 +2,9 @@
 //! whose modules this suite provides must give the same stdout and exit
 //! status byte for byte, and the same error lines on stderr.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::collections::BTreeSet;

@@ -2,6 +2,9 @@
 //! hal_gpio.reset) are all counted, and the simulated I2C chips run
 //! without faults.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 #[test]

@@ -2,6 +2,9 @@
 //! .tcl and .ini files and -U; haltcl with INI arrays; a machine's HAL
 //! files with #INCLUDE, LIB: names and TWOPASS.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod machine;
 
 use machine::{instance, text, tool, Scratch};

@@ -3,6 +3,9 @@
 //! jogging through motion-cmd, tool changes, coolant) and stop cleanly; a
 //! configuration that cannot load fails with one clear error.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod machine;
 
 use machine::{root, Machine, Scratch};

@@ -3,6 +3,9 @@
 //! runs its threads, takes an e-stop reset and machine-on (and, where it
 //! has home switches, homes), and stops cleanly.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod machine;
 
 use machine::{root, Machine};

@@ -2,6 +2,9 @@
 //! LinuxCNC, and ends with the instance: `realtime stop` and halrun's exit
 //! stop it before they return.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::path::{Path, PathBuf};

@@ -4,6 +4,9 @@
 //! `HAL_UPDATE_MAN=1 cargo test -p hal-tools --test man_pages` rewrites
 //! them.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::path::PathBuf;
 
 use clap::CommandFactory;

@@ -2,6 +2,9 @@
 //! other processes enables motion and jogs a joint, checked through
 //! `motion-cmd status`.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::{accepted, mcmd, run, start_motion_instance, wait_status};

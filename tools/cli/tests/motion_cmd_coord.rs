@@ -3,6 +3,9 @@
 //! one with its file and line), and `gcode-run` runs a small program and
 //! refuses an unsupported one before anything moves.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::{accepted, mcmd, run, start_motion_instance, wait_status};

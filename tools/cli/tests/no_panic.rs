@@ -17,6 +17,9 @@
 //! builds all of them first and sets `HAL_REQUIRE_ALL_BINS=1`, which turns a
 //! missing binary into a failure).
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::ffi::OsString;

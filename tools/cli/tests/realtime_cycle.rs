@@ -1,6 +1,9 @@
 //! `realtime stop` returns only once the host has released everything, so
 //! `realtime start` may follow at once: three instances cycle side by side.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::process::{Command, Output};

@@ -1,6 +1,9 @@
 //! halscope (headless) and latency-test end to end, each test on a
 //! private instance of its own.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::path::PathBuf;

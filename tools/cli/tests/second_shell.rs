@@ -1,6 +1,9 @@
 //! `realtime start`, then halcmd from other processes on the running
 //! instance while its threads run, then `realtime stop`.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use common::{halcmd, run};

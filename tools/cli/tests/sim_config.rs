@@ -1,6 +1,9 @@
 //! The README's main job: configs/sim/sim.hal reaches its commanded
 //! positions with exact step counts.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 #[test]

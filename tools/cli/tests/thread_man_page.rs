@@ -2,6 +2,9 @@
 //! `threads` module takes, every `setthread` switch and the environment
 //! the executor reads, so it cannot fall behind the code unnoticed.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::path::PathBuf;
 
 fn page() -> String {

@@ -2,6 +2,9 @@
 //! keys udev knows, match keys before assignments, and quoted values; and
 //! `udevadm verify` accepts the file where the installed udev has it.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::path::Path;
 
 const MATCH_KEYS: &[&str] = &[

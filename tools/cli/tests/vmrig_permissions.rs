@@ -9,6 +9,9 @@
 //! Outside the rig (no `VMRIG_KERNEL`) every test says why it skips and
 //! passes: it would create users and groups on the machine.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

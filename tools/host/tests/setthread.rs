@@ -1,6 +1,9 @@
 //! halcmd `setthread`: a thread's switches changed from a HAL file after the
 //! thread exists, applied whole or not at all.
 
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
 mod common;
 
 use std::time::{Duration, Instant};

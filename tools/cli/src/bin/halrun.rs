@@ -136,7 +136,7 @@ fn main() {
         .map(Option::unwrap_or_default);
     if let Some(k) = &kind {
         if !matches!(k.as_str(), "hal" | "tcl" | "ini") {
-            die(&format!(
+            die(format!(
                 "Unknown file extension for filename=<{}>",
                 req.file.as_deref().unwrap_or_default()
             ));
