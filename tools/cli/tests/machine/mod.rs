@@ -118,6 +118,20 @@ impl Machine {
         self.stderr.lock().unwrap().clone()
     }
 
+    /// What it wrote to stderr, once it holds `needle` (or after 10 s):
+    /// the reader thread may not have caught up with lines written before
+    /// the launcher answered.
+    pub fn stderr_with(&self, needle: &str) -> String {
+        let end = Instant::now() + Duration::from_secs(10);
+        loop {
+            let text = self.stderr();
+            if text.contains(needle) || Instant::now() > end {
+                return text;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
     fn wait_ready(&self) {
         let end = Instant::now() + Duration::from_secs(60);
         loop {
