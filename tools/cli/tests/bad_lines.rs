@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::InProcessHost;
+use hal_host::testing::InProcessHost;
 
 const SETUP: &str = "loadrt and2\nloadrt mult2\nloadrt threads name1=t period1=1000000\n";
 

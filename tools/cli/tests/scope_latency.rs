@@ -9,7 +9,7 @@ mod common;
 use std::path::PathBuf;
 use std::process::Command;
 
-use common::InProcessHost;
+use hal_host::testing::InProcessHost;
 
 fn temp_dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(common::instance(tag));

@@ -12,6 +12,8 @@ mod adopt;
 mod error;
 mod server;
 mod setthread;
+#[cfg(feature = "testing")]
+pub mod testing;
 
 pub use error::HostError;
 pub use server::{registry, serve, InProcess};

@@ -4,12 +4,10 @@
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::InProcessHost;
 use hal_core::Value;
+use hal_host::testing::InProcessHost;
 
 fn s32(v: Value) -> i32 {
     match v {

@@ -54,65 +54,6 @@ pub fn meaningful_stderr(text: &str) -> Vec<String> {
         .collect()
 }
 
-/// A host served on a background thread of this process, for tests that
-/// drive a [`hal_lang::Session`] directly.
-pub struct InProcessHost {
-    pub instance: String,
-    thread: Option<std::thread::JoinHandle<()>>,
-}
-
-impl InProcessHost {
-    pub fn start(tag: &str) -> InProcessHost {
-        let mut cfg = hal_core::HostConfig::for_tests(tag);
-        cfg.shm_size = 8 << 20;
-        let name = cfg.instance.clone();
-        let (tx, rx) = std::sync::mpsc::channel();
-        let thread = std::thread::spawn(move || {
-            hal_host::serve(cfg, move || {
-                let _ = tx.send(());
-            })
-            .expect("host serves");
-        });
-        rx.recv_timeout(Duration::from_secs(20))
-            .expect("host ready");
-        InProcessHost {
-            instance: name,
-            thread: Some(thread),
-        }
-    }
-
-    pub fn instance(&self) -> hal_core::Instance {
-        hal_core::Instance::attach(&self.instance).expect("attach")
-    }
-
-    /// Runs `text` as file `name`; returns (ok, stdout, stderr).
-    pub fn run(&self, name: &str, text: &str, keep_going: bool) -> (bool, String, String) {
-        let (mut out, mut err) = (Vec::new(), Vec::new());
-        let opts = hal_lang::Options {
-            keep_going,
-            ..Default::default()
-        };
-        let ok = {
-            let mut s = hal_lang::Session::new(self.instance(), opts, &mut out, &mut err);
-            s.run_text(Some(name), text)
-        };
-        (
-            ok,
-            String::from_utf8_lossy(&out).into_owned(),
-            String::from_utf8_lossy(&err).into_owned(),
-        )
-    }
-}
-
-impl Drop for InProcessHost {
-    fn drop(&mut self) {
-        let _ = hal_lang::host_process::stop_host(&self.instance, Duration::from_secs(10));
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
-}
-
 /// Runs one of the tools on `instance`, without realtime scheduling.
 pub fn run(bin: &str, args: &[&str], instance: &str) -> Output {
     Command::new(bin)

@@ -1,24 +1,26 @@
-//! A host served in the test's own process, for tests that drive a
-//! halcmd session directly.
-#![allow(dead_code)]
+//! What tests of this crate and of the crates above it use (feature
+//! `testing`): a host served in the test's own process.
 
 use std::time::Duration;
 
 /// A host served on a background thread of this process, for tests that
 /// drive a [`hal_lang::Session`] directly.
 pub struct InProcessHost {
+    /// The instance's name.
     pub instance: String,
     thread: Option<std::thread::JoinHandle<()>>,
 }
 
 impl InProcessHost {
+    /// Starts a host on an instance of its own (`tag` names it) and waits
+    /// until it serves; panics if it does not (a test's failure).
     pub fn start(tag: &str) -> InProcessHost {
         let mut cfg = hal_core::HostConfig::for_tests(tag);
         cfg.shm_size = 8 << 20;
         let name = cfg.instance.clone();
         let (tx, rx) = std::sync::mpsc::channel();
         let thread = std::thread::spawn(move || {
-            hal_host::serve(cfg, move || {
+            crate::serve(cfg, move || {
                 let _ = tx.send(());
             })
             .expect("host serves");
@@ -31,6 +33,7 @@ impl InProcessHost {
         }
     }
 
+    /// The instance, attached.
     pub fn instance(&self) -> hal_core::Instance {
         hal_core::Instance::attach(&self.instance).expect("attach")
     }
