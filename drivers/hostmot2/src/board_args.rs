@@ -1,4 +1,5 @@
-//! `hal-board`'s command line (clap), here so the man page is built from it.
+//! `hal-board`'s command line (clap), in the library so the man page is built
+//! from it (tools/cli/tests/man_pages.rs).
 
 use std::path::PathBuf;
 

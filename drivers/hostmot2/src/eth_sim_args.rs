@@ -1,4 +1,5 @@
-//! `hm2-eth-sim`'s command line (clap), here so the man page is built from it.
+//! `hm2-eth-sim`'s command line (clap), in the library so the man page is built
+//! from it (tools/cli/tests/man_pages.rs).
 
 use std::net::SocketAddr;
 

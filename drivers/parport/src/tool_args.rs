@@ -1,4 +1,5 @@
-//! `parport-tool`'s command line (clap), here so the man page is built from it.
+//! `parport-tool`'s command line (clap), in the library so the man page is built
+//! from it (tools/cli/tests/man_pages.rs).
 
 use clap::{Parser, Subcommand};
 

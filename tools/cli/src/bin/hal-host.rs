@@ -19,7 +19,8 @@ fn main() {
             other => die(&format!("unknown argument '{other}'")),
         }
     }
-    // Whoever started us polls the socket until it answers (launch.rs).
+    // Whoever started us polls the socket until it answers
+    // (hal_lang::host_process).
     let result = hal_host::serve(HostConfig::new(&instance), || {});
     if let Err(e) = result {
         die(&e.to_string());

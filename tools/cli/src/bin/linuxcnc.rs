@@ -1,5 +1,5 @@
 //! linuxcnc: run a LinuxCNC machine configuration (its INI file) headless.
-//! See `hal_tools::launcher`.
+//! See `hal_launcher`.
 
 use hal_launcher::{parse_args, run, USAGE};
 
