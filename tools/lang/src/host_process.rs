@@ -129,10 +129,10 @@ pub fn stop_host(instance: &str, limit: Duration) -> std::result::Result<(), Cli
         alive = hal_core::Instance::attach(instance).is_ok();
     }
     if !closed || alive {
-        return Err(ClientError::Refused(format!(
-            "the host of instance '{instance}' did not exit within {} s",
-            limit.as_secs_f64()
-        )));
+        return Err(ClientError::StillRunning {
+            instance: instance.to_string(),
+            limit_s: limit.as_secs_f64(),
+        });
     }
     Ok(())
 }

@@ -44,6 +44,14 @@ pub enum ClientError {
     /// The host answered `err` with this message.
     #[error("{0}")]
     Refused(String),
+    /// The host did not exit in time after `shutdown`.
+    #[error("the host of instance '{instance}' did not exit within {limit_s} s")]
+    StillRunning {
+        /// The instance.
+        instance: String,
+        /// How long it was given, in seconds.
+        limit_s: f64,
+    },
     /// The host's answer is not a reply of this protocol.
     #[error("malformed reply from the HAL host: {line:?}")]
     Malformed {
