@@ -24,6 +24,7 @@ pub mod ring;
 pub mod rtlog;
 pub mod seqlock;
 pub(crate) mod shm;
+pub mod stdio;
 pub mod types;
 pub mod userspace;
 

@@ -42,6 +42,7 @@ pub mod status;
 #[cfg(test)]
 mod test_support;
 pub mod tp;
+pub mod tp_home;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};

@@ -96,6 +96,8 @@ pub mod sdo;
 pub mod sim;
 pub mod sim_args;
 pub mod startup;
+pub mod tool;
+pub mod tool_args;
 pub mod units;
 
 pub use error::{Error, Result};

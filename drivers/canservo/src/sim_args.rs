@@ -1,5 +1,5 @@
 //! `canservo-sim`'s command line (clap), here so its man page is built
-//! from it (tools/tests/man_pages.rs).
+//! from it (tools/cli/tests/man_pages.rs).
 
 use clap::Parser;
 

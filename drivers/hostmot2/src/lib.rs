@@ -113,9 +113,12 @@
 //! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
 
 pub mod board;
+pub mod board_args;
+pub mod board_tool;
 pub mod config;
 pub mod error;
 pub mod eth;
+pub mod eth_sim_args;
 pub mod firmware;
 pub mod fuzz;
 pub mod hal;

@@ -132,6 +132,7 @@ pub mod error;
 pub mod fuzzing;
 pub mod hal;
 pub mod open;
+pub mod port_probe;
 pub mod regs;
 pub mod sim;
 

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use hal_fuzz::corpus;
-use hal_tools::halcmd::lexer::logical_lines;
+use hal_lang::lexer::logical_lines;
 
 /// Prefixes of the files this tool writes (and so removes first).
 const SEED_PREFIXES: &[&str] = &["golden-", "config-", "e2e-", "style-", "module-"];
@@ -278,7 +278,7 @@ fn main() {
             text.as_bytes().to_vec(),
         );
     }
-    for name in hal_tools::hostd::registry().names() {
+    for name in hal_host::registry().names() {
         add(
             "loadrt_params",
             format!("module-{name}"),
