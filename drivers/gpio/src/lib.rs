@@ -89,6 +89,8 @@
 //! * [`hal`]: the HAL binding and [`MODULE`].
 //! * [`error`]: the error type, [`GpioError`].
 
+#![forbid(unsafe_code)]
+
 pub mod cdev;
 pub mod cfg;
 pub mod chip;

@@ -112,6 +112,8 @@
 //! HAL binding: [`hal`], [`pci`] and [`eth`]. Also [`readhmid`] (the
 //! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
 
+#![forbid(unsafe_code)]
+
 pub mod board;
 pub mod config;
 pub mod error;

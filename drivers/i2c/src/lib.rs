@@ -94,6 +94,8 @@
 //! * [`fuzzing`]: the fuzz body (random replies from the bus).
 //! * [`error`]: the error type, [`I2cError`].
 
+#![forbid(unsafe_code)]
+
 pub mod bus;
 pub mod chips;
 pub mod error;

@@ -106,6 +106,8 @@
 //! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
 //! * [`error`](mod@error): [`MotencError`].
 
+#![forbid(unsafe_code)]
+
 pub mod board;
 pub mod error;
 pub mod fuzzing;

@@ -90,6 +90,8 @@
 //! it (`tests/sim_config.rs`); and the [`fuzzing`] targets
 //! (`tests/fuzz_serial.rs`).
 
+#![forbid(unsafe_code)]
+
 pub mod crc;
 pub mod error;
 pub mod fuzzing;

@@ -125,6 +125,8 @@
 //! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
 //! * [`error`](mod@error): [`StgError`].
 
+#![forbid(unsafe_code)]
+
 pub mod detect;
 pub mod dio;
 pub mod driver;
