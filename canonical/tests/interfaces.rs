@@ -1,4 +1,8 @@
 //! The canonical interfaces behave as their definitions say.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use canonical::adc::Converter;
 use canonical::*;

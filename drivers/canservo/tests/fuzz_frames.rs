@@ -3,6 +3,10 @@
 //! (proptest, on stable), and the hostile cases by hand: wrong lengths,
 //! unknown COB-IDs, SDO toggle errors, segmented transfers that never
 //! end, EMCY floods.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use proptest::collection::vec;
 use proptest::prelude::*;

@@ -9,6 +9,10 @@
 //! power up, a CSP move, feedback, a fault injected on the bus (a node
 //! reset), recovery through the helper; unload leaves the drives
 //! disabled.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};

@@ -9,6 +9,10 @@
 //! figures but is in the round trip); all five step generators move,
 //! the 7I76's outputs and spindle are driven, its inputs read. The
 //! machine may be shared: the figures are what this run saw.
+#![allow(
+    clippy::unwrap_used,
+    reason = "benchmark code: a failed unwrap stops the run"
+)]
 
 use std::time::{Duration, Instant};
 

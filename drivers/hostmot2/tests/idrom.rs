@@ -1,5 +1,9 @@
 //! The IDROM loader on the simulated boards' images and on hm2_test's
 //! broken images: every check of hardware.md 5.7, in LinuxCNC's words.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hostmot2::config::{self, Config};
 use hostmot2::firmware::{self, Debug};

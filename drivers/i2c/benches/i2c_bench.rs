@@ -7,6 +7,10 @@
 //! `loadrt` exports; this binary runs the same steps on the same types
 //! (the hand-off ends, canonical pins), plus the bare triple-buffer
 //! operations for comparison.
+#![allow(
+    clippy::unwrap_used,
+    reason = "benchmark code: a failed unwrap stops the run"
+)]
 
 use std::hint::black_box;
 use std::sync::Arc;

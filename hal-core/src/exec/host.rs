@@ -1011,9 +1011,10 @@ impl Host {
             drop(c);
         }
         for t in st.threads.drain(..) {
-            // SAFETY: every executor has exited.
             let p = t.ctl.list.swap(std::ptr::null_mut(), SeqCst);
             if !p.is_null() {
+                // SAFETY: every executor has exited, so nobody else reads
+                // the list, and the swap took the only pointer to it.
                 drop(unsafe { Box::from_raw(p) });
             }
         }
