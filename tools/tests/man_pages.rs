@@ -8,6 +8,11 @@ use std::path::PathBuf;
 
 use clap::CommandFactory;
 
+// canservo-sim's command line lives in its binary, not in the driver's
+// library API.
+#[path = "../../drivers/canservo/src/bin/canservo-sim/args.rs"]
+mod canservo_sim_args;
+
 /// The tools whose man pages are generated: (name, command).
 fn pages() -> Vec<(&'static str, clap::Command)> {
     use hal_tools::tool_args;
@@ -18,7 +23,7 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("hal-board", tool_args::hal_board::Cli::command()),
         ("canservo-tool", tool_args::canservo_tool::Cli::command()),
         ("hm2-eth-sim", tool_args::hm2_eth_sim::Cli::command()),
-        ("canservo-sim", hal_canservo::sim_args::Args::command()),
+        ("canservo-sim", canservo_sim_args::Args::command()),
         ("parport-tool", tool_args::parport_tool::Cli::command()),
         ("motion-cmd", tool_args::motion_cmd::Cli::command()),
     ]

@@ -74,9 +74,9 @@
 //! * [`engine`]: the realtime read/write. [`helper`]: the non-realtime
 //!   helper. [`config`]: the `loadrt` parameters. [`hal`]: the HAL
 //!   binding and [`MODULE`].
-//! * [`sim`]: the simulated drive. [`rig`]: drives, bus and engine on
-//!   simulated time. [`decode`]: frames in words, for the bring-up tool.
-//!   [`fuzz`]: the frame fuzz target's body.
+//! * [`sim`]: the simulated drive. `rig` (feature `testing`): drives, bus and engine
+//!   on simulated time. [`decode`]: frames in words, for the bring-up tool.
+//!   `fuzzing` (feature `fuzzing`): the fuzz targets' bodies.
 
 pub mod bus;
 pub mod codes;
@@ -86,15 +86,16 @@ pub mod drivefile;
 pub mod engine;
 pub mod error;
 pub mod frame;
-pub mod fuzz;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod hal;
 pub mod helper;
 pub mod power;
 pub mod regs;
+#[cfg(any(test, feature = "testing"))]
 pub mod rig;
 pub mod sdo;
 pub mod sim;
-pub mod sim_args;
 pub mod startup;
 pub mod units;
 

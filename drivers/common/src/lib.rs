@@ -94,7 +94,7 @@
 //!
 //! Mock-register tests run the driver on a `SimBoard` and assert on the
 //! access log; PCI tests run on a `FakeSysfs`; real-device tests go in
-//! one test binary per crate that the VM rig runs ([`vmrig`]: its
+//! one test binary per crate that the VM rig runs (`vmrig`, feature `testing`: its
 //! ivshmem BAR and a host-side peer), skipping cleanly outside it.
 //!
 //! ## 7. A real one to read
@@ -251,10 +251,10 @@
 //! * [`lockdown`]: telling kernel lockdown from a missing permission.
 //! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
 //!   feature so test doubles stay out of the normal API.
-//! * [`vmrig`]: for tests in the VM rig.
-//! * [`bench`]: per-call timing for benchmark binaries.
-//! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
-//!   address tokens.
+//! * `vmrig` (feature `testing`): for tests in the VM rig.
+//! * `bench` (feature `testing`): per-call timing for benchmark binaries.
+//! * `fuzzing` (feature `fuzzing`): fuzz-target bodies for the parsers of
+//!   sysfs files and address tokens.
 //!
 //! # Where this differs from the first sketch
 //!
@@ -271,10 +271,12 @@
 //!   optional step per reading so busy-waits end) or following the HAL
 //!   thread (`loadrt`).
 
+#[cfg(any(test, feature = "testing"))]
 pub mod bench;
 pub mod bus;
 pub mod error;
 pub mod fault;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod lockdown;
 pub mod params;
@@ -283,6 +285,7 @@ pub mod plant;
 pub mod sim;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;
+#[cfg(any(test, feature = "testing"))]
 pub mod vmrig;
 
 pub use error::{DriverError, ForModule, Result};

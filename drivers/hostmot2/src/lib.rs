@@ -110,7 +110,7 @@
 //! [`image::ImageTransport`] (a fixed image: hm2_test). The simulator:
 //! [`image`] (firmware descriptions and register images) and [`sim`]. The
 //! HAL binding: [`hal`], [`pci`] and [`eth`]. Also [`readhmid`] (the
-//! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
+//! `mesaflash --readhmid` listing the board tool prints) and `fuzzing` (feature `fuzzing`).
 
 #![forbid(unsafe_code)]
 
@@ -119,7 +119,8 @@ pub mod config;
 pub mod error;
 pub mod eth;
 pub mod firmware;
-pub mod fuzz;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod hal;
 pub mod idrom;
 pub mod image;

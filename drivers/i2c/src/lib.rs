@@ -91,7 +91,7 @@
 //! * [`chips`]: what the helper thread does with each chip.
 //! * [`handoff`], [`worker`]: the hand-offs and the helper thread.
 //! * [`hal`]: the `loadrt` modules.
-//! * [`fuzzing`]: the fuzz body (random replies from the bus).
+//! * `fuzzing` (feature `fuzzing`): the fuzz body (random replies from the bus).
 //! * [`error`]: the error type, [`I2cError`].
 
 #![forbid(unsafe_code)]
@@ -99,6 +99,7 @@
 pub mod bus;
 pub mod chips;
 pub mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
 pub mod handoff;

@@ -87,13 +87,14 @@
 //! (`tests/pty_line.rs`); the real programs in their own processes on a
 //! pty, unplugged and plugged back (`tests/real_tty.rs`, also run in the
 //! VM rig by `.ci/run`); `configs/sim/spindle-vfd.hal` as halrun runs
-//! it (`tests/sim_config.rs`); and the [`fuzzing`] targets
+//! it (`tests/sim_config.rs`); and the `fuzzing` targets (feature `fuzzing`)
 //! (`tests/fuzz_serial.rs`).
 
 #![forbid(unsafe_code)]
 
 pub mod crc;
 pub mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod line;
 pub mod modbus;

@@ -122,7 +122,7 @@
 //! * [`sim`]: the register-level simulator with its motors.
 //! * [`open`]: parameters, backends, opening the board.
 //! * [`hal`]: the HAL binding and [`MODULE`].
-//! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
+//! * `fuzzing` (feature `fuzzing`): fuzz target bodies for the parsers of outside bytes.
 //! * [`error`](mod@error): [`StgError`].
 
 #![forbid(unsafe_code)]
@@ -131,6 +131,7 @@ pub mod detect;
 pub mod dio;
 pub mod driver;
 pub mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
 pub mod open;

@@ -48,7 +48,8 @@ pub struct HostConfig {
 impl HostConfig {
     /// A configuration for tests: an instance name no other test or test
     /// process uses (`t-<tag>-<pid>-<n>`), a 4 MiB segment, no realtime
-    /// scheduling (tests run side by side).
+    /// scheduling (tests run side by side). Feature `testing`.
+    #[cfg(any(test, feature = "testing"))]
     pub fn for_tests(tag: &str) -> HostConfig {
         static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
         let n = NEXT.fetch_add(1, Relaxed);
