@@ -345,6 +345,18 @@ pub enum HalError {
         /// Why it failed.
         reason: String,
     },
+    /// A module's load failed in its own code (a driver that found no
+    /// board, a refused device, a bad register value): the module's error
+    /// travels as the source, so its type and its own causes survive.
+    /// Nothing of the module stays loaded.
+    #[error("{module}: {source}")]
+    ModuleFailed {
+        /// The module.
+        module: String,
+        /// The module's own error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
+    },
     /// Loading, threads and functions run only in the host process; this process is a client.
     #[error("this operation needs the HAL host process")]
     NotHost,
@@ -365,6 +377,18 @@ pub enum HalError {
 }
 
 impl HalError {
+    /// A failed load of `module` caused by `source`, the module's own
+    /// error ([`HalError::ModuleFailed`]).
+    pub fn module_failed(
+        module: impl Into<String>,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        HalError::ModuleFailed {
+            module: module.into(),
+            source: Box::new(source),
+        }
+    }
+
     pub(crate) fn io(op: &'static str, path: impl Into<PathBuf>, source: io::Error) -> Self {
         HalError::Io {
             op,

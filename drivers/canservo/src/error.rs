@@ -138,6 +138,15 @@ pub enum Error {
         #[source]
         source: Box<Error>,
     },
+    /// A thread the driver needs could not be started.
+    #[error("starting the {what}: {source}")]
+    Thread {
+        /// The thread ("helper thread").
+        what: &'static str,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
+    },
     /// A configuration value is wrong (module parameter or tool option).
     #[error("{what}: {reason}")]
     Config {

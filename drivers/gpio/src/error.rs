@@ -38,13 +38,13 @@ pub enum GpioError {
         places: String,
     },
     /// There are no GPIO chips at all.
-    #[error("hal_gpio: no GPIO chips found ({searched}): is the GPIO controller's kernel driver loaded?")]
+    #[error("no GPIO chips found ({searched}): is the GPIO controller's kernel driver loaded?")]
     NoChips {
         /// Where discovery looked.
         searched: String,
     },
     /// A chip could not be opened or asked about its lines.
-    #[error("hal_gpio: {op} {path}: {reason}")]
+    #[error("{op} {path}: {reason}")]
     Chip {
         /// The chip.
         path: String,
@@ -54,7 +54,7 @@ pub enum GpioError {
         reason: String,
     },
     /// The kernel refused a line request.
-    #[error("hal_gpio: requesting {lines} on {chip}: {reason}")]
+    #[error("requesting {lines} on {chip}: {reason}")]
     Request {
         /// The chip.
         chip: String,
@@ -79,13 +79,7 @@ impl GpioError {
                     reason: text.strip_prefix(&prefix).unwrap_or(&text).to_string(),
                 }
             }
-            other => {
-                let text = other.to_string();
-                HalError::ModuleLoad {
-                    module: crate::hal::NAME.into(),
-                    reason: text.strip_prefix("hal_gpio: ").unwrap_or(&text).to_string(),
-                }
-            }
+            other => HalError::module_failed(crate::hal::NAME, other),
         }
     }
 }

@@ -277,6 +277,39 @@ pub enum Hm2Error {
     /// The first reads and writes after configuration failed.
     #[error("comm errors while initializing firmware!")]
     CommErrors,
+    /// A board failed to register: LinuxCNC's line naming the board, and
+    /// why (its lines joined by "; ").
+    #[error("{fails}: {}", source.to_string().replace('\n', "; "))]
+    Registration {
+        /// "hm2_pci: board at 0000:01:00.0 fails HM2 registration".
+        fails: String,
+        /// Why.
+        source: Box<Hm2Error>,
+    },
+    /// A board driver was loaded before the hostmot2 core.
+    #[error("the hostmot2 driver is not loaded (loadrt hostmot2 first)")]
+    CoreNotLoaded,
+    /// More boards than one load drives.
+    #[error("{found} boards found; one hm2_pci load drives at most {max}")]
+    TooManyBoards {
+        /// Boards found.
+        found: usize,
+        /// The most one load drives.
+        max: usize,
+    },
+    /// `hm2_test` was given a pattern it does not have.
+    #[error("unknown test pattern {0}")]
+    UnknownTestPattern(i64),
+    /// An Ethernet board did not answer as one.
+    #[error("board at {address} ({peer}): {source}")]
+    EthBoard {
+        /// The address as given in `board_ip`.
+        address: String,
+        /// The socket address it resolved to.
+        peer: std::net::SocketAddr,
+        /// What went wrong.
+        source: TransportError,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),

@@ -12,6 +12,7 @@ use hal_driver::ForModule;
 
 use super::boards::{self, LEDS};
 use super::transport::EthTransport;
+use crate::error::Hm2Error;
 use crate::hal::{core, register_boards, Candidate, Source};
 use crate::lbp16::{self, addr, space};
 use crate::llio::Llio;
@@ -153,10 +154,14 @@ fn load_hm2_eth(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
             host.flush_rt_log();
-            HalError::ModuleLoad {
-                module: HM2_ETH.into(),
-                reason: format!("board at {ip} ({peer}): {e}"),
-            }
+            HalError::module_failed(
+                HM2_ETH,
+                Hm2Error::EthBoard {
+                    address: ip.to_string(),
+                    peer,
+                    source: e,
+                },
+            )
         };
         let mut t = EthTransport::connect(peer).map_err(refuse)?;
         let found = probe(&mut t).map_err(refuse)?;
