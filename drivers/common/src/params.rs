@@ -203,7 +203,7 @@ pub fn parse_hex(token: &str, max: u64) -> std::result::Result<u64, NumberError>
 /// decimal; as `strtol(s, 0)` and hal-core's integer parameters) that
 /// must lie in `0..=max`: an I/O base address, a card ID.
 pub fn parse_number(token: &str, max: u64) -> std::result::Result<u64, NumberError> {
-    let v = parse_c_int(token, 64).map_err(NumberError::NotANumber)?;
+    let v = parse_c_int(token, 64).map_err(|e| NumberError::NotANumber(e.to_string()))?;
     if v < 0 {
         return Err(NumberError::NotANumber(format!("'{token}' is negative")));
     }

@@ -26,10 +26,10 @@ impl Host {
         let allowed_cpus = realtime::allowed_cpus();
         let rt_cpu = match &config.rt_cpu {
             Some(text) => Some(
-                realtime::parse_cpu("RTAPI_CPU_NUMBER", text, &allowed_cpus).map_err(|reason| {
-                    HalError::BadValue {
+                realtime::parse_cpu("RTAPI_CPU_NUMBER", text, &allowed_cpus).map_err(|e| {
+                    HalError::BadSetting {
                         what: "the realtime CPU".into(),
-                        reason,
+                        source: Box::new(e),
                     }
                 })?,
             ),
@@ -52,7 +52,7 @@ impl Host {
             RealtimeMode::Off => (false, None),
             RealtimeMode::Auto => match realtime::probe_fifo(TOP_PRIORITY) {
                 Ok(()) => (true, None),
-                Err(why) => (false, Some(why)),
+                Err(why) => (false, Some(why.to_string())),
             },
         };
         if let Some(why) = cpu_note {
@@ -126,7 +126,7 @@ impl Host {
             if !st.memory_locked {
                 st.memory_locked = true;
                 if let Err(why) = realtime::lock_memory() {
-                    notes.push(why);
+                    notes.push(why.to_string());
                 }
                 if std::env::var_os("HAL_NO_CPU_LATENCY").is_none() {
                     match realtime::request_zero_cpu_latency() {

@@ -103,10 +103,10 @@ impl Host {
         let mut p = lock(&ctl.placement);
         p.cpu = cpu.or(self.default_cpu);
         match p.tid {
-            Some(tid) => realtime::place_thread(tid, p.cpu, &self.allowed_cpus).map_err(|reason| {
-                HalError::BadValue {
+            Some(tid) => realtime::place_thread(tid, p.cpu, &self.allowed_cpus).map_err(|e| {
+                HalError::BadSetting {
                     what: format!("CPU of thread '{thread}'"),
-                    reason,
+                    source: Box::new(e),
                 }
             }),
             None => Ok(()),
@@ -120,9 +120,9 @@ impl Host {
         let ti = thread_index(&st, thread)?;
         let tid = lock(&st.threads[ti].ctl.placement).tid;
         tid.map(|tid| {
-            realtime::thread_affinity(tid).map_err(|source| HalError::BadValue {
+            realtime::thread_affinity(tid).map_err(|e| HalError::BadSetting {
                 what: format!("thread '{thread}'"),
-                reason: source,
+                source: Box::new(e),
             })
         })
         .transpose()
