@@ -21,6 +21,9 @@ pub enum MotencError {
         /// What the register held.
         found: u32,
     },
+    /// A `sim_boards` item names no board kind.
+    #[error("not a board kind: 100 or lite")]
+    NotABoardKind,
     /// More boards than jumper IDs.
     #[error("{found} MOTENC boards found; at most 4 can be used (board IDs 0..3)")]
     TooManyBoards {

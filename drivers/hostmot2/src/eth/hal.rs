@@ -61,12 +61,11 @@ pub static HM2_ETH_MODULE: ModuleDef = ModuleDef {
 
 /// Parses one `board_ip` item: an IPv4 or IPv6 address, optionally with
 /// a port (`192.168.1.121`, `127.0.0.1:40123`, `[::1]:40123`).
-pub fn parse_board_address(s: &str) -> Result<SocketAddr, String> {
+pub fn parse_board_address(s: &str) -> Result<SocketAddr, Hm2Error> {
     if let Ok(ip) = s.parse::<IpAddr>() {
         return Ok(SocketAddr::new(ip, lbp16::UDP_PORT));
     }
-    s.parse::<SocketAddr>()
-        .map_err(|_| "not an IP address (a.b.c.d, optionally :port)".to_string())
+    s.parse::<SocketAddr>().map_err(|_| Hm2Error::NotAnAddress)
 }
 
 /// What a probe learned about a board.
