@@ -40,8 +40,8 @@
 //!   safety_latch, watchdog, multiclick (timing); supply (generators).
 //! * `notice`: stderr messages posted from realtime functions, written by
 //!   a helper thread. `shared`: state two functions of one component
-//!   share. `loadrt_check`: the all-or-nothing `loadrt` invariant, for
-//!   fuzzing.
+//!   share. `fuzzing` (feature `fuzzing`): the all-or-nothing `loadrt`
+//!   invariant, a fuzz-target body.
 
 #![forbid(unsafe_code)]
 
@@ -50,7 +50,10 @@ pub mod cmath;
 pub mod convert;
 pub mod counting;
 pub mod encoder;
+pub mod error;
 pub mod filters;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod gates;
 pub mod generators;
 pub mod halcomp;
@@ -58,7 +61,6 @@ pub mod infra;
 pub mod joints;
 pub mod laser;
 pub mod limits;
-pub mod loadrt_check;
 pub mod math;
 pub mod motor;
 pub mod notice;
@@ -76,6 +78,8 @@ pub mod stepgen;
 pub(crate) mod testing;
 pub mod timing;
 pub mod toolchange;
+
+pub use error::CompError;
 
 use hal_core::ModuleDef;
 

@@ -15,6 +15,7 @@ pub mod tables;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Out, Param, Pin, Result, Ro, Rw};
 
+use crate::error::CompError;
 use crate::halcomp::{hal_name, load_instances, personality_of, Inst};
 use crate::notice::Notice;
 use control::*;
@@ -41,9 +42,9 @@ pub static MODULE: ModuleDef = ModuleDef {
 };
 
 /// The personality bits one `cfg` entry sets.
-pub fn cfg_bits(cfg: &str) -> std::result::Result<u32, String> {
+pub fn cfg_bits(cfg: &str) -> std::result::Result<u32, CompError> {
     if cfg.is_empty() {
-        return Err("an empty entry; use 'n' for a motor without feedback".into());
+        return Err(CompError::EmptyBldcEntry);
     }
     cfg.chars().try_fold(0, |bits, c| {
         Ok(bits
@@ -60,9 +61,10 @@ pub fn cfg_bits(cfg: &str) -> std::result::Result<u32, String> {
                 'F' => FANUC_OUT,
                 'T' => TRAPEZOIDAL,
                 _ => {
-                    return Err(format!(
-                        "'{c}' in '{cfg}' is not one of n h a q i f B 6 H F T"
-                    ))
+                    return Err(CompError::BadBldcLetter {
+                        letter: c,
+                        entry: cfg.to_string(),
+                    })
                 }
             })
     })
@@ -81,10 +83,10 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            let bits = cfg_bits(c).map_err(|reason| HalError::ModuleParam {
+            let bits = cfg_bits(c).map_err(|e| HalError::ModuleParam {
                 module: "bldc".into(),
                 param: "cfg".into(),
-                reason,
+                reason: e.to_string(),
             })?;
             let given = personality_of(args, i, 0) as u32;
             Ok((format!("{base}.{i}"), i64::from(given | bits)))
