@@ -116,6 +116,9 @@ fn args<'a>(iface: &'a str, nodes: &'a str) -> Vec<String> {
     ]
 }
 
+// Long on purpose: one end-to-end scenario on one bus and drive process
+// (a missing node, start-up, a CSP move, a reset node), each step needing
+// the state the last one left.
 #[test]
 fn start_up_and_csp_over_vcan_with_a_separate_drive_process() {
     let Some(iface) = vcan() else { return };

@@ -43,6 +43,8 @@ fn percentile(sorted: &[u64], p: f64) -> u64 {
     sorted[i.min(sorted.len() - 1)]
 }
 
+// Long on purpose: a benchmark script, set-up then each figure in turn,
+// all on the one simulated board and transport.
 fn main() {
     let spec = boards::preset("7i96s").unwrap();
     let model = Hm2Model::with_world(spec, Box::new(machine::preset("7i96s")));
