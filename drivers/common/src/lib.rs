@@ -97,6 +97,13 @@
 //! one test binary per crate that the VM rig runs (`vmrig`, feature `testing`: its
 //! ivshmem BAR and a host-side peer), skipping cleanly outside it.
 //!
+//! Test files are named `<kind>_<subject>.rs` after what they run on:
+//! `sim_hal.rs` (the HAL binding on the simulator), `fake_pci.rs` (a
+//! fake sysfs), `fuzz_parsers.rs` (the crate's `fuzzing` bodies),
+//! `real_device.rs` (kernel devices, in the VM rig), `vmrig.rs`; a test
+//! of one subject without a backend of its own is named after the subject
+//! (`idrom.rs`, `master.rs`).
+//!
 //! ## 7. A real one to read
 //!
 //! `drivers/parport` (hal_parport) is built this way: its raw backend is
