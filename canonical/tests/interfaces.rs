@@ -4,7 +4,7 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
-use canonical::adc::Converter;
+use canonical::Converter;
 use canonical::*;
 use hal_core::{ComponentKind, Host, HostConfig, Value};
 

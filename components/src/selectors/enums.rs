@@ -146,9 +146,9 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
                 vals.push(c.pin_init(&format!("{this}.{name}-val"), *v)?);
             }
             b.funct(&format!("{this}.decode"), false, move |_| {
-                let x = input.get();
-                for (bit, val) in bits.iter().zip(&vals) {
-                    bit.set(val.get() == x);
+                let on = decode(input.get(), vals.iter().map(Pin::get));
+                for (bit, on) in bits.iter().zip(on) {
+                    bit.set(on);
                 }
             })?;
         }

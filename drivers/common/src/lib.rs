@@ -254,8 +254,8 @@
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
-//! * [`error`]: the error type, [`DriverError`].
-//! * [`lockdown`]: telling kernel lockdown from a missing permission.
+//! * `error` (private): the error type, [`DriverError`], at the crate root.
+//! * `lockdown` (private): telling kernel lockdown from a missing permission.
 //! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
 //!   feature so test doubles stay out of the normal API.
 //! * `vmrig` (feature `testing`): for tests in the VM rig.
@@ -281,11 +281,11 @@
 #[cfg(any(test, feature = "testing"))]
 pub mod bench;
 pub mod bus;
-pub mod error;
+mod error;
 pub mod fault;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
-pub mod lockdown;
+mod lockdown;
 pub mod params;
 pub mod pci;
 pub mod plant;
@@ -295,4 +295,7 @@ pub mod testing;
 #[cfg(any(test, feature = "testing"))]
 pub mod vmrig;
 
+pub use bus::{PortBus, RegWindow};
 pub use error::{DriverError, ForModule, Result};
+pub use fault::{FaultLatch, SafeState};
+pub use params::Params;

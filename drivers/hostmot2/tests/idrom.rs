@@ -6,7 +6,6 @@
 )]
 
 use hostmot2::config::{self, Config};
-use hostmot2::error::Hm2Error;
 use hostmot2::firmware::{self, Debug};
 use hostmot2::image::{pd, FirmwareSpec, ImageTransport, ModuleSpec};
 use hostmot2::log::{Level, MessageLog};
@@ -14,6 +13,7 @@ use hostmot2::pins::PinOwner;
 use hostmot2::regs::gtag;
 use hostmot2::sim::boards;
 use hostmot2::test_patterns;
+use hostmot2::Hm2Error;
 
 fn load(spec: &FirmwareSpec, cfg: &str) -> (Result<firmware::Firmware, Hm2Error>, MessageLog) {
     let mut t = ImageTransport::new(spec.image(), "test");

@@ -92,13 +92,13 @@
 //! * [`handoff`], [`worker`]: the hand-offs and the helper thread.
 //! * [`hal`]: the `loadrt` modules.
 //! * `fuzzing` (feature `fuzzing`): the fuzz body (random replies from the bus).
-//! * [`error`]: the error type, [`I2cError`].
+//! * `error`: the error type, [`I2cError`].
 
 #![forbid(unsafe_code)]
 
 pub mod bus;
 pub mod chips;
-pub mod error;
+mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;

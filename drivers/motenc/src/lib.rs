@@ -104,12 +104,12 @@
 //! * [`open`]: backends, PCI discovery, board IDs.
 //! * [`hal`]: the HAL binding and [`MODULE`].
 //! * `fuzzing` (feature `fuzzing`): fuzz target bodies for the parsers of outside bytes.
-//! * [`error`](mod@error): [`MotencError`].
+//! * `error`: [`MotencError`].
 
 #![forbid(unsafe_code)]
 
 pub mod board;
-pub mod error;
+mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;

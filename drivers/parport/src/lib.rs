@@ -67,3 +67,4 @@ pub mod select;
 pub mod sim;
 
 pub use hal::{load_cfg, MODULE};
+pub use port::PortError;

@@ -123,14 +123,14 @@
 //! * [`open`]: parameters, backends, opening the board.
 //! * [`hal`]: the HAL binding and [`MODULE`].
 //! * `fuzzing` (feature `fuzzing`): fuzz target bodies for the parsers of outside bytes.
-//! * [`error`](mod@error): [`StgError`].
+//! * `error`: [`StgError`].
 
 #![forbid(unsafe_code)]
 
 pub mod detect;
 pub mod dio;
 pub mod driver;
-pub mod error;
+mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
