@@ -69,3 +69,4 @@ pub mod tool;
 pub mod tool_args;
 
 pub use hal::{load_cfg, MODULE};
+pub use port::PortError;

@@ -180,6 +180,9 @@ const STYLE_STREAM: &[&str] = &[
     "b\n0\n1\n2\n # indented comment\n1 trailing words\n",
 ];
 
+// Long on purpose: gathers every target's seeds (HAL files, their lines,
+// loadrt words, streamer inputs) into one map, then rewrites the corpus
+// from it; the gathering blocks share that map.
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()

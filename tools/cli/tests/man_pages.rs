@@ -11,6 +11,11 @@ use std::path::PathBuf;
 
 use clap::CommandFactory;
 
+// canservo-sim's command line lives in its binary, not in the driver's
+// library API.
+#[path = "../../../drivers/canservo/src/bin/canservo-sim/args.rs"]
+mod canservo_sim_args;
+
 /// The tools whose man pages are generated: (name, command).
 fn pages() -> Vec<(&'static str, clap::Command)> {
     use hal_tools::tool_args;
@@ -21,7 +26,7 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("hal-board", hostmot2::board_args::Cli::command()),
         ("canservo-tool", hal_canservo::tool_args::Cli::command()),
         ("hm2-eth-sim", hostmot2::eth_sim_args::Cli::command()),
-        ("canservo-sim", hal_canservo::sim_args::Args::command()),
+        ("canservo-sim", canservo_sim_args::Args::command()),
         ("parport-tool", hal_parport::tool_args::Cli::command()),
         ("motion-cmd", tool_args::motion_cmd::Cli::command()),
     ]

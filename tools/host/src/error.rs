@@ -84,12 +84,13 @@ pub enum HostError {
     },
     /// `setthread cpu=N` with a CPU this process may not use (the HAL
     /// library's message).
-    #[error("setthread {thread}: {reason}")]
+    #[error("setthread {thread}: {source}")]
     BadCpu {
         /// The thread.
         thread: String,
         /// Why the CPU was refused.
-        reason: String,
+        #[source]
+        source: hal_core::HalError,
     },
     /// `adopt` of a word that is no process id.
     #[error("adopt: '{pid}' is not a process id")]

@@ -57,10 +57,10 @@ fn parse(thread: &str, words: &[String], allowed: &[usize]) -> Result<Switches, 
                     None
                 } else {
                     Some(
-                        realtime::parse_cpu("cpu", value, allowed).map_err(|reason| {
+                        realtime::parse_cpu("cpu", value, allowed).map_err(|source| {
                             HostError::BadCpu {
                                 thread: thread.to_string(),
-                                reason,
+                                source,
                             }
                         })?,
                     )

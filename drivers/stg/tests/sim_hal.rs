@@ -1,5 +1,9 @@
 //! `loadrt hal_stg backend=sim`: every register path through the HAL
 //! pins and functions, on simulated Model I and Model II boards.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

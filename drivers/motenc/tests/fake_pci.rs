@@ -1,6 +1,10 @@
 //! The PCI path over a fake sysfs tree: discovery by IDs, enable, BAR 2
 //! mapped from its `resource2` file, identification from the register
 //! words in that file, initialisation and functions writing into it.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -12,7 +12,8 @@ use hal_canservo::bus::{Filters, SocketCanBus};
 use hal_canservo::sim::{process, SimDrive, SimDriveConfig};
 use hal_driver::plant::Switch;
 
-use hal_canservo::sim_args::Args;
+mod args;
+use args::Args;
 
 fn main() -> ExitCode {
     let args = Args::parse();

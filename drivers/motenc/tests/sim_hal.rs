@@ -1,5 +1,9 @@
 //! `loadrt hal_motenc backend=sim`: every register path through the HAL
 //! pins and functions, on simulated boards.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

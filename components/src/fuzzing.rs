@@ -5,45 +5,22 @@
 
 use hal_core::{Host, ModuleDef};
 
+use crate::error::CompError;
+
 /// What the instance holds: names of components, pins, params,
 /// functions and threads.
-fn contents(host: &Host) -> Result<[Vec<String>; 5], String> {
+fn contents(host: &Host) -> Result<[Vec<String>; 5], CompError> {
     let inst = host.instance();
     let sorted = |mut v: Vec<String>| {
         v.sort();
         v
     };
-    let err = |e: hal_core::HalError| e.to_string();
     Ok([
         sorted(host.loaded_components()),
-        sorted(
-            inst.pins()
-                .map_err(err)?
-                .into_iter()
-                .map(|p| p.name)
-                .collect(),
-        ),
-        sorted(
-            inst.params()
-                .map_err(err)?
-                .into_iter()
-                .map(|p| p.name)
-                .collect(),
-        ),
-        sorted(
-            inst.functs()
-                .map_err(err)?
-                .into_iter()
-                .map(|f| f.name)
-                .collect(),
-        ),
-        sorted(
-            inst.threads()
-                .map_err(err)?
-                .into_iter()
-                .map(|t| t.name)
-                .collect(),
-        ),
+        sorted(inst.pins()?.into_iter().map(|p| p.name).collect()),
+        sorted(inst.params()?.into_iter().map(|p| p.name).collect()),
+        sorted(inst.functs()?.into_iter().map(|f| f.name).collect()),
+        sorted(inst.threads()?.into_iter().map(|t| t.name).collect()),
     ])
 }
 
@@ -56,7 +33,7 @@ pub fn loadrt_is_all_or_nothing<S: AsRef<str>>(
     host: &Host,
     def: &'static ModuleDef,
     args: &[S],
-) -> Result<bool, String> {
+) -> Result<bool, CompError> {
     let before = contents(host)?;
     match host.loadrt(def, args) {
         Err(e) => {
@@ -64,26 +41,35 @@ pub fn loadrt_is_all_or_nothing<S: AsRef<str>>(
             if after == before {
                 Ok(false)
             } else {
-                Err(format!(
-                    "loadrt {} failed ({e}) but left {after:?} (before: {before:?})",
-                    def.name
-                ))
+                Err(CompError::LeftBehind {
+                    module: def.name.to_string(),
+                    cause: Box::new(e),
+                    after: format!("{after:?}"),
+                    before: format!("{before:?}"),
+                })
             }
         }
         Ok(()) => {
-            host.unloadrt(def.name)
-                .map_err(|e| format!("unloadrt {}: {e}", def.name))?;
+            host.unloadrt(def.name).map_err(|e| CompError::Unload {
+                module: def.name.to_string(),
+                source: Box::new(e),
+            })?;
             let [_, _, _, _, threads_before] = &before;
             let threads_now = contents(host)?[4].clone();
             for t in threads_now.iter().filter(|t| !threads_before.contains(t)) {
-                host.delete_thread(t)
-                    .map_err(|e| format!("delete thread {t}: {e}"))?;
+                host.delete_thread(t).map_err(|e| CompError::DeleteThread {
+                    thread: t.clone(),
+                    source: Box::new(e),
+                })?;
             }
             let after = contents(host)?;
             if after == before {
                 Ok(true)
             } else {
-                Err(format!("unloadrt {} left {after:?}", def.name))
+                Err(CompError::NotRestored {
+                    module: def.name.to_string(),
+                    after: format!("{after:?}"),
+                })
             }
         }
     }
@@ -163,21 +149,21 @@ mod tests {
         let h = TestHost::new("loadrt-check-fixed");
         let supply = &crate::generators::supply::MODULE;
         assert_eq!(
-            loadrt_is_all_or_nothing(&h, supply, &["period=1000000"]),
-            Ok(true)
+            loadrt_is_all_or_nothing(&h, supply, &["period=1000000"]).ok(),
+            Some(true)
         );
         assert_eq!(
-            loadrt_is_all_or_nothing(&h, supply, &["num_chan=99"]),
-            Ok(false)
+            loadrt_is_all_or_nothing(&h, supply, &["num_chan=99"]).ok(),
+            Some(false)
         );
         let carousel = &crate::toolchange::carousel::MODULE;
         assert_eq!(
-            loadrt_is_all_or_nothing(&h, carousel, &["pockets=6,6"]),
-            Ok(true)
+            loadrt_is_all_or_nothing(&h, carousel, &["pockets=6,6"]).ok(),
+            Some(true)
         );
         assert_eq!(
-            loadrt_is_all_or_nothing(&h, carousel, &["encoding=bogus"]),
-            Ok(false)
+            loadrt_is_all_or_nothing(&h, carousel, &["encoding=bogus"]).ok(),
+            Some(false)
         );
     }
 }

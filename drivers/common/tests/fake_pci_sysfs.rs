@@ -1,6 +1,10 @@
 //! PCI discovery over a fake sysfs tree in a temp dir: match, no match,
 //! permission denied, BARs missing, of the wrong kind or too small,
 //! enable and disable, and register words reaching the mapped file.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hal_driver::bus::{PortBus, RegWindow};
 use hal_driver::pci::fake::{FakeBar, FakeSysfs};

@@ -1,4 +1,4 @@
-//! The fuzz bodies of `hostmot2::fuzz` on 100,000 generated cases each:
+//! The fuzz bodies of `hostmot2::fuzzing` on 100,000 generated cases each:
 //! random and mutated register images into the IDROM loader, and config
 //! strings. Then fewer mutated images registered all the way on a HAL
 //! instance, which must not panic either.
@@ -6,7 +6,7 @@
 use hal_core::{Host, HostConfig, MsgLevel, RtLog};
 use hostmot2::board::Board;
 use hostmot2::firmware::{self, Debug};
-use hostmot2::fuzz;
+use hostmot2::fuzzing;
 use hostmot2::image::ImageTransport;
 use hostmot2::log::{BoardLog, MessageLog};
 use proptest::prelude::*;
@@ -25,7 +25,7 @@ fn idrom_loader_survives_random_and_mutated_images() {
     let bytes = prop::collection::vec(any::<u8>(), 0..400);
     runner(100_000)
         .run(&bytes, |data| {
-            fuzz::idrom_image(&data);
+            fuzzing::idrom_image(&data);
             Ok(())
         })
         .unwrap();
@@ -64,7 +64,7 @@ fn config_strings_are_parsed_or_refused_with_a_reason() {
     let text = prop::collection::vec(token, 0..8).prop_map(|v| v.concat());
     runner(100_000)
         .run(&text, |s| {
-            fuzz::config_string(&s);
+            fuzzing::config_string(&s);
             Ok(())
         })
         .unwrap();
@@ -78,7 +78,7 @@ fn mutated_boards_register_or_refuse_without_panicking() {
     let bytes = prop::collection::vec(any::<u8>(), 0..60);
     runner(300)
         .run(&bytes, |data| {
-            let case = fuzz::decode(&data);
+            let case = fuzzing::decode(&data);
             let mut t = ImageTransport::new(case.image, "fuzz");
             let mut msgs = MessageLog::default();
             let config = hostmot2::config::Config::default();
@@ -115,7 +115,7 @@ fn replies_to_cycle_requests_are_taken_only_when_they_are_the_reply() {
     let bytes = prop::collection::vec(any::<u8>(), 0..200);
     runner(100_000)
         .run(&bytes, |data| {
-            fuzz::eth_reply(&data);
+            fuzzing::eth_reply(&data);
             Ok(())
         })
         .unwrap();
@@ -141,7 +141,7 @@ fn request_datagrams_to_the_simulated_board_never_panic() {
     ];
     runner(100_000)
         .run(&datagram, |data| {
-            fuzz::lbp16_request(&data);
+            fuzzing::lbp16_request(&data);
             Ok(())
         })
         .unwrap();
@@ -152,7 +152,7 @@ fn card_records_are_read_or_refused() {
     let bytes = prop::collection::vec(any::<u8>(), 0..300);
     runner(100_000)
         .run(&bytes, |data| {
-            fuzz::sserial_records(&data);
+            fuzzing::sserial_records(&data);
             Ok(())
         })
         .unwrap();
@@ -163,7 +163,7 @@ fn hostile_cards_load_checked_or_are_refused_by_port_and_channel() {
     let bytes = prop::collection::vec(any::<u8>(), 0..300);
     runner(2_000)
         .run(&bytes, |data| {
-            fuzz::sserial_card(&data);
+            fuzzing::sserial_card(&data);
             Ok(())
         })
         .unwrap();

@@ -1,5 +1,5 @@
-//! `canservo-sim`'s command line (clap), here so its man page is built
-//! from it (tools/cli/tests/man_pages.rs).
+//! `canservo-sim`'s command line (clap), in a file of its own so its man
+//! page is built from it too (tools/cli/tests/man_pages.rs includes it).
 
 use clap::Parser;
 
