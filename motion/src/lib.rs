@@ -3,12 +3,13 @@
 //! Three layers; a file only uses files of its own layer or below, so data
 //! flows one way: commands down into the core, status up out of it.
 //!
-//! * Types, at the bottom: [`sizes`] (the maxima), [`command`] (commands,
-//!   their rejections and the rejections' wire codes), [`events`] (reported
-//!   messages), [`status`] (the status a client reads), [`kins`] (the
-//!   [`Kinematics`] trait, poses, the per-instance
-//!   registry and the kinematics modules), the homing configuration and
-//!   state types ([`homing::config`], [`homing::state`]), and [`registry`].
+//! * Types, at the bottom: `vocab` (a leaf: the refusals and their wire
+//!   codes, the homing configuration), [`sizes`] (the maxima), [`command`]
+//!   (the command table: commands, their wire form and command lines),
+//!   [`events`] (reported messages), [`status`] (the status a client
+//!   reads), [`kins`] (the [`Kinematics`] trait, poses, the per-instance
+//!   registry and the kinematics modules), the homing state types
+//!   ([`homing::state`]), and [`registry`].
 //! * The controller, independent of HAL: [`simple_tp`] (the single-axis
 //!   planner), [`joint`] and [`axis`] (one joint, one world axis), the
 //!   homing state machines and sequence manager ([`homing`]), and
@@ -42,6 +43,7 @@ pub mod status;
 #[cfg(test)]
 mod test_support;
 pub mod tp;
+mod vocab;
 
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};

@@ -8,9 +8,9 @@
 //! more, so motion has ceased and switches have settled. LinuxCNC skips
 //! that delay before the final move; here it applies there too.
 
-use super::config::{HomeFlags, HomingConfig};
 use super::state::{HomeFault, HomeState};
 use crate::joint::Joint;
+use crate::vocab::{HomeFlags, HomingConfig};
 
 /// Seconds a joint stands still before each homing move starts.
 pub const HOME_DELAY: f64 = 0.1;
