@@ -51,6 +51,7 @@ fn params_of(h: &Host, owner: &str) -> BTreeMap<String, (HalType, &'static str)>
 
 /// The pins of motion(9) for `num_joints=3` and default parameters.
 fn expected_pins(num_joints: usize) -> Vec<Item> {
+    // Long: the list of motion(9)'s pins, one per line.
     use HalType::*;
     let mut v: Vec<Item> = Vec::new();
     let mut add = |n: String, t: HalType, d: &'static str| v.push((n, t, d));

@@ -12,6 +12,7 @@ use motion::{Command, MotionClient, Reject};
 
 #[test]
 fn teleop_jogs_through_the_channel_drive_the_axis_and_mode_pins() {
+    // Long: one scenario through the channel, each step checked as it goes.
     let h = host("tel-run");
     loadrt(&h, "trivkins", &["coordinates=xyz"]).unwrap();
     loadrt(&h, "motmod", &["num_joints=3"]).unwrap();

@@ -10,6 +10,7 @@ use crate::kins::Pose;
 
 /// One or more of every command, with values at the edges.
 pub(crate) fn all_commands() -> Vec<Command> {
+    // Long: one entry per command (opcodes 1 to 59), several at the edges.
     let mut pose = Pose::ZERO;
     for (i, v) in pose.0.iter_mut().enumerate() {
         *v = i as f64 * 1.5 - 3.0;
@@ -346,6 +347,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
 }
 
 fn all_rejects() -> Vec<Reject> {
+    // Long: one entry per refusal (codes 1 to 56), several at the edges.
     let mut v = vec![
         Reject::NoSuchJoint {
             joint: -3,
