@@ -2,6 +2,10 @@
 //! pin and param names and types of LinuxCNC's motion(9) man page, the
 //! threads motmod creates, module-parameter errors, and a run with the
 //! functions in the servo thread driven through `MotionHandle`.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::collections::BTreeMap;
 use std::time::Duration;

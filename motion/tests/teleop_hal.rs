@@ -1,6 +1,10 @@
 //! Teleop and coordinated mode through HAL: `motmod` in a running servo
 //! thread, commands through the shared-memory channel, and the mode and
 //! `axis.L.*` pins (teleop planner, keyboard and wheel jogs) read back.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::time::Duration;
 

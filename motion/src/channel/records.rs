@@ -1,7 +1,7 @@
 //! Command and answer records: a [`Command`] as [`CMD_WORDS`] words and
 //! back, an answer as [`REPLY_WORDS`] words and back, each validated word
 //! by word. Which words a command's fields take comes from the command
-//! table (`Command::to_args`, `Command::from_args`), a rejection's from the
+//! table (`Command::write_args`, `Command::from_args`), a rejection's from the
 //! refusal table (`Reject::to_wire`, `Reject::from_wire`).
 
 use super::{checksum, ARGS, CMD_VERSION, CMD_WORDS, MAX_ARGS, REPLY_VERSION, REPLY_WORDS};
@@ -10,7 +10,7 @@ use crate::command::{Command, Reject, WireError};
 /// The record of `cmd` with serial number `serial`.
 pub fn encode_command(serial: u64, cmd: &Command) -> [u64; CMD_WORDS] {
     let mut args = [0.0; MAX_ARGS];
-    let (op, slot, n) = cmd.to_args(&mut args);
+    let (op, slot, n) = cmd.write_args(&mut args);
     let mut w = [0u64; CMD_WORDS];
     w[0] = CMD_VERSION;
     w[1] = serial;

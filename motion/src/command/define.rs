@@ -14,7 +14,7 @@
 //! ```
 //!
 //! From it come the enum itself, [`Command::opcode`](super::Command::opcode),
-//! the record's slot and argument words and back (`to_args`,
+//! the record's slot and argument words and back (`write_args`,
 //! `from_args`; [`super::wire`]), [`Command::name`](super::Command::name),
 //! [`parse`](super::parse), [`cli_group`](super::cli_group),
 //! [`CLI_NAMES`](super::CLI_NAMES) and
@@ -109,10 +109,10 @@ macro_rules! commands {
             /// The command as command-line words, name first, as
             /// [`parse`] reads them; `None` if no form can say it (a
             /// rapid with a velocity, option bits no INI key sets).
-            pub fn to_cli(&self) -> Option<Vec<String>> {
+            pub fn to_cli(self) -> Option<Vec<String>> {
                 use $crate::command::cli::args::CliArg;
                 use $crate::command::cli::write_form;
-                match *self {
+                match self {
                     $($name::$variant { $($($field,)+)? } => {
                         $(
                             let line = write_form($cli, |_w| {
@@ -130,7 +130,7 @@ macro_rules! commands {
 
             /// Writes the slot and argument words (`args` zeroed); returns
             /// (opcode, slot, argument words used).
-            pub(crate) fn to_args(&self, args: &mut [f64]) -> (u64, Option<i32>, usize) {
+            pub(crate) fn write_args(&self, args: &mut [f64]) -> (u64, Option<i32>, usize) {
                 let mut w = $crate::command::wire::ArgWriter::new(args);
                 let opcode = match *self {
                     $($name::$variant { $($($field,)+)? } => {

@@ -184,9 +184,9 @@ macro_rules! rejects {
             }
 
             /// (code, two integer details, three float details).
-            pub fn to_wire(&self) -> $crate::vocab::RejectWire {
+            pub fn to_wire(self) -> $crate::vocab::RejectWire {
                 let mut w: $crate::vocab::RejectWire = (0, [0; 2], [0.0; 3]);
-                match *self {
+                match self {
                     $($name::$variant { $($($field,)+)? } => {
                         w.0 = $code;
                         $($($crate::vocab::reject_macro::put_detail!(w, $slot, $field);)+)?
