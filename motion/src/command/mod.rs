@@ -22,7 +22,6 @@ pub use crate::vocab::{
     axis_letter, reject_code, result_name, CommandResult, Direction, Feature, Quantity, Reject,
     RejectWire, WireError,
 };
-pub use cli::args::parse_axis;
 pub use cli::{CliError, CliGroup};
 pub use queueing::{LineKind, ProbeType, TermCond};
 pub use table::{cli_group, parse, Command, CLI_NAMES};

@@ -1,6 +1,6 @@
 //! Homing: finding each joint's reference and declaring its position.
 //!
-//! * [`HomingConfig`] (in [`crate::vocab`], shared with the commands):
+//! * [`HomingConfig`] (in the leaf `vocab`, shared with the commands):
 //!   the `HOME_*` options and which combinations are usable.
 //! * [`state`]: the per-joint states (LinuxCNC's numbers) and failures.
 //! * `machine`: one joint's state machine.

@@ -40,8 +40,8 @@ use crate::core::{MotionConfig, MotionCore};
 use crate::kins::kinematics_for;
 use crate::mailbox::Mailbox;
 
-pub use handle::{MotionHandle, MotionLink, COMMAND_TIMEOUT, MOTION};
-pub use params::{parse_params, IoNames, MotmodParams};
+pub use handle::{MotionHandle, MotionLink, MOTION};
+pub use params::parse_params;
 use pins::{BIn, BOut, HalIo};
 
 /// The `motmod` module.

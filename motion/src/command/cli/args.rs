@@ -111,7 +111,7 @@ pub(crate) const fn world_axis(at: usize) -> Axis {
 }
 
 /// An axis word: its letter (either case) or its number.
-pub fn parse_axis(s: &str) -> Result<i32, CliError> {
+fn parse_axis(s: &str) -> Result<i32, CliError> {
     let mut chars = s.chars();
     if let (Some(c), None) = (chars.next(), chars.next()) {
         let c = c.to_ascii_lowercase();
