@@ -43,6 +43,8 @@ pub mod comp;
 pub mod comp_file;
 mod core;
 mod events;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod homing;
 mod joint;
 pub mod kins;

@@ -108,7 +108,8 @@ macro_rules! commands {
 
             /// The command as command-line words, name first, as
             /// [`parse`] reads them; `None` if no form can say it (a
-            /// rapid with a velocity, option bits no INI key sets).
+            /// rapid with a velocity, option bits no INI key sets). A NaN
+            /// is written `NaN`, without its sign.
             pub fn to_cli(self) -> Option<Vec<String>> {
                 use $crate::command::cli::args::CliArg;
                 use $crate::command::cli::write_form;
