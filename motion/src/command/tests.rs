@@ -3,8 +3,8 @@
 
 use super::*;
 use crate::channel::{decode_command, encode_command};
-use crate::homing::{HomeFlags, HomingConfig};
 use crate::kins::Pose;
+use crate::vocab::{HomeFlags, HomingConfig};
 
 fn args(s: &str) -> Vec<String> {
     s.split_whitespace().map(String::from).collect()
