@@ -10,7 +10,6 @@ use clap::Parser;
 use hal_tools::motion_queue_args;
 use hal_tools::tool_args::motion_cmd::Cli;
 use motion::comp_file::{read_comp_file, CompFileType};
-use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
 use motion::{Command, MotionClient};
 
@@ -21,79 +20,6 @@ fn int(s: Option<&String>, what: &str) -> Result<i32, Usage> {
     let s = s.ok_or_else(|| Usage(format!("missing {what}")))?;
     s.parse()
         .map_err(|_| Usage(format!("{what} must be an integer, not '{s}'")))
-}
-
-fn float(s: Option<&String>, what: &str) -> Result<f64, Usage> {
-    let s = s.ok_or_else(|| Usage(format!("missing {what}")))?;
-    s.parse()
-        .map_err(|_| Usage(format!("{what} must be a number, not '{s}'")))
-}
-
-/// An INI-style yes/no value.
-fn yes_no(key: &str, v: &str) -> Result<bool, Usage> {
-    match v.to_ascii_uppercase().as_str() {
-        "YES" | "TRUE" | "1" => Ok(true),
-        "NO" | "FALSE" | "0" => Ok(false),
-        _ => Err(Usage(format!("{key} must be YES or NO, not '{v}'"))),
-    }
-}
-
-/// `set-homing-params JOINT KEY=VALUE...`, with the INI defaults for the
-/// keys left out.
-fn homing_params(a: &[String]) -> Result<Command, Usage> {
-    let joint = int(a.first(), "JOINT")?;
-    let mut config = HomingConfig {
-        final_vel: -1.0,
-        sequence: 999,
-        ..HomingConfig::default()
-    };
-    for arg in &a[1..] {
-        let (key, v) = arg
-            .split_once('=')
-            .ok_or_else(|| Usage(format!("'{arg}' is not KEY=VALUE")))?;
-        let key = key.to_ascii_uppercase();
-        let num = || {
-            v.parse::<f64>()
-                .map_err(|_| Usage(format!("{key} must be a number, not '{v}'")))
-        };
-        let flags = &mut config.flags;
-        match key.as_str() {
-            "HOME_OFFSET" => config.offset = num()?,
-            "HOME" => config.home = num()?,
-            "HOME_SEARCH_VEL" => config.search_vel = num()?,
-            "HOME_LATCH_VEL" => config.latch_vel = num()?,
-            "HOME_FINAL_VEL" => config.final_vel = num()?,
-            "HOME_SEQUENCE" => {
-                config.sequence = v
-                    .parse()
-                    .map_err(|_| Usage(format!("HOME_SEQUENCE must be an integer, not '{v}'")))?
-            }
-            "VOLATILE_HOME" => config.volatile_home = yes_no(&key, v)?,
-            "HOME_USE_INDEX" => flags.set(HomeFlags::USE_INDEX, yes_no(&key, v)?),
-            "HOME_INDEX_NO_ENCODER_RESET" => {
-                flags.set(HomeFlags::INDEX_NO_ENCODER_RESET, yes_no(&key, v)?)
-            }
-            "HOME_IGNORE_LIMITS" => flags.set(HomeFlags::IGNORE_LIMITS, yes_no(&key, v)?),
-            "HOME_IS_SHARED" => flags.set(HomeFlags::IS_SHARED, yes_no(&key, v)?),
-            "LOCKING_INDEXER" => flags.set(HomeFlags::UNLOCK_FIRST, yes_no(&key, v)?),
-            "HOME_ABSOLUTE_ENCODER" => {
-                let (abs, no_final) = match v {
-                    "0" => (false, false),
-                    "1" => (true, false),
-                    "2" => (true, true),
-                    _ => {
-                        return Err(Usage(format!(
-                            "HOME_ABSOLUTE_ENCODER must be 0, 1 or 2, not '{v}'"
-                        )))
-                    }
-                };
-                flags.set(HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME, abs);
-                flags.set(HomeFlags::NO_FINAL_MOVE, no_final);
-            }
-            _ => return Err(Usage(format!("unknown homing key '{key}'"))),
-        }
-    }
-    Ok(Command::SetJointHomingParams { joint, config })
 }
 
 /// A status condition `wait` waits for.
@@ -194,138 +120,10 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
     }
 }
 
-/// An axis: its letter (either case) or its number.
-fn axis(s: Option<&String>) -> Result<i32, Usage> {
-    motion_queue_args::axis(s).map_err(|e| Usage(e.0))
-}
-
-/// Parses a command and its arguments.
+/// Parses a command of the basic group and its arguments, as motion's
+/// command table says.
 fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
-    if name == "set-homing-params" {
-        return homing_params(a);
-    }
-    // Each argument read marks how many the command takes, so the count
-    // check below cannot disagree with the parsing.
-    let takes = std::cell::Cell::new(0usize);
-    let arg = |i: usize| {
-        takes.set(takes.get().max(i + 1));
-        a.get(i)
-    };
-    let j = || int(arg(0), "JOINT");
-    let f = |i: usize, what: &str| float(arg(i), what);
-    let ax = || axis(arg(0));
-    let cmd = match name {
-        "enable" => Command::Enable,
-        "disable" => Command::Disable,
-        "abort" => Command::Abort,
-        "free" => Command::Free,
-        "teleop" => Command::Teleop,
-        "coord" => Command::Coord,
-        "scale" => Command::Scale {
-            scale: f(0, "VALUE")?,
-        },
-        "override-limits" => Command::OverrideLimits { joint: j()? },
-        "activate" => Command::JointActivate { joint: j()? },
-        "deactivate" => Command::JointDeactivate { joint: j()? },
-        "amp-enable" => Command::EnableAmplifier { joint: j()? },
-        "amp-disable" => Command::DisableAmplifier { joint: j()? },
-        "jog-cont" => Command::JogCont {
-            joint: j()?,
-            vel: f(1, "VEL")?,
-        },
-        "jog-incr" => Command::JogIncr {
-            joint: j()?,
-            vel: f(1, "VEL")?,
-            offset: f(2, "DISTANCE")?,
-        },
-        "jog-abs" => Command::JogAbs {
-            joint: j()?,
-            vel: f(1, "VEL")?,
-            pos: f(2, "POSITION")?,
-        },
-        "jog-abort" => Command::JogAbort { joint: j()? },
-        "set-limits" => Command::SetJointPositionLimits {
-            joint: j()?,
-            min: f(1, "MIN")?,
-            max: f(2, "MAX")?,
-        },
-        "set-vel-limit" => Command::SetJointVelLimit {
-            joint: j()?,
-            vel: f(1, "VEL")?,
-        },
-        "set-acc-limit" => Command::SetJointAccLimit {
-            joint: j()?,
-            acc: f(1, "ACC")?,
-        },
-        "set-min-ferror" => Command::SetJointMinFerror {
-            joint: j()?,
-            ferror: f(1, "VALUE")?,
-        },
-        "set-max-ferror" => Command::SetJointMaxFerror {
-            joint: j()?,
-            ferror: f(1, "VALUE")?,
-        },
-        "set-backlash" => Command::SetJointBacklash {
-            joint: j()?,
-            backlash: f(1, "VALUE")?,
-        },
-        "set-motor-offset" => Command::SetJointMotorOffset {
-            joint: j()?,
-            offset: f(1, "VALUE")?,
-        },
-        "axis-jog-cont" => Command::AxisJogCont {
-            axis: ax()?,
-            vel: f(1, "VEL")?,
-        },
-        "axis-jog-incr" => Command::AxisJogIncr {
-            axis: ax()?,
-            vel: f(1, "VEL")?,
-            offset: f(2, "DIST")?,
-        },
-        "axis-jog-abs" => Command::AxisJogAbs {
-            axis: ax()?,
-            vel: f(1, "VEL")?,
-            pos: f(2, "POS")?,
-        },
-        "axis-jog-abort" => Command::AxisJogAbort { axis: ax()? },
-        "set-axis-limits" => Command::SetAxisPositionLimits {
-            axis: ax()?,
-            min: f(1, "MIN")?,
-            max: f(2, "MAX")?,
-        },
-        "set-axis-vel-limit" => Command::SetAxisVelLimit {
-            axis: ax()?,
-            vel: f(1, "VEL")?,
-        },
-        "set-axis-acc-limit" => Command::SetAxisAccLimit {
-            axis: ax()?,
-            acc: f(1, "ACC")?,
-        },
-        "set-world-home" => {
-            let mut pose = Pose::ZERO;
-            for (i, v) in pose.0.iter_mut().enumerate() {
-                *v = f(i, "coordinate")?;
-            }
-            Command::SetWorldHome { pose }
-        }
-        "home" => Command::Home { joint: j()? },
-        "unhome" => Command::Unhome { joint: j()? },
-        "update-homing-params" => Command::UpdateJointHomingParams {
-            joint: j()?,
-            offset: f(1, "OFFSET")?,
-            home: f(2, "HOME")?,
-            sequence: int(arg(3), "SEQUENCE")?,
-        },
-        _ => return Err(Usage(format!("unknown command '{name}'"))),
-    };
-    let n = takes.get();
-    if a.len() != n {
-        return Err(Usage(format!(
-            "'{name}' takes {n} argument(s), {} given",
-            a.len()
-        )));
-    }
-    Ok(cmd)
+    motion::command::parse(name, a, Pose::ZERO).map_err(|e| Usage(e.to_string()))
 }
 
 fn run(cli: Cli) -> Result<ExitCode, Usage> {
@@ -407,7 +205,8 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
         }
         q if motion_queue_args::is_queue_command(q) => {
             // Check the words now, so usage errors need no instance.
-            motion_queue_args::parse(q, rest, motion::Pose::ZERO).map_err(|e| Usage(e.0))?;
+            motion_queue_args::parse(q, rest, motion::Pose::ZERO)
+                .map_err(|e| Usage(e.to_string()))?;
             Action::Queue(q.to_string())
         }
         _ => Action::Send(parse_command(name, rest)?),
@@ -433,7 +232,7 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
                     return Ok(ExitCode::from(2));
                 }
             };
-            let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| Usage(e.0))?;
+            let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| Usage(e.to_string()))?;
             Ok(send(&mut client, cmd))
         }
         Action::LoadComp { joint, entries } => {

@@ -3,6 +3,8 @@
 
 use bitflags::bitflags;
 
+use super::coded::coded_enum;
+
 bitflags! {
     /// The homing option bits, numbered as LinuxCNC's
     /// SET_JOINT_HOMING_PARAMS sends them.
@@ -73,86 +75,30 @@ impl Default for HomingConfig {
     }
 }
 
-/// Why a homing configuration cannot be used.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ConfigProblem {
-    /// A value that is not a finite number.
-    NotFinite,
-    /// Bits no option has.
-    UnknownFlags,
-    /// HOME_SEARCH_VEL without HOME_LATCH_VEL.
-    SearchWithoutLatch,
-    /// HOME_LATCH_VEL without a switch search and without HOME_USE_INDEX.
-    LatchWithoutSearchOrIndex,
-    /// HOME_USE_INDEX without HOME_LATCH_VEL (nothing would move to the
-    /// index).
-    IndexWithoutLatch,
-    /// "No final move" without an absolute encoder.
-    NoFinalMoveWithoutAbsoluteEncoder,
-    /// A sequence number whose magnitude does not fit.
-    BadSequence,
-    /// LOCKING_INDEXER on a joint without `unlock` pins (motmod's
-    /// `unlock_joints_mask`).
-    NoUnlockPins,
-    /// An absolute-encoder locking indexer with a final move would move
-    /// while locked.
-    LockedFinalMove,
-}
-
-impl std::fmt::Display for ConfigProblem {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ConfigProblem::NotFinite => "a homing value is not a finite number",
-            ConfigProblem::UnknownFlags => "unknown homing option bits",
-            ConfigProblem::SearchWithoutLatch => "HOME_SEARCH_VEL is set but HOME_LATCH_VEL is 0",
-            ConfigProblem::LatchWithoutSearchOrIndex => {
-                "HOME_LATCH_VEL without HOME_SEARCH_VEL needs HOME_USE_INDEX"
-            }
-            ConfigProblem::IndexWithoutLatch => "HOME_USE_INDEX needs a HOME_LATCH_VEL",
-            ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder => {
-                "'no final move' is only for HOME_ABSOLUTE_ENCODER"
-            }
-            ConfigProblem::BadSequence => "HOME_SEQUENCE out of range",
-            ConfigProblem::NoUnlockPins => {
-                "LOCKING_INDEXER needs the joint in motmod's unlock_joints_mask"
-            }
-            ConfigProblem::LockedFinalMove => {
-                "a locking indexer with HOME_ABSOLUTE_ENCODER must use 2 (no final move)"
-            }
-        })
-    }
-}
-
-impl ConfigProblem {
-    /// The code of the problem on the wire.
-    pub fn code(self) -> u64 {
-        match self {
-            ConfigProblem::NotFinite => 1,
-            ConfigProblem::UnknownFlags => 2,
-            ConfigProblem::SearchWithoutLatch => 3,
-            ConfigProblem::LatchWithoutSearchOrIndex => 4,
-            ConfigProblem::IndexWithoutLatch => 5,
-            ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder => 6,
-            ConfigProblem::BadSequence => 7,
-            ConfigProblem::NoUnlockPins => 8,
-            ConfigProblem::LockedFinalMove => 9,
-        }
-    }
-
-    /// The problem with wire code `code`.
-    pub fn from_code(code: u64) -> Option<ConfigProblem> {
-        Some(match code {
-            1 => ConfigProblem::NotFinite,
-            2 => ConfigProblem::UnknownFlags,
-            3 => ConfigProblem::SearchWithoutLatch,
-            4 => ConfigProblem::LatchWithoutSearchOrIndex,
-            5 => ConfigProblem::IndexWithoutLatch,
-            6 => ConfigProblem::NoFinalMoveWithoutAbsoluteEncoder,
-            7 => ConfigProblem::BadSequence,
-            8 => ConfigProblem::NoUnlockPins,
-            9 => ConfigProblem::LockedFinalMove,
-            _ => return None,
-        })
+coded_enum! {
+    /// Why a homing configuration cannot be used.
+    pub enum ConfigProblem {
+        /// A value that is not a finite number.
+        NotFinite = 1 => "a homing value is not a finite number",
+        /// Bits no option has.
+        UnknownFlags = 2 => "unknown homing option bits",
+        /// HOME_SEARCH_VEL without HOME_LATCH_VEL.
+        SearchWithoutLatch = 3 => "HOME_SEARCH_VEL is set but HOME_LATCH_VEL is 0",
+        /// HOME_LATCH_VEL without a switch search and without HOME_USE_INDEX.
+        LatchWithoutSearchOrIndex = 4 => "HOME_LATCH_VEL without HOME_SEARCH_VEL needs HOME_USE_INDEX",
+        /// HOME_USE_INDEX without HOME_LATCH_VEL (nothing would move to the
+        /// index).
+        IndexWithoutLatch = 5 => "HOME_USE_INDEX needs a HOME_LATCH_VEL",
+        /// "No final move" without an absolute encoder.
+        NoFinalMoveWithoutAbsoluteEncoder = 6 => "'no final move' is only for HOME_ABSOLUTE_ENCODER",
+        /// A sequence number whose magnitude does not fit.
+        BadSequence = 7 => "HOME_SEQUENCE out of range",
+        /// LOCKING_INDEXER on a joint without `unlock` pins (motmod's
+        /// `unlock_joints_mask`).
+        NoUnlockPins = 8 => "LOCKING_INDEXER needs the joint in motmod's unlock_joints_mask",
+        /// An absolute-encoder locking indexer with a final move would move
+        /// while locked.
+        LockedFinalMove = 9 => "a locking indexer with HOME_ABSOLUTE_ENCODER must use 2 (no final move)",
     }
 }
 

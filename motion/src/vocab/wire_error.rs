@@ -1,6 +1,6 @@
 //! Why a record read from the shared-memory channel was refused. A
 //! rejection ([`super::Reject::Malformed`]) carries it, so it lives with
-//! the command types.
+//! the refusals.
 
 use std::fmt;
 
