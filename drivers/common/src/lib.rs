@@ -142,6 +142,16 @@
 //! safe state, ready, publish; undo on error) lives in [`module`] once
 //! per host, and a driver's own load code is only what differs.
 //!
+//! For LinuxCNC (feature `linuxcnc`), add a crate under
+//! `linuxcnc-modules/<module>/`: a `cdylib` whose lib.rs is
+//! `hal_driver::linuxcnc_module!(my_crate::MyDriver, my_crate::my_module_params);`
+//! and whose build script is `../nodelete.rs`. The macro turns the
+//! parameter table into LinuxCNC's `rtapi_info_*` symbols and adds
+//! `rtapi_app_main`/`rtapi_app_exit`, which run the same `open` and
+//! `export` against LinuxCNC's HAL (`linuxcnc` module docs). Then add
+//! the module to `linuxcnc-modules/tests`, which loads it in LinuxCNC's
+//! own halrun and compares it with our host.
+//!
 //! # Worked example
 //!
 //! A one-channel counter card: an ID register, a count register fed by
@@ -305,6 +315,8 @@
 //! * [`fault`]: safe state and the fault latch.
 //! * [`module`]: [`DriverModule`], the [`Exporter`] and our host's load
 //!   sequence.
+//! * `linuxcnc` (feature `linuxcnc`): LinuxCNC's `rtapi_app` as the
+//!   host, and `linuxcnc_module!` for a driver's `<module>.so`.
 //! * `log` (private): [`LogSink`], a host's realtime-safe message path.
 //! * `error` (private): the error type, [`DriverError`], at the crate root.
 //! * `lockdown` (private): telling kernel lockdown from a missing permission.
@@ -337,6 +349,8 @@ mod error;
 pub mod fault;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
+#[cfg(feature = "linuxcnc")]
+pub mod linuxcnc;
 mod lockdown;
 mod log;
 pub mod module;
