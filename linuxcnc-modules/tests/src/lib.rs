@@ -182,12 +182,166 @@ pub fn shm_used(stdout: &str) -> Vec<u64> {
 }
 
 /// What LinuxCNC's halcmd itself keeps in HAL shared memory for each
-/// successful `loadrt`, and never frees: a copy of the argument string
-/// (each argument followed by a space, plus the NUL), for `save`. On
-/// LinuxCNC 2.9 `hal_malloc` hands it out in 16-byte steps.
-pub fn halcmd_args_record(args: &[&str]) -> u64 {
-    let len: usize = args.iter().map(|a| a.len() + 1).sum::<usize>() + 1;
-    len.next_multiple_of(16) as u64
+/// successful `loadrt`, and never frees: a copy of the argument words
+/// (each followed by a space, plus the NUL), for `save`. On LinuxCNC 2.9
+/// `hal_malloc` hands it out in 16-byte steps. `args` is the argument
+/// text as written in the HAL file, words separated by single spaces.
+pub fn halcmd_args_record(args: &str) -> u64 {
+    (args.len() + 2).next_multiple_of(16) as u64
+}
+
+/// One driver's check in LinuxCNC beside our host.
+pub struct Case<'a> {
+    /// The module's `loadrt` name.
+    pub module: &'a str,
+    /// The library cargo builds it as (`lcnc_<module>`).
+    pub lib: &'a str,
+    /// The arguments of the `loadrt` that is listed, run and cycled.
+    pub args: &'a str,
+    /// The components whose pins, parameters and functions are compared.
+    pub owners: &'a [&'a str],
+    /// HAL commands that wire and run the module's functions in thread
+    /// `t` (1 ms, created before the module) and `getp` what the test
+    /// checks; they end with the threads stopped.
+    pub run: &'a str,
+    /// Arguments of loads that must be refused, with the same message in
+    /// both hosts and nothing left behind.
+    pub refused: &'a [&'a str],
+}
+
+/// What a [`Case`] leaves for the driver's own judgement: the values the
+/// `run` commands' `getp`s printed in each host.
+#[derive(Debug)]
+pub struct Outcome {
+    /// In LinuxCNC.
+    pub theirs: Vec<String>,
+    /// In our host.
+    pub ours: Vec<String>,
+}
+
+/// Loads and unloads after the first round in [`check`].
+pub const CYCLES: u64 = 100;
+
+/// The marks `gets mark` prints between the parts of a session.
+const MARKS: [&str; 2] = ["31415", "27182"];
+
+/// The session both hosts run for `case`.
+fn session(case: &Case<'_>) -> String {
+    let (m, args) = (case.module, case.args);
+    let mut s = format!(
+        "loadrt threads name1=t period1=1000000\nnewsig mark s32\nloadrt {m} {args}\n\
+         show pin\nshow param\nshow funct\nsets mark {}\ngets mark\n{}\nunloadrt {m}\n",
+        MARKS[0], case.run
+    );
+    for bad in case.refused {
+        s.push_str(&format!("loadrt {m} {bad}\n"));
+    }
+    s.push_str(&format!(
+        "show pin\nshow param\nshow funct\nsets mark {}\ngets mark\n",
+        MARKS[1]
+    ));
+    s
+}
+
+/// LinuxCNC only: a first load and unload, `status`, [`CYCLES`] more,
+/// `status`.
+fn cycles(case: &Case<'_>) -> String {
+    let once = format!(
+        "loadrt {} {}\nunloadrt {}\n",
+        case.module, case.args, case.module
+    );
+    format!("{once}status\n{}status\n", once.repeat(CYCLES as usize))
+}
+
+/// Splits script-mode output at the marks.
+fn parts(stdout: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    for l in stdout.lines() {
+        if MARKS.contains(&l.trim()) {
+            out.push(String::new());
+        } else if let Some(last) = out.last_mut() {
+            last.push_str(l);
+            last.push('\n');
+        }
+    }
+    out
+}
+
+/// Runs `case` in one LinuxCNC session and one of our host, and checks
+/// what does not depend on the driver: the same listing, the same
+/// refusals with nothing left of them, and no HAL shared memory taken by
+/// [`CYCLES`] loads and unloads beyond halcmd's own record of each
+/// `loadrt` line. Returns the `run` part's values.
+pub fn check(case: &Case<'_>) -> Outcome {
+    let modules = Modules::stage(&[(case.module, case.lib)]);
+    let theirs = linuxcnc(&modules, &(session(case) + &cycles(case)));
+    let mine = ours(&format!("lcnc-{}", case.module), &session(case));
+    let (t, m) = (parts(&theirs.stdout), parts(&mine.stdout));
+    assert!(
+        t.len() == 3 && m.len() == 3,
+        "marks missing:\nLinuxCNC:\n{}\n{}\nours:\n{}\n{}",
+        theirs.stdout,
+        theirs.stderr,
+        mine.stdout,
+        mine.stderr
+    );
+
+    for owner in case.owners {
+        let (lt, lm) = (listing(&t[0], owner), listing(&m[0], owner));
+        assert!(
+            !lm.is_empty(),
+            "our host lists nothing of {owner}:\n{}",
+            mine.stderr
+        );
+        assert_eq!(
+            lt, lm,
+            "LinuxCNC lists {owner} otherwise than our host:\n{}",
+            theirs.stderr
+        );
+    }
+
+    for owner in case.owners {
+        assert!(
+            listing(&t[1], owner).is_empty(),
+            "LinuxCNC kept {owner}:\n{}",
+            t[1]
+        );
+        assert!(
+            listing(&m[1], owner).is_empty(),
+            "our host kept {owner}:\n{}",
+            m[1]
+        );
+    }
+    let refusals: Vec<&str> = mine
+        .stderr
+        .lines()
+        .filter_map(|l| l.find(&format!("{}: ", case.module)).map(|i| &l[i..]))
+        .collect();
+    assert_eq!(
+        refusals.len(),
+        case.refused.len(),
+        "our host said: {}",
+        mine.stderr
+    );
+    for r in refusals {
+        assert!(
+            theirs.stderr.contains(r),
+            "LinuxCNC did not say {r:?}:\n{}",
+            theirs.stderr
+        );
+    }
+
+    let used = shm_used(&t[2]);
+    assert_eq!(used.len(), 2, "{}", t[2]);
+    assert_eq!(
+        used[1] - used[0],
+        CYCLES * halcmd_args_record(case.args),
+        "HAL shared memory grew by more than halcmd's records of the loadrt lines"
+    );
+    Outcome {
+        theirs: getp_values(&t[1]),
+        ours: getp_values(&m[1]),
+    }
 }
 
 #[cfg(test)]
@@ -215,6 +369,10 @@ mod tests {
             shm_used("  used/total shared memory:   8881/1048576\n"),
             [8881]
         );
-        assert_eq!(halcmd_args_record(&["cfg=\"0 sim\""]), 16);
+        assert_eq!(halcmd_args_record("cfg=\"0 sim\""), 16);
+        assert_eq!(
+            halcmd_args_record("cfg=\"0 sim 1 sim 2 sim 3 sim 4 sim 5 sim 6 sim\""),
+            64
+        );
     }
 }

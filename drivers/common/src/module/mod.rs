@@ -30,6 +30,7 @@ mod ours;
 pub use export::{CompId, DriverHost, Exporter};
 pub use ours::{load, load_opened, OursSession};
 
+#[cfg(feature = "linuxcnc")]
 pub(crate) use export::sealed;
 #[doc(hidden)]
 pub use export::Session;
