@@ -171,7 +171,7 @@
 //! use hal_driver::pci::{self, PciMatch, Sysfs};
 //! use hal_driver::plant::QuadEncoder;
 //! use hal_driver::sim::{self, BoardModel, MemModel, SimBoard, SimClock};
-//! use hal_driver::{DriverHost, DriverModule, Exporter, ForModule};
+//! use hal_driver::{DriverHost, DriverModule, Exporter, ForModule, LoadEnv};
 //!
 //! // regs
 //! const ID: usize = 0x0;
@@ -236,7 +236,7 @@
 //!     const PARAMS: &'static [ParamDecl] = counter_params!(hal_driver::param_table);
 //!     type Opened = Opened;
 //!
-//!     fn open(args: &ModuleArgs) -> hal_core::Result<Opened> {
+//!     fn open(args: &ModuleArgs, _env: &LoadEnv) -> hal_core::Result<Opened> {
 //!         let p = Params::new(NAME, args);
 //!         let token = p.str_or("backend", "pci");
 //!         let backend = BACKENDS.parse(token).ok_or_else(|| {
@@ -367,7 +367,7 @@ pub use bus::{PortBus, RegWindow};
 pub use error::{DriverError, ForModule, Result};
 pub use fault::{FaultLatch, SafeState};
 pub use log::LogSink;
-pub use module::{module_def, CompId, DriverHost, DriverModule, Exporter};
+pub use module::{module_def, CompId, DriverHost, DriverModule, Exporter, LoadEnv};
 pub use params::Params;
 
 /// What this crate's macros expand to; not for direct use.

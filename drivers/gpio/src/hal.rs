@@ -25,7 +25,7 @@ use canonical::{ChannelNames, DigIn};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{HalHost, Host, HostParam, HostPin, In, PinFactory, Result, Rw};
 use hal_driver::fault::{Fault, FaultLatch, SafeState};
-use hal_driver::module::{self, DriverHost, DriverModule, Exporter};
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::{Backend, BackendTokens, Params};
 use hal_driver::sim::{Clock, MonotonicClock};
 
@@ -89,7 +89,7 @@ impl DriverModule for HalGpio {
     const PARAMS: &'static [ParamDecl] = hal_gpio_params!(hal_driver::param_table);
     type Opened = OpenedLines;
 
-    fn open(args: &ModuleArgs) -> Result<OpenedLines> {
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<OpenedLines> {
         let cfg = cfg::parse(NAME, args).map_err(|e| e.into_hal(NAME))?;
         let p = Params::new(NAME, args);
         let token = p.str_or("backend", "cdev");

@@ -20,7 +20,7 @@ use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{FunctCtx, HalHost, Host, HostParam, HostPin, Io, Out, PinFactory, Result, Rw};
 use hal_driver::bus::ALL_ONES;
 use hal_driver::fault::{ErrorWatch, Fault, FaultLatch, SafeState};
-use hal_driver::module::{self, CompId, DriverHost, DriverModule, Exporter};
+use hal_driver::module::{self, CompId, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::pci::{EnableGuard, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
@@ -64,7 +64,7 @@ impl DriverModule for HalMotenc {
     const PARAMS: &'static [ParamDecl] = PARAMS;
     type Opened = Vec<Opened>;
 
-    fn open(args: &ModuleArgs) -> Result<Vec<Opened>> {
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<Vec<Opened>> {
         open_from(args, &Sysfs::system(), regs::PCI_TABLE)
     }
 

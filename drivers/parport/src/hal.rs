@@ -25,7 +25,7 @@ use hal_core::{
     HalError, HalHost, Host, HostParam, HostPin, Out, ParamDecl, PinFactory, Result, Rw,
 };
 use hal_driver::fault::SafeState;
-use hal_driver::module::{self, DriverHost, DriverModule, Exporter};
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
 use hal_driver::DriverError;
 
@@ -68,7 +68,7 @@ impl DriverModule for HalParport {
     const PARAMS: &'static [ParamDecl] = hal_parport_params!(hal_driver::param_table);
     type Opened = OpenedPorts;
 
-    fn open(args: &ModuleArgs) -> Result<OpenedPorts> {
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<OpenedPorts> {
         open_cfg(
             Params::new(NAME, args).str_or("cfg", DEFAULT_CFG),
             &SysPaths::system(),

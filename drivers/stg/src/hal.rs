@@ -14,7 +14,7 @@ use canonical::{AdcIn, ChannelNames, DacOut, DigIn, DigOut, Encoder};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::{FunctCtx, HalHost, Host, HostPin, In, Out, PinFactory, Result};
 use hal_driver::fault::{ErrorWatch, Fault, FaultLatch, SafeState};
-use hal_driver::module::{self, DriverHost, DriverModule, Exporter};
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
 
@@ -74,7 +74,7 @@ impl DriverModule for HalStg {
     /// The board and how many channels to export.
     type Opened = (Opened, usize);
 
-    fn open(args: &ModuleArgs) -> Result<(Opened, usize)> {
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<(Opened, usize)> {
         let cfg = open::parse(args).for_module(NAME)?;
         let opened = open::open(&cfg).map_err(|e| e.into_hal(NAME))?;
         Ok((opened, cfg.num_chan))

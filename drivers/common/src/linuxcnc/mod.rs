@@ -61,7 +61,8 @@ use hal_core::module::ModuleArgs;
 use hal_core::{HalError, MsgLevel};
 
 use crate::error::DriverError;
-use crate::module::{DriverModule, Exporter};
+use crate::log::LogSink;
+use crate::module::{DriverModule, Exporter, LoadEnv};
 
 /// The module's one load (rtapi_app loads a module once at a time).
 static LOADED: Mutex<Option<LcncSession>> = Mutex::new(None);
@@ -115,7 +116,8 @@ fn load<D: DriverModule>(args: &[String]) -> Result<LcncSession, HalError> {
         });
     }
     let parsed = ModuleArgs::parse(D::NAME, D::PARAMS, args)?;
-    let opened = D::open(&parsed)?;
+    let env = LoadEnv::new("linuxcnc", LogSink::foreign(print::say));
+    let opened = D::open(&parsed, &env)?;
     let mut ex = Exporter::<LinuxCnc>::new(LcncSession::new(D::NAME, api));
     D::export(opened, &mut ex)?;
     ex.into_session().finish()

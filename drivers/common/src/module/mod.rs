@@ -28,7 +28,7 @@ mod export;
 mod ours;
 
 pub use export::{CompId, DriverHost, Exporter};
-pub use ours::{load, load_opened, OursSession};
+pub use ours::{env, load, load_opened, OursSession};
 
 #[cfg(feature = "linuxcnc")]
 pub(crate) use export::sealed;
@@ -51,10 +51,11 @@ pub trait DriverModule: 'static {
     type Opened;
 
     /// Opens and checks everything the parameters ask for (ports claimed,
-    /// boards found and identified) before anything is exported, so a
-    /// failed load leaves nothing behind. Errors name the module and the
-    /// parameter or device ([`crate::ForModule`]).
-    fn open(args: &ModuleArgs) -> hal_core::Result<Self::Opened>;
+    /// boards found and identified, helper threads started) before
+    /// anything is exported, so a failed load leaves nothing behind.
+    /// Errors name the module and the parameter or device
+    /// ([`crate::ForModule`]).
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Self::Opened>;
 
     /// Exports the components, pins, parameters, functions and safe
     /// state of what `open` opened, in host `H`. An error undoes all of
@@ -63,6 +64,37 @@ pub trait DriverModule: 'static {
         opened: Self::Opened,
         ex: &mut Exporter<'_, H>,
     ) -> hal_core::Result<()>;
+}
+
+/// What a driver's [`open`](DriverModule::open) may know of the host it
+/// loads into.
+#[derive(Debug, Clone)]
+pub struct LoadEnv {
+    instance: String,
+    log: crate::LogSink,
+}
+
+impl LoadEnv {
+    /// An environment for a load into the HAL named `instance` whose
+    /// messages go to `log`.
+    pub fn new(instance: impl Into<String>, log: crate::LogSink) -> LoadEnv {
+        LoadEnv {
+            instance: instance.into(),
+            log,
+        }
+    }
+
+    /// The HAL's name: our host's instance, or `linuxcnc` in LinuxCNC
+    /// (one HAL per process there). Registries of what modules share,
+    /// such as one helper thread per I2C bus, are keyed by it.
+    pub fn instance(&self) -> &str {
+        &self.instance
+    }
+
+    /// The host's message path, for warnings while opening.
+    pub fn log(&self) -> crate::LogSink {
+        self.log.clone()
+    }
 }
 
 /// The driver's entry in our host's module registry:

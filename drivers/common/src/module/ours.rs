@@ -13,7 +13,7 @@ use hal_core::module::ModuleArgs;
 use hal_core::{Component, FunctCtx, Host, Ours, Result, RtComponentBuilder};
 
 use super::export::{sealed, DriverHost, Exporter, Session};
-use super::DriverModule;
+use super::{DriverModule, LoadEnv};
 use crate::fault::SafeState;
 use crate::log::LogSink;
 
@@ -28,8 +28,13 @@ impl DriverHost for Ours {
 /// parsed `args` against `D::PARAMS`), opens, then exports
 /// ([`load_opened`]).
 pub fn load<D: DriverModule>(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let opened = D::open(args)?;
+    let opened = D::open(args, &env(host))?;
     load_opened::<D>(host, opened)
+}
+
+/// What a driver's `open` knows of `host`.
+pub fn env(host: &Host) -> LoadEnv {
+    LoadEnv::new(host.instance().name(), host.rt_log().into())
 }
 
 /// Exports what `D::open` (or a test's own opening, on a fake sysfs or
