@@ -1,0 +1,237 @@
+//! rs274: the standalone G-code interpreter, as LinuxCNC's. It prints
+//! the canonical calls a program makes, one per line.
+//!
+//! `rs274 [-p interp.so] [-t tool.tbl] [-v var-file.var] [-n 0|1|2]
+//! [-b] [-s] [-g] [-i file.ini] [-T] [-l level] [input [output]]`
+
+mod args;
+mod ini_config;
+mod menu;
+
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use rs274ngc::{tooltable, Config, Interp, InterpError, PrintCanon, Status};
+
+use args::{Args, OnError};
+
+/// LinuxCNC's default tool table for rs274 when -t is not given.
+const DEFAULT_TOOL_TABLE: &str = "/usr/share/doc/linuxcnc/examples/sample-configs/common/tool.tbl";
+
+fn main() -> ExitCode {
+    let argv: Vec<String> = std::env::args().collect();
+    let mut args = match args::parse(&argv) {
+        Ok(args) => args,
+        Err(()) => {
+            eprint!("{}", args::usage(&argv[0]));
+            return ExitCode::from(1);
+        }
+    };
+    if let Some(plugin) = &args.plugin {
+        eprintln!("emcTaskInit: could not open interpreter '{plugin}': pluggable interpreters are not supported; using the built-in one");
+    }
+    if !args.go && !menu::run(&mut args) {
+        return ExitCode::from(1);
+    }
+    eprintln!("executing");
+    match run(&args) {
+        Ok(code) => ExitCode::from(code),
+        Err(message) => {
+            eprintln!("rs274: {message}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Print an interpreter error as rs274 does: its text, then the line.
+fn report_error(error: &InterpError, interp: &Interp) {
+    eprintln!("{error}");
+    let mut stderr = std::io::stderr();
+    let _ = stderr.write_all(interp.line_text());
+    let _ = stderr.write_all(b"\n");
+}
+
+fn config_from(args: &Args) -> Result<Config, String> {
+    let mut config = Config::default();
+    if let Some(ini) = &args.ini {
+        ini_config::apply(ini, &mut config).map_err(|e| e.0)?;
+    }
+    if let Some(var) = &args.parameter_file {
+        config.parameter_file = Some(var.clone());
+    }
+    Ok(config)
+}
+
+fn tool_entries(args: &Args) -> Option<Vec<rs274ngc::ToolEntry>> {
+    let path = args
+        .tool_table
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_TOOL_TABLE));
+    match tooltable::load(&path) {
+        Ok(table) => {
+            for w in &table.warnings {
+                eprint!("{w}");
+            }
+            Some(table.entries)
+        }
+        Err(_) if args.tool_table.is_none() => Some(Vec::new()),
+        Err(e) => {
+            eprintln!("{e}");
+            None
+        }
+    }
+}
+
+fn user_m_codes(args: &Args, config: &Config) -> Vec<i32> {
+    if !args.task_init {
+        return Vec::new();
+    }
+    let mut dirs = config.user_m_path.clone();
+    if let Some(dir) = args.input.as_ref().and_then(|p| p.parent()) {
+        dirs.push(dir.to_path_buf());
+    }
+    (100..200)
+        .filter(|n| dirs.iter().any(|d| d.join(format!("M{n}")).is_file()))
+        .collect()
+}
+
+fn run(args: &Args) -> Result<u8, String> {
+    let config = config_from(args)?;
+    let Some(tools) = tool_entries(args) else {
+        return Ok(1);
+    };
+    let out: Box<dyn Write> = match &args.output {
+        Some(path) => match std::fs::File::create(path) {
+            Ok(f) => Box::new(std::io::BufWriter::new(f)),
+            Err(_) => {
+                eprintln!("could not open output file {}", path.display());
+                return Ok(1);
+            }
+        },
+        None => Box::new(std::io::BufWriter::new(std::io::stdout())),
+    };
+    let mut canon = PrintCanon::new(Some(out), tools);
+    canon.block_delete = args.block_delete;
+    canon.print_to_stdout = args.output.is_some();
+    canon.user_m_codes = user_m_codes(args, &config);
+    let mut interp = Interp::new(config);
+    if let Err(e) = interp.init(&mut canon) {
+        canon.flush();
+        report_error(&e, &interp);
+        return Ok(1);
+    }
+    let status = match &args.input {
+        None => {
+            interpret_from_keyboard(&mut interp, &mut canon);
+            0
+        }
+        Some(input) => {
+            if let Err(e) = interp.open(input, &mut canon) {
+                canon.flush();
+                report_error(&e, &interp);
+                return Ok(1);
+            }
+            let status = interpret_from_file(&mut interp, &mut canon, args.on_error);
+            interp.close(&mut canon);
+            status
+        }
+    };
+    let saved = interp.exit(&mut canon);
+    canon.flush();
+    if let Err(e) = saved {
+        eprintln!("{e}");
+    }
+    if canon.write_failed() {
+        return Err("could not write the output".to_string());
+    }
+    Ok(status)
+}
+
+/// Run the open file; 1 if it stopped on an error.
+fn interpret_from_file(interp: &mut Interp, canon: &mut PrintCanon, on_error: OnError) -> u8 {
+    loop {
+        match interp.read(canon) {
+            Ok(Status::EndFile) => return 0,
+            Ok(Status::ExecuteFinish) if canon.block_delete => continue,
+            Ok(_) => {}
+            Err(e) => {
+                canon.flush();
+                report_error(&e, interp);
+                match on_error {
+                    OnError::Stop => return 1,
+                    OnError::Continue => continue,
+                    OnError::Mdi => {
+                        if !mdi_then_continue(interp, canon) {
+                            return 1;
+                        }
+                        continue;
+                    }
+                }
+            }
+        }
+        match interp.execute(canon) {
+            Ok(Status::Exit) => return 0,
+            Ok(_) => {}
+            Err(e) => {
+                canon.flush();
+                report_error(&e, interp);
+                match on_error {
+                    OnError::Stop => return 1,
+                    OnError::Continue => {}
+                    OnError::Mdi => {
+                        if !mdi_then_continue(interp, canon) {
+                            return 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn mdi_then_continue(interp: &mut Interp, canon: &mut PrintCanon) -> bool {
+    eprintln!("starting MDI");
+    interpret_from_keyboard(interp, canon);
+    eprint!("continue program? y/n =>");
+    let mut answer = String::new();
+    let _ = std::io::stdin().lock().read_line(&mut answer);
+    answer.starts_with('y')
+}
+
+/// Read lines from standard input and run each, until `quit` or the end.
+fn interpret_from_keyboard(interp: &mut Interp, canon: &mut PrintCanon) {
+    let stdin = std::io::stdin();
+    let prompt = stdin.is_terminal();
+    let mut line = String::new();
+    loop {
+        if prompt {
+            print!("READ => ");
+            let _ = std::io::stdout().flush();
+        }
+        line.clear();
+        match stdin.lock().read_line(&mut line) {
+            Ok(0) | Err(_) => return,
+            Ok(_) => {}
+        }
+        let text = line.trim_end_matches(['\n', '\r']);
+        if text == "quit" {
+            return;
+        }
+        match interp.read_mdi(text.as_bytes(), canon) {
+            Ok(Status::ExecuteFinish) if canon.block_delete => {}
+            Ok(Status::EndFile) => {}
+            Ok(_) => {
+                if let Err(e) = interp.execute(canon) {
+                    canon.flush();
+                    report_error(&e, interp);
+                }
+            }
+            Err(e) => {
+                canon.flush();
+                report_error(&e, interp);
+            }
+        }
+        canon.flush();
+    }
+}
