@@ -360,4 +360,7 @@ pub trait Canon {
     fn motion_control_mode(&self) -> (MotionMode, f64);
     /// The tool table index of the tool in the spindle.
     fn tool_slot(&self) -> i32;
+    /// The machine's axes, bit 0 X, 1 Y, 2 Z, 3 A, 4 B, 5 C, 6 U, 7 V,
+    /// 8 W; a word for a missing axis is a bad character.
+    fn axis_mask(&self) -> u32;
 }

@@ -39,6 +39,7 @@ mod error;
 mod exec;
 mod find;
 mod interp;
+mod ld;
 mod params;
 mod print_canon;
 mod read;

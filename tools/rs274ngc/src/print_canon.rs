@@ -584,4 +584,8 @@ impl Canon for PrintCanon {
     fn tool_slot(&self) -> i32 {
         self.active_slot
     }
+    /// Standalone rs274 has X Y Z A B C only.
+    fn axis_mask(&self) -> u32 {
+        0x3f
+    }
 }

@@ -51,6 +51,8 @@ pub enum SpindleMode {
 #[derive(Debug, Clone)]
 #[allow(missing_docs)]
 pub struct Setup {
+    /// The machine's axes (bit 0 X ... bit 8 W), as the canon answers.
+    pub axis_mask: u32,
     /// Current position, program units, current coordinate system.
     pub current: Pose,
     /// Programmed (uncompensated) X/Y/Z position for cutter comp.
@@ -136,6 +138,7 @@ pub struct Setup {
 impl Default for Setup {
     fn default() -> Self {
         Setup {
+            axis_mask: 0x1ff,
             current: Pose::ZERO,
             program_x: 0.0,
             program_y: 0.0,

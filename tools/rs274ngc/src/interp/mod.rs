@@ -106,6 +106,7 @@ impl Interp {
             orient_offset: self.config.orient_offset,
             ..Setup::default()
         };
+        self.s.axis_mask = canon.axis_mask();
         self.s.external_length_units = canon.external_length_units();
         self.s.length_units = canon.length_unit_type();
         canon.use_length_units(self.s.length_units);

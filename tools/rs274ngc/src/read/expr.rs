@@ -6,6 +6,7 @@
 use super::{at, c_int};
 use crate::error::{InterpError, Result};
 use crate::interp::Interp;
+use crate::ld;
 use crate::params::Parameters;
 
 /// Binary operators and the closing bracket, as read.
@@ -64,42 +65,6 @@ enum Unary {
 /// Two numbers this close are equal for EQ, NE, LE and GE.
 const TOLERANCE_EQUAL: f64 = 0.0001;
 
-/// Degrees to radians as LinuxCNC computes it: `(x * M_PIl) / 180`
-/// in `long double`, rounded to `double` once at the end. The product
-/// and quotient are kept in two doubles (head and tail) so the result
-/// rounds the same way.
-fn deg_to_rad(x: f64) -> f64 {
-    let (head, tail) = mul_pi(x);
-    div_pair(head, tail, 180.0)
-}
-
-/// Radians to degrees: `(x * 180) / M_PIl` in `long double`.
-fn rad_to_deg(x: f64) -> f64 {
-    let head = x * 180.0;
-    let tail = x.mul_add(180.0, -head);
-    // Divide the pair by the two-part π: q ≈ n / π, corrected once.
-    let q = head / PI_HI;
-    let r = (-q).mul_add(PI_HI, head) + tail - q * PI_LO;
-    q + r / PI_HI
-}
-
-const PI_HI: f64 = std::f64::consts::PI;
-const PI_LO: f64 = 1.2246467991473532e-16;
-
-/// x·π as a head and a tail.
-fn mul_pi(x: f64) -> (f64, f64) {
-    let head = x * PI_HI;
-    let tail = x.mul_add(PI_HI, -head) + x * PI_LO;
-    (head, tail)
-}
-
-/// (head + tail) / d, rounded once.
-fn div_pair(head: f64, tail: f64, d: f64) -> f64 {
-    let q = head / d;
-    let r = (-q).mul_add(d, head) + tail;
-    q + r / d
-}
-
 fn apply_binary(left: f64, op: Op, right: f64) -> Result<f64> {
     let truth = |b: bool| if b { 1.0 } else { 0.0 };
     Ok(match op {
@@ -146,15 +111,15 @@ fn apply_unary(x: f64, op: Unary) -> Result<f64> {
             if !(-1.0..=1.0).contains(&x) {
                 return Err(InterpError::AcosRange);
             }
-            rad_to_deg(x.acos())
+            ld::rad_to_deg(x.acos())
         }
         Unary::Asin => {
             if !(-1.0..=1.0).contains(&x) {
                 return Err(InterpError::AsinRange);
             }
-            rad_to_deg(x.asin())
+            ld::rad_to_deg(x.asin())
         }
-        Unary::Cos => deg_to_rad(x).cos(),
+        Unary::Cos => ld::cos_deg(x),
         Unary::Exp => x.exp(),
         Unary::Fix => x.floor(),
         Unary::Fup => x.ceil(),
@@ -165,14 +130,14 @@ fn apply_unary(x: f64, op: Unary) -> Result<f64> {
             x.ln()
         }
         Unary::Round => c_int(x + if x < 0.0 { -0.5 } else { 0.5 }) as f64,
-        Unary::Sin => deg_to_rad(x).sin(),
+        Unary::Sin => ld::sin_deg(x),
         Unary::Sqrt => {
             if x < 0.0 {
                 return Err(InterpError::NegativeSqrt);
             }
             x.sqrt()
         }
-        Unary::Tan => deg_to_rad(x).tan(),
+        Unary::Tan => ld::tan_deg(x),
         Unary::Atan | Unary::Exists => x,
     })
 }
@@ -280,7 +245,7 @@ impl Interp {
                 return Err(InterpError::LeftBracketMissingAfterAtanSlash);
             }
             let second = self.read_real_expression(line, counter)?;
-            return Ok(rad_to_deg(value.atan2(second)));
+            return Ok(ld::rad_to_deg(value.atan2(second)));
         }
         apply_unary(value, op)
     }

@@ -89,6 +89,9 @@ impl Interp {
             b'm' => self.read_m(line, counter, block),
             b'$' | b'@' | b'^' => self.read_special(line, counter, block),
             b'a'..=b'z' if !matches!(letter, b'g' | b'm' | b'n' | b'o') => {
+                if !self.axis_present(letter) {
+                    return Err(InterpError::BadCharacter(letter as char));
+                }
                 self.read_letter(line, counter, block)
             }
             _ if letter == b' ' || !letter.is_ascii_graphic() => {
@@ -96,6 +99,24 @@ impl Interp {
             }
             _ => Err(InterpError::BadCharacter(letter as char)),
         }
+    }
+
+    /// Whether an axis letter names an axis of the machine (other letters
+    /// always pass).
+    fn axis_present(&self, letter: u8) -> bool {
+        let bit = match letter {
+            b'x' => 0,
+            b'y' => 1,
+            b'z' => 2,
+            b'a' => 3,
+            b'b' => 4,
+            b'c' => 5,
+            b'u' => 6,
+            b'v' => 7,
+            b'w' => 8,
+            _ => return true,
+        };
+        self.s.axis_mask & (1 << bit) != 0
     }
 
     fn read_n_number(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<()> {

@@ -63,6 +63,9 @@ fn config_from(args: &Args) -> Result<Config, String> {
     Ok(config)
 }
 
+/// The tool table, as rs274 reads it: a `-t` file that cannot be read
+/// gives an empty table (a bounded-read refusal is reported first);
+/// without `-t`, a missing default table ends the run silently (None).
 fn tool_entries(args: &Args) -> Option<Vec<rs274ngc::ToolEntry>> {
     let path = args
         .tool_table
@@ -75,10 +78,12 @@ fn tool_entries(args: &Args) -> Option<Vec<rs274ngc::ToolEntry>> {
             }
             Some(table.entries)
         }
-        Err(_) if args.tool_table.is_none() => Some(Vec::new()),
+        Err(_) if args.tool_table.is_none() => None,
         Err(e) => {
-            eprintln!("{e}");
-            None
+            if !matches!(&e, InterpError::Io { .. }) {
+                eprintln!("{e}");
+            }
+            Some(Vec::new())
         }
     }
 }
