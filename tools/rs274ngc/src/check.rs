@@ -202,8 +202,9 @@ fn check_other_codes(block: &Block) -> Result<()> {
     {
         return Err(InterpError::KWordUnused);
     }
+    // G74 takes no L (LinuxCNC's check predates it).
     if block.l_number != -1
-        && !(cycle || motion == G_76 || motion == G_5_2 || lathe_cycle)
+        && !((cycle && motion != G_74) || motion == G_76 || motion == G_5_2 || lathe_cycle)
         && g0 != G_10
         && !matches!(g7, G_41 | G_41_1 | G_42 | G_42_1)
         && m5 != 66

@@ -43,7 +43,8 @@ pub struct Config {
     pub subroutine_path: Vec<PathBuf>,
     /// Directories searched for user M-code programs (M100-M199).
     pub user_m_path: Vec<PathBuf>,
-    /// Searched first for subroutine files ([DISPLAY]PROGRAM_PREFIX).
+    /// Searched first for subroutine files ([DISPLAY]PROGRAM_PREFIX);
+    /// the current directory when None, as in standalone rs274.
     pub program_prefix: Option<PathBuf>,
     /// Optional features.
     pub features: Features,

@@ -397,7 +397,8 @@ impl Interp {
     /// `name.ngc` in the program prefix or the subroutine path.
     fn find_ngc_file(&self, name: &str) -> Option<PathBuf> {
         let file = format!("{name}.ngc");
-        let prefix = self.config.program_prefix.iter();
+        let here = PathBuf::from(".");
+        let prefix = std::iter::once(self.config.program_prefix.as_ref().unwrap_or(&here));
         prefix
             .chain(self.config.subroutine_path.iter())
             .map(|dir| dir.join(&file))

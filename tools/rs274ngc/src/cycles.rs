@@ -112,7 +112,7 @@ impl Interp {
         if self.s.motion_mode != motion && !cc_flag {
             return Err(InterpError::CycleAxisUnspecified(axes.third, axes.name));
         }
-        let cc_number = if cc_flag { cc_word } else { self.s.cycle_k };
+        let cc_number = if cc_flag { cc_word } else { self.s.cycle_cc };
         let (cur_aa, cur_bb, cur_cc) = Self::cycle_coords(plane, &self.s.current);
         let mut old_cc = if self.s.cycle_il_flag {
             self.s.cycle_il
@@ -127,16 +127,31 @@ impl Interp {
             _ => (block.x_flag, block.x_number, block.y_flag, block.y_number),
         };
         let (mut aa, mut bb, r, cc, aa_inc, bb_inc);
+        let (mut radius_inc, mut theta_inc) = (0.0, 0.0);
         if self.s.distance_mode == DistanceMode::Absolute {
             (aa_inc, bb_inc) = (0.0, 0.0);
             r = block.r_number;
             cc = cc_number;
-            aa = if aa_flag { aa_word } else { cur_aa };
-            bb = if bb_flag { bb_word } else { cur_bb };
+            if block.radius_flag || block.theta_flag {
+                // Polar words are for G17 only (checked earlier).
+                let radius = if block.radius_flag { block.radius } else { cur_bb.hypot(cur_aa) };
+                let theta = if block.theta_flag { crate::find::d2r(block.theta) } else { cur_bb.atan2(cur_aa) };
+                aa = radius * theta.cos();
+                bb = radius * theta.sin();
+            } else {
+                aa = if aa_flag { aa_word } else { cur_aa };
+                bb = if bb_flag { bb_word } else { cur_bb };
+            }
         } else {
             aa_inc = if aa_flag { aa_word } else { 0.0 };
             bb_inc = if bb_flag { bb_word } else { 0.0 };
-            r = block.r_number + cur_cc;
+            if block.radius_flag {
+                radius_inc = block.radius;
+            }
+            if block.theta_flag {
+                theta_inc = crate::find::d2r(block.theta);
+            }
+            r = block.r_number + old_cc;
             cc = r + cc_number;
             aa = cur_aa;
             bb = cur_bb;
@@ -145,10 +160,12 @@ impl Interp {
             return Err(InterpError::CycleRBelow(axes.third_lower, axes.name));
         }
         let line = block.line_number;
+        let mut current_cc = cur_cc;
         if old_cc < r {
             let p = self.cycle_pose(plane, cur_aa, cur_bb, r);
             canon.straight_traverse(line, &p);
             old_cc = r;
+            current_cc = r;
         }
         let clear_cc = if self.s.retract_mode == RetractMode::RPlane { r } else { old_cc };
         let (save_mode, save_tolerance) = canon.motion_control_mode();
@@ -156,20 +173,29 @@ impl Interp {
             canon.set_motion_control_mode(MotionMode::ExactPath, 0.0);
         }
         let params = self.cycle_parameters(motion, block)?;
-        for _ in 0..block.l_number {
+        for repeat in (1..=block.l_number).rev() {
             aa += aa_inc;
             bb += bb_inc;
-            self.cycle_traverse(canon, line, plane, aa, bb, old_cc);
-            if old_cc != r {
+            if radius_inc != 0.0 || theta_inc != 0.0 {
+                (aa, bb) = polar_step(aa, bb, radius_inc, theta_inc)?;
+            }
+            // The first hole is reached at the height the tool is at (if
+            // above R), the others at the clearance height.
+            if repeat == block.l_number && current_cc > r {
+                self.cycle_traverse(canon, line, plane, aa, bb, current_cc);
                 self.cycle_traverse(canon, line, plane, aa, bb, r);
+            } else {
+                self.cycle_traverse(canon, line, plane, aa, bb, clear_cc);
+                if clear_cc > r {
+                    self.cycle_traverse(canon, line, plane, aa, bb, r);
+                }
             }
             let hole = Hole { plane, aa, bb, r, clear: clear_cc, bottom: cc };
             self.cycle_body(motion, &hole, &params, line, canon)?;
-            old_cc = clear_cc;
         }
         let end = self.cycle_pose(plane, aa, bb, clear_cc);
         self.s.current = end;
-        self.s.cycle_k = cc_number;
+        self.s.cycle_cc = cc_number;
         if save_mode != MotionMode::ExactPath {
             canon.set_motion_control_mode(save_mode, save_tolerance);
             if save_mode == MotionMode::Continuous {
@@ -190,6 +216,13 @@ impl Interp {
                 if !same && block.p_number == -1.0 {
                     return Err(InterpError::CycleDwellMissing(motion / 10));
                 }
+                if block.p_number == -1.0 {
+                    block.p_number = self.s.cycle_p;
+                }
+                self.s.cycle_p = block.p_number;
+                params.dwell = block.p_number;
+            }
+            G_74 | G_84 => {
                 if block.p_number == -1.0 {
                     block.p_number = self.s.cycle_p;
                 }
@@ -240,10 +273,11 @@ impl Interp {
                 self.cycle_traverse(canon, line, plane, aa, bb, clear);
             }
             G_73 | G_83 => self.peck(motion, h, p.delta, line, canon)?,
-            G_74 | G_84 => self.tap(motion, h, line, canon)?,
+            G_74 | G_84 => self.tap(motion, h, p.dwell, line, canon)?,
             G_85 => {
                 self.cycle_feed(canon, line, plane, aa, bb, bottom);
-                self.cycle_feed(canon, line, plane, aa, bb, clear);
+                self.cycle_feed(canon, line, plane, aa, bb, r);
+                self.cycle_traverse(canon, line, plane, aa, bb, clear);
             }
             G_86 => {
                 let dir = self.spindle_turning_for(86)?;
@@ -259,14 +293,14 @@ impl Interp {
                 let middle = if p.middle_incremental { bottom + p.middle } else { p.middle };
                 self.cycle_traverse(canon, line, plane, oa, ob, r);
                 canon.stop_spindle_turning(0);
-                canon.orient_spindle(0, 0.0, if dir == Direction::Clockwise { 1 } else { 2 });
+                canon.orient_spindle(0, 0.0, canon_direction(dir));
                 self.cycle_traverse(canon, line, plane, oa, ob, bottom);
                 self.cycle_traverse(canon, line, plane, aa, bb, bottom);
                 start_spindle(canon, dir);
                 self.cycle_feed(canon, line, plane, aa, bb, middle);
                 self.cycle_feed(canon, line, plane, aa, bb, bottom);
                 canon.stop_spindle_turning(0);
-                canon.orient_spindle(0, 0.0, if dir == Direction::Clockwise { 1 } else { 2 });
+                canon.orient_spindle(0, 0.0, canon_direction(dir));
                 self.cycle_traverse(canon, line, plane, oa, ob, bottom);
                 self.cycle_traverse(canon, line, plane, oa, ob, clear);
                 self.cycle_traverse(canon, line, plane, aa, bb, clear);
@@ -304,7 +338,7 @@ impl Interp {
         while depth > bottom {
             self.cycle_feed(canon, line, plane, aa, bb, depth);
             if motion == G_83 {
-                self.cycle_traverse(canon, line, plane, aa, bb, clear);
+                self.cycle_traverse(canon, line, plane, aa, bb, r);
             }
             self.cycle_traverse(canon, line, plane, aa, bb, depth + rapid_delta);
             depth -= delta;
@@ -316,7 +350,7 @@ impl Interp {
 
     /// G74 (left hand) and G84 (right hand) tapping: feed in, reverse
     /// the spindle, feed out, restore it.
-    fn tap(&mut self, motion: i32, h: &Hole, line: i32, canon: &mut dyn Canon) -> Result<()> {
+    fn tap(&mut self, motion: i32, h: &Hole, dwell: f64, line: i32, canon: &mut dyn Canon) -> Result<()> {
         let turning = self.s.spindle_turning;
         if motion == G_84 && turning == Direction::CounterClockwise {
             return Err(InterpError::G84CounterClockwise);
@@ -325,17 +359,20 @@ impl Interp {
             return Err(InterpError::G74Clockwise);
         }
         if turning == Direction::Stopped {
-            return Err(InterpError::CycleSpindleNotTurning(motion / 10));
+            return Err(InterpError::TapSpindleNotTurning(motion / 10));
         }
         let Hole { plane, aa, bb, clear, bottom, .. } = *h;
         canon.disable_feed_override();
+        canon.disable_speed_override(0);
         self.cycle_feed(canon, line, plane, aa, bb, bottom);
         canon.stop_spindle_turning(0);
         start_spindle(canon, reverse(turning));
+        canon.dwell(dwell);
         self.cycle_feed(canon, line, plane, aa, bb, clear);
         canon.stop_spindle_turning(0);
         start_spindle(canon, turning);
         canon.enable_feed_override();
+        canon.enable_speed_override(0);
         Ok(())
     }
 
@@ -344,6 +381,39 @@ impl Interp {
             Direction::Stopped => Err(InterpError::CycleSpindleNotTurning(cycle)),
             d => Ok(d),
         }
+    }
+}
+
+/// One repeat's polar increments: the radius grows by `radius_inc`,
+/// then the angle by `theta_inc` (radians), about the origin.
+fn polar_step(aa: f64, bb: f64, radius_inc: f64, theta_inc: f64) -> Result<(f64, f64)> {
+    let (mut aa, mut bb) = (aa, bb);
+    if radius_inc != 0.0 {
+        if aa == 0.0 && bb == 0.0 {
+            return Err(InterpError::PolarIncrementalAtOrigin);
+        }
+        let theta = bb.atan2(aa);
+        let radius = bb.hypot(aa) + radius_inc;
+        (aa, bb) = (radius * theta.cos(), radius * theta.sin());
+    }
+    if theta_inc != 0.0 {
+        if aa == 0.0 && bb == 0.0 {
+            return Err(InterpError::PolarIncrementalAtOrigin);
+        }
+        let theta = bb.atan2(aa) + theta_inc;
+        let radius = bb.hypot(aa);
+        (aa, bb) = (radius * theta.cos(), radius * theta.sin());
+    }
+    Ok((aa, bb))
+}
+
+/// LinuxCNC's CANON_DIRECTION number (stopped 1, clockwise 2,
+/// counterclockwise 3), which ORIENT_SPINDLE prints in G87.
+fn canon_direction(d: Direction) -> i32 {
+    match d {
+        Direction::Stopped => 1,
+        Direction::Clockwise => 2,
+        Direction::CounterClockwise => 3,
     }
 }
 

@@ -447,6 +447,8 @@ pub enum InterpError {
     G87WordMissing(char),
     #[error("Spindle not turning in g{0}")]
     CycleSpindleNotTurning(i32),
+    #[error("Spindle not turning in G{0}")]
+    TapSpindleNotTurning(i32),
     #[error("Spindle turning clockwise in G74")]
     G74Clockwise,
     #[error("Spindle turning counterclockwise in G84")]

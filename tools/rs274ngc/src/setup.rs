@@ -89,6 +89,8 @@ pub struct Setup {
     pub cutter_comp_firstmove: bool,
     pub arc_not_allowed: bool,
     /// Remembered canned cycle words (modal between cycle blocks).
+    /// The last canned cycle's bottom (the third axis word).
+    pub cycle_cc: f64,
     pub cycle_i: f64,
     pub cycle_j: f64,
     pub cycle_k: f64,
@@ -167,6 +169,7 @@ impl Default for Setup {
             cutter_comp_orientation: 0,
             cutter_comp_firstmove: true,
             arc_not_allowed: false,
+            cycle_cc: 0.0,
             cycle_i: 0.0,
             cycle_j: 0.0,
             cycle_k: 0.0,

@@ -265,6 +265,11 @@ impl Interp {
             if check_exists {
                 return Ok(if found.is_some() { 1.0 } else { 0.0 });
             }
+            // While a subroutine is being defined (skipped over), its
+            // names need not exist yet.
+            if found.is_none() && self.flow.defining_sub {
+                return Ok(0.0);
+            }
             return found.ok_or(InterpError::NamedParameterUndefined(name));
         }
         let index = self.read_integer_value(line, counter)?;
