@@ -2,6 +2,7 @@
 //! (LinuxCNC's [RS274NGC] INI section and a few others). The library
 //! takes them as plain values; reading an INI file is the caller's job.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// Optional interpreter features ([RS274NGC]FEATURES bits).
@@ -66,6 +67,13 @@ pub struct Config {
     pub tool_change_with_spindle_on: bool,
     /// Added to M19 orientations, degrees.
     pub orient_offset: f64,
+    /// Closing a program does not reset the interpreter (LinuxCNC turns
+    /// this on whenever it has an INI file); the reset comes at exit.
+    pub lazy_close: bool,
+    /// The INI file's entries, `(section, key) -> value` as written, for
+    /// `#<_ini[section]key>` (FEATURES bit 2). The first of repeated
+    /// keys is kept.
+    pub ini_values: BTreeMap<(String, String), String>,
 }
 
 impl Default for Config {
@@ -85,6 +93,8 @@ impl Default for Config {
             tool_change_quill_up: false,
             tool_change_with_spindle_on: false,
             orient_offset: 0.0,
+            lazy_close: false,
+            ini_values: BTreeMap::new(),
         }
     }
 }

@@ -215,7 +215,9 @@ impl Interp {
     pub fn close(&mut self, canon: &mut dyn Canon) {
         self.source = None;
         self.s.percent_flag = false;
-        self.reset(canon);
+        if !self.config.lazy_close {
+            self.reset(canon);
+        }
     }
 
     /// Reset the reading state: leave any subroutine, stop skipping,

@@ -92,8 +92,25 @@ impl Interp {
             "_call_level" => self.flow.call_level as f64,
             "_remap_level" => 0.0,
             "_task" => 0.0,
-            _ => return None,
+            _ => return self.ini_param(name),
         })
+    }
+
+    /// `#<_ini[section]key>`: the INI value, read-only, when FEATURES
+    /// allows it; section and key are looked up in upper case.
+    fn ini_param(&self, name: &str) -> Option<f64> {
+        if !self.config.features.ini_vars || name.len() <= 7 {
+            return None;
+        }
+        let prefix = name.get(..5)?;
+        if !prefix.eq_ignore_ascii_case("_ini[") {
+            return None;
+        }
+        let close = name.get(6..)?.find(']')? + 6;
+        let upper = name.to_ascii_uppercase();
+        let key = (upper[5..close].to_string(), upper[close + 1..].to_string());
+        let value = self.config.ini_values.get(&key)?;
+        crate::cfmt::scan_double(value.trim()).map(|(v, _)| v)
     }
 
     /// The current position in machine coordinates (no offsets).

@@ -1,5 +1,4 @@
-//! The INI keys rs274 takes from `-i`: [RS274NGC] PARAMETER_FILE,
-//! SUBROUTINE_PATH, USER_M_PATH, FEATURES, tolerances, G92 persistence,
+//! The INI keys rs274 takes from `-i`: [RS274NGC] SUBROUTINE_PATH, USER_M_PATH, FEATURES, tolerances, G92 persistence,
 //! Fanuc subroutines, ORIENT_OFFSET; [EMCIO] tool change options and
 //! RANDOM_TOOLCHANGER; [DISPLAY]PROGRAM_PREFIX. The only use of the INI
 //! parser in this crate is here.
@@ -8,10 +7,6 @@ use std::path::{Path, PathBuf};
 
 use hal_tools::ini::Ini;
 use rs274ngc::{Config, Features};
-
-/// Why the INI file could not be used.
-#[derive(Debug)]
-pub struct IniProblem(pub String);
 
 /// Paths in a colon-separated list that exist, as absolute paths.
 fn path_list(value: &str) -> Vec<PathBuf> {
@@ -42,11 +37,18 @@ fn number(ini: &Ini, section: &str, key: &str) -> Option<f64> {
     ini.get(section, key).and_then(|v| v.trim().parse().ok())
 }
 
-/// Read the interpreter's options from an INI file into `config`.
-pub fn apply(path: &Path, config: &mut Config) -> Result<(), IniProblem> {
-    let ini = Ini::load(path).map_err(|e| IniProblem(format!("{}: {e}", path.display())))?;
-    if let Some(file) = ini.get("RS274NGC", "PARAMETER_FILE") {
-        config.parameter_file = Some(PathBuf::from(file.trim()));
+/// Read the interpreter's options from an INI file into `config`; false
+/// if the file cannot be read.
+pub fn apply(path: &Path, config: &mut Config) -> bool {
+    let Ok(ini) = Ini::load(path) else {
+        return false;
+    };
+    // Standalone rs274 takes its parameter file from -v only; LinuxCNC's
+    // [RS274NGC]PARAMETER_FILE is for task.
+    config.lazy_close = true;
+    for e in ini.entries() {
+        let key = (e.section.clone(), e.key.clone());
+        config.ini_values.entry(key).or_insert_with(|| e.value.clone());
     }
     if let Some(value) = ini.get("RS274NGC", "SUBROUTINE_PATH") {
         config.subroutine_path = path_list(value);
@@ -77,5 +79,5 @@ pub fn apply(path: &Path, config: &mut Config) -> Result<(), IniProblem> {
     config.tool_change_at_g30 = flag(&ini, "EMCIO", "TOOL_CHANGE_AT_G30");
     config.tool_change_quill_up = flag(&ini, "EMCIO", "TOOL_CHANGE_QUILL_UP");
     config.tool_change_with_spindle_on = flag(&ini, "EMCIO", "TOOL_CHANGE_WITH_SPINDLE_ON");
-    Ok(())
+    true
 }

@@ -52,21 +52,28 @@ fn report_error(error: &InterpError, interp: &Interp) {
     let _ = stderr.write_all(b"\n");
 }
 
-fn config_from(args: &Args) -> Result<Config, String> {
+fn config_from(args: &Args) -> Config {
     let mut config = Config::default();
     if let Some(ini) = &args.ini {
-        ini_config::apply(ini, &mut config).map_err(|e| e.0)?;
+        // As LinuxCNC: an INI file that cannot be opened is reported and
+        // the run goes on without it.
+        if !ini_config::apply(ini, &mut config) {
+            eprintln!("Unable to open inifile:{}:", ini.display());
+            config = Config::default();
+        }
     }
     if let Some(var) = &args.parameter_file {
         config.parameter_file = Some(var.clone());
     }
-    Ok(config)
+    config
 }
 
 /// The tool table, as rs274 reads it: a `-t` file that cannot be read
-/// gives an empty table (a bounded-read refusal is reported first);
-/// without `-t`, a missing default table ends the run silently (None).
-fn tool_entries(args: &Args) -> Option<Vec<rs274ngc::ToolEntry>> {
+/// gives an empty table (a bounded-read refusal is reported first), and
+/// so does a missing default table (LinuxCNC's packaged rs274 would end
+/// the run with no output there; an empty table lets programs without
+/// tools run, as they do where LinuxCNC's examples are installed).
+fn tool_entries(args: &Args) -> Vec<rs274ngc::ToolEntry> {
     let path = args
         .tool_table
         .clone()
@@ -76,14 +83,14 @@ fn tool_entries(args: &Args) -> Option<Vec<rs274ngc::ToolEntry>> {
             for w in &table.warnings {
                 eprint!("{w}");
             }
-            Some(table.entries)
+            table.entries
         }
-        Err(_) if args.tool_table.is_none() => None,
+        Err(_) if args.tool_table.is_none() => Vec::new(),
         Err(e) => {
             if !matches!(&e, InterpError::Io { .. }) {
                 eprintln!("{e}");
             }
-            Some(Vec::new())
+            Vec::new()
         }
     }
 }
@@ -102,10 +109,8 @@ fn user_m_codes(args: &Args, config: &Config) -> Vec<i32> {
 }
 
 fn run(args: &Args) -> Result<u8, String> {
-    let config = config_from(args)?;
-    let Some(tools) = tool_entries(args) else {
-        return Ok(1);
-    };
+    let config = config_from(args);
+    let tools = tool_entries(args);
     let out: Box<dyn Write> = match &args.output {
         Some(path) => match std::fs::File::create(path) {
             Ok(f) => Box::new(std::io::BufWriter::new(f)),
