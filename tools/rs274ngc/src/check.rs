@@ -1,7 +1,7 @@
 //! Checks on a block once read: which motion it will make, and whether
 //! its words fit together (LinuxCNC's enhance_block and check_items).
 
-use crate::block::{round_to_int, Block};
+use crate::block::{round_to_int, Block, OType};
 use crate::codes::*;
 use crate::error::{InterpError, Result};
 use crate::interp::Interp;
@@ -208,6 +208,7 @@ fn check_other_codes(block: &Block) -> Result<()> {
         && g0 != G_10
         && !matches!(g7, G_41 | G_41_1 | G_42 | G_42_1)
         && m5 != 66
+        && block.o_type != OType::M98
     {
         return Err(InterpError::LWordUnused);
     }
@@ -274,7 +275,9 @@ fn check_p_word(block: &Block, motion: i32) -> Result<()> {
         || matches!(motion, G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2)
         || matches!(m9, 50..=53)
         || matches!(m5, 62..=66)
-        || block.m_modes[7] == 19;
+        || block.m_modes[7] == 19
+        || block.o_type == OType::M98
+        || block.user_m;
     if !used {
         return Err(InterpError::PWordUnused);
     }

@@ -70,6 +70,9 @@ pub struct Config {
     /// Closing a program does not reset the interpreter (LinuxCNC turns
     /// this on whenever it has an INI file); the reset comes at exit.
     pub lazy_close: bool,
+    /// M99 in the main program starts it over (task); when false it ends
+    /// the program as M2 does (standalone rs274).
+    pub loop_on_main_m99: bool,
     /// The INI file's entries, `(section, key) -> value` as written, for
     /// `#<_ini[section]key>` (FEATURES bit 2). The first of repeated
     /// keys is kept.
@@ -94,6 +97,7 @@ impl Default for Config {
             tool_change_with_spindle_on: false,
             orient_offset: 0.0,
             lazy_close: false,
+            loop_on_main_m99: false,
             ini_values: BTreeMap::new(),
         }
     }

@@ -1,5 +1,6 @@
 //! Stopping codes: M0, M1, M60 (pause), M2, M30 (end and reset the
-//! modes LinuxCNC resets), M99 at the top level (loop the program).
+//! modes LinuxCNC resets), M99 at the top level (loop the program in
+//! task, end it in standalone rs274).
 
 use crate::block::Block;
 use crate::canon::{Canon, Plane};
@@ -23,7 +24,7 @@ impl Interp {
                 canon.program_stop();
             }
             1 => canon.optional_program_stop(),
-            99 => {
+            99 if self.config.loop_on_main_m99 => {
                 if let Some(source) = self.source.as_mut() {
                     source.seek(0)?;
                     self.s.sequence_number = 0;

@@ -369,6 +369,10 @@ impl Interp {
                 self.clean = close_and_downcase(&self.raw_line)?;
                 if self.clean.bytes == b"%" && self.s.percent_flag {
                     canon.finish();
+                    let skipping = self.flow.skipping_o.clone().or_else(|| self.flow.skipping_to_sub.clone());
+                    if let Some(name) = skipping {
+                        return Err(InterpError::SubNotFoundBeforeEof(name));
+                    }
                     return Ok(Status::EndFile);
                 }
             }
