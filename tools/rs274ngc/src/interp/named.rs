@@ -12,6 +12,16 @@ use crate::setup::{DistanceMode, FeedMode, RetractMode, Side, SpindleMode};
 const VERSION_MAJOR: f64 = 2.9;
 const VERSION_MINOR: f64 = 0.0;
 
+/// The pocket (P) of the tool table entry at `index`; a negative index
+/// (nothing selected) as it is.
+fn pocket_number(s: &crate::setup::Setup, index: i32) -> f64 {
+    if index < 0 {
+        f64::from(index)
+    } else {
+        f64::from(s.tool(index).pocketno)
+    }
+}
+
 impl Interp {
     /// The value of a predefined read-only parameter, if `name` is one.
     fn predefined(&self, name: &str) -> Option<f64> {
@@ -69,8 +79,8 @@ impl Interp {
             "_feed" => s.feed_rate,
             "_rpm" => s.speed.abs(),
             "_current_tool" => s.tool(0).toolno as f64,
-            "_current_pocket" => s.current_pocket as f64,
-            "_selected_pocket" => s.selected_pocket as f64,
+            "_current_pocket" => pocket_number(s, s.current_pocket),
+            "_selected_pocket" => pocket_number(s, s.selected_pocket),
             "_selected_tool" => s.selected_tool as f64,
             "_x" => s.current.x,
             "_y" => s.current.y,
