@@ -511,6 +511,8 @@ pub enum InterpError {
     SubIllegalLocation(String, i32, String),
     #[error("File:{0} line:{1} redefining sub: o|{2}| already defined in file:{3}")]
     SubRedefined(String, i32, String, String),
+    #[error("the program has not ended after {0} blocks (an endless loop?)")]
+    DoesNotEnd(usize),
     #[error("Failed to find sub 'O{0}' before EOF")]
     SubNotFoundBeforeEof(String),
     #[error("EOF in file:{0} seeking o-word: o<{1}> from line: {2}")]

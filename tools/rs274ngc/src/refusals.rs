@@ -6,10 +6,15 @@ use std::path::Path;
 use crate::config::Config;
 use crate::error::InterpError;
 use crate::interp::{Interp, Location, Status};
+use crate::canon::ToolEntry;
 use crate::print_canon::PrintCanon;
 
 /// Stop after this many refusals (a program of garbage has one per line).
 const MAX_REFUSALS: usize = 1000;
+
+/// Blocks [`list_refusals`] runs before giving up on a program that does
+/// not end (an endless loop).
+pub const MAX_CHECKED_BLOCKS: usize = 5_000_000;
 
 /// One refusal: where, and why.
 #[derive(Debug)]
@@ -26,54 +31,84 @@ impl std::fmt::Display for Refusal {
     }
 }
 
-/// Interpret the program at `path` without output and list every
-/// refusal, earliest first; interpretation continues after each (the
-/// refused line is skipped, as rs274 -n 0 does).
-pub fn list_refusals(path: &Path, config: Config, tools: Vec<crate::canon::ToolEntry>) -> Vec<Refusal> {
-    let mut canon = PrintCanon::new(None, tools);
-    let mut interp = Interp::new(Config {
-        parameter_file: None,
-        ..config
-    });
-    let mut refusals = Vec::new();
-    let push = |refusals: &mut Vec<Refusal>, interp: &Interp, error: InterpError| {
-        let mut location = interp.error_location();
-        if location.file.as_os_str().is_empty() {
-            location.file = path.to_path_buf();
-        }
-        refusals.push(Refusal { location, error });
+/// Every refusal of the program at `path`, run to its end against a canon
+/// that moves nothing (parameters are not saved), sorted by file, line
+/// and column, each place and text once. `tools` is the tool table.
+pub fn list_refusals(path: &Path, config: Config, tools: Vec<ToolEntry>) -> Vec<Refusal> {
+    list_refusals_within(path, config, tools, MAX_CHECKED_BLOCKS)
+}
+
+/// [`list_refusals`] running at most `max_blocks` blocks; a program still
+/// running then gets a last refusal saying so.
+pub fn list_refusals_within(path: &Path, config: Config, tools: Vec<ToolEntry>, max_blocks: usize) -> Vec<Refusal> {
+    let mut run = Run {
+        path,
+        canon: PrintCanon::new(None, tools),
+        interp: Interp::new(Config {
+            parameter_file: None,
+            ..config
+        }),
+        refusals: Vec::new(),
     };
-    if let Err(e) = interp.init(&mut canon) {
-        push(&mut refusals, &interp, e);
-        return refusals;
+    run.to_end(max_blocks);
+    let mut refusals = run.refusals;
+    refusals.sort_by(|a, b| {
+        let key = |r: &Refusal| (r.location.file.clone(), r.location.line, r.location.column);
+        key(a).cmp(&key(b))
+    });
+    refusals.dedup_by(|a, b| a.location == b.location && a.error.to_string() == b.error.to_string());
+    refusals
+}
+
+struct Run<'a> {
+    path: &'a Path,
+    canon: PrintCanon,
+    interp: Interp,
+    refusals: Vec<Refusal>,
+}
+
+impl Run<'_> {
+    fn push(&mut self, error: InterpError) {
+        let mut location = self.interp.error_location();
+        if location.file.as_os_str().is_empty() {
+            location.file = self.path.to_path_buf();
+        }
+        self.refusals.push(Refusal { location, error });
     }
-    if let Err(e) = interp.open(path, &mut canon) {
-        push(&mut refusals, &interp, e);
-        return refusals;
-    }
-    let mut last_line = -1;
-    while refusals.len() < MAX_REFUSALS {
-        match interp.read(&mut canon) {
-            Ok(Status::EndFile) => break,
-            Ok(_) => {}
-            Err(e) => {
-                let line = interp.sequence_number();
-                let end = matches!(e, InterpError::NoPercentAtEnd | InterpError::NoPercentOrEnd)
-                    || matches!(e, InterpError::Io { .. })
-                    || line == last_line;
-                push(&mut refusals, &interp, e);
-                last_line = line;
-                if end {
-                    break;
+
+    fn to_end(&mut self, max_blocks: usize) {
+        if let Err(e) = self.interp.init(&mut self.canon) {
+            return self.push(e);
+        }
+        if let Err(e) = self.interp.open(self.path, &mut self.canon) {
+            return self.push(e);
+        }
+        let mut last_line = -1;
+        for _ in 0..max_blocks {
+            if self.refusals.len() >= MAX_REFUSALS {
+                return;
+            }
+            match self.interp.read(&mut self.canon) {
+                Ok(Status::EndFile) => return,
+                Ok(_) => {}
+                Err(e) => {
+                    let line = self.interp.sequence_number();
+                    let end = matches!(e, InterpError::NoPercentAtEnd | InterpError::NoPercentOrEnd | InterpError::Io { .. })
+                        || line == last_line;
+                    self.push(e);
+                    last_line = line;
+                    if end {
+                        return;
+                    }
+                    continue;
                 }
-                continue;
+            }
+            match self.interp.execute(&mut self.canon) {
+                Ok(Status::Exit) => return,
+                Ok(_) => {}
+                Err(e) => self.push(e),
             }
         }
-        match interp.execute(&mut canon) {
-            Ok(Status::Exit) => break,
-            Ok(_) => {}
-            Err(e) => push(&mut refusals, &interp, e),
-        }
+        self.push(InterpError::DoesNotEnd(max_blocks));
     }
-    refusals
 }

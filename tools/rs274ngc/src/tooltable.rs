@@ -123,28 +123,30 @@ fn parse_line(line: &str) -> Option<Option<ToolEntry>> {
             continue;
         }
         any = true;
-        let (letter, value) = token.split_at(1);
+        let mut chars = token.chars();
+        let letter = chars.next().map(|c| c.to_ascii_uppercase()).unwrap_or(' ');
+        let value = chars.as_str();
         let real = || scan_double(value).map(|(v, _)| v);
         let int = || scan_int_len(value).and_then(|n| value[..n].parse::<i32>().ok());
-        match letter.to_ascii_uppercase().as_str() {
-            "T" => entry.toolno = int()?,
-            "P" => {
+        match letter {
+            'T' => entry.toolno = int()?,
+            'P' => {
                 entry.pocketno = int()?;
                 has_pocket = true;
             }
-            "D" => entry.diameter = real()?,
-            "X" => entry.offset.x = real()?,
-            "Y" => entry.offset.y = real()?,
-            "Z" => entry.offset.z = real()?,
-            "A" => entry.offset.a = real()?,
-            "B" => entry.offset.b = real()?,
-            "C" => entry.offset.c = real()?,
-            "U" => entry.offset.u = real()?,
-            "V" => entry.offset.v = real()?,
-            "W" => entry.offset.w = real()?,
-            "I" => entry.frontangle = real()?,
-            "J" => entry.backangle = real()?,
-            "Q" => entry.orientation = int()?,
+            'D' => entry.diameter = real()?,
+            'X' => entry.offset.x = real()?,
+            'Y' => entry.offset.y = real()?,
+            'Z' => entry.offset.z = real()?,
+            'A' => entry.offset.a = real()?,
+            'B' => entry.offset.b = real()?,
+            'C' => entry.offset.c = real()?,
+            'U' => entry.offset.u = real()?,
+            'V' => entry.offset.v = real()?,
+            'W' => entry.offset.w = real()?,
+            'I' => entry.frontangle = real()?,
+            'J' => entry.backangle = real()?,
+            'Q' => entry.orientation = int()?,
             _ => return None,
         }
     }

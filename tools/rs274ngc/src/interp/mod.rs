@@ -515,7 +515,7 @@ impl Interp {
     pub fn error_location(&self) -> Location {
         Location {
             file: PathBuf::from(&self.filename),
-            line: self.s.sequence_number.max(0) as usize,
+            line: self.s.sequence_number.max(1) as usize,
             column: self.clean.column(self.item_start),
             word: self.refused_word.clone().unwrap_or_else(|| self.word_at_item()),
         }
