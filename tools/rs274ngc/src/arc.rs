@@ -142,9 +142,15 @@ impl Interp {
     /// in program units.
     pub(crate) fn arc_tolerances(&self) -> (f64, f64) {
         if self.s.length_units == crate::canon::Units::Inches {
-            (RADIUS_TOLERANCE_INCH, self.config.center_arc_radius_tolerance_inch)
+            (
+                RADIUS_TOLERANCE_INCH,
+                self.config.center_arc_radius_tolerance_inch,
+            )
         } else {
-            (RADIUS_TOLERANCE_MM, self.config.center_arc_radius_tolerance_mm)
+            (
+                RADIUS_TOLERANCE_MM,
+                self.config.center_arc_radius_tolerance_mm,
+            )
         }
     }
 
@@ -185,8 +191,18 @@ mod tests {
     fn quarter_circle_by_radius_and_offsets_agree() {
         let (c, t) = arc_data_r(G_3, Plane::Xy, (1.0, 0.0), (0.0, 1.0), 1.0, 1, 0.001).unwrap();
         assert!((c.0).abs() < 1e-12 && (c.1).abs() < 1e-12 && t == 1);
-        let (c2, t2) =
-            arc_data_ijk(G_2, Plane::Xy, (1.0, 0.0), (0.0, 1.0), false, (-1.0, 0.0), 2, 0.001, 0.01).unwrap();
+        let (c2, t2) = arc_data_ijk(
+            G_2,
+            Plane::Xy,
+            (1.0, 0.0),
+            (0.0, 1.0),
+            false,
+            (-1.0, 0.0),
+            2,
+            0.001,
+            0.01,
+        )
+        .unwrap();
         assert_eq!((c2, t2), ((0.0, 0.0), -2));
     }
 
@@ -196,17 +212,35 @@ mod tests {
         assert_eq!(e.to_string(), "Current point same as end point of arc");
         let e = arc_data_r(G_2, Plane::Xy, (0.0, 0.0), (5.0, 0.0), 1.0, 1, 0.001).unwrap_err();
         assert_eq!(e.to_string(), "Arc radius too small to reach end point");
-        let e = arc_data_ijk(G_2, Plane::Xy, (0.0, 0.0), (3.0, 0.0), false, (1.0, 0.0), 1, 0.001, 0.01)
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("Radius to end of arc differs from radius to start: start=(X0.0000,Y0.0000)"), "{e}");
+        let e = arc_data_ijk(
+            G_2,
+            Plane::Xy,
+            (0.0, 0.0),
+            (3.0, 0.0),
+            false,
+            (1.0, 0.0),
+            1,
+            0.001,
+            0.01,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.starts_with(
+                "Radius to end of arc differs from radius to start: start=(X0.0000,Y0.0000)"
+            ),
+            "{e}"
+        );
         assert!(e.ends_with("abs_err=1 rel_err=50.0000%"), "{e}");
     }
 
     #[test]
     fn half_pi_steps_round_once() {
         // π/2 in double is a little short of π/2; long double sees it.
-        assert_eq!(minus_half_pi(std::f64::consts::FRAC_PI_2), -6.123233995736766e-17);
+        assert_eq!(
+            minus_half_pi(std::f64::consts::FRAC_PI_2),
+            -6.123233995736766e-17
+        );
         assert_eq!(plus_half_pi(0.0), std::f64::consts::FRAC_PI_2);
     }
 }

@@ -85,8 +85,16 @@ pub fn scan_double(s: &str) -> Option<(f64, usize)> {
     let lower = s[i..].to_ascii_lowercase();
     for word in ["infinity", "inf", "nan"] {
         if lower.starts_with(word) {
-            let value: f64 = if word == "nan" { f64::NAN } else { f64::INFINITY };
-            let value = if bytes.first() == Some(&b'-') { -value } else { value };
+            let value: f64 = if word == "nan" {
+                f64::NAN
+            } else {
+                f64::INFINITY
+            };
+            let value = if bytes.first() == Some(&b'-') {
+                -value
+            } else {
+                value
+            };
             return Some((value, i + word.len()));
         }
     }
@@ -94,7 +102,10 @@ pub fn scan_double(s: &str) -> Option<(f64, usize)> {
     let mut j = i + int_digits;
     let mut frac_digits = 0;
     if bytes.get(j) == Some(&b'.') {
-        frac_digits = bytes[j + 1..].iter().take_while(|b| b.is_ascii_digit()).count();
+        frac_digits = bytes[j + 1..]
+            .iter()
+            .take_while(|b| b.is_ascii_digit())
+            .count();
         j += 1 + frac_digits;
     }
     if int_digits + frac_digits == 0 {

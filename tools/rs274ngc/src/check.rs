@@ -46,7 +46,10 @@ impl Interp {
                     return Err(InterpError::TwoAxisGCodes);
                 }
                 let may_lack_axes = matches!(mode1, G_0 | G_1 | G_2 | G_3 | G_5_2)
-                    || matches!(mode1, G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2);
+                    || matches!(
+                        mode1,
+                        G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2
+                    );
                 if !axis && !polar && !may_lack_axes {
                     return Err(InterpError::AxesMissingMotion);
                 }
@@ -120,10 +123,8 @@ impl Interp {
                     return Err(InterpError::G10PRangeTool(l));
                 }
             }
-            G_5_3 => {
-                if mode1 != G_5_2 && mode1 != -1 {
-                    return Err(InterpError::NurbsInterrupted);
-                }
+            G_5_3 if mode1 != G_5_2 && mode1 != -1 => {
+                return Err(InterpError::NurbsInterrupted);
             }
             G_53 => {
                 if block.motion_to_be != G_0 && block.motion_to_be != G_1 {
@@ -158,7 +159,10 @@ fn check_other_codes(block: &Block) -> Result<()> {
         return Err(InterpError::CInCycle);
     }
     let g7 = block.g_modes[GM_CUTTER_COMP];
-    let lathe_cycle = matches!(motion, G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2);
+    let lathe_cycle = matches!(
+        motion,
+        G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2
+    );
     if block.d_flag
         && !matches!(g7, G_41 | G_42 | G_41_1 | G_42_1)
         && block.g_modes[GM_SPINDLE_MODE] != G_96
@@ -176,7 +180,7 @@ fn check_other_codes(block: &Block) -> Result<()> {
         return Err(InterpError::DollarUnused);
     }
     let m5 = block.m_modes[5];
-    if block.e_flag && motion != G_76 && motion != G_70 && !matches!(m5, 66 | 67 | 68) {
+    if block.e_flag && motion != G_76 && motion != G_70 && !matches!(m5, 66..=68) {
         return Err(InterpError::EWordUnused);
     }
     let g8 = block.g_modes[GM_TOOL_LENGTH_OFFSET];
@@ -193,13 +197,15 @@ fn check_other_codes(block: &Block) -> Result<()> {
     {
         return Err(InterpError::IWordUnused);
     }
-    if block.j_flag && !arc_or_spline && !matches!(motion, G_76 | G_87) && g0 != G_10 && !lathe_cycle {
-        return Err(InterpError::JWordUnused);
-    }
-    if block.k_flag
-        && !matches!(motion, G_2 | G_3 | G_33 | G_33_1 | G_76 | G_87)
+    if block.j_flag
+        && !arc_or_spline
+        && !matches!(motion, G_76 | G_87)
+        && g0 != G_10
         && !lathe_cycle
     {
+        return Err(InterpError::JWordUnused);
+    }
+    if block.k_flag && !matches!(motion, G_2 | G_3 | G_33 | G_33_1 | G_76 | G_87) && !lathe_cycle {
         return Err(InterpError::KWordUnused);
     }
     // G74 takes no L (LinuxCNC's check predates it).
@@ -215,10 +221,19 @@ fn check_other_codes(block: &Block) -> Result<()> {
     if block.p_flag {
         check_p_word(block, motion)?;
     }
+    check_q_r_and_threading(block, cycle, lathe_cycle)
+}
+
+/// The Q, R and S words and G33/G76's own words.
+fn check_q_r_and_threading(block: &Block, cycle: bool, lathe_cycle: bool) -> Result<()> {
+    let motion = block.motion_to_be;
+    let g0 = block.g_modes[GM_MODAL_0];
+    let g7 = block.g_modes[GM_CUTTER_COMP];
+    let m5 = block.m_modes[5];
     if block.q_number != -1.0
         && !matches!(motion, G_83 | G_73 | G_5 | G_76)
         && !lathe_cycle
-        && !matches!(m5, 66 | 67 | 68)
+        && !matches!(m5, 66..=68)
         && g0 != G_10
         && block.m_modes[6] != 61
         && block.g_modes[GM_CONTROL_MODE] != G_64

@@ -120,9 +120,10 @@ pub fn g_group(code: i32) -> Option<usize> {
     let group = match code {
         G_4 | G_10 | G_28 | G_28_1 | G_30 | G_30_1 | G_52 | G_53 | G_92 | G_92_1 | G_92_2
         | G_92_3 | G_5_3 => GM_MODAL_0,
-        G_0 | G_1 | G_2 | G_3 | G_5 | G_5_1 | G_5_2 | G_33 | G_33_1 | G_38_2 | G_38_3
-        | G_38_4 | G_38_5 | G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2 | G_73
-        | G_74 | G_76 => GM_MOTION,
+        G_0 | G_1 | G_2 | G_3 | G_5 | G_5_1 | G_5_2 | G_33 | G_33_1 | G_38_2 | G_38_3 | G_38_4
+        | G_38_5 | G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2 | G_73 | G_74 | G_76 => {
+            GM_MOTION
+        }
         G_80..=G_89 if code % 10 == 0 => GM_MOTION,
         G_17 | G_17_1 | G_18 | G_18_1 | G_19 | G_19_1 => GM_SET_PLANE,
         G_90 | G_91 => GM_DISTANCE_MODE,
@@ -145,10 +146,10 @@ pub fn g_group(code: i32) -> Option<usize> {
 pub fn m_group(code: i32) -> Option<usize> {
     let group = match code {
         0 | 1 | 2 | 30 | 60 | 99 => 4,
-        62..=65 | 66 | 67 | 68 => 5,
+        62..=68 => 5,
         6 | 61 => 6,
         3 | 4 | 5 | 19 | 70..=73 => 7,
-        7 | 8 | 9 => 8,
+        7..=9 => 8,
         48..=53 => 9,
         100..=199 => 10,
         _ => return None,

@@ -178,13 +178,18 @@ impl Interp {
     }
 
     /// Execute an O-word line.
-    pub(crate) fn convert_control_functions(&mut self, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_control_functions(
+        &mut self,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if let Some(skip) = &self.flow.skipping_o {
             if *skip != block.o_name {
                 return Ok(());
             }
         }
-        if self.flow.skipping_to_sub.is_some() && !matches!(block.o_type, OType::Sub | OType::Fanuc) {
+        if self.flow.skipping_to_sub.is_some() && !matches!(block.o_type, OType::Sub | OType::Fanuc)
+        {
             return Ok(());
         }
         match block.o_type {
@@ -240,14 +245,18 @@ impl Interp {
             return Err(InterpError::M99Bug);
         }
         if self.flow.call_level == 0 && self.flow.sub_name.is_none() {
-            return Err(InterpError::StandaloneReturn(self.s.sequence_number, self.line_text_lossy()));
+            return Err(InterpError::StandaloneReturn(
+                self.s.sequence_number,
+                self.line_text_lossy(),
+            ));
         }
         let level = self.flow.call_level;
         let call_type = self.flow.contexts[level].call_type;
         if call_type == CallType::M98Sub && block.o_type != OType::M99 {
             return Err(InterpError::FanucSubNeedsM99);
         }
-        if call_type == CallType::OwordSub && !matches!(block.o_type, OType::Endsub | OType::Return) {
+        if call_type == CallType::OwordSub && !matches!(block.o_type, OType::Endsub | OType::Return)
+        {
             return Err(InterpError::SubNeedsEndsub);
         }
         if self.flow.skipping_o.is_some() && block.o_type == OType::Endsub {
@@ -334,7 +343,8 @@ impl Interp {
             let saved: Vec<f64> = (1..=SUB_PARAMS).map(|i| self.params.get(i)).collect();
             self.flow.contexts[previous].saved_params = saved;
             for i in 0..SUB_PARAMS {
-                self.params.set(i + 1, block.params.get(i).copied().unwrap_or(0.0));
+                self.params
+                    .set(i + 1, block.params.get(i).copied().unwrap_or(0.0));
             }
         }
         let position = self.source.as_ref().map(|s| s.tell());
@@ -368,7 +378,12 @@ impl Interp {
     /// Jump to a label: seek to it if known, else open `name.ngc` from
     /// the subroutine path (or keep reading this file) and skip to it.
     fn control_back_to(&mut self, block: &Block) -> Result<()> {
-        let name = block.o_name.rsplit('/').next().unwrap_or(&block.o_name).to_string();
+        let name = block
+            .o_name
+            .rsplit('/')
+            .next()
+            .unwrap_or(&block.o_name)
+            .to_string();
         if let Some(label) = self.flow.labels.get(&name).cloned() {
             if label.filename != self.filename {
                 let source = Source::open(Path::new(&label.filename))
@@ -383,7 +398,8 @@ impl Interp {
             return Ok(());
         }
         if let Some(path) = self.find_ngc_file(&block.o_name) {
-            let source = Source::open(&path).map_err(|_| InterpError::UnableToOpenFile(block.o_name.clone()))?;
+            let source = Source::open(&path)
+                .map_err(|_| InterpError::UnableToOpenFile(block.o_name.clone()))?;
             self.s.sequence_number = 0;
             self.source = Some(source);
             self.filename = path.display().to_string();
@@ -419,7 +435,11 @@ impl Interp {
         }
         self.flow.skipping_o = None;
         let test = self.flow.test_value;
-        let label = self.flow.labels.get_mut(&block.o_name).ok_or(InterpError::UnknownOwordNumber)?;
+        let label = self
+            .flow
+            .labels
+            .get_mut(&block.o_name)
+            .ok_or(InterpError::UnknownOwordNumber)?;
         if label.o_type != block.o_type {
             return Ok(());
         }
@@ -439,7 +459,8 @@ impl Interp {
     fn control_while(&mut self, block: &Block) -> Result<()> {
         match self.find_label(&block.o_name) {
             Some(label) => {
-                if label.o_type != OType::Do && self.s.sequence_number != label.sequence_number + 1 {
+                if label.o_type != OType::Do && self.s.sequence_number != label.sequence_number + 1
+                {
                     return Err(InterpError::DuplicateLoopLabel(
                         self.s.sequence_number,
                         self.line_text_lossy(),
@@ -490,7 +511,10 @@ impl Interp {
     /// The label of an `elseif`/`else`/`endif`, checked to be an `if`.
     fn if_label(&self, block: &Block) -> Result<()> {
         let Some(label) = self.find_label(&block.o_name) else {
-            return Err(InterpError::UndefinedOLabel(self.s.sequence_number, self.line_text_lossy()));
+            return Err(InterpError::UndefinedOLabel(
+                self.s.sequence_number,
+                self.line_text_lossy(),
+            ));
         };
         if label.o_type != OType::If {
             return Err(if block.o_type == OType::Endif {
@@ -548,7 +572,10 @@ impl Interp {
 
     fn loop_label(&self, block: &Block) -> Result<OType> {
         let Some(label) = self.find_label(&block.o_name) else {
-            return Err(InterpError::UndefinedOLabel(self.s.sequence_number, self.line_text_lossy()));
+            return Err(InterpError::UndefinedOLabel(
+                self.s.sequence_number,
+                self.line_text_lossy(),
+            ));
         };
         Ok(label.o_type)
     }
@@ -564,7 +591,9 @@ impl Interp {
                 label.sequence_number + 1,
             ));
         }
-        if block.o_type == OType::Continue && self.flow.skipping_o.as_deref() == Some(block.o_name.as_str()) {
+        if block.o_type == OType::Continue
+            && self.flow.skipping_o.as_deref() == Some(block.o_name.as_str())
+        {
             return Ok(());
         }
         self.flow.skipping_o = Some(block.o_name.clone());

@@ -9,6 +9,7 @@ use crate::block::Block;
 use crate::canon::{Canon, Direction, MotionMode, Plane, Pose, Units};
 use crate::codes::*;
 use crate::error::{InterpError, Result};
+use crate::find::d2r;
 use crate::interp::Interp;
 use crate::setup::{DistanceMode, FeedMode, RetractMode, Side};
 
@@ -25,9 +26,24 @@ struct PlaneAxes {
 
 fn plane_axes(plane: Plane) -> Option<PlaneAxes> {
     match plane {
-        Plane::Xy => Some(PlaneAxes { plane, third: 'Z', third_lower: "z", name: "xy" }),
-        Plane::Yz => Some(PlaneAxes { plane, third: 'X', third_lower: "x", name: "yz" }),
-        Plane::Xz => Some(PlaneAxes { plane, third: 'Y', third_lower: "y", name: "xz" }),
+        Plane::Xy => Some(PlaneAxes {
+            plane,
+            third: 'Z',
+            third_lower: "z",
+            name: "xy",
+        }),
+        Plane::Yz => Some(PlaneAxes {
+            plane,
+            third: 'X',
+            third_lower: "x",
+            name: "yz",
+        }),
+        Plane::Xz => Some(PlaneAxes {
+            plane,
+            third: 'Y',
+            third_lower: "y",
+            name: "xz",
+        }),
         _ => None,
     }
 }
@@ -48,21 +64,47 @@ impl Interp {
             Plane::Xz => (bb, cc, aa),
             _ => (aa, bb, cc),
         };
-        Pose { x, y, z, ..self.s.current }
+        Pose {
+            x,
+            y,
+            z,
+            ..self.s.current
+        }
     }
 
-    fn cycle_feed(&mut self, canon: &mut dyn Canon, line: i32, plane: Plane, aa: f64, bb: f64, cc: f64) {
+    fn cycle_feed(
+        &mut self,
+        canon: &mut dyn Canon,
+        line: i32,
+        plane: Plane,
+        aa: f64,
+        bb: f64,
+        cc: f64,
+    ) {
         let p = self.cycle_pose(plane, aa, bb, cc);
         canon.straight_feed(line, &p);
     }
 
-    fn cycle_traverse(&mut self, canon: &mut dyn Canon, line: i32, plane: Plane, aa: f64, bb: f64, cc: f64) {
+    fn cycle_traverse(
+        &mut self,
+        canon: &mut dyn Canon,
+        line: i32,
+        plane: Plane,
+        aa: f64,
+        bb: f64,
+        cc: f64,
+    ) {
         let p = self.cycle_pose(plane, aa, bb, cc);
         canon.straight_traverse(line, &p);
     }
 
     /// A canned cycle block.
-    pub(crate) fn convert_cycle(&mut self, motion: i32, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_cycle(
+        &mut self,
+        motion: i32,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.feed_rate == 0.0 {
             return Err(InterpError::CycleZeroFeed);
         }
@@ -90,7 +132,11 @@ impl Interp {
                 "canned cycles in the UV, UW and VW planes are not supported",
             ));
         };
-        for (flag, word) in [(block.u_flag, "a U"), (block.v_flag, "a V"), (block.w_flag, "a W")] {
+        for (flag, word) in [
+            (block.u_flag, "a U"),
+            (block.v_flag, "a V"),
+            (block.w_flag, "a W"),
+        ] {
             if flag {
                 return Err(InterpError::CycleAxisInPlane(word, axes.name));
             }
@@ -102,7 +148,13 @@ impl Interp {
         Ok(())
     }
 
-    fn convert_cycle_plane(&mut self, motion: i32, block: &mut Block, axes: &PlaneAxes, canon: &mut dyn Canon) -> Result<()> {
+    fn convert_cycle_plane(
+        &mut self,
+        motion: i32,
+        block: &mut Block,
+        axes: &PlaneAxes,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let plane = axes.plane;
         let (cc_flag, cc_word) = match plane {
             Plane::Yz => (block.x_flag, block.x_number),
@@ -121,41 +173,8 @@ impl Interp {
             self.s.cycle_il_flag = true;
             cur_cc
         };
-        let (aa_flag, aa_word, bb_flag, bb_word) = match plane {
-            Plane::Yz => (block.y_flag, block.y_number, block.z_flag, block.z_number),
-            Plane::Xz => (block.z_flag, block.z_number, block.x_flag, block.x_number),
-            _ => (block.x_flag, block.x_number, block.y_flag, block.y_number),
-        };
-        let (mut aa, mut bb, r, cc, aa_inc, bb_inc);
-        let (mut radius_inc, mut theta_inc) = (0.0, 0.0);
-        if self.s.distance_mode == DistanceMode::Absolute {
-            (aa_inc, bb_inc) = (0.0, 0.0);
-            r = block.r_number;
-            cc = cc_number;
-            if block.radius_flag || block.theta_flag {
-                // Polar words are for G17 only (checked earlier).
-                let radius = if block.radius_flag { block.radius } else { cur_bb.hypot(cur_aa) };
-                let theta = if block.theta_flag { crate::find::d2r(block.theta) } else { cur_bb.atan2(cur_aa) };
-                aa = radius * theta.cos();
-                bb = radius * theta.sin();
-            } else {
-                aa = if aa_flag { aa_word } else { cur_aa };
-                bb = if bb_flag { bb_word } else { cur_bb };
-            }
-        } else {
-            aa_inc = if aa_flag { aa_word } else { 0.0 };
-            bb_inc = if bb_flag { bb_word } else { 0.0 };
-            if block.radius_flag {
-                radius_inc = block.radius;
-            }
-            if block.theta_flag {
-                theta_inc = crate::find::d2r(block.theta);
-            }
-            r = block.r_number + old_cc;
-            cc = r + cc_number;
-            aa = cur_aa;
-            bb = cur_bb;
-        }
+        let layout = self.cycle_layout(block, plane, cc_number, old_cc);
+        let Layout { r, cc, .. } = layout;
         if r < cc {
             return Err(InterpError::CycleRBelow(axes.third_lower, axes.name));
         }
@@ -167,17 +186,113 @@ impl Interp {
             old_cc = r;
             current_cc = r;
         }
-        let clear_cc = if self.s.retract_mode == RetractMode::RPlane { r } else { old_cc };
+        let clear_cc = if self.s.retract_mode == RetractMode::RPlane {
+            r
+        } else {
+            old_cc
+        };
         let (save_mode, save_tolerance) = canon.motion_control_mode();
         if save_mode != MotionMode::ExactPath {
             canon.set_motion_control_mode(MotionMode::ExactPath, 0.0);
         }
         let params = self.cycle_parameters(motion, block)?;
+        let heights = (current_cc, clear_cc);
+        let (aa, bb) = self.cycle_repeats(motion, block, &layout, heights, &params, canon)?;
+        let end = self.cycle_pose(plane, aa, bb, clear_cc);
+        self.s.current = end;
+        self.s.cycle_cc = cc_number;
+        if save_mode != MotionMode::ExactPath {
+            canon.set_motion_control_mode(save_mode, save_tolerance);
+            if save_mode == MotionMode::Continuous {
+                let naive = self.s.naivecam_tolerance;
+                canon.set_naivecam_tolerance(naive);
+            }
+        }
+        Ok(())
+    }
+
+    /// Where the holes go: the first position (or the start of the
+    /// increments), R, the bottom, and the per-repeat increments, from the
+    /// block's words in the distance mode.
+    fn cycle_layout(&self, block: &Block, plane: Plane, cc_number: f64, old_cc: f64) -> Layout {
+        let (cur_aa, cur_bb, _) = Self::cycle_coords(plane, &self.s.current);
+        let (aa_flag, aa_word, bb_flag, bb_word) = match plane {
+            Plane::Yz => (block.y_flag, block.y_number, block.z_flag, block.z_number),
+            Plane::Xz => (block.z_flag, block.z_number, block.x_flag, block.x_number),
+            _ => (block.x_flag, block.x_number, block.y_flag, block.y_number),
+        };
+        if self.s.distance_mode == DistanceMode::Absolute {
+            let (aa, bb) = if block.radius_flag || block.theta_flag {
+                // Polar words are for G17 only (checked earlier).
+                let radius = if block.radius_flag {
+                    block.radius
+                } else {
+                    cur_bb.hypot(cur_aa)
+                };
+                let theta = if block.theta_flag {
+                    d2r(block.theta)
+                } else {
+                    cur_bb.atan2(cur_aa)
+                };
+                (radius * theta.cos(), radius * theta.sin())
+            } else {
+                (
+                    if aa_flag { aa_word } else { cur_aa },
+                    if bb_flag { bb_word } else { cur_bb },
+                )
+            };
+            return Layout {
+                aa,
+                bb,
+                r: block.r_number,
+                cc: cc_number,
+                ..Layout::default()
+            };
+        }
+        let r = block.r_number + old_cc;
+        Layout {
+            aa: cur_aa,
+            bb: cur_bb,
+            r,
+            cc: r + cc_number,
+            aa_inc: if aa_flag { aa_word } else { 0.0 },
+            bb_inc: if bb_flag { bb_word } else { 0.0 },
+            radius_inc: if block.radius_flag { block.radius } else { 0.0 },
+            theta_inc: if block.theta_flag {
+                d2r(block.theta)
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// The L repeats: move to each hole and run the cycle there; the last
+    /// hole's position. `heights` are the tool's height at the start and
+    /// the clearance height.
+    fn cycle_repeats(
+        &mut self,
+        motion: i32,
+        block: &Block,
+        layout: &Layout,
+        heights: (f64, f64),
+        params: &CycleParams,
+        canon: &mut dyn Canon,
+    ) -> Result<(f64, f64)> {
+        let (current_cc, clear_cc) = heights;
+        let Layout {
+            mut aa,
+            mut bb,
+            r,
+            cc,
+            ..
+        } = *layout;
+        let plane = self.s.plane;
+        let line = block.line_number;
         for repeat in (1..=block.l_number).rev() {
-            aa += aa_inc;
-            bb += bb_inc;
-            if radius_inc != 0.0 || theta_inc != 0.0 {
-                (aa, bb) = polar_step(aa, bb, radius_inc, theta_inc)?;
+            aa += layout.aa_inc;
+            bb += layout.bb_inc;
+            if layout.radius_inc != 0.0 || layout.theta_inc != 0.0 {
+                (aa, bb) = polar_step(aa, bb, layout.radius_inc, layout.theta_inc)?;
             }
             // The first hole is reached at the height the tool is at (if
             // above R), the others at the clearance height.
@@ -190,20 +305,17 @@ impl Interp {
                     self.cycle_traverse(canon, line, plane, aa, bb, r);
                 }
             }
-            let hole = Hole { plane, aa, bb, r, clear: clear_cc, bottom: cc };
-            self.cycle_body(motion, &hole, &params, line, canon)?;
+            let hole = Hole {
+                plane,
+                aa,
+                bb,
+                r,
+                clear: clear_cc,
+                bottom: cc,
+            };
+            self.cycle_body(motion, &hole, params, line, canon)?;
         }
-        let end = self.cycle_pose(plane, aa, bb, clear_cc);
-        self.s.current = end;
-        self.s.cycle_cc = cc_number;
-        if save_mode != MotionMode::ExactPath {
-            canon.set_motion_control_mode(save_mode, save_tolerance);
-            if save_mode == MotionMode::Continuous {
-                let naive = self.s.naivecam_tolerance;
-                canon.set_naivecam_tolerance(naive);
-            }
-        }
-        Ok(())
+        Ok((aa, bb))
     }
 
     /// P, Q, I/J/K words a cycle needs, taken from the block or kept
@@ -241,15 +353,31 @@ impl Interp {
             }
             G_87 => {
                 if !same {
-                    for (flag, letter) in [(block.i_flag, 'I'), (block.j_flag, 'J'), (block.k_flag, 'K')] {
+                    for (flag, letter) in [
+                        (block.i_flag, 'I'),
+                        (block.j_flag, 'J'),
+                        (block.k_flag, 'K'),
+                    ] {
                         if !flag {
                             return Err(InterpError::G87WordMissing(letter));
                         }
                     }
                 }
-                let i = if block.i_flag { block.i_number } else { self.s.cycle_i };
-                let j = if block.j_flag { block.j_number } else { self.s.cycle_j };
-                let k = if block.k_flag { block.k_number } else { self.s.cycle_k };
+                let i = if block.i_flag {
+                    block.i_number
+                } else {
+                    self.s.cycle_i
+                };
+                let j = if block.j_flag {
+                    block.j_number
+                } else {
+                    self.s.cycle_j
+                };
+                let k = if block.k_flag {
+                    block.k_number
+                } else {
+                    self.s.cycle_k
+                };
                 (self.s.cycle_i, self.s.cycle_j, self.s.cycle_k) = (i, j, k);
                 params.offset = (i, j);
                 params.middle = k;
@@ -260,8 +388,22 @@ impl Interp {
         Ok(params)
     }
 
-    fn cycle_body(&mut self, motion: i32, h: &Hole, p: &CycleParams, line: i32, canon: &mut dyn Canon) -> Result<()> {
-        let Hole { plane, aa, bb, r, clear, bottom } = *h;
+    fn cycle_body(
+        &mut self,
+        motion: i32,
+        h: &Hole,
+        p: &CycleParams,
+        line: i32,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
+        let Hole {
+            plane,
+            aa,
+            bb,
+            r,
+            clear,
+            bottom,
+        } = *h;
         match motion {
             G_81 => {
                 self.cycle_feed(canon, line, plane, aa, bb, bottom);
@@ -290,7 +432,11 @@ impl Interp {
             G_87 => {
                 let dir = self.spindle_turning_for(87)?;
                 let (oa, ob) = (aa + p.offset.0, bb + p.offset.1);
-                let middle = if p.middle_incremental { bottom + p.middle } else { p.middle };
+                let middle = if p.middle_incremental {
+                    bottom + p.middle
+                } else {
+                    p.middle
+                };
                 self.cycle_traverse(canon, line, plane, oa, ob, r);
                 canon.stop_spindle_turning(0);
                 canon.orient_spindle(0, 0.0, canon_direction(dir));
@@ -324,7 +470,14 @@ impl Interp {
     }
 
     /// G73 (chip breaking) and G83 (full retract) peck drilling.
-    fn peck(&mut self, motion: i32, h: &Hole, delta: f64, line: i32, canon: &mut dyn Canon) -> Result<()> {
+    fn peck(
+        &mut self,
+        motion: i32,
+        h: &Hole,
+        delta: f64,
+        line: i32,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if delta <= 0.0 {
             return Err(InterpError::CycleQNotPositive);
         }
@@ -333,7 +486,14 @@ impl Interp {
         } else {
             G83_RAPID_DELTA
         };
-        let Hole { plane, aa, bb, r, clear, bottom } = *h;
+        let Hole {
+            plane,
+            aa,
+            bb,
+            r,
+            clear,
+            bottom,
+        } = *h;
         let mut depth = r - delta;
         while depth > bottom {
             self.cycle_feed(canon, line, plane, aa, bb, depth);
@@ -350,7 +510,14 @@ impl Interp {
 
     /// G74 (left hand) and G84 (right hand) tapping: feed in, reverse
     /// the spindle, feed out, restore it.
-    fn tap(&mut self, motion: i32, h: &Hole, dwell: f64, line: i32, canon: &mut dyn Canon) -> Result<()> {
+    fn tap(
+        &mut self,
+        motion: i32,
+        h: &Hole,
+        dwell: f64,
+        line: i32,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let turning = self.s.spindle_turning;
         if motion == G_84 && turning == Direction::CounterClockwise {
             return Err(InterpError::G84CounterClockwise);
@@ -361,7 +528,14 @@ impl Interp {
         if turning == Direction::Stopped {
             return Err(InterpError::TapSpindleNotTurning(motion / 10));
         }
-        let Hole { plane, aa, bb, clear, bottom, .. } = *h;
+        let Hole {
+            plane,
+            aa,
+            bb,
+            clear,
+            bottom,
+            ..
+        } = *h;
         canon.disable_feed_override();
         canon.disable_speed_override(0);
         self.cycle_feed(canon, line, plane, aa, bb, bottom);
@@ -382,6 +556,19 @@ impl Interp {
             d => Ok(d),
         }
     }
+}
+
+/// The holes of one cycle block, in the plane's coordinates.
+#[derive(Debug, Clone, Copy, Default)]
+struct Layout {
+    aa: f64,
+    bb: f64,
+    r: f64,
+    cc: f64,
+    aa_inc: f64,
+    bb_inc: f64,
+    radius_inc: f64,
+    theta_inc: f64,
 }
 
 /// One repeat's polar increments: the radius grows by `radius_inc`,

@@ -277,7 +277,9 @@ pub enum InterpError {
     CompArcSameCenter,
     #[error("Arc to arc motion makes a corner the compensated tool can't fit in without gouging")]
     CompArcArcGouge,
-    #[error("Arc to straight motion makes a corner the compensated tool can't fit in without gouging")]
+    #[error(
+        "Arc to straight motion makes a corner the compensated tool can't fit in without gouging"
+    )]
     CompArcLineGouge,
     #[error("Straight traverse in concave corner cannot be reached by the tool without gouging")]
     CompTraverseConcave,
@@ -547,7 +549,11 @@ pub enum InterpError {
     #[error("{path}: not a regular file; only regular files of at most {limit} bytes are read")]
     NotRegularFile { path: PathBuf, limit: u64 },
     #[error("{path}: {size} bytes is more than the limit of {limit} bytes")]
-    FileTooLarge { path: PathBuf, size: u64, limit: u64 },
+    FileTooLarge {
+        path: PathBuf,
+        size: u64,
+        limit: u64,
+    },
     #[error("{path}: {source}")]
     Io {
         path: PathBuf,

@@ -73,7 +73,10 @@ pub fn find_arc_length(
 pub fn find_straight_length(end: &Pose, start: &Pose) -> f64 {
     const TINY: f64 = 1e-7;
     let sq = |v: f64| v.powi(2);
-    if (start.x - end.x).abs() > TINY || (start.y - end.y).abs() > TINY || (start.z - end.z).abs() > TINY {
+    if (start.x - end.x).abs() > TINY
+        || (start.y - end.y).abs() > TINY
+        || (start.z - end.z).abs() > TINY
+    {
         (sq(end.x - start.x) + sq(end.y - start.y) + sq(end.z - start.z)).sqrt()
     } else if (start.u - end.u).abs() > TINY
         || (start.v - end.v).abs() > TINY
@@ -96,44 +99,23 @@ impl Interp {
         let xz = s.plane == crate::canon::Plane::Xz;
         let mut p = Pose::ZERO;
         if block.g_modes[GM_MODAL_0] == G_53 {
-            if block.radius_flag || block.theta_flag {
-                return Err(InterpError::Unsupported("Cannot use polar coordinates with G53"));
-            }
-            let mut cx = s.current.x + s.axis_offset.x;
-            let mut cy = s.current.y + s.axis_offset.y;
-            rotate(&mut cx, &mut cy, s.rotation_xy);
-            p.x = if block.x_flag {
-                block.x_number - s.origin_offset.x - s.tool_offset.x
-            } else {
-                cx
-            };
-            p.y = if block.y_flag {
-                block.y_number - s.origin_offset.y - s.tool_offset.y
-            } else {
-                cy
-            };
-            rotate(&mut p.x, &mut p.y, -s.rotation_xy);
-            p.x -= s.axis_offset.x;
-            p.y -= s.axis_offset.y;
-            let machine = |flag: bool, n: f64, o: f64, a: f64, t: f64, cur: f64| {
-                if flag {
-                    n - o - a - t
-                } else {
-                    cur
-                }
-            };
-            p.z = machine(block.z_flag, block.z_number, s.origin_offset.z, s.axis_offset.z, s.tool_offset.z, s.current.z);
-            p.a = machine(block.a_flag, block.a_number, s.origin_offset.a, s.axis_offset.a, 0.0, s.current.a);
-            p.b = machine(block.b_flag, block.b_number, s.origin_offset.b, s.axis_offset.b, 0.0, s.current.b);
-            p.c = machine(block.c_flag, block.c_number, s.origin_offset.c, s.axis_offset.c, 0.0, s.current.c);
-            p.u = machine(block.u_flag, block.u_number, s.origin_offset.u, s.axis_offset.u, s.tool_offset.u, s.current.u);
-            p.v = machine(block.v_flag, block.v_number, s.origin_offset.v, s.axis_offset.v, s.tool_offset.v, s.current.v);
-            p.w = machine(block.w_flag, block.w_number, s.origin_offset.w, s.axis_offset.w, s.tool_offset.w, s.current.w);
-            return Ok(p);
+            return self.find_ends_machine(block);
         }
-        let base_x = if comp && middle { s.program_x } else { s.current.x };
-        let base_y = if comp && middle && xy { s.program_y } else { s.current.y };
-        let base_z = if comp && middle && xz { s.program_z } else { s.current.z };
+        let base_x = if comp && middle {
+            s.program_x
+        } else {
+            s.current.x
+        };
+        let base_y = if comp && middle && xy {
+            s.program_y
+        } else {
+            s.current.y
+        };
+        let base_z = if comp && middle && xz {
+            s.program_z
+        } else {
+            s.current.z
+        };
         if s.distance_mode == DistanceMode::Absolute {
             p.x = if block.x_flag { block.x_number } else { base_x };
             p.y = if block.y_flag { block.y_number } else { base_y };
@@ -159,6 +141,98 @@ impl Interp {
             p.v = add(block.v_flag, block.v_number, s.current.v);
             p.w = add(block.w_flag, block.w_number, s.current.w);
         }
+        Ok(p)
+    }
+
+    /// The end point of a G53 move: machine coordinates in the block,
+    /// brought back into the current coordinate system.
+    fn find_ends_machine(&self, block: &Block) -> Result<Pose> {
+        let s = &self.s;
+        let mut p = Pose::ZERO;
+        if block.radius_flag || block.theta_flag {
+            return Err(InterpError::Unsupported(
+                "Cannot use polar coordinates with G53",
+            ));
+        }
+        let mut cx = s.current.x + s.axis_offset.x;
+        let mut cy = s.current.y + s.axis_offset.y;
+        rotate(&mut cx, &mut cy, s.rotation_xy);
+        p.x = if block.x_flag {
+            block.x_number - s.origin_offset.x - s.tool_offset.x
+        } else {
+            cx
+        };
+        p.y = if block.y_flag {
+            block.y_number - s.origin_offset.y - s.tool_offset.y
+        } else {
+            cy
+        };
+        rotate(&mut p.x, &mut p.y, -s.rotation_xy);
+        p.x -= s.axis_offset.x;
+        p.y -= s.axis_offset.y;
+        let machine = |flag: bool, n: f64, o: f64, a: f64, t: f64, cur: f64| {
+            if flag {
+                n - o - a - t
+            } else {
+                cur
+            }
+        };
+        p.z = machine(
+            block.z_flag,
+            block.z_number,
+            s.origin_offset.z,
+            s.axis_offset.z,
+            s.tool_offset.z,
+            s.current.z,
+        );
+        p.a = machine(
+            block.a_flag,
+            block.a_number,
+            s.origin_offset.a,
+            s.axis_offset.a,
+            0.0,
+            s.current.a,
+        );
+        p.b = machine(
+            block.b_flag,
+            block.b_number,
+            s.origin_offset.b,
+            s.axis_offset.b,
+            0.0,
+            s.current.b,
+        );
+        p.c = machine(
+            block.c_flag,
+            block.c_number,
+            s.origin_offset.c,
+            s.axis_offset.c,
+            0.0,
+            s.current.c,
+        );
+        p.u = machine(
+            block.u_flag,
+            block.u_number,
+            s.origin_offset.u,
+            s.axis_offset.u,
+            s.tool_offset.u,
+            s.current.u,
+        );
+        p.v = machine(
+            block.v_flag,
+            block.v_number,
+            s.origin_offset.v,
+            s.axis_offset.v,
+            s.tool_offset.v,
+            s.current.v,
+        );
+        p.w = machine(
+            block.w_flag,
+            block.w_number,
+            s.origin_offset.w,
+            s.axis_offset.w,
+            s.tool_offset.w,
+            s.current.w,
+        );
         Ok(p)
     }
 

@@ -12,10 +12,15 @@ const MAX_STEPS: usize = 20_000;
 /// A program through the interpreter: reading and executing never
 /// panics, a refusal names a line of the input, and the loop ends.
 pub fn program(data: &[u8]) {
-    let mut canon = PrintCanon::new(None, crate::tooltable::parse("T1 P1 Z0.1 D0.2\nT2 P2 Z0.2 D0.5\n").entries);
+    let mut canon = PrintCanon::new(
+        None,
+        crate::tooltable::parse("T1 P1 Z0.1 D0.2\nT2 P2 Z0.2 D0.5\n").entries,
+    );
     let mut interp = Interp::new(Config::default());
     let name = std::path::Path::new("fuzz.ngc");
-    if interp.init(&mut canon).is_err() || interp.open_bytes(name, data.to_vec(), &mut canon).is_err() {
+    if interp.init(&mut canon).is_err()
+        || interp.open_bytes(name, data.to_vec(), &mut canon).is_err()
+    {
         return;
     }
     for _ in 0..MAX_STEPS {
@@ -52,4 +57,3 @@ pub fn parameter_file(data: &[u8]) {
 pub fn tool_table(data: &[u8]) {
     crate::tooltable::fuzz_parse(data);
 }
-

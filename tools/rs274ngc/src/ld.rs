@@ -27,11 +27,18 @@ const PI_2: f64 = 1.2246467991473532e-16;
 const PI_3: f64 = -2.9947698097183397e-33;
 
 impl Ext {
-    const ZERO: Ext = Ext { neg: false, exp: 0, mant: 0 };
+    const ZERO: Ext = Ext {
+        neg: false,
+        exp: 0,
+        mant: 0,
+    };
 
     fn from_f64(x: f64) -> Ext {
         if x == 0.0 || !x.is_finite() {
-            return Ext { neg: x.is_sign_negative(), ..Ext::ZERO };
+            return Ext {
+                neg: x.is_sign_negative(),
+                ..Ext::ZERO
+            };
         }
         let bits = x.to_bits();
         let neg = bits >> 63 != 0;
@@ -76,7 +83,10 @@ impl Ext {
 
     fn div(self, b: Ext) -> Ext {
         if self.mant == 0 {
-            return Ext { neg: self.neg != b.neg, ..Ext::ZERO };
+            return Ext {
+                neg: self.neg != b.neg,
+                ..Ext::ZERO
+            };
         }
         let num = (self.mant as u128) << 64;
         let d = b.mant as u128;
@@ -146,7 +156,10 @@ struct Dd {
 impl Dd {
     fn new(hi: f64, lo: f64) -> Dd {
         let s = hi + lo;
-        Dd { hi: s, lo: lo - (s - hi) }
+        Dd {
+            hi: s,
+            lo: lo - (s - hi),
+        }
     }
 
     fn add(self, b: Dd) -> Dd {
@@ -157,7 +170,10 @@ impl Dd {
     }
 
     fn neg(self) -> Dd {
-        Dd { hi: -self.hi, lo: -self.lo }
+        Dd {
+            hi: -self.hi,
+            lo: -self.lo,
+        }
     }
 
     fn mul(self, b: Dd) -> Dd {

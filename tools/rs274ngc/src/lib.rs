@@ -52,7 +52,8 @@ pub mod tooltable;
 pub mod fuzzing;
 
 pub use canon::{
-    Arc, Canon, ControlPoint, Direction, FeedReference, InputKind, MotionMode, Plane, Pose, ToolEntry, Units,
+    Arc, Canon, ControlPoint, Direction, FeedReference, InputKind, MotionMode, Plane, Pose,
+    ToolEntry, Units,
 };
 pub use cfmt::f as format_fixed;
 pub use config::{Config, Features};

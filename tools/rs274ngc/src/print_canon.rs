@@ -180,13 +180,23 @@ impl Canon for PrintCanon {
     fn set_g5x_offset(&mut self, index: i32, o: &Pose) {
         self.emit_line(&format!("SET_G5X_OFFSET({index}, {})", Self::six(o)));
         self.shift_origin(self.g5x, o);
-        self.g5x = Pose { u: 0.0, v: 0.0, w: 0.0, ..*o };
+        self.g5x = Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..*o
+        };
     }
 
     fn set_g92_offset(&mut self, o: &Pose) {
         self.emit_line(&format!("SET_G92_OFFSET({})", Self::six(o)));
         self.shift_origin(self.g92, o);
-        self.g92 = Pose { u: 0.0, v: 0.0, w: 0.0, ..*o };
+        self.g92 = Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..*o
+        };
     }
 
     fn set_xy_rotation(&mut self, degrees: f64) {
@@ -240,12 +250,22 @@ impl Canon for PrintCanon {
 
     fn straight_traverse(&mut self, _line: i32, end: &Pose) {
         self.emit_line(&format!("STRAIGHT_TRAVERSE({})", Self::six(end)));
-        self.position = Pose { u: 0.0, v: 0.0, w: 0.0, ..*end };
+        self.position = Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..*end
+        };
     }
 
     fn straight_feed(&mut self, _line: i32, end: &Pose) {
         self.emit_line(&format!("STRAIGHT_FEED({})", Self::six(end)));
-        self.position = Pose { u: 0.0, v: 0.0, w: 0.0, ..*end };
+        self.position = Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..*end
+        };
     }
 
     fn arc_feed(&mut self, _line: i32, arc: &Arc) {
@@ -310,7 +330,10 @@ impl Canon for PrintCanon {
             MotionMode::ExactPath => self.emit_line("SET_MOTION_CONTROL_MODE(CANON_EXACT_PATH)"),
             MotionMode::Continuous => {
                 self.motion_tolerance = tolerance;
-                self.emit_line(&format!("SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, {})", f(tolerance, 6)));
+                self.emit_line(&format!(
+                    "SET_MOTION_CONTROL_MODE(CANON_CONTINUOUS, {})",
+                    f(tolerance, 6)
+                ));
             }
         }
         self.motion_mode = mode;
@@ -350,11 +373,17 @@ impl Canon for PrintCanon {
     }
 
     fn orient_spindle(&mut self, spindle: i32, orientation: f64, mode: i32) {
-        self.emit_line(&format!("ORIENT_SPINDLE({spindle}, {}, {mode})", f(orientation, 4)));
+        self.emit_line(&format!(
+            "ORIENT_SPINDLE({spindle}, {}, {mode})",
+            f(orientation, 4)
+        ));
     }
 
     fn wait_spindle_orient_complete(&mut self, spindle: i32, timeout: f64) {
-        self.emit_line(&format!("SPINDLE.{spindle}.WAIT_ORIENT_COMPLETE({})", f(timeout, 4)));
+        self.emit_line(&format!(
+            "SPINDLE.{spindle}.WAIT_ORIENT_COMPLETE({})",
+            f(timeout, 4)
+        ));
     }
 
     fn use_tool_length_offset(&mut self, o: &Pose) {
@@ -384,7 +413,11 @@ impl Canon for PrintCanon {
     fn change_tool(&mut self, index: i32) {
         self.emit_line(&format!("CHANGE_TOOL({index})"));
         self.active_slot = index;
-        if let Some(entry) = usize::try_from(index).ok().and_then(|i| self.tools.get(i)).copied() {
+        if let Some(entry) = usize::try_from(index)
+            .ok()
+            .and_then(|i| self.tools.get(i))
+            .copied()
+        {
             self.tools[0] = entry;
         }
     }
@@ -395,7 +428,10 @@ impl Canon for PrintCanon {
     }
 
     fn set_tool_table_entry(&mut self, index: i32, e: &ToolEntry) {
-        if let Some(slot) = usize::try_from(index).ok().and_then(|i| self.tools.get_mut(i)) {
+        if let Some(slot) = usize::try_from(index)
+            .ok()
+            .and_then(|i| self.tools.get_mut(i))
+        {
             slot.toolno = e.toolno;
             slot.offset = e.offset;
             slot.diameter = e.diameter;
@@ -476,7 +512,13 @@ impl Canon for PrintCanon {
     fn set_aux_output_value(&mut self, index: i32, value: f64) {
         self.emit_line(&format!("SET_AUX_OUTPUT_VALUE({index},{})", f(value, 6)));
     }
-    fn wait_input(&mut self, _index: i32, _kind: InputKind, _wait_type: i32, _timeout: f64) -> Result<(), ()> {
+    fn wait_input(
+        &mut self,
+        _index: i32,
+        _kind: InputKind,
+        _wait_type: i32,
+        _timeout: f64,
+    ) -> Result<(), ()> {
         Ok(())
     }
     fn user_m_code(&mut self, number: i32, p: f64, q: f64) {
@@ -528,10 +570,20 @@ impl Canon for PrintCanon {
     }
 
     fn position(&self) -> Pose {
-        Pose { u: 0.0, v: 0.0, w: 0.0, ..self.position }
+        Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..self.position
+        }
     }
     fn probe_position(&self) -> Pose {
-        Pose { u: 0.0, v: 0.0, w: 0.0, ..self.probe }
+        Pose {
+            u: 0.0,
+            v: 0.0,
+            w: 0.0,
+            ..self.probe
+        }
     }
     fn probe_tripped(&self) -> bool {
         false

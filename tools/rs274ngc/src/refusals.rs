@@ -3,10 +3,10 @@
 
 use std::path::Path;
 
+use crate::canon::ToolEntry;
 use crate::config::Config;
 use crate::error::InterpError;
 use crate::interp::{Interp, Location, Status};
-use crate::canon::ToolEntry;
 use crate::print_canon::PrintCanon;
 
 /// Stop after this many refusals (a program of garbage has one per line).
@@ -40,7 +40,12 @@ pub fn list_refusals(path: &Path, config: Config, tools: Vec<ToolEntry>) -> Vec<
 
 /// [`list_refusals`] running at most `max_blocks` blocks; a program still
 /// running then gets a last refusal saying so.
-pub fn list_refusals_within(path: &Path, config: Config, tools: Vec<ToolEntry>, max_blocks: usize) -> Vec<Refusal> {
+pub fn list_refusals_within(
+    path: &Path,
+    config: Config,
+    tools: Vec<ToolEntry>,
+    max_blocks: usize,
+) -> Vec<Refusal> {
     let mut run = Run {
         path,
         canon: PrintCanon::new(None, tools),
@@ -50,13 +55,14 @@ pub fn list_refusals_within(path: &Path, config: Config, tools: Vec<ToolEntry>, 
         }),
         refusals: Vec::new(),
     };
-    run.to_end(max_blocks);
+    run.run_to_end(max_blocks);
     let mut refusals = run.refusals;
     refusals.sort_by(|a, b| {
         let key = |r: &Refusal| (r.location.file.clone(), r.location.line, r.location.column);
         key(a).cmp(&key(b))
     });
-    refusals.dedup_by(|a, b| a.location == b.location && a.error.to_string() == b.error.to_string());
+    refusals
+        .dedup_by(|a, b| a.location == b.location && a.error.to_string() == b.error.to_string());
     refusals
 }
 
@@ -76,7 +82,7 @@ impl Run<'_> {
         self.refusals.push(Refusal { location, error });
     }
 
-    fn to_end(&mut self, max_blocks: usize) {
+    fn run_to_end(&mut self, max_blocks: usize) {
         if let Err(e) = self.interp.init(&mut self.canon) {
             return self.push(e);
         }
@@ -93,8 +99,12 @@ impl Run<'_> {
                 Ok(_) => {}
                 Err(e) => {
                     let line = self.interp.sequence_number();
-                    let end = matches!(e, InterpError::NoPercentAtEnd | InterpError::NoPercentOrEnd | InterpError::Io { .. })
-                        || line == last_line;
+                    let end = matches!(
+                        e,
+                        InterpError::NoPercentAtEnd
+                            | InterpError::NoPercentOrEnd
+                            | InterpError::Io { .. }
+                    ) || line == last_line;
                     self.push(e);
                     last_line = line;
                     if end {

@@ -91,8 +91,14 @@ mod tests {
 
     #[test]
     fn comment_errors() {
-        assert!(matches!(close_and_downcase(b"G0 (a (b) c)"), Err(InterpError::NestedComment)));
-        assert!(matches!(close_and_downcase(b"G0 (open"), Err(InterpError::UnclosedComment)));
+        assert!(matches!(
+            close_and_downcase(b"G0 (a (b) c)"),
+            Err(InterpError::NestedComment)
+        ));
+        assert!(matches!(
+            close_and_downcase(b"G0 (open"),
+            Err(InterpError::UnclosedComment)
+        ));
         assert!(close_and_downcase(b"G0 ; (not a comment").is_ok());
     }
 }

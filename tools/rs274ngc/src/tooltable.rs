@@ -40,7 +40,9 @@ pub fn parse(text: &str) -> ToolTable {
     let mut table = ToolTable::default();
     for line in text.split_inclusive('\n') {
         if table.entries.len() >= MAX_TOOLS {
-            table.warnings.push("too many tools. skipping the rest".to_string());
+            table
+                .warnings
+                .push("too many tools. skipping the rest".to_string());
             break;
         }
         if let Some(entry) = scan_old_style(line) {
@@ -50,7 +52,9 @@ pub fn parse(text: &str) -> ToolTable {
         match parse_line(line) {
             Some(Some(entry)) => table.entries.push(entry),
             Some(None) => {}
-            None => table.warnings.push(format!("Unrecognized line skipped: {line}")),
+            None => table
+                .warnings
+                .push(format!("Unrecognized line skipped: {line}")),
         }
     }
     table
@@ -91,7 +95,11 @@ fn scan_old_style(line: &str) -> Option<ToolEntry> {
         return Some(ToolEntry {
             toolno,
             pocketno,
-            offset: Pose { z: reals[0], x: reals[1], ..Pose::ZERO },
+            offset: Pose {
+                z: reals[0],
+                x: reals[1],
+                ..Pose::ZERO
+            },
             diameter: reals[2],
             frontangle: reals[3],
             backangle: reals[4],
@@ -102,7 +110,10 @@ fn scan_old_style(line: &str) -> Option<ToolEntry> {
         return Some(ToolEntry {
             toolno,
             pocketno,
-            offset: Pose { z: reals[0], ..Pose::ZERO },
+            offset: Pose {
+                z: reals[0],
+                ..Pose::ZERO
+            },
             diameter: reals[1],
             ..ToolEntry::EMPTY
         });
@@ -188,6 +199,9 @@ mod tests {
         assert_eq!(t.entries.len(), 2);
         assert_eq!(t.entries[0].offset.z, 0.5);
         assert_eq!(t.entries[1].orientation, 3);
-        assert_eq!(t.warnings, vec!["Unrecognized line skipped: T1 P1 Zjunk\n".to_string()]);
+        assert_eq!(
+            t.warnings,
+            vec!["Unrecognized line skipped: T1 P1 Zjunk\n".to_string()]
+        );
     }
 }

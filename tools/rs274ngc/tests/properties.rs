@@ -7,21 +7,33 @@ use proptest::prelude::*;
 /// One word or construct of a G-code line.
 fn word() -> impl Strategy<Value = String> {
     let letter = prop::sample::select(vec![
-        'G', 'M', 'X', 'Y', 'Z', 'A', 'B', 'C', 'I', 'J', 'K', 'R', 'P', 'Q', 'L', 'F', 'S', 'T', 'H', 'D', 'E', 'N',
-        'U', '@', '^', '$',
+        'G', 'M', 'X', 'Y', 'Z', 'A', 'B', 'C', 'I', 'J', 'K', 'R', 'P', 'Q', 'L', 'F', 'S', 'T',
+        'H', 'D', 'E', 'N', 'U', '@', '^', '$',
     ]);
     let number = prop_oneof![
         (-1000i32..1000).prop_map(|n| n.to_string()),
         (-100.0f64..100.0).prop_map(|x| format!("{x:.3}")),
         prop::sample::select(vec![
-            "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "28", "30", "38.2", "40", "41", "42", "43", "49",
-            "53", "54", "61", "64", "73", "80", "81", "83", "84", "87", "90", "91", "92", "93", "98", "99", "5.1",
+            "0", "1", "2", "3", "4", "17", "18", "19", "20", "21", "28", "30", "38.2", "40", "41",
+            "42", "43", "49", "53", "54", "61", "64", "73", "80", "81", "83", "84", "87", "90",
+            "91", "92", "93", "98", "99", "5.1",
         ])
         .prop_map(str::to_string),
     ];
     let expression = prop::sample::select(vec![
-        "[1+2*3]", "[#1/0]", "[SIN[30]]", "[ATAN[1]/[0]]", "[2**10]", "[#<x>]", "[EXISTS[#<_y>]]", "[SQRT[-1]]",
-        "[1 LT 2 AND 3]", "[[[[1]]]]", "[", "]", "[#5400]",
+        "[1+2*3]",
+        "[#1/0]",
+        "[SIN[30]]",
+        "[ATAN[1]/[0]]",
+        "[2**10]",
+        "[#<x>]",
+        "[EXISTS[#<_y>]]",
+        "[SQRT[-1]]",
+        "[1 LT 2 AND 3]",
+        "[[[[1]]]]",
+        "[",
+        "]",
+        "[#5400]",
     ])
     .prop_map(str::to_string);
     prop_oneof![
@@ -84,5 +96,8 @@ fn a_device_is_refused_with_the_size_limit() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_ne!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("not a regular file"), "{err}");
-    assert!(err.contains(&rs274ngc::MAX_PROGRAM_BYTES.to_string()), "{err}");
+    assert!(
+        err.contains(&rs274ngc::MAX_PROGRAM_BYTES.to_string()),
+        "{err}"
+    );
 }

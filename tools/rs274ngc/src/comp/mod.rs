@@ -48,7 +48,12 @@ impl Interp {
         self.comp.dequeue(g, canon);
     }
 
-    pub(crate) fn move_endpoint_and_flush(&mut self, canon: &mut dyn Canon, x: f64, y: f64) -> Result<()> {
+    pub(crate) fn move_endpoint_and_flush(
+        &mut self,
+        canon: &mut dyn Canon,
+        x: f64,
+        y: f64,
+    ) -> Result<()> {
         let g = self.comp_geometry();
         self.comp.move_endpoint_and_flush(g, x, y, canon)
     }
@@ -96,7 +101,17 @@ impl Interp {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn enqueue_straight(&mut self, feed: bool, line: i32, d1: f64, d2: f64, x: f64, y: f64, z: f64, rest: &Pose) {
+    fn enqueue_straight(
+        &mut self,
+        feed: bool,
+        line: i32,
+        d1: f64,
+        d2: f64,
+        x: f64,
+        y: f64,
+        z: f64,
+        rest: &Pose,
+    ) {
         let end = self.plane_pose(x, y, z, rest);
         self.comp.push(Queued::Straight {
             feed,
@@ -107,7 +122,16 @@ impl Interp {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn enqueue_arc(&mut self, line: i32, original_turns: f64, end: (f64, f64), center: (f64, f64), turn: i32, end3: f64, rest: &Pose) {
+    fn enqueue_arc(
+        &mut self,
+        line: i32,
+        original_turns: f64,
+        end: (f64, f64),
+        center: (f64, f64),
+        turn: i32,
+        end3: f64,
+        rest: &Pose,
+    ) {
         self.comp.push(Queued::ArcFeed {
             line,
             original_turns,
@@ -123,7 +147,10 @@ impl Interp {
 
     /// G40: flush the held moves and stop compensating.
     pub(crate) fn comp_off(&mut self, canon: &mut dyn Canon) -> Result<()> {
-        self.enqueue(canon, Queued::Comment("interpreter: cutter radius compensation off".into()));
+        self.enqueue(
+            canon,
+            Queued::Comment("interpreter: cutter radius compensation off".into()),
+        );
         if self.s.cutter_comp_side != Side::Off
             && self.s.cutter_comp_radius > 0.0
             && !self.s.cutter_comp_firstmove
@@ -142,7 +169,14 @@ impl Interp {
     }
 
     /// The first straight move after compensation starts.
-    pub(crate) fn straight_comp1(&mut self, canon: &mut dyn Canon, mv: i32, line: i32, p: (f64, f64, f64), rest: &Pose) -> Result<()> {
+    pub(crate) fn straight_comp1(
+        &mut self,
+        canon: &mut dyn Canon,
+        mv: i32,
+        line: i32,
+        p: (f64, f64, f64),
+        rest: &Pose,
+    ) -> Result<()> {
         let _ = canon;
         let radius = self.s.cutter_comp_radius;
         let side = self.s.cutter_comp_side;
@@ -152,11 +186,25 @@ impl Interp {
         if distance <= radius {
             return Err(InterpError::CompEntryTooShort);
         }
-        let alpha = (py - cy).atan2(px - cx) + if side == Side::Left { PI / 2.0 } else { -PI / 2.0 };
+        let alpha = (py - cy).atan2(px - cx)
+            + if side == Side::Left {
+                PI / 2.0
+            } else {
+                -PI / 2.0
+            };
         let end_x = px + radius * alpha.cos();
         let end_y = py + radius * alpha.sin();
         self.comp.set_endpoint(cx, cy);
-        self.enqueue_straight(mv == G_1, line, alpha.cos(), alpha.sin(), end_x, end_y, pz, rest);
+        self.enqueue_straight(
+            mv == G_1,
+            line,
+            alpha.cos(),
+            alpha.sin(),
+            end_x,
+            end_y,
+            pz,
+            rest,
+        );
         self.s.cutter_comp_firstmove = false;
         self.comp_set_current(end_x, end_y, pz);
         self.set_rest(rest);
@@ -170,7 +218,14 @@ impl Interp {
     }
 
     /// A straight move while compensating (not the first).
-    pub(crate) fn straight_comp2(&mut self, canon: &mut dyn Canon, mv: i32, line: i32, p: (f64, f64, f64), rest: &Pose) -> Result<()> {
+    pub(crate) fn straight_comp2(
+        &mut self,
+        canon: &mut dyn Canon,
+        mv: i32,
+        line: i32,
+        p: (f64, f64, f64),
+        rest: &Pose,
+    ) -> Result<()> {
         let (cx, cy, cz) = self.comp_get_current();
         let (mut end_x, mut end_y) = (cx, cy);
         let (opx, opy, opz) = self.comp_get_programmed();
@@ -203,7 +258,7 @@ impl Interp {
                 Some(Queued::ArcFeed { turn, .. }) => Some(*turn),
                 _ => None,
             };
-            let concave = if beta < -SMALL || beta > PI + SMALL {
+            let concave = if !(-SMALL..=PI + SMALL).contains(&beta) {
                 true
             } else {
                 beta > PI - SMALL
@@ -249,7 +304,13 @@ impl Interp {
 
     /// Where the held (compensated) arc must end so the tool meets the
     /// new straight line in a concave corner.
-    fn arc_line_corner(&self, side: Side, radius: f64, p: (f64, f64), op: (f64, f64)) -> Result<(f64, f64)> {
+    fn arc_line_corner(
+        &self,
+        side: Side,
+        radius: f64,
+        p: (f64, f64),
+        op: (f64, f64),
+    ) -> Result<(f64, f64)> {
         let Some(Queued::ArcFeed {
             end1,
             end2,
@@ -263,10 +324,18 @@ impl Interp {
         };
         let oldrad = (center2 - end2).hypot(center1 - end1);
         let base_dir = (p.1 - op.1).atan2(p.0 - op.0);
-        let theta = if turn > 0 { base_dir + FRAC_PI_2 } else { base_dir - FRAC_PI_2 };
+        let theta = if turn > 0 {
+            base_dir + FRAC_PI_2
+        } else {
+            base_dir - FRAC_PI_2
+        };
         let phi = (center2 - op.1).atan2(center1 - op.0);
         let inside = tool_inside_arc(side, turn);
-        let oldrad_uncomp = if inside { oldrad + radius } else { oldrad - radius };
+        let oldrad_uncomp = if inside {
+            oldrad + radius
+        } else {
+            oldrad - radius
+        };
         let d = oldrad_uncomp * (theta - phi).cos();
         let (d2, sign) = if inside {
             (d - radius, if turn > 0 { -1.0 } else { 1.0 })
@@ -278,15 +347,37 @@ impl Interp {
             return Err(InterpError::CompArcLineGouge);
         }
         let angle = sign * l.acos() + theta + PI;
-        Ok((center1 + oldrad * angle.cos(), center2 + oldrad * angle.sin()))
+        Ok((
+            center1 + oldrad * angle.cos(),
+            center2 + oldrad * angle.sin(),
+        ))
     }
 
     /// The arc data (centre, turn) of a programmed arc from `start`.
-    fn comp_arc_data(&self, block: &Block, mv: i32, start: (f64, f64), end: (f64, f64), offset: (f64, f64)) -> Result<((f64, f64), i32)> {
-        let turns = if block.p_flag { round_to_int(block.p_number) } else { 1 };
+    fn comp_arc_data(
+        &self,
+        block: &Block,
+        mv: i32,
+        start: (f64, f64),
+        end: (f64, f64),
+        offset: (f64, f64),
+    ) -> Result<((f64, f64), i32)> {
+        let turns = if block.p_flag {
+            round_to_int(block.p_number)
+        } else {
+            1
+        };
         let (radius_tol, spiral_tol) = self.arc_tolerances();
         if block.r_flag {
-            crate::arc::arc_data_r(mv, self.s.plane, start, end, block.r_number, turns, radius_tol)
+            crate::arc::arc_data_r(
+                mv,
+                self.s.plane,
+                start,
+                end,
+                block.r_number,
+                turns,
+                radius_tol,
+            )
         } else {
             crate::arc::arc_data_ijk(
                 mv,
@@ -304,7 +395,15 @@ impl Interp {
 
     /// The first arc after compensation starts.
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn arc_comp1(&mut self, canon: &mut dyn Canon, block: &Block, mv: i32, end: (f64, f64, f64), offset: (f64, f64), rest: &Pose) -> Result<()> {
+    pub(crate) fn arc_comp1(
+        &mut self,
+        canon: &mut dyn Canon,
+        block: &Block,
+        mv: i32,
+        end: (f64, f64, f64),
+        offset: (f64, f64),
+        rest: &Pose,
+    ) -> Result<()> {
         let side = self.s.cutter_comp_side;
         let tool_radius = self.s.cutter_comp_radius;
         let (_, spiral_tol) = self.arc_tolerances();
@@ -316,14 +415,22 @@ impl Interp {
         if block.r_flag && block.r_number.abs() <= tool_radius && tool_inside_arc_move(side, mv) {
             return Err(InterpError::ToolRadiusNotLessThanArc);
         }
-        let ((center_x, center_y), turn) = self.comp_arc_data(block, mv, (cx, cy), (end_x, end_y), offset)?;
+        let ((center_x, center_y), turn) =
+            self.comp_arc_data(block, mv, (cx, cy), (end_x, end_y), offset)?;
         if !block.r_flag {
             let arc_radius = (center_x - cx).hypot(center_y - cy);
             if arc_radius <= tool_radius && tool_inside_arc_move(side, mv) {
                 return Err(InterpError::ToolRadiusNotLessThanArc);
             }
         }
-        self.inverse_time_rate_arc(canon, block, (cx, cy, cz), (center_x, center_y), turn, (end_x, end_y, end_z));
+        self.inverse_time_rate_arc(
+            canon,
+            block,
+            (cx, cy, cz),
+            (center_x, center_y),
+            turn,
+            (end_x, end_y, end_z),
+        );
         let gamma = if tool_inside_arc(side, turn) {
             (center_y - end_y).atan2(center_x - end_x)
         } else {
@@ -351,7 +458,15 @@ impl Interp {
             self.comp.set_endpoint(cx, cy);
         }
         let sweep = find_turn(cx, cy, ncx, ncy, turn, end_x, end_y);
-        self.enqueue_arc(block.line_number, sweep, (end_x, end_y), (ncx, ncy), turn, end_z, rest);
+        self.enqueue_arc(
+            block.line_number,
+            sweep,
+            (end_x, end_y),
+            (ncx, ncy),
+            turn,
+            end_z,
+            rest,
+        );
         self.comp_set_current(end_x, end_y, end_z);
         self.set_rest(rest);
         Ok(())
@@ -359,25 +474,37 @@ impl Interp {
 
     /// An arc while compensating (not the first).
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn arc_comp2(&mut self, canon: &mut dyn Canon, block: &Block, mv: i32, end: (f64, f64, f64), offset: (f64, f64), rest: &Pose) -> Result<()> {
+    pub(crate) fn arc_comp2(
+        &mut self,
+        canon: &mut dyn Canon,
+        block: &Block,
+        mv: i32,
+        end: (f64, f64, f64),
+        offset: (f64, f64),
+        rest: &Pose,
+    ) -> Result<()> {
         let (opx, opy, opz) = self.comp_get_programmed();
         let (cx, cy, cz) = self.comp_get_current();
         let (end_x, end_y, end_z) = end;
-        let ((centerx, centery), turn) = self.comp_arc_data(block, mv, (opx, opy), (end_x, end_y), offset)?;
-        self.inverse_time_rate_arc(canon, block, (opx, opy, opz), (centerx, centery), turn, (end_x, end_y, end_z));
+        let ((centerx, centery), turn) =
+            self.comp_arc_data(block, mv, (opx, opy), (end_x, end_y), offset)?;
+        self.inverse_time_rate_arc(
+            canon,
+            block,
+            (opx, opy, opz),
+            (centerx, centery),
+            turn,
+            (end_x, end_y, end_z),
+        );
         let side = self.s.cutter_comp_side;
         let tool_radius = self.s.cutter_comp_radius;
         let arc_radius = (centerx - end_x).hypot(centery - end_y);
-        let mut theta = (cy - opy).atan2(cx - opx);
-        theta = if side == Side::Left { theta - FRAC_PI_2 } else { theta + FRAC_PI_2 };
-        let mut delta = (centery - opy).atan2(centerx - opx);
-        let alpha = if mv == G_3 { delta - FRAC_PI_2 } else { delta + FRAC_PI_2 };
-        let mut beta = if side == Side::Left { theta - alpha } else { alpha - theta };
-        if beta > 1.5 * PI {
-            beta -= 2.0 * PI;
-        } else if beta < -FRAC_PI_2 {
-            beta += 2.0 * PI;
-        }
+        let (theta, mut delta, beta) = corner_angles(
+            side,
+            mv,
+            (cx - opx, cy - opy),
+            (centerx - opx, centery - opy),
+        );
         let gamma;
         if tool_inside_arc_move(side, mv) {
             gamma = (centery - end_y).atan2(centerx - end_x);
@@ -392,18 +519,24 @@ impl Interp {
         let new_end_y = end_y + tool_radius * gamma.sin();
         let line = block.line_number;
         let sweep = find_turn(opx, opy, centerx, centery, turn, end_x, end_y);
-        let concave = beta < -SMALL
-            || beta > PI + SMALL
+        let concave = !(-SMALL..=PI + SMALL).contains(&beta)
             || ((beta - PI).abs() < SMALL && !tool_inside_arc(side, turn));
         if concave {
             let front_is_arc = matches!(self.comp.front(), Some(Queued::ArcFeed { .. }));
             let (mx, my) = if !front_is_arc {
-                line_arc_corner(side, turn, arc_radius, tool_radius, beta, theta, (centerx, centery))?
+                line_arc_corner(
+                    side,
+                    turn,
+                    arc_radius,
+                    tool_radius,
+                    beta,
+                    theta,
+                    (centerx, centery),
+                )?
             } else {
                 self.arc_arc_corner(side, turn, arc_radius, tool_radius, (centerx, centery))?
             };
             self.move_endpoint_and_flush(canon, mx, my)?;
-            self.enqueue_arc(line, sweep, (new_end_x, new_end_y), (centerx, centery), turn, end_z, rest);
         } else if beta > SMALL {
             let midx = opx + tool_radius * delta.cos();
             let midy = opy + tool_radius * delta.sin();
@@ -412,19 +545,33 @@ impl Interp {
             self.enqueue_arc(line, 0.0, (midx, midy), (opx, opy), corner_turn, cz, rest);
             self.dequeue_canons(canon);
             self.comp.set_endpoint(midx, midy);
-            self.enqueue_arc(line, sweep, (new_end_x, new_end_y), (centerx, centery), turn, end_z, rest);
         } else {
             self.dequeue_canons(canon);
             self.comp.set_endpoint(cx, cy);
-            self.enqueue_arc(line, sweep, (new_end_x, new_end_y), (centerx, centery), turn, end_z, rest);
         }
+        self.enqueue_arc(
+            line,
+            sweep,
+            (new_end_x, new_end_y),
+            (centerx, centery),
+            turn,
+            end_z,
+            rest,
+        );
         self.comp_set_programmed(end_x, end_y, end_z);
         self.comp_set_current(new_end_x, new_end_y, end_z);
         self.set_rest(rest);
         Ok(())
     }
 
-    fn arc_arc_corner(&self, side: Side, turn: i32, arc_radius: f64, tool_radius: f64, center: (f64, f64)) -> Result<(f64, f64)> {
+    fn arc_arc_corner(
+        &self,
+        side: Side,
+        turn: i32,
+        arc_radius: f64,
+        tool_radius: f64,
+        center: (f64, f64),
+    ) -> Result<(f64, f64)> {
         let Some(Queued::ArcFeed {
             end1,
             end2,
@@ -484,7 +631,14 @@ fn line_arc_corner(
         if !(-1.0..=1.0).contains(&l) {
             return Err(InterpError::CompArcConcave);
         }
-        (dist, if turn > 0 { theta + l.asin() } else { theta - l.asin() })
+        (
+            dist,
+            if turn > 0 {
+                theta + l.asin()
+            } else {
+                theta - l.asin()
+            },
+        )
     } else {
         let dist = arc_radius + tool_radius;
         let l = (cy - tool_radius) / dist;
@@ -501,4 +655,40 @@ fn line_arc_corner(
         )
     };
     Ok((center.0 + dist * angle.cos(), center.1 + dist * angle.sin()))
+}
+
+/// The corner between the previous move (direction `from_current`, the
+/// vector from the programmed point to the compensated one) and an arc
+/// about a centre at `to_center` from the programmed point: the offset
+/// direction `theta`, the centre's direction `delta`, and the turn
+/// `beta` (negative or beyond pi for a concave corner).
+fn corner_angles(
+    side: Side,
+    mv: i32,
+    from_current: (f64, f64),
+    to_center: (f64, f64),
+) -> (f64, f64, f64) {
+    let mut theta = from_current.1.atan2(from_current.0);
+    theta = if side == Side::Left {
+        theta - FRAC_PI_2
+    } else {
+        theta + FRAC_PI_2
+    };
+    let delta = to_center.1.atan2(to_center.0);
+    let alpha = if mv == G_3 {
+        delta - FRAC_PI_2
+    } else {
+        delta + FRAC_PI_2
+    };
+    let mut beta = if side == Side::Left {
+        theta - alpha
+    } else {
+        alpha - theta
+    };
+    if beta > 1.5 * PI {
+        beta -= 2.0 * PI;
+    } else if beta < -FRAC_PI_2 {
+        beta += 2.0 * PI;
+    }
+    (theta, delta, beta)
 }

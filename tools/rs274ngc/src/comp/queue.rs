@@ -238,7 +238,10 @@ fn issue(q: Queued, g: CompGeometry, canon: &mut dyn Canon) {
     let (plane, o, r) = (g.plane, g.orientation, g.radius);
     match q {
         Queued::Straight {
-            feed, line, mut end, ..
+            feed,
+            line,
+            mut end,
+            ..
         } => {
             end.x = lathe_x(plane, o, r, end.x);
             end.z = lathe_z(plane, o, r, end.z);

@@ -13,8 +13,14 @@ impl Interp {
     pub(crate) fn convert_comment(&mut self, comment: &[u8], canon: &mut dyn Canon) -> Result<()> {
         let start = comment.iter().take_while(|&&b| is_c_space(b)).count();
         let body = &comment[start..];
-        let lower: Vec<u8> = body.iter().take(256).map(|b| b.to_ascii_lowercase()).collect();
-        let after = |prefix: &str| String::from_utf8_lossy(&body[prefix.len().min(body.len())..]).into_owned();
+        let lower: Vec<u8> = body
+            .iter()
+            .take(256)
+            .map(|b| b.to_ascii_lowercase())
+            .collect();
+        let after = |prefix: &str| {
+            String::from_utf8_lossy(&body[prefix.len().min(body.len())..]).into_owned()
+        };
         if lower.starts_with(b"msg,") {
             canon.message(&after("msg,"));
         } else if lower.starts_with(b"debug,") {
@@ -37,7 +43,10 @@ impl Interp {
         } else if lower == b"logclose" {
             canon.log_close();
         } else {
-            self.enqueue(canon, Queued::Comment(String::from_utf8_lossy(body).into_owned()));
+            self.enqueue(
+                canon,
+                Queued::Comment(String::from_utf8_lossy(body).into_owned()),
+            );
         }
         Ok(())
     }

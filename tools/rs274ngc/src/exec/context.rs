@@ -35,23 +35,51 @@ impl Interp {
             Side::Left => G_41,
             Side::Off => G_40,
         };
-        g[5] = if s.length_units == Units::Inches { G_20 } else { G_21 };
-        g[6] = if s.distance_mode == DistanceMode::Absolute { G_90 } else { G_91 };
+        g[5] = if s.length_units == Units::Inches {
+            G_20
+        } else {
+            G_21
+        };
+        g[6] = if s.distance_mode == DistanceMode::Absolute {
+            G_90
+        } else {
+            G_91
+        };
         g[7] = match s.feed_mode {
             FeedMode::InverseTime => G_93,
             FeedMode::UnitsPerMinute => G_94,
             FeedMode::UnitsPerRevolution => G_95,
         };
-        g[8] = if s.origin_index < 7 { 530 + 10 * s.origin_index } else { 584 + s.origin_index };
-        g[9] = if s.tool_offset == crate::canon::Pose::ZERO { G_49 } else { G_43 };
-        g[10] = if s.retract_mode == RetractMode::OldZ { G_98 } else { G_99 };
+        g[8] = if s.origin_index < 7 {
+            530 + 10 * s.origin_index
+        } else {
+            584 + s.origin_index
+        };
+        g[9] = if s.tool_offset == crate::canon::Pose::ZERO {
+            G_49
+        } else {
+            G_43
+        };
+        g[10] = if s.retract_mode == RetractMode::OldZ {
+            G_98
+        } else {
+            G_99
+        };
         g[11] = match s.control_mode {
             MotionMode::ExactPath => G_61,
             MotionMode::ExactStop => G_61_1,
             MotionMode::Continuous => G_64,
         };
-        g[13] = if s.spindle_mode == SpindleMode::ConstantRpm { G_97 } else { G_96 };
-        g[14] = if s.ijk_distance_mode == DistanceMode::Absolute { G_90_1 } else { G_91_1 };
+        g[13] = if s.spindle_mode == SpindleMode::ConstantRpm {
+            G_97
+        } else {
+            G_96
+        };
+        g[14] = if s.ijk_distance_mode == DistanceMode::Absolute {
+            G_90_1
+        } else {
+            G_91_1
+        };
         g[15] = if s.lathe_diameter_mode { G_7 } else { G_8 };
         let mut m = [-1; 9];
         m[2] = match s.spindle_turning {
@@ -59,9 +87,19 @@ impl Interp {
             Direction::CounterClockwise => 4,
             Direction::Stopped => 5,
         };
-        m[4] = if s.mist { 7 } else if s.flood { -1 } else { 9 };
+        m[4] = if s.mist {
+            7
+        } else if s.flood {
+            -1
+        } else {
+            9
+        };
         m[5] = if s.flood { 8 } else { -1 };
-        m[6] = if s.feed_override && s.speed_override { 48 } else { 49 };
+        m[6] = if s.feed_override && s.speed_override {
+            48
+        } else {
+            49
+        };
         m[7] = if s.adaptive_feed { 52 } else { -1 };
         m[8] = if s.feed_hold { 53 } else { -1 };
         SavedState {
@@ -96,7 +134,11 @@ impl Interp {
     }
 
     /// Bring the modes back to `state` by executing G- and M-codes.
-    pub(crate) fn restore_state(&mut self, state: &SavedState, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn restore_state(
+        &mut self,
+        state: &SavedState,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let now = self.snapshot();
         if now.g[5] != state.g[5] {
             self.execute_internal(&format!("G{}", state.g[5] / 10), canon)?;
@@ -120,9 +162,8 @@ impl Interp {
             }
         }
         for line in cmd.split('\n').filter(|l| !l.is_empty()) {
-            self.execute_internal(line, canon).map_err(|e| {
-                InterpError::RestoreFailed(line.to_string(), e.to_string())
-            })?;
+            self.execute_internal(line, canon)
+                .map_err(|e| InterpError::RestoreFailed(line.to_string(), e.to_string()))?;
         }
         Ok(())
     }

@@ -40,7 +40,11 @@ impl Interp {
                     } else {
                         self.s.orient_offset
                     };
-                    let mode = if block.p_flag { block.p_number as i32 } else { 0 };
+                    let mode = if block.p_flag {
+                        block.p_number as i32
+                    } else {
+                        0
+                    };
                     canon.orient_spindle(0, angle, mode);
                 }
                 if block.q_flag {
@@ -84,7 +88,7 @@ impl Interp {
     fn convert_io(&mut self, block: &Block, canon: &mut dyn Canon, comp: bool) -> Result<()> {
         let p = round_to_int(block.p_number);
         match block.m_modes[5] {
-            62 | 63 | 64 | 65 => {
+            62..=65 => {
                 let m = block.m_modes[5];
                 if comp {
                     return Err(match m {
@@ -129,7 +133,12 @@ impl Interp {
     }
 
     /// M66: wait for an input.
-    fn convert_wait_input(&mut self, block: &Block, canon: &mut dyn Canon, comp: bool) -> Result<()> {
+    fn convert_wait_input(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+        comp: bool,
+    ) -> Result<()> {
         if block.p_flag && block.e_flag {
             return Err(InterpError::M66BothInputs);
         }
@@ -147,11 +156,18 @@ impl Interp {
         }
         if block.p_flag {
             let wait_type = if block.l_flag { l } else { 0 };
-            let timeout = if block.q_number > 0.0 { block.q_number } else { 0.0 };
+            let timeout = if block.q_number > 0.0 {
+                block.q_number
+            } else {
+                0.0
+            };
             if comp {
                 return Err(InterpError::M66DigitalWithComp);
             }
-            if canon.wait_input(p, InputKind::Digital, wait_type, timeout).is_err() {
+            if canon
+                .wait_input(p, InputKind::Digital, wait_type, timeout)
+                .is_err()
+            {
                 return Err(InterpError::M66DigitalRange);
             }
             self.s.input_flag = true;
@@ -171,7 +187,12 @@ impl Interp {
         Ok(())
     }
 
-    fn convert_overrides(&mut self, block: &Block, canon: &mut dyn Canon, comp: bool) -> Result<()> {
+    fn convert_overrides(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+        comp: bool,
+    ) -> Result<()> {
         let m = block.m_modes[9];
         if m == -1 {
             return Ok(());

@@ -23,7 +23,11 @@ use crate::setup::{FeedMode, SpindleMode};
 
 impl Interp {
     /// Execute one block.
-    pub(crate) fn execute_block(&mut self, block: &mut Block, canon: &mut dyn Canon) -> Result<Status> {
+    pub(crate) fn execute_block(
+        &mut self,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<Status> {
         block.line_number = self.s.sequence_number;
         if let Some(comment) = block.comment.clone() {
             self.convert_comment(&comment, canon)?;
@@ -79,7 +83,11 @@ impl Interp {
             self.enqueue(canon, Queued::SetSpindleMode(0.0));
         } else {
             self.s.spindle_mode = SpindleMode::ConstantSurface;
-            let limit = if block.d_flag { block.d_number.abs() } else { 1e30 };
+            let limit = if block.d_flag {
+                block.d_number.abs()
+            } else {
+                1e30
+            };
             self.enqueue(canon, Queued::SetSpindleMode(limit));
         }
     }
@@ -108,7 +116,12 @@ impl Interp {
             self.convert_coordinate_system(block.g_modes[GM_COORD_SYSTEM], canon)?;
         }
         if block.g_modes[GM_CONTROL_MODE] != -1 {
-            self.convert_control_mode(block.g_modes[GM_CONTROL_MODE], block.p_number, block.q_number, canon)?;
+            self.convert_control_mode(
+                block.g_modes[GM_CONTROL_MODE],
+                block.p_number,
+                block.q_number,
+                canon,
+            )?;
         }
         if block.g_modes[GM_DISTANCE_MODE] != -1 {
             self.convert_distance_mode(block.g_modes[GM_DISTANCE_MODE], canon);
@@ -128,7 +141,12 @@ impl Interp {
         Ok(())
     }
 
-    fn convert_modal_0(&mut self, code: i32, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {
+    fn convert_modal_0(
+        &mut self,
+        code: i32,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         match code {
             G_10 => {
                 if matches!(block.l_number, 1 | 10 | 11) {

@@ -111,7 +111,11 @@ impl Interp {
         self.s.lathe_diameter_mode = to_diameter;
     }
 
-    pub(crate) fn convert_cutter_compensation(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_cutter_compensation(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         match block.g_modes[GM_CUTTER_COMP] {
             G_40 => self.comp_off(canon),
             G_41 | G_41_1 => self.comp_on(Side::Left, block, canon),
@@ -162,7 +166,11 @@ impl Interp {
         };
         if radius < 0.0 {
             radius = -radius;
-            side = if side == Side::Right { Side::Left } else { Side::Right };
+            side = if side == Side::Right {
+                Side::Left
+            } else {
+                Side::Right
+            };
         }
         let text = if side == Side::Right {
             "interpreter: cutter radius compensation on right"
@@ -178,9 +186,15 @@ impl Interp {
 
     pub(crate) fn convert_distance_mode(&mut self, code: i32, canon: &mut dyn Canon) {
         let (mode, text) = if code == G_90 {
-            (DistanceMode::Absolute, "interpreter: distance mode changed to absolute")
+            (
+                DistanceMode::Absolute,
+                "interpreter: distance mode changed to absolute",
+            )
         } else {
-            (DistanceMode::Incremental, "interpreter: distance mode changed to incremental")
+            (
+                DistanceMode::Incremental,
+                "interpreter: distance mode changed to incremental",
+            )
         };
         if self.s.distance_mode != mode {
             self.enqueue(canon, Queued::Comment(text.into()));
@@ -190,9 +204,15 @@ impl Interp {
 
     pub(crate) fn convert_ijk_distance_mode(&mut self, code: i32, canon: &mut dyn Canon) {
         let (mode, text) = if code == G_90_1 {
-            (DistanceMode::Absolute, "interpreter: IJK distance mode changed to absolute")
+            (
+                DistanceMode::Absolute,
+                "interpreter: IJK distance mode changed to absolute",
+            )
         } else {
-            (DistanceMode::Incremental, "interpreter: IJK distance mode changed to incremental")
+            (
+                DistanceMode::Incremental,
+                "interpreter: IJK distance mode changed to incremental",
+            )
         };
         if self.s.ijk_distance_mode != mode {
             self.enqueue(canon, Queued::Comment(text.into()));
@@ -203,19 +223,28 @@ impl Interp {
     pub(crate) fn convert_feed_mode(&mut self, code: i32, canon: &mut dyn Canon) {
         match code {
             G_93 => {
-                self.enqueue(canon, Queued::Comment("interpreter: feed mode set to inverse time".into()));
+                self.enqueue(
+                    canon,
+                    Queued::Comment("interpreter: feed mode set to inverse time".into()),
+                );
                 self.s.feed_mode = FeedMode::InverseTime;
                 self.enqueue(canon, Queued::SetFeedMode(0));
             }
             G_94 => {
-                self.enqueue(canon, Queued::Comment("interpreter: feed mode set to units per minute".into()));
+                self.enqueue(
+                    canon,
+                    Queued::Comment("interpreter: feed mode set to units per minute".into()),
+                );
                 self.s.feed_mode = FeedMode::UnitsPerMinute;
                 self.enqueue(canon, Queued::SetFeedMode(0));
                 self.s.feed_rate = 0.0;
                 self.enqueue(canon, Queued::SetFeedRate(0.0));
             }
             _ => {
-                self.enqueue(canon, Queued::Comment("interpreter: feed mode set to units per revolution".into()));
+                self.enqueue(
+                    canon,
+                    Queued::Comment("interpreter: feed mode set to units per revolution".into()),
+                );
                 self.s.feed_mode = FeedMode::UnitsPerRevolution;
                 self.enqueue(canon, Queued::SetFeedMode(1));
                 self.s.feed_rate = 0.0;
@@ -229,16 +258,28 @@ impl Interp {
             return Err(InterpError::RetractWithComp);
         }
         if code == G_98 {
-            self.enqueue(canon, Queued::Comment("interpreter: retract mode set to old_z".into()));
+            self.enqueue(
+                canon,
+                Queued::Comment("interpreter: retract mode set to old_z".into()),
+            );
             self.s.retract_mode = RetractMode::OldZ;
         } else {
-            self.enqueue(canon, Queued::Comment("interpreter: retract mode set to r_plane".into()));
+            self.enqueue(
+                canon,
+                Queued::Comment("interpreter: retract mode set to r_plane".into()),
+            );
             self.s.retract_mode = RetractMode::RPlane;
         }
         Ok(())
     }
 
-    pub(crate) fn convert_control_mode(&mut self, code: i32, p: f64, q: f64, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_control_mode(
+        &mut self,
+        code: i32,
+        p: f64,
+        q: f64,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::ControlModeWithComp);
         }
@@ -270,7 +311,11 @@ impl Interp {
         Ok(())
     }
 
-    pub(crate) fn convert_coordinate_system(&mut self, code: i32, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_coordinate_system(
+        &mut self,
+        code: i32,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::CoordSystemWithComp);
         }

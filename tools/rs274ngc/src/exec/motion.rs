@@ -15,7 +15,12 @@ use crate::setup::{DistanceMode, FeedMode, Side};
 const SYNCHED_REFUSAL: &str = "spindle-synchronised moves are not supported yet";
 
 impl Interp {
-    pub(crate) fn convert_motion(&mut self, motion: i32, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_motion(
+        &mut self,
+        motion: i32,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if !is_cycle(motion) {
             self.s.cycle_il_flag = false;
         }
@@ -30,12 +35,17 @@ impl Interp {
                 if !block.q_flag {
                     return Err(InterpError::G7xNeedsQ);
                 }
-                Err(InterpError::Unsupported("lathe roughing cycles (G70-G72) are not supported yet"))
+                Err(InterpError::Unsupported(
+                    "lathe roughing cycles (G70-G72) are not supported yet",
+                ))
             }
             G_2 | G_3 => self.convert_arc(motion, block, canon),
             G_38_2 | G_38_3 | G_38_4 | G_38_5 => self.convert_probe(motion, block, canon),
             G_80 => {
-                self.enqueue(canon, Queued::Comment("interpreter: motion mode set to none".into()));
+                self.enqueue(
+                    canon,
+                    Queued::Comment("interpreter: motion mode set to none".into()),
+                );
                 self.s.motion_mode = G_80;
                 Ok(())
             }
@@ -46,7 +56,12 @@ impl Interp {
     }
 
     /// Inverse time: the feed rate that makes a move last 1/F minutes.
-    pub(crate) fn inverse_time_rate_straight(&mut self, canon: &mut dyn Canon, block: &Block, end: &Pose) {
+    pub(crate) fn inverse_time_rate_straight(
+        &mut self,
+        canon: &mut dyn Canon,
+        block: &Block,
+        end: &Pose,
+    ) {
         if self.s.feed_mode != FeedMode::InverseTime {
             return;
         }
@@ -68,7 +83,9 @@ impl Interp {
         if self.s.feed_mode != FeedMode::InverseTime {
             return;
         }
-        let length = find_arc_length(start.0, start.1, start.2, center.0, center.1, turn, end.0, end.1, end.2);
+        let length = find_arc_length(
+            start.0, start.1, start.2, center.0, center.1, turn, end.0, end.1, end.2,
+        );
         let rate = (length * block.f_number).max(0.1);
         self.enqueue(canon, Queued::SetFeedRate(rate));
         self.s.feed_rate = rate;
@@ -147,9 +164,27 @@ impl Interp {
         let absolute = self.s.ijk_distance_mode == DistanceMode::Absolute;
         if ijk {
             let (given, missing_a, missing_b, a_flag, b_flag) = match self.s.plane {
-                Plane::Xy => (block.k_flag.then_some(InterpError::ArcKInXy), 'I', 'J', block.i_flag, block.j_flag),
-                Plane::Yz => (block.i_flag.then_some(InterpError::ArcIInYz), 'J', 'K', block.j_flag, block.k_flag),
-                _ => (block.j_flag.then_some(InterpError::ArcJInXz), 'I', 'K', block.i_flag, block.k_flag),
+                Plane::Xy => (
+                    block.k_flag.then_some(InterpError::ArcKInXy),
+                    'I',
+                    'J',
+                    block.i_flag,
+                    block.j_flag,
+                ),
+                Plane::Yz => (
+                    block.i_flag.then_some(InterpError::ArcIInYz),
+                    'J',
+                    'K',
+                    block.j_flag,
+                    block.k_flag,
+                ),
+                _ => (
+                    block.j_flag.then_some(InterpError::ArcJInXz),
+                    'I',
+                    'K',
+                    block.i_flag,
+                    block.k_flag,
+                ),
             };
             if let Some(e) = given {
                 return Err(e);
@@ -205,17 +240,47 @@ impl Interp {
     }
 
     /// An arc without compensation in any of the three planes.
-    fn convert_arc2(&mut self, mv: i32, block: &Block, canon: &mut dyn Canon, end: &Pose) -> Result<()> {
+    fn convert_arc2(
+        &mut self,
+        mv: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+        end: &Pose,
+    ) -> Result<()> {
         let c = self.s.current;
         let (cur, e, offset) = match self.s.plane {
-            Plane::Xy => ((c.x, c.y, c.z), (end.x, end.y, end.z), (block.i_number, block.j_number)),
-            Plane::Xz => ((c.z, c.x, c.y), (end.z, end.x, end.y), (block.k_number, block.i_number)),
-            _ => ((c.y, c.z, c.x), (end.y, end.z, end.x), (block.j_number, block.k_number)),
+            Plane::Xy => (
+                (c.x, c.y, c.z),
+                (end.x, end.y, end.z),
+                (block.i_number, block.j_number),
+            ),
+            Plane::Xz => (
+                (c.z, c.x, c.y),
+                (end.z, end.x, end.y),
+                (block.k_number, block.i_number),
+            ),
+            _ => (
+                (c.y, c.z, c.x),
+                (end.y, end.z, end.x),
+                (block.j_number, block.k_number),
+            ),
         };
-        let turns = if block.p_flag { round_to_int(block.p_number) } else { 1 };
+        let turns = if block.p_flag {
+            round_to_int(block.p_number)
+        } else {
+            1
+        };
         let (radius_tol, spiral_tol) = self.arc_tolerances();
         let (center, turn) = if block.r_flag {
-            crate::arc::arc_data_r(mv, self.s.plane, (cur.0, cur.1), (e.0, e.1), block.r_number, turns, radius_tol)?
+            crate::arc::arc_data_r(
+                mv,
+                self.s.plane,
+                (cur.0, cur.1),
+                (e.0, e.1),
+                block.r_number,
+                turns,
+                radius_tol,
+            )?
         } else {
             crate::arc::arc_data_ijk(
                 mv,
@@ -273,7 +338,9 @@ impl Interp {
             return Err(InterpError::SplineWithComp);
         }
         match self.s.feed_mode {
-            FeedMode::UnitsPerMinute if self.s.feed_rate == 0.0 => return Err(InterpError::ArcZeroFeed),
+            FeedMode::UnitsPerMinute if self.s.feed_rate == 0.0 => {
+                return Err(InterpError::ArcZeroFeed)
+            }
             FeedMode::InverseTime if !block.f_flag => return Err(InterpError::FMissingInverseArc),
             _ => {}
         }
@@ -340,7 +407,11 @@ impl Interp {
             self.s.nurbs_points.clear();
         }
         if self.s.nurbs_points.is_empty() {
-            let weight = if !block.x_flag && block.p_number > 0.0 { block.p_number } else { 1.0 };
+            let weight = if !block.x_flag && block.p_number > 0.0 {
+                block.p_number
+            } else {
+                1.0
+            };
             self.s.nurbs_points.push(ControlPoint {
                 x: self.s.current.x,
                 y: self.s.current.y,

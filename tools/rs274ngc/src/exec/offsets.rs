@@ -27,7 +27,9 @@ fn axis_words(b: &Block) -> [(bool, f64); 9] {
 }
 
 fn pose_axes(p: &mut Pose) -> [&mut f64; 9] {
-    [&mut p.x, &mut p.y, &mut p.z, &mut p.a, &mut p.b, &mut p.c, &mut p.u, &mut p.v, &mut p.w]
+    [
+        &mut p.x, &mut p.y, &mut p.z, &mut p.a, &mut p.b, &mut p.c, &mut p.u, &mut p.v, &mut p.w,
+    ]
 }
 
 /// Linear (true) or rotary axis, in X..W order.
@@ -92,10 +94,10 @@ impl Interp {
                 self.s.rotation_xy = 0.0;
             }
         } else {
-            for i in 0..2 {
-                let (flag, value) = words[i];
+            for (i, &(flag, value)) in words.iter().enumerate().take(2) {
                 let v = if flag {
-                    self.params.set(base + 1 + i, self.program_to_user_len(value));
+                    self.params
+                        .set(base + 1 + i, self.program_to_user_len(value));
                     value
                 } else {
                     self.user_to_program_len(self.params.get(base + 1 + i))
@@ -103,7 +105,9 @@ impl Interp {
                 *pose_axes(&mut new)[i] = v;
             }
         }
-        let cur_axes = [cur.x, cur.y, cur.z, cur.a, cur.b, cur.c, cur.u, cur.v, cur.w];
+        let cur_axes = [
+            cur.x, cur.y, cur.z, cur.a, cur.b, cur.c, cur.u, cur.v, cur.w,
+        ];
         for i in 2..9 {
             let (flag, value) = words[i];
             let linear = LINEAR[i];
@@ -131,13 +135,21 @@ impl Interp {
             s.rotation_xy = r;
             canon.set_xy_rotation(r);
         } else {
-            self.enqueue(canon, Queued::Comment("interpreter: setting coordinate system origin".into()));
+            self.enqueue(
+                canon,
+                Queued::Comment("interpreter: setting coordinate system origin".into()),
+            );
         }
         Ok(())
     }
 
     /// G52, G92, G92.1, G92.2, G92.3: the axis offset.
-    pub(crate) fn convert_axis_offsets(&mut self, code: i32, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_axis_offsets(
+        &mut self,
+        code: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::AxisOffsetsWithComp);
         }
@@ -215,7 +227,12 @@ impl Interp {
     }
 
     /// G28 / G30: through the given point to reference point 1 / 2.
-    pub(crate) fn convert_home(&mut self, code: i32, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_home(
+        &mut self,
+        code: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let mut end = self.find_ends(block)?;
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::HomeWithComp);
@@ -226,7 +243,9 @@ impl Interp {
         let home = self.find_relative(&self.user_pose_from_params(base));
         let words = axis_words(block);
         let any = words.iter().any(|(f, _)| *f);
-        let home_axes = [home.x, home.y, home.z, home.a, home.b, home.c, home.u, home.v, home.w];
+        let home_axes = [
+            home.x, home.y, home.z, home.a, home.b, home.c, home.u, home.v, home.w,
+        ];
         for (i, slot) in pose_axes(&mut end).into_iter().enumerate() {
             if words[i].0 || !any {
                 *slot = home_axes[i];

@@ -13,7 +13,11 @@ use crate::source::Line;
 
 impl Interp {
     /// Execute the block's stopping code; `Some(Exit)` at program end.
-    pub(crate) fn convert_stop(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<Option<Status>> {
+    pub(crate) fn convert_stop(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<Option<Status>> {
         let (cx, cy, _) = self.comp_get_current();
         self.move_endpoint_and_flush(canon, cx, cy)?;
         self.dequeue_canons(canon);
@@ -112,7 +116,9 @@ impl Interp {
                 None => {
                     self.enqueue(
                         canon,
-                        Queued::Comment("interpreter: percent sign missing from end of file".into()),
+                        Queued::Comment(
+                            "interpreter: percent sign missing from end of file".into(),
+                        ),
                     );
                     return Ok(());
                 }

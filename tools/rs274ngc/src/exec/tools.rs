@@ -28,7 +28,11 @@ impl Interp {
     }
 
     /// T word.
-    pub(crate) fn convert_tool_select(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_tool_select(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let index = self.find_tool_index(block.t_number)?;
         canon.select_tool(block.t_number);
         self.s.selected_pocket = index;
@@ -75,7 +79,11 @@ impl Interp {
     }
 
     /// M61 Q<tool>: say which tool is in the spindle, without changing.
-    pub(crate) fn convert_set_tool_number(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_set_tool_number(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let toolno = round_to_int(block.q_number);
         if toolno < 0 {
             return Err(InterpError::M61Q);
@@ -89,7 +97,12 @@ impl Interp {
     }
 
     /// G43, G43.1, G43.2, G49.
-    pub(crate) fn convert_tool_length_offset(&mut self, code: i32, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_tool_length_offset(
+        &mut self,
+        code: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::ToolOffsetWithComp);
         }
@@ -180,7 +193,11 @@ impl Interp {
     }
 
     /// G10 L1 / L10 / L11: set a tool table entry.
-    pub(crate) fn convert_setup_tool(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_setup_tool(
+        &mut self,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         let toolno = crate::read::c_int(block.p_number + 0.5);
         let index = self.find_tool_index(toolno)?;
         if !(block.has_axis() || block.r_flag || block.q_flag || block.i_flag || block.j_flag) {
@@ -190,15 +207,39 @@ impl Interp {
         if block.l_number == 1 {
             let linear = |this: &Self, v: f64| this.program_to_user_len(v);
             let words = [
-                (block.x_flag, linear(self, block.x_number), &mut entry.offset.x),
-                (block.y_flag, linear(self, block.y_number), &mut entry.offset.y),
-                (block.z_flag, linear(self, block.z_number), &mut entry.offset.z),
+                (
+                    block.x_flag,
+                    linear(self, block.x_number),
+                    &mut entry.offset.x,
+                ),
+                (
+                    block.y_flag,
+                    linear(self, block.y_number),
+                    &mut entry.offset.y,
+                ),
+                (
+                    block.z_flag,
+                    linear(self, block.z_number),
+                    &mut entry.offset.z,
+                ),
                 (block.a_flag, block.a_number, &mut entry.offset.a),
                 (block.b_flag, block.b_number, &mut entry.offset.b),
                 (block.c_flag, block.c_number, &mut entry.offset.c),
-                (block.u_flag, linear(self, block.u_number), &mut entry.offset.u),
-                (block.v_flag, linear(self, block.v_number), &mut entry.offset.v),
-                (block.w_flag, linear(self, block.w_number), &mut entry.offset.w),
+                (
+                    block.u_flag,
+                    linear(self, block.u_number),
+                    &mut entry.offset.u,
+                ),
+                (
+                    block.v_flag,
+                    linear(self, block.v_number),
+                    &mut entry.offset.v,
+                ),
+                (
+                    block.w_flag,
+                    linear(self, block.w_number),
+                    &mut entry.offset.w,
+                ),
             ];
             for (flag, value, slot) in words {
                 if flag {
@@ -273,13 +314,48 @@ impl Interp {
             entry.offset.y = user(ty + oy);
         }
         let rest = [
-            (block.z_flag, t.z - block.z_number, &mut entry.offset.z, true),
-            (block.a_flag, t.a - block.a_number, &mut entry.offset.a, false),
-            (block.b_flag, t.b - block.b_number, &mut entry.offset.b, false),
-            (block.c_flag, t.c - block.c_number, &mut entry.offset.c, false),
-            (block.u_flag, t.u - block.u_number, &mut entry.offset.u, true),
-            (block.v_flag, t.v - block.v_number, &mut entry.offset.v, true),
-            (block.w_flag, t.w - block.w_number, &mut entry.offset.w, true),
+            (
+                block.z_flag,
+                t.z - block.z_number,
+                &mut entry.offset.z,
+                true,
+            ),
+            (
+                block.a_flag,
+                t.a - block.a_number,
+                &mut entry.offset.a,
+                false,
+            ),
+            (
+                block.b_flag,
+                t.b - block.b_number,
+                &mut entry.offset.b,
+                false,
+            ),
+            (
+                block.c_flag,
+                t.c - block.c_number,
+                &mut entry.offset.c,
+                false,
+            ),
+            (
+                block.u_flag,
+                t.u - block.u_number,
+                &mut entry.offset.u,
+                true,
+            ),
+            (
+                block.v_flag,
+                t.v - block.v_number,
+                &mut entry.offset.v,
+                true,
+            ),
+            (
+                block.w_flag,
+                t.w - block.w_number,
+                &mut entry.offset.w,
+                true,
+            ),
         ];
         for (flag, value, slot, linear) in rest {
             if flag {

@@ -331,7 +331,10 @@ impl Interp {
 
     fn set_position_parameters(&mut self) {
         let c = self.s.current;
-        for (i, v) in [c.x, c.y, c.z, c.a, c.b, c.c, c.u, c.v, c.w].into_iter().enumerate() {
+        for (i, v) in [c.x, c.y, c.z, c.a, c.b, c.c, c.u, c.v, c.w]
+            .into_iter()
+            .enumerate()
+        {
             self.params.set(5420 + i, v);
         }
     }
@@ -369,7 +372,11 @@ impl Interp {
                 self.clean = close_and_downcase(&self.raw_line)?;
                 if self.clean.bytes == b"%" && self.s.percent_flag {
                     canon.finish();
-                    let skipping = self.flow.skipping_o.clone().or_else(|| self.flow.skipping_to_sub.clone());
+                    let skipping = self
+                        .flow
+                        .skipping_o
+                        .clone()
+                        .or_else(|| self.flow.skipping_to_sub.clone());
                     if let Some(name) = skipping {
                         return Err(InterpError::SubNotFoundBeforeEof(name));
                     }
@@ -517,7 +524,10 @@ impl Interp {
             file: PathBuf::from(&self.filename),
             line: self.s.sequence_number.max(1) as usize,
             column: self.clean.column(self.item_start),
-            word: self.refused_word.clone().unwrap_or_else(|| self.word_at_item()),
+            word: self
+                .refused_word
+                .clone()
+                .unwrap_or_else(|| self.word_at_item()),
         }
     }
 

@@ -132,13 +132,48 @@ impl Interp {
         Pose {
             x: sum(x, s.origin_offset.x, s.axis_offset.x, s.tool_offset.x),
             y: sum(y, s.origin_offset.y, s.axis_offset.y, s.tool_offset.y),
-            z: sum(s.current.z, s.origin_offset.z, s.axis_offset.z, s.tool_offset.z),
-            a: sum(s.current.a, s.origin_offset.a, s.axis_offset.a, s.tool_offset.a),
-            b: sum(s.current.b, s.origin_offset.b, s.axis_offset.b, s.tool_offset.b),
-            c: sum(s.current.c, s.origin_offset.c, s.axis_offset.c, s.tool_offset.c),
-            u: sum(s.current.u, s.origin_offset.u, s.axis_offset.u, s.tool_offset.u),
-            v: sum(s.current.v, s.origin_offset.v, s.axis_offset.v, s.tool_offset.v),
-            w: sum(s.current.w, s.origin_offset.w, s.axis_offset.w, s.tool_offset.w),
+            z: sum(
+                s.current.z,
+                s.origin_offset.z,
+                s.axis_offset.z,
+                s.tool_offset.z,
+            ),
+            a: sum(
+                s.current.a,
+                s.origin_offset.a,
+                s.axis_offset.a,
+                s.tool_offset.a,
+            ),
+            b: sum(
+                s.current.b,
+                s.origin_offset.b,
+                s.axis_offset.b,
+                s.tool_offset.b,
+            ),
+            c: sum(
+                s.current.c,
+                s.origin_offset.c,
+                s.axis_offset.c,
+                s.tool_offset.c,
+            ),
+            u: sum(
+                s.current.u,
+                s.origin_offset.u,
+                s.axis_offset.u,
+                s.tool_offset.u,
+            ),
+            v: sum(
+                s.current.v,
+                s.origin_offset.v,
+                s.axis_offset.v,
+                s.tool_offset.v,
+            ),
+            w: sum(
+                s.current.w,
+                s.origin_offset.w,
+                s.axis_offset.w,
+                s.tool_offset.w,
+            ),
         }
     }
 

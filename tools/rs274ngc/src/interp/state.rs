@@ -87,7 +87,11 @@ impl Interp {
     pub(crate) fn set_tool_parameters(&mut self) {
         let t = self.s.tool(0);
         let toolno = if self.config.random_toolchanger {
-            if t.toolno >= 0 { t.toolno } else { -1 }
+            if t.toolno >= 0 {
+                t.toolno
+            } else {
+                -1
+            }
         } else if t.toolno > 0 {
             t.toolno
         } else {
@@ -139,8 +143,16 @@ impl Interp {
                 Plane::Uw => G_18_1,
                 Plane::Vw => G_19_1,
             },
-            if s.distance_mode == DistanceMode::Absolute { G_90 } else { G_91 },
-            if s.ijk_distance_mode == DistanceMode::Absolute { G_90_1 } else { G_91_1 },
+            if s.distance_mode == DistanceMode::Absolute {
+                G_90
+            } else {
+                G_91
+            },
+            if s.ijk_distance_mode == DistanceMode::Absolute {
+                G_90_1
+            } else {
+                G_91_1
+            },
             match s.feed_mode {
                 FeedMode::InverseTime => G_93,
                 FeedMode::UnitsPerMinute => G_94,
@@ -155,15 +167,31 @@ impl Interp {
                 Side::Left => G_41,
                 Side::Right => G_42,
             },
-            if s.tool_offset == Pose::ZERO { G_49 } else { G_43 },
-            if s.origin_index < 7 { 530 + 10 * s.origin_index } else { 584 + s.origin_index },
+            if s.tool_offset == Pose::ZERO {
+                G_49
+            } else {
+                G_43
+            },
+            if s.origin_index < 7 {
+                530 + 10 * s.origin_index
+            } else {
+                584 + s.origin_index
+            },
             match s.control_mode {
                 crate::canon::MotionMode::ExactPath => G_61,
                 crate::canon::MotionMode::ExactStop => G_61_1,
                 crate::canon::MotionMode::Continuous => G_64,
             },
-            if s.retract_mode == RetractMode::OldZ { G_98 } else { G_99 },
-            if s.spindle_mode == SpindleMode::ConstantSurface { G_96 } else { G_97 },
+            if s.retract_mode == RetractMode::OldZ {
+                G_98
+            } else {
+                G_99
+            },
+            if s.spindle_mode == SpindleMode::ConstantSurface {
+                G_96
+            } else {
+                G_97
+            },
             if s.lathe_diameter_mode { G_7 } else { G_8 },
         ];
         let m = vec![
@@ -174,7 +202,11 @@ impl Interp {
             },
             if s.mist { 7 } else { 9 },
             if s.flood { 8 } else { 9 },
-            if s.feed_override && s.speed_override { 48 } else { 49 },
+            if s.feed_override && s.speed_override {
+                48
+            } else {
+                49
+            },
         ];
         ActiveCodes {
             g,

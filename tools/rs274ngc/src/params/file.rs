@@ -39,7 +39,11 @@ pub fn scan_pair(line: &str) -> Option<(i64, f64)> {
     let number: i64 = rest[..int_len].parse().ok().or_else(|| {
         // Out of i64 range: sscanf saturates; any such number is out of
         // the parameter range either way.
-        Some(if rest.starts_with('-') { i64::MIN } else { i64::MAX })
+        Some(if rest.starts_with('-') {
+            i64::MIN
+        } else {
+            i64::MAX
+        })
     })?;
     let rest = rest[int_len..].trim_start();
     let (value, _) = cfmt::scan_double(rest)?;

@@ -89,23 +89,19 @@ impl Parameters {
     /// exist yet in its scope; this is what reading `#<name>=` does.
     pub fn add_named(&mut self, name: &str, call_level: usize) {
         let level = Self::level_of(name, call_level);
-        self.named[level]
-            .entry(name.to_string())
-            .or_insert(Named {
-                value: 0.0,
-                unset: true,
-            });
+        self.named[level].entry(name.to_string()).or_insert(Named {
+            value: 0.0,
+            unset: true,
+        });
     }
 
     /// Assign a named parameter created by [`Parameters::add_named`].
     pub fn store_named(&mut self, name: &str, value: f64, call_level: usize) -> Result<()> {
         let level = Self::level_of(name, call_level);
-        let slot = self.named[level]
-            .entry(name.to_string())
-            .or_insert(Named {
-                value: 0.0,
-                unset: true,
-            });
+        let slot = self.named[level].entry(name.to_string()).or_insert(Named {
+            value: 0.0,
+            unset: true,
+        });
         slot.value = value;
         slot.unset = false;
         Ok(())

@@ -435,8 +435,14 @@ mod tests {
         assert_eq!(text("[1"), "Unclosed expression");
         assert_eq!(text("[1 foo 2]"), "Unknown operation");
         assert_eq!(text("SQRT[-1]"), "Negative argument to sqrt");
-        assert_eq!(text("1.2.3"), "bad number format (trailing characters) parsing '1.2.3'");
-        assert_eq!(text("."), "bad number format (conversion failed) parsing '.'");
+        assert_eq!(
+            text("1.2.3"),
+            "bad number format (trailing characters) parsing '1.2.3'"
+        );
+        assert_eq!(
+            text("."),
+            "bad number format (conversion failed) parsing '.'"
+        );
         assert_eq!(text("#<nope>"), "Named parameter #<nope> not defined");
         assert_eq!(text("#6000"), "Parameter number out of range");
         assert_eq!(text("[1 AMD 2]"), "Unknown operation name starting with a");

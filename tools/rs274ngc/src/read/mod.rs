@@ -15,7 +15,7 @@ use crate::params::{is_readonly, Parameters};
 /// C's conversion of a double to `int` on x86: truncation, and
 /// `INT_MIN` for anything out of range.
 pub(crate) fn c_int(x: f64) -> i32 {
-    if x.is_nan() || x >= 2147483648.0 || x < -2147483648.0 {
+    if x.is_nan() || !(-2147483648.0..2147483648.0).contains(&x) {
         i32::MIN
     } else {
         x as i32
@@ -73,9 +73,14 @@ impl Interp {
         Ok(())
     }
 
-    pub(crate) fn read_one_item(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<()> {
+    pub(crate) fn read_one_item(
+        &mut self,
+        line: &[u8],
+        counter: &mut usize,
+        block: &mut Block,
+    ) -> Result<()> {
         let letter = line[*counter];
-        if letter < b' ' || letter > b'z' {
+        if !(b' '..=b'z').contains(&letter) {
             return Err(InterpError::BadCharacterCode(letter));
         }
         match letter {
@@ -317,7 +322,13 @@ impl Interp {
         Ok(())
     }
 
-    fn read_uvw(&mut self, line: &[u8], counter: &mut usize, block: &mut Block, letter: u8) -> Result<()> {
+    fn read_uvw(
+        &mut self,
+        line: &[u8],
+        counter: &mut usize,
+        block: &mut Block,
+        letter: u8,
+    ) -> Result<()> {
         let (flag, err) = match letter {
             b'u' => (block.u_flag, InterpError::MultipleU),
             b'v' => (block.v_flag, InterpError::MultipleV),

@@ -41,7 +41,12 @@ const KEYWORDS: [(&[u8], OType); 15] = [
 
 impl Interp {
     /// Read an O-word line (or M98/M99) into `block`.
-    pub(crate) fn read_o(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<()> {
+    pub(crate) fn read_o(
+        &mut self,
+        line: &[u8],
+        counter: &mut usize,
+        block: &mut Block,
+    ) -> Result<()> {
         let name = if at(line, *counter) == b'm' {
             self.read_fanuc_call(line, counter, block)?
         } else {
@@ -95,7 +100,12 @@ impl Interp {
     }
 
     /// `M98 P.. L..` or `M99`; returns the subroutine name.
-    fn read_fanuc_call(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<String> {
+    fn read_fanuc_call(
+        &mut self,
+        line: &[u8],
+        counter: &mut usize,
+        block: &mut Block,
+    ) -> Result<String> {
         let mut n = *counter + 1;
         let number = self.read_integer_value(line, &mut n)?;
         if number == 98 {
@@ -135,13 +145,14 @@ impl Interp {
         }
     }
 
-    fn read_o_arguments(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<()> {
-        let skipping_other = |this: &Interp, name: &str| {
-            this.flow
-                .skipping_o
-                .as_deref()
-                .is_some_and(|s| s != name)
-        };
+    fn read_o_arguments(
+        &mut self,
+        line: &[u8],
+        counter: &mut usize,
+        block: &mut Block,
+    ) -> Result<()> {
+        let skipping_other =
+            |this: &Interp, name: &str| this.flow.skipping_o.as_deref().is_some_and(|s| s != name);
         match block.o_type {
             OType::Sub | OType::Fanuc => {
                 if self.flow.defining_sub {

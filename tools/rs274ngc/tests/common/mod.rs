@@ -91,5 +91,9 @@ pub fn first_difference(expected: &[u8], got: &[u8]) -> String {
             return format!("line {}: expected {a:?}, got {b:?}", n + 1);
         }
     }
-    format!("lengths differ: expected {} lines, got {}", e.lines().count(), g.lines().count())
+    format!(
+        "lengths differ: expected {} lines, got {}",
+        e.lines().count(),
+        g.lines().count()
+    )
 }

@@ -146,7 +146,10 @@ mod tests {
 
     #[test]
     fn options_and_files() {
-        let a = parse(&argv(&["rs274", "-t", "t.tbl", "-gb", "-n0", "p.ngc", "o.txt"])).unwrap();
+        let a = parse(&argv(&[
+            "rs274", "-t", "t.tbl", "-gb", "-n0", "p.ngc", "o.txt",
+        ]))
+        .unwrap();
         assert_eq!(a.tool_table, Some(PathBuf::from("t.tbl")));
         assert!(a.go && a.block_delete);
         assert_eq!(a.on_error, OnError::Continue);

@@ -48,7 +48,10 @@ pub fn apply(path: &Path, config: &mut Config) -> bool {
     config.lazy_close = true;
     for e in ini.entries() {
         let key = (e.section.clone(), e.key.clone());
-        config.ini_values.entry(key).or_insert_with(|| e.value.clone());
+        config
+            .ini_values
+            .entry(key)
+            .or_insert_with(|| e.value.clone());
     }
     if let Some(value) = ini.get("RS274NGC", "SUBROUTINE_PATH") {
         config.subroutine_path = path_list(value);
@@ -59,7 +62,10 @@ pub fn apply(path: &Path, config: &mut Config) -> bool {
     if let Some(value) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
         config.program_prefix = std::fs::canonicalize(expand_tilde(value.trim())).ok();
     }
-    if let Some(bits) = ini.get("RS274NGC", "FEATURES").and_then(|v| v.trim().parse::<i64>().ok()) {
+    if let Some(bits) = ini
+        .get("RS274NGC", "FEATURES")
+        .and_then(|v| v.trim().parse::<i64>().ok())
+    {
         config.features = Features::from_bits(bits);
     }
     if let Some(v) = number(&ini, "RS274NGC", "CENTER_ARC_RADIUS_TOLERANCE_INCH") {

@@ -30,7 +30,10 @@ pub fn run(args: &mut Args) -> bool {
         eprintln!("1 = start interpreting");
         eprintln!("2 = choose parameter file ...");
         eprintln!("3 = read tool file ...");
-        eprintln!("4 = turn block delete switch {}", if args.block_delete { "OFF" } else { "ON" });
+        eprintln!(
+            "4 = turn block delete switch {}",
+            if args.block_delete { "OFF" } else { "ON" }
+        );
         eprintln!("5 = adjust error handling...");
         eprint!("enter choice => ");
         let Some(line) = read_line() else {
@@ -70,7 +73,10 @@ fn adjust_error_handling(args: &mut Args) {
     loop {
         eprintln!("enter a number:");
         eprintln!("1 = done with error handling");
-        eprintln!("2 = {}print stack on error", if args.print_stack { "do not " } else { "" });
+        eprintln!(
+            "2 = {}print stack on error",
+            if args.print_stack { "do not " } else { "" }
+        );
         let third = match (with_output, args.on_error) {
             (true, OnError::Continue) => "3 = stop on error (do not continue)",
             (true, _) => "3 = continue on error (do not stop)",
