@@ -354,7 +354,7 @@ impl Interp {
     }
 
     /// The arc data (centre, turn) of a programmed arc from `start`.
-    fn comp_arc_data(
+    pub(crate) fn arc_data(
         &self,
         block: &Block,
         mv: i32,
@@ -416,7 +416,7 @@ impl Interp {
             return Err(InterpError::ToolRadiusNotLessThanArc);
         }
         let ((center_x, center_y), turn) =
-            self.comp_arc_data(block, mv, (cx, cy), (end_x, end_y), offset)?;
+            self.arc_data(block, mv, (cx, cy), (end_x, end_y), offset)?;
         if !block.r_flag {
             let arc_radius = (center_x - cx).hypot(center_y - cy);
             if arc_radius <= tool_radius && tool_inside_arc_move(side, mv) {
@@ -487,7 +487,7 @@ impl Interp {
         let (cx, cy, cz) = self.comp_get_current();
         let (end_x, end_y, end_z) = end;
         let ((centerx, centery), turn) =
-            self.comp_arc_data(block, mv, (opx, opy), (end_x, end_y), offset)?;
+            self.arc_data(block, mv, (opx, opy), (end_x, end_y), offset)?;
         self.inverse_time_rate_arc(
             canon,
             block,

@@ -2,7 +2,7 @@
 //! splines, the canned cycles' entry, and the refusals of what is not
 //! supported (spindle-synchronised moves, lathe cycles).
 
-use crate::block::{round_to_int, Block};
+use crate::block::Block;
 use crate::canon::{Arc, Canon, ControlPoint, Plane, Pose};
 use crate::codes::*;
 use crate::comp::Queued;
@@ -265,35 +265,7 @@ impl Interp {
                 (block.j_number, block.k_number),
             ),
         };
-        let turns = if block.p_flag {
-            round_to_int(block.p_number)
-        } else {
-            1
-        };
-        let (radius_tol, spiral_tol) = self.arc_tolerances();
-        let (center, turn) = if block.r_flag {
-            crate::arc::arc_data_r(
-                mv,
-                self.s.plane,
-                (cur.0, cur.1),
-                (e.0, e.1),
-                block.r_number,
-                turns,
-                radius_tol,
-            )?
-        } else {
-            crate::arc::arc_data_ijk(
-                mv,
-                self.s.plane,
-                (cur.0, cur.1),
-                (e.0, e.1),
-                self.s.ijk_distance_mode == DistanceMode::Absolute,
-                offset,
-                turns,
-                radius_tol,
-                spiral_tol,
-            )?
-        };
+        let (center, turn) = self.arc_data(block, mv, (cur.0, cur.1), (e.0, e.1), offset)?;
         self.inverse_time_rate_arc(canon, block, cur, center, turn, e);
         let arc = Arc {
             first_end: e.0,
