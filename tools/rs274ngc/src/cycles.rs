@@ -203,10 +203,7 @@ impl Interp {
         self.s.cycle_cc = cc_number;
         if save_mode != MotionMode::ExactPath {
             canon.set_motion_control_mode(save_mode, save_tolerance);
-            if save_mode == MotionMode::Continuous {
-                let naive = self.s.naivecam_tolerance;
-                canon.set_naivecam_tolerance(naive);
-            }
+            canon.set_naivecam_tolerance(self.s.naivecam_tolerance);
         }
         Ok(())
     }

@@ -77,10 +77,8 @@ impl Interp {
             canon.enable_feed_override();
             s.feed_override = true;
         }
-        if !s.speed_override {
-            canon.enable_speed_override(0);
-            s.speed_override = true;
-        }
+        // LinuxCNC 2.9 re-enables only the feed override here: M49 or
+        // M51 P0 outlive the program end for the spindle speed.
         s.cutter_comp_side = Side::Off;
         s.cutter_comp_firstmove = true;
         canon.stop_spindle_turning(0);
