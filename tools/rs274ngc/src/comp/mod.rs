@@ -34,6 +34,11 @@ impl Interp {
             plane: self.s.plane,
             orientation: self.s.cutter_comp_orientation,
             radius: self.s.cutter_comp_radius,
+            arc_slack: if self.s.length_units == crate::canon::Units::Mm {
+                0.0254
+            } else {
+                0.001
+            },
         }
     }
 

@@ -87,6 +87,9 @@ pub struct CompGeometry {
     pub orientation: i32,
     /// The compensation radius.
     pub radius: f64,
+    /// How much longer a shortened arc may become before it gouges
+    /// (0.001 inch or 0.0254 mm).
+    pub arc_slack: f64,
 }
 
 impl CompQueue {
@@ -197,7 +200,7 @@ impl CompQueue {
                     if (r1 - r2).abs() > 0.01 {
                         return Err(InterpError::CompBug);
                     }
-                    if l1 != 0.0 && valid && l2.abs() > l1.abs() + 0.001 {
+                    if l1 != 0.0 && valid && l2.abs() > l1.abs() + g.arc_slack {
                         return Err(InterpError::CompArcConcave);
                     }
                     *end1 = x;
