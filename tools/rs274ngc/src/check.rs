@@ -146,9 +146,6 @@ impl Interp {
 fn check_other_codes(block: &Block) -> Result<()> {
     let motion = block.motion_to_be;
     let cycle = is_cycle(motion);
-    if block.user_m {
-        return Ok(());
-    }
     if block.a_flag && cycle {
         return Err(InterpError::AInCycle);
     }
@@ -180,7 +177,8 @@ fn check_other_codes(block: &Block) -> Result<()> {
         return Err(InterpError::DollarUnused);
     }
     let m5 = block.m_modes[5];
-    if block.e_flag && motion != G_76 && motion != G_70 && !matches!(m5, 66..=68) {
+    // G33 and G33.1 take E too, though the message does not say so.
+    if block.e_flag && !matches!(motion, G_76 | G_70 | G_33 | G_33_1) && !matches!(m5, 66..=68) {
         return Err(InterpError::EWordUnused);
     }
     let g8 = block.g_modes[GM_TOOL_LENGTH_OFFSET];
@@ -238,6 +236,7 @@ fn check_q_r_and_threading(block: &Block, cycle: bool, lathe_cycle: bool) -> Res
         && block.m_modes[6] != 61
         && block.g_modes[GM_CONTROL_MODE] != G_64
         && block.m_modes[7] != 19
+        && !block.user_m
     {
         return Err(InterpError::QWordUnused);
     }

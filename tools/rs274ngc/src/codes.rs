@@ -104,6 +104,9 @@ pub const GM_FEED_MODE: usize = 5;
 pub const GM_LENGTH_UNITS: usize = 6;
 pub const GM_CUTTER_COMP: usize = 7;
 pub const GM_TOOL_LENGTH_OFFSET: usize = 8;
+/// G92.1, G92.2, G92.3: a group of their own in LinuxCNC 2.9 (they may
+/// share a block with G92, G52, G10, G28 and run after them).
+pub const GM_G92_RESET: usize = 9;
 pub const GM_RETRACT_MODE: usize = 10;
 pub const GM_COORD_SYSTEM: usize = 12;
 pub const GM_CONTROL_MODE: usize = 13;
@@ -118,8 +121,8 @@ pub const M_GROUPS: usize = 11;
 /// The modal group of a G-code (times ten), or `None` for an unknown code.
 pub fn g_group(code: i32) -> Option<usize> {
     let group = match code {
-        G_4 | G_10 | G_28 | G_28_1 | G_30 | G_30_1 | G_52 | G_53 | G_92 | G_92_1 | G_92_2
-        | G_92_3 | G_5_3 => GM_MODAL_0,
+        G_4 | G_10 | G_28 | G_28_1 | G_30 | G_30_1 | G_52 | G_53 | G_92 | G_5_3 => GM_MODAL_0,
+        G_92_1 | G_92_2 | G_92_3 => GM_G92_RESET,
         G_0 | G_1 | G_2 | G_3 | G_5 | G_5_1 | G_5_2 | G_33 | G_33_1 | G_38_2 | G_38_3 | G_38_4
         | G_38_5 | G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2 | G_73 | G_74 | G_76 => {
             GM_MOTION

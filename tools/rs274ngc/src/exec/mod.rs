@@ -135,6 +135,9 @@ impl Interp {
         if block.g_modes[GM_MODAL_0] != -1 {
             self.convert_modal_0(block.g_modes[GM_MODAL_0], block, canon)?;
         }
+        if block.g_modes[GM_G92_RESET] != -1 {
+            self.convert_axis_offsets(block.g_modes[GM_G92_RESET], block, canon)?;
+        }
         if block.motion_to_be != -1 {
             self.convert_motion(block.motion_to_be, block, canon)?;
         }
@@ -161,7 +164,7 @@ impl Interp {
             }
             G_28 | G_30 => self.convert_home(code, block, canon),
             G_28_1 | G_30_1 => self.convert_savehome(code),
-            G_52 | G_92 | G_92_1 | G_92_2 | G_92_3 => self.convert_axis_offsets(code, block, canon),
+            G_52 | G_92 => self.convert_axis_offsets(code, block, canon),
             G_5_3 => self.convert_nurbs_end(block, canon),
             _ => Ok(()),
         }
