@@ -262,22 +262,34 @@ fn degrees_to_radians(x: f64) -> Ext {
 
 /// `sin(x * M_PIl / 180)` as LinuxCNC evaluates `SIN[x]`.
 pub fn sin_deg(x: f64) -> f64 {
+    if !x.is_finite() {
+        return f64::NAN;
+    }
     trig(degrees_to_radians(x), Trig::Sin)
 }
 
 /// `cos(x * M_PIl / 180)`.
 pub fn cos_deg(x: f64) -> f64 {
+    if !x.is_finite() {
+        return f64::NAN;
+    }
     trig(degrees_to_radians(x), Trig::Cos)
 }
 
 /// `tan(x * M_PIl / 180)`.
 pub fn tan_deg(x: f64) -> f64 {
+    if !x.is_finite() {
+        return f64::NAN;
+    }
     trig(degrees_to_radians(x), Trig::Tan)
 }
 
 /// `(r * 180.0) / M_PIl` rounded to double (ACOS, ASIN, ATAN results):
 /// the product is a double, the quotient a `long double`.
 pub fn rad_to_deg(r: f64) -> f64 {
+    if !r.is_finite() {
+        return r;
+    }
     Ext::from_f64(r * 180.0).div(PI_L).to_f64()
 }
 
@@ -308,5 +320,8 @@ mod tests {
         assert!(sin_deg(-180.0) > 0.0);
         assert_eq!(sin_deg(90.0), 1.0);
         assert_eq!(cos_deg(0.0), 1.0);
+        assert!(sin_deg(f64::NAN).is_nan() && sin_deg(f64::INFINITY).is_nan());
+        assert!(rad_to_deg(f64::NAN).is_nan());
+        assert_eq!(rad_to_deg(f64::INFINITY), f64::INFINITY);
     }
 }

@@ -9,9 +9,10 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{InterpError, Result};
 
-/// LinuxCNC's line buffer size: a line (with its newline) must be
-/// shorter than this; 255 bytes or more is "Command too long".
-pub const LINELEN: usize = 256;
+/// LinuxCNC's line buffer size: a line with its newline must be shorter
+/// than `LINELEN - 1` bytes (an MDI line shorter than `LINELEN`), or it
+/// is "Command too long".
+pub const LINELEN: usize = 255;
 
 /// Longest program file opened.
 pub const MAX_PROGRAM_BYTES: u64 = 1 << 30;
@@ -60,8 +61,10 @@ pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>> {
 pub enum Line {
     /// The line's bytes, up to any NUL, trailing white space removed.
     Text(Vec<u8>),
-    /// The line was 255 bytes or longer; the rest of it was skipped.
-    TooLong,
+    /// The line, with its newline, was `LINELEN - 1` bytes or longer: the
+    /// bytes read (as LinuxCNC shows them, a newline included); the rest
+    /// of it was skipped.
+    TooLong(Vec<u8>),
 }
 
 /// What a program is read from: a file, or bytes in memory.
@@ -141,7 +144,7 @@ impl Source {
             if buf.last() != Some(&b'\n') {
                 self.skip_rest_of_line()?;
             }
-            return Ok(Some(Line::TooLong));
+            return Ok(Some(Line::TooLong(buf)));
         }
         buf.truncate(text_len);
         while buf.last().is_some_and(|&b| is_c_space(b)) {
@@ -211,24 +214,27 @@ mod tests {
 
     #[test]
     fn long_lines_are_refused_and_skipped() {
-        let mut text = vec![b'X'; 254];
+        let mut text = vec![b'X'; 253];
         text.extend_from_slice(b"\nG0\n");
         let (_d, path) = temp_file(&text);
         let mut s = Source::open(&path).unwrap();
-        assert_eq!(s.read_line().unwrap(), Some(Line::TooLong));
+        assert_eq!(
+            s.read_line().unwrap(),
+            Some(Line::TooLong([vec![b'X'; 253], b"\n".to_vec()].concat()))
+        );
         assert_eq!(s.read_line().unwrap(), Some(Line::Text(b"G0".to_vec())));
 
-        let mut text = vec![b'X'; 253];
+        let mut text = vec![b'X'; 252];
         text.push(b'\n');
         let (_d, path) = temp_file(&text);
         let mut s = Source::open(&path).unwrap();
-        assert!(matches!(s.read_line().unwrap(), Some(Line::Text(t)) if t.len() == 253));
+        assert!(matches!(s.read_line().unwrap(), Some(Line::Text(t)) if t.len() == 252));
 
         let mut text = vec![b'Y'; 5000];
         text.extend_from_slice(b"\nG1\n");
         let (_d, path) = temp_file(&text);
         let mut s = Source::open(&path).unwrap();
-        assert_eq!(s.read_line().unwrap(), Some(Line::TooLong));
+        assert_eq!(s.read_line().unwrap(), Some(Line::TooLong(vec![b'Y'; 254])));
         assert_eq!(s.read_line().unwrap(), Some(Line::Text(b"G1".to_vec())));
     }
 

@@ -120,7 +120,7 @@ impl Interp {
                     );
                     return Ok(());
                 }
-                Some(Line::TooLong) => continue,
+                Some(Line::TooLong(_)) => continue,
                 Some(Line::Text(text)) => {
                     let trimmed: Vec<u8> = text
                         .iter()

@@ -187,7 +187,7 @@ impl Interp {
         let first = loop {
             match source.read_line()? {
                 None => return Err(InterpError::NoPercentAtEnd),
-                Some(Line::TooLong) => return Err(InterpError::CommandTooLong),
+                Some(Line::TooLong(_)) => return Err(InterpError::CommandTooLong),
                 Some(Line::Text(t)) if t.is_empty() => continue,
                 Some(Line::Text(t)) => break t,
             }
@@ -361,8 +361,8 @@ impl Interp {
                 };
                 self.s.sequence_number += 1;
                 match line {
-                    Line::TooLong => {
-                        self.raw_line.clear();
+                    Line::TooLong(start) => {
+                        self.raw_line = start;
                         canon.set_line_text(&self.raw_line);
                         return Err(InterpError::CommandTooLong);
                     }

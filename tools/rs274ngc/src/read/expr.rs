@@ -104,17 +104,20 @@ fn apply_binary(left: f64, op: Op, right: f64) -> Result<f64> {
     })
 }
 
+#[allow(clippy::manual_range_contains)]
 fn apply_unary(x: f64, op: Unary) -> Result<f64> {
     Ok(match op {
         Unary::Abs => x.abs(),
+        // Written as LinuxCNC's C comparisons: a NaN passes them and is
+        // reported later as "not a number".
         Unary::Acos => {
-            if !(-1.0..=1.0).contains(&x) {
+            if x < -1.0 || x > 1.0 {
                 return Err(InterpError::AcosRange);
             }
             ld::rad_to_deg(x.acos())
         }
         Unary::Asin => {
-            if !(-1.0..=1.0).contains(&x) {
+            if x < -1.0 || x > 1.0 {
                 return Err(InterpError::AsinRange);
             }
             ld::rad_to_deg(x.asin())
