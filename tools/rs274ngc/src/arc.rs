@@ -80,7 +80,8 @@ pub fn arc_data_ijk(
     }
     let abs_err = (r1 - r2).abs();
     let rel_err = abs_err / r1.max(r2);
-    if abs_err > spiral_tolerance || rel_err > SPIRAL_RELATIVE_TOLERANCE {
+    // LinuxCNC 2.9 refuses only an end that is off in both measures.
+    if abs_err > spiral_tolerance && rel_err > SPIRAL_RELATIVE_TOLERANCE {
         let f4 = |v: f64| cfmt::f(v, 4);
         return Err(InterpError::ArcRadiusMismatch(format!(
             "Radius to end of arc differs from radius to start: start=({a}{},{b}{}) center=({a}{},{b}{}) end=({a}{},{b}{}) r1={} r2={} abs_err={} rel_err={}%",
