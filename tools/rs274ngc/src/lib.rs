@@ -63,4 +63,4 @@ pub use params::file as parameter_file;
 pub use print_canon::{PrintCanon, STANDALONE_LENGTH_UNITS};
 pub use refusals::{list_refusals, list_refusals_within, Refusal, MAX_CHECKED_BLOCKS};
 pub use setup::Setup;
-pub use source::{LINELEN, MAX_PROGRAM_BYTES};
+pub use source::{read_bounded, LINELEN, MAX_PROGRAM_BYTES};

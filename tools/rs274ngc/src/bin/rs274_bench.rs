@@ -4,9 +4,12 @@
 //! LinuxCNC's when `LINUXCNC_RS274` names it, each timed as a whole
 //! process with its output to /dev/null.
 //!
-//! `rs274-bench [LINES]` (default 1000000). LinuxCNC's libraries are
-//! looked for in ../lib and ../lib/x86_64-linux-gnu next to its binary
-//! unless `LINUXCNC_LD_LIBRARY_PATH` names them.
+//! `rs274-bench run [LINES]` (LINES 10 to 10000000, default 1000000);
+//! without `run` it prints its usage. The program is written to a
+//! directory of its own in the private runtime directory and removed
+//! afterwards. LinuxCNC's libraries are looked for in ../lib and
+//! ../lib/x86_64-linux-gnu next to its binary unless
+//! `LINUXCNC_LD_LIBRARY_PATH` names them.
 
 #![forbid(unsafe_code)]
 
@@ -15,7 +18,40 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode, Stdio};
 use std::time::{Duration, Instant};
 
-use rs274ngc::{tooltable, Config, Interp, PrintCanon, Status};
+use rs274ngc::{tooltable, Config, Interp, InterpError, PrintCanon, Status};
+
+/// Why the benchmark could not run.
+#[derive(Debug, thiserror::Error)]
+enum BenchError {
+    #[error("no place for the generated program")]
+    RuntimeDir(#[source] hal_core::HalError),
+    #[error("{what} {path}")]
+    Io {
+        what: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("the interpreter refused the generated program")]
+    Interp(#[from] InterpError),
+    #[error("{binary} exited with {status}")]
+    Failed {
+        binary: PathBuf,
+        status: std::process::ExitStatus,
+    },
+}
+
+fn io_error(what: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> BenchError {
+    let path = path.to_path_buf();
+    move |source| BenchError::Io {
+        what,
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// Most lines a run generates.
+const MAX_LINES: usize = 10_000_000;
 
 const TOOL_TABLE: &str = "T1 P1 Z1.0 D0.25\nT2 P2 Z2.0 D0.5\n";
 
@@ -57,18 +93,18 @@ fn program(lines: usize) -> String {
 }
 
 /// Read and execute every block in this process; the number of blocks.
-fn read_ahead(path: &Path) -> Result<usize, String> {
+fn read_ahead(path: &Path) -> Result<usize, BenchError> {
     let mut canon = PrintCanon::new(None, tooltable::parse(TOOL_TABLE).entries);
     let mut interp = Interp::new(Config::default());
-    interp.init(&mut canon).map_err(|e| e.to_string())?;
-    interp.open(path, &mut canon).map_err(|e| e.to_string())?;
+    interp.init(&mut canon)?;
+    interp.open(path, &mut canon)?;
     let mut blocks = 0;
     loop {
-        match interp.read(&mut canon).map_err(|e| e.to_string())? {
+        match interp.read(&mut canon)? {
             Status::EndFile => break,
             _ => blocks += 1,
         }
-        if interp.execute(&mut canon).map_err(|e| e.to_string())? == Status::Exit {
+        if interp.execute(&mut canon)? == Status::Exit {
             break;
         }
     }
@@ -77,7 +113,11 @@ fn read_ahead(path: &Path) -> Result<usize, String> {
 }
 
 /// Run a whole `rs274 -t TABLE -g PROGRAM > /dev/null`; its wall time.
-fn whole_process(binary: &Path, env: &[(String, String)], dir: &Path) -> Result<Duration, String> {
+fn whole_process(
+    binary: &Path,
+    env: &[(String, String)],
+    dir: &Path,
+) -> Result<Duration, BenchError> {
     let start = Instant::now();
     let status = Command::new(binary)
         .args(["-t", "bench.tbl", "-g", "bench.ngc"])
@@ -87,10 +127,13 @@ fn whole_process(binary: &Path, env: &[(String, String)], dir: &Path) -> Result<
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .status()
-        .map_err(|e| format!("{}: {e}", binary.display()))?;
+        .map_err(io_error("could not start", binary))?;
     let elapsed = start.elapsed();
     if !status.success() {
-        return Err(format!("{} exited with {status}", binary.display()));
+        return Err(BenchError::Failed {
+            binary: binary.to_path_buf(),
+            status,
+        });
     }
     Ok(elapsed)
 }
@@ -117,24 +160,32 @@ fn report(what: &str, blocks: usize, time: Duration) {
     );
 }
 
-fn run(lines: usize) -> Result<(), String> {
-    let dir = std::env::temp_dir().join(format!("rs274-bench-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+fn run(lines: usize) -> Result<(), BenchError> {
+    let runtime = hal_core::paths::ensure_runtime_dir().map_err(BenchError::RuntimeDir)?;
+    let dir = runtime.join(format!("rs274-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(io_error("could not create", &dir))?;
+    let result = measure(lines, &dir);
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
+fn measure(lines: usize, dir: &Path) -> Result<(), BenchError> {
     let path = dir.join("bench.ngc");
-    std::fs::write(&path, program(lines)).map_err(|e| e.to_string())?;
-    std::fs::write(dir.join("bench.tbl"), TOOL_TABLE).map_err(|e| e.to_string())?;
+    std::fs::write(&path, program(lines)).map_err(io_error("could not write", &path))?;
+    let table = dir.join("bench.tbl");
+    std::fs::write(&table, TOOL_TABLE).map_err(io_error("could not write", &table))?;
     println!("program: {lines} lines ({})", path.display());
     let start = Instant::now();
     let blocks = read_ahead(&path)?;
     report("read-ahead (library, no output)", blocks, start.elapsed());
-    let ours = std::env::current_exe()
-        .map_err(|e| e.to_string())?
-        .with_file_name("rs274");
+    let exe =
+        std::env::current_exe().map_err(io_error("could not find", Path::new("rs274-bench")))?;
+    let ours = exe.with_file_name("rs274");
     if ours.is_file() {
         report(
             "our rs274, whole process, output to /dev/null",
             blocks,
-            whole_process(&ours, &[], &dir)?,
+            whole_process(&ours, &[], dir)?,
         );
     } else {
         println!(
@@ -144,28 +195,41 @@ fn run(lines: usize) -> Result<(), String> {
     }
     match linuxcnc() {
         Some((binary, env)) => {
-            let time = whole_process(&binary, &env, &dir)?;
+            let time = whole_process(&binary, &env, dir)?;
             report("LinuxCNC rs274, whole process, to /dev/null", blocks, time);
         }
         None => println!("LinuxCNC rs274: skipped (set LINUXCNC_RS274 to its binary)"),
     }
-    let _ = std::fs::remove_dir_all(&dir);
     Ok(())
 }
 
+fn usage() -> ExitCode {
+    eprintln!("usage: rs274-bench run [LINES]   (LINES from 10 to {MAX_LINES}, default 1000000)");
+    ExitCode::from(2)
+}
+
 fn main() -> ExitCode {
-    let lines = match std::env::args().nth(1).map(|a| a.parse::<usize>()) {
-        None => 1_000_000,
-        Some(Ok(n)) if n >= 10 => n,
-        Some(_) => {
-            eprintln!("usage: rs274-bench [LINES (at least 10)]");
-            return ExitCode::from(2);
-        }
+    let args: Vec<String> = std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    let lines = match args.as_slice() {
+        [run] if run == "run" => 1_000_000,
+        [run, n] if run == "run" => match n.parse::<usize>() {
+            Ok(n) if (10..=MAX_LINES).contains(&n) => n,
+            _ => return usage(),
+        },
+        _ => return usage(),
     };
     match run(lines) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("rs274-bench: {e}");
+            let mut source = std::error::Error::source(&e);
+            while let Some(cause) = source {
+                eprintln!("  because: {cause}");
+                source = cause.source();
+            }
             ExitCode::FAILURE
         }
     }

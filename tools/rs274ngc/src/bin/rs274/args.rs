@@ -2,6 +2,8 @@
 //! before the file names, letters may be grouped (`-gb`), an option's
 //! value may follow it or be the next word.
 
+use std::ffi::OsString;
+use std::os::unix::ffi::{OsStrExt, OsStringExt};
 use std::path::PathBuf;
 
 /// What to do when a line is refused (`-n`).
@@ -53,8 +55,54 @@ pub fn usage(program: &str) -> String {
     )
 }
 
+/// C's `atoi`: optional blanks and sign, then digits; 0 if none.
+fn atoi(bytes: &[u8]) -> i64 {
+    let mut rest = bytes
+        .iter()
+        .skip_while(|b| b.is_ascii_whitespace())
+        .peekable();
+    let negative = match rest.peek() {
+        Some(b'-') => {
+            rest.next();
+            true
+        }
+        Some(b'+') => {
+            rest.next();
+            false
+        }
+        _ => false,
+    };
+    let mut value: i64 = 0;
+    for b in rest.take_while(|b| b.is_ascii_digit()) {
+        value = value.saturating_mul(10).saturating_add(i64::from(b - b'0'));
+    }
+    if negative {
+        -value
+    } else {
+        value
+    }
+}
+
+/// Set the option `letter` that takes a value.
+fn set_valued(args: &mut Args, letter: u8, value: OsString) {
+    match letter {
+        b'p' => args.plugin = Some(value.to_string_lossy().into_owned()),
+        b't' => args.tool_table = Some(PathBuf::from(value)),
+        b'v' => args.parameter_file = Some(PathBuf::from(value)),
+        b'i' => args.ini = Some(PathBuf::from(value)),
+        b'n' => {
+            args.on_error = match atoi(value.as_bytes()) {
+                1 => OnError::Mdi,
+                2 => OnError::Stop,
+                _ => OnError::Continue,
+            }
+        }
+        _ => {}
+    }
+}
+
 /// Parse `argv`; `Err(())` means print the usage and exit 1.
-pub fn parse(argv: &[String]) -> Result<Args, ()> {
+pub fn parse(argv: &[OsString]) -> Result<Args, ()> {
     let mut args = Args {
         plugin: None,
         tool_table: None,
@@ -68,60 +116,52 @@ pub fn parse(argv: &[String]) -> Result<Args, ()> {
         input: None,
         output: None,
     };
-    let program = argv.first().map(String::as_str).unwrap_or("rs274");
+    let program = argv
+        .first()
+        .map(|p| p.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "rs274".into());
     let mut i = 1;
     let mut positional = Vec::new();
     while i < argv.len() {
-        let word = &argv[i];
+        let word = argv[i].as_bytes();
         i += 1;
-        if word == "--" {
+        if word == b"--" {
             positional.extend(argv[i..].iter().cloned());
             break;
         }
-        if !word.starts_with('-') || word == "-" {
-            positional.push(word.clone());
+        if !word.starts_with(b"-") || word == b"-" {
+            positional.push(argv[i - 1].clone());
             continue;
         }
-        let letters: Vec<char> = word[1..].chars().collect();
-        let mut k = 0;
-        while k < letters.len() {
-            let c = letters[k];
+        let mut k = 1;
+        while k < word.len() {
+            let c = word[k];
             k += 1;
-            if matches!(c, 'p' | 't' | 'v' | 'n' | 'i' | 'l') {
-                let value = if k < letters.len() {
-                    let v: String = letters[k..].iter().collect();
-                    k = letters.len();
+            if matches!(c, b'p' | b't' | b'v' | b'n' | b'i' | b'l') {
+                let value = if k < word.len() {
+                    let v = OsString::from_vec(word[k..].to_vec());
+                    k = word.len();
                     v
                 } else if i < argv.len() {
                     i += 1;
                     argv[i - 1].clone()
                 } else {
-                    eprintln!("{program}: option requires an argument -- '{c}'");
+                    eprintln!("{program}: option requires an argument -- '{}'", c as char);
                     return Err(());
                 };
-                match c {
-                    'p' => args.plugin = Some(value),
-                    't' => args.tool_table = Some(PathBuf::from(value)),
-                    'v' => args.parameter_file = Some(PathBuf::from(value)),
-                    'i' => args.ini = Some(PathBuf::from(value)),
-                    'n' => {
-                        args.on_error = match value.trim().parse::<i64>().unwrap_or(0) {
-                            1 => OnError::Mdi,
-                            2 => OnError::Stop,
-                            _ => OnError::Continue,
-                        }
-                    }
-                    _ => {}
-                }
+                set_valued(&mut args, c, value);
                 continue;
             }
             match c {
-                'b' => args.block_delete = !args.block_delete,
-                's' => args.print_stack = !args.print_stack,
-                'g' => args.go = !args.go,
-                'T' => args.task_init = true,
+                b'b' => args.block_delete = !args.block_delete,
+                b's' => args.print_stack = !args.print_stack,
+                b'g' => args.go = !args.go,
+                b'T' => args.task_init = true,
                 _ => {
-                    eprintln!("{program}: invalid option -- '{c}'");
+                    eprintln!(
+                        "{program}: invalid option -- '{}'",
+                        String::from_utf8_lossy(&[c])
+                    );
                     return Err(());
                 }
             }
@@ -140,8 +180,8 @@ pub fn parse(argv: &[String]) -> Result<Args, ()> {
 mod tests {
     use super::*;
 
-    fn argv(words: &[&str]) -> Vec<String> {
-        words.iter().map(|s| s.to_string()).collect()
+    fn argv(words: &[&str]) -> Vec<OsString> {
+        words.iter().map(OsString::from).collect()
     }
 
     #[test]
@@ -158,5 +198,16 @@ mod tests {
         assert!(parse(&argv(&["rs274", "-x"])).is_err());
         assert!(parse(&argv(&["rs274", "a", "b", "c"])).is_err());
         assert!(parse(&argv(&["rs274", "-t"])).is_err());
+        assert_eq!(
+            parse(&argv(&["rs274", "-n", "2x"])).unwrap().on_error,
+            OnError::Stop
+        );
+        assert_eq!(
+            parse(&argv(&["rs274", "-n", " 1"])).unwrap().on_error,
+            OnError::Mdi
+        );
+        let odd = OsString::from_vec(vec![b'p', 0xff, b'.', b'n']);
+        let a = parse(&[OsString::from("rs274"), odd.clone()]).unwrap();
+        assert_eq!(a.input, Some(PathBuf::from(odd)));
     }
 }

@@ -8,6 +8,9 @@ use std::path::{Path, PathBuf};
 use hal_tools::ini::Ini;
 use rs274ngc::{Config, Features};
 
+/// Largest INI file (or included file) read.
+const MAX_INI_BYTES: u64 = 1 << 20;
+
 /// Paths in a colon-separated list that exist, as absolute paths.
 fn path_list(value: &str) -> Vec<PathBuf> {
     value
@@ -40,7 +43,13 @@ fn number(ini: &Ini, section: &str, key: &str) -> Option<f64> {
 /// Read the interpreter's options from an INI file into `config`; false
 /// if the file cannot be read.
 pub fn apply(path: &Path, config: &mut Config) -> bool {
-    let Ok(ini) = Ini::load(path) else {
+    // Regular files of bounded size only (an INI of /dev/zero is refused,
+    // not read forever), includes too.
+    let mut read = |file: &Path| -> std::io::Result<String> {
+        let bytes = rs274ngc::read_bounded(file, MAX_INI_BYTES).map_err(std::io::Error::other)?;
+        Ok(String::from_utf8_lossy(&bytes).into_owned())
+    };
+    let Ok(ini) = Ini::parse_with(path, &mut read) else {
         return false;
     };
     // Standalone rs274 takes its parameter file from -v only; LinuxCNC's

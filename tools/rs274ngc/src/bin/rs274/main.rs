@@ -8,7 +8,7 @@ mod args;
 mod ini_config;
 mod menu;
 
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -20,11 +20,19 @@ use args::{Args, OnError};
 const DEFAULT_TOOL_TABLE: &str = "/usr/share/doc/linuxcnc/examples/sample-configs/common/tool.tbl";
 
 fn main() -> ExitCode {
-    let argv: Vec<String> = std::env::args().collect();
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
     let mut args = match args::parse(&argv) {
         Ok(args) => args,
         Err(()) => {
-            eprint!("{}", args::usage(&argv[0]));
+            eprint!(
+                "{}",
+                args::usage(
+                    &argv
+                        .first()
+                        .map(|a| a.to_string_lossy().into_owned())
+                        .unwrap_or_default()
+                )
+            );
             return ExitCode::from(1);
         }
     };
@@ -35,13 +43,7 @@ fn main() -> ExitCode {
         return ExitCode::from(1);
     }
     eprintln!("executing");
-    match run(&args) {
-        Ok(code) => ExitCode::from(code),
-        Err(message) => {
-            eprintln!("rs274: {message}");
-            ExitCode::from(1)
-        }
-    }
+    ExitCode::from(run(&args))
 }
 
 /// Print an interpreter error as rs274 does: its text, then the line.
@@ -108,7 +110,8 @@ fn user_m_codes(args: &Args, config: &Config) -> Vec<i32> {
         .collect()
 }
 
-fn run(args: &Args) -> Result<u8, String> {
+/// Run the program (or the keyboard); the exit status.
+fn run(args: &Args) -> u8 {
     let config = config_from(args);
     let tools = tool_entries(args);
     let out: Box<dyn Write> = match &args.output {
@@ -116,7 +119,7 @@ fn run(args: &Args) -> Result<u8, String> {
             Ok(f) => Box::new(std::io::BufWriter::new(f)),
             Err(_) => {
                 eprintln!("could not open output file {}", path.display());
-                return Ok(1);
+                return 1;
             }
         },
         None => Box::new(std::io::BufWriter::new(std::io::stdout())),
@@ -129,7 +132,7 @@ fn run(args: &Args) -> Result<u8, String> {
     if let Err(e) = interp.init(&mut canon) {
         canon.flush();
         report_error(&e, &interp);
-        return Ok(1);
+        return 1;
     }
     let status = match &args.input {
         None => {
@@ -140,7 +143,7 @@ fn run(args: &Args) -> Result<u8, String> {
             if let Err(e) = interp.open(input, &mut canon) {
                 canon.flush();
                 report_error(&e, &interp);
-                return Ok(1);
+                return 1;
             }
             let status = interpret_from_file(&mut interp, &mut canon, args.on_error);
             interp.close(&mut canon);
@@ -153,9 +156,10 @@ fn run(args: &Args) -> Result<u8, String> {
         eprintln!("{e}");
     }
     if canon.write_failed() {
-        return Err("could not write the output".to_string());
+        eprintln!("rs274: could not write the canonical calls to the output");
+        return 1;
     }
-    Ok(status)
+    status
 }
 
 /// Run the open file; 1 if it stopped on an error.
@@ -204,31 +208,27 @@ fn mdi_then_continue(interp: &mut Interp, canon: &mut PrintCanon) -> bool {
     eprintln!("starting MDI");
     interpret_from_keyboard(interp, canon);
     eprint!("continue program? y/n =>");
-    let mut answer = String::new();
-    let _ = std::io::stdin().lock().read_line(&mut answer);
-    answer.starts_with('y')
+    menu::read_stdin_line().is_some_and(|answer| answer.starts_with(b"y"))
 }
 
 /// Read lines from standard input and run each, until `quit` or the end.
 fn interpret_from_keyboard(interp: &mut Interp, canon: &mut PrintCanon) {
-    let stdin = std::io::stdin();
-    let prompt = stdin.is_terminal();
-    let mut line = String::new();
+    let prompt = std::io::stdin().is_terminal();
     loop {
         if prompt {
             print!("READ => ");
             let _ = std::io::stdout().flush();
         }
-        line.clear();
-        match stdin.lock().read_line(&mut line) {
-            Ok(0) | Err(_) => return,
-            Ok(_) => {}
+        let Some(mut text) = menu::read_stdin_line() else {
+            return;
+        };
+        if text.last() == Some(&b'\r') {
+            text.pop();
         }
-        let text = line.trim_end_matches(['\n', '\r']);
-        if text == "quit" {
+        if text == b"quit" {
             return;
         }
-        match interp.read_mdi(text.as_bytes(), canon) {
+        match interp.read_mdi(&text, canon) {
             Ok(Status::ExecuteFinish) if canon.block_delete => {}
             Ok(Status::EndFile) => {}
             Ok(_) => {

@@ -2,16 +2,50 @@
 //! standard input), as LinuxCNC's.
 
 use std::io::BufRead;
+use std::os::unix::ffi::OsStringExt;
 use std::path::PathBuf;
 
 use crate::args::{Args, OnError};
 
-fn read_line() -> Option<String> {
-    let mut line = String::new();
-    match std::io::stdin().lock().read_line(&mut line) {
-        Ok(0) | Err(_) => None,
-        Ok(_) => Some(line),
+/// Most bytes of a line of standard input kept (the rest of a longer
+/// line is read and dropped: memory stays bounded whatever arrives).
+pub const MAX_INPUT_LINE: usize = 4096;
+
+/// One line of standard input, without its newline, at most
+/// [`MAX_INPUT_LINE`] bytes of it; `None` at the end of input.
+pub fn read_stdin_line() -> Option<Vec<u8>> {
+    let stdin = std::io::stdin();
+    let mut input = stdin.lock();
+    let mut line = Vec::new();
+    let mut any = false;
+    loop {
+        let chunk = match input.fill_buf() {
+            Ok([]) => return any.then_some(line),
+            Ok(c) => c,
+            Err(_) => return any.then_some(line),
+        };
+        any = true;
+        let (part, done) = match chunk.iter().position(|&b| b == b'\n') {
+            Some(i) => (&chunk[..i], Some(i + 1)),
+            None => (chunk, None),
+        };
+        let room = MAX_INPUT_LINE.saturating_sub(line.len());
+        line.extend_from_slice(&part[..part.len().min(room)]);
+        let used = done.unwrap_or(chunk.len());
+        input.consume(used);
+        if done.is_some() {
+            return Some(line);
+        }
     }
+}
+
+/// A file name typed on standard input (any bytes).
+fn read_path() -> Option<PathBuf> {
+    read_stdin_line().map(|l| PathBuf::from(std::ffi::OsString::from_vec(l)))
+}
+
+fn read_line() -> Option<String> {
+    read_stdin_line().map(|l| String::from_utf8_lossy(&l).into_owned())
 }
 
 fn choice(line: &str) -> Option<i64> {
@@ -36,30 +70,33 @@ pub fn run(args: &mut Args) -> bool {
         );
         eprintln!("5 = adjust error handling...");
         eprint!("enter choice => ");
+        // The end of the input starts interpreting, as in LinuxCNC.
         let Some(line) = read_line() else {
-            return false;
+            return true;
         };
         match choice(&line) {
             Some(1) => return true,
             Some(2) => {
                 eprint!("name of parameter file => ");
-                let name = read_line().unwrap_or_default();
-                let name = name.trim_end_matches('\n');
-                if std::fs::File::open(name).is_err() {
-                    eprintln!("Cannot open {name}");
+                let Some(path) = read_path() else {
+                    return false;
+                };
+                if std::fs::File::open(&path).is_err() {
+                    eprintln!("Cannot open {}", path.display());
                     return false;
                 }
-                args.parameter_file = Some(PathBuf::from(name));
+                args.parameter_file = Some(path);
             }
             Some(3) => {
                 eprint!("name of tool file => ");
-                let name = read_line().unwrap_or_default();
-                let name = name.trim_end_matches('\n');
-                if std::fs::File::open(name).is_err() {
-                    eprintln!("Cannot open {name}");
+                let Some(path) = read_path() else {
+                    return false;
+                };
+                // LinuxCNC says nothing here when the table cannot be read.
+                if std::fs::File::open(&path).is_err() {
                     return false;
                 }
-                args.tool_table = Some(PathBuf::from(name));
+                args.tool_table = Some(path);
             }
             Some(4) => args.block_delete = !args.block_delete,
             Some(5) => adjust_error_handling(args),
