@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// Optional interpreter features ([RS274NGC]FEATURES bits).
+/// Optional interpreter features (`[RS274NGC]FEATURES` bits).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Features {
     /// Bit 0: keep G43 in effect across tool changes.
@@ -44,7 +44,7 @@ pub struct Config {
     pub subroutine_path: Vec<PathBuf>,
     /// Directories searched for user M-code programs (M100-M199).
     pub user_m_path: Vec<PathBuf>,
-    /// Searched first for subroutine files ([DISPLAY]PROGRAM_PREFIX);
+    /// Searched first for subroutine files (`[DISPLAY]PROGRAM_PREFIX`);
     /// the current directory when None, as in standalone rs274.
     pub program_prefix: Option<PathBuf>,
     /// Optional features.

@@ -22,6 +22,25 @@
 //! }
 //! # Ok::<(), rs274ngc::InterpError>(())
 //! ```
+//!
+//! For task: [`Interp::read`] takes the next block and [`Interp::execute`]
+//! runs it; reading ahead is calling them without waiting for motion,
+//! until [`Status::ExecuteFinish`] says the world must be asked again
+//! ([`Interp::synch`]: after a probe, a tool change, an input wait).
+//! [`Interp::read_mdi`]/[`Interp::execute_mdi`] run typed lines,
+//! [`Interp::reset`] and [`Interp::abort`] stop, and
+//! [`Interp::sequence_number`], [`Interp::line_text`],
+//! [`Interp::active_codes`] and [`Interp::settings`] report the line,
+//! the modal state and the active offsets. [`list_refusals`] runs a whole
+//! program against a canon that moves nothing and lists what is refused.
+//!
+//! The reader is this crate's own: LinuxCNC's dialect has bracketed
+//! expressions, `#` and `#<name>` parameters, O-words and comments that
+//! act (`(MSG,`, `(DEBUG,`, `(PRINT,`, `(LOG...`), which a plain G-code
+//! tokenizer does not read, and the refusals must carry LinuxCNC's texts
+//! and places. Spindle-synchronised moves (G33, G33.1, G76) and the lathe
+//! roughing cycles (G70-G72) are refused with a message saying they are
+//! not supported yet.
 
 #![forbid(unsafe_code)]
 

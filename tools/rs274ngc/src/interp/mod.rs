@@ -231,6 +231,15 @@ impl Interp {
         canon.on_reset();
     }
 
+    /// Stop the program where it is (task's abort): close it, leave any
+    /// subroutine, drop queued moves and reset, whatever
+    /// [`Config::lazy_close`] says; the modal state and parameters stay.
+    pub fn abort(&mut self, canon: &mut dyn Canon) {
+        self.source = None;
+        self.s.percent_flag = false;
+        self.reset(canon);
+    }
+
     /// Save the parameter file and reset; the end of a session.
     pub fn exit(&mut self, canon: &mut dyn Canon) -> Result<()> {
         let saved = self.save_parameters();

@@ -1,7 +1,9 @@
-//! The INI keys rs274 takes from `-i`: [RS274NGC] SUBROUTINE_PATH, USER_M_PATH, FEATURES, tolerances, G92 persistence,
-//! Fanuc subroutines, ORIENT_OFFSET; [EMCIO] tool change options and
-//! RANDOM_TOOLCHANGER; [DISPLAY]PROGRAM_PREFIX. The only use of the INI
-//! parser in this crate is here.
+//! The INI keys rs274 takes from `-i`: `[RS274NGC]` `SUBROUTINE_PATH`,
+//! `USER_M_PATH`, `FEATURES`, tolerances, G92 persistence, Fanuc
+//! subroutines, `ORIENT_OFFSET`; `[EMCIO]` tool change options and
+//! `RANDOM_TOOLCHANGER`; `[DISPLAY]PROGRAM_PREFIX`; every entry for
+//! `#<_ini[section]key>`. The only use of the INI parser in this crate is
+//! here.
 
 use std::path::{Path, PathBuf};
 
