@@ -92,6 +92,12 @@ impl PrintCanon {
         }
     }
 
+    /// Start with an empty spindle (tool -1), as a random tool changer's
+    /// table does.
+    pub fn random_toolchanger_spindle(&mut self) {
+        self.tools[0].toolno = -1;
+    }
+
     /// True if writing the output failed at some point.
     pub fn write_failed(&self) -> bool {
         self.write_failed

@@ -13,7 +13,8 @@ impl Interp {
     /// The tool table index holding tool `toolno` (0: the spindle for
     /// tool 0 on a non-random changer).
     pub(crate) fn find_tool_index(&self, toolno: i32) -> Result<i32> {
-        if !self.config.random_toolchanger && toolno == 0 {
+        // T0 is the empty spindle (entry 0) for either kind of changer.
+        if toolno == 0 {
             return Ok(0);
         }
         let start = if self.config.random_toolchanger { 0 } else { 1 };

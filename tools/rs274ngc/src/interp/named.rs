@@ -12,16 +12,6 @@ use crate::setup::{DistanceMode, FeedMode, RetractMode, Side, SpindleMode};
 const VERSION_MAJOR: f64 = 2.9;
 const VERSION_MINOR: f64 = 0.0;
 
-/// The pocket (P) of the tool table entry at `index`; a negative index
-/// (nothing selected) as it is.
-fn pocket_number(s: &crate::setup::Setup, index: i32) -> f64 {
-    if index < 0 {
-        f64::from(index)
-    } else {
-        f64::from(s.tool(index).pocketno)
-    }
-}
-
 impl Interp {
     /// The value of a predefined read-only parameter, if `name` is one.
     fn predefined(&self, name: &str) -> Option<f64> {
@@ -79,8 +69,8 @@ impl Interp {
             "_feed" => s.feed_rate,
             "_rpm" => s.speed.abs(),
             "_current_tool" => s.tool(0).toolno as f64,
-            "_current_pocket" => pocket_number(s, s.current_pocket),
-            "_selected_pocket" => pocket_number(s, s.selected_pocket),
+            "_current_pocket" => self.pocket_number(s.current_pocket),
+            "_selected_pocket" => self.pocket_number(s.selected_pocket),
             "_selected_tool" => s.selected_tool as f64,
             "_x" => s.current.x,
             "_y" => s.current.y,
@@ -121,6 +111,20 @@ impl Interp {
         let key = (upper[5..close].to_string(), upper[close + 1..].to_string());
         let value = self.config.ini_values.get(&key)?;
         crate::cfmt::scan_double(value.trim()).map(|(v, _)| v)
+    }
+
+    /// What `#<_current_pocket>`/`#<_selected_pocket>` give for the tool
+    /// table entry at `index`: its pocket (P), or a negative index (nothing
+    /// selected) as it is; with a random changer the entry number itself
+    /// (0 for nothing), as LinuxCNC 2.9's standalone interpreter.
+    fn pocket_number(&self, index: i32) -> f64 {
+        if self.config.random_toolchanger {
+            f64::from(index.max(0))
+        } else if index < 0 {
+            f64::from(index)
+        } else {
+            f64::from(self.s.tool(index).pocketno)
+        }
     }
 
     /// The current position in machine coordinates (no offsets).

@@ -128,6 +128,9 @@ fn run(args: &Args) -> u8 {
     canon.block_delete = args.block_delete;
     canon.print_to_stdout = args.output.is_some();
     canon.user_m_codes = user_m_codes(args, &config);
+    if config.random_toolchanger {
+        canon.random_toolchanger_spindle();
+    }
     let mut interp = Interp::new(config);
     if let Err(e) = interp.init(&mut canon) {
         canon.flush();
