@@ -65,7 +65,20 @@ impl Interp {
         if self.s.feed_mode != FeedMode::InverseTime {
             return;
         }
-        let length = find_straight_length(end, &self.s.current);
+        // With cutter compensation the programmed (uncompensated) path
+        // sets the time, as in LinuxCNC.
+        let comp = self.s.cutter_comp_side != Side::Off && self.s.cutter_comp_radius > 0.0;
+        let start = if comp && !self.s.cutter_comp_firstmove {
+            Pose {
+                x: self.s.program_x,
+                y: self.s.program_y,
+                z: self.s.program_z,
+                ..self.s.current
+            }
+        } else {
+            self.s.current
+        };
+        let length = find_straight_length(end, &start);
         let rate = (length * block.f_number).max(0.1);
         self.enqueue(canon, Queued::SetFeedRate(rate));
         self.s.feed_rate = rate;
