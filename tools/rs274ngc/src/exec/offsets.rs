@@ -261,20 +261,8 @@ impl Interp {
         if self.s.cutter_comp_side != Side::Off {
             return Err(InterpError::SaveHomeWithComp);
         }
-        let s = &self.s;
-        let c = &s.current;
-        let sum = |cur: f64, t: f64, o: f64, a: f64| cur + t + o + a;
-        let machine = [
-            sum(c.x, s.tool_offset.x, s.origin_offset.x, s.axis_offset.x),
-            sum(c.y, s.tool_offset.y, s.origin_offset.y, s.axis_offset.y),
-            sum(c.z, s.tool_offset.z, s.origin_offset.z, s.axis_offset.z),
-            sum(c.a, s.tool_offset.a, s.origin_offset.a, s.axis_offset.a),
-            sum(c.b, s.tool_offset.b, s.origin_offset.b, s.axis_offset.b),
-            sum(c.c, s.tool_offset.c, s.origin_offset.c, s.axis_offset.c),
-            sum(c.u, s.tool_offset.u, s.origin_offset.u, s.axis_offset.u),
-            sum(c.v, s.tool_offset.v, s.origin_offset.v, s.axis_offset.v),
-            sum(c.w, s.tool_offset.w, s.origin_offset.w, s.axis_offset.w),
-        ];
+        let m = self.machine_position();
+        let machine = [m.x, m.y, m.z, m.a, m.b, m.c, m.u, m.v, m.w];
         let base = if code == G_28_1 { 5161 } else { 5181 };
         for (i, v) in machine.into_iter().enumerate() {
             self.params.set(base + i, self.to_user(LINEAR[i], v));

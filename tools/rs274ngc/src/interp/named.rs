@@ -127,58 +127,17 @@ impl Interp {
         }
     }
 
-    /// The current position in machine coordinates (no offsets).
+    /// The current position in machine coordinates: the current point
+    /// plus the G52/G92 offset, rotated by the coordinate system's
+    /// rotation, plus the work and tool offsets (as LinuxCNC computes it).
     pub(crate) fn machine_position(&self) -> Pose {
         let s = &self.s;
-        let (mut x, mut y) = (s.current.x, s.current.y);
-        crate::find::rotate(&mut x, &mut y, s.rotation_xy);
-        let sum = |cur: f64, o: f64, a: f64, t: f64| cur + o + a + t;
-        Pose {
-            x: sum(x, s.origin_offset.x, s.axis_offset.x, s.tool_offset.x),
-            y: sum(y, s.origin_offset.y, s.axis_offset.y, s.tool_offset.y),
-            z: sum(
-                s.current.z,
-                s.origin_offset.z,
-                s.axis_offset.z,
-                s.tool_offset.z,
-            ),
-            a: sum(
-                s.current.a,
-                s.origin_offset.a,
-                s.axis_offset.a,
-                s.tool_offset.a,
-            ),
-            b: sum(
-                s.current.b,
-                s.origin_offset.b,
-                s.axis_offset.b,
-                s.tool_offset.b,
-            ),
-            c: sum(
-                s.current.c,
-                s.origin_offset.c,
-                s.axis_offset.c,
-                s.tool_offset.c,
-            ),
-            u: sum(
-                s.current.u,
-                s.origin_offset.u,
-                s.axis_offset.u,
-                s.tool_offset.u,
-            ),
-            v: sum(
-                s.current.v,
-                s.origin_offset.v,
-                s.axis_offset.v,
-                s.tool_offset.v,
-            ),
-            w: sum(
-                s.current.w,
-                s.origin_offset.w,
-                s.axis_offset.w,
-                s.tool_offset.w,
-            ),
-        }
+        let mut m = s.current;
+        crate::find::add_pose(&mut m, &s.axis_offset);
+        crate::find::rotate(&mut m.x, &mut m.y, s.rotation_xy);
+        crate::find::add_pose(&mut m, &s.origin_offset);
+        crate::find::add_pose(&mut m, &s.tool_offset);
+        m
     }
 
     /// Look a named parameter up: `Some(value)` if it exists.
