@@ -5,17 +5,47 @@
 use std::path::PathBuf;
 
 use crate::codes::AbortCode;
+use crate::drivefile::SdoType;
 
 /// Everything that can fail outside the realtime functions.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The CAN interface cannot be used.
-    #[error("CAN interface '{iface}': {reason}")]
-    Interface {
-        /// The interface name.
+    /// The interface name cannot be one.
+    #[error("CAN interface '{iface}': not a valid interface name")]
+    BadInterfaceName {
+        /// The name as given.
         iface: String,
-        /// Why, with what to do about it.
-        reason: String,
+    },
+    /// No network interface has this name.
+    #[error("CAN interface '{iface}': no such network interface (see `ip link`; for a virtual bus: ip link add dev {iface} type vcan && ip link set {iface} up)")]
+    NoInterface {
+        /// The name.
+        iface: String,
+    },
+    /// The interface is not a CAN interface.
+    #[error("CAN interface '{iface}': not a CAN interface (ARPHRD type {kind}, CAN is 280)")]
+    NotCan {
+        /// The name.
+        iface: String,
+        /// Its ARPHRD type, as sysfs gives it.
+        kind: String,
+    },
+    /// The interface is down.
+    #[error("CAN interface '{iface}': the interface is down (ip link set {iface} up type can bitrate 1000000, which needs CAP_NET_ADMIN)")]
+    InterfaceDown {
+        /// The name.
+        iface: String,
+    },
+    /// A socket call on the interface failed.
+    #[error("CAN interface '{iface}': {op}: {source}")]
+    Socket {
+        /// The name.
+        iface: String,
+        /// What was being done ("setting receive filters").
+        op: &'static str,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
     },
     /// Nodes did not announce themselves after NMT reset communication.
     #[error("{} did not send a boot-up message within {timeout_ms} ms after NMT reset communication (is the drive powered, on this bus, at this node id and bit rate?)", node_list(nodes))]
@@ -109,15 +139,117 @@ pub enum Error {
         statusword: u16,
     },
     /// A drive file line is wrong.
-    #[error("drive file {}, line {line}: {reason}", path.display())]
+    #[error("drive file {}, line {line}: {source}", path.display())]
     DriveFile {
         /// The file.
         path: PathBuf,
         /// 1-based line number.
         line: usize,
-        /// What is wrong.
-        reason: String,
+        /// What is wrong with it.
+        #[source]
+        source: Box<Error>,
     },
+    /// A drive file line is not three words.
+    #[error("'{content}' is not INDEX:SUB TYPE VALUE (e.g. 6098:00 i8 35)")]
+    NotAWrite {
+        /// The line without its comment.
+        content: String,
+    },
+    /// An object address is not `INDEX:SUB`.
+    #[error("'{text}' is not INDEX:SUB (e.g. 6098:00)")]
+    NotAnObject {
+        /// The address as given.
+        text: String,
+    },
+    /// An object index is not a 16-bit hexadecimal number.
+    #[error("index '{text}' is not a hexadecimal number up to FFFF")]
+    BadIndex {
+        /// The index as given.
+        text: String,
+    },
+    /// A sub-index is not an 8-bit hexadecimal number.
+    #[error("sub-index '{text}' is not a hexadecimal number up to FF")]
+    BadSubIndex {
+        /// The sub-index as given.
+        text: String,
+    },
+    /// A type name is not one of the SDO types.
+    #[error("'{name}' is not a type ({types})")]
+    NotAType {
+        /// The name as given.
+        name: String,
+        /// The names taken there ("u8, u16, u32, i8, i16, i32").
+        types: &'static str,
+    },
+    /// A value is not a decimal or `0x` hex number.
+    #[error("'{text}' is not a number")]
+    NotANumber {
+        /// The value as given.
+        text: String,
+    },
+    /// A value is outside its type's range.
+    #[error("{value} does not fit {ty} ({lo}..={hi})")]
+    OutOfRange {
+        /// The value.
+        value: i64,
+        /// Its type.
+        ty: SdoType,
+        /// The type's least value.
+        lo: i64,
+        /// The type's greatest value.
+        hi: i64,
+    },
+    /// An object read is shorter than the type asked for.
+    #[error("{object} has {len} bytes, too few for {ty}")]
+    TooShort {
+        /// The object, described.
+        object: String,
+        /// The bytes read.
+        len: usize,
+        /// The type asked for.
+        ty: SdoType,
+    },
+    /// `canservo-tool power` was given a step name it does not know.
+    #[error("'{name}' is not a step ({steps})")]
+    NotAStep {
+        /// The name as given.
+        name: String,
+        /// The names taken.
+        steps: &'static str,
+    },
+    /// A drive's state admits no command (not ready to switch on).
+    #[error("node {node} cannot be commanded now: {statusword}")]
+    NotCommandable {
+        /// The node.
+        node: u8,
+        /// Its statusword, described.
+        statusword: String,
+    },
+    /// A power step that is no transition from the drive's state.
+    #[error("node {node} is in {state}: {step} is not a transition from there")]
+    NoTransition {
+        /// The node.
+        node: u8,
+        /// The state it is in.
+        state: &'static str,
+        /// The step asked for.
+        step: &'static str,
+    },
+    /// `power up` on a drive in fault.
+    #[error("node {node} is in fault: fault-reset first")]
+    InFault {
+        /// The node.
+        node: u8,
+    },
+    /// An NMT command name the tool does not know.
+    #[error("'{command}' is not an NMT command (start, stop, pre-operational, reset, reset-communication)")]
+    NotAnNmtCommand {
+        /// The name as given.
+        command: String,
+    },
+    /// `canservo-tool watch` on simulated drives needs an end.
+    #[error("with --sim, give --count or --seconds")]
+    WatchWithoutEnd,
     /// A drive file cannot be read.
     #[error("drive file {}: {source}", path.display())]
     DriveFileIo {
@@ -138,6 +270,21 @@ pub enum Error {
         #[source]
         source: Box<Error>,
     },
+    /// A thread the driver needs could not be started.
+    #[error("starting the {what}: {source}")]
+    Thread {
+        /// The thread ("helper thread").
+        what: &'static str,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A `scale` item is not a usable number.
+    #[error("not a non-zero number")]
+    NotAScale,
+    /// A `mode` item names no mode.
+    #[error("not csp, pv or csv")]
+    NotAMode,
     /// A configuration value is wrong (module parameter or tool option).
     #[error("{what}: {reason}")]
     Config {

@@ -37,4 +37,6 @@ crate::register_targets! {
     rs274ngc_program,
     rs274ngc_parameter_file,
     rs274ngc_tool_table,
+    motion_command_line,
+    motion_records,
 }

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use hal_tools::ini::Ini;
+use hal_lang::Ini;
 use rs274ngc::{Config, Features};
 
 /// Largest INI file (or included file) read.
