@@ -103,7 +103,11 @@ pub fn parse(args: &ModuleArgs) -> Result<Config, DriverError> {
     let modes = p.strs_per(
         "mode",
         count,
-        |_, s| Mode::parse(s).ok_or_else(|| "not csp, pv or csv".to_string()),
+        |_, s| {
+            Mode::parse(s)
+                .filter(|m| *m != Mode::Pp)
+                .ok_or_else(|| "not csp, pv or csv".to_string())
+        },
         |_| Mode::Csp,
     )?;
     let files = p.strs_per(
