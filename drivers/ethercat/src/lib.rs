@@ -17,6 +17,8 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+pub mod link;
+pub mod master;
 pub mod regs;
 pub mod sim;
 pub mod wire;

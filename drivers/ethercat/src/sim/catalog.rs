@@ -69,8 +69,8 @@ fn device(
     Device {
         kind: kind.to_string(),
         identity: id,
-        name: kind.to_string(),
-        order: order.to_string(),
+        name: order.to_string(),
+        order: kind.to_string(),
         group: group.to_string(),
         mailbox,
         dc: false,

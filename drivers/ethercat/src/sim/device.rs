@@ -41,9 +41,9 @@ pub struct Device {
     pub kind: String,
     /// Identity.
     pub identity: Identity,
-    /// Name in the SII (what `ethercat slaves` prints).
+    /// Name in the SII: the description `ethercat slaves` prints.
     pub name: String,
-    /// Order description.
+    /// Order code in the SII ("EL1008"): what EtherCrab calls the name.
     pub order: String,
     /// Group.
     pub group: String,

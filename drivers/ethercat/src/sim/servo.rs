@@ -335,8 +335,8 @@ pub fn servo(serial: u32) -> Device {
     Device {
         kind: "servo".into(),
         identity: id,
-        name: "Sim CiA402 Servo".into(),
-        order: "Simulated CiA 402 servo drive".into(),
+        name: "Simulated CiA 402 servo drive".into(),
+        order: "SimServo".into(),
         group: "Drive".into(),
         mailbox: true,
         dc: true,
