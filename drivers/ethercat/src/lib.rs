@@ -17,6 +17,7 @@
 #![deny(unsafe_code)]
 
 pub mod error;
+pub mod lcec;
 pub mod link;
 pub mod master;
 pub mod regs;
