@@ -2,7 +2,7 @@
 //!
 //! A driver exports an io-type by calling its `export` function and gets
 //! the pins and params below, named `<device>.<num>.<io-type>.<chan>.<name>`
-//! (see [`naming`]; each interface holds its io-type in
+//! (see [`ChannelNames`]; each interface holds its io-type in
 //! [`Interface::IO_TYPE`]), together with the shared behaviour. Every
 //! driver's digital input therefore looks and behaves like every other's.
 //!
@@ -77,18 +77,18 @@
 
 #![forbid(unsafe_code)]
 
-pub mod adc;
-pub mod dac;
-pub mod dig;
-pub mod encoder;
-pub mod naming;
+mod adc;
+mod dac;
+mod dig;
+mod encoder;
+mod naming;
 pub mod pwm;
 pub mod stepgen;
 
-pub use adc::{AdcIn, AdcOut, AdcOutOptions};
+pub use adc::{AdcIn, AdcOut, AdcOutOptions, Converter};
 pub use dac::DacOut;
 pub use dig::{DigIn, DigOut};
-pub use encoder::{Encoder, EncoderCore};
+pub use encoder::{Encoder, EncoderCore, EncoderOutputs};
 pub use naming::{ChannelNames, Interface};
 pub use pwm::Pwm;
 pub use stepgen::Stepgen;

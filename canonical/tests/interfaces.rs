@@ -1,6 +1,10 @@
 //! The canonical interfaces behave as their definitions say.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
-use canonical::adc::Converter;
+use canonical::Converter;
 use canonical::*;
 use hal_core::{ComponentKind, Host, HostConfig, Value};
 

@@ -197,6 +197,8 @@ fn pid_call() -> impl FnMut(u64) {
 
 /// Part 2: the real functions in a host thread, timed by their `.time`
 /// pins.
+// Long on purpose: one host, its wiring and the timed run read as one
+// scenario; the wiring and the recorder share the host and its names.
 fn through_host() -> Result<()> {
     const PERIOD_NS: i64 = 100_000;
     const RUN: Duration = Duration::from_secs(3);

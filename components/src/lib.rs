@@ -40,42 +40,46 @@
 //!   safety_latch, watchdog, multiclick (timing); supply (generators).
 //! * `notice`: stderr messages posted from realtime functions, written by
 //!   a helper thread. `shared`: state two functions of one component
-//!   share. `loadrt_check`: the all-or-nothing `loadrt` invariant, for
-//!   fuzzing.
+//!   share. `fuzzing` (feature `fuzzing`): the all-or-nothing `loadrt`
+//!   invariant, a fuzz-target body.
 
 #![forbid(unsafe_code)]
 
-pub mod bits;
-pub mod cmath;
-pub mod convert;
-pub mod counting;
+mod bits;
+mod cmath;
+mod convert;
+mod counting;
 pub mod encoder;
-pub mod filters;
-pub mod gates;
-pub mod generators;
+mod error;
+mod filters;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
+mod gates;
+mod generators;
 pub mod halcomp;
 pub mod infra;
-pub mod joints;
-pub mod laser;
-pub mod limits;
-pub mod loadrt_check;
-pub mod math;
-pub mod motor;
-pub mod notice;
-pub mod offsets;
-pub mod panel;
+mod joints;
+mod laser;
+mod limits;
+mod math;
+mod motor;
+mod notice;
+mod offsets;
+mod panel;
 pub mod pid;
-pub mod plasma;
-pub mod selectors;
+mod plasma;
+mod selectors;
 pub mod shared;
-pub mod sim;
-pub mod spindle;
-pub mod stats;
+mod sim;
+mod spindle;
+mod stats;
 pub mod stepgen;
 #[cfg(test)]
 pub(crate) mod testing;
-pub mod timing;
-pub mod toolchange;
+mod timing;
+mod toolchange;
+
+pub use error::CompError;
 
 use hal_core::ModuleDef;
 

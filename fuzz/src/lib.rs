@@ -16,6 +16,8 @@
 //! * `cargo bolero test` (libFuzzer, coverage-guided; a nightly compiler
 //!   or `--rustc-bootstrap`): raw bytes, starting from the same corpus.
 
+#![forbid(unsafe_code)]
+
 pub mod corpus;
 pub mod mutate;
 pub mod registry;

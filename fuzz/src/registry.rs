@@ -71,7 +71,7 @@ fn software_modules() -> Vec<&'static str> {
     hal_components::modules()
         .into_iter()
         .chain(motion::modules())
-        .chain(hal_tools::launcher::tp_home::modules())
+        .chain(motion::tp_home::modules())
         .map(|d| d.name)
         .collect()
 }
@@ -82,7 +82,7 @@ fn software_modules() -> Vec<&'static str> {
 /// them.
 pub fn fuzz_registry() -> Registry {
     let software = software_modules();
-    let host = hal_tools::hostd::registry();
+    let host = hal_host::registry();
     let mut safe = Registry::new();
     for name in host.names() {
         if NOT_FUZZED.iter().any(|(d, _)| d.name == name) {
@@ -260,7 +260,7 @@ mod tests {
     #[test]
     fn every_registry_module_is_fuzzable_and_drivers_are_simulated() {
         let r = fuzz_registry();
-        let mut host = hal_tools::hostd::registry().names();
+        let mut host = hal_host::registry().names();
         host.retain(|n| !NOT_FUZZED.iter().any(|(d, _)| d.name == *n));
         assert_eq!(r.names(), host);
         assert!(r.find("hm2_eth").is_none());

@@ -11,6 +11,8 @@ use hal_core::*;
 const SCALE: f64 = 200.0; // steps per unit
 const TARGETS: [f64; 3] = [10.0, -4.0, 2.5];
 
+// Long on purpose: the example reads top to bottom as a tutorial (servo,
+// stepgen, motor, wiring, run), each part using the pins the last made.
 fn main() -> Result<()> {
     let instance = format!("sim-demo-{}", std::process::id());
     let host = Host::create(HostConfig::new(&instance))?;

@@ -315,6 +315,79 @@ pub enum HalError {
         /// What is wrong with it.
         reason: String,
     },
+    /// A setting is refused for a reason the core found itself (a CPU
+    /// the process may not use, a failed affinity call).
+    #[error("bad value for {what}: {source}")]
+    BadSetting {
+        /// Where the value was going.
+        what: String,
+        /// Why it is refused.
+        #[source]
+        source: Box<HalError>,
+    },
+    /// A number in C's notation (`strtol(s, 0)`) does not parse.
+    #[error("'{text}' is not a number")]
+    NotANumber {
+        /// The text as given.
+        text: String,
+    },
+    /// A number parses but does not fit the integer it goes into.
+    #[error("'{text}' is out of range")]
+    NumberOutOfRange {
+        /// The text as given.
+        text: String,
+    },
+    /// A CPU given as text is not a number.
+    #[error("{what}='{text}' is not a CPU number")]
+    NotACpu {
+        /// Where it was given (`RTAPI_CPU_NUMBER`, `cpu`).
+        what: String,
+        /// The text as given.
+        text: String,
+    },
+    /// A CPU the process may not use.
+    #[error("{what}={cpu}: this process may only use CPU {allowed}")]
+    CpuNotAllowed {
+        /// Where it was given.
+        what: String,
+        /// The CPU.
+        cpu: usize,
+        /// The CPUs the process may use, as `0-3,6`.
+        allowed: String,
+    },
+    /// Setting or reading a thread's CPU affinity failed.
+    #[error("{action}: {source}")]
+    Affinity {
+        /// What failed ("moving the thread to CPU 3 failed").
+        action: String,
+        /// The system's answer.
+        #[source]
+        source: nix::Error,
+    },
+    /// SCHED_FIFO was refused; `hint` says which permission is missing
+    /// and how to grant it.
+    #[error("SCHED_FIFO priority {priority} refused ({source}){hint}")]
+    FifoRefused {
+        /// The priority asked for.
+        priority: i32,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
+        /// What is missing and how to grant it (empty if unknown).
+        hint: String,
+    },
+    /// The thread that probes for SCHED_FIFO panicked.
+    #[error("probe thread panicked")]
+    FifoProbePanicked,
+    /// `mlockall` was refused.
+    #[error("locking memory failed ({source}); the memlock limit is {limit} bytes. Grant it with a line '@hal - memlock unlimited' in /etc/security/limits.d/hal.conf (then log in again), or give the host CAP_IPC_LOCK")]
+    MemoryLock {
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
+        /// The memlock limit (`unlimited`, `unknown` or bytes).
+        limit: String,
+    },
     /// A `loadrt` parameter is unknown, malformed or out of range.
     #[error("{module}: parameter '{param}': {reason}")]
     ModuleParam {
@@ -345,6 +418,18 @@ pub enum HalError {
         /// Why it failed.
         reason: String,
     },
+    /// A module's load failed in its own code (a driver that found no
+    /// board, a refused device, a bad register value): the module's error
+    /// travels as the source, so its type and its own causes survive.
+    /// Nothing of the module stays loaded.
+    #[error("{module}: {source}")]
+    ModuleFailed {
+        /// The module.
+        module: String,
+        /// The module's own error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
+    },
     /// Loading, threads and functions run only in the host process; this process is a client.
     #[error("this operation needs the HAL host process")]
     NotHost,
@@ -365,6 +450,18 @@ pub enum HalError {
 }
 
 impl HalError {
+    /// A failed load of `module` caused by `source`, the module's own
+    /// error ([`HalError::ModuleFailed`]).
+    pub fn module_failed(
+        module: impl Into<String>,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> Self {
+        HalError::ModuleFailed {
+            module: module.into(),
+            source: Box::new(source),
+        }
+    }
+
     pub(crate) fn io(op: &'static str, path: impl Into<PathBuf>, source: io::Error) -> Self {
         HalError::Io {
             op,

@@ -13,18 +13,19 @@
 //! `exec` (host, threads, executor), `ring` and `seqlock` (channels),
 //! `userspace` (helpers for user-space component processes).
 
-pub mod error;
+mod error;
 mod exec;
 pub mod handles;
 pub mod module;
 pub mod name;
 mod objects;
 pub mod paths;
-pub mod ring;
-pub mod rtlog;
-pub mod seqlock;
+mod ring;
+mod rtlog;
+mod seqlock;
 pub(crate) mod shm;
-pub mod types;
+pub mod stdio;
+mod types;
 pub mod userspace;
 
 pub use error::{HalError, Result};

@@ -81,8 +81,12 @@ impl ModuleArgs {
                 .find(|d| d.name == key)
                 .ok_or_else(|| bad(key, "unknown parameter".into()))?;
             let parsed = match decl.kind {
-                ParamKind::Int => ArgValue::Int(parse_c_int(value, 32).map_err(|r| bad(key, r))?),
-                ParamKind::Long => ArgValue::Int(parse_c_int(value, 64).map_err(|r| bad(key, r))?),
+                ParamKind::Int => {
+                    ArgValue::Int(parse_c_int(value, 32).map_err(|r| bad(key, r.to_string()))?)
+                }
+                ParamKind::Long => {
+                    ArgValue::Int(parse_c_int(value, 64).map_err(|r| bad(key, r.to_string()))?)
+                }
                 ParamKind::Str => ArgValue::Str(value.to_string()),
                 ParamKind::IntArray(n) | ParamKind::LongArray(n) => {
                     let bits = if matches!(decl.kind, ParamKind::IntArray(_)) {
@@ -104,8 +108,8 @@ impl ModuleArgs {
                                     parse_c_int(s, bits)
                                 }
                             })
-                            .collect::<std::result::Result<_, _>>()
-                            .map_err(|r| bad(key, r))?,
+                            .collect::<crate::Result<_>>()
+                            .map_err(|r| bad(key, r.to_string()))?,
                     )
                 }
                 ParamKind::StrArray(n) => {
@@ -181,7 +185,10 @@ pub fn c_radix(t: &str) -> (u32, &str) {
 
 /// Parses an integer as C's `strtol(s, &end, 0)` with the whole string
 /// required: optional sign, `0x` hex, leading `0` octal, else decimal.
-pub fn parse_c_int(s: &str, bits: u32) -> std::result::Result<i64, String> {
+pub fn parse_c_int(s: &str, bits: u32) -> crate::Result<i64> {
+    let not_a_number = || HalError::NotANumber {
+        text: s.to_string(),
+    };
     let t = s.trim_start();
     let (neg, t) = match t.as_bytes().first() {
         Some(b'-') => (true, &t[1..]),
@@ -190,9 +197,9 @@ pub fn parse_c_int(s: &str, bits: u32) -> std::result::Result<i64, String> {
     };
     let (radix, digits) = c_radix(t);
     if digits.is_empty() {
-        return Err(format!("'{s}' is not a number"));
+        return Err(not_a_number());
     }
-    let mag = u128::from_str_radix(digits, radix).map_err(|_| format!("'{s}' is not a number"))?;
+    let mag = u128::from_str_radix(digits, radix).map_err(|_| not_a_number())?;
     let v = if neg { -(mag as i128) } else { mag as i128 };
     let (lo, hi) = if bits == 32 {
         (i32::MIN as i128, i32::MAX as i128)
@@ -200,7 +207,9 @@ pub fn parse_c_int(s: &str, bits: u32) -> std::result::Result<i64, String> {
         (i64::MIN as i128, i64::MAX as i128)
     };
     if v < lo || v > hi {
-        return Err(format!("'{s}' is out of range"));
+        return Err(HalError::NumberOutOfRange {
+            text: s.to_string(),
+        });
     }
     Ok(v as i64)
 }
@@ -340,9 +349,9 @@ mod tests {
                 other => panic!("{args:?}: {other:?}"),
             }
         }
-        assert_eq!(parse_c_int("-0x1f", 32), Ok(-31));
-        assert_eq!(parse_c_int("0", 32), Ok(0));
-        assert_eq!(parse_c_int("9223372036854775807", 64), Ok(i64::MAX));
+        assert_eq!(parse_c_int("-0x1f", 32).ok(), Some(-31));
+        assert_eq!(parse_c_int("0", 32).ok(), Some(0));
+        assert_eq!(parse_c_int("9223372036854775807", 64).ok(), Some(i64::MAX));
         assert!(parse_c_int("", 32).is_err());
         assert!(parse_c_int("08", 32).is_err());
     }

@@ -2,6 +2,10 @@
 //! first `start` it holds a 0 µs request on /dev/cpu_dma_latency, and it
 //! lets go at shutdown. Alone in its test binary, so no other host of this
 //! process holds the device.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

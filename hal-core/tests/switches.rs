@@ -1,5 +1,9 @@
 //! The integrators' per-thread switches: function timing on/off, the CPU
 //! a thread runs on, and what a thread does with missed deadlines.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -1,5 +1,9 @@
 //! Threads and the executor: order, periods, overruns, structural changes
 //! while running, faults, and mutual exclusion of HAL threads.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

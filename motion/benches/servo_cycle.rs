@@ -18,8 +18,18 @@ use motion::homing::HomingConfig;
 use motion::kins::trivkins::Trivkins;
 use motion::{Command, KinematicsType, MotionConfig, MotionCore, Pose};
 
+/// Applies `c`; a refusal is a bug of the scenario.
+fn apply(m: &mut MotionCore, c: Command) {
+    if let Err(r) = m.command(&c) {
+        panic!("{c:?} refused: {r}");
+    }
+}
+
 fn machine(n: usize) -> MotionCore {
-    let kins = Arc::new(Trivkins::new(&"XYZABCUVW"[..n], KinematicsType::Identity).unwrap());
+    let kins = match Trivkins::new(&"XYZABCUVW"[..n], KinematicsType::Identity) {
+        Ok(k) => Arc::new(k),
+        Err(e) => panic!("trivkins: {e}"),
+    };
     let mut m = MotionCore::new(
         MotionConfig {
             num_joints: n,
@@ -48,10 +58,10 @@ fn machine(n: usize) -> MotionCore {
                 backlash: 0.01,
             },
         ] {
-            m.command(&c).unwrap();
+            apply(&mut m, c);
         }
     }
-    m.command(&Command::Enable).unwrap();
+    apply(&mut m, Command::Enable);
     m.cycle(0.001);
     m
 }
@@ -62,7 +72,7 @@ fn main() {
         let mut m = machine(n);
         for j in 0..n as i32 {
             let vel = if j % 2 == 0 { 5.0 } else { -5.0 };
-            m.command(&Command::JogCont { joint: j, vel }).unwrap();
+            apply(&mut m, Command::JogCont { joint: j, vel });
         }
         let start = Instant::now();
         for k in 0..CYCLES {
@@ -77,7 +87,7 @@ fn main() {
                     } else {
                         -5.0
                     };
-                    m.command(&Command::JogCont { joint: j, vel }).unwrap();
+                    apply(&mut m, Command::JogCont { joint: j, vel });
                 }
             }
             m.cycle(black_box(0.001));
@@ -95,10 +105,9 @@ fn main() {
                 sequence: 0,
                 ..HomingConfig::default()
             };
-            m.command(&Command::SetJointHomingParams { joint: j, config })
-                .unwrap();
+            apply(&mut m, Command::SetJointHomingParams { joint: j, config });
         }
-        m.command(&Command::Home { joint: -1 }).unwrap();
+        apply(&mut m, Command::Home { joint: -1 });
         // The switch never closes within the measured cycles: a search.
         let start = Instant::now();
         for _ in 0..CYCLES {
@@ -113,15 +122,16 @@ fn main() {
     }
     for n in [3, 6, 9] {
         let mut m = machine(n);
-        m.command(&Command::Teleop).unwrap();
+        apply(&mut m, Command::Teleop);
         for a in 0..n as i32 {
-            m.command(&Command::SetAxisVelLimit { axis: a, vel: 10.0 })
-                .unwrap();
-            m.command(&Command::SetAxisAccLimit {
-                axis: a,
-                acc: 100.0,
-            })
-            .unwrap();
+            apply(&mut m, Command::SetAxisVelLimit { axis: a, vel: 10.0 });
+            apply(
+                &mut m,
+                Command::SetAxisAccLimit {
+                    axis: a,
+                    acc: 100.0,
+                },
+            );
         }
         let start = Instant::now();
         for k in 0..CYCLES {
@@ -135,7 +145,7 @@ fn main() {
                     } else {
                         -5.0
                     };
-                    m.command(&Command::AxisJogCont { axis: a, vel }).unwrap();
+                    apply(&mut m, Command::AxisJogCont { axis: a, vel });
                 }
             }
             m.cycle(black_box(0.001));
@@ -169,20 +179,21 @@ fn coordinated(n: usize, scurve: bool) {
                 jerk: 10_000.0,
             },
         ] {
-            m.command(&c).unwrap();
+            apply(&mut m, c);
         }
     }
     if scurve {
-        m.command(&Command::SetJerkLimit { jerk: 10_000.0 })
-            .unwrap();
-        m.command(&Command::SetPlannerType { planner: 1 }).unwrap();
+        apply(&mut m, Command::SetJerkLimit { jerk: 10_000.0 });
+        apply(&mut m, Command::SetPlannerType { planner: 1 });
     }
-    m.command(&Command::Coord).unwrap();
-    m.command(&Command::SetTermCond {
-        cond: TermCond::Blend,
-        tolerance: 0.01,
-    })
-    .unwrap();
+    apply(&mut m, Command::Coord);
+    apply(
+        &mut m,
+        Command::SetTermCond {
+            cond: TermCond::Blend,
+            tolerance: 0.01,
+        },
+    );
     let mut k = 0;
     let mut queue_one = |m: &mut MotionCore| {
         k += 1;

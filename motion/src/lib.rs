@@ -1,52 +1,71 @@
 //! The LinuxCNC-compatible motion controller.
 //!
-//! Three layers; a file only uses files of its own layer or below, so data
-//! flows one way: commands down into the core, status up out of it.
+//! The front, re-exported here: [`MotionCore`] (the controller,
+//! independent of HAL: joints, the enable state machine, the free, teleop
+//! and coordinated modes, jogs, homing, limits, following error, faults;
+//! [`MotionCore::command`] applies one [`Command`], [`MotionCore::cycle`]
+//! runs one servo cycle), [`MotionClient`] (commands and status through a
+//! running instance's shared memory, from any process), [`MotionHandle`]
+//! (the same in the process that loaded `motmod`), and [`modules`] (the
+//! `loadrt` modules: `motmod` and the kinematics).
 //!
-//! * Types, at the bottom: [`sizes`] (the maxima), [`command`] (commands,
-//!   their rejections and the rejections' wire codes), [`events`] (reported
-//!   messages), [`status`] (the status a client reads), [`kins`] (the
-//!   [`Kinematics`] trait, poses, the per-instance
-//!   registry and the kinematics modules), the homing configuration and
-//!   state types ([`homing::config`], [`homing::state`]), and [`registry`].
-//! * The controller, independent of HAL: [`simple_tp`] (the single-axis
-//!   planner), [`joint`] and [`axis`] (one joint, one world axis), the
-//!   homing state machines and sequence manager ([`homing`]), and
-//!   [`core`]: joints, the enable state machine, the free, teleop and
-//!   coordinated modes, jogs, limits, following error, faults.
-//! * The bindings, on top: [`channel`] (the shared-memory command channel
-//!   and status snapshot, and [`MotionClient`]), [`mailbox`] (the in-process
-//!   command hand-off) and [`motmod`] (the `motmod` module: pins, params,
-//!   threads, the `motion-command-handler` and `motion-controller`
-//!   functions, and [`MotionHandle`]).
+//! Public modules, for what is used by name: [`command`] (the command
+//! table: commands, their records and command lines, and the refusals),
+//! [`channel`] (the shared-memory channel's regions and records),
+//! [`homing`] (the homing configuration and states), [`kins`] (the
+//! [`Kinematics`] trait, poses and the kinematics modules), [`tp`] and
+//! [`simple_tp`] (the coordinated and the single-axis planner), [`sizes`]
+//! (the maxima), [`comp`] and [`comp_file`] (screw compensation).
+//!
+//! Inside, three layers; a file only uses files of its own layer or
+//! below, so data flows one way: commands down into the core, status up
+//! out of it.
+//!
+//! * Types, at the bottom: `vocab` (a leaf: the refusals and their wire
+//!   codes, the homing configuration), `sizes`, `command`, `events`
+//!   (reported messages), `status` (the status a client reads), `kins`,
+//!   the homing states and `registry`.
+//! * The controller, independent of HAL: `simple_tp`, `joint` and `axis`
+//!   (one joint, one world axis), `homing` (state machines and sequence
+//!   manager), `tp` and `core`.
+//! * The bindings, on top: `channel` (the shared-memory command channel
+//!   and status snapshot), `mailbox` (the in-process command hand-off) and
+//!   `motmod` (the `motmod` module: pins, params, threads, the
+//!   `motion-command-handler` and `motion-controller` functions).
 //!
 //! Load order, as in LinuxCNC: `loadrt trivkins ...` (or another
 //! kinematics module), then `loadrt motmod ...`.
 
-pub mod axis;
+mod axis;
 pub mod channel;
 pub mod command;
 pub mod comp;
 pub mod comp_file;
-pub mod core;
-pub mod events;
+mod core;
+mod events;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod homing;
-pub mod joint;
+mod joint;
 pub mod kins;
-pub mod mailbox;
-pub mod motmod;
-pub mod registry;
+mod mailbox;
+mod motmod;
+mod registry;
 pub mod simple_tp;
 pub mod sizes;
-pub mod status;
+mod status;
 #[cfg(test)]
 mod test_support;
 pub mod tp;
+pub mod tp_home;
+mod vocab;
 
+pub use axis::{AxisInputs, AxisStatus};
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
-pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState};
-pub use events::Event;
+pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState, MODE_ENTRY_TOLERANCE};
+pub use events::{Event, EventRing};
+pub use joint::{JointInputs, JointStatus};
 pub use kins::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
 pub use motmod::MotionHandle;
 

@@ -119,6 +119,8 @@ impl Mailbox {
         // the cells until we store ANSWERED.
         let cmd = unsafe { *self.cmd.get() };
         let r = apply(&cmd);
+        // SAFETY: still TAKEN: the sender reads the reply only once we
+        // store ANSWERED below.
         unsafe { *self.reply.get() = r };
         self.state.store(ANSWERED, Release);
         true

@@ -173,7 +173,38 @@ pub struct TrajState {
 
 impl fmt::Display for MotionStatus {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let yn = |b: bool| if b { "yes" } else { "no" };
+        self.fmt_machine(f)?;
+        self.fmt_traj(f)?;
+        self.fmt_joints(f)?;
+        self.fmt_axes(f)
+    }
+}
+
+/// "yes" or "no".
+fn yes_no(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
+/// The names of the flags that are on, each after a space.
+fn flag_names(flags: &[(bool, &str)]) -> String {
+    let mut out = String::new();
+    for &(on, name) in flags {
+        if on {
+            out.push(' ');
+            out.push_str(name);
+        }
+    }
+    out
+}
+
+impl MotionStatus {
+    /// The machine-wide lines, and the last command.
+    fn fmt_machine(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let yn = yes_no;
         writeln!(
             f,
             "mode {}  enabled {}  enable-input {}  in-position {}  error {}  scale {}",
@@ -197,22 +228,21 @@ impl fmt::Display for MotionStatus {
             let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
             writeln!(f, "mode on enable: {m}")?;
         }
-        if self.coord_mode || self.traj.depth > 0 {
-            let t = &self.traj;
-            let mut flags = String::new();
-            for (on, name) in [
+        Ok(())
+    }
+
+    /// The coordinated planner's line, the probe's, the last command's.
+    fn fmt_traj(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let t = &self.traj;
+        if self.coord_mode || t.depth > 0 {
+            let flags = flag_names(&[
                 (t.paused, "paused"),
                 (t.stepping, "stepping"),
                 (t.aborting, "aborting"),
                 (t.queue_full, "queue-full"),
                 (t.probing, "probing"),
                 (t.scurve, "s-curve"),
-            ] {
-                if on {
-                    flags.push(' ');
-                    flags.push_str(name);
-                }
-            }
+            ]);
             writeln!(
                 f,
                 "line {}  queued {}  speed {:.6}  requested {:.6}  to-go {:.6}  feed {}  rapid {}{}",
@@ -226,8 +256,8 @@ impl fmt::Display for MotionStatus {
                 flags
             )?;
         }
-        if self.traj.probe_tripped {
-            let p = &self.traj.probed;
+        if t.probe_tripped {
+            let p = &t.probed;
             writeln!(
                 f,
                 "probe tripped at X {:.6} Y {:.6} Z {:.6}",
@@ -235,7 +265,7 @@ impl fmt::Display for MotionStatus {
             )?;
         }
         if self.last.serial == 0 {
-            writeln!(f, "last command: none")?;
+            writeln!(f, "last command: none")
         } else {
             writeln!(
                 f,
@@ -243,16 +273,19 @@ impl fmt::Display for MotionStatus {
                 self.last.serial,
                 result_name(self.last.code),
                 self.last.code
-            )?;
+            )
         }
+    }
+
+    /// The joint table.
+    fn fmt_joints(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
             "joint active amp homed {:>12} {:>12} {:>12} {:>10}  flags",
             "pos-cmd", "pos-fb", "vel-cmd", "ferror"
         )?;
         for (n, j) in self.joints.iter().enumerate() {
-            let mut flags = String::new();
-            for (on, name) in [
+            let mut flags = flag_names(&[
                 (j.in_position, "inpos"),
                 (j.jogging, "jogging"),
                 (j.homing, "homing"),
@@ -261,12 +294,7 @@ impl fmt::Display for MotionStatus {
                 (j.neg_hard_limit, "-hard-limit"),
                 (j.following_error, "ferror"),
                 (j.faulted, "amp-fault"),
-            ] {
-                if on {
-                    flags.push(' ');
-                    flags.push_str(name);
-                }
-            }
+            ]);
             if j.home_state != HomeState::Idle {
                 flags.push_str(" home-state=");
                 flags.push_str(j.home_state.name());
@@ -274,9 +302,9 @@ impl fmt::Display for MotionStatus {
             writeln!(
                 f,
                 "{n:<5} {:<6} {:<3} {:<5} {:>12.6} {:>12.6} {:>12.6} {:>10.6} {}",
-                yn(j.active),
-                yn(j.amp_enabled),
-                yn(j.homed),
+                yes_no(j.active),
+                yes_no(j.amp_enabled),
+                yes_no(j.homed),
                 j.pos_cmd,
                 j.pos_fb,
                 j.vel_cmd,
@@ -284,6 +312,12 @@ impl fmt::Display for MotionStatus {
                 flags.trim_start()
             )?;
         }
+        Ok(())
+    }
+
+    /// The table of the axes the kinematics compute (none if they compute
+    /// none).
+    fn fmt_axes(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.axes.iter().any(|a| a.in_kinematics) {
             writeln!(
                 f,
@@ -295,17 +329,11 @@ impl fmt::Display for MotionStatus {
             if !x.in_kinematics {
                 continue;
             }
-            let mut flags = String::new();
-            for (on, name) in [
+            let flags = flag_names(&[
                 (x.moving, "moving"),
                 (x.kb_jogging, "jogging"),
                 (x.wheel_jogging, "wheel"),
-            ] {
-                if on {
-                    flags.push(' ');
-                    flags.push_str(name);
-                }
-            }
+            ]);
             writeln!(
                 f,
                 "{:<4} {:>12.6} {:>12.6} {:>12} {:>12} {}",

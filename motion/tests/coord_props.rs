@@ -9,6 +9,10 @@
 //! within the blend tolerance of it; an uninterrupted run ends exactly on
 //! the last programmed point, an aborted one at rest on the path with an
 //! empty queue.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use motion::command::{LineKind, TermCond};
 use motion::kins::{Pose, NUM_AXES};

@@ -2,6 +2,10 @@
 //! pin names), that the geometry pins are read at every call, the
 //! switchable-kinematics convention, refused module parameters, and a
 //! linear delta driven by `motmod` in teleop mode.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::time::Duration;
 

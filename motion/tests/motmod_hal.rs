@@ -2,6 +2,10 @@
 //! pin and param names and types of LinuxCNC's motion(9) man page, the
 //! threads motmod creates, module-parameter errors, and a run with the
 //! functions in the servo thread driven through `MotionHandle`.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::collections::BTreeMap;
 use std::time::Duration;
@@ -51,6 +55,7 @@ fn params_of(h: &Host, owner: &str) -> BTreeMap<String, (HalType, &'static str)>
 
 /// The pins of motion(9) for `num_joints=3` and default parameters.
 fn expected_pins(num_joints: usize) -> Vec<Item> {
+    // Long: the list of motion(9)'s pins, one per line.
     use HalType::*;
     let mut v: Vec<Item> = Vec::new();
     let mut add = |n: String, t: HalType, d: &'static str| v.push((n, t, d));

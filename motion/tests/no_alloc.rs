@@ -2,6 +2,10 @@
 //! allocate: coordinated motion with blends, arcs, pauses and aborts on
 //! both planners (the S-curve one calls Ruckig), counted by a global
 //! allocator that tallies allocations made by this thread while armed.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

@@ -3,6 +3,10 @@
 //! velocity limit (times SCALE) or the acceleration limit, never overshoots
 //! a rest-to-rest move, and comes to rest on the target (within the
 //! planner's dead band `0.001·A·T²`, the only tolerance it has).
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 

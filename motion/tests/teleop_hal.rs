@@ -1,6 +1,10 @@
 //! Teleop and coordinated mode through HAL: `motmod` in a running servo
 //! thread, commands through the shared-memory channel, and the mode and
 //! `axis.L.*` pins (teleop planner, keyboard and wheel jogs) read back.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::time::Duration;
 
@@ -12,6 +16,7 @@ use motion::{Command, MotionClient, Reject};
 
 #[test]
 fn teleop_jogs_through_the_channel_drive_the_axis_and_mode_pins() {
+    // Long: one scenario through the channel, each step checked as it goes.
     let h = host("tel-run");
     loadrt(&h, "trivkins", &["coordinates=xyz"]).unwrap();
     loadrt(&h, "motmod", &["num_joints=3"]).unwrap();

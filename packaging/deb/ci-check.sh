@@ -25,7 +25,7 @@ fail() { echo "package check: $*" >&2; exit 1; }
 
 listing=$(dpkg-deb -c "$deb")
 has() { grep -q -E "[[:space:]]\./$1\$" <<<"$listing" || fail "missing $1"; }
-for bin in tools/src/bin/*.rs drivers/*/src/bin/*.rs; do
+for bin in tools/*/src/bin/*.rs drivers/*/src/bin/*.rs; do
     has "usr/bin/$(basename "$bin" .rs)"
 done
 has usr/lib/udev/rules.d/60-hal-suite.rules

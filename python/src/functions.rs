@@ -4,7 +4,7 @@
 //! runs there.
 
 use hal_core::{HalType, Instance, ParamDir, PinDir, Value};
-use hal_tools::halcmd::values::parse_value;
+use hal_lang::parse_value;
 use pyo3::exceptions::{PyNameError, PyRuntimeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString};

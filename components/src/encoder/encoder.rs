@@ -26,7 +26,7 @@ use std::sync::atomic::{
 use std::sync::Arc;
 
 use hal_core::module::{ModuleArgs, ModuleDef};
-use hal_core::{Host, In, Io, Out, Pin, Result};
+use hal_core::{Component, Host, In, Io, Out, Pin, Result};
 
 use super::quadrature::{QuadDecoder, QuadMode, Step};
 use super::{CHANNEL_PARAMS, MAX_CHAN};
@@ -487,67 +487,143 @@ struct CaptureChan {
     link: Arc<SharedLink>,
 }
 
+/// Exports channel `name`'s pins: the counting half and the capture half.
+fn export_channel(c: &Component, name: &str) -> Result<(UpdateChan, CaptureChan)> {
+    let p = |item: &str| format!("{name}.{item}");
+    let link = Arc::new(SharedLink::default());
+    let phase_a = c.pin(&p("phase-A"))?;
+    let phase_b = c.pin(&p("phase-B"))?;
+    let phase_z = c.pin(&p("phase-Z"))?;
+    let index_enable = c.pin(&p("index-enable"))?;
+    let reset = c.pin(&p("reset"))?;
+    let latch_input = c.pin(&p("latch-input"))?;
+    let latch_rising = c.pin_init(&p("latch-rising"), true)?;
+    let latch_falling = c.pin_init(&p("latch-falling"), true)?;
+    let rawcounts: Pin<i32, Out> = c.pin(&p("rawcounts"))?;
+    let counts = c.pin(&p("counts"))?;
+    let counts_latched = c.pin(&p("counts-latched"))?;
+    let min_speed_estimate = c.pin_init(&p("min-speed-estimate"), 1.0)?;
+    let position = c.pin(&p("position"))?;
+    let position_interpolated = c.pin(&p("position-interpolated"))?;
+    let position_latched = c.pin(&p("position-latched"))?;
+    let velocity = c.pin(&p("velocity"))?;
+    let velocity_rpm = c.pin(&p("velocity-rpm"))?;
+    let position_scale = c.pin_init(&p("position-scale"), 1.0)?;
+    let x4_mode = c.pin_init(&p("x4-mode"), true)?;
+    let counter_mode = c.pin(&p("counter-mode"))?;
+    let missing_teeth: Pin<i32, In> = c.pin(&p("missing-teeth"))?;
+    let update = UpdateChan {
+        phase_a,
+        phase_b,
+        phase_z,
+        latch_input,
+        latch_rising,
+        latch_falling,
+        x4_mode,
+        counter_mode,
+        missing_teeth: missing_teeth.clone(),
+        rawcounts: rawcounts.clone(),
+        counter: Counter::new(),
+        link: link.clone(),
+    };
+    let capture = CaptureChan {
+        index_enable,
+        reset,
+        position_scale,
+        min_speed_estimate,
+        missing_teeth,
+        rawcounts,
+        counts,
+        counts_latched,
+        position,
+        position_interpolated,
+        position_latched,
+        velocity,
+        velocity_rpm,
+        capture: Capture::new(),
+        link,
+    };
+    Ok((update, capture))
+}
+
+impl UpdateChan {
+    /// One update-counters call for this channel at time base `now`.
+    fn update(&mut self, now: u32, period: i64) {
+        let inp = CounterInputs {
+            phase_a: self.phase_a.get(),
+            phase_b: self.phase_b.get(),
+            phase_z: self.phase_z.get(),
+            latch_input: self.latch_input.get(),
+            latch_rising: self.latch_rising.get(),
+            latch_falling: self.latch_falling.get(),
+            mode: QuadMode::from_pins(self.x4_mode.get(), self.counter_mode.get()),
+            missing_teeth: self.missing_teeth.get(),
+        };
+        let before = self.link.load();
+        let mut link = before;
+        let raw0 = self.rawcounts.get();
+        let mut raw = raw0;
+        self.counter.update(&inp, &mut raw, &mut link, now, period);
+        if raw != raw0 {
+            self.rawcounts.set(raw);
+        }
+        self.link.store_changes(&before, &link);
+    }
+}
+
+impl CaptureChan {
+    /// One capture-position call for this channel at time base `now`.
+    fn capture_position(&mut self, now: u32) {
+        let before = self.link.load();
+        let mut link = before;
+        let io0 = CaptureIo {
+            index_enable: self.index_enable.get(),
+            reset: self.reset.get(),
+            position_scale: self.position_scale.get(),
+            min_speed_estimate: self.min_speed_estimate.get(),
+            missing_teeth: self.missing_teeth.get(),
+            rawcounts: self.rawcounts.get(),
+            velocity: self.velocity.get(),
+        };
+        let mut io = io0;
+        let out = self.capture.capture(&mut io, &mut link, now);
+        self.link.store_changes(&before, &link);
+        // Write back only what the function changed, so that inputs
+        // driven by others are left alone.
+        if io.index_enable != io0.index_enable {
+            self.index_enable.set(io.index_enable);
+        }
+        if io.position_scale.to_bits() != io0.position_scale.to_bits() {
+            self.position_scale.set(io.position_scale);
+        }
+        if io.min_speed_estimate.to_bits() != io0.min_speed_estimate.to_bits() {
+            self.min_speed_estimate.overwrite(io.min_speed_estimate);
+        }
+        if io.rawcounts != io0.rawcounts {
+            // Added as a difference: update-counters may have counted
+            // meanwhile if it runs in another thread.
+            let extra = io.rawcounts.wrapping_sub(io0.rawcounts);
+            self.rawcounts.set(self.rawcounts.get().wrapping_add(extra));
+        }
+        self.velocity.set(io.velocity);
+        self.velocity_rpm.set(out.velocity_rpm);
+        self.counts.set(out.counts);
+        self.counts_latched.set(out.counts_latched);
+        self.position.set(out.position);
+        self.position_latched.set(out.position_latched);
+        self.position_interpolated.set(out.position_interpolated);
+    }
+}
+
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let names = channel_names("encoder", "encoder", DEFAULT_CHANNELS, MAX_CHAN, args)?;
     let mut b = host.new_rt_component("encoder")?;
     let mut update = Vec::with_capacity(names.len());
     let mut capture = Vec::with_capacity(names.len());
     for name in &names {
-        let c = b.component();
-        let p = |item: &str| format!("{name}.{item}");
-        let link = Arc::new(SharedLink::default());
-        let phase_a = c.pin(&p("phase-A"))?;
-        let phase_b = c.pin(&p("phase-B"))?;
-        let phase_z = c.pin(&p("phase-Z"))?;
-        let index_enable = c.pin(&p("index-enable"))?;
-        let reset = c.pin(&p("reset"))?;
-        let latch_input = c.pin(&p("latch-input"))?;
-        let latch_rising = c.pin_init(&p("latch-rising"), true)?;
-        let latch_falling = c.pin_init(&p("latch-falling"), true)?;
-        let rawcounts: Pin<i32, Out> = c.pin(&p("rawcounts"))?;
-        let counts = c.pin(&p("counts"))?;
-        let counts_latched = c.pin(&p("counts-latched"))?;
-        let min_speed_estimate = c.pin_init(&p("min-speed-estimate"), 1.0)?;
-        let position = c.pin(&p("position"))?;
-        let position_interpolated = c.pin(&p("position-interpolated"))?;
-        let position_latched = c.pin(&p("position-latched"))?;
-        let velocity = c.pin(&p("velocity"))?;
-        let velocity_rpm = c.pin(&p("velocity-rpm"))?;
-        let position_scale = c.pin_init(&p("position-scale"), 1.0)?;
-        let x4_mode = c.pin_init(&p("x4-mode"), true)?;
-        let counter_mode = c.pin(&p("counter-mode"))?;
-        let missing_teeth: Pin<i32, In> = c.pin(&p("missing-teeth"))?;
-        update.push(UpdateChan {
-            phase_a,
-            phase_b,
-            phase_z,
-            latch_input,
-            latch_rising,
-            latch_falling,
-            x4_mode,
-            counter_mode,
-            missing_teeth: missing_teeth.clone(),
-            rawcounts: rawcounts.clone(),
-            counter: Counter::new(),
-            link: link.clone(),
-        });
-        capture.push(CaptureChan {
-            index_enable,
-            reset,
-            position_scale,
-            min_speed_estimate,
-            missing_teeth,
-            rawcounts,
-            counts,
-            counts_latched,
-            position,
-            position_interpolated,
-            position_latched,
-            velocity,
-            velocity_rpm,
-            capture: Capture::new(),
-            link,
-        });
+        let (u, c) = export_channel(b.component(), name)?;
+        update.push(u);
+        capture.push(c);
     }
     // The module-wide time base, advanced by update-counters.
     let timebase = Arc::new(AtomicU32::new(0));
@@ -556,69 +632,14 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         let period = ctx.period();
         let now = tb.load(Relaxed);
         for ch in update.iter_mut() {
-            let inp = CounterInputs {
-                phase_a: ch.phase_a.get(),
-                phase_b: ch.phase_b.get(),
-                phase_z: ch.phase_z.get(),
-                latch_input: ch.latch_input.get(),
-                latch_rising: ch.latch_rising.get(),
-                latch_falling: ch.latch_falling.get(),
-                mode: QuadMode::from_pins(ch.x4_mode.get(), ch.counter_mode.get()),
-                missing_teeth: ch.missing_teeth.get(),
-            };
-            let before = ch.link.load();
-            let mut link = before;
-            let raw0 = ch.rawcounts.get();
-            let mut raw = raw0;
-            ch.counter.update(&inp, &mut raw, &mut link, now, period);
-            if raw != raw0 {
-                ch.rawcounts.set(raw);
-            }
-            ch.link.store_changes(&before, &link);
+            ch.update(now, period);
         }
         tb.store(now.wrapping_add(period as u32), Relaxed);
     })?;
     b.funct("encoder.capture-position", true, move |_| {
         let now = timebase.load(Relaxed);
         for ch in capture.iter_mut() {
-            let before = ch.link.load();
-            let mut link = before;
-            let io0 = CaptureIo {
-                index_enable: ch.index_enable.get(),
-                reset: ch.reset.get(),
-                position_scale: ch.position_scale.get(),
-                min_speed_estimate: ch.min_speed_estimate.get(),
-                missing_teeth: ch.missing_teeth.get(),
-                rawcounts: ch.rawcounts.get(),
-                velocity: ch.velocity.get(),
-            };
-            let mut io = io0;
-            let out = ch.capture.capture(&mut io, &mut link, now);
-            ch.link.store_changes(&before, &link);
-            // Write back only what the function changed, so that inputs
-            // driven by others are left alone.
-            if io.index_enable != io0.index_enable {
-                ch.index_enable.set(io.index_enable);
-            }
-            if io.position_scale.to_bits() != io0.position_scale.to_bits() {
-                ch.position_scale.set(io.position_scale);
-            }
-            if io.min_speed_estimate.to_bits() != io0.min_speed_estimate.to_bits() {
-                ch.min_speed_estimate.overwrite(io.min_speed_estimate);
-            }
-            if io.rawcounts != io0.rawcounts {
-                // Added as a difference: update-counters may have counted
-                // meanwhile if it runs in another thread.
-                let extra = io.rawcounts.wrapping_sub(io0.rawcounts);
-                ch.rawcounts.set(ch.rawcounts.get().wrapping_add(extra));
-            }
-            ch.velocity.set(io.velocity);
-            ch.velocity_rpm.set(out.velocity_rpm);
-            ch.counts.set(out.counts);
-            ch.counts_latched.set(out.counts_latched);
-            ch.position.set(out.position);
-            ch.position_latched.set(out.position_latched);
-            ch.position_interpolated.set(out.position_interpolated);
+            ch.capture_position(now);
         }
     })?;
     b.ready()

@@ -16,9 +16,6 @@ use crate::cmath::f64_to_i64;
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
 
-pub use biquad::Biquad;
-pub use lincurve::{Lincurve, MAX_POINTS};
-
 /// lowpass: the next output from the current one (`out` is read back).
 /// `load` copies the input straight through.
 pub fn lowpass(input: f64, load: bool, gain: f64, out: f64) -> f64 {

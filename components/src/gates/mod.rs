@@ -11,6 +11,7 @@ pub mod tristate;
 
 use hal_core::{HalError, In, Out, Pin, Result};
 
+use crate::error::CompError;
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
 
@@ -108,12 +109,14 @@ pub fn reduce(inputs: impl IntoIterator<Item = bool>) -> Reduced {
 }
 
 /// The number of inputs a personality asks for, checked.
-pub fn input_count(personality: i64) -> std::result::Result<usize, String> {
+pub fn input_count(personality: i64) -> std::result::Result<usize, CompError> {
     let n = (personality & INPUT_MASK) as usize;
     if n > MAX_INPUTS {
-        Err(format!(
-            "{personality:#x} asks for {n} inputs (at most {MAX_INPUTS})"
-        ))
+        Err(CompError::TooManyInputs {
+            personality,
+            inputs: n,
+            max: MAX_INPUTS,
+        })
     } else {
         Ok(n)
     }
@@ -228,8 +231,8 @@ mod tests {
 
     #[test]
     fn input_count_limits() {
-        assert_eq!(input_count(0), Ok(0));
-        assert_eq!(input_count(0x1f10), Ok(16));
+        assert_eq!(input_count(0).ok(), Some(0));
+        assert_eq!(input_count(0x1f10).ok(), Some(16));
         assert!(input_count(0x111).is_err());
         assert!(input_count(0xff).is_err());
     }

@@ -8,6 +8,7 @@
 //! `loadrt matrix_kb config=4x3s,8x8 names=pad,panel` (names optional:
 //! `matrix_kb.N`).
 
+use crate::error::CompError;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Out, Param, Pin, Result, Rw};
 
@@ -34,7 +35,8 @@ pub struct KbConfig {
 impl KbConfig {
     /// Parses `RxC` with an optional `s` (letters in any case; other
     /// characters are ignored, as in LinuxCNC).
-    pub fn parse(s: &str) -> std::result::Result<KbConfig, String> {
+    pub fn parse(s: &str) -> std::result::Result<KbConfig, CompError> {
+        let config = || s.to_string();
         let (mut rows, mut a, mut scan) = (0u32, 0u32, false);
         for ch in s.chars().map(|c| c.to_ascii_lowercase()) {
             match ch {
@@ -49,13 +51,19 @@ impl KbConfig {
         }
         let cols = a;
         if rows == 0 || cols == 0 {
-            return Err(format!("'{s}': the size must be RxC, e.g. 4x3"));
+            return Err(CompError::KbSize { config: config() });
         }
         if cols > MAX_COLS {
-            return Err(format!("'{s}': at most {MAX_COLS} columns"));
+            return Err(CompError::KbColumns {
+                config: config(),
+                max: MAX_COLS,
+            });
         }
         if rows > MAX_ROWS {
-            return Err(format!("'{s}': at most {MAX_ROWS} rows"));
+            return Err(CompError::KbRows {
+                config: config(),
+                max: MAX_ROWS,
+            });
         }
         Ok(KbConfig { rows, cols, scan })
     }
@@ -238,7 +246,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     }
     let cfgs: Vec<KbConfig> = config
         .iter()
-        .map(|c| KbConfig::parse(c).map_err(|r| bad("config", r)))
+        .map(|c| KbConfig::parse(c).map_err(|r| bad("config", r.to_string())))
         .collect::<Result<_>>()?;
     let mut b = host.new_rt_component("matrix_kb")?;
     for (i, cfg) in cfgs.into_iter().enumerate() {

@@ -8,6 +8,7 @@
 //! `loadrt enum enums=D;stop;run;;fault,E;low;high names=state,level`
 //! (names optional: `enum-decode.NN` / `enum-encode.NN` otherwise).
 
+use crate::error::CompError;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Out, Pin, Result};
 
@@ -25,19 +26,25 @@ pub struct EnumSpec {
 
 impl EnumSpec {
     /// Parses `D;a;b;;c` or `E;...`.
-    pub fn parse(s: &str) -> std::result::Result<EnumSpec, String> {
+    pub fn parse(s: &str) -> std::result::Result<EnumSpec, CompError> {
         let mut parts = s.split(';');
         let encode = match parts.next().and_then(|m| m.chars().next()) {
             Some('E' | 'e') => true,
             Some('D' | 'd') => false,
-            _ => return Err(format!("'{s}' must start with E; (encode) or D; (decode)")),
+            _ => {
+                return Err(CompError::EnumMode {
+                    spec: s.to_string(),
+                })
+            }
         };
         let mut values = Vec::new();
         let mut v = 0u32;
         let mut pending_skip = 0u32;
         let mut rest: Vec<&str> = parts.collect();
         if rest.last() == Some(&"") {
-            return Err(format!("'{s}' ends with ';': a value name is missing"));
+            return Err(CompError::EnumTrailingSemicolon {
+                spec: s.to_string(),
+            });
         }
         for name in rest.drain(..) {
             if name.is_empty() {
@@ -107,7 +114,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     }
     let specs: Vec<EnumSpec> = enums
         .iter()
-        .map(|e| EnumSpec::parse(e).map_err(|r| bad("enums", r)))
+        .map(|e| EnumSpec::parse(e).map_err(|r| bad("enums", r.to_string())))
         .collect::<Result<_>>()?;
     let mut b = host.new_rt_component("enum")?;
     for (i, spec) in specs.into_iter().enumerate() {
@@ -139,9 +146,9 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
                 vals.push(c.pin_init(&format!("{this}.{name}-val"), *v)?);
             }
             b.funct(&format!("{this}.decode"), false, move |_| {
-                let x = input.get();
-                for (bit, val) in bits.iter().zip(&vals) {
-                    bit.set(val.get() == x);
+                let on = decode(input.get(), vals.iter().map(Pin::get));
+                for (bit, on) in bits.iter().zip(on) {
+                    bit.set(on);
                 }
             })?;
         }

@@ -7,6 +7,7 @@ use hal_core::{HalError, HalType, Host, In, Out, Pin, RawPin, Result, Ro, Value}
 
 use crate::cmath::{f64_to_i32, f64_to_u32};
 use crate::convert::c_convert;
+use crate::error::CompError;
 
 /// Most instances one load creates (entries of `config`).
 pub const MAX_INSTANCES: usize = 100;
@@ -52,7 +53,8 @@ impl Config {
     /// Parses a format string: decimal digits anywhere make up the number
     /// of inputs (left to right, capped at 1024); the first type letter
     /// is the input type, an optional second one the output type.
-    pub fn parse(s: &str) -> std::result::Result<Config, String> {
+    pub fn parse(s: &str) -> std::result::Result<Config, CompError> {
+        let format = || s.to_string();
         let mut size: u32 = 0;
         let mut types: Vec<HalType> = Vec::with_capacity(2);
         for c in s.chars() {
@@ -60,20 +62,24 @@ impl Config {
                 size = (size * 10 + d).min(MAX_SIZE);
             } else if let Some(t) = type_letter(c) {
                 if types.len() == 2 {
-                    return Err(format!("'{s}' has more than two type letters"));
+                    return Err(CompError::MuxTypes { format: format() });
                 }
                 types.push(t);
             } else {
-                return Err(format!(
-                    "'{s}': '{c}' is neither a digit nor a type letter (b, f, s, u)"
-                ));
+                return Err(CompError::MuxLetter {
+                    format: format(),
+                    letter: c,
+                });
             }
         }
         let Some(&in_type) = types.first() else {
-            return Err(format!("'{s}' has no type letter (b, f, s, u)"));
+            return Err(CompError::MuxNoType { format: format() });
         };
         if size < 2 {
-            return Err(format!("'{s}' asks for {size} inputs (at least 2)"));
+            return Err(CompError::MuxTooSmall {
+                format: format(),
+                size,
+            });
         }
         Ok(Config {
             size,

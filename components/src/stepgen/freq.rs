@@ -228,14 +228,35 @@ impl FreqCtl {
         // capture-position, which shares the cache.
         cache.check(&mut p.position_scale, STEP_UNIT);
         let s = p.position_scale;
+        self.round_timing(newperiod, periodns, p);
+        if !enable {
+            if !self.velocity_mode {
+                self.old_pos_cmd = cmd * s;
+            }
+            p.frequency = 0.0;
+            return FreqOut::Stopped;
+        }
+        let (max_freq, max_ac) = Self::limits(t, p, s);
+        p.frequency = if self.velocity_mode {
+            Self::velocity_target(t, p.frequency, cmd * s, max_freq, max_ac)
+        } else {
+            self.position_target(t, p.frequency, cmd * s, accum, max_freq, max_ac)
+        };
+        FreqOut::Target {
+            target_addval: f64_to_i64(p.frequency * t.freqscale),
+            deltalim: f64_to_i64(max_ac * t.accelscale),
+        }
+    }
+
+    /// Rounds the timing parameters up to whole make-pulses periods and
+    /// writes them back (all of them again after a new period).
+    fn round_timing(&mut self, newperiod: bool, periodns: i64, p: &mut FreqParams) {
         if newperiod {
             self.old_steplen = u32::MAX;
             self.old_stepspace = u32::MAX;
             self.old_hold = u32::MAX;
             self.old_setup = u32::MAX;
         }
-        // Timing parameters are rounded up to whole make-pulses periods
-        // and written back.
         if p.steplen != self.old_steplen {
             if p.steplen == 0 {
                 p.steplen = 1;
@@ -258,16 +279,11 @@ impl FreqCtl {
             self.old_hold = ceil_mult(p.hold, periodns);
             p.hold = self.old_hold;
         }
+    }
 
-        if !enable {
-            if !self.velocity_mode {
-                self.old_pos_cmd = cmd * s;
-            }
-            p.frequency = 0.0;
-            return FreqOut::Stopped;
-        }
-
-        // Velocity and acceleration limits in steps/s and steps/s².
+    /// The velocity and acceleration limits in steps/s and steps/s²,
+    /// lowering `maxvel` and `maxaccel` to what the step timing allows.
+    fn limits(t: &FreqTiming, p: &mut FreqParams, s: f64) -> (f64, f64) {
         let min_step_period = p.steplen.wrapping_add(p.stepspace);
         let mut max_freq = 1.0 / (f64::from(min_step_period) * 1e-9);
         let abs_s = s.abs();
@@ -289,71 +305,86 @@ impl FreqCtl {
         } else {
             max_ac = p.maxaccel * abs_s;
         }
+        (max_freq, max_ac)
+    }
 
+    /// Position mode: the velocity (steps/s) that follows the position
+    /// command `pos_cmd` (steps) within the limits.
+    fn position_target(
+        &mut self,
+        t: &FreqTiming,
+        curr_vel: f64,
+        pos_cmd: f64,
+        accum: i64,
+        max_freq: f64,
+        max_ac: f64,
+    ) -> f64 {
         let mut new_vel;
-        if !self.velocity_mode {
-            let dt = t.dt;
-            let recip_dt = t.recip_dt;
-            let pos_cmd = cmd * s;
-            let vel_cmd = (pos_cmd - self.old_pos_cmd) * recip_dt;
-            self.old_pos_cmd = pos_cmd;
-            let curr_pos = accum.wrapping_sub(HALF_STEP) as f64 * (1.0 / ONE_STEP_F);
-            let curr_vel = p.frequency;
-            // Time to match the commanded velocity at full acceleration,
-            // and the position error that would remain.
-            let mut match_ac = if vel_cmd > curr_vel { max_ac } else { -max_ac };
-            let match_time = (vel_cmd - curr_vel) / match_ac;
-            let avg_v = (vel_cmd + curr_vel) * 0.5;
-            let est_out = curr_pos + avg_v * match_time;
-            let est_cmd = pos_cmd + vel_cmd * (match_time - 1.5 * dt);
-            let est_err = est_out - est_cmd;
-            if match_time < dt {
-                // Reachable within one period: close the position error.
-                if est_err.abs() < 0.0001 {
-                    new_vel = vel_cmd;
-                } else {
-                    new_vel = vel_cmd - 0.5 * est_err * recip_dt;
-                    if new_vel > curr_vel + max_ac * dt {
-                        new_vel = curr_vel + max_ac * dt;
-                    } else if new_vel < curr_vel - max_ac * dt {
-                        new_vel = curr_vel - max_ac * dt;
-                    }
-                }
+        let dt = t.dt;
+        let recip_dt = t.recip_dt;
+        let vel_cmd = (pos_cmd - self.old_pos_cmd) * recip_dt;
+        self.old_pos_cmd = pos_cmd;
+        let curr_pos = accum.wrapping_sub(HALF_STEP) as f64 * (1.0 / ONE_STEP_F);
+        // Time to match the commanded velocity at full acceleration,
+        // and the position error that would remain.
+        let mut match_ac = if vel_cmd > curr_vel { max_ac } else { -max_ac };
+        let match_time = (vel_cmd - curr_vel) / match_ac;
+        let avg_v = (vel_cmd + curr_vel) * 0.5;
+        let est_out = curr_pos + avg_v * match_time;
+        let est_cmd = pos_cmd + vel_cmd * (match_time - 1.5 * dt);
+        let est_err = est_out - est_cmd;
+        if match_time < dt {
+            // Reachable within one period: close the position error.
+            if est_err.abs() < 0.0001 {
+                new_vel = vel_cmd;
             } else {
-                // Still ramping: accelerate toward the command, or the
-                // other way if that shrinks the predicted error.
-                let dv = -2.0 * match_ac * dt;
-                let dp = dv * match_time;
-                if (est_err + dp * 2.0).abs() < est_err.abs() {
-                    match_ac = -match_ac;
+                new_vel = vel_cmd - 0.5 * est_err * recip_dt;
+                if new_vel > curr_vel + max_ac * dt {
+                    new_vel = curr_vel + max_ac * dt;
+                } else if new_vel < curr_vel - max_ac * dt {
+                    new_vel = curr_vel - max_ac * dt;
                 }
-                new_vel = curr_vel + match_ac * dt;
-            }
-            if new_vel > max_freq {
-                new_vel = max_freq;
-            } else if new_vel < -max_freq {
-                new_vel = -max_freq;
             }
         } else {
-            let mut vel_cmd = cmd * s;
-            if vel_cmd > max_freq {
-                vel_cmd = max_freq;
-            } else if vel_cmd < -max_freq {
-                vel_cmd = -max_freq;
+            // Still ramping: accelerate toward the command, or the
+            // other way if that shrinks the predicted error.
+            let dv = -2.0 * match_ac * dt;
+            let dp = dv * match_time;
+            if (est_err + dp * 2.0).abs() < est_err.abs() {
+                match_ac = -match_ac;
             }
-            let dv = max_ac * t.dt;
-            new_vel = if vel_cmd > p.frequency + dv {
-                p.frequency + dv
-            } else if vel_cmd < p.frequency - dv {
-                p.frequency - dv
-            } else {
-                vel_cmd
-            };
+            new_vel = curr_vel + match_ac * dt;
         }
-        p.frequency = new_vel;
-        FreqOut::Target {
-            target_addval: f64_to_i64(p.frequency * t.freqscale),
-            deltalim: f64_to_i64(max_ac * t.accelscale),
+        if new_vel > max_freq {
+            new_vel = max_freq;
+        } else if new_vel < -max_freq {
+            new_vel = -max_freq;
+        }
+        new_vel
+    }
+
+    /// Velocity mode: the velocity (steps/s) that ramps toward `vel_cmd`
+    /// (steps/s) within the limits.
+    fn velocity_target(
+        t: &FreqTiming,
+        frequency: f64,
+        vel_cmd: f64,
+        max_freq: f64,
+        max_ac: f64,
+    ) -> f64 {
+        let mut vel_cmd = vel_cmd;
+        if vel_cmd > max_freq {
+            vel_cmd = max_freq;
+        } else if vel_cmd < -max_freq {
+            vel_cmd = -max_freq;
+        }
+        let dv = max_ac * t.dt;
+        if vel_cmd > frequency + dv {
+            frequency + dv
+        } else if vel_cmd < frequency - dv {
+            frequency - dv
+        } else {
+            vel_cmd
         }
     }
 }

@@ -97,7 +97,7 @@ pub fn parse_config(args: &ModuleArgs) -> Result<Vec<ChannelConfig>> {
     let user = if patterns.is_empty() {
         None
     } else {
-        Some(StepType::user(&patterns).map_err(|r| param_error("user_step_type", r))?)
+        Some(StepType::user(&patterns).map_err(|r| param_error("user_step_type", r.to_string()))?)
     };
     let ctrl = args.str_array("ctrl_type");
     let mut chans = Vec::new();

@@ -1,6 +1,8 @@
 //! The sixteen output waveforms of stepgen: step/dir (type 0), up/down
 //! (type 1) and the phase tables of types 2..15.
 
+use crate::error::CompError;
+
 /// Longest phase table: type 15 takes up to 18 user patterns.
 pub const MAX_CYCLE: usize = 18;
 
@@ -62,12 +64,12 @@ impl StepType {
     /// the first -1). Each must fit in 5 bits, and there must be 1..=18 of
     /// them. The phase count is the position of the highest bit any pattern
     /// uses (0 when all are 0: no phase pins).
-    pub fn user(patterns: &[i64]) -> Result<StepType, String> {
+    pub fn user(patterns: &[i64]) -> Result<StepType, CompError> {
         if patterns.is_empty() {
-            return Err("step type 15 needs at least one user_step_type pattern".into());
+            return Err(CompError::NoUserPatterns);
         }
         if patterns.len() > MAX_CYCLE {
-            return Err(format!("at most {MAX_CYCLE} patterns are allowed"));
+            return Err(CompError::TooManyPatterns { max: MAX_CYCLE });
         }
         let mut t = StepType {
             kind: 15,
@@ -78,9 +80,11 @@ impl StepType {
         let mut used = 0u8;
         for (i, &p) in patterns.iter().enumerate() {
             if !(0..1 << MAX_PHASES).contains(&p) {
-                return Err(format!(
-                    "pattern {i}: {p} uses more than {MAX_PHASES} bits (phases A-E)"
-                ));
+                return Err(CompError::PatternTooWide {
+                    index: i,
+                    pattern: p,
+                    max_phases: MAX_PHASES,
+                });
             }
             t.table[i] = p as u8;
             used |= p as u8;
@@ -187,7 +191,10 @@ mod tests {
         assert_eq!(StepType::user(&[0, 0]).unwrap().phases(), 0);
         assert_eq!(StepType::user(&[31; 18]).unwrap().cycle_len(), 18);
         assert!(StepType::user(&[]).is_err());
-        assert!(StepType::user(&[32]).unwrap_err().contains("5 bits"));
+        assert!(StepType::user(&[32])
+            .unwrap_err()
+            .to_string()
+            .contains("5 bits"));
         assert!(StepType::user(&[-2]).is_err());
         assert!(StepType::user(&[1; 19]).is_err());
     }

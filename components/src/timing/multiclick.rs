@@ -10,12 +10,11 @@ use hal_core::{Out, Pin, Result};
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
 
-/// The state numbers (the `state` pin).
+/// The state numbers (the `state` pin). Click n (1..4) pressed is state
+/// `2n - 1`, released `2n`.
 pub mod states {
     /// Waiting for a press.
     pub const IDLE: i32 = 0;
-    /// Click n (1..4) pressed: state `2n - 1`; released: `2n`.
-    pub const FIRST_PRESS: i32 = 1;
     /// The fourth click has ended.
     pub const FOURTH_CLICK: i32 = 8;
     /// Pressed too long (or a fifth press): waiting for release.

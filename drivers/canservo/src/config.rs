@@ -11,6 +11,7 @@ use hal_driver::DriverError;
 
 use crate::drivefile::DriveFile;
 use crate::engine::EngineConfig;
+use crate::error::Error;
 use crate::startup::{Mode, NodePlan, StartupConfig};
 
 /// The module name.
@@ -96,7 +97,7 @@ pub fn parse(args: &ModuleArgs) -> Result<Config, DriverError> {
         count,
         |_, s| match s.trim().parse::<f64>() {
             Ok(v) if v.is_finite() && v != 0.0 => Ok(v),
-            _ => Err("not a non-zero number".into()),
+            _ => Err(Error::NotAScale),
         },
         |_| 1.0,
     )?;
@@ -106,18 +107,14 @@ pub fn parse(args: &ModuleArgs) -> Result<Config, DriverError> {
         |_, s| {
             Mode::parse(s)
                 .filter(|m| *m != Mode::Pp)
-                .ok_or_else(|| "not csp, pv or csv".to_string())
+                .ok_or(Error::NotAMode)
         },
         |_| Mode::Csp,
     )?;
     let files = p.strs_per(
         "drive_file",
         count,
-        |_, s| {
-            DriveFile::load(Path::new(s))
-                .map(Some)
-                .map_err(|e| e.to_string())
-        },
+        |_, s| DriveFile::load(Path::new(s)).map(Some),
         |_| None,
     )?;
     let sync = p.int_in("sync", 1, 0..=1)? == 1;
@@ -193,9 +190,9 @@ pub fn parse(args: &ModuleArgs) -> Result<Config, DriverError> {
 mod tests {
     use super::*;
 
-    fn parse_args(a: &[&str]) -> Result<Config, String> {
-        let args = ModuleArgs::parse(NAME, PARAMS, a).map_err(|e| e.to_string())?;
-        parse(&args).map_err(|e| e.to_string())
+    fn parse_args(a: &[&str]) -> hal_core::Result<Config> {
+        let args = ModuleArgs::parse(NAME, PARAMS, a)?;
+        parse(&args).map_err(|e| e.into_hal(NAME))
     }
 
     #[test]
@@ -249,7 +246,7 @@ mod tests {
             ),
         ];
         for (a, want) in cases {
-            let e = parse_args(&a).unwrap_err();
+            let e = parse_args(&a).unwrap_err().to_string();
             assert!(e.starts_with(want), "{a:?}: {e}");
         }
     }

@@ -9,13 +9,42 @@ use crate::codes::AbortCode;
 /// Everything that can fail outside the realtime functions.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The CAN interface cannot be used.
-    #[error("CAN interface '{iface}': {reason}")]
-    Interface {
-        /// The interface name.
+    /// The interface name cannot be one.
+    #[error("CAN interface '{iface}': not a valid interface name")]
+    BadInterfaceName {
+        /// The name as given.
         iface: String,
-        /// Why, with what to do about it.
-        reason: String,
+    },
+    /// No network interface has this name.
+    #[error("CAN interface '{iface}': no such network interface (see `ip link`; for a virtual bus: ip link add dev {iface} type vcan && ip link set {iface} up)")]
+    NoInterface {
+        /// The name.
+        iface: String,
+    },
+    /// The interface is not a CAN interface.
+    #[error("CAN interface '{iface}': not a CAN interface (ARPHRD type {kind}, CAN is 280)")]
+    NotCan {
+        /// The name.
+        iface: String,
+        /// Its ARPHRD type, as sysfs gives it.
+        kind: String,
+    },
+    /// The interface is down.
+    #[error("CAN interface '{iface}': the interface is down (ip link set {iface} up type can bitrate 1000000, which needs CAP_NET_ADMIN)")]
+    InterfaceDown {
+        /// The name.
+        iface: String,
+    },
+    /// A socket call on the interface failed.
+    #[error("CAN interface '{iface}': {op}: {source}")]
+    Socket {
+        /// The name.
+        iface: String,
+        /// What was being done ("setting receive filters").
+        op: &'static str,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
     },
     /// Nodes did not announce themselves after NMT reset communication.
     #[error("{} did not send a boot-up message within {timeout_ms} ms after NMT reset communication (is the drive powered, on this bus, at this node id and bit rate?)", node_list(nodes))]
@@ -138,6 +167,21 @@ pub enum Error {
         #[source]
         source: Box<Error>,
     },
+    /// A thread the driver needs could not be started.
+    #[error("starting the {what}: {source}")]
+    Thread {
+        /// The thread ("helper thread").
+        what: &'static str,
+        /// The system's answer.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A `scale` item is not a usable number.
+    #[error("not a non-zero number")]
+    NotAScale,
+    /// A `mode` item names no mode.
+    #[error("not csp, pv or csv")]
+    NotAMode,
     /// A configuration value is wrong (module parameter or tool option).
     #[error("{what}: {reason}")]
     Config {

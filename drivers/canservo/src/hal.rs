@@ -185,11 +185,8 @@ impl SafeState for SafeDrives {
     }
 }
 
-fn load_error(e: impl std::fmt::Display) -> HalError {
-    HalError::ModuleLoad {
-        module: NAME.into(),
-        reason: e.to_string(),
-    }
+fn load_error(e: crate::Error) -> HalError {
+    HalError::module_failed(NAME, e)
 }
 
 /// The two endpoints (setup, realtime) and the simulated bus, if any.
@@ -307,8 +304,14 @@ fn load_config(host: &Host, cfg: Config) -> Result<()> {
         }
         c.try_with(|e| e.write(ctx.now_ns(), ctx.period(), &inputs));
     })?;
-    let helper = Helper::spawn(setup, helper_drives, cfg.startup.clone(), cfg.diag, log)
-        .map_err(|e| load_error(format!("starting the helper thread: {e}")))?;
+    let helper = Helper::spawn(setup, helper_drives, cfg.startup.clone(), cfg.diag, log).map_err(
+        |source| {
+            load_error(crate::Error::Thread {
+                what: "helper thread",
+                source,
+            })
+        },
+    )?;
     fault::install(
         &mut b,
         SafeDrives {

@@ -44,7 +44,7 @@
 //! period, not whenever a helper thread runs). SDO after start-up (error
 //! history after a fault, polling the error register, bringing a node up
 //! again after a communication fault) runs in a non-realtime helper
-//! thread on its own socket ([`helper`]).
+//! thread on its own socket (`helper`).
 //!
 //! The CiA 402 power state machine follows the `enable` pin both ways
 //! ([`power`]); faults (bus-off, controller errors, no ACK, a missed
@@ -71,32 +71,35 @@
 //! * [`sdo`]: SDO client and server. [`drivefile`]: the per-drive file.
 //! * [`startup`]: the typed start-up. [`power`]: the CiA 402 state
 //!   machine, with a typed API for stepping a drive by hand.
-//! * [`engine`]: the realtime read/write. [`helper`]: the non-realtime
-//!   helper. [`config`]: the `loadrt` parameters. [`hal`]: the HAL
+//! * [`engine`]: the realtime read/write. `helper`: the non-realtime
+//!   helper. `config`: the `loadrt` parameters. [`hal`]: the HAL
 //!   binding and [`MODULE`].
-//! * [`sim`]: the simulated drive. [`rig`]: drives, bus and engine on
-//!   simulated time. [`decode`]: frames in words, for the bring-up tool.
-//!   [`fuzz`]: the frame fuzz target's body.
+//! * [`sim`]: the simulated drive. `rig` (feature `testing`): drives, bus and engine
+//!   on simulated time. [`decode`]: frames in words, for the bring-up tool.
+//!   `fuzzing` (feature `fuzzing`): the fuzz targets' bodies.
 
 pub mod bus;
 pub mod codes;
-pub mod config;
+mod config;
 pub mod decode;
 pub mod drivefile;
 pub mod engine;
-pub mod error;
+mod error;
 pub mod frame;
-pub mod fuzz;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod hal;
-pub mod helper;
+mod helper;
 pub mod power;
 pub mod regs;
+#[cfg(any(test, feature = "testing"))]
 pub mod rig;
 pub mod sdo;
 pub mod sim;
-pub mod sim_args;
 pub mod startup;
-pub mod units;
+pub mod tool;
+pub mod tool_args;
+mod units;
 
 pub use error::{Error, Result};
-pub use hal::MODULE;
+pub use hal::{MODULE, SIM_ONLY_MODULE};

@@ -1,4 +1,4 @@
 //! Conversions between user units and drive counts: the shared CiA 402
 //! layer's ([`hal_cia402::units`]).
 
-pub use hal_cia402::units::{counts, usable_scale};
+pub use hal_cia402::units::counts;

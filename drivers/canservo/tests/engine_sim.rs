@@ -2,6 +2,10 @@
 //! states up and down, CSP following a trajectory, PV, drive-internal
 //! homing, and every fault path raising the fault within one period and
 //! leaving the drive disabled.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hal_canservo::bus::Filter;
 use hal_canservo::bus::SimBus;

@@ -1,5 +1,5 @@
-//! The text parsers' fuzz bodies ([`hal_canservo::fuzz::drive_file`],
-//! [`hal_canservo::fuzz::module_params`]) over more than 100 000 inputs
+//! The text parsers' fuzz bodies ([`hal_canservo::fuzzing::drive_file`],
+//! [`hal_canservo::fuzzing::module_params`]) over more than 100 000 inputs
 //! each (proptest, on stable). Inputs are built from words that reach
 //! deep into each parser (good objects, types, values and parameters,
 //! next to near misses and random bytes), so most are not refused at the
@@ -165,7 +165,7 @@ fn drive_files_over_a_hundred_thousand_inputs() {
     let accepted = std::cell::Cell::new(0u32);
     runner()
         .run(&vec(any::<u8>(), 0..4 * 8), |data| {
-            if hal_canservo::fuzz::drive_file(&drive_text(&data)) > 0 {
+            if hal_canservo::fuzzing::drive_file(&drive_text(&data)) > 0 {
                 accepted.set(accepted.get() + 1);
             }
             Ok(())
@@ -180,7 +180,7 @@ fn loadrt_lines_over_a_hundred_thousand_inputs() {
     let accepted = std::cell::Cell::new(0u32);
     runner()
         .run(&vec(any::<u8>(), 0..8), |data| {
-            if hal_canservo::fuzz::module_params(&loadrt_text(&data)) {
+            if hal_canservo::fuzzing::module_params(&loadrt_text(&data)) {
                 accepted.set(accepted.get() + 1);
             }
             Ok(())

@@ -1,8 +1,12 @@
 //! Malformed and hostile frames: the fuzz target's body
-//! ([`hal_canservo::fuzz::frames`]) over more than 100 000 random frames
+//! ([`hal_canservo::fuzzing::frames`]) over more than 100 000 random frames
 //! (proptest, on stable), and the hostile cases by hand: wrong lengths,
 //! unknown COB-IDs, SDO toggle errors, segmented transfers that never
 //! end, EMCY floods.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -26,7 +30,7 @@ fn fuzz_over_a_hundred_thousand_random_frames() {
     let total = std::cell::Cell::new(0usize);
     runner
         .run(&vec(any::<u8>(), 0..11 * 40), |data| {
-            total.set(total.get() + hal_canservo::fuzz::frames(&data));
+            total.set(total.get() + hal_canservo::fuzzing::frames(&data));
             Ok(())
         })
         .unwrap();

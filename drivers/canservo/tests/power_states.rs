@@ -1,6 +1,10 @@
 //! Every CiA 402 power-state transition, in both directions, through the
 //! typestate API over SDO against a simulated drive whose time runs in a
 //! background thread.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 use std::time::Duration;

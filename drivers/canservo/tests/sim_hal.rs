@@ -2,6 +2,10 @@
 //! thread: pins, params, enable, CSP, homing through the `home` pin, a
 //! fault through the pins, the helper's diagnosis, parameter errors and
 //! a failing load leaving nothing behind.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};

@@ -9,6 +9,10 @@
 //! power up, a CSP move, feedback, a fault injected on the bus (a node
 //! reset), recovery through the helper; unload leaves the drives
 //! disabled.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
@@ -112,6 +116,9 @@ fn args<'a>(iface: &'a str, nodes: &'a str) -> Vec<String> {
     ]
 }
 
+// Long on purpose: one end-to-end scenario on one bus and drive process
+// (a missing node, start-up, a CSP move, a reset node), each step needing
+// the state the last one left.
 #[test]
 fn start_up_and_csp_over_vcan_with_a_separate_drive_process() {
     let Some(iface) = vcan() else { return };

@@ -124,7 +124,7 @@ pub type Result<T, E = DriverError> = std::result::Result<T, E>;
 impl DriverError {
     /// The error as a `loadrt` failure of `module`: a bad parameter
     /// becomes [`HalError::ModuleParam`], anything else
-    /// [`HalError::ModuleLoad`] with this error's text.
+    /// [`HalError::ModuleFailed`] carrying this error as its source.
     pub fn into_hal(self, module: &str) -> HalError {
         match self {
             DriverError::BadParam {
@@ -136,10 +136,7 @@ impl DriverError {
                 param,
                 reason,
             },
-            other => HalError::ModuleLoad {
-                module: module.to_string(),
-                reason: other.to_string(),
-            },
+            other => HalError::module_failed(module, other),
         }
     }
 }
@@ -210,6 +207,26 @@ mod tests {
             e.into_hal("hm2_pci").to_string(),
             "hm2_pci: PCI device 0000:01:00.0: BAR 5 is not present"
         );
+    }
+
+    #[test]
+    fn a_failed_load_keeps_the_driver_error_and_its_cause() {
+        use std::error::Error as _;
+        let e = DriverError::Io {
+            path: "/sys/x/resource0".into(),
+            op: "mapping",
+            source: io::Error::from_raw_os_error(libc::EIO),
+        };
+        let h = e.into_hal("hm2_pci");
+        assert!(h
+            .to_string()
+            .starts_with("hm2_pci: mapping /sys/x/resource0: "));
+        let driver = h.source().and_then(|s| s.downcast_ref::<DriverError>());
+        assert!(matches!(driver, Some(DriverError::Io { .. })), "{driver:?}");
+        let cause = driver
+            .and_then(|d| d.source())
+            .and_then(|s| s.downcast_ref::<io::Error>());
+        assert_eq!(cause.and_then(io::Error::raw_os_error), Some(libc::EIO));
     }
 
     #[test]

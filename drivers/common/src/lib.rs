@@ -94,8 +94,15 @@
 //!
 //! Mock-register tests run the driver on a `SimBoard` and assert on the
 //! access log; PCI tests run on a `FakeSysfs`; real-device tests go in
-//! one test binary per crate that the VM rig runs ([`vmrig`]: its
+//! one test binary per crate that the VM rig runs (`vmrig`, feature `testing`: its
 //! ivshmem BAR and a host-side peer), skipping cleanly outside it.
+//!
+//! Test files are named `<kind>_<subject>.rs` after what they run on:
+//! `sim_hal.rs` (the HAL binding on the simulator), `fake_pci.rs` (a
+//! fake sysfs), `fuzz_parsers.rs` (the crate's `fuzzing` bodies),
+//! `real_device.rs` (kernel devices, in the VM rig), `vmrig.rs`; a test
+//! of one subject without a backend of its own is named after the subject
+//! (`idrom.rs`, `master.rs`).
 //!
 //! ## 7. A real one to read
 //!
@@ -247,14 +254,14 @@
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
-//! * [`error`]: the error type, [`DriverError`].
-//! * [`lockdown`]: telling kernel lockdown from a missing permission.
+//! * `error` (private): the error type, [`DriverError`], at the crate root.
+//! * `lockdown` (private): telling kernel lockdown from a missing permission.
 //! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
 //!   feature so test doubles stay out of the normal API.
-//! * [`vmrig`]: for tests in the VM rig.
-//! * [`bench`]: per-call timing for benchmark binaries.
-//! * [`fuzzing`]: fuzz-target bodies for the parsers of sysfs files and
-//!   address tokens.
+//! * `vmrig` (feature `testing`): for tests in the VM rig.
+//! * `bench` (feature `testing`): per-call timing for benchmark binaries.
+//! * `fuzzing` (feature `fuzzing`): fuzz-target bodies for the parsers of
+//!   sysfs files and address tokens.
 //!
 //! # Where this differs from the first sketch
 //!
@@ -271,18 +278,24 @@
 //!   optional step per reading so busy-waits end) or following the HAL
 //!   thread (`loadrt`).
 
+#[cfg(any(test, feature = "testing"))]
 pub mod bench;
 pub mod bus;
-pub mod error;
+mod error;
 pub mod fault;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
-pub mod lockdown;
+mod lockdown;
 pub mod params;
 pub mod pci;
 pub mod plant;
 pub mod sim;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;
+#[cfg(any(test, feature = "testing"))]
 pub mod vmrig;
 
+pub use bus::{PortBus, RegWindow};
 pub use error::{DriverError, ForModule, Result};
+pub use fault::{FaultLatch, SafeState};
+pub use params::Params;

@@ -112,11 +112,11 @@ impl<'a> Params<'a> {
     /// `parse` (given its index and text; an error says what is wrong,
     /// and is reported naming the item). Items not given, or given empty,
     /// are `default(index)`. More than `count` items is an error.
-    pub fn strs_per<T>(
+    pub fn strs_per<T, E: std::fmt::Display>(
         &self,
         name: &str,
         count: usize,
-        mut parse: impl FnMut(usize, &str) -> std::result::Result<T, String>,
+        mut parse: impl FnMut(usize, &str) -> std::result::Result<T, E>,
         mut default: impl FnMut(usize) -> T,
     ) -> Result<Vec<T>> {
         let given = self.args.str_array(name);
@@ -203,7 +203,7 @@ pub fn parse_hex(token: &str, max: u64) -> std::result::Result<u64, NumberError>
 /// decimal; as `strtol(s, 0)` and hal-core's integer parameters) that
 /// must lie in `0..=max`: an I/O base address, a card ID.
 pub fn parse_number(token: &str, max: u64) -> std::result::Result<u64, NumberError> {
-    let v = parse_c_int(token, 64).map_err(NumberError::NotANumber)?;
+    let v = parse_c_int(token, 64).map_err(|e| NumberError::NotANumber(e.to_string()))?;
     if v < 0 {
         return Err(NumberError::NotANumber(format!("'{token}' is negative")));
     }
@@ -342,10 +342,10 @@ mod tests {
             e,
             "hm2_pci: parameter 'ids': item 2 \"7\": out of range (0..=3)"
         );
-        let parse = |_: usize, s: &str| -> std::result::Result<u32, String> {
+        let parse = |_: usize, s: &str| -> std::result::Result<u32, &'static str> {
             s.strip_prefix("num_encoders=")
                 .and_then(|n| n.parse().ok())
-                .ok_or_else(|| "not num_encoders=N".to_string())
+                .ok_or("not num_encoders=N")
         };
         let e = p
             .strs_per("config", 3, parse, |_| 0)

@@ -17,6 +17,8 @@
 use hal_driver::params::Params;
 use hal_driver::DriverError;
 
+use crate::error::GpioError;
+
 /// The most names a list takes (LinuxCNC's limit).
 pub const MAX_NAMES: usize = 128;
 
@@ -169,26 +171,26 @@ pub fn parse(module: &'static str, args: &hal_core::ModuleArgs) -> Result<Config
 }
 
 /// Applies modifier list `param` to `line`.
-fn apply(line: &mut LineSpec, param: &str) -> Result<(), String> {
+fn apply(line: &mut LineSpec, param: &str) -> Result<(), GpioError> {
     let output_only = matches!(param, "invert" | "reset" | "opendrain" | "opensource");
     if output_only && line.direction != Direction::Output {
-        return Err(format!(
-            "{param}= applies to outputs only, and this line is an input"
-        ));
+        return Err(GpioError::OutputOnly {
+            param: param.to_string(),
+        });
     }
     let bias = |line: &mut LineSpec, b: Bias| {
         if line.bias != Bias::AsIs {
-            return Err(format!(
-                "has two bias settings ({} and {param})",
-                bias_param(line.bias)
-            ));
+            return Err(GpioError::TwoBiases {
+                first: bias_param(line.bias),
+                second: param.to_string(),
+            });
         }
         line.bias = b;
         Ok(())
     };
     let drive = |line: &mut LineSpec, d: Drive| {
         if line.drive != Drive::PushPull {
-            return Err("cannot be both open drain and open source".to_string());
+            return Err(GpioError::TwoDrives);
         }
         line.drive = d;
         Ok(())
@@ -201,7 +203,11 @@ fn apply(line: &mut LineSpec, param: &str) -> Result<(), String> {
         "biasdisable" => bias(line, Bias::Disabled)?,
         "pulldown" => bias(line, Bias::PullDown)?,
         "pullup" => bias(line, Bias::PullUp)?,
-        other => return Err(format!("unknown list {other}")),
+        other => {
+            return Err(GpioError::UnknownList {
+                param: other.to_string(),
+            })
+        }
     }
     Ok(())
 }
@@ -232,10 +238,10 @@ mod tests {
             .collect()
     }
 
-    fn parse_args(a: &[&str]) -> Result<Config, String> {
+    fn parse_args(a: &[&str]) -> hal_core::Result<Config> {
         let decls: &'static [ParamDecl] = Box::leak(decls().into_boxed_slice());
-        let args = ModuleArgs::parse("hal_gpio", decls, a).map_err(|e| e.to_string())?;
-        parse("hal_gpio", &args).map_err(|e| e.to_string())
+        let args = ModuleArgs::parse("hal_gpio", decls, a)?;
+        parse("hal_gpio", &args).map_err(|e| e.into_hal("hal_gpio"))
     }
 
     #[test]
@@ -312,7 +318,7 @@ mod tests {
             ),
         ];
         for (args, want) in cases {
-            let e = parse_args(args).unwrap_err();
+            let e = parse_args(args).unwrap_err().to_string();
             assert!(e.contains(want), "{args:?}: {e}");
             assert!(e.starts_with("hal_gpio: "), "{e}");
         }
@@ -337,7 +343,9 @@ mod tests {
     #[test]
     fn more_than_128_names_is_refused() {
         let many: Vec<String> = (0..129).map(|i| format!("L{i}")).collect();
-        let e = parse_args(&[&format!("inputs={}", many.join(","))]).unwrap_err();
+        let e = parse_args(&[&format!("inputs={}", many.join(","))])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("can only take 128"), "{e}");
     }
 }

@@ -37,14 +37,52 @@ pub enum GpioError {
         /// Every line that has it (`gpiochip0 [label] line 5`).
         places: String,
     },
+    /// A modifier list that only outputs take names an input.
+    #[error("{param}= applies to outputs only, and this line is an input")]
+    OutputOnly {
+        /// The list (`invert`, `reset`, `opendrain`, `opensource`).
+        param: String,
+    },
+    /// A line is in two bias lists.
+    #[error("has two bias settings ({first} and {second})")]
+    TwoBiases {
+        /// The list that set its bias first.
+        first: &'static str,
+        /// The second one.
+        second: String,
+    },
+    /// A line is both open drain and open source.
+    #[error("cannot be both open drain and open source")]
+    TwoDrives,
+    /// A modifier list this driver does not have.
+    #[error("unknown list {param}")]
+    UnknownList {
+        /// Its name.
+        param: String,
+    },
+    /// A line request the (simulated) kernel refused: its errno and,
+    /// where known, why.
+    #[error("{errno}{}", detail.as_ref().map(|d| format!(" ({d})")).unwrap_or_default())]
+    Refused {
+        /// The kernel's answer.
+        errno: crate::chip::LineError,
+        /// Which line and why, where known.
+        detail: Option<String>,
+    },
+    /// A request names a line the chip does not have.
+    #[error("line {offset} does not exist on this chip")]
+    NoSuchLine {
+        /// The line's offset.
+        offset: u32,
+    },
     /// There are no GPIO chips at all.
-    #[error("hal_gpio: no GPIO chips found ({searched}): is the GPIO controller's kernel driver loaded?")]
+    #[error("no GPIO chips found ({searched}): is the GPIO controller's kernel driver loaded?")]
     NoChips {
         /// Where discovery looked.
         searched: String,
     },
     /// A chip could not be opened or asked about its lines.
-    #[error("hal_gpio: {op} {path}: {reason}")]
+    #[error("{op} {path}: {reason}")]
     Chip {
         /// The chip.
         path: String,
@@ -54,7 +92,7 @@ pub enum GpioError {
         reason: String,
     },
     /// The kernel refused a line request.
-    #[error("hal_gpio: requesting {lines} on {chip}: {reason}")]
+    #[error("requesting {lines} on {chip}: {reason}")]
     Request {
         /// The chip.
         chip: String,
@@ -79,13 +117,7 @@ impl GpioError {
                     reason: text.strip_prefix(&prefix).unwrap_or(&text).to_string(),
                 }
             }
-            other => {
-                let text = other.to_string();
-                HalError::ModuleLoad {
-                    module: crate::hal::NAME.into(),
-                    reason: text.strip_prefix("hal_gpio: ").unwrap_or(&text).to_string(),
-                }
-            }
+            other => HalError::module_failed(crate::hal::NAME, other),
         }
     }
 }

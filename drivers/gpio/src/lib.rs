@@ -83,20 +83,22 @@
 //! * [`regs`]: the uAPI v2 constants.
 //! * [`chip`]: the bus traits, [`chip::ChipSet`] and
 //!   [`chip::LineRequest`]; [`cdev`] and [`sim`] implement them.
-//! * [`cfg`](mod@cfg): the module parameters; [`resolve`]: names to
+//! * [`cfg`](mod@cfg): the module parameters; `resolve`: names to
 //!   requests.
 //! * [`driver`]: the read/write/reset algorithm on requests.
 //! * [`hal`]: the HAL binding and [`MODULE`].
-//! * [`error`]: the error type, [`GpioError`].
+//! * `error`: the error type, [`GpioError`].
+
+#![forbid(unsafe_code)]
 
 pub mod cdev;
 pub mod cfg;
 pub mod chip;
 pub mod driver;
-pub mod error;
+mod error;
 pub mod hal;
 pub mod regs;
-pub mod resolve;
+mod resolve;
 pub mod sim;
 
 pub use error::GpioError;

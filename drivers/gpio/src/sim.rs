@@ -265,29 +265,35 @@ impl SimChip {
         self: &Arc<Self>,
         lines: &[LineSetting],
         consumer: &str,
-    ) -> Result<SimRequest, String> {
+    ) -> Result<SimRequest, GpioError> {
         let mut s = self.lock();
         if s.removed {
-            return Err(LineError(libc::ENODEV).to_string());
+            return Err(GpioError::Refused {
+                errno: LineError(libc::ENODEV),
+                detail: None,
+            });
         }
         for l in lines {
             let Some(line) = s.lines.get(l.offset as usize) else {
-                return Err(format!("line {} does not exist on this chip", l.offset));
+                return Err(GpioError::NoSuchLine { offset: l.offset });
             };
             if line.setting.is_some() {
-                return Err(format!(
-                    "{} (line {} is in use by \"{}\")",
-                    LineError(libc::EBUSY),
-                    l.offset,
-                    line.consumer
-                ));
+                return Err(GpioError::Refused {
+                    errno: LineError(libc::EBUSY),
+                    detail: Some(format!(
+                        "line {} is in use by \"{}\"",
+                        l.offset, line.consumer
+                    )),
+                });
             }
             if l.direction == Direction::Input && l.drive != Drive::PushPull {
-                return Err(format!(
-                    "{} (line {}: a drive setting needs an output)",
-                    LineError(libc::EINVAL),
-                    l.offset
-                ));
+                return Err(GpioError::Refused {
+                    errno: LineError(libc::EINVAL),
+                    detail: Some(format!(
+                        "line {}: a drive setting needs an output",
+                        l.offset
+                    )),
+                });
             }
         }
         let now = self.clock.now_ns();
@@ -509,10 +515,10 @@ impl ChipSet for SimChips {
             })?;
         let req = sim
             .request(lines, crate::regs::CONSUMER)
-            .map_err(|reason| GpioError::Request {
+            .map_err(|e| GpioError::Request {
                 chip: chip.to_string(),
                 lines: names(chip),
-                reason,
+                reason: e.to_string(),
             })?;
         Ok(Box::new(req))
     }
@@ -651,7 +657,8 @@ mod tests {
         let r = c.request(&[setting(0, Direction::Input)], "first").unwrap();
         let e = c
             .request(&[setting(0, Direction::Output)], "second")
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("in use by \"first\""), "{e}");
         let e = c
             .request(
@@ -661,7 +668,8 @@ mod tests {
                 }],
                 "x",
             )
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("needs an output"), "{e}");
         assert_eq!(r.set(1, 1), Err(LineError(libc::EPERM)));
         assert_eq!(r.errors(), 1);

@@ -9,6 +9,10 @@
 //! figures but is in the round trip); all five step generators move,
 //! the 7I76's outputs and spindle are driven, its inputs read. The
 //! machine may be shared: the figures are what this run saw.
+#![allow(
+    clippy::unwrap_used,
+    reason = "benchmark code: a failed unwrap stops the run"
+)]
 
 use std::time::{Duration, Instant};
 
@@ -39,6 +43,8 @@ fn percentile(sorted: &[u64], p: f64) -> u64 {
     sorted[i.min(sorted.len() - 1)]
 }
 
+// Long on purpose: a benchmark script, set-up then each figure in turn,
+// all on the one simulated board and transport.
 fn main() {
     let spec = boards::preset("7i96s").unwrap();
     let model = Hm2Model::with_world(spec, Box::new(machine::preset("7i96s")));

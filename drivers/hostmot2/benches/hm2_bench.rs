@@ -11,6 +11,10 @@
 //!   model's work;
 //! * on a plain memory window that only stores words (what the driver
 //!   alone costs; a real BAR adds the bus's latency per access).
+#![allow(
+    clippy::unwrap_used,
+    reason = "benchmark code: a failed unwrap stops the run"
+)]
 
 use std::sync::Arc;
 

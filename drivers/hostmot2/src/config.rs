@@ -90,9 +90,9 @@ const UNSUPPORTED_COUNTS: &[&str] = &[
 fn number(token: &str, value: &str) -> Result<i32> {
     parse_c_int(value, 32)
         .map(|v| v as i32)
-        .map_err(|reason| Hm2Error::BadConfigValue {
+        .map_err(|e| Hm2Error::BadConfigValue {
             token: token.to_string(),
-            reason,
+            reason: e.to_string(),
         })
 }
 

@@ -274,9 +274,83 @@ pub enum Hm2Error {
         /// What is wrong.
         reason: String,
     },
+    /// A card's process data has split encoder counters.
+    #[error("record {record}: split encoder counters are not supported")]
+    SplitEncoder {
+        /// The record's name.
+        record: String,
+    },
+    /// A card lists a non-volatile record among its process data.
+    #[error("Non-Volatile data type found in PTOC (record {record}), the card's firmware is inconsistent")]
+    NonVolatileInPtoc {
+        /// The record's name.
+        record: String,
+    },
+    /// A process record has a data type this driver does not know.
+    #[error("record {record}: unknown data type 0x{data_type:02X}")]
+    UnknownDataType {
+        /// The record's name.
+        record: String,
+        /// Its data type.
+        data_type: u8,
+    },
+    /// A process record's width does not suit its type.
+    #[error("record {record}: {bits} bits is not a width its type can have")]
+    BadRecordWidth {
+        /// The record's name.
+        record: String,
+        /// Its width.
+        bits: u8,
+    },
+    /// A card's process data do not fit the module's registers.
+    #[error("Data width, {inputs} in / {outputs} out bits, exceeds the supported number of smart-serial 32-bit registers ({registers})")]
+    ProcessTooWide {
+        /// Input bits.
+        inputs: usize,
+        /// Output bits.
+        outputs: usize,
+        /// The registers there are.
+        registers: usize,
+    },
+    /// A `board_ip` item is not an address.
+    #[error("not an IP address (a.b.c.d, optionally :port)")]
+    NotAnAddress,
     /// The first reads and writes after configuration failed.
     #[error("comm errors while initializing firmware!")]
     CommErrors,
+    /// A board failed to register: LinuxCNC's line naming the board, and
+    /// why (its lines joined by "; ").
+    #[error("{fails}: {}", source.to_string().replace('\n', "; "))]
+    Registration {
+        /// "hm2_pci: board at 0000:01:00.0 fails HM2 registration".
+        fails: String,
+        /// Why.
+        source: Box<Hm2Error>,
+    },
+    /// A board driver was loaded before the hostmot2 core.
+    #[error("the hostmot2 driver is not loaded (loadrt hostmot2 first)")]
+    CoreNotLoaded,
+    /// More boards than one load drives.
+    #[error("{found} boards found; one hm2_pci load drives at most {max}")]
+    TooManyBoards {
+        /// Boards found.
+        found: usize,
+        /// The most one load drives.
+        max: usize,
+    },
+    /// `hm2_test` was given a pattern it does not have.
+    #[error("unknown test pattern {0}")]
+    UnknownTestPattern(i64),
+    /// An Ethernet board did not answer as one.
+    #[error("board at {address} ({peer}): {source}")]
+    EthBoard {
+        /// The address as given in `board_ip`.
+        address: String,
+        /// The socket address it resolved to.
+        peer: std::net::SocketAddr,
+        /// What went wrong.
+        source: TransportError,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),

@@ -24,6 +24,7 @@ use hal_driver::{sim as layer_sim, ForModule};
 
 use crate::board::Board;
 use crate::config;
+use crate::error::Hm2Error;
 use crate::firmware::Debug;
 use crate::image::{FirmwareSpec, ImageTransport};
 use crate::llio::Llio;
@@ -140,10 +141,7 @@ pub(crate) fn core(host: &Host, module: &str) -> hal_core::Result<Arc<Core>> {
         .iter()
         .find(|(i, _)| i == name)
         .and_then(|(_, w)| w.upgrade())
-        .ok_or_else(|| HalError::ModuleLoad {
-            module: module.to_string(),
-            reason: "the hostmot2 driver is not loaded (loadrt hostmot2 first)".into(),
-        })
+        .ok_or_else(|| HalError::module_failed(module, Hm2Error::CoreNotLoaded))
 }
 
 // ---------------------------------------------------------------------
@@ -239,18 +237,21 @@ pub fn register_boards(
         let blog = BoardLog::new(log.clone(), &cand.llio.name);
         let name = cand.llio.name.clone();
         let fails = cand.fails.clone();
-        let fail = |e: &dyn std::fmt::Display, blog: &BoardLog| {
+        let fail = |e: Hm2Error, blog: &BoardLog| {
             for line in e.to_string().lines() {
                 blog.say(MsgLevel::Err, format_args!("{line}"));
             }
             log.err(format_args!("{fails}"));
             host.flush_rt_log();
-            HalError::ModuleLoad {
-                module: module.to_string(),
-                reason: format!("{fails}: {}", e.to_string().replace('\n', "; ")),
-            }
+            HalError::module_failed(
+                module,
+                Hm2Error::Registration {
+                    fails: fails.clone(),
+                    source: Box::new(e),
+                },
+            )
         };
-        let config = config::parse(config_for(configs, i)).map_err(|e| fail(&e, &blog))?;
+        let config = config::parse(config_for(configs, i)).map_err(|e| fail(e, &blog))?;
         let (transport, sim, keep): (Box<dyn Transport>, _, _) = match cand.source {
             Source::Pci(opened) => {
                 let o = *opened;
@@ -282,7 +283,7 @@ pub fn register_boards(
             &mut msgs,
         );
         print_messages(&msgs, &blog);
-        let board = Arc::new(SharedBoard::new(board.map_err(|e| fail(&e, &blog))?, keep));
+        let board = Arc::new(SharedBoard::new(board.map_err(|e| fail(e, &blog))?, keep));
         export_functions(&mut b, &name, &board, sim.clone())?;
         log.info(format_args!(
             "{name}: initialized AnyIO board {}",
@@ -444,13 +445,13 @@ pub fn load_pci(
             .collect()
     };
     if candidates.len() > MAX_BOARDS {
-        return Err(HalError::ModuleLoad {
-            module: HM2_PCI.into(),
-            reason: format!(
-                "{} boards found; one hm2_pci load drives at most {MAX_BOARDS}",
-                candidates.len()
-            ),
-        });
+        return Err(HalError::module_failed(
+            HM2_PCI,
+            Hm2Error::TooManyBoards {
+                found: candidates.len(),
+                max: MAX_BOARDS,
+            },
+        ));
     }
     register_boards(host, HM2_PCI, HM2_PCI, candidates, &configs)
 }
@@ -509,10 +510,10 @@ fn load_hm2_test(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
     let Some((llio, image)) = u32::try_from(n).ok().and_then(test_patterns::pattern) else {
         log.err(format_args!("hm2_test: unknown test pattern {n}"));
         host.flush_rt_log();
-        return Err(HalError::ModuleLoad {
-            module: HM2_TEST.into(),
-            reason: format!("unknown test pattern {n}"),
-        });
+        return Err(HalError::module_failed(
+            HM2_TEST,
+            Hm2Error::UnknownTestPattern(n),
+        ));
     };
     log.info(format_args!(
         "hm2: no firmware specified in config modparam!  the board had better have firmware configured already, or this won't work"

@@ -81,7 +81,7 @@
 //! `stepgen.00.step.invert_output`; functions `read`, `write`,
 //! `read_gpio`, `write_gpio`; params `io_error`,
 //! `watchdog.timeout_ns`, ...). The modules' details are in
-//! [`modules`]; encoders, step generators, PWM generators and digital
+//! `modules`; encoders, step generators, PWM generators and digital
 //! I/O use the canonical interfaces' arithmetic and pin sets under these
 //! names.
 //!
@@ -102,22 +102,28 @@
 //! low-level transport trait: read, write, queued reads and writes, so a
 //! network transport sends one packet per direction per cycle),
 //! [`idrom`], [`md`], [`pins`] and [`firmware`] (reading and checking the
-//! firmware's description), [`tram`] (the per-cycle batched transfers),
-//! [`modules`] and [`board`] (the modules and the cycle functions),
-//! [`error`] and [`log`] (LinuxCNC's words and prefixes).
+//! firmware's description), `tram` (the per-cycle batched transfers),
+//! `modules` and [`board`] (the modules and the cycle functions),
+//! `error` and [`log`] (LinuxCNC's words and prefixes).
 //! Transports: [`window`] (a `RegWindow`: a PCI BAR or the simulator),
 //! [`eth::EthTransport`] (LBP16 over UDP, [`lbp16`]) and
 //! [`image::ImageTransport`] (a fixed image: hm2_test). The simulator:
 //! [`image`] (firmware descriptions and register images) and [`sim`]. The
 //! HAL binding: [`hal`], [`pci`] and [`eth`]. Also [`readhmid`] (the
-//! `mesaflash --readhmid` listing the board tool prints) and [`fuzz`].
+//! `mesaflash --readhmid` listing the board tool prints) and `fuzzing` (feature `fuzzing`).
+
+#![forbid(unsafe_code)]
 
 pub mod board;
+pub mod board_args;
+pub mod board_tool;
 pub mod config;
-pub mod error;
+mod error;
 pub mod eth;
+pub mod eth_sim_args;
 pub mod firmware;
-pub mod fuzz;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod hal;
 pub mod idrom;
 pub mod image;
@@ -125,7 +131,7 @@ pub mod lbp16;
 pub mod llio;
 pub mod log;
 pub mod md;
-pub mod modules;
+mod modules;
 pub mod pci;
 pub mod pins;
 pub mod readhmid;
@@ -133,8 +139,10 @@ pub mod regs;
 pub mod sim;
 pub mod sserial;
 pub mod test_patterns;
-pub mod tram;
+mod tram;
 pub mod transport;
 pub mod window;
 
 pub use error::{Hm2Error, Result};
+pub use eth::hal::HM2_ETH_MODULE;
+pub use hal::{modules, HM2_PCI_MODULE, HM2_TEST_MODULE, HOSTMOT2_MODULE};

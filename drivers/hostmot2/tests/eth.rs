@@ -3,6 +3,10 @@
 //! whole cycle in one datagram each way, loss, delay and duplication at
 //! configured rates with the packet-error counters, the safe state at
 //! the limit and the recovery, and a board that never answers.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

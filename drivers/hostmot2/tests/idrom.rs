@@ -1,5 +1,9 @@
 //! The IDROM loader on the simulated boards' images and on hm2_test's
 //! broken images: every check of hardware.md 5.7, in LinuxCNC's words.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hostmot2::config::{self, Config};
 use hostmot2::firmware::{self, Debug};
@@ -9,13 +13,13 @@ use hostmot2::pins::PinOwner;
 use hostmot2::regs::gtag;
 use hostmot2::sim::boards;
 use hostmot2::test_patterns;
+use hostmot2::Hm2Error;
 
-fn load(spec: &FirmwareSpec, cfg: &str) -> (Result<firmware::Firmware, String>, MessageLog) {
+fn load(spec: &FirmwareSpec, cfg: &str) -> (Result<firmware::Firmware, Hm2Error>, MessageLog) {
     let mut t = ImageTransport::new(spec.image(), "test");
     let mut log = MessageLog::default();
     let config = config::parse(cfg).unwrap();
-    let r = firmware::load(&spec.llio(0), &config, Debug::default(), &mut t, &mut log)
-        .map_err(|e| e.to_string());
+    let r = firmware::load(&spec.llio(0), &config, Debug::default(), &mut t, &mut log);
     (r, log)
 }
 
@@ -23,11 +27,10 @@ fn load(spec: &FirmwareSpec, cfg: &str) -> (Result<firmware::Firmware, String>, 
 fn load_image(
     llio: &hostmot2::llio::Llio,
     img: Vec<u32>,
-) -> (Result<firmware::Firmware, String>, MessageLog) {
+) -> (Result<firmware::Firmware, Hm2Error>, MessageLog) {
     let mut t = ImageTransport::new(img, "test");
     let mut log = MessageLog::default();
-    let r = firmware::load(llio, &Config::default(), Debug::default(), &mut t, &mut log)
-        .map_err(|e| e.to_string());
+    let r = firmware::load(llio, &Config::default(), Debug::default(), &mut t, &mut log);
     (r, log)
 }
 
@@ -93,7 +96,7 @@ fn config_counts_choose_instances_and_free_pins() {
     assert_eq!(usage[18], "    IO Pin 017 (P2-01): IOPort");
     let (r, _) = load(&spec, "num_stepgens=11");
     assert_eq!(
-        r.unwrap_err(),
+        r.unwrap_err().to_string(),
         "config.num_stepgens=11, but only 10 are available, not loading driver"
     );
 }
@@ -113,7 +116,7 @@ fn hm2_test_patterns_fail_with_linuxcncs_words() {
     for n in test_patterns::PATTERNS {
         let (llio, img) = test_patterns::pattern(n).unwrap();
         let (err, log) = load_image(&llio, img);
-        let err = err.expect_err("every pattern fails");
+        let err = err.expect_err("every pattern fails").to_string();
         let want = test_patterns::expected_message(n).unwrap();
         let logged = log.lines("", Level::Err);
         assert!(
@@ -124,7 +127,7 @@ fn hm2_test_patterns_fail_with_linuxcncs_words() {
     assert!(test_patterns::pattern(15).is_none());
     let (llio, img) = test_patterns::pattern(0).unwrap();
     let (e, _log) = load_image(&llio, img);
-    let e = e.unwrap_err();
+    let e = e.unwrap_err().to_string();
     assert_eq!(
         e.lines().nth(1),
         Some("FPGA failed to initialize, or unexpected firmware?")
@@ -135,7 +138,7 @@ fn hm2_test_patterns_fail_with_linuxcncs_words() {
 fn pattern_12_reports_every_pin() {
     let (llio, img) = test_patterns::pattern(12).unwrap();
     let (e, log) = load_image(&llio, img);
-    let e = e.unwrap_err();
+    let e = e.unwrap_err().to_string();
     let lines = log.lines("", Level::Err);
     assert_eq!(lines.len(), 48);
     assert_eq!(lines[46], "hm2_set_pin_source: invalid pin number 23");
@@ -163,7 +166,7 @@ fn module_descriptor_checks() {
     ];
     for (spec, want) in cases {
         let (r, _) = load(&spec, "");
-        let e = r.unwrap_err();
+        let e = r.unwrap_err().to_string();
         assert!(e.starts_with(want), "{e}");
     }
     // A wrong PWM version, after the duplicate check of others.
@@ -172,12 +175,13 @@ fn module_descriptor_checks() {
     assert!(load(&spec, "")
         .0
         .unwrap_err()
+        .to_string()
         .starts_with("Unsupported PWM firmware version 2"));
     // IOPort instances must match IOPorts.
     let mut spec = boards::preset("6i25").unwrap();
     spec.modules[1].instances = 3;
     assert_eq!(
-        load(&spec, "").0.unwrap_err(),
+        load(&spec, "").0.unwrap_err().to_string(),
         "IDROM IOPorts is 2 but MD IOPort NumInstances is 3, inconsistent firmware, aborting driver load"
     );
     // Unknown and unsupported modules are ignored with a warning.
@@ -213,14 +217,14 @@ fn descriptor_stride_and_clock_checks() {
         let mut img = spec.image();
         img[md1 + word] = value;
         let (e, _log) = load_image(&spec.llio(0), img);
-        let e = e.unwrap_err();
+        let e = e.unwrap_err().to_string();
         assert_eq!(e.to_string(), want);
     }
     // A pin whose primary tag is not IOPort.
     let mut img = spec.image();
     img[(hostmot2::image::IDROM_ADDR + hostmot2::image::PD_OFFSET) as usize / 4 + 3] = 0x0400_0000;
     let (e, _log) = load_image(&spec.llio(0), img);
-    let e = e.unwrap_err();
+    let e = e.unwrap_err().to_string();
     assert_eq!(
         e.to_string(),
         "pin 3 primary tag is 4 (Encoder), not IOPort!"

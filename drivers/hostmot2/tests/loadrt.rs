@@ -1,6 +1,10 @@
 //! `loadrt hostmot2`, `hm2_pci` (simulated boards and a fake sysfs PCI
 //! tree) and `hm2_test`: what loads, what is refused with which words, and
 //! that a refused load leaves nothing behind.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hal_core::module::ModuleArgs;
 use hal_core::{Host, HostConfig, Value};

@@ -3,6 +3,10 @@
 //! reset; encoder counts, index, latches, velocity; step rates, timing
 //! and tables; PWM values, modes and frequencies; LEDs; raw access; the
 //! per-cycle transfers; io_error and the safe state.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -7,6 +7,10 @@
 //! `loadrt` exports; this binary runs the same steps on the same types
 //! (the hand-off ends, canonical pins), plus the bare triple-buffer
 //! operations for comparison.
+#![allow(
+    clippy::unwrap_used,
+    reason = "benchmark code: a failed unwrap stops the run"
+)]
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -25,6 +29,8 @@ use hal_i2c::worker::{ChipRunner, Task};
 
 const N: u64 = 1_000_000;
 
+// Long on purpose: a benchmark script, one figure after another on the
+// same host and simulated bus.
 fn main() {
     let host = Host::create(HostConfig::for_tests("i2c-bench")).expect("host");
     let b = host.new_rt_component("bench").expect("component");

@@ -104,10 +104,7 @@ impl I2cError {
     pub fn into_hal(self, module: &str) -> HalError {
         match self {
             I2cError::Param(e) => e.into_hal(module),
-            other => HalError::ModuleLoad {
-                module: module.into(),
-                reason: other.to_string(),
-            },
+            other => HalError::module_failed(module, other),
         }
     }
 }

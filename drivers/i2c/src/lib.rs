@@ -91,12 +91,15 @@
 //! * [`chips`]: what the helper thread does with each chip.
 //! * [`handoff`], [`worker`]: the hand-offs and the helper thread.
 //! * [`hal`]: the `loadrt` modules.
-//! * [`fuzzing`]: the fuzz body (random replies from the bus).
-//! * [`error`]: the error type, [`I2cError`].
+//! * `fuzzing` (feature `fuzzing`): the fuzz body (random replies from the bus).
+//! * `error`: the error type, [`I2cError`].
+
+#![forbid(unsafe_code)]
 
 pub mod bus;
 pub mod chips;
-pub mod error;
+mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
 pub mod handoff;

@@ -33,6 +33,7 @@ use hal_driver::fault::{Fault, FaultLatch, SafeState};
 
 use crate::bus::I2cBus;
 use crate::chips::{Chip, ChipFault, Command};
+use crate::error::I2cError;
 use crate::handoff::{CmdFeed, Flags, Handoff, Status, StatusFeed};
 use crate::sim::SimBus;
 
@@ -315,12 +316,17 @@ impl BusWorker {
     }
 
     /// Reserves `addr` for `owner` (a chip's HAL name); the reservation
-    /// ends when the returned value is dropped. Err names the chip that
-    /// has it.
-    pub fn reserve(self: &Arc<Self>, addr: u8, owner: &str) -> Result<Reservation, String> {
+    /// ends when the returned value is dropped. The error names the chip
+    /// that has it.
+    pub fn reserve(self: &Arc<Self>, addr: u8, owner: &str) -> Result<Reservation, I2cError> {
         let mut claims = lock(&self.shared.claims);
         if let Some((_, by)) = claims.iter().find(|(a, _)| *a == addr) {
-            return Err(by.clone());
+            return Err(I2cError::AddressInUse {
+                chip: owner.to_string(),
+                bus: self.bus().describe(),
+                addr,
+                by: by.clone(),
+            });
         }
         claims.push((addr, owner.to_string()));
         Ok(Reservation {
@@ -561,26 +567,26 @@ mod tests {
 
     #[test]
     fn workers_are_shared_per_instance_and_bus_and_stop_with_their_last_user() {
-        let open = || -> Result<OpenedBus, String> {
+        let open = || -> Result<OpenedBus, std::io::Error> {
             let b = Arc::new(SimBus::new("s", Arc::new(SimClock::following_thread())));
             Ok((b.clone(), Some(b)))
         };
-        let a = worker("wk-1", "sim.1", open, |e| e.to_string()).unwrap();
+        let a = worker("wk-1", "sim.1", open, |e| e).unwrap();
         let b = worker(
             "wk-1",
             "sim.1",
-            || Err("not called".to_string()),
-            |e| e.to_string(),
+            || Err(std::io::Error::other("not called")),
+            |e| e,
         )
         .unwrap();
         assert!(Arc::ptr_eq(&a, &b));
-        let c = worker("wk-2", "sim.1", open, |e| e.to_string()).unwrap();
+        let c = worker("wk-2", "sim.1", open, |e| e).unwrap();
         assert!(!Arc::ptr_eq(&a, &c));
         let r = a.reserve(0x40, "pca9685.0").unwrap();
-        assert_eq!(
-            a.reserve(0x40, "mcp23017.0").err().as_deref(),
-            Some("pca9685.0")
-        );
+        assert!(matches!(
+            a.reserve(0x40, "mcp23017.0"),
+            Err(I2cError::AddressInUse { by, .. }) if by == "pca9685.0"
+        ));
         drop(r);
         assert!(a.reserve(0x40, "mcp23017.0").is_ok());
         let end = std::time::Instant::now() + Duration::from_secs(30);
@@ -592,7 +598,7 @@ mod tests {
         drop((a, b, c));
         assert!(gone.upgrade().is_none(), "stopped with its last user");
         assert!(
-            worker("wk-1", "sim.1", open, |e| e.to_string()).is_ok(),
+            worker("wk-1", "sim.1", open, |e| e).is_ok(),
             "a new one starts"
         );
     }

@@ -14,6 +14,10 @@
 //! ```text
 //! vmrig run -- target/debug/deps/real_device-<hash> --test-threads=1
 //! ```
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::path::PathBuf;
 use std::process::Command;

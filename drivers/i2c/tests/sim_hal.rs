@@ -2,6 +2,10 @@
 //! parameter and function, the chips' register sequences, inversion,
 //! analog scaling, a chip unplugged mid-run (fault pin, counter, held
 //! values, safe outputs, fault reset), shared buses, and load errors.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 

@@ -21,6 +21,9 @@ pub enum MotencError {
         /// What the register held.
         found: u32,
     },
+    /// A `sim_boards` item names no board kind.
+    #[error("not a board kind: 100 or lite")]
+    NotABoardKind,
     /// More boards than jumper IDs.
     #[error("{found} MOTENC boards found; at most 4 can be used (board IDs 0..3)")]
     TooManyBoards {
@@ -38,10 +41,7 @@ impl MotencError {
     pub fn into_hal(self, module: &str) -> hal_core::HalError {
         match self {
             MotencError::Driver(e) => e.into_hal(module),
-            other => hal_core::HalError::ModuleLoad {
-                module: module.to_string(),
-                reason: other.to_string(),
-            },
+            other => hal_core::HalError::module_failed(module, other),
         }
     }
 }

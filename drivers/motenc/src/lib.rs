@@ -103,11 +103,14 @@
 //! * [`sim`]: the register-level simulator with its motors.
 //! * [`open`]: backends, PCI discovery, board IDs.
 //! * [`hal`]: the HAL binding and [`MODULE`].
-//! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
-//! * [`error`](mod@error): [`MotencError`].
+//! * `fuzzing` (feature `fuzzing`): fuzz target bodies for the parsers of outside bytes.
+//! * `error`: [`MotencError`].
+
+#![forbid(unsafe_code)]
 
 pub mod board;
-pub mod error;
+mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
 pub mod open;

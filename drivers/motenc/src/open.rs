@@ -30,11 +30,11 @@ pub enum Source {
 }
 
 /// Parses a `sim_boards` item: `100` or `lite` (any case).
-pub fn parse_board_kind(text: &str) -> Result<BoardKind, String> {
+pub fn parse_board_kind(text: &str) -> Result<BoardKind, MotencError> {
     match text.to_ascii_lowercase().as_str() {
         "100" | "motenc-100" => Ok(BoardKind::Motenc100),
         "lite" | "motenc-lite" => Ok(BoardKind::MotencLite),
-        _ => Err("not a board kind: 100 or lite".into()),
+        _ => Err(MotencError::NotABoardKind),
     }
 }
 
@@ -178,56 +178,63 @@ pub fn assign_ids(ids: &[Identity], locations: &[String]) -> (Vec<u8>, Vec<Strin
 mod tests {
     use super::*;
 
-    fn source(args: &[&str]) -> Result<Source, String> {
+    fn parse_args(args: &[&str]) -> Result<Source, DriverError> {
         let a = ModuleArgs::parse(crate::hal::NAME, crate::hal::PARAMS, args).unwrap();
-        parse_source(&a).map_err(|e| e.to_string())
+        parse_source(&a)
+    }
+
+    /// The source `args` choose.
+    fn source(args: &[&str]) -> Source {
+        parse_args(args).unwrap()
+    }
+
+    /// Why `args` are refused.
+    fn refusal(args: &[&str]) -> String {
+        parse_args(args).unwrap_err().to_string()
     }
 
     #[test]
     fn backends_and_sim_boards() {
-        assert_eq!(source(&[]), Ok(Source::Pci));
-        assert_eq!(source(&["backend=PCI"]), Ok(Source::Pci));
+        assert_eq!(source(&[]), Source::Pci);
+        assert_eq!(source(&["backend=PCI"]), Source::Pci);
         assert_eq!(
             source(&["backend=sim"]),
-            Ok(Source::Sim(vec![(BoardKind::Motenc100, 0)]))
+            Source::Sim(vec![(BoardKind::Motenc100, 0)])
         );
         assert_eq!(
             source(&["backend=sim", "sim_boards=lite,100,Lite"]),
-            Ok(Source::Sim(vec![
+            Source::Sim(vec![
                 (BoardKind::MotencLite, 0),
                 (BoardKind::Motenc100, 1),
                 (BoardKind::MotencLite, 2)
-            ]))
+            ])
         );
         assert_eq!(
             source(&["backend=sim", "sim_ids=3,3"]),
-            Ok(Source::Sim(vec![
-                (BoardKind::Motenc100, 3),
-                (BoardKind::Motenc100, 3)
-            ]))
+            Source::Sim(vec![(BoardKind::Motenc100, 3), (BoardKind::Motenc100, 3)])
         );
     }
 
     #[test]
     fn bad_parameters_say_what_and_where() {
         assert_eq!(
-            source(&["backend=isa"]).unwrap_err(),
+            refusal(&["backend=isa"]),
             "hal_motenc: parameter 'backend': 'isa' is not one of pci|sim"
         );
         assert_eq!(
-            source(&["sim_boards=100"]).unwrap_err(),
+            refusal(&["sim_boards=100"]),
             "hal_motenc: parameter 'sim_boards': only with backend=sim"
         );
         assert_eq!(
-            source(&["backend=pci", "sim_ids=1"]).unwrap_err(),
+            refusal(&["backend=pci", "sim_ids=1"]),
             "hal_motenc: parameter 'sim_ids': only with backend=sim"
         );
         assert_eq!(
-            source(&["backend=sim", "sim_boards=100,200"]).unwrap_err(),
+            refusal(&["backend=sim", "sim_boards=100,200"]),
             "hal_motenc: parameter 'sim_boards': item 1 \"200\": not a board kind: 100 or lite"
         );
         assert_eq!(
-            source(&["backend=sim", "sim_ids=0,4"]).unwrap_err(),
+            refusal(&["backend=sim", "sim_ids=0,4"]),
             "hal_motenc: parameter 'sim_ids': item 1 \"4\": out of range (0..=3)"
         );
     }

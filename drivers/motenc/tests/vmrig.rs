@@ -42,21 +42,46 @@ const TABLE: &[PciMatch] = &[PciMatch::new(
     "MOTENC (ivshmem)",
 )];
 
-fn wait_for(what: &str, secs: u64, mut cond: impl FnMut() -> bool) -> Result<(), String> {
+/// Why the played board stopped before the end.
+#[derive(Debug, thiserror::Error)]
+enum PeerError {
+    /// The guest did not reach a step in time.
+    #[error("timed out after {secs} s waiting for {what}")]
+    Timeout {
+        /// The step waited for.
+        what: &'static str,
+        /// How long.
+        secs: u64,
+    },
+    /// The driver wrote something else than it should have.
+    #[error("step {step}: {found}")]
+    Check {
+        /// The step (also written to `PEER_FAIL`).
+        step: u32,
+        /// What the BAR held.
+        found: String,
+    },
+}
+
+fn wait_for(
+    what: &'static str,
+    secs: u64,
+    mut cond: impl FnMut() -> bool,
+) -> Result<(), PeerError> {
     if vmrig::wait_until(Duration::from_secs(secs), &mut cond) {
         Ok(())
     } else {
-        Err(format!("timed out after {secs} s waiting for {what}"))
+        Err(PeerError::Timeout { what, secs })
     }
 }
 
 /// Plays a MOTENC-Lite with ID jumpers 3 in `bar`, step by step with the
 /// guest; checks what the driver writes. On a failed check it writes its
 /// code to `PEER_FAIL` and returns the reason.
-fn play_board(bar: &dyn RegWindow, secs: u64) -> Result<(), String> {
-    let fail = |code: u32, why: String| {
-        bar.write32(PEER_FAIL, code);
-        Err(why)
+fn play_board(bar: &dyn RegWindow, secs: u64) -> Result<(), PeerError> {
+    let fail = |step: u32, found: String| {
+        bar.write32(PEER_FAIL, step);
+        Err(PeerError::Check { step, found })
     };
     bar.write_burst(0, &[0; regs::SIM_WINDOW_LEN / 4]);
     bar.write_burst(MAGIC_AT, &[0; 5]);

@@ -29,6 +29,7 @@ use hal_driver::DriverError;
 use crate::cfg::{self, PortSpec, DEFAULT_CFG};
 use crate::clock::{Clock, MonotonicClock};
 use crate::driver::{Outputs, PortDriver};
+use crate::port::PortError;
 use crate::regs;
 use crate::select::{self, SysPaths};
 
@@ -237,11 +238,15 @@ impl SafeState for HalPort {
     }
 }
 
-fn port_error(i: usize, spec: &PortSpec, e: impl std::fmt::Display) -> HalError {
-    HalError::ModuleLoad {
-        module: NAME.into(),
-        reason: format!("port {i} ({spec}): {e}"),
-    }
+fn port_error(index: usize, spec: &PortSpec, e: PortError) -> HalError {
+    HalError::module_failed(
+        NAME,
+        PortError::Port {
+            index,
+            spec: spec.to_string(),
+            source: Box::new(e),
+        },
+    )
 }
 
 /// Loads the driver for `cfg`, finding Linux's ports under `paths` and

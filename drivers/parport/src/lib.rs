@@ -65,5 +65,8 @@ pub mod port;
 pub mod regs;
 pub mod select;
 pub mod sim;
+pub mod tool;
+pub mod tool_args;
 
 pub use hal::{load_cfg, MODULE};
+pub use port::PortError;

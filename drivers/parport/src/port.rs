@@ -84,6 +84,17 @@ pub enum PortError {
         /// What the two share: the device node or the base address.
         shared: String,
     },
+    /// Setting up one port of the cfg string failed: which one, and why.
+    #[error("port {index} ({spec}): {source}")]
+    Port {
+        /// The port's index in the cfg string.
+        index: usize,
+        /// The entry as written (address and mode).
+        spec: String,
+        /// Why it failed.
+        #[source]
+        source: Box<PortError>,
+    },
 }
 
 /// Register access to one parallel port.

@@ -1,5 +1,9 @@
 //! The ppdev backend issues the expected ioctl sequence: a recording fake
 //! stands in for /dev/parportN.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 

@@ -1,5 +1,9 @@
 //! hal_parport loaded into a HAL host on the simulated backend: every
 //! pin, invert, reset and reset-time, the cfg forms and the bad ones.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -39,7 +39,7 @@
 //!   [`sim::PtyVfd`], which is what `-d sim` selects: the component then
 //!   runs its real tty code against the kernel's pty.
 //! * The HAL binding: [`vfd::hy`], [`vfd::gt`], with their command lines
-//!   ([`opts`]: `getopt_long` forms and LinuxCNC's unique-prefix values)
+//!   (`opts`: `getopt_long` forms and LinuxCNC's unique-prefix values)
 //!   and the link-health pins ([`vfd::Link`], on the driver layer's
 //!   `FaultLatch`).
 //!
@@ -87,17 +87,20 @@
 //! (`tests/pty_line.rs`); the real programs in their own processes on a
 //! pty, unplugged and plugged back (`tests/real_tty.rs`, also run in the
 //! VM rig by `.ci/run`); `configs/sim/spindle-vfd.hal` as halrun runs
-//! it (`tests/sim_config.rs`); and the [`fuzzing`] targets
+//! it (`tests/sim_config.rs`); and the `fuzzing` targets (feature `fuzzing`)
 //! (`tests/fuzz_serial.rs`).
 
+#![forbid(unsafe_code)]
+
 pub mod crc;
-pub mod error;
+mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod line;
 pub mod modbus;
-pub mod opts;
+mod opts;
 pub mod regs;
 pub mod sim;
 pub mod vfd;
 
-pub use error::{Result, SerialError};
+pub use error::{code, ExceptionCode, Result, SerialError};

@@ -2,6 +2,10 @@
 //! pin, the frames of a cycle byte for byte, run, reverse, stop,
 //! at-speed, the drive's own faults, refusals, a dead drive, an
 //! unplugged line.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -1,6 +1,10 @@
 //! `hy_vfd` against the simulated HY drive, on simulated time: every pin,
 //! the set-up, the frames of a cycle byte for byte, run, reverse, stop,
 //! at-speed, a dead drive and an unplugged line.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 

@@ -2,6 +2,10 @@
 //! frames byte for byte (CRC, function codes, exception replies), the
 //! silence between frames, timeouts, retries, and a line that goes away
 //! and comes back.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::{Arc, Mutex};
 use std::time::Duration;

@@ -1,6 +1,10 @@
 //! The tty backend on a real pseudo-terminal, with the simulated drive at
 //! the far end: transactions through the kernel's tty layer, and the
 //! device disappearing and coming back under the same name.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};

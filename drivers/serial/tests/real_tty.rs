@@ -6,6 +6,10 @@
 //!
 //! This is the crate's real-device test binary: `.ci/run` also runs it
 //! inside the VM rig (`../shared/tools/vmrig`), on the rig's kernel.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};

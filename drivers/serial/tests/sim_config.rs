@@ -14,7 +14,7 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     let name = cfg.instance.clone();
     let (tx, rx) = std::sync::mpsc::channel();
     let host = std::thread::spawn(move || {
-        hal_tools::hostd::serve(cfg, move || {
+        hal_host::serve(cfg, move || {
             let _ = tx.send(());
         })
         .expect("the host serves");
@@ -27,9 +27,9 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     let text = std::fs::read_to_string(&path).unwrap();
     let (mut out, mut err) = (Vec::new(), Vec::new());
     {
-        let mut session = hal_tools::halcmd::Session::new(
+        let mut session = hal_lang::Session::new(
             inst.clone(),
-            hal_tools::halcmd::Options::default(),
+            hal_lang::Options::default(),
             &mut out,
             &mut err,
         );
@@ -64,6 +64,6 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     // session; the host stops it when the instance stops.
     assert!(inst.component("spindle-vfd").unwrap().is_some());
     drop(inst);
-    hal_tools::launch::stop_host(&name, Duration::from_secs(20)).unwrap();
+    hal_lang::host_process::stop_host(&name, Duration::from_secs(20)).unwrap();
     host.join().unwrap();
 }

@@ -43,10 +43,7 @@ impl StgError {
     pub fn into_hal(self, module: &str) -> hal_core::HalError {
         match self {
             StgError::Driver(e) => e.into_hal(module),
-            other => hal_core::HalError::ModuleLoad {
-                module: module.to_string(),
-                reason: other.to_string(),
-            },
+            other => hal_core::HalError::module_failed(module, other),
         }
     }
 }

@@ -18,7 +18,7 @@ use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
 
 use crate::detect::Model;
-use crate::dio::LINES;
+use crate::dio::{Dio, LINES};
 use crate::driver::Stg;
 use crate::open::{self, Opened};
 use crate::regs;
@@ -97,66 +97,9 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
     let model = drv.model();
     let mut b = host.new_rt_component(NAME)?;
     let c: &Component = b.component();
-    let enc_names = ChannelNames::custom(|k, item| {
-        let item = match item {
-            "count" => "counts",
-            "scale" => "position-scale",
-            other => other,
-        };
-        format!("stg.{k}.{item}")
-    });
-    let mut channels = (0..num_chan)
-        .map(|k| {
-            Ok(Channel {
-                enc: Encoder::export(c, &enc_names, k, regs::COUNTER_BITS)?,
-                index_latch: c.pin(&enc_names.item(k, "index-latch"))?,
-                polarity: match model {
-                    Model::One => Some(c.pin_init(&enc_names.item(k, "index-polarity"), true)?),
-                    Model::Two => None,
-                },
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let dac_names = ChannelNames::custom(|k, item| format!("stg.{k}.dac-{item}"));
-    let dacs = (0..num_chan)
-        .map(|k| DacOut::export(c, &dac_names, k))
-        .collect::<Result<Vec<_>>>()?;
-    let adc_names = ChannelNames::custom(|k, item| {
-        let item = if item == "scale" { "gain" } else { item };
-        format!("stg.{k}.adc-{item}")
-    });
-    let adcs = (0..num_chan)
-        .map(|k| AdcIn::export(c, &adc_names, k, regs::ADC_VOLTS_PER_COUNT, 0.0))
-        .collect::<Result<Vec<_>>>()?;
-    let in_names = ChannelNames::custom(|n, item| match item.strip_prefix("in") {
-        Some(rest) => format!("stg.in-{n:02}{rest}"),
-        None => format!("stg.in-{n:02}-{item}"),
-    });
-    let dio = drv.dio();
-    let inputs = dio
-        .input_ports()
-        .enumerate()
-        .map(|(i, port)| {
-            let pins = (0..LINES)
-                .map(|b| DigIn::export(c, &in_names, i * LINES + b))
-                .collect::<Result<Vec<_>>>()?;
-            Ok((port, pins))
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let out_names = ChannelNames::custom(|n, item| match item {
-        "out" => format!("stg.out-{n:02}"),
-        other => format!("stg.out-{n:02}-{other}"),
-    });
-    let outputs = dio
-        .output_ports()
-        .enumerate()
-        .map(|(i, port)| {
-            let pins = (0..LINES)
-                .map(|b| DigOut::export(c, &out_names, i * LINES + b))
-                .collect::<Result<Vec<_>>>()?;
-            Ok((port, pins))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let mut channels = export_channels(c, model, num_chan)?;
+    let (dacs, adcs) = export_analog(c, num_chan)?;
+    let (inputs, outputs) = export_dio(c, &drv.dio())?;
     let place = if opened.sim.is_some() {
         ", simulated"
     } else {
@@ -209,6 +152,83 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
         hal_driver::sim::publish(host.instance().name(), "stg", s);
     }
     Ok(())
+}
+
+/// The encoder channels' pins (LinuxCNC's names).
+fn export_channels(c: &Component, model: Model, num_chan: usize) -> Result<Vec<Channel>> {
+    let enc_names = ChannelNames::custom(|k, item| {
+        let item = match item {
+            "count" => "counts",
+            "scale" => "position-scale",
+            other => other,
+        };
+        format!("stg.{k}.{item}")
+    });
+    (0..num_chan)
+        .map(|k| {
+            Ok(Channel {
+                enc: Encoder::export(c, &enc_names, k, regs::COUNTER_BITS)?,
+                index_latch: c.pin(&enc_names.item(k, "index-latch"))?,
+                polarity: match model {
+                    Model::One => Some(c.pin_init(&enc_names.item(k, "index-polarity"), true)?),
+                    Model::Two => None,
+                },
+            })
+        })
+        .collect::<Result<Vec<_>>>()
+}
+
+/// The DAC and ADC channels' pins and params (LinuxCNC's names).
+fn export_analog(c: &Component, num_chan: usize) -> Result<(Vec<DacOut>, Vec<AdcIn>)> {
+    let dac_names = ChannelNames::custom(|k, item| format!("stg.{k}.dac-{item}"));
+    let dacs = (0..num_chan)
+        .map(|k| DacOut::export(c, &dac_names, k))
+        .collect::<Result<Vec<_>>>()?;
+    let adc_names = ChannelNames::custom(|k, item| {
+        let item = if item == "scale" { "gain" } else { item };
+        format!("stg.{k}.adc-{item}")
+    });
+    let adcs = (0..num_chan)
+        .map(|k| AdcIn::export(c, &adc_names, k, regs::ADC_VOLTS_PER_COUNT, 0.0))
+        .collect::<Result<Vec<_>>>()?;
+    Ok((dacs, adcs))
+}
+
+/// Pins by digital port: the port's index and its eight pins.
+type PortPins<T> = Vec<(usize, Vec<T>)>;
+
+/// The digital ports' pins: inputs and outputs as the `dio` parameter
+/// makes them.
+fn export_dio(c: &Component, dio: &Dio) -> Result<(PortPins<DigIn>, PortPins<DigOut>)> {
+    let in_names = ChannelNames::custom(|n, item| match item.strip_prefix("in") {
+        Some(rest) => format!("stg.in-{n:02}{rest}"),
+        None => format!("stg.in-{n:02}-{item}"),
+    });
+    let inputs = dio
+        .input_ports()
+        .enumerate()
+        .map(|(i, port)| {
+            let pins = (0..LINES)
+                .map(|b| DigIn::export(c, &in_names, i * LINES + b))
+                .collect::<Result<Vec<_>>>()?;
+            Ok((port, pins))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let out_names = ChannelNames::custom(|n, item| match item {
+        "out" => format!("stg.out-{n:02}"),
+        other => format!("stg.out-{n:02}-{other}"),
+    });
+    let outputs = dio
+        .output_ports()
+        .enumerate()
+        .map(|(i, port)| {
+            let pins = (0..LINES)
+                .map(|b| DigOut::export(c, &out_names, i * LINES + b))
+                .collect::<Result<Vec<_>>>()?;
+            Ok((port, pins))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((inputs, outputs))
 }
 
 /// What the functions and the safe-state hook share.

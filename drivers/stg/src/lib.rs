@@ -122,16 +122,20 @@
 //! * [`sim`]: the register-level simulator with its motors.
 //! * [`open`]: parameters, backends, opening the board.
 //! * [`hal`]: the HAL binding and [`MODULE`].
-//! * [`fuzzing`]: fuzz target bodies for the parsers of outside bytes.
-//! * [`error`](mod@error): [`StgError`].
+//! * `fuzzing` (feature `fuzzing`): fuzz target bodies for the parsers of outside bytes.
+//! * `error`: [`StgError`].
+
+#![forbid(unsafe_code)]
 
 pub mod detect;
 pub mod dio;
 pub mod driver;
-pub mod error;
+mod error;
+#[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
 pub mod open;
+pub mod port_probe;
 pub mod regs;
 pub mod sim;
 

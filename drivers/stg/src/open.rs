@@ -192,10 +192,9 @@ fn locate(bus: &dyn PortBus, cfg: &Config) -> Result<(u16, Model, Option<String>
 mod tests {
     use super::*;
 
-    fn cfg(args: &[&str]) -> Result<Config, String> {
-        let a = ModuleArgs::parse(crate::hal::NAME, crate::hal::PARAMS, args)
-            .map_err(|e| e.to_string())?;
-        parse(&a).map_err(|e| e.to_string())
+    fn cfg(args: &[&str]) -> hal_core::Result<Config> {
+        let a = ModuleArgs::parse(crate::hal::NAME, crate::hal::PARAMS, args)?;
+        parse(&a).map_err(|e| e.into_hal(crate::hal::NAME))
     }
 
     #[test]
@@ -228,7 +227,7 @@ mod tests {
             (&["dio=IOXO"], "hal_stg: parameter 'dio': port C: 'X' is neither I (input) nor O (output)"),
             (&["backend=ppdev"], "hal_stg: parameter 'backend': 'ppdev' is not one of ioperm|devport|sim"),
         ] {
-            assert_eq!(cfg(args).unwrap_err(), want, "{args:?}");
+            assert_eq!(cfg(args).unwrap_err().to_string(), want, "{args:?}");
         }
     }
 

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use hal_fuzz::corpus;
-use hal_tools::halcmd::lexer::logical_lines;
+use hal_lang::lexer::logical_lines;
 
 /// Prefixes of the files this tool writes (and so removes first).
 const SEED_PREFIXES: &[&str] = &["golden-", "config-", "e2e-", "style-", "module-"];
@@ -180,6 +180,9 @@ const STYLE_STREAM: &[&str] = &[
     "b\n0\n1\n2\n # indented comment\n1 trailing words\n",
 ];
 
+// Long on purpose: gathers every target's seeds (HAL files, their lines,
+// loadrt words, streamer inputs) into one map, then rewrites the corpus
+// from it; the gathering blocks share that map.
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
@@ -278,7 +281,7 @@ fn main() {
             text.as_bytes().to_vec(),
         );
     }
-    for name in hal_tools::hostd::registry().names() {
+    for name in hal_host::registry().names() {
         add(
             "loadrt_params",
             format!("module-{name}"),

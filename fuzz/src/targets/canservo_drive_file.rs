@@ -1,5 +1,5 @@
 //! canservo's drive files of SDO writes
-//! ([`hal_canservo::fuzz::drive_file`]): an error names the file and a
+//! ([`hal_canservo::fuzzing::drive_file`]): an error names the file and a
 //! line, an accepted file's writes are in line order, fit their types and
 //! parse back the same when written out.
 
@@ -18,5 +18,5 @@ pub static TARGET: Target = Target {
 
 /// The body returns the number of writes; only its panics matter.
 fn run(input: &[u8]) {
-    hal_canservo::fuzz::drive_file(input);
+    hal_canservo::fuzzing::drive_file(input);
 }

@@ -1,4 +1,4 @@
-//! canservo's parsers of CAN frames ([`hal_canservo::fuzz::frames`]):
+//! canservo's parsers of CAN frames ([`hal_canservo::fuzzing::frames`]):
 //! frames decoded from the bytes through the realtime engine's reception,
 //! the SDO client against a hostile server, the simulated drive and the
 //! bring-up tool's decoder. A read never takes more frames than its
@@ -16,5 +16,5 @@ pub static TARGET: Target = Target {
 
 /// The body returns how many frames it used; only its panics matter.
 fn run(input: &[u8]) {
-    hal_canservo::fuzz::frames(input);
+    hal_canservo::fuzzing::frames(input);
 }

@@ -1,5 +1,5 @@
 //! canservo's `loadrt` parameters parsed as the module does, up to
-//! opening the bus ([`hal_canservo::fuzz::module_params`]): every error
+//! opening the bus ([`hal_canservo::fuzzing::module_params`]): every error
 //! names the module; an accepted line has one node, scale and home per
 //! drive, node ids 1..=127 without repeats, finite non-zero scales.
 
@@ -19,5 +19,5 @@ pub static TARGET: Target = Target {
 /// The body returns whether the line was accepted; only its panics
 /// matter.
 fn run(input: &[u8]) {
-    hal_canservo::fuzz::module_params(input);
+    hal_canservo::fuzzing::module_params(input);
 }

@@ -1,7 +1,7 @@
 //! HAL files through halcmd's command dispatcher, against a live host of
 //! this process. One halcmd session serves every input; the requests
 //! only the host carries out (`loadrt`, `addf`, `delf`, ...) go to the
-//! host through `hostd::InProcess`, which runs them as the host's socket
+//! host through `hal_host::InProcess`, which runs them as the host's socket
 //! connections do, without the socket: over the socket, an input cost
 //! two thread wake-ups per request, and on a busy machine the wake-ups
 //! were most of the time.
@@ -22,9 +22,9 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use hal_core::{Host, Instance};
-use hal_tools::halcmd::lexer::{hal_text, logical_lines, tokenize};
-use hal_tools::halcmd::{Options, Session};
-use hal_tools::hostd::InProcess;
+use hal_lang::lexer::{hal_text, logical_lines, tokenize};
+use hal_lang::{Options, Session};
+use hal_host::InProcess;
 
 use crate::registry::fuzz_registry;
 use crate::snapshot::delete_threads;

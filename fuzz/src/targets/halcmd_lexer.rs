@@ -11,9 +11,9 @@
 //! words again.
 
 use hal_core::HalType;
-use hal_tools::halcmd::ini::Ini;
-use hal_tools::halcmd::lexer::{hal_text, logical_lines, tokenize, without_comment};
-use hal_tools::halcmd::values::parse_value;
+use hal_lang::ini::Ini;
+use hal_lang::lexer::{hal_text, logical_lines, tokenize, without_comment};
+use hal_lang::parse_value;
 
 use crate::Target;
 

@@ -12,7 +12,7 @@
 
 use hal_components::infra::columns::{parse_cfg, MAX_COLUMNS};
 use hal_core::{HalType, Value};
-use hal_tools::fifo::{format_record, parse_input_line, parse_line};
+use hal_scope::fifo::{format_record, parse_input_line, parse_line};
 
 use crate::Target;
 

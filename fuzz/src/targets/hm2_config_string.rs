@@ -1,4 +1,4 @@
-//! hostmot2's `config=` string parser ([`hostmot2::fuzz::config_string`]):
+//! hostmot2's `config=` string parser ([`hostmot2::fuzzing::config_string`]):
 //! accepted counts are in range, a refusal names the token.
 
 use crate::Target;
@@ -13,5 +13,5 @@ pub static TARGET: Target = Target {
 
 /// The config string is text: bytes that are not UTF-8 become U+FFFD.
 fn config_string(input: &[u8]) {
-    hostmot2::fuzz::config_string(&String::from_utf8_lossy(input));
+    hostmot2::fuzzing::config_string(&String::from_utf8_lossy(input));
 }

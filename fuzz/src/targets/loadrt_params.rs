@@ -20,7 +20,7 @@ use std::cell::RefCell;
 use fastrand::Rng;
 use hal_core::module::{ModuleDef, ParamKind};
 use hal_core::{Host, Registry};
-use hal_tools::halcmd::lexer::tokenize;
+use hal_lang::lexer::tokenize;
 
 use crate::mutate::NUMBERS;
 use crate::registry::fuzz_registry;

@@ -34,4 +34,6 @@ crate::register_targets! {
     twopass_loadrt,
     comp_file,
     part_program,
+    motion_command_line,
+    motion_records,
 }

@@ -4,6 +4,8 @@
 
 use std::fmt::Write as _;
 
+use crate::error::{HalError, Result};
+
 /// Priority of the fastest thread; each slower one gets one less.
 pub const TOP_PRIORITY: i32 = 90;
 
@@ -18,15 +20,13 @@ pub enum RealtimeMode {
 
 /// Whether the current process may use SCHED_FIFO at `priority`: tries it
 /// on a short-lived probe thread so the caller's own policy is untouched.
-pub fn probe_fifo(priority: i32) -> Result<(), String> {
+pub fn probe_fifo(priority: i32) -> Result<()> {
     let handle = std::thread::spawn(move || set_fifo(priority));
-    handle
-        .join()
-        .unwrap_or_else(|_| Err("probe thread panicked".into()))
+    handle.join().unwrap_or(Err(HalError::FifoProbePanicked))
 }
 
 /// Puts the calling thread under SCHED_FIFO at `priority`.
-pub fn set_fifo(priority: i32) -> Result<(), String> {
+pub fn set_fifo(priority: i32) -> Result<()> {
     let param = libc::sched_param {
         sched_priority: priority,
     };
@@ -39,15 +39,12 @@ pub fn set_fifo(priority: i32) -> Result<(), String> {
     }
 }
 
-fn explain_fifo_failure(rc: i32, priority: i32) -> String {
-    let mut msg = format!(
-        "SCHED_FIFO priority {priority} refused ({})",
-        std::io::Error::from_raw_os_error(rc)
-    );
+fn explain_fifo_failure(rc: i32, priority: i32) -> HalError {
+    let mut hint = String::new();
     if rc == libc::EPERM {
         let limit = rlimit(libc::RLIMIT_RTPRIO);
         let _ = write!(
-            msg,
+            hint,
             ": the rtprio limit is {} and the process lacks CAP_SYS_NICE. Grant it with \
              a line '@hal - rtprio 99' in /etc/security/limits.d/hal.conf (then log in \
              again), or 'setcap cap_sys_nice+ep' on the host binary, or run 'ulimit -r 99' \
@@ -56,13 +53,17 @@ fn explain_fifo_failure(rc: i32, priority: i32) -> String {
         );
         if let Ok(rt) = std::fs::read_to_string("/proc/sys/kernel/sched_rt_runtime_us") {
             if rt.trim() == "0" {
-                msg.push_str(
+                hint.push_str(
                     "; also kernel.sched_rt_runtime_us is 0, which forbids realtime tasks",
                 );
             }
         }
     }
-    msg
+    HalError::FifoRefused {
+        priority,
+        source: std::io::Error::from_raw_os_error(rc),
+        hint,
+    }
 }
 
 /// The kernel id of the calling thread.
@@ -82,7 +83,7 @@ pub fn allowed_cpus() -> Vec<usize> {
 
 /// Moves thread `tid` to `cpu`, or back to every CPU of `allowed` for
 /// `None`.
-pub fn place_thread(tid: i32, cpu: Option<usize>, allowed: &[usize]) -> Result<(), String> {
+pub fn place_thread(tid: i32, cpu: Option<usize>, allowed: &[usize]) -> Result<()> {
     let mut set = nix::sched::CpuSet::new();
     let cpus = match cpu {
         Some(c) => std::slice::from_ref(&c).to_vec(),
@@ -92,26 +93,37 @@ pub fn place_thread(tid: i32, cpu: Option<usize>, allowed: &[usize]) -> Result<(
         return Ok(());
     }
     for &c in &cpus {
-        set.set(c)
-            .map_err(|e| format!("CPU {c} cannot be used: {e}"))?;
+        set.set(c).map_err(|source| HalError::Affinity {
+            action: format!("CPU {c} cannot be used"),
+            source,
+        })?;
     }
-    nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(tid), &set).map_err(|e| match cpu {
-        Some(c) => format!("moving the thread to CPU {c} failed: {e}"),
-        None => format!("letting the thread run on every CPU failed: {e}"),
+    nix::sched::sched_setaffinity(nix::unistd::Pid::from_raw(tid), &set).map_err(|source| {
+        HalError::Affinity {
+            action: match cpu {
+                Some(c) => format!("moving the thread to CPU {c} failed"),
+                None => "letting the thread run on every CPU failed".to_string(),
+            },
+            source,
+        }
     })
 }
 
 /// The CPUs thread `tid` may run on (`sched_getaffinity`).
-pub fn thread_affinity(tid: i32) -> Result<Vec<usize>, String> {
-    let set = nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(tid))
-        .map_err(|e| format!("reading the CPU affinity of thread {tid} failed: {e}"))?;
+pub fn thread_affinity(tid: i32) -> Result<Vec<usize>> {
+    let set = nix::sched::sched_getaffinity(nix::unistd::Pid::from_raw(tid)).map_err(|source| {
+        HalError::Affinity {
+            action: format!("reading the CPU affinity of thread {tid} failed"),
+            source,
+        }
+    })?;
     Ok((0..nix::sched::CpuSet::count())
         .filter(|&c| set.is_set(c).unwrap_or(false))
         .collect())
 }
 
 /// Pins the calling thread to `cpu`.
-pub fn pin_to_cpu(cpu: usize) -> Result<(), String> {
+pub fn pin_to_cpu(cpu: usize) -> Result<()> {
     place_thread(0, Some(cpu), &[])
 }
 
@@ -123,16 +135,17 @@ pub fn default_cpu() -> Option<usize> {
 
 /// Parses a CPU number given as text (LinuxCNC's `RTAPI_CPU_NUMBER`) and
 /// checks that the process may use that CPU.
-pub fn parse_cpu(what: &str, text: &str, allowed: &[usize]) -> Result<usize, String> {
-    let cpu: usize = text
-        .trim()
-        .parse()
-        .map_err(|_| format!("{what}='{text}' is not a CPU number"))?;
+pub fn parse_cpu(what: &str, text: &str, allowed: &[usize]) -> Result<usize> {
+    let cpu: usize = text.trim().parse().map_err(|_| HalError::NotACpu {
+        what: what.to_string(),
+        text: text.to_string(),
+    })?;
     if !allowed.contains(&cpu) {
-        return Err(format!(
-            "{what}={cpu}: this process may only use CPU {}",
-            cpu_list(allowed)
-        ));
+        return Err(HalError::CpuNotAllowed {
+            what: what.to_string(),
+            cpu,
+            allowed: cpu_list(allowed),
+        });
     }
     Ok(cpu)
 }
@@ -164,7 +177,7 @@ pub fn cpu_list(cpus: &[usize]) -> String {
 
 /// Locks the process's memory as it is touched. Returns a description of
 /// the problem if that is not permitted.
-pub fn lock_memory() -> Result<(), String> {
+pub fn lock_memory() -> Result<()> {
     // MCL_ONFAULT locks pages as they are faulted in, so a large segment is
     // not made resident (and charged) up front.
     const MCL_ONFAULT: i32 = 4;
@@ -173,18 +186,15 @@ pub fn lock_memory() -> Result<(), String> {
     if rc == 0 {
         return Ok(());
     }
-    let err = std::io::Error::last_os_error();
-    let limit = rlimit(libc::RLIMIT_MEMLOCK);
-    Err(format!(
-        "locking memory failed ({err}); the memlock limit is {} bytes. Grant it with a \
-         line '@hal - memlock unlimited' in /etc/security/limits.d/hal.conf (then log in \
-         again), or give the host CAP_IPC_LOCK",
-        limit.map_or("unknown".to_string(), |l| if l == u64::MAX {
+    let source = std::io::Error::last_os_error();
+    let limit = rlimit(libc::RLIMIT_MEMLOCK).map_or("unknown".to_string(), |l| {
+        if l == u64::MAX {
             "unlimited".to_string()
         } else {
             l.to_string()
-        })
-    ))
+        }
+    });
+    Err(HalError::MemoryLock { source, limit })
 }
 
 /// A standing request to the kernel's power management (PM QoS) that idle
@@ -308,11 +318,11 @@ mod tests {
 
     #[test]
     fn a_refused_priority_names_the_limit_and_the_remedy() {
-        let msg = explain_fifo_failure(libc::EPERM, 90);
+        let msg = explain_fifo_failure(libc::EPERM, 90).to_string();
         assert!(msg.contains("rtprio limit is"), "{msg}");
         assert!(msg.contains("CAP_SYS_NICE"), "{msg}");
         assert!(msg.contains("limits.d"), "{msg}");
-        let other = explain_fifo_failure(libc::EINVAL, 90);
+        let other = explain_fifo_failure(libc::EINVAL, 90).to_string();
         assert!(!other.contains("limits.d"), "{other}");
     }
 
@@ -373,13 +383,17 @@ mod tests {
 
     #[test]
     fn cpu_numbers_are_checked_against_the_allowed_set() {
-        assert_eq!(parse_cpu("RTAPI_CPU_NUMBER", " 1", &[0, 1]), Ok(1));
-        let e = parse_cpu("RTAPI_CPU_NUMBER", "x", &[0, 1]).unwrap_err();
+        assert_eq!(parse_cpu("RTAPI_CPU_NUMBER", " 1", &[0, 1]).ok(), Some(1));
+        let e = parse_cpu("RTAPI_CPU_NUMBER", "x", &[0, 1])
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("RTAPI_CPU_NUMBER='x' is not a CPU number"),
             "{e}"
         );
-        let e = parse_cpu("RTAPI_CPU_NUMBER", "5", &[0, 1, 2, 6]).unwrap_err();
+        let e = parse_cpu("RTAPI_CPU_NUMBER", "5", &[0, 1, 2, 6])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("may only use CPU 0-2,6"), "{e}");
         assert_eq!(cpu_list(&[]), "none");
         assert_eq!(cpu_list(&[3]), "3");

@@ -104,4 +104,4 @@ pub fn checksum(words: &[u64]) -> u64 {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -1,6 +1,5 @@
 //! Wire-format tests: round trips and rejection of every corrupt word.
 
-use super::records::shape;
 use super::snapshot::{aflag, flag, jflag};
 use super::*;
 use crate::command::{
@@ -9,7 +8,9 @@ use crate::command::{
 use crate::homing::{ConfigProblem, HomeFlags, HomeState, HomingConfig};
 use crate::kins::Pose;
 
-fn all_commands() -> Vec<Command> {
+/// One or more of every command, with values at the edges.
+pub(crate) fn all_commands() -> Vec<Command> {
+    // Long: one entry per command (opcodes 1 to 59), several at the edges.
     let mut pose = Pose::ZERO;
     for (i, v) in pose.0.iter_mut().enumerate() {
         *v = i as f64 * 1.5 - 3.0;
@@ -202,7 +203,7 @@ fn every_command_round_trips() {
 
 #[test]
 fn every_opcode_from_1_to_59_is_used() {
-    let mut ops: Vec<u64> = all_commands().iter().map(|c| shape(c).0).collect();
+    let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
     assert_eq!(ops, (1..=59).collect::<Vec<_>>());
@@ -346,6 +347,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
 }
 
 fn all_rejects() -> Vec<Reject> {
+    // Long: one entry per refusal (codes 1 to 56), several at the edges.
     let mut v = vec![
         Reject::NoSuchJoint {
             joint: -3,

@@ -65,8 +65,7 @@ mod queue;
 mod teleop;
 
 pub use crate::sizes::{
-    AF_ENABLED, FH_ENABLED, FS_ENABLED, MAX_IO, MAX_JOINTS, MAX_MISC_ERROR, MAX_SPINDLES,
-    SS_ENABLED,
+    FH_ENABLED, FS_ENABLED, MAX_JOINTS, MAX_MISC_ERROR, MAX_SPINDLES, SS_ENABLED,
 };
 pub use modes::MODE_ENTRY_TOLERANCE;
 use modes::{Mode, World};

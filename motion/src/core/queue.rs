@@ -269,6 +269,24 @@ impl MotionCore {
         Ok(())
     }
 
+    /// CLEAR_PROBE_FLAGS.
+    pub(super) fn clear_probe_flags(&mut self) -> CommandResult {
+        self.probe.tripped = false;
+        Ok(())
+    }
+
+    /// PAUSE.
+    pub(super) fn pause(&mut self) -> CommandResult {
+        self.tp.pause();
+        Ok(())
+    }
+
+    /// RESUME.
+    pub(super) fn resume(&mut self) -> CommandResult {
+        self.tp.resume();
+        Ok(())
+    }
+
     /// STEP.
     pub(super) fn step(&mut self) -> CommandResult {
         self.tp.step()

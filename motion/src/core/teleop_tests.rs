@@ -631,6 +631,7 @@ fn scale_applies_to_axis_jogs() {
 
 #[test]
 fn refused_axis_jogs_say_why_and_change_nothing() {
+    // Long: every refusal of an axis jog in turn, on one machine.
     let mut s = xyz();
     s.run(2);
     let jog = Command::AxisJogCont { axis: 0, vel: 1.0 };

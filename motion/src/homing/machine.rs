@@ -8,15 +8,23 @@
 //! more, so motion has ceased and switches have settled. LinuxCNC skips
 //! that delay before the final move; here it applies there too.
 
-use super::config::{HomeFlags, HomingConfig};
 use super::state::{HomeFault, HomeState};
 use crate::joint::Joint;
+use crate::vocab::{HomeFlags, HomingConfig};
 
 /// Seconds a joint stands still before each homing move starts.
 pub const HOME_DELAY: f64 = 0.1;
 
 /// More hand-overs than any path through the states takes in one cycle.
 const MAX_HANDOVERS: usize = 32;
+
+/// What a state did in this cycle.
+enum Step {
+    /// Hand over to this state now.
+    Next(HomeState),
+    /// Done for this cycle (a move runs, or something is awaited).
+    Wait,
+}
 
 /// The homing state of one joint.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -114,252 +122,280 @@ impl JointHoming {
     /// Runs this cycle's states. On `Err` the caller aborts the sequence;
     /// `self.state` is then the state that failed.
     pub(crate) fn step(&mut self, jt: &mut Joint, period: f64) -> Result<(), HomeFault> {
-        use HomeState::*;
-        let f = self.cfg.flags;
-        let search = self.cfg.search_vel;
-        let latch = self.cfg.latch_vel;
-        let index = f.contains(HomeFlags::USE_INDEX);
         for _ in 0..MAX_HANDOVERS {
-            let next = match self.state {
-                Idle | Abort => return Ok(()),
-                Start => {
-                    let absolute = f.contains(HomeFlags::ABSOLUTE_ENCODER);
-                    if f.contains(HomeFlags::IS_SHARED) && !absolute && jt.home_sw {
-                        return Err(HomeFault::SharedSwitchClosed);
-                    }
-                    if f.contains(HomeFlags::NO_REHOME) && jt.homed {
-                        self.go(Idle);
-                        return Ok(());
-                    }
-                    jt.homing = true;
-                    jt.homed = false;
-                    jt.end_jogs(false);
-                    if absolute {
-                        SetSwitchPosition
-                    } else if f.contains(HomeFlags::UNLOCK_FIRST) {
-                        Unlock
-                    } else {
-                        UnlockWait
-                    }
-                }
-                Unlock => {
-                    self.unlock = true;
-                    UnlockWait
-                }
-                UnlockWait => {
-                    if f.contains(HomeFlags::UNLOCK_FIRST) && !self.is_unlocked {
-                        return Ok(());
-                    }
-                    // The configuration was checked when it was set, so
-                    // the combinations not listed cannot occur; they home
-                    // in place rather than move.
-                    if search != 0.0 && latch != 0.0 {
-                        InitialSearchStart
-                    } else if search == 0.0 && latch != 0.0 && index {
-                        IndexOnlyStart
-                    } else {
-                        SetSwitchPosition
-                    }
-                }
-                InitialBackoffStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    jt.home_move(-search);
-                    self.go(InitialBackoffWait);
-                    return Ok(());
-                }
-                InitialBackoffWait => {
-                    if jt.home_sw {
-                        return self.moving_checks(jt);
-                    }
-                    jt.home_stop();
-                    InitialSearchStart
-                }
-                InitialSearchStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    if jt.home_sw {
-                        InitialBackoffStart
-                    } else {
-                        jt.home_move(search);
-                        self.go(InitialSearchWait);
-                        return Ok(());
-                    }
-                }
-                InitialSearchWait => {
-                    if !jt.home_sw {
-                        return self.moving_checks(jt);
-                    }
-                    jt.home_stop();
-                    SetCoarsePosition
-                }
-                SetCoarsePosition => {
-                    jt.set_home_position(self.cfg.offset);
-                    if (search > 0.0) == (latch > 0.0) {
-                        FinalBackoffStart
-                    } else {
-                        FallSearchStart
-                    }
-                }
-                FinalBackoffStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    if !jt.home_sw {
-                        return Err(HomeFault::SwitchInactiveBeforeBackoff);
-                    }
-                    jt.home_move(-search);
-                    self.go(FinalBackoffWait);
-                    return Ok(());
-                }
-                FinalBackoffWait => {
-                    if jt.home_sw {
-                        return self.moving_checks(jt);
-                    }
-                    jt.home_stop();
-                    RiseSearchStart
-                }
-                RiseSearchStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    if jt.home_sw {
-                        return Err(HomeFault::SwitchActiveBeforeLatch);
-                    }
-                    jt.home_move(latch);
-                    self.go(RiseSearchWait);
-                    return Ok(());
-                }
-                RiseSearchWait => {
-                    if !jt.home_sw {
-                        return self.moving_checks(jt);
-                    }
-                    if index {
-                        IndexSearchStart
-                    } else {
-                        jt.home_stop();
-                        SetSwitchPosition
-                    }
-                }
-                FallSearchStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    if !jt.home_sw {
-                        return Err(HomeFault::SwitchInactiveBeforeLatch);
-                    }
-                    jt.home_move(latch);
-                    self.go(FallSearchWait);
-                    return Ok(());
-                }
-                FallSearchWait => {
-                    if jt.home_sw {
-                        return self.moving_checks(jt);
-                    }
-                    if index {
-                        IndexSearchStart
-                    } else {
-                        jt.home_stop();
-                        SetSwitchPosition
-                    }
-                }
-                SetSwitchPosition => {
-                    if f.contains(HomeFlags::ABSOLUTE_ENCODER) {
-                        // Joint position = raw motor position + HOME_OFFSET.
-                        let x = jt.motor_pos_fb - jt.backlash_filt + self.cfg.offset;
-                        jt.set_home_position(x);
-                        if f.contains(HomeFlags::NO_FINAL_MOVE) {
-                            Finished
-                        } else {
-                            FinalMoveStart
-                        }
-                    } else {
-                        jt.set_home_position(self.cfg.offset);
-                        FinalMoveStart
-                    }
-                }
-                IndexOnlyStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    jt.set_home_position(self.cfg.offset);
-                    self.index_request = true;
-                    jt.home_move(latch);
-                    self.go(IndexSearchWait);
-                    return Ok(());
-                }
-                IndexSearchStart => {
-                    self.index_request = true;
-                    IndexSearchWait
-                }
-                IndexSearchWait => {
-                    if !self.index_seen(jt) {
-                        return self.moving_checks(jt);
-                    }
-                    jt.home_stop();
-                    SetIndexPosition
-                }
-                SetIndexPosition => {
-                    self.index_request = false;
-                    // The feedback was stood in for by the command in this
-                    // cycle: derive it from the motor again.
-                    jt.set_index_position(self.cfg.offset);
-                    if f.contains(HomeFlags::INDEX_NO_ENCODER_RESET) {
-                        // The count did not restart at the index: shift it.
-                        jt.set_home_position(self.cfg.offset);
-                    }
-                    FinalMoveStart
-                }
-                FinalMoveStart => {
-                    if !self.settled(jt, period) {
-                        return Ok(());
-                    }
-                    if self.cfg.is_synchronized() && !f.contains(HomeFlags::ABSOLUTE_ENCODER) {
-                        // The sequence manager starts the group together.
-                        self.ready_final = true;
-                        return Ok(());
-                    }
-                    self.start_final_move(jt);
-                    return Ok(());
-                }
-                FinalMoveWait => {
-                    if jt.on_limit() && !f.contains(HomeFlags::IGNORE_LIMITS) {
-                        return Err(HomeFault::HitLimit);
-                    }
-                    if jt.free_tp.active {
-                        return Ok(());
-                    }
-                    jt.home_stop();
-                    Lock
-                }
-                Lock => {
-                    self.unlock = false;
-                    LockWait
-                }
-                LockWait => {
-                    if f.contains(HomeFlags::UNLOCK_FIRST) && self.is_unlocked {
-                        return Ok(());
-                    }
-                    Finished
-                }
-                Finished => {
-                    jt.homing = false;
-                    jt.homed = true;
-                    if !f.contains(HomeFlags::NO_FINAL_MOVE) {
-                        // The planner stops within its dead band: land
-                        // exactly on HOME.
-                        jt.free_tp.curr_pos = self.cfg.home;
-                        jt.free_tp.pos_cmd = self.cfg.home;
-                    }
-                    self.go(Idle);
-                    return Ok(());
-                }
-            };
-            self.go(next);
+            match self.run_state(jt, period)? {
+                Step::Next(next) => self.go(next),
+                Step::Wait => return Ok(()),
+            }
         }
         Ok(())
+    }
+
+    /// Runs the current state once.
+    fn run_state(&mut self, jt: &mut Joint, period: f64) -> Result<Step, HomeFault> {
+        use HomeState::*;
+        let (search, latch) = (self.cfg.search_vel, self.cfg.latch_vel);
+        let sw = jt.home_sw;
+        match self.state {
+            Idle | Abort => Ok(Step::Wait),
+            Start => self.start(jt),
+            Unlock => {
+                self.unlock = true;
+                Ok(Step::Next(UnlockWait))
+            }
+            UnlockWait => Ok(self.after_unlock()),
+            // The switch: search for it, back off, latch on an edge.
+            InitialBackoffStart => Ok(self.start_move(jt, period, -search, InitialBackoffWait)),
+            InitialBackoffWait => self.wait_move(jt, !sw, InitialSearchStart),
+            InitialSearchStart => Ok(self.initial_search(jt, period)),
+            InitialSearchWait => self.wait_move(jt, sw, SetCoarsePosition),
+            SetCoarsePosition => {
+                jt.set_home_position(self.cfg.offset);
+                let back_off = (search > 0.0) == (latch > 0.0);
+                Ok(Step::Next(if back_off {
+                    FinalBackoffStart
+                } else {
+                    FallSearchStart
+                }))
+            }
+            FinalBackoffStart => {
+                let fault = HomeFault::SwitchInactiveBeforeBackoff;
+                self.switch_move(jt, period, (true, fault), -search, FinalBackoffWait)
+            }
+            FinalBackoffWait => self.wait_move(jt, !sw, RiseSearchStart),
+            RiseSearchStart => {
+                let fault = HomeFault::SwitchActiveBeforeLatch;
+                self.switch_move(jt, period, (false, fault), latch, RiseSearchWait)
+            }
+            RiseSearchWait => self.latch_move(jt, sw),
+            FallSearchStart => {
+                let fault = HomeFault::SwitchInactiveBeforeLatch;
+                self.switch_move(jt, period, (true, fault), latch, FallSearchWait)
+            }
+            FallSearchWait => self.latch_move(jt, !sw),
+            // Where the joint is: the switch, the index, the encoder.
+            SetSwitchPosition => Ok(self.set_switch_position(jt)),
+            IndexOnlyStart => {
+                if !self.settled(jt, period) {
+                    return Ok(Step::Wait);
+                }
+                jt.set_home_position(self.cfg.offset);
+                self.index_request = true;
+                Ok(self.begin_move(jt, latch, IndexSearchWait))
+            }
+            IndexSearchStart => {
+                self.index_request = true;
+                Ok(Step::Next(IndexSearchWait))
+            }
+            IndexSearchWait => {
+                let seen = self.index_seen(jt);
+                self.wait_move(jt, seen, SetIndexPosition)
+            }
+            SetIndexPosition => Ok(self.set_index_position(jt)),
+            // The move to HOME, the lock, done.
+            FinalMoveStart => Ok(self.final_move_start(jt, period)),
+            FinalMoveWait => self.final_move_wait(jt),
+            Lock => {
+                self.unlock = false;
+                Ok(Step::Next(LockWait))
+            }
+            LockWait => Ok(if self.unlock_first() && self.is_unlocked {
+                Step::Wait
+            } else {
+                Step::Next(Finished)
+            }),
+            Finished => Ok(self.finish(jt)),
+        }
+    }
+
+    /// Whether the joint is a locking indexer.
+    fn unlock_first(&self) -> bool {
+        self.cfg.flags.contains(HomeFlags::UNLOCK_FIRST)
+    }
+
+    /// START: refuses a closed shared switch, ends at once for a homed
+    /// joint that must not re-home, otherwise unhomes the joint.
+    fn start(&mut self, jt: &mut Joint) -> Result<Step, HomeFault> {
+        let f = self.cfg.flags;
+        let absolute = f.contains(HomeFlags::ABSOLUTE_ENCODER);
+        if f.contains(HomeFlags::IS_SHARED) && !absolute && jt.home_sw {
+            return Err(HomeFault::SharedSwitchClosed);
+        }
+        if f.contains(HomeFlags::NO_REHOME) && jt.homed {
+            self.go(HomeState::Idle);
+            return Ok(Step::Wait);
+        }
+        jt.homing = true;
+        jt.homed = false;
+        jt.end_jogs(false);
+        Ok(Step::Next(if absolute {
+            HomeState::SetSwitchPosition
+        } else if self.unlock_first() {
+            HomeState::Unlock
+        } else {
+            HomeState::UnlockWait
+        }))
+    }
+
+    /// UNLOCK_WAIT: once unlocked, the first move of the configured way
+    /// of homing.
+    fn after_unlock(&self) -> Step {
+        if self.unlock_first() && !self.is_unlocked {
+            return Step::Wait;
+        }
+        let (search, latch) = (self.cfg.search_vel, self.cfg.latch_vel);
+        let index = self.cfg.flags.contains(HomeFlags::USE_INDEX);
+        // The configuration was checked when it was set, so the
+        // combinations not listed cannot occur; they home in place rather
+        // than move.
+        Step::Next(if search != 0.0 && latch != 0.0 {
+            HomeState::InitialSearchStart
+        } else if search == 0.0 && latch != 0.0 && index {
+            HomeState::IndexOnlyStart
+        } else {
+            HomeState::SetSwitchPosition
+        })
+    }
+
+    /// Starts a homing move at `vel` and waits for it in `wait`.
+    fn begin_move(&mut self, jt: &mut Joint, vel: f64, wait: HomeState) -> Step {
+        jt.home_move(vel);
+        self.go(wait);
+        Step::Wait
+    }
+
+    /// A move's start state: once settled, the move at `vel`.
+    fn start_move(&mut self, jt: &mut Joint, period: f64, vel: f64, wait: HomeState) -> Step {
+        if !self.settled(jt, period) {
+            return Step::Wait;
+        }
+        self.begin_move(jt, vel, wait)
+    }
+
+    /// A move's start state that needs the home switch `closed` (else
+    /// `fault`).
+    fn switch_move(
+        &mut self,
+        jt: &mut Joint,
+        period: f64,
+        (closed, fault): (bool, HomeFault),
+        vel: f64,
+        wait: HomeState,
+    ) -> Result<Step, HomeFault> {
+        if !self.settled(jt, period) {
+            return Ok(Step::Wait);
+        }
+        if jt.home_sw != closed {
+            return Err(fault);
+        }
+        Ok(self.begin_move(jt, vel, wait))
+    }
+
+    /// INITIAL_SEARCH_START: on the switch already, back off first.
+    fn initial_search(&mut self, jt: &mut Joint, period: f64) -> Step {
+        if !self.settled(jt, period) {
+            return Step::Wait;
+        }
+        if jt.home_sw {
+            Step::Next(HomeState::InitialBackoffStart)
+        } else {
+            self.begin_move(jt, self.cfg.search_vel, HomeState::InitialSearchWait)
+        }
+    }
+
+    /// A move's wait state: until `done` the move must go on; then it
+    /// stops and `next` follows.
+    fn wait_move(&self, jt: &mut Joint, done: bool, next: HomeState) -> Result<Step, HomeFault> {
+        if !done {
+            return self.moving_checks(jt).map(|()| Step::Wait);
+        }
+        jt.home_stop();
+        Ok(Step::Next(next))
+    }
+
+    /// A latch move's wait state: once `edge`, on to the index search, or
+    /// stop at the switch position.
+    fn latch_move(&self, jt: &mut Joint, edge: bool) -> Result<Step, HomeFault> {
+        if !edge {
+            return self.moving_checks(jt).map(|()| Step::Wait);
+        }
+        if self.cfg.flags.contains(HomeFlags::USE_INDEX) {
+            return Ok(Step::Next(HomeState::IndexSearchStart));
+        }
+        jt.home_stop();
+        Ok(Step::Next(HomeState::SetSwitchPosition))
+    }
+
+    /// SET_SWITCH_POSITION: HOME_OFFSET here, or for an absolute encoder
+    /// the raw motor position plus HOME_OFFSET.
+    fn set_switch_position(&mut self, jt: &mut Joint) -> Step {
+        let f = self.cfg.flags;
+        if !f.contains(HomeFlags::ABSOLUTE_ENCODER) {
+            jt.set_home_position(self.cfg.offset);
+            return Step::Next(HomeState::FinalMoveStart);
+        }
+        let x = jt.motor_pos_fb - jt.backlash_filt + self.cfg.offset;
+        jt.set_home_position(x);
+        Step::Next(if f.contains(HomeFlags::NO_FINAL_MOVE) {
+            HomeState::Finished
+        } else {
+            HomeState::FinalMoveStart
+        })
+    }
+
+    /// SET_INDEX_POSITION: HOME_OFFSET at the index.
+    fn set_index_position(&mut self, jt: &mut Joint) -> Step {
+        self.index_request = false;
+        // The feedback was stood in for by the command in this cycle:
+        // derive it from the motor again.
+        jt.set_index_position(self.cfg.offset);
+        if self.cfg.flags.contains(HomeFlags::INDEX_NO_ENCODER_RESET) {
+            // The count did not restart at the index: shift it.
+            jt.set_home_position(self.cfg.offset);
+        }
+        Step::Next(HomeState::FinalMoveStart)
+    }
+
+    /// FINAL_MOVE_START: once settled, the move to HOME (a synchronised
+    /// group's members wait for the sequence manager to start them
+    /// together).
+    fn final_move_start(&mut self, jt: &mut Joint, period: f64) -> Step {
+        if !self.settled(jt, period) {
+            return Step::Wait;
+        }
+        let absolute = self.cfg.flags.contains(HomeFlags::ABSOLUTE_ENCODER);
+        if self.cfg.is_synchronized() && !absolute {
+            self.ready_final = true;
+        } else {
+            self.start_final_move(jt);
+        }
+        Step::Wait
+    }
+
+    /// FINAL_MOVE_WAIT: until the joint is at HOME.
+    fn final_move_wait(&self, jt: &mut Joint) -> Result<Step, HomeFault> {
+        if jt.on_limit() && !self.cfg.flags.contains(HomeFlags::IGNORE_LIMITS) {
+            return Err(HomeFault::HitLimit);
+        }
+        if jt.free_tp.active {
+            return Ok(Step::Wait);
+        }
+        jt.home_stop();
+        Ok(Step::Next(HomeState::Lock))
+    }
+
+    /// FINISHED: the joint is homed.
+    fn finish(&mut self, jt: &mut Joint) -> Step {
+        jt.homing = false;
+        jt.homed = true;
+        if !self.cfg.flags.contains(HomeFlags::NO_FINAL_MOVE) {
+            // The planner stops within its dead band: land exactly on
+            // HOME.
+            jt.free_tp.curr_pos = self.cfg.home;
+            jt.free_tp.pos_cmd = self.cfg.home;
+        }
+        self.go(HomeState::Idle);
+        Step::Wait
     }
 
     /// Computes this cycle's `index-enable` write: true on the rising edge

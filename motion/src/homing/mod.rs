@@ -1,6 +1,7 @@
 //! Homing: finding each joint's reference and declaring its position.
 //!
-//! * [`config`]: the `HOME_*` options and which combinations are usable.
+//! * [`HomingConfig`] (in the leaf `vocab`, shared with the commands):
+//!   the `HOME_*` options and which combinations are usable.
 //! * [`state`]: the per-joint states (LinuxCNC's numbers) and failures.
 //! * `machine`: one joint's state machine.
 //! * `moves`: the few operations homing performs on a joint.
@@ -34,21 +35,20 @@
 //! the very cycle homing is aborted is not corrected for (both as in
 //! LinuxCNC).
 
-pub mod config;
 mod machine;
 mod moves;
 pub mod state;
 
-pub use config::{ConfigProblem, HomeFlags, HomingConfig};
+pub use crate::vocab::{ConfigProblem, HomeFlags, HomingConfig, MAX_HOME_ALL_SEQUENCE};
 pub use machine::HOME_DELAY;
 pub use state::{HomeFault, HomeState};
 
 pub(crate) use machine::JointHoming;
 
-use crate::command::Reject;
 use crate::events::{Event, EventRing};
 use crate::joint::Joint;
 use crate::sizes::MAX_JOINTS;
+use crate::vocab::Reject;
 
 /// Where the sequence manager is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -102,7 +102,7 @@ impl Homing {
         let first: u32;
         if target == -1 {
             // Which magnitudes are used; home-all magnitudes are ≤ 100.
-            let mut used = [false; config::MAX_HOME_ALL_SEQUENCE as usize + 1];
+            let mut used = [false; MAX_HOME_ALL_SEQUENCE as usize + 1];
             for j in 0..n {
                 if jts[j].active && self.joints[j].cfg.in_home_all() {
                     member[j] = true;

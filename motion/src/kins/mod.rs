@@ -5,8 +5,8 @@
 //! A kinematics module (`loadrt trivkins ...`) registers its
 //! implementation in [`KINEMATICS`] under the HAL instance's name; `motmod`
 //! looks it up when it loads, so the kinematics module must be loaded
-//! first, exactly as in LinuxCNC. See [`crate::registry`] for the lifetime
-//! rules.
+//! first, exactly as in LinuxCNC. The crate's `registry` module has the
+//! lifetime rules.
 //!
 //! The modules, under LinuxCNC's names: [`trivkins`], [`corexykins`],
 //! [`bipodkins`] (the kinematics note's example), [`scarakins`],

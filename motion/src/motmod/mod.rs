@@ -30,17 +30,19 @@ use std::sync::atomic::{AtomicBool, Ordering::*};
 use std::sync::Arc;
 
 use hal_core::module::{ModuleArgs, ModuleDef};
-use hal_core::{HalError, Host, Result, RingReader, RingWriter, SeqLockWriter};
+use hal_core::{
+    Component, HalError, Host, Result, RingReader, RingWriter, RtComponentBuilder, SeqLockWriter,
+};
 
 use crate::channel::{self, LastCommand, CMD_WORDS, STATUS_WORDS};
 use crate::command::Reject;
 use crate::core::{MotionConfig, MotionCore};
-use crate::kins::{kinematics_for, AXIS_LETTERS, NUM_AXES};
+use crate::kins::kinematics_for;
 use crate::mailbox::Mailbox;
 
-pub use handle::{MotionHandle, MotionLink, COMMAND_TIMEOUT, MOTION};
-pub use params::{parse_params, IoNames, MotmodParams};
-use pins::{AxisPins, BOut, HalIo, JointPins, MotionPins, SpindlePins};
+pub use handle::{MotionHandle, MotionLink, MOTION};
+pub use params::parse_params;
+use pins::{BIn, BOut, HalIo};
 
 /// The `motmod` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -87,6 +89,20 @@ impl CoreCell {
     }
 }
 
+impl CoreCell {
+    /// A cell holding `core`, not yet claimed.
+    fn new(core: MotionCore) -> CoreCell {
+        CoreCell {
+            busy: AtomicBool::new(false),
+            ctl: UnsafeCell::new(Controller {
+                core,
+                last: LastCommand::default(),
+                served: 0,
+            }),
+        }
+    }
+}
+
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let instance = host.instance().name().to_string();
     let (_, kins) = kinematics_for(&instance).ok_or_else(|| HalError::ModuleLoad {
@@ -97,32 +113,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let p = parse_params(args, kins.kins_type())?;
 
     let mut b = host.new_rt_component("motmod")?;
-    let c = b.component();
-    let motion = MotionPins::new(c, &p, kins.is_switchable())?;
-    let mut spindles = Vec::with_capacity(p.num_spindles);
-    for n in 0..p.num_spindles {
-        spindles.push(SpindlePins::new(c, n)?);
-    }
-    let mut joints = Vec::with_capacity(p.num_joints);
-    for n in 0..p.num_joints {
-        let lockable = n < 32 && p.unlock_joints_mask & (1 << n) != 0;
-        joints.push(JointPins::new(c, n, lockable)?);
-    }
-    let first_extra = p.num_joints - p.num_extrajoints;
-    for (n, jp) in joints.iter_mut().enumerate().skip(first_extra) {
-        jp.posthome_cmd = Some(c.pin(&format!("joint.{n}.posthome-cmd"))?);
-    }
-    let mut axes = Vec::with_capacity(NUM_AXES);
-    for l in AXIS_LETTERS {
-        axes.push(AxisPins::new(c, l)?);
-    }
-    let io = HalIo {
-        motion,
-        spindles,
-        joints,
-        axes,
-    };
-
+    let io = HalIo::new(b.component(), &p, kins.is_switchable())?;
     let core = MotionCore::new(
         MotionConfig {
             num_joints: p.num_joints,
@@ -135,96 +126,31 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         kins,
     );
     let events = core.events().clone();
-    let cell = Arc::new(CoreCell {
-        busy: AtomicBool::new(false),
-        ctl: UnsafeCell::new(Controller {
-            core,
-            last: LastCommand::default(),
-            served: 0,
-        }),
-    });
+    let cell = Arc::new(CoreCell::new(core));
     let mailbox = Arc::new(Mailbox::default());
-
-    // The shared-memory command channel (see `channel`).
-    // The ring is created here (owned by motmod) and read here; clients
-    // open its writing end.
-    RingWriter::create(c, channel::CMD_RING, channel::RING_DEPTH, CMD_WORDS)?;
-    let mut cmd_ring = RingReader::open(host.instance(), channel::CMD_RING)?;
-    let mut reply_ring = RingWriter::create(
-        c,
-        channel::REPLY_RING,
-        channel::RING_DEPTH,
-        channel::REPLY_WORDS,
-    )?;
-    c.region(channel::LOCK, 16)?;
-    let mut status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
-    let mut status_buf = [0u64; STATUS_WORDS];
-    cell.with(|ctl| {
-        channel::fill_status(&ctl.core, ctl.last, ctl.served, &mut status_buf);
-        status.write(&status_buf);
-    });
+    let channel = ChannelEnds::create(host, b.component(), &cell)?;
 
     if p.servo_period_nsec > p.base_period_nsec {
         host.create_thread("base-thread", p.base_period_nsec, p.base_thread_fp, None)?;
     }
     host.create_thread("servo-thread", p.servo_period_nsec, true, None)?;
 
-    // The handler reads the inputs its commands depend on itself, so a
-    // command sees this period's values even if it runs first.
-    let h_inputs = (
-        io.motion.enable.clone(),
-        io.motion.jog_inhibit.clone(),
-        io.motion.homing_inhibit.clone(),
-    );
+    let mut handler = CommandHandler {
+        inputs: (
+            io.motion.enable.clone(),
+            io.motion.jog_inhibit.clone(),
+            io.motion.homing_inhibit.clone(),
+        ),
+        mailbox: mailbox.clone(),
+        commands: channel.commands,
+        replies: channel.replies,
+        record: [0; CMD_WORDS],
+    };
     let safe_amps: Vec<BOut> = io.joints.iter().map(|j| j.amp_enable.clone()).collect();
-
-    let ctl_cell = cell.clone();
-    let mut last_ns: Option<u64> = None;
-    b.funct("motion-controller", true, move |ctx| {
-        let now = ctx.now_ns();
-        let period = last_ns.map_or(0, |l| now.wrapping_sub(l));
-        last_ns = Some(now);
-        io.motion.last_period.set(period as u32);
-        ctl_cell.with(|ctl| {
-            let core = &mut ctl.core;
-            io.read(core);
-            core.cycle(ctx.fperiod());
-            io.write(core);
-            channel::fill_status(core, ctl.last, ctl.served, &mut status_buf);
-            status.write(&status_buf);
-        });
-    })?;
-
+    add_controller(&mut b, io, cell.clone(), channel.status)?;
     let h_cell = cell.clone();
-    let h_mailbox = mailbox.clone();
-    let mut rec = [0u64; CMD_WORDS];
     b.funct("motion-command-handler", true, move |_ctx| {
-        if !h_mailbox.has_command() && cmd_ring.is_empty() {
-            return;
-        }
-        h_cell.with(|ctl| {
-            let core = &mut ctl.core;
-            core.inputs.enable = h_inputs.0.get();
-            core.inputs.jog_inhibit = h_inputs.1.get();
-            core.inputs.homing_inhibit = h_inputs.2.get();
-            h_mailbox.serve(|cmd| core.command(cmd));
-            // Channel commands: only as many as there is room to answer.
-            for _ in 0..channel::MAX_PER_PERIOD {
-                if reply_ring.len() >= reply_ring.capacity() || !cmd_ring.pop(&mut rec) {
-                    break;
-                }
-                let (serial, result) = match channel::decode_command(&rec) {
-                    Ok((serial, cmd)) => (serial, core.command(&cmd)),
-                    Err((serial, error)) => (serial, Err(Reject::Malformed { error })),
-                };
-                reply_ring.push(&channel::encode_reply(serial, &result));
-                ctl.last = LastCommand {
-                    serial,
-                    code: result.as_ref().err().map_or(0, channel::reject_code),
-                };
-                ctl.served += 1;
-            }
-        });
+        handler.run(&h_cell)
     })?;
 
     let registration = MOTION
@@ -250,4 +176,115 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         safe_cell.with(|ctl| ctl.core.force_disable());
     });
     b.ready()
+}
+
+/// The ends of the shared-memory channel (see [`crate::channel`]) that
+/// `motmod` owns.
+struct ChannelEnds {
+    /// Where clients' commands arrive.
+    commands: RingReader,
+    /// Where the answers go.
+    replies: RingWriter,
+    /// The status snapshot, and the buffer it is filled in.
+    status: (SeqLockWriter, [u64; STATUS_WORDS]),
+}
+
+impl ChannelEnds {
+    /// Creates the channel's regions (the command ring is created here,
+    /// owned by motmod, and read here; clients open its writing end) and
+    /// publishes the first status.
+    fn create(host: &Host, c: &Component, cell: &CoreCell) -> Result<ChannelEnds> {
+        RingWriter::create(c, channel::CMD_RING, channel::RING_DEPTH, CMD_WORDS)?;
+        let commands = RingReader::open(host.instance(), channel::CMD_RING)?;
+        let replies = RingWriter::create(
+            c,
+            channel::REPLY_RING,
+            channel::RING_DEPTH,
+            channel::REPLY_WORDS,
+        )?;
+        c.region(channel::LOCK, 16)?;
+        let mut status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
+        let mut buf = [0u64; STATUS_WORDS];
+        cell.with(|ctl| {
+            channel::fill_status(&ctl.core, ctl.last, ctl.served, &mut buf);
+            status.write(&buf);
+        });
+        Ok(ChannelEnds {
+            commands,
+            replies,
+            status: (status, buf),
+        })
+    }
+}
+
+/// Exports `motion-controller`: the pins in, one cycle, the pins out, the
+/// status published.
+fn add_controller(
+    b: &mut RtComponentBuilder<'_>,
+    io: HalIo,
+    cell: Arc<CoreCell>,
+    (mut status, mut status_buf): (SeqLockWriter, [u64; STATUS_WORDS]),
+) -> Result<()> {
+    let mut last_ns: Option<u64> = None;
+    b.funct("motion-controller", true, move |ctx| {
+        let now = ctx.now_ns();
+        let period = last_ns.map_or(0, |l| now.wrapping_sub(l));
+        last_ns = Some(now);
+        io.motion.last_period.set(period as u32);
+        cell.with(|ctl| {
+            let core = &mut ctl.core;
+            io.read(core);
+            core.cycle(ctx.fperiod());
+            io.write(core);
+            channel::fill_status(core, ctl.last, ctl.served, &mut status_buf);
+            status.write(&status_buf);
+        });
+    })
+}
+
+/// What `motion-command-handler` uses.
+struct CommandHandler {
+    /// `motion.enable`, `motion.jog-inhibit`, `motion.homing-inhibit`:
+    /// read by the handler itself, so a command sees this period's values
+    /// even if it runs first.
+    inputs: (BIn, BIn, BIn),
+    mailbox: Arc<Mailbox>,
+    commands: RingReader,
+    replies: RingWriter,
+    /// The command record being read.
+    record: [u64; CMD_WORDS],
+}
+
+impl CommandHandler {
+    /// One period: the in-process command, then the channel's commands
+    /// (only as many as there is room to answer).
+    fn run(&mut self, cell: &CoreCell) {
+        if !self.mailbox.has_command() && self.commands.is_empty() {
+            return;
+        }
+        cell.with(|ctl| {
+            let core = &mut ctl.core;
+            core.inputs.enable = self.inputs.0.get();
+            core.inputs.jog_inhibit = self.inputs.1.get();
+            core.inputs.homing_inhibit = self.inputs.2.get();
+            self.mailbox.serve(|cmd| core.command(cmd));
+            for _ in 0..channel::MAX_PER_PERIOD {
+                if self.replies.len() >= self.replies.capacity()
+                    || !self.commands.pop(&mut self.record)
+                {
+                    break;
+                }
+                let (serial, result) = match channel::decode_command(&self.record) {
+                    Ok((serial, cmd)) => (serial, core.command(&cmd)),
+                    Err((serial, error)) => (serial, Err(Reject::Malformed { error })),
+                };
+                self.replies.push(&channel::encode_reply(serial, &result));
+                ctl.last = LastCommand {
+                    serial,
+                    code: result.as_ref().err().map_or(0, channel::reject_code),
+                };
+                ctl.served += 1;
+            }
+        });
+    }
 }

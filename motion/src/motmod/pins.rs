@@ -255,9 +255,7 @@ pub(super) struct LaterPins {
     pub(super) _feed: [FOut; 4],
     pub(super) _dio: Vec<(BIn, BOut)>,
     pub(super) _aio: Vec<(FIn, FOut)>,
-    pub(super) _interp_s32: [Pin<i32, Out>; 2],
-    pub(super) _interp_float: [FOut; 7],
-    pub(super) _interp_iscircle: BOut,
+    pub(super) _interp: InterpPins,
     pub(super) _tooloffset: Vec<FOut>,
     pub(super) _eoffset: (BOut, BOut),
     pub(super) _debug_bit_1: Param<bool, Ro>,
@@ -265,6 +263,110 @@ pub(super) struct LaterPins {
     pub(super) _debug_s32_1: Param<i32, Ro>,
     pub(super) _traj: (Param<f64, Ro>, Param<f64, Ro>, Param<u32, Ro>),
     pub(super) _tc: Vec<Param<f64, Ro>>,
+}
+
+/// `motion.interp.*`: the interpreter's line number, motion type, feed
+/// rate, arc and heading (s32, float, `iscircle`).
+pub(super) type InterpPins = ([Pin<i32, Out>; 2], [FOut; 7], BOut);
+
+/// The synchronised digital and analog I/O pins (`motion.digital-in-NN`
+/// or `motion.din-NAME`, and so on).
+#[allow(clippy::type_complexity)]
+fn sync_io_pins(c: &Component, p: &MotmodParams) -> Result<(Vec<(BIn, BOut)>, Vec<(FIn, FOut)>)> {
+    let (mut din, mut dout) = (0, 0);
+    let mut dio = Vec::with_capacity(p.dio.count);
+    for n in 0..p.dio.count {
+        let i = io_pin_name("din", "digital-in", &p.dio.inputs, n, &mut din);
+        let o = io_pin_name("dout", "digital-out", &p.dio.outputs, n, &mut dout);
+        dio.push((c.pin(&i)?, c.pin(&o)?));
+    }
+    let (mut ain, mut aout) = (0, 0);
+    let mut aio = Vec::with_capacity(p.aio.count);
+    for n in 0..p.aio.count {
+        let i = io_pin_name("ain", "analog-in", &p.aio.inputs, n, &mut ain);
+        let o = io_pin_name("aout", "analog-out", &p.aio.outputs, n, &mut aout);
+        aio.push((c.pin(&i)?, c.pin(&o)?));
+    }
+    Ok((dio, aio))
+}
+
+/// `motion.misc-error-NN` or `motion.err-NAME`.
+fn misc_error_pins(c: &Component, p: &MotmodParams) -> Result<Vec<BIn>> {
+    let mut misc_error = Vec::with_capacity(p.num_misc_error);
+    for n in 0..p.num_misc_error {
+        let name = match p.misc_error_names.get(n) {
+            Some(name) => format!("motion.err-{name}"),
+            None => format!("motion.misc-error-{n:02}"),
+        };
+        misc_error.push(c.pin(&name)?);
+    }
+    Ok(misc_error)
+}
+
+/// `motion.interp.*`.
+fn interp_pins(c: &Component) -> Result<InterpPins> {
+    let s32 = [
+        c.pin("motion.interp.line-number")?,
+        c.pin("motion.interp.motion-type")?,
+    ];
+    let float = [
+        c.pin("motion.interp.feedrate")?,
+        c.pin("motion.interp.arc-radius")?,
+        c.pin("motion.interp.arc-center-x")?,
+        c.pin("motion.interp.arc-center-y")?,
+        c.pin("motion.interp.arc-center-z")?,
+        c.pin("motion.interp.heading")?,
+        c.pin("motion.interp.normal-heading")?,
+    ];
+    Ok((s32, float, c.pin("motion.interp.iscircle")?))
+}
+
+/// `motion.debug-*`: two bits, four floats, two s32.
+#[allow(clippy::type_complexity)]
+fn debug_params(
+    c: &Component,
+) -> Result<(
+    [Param<bool, Ro>; 2],
+    [Param<f64, Ro>; 4],
+    [Param<i32, Ro>; 2],
+)> {
+    let bits = [
+        c.param("motion.debug-bit-0", false)?,
+        c.param("motion.debug-bit-1", false)?,
+    ];
+    let floats = [
+        c.param("motion.debug-float-0", 0.0)?,
+        c.param("motion.debug-float-1", 0.0)?,
+        c.param("motion.debug-float-2", 0.0)?,
+        c.param("motion.debug-float-3", 0.0)?,
+    ];
+    let s32 = [
+        c.param("motion.debug-s32-0", 0)?,
+        c.param("motion.debug-s32-1", 0)?,
+    ];
+    Ok((bits, floats, s32))
+}
+
+/// `traj.*` and `tc.N.*`: the planner's debug params.
+#[allow(clippy::type_complexity)]
+fn planner_params(
+    c: &Component,
+) -> Result<(
+    (Param<f64, Ro>, Param<f64, Ro>, Param<u32, Ro>),
+    Vec<Param<f64, Ro>>,
+)> {
+    let traj = (
+        c.param("traj.pos_out", 0.0)?,
+        c.param("traj.vel_out", 0.0)?,
+        c.param("traj.active_tc", 0u32)?,
+    );
+    let mut tc = Vec::with_capacity(12);
+    for n in 0..4 {
+        tc.push(c.param(&format!("tc.{n}.pos"), 0.0)?);
+        tc.push(c.param(&format!("tc.{n}.vel"), 0.0)?);
+        tc.push(c.param(&format!("tc.{n}.acc"), 0.0)?);
+    }
+    Ok((traj, tc))
 }
 
 fn io_pin_name(
@@ -305,28 +407,8 @@ impl MotionPins {
             c.pin("motion.feed-mm-per-minute")?,
             c.pin("motion.feed-mm-per-second")?,
         ];
-        let (mut din, mut dout) = (0, 0);
-        let mut dio = Vec::with_capacity(p.dio.count);
-        for n in 0..p.dio.count {
-            let i = io_pin_name("din", "digital-in", &p.dio.inputs, n, &mut din);
-            let o = io_pin_name("dout", "digital-out", &p.dio.outputs, n, &mut dout);
-            dio.push((c.pin(&i)?, c.pin(&o)?));
-        }
-        let (mut ain, mut aout) = (0, 0);
-        let mut aio = Vec::with_capacity(p.aio.count);
-        for n in 0..p.aio.count {
-            let i = io_pin_name("ain", "analog-in", &p.aio.inputs, n, &mut ain);
-            let o = io_pin_name("aout", "analog-out", &p.aio.outputs, n, &mut aout);
-            aio.push((c.pin(&i)?, c.pin(&o)?));
-        }
-        let mut misc_error = Vec::with_capacity(p.num_misc_error);
-        for n in 0..p.num_misc_error {
-            let name = match p.misc_error_names.get(n) {
-                Some(name) => format!("motion.err-{name}"),
-                None => format!("motion.misc-error-{n:02}"),
-            };
-            misc_error.push(c.pin(&name)?);
-        }
+        let (dio, aio) = sync_io_pins(c, p)?;
+        let misc_error = misc_error_pins(c, p)?;
         let motion_enabled = c.pin("motion.motion-enabled")?;
         let in_position = c.pin("motion.in-position")?;
         let motion_type = c.pin("motion.motion-type")?;
@@ -339,39 +421,11 @@ impl MotionPins {
         let distance_to_go = c.pin("motion.distance-to-go")?;
         let program_line = c.pin("motion.program-line")?;
         let jog_is_active = c.pin("motion.jog-is-active")?;
-        let interp_s32 = [
-            c.pin("motion.interp.line-number")?,
-            c.pin("motion.interp.motion-type")?,
-        ];
-        let interp_float = [
-            c.pin("motion.interp.feedrate")?,
-            c.pin("motion.interp.arc-radius")?,
-            c.pin("motion.interp.arc-center-x")?,
-            c.pin("motion.interp.arc-center-y")?,
-            c.pin("motion.interp.arc-center-z")?,
-            c.pin("motion.interp.heading")?,
-            c.pin("motion.interp.normal-heading")?,
-        ];
-        let interp_iscircle = c.pin("motion.interp.iscircle")?;
-        let debug_bit_0 = c.param("motion.debug-bit-0", false)?;
-        let debug_bit_1 = c.param("motion.debug-bit-1", false)?;
-        let debug_float_0 = c.param("motion.debug-float-0", 0.0)?;
-        let debug_float_1 = c.param("motion.debug-float-1", 0.0)?;
-        let debug_float_2 = c.param("motion.debug-float-2", 0.0)?;
-        let debug_float_3 = c.param("motion.debug-float-3", 0.0)?;
-        let debug_s32_0 = c.param("motion.debug-s32-0", 0)?;
-        let debug_s32_1 = c.param("motion.debug-s32-1", 0)?;
-        let traj = (
-            c.param("traj.pos_out", 0.0)?,
-            c.param("traj.vel_out", 0.0)?,
-            c.param("traj.active_tc", 0u32)?,
-        );
-        let mut tc = Vec::with_capacity(12);
-        for n in 0..4 {
-            tc.push(c.param(&format!("tc.{n}.pos"), 0.0)?);
-            tc.push(c.param(&format!("tc.{n}.vel"), 0.0)?);
-            tc.push(c.param(&format!("tc.{n}.acc"), 0.0)?);
-        }
+        let interp = interp_pins(c)?;
+        let ([debug_bit_0, debug_bit_1], debug_floats, [debug_s32_0, debug_s32_1]) =
+            debug_params(c)?;
+        let [debug_float_0, debug_float_1, debug_float_2, debug_float_3] = debug_floats;
+        let (traj, tc) = planner_params(c)?;
         let last_period = c.pin("motion.servo.last-period")?;
         let mut tooloffset = Vec::with_capacity(NUM_AXES);
         for l in AXIS_LETTERS {
@@ -417,9 +471,7 @@ impl MotionPins {
                 _feed: feed,
                 _dio: dio,
                 _aio: aio,
-                _interp_s32: interp_s32,
-                _interp_float: interp_float,
-                _interp_iscircle: interp_iscircle,
+                _interp: interp,
                 _tooloffset: tooloffset,
                 _eoffset: (
                     c.pin("motion.eoffset-limited")?,
@@ -444,6 +496,35 @@ pub(super) struct HalIo {
 }
 
 impl HalIo {
+    /// Creates every pin and param of `motmod`: the machine's, then each
+    /// spindle's, joint's and axis's.
+    pub(super) fn new(c: &Component, p: &MotmodParams, switchable: bool) -> Result<HalIo> {
+        let motion = MotionPins::new(c, p, switchable)?;
+        let mut spindles = Vec::with_capacity(p.num_spindles);
+        for n in 0..p.num_spindles {
+            spindles.push(SpindlePins::new(c, n)?);
+        }
+        let mut joints = Vec::with_capacity(p.num_joints);
+        for n in 0..p.num_joints {
+            let lockable = n < 32 && p.unlock_joints_mask & (1 << n) != 0;
+            joints.push(JointPins::new(c, n, lockable)?);
+        }
+        let first_extra = p.num_joints - p.num_extrajoints;
+        for (n, jp) in joints.iter_mut().enumerate().skip(first_extra) {
+            jp.posthome_cmd = Some(c.pin(&format!("joint.{n}.posthome-cmd"))?);
+        }
+        let mut axes = Vec::with_capacity(NUM_AXES);
+        for l in AXIS_LETTERS {
+            axes.push(AxisPins::new(c, l)?);
+        }
+        Ok(HalIo {
+            motion,
+            spindles,
+            joints,
+            axes,
+        })
+    }
+
     /// Copies the HAL inputs into the core.
     pub(super) fn read(&self, core: &mut MotionCore) {
         let m = &self.motion;

@@ -2,9 +2,9 @@
 //! helices, spirals) and dwells, each with a motion id, run along the path
 //! once per servo period.
 //!
-//! * [`geom`]: where a segment is at each arc length, and the factors
+//! * `geom`: where a segment is at each arc length, and the factors
 //!   that turn path speed into axis speeds.
-//! * [`budget`]: a segment's speed cap and tangential acceleration (and
+//! * `budget`: a segment's speed cap and tangential acceleration (and
 //!   jerk) from every axis's limits; the speed a corner may be crossed at.
 //! * `corners`: what happens where a new segment meets the last one:
 //!   exact stop, a kink crossed at its capped speed, or (blending, two
@@ -12,7 +12,7 @@
 //! * `lookahead`: how fast each corner may be crossed so that every later
 //!   corner and the final stop can still be kept ("rising tide", over the
 //!   whole queue after each new segment).
-//! * [`trapezoid`] and `scurve`: the two velocity planners along the path;
+//! * `trapezoid` and `scurve`: the two velocity planners along the path;
 //!   `exec` runs them and the queue (pause, step, abort, dwells).
 //!
 //! Guarantees, for the trapezoidal planner and, with jerk, the S-curve
@@ -37,14 +37,14 @@
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
 
-pub mod budget;
+mod budget;
 mod corners;
 mod exec;
-pub mod geom;
+mod geom;
 mod lookahead;
 mod scurve;
 mod segment;
-pub mod trapezoid;
+mod trapezoid;
 
 use std::collections::VecDeque;
 

@@ -1,6 +1,10 @@
 //! What the motion integration tests share: a private host, module
 //! loading, looped-back motors, and reading pins while threads run.
-#![allow(dead_code)]
+#![allow(
+    dead_code,
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test; not every test uses every helper"
+)]
 
 use std::time::{Duration, Instant};
 

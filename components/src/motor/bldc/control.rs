@@ -79,6 +79,25 @@ pub enum Message {
     UnknownOutput,
 }
 
+/// What the input stage of one call found.
+enum Sensed {
+    /// The angles are set: commutate (trapezoidal on Hall phases `ph`
+    /// when `trap`).
+    Angles {
+        /// Trapezoidal commutation.
+        trap: bool,
+        /// The Hall phase bits.
+        ph: u8,
+    },
+    /// Nothing more this call; maybe a message to print.
+    Done(Option<Message>),
+}
+
+impl Sensed {
+    /// Angles set, no Hall phases: sinusoidal unless forced trapezoidal.
+    const NO_PHASES: Sensed = Sensed::Angles { trap: false, ph: 0 };
+}
+
 /// Every pin and param value one call reads or writes (those the
 /// personality does not create stay at their defaults).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -172,219 +191,14 @@ impl Bldc {
 
     /// One call of a thread of `period` ns. Returns a message to print.
     pub fn step(&mut self, v: &mut BldcVars, period: i64) -> Option<Message> {
-        let p = self.personality;
         let mut volts = if v.rev { -v.value } else { v.value };
         v.out_dir = volts < 0.0;
         v.out_abs = volts.abs();
-
-        if p & (HALL | QUADRATURE) == QUADRATURE {
-            if v.init && !self.old_init && v.init_done {
-                v.init_done = false;
-                v.in_type = UNSET;
-            } else {
-                self.old_init = v.init;
-            }
-        }
-        if p & (ABSOLUTE | QUADRATURE) != 0 {
-            self.old_long_rawcounts = self.long_rawcounts;
-            self.long_rawcounts += i64::from(v.rawcounts.wrapping_sub(self.old_rawcounts));
-            self.old_rawcounts = v.rawcounts;
-        }
-
-        let mut trap = false;
-        let mut ph: u8 = 0;
-        match v.in_type {
-            DISABLED => return None,
-            UNSET => {
-                v.in_type = (p & 0xff) as i32;
-                if v.in_type & INDEX as i32 != 0 {
-                    v.index_enable = true;
-                }
-                self.counter = ALIGN_TIME[0];
-                v.out_type = (p & 0x7f00) as i32;
-                self.force_trap = p & TRAPEZOIDAL != 0;
-                return None;
-            }
-            0x00 => {
-                v.phase_angle += v.frequency * period as f64 / 1_000_000_000.0;
-                v.phase_angle -= v.phase_angle.floor();
-                v.rotor_angle = v.phase_angle;
-            }
-            0x01 | 0x05 | 0x0d => {
-                trap = true;
-                if v.pattern as usize >= PATTERNS {
-                    v.pattern = 0;
-                    return Some(Message::BadPattern);
-                }
-                let hall =
-                    (v.hall[0] as usize) << 2 | (v.hall[1] as usize) << 1 | v.hall[2] as usize;
-                ph = COMMUTATION[v.pattern as usize * 8 + hall];
-                // A Hall state the pattern never shows has no angle: 0.
-                let i = find(&PHASES, 0, ph);
-                v.rotor_angle = ANGLES.get(i).copied().unwrap_or(0.0);
-                v.rotor_angle -= v.rotor_angle.floor();
-                v.phase_angle = if v.out_dir {
-                    v.rotor_angle + 0.25
-                } else {
-                    v.rotor_angle - 0.25
-                };
-                v.phase_angle -= v.phase_angle.floor();
-                if ph & self.old_ph == 0 {
-                    v.hall_error = true;
-                }
-                if i64::from(v.pattern) != self.old_pattern {
-                    v.hall_error = false;
-                }
-                if !self.force_trap {
-                    let i = find(&PHASES, 1, ph);
-                    if v.in_type == 0x05 && self.old_ph != 0 && ph != self.old_ph && i < 7 {
-                        // Homing to the Hall edge just crossed.
-                        v.rotor_angle = if PHASES[i - 1] == self.old_ph {
-                            (ANGLES[i] + ANGLES[i - 1]) / 2.0
-                        } else {
-                            (ANGLES[i] + ANGLES[i + 1]) / 2.0
-                        };
-                        self.home_to_edge(v);
-                    } else if v.in_type == 0x0d && !v.index_enable {
-                        v.offset_measured = self.long_rawcounts as i32;
-                        v.in_type = SINE;
-                    }
-                    self.old_ph = ph;
-                    self.old_pattern = i64::from(v.pattern);
-                }
-            }
-            0x10 | 0x14 | 0x1c => {
-                ph = v.fanuc[0] as u8
-                    | (v.fanuc[1] as u8) << 1
-                    | (v.fanuc[2] as u8) << 2
-                    | (v.fanuc[3] as u8) << 3;
-                let i = find(&GRAY_CODES[..16], 0, ph);
-                v.rotor_angle = GRAY_ANGLES[i] + 0.03125;
-                v.rotor_angle -= v.rotor_angle.floor();
-                v.phase_angle = if v.out_dir {
-                    v.rotor_angle - 0.25
-                } else {
-                    v.rotor_angle + 0.25
-                };
-                v.phase_angle -= v.phase_angle.floor();
-                if !self.force_trap {
-                    if v.in_type == 0x14 && self.old_ph != 0 && ph != self.old_ph {
-                        let i = find(&GRAY_CODES[..15], 1, ph);
-                        // LinuxCNC compares with the Hall sequence here
-                        // (reading past it for later codes); past its
-                        // end nothing matches.
-                        v.rotor_angle = if PHASES.get(i - 1) == Some(&self.old_ph) {
-                            GRAY_ANGLES[i]
-                        } else {
-                            GRAY_ANGLES[i + 1]
-                        };
-                        self.home_to_edge(v);
-                    } else if v.in_type == 0x1c && !v.index_enable {
-                        v.offset_measured = self.long_rawcounts as i32;
-                        v.in_type = SINE;
-                    }
-                    self.old_ph = ph;
-                }
-            }
-            0x04 => {
-                if !v.init {
-                    return None;
-                }
-                if v.init_done {
-                    return Some(Message::HomingState);
-                }
-                if self.counter <= 0.0 {
-                    v.offset_measured = self.offset_at(v, v.phase_angle);
-                    self.counter = ALIGN_TIME[0];
-                    self.old_init = true;
-                    v.init_done = true;
-                    v.in_type = SINE;
-                    return None;
-                }
-                v.init_done = false;
-                // The breakpoint segment the counter is in (i in 1..=5).
-                let i = (0..6)
-                    .take_while(|&i| ALIGN_TIME[i] >= self.counter)
-                    .count()
-                    .clamp(1, 5);
-                let frac = |t: &[f64; 6]| {
-                    t[i - 1]
-                        + (t[i] - t[i - 1]) * (self.counter - ALIGN_TIME[i - 1])
-                            / (ALIGN_TIME[i] - ALIGN_TIME[i - 1])
-                };
-                volts = v.initvalue * frac(&ALIGN_CURRENT);
-                v.phase_angle = frac(&ALIGN_ANGLE);
-                v.phase_angle -= v.phase_angle.floor();
-                self.counter -= period as f64 * 1e-9;
-                v.rotor_angle = v.phase_angle - v.drive_offset / 360.0;
-                v.rotor_angle -= v.rotor_angle.floor();
-            }
-            0x0c => {
-                if !v.init {
-                    return None;
-                }
-                if !v.index_enable {
-                    v.offset_measured = self.long_rawcounts as i32;
-                    self.counter = ALIGN_TIME[0];
-                    self.old_init = true;
-                    v.init_done = true;
-                    v.in_type = SINE;
-                } else if !v.init_done {
-                    // Turn slowly until the encoder latches its index.
-                    if v.initvalue < 0.0 {
-                        v.rotor_angle -= period as f64 / 1_000_000_000.0;
-                    } else {
-                        v.rotor_angle += period as f64 / 1_000_000_000.0;
-                    }
-                    v.rotor_angle -= v.rotor_angle.floor();
-                    v.phase_angle = v.rotor_angle;
-                    volts = v.initvalue.abs();
-                }
-            }
-            SINE => {
-                let lead = if v.out_dir && !self.force_trap {
-                    v.lead_angle / -360.0
-                } else {
-                    v.lead_angle / 360.0
-                };
-                let lagcomped =
-                    self.long_rawcounts + (self.long_rawcounts - self.old_long_rawcounts) / 2;
-                let electrical = lagcomped
-                    .wrapping_sub(i64::from(v.offset_measured))
-                    .wrapping_sub(i64::from(v.encoder_offset))
-                    .wrapping_mul(i64::from(v.poles))
-                    / 2;
-                v.rotor_angle = electrical as f64 / f64::from(v.scale);
-                v.rotor_angle -= v.rotor_angle.floor();
-                v.phase_angle = v.rotor_angle + lead;
-                v.phase_angle -= v.phase_angle.floor();
-            }
-            0x03 | 0x0b => {
-                v.in_type = SINE;
-                return Some(Message::HallAndAbsolute);
-            }
-            0x06 | 0x07 | 0x0e | 0x0f => {
-                v.in_type = DISABLED;
-                return Some(Message::TwoEncoders);
-            }
-            0x08 => {
-                v.in_type = DISABLED;
-                return Some(Message::IndexOnly);
-            }
-            0x09 => {
-                v.in_type = 0x01;
-                return Some(Message::HallAndIndex);
-            }
-            0x0a => {
-                v.in_type = SINE;
-                return Some(Message::AbsoluteAndIndex);
-            }
-            _ => {
-                v.in_type = DISABLED;
-                return Some(Message::UnknownInput);
-            }
-        }
-
+        self.track_counts(v);
+        let (mut trap, mut ph) = match self.sense(v, period, &mut volts) {
+            Sensed::Angles { trap, ph } => (trap, ph),
+            Sensed::Done(message) => return message,
+        };
         if !trap {
             // The trapezoidal excitation for this rotor angle.
             let i = (0..8)
@@ -399,6 +213,243 @@ impl Bldc {
         v.out = volts;
         v.out_abs = volts.abs();
         self.outputs(v, ph, trap)
+    }
+
+    /// Re-arms quadrature initialisation on a rising `init` and extends
+    /// the encoder's raw count to 64 bits.
+    fn track_counts(&mut self, v: &mut BldcVars) {
+        let p = self.personality;
+        if p & (HALL | QUADRATURE) == QUADRATURE {
+            if v.init && !self.old_init && v.init_done {
+                v.init_done = false;
+                v.in_type = UNSET;
+            } else {
+                self.old_init = v.init;
+            }
+        }
+        if p & (ABSOLUTE | QUADRATURE) != 0 {
+            self.old_long_rawcounts = self.long_rawcounts;
+            self.long_rawcounts += i64::from(v.rawcounts.wrapping_sub(self.old_rawcounts));
+            self.old_rawcounts = v.rawcounts;
+        }
+    }
+
+    /// The rotor and phase angles from the inputs the personality has, by
+    /// the input stage the component is in (`v.in_type`); the stages that
+    /// align or home may change `volts`.
+    fn sense(&mut self, v: &mut BldcVars, period: i64, volts: &mut f64) -> Sensed {
+        match v.in_type {
+            DISABLED => Sensed::Done(None),
+            UNSET => {
+                self.start(v);
+                Sensed::Done(None)
+            }
+            0x00 => {
+                v.phase_angle += v.frequency * period as f64 / 1_000_000_000.0;
+                v.phase_angle -= v.phase_angle.floor();
+                v.rotor_angle = v.phase_angle;
+                Sensed::NO_PHASES
+            }
+            0x01 | 0x05 | 0x0d => self.sense_hall(v),
+            0x10 | 0x14 | 0x1c => self.sense_fanuc(v),
+            0x04 => self.align(v, period, volts),
+            0x0c => self.seek_index(v, period, volts),
+            SINE => {
+                self.sense_encoder(v);
+                Sensed::NO_PHASES
+            }
+            _ => Sensed::Done(Some(Self::refuse(v))),
+        }
+    }
+
+    /// The first call: the input and output types from the personality.
+    fn start(&mut self, v: &mut BldcVars) {
+        let p = self.personality;
+        v.in_type = (p & 0xff) as i32;
+        if v.in_type & INDEX as i32 != 0 {
+            v.index_enable = true;
+        }
+        self.counter = ALIGN_TIME[0];
+        v.out_type = (p & 0x7f00) as i32;
+        self.force_trap = p & TRAPEZOIDAL != 0;
+    }
+
+    /// Hall sensors (with homing to a Hall edge or to the index).
+    fn sense_hall(&mut self, v: &mut BldcVars) -> Sensed {
+        if v.pattern as usize >= PATTERNS {
+            v.pattern = 0;
+            return Sensed::Done(Some(Message::BadPattern));
+        }
+        let hall = (v.hall[0] as usize) << 2 | (v.hall[1] as usize) << 1 | v.hall[2] as usize;
+        let ph = COMMUTATION[v.pattern as usize * 8 + hall];
+        // A Hall state the pattern never shows has no angle: 0.
+        let i = find(&PHASES, 0, ph);
+        v.rotor_angle = ANGLES.get(i).copied().unwrap_or(0.0);
+        v.rotor_angle -= v.rotor_angle.floor();
+        v.phase_angle = if v.out_dir {
+            v.rotor_angle + 0.25
+        } else {
+            v.rotor_angle - 0.25
+        };
+        v.phase_angle -= v.phase_angle.floor();
+        if ph & self.old_ph == 0 {
+            v.hall_error = true;
+        }
+        if i64::from(v.pattern) != self.old_pattern {
+            v.hall_error = false;
+        }
+        if !self.force_trap {
+            let i = find(&PHASES, 1, ph);
+            if v.in_type == 0x05 && self.old_ph != 0 && ph != self.old_ph && i < 7 {
+                // Homing to the Hall edge just crossed.
+                v.rotor_angle = if PHASES[i - 1] == self.old_ph {
+                    (ANGLES[i] + ANGLES[i - 1]) / 2.0
+                } else {
+                    (ANGLES[i] + ANGLES[i + 1]) / 2.0
+                };
+                self.home_to_edge(v);
+            } else if v.in_type == 0x0d && !v.index_enable {
+                v.offset_measured = self.long_rawcounts as i32;
+                v.in_type = SINE;
+            }
+            self.old_ph = ph;
+            self.old_pattern = i64::from(v.pattern);
+        }
+        Sensed::Angles { trap: true, ph }
+    }
+
+    /// Fanuc Gray-code commutation (with homing to a code edge or to the
+    /// index).
+    fn sense_fanuc(&mut self, v: &mut BldcVars) -> Sensed {
+        let ph = v.fanuc[0] as u8
+            | (v.fanuc[1] as u8) << 1
+            | (v.fanuc[2] as u8) << 2
+            | (v.fanuc[3] as u8) << 3;
+        let i = find(&GRAY_CODES[..16], 0, ph);
+        v.rotor_angle = GRAY_ANGLES[i] + 0.03125;
+        v.rotor_angle -= v.rotor_angle.floor();
+        v.phase_angle = if v.out_dir {
+            v.rotor_angle - 0.25
+        } else {
+            v.rotor_angle + 0.25
+        };
+        v.phase_angle -= v.phase_angle.floor();
+        if !self.force_trap {
+            if v.in_type == 0x14 && self.old_ph != 0 && ph != self.old_ph {
+                let i = find(&GRAY_CODES[..15], 1, ph);
+                // LinuxCNC compares with the Hall sequence here
+                // (reading past it for later codes); past its
+                // end nothing matches.
+                v.rotor_angle = if PHASES.get(i - 1) == Some(&self.old_ph) {
+                    GRAY_ANGLES[i]
+                } else {
+                    GRAY_ANGLES[i + 1]
+                };
+                self.home_to_edge(v);
+            } else if v.in_type == 0x1c && !v.index_enable {
+                v.offset_measured = self.long_rawcounts as i32;
+                v.in_type = SINE;
+            }
+            self.old_ph = ph;
+        }
+        Sensed::Angles { trap: false, ph }
+    }
+
+    /// An incremental encoder without sensors: pulls the rotor to known
+    /// angles along the alignment ramp, then takes the offset.
+    fn align(&mut self, v: &mut BldcVars, period: i64, volts: &mut f64) -> Sensed {
+        if !v.init {
+            return Sensed::Done(None);
+        }
+        if v.init_done {
+            return Sensed::Done(Some(Message::HomingState));
+        }
+        if self.counter <= 0.0 {
+            v.offset_measured = self.offset_at(v, v.phase_angle);
+            self.counter = ALIGN_TIME[0];
+            self.old_init = true;
+            v.init_done = true;
+            v.in_type = SINE;
+            return Sensed::Done(None);
+        }
+        v.init_done = false;
+        // The breakpoint segment the counter is in (i in 1..=5).
+        let i = (0..6)
+            .take_while(|&i| ALIGN_TIME[i] >= self.counter)
+            .count()
+            .clamp(1, 5);
+        let frac = |t: &[f64; 6]| {
+            t[i - 1]
+                + (t[i] - t[i - 1]) * (self.counter - ALIGN_TIME[i - 1])
+                    / (ALIGN_TIME[i] - ALIGN_TIME[i - 1])
+        };
+        *volts = v.initvalue * frac(&ALIGN_CURRENT);
+        v.phase_angle = frac(&ALIGN_ANGLE);
+        v.phase_angle -= v.phase_angle.floor();
+        self.counter -= period as f64 * 1e-9;
+        v.rotor_angle = v.phase_angle - v.drive_offset / 360.0;
+        v.rotor_angle -= v.rotor_angle.floor();
+        Sensed::NO_PHASES
+    }
+
+    /// An encoder with index: turns slowly until the index latches.
+    fn seek_index(&mut self, v: &mut BldcVars, period: i64, volts: &mut f64) -> Sensed {
+        if !v.init {
+            return Sensed::Done(None);
+        }
+        if !v.index_enable {
+            v.offset_measured = self.long_rawcounts as i32;
+            self.counter = ALIGN_TIME[0];
+            self.old_init = true;
+            v.init_done = true;
+            v.in_type = SINE;
+        } else if !v.init_done {
+            // Turn slowly until the encoder latches its index.
+            if v.initvalue < 0.0 {
+                v.rotor_angle -= period as f64 / 1_000_000_000.0;
+            } else {
+                v.rotor_angle += period as f64 / 1_000_000_000.0;
+            }
+            v.rotor_angle -= v.rotor_angle.floor();
+            v.phase_angle = v.rotor_angle;
+            *volts = v.initvalue.abs();
+        }
+        Sensed::NO_PHASES
+    }
+
+    /// Sinusoidal commutation from the encoder count and the measured
+    /// offset, with the lead angle.
+    fn sense_encoder(&self, v: &mut BldcVars) {
+        let lead = if v.out_dir && !self.force_trap {
+            v.lead_angle / -360.0
+        } else {
+            v.lead_angle / 360.0
+        };
+        let lagcomped = self.long_rawcounts + (self.long_rawcounts - self.old_long_rawcounts) / 2;
+        let electrical = lagcomped
+            .wrapping_sub(i64::from(v.offset_measured))
+            .wrapping_sub(i64::from(v.encoder_offset))
+            .wrapping_mul(i64::from(v.poles))
+            / 2;
+        v.rotor_angle = electrical as f64 / f64::from(v.scale);
+        v.rotor_angle -= v.rotor_angle.floor();
+        v.phase_angle = v.rotor_angle + lead;
+        v.phase_angle -= v.phase_angle.floor();
+    }
+
+    /// An input combination the component cannot use: the stage it falls
+    /// back to, and what to tell the user.
+    fn refuse(v: &mut BldcVars) -> Message {
+        let (next, message) = match v.in_type {
+            0x03 | 0x0b => (SINE, Message::HallAndAbsolute),
+            0x06 | 0x07 | 0x0e | 0x0f => (DISABLED, Message::TwoEncoders),
+            0x08 => (DISABLED, Message::IndexOnly),
+            0x09 => (0x01, Message::HallAndIndex),
+            0x0a => (SINE, Message::AbsoluteAndIndex),
+            _ => (DISABLED, Message::UnknownInput),
+        };
+        v.in_type = next;
+        message
     }
 
     /// Switches to sinusoidal commutation once homed on a sensor edge,

@@ -140,7 +140,8 @@ impl Moveoff {
         }
     }
 
-    /// The current state.
+    /// The current state (for tests).
+    #[cfg(test)]
     pub fn state(&self) -> State {
         self.state
     }

@@ -208,187 +208,219 @@ impl Carousel {
         self.old_unhome = v.unhome;
         let align = r.align;
 
-        // Each arm either returns or names the state to fall into.
+        // Each state either ends this call (None) or names the state to
+        // fall into within it.
         let mut state = v.state;
-        loop {
-            match state {
-                IDLE => {
-                    v.motor_dir = 0;
-                    if v.jog_fwd || (v.jog_rev && c.bidirectional) {
-                        if c.encoding.needs_homing() && !v.homed {
-                            v.state = HOME_START;
-                            return;
-                        }
-                        self.target = v.current_position + v.jog_fwd as i32 - v.jog_rev as i32;
-                        if self.target > c.pockets {
-                            self.target = 1;
-                        }
-                        if self.target < 1 {
-                            self.target = c.pockets;
-                        }
-                        if v.jog_fwd {
-                            Self::run(v, 1);
-                        }
-                        if v.jog_rev {
-                            Self::run(v, -1);
-                        }
-                        v.active = true;
-                        v.state = JOG;
-                        return;
-                    }
-                    v.motor_vel = v.hold_dc;
-                    if !v.enable {
-                        return;
-                    }
-                    v.active = true;
-                    if c.encoding.needs_homing() && !v.homed {
-                        v.state = HOME_START;
-                        return;
-                    }
-                    v.state = CHOOSE;
-                    v.ready = false;
-                    state = CHOOSE;
-                }
-                CHOOSE => {
-                    let (cur, half) = (v.current_position, c.pockets / 2);
-                    let dir = if !c.bidirectional {
-                        1
-                    } else if cur < mod_pocket {
-                        if mod_pocket - cur > half {
-                            -1
-                        } else {
-                            1
-                        }
-                    } else if cur - mod_pocket > half {
-                        1
-                    } else {
-                        -1
-                    };
-                    Self::run(v, dir);
-                    v.state = MOVING;
-                    state = MOVING;
-                }
-                MOVING => {
-                    if v.current_position != mod_pocket && v.enable {
-                        return;
-                    }
-                    if v.rev_pulse > 0.0 {
-                        v.motor_fwd = false;
-                        v.motor_rev = true;
-                        v.motor_vel = v.rev_dc;
-                        v.timer = v.rev_pulse;
-                        v.state = REV_PULSE;
-                    } else if v.align_dc != 0.0 {
-                        v.motor_vel = 0.0;
-                        v.timer = v.decel_time;
-                        v.state = DECEL;
-                    } else {
-                        Self::arrive(v);
-                        v.state = DONE;
-                    }
-                    return;
-                }
-                REV_PULSE => {
-                    v.timer -= fperiod;
-                    if v.timer > 0.0 {
-                        return;
-                    }
-                    v.state = DONE;
-                    Self::arrive(v);
-                    return;
-                }
-                DECEL => {
-                    v.timer -= fperiod;
-                    if v.timer > 0.0 {
-                        return;
-                    }
-                    v.motor_vel = -v.align_dc;
-                    v.state = if v.motor_dir == 1 { BACK_ON } else { BACK_OFF };
-                    return;
-                }
-                BACK_ON => {
-                    if align {
-                        v.state = BACK_OFF;
-                    }
-                    return;
-                }
-                BACK_OFF => {
-                    if !align {
-                        v.motor_vel = v.align_dc;
-                        v.state = CREEP;
-                    }
-                    return;
-                }
-                CREEP => {
-                    if align {
-                        Self::arrive(v);
-                        v.state = DONE;
-                    }
-                    return;
-                }
-                DONE => {
-                    if !v.enable {
-                        v.state = IDLE;
-                    }
-                    return;
-                }
-                HOME_START => {
-                    v.homed = false;
-                    v.homing = true;
-                    Self::run(v, 1);
-                    v.index_enable = true;
-                    v.state = HOME_WAIT;
-                    state = HOME_WAIT;
-                }
-                HOME_WAIT => {
-                    let s = |i| sense(&v.sense, i);
-                    let index = if c.encoding == Encoding::Counts {
-                        s(0)
-                    } else {
-                        s(0) && s(1)
-                    };
-                    if !v.index_enable || (!self.old_index && index) {
-                        v.current_position = 1;
-                        v.homed = true;
-                        v.homing = false;
-                        v.active = false;
-                        v.motor_fwd = false;
-                        v.motor_rev = false;
-                        v.motor_vel = 0.0;
-                        self.base_counts = v.counts.wrapping_sub(v.home_offset);
-                        if v.align_dc == 0.0 {
-                            v.state = IDLE;
-                        } else {
-                            v.timer = v.decel_time;
-                            v.state = DECEL;
-                        }
-                    }
-                    // Index and pocket sensor together, in every mode.
-                    self.old_index = s(0) && s(1);
-                    return;
-                }
-                JOG => {
-                    if v.current_position != self.target || (v.align_dc != 0.0 && !align) {
-                        return;
-                    }
-                    v.motor_fwd = false;
-                    v.motor_rev = false;
-                    v.motor_vel = v.hold_dc;
-                    v.active = false;
-                    if v.jog_fwd || v.jog_rev {
-                        return; // the button must be released first
-                    }
-                    if v.align_dc != 0.0 {
-                        v.motor_vel = -v.align_dc;
-                        v.timer = v.decel_time;
-                        v.state = DECEL;
-                    } else {
-                        v.state = IDLE;
-                    }
-                    return;
-                }
-                _ => return,
+        while let Some(next) = match state {
+            IDLE => self.idle(c, v),
+            CHOOSE => Some(Self::choose(c, v, mod_pocket)),
+            MOVING => {
+                Self::moving(v, mod_pocket);
+                None
             }
+            REV_PULSE | DECEL | BACK_ON | BACK_OFF | CREEP | DONE => {
+                Self::settle(state, v, fperiod, align);
+                None
+            }
+            HOME_START => Some(Self::home_start(v)),
+            HOME_WAIT => {
+                self.home_wait(c, v);
+                None
+            }
+            JOG => {
+                self.jog(v, align);
+                None
+            }
+            _ => None,
+        } {
+            state = next;
+        }
+    }
+
+    /// Waiting: starts a jog, homing or a move to the requested pocket.
+    fn idle(&mut self, c: &Config, v: &mut CarouselVars) -> Option<i32> {
+        v.motor_dir = 0;
+        if v.jog_fwd || (v.jog_rev && c.bidirectional) {
+            if c.encoding.needs_homing() && !v.homed {
+                v.state = HOME_START;
+                return None;
+            }
+            self.target = v.current_position + v.jog_fwd as i32 - v.jog_rev as i32;
+            if self.target > c.pockets {
+                self.target = 1;
+            }
+            if self.target < 1 {
+                self.target = c.pockets;
+            }
+            if v.jog_fwd {
+                Self::run(v, 1);
+            }
+            if v.jog_rev {
+                Self::run(v, -1);
+            }
+            v.active = true;
+            v.state = JOG;
+            return None;
+        }
+        v.motor_vel = v.hold_dc;
+        if !v.enable {
+            return None;
+        }
+        v.active = true;
+        if c.encoding.needs_homing() && !v.homed {
+            v.state = HOME_START;
+            return None;
+        }
+        v.state = CHOOSE;
+        v.ready = false;
+        Some(CHOOSE)
+    }
+
+    /// Chooses the shorter way round (forward only unless bidirectional).
+    fn choose(c: &Config, v: &mut CarouselVars, mod_pocket: i32) -> i32 {
+        let (cur, half) = (v.current_position, c.pockets / 2);
+        let dir = if !c.bidirectional {
+            1
+        } else if cur < mod_pocket {
+            if mod_pocket - cur > half {
+                -1
+            } else {
+                1
+            }
+        } else if cur - mod_pocket > half {
+            1
+        } else {
+            -1
+        };
+        Self::run(v, dir);
+        v.state = MOVING;
+        MOVING
+    }
+
+    /// Moving: at the pocket (or disabled), pulses back, decelerates to
+    /// align, or stops.
+    fn moving(v: &mut CarouselVars, mod_pocket: i32) {
+        if v.current_position != mod_pocket && v.enable {
+            return;
+        }
+        if v.rev_pulse > 0.0 {
+            v.motor_fwd = false;
+            v.motor_rev = true;
+            v.motor_vel = v.rev_dc;
+            v.timer = v.rev_pulse;
+            v.state = REV_PULSE;
+        } else if v.align_dc != 0.0 {
+            v.motor_vel = 0.0;
+            v.timer = v.decel_time;
+            v.state = DECEL;
+        } else {
+            Self::arrive(v);
+            v.state = DONE;
+        }
+    }
+
+    /// The states after the pocket is reached: the reverse pulse, the
+    /// deceleration and alignment creep, and done.
+    fn settle(state: i32, v: &mut CarouselVars, fperiod: f64, align: bool) {
+        match state {
+            REV_PULSE => {
+                v.timer -= fperiod;
+                if v.timer > 0.0 {
+                    return;
+                }
+                v.state = DONE;
+                Self::arrive(v);
+            }
+            DECEL => {
+                v.timer -= fperiod;
+                if v.timer > 0.0 {
+                    return;
+                }
+                v.motor_vel = -v.align_dc;
+                v.state = if v.motor_dir == 1 { BACK_ON } else { BACK_OFF };
+            }
+            BACK_ON => {
+                if align {
+                    v.state = BACK_OFF;
+                }
+            }
+            BACK_OFF => {
+                if !align {
+                    v.motor_vel = v.align_dc;
+                    v.state = CREEP;
+                }
+            }
+            CREEP => {
+                if align {
+                    Self::arrive(v);
+                    v.state = DONE;
+                }
+            }
+            _ => {
+                if !v.enable {
+                    v.state = IDLE;
+                }
+            }
+        }
+    }
+
+    /// Starts homing: forward, index armed.
+    fn home_start(v: &mut CarouselVars) -> i32 {
+        v.homed = false;
+        v.homing = true;
+        Self::run(v, 1);
+        v.index_enable = true;
+        v.state = HOME_WAIT;
+        HOME_WAIT
+    }
+
+    /// Homing: waits for the index (and pocket sensor) edge.
+    fn home_wait(&mut self, c: &Config, v: &mut CarouselVars) {
+        let s = |i| sense(&v.sense, i);
+        let index = if c.encoding == Encoding::Counts {
+            s(0)
+        } else {
+            s(0) && s(1)
+        };
+        if !v.index_enable || (!self.old_index && index) {
+            v.current_position = 1;
+            v.homed = true;
+            v.homing = false;
+            v.active = false;
+            v.motor_fwd = false;
+            v.motor_rev = false;
+            v.motor_vel = 0.0;
+            self.base_counts = v.counts.wrapping_sub(v.home_offset);
+            if v.align_dc == 0.0 {
+                v.state = IDLE;
+            } else {
+                v.timer = v.decel_time;
+                v.state = DECEL;
+            }
+        }
+        // Index and pocket sensor together, in every mode.
+        self.old_index = s(0) && s(1);
+    }
+
+    /// Jogging: stops at the target pocket (aligned), then waits for the
+    /// button's release.
+    fn jog(&self, v: &mut CarouselVars, align: bool) {
+        if v.current_position != self.target || (v.align_dc != 0.0 && !align) {
+            return;
+        }
+        v.motor_fwd = false;
+        v.motor_rev = false;
+        v.motor_vel = v.hold_dc;
+        v.active = false;
+        if v.jog_fwd || v.jog_rev {
+            return; // the button must be released first
+        }
+        if v.align_dc != 0.0 {
+            v.motor_vel = -v.align_dc;
+            v.timer = v.decel_time;
+            v.state = DECEL;
+        } else {
+            v.state = IDLE;
         }
     }
 }

@@ -38,13 +38,15 @@ impl SocketCanBus {
     /// is a CAN interface and is up, then binds a raw socket, installs
     /// the filters and makes it non-blocking.
     pub fn open(iface: &str, filters: &Filters) -> Result<SocketCanBus, Error> {
-        let bad = |reason: String| Error::Interface {
-            iface: iface.to_string(),
-            reason,
+        let bad = |op: &'static str| {
+            move |source: io::Error| Error::Socket {
+                iface: iface.to_string(),
+                op,
+                source,
+            }
         };
-        check_interface(iface).map_err(bad)?;
-        let sock =
-            CanSocket::open(iface).map_err(|e| bad(format!("opening a CAN_RAW socket: {e}")))?;
+        check_interface(iface)?;
+        let sock = CanSocket::open(iface).map_err(bad("opening a CAN_RAW socket"))?;
         let kernel_filters: Vec<CanFilter> = filters
             .frames
             .iter()
@@ -55,11 +57,11 @@ impl SocketCanBus {
         } else {
             sock.set_filters(&kernel_filters)
         }
-        .map_err(|e| bad(format!("setting receive filters: {e}")))?;
+        .map_err(bad("setting receive filters"))?;
         sock.set_error_filter(filters.error_mask)
-            .map_err(|e| bad(format!("setting the error-frame filter: {e}")))?;
+            .map_err(bad("setting the error-frame filter"))?;
         sock.set_nonblocking(true)
-            .map_err(|e| bad(format!("making the socket non-blocking: {e}")))?;
+            .map_err(bad("making the socket non-blocking"))?;
         Ok(SocketCanBus {
             sock,
             iface: iface.to_string(),
@@ -82,32 +84,34 @@ impl SocketCanBus {
 }
 
 /// Checks through sysfs that `iface` exists, is CAN (type 280) and is up.
-fn check_interface(iface: &str) -> Result<(), String> {
+fn check_interface(iface: &str) -> Result<(), Error> {
+    let iface_name = || iface.to_string();
     if iface.is_empty() || iface.contains('/') || iface.len() > 15 {
-        return Err("not a valid interface name".into());
+        return Err(Error::BadInterfaceName {
+            iface: iface_name(),
+        });
     }
     let dir = std::path::Path::new("/sys/class/net").join(iface);
     let read = |f: &str| std::fs::read_to_string(dir.join(f)).map(|s| s.trim().to_string());
     let Ok(kind) = read("type") else {
-        return Err(format!(
-            "no such network interface (see `ip link`; for a virtual bus: \
-             ip link add dev {iface} type vcan && ip link set {iface} up)"
-        ));
+        return Err(Error::NoInterface {
+            iface: iface_name(),
+        });
     };
     if kind != "280" {
-        return Err(format!(
-            "not a CAN interface (ARPHRD type {kind}, CAN is 280)"
-        ));
+        return Err(Error::NotCan {
+            iface: iface_name(),
+            kind,
+        });
     }
     let flags = read("flags")
         .ok()
         .and_then(|f| u32::from_str_radix(f.trim_start_matches("0x"), 16).ok())
         .unwrap_or(0);
     if flags & IFF_UP == 0 {
-        return Err(format!(
-            "the interface is down (ip link set {iface} up type can bitrate 1000000, \
-             which needs CAP_NET_ADMIN)"
-        ));
+        return Err(Error::InterfaceDown {
+            iface: iface_name(),
+        });
     }
     Ok(())
 }

@@ -47,7 +47,14 @@ pub const SUPPORTED_MODES: u32 =
 pub fn build(node: u8, id: &Identity) -> Od {
     let n = i64::from(node);
     let mut od = Od::new();
-    // Communication profile.
+    communication(&mut od, n, id);
+    pdos(&mut od, n);
+    device_profile(&mut od);
+    od
+}
+
+/// The communication profile (0x1000..0x1FFF) but the PDOs.
+fn communication(od: &mut Od, n: i64, id: &Identity) {
     od.add(
         obj::DEVICE_TYPE,
         0,
@@ -94,6 +101,10 @@ pub fn build(node: u8, id: &Identity) -> Od {
     od.add(obj::SDO_SERVER, 0, U8, Const, false, 2);
     od.add(obj::SDO_SERVER, 1, U32, Ro, false, 0x600 + n);
     od.add(obj::SDO_SERVER, 2, U32, Ro, false, 0x580 + n);
+}
+
+/// Four receive and four transmit PDOs with their default mappings.
+fn pdos(od: &mut Od, n: i64) {
     let rpdo_maps: [&[u32]; 4] = [
         &[obj::map_entry(0x6040, 0, 16)],
         &[obj::map_entry(0x6040, 0, 16), obj::map_entry(0x6060, 0, 8)],
@@ -131,7 +142,10 @@ pub fn build(node: u8, id: &Identity) -> Od {
             }
         }
     }
-    // Device profile.
+}
+
+/// The CiA 402 device profile (0x6000..).
+fn device_profile(od: &mut Od) {
     od.add(obj::ABORT_CONNECTION_OPTION, 0, I16, Rw, false, 1);
     od.limit(obj::ABORT_CONNECTION_OPTION, 0, 0, 3);
     od.add(obj::ERROR_CODE, 0, U16, Ro, true, 0);
@@ -213,5 +227,4 @@ pub fn build(node: u8, id: &Identity) -> Od {
         false,
         i64::from(SUPPORTED_MODES),
     );
-    od
 }

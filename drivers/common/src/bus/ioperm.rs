@@ -243,7 +243,7 @@ mod asm {
     #[inline(always)]
     pub unsafe fn inb(port: u16) -> u8 {
         let v: u8;
-        // SAFETY (caller): the thread may access `port`.
+        // SAFETY: the caller guarantees the thread may access `port`.
         unsafe {
             asm!("in al, dx", out("al") v, in("dx") port, options(nomem, nostack, preserves_flags))
         };
@@ -252,7 +252,7 @@ mod asm {
     /// `out dx, al`.
     #[inline(always)]
     pub unsafe fn outb(port: u16, v: u8) {
-        // SAFETY (caller): the thread may access `port`.
+        // SAFETY: the caller guarantees the thread may access `port`.
         unsafe {
             asm!("out dx, al", in("dx") port, in("al") v, options(nomem, nostack, preserves_flags))
         };
@@ -261,7 +261,7 @@ mod asm {
     #[inline(always)]
     pub unsafe fn inw(port: u16) -> u16 {
         let v: u16;
-        // SAFETY (caller): the thread may access `port..port+2`.
+        // SAFETY: the caller guarantees the thread may access `port..port+2`.
         unsafe {
             asm!("in ax, dx", out("ax") v, in("dx") port, options(nomem, nostack, preserves_flags))
         };
@@ -270,7 +270,7 @@ mod asm {
     /// `out dx, ax`.
     #[inline(always)]
     pub unsafe fn outw(port: u16, v: u16) {
-        // SAFETY (caller): the thread may access `port..port+2`.
+        // SAFETY: the caller guarantees the thread may access `port..port+2`.
         unsafe {
             asm!("out dx, ax", in("dx") port, in("ax") v, options(nomem, nostack, preserves_flags))
         };
@@ -279,7 +279,7 @@ mod asm {
     #[inline(always)]
     pub unsafe fn inl(port: u16) -> u32 {
         let v: u32;
-        // SAFETY (caller): the thread may access `port..port+4`.
+        // SAFETY: the caller guarantees the thread may access `port..port+4`.
         unsafe {
             asm!("in eax, dx", out("eax") v, in("dx") port, options(nomem, nostack, preserves_flags))
         };
@@ -288,7 +288,7 @@ mod asm {
     /// `out dx, eax`.
     #[inline(always)]
     pub unsafe fn outl(port: u16, v: u32) {
-        // SAFETY (caller): the thread may access `port..port+4`.
+        // SAFETY: the caller guarantees the thread may access `port..port+4`.
         unsafe {
             asm!("out dx, eax", in("dx") port, in("eax") v, options(nomem, nostack, preserves_flags))
         };

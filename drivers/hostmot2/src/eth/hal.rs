@@ -12,6 +12,7 @@ use hal_driver::ForModule;
 
 use super::boards::{self, LEDS};
 use super::transport::EthTransport;
+use crate::error::Hm2Error;
 use crate::hal::{core, register_boards, Candidate, Source};
 use crate::lbp16::{self, addr, space};
 use crate::llio::Llio;
@@ -60,12 +61,11 @@ pub static HM2_ETH_MODULE: ModuleDef = ModuleDef {
 
 /// Parses one `board_ip` item: an IPv4 or IPv6 address, optionally with
 /// a port (`192.168.1.121`, `127.0.0.1:40123`, `[::1]:40123`).
-pub fn parse_board_address(s: &str) -> Result<SocketAddr, String> {
+pub fn parse_board_address(s: &str) -> Result<SocketAddr, Hm2Error> {
     if let Ok(ip) = s.parse::<IpAddr>() {
         return Ok(SocketAddr::new(ip, lbp16::UDP_PORT));
     }
-    s.parse::<SocketAddr>()
-        .map_err(|_| "not an IP address (a.b.c.d, optionally :port)".to_string())
+    s.parse::<SocketAddr>().map_err(|_| Hm2Error::NotAnAddress)
 }
 
 /// What a probe learned about a board.
@@ -153,10 +153,14 @@ fn load_hm2_eth(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
             host.flush_rt_log();
-            HalError::ModuleLoad {
-                module: HM2_ETH.into(),
-                reason: format!("board at {ip} ({peer}): {e}"),
-            }
+            HalError::module_failed(
+                HM2_ETH,
+                Hm2Error::EthBoard {
+                    address: ip.to_string(),
+                    peer,
+                    source: e,
+                },
+            )
         };
         let mut t = EthTransport::connect(peer).map_err(refuse)?;
         let found = probe(&mut t).map_err(refuse)?;

@@ -118,12 +118,6 @@ impl Watchdog {
         put(t, self.md.reg(r::STATUS), 0)
     }
 
-    /// Whether the board is stopped by a bite.
-    #[inline]
-    pub fn has_bit(&self) -> bool {
-        self.has_bit.get()
-    }
-
     /// Pets, through TRAM.
     #[inline]
     pub fn prepare_write(&self, buf: &mut [u32]) {

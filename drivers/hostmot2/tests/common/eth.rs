@@ -1,6 +1,10 @@
 //! A simulated Ethernet board served over UDP on 127.0.0.1 (a port of
 //! its own), registered through `EthTransport` on a HAL instance and
 //! driven cycle by cycle without threads.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use hal_core::{Host, HostConfig, MsgLevel, RtLog, Value};
 

@@ -1,6 +1,9 @@
 //! A simulated board registered on a HAL instance, driven cycle by cycle
 //! without threads, so module tests are exact.
-
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 #![allow(dead_code)]
 
 use std::sync::Arc;

@@ -232,14 +232,7 @@ pub fn prepare<C: Chip>(
 ) -> std::result::Result<Prepared<C>, I2cError> {
     let worker = worker_for(host, backend, at.bus)?;
     let bus_name = worker.bus().describe();
-    let reservation = worker
-        .reserve(at.addr, name)
-        .map_err(|by| I2cError::AddressInUse {
-            chip: name.into(),
-            bus: bus_name.clone(),
-            addr: at.addr,
-            by,
-        })?;
+    let reservation = worker.reserve(at.addr, name)?;
     if let Some(sim) = worker.sim() {
         sim.add_chip(at.addr, model());
     }

@@ -1,5 +1,9 @@
 //! Helpers shared by the hal-i2c integration tests.
 #![allow(dead_code)]
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::time::Duration;
 

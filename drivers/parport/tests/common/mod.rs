@@ -1,5 +1,9 @@
 //! Helpers shared by the hal_parport integration tests.
 #![allow(dead_code)]
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};

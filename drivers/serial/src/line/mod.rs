@@ -2,8 +2,9 @@
 //! layer's shape (hal-driver's guide, §1): accessors that describe it and
 //! count its errors, a real backend ([`TtyLine`], on the `serialport`
 //! crate) and a simulated one ([`SimLine`], a VFD model on simulated
-//! time). The Modbus master never knows which it has. [`ScriptLine`]
-//! plays back fixed bytes, for exact-reply tests and the fuzz targets.
+//! time). The Modbus master never knows which it has. `ScriptLine`
+//! (feature `testing`) plays back fixed bytes, for exact-reply tests and
+//! the fuzz targets.
 //!
 //! The line also owns time, because RTU framing is timing: the silence
 //! between frames ([`SerialLine::idle`]) and the reply timeouts pass on
@@ -11,6 +12,7 @@
 //! is simulated time, so a test of timeouts and retries takes no wall
 //! time at all.
 
+#[cfg(any(test, feature = "testing"))]
 mod script;
 mod settings;
 mod sim;
@@ -18,6 +20,7 @@ mod tty;
 
 use std::time::Duration;
 
+#[cfg(any(test, feature = "testing"))]
 pub use script::ScriptLine;
 pub use settings::{LineSettings, Parity};
 pub use sim::SimLine;

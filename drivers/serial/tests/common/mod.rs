@@ -1,6 +1,10 @@
 //! What the component tests share: a HAL instance of their own, pin
 //! access by name, the simulated drive on simulated time.
 #![allow(dead_code)]
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::Duration;

@@ -270,41 +270,43 @@ fn size_code(bits: u8) -> u8 {
 
 /// Checks a card's process data: what the driver can move, and that it
 /// fits the module's registers.
-fn check_process(r: &RemoteFound) -> std::result::Result<(), String> {
+fn check_process(r: &RemoteFound) -> std::result::Result<(), Hm2Error> {
     for p in &r.process {
         let ok = match p.data_type {
             dt::PAD | dt::BITS | dt::BOOLEAN => p.bits > 0,
             dt::UNSIGNED | dt::SIGNED | dt::STREAM | dt::ENCODER => (1..=32).contains(&p.bits),
             dt::FLOAT => p.bits == 32 || p.bits == 64,
             dt::ENCODER_HIGH | dt::ENCODER_LOW => {
-                return Err(format!(
-                    "record {}: split encoder counters are not supported",
-                    p.name
-                ))
+                return Err(Hm2Error::SplitEncoder {
+                    record: p.name.clone(),
+                })
             }
             t if records::data_type::is_nonvolatile(t) => {
-                return Err(format!(
-                    "Non-Volatile data type found in PTOC (record {}), the card's firmware is inconsistent",
-                    p.name
-                ))
+                return Err(Hm2Error::NonVolatileInPtoc {
+                    record: p.name.clone(),
+                })
             }
             t => {
-                return Err(format!("record {}: unknown data type 0x{t:02X}", p.name));
+                return Err(Hm2Error::UnknownDataType {
+                    record: p.name.clone(),
+                    data_type: t,
+                });
             }
         };
         if !ok {
-            return Err(format!(
-                "record {}: {} bits is not a width its type can have",
-                p.name, p.bits
-            ));
+            return Err(Hm2Error::BadRecordWidth {
+                record: p.name.clone(),
+                bits: p.bits,
+            });
         }
     }
     let (i, o) = r.widths();
     if i > MAX_DATA_BITS || o > MAX_DATA_BITS {
-        return Err(format!(
-            "Data width, {i} in / {o} out bits, exceeds the supported number of smart-serial 32-bit registers ({})",
-            reg::INTERFACES
-        ));
+        return Err(Hm2Error::ProcessTooWide {
+            inputs: i,
+            outputs: o,
+            registers: reg::INTERFACES,
+        });
     }
     Ok(())
 }
@@ -552,7 +554,7 @@ fn discover_port(
                 Err(Fail::Hm2(e)) => return Err(e),
                 Err(Fail::Record(e)) => return Err(context(e.to_string())),
             }
-            check_process(&found).map_err(context)?;
+            check_process(&found).map_err(|e| context(e.to_string()))?;
             log.info(format!(
                 "Smart Serial port {index} channel {c}: {} (unit 0x{:08X}) in mode {mode}",
                 found.name(),

@@ -1,0 +1,113 @@
+//! hm2-eth-sim: a simulated Mesa Ethernet board answering LBP16 on UDP,
+//! in a process of its own, so `loadrt hm2_eth` talks to it exactly as
+//! to a card on the network.
+
+use std::net::UdpSocket;
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Parser;
+use hal_core::userspace::ExitSignals;
+use hal_core::{ComponentKind, Instance};
+use hostmot2::sim::boards;
+use hostmot2::sim::eth::{EthBoard, EthIdentity};
+use hostmot2::sim::eth_server::{Faults, Server};
+use hostmot2::sim::{machine, Hm2Model};
+
+use hostmot2::eth_sim_args::Cli;
+
+fn main() {
+    let cli = Cli::parse();
+    if let Err(e) = run(cli) {
+        eprintln!("hm2-eth-sim: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn rate(name: &str, p: f64) -> Result<f64, String> {
+    if (0.0..=1.0).contains(&p) {
+        Ok(p)
+    } else {
+        Err(format!("--{name} {p}: a probability is between 0 and 1"))
+    }
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    let mut spec = boards::preset(&cli.board)
+        .filter(|_| boards::eth_name(&cli.board).is_some())
+        .ok_or_else(|| {
+            format!(
+                "--board {}: not a simulated Ethernet board ({})",
+                cli.board,
+                boards::ETH_PRESETS.join(", ")
+            )
+        })?;
+    spec.remotes = match cli.remote.as_str() {
+        "7i76" => vec![boards::seven_i76_on(0, 0)],
+        "7i77" if cli.board == "7i96s" => boards::seven_i77_on(0, 0).to_vec(),
+        "7i77" => return Err("--remote 7i77 needs two channels: --board 7i96s".into()),
+        "none" => Vec::new(),
+        other => return Err(format!("--remote {other}: 7i76, 7i77 or none")),
+    };
+    let faults = Faults {
+        drop_requests: rate("drop-requests", cli.drop_requests)?,
+        drop_writes: rate("drop-writes", cli.drop_writes)?,
+        drop_replies: rate("drop-replies", cli.drop_replies)?,
+        delay_rate: rate("delay", cli.delay)?,
+        delay: Duration::from_micros(cli.delay_us),
+        duplicate: rate("duplicate", cli.duplicate)?,
+        seed: cli.seed,
+    };
+    let name = boards::eth_name(&cli.board).expect("an Ethernet preset");
+    let model = Hm2Model::with_world(spec, Box::new(machine::preset(&cli.board)));
+    let board = EthBoard::new(model, EthIdentity::new(name));
+    let board = if cli.wall_clock {
+        board.with_wall_clock()
+    } else {
+        board.with_period(cli.period_ns)
+    };
+    let socket = UdpSocket::bind(cli.listen).map_err(|e| format!("{}: {e}", cli.listen))?;
+    let server = Server::new(socket, board, faults);
+    let addr = server.local_addr().map_err(|e| e.to_string())?;
+    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+    let hal = if cli.hal {
+        let inst = Instance::attach(&hal_core::instance_from_env()).map_err(|e| e.to_string())?;
+        let comp = inst
+            .new_component("hm2-eth-sim", ComponentKind::User)
+            .map_err(|e| e.to_string())?;
+        Some((inst, comp))
+    } else {
+        None
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    let serving = std::thread::spawn(move || server.run(&flag));
+    let line = format!(
+        "hm2-eth-sim: {name} (simulated {}) answering on {addr}",
+        cli.board
+    );
+    if cli.hal {
+        // Inside a HAL file stdout is the HAL session's output.
+        eprintln!("{line}");
+    } else {
+        println!("{line}");
+    }
+    if let Some((_, comp)) = &hal {
+        comp.ready().map_err(|e| e.to_string())?;
+    }
+    while !exit.requested() && !serving.is_finished() {
+        if let Some((inst, _)) = &hal {
+            if !inst.host_alive() {
+                break;
+            }
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    stop.store(true, Relaxed);
+    let result = serving
+        .join()
+        .map_err(|_| "the server thread panicked".to_string())?;
+    drop(hal);
+    result.map_err(|e| format!("{addr}: {e}"))
+}

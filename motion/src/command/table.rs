@@ -1,0 +1,493 @@
+//! Every motion command, described once: its fields, the opcode and
+//! words it travels in, and its `motion-cmd` command lines. [`commands!`]
+//! generates the rest (see `define`).
+
+use super::cli::args::{
+    arc_center, arc_normal, arc_turns, arc_words, blend_tolerance, coordinates, end_words, fixed,
+    flag, homing_keys, int, num, probe_type, term_cond, world_axis,
+};
+use super::define::commands;
+use super::{LineKind, ProbeType, TermCond};
+use crate::kins::Pose;
+use crate::vocab::HomingConfig;
+
+commands! {
+    /// A command, as LinuxCNC's `EMCMOT_*` commands of the same names.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub enum Command {
+        // ---- The machine: enable, modes ----
+
+        /// Stop every free-mode move at its acceleration limit, cancel jogs,
+        /// clear the motion and joint error flags and the amp fault flags.
+        Abort = 1, cli basic "abort" {};
+        /// Request the enabled state (amplifiers on). Needs `motion.enable`.
+        Enable = 2, cli basic "enable" {};
+        /// Request the disabled state: planners stopped, amplifiers off.
+        Disable = 3, cli basic "disable" {};
+        /// Request free (joint) mode. Refused while something moves; while
+        /// motion is disabled it is remembered and takes effect on enable.
+        Free = 4, cli basic "free" {};
+        /// Request teleop (world jog) mode: axis jogs through the inverse
+        /// kinematics. Refused while something moves and, unless the
+        /// kinematics are identity, before every active joint is homed; while
+        /// motion is disabled it is remembered and takes effect on enable.
+        Teleop = 5, cli basic "teleop" {};
+        /// Request coordinated mode, with the same requirements as
+        /// [`Command::Teleop`]: the queued moves run in it.
+        Coord = 6, cli basic "coord" {};
+
+        // ---- Joints (free mode) ----
+
+        /// Jog `joint` continuously at `vel` (sign = direction) until aborted
+        /// or until the jog limit.
+        JogCont {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+        } = 7, cli basic "jog-cont" { joint: int(0, "JOINT"), vel: num(1, "VEL") };
+        /// Move `joint` by `offset` (≥ 0) in the direction of `vel`, from the
+        /// planner's current target, so increments accumulate.
+        JogIncr {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+            /// How far to move (at least 0).
+            offset: f64,
+        } = 8, cli basic "jog-incr" {
+            joint: int(0, "JOINT"),
+            vel: num(1, "VEL"),
+            offset: num(2, "DISTANCE"),
+        };
+        /// Move `joint` to `pos` (clamped into its jog limits) at speed `|vel|`.
+        JogAbs {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+            /// Where to move.
+            pos: f64,
+        } = 9, cli basic "jog-abs" {
+            joint: int(0, "JOINT"),
+            vel: num(1, "VEL"),
+            pos: num(2, "POSITION"),
+        };
+        /// Stop the jog of `joint` at its acceleration limit.
+        JogAbort {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 10, cli basic "jog-abort" { joint: int(0, "JOINT") };
+        /// Make `joint` active: its inputs are read, it is planned and checked.
+        JointActivate {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 11, cli basic "activate" { joint: int(0, "JOINT") };
+        /// Make `joint` inactive; its amplifier is switched off too.
+        JointDeactivate {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 12, cli basic "deactivate" { joint: int(0, "JOINT") };
+        /// `joint < 0`: end any limit override. Otherwise override the hard
+        /// limits that are tripped now, until the end of the next jog.
+        OverrideLimits {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 13, cli basic "override-limits" { joint: int(0, "JOINT") };
+        /// The free-mode SCALE: every joint planner's velocity limit is
+        /// multiplied by it (clamped to 0..=1). LinuxCNC's FEED_SCALE has no
+        /// effect in free mode; here it is the jog override.
+        Scale {
+            /// The scale, clamped to 0..=1.
+            scale: f64,
+        } = 14, cli basic "scale" { scale: num(0, "VALUE") };
+        /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
+        /// amplifier follows ENABLE/DISABLE and has no side channel
+        /// (reference "→ Design").
+        EnableAmplifier {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 15, cli basic "amp-enable" { joint: int(0, "JOINT") };
+        /// LinuxCNC's legacy DISABLE_AMPLIFIER: refused like
+        /// [`Command::EnableAmplifier`].
+        DisableAmplifier {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 16, cli basic "amp-disable" { joint: int(0, "JOINT") };
+
+        // ---- Joint configuration ----
+
+        /// Soft limits of `joint`.
+        SetJointPositionLimits {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Lower limit.
+            min: f64,
+            /// Upper limit.
+            max: f64,
+        } = 17, cli basic "set-limits" {
+            joint: int(0, "JOINT"),
+            min: num(1, "MIN"),
+            max: num(2, "MAX"),
+        };
+        /// Maximum velocity of `joint` (> 0).
+        SetJointVelLimit {
+            /// The joint number.
+            [slot] joint: i32,
+            /// The velocity limit (> 0).
+            vel: f64,
+        } = 18, cli basic "set-vel-limit" { joint: int(0, "JOINT"), vel: num(1, "VEL") };
+        /// Maximum acceleration of `joint` (> 0).
+        SetJointAccLimit {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Acceleration.
+            acc: f64,
+        } = 19, cli basic "set-acc-limit" { joint: int(0, "JOINT"), acc: num(1, "ACC") };
+        /// Following-error limit at standstill (≥ 0).
+        SetJointMinFerror {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Following error.
+            ferror: f64,
+        } = 20, cli basic "set-min-ferror" { joint: int(0, "JOINT"), ferror: num(1, "VALUE") };
+        /// Following-error limit at the joint's maximum velocity (≥ 0).
+        SetJointMaxFerror {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Following error.
+            ferror: f64,
+        } = 21, cli basic "set-max-ferror" { joint: int(0, "JOINT"), ferror: num(1, "VALUE") };
+        /// Backlash of `joint` (≥ 0), taken up at each reversal.
+        SetJointBacklash {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Backlash.
+            backlash: f64,
+        } = 22, cli basic "set-backlash" { joint: int(0, "JOINT"), backlash: num(1, "VALUE") };
+        /// Restores the homing offset of `joint` (motor = joint + offset).
+        SetJointMotorOffset {
+            /// The joint number.
+            [slot] joint: i32,
+            /// The motor offset (motor position minus joint position).
+            offset: f64,
+        } = 23, cli basic "set-motor-offset" { joint: int(0, "JOINT"), offset: num(1, "VALUE") };
+        /// The world pose used as the first guess of iterative forward
+        /// kinematics.
+        SetWorldHome {
+            /// The world pose.
+            pose: Pose,
+        } = 24, cli basic "set-world-home" { pose: coordinates(0, "coordinate") };
+
+        // ---- Homing ----
+
+        /// JOINT_HOME: home `joint` (its whole group if its HOME_SEQUENCE is
+        /// negative), or with −1 every joint in HOME_SEQUENCE order. Needs
+        /// free mode, motion enabled, `motion.homing-inhibit` false and no
+        /// homing in progress.
+        Home {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 25, cli basic "home" { joint: int(0, "JOINT") };
+        /// JOINT_UNHOME: forget the reference of `joint`; −1 every active
+        /// joint, −2 the VOLATILE_HOME joints. Needs free mode or disabled,
+        /// and the joints standing still and not homing.
+        Unhome {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 26, cli basic "unhome" { joint: int(0, "JOINT") };
+        /// SET_JOINT_HOMING_PARAMS: the whole homing configuration of `joint`.
+        SetJointHomingParams {
+            /// The joint number.
+            [slot] joint: i32,
+            /// The homing configuration.
+            config: HomingConfig,
+        } = 27, cli basic "set-homing-params" {
+            joint: int(0, "JOINT"),
+            config: homing_keys(1),
+        };
+        /// UPDATE_JOINT_HOMING_PARAMS: HOME_OFFSET, HOME and HOME_SEQUENCE
+        /// only, allowed at run time (not while homing).
+        UpdateJointHomingParams {
+            /// The joint number.
+            [slot] joint: i32,
+            /// HOME_OFFSET.
+            offset: f64,
+            /// HOME: where the joint goes after homing.
+            home: f64,
+            /// HOME_SEQUENCE.
+            sequence: i32,
+        } = 28, cli basic "update-homing-params" {
+            joint: int(0, "JOINT"),
+            offset: num(1, "OFFSET"),
+            home: num(2, "HOME"),
+            sequence: int(3, "SEQUENCE"),
+        };
+
+        // ---- World axes (teleop mode) ----
+
+        /// Teleop mode: jog world axis `axis` (0..=8, X Y Z A B C U V W)
+        /// continuously at `vel` (sign = direction) towards its position limit.
+        AxisJogCont {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+        } = 29, cli basic "axis-jog-cont" { axis: world_axis(0), vel: num(1, "VEL") };
+        /// Teleop mode: move `axis` by `offset` (≥ 0) in the direction of
+        /// `vel`, from the planner's current target, so increments accumulate.
+        AxisJogIncr {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+            /// How far to move (at least 0).
+            offset: f64,
+        } = 30, cli basic "axis-jog-incr" {
+            axis: world_axis(0),
+            vel: num(1, "VEL"),
+            offset: num(2, "DIST"),
+        };
+        /// Teleop mode: move `axis` to `pos`, clamped into its position
+        /// limits, at speed `|vel|`.
+        AxisJogAbs {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Velocity; its sign gives the direction.
+            vel: f64,
+            /// Where to move.
+            pos: f64,
+        } = 31, cli basic "axis-jog-abs" { axis: world_axis(0), vel: num(1, "VEL"), pos: num(2, "POS") };
+        /// Stop the jog of `axis` at its acceleration limit.
+        AxisJogAbort {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+        } = 32, cli basic "axis-jog-abort" { axis: world_axis(0) };
+        /// Position limits of world axis `axis`.
+        SetAxisPositionLimits {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Lower limit.
+            min: f64,
+            /// Upper limit.
+            max: f64,
+        } = 33, cli basic "set-axis-limits" {
+            axis: world_axis(0),
+            min: num(1, "MIN"),
+            max: num(2, "MAX"),
+        };
+        /// Maximum velocity of world axis `axis` (> 0).
+        SetAxisVelLimit {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// The velocity limit (> 0).
+            vel: f64,
+        } = 34, cli basic "set-axis-vel-limit" { axis: world_axis(0), vel: num(1, "VEL") };
+        /// Maximum acceleration of world axis `axis` (> 0).
+        SetAxisAccLimit {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Acceleration.
+            acc: f64,
+        } = 35, cli basic "set-axis-acc-limit" { axis: world_axis(0), acc: num(1, "ACC") };
+
+        // ---- Queueing and the coordinated planner (coordinated mode) ----
+
+        /// SET_LINE: queue a straight move to `end`. `vel` is the programmed
+        /// speed along the path (feed moves; ignored for rapids); `id` the
+        /// motion id reported while it runs (the program line).
+        Line {
+            /// The end point.
+            end: Pose,
+            /// Programmed speed along the path, units per second.
+            vel: f64,
+            /// What kind of move.
+            kind: LineKind,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 36, cli planner "line" {
+            end: end_words(2),
+            vel: num(1, "VEL"),
+            kind: fixed(LineKind::Feed),
+            id: int(0, "ID"),
+        }, cli planner "rapid" {
+            end: end_words(1),
+            vel: fixed(0.0),
+            kind: fixed(LineKind::Traverse),
+            id: int(0, "ID"),
+        };
+        /// SET_CIRCLE: queue an arc or helix to `end` about the axis through
+        /// `center` along `normal`, counter-clockwise about `normal` (right-hand
+        /// rule) with `turns` extra full turns; a negative `turns` turns
+        /// clockwise with `-1 - turns` extra turns (LinuxCNC's encoding: G2 P n
+        /// is `-n`, G3 P n is `n - 1`). The other six axes move in proportion.
+        Circle {
+            /// The end point.
+            end: Pose,
+            /// A point on the arc's axis (XYZ).
+            center: [f64; 3],
+            /// The arc's axis direction (XYZ); it turns counter-clockwise about it.
+            normal: [f64; 3],
+            /// Extra full turns (negative: clockwise, see above).
+            turns: i32,
+            /// Programmed speed along the path, units per second.
+            vel: f64,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 37, cli planner "arc" {
+            end: arc_words(2),
+            center: arc_center(),
+            normal: arc_normal(),
+            turns: arc_turns(),
+            vel: num(1, "VEL"),
+            id: int(0, "ID"),
+        };
+        /// Queue a pause of `seconds` (G4) after the moves before it stop.
+        Dwell {
+            /// How long, in seconds.
+            seconds: f64,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 38, cli planner "dwell" { seconds: num(1, "SECONDS"), id: int(0, "ID") };
+        /// PROBE: queue a straight probing move (G38.x). Clears the tripped
+        /// flag; refused if the input already shows what is sought (unless
+        /// `probe.no_error`).
+        Probe {
+            /// The end point.
+            end: Pose,
+            /// Programmed speed along the path, units per second.
+            vel: f64,
+            /// What the probing move looks for.
+            probe: ProbeType,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 39, cli planner "probe" {
+            probe: probe_type(2),
+            end: end_words(3),
+            vel: num(1, "VEL"),
+            id: int(0, "ID"),
+        };
+        /// CLEAR_PROBE_FLAGS: forget the last probe result.
+        ClearProbeFlags = 40, cli planner "clear-probe" {};
+        /// SET_TERM_COND: how the moves queued from now on end; `tolerance`
+        /// is the blend tolerance (G64 P) for [`TermCond::Blend`].
+        SetTermCond {
+            /// The termination condition.
+            cond: TermCond,
+            /// The blend tolerance (G64 P).
+            tolerance: f64,
+        } = 41, cli planner "term-cond" { cond: term_cond(0), tolerance: blend_tolerance(1) };
+        /// PAUSE: the queued motion slows down along its path at its
+        /// acceleration limits and stops; the queue is kept.
+        Pause = 42, cli planner "pause" {};
+        /// RESUME: continue after a pause (or a single step).
+        Resume = 43, cli planner "resume" {};
+        /// STEP: while paused and at rest, run to the end of the current motion
+        /// id and pause again.
+        Step = 44, cli planner "step" {};
+        /// FEED_SCALE: the feed override (≥ 0, at most the maximum feed
+        /// override in effect).
+        FeedScale {
+            /// The scale factor.
+            scale: f64,
+        } = 45, cli planner "feed-scale" { scale: num(0, "SCALE") };
+        /// RAPID_SCALE: the rapid override (0..=1).
+        RapidScale {
+            /// The scale factor.
+            scale: f64,
+        } = 46, cli planner "rapid-scale" { scale: num(0, "SCALE") };
+        /// SET_MAX_FEED_OVERRIDE: the largest feed override and adaptive feed
+        /// factor (`[DISPLAY]MAX_FEED_OVERRIDE`, ≥ 0).
+        SetMaxFeedOverride {
+            /// The scale factor.
+            scale: f64,
+        } = 47, cli planner "max-feed-override" { scale: num(0, "SCALE") };
+        /// FS_ENABLE (M50): whether the overrides apply to moves queued next.
+        FeedScaleEnable {
+            /// On or off.
+            on: bool,
+        } = 48, cli planner "feed-scale-enable" { on: flag(0, "the enable") };
+        /// FH_ENABLE (M53): whether `motion.feed-hold` applies to moves
+        /// queued next.
+        FeedHoldEnable {
+            /// On or off.
+            on: bool,
+        } = 49, cli planner "feed-hold-enable" { on: flag(0, "the enable") };
+        /// AF_ENABLE (M52): whether `motion.adaptive-feed` applies to moves
+        /// queued next.
+        AdaptiveFeedEnable {
+            /// On or off.
+            on: bool,
+        } = 50, cli planner "adaptive-feed-enable" { on: flag(0, "the enable") };
+        /// SS_ENABLE (M51): the spindle override enable, which also gates
+        /// `motion.feed-inhibit` (as LinuxCNC).
+        SpindleScaleEnable {
+            /// On or off.
+            on: bool,
+        } = 51, cli planner "spindle-scale-enable" { on: flag(0, "the enable") };
+        /// SET_VEL_LIMIT: the tool-tip speed limit of every move that is not
+        /// purely rotary (`[TRAJ]MAX_LINEAR_VELOCITY`, > 0).
+        SetVelLimit {
+            /// The velocity limit (> 0).
+            vel: f64,
+        } = 52, cli planner "set-traj-vel" { vel: num(0, "VEL") };
+        /// SET_ACC: the tangential acceleration limit of every move
+        /// (`[TRAJ]MAX_LINEAR_ACCELERATION`, > 0).
+        SetAccLimit {
+            /// Acceleration.
+            acc: f64,
+        } = 53, cli planner "set-traj-acc" { acc: num(0, "ACC") };
+        /// SET_JERK: the path jerk limit (`[TRAJ]MAX_LINEAR_JERK`, > 0).
+        SetJerkLimit {
+            /// Jerk.
+            jerk: f64,
+        } = 54, cli planner "set-traj-jerk" { jerk: num(0, "JERK") };
+        /// SET_PLANNER_TYPE: 0 trapezoidal, 1 S-curve (needs a jerk limit of
+        /// at least 1). Applied at once when the queue is idle, otherwise as
+        /// soon as it is.
+        SetPlannerType {
+            /// The planner type.
+            planner: i32,
+        } = 55, cli planner "planner-type" { planner: int(0, "TYPE") };
+        /// SET_JOINT_JERK_LIMIT: maximum jerk of `joint` (≥ 0; 0 no limit).
+        SetJointJerkLimit {
+            /// The joint number.
+            [slot] joint: i32,
+            /// Jerk.
+            jerk: f64,
+        } = 56, cli planner "set-jerk-limit" { joint: int(0, "JOINT"), jerk: num(1, "JERK") };
+        /// SET_AXIS_JERK_LIMIT: maximum jerk of world axis `axis` (≥ 0; 0 no
+        /// limit).
+        SetAxisJerkLimit {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// Jerk.
+            jerk: f64,
+        } = 57, cli planner "set-axis-jerk-limit" { axis: world_axis(0), jerk: num(1, "JERK") };
+        /// SET_JOINT_COMP: append one entry to `joint`'s screw-error table:
+        /// at `nominal`, add `forward` to the command while moving in the
+        /// positive direction and `reverse` while moving in the negative one.
+        /// Nominals must increase; at most 256 entries. Only while disabled.
+        SetJointComp {
+            /// The joint number.
+            [slot] joint: i32,
+            /// The nominal (commanded) position.
+            nominal: f64,
+            /// Trim while moving in the positive direction.
+            forward: f64,
+            /// Trim while moving in the negative direction.
+            reverse: f64,
+        } = 58, cli planner "comp-entry" {
+            joint: int(0, "JOINT"),
+            nominal: num(1, "NOMINAL"),
+            forward: num(2, "FORWARD"),
+            reverse: num(3, "REVERSE"),
+        };
+        /// Empty `joint`'s screw-error table (BACKLASH applies again). Only
+        /// while disabled.
+        ClearJointComp {
+            /// The joint number.
+            [slot] joint: i32,
+        } = 59, cli planner "clear-comp" { joint: int(0, "JOINT") };
+    }
+}

@@ -1,0 +1,69 @@
+//! The values a refusal names: a direction of travel, a quantity that was
+//! out of range, a feature that is not supported.
+
+use super::coded::coded_enum;
+
+coded_enum! {
+    /// Which way a jog would move.
+    pub enum Direction {
+        /// Towards larger positions.
+        Positive = 0 => "positive",
+        /// Towards smaller positions.
+        Negative = 1 => "negative",
+    }
+}
+
+coded_enum! {
+    /// What a [`Reject::BadValue`](super::Reject::BadValue) is about.
+    pub enum Quantity {
+        /// The scale.
+        Scale = 0 => "scale",
+        /// The minimum limit.
+        MinimumLimit = 1 => "minimum limit",
+        /// The maximum limit.
+        MaximumLimit = 2 => "maximum limit",
+        /// The velocity limit.
+        VelocityLimit = 3 => "velocity limit",
+        /// The acceleration limit.
+        AccelerationLimit = 4 => "acceleration limit",
+        /// The minimum following error.
+        MinimumFerror = 5 => "minimum following error",
+        /// The maximum following error.
+        MaximumFerror = 6 => "maximum following error",
+        /// The backlash.
+        Backlash = 7 => "backlash",
+        /// The motor offset.
+        MotorOffset = 8 => "motor offset",
+        /// The world home coordinate.
+        WorldHomeCoordinate = 9 => "world home coordinate",
+        /// The jog increment.
+        JogIncrement = 10 => "jog increment",
+        /// The jog position.
+        JogPosition = 11 => "jog position",
+        /// The jog target.
+        JogTarget = 12 => "jog target",
+        /// A coordinate of a queued move's end point or arc.
+        Coordinate = 13 => "coordinate",
+        /// The dwell time.
+        DwellTime = 14 => "dwell time",
+        /// The blend tolerance.
+        BlendTolerance = 15 => "blend tolerance",
+        /// The jerk limit.
+        JerkLimit = 16 => "jerk limit",
+        /// A screw-compensation value.
+        CompValue = 17 => "compensation value",
+        /// The planner type.
+        PlannerType = 18 => "planner type",
+    }
+}
+
+coded_enum! {
+    /// What a [`Reject::Unsupported`](super::Reject::Unsupported) refuses.
+    pub enum Feature {
+        /// A joint's amplifier follows ENABLE/DISABLE and
+        /// JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command.
+        AmplifierCommand = 0 => "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
+        /// Teleop and coordinated modes need inverse kinematics.
+        WorldModeWithoutInverse = 1 => "teleop and coordinated modes need inverse kinematics",
+    }
+}

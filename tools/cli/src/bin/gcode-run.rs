@@ -1,0 +1,123 @@
+//! `gcode-run`: runs a G-code part program on the motion controller of a
+//! running HAL instance (see `--help`).
+
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+use hal_launcher::part_program::interp::{interpret, Step, Units};
+use hal_launcher::part_program::run::{run, Keys, Outcome, RunOptions};
+use hal_tools::tool_args::gcode_run::{Args, UnitsArg};
+use hal_tools::ToolsError;
+use motion::{Command, MotionClient, Pose};
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let units = match args.units {
+        UnitsArg::Mm => Units::Mm,
+        UnitsArg::Inch => Units::Inch,
+    };
+    let name = args.file.display().to_string();
+    let text = match std::fs::read(&args.file) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("gcode-run: {name}: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let lines = text.split(|&b| b == b'\n').count();
+    if args.check {
+        return match interpret(&name, &text, Pose::ZERO, units) {
+            Ok(steps) => {
+                let moves = steps.iter().filter(|s| matches!(s, Step::Send(..))).count();
+                println!("{name}: ok ({moves} commands)");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("{e}");
+                ExitCode::from(2)
+            }
+        };
+    }
+    let instance = args.instance.unwrap_or_else(hal_core::instance_from_env);
+    let mut client = match MotionClient::attach(&instance) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("gcode-run: instance '{instance}': {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let start = match enter_coord(&mut client) {
+        Ok(p) => p,
+        Err(m) => {
+            eprintln!("gcode-run: {m}");
+            return ExitCode::from(2);
+        }
+    };
+    let steps = match interpret(&name, &text, start, units) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::from(2);
+        }
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGINT, stop.clone());
+    let keys = if args.no_keys {
+        Keys::none()
+    } else {
+        Keys::start()
+    };
+    let opts = RunOptions {
+        optional_stop: args.optional_stop,
+        preload: args.preload,
+        progress: !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()),
+    };
+    let outcome = run(&mut client, &name, lines, &steps, opts, &keys, &stop);
+    drop(keys);
+    match outcome {
+        Outcome::Done { seconds } => {
+            if !args.quiet {
+                println!("{name}: done in {seconds:.3} s");
+            }
+            ExitCode::SUCCESS
+        }
+        Outcome::Aborted { line } => {
+            println!("{name}: aborted at line {line}");
+            ExitCode::from(1)
+        }
+        Outcome::Failed(m) => {
+            eprintln!("{m}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Puts the machine in coordinated mode (it must be enabled) and returns
+/// where its queue starts.
+fn enter_coord(client: &mut MotionClient) -> Result<Pose, ToolsError> {
+    let s = client.status()?;
+    if !s.enabled {
+        return Err(ToolsError::NotEnabled);
+    }
+    if s.mode != "COORD" {
+        client
+            .send(Command::Coord)
+            .map_err(|r| ToolsError::Coord { source: r.reason })?;
+    }
+    // A snapshot two cycles later shows the mode and the queue's start.
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let beat = client.status()?.heartbeat;
+    loop {
+        let s = client.status()?;
+        if s.heartbeat.wrapping_sub(beat) >= 2 && s.mode == "COORD" {
+            return Ok(Pose(s.traj.goal));
+        }
+        if Instant::now() > deadline {
+            return Err(ToolsError::CoordTimeout);
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}

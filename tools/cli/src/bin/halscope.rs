@@ -1,0 +1,40 @@
+//! halscope, headless: capture HAL pins to PNG, CSV or VCD (see
+//! `hal_scope::scope`).
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use hal_core::userspace::ExitSignals;
+use hal_core::{instance_from_env, Instance};
+use hal_scope::scope::args::Args;
+use hal_scope::scope::{capture, title, write_outputs, ScopeError};
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(ScopeError::Usage(m)) => {
+            eprintln!("halscope: {m} (see halscope --help)");
+            ExitCode::from(2)
+        }
+        Err(e) => {
+            eprintln!("halscope: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), ScopeError> {
+    let req = Args::parse().request()?;
+    let signals = ExitSignals::install()?;
+    let name = instance_from_env();
+    let inst = Instance::attach(&name).map_err(|source| ScopeError::Attach {
+        instance: name.clone(),
+        source,
+    })?;
+    let record = capture(&inst, &req, &|| signals.requested())?;
+    write_outputs(&record, &req, &title(&record, &req))?;
+    for (path, _) in &req.outputs {
+        hal_tools::outln!("halscope: wrote {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,72 @@
+//! The error of the programs' own glue: command lines, numbers given to
+//! them, and what the crates below them report.
+
+/// What went wrong in a program of the suite, with the cause behind it.
+#[derive(Debug, thiserror::Error)]
+pub enum ToolsError {
+    /// The command line is wrong; the message says how, in the program's
+    /// words (some are LinuxCNC's, compared by tests).
+    #[error("{0}")]
+    Usage(String),
+    /// A number of seconds given on the command line is not usable.
+    #[error("{what}: {reason}")]
+    Seconds {
+        /// The option that took it (`--timeout`).
+        what: String,
+        /// Why it was refused, with the text given.
+        reason: String,
+    },
+    /// The HAL instance refused or failed.
+    #[error(transparent)]
+    Hal(#[from] hal_core::HalError),
+    /// The HAL command language (an INI file, a host).
+    #[error(transparent)]
+    Lang(#[from] hal_lang::LangError),
+    /// An INI file given on the command line.
+    #[error(transparent)]
+    Ini(#[from] hal_lang::IniError),
+    /// A sampler or streamer FIFO.
+    #[error(transparent)]
+    Fifo(#[from] hal_scope::ScopeError),
+    /// A file named on the command line.
+    #[error("{path}: {source}")]
+    File {
+        /// The file.
+        path: String,
+        /// The error from the file system.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Reading input or writing output failed.
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    /// halmeter's object does not exist.
+    #[error("no pin, signal or parameter named '{name}'")]
+    NotFound {
+        /// The name given.
+        name: String,
+    },
+    /// The motion controller's status could not be read.
+    #[error(transparent)]
+    Motion(#[from] motion::ClientError),
+    /// gcode-run needs an enabled machine.
+    #[error("the machine is not enabled (motion-cmd enable)")]
+    NotEnabled,
+    /// The motion controller refused coordinated mode.
+    #[error("can't enter coordinated mode: {source}")]
+    Coord {
+        /// Its answer.
+        #[source]
+        source: motion::Reject,
+    },
+    /// The motion controller did not reach coordinated mode in time.
+    #[error("the controller did not enter coordinated mode")]
+    CoordTimeout,
+}
+
+impl ToolsError {
+    /// A command-line error with this message.
+    pub fn usage(message: impl Into<String>) -> ToolsError {
+        ToolsError::Usage(message.into())
+    }
+}

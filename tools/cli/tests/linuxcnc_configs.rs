@@ -1,0 +1,202 @@
+//! Configurations shaped like LinuxCNC's own sim configurations
+//! (tests/linuxcnc-configs) run headless through `linuxcnc`: each loads,
+//! runs its threads, takes an e-stop reset and machine-on (and, where it
+//! has home switches, homes), and stops cleanly.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use machine::{root, Machine};
+
+fn config(dir: &str, ini: &str) -> std::path::PathBuf {
+    root().join("tests/linuxcnc-configs").join(dir).join(ini)
+}
+
+/// Starts the machine, checks its threads run, turns it on, runs
+/// `more` on it, stops it; returns its stderr.
+fn runs(dir: &str, ini: &str, more: impl FnOnce(&Machine)) -> String {
+    let m = Machine::start(&config(dir, ini), dir);
+    assert!(m.threads_run(), "{dir}: threads run\n{}", m.stderr());
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE", "{dir}");
+    more(&m);
+    m.stop()
+}
+
+fn home_all(m: &Machine) {
+    m.motion(&["home", "-1"]);
+    m.motion(&["-t", "60", "wait", "all-homed"]);
+    // Feedback settles a few cycles after the homed flags rise.
+    m.motion(&["-t", "30", "wait", "in-position"]);
+}
+
+#[test]
+fn axis_mm_shape() {
+    let err = runs("axis-mm", "axis_mm.ini", |m| {
+        home_all(m);
+        assert_eq!(m.getp("joint.2.pos-fb"), "0");
+        assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+        // sim_spindle_encoder.hal: a stopped spindle is at its speed.
+        assert_eq!(m.halcmd(&["gets", "spindle-at-speed"]).trim(), "TRUE");
+    });
+    assert!(err.contains("loadusr -W hal_manualtoolchange"), "{err}");
+    assert!(err.contains(
+        "iocontrol.0.tool-change (signal tool-change; hal_manualtoolchange.change not created)"
+    ));
+}
+
+#[test]
+fn basic_sim_tcl_shape() {
+    let err = runs("basic-sim", "xyz.ini", |m| {
+        // basic_sim.tcl's pass-through pid and sample-hold mux per joint.
+        assert!(m
+            .halcmd(&["show", "sig", "J0:pos-fb"])
+            .contains("==> joint.0.motor-pos-fb"));
+        m.motion(&["jog-incr", "0", "1", "0.5"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.0.pos-fb"), "0.5");
+        assert_eq!(m.halcmd(&["gets", "J0:vel"]).trim(), "0");
+    });
+    assert!(
+        err.contains("application 'halshow --fformat %.5f ./xyz.halshow' ([APPLICATIONS]APP)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn nine_axis_shape() {
+    runs("nine-axis", "axis_9axis.ini", |m| {
+        assert_eq!(m.getp("ini.8.max_velocity"), "1.2");
+        assert_eq!(m.getp("ini.w.max_limit"), "10");
+        m.motion(&["jog-incr", "5", "45", "90"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.5.pos-fb"), "90");
+    });
+}
+
+#[test]
+fn lathe_xz_shape() {
+    runs("lathe-xz", "lathe.ini", |m| {
+        home_all(m);
+        m.motion(&["teleop"]);
+        m.motion(&["axis-jog-incr", "z", "-1", "1.5"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.1.pos-fb"), "-1.5");
+        assert_eq!(m.task_ok(&["tool-change", "2"]).trim(), "tool 2 in spindle");
+    });
+}
+
+#[test]
+fn gantry_xyyz_shape() {
+    runs("gantry-xyyz", "gantry.ini", |m| {
+        home_all(m);
+        assert!(m.motion(&["status"]).contains("all-homed yes"));
+    });
+}
+
+#[test]
+fn includes_shape() {
+    runs("includes", "includes_demo.ini", |m| {
+        assert_eq!(m.getp("ini.1.home_sequence"), "1");
+        home_all(m);
+    });
+}
+
+#[test]
+fn twopass_shape() {
+    let err = runs("twopass", "twopass.ini", |m| {
+        // One pid component with the three files' instances.
+        assert_eq!(
+            m.halcmd(&["list", "pin", "pid_*.command"]).trim(),
+            "pid_x.command pid_y.command pid_z.command"
+        );
+        m.motion(&["jog-incr", "2", "1", "0.25"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.2.pos-fb"), "0.25");
+    });
+    let passes: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("joint_z.tcl: pass"))
+        .collect();
+    assert_eq!(
+        passes,
+        ["joint_z.tcl: pass 0", "joint_z.tcl: pass 1"],
+        "{err}"
+    );
+}
+
+#[test]
+fn servo_pid_shape() {
+    let err = runs("servo-pid", "servo.ini", |m| {
+        m.motion(&["jog-incr", "0", "0.5", "0.1"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        let fb: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+        assert!((fb - 0.1).abs() < 0.01, "the servo loop follows: {fb}");
+    });
+    assert!(
+        err.contains("servo_postgui.hal:2: net Xpos-fb => pyvcp.x-position"),
+        "{err}"
+    );
+}
+
+#[test]
+fn vismach_trt_shape() {
+    let err = runs("vismach-trt", "trt.ini", |m| {
+        // The kinematics of [KINS] and the HALCMD lines that do not name
+        // the vismach view.
+        assert_eq!(m.getp("xyzac-trt-kins.z-offset"), "10");
+        home_all(m);
+        m.motion(&["axis-jog-incr", "c", "30", "15"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        assert_eq!(m.getp("joint.4.pos-fb"), "15");
+    });
+    assert!(
+        err.contains("trt.ini:22: loadusr -W xyzac-trt-gui"),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "xyzac-trt-kins.z-offset (signal :z-offset; xyzac-trt-gui.z-offset not created)"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn ldelta_shape() {
+    let err = runs("ldelta", "ldelta.ini", |m| {
+        // sim_ldelta.hal from the library, found on the search path.
+        assert_eq!(m.getp("lineardeltakins.L"), "269");
+        home_all(m);
+        assert_eq!(m.getp("joint.0.pos-fb"), "270");
+    });
+    assert!(
+        err.contains("sim_ldelta.hal:8: loadusr -W lineardelta MIN_JOINT=-420"),
+        "{err}"
+    );
+}
+
+#[test]
+fn stepper_limits_shape() {
+    runs("stepper-limits", "stepper.ini", |m| {
+        // Step generators on the base thread; homing finds the window
+        // comparators' switches of simulated_limits.hal.
+        assert_eq!(m.getp("stepgen.0.position-scale"), "1000");
+        home_all(m);
+        // The step generator's feedback trails the command a little.
+        let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+        loop {
+            let x: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+            if x.abs() < 1e-3 {
+                break;
+            }
+            assert!(std::time::Instant::now() < end, "X at HOME: {x}");
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        assert_eq!(m.halcmd(&["gets", "Xhome"]).trim(), "FALSE");
+        assert_eq!(m.halcmd(&["gets", "Zmaxlim"]).trim(), "FALSE");
+    });
+}

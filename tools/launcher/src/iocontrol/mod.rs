@@ -1,0 +1,587 @@
+//! iocontrol as LinuxCNC's task provides it: the `iocontrol.0.*` pins, the
+//! emergency-stop chain (`user-enable-out` → external chain →
+//! `emc-enable-in`, with `user-request-enable` pulsed on a reset),
+//! coolant, lube, and the tool prepare and tool change handshakes against
+//! the tool table, for random and non-random changers.
+//!
+//! [`IoControl`] is the logic, free of HAL: requests come in, inputs are
+//! stepped once per cycle, outputs are read back. [`IoPins`] binds it to a
+//! user-space HAL component named `iocontrol`.
+
+pub mod tooltable;
+
+use std::path::PathBuf;
+
+use hal_core::{Component, ComponentKind, In, Instance, Out, Param, Pin, Ro};
+
+pub use tooltable::ToolTable;
+
+/// What task asks iocontrol to do (LinuxCNC's `EMC_IO_*`, `EMC_TOOL_*`,
+/// `EMC_COOLANT_*`, `EMC_LUBE_*` and `EMC_AUX_ESTOP_*` messages).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum IoRequest {
+    /// Assert the e-stop: `user-enable-out` off, every output safe.
+    EstopOn,
+    /// Release the e-stop: `user-enable-out` on and a one-cycle pulse on
+    /// `user-request-enable`.
+    EstopOff,
+    /// Every output back to its initial value.
+    Init,
+    /// Stop coolant and any tool handshake in progress.
+    Abort,
+    /// Prepare tool `tool` (T word; 0 unloads on a non-random changer).
+    Prepare {
+        /// The tool number.
+        tool: i32,
+    },
+    /// Change to the prepared tool (M6).
+    Load,
+    /// Declare tool `tool` in the spindle without a change (M61).
+    SetNumber {
+        /// The tool number.
+        tool: i32,
+    },
+    /// Mist coolant on or off.
+    Mist(bool),
+    /// Flood coolant on or off.
+    Flood(bool),
+    /// Lube on or off.
+    Lube(bool),
+}
+
+/// How a request went.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Started {
+    /// Done at once.
+    Done,
+    /// A handshake was started; [`IoControl::step`] reports its end.
+    Waiting(Handshake),
+}
+
+/// A handshake with the HAL side.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Handshake {
+    /// `tool-prepare` is waiting for `tool-prepared`.
+    Prepare,
+    /// `tool-change` is waiting for `tool-changed`.
+    Change,
+}
+
+/// Why a request was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum IoError {
+    /// The tool is not in the tool table.
+    #[error("tool {tool} is not in the tool table")]
+    NoSuchTool {
+        /// The tool number asked for.
+        tool: i32,
+    },
+    /// M6 without a prepared tool.
+    #[error("no tool is prepared (prepare one first)")]
+    NothingPrepared,
+    /// A handshake is already running.
+    #[error("a tool {0:?} handshake is already in progress")]
+    Busy(Handshake),
+}
+
+/// Inputs read once per cycle.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IoInputs {
+    /// `emc-enable-in`: FALSE while the e-stop chain is open.
+    pub emc_enable_in: bool,
+    /// `tool-prepared`.
+    pub tool_prepared: bool,
+    /// `tool-changed`.
+    pub tool_changed: bool,
+    /// `lube_level`.
+    pub lube_level: bool,
+}
+
+/// Outputs, as the pins show them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IoOutputs {
+    /// `user-enable-out`.
+    pub user_enable_out: bool,
+    /// `user-request-enable`.
+    pub user_request_enable: bool,
+    /// `coolant-mist`.
+    pub coolant_mist: bool,
+    /// `coolant-flood`.
+    pub coolant_flood: bool,
+    /// `lube`.
+    pub lube: bool,
+    /// `tool-prepare`.
+    pub tool_prepare: bool,
+    /// `tool-prep-number`.
+    pub tool_prep_number: i32,
+    /// `tool-prep-pocket`.
+    pub tool_prep_pocket: i32,
+    /// The `tool-prep-index` parameter: the table slot being prepared.
+    pub tool_prep_index: i32,
+    /// `tool-number`: the tool in the spindle.
+    pub tool_number: i32,
+    /// `tool-change`.
+    pub tool_change: bool,
+}
+
+/// The end of a handshake, reported by [`IoControl::step`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IoEvent {
+    /// The prepare handshake finished.
+    Prepared {
+        /// The prepared tool.
+        tool: i32,
+    },
+    /// The change handshake finished: `tool` is in the spindle.
+    Changed {
+        /// The tool now in the spindle.
+        tool: i32,
+    },
+}
+
+/// iocontrol's logic.
+#[derive(Debug, Clone)]
+pub struct IoControl {
+    out: IoOutputs,
+    table: ToolTable,
+    /// The slot prepared, if any (LinuxCNC's `pocketPrepped`, -1 = none).
+    prepped: Option<usize>,
+    tool_in_spindle: i32,
+    /// `user-request-enable` was raised this cycle; it drops next cycle.
+    pulse: bool,
+    /// Where a random changer's table is saved after each change.
+    save_to: Option<PathBuf>,
+}
+
+impl IoControl {
+    /// iocontrol with `table`. A non-random changer starts with an empty
+    /// spindle; a random one with the tool the table puts in pocket 0.
+    pub fn new(table: ToolTable, save_to: Option<PathBuf>) -> IoControl {
+        let tool_in_spindle = if table.random {
+            table.tool(0).map_or(0, |t| t.number)
+        } else {
+            0
+        };
+        let mut io = IoControl {
+            out: IoOutputs::default(),
+            table,
+            prepped: None,
+            tool_in_spindle,
+            pulse: false,
+            save_to,
+        };
+        if !io.table.random {
+            io.table.put(0, None);
+        }
+        io.out.tool_number = tool_in_spindle;
+        io
+    }
+
+    /// The outputs.
+    pub fn outputs(&self) -> &IoOutputs {
+        &self.out
+    }
+
+    /// The tool table.
+    pub fn table(&self) -> &ToolTable {
+        &self.table
+    }
+
+    /// Replaces the tool table (reloaded from its file), keeping the tool
+    /// in the spindle.
+    pub fn reload(&mut self, table: ToolTable) {
+        let spindle = self.tool_in_spindle;
+        self.table = table;
+        if !self.table.random {
+            let in_spindle = self
+                .table
+                .slot_of(spindle)
+                .and_then(|s| self.table.tool(s).cloned());
+            self.table.put(0, in_spindle);
+        }
+    }
+
+    /// The tool in the spindle (0: none).
+    pub fn tool_in_spindle(&self) -> i32 {
+        self.tool_in_spindle
+    }
+
+    /// The tool prepared, if any.
+    pub fn prepared_tool(&self) -> Option<i32> {
+        self.prepped.map(|s| self.prep_number_of(s))
+    }
+
+    /// The handshake running, if any.
+    pub fn busy(&self) -> Option<Handshake> {
+        if self.out.tool_change {
+            Some(Handshake::Change)
+        } else if self.out.tool_prepare {
+            Some(Handshake::Prepare)
+        } else {
+            None
+        }
+    }
+
+    fn prep_number_of(&self, slot: usize) -> i32 {
+        if !self.table.random && slot == 0 {
+            0
+        } else {
+            self.table.tool(slot).map_or(0, |t| t.number)
+        }
+    }
+
+    /// Outputs back to their start values (LinuxCNC's `hal_init_pins`);
+    /// `tool-number` keeps the tool in the spindle.
+    fn init_pins(&mut self) {
+        self.out = IoOutputs {
+            tool_number: self.out.tool_number,
+            ..IoOutputs::default()
+        };
+        self.pulse = false;
+    }
+
+    /// Takes a request.
+    pub fn request(&mut self, req: &IoRequest) -> Result<Started, IoError> {
+        match *req {
+            IoRequest::EstopOn => {
+                self.init_pins();
+                self.prepped = None;
+            }
+            IoRequest::EstopOff => {
+                self.out.user_enable_out = true;
+                self.out.user_request_enable = true;
+                self.pulse = true;
+            }
+            IoRequest::Init => self.init_pins(),
+            IoRequest::Abort => {
+                self.out.coolant_mist = false;
+                self.out.coolant_flood = false;
+                self.out.tool_change = false;
+                self.out.tool_prepare = false;
+            }
+            IoRequest::Mist(on) => self.out.coolant_mist = on,
+            IoRequest::Flood(on) => self.out.coolant_flood = on,
+            IoRequest::Lube(on) => self.out.lube = on,
+            IoRequest::Prepare { tool } => return self.prepare(tool),
+            IoRequest::Load => return self.load(),
+            IoRequest::SetNumber { tool } => {
+                let slot = self.slot_for(tool)?;
+                self.load_slot(slot);
+                self.tool_in_spindle = if !self.table.random && slot == 0 {
+                    0
+                } else {
+                    self.table.tool(0).map_or(0, |t| t.number)
+                };
+                self.out.tool_number = self.tool_in_spindle;
+            }
+        }
+        Ok(Started::Done)
+    }
+
+    /// The table slot of tool `tool` (T0 on a non-random changer: the
+    /// spindle, meaning "unload").
+    fn slot_for(&self, tool: i32) -> Result<usize, IoError> {
+        if !self.table.random && tool == 0 {
+            return Ok(0);
+        }
+        self.table.slot_of(tool).ok_or(IoError::NoSuchTool { tool })
+    }
+
+    fn prepare(&mut self, tool: i32) -> Result<Started, IoError> {
+        if let Some(h) = self.busy() {
+            return Err(IoError::Busy(h));
+        }
+        let slot = self.slot_for(tool)?;
+        let random = self.table.random;
+        self.out.tool_prep_index = slot as i32;
+        self.out.tool_prep_number = self.prep_number_of(slot);
+        self.out.tool_prep_pocket = if random {
+            slot as i32
+        } else if slot == 0 {
+            0
+        } else {
+            self.table.tool(slot).map_or(0, |t| t.pocket)
+        };
+        if random && slot == 0 {
+            // The tool is in the spindle already: nothing to fetch.
+            self.prepped = Some(0);
+            return Ok(Started::Done);
+        }
+        self.out.tool_prepare = true;
+        Ok(Started::Waiting(Handshake::Prepare))
+    }
+
+    fn load(&mut self) -> Result<Started, IoError> {
+        if let Some(h) = self.busy() {
+            return Err(IoError::Busy(h));
+        }
+        let slot = self.prepped.ok_or(IoError::NothingPrepared)?;
+        if self.table.random && slot == 0 {
+            return Ok(Started::Done);
+        }
+        if !self.table.random && slot > 0 && self.tool_in_spindle == self.prep_number_of(slot) {
+            // Already in the spindle.
+            self.prepped = None;
+            return Ok(Started::Done);
+        }
+        self.out.tool_change = true;
+        Ok(Started::Waiting(Handshake::Change))
+    }
+
+    /// Puts the tool of `slot` in the spindle slot: a random changer swaps
+    /// the two and saves its table; a non-random one copies (or empties
+    /// the spindle for slot 0).
+    fn load_slot(&mut self, slot: usize) {
+        if self.table.random {
+            if slot >= self.table.slots.len() {
+                self.table.put(slot, None);
+            }
+            self.table.slots.swap(0, slot);
+            if let Some(path) = &self.save_to {
+                // A failed save leaves the file behind the machine: say so.
+                if let Err(e) = std::fs::write(path, self.table.to_text()) {
+                    eprintln!("iocontrol: saving the tool table {}: {e}", path.display());
+                }
+            }
+        } else if slot == 0 {
+            self.table.put(0, None);
+        } else {
+            let tool = self.table.tool(slot).cloned();
+            self.table.put(0, tool);
+        }
+    }
+
+    /// One cycle: reads the inputs, ends handshakes, drops the request
+    /// pulse. Returns the handshakes that ended.
+    pub fn step(&mut self, inp: &IoInputs) -> Vec<IoEvent> {
+        let mut events = Vec::new();
+        if self.pulse {
+            self.pulse = false;
+        } else {
+            self.out.user_request_enable = false;
+        }
+        if self.out.tool_prepare && inp.tool_prepared {
+            let slot = self.out.tool_prep_index.max(0) as usize;
+            self.prepped = Some(slot);
+            self.out.tool_prepare = false;
+            events.push(IoEvent::Prepared {
+                tool: self.prep_number_of(slot),
+            });
+        }
+        if self.out.tool_change && inp.tool_changed {
+            let slot = self.prepped.unwrap_or(0);
+            self.tool_in_spindle = self.prep_number_of(slot);
+            self.out.tool_number = self.tool_in_spindle;
+            self.load_slot(slot);
+            self.prepped = None;
+            self.out.tool_prep_number = 0;
+            self.out.tool_prep_pocket = 0;
+            self.out.tool_prep_index = 0;
+            self.out.tool_change = false;
+            events.push(IoEvent::Changed {
+                tool: self.tool_in_spindle,
+            });
+        }
+        events
+    }
+}
+
+/// The `iocontrol.0.*` pins of a user-space component named `iocontrol`.
+pub struct IoPins {
+    _comp: Component,
+    user_enable_out: Pin<bool, Out>,
+    emc_enable_in: Pin<bool, In>,
+    user_request_enable: Pin<bool, Out>,
+    coolant_mist: Pin<bool, Out>,
+    coolant_flood: Pin<bool, Out>,
+    lube: Pin<bool, Out>,
+    lube_level: Pin<bool, In>,
+    tool_prepare: Pin<bool, Out>,
+    tool_prepared: Pin<bool, In>,
+    tool_prep_number: Pin<i32, Out>,
+    tool_prep_pocket: Pin<i32, Out>,
+    tool_prep_index: Param<i32, Ro>,
+    tool_number: Pin<i32, Out>,
+    tool_change: Pin<bool, Out>,
+    tool_changed: Pin<bool, In>,
+}
+
+impl IoPins {
+    /// Creates the component and its pins (LinuxCNC's names).
+    pub fn create(inst: &Instance) -> hal_core::Result<IoPins> {
+        let c = inst.new_component("iocontrol", ComponentKind::User)?;
+        let p = |n: &str| format!("iocontrol.0.{n}");
+        let pins = IoPins {
+            user_enable_out: c.pin(&p("user-enable-out"))?,
+            user_request_enable: c.pin(&p("user-request-enable"))?,
+            coolant_flood: c.pin(&p("coolant-flood"))?,
+            coolant_mist: c.pin(&p("coolant-mist"))?,
+            lube: c.pin(&p("lube"))?,
+            tool_prepare: c.pin(&p("tool-prepare"))?,
+            tool_number: c.pin(&p("tool-number"))?,
+            tool_prep_number: c.pin(&p("tool-prep-number"))?,
+            tool_prep_index: c.param(&p("tool-prep-index"), 0)?,
+            tool_prep_pocket: c.pin(&p("tool-prep-pocket"))?,
+            tool_prepared: c.pin(&p("tool-prepared"))?,
+            tool_change: c.pin(&p("tool-change"))?,
+            tool_changed: c.pin(&p("tool-changed"))?,
+            emc_enable_in: c.pin(&p("emc-enable-in"))?,
+            lube_level: c.pin(&p("lube_level"))?,
+            _comp: c,
+        };
+        pins._comp.ready()?;
+        Ok(pins)
+    }
+
+    /// Reads the inputs.
+    pub fn inputs(&self) -> IoInputs {
+        IoInputs {
+            emc_enable_in: self.emc_enable_in.get(),
+            tool_prepared: self.tool_prepared.get(),
+            tool_changed: self.tool_changed.get(),
+            lube_level: self.lube_level.get(),
+        }
+    }
+
+    /// Writes the outputs.
+    pub fn write(&self, o: &IoOutputs) {
+        self.user_enable_out.set(o.user_enable_out);
+        self.user_request_enable.set(o.user_request_enable);
+        self.coolant_mist.set(o.coolant_mist);
+        self.coolant_flood.set(o.coolant_flood);
+        self.lube.set(o.lube);
+        self.tool_prepare.set(o.tool_prepare);
+        self.tool_prep_number.set(o.tool_prep_number);
+        self.tool_prep_pocket.set(o.tool_prep_pocket);
+        self.tool_prep_index.set(o.tool_prep_index);
+        self.tool_number.set(o.tool_number);
+        self.tool_change.set(o.tool_change);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TABLE: &str = "T1 P5 D0.1\nT2 P3 D0.2\nT7 P0 ;spindle\n";
+
+    fn io(random: bool) -> IoControl {
+        IoControl::new(ToolTable::parse(TABLE, "t.tbl", random), None)
+    }
+
+    fn inputs(prepared: bool, changed: bool) -> IoInputs {
+        IoInputs {
+            emc_enable_in: true,
+            tool_prepared: prepared,
+            tool_changed: changed,
+            lube_level: true,
+        }
+    }
+
+    #[test]
+    fn estop_reset_pulses_request_enable_for_one_cycle() {
+        let mut io = io(false);
+        io.request(&IoRequest::EstopOff).unwrap();
+        assert!(io.outputs().user_enable_out && io.outputs().user_request_enable);
+        io.step(&inputs(false, false));
+        assert!(io.outputs().user_request_enable, "seen for one whole cycle");
+        io.step(&inputs(false, false));
+        assert!(!io.outputs().user_request_enable);
+        assert!(io.outputs().user_enable_out);
+        io.request(&IoRequest::Flood(true)).unwrap();
+        io.request(&IoRequest::EstopOn).unwrap();
+        assert_eq!(*io.outputs(), IoOutputs::default());
+    }
+
+    #[test]
+    fn non_random_prepare_and_change_handshakes() {
+        let mut io = io(false);
+        assert_eq!(io.tool_in_spindle(), 0);
+        assert_eq!(
+            io.request(&IoRequest::Prepare { tool: 2 }),
+            Ok(Started::Waiting(Handshake::Prepare))
+        );
+        let o = *io.outputs();
+        assert!(o.tool_prepare);
+        assert_eq!(
+            (o.tool_prep_number, o.tool_prep_pocket, o.tool_prep_index),
+            (2, 3, 2)
+        );
+        assert!(io.step(&inputs(false, false)).is_empty());
+        assert_eq!(
+            io.step(&inputs(true, false)),
+            [IoEvent::Prepared { tool: 2 }]
+        );
+        assert!(!io.outputs().tool_prepare);
+        assert_eq!(
+            io.request(&IoRequest::Load),
+            Ok(Started::Waiting(Handshake::Change))
+        );
+        assert!(io.outputs().tool_change);
+        assert_eq!(io.step(&inputs(true, true)), [IoEvent::Changed { tool: 2 }]);
+        let o = *io.outputs();
+        assert_eq!(
+            (o.tool_number, o.tool_prep_number, o.tool_change),
+            (2, 0, false)
+        );
+        assert_eq!(
+            io.table().tool(0).unwrap().number,
+            2,
+            "copied to the spindle slot"
+        );
+        // Loading the tool already in the spindle does nothing.
+        io.request(&IoRequest::Prepare { tool: 2 }).unwrap();
+        io.step(&inputs(true, false));
+        assert_eq!(io.request(&IoRequest::Load), Ok(Started::Done));
+        // T0 M6 unloads.
+        io.request(&IoRequest::Prepare { tool: 0 }).unwrap();
+        assert_eq!(io.outputs().tool_prep_number, 0);
+        io.step(&inputs(true, false));
+        io.request(&IoRequest::Load).unwrap();
+        assert_eq!(io.step(&inputs(true, true)), [IoEvent::Changed { tool: 0 }]);
+        assert!(io.table().tool(0).is_none());
+    }
+
+    #[test]
+    fn random_changer_swaps_pockets() {
+        let mut io = io(true);
+        assert_eq!(io.tool_in_spindle(), 7, "pocket 0 holds tool 7");
+        io.request(&IoRequest::Prepare { tool: 1 }).unwrap();
+        assert_eq!(io.outputs().tool_prep_pocket, 5);
+        io.step(&inputs(true, false));
+        io.request(&IoRequest::Load).unwrap();
+        io.step(&inputs(true, true));
+        assert_eq!(io.tool_in_spindle(), 1);
+        assert_eq!(io.table().tool(0).unwrap().number, 1);
+        assert_eq!(
+            io.table().tool(5).unwrap().number,
+            7,
+            "old tool went to pocket 5"
+        );
+        // The tool in the spindle needs no prepare handshake.
+        assert_eq!(
+            io.request(&IoRequest::Prepare { tool: 1 }),
+            Ok(Started::Done)
+        );
+        assert_eq!(io.request(&IoRequest::Load), Ok(Started::Done));
+    }
+
+    #[test]
+    fn refusals_say_why() {
+        let mut io = io(false);
+        assert_eq!(
+            io.request(&IoRequest::Prepare { tool: 9 }),
+            Err(IoError::NoSuchTool { tool: 9 })
+        );
+        assert_eq!(io.request(&IoRequest::Load), Err(IoError::NothingPrepared));
+        io.request(&IoRequest::Prepare { tool: 1 }).unwrap();
+        assert_eq!(
+            io.request(&IoRequest::Prepare { tool: 2 }),
+            Err(IoError::Busy(Handshake::Prepare))
+        );
+        io.request(&IoRequest::Abort).unwrap();
+        assert_eq!(io.busy(), None);
+        io.request(&IoRequest::SetNumber { tool: 1 }).unwrap();
+        assert_eq!(io.outputs().tool_number, 1);
+    }
+}

@@ -1,0 +1,40 @@
+//! The launcher: a machine's INI file run headless, as LinuxCNC's
+//! `linuxcnc` script runs it ([`run`]): the HAL files in LinuxCNC's order
+//! (with TWOPASS and the rules for GUI-only lines), the pins task and
+//! iocontrol create, the motion controller configured from the INI file,
+//! task's requests (`task-cmd`, [`request`]) and the safe state at the end.
+//! [`part_program`] runs G-code through the interpreter on a live motion
+//! controller (`gcode-run`).
+
+#![forbid(unsafe_code)]
+
+mod config;
+mod error;
+mod hal_side;
+mod halfiles;
+mod iocontrol;
+mod machine;
+mod motion_setup;
+pub mod part_program;
+mod rules;
+mod task;
+mod task_pins;
+mod task_socket;
+mod twopass;
+
+pub use error::LaunchError;
+pub use machine::{
+    load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup, Options,
+    USAGE,
+};
+pub use rules::Rules;
+pub use task::REQUESTS;
+pub use task_socket::{request, TaskAnswer, TaskClientError};
+
+/// Entry points of the fuzz targets (fuzz/README.md) for the launcher's
+/// parsers of outside bytes.
+pub mod fuzz {
+    pub use crate::iocontrol::tooltable::fuzz_parse as tool_table;
+    pub use crate::part_program::fuzz_program as part_program;
+    pub use crate::twopass::fuzz_gather as twopass_loadrt;
+}

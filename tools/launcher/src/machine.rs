@@ -1,0 +1,427 @@
+//! `linuxcnc`: a machine's INI file run headless, as LinuxCNC's `linuxcnc`
+//! script runs it, less the parts a HAL suite does not have (the G-code
+//! interpreter and its task controller, GUIs, halui).
+//!
+//! Order, as LinuxCNC's: the INI file (with `#INCLUDE`s) is read and the
+//! working directory becomes its directory; the HAL host starts; the pins
+//! task creates appear (`iocontrol.0.*`, `ini.*`); the planner and homing
+//! modules load (`[TRAJ]TPMOD`, `[EMCMOT]HOMEMOD`); every `[HAL]HALFILE`
+//! runs (TWOPASS if asked), then every `[HAL]HALCMD`; the threads start;
+//! the motion controller is configured as task configures it; the
+//! `POSTGUI_HALFILE`s run. The GUI (`[DISPLAY]DISPLAY`), halui, the
+//! `[APPLICATIONS]` and GUI-only HAL lines are not started: the launcher
+//! says what it skipped and which pins that left without their partner.
+//! It then runs the task's part (e-stop chain, iocontrol, `ini.*` pins,
+//! the requests of `task-cmd`) until Ctrl-C or SIGTERM, and brings the
+//! machine to its safe state: e-stop, motion disabled, `[HAL]SHUTDOWN`,
+//! every module's safe-state hook, everything unloaded.
+
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::time::Duration;
+
+use hal_core::Instance;
+use hal_lang::ini::Ini;
+use hal_lang::{Options as HalcmdOptions, Session};
+
+use crate::error::LaunchError;
+use crate::hal_side::HalSide;
+use crate::halfiles::SearchPath;
+use crate::iocontrol::{IoControl, IoPins, ToolTable};
+use crate::rules::Rules;
+use crate::task_pins::TaskPins;
+
+/// The `linuxcnc` command line.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// The machine's INI file.
+    pub ini_path: PathBuf,
+    /// `-k`: keep going after failed HAL commands.
+    pub keep_going: bool,
+    /// `-v`: say what is done.
+    pub verbose: bool,
+    /// `-d`: echo every HAL command.
+    pub echo: bool,
+    /// `-H DIR`: directories searched for HAL files first.
+    pub halfile_dirs: Vec<PathBuf>,
+    /// `-t TPMOD`: the planner module instead of `[TRAJ]TPMOD`.
+    pub tpmod: Option<String>,
+    /// `-m HOMEMOD`: the homing module instead of `[EMCMOT]HOMEMOD`.
+    pub homemod: Option<String>,
+}
+
+/// `linuxcnc`'s usage text.
+pub const USAGE: &str = "\
+usage: linuxcnc [-v] [-d] [-k] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MACHINE.ini
+
+Runs the HAL side of a LinuxCNC machine configuration headless: its HAL
+files, its motion settings, iocontrol and the task pins, until Ctrl-C or
+SIGTERM. GUIs, halui and the G-code interpreter are not started. Send the
+machine task requests with task-cmd (estop-reset, machine-on, tool-change,
+coolant, status) and motion commands with motion-cmd.
+
+  -v          say what is done
+  -d          echo every HAL command
+  -k          keep going after a failed HAL command
+  -t TPMOD    trajectory planner module (default [TRAJ]TPMOD or tpmod)
+  -m HOMEMOD  homing module (default [EMCMOT]HOMEMOD or homemod)
+  -H DIR      look for HAL files in DIR first (may be repeated)";
+
+/// Parses `linuxcnc`'s arguments.
+pub fn parse_args(args: &[String]) -> Result<Options, LaunchError> {
+    let mut o = Options::default();
+    let mut i = 0;
+    let mut ini = None;
+    while let Some(a) = args.get(i) {
+        let value = |i: usize| {
+            args.get(i + 1)
+                .cloned()
+                .ok_or_else(|| LaunchError::OptionValue { option: a.clone() })
+        };
+        match a.as_str() {
+            "-v" => o.verbose = true,
+            "-d" => o.echo = true,
+            "-k" => o.keep_going = true,
+            "-r" => {}
+            "-t" => {
+                o.tpmod = Some(value(i)?);
+                i += 1;
+            }
+            "-m" => {
+                o.homemod = Some(value(i)?);
+                i += 1;
+            }
+            "-H" => {
+                o.halfile_dirs.push(PathBuf::from(value(i)?));
+                i += 1;
+            }
+            "-l" => return Err(LaunchError::LastConfig),
+            s if s.starts_with('-') => {
+                return Err(LaunchError::UnknownOption {
+                    option: s.to_string(),
+                })
+            }
+            s => {
+                if ini.replace(PathBuf::from(s)).is_some() {
+                    return Err(LaunchError::TwoInis {
+                        second: s.to_string(),
+                    });
+                }
+            }
+        }
+        i += 1;
+    }
+    o.ini_path = ini.ok_or(LaunchError::NoIni)?;
+    Ok(o)
+}
+
+/// The pins and modules of a machine's HAL side, once its files ran.
+pub struct HalStartup {
+    /// The rules the session applies.
+    pub rules: Rc<RefCell<Rules>>,
+    /// iocontrol, with the tool table loaded.
+    pub io: IoControl,
+    /// iocontrol's pins.
+    pub io_pins: IoPins,
+    /// The `ini.*` pins (none if the INI file has no `[KINS]JOINTS`).
+    pub task_pins: Option<TaskPins>,
+    /// The tool table file.
+    pub table_path: Option<PathBuf>,
+}
+
+/// Reads the INI file and makes its directory the working directory (as
+/// LinuxCNC does); exports what HAL files and Tcl scripts use.
+pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
+    let abs = std::fs::canonicalize(path).map_err(|e| LaunchError::read(path, e))?;
+    let ini = Ini::load(&abs)?;
+    for w in ini.warnings() {
+        eprintln!("{w}");
+    }
+    let dir = ini.dir();
+    std::env::set_current_dir(&dir).map_err(|e| LaunchError::read(&dir, e))?;
+    std::env::set_var("INI_FILE_NAME", &abs);
+    if let Some(lib) = crate::halfiles::hallib_dir() {
+        std::env::set_var("HALLIB_DIR", lib);
+    }
+    Ok(ini)
+}
+
+/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none), with its
+/// skipped lines reported.
+fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
+    let random = ini.boolean("EMCIO", "RANDOM_TOOLCHANGER")?.unwrap_or(false);
+    if let Some(e) = ini.entry("EMCIO", "DB_PROGRAM") {
+        eprintln!(
+            "{}: note: [EMCIO]DB_PROGRAM (tool database programs) is not supported; using TOOL_TABLE",
+            e.origin
+        );
+    }
+    let Some(e) = ini
+        .entry("EMCIO", "TOOL_TABLE")
+        .filter(|e| !e.value.trim().is_empty())
+    else {
+        return Ok((ToolTable::empty(random), None));
+    };
+    let path = ini.dir().join(&e.value);
+    match ToolTable::load(&path, random) {
+        Ok(t) => {
+            for p in &t.problems {
+                eprintln!("{p}");
+            }
+            Ok((t, Some(path)))
+        }
+        Err(err) => {
+            eprintln!(
+                "{}: [EMCIO]TOOL_TABLE: cannot read {}: {err}; starting with an empty tool table",
+                e.origin,
+                path.display()
+            );
+            Ok((ToolTable::empty(random), Some(path)))
+        }
+    }
+}
+
+/// The search path for `[HAL]` files.
+pub fn search_path(ini: &Ini, extra: &[PathBuf]) -> SearchPath {
+    SearchPath {
+        extra: extra.to_vec(),
+        ini_dir: ini.dir(),
+        lib: crate::halfiles::hallib_dir(),
+    }
+}
+
+/// The first word of a module setting (`tpmod`, or `homecomp home_parms=1`).
+fn module_words(value: &str) -> Vec<String> {
+    let mut v = vec!["loadrt".to_string()];
+    v.extend(value.split_whitespace().map(str::to_string));
+    v
+}
+
+/// Creates the task pins, loads the planner and homing modules and runs
+/// `[HAL]HALFILE` and `[HAL]HALCMD` on `session`.
+pub fn start_hal_side(
+    session: &mut Session<'_>,
+    ini: &Ini,
+    opts: &Options,
+) -> Result<HalStartup, LaunchError> {
+    let rules = Rc::new(RefCell::new(Rules::default()));
+    if let Some(display) = ini.get("DISPLAY", "DISPLAY") {
+        let mut words = display.split_whitespace();
+        let program = words.next().unwrap_or("");
+        // A GUI's HAL component: AXIS makes axisui, QtVCP the screen's name.
+        let comp = match program {
+            "axis" => "axisui".to_string(),
+            "qtvcp" => words.last().unwrap_or("qtvcp").to_string(),
+            other => other.to_string(),
+        };
+        rules.borrow_mut().add_gui_component(&comp);
+    }
+    session.set_filter(rules.clone());
+    let io_pins = IoPins::create(session.instance())?;
+    let task_pins = if ini.entry("KINS", "JOINTS").is_some() {
+        Some(TaskPins::create(session.instance(), ini)?)
+    } else {
+        None
+    };
+    let (table, table_path) = tool_table(ini)?;
+    let io = IoControl::new(table, table_path.clone());
+    for (flag, section, key, default) in [
+        (&opts.tpmod, "TRAJ", "TPMOD", "tpmod"),
+        (&opts.homemod, "EMCMOT", "HOMEMOD", "homemod"),
+    ] {
+        let value = flag
+            .clone()
+            .or_else(|| ini.get(section, key).map(str::to_string))
+            .unwrap_or_else(|| default.to_string());
+        let words = module_words(&value);
+        let (file, line) = ini
+            .entry(section, key)
+            .map(|e| (e.origin.file.to_string(), e.origin.line))
+            .unwrap_or_else(|| (ini.name(), 0));
+        if !session.run_words_at(Some(&file), line, &words) {
+            return Err(LaunchError::Failed(format!(
+                "{file}:{line}: [{section}]{key}: cannot load '{value}'"
+            )));
+        }
+        rules.borrow_mut().preloaded(&words[1]);
+    }
+    let side = HalSide {
+        ini,
+        search: search_path(ini, &opts.halfile_dirs),
+        rules: rules.clone(),
+        keep_going: opts.keep_going,
+        verbose: opts.verbose,
+    };
+    side.halfiles(session)?;
+    side.halcmds(session)?;
+    Ok(HalStartup {
+        rules,
+        io,
+        io_pins,
+        task_pins,
+        table_path,
+    })
+}
+
+/// Says what was not started and which pins that left alone.
+pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
+    let mut lines = Vec::new();
+    if let Some(e) = ini.entry("DISPLAY", "DISPLAY") {
+        lines.push(format!(
+            "{}: GUI '{}' ([DISPLAY]DISPLAY)",
+            e.origin, e.value
+        ));
+    }
+    if let Some(e) = ini.entry("HAL", "HALUI") {
+        lines.push(format!("{}: halui ([HAL]HALUI = {})", e.origin, e.value));
+    }
+    for e in ini.all("APPLICATIONS", "APP") {
+        lines.push(format!(
+            "{}: application '{}' ([APPLICATIONS]APP)",
+            e.origin, e.value
+        ));
+    }
+    for s in &rules.skipped {
+        let pins = if s.gui_pins.is_empty() {
+            String::new()
+        } else {
+            format!(" (GUI pins {})", s.gui_pins.join(", "))
+        };
+        lines.push(format!("{}: {}{pins}", s.at, s.command));
+    }
+    if lines.is_empty() {
+        return;
+    }
+    eprintln!("linuxcnc: not started on this headless machine:");
+    for l in lines {
+        eprintln!("  {l}");
+    }
+    let orphans = rules.orphans(inst);
+    if !orphans.is_empty() {
+        eprintln!("linuxcnc: pins left without the GUI partner they were connected to:");
+        for (pin, signal, gui) in orphans {
+            eprintln!("  {pin} (signal {signal}; {} not created)", gui.join(", "));
+        }
+    }
+}
+
+/// Runs the machine until Ctrl-C or SIGTERM. Returns the exit status.
+pub fn run(opts: &Options) -> i32 {
+    match run_machine(opts) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("linuxcnc: {e}");
+            1
+        }
+    }
+}
+
+fn run_machine(opts: &Options) -> Result<(), LaunchError> {
+    let ini = load_ini(&opts.ini_path)?;
+    let instance = hal_core::instance_from_env();
+    eprintln!(
+        "Machine configuration directory is '{}'",
+        ini.dir().display()
+    );
+    eprintln!(
+        "Machine configuration file is '{}'",
+        opts.ini_path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+    );
+    let signals = hal_core::userspace::ExitSignals::install()?;
+    let mut host = hal_lang::host_process::start_host_own_group(&instance)?;
+    let result = run_on_host(&ini, opts, &instance, &signals);
+    if let Err(e) = hal_lang::host_process::stop_host(&instance, Duration::from_secs(20)) {
+        eprintln!("linuxcnc: stopping the HAL host: {e}");
+        let _ = host.kill();
+    }
+    let _ = host.wait();
+    result
+}
+
+fn run_on_host(
+    ini: &Ini,
+    opts: &Options,
+    instance: &str,
+    signals: &hal_core::userspace::ExitSignals,
+) -> Result<(), LaunchError> {
+    let inst = Instance::attach(instance)?;
+    let (mut out, mut err) = (hal_core::stdio::stdout(), std::io::stderr());
+    let hopts = HalcmdOptions {
+        keep_going: opts.keep_going,
+        verbose: opts.verbose,
+        ini: Some(ini.clone()),
+        ..HalcmdOptions::default()
+    };
+    let mut session = Session::new(inst.clone(), hopts, &mut out, &mut err);
+    if opts.echo {
+        session.run_words(&["echo".to_string()]);
+    }
+    let startup = start_hal_side(&mut session, ini, opts)?;
+    if !session.run_words(&["start".to_string()]) {
+        return Err(LaunchError::Failed(
+            "starting the realtime threads failed".into(),
+        ));
+    }
+    let motion = crate::motion_setup::MotionLink::connect(&inst);
+    let mut motion = match motion {
+        Some(mut m) => {
+            for note in m.configure(ini)? {
+                eprintln!("note: {note}");
+            }
+            Some(m)
+        }
+        None => {
+            eprintln!("note: no motion controller (motmod) is loaded; motion is not configured");
+            None
+        }
+    };
+    let side = HalSide {
+        ini,
+        search: search_path(ini, &opts.halfile_dirs),
+        rules: startup.rules.clone(),
+        keep_going: opts.keep_going,
+        verbose: opts.verbose,
+    };
+    side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    report_skipped(ini, &startup.rules.borrow(), &inst);
+    let mut server = crate::task_socket::TaskServer::bind(instance).map_err(|e| {
+        let path = crate::task_socket::socket_path(instance).unwrap_or_default();
+        LaunchError::read(&path, e)
+    })?;
+    if let Some(m) = &mut motion {
+        // Task starts in e-stop with motion disabled.
+        let _ = m.disable();
+    }
+    let mut task = crate::task::Task::new(
+        startup.io,
+        startup.io_pins,
+        startup.task_pins,
+        motion,
+        startup.table_path,
+    );
+    let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
+    eprintln!(
+        "linuxcnc: machine '{machine}' runs on HAL instance '{instance}' (e-stop); \
+         task-cmd estop-reset, task-cmd machine-on; Ctrl-C stops it"
+    );
+    let cycle = Duration::from_millis(10);
+    while !signals.requested() {
+        for (id, words) in server.poll() {
+            task.handle(&mut server, id, &words);
+        }
+        task.step(&mut server);
+        if !inst.host_alive() {
+            return Err(LaunchError::HostExited);
+        }
+        std::thread::sleep(cycle);
+    }
+    eprintln!("linuxcnc: stopping: e-stop, motion disabled");
+    task.shut_down(&mut server);
+    drop(task);
+    side.files_of(&mut session, "SHUTDOWN")?;
+    Ok(())
+}

@@ -1,0 +1,482 @@
+//! Every exchange of the launcher with the motion controller, through its
+//! public command channel: configuring it from the INI file as LinuxCNC's
+//! task does at start-up (joint limits, following error, backlash or
+//! screw-error table, jerk, homing, activation; axis limits and jerk; the
+//! world home, the coordinated planner's limits and type), following the
+//! `ini.*` pins, and enabling, disabling and aborting for the task
+//! requests. `[TRAJ]` keys without a motion setting are listed with why. Kept in this one module so changes of the motion API touch
+//! the launcher in one place.
+
+use hal_core::Instance;
+use hal_lang::ini::Ini;
+use motion::homing::{HomeFlags, HomingConfig};
+use motion::kins::Pose;
+use motion::{Command, MotionClient, Reject};
+
+use crate::config::{
+    axis_letters, joint_comp, joint_count, max_feed_override, AxisLimits, HomingIni, JointLimits,
+    TrajSettings,
+};
+use crate::task_pins::IniChange;
+use crate::LaunchError;
+
+/// `[TRAJ]` keys the motion controller has no setting for, with why:
+/// read (and shown as `ini.traj_*` pins where LinuxCNC has one), never
+/// sent.
+const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
+    (
+        &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
+        "the jog speed a GUI starts with; no GUI runs here and every jog names its speed",
+    ),
+    (
+        &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
+        "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
+         jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
+         MAX_LINEAR_ACCELERATION",
+    ),
+    (
+        &[
+            "ARC_BLEND_ENABLE",
+            "ARC_BLEND_FALLBACK_ENABLE",
+            "ARC_BLEND_OPTIMIZATION_DEPTH",
+            "ARC_BLEND_GAP_CYCLES",
+            "ARC_BLEND_RAMP_FREQ",
+        ],
+        "the planner always blends corners with arcs within the G64 tolerance and looks ahead \
+         over the whole queue; it has no switch, depth, gap or ramp setting",
+    ),
+    (
+        &["SPINDLES"],
+        "motmod's num_spindles module parameter sets the spindles",
+    ),
+    (
+        &["POSITION_FILE"],
+        "joint positions are not saved or restored between runs",
+    ),
+    (
+        &["NO_FORCE_HOMING"],
+        "the launcher runs no G-code interpreter to hold back before homing; coordinated \
+         mode itself needs homed joints unless the kinematics are identity",
+    ),
+];
+
+/// The motion controller of an instance.
+pub struct MotionLink {
+    client: MotionClient,
+}
+
+/// The INI position to name for a setting made of `keys` of `section`.
+fn at(ini: &Ini, section: &str, keys: &[&str]) -> String {
+    keys.iter()
+        .find_map(|k| ini.entry(section, k))
+        .map(|e| format!("{}: [{section}]{}", e.origin, e.key))
+        .unwrap_or_else(|| format!("{}: [{section}]", ini.name()))
+}
+
+/// HomingConfig from the INI keys.
+fn homing_config(h: &HomingIni) -> HomingConfig {
+    let mut flags = HomeFlags::empty();
+    flags.set(HomeFlags::USE_INDEX, h.use_index);
+    flags.set(HomeFlags::INDEX_NO_ENCODER_RESET, h.index_no_encoder_reset);
+    flags.set(HomeFlags::IGNORE_LIMITS, h.ignore_limits);
+    flags.set(HomeFlags::IS_SHARED, h.is_shared);
+    flags.set(HomeFlags::UNLOCK_FIRST, h.locking_indexer);
+    flags.set(
+        HomeFlags::ABSOLUTE_ENCODER | HomeFlags::NO_REHOME,
+        h.absolute_encoder > 0,
+    );
+    flags.set(HomeFlags::NO_FINAL_MOVE, h.absolute_encoder == 2);
+    HomingConfig {
+        offset: h.offset,
+        home: h.home,
+        final_vel: h.final_vel,
+        search_vel: h.search_vel,
+        latch_vel: h.latch_vel,
+        flags,
+        sequence: h.sequence,
+        volatile_home: h.volatile_home,
+    }
+}
+
+impl MotionLink {
+    /// The command channel of the instance's `motmod`, or `None` if no
+    /// motion controller is loaded.
+    pub fn connect(inst: &Instance) -> Option<MotionLink> {
+        MotionClient::open(inst).ok().map(|c| MotionLink {
+            client: c.with_timeout(std::time::Duration::from_secs(2)),
+        })
+    }
+
+    fn send(&mut self, cmd: Command) -> Result<(), Reject> {
+        self.client.send(cmd).map(|_| ()).map_err(|r| r.reason)
+    }
+
+    /// Sends `cmd` for the INI setting of `keys` in `section`; a refusal
+    /// names them.
+    fn setting(
+        &mut self,
+        ini: &Ini,
+        section: &str,
+        keys: &[&str],
+        cmd: Command,
+    ) -> Result<(), LaunchError> {
+        self.send(cmd).map_err(|source| LaunchError::Motion {
+            at: at(ini, section, keys),
+            source,
+        })
+    }
+
+    /// Sends what task sends at start-up; returns notes about settings the
+    /// controller does not take.
+    pub fn configure(&mut self, ini: &Ini) -> Result<Vec<String>, LaunchError> {
+        let mut notes = Vec::new();
+        for j in 0..joint_count(ini)? {
+            self.configure_joint(ini, j, &mut notes)?;
+        }
+        for (axis, letter) in axis_letters(ini) {
+            self.configure_axis(ini, axis, letter, &mut notes)?;
+        }
+        self.configure_traj(ini, &mut notes)?;
+        Ok(notes)
+    }
+
+    /// `[JOINT_j]`: limits, following error, backlash or compensation
+    /// table, homing, then activation.
+    fn configure_joint(
+        &mut self,
+        ini: &Ini,
+        j: usize,
+        notes: &mut Vec<String>,
+    ) -> Result<(), LaunchError> {
+        let l = JointLimits::from_ini(ini, j)?;
+        let sec = format!("JOINT_{j}");
+        let joint = j as i32;
+        let steps: [(Command, &[&str]); 8] = [
+            (
+                Command::SetJointBacklash {
+                    joint,
+                    backlash: l.backlash,
+                },
+                &["BACKLASH"],
+            ),
+            (
+                Command::SetJointPositionLimits {
+                    joint,
+                    min: l.min_limit,
+                    max: l.max_limit,
+                },
+                &["MIN_LIMIT", "MAX_LIMIT"],
+            ),
+            (
+                Command::SetJointMaxFerror {
+                    joint,
+                    ferror: l.ferror,
+                },
+                &["FERROR"],
+            ),
+            (
+                Command::SetJointMinFerror {
+                    joint,
+                    ferror: l.min_ferror,
+                },
+                &["MIN_FERROR", "FERROR"],
+            ),
+            (
+                Command::SetJointVelLimit {
+                    joint,
+                    vel: l.max_velocity,
+                },
+                &["MAX_VELOCITY"],
+            ),
+            (
+                Command::SetJointAccLimit {
+                    joint,
+                    acc: l.max_acceleration,
+                },
+                &["MAX_ACCELERATION"],
+            ),
+            (
+                Command::SetJointJerkLimit {
+                    joint,
+                    jerk: l.max_jerk,
+                },
+                &["MAX_JERK"],
+            ),
+            (
+                Command::SetJointHomingParams {
+                    joint,
+                    config: homing_config(&l.homing),
+                },
+                &["HOME_SEARCH_VEL", "HOME_LATCH_VEL", "HOME_SEQUENCE", "HOME"],
+            ),
+        ];
+        for (cmd, keys) in steps {
+            self.setting(ini, &sec, keys, cmd)?;
+        }
+        if let Some(entries) = joint_comp(ini, j)? {
+            self.setting(ini, &sec, &["COMP_FILE"], Command::ClearJointComp { joint })?;
+            for e in entries {
+                let cmd = Command::SetJointComp {
+                    joint,
+                    nominal: e.nominal,
+                    forward: e.forward,
+                    reverse: e.reverse,
+                };
+                self.setting(ini, &sec, &["COMP_FILE"], cmd)?;
+            }
+            if l.backlash != 0.0 {
+                notes.push(format!(
+                    "{}: not used: the joint has a COMP_FILE (as in LinuxCNC)",
+                    at(ini, &sec, &["BACKLASH"])
+                ));
+            }
+        }
+        self.setting(ini, &sec, &[], Command::JointActivate { joint })
+    }
+
+    /// `[AXIS_L]`: position, velocity, acceleration and jerk limits.
+    fn configure_axis(
+        &mut self,
+        ini: &Ini,
+        axis: usize,
+        letter: char,
+        notes: &mut Vec<String>,
+    ) -> Result<(), LaunchError> {
+        let l = AxisLimits::from_ini(ini, letter)?;
+        let sec = format!("AXIS_{}", letter.to_ascii_uppercase());
+        let a = axis as i32;
+        let steps: [(Command, &[&str]); 4] = [
+            (
+                Command::SetAxisPositionLimits {
+                    axis: a,
+                    min: l.min_limit,
+                    max: l.max_limit,
+                },
+                &["MIN_LIMIT", "MAX_LIMIT"],
+            ),
+            (
+                Command::SetAxisVelLimit {
+                    axis: a,
+                    vel: l.max_velocity,
+                },
+                &["MAX_VELOCITY"],
+            ),
+            (
+                Command::SetAxisAccLimit {
+                    axis: a,
+                    acc: l.max_acceleration,
+                },
+                &["MAX_ACCELERATION"],
+            ),
+            (
+                Command::SetAxisJerkLimit {
+                    axis: a,
+                    jerk: l.max_jerk,
+                },
+                &["MAX_JERK"],
+            ),
+        ];
+        for (cmd, keys) in steps {
+            self.setting(ini, &sec, keys, cmd)?;
+        }
+        if ini.entry(&sec, "LOCKING_INDEXER_JOINT").is_some() {
+            notes.push(format!(
+                "{}: axis locking indexers are not supported by the motion controller; homing the joint still unlocks it",
+                at(ini, &sec, &["LOCKING_INDEXER_JOINT"])
+            ));
+        }
+        Ok(())
+    }
+
+    /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the world home, the
+    /// coordinated planner's limits and its type.
+    fn configure_traj(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        let traj = TrajSettings::from_ini(ini)?;
+        if let Some(pose) = traj.home {
+            self.setting(
+                ini,
+                "TRAJ",
+                &["HOME"],
+                Command::SetWorldHome { pose: Pose(pose) },
+            )?;
+        }
+        let vel = Command::SetVelLimit {
+            vel: traj.max_velocity,
+        };
+        self.setting(ini, "TRAJ", &["MAX_LINEAR_VELOCITY", "MAX_VELOCITY"], vel)?;
+        let acc = Command::SetAccLimit {
+            acc: traj.max_acceleration,
+        };
+        self.setting(
+            ini,
+            "TRAJ",
+            &["MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION"],
+            acc,
+        )?;
+        // LinuxCNC takes a jerk below 1 as "no S-curve": the planner falls
+        // back to trapezoidal with a message rather than refusing the
+        // configuration.
+        let jerk_ok = traj.max_jerk >= 1.0;
+        if traj.max_jerk > 0.0 {
+            let jerk = Command::SetJerkLimit {
+                jerk: traj.max_jerk,
+            };
+            self.setting(ini, "TRAJ", &["MAX_LINEAR_JERK"], jerk)?;
+        } else {
+            notes.push(format!(
+                "{}: {} is no jerk limit; not sent (the controller keeps LinuxCNC's default, 1e9)",
+                at(ini, "TRAJ", &["MAX_LINEAR_JERK"]),
+                traj.max_jerk
+            ));
+        }
+        let planner = if traj.planner_type == 1 && !jerk_ok {
+            notes.push(format!(
+                "{}: the S-curve planner needs [TRAJ]MAX_LINEAR_JERK of at least 1 (it is {}); \
+                 the trapezoidal planner runs",
+                at(ini, "TRAJ", &["PLANNER_TYPE"]),
+                traj.max_jerk
+            ));
+            0
+        } else {
+            traj.planner_type
+        };
+        let cmd = Command::SetPlannerType { planner };
+        self.setting(ini, "TRAJ", &["PLANNER_TYPE"], cmd)?;
+        let scale = max_feed_override(ini)?;
+        let cmd = Command::SetMaxFeedOverride { scale };
+        self.setting(ini, "DISPLAY", &["MAX_FEED_OVERRIDE"], cmd)?;
+        for (keys, why) in TRAJ_READ_ONLY {
+            let given: Vec<&str> = keys
+                .iter()
+                .copied()
+                .filter(|k| ini.entry("TRAJ", k).is_some())
+                .collect();
+            if let Some((first, rest)) = given.split_first() {
+                let more = if rest.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (and {})", rest.join(", "))
+                };
+                notes.push(format!(
+                    "{}{more}: read, not sent: {why}",
+                    at(ini, "TRAJ", &[first])
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies a changed `ini.*` pin.
+    pub fn apply(&mut self, change: &IniChange) -> Result<(), LaunchError> {
+        let cmd = match *change {
+            IniChange::Backlash { joint, value } => Command::SetJointBacklash {
+                joint: joint as i32,
+                backlash: value,
+            },
+            IniChange::Ferror { joint, value } => Command::SetJointMaxFerror {
+                joint: joint as i32,
+                ferror: value,
+            },
+            IniChange::MinFerror { joint, value } => Command::SetJointMinFerror {
+                joint: joint as i32,
+                ferror: value,
+            },
+            IniChange::JointLimits { joint, min, max } => Command::SetJointPositionLimits {
+                joint: joint as i32,
+                min,
+                max,
+            },
+            IniChange::JointVel { joint, value } => Command::SetJointVelLimit {
+                joint: joint as i32,
+                vel: value,
+            },
+            IniChange::JointAcc { joint, value } => Command::SetJointAccLimit {
+                joint: joint as i32,
+                acc: value,
+            },
+            IniChange::Homing {
+                joint,
+                home,
+                offset,
+                sequence,
+            } => Command::UpdateJointHomingParams {
+                joint: joint as i32,
+                offset,
+                home,
+                sequence,
+            },
+            IniChange::AxisLimits { axis, min, max } => Command::SetAxisPositionLimits {
+                axis: axis as i32,
+                min,
+                max,
+            },
+            IniChange::AxisVel { axis, value } => Command::SetAxisVelLimit {
+                axis: axis as i32,
+                vel: value,
+            },
+            IniChange::AxisAcc { axis, value } => Command::SetAxisAccLimit {
+                axis: axis as i32,
+                acc: value,
+            },
+            IniChange::JointJerk { joint, value } => Command::SetJointJerkLimit {
+                joint: joint as i32,
+                jerk: value,
+            },
+            IniChange::AxisJerk { axis, value } => Command::SetAxisJerkLimit {
+                axis: axis as i32,
+                jerk: value,
+            },
+            IniChange::TrajVel { value } => Command::SetVelLimit { vel: value },
+            IniChange::TrajAcc { value } => Command::SetAccLimit { acc: value },
+            IniChange::TrajJerk { value } => Command::SetJerkLimit { jerk: value },
+            IniChange::PlannerType { value } => Command::SetPlannerType { planner: value },
+            IniChange::NotApplied { pin } => {
+                return Err(LaunchError::NotApplied {
+                    pin: pin.to_string(),
+                })
+            }
+        };
+        self.send(cmd).map_err(|source| LaunchError::IniPin {
+            pin: change.pin().to_string(),
+            source,
+        })
+    }
+
+    /// Machine on: amplifiers enabled.
+    pub fn enable(&mut self) -> Result<(), Reject> {
+        self.send(Command::Enable)
+    }
+
+    /// Machine off or e-stop: planners stopped, amplifiers off.
+    pub fn disable(&mut self) -> Result<(), Reject> {
+        self.send(Command::Disable)
+    }
+
+    /// Abort: every move stops.
+    pub fn abort(&mut self) -> Result<(), Reject> {
+        self.send(Command::Abort)
+    }
+
+    /// Whether motion is enabled, if the status can be read.
+    pub fn enabled(&self) -> Option<bool> {
+        self.client.status().ok().map(|s| s.enabled)
+    }
+
+    /// A one-line summary for `task-cmd status`.
+    pub fn summary(&self) -> String {
+        match self.client.status() {
+            Ok(s) => format!(
+                "motion: {} ({}), {} joints, {}",
+                if s.enabled { "enabled" } else { "disabled" },
+                s.mode,
+                s.joints.iter().filter(|j| j.active).count(),
+                if s.all_homed {
+                    "all homed"
+                } else {
+                    "not all homed"
+                }
+            ),
+            Err(e) => format!("motion: status not readable: {e}"),
+        }
+    }
+}

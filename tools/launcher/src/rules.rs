@@ -1,0 +1,273 @@
+//! The launcher's rules for the commands of a machine's HAL files: GUI
+//! components that a headless machine does not start (and the lines that
+//! would connect them), TWOPASS's two passes, and `loadrt tpmod`/`homemod`
+//! when the launcher loaded them already. Every skipped line is recorded,
+//! so the launcher can say what it skipped and which pins were left
+//! without the GUI partner they would have had.
+
+use std::collections::BTreeSet;
+
+use hal_core::Instance;
+use hal_lang::session::{CommandFilter, Verdict};
+use hal_lang::usr;
+use hal_lang::LangError;
+
+use crate::twopass::TwoPass;
+
+/// Programs that need a display, or are user interfaces a headless
+/// machine does not run.
+const GUI_PROGRAMS: &[&str] = &[
+    "axis",
+    "axis-remote",
+    "touchy",
+    "gmoccapy",
+    "gscreen",
+    "qtvcp",
+    "tklinuxcnc",
+    "mini",
+    "keystick",
+    "pyvcp",
+    "gladevcp",
+    "hal_manualtoolchange",
+    "halshow",
+    "halscope",
+    "sim_pin",
+    "simulate_probe",
+    "hal-histogram",
+    "linuxcnctop",
+    "tooledit",
+    "halui",
+    "classicladder",
+    "lineardelta",
+    "rotarydelta",
+];
+
+/// HAL component names of GUIs: their pins never exist here.
+const GUI_COMPONENTS: &[&str] = &[
+    "axisui",
+    "pyvcp",
+    "gladevcp",
+    "touchy",
+    "gmoccapy",
+    "gscreen",
+    "qtdragon",
+    "qtplasmac",
+    "hal_manualtoolchange",
+    "halui",
+];
+
+/// Which pass of TWOPASS runs (or none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Phase {
+    /// Ordinary processing.
+    Normal,
+    /// TWOPASS pass 0: gather `loadrt`, run `loadusr`, skip the rest.
+    Pass0,
+    /// TWOPASS pass 1: everything but the `loadrt`s of pass 0 and the
+    /// `loadusr`s.
+    Pass1,
+}
+
+/// A line that was not run because of a GUI.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Skipped {
+    /// File and line.
+    pub at: String,
+    /// The command as written.
+    pub command: String,
+    /// The GUI pins it named (empty for a `loadusr`).
+    pub gui_pins: Vec<String>,
+}
+
+/// The rules, shared between the launcher and its halcmd session.
+#[derive(Debug)]
+pub struct Rules {
+    /// The TWOPASS pass.
+    pub phase: Phase,
+    /// What TWOPASS gathered.
+    pub twopass: TwoPass,
+    /// Component names (pin prefixes) of GUIs not started.
+    gui_comps: BTreeSet<String>,
+    /// Modules the launcher loaded itself (tpmod, homemod).
+    preloaded: Vec<String>,
+    /// Lines skipped because of a GUI.
+    pub skipped: Vec<Skipped>,
+    /// Signals that lost GUI pins: (signal, the pins dropped).
+    pub dropped: Vec<(String, Vec<String>)>,
+}
+
+impl Default for Rules {
+    fn default() -> Self {
+        Rules {
+            phase: Phase::Normal,
+            twopass: TwoPass::new(),
+            gui_comps: GUI_COMPONENTS.iter().map(|s| s.to_string()).collect(),
+            preloaded: Vec::new(),
+            skipped: Vec::new(),
+            dropped: Vec::new(),
+        }
+    }
+}
+
+/// The program of a command line, without directory.
+fn base(program: &str) -> &str {
+    program.rsplit('/').next().unwrap_or(program)
+}
+
+/// Whether `program` (a base name) is a GUI: one of [`GUI_PROGRAMS`], or a
+/// vismach 3-D view (`scaragui`, `xyzac-trt-gui`, `vismach`...), which
+/// LinuxCNC's sim configs start with `loadusr -W NAMEgui`.
+fn is_gui_program(program: &str) -> bool {
+    let program = program.strip_suffix(".py").unwrap_or(program);
+    GUI_PROGRAMS.contains(&program) || program == "vismach" || program.ends_with("gui")
+}
+
+impl Rules {
+    /// Treats `name.*` pins as those of a GUI that is not started.
+    pub fn add_gui_component(&mut self, name: &str) {
+        self.gui_comps.insert(name.to_string());
+    }
+
+    /// Records a module the launcher loaded, so a HAL file's own `loadrt`
+    /// of it is accepted.
+    pub fn preloaded(&mut self, module: &str) {
+        self.preloaded.push(module.to_string());
+    }
+
+    /// Whether `name` is a pin (or param) of a GUI not started: it does
+    /// not exist and its component is a GUI's.
+    fn is_gui_name(&self, inst: &Instance, name: &str) -> bool {
+        let Some((comp, _)) = name.split_once('.') else {
+            return false;
+        };
+        if !self.gui_comps.contains(comp) {
+            return false;
+        }
+        let exists =
+            inst.pin(name).ok().flatten().is_some() || inst.param(name).ok().flatten().is_some();
+        !exists
+    }
+
+    fn skip(&mut self, at: &str, words: &[String], gui_pins: Vec<String>) -> Verdict {
+        self.skipped.push(Skipped {
+            at: at.to_string(),
+            command: words.join(" "),
+            gui_pins,
+        });
+        Verdict::Skip
+    }
+
+    /// The GUI rules: a GUI program is not started (its component name is
+    /// remembered); a line naming pins of a GUI not started loses them.
+    fn gui(&mut self, inst: &Instance, words: &[String], at: &str) -> Option<Verdict> {
+        let cmd = words.first()?.as_str();
+        match cmd {
+            "loadusr" => {
+                let args: Vec<&str> = words[1..].iter().map(String::as_str).collect();
+                let spec = usr::parse(&args).ok()?;
+                let program = base(&spec.program);
+                let nogui = spec.args.iter().any(|a| a == "--nogui");
+                if !is_gui_program(program) || nogui {
+                    return None;
+                }
+                // pyvcp and gladevcp name their component with -c.
+                let named_c = spec
+                    .args
+                    .iter()
+                    .position(|a| a == "-c")
+                    .and_then(|i| spec.args.get(i + 1));
+                let comp = spec
+                    .name
+                    .clone()
+                    .or_else(|| named_c.cloned())
+                    .unwrap_or_else(|| usr::guess_comp_name(program).to_string());
+                self.add_gui_component(&comp);
+                Some(self.skip(at, words, Vec::new()))
+            }
+            "net" => {
+                let (gui, kept): (Vec<&String>, Vec<&String>) = words[2.min(words.len())..]
+                    .iter()
+                    .partition(|w| self.is_gui_name(inst, w));
+                if gui.is_empty() {
+                    return None;
+                }
+                let gui: Vec<String> = gui.into_iter().cloned().collect();
+                self.dropped.push((words[1].clone(), gui.clone()));
+                let pins: Vec<&String> = kept
+                    .into_iter()
+                    .filter(|w| !(w.starts_with('<') || w.starts_with('=')))
+                    .collect();
+                self.skipped.push(Skipped {
+                    at: at.to_string(),
+                    command: words.join(" "),
+                    gui_pins: gui,
+                });
+                if pins.is_empty() {
+                    return Some(Verdict::Skip);
+                }
+                let mut v = vec!["net".to_string(), words[1].clone()];
+                v.extend(pins.into_iter().cloned());
+                Some(Verdict::RunInstead(v))
+            }
+            "setp" | "getp" | "ptype" | "unlinkp" | "linkps" | "linksp" | "linkpp" => {
+                let gui: Vec<String> = words[1..]
+                    .iter()
+                    .filter(|w| self.is_gui_name(inst, w))
+                    .cloned()
+                    .collect();
+                (!gui.is_empty()).then(|| self.skip(at, words, gui))
+            }
+            // `name = value` is setp.
+            _ if words.len() == 3 && words[1] == "=" && self.is_gui_name(inst, cmd) => {
+                Some(self.skip(at, words, vec![cmd.to_string()]))
+            }
+            _ => None,
+        }
+    }
+
+    /// Pins left on signals that lost their GUI partners: (pin, signal,
+    /// the GUI pins it would have been connected to).
+    pub fn orphans(&self, inst: &Instance) -> Vec<(String, String, Vec<String>)> {
+        let mut out: Vec<(String, String, Vec<String>)> = Vec::new();
+        for (signal, gui) in &self.dropped {
+            let Ok(Some(info)) = inst.signal(signal) else {
+                continue;
+            };
+            for (pin, _) in &info.pins {
+                match out.iter_mut().find(|(p, s, _)| p == pin && s == signal) {
+                    Some(entry) => entry.2.extend(gui.iter().cloned()),
+                    None => out.push((pin.clone(), signal.clone(), gui.clone())),
+                }
+            }
+        }
+        out
+    }
+}
+
+impl CommandFilter for Rules {
+    fn check(&mut self, inst: &Instance, words: &[String], at: &str) -> Result<Verdict, LangError> {
+        let Some(cmd) = words.first().map(String::as_str) else {
+            return Ok(Verdict::Run);
+        };
+        let module = words.get(1).map(String::as_str).unwrap_or("");
+        if cmd == "loadrt" && self.preloaded.iter().any(|m| m == module) {
+            return Ok(Verdict::Skip);
+        }
+        match (self.phase, cmd) {
+            (Phase::Pass0, "loadrt") => {
+                self.twopass
+                    .gather(&words[1..])
+                    .map_err(|e| LangError::Filter(Box::new(e)))?;
+                return Ok(Verdict::Skip);
+            }
+            (Phase::Pass0, "loadusr" | "source" | "quit" | "exit") => {}
+            (Phase::Pass0, _) => return Ok(Verdict::Skip),
+            (Phase::Pass1, "loadrt") if self.twopass.loaded_in_pass0(module) => {
+                return Ok(Verdict::Skip)
+            }
+            (Phase::Pass1, "loadusr") => return Ok(Verdict::Skip),
+            _ => {}
+        }
+        Ok(self.gui(inst, words, at).unwrap_or(Verdict::Run))
+    }
+}

@@ -1,0 +1,521 @@
+//! What LinuxCNC's task does once the machine runs, for a machine without
+//! a task controller: the machine state (e-stop, off, on) following the
+//! e-stop chain, iocontrol's cycle, the `ini.*` pins, and the requests
+//! `task-cmd` sends (e-stop reset, machine on and off, tool prepare and
+//! change, coolant, lube, abort, status).
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use crate::error::LaunchError;
+use crate::iocontrol::{Handshake, IoControl, IoEvent, IoPins, IoRequest, Started, ToolTable};
+use crate::motion_setup::MotionLink;
+use crate::task_pins::TaskPins;
+use crate::task_socket::{ConnId, TaskServer};
+
+/// A request's answer: its text, or why it was refused.
+type Answer = Result<String, LaunchError>;
+
+/// The machine state, as LinuxCNC's task keeps it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MachineState {
+    /// E-stop: `user-enable-out` off, motion disabled.
+    Estop,
+    /// E-stop released, machine off.
+    Off,
+    /// Machine on: motion enabled.
+    On,
+}
+
+impl MachineState {
+    fn name(self) -> &'static str {
+        match self {
+            MachineState::Estop => "ESTOP",
+            MachineState::Off => "OFF",
+            MachineState::On => "ON",
+        }
+    }
+}
+
+/// A request of `task-cmd`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TaskRequest {
+    /// Assert the e-stop.
+    Estop,
+    /// Release it (LinuxCNC's "estop reset"): `user-enable-out` on and a
+    /// `user-request-enable` pulse; done once `emc-enable-in` reads TRUE.
+    EstopReset,
+    /// Machine on.
+    MachineOn,
+    /// Machine off.
+    MachineOff,
+    /// Stop motion, coolant and tool handshakes.
+    Abort,
+    /// Prepare and load a tool (T*n* M6).
+    ToolChange(i32),
+    /// Prepare a tool (T*n*).
+    ToolPrepare(i32),
+    /// Load the prepared tool (M6).
+    ToolLoad,
+    /// Declare the tool in the spindle (M61 Q*n*).
+    SetTool(i32),
+    /// Mist coolant.
+    Mist(bool),
+    /// Flood coolant.
+    Flood(bool),
+    /// Lube.
+    Lube(bool),
+    /// Read the tool table file again.
+    ReloadToolTable,
+    /// The state as text.
+    Status,
+}
+
+/// The words `task-cmd` accepts, for its help text.
+pub const REQUESTS: &str = "\
+\x20 estop                 assert the e-stop
+  estop-reset           release the e-stop (user-enable-out on, a pulse on
+                        user-request-enable); waits for emc-enable-in
+  machine-on | machine-off
+  abort                 stop motion, coolant and any tool handshake
+  tool-change TOOL      prepare TOOL and change to it (T<n> M6)
+  tool-prepare TOOL     prepare TOOL (T<n>)
+  tool-load             change to the prepared tool (M6)
+  set-tool TOOL         declare TOOL in the spindle (M61)
+  coolant mist|flood on|off
+  lube on|off
+  reload-tool-table     read the tool table file again
+  status                machine state, tool, coolant, motion";
+
+/// Parses `task-cmd`'s words.
+pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
+    let w: Vec<&str> = words.iter().map(String::as_str).collect();
+    let tool = |s: Option<&&str>| -> Result<i32, LaunchError> {
+        let s = s.ok_or(LaunchError::MissingTool)?;
+        s.parse::<i32>()
+            .ok()
+            .filter(|t| *t >= 0)
+            .ok_or_else(|| LaunchError::BadTool {
+                word: s.to_string(),
+            })
+    };
+    let on_off = |s: Option<&&str>| -> Result<bool, LaunchError> {
+        match s.copied() {
+            Some("on") => Ok(true),
+            Some("off") => Ok(false),
+            other => Err(LaunchError::OnOff {
+                given: other.map(str::to_string),
+            }),
+        }
+    };
+    Ok(match w.as_slice() {
+        ["estop"] => TaskRequest::Estop,
+        ["estop-reset"] => TaskRequest::EstopReset,
+        ["machine-on"] => TaskRequest::MachineOn,
+        ["machine-off"] => TaskRequest::MachineOff,
+        ["abort"] => TaskRequest::Abort,
+        ["tool-change", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::ToolChange(tool(rest.first())?)
+        }
+        ["tool-prepare", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::ToolPrepare(tool(rest.first())?)
+        }
+        ["tool-load"] => TaskRequest::ToolLoad,
+        ["set-tool", rest @ ..] if rest.len() == 1 => TaskRequest::SetTool(tool(rest.first())?),
+        ["coolant", "mist", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::Mist(on_off(rest.first())?)
+        }
+        ["coolant", "flood", rest @ ..] if rest.len() == 1 => {
+            TaskRequest::Flood(on_off(rest.first())?)
+        }
+        ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
+        ["reload-tool-table"] => TaskRequest::ReloadToolTable,
+        ["status"] => TaskRequest::Status,
+        _ => return Err(LaunchError::UnknownRequest { words: w.join(" ") }),
+    })
+}
+
+/// A request waiting for the HAL side.
+#[derive(Debug)]
+enum Waiting {
+    /// `emc-enable-in` to read TRUE.
+    EnableIn { until: Instant },
+    /// The prepare handshake; then, for a tool change, the load.
+    Prepare { then_load: bool },
+    /// The change handshake.
+    Change,
+}
+
+/// How long an e-stop reset waits for the chain to close.
+const RESET_WAIT: Duration = Duration::from_secs(1);
+
+/// The task: iocontrol, the `ini.*` pins, the machine state, the waiters.
+pub struct Task {
+    io: IoControl,
+    pins: IoPins,
+    ini_pins: Option<TaskPins>,
+    motion: Option<MotionLink>,
+    state: MachineState,
+    waiting: Vec<(ConnId, Waiting)>,
+    table_path: Option<PathBuf>,
+}
+
+impl Task {
+    /// A task in e-stop with `io` on `pins`.
+    pub fn new(
+        io: IoControl,
+        pins: IoPins,
+        ini_pins: Option<TaskPins>,
+        motion: Option<MotionLink>,
+        table_path: Option<PathBuf>,
+    ) -> Task {
+        let t = Task {
+            io,
+            pins,
+            ini_pins,
+            motion,
+            state: MachineState::Estop,
+            waiting: Vec::new(),
+            table_path,
+        };
+        t.pins.write(t.io.outputs());
+        t
+    }
+
+    /// One cycle: inputs, e-stop chain, handshakes, `ini.*` pins, motion
+    /// watch, outputs; answers waiting requests on `server`.
+    pub fn step(&mut self, server: &mut TaskServer) {
+        let inputs = self.pins.inputs();
+        if !inputs.emc_enable_in && self.state != MachineState::Estop {
+            self.go_estop();
+            eprintln!("task: e-stop: iocontrol.0.emc-enable-in went FALSE");
+            self.fail_all(server, || LaunchError::ChainOpened);
+        }
+        if inputs.emc_enable_in
+            && self.state == MachineState::Estop
+            && self.io.outputs().user_enable_out
+        {
+            self.state = MachineState::Off;
+        }
+        let events = self.io.step(&inputs);
+        self.finish_waiters(server, &events, inputs.emc_enable_in);
+        if let Some(ip) = &mut self.ini_pins {
+            for change in ip.changes() {
+                let r = match &mut self.motion {
+                    Some(m) => m.apply(&change),
+                    None => Err(LaunchError::NoMotion),
+                };
+                if let Err(e) = r {
+                    eprintln!("task: {e}");
+                }
+            }
+        }
+        if self.state == MachineState::On {
+            if let Some(false) = self.motion.as_ref().and_then(MotionLink::enabled) {
+                eprintln!("task: the motion controller disabled itself: machine off");
+                self.state = MachineState::Off;
+            }
+        }
+        self.pins.write(self.io.outputs());
+    }
+
+    fn go_estop(&mut self) {
+        let _ = self.io.request(&IoRequest::EstopOn);
+        if let Some(m) = &mut self.motion {
+            if let Err(source) = m.disable() {
+                eprintln!("task: {}", LaunchError::Disabling { source });
+            }
+        }
+        self.state = MachineState::Estop;
+    }
+
+    fn fail_all(&mut self, server: &mut TaskServer, why: impl Fn() -> LaunchError) {
+        for (id, _) in self.waiting.drain(..) {
+            server.reply(id, Err(why()));
+        }
+    }
+
+    fn finish_waiters(&mut self, server: &mut TaskServer, events: &[IoEvent], enable_in: bool) {
+        let waiting = std::mem::take(&mut self.waiting);
+        for (id, w) in waiting {
+            match w {
+                Waiting::EnableIn { .. } if enable_in => {
+                    self.answer(server, id, Ok("e-stop released; machine off".into()));
+                }
+                Waiting::EnableIn { until } if Instant::now() > until => {
+                    self.answer(server, id, Err(LaunchError::ChainOpen))
+                }
+                Waiting::Prepare { then_load } => {
+                    let done = events.iter().find_map(|e| match e {
+                        IoEvent::Prepared { tool } => Some(*tool),
+                        _ => None,
+                    });
+                    match (done, then_load) {
+                        (None, _) => self.waiting.push((id, Waiting::Prepare { then_load })),
+                        (Some(tool), false) => {
+                            self.answer(server, id, Ok(format!("tool {tool} prepared")))
+                        }
+                        (Some(_), true) => match self.io.request(&IoRequest::Load) {
+                            Ok(Started::Done) => self.answer(server, id, Ok(self.in_spindle())),
+                            Ok(Started::Waiting(_)) => self.waiting.push((id, Waiting::Change)),
+                            Err(e) => self.answer(server, id, Err(e.into())),
+                        },
+                    }
+                }
+                Waiting::Change => {
+                    if events.iter().any(|e| matches!(e, IoEvent::Changed { .. })) {
+                        self.answer(server, id, Ok(self.in_spindle()));
+                    } else {
+                        self.waiting.push((id, Waiting::Change));
+                    }
+                }
+                other => self.waiting.push((id, other)),
+            }
+        }
+    }
+
+    fn in_spindle(&self) -> String {
+        format!("tool {} in spindle", self.io.tool_in_spindle())
+    }
+
+    fn require_on(&self) -> Result<(), LaunchError> {
+        if self.state == MachineState::On {
+            Ok(())
+        } else {
+            Err(LaunchError::NotOn {
+                state: self.state.name(),
+            })
+        }
+    }
+
+    /// Takes a request; answers at once or when its handshake ends.
+    pub fn handle(&mut self, server: &mut TaskServer, id: ConnId, words: &[String]) {
+        let req = match parse_request(words) {
+            Ok(r) => r,
+            Err(e) => return server.reply(id, Err(e)),
+        };
+        if req == TaskRequest::Abort {
+            for (waiter, w) in std::mem::take(&mut self.waiting) {
+                match w {
+                    Waiting::EnableIn { .. } => self.waiting.push((waiter, w)),
+                    _ => server.reply(waiter, Err(LaunchError::Aborted)),
+                }
+            }
+        }
+        let result = self.start(&req, id);
+        self.pins.write(self.io.outputs());
+        if let Some(r) = result {
+            server.reply(id, r);
+        }
+    }
+
+    /// Answers a waiting request once the outputs it changed are on the
+    /// pins, so a client reading them after the answer sees them.
+    fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Answer) {
+        self.pins.write(self.io.outputs());
+        server.reply(id, result);
+    }
+
+    /// Starts a request: `Some` answer now, `None` when it waits.
+    fn start(&mut self, req: &TaskRequest, id: ConnId) -> Option<Answer> {
+        match req {
+            TaskRequest::Estop => {
+                self.go_estop();
+                Some(Ok("e-stop".into()))
+            }
+            TaskRequest::EstopReset => {
+                let _ = self.io.request(&IoRequest::EstopOff);
+                self.waiting.push((
+                    id,
+                    Waiting::EnableIn {
+                        until: Instant::now() + RESET_WAIT,
+                    },
+                ));
+                None
+            }
+            TaskRequest::MachineOn => Some(self.machine_on()),
+            TaskRequest::MachineOff => Some(self.machine_off()),
+            TaskRequest::Abort => {
+                let _ = self.io.request(&IoRequest::Abort);
+                Some(match &mut self.motion {
+                    Some(m) => m
+                        .abort()
+                        .map(|()| "aborted".to_string())
+                        .map_err(|source| LaunchError::MotionRefused { source }),
+                    None => Ok("aborted".to_string()),
+                })
+            }
+            TaskRequest::ToolChange(tool) | TaskRequest::ToolPrepare(tool) => {
+                let then_load = matches!(req, TaskRequest::ToolChange(_));
+                self.tool_prepare(*tool, then_load, id)
+            }
+            TaskRequest::ToolLoad => self.tool_load(id),
+            TaskRequest::SetTool(tool) => Some(
+                self.require_on()
+                    .and_then(|()| Ok(self.io.request(&IoRequest::SetNumber { tool: *tool })?))
+                    .map(|_| self.in_spindle()),
+            ),
+            TaskRequest::Mist(on) | TaskRequest::Flood(on) | TaskRequest::Lube(on) => {
+                Some(self.switch(req, *on))
+            }
+            TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
+            TaskRequest::Status => Some(Ok(self.status())),
+        }
+    }
+
+    /// Machine on: refused in e-stop; motion enabled if there is motion.
+    fn machine_on(&mut self) -> Answer {
+        if self.state == MachineState::Estop {
+            return Err(LaunchError::InEstop);
+        }
+        let r = match &mut self.motion {
+            Some(m) => m.enable().map(|()| "machine on".to_string()),
+            None => Ok("machine on (no motion controller is loaded)".to_string()),
+        };
+        if r.is_ok() {
+            self.state = MachineState::On;
+        }
+        r.map_err(|source| LaunchError::MachineOn { source })
+    }
+
+    /// Machine off: motion disabled; from on, the state becomes off.
+    fn machine_off(&mut self) -> Answer {
+        if let Some(m) = &mut self.motion {
+            m.disable()
+                .map_err(|source| LaunchError::Disabling { source })?;
+        }
+        if self.state == MachineState::On {
+            self.state = MachineState::Off;
+        }
+        Ok(format!("machine {}", self.state.name().to_lowercase()))
+    }
+
+    /// Prepares `tool` (T*n*), then for a change loads it (M6); answers
+    /// when the handshakes are done.
+    fn tool_prepare(&mut self, tool: i32, then_load: bool, id: ConnId) -> Option<Answer> {
+        if let Err(e) = self.require_on() {
+            return Some(Err(e));
+        }
+        match self.io.request(&IoRequest::Prepare { tool }) {
+            Err(e) => Some(Err(e.into())),
+            Ok(Started::Waiting(_)) => {
+                self.waiting.push((id, Waiting::Prepare { then_load }));
+                None
+            }
+            Ok(Started::Done) if then_load => self.tool_load(id),
+            Ok(Started::Done) => Some(Ok(format!("tool {tool} prepared (in the spindle)"))),
+        }
+    }
+
+    /// Loads the prepared tool (M6); answers when the handshake is done.
+    fn tool_load(&mut self, id: ConnId) -> Option<Answer> {
+        if let Err(e) = self.require_on() {
+            return Some(Err(e));
+        }
+        match self.io.request(&IoRequest::Load) {
+            Ok(Started::Done) => Some(Ok(self.in_spindle())),
+            Ok(Started::Waiting(_)) => {
+                self.waiting.push((id, Waiting::Change));
+                None
+            }
+            Err(e) => Some(Err(e.into())),
+        }
+    }
+
+    /// Mist, flood or lube on or off.
+    fn switch(&mut self, req: &TaskRequest, on: bool) -> Answer {
+        self.require_on()?;
+        let (r, what) = match req {
+            TaskRequest::Mist(_) => (IoRequest::Mist(on), "mist coolant"),
+            TaskRequest::Flood(_) => (IoRequest::Flood(on), "flood coolant"),
+            _ => (IoRequest::Lube(on), "lube"),
+        };
+        let _ = self.io.request(&r);
+        Ok(format!("{what} {}", if on { "on" } else { "off" }))
+    }
+
+    /// Reads the tool table file again; the answer lists its problems.
+    fn reload_tool_table(&mut self) -> Answer {
+        let path = self.table_path.as_ref().ok_or(LaunchError::NoToolTable)?;
+        let t = ToolTable::load(path, self.io.table().random).map_err(|source| {
+            LaunchError::ToolTable {
+                path: path.clone(),
+                source,
+            }
+        })?;
+        let problems: Vec<String> = t.problems.iter().map(|p| p.to_string()).collect();
+        self.io.reload(t);
+        let mut msg = format!("tool table {} reloaded", path.display());
+        for pr in problems {
+            msg.push('\n');
+            msg.push_str(&pr);
+        }
+        Ok(msg)
+    }
+
+    /// The state as text.
+    pub fn status(&self) -> String {
+        let o = self.io.outputs();
+        let onoff = |b: bool| if b { "on" } else { "off" };
+        let handshake = match self.io.busy() {
+            None => "none",
+            Some(Handshake::Prepare) => "waiting for tool-prepared",
+            Some(Handshake::Change) => "waiting for tool-changed",
+        };
+        let mut s = format!(
+            "state: {}\ntool in spindle: {}\nprepared: {}\nhandshake: {handshake}\n\
+             coolant: mist {}, flood {}\nlube: {}\n",
+            self.state.name(),
+            self.io.tool_in_spindle(),
+            self.io
+                .prepared_tool()
+                .map_or("none".to_string(), |t| t.to_string()),
+            onoff(o.coolant_mist),
+            onoff(o.coolant_flood),
+            onoff(o.lube),
+        );
+        s.push_str(&match &self.motion {
+            Some(m) => m.summary(),
+            None => "motion: no motion controller is loaded".into(),
+        });
+        s
+    }
+
+    /// The safe state at exit: e-stop, motion disabled, coolant off.
+    pub fn shut_down(&mut self, server: &mut TaskServer) {
+        self.go_estop();
+        self.pins.write(self.io.outputs());
+        self.fail_all(server, || LaunchError::ShuttingDown);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn w(s: &str) -> Vec<String> {
+        s.split_whitespace().map(str::to_string).collect()
+    }
+
+    #[test]
+    fn requests_parse() {
+        assert_eq!(
+            parse_request(&w("tool-change 3")).unwrap(),
+            TaskRequest::ToolChange(3)
+        );
+        assert_eq!(
+            parse_request(&w("coolant flood on")).unwrap(),
+            TaskRequest::Flood(true)
+        );
+        assert_eq!(
+            parse_request(&w("lube off")).unwrap(),
+            TaskRequest::Lube(false)
+        );
+        assert!(parse_request(&w("tool-change x")).is_err());
+        assert!(parse_request(&w("coolant mist maybe")).is_err());
+        assert!(parse_request(&w("fly"))
+            .unwrap_err()
+            .to_string()
+            .contains("unknown request 'fly'"));
+    }
+}

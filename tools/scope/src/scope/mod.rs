@@ -1,0 +1,175 @@
+//! `halscope`, headless: captures pins at the full rate of a HAL thread
+//! through a `sampler` FIFO, with an oscilloscope's trigger (level, edge,
+//! pre-trigger), and writes the record as a PNG plot, a CSV table or a
+//! VCD for waveform viewers.
+//!
+//! Modules: [`args`] (the command line), [`wiring`] (the sampler channel
+//! and its links, undone at the end), [`capture`] (trigger and record),
+//! [`output`] (CSV and VCD), [`plot`] (the PNG).
+
+pub mod args;
+pub mod capture;
+pub mod output;
+pub mod plot;
+pub mod wiring;
+
+use std::time::{Duration, Instant};
+
+use hal_core::Instance;
+
+use crate::error::Cause;
+pub use crate::error::ScopeError;
+
+use args::{Format, Request, Source};
+use capture::{Capture, Trigger};
+use output::Record;
+use wiring::Probe;
+
+/// How long the reader sleeps when the FIFO is empty.
+const POLL: Duration = Duration::from_millis(1);
+
+/// The trigger of `req` on the columns of `probe`: the name is a column's
+/// name or its number.
+fn trigger_of(req: &Request, probe: &Probe) -> Result<Option<Trigger>, ScopeError> {
+    let Some(spec) = &req.trigger else {
+        return Ok(None);
+    };
+    let column = probe
+        .names
+        .iter()
+        .position(|n| *n == spec.name)
+        .or_else(|| {
+            spec.name
+                .parse::<usize>()
+                .ok()
+                .filter(|c| *c < probe.names.len())
+        })
+        .ok_or_else(|| {
+            ScopeError::Usage(format!(
+                "the trigger '{}' is not a captured name (captured: {})",
+                spec.name,
+                probe.names.join(", ")
+            ))
+        })?;
+    Ok(Some(Trigger {
+        column,
+        hal_type: probe.types[column],
+        edge: spec.edge,
+        level: spec.level,
+    }))
+}
+
+/// Captures one record on `inst` as `req` asks; `interrupted` ends the
+/// wait early.
+pub fn capture(
+    inst: &Instance,
+    req: &Request,
+    interrupted: &dyn Fn() -> bool,
+) -> Result<Record, ScopeError> {
+    let mut probe = match &req.source {
+        Source::Own { names, thread } => Probe::own(inst, names, thread)?,
+        Source::Channel(c) => Probe::channel(inst, *c)?,
+    };
+    let trigger = trigger_of(req, &probe)?;
+    probe.check_running(inst)?;
+    let (mut ring, _) = crate::fifo::open_sampler(inst, probe.channel)
+        .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
+    let overruns_pin = format!("sampler.{}.overruns", probe.channel);
+    let overruns = || inst.pin_value(&overruns_pin).ok();
+    let mut record = vec![0u64; probe.types.len() + 1];
+    if matches!(req.source, Source::Channel(_)) {
+        // What the channel holds already was sampled before we came.
+        while ring.pop(&mut record) {}
+    }
+    let mut cap = Capture::new(req.samples, req.pre, trigger);
+    let mut seen_overruns = overruns();
+    // The timeout is for the trigger: the record itself takes its time.
+    let record_time =
+        Duration::from_nanos((req.samples as u64).saturating_mul(probe.period_ns.max(0) as u64));
+    let end = Instant::now() + req.timeout + record_time;
+    loop {
+        let mut got = false;
+        while !cap.done() && ring.pop(&mut record) {
+            cap.push(&record);
+            got = true;
+        }
+        // The sampler counts only records it wrote: a full FIFO shows in
+        // its overrun pin, not in the sample numbers.
+        let now_overruns = overruns();
+        if now_overruns != seen_overruns {
+            seen_overruns = now_overruns;
+            cap.restart();
+            continue;
+        }
+        if cap.done() {
+            break;
+        }
+        if interrupted() {
+            return Err(ScopeError::Interrupted);
+        }
+        if !inst.host_alive() {
+            return Err(ScopeError::HostExited);
+        }
+        if Instant::now() > end {
+            return Err(ScopeError::Timeout(format!(
+                "no complete record after {:.1} s ({})",
+                req.timeout.as_secs_f64(),
+                if cap.triggered() {
+                    "triggered, samples still missing"
+                } else {
+                    "no trigger"
+                }
+            )));
+        }
+        if !got {
+            std::thread::sleep(POLL);
+        }
+    }
+    let (rows, trigger_index) = cap.into_record();
+    probe.remove()?;
+    Ok(Record {
+        names: probe.names.clone(),
+        types: probe.types.clone(),
+        rows,
+        trigger_index,
+        period_ns: probe.period_ns,
+    })
+}
+
+/// Writes `r` to every output of `req`.
+pub fn write_outputs(r: &Record, req: &Request, thread_title: &str) -> Result<(), ScopeError> {
+    for (path, format) in &req.outputs {
+        let shown = path.display().to_string();
+        let written = match format {
+            Format::Csv => std::fs::write(path, output::csv(r)).map_err(Cause::from),
+            Format::Vcd => std::fs::write(path, output::vcd(r)).map_err(Cause::from),
+            Format::Png => plot::draw(r, thread_title, &shown).map_err(Cause::from),
+        };
+        written.map_err(|source| ScopeError::Output {
+            path: shown.clone(),
+            source,
+        })?;
+    }
+    Ok(())
+}
+
+/// The title of a capture's plot.
+pub fn title(r: &Record, req: &Request) -> String {
+    let trig = match &req.trigger {
+        Some(t) => format!(
+            "TRIGGER {} {} {}",
+            t.name.to_uppercase(),
+            match t.edge {
+                capture::Edge::Rising => "RISING",
+                capture::Edge::Falling => "FALLING",
+            },
+            t.level
+        ),
+        None => "NO TRIGGER".into(),
+    };
+    format!(
+        "HALSCOPE: {} SAMPLES EVERY {} US, {trig}",
+        r.rows.len(),
+        r.period_ns as f64 / 1000.0
+    )
+}
