@@ -13,10 +13,13 @@
 //!   configuration, then a realtime `read`/`write` that never blocks.
 //! * [`lcec`]: linuxcnc-ethercat's `ethercat-conf.xml` and the pins each
 //!   slave will have.
+//! * `fuzzing` (feature `fuzzing`): the fuzz targets' bodies and seeds.
 
 #![deny(unsafe_code)]
 
 pub mod error;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod lcec;
 pub mod link;
 pub mod master;

@@ -572,26 +572,6 @@ fn pdo_entry(cx: &Ctx<'_>, e: roxmltree::Node<'_, '_>) -> Result<PdoEntry> {
     })
 }
 
-/// The fuzz body: any bytes as a configuration file; never panics, and
-/// an accepted configuration has sane numbers.
-pub fn fuzz_config(bytes: &[u8]) {
-    let text = String::from_utf8_lossy(bytes);
-    if let Ok(cfg) = parse(&text, Path::new("fuzz.xml")) {
-        for m in &cfg.masters {
-            assert!(m.app_time_period > 0);
-            for s in &m.slaves {
-                for sm in &s.sync_managers {
-                    for p in &sm.pdos {
-                        for e in &p.entries {
-                            assert!((1..=64).contains(&e.bit_len));
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -678,6 +658,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("<bogus>: not allowed in <slave>"), "{e}");
-        fuzz_config(b"<masters><master appTimePeriod='1' refClockSyncCycles='-1'><slave idx='9' type='generic'/></master></masters>");
+        crate::fuzzing::xml(b"<masters><master appTimePeriod='1' refClockSyncCycles='-1'><slave idx='9' type='generic'/></master></masters>");
     }
 }

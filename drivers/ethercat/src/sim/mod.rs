@@ -7,7 +7,7 @@
 pub mod catalog;
 pub mod device;
 pub mod esc;
-mod mailbox;
+pub(crate) mod mailbox;
 pub mod od;
 pub mod segment;
 pub mod servo;
