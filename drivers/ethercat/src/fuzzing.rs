@@ -175,7 +175,8 @@ pub fn sii(input: &[u8]) {
 /// An `ethercat-conf.xml`.
 ///
 /// Checks: an accepted configuration has a positive application period,
-/// PDO entries of 1 to 64 bits whose complex entries fit them.
+/// PDO entries of 1 to 64 bits whose complex entries fit them, and pins
+/// (where the slave's type is supported) with names unique per slave.
 pub fn xml(input: &[u8]) {
     let text = String::from_utf8_lossy(input);
     let Ok(cfg) = conf::parse(&text, Path::new("fuzz.xml")) else {
@@ -193,6 +194,13 @@ pub fn xml(input: &[u8]) {
                 assert!((1..=64).contains(&e.bit_len));
                 let bits: u32 = e.complex.iter().map(|c| u32::from(c.bit_len)).sum();
                 assert!(bits <= u32::from(e.bit_len));
+            }
+            if let Ok(pins) = crate::lcec::slave_pins(s, Path::new("fuzz.xml")) {
+                let mut names: Vec<&str> = pins.iter().map(|p| p.name.as_str()).collect();
+                names.sort_unstable();
+                let n = names.len();
+                names.dedup();
+                assert_eq!(n, names.len(), "duplicate pin names in {}", s.name);
             }
         }
     }

@@ -405,11 +405,16 @@ fn slave(cx: &Ctx<'_>, s: roxmltree::Node<'_, '_>) -> Result<Slave> {
         line,
         kind,
     };
-    if generic {
+    // A generic slave and a CiA 402 drive of lcec's basic_cia402 driver
+    // say which device they are; typed terminals know it.
+    if generic || out.kind == "basic_cia402" {
         out.vid = Some(cx.hex(s, "vid")?);
         out.pid = Some(cx.hex(s, "pid")?);
     } else if s.attribute("vid").is_some() || s.attribute("pid").is_some() {
-        return Err(cx.err(s, "vid and pid are for type=\"generic\" only"));
+        return Err(cx.err(
+            s,
+            "vid and pid are for type=\"generic\" and type=\"basic_cia402\" only",
+        ));
     }
     if out.name.is_empty() || out.name.contains(char::is_whitespace) {
         return Err(cx.err(s, format!("name \"{}\" is not a HAL name part", out.name)));

@@ -317,11 +317,13 @@ pub fn el5101(serial: u32) -> Device {
     )
 }
 
-/// The EL7041's stepper in position mode: the motor steps towards the
-/// commanded position at up to `max_speed` steps/s while enabled.
+/// The EL7041's stepper in velocity mode with its encoder, as lcec
+/// configures it: while enabled the motor turns at the commanded share
+/// of `max_speed` (16-bit velocity, ±32767 full speed), and the encoder
+/// counts its steps.
 #[derive(Debug)]
 pub struct Stepper {
-    /// Steps per second at most.
+    /// Steps per second at full command.
     pub max_speed: f64,
     /// Where the motor is (steps).
     pub position: f64,
@@ -332,24 +334,30 @@ pub struct Stepper {
 
 impl Application for Stepper {
     fn cycle(&mut self, od: &mut Dictionary, outputs_valid: bool, _: u64, dt_ns: u64) {
-        let ctrl = if outputs_valid {
-            od.get(0x7010, 1) as u8 | (od.get(0x7010, 2) as u8) << 1
-        } else {
-            0
-        };
-        let enable = ctrl & 1 != 0;
-        if ctrl & 2 != 0 {
+        let bit = |od: &Dictionary, i, s| outputs_valid && od.get(i, s) != 0;
+        let enable = bit(od, 0x7010, 1);
+        if bit(od, 0x7010, 2) {
             self.error = false;
         }
-        let target = od.get_signed(0x7010, 0x11) as f64;
+        let mut status = 0;
+        if bit(od, 0x7000, 3) {
+            self.position = od.get(0x7000, 0x11) as u16 as i16 as f64;
+            status = 1;
+        }
+        let velocity = if outputs_valid {
+            od.get_signed(0x7010, 0x21) as f64 / 32767.0 * self.max_speed
+        } else {
+            0.0
+        };
         let mut moving = 0.0;
         if enable && !self.error {
-            let step = self.max_speed * dt_ns as f64 * 1e-9;
-            let d = (target - self.position).clamp(-step, step);
-            self.position += d;
-            moving = d;
+            moving = velocity * dt_ns as f64 * 1e-9;
+            self.position += moving;
         }
         self.toggle = !self.toggle;
+        od.set(0x6000, 3, status);
+        od.set(0x6000, 0x10, u64::from(self.toggle));
+        od.set(0x6000, 0x11, u64::from(self.position.floor() as i64 as u16));
         od.set(0x6010, 1, u64::from(!self.error));
         od.set(0x6010, 2, u64::from(enable && !self.error));
         od.set(0x6010, 4, u64::from(self.error));
@@ -362,48 +370,95 @@ impl Application for Stepper {
     }
 }
 
-/// EL7041: stepper terminal, 5 A, in position mode (the -0052 PDOs).
+/// EL7041: stepper terminal, 5 A, with the PDOs lcec assigns (encoder
+/// control and status, stepper control and status, velocity).
 pub fn el7041(serial: u32) -> Device {
     let id = identity(0x1B81_3052, serial);
+    let bool_entry = |i, s, n| (i, s, n, dtype::BOOL, 1);
+    let gap = |bits| (0, 0, "", 0, bits);
     let outs = [
+        PdoSpec {
+            index: 0x1600,
+            name: "ENC RxPDO-Map Control compact",
+            entries: vec![
+                bool_entry(0x7000, 1, "Enable latch C"),
+                bool_entry(0x7000, 2, "Enable latch extern on positive edge"),
+                bool_entry(0x7000, 3, "Set counter"),
+                bool_entry(0x7000, 4, "Enable latch extern on negative edge"),
+                gap(4),
+                gap(8),
+                (0x7000, 0x11, "Set counter value", dtype::U16, 16),
+            ],
+        },
         PdoSpec {
             index: 0x1602,
             name: "STM RxPDO-Map Control",
             entries: vec![
-                (0x7010, 1, "Enable", dtype::BOOL, 1),
-                (0x7010, 2, "Reset", dtype::BOOL, 1),
-                (0x7010, 3, "Reduce torque", dtype::BOOL, 1),
-                (0, 0, "", 0, 5),
-                (0, 0, "", 0, 8),
+                bool_entry(0x7010, 1, "Enable"),
+                bool_entry(0x7010, 2, "Reset"),
+                bool_entry(0x7010, 3, "Reduce torque"),
+                gap(5),
+                gap(8),
             ],
         },
         PdoSpec {
-            index: 0x1603,
-            name: "STM RxPDO-Map Position",
-            entries: vec![(0x7010, 0x11, "Position", dtype::I32, 32)],
+            index: 0x1604,
+            name: "STM RxPDO-Map Velocity",
+            entries: vec![(0x7010, 0x21, "Velocity", dtype::I16, 16)],
         },
     ];
-    let ins = [PdoSpec {
-        index: 0x1A03,
-        name: "STM TxPDO-Map Status",
-        entries: vec![
-            (0x6010, 1, "Ready to enable", dtype::BOOL, 1),
-            (0x6010, 2, "Ready", dtype::BOOL, 1),
-            (0x6010, 3, "Warning", dtype::BOOL, 1),
-            (0x6010, 4, "Error", dtype::BOOL, 1),
-            (0x6010, 5, "Moving positive", dtype::BOOL, 1),
-            (0x6010, 6, "Moving negative", dtype::BOOL, 1),
-            (0x6010, 7, "Torque reduced", dtype::BOOL, 1),
-            (0, 0, "", 0, 1),
-            (0, 0, "", 0, 3),
-            (0x6010, 0x0C, "Digital input 1", dtype::BOOL, 1),
-            (0x6010, 0x0D, "Digital input 2", dtype::BOOL, 1),
-            (0x6010, 0x0E, "Sync error", dtype::BOOL, 1),
-            (0, 0, "", 0, 1),
-            (0x6010, 0x10, "TxPDO Toggle", dtype::BOOL, 1),
-        ],
-    }];
-    let mut od = dictionary(id, "EL7041", &outs, &ins, &[0x1602, 0x1603], &[0x1A03]);
+    let ins = [
+        PdoSpec {
+            index: 0x1A00,
+            name: "ENC TxPDO-Map Status compact",
+            entries: vec![
+                bool_entry(0x6000, 1, "Latch C valid"),
+                bool_entry(0x6000, 2, "Latch extern valid"),
+                bool_entry(0x6000, 3, "Set counter done"),
+                bool_entry(0x6000, 4, "Counter underflow"),
+                bool_entry(0x6000, 5, "Counter overflow"),
+                gap(2),
+                bool_entry(0x6000, 8, "Extrapolation stall"),
+                bool_entry(0x6000, 9, "Status of input A"),
+                bool_entry(0x6000, 0x0A, "Status of input B"),
+                bool_entry(0x6000, 0x0B, "Status of input C"),
+                gap(1),
+                bool_entry(0x6000, 0x0D, "Status of extern latch"),
+                bool_entry(0x6000, 0x0E, "Sync error"),
+                gap(1),
+                bool_entry(0x6000, 0x10, "TxPDO Toggle"),
+                (0x6000, 0x11, "Counter value", dtype::U16, 16),
+                (0x6000, 0x12, "Latch value", dtype::U16, 16),
+            ],
+        },
+        PdoSpec {
+            index: 0x1A03,
+            name: "STM TxPDO-Map Status",
+            entries: vec![
+                bool_entry(0x6010, 1, "Ready to enable"),
+                bool_entry(0x6010, 2, "Ready"),
+                bool_entry(0x6010, 3, "Warning"),
+                bool_entry(0x6010, 4, "Error"),
+                bool_entry(0x6010, 5, "Moving positive"),
+                bool_entry(0x6010, 6, "Moving negative"),
+                bool_entry(0x6010, 7, "Torque reduced"),
+                gap(4),
+                bool_entry(0x6010, 0x0C, "Digital input 1"),
+                bool_entry(0x6010, 0x0D, "Digital input 2"),
+                bool_entry(0x6010, 0x0E, "Sync error"),
+                gap(1),
+                bool_entry(0x6010, 0x10, "TxPDO Toggle"),
+            ],
+        },
+    ];
+    let mut od = dictionary(
+        id,
+        "EL7041",
+        &outs,
+        &ins,
+        &[0x1600, 0x1602, 0x1604],
+        &[0x1A00, 0x1A03],
+    );
     use super::od::Access;
     od.add(
         0x8010,
