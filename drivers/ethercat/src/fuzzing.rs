@@ -7,7 +7,9 @@
 //!   and EtherCrab's reception with a frame of its own in flight (the
 //!   master's side: a hostile frame never panics the host).
 //! * [`mailbox`]: a mailbox area as a slave or a master wrote it: the CoE
-//!   parsers both ways and the simulated slave's SDO server.
+//!   parsers both ways, the simulated slave's SDO server, and the
+//!   master's SDO client taking the bytes as a slave's replies
+//!   ([`crate::sdo::fuzz_client`]).
 //! * [`sii`]: an SII EEPROM image.
 //! * [`xml`]: linuxcnc-ethercat's `ethercat-conf.xml`.
 //!
@@ -128,7 +130,9 @@ fn master_receives(input: &[u8], seg: &mut Segment) {
 /// Checks: every parse is an error or a value; a parsed SDO response or
 /// request encodes back into a mailbox that parses to the same message;
 /// the simulated SDO server, given the bytes as a request, answers only
-/// with mailboxes the master's parser accepts.
+/// with mailboxes the master's parser accepts; the SDO client, given the
+/// bytes as a run of replies, ends every transfer in a value or an
+/// error.
 pub fn mailbox(input: &[u8]) {
     if let Ok((h, coe::SlaveMessage::Sdo(resp))) = coe::parse_response(input) {
         let again = coe::encode_response(&resp, h.address, h.counter);
@@ -156,6 +160,7 @@ pub fn mailbox(input: &[u8]) {
             }
         }
     }
+    crate::sdo::fuzz_client(input);
 }
 
 /// An SII image.

@@ -24,6 +24,7 @@ pub mod lcec;
 pub mod link;
 pub mod master;
 pub mod regs;
+pub mod sdo;
 pub mod sim;
 pub mod wire;
 

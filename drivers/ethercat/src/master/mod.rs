@@ -33,23 +33,25 @@
 //! PRE-OP back to OP (AL control with error acknowledge).
 
 pub mod exchange;
+pub(crate) mod io;
 
 use std::future::Future;
 use std::ops::Range;
 use std::pin::pin;
 use std::sync::atomic::{AtomicBool, AtomicU16, AtomicU32, AtomicU64, AtomicU8, Ordering::*};
 use std::sync::{mpsc, Arc};
-use std::task::{Context, Poll, Waker};
+use std::task::Poll;
 use std::thread::{JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
 use ethercrab::std::ethercat_now;
-use ethercrab::{MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, SubDeviceState, Timeouts};
+use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceState, Timeouts};
 
 use crate::error::{Error, Result};
 use crate::link::Link;
 use crate::regs::{self, al};
 use exchange::Exchange;
+use io::Io;
 
 /// Slaves per master at most.
 pub const MAX_SLAVES: usize = 64;
@@ -372,43 +374,6 @@ impl Cyclic {
     /// How long the helper's last frame took to come back (ns).
     pub fn round_trip_ns(&self) -> u32 {
         self.shared.frame_ns.load(Relaxed)
-    }
-}
-
-/// EtherCrab's frame queue and the link, pumped by [`Io::block_on`].
-struct Io<'sto> {
-    tx: PduTx<'sto>,
-    rx: PduRx<'sto>,
-    link: Box<dyn Link>,
-    buf: Vec<u8>,
-}
-
-impl Io<'_> {
-    /// Sends what EtherCrab queued and takes in what came back.
-    fn pump(&mut self, wait: Duration) {
-        while let Some(frame) = self.tx.next_sendable_frame() {
-            let link = &mut self.link;
-            let _ = frame.send_blocking(|d| {
-                link.send(d)
-                    .map_err(|_| ethercrab::error::Error::SendFrame)?;
-                Ok(d.len())
-            });
-        }
-        if let Ok(Some(n)) = self.link.recv(&mut self.buf, wait) {
-            let _ = self.rx.receive_frame(&self.buf[..n]);
-        }
-    }
-
-    /// Runs a future of EtherCrab's to completion.
-    fn block_on<F: Future>(&mut self, fut: F) -> F::Output {
-        let mut fut = pin!(fut);
-        let mut cx = Context::from_waker(Waker::noop());
-        loop {
-            if let Poll::Ready(v) = fut.as_mut().poll(&mut cx) {
-                return v;
-            }
-            self.pump(Duration::from_micros(200));
-        }
     }
 }
 
