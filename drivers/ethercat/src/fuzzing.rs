@@ -12,6 +12,8 @@
 //!   ([`crate::sdo::fuzz_client`]).
 //! * [`sii`]: an SII EEPROM image.
 //! * [`xml`]: linuxcnc-ethercat's `ethercat-conf.xml`.
+//! * [`segment_file`]: `ethercat-sim`'s segment description, and its
+//!   fault commands.
 //!
 //! Each panics only on a finding: a panic in the code under test or a
 //! broken invariant named in its doc comment.
@@ -207,6 +209,32 @@ pub fn xml(input: &[u8]) {
                 names.dedup();
                 assert_eq!(n, names.len(), "duplicate pin names in {}", s.name);
             }
+        }
+    }
+}
+
+/// An `ethercat-sim` segment file, and each of its lines as a fault
+/// command.
+///
+/// Checks: an accepted file names at least one slave and builds a
+/// segment of that many slaves; an accepted command applies to that
+/// segment or says why not.
+pub fn segment_file(input: &[u8]) {
+    let text = String::from_utf8_lossy(input);
+    if let Ok(spec) = sim::file::parse(&text, Path::new("fuzz.seg")) {
+        assert!(!spec.slaves.is_empty());
+        let mut seg = spec.build().expect("an accepted file builds");
+        assert_eq!(seg.slaves().len(), spec.slaves.len());
+        for line in text.lines() {
+            if let Ok(c) = sim::control::Control::parse(line) {
+                let _ = c.apply(&mut seg);
+            }
+        }
+    }
+    let mut seg = fuzz_segment();
+    for line in text.lines() {
+        if let Ok(c) = sim::control::Control::parse(line) {
+            let _ = c.apply(&mut seg);
         }
     }
 }

@@ -30,6 +30,7 @@ crate::register_targets! {
     ethercat_mailbox,
     ethercat_sii,
     ethercat_xml,
+    ethercat_segment_file,
     serial_modbus_reply,
     serial_slave_request,
     serial_command_line,

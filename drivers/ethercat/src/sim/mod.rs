@@ -5,8 +5,10 @@
 //! ([`segment`]).
 
 pub mod catalog;
+pub mod control;
 pub mod device;
 pub mod esc;
+pub mod file;
 pub(crate) mod mailbox;
 pub mod od;
 pub mod segment;

@@ -350,6 +350,11 @@ impl Sii {
         out.extend_from_slice(&cats);
         out.extend_from_slice(&category::END.to_le_bytes());
         out.extend_from_slice(&[0xFF, 0xFF]);
+        // The size word: kibibits less one, at least the 8 kibit of a
+        // small EEPROM, enough for the whole image.
+        let kbit = (out.len() * 8).div_ceil(1024).max(8);
+        let size = u16::try_from(kbit - 1).unwrap_or(u16::MAX).to_le_bytes();
+        out[WORD_SIZE * 2..WORD_SIZE * 2 + 2].copy_from_slice(&size);
         out
     }
 
