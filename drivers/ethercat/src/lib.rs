@@ -26,6 +26,7 @@ pub mod master;
 pub mod regs;
 pub mod sdo;
 pub mod sim;
+pub mod tool;
 pub mod wire;
 
 pub use error::{Error, Result};
