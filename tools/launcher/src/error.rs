@@ -145,6 +145,18 @@ pub enum LaunchError {
         #[source]
         source: Reject,
     },
+    /// Machine on that the motion controller did not answer in time: the
+    /// enable may still be taken later, so a disable was queued behind it
+    /// and task stays off (task and motion never disagree).
+    #[error(
+        "machine on did not complete: the motion controller did not answer in time \
+         (its thread stalled?); a disable was queued behind the enable, so motion stays \
+         disabled and the machine is {state}"
+    )]
+    MachineOnUndone {
+        /// The machine state task keeps (`OFF`).
+        state: &'static str,
+    },
     /// Machine off or e-stop, and motion could not be disabled.
     #[error("disabling motion: {}", refusal(source))]
     Disabling {

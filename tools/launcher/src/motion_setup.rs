@@ -457,9 +457,9 @@ impl MotionLink {
         self.send(Command::Abort)
     }
 
-    /// Whether motion is enabled, if the status can be read.
-    pub fn enabled(&self) -> Option<bool> {
-        self.client.status().ok().map(|s| s.enabled)
+    /// The controller's status snapshot, if it can be read.
+    pub fn status(&self) -> Option<motion::MotionStatus> {
+        self.client.status().ok()
     }
 
     /// A one-line summary for `task-cmd status`.

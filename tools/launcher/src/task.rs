@@ -158,6 +158,10 @@ pub struct Task {
     state: MachineState,
     waiting: Vec<(ConnId, Waiting)>,
     table_path: Option<PathBuf>,
+    /// Motion's heartbeat before which its enable flag is not compared
+    /// with the machine state (an enable or disable just sent shows in
+    /// the snapshot a cycle or two later).
+    settle_until: u64,
 }
 
 impl Task {
@@ -177,6 +181,7 @@ impl Task {
             state: MachineState::Estop,
             waiting: Vec::new(),
             table_path,
+            settle_until: 0,
         };
         t.pins.write(t.io.outputs());
         t
@@ -210,13 +215,47 @@ impl Task {
                 }
             }
         }
-        if self.state == MachineState::On {
-            if let Some(false) = self.motion.as_ref().and_then(MotionLink::enabled) {
+        self.watch_motion();
+        self.pins.write(self.io.outputs());
+    }
+
+    /// Task is the one authority over the machine state: every cycle it
+    /// compares motion's enable flag with its own state. Motion that
+    /// disabled itself turns the machine off; motion enabled while task
+    /// is not on (an enable answered too late, after a stalled servo
+    /// thread) is disabled again.
+    fn watch_motion(&mut self) {
+        let Some(m) = &mut self.motion else { return };
+        let Some(status) = m.status() else { return };
+        if status.heartbeat < self.settle_until {
+            return;
+        }
+        match (self.state == MachineState::On, status.enabled) {
+            (true, false) => {
                 eprintln!("task: the motion controller disabled itself: machine off");
                 self.state = MachineState::Off;
             }
+            (false, true) => {
+                eprintln!(
+                    "task: the motion controller is enabled while the machine is {}: \
+                     disabling it",
+                    self.state.name()
+                );
+                if let Err(source) = m.disable() {
+                    eprintln!("task: {}", LaunchError::Disabling { source });
+                }
+                self.settle();
+            }
+            _ => {}
         }
-        self.pins.write(self.io.outputs());
+    }
+
+    /// Holds back [`Task::watch_motion`] until motion's snapshot shows the
+    /// enable or disable just sent.
+    fn settle(&mut self) {
+        if let Some(s) = self.motion.as_ref().and_then(MotionLink::status) {
+            self.settle_until = s.heartbeat + 3;
+        }
     }
 
     fn go_estop(&mut self) {
@@ -226,6 +265,7 @@ impl Task {
                 eprintln!("task: {}", LaunchError::Disabling { source });
             }
         }
+        self.settle();
         self.state = MachineState::Estop;
     }
 
@@ -364,25 +404,39 @@ impl Task {
     }
 
     /// Machine on: refused in e-stop; motion enabled if there is motion.
+    /// An enable the controller does not answer in time is undone: a
+    /// disable goes into the command ring behind it, so whenever the
+    /// controller runs again it ends disabled, as task says.
     fn machine_on(&mut self) -> Answer {
         if self.state == MachineState::Estop {
             return Err(LaunchError::InEstop);
         }
         let r = match &mut self.motion {
-            Some(m) => m.enable().map(|()| "machine on".to_string()),
+            Some(m) => match m.enable() {
+                Ok(()) => Ok("machine on".to_string()),
+                Err(motion::Reject::Timeout) => {
+                    let _ = m.disable();
+                    Err(LaunchError::MachineOnUndone {
+                        state: self.state.name(),
+                    })
+                }
+                Err(source) => Err(LaunchError::MachineOn { source }),
+            },
             None => Ok("machine on (no motion controller is loaded)".to_string()),
         };
+        self.settle();
         if r.is_ok() {
             self.state = MachineState::On;
         }
-        r.map_err(|source| LaunchError::MachineOn { source })
+        r
     }
 
     /// Machine off: motion disabled; from on, the state becomes off.
     fn machine_off(&mut self) -> Answer {
         if let Some(m) = &mut self.motion {
-            m.disable()
-                .map_err(|source| LaunchError::Disabling { source })?;
+            let r = m.disable();
+            self.settle();
+            r.map_err(|source| LaunchError::Disabling { source })?;
         }
         if self.state == MachineState::On {
             self.state = MachineState::Off;
