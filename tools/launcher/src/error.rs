@@ -218,6 +218,16 @@ pub enum LaunchError {
         /// The word given.
         word: String,
     },
+    /// `run LINE` with a LINE that is not one.
+    #[error("LINE must be a line number, not '{word}'")]
+    BadLine {
+        /// The word given.
+        word: String,
+    },
+    /// A program request refused (the mode, the program's state, the
+    /// interpreter's refusal with its place).
+    #[error("{0}")]
+    Program(String),
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

@@ -16,9 +16,11 @@ mod iocontrol;
 mod machine;
 mod motion_setup;
 pub mod part_program;
+mod program;
 mod rules;
 mod task;
 mod task_pins;
+mod task_program;
 mod task_socket;
 mod twopass;
 

@@ -396,12 +396,18 @@ fn run_on_host(
         // Task starts in e-stop with motion disabled.
         let _ = m.disable();
     }
+    // Programs and MDI run through task where there is a motion
+    // controller to run them.
+    let program = motion
+        .is_some()
+        .then(|| crate::program::ProgramConfig::from_ini(ini));
     let mut task = crate::task::Task::new(
         startup.io,
         startup.io_pins,
         startup.task_pins,
         motion,
         startup.table_path,
+        program,
     );
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(

@@ -462,6 +462,12 @@ impl MotionLink {
         self.client.status().ok()
     }
 
+    /// Sends a command of a running program or MDI line (queued moves,
+    /// planner settings, pause, resume, step, mode changes).
+    pub fn command(&mut self, cmd: Command) -> Result<(), Reject> {
+        self.send(cmd)
+    }
+
     /// A one-line summary for `task-cmd status`.
     pub fn summary(&self) -> String {
         match self.client.status() {

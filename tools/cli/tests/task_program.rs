@@ -1,0 +1,116 @@
+//! Programs executed by task: the simulated mill runs the shipped
+//! CAM-style program (work offset, tool changes with length offsets,
+//! spindle, coolant, cutter compensation, a drilling cycle, G28, named
+//! parameters) through `task-cmd`, and MDI lines run in MDI mode.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use machine::{root, Machine, Scratch};
+
+/// A copy of configs/sim/mill (the interpreter writes its parameter
+/// file beside the INI file).
+fn mill_copy(s: &Scratch) -> std::path::PathBuf {
+    let src = root().join("configs/sim/mill");
+    for entry in std::fs::read_dir(&src).unwrap().flatten() {
+        let name = entry.file_name();
+        let name = name.to_str().unwrap();
+        if !name.starts_with("sim.var") {
+            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
+        }
+    }
+    s.0.join("mill.ini")
+}
+
+/// The machine on and homed, ready for AUTO or MDI.
+fn ready(m: &Machine) {
+    assert!(m.threads_run(), "threads run");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // No AUTO before homing.
+    let (ok, _, err) = m.task(&["mode", "auto"]);
+    assert!(!ok && err.contains("needs the machine homed"), "{err}");
+    m.motion(&["home", "-1"]);
+    m.motion(&["-t", "60", "wait", "all-homed"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+}
+
+fn pos(m: &Machine, joint: usize) -> f64 {
+    m.getp(&format!("joint.{joint}.pos-cmd")).parse().unwrap()
+}
+
+#[test]
+fn the_mill_runs_a_cam_program_through_task() {
+    let s = Scratch::new("task-cam");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-cam");
+    ready(&m);
+    // MDI: a move, then the modal state shows in the status.
+    assert_eq!(m.task_ok(&["mode", "mdi"]).trim(), "mode MDI");
+    m.task_ok(&["mdi", "G0", "X2", "Y1"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    assert!(
+        (pos(&m, 0) - 2.0).abs() < 1e-6,
+        "{}",
+        m.task_ok(&["status"])
+    );
+    assert!((pos(&m, 1) - 1.0).abs() < 1e-6);
+    // Programs need AUTO.
+    let prog = s.0.join("cam-part.ngc");
+    let prog = prog.to_str().unwrap();
+    m.task_ok(&["open", prog]);
+    let (ok, _, err) = m.task(&["run"]);
+    assert!(!ok && err.contains("MDI mode"), "{err}");
+    assert_eq!(m.task_ok(&["mode", "auto"]).trim(), "mode AUTO");
+    m.task_ok(&["run"]);
+    // No MDI and no mode change while it runs.
+    let (ok, _, err) = m.task(&["mode", "mdi"]);
+    assert!(!ok && err.contains("runs"), "{err}");
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("interp: RUNNING"), "{status}");
+    let (ok, out, err) = m.task(&["-t", "300", "wait-done"]);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    assert!(out.contains("cam-part.ngc: done"), "{out}");
+    // The last hole (G54 X16 Y11 is machine X26 Y16), then G28 Z0.
+    let status = m.task_ok(&["status"]);
+    for (joint, want) in [(0, 26.0), (1, 16.0), (2, 0.0)] {
+        let got = pos(&m, joint);
+        assert!(
+            (got - want).abs() < 1e-6,
+            "joint {joint}: {got}, not {want}\n{status}"
+        );
+    }
+    assert!(status.contains("tool in spindle: 3"), "{status}");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "3");
+    assert!(
+        status.contains("offsets: g5x 10.0000 5.0000 -45.0000"),
+        "{status}"
+    );
+    // M9 and M5 at the end: coolant and spindle off.
+    assert!(status.contains("coolant: mist off, flood off"), "{status}");
+    assert!(status.contains("spindle: stopped"), "{status}");
+    assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+    m.stop();
+}
+
+#[test]
+fn a_program_error_stops_the_run_and_names_the_line() {
+    let s = Scratch::new("task-err");
+    let ini = mill_copy(&s);
+    let prog = s.write("bad.ngc", "G21 G90\nG0 X1\nT42 M6\nG0 X2\nM2\n");
+    let m = Machine::start(&ini, "task-err");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(!ok, "the run failed: {out}\n{}", m.stderr());
+    assert!(err.contains("bad.ngc:3"), "{err}");
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("interp: IDLE"), "{status}");
+    // X2 never ran.
+    assert!(pos(&m, 0) < 1.5, "{status}");
+    m.stop();
+}
