@@ -18,6 +18,8 @@
 
 pub mod cli;
 mod error;
+pub mod gcode_check;
+pub mod gcode_task;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;

@@ -114,3 +114,49 @@ fn a_program_error_stops_the_run_and_names_the_line() {
     assert!(pos(&m, 0) < 1.5, "{status}");
     m.stop();
 }
+
+#[test]
+fn gcode_run_runs_through_task_when_one_runs() {
+    let s = Scratch::new("task-gcode-run");
+    let ini = mill_copy(&s);
+    let prog = s.write(
+        "square.ngc",
+        "G21 G90 G54\n#<side> = 3\nG1 X#<side> F600\nY#<side>\nX0\nY0\nG0 X1.5 Y2.5\nM2\n",
+    );
+    let m = Machine::start(&ini, "task-gcode-run");
+    ready(&m);
+    let out = machine::tool(
+        env!("CARGO_BIN_EXE_gcode-run"),
+        &["--no-keys", prog.to_str().unwrap()],
+        &m.instance,
+        None,
+    );
+    let (ok, stdout, stderr) = machine::text(&out);
+    assert!(ok, "{stdout}{stderr}\n--- linuxcnc:\n{}", m.stderr());
+    assert!(
+        stdout.contains("square.ngc: done (through task)"),
+        "{stdout}"
+    );
+    assert!((pos(&m, 0) - 1.5).abs() < 1e-6);
+    assert!((pos(&m, 1) - 2.5).abs() < 1e-6);
+    assert!(m.task_ok(&["status"]).contains("mode: AUTO"));
+    // --canon prints the canonical calls in the machine's units.
+    let out = machine::tool(
+        env!("CARGO_BIN_EXE_gcode-run"),
+        &[
+            "--canon",
+            "-I",
+            ini.to_str().unwrap(),
+            prog.to_str().unwrap(),
+        ],
+        &m.instance,
+        None,
+    );
+    let (ok, stdout, stderr) = machine::text(&out);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("STRAIGHT_FEED(3.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"),
+        "{stdout}"
+    );
+    m.stop();
+}
