@@ -53,11 +53,6 @@ const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
         &["POSITION_FILE"],
         "joint positions are not saved or restored between runs",
     ),
-    (
-        &["NO_FORCE_HOMING"],
-        "the launcher runs no G-code interpreter to hold back before homing; coordinated \
-         mode itself needs homed joints unless the kinematics are identity",
-    ),
 ];
 
 /// The motion controller of an instance.

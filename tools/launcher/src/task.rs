@@ -1,8 +1,9 @@
-//! What LinuxCNC's task does once the machine runs, for a machine without
-//! a task controller: the machine state (e-stop, off, on) following the
-//! e-stop chain, iocontrol's cycle, the `ini.*` pins, and the requests
-//! `task-cmd` sends (e-stop reset, machine on and off, tool prepare and
-//! change, coolant, lube, abort, status).
+//! What LinuxCNC's task does once the machine runs: the machine state
+//! (e-stop, off, on) following the e-stop chain, kept in agreement with
+//! motion's (task alone enables motion), iocontrol's cycle, the `ini.*`
+//! pins, and the requests `task-cmd` sends (e-stop reset, machine on and
+//! off, tool prepare and change, coolant, lube, abort, status; the modes
+//! and program requests are in `task_program`).
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
