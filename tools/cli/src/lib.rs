@@ -23,6 +23,7 @@ pub mod gcode_task;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;
+pub mod task_gate;
 pub mod tool_args;
 
 pub use error::ToolsError;

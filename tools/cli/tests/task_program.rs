@@ -140,6 +140,25 @@ fn gcode_run_runs_through_task_when_one_runs() {
     assert!((pos(&m, 0) - 1.5).abs() < 1e-6);
     assert!((pos(&m, 1) - 2.5).abs() < 1e-6);
     assert!(m.task_ok(&["status"]).contains("mode: AUTO"));
+    // Task runs the machine: motion-cmd may not turn it off, nor move it
+    // in AUTO mode; reading stays open.
+    let motion_cmd = |args: &[&str]| {
+        machine::text(&machine::tool(
+            env!("CARGO_BIN_EXE_motion-cmd"),
+            args,
+            &m.instance,
+            None,
+        ))
+    };
+    let (ok, out, err) = motion_cmd(&["disable"]);
+    assert!(
+        !ok && err.contains("task alone turns the machine on and off"),
+        "{out}{err}"
+    );
+    let (ok, out, err) = motion_cmd(&["rapid", "1", "X=5"]);
+    assert!(!ok && err.contains("task is in AUTO mode"), "{out}{err}");
+    assert!(motion_cmd(&["status"]).0);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE");
     // --canon prints the canonical calls in the machine's units.
     let out = machine::tool(
         env!("CARGO_BIN_EXE_gcode-run"),
