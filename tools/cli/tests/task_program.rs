@@ -93,6 +93,10 @@ fn the_mill_runs_a_cam_program_through_task() {
     assert!(status.contains("spindle: stopped"), "{status}");
     assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
     m.stop();
+    // The work offset the program set is kept in the parameter file.
+    let var = std::fs::read_to_string(s.0.join("sim.var")).unwrap();
+    assert!(var.contains("5221\t10.000000"), "{var}");
+    assert!(var.contains("5223\t-45.000000"), "{var}");
 }
 
 #[test]

@@ -628,11 +628,17 @@ impl Task {
         s
     }
 
-    /// The safe state at exit: e-stop, motion disabled, coolant off.
+    /// The safe state at exit: e-stop, motion disabled, coolant off; the
+    /// interpreter's parameter file saved.
     pub fn shut_down(&mut self, server: &mut TaskServer) {
         self.go_estop();
         self.pins.write(self.io.outputs());
         self.fail_all(server, || LaunchError::ShuttingDown);
+        if let Some(p) = &mut self.program {
+            if let Err(why) = p.save_parameters() {
+                eprintln!("task: {why}");
+            }
+        }
     }
 }
 

@@ -240,6 +240,18 @@ impl Program {
         }
     }
 
+    /// Saves the parameter file (`[RS274NGC]PARAMETER_FILE`), as
+    /// LinuxCNC's task does when it exits; nothing if the interpreter
+    /// never started.
+    pub fn save_parameters(&mut self) -> Result<(), String> {
+        if !self.initialised {
+            return Ok(());
+        }
+        self.interp
+            .exit(&mut self.canon)
+            .map_err(|e| format!("saving the parameter file: {e}"))
+    }
+
     /// Stops everything: the interpreter, the ops not yet carried out,
     /// MDI lines waiting (motion and iocontrol are aborted by task).
     pub fn abort(&mut self) {
