@@ -183,3 +183,56 @@ fn gcode_run_runs_through_task_when_one_runs() {
     );
     m.stop();
 }
+
+/// Polls `task-cmd status` until it holds `needle` (30 s at most).
+fn wait_status(m: &Machine, needle: &str) -> String {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    loop {
+        let status = m.task_ok(&["status"]);
+        if status.contains(needle) {
+            return status;
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "no '{needle}' in\n{status}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn pause_resume_m0_and_abort_act_on_the_running_program() {
+    let s = Scratch::new("task-pause");
+    let ini = mill_copy(&s);
+    let prog = s.write("long.ngc", "G21 G90\nG1 X20 F300\nM0\nG1 X0\nG1 X10\nM2\n");
+    let m = Machine::start(&ini, "task-pause");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    wait_status(&m, "motion line: 2");
+    assert_eq!(m.task_ok(&["pause"]).trim(), "paused");
+    wait_status(&m, "interp: PAUSED");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let held = pos(&m, 0);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), held, "X holds while paused");
+    assert!(held > 0.0 && held < 20.0, "{held}");
+    // Resume: X20, then the M0 holds the run.
+    m.task_ok(&["resume"]);
+    wait_status(&m, "interp: HELD");
+    assert!((pos(&m, 0) - 20.0).abs() < 1e-6);
+    m.task_ok(&["resume"]);
+    wait_status(&m, "motion line: 4");
+    // Abort along the way back: the run ends, the rest never runs.
+    m.task_ok(&["abort"]);
+    let (ok, _, err) = m.task(&["-t", "30", "wait-done"]);
+    assert!(!ok && err.contains("aborted"), "{err}");
+    let status = wait_status(&m, "interp: IDLE");
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    let stopped = pos(&m, 0);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), stopped, "{status}");
+    assert!(stopped > 0.0 && stopped < 20.0, "{stopped}");
+    m.stop();
+}
