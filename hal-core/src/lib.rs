@@ -15,6 +15,7 @@
 
 mod error;
 mod exec;
+pub mod files;
 pub mod handles;
 pub mod module;
 pub mod name;

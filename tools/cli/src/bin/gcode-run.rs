@@ -20,10 +20,14 @@ fn main() -> ExitCode {
         UnitsArg::Inch => Units::Inch,
     };
     let name = args.file.display().to_string();
-    let text = match std::fs::read(&args.file) {
+    let text = match hal_core::files::read_user_file(
+        &args.file,
+        hal_core::files::limits::PROGRAM,
+        "part program",
+    ) {
         Ok(t) => t,
         Err(e) => {
-            eprintln!("gcode-run: {name}: {e}");
+            eprintln!("gcode-run: {e}");
             return ExitCode::from(2);
         }
     };
