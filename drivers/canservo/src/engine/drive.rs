@@ -65,6 +65,8 @@ pub(super) struct DriveRt {
     nmt_state: u8,
     seen_tpdo1: bool,
     seen_tpdo2: bool,
+    /// TPDO1s taken so far (wrapping): tells a fresh statusword.
+    tpdo1_count: u32,
     misses: u32,
     last_heartbeat_ns: Option<u64>,
     pub bad_frames: u32,
@@ -104,6 +106,7 @@ impl DriveRt {
             nmt_state: nmt::STATE_OPERATIONAL,
             seen_tpdo1: false,
             seen_tpdo2: false,
+            tpdo1_count: 0,
             misses: 0,
             last_heartbeat_ns: None,
             bad_frames: 0,
@@ -132,6 +135,16 @@ impl DriveRt {
     /// The power state the last statusword showed.
     pub fn state_now(&self) -> Option<PowerState> {
         self.state()
+    }
+
+    /// TPDO1s (statuswords) taken so far, wrapping.
+    pub fn tpdo1_count(&self) -> u32 {
+        self.tpdo1_count
+    }
+
+    /// "canservo.0 (node 2)".
+    pub fn label(&self) -> &str {
+        &self.label
     }
 
     /// Trips the latch with `fault` and says so once, with the node and,
@@ -181,6 +194,7 @@ impl DriveRt {
                     self.position = i32::from_le_bytes([d[2], d[3], d[4], d[5]]);
                     self.mode_display = d[6] as i8;
                     self.seen_tpdo1 = true;
+                    self.tpdo1_count = self.tpdo1_count.wrapping_add(1);
                 } else {
                     self.bad_frames = self.bad_frames.wrapping_add(1);
                 }
