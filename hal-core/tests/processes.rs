@@ -1,4 +1,8 @@
 //! Several processes on one instance.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 
