@@ -35,6 +35,13 @@ pub enum LaunchError {
         /// What is wrong.
         reason: String,
     },
+    /// SIGTERM, SIGINT or SIGHUP arrived while the machine was starting:
+    /// the start was abandoned and what it started is stopped.
+    #[error(
+        "stop requested during start-up: the start was abandoned; the HAL host and \
+         the programs it started are stopped"
+    )]
+    StoppedDuringStart,
     /// A HAL file or command failed; its own error was printed above.
     #[error("{0}")]
     Failed(String),
@@ -194,14 +201,23 @@ pub enum LaunchError {
     /// `reload-tool-table` without a tool table.
     #[error("no [EMCIO]TOOL_TABLE is configured")]
     NoToolTable,
-    /// The tool table could not be read again.
-    #[error("reading {}: {source}", path.display())]
+    /// The tool table could not be read again; the old one stays.
+    #[error("{source}; the tool table in use stays, and is not written back until the file reads completely")]
     ToolTable {
         /// The file.
         path: PathBuf,
         /// What went wrong.
         #[source]
-        source: std::io::Error,
+        source: crate::iocontrol::tooltable::TableError,
+    },
+    /// The tool table could not be read completely at start.
+    #[error("{origin}: [EMCIO]TOOL_TABLE: {source}")]
+    ToolTableAtStart {
+        /// The INI line naming it.
+        origin: Origin,
+        /// What went wrong.
+        #[source]
+        source: crate::iocontrol::tooltable::TableError,
     },
     /// A task request this launcher does not know.
     #[error("unknown request '{words}'")]

@@ -134,6 +134,15 @@ pub struct HalStartup {
 /// Reads the INI file and makes its directory the working directory (as
 /// LinuxCNC does); exports what HAL files and Tcl scripts use.
 pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
+    // Refused under the name given (not the one a link resolves to) if
+    // it is not a regular file.
+    hal_core::files::open_regular(path, "INI file").map_err(|e| {
+        LaunchError::Ini(hal_lang::ini::IniError::Io {
+            origin: None,
+            path: path.to_path_buf(),
+            source: e.into(),
+        })
+    })?;
     let abs = std::fs::canonicalize(path).map_err(|e| LaunchError::read(path, e))?;
     let ini = Ini::load(&abs)?;
     for w in ini.warnings() {
@@ -148,8 +157,9 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
     Ok(ini)
 }
 
-/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none), with its
-/// skipped lines reported.
+/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none). A table
+/// that cannot be read completely stops the start, naming the file and
+/// each line; nothing of it is used, so nothing can write it back.
 fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
     let random = ini.boolean("EMCIO", "RANDOM_TOOLCHANGER")?.unwrap_or(false);
     if let Some(e) = ini.entry("EMCIO", "DB_PROGRAM") {
@@ -166,20 +176,11 @@ fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
     };
     let path = ini.dir().join(&e.value);
     match ToolTable::load(&path, random) {
-        Ok(t) => {
-            for p in &t.problems {
-                eprintln!("{p}");
-            }
-            Ok((t, Some(path)))
-        }
-        Err(err) => {
-            eprintln!(
-                "{}: [EMCIO]TOOL_TABLE: cannot read {}: {err}; starting with an empty tool table",
-                e.origin,
-                path.display()
-            );
-            Ok((ToolTable::empty(random), Some(path)))
-        }
+        Ok(t) => Ok((t, Some(path))),
+        Err(source) => Err(LaunchError::ToolTableAtStart {
+            origin: e.origin.clone(),
+            source,
+        }),
     }
 }
 
@@ -355,13 +356,20 @@ fn run_on_host(
         keep_going: opts.keep_going,
         verbose: opts.verbose,
         ini: Some(ini.clone()),
+        // SIGTERM during start-up ends the start: no further command
+        // runs, waits and Tcl files end.
+        stop: Some(signals.clone()),
         ..HalcmdOptions::default()
     };
     let mut session = Session::new(inst.clone(), hopts, &mut out, &mut err);
     if opts.echo {
         session.run_words(&["echo".to_string()]);
     }
-    let startup = start_hal_side(&mut session, ini, opts)?;
+    let startup = start_hal_side(&mut session, ini, opts);
+    if signals.requested() {
+        return Err(LaunchError::StoppedDuringStart);
+    }
+    let startup = startup?;
     if !session.run_words(&["start".to_string()]) {
         return Err(LaunchError::Failed(
             "starting the realtime threads failed".into(),
@@ -429,6 +437,8 @@ fn run_on_host(
     eprintln!("linuxcnc: stopping: e-stop, motion disabled");
     task.shut_down(&mut server);
     drop(task);
+    // The stop was asked for: SHUTDOWN files are how it is done.
+    session.opts.stop = None;
     side.files_of(&mut session, "SHUTDOWN")?;
     Ok(())
 }

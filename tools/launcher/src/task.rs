@@ -576,23 +576,23 @@ impl Task {
         Ok(format!("{what} {}", if on { "on" } else { "off" }))
     }
 
-    /// Reads the tool table file again; the answer lists its problems.
+    /// Reads the tool table file again. A file that cannot be read
+    /// completely changes nothing, and stops write-backs until it can.
     fn reload_tool_table(&mut self) -> Answer {
         let path = self.table_path.as_ref().ok_or(LaunchError::NoToolTable)?;
-        let t = ToolTable::load(path, self.io.table().random).map_err(|source| {
-            LaunchError::ToolTable {
-                path: path.clone(),
-                source,
+        match ToolTable::load(path, self.io.table().random) {
+            Ok(t) => {
+                self.io.reload(t);
+                Ok(format!("tool table {} reloaded", path.display()))
             }
-        })?;
-        let problems: Vec<String> = t.problems.iter().map(|p| p.to_string()).collect();
-        self.io.reload(t);
-        let mut msg = format!("tool table {} reloaded", path.display());
-        for pr in problems {
-            msg.push('\n');
-            msg.push_str(&pr);
+            Err(source) => {
+                self.io.reload_failed();
+                Err(LaunchError::ToolTable {
+                    path: path.clone(),
+                    source,
+                })
+            }
         }
-        Ok(msg)
     }
 
     /// The state as text.

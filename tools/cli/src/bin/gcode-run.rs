@@ -49,10 +49,14 @@ fn main() -> ExitCode {
             }
         };
     }
-    let text = match rs274ngc::read_bounded(&args.file, rs274ngc::MAX_PROGRAM_BYTES) {
+    let text = match hal_core::files::read_user_file(
+        &args.file,
+        hal_core::files::limits::PROGRAM,
+        "part program",
+    ) {
         Ok(t) => t,
         Err(e) => {
-            eprintln!("gcode-run: {name}: {e}");
+            eprintln!("gcode-run: {e}");
             return ExitCode::from(2);
         }
     };
