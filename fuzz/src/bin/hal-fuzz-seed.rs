@@ -189,13 +189,31 @@ fn main() {
         .expect("workspace root")
         .to_path_buf();
     let mut args = std::env::args_os().skip(1);
-    if args.next().is_none_or(|a| a != "--write") {
-        eprintln!(
-            "usage: hal-fuzz-seed --write [GOLDEN_DIR]\n\
-             rewrites the seed files of fuzz/corpus/ in the source tree \
-             (GOLDEN_DIR: ../shared/golden beside the checkout)"
-        );
-        std::process::exit(2);
+    let usage = "usage: hal-fuzz-seed --write [GOLDEN_DIR]\n\
+                 rewrites the seed files of fuzz/corpus/ in the source tree \
+                 (GOLDEN_DIR: ../shared/golden beside the checkout)\n\n\
+                 options:\n\
+                 \x20 --write     rewrite the seed files\n\
+                 \x20 -h, --help  print this help and exit\n\
+                 \x20 --version   print the version and exit";
+    match args.next().as_ref().and_then(|a| a.to_str()) {
+        Some("--write") => {}
+        Some("-h" | "--help") => {
+            hal_core::outln!("{usage}");
+            return;
+        }
+        Some("--version") => {
+            hal_core::outln!("{}", hal_core::userspace::version_line("hal-fuzz-seed"));
+            return;
+        }
+        Some(option) if option.starts_with('-') => {
+            eprintln!("hal-fuzz-seed: unknown option '{option}' (see hal-fuzz-seed --help)");
+            std::process::exit(2);
+        }
+        _ => {
+            eprintln!("{usage}");
+            std::process::exit(2);
+        }
     }
     let golden = args
         .next()

@@ -22,6 +22,10 @@ pub struct HalcmdArgs {
     pub echo: bool,
     /// `-h [COMMAND]`: print the usage (or COMMAND's help) and exit.
     pub help: Option<Option<String>>,
+    /// `--version`: print the version and exit.
+    pub version: bool,
+    /// `--instance NAME`: the instance to use instead of `$HAL_INSTANCE`.
+    pub instance: Option<String>,
 }
 
 /// What `halcmd -h` prints: the options, then every command.
@@ -40,20 +44,33 @@ pub fn halcmd_usage() -> String {
          \x20               recovers by itself here)\n\
          \x20 -s            script-friendly output: no headers, one line per item\n\
          \x20 -v, -V        verbose: report the result of every command\n\
-         \x20 -h [COMMAND]  print this help, or the help of COMMAND, and exit\n\n\
+         \x20 --instance NAME\n\
+         \x20               the HAL instance (default $HAL_INSTANCE, else 'default')\n\
+         \x20 -h, --help [COMMAND]\n\
+         \x20               print this help, or the help of COMMAND, and exit\n\
+         \x20 --version     print the version and exit\n\n\
          Commands:\n",
     );
     text.push_str(&hal_lang::format::help(None).unwrap_or_default());
     text
 }
 
-/// Parses halcmd's options (`-f`, `-i`, `-k`, `-q`, `-Q`, `-s`, `-v`,
-/// `-V`, `-e`, `-R`); the first non-option word starts the command.
+/// Parses halcmd's options (LinuxCNC's `-f`, `-i`, `-k`, `-q`, `-Q`,
+/// `-s`, `-v`, `-V`, `-e`, `-R`, `-h`, and the suite's `--help`,
+/// `--version` and `--instance`); the first non-option word starts the
+/// command.
 pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
     let mut out = HalcmdArgs::default();
     let mut i = 0;
     while i < args.len() {
         let a = args[i].as_str();
+        // halcmd's -i is LinuxCNC's INI file: the instance is long only.
+        if let Some(found) = hal_core::userspace::instance_option(args, i, false) {
+            let (name, words) = found.map_err(ToolsError::Usage)?;
+            out.instance = Some(name);
+            i += words;
+            continue;
+        }
         match a {
             "-f" => {
                 let file = args.get(i + 1).filter(|n| !n.starts_with('-')).cloned();
@@ -77,12 +94,18 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
             "-v" | "-V" => out.opts.verbose = true,
             "-e" => out.echo = true,
             "-R" => {}
-            "-h" => {
+            "-h" | "--help" => {
                 out.help = Some(args.get(i + 1).cloned());
                 return Ok(out);
             }
+            "--version" => {
+                out.version = true;
+                return Ok(out);
+            }
             _ if a.starts_with('-') && out.command.is_empty() => {
-                return Err(ToolsError::usage(format!("unknown option '{a}'")))
+                return Err(ToolsError::usage(format!(
+                    "unknown option '{a}' (see halcmd --help)"
+                )))
             }
             _ => {
                 out.command = args[i..].to_vec();

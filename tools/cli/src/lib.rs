@@ -17,6 +17,7 @@
 #![forbid(unsafe_code)]
 
 pub mod cli;
+pub mod conventions;
 mod error;
 pub mod meter;
 pub mod motion_queue_args;

@@ -5,10 +5,28 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
+use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::meter::{line, read, Kind};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "usage: halmeter [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME";
+const USAGE: &str = "\
+usage: halmeter [-i NAME] [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME
+
+Shows the value of one pin, signal or parameter of a running HAL instance,
+updated in place on a terminal (one line per reading otherwise), until
+Ctrl-C or COUNT readings. Without pin, sig or param the name is looked up
+as a pin, then a signal, then a parameter.
+
+options:
+  -n COUNT             stop after COUNT readings
+  -p PERIOD_MS         milliseconds between readings (default 100)
+  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help           print this help and exit
+  --version            print the version and exit
+
+examples:
+  halmeter pin servo.time
+  halmeter -n 1 sig x-pos-cmd   one reading, for scripts";
 
 fn main() {
     std::process::exit(match run() {
@@ -24,29 +42,39 @@ fn run() -> Result<(), ToolsError> {
     let mut count: Option<u64> = None;
     let mut period = Duration::from_millis(100);
     let mut words = Vec::new();
-    let mut args = hal_tools::stdio::args_or_exit("halmeter", 1).into_iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "-n" => {
-                count = Some(
-                    args.next()
-                        .and_then(|v| v.parse().ok())
-                        .ok_or_else(|| ToolsError::usage("-n needs a count"))?,
-                )
-            }
-            "-p" => {
-                let ms: u64 = args
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| ToolsError::usage("-p needs milliseconds"))?;
-                period = Duration::from_millis(ms.max(1));
-            }
-            "-h" | "--help" => {
+    let args = hal_tools::stdio::args_or_exit("halmeter", 1);
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true)? {
+            Some(Common::Help) => {
                 hal_tools::outln!("{USAGE}");
                 return Ok(());
             }
-            _ => words.push(a),
+            Some(Common::Version) => {
+                print_version("halmeter");
+                return Ok(());
+            }
+            Some(Common::Instance(_, n)) => {
+                i += n;
+                continue;
+            }
+            None => {}
         }
+        let value = args.get(i + 1).and_then(|v| v.parse::<u64>().ok());
+        match args[i].as_str() {
+            "-n" => {
+                count = Some(value.ok_or_else(|| ToolsError::usage("-n needs a count"))?);
+                i += 1;
+            }
+            "-p" => {
+                let ms = value.ok_or_else(|| ToolsError::usage("-p needs milliseconds"))?;
+                period = Duration::from_millis(ms.max(1));
+                i += 1;
+            }
+            o if o.starts_with('-') && o.len() > 1 => return Err(unknown_option("halmeter", o)),
+            _ => words.push(args[i].clone()),
+        }
+        i += 1;
     }
     let (kind, name) = match words.as_slice() {
         [name] => (None, name.clone()),

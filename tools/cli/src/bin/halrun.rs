@@ -30,11 +30,29 @@ usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]
        halrun -U
        halrun -h
 
-  -I  an interactive halcmd after the file (or alone, without a file)
-  -T  an interactive haltcl after the file
-  -U  stop the realtime environment of the instance ($HAL_INSTANCE)
-  FILE may also be given as -f FILE; halcmd options apply to .hal files,
-  -i INI to .hal and .tcl files. A .ini file runs the machine's HAL files.";
+Starts a HAL instance (its host, with the realtime threads), runs the file
+on it, then stops the instance: .hal files with halcmd, .tcl files with
+haltcl, and a machine's .ini file as linuxcnc would up to the start of its
+threads. With -I an interactive halcmd follows the file (with line editing,
+history and completion on a terminal); with -T an interactive haltcl.
+
+options:
+  -I               an interactive halcmd after the file (or alone, without a file)
+  -T               an interactive haltcl after the file
+  -U               stop the realtime environment of the instance
+  -f FILE          the file to run (may also be given as the last argument)
+  -i INI           substitute [SECTION]KEY from INI (.hal and .tcl files)
+  -e -k -q -Q -s -v -V -R
+                   halcmd's options, for .hal files (see halcmd --help)
+  --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help       print this help and exit
+  --version        print the version and exit
+
+examples:
+  halrun -f my.hal              run my.hal, then tear the instance down
+  halrun -I my.hal              run my.hal, then an interactive halcmd
+  halrun machine.ini            a machine's HAL files, without its threads
+  halrun -U                     stop an instance left running";
 
 /// What the command line asked for.
 #[derive(Default)]
@@ -87,7 +105,11 @@ fn parse(args: &[String]) -> Result<Request, ToolsError> {
                 // flags they make no sense.
                 'U' => return Err(ToolsError::usage("-U must be the only argument")),
                 'h' => return Err(ToolsError::usage("-h must be given alone")),
-                other => return Err(ToolsError::usage(format!("unknown option -{other}"))),
+                other => {
+                    return Err(ToolsError::usage(format!(
+                        "unknown option '-{other}' (see halrun --help)"
+                    )))
+                }
             }
         }
     }
@@ -108,8 +130,42 @@ fn parse(args: &[String]) -> Result<Request, ToolsError> {
     Ok(r)
 }
 
+/// Takes the suite's long options (`--help`, `--version`,
+/// `--instance NAME`) out of `args`; halrun's own are LinuxCNC's single
+/// letters. Any other word starting with `--` is an unknown option.
+fn take_long_options(args: Vec<String>) -> Vec<String> {
+    let mut rest = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
+            let (name, words) = found.unwrap_or_else(|e| die(e));
+            if let Err(e) = hal_core::userspace::select_instance(&name) {
+                die(format!("--instance: {e}"));
+            }
+            i += words;
+            continue;
+        }
+        match args[i].as_str() {
+            "--help" => {
+                hal_tools::outln!("{USAGE}");
+                std::process::exit(0);
+            }
+            "--version" => {
+                hal_tools::outln!("{}", hal_core::userspace::version_line("halrun"));
+                std::process::exit(0);
+            }
+            long if long.starts_with("--") => {
+                die(format!("unknown option '{long}' (see halrun --help)"))
+            }
+            _ => rest.push(args[i].clone()),
+        }
+        i += 1;
+    }
+    rest
+}
+
 fn main() {
-    let args = hal_tools::stdio::args_or_exit("halrun", 1);
+    let args = take_long_options(hal_tools::stdio::args_or_exit("halrun", 1));
     let instance = instance_from_env();
     if args.first().map(String::as_str) == Some("-U") {
         if args.len() > 1 {
@@ -117,7 +173,7 @@ fn main() {
         }
         std::process::exit(unload(&instance));
     }
-    if args.iter().any(|a| a == "-h" || a == "--help") {
+    if args.iter().any(|a| a == "-h") {
         hal_tools::outln!("{USAGE}");
         return;
     }

@@ -9,13 +9,38 @@ use hal_lang::haltcl::{run, TclJob};
 use hal_lang::ini::Ini;
 use hal_lang::{Options, Session};
 
-const USAGE: &str = "usage: haltcl [-i INI] [FILE.tcl [ARGS...]]";
+const USAGE: &str = "\
+usage: haltcl [-i INI] [--instance NAME] [FILE.tcl [ARGS...]]
+
+Runs a Tcl HAL file on a running HAL instance, or, without a file, an
+interactive Tcl session: Tcl with the hal command and every halcmd command
+(loadrt, net, setp, ...), INI values as Tcl arrays ($::KINS(JOINTS)).
+It runs Debian's tclsh8.6 (package tcl8.6); HALTCL_TCLSH names another.
+
+options:
+  -i, -ini INI     read INI and give its sections as Tcl arrays
+  --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help       print this help and exit
+  --version        print the version and exit
+
+examples:
+  haltcl -i machine.ini machine.tcl
+  haltcl                         an interactive session (realtime start first)";
 
 fn main() {
     let args = hal_tools::stdio::args_or_exit("haltcl", 1);
     let mut ini = None;
     let mut i = 0;
     while let Some(a) = args.get(i) {
+        // haltcl's -i is LinuxCNC's INI file: the instance is long only.
+        if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
+            let (name, words) = found.unwrap_or_else(|e| die(&e));
+            if let Err(e) = hal_core::userspace::select_instance(&name) {
+                die(&format!("--instance: {e}"));
+            }
+            i += words;
+            continue;
+        }
         match a.as_str() {
             "-i" | "-ini" => {
                 let Some(path) = args.get(i + 1) else {
@@ -30,6 +55,15 @@ fn main() {
             "-h" | "--help" => {
                 hal_tools::outln!("{USAGE}");
                 return;
+            }
+            "--version" => {
+                hal_tools::outln!("{}", hal_core::userspace::version_line("haltcl"));
+                return;
+            }
+            // A script's name never starts with '-' here: the word is an
+            // option haltcl does not have.
+            other if other.starts_with('-') && other != "-" => {
+                die(&format!("unknown option '{other}' (see haltcl --help)"))
             }
             _ => break,
         }

@@ -14,13 +14,52 @@ use hal_lang::protocol::ClientError;
 /// How long `stop` waits for the host to release everything.
 const STOP_LIMIT: Duration = Duration::from_secs(20);
 
-const USAGE: &str = "usage: realtime start|stop|restart|status";
+const USAGE: &str = "\
+usage: realtime [-i NAME] start|stop|restart|status
+
+Starts or stops the HAL host of an instance, for tools to use from any
+shell (halcmd, halmeter, motion-cmd, ...), as LinuxCNC's realtime script.
+start returns once the host serves; its messages go to hal-NAME.log in the
+runtime directory. stop returns once the host has exited and released
+everything (or says it did not within 20 s). status exits 0 when the
+instance runs, 1 when not.
+
+options:
+  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help           print this help and exit
+  --version            print the version and exit
+
+examples:
+  realtime start && halcmd loadrt threads name1=servo period1=1000000
+  HAL_INSTANCE=bench realtime stop";
 
 fn main() {
+    use hal_tools::conventions::{common, print_version, Common};
+    let args = hal_tools::stdio::args_or_exit("realtime", 2);
+    let mut words = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true) {
+            Ok(Some(Common::Help)) => words.push("--help"),
+            Ok(Some(Common::Version)) => {
+                print_version("realtime");
+                return;
+            }
+            Ok(Some(Common::Instance(_, n))) => {
+                i += n;
+                continue;
+            }
+            Ok(None) => words.push(args[i].as_str()),
+            Err(e) => {
+                eprintln!("realtime: {e}");
+                std::process::exit(2);
+            }
+        }
+        i += 1;
+    }
     let instance = instance_from_env();
-    let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
-    let cmd = match args.as_slice() {
-        [one] => one.to_str().unwrap_or(""),
+    let cmd = match words.as_slice() {
+        [one] => *one,
         _ => "",
     };
     let code = match cmd {
@@ -39,9 +78,13 @@ fn main() {
                 1
             }
         }
-        "-h" | "--help" => {
+        "--help" => {
             hal_tools::outln!("{USAGE}");
             0
+        }
+        option if option.starts_with('-') => {
+            eprintln!("realtime: unknown option '{option}' (see realtime --help)");
+            2
         }
         _ => {
             eprintln!("{USAGE}");

@@ -8,14 +8,24 @@ use std::time::Duration;
 
 use hal_launcher::REQUESTS;
 use hal_launcher::{request, TaskAnswer, TaskClientError};
+use hal_tools::conventions::Common;
 
 fn usage() -> String {
     format!(
-        "usage: task-cmd [-i INSTANCE] [-t SECONDS] REQUEST [ARGS...]\n\n\
+        "usage: task-cmd [-i NAME] [-t SECONDS] REQUEST [ARGS...]\n\n\
          Sends one request to the machine started by linuxcnc on the HAL instance\n\
-         ($HAL_INSTANCE or 'default') and prints the answer. Requests that wait for\n\
-         the HAL side (estop-reset, tool changes) wait up to SECONDS (default 30).\n\n\
-         requests:\n{REQUESTS}"
+         and prints the answer. Requests that wait for the HAL side (estop-reset,\n\
+         tool changes) wait up to SECONDS (default 30). Exit status: 0 done,\n\
+         1 refused, 2 usage or connection error.\n\n\
+         options:\n\
+         \x20 -i, --instance NAME   the HAL instance (default $HAL_INSTANCE, else 'default')\n\
+         \x20 -t, --timeout SECONDS how long to wait for the answer (default 30)\n\
+         \x20 -h, --help            print this help and exit\n\
+         \x20 --version             print the version and exit\n\n\
+         requests:\n{REQUESTS}\n\n\
+         examples:\n\
+         \x20 task-cmd estop-reset && task-cmd machine-on\n\
+         \x20 task-cmd tool-change 3"
     )
 }
 
@@ -28,21 +38,33 @@ fn main() -> ExitCode {
     let mut timeout = Duration::from_secs(30);
     let mut i = 0;
     while let Some(a) = args.get(i) {
-        match a.as_str() {
-            "-h" | "--help" => {
+        match hal_tools::conventions::common(&args, i, true) {
+            Ok(Some(Common::Help)) => {
                 hal_tools::outln!("{}", usage());
                 return ExitCode::SUCCESS;
             }
-            "-i" | "--instance" => match args.get(i + 1) {
-                Some(v) => instance = v.clone(),
-                None => return usage_error("-i needs an instance name"),
-            },
+            Ok(Some(Common::Version)) => {
+                hal_tools::conventions::print_version("task-cmd");
+                return ExitCode::SUCCESS;
+            }
+            Ok(Some(Common::Instance(name, n))) => {
+                instance = name;
+                i += n;
+                continue;
+            }
+            Ok(None) => {}
+            Err(e) => return usage_error(&e.to_string()),
+        }
+        match a.as_str() {
             "-t" | "--timeout" => {
                 let text = args.get(i + 1).map_or("", String::as_str);
                 match hal_tools::stdio::parse_seconds("-t", text, MAX_TIMEOUT_S) {
                     Ok(t) => timeout = t,
                     Err(e) => return usage_error(&e.to_string()),
                 }
+            }
+            option if option.starts_with('-') => {
+                return usage_error(&format!("unknown option '{option}'"))
             }
             _ => break,
         }

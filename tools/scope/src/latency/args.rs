@@ -30,11 +30,12 @@ Periods are in nanoseconds, or with a unit: ns, us, ms, s (default base
 25000 = 25us, servo 1000000 = 1ms).
 
 options:
-  -h, --help           this text
   -d, --duration SECS  stop after SECS seconds (default: run until Ctrl-C)
   --nobase             servo thread only
   --png FILE           histogram image (default latency-test.png)
   --csv FILE           histogram table (default latency-test.csv)
+  -h, --help           print this help and exit
+  --version            print the version and exit
 
 examples:
   latency-test                     25 us base, 1 ms servo, until Ctrl-C
@@ -80,6 +81,8 @@ pub enum Parsed {
     Run(Config),
     /// `-h`/`--help`.
     Help,
+    /// `--version`.
+    Version,
 }
 
 /// A period: whole nanoseconds, or a number with a unit (`ns`, `us`,
@@ -121,6 +124,7 @@ pub fn parse(args: &[String]) -> Result<Parsed, LatencyError> {
         };
         match a {
             "-h" | "--help" | "-?" => return Ok(Parsed::Help),
+            "--version" => return Ok(Parsed::Version),
             "-d" | "--duration" => {
                 let v = value(a)?;
                 let secs: f64 = v
