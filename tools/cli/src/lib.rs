@@ -19,6 +19,7 @@
 pub mod cli;
 pub mod conventions;
 mod error;
+pub mod line_editor;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;
