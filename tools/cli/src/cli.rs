@@ -32,6 +32,13 @@ pub struct HalcmdArgs {
 pub fn halcmd_usage() -> String {
     let mut text = String::from(
         "Usage:\n  halcmd [options] [COMMAND [ARGS...]]\n\n\
+         Manipulates a running HAL instance with LinuxCNC's HAL commands: one\n\
+         command given on the command line, the commands of a file (-f), one per\n\
+         line, or an interactive session. On a terminal the session has line\n\
+         editing, Tab completion of commands and of the instance's names, and a\n\
+         history kept in $XDG_CONFIG_HOME/hal/halcmd_history (else\n\
+         ~/.config/hal/halcmd_history). 'realtime start' or halrun starts the\n\
+         instance first.\n\n\
          Options:\n\
          \x20 -e            echo each command before it runs\n\
          \x20 -f [FILE]     read commands from FILE, one per line (standard input\n\

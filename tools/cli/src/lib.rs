@@ -24,6 +24,7 @@ pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;
 pub mod tool_args;
+pub mod usage;
 
 pub use error::ToolsError;
 /// Printing to a standard output that may close: [`hal_core::stdio`].

@@ -61,6 +61,7 @@ SIGTERM. GUIs, halui and the G-code interpreter are not started. Send the
 machine task requests with task-cmd (estop-reset, machine-on, tool-change,
 coolant, status) and motion commands with motion-cmd.
 
+options:
   -v          say what is done
   -d          echo every HAL command
   -k          keep going after a failed HAL command

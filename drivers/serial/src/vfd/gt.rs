@@ -84,11 +84,11 @@ pub struct GtOptions {
 pub const USAGE: &str = "\
 Usage: hy_gt_vfd [OPTIONS]
 Connects a Huanyang GT-series VFD to the HAL over Modbus RTU.
-Required:
+Required options:
   -S, --motor-max-speed RPM   motor speed at the maximum frequency (VFD P2.03)
   -F, --max-frequency HZ      maximum output frequency (VFD P0.03)
   -f, --min-frequency HZ      minimum output frequency (VFD P0.05)
-Optional:
+Other options:
   -d, --device PATH           serial device (default /dev/ttyS0); 'sim' for a simulated VFD
   -r, --rate RATE             1200, 2400, 4800, 9600, 19200 or 38400 (default 38400)
   -b, --bits N                data bits, 5 to 8 (default 8)

@@ -4,19 +4,6 @@
 use hal_core::userspace::instance_option;
 use hal_core::{instance_from_env, HostConfig};
 
-const USAGE: &str = "\
-usage: hal-host [-i NAME]
-
-Runs the HAL host of an instance until 'realtime stop', 'halrun -U' or a
-signal: it creates the instance's shared memory, serves its control socket,
-loads modules for loadrt and runs the realtime threads. halrun and
-'realtime start' start it; it is not usually run by hand.
-
-options:
-  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help           print this help and exit
-  --version            print the version and exit";
-
 fn main() {
     let mut instance = instance_from_env();
     let args = hal_tools::stdio::args_or_exit("hal-host", 1);
@@ -30,7 +17,7 @@ fn main() {
         }
         match args[i].as_str() {
             "-h" | "--help" => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HAL_HOST);
                 return;
             }
             "--version" => {

@@ -9,25 +9,6 @@ use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::meter::{line, read, Kind};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "\
-usage: halmeter [-i NAME] [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME
-
-Shows the value of one pin, signal or parameter of a running HAL instance,
-updated in place on a terminal (one line per reading otherwise), until
-Ctrl-C or COUNT readings. Without pin, sig or param the name is looked up
-as a pin, then a signal, then a parameter.
-
-options:
-  -n COUNT             stop after COUNT readings
-  -p PERIOD_MS         milliseconds between readings (default 100)
-  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help           print this help and exit
-  --version            print the version and exit
-
-examples:
-  halmeter pin servo.time
-  halmeter -n 1 sig x-pos-cmd   one reading, for scripts";
-
 fn main() {
     std::process::exit(match run() {
         Ok(()) => 0,
@@ -36,6 +17,14 @@ fn main() {
             1
         }
     });
+}
+
+/// The usage line of the help.
+fn synopsis() -> &'static str {
+    hal_tools::usage::HALMETER
+        .lines()
+        .next()
+        .unwrap_or_default()
 }
 
 fn run() -> Result<(), ToolsError> {
@@ -47,7 +36,7 @@ fn run() -> Result<(), ToolsError> {
     while i < args.len() {
         match common(&args, i, true)? {
             Some(Common::Help) => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALMETER);
                 return Ok(());
             }
             Some(Common::Version) => {
@@ -76,17 +65,17 @@ fn run() -> Result<(), ToolsError> {
         }
         i += 1;
     }
-    let (kind, name) = match words.as_slice() {
-        [name] => (None, name.clone()),
-        [k, name] => (
-            Some(
-                Kind::from_word(k)
-                    .ok_or_else(|| ToolsError::usage(format!("unknown kind '{k}'; {USAGE}")))?,
+    let (kind, name) =
+        match words.as_slice() {
+            [name] => (None, name.clone()),
+            [k, name] => (
+                Some(Kind::from_word(k).ok_or_else(|| {
+                    ToolsError::usage(format!("unknown kind '{k}'; {}", synopsis()))
+                })?),
+                name.clone(),
             ),
-            name.clone(),
-        ),
-        _ => return Err(ToolsError::usage(USAGE)),
-    };
+            _ => return Err(ToolsError::usage(synopsis())),
+        };
     let exit = ExitSignals::install()?;
     let inst = Instance::attach(&instance_from_env())?;
     let mut out = hal_tools::stdio::stdout();

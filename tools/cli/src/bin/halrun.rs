@@ -24,36 +24,6 @@ use hal_launcher as launcher;
 use hal_tools::cli::{parse_halcmd_args, run_halcmd};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "\
-usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]
-       halrun -T [-i INI] [FILE.hal | FILE.tcl | MACHINE.ini]
-       halrun -U
-       halrun -h
-
-Starts a HAL instance (its host, with the realtime threads), runs the file
-on it, then stops the instance: .hal files with halcmd, .tcl files with
-haltcl, and a machine's .ini file as linuxcnc would up to the start of its
-threads. With -I an interactive halcmd follows the file (with line editing,
-history and completion on a terminal); with -T an interactive haltcl.
-
-options:
-  -I               an interactive halcmd after the file (or alone, without a file)
-  -T               an interactive haltcl after the file
-  -U               stop the realtime environment of the instance
-  -f FILE          the file to run (may also be given as the last argument)
-  -i INI           substitute [SECTION]KEY from INI (.hal and .tcl files)
-  -e -k -q -Q -s -v -V -R
-                   halcmd's options, for .hal files (see halcmd --help)
-  --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help       print this help and exit
-  --version        print the version and exit
-
-examples:
-  halrun -f my.hal              run my.hal, then tear the instance down
-  halrun -I my.hal              run my.hal, then an interactive halcmd
-  halrun machine.ini            a machine's HAL files, without its threads
-  halrun -U                     stop an instance left running";
-
 /// What the command line asked for.
 #[derive(Default)]
 struct Request {
@@ -147,7 +117,7 @@ fn take_long_options(args: Vec<String>) -> Vec<String> {
         }
         match args[i].as_str() {
             "--help" => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALRUN);
                 std::process::exit(0);
             }
             "--version" => {
@@ -174,7 +144,7 @@ fn main() {
         std::process::exit(unload(&instance));
     }
     if args.iter().any(|a| a == "-h") {
-        hal_tools::outln!("{USAGE}");
+        hal_tools::outln!("{}", hal_tools::usage::HALRUN);
         return;
     }
     let req = match parse(&args) {

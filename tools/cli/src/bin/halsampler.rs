@@ -9,26 +9,6 @@ use hal_scope::fifo::{format_record, open_sampler};
 use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "\
-usage: halsampler [-i NAME] [-c CHAN] [-n COUNT] [-t] [FILE]
-
-Prints the samples that channel CHAN of the sampler component collects,
-one line per sample, to FILE or standard output, until COUNT samples or
-Ctrl-C. A gap in the sample numbers (the FIFO overflowed) prints a line
-'overrun'. The exit status is 1 when the instance stops or Ctrl-C comes
-before COUNT samples.
-
-options:
-  -c CHAN              the sampler channel (default 0)
-  -n COUNT             stop after COUNT samples
-  -t                   begin each line with the sample number
-  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help           print this help and exit
-  --version            print the version and exit
-
-examples:
-  halsampler -n 1000 run.samples   (after: loadrt sampler depth=1024 cfg=ff)";
-
 fn main() {
     std::process::exit(match run() {
         Ok(code) => code,
@@ -49,7 +29,7 @@ fn run() -> Result<i32, ToolsError> {
     while i < args.len() {
         match common(&args, i, true)? {
             Some(Common::Help) => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALSAMPLER);
                 return Ok(0);
             }
             Some(Common::Version) => {

@@ -9,24 +9,6 @@ use hal_scope::fifo::{open_streamer, parse_input_line};
 use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "\
-usage: halstreamer [-i NAME] [-c CHAN] [FILE]
-
-Feeds lines of values from FILE or standard input into channel CHAN of the
-streamer component: one line per sample, one value per pin of the
-channel, separated by spaces (bit 0 or 1, float, s32, u32, ...). Lines
-starting with # are skipped; a bad line (an empty one too) is reported
-with its number and skipped. It waits while the FIFO is full.
-
-options:
-  -c CHAN              the streamer channel (default 0)
-  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help           print this help and exit
-  --version            print the version and exit
-
-examples:
-  halstreamer moves.txt   (after: loadrt streamer depth=1024 cfg=ff)";
-
 fn main() {
     std::process::exit(match run() {
         Ok(code) => code,
@@ -45,7 +27,7 @@ fn run() -> Result<i32, ToolsError> {
     while i < args.len() {
         match common(&args, i, true)? {
             Some(Common::Help) => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALSTREAMER);
                 return Ok(0);
             }
             Some(Common::Version) => {

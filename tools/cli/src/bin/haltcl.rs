@@ -9,24 +9,6 @@ use hal_lang::haltcl::{run, TclJob};
 use hal_lang::ini::Ini;
 use hal_lang::{Options, Session};
 
-const USAGE: &str = "\
-usage: haltcl [-i INI] [--instance NAME] [FILE.tcl [ARGS...]]
-
-Runs a Tcl HAL file on a running HAL instance, or, without a file, an
-interactive Tcl session: Tcl with the hal command and every halcmd command
-(loadrt, net, setp, ...), INI values as Tcl arrays ($::KINS(JOINTS)).
-It runs Debian's tclsh8.6 (package tcl8.6); HALTCL_TCLSH names another.
-
-options:
-  -i, -ini INI     read INI and give its sections as Tcl arrays
-  --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help       print this help and exit
-  --version        print the version and exit
-
-examples:
-  haltcl -i machine.ini machine.tcl
-  haltcl                         an interactive session (realtime start first)";
-
 fn main() {
     let args = hal_tools::stdio::args_or_exit("haltcl", 1);
     let mut ini = None;
@@ -53,7 +35,7 @@ fn main() {
                 i += 2;
             }
             "-h" | "--help" => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALTCL);
                 return;
             }
             "--version" => {

@@ -14,25 +14,6 @@ use hal_lang::protocol::ClientError;
 /// How long `stop` waits for the host to release everything.
 const STOP_LIMIT: Duration = Duration::from_secs(20);
 
-const USAGE: &str = "\
-usage: realtime [-i NAME] start|stop|restart|status
-
-Starts or stops the HAL host of an instance, for tools to use from any
-shell (halcmd, halmeter, motion-cmd, ...), as LinuxCNC's realtime script.
-start returns once the host serves; its messages go to hal-NAME.log in the
-runtime directory. stop returns once the host has exited and released
-everything (or says it did not within 20 s). status exits 0 when the
-instance runs, 1 when not.
-
-options:
-  -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
-  -h, --help           print this help and exit
-  --version            print the version and exit
-
-examples:
-  realtime start && halcmd loadrt threads name1=servo period1=1000000
-  HAL_INSTANCE=bench realtime stop";
-
 fn main() {
     use hal_tools::conventions::{common, print_version, Common};
     let args = hal_tools::stdio::args_or_exit("realtime", 2);
@@ -79,7 +60,7 @@ fn main() {
             }
         }
         "--help" => {
-            hal_tools::outln!("{USAGE}");
+            hal_tools::outln!("{}", hal_tools::usage::REALTIME);
             0
         }
         option if option.starts_with('-') => {
@@ -87,7 +68,7 @@ fn main() {
             2
         }
         _ => {
-            eprintln!("{USAGE}");
+            eprintln!("{}", hal_tools::usage::REALTIME);
             2
         }
     };

@@ -6,28 +6,8 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use hal_launcher::REQUESTS;
 use hal_launcher::{request, TaskAnswer, TaskClientError};
 use hal_tools::conventions::Common;
-
-fn usage() -> String {
-    format!(
-        "usage: task-cmd [-i NAME] [-t SECONDS] REQUEST [ARGS...]\n\n\
-         Sends one request to the machine started by linuxcnc on the HAL instance\n\
-         and prints the answer. Requests that wait for the HAL side (estop-reset,\n\
-         tool changes) wait up to SECONDS (default 30). Exit status: 0 done,\n\
-         1 refused, 2 usage or connection error.\n\n\
-         options:\n\
-         \x20 -i, --instance NAME   the HAL instance (default $HAL_INSTANCE, else 'default')\n\
-         \x20 -t, --timeout SECONDS how long to wait for the answer (default 30)\n\
-         \x20 -h, --help            print this help and exit\n\
-         \x20 --version             print the version and exit\n\n\
-         requests:\n{REQUESTS}\n\n\
-         examples:\n\
-         \x20 task-cmd estop-reset && task-cmd machine-on\n\
-         \x20 task-cmd tool-change 3"
-    )
-}
 
 /// The longest wait `-t` accepts: a day.
 const MAX_TIMEOUT_S: f64 = 86_400.0;
@@ -40,7 +20,7 @@ fn main() -> ExitCode {
     while let Some(a) = args.get(i) {
         match hal_tools::conventions::common(&args, i, true) {
             Ok(Some(Common::Help)) => {
-                hal_tools::outln!("{}", usage());
+                hal_tools::outln!("{}", hal_tools::usage::task_cmd());
                 return ExitCode::SUCCESS;
             }
             Ok(Some(Common::Version)) => {
@@ -105,6 +85,6 @@ fn main() -> ExitCode {
 }
 
 fn usage_error(msg: &str) -> ExitCode {
-    eprintln!("task-cmd: {msg}\n\n{}", usage());
+    eprintln!("task-cmd: {msg}\n\n{}", hal_tools::usage::task_cmd());
     ExitCode::from(2)
 }

@@ -53,6 +53,8 @@ pub const USAGE: &str = "\
 Usage: hy_vfd [OPTIONS]
 Connects a Huanyang HY-series VFD to the HAL over its RS-485 protocol.
 Options whose values come from a list take any unique beginning (--rate 5 is 57600).
+
+Options:
   -d, --device PATH         serial device (default /dev/ttyS0); 'sim' for a simulated VFD
   -n, --name NAME           HAL component name, prefix of every pin (default hy_vfd)
   -r, --rate N              110 .. 115200 (default 19200; must match PD164)
