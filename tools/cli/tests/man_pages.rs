@@ -22,7 +22,7 @@ mod help2roff;
 /// Where a page comes from.
 enum Source {
     /// A clap definition.
-    Clap(clap::Command),
+    Clap(Box<clap::Command>),
     /// A help text, with the NAME line's description and the pages to
     /// see also.
     Help {
@@ -49,18 +49,42 @@ fn pages() -> Vec<(&'static str, Source)> {
     use hal_tools::{tool_args, usage};
     use Source::Clap;
     vec![
-        ("halscope", Clap(hal_scope::scope::args::Args::command())),
-        ("gcode-run", Clap(tool_args::gcode_run::Args::command())),
-        ("motion-plot", Clap(tool_args::motion_plot::Args::command())),
-        ("hal-board", Clap(hostmot2::board_args::Cli::command())),
+        (
+            "halscope",
+            Clap(Box::new(hal_scope::scope::args::Args::command())),
+        ),
+        (
+            "gcode-run",
+            Clap(Box::new(tool_args::gcode_run::Args::command())),
+        ),
+        (
+            "motion-plot",
+            Clap(Box::new(tool_args::motion_plot::Args::command())),
+        ),
+        (
+            "hal-board",
+            Clap(Box::new(hostmot2::board_args::Cli::command())),
+        ),
         (
             "canservo-tool",
-            Clap(hal_canservo::tool_args::Cli::command()),
+            Clap(Box::new(hal_canservo::tool_args::Cli::command())),
         ),
-        ("hm2-eth-sim", Clap(hostmot2::eth_sim_args::Cli::command())),
-        ("canservo-sim", Clap(canservo_sim_args::Args::command())),
-        ("parport-tool", Clap(hal_parport::tool_args::Cli::command())),
-        ("motion-cmd", Clap(tool_args::motion_cmd::Cli::command())),
+        (
+            "hm2-eth-sim",
+            Clap(Box::new(hostmot2::eth_sim_args::Cli::command())),
+        ),
+        (
+            "canservo-sim",
+            Clap(Box::new(canservo_sim_args::Args::command())),
+        ),
+        (
+            "parport-tool",
+            Clap(Box::new(hal_parport::tool_args::Cli::command())),
+        ),
+        (
+            "motion-cmd",
+            Clap(Box::new(tool_args::motion_cmd::Cli::command())),
+        ),
         (
             "halcmd",
             help(
@@ -178,7 +202,7 @@ fn render(name: &str, source: Source) -> Vec<u8> {
     match source {
         Source::Clap(cmd) => {
             let mut out = Vec::new();
-            clap_mangen::Man::new(cmd)
+            clap_mangen::Man::new(*cmd)
                 .render(&mut out)
                 .expect("renders");
             let text = String::from_utf8_lossy(&out);
