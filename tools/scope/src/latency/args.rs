@@ -202,7 +202,7 @@ mod tests {
     fn run(args: &[&str]) -> Config {
         match p(args).unwrap() {
             Parsed::Run(c) => c,
-            Parsed::Help => panic!("help"),
+            other => panic!("not a run: {other:?}"),
         }
     }
 
@@ -217,6 +217,7 @@ mod tests {
         assert_eq!((c.base_ns, c.servo_ns), (Some(25_000), 500_000));
         assert_eq!(p(&["-h"]).unwrap(), Parsed::Help);
         assert_eq!(p(&["--help"]).unwrap(), Parsed::Help);
+        assert_eq!(p(&["--version"]).unwrap(), Parsed::Version);
     }
 
     #[test]
