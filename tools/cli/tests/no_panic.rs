@@ -90,10 +90,13 @@ const PROBES: &[Probe] = &[
     Probe {
         bin: "hal-host",
         templates: &[],
-        skip_options: &[(
-            "--instance",
-            "a valid name starts a host that serves until stopped",
-        )],
+        skip_options: &[
+            (
+                "--instance",
+                "a valid name starts a host that serves until stopped",
+            ),
+            ("-i", "the same as --instance"),
+        ],
         no_bare_run: Some("it serves the instance until stopped"),
         live: &[&["--help"]],
     },
@@ -599,7 +602,7 @@ fn halcmd_h_prints_its_usage_and_command_help() {
     for want in [
         "-f [FILE]",
         "-k ",
-        "-h [COMMAND]",
+        "-h, --help [COMMAND]",
         "loadrt MODULE",
         "net SIGNAL PIN",
     ] {
