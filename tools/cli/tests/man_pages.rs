@@ -16,6 +16,8 @@ use clap::CommandFactory;
 // library API.
 #[path = "../../../drivers/canservo/src/bin/canservo-sim/args.rs"]
 mod canservo_sim_args;
+#[path = "../../../drivers/ethercat/src/bin/ethercat-sim/args.rs"]
+mod ethercat_sim_args;
 #[path = "man/help2roff.rs"]
 mod help2roff;
 
@@ -194,6 +196,14 @@ fn pages() -> Vec<(&'static str, Source)> {
                 hal_serial::vfd::gt::USAGE,
                 &["hy_vfd(1)", "halcmd(1)"],
             ),
+        ),
+        (
+            "ethercat-tool",
+            Clap(Box::new(hal_ethercat::tool::args::Cli::command())),
+        ),
+        (
+            "ethercat-sim",
+            Clap(Box::new(ethercat_sim_args::Args::command())),
         ),
     ]
 }
