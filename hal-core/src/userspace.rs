@@ -87,3 +87,73 @@ pub fn args_from(
         })
         .collect()
 }
+
+/// What `--version` prints in every program of the suite: the program's
+/// name and the suite's version, as clap's `--version` prints them.
+pub fn version_line(program: &str) -> String {
+    format!("{program} {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// Makes `name` the HAL instance of this process and of every program it
+/// starts (the host, `loadusr` programs), as `HAL_INSTANCE=name` in the
+/// environment would: what every tool's `--instance NAME` does. The name
+/// is checked first.
+///
+/// It sets an environment variable: call it while reading the command
+/// line, before the program starts any thread.
+pub fn select_instance(name: &str) -> Result<()> {
+    crate::objects::validate_instance_name(name)?;
+    std::env::set_var("HAL_INSTANCE", name);
+    Ok(())
+}
+
+/// The value of the instance option at `args[i]`, if that word is one:
+/// `--instance NAME`, `--instance=NAME` and, where `short` is true (every
+/// tool whose `-i` is not LinuxCNC's INI file), `-i NAME`. Returns the
+/// name and how many words the option took, or an error message when the
+/// name is missing.
+pub fn instance_option(
+    args: &[String],
+    i: usize,
+    short: bool,
+) -> Option<std::result::Result<(String, usize), String>> {
+    let word = args.get(i)?;
+    if let Some(name) = word.strip_prefix("--instance=") {
+        return Some(Ok((name.to_string(), 1)));
+    }
+    if word == "--instance" || (short && word == "-i") {
+        return Some(match args.get(i + 1) {
+            Some(name) => Ok((name.clone(), 2)),
+            None => Err(format!("{word} needs an instance name")),
+        });
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn words(w: &[&str]) -> Vec<String> {
+        w.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn the_instance_option_takes_every_spelling() {
+        let a = words(&["--instance", "m1", "--instance=m2", "-i", "m3", "-i"]);
+        assert_eq!(instance_option(&a, 0, false), Some(Ok(("m1".into(), 2))));
+        assert_eq!(instance_option(&a, 2, false), Some(Ok(("m2".into(), 1))));
+        assert_eq!(instance_option(&a, 3, false), None);
+        assert_eq!(instance_option(&a, 3, true), Some(Ok(("m3".into(), 2))));
+        assert!(instance_option(&a, 5, true).is_some_and(|r| r.is_err()));
+        assert_eq!(instance_option(&a, 6, true), None);
+    }
+
+    #[test]
+    fn the_version_line_names_the_program() {
+        assert_eq!(
+            version_line("halcmd"),
+            format!("halcmd {}", env!("CARGO_PKG_VERSION"))
+        );
+    }
+}

@@ -31,8 +31,10 @@ done
 has usr/lib/udev/rules.d/60-hal-suite.rules
 has usr/lib/tmpfiles.d/hal.conf
 has etc/security/limits.d/hal.conf
-has usr/share/man/man1/halscope.1.gz
-has usr/share/man/man9/threads.9.gz
+for page in packaging/man/*.1 packaging/man9/*.9; do
+    base=$(basename "$page")
+    has "usr/share/man/man${base##*.}/$base.gz"
+done
 has usr/share/hal/hallib/core_sim.hal
 has usr/share/doc/hal-suite/examples/sim/mill.hal
 # No setuid or setgid bit on anything; the host is not world-executable.

@@ -330,6 +330,20 @@ pub enum Hm2Error {
     /// A board driver was loaded before the hostmot2 core.
     #[error("the hostmot2 driver is not loaded (loadrt hostmot2 first)")]
     CoreNotLoaded,
+    /// No card on the PCI bus: what was looked for, where, and how to try
+    /// the driver without one.
+    #[error(
+        "no {wanted} found on the PCI bus (searched {}); to try the driver without \
+         a card, load a simulated one with sim=BOARD ({})",
+        searched.display(),
+        crate::sim::boards::PRESETS.join(", ")
+    )]
+    NoPciCard {
+        /// The boards looked for, by name and IDs.
+        wanted: String,
+        /// The sysfs directory listed.
+        searched: std::path::PathBuf,
+    },
     /// More boards than one load drives.
     #[error("{found} boards found; one hm2_pci load drives at most {max}")]
     TooManyBoards {

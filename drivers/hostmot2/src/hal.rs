@@ -431,7 +431,12 @@ pub fn load_pci(
         v
     } else {
         pci::open_all(sysfs, boards)
-            .for_module(HM2_PCI)?
+            .map_err(|e| match e {
+                hal_driver::DriverError::PciNotFound { wanted, searched } => {
+                    HalError::module_failed(HM2_PCI, Hm2Error::NoPciCard { wanted, searched })
+                }
+                e => e.into_hal(HM2_PCI),
+            })?
             .into_iter()
             .map(|o| Candidate {
                 llio: o.kind.llio(next(o.kind.board)),

@@ -69,6 +69,19 @@ pub enum PortError {
         /// What `ioperm` said and how to grant the permission.
         reason: String,
     },
+    /// The kernel has no port I/O at all (`ioperm` is not implemented):
+    /// no permission would help.
+    #[error(
+        "raw port I/O at {addr:#x} is not available: this kernel has no port I/O \
+         support, whatever the permissions; use the ppdev backend"
+    )]
+    NoPortIo {
+        /// The port's base address.
+        addr: u16,
+        /// What `ioperm` answered.
+        #[source]
+        source: hal_driver::DriverError,
+    },
     /// The backend cannot do what the port's mode needs.
     #[error("{0}")]
     Unsupported(String),

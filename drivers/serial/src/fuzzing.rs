@@ -92,19 +92,20 @@ pub fn slave_request(bytes: &[u8]) {
 /// A command line (arguments separated by NUL bytes) for both
 /// components: parsed or refused with a message, never a panic.
 pub fn command_line(bytes: &[u8]) {
+    use crate::vfd::Parsed;
     let text = String::from_utf8_lossy(bytes);
     let args: Vec<String> = text.split('\0').map(str::to_string).collect();
     match crate::vfd::hy::parse_options(&args) {
-        Ok(Some(o)) => {
+        Ok(Parsed::Run(o)) => {
             assert!(o.serial.slave >= 1 && o.registers.len() <= 10);
             assert!((5..=8).contains(&o.serial.settings.data_bits));
         }
-        Ok(None) => {}
+        Ok(Parsed::Help | Parsed::Version) => {}
         Err(e) => assert!(!e.to_string().is_empty()),
     }
     match crate::vfd::gt::parse_options(&args) {
-        Ok(Some(o)) => assert!(o.min_freq <= o.max_freq && o.motor_max_speed > 0.0),
-        Ok(None) => {}
+        Ok(Parsed::Run(o)) => assert!(o.min_freq <= o.max_freq && o.motor_max_speed > 0.0),
+        Ok(Parsed::Help | Parsed::Version) => {}
         Err(e) => assert!(!e.to_string().is_empty()),
     }
 }

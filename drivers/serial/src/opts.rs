@@ -37,6 +37,15 @@ impl OptSpec {
         }
     }
 
+    /// A long-only flag.
+    pub const fn long_flag(long: &'static str) -> OptSpec {
+        OptSpec {
+            short: None,
+            long,
+            takes_value: false,
+        }
+    }
+
     /// A long-only option with a value.
     pub const fn long_value(long: &'static str) -> OptSpec {
         OptSpec {

@@ -18,7 +18,7 @@ use hal_serial::line::{LineSettings, Parity, SimLine};
 use hal_serial::regs::gt;
 use hal_serial::sim::RunCommand;
 use hal_serial::vfd::gt::{parse_options, sim_drive, GtOptions, GtVfd};
-use hal_serial::vfd::Cycle;
+use hal_serial::vfd::{Cycle, Parsed};
 
 fn args(a: &[&str]) -> Vec<String> {
     a.iter().map(|s| s.to_string()).collect()
@@ -29,7 +29,7 @@ const CLI: &[&str] = &["-S", "24000", "-F", "400", "-f", "120"];
 type GtRig = Rig<GtVfd<SimLine>>;
 
 fn rig(tag: &str) -> GtRig {
-    let opts: GtOptions = parse_options(&args(CLI)).unwrap().unwrap();
+    let opts: GtOptions = parse_options(&args(CLI)).unwrap().into_run().unwrap();
     let sim = Arc::new(Mutex::new(sim_drive(&opts)));
     let name = opts.name.clone();
     Rig::new(tag, &name, sim, |comp, line| {
@@ -270,7 +270,7 @@ fn the_program_stops_the_spindle_when_it_ends() {
 
 #[test]
 fn command_line_matches_linuxcnc() {
-    let o = parse_options(&args(CLI)).unwrap().unwrap();
+    let o = parse_options(&args(CLI)).unwrap().into_run().unwrap();
     assert_eq!(o.serial.device, "/dev/ttyS0");
     assert_eq!(o.serial.settings, LineSettings::new(38_400, Parity::None));
     assert_eq!((o.serial.slave, o.name.as_str()), (1, "hy_gt_vfd"));
@@ -302,6 +302,7 @@ fn command_line_matches_linuxcnc() {
         "1",
     ]))
     .unwrap()
+    .into_run()
     .unwrap();
     assert_eq!(o.serial.settings.baud, 9600);
     assert_eq!(o.serial.settings.parity, Parity::Even);
@@ -335,5 +336,9 @@ fn command_line_matches_linuxcnc() {
         err(&["-t", "248"]),
         "invalid -t: 248 (must be between 1 and 247)"
     );
-    assert_eq!(parse_options(&args(&["--help"])).unwrap(), None);
+    assert_eq!(parse_options(&args(&["--help"])).unwrap(), Parsed::Help);
+    assert_eq!(
+        parse_options(&args(&["--version"])).unwrap(),
+        Parsed::Version
+    );
 }

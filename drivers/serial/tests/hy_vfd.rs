@@ -15,7 +15,7 @@ use hal_core::{PinDir, Value};
 use hal_serial::line::{LineSettings, Parity, SimLine};
 use hal_serial::sim::Protocol;
 use hal_serial::vfd::hy::{parse_options, HyOptions, HyVfd};
-use hal_serial::vfd::Cycle;
+use hal_serial::vfd::{Cycle, Parsed};
 
 fn args(a: &[&str]) -> Vec<String> {
     a.iter().map(|s| s.to_string()).collect()
@@ -24,7 +24,7 @@ fn args(a: &[&str]) -> Vec<String> {
 type HyRig = Rig<HyVfd<SimLine>>;
 
 fn rig_with(tag: &str, cli: &[&str]) -> HyRig {
-    let opts: HyOptions = parse_options(&args(cli)).unwrap().unwrap();
+    let opts: HyOptions = parse_options(&args(cli)).unwrap().into_run().unwrap();
     let sim = drive(Protocol::Hy, opts.serial.settings);
     let name = opts.name.clone();
     Rig::new(tag, &name, sim, |comp, line| {
@@ -411,7 +411,7 @@ fn a_refusal_is_reported_but_the_drive_counts_as_heard() {
 
 #[test]
 fn command_line_matches_linuxcnc() {
-    let o = parse_options(&[]).unwrap().unwrap();
+    let o = parse_options(&[]).unwrap().into_run().unwrap();
     assert_eq!(o.serial.device, "/dev/ttyS0");
     assert_eq!(o.serial.settings, LineSettings::new(19_200, Parity::Even));
     assert_eq!((o.serial.slave, o.name.as_str()), (1, "hy_vfd"));
@@ -437,6 +437,7 @@ fn command_line_matches_linuxcnc() {
         "--period=0.05",
     ]))
     .unwrap()
+    .into_run()
     .unwrap();
     assert_eq!(o.serial.device, "/dev/ttyUSB0");
     assert_eq!(o.name, "spindle-vfd");
@@ -450,7 +451,11 @@ fn command_line_matches_linuxcnc() {
     assert!(o.serial.master.debug && o.regdump);
     assert_eq!(o.registers, [(1, 2)]);
     assert_eq!(o.period, Duration::from_millis(50));
-    assert_eq!(parse_options(&args(&["-h"])).unwrap(), None);
+    assert_eq!(parse_options(&args(&["-h"])).unwrap(), Parsed::Help);
+    assert_eq!(
+        parse_options(&args(&["--version"])).unwrap(),
+        Parsed::Version
+    );
     let err = |a: &[&str]| parse_options(&args(a)).unwrap_err().to_string();
     assert_eq!(
         err(&["-r", "1"]),

@@ -188,6 +188,13 @@ const USAGE: &str = "usage: hal-fuzz-seed --write [GOLDEN_DIR] [--corpus-dir DIR
 rewrites the seed files of fuzz/corpus/ in the source tree (or under DIR)
 (GOLDEN_DIR: ../shared/golden beside the checkout)";
 
+/// The options `--help` lists after the usage.
+const OPTIONS: &str = "options:
+  --write             rewrite the seed files
+  --corpus-dir DIR    write under DIR instead of fuzz/corpus/
+  -h, --help          print this help and exit
+  --version           print the version and exit";
+
 /// Seeds per target: file name and bytes.
 type Seeds = BTreeMap<&'static str, BTreeMap<String, Vec<u8>>>;
 
@@ -252,6 +259,21 @@ fn main() -> ExitCode {
         );
         return ExitCode::from(1);
     };
+    match std::env::args_os().nth(1).as_ref().and_then(|a| a.to_str()) {
+        Some("-h" | "--help") => {
+            hal_core::outln!("{USAGE}\n\n{OPTIONS}");
+            return ExitCode::SUCCESS;
+        }
+        Some("--version") => {
+            hal_core::outln!("{}", hal_core::userspace::version_line("hal-fuzz-seed"));
+            return ExitCode::SUCCESS;
+        }
+        Some(option) if option.starts_with('-') && option != "--write" => {
+            eprintln!("hal-fuzz-seed: unknown option '{option}' (see hal-fuzz-seed --help)");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
     let Some(req) = parse_args(root) else {
         eprintln!("{USAGE}");
         return ExitCode::from(2);

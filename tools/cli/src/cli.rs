@@ -22,12 +22,23 @@ pub struct HalcmdArgs {
     pub echo: bool,
     /// `-h [COMMAND]`: print the usage (or COMMAND's help) and exit.
     pub help: Option<Option<String>>,
+    /// `--version`: print the version and exit.
+    pub version: bool,
+    /// `--instance NAME`: the instance to use instead of `$HAL_INSTANCE`.
+    pub instance: Option<String>,
 }
 
 /// What `halcmd -h` prints: the options, then every command.
 pub fn halcmd_usage() -> String {
     let mut text = String::from(
         "Usage:\n  halcmd [options] [COMMAND [ARGS...]]\n\n\
+         Manipulates a running HAL instance with LinuxCNC's HAL commands: one\n\
+         command given on the command line, the commands of a file (-f), one per\n\
+         line, or an interactive session. On a terminal the session has line\n\
+         editing, Tab completion of commands and of the instance's names, and a\n\
+         history kept in $XDG_CONFIG_HOME/hal/halcmd_history (else\n\
+         ~/.config/hal/halcmd_history). 'realtime start' or halrun starts the\n\
+         instance first.\n\n\
          Options:\n\
          \x20 -e            echo each command before it runs\n\
          \x20 -f [FILE]     read commands from FILE, one per line (standard input\n\
@@ -40,20 +51,34 @@ pub fn halcmd_usage() -> String {
          \x20               recovers by itself here)\n\
          \x20 -s            script-friendly output: no headers, one line per item\n\
          \x20 -v, -V        verbose: report the result of every command\n\
-         \x20 -h [COMMAND]  print this help, or the help of COMMAND, and exit\n\n\
+         \x20 --instance NAME\n\
+         \x20               the HAL instance (default $HAL_INSTANCE, else 'default')\n\
+         \x20 -h, --help [COMMAND]\n\
+         \x20               print this help, or the help of COMMAND, and exit\n\
+         \x20 --version     print the version and exit\n\n\
          Commands:\n",
     );
     text.push_str(&hal_lang::format::help(None).unwrap_or_default());
     text
 }
 
-/// Parses halcmd's options (`-f`, `-i`, `-k`, `-q`, `-Q`, `-s`, `-v`,
-/// `-V`, `-e`, `-R`); the first non-option word starts the command.
+/// Parses halcmd's options (LinuxCNC's `-f`, `-i`, `-k`, `-q`, `-Q`,
+/// `-s`, `-v`, `-V`, `-e`, `-R`, `-h`, and the suite's `--help`,
+/// `--version` and `--instance`); the first non-option word starts the
+/// command.
 pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
+    let args = &unbundle(args);
     let mut out = HalcmdArgs::default();
     let mut i = 0;
     while i < args.len() {
         let a = args[i].as_str();
+        // halcmd's -i is LinuxCNC's INI file: the instance is long only.
+        if let Some(found) = hal_core::userspace::instance_option(args, i, false) {
+            let (name, words) = found.map_err(ToolsError::Usage)?;
+            out.instance = Some(name);
+            i += words;
+            continue;
+        }
         match a {
             "-f" => {
                 let file = args.get(i + 1).filter(|n| !n.starts_with('-')).cloned();
@@ -77,12 +102,18 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
             "-v" | "-V" => out.opts.verbose = true,
             "-e" => out.echo = true,
             "-R" => {}
-            "-h" => {
+            "-h" | "--help" => {
                 out.help = Some(args.get(i + 1).cloned());
                 return Ok(out);
             }
+            "--version" => {
+                out.version = true;
+                return Ok(out);
+            }
             _ if a.starts_with('-') && out.command.is_empty() => {
-                return Err(ToolsError::usage(format!("unknown option '{a}'")))
+                return Err(ToolsError::usage(format!(
+                    "unknown option '{a}' (see halcmd --help)"
+                )))
             }
             _ => {
                 out.command = args[i..].to_vec();
@@ -92,6 +123,67 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
         i += 1;
     }
     Ok(out)
+}
+
+/// halcmd's single-letter options, as LinuxCNC's getopt takes them.
+const LETTERS: &str = "efikqQsvVRh";
+
+/// Splits bundled letters as getopt does (`-kf` is `-k -f`; `-iFILE` is
+/// `-i FILE`), in the options before the command: the command's own words
+/// (`loadusr -Wn name prog`) are left alone.
+fn unbundle(args: &[String]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::with_capacity(args.len());
+    let mut i = 0;
+    while let Some(a) = args.get(i) {
+        i += 1;
+        if a.starts_with("--") {
+            // The suite's long options; --instance takes the next word.
+            out.push(a.clone());
+            if a == "--instance" {
+                out.extend(args.get(i).cloned());
+                i += 1;
+            }
+            continue;
+        }
+        let letters = a.strip_prefix('-').filter(|b| !b.is_empty());
+        let Some(letters) = letters else {
+            // The first word that is no option starts the command.
+            out.extend(args[i - 1..].iter().cloned());
+            break;
+        };
+        let mut value_follows = false;
+        for (at, c) in letters.char_indices() {
+            if !LETTERS.contains(c) {
+                // Not halcmd's: left whole for the error to name.
+                out.push(if at == 0 {
+                    a.clone()
+                } else {
+                    format!("-{}", &letters[at..])
+                });
+                break;
+            }
+            out.push(format!("-{c}"));
+            let tail = &letters[at + 1..];
+            if c == 'i' {
+                if tail.is_empty() {
+                    value_follows = true;
+                } else {
+                    out.push(tail.to_string());
+                }
+                break;
+            }
+            // -f takes the next word as its file unless it is an option.
+            value_follows = c == 'f' && tail.is_empty();
+        }
+        let next_is_value = args
+            .get(i)
+            .is_some_and(|n| out.last().is_some_and(|l| l == "-i") || !n.starts_with('-'));
+        if value_follows && next_is_value {
+            out.push(args[i].clone());
+            i += 1;
+        }
+    }
+    out
 }
 
 /// Runs halcmd as its command line asks, on an attached instance. Returns
@@ -111,7 +203,10 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
                 return 1;
             }
         },
-        Some(None) => interactive(&mut session, false),
+        // `-f` without a file reads standard input: a terminal gets the
+        // prompt and line editing (halrun -I runs `halcmd -kf` in
+        // LinuxCNC), anything else plain lines.
+        Some(None) => interactive(&mut session, true),
         None if !args.command.is_empty() => session.run_words(&args.command),
         None => interactive(&mut session, true),
     };
@@ -132,9 +227,22 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
 /// included.
 const LINE_LIMIT: usize = 1 << 20;
 
-/// Reads commands from stdin until EOF or `quit`, with a prompt when
-/// `prompt` and stdin is a terminal. Returns false if a command failed.
+/// Reads commands from stdin until EOF or `quit`. On a terminal (and with
+/// `prompt`) with line editing, history and completion
+/// ([`crate::line_editor`]); otherwise plain lines, as from a file.
+/// Returns false if a command failed.
 pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
+    if prompt && std::io::stdin().is_terminal() && std::io::stdout().is_terminal() {
+        crate::line_editor::run(session)
+    } else {
+        plain_lines(session, prompt)
+    }
+}
+
+/// Reads commands from stdin as plain lines until EOF or `quit`, with a
+/// prompt when `prompt` and stdin is a terminal. Returns false if a
+/// command failed.
+pub fn plain_lines(session: &mut Session<'_>, prompt: bool) -> bool {
     let stdin = std::io::stdin();
     let prompt = prompt && stdin.is_terminal();
     let mut ok = true;
@@ -177,4 +285,50 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
         }
     }
     ok
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn words(w: &[&str]) -> Vec<String> {
+        w.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn bundled_letters_split_as_getopt_splits_them() {
+        for (given, want) in [
+            (&["-kf"][..], &["-k", "-f"][..]),
+            (&["-kf", "x.hal"], &["-k", "-f", "x.hal"]),
+            (&["-ix.ini", "-kf"], &["-i", "x.ini", "-k", "-f"]),
+            (&["-ki", "x.ini", "show"], &["-k", "-i", "x.ini", "show"]),
+            (&["-i", "-odd.ini", "-s"], &["-i", "-odd.ini", "-s"]),
+            (&["-f", "-k"], &["-f", "-k"]),
+            (&["-kx"], &["-k", "-x"]),
+            (&["--help", "-kf"], &["--help", "-k", "-f"]),
+            (
+                &["--instance", "-x", "-kf"],
+                &["--instance", "-x", "-k", "-f"],
+            ),
+            (
+                &["loadusr", "-Wn", "a", "prog"],
+                &["loadusr", "-Wn", "a", "prog"],
+            ),
+            (&["-s", "show", "-kf"], &["-s", "show", "-kf"]),
+        ] {
+            assert_eq!(unbundle(&words(given)), words(want), "{given:?}");
+        }
+    }
+
+    #[test]
+    fn bundles_parse_like_the_letters_alone() {
+        let a = parse_halcmd_args(&words(&["-kf"])).unwrap();
+        assert!(a.opts.keep_going);
+        assert_eq!(a.file, Some(None));
+        let a = parse_halcmd_args(&words(&["-sv", "show", "pin"])).unwrap();
+        assert!(a.opts.script && a.opts.verbose);
+        assert_eq!(a.command, ["show", "pin"]);
+        let e = parse_halcmd_args(&words(&["-kz"])).unwrap_err().to_string();
+        assert!(e.contains("'-z'"), "{e}");
+    }
 }

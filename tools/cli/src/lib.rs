@@ -17,14 +17,17 @@
 #![forbid(unsafe_code)]
 
 pub mod cli;
+pub mod conventions;
 mod error;
 pub mod gcode_check;
 pub mod gcode_task;
+pub mod line_editor;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;
 pub mod task_gate;
 pub mod tool_args;
+pub mod usage;
 
 pub use error::ToolsError;
 /// Printing to a standard output that may close: [`hal_core::stdio`].

@@ -1,8 +1,9 @@
-//! Man pages of the clap tools, generated from their clap definitions
-//! (clap_mangen) and kept in packaging/man/ for the Debian package. A
-//! page that no longer matches its tool's definition fails here;
-//! `HAL_UPDATE_MAN=1 cargo test -p hal-tools --test man_pages` rewrites
-//! them.
+//! Section 1 man pages of every program the Debian package installs,
+//! kept in packaging/man/: the clap tools' pages are generated from their
+//! clap definitions (clap_mangen), the others' from their `--help` texts
+//! (`man/help2roff.rs`). A page that no longer matches its program fails
+//! here; `HAL_UPDATE_MAN=1 cargo test -p hal-tools --test man_pages`
+//! rewrites them.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -17,62 +18,274 @@ use clap::CommandFactory;
 mod canservo_sim_args;
 #[path = "../../../drivers/ethercat/src/bin/ethercat-sim/args.rs"]
 mod ethercat_sim_args;
+#[path = "man/help2roff.rs"]
+mod help2roff;
 
-/// The tools whose man pages are generated: (name, command).
-fn pages() -> Vec<(&'static str, clap::Command)> {
-    use hal_tools::tool_args;
+/// Where a page comes from.
+enum Source {
+    /// A clap definition.
+    Clap(Box<clap::Command>),
+    /// A help text, with the NAME line's description and the pages to
+    /// see also.
+    Help {
+        summary: &'static str,
+        text: String,
+        see_also: &'static [&'static str],
+    },
+}
+
+fn help(
+    summary: &'static str,
+    text: impl Into<String>,
+    see_also: &'static [&'static str],
+) -> Source {
+    Source::Help {
+        summary,
+        text: text.into(),
+        see_also,
+    }
+}
+
+/// Every program's page source: (name, source).
+fn pages() -> Vec<(&'static str, Source)> {
+    use hal_tools::{tool_args, usage};
+    use Source::Clap;
     vec![
-        ("halscope", hal_scope::scope::args::Args::command()),
-        ("gcode-run", tool_args::gcode_run::Args::command()),
-        ("motion-plot", tool_args::motion_plot::Args::command()),
-        ("hal-board", hostmot2::board_args::Cli::command()),
-        ("canservo-tool", hal_canservo::tool_args::Cli::command()),
-        ("hm2-eth-sim", hostmot2::eth_sim_args::Cli::command()),
-        ("canservo-sim", canservo_sim_args::Args::command()),
-        ("parport-tool", hal_parport::tool_args::Cli::command()),
-        ("motion-cmd", tool_args::motion_cmd::Cli::command()),
-        ("ethercat-tool", hal_ethercat::tool::args::Cli::command()),
-        ("ethercat-sim", ethercat_sim_args::Args::command()),
+        (
+            "halscope",
+            Clap(Box::new(hal_scope::scope::args::Args::command())),
+        ),
+        (
+            "gcode-run",
+            Clap(Box::new(tool_args::gcode_run::Args::command())),
+        ),
+        (
+            "motion-plot",
+            Clap(Box::new(tool_args::motion_plot::Args::command())),
+        ),
+        (
+            "hal-board",
+            Clap(Box::new(hostmot2::board_args::Cli::command())),
+        ),
+        (
+            "canservo-tool",
+            Clap(Box::new(hal_canservo::tool_args::Cli::command())),
+        ),
+        (
+            "hm2-eth-sim",
+            Clap(Box::new(hostmot2::eth_sim_args::Cli::command())),
+        ),
+        (
+            "canservo-sim",
+            Clap(Box::new(canservo_sim_args::Args::command())),
+        ),
+        (
+            "parport-tool",
+            Clap(Box::new(hal_parport::tool_args::Cli::command())),
+        ),
+        (
+            "motion-cmd",
+            Clap(Box::new(tool_args::motion_cmd::Cli::command())),
+        ),
+        (
+            "halcmd",
+            help(
+                "manipulate a running HAL instance",
+                hal_tools::cli::halcmd_usage(),
+                &[
+                    "halrun(1)",
+                    "realtime(1)",
+                    "halmeter(1)",
+                    "haltcl(1)",
+                    "threads(9)",
+                ],
+            ),
+        ),
+        (
+            "halrun",
+            help(
+                "start a HAL instance, run a HAL file on it, and stop it",
+                usage::HALRUN,
+                &["halcmd(1)", "haltcl(1)", "linuxcnc(1)", "realtime(1)"],
+            ),
+        ),
+        (
+            "haltcl",
+            help(
+                "run Tcl HAL files on a running HAL instance",
+                usage::HALTCL,
+                &["halcmd(1)", "halrun(1)"],
+            ),
+        ),
+        (
+            "halmeter",
+            help(
+                "watch one pin, signal or parameter of a HAL instance",
+                usage::HALMETER,
+                &["halcmd(1)", "halscope(1)"],
+            ),
+        ),
+        (
+            "halsampler",
+            help(
+                "print the samples a sampler channel collects",
+                usage::HALSAMPLER,
+                &["sampler(9)", "halstreamer(1)", "halscope(1)"],
+            ),
+        ),
+        (
+            "halstreamer",
+            help(
+                "feed lines of values into a streamer channel",
+                usage::HALSTREAMER,
+                &["streamer(9)", "halsampler(1)"],
+            ),
+        ),
+        (
+            "realtime",
+            help(
+                "start and stop the HAL host of an instance",
+                usage::REALTIME,
+                &["halcmd(1)", "halrun(1)", "hal-host(1)"],
+            ),
+        ),
+        (
+            "hal-host",
+            help(
+                "the HAL host process of an instance",
+                usage::HAL_HOST,
+                &["realtime(1)", "halrun(1)"],
+            ),
+        ),
+        (
+            "task-cmd",
+            help(
+                "send task requests to a machine that linuxcnc runs",
+                usage::task_cmd(),
+                &["linuxcnc(1)", "motion-cmd(1)"],
+            ),
+        ),
+        (
+            "linuxcnc",
+            help(
+                "run a LinuxCNC machine configuration headless",
+                hal_launcher::USAGE,
+                &["task-cmd(1)", "motion-cmd(1)", "halrun(1)", "motion(9)"],
+            ),
+        ),
+        (
+            "latency-test",
+            help(
+                "measure how late HAL threads wake up",
+                hal_scope::latency::args::HELP,
+                &["threads(9)", "halscope(1)"],
+            ),
+        ),
+        (
+            "hy_vfd",
+            help(
+                "a Huanyang HY-series spindle VFD as a HAL component",
+                hal_serial::vfd::hy::USAGE,
+                &["hy_gt_vfd(1)", "halcmd(1)"],
+            ),
+        ),
+        (
+            "hy_gt_vfd",
+            help(
+                "a Huanyang GT-series spindle VFD over Modbus RTU as a HAL component",
+                hal_serial::vfd::gt::USAGE,
+                &["hy_vfd(1)", "halcmd(1)"],
+            ),
+        ),
+        (
+            "ethercat-tool",
+            Clap(Box::new(hal_ethercat::tool::args::Cli::command())),
+        ),
+        (
+            "ethercat-sim",
+            Clap(Box::new(ethercat_sim_args::Args::command())),
+        ),
     ]
 }
 
-fn render(cmd: clap::Command) -> Vec<u8> {
-    let mut out = Vec::new();
-    clap_mangen::Man::new(cmd)
-        .render(&mut out)
-        .expect("renders");
-    out
+fn render(name: &str, source: Source) -> Vec<u8> {
+    match source {
+        Source::Clap(cmd) => {
+            let mut out = Vec::new();
+            clap_mangen::Man::new(*cmd)
+                .render(&mut out)
+                .expect("renders");
+            let text = String::from_utf8_lossy(&out);
+            // The examples of --help are in the page too.
+            assert!(text.contains("Examples:"), "{name}: {text}");
+            out
+        }
+        Source::Help {
+            summary,
+            text,
+            see_also,
+        } => {
+            let page = help2roff::man_page(name, summary, &text, see_also);
+            for want in [".TP\n\\fB\\-", "\\-\\-help", "\\-\\-version"] {
+                assert!(page.contains(want), "{name}: no {want} in\n{page}");
+            }
+            page.into_bytes()
+        }
+    }
+}
+
+/// The programs the Debian package puts in /usr/bin.
+fn packaged_programs() -> Vec<String> {
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
+    let table: toml::Table = std::fs::read_to_string(manifest).unwrap().parse().unwrap();
+    table["package"]["metadata"]["deb"]["assets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|a| {
+            let src = a.as_array()?.first()?.as_str()?;
+            let dest = a.as_array()?.get(1)?.as_str()?;
+            let bin = src.strip_prefix("target/release/")?;
+            (dest == "usr/bin/").then(|| bin.to_string())
+        })
+        .collect()
 }
 
 #[test]
-fn man_pages_match_the_clap_definitions() {
+fn every_packaged_program_has_a_current_man_page() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../packaging/man");
     let update = std::env::var_os("HAL_UPDATE_MAN").is_some();
     let pages = pages();
+    let names: Vec<&str> = pages.iter().map(|(n, _)| *n).collect();
+    for program in packaged_programs() {
+        assert!(
+            names.contains(&program.as_str()),
+            "{program} is packaged but has no man page: add it to pages()"
+        );
+    }
     // Every page in the package is one of these (none left behind by a
     // renamed or removed tool).
-    let generated: Vec<String> = pages.iter().map(|(n, _)| format!("{n}.1")).collect();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let file = entry.unwrap().file_name().to_string_lossy().into_owned();
         assert!(
-            generated.contains(&file),
-            "packaging/man/{file} is not generated from a clap definition"
+            names.iter().any(|n| format!("{n}.1") == file),
+            "packaging/man/{file} is made by no program's definition"
         );
     }
-    for (name, cmd) in pages {
-        let page = render(cmd);
-        let text = String::from_utf8_lossy(&page);
-        // The examples of --help are in the page too.
-        assert!(text.contains("Examples:"), "{name}: {text}");
+    let mut stale = Vec::new();
+    for (name, source) in pages {
+        let page = render(name, source);
         let path = dir.join(format!("{name}.1"));
         if update {
             std::fs::write(&path, &page).unwrap();
         }
-        let committed = std::fs::read(&path).unwrap_or_default();
-        assert!(
-            committed == page,
-            "{}: out of date with {name}'s clap definition; rerun with HAL_UPDATE_MAN=1",
-            path.display()
-        );
+        if std::fs::read(&path).unwrap_or_default() != page {
+            stale.push(path.display().to_string());
+        }
     }
+    assert!(
+        stale.is_empty(),
+        "out of date with their programs (rerun with HAL_UPDATE_MAN=1): {}",
+        stale.join(", ")
+    );
 }

@@ -22,6 +22,8 @@
 
 mod common;
 
+use common::bins::present_bins;
+
 use std::ffi::OsString;
 use std::io::Read;
 use std::os::unix::ffi::OsStringExt;
@@ -88,10 +90,13 @@ const PROBES: &[Probe] = &[
     Probe {
         bin: "hal-host",
         templates: &[],
-        skip_options: &[(
-            "--instance",
-            "a valid name starts a host that serves until stopped",
-        )],
+        skip_options: &[
+            (
+                "--instance",
+                "a valid name starts a host that serves until stopped",
+            ),
+            ("-i", "the same as --instance"),
+        ],
         no_bare_run: Some("it serves the instance until stopped"),
         live: &[&["--help"]],
     },
@@ -256,57 +261,6 @@ fn hostile() -> Vec<OsString> {
     v.push(OsString::from("9".repeat(100_000)));
     v.push(OsString::from_vec(vec![0xff, 0xfe, b'7', 0x80]));
     v
-}
-
-/// A binary of the workspace.
-struct Bin {
-    package: String,
-    name: String,
-}
-
-/// Every binary target of every workspace package.
-fn workspace_bins() -> Vec<Bin> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let out = Command::new(cargo)
-        .args([
-            "metadata",
-            "--no-deps",
-            "--format-version",
-            "1",
-            "--offline",
-        ])
-        .current_dir(common::root())
-        .output()
-        .expect("cargo metadata runs");
-    assert!(
-        out.status.success(),
-        "cargo metadata: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let meta: serde_json::Value = serde_json::from_slice(&out.stdout).expect("metadata is JSON");
-    let mut bins = Vec::new();
-    for p in meta["packages"].as_array().expect("packages") {
-        for t in p["targets"].as_array().expect("targets") {
-            let is_bin = t["kind"]
-                .as_array()
-                .is_some_and(|k| k.iter().any(|k| k == "bin"));
-            if is_bin {
-                bins.push(Bin {
-                    package: p["name"].as_str().unwrap_or_default().to_string(),
-                    name: t["name"].as_str().unwrap_or_default().to_string(),
-                });
-            }
-        }
-    }
-    bins
-}
-
-/// The directory cargo put this package's binaries in.
-fn bin_dir() -> PathBuf {
-    Path::new(env!("CARGO_BIN_EXE_halcmd"))
-        .parent()
-        .expect("binary directory")
-        .to_path_buf()
 }
 
 /// How one run ended.
@@ -571,36 +525,6 @@ fn run_all(jobs: Vec<(String, PathBuf, Vec<OsString>, String, Out)>) -> Vec<Stri
     failures.into_inner().unwrap_or_else(|e| e.into_inner())
 }
 
-/// The workspace's binaries that exist; the missing ones are reported (a
-/// failure under `HAL_REQUIRE_ALL_BINS=1`).
-fn present_bins() -> Vec<(String, PathBuf)> {
-    let dir = bin_dir();
-    let strict = std::env::var_os("HAL_REQUIRE_ALL_BINS").is_some_and(|v| v == "1");
-    let mut present = Vec::new();
-    let mut missing = Vec::new();
-    for b in workspace_bins() {
-        let exe = dir.join(&b.name);
-        if exe.is_file() {
-            present.push((b.name, exe));
-        } else {
-            missing.push(format!("{} (package {})", b.name, b.package));
-        }
-    }
-    if !missing.is_empty() {
-        let note = format!(
-            "binaries not built, not tested: {} (cargo build --workspace --bins builds them)",
-            missing.join(", ")
-        );
-        assert!(!strict, "{note}");
-        eprintln!("note: {note}");
-    }
-    assert!(
-        present.iter().any(|(n, _)| n == "halcmd"),
-        "the binary list lacks halcmd"
-    );
-    present
-}
-
 /// Fails with every failed run listed, if any of `count` runs failed.
 fn assert_none_failed(count: usize, failures: &[String]) {
     assert!(
@@ -678,7 +602,7 @@ fn halcmd_h_prints_its_usage_and_command_help() {
     for want in [
         "-f [FILE]",
         "-k ",
-        "-h [COMMAND]",
+        "-h, --help [COMMAND]",
         "loadrt MODULE",
         "net SIGNAL PIN",
     ] {

@@ -53,7 +53,7 @@ pub struct Options {
 
 /// `linuxcnc`'s usage text.
 pub const USAGE: &str = "\
-usage: linuxcnc [-v] [-d] [-k] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MACHINE.ini
+usage: linuxcnc [-v] [-d] [-k] [-i NAME] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MACHINE.ini
 
 Runs a LinuxCNC machine configuration headless: its HAL files, its motion
 settings, iocontrol, the task pins and task with its G-code interpreter,
@@ -62,12 +62,21 @@ task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
 mode, open, run, mdi, status; gcode-run runs a program through task) and
 motion commands with motion-cmd.
 
+options:
   -v          say what is done
   -d          echo every HAL command
   -k          keep going after a failed HAL command
   -t TPMOD    trajectory planner module (default [TRAJ]TPMOD or tpmod)
   -m HOMEMOD  homing module (default [EMCMOT]HOMEMOD or homemod)
-  -H DIR      look for HAL files in DIR first (may be repeated)";
+  -H DIR      look for HAL files in DIR first (may be repeated)
+  -i, --instance NAME
+              the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help  print this help and exit
+  --version   print the version and exit
+
+examples:
+  cd configs/sim/mill && linuxcnc mill.ini
+  task-cmd estop-reset && task-cmd machine-on   (from a second shell)";
 
 /// Parses `linuxcnc`'s arguments.
 pub fn parse_args(args: &[String]) -> Result<Options, LaunchError> {

@@ -46,6 +46,16 @@ impl RawPort {
             DriverError::Unsupported { .. } => PortError::Unsupported(format!(
                 "raw port I/O at {base:#x} exists only on x86-64; use the ppdev backend"
             )),
+            // Not a permission matter: no grant would help (a VM or a
+            // kernel built without port I/O).
+            DriverError::PortIo { ref source, .. }
+                if source.raw_os_error() == Some(libc::ENOSYS) =>
+            {
+                PortError::NoPortIo {
+                    addr: base,
+                    source: e,
+                }
+            }
             e => PortError::NoPermission {
                 addr: base,
                 reason: format!("{e}; or use the ppdev backend"),
@@ -129,6 +139,12 @@ mod tests {
         // Where it works (root in the VM rig), the port opens.
         match RawPort::open(0x378, Some(0x778), None) {
             Ok(p) => assert_eq!(p.describe(), "raw I/O at 0x378"),
+            Err(PortError::NoPortIo { addr, source }) => {
+                // ENOSYS: the kernel has none, and the message says so
+                // rather than asking for a permission.
+                assert_eq!(addr, 0x378);
+                assert!(source.to_string().contains("ioperm"), "{source}");
+            }
             Err(e) => {
                 let m = e.to_string();
                 assert!(m.contains("no permission for raw port I/O at 0x378"), "{m}");

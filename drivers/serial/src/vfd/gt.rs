@@ -30,7 +30,7 @@ use std::time::Duration;
 
 use hal_core::{Component, In, Out, Pin};
 
-use super::{options_or_exit, serve, Cycle, Link, SerialOptions, SERIAL_SPECS};
+use super::{options_or_exit, serve, Cycle, Link, Parsed, SerialOptions, SERIAL_SPECS};
 use crate::error::{Result, SerialError};
 use crate::line::{LineSettings, Parity, SerialLine};
 use crate::modbus::{Master, MasterConfig};
@@ -84,11 +84,11 @@ pub struct GtOptions {
 pub const USAGE: &str = "\
 Usage: hy_gt_vfd [OPTIONS]
 Connects a Huanyang GT-series VFD to the HAL over Modbus RTU.
-Required:
+Required options:
   -S, --motor-max-speed RPM   motor speed at the maximum frequency (VFD P2.03)
   -F, --max-frequency HZ      maximum output frequency (VFD P0.03)
   -f, --min-frequency HZ      minimum output frequency (VFD P0.05)
-Optional:
+Other options:
   -d, --device PATH           serial device (default /dev/ttyS0); 'sim' for a simulated VFD
   -r, --rate RATE             1200, 2400, 4800, 9600, 19200 or 38400 (default 38400)
   -b, --bits N                data bits, 5 to 8 (default 8)
@@ -99,7 +99,9 @@ Optional:
   -v, --verbose               print every frame
       --response-timeout MS   wait this long for a reply (default 100)
       --retries N             send a failed request again N times (default 5)
-  -h, --help                  show this help
+      --instance NAME         the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help                  print this help and exit
+      --version               print the version and exit
 ";
 
 const SPECS: &[OptSpec] = &[
@@ -124,7 +126,7 @@ pub fn default_master() -> MasterConfig {
 
 /// Parses the command line (without the program name); None when help
 /// was asked for.
-pub fn parse_options(args: &[String]) -> Result<Option<GtOptions>> {
+pub fn parse_options(args: &[String]) -> Result<Parsed<GtOptions>> {
     let specs: Vec<OptSpec> = SERIAL_SPECS.iter().chain(SPECS).copied().collect();
     let mut o = GtOptions {
         serial: SerialOptions::new(LineSettings::new(38_400, Parity::None), default_master()),
@@ -143,7 +145,8 @@ pub fn parse_options(args: &[String]) -> Result<Option<GtOptions>> {
             "min-frequency" => o.min_freq = positive(&f)?,
             "name" => o.name = super::hy::component_name(&f)?,
             "verbose" => o.serial.master.debug = true,
-            _ => return Ok(None),
+            "version" => return Ok(Parsed::Version),
+            _ => return Ok(Parsed::Help),
         }
     }
     for (v, opt) in [
@@ -161,7 +164,7 @@ pub fn parse_options(args: &[String]) -> Result<Option<GtOptions>> {
             o.min_freq, o.max_freq
         )));
     }
-    Ok(Some(o))
+    Ok(Parsed::Run(o))
 }
 
 fn positive(f: &opts::Found) -> Result<f64> {

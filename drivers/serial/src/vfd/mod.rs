@@ -2,7 +2,7 @@
 //! as LinuxCNC does: [`gt`] (`hy_gt_vfd`, Huanyang GT series over
 //! standard Modbus) and [`hy`] (`hy_vfd`, the HY series' own protocol).
 //!
-//! Each attaches to the HAL instance named by `HAL_INSTANCE`, exports
+//! Each attaches to the HAL instance named by `--instance` or `HAL_INSTANCE`, exports
 //! LinuxCNC's pins under its name and runs a loop: a cycle of
 //! transactions, then a sleep. The serial line is only ever touched by
 //! this process, so a slow or dead line delays nothing but this loop.
@@ -45,6 +45,29 @@ pub struct SerialOptions {
     /// Timeouts and retries (`--response-timeout`, `--retries`,
     /// `-g`/`-v` for frame dumps).
     pub master: MasterConfig,
+    /// `--instance`: the HAL instance, instead of `$HAL_INSTANCE`'s.
+    pub instance: Option<String>,
+}
+
+/// What a component's command line asks for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Parsed<O> {
+    /// Run with these options.
+    Run(O),
+    /// `-h`/`--help`: print the usage.
+    Help,
+    /// `--version`: print the version.
+    Version,
+}
+
+impl<O> Parsed<O> {
+    /// The options to run with, if the command line asks for a run.
+    pub fn into_run(self) -> Option<O> {
+        match self {
+            Parsed::Run(o) => Some(o),
+            Parsed::Help | Parsed::Version => None,
+        }
+    }
 }
 
 /// The option specs of [`SerialOptions`].
@@ -57,6 +80,8 @@ pub const SERIAL_SPECS: &[OptSpec] = &[
     OptSpec::value('t', "target"),
     OptSpec::long_value("response-timeout"),
     OptSpec::long_value("retries"),
+    OptSpec::long_value("instance"),
+    OptSpec::long_flag("version"),
 ];
 
 impl SerialOptions {
@@ -67,6 +92,7 @@ impl SerialOptions {
             settings,
             slave: 1,
             master,
+            instance: None,
         }
     }
 
@@ -110,6 +136,10 @@ impl SerialOptions {
                 self.master.response_timeout = Duration::from_secs_f64(ms / 1000.0);
             }
             "retries" => self.master.retries = opts::integer(f, 0, 100)? as u32,
+            "instance" => {
+                hal_core::validate_instance_name(v).map_err(|e| opts::bad(f, e.to_string()))?;
+                self.instance = Some(v.to_string());
+            }
             _ => return Ok(false),
         }
         Ok(true)
@@ -185,15 +215,23 @@ pub fn fatal(program: &str, e: &SerialError) -> i32 {
     1
 }
 
-/// The parsed options, or the exit status when the usage was asked for
-/// (0) or the command line is refused (1, with the usage and why).
-pub fn options_or_exit<O>(program: &str, usage: &str, parsed: Result<Option<O>>) -> Result<O, i32> {
+/// The parsed options, or the exit status when the usage or the version
+/// was asked for (0) or the command line is refused (1, with the usage
+/// and why).
+pub fn options_or_exit<O>(program: &str, usage: &str, parsed: Result<Parsed<O>>) -> Result<O, i32> {
+    // A reader that has gone (`hy_vfd -h | head -1`) ends it quietly:
+    // print! would panic on the broken pipe.
+    let print = |text: &str| {
+        let _ = std::io::Write::write_all(&mut std::io::stdout(), text.as_bytes());
+    };
     match parsed {
-        Ok(Some(o)) => Ok(o),
-        Ok(None) => {
-            // A reader that has gone (`hy_vfd -h | head -1`) ends it
-            // quietly: print! would panic on the broken pipe.
-            let _ = std::io::Write::write_all(&mut std::io::stdout(), usage.as_bytes());
+        Ok(Parsed::Run(o)) => Ok(o),
+        Ok(Parsed::Help) => {
+            print(usage);
+            Err(0)
+        }
+        Ok(Parsed::Version) => {
+            print(&format!("{}\n", hal_core::userspace::version_line(program)));
             Err(0)
         }
         Err(e) => {
@@ -221,7 +259,10 @@ pub fn serve<V: Cycle>(
         if let Some(b) = banner {
             let _ = writeln!(std::io::stdout(), "{b}");
         }
-        let inst = Instance::attach_default()?;
+        let inst = match &serial.instance {
+            Some(name) => Instance::attach(name)?,
+            None => Instance::attach_default()?,
+        };
         let comp = inst.new_component(name, hal_core::ComponentKind::User)?;
         let mut vfd = build(&comp, opened.line)?;
         comp.ready()?;

@@ -12,6 +12,16 @@ fn main() {
             std::process::exit(1);
         }
     };
+    if parsed.version {
+        hal_tools::outln!("{}", hal_core::userspace::version_line("halcmd"));
+        return;
+    }
+    if let Some(name) = &parsed.instance {
+        if let Err(e) = hal_core::userspace::select_instance(name) {
+            eprintln!("halcmd: --instance: {e}");
+            std::process::exit(1);
+        }
+    }
     if let Some(topic) = &parsed.help {
         match topic {
             None => hal_tools::out!("{}", halcmd_usage()),

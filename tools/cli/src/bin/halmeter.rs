@@ -5,10 +5,9 @@ use std::time::Duration;
 
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
+use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::meter::{line, read, Kind};
 use hal_tools::ToolsError;
-
-const USAGE: &str = "usage: halmeter [-n COUNT] [-p PERIOD_MS] [pin|sig|param] NAME";
 
 fn main() {
     std::process::exit(match run() {
@@ -20,45 +19,63 @@ fn main() {
     });
 }
 
+/// The usage line of the help.
+fn synopsis() -> &'static str {
+    hal_tools::usage::HALMETER
+        .lines()
+        .next()
+        .unwrap_or_default()
+}
+
 fn run() -> Result<(), ToolsError> {
     let mut count: Option<u64> = None;
     let mut period = Duration::from_millis(100);
     let mut words = Vec::new();
-    let mut args = hal_tools::stdio::args_or_exit("halmeter", 1).into_iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "-n" => {
-                count = Some(
-                    args.next()
-                        .and_then(|v| v.parse().ok())
-                        .ok_or_else(|| ToolsError::usage("-n needs a count"))?,
-                )
-            }
-            "-p" => {
-                let ms: u64 = args
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| ToolsError::usage("-p needs milliseconds"))?;
-                period = Duration::from_millis(ms.max(1));
-            }
-            "-h" | "--help" => {
-                hal_tools::outln!("{USAGE}");
+    let args = hal_tools::stdio::args_or_exit("halmeter", 1);
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true)? {
+            Some(Common::Help) => {
+                hal_tools::outln!("{}", hal_tools::usage::HALMETER);
                 return Ok(());
             }
-            _ => words.push(a),
+            Some(Common::Version) => {
+                print_version("halmeter");
+                return Ok(());
+            }
+            Some(Common::Instance(_, n)) => {
+                i += n;
+                continue;
+            }
+            None => {}
         }
+        let value = args.get(i + 1).and_then(|v| v.parse::<u64>().ok());
+        match args[i].as_str() {
+            "-n" => {
+                count = Some(value.ok_or_else(|| ToolsError::usage("-n needs a count"))?);
+                i += 1;
+            }
+            "-p" => {
+                let ms = value.ok_or_else(|| ToolsError::usage("-p needs milliseconds"))?;
+                period = Duration::from_millis(ms.max(1));
+                i += 1;
+            }
+            o if o.starts_with('-') && o.len() > 1 => return Err(unknown_option("halmeter", o)),
+            _ => words.push(args[i].clone()),
+        }
+        i += 1;
     }
-    let (kind, name) = match words.as_slice() {
-        [name] => (None, name.clone()),
-        [k, name] => (
-            Some(
-                Kind::from_word(k)
-                    .ok_or_else(|| ToolsError::usage(format!("unknown kind '{k}'; {USAGE}")))?,
+    let (kind, name) =
+        match words.as_slice() {
+            [name] => (None, name.clone()),
+            [k, name] => (
+                Some(Kind::from_word(k).ok_or_else(|| {
+                    ToolsError::usage(format!("unknown kind '{k}'; {}", synopsis()))
+                })?),
+                name.clone(),
             ),
-            name.clone(),
-        ),
-        _ => return Err(ToolsError::usage(USAGE)),
-    };
+            _ => return Err(ToolsError::usage(synopsis())),
+        };
     let exit = ExitSignals::install()?;
     let inst = Instance::attach(&instance_from_env())?;
     let mut out = hal_tools::stdio::stdout();

@@ -24,18 +24,6 @@ use hal_launcher as launcher;
 use hal_tools::cli::{parse_halcmd_args, run_halcmd};
 use hal_tools::ToolsError;
 
-const USAGE: &str = "\
-usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]
-       halrun -T [-i INI] [FILE.hal | FILE.tcl | MACHINE.ini]
-       halrun -U
-       halrun -h
-
-  -I  an interactive halcmd after the file (or alone, without a file)
-  -T  an interactive haltcl after the file
-  -U  stop the realtime environment of the instance ($HAL_INSTANCE)
-  FILE may also be given as -f FILE; halcmd options apply to .hal files,
-  -i INI to .hal and .tcl files. A .ini file runs the machine's HAL files.";
-
 /// What the command line asked for.
 #[derive(Default)]
 struct Request {
@@ -87,7 +75,11 @@ fn parse(args: &[String]) -> Result<Request, ToolsError> {
                 // flags they make no sense.
                 'U' => return Err(ToolsError::usage("-U must be the only argument")),
                 'h' => return Err(ToolsError::usage("-h must be given alone")),
-                other => return Err(ToolsError::usage(format!("unknown option -{other}"))),
+                other => {
+                    return Err(ToolsError::usage(format!(
+                        "unknown option '-{other}' (see halrun --help)"
+                    )))
+                }
             }
         }
     }
@@ -108,8 +100,42 @@ fn parse(args: &[String]) -> Result<Request, ToolsError> {
     Ok(r)
 }
 
+/// Takes the suite's long options (`--help`, `--version`,
+/// `--instance NAME`) out of `args`; halrun's own are LinuxCNC's single
+/// letters. Any other word starting with `--` is an unknown option.
+fn take_long_options(args: Vec<String>) -> Vec<String> {
+    let mut rest = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
+            let (name, words) = found.unwrap_or_else(|e| die(e));
+            if let Err(e) = hal_core::userspace::select_instance(&name) {
+                die(format!("--instance: {e}"));
+            }
+            i += words;
+            continue;
+        }
+        match args[i].as_str() {
+            "--help" => {
+                hal_tools::outln!("{}", hal_tools::usage::HALRUN);
+                std::process::exit(0);
+            }
+            "--version" => {
+                hal_tools::outln!("{}", hal_core::userspace::version_line("halrun"));
+                std::process::exit(0);
+            }
+            long if long.starts_with("--") => {
+                die(format!("unknown option '{long}' (see halrun --help)"))
+            }
+            _ => rest.push(args[i].clone()),
+        }
+        i += 1;
+    }
+    rest
+}
+
 fn main() {
-    let args = hal_tools::stdio::args_or_exit("halrun", 1);
+    let args = take_long_options(hal_tools::stdio::args_or_exit("halrun", 1));
     let instance = instance_from_env();
     if args.first().map(String::as_str) == Some("-U") {
         if args.len() > 1 {
@@ -117,8 +143,8 @@ fn main() {
         }
         std::process::exit(unload(&instance));
     }
-    if args.iter().any(|a| a == "-h" || a == "--help") {
-        hal_tools::outln!("{USAGE}");
+    if args.iter().any(|a| a == "-h") {
+        hal_tools::outln!("{}", hal_tools::usage::HALRUN);
         return;
     }
     let req = match parse(&args) {

@@ -6,6 +6,7 @@ use std::time::Duration;
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
 use hal_scope::fifo::{format_record, open_sampler};
+use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::ToolsError;
 
 fn main() {
@@ -23,30 +24,46 @@ fn run() -> Result<i32, ToolsError> {
     let mut count: Option<u64> = None;
     let mut tag = false;
     let mut file: Option<String> = None;
-    let mut args = hal_tools::stdio::args_or_exit("halsampler", 1).into_iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
+    let args = hal_tools::stdio::args_or_exit("halsampler", 1);
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true)? {
+            Some(Common::Help) => {
+                hal_tools::outln!("{}", hal_tools::usage::HALSAMPLER);
+                return Ok(0);
+            }
+            Some(Common::Version) => {
+                print_version("halsampler");
+                return Ok(0);
+            }
+            Some(Common::Instance(_, n)) => {
+                i += n;
+                continue;
+            }
+            None => {}
+        }
+        let value = args.get(i + 1);
+        match args[i].as_str() {
             "-c" => {
-                chan = args
-                    .next()
+                chan = value
                     .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| ToolsError::usage("-c needs a channel number"))?
+                    .ok_or_else(|| ToolsError::usage("-c needs a channel number"))?;
+                i += 1;
             }
             "-n" => {
                 count = Some(
-                    args.next()
+                    value
                         .and_then(|v| v.parse().ok())
                         .ok_or_else(|| ToolsError::usage("-n needs a count"))?,
-                )
+                );
+                i += 1;
             }
             "-t" => tag = true,
-            "-h" | "--help" => {
-                hal_tools::outln!("usage: halsampler [-c CHAN] [-n COUNT] [-t] [FILE]");
-                return Ok(0);
-            }
             f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
-            other => return Err(ToolsError::usage(format!("unknown argument '{other}'"))),
+            o if o.starts_with('-') => return Err(unknown_option("halsampler", o)),
+            other => return Err(ToolsError::usage(format!("unexpected argument '{other}'"))),
         }
+        i += 1;
     }
     let exit = ExitSignals::install()?;
     let inst = Instance::attach(&instance_from_env())?;

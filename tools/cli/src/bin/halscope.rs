@@ -24,9 +24,10 @@ fn main() -> ExitCode {
 }
 
 fn run() -> Result<(), ScopeError> {
-    let req = Args::parse().request()?;
+    let args = Args::parse();
+    let name = args.instance.clone().unwrap_or_else(instance_from_env);
+    let req = args.request()?;
     let signals = ExitSignals::install()?;
-    let name = instance_from_env();
     let inst = Instance::attach(&name).map_err(|source| ScopeError::Attach {
         instance: name.clone(),
         source,

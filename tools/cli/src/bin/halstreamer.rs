@@ -6,6 +6,7 @@ use std::time::Duration;
 use hal_core::userspace::ExitSignals;
 use hal_core::{instance_from_env, Instance};
 use hal_scope::fifo::{open_streamer, parse_input_line};
+use hal_tools::conventions::{common, print_version, unknown_option, Common};
 use hal_tools::ToolsError;
 
 /// The longest input line (a record of every column fits many times).
@@ -24,22 +25,37 @@ fn main() {
 fn run() -> Result<i32, ToolsError> {
     let mut chan = 0usize;
     let mut file: Option<String> = None;
-    let mut args = hal_tools::stdio::args_or_exit("halstreamer", 1).into_iter();
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "-c" => {
-                chan = args
-                    .next()
-                    .and_then(|v| v.parse().ok())
-                    .ok_or_else(|| ToolsError::usage("-c needs a channel number"))?
-            }
-            "-h" | "--help" => {
-                hal_tools::outln!("usage: halstreamer [-c CHAN] [FILE]");
+    let args = hal_tools::stdio::args_or_exit("halstreamer", 1);
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true)? {
+            Some(Common::Help) => {
+                hal_tools::outln!("{}", hal_tools::usage::HALSTREAMER);
                 return Ok(0);
             }
-            f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
-            other => return Err(ToolsError::usage(format!("unknown argument '{other}'"))),
+            Some(Common::Version) => {
+                print_version("halstreamer");
+                return Ok(0);
+            }
+            Some(Common::Instance(_, n)) => {
+                i += n;
+                continue;
+            }
+            None => {}
         }
+        match args[i].as_str() {
+            "-c" => {
+                chan = args
+                    .get(i + 1)
+                    .and_then(|v| v.parse().ok())
+                    .ok_or_else(|| ToolsError::usage("-c needs a channel number"))?;
+                i += 1;
+            }
+            f if !f.starts_with('-') && file.is_none() => file = Some(f.to_string()),
+            o if o.starts_with('-') => return Err(unknown_option("halstreamer", o)),
+            other => return Err(ToolsError::usage(format!("unexpected argument '{other}'"))),
+        }
+        i += 1;
     }
     let exit = ExitSignals::install()?;
     let inst = Instance::attach(&instance_from_env())?;

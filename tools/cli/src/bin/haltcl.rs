@@ -9,13 +9,20 @@ use hal_lang::haltcl::{run, TclJob};
 use hal_lang::ini::Ini;
 use hal_lang::{Options, Session};
 
-const USAGE: &str = "usage: haltcl [-i INI] [FILE.tcl [ARGS...]]";
-
 fn main() {
     let args = hal_tools::stdio::args_or_exit("haltcl", 1);
     let mut ini = None;
     let mut i = 0;
     while let Some(a) = args.get(i) {
+        // haltcl's -i is LinuxCNC's INI file: the instance is long only.
+        if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
+            let (name, words) = found.unwrap_or_else(|e| die(&e));
+            if let Err(e) = hal_core::userspace::select_instance(&name) {
+                die(&format!("--instance: {e}"));
+            }
+            i += words;
+            continue;
+        }
         match a.as_str() {
             "-i" | "-ini" => {
                 let Some(path) = args.get(i + 1) else {
@@ -28,8 +35,17 @@ fn main() {
                 i += 2;
             }
             "-h" | "--help" => {
-                hal_tools::outln!("{USAGE}");
+                hal_tools::outln!("{}", hal_tools::usage::HALTCL);
                 return;
+            }
+            "--version" => {
+                hal_tools::outln!("{}", hal_core::userspace::version_line("haltcl"));
+                return;
+            }
+            // A script's name never starts with '-' here: the word is an
+            // option haltcl does not have.
+            other if other.starts_with('-') && other != "-" => {
+                die(&format!("unknown option '{other}' (see haltcl --help)"))
             }
             _ => break,
         }

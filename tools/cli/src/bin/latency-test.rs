@@ -29,6 +29,10 @@ fn run(args: &[String]) -> Result<(), LatencyError> {
             hal_tools::out!("{HELP}");
             return Ok(());
         }
+        Parsed::Version => {
+            hal_tools::conventions::print_version("latency-test");
+            return Ok(());
+        }
         Parsed::Run(cfg) => cfg,
     };
     let signals = ExitSignals::install().map_err(|e| LatencyError::Host(e.into()))?;

@@ -207,6 +207,11 @@ fn run(cli: Cli) -> Result<ExitCode, ToolsError> {
     let Some((name, rest)) = cli.command.split_first() else {
         return Err(usage("no command given"));
     };
+    // The command words may start with '-' (negative numbers) only after
+    // the command: a first word that does is an option motion-cmd lacks.
+    if name.starts_with('-') {
+        return Err(usage(format!("unknown option '{name}'")));
+    }
     let action = parse_action(name, rest)?;
     match &action {
         Action::Send(cmd) => hal_tools::task_gate::allow(&instance, Some(cmd))?,
@@ -267,8 +272,25 @@ fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
         }
         Err(r) => {
             hal_tools::outln!("{r}");
+            if let Some(hint) = hint(&r.reason) {
+                hal_tools::outln!("  {hint}");
+            }
             ExitCode::from(1)
         }
+    }
+}
+
+/// What to do instead, for refusals whose cause is a habit from elsewhere.
+fn hint(reason: &motion::Reject) -> Option<&'static str> {
+    match reason {
+        motion::Reject::BadValue {
+            what: motion::Quantity::JogIncrement,
+            value,
+        } if *value < 0.0 => Some(
+            "an increment is a distance (0 or more); the direction is the sign of the \
+             velocity: 'axis-jog-incr z -5 3' moves Z 3 down at 5 per second",
+        ),
+        _ => None,
     }
 }
 

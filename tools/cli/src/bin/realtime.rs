@@ -14,13 +14,33 @@ use hal_lang::protocol::ClientError;
 /// How long `stop` waits for the host to release everything.
 const STOP_LIMIT: Duration = Duration::from_secs(20);
 
-const USAGE: &str = "usage: realtime start|stop|restart|status";
-
 fn main() {
+    use hal_tools::conventions::{common, print_version, Common};
+    let args = hal_tools::stdio::args_or_exit("realtime", 2);
+    let mut words = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, true) {
+            Ok(Some(Common::Help)) => words.push("--help"),
+            Ok(Some(Common::Version)) => {
+                print_version("realtime");
+                return;
+            }
+            Ok(Some(Common::Instance(_, n))) => {
+                i += n;
+                continue;
+            }
+            Ok(None) => words.push(args[i].as_str()),
+            Err(e) => {
+                eprintln!("realtime: {e}");
+                std::process::exit(2);
+            }
+        }
+        i += 1;
+    }
     let instance = instance_from_env();
-    let args: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
-    let cmd = match args.as_slice() {
-        [one] => one.to_str().unwrap_or(""),
+    let cmd = match words.as_slice() {
+        [one] => *one,
         _ => "",
     };
     let code = match cmd {
@@ -39,12 +59,16 @@ fn main() {
                 1
             }
         }
-        "-h" | "--help" => {
-            hal_tools::outln!("{USAGE}");
+        "--help" => {
+            hal_tools::outln!("{}", hal_tools::usage::REALTIME);
             0
         }
+        option if option.starts_with('-') => {
+            eprintln!("realtime: unknown option '{option}' (see realtime --help)");
+            2
+        }
         _ => {
-            eprintln!("{USAGE}");
+            eprintln!("{}", hal_tools::usage::REALTIME);
             2
         }
     };

@@ -6,18 +6,8 @@
 use std::process::ExitCode;
 use std::time::Duration;
 
-use hal_launcher::REQUESTS;
 use hal_launcher::{request, TaskAnswer, TaskClientError};
-
-fn usage() -> String {
-    format!(
-        "usage: task-cmd [-i INSTANCE] [-t SECONDS] REQUEST [ARGS...]\n\n\
-         Sends one request to the machine started by linuxcnc on the HAL instance\n\
-         ($HAL_INSTANCE or 'default') and prints the answer. Requests that wait for\n\
-         the HAL side (estop-reset, tool changes) wait up to SECONDS (default 30).\n\n\
-         requests:\n{REQUESTS}"
-    )
-}
+use hal_tools::conventions::Common;
 
 /// The longest wait `-t` accepts: a day.
 const MAX_TIMEOUT_S: f64 = 86_400.0;
@@ -28,21 +18,33 @@ fn main() -> ExitCode {
     let mut timeout = Duration::from_secs(30);
     let mut i = 0;
     while let Some(a) = args.get(i) {
-        match a.as_str() {
-            "-h" | "--help" => {
-                hal_tools::outln!("{}", usage());
+        match hal_tools::conventions::common(&args, i, true) {
+            Ok(Some(Common::Help)) => {
+                hal_tools::outln!("{}", hal_tools::usage::task_cmd());
                 return ExitCode::SUCCESS;
             }
-            "-i" | "--instance" => match args.get(i + 1) {
-                Some(v) => instance = v.clone(),
-                None => return usage_error("-i needs an instance name"),
-            },
+            Ok(Some(Common::Version)) => {
+                hal_tools::conventions::print_version("task-cmd");
+                return ExitCode::SUCCESS;
+            }
+            Ok(Some(Common::Instance(name, n))) => {
+                instance = name;
+                i += n;
+                continue;
+            }
+            Ok(None) => {}
+            Err(e) => return usage_error(&e.to_string()),
+        }
+        match a.as_str() {
             "-t" | "--timeout" => {
                 let text = args.get(i + 1).map_or("", String::as_str);
                 match hal_tools::stdio::parse_seconds("-t", text, MAX_TIMEOUT_S) {
                     Ok(t) => timeout = t,
                     Err(e) => return usage_error(&e.to_string()),
                 }
+            }
+            option if option.starts_with('-') => {
+                return usage_error(&format!("unknown option '{option}'"))
             }
             _ => break,
         }
@@ -83,6 +85,6 @@ fn main() -> ExitCode {
 }
 
 fn usage_error(msg: &str) -> ExitCode {
-    eprintln!("task-cmd: {msg}\n\n{}", usage());
+    eprintln!("task-cmd: {msg}\n\n{}", hal_tools::usage::task_cmd());
     ExitCode::from(2)
 }

@@ -1,6 +1,8 @@
 //! Running HAL files through halrun, each on an instance of its own.
 #![allow(dead_code)]
 
+pub mod bins;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};

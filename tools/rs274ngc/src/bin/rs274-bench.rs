@@ -203,8 +203,17 @@ fn measure(lines: usize, dir: &Path) -> Result<(), BenchError> {
     Ok(())
 }
 
+/// The usage line and options.
+fn usage_text() -> String {
+    format!(
+        "usage: rs274-bench run [LINES]   (LINES from 10 to {MAX_LINES}, default 1000000)\n\
+         \x20 -h, --help  print this help and exit\n\
+         \x20 --version   print the version and exit\n"
+    )
+}
+
 fn usage() -> ExitCode {
-    eprintln!("usage: rs274-bench run [LINES]   (LINES from 10 to {MAX_LINES}, default 1000000)");
+    eprint!("{}", usage_text());
     ExitCode::from(2)
 }
 
@@ -213,6 +222,21 @@ fn main() -> ExitCode {
         .skip(1)
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
+    match args.first().map(String::as_str) {
+        Some("-h" | "--help") => {
+            print!("{}", usage_text());
+            return ExitCode::SUCCESS;
+        }
+        Some("--version") => {
+            println!("rs274-bench {}", env!("CARGO_PKG_VERSION"));
+            return ExitCode::SUCCESS;
+        }
+        Some(o) if o.starts_with('-') => {
+            eprintln!("rs274-bench: unknown option '{o}' (see rs274-bench --help)");
+            return ExitCode::from(2);
+        }
+        _ => {}
+    }
     let lines = match args.as_slice() {
         [run] if run == "run" => 1_000_000,
         [run, n] if run == "run" => match n.parse::<usize>() {

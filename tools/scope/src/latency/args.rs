@@ -30,11 +30,12 @@ Periods are in nanoseconds, or with a unit: ns, us, ms, s (default base
 25000 = 25us, servo 1000000 = 1ms).
 
 options:
-  -h, --help           this text
   -d, --duration SECS  stop after SECS seconds (default: run until Ctrl-C)
   --nobase             servo thread only
   --png FILE           histogram image (default latency-test.png)
   --csv FILE           histogram table (default latency-test.csv)
+  -h, --help           print this help and exit
+  --version            print the version and exit
 
 examples:
   latency-test                     25 us base, 1 ms servo, until Ctrl-C
@@ -80,6 +81,8 @@ pub enum Parsed {
     Run(Config),
     /// `-h`/`--help`.
     Help,
+    /// `--version`.
+    Version,
 }
 
 /// A period: whole nanoseconds, or a number with a unit (`ns`, `us`,
@@ -121,6 +124,7 @@ pub fn parse(args: &[String]) -> Result<Parsed, LatencyError> {
         };
         match a {
             "-h" | "--help" | "-?" => return Ok(Parsed::Help),
+            "--version" => return Ok(Parsed::Version),
             "-d" | "--duration" => {
                 let v = value(a)?;
                 let secs: f64 = v
@@ -198,7 +202,7 @@ mod tests {
     fn run(args: &[&str]) -> Config {
         match p(args).unwrap() {
             Parsed::Run(c) => c,
-            Parsed::Help => panic!("help"),
+            other => panic!("not a run: {other:?}"),
         }
     }
 
@@ -213,6 +217,7 @@ mod tests {
         assert_eq!((c.base_ns, c.servo_ns), (Some(25_000), 500_000));
         assert_eq!(p(&["-h"]).unwrap(), Parsed::Help);
         assert_eq!(p(&["--help"]).unwrap(), Parsed::Help);
+        assert_eq!(p(&["--version"]).unwrap(), Parsed::Version);
     }
 
     #[test]

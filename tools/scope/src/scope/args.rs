@@ -20,8 +20,7 @@ Examples:
        trigger on its first column)
 
 Names in --pins are pins or signals; the trigger names one of them (or
-its column number). Without --trigger the capture starts at once.
-The instance is $HAL_INSTANCE's, as for halcmd.";
+its column number). Without --trigger the capture starts at once.";
 
 /// Captures HAL pins at the full rate of a thread into a PNG, CSV or VCD
 /// file, with an oscilloscope's trigger (level, edge, pre-trigger).
@@ -55,6 +54,9 @@ pub struct Args {
     /// time the record takes).
     #[arg(long, default_value_t = 10.0)]
     pub timeout: f64,
+    /// HAL instance (default: $HAL_INSTANCE or 'default').
+    #[arg(short, long, value_name = "NAME")]
+    pub instance: Option<String>,
 }
 
 /// Most samples in one record.

@@ -6,7 +6,7 @@ use crate::error::{Result, SerialError};
 use crate::line::{LineSettings, Parity};
 use crate::modbus::MasterConfig;
 use crate::opts::{self, Found, OptSpec};
-use crate::vfd::{SerialOptions, SERIAL_SPECS};
+use crate::vfd::{Parsed, SerialOptions, SERIAL_SPECS};
 
 use super::NAME;
 
@@ -53,6 +53,8 @@ pub const USAGE: &str = "\
 Usage: hy_vfd [OPTIONS]
 Connects a Huanyang HY-series VFD to the HAL over its RS-485 protocol.
 Options whose values come from a list take any unique beginning (--rate 5 is 57600).
+
+Options:
   -d, --device PATH         serial device (default /dev/ttyS0); 'sim' for a simulated VFD
   -n, --name NAME           HAL component name, prefix of every pin (default hy_vfd)
   -r, --rate N              110 .. 115200 (default 19200; must match PD164)
@@ -73,7 +75,9 @@ Options whose values come from a list take any unique beginning (--rate 5 is 576
       --period SECONDS      time between cycles, 0.001 to 1 (default 0.1)
       --response-timeout MS wait this long for a reply (default 100)
       --retries N           send a failed request again N times (default 2)
-  -h, --help                show this help
+      --instance NAME       the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help                print this help and exit
+      --version             print the version and exit
 ";
 
 const SPECS: &[OptSpec] = &[
@@ -138,7 +142,7 @@ impl HyOptions {
 
 /// Parses the command line (without the program name); None when help
 /// was asked for.
-pub fn parse_options(args: &[String]) -> Result<Option<HyOptions>> {
+pub fn parse_options(args: &[String]) -> Result<Parsed<HyOptions>> {
     let specs: Vec<OptSpec> = SERIAL_SPECS.iter().chain(SPECS).copied().collect();
     let mut o = HyOptions::defaults();
     let u16_max = f64::from(u16::MAX);
@@ -164,7 +168,8 @@ pub fn parse_options(args: &[String]) -> Result<Option<HyOptions>> {
             "regdump" => o.regdump = true,
             "debug" => o.serial.master.debug = true,
             "period" => o.period = Duration::from_secs_f64(opts::number(&f, 0.001, 1.0)?),
-            _ => return Ok(None),
+            "version" => return Ok(Parsed::Version),
+            _ => return Ok(Parsed::Help),
         }
     }
     if o.min_freq > 0.0 && o.max_freq > 0.0 && o.min_freq > o.max_freq {
@@ -173,5 +178,5 @@ pub fn parse_options(args: &[String]) -> Result<Option<HyOptions>> {
             o.min_freq, o.max_freq
         )));
     }
-    Ok(Some(o))
+    Ok(Parsed::Run(o))
 }

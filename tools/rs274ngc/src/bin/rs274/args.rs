@@ -101,6 +101,37 @@ fn set_valued(args: &mut Args, letter: u8, value: OsString) {
     }
 }
 
+/// What the suite's conventions add to LinuxCNC's options: `-h`/`--help`
+/// and `--version` (the only words handled before LinuxCNC's parsing),
+/// and an unknown long option named as such.
+#[derive(Debug, PartialEq)]
+pub enum Convention {
+    /// Print the usage with the two lines below on stdout, exit 0.
+    Help,
+    /// Print `rs274 VERSION`, exit 0.
+    Version,
+    /// An unknown `--word`: name it, then the usage, exit 1.
+    UnknownLong(String),
+}
+
+/// The suite's options the command line holds, if any (before `--`).
+pub fn convention(argv: &[OsString]) -> Option<Convention> {
+    for word in argv.iter().skip(1) {
+        match word.to_string_lossy().as_ref() {
+            "--" => return None,
+            "-h" | "--help" => return Some(Convention::Help),
+            "--version" => return Some(Convention::Version),
+            w if w.starts_with("--") => return Some(Convention::UnknownLong(w.to_string())),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The lines `--help` adds to LinuxCNC's usage.
+pub const SUITE_OPTIONS: &str =
+    "    -h, --help: print this help and exit\n    --version: print the version and exit\n";
+
 /// Parse `argv`; `Err(())` means print the usage and exit 1.
 pub fn parse(argv: &[OsString]) -> Result<Args, ()> {
     let mut args = Args {
@@ -206,6 +237,19 @@ mod tests {
             parse(&argv(&["rs274", "-n", " 1"])).unwrap().on_error,
             OnError::Mdi
         );
+        assert_eq!(
+            convention(&argv(&["rs274", "-g", "-h"])),
+            Some(Convention::Help)
+        );
+        assert_eq!(
+            convention(&argv(&["rs274", "--version"])),
+            Some(Convention::Version)
+        );
+        assert_eq!(
+            convention(&argv(&["rs274", "--nope"])),
+            Some(Convention::UnknownLong("--nope".into()))
+        );
+        assert_eq!(convention(&argv(&["rs274", "--", "--help"])), None);
         let odd = OsString::from_vec(vec![b'p', 0xff, b'.', b'n']);
         let a = parse(&[OsString::from("rs274"), odd.clone()]).unwrap();
         assert_eq!(a.input, Some(PathBuf::from(odd)));

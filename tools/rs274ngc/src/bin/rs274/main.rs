@@ -21,18 +21,32 @@ const DEFAULT_TOOL_TABLE: &str = "/usr/share/doc/linuxcnc/examples/sample-config
 
 fn main() -> ExitCode {
     let argv: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let program = argv
+        .first()
+        .map(|a| a.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    match args::convention(&argv) {
+        Some(args::Convention::Help) => {
+            print!("{}{}", args::usage(&program), args::SUITE_OPTIONS);
+            return ExitCode::SUCCESS;
+        }
+        Some(args::Convention::Version) => {
+            println!("rs274 {}", env!("CARGO_PKG_VERSION"));
+            return ExitCode::SUCCESS;
+        }
+        Some(args::Convention::UnknownLong(word)) => {
+            eprint!(
+                "{program}: unrecognized option '{word}'\n{}",
+                args::usage(&program)
+            );
+            return ExitCode::from(1);
+        }
+        None => {}
+    }
     let mut args = match args::parse(&argv) {
         Ok(args) => args,
         Err(()) => {
-            eprint!(
-                "{}",
-                args::usage(
-                    &argv
-                        .first()
-                        .map(|a| a.to_string_lossy().into_owned())
-                        .unwrap_or_default()
-                )
-            );
+            eprint!("{}", args::usage(&program));
             return ExitCode::from(1);
         }
     };

@@ -1,0 +1,161 @@
+//! How each module is loaded for its man page when a plain `loadrt NAME`
+//! does not do: what must come first, the arguments, and a note for the
+//! page (a simulated backend, say).
+
+/// A module's example load.
+#[derive(Debug, Clone, Copy)]
+pub struct Example {
+    /// HAL lines run before the load (a kinematics module before motmod).
+    pub before: &'static str,
+    /// The arguments of `loadrt NAME ...`.
+    pub args: &'static str,
+    /// Said on the page about the example, if anything.
+    pub note: &'static str,
+    /// The load is served by a simulated Ethernet board of this preset:
+    /// the test appends `board_ip=` with the simulator's address.
+    pub eth_board: Option<&'static str>,
+    /// The load fails by design (LinuxCNC's hm2_test): the page says why
+    /// in its note, and the test checks that it fails and adds nothing.
+    pub fails: bool,
+}
+
+/// Modules whose page is written by hand (it says more than a generated
+/// one could); the test still checks that it names everything the
+/// module exports and every parameter (`nameN` stands for `name1`,
+/// `name2`, ...).
+pub const HAND_WRITTEN: &[&str] = &["threads"];
+
+const PLAIN: Example = Example {
+    before: "",
+    args: "",
+    note: "",
+    eth_board: None,
+    fails: false,
+};
+
+/// The example load of `module`.
+pub fn example_for(module: &str) -> Example {
+    EXAMPLES
+        .iter()
+        .find(|(m, _)| *m == module)
+        .map_or(PLAIN, |(_, e)| *e)
+}
+
+/// An example load with arguments only.
+const fn args(args: &'static str) -> Example {
+    Example { args, ..PLAIN }
+}
+
+/// An example load of a driver on its simulated backend.
+const fn sim(args: &'static str, note: &'static str) -> Example {
+    Example {
+        args,
+        note,
+        ..PLAIN
+    }
+}
+
+const HM2_CORE: &str = "loadrt hostmot2";
+
+const EXAMPLES: &[(&str, Example)] = &[
+    ("bldc", args("cfg=qi6")),
+    ("debounce", args("cfg=2")),
+    ("demux_generic", args("config=bf8")),
+    ("enum", args("enums=D;stop;run;;fault")),
+    ("gantry", args("personality=2")),
+    ("matrix_kb", args("config=4x3s")),
+    ("message", args("messages=\"Oil low\"")),
+    ("mux_generic", args("config=ff4")),
+    ("pwmgen", args("output_type=0")),
+    ("sampler", args("cfg=fbs depth=1024")),
+    ("stepgen", args("step_type=0")),
+    ("streamer", args("cfg=fbs depth=1024")),
+    ("watchdog", args("num_inputs=2")),
+    ("weighted_sum", args("wsum_sizes=4")),
+    (
+        "motmod",
+        Example {
+            before: "loadrt trivkins",
+            ..PLAIN
+        },
+    ),
+    (
+        "ads1115",
+        sim("backend=sim", "The example uses a simulated chip; dev (the default) opens /dev/i2c-1."),
+    ),
+    (
+        "mcp23017",
+        sim("backend=sim", "The example uses a simulated chip; dev (the default) opens /dev/i2c-1."),
+    ),
+    (
+        "pca9685",
+        sim("backend=sim", "The example uses a simulated chip; dev (the default) opens /dev/i2c-1."),
+    ),
+    (
+        "canservo",
+        sim(
+            "nodes=1 backend=sim",
+            "The example uses a simulated drive; socketcan (the default) talks to can0.",
+        ),
+    ),
+    (
+        "hal_gpio",
+        sim(
+            "inputs=A outputs=B backend=sim",
+            "The example uses the simulated chip; cdev (the default) opens /dev/gpiochip*.",
+        ),
+    ),
+    (
+        "hal_parport",
+        sim(
+            "cfg=\"0x378 sim\"",
+            "The example uses a simulated port; ppdev and raw reach real ones.",
+        ),
+    ),
+    (
+        "hal_stg",
+        sim(
+            "backend=sim",
+            "The example uses a simulated Model II card; ioperm (the default) needs port I/O.",
+        ),
+    ),
+    (
+        "hal_motenc",
+        sim(
+            "backend=sim",
+            "The example uses a simulated MOTENC-100; pci (the default) uses every card on the bus.",
+        ),
+    ),
+    (
+        "hm2_pci",
+        Example {
+            before: HM2_CORE,
+            args: "sim=5i25",
+            note: "The example uses a simulated 5I25; without sim= the module drives every \
+                   Mesa PCI card it finds.",
+            ..PLAIN
+        },
+    ),
+    (
+        "hm2_eth",
+        Example {
+            before: HM2_CORE,
+            args: "",
+            note: "The example talks to a simulated 7I96S (the board hm2-eth-sim(1) \
+                   serves) on this machine; give board_ip= the address of a real board.",
+            eth_board: Some("7i96s"),
+            fails: false,
+        },
+    ),
+    (
+        "hm2_test",
+        Example {
+            before: HM2_CORE,
+            args: "test_pattern=0",
+            note: "Every test pattern is a broken firmware image: the load fails with the \
+                   message LinuxCNC gives for it and exports nothing, which is the test.",
+            eth_board: None,
+            fails: true,
+        },
+    ),
+];
