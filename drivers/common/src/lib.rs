@@ -254,6 +254,7 @@
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
+//! * [`rt_cell`]: state a driver's `read` and `write` share without a lock.
 //! * `error` (private): the error type, [`DriverError`], at the crate root.
 //! * `lockdown` (private): telling kernel lockdown from a missing permission.
 //! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
@@ -289,6 +290,7 @@ mod lockdown;
 pub mod params;
 pub mod pci;
 pub mod plant;
+pub mod rt_cell;
 pub mod sim;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;
