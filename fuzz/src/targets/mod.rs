@@ -39,6 +39,9 @@ crate::register_targets! {
     twopass_loadrt,
     comp_file,
     part_program,
+    rs274ngc_program,
+    rs274ngc_parameter_file,
+    rs274ngc_tool_table,
     motion_command_line,
     motion_records,
 }
