@@ -1,5 +1,7 @@
 //! The HAL binding: `loadrt lcec config=ethercat-conf.xml
-//! [backend=raw|sim] [iface=eth0,...]`, with linuxcnc-ethercat's names.
+//! [backend=raw|sim] [iface=eth0,...]`, with linuxcnc-ethercat's names;
+//! or, as with linuxcnc-ethercat, `loadusr -W lcec_conf
+//! ethercat-conf.xml` then `loadrt lcec` ([`crate::lcec::handoff`]).
 //!
 //! One realtime component `lcec`. For each `<master>` of the
 //! configuration (pins `lcec.<m>.`, `<m>` its name or index) a master
@@ -49,8 +51,8 @@ use hal_driver::ForModule;
 use any_pin::AnyPin;
 use slave::SlaveRt;
 
-use crate::lcec::conf;
 use crate::lcec::pins::{self, MODULE as NAME};
+use crate::lcec::{conf, handoff};
 use crate::link::{InProcess, Link, RawSocket};
 use crate::master::{Cyclic, Master};
 use crate::regs::al;
@@ -61,13 +63,13 @@ pub use drive::SLAVE_LOST;
 const MAX_MASTERS: usize = 8;
 
 /// Backends: raw sockets, or the simulated segment.
-const BACKENDS: BackendTokens = BackendTokens::new(&["raw"], &[]);
+pub const BACKENDS: BackendTokens = BackendTokens::new(&["raw"], &[]);
 
 const PARAMS: &[ParamDecl] = &[
     ParamDecl {
         name: "config",
         kind: ParamKind::Str,
-        help: "linuxcnc-ethercat's configuration file (ethercat-conf.xml)",
+        help: "linuxcnc-ethercat's configuration file (default: the one lcec_conf keeps)",
     },
     ParamDecl {
         name: "backend",
@@ -308,18 +310,33 @@ fn export_master(
     Ok((rt, s.master, s.sim))
 }
 
+/// The configuration: the file `config=` names, else the one
+/// `loadusr -W lcec_conf FILE` keeps in the instance.
+fn configuration(
+    host: &Host,
+    args: &ModuleArgs,
+    p: &Params<'_>,
+) -> Result<(PathBuf, conf::Config)> {
+    if let Some(path) = args.str("config") {
+        let file = PathBuf::from(path);
+        let cfg = conf::read(&file).map_err(load_error)?;
+        return Ok((file, cfg));
+    }
+    let Some(kept) = handoff::take(host.instance()) else {
+        return Err(p
+            .error(
+                "config",
+                "no configuration: give config=ethercat-conf.xml, or run `loadusr -W lcec_conf ethercat-conf.xml` first",
+            ))
+            .for_module(NAME);
+    };
+    let (file, text) = kept.map_err(load_error)?;
+    let cfg = conf::parse(&text, &file).map_err(load_error)?;
+    Ok((file, cfg))
+}
+
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let p = Params::new(NAME, args);
-    let file = PathBuf::from(
-        args.str("config")
-            .ok_or_else(|| {
-                p.error(
-                    "config",
-                    "the configuration file is required: config=ethercat-conf.xml",
-                )
-            })
-            .for_module(NAME)?,
-    );
     let token = p.str_or("backend", "raw");
     let backend = BACKENDS
         .parse(token)
@@ -331,7 +348,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         })
         .for_module(NAME)?;
     let ifaces = args.str_array("iface").to_vec();
-    let cfg = conf::read(&file).map_err(load_error)?;
+    let (file, cfg) = configuration(host, args, &p)?;
     // Every master up before any HAL object exists: a failure leaves
     // nothing behind.
     let started = start(&cfg, &file, backend.is_sim(), &ifaces)?;
