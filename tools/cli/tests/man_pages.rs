@@ -17,6 +17,8 @@ use clap::CommandFactory;
 mod canservo_sim_args;
 #[path = "../../../drivers/ethercat/src/bin/ethercat-sim/args.rs"]
 mod ethercat_sim_args;
+#[path = "../../../drivers/ethercat/src/bin/lcec_conf/args.rs"]
+mod lcec_conf_args;
 
 /// The tools whose man pages are generated: (name, command).
 fn pages() -> Vec<(&'static str, clap::Command)> {
@@ -33,6 +35,7 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("motion-cmd", tool_args::motion_cmd::Cli::command()),
         ("ethercat-tool", hal_ethercat::tool::args::Cli::command()),
         ("ethercat-sim", ethercat_sim_args::Args::command()),
+        ("lcec_conf", lcec_conf_args::Args::command()),
     ]
 }
 
