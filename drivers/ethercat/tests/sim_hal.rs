@@ -204,3 +204,64 @@ fn configuration_errors_name_file_line_and_element_and_leave_nothing() {
 fn file_missing() -> PathBuf {
     PathBuf::from("/nonexistent/no-such-file.xml")
 }
+
+#[test]
+fn analog_terminals_and_the_encoder_scale_their_values() {
+    let file = conf_file(
+        "analog",
+        r#"<masters><master idx="0" appTimePeriod="1000000" refClockSyncCycles="1">
+  <slave idx="0" type="EL3102" name="ai"/>
+  <slave idx="1" type="EL4102" name="ao"/>
+  <slave idx="2" type="EL5101" name="enc"/>
+</master></masters>"#,
+    );
+    let h = host("lcec-sim-analog");
+    h.loadrt(
+        &MODULE,
+        &[&format!("config={}", file.display()), "backend=sim"],
+    )
+    .unwrap();
+    let seg: SharedSegment = hal_driver::sim::find(h.instance().name(), "lcec.0").unwrap();
+    h.create_thread("servo", 1_000_000, true, None).unwrap();
+    h.addf("lcec.0.read", "servo", -1).unwrap();
+    h.addf("lcec.0.write", "servo", -1).unwrap();
+    h.start().unwrap();
+    wait("all-op", || pin(&h, "lcec.0.all-op") == Value::Bit(true));
+    // EL3102 channel 1: raw -16384 with overrange set; val = bias + scale × raw / 32767.
+    {
+        let mut s = seg.lock().unwrap();
+        let od = &mut s.slave_mut(0).unwrap().device.od;
+        od.set(0x3102, 2, (-16384i16) as u16 as u64);
+        od.set(0x3102, 1, 0b10);
+    }
+    set(&h, "lcec.0.ai.ain-1-scale", Value::Float(10.0));
+    set(&h, "lcec.0.ai.ain-1-bias", Value::Float(1.0));
+    wait("ain-1-val", || {
+        (float(&h, "lcec.0.ai.ain-1-val") - (1.0 - 10.0 * 16384.0 / 32767.0)).abs() < 1e-9
+    });
+    assert_eq!(pin(&h, "lcec.0.ai.ain-1-raw"), Value::S32(-16384));
+    assert_eq!(pin(&h, "lcec.0.ai.ain-1-overrange"), Value::Bit(true));
+    assert_eq!(pin(&h, "lcec.0.ai.ain-1-underrange"), Value::Bit(false));
+    // EL4102 channel 0: value 0.25 enabled: raw 0.25 × 32767 on the wire.
+    set(&h, "lcec.0.ao.aout-0-value", Value::Float(0.25));
+    set(&h, "lcec.0.ao.aout-0-enable", Value::Bit(true));
+    wait("aout-0 on the wire", || {
+        seg.lock().unwrap().slaves()[1].device.od.get(0x3001, 1) == 8192
+    });
+    assert_eq!(pin(&h, "lcec.0.ao.aout-0-pos"), Value::Bit(true));
+    // EL5101: the shaft turns; the count follows, the position is scaled.
+    set(&h, "lcec.0.enc.enc-pos-scale", Value::Float(4.0));
+    hal_ethercat::sim::control::Control::parse("shaft 2 40000")
+        .unwrap()
+        .apply(&mut seg.lock().unwrap())
+        .unwrap();
+    wait("the encoder counts", || {
+        match pin(&h, "lcec.0.enc.enc-count") {
+            Value::S32(c) => c > 40_000,
+            _ => false,
+        }
+    });
+    let pos = float(&h, "lcec.0.enc.enc-pos");
+    assert!(pos > 10_000.0, "{pos}");
+    h.stop();
+}

@@ -45,6 +45,9 @@ enum Role {
         coding: Coding,
         invert: Option<usize>,
     },
+    /// Puts another pin's value into this pin's entry: the EL4102's
+    /// `aout-N-value` entry gets `aout-N-raw`, which the type computes.
+    OutputFrom { at: Field, source: usize },
     /// Computed by the slave type's code (or a parameter).
     Computed,
 }
@@ -186,12 +189,22 @@ impl SlaveRt {
             self.analog_out();
         }
         for b in &self.pins {
-            if let Role::Output { at, coding, invert } = &b.role {
-                let mut v = b.pin.get();
-                if invert.is_some_and(|i| self.pins[i].pin.is_set()) {
-                    v = f64::from(u8::from(v == 0.0));
+            match &b.role {
+                Role::Output { at, coding, invert } => {
+                    let mut v = b.pin.get();
+                    if invert.is_some_and(|i| self.pins[i].pin.is_set()) {
+                        v = f64::from(u8::from(v == 0.0));
+                    }
+                    at.write(outputs, field::encode(coding, v, at.bits));
                 }
-                at.write(outputs, field::encode(coding, v, at.bits));
+                Role::OutputFrom { at, source } => {
+                    let v = self.pins[*source].pin.get();
+                    at.write(
+                        outputs,
+                        field::encode(&field::plain(PinType::S32), v, at.bits),
+                    );
+                }
+                _ => {}
             }
         }
         if let Some(d) = &mut self.drive {
@@ -344,9 +357,15 @@ fn role(
         return Ok(Role::Computed);
     };
     // Catalogue values the type computes from their entries.
+    let raw_of_value = (slave.kind == "EL4102" && spec.name.ends_with("-value"))
+        .then(|| {
+            let raw = spec.name.replace("-value", "-raw");
+            all.iter().position(|p| p.name == raw)
+        })
+        .flatten();
     let computed =
         spec.coding.is_none() && (spec.ty == PinType::Float || slave.kind == "basic_cia402");
-    if computed {
+    if computed && raw_of_value.is_none() {
         return Ok(Role::Computed);
     }
     let output = matches!(spec.kind, Kind::In | Kind::Io | Kind::Param);
@@ -385,6 +404,9 @@ fn role(
             bits: e.field_bits.min(m.bits.max(1)),
         },
     };
+    if let Some(source) = raw_of_value {
+        return Ok(Role::OutputFrom { at, source });
+    }
     let coding = spec.coding.unwrap_or_else(|| field::plain(spec.ty));
     Ok(if output {
         let invert = all
