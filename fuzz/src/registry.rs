@@ -63,6 +63,7 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
     &MCP23017_SIM_ONLY,
     &ADS1115_SIM_ONLY,
     CANSERVO_SIM_ONLY,
+    &LCEC_SIM_ONLY,
 ];
 
 /// The modules that drive no hardware: components, motion, and the
@@ -182,6 +183,13 @@ backend_forced_to_sim!(
     ads1115_sim_only,
     hal_i2c::hal::ads1115::MODULE,
     hal_i2c::hal::BACKENDS
+);
+
+backend_forced_to_sim!(
+    LCEC_SIM_ONLY,
+    lcec_sim_only,
+    hal_ethercat::MODULE,
+    hal_ethercat::hal::BACKENDS
 );
 
 /// `canservo` as its crate offers it for fuzzing: every drive simulated

@@ -313,6 +313,7 @@
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
+//! * [`rt_cell`]: state a driver's `read` and `write` share without a lock.
 //! * [`module`]: [`DriverModule`], the [`Exporter`] and our host's load
 //!   sequence.
 //! * `linuxcnc` (feature `linuxcnc`): LinuxCNC's `rtapi_app` as the
@@ -357,6 +358,7 @@ pub mod module;
 pub mod params;
 pub mod pci;
 pub mod plant;
+pub mod rt_cell;
 pub mod sim;
 #[cfg(any(test, feature = "testing"))]
 pub mod testing;

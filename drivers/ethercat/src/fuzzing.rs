@@ -179,12 +179,25 @@ pub fn sii(input: &[u8]) {
     }
 }
 
-/// An `ethercat-conf.xml`.
+/// An `ethercat-conf.xml`, and the same bytes as the words of
+/// `lcec_conf`'s region ([`crate::lcec::handoff`]).
 ///
 /// Checks: an accepted configuration has a positive application period,
 /// PDO entries of 1 to 64 bits whose complex entries fit them, and pins
-/// (where the slave's type is supported) with names unique per slave.
+/// (where the slave's type is supported) with names unique per slave; a
+/// region is decoded within its bounds or refused.
 pub fn xml(input: &[u8]) {
+    let words: Vec<u64> = input
+        .chunks(8)
+        .map(|c| {
+            let mut w = [0u8; 8];
+            w[..c.len()].copy_from_slice(c);
+            u64::from_le_bytes(w)
+        })
+        .collect();
+    if let Ok((_, t)) = crate::lcec::handoff::decode(&words) {
+        assert!(t.len() <= crate::lcec::handoff::MAX_BYTES && t.len() <= input.len());
+    }
     let text = String::from_utf8_lossy(input);
     let Ok(cfg) = conf::parse(&text, Path::new("fuzz.xml")) else {
         return;

@@ -1,6 +1,8 @@
-//! EtherCAT without a kernel module: everything below the HAL binding of
-//! `lcec` (phase 2 binds it to HAL on the shared driver layer).
+//! EtherCAT without a kernel module: linuxcnc-ethercat's `lcec` module
+//! on a userspace master, and everything below it.
 //!
+//! * [`hal`]: the HAL binding, `loadrt lcec config=ethercat-conf.xml`
+//!   ([`MODULE`]), with lcec's pins and functions.
 //! * [`wire`]: frames and datagrams, mailbox and CoE (SDO, emergency),
 //!   the SII layout. [`regs`]: the ESC register map.
 //! * [`sim`]: a simulated segment of ESCs (registers, SII EEPROM, AL
@@ -20,6 +22,7 @@
 pub mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
+pub mod hal;
 pub mod lcec;
 pub mod link;
 pub mod master;
@@ -30,3 +33,4 @@ pub mod tool;
 pub mod wire;
 
 pub use error::{Error, Result};
+pub use hal::MODULE;

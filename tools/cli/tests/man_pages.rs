@@ -20,6 +20,8 @@ mod canservo_sim_args;
 mod ethercat_sim_args;
 #[path = "man/help2roff.rs"]
 mod help2roff;
+#[path = "../../../drivers/ethercat/src/bin/lcec_conf/args.rs"]
+mod lcec_conf_args;
 
 /// Where a page comes from.
 enum Source {
@@ -205,6 +207,7 @@ fn pages() -> Vec<(&'static str, Source)> {
             "ethercat-sim",
             Clap(Box::new(ethercat_sim_args::Args::command())),
         ),
+        ("lcec_conf", Clap(Box::new(lcec_conf_args::Args::command()))),
     ]
 }
 

@@ -309,13 +309,36 @@ pub fn parse_hex(s: &str) -> Option<u32> {
     u32::from_str_radix(t, 16).ok()
 }
 
-/// Reads a configuration file.
-pub fn read(path: &Path) -> Result<Config> {
-    let bytes = std::fs::read(path).map_err(|source| Error::ReadFile {
+/// Bytes a configuration file may have at most.
+pub const MAX_FILE_BYTES: usize = 1 << 20;
+
+/// Reads a configuration file's text (at most [`MAX_FILE_BYTES`]).
+pub fn read_text(path: &Path) -> Result<String> {
+    use std::io::Read;
+    let read_err = |source| Error::ReadFile {
         path: path.to_path_buf(),
         source,
-    })?;
-    parse(&String::from_utf8_lossy(&bytes), path)
+    };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .map_err(read_err)?
+        .take(MAX_FILE_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_err)?;
+    if bytes.len() > MAX_FILE_BYTES {
+        return Err(Error::Config {
+            file: path.to_path_buf(),
+            line: 1,
+            element: "xml".into(),
+            reason: format!("larger than {MAX_FILE_BYTES} bytes"),
+        });
+    }
+    Ok(String::from_utf8_lossy(&bytes).into_owned())
+}
+
+/// Reads a configuration file.
+pub fn read(path: &Path) -> Result<Config> {
+    parse(&read_text(path)?, path)
 }
 
 /// Parses configuration text; `file` names it in errors.

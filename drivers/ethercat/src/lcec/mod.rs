@@ -1,9 +1,11 @@
 //! linuxcnc-ethercat (`lcec`) compatibility: its configuration file
 //! ([`conf`]), read with the same rules, so an lcec user keeps theirs,
-//! and the pins and functions it exports ([`pins`]), as data for the HAL
-//! binding.
+//! the pins and functions it exports ([`pins`]), as data for the HAL
+//! binding, and `lcec_conf`'s hand-over of the file to `loadrt lcec`
+//! ([`handoff`]).
 
 pub mod conf;
+pub mod handoff;
 pub mod pins;
 
 pub use conf::{read, Config};

@@ -24,7 +24,8 @@
 //! The helper sends the frame at once, waits for it up to the PDU
 //! timeout (one period by default), and publishes the inputs, the
 //! working counter and each slave's AL state; a frame that does not come
-//! back is counted as lost, never waited for by the realtime side.
+//! back is counted as lost, never waited for by the realtime side, and
+//! [`LOST_LIMIT`] lost in a row make the link down.
 //!
 //! Faults: a working counter short of the expected one, a slave not in
 //! OP (lost, reset, AL error), or the link down make the affected slaves
@@ -34,6 +35,7 @@
 
 pub mod exchange;
 pub(crate) mod io;
+pub mod layout;
 
 use std::future::Future;
 use std::ops::Range;
@@ -52,12 +54,17 @@ use crate::link::Link;
 use crate::regs::{self, al};
 use exchange::Exchange;
 use io::Io;
+pub use layout::{Layout, MappedEntry};
 
 /// Slaves per master at most.
 pub const MAX_SLAVES: usize = 64;
 /// Process image bytes at most.
 pub const MAX_PDI: usize = 4096;
 const MAX_FRAMES: usize = 16;
+/// Frames lost in a row before the master calls the link down (and every
+/// slave unhealthy): one late frame on a loaded machine is counted, not
+/// a fault; three in a row are.
+pub const LOST_LIMIT: u32 = 3;
 const FRAME_DATA: usize = PduStorage::element_size(1100);
 
 /// An SDO write of the configuration, done in PRE-OP.
@@ -94,6 +101,12 @@ pub struct MasterConfig {
     pub slaves: Vec<SlavePlan>,
     /// How long bring-up may take per state change.
     pub state_timeout: Duration,
+    /// How long the helper waits for a cycle's frame before counting it
+    /// lost; None: one period. (The realtime side never waits either
+    /// way.) A simulated segment in process loses no frame on a wire, so
+    /// `loadrt lcec backend=sim` gives it 100 ms: a starved test machine
+    /// must not look like a broken cable.
+    pub frame_timeout: Option<Duration>,
 }
 
 impl Default for MasterConfig {
@@ -102,6 +115,7 @@ impl Default for MasterConfig {
             period_ns: 1_000_000,
             slaves: Vec::new(),
             state_timeout: Duration::from_secs(5),
+            frame_timeout: None,
         }
     }
 }
@@ -121,6 +135,8 @@ pub struct SlaveInfo {
     pub inputs: Range<usize>,
     /// Its outputs in the output image.
     pub outputs: Range<usize>,
+    /// Where its entries sit in its inputs and outputs.
+    pub layout: Layout,
 }
 
 /// Counters the realtime side and the helper keep.
@@ -489,6 +505,10 @@ fn bring_up(
                 })?;
         }
     }
+    let mut layouts = Vec::with_capacity(group.len());
+    for (i, sd) in group.iter(md).enumerate() {
+        layouts.push(layout::read(md, io, &sd, i as u16)?);
+    }
     let group = io
         .block_on(group.into_op(md))
         .map_err(|e| master_error(iface, "bringing the segment to OP", e))?;
@@ -508,6 +528,7 @@ fn bring_up(
             identity: (id.vendor_id, id.product_id, id.revision, id.serial),
             inputs: ins..ins + ni,
             outputs: outs..outs + no,
+            layout: layouts.get(i).cloned().unwrap_or_default(),
         });
         ins += ni;
         outs += no;
@@ -538,6 +559,7 @@ fn serve(
     let mut out = vec![0u8; shared.outputs.len()];
     let mut inp = vec![0u8; shared.inputs.len()];
     let mut last_writes = 0;
+    let mut lost_run = 0u32;
     let period = Duration::from_nanos(cfg.period_ns.max(1000));
     while !shared.stop.load(Acquire) {
         if shared.reset.swap(false, AcqRel) {
@@ -569,9 +591,11 @@ fn serve(
         }
         shared.link_up.store(io.link.is_up(), Relaxed);
         let started = Instant::now();
-        let r = io.block_on(with_deadline(group.tx_rx(md), started + period));
+        let timeout = cfg.frame_timeout.unwrap_or(period);
+        let r = io.block_on(with_deadline(group.tx_rx(md), started + timeout));
         match r {
             Some(Ok(resp)) => {
+                lost_run = 0;
                 shared.frame_ns.store(
                     started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
                     Relaxed,
@@ -597,9 +621,13 @@ fn serve(
             }
             _ => {
                 shared.counters.lost.fetch_add(1, Relaxed);
-                shared.wkc.store(0, Release);
-                // No frame back: as far as the slaves go, the link is down.
-                shared.link_up.store(false, Relaxed);
+                lost_run += 1;
+                if lost_run >= LOST_LIMIT {
+                    // No frames back: as far as the slaves go, the link
+                    // is down.
+                    shared.wkc.store(0, Release);
+                    shared.link_up.store(false, Relaxed);
+                }
             }
         }
     }

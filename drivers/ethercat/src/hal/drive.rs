@@ -1,0 +1,223 @@
+//! A CiA 402 drive over CoE (`type="basic_cia402"`): its objects in the
+//! process data, and the shared CiA 402 layer ([`hal_cia402`], as
+//! canservo uses it) behind lcec's `srv-*` pins. The mode comes from
+//! `<modParam name="mode" value="csp|csv|pv|pp"/>` (default csp);
+//! `srv-pos-scale` is counts per user unit. EtherCAT's own supervision:
+//! a slave that leaves OP or drops out of the working counter trips the
+//! drive's latch; `srv-fault-reset` clears it and asks the master to
+//! bring the slaves back to OP.
+
+use std::sync::Arc;
+
+use hal_cia402::objects::obj;
+use hal_cia402::{DriveControl, DriveInputs, DriveShared, LinkSupervision, Mode};
+use hal_core::RtLog;
+use hal_driver::fault::Fault;
+
+use super::field::Field;
+use super::slave::Named;
+use crate::error::Error;
+use crate::lcec::conf::Slave;
+use crate::master::Layout;
+
+/// The slave left OP or its data missed the working counter.
+pub static SLAVE_LOST: Fault = Fault::new(20, "slave not in OP or working counter short");
+
+/// EtherCAT's faults are all communication faults: a fault reset
+/// supervises afresh (the master brings the slave back to OP).
+fn needs_restart(f: &Fault) -> bool {
+    std::ptr::eq(f, &SLAVE_LOST)
+}
+
+/// EtherCAT supervision has nothing to forget.
+#[derive(Debug)]
+struct EcatLink;
+
+impl LinkSupervision for EcatLink {
+    fn fresh(&mut self) {}
+}
+
+/// The drive's objects in the process data.
+#[derive(Debug, Clone, Copy)]
+struct Objects {
+    statusword: Field,
+    position: Field,
+    velocity: Option<Field>,
+    mode_display: Option<Field>,
+    error_code: Option<Field>,
+    controlword: Field,
+    target_position: Option<Field>,
+    target_velocity: Option<Field>,
+    mode: Option<Field>,
+}
+
+/// One drive.
+pub(crate) struct DriveRt {
+    ctl: DriveControl<EcatLink>,
+    at: Objects,
+    inputs: DriveInputs,
+    reset_edge: bool,
+    reset_prev: bool,
+}
+
+impl DriveRt {
+    /// The drive of `slave`, its objects found in `layout`.
+    pub(crate) fn new(
+        label: String,
+        slave: &Slave,
+        layout: &Layout,
+        file: &std::path::Path,
+    ) -> hal_core::Result<DriveRt> {
+        let missing = |what: &str| {
+            hal_core::HalError::module_failed(
+                crate::lcec::pins::MODULE,
+                Error::Config {
+                    file: file.to_path_buf(),
+                    line: slave.line,
+                    element: "slave".into(),
+                    reason: format!("drive '{}' does not map {what}", slave.name),
+                },
+            )
+        };
+        let find = |index: u16, output: bool| {
+            layout.find(index, 0, output).map(|m| Field {
+                bit: m.bit,
+                bits: m.bits,
+            })
+        };
+        let at = Objects {
+            statusword: find(obj::STATUSWORD, false)
+                .ok_or_else(|| missing("the statusword 0x6041 in its inputs"))?,
+            position: find(obj::POSITION_ACTUAL, false)
+                .ok_or_else(|| missing("the position actual 0x6064 in its inputs"))?,
+            velocity: find(obj::VELOCITY_ACTUAL, false),
+            mode_display: find(0x6061, false),
+            error_code: find(obj::ERROR_CODE, false),
+            controlword: find(obj::CONTROLWORD, true)
+                .ok_or_else(|| missing("the controlword 0x6040 in its outputs"))?,
+            target_position: find(obj::TARGET_POSITION, true),
+            target_velocity: find(obj::TARGET_VELOCITY, true),
+            mode: find(obj::MODES_OF_OPERATION, true),
+        };
+        let mode_name = slave
+            .mod_params
+            .iter()
+            .find(|(k, _)| k == "mode")
+            .map_or("csp", |(_, v)| v.as_str());
+        let mode = Mode::parse(mode_name).ok_or_else(|| {
+            hal_core::HalError::module_failed(
+                crate::lcec::pins::MODULE,
+                Error::Config {
+                    file: file.to_path_buf(),
+                    line: slave.line,
+                    element: "modParam".into(),
+                    reason: format!("mode '{mode_name}' is not one of csp, csv, pv, pp"),
+                },
+            )
+        })?;
+        Ok(DriveRt {
+            ctl: DriveControl::new(
+                label,
+                mode,
+                Arc::new(DriveShared::default()),
+                EcatLink,
+                needs_restart,
+            ),
+            at,
+            inputs: DriveInputs::default(),
+            reset_edge: false,
+            reset_prev: false,
+        })
+    }
+
+    /// Whether `srv-fault-reset` rose this cycle.
+    pub(crate) fn wants_reset(&self) -> bool {
+        self.reset_edge
+    }
+
+    fn take_inputs(&mut self, p: &Named<'_>) {
+        let get = |n: &str| p.get(n).map_or(0.0, |x| x.get());
+        let scale = get("srv-pos-scale");
+        self.inputs = DriveInputs {
+            enable: get("srv-enable") != 0.0,
+            fault_reset: get("srv-fault-reset") != 0.0,
+            position_cmd: get("srv-target-position"),
+            velocity_cmd: get("srv-target-velocity"),
+            home: get("srv-home") != 0.0,
+            scale: if scale.is_finite() && scale.abs() > 1e-20 {
+                scale
+            } else {
+                1.0
+            },
+            command_tolerance: 0.01,
+        };
+    }
+
+    /// Reception and supervision; the `srv-*` outputs.
+    pub(crate) fn read(&mut self, img: &[u8], healthy: bool, p: &Named<'_>, log: Option<&RtLog>) {
+        self.take_inputs(p);
+        let rd = |f: Option<Field>| f.map_or(0, |f| f.read_signed(img));
+        if healthy {
+            self.ctl.observe_status(
+                self.at.statusword.read(img) as u16,
+                self.at.position.read_signed(img) as i32,
+                rd(self.at.mode_display) as i8,
+            );
+            self.ctl
+                .observe_velocity(rd(self.at.velocity) as i32, rd(self.at.error_code) as u16);
+        } else {
+            self.ctl.trip(&SLAVE_LOST, log, 0);
+        }
+        self.ctl.poll_restart(log);
+        self.ctl.after_restart(healthy);
+        self.ctl.supervise_drive(log);
+        let fb = self.ctl.feedback(&self.inputs);
+        let set = |n: &str, v: f64| {
+            if let Some(pin) = p.get(n) {
+                pin.set(v);
+            }
+        };
+        set("srv-actual-position", fb.position_fb);
+        set("srv-actual-velocity", fb.velocity_fb);
+        set("srv-enabled", f64::from(u8::from(fb.enabled)));
+        set("srv-fault", f64::from(u8::from(fb.amp_fault)));
+        set("srv-fault-code", f64::from(fb.fault_code));
+        set("srv-error-code", f64::from(fb.error_code));
+        set("srv-cia-statusword", f64::from(fb.statusword));
+        set("srv-opmode-display", f64::from(fb.mode_display));
+        set("srv-home-complete", f64::from(u8::from(fb.home_complete)));
+        if fb.home_clear {
+            set("srv-home", 0.0);
+        }
+    }
+
+    /// Plans the controlword, target and mode into the outputs.
+    pub(crate) fn write(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_>) {
+        self.take_inputs(p);
+        self.reset_edge = self.inputs.fault_reset && !self.reset_prev;
+        self.reset_prev = self.inputs.fault_reset;
+        let Some(plan) = self.ctl.plan(&self.inputs, now_ns, 1_000_000_000, false) else {
+            return;
+        };
+        self.at.controlword.write(img, u64::from(plan.controlword));
+        let target = if self.ctl.mode.is_position() {
+            self.at.target_position
+        } else {
+            self.at.target_velocity
+        };
+        if let Some(f) = target {
+            f.write(img, plan.target as i64 as u64);
+        }
+        if let Some(f) = self.at.mode {
+            f.write(img, plan.mode as u8 as u64);
+        }
+        if let Some(pin) = p.get("srv-cia-controlword") {
+            pin.set(f64::from(plan.controlword));
+        }
+    }
+
+    /// The safe state: controlword disable voltage.
+    pub(crate) fn safe(&mut self, img: &mut [u8]) {
+        self.at.controlword.write(img, 0);
+    }
+}

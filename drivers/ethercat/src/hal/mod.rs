@@ -1,0 +1,419 @@
+//! The HAL binding: `loadrt lcec config=ethercat-conf.xml
+//! [backend=raw|sim] [iface=eth0,...]`, with linuxcnc-ethercat's names;
+//! or, as with linuxcnc-ethercat, `loadusr -W lcec_conf
+//! ethercat-conf.xml` then `loadrt lcec` ([`crate::lcec::handoff`]).
+//!
+//! One realtime component `lcec`. For each `<master>` of the
+//! configuration (pins `lcec.<m>.`, `<m>` its name or index) a master
+//! on EtherCrab ([`crate::master`]) over the interface `iface=` gives
+//! for it (masters in file order; default `eth0`), or with `backend=sim`
+//! over a simulated segment of exactly the configured slaves, in
+//! process. Pins and parameters are lcec's ([`crate::lcec::pins`]):
+//!
+//! * `lcec.slaves-responding`, `lcec.state-{init,preop,safeop,op}`,
+//!   `lcec.link-up`, `lcec.all-op` for all masters together, and the
+//!   same per master plus `wkc`, `wkc-state`, `wkc-min`,
+//!   `wkc-change-count`, `wkc-reset`, `dc-sync-diff`,
+//!   `dc-sync-converged`, `dc-sync-max`;
+//! * per slave `lcec.<m>.<slave>.slave-online`, `slave-oper`,
+//!   `slave-state-{init,preop,safeop,op}` and the pins of its type.
+//!
+//! Functions: `lcec.read-all` and `lcec.write-all` (every master), and
+//! `lcec.<m>.read`, `lcec.<m>.write`. `read` takes the inputs of the
+//! last frame and never waits for one; `write` fills the outputs and
+//! hands the frame to the master's helper thread ([`crate::master`] says
+//! what each costs at worst). A slave that is not in OP, or whose data
+//! missed the working counter, gets zero outputs that period (its drive
+//! trips `srv-fault`); a rising `srv-fault-reset` brings slaves back to
+//! OP. At unload, exit or after a panic every slave's outputs go to
+//! their safe values (zeros; drives: disable voltage) in one last frame.
+//!
+//! With `backend=sim` the segment is published for tests as
+//! `lcec.<m>` ([`hal_driver::sim::find`] with
+//! [`crate::link::SharedSegment`]) to inject faults.
+
+mod any_pin;
+mod drive;
+mod field;
+mod setup;
+mod slave;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::{Component, HalError, Host, Result};
+use hal_driver::fault::{self, SafeState};
+use hal_driver::params::{BackendTokens, Params};
+use hal_driver::rt_cell::RtCell;
+use hal_driver::ForModule;
+
+use any_pin::AnyPin;
+use slave::SlaveRt;
+
+use crate::lcec::pins::{self, MODULE as NAME};
+use crate::lcec::{conf, handoff};
+use crate::link::{InProcess, Link, RawSocket};
+use crate::master::{Cyclic, Master};
+use crate::regs::al;
+
+pub use drive::SLAVE_LOST;
+
+/// Masters `iface=` names at most.
+const MAX_MASTERS: usize = 8;
+
+/// Backends: raw sockets, or the simulated segment.
+pub const BACKENDS: BackendTokens = BackendTokens::new(&["raw"], &[]);
+
+const PARAMS: &[ParamDecl] = &[
+    ParamDecl {
+        name: "config",
+        kind: ParamKind::Str,
+        help: "linuxcnc-ethercat's configuration file (default: the one lcec_conf keeps)",
+    },
+    ParamDecl {
+        name: "backend",
+        kind: ParamKind::Str,
+        help: "raw (default): raw sockets | sim: the configured slaves simulated in process",
+    },
+    ParamDecl {
+        name: "iface",
+        kind: ParamKind::StrArray(MAX_MASTERS),
+        help: "per master, in file order: its network interface (default eth0)",
+    },
+];
+
+/// The `lcec` module.
+pub static MODULE: ModuleDef = ModuleDef {
+    name: NAME,
+    params: PARAMS,
+    help: "EtherCAT masters on EtherCrab with linuxcnc-ethercat's configuration and pins",
+    load,
+};
+
+/// One master, bound.
+struct MasterRt {
+    cyclic: Cyclic,
+    slaves: Vec<SlaveRt>,
+    pins: Vec<AnyPin>,
+    wkc_min: Option<u16>,
+    wkc_last: u16,
+    wkc_changes: u32,
+}
+
+/// Indices into a master's pins, in [`pins::master_pins`] order.
+mod mp {
+    pub const RESPONDING: usize = 0;
+    pub const STATES: usize = 1;
+    pub const LINK_UP: usize = 5;
+    pub const ALL_OP: usize = 6;
+    pub const WKC: usize = 7;
+    pub const WKC_STATE: usize = 8;
+    pub const WKC_MIN: usize = 9;
+    pub const WKC_CHANGES: usize = 10;
+    pub const WKC_RESET: usize = 11;
+}
+
+/// What one master's `read` found, for the global pins.
+#[derive(Default, Clone, Copy)]
+struct Summary {
+    responding: u32,
+    states: [bool; 4],
+    link_up: bool,
+    all_op: bool,
+}
+
+impl MasterRt {
+    fn read(&mut self, log: Option<&hal_core::RtLog>) -> Summary {
+        let st = self.cyclic.read();
+        let mut sum = Summary {
+            link_up: st.link_up,
+            all_op: st.all_op,
+            ..Summary::default()
+        };
+        for s in &mut self.slaves {
+            let state = self.cyclic.al_state(s.index);
+            let healthy = self.cyclic.healthy(s.index);
+            s.read(self.cyclic.inputs(s.index), state, healthy, &st, log);
+        }
+        for i in 0..self.cyclic.slaves().len() {
+            let state = self.cyclic.al_state(i);
+            if state != 0 && st.link_up {
+                sum.responding += 1;
+            }
+            for (k, want) in [al::INIT, al::PREOP, al::SAFEOP, al::OP].iter().enumerate() {
+                sum.states[k] |= state & al::STATE_MASK == *want;
+            }
+        }
+        publish(&self.pins, &sum);
+        self.wkc(st.wkc, st.expected_wkc);
+        sum
+    }
+
+    fn wkc(&mut self, wkc: u16, expected: u16) {
+        let p = &self.pins;
+        if p[mp::WKC_RESET].is_set() {
+            self.wkc_min = None;
+            self.wkc_changes = 0;
+            p[mp::WKC_RESET].set(0.0);
+        }
+        if wkc != self.wkc_last {
+            self.wkc_changes = self.wkc_changes.wrapping_add(1);
+            self.wkc_last = wkc;
+        }
+        let min = self.wkc_min.map_or(wkc, |m| m.min(wkc));
+        self.wkc_min = Some(min);
+        p[mp::WKC].set(f64::from(wkc));
+        p[mp::WKC_STATE].set(match wkc {
+            0 => 0.0,
+            w if w < expected => 1.0,
+            _ => 2.0,
+        });
+        p[mp::WKC_MIN].set(f64::from(min));
+        p[mp::WKC_CHANGES].set(f64::from(self.wkc_changes));
+    }
+
+    fn write(&mut self, now_ns: u64) {
+        let mut reset = false;
+        for s in &mut self.slaves {
+            s.write(self.cyclic.outputs_mut(s.index), now_ns);
+            reset |= s.wants_reset();
+        }
+        if reset {
+            self.cyclic.fault_reset();
+        }
+        self.cyclic.write();
+    }
+
+    /// Safe outputs in two last frames (a slave may apply outputs a
+    /// frame late), each waited for up to 100 ms: this runs at unload or
+    /// exit, never in a realtime function.
+    fn go_safe(&mut self) {
+        use std::sync::atomic::Ordering::Relaxed;
+        for s in &mut self.slaves {
+            s.safe(self.cyclic.outputs_mut(s.index));
+        }
+        for _ in 0..2 {
+            let lost = self.cyclic.counters().lost.load(Relaxed);
+            self.cyclic.write();
+            for _ in 0..50 {
+                std::thread::sleep(std::time::Duration::from_millis(2));
+                let now_lost = self.cyclic.counters().lost.load(Relaxed);
+                if self.cyclic.read().fresh || now_lost != lost {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+/// Sets the state pins `pins` (master or global order) from `sum`.
+fn publish(pins: &[AnyPin], sum: &Summary) {
+    pins[mp::RESPONDING].set(f64::from(sum.responding));
+    for (k, on) in sum.states.iter().enumerate() {
+        pins[mp::STATES + k].set(f64::from(u8::from(*on)));
+    }
+    pins[mp::LINK_UP].set(f64::from(u8::from(sum.link_up)));
+    pins[mp::ALL_OP].set(f64::from(u8::from(sum.all_op)));
+}
+
+/// The masters, for the safe-state hook; dropping it stops their
+/// helper threads.
+struct SafeMasters {
+    cells: Vec<Arc<RtCell<MasterRt>>>,
+    _masters: Vec<Master>,
+}
+
+impl SafeState for SafeMasters {
+    fn go_safe(&self) {
+        for c in &self.cells {
+            c.try_with(MasterRt::go_safe);
+        }
+    }
+}
+
+fn load_error(e: crate::Error) -> HalError {
+    HalError::module_failed(NAME, e)
+}
+
+/// A master started on its link, and what the simulator publishes.
+struct Started {
+    conf: conf::Master,
+    master: Master,
+    cyclic: Cyclic,
+    sim: Option<crate::link::SharedSegment>,
+}
+
+fn start(
+    cfg: &conf::Config,
+    file: &std::path::Path,
+    sim: bool,
+    ifaces: &[String],
+) -> Result<Vec<Started>> {
+    let mut out = Vec::with_capacity(cfg.masters.len());
+    for (i, m) in cfg.masters.iter().enumerate() {
+        let (link, seg): (Box<dyn Link>, _) = if sim {
+            let seg = setup::sim_segment(m, file).map_err(load_error)?;
+            (Box::new(InProcess::new(seg.clone())), Some(seg))
+        } else {
+            let iface = ifaces.get(i).map_or("eth0", String::as_str);
+            let raw = RawSocket::open(iface).map_err(|source| {
+                load_error(crate::Error::Interface {
+                    iface: iface.to_string(),
+                    reason: "cannot open a raw socket (the host needs CAP_NET_RAW: see the README)"
+                        .into(),
+                    source: Some(source),
+                })
+            })?;
+            (Box::new(raw), None)
+        };
+        let (master, cyclic) = Master::start(link, setup::plan(m, sim)).map_err(load_error)?;
+        out.push(Started {
+            conf: m.clone(),
+            master,
+            cyclic,
+            sim: seg,
+        });
+    }
+    Ok(out)
+}
+
+fn export_master(
+    c: &Component,
+    s: Started,
+    file: &std::path::Path,
+) -> Result<(MasterRt, Master, Option<crate::link::SharedSegment>)> {
+    let name = s.conf.name.clone();
+    let pins = pins::master_pins(false)
+        .iter()
+        .map(|p| AnyPin::export(c, &pins::full_name(Some(&name), None, &p.name), p))
+        .collect::<Result<Vec<_>>>()?;
+    let mut slaves = Vec::with_capacity(s.conf.slaves.len());
+    for sc in &s.conf.slaves {
+        let index = usize::from(sc.index);
+        let layout = s
+            .cyclic
+            .slaves()
+            .get(index)
+            .map(|i| i.layout.clone())
+            .unwrap_or_default();
+        slaves.push(SlaveRt::export(c, &name, sc, index, &layout, file)?);
+    }
+    let rt = MasterRt {
+        cyclic: s.cyclic,
+        slaves,
+        pins,
+        wkc_min: None,
+        wkc_last: 0,
+        wkc_changes: 0,
+    };
+    Ok((rt, s.master, s.sim))
+}
+
+/// The configuration: the file `config=` names, else the one
+/// `loadusr -W lcec_conf FILE` keeps in the instance.
+fn configuration(
+    host: &Host,
+    args: &ModuleArgs,
+    p: &Params<'_>,
+) -> Result<(PathBuf, conf::Config)> {
+    if let Some(path) = args.str("config") {
+        let file = PathBuf::from(path);
+        let cfg = conf::read(&file).map_err(load_error)?;
+        return Ok((file, cfg));
+    }
+    let Some(kept) = handoff::take(host.instance()) else {
+        return Err(p
+            .error(
+                "config",
+                "no configuration: give config=ethercat-conf.xml, or run `loadusr -W lcec_conf ethercat-conf.xml` first",
+            ))
+            .for_module(NAME);
+    };
+    let (file, text) = kept.map_err(load_error)?;
+    let cfg = conf::parse(&text, &file).map_err(load_error)?;
+    Ok((file, cfg))
+}
+
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let p = Params::new(NAME, args);
+    let token = p.str_or("backend", "raw");
+    let backend = BACKENDS
+        .parse(token)
+        .ok_or_else(|| {
+            p.error(
+                "backend",
+                format!("'{token}' is not one of {}", BACKENDS.list()),
+            )
+        })
+        .for_module(NAME)?;
+    let ifaces = args.str_array("iface").to_vec();
+    let (file, cfg) = configuration(host, args, &p)?;
+    // Every master up before any HAL object exists: a failure leaves
+    // nothing behind.
+    let started = start(&cfg, &file, backend.is_sim(), &ifaces)?;
+    let mut b = host.new_rt_component(NAME)?;
+    let global = pins::master_pins(true)
+        .iter()
+        .map(|p| AnyPin::export(b.component(), &pins::full_name(None, None, &p.name), p))
+        .collect::<Result<Vec<_>>>()?;
+    let mut cells = Vec::new();
+    let mut masters = Vec::new();
+    let mut sims = Vec::new();
+    for s in started {
+        let name = s.conf.name.clone();
+        let (rt, master, sim) = export_master(b.component(), s, &file)?;
+        let cell = Arc::new(RtCell::new(rt));
+        let [read, write] = pins::master_functions(&name);
+        let (c, log) = (cell.clone(), host.rt_log());
+        b.funct(&read, false, move |_| {
+            c.try_with(|m| m.read(Some(&log)));
+        })?;
+        let c = cell.clone();
+        b.funct(&write, false, move |ctx| {
+            c.try_with(|m| m.write(ctx.now_ns()));
+        })?;
+        if let Some(seg) = sim {
+            sims.push((name, seg));
+        }
+        cells.push(cell);
+        masters.push(master);
+    }
+    let (all, log) = (cells.clone(), host.rt_log());
+    b.funct(pins::FUNCTIONS[0], false, move |_| {
+        let mut sum = Summary {
+            link_up: true,
+            all_op: true,
+            ..Summary::default()
+        };
+        for c in &all {
+            if let Some(s) = c.try_with(|m| m.read(Some(&log))) {
+                sum.responding += s.responding;
+                for k in 0..4 {
+                    sum.states[k] |= s.states[k];
+                }
+                sum.link_up &= s.link_up;
+                sum.all_op &= s.all_op;
+            }
+        }
+        publish(&global, &sum);
+    })?;
+    let all = cells.clone();
+    b.funct(pins::FUNCTIONS[1], false, move |ctx| {
+        for c in &all {
+            c.try_with(|m| m.write(ctx.now_ns()));
+        }
+    })?;
+    fault::install(
+        &mut b,
+        SafeMasters {
+            cells,
+            _masters: masters,
+        },
+    );
+    b.ready()?;
+    for (name, seg) in sims {
+        hal_driver::sim::publish(host.instance().name(), &format!("{NAME}.{name}"), &seg);
+    }
+    Ok(())
+}
