@@ -89,6 +89,11 @@ pub trait PinFactory<H: HalHost> {
 
     /// Creates a parameter with an initial value.
     fn param<T: PinValue, A: ParamAccess>(&self, name: &str, init: T) -> Result<H::Param<T, A>>;
+
+    /// Gives parameter `param` (made by this component) the name `alias`
+    /// instead, as `alias param` does; hostmot2 names its GPIO
+    /// parameters after the module output they carry this way.
+    fn alias_param(&self, param: &str, alias: &str) -> Result<()>;
 }
 
 /// This crate's host: pins and parameters in our shared-memory instance.
@@ -143,6 +148,10 @@ impl PinFactory<Ours> for Component {
 
     fn param<T: PinValue, A: ParamAccess>(&self, name: &str, init: T) -> Result<Param<T, A>> {
         Component::param(self, name, init)
+    }
+
+    fn alias_param(&self, param: &str, alias: &str) -> Result<()> {
+        self.instance().alias(crate::AliasKind::Param, param, alias)
     }
 }
 

@@ -2,7 +2,7 @@
 //! functions `read`, `write`, `read_gpio`, `write_gpio` (hardware.md 5.7
 //! steps 11 to 14, 5.10).
 
-use hal_core::{Component, Param, Rw};
+use hal_core::{HalHost, HostParam, Ours, PinFactory, Rw};
 use hal_driver::fault::{Fault, FaultLatch};
 
 use crate::config::Config;
@@ -24,20 +24,20 @@ use crate::tram::Tram;
 use crate::transport::{TransferStats, Transport, TransportError};
 
 /// A board the driver runs.
-pub struct Board {
+pub struct Board<H: HalHost = Ours> {
     llio: Llio,
     fw: Firmware,
     transport: Box<dyn Transport>,
     tram: Tram,
-    io_error: Param<bool, Rw>,
-    ioport: IoPort,
-    watchdog: Option<Watchdog>,
-    encoder: Option<Encoders>,
-    stepgen: Option<Stepgens>,
-    pwmgen: Option<Pwmgens>,
-    led: Option<Leds>,
-    sserial: Option<Sserial>,
-    raw: Option<Raw>,
+    io_error: H::Param<bool, Rw>,
+    ioport: IoPort<H>,
+    watchdog: Option<Watchdog<H>>,
+    encoder: Option<Encoders<H>>,
+    stepgen: Option<Stepgens<H>>,
+    pwmgen: Option<Pwmgens<H>>,
+    led: Option<Leds<H>>,
+    sserial: Option<Sserial<H>>,
+    raw: Option<Raw<H>>,
     say: Notify,
     latch: FaultLatch,
     recover: bool,
@@ -80,19 +80,19 @@ fn fault_of(e: &TransportError, otherwise: &'static Fault) -> &'static Fault {
     }
 }
 
-impl Board {
+impl<H: HalHost> Board<H> {
     /// Exports the board's HAL objects on `comp`, writes its whole
     /// configuration, and runs a first read and write (LinuxCNC's
     /// `hm2_register` after the descriptors are parsed).
     pub fn register(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         llio: Llio,
         fw: Firmware,
         config: &Config,
         transport: Box<dyn Transport>,
         say: Notify,
         log: &mut MessageLog,
-    ) -> Result<Board> {
+    ) -> Result<Board<H>> {
         Board::register_with(comp, llio, fw, config, transport, say, log, false)
     }
 
@@ -100,7 +100,7 @@ impl Board {
     /// number when `serial_numbers` (hostmot2's `use_serial_numbers`).
     #[allow(clippy::too_many_arguments)]
     pub fn register_with(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         llio: Llio,
         fw: Firmware,
         config: &Config,
@@ -108,7 +108,7 @@ impl Board {
         say: Notify,
         log: &mut MessageLog,
         serial_numbers: bool,
-    ) -> Result<Board> {
+    ) -> Result<Board<H>> {
         let prefix = llio.name.clone();
         let io_error = comp.param(&format!("{prefix}.io_error"), false)?;
         let mut tram = Tram::default();
@@ -212,14 +212,14 @@ impl Board {
     /// what LinuxCNC's `hm2_register` does once the llio is known. The
     /// messages of both steps go to `log`, also when it fails.
     pub fn open(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         llio: Llio,
         config: &Config,
         debug: crate::firmware::Debug,
         mut transport: Box<dyn Transport>,
         say: Notify,
         log: &mut MessageLog,
-    ) -> Result<Board> {
+    ) -> Result<Board<H>> {
         let fw = crate::firmware::load(&llio, config, debug, transport.as_mut(), log)?;
         Board::register_with(
             comp,

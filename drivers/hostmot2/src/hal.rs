@@ -14,13 +14,14 @@
 //! LinuxCNC's do.
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, TryLockError, Weak};
+use std::sync::{Arc, Mutex, TryLockError};
 
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{HalError, Host, MsgLevel, RtComponentBuilder};
-use hal_driver::fault::{self, SafeState};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{HalError, HalHost, Host, MsgLevel};
+use hal_driver::fault::SafeState;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv, PublishedWord};
 use hal_driver::pci::{EnableGuard, Sysfs};
-use hal_driver::{sim as layer_sim, ForModule};
+use hal_driver::ForModule;
 
 use crate::board::Board;
 use crate::config;
@@ -44,66 +45,43 @@ pub const MAX_BOARDS: usize = 8;
 
 const HOSTMOT2: &str = "hostmot2";
 
-const HOSTMOT2_PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "debug_idrom",
-        kind: ParamKind::Int,
-        help: "log the IDROM header of every board",
-    },
-    ParamDecl {
-        name: "debug_module_descriptors",
-        kind: ParamKind::Int,
-        help: "log every module descriptor",
-    },
-    ParamDecl {
-        name: "debug_pin_descriptors",
-        kind: ParamKind::Int,
-        help: "log every pin descriptor",
-    },
-    ParamDecl {
-        name: "debug_modules",
-        kind: ParamKind::Int,
-        help: "log what each module uses",
-    },
-    ParamDecl {
-        name: "use_serial_numbers",
-        kind: ParamKind::Int,
-        help:
-            "name Smart Serial cards hm2_<card>.<unit number> instead of by board, port and channel",
-    },
-    ParamDecl {
-        name: "sserial_baudrate",
-        kind: ParamKind::Int,
-        help: "set every Smart Serial channel to this baud rate at load (-1: leave it)",
-    },
-];
-
-/// The `hostmot2` module: the core the board drivers register with.
-pub static HOSTMOT2_MODULE: ModuleDef = ModuleDef {
-    name: HOSTMOT2,
-    params: HOSTMOT2_PARAMS,
-    help: "Mesa HostMot2 firmware driver core (load before hm2_pci or hm2_test)",
-    load: load_hostmot2,
-};
-
-/// The core's settings, alive while `hostmot2` is loaded in an instance.
-pub(crate) struct Core {
-    debug: Debug,
+/// hostmot2's module parameters (one table, read by both hosts).
+#[macro_export]
+macro_rules! hostmot2_params {
+    ($($then:tt)*) => { $($then)*! {
+        debug_idrom: Int = "log the IDROM header of every board",
+        debug_module_descriptors: Int = "log every module descriptor",
+        debug_pin_descriptors: Int = "log every pin descriptor",
+        debug_modules: Int = "log what each module uses",
+        use_serial_numbers: Int = "name Smart Serial cards hm2_<card>.<unit number> instead of by board, port and channel",
+        sserial_baudrate: Int = "set every Smart Serial channel to this baud rate at load (-1: leave it)",
+    } };
 }
 
-type CoreEntry = (String, Weak<Core>);
+/// The `hostmot2` driver: the core the board drivers register with; it
+/// holds the debugging switches.
+#[derive(Debug)]
+pub struct HalHostmot2;
 
-/// `hostmot2` loads per HAL instance (one process may host several).
-static CORES: Mutex<Vec<CoreEntry>> = Mutex::new(Vec::new());
+/// The `hostmot2` module.
+pub static HOSTMOT2_MODULE: ModuleDef = module::module_def::<HalHostmot2>();
 
-fn cores() -> std::sync::MutexGuard<'static, Vec<CoreEntry>> {
-    CORES.lock().unwrap_or_else(|e| e.into_inner())
+/// The core's settings, published for the board drivers while
+/// `hostmot2` is loaded.
+pub struct CoreLoaded {
+    _published: PublishedWord,
 }
 
-fn load_hostmot2(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
-    let flag = |name: &str| args.int(name).is_some_and(|v| v != 0);
-    let core = Arc::new(Core {
-        debug: Debug {
+impl DriverModule for HalHostmot2 {
+    const NAME: &'static str = HOSTMOT2;
+    const HELP: &'static str =
+        "Mesa HostMot2 firmware driver core (load before hm2_pci or hm2_test)";
+    const PARAMS: &'static [ParamDecl] = hostmot2_params!(hal_driver::param_table);
+    type Opened = CoreLoaded;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<CoreLoaded> {
+        let flag = |name: &str| args.int(name).is_some_and(|v| v != 0);
+        let debug = Debug {
             idrom: flag("debug_idrom"),
             module_descriptors: flag("debug_module_descriptors"),
             pin_descriptors: flag("debug_pin_descriptors"),
@@ -113,34 +91,62 @@ fn load_hostmot2(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
                 .int("sserial_baudrate")
                 .filter(|&b| b > 0)
                 .map(|b| b.min(u32::MAX as i64) as u32),
-        },
-    });
-    let log = host.rt_log();
-    log.info(format_args!(
-        "hm2: loading Mesa HostMot2 driver version 0.15"
-    ));
-    let mut b = host.new_rt_component(HOSTMOT2)?;
-    // The hook owns the settings: they go when the component unloads.
-    let held = core.clone();
-    b.on_safe_state(move || {
-        let _ = &held;
-    });
-    b.ready()?;
-    let instance = host.instance().name().to_string();
-    let mut c = cores();
-    c.retain(|(i, w)| w.strong_count() > 0 && *i != instance);
-    c.push((instance, Arc::downgrade(&core)));
-    Ok(())
+        };
+        env.log().info(format_args!(
+            "hm2: loading Mesa HostMot2 driver version 0.15"
+        ));
+        Ok(CoreLoaded {
+            _published: env.publish_word(HOSTMOT2, core_word(debug)),
+        })
+    }
+
+    fn export<H: DriverHost>(core: CoreLoaded, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
+        let comp = ex.component(HOSTMOT2)?;
+        // The component holds the settings: they go when it unloads.
+        ex.keep(comp, core);
+        Ok(())
+    }
 }
 
-/// The core's settings in `host`, or the error a board driver gives when
-/// `hostmot2` is not loaded.
-pub(crate) fn core(host: &Host, module: &str) -> hal_core::Result<Arc<Core>> {
-    let name = host.instance().name();
-    cores()
+/// The settings as the word the core publishes: the five switches in
+/// bits 0 to 4, bit 5 set when a baud rate is given, the rate in bits 32
+/// to 63.
+fn core_word(d: Debug) -> u64 {
+    let bits = [
+        d.idrom,
+        d.module_descriptors,
+        d.pin_descriptors,
+        d.modules,
+        d.use_serial_numbers,
+    ];
+    let mut w = bits
         .iter()
-        .find(|(i, _)| i == name)
-        .and_then(|(_, w)| w.upgrade())
+        .enumerate()
+        .fold(0u64, |w, (i, &b)| w | (u64::from(b) << i));
+    if let Some(baud) = d.sserial_baudrate {
+        w |= 1 << 5 | u64::from(baud) << 32;
+    }
+    w
+}
+
+/// The settings of a [`core_word`].
+fn core_of(w: u64) -> Debug {
+    let bit = |i: u32| w >> i & 1 == 1;
+    Debug {
+        idrom: bit(0),
+        module_descriptors: bit(1),
+        pin_descriptors: bit(2),
+        modules: bit(3),
+        use_serial_numbers: bit(4),
+        sserial_baudrate: bit(5).then_some((w >> 32) as u32),
+    }
+}
+
+/// The core's settings in the HAL `env` loads into, or the error a board
+/// driver gives when `hostmot2` is not loaded.
+pub(crate) fn core(env: &LoadEnv, module: &str) -> hal_core::Result<Debug> {
+    env.word(HOSTMOT2)
+        .map(core_of)
         .ok_or_else(|| HalError::module_failed(module, Hm2Error::CoreNotLoaded))
 }
 
@@ -148,20 +154,20 @@ pub(crate) fn core(host: &Host, module: &str) -> hal_core::Result<Arc<Core>> {
 // A board behind a lock its functions share.
 // ---------------------------------------------------------------------
 
-/// A registered board shared by its functions and the safe-state hook.
-/// The functions of one instance never run at the same time (the host
+/// A registered board shared by its functions and the safe state. The
+/// functions of one instance never run at the same time (the host
 /// serialises threads), so the lock is never contended: a function takes
 /// it with `try_lock`, which never waits, and would skip its cycle rather
 /// than block if it ever were.
-pub struct SharedBoard {
-    board: Mutex<Board>,
+pub struct SharedBoard<H: HalHost> {
+    board: Mutex<Board<H>>,
     /// What must live as long as the board (a PCI device's enable).
     _keep: Option<EnableGuard>,
 }
 
-impl SharedBoard {
+impl<H: HalHost> SharedBoard<H> {
     /// Shares `board`, keeping `keep` alive with it.
-    pub fn new(board: Board, keep: Option<EnableGuard>) -> SharedBoard {
+    pub fn new(board: Board<H>, keep: Option<EnableGuard>) -> SharedBoard<H> {
         SharedBoard {
             board: Mutex::new(board),
             _keep: keep,
@@ -170,7 +176,7 @@ impl SharedBoard {
 
     /// Runs `f` on the board unless another function holds it.
     #[inline]
-    pub fn with<R>(&self, f: impl FnOnce(&mut Board) -> R) -> Option<R> {
+    pub fn with<R>(&self, f: impl FnOnce(&mut Board<H>) -> R) -> Option<R> {
         match self.board.try_lock() {
             Ok(mut b) => Some(f(&mut b)),
             Err(TryLockError::Poisoned(p)) => Some(f(&mut p.into_inner())),
@@ -179,7 +185,7 @@ impl SharedBoard {
     }
 }
 
-impl SafeState for SharedBoard {
+impl<H: HalHost> SafeState for SharedBoard<H> {
     fn go_safe(&self) {
         let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
         b.go_safe();
@@ -187,7 +193,7 @@ impl SafeState for SharedBoard {
 }
 
 // ---------------------------------------------------------------------
-// Registering boards (hm2_pci and hm2_test).
+// Registering boards (hm2_pci, hm2_test and hm2_eth).
 // ---------------------------------------------------------------------
 
 /// Where a board's registers are.
@@ -198,7 +204,8 @@ pub enum Source {
     Sim(Arc<SimHm2>),
     /// A fixed register image (hm2_test).
     Image(Vec<u32>),
-    /// A board on the network (hm2_eth), probed.
+    /// A board on the network (hm2_eth), probed; its HAL objects are
+    /// made in the host it registers in.
     Eth(Box<crate::eth::EthTransport>),
 }
 
@@ -215,34 +222,63 @@ pub struct Candidate {
     pub fails: String,
 }
 
+/// What a board driver's `open` found: the boards to register, their
+/// config strings, and the core's settings.
+pub struct Boards {
+    module: &'static str,
+    debug: Debug,
+    candidates: Vec<Candidate>,
+    configs: Vec<String>,
+}
+
+impl Boards {
+    /// The boards `module` registers, with their config strings and the
+    /// core's settings.
+    pub fn new(
+        module: &'static str,
+        debug: Debug,
+        candidates: Vec<Candidate>,
+        configs: Vec<String>,
+    ) -> Boards {
+        Boards {
+            module,
+            debug,
+            candidates,
+            configs,
+        }
+    }
+}
+
 /// The config strings' item for board `i`.
 fn config_for(configs: &[String], i: usize) -> &str {
     configs.get(i).map_or("", String::as_str)
 }
 
-/// Registers every candidate on one new component `comp`, all or nothing.
-pub fn register_boards(
-    host: &Host,
-    module: &str,
-    comp: &str,
-    candidates: Vec<Candidate>,
-    configs: &[String],
+/// Registers every board on one new component named after the module,
+/// all or nothing.
+pub fn export_boards<H: DriverHost>(
+    found: Boards,
+    ex: &mut Exporter<'_, H>,
 ) -> hal_core::Result<()> {
-    let debug = core(host, module)?.debug;
-    let log = host.rt_log();
-    let mut b = host.new_rt_component(comp)?;
+    let Boards {
+        module,
+        debug,
+        candidates,
+        configs,
+    } = found;
+    let log = ex.log();
+    let comp = ex.component(module)?;
     let mut shared = Vec::new();
-    let mut sims = Vec::new();
     for (i, cand) in candidates.into_iter().enumerate() {
         let blog = BoardLog::new(log.clone(), &cand.llio.name);
         let name = cand.llio.name.clone();
         let fails = cand.fails.clone();
-        let fail = |e: Hm2Error, blog: &BoardLog| {
+        let fail = |e: Hm2Error, blog: &BoardLog, ex: &Exporter<'_, H>| {
             for line in e.to_string().lines() {
                 blog.say(MsgLevel::Err, format_args!("{line}"));
             }
             log.err(format_args!("{fails}"));
-            host.flush_rt_log();
+            ex.flush_log();
             HalError::module_failed(
                 module,
                 Hm2Error::Registration {
@@ -251,7 +287,7 @@ pub fn register_boards(
                 },
             )
         };
-        let config = config::parse(config_for(configs, i)).map_err(|e| fail(e, &blog))?;
+        let config = config::parse(config_for(&configs, i)).map_err(|e| fail(e, &blog, ex))?;
         let (transport, sim, keep): (Box<dyn Transport>, _, _) = match cand.source {
             Source::Pci(opened) => {
                 let o = *opened;
@@ -267,14 +303,15 @@ pub fn register_boards(
                 None,
             ),
             Source::Image(img) => (Box::new(ImageTransport::new(img, &name)), None, None),
-            Source::Eth(mut t) => {
-                t.errors().export(b.component(), &name)?;
-                (t, None, None)
+            Source::Eth(t) => {
+                let mut t = t.into_host::<H>();
+                t.errors().export(ex.pins(comp), &name)?;
+                (Box::new(t), None, None)
             }
         };
         let mut msgs = MessageLog::default();
-        let board = Board::open(
-            b.component(),
+        let board = Board::<H>::open(
+            ex.pins(comp),
             cand.llio,
             &config,
             debug,
@@ -283,23 +320,20 @@ pub fn register_boards(
             &mut msgs,
         );
         print_messages(&msgs, &blog);
-        let board = Arc::new(SharedBoard::new(board.map_err(|e| fail(e, &blog))?, keep));
-        export_functions(&mut b, &name, &board, sim.clone())?;
+        let board = board.map_err(|e| fail(e, &blog, ex))?;
+        let board = Arc::new(SharedBoard::new(board, keep));
+        export_functions(ex, comp, &name, &board, sim.clone())?;
         log.info(format_args!(
             "{name}: initialized AnyIO board {}",
             cand.place
         ));
         if let Some(s) = sim {
-            sims.push((name, s));
+            ex.publish_sim(&name, &s);
         }
         shared.push(board);
     }
-    fault::install(&mut b, shared);
-    b.ready()?;
-    for (name, s) in &sims {
-        layer_sim::publish(host.instance().name(), name, s);
-    }
-    host.flush_rt_log();
+    ex.safe_state(comp, shared);
+    ex.flush_log();
     Ok(())
 }
 
@@ -316,17 +350,18 @@ fn print_messages(msgs: &MessageLog, blog: &BoardLog) {
     }
 }
 
-fn export_functions(
-    b: &mut RtComponentBuilder<'_>,
+fn export_functions<H: DriverHost>(
+    ex: &mut Exporter<'_, H>,
+    comp: hal_driver::CompId,
     name: &str,
-    board: &Arc<SharedBoard>,
+    board: &Arc<SharedBoard<H>>,
     sim: Option<Arc<SimHm2>>,
 ) -> hal_core::Result<()> {
     let (split, threadsafe, watchdog) = board
         .with(|bd| (bd.split_read(), bd.threadsafe(), bd.has_watchdog()))
         .unwrap_or((false, true, false));
     let bd = board.clone();
-    b.funct(&format!("{name}.read"), true, move |ctx| {
+    ex.funct(comp, &format!("{name}.read"), true, move |ctx| {
         if let Some(s) = &sim {
             // Simulated time moves one thread period per read: runs are
             // identical whatever the host's load.
@@ -335,28 +370,28 @@ fn export_functions(
         bd.with(|bd| bd.read());
     })?;
     let bd = board.clone();
-    b.funct(&format!("{name}.write"), true, move |ctx| {
+    ex.funct(comp, &format!("{name}.write"), true, move |ctx| {
         bd.with(|bd| bd.write(ctx.period()));
     })?;
     if split {
         let bd = board.clone();
-        b.funct(&format!("{name}.read-request"), true, move |_| {
+        ex.funct(comp, &format!("{name}.read-request"), true, move |_| {
             bd.with(|bd| bd.read_request());
         })?;
     }
     if watchdog {
         let bd = board.clone();
-        b.funct(&format!("{name}.pet_watchdog"), false, move |_| {
+        ex.funct(comp, &format!("{name}.pet_watchdog"), false, move |_| {
             bd.with(|bd| bd.pet_watchdog());
         })?;
     }
     if threadsafe {
         let bd = board.clone();
-        b.funct(&format!("{name}.read_gpio"), true, move |_| {
+        ex.funct(comp, &format!("{name}.read_gpio"), true, move |_| {
             bd.with(|bd| bd.read_gpio());
         })?;
         let bd = board.clone();
-        b.funct(&format!("{name}.write_gpio"), true, move |ctx| {
+        ex.funct(comp, &format!("{name}.write_gpio"), true, move |ctx| {
             bd.with(|bd| bd.write_gpio(ctx.period()));
         })?;
     }
@@ -369,41 +404,60 @@ fn export_functions(
 
 const HM2_PCI: &str = "hm2_pci";
 
-const HM2_PCI_PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "config",
-        kind: ParamKind::StrArray(MAX_BOARDS),
-        help: "hostmot2 config strings, one per board in probe order (see hostmot2(9))",
-    },
-    ParamDecl {
-        name: "sim",
-        kind: ParamKind::StrArray(MAX_BOARDS),
-        help:
-            "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24 or 5i25-7i77, one per board",
-    },
-];
+/// hm2_pci's module parameters (one table, read by both hosts); the
+/// arrays hold [`MAX_BOARDS`] items.
+#[macro_export]
+macro_rules! hm2_pci_params {
+    ($($then:tt)*) => { $($then)*! {
+        config: StrArray(8) = "hostmot2 config strings, one per board in probe order (see hostmot2(9))",
+        sim: StrArray(8) = "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24 or 5i25-7i77, one per board",
+    } };
+}
+
+/// The `hm2_pci` driver: Mesa's PCI boards, or simulated ones.
+#[derive(Debug)]
+pub struct HalHm2Pci;
 
 /// The `hm2_pci` module.
-pub static HM2_PCI_MODULE: ModuleDef = ModuleDef {
-    name: HM2_PCI,
-    params: HM2_PCI_PARAMS,
-    help: "Mesa PCI Anything I/O boards with HostMot2 firmware (or simulated ones: sim=5i25)",
-    load: load_hm2_pci,
-};
+pub static HM2_PCI_MODULE: ModuleDef = module::module_def::<HalHm2Pci>();
 
-fn load_hm2_pci(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
-    load_pci(host, args, &Sysfs::system(), pci::BOARDS)
+impl DriverModule for HalHm2Pci {
+    const NAME: &'static str = HM2_PCI;
+    const HELP: &'static str =
+        "Mesa PCI Anything I/O boards with HostMot2 firmware (or simulated ones: sim=5i25)";
+    const PARAMS: &'static [ParamDecl] = hm2_pci_params!(hal_driver::param_table);
+    type Opened = Boards;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
+        open_pci(args, env, &Sysfs::system(), pci::BOARDS)
+    }
+
+    fn export<H: DriverHost>(found: Boards, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
+        export_boards(found, ex)
+    }
 }
 
 /// `hm2_pci` with the PCI bus at `sysfs` and the board table `boards`
-/// (tests point these at a fake tree or the VM rig's device).
+/// (tests point these at a fake tree or the VM rig's device), into our
+/// host.
 pub fn load_pci(
     host: &Host,
     args: &ModuleArgs,
     sysfs: &Sysfs,
     boards: &[PciBoard],
 ) -> hal_core::Result<()> {
-    core(host, HM2_PCI)?;
+    let found = open_pci(args, &module::env(host), sysfs, boards)?;
+    module::load_opened::<HalHm2Pci>(host, found)
+}
+
+/// Finds (or simulates) the boards `args` ask for on the bus at `sysfs`.
+fn open_pci(
+    args: &ModuleArgs,
+    env: &LoadEnv,
+    sysfs: &Sysfs,
+    boards: &[PciBoard],
+) -> hal_core::Result<Boards> {
+    let debug = core(env, HM2_PCI)?;
     let params = hal_driver::params::Params::new(HM2_PCI, args);
     let configs = args.str_array("config").to_vec();
     let sims = args.str_array("sim");
@@ -458,7 +512,12 @@ pub fn load_pci(
             },
         ));
     }
-    register_boards(host, HM2_PCI, HM2_PCI, candidates, &configs)
+    Ok(Boards {
+        module: HM2_PCI,
+        debug,
+        candidates,
+        configs,
+    })
 }
 
 /// A simulated board of firmware `spec`, the `n`th of its type, with the
@@ -483,59 +542,63 @@ fn sim_candidate(spec: FirmwareSpec, n: usize, preset: &str) -> Candidate {
 
 const HM2_TEST: &str = "hm2_test";
 
-const HM2_TEST_PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "test_pattern",
-        kind: ParamKind::Int,
-        help: "which broken register image to serve (0 to 14)",
-    },
-    ParamDecl {
-        name: "config",
-        kind: ParamKind::StrArray(1),
-        help: "hostmot2 config string",
-    },
-];
+/// hm2_test's module parameters (one table, read by both hosts).
+#[macro_export]
+macro_rules! hm2_test_params {
+    ($($then:tt)*) => { $($then)*! {
+        test_pattern: Int = "which broken register image to serve (0 to 14)",
+        config: StrArray(1) = "hostmot2 config string",
+    } };
+}
 
-/// The `hm2_test` module: LinuxCNC's test driver, a board serving a
+/// The `hm2_test` driver: LinuxCNC's test driver, a board serving a
 /// fixed register image whose registration must fail.
-pub static HM2_TEST_MODULE: ModuleDef = ModuleDef {
-    name: HM2_TEST,
-    params: HM2_TEST_PARAMS,
-    help: "HostMot2 test driver: broken register images for the IDROM checks",
-    load: load_hm2_test,
-};
+#[derive(Debug)]
+pub struct HalHm2Test;
 
-fn load_hm2_test(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
-    core(host, HM2_TEST)?;
-    let n = args.int("test_pattern").unwrap_or(0);
-    let log = host.rt_log();
-    log.info(format_args!(
-        "hm2_test: loading HostMot2 test driver with test pattern {n}"
-    ));
-    let Some((llio, image)) = u32::try_from(n).ok().and_then(test_patterns::pattern) else {
-        log.err(format_args!("hm2_test: unknown test pattern {n}"));
-        host.flush_rt_log();
-        return Err(HalError::module_failed(
-            HM2_TEST,
-            Hm2Error::UnknownTestPattern(n),
+/// The `hm2_test` module.
+pub static HM2_TEST_MODULE: ModuleDef = module::module_def::<HalHm2Test>();
+
+impl DriverModule for HalHm2Test {
+    const NAME: &'static str = HM2_TEST;
+    const HELP: &'static str = "HostMot2 test driver: broken register images for the IDROM checks";
+    const PARAMS: &'static [ParamDecl] = hm2_test_params!(hal_driver::param_table);
+    type Opened = Boards;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
+        let debug = core(env, HM2_TEST)?;
+        let n = args.int("test_pattern").unwrap_or(0);
+        let log = env.log();
+        log.info(format_args!(
+            "hm2_test: loading HostMot2 test driver with test pattern {n}"
         ));
-    };
-    log.info(format_args!(
-        "hm2: no firmware specified in config modparam!  the board had better have firmware configured already, or this won't work"
-    ));
-    let candidate = Candidate {
-        fails: format!("{}: hm2_test fails HM2 registration", llio.name),
-        llio,
-        source: Source::Image(image),
-        place: format!("(hm2 test-pattern {n})"),
-    };
-    register_boards(
-        host,
-        HM2_TEST,
-        HM2_TEST,
-        vec![candidate],
-        args.str_array("config"),
-    )
+        let Some((llio, image)) = u32::try_from(n).ok().and_then(test_patterns::pattern) else {
+            log.err(format_args!("hm2_test: unknown test pattern {n}"));
+            return Err(HalError::module_failed(
+                HM2_TEST,
+                Hm2Error::UnknownTestPattern(n),
+            ));
+        };
+        log.info(format_args!(
+            "hm2: no firmware specified in config modparam!  the board had better have firmware configured already, or this won't work"
+        ));
+        let candidate = Candidate {
+            fails: format!("{}: hm2_test fails HM2 registration", llio.name),
+            llio,
+            source: Source::Image(image),
+            place: format!("(hm2 test-pattern {n})"),
+        };
+        Ok(Boards {
+            module: HM2_TEST,
+            debug,
+            candidates: vec![candidate],
+            configs: args.str_array("config").to_vec(),
+        })
+    }
+
+    fn export<H: DriverHost>(found: Boards, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
+        export_boards(found, ex)
+    }
 }
 
 /// Every module this crate provides, for the host's registry.
@@ -546,4 +609,37 @@ pub fn modules() -> [&'static ModuleDef; 4] {
         &HM2_TEST_MODULE,
         &crate::eth::hal::HM2_ETH_MODULE,
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_core_word_carries_every_switch() {
+        let all = Debug {
+            idrom: true,
+            module_descriptors: false,
+            pin_descriptors: true,
+            modules: false,
+            use_serial_numbers: true,
+            sserial_baudrate: Some(2_500_000),
+        };
+        let back = core_of(core_word(all));
+        assert_eq!(
+            (back.idrom, back.module_descriptors, back.pin_descriptors),
+            (true, false, true)
+        );
+        assert_eq!((back.modules, back.use_serial_numbers), (false, true));
+        assert_eq!(back.sserial_baudrate, Some(2_500_000));
+        assert_eq!(core_of(core_word(Debug::default())).sserial_baudrate, None);
+    }
+
+    #[test]
+    fn the_tables_hold_max_boards() {
+        assert_eq!(
+            HM2_PCI_MODULE.params[0].kind,
+            hal_core::ParamKind::StrArray(MAX_BOARDS)
+        );
+    }
 }

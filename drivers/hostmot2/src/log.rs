@@ -11,7 +11,7 @@
 use std::fmt;
 use std::sync::Arc;
 
-use hal_core::RtLog;
+use hal_driver::LogSink;
 
 pub use hal_core::MsgLevel as Level;
 
@@ -84,21 +84,21 @@ pub fn prefix(board: &str) -> String {
 /// A board's realtime message path.
 #[derive(Clone)]
 pub struct BoardLog {
-    log: RtLog,
+    log: LogSink,
     prefix: Arc<str>,
 }
 
 impl BoardLog {
     /// Messages about `board` into `log`.
-    pub fn new(log: RtLog, board: &str) -> BoardLog {
+    pub fn new(log: impl Into<LogSink>, board: &str) -> BoardLog {
         BoardLog {
-            log,
+            log: log.into(),
             prefix: prefix(board).into(),
         }
     }
 
-    /// Says something, realtime-safe; false if filtered by level or lost.
-    pub fn say(&self, level: Level, args: fmt::Arguments<'_>) -> bool {
+    /// Says something, realtime-safe (the host's level filters it).
+    pub fn say(&self, level: Level, args: fmt::Arguments<'_>) {
         self.log.log(level, format_args!("{}{}", self.prefix, args))
     }
 
@@ -108,7 +108,7 @@ impl BoardLog {
     }
 
     /// The log itself.
-    pub fn log(&self) -> &RtLog {
+    pub fn log(&self) -> &LogSink {
         &self.log
     }
 

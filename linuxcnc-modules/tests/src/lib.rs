@@ -191,6 +191,7 @@ pub fn halcmd_args_record(args: &str) -> u64 {
 }
 
 /// One driver's check in LinuxCNC beside our host.
+#[derive(Default)]
 pub struct Case<'a> {
     /// The module's `loadrt` name.
     pub module: &'a str,
@@ -207,6 +208,10 @@ pub struct Case<'a> {
     /// Arguments of loads that must be refused, with the same message in
     /// both hosts and nothing left behind.
     pub refused: &'a [&'a str],
+    /// Modules the module needs loaded first, `(module, lib)` as
+    /// [`Modules::stage`] takes them (hostmot2 for hm2_pci); each is
+    /// loaded once, before anything else, with no arguments.
+    pub needs: &'a [(&'a str, &'a str)],
 }
 
 /// What a [`Case`] leaves for the driver's own judgement: the values the
@@ -228,8 +233,13 @@ const MARKS: [&str; 2] = ["31415", "27182"];
 /// The session both hosts run for `case`.
 fn session(case: &Case<'_>) -> String {
     let (m, args) = (case.module, case.args);
+    let needs: String = case
+        .needs
+        .iter()
+        .map(|(n, _)| format!("loadrt {n}\n"))
+        .collect();
     let mut s = format!(
-        "loadrt threads name1=t period1=1000000\nnewsig mark s32\nloadrt {m} {args}\n\
+        "{needs}loadrt threads name1=t period1=1000000\nnewsig mark s32\nloadrt {m} {args}\n\
          show pin\nshow param\nshow funct\nsets mark {}\ngets mark\n{}\nunloadrt {m}\n",
         MARKS[0], case.run
     );
@@ -273,7 +283,9 @@ fn parts(stdout: &str) -> Vec<String> {
 /// [`CYCLES`] loads and unloads beyond halcmd's own record of each
 /// `loadrt` line. Returns the `run` part's values.
 pub fn check(case: &Case<'_>) -> Outcome {
-    let modules = Modules::stage(&[(case.module, case.lib)]);
+    let mut staged = vec![(case.module, case.lib)];
+    staged.extend_from_slice(case.needs);
+    let modules = Modules::stage(&staged);
     let theirs = linuxcnc(&modules, &(session(case) + &cycles(case)));
     let mine = ours(&format!("lcnc-{}", case.module), &session(case));
     let (t, m) = (parts(&theirs.stdout), parts(&mine.stdout));

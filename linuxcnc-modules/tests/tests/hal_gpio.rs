@@ -29,6 +29,7 @@ stop",
             "backend=sim inputs=A invert=A",
             "backend=sim inputs=A outputs=A",
         ],
+        needs: &[],
     });
     // O0 is inverted (high while its pin is FALSE); O1 was set.
     assert_eq!(out.theirs, ["TRUE", "TRUE"]);

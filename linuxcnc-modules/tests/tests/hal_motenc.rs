@@ -39,6 +39,7 @@ unloadrt pid",
             "backend=sim sim_boards=200",
             "backend=pci sim_ids=1",
         ],
+        needs: &[],
     });
     for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
         let pos: f64 = values

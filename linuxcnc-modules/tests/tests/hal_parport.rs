@@ -28,6 +28,7 @@ loadusr -w sleep 0.3
 getp parport.0.pin-15-in
 stop",
         refused: &[r#"cfg="0 bogus""#, r#"cfg="0 sim 0 simloop""#],
+        needs: &[],
     });
     assert_eq!(out.theirs, ["TRUE", "FALSE"]);
     assert_eq!(out.ours, ["TRUE", "FALSE"]);

@@ -39,6 +39,7 @@ unloadrt pid",
             "backend=sim dio=IOX",
             "backend=bogus",
         ],
+        needs: &[],
     });
     for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
         let pos: f64 = values

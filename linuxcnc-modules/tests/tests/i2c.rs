@@ -36,6 +36,7 @@ fn pca9685_in_linuxcnc_behaves_as_in_our_host() {
             "backend=sim address=0x40,0x40",
             "backend=sim address=0x10",
         ],
+        needs: &[],
     });
     assert_eq!(out.theirs, ["FALSE", "0", "FALSE", "0"]);
     assert_eq!(out.ours, out.theirs);
@@ -63,6 +64,7 @@ fn mcp23017_in_linuxcnc_behaves_as_in_our_host() {
             "backend=sim dir=0x00ff pullup=0x0100",
             "backend=sim dir=0x10000",
         ],
+        needs: &[],
     });
     // Pins 0..3 have their pull-ups on, pin 4 floats.
     assert_eq!(out.theirs, ["TRUE", "TRUE", "FALSE", "FALSE", "0"]);
@@ -86,6 +88,7 @@ fn ads1115_in_linuxcnc_behaves_as_in_our_host() {
         owners: &["ads1115"],
         run: &run,
         refused: &["backend=sim range=5000", "backend=sim diff=1 channels=3"],
+        needs: &[],
     });
     assert_eq!(out.theirs, ["0", "FALSE", "0"]);
     assert_eq!(out.ours, out.theirs);

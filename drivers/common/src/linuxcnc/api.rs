@@ -35,6 +35,8 @@ pub(crate) type FunctCall = unsafe extern "C" fn(*mut c_void, c_long);
 /// `hal_export_funct(name, funct, arg, uses_fp, reentrant, comp_id)`.
 pub(crate) type ExportFunct =
     unsafe extern "C" fn(*const c_char, FunctCall, *mut c_void, c_int, c_int, c_int) -> c_int;
+/// `hal_param_alias(param_name, alias)`: 0, or a negative errno.
+pub(crate) type ParamAlias = unsafe extern "C" fn(*const c_char, *const c_char) -> c_int;
 /// `rtapi_print_msg(level, fmt, ...)`.
 pub(crate) type PrintMsg = unsafe extern "C" fn(c_int, *const c_char, ...);
 
@@ -58,13 +60,14 @@ pub(crate) struct Api {
     pub(crate) pin_newf: PerType<PinNewf>,
     pub(crate) param_newf: PerType<ParamNewf>,
     pub(crate) export_funct: ExportFunct,
+    pub(crate) param_alias: ParamAlias,
     pub(crate) print_msg: PrintMsg,
 }
 
 static API: OnceLock<Api> = OnceLock::new();
 
 /// The address of `name` in the process's global scope.
-fn lookup(name: &CStr) -> Option<*mut c_void> {
+pub(crate) fn lookup(name: &CStr) -> Option<*mut c_void> {
     // SAFETY: dlsym with RTLD_DEFAULT and a NUL-terminated name only
     // reads the dynamic linker's tables.
     let p = unsafe { libc::dlsym(libc::RTLD_DEFAULT, name.as_ptr()) };
@@ -123,6 +126,7 @@ pub(crate) fn api() -> Result<&'static Api, DriverError> {
             u64: find!(c"hal_param_u64_newf", ParamNewf),
         },
         export_funct: need!(c"hal_export_funct", ExportFunct),
+        param_alias: need!(c"hal_param_alias", ParamAlias),
         print_msg: need!(c"rtapi_print_msg", PrintMsg),
     };
     Ok(API.get_or_init(|| api))

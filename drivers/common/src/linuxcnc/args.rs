@@ -119,6 +119,38 @@ macro_rules! linuxcnc_module {
         pub extern "C" fn rtapi_app_exit() {
             $crate::linuxcnc::app_exit::<$driver>()
         }
+
+        /// The word table our modules share (`hal_driver::module::words`).
+        ///
+        /// # Safety
+        /// `key` is null or NUL-terminated.
+        #[no_mangle]
+        pub unsafe extern "C" fn hal_suite_word_publish(
+            key: *const ::core::ffi::c_char,
+            word: u64,
+        ) -> u64 {
+            // SAFETY: the caller's promise.
+            unsafe { $crate::linuxcnc::words::c_publish(key, word) }
+        }
+
+        /// A word of the shared table: 1 and the word in `out`, or 0.
+        ///
+        /// # Safety
+        /// `key` is null or NUL-terminated; `out` null or writable.
+        #[no_mangle]
+        pub unsafe extern "C" fn hal_suite_word_read(
+            key: *const ::core::ffi::c_char,
+            out: *mut u64,
+        ) -> ::core::ffi::c_int {
+            // SAFETY: the caller's promise.
+            unsafe { $crate::linuxcnc::words::c_read(key, out) }
+        }
+
+        /// Withdraws a word of the shared table.
+        #[no_mangle]
+        pub extern "C" fn hal_suite_word_withdraw(id: u64) {
+            $crate::linuxcnc::words::c_withdraw(id)
+        }
     };
 }
 

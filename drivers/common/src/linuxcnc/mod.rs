@@ -48,6 +48,7 @@ mod funct;
 mod handles;
 mod print;
 mod session;
+pub mod words;
 
 pub use args::{ArgStore, SymPtr};
 pub use handles::{LcncParam, LcncPin, LinuxCnc};
@@ -116,7 +117,8 @@ fn load<D: DriverModule>(args: &[String]) -> Result<LcncSession, HalError> {
         });
     }
     let parsed = ModuleArgs::parse(D::NAME, D::PARAMS, args)?;
-    let env = LoadEnv::new("linuxcnc", LogSink::foreign(print::say));
+    let env =
+        LoadEnv::new("linuxcnc", LogSink::foreign(print::say)).with_foreign_words(words::table());
     let opened = D::open(&parsed, &env)?;
     let mut ex = Exporter::<LinuxCnc>::new(LcncSession::new(D::NAME, api));
     D::export(opened, &mut ex)?;

@@ -69,6 +69,9 @@ pub struct LcncComponent {
     id: c_int,
     api: &'static Api,
     cells: RefCell<Vec<NonNull<c_void>>>,
+    /// The aliases given to its parameters, taken back before it is
+    /// removed (see [`LcncComponent::unalias`]).
+    aliases: RefCell<Vec<CString>>,
 }
 
 impl LcncComponent {
@@ -113,6 +116,23 @@ impl LcncComponent {
                 },
             )
         })
+    }
+}
+
+impl LcncComponent {
+    /// Gives every aliased parameter its own name back. LinuxCNC 2.9's
+    /// HAL recycles a removed parameter's record without clearing its
+    /// link to the alias record it freed: a parameter made later on that
+    /// record and aliased again shares a freed alias record, and the
+    /// next removal loops its free list for ever (halcmd hangs). Taking
+    /// the alias back first frees the record and clears the link.
+    fn unalias(&self) {
+        for alias in self.aliases.borrow_mut().drain(..).rev() {
+            // SAFETY: hal_param_alias of a parameter this component
+            // aliased, with a NUL-terminated name and a null alias
+            // (restore the original name).
+            unsafe { (self.api.param_alias)(alias.as_ptr(), std::ptr::null()) };
+        }
     }
 }
 
@@ -166,6 +186,19 @@ impl PinFactory<LinuxCnc> for LcncComponent {
             return Err(self.refused(format!("hal_param_{}_newf", T::HAL_TYPE), name, rc));
         }
         Ok(param)
+    }
+
+    fn alias_param(&self, param: &str, alias: &str) -> Result<()> {
+        let c_param = self.c_name("parameter", param)?;
+        let c_alias = self.c_name("alias", alias)?;
+        // SAFETY: LinuxCNC's hal_param_alias with two NUL-terminated
+        // names; it copies what it keeps.
+        let rc = unsafe { (self.api.param_alias)(c_param.as_ptr(), c_alias.as_ptr()) };
+        if rc != 0 {
+            return Err(self.refused("hal_param_alias".into(), alias, rc));
+        }
+        self.aliases.borrow_mut().push(c_alias);
+        Ok(())
     }
 }
 
@@ -230,6 +263,7 @@ impl LcncSession {
             self.ctl.go_safe();
         }
         for c in self.comps.iter().rev() {
+            c.unalias();
             // SAFETY: hal_exit of a component this load made, once.
             unsafe { (self.api.hal_exit)(c.id) };
         }
@@ -290,6 +324,7 @@ impl Session<LinuxCnc> for LcncSession {
             id,
             api: self.api,
             cells: RefCell::new(Vec::new()),
+            aliases: RefCell::new(Vec::new()),
         });
         Ok(self.comps.len() - 1)
     }

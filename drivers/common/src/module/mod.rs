@@ -26,9 +26,11 @@
 
 mod export;
 mod ours;
+pub mod words;
 
 pub use export::{CompId, DriverHost, Exporter};
 pub use ours::{env, load, load_opened, OursSession};
+pub use words::PublishedWord;
 
 #[cfg(feature = "linuxcnc")]
 pub(crate) use export::sealed;
@@ -72,16 +74,37 @@ pub trait DriverModule: 'static {
 pub struct LoadEnv {
     instance: String,
     log: crate::LogSink,
+    words: words::Words,
 }
 
 impl LoadEnv {
     /// An environment for a load into the HAL named `instance` whose
     /// messages go to `log`.
     pub fn new(instance: impl Into<String>, log: crate::LogSink) -> LoadEnv {
+        let instance = instance.into();
         LoadEnv {
-            instance: instance.into(),
+            words: words::Words::Local(instance.clone()),
+            instance,
             log,
         }
+    }
+
+    /// This environment with words shared through `table` (a foreign
+    /// host's module images; [`words`] says why).
+    pub fn with_foreign_words(mut self, table: words::ForeignTable) -> LoadEnv {
+        self.words = words::Words::Foreign(table);
+        self
+    }
+
+    /// Publishes `word` under `key` for the modules loaded after this one
+    /// into the same HAL, until the returned holder is dropped.
+    pub fn publish_word(&self, key: &str, word: u64) -> PublishedWord {
+        self.words.publish(key, word)
+    }
+
+    /// The word another module published under `key` in this HAL.
+    pub fn word(&self, key: &str) -> Option<u64> {
+        self.words.read(key)
     }
 
     /// The HAL's name: our host's instance, or `linuxcnc` in LinuxCNC

@@ -20,7 +20,9 @@
 //! errors in a row, or more than one cycle in three lost for a while,
 //! stop the board.
 
-use hal_core::{Component, Io, Out, Param, Pin, Result as HalResult, Ro, Rw};
+use hal_core::{
+    HalHost, HostParam, HostPin, Io, Ours, Out, PinFactory, Result as HalResult, Ro, Rw,
+};
 
 /// Default `packet-read-timeout`: 80 % of the thread period.
 pub const DEFAULT_READ_TIMEOUT: i32 = 80;
@@ -34,27 +36,36 @@ pub const DEFAULT_DECREMENT: i32 = 1;
 pub const MIN_TIMEOUT_NS: u64 = 100_000;
 
 /// The HAL objects.
-struct Objects {
-    error: Pin<bool, Out>,
-    total: Pin<u32, Io>,
-    level: Pin<i32, Out>,
-    exceeded: Pin<bool, Out>,
-    read_timeout: Param<i32, Rw>,
-    limit: Param<i32, Rw>,
-    increment: Param<i32, Rw>,
-    decrement: Param<i32, Ro>,
+struct Objects<H: HalHost = Ours> {
+    error: H::Pin<bool, Out>,
+    total: H::Pin<u32, Io>,
+    level: H::Pin<i32, Out>,
+    exceeded: H::Pin<bool, Out>,
+    read_timeout: H::Param<i32, Rw>,
+    limit: H::Param<i32, Rw>,
+    increment: H::Param<i32, Rw>,
+    decrement: H::Param<i32, Ro>,
 }
 
 /// The error counter and its HAL objects (before they exist, the
 /// defaults apply).
-#[derive(Default)]
-pub struct PacketErrors {
+pub struct PacketErrors<H: HalHost = Ours> {
     counter: i32,
     total: u32,
-    objects: Option<Objects>,
+    objects: Option<Objects<H>>,
 }
 
-impl std::fmt::Debug for PacketErrors {
+impl<H: HalHost> Default for PacketErrors<H> {
+    fn default() -> Self {
+        PacketErrors {
+            counter: 0,
+            total: 0,
+            objects: None,
+        }
+    }
+}
+
+impl<H: HalHost> std::fmt::Debug for PacketErrors<H> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PacketErrors")
             .field("counter", &self.counter)
@@ -63,9 +74,23 @@ impl std::fmt::Debug for PacketErrors {
     }
 }
 
-impl PacketErrors {
+impl<H: HalHost> PacketErrors<H> {
+    /// The counter for host `H2`, before any HAL object was made (a
+    /// probed board registering in the host it was loaded into).
+    pub fn into_host<H2: HalHost>(self) -> PacketErrors<H2> {
+        debug_assert!(
+            self.objects.is_none(),
+            "exported objects stay in their host"
+        );
+        PacketErrors {
+            counter: self.counter,
+            total: self.total,
+            objects: None,
+        }
+    }
+
     /// Exports the pins and params as `<prefix>.packet-*`.
-    pub fn export(&mut self, comp: &Component, prefix: &str) -> HalResult<()> {
+    pub fn export(&mut self, comp: &impl PinFactory<H>, prefix: &str) -> HalResult<()> {
         let n = |s: &str| format!("{prefix}.{s}");
         self.objects = Some(Objects {
             read_timeout: comp.param(&n("packet-read-timeout"), DEFAULT_READ_TIMEOUT)?,
@@ -179,7 +204,7 @@ mod tests {
 
     #[test]
     fn five_in_a_row_or_one_in_three_stop_the_board() {
-        let mut e = PacketErrors::default();
+        let mut e = PacketErrors::<Ours>::default();
         for k in 1..5 {
             assert!(!e.error(), "error {k}");
         }
@@ -209,7 +234,7 @@ mod tests {
 
     #[test]
     fn timeouts() {
-        let e = PacketErrors::default();
+        let e = PacketErrors::<Ours>::default();
         assert_eq!(e.timeout_ns(1_000_000), 800_000);
         assert_eq!(e.timeout_ns(50_000), MIN_TIMEOUT_NS);
         assert_eq!(e.timeout_ns(0), MIN_TIMEOUT_NS);

@@ -5,15 +5,16 @@
 use std::collections::HashMap;
 use std::net::{IpAddr, SocketAddr};
 
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{HalError, Host};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::HalError;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
 use hal_driver::ForModule;
 
 use super::boards::{self, LEDS};
 use super::transport::EthTransport;
 use crate::error::Hm2Error;
-use crate::hal::{core, register_boards, Candidate, Source};
+use crate::hal::{core, export_boards, Boards, Candidate, Source};
 use crate::lbp16::{self, addr, space};
 use crate::llio::Llio;
 use crate::transport::{Transport, TransportError};
@@ -23,41 +24,41 @@ pub const MAX_ETH_BOARDS: usize = 4;
 
 const HM2_ETH: &str = "hm2_eth";
 
-const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "board_ip",
-        kind: ParamKind::StrArray(MAX_ETH_BOARDS),
-        help: "the boards' IP addresses (optionally :port), comma-separated",
-    },
-    ParamDecl {
-        name: "config",
-        kind: ParamKind::StrArray(MAX_ETH_BOARDS),
-        help: "hostmot2 config strings, one per board (see hostmot2(9))",
-    },
-    ParamDecl {
-        name: "board_rtnet",
-        kind: ParamKind::StrArray(MAX_ETH_BOARDS),
-        help: "socket kind per board: posix (the only one supported)",
-    },
-    ParamDecl {
-        name: "firewall",
-        kind: ParamKind::Str,
-        help: "accepted for compatibility (auto, iptables, nft, nftables, none): the host's firewall is never changed",
-    },
-    ParamDecl {
-        name: "debug",
-        kind: ParamKind::Int,
-        help: "LinuxCNC logs every packet; here use tcpdump -X udp port 27181",
-    },
-];
+/// hm2_eth's module parameters (one table, read by both hosts); the
+/// arrays hold [`MAX_ETH_BOARDS`] items.
+#[macro_export]
+macro_rules! hm2_eth_params {
+    ($($then:tt)*) => { $($then)*! {
+        board_ip: StrArray(4) = "the boards' IP addresses (optionally :port), comma-separated",
+        config: StrArray(4) = "hostmot2 config strings, one per board (see hostmot2(9))",
+        board_rtnet: StrArray(4) = "socket kind per board: posix (the only one supported)",
+        firewall: Str = "accepted for compatibility (auto, iptables, nft, nftables, none): the host's firewall is never changed",
+        debug: Int = "LinuxCNC logs every packet; here use tcpdump -X udp port 27181",
+    } };
+}
+
+/// The `hm2_eth` driver.
+#[derive(Debug)]
+pub struct HalHm2Eth;
 
 /// The `hm2_eth` module.
-pub static HM2_ETH_MODULE: ModuleDef = ModuleDef {
-    name: HM2_ETH,
-    params: PARAMS,
-    help: "Mesa Ethernet Anything I/O boards with HostMot2 firmware (LBP16 over UDP)",
-    load: load_hm2_eth,
-};
+pub static HM2_ETH_MODULE: ModuleDef = module::module_def::<HalHm2Eth>();
+
+impl DriverModule for HalHm2Eth {
+    const NAME: &'static str = HM2_ETH;
+    const HELP: &'static str =
+        "Mesa Ethernet Anything I/O boards with HostMot2 firmware (LBP16 over UDP)";
+    const PARAMS: &'static [ParamDecl] = hm2_eth_params!(hal_driver::param_table);
+    type Opened = Boards;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
+        open_eth(args, env)
+    }
+
+    fn export<H: DriverHost>(found: Boards, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
+        export_boards(found, ex)
+    }
+}
 
 /// Parses one `board_ip` item: an IPv4 or IPv6 address, optionally with
 /// a port (`192.168.1.121`, `127.0.0.1:40123`, `[::1]:40123`).
@@ -107,10 +108,11 @@ pub fn llio_from_idrom(t: &mut EthTransport, name: &str, n: usize) -> Result<Lli
     ))
 }
 
-fn load_hm2_eth(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
-    core(host, HM2_ETH)?;
+/// Probes the boards `args` list.
+fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
+    let debug = core(env, HM2_ETH)?;
     let params = Params::new(HM2_ETH, args);
-    let log = host.rt_log();
+    let log = env.log();
     log.info(format_args!(
         "hm2_eth: loading Mesa AnyIO HostMot2 ethernet driver version 0.2"
     ));
@@ -152,7 +154,6 @@ fn load_hm2_eth(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
             .for_module(HM2_ETH)?;
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
-            host.flush_rt_log();
             HalError::module_failed(
                 HM2_ETH,
                 Hm2Error::EthBoard {
@@ -199,7 +200,12 @@ fn load_hm2_eth(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
             source: Source::Eth(Box::new(t)),
         });
     }
-    register_boards(host, HM2_ETH, HM2_ETH, candidates, args.str_array("config"))
+    Ok(Boards::new(
+        HM2_ETH,
+        debug,
+        candidates,
+        args.str_array("config").to_vec(),
+    ))
 }
 
 #[cfg(test)]

@@ -47,6 +47,8 @@ use std::time::{Duration, Instant};
 use nix::poll::{ppoll, PollFd, PollFlags};
 use nix::sys::time::TimeSpec;
 
+use hal_core::{HalHost, Ours};
+
 use super::errors::PacketErrors;
 use crate::lbp16::{self, addr, space, Command, Request, Width};
 use crate::transport::{ReadQueue, TransferStats, Transport, TransportError};
@@ -117,7 +119,7 @@ pub struct Traffic {
 }
 
 /// A board reached over UDP.
-pub struct EthTransport {
+pub struct EthTransport<H: HalHost = Ours> {
     socket: UdpSocket,
     peer: SocketAddr,
     name: String,
@@ -133,13 +135,13 @@ pub struct EthTransport {
     has_written: bool,
     scratch_tag: u16,
     period_ns: i64,
-    errors: PacketErrors,
+    errors: PacketErrors<H>,
     resync: bool,
     stats: TransferStats,
     traffic: Traffic,
 }
 
-impl std::fmt::Debug for EthTransport {
+impl<H: HalHost> std::fmt::Debug for EthTransport<H> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("EthTransport")
             .field("peer", &self.peer)
@@ -157,7 +159,9 @@ fn socket_error(op: &'static str, peer: SocketAddr, e: io::Error) -> TransportEr
 }
 
 impl EthTransport {
-    /// A socket connected to the board at `peer`.
+    /// A socket connected to the board at `peer`. Its packet-error
+    /// objects are made in the host the board registers in
+    /// ([`into_host`](Self::into_host) moves it there first).
     pub fn connect(peer: SocketAddr) -> Result<EthTransport, TransportError> {
         let local: SocketAddr = if peer.is_ipv4() {
             "0.0.0.0:0".parse().expect("address")
@@ -193,6 +197,34 @@ impl EthTransport {
             traffic: Traffic::default(),
         })
     }
+}
+
+impl<H: HalHost> EthTransport<H> {
+    /// This transport for host `H2`, before its packet-error objects
+    /// were made: a board probed at load, then registered in the host
+    /// the driver was loaded into.
+    pub fn into_host<H2: HalHost>(self) -> EthTransport<H2> {
+        EthTransport {
+            socket: self.socket,
+            peer: self.peer,
+            name: self.name,
+            reads: self.reads,
+            request: self.request,
+            writes: self.writes,
+            single: self.single,
+            reply: self.reply,
+            sent_at: self.sent_at,
+            read_tag: self.read_tag,
+            write_tag: self.write_tag,
+            has_written: self.has_written,
+            scratch_tag: self.scratch_tag,
+            period_ns: self.period_ns,
+            errors: self.errors.into_host(),
+            resync: self.resync,
+            stats: self.stats,
+            traffic: self.traffic,
+        }
+    }
 
     /// The board's address.
     pub fn peer(&self) -> SocketAddr {
@@ -205,7 +237,7 @@ impl EthTransport {
     }
 
     /// The packet-error counter and its HAL objects.
-    pub fn errors(&mut self) -> &mut PacketErrors {
+    pub fn errors(&mut self) -> &mut PacketErrors<H> {
         &mut self.errors
     }
 
@@ -379,7 +411,7 @@ enum Which {
     Single,
 }
 
-impl Transport for EthTransport {
+impl<H: HalHost> Transport for EthTransport<H> {
     fn read(&mut self, addr: u32, buf: &mut [u32]) -> Result<(), TransportError> {
         crate::transport::check_window(addr, buf.len())?;
         // Up to 300 words per datagram (1200 bytes of reply).

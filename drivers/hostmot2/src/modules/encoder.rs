@@ -22,7 +22,9 @@
 //! cleared that bit, the latched count is where the index was.
 
 use canonical::EncoderCore;
-use hal_core::{In, Io, Out, Param, Pin, Result as HalResult, Rw};
+use hal_core::{
+    HalHost, HostParam, HostPin, In, Io, Ours, Out, PinFactory, Result as HalResult, Rw,
+};
 
 use crate::firmware::ModuleUse;
 use crate::md::ModuleDescriptor;
@@ -56,33 +58,36 @@ pub fn filter_rate(clock: u32, sample_hz: u32) -> (u32, u32) {
     (rate, clock / (rate + 2))
 }
 
-struct Chan {
+/// A channel's probe pins: `probe-enable` and `probe-invert`.
+type ProbePins<H> = (<H as HalHost>::Pin<bool, In>, <H as HalHost>::Pin<bool, In>);
+
+struct Chan<H: HalHost = Ours> {
     core: EncoderCore,
-    rawcounts: Pin<i32, Out>,
-    rawlatch: Pin<i32, Out>,
-    count: Pin<i32, Out>,
-    count_latched: Pin<i32, Out>,
-    position: Pin<f64, Out>,
-    position_interpolated: Pin<f64, Out>,
-    position_latched: Pin<f64, Out>,
-    velocity: Pin<f64, Out>,
-    velocity_rpm: Pin<f64, Out>,
-    reset: Pin<bool, In>,
-    index_enable: Pin<bool, Io>,
-    no_clear_on_index: Pin<bool, In>,
-    probe: Option<(Pin<bool, In>, Pin<bool, In>)>,
-    quad_error: Pin<bool, Out>,
-    quad_error_enable: Pin<bool, In>,
-    input_a: Pin<bool, Out>,
-    input_b: Pin<bool, Out>,
-    input_index: Pin<bool, Out>,
-    scale: Param<f64, Rw>,
-    vel_timeout: Param<f64, Rw>,
-    index_invert: Param<bool, Rw>,
-    index_mask: Param<bool, Rw>,
-    index_mask_invert: Param<bool, Rw>,
-    counter_mode: Param<bool, Rw>,
-    filter: Param<bool, Rw>,
+    rawcounts: H::Pin<i32, Out>,
+    rawlatch: H::Pin<i32, Out>,
+    count: H::Pin<i32, Out>,
+    count_latched: H::Pin<i32, Out>,
+    position: H::Pin<f64, Out>,
+    position_interpolated: H::Pin<f64, Out>,
+    position_latched: H::Pin<f64, Out>,
+    velocity: H::Pin<f64, Out>,
+    velocity_rpm: H::Pin<f64, Out>,
+    reset: H::Pin<bool, In>,
+    index_enable: H::Pin<bool, Io>,
+    no_clear_on_index: H::Pin<bool, In>,
+    probe: Option<ProbePins<H>>,
+    quad_error: H::Pin<bool, Out>,
+    quad_error_enable: H::Pin<bool, In>,
+    input_a: H::Pin<bool, Out>,
+    input_b: H::Pin<bool, Out>,
+    input_index: H::Pin<bool, Out>,
+    scale: H::Param<f64, Rw>,
+    vel_timeout: H::Param<f64, Rw>,
+    index_invert: H::Param<bool, Rw>,
+    index_mask: H::Param<bool, Rw>,
+    index_mask_invert: H::Param<bool, Rw>,
+    counter_mode: H::Param<bool, Rw>,
+    filter: H::Param<bool, Rw>,
     /// The control word last written.
     written: Option<u32>,
     prev_qee: bool,
@@ -93,15 +98,15 @@ struct Chan {
 }
 
 /// The encoder module.
-pub struct Encoders {
+pub struct Encoders<H: HalHost = Ours> {
     md: ModuleDescriptor,
     has_probe: bool,
     tsc_read: Slot,
     counter_read: Slot,
     latch_read: Slot,
-    chans: Vec<Chan>,
-    sample_frequency: Pin<u32, In>,
-    hires: Pin<bool, In>,
+    chans: Vec<Chan<H>>,
+    sample_frequency: H::Pin<u32, In>,
+    hires: H::Pin<bool, In>,
     written_tsdiv: Option<u32>,
     written_filter: Option<u32>,
     tsdiv: u32,
@@ -110,11 +115,14 @@ pub struct Encoders {
     ns_rem: u128,
 }
 
-impl Encoders {
+impl<H: HalHost> Encoders<H> {
     /// Exports the encoders in use and registers TSCount, the counters and
     /// the latch/control words, in that order (the timestamp must be read
     /// before the counts).
-    pub fn export(x: &mut Export, m: &ModuleUse) -> HalResult<Encoders> {
+    pub fn export<F: PinFactory<H>>(
+        x: &mut Export<'_, F>,
+        m: &ModuleUse,
+    ) -> HalResult<Encoders<H>> {
         let has_probe = m.md.version == 0x83;
         let mut chans = Vec::with_capacity(m.instances as usize);
         for i in 0..m.instances as usize {
@@ -307,7 +315,7 @@ impl Encoders {
 
     /// The control word the pins ask for.
     #[inline]
-    fn control(&self, c: &Chan) -> u32 {
+    fn control(&self, c: &Chan<H>) -> u32 {
         let index = c.index_enable.get();
         let (probe, probe_invert) = match &c.probe {
             Some((e, i)) if self.has_probe => (e.get(), i.get()),

@@ -17,7 +17,7 @@
 //! input never pulls its line low.
 
 use canonical::{ChannelNames, DigIn, DigOut};
-use hal_core::{AliasKind, Param, Result as HalResult, Rw};
+use hal_core::{HalHost, HostParam, Ours, PinFactory, Result as HalResult, Rw};
 
 use crate::firmware::ModuleUse;
 use crate::md::ModuleDescriptor;
@@ -28,15 +28,15 @@ use crate::tram::Slot;
 use crate::transport::{Transport, TransportError};
 
 /// HAL objects of one I/O pin.
-struct GpioPin {
+struct GpioPin<H: HalHost = Ours> {
     io: IoPin,
-    input: DigIn,
+    input: DigIn<H>,
     /// Full GPIO only: the canonical digital output and `is_output`.
-    output: Option<(DigOut, Param<bool, Rw>)>,
+    output: Option<(DigOut<H>, H::Param<bool, Rw>)>,
     /// Full GPIO and module outputs: `is_opendrain`.
-    opendrain: Option<Param<bool, Rw>>,
+    opendrain: Option<H::Param<bool, Rw>>,
     /// Module outputs: `invert_output` (for GPIO it is the DigOut's).
-    module_invert: Option<Param<bool, Rw>>,
+    module_invert: Option<H::Param<bool, Rw>>,
     /// A module output driven from load on, not from the first `write`
     /// (Smart Serial: the links run before the HAL thread does).
     immediate: bool,
@@ -62,10 +62,10 @@ type RegField = fn(&PortRegs) -> u32;
 type OutputGroup = ((u8, Option<u8>, u8), Vec<u32>);
 
 /// The IOPort module.
-pub struct IoPort {
+pub struct IoPort<H: HalHost = Ours> {
     md: ModuleDescriptor,
     ports: usize,
-    pins: Vec<GpioPin>,
+    pins: Vec<GpioPin<H>>,
     data_read: Slot,
     data_write: Slot,
     written: Vec<PortRegs>,
@@ -87,9 +87,13 @@ fn gpio_names(prefix: &str) -> ChannelNames {
     })
 }
 
-impl IoPort {
+impl<H: HalHost> IoPort<H> {
     /// Exports every pin and registers the data regions.
-    pub fn export(x: &mut Export, m: &ModuleUse, io_pins: &[IoPin]) -> HalResult<IoPort> {
+    pub fn export<F: PinFactory<H>>(
+        x: &mut Export<'_, F>,
+        m: &ModuleUse,
+        io_pins: &[IoPin],
+    ) -> HalResult<IoPort<H>> {
         let names = gpio_names(x.prefix);
         let mut pins = Vec::with_capacity(io_pins.len());
         for p in io_pins {
@@ -152,7 +156,7 @@ impl IoPort {
     }
 
     #[inline]
-    fn accumulate(&self, p: &GpioPin, regs: &mut PortRegs) {
+    fn accumulate(&self, p: &GpioPin<H>, regs: &mut PortRegs) {
         let bit = 1u32 << p.io.bit;
         let od = p.opendrain.as_ref().is_some_and(|o| o.get());
         match (&p.output, &p.module_invert) {
@@ -304,8 +308,10 @@ impl IoPort {
 
 /// Creates `<module>.<NN>[.<k>].<function>.invert_output` and
 /// `.is_opendrain` aliases for the module output pins.
-fn alias_module_outputs(x: &Export, io_pins: &[IoPin]) -> HalResult<()> {
-    let inst = x.comp.instance();
+fn alias_module_outputs<H: HalHost, F: PinFactory<H>>(
+    x: &Export<'_, F>,
+    io_pins: &[IoPin],
+) -> HalResult<()> {
     let mut groups: Vec<OutputGroup> = Vec::new();
     for p in io_pins {
         if let PinOwner::Module {
@@ -337,8 +343,7 @@ fn alias_module_outputs(x: &Export, io_pins: &[IoPin]) -> HalResult<()> {
                 format!("{}.{module}.{unit}.{fname}", x.prefix)
             };
             for item in ["invert_output", "is_opendrain"] {
-                inst.alias(
-                    AliasKind::Param,
+                x.comp.alias_param(
                     &format!("{}.gpio.{io:03}.{item}", x.prefix),
                     &format!("{stem}.{item}"),
                 )?;

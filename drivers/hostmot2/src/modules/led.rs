@@ -1,7 +1,7 @@
 //! LED (hardware.md 5.9.6): pins `led.CR01`, `CR02`, ... (bit IN);
 //! LED k is bit 31 − k of the register, written when a pin changes.
 
-use hal_core::{In, Pin, Result as HalResult};
+use hal_core::{HalHost, HostPin, In, Ours, PinFactory, Result as HalResult};
 
 use crate::firmware::ModuleUse;
 use crate::md::ModuleDescriptor;
@@ -9,15 +9,15 @@ use crate::modules::{put, Export};
 use crate::transport::{Transport, TransportError};
 
 /// The LED module.
-pub struct Leds {
+pub struct Leds<H: HalHost = Ours> {
     md: ModuleDescriptor,
-    pins: Vec<Pin<bool, In>>,
+    pins: Vec<H::Pin<bool, In>>,
     written: Option<u32>,
 }
 
-impl Leds {
+impl<H: HalHost> Leds<H> {
     /// Exports one pin per LED in use.
-    pub fn export(x: &mut Export, m: &ModuleUse) -> HalResult<Leds> {
+    pub fn export<F: PinFactory<H>>(x: &mut Export<'_, F>, m: &ModuleUse) -> HalResult<Leds<H>> {
         let pins = (0..m.instances.min(32))
             .map(|k| x.comp.pin(&x.name(&format!("led.CR{:02}", k + 1))))
             .collect::<HalResult<Vec<_>>>()?;

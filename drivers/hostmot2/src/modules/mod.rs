@@ -13,8 +13,6 @@ pub mod sserial;
 pub mod stepgen;
 pub mod watchdog;
 
-use hal_core::Component;
-
 use crate::tram::Tram;
 use crate::transport::{Transport, TransportError};
 
@@ -23,16 +21,17 @@ use crate::transport::{Transport, TransportError};
 pub use crate::log::BoardLog as Notify;
 
 /// What a module needs while the board registers.
-pub struct Export<'a> {
-    /// The component that owns the board's HAL objects.
-    pub comp: &'a Component,
+pub struct Export<'a, F> {
+    /// The component that owns the board's HAL objects: where its pins
+    /// and parameters are made, in whichever host.
+    pub comp: &'a F,
     /// The board's name prefix (`hm2_5i25.0`).
     pub prefix: &'a str,
     /// The TRAM to register regions in.
     pub tram: &'a mut Tram,
 }
 
-impl Export<'_> {
+impl<F> Export<'_, F> {
     /// `<prefix>.<rest>`.
     pub fn name(&self, rest: &str) -> String {
         format!("{}.{rest}", self.prefix)

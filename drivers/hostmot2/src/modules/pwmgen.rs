@@ -13,7 +13,7 @@
 //! DDS range.
 
 use canonical::{ChannelNames, Pwm};
-use hal_core::{Param, Result as HalResult, Rw};
+use hal_core::{HalHost, HostParam, Ours, PinFactory, Result as HalResult, Rw};
 
 use crate::firmware::ModuleUse;
 use crate::log::Level;
@@ -72,11 +72,11 @@ pub fn value_word(d: f64, output_type: u32, pwm_bits: u32, offset: bool, dither:
     w
 }
 
-struct Chan {
-    pwm: Pwm,
-    output_type: Param<i32, Rw>,
-    offset_mode: Param<bool, Rw>,
-    dither: Option<Param<bool, Rw>>,
+struct Chan<H: HalHost = Ours> {
+    pwm: Pwm<H>,
+    output_type: H::Param<i32, Rw>,
+    offset_mode: H::Param<bool, Rw>,
+    dither: Option<H::Param<bool, Rw>>,
 }
 
 /// What the module registers hold, to rewrite them on change.
@@ -89,12 +89,12 @@ struct Setup {
 }
 
 /// The PWM generator module.
-pub struct Pwmgens {
+pub struct Pwmgens<H: HalHost = Ours> {
     md: ModuleDescriptor,
     value_write: Slot,
-    chans: Vec<Chan>,
-    pwm_frequency: Param<u32, Rw>,
-    pdm_frequency: Param<u32, Rw>,
+    chans: Vec<Chan<H>>,
+    pwm_frequency: H::Param<u32, Rw>,
+    pdm_frequency: H::Param<u32, Rw>,
     written: Option<Setup>,
     written_modes: Vec<Option<u32>>,
     /// The PWM resolution for a frequency: (Hz, bits), recomputed when
@@ -102,9 +102,9 @@ pub struct Pwmgens {
     bits: (u32, u32),
 }
 
-impl Pwmgens {
+impl<H: HalHost> Pwmgens<H> {
     /// Exports the generators in use and registers the value writes.
-    pub fn export(x: &mut Export, m: &ModuleUse) -> HalResult<Pwmgens> {
+    pub fn export<F: PinFactory<H>>(x: &mut Export<'_, F>, m: &ModuleUse) -> HalResult<Pwmgens<H>> {
         let prefix = x.prefix.to_string();
         let names = ChannelNames::custom(move |i, item| format!("{prefix}.pwmgen.{i:02}.{item}"));
         let mut chans = Vec::with_capacity(m.instances as usize);
@@ -152,7 +152,7 @@ impl Pwmgens {
         self.write_config(t, say)
     }
 
-    fn output_type(c: &Chan, say: &Notify) -> u32 {
+    fn output_type(c: &Chan<H>, say: &Notify) -> u32 {
         match c.output_type.get() {
             t @ 1..=4 => t as u32,
             _ => {

@@ -8,20 +8,20 @@
 //! The read goes with the cycle's TRAM burst, so it costs no extra
 //! transfer on a network transport.
 
-use hal_core::{In, Io, Out, Pin, Result as HalResult};
+use hal_core::{HalHost, HostPin, In, Io, Ours, Out, PinFactory, Result as HalResult};
 
 use crate::modules::Export;
 use crate::tram::Slot;
 use crate::transport::{Transport, TransportError};
 
 /// The raw access pins.
-pub struct Raw {
-    read_address: Pin<u32, In>,
-    read_data: Pin<u32, Out>,
-    write_address: Pin<u32, In>,
-    write_data: Pin<u32, In>,
-    write_strobe: Pin<bool, In>,
-    dump_state: Pin<bool, Io>,
+pub struct Raw<H: HalHost = Ours> {
+    read_address: H::Pin<u32, In>,
+    read_data: H::Pin<u32, Out>,
+    write_address: H::Pin<u32, In>,
+    write_data: H::Pin<u32, In>,
+    write_strobe: H::Pin<bool, In>,
+    dump_state: H::Pin<bool, Io>,
     slot: Slot,
 }
 
@@ -31,9 +31,9 @@ fn address(pin: u32) -> u32 {
     pin & 0xFFFC
 }
 
-impl Raw {
+impl<H: HalHost> Raw<H> {
     /// Exports the pins and registers the read.
-    pub fn export(x: &mut Export) -> HalResult<Raw> {
+    pub fn export<F: PinFactory<H>>(x: &mut Export<'_, F>) -> HalResult<Raw<H>> {
         let c = x.comp;
         Ok(Raw {
             read_address: c.pin(&x.name("raw.read_address"))?,

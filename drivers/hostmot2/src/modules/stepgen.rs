@@ -26,7 +26,9 @@
 //! clamped and the param rewritten to what the board does.
 
 use canonical::{ChannelNames, Stepgen};
-use hal_core::{In, Io, Out, Param, Pin, Result as HalResult, Rw};
+use hal_core::{
+    HalHost, HostParam, HostPin, In, Io, Ours, Out, PinFactory, Result as HalResult, Rw,
+};
 
 use crate::firmware::ModuleUse;
 use crate::log::Level;
@@ -61,31 +63,31 @@ pub fn rate_value(steps_per_s: f64, clock: u32) -> u32 {
     v as i32 as u32
 }
 
-struct IndexPins {
-    position_latch: Pin<f64, Out>,
-    index_enable: Pin<bool, Io>,
-    probe_enable: Pin<bool, Io>,
-    index_invert: Pin<bool, In>,
-    probe_invert: Pin<bool, In>,
+struct IndexPins<H: HalHost = Ours> {
+    position_latch: H::Pin<f64, Out>,
+    index_enable: H::Pin<bool, Io>,
+    probe_enable: H::Pin<bool, Io>,
+    index_invert: H::Pin<bool, In>,
+    probe_invert: H::Pin<bool, In>,
 }
 
-struct DebugPins {
-    pos_minus_prev_cmd: Pin<f64, Out>,
-    ff_vel: Pin<f64, Out>,
-    s_to_match: Pin<f64, Out>,
-    vel_error: Pin<f64, Out>,
-    err_at_match: Pin<f64, Out>,
-    step_rate: Pin<i32, Out>,
+struct DebugPins<H: HalHost = Ours> {
+    pos_minus_prev_cmd: H::Pin<f64, Out>,
+    ff_vel: H::Pin<f64, Out>,
+    s_to_match: H::Pin<f64, Out>,
+    vel_error: H::Pin<f64, Out>,
+    err_at_match: H::Pin<f64, Out>,
+    step_rate: H::Pin<i32, Out>,
 }
 
-struct Chan {
-    sg: Stepgen,
-    position_reset: Pin<bool, In>,
-    step_type: Param<u32, Rw>,
-    swap: Option<Param<bool, Rw>>,
-    table: [Param<u32, Rw>; 4],
-    index: Option<IndexPins>,
-    dbg: DebugPins,
+struct Chan<H: HalHost = Ours> {
+    sg: Stepgen<H>,
+    position_reset: H::Pin<bool, In>,
+    step_type: H::Param<u32, Rw>,
+    swap: Option<H::Param<bool, Rw>>,
+    table: [H::Param<u32, Rw>; 4],
+    index: Option<IndexPins<H>>,
+    dbg: DebugPins<H>,
     prev_acc: u32,
     /// Position in 1/65536 steps.
     subcounts: i64,
@@ -94,18 +96,21 @@ struct Chan {
 }
 
 /// The step generator module.
-pub struct Stepgens {
+pub struct Stepgens<H: HalHost = Ours> {
     md: ModuleDescriptor,
     rate_write: Slot,
     acc_read: Slot,
     mode_read: Option<Slot>,
-    chans: Vec<Chan>,
+    chans: Vec<Chan<H>>,
 }
 
-impl Stepgens {
+impl<H: HalHost> Stepgens<H> {
     /// Exports the step generators in use and registers the rate writes,
     /// accumulator reads and (0xC2) mode reads.
-    pub fn export(x: &mut Export, m: &ModuleUse) -> HalResult<Stepgens> {
+    pub fn export<F: PinFactory<H>>(
+        x: &mut Export<'_, F>,
+        m: &ModuleUse,
+    ) -> HalResult<Stepgens<H>> {
         let clock = m.md.clock_hz;
         let slowest = ((r::TIMING_MAX as u64) * 1_000_000_000 / clock as u64) as u32;
         let prefix = x.prefix.to_string();

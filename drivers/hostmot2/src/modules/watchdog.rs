@@ -8,7 +8,7 @@
 //! once; clearing `has_bit` makes the next `write` rewrite the board's
 //! whole configuration and re-arm the watchdog.
 
-use hal_core::{Io, Param, Pin, Result as HalResult, Rw};
+use hal_core::{HalHost, HostParam, HostPin, Io, Ours, PinFactory, Result as HalResult, Rw};
 
 use crate::firmware::ModuleUse;
 use crate::log::Level;
@@ -37,12 +37,12 @@ pub fn timer_value(timeout_ns: u32, clock: u32) -> (u32, Option<u32>) {
 }
 
 /// The watchdog module.
-pub struct Watchdog {
+pub struct Watchdog<H: HalHost = Ours> {
     md: ModuleDescriptor,
     status_read: Slot,
     pet_write: Slot,
-    has_bit: Pin<bool, Io>,
-    timeout_ns: Param<u32, Rw>,
+    has_bit: H::Pin<bool, Io>,
+    timeout_ns: H::Param<u32, Rw>,
     /// The timeout the timer was last armed with (`None`: not armed).
     armed: Option<u32>,
     /// A bite was seen and reported; cleared when the user resets.
@@ -59,9 +59,12 @@ pub enum WatchdogEvent {
     Bit,
 }
 
-impl Watchdog {
+impl<H: HalHost> Watchdog<H> {
     /// Exports the pin and param and registers the status read and the pet.
-    pub fn export(x: &mut Export, m: &ModuleUse) -> HalResult<Watchdog> {
+    pub fn export<F: PinFactory<H>>(
+        x: &mut Export<'_, F>,
+        m: &ModuleUse,
+    ) -> HalResult<Watchdog<H>> {
         let has_bit = x.comp.pin(&x.name("watchdog.has_bit"))?;
         let timeout_ns = x
             .comp

@@ -15,19 +15,21 @@
 //! Received data are HAL outputs, sent data HAL inputs, data both ways
 //! HAL I/O pins. Pads take their bits and nothing else.
 
-use hal_core::{Component, In, Io, Out, Param, Pin, Result as HalResult, Rw};
+use hal_core::{
+    HalHost, HostParam, HostPin, In, Io, Ours, Out, PinFactory, Result as HalResult, Rw,
+};
 
 use crate::sserial::data::{self, Unwrap};
 use crate::sserial::records::{data_type as t, DataRecord};
 
 /// A bit pin of either direction.
-enum BitPin {
-    Out(Pin<bool, Out>),
-    In(Pin<bool, In>),
-    Io(Pin<bool, Io>),
+enum BitPin<H: HalHost = Ours> {
+    Out(H::Pin<bool, Out>),
+    In(H::Pin<bool, In>),
+    Io(H::Pin<bool, Io>),
 }
 
-impl BitPin {
+impl<H: HalHost> BitPin<H> {
     fn get(&self) -> bool {
         match self {
             BitPin::Out(p) => p.get(),
@@ -46,13 +48,13 @@ impl BitPin {
 }
 
 /// A float pin of either direction.
-enum FloatPin {
-    Out(Pin<f64, Out>),
-    In(Pin<f64, In>),
-    Io(Pin<f64, Io>),
+enum FloatPin<H: HalHost = Ours> {
+    Out(H::Pin<f64, Out>),
+    In(H::Pin<f64, In>),
+    Io(H::Pin<f64, Io>),
 }
 
-impl FloatPin {
+impl<H: HalHost> FloatPin<H> {
     fn get(&self) -> f64 {
         match self {
             FloatPin::Out(p) => p.get(),
@@ -71,13 +73,13 @@ impl FloatPin {
 }
 
 /// A u32 pin of either direction.
-enum WordPin {
-    Out(Pin<u32, Out>),
-    In(Pin<u32, In>),
-    Io(Pin<u32, Io>),
+enum WordPin<H: HalHost = Ours> {
+    Out(H::Pin<u32, Out>),
+    In(H::Pin<u32, In>),
+    Io(H::Pin<u32, Io>),
 }
 
-impl WordPin {
+impl<H: HalHost> WordPin<H> {
     fn get(&self) -> u32 {
         match self {
             WordPin::Out(p) => p.get(),
@@ -96,55 +98,65 @@ impl WordPin {
 }
 
 /// An encoder's HAL objects and state.
-struct Encoder {
-    count: Pin<i32, Out>,
-    rawcounts: Pin<i32, Out>,
-    position: Pin<f64, Out>,
-    index_enable: Pin<bool, Io>,
-    reset: Pin<bool, Io>,
-    scale: Param<f64, Rw>,
-    counts_per_rev: Param<u32, Rw>,
+struct Encoder<H: HalHost = Ours> {
+    count: H::Pin<i32, Out>,
+    rawcounts: H::Pin<i32, Out>,
+    position: H::Pin<f64, Out>,
+    index_enable: H::Pin<bool, Io>,
+    reset: H::Pin<bool, Io>,
+    scale: H::Param<f64, Rw>,
+    counts_per_rev: H::Param<u32, Rw>,
     unwrap: Unwrap,
     offset: i64,
     /// The count when `index-enable` was seen set.
     armed_at: Option<i64>,
 }
 
+/// An analog output's `minlim` and `maxlim` parameters.
+type Limits<H> = (
+    <H as HalHost>::Param<f64, Rw>,
+    <H as HalHost>::Param<f64, Rw>,
+);
+
 /// What a field is in HAL.
-enum Kind {
+enum Kind<H: HalHost = Ours> {
     Pad,
     Bits {
-        pins: Vec<BitPin>,
-        nots: Vec<Pin<bool, Out>>,
-        inverts: Vec<Param<bool, Rw>>,
+        pins: Vec<BitPin<H>>,
+        nots: Vec<H::Pin<bool, Out>>,
+        inverts: Vec<H::Param<bool, Rw>>,
     },
     Number {
-        pin: FloatPin,
+        pin: FloatPin<H>,
         signed: bool,
-        scalemax: Param<f64, Rw>,
-        limits: Option<(Param<f64, Rw>, Param<f64, Rw>)>,
+        scalemax: H::Param<f64, Rw>,
+        limits: Option<Limits<H>>,
     },
     Boolean {
-        pin: BitPin,
-        not: Option<Pin<bool, Out>>,
-        invert: Option<Param<bool, Rw>>,
+        pin: BitPin<H>,
+        not: Option<H::Pin<bool, Out>>,
+        invert: Option<H::Param<bool, Rw>>,
     },
-    Stream(WordPin),
-    Float(FloatPin),
-    Encoder(Box<Encoder>),
+    Stream(WordPin<H>),
+    Float(FloatPin<H>),
+    Encoder(Box<Encoder<H>>),
 }
 
 /// One process-data record.
-pub struct Field {
+pub struct Field<H: HalHost = Ours> {
     bits: u8,
     /// Bit offset in the received stream (if received).
     at_in: Option<usize>,
     /// Bit offset in the sent stream (if sent).
     at_out: Option<usize>,
-    kind: Kind,
+    kind: Kind<H>,
 }
 
-fn bit_pin(c: &Component, name: &str, r: &DataRecord) -> HalResult<BitPin> {
+fn bit_pin<H: HalHost, F: PinFactory<H>>(
+    c: &F,
+    name: &str,
+    r: &DataRecord,
+) -> HalResult<BitPin<H>> {
     Ok(match (r.is_in(), r.is_out()) {
         (true, true) => BitPin::Io(c.pin(name)?),
         (true, false) => BitPin::Out(c.pin(name)?),
@@ -152,7 +164,11 @@ fn bit_pin(c: &Component, name: &str, r: &DataRecord) -> HalResult<BitPin> {
     })
 }
 
-fn float_pin(c: &Component, name: &str, r: &DataRecord) -> HalResult<FloatPin> {
+fn float_pin<H: HalHost, F: PinFactory<H>>(
+    c: &F,
+    name: &str,
+    r: &DataRecord,
+) -> HalResult<FloatPin<H>> {
     Ok(match (r.is_in(), r.is_out()) {
         (true, true) => FloatPin::Io(c.pin(name)?),
         (true, false) => FloatPin::Out(c.pin(name)?),
@@ -160,16 +176,16 @@ fn float_pin(c: &Component, name: &str, r: &DataRecord) -> HalResult<FloatPin> {
     })
 }
 
-impl Field {
+impl<H: HalHost> Field<H> {
     /// Exports the HAL objects of `r` under `prefix`, at the given bit
     /// offsets of the two streams.
     pub fn export(
-        c: &Component,
+        c: &impl PinFactory<H>,
         prefix: &str,
         r: &DataRecord,
         at_in: Option<usize>,
         at_out: Option<usize>,
-    ) -> HalResult<Field> {
+    ) -> HalResult<Field<H>> {
         let base = format!("{prefix}.{}", r.hal_name());
         let (min, max) = if r.min == r.max {
             (0.0, 1.0)

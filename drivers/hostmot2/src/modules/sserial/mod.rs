@@ -47,7 +47,9 @@
 pub mod discovery;
 pub mod fields;
 
-use hal_core::{Component, In, Out, Param, Pin, Result as HalResult, Ro, Rw};
+use hal_core::{
+    HalHost, HostParam, HostPin, In, Ours, Out, PinFactory, Result as HalResult, Ro, Rw,
+};
 
 use crate::log::Level;
 use crate::md::ModuleDescriptor;
@@ -60,20 +62,20 @@ use discovery::{PortFound, RemoteFound, SserialFirmware};
 use fields::Field;
 
 /// A global's param.
-enum GlobalParam {
-    U32(Param<u32, Rw>),
-    S32(Param<i32, Rw>),
-    Float(Param<f64, Rw>),
+enum GlobalParam<H: HalHost = Ours> {
+    U32(H::Param<u32, Rw>),
+    S32(H::Param<i32, Rw>),
+    Float(H::Param<f64, Rw>),
     /// Reported by the card only: never written back.
-    U32Ro(#[allow(dead_code)] Param<u32, Ro>),
-    S32Ro(#[allow(dead_code)] Param<i32, Ro>),
-    FloatRo(#[allow(dead_code)] Param<f64, Ro>),
+    U32Ro(#[allow(dead_code)] H::Param<u32, Ro>),
+    S32Ro(#[allow(dead_code)] H::Param<i32, Ro>),
+    FloatRo(#[allow(dead_code)] H::Param<f64, Ro>),
 }
 
 /// A global of a card, as a param; a change is written to the card when
 /// its port is idle (`run` FALSE), in its EEPROM for non-volatile ones.
-struct Global {
-    param: GlobalParam,
+struct Global<H: HalHost = Ours> {
+    param: GlobalParam<H>,
     bits: u8,
     addr: u16,
     nonvolatile: bool,
@@ -81,8 +83,13 @@ struct Global {
     written: u64,
 }
 
-impl Global {
-    fn export(c: &Component, name: &str, r: &DataRecord, raw: u64) -> HalResult<Global> {
+impl<H: HalHost> Global<H> {
+    fn export<F: PinFactory<H>>(
+        c: &F,
+        name: &str,
+        r: &DataRecord,
+        raw: u64,
+    ) -> HalResult<Global<H>> {
         let ro = !r.is_out();
         let signed = matches!(r.data_type, dt::SIGNED | dt::NV_SIGNED);
         let float = matches!(r.data_type, dt::FLOAT | dt::NV_FLOAT);
@@ -161,7 +168,7 @@ struct ParamWrite {
 }
 
 /// A card on a channel.
-struct Remote {
+struct Remote<H: HalHost = Ours> {
     channel: u8,
     mode: u8,
     label: String,
@@ -169,8 +176,8 @@ struct Remote {
     in_read: Option<Slot>,
     cs_write: Slot,
     out_write: Option<Slot>,
-    fields: Vec<Field>,
-    globals: Vec<Global>,
+    fields: Vec<Field<H>>,
+    globals: Vec<Global<H>>,
     /// Status bits of the card already said.
     reported: u32,
     words: [u32; reg::INTERFACES],
@@ -192,24 +199,24 @@ mod state {
 const START_TIMEOUT_NS: i64 = 2_100_000_000;
 
 /// One port.
-struct Port {
+struct Port<H: HalHost = Ours> {
     index: u8,
     md: ModuleDescriptor,
     tag: u8,
     command_read: Slot,
     data_read: Slot,
     command_write: Slot,
-    remotes: Vec<Remote>,
-    run: Pin<bool, In>,
-    port_state: Pin<u32, Out>,
-    port_state2: Pin<u32, Out>,
-    port_state3: Pin<u32, Out>,
-    fault_count: Pin<u32, Out>,
-    fault: Pin<bool, Out>,
-    debug: Pin<i32, Out>,
-    fault_inc: Param<u32, Rw>,
-    fault_dec: Param<u32, Rw>,
-    fault_lim: Param<u32, Rw>,
+    remotes: Vec<Remote<H>>,
+    run: H::Pin<bool, In>,
+    port_state: H::Pin<u32, Out>,
+    port_state2: H::Pin<u32, Out>,
+    port_state3: H::Pin<u32, Out>,
+    fault_count: H::Pin<u32, Out>,
+    fault: H::Pin<bool, Out>,
+    debug: H::Pin<i32, Out>,
+    fault_inc: H::Param<u32, Rw>,
+    fault_dec: H::Param<u32, Rw>,
+    fault_lim: H::Param<u32, Rw>,
     st: u32,
     waited_ns: i64,
     misses: i32,
@@ -218,8 +225,8 @@ struct Port {
 }
 
 /// The Smart Serial module.
-pub struct Sserial {
-    ports: Vec<Port>,
+pub struct Sserial<H: HalHost = Ours> {
+    ports: Vec<Port<H>>,
 }
 
 /// The prefix of a card's objects.
@@ -231,12 +238,16 @@ fn remote_prefix(board: &str, r: &RemoteFound, port: u8, serial_numbers: bool) -
     }
 }
 
-impl Sserial {
+impl<H: HalHost> Sserial<H> {
     /// Exports every port's and card's objects and registers the TRAM
     /// regions: per card the CS and data registers each way, then per
     /// port the command and data reads and the command write (after the
     /// cards', so the DoIt goes out with its data).
-    pub fn export(x: &mut Export, f: &SserialFirmware, serial_numbers: bool) -> HalResult<Sserial> {
+    pub fn export<F: PinFactory<H>>(
+        x: &mut Export<'_, F>,
+        f: &SserialFirmware,
+        serial_numbers: bool,
+    ) -> HalResult<Sserial<H>> {
         let mut ports = Vec::new();
         for p in &f.ports {
             if p.remotes.is_empty() {
@@ -248,11 +259,11 @@ impl Sserial {
     }
 
     fn export_port(
-        x: &mut Export,
+        x: &mut Export<'_, impl PinFactory<H>>,
         md: &ModuleDescriptor,
         p: &PortFound,
         serial_numbers: bool,
-    ) -> HalResult<Port> {
+    ) -> HalResult<Port<H>> {
         let i = p.index;
         let mut remotes = Vec::new();
         for r in &p.remotes {
@@ -375,7 +386,7 @@ impl Sserial {
     }
 }
 
-impl Port {
+impl<H: HalHost> Port<H> {
     fn set_state(&mut self, s: u32) {
         self.st = s;
         self.waited_ns = 0;
@@ -531,7 +542,7 @@ impl Port {
     }
 }
 
-impl Port {
+impl<H: HalHost> Port<H> {
     /// Looks for a global whose param changed; starts writing it.
     fn find_changed_global(&mut self) -> bool {
         for (ri, r) in self.remotes.iter().enumerate() {
