@@ -268,7 +268,8 @@ fn postinst_makes_the_group_then_restricts_and_gives_capabilities_to_the_host() 
     };
     let group = at("addgroup --system hal");
     let mode = at("dpkg-statoverride --update --add root hal 0750 /usr/bin/hal-host");
-    let caps = at("setcap cap_sys_nice,cap_ipc_lock,cap_sys_rawio+ep /usr/bin/hal-host");
+    let caps =
+        at("setcap cap_sys_nice,cap_ipc_lock,cap_sys_rawio,cap_net_raw+ep /usr/bin/hal-host");
     let runtime = at("systemd-tmpfiles --create /usr/lib/tmpfiles.d/hal.conf");
     assert!(group < mode && mode < caps && caps < runtime, "{calls:#?}");
     // Any other maintainer action does nothing.

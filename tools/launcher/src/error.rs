@@ -152,6 +152,18 @@ pub enum LaunchError {
         #[source]
         source: Reject,
     },
+    /// Machine on that the motion controller did not answer in time: the
+    /// enable may still be taken later, so a disable was queued behind it
+    /// and task stays off (task and motion never disagree).
+    #[error(
+        "machine on did not complete: the motion controller did not answer in time \
+         (its thread stalled?); a disable was queued behind the enable, so motion stays \
+         disabled and the machine is {state}"
+    )]
+    MachineOnUndone {
+        /// The machine state task keeps (`OFF`).
+        state: &'static str,
+    },
     /// Machine off or e-stop, and motion could not be disabled.
     #[error("disabling motion: {}", refusal(source))]
     Disabling {
@@ -222,6 +234,16 @@ pub enum LaunchError {
         /// The word given.
         word: String,
     },
+    /// `run LINE` with a LINE that is not one.
+    #[error("LINE must be a line number, not '{word}'")]
+    BadLine {
+        /// The word given.
+        word: String,
+    },
+    /// A program request refused (the mode, the program's state, the
+    /// interpreter's refusal with its place).
+    #[error("{0}")]
+    Program(String),
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

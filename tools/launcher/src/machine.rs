@@ -55,11 +55,12 @@ pub struct Options {
 pub const USAGE: &str = "\
 usage: linuxcnc [-v] [-d] [-k] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MACHINE.ini
 
-Runs the HAL side of a LinuxCNC machine configuration headless: its HAL
-files, its motion settings, iocontrol and the task pins, until Ctrl-C or
-SIGTERM. GUIs, halui and the G-code interpreter are not started. Send the
-machine task requests with task-cmd (estop-reset, machine-on, tool-change,
-coolant, status) and motion commands with motion-cmd.
+Runs a LinuxCNC machine configuration headless: its HAL files, its motion
+settings, iocontrol, the task pins and task with its G-code interpreter,
+until Ctrl-C or SIGTERM. GUIs and halui are not started. Send the machine
+task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
+mode, open, run, mdi, status; gcode-run runs a program through task) and
+motion commands with motion-cmd.
 
   -v          say what is done
   -d          echo every HAL command
@@ -404,12 +405,18 @@ fn run_on_host(
         // Task starts in e-stop with motion disabled.
         let _ = m.disable();
     }
+    // Programs and MDI run through task where there is a motion
+    // controller to run them.
+    let program = motion
+        .is_some()
+        .then(|| crate::program::ProgramConfig::from_ini(ini));
     let mut task = crate::task::Task::new(
         startup.io,
         startup.io_pins,
         startup.task_pins,
         motion,
         startup.table_path,
+        program,
     );
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
