@@ -172,6 +172,17 @@ pub enum HalError {
         /// Whose it is and how to be let in.
         advice: String,
     },
+    /// A runtime file's name holds what no host makes there (a symbolic
+    /// link, a FIFO, a directory): refused, never opened through.
+    #[error("{op} {path}: refused: {reason}")]
+    PlantedFile {
+        /// What was being done ("opening host lock file", ...).
+        op: &'static str,
+        /// The file refused.
+        path: PathBuf,
+        /// What it is and why that is refused.
+        reason: &'static str,
+    },
     /// An operating-system operation failed: on the segment, the lock
     /// file or the socket, or starting a thread (then `path` is empty).
     #[error("{op} {path}: {source}")]

@@ -4,11 +4,12 @@
 //! sysfs (`sim_gpioN/value`) and driving inputs through its `pull`.
 //!
 //! Needs root and gpio-sim: the VM rig (`../shared/tools/vmrig`) has
-//! both; `.ci/run` runs this binary there. Elsewhere every test says why
-//! it skips and passes.
+//! both; `scripts/test-all` runs this binary there with
+//! `--include-ignored`. Elsewhere the tests are ignored, with the reason;
+//! run on purpose without gpio-sim they fail.
 //!
 //! ```text
-//! vmrig run -- target/debug/deps/real_device-<hash> --test-threads=1
+//! vmrig run -- target/debug/deps/real_device-<hash> --include-ignored --test-threads=1
 //! ```
 #![allow(
     clippy::unwrap_used,
@@ -49,16 +50,13 @@ fn read(path: &Path) -> String {
 }
 
 impl GpioSim {
-    /// Whether gpio-sim can be configured here; says why not otherwise.
-    fn available() -> bool {
-        let ok = Path::new(CONFIGFS).is_dir() && nix_is_root();
-        if !ok {
-            eprintln!(
-                "SKIPPED: no writable gpio-sim configfs at {CONFIGFS} (needs root and the \
-                 gpio-sim module); run this binary through the VM rig"
-            );
-        }
-        ok
+    /// Fails the test, saying why, unless gpio-sim can be configured here.
+    fn require() {
+        assert!(
+            Path::new(CONFIGFS).is_dir() && nix_is_root(),
+            "no writable gpio-sim configfs at {CONFIGFS} (needs root and the gpio-sim \
+             module); run this binary through the VM rig"
+        );
     }
 
     /// A device `name` with one bank per entry of `banks`: (lines, named
@@ -178,10 +176,9 @@ fn rig(name: &str) -> GpioSim {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn inputs_follow_the_simulated_pins_across_two_chips() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let sim = rig("hal-gpio-in");
     let h = host("rd-in");
     h.loadrt(
@@ -213,10 +210,9 @@ fn inputs_follow_the_simulated_pins_across_two_chips() {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn outputs_and_active_low_read_back_through_sysfs() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let sim = rig("hal-gpio-out");
     let h = host("rd-out");
     h.loadrt(
@@ -256,10 +252,9 @@ fn out(offset: u32, active_low: bool, drive: Drive, bias: Bias) -> LineSetting {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn write_reset_and_safe_state_on_the_kernel() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let sim = rig("hal-gpio-reset");
     let info = CdevChips::info(&sim.chip_path(0)).unwrap();
     let req = CdevChips
@@ -292,10 +287,9 @@ fn write_reset_and_safe_state_on_the_kernel() {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn drive_and_bias_flags_reach_the_kernel() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let sim = rig("hal-gpio-flags");
     let h = host("rd-flags");
     h.loadrt(
@@ -340,10 +334,9 @@ fn drive_and_bias_flags_reach_the_kernel() {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn names_found_nowhere_twice_or_busy_are_load_errors() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let _a = GpioSim::new(
         "hal-gpio-dup",
         &[(4, &[(1, "HAL_DUP")]), (4, &[(3, "HAL_DUP")])],
@@ -395,10 +388,9 @@ fn names_found_nowhere_twice_or_busy_are_load_errors() {
 }
 
 #[test]
+#[ignore = "needs root and gpio-sim: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn an_unplugged_chip_trips_the_fault_and_nothing_hangs() {
-    if !GpioSim::available() {
-        return;
-    }
+    GpioSim::require();
     let keep = rig("hal-gpio-keep");
     let gone = GpioSim::new(
         "hal-gpio-gone",

@@ -34,7 +34,7 @@ pub(crate) fn host_alive(instance: &str) -> Result<bool> {
         Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
             return Err(paths::denied("opening host lock file", &path))
         }
-        Err(e) => return Err(HalError::io("opening host lock file", &path, e)),
+        Err(e) => return Err(paths::open_error("opening host lock file", &path, e)),
     };
     match flock(&f, libc::LOCK_SH) {
         // We got it, so nobody holds it exclusively: no host. Dropping the
@@ -75,7 +75,9 @@ impl HostLock {
                         Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
                             return Err(paths::denied("opening host lock file", &path))
                         }
-                        Err(e) => return Err(HalError::io("opening host lock file", &path, e)),
+                        Err(e) => {
+                            return Err(paths::open_error("opening host lock file", &path, e))
+                        }
                     }
                 }
                 Err(e) => return Err(HalError::io("creating host lock file", &path, e)),

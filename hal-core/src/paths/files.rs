@@ -28,6 +28,18 @@ pub(crate) fn create_new(path: &Path) -> std::io::Result<File> {
         .open(path)
 }
 
+/// What [`open_existing`] found at a name instead of a regular file.
+#[derive(Debug)]
+struct NotRegularFile;
+
+impl std::fmt::Display for NotRegularFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("not a regular file")
+    }
+}
+
+impl std::error::Error for NotRegularFile {}
+
 /// Opens an existing regular file read-only without following a link at
 /// `path` and without blocking on a FIFO planted there.
 pub(crate) fn open_existing(path: &Path) -> std::io::Result<File> {
@@ -36,9 +48,33 @@ pub(crate) fn open_existing(path: &Path) -> std::io::Result<File> {
         .custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK | libc::O_CLOEXEC)
         .open(path)?;
     if !f.metadata()?.is_file() {
-        return Err(std::io::Error::other("not a regular file"));
+        return Err(std::io::Error::other(NotRegularFile));
     }
     Ok(f)
+}
+
+/// The error of opening runtime file `path` (for `op`) without following
+/// a link: a link (`ELOOP` under `O_NOFOLLOW`) or anything but a regular
+/// file at the name is [`HalError::PlantedFile`], saying why it is
+/// refused; other failures are [`HalError::Io`].
+pub(crate) fn open_error(op: &'static str, path: &Path, e: std::io::Error) -> HalError {
+    let reason = if e.raw_os_error() == Some(libc::ELOOP) {
+        "it is a symbolic link, and runtime files are never opened through one \
+         (no HAL host makes it: remove it once you know who planted it)"
+    } else if e
+        .get_ref()
+        .is_some_and(|inner| inner.is::<NotRegularFile>())
+    {
+        "it is not a regular file (no HAL host makes it: remove it once you know who \
+         planted it)"
+    } else {
+        return HalError::io(op, path, e);
+    };
+    HalError::PlantedFile {
+        op,
+        path: path.to_path_buf(),
+        reason,
+    }
 }
 
 /// Creates a fresh log file at `path` (one left by an earlier host is

@@ -21,7 +21,7 @@ pub use dir::{ensure_runtime_dir, runtime_dir, SYSTEM_RUNTIME_DIR};
 pub use files::{bind_socket, create_log};
 pub use group::{denied, HalGroup, DEFAULT_GROUP};
 
-pub(crate) use files::{create_new, open_existing};
+pub(crate) use files::{create_new, open_error, open_existing};
 pub(crate) use group::share_fd;
 
 /// The shared-memory segment (a file in /dev/shm).

@@ -113,7 +113,7 @@ impl Segment {
             Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => {
                 return Err(paths::denied("opening shared memory segment", &path))
             }
-            Err(e) => return Err(HalError::io("opening shared memory segment", &path, e)),
+            Err(e) => return Err(paths::open_error("opening shared memory segment", &path, e)),
         };
         let len = file
             .metadata()

@@ -1,13 +1,18 @@
-//! Permissions with real users, in the VM rig (`.ci/run` runs this binary
-//! there as root, on a throw-away root filesystem): the group `hal` lets
-//! its members use instances that root or another member started, with
-//! every tool; anyone else is refused with a message naming the group;
-//! files get the group and mode 0660 whatever the umask; links planted in
-//! the runtime directory are never followed; unsafe runtime directories
-//! are refused.
+//! Permissions with real users, in the VM rig (`scripts/test-all` runs
+//! this binary there as root, with `--include-ignored`, on a throw-away
+//! root filesystem): the group `hal` lets its members use instances that
+//! root or another member started, with every tool; anyone else is
+//! refused with a message naming the group; files get the group and mode
+//! 0660 whatever the umask; links planted in the runtime directory are
+//! never followed; unsafe runtime directories are refused.
 //!
-//! Outside the rig (no `VMRIG_KERNEL`) every test says why it skips and
-//! passes: it would create users and groups on the machine.
+//! The tests create users and groups, so they are ignored elsewhere (run
+//! on purpose outside the rig, they fail saying so). They work whether or
+//! not the group `hal` exists already (installing the package creates it,
+//! and the rig shares the host's /etc): an existing group is used as it
+//! is, a missing one is created and removed again. The users are the
+//! test's own (named after the process) and removed at the end of each
+//! test, whatever its outcome.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -15,41 +20,103 @@
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::sync::Once;
+use std::sync::{Mutex, MutexGuard};
 
-/// The member, the second member and the outsider.
-const ALICE: &str = "halalice";
-const CAROL: &str = "halcarol";
-const BOB: &str = "halbob";
+/// Why the tests are ignored outside the rig.
+const RIG_ONLY: &str = "creates users and groups: runs as root in the VM rig (scripts/test-all)";
 
-fn in_rig() -> bool {
-    if std::env::var_os("VMRIG_KERNEL").is_some() && nix::unistd::geteuid().is_root() {
-        return true;
-    }
-    eprintln!("SKIPPED: creates users and groups; runs as root in the VM rig (.ci/run)");
-    false
-}
-
-fn sh(cmd: &str, args: &[&str]) {
-    let out = Command::new(cmd).args(args).output().expect(cmd);
+/// Fails the test, saying why, unless it runs as root in the rig.
+fn require_rig() {
     assert!(
-        out.status.success(),
-        "{cmd} {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
+        std::env::var_os("VMRIG_KERNEL").is_some() && nix::unistd::geteuid().is_root(),
+        "{RIG_ONLY}; not in the rig (no VMRIG_KERNEL) or not root"
     );
 }
 
-/// The group `hal`, two members and an outsider, made once per VM.
-fn users() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        sh("groupadd", &["--system", "hal"]);
-        for u in [ALICE, CAROL, BOB] {
-            sh("useradd", &["--no-create-home", "--shell", "/bin/sh", u]);
+/// Runs `cmd args`; its failure, with what it said.
+fn try_sh(cmd: &str, args: &[&str]) -> Result<(), String> {
+    let out = Command::new(cmd)
+        .args(args)
+        .output()
+        .map_err(|e| format!("{cmd}: {e}"))?;
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{cmd} {args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ))
+    }
+}
+
+fn sh(cmd: &str, args: &[&str]) {
+    if let Err(e) = try_sh(cmd, args) {
+        panic!("{e}");
+    }
+}
+
+fn group_exists(name: &str) -> bool {
+    nix::unistd::Group::from_name(name).ok().flatten().is_some()
+}
+
+/// The group `hal` (made if missing), two members and an outsider of this
+/// test's own, for one test at a time (they share `/run/hal` and the
+/// group). Dropping it removes the users, and the group if it made it.
+struct Users {
+    /// The member, the second member and the outsider.
+    alice: String,
+    carol: String,
+    bob: String,
+    made_group: bool,
+    made: Vec<String>,
+    _one_at_a_time: MutexGuard<'static, ()>,
+}
+
+impl Users {
+    fn new(tag: &str) -> Users {
+        static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+        // A test that failed while holding it left nothing shared behind
+        // (its users are gone): go on.
+        let guard = ONE_AT_A_TIME
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let pid = std::process::id();
+        let name = |role: &str| format!("h{pid}{tag}{role}");
+        let mut users = Users {
+            alice: name("a"),
+            carol: name("c"),
+            bob: name("b"),
+            made_group: false,
+            made: Vec::new(),
+            _one_at_a_time: guard,
+        };
+        if !group_exists("hal") {
+            sh("groupadd", &["--system", "hal"]);
+            users.made_group = true;
         }
-        sh("usermod", &["-aG", "hal", ALICE]);
-        sh("usermod", &["-aG", "hal", CAROL]);
-    });
+        for u in [users.alice.clone(), users.carol.clone(), users.bob.clone()] {
+            sh("useradd", &["--no-create-home", "--shell", "/bin/sh", &u]);
+            users.made.push(u);
+        }
+        sh("usermod", &["-aG", "hal", &users.alice]);
+        sh("usermod", &["-aG", "hal", &users.carol]);
+        users
+    }
+}
+
+impl Drop for Users {
+    fn drop(&mut self) {
+        let mut failed = Vec::new();
+        for u in &self.made {
+            failed.extend(try_sh("userdel", &[u]).err());
+        }
+        if self.made_group {
+            failed.extend(try_sh("groupdel", &["hal"]).err());
+        }
+        if !failed.is_empty() && !std::thread::panicking() {
+            panic!("cleaning up: {}", failed.join("; "));
+        }
+    }
 }
 
 fn bin(name: &str) -> PathBuf {
@@ -130,11 +197,15 @@ fn runtime_files(instance: &str) -> Vec<PathBuf> {
 }
 
 #[test]
+#[ignore = "creates users and groups: runs as root in the VM rig (scripts/test-all)"]
 fn members_share_instances_and_others_are_told_how_to_join() {
-    if !in_rig() {
-        return;
-    }
-    users();
+    require_rig();
+    let users = Users::new("m");
+    let (alice, carol, bob) = (
+        Some(users.alice.as_str()),
+        Some(users.carol.as_str()),
+        Some(users.bob.as_str()),
+    );
     let hal = gid_of("hal");
 
     // Root starts an instance under a tight umask: everything is root:hal
@@ -155,13 +226,13 @@ fn members_share_instances_and_others_are_told_how_to_join() {
 
     // A member uses it with every tool.
     let show = ok(
-        &as_user(Some(ALICE), "022", root_inst, "halcmd", &["show", "pin"]),
+        &as_user(alice, "022", root_inst, "halcmd", &["show", "pin"]),
         "member show",
     );
     assert!(show.contains("and2.0.out"), "{show}");
     ok(
         &as_user(
-            Some(ALICE),
+            alice,
             "022",
             root_inst,
             "halcmd",
@@ -170,12 +241,12 @@ fn members_share_instances_and_others_are_told_how_to_join() {
         "member setp",
     );
     ok(
-        &as_user(Some(ALICE), "022", root_inst, "halcmd", &["loadrt", "or2"]),
+        &as_user(alice, "022", root_inst, "halcmd", &["loadrt", "or2"]),
         "member loadrt (through the socket)",
     );
     let meter = ok(
         &as_user(
-            Some(ALICE),
+            alice,
             "022",
             root_inst,
             "halmeter",
@@ -185,7 +256,7 @@ fn members_share_instances_and_others_are_told_how_to_join() {
     );
     assert_eq!(meter, "and2.0.in0 = TRUE\n");
     ok(
-        &as_user(Some(ALICE), "022", root_inst, "realtime", &["status"]),
+        &as_user(alice, "022", root_inst, "realtime", &["status"]),
         "member status",
     );
 
@@ -195,16 +266,16 @@ fn members_share_instances_and_others_are_told_how_to_join() {
         ("halmeter", &["-n", "1", "pin", "and2.0.in0"][..]),
         ("realtime", &["stop"][..]),
     ] {
-        let err = refused(&as_user(Some(BOB), "022", root_inst, tool, args), tool);
+        let err = refused(&as_user(bob, "022", root_inst, tool, args), tool);
         assert!(
-            err.contains("group 'hal'") && err.contains(&format!("usermod -aG hal {BOB}")),
+            err.contains("group 'hal'") && err.contains(&format!("usermod -aG hal {}", users.bob)),
             "{tool}: {err}"
         );
     }
 
     // A member stops root's instance; everything is released.
     ok(
-        &as_user(Some(ALICE), "022", root_inst, "realtime", &["stop"]),
+        &as_user(alice, "022", root_inst, "realtime", &["stop"]),
         "member stop",
     );
     // (The log stays, for what the host said.)
@@ -219,20 +290,19 @@ fn members_share_instances_and_others_are_told_how_to_join() {
     // 0660 in /run/hal, so root and the other member use it.
     let member_inst = "perm-alice";
     ok(
-        &as_user(Some(ALICE), "077", member_inst, "realtime", &["start"]),
+        &as_user(alice, "077", member_inst, "realtime", &["start"]),
         "member start",
     );
     for f in runtime_files(member_inst) {
-        assert_eq!(owner(&f), (uid_of(ALICE), hal, 0o660), "{}", f.display());
+        assert_eq!(
+            owner(&f),
+            (uid_of(&users.alice), hal, 0o660),
+            "{}",
+            f.display()
+        );
     }
     ok(
-        &as_user(
-            Some(CAROL),
-            "022",
-            member_inst,
-            "halcmd",
-            &["loadrt", "not"],
-        ),
+        &as_user(carol, "022", member_inst, "halcmd", &["loadrt", "not"]),
         "other member loadrt",
     );
     ok(
@@ -240,22 +310,21 @@ fn members_share_instances_and_others_are_told_how_to_join() {
         "root show",
     );
     let err = refused(
-        &as_user(Some(BOB), "022", member_inst, "halcmd", &["show"]),
+        &as_user(bob, "022", member_inst, "halcmd", &["show"]),
         "outsider on a member's instance",
     );
     assert!(err.contains("group 'hal'"), "{err}");
     ok(
-        &as_user(Some(CAROL), "022", member_inst, "realtime", &["stop"]),
+        &as_user(carol, "022", member_inst, "realtime", &["stop"]),
         "other member stop",
     );
 }
 
 #[test]
+#[ignore = "creates users and groups: runs as root in the VM rig (scripts/test-all)"]
 fn planted_links_are_not_followed_and_unsafe_directories_are_refused() {
-    if !in_rig() {
-        return;
-    }
-    users();
+    require_rig();
+    let users = Users::new("p");
     // Make sure /run/hal exists (a root host creates it).
     ok(
         &as_user(None, "022", "perm-warm", "realtime", &["restart"]),
@@ -274,7 +343,15 @@ fn planted_links_are_not_followed_and_unsafe_directories_are_refused() {
     let plant = |name: &str| {
         sh(
             "runuser",
-            &["-u", ALICE, "--", "ln", "-s", "/root/hal-victim", name],
+            &[
+                "-u",
+                &users.alice,
+                "--",
+                "ln",
+                "-s",
+                "/root/hal-victim",
+                name,
+            ],
         )
     };
     plant(&format!("/run/hal/hal-{log_inst}.log"));
@@ -298,7 +375,11 @@ fn planted_links_are_not_followed_and_unsafe_directories_are_refused() {
         &as_user(None, "022", lock_inst, "realtime", &["start"]),
         "start through a planted lock link",
     );
-    assert!(err.contains("lock"), "{err}");
+    let lock = format!("/run/hal/hal-{lock_inst}.lock");
+    assert!(
+        err.contains(&lock) && err.contains("symbolic link"),
+        "{err}"
+    );
     assert_eq!(std::fs::read_to_string(victim).unwrap(), "precious\n");
     assert_eq!(
         owner(victim),
@@ -341,9 +422,22 @@ fn planted_links_are_not_followed_and_unsafe_directories_are_refused() {
     ok(&out, "start without the group");
     assert_eq!(owner(Path::new("/dev/shm/hal-perm-nogroup")).2, 0o600);
     let err = refused(
-        &as_user(Some(ALICE), "022", "perm-nogroup", "halcmd", &["show"]),
+        &as_user(
+            Some(users.alice.as_str()),
+            "022",
+            "perm-nogroup",
+            "halcmd",
+            &["show"],
+        ),
         "a member on a private instance",
     );
     assert!(err.contains("not to the group 'hal'"), "{err}");
     ok(&start("stop"), "stop");
+
+    for f in [victim, Path::new(&lock)] {
+        std::fs::remove_file(f).unwrap();
+    }
+    for d in [open, private] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
 }

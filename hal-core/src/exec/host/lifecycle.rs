@@ -39,11 +39,13 @@ impl Host {
         let mut notes = Vec::new();
         let seg_path = paths::segment(&config.instance);
         if std::fs::symlink_metadata(&seg_path).is_ok() {
-            // We hold the lock, so whoever made this is gone.
+            // We hold the lock, so whoever made this is gone (a host that
+            // died), or it was planted: either way it is removed (a link
+            // itself, never what it names), not used.
             std::fs::remove_file(&seg_path)
                 .map_err(|e| HalError::io("removing stale segment", &seg_path, e))?;
             notes.push(format!(
-                "reclaimed segment {} left by a host that died",
+                "reclaimed segment {} (left by a host that died, or planted there)",
                 seg_path.display()
             ));
         }
