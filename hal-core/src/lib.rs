@@ -17,6 +17,7 @@
 
 mod error;
 mod exec;
+pub mod files;
 pub mod handles;
 mod hosted;
 pub mod module;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 use crate::error::{HalError, Result};
 
 /// A flag set by SIGTERM, SIGINT or SIGHUP.
-#[derive(Clone)]
+#[derive(Clone, Debug)]
 pub struct ExitSignals {
     flag: Arc<AtomicBool>,
 }
@@ -33,6 +33,19 @@ impl ExitSignals {
             })?;
         }
         Ok(ExitSignals { flag })
+    }
+
+    /// A flag no signal sets: stopped only by [`request`](Self::request)
+    /// (a caller's own stop, tests).
+    pub fn unarmed() -> ExitSignals {
+        ExitSignals {
+            flag: Arc::new(AtomicBool::new(false)),
+        }
+    }
+
+    /// Sets the flag, as a signal would.
+    pub fn request(&self) {
+        self.flag.store(true, Relaxed);
     }
 
     /// Whether an exit was requested.

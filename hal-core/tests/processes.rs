@@ -1,4 +1,8 @@
 //! Several processes on one instance.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
 
 mod common;
 
@@ -226,4 +230,78 @@ fn a_dead_owners_component_is_reaped_on_request_and_a_live_one_is_not() {
     let again = other.new_component("again", ComponentKind::User).unwrap();
     assert!(inst.reap_dead_components().unwrap().is_empty());
     assert_eq!(again.name(), "again");
+}
+
+/// Writes `bytes` at `offset` of the instance's segment file, as a stray
+/// process of the group could.
+fn scribble(instance: &str, offset: u64, bytes: &[u8]) {
+    use std::os::unix::fs::FileExt;
+    let f = std::fs::OpenOptions::new()
+        .write(true)
+        .open(hal_core::paths::segment(instance))
+        .unwrap();
+    f.write_all_at(bytes, offset).unwrap();
+}
+
+#[test]
+fn a_lock_word_naming_an_impossible_owner_is_recovered() {
+    let host = host("lockword");
+    let inst = host.instance().clone();
+    inst.newsig("before", HalType::Bit).unwrap();
+    // The lock word sits at offset 64 of the segment. 0x55 names thread
+    // 85 (none, or a kernel thread, or a process without the segment);
+    // 0x3fffffff a thread id above any pid_max; 0x80000055 thread 85 with
+    // the waiters bit set.
+    for (i, word) in [0x55u32, 0x3fff_ffff, 0x8000_0055].into_iter().enumerate() {
+        scribble(inst.name(), 64, &word.to_le_bytes());
+        let t = Instant::now();
+        inst.newsig(&format!("after-{i}"), HalType::Bit).unwrap();
+        let waited = t.elapsed();
+        // STALE_AFTER (1 s) plus the checks; far below "forever".
+        assert!(waited < Duration::from_secs(10), "waited {waited:?}");
+        assert!(
+            waited >= Duration::from_millis(900),
+            "recovered before the word was seen unchanged for a second: {waited:?}"
+        );
+    }
+    let names: Vec<_> = inst
+        .signals()
+        .unwrap()
+        .into_iter()
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(names, ["after-0", "after-1", "after-2", "before"]);
+    // Unharmed afterwards: no more waiting.
+    let t = Instant::now();
+    inst.newsig("quick", HalType::Bit).unwrap();
+    assert!(t.elapsed() < Duration::from_millis(500));
+}
+
+#[test]
+fn a_live_holder_is_never_robbed_of_the_lock() {
+    if let Some((role, name)) = child_role() {
+        if role == "stall" {
+            let inst = Instance::attach(&name).unwrap();
+            let _ = inst.debug_stall_mid_change("half-made", Duration::from_secs(4));
+        }
+        return;
+    }
+    let host = host("liveholder");
+    let inst = host.instance().clone();
+    let mut child = spawn_child(
+        "a_live_holder_is_never_robbed_of_the_lock",
+        "stall",
+        inst.name(),
+    );
+    std::thread::sleep(Duration::from_millis(500));
+    let t = Instant::now();
+    let sigs = inst.signals().unwrap();
+    // The holder gave up its change after 4 s; only then did we get in.
+    assert!(
+        t.elapsed() >= Duration::from_millis(2500),
+        "{:?}",
+        t.elapsed()
+    );
+    assert!(sigs.is_empty(), "the abandoned change was rolled back");
+    assert!(child.wait().unwrap().success());
 }

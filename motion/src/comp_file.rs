@@ -201,13 +201,16 @@ pub fn parse_comp(
     Ok(entries)
 }
 
-/// Reads and parses the compensation file at `path`.
+/// Reads and parses the compensation file at `path`: a regular file of
+/// at most [`limits::COMP`](hal_core::files::limits::COMP) bytes.
 pub fn read_comp_file(path: &Path, kind: CompFileType) -> Result<Vec<CompEntry>, CompFileError> {
+    use hal_core::files::{limits, read_user_file};
     let name = path.display().to_string();
-    let text = std::fs::read(path).map_err(|source| CompFileError::Io {
-        file: name.clone(),
-        source,
-    })?;
+    let text =
+        read_user_file(path, limits::COMP, "compensation file").map_err(|e| CompFileError::Io {
+            file: name.clone(),
+            source: e.into(),
+        })?;
     parse_comp(&name, &text, kind)
 }
 

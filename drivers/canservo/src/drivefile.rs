@@ -20,7 +20,6 @@
 //! the line.
 
 use std::fmt;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
@@ -28,7 +27,7 @@ use crate::regs::describe_object;
 use crate::sdo::SdoClient;
 
 /// The longest drive file read (a real one is a few dozen lines).
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
+pub const MAX_FILE_BYTES: u64 = hal_core::files::limits::DRIVE;
 
 /// The type of an SDO value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -221,23 +220,15 @@ impl DriveFile {
             path: path.to_path_buf(),
             source,
         };
-        let file = std::fs::File::open(path).map_err(io_error)?;
-        if !file.metadata().map_err(io_error)?.is_file() {
-            return Err(io_error(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "not a regular file",
-            )));
-        }
-        let mut text = String::new();
-        file.take(MAX_FILE_BYTES + 1)
-            .read_to_string(&mut text)
-            .map_err(io_error)?;
-        if text.len() as u64 > MAX_FILE_BYTES {
-            return Err(io_error(std::io::Error::new(
+        // Never blocks on a fifo, never reads a device or past the limit.
+        let bytes = hal_core::files::read_user_file(path, MAX_FILE_BYTES, "drive file")
+            .map_err(|e| io_error(e.into()))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            io_error(std::io::Error::new(
                 std::io::ErrorKind::InvalidData,
-                format!("longer than {MAX_FILE_BYTES} bytes"),
-            )));
-        }
+                format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            ))
+        })?;
         DriveFile::parse(path, &text)
     }
 
@@ -384,7 +375,8 @@ mod tests {
         let e = DriveFile::load(Path::new("/dev/zero")).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "drive file /dev/zero: not a regular file",
+            "drive file /dev/zero: is a character device, not a regular file \
+             (only regular files are read)",
             "a device is refused before it is read"
         );
         let e = DriveFile::load(Path::new("/nonexistent/drive.sdo")).unwrap_err();

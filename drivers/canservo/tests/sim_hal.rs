@@ -149,6 +149,115 @@ fn unload_quick_stops_and_disables() {
     assert_eq!(state, hal_canservo::power::PowerState::SwitchOnDisabled);
 }
 
+/// A drive file that makes a drive hold in quick stop active once it has
+/// stopped (option code 6), as many drives do: only disable voltage
+/// takes its power stage off.
+fn holding_drive_file(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("canservo-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("hold.sdo");
+    std::fs::write(&file, "605A:00 i16 6\n").unwrap();
+    file
+}
+
+/// Three holding drives, loaded, enabled and running.
+fn three_enabled_holding_drives(host: &Host, tag: &str) -> Arc<SimBus> {
+    let f = holding_drive_file(tag).display().to_string();
+    host.loadrt(
+        &MODULE,
+        &[
+            "backend=sim",
+            "nodes=1,2,3",
+            &format!("drive_file={f},{f},{f}"),
+        ],
+    )
+    .unwrap();
+    let bus = sim_bus(host);
+    start(host);
+    for d in 0..3 {
+        set(host, &format!("canservo.{d}.enable"), Value::Bit(true));
+    }
+    wait("enabled", || {
+        (0..3).all(|d| pin(host, &format!("canservo.{d}.enabled")) == Value::Bit(true))
+    });
+    bus
+}
+
+/// The log's text once it holds `needle` (the log's thread may lag a
+/// moment behind), or after 5 s.
+fn log_with(host: &Host, needle: &str) -> String {
+    let end = Instant::now() + Duration::from_secs(5);
+    loop {
+        let text = host
+            .rt_log()
+            .history()
+            .into_iter()
+            .map(|(_, t)| t)
+            .collect::<Vec<_>>()
+            .join("\n");
+        if text.contains(needle) || Instant::now() > end {
+            return text;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn unload_disables_every_drive_through_a_full_transmit_queue() {
+    let host = host("cs-txfull");
+    let bus = three_enabled_holding_drives(&host, "txfull");
+    host.stop();
+    // Two frames in flight at most, each a millisecond on the wire: the
+    // quick-stop rounds (three RPDOs and SYNC) no longer fit, and neither
+    // do the disable-voltage rounds without waiting for room.
+    bus.set_latency(1_000_000);
+    bus.set_tx_limit(2);
+    host.unloadrt("canservo").unwrap();
+    for node in 1..=3 {
+        let (state, cw) = bus
+            .with_drive(node, |d, _| (d.power_state(), d.controlword()))
+            .unwrap();
+        assert_eq!(
+            (state, cw),
+            (hal_canservo::power::PowerState::SwitchOnDisabled, 0),
+            "node {node}"
+        );
+    }
+    let log = log_with(&host, "every drive confirmed disable voltage");
+    assert!(
+        log.contains("every drive confirmed disable voltage") && !log.contains("not confirmed"),
+        "{log}"
+    );
+}
+
+#[test]
+fn a_drive_that_never_confirms_disable_voltage_is_named() {
+    let host = host("cs-mute");
+    let bus = three_enabled_holding_drives(&host, "mute");
+    host.stop();
+    bus.with_drive(2, |d, out| d.inject(Injection::Mute, out));
+    let began = Instant::now();
+    host.unloadrt("canservo").unwrap();
+    let took = began.elapsed();
+    assert!(took < Duration::from_secs(8), "unload took {took:?}");
+    let log = log_with(&host, "canservo.1 (node 2): disable voltage not confirmed");
+    assert!(
+        log.contains(
+            "canservo.1 (node 2): disable voltage not confirmed within 2.0 s \
+             (it sent no statusword after it); the drive may still be powered"
+        ),
+        "{log}"
+    );
+    assert!(
+        !log.contains("canservo.0 (node 1): disable voltage not"),
+        "{log}"
+    );
+    assert!(
+        !log.contains("canservo.2 (node 3): disable voltage not"),
+        "{log}"
+    );
+}
+
 #[test]
 fn homing_through_the_home_pin() {
     let host = host("cs-home");

@@ -73,6 +73,8 @@ fn every_pin_has_linuxcnc_name_type_and_direction() {
     add("freq-cmd", "float", PinDir::Out);
     add("at-speed", "bit", PinDir::Out);
     add("modbus-errors", "u32", PinDir::Out);
+    // LinuxCNC 2.10 added it beside the float fault-info.
+    add("fault-info-code", "u32", PinDir::Out);
     for n in [
         "freq-fb",
         "dc-bus-voltage",
@@ -129,6 +131,7 @@ fn runs_to_speed_and_reports_every_reading() {
     assert_eq!(r.float("output-voltage"), 110.0);
     assert!(r.float("output-current") > 0.0 && r.float("output-power") > 0.0);
     assert_eq!(r.float("fault-info"), 0.0);
+    assert_eq!(r.get("fault-info-code"), Value::U32(0));
     assert!(r.bit("modbus-ok") && !r.bit("fault"));
     assert_eq!(r.get("modbus-errors"), Value::U32(0));
     assert_eq!(lock(&r.sim).model().command(), RunCommand::Forward);
@@ -185,6 +188,7 @@ fn a_drive_fault_raises_the_fault_pin_until_it_clears() {
     lock(&r.sim).model_mut().trip(17);
     r.cycle();
     assert_eq!(r.float("fault-info"), 17.0);
+    assert_eq!(r.get("fault-info-code"), Value::U32(17));
     assert!(r.bit("fault") && r.bit("modbus-ok"));
     assert!(!r.bit("at-speed"), "the spindle coasts");
     r.cycles(2);

@@ -67,3 +67,43 @@ fn the_spindle_vfd_config_runs_without_hardware() {
     hal_lang::host_process::stop_host(&name, Duration::from_secs(20)).unwrap();
     host.join().unwrap();
 }
+
+/// A HAL file written for LinuxCNC 2.10 nets hy_gt_vfd's
+/// `fault-info-code` (u32) beside `fault-info` (float): it loads, and
+/// both carry register 0x5000.
+#[test]
+fn a_hal_file_netting_the_gt_fault_code_loads() {
+    let mut cfg = HostConfig::for_tests("gt-fault-code");
+    cfg.shm_size = 8 << 20;
+    let name = cfg.instance.clone();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let host = std::thread::spawn(move || {
+        hal_host::serve(cfg, move || {
+            let _ = tx.send(());
+        })
+        .expect("the host serves");
+    });
+    rx.recv_timeout(Duration::from_secs(60))
+        .expect("host ready");
+    let inst = Instance::attach(&name).unwrap();
+    let text = "\
+loadusr -Wn gt hy_gt_vfd -n gt -d sim -S 24000 -F 400 -f 120
+net vfd-fault-code gt.fault-info-code
+net vfd-fault-info gt.fault-info
+";
+    let (mut out, mut err) = (Vec::new(), Vec::new());
+    let ok = {
+        let mut session = hal_lang::Session::new(
+            inst.clone(),
+            hal_lang::Options::default(),
+            &mut out,
+            &mut err,
+        );
+        session.run_text(Some("gt.hal"), text)
+    };
+    assert!(ok, "{}", String::from_utf8_lossy(&err));
+    assert_eq!(inst.signal_value("vfd-fault-code").unwrap(), Value::U32(0));
+    drop(inst);
+    hal_lang::host_process::stop_host(&name, Duration::from_secs(20)).unwrap();
+    host.join().unwrap();
+}

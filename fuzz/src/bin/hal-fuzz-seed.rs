@@ -4,13 +4,17 @@
 //! the LinuxCNC-style inputs written below. Files a fuzzer found bugs
 //! with (`regression-*`) are kept as they are.
 //!
-//!     cargo run -p hal-fuzz --bin hal-fuzz-seed -- --write [GOLDEN_DIR]
+//!     cargo run -p hal-fuzz --bin hal-fuzz-seed -- --write [GOLDEN_DIR] [--corpus-dir DIR]
 //!
-//! It rewrites files in the source tree, so it does nothing without
-//! `--write`.
+//! It rewrites files in the source tree (or under `--corpus-dir`), so it
+//! does nothing without `--write`. What it could not read or write is an
+//! error with the file; a closed standard output only silences the
+//! summary.
 
 use std::collections::BTreeMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 use hal_fuzz::corpus;
 use hal_lang::lexer::logical_lines;
@@ -180,28 +184,136 @@ const STYLE_STREAM: &[&str] = &[
     "b\n0\n1\n2\n # indented comment\n1 trailing words\n",
 ];
 
-// Long on purpose: gathers every target's seeds (HAL files, their lines,
-// loadrt words, streamer inputs) into one map, then rewrites the corpus
-// from it; the gathering blocks share that map.
-fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("workspace root")
-        .to_path_buf();
+const USAGE: &str = "usage: hal-fuzz-seed --write [GOLDEN_DIR] [--corpus-dir DIR]
+rewrites the seed files of fuzz/corpus/ in the source tree (or under DIR)
+(GOLDEN_DIR: ../shared/golden beside the checkout)";
+
+/// Seeds per target: file name and bytes.
+type Seeds = BTreeMap<&'static str, BTreeMap<String, Vec<u8>>>;
+
+/// What stopped the seeds from being written.
+#[derive(Debug, thiserror::Error)]
+enum SeedError {
+    #[error("no golden cases under {} (give their directory as the argument)", .0.display())]
+    NoGoldenCases(PathBuf),
+    #[error("{action} {}", path.display())]
+    File {
+        action: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl SeedError {
+    fn file(action: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> Self {
+        let path = path.to_path_buf();
+        move |source| Self::File {
+            action,
+            path,
+            source,
+        }
+    }
+}
+
+/// What the command line asks for.
+struct Request {
+    golden: PathBuf,
+    corpus: Option<PathBuf>,
+}
+
+fn parse_args(root: &Path) -> Option<Request> {
     let mut args = std::env::args_os().skip(1);
     if args.next().is_none_or(|a| a != "--write") {
-        eprintln!(
-            "usage: hal-fuzz-seed --write [GOLDEN_DIR]\n\
-             rewrites the seed files of fuzz/corpus/ in the source tree \
-             (GOLDEN_DIR: ../shared/golden beside the checkout)"
-        );
-        std::process::exit(2);
+        return None;
     }
-    let golden = args
-        .next()
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("../shared/golden"));
-    let mut seeds: BTreeMap<&str, BTreeMap<String, Vec<u8>>> = BTreeMap::new();
+    let mut golden = None;
+    let mut corpus = None;
+    while let Some(a) = args.next() {
+        if a == "--corpus-dir" {
+            corpus = Some(PathBuf::from(args.next()?));
+        } else if golden.is_none() && !a.to_string_lossy().starts_with('-') {
+            golden = Some(PathBuf::from(a));
+        } else {
+            return None;
+        }
+    }
+    Some(Request {
+        golden: golden.unwrap_or_else(|| root.join("../shared/golden")),
+        corpus,
+    })
+}
+
+fn main() -> ExitCode {
+    let Some(root) = Path::new(env!("CARGO_MANIFEST_DIR")).parent() else {
+        eprintln!(
+            "hal-fuzz-seed: no workspace root above {}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        return ExitCode::from(1);
+    };
+    let Some(req) = parse_args(root) else {
+        eprintln!("{USAGE}");
+        return ExitCode::from(2);
+    };
+    let written =
+        gather(root, &req.golden).and_then(|seeds| write_seeds(&seeds, req.corpus.as_deref()));
+    let counts = match written {
+        Ok(c) => c,
+        Err(e) => {
+            match std::error::Error::source(&e) {
+                Some(cause) => eprintln!("hal-fuzz-seed: {e}: {cause}"),
+                None => eprintln!("hal-fuzz-seed: {e}"),
+            }
+            return ExitCode::from(1);
+        }
+    };
+    // The summary is only for reading: a closed stdout ends it quietly.
+    let mut out = std::io::stdout().lock();
+    for (target, n) in counts {
+        if writeln!(out, "{target}: {n} seeds").is_err() {
+            break;
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+/// Rewrites each target's seed files (those with a seed prefix) in its
+/// corpus directory (under `corpus_root`, else the crate's); the number
+/// written per target.
+fn write_seeds(
+    seeds: &Seeds,
+    corpus_root: Option<&Path>,
+) -> Result<Vec<(String, usize)>, SeedError> {
+    let mut counts = Vec::new();
+    for (target, files) in seeds {
+        let dir = match corpus_root {
+            Some(r) => r.join(target),
+            None => corpus::dir(target),
+        };
+        std::fs::create_dir_all(&dir).map_err(SeedError::file("creating", &dir))?;
+        let old = std::fs::read_dir(&dir).map_err(SeedError::file("listing", &dir))?;
+        for old in old.flatten() {
+            let n = old.file_name().to_string_lossy().into_owned();
+            if SEED_PREFIXES.iter().any(|p| n.starts_with(p)) {
+                let path = old.path();
+                std::fs::remove_file(&path).map_err(SeedError::file("removing", &path))?;
+            }
+        }
+        for (name, bytes) in files {
+            let p = dir.join(name);
+            std::fs::write(&p, bytes).map_err(SeedError::file("writing", &p))?;
+        }
+        counts.push((target.to_string(), files.len()));
+    }
+    Ok(counts)
+}
+
+// Long on purpose: gathers every target's seeds (HAL files, their lines,
+// loadrt words, streamer inputs) into one map; the gathering blocks share
+// that map.
+fn gather(root: &Path, golden: &Path) -> Result<Seeds, SeedError> {
+    let mut seeds: Seeds = BTreeMap::new();
     let mut add = |target: &'static str, name: String, bytes: Vec<u8>| {
         let files = seeds.entry(target).or_default();
         if !files.values().any(|b| *b == bytes) {
@@ -212,7 +324,7 @@ fn main() {
     // (corpus name, text, the streamer input beside it)
     let mut hal_files: Vec<(String, String, Option<Vec<u8>>)> = Vec::new();
     for (prefix, dir) in [
-        ("golden", golden.clone()),
+        ("golden", golden.to_path_buf()),
         ("e2e", root.join("tests")),
         ("config", root.join("configs")),
     ] {
@@ -222,18 +334,13 @@ fn main() {
                 "{prefix}-{}",
                 rel.with_extension("").to_string_lossy().replace('/', "-")
             );
-            let text = std::fs::read_to_string(&path)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let text = std::fs::read_to_string(&path).map_err(SeedError::file("reading", &path))?;
             let input = std::fs::read(path.with_file_name("input")).ok();
             hal_files.push((name, text, input));
         }
     }
     if !hal_files.iter().any(|(n, _, _)| n.starts_with("golden-")) {
-        eprintln!(
-            "hal-fuzz-seed: no golden cases under {} (give their directory as the argument)",
-            golden.display()
-        );
-        std::process::exit(1);
+        return Err(SeedError::NoGoldenCases(golden.to_path_buf()));
     }
     for (i, text) in STYLE_HAL.iter().enumerate() {
         hal_files.push((format!("style-{i}"), text.to_string(), None));
@@ -296,20 +403,7 @@ fn main() {
         );
     }
 
-    for (target, files) in &seeds {
-        let dir = corpus::dir(target);
-        std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-        for old in std::fs::read_dir(&dir).expect("corpus dir").flatten() {
-            let n = old.file_name().to_string_lossy().into_owned();
-            if SEED_PREFIXES.iter().any(|p| n.starts_with(p)) {
-                std::fs::remove_file(old.path()).expect("remove old seed");
-            }
-        }
-        for (name, bytes) in files {
-            std::fs::write(dir.join(name), bytes).expect("write seed");
-        }
-        println!("{target}: {} seeds", files.len());
-    }
+    Ok(seeds)
 }
 
 /// `*.hal` files under `dir`, sorted, at any depth.

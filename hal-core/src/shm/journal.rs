@@ -25,7 +25,7 @@ impl Segment {
     /// if it returns `Err` or panics.
     pub(crate) fn transaction<T>(&self, f: impl FnOnce(&mut Txn<'_>) -> Result<T>) -> Result<T> {
         let h = self.header();
-        match h.mutex.lock() {
+        match h.mutex.lock(self) {
             Ok(Acquired::Clean) => {
                 // A holder that died after a previous EOWNERDEAD recovery
                 // cannot leave entries behind, but be defensive anyway.

@@ -6,6 +6,7 @@ mod alloc;
 mod journal;
 mod layout;
 mod mutex;
+mod owner;
 mod segment;
 
 pub(crate) use alloc::BlockKind;

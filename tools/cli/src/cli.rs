@@ -1,6 +1,6 @@
 //! Command-line handling shared by `halcmd` and `halrun`.
 
-use std::io::{BufRead, IsTerminal, Write};
+use std::io::{IsTerminal, Write};
 
 use hal_core::Instance;
 use hal_lang::ini::Ini;
@@ -128,6 +128,10 @@ pub fn run_halcmd(inst: Instance, args: HalcmdArgs, interactive_after: bool) -> 
     }
 }
 
+/// The longest command read from standard input, continuation lines
+/// included.
+const LINE_LIMIT: usize = 1 << 20;
+
 /// Reads commands from stdin until EOF or `quit`, with a prompt when
 /// `prompt` and stdin is a terminal. Returns false if a command failed.
 pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
@@ -141,7 +145,7 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
             let _ = std::io::stdout().flush();
         }
         let mut line = Vec::new();
-        match stdin.lock().read_until(b'\n', &mut line) {
+        match hal_core::files::read_line_within(&mut stdin.lock(), &mut line, LINE_LIMIT) {
             Ok(0) => break,
             Ok(_) => {}
             Err(e) => {
@@ -151,6 +155,13 @@ pub fn interactive(session: &mut Session<'_>, prompt: bool) -> bool {
             }
         }
         pending.push_str(&hal_text(&line));
+        if pending.len() > LINE_LIMIT {
+            eprintln!(
+                "halcmd: reading standard input: a command continued past the limit of 1 MiB"
+            );
+            ok = false;
+            break;
+        }
         if pending.trim_end_matches('\n').ends_with('\\') {
             continue;
         }

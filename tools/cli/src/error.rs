@@ -58,6 +58,14 @@ pub enum ToolsError {
         #[source]
         source: motion::ClientError,
     },
+    /// A command refused because task runs the machine.
+    #[error("refused: a task runs the machine on instance '{instance}': {why}")]
+    TaskOwns {
+        /// The instance.
+        instance: String,
+        /// Why, and what to do instead.
+        why: String,
+    },
     /// A joint the status has no entry for.
     #[error("joint {joint} does not exist (there are {count})")]
     NoSuchJoint {

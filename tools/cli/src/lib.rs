@@ -18,9 +18,12 @@
 
 pub mod cli;
 mod error;
+pub mod gcode_check;
+pub mod gcode_task;
 pub mod meter;
 pub mod motion_queue_args;
 pub mod stdio;
+pub mod task_gate;
 pub mod tool_args;
 
 pub use error::ToolsError;

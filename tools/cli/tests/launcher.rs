@@ -155,44 +155,135 @@ fn a_missing_hal_file_and_a_bad_ini_value_are_named() {
     );
 }
 
-#[test]
-fn a_random_tool_changer_swaps_pockets_and_saves_its_table() {
-    let s = Scratch::new("random");
-    s.write(
-        "tools.tbl",
-        "T5 P0 ;in the spindle\nT7 P12 ;drill\nT8 P3 Zbad\n",
-    );
-    let ini = s.write(
-        "r.ini",
-        "[EMC]\nMACHINE = changer\n[EMCIO]\nTOOL_TABLE = tools.tbl\nRANDOM_TOOLCHANGER = 1\n\
-         [HAL]\nHALFILE = io.hal\n",
-    );
+/// A random-changer machine on `table` (bytes of `tools.tbl`), with
+/// tool-prepared looped back and tool-changed left to the test.
+fn changer(s: &Scratch, table: &[u8]) -> std::path::PathBuf {
+    std::fs::write(s.0.join("tools.tbl"), table).unwrap();
     s.write(
         "io.hal",
         "loadrt threads name1=servo-thread period1=1000000\n\
          net estop iocontrol.0.user-enable-out => iocontrol.0.emc-enable-in\n\
          net prep iocontrol.0.tool-prepare => iocontrol.0.tool-prepared\n",
     );
-    let m = Machine::start(&ini, "random");
-    let needle = "tools.tbl:3: line skipped: 'Zbad': Z needs a number";
-    assert!(m.stderr_with(needle).contains(needle));
-    assert_eq!(m.getp("iocontrol.0.tool-number"), "5");
-    m.task_ok(&["estop-reset"]);
-    m.task_ok(&["machine-on"]);
+    s.write(
+        "r.ini",
+        "[EMC]\nMACHINE = changer\n[EMCIO]\nTOOL_TABLE = tools.tbl\nRANDOM_TOOLCHANGER = 1\n\
+         [HAL]\nHALFILE = io.hal\n",
+    )
+}
+
+/// Changes to `tool` on a changer machine, completing the handshake;
+/// `pocket` is the pocket it must be prepared from.
+fn change_tool(m: &Machine, tool: &str, pocket: &str) {
     // tool-changed is not looped back: the change waits for it.
-    let (ok, _, err) = m.task(&["-t", "0.5", "tool-change", "7"]);
+    let (ok, _, err) = m.task(&["-t", "0.5", "tool-change", tool]);
     assert!(!ok && err.contains("no answer within"), "{err}");
-    assert_eq!(m.getp("iocontrol.0.tool-prep-pocket"), "12");
+    assert_eq!(m.getp("iocontrol.0.tool-prep-pocket"), pocket);
     assert_eq!(m.getp("iocontrol.0.tool-change"), "TRUE");
     m.halcmd(&["setp", "iocontrol.0.tool-changed", "1"]);
     let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
-    while m.getp("iocontrol.0.tool-number") != "7" {
+    while m.getp("iocontrol.0.tool-number") != tool {
         assert!(std::time::Instant::now() < end, "the change did not end");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     assert_eq!(m.getp("iocontrol.0.tool-change"), "FALSE");
+    m.halcmd(&["setp", "iocontrol.0.tool-changed", "0"]);
+}
+
+#[test]
+fn a_random_tool_changer_swaps_pockets_and_saves_its_table() {
+    let s = Scratch::new("random");
+    let ini = changer(&s, b"T5 P0 ;in the spindle\nT7 P12 ;drill\n");
+    let m = Machine::start(&ini, "random");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "5");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    change_tool(&m, "7", "12");
     let table = std::fs::read_to_string(s.0.join("tools.tbl")).unwrap();
     assert_eq!(table, "T7 P0 ;drill\nT5 P12 ;in the spindle\n");
+    m.stop();
+}
+
+#[test]
+fn a_latin1_tool_table_keeps_every_tool_and_comment_byte_for_byte() {
+    // The report's line: a Latin-1 comment (0xf8, 'ø'), a comment line
+    // in Latin-1, and a word this reader does not know.
+    let s = Scratch::new("latin1");
+    let ini = changer(
+        &s,
+        b"T1 P1 D6 Z0.1 ;Bohrer \xf86mm\n; Werkzeuge f\xfcr Alu\nT2 P2 K9 ;\xb5-Fr\xe4ser\n",
+    );
+    let m = Machine::start(&ini, "latin1");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    change_tool(&m, "2", "2");
+    let table = std::fs::read(s.0.join("tools.tbl")).unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&table),
+        String::from_utf8_lossy(
+            b"T2 P0 K9 ;\xb5-Fr\xe4ser\n; Werkzeuge f\xfcr Alu\nT1 P1 D6.000000 Z+0.100000 ;Bohrer \xf86mm\n"
+        )
+    );
+    assert_eq!(
+        table,
+        b"T2 P0 K9 ;\xb5-Fr\xe4ser\n; Werkzeuge f\xfcr Alu\nT1 P1 D6.000000 Z+0.100000 ;Bohrer \xf86mm\n"
+    );
+    // Only the table itself in the directory: the write-back went to a
+    // new file renamed over the old one.
+    let left: Vec<_> = std::fs::read_dir(&s.0)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("tools.tbl"))
+        .collect();
+    assert_eq!(left, ["tools.tbl"]);
+    m.stop();
+}
+
+#[test]
+fn a_tool_table_with_a_bad_line_stops_the_start_and_is_never_written() {
+    let s = Scratch::new("badtable");
+    let text = b"T5 P0 ;in the spindle\nT7 P12 ;drill\nT8 P3 Zbad\n";
+    let ini = changer(&s, text);
+    let (status, err) = Machine::spawn(&ini, "badtable", &[]).wait_exit();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("[EMCIO]TOOL_TABLE: the tool table cannot be read completely")
+            && err.contains("tools.tbl:3: 'Zbad': Z needs a number"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(s.0.join("tools.tbl")).unwrap(), text);
+}
+
+#[test]
+fn a_table_that_no_longer_reads_is_kept_and_not_written_back() {
+    let s = Scratch::new("reloadbad");
+    let ini = changer(&s, b"T5 P0 ;in the spindle\nT7 P12 ;drill\n");
+    let m = Machine::start(&ini, "reloadbad");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // The user edits the file and leaves a mistake in it.
+    let edited = b"T5 P0 ;in the spindle\nT7 P12 ;drill\nT9 P4 D\n";
+    std::fs::write(s.0.join("tools.tbl"), edited).unwrap();
+    let (ok, _, err) = m.task(&["reload-tool-table"]);
+    assert!(
+        !ok && err.contains("tools.tbl:3: 'D': D needs a number"),
+        "{err}"
+    );
+    // A change still works on the table in use, and leaves the file alone.
+    change_tool(&m, "7", "12");
+    assert_eq!(std::fs::read(s.0.join("tools.tbl")).unwrap(), edited);
+    let stderr = m.stderr_with("is not written back");
+    assert!(stderr.contains("is not written back"), "{stderr}");
+    // Fixed and reloaded: write-backs resume.
+    std::fs::write(
+        s.0.join("tools.tbl"),
+        b"T7 P0 ;drill\nT5 P12 ;in the spindle\n",
+    )
+    .unwrap();
+    m.task_ok(&["reload-tool-table"]);
+    change_tool(&m, "5", "12");
+    let table = std::fs::read_to_string(s.0.join("tools.tbl")).unwrap();
+    assert_eq!(table, "T5 P0 ;in the spindle\nT7 P12 ;drill\n");
     m.stop();
 }
 
@@ -400,4 +491,76 @@ fn a_malformed_comp_file_fails_the_launch_naming_file_and_line() {
     let (status, err) = Machine::spawn(&ini, "badcomp3", &[]).wait_exit();
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(err.contains("[JOINT_0]COMP_FILE_TYPE"), "{err}");
+}
+
+/// A machine whose only HAL file is a Tcl script that never ends, and the
+/// tclsh its launcher started for it.
+fn looping_machine(s: &Scratch, tag: &str) -> (Machine, i32) {
+    s.write("loop.tcl", "while 1 {}\n");
+    let ini = s.write(
+        "l.ini",
+        "[EMC]\nMACHINE = looping\n[HAL]\nHALFILE = loop.tcl\n",
+    );
+    let m = Machine::spawn(&ini, tag, &[]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    let tclsh = loop {
+        if let Some(&p) = machine::children_named(m.pid(), "tclsh").first() {
+            break p;
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "no tclsh started:\n{}",
+            m.stderr()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    (m, tclsh)
+}
+
+/// Waits up to 20 s for `pid` to stop running.
+fn gone_soon(pid: i32) -> bool {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while machine::running(pid) {
+        if std::time::Instant::now() > end {
+            return false;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    true
+}
+
+#[test]
+fn sigterm_during_start_up_ends_the_start_and_what_it_started() {
+    let s = Scratch::new("stopstart");
+    let (m, tclsh) = looping_machine(&s, "stopstart");
+    let inst = m.instance.clone();
+    let began = std::time::Instant::now();
+    let (status, err) = m.stop_with(nix::sys::signal::Signal::SIGTERM);
+    assert!(
+        began.elapsed() < std::time::Duration::from_secs(20),
+        "took {:?}",
+        began.elapsed()
+    );
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(err.contains("stop requested during start-up"), "{err}");
+    assert!(gone_soon(tclsh), "tclsh {tclsh} still runs");
+    assert!(
+        hal_core::Instance::attach(&inst).is_err(),
+        "the host still runs"
+    );
+}
+
+#[test]
+fn a_launcher_killed_during_start_up_leaves_no_tclsh_behind() {
+    let s = Scratch::new("killstart");
+    let (m, tclsh) = looping_machine(&s, "killstart");
+    let inst = m.instance.clone();
+    let _ = m.stop_with(nix::sys::signal::Signal::SIGKILL);
+    assert!(gone_soon(tclsh), "tclsh {tclsh} spins on as an orphan");
+    // The host goes too (it ends with its parent), so the instance frees.
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    while hal_core::Instance::attach(&inst).is_ok() {
+        assert!(std::time::Instant::now() < end, "the host still runs");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
 }

@@ -27,10 +27,20 @@ fn moves_are_queued_and_programs_run_from_other_processes() {
 
     // Refusals that need no machine.
     let bad = dir.join("bad.ngc");
-    std::fs::write(&bad, "G0 X1\nG1 Y2 F100\n  G43 H1\n").unwrap();
+    std::fs::write(&bad, "G0 X1\nG1 Y2 F0\n  G43 H1\nM2\n").unwrap();
     let (code, _, err) = gcode_run(&["--check", bad.to_str().unwrap()], &inst);
     assert_eq!(code, 2);
-    assert!(err.contains("bad.ngc:3:3: G43 is not supported"), "{err}");
+    // Every refusal, earliest first, with its place and word.
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 2, "{err}");
+    assert!(
+        lines[0].ends_with("bad.ngc:2:7: F0: Cannot do g1 with zero feed rate"),
+        "{err}"
+    );
+    assert!(
+        lines[1].ends_with("bad.ngc:3:7: H1: Requested tool 1 not found in the tool table"),
+        "{err}"
+    );
     let (code, _, err) = mcmd(&["line", "1", "5", "Q=1"], &inst);
     assert_eq!(code, 2);
     assert!(err.contains("unknown word 'Q'"), "{err}");

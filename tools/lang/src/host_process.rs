@@ -116,11 +116,32 @@ pub fn log_path(instance: &str) -> Result<PathBuf> {
 /// to `limit` until it has released everything: its segment, its socket
 /// and its lock (the host closes our connection only after that). On
 /// success a new host can start for the instance at once.
+///
+/// A host that does not answer the request within `limit` counts as
+/// still running too; the error carries its process id, so the caller
+/// can end it ([`kill_host`]).
 pub fn stop_host(instance: &str, limit: Duration) -> std::result::Result<(), ClientError> {
     let mut c = Client::connect(instance)?;
-    c.call(&["shutdown".to_string()])?;
+    let pid = c.peer_pid();
+    let still_running = || ClientError::StillRunning {
+        instance: instance.to_string(),
+        limit_s: limit.as_secs_f64(),
+        pid,
+    };
     let end = std::time::Instant::now() + limit;
-    let closed = c.wait_closed(limit);
+    match c.call_within(&["shutdown".to_string()], limit) {
+        Ok(()) => {}
+        Err(ClientError::Io { source, .. })
+            if matches!(
+                source.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
+        {
+            return Err(still_running())
+        }
+        Err(e) => return Err(e),
+    }
+    let closed = c.wait_closed(end.saturating_duration_since(std::time::Instant::now()));
     // The connection also closes if the host dies; then check that the
     // lock is free (a dead host's segment is reclaimed by the next one).
     let mut alive = hal_core::Instance::attach(instance).is_ok();
@@ -129,10 +150,34 @@ pub fn stop_host(instance: &str, limit: Duration) -> std::result::Result<(), Cli
         alive = hal_core::Instance::attach(instance).is_ok();
     }
     if !closed || alive {
-        return Err(ClientError::StillRunning {
-            instance: instance.to_string(),
-            limit_s: limit.as_secs_f64(),
-        });
+        return Err(still_running());
     }
     Ok(())
+}
+
+/// Ends a host that did not stop when asked: SIGKILL to process `pid`,
+/// then waits up to `limit` for it to be gone. Its drivers get no safe
+/// state, which is why this is the last resort after [`stop_host`]; the
+/// next host of the instance reclaims what it left. True once it is gone.
+pub fn kill_host(pid: i32, limit: Duration) -> bool {
+    use nix::sys::signal::{kill, Signal};
+    use nix::unistd::Pid;
+    let pid = Pid::from_raw(pid);
+    if kill(pid, Signal::SIGKILL).is_err() {
+        return kill(pid, None).is_err();
+    }
+    let end = std::time::Instant::now() + limit;
+    while std::time::Instant::now() < end {
+        // Gone, or a zombie its parent has yet to reap: either way it
+        // holds nothing any more.
+        let zombie = std::fs::read_to_string(format!("/proc/{pid}/stat")).map(|s| {
+            s.rsplit_once(')')
+                .is_some_and(|(_, r)| r.trim_start().starts_with('Z'))
+        });
+        if !matches!(zombie, Ok(false)) {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    false
 }

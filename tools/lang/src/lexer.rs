@@ -40,9 +40,12 @@ pub fn hal_text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
     String::from_utf8_lossy(bytes)
 }
 
-/// Reads a HAL or INI file as [`hal_text`].
+/// Reads a HAL file as [`hal_text`]: a regular file of at most
+/// [`limits::HAL`](hal_core::files::limits::HAL) bytes, anything else
+/// refused with the reason (the caller names the file).
 pub fn read_text(path: impl AsRef<std::path::Path>) -> std::io::Result<String> {
-    std::fs::read(path).map(|b| hal_text(&b).into_owned())
+    use hal_core::files::{limits, read_user_text};
+    Ok(read_user_text(path.as_ref(), limits::HAL, "HAL file")?)
 }
 
 /// Joins lines ending in a backslash with the next one.

@@ -51,6 +51,9 @@ pub enum ClientError {
         instance: String,
         /// How long it was given, in seconds.
         limit_s: f64,
+        /// The host's process id, as the socket's peer credentials gave
+        /// it when we connected (None if the kernel did not say).
+        pid: Option<i32>,
     },
     /// The host's answer is not a reply of this protocol.
     #[error("malformed reply from the HAL host: {line:?}")]
@@ -153,6 +156,25 @@ impl Client {
             writer,
             path,
         })
+    }
+
+    /// The process at the other end of the socket (the host), from the
+    /// kernel's peer credentials.
+    pub fn peer_pid(&self) -> Option<i32> {
+        use nix::sys::socket::{getsockopt, sockopt::PeerCredentials};
+        getsockopt(&self.writer, PeerCredentials)
+            .ok()
+            .map(|c| c.pid())
+            .filter(|&p| p > 0)
+    }
+
+    /// Sends one request and waits up to `limit` for its reply: a host
+    /// that stopped answering is an error, never a wait without end.
+    pub fn call_within(&mut self, words: &[String], limit: Duration) -> Result<(), ClientError> {
+        let _ = self.reader.get_ref().set_read_timeout(Some(limit));
+        let r = self.call(words);
+        let _ = self.reader.get_ref().set_read_timeout(None);
+        r
     }
 
     /// Sends one request and waits for its reply.

@@ -4,6 +4,7 @@
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
 
+use hal_core::userspace::ExitSignals;
 use hal_core::{ComponentKind, Instance};
 
 use crate::error::{LangError, Result};
@@ -106,9 +107,35 @@ fn child_path() -> std::ffi::OsString {
     std::env::join_paths(dirs).unwrap_or_default()
 }
 
-/// Starts the program and waits as asked. Returns the child if nobody
-/// waited for it to exit.
-pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>> {
+/// Makes the program `cmd` starts receive `signal` when this process
+/// dies, however it dies (kill -9 included): a Tcl or Python file started
+/// by the launcher must not run on as an orphan. A parent already gone
+/// by the time the child starts makes the child exit at once.
+pub fn end_with_parent(cmd: &mut Command, signal: nix::sys::signal::Signal) {
+    use std::os::unix::process::CommandExt;
+    let parent = nix::unistd::Pid::this();
+    // SAFETY: prctl, getppid and _exit are async-signal-safe and touch no
+    // memory of ours.
+    unsafe {
+        cmd.pre_exec(move || {
+            nix::sys::prctl::set_pdeathsig(signal)?;
+            if nix::unistd::getppid() != parent {
+                libc::_exit(1);
+            }
+            Ok(())
+        });
+    }
+}
+
+/// The error of a wait a stop request ended.
+fn stopped(what: &str) -> LangError {
+    LangError::halcmd(format!("{what}: stop requested; no longer waiting"))
+}
+
+/// Starts the program and waits as asked (until `stop` is requested, if
+/// given). Returns the child if nobody waited for it to exit.
+pub fn run(inst: &Instance, spec: &LoadUsr, stop: Option<&ExitSignals>) -> Result<Option<Child>> {
+    let stop_requested = || stop.is_some_and(ExitSignals::requested);
     let mut child = Command::new(&spec.program)
         .args(&spec.args)
         .env("HAL_INSTANCE", inst.name())
@@ -134,13 +161,25 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>> {
                     spec.program
                 )));
             }
+            if stop_requested() {
+                end_child(&mut child);
+                return Err(stopped(&format!("loadusr -W {}", spec.program)));
+            }
             std::thread::sleep(Duration::from_millis(10));
         }
     }
     if spec.wait_exit {
-        let status = child
-            .wait()
-            .map_err(|e| LangError::halcmd(format!("loadusr: {e}")))?;
+        let status = loop {
+            match child.try_wait() {
+                Ok(Some(status)) => break status,
+                Ok(None) if stop_requested() => {
+                    end_child(&mut child);
+                    return Err(stopped(&format!("loadusr -w {}", spec.program)));
+                }
+                Ok(None) => std::thread::sleep(Duration::from_millis(10)),
+                Err(e) => return Err(LangError::halcmd(format!("loadusr: {e}"))),
+            }
+        };
         if !status.success() && !spec.ignore_status {
             return Err(LangError::halcmd(format!(
                 "{} exited with {status}",
@@ -152,8 +191,24 @@ pub fn run(inst: &Instance, spec: &LoadUsr) -> Result<Option<Child>> {
     Ok(Some(child))
 }
 
-/// Waits until user component `name` is gone (`waitusr`).
-pub fn wait_gone(inst: &Instance, name: &str) -> Result<()> {
+/// Ends a program the caller stopped waiting for: SIGTERM, a moment to
+/// leave, then SIGKILL.
+pub(crate) fn end_child(child: &mut Child) {
+    let pid = nix::unistd::Pid::from_raw(child.id() as i32);
+    let _ = nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGTERM);
+    for _ in 0..100 {
+        if let Ok(Some(_)) = child.try_wait() {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
+/// Waits until user component `name` is gone (`waitusr`), or until
+/// `stop` is requested.
+pub fn wait_gone(inst: &Instance, name: &str, stop: Option<&ExitSignals>) -> Result<()> {
     let pid_of = |inst: &Instance| -> Result<Option<i32>> {
         Ok(inst
             .component(name)?
@@ -170,6 +225,9 @@ pub fn wait_gone(inst: &Instance, name: &str) -> Result<()> {
         // waiting once the process is gone.
         if pid > 0 && nix::sys::signal::kill(nix::unistd::Pid::from_raw(pid), None).is_err() {
             return Ok(());
+        }
+        if stop.is_some_and(ExitSignals::requested) {
+            return Err(stopped(&format!("waitusr {name}")));
         }
         std::thread::sleep(Duration::from_millis(10));
     }

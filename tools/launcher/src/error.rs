@@ -35,6 +35,13 @@ pub enum LaunchError {
         /// What is wrong.
         reason: String,
     },
+    /// SIGTERM, SIGINT or SIGHUP arrived while the machine was starting:
+    /// the start was abandoned and what it started is stopped.
+    #[error(
+        "stop requested during start-up: the start was abandoned; the HAL host and \
+         the programs it started are stopped"
+    )]
+    StoppedDuringStart,
     /// A HAL file or command failed; its own error was printed above.
     #[error("{0}")]
     Failed(String),
@@ -145,6 +152,18 @@ pub enum LaunchError {
         #[source]
         source: Reject,
     },
+    /// Machine on that the motion controller did not answer in time: the
+    /// enable may still be taken later, so a disable was queued behind it
+    /// and task stays off (task and motion never disagree).
+    #[error(
+        "machine on did not complete: the motion controller did not answer in time \
+         (its thread stalled?); a disable was queued behind the enable, so motion stays \
+         disabled and the machine is {state}"
+    )]
+    MachineOnUndone {
+        /// The machine state task keeps (`OFF`).
+        state: &'static str,
+    },
     /// Machine off or e-stop, and motion could not be disabled.
     #[error("disabling motion: {}", refusal(source))]
     Disabling {
@@ -182,14 +201,23 @@ pub enum LaunchError {
     /// `reload-tool-table` without a tool table.
     #[error("no [EMCIO]TOOL_TABLE is configured")]
     NoToolTable,
-    /// The tool table could not be read again.
-    #[error("reading {}: {source}", path.display())]
+    /// The tool table could not be read again; the old one stays.
+    #[error("{source}; the tool table in use stays, and is not written back until the file reads completely")]
     ToolTable {
         /// The file.
         path: PathBuf,
         /// What went wrong.
         #[source]
-        source: std::io::Error,
+        source: crate::iocontrol::tooltable::TableError,
+    },
+    /// The tool table could not be read completely at start.
+    #[error("{origin}: [EMCIO]TOOL_TABLE: {source}")]
+    ToolTableAtStart {
+        /// The INI line naming it.
+        origin: Origin,
+        /// What went wrong.
+        #[source]
+        source: crate::iocontrol::tooltable::TableError,
     },
     /// A task request this launcher does not know.
     #[error("unknown request '{words}'")]
@@ -206,6 +234,16 @@ pub enum LaunchError {
         /// The word given.
         word: String,
     },
+    /// `run LINE` with a LINE that is not one.
+    #[error("LINE must be a line number, not '{word}'")]
+    BadLine {
+        /// The word given.
+        word: String,
+    },
+    /// A program request refused (the mode, the program's state, the
+    /// interpreter's refusal with its place).
+    #[error("{0}")]
+    Program(String),
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

@@ -83,8 +83,8 @@ impl HalSide<'_> {
                 eprintln!("twopass: found {}", f.path.display());
             }
             if f.kind() == "hal" {
-                let text =
-                    std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
+                let text = hal_lang::lexer::read_text(&f.path)
+                    .map_err(|e| LaunchError::read(&f.path, e))?;
                 if crate::twopass::is_notwopass(&text) {
                     notwopass.push(f.path.clone());
                 }
@@ -144,6 +144,9 @@ impl HalSide<'_> {
 
     /// Runs one HAL, Tcl or Python file.
     pub fn run_file(&self, session: &mut Session<'_>, f: &HalFile) -> Result<(), LaunchError> {
+        if session.stop_requested() {
+            return Err(LaunchError::StoppedDuringStart);
+        }
         self.note(&format!("running {}", f.display_name()));
         let failed = || LaunchError::Failed(format!("{}: [HAL] file {} failed", f.origin, f.spec));
         match f.kind().as_str() {
@@ -155,8 +158,8 @@ impl HalSide<'_> {
                         f.args.join(" ")
                     );
                 }
-                let text =
-                    std::fs::read_to_string(&f.path).map_err(|e| LaunchError::read(&f.path, e))?;
+                let text = hal_lang::lexer::read_text(&f.path)
+                    .map_err(|e| LaunchError::read(&f.path, e))?;
                 let name = f.display_name();
                 if session.run_text(Some(&name), &text) {
                     Ok(())
@@ -178,16 +181,31 @@ impl HalSide<'_> {
                 };
                 haltcl::run(session, Some(self.ini), &job).map_err(|e| match e {
                     haltcl::HaltclError::Failed { .. } => failed(),
+                    haltcl::HaltclError::Stopped { .. } => LaunchError::StoppedDuringStart,
                     other => LaunchError::Tcl(other),
                 })
             }
             "py" => {
-                let status = Command::new("python3")
-                    .arg(&f.path)
+                let mut cmd = Command::new("python3");
+                cmd.arg(&f.path)
                     .args(&f.args)
-                    .env("HAL_INSTANCE", session.instance().name())
-                    .status()
+                    .env("HAL_INSTANCE", session.instance().name());
+                hal_lang::usr::end_with_parent(&mut cmd, nix::sys::signal::Signal::SIGTERM);
+                let mut child = cmd
+                    .spawn()
                     .map_err(|e| LaunchError::read(std::path::Path::new("python3"), e))?;
+                let status = loop {
+                    match child.try_wait() {
+                        Ok(Some(status)) => break status,
+                        Ok(None) if session.stop_requested() => {
+                            let _ = child.kill();
+                            let _ = child.wait();
+                            return Err(LaunchError::StoppedDuringStart);
+                        }
+                        Ok(None) => std::thread::sleep(std::time::Duration::from_millis(20)),
+                        Err(e) => return Err(LaunchError::read(&f.path, e)),
+                    }
+                };
                 if status.success() {
                     Ok(())
                 } else {
@@ -207,6 +225,9 @@ impl HalSide<'_> {
     pub fn halcmds(&self, session: &mut Session<'_>) -> Result<(), LaunchError> {
         let mut result = Ok(());
         for e in self.ini.all("HAL", "HALCMD") {
+            if session.stop_requested() {
+                return Err(LaunchError::StoppedDuringStart);
+            }
             let at = e.origin.file.to_string();
             let words = match tokenize(&e.value, Some(self.ini)) {
                 Ok(w) => w,

@@ -130,6 +130,11 @@ impl SearchPath {
             }
             found.unwrap_or_else(|| tried[0].clone())
         };
+        if path.exists() && !path.is_file() {
+            if let Err(e) = hal_core::files::open_regular(&path, "HAL file") {
+                return Err(fail(e.problem.to_string()));
+            }
+        }
         if !path.is_file() {
             let list: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
             return Err(fail(format!(

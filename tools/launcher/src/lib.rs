@@ -16,9 +16,11 @@ mod iocontrol;
 mod machine;
 mod motion_setup;
 pub mod part_program;
+mod program;
 mod rules;
 mod task;
 mod task_pins;
+mod task_program;
 mod task_socket;
 mod twopass;
 
@@ -27,6 +29,7 @@ pub use machine::{
     load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup, Options,
     USAGE,
 };
+pub use program::ProgramConfig;
 pub use rules::Rules;
 pub use task::REQUESTS;
 pub use task_socket::{request, TaskAnswer, TaskClientError};

@@ -55,11 +55,12 @@ pub struct Options {
 pub const USAGE: &str = "\
 usage: linuxcnc [-v] [-d] [-k] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MACHINE.ini
 
-Runs the HAL side of a LinuxCNC machine configuration headless: its HAL
-files, its motion settings, iocontrol and the task pins, until Ctrl-C or
-SIGTERM. GUIs, halui and the G-code interpreter are not started. Send the
-machine task requests with task-cmd (estop-reset, machine-on, tool-change,
-coolant, status) and motion commands with motion-cmd.
+Runs a LinuxCNC machine configuration headless: its HAL files, its motion
+settings, iocontrol, the task pins and task with its G-code interpreter,
+until Ctrl-C or SIGTERM. GUIs and halui are not started. Send the machine
+task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
+mode, open, run, mdi, status; gcode-run runs a program through task) and
+motion commands with motion-cmd.
 
   -v          say what is done
   -d          echo every HAL command
@@ -133,6 +134,15 @@ pub struct HalStartup {
 /// Reads the INI file and makes its directory the working directory (as
 /// LinuxCNC does); exports what HAL files and Tcl scripts use.
 pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
+    // Refused under the name given (not the one a link resolves to) if
+    // it is not a regular file.
+    hal_core::files::open_regular(path, "INI file").map_err(|e| {
+        LaunchError::Ini(hal_lang::ini::IniError::Io {
+            origin: None,
+            path: path.to_path_buf(),
+            source: e.into(),
+        })
+    })?;
     let abs = std::fs::canonicalize(path).map_err(|e| LaunchError::read(path, e))?;
     let ini = Ini::load(&abs)?;
     for w in ini.warnings() {
@@ -147,8 +157,9 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
     Ok(ini)
 }
 
-/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none), with its
-/// skipped lines reported.
+/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none). A table
+/// that cannot be read completely stops the start, naming the file and
+/// each line; nothing of it is used, so nothing can write it back.
 fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
     let random = ini.boolean("EMCIO", "RANDOM_TOOLCHANGER")?.unwrap_or(false);
     if let Some(e) = ini.entry("EMCIO", "DB_PROGRAM") {
@@ -165,20 +176,11 @@ fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
     };
     let path = ini.dir().join(&e.value);
     match ToolTable::load(&path, random) {
-        Ok(t) => {
-            for p in &t.problems {
-                eprintln!("{p}");
-            }
-            Ok((t, Some(path)))
-        }
-        Err(err) => {
-            eprintln!(
-                "{}: [EMCIO]TOOL_TABLE: cannot read {}: {err}; starting with an empty tool table",
-                e.origin,
-                path.display()
-            );
-            Ok((ToolTable::empty(random), Some(path)))
-        }
+        Ok(t) => Ok((t, Some(path))),
+        Err(source) => Err(LaunchError::ToolTableAtStart {
+            origin: e.origin.clone(),
+            source,
+        }),
     }
 }
 
@@ -354,13 +356,20 @@ fn run_on_host(
         keep_going: opts.keep_going,
         verbose: opts.verbose,
         ini: Some(ini.clone()),
+        // SIGTERM during start-up ends the start: no further command
+        // runs, waits and Tcl files end.
+        stop: Some(signals.clone()),
         ..HalcmdOptions::default()
     };
     let mut session = Session::new(inst.clone(), hopts, &mut out, &mut err);
     if opts.echo {
         session.run_words(&["echo".to_string()]);
     }
-    let startup = start_hal_side(&mut session, ini, opts)?;
+    let startup = start_hal_side(&mut session, ini, opts);
+    if signals.requested() {
+        return Err(LaunchError::StoppedDuringStart);
+    }
+    let startup = startup?;
     if !session.run_words(&["start".to_string()]) {
         return Err(LaunchError::Failed(
             "starting the realtime threads failed".into(),
@@ -396,12 +405,18 @@ fn run_on_host(
         // Task starts in e-stop with motion disabled.
         let _ = m.disable();
     }
+    // Programs and MDI run through task where there is a motion
+    // controller to run them.
+    let program = motion
+        .is_some()
+        .then(|| crate::program::ProgramConfig::from_ini(ini));
     let mut task = crate::task::Task::new(
         startup.io,
         startup.io_pins,
         startup.task_pins,
         motion,
         startup.table_path,
+        program,
     );
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
@@ -422,6 +437,8 @@ fn run_on_host(
     eprintln!("linuxcnc: stopping: e-stop, motion disabled");
     task.shut_down(&mut server);
     drop(task);
+    // The stop was asked for: SHUTDOWN files are how it is done.
+    session.opts.stop = None;
     side.files_of(&mut session, "SHUTDOWN")?;
     Ok(())
 }

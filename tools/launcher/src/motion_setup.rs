@@ -53,11 +53,6 @@ const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
         &["POSITION_FILE"],
         "joint positions are not saved or restored between runs",
     ),
-    (
-        &["NO_FORCE_HOMING"],
-        "the launcher runs no G-code interpreter to hold back before homing; coordinated \
-         mode itself needs homed joints unless the kinematics are identity",
-    ),
 ];
 
 /// The motion controller of an instance.
@@ -457,9 +452,15 @@ impl MotionLink {
         self.send(Command::Abort)
     }
 
-    /// Whether motion is enabled, if the status can be read.
-    pub fn enabled(&self) -> Option<bool> {
-        self.client.status().ok().map(|s| s.enabled)
+    /// The controller's status snapshot, if it can be read.
+    pub fn status(&self) -> Option<motion::MotionStatus> {
+        self.client.status().ok()
+    }
+
+    /// Sends a command of a running program or MDI line (queued moves,
+    /// planner settings, pause, resume, step, mode changes).
+    pub fn command(&mut self, cmd: Command) -> Result<(), Reject> {
+        self.send(cmd)
     }
 
     /// A one-line summary for `task-cmd status`.

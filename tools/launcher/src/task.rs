@@ -1,8 +1,9 @@
-//! What LinuxCNC's task does once the machine runs, for a machine without
-//! a task controller: the machine state (e-stop, off, on) following the
-//! e-stop chain, iocontrol's cycle, the `ini.*` pins, and the requests
-//! `task-cmd` sends (e-stop reset, machine on and off, tool prepare and
-//! change, coolant, lube, abort, status).
+//! What LinuxCNC's task does once the machine runs: the machine state
+//! (e-stop, off, on) following the e-stop chain, kept in agreement with
+//! motion's (task alone enables motion), iocontrol's cycle, the `ini.*`
+//! pins, and the requests `task-cmd` sends (e-stop reset, machine on and
+//! off, tool prepare and change, coolant, lube, abort, status; the modes
+//! and program requests are in `task_program`).
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -10,6 +11,7 @@ use std::time::{Duration, Instant};
 use crate::error::LaunchError;
 use crate::iocontrol::{Handshake, IoControl, IoEvent, IoPins, IoRequest, Started, ToolTable};
 use crate::motion_setup::MotionLink;
+use crate::program::{Program, ProgramConfig};
 use crate::task_pins::TaskPins;
 use crate::task_socket::{ConnId, TaskServer};
 
@@ -28,7 +30,7 @@ pub enum MachineState {
 }
 
 impl MachineState {
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             MachineState::Estop => "ESTOP",
             MachineState::Off => "OFF",
@@ -69,6 +71,44 @@ pub enum TaskRequest {
     ReloadToolTable,
     /// The state as text.
     Status,
+    /// Switch mode (MANUAL, AUTO, MDI).
+    Mode(Mode),
+    /// Open a program.
+    Open(PathBuf),
+    /// Run the open program from a line (0: the start).
+    Run(i32),
+    /// Pause the program along its path.
+    Pause,
+    /// Resume after a pause or M0/M1.
+    Resume,
+    /// While paused: run to the end of the current line.
+    Step,
+    /// Run a line of G-code in MDI mode.
+    Mdi(String),
+    /// Answer once the program or MDI line has ended.
+    WaitDone,
+}
+
+/// Task's modes, as LinuxCNC's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Jogging and homing (motion-cmd), tool and coolant requests.
+    Manual,
+    /// Programs: open, run, pause, resume, step.
+    Auto,
+    /// Lines of G-code typed in.
+    Mdi,
+}
+
+impl Mode {
+    /// The mode's name, as LinuxCNC's.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Manual => "MANUAL",
+            Mode::Auto => "AUTO",
+            Mode::Mdi => "MDI",
+        }
+    }
 }
 
 /// The words `task-cmd` accepts, for its help text.
@@ -85,7 +125,14 @@ pub const REQUESTS: &str = "\
   coolant mist|flood on|off
   lube on|off
   reload-tool-table     read the tool table file again
-  status                machine state, tool, coolant, motion";
+  status                machine state, mode, tool, coolant, motion, program
+  mode manual|auto|mdi  switch mode (AUTO and MDI need the machine on and,
+                        unless [TRAJ]NO_FORCE_HOMING, homed joints)
+  open FILE             open a G-code program
+  run [LINE]            run it (AUTO), from LINE on if given
+  pause | resume | step the running program (step: while paused)
+  mdi G-CODE...         run a line of G-code (MDI mode)
+  wait-done             answer once the program or MDI line has ended";
 
 /// Parses `task-cmd`'s words.
 pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
@@ -131,19 +178,40 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
         ["reload-tool-table"] => TaskRequest::ReloadToolTable,
         ["status"] => TaskRequest::Status,
+        ["mode", "manual"] => TaskRequest::Mode(Mode::Manual),
+        ["mode", "auto"] => TaskRequest::Mode(Mode::Auto),
+        ["mode", "mdi"] => TaskRequest::Mode(Mode::Mdi),
+        ["open", file] => TaskRequest::Open(PathBuf::from(file)),
+        ["run"] => TaskRequest::Run(0),
+        ["run", line] => {
+            TaskRequest::Run(line.parse().ok().filter(|l| *l >= 0).ok_or_else(|| {
+                LaunchError::BadLine {
+                    word: line.to_string(),
+                }
+            })?)
+        }
+        ["pause"] => TaskRequest::Pause,
+        ["resume"] => TaskRequest::Resume,
+        ["step"] => TaskRequest::Step,
+        ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
+        ["wait-done"] => TaskRequest::WaitDone,
         _ => return Err(LaunchError::UnknownRequest { words: w.join(" ") }),
     })
 }
 
 /// A request waiting for the HAL side.
 #[derive(Debug)]
-enum Waiting {
+pub(crate) enum Waiting {
     /// `emc-enable-in` to read TRUE.
     EnableIn { until: Instant },
     /// The prepare handshake; then, for a tool change, the load.
     Prepare { then_load: bool },
     /// The change handshake.
     Change,
+    /// Motion to show the coordinated (or, for MANUAL, another) mode.
+    Mode { mode: Mode, until: Instant },
+    /// The program or MDI line to end.
+    Done,
 }
 
 /// How long an e-stop reset waits for the chain to close.
@@ -151,13 +219,21 @@ const RESET_WAIT: Duration = Duration::from_secs(1);
 
 /// The task: iocontrol, the `ini.*` pins, the machine state, the waiters.
 pub struct Task {
-    io: IoControl,
+    pub(crate) io: IoControl,
     pins: IoPins,
     ini_pins: Option<TaskPins>,
-    motion: Option<MotionLink>,
-    state: MachineState,
-    waiting: Vec<(ConnId, Waiting)>,
+    pub(crate) motion: Option<MotionLink>,
+    pub(crate) state: MachineState,
+    pub(crate) waiting: Vec<(ConnId, Waiting)>,
     table_path: Option<PathBuf>,
+    pub(crate) mode: Mode,
+    pub(crate) program: Option<Program>,
+    /// AUTO and MDI are allowed before homing.
+    pub(crate) no_force_homing: bool,
+    /// Motion's heartbeat before which its enable flag is not compared
+    /// with the machine state (an enable or disable just sent shows in
+    /// the snapshot a cycle or two later).
+    settle_until: u64,
 }
 
 impl Task {
@@ -168,6 +244,7 @@ impl Task {
         ini_pins: Option<TaskPins>,
         motion: Option<MotionLink>,
         table_path: Option<PathBuf>,
+        program: Option<ProgramConfig>,
     ) -> Task {
         let t = Task {
             io,
@@ -177,6 +254,10 @@ impl Task {
             state: MachineState::Estop,
             waiting: Vec::new(),
             table_path,
+            mode: Mode::Manual,
+            no_force_homing: program.as_ref().is_some_and(|p| p.no_force_homing),
+            program: program.map(Program::new),
+            settle_until: 0,
         };
         t.pins.write(t.io.outputs());
         t
@@ -199,6 +280,7 @@ impl Task {
         }
         let events = self.io.step(&inputs);
         self.finish_waiters(server, &events, inputs.emc_enable_in);
+        self.program_cycle(server, &events);
         if let Some(ip) = &mut self.ini_pins {
             for change in ip.changes() {
                 let r = match &mut self.motion {
@@ -210,13 +292,48 @@ impl Task {
                 }
             }
         }
-        if self.state == MachineState::On {
-            if let Some(false) = self.motion.as_ref().and_then(MotionLink::enabled) {
+        self.watch_motion();
+        self.pins.write(self.io.outputs());
+    }
+
+    /// Task is the one authority over the machine state: every cycle it
+    /// compares motion's enable flag with its own state. Motion that
+    /// disabled itself turns the machine off; motion enabled while task
+    /// is not on (an enable answered too late, after a stalled servo
+    /// thread) is disabled again.
+    fn watch_motion(&mut self) {
+        let Some(m) = &mut self.motion else { return };
+        let Some(status) = m.status() else { return };
+        if status.heartbeat < self.settle_until {
+            return;
+        }
+        match (self.state == MachineState::On, status.enabled) {
+            (true, false) => {
                 eprintln!("task: the motion controller disabled itself: machine off");
                 self.state = MachineState::Off;
+                self.stop_program();
             }
+            (false, true) => {
+                eprintln!(
+                    "task: the motion controller is enabled while the machine is {}: \
+                     disabling it",
+                    self.state.name()
+                );
+                if let Err(source) = m.disable() {
+                    eprintln!("task: {}", LaunchError::Disabling { source });
+                }
+                self.settle();
+            }
+            _ => {}
         }
-        self.pins.write(self.io.outputs());
+    }
+
+    /// Holds back [`Task::watch_motion`] until motion's snapshot shows the
+    /// enable or disable just sent.
+    pub(crate) fn settle(&mut self) {
+        if let Some(s) = self.motion.as_ref().and_then(MotionLink::status) {
+            self.settle_until = s.heartbeat + 3;
+        }
     }
 
     fn go_estop(&mut self) {
@@ -226,7 +343,9 @@ impl Task {
                 eprintln!("task: {}", LaunchError::Disabling { source });
             }
         }
+        self.settle();
         self.state = MachineState::Estop;
+        self.stop_program();
     }
 
     fn fail_all(&mut self, server: &mut TaskServer, why: impl Fn() -> LaunchError) {
@@ -269,16 +388,20 @@ impl Task {
                         self.waiting.push((id, Waiting::Change));
                     }
                 }
+                Waiting::Mode { mode, until } => match self.mode_reached(mode, until) {
+                    Some(answer) => self.answer(server, id, answer),
+                    None => self.waiting.push((id, Waiting::Mode { mode, until })),
+                },
                 other => self.waiting.push((id, other)),
             }
         }
     }
 
-    fn in_spindle(&self) -> String {
+    pub(crate) fn in_spindle(&self) -> String {
         format!("tool {} in spindle", self.io.tool_in_spindle())
     }
 
-    fn require_on(&self) -> Result<(), LaunchError> {
+    pub(crate) fn require_on(&self) -> Result<(), LaunchError> {
         if self.state == MachineState::On {
             Ok(())
         } else {
@@ -311,7 +434,7 @@ impl Task {
 
     /// Answers a waiting request once the outputs it changed are on the
     /// pins, so a client reading them after the answer sees them.
-    fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Answer) {
+    pub(crate) fn answer(&mut self, server: &mut TaskServer, id: ConnId, result: Answer) {
         self.pins.write(self.io.outputs());
         server.reply(id, result);
     }
@@ -336,6 +459,9 @@ impl Task {
             TaskRequest::MachineOn => Some(self.machine_on()),
             TaskRequest::MachineOff => Some(self.machine_off()),
             TaskRequest::Abort => {
+                if let Some(p) = &mut self.program {
+                    p.abort();
+                }
                 let _ = self.io.request(&IoRequest::Abort);
                 Some(match &mut self.motion {
                     Some(m) => m
@@ -360,33 +486,49 @@ impl Task {
             }
             TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
             TaskRequest::Status => Some(Ok(self.status())),
+            _ => self.program_request(req, id),
         }
     }
 
     /// Machine on: refused in e-stop; motion enabled if there is motion.
+    /// An enable the controller does not answer in time is undone: a
+    /// disable goes into the command ring behind it, so whenever the
+    /// controller runs again it ends disabled, as task says.
     fn machine_on(&mut self) -> Answer {
         if self.state == MachineState::Estop {
             return Err(LaunchError::InEstop);
         }
         let r = match &mut self.motion {
-            Some(m) => m.enable().map(|()| "machine on".to_string()),
+            Some(m) => match m.enable() {
+                Ok(()) => Ok("machine on".to_string()),
+                Err(motion::Reject::Timeout) => {
+                    let _ = m.disable();
+                    Err(LaunchError::MachineOnUndone {
+                        state: self.state.name(),
+                    })
+                }
+                Err(source) => Err(LaunchError::MachineOn { source }),
+            },
             None => Ok("machine on (no motion controller is loaded)".to_string()),
         };
+        self.settle();
         if r.is_ok() {
             self.state = MachineState::On;
         }
-        r.map_err(|source| LaunchError::MachineOn { source })
+        r
     }
 
     /// Machine off: motion disabled; from on, the state becomes off.
     fn machine_off(&mut self) -> Answer {
         if let Some(m) = &mut self.motion {
-            m.disable()
-                .map_err(|source| LaunchError::Disabling { source })?;
+            let r = m.disable();
+            self.settle();
+            r.map_err(|source| LaunchError::Disabling { source })?;
         }
         if self.state == MachineState::On {
             self.state = MachineState::Off;
         }
+        self.stop_program();
         Ok(format!("machine {}", self.state.name().to_lowercase()))
     }
 
@@ -434,23 +576,23 @@ impl Task {
         Ok(format!("{what} {}", if on { "on" } else { "off" }))
     }
 
-    /// Reads the tool table file again; the answer lists its problems.
+    /// Reads the tool table file again. A file that cannot be read
+    /// completely changes nothing, and stops write-backs until it can.
     fn reload_tool_table(&mut self) -> Answer {
         let path = self.table_path.as_ref().ok_or(LaunchError::NoToolTable)?;
-        let t = ToolTable::load(path, self.io.table().random).map_err(|source| {
-            LaunchError::ToolTable {
-                path: path.clone(),
-                source,
+        match ToolTable::load(path, self.io.table().random) {
+            Ok(t) => {
+                self.io.reload(t);
+                Ok(format!("tool table {} reloaded", path.display()))
             }
-        })?;
-        let problems: Vec<String> = t.problems.iter().map(|p| p.to_string()).collect();
-        self.io.reload(t);
-        let mut msg = format!("tool table {} reloaded", path.display());
-        for pr in problems {
-            msg.push('\n');
-            msg.push_str(&pr);
+            Err(source) => {
+                self.io.reload_failed();
+                Err(LaunchError::ToolTable {
+                    path: path.clone(),
+                    source,
+                })
+            }
         }
-        Ok(msg)
     }
 
     /// The state as text.
@@ -463,9 +605,10 @@ impl Task {
             Some(Handshake::Change) => "waiting for tool-changed",
         };
         let mut s = format!(
-            "state: {}\ntool in spindle: {}\nprepared: {}\nhandshake: {handshake}\n\
+            "state: {}\nmode: {}\ntool in spindle: {}\nprepared: {}\nhandshake: {handshake}\n\
              coolant: mist {}, flood {}\nlube: {}\n",
             self.state.name(),
+            self.mode.name(),
             self.io.tool_in_spindle(),
             self.io
                 .prepared_tool()
@@ -478,14 +621,24 @@ impl Task {
             Some(m) => m.summary(),
             None => "motion: no motion controller is loaded".into(),
         });
+        if let Some(p) = &self.program {
+            s.push('\n');
+            s.push_str(p.status(self.motion.as_ref()).trim_end());
+        }
         s
     }
 
-    /// The safe state at exit: e-stop, motion disabled, coolant off.
+    /// The safe state at exit: e-stop, motion disabled, coolant off; the
+    /// interpreter's parameter file saved.
     pub fn shut_down(&mut self, server: &mut TaskServer) {
         self.go_estop();
         self.pins.write(self.io.outputs());
         self.fail_all(server, || LaunchError::ShuttingDown);
+        if let Some(p) = &mut self.program {
+            if let Err(why) = p.save_parameters() {
+                eprintln!("task: {why}");
+            }
+        }
     }
 }
 

@@ -80,6 +80,8 @@ pub use error::{InterpError, Result};
 pub use interp::{ActiveCodes, Interp, Location, Status};
 pub use params::file as parameter_file;
 pub use print_canon::{PrintCanon, STANDALONE_LENGTH_UNITS};
-pub use refusals::{list_refusals, list_refusals_within, Refusal, MAX_CHECKED_BLOCKS};
+pub use refusals::{
+    list_refusals, list_refusals_for_machine, list_refusals_within, Refusal, MAX_CHECKED_BLOCKS,
+};
 pub use setup::Setup;
 pub use source::{read_bounded, LINELEN, MAX_PROGRAM_BYTES};

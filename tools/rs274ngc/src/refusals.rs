@@ -46,9 +46,33 @@ pub fn list_refusals_within(
     tools: Vec<ToolEntry>,
     max_blocks: usize,
 ) -> Vec<Refusal> {
+    refusals_with(path, config, PrintCanon::new(None, tools), max_blocks)
+}
+
+/// [`list_refusals`] for a machine whose length units (those of its tool
+/// table and parameter file) are `user_per_mm` per millimetre: 1 for a
+/// metric machine, 1/25.4 for an inch one. (Standalone `rs274`, and
+/// [`list_refusals`], take inches as LinuxCNC's does.)
+pub fn list_refusals_for_machine(
+    path: &Path,
+    config: Config,
+    tools: Vec<ToolEntry>,
+    user_per_mm: f64,
+) -> Vec<Refusal> {
+    let mut canon = PrintCanon::new(None, tools);
+    canon.external_length_units = user_per_mm;
+    refusals_with(path, config, canon, MAX_CHECKED_BLOCKS)
+}
+
+fn refusals_with(
+    path: &Path,
+    config: Config,
+    canon: PrintCanon,
+    max_blocks: usize,
+) -> Vec<Refusal> {
     let mut run = Run {
         path,
-        canon: PrintCanon::new(None, tools),
+        canon,
         interp: Interp::new(Config {
             parameter_file: None,
             ..config

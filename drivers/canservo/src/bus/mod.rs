@@ -42,6 +42,13 @@ pub trait CanBus: Send + Sync {
     /// realtime code.
     fn recv_timeout(&self, timeout: Duration) -> Option<Frame>;
 
+    /// Waits up to `timeout` for room to queue a frame, after a send
+    /// failed; returns early when there may be room. Not for realtime
+    /// code. The default pauses a millisecond (at most `timeout`).
+    fn wait_writable(&self, timeout: Duration) {
+        std::thread::sleep(timeout.min(Duration::from_millis(1)));
+    }
+
     /// Failed sends and receives so far.
     fn errors(&self) -> u64;
 

@@ -83,6 +83,9 @@ struct BusState {
     losses: Vec<(Filter, u32)>,
     scratch: Vec<Frame>,
     stats: BusStats,
+    /// Frames one endpoint may have on the wire, not yet delivered,
+    /// before its sends fail (its transmit queue).
+    tx_limit: usize,
 }
 
 /// An in-process CAN bus with simulated drives.
@@ -112,6 +115,7 @@ impl SimBus {
                 losses: Vec::new(),
                 scratch: Vec::new(),
                 stats: BusStats::default(),
+                tx_limit: WIRE_LIMIT,
             }),
             clock,
         })
@@ -228,6 +232,14 @@ impl SimBus {
         self.lock().latency_ns = ns;
     }
 
+    /// Limits each endpoint's transmit queue to `frames` frames on the
+    /// wire not yet delivered: further sends fail until time delivers
+    /// some (with a latency, a slow bus; a full queue as a busy
+    /// controller has it).
+    pub fn set_tx_limit(&self, frames: usize) {
+        self.lock().tx_limit = frames.min(WIRE_LIMIT);
+    }
+
     /// Loses the next `count` frames that pass `filter`.
     pub fn lose(&self, filter: Filter, count: u32) {
         self.lock().losses.push((filter, count));
@@ -278,6 +290,16 @@ impl BusState {
     fn send(&mut self, now: u64, id: usize, frame: &Frame) -> bool {
         if frame.kind == FrameKind::Error || self.bus_off || self.wire.len() >= WIRE_LIMIT {
             return false;
+        }
+        if self.tx_limit < WIRE_LIMIT {
+            let queued = self
+                .wire
+                .iter()
+                .filter(|w| w.from == Source::Endpoint(id))
+                .count();
+            if queued >= self.tx_limit {
+                return false;
+            }
         }
         if !self.drives.iter().any(SimDrive::is_present) {
             self.error_frame(Frame::error(err::ACK, [0; 8]));
@@ -414,6 +436,13 @@ impl CanBus for SimEndpoint {
             }
             std::thread::sleep(Duration::from_micros(100));
         }
+    }
+
+    /// Pauses a millisecond, then lets a bus that follows the wall clock
+    /// deliver what fell due (which frees its transmit queues).
+    fn wait_writable(&self, timeout: Duration) {
+        std::thread::sleep(timeout.min(Duration::from_millis(1)));
+        self.tick(hal_core::clock::monotonic_ns());
     }
 
     fn errors(&self) -> u64 {

@@ -166,6 +166,24 @@ impl CanBus for SocketCanBus {
         }
     }
 
+    /// Waits for the socket's send buffer to have room (a full one makes
+    /// the non-blocking write fail with EAGAIN). A full queue of the
+    /// interface (ENOBUFS) does not show in poll, so the wait lasts at
+    /// least a millisecond (or `timeout`, if shorter) either way.
+    fn wait_writable(&self, timeout: Duration) {
+        let began = std::time::Instant::now();
+        let ms = timeout.as_millis().clamp(1, i32::MAX as u128) as i32;
+        let mut fds = [PollFd::new(self.sock.as_fd(), PollFlags::POLLOUT)];
+        let _ = poll(
+            &mut fds,
+            PollTimeout::try_from(ms).unwrap_or(PollTimeout::MAX),
+        );
+        let least = timeout.min(Duration::from_millis(1));
+        if let Some(rest) = least.checked_sub(began.elapsed()) {
+            std::thread::sleep(rest);
+        }
+    }
+
     fn errors(&self) -> u64 {
         self.errors.load(Relaxed)
     }

@@ -46,6 +46,8 @@ pub(super) struct DriveRt {
     pub mode: Mode,
     ctl: DriveControl<CanLink>,
     pub bad_frames: u32,
+    /// TPDO1s taken so far (wrapping): tells a fresh statusword.
+    tpdo1_count: u32,
 }
 
 impl DriveRt {
@@ -63,12 +65,23 @@ impl DriveRt {
             mode,
             ctl: DriveControl::new(label, mode, shared, link, faults::needs_restart),
             bad_frames: 0,
+            tpdo1_count: 0,
         }
     }
 
     /// The power state the last statusword showed.
     pub fn state_now(&self) -> Option<PowerState> {
         self.ctl.state_now()
+    }
+
+    /// TPDO1s (statuswords) taken so far, wrapping.
+    pub fn tpdo1_count(&self) -> u32 {
+        self.tpdo1_count
+    }
+
+    /// "canservo.0 (node 2)".
+    pub fn label(&self) -> &str {
+        self.ctl.label()
     }
 
     /// Trips the latch with `fault` and says so once, with the node and,
@@ -98,6 +111,7 @@ impl DriveRt {
                     let position = i32::from_le_bytes([d[2], d[3], d[4], d[5]]);
                     self.ctl.observe_status(statusword, position, d[6] as i8);
                     self.ctl.link.seen_tpdo1 = true;
+                    self.tpdo1_count = self.tpdo1_count.wrapping_add(1);
                 } else {
                     self.bad_frame();
                 }

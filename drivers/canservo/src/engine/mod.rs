@@ -30,10 +30,16 @@
 //! missing TPDOs, failed sends) has the helper bring the node up again
 //! from NMT reset, and the latch clears when that succeeds. Either way
 //! `enable` must then go low and high again before the drive is enabled.
+//!
+//! Unload, exit and a panic elsewhere bring every drive to a safe state
+//! from outside the realtime functions ([`Engine::go_safe`], module
+//! `safe`): every frame of it is checked, and each drive must confirm
+//! disable voltage.
 
 mod cell;
 mod drive;
 pub mod faults;
+mod safe;
 mod shared;
 
 use std::sync::Arc;
@@ -42,6 +48,7 @@ use hal_core::RtLog;
 
 pub use cell::RtCell;
 use drive::DriveRt;
+pub use safe::{SafeReport, Unconfirmed};
 pub use shared::{DriveShared, Restart};
 
 use crate::bus::CanBus;
@@ -350,51 +357,6 @@ impl Engine {
             }
         } else {
             self.tx_fail_cycles = 0;
-        }
-    }
-
-    /// Puts every drive in a safe state from outside the realtime
-    /// functions (unload, exit, after a panic): quick stop, then, once
-    /// the drives have stopped or `quick_stop_ns` (at most 2 s) has
-    /// passed, disable voltage. Sends RPDOs and SYNC directly and waits
-    /// between them, so it is not for realtime use.
-    pub fn go_safe(&mut self) {
-        let start = std::time::Instant::now();
-        let limit = std::time::Duration::from_nanos(self.cfg.quick_stop_ns.min(2_000_000_000));
-        let stop_frames = |e: &Engine, controlword: u16| {
-            for d in &e.drives {
-                let c = controlword.to_le_bytes();
-                let t = d.target().to_le_bytes();
-                let m = d.mode.number() as u8;
-                e.bus.send(&Frame::new(
-                    cob::RPDO[0] + u16::from(d.node),
-                    &[c[0], c[1], t[0], t[1], t[2], t[3], m],
-                ));
-            }
-            e.bus.send(&Frame::new(cob::SYNC, &[]));
-        };
-        loop {
-            stop_frames(self, crate::regs::cw::QUICK_STOP_CMD);
-            std::thread::sleep(std::time::Duration::from_millis(5));
-            self.bus.tick(hal_core::clock::monotonic_ns());
-            for _ in 0..self.cfg.rx_budget {
-                let Some(f) = self.bus.try_recv() else { break };
-                let now = hal_core::clock::monotonic_ns();
-                self.dispatch(&f, now);
-            }
-            let moving = self.drives.iter().any(|d| {
-                matches!(
-                    d.state_now(),
-                    Some(PowerState::OperationEnabled | PowerState::QuickStopActive)
-                )
-            });
-            if !moving || start.elapsed() >= limit {
-                break;
-            }
-        }
-        for _ in 0..2 {
-            stop_frames(self, crate::regs::cw::DISABLE_VOLTAGE);
-            self.bus.tick(hal_core::clock::monotonic_ns());
         }
     }
 }

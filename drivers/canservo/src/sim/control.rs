@@ -146,6 +146,11 @@ impl SimDrive {
         };
     }
 
+    /// The last controlword the drive received (0x6040).
+    pub fn controlword(&self) -> u16 {
+        self.od.get(obj::CONTROLWORD, 0) as u16
+    }
+
     /// The statusword as the drive shows it now.
     pub fn statusword(&self) -> u16 {
         let c = &self.ctl;

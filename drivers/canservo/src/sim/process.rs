@@ -20,12 +20,36 @@ const MIN_ADVANCE_NS: u64 = 1_000_000;
 /// still waiting in the socket and fault the drives for nothing.
 const MAX_ADVANCE_NS: u64 = 2_000_000;
 
+/// How the drives' process reads and steps.
+#[derive(Debug, Clone, Copy)]
+pub struct Pace {
+    /// The longest wait for a frame between advances of time.
+    pub step: Duration,
+    /// A pause after each frame received while `slow` is set: a
+    /// receiver turned slow, whose socket queue overflows (and drops
+    /// frames) under a flood.
+    pub read_delay: Duration,
+}
+
 /// Runs `drives` on `bus` until `stop` is set: powers them up (each
 /// sends its boot-up message), then delivers frames as they arrive and
 /// advances the drives with the wall clock (at most 2 ms per round),
-/// waiting at most `step` for a frame between advances. Returns the
-/// number of frames the drives sent.
-pub fn run(bus: &dyn CanBus, drives: &mut [SimDrive], stop: &AtomicBool, step: Duration) -> u64 {
+/// waiting at most `pace.step` for a frame between advances, pausing
+/// after each frame once `slow_now` is set. Returns the number of frames
+/// the drives sent.
+pub fn run(
+    bus: &dyn CanBus,
+    drives: &mut [SimDrive],
+    stop: &AtomicBool,
+    slow_now: &AtomicBool,
+    pace: Pace,
+) -> u64 {
+    let step = pace.step;
+    let slow = |_: &Frame| {
+        if !pace.read_delay.is_zero() && slow_now.load(Relaxed) {
+            std::thread::sleep(pace.read_delay);
+        }
+    };
     let mut out = Vec::new();
     let mut sent = 0u64;
     for d in drives.iter_mut() {
@@ -36,10 +60,15 @@ pub fn run(bus: &dyn CanBus, drives: &mut [SimDrive], stop: &AtomicBool, step: D
     while !stop.load(Relaxed) {
         sent += flush(bus, drives, &mut out);
         if let Some(f) = bus.recv_timeout(step) {
+            slow(&f);
             deliver(drives, &f, None, &mut out);
             while let Some(f) = bus.try_recv() {
+                slow(&f);
                 deliver(drives, &f, None, &mut out);
                 sent += flush(bus, drives, &mut out);
+                if stop.load(Relaxed) {
+                    break;
+                }
             }
         }
         let now = start.elapsed().as_nanos() as u64;

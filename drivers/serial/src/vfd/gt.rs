@@ -196,6 +196,9 @@ struct GtPins {
     spindle_on: Pin<bool, In>,
     modbus_errors: Pin<u32, Out>,
     readings: Vec<Pin<f64, Out>>,
+    /// `fault-info-code` (LinuxCNC 2.10): 0x5000 as a number, beside the
+    /// float `fault-info`.
+    fault_info_code: Pin<u32, Out>,
 }
 
 /// The component: options, pins, the master, the link's health.
@@ -225,6 +228,7 @@ impl<L: SerialLine> GtVfd<L> {
                 .iter()
                 .map(|(_, name, _)| comp.pin(&p(name)))
                 .collect::<hal_core::Result<_>>()?,
+            fault_info_code: comp.pin(&p("fault-info-code"))?,
         };
         let link = Link::new(comp, &opts.name)?;
         let master = Master::new(line, opts.serial.master);
@@ -305,7 +309,14 @@ impl<L: SerialLine> GtVfd<L> {
                 .master
                 .read_registers(slave, READ_HOLDING_REGISTERS, address, 1);
             match r {
-                Ok(v) => self.pins.readings[i].set(f64::from(v[0]) * scale),
+                Ok(v) => {
+                    self.pins.readings[i].set(f64::from(v[0]) * scale);
+                    if i == FAULT_INFO {
+                        // LinuxCNC reads the register a second time for
+                        // this pin; one read serves both, so they agree.
+                        self.pins.fault_info_code.set(u32::from(v[0]));
+                    }
+                }
                 Err(e) => {
                     self.link.failed(&e);
                     if self.link.lost() {

@@ -7,8 +7,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use hal_launcher::part_program::interp::{interpret, Step, Units};
+use hal_launcher::part_program::interp::{interpret, Units};
 use hal_launcher::part_program::run::{run, Keys, Outcome, RunOptions};
+use hal_tools::gcode_task::{run_through_task, TaskRun};
 use hal_tools::tool_args::gcode_run::{Args, UnitsArg};
 use hal_tools::ToolsError;
 use motion::{Command, MotionClient, Pose};
@@ -20,28 +21,53 @@ fn main() -> ExitCode {
         UnitsArg::Inch => Units::Inch,
     };
     let name = args.file.display().to_string();
-    let text = match std::fs::read(&args.file) {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("gcode-run: {name}: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let lines = text.split(|&b| b == b'\n').count();
     if args.check {
-        return match interpret(&name, &text, Pose::ZERO, units) {
-            Ok(steps) => {
-                let moves = steps.iter().filter(|s| matches!(s, Step::Send(..))).count();
-                println!("{name}: ok ({moves} commands)");
+        return match hal_tools::gcode_check::check(&args.file, args.ini.as_deref()) {
+            Ok(refusals) if refusals.is_empty() => {
+                println!("{name}: ok");
                 ExitCode::SUCCESS
             }
+            Ok(refusals) => {
+                for r in refusals {
+                    eprintln!("{r}");
+                }
+                ExitCode::from(2)
+            }
+            Err(e) => {
+                eprintln!("gcode-run: {e}");
+                ExitCode::from(2)
+            }
+        };
+    }
+    if args.canon {
+        let out = Box::new(std::io::BufWriter::new(std::io::stdout()));
+        return match hal_tools::gcode_check::canon(&args.file, args.ini.as_deref(), out) {
+            Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("{e}");
                 ExitCode::from(2)
             }
         };
     }
-    let instance = args.instance.unwrap_or_else(hal_core::instance_from_env);
+    let text = match hal_core::files::read_user_file(
+        &args.file,
+        hal_core::files::limits::PROGRAM,
+        "part program",
+    ) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("gcode-run: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let lines = text.split(|&b| b == b'\n').count();
+    let instance = args
+        .instance
+        .clone()
+        .unwrap_or_else(hal_core::instance_from_env);
+    if hal_tools::gcode_task::task_runs(&instance) {
+        return through_task(&instance, &args, &name);
+    }
     let mut client = match MotionClient::attach(&instance) {
         Ok(c) => c,
         Err(e) => {
@@ -90,6 +116,37 @@ fn main() -> ExitCode {
         }
         Outcome::Failed(m) => {
             eprintln!("{m}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Runs the program through the task of `instance` (a machine started by
+/// `linuxcnc`): task is then the one authority over the machine.
+fn through_task(instance: &str, args: &Args, name: &str) -> ExitCode {
+    let stop = Arc::new(AtomicBool::new(false));
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGINT, stop.clone());
+    let keys = if args.no_keys {
+        Keys::none()
+    } else {
+        Keys::start()
+    };
+    let progress = !args.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let outcome = run_through_task(instance, &args.file, &keys, &stop, progress);
+    drop(keys);
+    match outcome {
+        TaskRun::Done(_) => {
+            if !args.quiet {
+                println!("{name}: done (through task)");
+            }
+            ExitCode::SUCCESS
+        }
+        TaskRun::Aborted(why) => {
+            println!("{name}: {why}");
+            ExitCode::from(1)
+        }
+        TaskRun::Failed(why) => {
+            eprintln!("gcode-run: {why}");
             ExitCode::from(1)
         }
     }

@@ -8,6 +8,9 @@ use hal_core::{instance_from_env, Instance};
 use hal_scope::fifo::{open_streamer, parse_input_line};
 use hal_tools::ToolsError;
 
+/// The longest input line (a record of every column fits many times).
+const LINE_LIMIT: usize = 1 << 16;
+
 fn main() {
     std::process::exit(match run() {
         Ok(code) => code,
@@ -55,10 +58,13 @@ fn run() -> Result<i32, ToolsError> {
 
     loop {
         line.clear();
-        match input.read_until(b'\n', &mut line) {
+        match hal_core::files::read_line_within(&mut input, &mut line, LINE_LIMIT) {
             Ok(0) => break,
             Ok(_) => number += 1,
-            Err(e) => return Err(e.into()),
+            Err(e) => {
+                eprintln!("halstreamer: line {}: {e}", number + 1);
+                return Ok(1);
+            }
         }
         let record = match parse_input_line(&line, &cols) {
             None => continue,

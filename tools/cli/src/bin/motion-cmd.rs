@@ -208,6 +208,11 @@ fn run(cli: Cli) -> Result<ExitCode, ToolsError> {
         return Err(usage("no command given"));
     };
     let action = parse_action(name, rest)?;
+    match &action {
+        Action::Send(cmd) => hal_tools::task_gate::allow(&instance, Some(cmd))?,
+        Action::Queue(_) | Action::LoadComp { .. } => hal_tools::task_gate::allow(&instance, None)?,
+        Action::Status | Action::Watch { .. } | Action::Wait(_) => {}
+    }
     let mut client = MotionClient::attach(&instance)
         .map_err(|source| ToolsError::MotionAttach { instance, source })?
         .with_timeout(timeout.unwrap_or(Duration::from_secs(1)));

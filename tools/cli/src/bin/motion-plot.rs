@@ -13,10 +13,14 @@ fn main() -> ExitCode {
         eprintln!("motion-plot: --period must be a positive number of seconds");
         return ExitCode::from(2);
     }
-    let text = match std::fs::read_to_string(&a.samples) {
+    let text = match hal_core::files::read_user_text(
+        std::path::Path::new(&a.samples),
+        hal_core::files::limits::SAMPLES,
+        "sample file",
+    ) {
         Ok(t) => t,
         Err(e) => {
-            eprintln!("motion-plot: {}: {e}", a.samples);
+            eprintln!("motion-plot: {e}");
             return ExitCode::from(2);
         }
     };

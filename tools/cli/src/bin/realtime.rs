@@ -8,7 +8,7 @@
 use std::time::Duration;
 
 use hal_core::{instance_from_env, Instance};
-use hal_lang::host_process::{start_host, stop_host};
+use hal_lang::host_process::{kill_host, start_host, stop_host};
 use hal_lang::protocol::ClientError;
 
 /// How long `stop` waits for the host to release everything.
@@ -70,11 +70,24 @@ fn start(instance: &str) -> i32 {
     }
 }
 
-/// Stops the host; `quiet_if_stopped` makes "not running" a success.
+/// Stops the host; `quiet_if_stopped` makes "not running" a success. A
+/// host that does not exit within [`STOP_LIMIT`] is killed, so `stop`
+/// always ends it (and says so: its drivers had no safe state).
 fn stop(instance: &str, quiet_if_stopped: bool) -> i32 {
     match stop_host(instance, STOP_LIMIT) {
         Ok(()) => 0,
         Err(ClientError::NotRunning { .. }) if quiet_if_stopped => 0,
+        Err(e @ ClientError::StillRunning { pid: Some(pid), .. }) => {
+            if kill_host(pid, Duration::from_secs(5)) {
+                eprintln!(
+                    "realtime: {e}; ended it (process {pid}) with SIGKILL: its drivers \
+                     had no safe-state exit, check the machine"
+                );
+            } else {
+                eprintln!("realtime: {e}; process {pid} did not end even on SIGKILL");
+            }
+            1
+        }
         Err(e) => {
             eprintln!("realtime: {e}");
             1

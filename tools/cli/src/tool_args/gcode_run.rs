@@ -13,15 +13,22 @@ pub enum UnitsArg {
     Inch,
 }
 
-/// Runs a G-code part program on the motion controller (motmod) of a
-/// running HAL instance: the whole program is checked first, then queued
-/// as coordinated moves while it runs. Keys while running: p (or space)
-/// pause, r resume, s single step (while paused), a (or q, Ctrl-C) abort.
+/// Runs a G-code part program on a running HAL instance. Keys while
+/// running: p (or space) pause, r resume, s single step (while paused),
+/// a (or q, Ctrl-C) abort.
 ///
-/// The G-code subset: G0 G1 G2 G3 (I J K or R, P turns) G4 G17 G18 G19
-/// G20 G21 G61 G61.1 G64 P Q G90 G91 G90.1 G91.1, F (units per minute),
-/// M0 M1 M2 M30, N, comments; axis words X Y Z A B C U V W. Anything else
-/// is refused with file:line:column before anything moves.
+/// When a machine started by linuxcnc runs on the instance, the program
+/// runs through its task (task-cmd mode auto, open, run): the whole
+/// RS274NGC language (tools, offsets, canned cycles, parameters,
+/// O-words), with task the one authority over the machine.
+///
+/// Otherwise (a bare halrun with motmod) it drives the motion controller
+/// itself: the whole program is checked first, then queued as coordinated
+/// moves. This standalone runner knows a subset: G0 G1 G2 G3 (I J K or R,
+/// P turns) G4 G17 G18 G19 G20 G21 G61 G61.1 G64 P Q G90 G91 G90.1
+/// G91.1, F (units per minute), M0 M1 M2 M30, N, comments; axis words X Y
+/// Z A B C U V W. Anything else is refused with file:line:column before
+/// anything moves.
 #[derive(Debug, Parser)]
 #[command(
     name = "gcode-run",
@@ -29,7 +36,9 @@ pub enum UnitsArg {
     after_help = "Examples:
   gcode-run pocket.ngc                  run on the instance in $HAL_INSTANCE
   gcode-run -i mill --units inch part.ngc
-  gcode-run --check part.ngc            only check the program
+  gcode-run --check part.ngc            list every refusal of the program
+  gcode-run --canon -I mill.ini part.ngc
+                                        print its canonical calls (as rs274)
   gcode-run --preload -q --no-keys part.ngc
                                         queue it all first; quiet (scripts)
   echo r | gcode-run --optional-stop part.ngc
@@ -49,9 +58,19 @@ pub struct Args {
     /// The machine's linear units (`[TRAJ]LINEAR_UNITS`).
     #[arg(long, value_enum, default_value = "mm")]
     pub units: UnitsArg,
-    /// Only check the program (from X0 Y0 Z0); no machine needed.
+    /// Only check the program with task's RS274NGC interpreter: every
+    /// refusal, earliest first, as file:line:column: word: text; no
+    /// machine needed.
     #[arg(long)]
     pub check: bool,
+    /// Only print the program's canonical calls as LinuxCNC's rs274 does;
+    /// no machine needed.
+    #[arg(long, conflicts_with = "check")]
+    pub canon: bool,
+    /// The machine's INI file for --check and --canon: its [RS274NGC]
+    /// settings and [EMCIO]TOOL_TABLE.
+    #[arg(short = 'I', long, value_name = "INI")]
+    pub ini: Option<PathBuf>,
     /// Stop at M1 too.
     #[arg(long)]
     pub optional_stop: bool,

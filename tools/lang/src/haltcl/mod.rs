@@ -20,6 +20,8 @@ use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use hal_core::files::limits;
+
 use crate::ini::Ini;
 use crate::lexer::split_words;
 use crate::Session;
@@ -50,14 +52,15 @@ pub enum HaltclError {
         #[source]
         source: std::io::Error,
     },
-    /// The Tcl file is not there.
-    #[error("haltcl: cannot read {}: {source}", .path.display())]
-    Script {
-        /// The file.
-        path: PathBuf,
-        /// What went wrong.
-        #[source]
-        source: std::io::Error,
+    /// The Tcl file cannot be read (missing, not a regular file, too
+    /// large).
+    #[error("haltcl: {0}")]
+    Script(#[from] hal_core::files::FileError),
+    /// A stop was requested while the script ran: it was ended.
+    #[error("{script}: stop requested; the Tcl script was ended")]
+    Stopped {
+        /// The script.
+        script: String,
     },
     /// The script failed (its error was printed) or called `exit` with a
     /// non-zero status.
@@ -127,10 +130,9 @@ fn raise(fd: OwnedFd) -> std::io::Result<OwnedFd> {
 /// commands execute on `session`.
 pub fn run(session: &mut Session<'_>, ini: Option<&Ini>, job: &TclJob) -> Result<(), HaltclError> {
     if let Some(script) = &job.script {
-        std::fs::metadata(script).map_err(|source| HaltclError::Script {
-            path: script.clone(),
-            source,
-        })?;
+        // tclsh sources the file itself; this read refuses what is not a
+        // regular file or is too large before tclsh ever sees it.
+        hal_core::files::read_user_file(script, limits::TCL, "Tcl HAL file")?;
     }
     let tclsh = find_tclsh()?;
     let spawn_err = |source| HaltclError::Spawn {
@@ -156,6 +158,9 @@ pub fn run(session: &mut Session<'_>, ini: Option<&Ini>, job: &TclJob) -> Result
     if let Some(path) = ini.and_then(Ini::path) {
         cmd.env("INI_FILE_NAME", path);
     }
+    // tclsh ends with us, even when we are killed outright: a script in
+    // a loop must not spin on as an orphan.
+    crate::usr::end_with_parent(&mut cmd, nix::sys::signal::Signal::SIGKILL);
     // SAFETY: dup2 is async-signal-safe and touches no memory of ours; the
     // source descriptors are all 10 or above, so none is overwritten
     // before it is copied.
@@ -174,15 +179,21 @@ pub fn run(session: &mut Session<'_>, ini: Option<&Ini>, job: &TclJob) -> Result
     drop((req_w, ans_r, pre_r));
     let mut requests = BufReader::new(File::from(req_r));
     let mut answers = File::from(ans_w);
-    let served = serve(session, ini, job, &mut requests, &mut answers);
-    drop(answers);
-    let status = child.wait().map_err(spawn_err)?;
-    served?;
     let name = job
         .script
         .as_deref()
         .map(|p| p.display().to_string())
         .unwrap_or_else(|| "haltcl".to_string());
+    let served = serve(session, ini, job, &mut requests, &mut answers);
+    drop(answers);
+    if let Err(Served::Stopped) = served {
+        crate::usr::end_child(&mut child);
+        return Err(HaltclError::Stopped { script: name });
+    }
+    let status = child.wait().map_err(spawn_err)?;
+    if let Err(Served::Failed(e)) = served {
+        return Err(e);
+    }
     match status.code() {
         Some(0) => Ok(()),
         code => Err(HaltclError::Failed {
@@ -192,15 +203,57 @@ pub fn run(session: &mut Session<'_>, ini: Option<&Ini>, job: &TclJob) -> Result
     }
 }
 
+/// Why serving the child ended early.
+enum Served {
+    /// The protocol broke.
+    Failed(HaltclError),
+    /// The session's stop was requested.
+    Stopped,
+}
+
+impl From<HaltclError> for Served {
+    fn from(e: HaltclError) -> Served {
+        Served::Failed(e)
+    }
+}
+
+/// Waits until a request can be read, looking at the session's stop
+/// request every 100 ms (a script in a loop sends none).
+fn wait_for_request(session: &Session<'_>, requests: &BufReader<File>) -> Result<(), Served> {
+    use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
+    use std::os::fd::AsFd;
+    loop {
+        if !requests.buffer().is_empty() {
+            return Ok(());
+        }
+        if session.stop_requested() {
+            return Err(Served::Stopped);
+        }
+        let mut fds = [PollFd::new(requests.get_ref().as_fd(), PollFlags::POLLIN)];
+        match poll(&mut fds, PollTimeout::from(100u8)) {
+            Ok(0) | Err(nix::errno::Errno::EINTR) => {}
+            // Readable, hung up or failed: the read says which.
+            _ => return Ok(()),
+        }
+    }
+}
+
 /// Answers the child's requests until it closes its end.
 fn serve(
     session: &mut Session<'_>,
     ini: Option<&Ini>,
     job: &TclJob,
-    requests: &mut impl BufRead,
+    requests: &mut BufReader<File>,
     answers: &mut impl Write,
-) -> Result<(), HaltclError> {
-    while let Some(fields) = read_request(requests)? {
+) -> Result<(), Served> {
+    loop {
+        wait_for_request(session, requests)?;
+        let Some(fields) = read_request(requests)? else {
+            break;
+        };
+        if session.stop_requested() {
+            return Err(Served::Stopped);
+        }
         let (ok, reply) = answer(session, ini, job, &fields)?;
         // A child that died mid-request cannot read the answer: not an
         // error of ours; its exit status tells.

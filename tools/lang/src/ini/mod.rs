@@ -198,8 +198,11 @@ impl Ini {
     /// Reads the INI file at `path` and everything it includes.
     pub fn load(path: &Path) -> Result<Ini, IniError> {
         // Bytes that are not UTF-8 (a Latin-1 comment) read as U+FFFD,
-        // as in HAL files, instead of failing the whole file.
-        let mut read = |p: &Path| crate::lexer::read_text(p);
+        // as in HAL files, instead of failing the whole file. Only
+        // regular files of a bounded size are read (`#INCLUDE /dev/zero`
+        // is refused with the reason).
+        use hal_core::files::{limits, read_user_text};
+        let mut read = |p: &Path| Ok(read_user_text(p, limits::INI, "INI file")?);
         let mut ini = Ini::parse_with(path, &mut read)?;
         ini.path = Some(path.to_path_buf());
         Ok(ini)

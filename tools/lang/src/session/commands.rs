@@ -176,7 +176,7 @@ impl Session<'_> {
     fn user_command(&mut self, name: &str, a: &[&str]) -> CmdResult {
         match name {
             "loadusr" => self.loadusr(a),
-            "waitusr" => crate::usr::wait_gone(&self.inst, a[0]),
+            "waitusr" => crate::usr::wait_gone(&self.inst, a[0], self.opts.stop.as_ref()),
             _ => crate::usr::unload(&self.inst, a[0], UNLOAD_LIMIT),
         }
     }
@@ -192,7 +192,7 @@ impl Session<'_> {
         self.inst
             .check_unlocked(hal_core::lock_bits::LOAD, "loadusr")?;
         let _ = self.w_out().flush();
-        if let Some(child) = crate::usr::run(&self.inst, &spec)? {
+        if let Some(child) = crate::usr::run(&self.inst, &spec, self.opts.stop.as_ref())? {
             self.adopted
                 .retain_mut(|c| !matches!(c.try_wait(), Ok(Some(_))));
             let pid = child.id().to_string();

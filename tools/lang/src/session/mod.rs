@@ -30,6 +30,9 @@ pub struct Options {
     pub script: bool,
     /// The INI file for `[SECTION]KEY` substitution (`-i`).
     pub ini: Option<Ini>,
+    /// A stop request (the launcher's SIGTERM): once set, no further
+    /// command runs and waits (`loadusr -W`, `waitusr`, haltcl) end.
+    pub stop: Option<hal_core::userspace::ExitSignals>,
 }
 
 /// The outcome of one command.
@@ -121,6 +124,11 @@ impl<'o> Session<'o> {
     /// The instance this session works on.
     pub fn instance(&self) -> &Instance {
         &self.inst
+    }
+
+    /// Whether a stop was requested ([`Options::stop`]).
+    pub fn stop_requested(&self) -> bool {
+        self.opts.stop.as_ref().is_some_and(|s| s.requested())
     }
 
     /// Whether `quit` or `exit` ended the session's input.
@@ -218,6 +226,11 @@ impl<'o> Session<'o> {
         let mut ok = true;
         for line in logical_lines(text) {
             self.line = line.number;
+            if self.stop_requested() {
+                self.report("stop requested: the rest of the file is not run");
+                ok = false;
+                break;
+            }
             if self.echo {
                 let _ = writeln!(
                     self.w_err(),
@@ -256,6 +269,9 @@ impl<'o> Session<'o> {
 
     /// Runs one command given as words; reports its error.
     pub fn run_words(&mut self, words: &[String]) -> bool {
+        if self.stop_requested() {
+            return false;
+        }
         let verdict = match self.filter.clone() {
             Some(f) => {
                 let at = self.location();

@@ -150,7 +150,7 @@ pub struct IoControl {
     /// `user-request-enable` was raised this cycle; it drops next cycle.
     pulse: bool,
     /// Where a random changer's table is saved after each change.
-    save_to: Option<PathBuf>,
+    save_to: Option<tooltable::SaveTo>,
 }
 
 impl IoControl {
@@ -168,7 +168,7 @@ impl IoControl {
             prepped: None,
             tool_in_spindle,
             pulse: false,
-            save_to,
+            save_to: save_to.map(tooltable::SaveTo::new),
         };
         if !io.table.random {
             io.table.put(0, None);
@@ -187,11 +187,23 @@ impl IoControl {
         &self.table
     }
 
+    /// Keeps the table after its file could not be read again: until a
+    /// reload succeeds, changes are not written back (the file on disk is
+    /// the user's, half edited; writing would destroy their edit).
+    pub fn reload_failed(&mut self) {
+        if let Some(s) = &mut self.save_to {
+            s.set_read_complete(false);
+        }
+    }
+
     /// Replaces the tool table (reloaded from its file), keeping the tool
     /// in the spindle.
     pub fn reload(&mut self, table: ToolTable) {
         let spindle = self.tool_in_spindle;
         self.table = table;
+        if let Some(s) = &mut self.save_to {
+            s.set_read_complete(true);
+        }
         if !self.table.random {
             let in_spindle = self
                 .table
@@ -337,11 +349,22 @@ impl IoControl {
                 self.table.put(slot, None);
             }
             self.table.slots.swap(0, slot);
-            if let Some(path) = &self.save_to {
-                // A failed save leaves the file behind the machine: say so.
-                if let Err(e) = std::fs::write(path, self.table.to_text()) {
-                    eprintln!("iocontrol: saving the tool table {}: {e}", path.display());
+            match &self.save_to {
+                Some(s) if !s.allowed() => eprintln!(
+                    "iocontrol: the tool table {} is not written back: its last read was \
+                     incomplete (fix the file, then reload the tool table)",
+                    s.path().display()
+                ),
+                Some(s) => {
+                    // A failed save leaves the file behind the machine: say so.
+                    if let Err(e) = self.table.save(s.path()) {
+                        eprintln!(
+                            "iocontrol: saving the tool table {}: {e}",
+                            s.path().display()
+                        );
+                    }
                 }
+                None => {}
             }
         } else if slot == 0 {
             self.table.put(0, None);
@@ -466,7 +489,10 @@ mod tests {
     const TABLE: &str = "T1 P5 D0.1\nT2 P3 D0.2\nT7 P0 ;spindle\n";
 
     fn io(random: bool) -> IoControl {
-        IoControl::new(ToolTable::parse(TABLE, "t.tbl", random), None)
+        IoControl::new(
+            ToolTable::parse(TABLE.as_bytes(), "t.tbl", random).unwrap(),
+            None,
+        )
     }
 
     fn inputs(prepared: bool, changed: bool) -> IoInputs {

@@ -111,7 +111,8 @@ impl Keys {
         Keys { rx, saved: None }
     }
 
-    fn next(&self) -> Option<Key> {
+    /// The next key pressed, if any.
+    pub fn next(&self) -> Option<Key> {
         self.rx.try_recv().ok()
     }
 }

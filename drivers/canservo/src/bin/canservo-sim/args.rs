@@ -13,7 +13,8 @@ use clap::Parser;
         canservo-sim --iface vcan0 --nodes 1,2,3\n  \
         canservo-sim --iface can1 --nodes 5 --home 20000\n\n\
         Each drive boots (sends its boot-up message) at start and then answers NMT, SDO, SYNC \
-        and RPDOs like a CiA 402 servo drive with a motor on it. Stop with Ctrl-C or SIGTERM."
+        and RPDOs like a CiA 402 servo drive with a motor on it. Stop with Ctrl-C or SIGTERM; \
+        each drive's last controlword and power state are printed then."
 )]
 pub struct Args {
     /// CAN interface.
@@ -28,4 +29,9 @@ pub struct Args {
     /// Longest wait for a frame before the drives' time moves on (µs).
     #[arg(long, default_value_t = 1000)]
     pub step_us: u64,
+    /// Pause after each frame received (µs) once SIGUSR1 arrives: a
+    /// receiver turned slow, whose socket queue overflows under a flood
+    /// of frames (for testing a master's safe state).
+    #[arg(long, default_value_t = 0)]
+    pub read_delay_us: u64,
 }

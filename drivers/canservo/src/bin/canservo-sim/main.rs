@@ -11,6 +11,7 @@ use clap::Parser;
 use hal_canservo::bus::{Filters, SocketCanBus};
 use hal_canservo::sim::{process, SimDrive, SimDriveConfig};
 use hal_driver::plant::Switch;
+use std::io::Write;
 
 mod args;
 use args::Args;
@@ -25,8 +26,13 @@ fn main() -> ExitCode {
         }
     };
     let stop = Arc::new(AtomicBool::new(false));
-    for sig in [signal_hook::consts::SIGTERM, signal_hook::consts::SIGINT] {
-        if let Err(e) = signal_hook::flag::register(sig, stop.clone()) {
+    let slow = Arc::new(AtomicBool::new(false));
+    for (sig, flag) in [
+        (signal_hook::consts::SIGTERM, &stop),
+        (signal_hook::consts::SIGINT, &stop),
+        (signal_hook::consts::SIGUSR1, &slow),
+    ] {
+        if let Err(e) = signal_hook::flag::register(sig, flag.clone()) {
             eprintln!("canservo-sim: cannot handle signal {sig}: {e}");
             return ExitCode::from(2);
         }
@@ -41,18 +47,30 @@ fn main() -> ExitCode {
         })
         .collect();
     let list: Vec<String> = args.nodes.iter().map(u8::to_string).collect();
-    println!(
+    let mut out = std::io::stdout();
+    // A closed stdout ends nothing: the drives run on regardless.
+    let _ = writeln!(
+        out,
         "canservo-sim: {} drive(s) on {} (nodes {})",
         drives.len(),
         args.iface,
         list.join(",")
     );
-    let sent = process::run(
-        &bus,
-        &mut drives,
-        &stop,
-        Duration::from_micros(args.step_us.max(1)),
-    );
-    println!("canservo-sim: stopped after sending {sent} frames");
+    let _ = out.flush();
+    let pace = process::Pace {
+        step: Duration::from_micros(args.step_us.max(1)),
+        read_delay: Duration::from_micros(args.read_delay_us),
+    };
+    let sent = process::run(&bus, &mut drives, &stop, &slow, pace);
+    for d in &drives {
+        let _ = writeln!(
+            out,
+            "canservo-sim: node {}: controlword {:#06x}, {}",
+            d.node(),
+            d.controlword(),
+            d.power_state().name()
+        );
+    }
+    let _ = writeln!(out, "canservo-sim: stopped after sending {sent} frames");
     ExitCode::SUCCESS
 }

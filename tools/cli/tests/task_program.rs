@@ -1,0 +1,238 @@
+//! Programs executed by task: the simulated mill runs the shipped
+//! CAM-style program (work offset, tool changes with length offsets,
+//! spindle, coolant, cutter compensation, a drilling cycle, G28, named
+//! parameters) through `task-cmd`, and MDI lines run in MDI mode.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use machine::{root, Machine, Scratch};
+
+/// A copy of configs/sim/mill (the interpreter writes its parameter
+/// file beside the INI file).
+fn mill_copy(s: &Scratch) -> std::path::PathBuf {
+    let src = root().join("configs/sim/mill");
+    for entry in std::fs::read_dir(&src).unwrap().flatten() {
+        let name = entry.file_name();
+        let name = name.to_str().unwrap();
+        if !name.starts_with("sim.var") {
+            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
+        }
+    }
+    s.0.join("mill.ini")
+}
+
+/// The machine on and homed, ready for AUTO or MDI.
+fn ready(m: &Machine) {
+    assert!(m.threads_run(), "threads run");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // No AUTO before homing.
+    let (ok, _, err) = m.task(&["mode", "auto"]);
+    assert!(!ok && err.contains("needs the machine homed"), "{err}");
+    m.motion(&["home", "-1"]);
+    m.motion(&["-t", "60", "wait", "all-homed"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+}
+
+fn pos(m: &Machine, joint: usize) -> f64 {
+    m.getp(&format!("joint.{joint}.pos-cmd")).parse().unwrap()
+}
+
+#[test]
+fn the_mill_runs_a_cam_program_through_task() {
+    let s = Scratch::new("task-cam");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-cam");
+    ready(&m);
+    // MDI: a move, then the modal state shows in the status.
+    assert_eq!(m.task_ok(&["mode", "mdi"]).trim(), "mode MDI");
+    m.task_ok(&["mdi", "G0", "X2", "Y1"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    assert!(
+        (pos(&m, 0) - 2.0).abs() < 1e-6,
+        "{}",
+        m.task_ok(&["status"])
+    );
+    assert!((pos(&m, 1) - 1.0).abs() < 1e-6);
+    // Programs need AUTO.
+    let prog = s.0.join("cam-part.ngc");
+    let prog = prog.to_str().unwrap();
+    m.task_ok(&["open", prog]);
+    let (ok, _, err) = m.task(&["run"]);
+    assert!(!ok && err.contains("MDI mode"), "{err}");
+    assert_eq!(m.task_ok(&["mode", "auto"]).trim(), "mode AUTO");
+    m.task_ok(&["run"]);
+    // No MDI and no mode change while it runs.
+    let (ok, _, err) = m.task(&["mode", "mdi"]);
+    assert!(!ok && err.contains("runs"), "{err}");
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("interp: RUNNING"), "{status}");
+    let (ok, out, err) = m.task(&["-t", "300", "wait-done"]);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    assert!(out.contains("cam-part.ngc: done"), "{out}");
+    // The last hole (G54 X16 Y11 is machine X26 Y16), then G28 Z0.
+    let status = m.task_ok(&["status"]);
+    for (joint, want) in [(0, 26.0), (1, 16.0), (2, 0.0)] {
+        let got = pos(&m, joint);
+        assert!(
+            (got - want).abs() < 1e-6,
+            "joint {joint}: {got}, not {want}\n{status}"
+        );
+    }
+    assert!(status.contains("tool in spindle: 3"), "{status}");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "3");
+    assert!(
+        status.contains("offsets: g5x 10.0000 5.0000 -45.0000"),
+        "{status}"
+    );
+    // M9 and M5 at the end: coolant and spindle off.
+    assert!(status.contains("coolant: mist off, flood off"), "{status}");
+    assert!(status.contains("spindle: stopped"), "{status}");
+    assert_eq!(m.halcmd(&["gets", "constraints-ok"]).trim(), "TRUE");
+    m.stop();
+    // The work offset the program set is kept in the parameter file.
+    let var = std::fs::read_to_string(s.0.join("sim.var")).unwrap();
+    assert!(var.contains("5221\t10.000000"), "{var}");
+    assert!(var.contains("5223\t-45.000000"), "{var}");
+}
+
+#[test]
+fn a_program_error_stops_the_run_and_names_the_line() {
+    let s = Scratch::new("task-err");
+    let ini = mill_copy(&s);
+    let prog = s.write("bad.ngc", "G21 G90\nG0 X1\nT42 M6\nG0 X2\nM2\n");
+    let m = Machine::start(&ini, "task-err");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(!ok, "the run failed: {out}\n{}", m.stderr());
+    assert!(err.contains("bad.ngc:3"), "{err}");
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("interp: IDLE"), "{status}");
+    // X2 never ran.
+    assert!(pos(&m, 0) < 1.5, "{status}");
+    m.stop();
+}
+
+#[test]
+fn gcode_run_runs_through_task_when_one_runs() {
+    let s = Scratch::new("task-gcode-run");
+    let ini = mill_copy(&s);
+    let prog = s.write(
+        "square.ngc",
+        "G21 G90 G54\n#<side> = 3\nG1 X#<side> F600\nY#<side>\nX0\nY0\nG0 X1.5 Y2.5\nM2\n",
+    );
+    let m = Machine::start(&ini, "task-gcode-run");
+    ready(&m);
+    let out = machine::tool(
+        env!("CARGO_BIN_EXE_gcode-run"),
+        &["--no-keys", prog.to_str().unwrap()],
+        &m.instance,
+        None,
+    );
+    let (ok, stdout, stderr) = machine::text(&out);
+    assert!(ok, "{stdout}{stderr}\n--- linuxcnc:\n{}", m.stderr());
+    assert!(
+        stdout.contains("square.ngc: done (through task)"),
+        "{stdout}"
+    );
+    assert!((pos(&m, 0) - 1.5).abs() < 1e-6);
+    assert!((pos(&m, 1) - 2.5).abs() < 1e-6);
+    assert!(m.task_ok(&["status"]).contains("mode: AUTO"));
+    // Task runs the machine: motion-cmd may not turn it off, nor move it
+    // in AUTO mode; reading stays open.
+    let motion_cmd = |args: &[&str]| {
+        machine::text(&machine::tool(
+            env!("CARGO_BIN_EXE_motion-cmd"),
+            args,
+            &m.instance,
+            None,
+        ))
+    };
+    let (ok, out, err) = motion_cmd(&["disable"]);
+    assert!(
+        !ok && err.contains("task alone turns the machine on and off"),
+        "{out}{err}"
+    );
+    let (ok, out, err) = motion_cmd(&["rapid", "1", "X=5"]);
+    assert!(!ok && err.contains("task is in AUTO mode"), "{out}{err}");
+    assert!(motion_cmd(&["status"]).0);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE");
+    // --canon prints the canonical calls in the machine's units.
+    let out = machine::tool(
+        env!("CARGO_BIN_EXE_gcode-run"),
+        &[
+            "--canon",
+            "-I",
+            ini.to_str().unwrap(),
+            prog.to_str().unwrap(),
+        ],
+        &m.instance,
+        None,
+    );
+    let (ok, stdout, stderr) = machine::text(&out);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("STRAIGHT_FEED(3.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000)"),
+        "{stdout}"
+    );
+    m.stop();
+}
+
+/// Polls `task-cmd status` until it holds `needle` (30 s at most).
+fn wait_status(m: &Machine, needle: &str) -> String {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    loop {
+        let status = m.task_ok(&["status"]);
+        if status.contains(needle) {
+            return status;
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "no '{needle}' in\n{status}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn pause_resume_m0_and_abort_act_on_the_running_program() {
+    let s = Scratch::new("task-pause");
+    let ini = mill_copy(&s);
+    let prog = s.write("long.ngc", "G21 G90\nG1 X20 F300\nM0\nG1 X0\nG1 X10\nM2\n");
+    let m = Machine::start(&ini, "task-pause");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    wait_status(&m, "motion line: 2");
+    assert_eq!(m.task_ok(&["pause"]).trim(), "paused");
+    wait_status(&m, "interp: PAUSED");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let held = pos(&m, 0);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), held, "X holds while paused");
+    assert!(held > 0.0 && held < 20.0, "{held}");
+    // Resume: X20, then the M0 holds the run.
+    m.task_ok(&["resume"]);
+    wait_status(&m, "interp: HELD");
+    assert!((pos(&m, 0) - 20.0).abs() < 1e-6);
+    m.task_ok(&["resume"]);
+    wait_status(&m, "motion line: 4");
+    // Abort along the way back: the run ends, the rest never runs.
+    m.task_ok(&["abort"]);
+    let (ok, _, err) = m.task(&["-t", "30", "wait-done"]);
+    assert!(!ok && err.contains("aborted"), "{err}");
+    let status = wait_status(&m, "interp: IDLE");
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    let stopped = pos(&m, 0);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), stopped, "{status}");
+    assert!(stopped > 0.0 && stopped < 20.0, "{stopped}");
+    m.stop();
+}

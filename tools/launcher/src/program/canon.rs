@@ -1,0 +1,663 @@
+//! Task's side of the canonical interface: the interpreter's calls, in
+//! program units and the program coordinate system, become [`Op`]s in
+//! machine units and machine coordinates (units scaled, the XY rotation,
+//! the G5x, G92 and tool length offsets applied, as LinuxCNC's canon
+//! does), queued in program order for task to carry out: moves and
+//! planner settings for motion's queue, tool and coolant requests for
+//! iocontrol, stops and the program end. Calls the machine cannot carry
+//! out yet are recorded as a fault naming the G-code, which task turns
+//! into a refusal of the program at that line.
+
+use std::collections::VecDeque;
+
+use motion::command::{LineKind, TermCond};
+use motion::Command;
+use rs274ngc::{
+    Arc, Canon, ControlPoint, Direction, FeedReference, InputKind, MotionMode, Plane, Pose,
+    ToolEntry, Units,
+};
+
+use crate::iocontrol::IoRequest;
+
+/// One thing task does for the program, in program order.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Op {
+    /// A command for motion's queue (moves, dwell, planner settings).
+    Motion(Command),
+    /// An iocontrol request (tool prepare, change, number; coolant), once
+    /// the moves before it have finished.
+    Io(IoRequest),
+    /// The spindle's direction and speed (kept in task's status; the
+    /// motion controller has no spindle command yet).
+    Spindle {
+        /// The direction.
+        direction: Direction,
+        /// The speed, rpm.
+        rpm: f64,
+    },
+    /// M0 (or M1 when `optional`): stop once the moves before it end.
+    Stop {
+        /// M1: stops only with the optional stop switch on.
+        optional: bool,
+    },
+    /// M2, M30: the program ends once the moves before it end.
+    End,
+    /// (MSG,...), (DEBUG,...), (PRINT,...): text for the operator.
+    Message(String),
+}
+
+/// The canon task gives the interpreter.
+#[derive(Debug)]
+pub struct TaskCanon {
+    /// What the program asked for, not yet carried out.
+    pub ops: VecDeque<Op>,
+    /// A call the machine cannot carry out (the first one).
+    pub fault: Option<String>,
+    /// The program line of the block being executed.
+    pub line: i32,
+    /// The M1 switch.
+    pub optional_stop: bool,
+    /// The block delete switch.
+    pub block_delete: bool,
+    /// Machine (user) units per millimetre.
+    user_per_mm: f64,
+    units: Units,
+    plane: Plane,
+    /// Offsets in machine units, nine axes.
+    g5x: [f64; 9],
+    g92: [f64; 9],
+    tool_offset: [f64; 9],
+    rotation_deg: f64,
+    /// Where the last queued move ends, machine coordinates.
+    goal: [f64; 9],
+    /// Feed rate, program units per minute.
+    feed: f64,
+    control: (MotionMode, f64),
+    tools: Vec<ToolEntry>,
+    slot: i32,
+    axis_mask: u32,
+    /// The spindle as the program last set it.
+    spindle: (Direction, f64),
+}
+
+impl TaskCanon {
+    /// A canon for a machine in `user_per_mm` units (1 for mm, 1/25.4
+    /// for inch) with the axes of `axis_mask` (bit 0 X ... bit 8 W).
+    pub fn new(user_per_mm: f64, axis_mask: u32) -> TaskCanon {
+        TaskCanon {
+            ops: VecDeque::new(),
+            fault: None,
+            line: 0,
+            optional_stop: false,
+            block_delete: false,
+            user_per_mm,
+            units: if user_per_mm < 0.5 {
+                Units::Inches
+            } else {
+                Units::Mm
+            },
+            plane: Plane::Xy,
+            g5x: [0.0; 9],
+            g92: [0.0; 9],
+            tool_offset: [0.0; 9],
+            rotation_deg: 0.0,
+            goal: [0.0; 9],
+            feed: 0.0,
+            control: (MotionMode::Continuous, 0.0),
+            tools: vec![ToolEntry::EMPTY],
+            slot: 0,
+            axis_mask,
+            spindle: (Direction::Stopped, 0.0),
+        }
+    }
+
+    /// Takes the machine's state before the interpreter synchronises:
+    /// where the queue ends (machine coordinates), the tool table (index
+    /// 0 the spindle) and the slot of the tool in the spindle.
+    pub fn refresh(&mut self, goal: [f64; 9], tools: Vec<ToolEntry>, slot: i32) {
+        self.goal = goal;
+        self.tools = tools;
+        self.slot = slot;
+    }
+
+    /// The offsets in effect, machine units: G5x, G92, tool.
+    pub fn offsets(&self) -> [[f64; 9]; 3] {
+        [self.g5x, self.g92, self.tool_offset]
+    }
+
+    /// Program units to machine units, per axis (A B C are angles).
+    fn scale(&self) -> [f64; 9] {
+        let k = self.units.mm_per_unit() * self.user_per_mm;
+        [k, k, k, 1.0, 1.0, 1.0, k, k, k]
+    }
+
+    fn pose_to_array(p: &Pose) -> [f64; 9] {
+        [p.x, p.y, p.z, p.a, p.b, p.c, p.u, p.v, p.w]
+    }
+
+    fn array_to_pose(a: [f64; 9]) -> Pose {
+        Pose {
+            x: a[0],
+            y: a[1],
+            z: a[2],
+            a: a[3],
+            b: a[4],
+            c: a[5],
+            u: a[6],
+            v: a[7],
+            w: a[8],
+        }
+    }
+
+    /// A program-units vector (no offsets) in machine units.
+    fn scaled(&self, p: &Pose) -> [f64; 9] {
+        let k = self.scale();
+        let mut a = Self::pose_to_array(p);
+        for (v, k) in a.iter_mut().zip(k) {
+            *v *= k;
+        }
+        a
+    }
+
+    /// A program position in machine coordinates: scaled, rotated about
+    /// the work origin, offset.
+    fn to_machine(&self, p: &Pose) -> [f64; 9] {
+        let mut a = self.scaled(p);
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let (x, y) = (a[0], a[1]);
+        a[0] = x * c - y * s;
+        a[1] = x * s + y * c;
+        for (i, v) in a.iter_mut().enumerate() {
+            *v += self.g5x[i] + self.g92[i] + self.tool_offset[i];
+        }
+        a
+    }
+
+    /// A machine position in program coordinates.
+    fn to_program(&self, m: [f64; 9]) -> Pose {
+        let mut a = m;
+        for (i, v) in a.iter_mut().enumerate() {
+            *v -= self.g5x[i] + self.g92[i] + self.tool_offset[i];
+        }
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let (x, y) = (a[0], a[1]);
+        a[0] = x * c + y * s;
+        a[1] = -x * s + y * c;
+        for (v, k) in a.iter_mut().zip(self.scale()) {
+            *v /= k;
+        }
+        Self::array_to_pose(a)
+    }
+
+    /// The feed rate in machine units per second.
+    fn feed_per_second(&self) -> f64 {
+        self.feed * self.units.mm_per_unit() * self.user_per_mm / 60.0
+    }
+
+    fn refuse(&mut self, what: &str) {
+        if self.fault.is_none() {
+            self.fault = Some(format!("{what}: not supported by task yet"));
+        }
+    }
+
+    fn queue_line(&mut self, line: i32, end: &Pose, kind: LineKind) {
+        let goal = self.to_machine(end);
+        let vel = match kind {
+            LineKind::Traverse => 0.0,
+            LineKind::Feed => self.feed_per_second(),
+        };
+        self.goal = goal;
+        self.ops.push_back(Op::Motion(Command::Line {
+            end: motion::Pose(goal),
+            vel,
+            kind,
+            id: line,
+        }));
+    }
+
+    fn queue_spindle(&mut self) {
+        self.ops.push_back(Op::Spindle {
+            direction: self.spindle.0,
+            rpm: self.spindle.1,
+        });
+    }
+
+    fn set_offset(&mut self, which: Offset, p: &Pose) {
+        let v = self.scaled(p);
+        match which {
+            Offset::G5x => self.g5x = v,
+            Offset::G92 => self.g92 = v,
+            Offset::Tool => self.tool_offset = v,
+        }
+    }
+}
+
+/// Which offset a call sets.
+#[derive(Clone, Copy)]
+enum Offset {
+    G5x,
+    G92,
+    Tool,
+}
+
+impl Canon for TaskCanon {
+    fn set_line_text(&mut self, _text: &[u8]) {}
+
+    fn set_g5x_offset(&mut self, _index: i32, offset: &Pose) {
+        self.set_offset(Offset::G5x, offset);
+    }
+    fn set_g92_offset(&mut self, offset: &Pose) {
+        self.set_offset(Offset::G92, offset);
+    }
+    fn set_xy_rotation(&mut self, degrees: f64) {
+        self.rotation_deg = degrees;
+    }
+    fn use_length_units(&mut self, units: Units) {
+        self.units = units;
+    }
+    fn select_plane(&mut self, plane: Plane) {
+        self.plane = plane;
+    }
+    fn set_feed_reference(&mut self, _reference: FeedReference) {}
+
+    fn straight_traverse(&mut self, line: i32, end: &Pose) {
+        self.queue_line(line, end, LineKind::Traverse);
+    }
+    fn straight_feed(&mut self, line: i32, end: &Pose) {
+        self.queue_line(line, end, LineKind::Feed);
+    }
+    fn arc_feed(&mut self, line: i32, arc: &Arc) {
+        let mut end = arc.rest;
+        // The centre in program coordinates and the axis it turns about.
+        let (center, normal) = match self.plane {
+            Plane::Xy => {
+                (end.x, end.y, end.z) = (arc.first_end, arc.second_end, arc.axis_end_point);
+                ((arc.first_axis, arc.second_axis, end.z), [0.0, 0.0, 1.0])
+            }
+            Plane::Yz => {
+                (end.y, end.z, end.x) = (arc.first_end, arc.second_end, arc.axis_end_point);
+                ((end.x, arc.first_axis, arc.second_axis), [1.0, 0.0, 0.0])
+            }
+            Plane::Xz => {
+                (end.z, end.x, end.y) = (arc.first_end, arc.second_end, arc.axis_end_point);
+                ((arc.second_axis, end.y, arc.first_axis), [0.0, 1.0, 0.0])
+            }
+            Plane::Uv | Plane::Vw | Plane::Uw => return self.refuse("arcs in the UVW planes"),
+        };
+        let goal = self.to_machine(&end);
+        let c = self.to_machine(&Pose {
+            x: center.0,
+            y: center.1,
+            z: center.2,
+            ..end
+        });
+        let (s, co) = self.rotation_deg.to_radians().sin_cos();
+        let normal = [
+            normal[0] * co - normal[1] * s,
+            normal[0] * s + normal[1] * co,
+            normal[2],
+        ];
+        let turns = if arc.rotation > 0 {
+            arc.rotation - 1
+        } else {
+            arc.rotation
+        };
+        self.goal = goal;
+        self.ops.push_back(Op::Motion(Command::Circle {
+            end: motion::Pose(goal),
+            center: [c[0], c[1], c[2]],
+            normal,
+            turns,
+            vel: self.feed_per_second(),
+            id: line,
+        }));
+    }
+    fn straight_probe(&mut self, _line: i32, _end: &Pose, _probe_type: u8) {
+        self.refuse("probing (G38.n)");
+    }
+    fn nurbs_feed(&mut self, _line: i32, _points: &[ControlPoint], _order: u32) {
+        self.refuse("NURBS moves (G5.2)");
+    }
+    fn dwell(&mut self, seconds: f64) {
+        self.ops.push_back(Op::Motion(Command::Dwell {
+            seconds,
+            id: self.line,
+        }));
+    }
+    fn set_feed_rate(&mut self, rate: f64) {
+        self.feed = rate;
+    }
+    fn set_feed_mode(&mut self, _spindle: i32, mode: i32) {
+        if mode != 0 {
+            self.refuse("feed per revolution (G95)");
+        }
+    }
+    fn set_motion_control_mode(&mut self, mode: MotionMode, tolerance: f64) {
+        self.control = (mode, tolerance);
+        let cond = match mode {
+            MotionMode::ExactStop => TermCond::Stop,
+            MotionMode::ExactPath => TermCond::ExactPath,
+            MotionMode::Continuous => TermCond::Blend,
+        };
+        let tolerance = tolerance * self.units.mm_per_unit() * self.user_per_mm;
+        self.ops
+            .push_back(Op::Motion(Command::SetTermCond { cond, tolerance }));
+    }
+    fn set_naivecam_tolerance(&mut self, _tolerance: f64) {}
+    fn turn_probe_on(&mut self) {}
+    fn turn_probe_off(&mut self) {}
+
+    fn set_spindle_speed(&mut self, _spindle: i32, rpm: f64) {
+        self.spindle.1 = rpm;
+        self.queue_spindle();
+    }
+    fn start_spindle_clockwise(&mut self, _spindle: i32) {
+        self.spindle.0 = Direction::Clockwise;
+        self.queue_spindle();
+    }
+    fn start_spindle_counterclockwise(&mut self, _spindle: i32) {
+        self.spindle.0 = Direction::CounterClockwise;
+        self.queue_spindle();
+    }
+    fn stop_spindle_turning(&mut self, _spindle: i32) {
+        self.spindle.0 = Direction::Stopped;
+        self.queue_spindle();
+    }
+    fn set_spindle_mode(&mut self, _spindle: i32, css_limit: f64) {
+        if css_limit != 0.0 {
+            self.refuse("constant surface speed (G96)");
+        }
+    }
+    fn orient_spindle(&mut self, _spindle: i32, _orientation: f64, _mode: i32) {
+        self.refuse("spindle orientation (M19)");
+    }
+    fn wait_spindle_orient_complete(&mut self, _spindle: i32, _timeout: f64) {}
+
+    fn use_tool_length_offset(&mut self, offset: &Pose) {
+        self.set_offset(Offset::Tool, offset);
+    }
+    fn select_tool(&mut self, tool: i32) {
+        self.ops.push_back(Op::Io(IoRequest::Prepare { tool }));
+    }
+    fn start_change(&mut self) {}
+    fn change_tool(&mut self, index: i32) {
+        if let Some(entry) = usize::try_from(index)
+            .ok()
+            .and_then(|i| self.tools.get(i))
+            .copied()
+        {
+            self.tools[0] = entry;
+        }
+        self.slot = index;
+        self.ops.push_back(Op::Io(IoRequest::Load));
+    }
+    fn change_tool_number(&mut self, index: i32) {
+        let tool = usize::try_from(index)
+            .ok()
+            .and_then(|i| self.tools.get(i))
+            .map_or(0, |e| e.toolno.max(0));
+        self.slot = index;
+        self.ops.push_back(Op::Io(IoRequest::SetNumber { tool }));
+    }
+    fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry) {
+        match usize::try_from(index)
+            .ok()
+            .and_then(|i| self.tools.get_mut(i))
+        {
+            Some(slot) => *slot = *entry,
+            None => self.refuse("a tool table entry outside the table (G10 L1)"),
+        }
+    }
+
+    fn flood_on(&mut self) {
+        self.ops.push_back(Op::Io(IoRequest::Flood(true)));
+    }
+    fn flood_off(&mut self) {
+        self.ops.push_back(Op::Io(IoRequest::Flood(false)));
+    }
+    fn mist_on(&mut self) {
+        self.ops.push_back(Op::Io(IoRequest::Mist(true)));
+    }
+    fn mist_off(&mut self) {
+        self.ops.push_back(Op::Io(IoRequest::Mist(false)));
+    }
+    fn enable_feed_override(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::FeedScaleEnable { on: true }));
+    }
+    fn disable_feed_override(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::FeedScaleEnable { on: false }));
+    }
+    fn enable_speed_override(&mut self, _spindle: i32) {
+        self.ops
+            .push_back(Op::Motion(Command::SpindleScaleEnable { on: true }));
+    }
+    fn disable_speed_override(&mut self, _spindle: i32) {
+        self.ops
+            .push_back(Op::Motion(Command::SpindleScaleEnable { on: false }));
+    }
+    fn enable_adaptive_feed(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::AdaptiveFeedEnable { on: true }));
+    }
+    fn disable_adaptive_feed(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::AdaptiveFeedEnable { on: false }));
+    }
+    fn enable_feed_hold(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::FeedHoldEnable { on: true }));
+    }
+    fn disable_feed_hold(&mut self) {
+        self.ops
+            .push_back(Op::Motion(Command::FeedHoldEnable { on: false }));
+    }
+    fn set_motion_output_bit(&mut self, _index: i32) {
+        self.refuse("digital outputs (M62)");
+    }
+    fn clear_motion_output_bit(&mut self, _index: i32) {
+        self.refuse("digital outputs (M63)");
+    }
+    fn set_aux_output_bit(&mut self, _index: i32) {
+        self.refuse("digital outputs (M64)");
+    }
+    fn clear_aux_output_bit(&mut self, _index: i32) {
+        self.refuse("digital outputs (M65)");
+    }
+    fn set_motion_output_value(&mut self, _index: i32, _value: f64) {
+        self.refuse("analog outputs (M67)");
+    }
+    fn set_aux_output_value(&mut self, _index: i32, _value: f64) {
+        self.refuse("analog outputs (M68)");
+    }
+    fn wait_input(
+        &mut self,
+        _index: i32,
+        _kind: InputKind,
+        _wait_type: i32,
+        _timeout: f64,
+    ) -> Result<(), ()> {
+        self.refuse("waiting on an input (M66)");
+        Ok(())
+    }
+    fn user_m_code(&mut self, number: i32, _p: f64, _q: f64) {
+        self.refuse(&format!("user M-code M{number}"));
+    }
+
+    fn comment(&mut self, _text: &str) {}
+    fn message(&mut self, text: &str) {
+        self.ops.push_back(Op::Message(text.to_string()));
+    }
+    fn print(&mut self, text: &str) {
+        self.ops.push_back(Op::Message(text.to_string()));
+    }
+    fn log_open(&mut self, _name: &str) {}
+    fn log_append(&mut self, _name: &str) {}
+    fn log_close(&mut self) {}
+    fn log(&mut self, _text: &str) {}
+    fn program_stop(&mut self) {
+        self.ops.push_back(Op::Stop { optional: false });
+    }
+    fn optional_program_stop(&mut self) {
+        self.ops.push_back(Op::Stop { optional: true });
+    }
+    fn program_end(&mut self) {
+        self.ops.push_back(Op::End);
+    }
+    fn pallet_shuttle(&mut self) {}
+    fn on_reset(&mut self) {}
+    fn finish(&mut self) {}
+
+    fn position(&self) -> Pose {
+        self.to_program(self.goal)
+    }
+    fn probe_position(&self) -> Pose {
+        self.position()
+    }
+    fn probe_tripped(&self) -> bool {
+        false
+    }
+    fn length_unit_type(&self) -> Units {
+        self.units
+    }
+    fn external_length_units(&self) -> f64 {
+        self.user_per_mm
+    }
+    fn external_angle_units(&self) -> f64 {
+        1.0
+    }
+    fn feed_rate(&self) -> f64 {
+        self.feed
+    }
+    fn tool_length_offset(&self) -> Pose {
+        let k = self.scale();
+        let mut a = self.tool_offset;
+        for (v, k) in a.iter_mut().zip(k) {
+            *v /= k;
+        }
+        Self::array_to_pose(a)
+    }
+    fn tool_table(&self) -> Vec<ToolEntry> {
+        self.tools.clone()
+    }
+    fn queue_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+    fn digital_input(&self, _index: i32, default: bool) -> bool {
+        default
+    }
+    fn analog_input(&self, _index: i32, default: f64) -> f64 {
+        default
+    }
+    fn toolchanger_fault(&self) -> i32 {
+        0
+    }
+    fn toolchanger_reason(&self) -> i32 {
+        0
+    }
+    fn block_delete(&self) -> bool {
+        self.block_delete
+    }
+    fn optional_stop(&self) -> bool {
+        self.optional_stop
+    }
+    fn user_m_code_defined(&self, _number: i32) -> bool {
+        false
+    }
+    fn motion_control_mode(&self) -> (MotionMode, f64) {
+        self.control
+    }
+    fn tool_slot(&self) -> i32 {
+        self.slot
+    }
+    fn axis_mask(&self) -> u32 {
+        self.axis_mask
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64, z: f64) -> Pose {
+        Pose {
+            x,
+            y,
+            z,
+            ..Pose::ZERO
+        }
+    }
+
+    fn line_end(op: Option<&Op>) -> [f64; 9] {
+        match op {
+            Some(Op::Motion(Command::Line { end, .. })) => end.0,
+            other => panic!("not a line: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn moves_take_units_offsets_rotation_and_tool_length() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.use_length_units(Units::Inches);
+        c.set_g5x_offset(1, &p(1.0, 0.0, -1.0));
+        c.use_tool_length_offset(&p(0.0, 0.0, 0.5));
+        c.set_xy_rotation(90.0);
+        c.straight_traverse(7, &p(1.0, 0.0, 0.0));
+        let end = line_end(c.ops.back());
+        // X1 rotated by 90 degrees is Y1; plus G54 X1 Z-1 and tool Z0.5.
+        let want = [25.4, 25.4, -12.7];
+        for (got, want) in end.iter().zip(want) {
+            assert!((got - want).abs() < 1e-9, "{end:?}");
+        }
+        // The position reads back in program units and coordinates.
+        let back = c.position();
+        assert!((back.x - 1.0).abs() < 1e-9 && back.y.abs() < 1e-9 && back.z.abs() < 1e-9);
+    }
+
+    #[test]
+    fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.set_feed_rate(600.0);
+        c.select_plane(Plane::Xz);
+        c.arc_feed(
+            3,
+            &Arc {
+                first_end: 1.0,
+                second_end: 2.0,
+                first_axis: 0.0,
+                second_axis: 1.0,
+                rotation: -1,
+                axis_end_point: 5.0,
+                rest: Pose::ZERO,
+            },
+        );
+        match c.ops.back() {
+            Some(Op::Motion(Command::Circle {
+                end,
+                center,
+                normal,
+                turns,
+                vel,
+                id,
+            })) => {
+                assert_eq!(&end.0[..3], &[2.0, 5.0, 1.0]);
+                assert_eq!(*center, [1.0, 5.0, 0.0]);
+                assert_eq!(*normal, [0.0, 1.0, 0.0]);
+                assert_eq!((*turns, *vel, *id), (-1, 10.0, 3));
+            }
+            other => panic!("not an arc: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn calls_the_machine_cannot_do_are_a_fault() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.set_aux_output_bit(1);
+        c.straight_probe(1, &Pose::ZERO, 0);
+        assert_eq!(
+            c.fault.as_deref(),
+            Some("digital outputs (M64): not supported by task yet")
+        );
+    }
+}

@@ -1,0 +1,92 @@
+//! The interpreter's settings from the machine's INI file, as LinuxCNC's
+//! task reads them: `[RS274NGC]PARAMETER_FILE` and `SUBROUTINE_PATH`,
+//! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`,
+//! `[TRAJ]LINEAR_UNITS`, the axes of `[TRAJ]COORDINATES` and whether AUTO
+//! needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
+
+use std::path::{Path, PathBuf};
+
+use hal_lang::ini::Ini;
+use rs274ngc::Config;
+
+use crate::config::axis_letters;
+
+/// What the program side of task needs from the INI file.
+#[derive(Debug, Clone)]
+pub struct ProgramConfig {
+    /// The interpreter's configuration.
+    pub interp: Config,
+    /// Machine units per millimetre (1 for mm, 1/25.4 for inch).
+    pub user_per_mm: f64,
+    /// The machine's axes, bit 0 X ... bit 8 W.
+    pub axis_mask: u32,
+    /// AUTO and MDI are allowed before homing.
+    pub no_force_homing: bool,
+}
+
+fn flag(ini: &Ini, section: &str, key: &str) -> bool {
+    ini.get(section, key).is_some_and(|v| {
+        let v = v.trim();
+        v == "1" || v.eq_ignore_ascii_case("true") || v.eq_ignore_ascii_case("yes")
+    })
+}
+
+/// A path of the INI file, relative to its folder.
+fn relative(dir: &Path, value: &str) -> PathBuf {
+    let p = Path::new(value.trim());
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
+
+impl ProgramConfig {
+    /// The settings of `ini`.
+    pub fn from_ini(ini: &Ini) -> ProgramConfig {
+        let dir = ini.dir();
+        let mut interp = Config {
+            parameter_file: ini
+                .get("RS274NGC", "PARAMETER_FILE")
+                .map(|v| relative(&dir, v)),
+            random_toolchanger: flag(ini, "EMCIO", "RANDOM_TOOLCHANGER"),
+            tool_change_quill_up: flag(ini, "EMCIO", "TOOL_CHANGE_QUILL_UP"),
+            tool_change_at_g30: flag(ini, "EMCIO", "TOOL_CHANGE_AT_G30"),
+            tool_change_with_spindle_on: flag(ini, "EMCIO", "TOOL_CHANGE_WITH_SPINDLE_ON"),
+            ..Config::default()
+        };
+        if let Some(paths) = ini.get("RS274NGC", "SUBROUTINE_PATH") {
+            interp.subroutine_path = paths
+                .split(':')
+                .filter(|s| !s.trim().is_empty())
+                .map(|s| relative(&dir, s))
+                .collect();
+        }
+        if let Some(prefix) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
+            interp.program_prefix = Some(relative(&dir, prefix));
+        }
+        let units = ini.get("TRAJ", "LINEAR_UNITS").unwrap_or("mm").trim();
+        let user_per_mm = match units {
+            "inch" | "in" | "imperial" => 1.0 / 25.4,
+            "cm" => 0.1,
+            // A number is machine units per millimetre, as LinuxCNC reads it.
+            _ => units
+                .parse::<f64>()
+                .ok()
+                .filter(|v| *v > 0.0)
+                .unwrap_or(1.0),
+        };
+        let mut axis_mask = axis_letters(ini)
+            .iter()
+            .fold(0u32, |m, (axis, _)| m | (1 << axis));
+        if axis_mask == 0 {
+            axis_mask = 0b111;
+        }
+        ProgramConfig {
+            interp,
+            user_per_mm,
+            axis_mask,
+            no_force_homing: flag(ini, "TRAJ", "NO_FORCE_HOMING"),
+        }
+    }
+}

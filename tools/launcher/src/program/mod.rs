@@ -1,0 +1,561 @@
+//! Programs and MDI lines executed by task: the RS274NGC interpreter
+//! ([`rs274ngc`]) reads ahead into [`canon::TaskCanon`]'s op queue, and
+//! every task cycle the ops go out in program order: moves and planner
+//! settings into motion's queue as fast as it takes them, tool and
+//! coolant requests to iocontrol once the moves before them have ended,
+//! M0/M1 stops and the program end likewise. Where the interpreter needs
+//! the world's state (after a tool change, for instance) reading waits
+//! until everything before has happened, then it synchronises.
+
+pub mod canon;
+mod config;
+
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+
+use motion::{Command, Reject};
+use rs274ngc::{Direction, Interp, Status};
+
+use crate::iocontrol::{IoControl, IoEvent, Started};
+use crate::motion_setup::MotionLink;
+use canon::{Op, TaskCanon};
+pub use config::ProgramConfig;
+
+/// Blocks read ahead of motion at most (ops waiting in task).
+const READ_AHEAD_OPS: usize = 200;
+/// Blocks read in one task cycle at most.
+const BLOCKS_PER_CYCLE: usize = 500;
+
+/// Where a program (or MDI line) is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunState {
+    /// Nothing runs.
+    Idle,
+    /// Running.
+    Running,
+    /// Paused by the operator (motion holds along the path).
+    Paused,
+    /// Stopped at an M0 or M1 until resumed.
+    Held,
+}
+
+impl RunState {
+    /// The state's name in `task-cmd status`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunState::Idle => "IDLE",
+            RunState::Running => "RUNNING",
+            RunState::Paused => "PAUSED",
+            RunState::Held => "HELD (M0/M1)",
+        }
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Ended {
+    /// Every block ran.
+    Done(String),
+    /// Refused or failed, with where and why.
+    Failed(String),
+}
+
+/// The program side of task.
+pub struct Program {
+    interp: Interp,
+    canon: TaskCanon,
+    initialised: bool,
+    file: Option<PathBuf>,
+    state: RunState,
+    /// Reading waits until everything queued has happened.
+    needs_synch: bool,
+    /// The program (or MDI line) has nothing more to read.
+    read_done: bool,
+    /// An iocontrol handshake started by an op is running.
+    io_busy: bool,
+    /// MDI lines waiting to run.
+    mdi: VecDeque<String>,
+    /// Is the run an MDI one.
+    is_mdi: bool,
+    /// Lines before this one are skipped (run LINE).
+    start_line: i32,
+    /// The spindle as the program set it.
+    spindle: (Direction, f64),
+    /// The program line of the last block read.
+    read_line: i32,
+    /// What the last run ended with.
+    last_end: Option<Ended>,
+    /// Motion's heartbeat when task last queued a command: motion counts
+    /// as idle only in a snapshot taken a few cycles later, which shows
+    /// the command in the queue (or done).
+    sent_beat: u64,
+}
+
+impl Program {
+    /// A program side for the machine `config` describes.
+    pub fn new(config: ProgramConfig) -> Program {
+        Program {
+            canon: TaskCanon::new(config.user_per_mm, config.axis_mask),
+            interp: Interp::new(config.interp),
+            initialised: false,
+            file: None,
+            state: RunState::Idle,
+            needs_synch: false,
+            read_done: true,
+            io_busy: false,
+            mdi: VecDeque::new(),
+            is_mdi: false,
+            start_line: 0,
+            spindle: (Direction::Stopped, 0.0),
+            read_line: 0,
+            last_end: None,
+            sent_beat: 0,
+        }
+    }
+
+    /// Whether nothing runs (no program, no MDI line).
+    pub fn idle(&self) -> bool {
+        self.state == RunState::Idle
+    }
+
+    /// Whether nothing runs and no MDI line waits.
+    pub fn settled(&self) -> bool {
+        self.idle() && self.mdi.is_empty()
+    }
+
+    /// What the last run ended with, if one ended.
+    pub fn last_end(&self) -> Option<&Ended> {
+        self.last_end.as_ref()
+    }
+
+    /// Takes the machine's state into the canon and synchronises the
+    /// interpreter (initialising it the first time: parameter file).
+    fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+        let goal = motion
+            .status()
+            .map(|s| s.traj.goal)
+            .ok_or("the motion controller's status cannot be read")?;
+        let (tools, slot) = tool_entries(io);
+        self.canon.refresh(goal, tools, slot);
+        if !self.initialised {
+            self.interp
+                .init(&mut self.canon)
+                .map_err(|e| format!("starting the interpreter: {e}"))?;
+            self.initialised = true;
+        }
+        self.interp
+            .synch(&mut self.canon)
+            .map_err(|e| format!("synchronising the interpreter: {e}"))
+    }
+
+    /// Opens `path` (the previous program is closed).
+    pub fn open(&mut self, path: &Path, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+        if !self.idle() {
+            return Err("a program is running (abort it first)".into());
+        }
+        self.synch(motion, io)?;
+        self.interp.close(&mut self.canon);
+        self.interp
+            .open(path, &mut self.canon)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        self.file = Some(path.to_path_buf());
+        Ok(())
+    }
+
+    /// Starts the open program, from `line` on (earlier lines are read
+    /// and skipped).
+    pub fn run(&mut self, line: i32, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+        if !self.idle() {
+            return Err("a program is running".into());
+        }
+        let Some(path) = self.file.clone() else {
+            return Err("no program is open (task-cmd open FILE)".into());
+        };
+        // A program that ran to its end is read again from the start.
+        if self.last_end.is_some() {
+            self.interp.close(&mut self.canon);
+            self.interp
+                .open(&path, &mut self.canon)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        self.synch(motion, io)?;
+        self.start(false, line);
+        Ok(())
+    }
+
+    /// Queues an MDI line; it runs when the ones before it have.
+    pub fn mdi(&mut self, text: &str) -> Result<(), String> {
+        if !self.idle() && !self.is_mdi {
+            return Err("a program is running (no MDI until it ends)".into());
+        }
+        self.mdi.push_back(text.to_string());
+        Ok(())
+    }
+
+    fn start(&mut self, mdi: bool, line: i32) {
+        self.state = RunState::Running;
+        self.is_mdi = mdi;
+        self.read_done = false;
+        self.needs_synch = false;
+        self.start_line = line;
+        self.last_end = None;
+    }
+
+    /// Pause along the path.
+    pub fn pause(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+        if self.state != RunState::Running {
+            return Err(format!("nothing to pause (program {})", self.state.name()));
+        }
+        motion.command(Command::Pause).map_err(|r| r.to_string())?;
+        self.state = RunState::Paused;
+        Ok(())
+    }
+
+    /// Carry on after a pause or an M0/M1.
+    pub fn resume(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+        match self.state {
+            RunState::Paused | RunState::Held => {
+                motion.command(Command::Resume).map_err(|r| r.to_string())?;
+                self.state = RunState::Running;
+                Ok(())
+            }
+            other => Err(format!("nothing to resume (program {})", other.name())),
+        }
+    }
+
+    /// While paused: run to the end of the current line, pause again.
+    pub fn step(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+        match self.state {
+            RunState::Paused => motion.command(Command::Step).map_err(|r| r.to_string()),
+            RunState::Held => {
+                motion.command(Command::Resume).map_err(|r| r.to_string())?;
+                motion.command(Command::Pause).map_err(|r| r.to_string())?;
+                self.state = RunState::Paused;
+                Ok(())
+            }
+            other => Err(format!(
+                "step needs a paused program (program {})",
+                other.name()
+            )),
+        }
+    }
+
+    /// Saves the parameter file (`[RS274NGC]PARAMETER_FILE`), as
+    /// LinuxCNC's task does when it exits; nothing if the interpreter
+    /// never started.
+    pub fn save_parameters(&mut self) -> Result<(), String> {
+        if !self.initialised {
+            return Ok(());
+        }
+        self.interp
+            .exit(&mut self.canon)
+            .map_err(|e| format!("saving the parameter file: {e}"))
+    }
+
+    /// Stops everything: the interpreter, the ops not yet carried out,
+    /// MDI lines waiting (motion and iocontrol are aborted by task).
+    pub fn abort(&mut self) {
+        self.interp.abort(&mut self.canon);
+        self.canon.ops.clear();
+        self.canon.fault = None;
+        self.mdi.clear();
+        self.io_busy = false;
+        if self.state != RunState::Idle {
+            self.last_end = Some(Ended::Failed("aborted".into()));
+        }
+        self.state = RunState::Idle;
+        self.read_done = true;
+    }
+
+    /// One task cycle: read ahead, carry out ops, synchronise; returns
+    /// how the run ended when it did.
+    pub fn cycle(
+        &mut self,
+        motion: &mut MotionLink,
+        io: &mut IoControl,
+        events: &[IoEvent],
+        optional_stop: bool,
+    ) -> Option<Ended> {
+        self.canon.optional_stop = optional_stop;
+        if self.state == RunState::Idle {
+            let text = self.mdi.pop_front()?;
+            if let Err(e) = self.synch(motion, io) {
+                return Some(self.fail(e));
+            }
+            self.start(true, 0);
+            if let Err(e) = self.execute_mdi(&text) {
+                return Some(self.fail(e));
+            }
+        }
+        if self.io_busy
+            && events
+                .iter()
+                .any(|e| matches!(e, IoEvent::Prepared { .. } | IoEvent::Changed { .. }))
+        {
+            self.io_busy = false;
+        }
+        if let Err(e) = self.read_ahead() {
+            return Some(self.fail(e));
+        }
+        let status = motion.status()?;
+        let motion_idle = status.traj.depth == 0
+            && status.in_position
+            && status.heartbeat >= self.sent_beat.saturating_add(3);
+        match self.carry_out(motion, io, motion_idle) {
+            Ok(true) => self.sent_beat = status.heartbeat,
+            Ok(false) => {}
+            Err(e) => return Some(self.fail(e)),
+        }
+        let motion_idle = motion_idle && status.heartbeat >= self.sent_beat.saturating_add(3);
+        let all_done = self.canon.ops.is_empty() && !self.io_busy && motion_idle;
+        if self.needs_synch && all_done {
+            self.needs_synch = false;
+            if let Err(e) = self.synch(motion, io) {
+                return Some(self.fail(e));
+            }
+        }
+        if self.read_done && all_done && self.state == RunState::Running {
+            if self.is_mdi && !self.mdi.is_empty() {
+                self.state = RunState::Idle;
+                return None;
+            }
+            return Some(self.finish());
+        }
+        None
+    }
+
+    fn execute_mdi(&mut self, text: &str) -> Result<(), String> {
+        self.canon.line = 0;
+        let r = self.interp.execute_mdi(text.as_bytes(), &mut self.canon);
+        self.read_done = true;
+        match r {
+            Ok(Status::ExecuteFinish) => self.needs_synch = true,
+            Ok(_) => {}
+            Err(e) => return Err(format!("MDI '{text}': {e}")),
+        }
+        match self.canon.fault.take() {
+            Some(f) => Err(format!("MDI '{text}': {f}")),
+            None => Ok(()),
+        }
+    }
+
+    /// Reads and executes blocks while there is room ahead of motion.
+    fn read_ahead(&mut self) -> Result<(), String> {
+        let mut blocks = 0;
+        while !self.read_done
+            && !self.needs_synch
+            && self.canon.ops.len() < READ_AHEAD_OPS
+            && blocks < BLOCKS_PER_CYCLE
+        {
+            blocks += 1;
+            match self.interp.read(&mut self.canon) {
+                Ok(Status::EndFile) => {
+                    self.read_done = true;
+                    break;
+                }
+                Ok(_) => {}
+                Err(e) => return Err(self.located(&e)),
+            }
+            self.read_line = self.interp.sequence_number();
+            if self.read_line < self.start_line {
+                continue;
+            }
+            self.canon.line = self.read_line;
+            match self.interp.execute(&mut self.canon) {
+                Ok(Status::Exit) => self.read_done = true,
+                Ok(Status::ExecuteFinish) => self.needs_synch = true,
+                Ok(_) => {}
+                Err(e) => return Err(self.located(&e)),
+            }
+            if let Some(f) = self.canon.fault.take() {
+                return Err(self.located(&f));
+            }
+        }
+        Ok(())
+    }
+
+    /// An error with the program place it belongs to.
+    fn located(&self, e: &dyn std::fmt::Display) -> String {
+        format!("{}: {e}", self.interp.error_location())
+    }
+
+    /// Carries out ops in order until one has to wait; true if a command
+    /// went to motion.
+    fn carry_out(
+        &mut self,
+        motion: &mut MotionLink,
+        io: &mut IoControl,
+        motion_idle: bool,
+    ) -> Result<bool, String> {
+        let mut sent = false;
+        if matches!(self.state, RunState::Held) {
+            return Ok(sent);
+        }
+        while let Some(op) = self.canon.ops.front().cloned() {
+            match op {
+                Op::Motion(cmd) => match motion.command(cmd) {
+                    Ok(()) => sent = true,
+                    Err(Reject::QueueFull { .. }) => return Ok(sent),
+                    Err(r) => return Err(format!("line {}: {r}", command_line(&cmd))),
+                },
+                _ if sent || !motion_idle || self.io_busy => return Ok(sent),
+                Op::Io(req) => match io.request(&req) {
+                    Ok(Started::Done) => {}
+                    Ok(Started::Waiting(_)) => self.io_busy = true,
+                    Err(e) => return Err(e.to_string()),
+                },
+                Op::Spindle { direction, rpm } => self.spindle = (direction, rpm),
+                Op::Stop { optional } => {
+                    self.canon.ops.pop_front();
+                    if !optional || self.canon.optional_stop {
+                        eprintln!(
+                            "task: program stop (M{}): task-cmd resume",
+                            u8::from(optional)
+                        );
+                        self.state = RunState::Held;
+                        return Ok(sent);
+                    }
+                    continue;
+                }
+                Op::End => self.read_done = true,
+                Op::Message(text) => eprintln!("task: {text}"),
+            }
+            self.canon.ops.pop_front();
+        }
+        Ok(sent)
+    }
+
+    fn fail(&mut self, why: String) -> Ended {
+        self.abort();
+        let e = Ended::Failed(why);
+        self.last_end = Some(e.clone());
+        e
+    }
+
+    fn finish(&mut self) -> Ended {
+        self.state = RunState::Idle;
+        let what = if self.is_mdi {
+            "MDI done".to_string()
+        } else {
+            format!(
+                "{}: done",
+                self.file.as_deref().unwrap_or(Path::new("")).display()
+            )
+        };
+        let e = Ended::Done(what);
+        self.last_end = Some(e.clone());
+        e
+    }
+
+    /// The program's lines of `task-cmd status`.
+    pub fn status(&self, motion: Option<&MotionLink>) -> String {
+        let motion_line = motion
+            .and_then(MotionLink::status)
+            .map_or(0, |s| s.traj.exec_id);
+        let codes = self.interp.active_codes();
+        let g: Vec<String> = codes
+            .g
+            .iter()
+            .filter(|g| **g >= 0)
+            .map(|g| {
+                if g % 10 == 0 {
+                    format!("G{}", g / 10)
+                } else {
+                    format!("G{}.{}", g / 10, g % 10)
+                }
+            })
+            .collect();
+        let m: Vec<String> = codes
+            .m
+            .iter()
+            .filter(|m| **m >= 0)
+            .map(|m| format!("M{m}"))
+            .collect();
+        let [g5x, g92, tool] = self.canon.offsets();
+        let xyz = |a: [f64; 9]| format!("{:.4} {:.4} {:.4}", a[0], a[1], a[2]);
+        let spindle = match self.spindle.0 {
+            Direction::Stopped => "stopped".to_string(),
+            Direction::Clockwise => format!("clockwise {} rpm", self.spindle.1),
+            Direction::CounterClockwise => format!("counterclockwise {} rpm", self.spindle.1),
+        };
+        let mut s = format!(
+            "program: {}\ninterp: {}\ncurrent line: {}\nmotion line: {motion_line}\n\
+             modal: {} {} F{} S{}\noffsets: g5x {} g92 {} tool {}\nspindle: {spindle}\n",
+            self.file
+                .as_deref()
+                .map_or("none".to_string(), |p| p.display().to_string()),
+            self.state.name(),
+            self.read_line,
+            g.join(" "),
+            m.join(" "),
+            codes.feed,
+            codes.speed,
+            xyz(g5x),
+            xyz(g92),
+            xyz(tool),
+        );
+        if let Some(Ended::Failed(why)) = &self.last_end {
+            s.push_str(&format!("last run: {why}\n"));
+        }
+        s
+    }
+}
+
+/// The motion id (program line) a queued command carries.
+fn command_line(cmd: &Command) -> i32 {
+    match cmd {
+        Command::Line { id, .. } | Command::Circle { id, .. } | Command::Dwell { id, .. } => *id,
+        _ => 0,
+    }
+}
+
+/// iocontrol's tool table as the interpreter sees it (index 0 the
+/// spindle), and the index of the tool in the spindle.
+fn tool_entries(io: &IoControl) -> (Vec<rs274ngc::ToolEntry>, i32) {
+    let table = io.table();
+    let entries: Vec<rs274ngc::ToolEntry> = table
+        .slots
+        .iter()
+        .map(|slot| match slot {
+            Some(t) => rs274ngc::ToolEntry {
+                toolno: t.number,
+                pocketno: t.pocket,
+                offset: rs274ngc::Pose {
+                    x: t.offset[0],
+                    y: t.offset[1],
+                    z: t.offset[2],
+                    a: t.offset[3],
+                    b: t.offset[4],
+                    c: t.offset[5],
+                    u: t.offset[6],
+                    v: t.offset[7],
+                    w: t.offset[8],
+                },
+                diameter: t.diameter,
+                frontangle: t.front_angle,
+                backangle: t.back_angle,
+                orientation: t.orientation,
+            },
+            None => rs274ngc::ToolEntry::EMPTY,
+        })
+        .collect();
+    let spindle = io.tool_in_spindle();
+    let slot = if table.random {
+        0
+    } else {
+        entries
+            .iter()
+            .skip(1)
+            .position(|e| e.toolno == spindle && spindle > 0)
+            .map_or(0, |i| i as i32 + 1)
+    };
+    let mut entries = entries;
+    if entries.is_empty() {
+        entries.push(rs274ngc::ToolEntry::EMPTY);
+    }
+    // On a non-random changer the tool also sits in the spindle's entry.
+    if slot > 0 {
+        entries[0] = entries[slot as usize];
+    }
+    (entries, slot)
+}
