@@ -5,6 +5,7 @@
 pub(crate) mod alias;
 mod component;
 pub(crate) mod funct;
+pub(crate) mod index;
 mod info;
 pub(crate) mod list;
 mod liveness;

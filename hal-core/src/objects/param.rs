@@ -22,14 +22,7 @@ pub(crate) fn param_dir(p: &ParamRec) -> ParamDir {
 
 /// Finds a param by name or by its name before aliasing.
 pub(crate) fn find_param<'a>(seg: &'a Segment, name: &str) -> Result<Option<(u64, &'a ParamRec)>> {
-    let key = Name::encode(name);
-    for item in list::iter::<ParamRec>(seg, &seg.header().params) {
-        let (off, p) = item?;
-        if p.name.eq_key(&key) || (!p.orig_name.is_empty() && p.orig_name.eq_key(&key)) {
-            return Ok(Some((off, p)));
-        }
-    }
-    Ok(None)
+    list::find_aliased(seg, &seg.header().params, name)
 }
 
 fn require_param<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &'a ParamRec)> {
@@ -108,5 +101,6 @@ pub(crate) fn new_param_tx(
     rec.owner.store(comp, Relaxed);
     rec.value.store(init, Relaxed);
     list::insert_sorted(tx, &h.params, off, rec)?;
+    super::component::adopt(tx, comp, |c| &c.own_params, &rec.owner_next, off)?;
     Ok(off)
 }

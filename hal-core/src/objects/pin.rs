@@ -25,14 +25,7 @@ pub(crate) fn pin_dir(seg: &Segment, p: &PinRec) -> Result<PinDir> {
 
 /// Finds a pin by its name or, as LinuxCNC does, by its name before aliasing.
 pub(crate) fn find_pin<'a>(seg: &'a Segment, name: &str) -> Result<Option<(u64, &'a PinRec)>> {
-    let key = Name::encode(name);
-    for item in list::iter::<PinRec>(seg, &seg.header().pins) {
-        let (off, p) = item?;
-        if p.name.eq_key(&key) || (!p.orig_name.is_empty() && p.orig_name.eq_key(&key)) {
-            return Ok(Some((off, p)));
-        }
-    }
-    Ok(None)
+    list::find_aliased(seg, &seg.header().pins, name)
 }
 
 pub(crate) fn require_pin<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &'a PinRec)> {
@@ -61,7 +54,29 @@ pub(crate) fn unlink_tx(tx: &mut Txn<'_>, pin_off: u64) -> Result<()> {
     tx.set(counter, counter.load(Relaxed).saturating_sub(1))?;
     tx.set(&pin.dummy, cell.value.load(Relaxed))?;
     tx.set(&pin.slot, seg.offset_of(&pin.dummy))?;
-    tx.set(&pin.signal, 0)
+    tx.set(&pin.signal, 0)?;
+    // Off the signal's list of pins.
+    let (prev, next) = (pin.sig_prev.load(Relaxed), pin.sig_next.load(Relaxed));
+    match prev {
+        0 => tx.set(&sig.first_pin, next)?,
+        p => tx.set(&tx.rec::<PinRec>(p)?.sig_next, next)?,
+    }
+    if next != 0 {
+        tx.set(&tx.rec::<PinRec>(next)?.sig_prev, prev)?;
+    }
+    tx.set(&pin.sig_prev, 0)?;
+    tx.set(&pin.sig_next, 0)
+}
+
+/// Puts a pin that was just linked to signal `s` on the signal's list.
+fn join_signal(tx: &mut Txn<'_>, pin_off: u64, pin: &PinRec, s: &SigRec) -> Result<()> {
+    let first = s.first_pin.load(Relaxed);
+    tx.set(&pin.sig_prev, 0)?;
+    tx.set(&pin.sig_next, first)?;
+    if first != 0 {
+        tx.set(&tx.rec::<PinRec>(first)?.sig_prev, pin_off)?;
+    }
+    tx.set(&s.first_pin, pin_off)
 }
 
 pub(crate) fn new_pin_tx(
@@ -89,6 +104,7 @@ pub(crate) fn new_pin_tx(
     rec.dummy.store(init, Relaxed);
     rec.slot.store(seg.offset_of(&rec.dummy), Release);
     list::insert_sorted(tx, &h.pins, off, rec)?;
+    super::component::adopt(tx, comp, |c| &c.own_pins, &rec.owner_next, off)?;
     Ok(off)
 }
 
@@ -172,8 +188,7 @@ impl Instance {
             tx.set(counter, counter.load(Relaxed).saturating_add(1))?;
             tx.set(&p.signal, sig_off)?;
             tx.set(&p.slot, seg.offset_of(&cell.value))?;
-            let _ = pin_off;
-            Ok(())
+            join_signal(tx, pin_off, p, s)
         })
     }
 

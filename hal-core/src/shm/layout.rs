@@ -13,7 +13,7 @@ use super::mutex::RobustMutex;
 /// "HALSEGM1" as little-endian bytes.
 pub(crate) const MAGIC: u64 = u64::from_le_bytes(*b"HALSEGM1");
 /// Bumped whenever any layout in this file changes.
-pub(crate) const LAYOUT_VERSION: u64 = 3;
+pub(crate) const LAYOUT_VERSION: u64 = 4;
 
 /// A thread's switch bit (executor and [`ThreadRec`]'s `options`):
 /// per-function timing is off.
@@ -124,13 +124,18 @@ pub(crate) struct Header {
     pub alloc_top: AtomicU64,
     /// Free list heads, one per [`super::BlockKind`].
     pub free: [AtomicU64; 16],
-    pub comps: AtomicU64,
-    pub pins: AtomicU64,
-    pub params: AtomicU64,
-    pub signals: AtomicU64,
-    pub functs: AtomicU64,
+    pub comps: ObjList,
+    pub pins: ObjList,
+    pub params: ObjList,
+    pub signals: ObjList,
+    pub functs: ObjList,
+    /// Newest (slowest) thread first; not indexed (there are few).
     pub threads: AtomicU64,
-    pub regions: AtomicU64,
+    pub regions: ObjList,
+    /// Root of the tree of aliased pins by their original names.
+    pub pin_aliases: AtomicU64,
+    /// Root of the tree of aliased params by their original names.
+    pub param_aliases: AtomicU64,
     pub next_comp_id: AtomicU64,
     pub next_funct_id: AtomicU64,
     /// Period of the first thread ever created; 0 before.
@@ -152,6 +157,23 @@ pub(crate) struct Header {
     /// `objects::status`). Was reserved word 0, so the layout is unchanged.
     pub lock_level: AtomicU64,
     pub reserved: [AtomicU64; 15],
+}
+
+/// The head of a name-sorted object list and the root of the search tree
+/// over it (see `objects::index`). Dereferences to the list's first link,
+/// which is all a walk needs.
+#[repr(C)]
+pub(crate) struct ObjList {
+    pub first: AtomicU64,
+    pub root: AtomicU64,
+}
+
+impl std::ops::Deref for ObjList {
+    type Target = AtomicU64;
+
+    fn deref(&self) -> &AtomicU64 {
+        &self.first
+    }
 }
 
 pub(crate) trait Record {
@@ -176,6 +198,9 @@ macro_rules! record {
 record!(
     /// A HAL component.
     CompRec, 0x434f_4d50, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     id: AtomicU64,
     /// [`crate::ComponentKind`] code.
@@ -184,19 +209,37 @@ record!(
     pid: AtomicU64,
     /// Blob holding the `loadrt` arguments, 0 if none.
     args: AtomicU64,
+    /// The objects it owns, each kind on a list through their
+    /// `owner_next` (newest first), so that removing a component visits
+    /// only its own objects.
+    own_pins: AtomicU64,
+    own_params: AtomicU64,
+    own_functs: AtomicU64,
+    own_regions: AtomicU64,
 });
 
 record!(
     /// A pin. `slot` holds the offset of the value cell in use: `dummy`'s own
     /// offset while unlinked, the signal's cell once linked.
     PinRec, 0x5049_4e00, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     /// The name before `alias`, empty when the pin has no alias.
     orig_name: Name,
+    /// Tree links of the alias index (by `orig_name`), while aliased.
+    alias_left: AtomicU64,
+    alias_right: AtomicU64,
     type_code: AtomicU64,
     dir: AtomicU64,
     owner: AtomicU64,
+    /// Next on the owner's list of pins.
+    owner_next: AtomicU64,
     signal: AtomicU64,
+    /// Neighbours on the signal's list of pins while linked.
+    sig_prev: AtomicU64,
+    sig_next: AtomicU64,
     slot: AtomicU64,
     dummy: AtomicU64,
 });
@@ -204,11 +247,18 @@ record!(
 record!(
     /// A parameter; its value lives inline.
     ParamRec, 0x5041_5241, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     orig_name: Name,
+    alias_left: AtomicU64,
+    alias_right: AtomicU64,
     type_code: AtomicU64,
     dir: AtomicU64,
     owner: AtomicU64,
+    /// Next on the owner's list of params.
+    owner_next: AtomicU64,
     value: AtomicU64,
 });
 
@@ -216,12 +266,18 @@ record!(
     /// A signal; its value lives in a separate cell so that a freed cell is
     /// only ever reused as a cell.
     SigRec, 0x5349_4700, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     type_code: AtomicU64,
     cell: AtomicU64,
     writers: AtomicU64,
     bidirs: AtomicU64,
     readers: AtomicU64,
+    /// The pins linked to it, through their `sig_prev`/`sig_next` (in no
+    /// particular order).
+    first_pin: AtomicU64,
 });
 
 record!(
@@ -235,8 +291,13 @@ record!(
 record!(
     /// A function's metadata; its code lives in the host's private table.
     FunctRec, 0x4655_4e43, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     owner: AtomicU64,
+    /// Next on the owner's list of functions.
+    owner_next: AtomicU64,
     code_id: AtomicU64,
     uses_fp: AtomicU64,
     reentrant: AtomicU64,
@@ -266,6 +327,8 @@ record!(
     /// host last set them; for `show thread` and `save` in other processes.
     options: AtomicU64,
     functs: AtomicU64,
+    /// The last entry of `functs` (0 when empty), where `addf` appends.
+    functs_last: AtomicU64,
     /// Functions run once, on the first cycle after start (`initf`).
     init_functs: AtomicU64,
     time_pin: AtomicU64,
@@ -286,8 +349,13 @@ record!(
 record!(
     /// A named memory region allocated by a component.
     RegionRec, 0x5245_4749, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     owner: AtomicU64,
+    /// Next on the owner's list of regions.
+    owner_next: AtomicU64,
     blob: AtomicU64,
     size: AtomicU64,
 });
