@@ -263,7 +263,7 @@ samples_of() {
 
 median() {
     grep -v '^-*$' | sort -g |
-        awk '{ v[NR] = $1 } END { if (NR == 0) print "-"; else print v[int((NR + 1) / 2)] }'
+        awk '{ v[NR] = $1 } END { if (NR == 0) print "-"; else printf "%.1f\n", v[int((NR + 1) / 2)] }'
 }
 
 loadavg() { cut -d' ' -f1-3 /proc/loadavg; }

@@ -315,4 +315,73 @@ mod tests {
         // check() bounds the depth by 4 log2(n) + 8.
         check_all(&inst.seg);
     }
+
+    /// The pair offsets of a component's pins, or of its params.
+    fn pairs_of(seg: &Segment, comp: &str, pins: bool) -> Vec<u64> {
+        let (_, c) = find::<CompRec>(seg, &seg.header().comps, comp)
+            .unwrap()
+            .unwrap();
+        let mut out = Vec::new();
+        let mut cur = if pins {
+            c.own_pins.load(Relaxed)
+        } else {
+            c.own_params.load(Relaxed)
+        };
+        while cur != 0 {
+            if pins {
+                let p: &PinRec = seg.rec(cur).unwrap();
+                out.push(p.hot.load(Relaxed));
+                cur = p.owner_next.load(Relaxed);
+            } else {
+                let p: &ParamRec = seg.rec(cur).unwrap();
+                out.push(p.hot.load(Relaxed));
+                cur = p.owner_next.load(Relaxed);
+            }
+        }
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn pin_and_param_words_are_packed_and_reused_by_their_own_kind() {
+        let host = Host::create(HostConfig::for_tests("pairs")).unwrap();
+        let inst = host.instance();
+        let seg = &inst.seg;
+        let a = inst.new_component("a", ComponentKind::User).unwrap();
+        for n in ["a.x", "a.y", "a.z"] {
+            let _: crate::Pin<f64, In> = a.pin_init(n, 1.5).unwrap();
+        }
+        let k: crate::Param<u32, crate::Rw> = a.param("a.k", 7).unwrap();
+        let _: crate::Param<u32, crate::Rw> = a.param("a.m", 8).unwrap();
+        assert_eq!(k.get(), 7);
+        let (pins, params) = (pairs_of(seg, "a", true), pairs_of(seg, "a", false));
+        // Five pairs made in a row take two cache lines, not five.
+        let lines: std::collections::BTreeSet<u64> =
+            pins.iter().chain(&params).map(|p| p / 64).collect();
+        assert!(lines.len() <= 2, "{pins:?} {params:?}");
+        drop(k);
+        drop(a);
+        // A failed creation (a duplicate) changes nothing.
+        let b = inst.new_component("b", ComponentKind::User).unwrap();
+        let _: crate::Pin<f64, In> = b.pin_init("b.x", 2.5).unwrap();
+        assert!(b.pin::<f64, In>("b.x").is_err());
+        for n in ["b.y", "b.z"] {
+            let _: crate::Pin<f64, In> = b.pin_init(n, 2.5).unwrap();
+        }
+        let q: crate::Param<u32, crate::Rw> = b.param("b.q", 9).unwrap();
+        // Pins took the pins' freed pairs, the param a param's.
+        assert_eq!(pairs_of(seg, "b", true), pins);
+        assert!(params.contains(&pairs_of(seg, "b", false)[0]));
+        assert_eq!(q.get(), 9);
+        for n in ["b.x", "b.y", "b.z"] {
+            assert_eq!(inst.pin_value(n).unwrap(), crate::Value::Float(2.5));
+        }
+        inst.newsig("b.s", HalType::Float).unwrap();
+        inst.link("b.y", "b.s").unwrap();
+        inst.set_signal("b.s", crate::Value::Float(4.0)).unwrap();
+        assert_eq!(inst.pin_value("b.y").unwrap(), crate::Value::Float(4.0));
+        inst.unlink("b.y").unwrap();
+        assert_eq!(inst.pin_value("b.y").unwrap(), crate::Value::Float(4.0));
+        check_all(seg);
+    }
 }

@@ -49,7 +49,10 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             let (_, p) = require_param(seg, name)?;
-            Ok(Value::from_bits(param_type(seg, p)?, p.value.load(Relaxed)))
+            Ok(Value::from_bits(
+                param_type(seg, p)?,
+                p.words(seg)?.first.load(Relaxed),
+            ))
         })
     }
 
@@ -71,7 +74,7 @@ impl Instance {
             if param_dir(p) == ParamDir::Ro {
                 return Err(HalError::ParamReadOnly { name: p.name.get() });
             }
-            p.value.store(value.to_bits(), Relaxed);
+            p.words(seg)?.first.store(value.to_bits(), Relaxed);
             Ok(())
         })
     }
@@ -99,7 +102,8 @@ pub(crate) fn new_param_tx(
     rec.type_code.store(t.code() as u64, Relaxed);
     rec.dir.store(dir.code() as u64, Relaxed);
     rec.owner.store(comp, Relaxed);
-    rec.value.store(init, Relaxed);
+    rec.hot
+        .store(tx.alloc_pair(PairPool::Param, init, 0)?, Relaxed);
     list::insert_sorted(tx, &h.params, off, rec)?;
     super::component::adopt(tx, comp, |c| &c.own_params, &rec.owner_next, off)?;
     Ok(off)

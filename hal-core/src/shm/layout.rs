@@ -154,8 +154,14 @@ pub(crate) struct Header {
     /// Set by `setexact_for_test_suite_only`-style callers; informational.
     pub exact_base_period: AtomicU64,
     /// halcmd's `lock` level: LinuxCNC's `HAL_LOCK_*` bits (see
-    /// `objects::status`). Was reserved word 0, so the layout is unchanged.
+    /// `objects::status`).
     pub lock_level: AtomicU64,
+    /// The block pairs are being carved from, and how many it has given.
+    pub pair_block: AtomicU64,
+    pub pair_used: AtomicU64,
+    /// Freed pairs of pins and of params (linked through their first word).
+    pub free_pin_pairs: AtomicU64,
+    pub free_param_pairs: AtomicU64,
     pub reserved: [AtomicU64; 15],
 }
 
@@ -219,7 +225,9 @@ record!(
 });
 
 record!(
-    /// A pin. `slot` holds the offset of the value cell in use: `dummy`'s own
+    /// A pin. Its slot holds the offset of the value cell in use: its own
+    /// cell (the word after the slot) while unlinked, the signal's cell
+    /// once linked. Both live in a [`Pair`].
     /// offset while unlinked, the signal's cell once linked.
     PinRec, 0x5049_4e00, {
     /// Tree links of the name index.
@@ -240,8 +248,8 @@ record!(
     /// Neighbours on the signal's list of pins while linked.
     sig_prev: AtomicU64,
     sig_next: AtomicU64,
-    slot: AtomicU64,
-    dummy: AtomicU64,
+    /// The [`Pair`] holding the slot and the pin's own cell.
+    hot: AtomicU64,
 });
 
 record!(
@@ -259,7 +267,8 @@ record!(
     owner: AtomicU64,
     /// Next on the owner's list of params.
     owner_next: AtomicU64,
-    value: AtomicU64,
+    /// The [`Pair`] whose first word is the value.
+    hot: AtomicU64,
 });
 
 record!(
@@ -366,6 +375,40 @@ record!(
     capacity: AtomicU64,
     len: AtomicU64,
 });
+
+/// The words realtime code reaches through a pin or param handle: a pin's
+/// slot and own cell, a param's value (and a spare word). Pairs are packed
+/// four to a 64-byte block in the order they are made, so the words one
+/// component's function reaches share a few cache lines instead of taking
+/// one line of a 640-byte record each. 16-byte aligned; not a record (no
+/// tag): only a record's `hot` offset leads to one.
+#[repr(C)]
+pub(crate) struct Pair {
+    pub first: AtomicU64,
+    pub second: AtomicU64,
+}
+
+impl PinRec {
+    /// The pin's slot (`first`) and own cell (`second`).
+    pub(crate) fn words<'a>(&self, seg: &'a super::Segment) -> crate::Result<&'a Pair> {
+        seg.pair(self.hot.load(Relaxed))
+    }
+}
+
+impl ParamRec {
+    /// The param's value word (`first`).
+    pub(crate) fn words<'a>(&self, seg: &'a super::Segment) -> crate::Result<&'a Pair> {
+        seg.pair(self.hot.load(Relaxed))
+    }
+}
+
+/// Which free list a freed pair returns to: a pin's pair is only reused by
+/// a pin (its own cell stays a value cell), a param's by a param.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PairPool {
+    Pin,
+    Param,
+}
 
 /// Bucket of a wake-up latency: 0..=15 are 1 us wide (0-16 us), then
 /// 16..=63 grow by 2^(1/4) steps up to about 64 ms; the last takes the rest.
