@@ -1,32 +1,32 @@
 //! Analog inputs and outputs.
 
-use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Ours, Out, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 
 /// A canonical analog input channel.
-pub struct AdcIn {
-    value: Pin<f64, Out>,
-    scale: Param<f64, Rw>,
-    offset: Param<f64, Rw>,
-    bit_weight: Param<f64, Rw>,
-    hw_offset: Param<f64, Rw>,
+pub struct AdcIn<H: HalHost = Ours> {
+    value: H::Pin<f64, Out>,
+    scale: H::Param<f64, Rw>,
+    offset: H::Param<f64, Rw>,
+    bit_weight: H::Param<f64, Rw>,
+    hw_offset: H::Param<f64, Rw>,
 }
 
 impl Interface for AdcIn {
     const IO_TYPE: &'static str = "adcin";
 }
 
-impl AdcIn {
+impl<H: HalHost> AdcIn<H> {
     /// Exports channel `chan` on `comp`. `bit_weight` and `hw_offset` are
     /// the converter's defaults (volts per count, volts at count 0).
     pub fn export(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         names: &ChannelNames,
         chan: usize,
         bit_weight: f64,
         hw_offset: f64,
-    ) -> Result<AdcIn> {
+    ) -> Result<Self> {
         Ok(AdcIn {
             value: comp.pin(&names.item(chan, "value"))?,
             scale: comp.param(&names.item(chan, "scale"), 1.0)?,
@@ -73,36 +73,42 @@ pub struct Converter {
 }
 
 /// A canonical analog output channel.
-pub struct AdcOut {
-    value: Pin<f64, In>,
-    enable: Pin<bool, In>,
-    scale: Param<f64, Rw>,
-    offset: Param<f64, Rw>,
-    limits: Option<(Param<f64, Rw>, Param<f64, Rw>)>,
-    converter: Option<ConverterParams>,
+pub struct AdcOut<H: HalHost = Ours> {
+    value: H::Pin<f64, In>,
+    enable: H::Pin<bool, In>,
+    scale: H::Param<f64, Rw>,
+    offset: H::Param<f64, Rw>,
+    limits: Option<Limits<H>>,
+    converter: Option<ConverterParams<H>>,
 }
 
 impl Interface for AdcOut {
     const IO_TYPE: &'static str = "adcout";
 }
 
+/// The exported `high_limit` and `low_limit` params.
+type Limits<H> = (
+    <H as HalHost>::Param<f64, Rw>,
+    <H as HalHost>::Param<f64, Rw>,
+);
+
 /// The exported converter params (`bit_weight`, `hw_offset`) and the
 /// converter's count range.
-struct ConverterParams {
-    bit_weight: Param<f64, Rw>,
-    hw_offset: Param<f64, Rw>,
+struct ConverterParams<H: HalHost> {
+    bit_weight: H::Param<f64, Rw>,
+    hw_offset: H::Param<f64, Rw>,
     min: i64,
     max: i64,
 }
 
-impl AdcOut {
+impl<H: HalHost> AdcOut<H> {
     /// Exports channel `chan` on `comp`.
     pub fn export(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         names: &ChannelNames,
         chan: usize,
         opts: AdcOutOptions,
-    ) -> Result<AdcOut> {
+    ) -> Result<Self> {
         let limits = match opts.limits {
             Some((hi, lo)) => Some((
                 comp.param(&names.item(chan, "high_limit"), hi)?,

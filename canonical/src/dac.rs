@@ -18,25 +18,25 @@
 //! purpose: a LinuxCNC HAL file that sets `dac-offset` in user units and
 //! never touches an enable pin must drive the same voltage here.
 
-use hal_core::{Component, In, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Ours, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 
 /// An analog output of a servo card, LinuxCNC's form.
-pub struct DacOut {
-    value: Pin<f64, In>,
-    offset: Param<f64, Rw>,
-    gain: Param<f64, Rw>,
+pub struct DacOut<H: HalHost = Ours> {
+    value: H::Pin<f64, In>,
+    offset: H::Param<f64, Rw>,
+    gain: H::Param<f64, Rw>,
 }
 
 impl Interface for DacOut {
     const IO_TYPE: &'static str = "adcout";
 }
 
-impl DacOut {
+impl<H: HalHost> DacOut<H> {
     /// Exports channel `chan`'s `value` pin and its `offset` and `gain`
     /// params on `comp`.
-    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<DacOut> {
+    pub fn export(comp: &impl PinFactory<H>, names: &ChannelNames, chan: usize) -> Result<Self> {
         Ok(DacOut {
             value: comp.pin(&names.item(chan, "value"))?,
             offset: comp.param(&names.item(chan, "offset"), 0.0)?,

@@ -1,22 +1,22 @@
 //! Digital inputs and outputs.
 
-use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Ours, Out, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 
 /// A canonical digital input channel.
-pub struct DigIn {
-    input: Pin<bool, Out>,
-    input_not: Pin<bool, Out>,
+pub struct DigIn<H: HalHost = Ours> {
+    input: H::Pin<bool, Out>,
+    input_not: H::Pin<bool, Out>,
 }
 
 impl Interface for DigIn {
     const IO_TYPE: &'static str = "digin";
 }
 
-impl DigIn {
+impl<H: HalHost> DigIn<H> {
     /// Exports channel `chan`'s `in` and `in-not` pins on `comp`.
-    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<DigIn> {
+    pub fn export(comp: &impl PinFactory<H>, names: &ChannelNames, chan: usize) -> Result<Self> {
         Ok(DigIn {
             input: comp.pin(&names.item(chan, "in"))?,
             input_not: comp.pin_init(&names.item(chan, "in-not"), true)?,
@@ -32,18 +32,18 @@ impl DigIn {
 }
 
 /// A canonical digital output channel.
-pub struct DigOut {
-    out: Pin<bool, In>,
-    invert: Param<bool, Rw>,
+pub struct DigOut<H: HalHost = Ours> {
+    out: H::Pin<bool, In>,
+    invert: H::Param<bool, Rw>,
 }
 
 impl Interface for DigOut {
     const IO_TYPE: &'static str = "digout";
 }
 
-impl DigOut {
+impl<H: HalHost> DigOut<H> {
     /// Exports channel `chan`'s `out` pin and `invert` param on `comp`.
-    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<DigOut> {
+    pub fn export(comp: &impl PinFactory<H>, names: &ChannelNames, chan: usize) -> Result<Self> {
         Ok(DigOut {
             out: comp.pin(&names.item(chan, "out"))?,
             invert: comp.param(&names.item(chan, "invert"), false)?,
@@ -65,7 +65,7 @@ impl DigOut {
     /// `level` of each of `outs` (up to 32) as one word, output i on bit
     /// i: what a driver writes to a port register.
     #[inline]
-    pub fn pack(outs: &[DigOut], level: impl Fn(&DigOut) -> bool) -> u32 {
+    pub fn pack(outs: &[DigOut<H>], level: impl Fn(&DigOut<H>) -> bool) -> u32 {
         outs.iter()
             .take(32)
             .enumerate()

@@ -22,7 +22,7 @@
 //! not, velocity is at most one count / time waited (it falls as 1/t,
 //! keeping its sign), and 0 after `vel-timeout`.
 
-use hal_core::{Component, In, Io, Out, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Io, Ours, Out, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 use crate::usable_scale;
@@ -141,32 +141,32 @@ impl EncoderCore {
 }
 
 /// A canonical encoder channel: the core plus its pins and params.
-pub struct Encoder {
+pub struct Encoder<H: HalHost = Ours> {
     core: EncoderCore,
-    count: Pin<i32, Out>,
-    rawcounts: Pin<i32, Out>,
-    position: Pin<f64, Out>,
-    position_latched: Pin<f64, Out>,
-    velocity: Pin<f64, Out>,
-    velocity_rpm: Pin<f64, Out>,
-    reset: Pin<bool, In>,
-    index_enable: Pin<bool, Io>,
-    scale: Param<f64, Rw>,
-    vel_timeout: Param<f64, Rw>,
+    count: H::Pin<i32, Out>,
+    rawcounts: H::Pin<i32, Out>,
+    position: H::Pin<f64, Out>,
+    position_latched: H::Pin<f64, Out>,
+    velocity: H::Pin<f64, Out>,
+    velocity_rpm: H::Pin<f64, Out>,
+    reset: H::Pin<bool, In>,
+    index_enable: H::Pin<bool, Io>,
+    scale: H::Param<f64, Rw>,
+    vel_timeout: H::Param<f64, Rw>,
 }
 
 impl Interface for Encoder {
     const IO_TYPE: &'static str = "encoder";
 }
 
-impl Encoder {
+impl<H: HalHost> Encoder<H> {
     /// Exports channel `chan` on `comp` for a `bits`-wide counter.
     pub fn export(
-        comp: &Component,
+        comp: &impl PinFactory<H>,
         names: &ChannelNames,
         chan: usize,
         bits: u32,
-    ) -> Result<Encoder> {
+    ) -> Result<Self> {
         let n = |s: &str| names.item(chan, s);
         Ok(Encoder {
             core: EncoderCore::new(bits),

@@ -71,6 +71,16 @@
 //! are `encoder`, `stepgen` and `pwmgen`; a scale they divide by follows
 //! one rule, [`usable_scale`].
 //!
+//! # Hosts
+//! Every interface is generic over the HAL its pins live in
+//! ([`hal_core::HalHost`]), with ours ([`hal_core::Ours`]) as the default:
+//! `DigOut` is `DigOut<Ours>`, and `DigOut::export(&component, ...)`
+//! infers the host from the [`hal_core::PinFactory`] it is given. A
+//! driver declared once for both hosts holds `DigOut<H>` and exports it
+//! through its host's factory; the code is monomorphised per host.
+//! [`Interface::IO_TYPE`] is the same in every host and is implemented on
+//! the default form.
+//!
 //! The software components (stepgen, encoder, pwmgen in the components
 //! crate) keep LinuxCNC's historic names and exact arithmetic, which
 //! existing configurations and LinuxCNC's own test outputs depend on.
@@ -93,14 +103,14 @@ pub use naming::{ChannelNames, Interface};
 pub use pwm::Pwm;
 pub use stepgen::Stepgen;
 
-use hal_core::{Param, Rw};
+use hal_core::{HostParam, Rw};
 
 /// The value of a scale param that the interface divides by, under
 /// LinuxCNC's rule (its encoder, stepgen and pwmgen alike): a value within
 /// 1e-20 of 0, or NaN, is replaced by 1.0 and written back into the
 /// param, so the user sees the value in force.
 #[inline]
-pub fn usable_scale(scale: &Param<f64, Rw>) -> f64 {
+pub fn usable_scale(scale: &impl HostParam<f64, Rw>) -> f64 {
     let s = scale.get();
     if s.abs() < 1e-20 || s.is_nan() {
         scale.set(1.0);

@@ -13,7 +13,7 @@
 //! is the direction. A NaN command gives 0 duty: the motor stops rather
 //! than running away.
 
-use hal_core::{Component, In, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostPin, In, Ours, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 use crate::usable_scale;
@@ -34,19 +34,19 @@ pub fn duty(value: f64, scale: f64) -> f64 {
 }
 
 /// A canonical PWM channel.
-pub struct Pwm {
-    value: Pin<f64, In>,
-    enable: Pin<bool, In>,
-    scale: Param<f64, Rw>,
+pub struct Pwm<H: HalHost = Ours> {
+    value: H::Pin<f64, In>,
+    enable: H::Pin<bool, In>,
+    scale: H::Param<f64, Rw>,
 }
 
 impl Interface for Pwm {
     const IO_TYPE: &'static str = "pwmgen";
 }
 
-impl Pwm {
+impl<H: HalHost> Pwm<H> {
     /// Exports channel `chan` on `comp`.
-    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<Pwm> {
+    pub fn export(comp: &impl PinFactory<H>, names: &ChannelNames, chan: usize) -> Result<Self> {
         Ok(Pwm {
             value: comp.pin(&names.item(chan, "value"))?,
             enable: comp.pin(&names.item(chan, "enable"))?,

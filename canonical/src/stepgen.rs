@@ -31,7 +31,7 @@
 //! and limits that are not finite numbers are ignored: nothing here can
 //! panic on what a user sets.
 
-use hal_core::{Component, In, Out, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Ours, Out, PinFactory, Result, Rw};
 
 use crate::naming::{ChannelNames, Interface};
 use crate::usable_scale;
@@ -138,21 +138,21 @@ pub fn ticks(ns: u32, clock_hz: u64) -> u32 {
 }
 
 /// A canonical step generator channel.
-pub struct Stepgen {
-    position_cmd: Pin<f64, In>,
-    velocity_cmd: Pin<f64, In>,
-    control_type: Pin<bool, In>,
-    enable: Pin<bool, In>,
-    counts: Pin<i32, Out>,
-    position_fb: Pin<f64, Out>,
-    velocity_fb: Pin<f64, Out>,
-    position_scale: Param<f64, Rw>,
-    maxvel: Param<f64, Rw>,
-    maxaccel: Param<f64, Rw>,
-    steplen: Param<u32, Rw>,
-    stepspace: Param<u32, Rw>,
-    dirsetup: Param<u32, Rw>,
-    dirhold: Param<u32, Rw>,
+pub struct Stepgen<H: HalHost = Ours> {
+    position_cmd: H::Pin<f64, In>,
+    velocity_cmd: H::Pin<f64, In>,
+    control_type: H::Pin<bool, In>,
+    enable: H::Pin<bool, In>,
+    counts: H::Pin<i32, Out>,
+    position_fb: H::Pin<f64, Out>,
+    velocity_fb: H::Pin<f64, Out>,
+    position_scale: H::Param<f64, Rw>,
+    maxvel: H::Param<f64, Rw>,
+    maxaccel: H::Param<f64, Rw>,
+    steplen: H::Param<u32, Rw>,
+    stepspace: H::Param<u32, Rw>,
+    dirsetup: H::Param<u32, Rw>,
+    dirhold: H::Param<u32, Rw>,
     rate: f64,
     /// The previous period's position command (for feed forward).
     prev_cmd: Option<f64>,
@@ -162,9 +162,9 @@ impl Interface for Stepgen {
     const IO_TYPE: &'static str = "stepgen";
 }
 
-impl Stepgen {
+impl<H: HalHost> Stepgen<H> {
     /// Exports channel `chan` on `comp`.
-    pub fn export(comp: &Component, names: &ChannelNames, chan: usize) -> Result<Stepgen> {
+    pub fn export(comp: &impl PinFactory<H>, names: &ChannelNames, chan: usize) -> Result<Self> {
         let n = |s: &str| names.item(chan, s);
         Ok(Stepgen {
             position_cmd: comp.pin(&n("position-cmd"))?,

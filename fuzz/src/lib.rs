@@ -43,6 +43,23 @@ pub fn random_bytes(rng: &mut fastrand::Rng) -> Vec<u8> {
     std::iter::repeat_with(|| rng.u8(..)).take(len).collect()
 }
 
+/// A seed from `seeds` with one to eight random bytes written over it,
+/// or (one time in eight, or with no seeds) [`random_bytes`]: the
+/// generator of binary targets whose crate provides seed inputs.
+pub fn edited_seed(rng: &mut fastrand::Rng, seeds: &[Vec<u8>]) -> Vec<u8> {
+    if seeds.is_empty() || rng.u8(..8) == 0 {
+        return random_bytes(rng);
+    }
+    let mut s = seeds[rng.usize(..seeds.len())].clone();
+    if !s.is_empty() {
+        for _ in 0..rng.usize(1..=8) {
+            let at = rng.usize(..s.len());
+            s[at] = rng.u8(..);
+        }
+    }
+    s
+}
+
 /// One fuzz target.
 pub struct Target {
     /// The target's name: its module, its test and its corpus directory

@@ -151,6 +151,12 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
     pub fn get(&self) -> T {
         T::from_bits(self.cell().load(Relaxed))
     }
+
+    /// Writes the pin whatever its direction (its signal, if linked).
+    #[inline(always)]
+    pub(crate) fn store_any(&self, v: T) {
+        self.cell().store(v.to_bits(), Relaxed)
+    }
 }
 
 impl<T: PinValue, D: Writable> Pin<T, D> {

@@ -4,7 +4,9 @@
 //! * [`Host`] creates the instance, runs realtime components and threads.
 //! * [`Instance`] is any process's view: components, pins, params, signals,
 //!   links, aliases, regions, and snapshots for display.
-//! * [`Pin`] and [`Param`] are the typed realtime handles.
+//! * [`Pin`] and [`Param`] are the typed realtime handles; [`HalHost`],
+//!   [`PinFactory`] and [`Ours`] let code be written once for this HAL
+//!   and a foreign one (LinuxCNC's, in the driver layer).
 //! * [`RingWriter`]/[`RingReader`] and [`SeqLockWriter`]/[`SeqLockReader`]
 //!   are the lock-free channels between realtime code and other processes.
 //!
@@ -16,6 +18,7 @@
 mod error;
 mod exec;
 pub mod handles;
+mod hosted;
 pub mod module;
 pub mod name;
 mod objects;
@@ -35,7 +38,10 @@ pub use exec::{
     FunctCtx, Host, HostConfig, MissedDeadline, RealtimeMode, RtComponentBuilder, DEFAULT_SHM_SIZE,
     TOP_PRIORITY,
 };
-pub use handles::{In, Io, Out, Param, Pin, RawParam, RawPin, Ro, Rw};
+pub use handles::{
+    Direction, In, Io, Out, Param, ParamAccess, Pin, RawParam, RawPin, Ro, Rw, Writable,
+};
+pub use hosted::{HalHost, HostParam, HostPin, Ours, PinFactory};
 pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};
 pub use objects::{
     instance_from_env, lock_bits, validate_instance_name, AliasKind, Component, ComponentInfo,

@@ -104,7 +104,11 @@ pub fn parse(args: &ModuleArgs) -> Result<Config, DriverError> {
     let modes = p.strs_per(
         "mode",
         count,
-        |_, s| Mode::parse(s).ok_or(Error::NotAMode),
+        |_, s| {
+            Mode::parse(s)
+                .filter(|m| *m != Mode::Pp)
+                .ok_or(Error::NotAMode)
+        },
         |_| Mode::Csp,
     )?;
     let files = p.strs_per(

@@ -83,12 +83,14 @@ impl SdoType {
     }
 
     /// Parses `text` as a value of this type (decimal or `0x` hex).
-    pub fn parse_value(self, text: &str) -> std::result::Result<i64, String> {
+    pub fn parse_value(self, text: &str) -> Result<i64> {
         let (neg, digits) = match text.strip_prefix('-') {
             Some(d) => (true, d),
             None => (false, text),
         };
-        let not_a_number = || format!("'{text}' is not a number");
+        let not_a_number = || Error::NotANumber {
+            text: text.to_string(),
+        };
         let (radix, digits) = match digits
             .strip_prefix("0x")
             .or_else(|| digits.strip_prefix("0X"))
@@ -105,7 +107,12 @@ impl SdoType {
         let v = if neg { -magnitude } else { magnitude };
         let (lo, hi) = self.range();
         if !(lo..=hi).contains(&v) {
-            return Err(format!("{v} does not fit {self} ({lo}..={hi})"));
+            return Err(Error::OutOfRange {
+                value: v,
+                ty: self,
+                lo,
+                hi,
+            });
         }
         Ok(v)
     }
@@ -144,10 +151,10 @@ impl fmt::Display for SdoType {
 }
 
 /// Parses `INDEX:SUB` (hexadecimal, `0x` optional).
-pub fn parse_object(text: &str) -> std::result::Result<(u16, u8), String> {
-    let (i, s) = text
-        .split_once(':')
-        .ok_or_else(|| format!("'{text}' is not INDEX:SUB (e.g. 6098:00)"))?;
+pub fn parse_object(text: &str) -> Result<(u16, u8)> {
+    let (i, s) = text.split_once(':').ok_or_else(|| Error::NotAnObject {
+        text: text.to_string(),
+    })?;
     // Hex digits only: `from_str_radix` alone would also take a sign.
     fn hex(t: &str) -> &str {
         let digits = t
@@ -160,11 +167,25 @@ pub fn parse_object(text: &str) -> std::result::Result<(u16, u8), String> {
             ""
         }
     }
-    let index = u16::from_str_radix(hex(i), 16)
-        .map_err(|_| format!("index '{i}' is not a hexadecimal number up to FFFF"))?;
-    let sub = u8::from_str_radix(hex(s), 16)
-        .map_err(|_| format!("sub-index '{s}' is not a hexadecimal number up to FF"))?;
+    let index = u16::from_str_radix(hex(i), 16).map_err(|_| Error::BadIndex {
+        text: i.to_string(),
+    })?;
+    let sub = u8::from_str_radix(hex(s), 16).map_err(|_| Error::BadSubIndex {
+        text: s.to_string(),
+    })?;
     Ok((index, sub))
+}
+
+/// The type names a drive file and `canservo-tool write` take.
+pub const TYPES: &str = "u8, u16, u32, i8, i16, i32";
+
+/// The [`SdoType`] named `name`, or why there is none (`types`: the
+/// names the caller takes, for the message).
+pub fn parse_type(name: &str, types: &'static str) -> Result<SdoType> {
+    SdoType::parse(name).ok_or_else(|| Error::NotAType {
+        name: name.to_string(),
+        types,
+    })
 }
 
 /// One write of a drive file.
@@ -222,10 +243,10 @@ impl DriveFile {
 
     /// Parses `text`, naming `path` in errors.
     pub fn parse(path: &Path, text: &str) -> Result<DriveFile> {
-        let bad = |line: usize, reason: String| Error::DriveFile {
+        let bad = |line: usize, source: Error| Error::DriveFile {
             path: path.to_path_buf(),
             line,
-            reason,
+            source: Box::new(source),
         };
         let mut writes = Vec::new();
         for (n, raw) in text.lines().enumerate() {
@@ -238,16 +259,13 @@ impl DriveFile {
             let [object, ty, value] = words[..] else {
                 return Err(bad(
                     line,
-                    format!("'{content}' is not INDEX:SUB TYPE VALUE (e.g. 6098:00 i8 35)"),
+                    Error::NotAWrite {
+                        content: content.to_string(),
+                    },
                 ));
             };
             let (index, sub) = parse_object(object).map_err(|e| bad(line, e))?;
-            let ty = SdoType::parse(ty).ok_or_else(|| {
-                bad(
-                    line,
-                    format!("'{ty}' is not a type (u8, u16, u32, i8, i16, i32)"),
-                )
-            })?;
+            let ty = parse_type(ty, TYPES).map_err(|e| bad(line, e))?;
             let value = ty.parse_value(value).map_err(|e| bad(line, e))?;
             writes.push(SdoWrite {
                 index,

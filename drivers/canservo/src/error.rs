@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use crate::codes::AbortCode;
+use crate::drivefile::SdoType;
 
 /// Everything that can fail outside the realtime functions.
 #[derive(Debug, thiserror::Error)]
@@ -138,15 +139,117 @@ pub enum Error {
         statusword: u16,
     },
     /// A drive file line is wrong.
-    #[error("drive file {}, line {line}: {reason}", path.display())]
+    #[error("drive file {}, line {line}: {source}", path.display())]
     DriveFile {
         /// The file.
         path: PathBuf,
         /// 1-based line number.
         line: usize,
-        /// What is wrong.
-        reason: String,
+        /// What is wrong with it.
+        #[source]
+        source: Box<Error>,
     },
+    /// A drive file line is not three words.
+    #[error("'{content}' is not INDEX:SUB TYPE VALUE (e.g. 6098:00 i8 35)")]
+    NotAWrite {
+        /// The line without its comment.
+        content: String,
+    },
+    /// An object address is not `INDEX:SUB`.
+    #[error("'{text}' is not INDEX:SUB (e.g. 6098:00)")]
+    NotAnObject {
+        /// The address as given.
+        text: String,
+    },
+    /// An object index is not a 16-bit hexadecimal number.
+    #[error("index '{text}' is not a hexadecimal number up to FFFF")]
+    BadIndex {
+        /// The index as given.
+        text: String,
+    },
+    /// A sub-index is not an 8-bit hexadecimal number.
+    #[error("sub-index '{text}' is not a hexadecimal number up to FF")]
+    BadSubIndex {
+        /// The sub-index as given.
+        text: String,
+    },
+    /// A type name is not one of the SDO types.
+    #[error("'{name}' is not a type ({types})")]
+    NotAType {
+        /// The name as given.
+        name: String,
+        /// The names taken there ("u8, u16, u32, i8, i16, i32").
+        types: &'static str,
+    },
+    /// A value is not a decimal or `0x` hex number.
+    #[error("'{text}' is not a number")]
+    NotANumber {
+        /// The value as given.
+        text: String,
+    },
+    /// A value is outside its type's range.
+    #[error("{value} does not fit {ty} ({lo}..={hi})")]
+    OutOfRange {
+        /// The value.
+        value: i64,
+        /// Its type.
+        ty: SdoType,
+        /// The type's least value.
+        lo: i64,
+        /// The type's greatest value.
+        hi: i64,
+    },
+    /// An object read is shorter than the type asked for.
+    #[error("{object} has {len} bytes, too few for {ty}")]
+    TooShort {
+        /// The object, described.
+        object: String,
+        /// The bytes read.
+        len: usize,
+        /// The type asked for.
+        ty: SdoType,
+    },
+    /// `canservo-tool power` was given a step name it does not know.
+    #[error("'{name}' is not a step ({steps})")]
+    NotAStep {
+        /// The name as given.
+        name: String,
+        /// The names taken.
+        steps: &'static str,
+    },
+    /// A drive's state admits no command (not ready to switch on).
+    #[error("node {node} cannot be commanded now: {statusword}")]
+    NotCommandable {
+        /// The node.
+        node: u8,
+        /// Its statusword, described.
+        statusword: String,
+    },
+    /// A power step that is no transition from the drive's state.
+    #[error("node {node} is in {state}: {step} is not a transition from there")]
+    NoTransition {
+        /// The node.
+        node: u8,
+        /// The state it is in.
+        state: &'static str,
+        /// The step asked for.
+        step: &'static str,
+    },
+    /// `power up` on a drive in fault.
+    #[error("node {node} is in fault: fault-reset first")]
+    InFault {
+        /// The node.
+        node: u8,
+    },
+    /// An NMT command name the tool does not know.
+    #[error("'{command}' is not an NMT command (start, stop, pre-operational, reset, reset-communication)")]
+    NotAnNmtCommand {
+        /// The name as given.
+        command: String,
+    },
+    /// `canservo-tool watch` on simulated drives needs an end.
+    #[error("with --sim, give --count or --seconds")]
+    WatchWithoutEnd,
     /// A drive file cannot be read.
     #[error("drive file {}: {source}", path.display())]
     DriveFileIo {

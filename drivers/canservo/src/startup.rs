@@ -38,50 +38,9 @@ use crate::frame::Frame;
 use crate::regs::{cob, mode, nmt, obj};
 use crate::sdo::SdoClient;
 
-/// The control mode a drive runs in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// Cyclic synchronous position (8): the default.
-    Csp,
-    /// Profile velocity (3).
-    Pv,
-    /// Cyclic synchronous velocity (9).
-    Csv,
-}
-
-impl Mode {
-    /// The mode named `s` (`csp`, `pv`, `csv`).
-    pub fn parse(s: &str) -> Option<Mode> {
-        match s.to_ascii_lowercase().as_str() {
-            "csp" => Some(Mode::Csp),
-            "pv" => Some(Mode::Pv),
-            "csv" => Some(Mode::Csv),
-            _ => None,
-        }
-    }
-
-    /// 0x6060's value.
-    pub fn number(self) -> i8 {
-        match self {
-            Mode::Csp => mode::CSP,
-            Mode::Pv => mode::PV,
-            Mode::Csv => mode::CSV,
-        }
-    }
-
-    /// The object RPDO1 carries as target.
-    pub fn target_object(self) -> u16 {
-        match self {
-            Mode::Csp => obj::TARGET_POSITION,
-            Mode::Pv | Mode::Csv => obj::TARGET_VELOCITY,
-        }
-    }
-
-    /// Whether the target is a position.
-    pub fn is_position(self) -> bool {
-        self == Mode::Csp
-    }
-}
+/// The control mode a drive runs in (the shared CiA 402 layer's; canservo
+/// runs CSP, PV and CSV).
+pub use hal_cia402::Mode;
 
 /// What is known of one drive.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]

@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 
 use crate::bus::{CanBus, Filters, SimBus, SocketCanBus, WallClock};
 use crate::decode::{nmt_state, Decoder};
-use crate::drivefile::{parse_object, SdoType};
+use crate::drivefile::{parse_object, parse_type, TYPES};
+use crate::error::{Error, Result};
 use crate::frame::Frame;
 use crate::power::{describe_statusword, AfterQuickStop, AnyPower, PowerState};
 use crate::regs::{cob, describe_object, mode, nmt, obj};
@@ -96,18 +97,17 @@ pub struct WatchOptions {
     pub duration: Option<Duration>,
 }
 
+/// The types [`Tool::read`] takes: the SDO types and `str`.
+pub const READ_TYPES: &str = "u8, u16, u32, i8, i16, i32, str";
+
 /// The names [`Step::parse`] takes.
 pub const STEPS: &str =
     "shutdown, switch-on, enable-operation, disable-operation, disable-voltage, quick-stop, fault-reset, up, down";
 
-fn err(e: impl std::fmt::Display) -> String {
-    e.to_string()
-}
-
 impl Tool {
     /// Opens `iface`.
-    pub fn socket(iface: &str, timeout: Duration) -> Result<Tool, String> {
-        let bus = SocketCanBus::open(iface, &Filters::everything()).map_err(err)?;
+    pub fn socket(iface: &str, timeout: Duration) -> Result<Tool> {
+        let bus = SocketCanBus::open(iface, &Filters::everything())?;
         Ok(Tool {
             bus: Box::new(bus),
             timeout,
@@ -133,11 +133,14 @@ impl Tool {
     }
 
     /// Sends `f`, retrying for a while if the transmit queue is full.
-    fn send(&self, f: &Frame) -> Result<(), String> {
+    fn send(&self, f: &Frame) -> Result<()> {
         let end = Instant::now() + self.timeout;
         while !self.bus.send(f) {
             if Instant::now() >= end {
-                return Err(format!("cannot send {f} on {}", self.bus.describe()));
+                return Err(Error::SendFailed {
+                    what: format!("frame {f}"),
+                    bus: self.bus.describe(),
+                });
             }
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -147,7 +150,7 @@ impl Tool {
     /// Finds the nodes: optionally resets every node's communication
     /// first (and lists the boot-ups), then asks every node id for its
     /// device type at once and reads the identity of those that answer.
-    pub fn scan(&self, reset: bool) -> Result<Vec<String>, String> {
+    pub fn scan(&self, reset: bool) -> Result<Vec<String>> {
         let mut lines = Vec::new();
         while self.bus.recv_timeout(Duration::ZERO).is_some() {}
         if reset {
@@ -201,7 +204,7 @@ impl Tool {
         }
         for node in found {
             let sdo = self.sdo(node);
-            let device_type = sdo.read_u32(obj::DEVICE_TYPE, 0).map_err(err)?;
+            let device_type = sdo.read_u32(obj::DEVICE_TYPE, 0)?;
             let profile = if device_type & 0xFFFF == obj::PROFILE_402 {
                 " (CiA 402 drive)"
             } else {
@@ -228,27 +231,24 @@ impl Tool {
 
     /// Reads `object` (`INDEX:SUB`) of `node` as `ty` (a [`SdoType`] name
     /// or `str`; None: the raw bytes and, up to 4 bytes, as unsigned).
-    pub fn read(&self, node: u8, object: &str, ty: Option<&str>) -> Result<String, String> {
+    pub fn read(&self, node: u8, object: &str, ty: Option<&str>) -> Result<String> {
         let (index, sub) = parse_object(object)?;
         let name = describe_object(index, sub);
         let sdo = self.sdo(node);
         match ty {
-            Some("str") => Ok(format!(
-                "{name} = \"{}\"",
-                sdo.read_string(index, sub).map_err(err)?
-            )),
+            Some("str") => Ok(format!("{name} = \"{}\"", sdo.read_string(index, sub)?)),
             Some(t) => {
-                let ty = SdoType::parse(t).ok_or_else(|| {
-                    format!("'{t}' is not a type (u8, u16, u32, i8, i16, i32, str)")
+                let ty = parse_type(t, READ_TYPES)?;
+                let bytes = sdo.upload(index, sub)?;
+                let v = ty.decode(&bytes).ok_or_else(|| Error::TooShort {
+                    object: name.clone(),
+                    len: bytes.len(),
+                    ty,
                 })?;
-                let bytes = sdo.upload(index, sub).map_err(err)?;
-                let v = ty
-                    .decode(&bytes)
-                    .ok_or_else(|| format!("{name} has {} bytes, too few for {ty}", bytes.len()))?;
                 Ok(format!("{name} = {v} ({v:#x})"))
             }
             None => {
-                let bytes = sdo.upload(index, sub).map_err(err)?;
+                let bytes = sdo.upload(index, sub)?;
                 let hex: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
                 let mut s = format!("{name} = [{}]", hex.join(" "));
                 if (1..=4).contains(&bytes.len()) {
@@ -262,24 +262,21 @@ impl Tool {
     }
 
     /// Writes `value` as `ty` to `object` of `node`.
-    pub fn write(&self, node: u8, object: &str, ty: &str, value: &str) -> Result<String, String> {
+    pub fn write(&self, node: u8, object: &str, ty: &str, value: &str) -> Result<String> {
         let (index, sub) = parse_object(object)?;
-        let ty = SdoType::parse(ty)
-            .ok_or_else(|| format!("'{ty}' is not a type (u8, u16, u32, i8, i16, i32)"))?;
+        let ty = parse_type(ty, TYPES)?;
         let v = ty.parse_value(value)?;
-        self.sdo(node)
-            .download(index, sub, &ty.bytes(v))
-            .map_err(err)?;
+        self.sdo(node).download(index, sub, &ty.bytes(v))?;
         Ok(format!("{} = {v}", describe_object(index, sub)))
     }
 
     /// A drive's state in words.
-    pub fn status(&self, node: u8) -> Result<Vec<String>, String> {
+    pub fn status(&self, node: u8) -> Result<Vec<String>> {
         let sdo = self.sdo(node);
-        let statusword = sdo.read_u16(obj::STATUSWORD, 0).map_err(err)?;
-        let shown = sdo.read_i8(obj::MODES_DISPLAY, 0).map_err(err)?;
-        let error = sdo.read_u16(obj::ERROR_CODE, 0).map_err(err)?;
-        let register = sdo.read_u8(obj::ERROR_REGISTER, 0).map_err(err)?;
+        let statusword = sdo.read_u16(obj::STATUSWORD, 0)?;
+        let shown = sdo.read_i8(obj::MODES_DISPLAY, 0)?;
+        let error = sdo.read_u16(obj::ERROR_CODE, 0)?;
+        let register = sdo.read_u8(obj::ERROR_REGISTER, 0)?;
         let mut lines = vec![
             format!("statusword {}", describe_statusword(statusword)),
             format!("mode {shown} ({})", mode::name(shown)),
@@ -309,28 +306,28 @@ impl Tool {
 
     /// Copies the actual position into the target (and zeroes the target
     /// velocity), so enabling moves nothing (§6.11 step 6).
-    fn hold_position(&self, node: u8) -> Result<(), String> {
+    fn hold_position(&self, node: u8) -> Result<()> {
         let sdo = self.sdo(node);
-        let actual = sdo.read_i32(obj::POSITION_ACTUAL, 0).map_err(err)?;
+        let actual = sdo.read_i32(obj::POSITION_ACTUAL, 0)?;
         for r in [
             sdo.write_i32(obj::TARGET_POSITION, 0, actual),
             sdo.write_i32(obj::TARGET_VELOCITY, 0, 0),
         ] {
             match r {
-                Err(crate::Error::SdoAbort { code, .. })
-                    if code == crate::codes::AbortCode::NO_OBJECT => {}
-                r => r.map_err(err)?,
+                Err(Error::SdoAbort { code, .. }) if code == crate::codes::AbortCode::NO_OBJECT => {
+                }
+                r => r?,
             }
         }
         Ok(())
     }
 
     /// Takes `step` from the state the drive is in; the states passed.
-    pub fn power(&self, node: u8, step: Step) -> Result<Vec<String>, String> {
+    pub fn power(&self, node: u8, step: Step) -> Result<Vec<String>> {
         let sdo = self.sdo(node);
         let mut passed = Vec::new();
         let mut seen = |s: PowerState| passed.push(s.name().to_string());
-        let now = AnyPower::read(&sdo, self.timeout).map_err(err)?;
+        let now = AnyPower::read(&sdo, self.timeout)?;
         let from = match &now {
             AnyPower::SwitchOnDisabled(_) => PowerState::SwitchOnDisabled,
             AnyPower::ReadyToSwitchOn(_) => PowerState::ReadyToSwitchOn,
@@ -339,103 +336,89 @@ impl Tool {
             AnyPower::QuickStopActive(_) => PowerState::QuickStopActive,
             AnyPower::Fault(_) => PowerState::Fault,
             AnyPower::NotReady(sw) => {
-                return Err(format!(
-                    "node {node} cannot be commanded now: {}",
-                    describe_statusword(*sw)
-                ))
+                return Err(Error::NotCommandable {
+                    node,
+                    statusword: describe_statusword(*sw),
+                })
             }
         };
         seen(from);
-        let refused = || {
-            format!(
-                "node {node} is in {}: {} is not a transition from there",
-                from.name(),
-                step.name()
-            )
+        let refused = || Error::NoTransition {
+            node,
+            state: from.name(),
+            step: step.name(),
         };
         match (now, step) {
-            (AnyPower::SwitchOnDisabled(p), Step::Shutdown) => {
-                seen(p.shutdown().map_err(err)?.state())
-            }
-            (AnyPower::SwitchedOn(p), Step::Shutdown) => seen(p.shutdown().map_err(err)?.state()),
-            (AnyPower::OperationEnabled(p), Step::Shutdown) => {
-                seen(p.shutdown().map_err(err)?.state())
-            }
-            (AnyPower::ReadyToSwitchOn(p), Step::SwitchOn) => {
-                seen(p.switch_on().map_err(err)?.state())
-            }
+            (AnyPower::SwitchOnDisabled(p), Step::Shutdown) => seen(p.shutdown()?.state()),
+            (AnyPower::SwitchedOn(p), Step::Shutdown) => seen(p.shutdown()?.state()),
+            (AnyPower::OperationEnabled(p), Step::Shutdown) => seen(p.shutdown()?.state()),
+            (AnyPower::ReadyToSwitchOn(p), Step::SwitchOn) => seen(p.switch_on()?.state()),
             (AnyPower::SwitchedOn(p), Step::EnableOperation) => {
                 self.hold_position(node)?;
-                seen(p.enable_operation().map_err(err)?.state())
+                seen(p.enable_operation()?.state())
             }
             (AnyPower::QuickStopActive(p), Step::EnableOperation) => {
-                seen(p.enable_operation().map_err(err)?.state())
+                seen(p.enable_operation()?.state())
             }
             (AnyPower::OperationEnabled(p), Step::DisableOperation) => {
-                seen(p.disable_operation().map_err(err)?.state())
+                seen(p.disable_operation()?.state())
             }
             (AnyPower::ReadyToSwitchOn(p), Step::DisableVoltage) => {
-                seen(p.disable_voltage().map_err(err)?.state())
+                seen(p.disable_voltage()?.state())
             }
-            (AnyPower::SwitchedOn(p), Step::DisableVoltage) => {
-                seen(p.disable_voltage().map_err(err)?.state())
-            }
+            (AnyPower::SwitchedOn(p), Step::DisableVoltage) => seen(p.disable_voltage()?.state()),
             (AnyPower::OperationEnabled(p), Step::DisableVoltage) => {
-                seen(p.disable_voltage().map_err(err)?.state())
+                seen(p.disable_voltage()?.state())
             }
             (AnyPower::QuickStopActive(p), Step::DisableVoltage) => {
-                seen(p.disable_voltage().map_err(err)?.state())
+                seen(p.disable_voltage()?.state())
             }
-            (AnyPower::OperationEnabled(p), Step::QuickStop) => {
-                match p.quick_stop().map_err(err)? {
-                    AfterQuickStop::Active(q) => seen(q.state()),
-                    AfterQuickStop::Disabled(d) => {
-                        seen(PowerState::QuickStopActive);
-                        seen(d.state())
-                    }
+            (AnyPower::OperationEnabled(p), Step::QuickStop) => match p.quick_stop()? {
+                AfterQuickStop::Active(q) => seen(q.state()),
+                AfterQuickStop::Disabled(d) => {
+                    seen(PowerState::QuickStopActive);
+                    seen(d.state())
                 }
-            }
-            (AnyPower::Fault(p), Step::FaultReset) => seen(p.fault_reset().map_err(err)?.state()),
-            (AnyPower::Fault(_), Step::Up) => {
-                return Err(format!("node {node} is in fault: fault-reset first"))
-            }
+            },
+            (AnyPower::Fault(p), Step::FaultReset) => seen(p.fault_reset()?.state()),
+            (AnyPower::Fault(_), Step::Up) => return Err(Error::InFault { node }),
             (now, Step::Up) => {
                 let p = match now {
                     AnyPower::QuickStopActive(p) => {
-                        let p = p.disable_voltage().map_err(err)?;
+                        let p = p.disable_voltage()?;
                         seen(p.state());
-                        p.shutdown().map_err(err)?
+                        p.shutdown()?
                     }
-                    AnyPower::SwitchOnDisabled(p) => p.shutdown().map_err(err)?,
+                    AnyPower::SwitchOnDisabled(p) => p.shutdown()?,
                     AnyPower::ReadyToSwitchOn(p) => p,
                     AnyPower::SwitchedOn(p) => {
                         self.hold_position(node)?;
-                        seen(p.enable_operation().map_err(err)?.state());
+                        seen(p.enable_operation()?.state());
                         return Ok(passed);
                     }
                     _ => return Ok(passed),
                 };
                 seen(p.state());
-                let p = p.switch_on().map_err(err)?;
+                let p = p.switch_on()?;
                 seen(p.state());
                 self.hold_position(node)?;
-                seen(p.enable_operation().map_err(err)?.state());
+                seen(p.enable_operation()?.state());
             }
             (now, Step::Down) => match now {
                 AnyPower::OperationEnabled(p) => {
-                    let p = p.disable_operation().map_err(err)?;
+                    let p = p.disable_operation()?;
                     seen(p.state());
-                    let p = p.shutdown().map_err(err)?;
+                    let p = p.shutdown()?;
                     seen(p.state());
-                    seen(p.disable_voltage().map_err(err)?.state());
+                    seen(p.disable_voltage()?.state());
                 }
                 AnyPower::SwitchedOn(p) => {
-                    let p = p.shutdown().map_err(err)?;
+                    let p = p.shutdown()?;
                     seen(p.state());
-                    seen(p.disable_voltage().map_err(err)?.state());
+                    seen(p.disable_voltage()?.state());
                 }
-                AnyPower::ReadyToSwitchOn(p) => seen(p.disable_voltage().map_err(err)?.state()),
-                AnyPower::QuickStopActive(p) => seen(p.disable_voltage().map_err(err)?.state()),
+                AnyPower::ReadyToSwitchOn(p) => seen(p.disable_voltage()?.state()),
+                AnyPower::QuickStopActive(p) => seen(p.disable_voltage()?.state()),
                 _ => {}
             },
             _ => return Err(refused()),
@@ -445,14 +428,18 @@ impl Tool {
 
     /// Sends NMT `command` (start, stop, pre-operational, reset,
     /// reset-communication) to `node` (0 = all).
-    pub fn nmt(&self, node: u8, command: &str) -> Result<String, String> {
+    pub fn nmt(&self, node: u8, command: &str) -> Result<String> {
         let cs = match command {
             "start" => nmt::START,
             "stop" => nmt::STOP,
             "pre-operational" | "preop" => nmt::ENTER_PRE_OPERATIONAL,
             "reset" => nmt::RESET_NODE,
             "reset-communication" => nmt::RESET_COMMUNICATION,
-            c => return Err(format!("'{c}' is not an NMT command (start, stop, pre-operational, reset, reset-communication)")),
+            c => {
+                return Err(Error::NotAnNmtCommand {
+                    command: c.to_string(),
+                })
+            }
         };
         let f = Frame::new(cob::NMT, &[cs, node]);
         self.send(&f)?;
@@ -460,7 +447,7 @@ impl Tool {
     }
 
     /// Prints the traffic, decoded, through `out`, as `opts` says.
-    pub fn watch(&self, opts: &WatchOptions, mut out: impl FnMut(String)) -> Result<(), String> {
+    pub fn watch(&self, opts: &WatchOptions, mut out: impl FnMut(String)) -> Result<()> {
         let WatchOptions {
             nodes,
             read_mapping,

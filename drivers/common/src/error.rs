@@ -106,6 +106,19 @@ pub enum DriverError {
         #[source]
         source: io::Error,
     },
+    /// LinuxCNC's HAL refused a call while a module loaded into it
+    /// (feature `linuxcnc`): a duplicate or too long name, full shared
+    /// memory, a locked HAL.
+    #[error("LinuxCNC's {call} refused '{what}': {source}")]
+    Refused {
+        /// The call (`hal_pin_bit_newf`, `hal_init`, ...).
+        call: String,
+        /// The pin, parameter, function or component it was for.
+        what: String,
+        /// LinuxCNC's negative errno, as an error.
+        #[source]
+        source: io::Error,
+    },
     /// A module parameter is wrong.
     #[error("{module}: parameter '{param}': {reason}")]
     BadParam {

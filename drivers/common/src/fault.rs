@@ -9,8 +9,11 @@
 //!   misbehaving trips the latch with a [`Fault`] (a code and a
 //!   `&'static str` reason). Atomics only; the first trip wins and is
 //!   said exactly once through the host's realtime log
-//!   ([`hal_core::RtLog`]) as `<prefix>: <reason>`; optional HAL pins
-//!   show it; an explicit [`reset`](FaultLatch::reset) clears it.
+//!   ([`hal_core::RtLog`], or LinuxCNC's `rtapi_print_msg`: a
+//!   [`LogSink`]) as `<prefix>: <reason>`; optional HAL pins show it; an
+//!   explicit [`reset`](FaultLatch::reset) clears it. The latch is generic
+//!   over the host its pins live in ([`FaultLatch::named`]); `new` makes
+//!   one in ours.
 //!
 //! ```no_run
 //! use std::sync::Arc;
@@ -44,7 +47,9 @@
 use std::sync::atomic::{AtomicPtr, AtomicU64, Ordering::*};
 use std::sync::Arc;
 
-use hal_core::{Out, Pin, RtComponentBuilder, RtLog};
+use hal_core::{HalHost, HostPin, Ours, Out, RtComponentBuilder};
+
+use crate::log::LogSink;
 
 /// What a driver does to put its hardware in a safe state. Called from
 /// non-realtime threads (the host's supervisor, unload, exit) while no
@@ -92,20 +97,38 @@ impl Fault {
     }
 }
 
-/// A latch a realtime function trips when its hardware fails.
-#[derive(Debug)]
-pub struct FaultLatch {
+/// A latch a realtime function trips when its hardware fails; its pins
+/// live in host `H`.
+pub struct FaultLatch<H: HalHost = Ours> {
     prefix: String,
     tripped: AtomicPtr<Fault>,
-    log: Option<RtLog>,
-    pin: Option<Pin<bool, Out>>,
-    code_pin: Option<Pin<u32, Out>>,
+    log: Option<LogSink>,
+    pin: Option<H::Pin<bool, Out>>,
+    code_pin: Option<H::Pin<u32, Out>>,
+}
+
+impl<H: HalHost> std::fmt::Debug for FaultLatch<H> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FaultLatch")
+            .field("prefix", &self.prefix)
+            .field("fault", &self.fault())
+            .finish()
+    }
 }
 
 impl FaultLatch {
-    /// A clear latch whose messages start with `prefix` (the board's HAL
-    /// name, `hm2_5i25.0`).
+    /// A clear latch in our host whose messages start with `prefix` (the
+    /// board's HAL name, `hm2_5i25.0`).
     pub fn new(prefix: impl Into<String>) -> FaultLatch {
+        FaultLatch::named(prefix)
+    }
+}
+
+impl<H: HalHost> FaultLatch<H> {
+    /// A clear latch in host `H` whose messages start with `prefix`
+    /// (`FaultLatch::<H>::named("motenc.0")` in a driver generic over
+    /// its host).
+    pub fn named(prefix: impl Into<String>) -> Self {
         FaultLatch {
             prefix: prefix.into(),
             tripped: AtomicPtr::new(std::ptr::null_mut()),
@@ -115,21 +138,22 @@ impl FaultLatch {
         }
     }
 
-    /// Says the first trip through `log` (normally `host.rt_log()`), at
-    /// level `Err`.
-    pub fn with_log(mut self, log: RtLog) -> FaultLatch {
-        self.log = Some(log);
+    /// Says the first trip through `log` (normally `host.rt_log()`, or
+    /// the driver's [`Exporter::log`](crate::Exporter::log)), at level
+    /// `Err`.
+    pub fn with_log(mut self, log: impl Into<LogSink>) -> Self {
+        self.log = Some(log.into());
         self
     }
 
     /// Shows "tripped" on `pin`.
-    pub fn with_pin(mut self, pin: Pin<bool, Out>) -> FaultLatch {
+    pub fn with_pin(mut self, pin: H::Pin<bool, Out>) -> Self {
         self.pin = Some(pin);
         self
     }
 
     /// Shows the fault's code on `pin` (0 when clear).
-    pub fn with_code_pin(mut self, pin: Pin<u32, Out>) -> FaultLatch {
+    pub fn with_code_pin(mut self, pin: H::Pin<u32, Out>) -> Self {
         self.code_pin = Some(pin);
         self
     }
@@ -235,7 +259,7 @@ impl ErrorWatch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hal_core::MsgLevel;
+    use hal_core::{MsgLevel, RtLog};
 
     static LOST: Fault = Fault::new(3, "board lost, outputs are off");
     static OTHER: Fault = Fault::new(4, "something else");

@@ -7,10 +7,12 @@
 //! A driver crate has four parts (DESIGN.md "Drivers"): `regs` (the
 //! register map as named constants), the bus it talks through, `sim` (a
 //! register-level model of the board), and the HAL binding (`loadrt`
-//! parameters, probing, canonical exports, `read`/`write` functions).
-//! This crate supplies the bus, the simulator harness, PCI discovery, the
-//! parameter helpers and the fault machinery; the driver supplies only
-//! what is particular to its board.
+//! parameters, probing, canonical exports, `read`/`write` functions),
+//! declared once as a [`DriverModule`] that loads in two hosts: ours, and
+//! LinuxCNC's `rtapi_app` (§8). This crate supplies the bus, the
+//! simulator harness, PCI discovery, the parameter helpers, the fault
+//! machinery and the load sequence of both hosts; the driver supplies
+//! only what is particular to its board.
 //!
 //! ## 1. Talk through a bus trait
 //!
@@ -63,9 +65,9 @@
 //! [`params::BackendTokens`] (`sim` always exists; variants start with
 //! `sim`). Under `loadrt` give the board a
 //! [`sim::SimClock::following_thread`] so it advances by the HAL
-//! thread's time, and [`sim::publish`] it after the component is ready,
-//! so tests and tools in the process can [`sim::find`] it and turn its
-//! shafts. In unit tests leave the board on its explicit clock and move
+//! thread's time, and publish it with [`Exporter::publish_sim`] (our host
+//! publishes it once the load succeeded), so tests and tools in the
+//! process can [`sim::find`] it and turn its shafts. In unit tests leave the board on its explicit clock and move
 //! time with [`sim::SimBoard::advance`]; check what the driver did in its
 //! [`sim::AccessLog`].
 //!
@@ -73,21 +75,27 @@
 //!
 //! Implement [`fault::SafeState`] (outputs off, DACs to 0 V, enables
 //! off, watchdog allowed to bite) and register it with
-//! [`fault::install`]: the host calls it after a panic in any realtime
-//! function, at unload and at exit. When a realtime function finds the
-//! hardware gone it trips a [`fault::FaultLatch`] with a static
+//! [`Exporter::safe_state`]: the host calls it after a panic in any
+//! realtime function, at unload and at exit. When a realtime function
+//! finds the hardware gone it trips a [`fault::FaultLatch`] with a static
 //! [`fault::Fault`]; the first trip returns true, so the function goes
-//! safe once and the latch says why once through the host's realtime log
-//! ([`hal_core::Host::rt_log`]: no allocation, lock or system call in the
-//! function; a host thread prints it).
+//! safe once and the latch says why once through the host's message path
+//! ([`Exporter::log`], a [`LogSink`]: our host's realtime log, or
+//! LinuxCNC's `rtapi_print_msg`; no allocation, lock or system call in
+//! the function).
 //!
 //! ## 5. Parameters and errors
 //!
-//! Read `loadrt` arguments through [`params::Params`]: defaults, ranges,
-//! per-board arrays with count checks, and messages naming module,
-//! parameter and item. Addresses: [`params::parse_hex`],
+//! Declare the module parameters once, in a table macro named
+//! `<module>_params` that hands its list to whatever macro it is given:
+//! [`param_table!`] makes [`DriverModule::PARAMS`] from it, and the
+//! LinuxCNC adapter LinuxCNC's parameter symbols (§8). Read `loadrt`
+//! arguments through [`params::Params`]: defaults, ranges, per-board
+//! arrays with count checks, and messages naming module, parameter and
+//! item. Addresses: [`params::parse_hex`],
 //! [`params::parse_number`]. Turn layer errors into `loadrt` errors with
-//! [`ForModule::for_module`]. Open and check everything before exporting
+//! [`ForModule::for_module`]. Open and check everything in
+//! [`DriverModule::open`], before [`DriverModule::export`] makes
 //! anything, so a failed `loadrt` leaves nothing behind.
 //!
 //! ## 6. Tests
@@ -111,27 +119,59 @@
 //! its simulator a [`sim::PortModel`] on a [`sim::SimBoard`] whose
 //! writes-only [`sim::AccessLog`] its tests read, its backend tokens a
 //! [`params::BackendTokens`], and its outputs go to their inactive levels
-//! through [`fault::install`]. (Its ppdev backend keeps a bus trait of its
-//! own, `PortIo`: ppdev is an ioctl per register, not a port address.)
+//! through [`Exporter::safe_state`]. Its `HalParport` is the
+//! [`DriverModule`]; `OpenedPorts` what `open` claimed. (Its ppdev
+//! backend keeps a bus trait of its own, `PortIo`: ppdev is an ioctl per
+//! register, not a port address.)
+//!
+//! ## 8. One definition, two hosts
+//!
+//! [`DriverModule::open`] turns the parsed parameters into opened
+//! backends; [`DriverModule::export`] is generic over the host
+//! (`H: DriverHost`) and builds through an [`Exporter`]:
+//! [`component`](Exporter::component) (most drivers one, named after the
+//! module), its [`pins`](Exporter::pins) (a [`hal_core::PinFactory`]),
+//! [`funct`](Exporter::funct), [`safe_state`](Exporter::safe_state),
+//! [`keep`](Exporter::keep) for what must live as long as the module
+//! (helper threads, PCI enable guards), [`log`](Exporter::log) and
+//! [`publish_sim`](Exporter::publish_sim). The driver's pin structs hold
+//! `H::Pin<T, D>` and `H::Param<T, A>` and the canonical interfaces take
+//! the host as a parameter (`DigOut<H>`), so its realtime functions are
+//! monomorphised per host. [`module_def`] makes our host's
+//! [`hal_core::ModuleDef`]; the shared sequence (open, create, export,
+//! safe state, ready, publish; undo on error) lives in [`module`] once
+//! per host, and a driver's own load code is only what differs.
+//!
+//! For LinuxCNC (feature `linuxcnc`), add a crate under
+//! `linuxcnc-modules/<module>/`: a `cdylib` whose lib.rs is
+//! `hal_driver::linuxcnc_module!(my_crate::MyDriver, my_crate::my_module_params);`
+//! and whose build script is `../nodelete.rs`. The macro turns the
+//! parameter table into LinuxCNC's `rtapi_info_*` symbols and adds
+//! `rtapi_app_main`/`rtapi_app_exit`, which run the same `open` and
+//! `export` against LinuxCNC's HAL (`linuxcnc` module docs). Then add
+//! the module to `linuxcnc-modules/tests`, which loads it in LinuxCNC's
+//! own halrun and compares it with our host.
 //!
 //! # Worked example
 //!
 //! A one-channel counter card: an ID register, a count register fed by
 //! an encoder on a shaft, and an output-enable register. The driver
 //! loads with `backend=sim` (or finds the card on the PCI bus), exports a
-//! count pin, and goes safe when the card stops answering.
+//! count pin, and goes safe when the card stops answering. Written once,
+//! it loads in our host (below) and, through the LinuxCNC adapter, in
+//! LinuxCNC's.
 //!
 //! ```
 //! use std::sync::Arc;
-//! use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-//! use hal_core::{Host, HostConfig, In, Out, Pin};
+//! use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+//! use hal_core::{HalHost, HostPin, Host, HostConfig, In, Out, PinFactory};
 //! use hal_driver::bus::{RegWindow, ALL_ONES};
-//! use hal_driver::fault::{self, Fault, FaultLatch, SafeState};
+//! use hal_driver::fault::{Fault, FaultLatch, SafeState};
 //! use hal_driver::params::{Backend, BackendTokens, Params};
 //! use hal_driver::pci::{self, PciMatch, Sysfs};
 //! use hal_driver::plant::QuadEncoder;
 //! use hal_driver::sim::{self, BoardModel, MemModel, SimBoard, SimClock};
-//! use hal_driver::ForModule;
+//! use hal_driver::{DriverHost, DriverModule, Exporter, ForModule, LoadEnv};
 //!
 //! // regs
 //! const ID: usize = 0x0;
@@ -152,10 +192,15 @@
 //!     }
 //! }
 //!
-//! // The driver, on any RegWindow.
+//! // The driver, on any RegWindow, with its pins in any host H.
 //! static CARD_GONE: Fault = Fault::new(1, "card reads all ones, output disabled");
-//! struct Card { bus: Arc<dyn RegWindow>, count: Pin<i32, Out>, enable: Pin<bool, In>, latch: FaultLatch }
-//! impl Card {
+//! struct Card<H: HalHost> {
+//!     bus: Arc<dyn RegWindow>,
+//!     count: H::Pin<i32, Out>,
+//!     enable: H::Pin<bool, In>,
+//!     latch: FaultLatch<H>,
+//! }
+//! impl<H: HalHost> Card<H> {
 //!     fn read(&self, now_ns: u64) {
 //!         self.bus.tick(now_ns);
 //!         if self.bus.read32(ID) == ALL_ONES {
@@ -168,58 +213,72 @@
 //!         if !self.latch.is_tripped() { self.bus.write32(ENABLE, self.enable.get() as u32) }
 //!     }
 //! }
-//! impl SafeState for Card {
+//! impl<H: HalHost> SafeState for Card<H> {
 //!     fn go_safe(&self) { self.bus.write32(ENABLE, 0) }
 //! }
 //!
-//! // The HAL binding.
+//! // The parameters, written once: both hosts read this table.
+//! macro_rules! counter_params {
+//!     ($($then:tt)*) => { $($then)*! { backend: Str = "pci|sim" } };
+//! }
+//!
+//! // The HAL binding: open everything, then export it in host H.
 //! const NAME: &str = "counter";
 //! const BACKENDS: BackendTokens = BackendTokens::new(&["pci"], &[]);
 //! const TABLE: &[PciMatch] = &[PciMatch::new(0x1234, 0x5678, "counter card")];
-//! static MODULE: ModuleDef = ModuleDef {
-//!     name: NAME,
-//!     params: &[ParamDecl { name: "backend", kind: ParamKind::Str, help: "pci|sim" }],
-//!     help: "a counter card",
-//!     load,
-//! };
 //!
-//! fn load(host: &Host, args: &ModuleArgs) -> hal_core::Result<()> {
-//!     let p = Params::new(NAME, args);
-//!     let token = p.str_or("backend", "pci");
-//!     let backend = BACKENDS.parse(token).ok_or_else(|| {
-//!         p.error("backend", format!("'{token}' is not one of {}", BACKENDS.list()))
-//!     }).for_module(NAME)?;
-//!     // Open everything before exporting anything.
-//!     let (bus, sim): (Arc<dyn RegWindow>, _) = match backend {
-//!         Backend::Sim(_) => {
-//!             let model = CardModel { encoder: QuadEncoder::new(2000), enabled: false };
-//!             let board = Arc::new(SimBoard::new(model).with_clock(Arc::new(SimClock::following_thread())));
-//!             (board.clone(), Some(board))
-//!         }
-//!         Backend::Real(_) => {
-//!             let dev = pci::find(&Sysfs::system(), TABLE).for_module(NAME)?.remove(0);
-//!             // (a real driver keeps the enable guard as long as the card)
-//!             (Arc::new(dev.map_bar_window(0, 0x10).for_module(NAME)?), None)
-//!         }
-//!     };
-//!     let mut b = host.new_rt_component(NAME)?;
-//!     let card = Arc::new(Card {
-//!         bus,
-//!         count: b.component().pin("counter.0.count")?,
-//!         enable: b.component().pin("counter.0.enable")?,
-//!         latch: FaultLatch::new("counter.0").with_log(host.rt_log()).with_pin(b.component().pin("counter.0.fault")?),
-//!     });
-//!     let c = card.clone();
-//!     b.funct("counter.0.read", false, move |ctx| c.read(ctx.now_ns()))?;
-//!     let c = card.clone();
-//!     b.funct("counter.0.write", false, move |_| c.write())?;
-//!     fault::install(&mut b, card);
-//!     b.ready()?;
-//!     if let Some(board) = sim {
-//!         sim::publish(host.instance().name(), "counter.0", &board);
+//! struct Counter;
+//! struct Opened { bus: Arc<dyn RegWindow>, sim: Option<Arc<SimBoard<CardModel>>> }
+//!
+//! impl DriverModule for Counter {
+//!     const NAME: &'static str = NAME;
+//!     const HELP: &'static str = "a counter card";
+//!     const PARAMS: &'static [ParamDecl] = counter_params!(hal_driver::param_table);
+//!     type Opened = Opened;
+//!
+//!     fn open(args: &ModuleArgs, _env: &LoadEnv) -> hal_core::Result<Opened> {
+//!         let p = Params::new(NAME, args);
+//!         let token = p.str_or("backend", "pci");
+//!         let backend = BACKENDS.parse(token).ok_or_else(|| {
+//!             p.error("backend", format!("'{token}' is not one of {}", BACKENDS.list()))
+//!         }).for_module(NAME)?;
+//!         Ok(match backend {
+//!             Backend::Sim(_) => {
+//!                 let model = CardModel { encoder: QuadEncoder::new(2000), enabled: false };
+//!                 let board = Arc::new(SimBoard::new(model).with_clock(Arc::new(SimClock::following_thread())));
+//!                 Opened { bus: board.clone(), sim: Some(board) }
+//!             }
+//!             Backend::Real(_) => {
+//!                 let dev = pci::find(&Sysfs::system(), TABLE).for_module(NAME)?.remove(0);
+//!                 // (a real driver keeps the enable guard: `ex.keep(comp, guard)`)
+//!                 Opened { bus: Arc::new(dev.map_bar_window(0, 0x10).for_module(NAME)?), sim: None }
+//!             }
+//!         })
 //!     }
-//!     Ok(())
+//!
+//!     fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
+//!         let comp = ex.component(NAME)?;
+//!         let c = ex.pins(comp);
+//!         let card = Arc::new(Card::<H> {
+//!             bus: o.bus,
+//!             count: c.pin("counter.0.count")?,
+//!             enable: c.pin("counter.0.enable")?,
+//!             latch: FaultLatch::named("counter.0").with_log(ex.log()).with_pin(c.pin("counter.0.fault")?),
+//!         });
+//!         let k = card.clone();
+//!         ex.funct(comp, "counter.0.read", false, move |ctx| k.read(ctx.now_ns()))?;
+//!         let k = card.clone();
+//!         ex.funct(comp, "counter.0.write", false, move |_| k.write())?;
+//!         ex.safe_state(comp, card);
+//!         if let Some(board) = &o.sim {
+//!             ex.publish_sim("counter.0", board);
+//!         }
+//!         Ok(())
+//!     }
 //! }
+//!
+//! // Our host's registry entry.
+//! static MODULE: ModuleDef = hal_driver::module_def::<Counter>();
 //!
 //! # fn main() -> hal_core::Result<()> {
 //! // Use: load on the simulator, turn the shaft, watch the pin.
@@ -254,6 +313,11 @@
 //! * [`plant`]: motors, steppers, encoders, switches.
 //! * [`params`]: `loadrt` parameter helpers and backend tokens.
 //! * [`fault`]: safe state and the fault latch.
+//! * [`module`]: [`DriverModule`], the [`Exporter`] and our host's load
+//!   sequence.
+//! * `linuxcnc` (feature `linuxcnc`): LinuxCNC's `rtapi_app` as the
+//!   host, and `linuxcnc_module!` for a driver's `<module>.so`.
+//! * `log` (private): [`LogSink`], a host's realtime-safe message path.
 //! * `error` (private): the error type, [`DriverError`], at the crate root.
 //! * `lockdown` (private): telling kernel lockdown from a missing permission.
 //! * `testing` (feature `testing`): helpers for drivers' HAL tests, behind a
@@ -285,7 +349,11 @@ mod error;
 pub mod fault;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
+#[cfg(feature = "linuxcnc")]
+pub mod linuxcnc;
 mod lockdown;
+mod log;
+pub mod module;
 pub mod params;
 pub mod pci;
 pub mod plant;
@@ -298,4 +366,12 @@ pub mod vmrig;
 pub use bus::{PortBus, RegWindow};
 pub use error::{DriverError, ForModule, Result};
 pub use fault::{FaultLatch, SafeState};
+pub use log::LogSink;
+pub use module::{module_def, CompId, DriverHost, DriverModule, Exporter, LoadEnv};
 pub use params::Params;
+
+/// What this crate's macros expand to; not for direct use.
+#[doc(hidden)]
+pub mod __private {
+    pub use hal_core::module::{ParamDecl, ParamKind};
+}

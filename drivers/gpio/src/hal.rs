@@ -22,17 +22,18 @@ use std::any::Any;
 use std::sync::Arc;
 
 use canonical::{ChannelNames, DigIn};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{Host, In, Param, Pin, Result, Rw};
-use hal_driver::fault::{self, Fault, FaultLatch, SafeState};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{HalHost, Host, HostParam, HostPin, In, PinFactory, Result, Rw};
+use hal_driver::fault::{Fault, FaultLatch, SafeState};
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::{Backend, BackendTokens, Params};
 use hal_driver::sim::{Clock, MonotonicClock};
 
 use crate::cdev::CdevChips;
-use crate::cfg::{self, Config, Direction, MAX_NAMES};
-use crate::chip::ChipSet;
+use crate::cfg::{self, Config, Direction};
+use crate::chip::{ChipSet, LineRequest};
 use crate::driver::{clamp_reset, Driver, InputBank, OutputBank};
-use crate::resolve::resolve;
+use crate::resolve::{resolve, Group};
 use crate::sim::SimChips;
 
 /// The module's and component's name.
@@ -48,38 +49,90 @@ pub const BACKENDS: BackendTokens = BackendTokens::new(&["cdev"], &["simloop"]);
 /// The key [`hal_driver::sim::find`] finds the simulated chips under.
 pub const SIM_KEY: &str = "hal_gpio";
 
-const fn list(name: &'static str, help: &'static str) -> ParamDecl {
-    ParamDecl {
-        name,
-        kind: ParamKind::StrArray(MAX_NAMES),
-        help,
-    }
+/// hal_gpio's module parameters, the one table both hosts read.
+#[macro_export]
+macro_rules! hal_gpio_params {
+    ($($then:tt)*) => { $($then)*! {
+        inputs: StrArray($crate::cfg::MAX_NAMES) = "input lines, by the names gpioinfo prints",
+        outputs: StrArray($crate::cfg::MAX_NAMES) = "output lines",
+        invert: StrArray($crate::cfg::MAX_NAMES) = "outputs whose level is inverted",
+        reset: StrArray($crate::cfg::MAX_NAMES) = "outputs hal_gpio.reset returns to inactive",
+        opendrain: StrArray($crate::cfg::MAX_NAMES) = "outputs driven open drain",
+        opensource: StrArray($crate::cfg::MAX_NAMES) = "outputs driven open source",
+        biasdisable: StrArray($crate::cfg::MAX_NAMES) = "lines with their bias disabled",
+        pulldown: StrArray($crate::cfg::MAX_NAMES) = "lines with the internal pull-down",
+        pullup: StrArray($crate::cfg::MAX_NAMES) = "lines with the internal pull-up",
+        backend: Str = "cdev (default: /dev/gpiochip*), sim, or simloop (outputs wired to inputs)",
+    } };
 }
 
-const PARAMS: &[ParamDecl] = &[
-    list("inputs", "input lines, by the names gpioinfo prints"),
-    list("outputs", "output lines"),
-    list("invert", "outputs whose level is inverted"),
-    list("reset", "outputs hal_gpio.reset returns to inactive"),
-    list("opendrain", "outputs driven open drain"),
-    list("opensource", "outputs driven open source"),
-    list("biasdisable", "lines with their bias disabled"),
-    list("pulldown", "lines with the internal pull-down"),
-    list("pullup", "lines with the internal pull-up"),
-    ParamDecl {
-        name: "backend",
-        kind: ParamKind::Str,
-        help: "cdev (default: /dev/gpiochip*), sim, or simloop (outputs wired to inputs)",
-    },
-];
+/// The `hal_gpio` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalGpio;
 
-/// The `hal_gpio` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "Linux GPIO lines through the GPIO character device (or simulated)",
-    load,
-};
+/// The `hal_gpio` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<HalGpio>();
+
+/// The lines a load asked for, found and requested, not yet exported.
+pub struct OpenedLines {
+    cfg: Config,
+    groups: Vec<Group>,
+    requests: Vec<Box<dyn LineRequest>>,
+    clock: Arc<dyn Clock>,
+    keep: Option<Arc<dyn Any + Send + Sync>>,
+    sim: Option<Arc<SimChips>>,
+}
+
+impl DriverModule for HalGpio {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str = "Linux GPIO lines through the GPIO character device (or simulated)";
+    const PARAMS: &'static [ParamDecl] = hal_gpio_params!(hal_driver::param_table);
+    type Opened = OpenedLines;
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<OpenedLines> {
+        let cfg = cfg::parse(NAME, args).map_err(|e| e.into_hal(NAME))?;
+        let p = Params::new(NAME, args);
+        let token = p.str_or("backend", "cdev");
+        let backend = BACKENDS.parse(token).ok_or_else(|| {
+            p.error(
+                "backend",
+                format!("'{token}' is not one of {}", BACKENDS.list()),
+            )
+            .into_hal(NAME)
+        })?;
+        let clock: Arc<dyn Clock> = Arc::new(MonotonicClock);
+        match backend {
+            Backend::Real(_) => open_on(cfg, &CdevChips, clock, None),
+            Backend::Sim(t) => {
+                let sim = Arc::new(SimChips::for_config(&cfg, t == "simloop", clock.clone()));
+                let mut opened = open_on(cfg, &*sim, clock, Some(sim.clone()))?;
+                opened.sim = Some(sim);
+                Ok(opened)
+            }
+        }
+    }
+
+    fn export<H: DriverHost>(mut o: OpenedLines, ex: &mut Exporter<'_, H>) -> Result<()> {
+        let comp = ex.component(NAME)?;
+        let sim = o.sim.take();
+        let gpio = Arc::new(export_lines(o, ex, comp)?);
+        let g = gpio.clone();
+        ex.funct(comp, &format!("{NAME}.read"), false, move |_| g.read())?;
+        let g = gpio.clone();
+        ex.funct(comp, &format!("{NAME}.write"), false, move |_| g.write())?;
+        if gpio.reset_ns.is_some() {
+            let g = gpio.clone();
+            ex.funct(comp, &format!("{NAME}.reset"), false, move |ctx| {
+                g.reset(ctx.period())
+            })?;
+        }
+        ex.safe_state(comp, gpio);
+        if let Some(sim) = &sim {
+            ex.publish_sim(SIM_KEY, sim);
+        }
+        Ok(())
+    }
+}
 
 static READ_FAILED: Fault = Fault::new(
     1,
@@ -90,33 +143,10 @@ static WRITE_FAILED: Fault = Fault::new(
     "writing GPIO lines failed (chip gone?); outputs set inactive and left alone until hal_gpio is reloaded",
 );
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let cfg = cfg::parse(NAME, args).map_err(|e| e.into_hal(NAME))?;
-    let p = Params::new(NAME, args);
-    let token = p.str_or("backend", "cdev");
-    let backend = BACKENDS.parse(token).ok_or_else(|| {
-        p.error(
-            "backend",
-            format!("'{token}' is not one of {}", BACKENDS.list()),
-        )
-        .into_hal(NAME)
-    })?;
-    let clock: Arc<dyn Clock> = Arc::new(MonotonicClock);
-    match backend {
-        Backend::Real(_) => load_on(host, &cfg, &CdevChips, clock, None),
-        Backend::Sim(t) => {
-            let sim = Arc::new(SimChips::for_config(&cfg, t == "simloop", clock.clone()));
-            load_on(host, &cfg, &*sim, clock, Some(sim.clone()))?;
-            hal_driver::sim::publish(host.instance().name(), SIM_KEY, &sim);
-            Ok(())
-        }
-    }
-}
-
 /// Publishes the bits of one input request on its pins (bit k on
 /// `pins[k]`): what `hal_gpio.read` does per request after its ioctl.
 #[inline]
-pub fn publish_inputs(bits: u64, pins: &[DigIn]) {
+pub fn publish_inputs<H: HalHost>(bits: u64, pins: &[DigIn<H>]) {
     for (k, pin) in pins.iter().enumerate() {
         pin.update(bits & (1 << k) != 0);
     }
@@ -125,7 +155,7 @@ pub fn publish_inputs(bits: u64, pins: &[DigIn]) {
 /// Gathers the `-out` pins of one output request into its bits (`pins[k]`
 /// on bit k): what `hal_gpio.write` does per request before its ioctl.
 #[inline]
-pub fn gather_outputs(pins: &[Pin<bool, In>]) -> u64 {
+pub fn gather_outputs<P: HostPin<bool, In>>(pins: &[P]) -> u64 {
     let mut bits = 0u64;
     for (k, pin) in pins.iter().enumerate() {
         bits |= (pin.get() as u64) << k;
@@ -135,17 +165,17 @@ pub fn gather_outputs(pins: &[Pin<bool, In>]) -> u64 {
 
 /// The loaded driver: requests, their pins (per request, in request
 /// order), fault latch.
-struct HalGpio {
+struct GpioState<H: HalHost> {
     driver: Driver,
-    in_pins: Vec<Vec<DigIn>>,
-    out_pins: Vec<Vec<Pin<bool, In>>>,
-    reset_ns: Option<Param<u32, Rw>>,
-    latch: FaultLatch,
+    in_pins: Vec<Vec<DigIn<H>>>,
+    out_pins: Vec<Vec<H::Pin<bool, In>>>,
+    reset_ns: Option<H::Param<u32, Rw>>,
+    latch: FaultLatch<H>,
     /// Keeps a simulator alive while loaded.
     _keep: Option<Arc<dyn Any + Send + Sync>>,
 }
 
-impl HalGpio {
+impl<H: HalHost> GpioState<H> {
     #[inline]
     fn read(&self) {
         for (bank, pins) in self.driver.inputs.iter().zip(&self.in_pins) {
@@ -197,14 +227,14 @@ impl HalGpio {
     }
 }
 
-impl SafeState for HalGpio {
+impl<H: HalHost> SafeState for GpioState<H> {
     /// Every output at its inactive level.
     fn go_safe(&self) {
         self.driver.go_safe();
     }
 }
 
-impl Drop for HalGpio {
+impl<H: HalHost> Drop for GpioState<H> {
     /// Says once how many line accesses failed while loaded, if any did.
     fn drop(&mut self) {
         let errors = self.driver.errors();
@@ -214,21 +244,17 @@ impl Drop for HalGpio {
     }
 }
 
-/// Loads the driver for `cfg` on the chips of `chips`, timing writes and
-/// reset deadlines with `clock`; `keep` is held while the driver is
-/// loaded (a simulator). `loadrt` calls this with the character device
-/// or a simulator; tests may pass chips and clocks of their own.
-pub fn load_on(
-    host: &Host,
-    cfg: &Config,
+/// Finds every line of `cfg` on the chips of `chips` and requests them
+/// all before anything is exported; a failure drops (and so releases)
+/// the requests made so far.
+fn open_on(
+    cfg: Config,
     chips: &dyn ChipSet,
     clock: Arc<dyn Clock>,
     keep: Option<Arc<dyn Any + Send + Sync>>,
-) -> Result<()> {
-    // Find every line and request them all before exporting anything; a
-    // failure drops (and so releases) the requests made so far.
+) -> Result<OpenedLines> {
     let found = chips.chips().map_err(|e| e.into_hal())?;
-    let groups = resolve(cfg, &found).map_err(|e| e.into_hal())?;
+    let groups = resolve(&cfg, &found).map_err(|e| e.into_hal())?;
     let mut requests = Vec::with_capacity(groups.len());
     for g in &groups {
         requests.push(
@@ -237,8 +263,46 @@ pub fn load_on(
                 .map_err(|e| e.into_hal())?,
         );
     }
-    let mut b = host.new_rt_component(NAME)?;
-    let c = b.component();
+    Ok(OpenedLines {
+        cfg,
+        groups,
+        requests,
+        clock,
+        keep,
+        sim: None,
+    })
+}
+
+/// Loads the driver for `cfg` into our host on the chips of `chips`,
+/// timing writes and reset deadlines with `clock`; `keep` is held while
+/// the driver is loaded (a simulator). `loadrt` does this with the
+/// character device or a simulator; tests may pass chips and clocks of
+/// their own.
+pub fn load_on(
+    host: &Host,
+    cfg: &Config,
+    chips: &dyn ChipSet,
+    clock: Arc<dyn Clock>,
+    keep: Option<Arc<dyn Any + Send + Sync>>,
+) -> Result<()> {
+    module::load_opened::<HalGpio>(host, open_on(cfg.clone(), chips, clock, keep)?)
+}
+
+/// The pins of every requested line, and the driver over the requests.
+fn export_lines<H: DriverHost>(
+    o: OpenedLines,
+    ex: &Exporter<'_, H>,
+    comp: hal_driver::CompId,
+) -> Result<GpioState<H>> {
+    let OpenedLines {
+        cfg,
+        groups,
+        requests,
+        clock,
+        keep,
+        ..
+    } = o;
+    let c = ex.pins(comp);
     let names: Vec<String> = cfg.lines.iter().map(|l| l.name.clone()).collect();
     let hal_names =
         ChannelNames::custom(move |line, item| format!("{NAME}.{}-{item}", names[line]));
@@ -284,25 +348,12 @@ pub fn load_on(
     } else {
         None
     };
-    let gpio = HalGpio {
+    Ok(GpioState {
         driver,
         in_pins,
         out_pins,
         reset_ns,
-        latch: FaultLatch::new(NAME).with_log(host.rt_log()),
+        latch: FaultLatch::named(NAME).with_log(ex.log()),
         _keep: keep,
-    };
-    let gpio = Arc::new(gpio);
-    let g = gpio.clone();
-    b.funct(&format!("{NAME}.read"), false, move |_| g.read())?;
-    let g = gpio.clone();
-    b.funct(&format!("{NAME}.write"), false, move |_| g.write())?;
-    if cfg.has_reset() {
-        let g = gpio.clone();
-        b.funct(&format!("{NAME}.reset"), false, move |ctx| {
-            g.reset(ctx.period())
-        })?;
-    }
-    fault::install(&mut b, gpio);
-    b.ready()
+    })
 }

@@ -27,6 +27,7 @@ use crate::pci::{PciBoard, BOARDS};
 use crate::readhmid;
 use crate::regs::{gtag, WINDOW_BYTES};
 use crate::sim::{self, boards, machine, SimHm2};
+use crate::tool_error::ToolError;
 use crate::transport::Transport;
 use crate::window::WindowTransport;
 
@@ -62,14 +63,10 @@ pub fn families() -> Vec<Family> {
 
 /// A MOTENC's kind, version and board ID jumpers, read from BAR 2.
 fn identify_motenc(dev: &PciDevice) -> String {
-    let open = || -> Result<String, String> {
-        let _on = dev.enable().map_err(|e| e.to_string())?;
-        let win = dev
-            .map_bar_window(hal_motenc::regs::BAR, hal_motenc::regs::WINDOW_LEN)
-            .map_err(|e| e.to_string())?;
-        hal_motenc::identify(&win)
-            .map(|id| id.to_string())
-            .map_err(|e| e.to_string())
+    let open = || -> Result<String, ToolError> {
+        let _on = dev.enable()?;
+        let win = dev.map_bar_window(hal_motenc::regs::BAR, hal_motenc::regs::WINDOW_LEN)?;
+        Ok(hal_motenc::identify(&win)?.to_string())
     };
     open().unwrap_or_else(|e| format!("(not readable: {e})"))
 }
@@ -78,14 +75,12 @@ fn identify_hm2(dev: &PciDevice) -> String {
     let Some(kind) = crate::pci::kind_of(BOARDS, dev) else {
         return "not a known HostMot2 board".into();
     };
-    let open = || -> Result<String, String> {
-        let _on = dev.enable().map_err(|e| e.to_string())?;
-        let win = dev
-            .map_bar_window(kind.bar, WINDOW_BYTES)
-            .map_err(|e| e.to_string())?;
-        readhmid::identify(&mut WindowTransport::new(win)).map_err(|e| e.to_string())
+    let open = || -> Result<String, ToolError> {
+        let _on = dev.enable()?;
+        let win = dev.map_bar_window(kind.bar, WINDOW_BYTES)?;
+        Ok(readhmid::identify(&mut WindowTransport::new(win))?)
     };
-    open().unwrap_or_else(|e| format!("(not readable: {})", e.replace('\n', "; ")))
+    open().unwrap_or_else(|e| format!("(not readable: {})", e.to_string().replace('\n', "; ")))
 }
 
 /// The list: one line per board found, then the simulated boards.
@@ -185,15 +180,13 @@ impl Board {
     /// (optionally `:port`) for an Ethernet board, else a PCI bus address
     /// (`0000:02:00.0`, optionally `pci:` in front) of a HostMot2 board
     /// under `sysfs`.
-    pub fn open(which: &str, sysfs: &Sysfs) -> Result<Board, String> {
+    pub fn open(which: &str, sysfs: &Sysfs) -> Result<Board, ToolError> {
         if let Ok(addr) = eth::hal::parse_board_address(which) {
-            let mut t = EthTransport::connect(addr).map_err(|e| e.to_string())?;
-            let found = eth::hal::probe(&mut t).map_err(|e| e.to_string())?;
+            let mut t = EthTransport::connect(addr)?;
+            let found = eth::hal::probe(&mut t)?;
             let llio = match eth::boards::lookup(&found.name) {
                 Some(kind) => kind.llio(0),
-                None => {
-                    eth::hal::llio_from_idrom(&mut t, &found.name, 0).map_err(|e| e.to_string())?
-                }
+                None => eth::hal::llio_from_idrom(&mut t, &found.name, 0)?,
             };
             return Ok(Board::Eth {
                 addr,
@@ -202,31 +195,25 @@ impl Board {
             });
         }
         if let Some(name) = which.strip_prefix("sim:") {
-            let spec = boards::preset(name).ok_or_else(|| {
-                format!(
-                    "'{name}' is not a simulated board ({})",
-                    boards::PRESETS.join(", ")
-                )
+            let spec = boards::preset(name).ok_or_else(|| ToolError::NoSimBoard {
+                name: name.to_string(),
+                boards: boards::PRESETS.join(", "),
             })?;
             let (board, _) = sim::board(spec.clone(), Box::new(machine::preset(name)));
             return Ok(Board::Sim { spec, board });
         }
         let address = which.strip_prefix("pci:").unwrap_or(which);
-        let devs = pci::scan(sysfs, &crate::pci::id_table(BOARDS)).map_err(|e| e.to_string())?;
+        let devs = pci::scan(sysfs, &crate::pci::id_table(BOARDS))?;
         let device = devs
             .into_iter()
             .find(|d| d.address == address)
-            .ok_or_else(|| {
-                format!(
-                    "no HostMot2 board at '{address}' under {} (see hal-board list)",
-                    sysfs.root().display()
-                )
+            .ok_or_else(|| ToolError::NoPciBoard {
+                address: address.to_string(),
+                root: sysfs.root().to_path_buf(),
             })?;
-        let kind = *crate::pci::kind_of(BOARDS, &device).ok_or("unknown board kind")?;
-        let enabled = device.enable().map_err(|e| e.to_string())?;
-        let window = device
-            .map_bar_window(kind.bar, WINDOW_BYTES)
-            .map_err(|e| e.to_string())?;
+        let kind = *crate::pci::kind_of(BOARDS, &device).ok_or(ToolError::UnknownKind)?;
+        let enabled = device.enable()?;
+        let window = device.map_bar_window(kind.bar, WINDOW_BYTES)?;
         Ok(Board::Pci {
             device,
             kind,
@@ -236,12 +223,12 @@ impl Board {
     }
 
     /// A transport to the board's registers.
-    pub fn transport(&self) -> Result<Box<dyn Transport>, String> {
+    pub fn transport(&self) -> Result<Box<dyn Transport>, ToolError> {
         Ok(match self {
             Board::Pci { window, .. } => Box::new(WindowTransport::new(window.clone())),
             Board::Sim { board, .. } => Box::new(WindowTransport::new(board.clone())),
             Board::Eth { addr, name, .. } => {
-                let mut t = EthTransport::connect(*addr).map_err(|e| e.to_string())?;
+                let mut t = EthTransport::connect(*addr)?;
                 t.set_name(name);
                 Box::new(t)
             }
@@ -277,52 +264,58 @@ impl Board {
 
 /// Parses a register address: decimal or `0x` hex, 4-aligned, inside the
 /// 64 KiB window.
-pub fn parse_address(s: &str) -> Result<u32, String> {
-    let v = hal_driver::params::parse_number(s, (WINDOW_BYTES - 4) as u64)
-        .map_err(|e| format!("address '{s}': {e}"))? as u32;
+pub fn parse_address(s: &str) -> Result<u32, ToolError> {
+    let v = hal_driver::params::parse_number(s, (WINDOW_BYTES - 4) as u64).map_err(|source| {
+        ToolError::BadAddress {
+            text: s.to_string(),
+            source,
+        }
+    })? as u32;
     if v % 4 != 0 {
-        return Err(format!("address '{s}': registers are 4-aligned"));
+        return Err(ToolError::Unaligned {
+            text: s.to_string(),
+        });
     }
     Ok(v)
 }
 
 /// Parses a register value: decimal or `0x` hex, 32 bits.
-pub fn parse_value(s: &str) -> Result<u32, String> {
+pub fn parse_value(s: &str) -> Result<u32, ToolError> {
     hal_driver::params::parse_number(s, u32::MAX as u64)
         .map(|v| v as u32)
-        .map_err(|e| format!("value '{s}': {e}"))
+        .map_err(|source| ToolError::BadValue {
+            text: s.to_string(),
+            source,
+        })
 }
 
 /// The IDROM, modules and pin-out in `mesaflash --readhmid`'s layout.
-pub fn idrom(board: &Board) -> Result<String, String> {
+pub fn idrom(board: &Board) -> Result<String, ToolError> {
     let connectors = board.llio().connectors;
-    readhmid::read_hmid(board.transport()?.as_mut(), &connectors).map_err(|e| e.to_string())
+    Ok(readhmid::read_hmid(
+        board.transport()?.as_mut(),
+        &connectors,
+    )?)
 }
 
 /// Reads one register.
-pub fn read(board: &Board, addr: u32) -> Result<u32, String> {
+pub fn read(board: &Board, addr: u32) -> Result<u32, ToolError> {
     let mut w = [0u32; 1];
-    board
-        .transport()?
-        .read(addr, &mut w)
-        .map_err(|e| e.to_string())?;
+    board.transport()?.read(addr, &mut w)?;
     Ok(w[0])
 }
 
 /// Writes one register.
-pub fn write(board: &Board, addr: u32, value: u32) -> Result<(), String> {
-    board
-        .transport()?
-        .write(addr, &[value])
-        .map_err(|e| e.to_string())
+pub fn write(board: &Board, addr: u32, value: u32) -> Result<(), ToolError> {
+    Ok(board.transport()?.write(addr, &[value])?)
 }
 
 /// The Smart Serial ports, their cards and process data, found as the
 /// driver finds them with `config` (`sserial_port_0=...`; every port and
 /// channel in mode 0 by default). This resets the ports: not while a HAL
 /// runs the board.
-pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
-    let config = crate::config::parse(config).map_err(|e| e.to_string())?;
+pub fn sserial(board: &Board, config: &str) -> Result<String, ToolError> {
+    let config = crate::config::parse(config)?;
     let llio = board.llio();
     let mut t = board.transport()?;
     let mut log = crate::log::MessageLog::default();
@@ -332,8 +325,7 @@ pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
         crate::firmware::Debug::default(),
         t.as_mut(),
         &mut log,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     match fw.sserial {
         Some(f) => Ok(crate::sserial::report::report(&f, &llio.name)),
         None => Ok("the firmware has no Smart Serial module\n".into()),
@@ -343,11 +335,11 @@ pub fn sserial(board: &Board, config: &str) -> Result<String, String> {
 /// Finds the module named `name` (LinuxCNC's or mesaflash's name, any
 /// case: `stepgen`, `encoder`, `qcount`, `pwmgen`, `pwm`, `ioport`,
 /// `watchdog`, `led`).
-pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, String> {
+pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, ToolError> {
     let mut t = board.transport()?;
-    crate::idrom::check_identity(t.as_mut()).map_err(|e| e.to_string())?;
-    let h = crate::idrom::read_header(t.as_mut(), &board.llio()).map_err(|e| e.to_string())?;
-    let mds = md::read_all(t.as_mut(), &h).map_err(|e| e.to_string())?;
+    crate::idrom::check_identity(t.as_mut())?;
+    let h = crate::idrom::read_header(t.as_mut(), &board.llio())?;
+    let mds = md::read_all(t.as_mut(), &h)?;
     let want = name.to_ascii_lowercase();
     mds.into_iter()
         .find(|m| {
@@ -357,12 +349,14 @@ pub fn find_module(board: &Board, name: &str) -> Result<ModuleDescriptor, String
                 .flatten()
                 .any(|n| n.to_ascii_lowercase() == want)
         })
-        .ok_or_else(|| format!("the firmware has no module '{name}'"))
+        .ok_or_else(|| ToolError::NoModule {
+            name: name.to_string(),
+        })
 }
 
 /// One snapshot of a module's registers: a line per register with its
 /// address and the value of every instance.
-pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> Result<String, String> {
+pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> Result<String, ToolError> {
     let mut t = board.transport()?;
     let names = readhmid::register_names(m.gtag);
     let mut out = format!(
@@ -390,8 +384,7 @@ pub fn module_frame(board: &Board, m: &ModuleDescriptor) -> Result<String, Strin
         };
         for i in 0..n {
             let mut w = [0u32];
-            t.read(m.inst_reg(r, i), &mut w)
-                .map_err(|e| e.to_string())?;
+            t.read(m.inst_reg(r, i), &mut w)?;
             out.push_str(&format!(" {:08X}", w[0]));
         }
         out.push('\n');

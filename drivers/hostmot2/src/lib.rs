@@ -110,7 +110,9 @@
 //! [`image::ImageTransport`] (a fixed image: hm2_test). The simulator:
 //! [`image`] (firmware descriptions and register images) and [`sim`]. The
 //! HAL binding: [`hal`], [`pci`] and [`eth`]. Also [`readhmid`] (the
-//! `mesaflash --readhmid` listing the board tool prints) and `fuzzing` (feature `fuzzing`).
+//! `mesaflash --readhmid` listing the board tool prints), [`board_tool`]
+//! with [`ToolError`] (`hal-board` and `hm2-eth-sim`'s errors) and
+//! `fuzzing` (feature `fuzzing`).
 
 #![forbid(unsafe_code)]
 
@@ -139,6 +141,7 @@ pub mod regs;
 pub mod sim;
 pub mod sserial;
 pub mod test_patterns;
+mod tool_error;
 mod tram;
 pub mod transport;
 pub mod window;
@@ -146,3 +149,4 @@ pub mod window;
 pub use error::{Hm2Error, Result};
 pub use eth::hal::HM2_ETH_MODULE;
 pub use hal::{modules, HM2_PCI_MODULE, HM2_TEST_MODULE, HOSTMOT2_MODULE};
+pub use tool_error::ToolError;

@@ -28,8 +28,8 @@ use std::sync::{Arc, Mutex, MutexGuard, Weak};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use hal_core::RtLog;
 use hal_driver::fault::{Fault, FaultLatch, SafeState};
+use hal_driver::LogSink;
 
 use crate::bus::I2cBus;
 use crate::chips::{Chip, ChipFault, Command};
@@ -78,22 +78,26 @@ struct RunnerState<C: Chip> {
 pub struct ChipRunner<C: Chip> {
     name: String,
     flags: Arc<Flags>,
-    log: RtLog,
+    log: LogSink,
     state: Mutex<RunnerState<C>>,
 }
 
 impl<C: Chip> ChipRunner<C> {
     /// A runner for `chip` (already set up) called `name`, with new
-    /// hand-offs, saying faults through `log`; and the hand-offs'
-    /// realtime ends.
-    pub fn new(name: &str, chip: C, log: RtLog) -> (Arc<ChipRunner<C>>, RealtimeEnds<C>) {
+    /// hand-offs, saying faults through `log` (the host's realtime log,
+    /// or any [`LogSink`]); and the hand-offs' realtime ends.
+    pub fn new(
+        name: &str,
+        chip: C,
+        log: impl Into<LogSink>,
+    ) -> (Arc<ChipRunner<C>>, RealtimeEnds<C>) {
         let h = Handoff::<C::Cmd, C::Sample>::new();
         let resets_seen = h.flags.reset_requests();
         (
             Arc::new(ChipRunner {
                 name: name.to_string(),
                 flags: h.flags.clone(),
-                log,
+                log: log.into(),
                 state: Mutex::new(RunnerState {
                     chip,
                     cmd: h.cmd_feed,
@@ -422,6 +426,7 @@ mod tests {
     use super::*;
     use crate::chips::{DioCmd, Mcp23017Chip};
     use crate::sim::Mcp23017;
+    use hal_core::RtLog;
     use hal_driver::sim::SimClock;
 
     /// A runner for an MCP23017 at 0x20 with port A outputs, port B

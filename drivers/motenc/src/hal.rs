@@ -16,10 +16,11 @@ use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering::Relaxed};
 use std::sync::Arc;
 
 use canonical::{AdcIn, ChannelNames, DacOut, DigIn, DigOut, Encoder};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{Component, FunctCtx, Host, Io, Out, Param, Pin, Result, Rw};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{FunctCtx, HalHost, Host, HostParam, HostPin, Io, Out, PinFactory, Result, Rw};
 use hal_driver::bus::ALL_ONES;
-use hal_driver::fault::{self, ErrorWatch, Fault, FaultLatch, SafeState};
+use hal_driver::fault::{ErrorWatch, Fault, FaultLatch, SafeState};
+use hal_driver::module::{self, CompId, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::pci::{EnableGuard, PciMatch, Sysfs};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
@@ -32,33 +33,60 @@ use crate::sim::MotencModel;
 /// The module's name.
 pub const NAME: &str = "hal_motenc";
 
-/// The module's parameters. LinuxCNC's driver has none; these select a
-/// backend and describe simulated boards.
-pub const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "backend",
-        kind: ParamKind::Str,
-        help: "pci (default: every MOTENC on the PCI bus) or sim (simulated boards)",
-    },
-    ParamDecl {
-        name: "sim_boards",
-        kind: ParamKind::StrArray(open::MAX_BOARDS),
-        help: "with backend=sim: one item per board, 100 or lite (default: one 100)",
-    },
-    ParamDecl {
-        name: "sim_ids",
-        kind: ParamKind::IntArray(open::MAX_BOARDS),
-        help: "with backend=sim: each board's ID jumpers, 0..3 (default: 0, 1, 2, 3)",
-    },
-];
+/// hal_motenc's module parameters: the one table both hosts read.
+/// LinuxCNC's driver has none; these select a backend and describe
+/// simulated boards.
+#[macro_export]
+macro_rules! hal_motenc_params {
+    ($($then:tt)*) => { $($then)*! {
+        backend: Str = "pci (default: every MOTENC on the PCI bus) or sim (simulated boards)",
+        sim_boards: StrArray($crate::open::MAX_BOARDS) =
+            "with backend=sim: one item per board, 100 or lite (default: one 100)",
+        sim_ids: IntArray($crate::open::MAX_BOARDS) =
+            "with backend=sim: each board's ID jumpers, 0..3 (default: 0, 1, 2, 3)",
+    } };
+}
 
-/// The `hal_motenc` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "Vital Systems MOTENC-100 / MOTENC-Lite PCI servo cards (or simulated ones)",
-    load,
-};
+/// The module's parameters.
+pub const PARAMS: &[ParamDecl] = hal_motenc_params!(hal_driver::param_table);
+
+/// The `hal_motenc` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalMotenc;
+
+/// The `hal_motenc` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<HalMotenc>();
+
+impl DriverModule for HalMotenc {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str =
+        "Vital Systems MOTENC-100 / MOTENC-Lite PCI servo cards (or simulated ones)";
+    const PARAMS: &'static [ParamDecl] = PARAMS;
+    type Opened = Vec<Opened>;
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<Vec<Opened>> {
+        open_from(args, &Sysfs::system(), regs::PCI_TABLE)
+    }
+
+    fn export<H: DriverHost>(boards: Vec<Opened>, ex: &mut Exporter<'_, H>) -> Result<()> {
+        let ids: Vec<_> = boards.iter().map(|b| b.drv.identity()).collect();
+        let locations: Vec<_> = boards.iter().map(|b| b.location.clone()).collect();
+        let (hal_ids, warnings) = open::assign_ids(&ids, &locations);
+        for w in &warnings {
+            ex.log().warn(format_args!("{w}"));
+        }
+        let comp = ex.component(NAME)?;
+        let mut shared = Vec::with_capacity(boards.len());
+        for (opened, id) in boards.into_iter().zip(hal_ids) {
+            if let Some(s) = &opened.sim {
+                ex.publish_sim(&format!("motenc.{id}"), s);
+            }
+            shared.push(export_board(ex, comp, opened, id)?);
+        }
+        ex.safe_state(comp, shared);
+        Ok(())
+    }
+}
 
 /// Board gone: the version register no longer reads back.
 pub static BOARD_GONE: Fault = Fault::new(
@@ -78,57 +106,38 @@ pub static WATCHDOG_BIT: Fault = Fault::new(
      off; set watchdog-reset to restart",
 );
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    load_from(host, args, &Sysfs::system(), regs::PCI_TABLE)
-}
-
-/// Loads the driver for `args`, looking for PCI boards of `table` under
-/// `sysfs`. `loadrt` uses the system's sysfs and the MOTENC's IDs; tests
-/// pass a fake tree, the VM rig its ivshmem device.
-pub fn load_from(host: &Host, args: &ModuleArgs, sysfs: &Sysfs, table: &[PciMatch]) -> Result<()> {
+/// Opens and identifies every board `args` asks for, looking for PCI
+/// boards of `table` under `sysfs`, before anything is exported.
+fn open_from(args: &ModuleArgs, sysfs: &Sysfs, table: &[PciMatch]) -> Result<Vec<Opened>> {
     let source = open::parse_source(args).for_module(NAME)?;
-    // Open and identify every board before exporting anything.
-    let boards = match &source {
+    match &source {
         Source::Pci => open::open_pci(sysfs, table),
         Source::Sim(specs) => open::open_sim(specs),
     }
-    .map_err(|e| e.into_hal(NAME))?;
-    load_opened(host, boards)
+    .map_err(|e| e.into_hal(NAME))
 }
 
-/// Exports boards already opened and identified (what [`load_from`]
-/// does after opening them; tests give boards on buses of their own).
+/// Loads the driver for `args` into our host, looking for PCI boards of
+/// `table` under `sysfs`. `loadrt` uses the system's sysfs and the
+/// MOTENC's IDs; tests pass a fake tree, the VM rig its ivshmem device.
+pub fn load_from(host: &Host, args: &ModuleArgs, sysfs: &Sysfs, table: &[PciMatch]) -> Result<()> {
+    load_opened(host, open_from(args, sysfs, table)?)
+}
+
+/// Exports boards already opened and identified into our host (what
+/// [`load_from`] does after opening them; tests give boards on buses of
+/// their own).
 pub fn load_opened(host: &Host, boards: Vec<Opened>) -> Result<()> {
-    let ids: Vec<_> = boards.iter().map(|b| b.drv.identity()).collect();
-    let locations: Vec<_> = boards.iter().map(|b| b.location.clone()).collect();
-    let (hal_ids, warnings) = open::assign_ids(&ids, &locations);
-    for w in &warnings {
-        host.rt_log().warn(format_args!("{w}"));
-    }
-    let mut b = host.new_rt_component(NAME)?;
-    let mut shared = Vec::with_capacity(boards.len());
-    let mut sims = Vec::new();
-    for (opened, id) in boards.into_iter().zip(hal_ids) {
-        if let Some(s) = &opened.sim {
-            sims.push((id, s.clone()));
-        }
-        shared.push(export_board(host, &mut b, opened, id)?);
-    }
-    fault::install(&mut b, shared);
-    b.ready()?;
-    for (id, s) in sims {
-        hal_driver::sim::publish(host.instance().name(), &format!("motenc.{id}"), &s);
-    }
-    Ok(())
+    module::load_opened::<HalMotenc>(host, boards)
 }
 
 /// What a board's functions and its safe-state hook share.
-struct Shared {
+struct Shared<H: HalHost> {
     drv: Motenc,
-    latch: FaultLatch,
+    latch: FaultLatch<H>,
     /// The board stopped answering: its inputs are no longer read.
     lost: AtomicBool,
-    outputs: Vec<DigOut>,
+    outputs: Vec<DigOut<H>>,
     /// The watchdog control value last written.
     watchdog_control: AtomicU32,
     /// When the watchdog was last restarted (board time).
@@ -139,7 +148,7 @@ struct Shared {
     _guard: Option<EnableGuard>,
 }
 
-impl Shared {
+impl<H: HalHost> Shared<H> {
     /// The board's time: the simulator's, or the HAL thread's.
     #[inline]
     fn now(&self, ctx: &FunctCtx) -> u64 {
@@ -154,13 +163,13 @@ impl Shared {
 
     /// The bits of FPGA `fpga`'s outputs from `level`.
     #[inline]
-    fn output_bits(&self, fpga: usize, level: impl Fn(&DigOut) -> bool) -> u16 {
+    fn output_bits(&self, fpga: usize, level: impl Fn(&DigOut<H>) -> bool) -> u16 {
         let first = fpga * regs::OUTPUTS_PER_FPGA;
         DigOut::pack(&self.outputs[first..first + regs::OUTPUTS_PER_FPGA], level) as u16
     }
 }
 
-impl SafeState for Shared {
+impl<H: HalHost> SafeState for Shared<H> {
     /// Every DAC at 0 V, every output at the level of `out` FALSE.
     fn go_safe(&self) {
         self.drv.zero_dacs();
@@ -201,9 +210,9 @@ fn adc_names(id: u8) -> ChannelNames {
 }
 
 /// One encoder channel.
-struct EncChannel {
-    enc: Encoder,
-    index: Pin<bool, Out>,
+struct EncChannel<H: HalHost> {
+    enc: Encoder<H>,
+    index: H::Pin<bool, Out>,
     /// What was last written to the channel's arm register.
     armed: bool,
     /// The hardware count is `fed - base` (mod 2^32): the board clears
@@ -212,14 +221,14 @@ struct EncChannel {
     fed: u32,
 }
 
-fn export_board(
-    host: &Host,
-    b: &mut hal_core::RtComponentBuilder<'_>,
+fn export_board<H: DriverHost>(
+    ex: &mut Exporter<'_, H>,
+    comp: CompId,
     opened: Opened,
     id: u8,
-) -> Result<Arc<Shared>> {
+) -> Result<Arc<Shared<H>>> {
     let kind = opened.drv.identity().kind;
-    let c: &Component = b.component();
+    let c = ex.pins(comp);
     let p = |s: &str| format!("motenc.{id}.{s}");
     let enc_names = names(id, "enc");
     let mut encoders = (0..kind.encoders())
@@ -254,11 +263,11 @@ fn export_board(
         _ => format!("motenc.{id}.estop-{item}"),
     });
     let estop = DigIn::export(c, &estop_names, 0)?;
-    let watchdog_reset: Pin<bool, Io> = c.pin(&p("watchdog-reset"))?;
-    let watchdog_control: Param<u32, Rw> = c.param(&p("watchdog-control"), 0)?;
+    let watchdog_reset: H::Pin<bool, Io> = c.pin(&p("watchdog-reset"))?;
+    let watchdog_control: H::Param<u32, Rw> = c.param(&p("watchdog-control"), 0)?;
     let label = format!("motenc.{id} ({} {})", kind, opened.location);
-    let latch = FaultLatch::new(label)
-        .with_log(host.rt_log())
+    let latch = FaultLatch::named(label)
+        .with_log(ex.log())
         .with_pin(c.pin(&p("fault"))?)
         .with_code_pin(c.pin(&p("fault-code"))?);
 
@@ -288,27 +297,29 @@ fn export_board(
     });
 
     let s = sh.clone();
-    b.funct(&p("encoder-read"), true, move |ctx| {
+    ex.funct(comp, &p("encoder-read"), true, move |ctx| {
         encoder_read(&s, &mut encoders, ctx)
     })?;
     let s = sh.clone();
-    b.funct(&p("dac-write"), true, move |ctx| dac_write(&s, &dacs, ctx))?;
+    ex.funct(comp, &p("dac-write"), true, move |ctx| {
+        dac_write(&s, &dacs, ctx)
+    })?;
     let s = sh.clone();
     let mut adc = AdcReader {
         adcs,
         state: AdcState::Idle,
     };
-    b.funct(&p("adc-read"), true, move |_| adc.read(&s))?;
+    ex.funct(comp, &p("adc-read"), true, move |_| adc.read(&s))?;
     let s = sh.clone();
-    b.funct(&p("digital-in-read"), false, move |_| {
+    ex.funct(comp, &p("digital-in-read"), false, move |_| {
         digital_in_read(&s, &inputs)
     })?;
     let s = sh.clone();
-    b.funct(&p("digital-out-write"), false, move |_| {
+    ex.funct(comp, &p("digital-out-write"), false, move |_| {
         digital_out_write(&s)
     })?;
     let s = sh.clone();
-    b.funct(&p("misc-update"), false, move |ctx| {
+    ex.funct(comp, &p("misc-update"), false, move |ctx| {
         misc_update(&s, &watchdog_control, &watchdog_reset, &estop, ctx)
     })?;
     Ok(sh)
@@ -317,7 +328,7 @@ fn export_board(
 /// `motenc.<id>.encoder-read`: moves a simulated board one period, checks
 /// that the board answers, reads the counters and index flags, and
 /// checks the watchdog.
-fn encoder_read(sh: &Shared, encoders: &mut [EncChannel], ctx: &FunctCtx) {
+fn encoder_read<H: HalHost>(sh: &Shared<H>, encoders: &mut [EncChannel<H>], ctx: &FunctCtx) {
     if let Some(s) = &sh.sim {
         // Simulated time moves one thread period per read: every run of
         // a configuration computes the same thing.
@@ -376,7 +387,7 @@ fn encoder_read(sh: &Shared, encoders: &mut [EncChannel], ctx: &FunctCtx) {
 
 /// `motenc.<id>.dac-write`: every DAC's code; restarts the watchdog
 /// when its control says DAC writes do.
-fn dac_write(sh: &Shared, dacs: &[DacOut], ctx: &FunctCtx) {
+fn dac_write<H: HalHost>(sh: &Shared<H>, dacs: &[DacOut<H>], ctx: &FunctCtx) {
     if sh.latch.is_tripped() {
         return;
     }
@@ -404,13 +415,13 @@ enum AdcState {
 /// convert in turn; a call whose conversion is done reads its four
 /// results and starts the other four, so each channel updates every
 /// second call at best.
-struct AdcReader {
-    adcs: Vec<AdcIn>,
+struct AdcReader<H: HalHost> {
+    adcs: Vec<AdcIn<H>>,
     state: AdcState,
 }
 
-impl AdcReader {
-    fn read(&mut self, sh: &Shared) {
+impl<H: HalHost> AdcReader<H> {
+    fn read(&mut self, sh: &Shared<H>) {
         if sh.lost.load(Relaxed) {
             return;
         }
@@ -436,7 +447,7 @@ impl AdcReader {
 
 /// `motenc.<id>.digital-in-read`: per FPGA, 16 inputs from digitalIo
 /// and 16 (FPGA 1: 20) from statusControl, all active low.
-fn digital_in_read(sh: &Shared, inputs: &[DigIn]) {
+fn digital_in_read<H: HalHost>(sh: &Shared<H>, inputs: &[DigIn<H>]) {
     if sh.lost.load(Relaxed) {
         return;
     }
@@ -458,7 +469,7 @@ fn digital_in_read(sh: &Shared, inputs: &[DigIn]) {
 
 /// `motenc.<id>.digital-out-write`: per FPGA, `out XOR invert` of its 16
 /// outputs, active low. Nothing while the board is faulted.
-fn digital_out_write(sh: &Shared) {
+fn digital_out_write<H: HalHost>(sh: &Shared<H>) {
     if sh.latch.is_tripped() {
         return;
     }
@@ -470,11 +481,11 @@ fn digital_out_write(sh: &Shared) {
 
 /// `motenc.<id>.misc-update`: watchdog control and restart, E-stop
 /// input. A watchdog-reset also clears a watchdog fault.
-fn misc_update(
-    sh: &Shared,
-    control: &Param<u32, Rw>,
-    reset: &Pin<bool, Io>,
-    estop: &DigIn,
+fn misc_update<H: HalHost>(
+    sh: &Shared<H>,
+    control: &H::Param<u32, Rw>,
+    reset: &H::Pin<bool, Io>,
+    estop: &DigIn<H>,
     ctx: &FunctCtx,
 ) {
     if sh.lost.load(Relaxed) {

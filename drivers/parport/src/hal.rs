@@ -20,9 +20,12 @@
 use std::sync::Arc;
 
 use canonical::{ChannelNames, DigOut};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{Component, HalError, Host, Out, Param, Pin, Result, Rw};
-use hal_driver::fault::{self, SafeState};
+use hal_core::module::ModuleArgs;
+use hal_core::{
+    HalError, HalHost, Host, HostParam, HostPin, Out, ParamDecl, PinFactory, Result, Rw,
+};
+use hal_driver::fault::SafeState;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
 use hal_driver::DriverError;
 
@@ -35,27 +38,86 @@ use crate::select::{self, SysPaths};
 
 const NAME: &str = "hal_parport";
 
-const PARAMS: &[ParamDecl] = &[ParamDecl {
-    name: "cfg",
-    kind: ParamKind::Str,
-    help: "ports: \"<addr> [in|out|epp|x] [ppdev|raw|sim|simloop] ...\" (addr hex; <0x10 = parport number)",
-}];
+/// hal_parport's module parameters: the one table both hosts read (our
+/// `loadrt` through [`HalParport::PARAMS`], LinuxCNC's `rtapi_app`
+/// through the `rtapi_info_*` symbols of `hal_parport.so`).
+#[macro_export]
+macro_rules! hal_parport_params {
+    ($($then:tt)*) => { $($then)*! {
+        cfg: Str = "ports: \"<addr> [in|out|epp|x] [ppdev|raw|sim|simloop] ...\" (addr hex; <0x10 = parport number)",
+    } };
+}
 
-/// The `hal_parport` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "PC parallel port driver (ppdev, raw port I/O, or simulated)",
-    load,
-};
+/// The `hal_parport` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalParport;
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    load_cfg(
-        host,
-        Params::new(NAME, args).str_or("cfg", DEFAULT_CFG),
-        &SysPaths::system(),
-        Arc::new(MonotonicClock),
-    )
+/// The `hal_parport` module of our host.
+pub static MODULE: hal_core::ModuleDef = module::module_def::<HalParport>();
+
+/// The ports `cfg` asked for, opened and claimed, not yet exported.
+pub struct OpenedPorts {
+    specs: Vec<PortSpec>,
+    ports: Vec<select::Opened>,
+    clock: Arc<dyn Clock>,
+}
+
+impl DriverModule for HalParport {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str = "PC parallel port driver (ppdev, raw port I/O, or simulated)";
+    const PARAMS: &'static [ParamDecl] = hal_parport_params!(hal_driver::param_table);
+    type Opened = OpenedPorts;
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<OpenedPorts> {
+        open_cfg(
+            Params::new(NAME, args).str_or("cfg", DEFAULT_CFG),
+            &SysPaths::system(),
+            Arc::new(MonotonicClock),
+        )
+    }
+
+    fn export<H: DriverHost>(o: OpenedPorts, ex: &mut Exporter<'_, H>) -> Result<()> {
+        let comp = ex.component(NAME)?;
+        let mut ports = Vec::with_capacity(o.ports.len());
+        let mut sims = Vec::new();
+        for (i, (spec, opened)) in o.specs.iter().zip(o.ports).enumerate() {
+            let drv = PortDriver::new(spec.mode, opened.io, o.clock.clone());
+            drv.init().map_err(|e| port_error(i, spec, e))?;
+            ports.push(Arc::new(HalPort::export(ex.pins(comp), i, drv)?));
+            if let Some(s) = opened.sim {
+                sims.push((i, s));
+            }
+        }
+        for (i, port) in ports.iter().enumerate() {
+            let p = port.clone();
+            ex.funct(comp, &format!("parport.{i}.read"), false, move |_| p.read())?;
+            let p = port.clone();
+            ex.funct(comp, &format!("parport.{i}.write"), false, move |_| {
+                p.write()
+            })?;
+            let p = port.clone();
+            ex.funct(comp, &format!("parport.{i}.reset"), false, move |ctx| {
+                p.reset(ctx.period())
+            })?;
+        }
+        let all = ports.clone();
+        ex.funct(comp, "parport.read-all", false, move |_| {
+            for p in &all {
+                p.read();
+            }
+        })?;
+        let all = ports.clone();
+        ex.funct(comp, "parport.write-all", false, move |_| {
+            for p in &all {
+                p.write();
+            }
+        })?;
+        ex.safe_state(comp, ports);
+        for (i, s) in &sims {
+            ex.publish_sim(&crate::sim::key(*i), s);
+        }
+        Ok(())
+    }
 }
 
 /// LinuxCNC's names for one port's pins and their params:
@@ -73,13 +135,13 @@ fn port_names(p: usize) -> ChannelNames {
 /// Not [`canonical::DigIn`]: that one starts `in-not` TRUE, whereas
 /// LinuxCNC's hal_parport leaves both pins FALSE until the first `read`,
 /// which `halcmd show pin` after `loadrt` makes visible.
-struct InPin {
-    on: Pin<bool, Out>,
-    off: Pin<bool, Out>,
+struct InPin<H: HalHost> {
+    on: H::Pin<bool, Out>,
+    off: H::Pin<bool, Out>,
 }
 
-impl InPin {
-    fn new(c: &Component, names: &ChannelNames, pin: u8) -> Result<InPin> {
+impl<H: HalHost> InPin<H> {
+    fn new(c: &impl PinFactory<H>, names: &ChannelNames, pin: u8) -> Result<Self> {
         Ok(InPin {
             on: c.pin(&names.item(pin as usize, "in"))?,
             off: c.pin(&names.item(pin as usize, "in-not"))?,
@@ -94,13 +156,13 @@ impl InPin {
 }
 
 /// An output pin: the canonical digital output plus parport's reset flag.
-struct OutPin {
-    dig: DigOut,
-    reset: Param<bool, Rw>,
+struct OutPin<H: HalHost> {
+    dig: DigOut<H>,
+    reset: H::Param<bool, Rw>,
 }
 
-impl OutPin {
-    fn new(c: &Component, names: &ChannelNames, pin: u8) -> Result<OutPin> {
+impl<H: HalHost> OutPin<H> {
+    fn new(c: &impl PinFactory<H>, names: &ChannelNames, pin: u8) -> Result<Self> {
         Ok(OutPin {
             dig: DigOut::export(c, names, pin as usize)?,
             reset: c.param(&names.item(pin as usize, "out-reset"), false)?,
@@ -111,7 +173,7 @@ impl OutPin {
 /// Gathers `out XOR invert`, the reset mask and the reset values of a
 /// group of output pins, pin i on bit i.
 #[inline]
-fn gather(pins: &[OutPin]) -> (u8, u8, u8) {
+fn gather<H: HalHost>(pins: &[OutPin<H>]) -> (u8, u8, u8) {
     let (mut v, mut mask, mut val) = (0u8, 0u8, 0u8);
     for (b, p) in pins.iter().enumerate() {
         if p.dig.level() {
@@ -128,7 +190,7 @@ fn gather(pins: &[OutPin]) -> (u8, u8, u8) {
 }
 
 /// Invert bits of a group of output pins, pin i on bit i.
-fn inverts(pins: &[OutPin]) -> u8 {
+fn inverts<H: HalHost>(pins: &[OutPin<H>]) -> u8 {
     pins.iter().enumerate().fold(
         0,
         |v, (b, p)| if p.dig.safe_level() { v | 1 << b } else { v },
@@ -136,24 +198,24 @@ fn inverts(pins: &[OutPin]) -> u8 {
 }
 
 /// One port's pins and driver.
-struct HalPort {
+struct HalPort<H: HalHost> {
     drv: PortDriver,
-    status_in: Vec<InPin>,
-    data_in: Vec<InPin>,
-    control_in: Vec<InPin>,
-    data_out: Vec<OutPin>,
-    control_out: Vec<OutPin>,
-    reset_time: Option<Param<u32, Rw>>,
+    status_in: Vec<InPin<H>>,
+    data_in: Vec<InPin<H>>,
+    control_in: Vec<InPin<H>>,
+    data_out: Vec<OutPin<H>>,
+    control_out: Vec<OutPin<H>>,
+    reset_time: Option<H::Param<u32, Rw>>,
 }
 
-impl HalPort {
-    fn export(c: &Component, p: usize, drv: PortDriver) -> Result<HalPort> {
+impl<H: HalHost> HalPort<H> {
+    fn export(c: &impl PinFactory<H>, p: usize, drv: PortDriver) -> Result<Self> {
         let mode = drv.mode();
         let names = port_names(p);
-        let inputs = |pins: &[u8]| -> Result<Vec<InPin>> {
+        let inputs = |pins: &[u8]| -> Result<Vec<InPin<H>>> {
             pins.iter().map(|&n| InPin::new(c, &names, n)).collect()
         };
-        let outputs = |pins: &[u8]| -> Result<Vec<OutPin>> {
+        let outputs = |pins: &[u8]| -> Result<Vec<OutPin<H>>> {
             pins.iter().map(|&n| OutPin::new(c, &names, n)).collect()
         };
         // LinuxCNC's export order: status, data, timing params, control.
@@ -162,8 +224,8 @@ impl HalPort {
             let out = outputs(&regs::DATA_PINS)?;
             let rt = c.param(&format!("parport.{p}.reset-time"), 0u32)?;
             // Exported for LinuxCNC's configs, never read (as there).
-            let _: Param<u32, Rw> = c.param(&format!("parport.{p}.debug1"), 0u32)?;
-            let _: Param<u32, Rw> = c.param(&format!("parport.{p}.debug2"), 0u32)?;
+            let _: H::Param<u32, Rw> = c.param(&format!("parport.{p}.debug1"), 0u32)?;
+            let _: H::Param<u32, Rw> = c.param(&format!("parport.{p}.debug2"), 0u32)?;
             (Vec::new(), out, Some(rt))
         } else {
             (inputs(&regs::DATA_PINS)?, Vec::new(), None)
@@ -229,7 +291,7 @@ impl HalPort {
     }
 }
 
-impl SafeState for HalPort {
+impl<H: HalHost> SafeState for HalPort<H> {
     /// Every output at its inactive level, the physical level of its
     /// `-out-invert`.
     fn go_safe(&self) {
@@ -249,10 +311,10 @@ fn port_error(index: usize, spec: &PortSpec, e: PortError) -> HalError {
     )
 }
 
-/// Loads the driver for `cfg`, finding Linux's ports under `paths` and
-/// timing write/reset with `clock`. `loadrt` calls this with the real
-/// system paths and CLOCK_MONOTONIC; tests may pass their own.
-pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>) -> Result<()> {
+/// Parses `cfg`, chooses and opens every port it names (finding Linux's
+/// ports under `paths`, timing write/reset with `clock`), claiming them
+/// all before anything is exported.
+fn open_cfg(cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>) -> Result<OpenedPorts> {
     let specs = cfg::parse(cfg).map_err(|e| {
         DriverError::BadParam {
             module: NAME.into(),
@@ -268,49 +330,30 @@ pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>)
         select::choose_all(&specs, paths).map_err(|(i, e)| port_error(i, &specs[i], e))?;
     // Open and claim every port before exporting anything; a failure
     // drops (and so releases) the ports opened so far.
-    let mut opened = Vec::with_capacity(specs.len());
+    let mut ports = Vec::with_capacity(specs.len());
     for (i, (spec, choice)) in specs.iter().zip(&choices).enumerate() {
-        opened.push(
+        ports.push(
             select::open(choice, spec.mode, clock.clone()).map_err(|e| port_error(i, spec, e))?,
         );
     }
-    let mut b = host.new_rt_component(NAME)?;
-    let mut ports = Vec::with_capacity(opened.len());
-    let mut sims = Vec::new();
-    for (i, (spec, o)) in specs.iter().zip(opened).enumerate() {
-        let drv = PortDriver::new(spec.mode, o.io, clock.clone());
-        drv.init().map_err(|e| port_error(i, spec, e))?;
-        ports.push(Arc::new(HalPort::export(b.component(), i, drv)?));
-        if let Some(s) = o.sim {
-            sims.push((i, s));
-        }
+    Ok(OpenedPorts {
+        specs,
+        ports,
+        clock,
+    })
+}
+
+/// Loads the driver for `cfg` into our host, finding Linux's ports under
+/// `paths` and timing write/reset with `clock`. `loadrt` does this with
+/// the real system paths and CLOCK_MONOTONIC; tests may pass their own.
+pub fn load_cfg(host: &Host, cfg: &str, paths: &SysPaths, clock: Arc<dyn Clock>) -> Result<()> {
+    module::load_opened::<HalParport>(host, open_cfg(cfg, paths, clock)?)
+}
+
+impl std::fmt::Debug for OpenedPorts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OpenedPorts")
+            .field("ports", &self.ports)
+            .finish()
     }
-    for (i, port) in ports.iter().enumerate() {
-        let p = port.clone();
-        b.funct(&format!("parport.{i}.read"), false, move |_| p.read())?;
-        let p = port.clone();
-        b.funct(&format!("parport.{i}.write"), false, move |_| p.write())?;
-        let p = port.clone();
-        b.funct(&format!("parport.{i}.reset"), false, move |ctx| {
-            p.reset(ctx.period())
-        })?;
-    }
-    let all = ports.clone();
-    b.funct("parport.read-all", false, move |_| {
-        for p in &all {
-            p.read();
-        }
-    })?;
-    let all = ports.clone();
-    b.funct("parport.write-all", false, move |_| {
-        for p in &all {
-            p.write();
-        }
-    })?;
-    fault::install(&mut b, ports);
-    b.ready()?;
-    for (i, s) in &sims {
-        crate::sim::register(host.instance().name(), *i, s);
-    }
-    Ok(())
 }

@@ -68,5 +68,5 @@ pub mod sim;
 pub mod tool;
 pub mod tool_args;
 
-pub use hal::{load_cfg, MODULE};
+pub use hal::{load_cfg, HalParport, OpenedPorts, MODULE};
 pub use port::PortError;

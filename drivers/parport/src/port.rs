@@ -28,6 +28,7 @@ pub mod raw;
 
 use hal_driver::bus::{PortBus, PortRange};
 
+use crate::cfg::CfgError;
 use crate::regs;
 
 /// What went wrong opening or setting up a port.
@@ -94,6 +95,48 @@ pub enum PortError {
         /// Why it failed.
         #[source]
         source: Box<PortError>,
+    },
+    /// The cfg string given to the bring-up tool was refused.
+    #[error(transparent)]
+    Cfg(#[from] CfgError),
+    /// A `parport-tool set` argument is not `PIN=LEVEL`.
+    #[error("'{arg}': expected PIN=0|1")]
+    NotPinLevel {
+        /// The argument as given.
+        arg: String,
+    },
+    /// A `parport-tool set` pin is not a number.
+    #[error("'{text}' is not a pin number")]
+    NotAPin {
+        /// The pin as given.
+        text: String,
+    },
+    /// A `parport-tool set` level is neither 0 nor 1.
+    #[error("'{text}': use 0 or 1")]
+    NotALevel {
+        /// The level as given.
+        text: String,
+    },
+    /// A pin the tool was asked to drive is not an output of the port.
+    #[error("pin {pin} is not an output in {mode} mode")]
+    NotAnOutput {
+        /// The DB-25 pin number.
+        pin: u8,
+        /// The port's mode (`in`, `out`, `epp`, `x`).
+        mode: &'static str,
+    },
+    /// The loopback self-test has no wire to check in this mode.
+    #[error("nothing to test in {mode} mode; use out or x")]
+    NothingToTest {
+        /// The port's mode.
+        mode: &'static str,
+    },
+    /// The tool could not catch the exit signals it stops on.
+    #[error("catching the exit signals: {source}")]
+    Signals {
+        /// What HAL's signal set-up said.
+        #[source]
+        source: hal_core::HalError,
     },
 }
 

@@ -561,16 +561,11 @@ impl PortIo for SimPort {
     }
 }
 
-/// The key a loaded port is published under: `parport.<num>`.
-fn key(num: usize) -> String {
+/// The key a loaded port is published under: `parport.<num>` (the
+/// driver layer's board registry, [`hal_driver::sim::publish`]), so tests
+/// and tools in the same process can reach it while the module is loaded.
+pub(crate) fn key(num: usize) -> String {
     format!("parport.{num}")
-}
-
-/// Records that `port` is parport number `num` of instance `instance`,
-/// so tests and tools in the same process can reach it while the module
-/// is loaded (the driver layer's board registry, [`hal_driver::sim::publish`]).
-pub(crate) fn register(instance: &str, num: usize, port: &Arc<SimPort>) {
-    hal_driver::sim::publish(instance, &key(num), port);
 }
 
 /// The simulated port `num` that `loadrt hal_parport` made in instance

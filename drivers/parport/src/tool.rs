@@ -3,9 +3,10 @@
 
 use std::sync::Arc;
 
-use crate::cfg::{self, Mode};
+use crate::cfg::{self, CfgError, Mode};
 use crate::clock::{Clock, MonotonicClock};
 use crate::driver::{Inputs, Outputs, PortDriver};
+use crate::port::PortError;
 use crate::regs::{pin_reg, PinReg, CONTROL_PINS};
 use crate::select::{self, linux_ports, SysPaths};
 use crate::sim::Plug;
@@ -22,20 +23,47 @@ pub struct Port {
 
 /// Opens the first port of a hal_parport cfg string (`"0"`,
 /// `"0x378 x raw"`, `"0 simloop"`) and initialises it as the driver does.
-pub fn open(spec: &str) -> Result<Port, String> {
-    let specs = cfg::parse(spec).map_err(|e| e.to_string())?;
-    let spec = specs.first().ok_or("no port given")?;
-    let choice = select::choose(spec, &SysPaths::system()).map_err(|e| e.to_string())?;
+pub fn open(spec: &str) -> Result<Port, PortError> {
+    let specs = cfg::parse(spec)?;
+    let spec = specs.first().ok_or(CfgError::Empty)?;
+    let choice = select::choose(spec, &SysPaths::system())?;
     let clock: Arc<dyn Clock> = Arc::new(MonotonicClock);
-    let opened = select::open(&choice, spec.mode, clock.clone()).map_err(|e| e.to_string())?;
+    let opened = select::open(&choice, spec.mode, clock.clone())?;
     let description = opened.io.describe();
     let driver = PortDriver::new(spec.mode, opened.io, clock);
-    driver.init().map_err(|e| e.to_string())?;
+    driver.init()?;
     Ok(Port {
         driver,
         mode: spec.mode,
         description,
     })
+}
+
+/// Parses a `set` argument, `PIN=0` or `PIN=1`, for a port in `mode`:
+/// the pin must be one of its outputs.
+pub fn parse_level(arg: &str, mode: Mode) -> Result<(u8, bool), PortError> {
+    let (pin, level) = arg.split_once('=').ok_or_else(|| PortError::NotPinLevel {
+        arg: arg.to_string(),
+    })?;
+    let pin: u8 = pin.parse().map_err(|_| PortError::NotAPin {
+        text: pin.to_string(),
+    })?;
+    if !is_output(mode, pin) {
+        return Err(PortError::NotAnOutput {
+            pin,
+            mode: mode.name(),
+        });
+    }
+    let high = match level {
+        "1" => true,
+        "0" => false,
+        _ => {
+            return Err(PortError::NotALevel {
+                text: level.to_string(),
+            })
+        }
+    };
+    Ok((pin, high))
 }
 
 /// The ports Linux knows, one line each.
@@ -205,7 +233,25 @@ mod tests {
 
     #[test]
     fn bad_port_specs_are_refused() {
-        assert!(open("zz").is_err());
-        assert!(open("").is_err());
+        assert!(matches!(open("zz"), Err(PortError::Cfg(_))));
+        assert!(matches!(open(""), Err(PortError::Cfg(CfgError::Empty))));
+    }
+
+    #[test]
+    fn set_arguments_name_what_is_wrong() {
+        assert_eq!(parse_level("2=1", Mode::Out).unwrap(), (2, true));
+        assert_eq!(parse_level("17=0", Mode::Out).unwrap(), (17, false));
+        let message = |arg: &str, mode| parse_level(arg, mode).unwrap_err().to_string();
+        assert_eq!(message("2", Mode::Out), "'2': expected PIN=0|1");
+        assert_eq!(message("x=1", Mode::Out), "'x' is not a pin number");
+        assert_eq!(
+            message("10=1", Mode::Out),
+            "pin 10 is not an output in out mode"
+        );
+        assert_eq!(
+            message("2=1", Mode::In),
+            "pin 2 is not an output in in mode"
+        );
+        assert_eq!(message("2=high", Mode::Out), "'high': use 0 or 1");
     }
 }

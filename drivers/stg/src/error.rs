@@ -2,6 +2,7 @@
 //! opening a Servo-To-Go. Realtime functions never return errors; they
 //! trip the board's fault latch ([`crate::hal`]).
 
+use hal_driver::params::NumberError;
 use hal_driver::DriverError;
 
 /// What went wrong.
@@ -33,6 +34,27 @@ pub enum StgError {
     /// A backend that cannot drive the board.
     #[error("{0}")]
     Backend(String),
+    /// `hal-board probe --via` names no way to the ports.
+    #[error("'{text}' is not a way to the ports (ioperm, devport, sim, sim1)")]
+    NotAWay {
+        /// The name as given.
+        text: String,
+    },
+    /// A base address given to `hal-board probe` is not a number.
+    #[error("'{text}': {source}")]
+    BadBase {
+        /// The address as given.
+        text: String,
+        /// Why it is not a number.
+        #[source]
+        source: NumberError,
+    },
+    /// A base address the board's jumpers cannot select.
+    #[error("{base:#x} is not a Servo-To-Go base address (0x200, 0x220, ... 0x3e0)")]
+    NotABase {
+        /// The address.
+        base: u64,
+    },
     /// The shared driver layer failed (port access, a parameter).
     #[error(transparent)]
     Driver(#[from] DriverError),

@@ -11,9 +11,10 @@ use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::sync::Arc;
 
 use canonical::{AdcIn, ChannelNames, DacOut, DigIn, DigOut, Encoder};
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{Component, FunctCtx, Host, In, Out, Pin, Result};
-use hal_driver::fault::{self, ErrorWatch, Fault, FaultLatch, SafeState};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{FunctCtx, HalHost, Host, HostPin, In, Out, PinFactory, Result};
+use hal_driver::fault::{ErrorWatch, Fault, FaultLatch, SafeState};
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::sim::SimBoard;
 use hal_driver::ForModule;
 
@@ -27,42 +28,28 @@ use crate::sim::StgModel;
 /// The module's name.
 pub const NAME: &str = "hal_stg";
 
-/// The module's parameters: LinuxCNC's four, and the backend.
-pub const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "base",
-        kind: ParamKind::Int,
-        help: "base address (0x200, 0x220, ... 0x3e0); 0 (default) searches them",
-    },
-    ParamDecl {
-        name: "model",
-        kind: ParamKind::Int,
-        help: "1 or 2 forces Model I or II; 0 (default) detects it",
-    },
-    ParamDecl {
-        name: "num_chan",
-        kind: ParamKind::Int,
-        help: "channels to export, 1..8 (default 8)",
-    },
-    ParamDecl {
-        name: "dio",
-        kind: ParamKind::Str,
-        help: "directions of ports A B C D, I or O each (default IIOO)",
-    },
-    ParamDecl {
-        name: "backend",
-        kind: ParamKind::Str,
-        help: "ioperm (default; needs CAP_SYS_RAWIO) or sim (a simulated board)",
-    },
-];
+/// hal_stg's module parameters, the one table both hosts read:
+/// LinuxCNC's four, and the backend.
+#[macro_export]
+macro_rules! hal_stg_params {
+    ($($then:tt)*) => { $($then)*! {
+        base: Int = "base address (0x200, 0x220, ... 0x3e0); 0 (default) searches them",
+        model: Int = "1 or 2 forces Model I or II; 0 (default) detects it",
+        num_chan: Int = "channels to export, 1..8 (default 8)",
+        dio: Str = "directions of ports A B C D, I or O each (default IIOO)",
+        backend: Str = "ioperm (default; needs CAP_SYS_RAWIO) or sim (a simulated board)",
+    } };
+}
 
-/// The `hal_stg` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "Servo-To-Go ISA servo card, Model I or II (or a simulated one)",
-    load,
-};
+/// The module's parameters.
+pub const PARAMS: &[ParamDecl] = hal_stg_params!(hal_driver::param_table);
+
+/// The `hal_stg` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalStg;
+
+/// The `hal_stg` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<HalStg>();
 
 /// Board gone: the board test register lost the signature.
 pub static BOARD_GONE: Fault = Fault::new(
@@ -80,23 +67,44 @@ pub static READBACK_FAILED: Fault = Fault::new(
 /// leaving it for the next call (LinuxCNC polled up to 1000 times).
 pub const ADC_POLLS: usize = 3;
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let cfg = open::parse(args).for_module(NAME)?;
-    let opened = open::open(&cfg).map_err(|e| e.into_hal(NAME))?;
-    load_opened(host, opened, cfg.num_chan)
+impl DriverModule for HalStg {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str = "Servo-To-Go ISA servo card, Model I or II (or a simulated one)";
+    const PARAMS: &'static [ParamDecl] = PARAMS;
+    /// The board and how many channels to export.
+    type Opened = (Opened, usize);
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<(Opened, usize)> {
+        let cfg = open::parse(args).for_module(NAME)?;
+        let opened = open::open(&cfg).map_err(|e| e.into_hal(NAME))?;
+        Ok((opened, cfg.num_chan))
+    }
+
+    fn export<H: DriverHost>(o: (Opened, usize), ex: &mut Exporter<'_, H>) -> Result<()> {
+        export_board(o.0, o.1, ex)
+    }
 }
 
-/// Exports a board already opened and initialised, with `num_chan`
-/// channels (what `loadrt` does after opening it; tests give boards on
-/// buses of their own).
+/// Exports a board already opened and initialised into our host, with
+/// `num_chan` channels (what `loadrt` does after opening it; tests give
+/// boards on buses of their own).
 pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
+    module::load_opened::<HalStg>(host, (opened, num_chan))
+}
+
+/// The board's component, pins, functions and safe state.
+fn export_board<H: DriverHost>(
+    opened: Opened,
+    num_chan: usize,
+    ex: &mut Exporter<'_, H>,
+) -> Result<()> {
     if let Some(w) = &opened.warning {
-        host.rt_log().warn(format_args!("{w}"));
+        ex.log().warn(format_args!("{w}"));
     }
     let drv = opened.drv;
     let model = drv.model();
-    let mut b = host.new_rt_component(NAME)?;
-    let c: &Component = b.component();
+    let comp = ex.component(NAME)?;
+    let c = ex.pins(comp);
     let mut channels = export_channels(c, model, num_chan)?;
     let (dacs, adcs) = export_analog(c, num_chan)?;
     let (inputs, outputs) = export_dio(c, &drv.dio())?;
@@ -105,8 +113,8 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
     } else {
         ""
     };
-    let latch = FaultLatch::new(format!("stg ({model} at {:#x}{place})", drv.base()))
-        .with_log(host.rt_log())
+    let latch = FaultLatch::named(format!("stg ({model} at {:#x}{place})", drv.base()))
+        .with_log(ex.log())
         .with_pin(c.pin("stg.fault")?)
         .with_code_pin(c.pin("stg.fault-code")?);
 
@@ -121,7 +129,7 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
         ch.enc.update(drv.latch_count(k) as u64, None, now0);
     }
     let bus_errors = ErrorWatch::new(drv.bus().errors());
-    let sh = Arc::new(Shared {
+    let sh = Arc::new(Shared::<H> {
         drv,
         latch,
         lost: AtomicBool::new(false),
@@ -131,31 +139,34 @@ pub fn load_opened(host: &Host, opened: Opened, num_chan: usize) -> Result<()> {
     });
     let s = sh.clone();
     let mut capture = Capture { channels, pair: 0 };
-    b.funct("stg.capture-position", true, move |ctx| {
+    ex.funct(comp, "stg.capture-position", true, move |ctx| {
         capture.run(&s, ctx)
     })?;
     let s = sh.clone();
-    b.funct("stg.write-dacs", true, move |_| write_dacs(&s, &dacs))?;
+    ex.funct(comp, "stg.write-dacs", true, move |_| write_dacs(&s, &dacs))?;
     let s = sh.clone();
     let mut adc = AdcReader {
         adcs,
         converting: None,
     };
-    b.funct("stg.read-adcs", true, move |_| adc.read(&s))?;
+    ex.funct(comp, "stg.read-adcs", true, move |_| adc.read(&s))?;
     let s = sh.clone();
-    b.funct("stg.di-read", false, move |_| di_read(&s, &inputs))?;
+    ex.funct(comp, "stg.di-read", false, move |_| di_read(&s, &inputs))?;
     let s = sh.clone();
-    b.funct("stg.do-write", false, move |_| do_write(&s))?;
-    fault::install(&mut b, sh.clone());
-    b.ready()?;
+    ex.funct(comp, "stg.do-write", false, move |_| do_write(&s))?;
+    ex.safe_state(comp, sh.clone());
     if let Some(s) = &sh.sim {
-        hal_driver::sim::publish(host.instance().name(), "stg", s);
+        ex.publish_sim("stg", s);
     }
     Ok(())
 }
 
 /// The encoder channels' pins (LinuxCNC's names).
-fn export_channels(c: &Component, model: Model, num_chan: usize) -> Result<Vec<Channel>> {
+fn export_channels<H: HalHost>(
+    c: &impl PinFactory<H>,
+    model: Model,
+    num_chan: usize,
+) -> Result<Vec<Channel<H>>> {
     let enc_names = ChannelNames::custom(|k, item| {
         let item = match item {
             "count" => "counts",
@@ -179,7 +190,10 @@ fn export_channels(c: &Component, model: Model, num_chan: usize) -> Result<Vec<C
 }
 
 /// The DAC and ADC channels' pins and params (LinuxCNC's names).
-fn export_analog(c: &Component, num_chan: usize) -> Result<(Vec<DacOut>, Vec<AdcIn>)> {
+/// The DAC and ADC channels of a board.
+type Analog<H> = (Vec<DacOut<H>>, Vec<AdcIn<H>>);
+
+fn export_analog<H: HalHost>(c: &impl PinFactory<H>, num_chan: usize) -> Result<Analog<H>> {
     let dac_names = ChannelNames::custom(|k, item| format!("stg.{k}.dac-{item}"));
     let dacs = (0..num_chan)
         .map(|k| DacOut::export(c, &dac_names, k))
@@ -199,7 +213,10 @@ type PortPins<T> = Vec<(usize, Vec<T>)>;
 
 /// The digital ports' pins: inputs and outputs as the `dio` parameter
 /// makes them.
-fn export_dio(c: &Component, dio: &Dio) -> Result<(PortPins<DigIn>, PortPins<DigOut>)> {
+/// The digital input and output ports of a board.
+type DigitalPorts<H> = (PortPins<DigIn<H>>, PortPins<DigOut<H>>);
+
+fn export_dio<H: HalHost>(c: &impl PinFactory<H>, dio: &Dio) -> Result<DigitalPorts<H>> {
     let in_names = ChannelNames::custom(|n, item| match item.strip_prefix("in") {
         Some(rest) => format!("stg.in-{n:02}{rest}"),
         None => format!("stg.in-{n:02}-{item}"),
@@ -232,18 +249,18 @@ fn export_dio(c: &Component, dio: &Dio) -> Result<(PortPins<DigIn>, PortPins<Dig
 }
 
 /// What the functions and the safe-state hook share.
-struct Shared {
+struct Shared<H: HalHost> {
     drv: Stg,
-    latch: FaultLatch,
+    latch: FaultLatch<H>,
     /// The board stopped answering: nothing is read from it any more.
     lost: AtomicBool,
     /// Output ports and their pins.
-    outputs: Vec<(usize, Vec<DigOut>)>,
+    outputs: PortPins<DigOut<H>>,
     bus_errors: ErrorWatch,
     sim: Option<Arc<SimBoard<StgModel>>>,
 }
 
-impl Shared {
+impl<H: HalHost> Shared<H> {
     /// The board is lost: trips the latch; the first trip puts the board
     /// in its safe state.
     #[inline]
@@ -253,7 +270,7 @@ impl Shared {
     }
 }
 
-impl SafeState for Shared {
+impl<H: HalHost> SafeState for Shared<H> {
     /// Every DAC at 0 V, every output at the level of `out` FALSE.
     fn go_safe(&self) {
         self.drv.zero_dacs();
@@ -265,22 +282,22 @@ impl SafeState for Shared {
 }
 
 /// One encoder channel's pins.
-struct Channel {
-    enc: Encoder,
-    index_latch: Pin<bool, Out>,
+struct Channel<H: HalHost> {
+    enc: Encoder<H>,
+    index_latch: H::Pin<bool, Out>,
     /// Model I only: TRUE = the index is active high.
-    polarity: Option<Pin<bool, In>>,
+    polarity: Option<H::Pin<bool, In>>,
 }
 
 /// `stg.capture-position`.
-struct Capture {
-    channels: Vec<Channel>,
+struct Capture<H: HalHost> {
+    channels: Vec<Channel<H>>,
     /// Model I: the axis pair whose index INTC watches.
     pair: usize,
 }
 
-impl Capture {
-    fn run(&mut self, sh: &Shared, ctx: &FunctCtx) {
+impl<H: HalHost> Capture<H> {
+    fn run(&mut self, sh: &Shared<H>, ctx: &FunctCtx) {
         if let Some(s) = &sh.sim {
             // Simulated time moves one thread period per capture: every
             // run of a configuration computes the same thing.
@@ -312,7 +329,7 @@ impl Capture {
 
     /// Model II: enable the armed axes' index, take the latched ones'
     /// counts. Whether the board answered.
-    fn index_model2(&mut self, sh: &Shared, index_at: &mut [Option<u64>]) -> bool {
+    fn index_model2(&mut self, sh: &Shared<H>, index_at: &mut [Option<u64>]) -> bool {
         let d = &sh.drv;
         if !Model::Two.brdtst_ok(d.brdtst()) {
             return false;
@@ -345,7 +362,7 @@ impl Capture {
     /// (set since the last clear), move the watch to a pair with an axis
     /// still waiting for its index, clear the latches, take the hit
     /// axes' counts. Whether the board answered.
-    fn index_model1(&mut self, sh: &Shared, index_at: &mut [Option<u64>]) -> bool {
+    fn index_model1(&mut self, sh: &Shared<H>, index_at: &mut [Option<u64>]) -> bool {
         let d = &sh.drv;
         let irr = d.irr();
         let hit = |k: usize| {
@@ -364,7 +381,7 @@ impl Capture {
             .map(|i| (2 * self.pair + i) % regs::CHANNELS)
             .find(|&k| waiting[k]);
         if let Some(k) = waiting_axis {
-            let active_high = self.channels[k].polarity.as_ref().is_none_or(Pin::get);
+            let active_high = self.channels[k].polarity.as_ref().is_none_or(HostPin::get);
             d.select_index_pair(k / 2, active_high);
             self.pair = k / 2;
         }
@@ -381,7 +398,7 @@ impl Capture {
 }
 
 /// `stg.write-dacs`: every channel's DAC. Nothing while faulted.
-fn write_dacs(sh: &Shared, dacs: &[DacOut]) {
+fn write_dacs<H: HalHost>(sh: &Shared<H>, dacs: &[DacOut<H>]) {
     if sh.latch.is_tripped() {
         return;
     }
@@ -395,13 +412,13 @@ fn write_dacs(sh: &Shared, dacs: &[DacOut]) {
 /// channels: read the conversion the previous call started, start the
 /// next channel's. (LinuxCNC's driver also started one on the channel
 /// past the last and threw it away, so a sweep took one call more.)
-struct AdcReader {
-    adcs: Vec<AdcIn>,
+struct AdcReader<H: HalHost> {
+    adcs: Vec<AdcIn<H>>,
     converting: Option<usize>,
 }
 
-impl AdcReader {
-    fn read(&mut self, sh: &Shared) {
+impl<H: HalHost> AdcReader<H> {
+    fn read(&mut self, sh: &Shared<H>) {
         if sh.lost.load(Relaxed) {
             return;
         }
@@ -421,7 +438,7 @@ impl AdcReader {
 /// `stg.di-read`: every input port. A line that reads 1 is FALSE on
 /// `in-NN` (LinuxCNC's documentation says the opposite; its code, and
 /// this driver, do this).
-fn di_read(sh: &Shared, inputs: &[(usize, Vec<DigIn>)]) {
+fn di_read<H: HalHost>(sh: &Shared<H>, inputs: &[(usize, Vec<DigIn<H>>)]) {
     if sh.lost.load(Relaxed) {
         return;
     }
@@ -435,7 +452,7 @@ fn di_read(sh: &Shared, inputs: &[(usize, Vec<DigIn>)]) {
 
 /// `stg.do-write`: every output port, `out XOR invert` on each line.
 /// Nothing while faulted.
-fn do_write(sh: &Shared) {
+fn do_write<H: HalHost>(sh: &Shared<H>) {
     if sh.latch.is_tripped() {
         return;
     }

@@ -25,42 +25,43 @@ pub enum Via {
 }
 
 /// Parses `--via`: `ioperm`, `devport`, `sim` (a Model II) or `sim1`.
-pub fn parse_via(s: &str) -> Result<Via, String> {
+pub fn parse_via(s: &str) -> Result<Via, StgError> {
     match s {
         "ioperm" => Ok(Via::Ioperm),
         "devport" => Ok(Via::DevPort),
         "sim" | "sim2" => Ok(Via::Sim(Model::Two)),
         "sim1" => Ok(Via::Sim(Model::One)),
-        _ => Err(format!(
-            "'{s}' is not a way to the ports (ioperm, devport, sim, sim1)"
-        )),
+        _ => Err(StgError::NotAWay {
+            text: s.to_string(),
+        }),
     }
 }
 
 /// Parses a base address: one of the jumper choices 0x200 … 0x3e0.
-pub fn parse_base(s: &str) -> Result<u16, String> {
-    let v = hal_driver::params::parse_number(s, 0xFFFF).map_err(|e| format!("'{s}': {e}"))?;
+pub fn parse_base(s: &str) -> Result<u16, StgError> {
+    let v = hal_driver::params::parse_number(s, 0xFFFF).map_err(|source| StgError::BadBase {
+        text: s.to_string(),
+        source,
+    })?;
     CANDIDATE_BASES
         .iter()
         .copied()
         .find(|&b| b as u64 == v)
-        .ok_or_else(|| {
-            format!("{v:#x} is not a Servo-To-Go base address (0x200, 0x220, ... 0x3e0)")
-        })
+        .ok_or(StgError::NotABase { base: v })
 }
 
 /// Probes `base` (or every candidate) through `via`: one line per board
 /// found, or why none was.
-pub fn probe(base: Option<u16>, via: Via) -> Result<Vec<String>, String> {
+pub fn probe(base: Option<u16>, via: Via) -> Result<Vec<String>, StgError> {
     let bases: Vec<u16> = base.map_or_else(|| CANDIDATE_BASES.to_vec(), |b| vec![b]);
     // Only the board test register of each base is read.
     let ranges: Vec<PortRange> = bases
         .iter()
-        .map(|b| PortRange::new(b + BRDTST, 1).map_err(|e| e.to_string()))
+        .map(|b| PortRange::new(b + BRDTST, 1))
         .collect::<Result<_, _>>()?;
     let bus: Arc<dyn PortBus> = match via {
-        Via::Ioperm => Arc::new(IopermPorts::open(&ranges).map_err(|e| e.to_string())?),
-        Via::DevPort => Arc::new(DevPortPorts::open(&ranges).map_err(|e| e.to_string())?),
+        Via::Ioperm => Arc::new(IopermPorts::open(&ranges)?),
+        Via::DevPort => Arc::new(DevPortPorts::open(&ranges)?),
         Via::Sim(m) => Arc::new(SimBoard::new(StgModel::new(m, SIM_DEFAULT_BASE))),
     };
     let found = |b: u16, m: Model| {
@@ -71,16 +72,14 @@ pub fn probe(base: Option<u16>, via: Via) -> Result<Vec<String>, String> {
         )
     };
     match base {
-        Some(b) => crate::probe(&*bus, b)
-            .map(|m| vec![found(b, m)])
-            .map_err(|e| e.to_string()),
+        Some(b) => crate::probe(&*bus, b).map(|m| vec![found(b, m)]),
         None => {
             let lines: Vec<String> = bases
                 .iter()
                 .filter_map(|&b| crate::probe(&*bus, b).ok().map(|m| found(b, m)))
                 .collect();
             if lines.is_empty() {
-                Err(StgError::NotFound.to_string())
+                Err(StgError::NotFound)
             } else {
                 Ok(lines)
             }

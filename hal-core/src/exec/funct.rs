@@ -27,6 +27,17 @@ impl FunctCtx {
         }
     }
 
+    /// A context for one call from a foreign host's thread (LinuxCNC's):
+    /// its period, and the time the call is made, which serves as the
+    /// cycle's deadline too.
+    pub fn at(period: i64, now_ns: u64) -> FunctCtx {
+        FunctCtx {
+            period,
+            now_ns,
+            deadline_ns: now_ns,
+        }
+    }
+
     /// When the thread woke for this cycle, in CLOCK_MONOTONIC ns: the
     /// same for every function of the cycle. Functions needing the time
     /// use this rather than a system call of their own.

@@ -49,6 +49,26 @@ pub enum ToolsError {
     /// The motion controller's status could not be read.
     #[error(transparent)]
     Motion(#[from] motion::ClientError),
+    /// The motion controller of an instance could not be reached.
+    #[error("instance '{instance}': {source}")]
+    MotionAttach {
+        /// The instance.
+        instance: String,
+        /// Why.
+        #[source]
+        source: motion::ClientError,
+    },
+    /// A joint the status has no entry for.
+    #[error("joint {joint} does not exist (there are {count})")]
+    NoSuchJoint {
+        /// The joint asked about.
+        joint: usize,
+        /// The joints there are.
+        count: usize,
+    },
+    /// A compensation file could not be read.
+    #[error(transparent)]
+    CompFile(#[from] motion::comp_file::CompFileError),
     /// gcode-run needs an enabled machine.
     #[error("the machine is not enabled (motion-cmd enable)")]
     NotEnabled,

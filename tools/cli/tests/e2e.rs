@@ -218,12 +218,31 @@ fn check_stepgen_exact(name: &str) {
     let period: u32 = loadrt_value(&hal, "period1");
     let scale: f64 = setp_value(&hal, "stepgen.0.position-scale");
     let n = sample_count(&hal);
+    let timing = check_rounded_timing(name, &text, &hal, n, period);
+
+    let rows = sampled_rows(&text, n, 4);
+    let cmd: Vec<f64> = rows.iter().map(|r| num(r[0])).collect();
+    let step: Vec<bool> = rows.iter().map(|r| bit(r[1])).collect();
+    let dir: Vec<bool> = rows.iter().map(|r| bit(r[2])).collect();
+    let counts: Vec<i32> = rows.iter().map(|r| num(r[3])).collect();
+
+    let edges = Edges::of(&step, &dir);
+    assert!(!step[n - 1], "{name}: the last pulse ended");
+    assert_eq!(edges.rising.len(), edges.falling.len());
+    check_pulse_timing(name, &step, &edges, timing);
+    check_counts_follow_steps(name, &edges, &dir, &counts);
+    let targets = check_moves(name, &cmd, &counts, scale);
+    check_dir_follows_motion(name, &edges, &dir, &counts, &targets);
+}
+
+/// Checks the four `getp` lines after the `n` samples: steplen,
+/// stepspace, dirsetup and dirhold rounded up to whole periods. Returns
+/// them in periods.
+fn check_rounded_timing(name: &str, text: &str, hal: &str, n: usize, period: u32) -> [usize; 4] {
     let requested: Vec<u32> = ["steplen", "stepspace", "dirsetup", "dirhold"]
         .iter()
-        .map(|p| setp_value(&hal, &format!("stepgen.0.{p}")))
+        .map(|p| setp_value(hal, &format!("stepgen.0.{p}")))
         .collect();
-
-    // The rounded parameters, as read back after the run.
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(lines.len(), n + 4, "{name}: samples plus four getp lines");
     let rounded: Vec<u32> = lines[n..].iter().map(|l| num(l.trim())).collect();
@@ -238,25 +257,42 @@ fn check_stepgen_exact(name: &str) {
     for (r, q) in rounded.iter().zip(&requested) {
         assert!(r > q, "{name}: the test wants values that need rounding");
     }
-    let [steplen, stepspace, dirsetup, dirhold] =
-        [0, 1, 2, 3].map(|i| periods(requested[i], period));
-    assert!(steplen >= 2 && stepspace >= 2 && dirsetup >= 2 && dirhold >= 2);
+    let timing = [0, 1, 2, 3].map(|i| periods(requested[i], period));
+    assert!(timing.iter().all(|&t| t >= 2));
+    timing
+}
 
-    let rows = sampled_rows(&text, n, 4);
-    let cmd: Vec<f64> = rows.iter().map(|r| num(r[0])).collect();
-    let step: Vec<bool> = rows.iter().map(|r| bit(r[1])).collect();
-    let dir: Vec<bool> = rows.iter().map(|r| bit(r[2])).collect();
-    let counts: Vec<i32> = rows.iter().map(|r| num(r[3])).collect();
+/// The sample indices where step rises and falls and where dir changes;
+/// the pins start low before the first sample.
+struct Edges {
+    rising: Vec<usize>,
+    falling: Vec<usize>,
+    dir_changes: Vec<usize>,
+}
 
-    // Edges; the pins start low before the first sample.
-    let was = |v: &[bool], i: usize| i > 0 && v[i - 1];
-    let rising: Vec<usize> = (0..n).filter(|&i| step[i] && !was(&step, i)).collect();
-    let falling: Vec<usize> = (0..n).filter(|&i| !step[i] && was(&step, i)).collect();
-    let dir_changes: Vec<usize> = (0..n).filter(|&i| dir[i] != was(&dir, i)).collect();
-    assert!(!step[n - 1], "{name}: the last pulse ended");
-    assert_eq!(rising.len(), falling.len());
+impl Edges {
+    fn of(step: &[bool], dir: &[bool]) -> Edges {
+        let n = step.len();
+        let was = |v: &[bool], i: usize| i > 0 && v[i - 1];
+        Edges {
+            rising: (0..n).filter(|&i| step[i] && !was(step, i)).collect(),
+            falling: (0..n).filter(|&i| !step[i] && was(step, i)).collect(),
+            dir_changes: (0..n).filter(|&i| dir[i] != was(dir, i)).collect(),
+        }
+    }
+}
 
-    for (k, (&r, &f)) in rising.iter().zip(&falling).enumerate() {
+/// Every pulse lasts steplen, every gap stepspace; dir changes dirhold
+/// after a falling edge and dirsetup before a rising one (`timing` in
+/// periods, in that parameter order: steplen, stepspace, dirsetup, dirhold).
+fn check_pulse_timing(name: &str, step: &[bool], edges: &Edges, timing: [usize; 4]) {
+    let [steplen, stepspace, dirsetup, dirhold] = timing;
+    let Edges {
+        rising,
+        falling,
+        dir_changes,
+    } = edges;
+    for (k, (&r, &f)) in rising.iter().zip(falling).enumerate() {
         assert!(r < f);
         assert!(
             f - r >= steplen,
@@ -271,7 +307,7 @@ fn check_stepgen_exact(name: &str) {
             );
         }
     }
-    for &d in &dir_changes {
+    for &d in dir_changes {
         assert!(!step[d], "{name}: dir changed during a pulse at sample {d}");
         if let Some(&f) = falling.iter().rev().find(|&&f| f <= d) {
             assert!(
@@ -288,22 +324,25 @@ fn check_stepgen_exact(name: &str) {
             );
         }
     }
+}
 
-    // Signed step count: at every sample it equals counts.
+/// The signed step count equals `counts` at every sample.
+fn check_counts_follow_steps(name: &str, edges: &Edges, dir: &[bool], counts: &[i32]) {
     let mut net = 0i32;
-    for i in 0..n {
-        if rising.binary_search(&i).is_ok() {
+    for (i, &count) in counts.iter().enumerate() {
+        if edges.rising.binary_search(&i).is_ok() {
             net += if dir[i] { -1 } else { 1 };
         }
-        assert_eq!(
-            net, counts[i],
-            "{name}: steps so far vs counts at sample {i}"
-        );
+        assert_eq!(net, count, "{name}: steps so far vs counts at sample {i}");
     }
+}
 
-    // Each command segment either reaches its position exactly, or is cut
-    // short by the next command while still heading for it (a reversal
-    // in mid-move). The last one is reached.
+/// Each command segment either reaches its position exactly, or is cut
+/// short by the next command while still heading for it (a reversal in
+/// mid-move); the last one is reached. Returns each segment's target in
+/// counts.
+fn check_moves(name: &str, cmd: &[f64], counts: &[i32], scale: f64) -> Vec<i32> {
+    let n = cmd.len();
     let mut targets = vec![];
     let mut from = 0i32;
     let mut cut_short = 0;
@@ -328,9 +367,19 @@ fn check_stepgen_exact(name: &str) {
         cut_short >= 1,
         "{name}: one move is reversed before it ends"
     );
+    targets
+}
 
-    // dir follows the direction of motion: it changes exactly where the
-    // count sequence turns around (it starts low, i.e. forward).
+/// dir follows the direction of motion: it changes exactly where the
+/// count sequence turns around (it starts low, i.e. forward), and the net
+/// steps are the final position.
+fn check_dir_follows_motion(
+    name: &str,
+    edges: &Edges,
+    dir: &[bool],
+    counts: &[i32],
+    targets: &[i32],
+) {
     let mut heading = 1;
     let mut turns = 0;
     for w in counts.windows(2) {
@@ -342,18 +391,20 @@ fn check_stepgen_exact(name: &str) {
     }
     assert!(turns >= 2, "{name}: the motion reverses at least twice");
     assert_eq!(
-        dir_changes.len(),
+        edges.dir_changes.len(),
         turns,
-        "{name}: dir changes {dir_changes:?}"
+        "{name}: dir changes {:?}",
+        edges.dir_changes
     );
-    let forward = rising.iter().filter(|&&r| !dir[r]).count() as i32;
-    let backward = rising.iter().filter(|&&r| dir[r]).count() as i32;
+    let forward = edges.rising.iter().filter(|&&r| !dir[r]).count() as i32;
+    let backward = edges.rising.iter().filter(|&&r| dir[r]).count() as i32;
+    let last = *targets.last().unwrap();
     assert_eq!(
         forward - backward,
-        *targets.last().unwrap(),
+        last,
         "{name}: net steps = final position × position-scale"
     );
-    assert_eq!(counts[n - 1], *targets.last().unwrap());
+    assert_eq!(counts[counts.len() - 1], last);
 }
 
 #[test]

@@ -15,6 +15,8 @@ use clap::CommandFactory;
 // library API.
 #[path = "../../../drivers/canservo/src/bin/canservo-sim/args.rs"]
 mod canservo_sim_args;
+#[path = "../../../drivers/ethercat/src/bin/ethercat-sim/args.rs"]
+mod ethercat_sim_args;
 
 /// The tools whose man pages are generated: (name, command).
 fn pages() -> Vec<(&'static str, clap::Command)> {
@@ -29,6 +31,8 @@ fn pages() -> Vec<(&'static str, clap::Command)> {
         ("canservo-sim", canservo_sim_args::Args::command()),
         ("parport-tool", hal_parport::tool_args::Cli::command()),
         ("motion-cmd", tool_args::motion_cmd::Cli::command()),
+        ("ethercat-tool", hal_ethercat::tool::args::Cli::command()),
+        ("ethercat-sim", ethercat_sim_args::Args::command()),
     ]
 }
 

@@ -18,7 +18,9 @@ const MATCH_KEYS: &[&str] = &[
 ];
 const ASSIGN_KEYS: &[&str] = &["GROUP", "MODE", "OWNER", "RUN", "TAG", "SYMLINK"];
 
-/// Checks one rule line; returns the problem if any.
+/// Checks one rule line; returns the problem if any. The error is a
+/// description for the failing test's message, nothing a caller matches
+/// on, so a string is clearer here than an error type.
 fn check_line(line: &str) -> Result<(), String> {
     let mut rest = line.trim();
     let mut seen_assign = false;

@@ -8,10 +8,11 @@ use std::time::Duration;
 
 use clap::Parser;
 use hal_canservo::tool::{Step, Tool, WatchOptions, STEPS};
+use hal_canservo::Error;
 
 use hal_canservo::tool_args::{Cli, Cmd};
 
-fn run(cli: Cli) -> Result<Vec<String>, String> {
+fn run(cli: Cli) -> Result<Vec<String>, Error> {
     let timeout = Duration::from_millis(cli.timeout_ms.max(1));
     let tool = if cli.sim.is_empty() {
         Tool::socket(&cli.iface, timeout)?
@@ -29,8 +30,10 @@ fn run(cli: Cli) -> Result<Vec<String>, String> {
         } => tool.write(node, &object, &ty, &value).map(|l| vec![l]),
         Cmd::Status { node } => tool.status(node),
         Cmd::Power { node, step } => {
-            let s =
-                Step::parse(&step).ok_or_else(|| format!("'{step}' is not a step ({STEPS})"))?;
+            let s = Step::parse(&step).ok_or(Error::NotAStep {
+                name: step,
+                steps: STEPS,
+            })?;
             tool.power(node, s).map(|states| vec![states.join(" -> ")])
         }
         Cmd::Nmt { node, command } => tool.nmt(node, &command).map(|l| vec![l]),
@@ -43,7 +46,7 @@ fn run(cli: Cli) -> Result<Vec<String>, String> {
             seconds,
         } => {
             if count.is_none() && seconds.is_none() && !cli.sim.is_empty() {
-                return Err("with --sim, give --count or --seconds".into());
+                return Err(Error::WatchWithoutEnd);
             }
             let opts = WatchOptions {
                 nodes,

@@ -20,10 +20,9 @@ pub static NO_ACK: Fault = Fault::new(
 pub static HEARTBEAT: Fault = Fault::new(4, "heartbeat missed");
 /// A drive left Operational (rebooted, stopped, pre-operational).
 pub static NMT_STATE: Fault = Fault::new(5, "node left NMT Operational (rebooted or stopped)");
-/// A drive sent an EMCY with an error.
-pub static EMCY: Fault = Fault::new(6, "EMCY received");
-/// The statusword shows Fault (or Fault reaction active).
-pub static DRIVE_FAULT: Fault = Fault::new(7, "drive in Fault");
+// The drive-side faults (6 EMCY, 7 drive in Fault, 10 homing error) are
+// the shared CiA 402 layer's, the same on every fieldbus.
+pub use hal_cia402::faults::{DRIVE_FAULT, EMCY, HOMING};
 /// The drive's TPDOs did not come after SYNC.
 pub static TPDO_MISSING: Fault = Fault::new(8, "TPDO missing after SYNC");
 /// Frames cannot be queued for sending.
@@ -31,8 +30,6 @@ pub static TX_FAILED: Fault = Fault::new(
     9,
     "frames cannot be sent (transmit queue full, bus off or interface down)",
 );
-/// Drive-internal homing ended in a homing error.
-pub static HOMING: Fault = Fault::new(10, "drive-internal homing error");
 /// The thread's period is not the one the drives were set up for.
 pub static PERIOD: Fault = Fault::new(
     11,

@@ -87,39 +87,9 @@ impl Default for EngineConfig {
     }
 }
 
-/// One drive's inputs for a cycle (from its HAL pins and params).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DriveInputs {
-    /// `enable`.
-    pub enable: bool,
-    /// `fault-reset` (acts on the rising edge).
-    pub fault_reset: bool,
-    /// `position-cmd` (user units).
-    pub position_cmd: f64,
-    /// `velocity-cmd` (user units/s; PV and CSV).
-    pub velocity_cmd: f64,
-    /// `home` (a rising edge starts drive-internal homing).
-    pub home: bool,
-    /// `position-scale`: counts per user unit.
-    pub scale: f64,
-    /// `command-tolerance`: how close `position-cmd` must come to the
-    /// actual position before a freshly enabled or homed drive follows it.
-    pub command_tolerance: f64,
-}
-
-impl Default for DriveInputs {
-    fn default() -> DriveInputs {
-        DriveInputs {
-            enable: false,
-            fault_reset: false,
-            position_cmd: 0.0,
-            velocity_cmd: 0.0,
-            home: false,
-            scale: 1.0,
-            command_tolerance: 0.01,
-        }
-    }
-}
+/// One drive's inputs for a cycle (from its HAL pins and params): the
+/// shared CiA 402 layer's.
+pub use hal_cia402::DriveInputs;
 
 /// One drive's outputs for a cycle (to its HAL pins).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -27,4 +27,4 @@ mod registry;
 pub use board::{BoardModel, MemModel, PortModel, SimBoard};
 pub use clock::{Clock, MonotonicClock, SimClock};
 pub use log::{Access, AccessLog, Dir, Width};
-pub use registry::{find, publish};
+pub use registry::{find, publish, publish_any};

@@ -19,7 +19,14 @@ fn boards() -> std::sync::MutexGuard<'static, Vec<Entry>> {
 /// under that key. Call it after the component is ready, so a failed
 /// `loadrt` never publishes anything.
 pub fn publish<T: Any + Send + Sync>(instance: &str, key: &str, board: &Arc<T>) {
-    let weak: Weak<dyn Any + Send + Sync> = Arc::downgrade(board) as Weak<dyn Any + Send + Sync>;
+    let board: Arc<dyn Any + Send + Sync> = board.clone();
+    publish_any(instance, key, &board);
+}
+
+/// [`publish`] for a board whose type is erased already (what the
+/// driver layer's exporter holds); [`find`] still finds it by its type.
+pub fn publish_any(instance: &str, key: &str, board: &Arc<dyn Any + Send + Sync>) {
+    let weak = Arc::downgrade(board);
     let mut b = boards();
     b.retain(|(i, k, w)| w.strong_count() > 0 && !(i == instance && k == key));
     b.push((instance.to_string(), key.to_string(), weak));

@@ -15,6 +15,7 @@ use hal_core::userspace::ExitSignals;
 use hal_driver::pci::Sysfs;
 use hal_stg::port_probe;
 use hostmot2::board_tool::{self, Board};
+use hostmot2::ToolError;
 
 use hostmot2::board_args::{Cli, Command};
 
@@ -26,7 +27,7 @@ fn main() {
     }
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+fn run(cli: Cli) -> Result<(), ToolError> {
     let sysfs = Sysfs::at(&cli.sysfs);
     match cli.command {
         Command::List => {
@@ -61,7 +62,7 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let b = Board::open(&board, &sysfs)?;
             let m = board_tool::find_module(&b, &module)?;
-            let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+            let exit = ExitSignals::install().map_err(|source| ToolError::Signals { source })?;
             let tty = std::io::stdout().is_terminal();
             let mut shown = 0;
             while count.is_none_or(|n| shown < n) && !exit.requested() {

@@ -16,6 +16,7 @@ use hostmot2::sim::eth_server::{Faults, Server};
 use hostmot2::sim::{machine, Hm2Model};
 
 use hostmot2::eth_sim_args::Cli;
+use hostmot2::ToolError;
 
 fn main() {
     let cli = Cli::parse();
@@ -25,30 +26,32 @@ fn main() {
     }
 }
 
-fn rate(name: &str, p: f64) -> Result<f64, String> {
-    if (0.0..=1.0).contains(&p) {
-        Ok(p)
+/// A fault rate given as `--option`: a probability.
+fn rate(option: &'static str, value: f64) -> Result<f64, ToolError> {
+    if (0.0..=1.0).contains(&value) {
+        Ok(value)
     } else {
-        Err(format!("--{name} {p}: a probability is between 0 and 1"))
+        Err(ToolError::NotAProbability { option, value })
     }
 }
 
-fn run(cli: Cli) -> Result<(), String> {
+fn run(cli: Cli) -> Result<(), ToolError> {
     let mut spec = boards::preset(&cli.board)
         .filter(|_| boards::eth_name(&cli.board).is_some())
-        .ok_or_else(|| {
-            format!(
-                "--board {}: not a simulated Ethernet board ({})",
-                cli.board,
-                boards::ETH_PRESETS.join(", ")
-            )
+        .ok_or_else(|| ToolError::NotAnEthBoard {
+            board: cli.board.clone(),
+            boards: boards::ETH_PRESETS.join(", "),
         })?;
     spec.remotes = match cli.remote.as_str() {
         "7i76" => vec![boards::seven_i76_on(0, 0)],
         "7i77" if cli.board == "7i96s" => boards::seven_i77_on(0, 0).to_vec(),
-        "7i77" => return Err("--remote 7i77 needs two channels: --board 7i96s".into()),
+        "7i77" => return Err(ToolError::RemoteNeedsTwoChannels),
         "none" => Vec::new(),
-        other => return Err(format!("--remote {other}: 7i76, 7i77 or none")),
+        other => {
+            return Err(ToolError::NotARemote {
+                remote: other.to_string(),
+            })
+        }
     };
     let faults = Faults {
         drop_requests: rate("drop-requests", cli.drop_requests)?,
@@ -67,15 +70,19 @@ fn run(cli: Cli) -> Result<(), String> {
     } else {
         board.with_period(cli.period_ns)
     };
-    let socket = UdpSocket::bind(cli.listen).map_err(|e| format!("{}: {e}", cli.listen))?;
+    let socket = UdpSocket::bind(cli.listen).map_err(|source| ToolError::Socket {
+        addr: cli.listen,
+        source,
+    })?;
     let server = Server::new(socket, board, faults);
-    let addr = server.local_addr().map_err(|e| e.to_string())?;
-    let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+    let addr = server.local_addr().map_err(|source| ToolError::Socket {
+        addr: cli.listen,
+        source,
+    })?;
+    let exit = ExitSignals::install().map_err(|source| ToolError::Signals { source })?;
     let hal = if cli.hal {
-        let inst = Instance::attach(&hal_core::instance_from_env()).map_err(|e| e.to_string())?;
-        let comp = inst
-            .new_component("hm2-eth-sim", ComponentKind::User)
-            .map_err(|e| e.to_string())?;
+        let inst = Instance::attach(&hal_core::instance_from_env())?;
+        let comp = inst.new_component("hm2-eth-sim", ComponentKind::User)?;
         Some((inst, comp))
     } else {
         None
@@ -94,7 +101,7 @@ fn run(cli: Cli) -> Result<(), String> {
         println!("{line}");
     }
     if let Some((_, comp)) = &hal {
-        comp.ready().map_err(|e| e.to_string())?;
+        comp.ready()?;
     }
     while !exit.requested() && !serving.is_finished() {
         if let Some((inst, _)) = &hal {
@@ -105,9 +112,7 @@ fn run(cli: Cli) -> Result<(), String> {
         std::thread::sleep(Duration::from_millis(50));
     }
     stop.store(true, Relaxed);
-    let result = serving
-        .join()
-        .map_err(|_| "the server thread panicked".to_string())?;
+    let result = serving.join().map_err(|_| ToolError::ServerPanicked)?;
     drop(hal);
-    result.map_err(|e| format!("{addr}: {e}"))
+    result.map_err(|source| ToolError::Socket { addr, source })
 }

@@ -18,10 +18,11 @@
 
 use canonical::{AdcIn, ChannelNames};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
-use hal_core::{Host, Result};
+use hal_core::Result;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
 
-use super::{build, per_chip, prepare_all, read_common, StatusPins, COMMON_PARAMS};
+use super::{export_chips, prepare_all, read_common, ChipAt, Prepared, StatusPins};
 use crate::chips::{AdcSettings, Ads1115Chip};
 use crate::regs::ads1115::{dr_for_sps, pga_for_mv, ADDRESSES};
 use crate::sim::Ads1115;
@@ -29,34 +30,66 @@ use crate::sim::Ads1115;
 /// The module's and component's name.
 pub const NAME: &str = "ads1115";
 
-const PARAMS: &[ParamDecl] = &[
-    COMMON_PARAMS[0],
-    COMMON_PARAMS[1],
-    per_chip(
-        "range",
-        "full scale of each chip, mV: 6144|4096|2048|1024|512|256 (default 4096)",
-    ),
-    per_chip(
-        "rate",
-        "samples/s of each chip: 8|16|32|64|128|250|475|860 (default 860)",
-    ),
-    per_chip(
-        "channels",
-        "inputs converted by each chip, 1..4 (default 4, 2 with diff)",
-    ),
-    per_chip("diff", "1: differential inputs AIN0-AIN1, AIN2-AIN3"),
-    COMMON_PARAMS[2],
-];
+/// ads1115's module parameters, the one table both hosts read.
+#[macro_export]
+macro_rules! ads1115_params {
+    ($($then:tt)*) => { $crate::__i2c_params! { [$($then)*]
+        range: IntArray($crate::hal::MAX_CHIPS) =
+            "full scale of each chip, mV: 6144|4096|2048|1024|512|256 (default 4096)",
+        rate: IntArray($crate::hal::MAX_CHIPS) =
+            "samples/s of each chip: 8|16|32|64|128|250|475|860 (default 860)",
+        channels: IntArray($crate::hal::MAX_CHIPS) =
+            "inputs converted by each chip, 1..4 (default 4, 2 with diff)",
+        diff: IntArray($crate::hal::MAX_CHIPS) = "1: differential inputs AIN0-AIN1, AIN2-AIN3",
+    } };
+}
 
-/// The `ads1115` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "TI ADS1115 16-bit 4-input ADC on I2C (or simulated)",
-    load,
-};
+/// The `ads1115` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalAds1115;
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+/// The `ads1115` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<HalAds1115>();
+
+/// The chips, set up, with each one's conversion settings.
+pub struct OpenedChips {
+    prepared: Vec<(Prepared<Ads1115Chip>, ChipAt)>,
+    settings: Vec<AdcSettings>,
+}
+
+impl DriverModule for HalAds1115 {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str = "TI ADS1115 16-bit 4-input ADC on I2C (or simulated)";
+    const PARAMS: &'static [ParamDecl] = ads1115_params!(hal_driver::param_table);
+    type Opened = OpenedChips;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> Result<OpenedChips> {
+        open_chips(args, env)
+    }
+
+    fn export<H: DriverHost>(o: OpenedChips, ex: &mut Exporter<'_, H>) -> Result<()> {
+        let settings = o.settings;
+        export_chips(ex, NAME, o.prepared, |ex, comp, i, name, ends| {
+            let c = ex.pins(comp);
+            let s = settings[i];
+            let names = ChannelNames::canonical::<AdcIn>(NAME, i, s.channels);
+            let adcs = (0..s.channels)
+                .map(|ch| AdcIn::<H>::export(c, &names, ch, s.lsb_volts(), 0.0))
+                .collect::<Result<Vec<_>>>()?;
+            let status = StatusPins::<H>::export(c, name)?;
+            let mut st = ends.status;
+            ex.funct(comp, &format!("{name}.read"), true, move |_| {
+                let sample = status.update(&mut st).sample;
+                for (ch, a) in adcs.iter().enumerate() {
+                    a.update_counts(sample.counts[ch] as i64);
+                }
+            })
+        })
+    }
+}
+
+/// Reads the parameters and sets every chip up.
+fn open_chips(args: &ModuleArgs, env: &LoadEnv) -> Result<OpenedChips> {
     let p = Params::new(NAME, args);
     let (backend, chips) = read_common(&p, args, ADDRESSES, 0x48).map_err(|e| e.into_hal(NAME))?;
     let n = chips.len();
@@ -105,27 +138,12 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         });
     }
     let prepared = prepare_all(
-        host,
+        env.instance(),
         backend,
         NAME,
         &chips,
         || Box::new(Ads1115::new()),
         |i, at| Ok((Ads1115Chip::new(at.addr, settings[i]), ())),
     )?;
-    build(host, NAME, prepared, |b, i, name, ends| {
-        let c = b.component();
-        let s = settings[i];
-        let names = ChannelNames::canonical::<AdcIn>(NAME, i, s.channels);
-        let adcs = (0..s.channels)
-            .map(|ch| AdcIn::export(c, &names, ch, s.lsb_volts(), 0.0))
-            .collect::<Result<Vec<_>>>()?;
-        let status = StatusPins::export(c, name)?;
-        let mut st = ends.status;
-        b.funct(&format!("{name}.read"), true, move |_| {
-            let sample = status.update(&mut st).sample;
-            for (ch, a) in adcs.iter().enumerate() {
-                a.update_counts(sample.counts[ch] as i64);
-            }
-        })
-    })
+    Ok(OpenedChips { prepared, settings })
 }

@@ -34,12 +34,12 @@ pub mod pca9685;
 use std::ops::RangeInclusive;
 use std::sync::Arc;
 
-use hal_core::module::{ModuleArgs, ParamDecl, ParamKind};
-use hal_core::{Component, Host, In, Out, Pin, Result, RtComponentBuilder};
-use hal_driver::fault::{self, SafeState};
+use hal_core::module::ModuleArgs;
+use hal_core::{HalHost, HostPin, In, Ours, Out, PinFactory, Result};
+use hal_driver::fault::SafeState;
 use hal_driver::params::{Backend, BackendTokens, Params};
 use hal_driver::sim::SimClock;
-use hal_driver::DriverError;
+use hal_driver::{CompId, DriverError, DriverHost, Exporter, LogSink};
 
 use crate::bus::I2cBus;
 use crate::chips::Chip;
@@ -58,32 +58,19 @@ pub const BACKENDS: BackendTokens = BackendTokens::new(&["dev"], &[]);
 /// The bus number when none is given.
 pub const DEFAULT_BUS: i64 = 1;
 
-/// The parameters every module has.
-pub const COMMON_PARAMS: [ParamDecl; 3] = [
-    ParamDecl {
-        name: "address",
-        kind: ParamKind::IntArray(MAX_CHIPS),
-        help: "7-bit address of each chip (its number is the number of chips)",
-    },
-    ParamDecl {
-        name: "bus",
-        kind: ParamKind::IntArray(MAX_CHIPS),
-        help: "I2C bus of each chip: /dev/i2c-<bus> (default 1)",
-    },
-    ParamDecl {
-        name: "backend",
-        kind: ParamKind::Str,
-        help: "dev (default: /dev/i2c-N) or sim (simulated chips)",
-    },
-];
-
-/// A per-chip integer parameter (`IntArray` of [`MAX_CHIPS`]).
-pub const fn per_chip(name: &'static str, help: &'static str) -> ParamDecl {
-    ParamDecl {
-        name,
-        kind: ParamKind::IntArray(MAX_CHIPS),
-        help,
-    }
+/// A chip module's parameter table: the parameters every module has
+/// (`address` and `bus` first, `backend` last) around the module's own,
+/// handed to `$then` as the module's table macro does.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __i2c_params {
+    ([$($then:tt)*] $($own:tt)*) => { $($then)*! {
+        address: IntArray($crate::hal::MAX_CHIPS) =
+            "7-bit address of each chip (its number is the number of chips)",
+        bus: IntArray($crate::hal::MAX_CHIPS) = "I2C bus of each chip: /dev/i2c-<bus> (default 1)",
+        $($own)*
+        backend: Str = "dev (default: /dev/i2c-N) or sim (simulated chips)",
+    } };
 }
 
 /// Where a chip is.
@@ -171,13 +158,13 @@ pub fn sim_bus(instance: &str, bus: u32) -> Option<Arc<SimBus>> {
     hal_driver::sim::find(instance, &sim_key(bus))
 }
 
-/// The helper thread of bus `bus` on `backend`, started if need be.
+/// The helper thread of bus `bus` on `backend` in HAL `instance`,
+/// started if need be.
 pub fn worker_for(
-    host: &Host,
+    instance: &str,
     backend: Backend,
     bus: u32,
 ) -> std::result::Result<Arc<BusWorker>, I2cError> {
-    let instance = host.instance().name();
     let spawn_failed = |e: std::io::Error| I2cError::Open {
         path: format!("bus {bus}"),
         reason: format!("starting its helper thread: {e}"),
@@ -222,7 +209,7 @@ pub struct Prepared<C: Chip> {
 /// simulated bus, takes the address and sets `chip` up with its outputs
 /// at `safe`. `name` is the chip's HAL name, for messages.
 pub fn prepare<C: Chip>(
-    host: &Host,
+    instance: &str,
     backend: Backend,
     at: ChipAt,
     name: &str,
@@ -230,7 +217,7 @@ pub fn prepare<C: Chip>(
     mut chip: C,
     safe: &C::Cmd,
 ) -> std::result::Result<Prepared<C>, I2cError> {
-    let worker = worker_for(host, backend, at.bus)?;
+    let worker = worker_for(instance, backend, at.bus)?;
     let bus_name = worker.bus().describe();
     let reservation = worker.reserve(at.addr, name)?;
     if let Some(sim) = worker.sim() {
@@ -259,7 +246,7 @@ pub fn prepare<C: Chip>(
 /// `model` the register model a simulated bus gets. Any failure fails
 /// the whole load; what was prepared is released.
 pub fn prepare_all<C: Chip>(
-    host: &Host,
+    instance: &str,
     backend: Backend,
     module: &str,
     chips: &[ChipAt],
@@ -270,7 +257,7 @@ pub fn prepare_all<C: Chip>(
     for (i, &at) in chips.iter().enumerate() {
         let (chip, safe) = make(i, at)?;
         let name = format!("{module}.{i}");
-        let p = prepare(host, backend, at, &name, model, chip, &safe)
+        let p = prepare(instance, backend, at, &name, model, chip, &safe)
             .map_err(|e| e.into_hal(module))?;
         prepared.push((p, at));
     }
@@ -278,34 +265,34 @@ pub fn prepare_all<C: Chip>(
 }
 
 /// Makes component `module` for the `prepared` chips: puts each on its
-/// helper thread and lets `export` make its pins and functions (given
-/// the builder, the chip's index and HAL name, and the realtime ends of
-/// its hand-offs); then installs the safe-state hook, marks the
-/// component ready and publishes the simulated buses.
-pub fn build<C: Chip>(
-    host: &Host,
+/// helper thread and lets `each` make its pins and functions on the
+/// component (given the chip's index and HAL name, and the realtime ends
+/// of its hand-offs); then gives the chips' safe state and what keeps
+/// them running to the component, and publishes the simulated buses.
+pub fn export_chips<H: DriverHost, C: Chip>(
+    ex: &mut Exporter<'_, H>,
     module: &str,
     prepared: Vec<(Prepared<C>, ChipAt)>,
-    mut export: impl FnMut(&mut RtComponentBuilder<'_>, usize, &str, RealtimeEnds<C>) -> Result<()>,
+    mut each: impl FnMut(&mut Exporter<'_, H>, CompId, usize, &str, RealtimeEnds<C>) -> Result<()>,
 ) -> Result<()> {
-    let mut b = host.new_rt_component(module)?;
+    let comp = ex.component(module)?;
     let mut chips = ModuleChips {
         safes: Vec::new(),
         running: Vec::new(),
     };
     for (i, (prep, at)) in prepared.into_iter().enumerate() {
         let name = format!("{module}.{i}");
-        let (running, ends) = start(host, prep, at, &name);
+        let (running, ends) = start(ex.log(), prep, at, &name);
         chips.safes.push(ChipSafe {
             flags: ends.flags.clone(),
         });
+        if let Some((bus, sim)) = &running.simulated {
+            ex.publish_sim(&sim_key(*bus), sim);
+        }
         chips.running.push(running);
-        export(&mut b, i, &name, ends)?;
+        each(ex, comp, i, &name, ends)?;
     }
-    let chips = Arc::new(chips);
-    fault::install(&mut b, chips.clone());
-    b.ready()?;
-    chips.publish_sims(host);
+    ex.safe_state(comp, chips);
     Ok(())
 }
 
@@ -319,12 +306,12 @@ pub struct Running {
 /// Puts a prepared chip on its helper thread; returns what keeps it
 /// there and the realtime ends of its hand-offs.
 pub fn start<C: Chip>(
-    host: &Host,
+    log: LogSink,
     p: Prepared<C>,
     at: ChipAt,
     name: &str,
 ) -> (Running, RealtimeEnds<C>) {
-    let (runner, ends) = ChipRunner::new(name, p.chip, host.rt_log());
+    let (runner, ends) = ChipRunner::new(name, p.chip, log);
     let attachment = p.worker.attach(runner);
     let simulated = p.worker.sim().map(|s| (at.bus, s.clone()));
     (
@@ -354,28 +341,16 @@ impl SafeState for ModuleChips {
     }
 }
 
-impl ModuleChips {
-    /// Publishes the simulated buses for tests and tools; call after the
-    /// component is ready.
-    pub fn publish_sims(&self, host: &Host) {
-        for r in &self.running {
-            if let Some((bus, sim)) = &r.simulated {
-                hal_driver::sim::publish(host.instance().name(), &sim_key(*bus), sim);
-            }
-        }
-    }
+/// A chip's fault, error-count and fault-reset pins, in host `H`.
+pub struct StatusPins<H: HalHost = Ours> {
+    fault: H::Pin<bool, Out>,
+    errors: H::Pin<u32, Out>,
+    reset: H::Pin<bool, In>,
 }
 
-/// A chip's fault, error-count and fault-reset pins.
-pub struct StatusPins {
-    fault: Pin<bool, Out>,
-    errors: Pin<u32, Out>,
-    reset: Pin<bool, In>,
-}
-
-impl StatusPins {
+impl<H: HalHost> StatusPins<H> {
     /// Exports `<name>.fault`, `<name>.errors`, `<name>.fault-reset`.
-    pub fn export(c: &Component, name: &str) -> Result<StatusPins> {
+    pub fn export(c: &impl PinFactory<H>, name: &str) -> Result<Self> {
         Ok(StatusPins {
             fault: c.pin(&format!("{name}.fault"))?,
             errors: c.pin(&format!("{name}.errors"))?,

@@ -15,10 +15,11 @@
 
 use canonical::{ChannelNames, Pwm};
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
-use hal_core::{Host, Result};
+use hal_core::Result;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
 
-use super::{build, per_chip, prepare_all, read_common, StatusPins, COMMON_PARAMS};
+use super::{export_chips, prepare_all, read_common, ChipAt, Prepared, StatusPins};
 use crate::chips::{Pca9685Chip, PwmCmd};
 use crate::regs::pca9685::{prescale_for, ADDRESSES, CHANNELS};
 use crate::sim::Pca9685;
@@ -29,72 +30,81 @@ pub const NAME: &str = "pca9685";
 /// The PWM frequency when none is given, Hz.
 pub const DEFAULT_FREQ: i64 = 1000;
 
-const PARAMS: &[ParamDecl] = &[
-    COMMON_PARAMS[0],
-    COMMON_PARAMS[1],
-    per_chip(
-        "freq",
-        "PWM frequency of each chip, Hz (24..1526, default 1000)",
-    ),
-    per_chip("invert", "1: invert the chip's outputs"),
-    per_chip("opendrain", "1: open-drain outputs (default totem pole)"),
-    COMMON_PARAMS[2],
-];
+/// pca9685's module parameters, the one table both hosts read.
+#[macro_export]
+macro_rules! pca9685_params {
+    ($($then:tt)*) => { $crate::__i2c_params! { [$($then)*]
+        freq: IntArray($crate::hal::MAX_CHIPS) =
+            "PWM frequency of each chip, Hz (24..1526, default 1000)",
+        invert: IntArray($crate::hal::MAX_CHIPS) = "1: invert the chip's outputs",
+        opendrain: IntArray($crate::hal::MAX_CHIPS) = "1: open-drain outputs (default totem pole)",
+    } };
+}
 
-/// The `pca9685` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: PARAMS,
-    help: "NXP PCA9685 16-channel PWM outputs on I2C (or simulated)",
-    load,
-};
+/// The `pca9685` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct HalPca9685;
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let p = Params::new(NAME, args);
-    let (backend, chips) = read_common(&p, args, ADDRESSES, 0x40).map_err(|e| e.into_hal(NAME))?;
-    let n = chips.len();
-    let freqs = p
-        .ints_per("freq", n, DEFAULT_FREQ, 1..=100_000)
-        .map_err(|e| e.into_hal(NAME))?;
-    let invert = super::flags_per(&p, "invert", n).map_err(|e| e.into_hal(NAME))?;
-    let open_drain = super::flags_per(&p, "opendrain", n).map_err(|e| e.into_hal(NAME))?;
-    let prepared = prepare_all(
-        host,
-        backend,
-        NAME,
-        &chips,
-        || Box::new(Pca9685::new()),
-        |i, at| {
-            let prescale = prescale_for(freqs[i] as f64).ok_or_else(|| {
-                p.item_error(
-                    "freq",
-                    i,
-                    &freqs[i].to_string(),
-                    "the chip runs at 24..1526 Hz",
-                )
-                .into_hal(NAME)
+/// The `pca9685` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<HalPca9685>();
+
+impl DriverModule for HalPca9685 {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str = "NXP PCA9685 16-channel PWM outputs on I2C (or simulated)";
+    const PARAMS: &'static [ParamDecl] = pca9685_params!(hal_driver::param_table);
+    type Opened = Vec<(Prepared<Pca9685Chip>, ChipAt)>;
+
+    fn open(args: &ModuleArgs, env: &LoadEnv) -> Result<Self::Opened> {
+        let p = Params::new(NAME, args);
+        let (backend, chips) =
+            read_common(&p, args, ADDRESSES, 0x40).map_err(|e| e.into_hal(NAME))?;
+        let n = chips.len();
+        let freqs = p
+            .ints_per("freq", n, DEFAULT_FREQ, 1..=100_000)
+            .map_err(|e| e.into_hal(NAME))?;
+        let invert = super::flags_per(&p, "invert", n).map_err(|e| e.into_hal(NAME))?;
+        let open_drain = super::flags_per(&p, "opendrain", n).map_err(|e| e.into_hal(NAME))?;
+        prepare_all(
+            env.instance(),
+            backend,
+            NAME,
+            &chips,
+            || Box::new(Pca9685::new()),
+            |i, at| {
+                let prescale = prescale_for(freqs[i] as f64).ok_or_else(|| {
+                    p.item_error(
+                        "freq",
+                        i,
+                        &freqs[i].to_string(),
+                        "the chip runs at 24..1526 Hz",
+                    )
+                    .into_hal(NAME)
+                })?;
+                let chip = Pca9685Chip::new(at.addr, prescale, invert[i], open_drain[i]);
+                Ok((chip, PwmCmd::default()))
+            },
+        )
+    }
+
+    fn export<H: DriverHost>(prepared: Self::Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
+        export_chips(ex, NAME, prepared, |ex, comp, i, name, ends| {
+            let c = ex.pins(comp);
+            let names = ChannelNames::canonical::<Pwm>(NAME, i, CHANNELS);
+            let pwm = (0..CHANNELS)
+                .map(|ch| Pwm::<H>::export(c, &names, ch))
+                .collect::<Result<Vec<_>>>()?;
+            let status = StatusPins::<H>::export(c, name)?;
+            let (mut cmd, mut st) = (ends.cmd, ends.status);
+            ex.funct(comp, &format!("{name}.read"), false, move |_| {
+                status.update(&mut st);
             })?;
-            let chip = Pca9685Chip::new(at.addr, prescale, invert[i], open_drain[i]);
-            Ok((chip, PwmCmd::default()))
-        },
-    )?;
-    build(host, NAME, prepared, |b, i, name, ends| {
-        let c = b.component();
-        let names = ChannelNames::canonical::<Pwm>(NAME, i, CHANNELS);
-        let pwm = (0..CHANNELS)
-            .map(|ch| Pwm::export(c, &names, ch))
-            .collect::<Result<Vec<_>>>()?;
-        let status = StatusPins::export(c, name)?;
-        let (mut cmd, mut st) = (ends.cmd, ends.status);
-        b.funct(&format!("{name}.read"), false, move |_| {
-            status.update(&mut st);
-        })?;
-        b.funct(&format!("{name}.write"), true, move |_| {
-            let mut out = PwmCmd::default();
-            for (k, ch) in pwm.iter().enumerate() {
-                out.counts[k] = PwmCmd::counts_for(ch.duty().unwrap_or(0.0));
-            }
-            cmd.publish(out);
+            ex.funct(comp, &format!("{name}.write"), true, move |_| {
+                let mut out = PwmCmd::default();
+                for (k, ch) in pwm.iter().enumerate() {
+                    out.counts[k] = PwmCmd::counts_for(ch.duty().unwrap_or(0.0));
+                }
+                cmd.publish(out);
+            })
         })
-    })
+    }
 }

@@ -8,8 +8,9 @@ use std::time::Duration;
 
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
-use hal_parport::tool::{format_inputs, list, open, outputs_for, selftest};
+use hal_parport::tool::{format_inputs, list, open, outputs_for, parse_level, selftest};
 use hal_parport::tool_args::{Cli, Command};
+use hal_parport::PortError;
 
 fn main() {
     let cli = Cli::parse();
@@ -23,7 +24,7 @@ fn main() {
     std::process::exit(code);
 }
 
-fn run(command: Command) -> Result<i32, String> {
+fn run(command: Command) -> Result<i32, PortError> {
     match command {
         Command::List => {
             let ports = list();
@@ -37,7 +38,7 @@ fn run(command: Command) -> Result<i32, String> {
         }
         Command::Watch { port, count } => {
             let port = open(&port)?;
-            let exit = ExitSignals::install().map_err(|e| e.to_string())?;
+            let exit = ExitSignals::install().map_err(|source| PortError::Signals { source })?;
             let tty = std::io::stdout().is_terminal();
             hal_core::outln!(
                 "{} ({} mode): pin:level",
@@ -66,27 +67,10 @@ fn run(command: Command) -> Result<i32, String> {
             levels: wanted,
         } => {
             let port = open(&port)?;
-            let mut levels = Vec::new();
-            for a in &wanted {
-                let (pin, level) = a
-                    .split_once('=')
-                    .ok_or_else(|| format!("'{a}': expected PIN=0|1"))?;
-                let pin: u8 = pin
-                    .parse()
-                    .map_err(|_| format!("'{pin}' is not a pin number"))?;
-                if !hal_parport::tool::is_output(port.mode, pin) {
-                    return Err(format!(
-                        "pin {pin} is not an output in {} mode",
-                        port.mode.name()
-                    ));
-                }
-                let high = match level {
-                    "1" => true,
-                    "0" => false,
-                    _ => return Err(format!("'{level}': use 0 or 1")),
-                };
-                levels.push((pin, high));
-            }
+            let levels = wanted
+                .iter()
+                .map(|a| parse_level(a, port.mode))
+                .collect::<Result<Vec<_>, _>>()?;
             port.driver.write(&outputs_for(&levels));
             hal_core::outln!("{}: outputs set; other outputs low", port.description);
             Ok(0)
@@ -95,10 +79,9 @@ fn run(command: Command) -> Result<i32, String> {
             let port = open(&port)?;
             let results = selftest(&port);
             if results.is_empty() {
-                return Err(format!(
-                    "nothing to test in {} mode; use out or x",
-                    port.mode.name()
-                ));
+                return Err(PortError::NothingToTest {
+                    mode: port.mode.name(),
+                });
             }
             let mut failed = 0;
             for w in &results {

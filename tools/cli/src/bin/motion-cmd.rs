@@ -3,23 +3,26 @@
 //! show its status. Exit status: 0 accepted, 1 rejected, 2 usage or
 //! connection error.
 
+use std::io::Write;
 use std::process::ExitCode;
 use std::time::Duration;
 
 use clap::Parser;
-use hal_tools::motion_queue_args;
 use hal_tools::tool_args::motion_cmd::Cli;
+use hal_tools::{motion_queue_args, ToolsError};
 use motion::comp_file::{read_comp_file, CompFileType};
 use motion::kins::Pose;
 use motion::{Command, MotionClient};
 
 /// A usage error, printed with a hint to --help.
-struct Usage(String);
+fn usage(message: impl Into<String>) -> ToolsError {
+    ToolsError::usage(message)
+}
 
-fn int(s: Option<&String>, what: &str) -> Result<i32, Usage> {
-    let s = s.ok_or_else(|| Usage(format!("missing {what}")))?;
+fn int(s: Option<&String>, what: &str) -> Result<i32, ToolsError> {
+    let s = s.ok_or_else(|| usage(format!("missing {what}")))?;
     s.parse()
-        .map_err(|_| Usage(format!("{what} must be an integer, not '{s}'")))
+        .map_err(|_| usage(format!("{what} must be an integer, not '{s}'")))
 }
 
 /// A status condition `wait` waits for.
@@ -36,10 +39,8 @@ enum Condition {
 }
 
 impl Condition {
-    fn parse(a: &[String]) -> Result<Condition, Usage> {
-        let name = a
-            .first()
-            .ok_or_else(|| Usage("'wait' needs a condition".into()))?;
+    fn parse(a: &[String]) -> Result<Condition, ToolsError> {
+        let name = a.first().ok_or_else(|| usage("'wait' needs a condition"))?;
         let (c, n) = match name.as_str() {
             "enabled" => (Condition::Enabled, 1),
             "disabled" => (Condition::Disabled, 1),
@@ -51,19 +52,19 @@ impl Condition {
             "homed" => {
                 let j = int(a.get(1), "JOINT")?;
                 let j = usize::try_from(j)
-                    .map_err(|_| Usage(format!("JOINT must not be negative, not {j}")))?;
+                    .map_err(|_| usage(format!("JOINT must not be negative, not {j}")))?;
                 (Condition::Homed(j), 2)
             }
-            o => return Err(Usage(format!("unknown wait condition '{o}'"))),
+            o => return Err(usage(format!("unknown wait condition '{o}'"))),
         };
         if a.len() != n {
-            return Err(Usage(format!("'wait {name}' takes {} argument(s)", n - 1)));
+            return Err(usage(format!("'wait {name}' takes {} argument(s)", n - 1)));
         }
         Ok(c)
     }
 
     /// Whether the condition holds; `Err` when it never can.
-    fn holds(self, s: &motion::MotionStatus) -> Result<bool, String> {
+    fn holds(self, s: &motion::MotionStatus) -> Result<bool, ToolsError> {
         Ok(match self {
             Condition::Enabled => s.enabled,
             Condition::Disabled => !s.enabled,
@@ -75,8 +76,9 @@ impl Condition {
             Condition::Homed(j) => {
                 s.joints
                     .get(j)
-                    .ok_or_else(|| {
-                        format!("joint {j} does not exist (there are {})", s.joints.len())
+                    .ok_or(ToolsError::NoSuchJoint {
+                        joint: j,
+                        count: s.joints.len(),
                     })?
                     .homed
             }
@@ -85,28 +87,19 @@ impl Condition {
 }
 
 /// Polls the status until `cond` holds in a snapshot taken at least two
-/// servo cycles after the start, or `limit` passes.
-fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode {
+/// servo cycles after the start (success), or `limit` passes (status 1).
+fn wait_for(
+    client: &MotionClient,
+    cond: Condition,
+    limit: Duration,
+) -> Result<ExitCode, ToolsError> {
     let start = std::time::Instant::now();
     let mut first_beat = None;
     loop {
-        let s = match client.status() {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("motion-cmd: {e}");
-                return ExitCode::from(2);
-            }
-        };
+        let s = client.status()?;
         let beat0 = *first_beat.get_or_insert(s.heartbeat);
-        if s.heartbeat.wrapping_sub(beat0) >= 2 {
-            match cond.holds(&s) {
-                Ok(true) => return ExitCode::SUCCESS,
-                Ok(false) => {}
-                Err(e) => {
-                    eprintln!("motion-cmd: {e}");
-                    return ExitCode::from(2);
-                }
-            }
+        if s.heartbeat.wrapping_sub(beat0) >= 2 && cond.holds(&s)? {
+            return Ok(ExitCode::SUCCESS);
         }
         if start.elapsed() >= limit {
             hal_tools::outln!(
@@ -114,125 +107,115 @@ fn wait_for(client: &MotionClient, cond: Condition, limit: Duration) -> ExitCode
                 limit.as_secs_f64()
             );
             hal_tools::out!("{s}");
-            return ExitCode::from(1);
+            return Ok(ExitCode::from(1));
         }
         std::thread::sleep(Duration::from_millis(2));
     }
 }
 
-/// Parses a command of the basic group and its arguments, as motion's
-/// command table says.
-fn parse_command(name: &str, a: &[String]) -> Result<Command, Usage> {
-    motion::command::parse(name, a, Pose::ZERO).map_err(|e| Usage(e.to_string()))
+/// What a command line asks for, parsed before connecting so usage
+/// errors need no running instance.
+enum Action {
+    Status,
+    Watch {
+        ms: u64,
+        count: Option<u64>,
+    },
+    Send(Command),
+    Wait(Condition),
+    /// A queueing command: parsed again once the goal is known.
+    Queue(String),
+    LoadComp {
+        joint: i32,
+        entries: Vec<Command>,
+    },
 }
 
-fn run(cli: Cli) -> Result<ExitCode, Usage> {
+/// Parses command `name` and its arguments `rest`.
+fn parse_action(name: &str, rest: &[String]) -> Result<Action, ToolsError> {
+    Ok(match name {
+        "status" if rest.is_empty() => Action::Status,
+        "status" => return Err(usage("'status' takes no argument")),
+        "watch" => parse_watch(rest)?,
+        "wait" => Action::Wait(Condition::parse(rest)?),
+        "load-comp" => parse_load_comp(rest)?,
+        q if motion_queue_args::is_queue_command(q) => {
+            // Check the words now, so usage errors need no instance.
+            motion_queue_args::parse(q, rest, Pose::ZERO).map_err(|e| usage(e.to_string()))?;
+            Action::Queue(q.to_string())
+        }
+        _ => Action::Send(
+            motion::command::parse(name, rest, Pose::ZERO).map_err(|e| usage(e.to_string()))?,
+        ),
+    })
+}
+
+/// `watch [-n MS] [-c COUNT]`.
+fn parse_watch(rest: &[String]) -> Result<Action, ToolsError> {
+    let (mut ms, mut count) = (200, None);
+    let mut k = 0;
+    while k < rest.len() {
+        let v = rest.get(k + 1);
+        let n = |v: Option<&String>, what: &str| -> Result<u64, ToolsError> {
+            v.and_then(|s| s.parse().ok())
+                .ok_or_else(|| usage(format!("{what} needs a whole number")))
+        };
+        match rest[k].as_str() {
+            "-n" | "--interval" => ms = n(v, "--interval")?.max(1),
+            "-c" | "--count" => count = Some(n(v, "--count")?),
+            o => return Err(usage(format!("unknown watch option '{o}'"))),
+        }
+        k += 2;
+    }
+    Ok(Action::Watch { ms, count })
+}
+
+/// `load-comp JOINT FILE TYPE`: the file is read now, its entries sent
+/// once connected.
+fn parse_load_comp(rest: &[String]) -> Result<Action, ToolsError> {
+    if rest.len() != 3 {
+        return Err(usage("'load-comp' takes JOINT FILE TYPE"));
+    }
+    let joint = int(rest.first(), "JOINT")?;
+    let kind = CompFileType::from_ini(&rest[2]).map_err(|e| usage(e.to_string()))?;
+    let entries = read_comp_file(std::path::Path::new(&rest[1]), kind)?;
+    Ok(Action::LoadComp {
+        joint,
+        entries: entries
+            .into_iter()
+            .map(|e| Command::SetJointComp {
+                joint,
+                nominal: e.nominal,
+                forward: e.forward,
+                reverse: e.reverse,
+            })
+            .collect(),
+    })
+}
+
+fn run(cli: Cli) -> Result<ExitCode, ToolsError> {
     let instance = cli.instance.unwrap_or_else(hal_core::instance_from_env);
     // A year at most: far beyond any wait, and an Instant that far ahead
     // still exists.
     let timeout = match &cli.timeout {
         Some(text) => Some(
             hal_tools::stdio::parse_seconds("--timeout", text, 365.0 * 86_400.0)
-                .map_err(|e| Usage(e.to_string()))?,
+                .map_err(|e| usage(e.to_string()))?,
         ),
         None => None,
     };
     let Some((name, rest)) = cli.command.split_first() else {
-        return Err(Usage("no command given".into()));
+        return Err(usage("no command given"));
     };
-    // Parse before connecting, so usage errors need no running instance.
-    enum Action {
-        Status,
-        Watch {
-            ms: u64,
-            count: Option<u64>,
-        },
-        Send(Command),
-        Wait(Condition),
-        /// A queueing command: parsed again once the goal is known.
-        Queue(String),
-        LoadComp {
-            joint: i32,
-            entries: Vec<Command>,
-        },
-    }
-    let action = match name.as_str() {
-        "status" if rest.is_empty() => Action::Status,
-        "status" => return Err(Usage("'status' takes no argument".into())),
-        "watch" => {
-            let (mut ms, mut count) = (200, None);
-            let mut k = 0;
-            while k < rest.len() {
-                let v = rest.get(k + 1);
-                let n = |v: Option<&String>, what: &str| -> Result<u64, Usage> {
-                    v.and_then(|s| s.parse().ok())
-                        .ok_or_else(|| Usage(format!("{what} needs a whole number")))
-                };
-                match rest[k].as_str() {
-                    "-n" | "--interval" => ms = n(v, "--interval")?.max(1),
-                    "-c" | "--count" => count = Some(n(v, "--count")?),
-                    o => return Err(Usage(format!("unknown watch option '{o}'"))),
-                }
-                k += 2;
-            }
-            Action::Watch { ms, count }
-        }
-        "wait" => Action::Wait(Condition::parse(rest)?),
-        "load-comp" => {
-            if rest.len() != 3 {
-                return Err(Usage("'load-comp' takes JOINT FILE TYPE".into()));
-            }
-            let joint = int(rest.first(), "JOINT")?;
-            let kind = CompFileType::from_ini(&rest[2]).map_err(|e| Usage(e.to_string()))?;
-            match read_comp_file(std::path::Path::new(&rest[1]), kind) {
-                Ok(entries) => Action::LoadComp {
-                    joint,
-                    entries: entries
-                        .into_iter()
-                        .map(|e| Command::SetJointComp {
-                            joint,
-                            nominal: e.nominal,
-                            forward: e.forward,
-                            reverse: e.reverse,
-                        })
-                        .collect(),
-                },
-                Err(e) => {
-                    eprintln!("motion-cmd: {e}");
-                    return Ok(ExitCode::from(2));
-                }
-            }
-        }
-        q if motion_queue_args::is_queue_command(q) => {
-            // Check the words now, so usage errors need no instance.
-            motion_queue_args::parse(q, rest, motion::Pose::ZERO)
-                .map_err(|e| Usage(e.to_string()))?;
-            Action::Queue(q.to_string())
-        }
-        _ => Action::Send(parse_command(name, rest)?),
-    };
-    let mut client = match MotionClient::attach(&instance) {
-        Ok(c) => c.with_timeout(timeout.unwrap_or(Duration::from_secs(1))),
-        Err(e) => {
-            eprintln!("motion-cmd: instance '{instance}': {e}");
-            return Ok(ExitCode::from(2));
-        }
-    };
+    let action = parse_action(name, rest)?;
+    let mut client = MotionClient::attach(&instance)
+        .map_err(|source| ToolsError::MotionAttach { instance, source })?
+        .with_timeout(timeout.unwrap_or(Duration::from_secs(1)));
     match action {
-        Action::Wait(cond) => Ok(wait_for(
-            &client,
-            cond,
-            timeout.unwrap_or(Duration::from_secs(60)),
-        )),
+        Action::Wait(cond) => wait_for(&client, cond, timeout.unwrap_or(Duration::from_secs(60))),
         Action::Queue(q) => {
-            let goal = match client.status() {
-                Ok(s) => motion::Pose(s.traj.goal),
-                Err(e) => {
-                    eprintln!("motion-cmd: {e}");
-                    return Ok(ExitCode::from(2));
-                }
-            };
-            let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| Usage(e.to_string()))?;
+            let goal = Pose(client.status()?.traj.goal);
+            let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| usage(e.to_string()))?;
             Ok(send(&mut client, cmd))
         }
         Action::LoadComp { joint, entries } => {
@@ -246,36 +229,27 @@ fn run(cli: Cli) -> Result<ExitCode, Usage> {
             Ok(code)
         }
         Action::Send(cmd) => Ok(send(&mut client, cmd)),
-        Action::Status => match client.status() {
-            Ok(s) => {
-                hal_tools::out!("{s}");
-                Ok(ExitCode::SUCCESS)
-            }
-            Err(e) => {
-                eprintln!("motion-cmd: {e}");
-                Ok(ExitCode::from(2))
-            }
-        },
-        Action::Watch { ms, count } => {
-            let mut n = 0u64;
-            loop {
-                match client.status() {
-                    // Home the cursor and clear, then the snapshot.
-                    Ok(s) => hal_tools::out!("\x1b[H\x1b[2J{s}"),
-                    Err(e) => {
-                        eprintln!("motion-cmd: {e}");
-                        return Ok(ExitCode::from(2));
-                    }
-                }
-                use std::io::Write;
-                let _ = std::io::stdout().flush();
-                n += 1;
-                if count.is_some_and(|c| n >= c) {
-                    return Ok(ExitCode::SUCCESS);
-                }
-                std::thread::sleep(Duration::from_millis(ms));
-            }
+        Action::Status => {
+            hal_tools::out!("{}", client.status()?);
+            Ok(ExitCode::SUCCESS)
         }
+        Action::Watch { ms, count } => watch(&client, ms, count),
+    }
+}
+
+/// Redraws the status every `ms` milliseconds, `count` times or until
+/// stopped.
+fn watch(client: &MotionClient, ms: u64, count: Option<u64>) -> Result<ExitCode, ToolsError> {
+    let mut n = 0u64;
+    loop {
+        // Home the cursor and clear, then the snapshot.
+        hal_tools::out!("\x1b[H\x1b[2J{}", client.status()?);
+        let _ = std::io::stdout().flush();
+        n += 1;
+        if count.is_some_and(|c| n >= c) {
+            return Ok(ExitCode::SUCCESS);
+        }
+        std::thread::sleep(Duration::from_millis(ms));
     }
 }
 
@@ -296,8 +270,12 @@ fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
 fn main() -> ExitCode {
     match run(Cli::parse()) {
         Ok(c) => c,
-        Err(Usage(m)) => {
+        Err(ToolsError::Usage(m)) => {
             eprintln!("motion-cmd: {m} (see motion-cmd --help)");
+            ExitCode::from(2)
+        }
+        Err(e) => {
+            eprintln!("motion-cmd: {e}");
             ExitCode::from(2)
         }
     }

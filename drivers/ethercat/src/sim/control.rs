@@ -1,0 +1,222 @@
+//! Running a simulated segment behind a [`Link`] (what `ethercat-sim`
+//! does on one end of a veth pair), and the commands that inject faults
+//! into it while it runs (`ethercat-sim` reads them on its standard
+//! input, one per line):
+//!
+//! | command | fault |
+//! |---|---|
+//! | `link down`, `link up` | the cable at the master pulled or plugged: frames are lost |
+//! | `cut N`, `cut none` | the line ends before slave N (N and those after it lost), or is whole again |
+//! | `reset N` | slave N power-cycles: back in INIT without an address |
+//! | `al-error N CODE` | slave N drops to SAFE-OP with AL status code CODE |
+//! | `drive-fault N CODE` | the drive at N faults with error code CODE (and sends an EMCY); a stepper terminal raises its error bit |
+//! | `shaft N COUNTS_PER_S` | the encoder at N turns at that rate |
+//!
+//! Numbers are decimal or `0x` hexadecimal.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use super::catalog::{Encoder, Stepper};
+use super::servo::Servo;
+use super::{Outcome, Segment};
+use crate::error::{Error, Result};
+use crate::link::{Link, SharedSegment};
+
+/// One fault-injection command.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Control {
+    /// The link at the master: down (true) or up.
+    LinkDown(bool),
+    /// The line cut before a slave, or whole (None).
+    Cut(Option<usize>),
+    /// A slave power-cycled.
+    Reset(usize),
+    /// An AL error with its status code.
+    AlError(usize, u16),
+    /// A drive fault with its error code.
+    DriveFault(usize, u16),
+    /// An encoder's shaft speed (counts per second).
+    Shaft(usize, f64),
+}
+
+fn bad(line: &str, reason: impl Into<String>) -> Error {
+    Error::malformed(format!("command '{line}'"), reason)
+}
+
+fn num(line: &str, word: Option<&str>, what: &str) -> Result<u64> {
+    let w = word.ok_or_else(|| bad(line, format!("{what} is missing")))?;
+    let v = match w.strip_prefix("0x") {
+        Some(h) => u64::from_str_radix(h, 16),
+        None => w.parse(),
+    };
+    v.map_err(|_| bad(line, format!("{what} '{w}' is not a number")))
+}
+
+impl Control {
+    /// Parses one command line (see the module's table).
+    pub fn parse(line: &str) -> Result<Control> {
+        let mut w = line.split_whitespace();
+        let cmd = w.next().unwrap_or("");
+        let position = |w: Option<&str>| num(line, w, "slave position").map(|n| n as usize);
+        let code = |w: Option<&str>| {
+            num(line, w, "code")
+                .and_then(|c| u16::try_from(c).map_err(|_| bad(line, "code over 0xffff")))
+        };
+        let c = match cmd {
+            "link" => match w.next() {
+                Some("down") => Control::LinkDown(true),
+                Some("up") => Control::LinkDown(false),
+                _ => return Err(bad(line, "say 'link down' or 'link up'")),
+            },
+            "cut" => match w.next() {
+                Some("none") => Control::Cut(None),
+                p => Control::Cut(Some(position(p)?)),
+            },
+            "reset" => Control::Reset(position(w.next())?),
+            "al-error" => Control::AlError(position(w.next())?, code(w.next())?),
+            "drive-fault" => Control::DriveFault(position(w.next())?, code(w.next())?),
+            "shaft" => {
+                let p = position(w.next())?;
+                let v = w.next().and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
+                Control::Shaft(p, v.ok_or_else(|| bad(line, "speed is not a number"))?)
+            }
+            _ => {
+                return Err(bad(
+                    line,
+                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S",
+                ))
+            }
+        };
+        if w.next().is_some() {
+            return Err(bad(line, "too many words"));
+        }
+        Ok(c)
+    }
+
+    /// Applies the command to `seg`; an error says which slave is not
+    /// there or cannot take it.
+    pub fn apply(self, seg: &mut Segment) -> Result<()> {
+        let n = seg.slaves().len();
+        let missing =
+            |p: usize| Error::malformed("command", format!("no slave {p} (the segment has {n})"));
+        match self {
+            Control::LinkDown(d) => seg.set_link_down(d),
+            Control::Cut(p) => seg.cut_before(p),
+            Control::Reset(p) if p < n => seg.reset_slave(p),
+            Control::AlError(p, code) => seg
+                .slave_mut(p)
+                .ok_or_else(|| missing(p))?
+                .raise_al_error(code),
+            Control::DriveFault(p, code) => {
+                let esc = seg.slave_mut(p).ok_or_else(|| missing(p))?;
+                let kind = esc.device.kind.clone();
+                let app = esc.device.app.as_any_mut();
+                if let Some(s) = app.downcast_mut::<Servo>() {
+                    s.inject_fault(code);
+                } else if let Some(s) = app.downcast_mut::<Stepper>() {
+                    s.error = true;
+                } else {
+                    return Err(Error::malformed(
+                        "command",
+                        format!("slave {p} ({kind}) is not a drive"),
+                    ));
+                }
+            }
+            Control::Shaft(p, v) => {
+                let esc = seg.slave_mut(p).ok_or_else(|| missing(p))?;
+                let kind = esc.device.kind.clone();
+                match esc.device.app.as_any_mut().downcast_mut::<Encoder>() {
+                    Some(e) => e.counts_per_s = v,
+                    None => {
+                        return Err(Error::malformed(
+                            "command",
+                            format!("slave {p} ({kind}) is not an encoder"),
+                        ))
+                    }
+                }
+            }
+            Control::Reset(p) => return Err(missing(p)),
+        }
+        Ok(())
+    }
+}
+
+/// Answers every frame that arrives on `link` with `segment` until
+/// `stop` is set; returns the frames answered. Times are the monotonic
+/// clock since the start. A receive error other than a timeout ends the
+/// loop with that error.
+pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) -> Result<u64> {
+    let epoch = Instant::now();
+    let mut buf = vec![0u8; 1600];
+    let mut answered = 0;
+    while !stop.load(Ordering::Relaxed) {
+        let n = match link.recv(&mut buf, Duration::from_millis(50)) {
+            Ok(Some(n)) => n,
+            Ok(None) => continue,
+            Err(e) => {
+                return Err(Error::Interface {
+                    iface: link.describe(),
+                    reason: "receiving".into(),
+                    source: Some(e),
+                })
+            }
+        };
+        let now = u64::try_from(epoch.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        let frame = &mut buf[..n];
+        let outcome = match segment.lock() {
+            Ok(mut s) => s.process(frame, now),
+            Err(p) => p.into_inner().process(frame, now),
+        };
+        if outcome == Outcome::Returned {
+            if let Err(e) = link.send(frame) {
+                return Err(Error::Interface {
+                    iface: link.describe(),
+                    reason: "sending".into(),
+                    source: Some(e),
+                });
+            }
+            answered += 1;
+        }
+    }
+    Ok(answered)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::device_by_name;
+
+    #[test]
+    fn commands_parse_and_apply() {
+        let mut seg = Segment::new(
+            ["EK1100", "EL5101", "servo"]
+                .iter()
+                .filter_map(|k| device_by_name(k, 1))
+                .collect(),
+        );
+        for line in [
+            "link down",
+            "link up",
+            "cut 2",
+            "cut none",
+            "reset 1",
+            "al-error 1 0x1b",
+            "drive-fault 2 0x2310",
+            "shaft 1 1000.5",
+        ] {
+            Control::parse(line).unwrap().apply(&mut seg).unwrap();
+        }
+        let mut e = |l: &str| match Control::parse(l) {
+            Ok(c) => c.apply(&mut seg).unwrap_err().to_string(),
+            Err(e) => e.to_string(),
+        };
+        assert!(e("reset 9").contains("no slave 9 (the segment has 3)"));
+        assert!(e("drive-fault 0 1").contains("EK1100) is not a drive"));
+        assert!(e("shaft 2 5").contains("is not an encoder"));
+        assert!(e("fly 1").contains("unknown; commands"));
+        assert!(e("al-error 1").contains("code is missing"));
+        assert!(e("al-error 1 0x10000").contains("over 0xffff"));
+        assert!(e("link down now").contains("too many words"));
+    }
+}

@@ -1,0 +1,104 @@
+//! Interpreter options that come from the machine's configuration
+//! (LinuxCNC's [RS274NGC] INI section and a few others). The library
+//! takes them as plain values; reading an INI file is the caller's job.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Optional interpreter features (`[RS274NGC]FEATURES` bits).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Features {
+    /// Bit 0: keep G43 in effect across tool changes.
+    pub retain_g43: bool,
+    /// Bit 1: subroutines see the number of arguments as `#<n_args>`.
+    pub oword_n_args: bool,
+    /// Bit 2: `#<_ini[section]name>` reads the INI file.
+    pub ini_vars: bool,
+    /// Bit 3: `#<_hal[name]>` reads HAL items.
+    pub hal_pin_vars: bool,
+    /// Bit 4: O-word names keep their case.
+    pub no_downcase_oword: bool,
+}
+
+impl Features {
+    /// Decode the FEATURES bit mask.
+    pub fn from_bits(bits: i64) -> Features {
+        Features {
+            retain_g43: bits & 1 != 0,
+            oword_n_args: bits & 2 != 0,
+            ini_vars: bits & 4 != 0,
+            hal_pin_vars: bits & 8 != 0,
+            no_downcase_oword: bits & 16 != 0,
+        }
+    }
+}
+
+/// Everything configurable about the interpreter.
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// The parameter (.var) file read at start and written at exit; none
+    /// means parameters are not kept.
+    pub parameter_file: Option<PathBuf>,
+    /// Directories searched for `name.ngc` when `O<name> call` names a
+    /// subroutine not defined in the program.
+    pub subroutine_path: Vec<PathBuf>,
+    /// Directories searched for user M-code programs (M100-M199).
+    pub user_m_path: Vec<PathBuf>,
+    /// Searched first for subroutine files (`[DISPLAY]PROGRAM_PREFIX`);
+    /// the current directory when None, as in standalone rs274.
+    pub program_prefix: Option<PathBuf>,
+    /// Optional features.
+    pub features: Features,
+    /// Arc end radius tolerance, inch programs.
+    pub center_arc_radius_tolerance_inch: f64,
+    /// Arc end radius tolerance, mm programs.
+    pub center_arc_radius_tolerance_mm: f64,
+    /// Clear G52/G92 offsets at program end and start.
+    pub disable_g92_persistence: bool,
+    /// Refuse Fanuc-style M98/M99 subprograms.
+    pub disable_fanuc_style_sub: bool,
+    /// Random tool changer: tools swap pockets on change.
+    pub random_toolchanger: bool,
+    /// M6 moves to the G30 position first.
+    pub tool_change_at_g30: bool,
+    /// M6 raises Z to machine zero first.
+    pub tool_change_quill_up: bool,
+    /// M6 leaves the spindle turning.
+    pub tool_change_with_spindle_on: bool,
+    /// Added to M19 orientations, degrees.
+    pub orient_offset: f64,
+    /// Closing a program does not reset the interpreter (LinuxCNC turns
+    /// this on whenever it has an INI file); the reset comes at exit.
+    pub lazy_close: bool,
+    /// M99 in the main program starts it over (task); when false it ends
+    /// the program as M2 does (standalone rs274).
+    pub loop_on_main_m99: bool,
+    /// The INI file's entries, `(section, key) -> value` as written, for
+    /// `#<_ini[section]key>` (FEATURES bit 2). The first of repeated
+    /// keys is kept.
+    pub ini_values: BTreeMap<(String, String), String>,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            parameter_file: None,
+            subroutine_path: Vec::new(),
+            user_m_path: Vec::new(),
+            program_prefix: None,
+            features: Features::default(),
+            center_arc_radius_tolerance_inch: 2.0 * 0.001 * std::f64::consts::SQRT_2,
+            center_arc_radius_tolerance_mm: 2.0 * 0.01 * std::f64::consts::SQRT_2,
+            disable_g92_persistence: false,
+            disable_fanuc_style_sub: false,
+            random_toolchanger: false,
+            tool_change_at_g30: false,
+            tool_change_quill_up: false,
+            tool_change_with_spindle_on: false,
+            orient_offset: 0.0,
+            lazy_close: false,
+            loop_on_main_m99: false,
+            ini_values: BTreeMap::new(),
+        }
+    }
+}
