@@ -168,7 +168,9 @@ fn plain_call_floor(n: usize, run: Duration, realtime: bool) -> f64 {
             let _ = hal_core::realtime::set_fifo(TOP_PRIORITY);
         }
         let counters: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(0)).collect();
-        let calls: Vec<(fn(&AtomicU32), &AtomicU32)> = counters
+        // A plain call: the function and its argument.
+        type Call<'a> = (fn(&AtomicU32), &'a AtomicU32);
+        let calls: Vec<Call<'_>> = counters
             .iter()
             .map(|c| (bump as fn(&AtomicU32), c))
             .collect();
