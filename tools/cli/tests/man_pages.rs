@@ -22,6 +22,31 @@ mod ethercat_sim_args;
 mod help2roff;
 #[path = "../../../drivers/ethercat/src/bin/lcec_conf/args.rs"]
 mod lcec_conf_args;
+/// rs274's page: its --help prints LinuxCNC's usage text word for word,
+/// which does not lay options out as the suite's pages do, so the page
+/// says the same in the suite's layout.
+const RS274_HELP: &str = "\
+usage: rs274 [-p interp.so] [-t tool.tbl] [-v var-file.var] [-n 0|1|2]
+             [-b] [-s] [-g] [-i INI] [-T] [-l LEVEL] [input file [output file]]
+
+Reads an RS274NGC program (LinuxCNC's dialect) from the input file, or
+line by line from standard input, and prints the canonical machining
+calls the interpreter makes, numbered, as LinuxCNC's standalone rs274
+does, to the output file or standard output.
+
+options:
+  -p FILE      the pluggable interpreter (accepted; this rs274 has one)
+  -t FILE      the tool table
+  -v FILE      the parameter file
+  -n 0|1|2     after an error: 0 continue, 1 enter MDI, 2 stop (default)
+  -b           toggle block delete (default off)
+  -s           toggle printing the stack on errors (default off)
+  -g           toggle batch mode (default off)
+  -i FILE      the INI file ([RS274NGC] settings)
+  -T           call task_init
+  -l LEVEL     the log level (default -1)
+  -h, --help   print this help and exit
+  --version    print the version and exit";
 
 /// Where a page comes from.
 enum Source {
@@ -208,6 +233,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             Clap(Box::new(ethercat_sim_args::Args::command())),
         ),
         ("lcec_conf", Clap(Box::new(lcec_conf_args::Args::command()))),
+        (
+            "rs274",
+            help(
+                "run an RS274NGC program through the interpreter and print its canonical calls",
+                RS274_HELP,
+                &["gcode-run(1)", "linuxcnc(1)"],
+            ),
+        ),
     ]
 }
 

@@ -99,6 +99,15 @@ const EXAMPLES: &[(&str, Example)] = &[
         ),
     ),
     (
+        "lcec",
+        sim(
+            "config=../../configs/sim/ethercat-conf.xml backend=sim",
+            "The example runs the suite's simulated EtherCAT segment of \
+             configs/sim/ethercat-conf.xml; raw (the default) opens the \
+             interfaces the file names.",
+        ),
+    ),
+    (
         "hal_gpio",
         sim(
             "inputs=A outputs=B backend=sim",
