@@ -1,7 +1,7 @@
 //! Aliases: a pin or param gets a new name; the old one is kept so that it
 //! can be found by either and `unalias` can restore it.
 
-use super::list::{self, Aliased};
+use super::list;
 use super::param::find_param;
 use super::pin::find_pin;
 use super::Instance;
@@ -67,9 +67,23 @@ impl Instance {
     }
 }
 
-fn rename<T: Aliased>(
+trait Aliasable: list::Named {
+    fn orig(&self) -> &Name;
+}
+impl Aliasable for PinRec {
+    fn orig(&self) -> &Name {
+        &self.orig_name
+    }
+}
+impl Aliasable for ParamRec {
+    fn orig(&self) -> &Name {
+        &self.orig_name
+    }
+}
+
+fn rename<T: Aliasable>(
     tx: &mut Txn<'_>,
-    head: &ObjList,
+    head: &std::sync::atomic::AtomicU64,
     off: u64,
     rec: &T,
     alias: &str,
@@ -77,14 +91,18 @@ fn rename<T: Aliased>(
     if rec.orig().is_empty() {
         let current = rec.name().get();
         tx.set_name(rec.orig(), &current)?;
-        list::remember_alias::<T>(tx, off)?;
     }
     list::remove::<T>(tx, head, off)?;
     tx.set_name(rec.name(), alias)?;
     list::insert_sorted(tx, head, off, rec)
 }
 
-fn restore<T: Aliased>(tx: &mut Txn<'_>, head: &ObjList, off: u64, rec: &T) -> Result<()> {
+fn restore<T: Aliasable>(
+    tx: &mut Txn<'_>,
+    head: &std::sync::atomic::AtomicU64,
+    off: u64,
+    rec: &T,
+) -> Result<()> {
     if rec.orig().is_empty() {
         return Err(HalError::NotFound {
             kind: "alias",
@@ -92,7 +110,6 @@ fn restore<T: Aliased>(tx: &mut Txn<'_>, head: &ObjList, off: u64, rec: &T) -> R
         });
     }
     let orig = rec.orig().get();
-    list::forget_alias::<T>(tx, off)?;
     list::remove::<T>(tx, head, off)?;
     tx.set_name(rec.name(), &orig)?;
     tx.set_name(rec.orig(), "")?;

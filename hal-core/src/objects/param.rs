@@ -22,7 +22,14 @@ pub(crate) fn param_dir(p: &ParamRec) -> ParamDir {
 
 /// Finds a param by name or by its name before aliasing.
 pub(crate) fn find_param<'a>(seg: &'a Segment, name: &str) -> Result<Option<(u64, &'a ParamRec)>> {
-    list::find_aliased(seg, &seg.header().params, name)
+    let key = Name::encode(name);
+    for item in list::iter::<ParamRec>(seg, &seg.header().params) {
+        let (off, p) = item?;
+        if p.name.eq_key(&key) || (!p.orig_name.is_empty() && p.orig_name.eq_key(&key)) {
+            return Ok(Some((off, p)));
+        }
+    }
+    Ok(None)
 }
 
 fn require_param<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &'a ParamRec)> {
@@ -49,10 +56,7 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             let (_, p) = require_param(seg, name)?;
-            Ok(Value::from_bits(
-                param_type(seg, p)?,
-                p.words(seg)?.first.load(Relaxed),
-            ))
+            Ok(Value::from_bits(param_type(seg, p)?, p.value.load(Relaxed)))
         })
     }
 
@@ -74,7 +78,7 @@ impl Instance {
             if param_dir(p) == ParamDir::Ro {
                 return Err(HalError::ParamReadOnly { name: p.name.get() });
             }
-            p.words(seg)?.first.store(value.to_bits(), Relaxed);
+            p.value.store(value.to_bits(), Relaxed);
             Ok(())
         })
     }
@@ -102,9 +106,7 @@ pub(crate) fn new_param_tx(
     rec.type_code.store(t.code() as u64, Relaxed);
     rec.dir.store(dir.code() as u64, Relaxed);
     rec.owner.store(comp, Relaxed);
-    rec.hot
-        .store(tx.alloc_pair(PairPool::Param, init, 0)?, Relaxed);
+    rec.value.store(init, Relaxed);
     list::insert_sorted(tx, &h.params, off, rec)?;
-    super::component::adopt(tx, comp, |c| &c.own_params, &rec.owner_next, off)?;
     Ok(off)
 }
