@@ -224,11 +224,11 @@ fn main() -> ExitCode {
         .collect();
     match args.first().map(String::as_str) {
         Some("-h" | "--help") => {
-            print!("{}", usage_text());
+            hal_core::out!("{}", usage_text());
             return ExitCode::SUCCESS;
         }
         Some("--version") => {
-            println!("rs274-bench {}", env!("CARGO_PKG_VERSION"));
+            hal_core::outln!("rs274-bench {}", env!("CARGO_PKG_VERSION"));
             return ExitCode::SUCCESS;
         }
         Some(o) if o.starts_with('-') => {

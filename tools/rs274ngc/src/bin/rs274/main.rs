@@ -27,11 +27,11 @@ fn main() -> ExitCode {
         .unwrap_or_default();
     match args::convention(&argv) {
         Some(args::Convention::Help) => {
-            print!("{}{}", args::usage(&program), args::SUITE_OPTIONS);
+            hal_core::out!("{}{}", args::usage(&program), args::SUITE_OPTIONS);
             return ExitCode::SUCCESS;
         }
         Some(args::Convention::Version) => {
-            println!("rs274 {}", env!("CARGO_PKG_VERSION"));
+            hal_core::outln!("rs274 {}", env!("CARGO_PKG_VERSION"));
             return ExitCode::SUCCESS;
         }
         Some(args::Convention::UnknownLong(word)) => {
