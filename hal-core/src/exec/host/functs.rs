@@ -395,13 +395,25 @@ impl Host {
 
     /// Hands thread `ti` its new function list: `list` when threads run
     /// (built before the change, so that nothing can fail after it), else
-    /// nothing until the next `start` builds it ([`Host::publish_stale`]):
-    /// building a list costs its length, and a configuration adds its
-    /// functions one by one before it starts.
+    /// an empty list until the next `start` builds the real one
+    /// ([`Host::publish_stale`]): building a list costs its length, and a
+    /// configuration adds its functions one by one before it starts.
+    ///
+    /// The executor's list owns the code of every function on it (and so
+    /// whatever the closures hold: a module's devices, a simulated bus).
+    /// A function taken out while threads are stopped must therefore not
+    /// stay on the old list until the next start: the first change after a
+    /// stop swaps the old list for an empty one, which drops it. The swap
+    /// also waits for an executor that `stop` caught inside a cycle, so
+    /// that nothing the change removes is still being run.
     pub(super) fn publish(&self, st: &mut HostState, ti: usize, list: Option<ExecList>) {
         match list {
             Some(list) => self.swap_list(&st.threads[ti].ctl, list),
-            None => st.threads[ti].stale = true,
+            None if st.threads[ti].stale => {}
+            None => {
+                self.swap_list(&st.threads[ti].ctl, ExecList::new(&self.inst.seg));
+                st.threads[ti].stale = true;
+            }
         }
     }
 
