@@ -441,6 +441,11 @@ pub enum InterpError {
     PolarIncrementalAtOrigin,
     #[error("Dwell time p word missing with g{0}")]
     CycleDwellMissing(i32),
+    #[error(
+        "G{code} would make about {moves:.0} moves in one block, more than the {limit} allowed \
+         (check its L repeats and Q peck depth)"
+    )]
+    CycleTooLong { code: i32, moves: f64, limit: u32 },
     #[error("Negative or zero q value used")]
     CycleQNotPositive,
     #[error("Q word missing with g{0}")]
