@@ -262,10 +262,19 @@ impl<H: HalHost> SlaveRt<H> {
             .map(|b| &b.pin)
     }
 
+    /// The pin `KIND-CHANNEL-WHAT` (`ain-0-raw`), found without building
+    /// its name: this runs in the servo thread, which must not allocate.
+    fn channel_pin(&self, kind: &str, channel: usize, what: &str) -> Option<&AnyPin<H>> {
+        self.pins
+            .iter()
+            .find(|b| is_channel_pin(&b.spec.name, kind, channel, what))
+            .map(|b| &b.pin)
+    }
+
     /// EL3102: `val` = `bias` + `scale` × raw / 32767.
     fn analog_in(&self) {
         for i in 0..2 {
-            let p = |s: &str| self.pin(&format!("ain-{i}-{s}"));
+            let p = |s: &str| self.channel_pin("ain", i, s);
             if let (Some(raw), Some(val), Some(scale), Some(bias)) =
                 (p("raw"), p("val"), p("scale"), p("bias"))
             {
@@ -278,7 +287,7 @@ impl<H: HalHost> SlaveRt<H> {
     /// `min-dc`..`max-dc`, 0 while not enabled; `raw` = duty × 32767.
     fn analog_out(&self) {
         for i in 0..2 {
-            let p = |s: &str| self.pin(&format!("aout-{i}-{s}"));
+            let p = |s: &str| self.channel_pin("aout", i, s);
             let (Some(value), Some(scale), Some(offset), Some(lo), Some(hi)) = (
                 p("value"),
                 p("scale"),
@@ -421,4 +430,32 @@ fn role(
             invert: spec.name.ends_with("-not"),
         }
     })
+}
+
+/// Whether `name` is `KIND-CHANNEL-WHAT`, compared piece by piece so
+/// that nothing is allocated.
+fn is_channel_pin(name: &str, kind: &str, channel: usize, what: &str) -> bool {
+    let Some(rest) = name.strip_prefix(kind).and_then(|r| r.strip_prefix('-')) else {
+        return false;
+    };
+    let Some((number, tail)) = rest.split_once('-') else {
+        return false;
+    };
+    tail == what && number.parse::<usize>() == Ok(channel)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_channel_pin;
+
+    #[test]
+    fn channel_pins_are_matched_by_kind_channel_and_name() {
+        assert!(is_channel_pin("ain-0-raw", "ain", 0, "raw"));
+        assert!(is_channel_pin("aout-1-min-dc", "aout", 1, "min-dc"));
+        assert!(!is_channel_pin("ain-1-raw", "ain", 0, "raw"));
+        assert!(!is_channel_pin("aout-0-raw", "ain", 0, "raw"));
+        assert!(!is_channel_pin("ain-0-raw-x", "ain", 0, "raw"));
+        assert!(!is_channel_pin("ain-x-raw", "ain", 0, "raw"));
+        assert!(!is_channel_pin("ain", "ain", 0, "raw"));
+    }
 }
