@@ -9,6 +9,12 @@ use crate::types::HalType;
 /// instance unchanged: an operation either completes or is rolled back.
 #[derive(Debug, thiserror::Error)]
 pub enum HalError {
+    /// A command-line option that names the instance came without a name.
+    #[error("{option} needs an instance name")]
+    InstanceNameMissing {
+        /// The option as given (`--instance`, `-i`).
+        option: String,
+    },
     /// A name has a character LinuxCNC does not allow, or is empty.
     #[error("bad {kind} name '{name}': {reason}")]
     BadName {

@@ -110,13 +110,13 @@ pub fn select_instance(name: &str) -> Result<()> {
 /// The value of the instance option at `args[i]`, if that word is one:
 /// `--instance NAME`, `--instance=NAME` and, where `short` is true (every
 /// tool whose `-i` is not LinuxCNC's INI file), `-i NAME`. Returns the
-/// name and how many words the option took, or an error message when the
-/// name is missing.
+/// name and how many words the option took, or the refusal when the name
+/// is missing.
 pub fn instance_option(
     args: &[String],
     i: usize,
     short: bool,
-) -> Option<std::result::Result<(String, usize), String>> {
+) -> Option<std::result::Result<(String, usize), crate::HalError>> {
     let word = args.get(i)?;
     if let Some(name) = word.strip_prefix("--instance=") {
         return Some(Ok((name.to_string(), 1)));
@@ -124,7 +124,9 @@ pub fn instance_option(
     if word == "--instance" || (short && word == "-i") {
         return Some(match args.get(i + 1) {
             Some(name) => Ok((name.clone(), 2)),
-            None => Err(format!("{word} needs an instance name")),
+            None => Err(crate::HalError::InstanceNameMissing {
+                option: word.clone(),
+            }),
         });
     }
     None
@@ -141,12 +143,13 @@ mod tests {
     #[test]
     fn the_instance_option_takes_every_spelling() {
         let a = words(&["--instance", "m1", "--instance=m2", "-i", "m3", "-i"]);
-        assert_eq!(instance_option(&a, 0, false), Some(Ok(("m1".into(), 2))));
-        assert_eq!(instance_option(&a, 2, false), Some(Ok(("m2".into(), 1))));
-        assert_eq!(instance_option(&a, 3, false), None);
-        assert_eq!(instance_option(&a, 3, true), Some(Ok(("m3".into(), 2))));
-        assert!(instance_option(&a, 5, true).is_some_and(|r| r.is_err()));
-        assert_eq!(instance_option(&a, 6, true), None);
+        let at = |i, short| instance_option(&a, i, short).map(|r| r.map_err(|e| e.to_string()));
+        assert_eq!(at(0, false), Some(Ok(("m1".into(), 2))));
+        assert_eq!(at(2, false), Some(Ok(("m2".into(), 1))));
+        assert_eq!(at(3, false), None);
+        assert_eq!(at(3, true), Some(Ok(("m3".into(), 2))));
+        assert_eq!(at(5, true), Some(Err("-i needs an instance name".into())));
+        assert_eq!(at(6, true), None);
     }
 
     #[test]

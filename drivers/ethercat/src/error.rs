@@ -28,6 +28,23 @@ pub enum Error {
         /// What is wrong with it.
         reason: String,
     },
+    /// A number on the command line that is not one.
+    #[error("'{given}' is not a number (decimal or 0x hexadecimal)")]
+    NotANumber {
+        /// The word as given.
+        given: String,
+        /// Why it did not parse.
+        #[source]
+        source: std::num::ParseIntError,
+    },
+    /// A number on the command line too large for its field.
+    #[error("'{given}' is over {max}")]
+    NumberTooLarge {
+        /// The word as given.
+        given: String,
+        /// The field's largest value.
+        max: u64,
+    },
     /// An Ethernet frame that is not EtherCAT.
     #[error("not an EtherCAT frame: EtherType {ethertype:#06x} (EtherCAT is 0x88a4)")]
     NotEtherCat {

@@ -74,7 +74,7 @@ pub fn parse_halcmd_args(args: &[String]) -> Result<HalcmdArgs, ToolsError> {
         let a = args[i].as_str();
         // halcmd's -i is LinuxCNC's INI file: the instance is long only.
         if let Some(found) = hal_core::userspace::instance_option(args, i, false) {
-            let (name, words) = found.map_err(ToolsError::Usage)?;
+            let (name, words) = found.map_err(|e| ToolsError::Usage(e.to_string()))?;
             out.instance = Some(name);
             i += words;
             continue;

@@ -27,7 +27,7 @@ pub fn common(
     short_instance: bool,
 ) -> Result<Option<Common>, ToolsError> {
     if let Some(found) = hal_core::userspace::instance_option(args, i, short_instance) {
-        let (name, words) = found.map_err(ToolsError::Usage)?;
+        let (name, words) = found.map_err(|e| ToolsError::Usage(e.to_string()))?;
         hal_core::userspace::select_instance(&name)
             .map_err(|e| ToolsError::usage(format!("--instance: {e}")))?;
         return Ok(Some(Common::Instance(name, words)));

@@ -58,6 +58,12 @@ pub enum ToolsError {
         #[source]
         source: motion::ClientError,
     },
+    /// Task refused a request; its words.
+    #[error("{0}")]
+    TaskRefused(String),
+    /// Task could not be asked (not running, the socket failed).
+    #[error(transparent)]
+    TaskClient(#[from] hal_launcher::TaskClientError),
     /// A command refused because task runs the machine.
     #[error("refused: a task runs the machine on instance '{instance}': {why}")]
     TaskOwns {

@@ -11,6 +11,8 @@ use std::time::Duration;
 use hal_launcher::part_program::run::{Key, Keys};
 use hal_launcher::{request, TaskAnswer, TaskClientError};
 
+use crate::ToolsError;
+
 /// How a run through task ended.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum TaskRun {
@@ -30,12 +32,13 @@ pub fn task_runs(instance: &str) -> bool {
     )
 }
 
-fn ask(instance: &str, words: &[&str]) -> Result<String, String> {
+/// Task's answer to `words`: its words when done, its refusal or the
+/// client's failure otherwise.
+fn ask(instance: &str, words: &[&str]) -> Result<String, ToolsError> {
     let words: Vec<String> = words.iter().map(|w| w.to_string()).collect();
-    match request(instance, &words, Duration::from_secs(30)) {
-        Ok(TaskAnswer::Done(text)) => Ok(text),
-        Ok(TaskAnswer::Refused(why)) => Err(why),
-        Err(e) => Err(e.to_string()),
+    match request(instance, &words, Duration::from_secs(30))? {
+        TaskAnswer::Done(text) => Ok(text),
+        TaskAnswer::Refused(why) => Err(ToolsError::TaskRefused(why)),
     }
 }
 
@@ -83,7 +86,7 @@ pub fn run_through_task(
         }
         let status = match ask(instance, &["status"]) {
             Ok(s) => s,
-            Err(why) => return TaskRun::Failed(why),
+            Err(why) => return TaskRun::Failed(why.to_string()),
         };
         if status_value(&status, "interp") == Some("IDLE") {
             if progress {
@@ -91,8 +94,10 @@ pub fn run_through_task(
             }
             return match ask(instance, &["wait-done"]) {
                 Ok(text) => TaskRun::Done(text),
-                Err(why) if why.ends_with("aborted") => TaskRun::Aborted(why),
-                Err(why) => TaskRun::Failed(why),
+                Err(ToolsError::TaskRefused(why)) if why.ends_with("aborted") => {
+                    TaskRun::Aborted(why)
+                }
+                Err(why) => TaskRun::Failed(why.to_string()),
             };
         }
         if progress {

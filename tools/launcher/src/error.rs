@@ -17,6 +17,12 @@ fn refusal(reason: &Reject) -> String {
     }
 }
 
+impl From<crate::program::ProgramError> for LaunchError {
+    fn from(e: crate::program::ProgramError) -> Self {
+        LaunchError::Run(Box::new(e))
+    }
+}
+
 /// Why the machine could not be started (or stopped cleanly).
 #[derive(Debug, thiserror::Error)]
 pub enum LaunchError {
@@ -272,6 +278,11 @@ pub enum LaunchError {
         /// What is wrong.
         why: String,
     },
+    /// The program side refused a request (its state, the interpreter's
+    /// refusal with its place).
+    /// Boxed: an interpreter refusal with its place is large.
+    #[error(transparent)]
+    Run(Box<crate::program::ProgramError>),
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

@@ -32,7 +32,7 @@ pub use machine::{
     load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup, Options,
     USAGE,
 };
-pub use program::ProgramConfig;
+pub use program::{ProgramConfig, ProgramError, RunState};
 pub use rules::Rules;
 pub use task::REQUESTS;
 pub use task_socket::{request, TaskAnswer, TaskClientError};

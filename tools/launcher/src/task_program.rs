@@ -117,7 +117,7 @@ impl Task {
         };
         let path =
             std::fs::canonicalize(path).map_err(|e| refused(format!("{}: {e}", path.display())))?;
-        p.open(&path, m, &self.io).map_err(refused)?;
+        p.open(&path, m, &self.io)?;
         Ok(format!("opened {}", path.display()))
     }
 
@@ -126,7 +126,7 @@ impl Task {
         let (Some(p), Some(m)) = (&mut self.program, &self.motion) else {
             return Err(LaunchError::NoMotion);
         };
-        p.run(line, m, &self.io).map_err(refused)?;
+        p.run(line, m, &self.io)?;
         Ok("running".into())
     }
 
@@ -135,7 +135,7 @@ impl Task {
         let Some(p) = &mut self.program else {
             return Err(LaunchError::NoMotion);
         };
-        p.mdi(text).map_err(refused)?;
+        p.mdi(text)?;
         Ok(format!("mdi {text}"))
     }
 
@@ -148,7 +148,7 @@ impl Task {
             TaskRequest::Resume => (p.resume(m), "resumed"),
             _ => (p.step(m), "stepping"),
         };
-        r.map(|()| done.to_string()).map_err(refused)
+        r.map(|()| done.to_string()).map_err(LaunchError::from)
     }
 
     /// Changes mode: refused while something runs; AUTO and MDI put

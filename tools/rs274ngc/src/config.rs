@@ -77,7 +77,16 @@ pub struct Config {
     /// `#<_ini[section]key>` (FEATURES bit 2). The first of repeated
     /// keys is kept.
     pub ini_values: BTreeMap<(String, String), String>,
+    /// Most moves one canned-cycle block may make (its holes times each
+    /// hole's traverses and pecks). A block that would make more, or pecks
+    /// too small to deepen the hole at its size, is refused before it
+    /// drills: an L or Q typo must not queue millions of moves.
+    pub max_cycle_moves: u32,
 }
+
+/// The default of [`Config::max_cycle_moves`]: far beyond any drilling
+/// pattern a CAM post-processor writes, and a few seconds of work.
+pub const DEFAULT_MAX_CYCLE_MOVES: u32 = 1_000_000;
 
 impl Default for Config {
     fn default() -> Self {
@@ -99,6 +108,7 @@ impl Default for Config {
             lazy_close: false,
             loop_on_main_m99: false,
             ini_values: BTreeMap::new(),
+            max_cycle_moves: DEFAULT_MAX_CYCLE_MOVES,
         }
     }
 }

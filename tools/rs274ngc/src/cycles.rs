@@ -196,6 +196,7 @@ impl Interp {
             canon.set_motion_control_mode(MotionMode::ExactPath, 0.0);
         }
         let params = self.cycle_parameters(motion, block)?;
+        self.check_cycle_size(motion, block.l_number, &layout, &params)?;
         let heights = (current_cc, clear_cc);
         let (aa, bb) = self.cycle_repeats(motion, block, &layout, heights, &params, canon)?;
         let end = self.cycle_pose(plane, aa, bb, clear_cc);
@@ -313,6 +314,27 @@ impl Interp {
             self.cycle_body(motion, &hole, params, line, canon)?;
         }
         Ok((aa, bb))
+    }
+
+    /// Refuses a block whose holes and pecks add up to more moves than
+    /// [`crate::Config::max_cycle_moves`] allows, before it drills one hole.
+    fn check_cycle_size(
+        &self,
+        motion: i32,
+        holes: i32,
+        layout: &Layout,
+        params: &CycleParams,
+    ) -> Result<()> {
+        let moves = cycle_move_count(motion, holes, layout.r, layout.cc, params.delta);
+        let limit = self.config.max_cycle_moves;
+        if moves > f64::from(limit) {
+            return Err(InterpError::CycleTooLong {
+                code: motion / 10,
+                moves,
+                limit,
+            });
+        }
+        Ok(())
     }
 
     /// P, Q, I/J/K words a cycle needs, taken from the block or kept
@@ -566,6 +588,26 @@ struct Layout {
     bb_inc: f64,
     radius_inc: f64,
     theta_inc: f64,
+}
+
+/// About how many moves a cycle block makes: per hole, the traverses to
+/// it and back plus, for the peck cycles (G73, G83), two or three moves a
+/// peck. A peck too small to change the depth at the hole's size would
+/// never reach the bottom, so it counts as endless.
+fn cycle_move_count(motion: i32, holes: i32, r: f64, bottom: f64, delta: f64) -> f64 {
+    let per_hole = match motion {
+        G_73 | G_83 if delta > 0.0 => {
+            let size = r.abs().max(bottom.abs());
+            if delta <= size * 4.0 * f64::EPSILON {
+                return f64::INFINITY;
+            }
+            let pecks = ((r - bottom) / delta).ceil().max(0.0);
+            let per_peck = if motion == G_83 { 3.0 } else { 2.0 };
+            pecks * per_peck + 4.0
+        }
+        _ => 8.0,
+    };
+    f64::from(holes.max(0)) * per_hole
 }
 
 /// One repeat's polar increments: the radius grows by `radius_inc`,

@@ -441,6 +441,11 @@ pub enum InterpError {
     PolarIncrementalAtOrigin,
     #[error("Dwell time p word missing with g{0}")]
     CycleDwellMissing(i32),
+    #[error(
+        "G{code} would make about {moves:.0} moves in one block, more than the {limit} allowed \
+         (check its L repeats and Q peck depth)"
+    )]
+    CycleTooLong { code: i32, moves: f64, limit: u32 },
     #[error("Negative or zero q value used")]
     CycleQNotPositive,
     #[error("Q word missing with g{0}")]
@@ -546,8 +551,10 @@ pub enum InterpError {
     Abort(String),
 
     // ---- bounded input and outside files ---------------------------------
-    #[error("{path}: not a regular file; only regular files of at most {limit} bytes are read")]
-    NotRegularFile { path: PathBuf, limit: u64 },
+    /// A file the suite's reader of users' files refused (not a regular
+    /// file, too large, unreadable part way).
+    #[error(transparent)]
+    File(hal_core::files::FileError),
     #[error("{path}: {size} bytes is more than the limit of {limit} bytes")]
     FileTooLarge {
         path: PathBuf,
@@ -572,6 +579,19 @@ pub enum InterpError {
 pub type Result<T, E = InterpError> = std::result::Result<T, E>;
 
 impl InterpError {
+    /// The refusal of the suite's file reader, as the interpreter
+    /// reports it: a file that cannot be opened stays an [`InterpError::Io`]
+    /// (LinuxCNC's "Unable to open file" comes from it).
+    pub fn from_file(e: hal_core::files::FileError) -> Self {
+        match e.problem {
+            hal_core::files::FileProblem::Open(source) => InterpError::Io {
+                path: e.path,
+                source,
+            },
+            _ => InterpError::File(e),
+        }
+    }
+
     /// An I/O error on the named file.
     pub fn io(path: impl Into<PathBuf>, source: io::Error) -> Self {
         InterpError::Io {

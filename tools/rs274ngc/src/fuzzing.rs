@@ -9,6 +9,9 @@ use crate::print_canon::PrintCanon;
 /// Most blocks one fuzz input may run (loops can be endless).
 const MAX_STEPS: usize = 20_000;
 
+/// Most moves one canned-cycle block may make in a fuzz input.
+const MAX_CYCLE_MOVES: u32 = 200;
+
 /// A program through the interpreter: reading and executing never
 /// panics, a refusal names a line of the input, and the loop ends.
 pub fn program(data: &[u8]) {
@@ -16,7 +19,13 @@ pub fn program(data: &[u8]) {
         None,
         crate::tooltable::parse("T1 P1 Z0.1 D0.2\nT2 P2 Z0.2 D0.5\n").entries,
     );
-    let mut interp = Interp::new(Config::default());
+    // A small cycle limit keeps each of the (at most MAX_STEPS) blocks
+    // quick; the limit itself is what is under test.
+    let config = Config {
+        max_cycle_moves: MAX_CYCLE_MOVES,
+        ..Config::default()
+    };
+    let mut interp = Interp::new(config);
     let name = std::path::Path::new("fuzz.ngc");
     if interp.init(&mut canon).is_err()
         || interp.open_bytes(name, data.to_vec(), &mut canon).is_err()

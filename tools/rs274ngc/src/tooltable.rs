@@ -31,7 +31,7 @@ pub struct ToolTable {
 
 /// Read a tool table file.
 pub fn load(path: &Path) -> Result<ToolTable> {
-    let bytes = read_bounded(path, MAX_FILE_BYTES)?;
+    let bytes = read_bounded(path, MAX_FILE_BYTES, "tool table")?;
     Ok(parse(&String::from_utf8_lossy(&bytes)))
 }
 

@@ -85,9 +85,10 @@ proptest! {
     }
 }
 
-/// `rs274 -g /dev/zero` is refused at once, naming the size limit.
+/// `rs274 -g /dev/zero` is refused at once, in the words of the suite's
+/// reader of users' files.
 #[test]
-fn a_device_is_refused_with_the_size_limit() {
+fn a_device_is_refused_as_not_a_regular_file() {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_rs274"))
         .args(["-g", "/dev/zero"])
         .stdin(std::process::Stdio::null())
@@ -95,9 +96,8 @@ fn a_device_is_refused_with_the_size_limit() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_ne!(out.status.code(), Some(0), "{err}");
-    assert!(err.contains("not a regular file"), "{err}");
     assert!(
-        err.contains(&rs274ngc::MAX_PROGRAM_BYTES.to_string()),
+        err.contains("is a character device, not a regular file"),
         "{err}"
     );
 }

@@ -3,6 +3,8 @@
 
 use clap::{Parser, Subcommand};
 
+use crate::Error;
+
 const EXAMPLES: &str = "\
 Examples:
   ethercat-tool --iface eth1 slaves
@@ -107,18 +109,30 @@ pub enum Cmd {
     },
 }
 
-fn parse_number(s: &str) -> Result<u64, String> {
+/// A decimal or `0x` hexadecimal number.
+fn parse_number(s: &str) -> Result<u64, Error> {
     let r = match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
         Some(h) => u64::from_str_radix(h, 16),
         None => s.parse(),
     };
-    r.map_err(|_| format!("'{s}' is not a number (decimal or 0x hexadecimal)"))
+    r.map_err(|source| Error::NotANumber {
+        given: s.to_string(),
+        source,
+    })
 }
 
-fn parse_u16(s: &str) -> Result<u16, String> {
-    u16::try_from(parse_number(s)?).map_err(|_| format!("'{s}' is over 65535"))
+/// The refusal of `given`, larger than its field's `max`.
+fn too_large(given: &str, max: u64) -> Error {
+    Error::NumberTooLarge {
+        given: given.to_string(),
+        max,
+    }
 }
 
-fn parse_u8(s: &str) -> Result<u8, String> {
-    u8::try_from(parse_number(s)?).map_err(|_| format!("'{s}' is over 255"))
+fn parse_u16(s: &str) -> Result<u16, Error> {
+    u16::try_from(parse_number(s)?).map_err(|_| too_large(s, u16::MAX.into()))
+}
+
+fn parse_u8(s: &str) -> Result<u8, Error> {
+    u8::try_from(parse_number(s)?).map_err(|_| too_large(s, u8::MAX.into()))
 }

@@ -10,7 +10,7 @@ fn main() {
     let mut i = 0;
     while i < args.len() {
         if let Some(found) = instance_option(&args, i, true) {
-            let (name, words) = found.unwrap_or_else(|e| die(&e));
+            let (name, words) = found.unwrap_or_else(|e| die(&e.to_string()));
             instance = name;
             i += words;
             continue;

@@ -108,7 +108,7 @@ fn take_long_options(args: Vec<String>) -> Vec<String> {
     let mut i = 0;
     while i < args.len() {
         if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
-            let (name, words) = found.unwrap_or_else(|e| die(e));
+            let (name, words) = found.unwrap_or_else(|e| die(e.to_string()));
             if let Err(e) = hal_core::userspace::select_instance(&name) {
                 die(format!("--instance: {e}"));
             }

@@ -16,7 +16,7 @@ fn main() {
     while let Some(a) = args.get(i) {
         // haltcl's -i is LinuxCNC's INI file: the instance is long only.
         if let Some(found) = hal_core::userspace::instance_option(&args, i, false) {
-            let (name, words) = found.unwrap_or_else(|e| die(&e));
+            let (name, words) = found.unwrap_or_else(|e| die(&e.to_string()));
             if let Err(e) = hal_core::userspace::select_instance(&name) {
                 die(&format!("--instance: {e}"));
             }

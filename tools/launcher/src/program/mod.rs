@@ -9,6 +9,7 @@
 
 pub mod canon;
 mod config;
+mod error;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -20,6 +21,7 @@ use crate::iocontrol::{IoControl, IoEvent, Started};
 use crate::motion_setup::MotionLink;
 use canon::{Op, TaskCanon};
 pub use config::ProgramConfig;
+pub use error::ProgramError;
 
 /// Blocks read ahead of motion at most (ops waiting in task).
 const READ_AHEAD_OPS: usize = 200;
@@ -145,63 +147,89 @@ impl Program {
 
     /// Takes the machine's state into the canon and synchronises the
     /// interpreter (initialising it the first time: parameter file).
-    fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+    fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), ProgramError> {
         let goal = motion
             .status()
             .map(|s| s.traj.goal)
-            .ok_or("the motion controller's status cannot be read")?;
+            .ok_or(ProgramError::NoMotionStatus)?;
         let (tools, slot) = tool_entries(io);
         self.canon.refresh(goal, tools, slot);
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
-                .map_err(|e| format!("starting the interpreter: {e}"))?;
+                .map_err(|source| ProgramError::Interpreter {
+                    doing: "starting the interpreter",
+                    source,
+                })?;
             self.initialised = true;
         }
         self.interp
             .synch(&mut self.canon)
-            .map_err(|e| format!("synchronising the interpreter: {e}"))
+            .map_err(|source| ProgramError::Interpreter {
+                doing: "synchronising the interpreter",
+                source,
+            })
     }
 
     /// Opens `path` (the previous program is closed).
-    pub fn open(&mut self, path: &Path, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+    pub fn open(
+        &mut self,
+        path: &Path,
+        motion: &MotionLink,
+        io: &IoControl,
+    ) -> Result<(), ProgramError> {
         if !self.idle() {
-            return Err("a program is running (abort it first)".into());
+            return Err(ProgramError::Running {
+                hint: " (abort it first)",
+            });
         }
         self.synch(motion, io)?;
         self.interp.close(&mut self.canon);
-        self.interp
-            .open(path, &mut self.canon)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        self.reopen(path)?;
         self.file = Some(path.to_path_buf());
         Ok(())
     }
 
     /// Starts the open program, from `line` on (earlier lines are read
     /// and skipped).
-    pub fn run(&mut self, line: i32, motion: &MotionLink, io: &IoControl) -> Result<(), String> {
+    pub fn run(
+        &mut self,
+        line: i32,
+        motion: &MotionLink,
+        io: &IoControl,
+    ) -> Result<(), ProgramError> {
         if !self.idle() {
-            return Err("a program is running".into());
+            return Err(ProgramError::Running { hint: "" });
         }
         let Some(path) = self.file.clone() else {
-            return Err("no program is open (task-cmd open FILE)".into());
+            return Err(ProgramError::NoProgram);
         };
         // A program that ran to its end is read again from the start.
         if self.last_end.is_some() {
             self.interp.close(&mut self.canon);
-            self.interp
-                .open(&path, &mut self.canon)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            self.reopen(&path)?;
         }
         self.synch(motion, io)?;
         self.start(false, line);
         Ok(())
     }
 
+    /// Opens `path` in the interpreter.
+    fn reopen(&mut self, path: &Path) -> Result<(), ProgramError> {
+        self.interp
+            .open(path, &mut self.canon)
+            .map_err(|source| ProgramError::Open {
+                path: path.to_path_buf(),
+                source,
+            })
+    }
+
     /// Queues an MDI line; it runs when the ones before it have.
-    pub fn mdi(&mut self, text: &str) -> Result<(), String> {
+    pub fn mdi(&mut self, text: &str) -> Result<(), ProgramError> {
         if !self.idle() && !self.is_mdi {
-            return Err("a program is running (no MDI until it ends)".into());
+            return Err(ProgramError::Running {
+                hint: " (no MDI until it ends)",
+            });
         }
         self.mdi.push_back(text.to_string());
         Ok(())
@@ -217,54 +245,71 @@ impl Program {
     }
 
     /// Pause along the path.
-    pub fn pause(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+    pub fn pause(&mut self, motion: &mut MotionLink) -> Result<(), ProgramError> {
         if self.state != RunState::Running {
-            return Err(format!("nothing to pause (program {})", self.state.name()));
+            return Err(ProgramError::WrongState {
+                what: "nothing to pause",
+                state: self.state,
+            });
         }
-        motion.command(Command::Pause).map_err(|r| r.to_string())?;
+        motion
+            .command(Command::Pause)
+            .map_err(ProgramError::Motion)?;
         self.state = RunState::Paused;
         Ok(())
     }
 
     /// Carry on after a pause or an M0/M1.
-    pub fn resume(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+    pub fn resume(&mut self, motion: &mut MotionLink) -> Result<(), ProgramError> {
         match self.state {
             RunState::Paused | RunState::Held => {
-                motion.command(Command::Resume).map_err(|r| r.to_string())?;
+                motion
+                    .command(Command::Resume)
+                    .map_err(ProgramError::Motion)?;
                 self.state = RunState::Running;
                 Ok(())
             }
-            other => Err(format!("nothing to resume (program {})", other.name())),
+            state => Err(ProgramError::WrongState {
+                what: "nothing to resume",
+                state,
+            }),
         }
     }
 
     /// While paused: run to the end of the current line, pause again.
-    pub fn step(&mut self, motion: &mut MotionLink) -> Result<(), String> {
+    pub fn step(&mut self, motion: &mut MotionLink) -> Result<(), ProgramError> {
         match self.state {
-            RunState::Paused => motion.command(Command::Step).map_err(|r| r.to_string()),
+            RunState::Paused => motion.command(Command::Step).map_err(ProgramError::Motion),
             RunState::Held => {
-                motion.command(Command::Resume).map_err(|r| r.to_string())?;
-                motion.command(Command::Pause).map_err(|r| r.to_string())?;
+                motion
+                    .command(Command::Resume)
+                    .map_err(ProgramError::Motion)?;
+                motion
+                    .command(Command::Pause)
+                    .map_err(ProgramError::Motion)?;
                 self.state = RunState::Paused;
                 Ok(())
             }
-            other => Err(format!(
-                "step needs a paused program (program {})",
-                other.name()
-            )),
+            state => Err(ProgramError::WrongState {
+                what: "step needs a paused program",
+                state,
+            }),
         }
     }
 
     /// Saves the parameter file (`[RS274NGC]PARAMETER_FILE`), as
     /// LinuxCNC's task does when it exits; nothing if the interpreter
     /// never started.
-    pub fn save_parameters(&mut self) -> Result<(), String> {
+    pub fn save_parameters(&mut self) -> Result<(), ProgramError> {
         if !self.initialised {
             return Ok(());
         }
         self.interp
             .exit(&mut self.canon)
-            .map_err(|e| format!("saving the parameter file: {e}"))
+            .map_err(|source| ProgramError::Interpreter {
+                doing: "saving the parameter file",
+                source,
+            })
     }
 
     /// Stops everything: the interpreter, the ops not yet carried out,
@@ -339,23 +384,31 @@ impl Program {
         None
     }
 
-    fn execute_mdi(&mut self, text: &str) -> Result<(), String> {
+    fn execute_mdi(&mut self, text: &str) -> Result<(), ProgramError> {
         self.canon.line = 0;
         let r = self.interp.execute_mdi(text.as_bytes(), &mut self.canon);
         self.read_done = true;
         match r {
             Ok(Status::ExecuteFinish) => self.needs_synch = true,
             Ok(_) => {}
-            Err(e) => return Err(format!("MDI '{text}': {e}")),
+            Err(source) => {
+                return Err(ProgramError::Mdi {
+                    text: text.to_string(),
+                    source,
+                })
+            }
         }
         match self.canon.fault.take() {
-            Some(f) => Err(format!("MDI '{text}': {f}")),
+            Some(what) => Err(ProgramError::Unsupported {
+                at: format!("MDI '{text}'"),
+                what,
+            }),
             None => Ok(()),
         }
     }
 
     /// Reads and executes blocks while there is room ahead of motion.
-    fn read_ahead(&mut self) -> Result<(), String> {
+    fn read_ahead(&mut self) -> Result<(), ProgramError> {
         let mut blocks = 0;
         while !self.read_done
             && !self.needs_synch
@@ -369,7 +422,7 @@ impl Program {
                     break;
                 }
                 Ok(_) => {}
-                Err(e) => return Err(self.located(&e)),
+                Err(source) => return Err(self.located(source)),
             }
             self.read_line = self.interp.sequence_number();
             if self.read_line < self.start_line {
@@ -380,18 +433,24 @@ impl Program {
                 Ok(Status::Exit) => self.read_done = true,
                 Ok(Status::ExecuteFinish) => self.needs_synch = true,
                 Ok(_) => {}
-                Err(e) => return Err(self.located(&e)),
+                Err(source) => return Err(self.located(source)),
             }
-            if let Some(f) = self.canon.fault.take() {
-                return Err(self.located(&f));
+            if let Some(what) = self.canon.fault.take() {
+                return Err(ProgramError::Unsupported {
+                    at: self.interp.error_location().to_string(),
+                    what,
+                });
             }
         }
         Ok(())
     }
 
     /// An error with the program place it belongs to.
-    fn located(&self, e: &dyn std::fmt::Display) -> String {
-        format!("{}: {e}", self.interp.error_location())
+    fn located(&self, source: rs274ngc::InterpError) -> ProgramError {
+        ProgramError::Line {
+            at: Box::new(self.interp.error_location()),
+            source,
+        }
     }
 
     /// Carries out ops in order until one has to wait; true if a command
@@ -401,7 +460,7 @@ impl Program {
         motion: &mut MotionLink,
         io: &mut IoControl,
         motion_idle: bool,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, ProgramError> {
         let mut sent = false;
         if matches!(self.state, RunState::Held) {
             return Ok(sent);
@@ -411,13 +470,18 @@ impl Program {
                 Op::Motion(cmd) => match motion.command(cmd) {
                     Ok(()) => sent = true,
                     Err(Reject::QueueFull { .. }) => return Ok(sent),
-                    Err(r) => return Err(format!("line {}: {r}", command_line(&cmd))),
+                    Err(source) => {
+                        return Err(ProgramError::MotionAt {
+                            line: command_line(&cmd),
+                            source,
+                        })
+                    }
                 },
                 _ if sent || !motion_idle || self.io_busy => return Ok(sent),
                 Op::Io(req) => match io.request(&req) {
                     Ok(Started::Done) => {}
                     Ok(Started::Waiting(_)) => self.io_busy = true,
-                    Err(e) => return Err(e.to_string()),
+                    Err(e) => return Err(e.into()),
                 },
                 Op::Spindle { direction, rpm } => self.spindle = (direction, rpm),
                 Op::Stop { optional } => {
@@ -440,9 +504,9 @@ impl Program {
         Ok(sent)
     }
 
-    fn fail(&mut self, why: String) -> Ended {
+    fn fail(&mut self, why: ProgramError) -> Ended {
         self.abort();
-        let e = Ended::Failed(why);
+        let e = Ended::Failed(why.to_string());
         self.last_end = Some(e.clone());
         e
     }

@@ -82,7 +82,7 @@ pub fn restore(path: &Path, params: &mut Parameters) -> Result<Vec<usize>> {
     if !path.exists() {
         return Ok(Vec::new());
     }
-    let bytes = read_bounded(path, MAX_FILE_BYTES)?;
+    let bytes = read_bounded(path, MAX_FILE_BYTES, "parameter file")?;
     let text = String::from_utf8_lossy(&bytes);
     let pairs = parse(&text, path)?;
     let mut held = Vec::with_capacity(pairs.len());
@@ -110,7 +110,7 @@ pub fn render(params: &Parameters, held: &[usize]) -> String {
 pub fn save(path: &Path, params: &Parameters) -> Result<()> {
     let mut held = Vec::new();
     if path.exists() {
-        let bytes = read_bounded(path, MAX_FILE_BYTES)?;
+        let bytes = read_bounded(path, MAX_FILE_BYTES, "parameter file")?;
         let text = String::from_utf8_lossy(&bytes);
         held = parse(&text, path)?.into_iter().map(|(n, _)| n).collect();
         let backup = backup_path(path);

@@ -48,7 +48,8 @@ pub fn apply(path: &Path, config: &mut Config) -> bool {
     // Regular files of bounded size only (an INI of /dev/zero is refused,
     // not read forever), includes too.
     let mut read = |file: &Path| -> std::io::Result<String> {
-        let bytes = rs274ngc::read_bounded(file, MAX_INI_BYTES).map_err(std::io::Error::other)?;
+        let bytes = rs274ngc::read_bounded(file, MAX_INI_BYTES, "INI file")
+            .map_err(std::io::Error::other)?;
         Ok(String::from_utf8_lossy(&bytes).into_owned())
     };
     let Ok(ini) = Ini::parse_with(path, &mut read) else {

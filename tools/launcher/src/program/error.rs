@@ -1,0 +1,95 @@
+//! Why task's program side refused a request or stopped a run.
+
+use std::path::PathBuf;
+
+use motion::Reject;
+use rs274ngc::{InterpError, Location};
+
+use super::RunState;
+use crate::iocontrol::IoError;
+
+/// A refusal of a program request, or the failure that ended a run.
+#[derive(Debug, thiserror::Error)]
+pub enum ProgramError {
+    /// A program runs, so the request has to wait for its end.
+    #[error("a program is running{hint}")]
+    Running {
+        /// What the operator can do (empty, or a parenthesised hint).
+        hint: &'static str,
+    },
+    /// `run` before `open`.
+    #[error("no program is open (task-cmd open FILE)")]
+    NoProgram,
+    /// Pause, resume or step asked in a state where it means nothing.
+    #[error("{what} (program {})", .state.name())]
+    WrongState {
+        /// What was refused, in the operator's words.
+        what: &'static str,
+        /// The program's state.
+        state: RunState,
+    },
+    /// The motion controller's status segment could not be read.
+    #[error("the motion controller's status cannot be read")]
+    NoMotionStatus,
+    /// The interpreter failed outside a program line (starting,
+    /// synchronising, saving its parameter file).
+    #[error("{doing}: {source}")]
+    Interpreter {
+        /// What task was doing.
+        doing: &'static str,
+        /// The interpreter's error.
+        #[source]
+        source: InterpError,
+    },
+    /// The program file could not be opened by the interpreter.
+    #[error("{}: {source}", .path.display())]
+    Open {
+        /// The program.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: InterpError,
+    },
+    /// The interpreter refused a program line.
+    #[error("{at}: {source}")]
+    Line {
+        /// The file, line, column and word (boxed: it is large).
+        at: Box<Location>,
+        /// Why.
+        #[source]
+        source: InterpError,
+    },
+    /// The interpreter refused an MDI line.
+    #[error("MDI '{text}': {source}")]
+    Mdi {
+        /// The line as given.
+        text: String,
+        /// Why.
+        #[source]
+        source: InterpError,
+    },
+    /// A program line asked for something task cannot do yet.
+    #[error("{at}: {what}: not supported by task yet")]
+    Unsupported {
+        /// Where, as the interpreter reports it (a program place or
+        /// `MDI 'line'`).
+        at: String,
+        /// The machine call, with its G- or M-code.
+        what: String,
+    },
+    /// The motion controller refused a pause, resume or step.
+    #[error(transparent)]
+    Motion(Reject),
+    /// The motion controller refused a command of program line `line`.
+    #[error("line {line}: {source}")]
+    MotionAt {
+        /// The program line the command came from.
+        line: i32,
+        /// The controller's answer.
+        #[source]
+        source: Reject,
+    },
+    /// iocontrol refused a tool or coolant request of the program.
+    #[error(transparent)]
+    Io(#[from] IoError),
+}
