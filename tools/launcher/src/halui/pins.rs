@@ -85,85 +85,91 @@ pub struct Layout<'a> {
     pub units_per_mm: f64,
 }
 
+/// The buttons of a machine's halui, each with what its edges ask for.
+fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<Button>> {
+    let mut buttons = Vec::new();
+    let mut button = |name: &str, rise: Action, fall: Option<Action>| {
+        comp.pin(&format!("halui.{name}"))
+            .map(|pin| buttons.push(Button { pin, rise, fall }))
+    };
+    for (name, action) in [
+        ("machine.on", Action::MachineOn),
+        ("machine.off", Action::MachineOff),
+        ("estop.activate", Action::EstopActivate),
+        ("estop.reset", Action::EstopReset),
+        ("mode.manual", Action::Mode(Mode::Manual)),
+        ("mode.auto", Action::Mode(Mode::Auto)),
+        ("mode.mdi", Action::Mode(Mode::Mdi)),
+        ("program.run", Action::Run),
+        ("program.pause", Action::Pause),
+        ("program.resume", Action::Resume),
+        ("program.step", Action::Step),
+        ("program.stop", Action::Abort),
+        ("abort", Action::Abort),
+        ("mist.on", Action::Mist(true)),
+        ("mist.off", Action::Mist(false)),
+        ("flood.on", Action::Flood(true)),
+        ("flood.off", Action::Flood(false)),
+        ("lube.on", Action::Lube(true)),
+        ("lube.off", Action::Lube(false)),
+        ("home-all", Action::HomeAll),
+    ] {
+        button(name, action, None)?;
+    }
+    for o in [Override::Feed, Override::Rapid, Override::MaxVelocity] {
+        let pre = o.prefix();
+        button(
+            &format!("{pre}.increase"),
+            Action::OverrideStep(o, 1.0),
+            None,
+        )?;
+        button(
+            &format!("{pre}.decrease"),
+            Action::OverrideStep(o, -1.0),
+            None,
+        )?;
+        if o != Override::MaxVelocity {
+            button(&format!("{pre}.reset"), Action::OverrideReset(o), None)?;
+        }
+    }
+    let mut jog_buttons = |base: String, what: Jogged| {
+        let stop = Some(Action::JogStop(what));
+        button(&format!("{base}.plus"), Action::JogStart(what, 1.0), stop)?;
+        button(&format!("{base}.minus"), Action::JogStart(what, -1.0), stop)?;
+        button(
+            &format!("{base}.increment-plus"),
+            Action::JogIncrement(what, 1.0),
+            None,
+        )?;
+        button(
+            &format!("{base}.increment-minus"),
+            Action::JogIncrement(what, -1.0),
+            None,
+        )
+    };
+    for j in 0..layout.joints {
+        jog_buttons(format!("joint.{j}"), Jogged::Joint(j as i32))?;
+    }
+    for &(axis, letter) in layout.axes {
+        jog_buttons(format!("axis.{letter}"), Jogged::Axis(axis as i32))?;
+    }
+    for j in 0..layout.joints {
+        let j32 = j as i32;
+        button(&format!("joint.{j}.home"), Action::Home(j32), None)?;
+        button(&format!("joint.{j}.unhome"), Action::Unhome(j32), None)?;
+    }
+    for n in 0..layout.mdi_commands {
+        button(&format!("mdi-command-{n:02}"), Action::Mdi(n), None)?;
+    }
+    Ok(buttons)
+}
+
 impl HaluiPins {
     /// Creates the component `halui` and its pins, and makes it ready.
     pub fn create(inst: &Instance, layout: &Layout<'_>) -> hal_core::Result<HaluiPins> {
         let comp = inst.new_component("halui", ComponentKind::User)?;
         let p = |n: &str| format!("halui.{n}");
-        let mut buttons = Vec::new();
-        let mut button = |name: &str, rise: Action, fall: Option<Action>| {
-            comp.pin(&p(name))
-                .map(|pin| buttons.push(Button { pin, rise, fall }))
-        };
-        for (name, action) in [
-            ("machine.on", Action::MachineOn),
-            ("machine.off", Action::MachineOff),
-            ("estop.activate", Action::EstopActivate),
-            ("estop.reset", Action::EstopReset),
-            ("mode.manual", Action::Mode(Mode::Manual)),
-            ("mode.auto", Action::Mode(Mode::Auto)),
-            ("mode.mdi", Action::Mode(Mode::Mdi)),
-            ("program.run", Action::Run),
-            ("program.pause", Action::Pause),
-            ("program.resume", Action::Resume),
-            ("program.step", Action::Step),
-            ("program.stop", Action::Abort),
-            ("abort", Action::Abort),
-            ("mist.on", Action::Mist(true)),
-            ("mist.off", Action::Mist(false)),
-            ("flood.on", Action::Flood(true)),
-            ("flood.off", Action::Flood(false)),
-            ("lube.on", Action::Lube(true)),
-            ("lube.off", Action::Lube(false)),
-            ("home-all", Action::HomeAll),
-        ] {
-            button(name, action, None)?;
-        }
-        for o in [Override::Feed, Override::Rapid, Override::MaxVelocity] {
-            let pre = o.prefix();
-            button(
-                &format!("{pre}.increase"),
-                Action::OverrideStep(o, 1.0),
-                None,
-            )?;
-            button(
-                &format!("{pre}.decrease"),
-                Action::OverrideStep(o, -1.0),
-                None,
-            )?;
-            if o != Override::MaxVelocity {
-                button(&format!("{pre}.reset"), Action::OverrideReset(o), None)?;
-            }
-        }
-        let mut jog_buttons = |base: String, what: Jogged| {
-            let stop = Some(Action::JogStop(what));
-            button(&format!("{base}.plus"), Action::JogStart(what, 1.0), stop)?;
-            button(&format!("{base}.minus"), Action::JogStart(what, -1.0), stop)?;
-            button(
-                &format!("{base}.increment-plus"),
-                Action::JogIncrement(what, 1.0),
-                None,
-            )?;
-            button(
-                &format!("{base}.increment-minus"),
-                Action::JogIncrement(what, -1.0),
-                None,
-            )
-        };
-        for j in 0..layout.joints {
-            jog_buttons(format!("joint.{j}"), Jogged::Joint(j as i32))?;
-        }
-        for &(axis, letter) in layout.axes {
-            jog_buttons(format!("axis.{letter}"), Jogged::Axis(axis as i32))?;
-        }
-        for j in 0..layout.joints {
-            let j32 = j as i32;
-            button(&format!("joint.{j}.home"), Action::Home(j32), None)?;
-            button(&format!("joint.{j}.unhome"), Action::Unhome(j32), None)?;
-        }
-        for n in 0..layout.mdi_commands {
-            button(&format!("mdi-command-{n:02}"), Action::Mdi(n), None)?;
-        }
+        let buttons = make_buttons(&comp, layout)?;
         let mut overrides = Vec::new();
         for which in [Override::Feed, Override::Rapid, Override::MaxVelocity] {
             let pre = which.prefix();
