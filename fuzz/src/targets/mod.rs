@@ -36,6 +36,7 @@ crate::register_targets! {
     serial_command_line,
     ini_file,
     tool_table,
+    task_state,
     twopass_loadrt,
     comp_file,
     part_program,

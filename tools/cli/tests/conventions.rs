@@ -108,6 +108,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: true,
         attach: None,
     },
+    InstanceTool {
+        bin: "halui",
+        short: false,
+        attach: None,
+    },
 ];
 
 /// Runs `exe args` in a scratch directory, with no standard input and an

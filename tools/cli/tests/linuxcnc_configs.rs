@@ -200,3 +200,35 @@ fn stepper_limits_shape() {
         assert_eq!(m.halcmd(&["gets", "Zmaxlim"]).trim(), "FALSE");
     });
 }
+
+#[test]
+fn gantry_panels_shape() {
+    let err = runs("gantry-panels", "gantry_panels.ini", |m| {
+        // gantrysim.hal came from the library: its loop-back signals.
+        assert!(m
+            .halcmd(&["show", "sig", "J3pos"])
+            .contains("==> joint.3.motor-pos-fb"));
+        home_all(m);
+        // iocontrol's tool-prep-index and tool-from-pocket are pins, on
+        // the POSTGUI file's signals.
+        assert_eq!(m.task_ok(&["tool-change", "2"]).trim(), "tool 2 in spindle");
+        assert_eq!(m.getp("iocontrol.0.tool-from-pocket"), "7");
+        assert_eq!(m.halcmd(&["gets", "gantry:tool-from-pocket"]).trim(), "7");
+        m.task_ok(&["tool-prepare", "1"]);
+        assert_eq!(m.halcmd(&["gets", "gantry:tool-prep-index"]).trim(), "1");
+        let pin = m.halcmd(&["show", "pin", "iocontrol.0.tool-prep-index"]);
+        assert!(pin.contains("s32") && pin.contains("OUT"), "{pin}");
+    });
+    assert!(
+        err.contains("[HAL]HALFILE is empty: no file to run"),
+        "{err}"
+    );
+    assert!(err.contains("loadusr -W gantrygui"), "{err}");
+    for gui_pin in [
+        "gantrypanel.enable-offset",
+        "vismach.plotclear",
+        "pyvcp.tool-from-pocket",
+    ] {
+        assert!(err.contains(gui_pin), "{gui_pin}: {err}");
+    }
+}

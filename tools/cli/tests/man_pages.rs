@@ -201,6 +201,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "halui",
+            help(
+                "LinuxCNC's HAL user interface: halui pins as task requests",
+                hal_launcher::halui::USAGE,
+                &["linuxcnc(1)", "task-cmd(1)"],
+            ),
+        ),
+        (
             "latency-test",
             help(
                 "measure how late HAL threads wake up",

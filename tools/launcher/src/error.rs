@@ -250,6 +250,34 @@ pub enum LaunchError {
     /// interpreter's refusal with its place).
     #[error("{0}")]
     Program(String),
+    /// A manual request (home, jog, override) with a bad argument.
+    #[error("{request}: {why}")]
+    BadArgument {
+        /// The request.
+        request: &'static str,
+        /// What is wrong with its argument.
+        why: String,
+    },
+    /// A manual request (home, jog) outside MANUAL mode.
+    #[error("{request} needs MANUAL mode (task is in {mode} mode)")]
+    NotManual {
+        /// The request.
+        request: &'static str,
+        /// Task's mode.
+        mode: &'static str,
+    },
+    /// Task's `state` answer could not be read (halui).
+    #[error("task's state answer: {why}")]
+    TaskState {
+        /// What is wrong with it.
+        why: String,
+    },
+    /// halui's command line.
+    #[error("halui: {why}")]
+    HaluiUsage {
+        /// What is wrong.
+        why: String,
+    },
     /// The program side refused a request (its state, the interpreter's
     /// refusal with its place).
     /// Boxed: an interpreter refusal with its place is large.

@@ -37,13 +37,24 @@ impl HalSide<'_> {
         }
     }
 
+    /// The files `[HAL]key` names, found. An empty entry (`HALFILE =`,
+    /// as LinuxCNC's pluto_inch.ini has) names no file: it is passed over
+    /// with a note, as LinuxCNC does not fail on it either.
+    fn named_files(&self, key: &str) -> Result<Vec<HalFile>, LaunchError> {
+        let mut files = Vec::new();
+        for e in self.ini.all("HAL", key) {
+            if e.value.trim().is_empty() {
+                eprintln!("{}: note: [HAL]{key} is empty: no file to run", e.origin);
+                continue;
+            }
+            files.push(self.search.resolve(e)?);
+        }
+        Ok(files)
+    }
+
     /// Every `[HAL]HALFILE`, with TWOPASS if `[HAL]TWOPASS` is set.
     pub fn halfiles(&self, session: &mut Session<'_>) -> Result<(), LaunchError> {
-        let files = self
-            .ini
-            .all("HAL", "HALFILE")
-            .map(|e| self.search.resolve(e))
-            .collect::<Result<Vec<_>, _>>()?;
+        let files = self.named_files("HALFILE")?;
         match self
             .ini
             .entry("HAL", "TWOPASS")
@@ -254,6 +265,10 @@ impl HalSide<'_> {
     pub fn files_of(&self, session: &mut Session<'_>, key: &str) -> Result<(), LaunchError> {
         let mut result = Ok(());
         for e in self.ini.all("HAL", key) {
+            if e.value.trim().is_empty() {
+                eprintln!("{}: note: [HAL]{key} is empty: no file to run", e.origin);
+                continue;
+            }
             let r = self
                 .search
                 .resolve(e)

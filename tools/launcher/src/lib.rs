@@ -4,7 +4,8 @@
 //! iocontrol create, the motion controller configured from the INI file,
 //! task's requests (`task-cmd`, [`request`]) and the safe state at the end.
 //! [`part_program`] runs G-code through the interpreter on a live motion
-//! controller (`gcode-run`).
+//! controller (`gcode-run`). [`halui`] is LinuxCNC's HAL user interface,
+//! a client of task.
 
 #![forbid(unsafe_code)]
 
@@ -12,6 +13,7 @@ mod config;
 mod error;
 mod hal_side;
 mod halfiles;
+pub mod halui;
 mod iocontrol;
 mod machine;
 mod motion_setup;
@@ -19,6 +21,7 @@ pub mod part_program;
 mod program;
 mod rules;
 mod task;
+mod task_manual;
 mod task_pins;
 mod task_program;
 mod task_socket;
@@ -37,6 +40,7 @@ pub use task_socket::{request, TaskAnswer, TaskClientError};
 /// Entry points of the fuzz targets (fuzz/README.md) for the launcher's
 /// parsers of outside bytes.
 pub mod fuzz {
+    pub use crate::halui::fuzz_state as task_state;
     pub use crate::iocontrol::tooltable::fuzz_parse as tool_table;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;

@@ -1,6 +1,5 @@
 //! `linuxcnc`: a machine's INI file run headless, as LinuxCNC's `linuxcnc`
-//! script runs it, less the parts a HAL suite does not have (the G-code
-//! interpreter and its task controller, GUIs, halui).
+//! script runs it, less its GUIs.
 //!
 //! Order, as LinuxCNC's: the INI file (with `#INCLUDE`s) is read and the
 //! working directory becomes its directory; the HAL host starts; the pins
@@ -8,7 +7,8 @@
 //! modules load (`[TRAJ]TPMOD`, `[EMCMOT]HOMEMOD`); every `[HAL]HALFILE`
 //! runs (TWOPASS if asked), then every `[HAL]HALCMD`; the threads start;
 //! the motion controller is configured as task configures it; the
-//! `POSTGUI_HALFILE`s run. The GUI (`[DISPLAY]DISPLAY`), halui, the
+//! `POSTGUI_HALFILE`s run. halui starts before the HAL files when
+//! `[HAL]HALUI = halui`. The GUI (`[DISPLAY]DISPLAY`), the
 //! `[APPLICATIONS]` and GUI-only HAL lines are not started: the launcher
 //! says what it skipped and which pins that left without their partner.
 //! It then runs the task's part (e-stop chain, iocontrol, `ini.*` pins,
@@ -57,7 +57,8 @@ usage: linuxcnc [-v] [-d] [-k] [-i NAME] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MAC
 
 Runs a LinuxCNC machine configuration headless: its HAL files, its motion
 settings, iocontrol, the task pins and task with its G-code interpreter,
-until Ctrl-C or SIGTERM. GUIs and halui are not started. Send the machine
+until Ctrl-C or SIGTERM, and halui if [HAL]HALUI = halui. GUIs are not
+started. Send the machine
 task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
 mode, open, run, mdi, status; gcode-run runs a program through task) and
 motion commands with motion-cmd.
@@ -228,6 +229,14 @@ pub fn start_hal_side(
         };
         rules.borrow_mut().add_gui_component(&comp);
     }
+    // GUI panels: their pins never exist on a headless machine.
+    for (key, glade) in [("EMBED_TAB_COMMAND", false), ("GLADEVCP", true)] {
+        for e in ini.all("DISPLAY", key) {
+            if let Some(comp) = crate::rules::panel_component(&e.value, glade) {
+                rules.borrow_mut().add_gui_component(&comp);
+            }
+        }
+    }
     session.set_filter(rules.clone());
     let io_pins = IoPins::create(session.instance())?;
     let task_pins = if ini.entry("KINS", "JOINTS").is_some() {
@@ -275,6 +284,34 @@ pub fn start_hal_side(
     })
 }
 
+/// Starts halui when `[HAL]HALUI` names it, as LinuxCNC's script does:
+/// `loadusr -Wn halui halui -ini MACHINE.ini`. Another program named
+/// there is not started (it is reported with the GUIs).
+fn start_halui(session: &mut Session<'_>, ini: &Ini) -> Result<(), LaunchError> {
+    let Some(e) = ini.entry("HAL", "HALUI") else {
+        return Ok(());
+    };
+    if e.value.trim() != "halui" {
+        return Ok(());
+    }
+    let path = ini
+        .path()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| ini.name());
+    let words: Vec<String> = ["loadusr", "-Wn", "halui", "halui", "-ini", &path]
+        .iter()
+        .map(|w| w.to_string())
+        .collect();
+    if session.run_words_at(Some(&e.origin.file), e.origin.line, &words) {
+        Ok(())
+    } else {
+        Err(LaunchError::Failed(format!(
+            "{}: [HAL]HALUI = halui: halui did not start",
+            e.origin
+        )))
+    }
+}
+
 /// Says what was not started and which pins that left alone.
 pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
     let mut lines = Vec::new();
@@ -284,7 +321,10 @@ pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
             e.origin, e.value
         ));
     }
-    if let Some(e) = ini.entry("HAL", "HALUI") {
+    if let Some(e) = ini
+        .entry("HAL", "HALUI")
+        .filter(|e| !e.value.trim().is_empty() && e.value.trim() != "halui")
+    {
         lines.push(format!("{}: halui ([HAL]HALUI = {})", e.origin, e.value));
     }
     for e in ini.all("APPLICATIONS", "APP") {
@@ -374,7 +414,10 @@ fn run_on_host(
     if opts.echo {
         session.run_words(&["echo".to_string()]);
     }
-    let startup = start_hal_side(&mut session, ini, opts);
+    // LinuxCNC's order: halui starts before the HAL files, which may
+    // connect its pins.
+    let startup =
+        start_halui(&mut session, ini).and_then(|()| start_hal_side(&mut session, ini, opts));
     if signals.requested() {
         return Err(LaunchError::StoppedDuringStart);
     }
@@ -427,6 +470,7 @@ fn run_on_host(
         startup.table_path,
         program,
     );
+    task.overrides = crate::task_manual::Overrides::from_ini(ini)?;
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
         "linuxcnc: machine '{machine}' runs on HAL instance '{instance}' (e-stop); \

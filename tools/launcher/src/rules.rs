@@ -36,7 +36,6 @@ const GUI_PROGRAMS: &[&str] = &[
     "hal-histogram",
     "linuxcnctop",
     "tooledit",
-    "halui",
     "classicladder",
     "lineardelta",
     "rotarydelta",
@@ -54,6 +53,9 @@ const GUI_COMPONENTS: &[&str] = &[
     "qtplasmac",
     "hal_manualtoolchange",
     "halui",
+    // The 3-D views LinuxCNC's vismach programs (pumagui, scaragui...)
+    // create their pins under.
+    "vismach",
 ];
 
 /// Which pass of TWOPASS runs (or none).
@@ -120,6 +122,32 @@ fn base(program: &str) -> &str {
 fn is_gui_program(program: &str) -> bool {
     let program = program.strip_suffix(".py").unwrap_or(program);
     GUI_PROGRAMS.contains(&program) || program == "vismach" || program.ends_with("gui")
+}
+
+/// The HAL component a GUI panel command creates (`[DISPLAY]GLADEVCP`,
+/// `[DISPLAY]EMBED_TAB_COMMAND`): the name given with `-c` or `-Wn`, else
+/// `gladevcp` for a GladeVCP panel, else the screen name a QtVCP panel is
+/// given last. `None` for a command that makes no HAL component (an
+/// xterm, an on-screen keyboard).
+pub fn panel_component(command: &str, gladevcp_default: bool) -> Option<String> {
+    let words: Vec<&str> = command.split_whitespace().collect();
+    let named = words
+        .windows(2)
+        .find(|w| w[0] == "-c" || w[0] == "-Wn")
+        .map(|w| w[1].to_string());
+    if named.is_some() {
+        return named;
+    }
+    let program = words
+        .iter()
+        .map(|w| base(w))
+        .find(|w| *w == "gladevcp" || *w == "qtvcp");
+    match program {
+        Some("gladevcp") => Some("gladevcp".to_string()),
+        Some(_) => words.last().map(|w| w.to_string()),
+        None if gladevcp_default => Some("gladevcp".to_string()),
+        None => None,
+    }
 }
 
 impl Rules {
@@ -269,5 +297,40 @@ impl CommandFilter for Rules {
             _ => {}
         }
         Ok(self.gui(inst, words, at).unwrap_or(Verdict::Run))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn panel_components_are_named_as_the_panels_name_them() {
+        let cases = [
+            (
+                "halcmd loadusr -Wn gladevcp8 gladevcp -c gladevcp8 -x {XID} ./m.ui",
+                false,
+                Some("gladevcp8"),
+            ),
+            ("gladevcp -x {XID} gremlin_view.ui", false, Some("gladevcp")),
+            ("qtvcp vismach_scara", false, Some("vismach_scara")),
+            ("xterm -into {XID} -e top", false, None),
+            // [DISPLAY]GLADEVCP holds only gladevcp's arguments.
+            ("-u handler.py panel.ui", true, Some("gladevcp")),
+            ("-c gladevcp show.ui", true, Some("gladevcp")),
+        ];
+        for (command, glade, want) in cases {
+            assert_eq!(
+                panel_component(command, glade).as_deref(),
+                want,
+                "{command}"
+            );
+        }
+    }
+
+    #[test]
+    fn vismach_pins_are_a_guis() {
+        let rules = Rules::default();
+        assert!(rules.gui_comps.contains("vismach"));
     }
 }

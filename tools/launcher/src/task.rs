@@ -40,7 +40,7 @@ impl MachineState {
 }
 
 /// A request of `task-cmd`.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum TaskRequest {
     /// Assert the e-stop.
     Estop,
@@ -87,6 +87,36 @@ pub enum TaskRequest {
     Mdi(String),
     /// Answer once the program or MDI line has ended.
     WaitDone,
+    /// Home a joint (`None`: every joint, in HOME_SEQUENCE order).
+    Home(Option<i32>),
+    /// Forget a joint's home (`None`: every joint).
+    Unhome(Option<i32>),
+    /// Jog a joint (free mode) or an axis (teleop) until stopped.
+    JogCont {
+        /// What moves.
+        what: crate::task_manual::Jogged,
+        /// Signed speed, machine units per second.
+        vel: f64,
+    },
+    /// Jog a joint or an axis by a distance.
+    JogIncr {
+        /// What moves.
+        what: crate::task_manual::Jogged,
+        /// Speed, machine units per second.
+        vel: f64,
+        /// Signed distance.
+        dist: f64,
+    },
+    /// Stop a joint's or an axis's jog.
+    JogStop(crate::task_manual::Jogged),
+    /// The feed override (1: 100 %).
+    FeedOverride(f64),
+    /// The rapid override (0..=1).
+    RapidOverride(f64),
+    /// The tool-tip speed limit, machine units per second.
+    MaxVelocity(f64),
+    /// The state as `key=value` lines, for programs (halui).
+    State,
 }
 
 /// Task's modes, as LinuxCNC's.
@@ -132,7 +162,20 @@ pub const REQUESTS: &str = "\
   run [LINE]            run it (AUTO), from LINE on if given
   pause | resume | step the running program (step: while paused)
   mdi G-CODE...         run a line of G-code (MDI mode)
-  wait-done             answer once the program or MDI line has ended";
+  wait-done             answer once the program or MDI line has ended
+  home JOINT|all        home a joint or every joint (MANUAL mode)
+  unhome JOINT|all      forget a joint's home (MANUAL mode)
+  jog-cont JOINT|AXIS VEL
+                        jog a joint (a number; free mode) or an axis (a
+                        letter; teleop) at VEL until jog-stop (MANUAL mode)
+  jog-incr JOINT|AXIS VEL DISTANCE
+                        jog a joint or an axis by DISTANCE (MANUAL mode)
+  jog-stop JOINT|AXIS   stop a joint's or an axis's jog
+  feed-override SCALE   the feed override (1 = 100 %, at most
+                        [DISPLAY]MAX_FEED_OVERRIDE)
+  rapid-override SCALE  the rapid override (0 to 1)
+  max-velocity VEL      the tool-tip speed limit ([TRAJ]MAX_LINEAR_VELOCITY)
+  state                 the state as key=value lines, for programs";
 
 /// Parses `task-cmd`'s words.
 pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
@@ -195,6 +238,11 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["step"] => TaskRequest::Step,
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
+        ["state"] => TaskRequest::State,
+        [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
+        | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
+            crate::task_manual::parse(word, rest)?
+        }
         _ => return Err(LaunchError::UnknownRequest { words: w.join(" ") }),
     })
 }
@@ -230,6 +278,8 @@ pub struct Task {
     pub(crate) program: Option<Program>,
     /// AUTO and MDI are allowed before homing.
     pub(crate) no_force_homing: bool,
+    /// The overrides task last sent: feed, rapid, maximum velocity.
+    pub(crate) overrides: crate::task_manual::Overrides,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -258,6 +308,7 @@ impl Task {
             no_force_homing: program.as_ref().is_some_and(|p| p.no_force_homing),
             program: program.map(Program::new),
             settle_until: 0,
+            overrides: crate::task_manual::Overrides::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -486,6 +537,15 @@ impl Task {
             }
             TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
             TaskRequest::Status => Some(Ok(self.status())),
+            TaskRequest::State => Some(Ok(self.state_lines())),
+            TaskRequest::Home(_)
+            | TaskRequest::Unhome(_)
+            | TaskRequest::JogCont { .. }
+            | TaskRequest::JogIncr { .. }
+            | TaskRequest::JogStop(_)
+            | TaskRequest::FeedOverride(_)
+            | TaskRequest::RapidOverride(_)
+            | TaskRequest::MaxVelocity(_) => Some(self.manual_request(req)),
             _ => self.program_request(req, id),
         }
     }

@@ -154,7 +154,7 @@ impl Task {
     /// Changes mode: refused while something runs; AUTO and MDI put
     /// motion in coordinated mode and answer once it shows it.
     fn switch_mode(&mut self, mode: Mode, id: ConnId) -> Option<Answer> {
-        if self.program.as_ref().is_some_and(|p| !p.idle()) {
+        if self.program.as_ref().is_some_and(|p| !p.settled()) {
             return Some(Err(refused(format!(
                 "a program or MDI line runs in {} mode (abort it or wait for its end)",
                 self.mode.name()

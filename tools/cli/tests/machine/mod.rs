@@ -197,6 +197,19 @@ impl Machine {
         self.halcmd(&["getp", name]).trim().to_string()
     }
 
+    /// Waits (up to 10 s) until `halcmd getp NAME` reads `want`; returns
+    /// the last value read (a pin another process updates every cycle).
+    pub fn wait_getp(&self, name: &str, want: &str) -> String {
+        let end = Instant::now() + Duration::from_secs(10);
+        loop {
+            let v = self.getp(name);
+            if v == want || Instant::now() > end {
+                return v;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
     /// `motion-cmd ARGS`, which must succeed; its stdout.
     pub fn motion(&self, args: &[&str]) -> String {
         let (ok, out, err) = text(&tool(

@@ -12,7 +12,7 @@ pub mod tooltable;
 
 use std::path::PathBuf;
 
-use hal_core::{Component, ComponentKind, In, Instance, Out, Param, Pin, Ro};
+use hal_core::{Component, ComponentKind, In, Instance, Out, Pin};
 
 pub use tooltable::ToolTable;
 
@@ -116,8 +116,11 @@ pub struct IoOutputs {
     pub tool_prep_number: i32,
     /// `tool-prep-pocket`.
     pub tool_prep_pocket: i32,
-    /// The `tool-prep-index` parameter: the table slot being prepared.
+    /// `tool-prep-index`: the table slot being prepared.
     pub tool_prep_index: i32,
+    /// `tool-from-pocket`: the pocket the tool in the spindle came from
+    /// (0: none, or the spindle).
+    pub tool_from_pocket: i32,
     /// `tool-number`: the tool in the spindle.
     pub tool_number: i32,
     /// `tool-change`.
@@ -234,6 +237,18 @@ impl IoControl {
         }
     }
 
+    /// The pocket number of a table slot: the slot itself on a random
+    /// changer, the tool's P on a non-random one (0 for the spindle).
+    fn pocket_of_slot(&self, slot: usize) -> i32 {
+        if self.table.random {
+            slot as i32
+        } else if slot == 0 {
+            0
+        } else {
+            self.table.tool(slot).map_or(0, |t| t.pocket)
+        }
+    }
+
     fn prep_number_of(&self, slot: usize) -> i32 {
         if !self.table.random && slot == 0 {
             0
@@ -247,6 +262,7 @@ impl IoControl {
     fn init_pins(&mut self) {
         self.out = IoOutputs {
             tool_number: self.out.tool_number,
+            tool_from_pocket: self.out.tool_from_pocket,
             ..IoOutputs::default()
         };
         self.pulse = false;
@@ -285,6 +301,7 @@ impl IoControl {
                     self.table.tool(0).map_or(0, |t| t.number)
                 };
                 self.out.tool_number = self.tool_in_spindle;
+                self.out.tool_from_pocket = self.pocket_of_slot(slot);
             }
         }
         Ok(Started::Done)
@@ -307,13 +324,7 @@ impl IoControl {
         let random = self.table.random;
         self.out.tool_prep_index = slot as i32;
         self.out.tool_prep_number = self.prep_number_of(slot);
-        self.out.tool_prep_pocket = if random {
-            slot as i32
-        } else if slot == 0 {
-            0
-        } else {
-            self.table.tool(slot).map_or(0, |t| t.pocket)
-        };
+        self.out.tool_prep_pocket = self.pocket_of_slot(slot);
         if random && slot == 0 {
             // The tool is in the spindle already: nothing to fetch.
             self.prepped = Some(0);
@@ -393,6 +404,7 @@ impl IoControl {
         }
         if self.out.tool_change && inp.tool_changed {
             let slot = self.prepped.unwrap_or(0);
+            self.out.tool_from_pocket = self.out.tool_prep_pocket;
             self.tool_in_spindle = self.prep_number_of(slot);
             self.out.tool_number = self.tool_in_spindle;
             self.load_slot(slot);
@@ -423,7 +435,8 @@ pub struct IoPins {
     tool_prepared: Pin<bool, In>,
     tool_prep_number: Pin<i32, Out>,
     tool_prep_pocket: Pin<i32, Out>,
-    tool_prep_index: Param<i32, Ro>,
+    tool_prep_index: Pin<i32, Out>,
+    tool_from_pocket: Pin<i32, Out>,
     tool_number: Pin<i32, Out>,
     tool_change: Pin<bool, Out>,
     tool_changed: Pin<bool, In>,
@@ -443,7 +456,8 @@ impl IoPins {
             tool_prepare: c.pin(&p("tool-prepare"))?,
             tool_number: c.pin(&p("tool-number"))?,
             tool_prep_number: c.pin(&p("tool-prep-number"))?,
-            tool_prep_index: c.param(&p("tool-prep-index"), 0)?,
+            tool_prep_index: c.pin(&p("tool-prep-index"))?,
+            tool_from_pocket: c.pin(&p("tool-from-pocket"))?,
             tool_prep_pocket: c.pin(&p("tool-prep-pocket"))?,
             tool_prepared: c.pin(&p("tool-prepared"))?,
             tool_change: c.pin(&p("tool-change"))?,
@@ -477,6 +491,7 @@ impl IoPins {
         self.tool_prep_number.set(o.tool_prep_number);
         self.tool_prep_pocket.set(o.tool_prep_pocket);
         self.tool_prep_index.set(o.tool_prep_index);
+        self.tool_from_pocket.set(o.tool_from_pocket);
         self.tool_number.set(o.tool_number);
         self.tool_change.set(o.tool_change);
     }
@@ -550,6 +565,7 @@ mod tests {
             (o.tool_number, o.tool_prep_number, o.tool_change),
             (2, 0, false)
         );
+        assert_eq!(o.tool_from_pocket, 3, "tool 2 came from pocket 3");
         assert_eq!(
             io.table().tool(0).unwrap().number,
             2,
@@ -578,6 +594,7 @@ mod tests {
         io.request(&IoRequest::Load).unwrap();
         io.step(&inputs(true, true));
         assert_eq!(io.tool_in_spindle(), 1);
+        assert_eq!(io.outputs().tool_from_pocket, 5);
         assert_eq!(io.table().tool(0).unwrap().number, 1);
         assert_eq!(
             io.table().tool(5).unwrap().number,

@@ -51,6 +51,16 @@ impl RunState {
             RunState::Held => "HELD (M0/M1)",
         }
     }
+
+    /// The state as LinuxCNC's interpreter states name it: a stop at M0
+    /// or M1 is PAUSED, as an operator's pause.
+    pub fn short_name(self) -> &'static str {
+        match self {
+            RunState::Idle => "IDLE",
+            RunState::Running => "RUNNING",
+            RunState::Paused | RunState::Held => "PAUSED",
+        }
+    }
 }
 
 /// How a run ended.
@@ -118,6 +128,11 @@ impl Program {
     /// Whether nothing runs (no program, no MDI line).
     pub fn idle(&self) -> bool {
         self.state == RunState::Idle
+    }
+
+    /// Where the program (or MDI line) is.
+    pub fn run_state(&self) -> RunState {
+        self.state
     }
 
     /// Whether nothing runs and no MDI line waits.

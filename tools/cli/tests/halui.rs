@@ -1,0 +1,126 @@
+//! halui on the simulated mill (`[HAL]HALUI = halui`): its buttons drive
+//! task as a panel's would (e-stop reset, machine on, homing, an
+//! `[HALUI]MDI_COMMAND`, a program started, paused, resumed and stopped,
+//! coolant, jogging, the feed override), and its status pins follow.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use machine::{root, Machine, Scratch};
+use std::time::{Duration, Instant};
+
+/// configs/sim/mill, copied, with two MDI commands for halui.
+fn mill_with_mdi(s: &Scratch) -> std::path::PathBuf {
+    let src = root().join("configs/sim/mill");
+    for entry in std::fs::read_dir(&src).unwrap().flatten() {
+        let name = entry.file_name();
+        let name = name.to_str().unwrap();
+        if !name.starts_with("sim.var") {
+            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
+        }
+    }
+    let ini = s.0.join("mill.ini");
+    let mut text = std::fs::read_to_string(&ini).unwrap();
+    text.push_str("\n[HALUI]\nMDI_COMMAND = G0 X3 Y2\nMDI_COMMAND = G0 X0 Y0\n");
+    std::fs::write(&ini, text).unwrap();
+    ini
+}
+
+/// A button press: the pin TRUE until `until` holds, then FALSE again.
+fn press(m: &Machine, pin: &str, until: impl Fn() -> bool) {
+    m.halcmd(&["setp", pin, "TRUE"]);
+    let end = Instant::now() + Duration::from_secs(30);
+    while !until() {
+        assert!(
+            Instant::now() < end,
+            "{pin}: no effect\n--- linuxcnc:\n{}",
+            m.stderr()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    m.halcmd(&["setp", pin, "FALSE"]);
+}
+
+fn pos(m: &Machine, joint: usize) -> f64 {
+    m.getp(&format!("joint.{joint}.pos-cmd")).parse().unwrap()
+}
+
+#[test]
+fn halui_buttons_run_the_mill() {
+    let s = Scratch::new("halui-mill");
+    let ini = mill_with_mdi(&s);
+    let prog = s.write("slow.ngc", "G21 G90\nG1 X20 F60\nM2\n");
+    let m = Machine::start(&ini, "halui-mill");
+    assert!(m.threads_run());
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    press(&m, "halui.estop.reset", || !is("halui.estop.is-activated"));
+    press(&m, "halui.machine.on", || is("halui.machine.is-on"));
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE");
+    press(&m, "halui.home-all", || {
+        (0..3).all(|j| is(&format!("halui.joint.{j}.is-homed")))
+    });
+    m.motion(&["-t", "30", "wait", "in-position"]);
+
+    // An MDI command from MANUAL: MDI mode, the line, MANUAL again.
+    assert!(is("halui.mode.is-manual"));
+    press(&m, "halui.mdi-command-00", || is("halui.mode.is-mdi"));
+    assert_eq!(
+        m.wait_getp("halui.mode.is-manual", "TRUE"),
+        "TRUE",
+        "{}\n--- linuxcnc:\n{}",
+        m.task_ok(&["status"]),
+        m.stderr()
+    );
+    assert!((pos(&m, 0) - 3.0).abs() < 1e-6 && (pos(&m, 1) - 2.0).abs() < 1e-6);
+    let x: f64 = m.getp("halui.axis.x.pos-commanded").parse().unwrap();
+    assert!((x - 3.0).abs() < 1e-6, "{x}");
+
+    // A program: run (AUTO by itself), pause, resume, stop.
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    press(&m, "halui.program.run", || is("halui.program.is-running"));
+    assert!(is("halui.mode.is-auto"));
+    std::thread::sleep(Duration::from_millis(300));
+    press(&m, "halui.program.pause", || is("halui.program.is-paused"));
+    std::thread::sleep(Duration::from_millis(300));
+    let held = pos(&m, 0);
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), held, "paused: X holds");
+    assert!(held > 3.0 && held < 20.0, "{held}");
+    press(&m, "halui.program.resume", || {
+        is("halui.program.is-running")
+    });
+    std::thread::sleep(Duration::from_millis(200));
+    assert!(pos(&m, 0) > held, "resumed: X moves on");
+    press(&m, "halui.program.stop", || is("halui.program.is-idle"));
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert!(pos(&m, 0) < 20.0, "stopped before the end");
+
+    // Coolant, the feed override by counts, a jog by an increment.
+    press(&m, "halui.flood.on", || is("halui.flood.is-on"));
+    assert_eq!(m.getp("iocontrol.0.coolant-flood"), "TRUE");
+    press(&m, "halui.flood.off", || !is("halui.flood.is-on"));
+    m.halcmd(&["setp", "halui.feed-override.scale", "0.01"]);
+    m.halcmd(&["setp", "halui.feed-override.counts", "-50"]);
+    assert_eq!(m.wait_getp("halui.feed-override.value", "0.5"), "0.5");
+    let before = pos(&m, 2);
+    // Homed, MANUAL is teleop: the axis is jogged (speed in units/min).
+    m.halcmd(&["setp", "halui.axis.jog-speed", "120"]);
+    m.halcmd(&["setp", "halui.axis.z.increment", "1.5"]);
+    press(&m, "halui.axis.z.increment-minus", || {
+        (pos(&m, 2) - before).abs() > 1e-9
+    });
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    let after = pos(&m, 2);
+    assert!((after - (before - 1.5)).abs() < 1e-6, "{before} -> {after}");
+
+    press(&m, "halui.machine.off", || !is("halui.machine.is-on"));
+    // postgui.hal put halui.estop.activate on the signal remote-estop.
+    m.halcmd(&["sets", "remote-estop", "TRUE"]);
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    assert_eq!(m.getp("iocontrol.0.user-enable-out"), "FALSE");
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}

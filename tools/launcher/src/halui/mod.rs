@@ -1,0 +1,320 @@
+//! `halui`: LinuxCNC's HAL user interface, a user-space component whose
+//! pins (`halui.machine.on`, `halui.program.run`, `halui.mdi-command-00`,
+//! `halui.joint.0.is-homed`...) let buttons, pendants and panels wired in
+//! HAL files drive the machine. It is a client of task, as `task-cmd`
+//! is: a button's edge becomes a task request; task's `state` answer and
+//! motion's status snapshot drive the status pins.
+//!
+//! The launcher starts it, as LinuxCNC's script does, with `loadusr -Wn
+//! halui halui -ini MACHINE.ini` before the HAL files run, so they can
+//! connect its pins; task answers once the HAL files ran, until then the
+//! buttons wait.
+
+mod logic;
+mod pins;
+
+use std::time::Duration;
+
+use hal_core::userspace::ExitSignals;
+use hal_core::Instance;
+use hal_lang::ini::Ini;
+
+use crate::error::LaunchError;
+use crate::task::Mode;
+use crate::task_manual::Jogged;
+use crate::task_socket::{request, TaskAnswer, TaskClientError};
+use logic::{Action, Edges, Override, OverrideCounter, TaskState};
+use pins::{HaluiPins, Layout, Status};
+
+pub use logic::fuzz_state;
+
+/// How often halui reads its pins and task's state.
+const CYCLE: Duration = Duration::from_millis(20);
+/// How long a request may take (a mode change waits up to 5 s for motion).
+const REQUEST_WAIT: Duration = Duration::from_secs(10);
+
+/// `halui`'s usage text.
+pub const USAGE: &str = "\
+usage: halui [--instance NAME] [-ini MACHINE.ini]
+
+LinuxCNC's HAL user interface: the halui.* pins (machine, e-stop, mode,
+program, coolant, lube, homing, joint jogging, feed, rapid and maximum
+velocity overrides, [HALUI]MDI_COMMAND) as requests to task, and the
+machine's state on its status pins. The launcher (linuxcnc) starts it when
+[HAL]HALUI = halui. The INI file is $INI_FILE_NAME if -ini is not given.
+
+options:
+  -ini FILE        the machine's INI file
+  --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
+  -h, --help       print this help and exit
+  --version        print the version and exit";
+
+/// Runs halui with its command line (without the suite's common options,
+/// which the binary takes first); returns the exit status.
+pub fn main(args: &[String]) -> i32 {
+    match run(args) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("halui: {e}");
+            1
+        }
+    }
+}
+
+fn ini_path(args: &[String]) -> Result<std::path::PathBuf, LaunchError> {
+    let usage = |why: String| LaunchError::HaluiUsage { why };
+    let mut ini = None;
+    let mut i = 0;
+    while let Some(a) = args.get(i) {
+        match a.as_str() {
+            "-ini" | "--ini" => {
+                let path = args
+                    .get(i + 1)
+                    .ok_or_else(|| usage(format!("{a} needs a value")))?;
+                ini = Some(std::path::PathBuf::from(path));
+                i += 1;
+            }
+            o if o.starts_with('-') => {
+                return Err(usage(format!("unknown option '{o}' (see halui --help)")))
+            }
+            other => {
+                return Err(usage(format!(
+                    "unexpected argument '{other}' (see halui --help)"
+                )))
+            }
+        }
+        i += 1;
+    }
+    ini.or_else(|| {
+        std::env::var_os("INI_FILE_NAME")
+            .filter(|v| !v.is_empty())
+            .map(std::path::PathBuf::from)
+    })
+    .ok_or_else(|| usage("no INI file: give -ini MACHINE.ini".into()))
+}
+
+fn run(args: &[String]) -> Result<(), LaunchError> {
+    let ini = Ini::load(&ini_path(args)?)?;
+    let axes = crate::config::axis_letters(&ini);
+    let mdi: Vec<String> = ini
+        .all("HALUI", "MDI_COMMAND")
+        .map(|e| e.value.clone())
+        .collect();
+    let layout = Layout {
+        joints: crate::config::joint_count(&ini)?,
+        axes: &axes,
+        mdi_commands: mdi.len(),
+        units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
+    };
+    let signals = ExitSignals::install()?;
+    let instance = hal_core::instance_from_env();
+    let inst = Instance::attach(&instance)?;
+    let pins = HaluiPins::create(&inst, &layout)?;
+    let mut halui = Halui {
+        instance,
+        pins,
+        mdi,
+        edges: Edges::default(),
+        counters: [OverrideCounter::default(); 3],
+        mdi_return: None,
+        motion: None,
+        said_waiting: false,
+    };
+    while !signals.requested() && inst.host_alive() {
+        halui.cycle(&inst);
+        std::thread::sleep(CYCLE);
+    }
+    Ok(())
+}
+
+/// Whether a request failed because task went away (the launcher stops).
+fn connection_gone(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind::*;
+    matches!(
+        e.kind(),
+        ConnectionReset | ConnectionRefused | ConnectionAborted | BrokenPipe | NotFound
+    )
+}
+
+/// halui's state between cycles.
+struct Halui {
+    instance: String,
+    pins: HaluiPins,
+    /// `[HALUI]MDI_COMMAND`s, in order.
+    mdi: Vec<String>,
+    edges: Edges,
+    /// Feed, rapid, max-velocity.
+    counters: [OverrideCounter; 3],
+    /// The mode to go back to once an `mdi-command-NN` line has run.
+    mdi_return: Option<Mode>,
+    motion: Option<motion::MotionClient>,
+    /// Task's absence was reported.
+    said_waiting: bool,
+}
+
+fn counter_index(which: Override) -> usize {
+    match which {
+        Override::Feed => 0,
+        Override::Rapid => 1,
+        Override::MaxVelocity => 2,
+    }
+}
+
+impl Halui {
+    fn cycle(&mut self, inst: &Instance) {
+        let state = self.task_state();
+        if self.motion.is_none() {
+            self.motion = motion::MotionClient::open(inst).ok();
+        }
+        let motion = self.motion.as_ref().and_then(|m| m.status().ok());
+        self.pins.write(&Status {
+            task: state.as_ref(),
+            motion: motion.as_ref(),
+        });
+        let changes = self.edges.changes(&self.pins.buttons());
+        let Some(state) = state else { return };
+        // Back to the mode an MDI command left, once its line ran (checked
+        // before this cycle's presses: `state` is from before them).
+        if let Some(mode) = self.mdi_return {
+            if state.program == "IDLE" {
+                self.mdi_return = None;
+                if state.task_mode() != Some(mode) {
+                    self.ask(&["mode", &mode.name().to_ascii_lowercase()]);
+                }
+            }
+        }
+        for (index, value) in changes {
+            if let Some(action) = self.pins.action(index, value) {
+                self.perform(action, &state);
+            }
+        }
+        for (which, inputs) in self.pins.override_inputs() {
+            let current = state.override_value(which);
+            if let Some(v) = self.counters[counter_index(which)].target(&inputs, current) {
+                self.ask(&[which.request(), &v.to_string()]);
+            }
+        }
+    }
+
+    /// Task's state, or `None` while no task answers.
+    fn task_state(&mut self) -> Option<TaskState> {
+        let words = vec!["state".to_string()];
+        match request(&self.instance, &words, REQUEST_WAIT) {
+            Ok(TaskAnswer::Done(text)) => {
+                self.said_waiting = false;
+                match logic::parse_state(&text) {
+                    Ok(s) => Some(s),
+                    Err(e) => {
+                        eprintln!("halui: {e}");
+                        None
+                    }
+                }
+            }
+            Ok(TaskAnswer::Refused(why)) => {
+                eprintln!("halui: state: {why}");
+                None
+            }
+            // No task yet (the HAL files still run), or it just ended.
+            Err(TaskClientError::NotRunning { .. }) => None,
+            Err(TaskClientError::Io(e)) if connection_gone(&e) => None,
+            Err(e) => {
+                if !self.said_waiting {
+                    eprintln!("halui: {e}");
+                    self.said_waiting = true;
+                }
+                None
+            }
+        }
+    }
+
+    /// Sends a request; a refusal is reported. Returns whether it was
+    /// done.
+    fn ask(&self, words: &[&str]) -> bool {
+        let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+        match request(&self.instance, &owned, REQUEST_WAIT) {
+            Ok(TaskAnswer::Done(_)) => true,
+            Ok(TaskAnswer::Refused(why)) => {
+                eprintln!("halui: {}: {why}", words.join(" "));
+                false
+            }
+            Err(e) => {
+                eprintln!("halui: {}: {e}", words.join(" "));
+                false
+            }
+        }
+    }
+
+    /// Puts task in `mode` unless it is there.
+    fn ensure_mode(&self, state: &TaskState, mode: Mode) -> bool {
+        state.task_mode() == Some(mode) || self.ask(&["mode", &mode.name().to_ascii_lowercase()])
+    }
+
+    fn perform(&mut self, action: Action, state: &TaskState) {
+        let on_off = |on: bool| if on { "on" } else { "off" };
+        // Jog speeds are in machine units per minute, as LinuxCNC's.
+        let jog_vel = |what: Jogged| self.pins.jog_speed(what) / 60.0;
+        let target = |what: Jogged| match what {
+            Jogged::Joint(j) => j.to_string(),
+            Jogged::Axis(a) => ["x", "y", "z", "a", "b", "c", "u", "v", "w"]
+                .get(usize::try_from(a).unwrap_or(9))
+                .map_or_else(|| a.to_string(), |l| l.to_string()),
+        };
+        match action {
+            Action::MachineOn => self.ask(&["machine-on"]),
+            Action::MachineOff => self.ask(&["machine-off"]),
+            Action::EstopActivate => self.ask(&["estop"]),
+            Action::EstopReset => self.ask(&["estop-reset"]),
+            Action::Mode(m) => self.ask(&["mode", &m.name().to_ascii_lowercase()]),
+            Action::Run => self.ensure_mode(state, Mode::Auto) && self.ask(&["run"]),
+            Action::Pause => self.ask(&["pause"]),
+            Action::Resume => self.ask(&["resume"]),
+            Action::Step => self.ask(&["step"]),
+            Action::Abort => self.ask(&["abort"]),
+            Action::Mist(on) => self.ask(&["coolant", "mist", on_off(on)]),
+            Action::Flood(on) => self.ask(&["coolant", "flood", on_off(on)]),
+            Action::Lube(on) => self.ask(&["lube", on_off(on)]),
+            Action::HomeAll => self.ensure_mode(state, Mode::Manual) && self.ask(&["home", "all"]),
+            Action::Home(j) => {
+                self.ensure_mode(state, Mode::Manual) && self.ask(&["home", &j.to_string()])
+            }
+            Action::Unhome(j) => {
+                self.ensure_mode(state, Mode::Manual) && self.ask(&["unhome", &j.to_string()])
+            }
+            Action::JogStart(what, dir) => {
+                let vel = (dir * jog_vel(what)).to_string();
+                self.ensure_mode(state, Mode::Manual)
+                    && self.ask(&["jog-cont", &target(what), &vel])
+            }
+            Action::JogStop(what) => self.ask(&["jog-stop", &target(what)]),
+            Action::JogIncrement(what, dir) => {
+                let dist = (dir * self.pins.increment(what)).to_string();
+                let vel = jog_vel(what).to_string();
+                self.ensure_mode(state, Mode::Manual)
+                    && self.ask(&["jog-incr", &target(what), &vel, &dist])
+            }
+            Action::Mdi(n) => self.mdi_command(n, state),
+            Action::OverrideStep(which, dir) => {
+                let v = state.override_value(which) + dir * self.pins.override_scale(which);
+                self.ask(&[which.request(), &v.max(0.0).to_string()])
+            }
+            Action::OverrideReset(which) => self.ask(&[which.request(), "1"]),
+        };
+    }
+
+    /// `mdi-command-NN`: MDI mode (remembering the mode to go back to),
+    /// the line, and back once it ran.
+    fn mdi_command(&mut self, n: usize, state: &TaskState) -> bool {
+        let Some(line) = self.mdi.get(n).cloned() else {
+            return false;
+        };
+        let before = state.task_mode();
+        if !self.ensure_mode(state, Mode::Mdi) {
+            return false;
+        }
+        let done = self.ask(&["mdi", &line]);
+        if done && before != Some(Mode::Mdi) {
+            self.mdi_return = before;
+        }
+        done
+    }
+}
