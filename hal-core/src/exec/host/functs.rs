@@ -32,9 +32,8 @@ impl Host {
         // loads and unloads for months does not grow its table; never the
         // slot of a function whose fault still stands (`fault` names it).
         let faulted = self.shared.fault.load(Acquire);
-        let code_id = (0..st.functs.len())
-            .find(|&i| st.functs[i].is_none() && i != faulted)
-            .unwrap_or(st.functs.len());
+        let reuse = st.free_functs.iter().rposition(|&i| i != faulted);
+        let code_id = reuse.map_or(st.functs.len(), |p| st.free_functs[p]);
         let rec_off = self
             .inst
             .tx(|tx| new_funct_tx(tx, comp.offset(), name, code_id as u64, uses_fp, reentrant))?;
@@ -45,10 +44,12 @@ impl Host {
             reentrant,
             threads: Vec::new(),
         });
-        if code_id == st.functs.len() {
-            st.functs.push(slot);
-        } else {
-            st.functs[code_id] = slot;
+        match reuse {
+            Some(p) => {
+                st.free_functs.swap_remove(p);
+                st.functs[code_id] = slot;
+            }
+            None => st.functs.push(slot),
         }
         st.by_name.insert(name.to_string(), code_id);
         Ok(code_id)
@@ -68,9 +69,7 @@ impl Host {
             }
         }
         for &id in ids {
-            if let Some(slot) = st.functs.get_mut(id).and_then(Option::take) {
-                st.by_name.remove(&slot.name);
-            }
+            st.release_funct(id);
         }
     }
 

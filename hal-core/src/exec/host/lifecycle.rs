@@ -239,6 +239,7 @@ impl Host {
             }
         }
         st.functs.clear();
+        st.free_functs.clear();
         // No thread runs any more: idle CPUs may sleep deeply again.
         st.cpu_latency = None;
         drop(st);

@@ -50,9 +50,7 @@ impl Host {
             hook();
         }
         for id in &ids {
-            if let Some(slot) = st.functs.get_mut(*id).and_then(Option::take) {
-                st.by_name.remove(&slot.name);
-            }
+            st.release_funct(*id);
         }
         drop(lc);
         Ok(())

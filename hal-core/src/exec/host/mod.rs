@@ -126,6 +126,9 @@ struct LoadedComp {
 #[derive(Default)]
 struct HostState {
     functs: Vec<Option<FunctSlot>>,
+    /// The empty slots of `functs`, for the next exports to take again
+    /// (found in O(1): a load of N functions must not search N slots each).
+    free_functs: Vec<usize>,
     by_name: HashMap<String, usize>,
     threads: Vec<HostThread>,
     comps: Vec<LoadedComp>,
@@ -137,6 +140,16 @@ struct HostState {
     cpu_latency: Option<realtime::CpuLatencyRequest>,
     /// Per-function timing of threads created from now on.
     timing_default: bool,
+}
+
+impl HostState {
+    /// Empties function slot `id` (if full) and keeps it for reuse.
+    fn release_funct(&mut self, id: usize) {
+        if let Some(slot) = self.functs.get_mut(id).and_then(Option::take) {
+            self.by_name.remove(&slot.name);
+            self.free_functs.push(id);
+        }
+    }
 }
 
 /// The host of one HAL instance.
