@@ -12,9 +12,11 @@ use hal_core::{
 /// Longest instance name `names=` accepts (LinuxCNC's limit).
 pub const MAX_INSTANCE_NAME: usize = 47;
 /// Most instances one load may create: far more than any machine needs,
-/// and small enough that a mistyped count fails cleanly instead of
-/// exhausting memory.
-pub const MAX_INSTANCES: i64 = 4096;
+/// and enough for configurations of 10^5 pins (the object index makes
+/// loading them linear); a mistyped count fails cleanly here, and a count
+/// the segment cannot hold fails with the segment's out-of-memory error
+/// and leaves nothing loaded.
+pub const MAX_INSTANCES: i64 = 65536;
 
 /// Personality entries one load accepts.
 pub const MAX_PERSONALITY: usize = 64;

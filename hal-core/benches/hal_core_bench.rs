@@ -64,8 +64,32 @@ fn pin_access(host: &Host) -> Result<()> {
     Ok(())
 }
 
+/// Median of the thread times a cycle-recording function pushed into
+/// `trivial.times` during `run` (the first cycles, which fault pages in,
+/// left out); `None` if no cycle ran.
+fn median_thread_time(host: &Host, run: Duration) -> Result<Option<f64>> {
+    let mut reader = RingReader::open(host.instance(), "trivial.times")?;
+    host.start()?;
+    std::thread::sleep(run);
+    host.stop();
+    let mut v = Vec::new();
+    let mut rec = [0u64];
+    while reader.pop(&mut rec) {
+        v.push(rec[0] as f64);
+    }
+    v.drain(..v.len().min(2));
+    v.sort_by(f64::total_cmp);
+    Ok((!v.is_empty()).then(|| v[v.len() / 2]))
+}
+
+/// Executor cost per function: 100 trivial functions (each adds one to
+/// its own pin) on a 1 ms thread, timed and untimed, as the thread's own
+/// time with them minus its time without them, divided by 100; beside it
+/// the floor: the same 100 calls through plain function pointers in a
+/// loop once per ms on a thread placed as the HAL's, no HAL.
 fn executor_cost(host: &Host) -> Result<()> {
     const FUNCTS: usize = 100;
+    const RUN: Duration = Duration::from_secs(2);
     let mut b = host.new_rt_component("trivial")?;
     for i in 0..FUNCTS {
         let p: Pin<u32, Out> = b.component().pin(&format!("trivial.{i}.count"))?;
@@ -85,40 +109,91 @@ fn executor_cost(host: &Host) -> Result<()> {
     inst.newsig("cost-time", HalType::S32)?;
     inst.link("cost.time", "cost-time")?;
     inst.link("trivial.thread-time", "cost-time")?;
+    host.addf("trivial.record", "cost", -1)?;
+    println!(
+        "\nexecutor cost per function, {FUNCTS} trivial functions on a 1 ms thread \
+         (thread time with them - without, / {FUNCTS}; medians of {} s)",
+        RUN.as_secs()
+    );
+    let mut empty = [None, None];
+    for (k, timing) in [true, false].into_iter().enumerate() {
+        host.set_function_timing(timing);
+        empty[k] = median_thread_time(host, RUN)?;
+    }
     for i in 0..FUNCTS {
         host.addf(&format!("trivial.{i}"), "cost", -1)?;
     }
-    host.addf("trivial.record", "cost", -1)?;
-    println!("\nexecutor cost, {FUNCTS} trivial functions on one 1 ms thread, 2 s each");
-    for timing in [true, false] {
+    for (k, timing) in [true, false].into_iter().enumerate() {
         host.set_function_timing(timing);
-        let mut reader = RingReader::open(inst, "trivial.times")?;
-        host.start()?;
-        std::thread::sleep(Duration::from_secs(2));
-        host.stop();
-        let mut v = Vec::new();
-        let mut rec = [0u64];
-        while reader.pop(&mut rec) {
-            v.push(rec[0] as f64 / (FUNCTS + 1) as f64);
+        let full = median_thread_time(host, RUN)?;
+        match (full, empty[k]) {
+            (Some(full), Some(empty)) => println!(
+                "  timing {:<3}: {:.1} ns per function (thread time {full:.0} ns, without them {empty:.0} ns)",
+                if timing { "on" } else { "off" },
+                (full - empty) / FUNCTS as f64
+            ),
+            _ => println!("  timing {}: no cycles ran", if timing { "on" } else { "off" }),
         }
-        v.drain(..v.len().min(2)); // first cycles fault pages in
-        v.sort_by(f64::total_cmp);
-        if v.is_empty() {
-            println!("  no cycles ran");
-            continue;
-        }
-        println!(
-            "  timing {:<3}: per function median {:.1} ns, best {:.1} ns, p99 {:.1} ns ({} cycles)",
-            if timing { "on" } else { "off" },
-            v[v.len() / 2],
-            v[0],
-            v[v.len() * 99 / 100],
-            v.len()
-        );
     }
     host.set_function_timing(true);
     host.unload("trivial")?;
-    host.delete_thread("cost")
+    host.delete_thread("cost")?;
+    let floor = plain_call_floor(FUNCTS, RUN, host.is_realtime());
+    println!("  floor     : {floor:.1} ns per call (plain function pointers, no HAL)");
+    Ok(())
+}
+
+/// Adds one to a counter: the floor's trivial function.
+#[inline(never)]
+fn bump(counter: &std::sync::atomic::AtomicU32) {
+    counter.store(
+        counter
+            .load(std::sync::atomic::Ordering::Relaxed)
+            .wrapping_add(1),
+        std::sync::atomic::Ordering::Relaxed,
+    );
+}
+
+/// Per-call cost of `n` calls through plain function pointers, once per
+/// ms on a thread placed as a HAL thread (its CPU, SCHED_FIFO when
+/// `realtime`): the median over `run` of each cycle's time / n.
+fn plain_call_floor(n: usize, run: Duration, realtime: bool) -> f64 {
+    use std::sync::atomic::AtomicU32;
+    let clock = clock::TickClock::calibrate();
+    let worker = std::thread::spawn(move || {
+        if let Some(cpu) = hal_core::realtime::default_cpu() {
+            let _ = hal_core::realtime::pin_to_cpu(cpu);
+        }
+        if realtime {
+            let _ = hal_core::realtime::set_fifo(TOP_PRIORITY);
+        }
+        let counters: Vec<AtomicU32> = (0..n).map(|_| AtomicU32::new(0)).collect();
+        // A plain call: the function and its argument.
+        type Call<'a> = (fn(&AtomicU32), &'a AtomicU32);
+        let calls: Vec<Call<'_>> = counters
+            .iter()
+            .map(|c| (bump as fn(&AtomicU32), c))
+            .collect();
+        let mut per_call = Vec::new();
+        let mut next = clock::monotonic_ns();
+        let end = next + run.as_nanos() as u64;
+        while next < end {
+            next += 1_000_000;
+            clock::sleep_until(next);
+            let t0 = clock.now();
+            for (f, c) in black_box(&calls) {
+                f(c);
+            }
+            per_call.push(clock.to_ns(clock.now().wrapping_sub(t0)) as f64 / n as f64);
+        }
+        per_call.drain(..per_call.len().min(2));
+        per_call.sort_by(f64::total_cmp);
+        per_call
+            .get(per_call.len() / 2)
+            .copied()
+            .unwrap_or(f64::NAN)
+    });
+    worker.join().unwrap_or(f64::NAN)
 }
 
 /// CPU time the kernel has charged to this process's thread named `comm`,

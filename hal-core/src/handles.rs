@@ -70,6 +70,13 @@ pub(crate) struct Cells {
 }
 
 impl Cells {
+    /// No cells: a placeholder while a mapping is being checked.
+    pub(crate) const EMPTY: Cells = Cells {
+        base: std::ptr::null(),
+        floor: 0,
+        span: 0,
+    };
+
     pub(crate) fn new(seg: &Segment) -> Cells {
         // A segment too small for any cell past its journal (only a
         // malformed one can be) still keeps every access inside it.
@@ -102,13 +109,12 @@ impl Cells {
     }
 }
 
-/// A pin of value type `T` and direction `D`.
+/// A pin of value type `T` and direction `D`: 16 bytes, the slot's
+/// address and the mapping (whose [`Cells`] bounds every access), so that
+/// a function's handles take few cache lines.
 pub struct Pin<T: PinValue, D: Direction> {
     slot: *const AtomicU64,
-    /// The pin's own cell, read while the pin is not linked.
-    own: *const AtomicU64,
-    cells: Cells,
-    _seg: Arc<Segment>,
+    seg: Arc<Segment>,
     _marker: PhantomData<fn() -> (T, D)>,
 }
 
@@ -122,18 +128,16 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
     pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<Self> {
         let rec: &PinRec = seg.rec(off)?;
         Ok(Pin {
-            slot: &rec.slot,
-            own: &rec.dummy,
-            cells: Cells::new(seg),
-            _seg: seg.clone(),
+            slot: &rec.words(seg)?.first,
+            seg: seg.clone(),
             _marker: PhantomData,
         })
     }
 
     #[inline(always)]
     fn cell(&self) -> &AtomicU64 {
-        // SAFETY: `slot` points into the mapping, which `_seg` keeps alive.
-        self.cells.cell(unsafe { &*self.slot })
+        // SAFETY: `slot` points into the mapping, which `seg` keeps alive.
+        self.seg.cells().cell(unsafe { &*self.slot })
     }
 
     /// The pin's slot (for the executor's timing outputs).
@@ -178,8 +182,9 @@ impl<T: PinValue> Pin<T, In> {
     /// `command-deriv` and `feedback-deriv` this way).
     #[inline(always)]
     pub fn set_unlinked(&self, v: T) {
-        // SAFETY: `own` points into the mapping, which `_seg` keeps alive.
-        unsafe { &*self.own }.store(v.to_bits(), Relaxed)
+        // SAFETY: a pin's own cell is the word after its slot in their
+        // `Pair`, inside the mapping that `seg` keeps alive.
+        unsafe { &*self.slot.add(1) }.store(v.to_bits(), Relaxed)
     }
 }
 
@@ -208,7 +213,7 @@ impl<T: PinValue, A: ParamAccess> Param<T, A> {
     pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<Self> {
         let rec: &ParamRec = seg.rec(off)?;
         Ok(Param {
-            value: &rec.value,
+            value: &rec.words(seg)?.first,
             _seg: seg.clone(),
             _marker: PhantomData,
         })
@@ -351,9 +356,7 @@ impl<T: PinValue, D: Direction> Clone for Pin<T, D> {
     fn clone(&self) -> Self {
         Pin {
             slot: self.slot,
-            own: self.own,
-            cells: self.cells,
-            _seg: self._seg.clone(),
+            seg: self.seg.clone(),
             _marker: PhantomData,
         }
     }
@@ -385,9 +388,10 @@ mod tests {
         let pin: Pin<u32, Out> = c.pin("clamp.out").unwrap();
         pin.set(7);
         assert_eq!(pin.get(), 7);
-        let first = pin.cells.floor;
-        let last = pin.cells.floor + pin.cells.span;
-        let at = |p: &Pin<u32, Out>| p.cell() as *const AtomicU64 as usize - p.cells.base as usize;
+        let cells = *pin.seg.cells();
+        let first = cells.floor;
+        let last = cells.floor + cells.span;
+        let at = |p: &Pin<u32, Out>| p.cell() as *const AtomicU64 as usize - cells.base as usize;
         // SAFETY: the slot is in the mapping the handle keeps alive; the
         // test stands in for a process that scribbled over it.
         let slot = unsafe { &*pin.slot };

@@ -409,3 +409,119 @@ fn a_faster_thread_runs_first_when_both_are_due() {
         );
     }
 }
+
+/// What the `owner` test module's closures hold, as the test sees it: weak
+/// references that die with the module, and its function's call count.
+struct Owned {
+    funct_data: std::sync::Weak<AtomicU64>,
+    hook_data: std::sync::Weak<AtomicU64>,
+}
+
+/// The last load of `owner` per instance (tests run side by side).
+static OWNED: Mutex<Vec<(String, Owned)>> = Mutex::new(Vec::new());
+
+fn load_owner(host: &Host, _: &ModuleArgs) -> Result<()> {
+    let mut b = host.new_rt_component("own")?;
+    let _: Pin<f64, Out> = b.component().pin("own.out")?;
+    let _: Param<u32, Rw> = b.component().param("own.k", 3)?;
+    let calls = Arc::new(AtomicU64::new(0));
+    let in_hook = Arc::new(AtomicU64::new(0));
+    let mut owned = OWNED.lock().unwrap();
+    owned.retain(|(i, _)| i != host.instance().name());
+    owned.push((
+        host.instance().name().to_string(),
+        Owned {
+            funct_data: Arc::downgrade(&calls),
+            hook_data: Arc::downgrade(&in_hook),
+        },
+    ));
+    b.funct("own.tick", false, move |_| {
+        calls.fetch_add(1, Relaxed);
+    })?;
+    b.on_safe_state(move || {
+        in_hook.fetch_add(1, Relaxed);
+    });
+    b.ready()
+}
+
+static OWNER: ModuleDef = ModuleDef {
+    name: "owner",
+    params: &[],
+    help: "a test module whose function and safe-state hook own data",
+    load: load_owner,
+};
+
+/// Calls of `own.tick` so far, while the module is loaded.
+fn owner_calls(host: &Host) -> Option<u64> {
+    let owned = OWNED.lock().unwrap();
+    let (_, o) = owned.iter().find(|(i, _)| i == host.instance().name())?;
+    o.funct_data.upgrade().map(|c| c.load(Relaxed))
+}
+
+/// Asserts that nothing of `owner` is left: its closures' data dropped,
+/// its objects found by no name.
+fn assert_owner_gone(host: &Host, when: &str) {
+    {
+        let owned = OWNED.lock().unwrap();
+        let (_, o) = owned
+            .iter()
+            .find(|(i, _)| i == host.instance().name())
+            .unwrap();
+        assert!(
+            o.funct_data.upgrade().is_none(),
+            "{when}: the function's data outlives the unload"
+        );
+        assert!(
+            o.hook_data.upgrade().is_none(),
+            "{when}: the safe-state hook's data outlives the unload"
+        );
+    }
+    let inst = host.instance();
+    assert!(inst.component("own").unwrap().is_none(), "{when}");
+    assert!(inst.pin("own.out").unwrap().is_none(), "{when}");
+    assert!(inst.param("own.k").unwrap().is_none(), "{when}");
+    assert!(inst.pin_value("own.out").is_err(), "{when}");
+    assert!(inst.functs().unwrap().iter().all(|f| f.name != "own.tick"));
+    assert!(inst.threads().unwrap()[0].functs.is_empty(), "{when}");
+    assert!(matches!(
+        host.addf("own.tick", "t", -1),
+        Err(HalError::NotFound {
+            kind: "function",
+            ..
+        })
+    ));
+}
+
+/// Regression: with threads stopped, a function taken out of a thread
+/// stayed on the executor's list (rebuilt only at the next start), and
+/// that list kept the function's closure, and all it held, alive after
+/// `unloadrt`: on hardware, a device left open.
+#[test]
+fn unload_drops_what_the_module_owns_and_reload_works() {
+    for when in ["stopped after running", "running", "never started"] {
+        let host = host("ownership");
+        host.create_thread("t", 100_000, true, None).unwrap();
+        for round in 0..2 {
+            host.loadrt(&OWNER, &[] as &[&str]).unwrap();
+            let inst = host.instance();
+            assert!(inst.component("own").unwrap().is_some(), "{when} {round}");
+            assert_eq!(inst.param_value("own.k").unwrap(), Value::U32(3));
+            host.addf("own.tick", "t", -1).unwrap();
+            if when != "never started" {
+                if !host.is_running() {
+                    host.start().unwrap();
+                }
+                assert!(
+                    wait_until(10.0, || owner_calls(&host).unwrap_or(0) > 5),
+                    "{when} {round}: the function runs"
+                );
+            }
+            if when == "stopped after running" {
+                host.stop();
+            }
+            host.unloadrt("owner").unwrap();
+            assert_owner_gone(&host, when);
+        }
+        host.stop();
+    }
+}

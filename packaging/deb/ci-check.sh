@@ -23,6 +23,49 @@ echo "package: $deb"
 
 fail() { echo "package check: $*" >&2; exit 1; }
 
+# The names of a control field's relations, one a line ("libc6 (>= 2.35)"
+# gives libc6).
+relation_names() {
+    grep -m1 "^$1:" "$2" | cut -d: -f2- | tr ',' '\n' | sed -E 's/^ *([^ (]+).*/\1/' | grep -v '^$'
+}
+
+# The control file: each package once in Depends, every library the
+# binaries need (dpkg-shlibdeps over all of them together) at the version
+# they need, and the conflict with LinuxCNC's binaries declared.
+check_control() {
+    local control=$1 deb=$2 dup
+    dup=$(relation_names Depends "$control" | sort | uniq -d)
+    [ -z "$dup" ] || fail "Depends lists $dup more than once: $(grep '^Depends:' "$control")"
+    local scratch
+    scratch=$(mktemp -d)
+    dpkg-deb -x "$deb" "$scratch/root"
+    mkdir "$scratch/debian"
+    printf 'Source: hal-suite\n\nPackage: hal-suite\nArchitecture: any\n' >"$scratch/debian/control"
+    local needed
+    needed=$(cd "$scratch" && dpkg-shlibdeps -O root/usr/bin/* 2>/dev/null | sed 's/^shlibs:Depends=//')
+    rm -rf "$scratch"
+    [ -n "$needed" ] || fail "dpkg-shlibdeps found nothing"
+    local depends
+    depends=$(grep -m1 '^Depends:' "$control" | cut -d: -f2-)
+    local rel pkg ver have
+    while read -r rel; do
+        pkg=$(sed -E 's/^ *([^ (]+).*/\1/' <<<"$rel")
+        ver=$(sed -nE 's/.*\(>= *([^)]+)\).*/\1/p' <<<"$rel")
+        have=$(tr ',' '\n' <<<"$depends" | grep -E "^ *$pkg( |$)" || true)
+        [ -n "$have" ] || fail "Depends lacks $rel (the binaries need it)"
+        if [ -n "$ver" ]; then
+            local declared
+            declared=$(sed -nE 's/.*\(>= *([^)]+)\).*/\1/p' <<<"$have")
+            [ -n "$declared" ] && dpkg --compare-versions "$declared" ge "$ver" \
+                || fail "Depends has '$have', the binaries need $rel"
+        fi
+    done < <(tr ',' '\n' <<<"$needed")
+    for other in linuxcnc-uspace linuxcnc; do
+        relation_names Conflicts "$control" | grep -qx "$other" || fail "no Conflicts with $other"
+        relation_names Replaces "$control" | grep -qx "$other" || fail "no Replaces of $other"
+    done
+}
+
 listing=$(dpkg-deb -c "$deb")
 has() { grep -q -E "[[:space:]]\./$1\$" <<<"$listing" || fail "missing $1"; }
 # Every binary is packaged except the developers' benchmarks (*-bench).
@@ -52,6 +95,7 @@ dpkg-deb -e "$deb" "$ctrl"
 grep -q 'addgroup --system hal' "$ctrl/postinst" || fail "postinst does not create the group hal"
 grep -q 'setcap' "$ctrl/postinst" || fail "postinst gives no capabilities"
 grep -qx '/etc/security/limits.d/hal.conf' "$ctrl/conffiles" || fail "limits.d is not a conffile"
+check_control "$ctrl/control" "$deb"
 rm -rf "$ctrl"
 echo "package contents: ok"
 

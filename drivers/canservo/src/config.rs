@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use hal_core::module::{ModuleArgs, ParamDecl, ParamKind};
+use hal_core::module::{ModuleArgs, ParamDecl};
 use hal_driver::params::{Backend, BackendTokens, Params};
 use hal_driver::DriverError;
 
@@ -21,27 +21,52 @@ pub const MAX_DRIVES: usize = 16;
 /// Backends: a SocketCAN interface, or the in-process simulated bus.
 pub const BACKENDS: BackendTokens = BackendTokens::new(&["socketcan"], &[]);
 
+/// canservo's module parameters: the one table both hosts read (our
+/// host through [`PARAMS`], LinuxCNC through `canservo.so`'s symbols).
+#[macro_export]
+macro_rules! canservo_params {
+    ($($then:tt)*) => { $($then)*! {
+        iface: Str =
+            "CAN interface (default can0)",
+        backend: Str =
+            "socketcan (default) | sim: simulated drives on an in-process bus",
+        nodes: IntArray($crate::MAX_DRIVES) =
+            "node ids of the drives, 1..127: drive N is canservo.N",
+        scale: StrArray($crate::MAX_DRIVES) =
+            "counts per user unit, per drive (default 1; the position-scale param)",
+        mode: StrArray($crate::MAX_DRIVES) =
+            "csp (default) | pv | csv, per drive",
+        drive_file: StrArray($crate::MAX_DRIVES) =
+            "per drive: file of SDO writes made at start-up (INDEX:SUB TYPE VALUE)",
+        sync: Int =
+            "1 (default): the write function sends SYNC; 0: another device produces it",
+        period_ns: Int =
+            "servo period the drives interpolate over (0x60C2), default 1000000; the thread must match",
+        heartbeat_ms: Int =
+            "drives' heartbeat period (0x1017), default 100; 0 = off",
+        heartbeat_timeout_ms: Int =
+            "a drive silent this long faults, default 3 x heartbeat_ms",
+        master_node: Int =
+            "node id of the master's own heartbeat, default 127; 0 = none",
+        master_heartbeat_ms: Int =
+            "master heartbeat period, default 100; drives fault after 3 x this without it",
+        tpdo_misses: Int =
+            "consecutive periods without a drive's TPDOs before it faults, default 3",
+        quick_stop_ms: Int =
+            "a faulted drive gets quick stop this long before disable voltage, default 1000",
+        sdo_timeout_ms: Int =
+            "wait for each SDO answer at start-up, default 500",
+        boot_timeout_ms: Int =
+            "wait for boot-up messages after NMT reset, default 2000",
+        diag_ms: Int =
+            "helper reads each drive's error register this often by SDO, default 1000; 0 = off",
+        sim_home: IntArray($crate::MAX_DRIVES) =
+            "backend=sim: home switch closed from this motor position (counts) up, default 5000",
+    } };
+}
+
 /// The parameter table.
-pub const PARAMS: &[ParamDecl] = &[
-    ParamDecl { name: "iface", kind: ParamKind::Str, help: "CAN interface (default can0)" },
-    ParamDecl { name: "backend", kind: ParamKind::Str, help: "socketcan (default) | sim: simulated drives on an in-process bus" },
-    ParamDecl { name: "nodes", kind: ParamKind::IntArray(MAX_DRIVES), help: "node ids of the drives, 1..127: drive N is canservo.N" },
-    ParamDecl { name: "scale", kind: ParamKind::StrArray(MAX_DRIVES), help: "counts per user unit, per drive (default 1; the position-scale param)" },
-    ParamDecl { name: "mode", kind: ParamKind::StrArray(MAX_DRIVES), help: "csp (default) | pv | csv, per drive" },
-    ParamDecl { name: "drive_file", kind: ParamKind::StrArray(MAX_DRIVES), help: "per drive: file of SDO writes made at start-up (INDEX:SUB TYPE VALUE)" },
-    ParamDecl { name: "sync", kind: ParamKind::Int, help: "1 (default): the write function sends SYNC; 0: another device produces it" },
-    ParamDecl { name: "period_ns", kind: ParamKind::Int, help: "servo period the drives interpolate over (0x60C2), default 1000000; the thread must match" },
-    ParamDecl { name: "heartbeat_ms", kind: ParamKind::Int, help: "drives' heartbeat period (0x1017), default 100; 0 = off" },
-    ParamDecl { name: "heartbeat_timeout_ms", kind: ParamKind::Int, help: "a drive silent this long faults, default 3 x heartbeat_ms" },
-    ParamDecl { name: "master_node", kind: ParamKind::Int, help: "node id of the master's own heartbeat, default 127; 0 = none" },
-    ParamDecl { name: "master_heartbeat_ms", kind: ParamKind::Int, help: "master heartbeat period, default 100; drives fault after 3 x this without it" },
-    ParamDecl { name: "tpdo_misses", kind: ParamKind::Int, help: "consecutive periods without a drive's TPDOs before it faults, default 3" },
-    ParamDecl { name: "quick_stop_ms", kind: ParamKind::Int, help: "a faulted drive gets quick stop this long before disable voltage, default 1000" },
-    ParamDecl { name: "sdo_timeout_ms", kind: ParamKind::Int, help: "wait for each SDO answer at start-up, default 500" },
-    ParamDecl { name: "boot_timeout_ms", kind: ParamKind::Int, help: "wait for boot-up messages after NMT reset, default 2000" },
-    ParamDecl { name: "diag_ms", kind: ParamKind::Int, help: "helper reads each drive's error register this often by SDO, default 1000; 0 = off" },
-    ParamDecl { name: "sim_home", kind: ParamKind::IntArray(MAX_DRIVES), help: "backend=sim: home switch closed from this motor position (counts) up, default 5000" },
-];
+pub const PARAMS: &[ParamDecl] = canservo_params!(hal_driver::param_table);
 
 /// Everything `loadrt` was told.
 #[derive(Debug, Clone)]

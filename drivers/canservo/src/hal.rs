@@ -42,9 +42,12 @@
 
 use std::sync::Arc;
 
-use hal_core::module::{ModuleArgs, ModuleDef};
-use hal_core::{Component, HalError, Host, In, Io, Out, Param, Pin, Result, Ro, Rw};
-use hal_driver::fault::{self, SafeState};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{
+    HalError, HalHost, Host, HostParam, HostPin, In, Io, Out, PinFactory, Result, Ro, Rw,
+};
+use hal_driver::fault::SafeState;
+use hal_driver::module::{self, CompId, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Backend;
 use hal_driver::sim::SimClock;
 use hal_driver::ForModule;
@@ -55,15 +58,14 @@ use crate::engine::{DriveInputs, DriveShared, DriveStatus, Engine, RtCell};
 use crate::helper::{Helper, HelperDrive};
 use crate::regs::sw;
 use crate::sim::SimDriveConfig;
-use crate::startup::Network;
+use crate::startup::{Detached, Network, NodeInfo};
 
-/// The `canservo` module.
-pub static MODULE: ModuleDef = ModuleDef {
-    name: NAME,
-    params: config::PARAMS,
-    help: "CANopen CiA 402 servo drives over SocketCAN (or simulated: backend=sim)",
-    load,
-};
+/// The `canservo` driver, declared once for both hosts.
+#[derive(Debug)]
+pub struct Canservo;
+
+/// The `canservo` module of our host.
+pub static MODULE: ModuleDef = module::module_def::<Canservo>();
 
 /// `canservo` with every drive simulated whatever `backend=` says: the
 /// form fuzzers and other tests that must never reach a real bus load
@@ -76,36 +78,109 @@ pub static SIM_ONLY_MODULE: ModuleDef = ModuleDef {
     load: load_sim_only,
 };
 
+impl DriverModule for Canservo {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str =
+        "CANopen CiA 402 servo drives over SocketCAN (or simulated: backend=sim)";
+    const PARAMS: &'static [ParamDecl] = config::PARAMS;
+    type Opened = OpenedDrives;
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<OpenedDrives> {
+        open_config(config::parse(args).for_module(NAME)?)
+    }
+
+    fn export<H: DriverHost>(o: OpenedDrives, ex: &mut Exporter<'_, H>) -> Result<()> {
+        let comp = ex.component(NAME)?;
+        let pins = export_pins(ex.pins(comp), &o)?;
+        let nodes = o
+            .configured
+            .attach(&*o.setup)
+            .start()
+            .map_err(load_error)?
+            .into_nodes();
+        while o.rt.try_recv().is_some() {}
+        let log = ex.log();
+        for (i, n) in nodes.iter().enumerate() {
+            log.info(format_args!(
+                "canservo.{i}: node {}: {}",
+                n.plan.node, n.identity
+            ));
+        }
+        let shared: Vec<Arc<DriveShared>> = nodes
+            .iter()
+            .map(|_| Arc::new(DriveShared::default()))
+            .collect();
+        let helper_drives = nodes
+            .iter()
+            .zip(&shared)
+            .enumerate()
+            .map(|(index, (n, s))| HelperDrive {
+                index,
+                plan: n.plan.clone(),
+                shared: s.clone(),
+            })
+            .collect();
+        let engine = Engine::new(
+            o.rt,
+            nodes,
+            shared,
+            o.cfg.engine.clone(),
+            Some(log.clone()),
+            true,
+        );
+        let cell = Arc::new(RtCell::new(engine));
+        export_functs(ex, comp, &cell, pins)?;
+        let helper = Helper::spawn(o.setup, helper_drives, o.cfg.startup, o.cfg.diag, log)
+            .map_err(|source| {
+                load_error(crate::Error::Thread {
+                    what: "helper thread",
+                    source,
+                })
+            })?;
+        ex.safe_state(
+            comp,
+            SafeDrives {
+                engine: cell,
+                _helper: helper,
+            },
+        );
+        if let Some(bus) = &o.sim {
+            ex.publish_sim(NAME, bus);
+        }
+        Ok(())
+    }
+}
+
 /// The statusword bits as pins, in bit order.
 const STATUS_BITS: [(u16, &str); 13] = sw::NAMES;
 
-/// One drive's pins and params.
-struct DrivePins {
-    enable: Pin<bool, In>,
-    position_cmd: Pin<f64, In>,
-    velocity_cmd: Pin<f64, In>,
-    fault_reset: Pin<bool, In>,
-    home: Pin<bool, Io>,
-    position_fb: Pin<f64, Out>,
-    velocity_fb: Pin<f64, Out>,
-    amp_fault: Pin<bool, Out>,
-    fault_code: Pin<u32, Out>,
-    error_code: Pin<u32, Out>,
-    error_register: Pin<u32, Out>,
-    enabled: Pin<bool, Out>,
-    state: Pin<i32, Out>,
-    statusword: Pin<u32, Out>,
-    bits: Vec<Pin<bool, Out>>,
-    mode: Pin<i32, Out>,
-    homing: Pin<bool, Out>,
-    home_complete: Pin<bool, Out>,
-    nmt_state: Pin<u32, Out>,
-    scale: Param<f64, Rw>,
-    tolerance: Param<f64, Rw>,
+/// One drive's pins and params, in host `H`.
+struct DrivePins<H: HalHost> {
+    enable: H::Pin<bool, In>,
+    position_cmd: H::Pin<f64, In>,
+    velocity_cmd: H::Pin<f64, In>,
+    fault_reset: H::Pin<bool, In>,
+    home: H::Pin<bool, Io>,
+    position_fb: H::Pin<f64, Out>,
+    velocity_fb: H::Pin<f64, Out>,
+    amp_fault: H::Pin<bool, Out>,
+    fault_code: H::Pin<u32, Out>,
+    error_code: H::Pin<u32, Out>,
+    error_register: H::Pin<u32, Out>,
+    enabled: H::Pin<bool, Out>,
+    state: H::Pin<i32, Out>,
+    statusword: H::Pin<u32, Out>,
+    bits: Vec<H::Pin<bool, Out>>,
+    mode: H::Pin<i32, Out>,
+    homing: H::Pin<bool, Out>,
+    home_complete: H::Pin<bool, Out>,
+    nmt_state: H::Pin<u32, Out>,
+    scale: H::Param<f64, Rw>,
+    tolerance: H::Param<f64, Rw>,
 }
 
-impl DrivePins {
-    fn export(c: &Component, n: usize, scale: f64) -> Result<DrivePins> {
+impl<H: HalHost> DrivePins<H> {
+    fn export(c: &impl PinFactory<H>, n: usize, scale: f64) -> Result<Self> {
         let name = |item: &str| format!("canservo.{n}.{item}");
         Ok(DrivePins {
             enable: c.pin(&name("enable"))?,
@@ -133,6 +208,21 @@ impl DrivePins {
             scale: c.param(&name("position-scale"), scale)?,
             tolerance: c.param(&name("command-tolerance"), 0.01)?,
         })
+    }
+
+    /// The drive's identity, read-only.
+    fn export_identity(c: &impl PinFactory<H>, n: usize, node: &NodeInfo) -> Result<()> {
+        let id = &node.identity;
+        for (item, value) in [
+            ("node", u32::from(node.plan.node)),
+            ("vendor-id", id.vendor),
+            ("product-code", id.product),
+            ("revision", id.revision),
+            ("serial-number", id.serial),
+        ] {
+            let _: H::Param<u32, Ro> = c.param(&format!("canservo.{n}.{item}"), value)?;
+        }
+        Ok(())
     }
 
     #[inline]
@@ -172,6 +262,61 @@ impl DrivePins {
     }
 }
 
+/// Every drive's pins and the bus's error count, in host `H`.
+struct BusPins<H: HalHost> {
+    drives: Vec<DrivePins<H>>,
+    bus_errors: H::Pin<u32, Out>,
+}
+
+/// Exports every configured drive's pins and identity, then the bus's.
+fn export_pins<H: HalHost>(c: &impl PinFactory<H>, o: &OpenedDrives) -> Result<BusPins<H>> {
+    let nodes = o.configured.nodes();
+    let mut drives = Vec::with_capacity(nodes.len());
+    for (i, (n, scale)) in nodes.iter().zip(&o.cfg.scales).enumerate() {
+        drives.push(DrivePins::export(c, i, *scale)?);
+        DrivePins::<H>::export_identity(c, i, n)?;
+    }
+    Ok(BusPins {
+        drives,
+        bus_errors: c.pin("canservo.bus-errors")?,
+    })
+}
+
+/// Exports `canservo.read` and `canservo.write`, which run the engine in
+/// `cell` against `pins`.
+fn export_functs<H: DriverHost>(
+    ex: &mut Exporter<'_, H>,
+    comp: CompId,
+    cell: &Arc<RtCell<Engine>>,
+    pins: BusPins<H>,
+) -> Result<()> {
+    let pins = Arc::new(pins);
+    let count = pins.drives.len();
+    let (c, p) = (cell.clone(), pins.clone());
+    let mut inputs = vec![DriveInputs::default(); count];
+    ex.funct(comp, "canservo.read", true, move |ctx| {
+        for (slot, pin) in inputs.iter_mut().zip(&p.drives) {
+            *slot = pin.inputs();
+        }
+        c.try_with(|e| {
+            e.read(ctx.now_ns(), &inputs);
+            for (pin, st) in p.drives.iter().zip(e.status()) {
+                pin.publish(st);
+            }
+            let (error_frames, _) = e.counters();
+            p.bus_errors.set((e.bus_errors() + error_frames) as u32);
+        });
+    })?;
+    let (c, p) = (cell.clone(), pins);
+    let mut inputs = vec![DriveInputs::default(); count];
+    ex.funct(comp, "canservo.write", true, move |ctx| {
+        for (slot, pin) in inputs.iter_mut().zip(&p.drives) {
+            *slot = pin.inputs();
+        }
+        c.try_with(|e| e.write(ctx.now_ns(), ctx.period(), &inputs));
+    })
+}
+
 /// What the safe-state hook needs: the engine, and the helper (dropped,
 /// and so stopped, with the component).
 struct SafeDrives {
@@ -189,10 +334,22 @@ fn load_error(e: crate::Error) -> HalError {
     HalError::module_failed(NAME, e)
 }
 
-/// The two endpoints (setup, realtime) and the simulated bus, if any.
-type Opened = (Box<dyn CanBus>, Arc<dyn CanBus>, Option<Arc<SimBus>>);
+/// The bus, its drives booted, identified and configured (not yet
+/// started), and what `loadrt` said: what [`Canservo`]'s `open` opened.
+pub struct OpenedDrives {
+    cfg: Config,
+    /// The setup endpoint: start-up SDOs here, then the helper's.
+    setup: Box<dyn CanBus>,
+    /// The realtime endpoint: the engine's.
+    rt: Arc<dyn CanBus>,
+    sim: Option<Arc<SimBus>>,
+    configured: Detached,
+}
 
-fn open(cfg: &Config) -> Result<Opened> {
+/// The two endpoints (setup, realtime) and the simulated bus, if any.
+type Buses = (Box<dyn CanBus>, Arc<dyn CanBus>, Option<Arc<SimBus>>);
+
+fn open_buses(cfg: &Config) -> Result<Buses> {
     let nodes: Vec<u8> = cfg.plans.iter().map(|p| p.node).collect();
     if cfg.backend.is_sim() {
         let bus = SimBus::with_clock(Arc::new(SimClock::following_thread()));
@@ -210,118 +367,29 @@ fn open(cfg: &Config) -> Result<Opened> {
     Ok((Box::new(setup), Arc::new(rt), None))
 }
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
-    load_config(host, config::parse(args).for_module(NAME)?)
-}
-
-fn load_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
-    let mut cfg = config::parse(args).for_module(NAME)?;
-    cfg.backend = Backend::Sim("sim");
-    load_config(host, cfg)
-}
-
-fn load_config(host: &Host, cfg: Config) -> Result<()> {
-    let (setup, rt, sim) = open(&cfg)?;
-    // Bring the drives up to the point before NMT start; nothing moves
-    // and no HAL object exists yet, so a failure leaves nothing behind.
+/// Opens the bus and brings the drives up to the point before NMT
+/// start; nothing moves and no HAL object exists yet, so a failure
+/// leaves nothing behind.
+fn open_config(cfg: Config) -> Result<OpenedDrives> {
+    let (setup, rt, sim) = open_buses(&cfg)?;
     let configured = Network::boot(&*setup, cfg.plans.clone(), cfg.startup.clone())
         .and_then(|n| n.identify())
         .and_then(|n| n.configure())
-        .map_err(load_error)?;
-    let mut b = host.new_rt_component(NAME)?;
-    let mut pins = Vec::with_capacity(cfg.plans.len());
-    for (i, (n, scale)) in configured.nodes().iter().zip(&cfg.scales).enumerate() {
-        let p = DrivePins::export(b.component(), i, *scale)?;
-        let c = b.component();
-        let id = &n.identity;
-        for (item, value) in [
-            ("node", u32::from(n.plan.node)),
-            ("vendor-id", id.vendor),
-            ("product-code", id.product),
-            ("revision", id.revision),
-            ("serial-number", id.serial),
-        ] {
-            let _: Param<u32, Ro> = c.param(&format!("canservo.{i}.{item}"), value)?;
-        }
-        pins.push(p);
-    }
-    let bus_errors: Pin<u32, Out> = b.component().pin("canservo.bus-errors")?;
-    let nodes = configured.start().map_err(load_error)?.into_nodes();
-    while rt.try_recv().is_some() {}
-    let shared: Vec<Arc<DriveShared>> = nodes
-        .iter()
-        .map(|_| Arc::new(DriveShared::default()))
-        .collect();
-    let helper_drives = nodes
-        .iter()
-        .zip(&shared)
-        .enumerate()
-        .map(|(index, (n, s))| HelperDrive {
-            index,
-            plan: n.plan.clone(),
-            shared: s.clone(),
-        })
-        .collect();
-    let log = host.rt_log();
-    for (i, n) in nodes.iter().enumerate() {
-        log.info(format_args!(
-            "canservo.{i}: node {}: {}",
-            n.plan.node, n.identity
-        ));
-    }
-    let engine = Engine::new(
+        .map_err(load_error)?
+        .detach();
+    Ok(OpenedDrives {
+        cfg,
+        setup,
         rt,
-        nodes,
-        shared,
-        cfg.engine.clone(),
-        Some(log.clone()),
-        true,
-    );
-    let cell = Arc::new(RtCell::new(engine));
-    let pins = Arc::new(pins);
-    let count = pins.len();
+        sim,
+        configured,
+    })
+}
 
-    let (c, p) = (cell.clone(), pins.clone());
-    let mut inputs = vec![DriveInputs::default(); count];
-    b.funct("canservo.read", true, move |ctx| {
-        for (slot, pin) in inputs.iter_mut().zip(p.iter()) {
-            *slot = pin.inputs();
-        }
-        c.try_with(|e| {
-            e.read(ctx.now_ns(), &inputs);
-            for (pin, st) in p.iter().zip(e.status()) {
-                pin.publish(st);
-            }
-            let (error_frames, _) = e.counters();
-            bus_errors.set((e.bus_errors() + error_frames) as u32);
-        });
-    })?;
-    let (c, p) = (cell.clone(), pins);
-    let mut inputs = vec![DriveInputs::default(); count];
-    b.funct("canservo.write", true, move |ctx| {
-        for (slot, pin) in inputs.iter_mut().zip(p.iter()) {
-            *slot = pin.inputs();
-        }
-        c.try_with(|e| e.write(ctx.now_ns(), ctx.period(), &inputs));
-    })?;
-    let helper = Helper::spawn(setup, helper_drives, cfg.startup.clone(), cfg.diag, log).map_err(
-        |source| {
-            load_error(crate::Error::Thread {
-                what: "helper thread",
-                source,
-            })
-        },
-    )?;
-    fault::install(
-        &mut b,
-        SafeDrives {
-            engine: cell,
-            _helper: helper,
-        },
-    );
-    b.ready()?;
-    if let Some(bus) = sim {
-        hal_driver::sim::publish(host.instance().name(), NAME, &bus);
-    }
-    Ok(())
+/// `canservo` on simulated drives only: the configuration's backend is
+/// replaced before anything is opened.
+fn load_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let mut cfg = config::parse(args).for_module(NAME)?;
+    cfg.backend = Backend::Sim("sim");
+    module::load_opened::<Canservo>(host, open_config(cfg)?)
 }

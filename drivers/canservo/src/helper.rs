@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use hal_core::RtLog;
+use hal_driver::LogSink;
 
 use crate::bus::CanBus;
 use crate::codes::ErrorCode;
@@ -53,7 +53,7 @@ impl Helper {
         drives: Vec<HelperDrive>,
         startup: StartupConfig,
         diag: Option<Duration>,
-        log: RtLog,
+        log: LogSink,
     ) -> std::io::Result<Helper> {
         let stop = Arc::new(AtomicBool::new(false));
         let s = stop.clone();
@@ -81,7 +81,7 @@ fn run(
     drives: &[HelperDrive],
     startup: &StartupConfig,
     diag: Option<Duration>,
-    log: &RtLog,
+    log: &LogSink,
     stop: &AtomicBool,
 ) {
     let mut next_poll = Instant::now();
@@ -123,7 +123,7 @@ fn run(
 }
 
 /// Logs a faulted drive's error register and newest error.
-fn diagnose(bus: &dyn CanBus, d: &HelperDrive, timeout: Duration, log: &RtLog) {
+fn diagnose(bus: &dyn CanBus, d: &HelperDrive, timeout: Duration, log: &LogSink) {
     let sdo = SdoClient::new(bus, d.plan.node, timeout);
     let (Ok(register), Ok(count)) = (
         sdo.read_u8(obj::ERROR_REGISTER, 0),

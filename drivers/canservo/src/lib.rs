@@ -101,5 +101,6 @@ pub mod tool;
 pub mod tool_args;
 mod units;
 
+pub use config::MAX_DRIVES;
 pub use error::{Error, Result};
 pub use hal::{MODULE, SIM_ONLY_MODULE};

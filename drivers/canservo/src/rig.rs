@@ -85,7 +85,14 @@ impl Rig {
             .collect();
         let log = RtLog::new(256);
         log.set_level(MsgLevel::Info);
-        let engine = Engine::new(rt, up, shared.clone(), engine, Some(log.clone()), false);
+        let engine = Engine::new(
+            rt,
+            up,
+            shared.clone(),
+            engine,
+            Some(log.clone().into()),
+            false,
+        );
         let inputs = vec![DriveInputs::default(); nodes.len()];
         Ok(Rig {
             now_ns: bus.now_ns(),

@@ -416,6 +416,42 @@ impl<'b> Network<'b, Configured> {
         }
         Ok(self.next())
     }
+
+    /// Lets go of the bus, to start the drives later on the same bus
+    /// ([`Detached::attach`]): the driver configures its drives before it
+    /// exports anything, and starts them once its pins exist.
+    pub fn detach(self) -> Detached {
+        Detached {
+            cfg: self.cfg,
+            nodes: self.nodes,
+        }
+    }
+}
+
+/// A configured network between [`Network::detach`] and
+/// [`Detached::attach`].
+#[derive(Debug)]
+pub struct Detached {
+    cfg: StartupConfig,
+    nodes: Vec<NodeInfo>,
+}
+
+impl Detached {
+    /// The drives.
+    pub fn nodes(&self) -> &[NodeInfo] {
+        &self.nodes
+    }
+
+    /// The configured network again, on `bus`: the bus it was configured
+    /// on.
+    pub fn attach(self, bus: &dyn CanBus) -> Network<'_, Configured> {
+        Network {
+            bus,
+            cfg: self.cfg,
+            nodes: self.nodes,
+            _state: PhantomData,
+        }
+    }
 }
 
 impl<'b> Network<'b, Operational> {

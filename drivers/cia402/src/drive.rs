@@ -15,8 +15,8 @@
 
 use std::sync::Arc;
 
-use hal_core::RtLog;
 use hal_driver::fault::{Fault, FaultLatch};
+use hal_driver::LogSink;
 
 use crate::codes::ErrorCode;
 use crate::faults;
@@ -242,7 +242,7 @@ impl<L: LinkSupervision> DriveControl<L> {
 
     /// Trips the latch with `fault` and says so once, with the label and,
     /// for drive errors, the error code and its meaning.
-    pub fn trip(&mut self, fault: &'static Fault, log: Option<&RtLog>, code: u16) {
+    pub fn trip(&mut self, fault: &'static Fault, log: Option<&LogSink>, code: u16) {
         // A communication fault decides how to recover even when another
         // fault tripped the latch first (a node reset also makes the
         // drive send an EMCY).
@@ -284,7 +284,7 @@ impl<L: LinkSupervision> DriveControl<L> {
     }
 
     /// An emergency message with `code` (0 = error reset, ignored).
-    pub fn emcy(&mut self, code: u16, log: Option<&RtLog>) {
+    pub fn emcy(&mut self, code: u16, log: Option<&LogSink>) {
         if code != 0 && !self.restarting {
             self.emcy_code = code;
             self.trip(&faults::EMCY, log, code);
@@ -298,7 +298,7 @@ impl<L: LinkSupervision> DriveControl<L> {
 
     /// The first step of a cycle's supervision: a restart in progress is
     /// polled; while one runs there is nothing else to supervise.
-    pub fn poll_restart(&mut self, log: Option<&RtLog>) -> Restarting {
+    pub fn poll_restart(&mut self, log: Option<&LogSink>) -> Restarting {
         if !self.restarting {
             return Restarting::No;
         }
@@ -348,7 +348,7 @@ impl<L: LinkSupervision> DriveControl<L> {
 
     /// The drive's own supervision, after the link's: Fault in the
     /// statusword, homing progress.
-    pub fn supervise_drive(&mut self, log: Option<&RtLog>) {
+    pub fn supervise_drive(&mut self, log: Option<&LogSink>) {
         if matches!(
             self.state_now(),
             Some(PowerState::Fault | PowerState::FaultReactionActive)

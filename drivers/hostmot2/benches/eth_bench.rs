@@ -4,11 +4,26 @@
 //! does not count), the bytes each way, and the round trip from sending
 //! the request to having the reply (p50, p99, max over 10,000 cycles).
 //!
-//! `cargo bench -p hostmot2 --bench eth_bench`. The simulator answers
-//! from a thread of the same process (so its work is not in the CPU
-//! figures but is in the round trip); all five step generators move,
-//! the 7I76's outputs and spindle are driven, its inputs read. The
-//! machine may be shared: the figures are what this run saw.
+//! `cargo bench -p hostmot2 --bench eth_bench [-- one-cpu]`. The
+//! simulator answers from a thread of the same process (so its work is not
+//! in the CPU figures but is in the round trip); all five step generators
+//! move, the 7I76's outputs and spindle are driven, its inputs read.
+//!
+//! What the figures include, and why they vary so much between machines:
+//! on loopback, sending a datagram runs the kernel's delivery to the
+//! simulator's socket and the wake-up of its thread in the sender's
+//! context, so `read-request` and `write` are charged for them; `read`
+//! is charged for putting the thread to sleep and waking it when it has
+//! to wait for the reply. Where the simulator's thread sleeps on another
+//! CPU that has gone idle, every wake-up crosses CPUs (an IPI; in a VM,
+//! exits to the hypervisor on both ends), which on a quiet 2-vCPU VM
+//! multiplies the CPU figures and the round trip several times over the
+//! same bench on a busy machine, where the other CPU is awake anyway.
+//! Real hardware answers from the card, so the host pays for its own
+//! sendto/recv only. `one-cpu` runs both threads on one CPU (no
+//! cross-CPU wake-ups; a switch to the simulator and back instead). The
+//! output gives the load average, the placement and the cost of one read
+//! of the thread CPU clock (each figure includes one).
 #![allow(
     clippy::unwrap_used,
     reason = "benchmark code: a failed unwrap stops the run"
@@ -46,6 +61,12 @@ fn percentile(sorted: &[u64], p: f64) -> u64 {
 // Long on purpose: a benchmark script, set-up then each figure in turn,
 // all on the one simulated board and transport.
 fn main() {
+    let one_cpu = std::env::args().any(|a| a == "one-cpu");
+    if one_cpu {
+        // Before the simulator's thread exists, so that it inherits it.
+        let cpu = hal_core::realtime::default_cpu().unwrap_or(0);
+        hal_core::realtime::pin_to_cpu(cpu).unwrap();
+    }
     let spec = boards::preset("7i96s").unwrap();
     let model = Hm2Model::with_world(spec, Box::new(machine::preset("7i96s")));
     let server = eth_server::spawn(
@@ -148,8 +169,27 @@ fn main() {
         .pin_value("hm2_7i96s.0.sserial.port-0.port_state")
         .unwrap();
 
+    let mut clock_reads: Vec<u64> = (0..1000)
+        .map(|_| {
+            let t0 = cpu_ns();
+            cpu_ns().saturating_sub(t0)
+        })
+        .collect();
+    clock_reads.sort_unstable();
     println!(
         "hm2_eth, simulated 7i96S with a 7I76 on Smart Serial, UDP on 127.0.0.1, {CYCLES} cycles"
+    );
+    println!(
+        "  simulator thread {}; load average {}; one thread CPU clock read {} ns",
+        if one_cpu {
+            "on the bench's CPU"
+        } else {
+            "on any CPU"
+        },
+        std::fs::read_to_string("/proc/loadavg")
+            .map(|l| l.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+            .unwrap_or_default(),
+        percentile(&clock_reads, 0.5)
     );
     println!("  host CPU per cycle (thread CPU clock)     median      p99");
     for (what, v) in [

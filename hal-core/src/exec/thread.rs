@@ -280,7 +280,7 @@ fn run_cycle(
             run_untimed(&list.init_calls, ctx, &mut current);
             clock.now()
         } else if !timed {
-            run_untimed(&list.calls, ctx, &mut current);
+            run_listed(list, ctx, &mut current);
             clock.now()
         } else if clock.uses_tsc() {
             run_timed(list, ctx, &clock, start, rdtsc, &mut current)
@@ -317,6 +317,24 @@ fn run_untimed(calls: &[Call], ctx: &FunctCtx, current: &mut usize) {
     }
 }
 
+/// Calls every function of the list without timing them, asking for each
+/// function's lines while the one before runs.
+#[inline(always)]
+fn run_listed(list: &ExecList, ctx: &FunctCtx, current: &mut usize) {
+    let entries = &list.entries;
+    if let Some(first) = entries.first() {
+        first.prefetch();
+    }
+    for (i, e) in entries.iter().enumerate() {
+        *current = i;
+        if let Some(next) = entries.get(i + 1) {
+            next.prefetch();
+        }
+        // SAFETY: as in `run_untimed`.
+        unsafe { e.call.run(ctx) };
+    }
+}
+
 /// Calls every function of the list, reading the clock once per function
 /// boundary (the end of one function is the start of the next) and
 /// publishing each function's time. Returns the last reading.
@@ -330,19 +348,20 @@ fn run_timed(
     current: &mut usize,
 ) -> u64 {
     let mut prev = start;
-    let calls = &list.calls;
-    if let Some(first) = calls.first() {
+    let entries = &list.entries;
+    if let Some(first) = entries.first() {
         first.prefetch();
     }
-    for (i, (call, timing)) in calls.iter().zip(&list.timing).enumerate() {
+    for (i, e) in entries.iter().enumerate() {
         *current = i;
-        if let Some(next) = calls.get(i + 1) {
+        if let Some(next) = entries.get(i + 1) {
             next.prefetch();
         }
         // SAFETY: as in `run_untimed`.
-        unsafe { call.run(ctx) };
+        unsafe { e.call.run(ctx) };
         let now = ticks();
-        timing.record(&list.cells, clock.to_ns(now.wrapping_sub(prev)));
+        e.timing
+            .record(&list.cells, clock.to_ns(now.wrapping_sub(prev)));
         prev = now;
     }
     prev

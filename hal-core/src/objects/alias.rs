@@ -1,7 +1,7 @@
 //! Aliases: a pin or param gets a new name; the old one is kept so that it
 //! can be found by either and `unalias` can restore it.
 
-use super::list;
+use super::list::{self, Aliased};
 use super::param::find_param;
 use super::pin::find_pin;
 use super::Instance;
@@ -67,23 +67,9 @@ impl Instance {
     }
 }
 
-trait Aliasable: list::Named {
-    fn orig(&self) -> &Name;
-}
-impl Aliasable for PinRec {
-    fn orig(&self) -> &Name {
-        &self.orig_name
-    }
-}
-impl Aliasable for ParamRec {
-    fn orig(&self) -> &Name {
-        &self.orig_name
-    }
-}
-
-fn rename<T: Aliasable>(
+fn rename<T: Aliased>(
     tx: &mut Txn<'_>,
-    head: &std::sync::atomic::AtomicU64,
+    head: &ObjList,
     off: u64,
     rec: &T,
     alias: &str,
@@ -91,18 +77,14 @@ fn rename<T: Aliasable>(
     if rec.orig().is_empty() {
         let current = rec.name().get();
         tx.set_name(rec.orig(), &current)?;
+        list::remember_alias::<T>(tx, off)?;
     }
     list::remove::<T>(tx, head, off)?;
     tx.set_name(rec.name(), alias)?;
     list::insert_sorted(tx, head, off, rec)
 }
 
-fn restore<T: Aliasable>(
-    tx: &mut Txn<'_>,
-    head: &std::sync::atomic::AtomicU64,
-    off: u64,
-    rec: &T,
-) -> Result<()> {
+fn restore<T: Aliased>(tx: &mut Txn<'_>, head: &ObjList, off: u64, rec: &T) -> Result<()> {
     if rec.orig().is_empty() {
         return Err(HalError::NotFound {
             kind: "alias",
@@ -110,6 +92,7 @@ fn restore<T: Aliasable>(
         });
     }
     let orig = rec.orig().get();
+    list::forget_alias::<T>(tx, off)?;
     list::remove::<T>(tx, head, off)?;
     tx.set_name(rec.name(), &orig)?;
     tx.set_name(rec.orig(), "")?;

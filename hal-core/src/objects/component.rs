@@ -1,6 +1,6 @@
 //! Components: creation, readiness, and removal with everything they own.
 
-use std::sync::atomic::Ordering::*;
+use std::sync::atomic::{AtomicU64, Ordering::*};
 
 use super::list;
 use super::Instance;
@@ -123,44 +123,92 @@ pub(crate) fn new_component_tx(
     Ok((off, id as i32))
 }
 
+/// Puts a new object (at `off`, its next-link word `next`) at the head of
+/// one of its owner's lists.
+pub(crate) fn adopt(
+    tx: &mut Txn<'_>,
+    comp: u64,
+    list: fn(&CompRec) -> &AtomicU64,
+    next: &AtomicU64,
+    off: u64,
+) -> Result<()> {
+    let head = list(tx.rec::<CompRec>(comp)?);
+    tx.set(next, head.load(Relaxed))?;
+    tx.set(head, off)
+}
+
+/// The span of segment offsets holding the [`Pair`]s (pin slots and own
+/// cells, param values) of component `off`'s newest 16 pins and 16 params:
+/// where its functions' handles lead. Pairs are carved in the order they
+/// are made, so a component's usually lie together. `None` when it has
+/// neither.
+pub(crate) fn hot_span(seg: &Segment, off: u64) -> Result<Option<(u64, u64)>> {
+    let comp: &CompRec = seg.rec(off)?;
+    let mut span: Option<(u64, u64)> = None;
+    let mut widen = |at: u64| {
+        span = Some(span.map_or((at, at + 16), |(a, b)| (a.min(at), b.max(at + 16))));
+    };
+    let mut cur = comp.own_pins.load(Relaxed);
+    for _ in 0..16 {
+        let Ok(p) = seg.rec::<PinRec>(cur) else { break };
+        widen(p.hot.load(Relaxed));
+        cur = p.owner_next.load(Relaxed);
+    }
+    let mut cur = comp.own_params.load(Relaxed);
+    for _ in 0..16 {
+        let Ok(p) = seg.rec::<ParamRec>(cur) else {
+            break;
+        };
+        widen(p.hot.load(Relaxed));
+        cur = p.owner_next.load(Relaxed);
+    }
+    Ok(span)
+}
+
+/// The objects on one of a component's lists.
+fn owned<T: Record>(
+    seg: &Segment,
+    head: &AtomicU64,
+    next: fn(&T) -> &AtomicU64,
+) -> Result<Vec<u64>> {
+    let mut out = Vec::new();
+    let mut cur = head.load(Relaxed);
+    while cur != 0 {
+        if out.len() as u64 > seg.size() / 64 {
+            return Err(HalError::BadSegment {
+                instance: seg.instance().to_string(),
+                reason: "a component's list of objects does not end".into(),
+            });
+        }
+        out.push(cur);
+        cur = next(seg.rec::<T>(cur)?).load(Relaxed);
+    }
+    Ok(out)
+}
+
 pub(crate) fn remove_component_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let seg = tx.seg();
     let h = tx.header();
     let comp: &CompRec = tx.rec(off)?;
-    // Functions: out of every thread, then gone.
-    let functs: Vec<u64> = list::iter::<FunctRec>(seg, &h.functs)
-        .filter_map(|r| r.ok())
-        .filter(|(_, f)| f.owner.load(Relaxed) == off)
-        .map(|(o, _)| o)
-        .collect();
-    for f in functs {
+    // Functions: out of every thread, then gone (their timing pins and
+    // params are on the component's lists too).
+    for f in owned::<FunctRec>(seg, &comp.own_functs, |f| &f.owner_next)? {
         crate::objects::funct::remove_funct_tx(tx, f)?;
     }
-    let pins: Vec<u64> = list::iter::<PinRec>(seg, &h.pins)
-        .filter_map(|r| r.ok())
-        .filter(|(_, p)| p.owner.load(Relaxed) == off)
-        .map(|(o, _)| o)
-        .collect();
-    for p in pins {
+    for p in owned::<PinRec>(seg, &comp.own_pins, |p| &p.owner_next)? {
         super::pin::unlink_tx(tx, p)?;
+        list::forget_alias::<PinRec>(tx, p)?;
         list::remove::<PinRec>(tx, &h.pins, p)?;
+        tx.free_pair(PairPool::Pin, tx.rec::<PinRec>(p)?.hot.load(Relaxed))?;
         tx.free(BlockKind::Pin, p)?;
     }
-    let params: Vec<u64> = list::iter::<ParamRec>(seg, &h.params)
-        .filter_map(|r| r.ok())
-        .filter(|(_, p)| p.owner.load(Relaxed) == off)
-        .map(|(o, _)| o)
-        .collect();
-    for p in params {
+    for p in owned::<ParamRec>(seg, &comp.own_params, |p| &p.owner_next)? {
+        list::forget_alias::<ParamRec>(tx, p)?;
         list::remove::<ParamRec>(tx, &h.params, p)?;
+        tx.free_pair(PairPool::Param, tx.rec::<ParamRec>(p)?.hot.load(Relaxed))?;
         tx.free(BlockKind::Param, p)?;
     }
-    let regions: Vec<u64> = list::iter::<RegionRec>(seg, &h.regions)
-        .filter_map(|r| r.ok())
-        .filter(|(_, r)| r.owner.load(Relaxed) == off)
-        .map(|(o, _)| o)
-        .collect();
-    for r in regions {
+    for r in owned::<RegionRec>(seg, &comp.own_regions, |r| &r.owner_next)? {
         let rec: &RegionRec = tx.rec(r)?;
         let blob = rec.blob.load(Relaxed);
         list::remove::<RegionRec>(tx, &h.regions, r)?;

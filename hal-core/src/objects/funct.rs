@@ -66,30 +66,24 @@ pub(crate) fn new_funct_tx(
     rec.tmax_param.store(tmax, Relaxed);
     rec.tmax_inc_param.store(inc, Relaxed);
     list::insert_sorted(tx, &h.functs, off, rec)?;
+    super::component::adopt(tx, comp, |c| &c.own_functs, &rec.owner_next, off)?;
     Ok(off)
 }
 
-/// Removes a function, taking it out of every thread first, with its
-/// timing pin and params.
+/// Removes a function, taking it out of every thread first. Its timing pin
+/// and params belong to its component, which removes them with its other
+/// pins and params (this is only called while removing the component).
 pub(crate) fn remove_funct_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let seg = tx.seg();
     let h = tx.header();
-    let threads: Vec<u64> = list::iter::<ThreadRec>(seg, &h.threads)
-        .map(|r| r.map(|(o, _)| o))
-        .collect::<Result<_>>()?;
-    for t in threads {
-        while remove_entry_tx(tx, t, off)? {}
-    }
     let f: &FunctRec = tx.rec(off)?;
-    let time = f.time_pin.load(Relaxed);
-    let tmax = f.tmax_param.load(Relaxed);
-    let inc = f.tmax_inc_param.load(Relaxed);
-    super::pin::unlink_tx(tx, time)?;
-    list::remove::<PinRec>(tx, &h.pins, time)?;
-    tx.free(BlockKind::Pin, time)?;
-    for p in [tmax, inc] {
-        list::remove::<ParamRec>(tx, &h.params, p)?;
-        tx.free(BlockKind::Param, p)?;
+    if f.users.load(Relaxed) != 0 {
+        let threads: Vec<u64> = list::iter::<ThreadRec>(seg, &h.threads)
+            .map(|r| r.map(|(o, _)| o))
+            .collect::<Result<_>>()?;
+        for t in threads {
+            while remove_entry_tx(tx, t, off)? {}
+        }
     }
     list::remove::<FunctRec>(tx, &h.functs, off)?;
     tx.free(BlockKind::Funct, off)
@@ -137,20 +131,45 @@ pub(crate) fn position_to_index(position: i32, len: usize) -> Option<usize> {
 }
 
 /// Inserts function `funct` into `thread`'s list at `index` (checked by the
-/// caller against the list length) and counts the new user.
-pub(crate) fn add_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64, index: usize) -> Result<()> {
+/// caller against the list length; `append` when it is the length) and
+/// counts the new user. Appending takes one step, whatever the length.
+pub(crate) fn add_entry_tx(
+    tx: &mut Txn<'_>,
+    thread: u64,
+    funct: u64,
+    index: usize,
+    append: bool,
+) -> Result<()> {
     let t: &ThreadRec = tx.rec(thread)?;
-    insert_entry_tx(tx, &t.functs, funct, index)
+    let last = t.functs_last.load(Relaxed);
+    let at_end = match last {
+        0 => None,
+        l => tx
+            .rec::<EntryRec>(l)
+            .ok()
+            .filter(|e| e.next.load(Relaxed) == 0),
+    };
+    let off = match (append, at_end) {
+        (true, Some(e)) => insert_entry_tx(tx, &e.next, funct, 0)?,
+        _ => insert_entry_tx(tx, &t.functs, funct, index)?,
+    };
+    let e: &EntryRec = tx.rec(off)?;
+    if e.next.load(Relaxed) == 0 {
+        tx.set(&t.functs_last, off)?;
+    }
+    Ok(())
 }
 
 /// Appends `funct` to `thread`'s init list.
 pub(crate) fn add_init_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64) -> Result<()> {
     let t: &ThreadRec = tx.rec(thread)?;
     let n = init_entries(tx.seg(), t)?.len();
-    insert_entry_tx(tx, &t.init_functs, funct, n)
+    insert_entry_tx(tx, &t.init_functs, funct, n).map(|_| ())
 }
 
-fn insert_entry_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64, index: usize) -> Result<()> {
+/// Inserts an entry for `funct` `index` links after `head`; returns its
+/// offset.
+fn insert_entry_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64, index: usize) -> Result<u64> {
     let f: &FunctRec = tx.rec(funct)?;
     let (off, e) = tx.alloc::<EntryRec>(BlockKind::Entry)?;
     e.funct.store(funct, Relaxed);
@@ -165,32 +184,46 @@ fn insert_entry_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64, index: usize)
     }
     tx.set(&e.next, link.load(Relaxed))?;
     tx.set(link, off)?;
-    tx.set(&f.users, f.users.load(Relaxed).saturating_add(1))
+    tx.set(&f.users, f.users.load(Relaxed).saturating_add(1))?;
+    Ok(off)
 }
 
 /// Removes the first occurrence of `funct` from `thread`; false if absent.
 pub(crate) fn remove_entry_tx(tx: &mut Txn<'_>, thread: u64, funct: u64) -> Result<bool> {
     let t: &ThreadRec = tx.rec(thread)?;
-    if remove_from_list_tx(tx, &t.init_functs, funct)? {
+    if remove_from_list_tx(tx, &t.init_functs, None, funct)? {
         return Ok(true);
     }
-    remove_from_list_tx(tx, &t.functs, funct)
+    remove_from_list_tx(tx, &t.functs, Some(&t.functs_last), funct)
 }
 
-fn remove_from_list_tx(tx: &mut Txn<'_>, head: &AtomicU64, funct: u64) -> Result<bool> {
+/// Removes the first entry for `funct` after `head`, keeping `last` (the
+/// list's last entry) up to date.
+fn remove_from_list_tx(
+    tx: &mut Txn<'_>,
+    head: &AtomicU64,
+    last: Option<&AtomicU64>,
+    funct: u64,
+) -> Result<bool> {
     let mut link = head;
+    let mut prev = 0;
     let mut budget = tx.seg().size() / 64;
     while link.load(Relaxed) != 0 && budget > 0 {
         budget -= 1;
         let off = link.load(Relaxed);
         let e: &EntryRec = tx.rec(off)?;
         if e.funct.load(Relaxed) == funct {
-            tx.set(link, e.next.load(Relaxed))?;
+            let next = e.next.load(Relaxed);
+            tx.set(link, next)?;
+            if let (Some(last), 0) = (last, next) {
+                tx.set(last, prev)?;
+            }
             tx.free(BlockKind::Entry, off)?;
             let f: &FunctRec = tx.rec(funct)?;
             tx.set(&f.users, f.users.load(Relaxed).saturating_sub(1))?;
             return Ok(true);
         }
+        prev = off;
         link = &e.next;
     }
     Ok(false)
@@ -212,7 +245,7 @@ pub(crate) fn new_thread_tx(tx: &mut Txn<'_>, spec: &NewThread<'_>) -> Result<(u
     validate("thread", name)?;
     let seg = tx.seg();
     let h = tx.header();
-    if list::find::<ThreadRec>(seg, &h.threads, name)?.is_some() {
+    if list::find_linear::<ThreadRec>(seg, &h.threads, name)?.is_some() {
         return Err(HalError::Duplicate {
             kind: "thread",
             name: name.to_string(),

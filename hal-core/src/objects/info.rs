@@ -212,7 +212,7 @@ fn pin_info(seg: &Segment, p: &PinRec) -> Result<PinInfo> {
         owner,
         hal_type: t,
         dir: pin_dir(seg, p)?,
-        value: value_at(seg, p.slot.load(Relaxed), t)?,
+        value: value_at(seg, p.words(seg)?.first.load(Relaxed), t)?,
         signal: if sig == 0 {
             None
         } else {
@@ -231,7 +231,7 @@ fn param_info(seg: &Segment, p: &ParamRec) -> Result<ParamInfo> {
         owner,
         hal_type: t,
         dir: param_dir(p),
-        value: Value::from_bits(t, p.value.load(Relaxed)),
+        value: Value::from_bits(t, p.words(seg)?.first.load(Relaxed)),
     })
 }
 
@@ -350,12 +350,14 @@ impl Instance {
                         users: f.users.load(Relaxed) as u32,
                         time_ns: seg
                             .rec::<PinRec>(f.time_pin.load(Relaxed))
-                            .and_then(|p| seg.word(p.slot.load(Relaxed)))
+                            .and_then(|p| p.words(seg))
+                            .and_then(|w| seg.word(w.first.load(Relaxed)))
                             .map(|w| w.load(Relaxed) as i32)
                             .unwrap_or(0),
                         tmax_ns: seg
                             .rec::<ParamRec>(f.tmax_param.load(Relaxed))
-                            .map(|p| p.value.load(Relaxed) as i32)
+                            .and_then(|p| p.words(seg))
+                            .map(|w| w.first.load(Relaxed) as i32)
                             .unwrap_or(0),
                     })
                 })
@@ -401,12 +403,14 @@ impl Instance {
                         running: t.running.load(Relaxed) != 0,
                         time_ns: seg
                             .rec::<PinRec>(t.time_pin.load(Relaxed))
-                            .and_then(|p| seg.word(p.slot.load(Relaxed)))
+                            .and_then(|p| p.words(seg))
+                            .and_then(|w| seg.word(w.first.load(Relaxed)))
                             .map(|w| w.load(Relaxed) as i32)
                             .unwrap_or(0),
                         tmax_ns: seg
                             .rec::<ParamRec>(t.tmax_param.load(Relaxed))
-                            .map(|p| p.value.load(Relaxed) as i32)
+                            .and_then(|p| p.words(seg))
+                            .map(|w| w.first.load(Relaxed) as i32)
                             .unwrap_or(0),
                         overruns: t.overruns.load(Relaxed),
                         cycles,

@@ -5,6 +5,7 @@
 pub(crate) mod alias;
 mod component;
 pub(crate) mod funct;
+pub(crate) mod index;
 mod info;
 pub(crate) mod list;
 mod liveness;
@@ -19,6 +20,7 @@ use std::sync::atomic::Ordering::*;
 use std::sync::Arc;
 
 pub use alias::AliasKind;
+pub(crate) use component::hot_span;
 pub use component::{Component, ComponentKind};
 pub use info::*;
 pub(crate) use liveness::HostLock;

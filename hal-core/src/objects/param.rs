@@ -22,14 +22,7 @@ pub(crate) fn param_dir(p: &ParamRec) -> ParamDir {
 
 /// Finds a param by name or by its name before aliasing.
 pub(crate) fn find_param<'a>(seg: &'a Segment, name: &str) -> Result<Option<(u64, &'a ParamRec)>> {
-    let key = Name::encode(name);
-    for item in list::iter::<ParamRec>(seg, &seg.header().params) {
-        let (off, p) = item?;
-        if p.name.eq_key(&key) || (!p.orig_name.is_empty() && p.orig_name.eq_key(&key)) {
-            return Ok(Some((off, p)));
-        }
-    }
-    Ok(None)
+    list::find_aliased(seg, &seg.header().params, name)
 }
 
 fn require_param<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &'a ParamRec)> {
@@ -56,7 +49,10 @@ impl Instance {
         self.tx(|tx| {
             let seg = tx.seg();
             let (_, p) = require_param(seg, name)?;
-            Ok(Value::from_bits(param_type(seg, p)?, p.value.load(Relaxed)))
+            Ok(Value::from_bits(
+                param_type(seg, p)?,
+                p.words(seg)?.first.load(Relaxed),
+            ))
         })
     }
 
@@ -78,7 +74,7 @@ impl Instance {
             if param_dir(p) == ParamDir::Ro {
                 return Err(HalError::ParamReadOnly { name: p.name.get() });
             }
-            p.value.store(value.to_bits(), Relaxed);
+            p.words(seg)?.first.store(value.to_bits(), Relaxed);
             Ok(())
         })
     }
@@ -106,7 +102,9 @@ pub(crate) fn new_param_tx(
     rec.type_code.store(t.code() as u64, Relaxed);
     rec.dir.store(dir.code() as u64, Relaxed);
     rec.owner.store(comp, Relaxed);
-    rec.value.store(init, Relaxed);
+    rec.hot
+        .store(tx.alloc_pair(PairPool::Param, init, 0)?, Relaxed);
     list::insert_sorted(tx, &h.params, off, rec)?;
+    super::component::adopt(tx, comp, |c| &c.own_params, &rec.owner_next, off)?;
     Ok(off)
 }

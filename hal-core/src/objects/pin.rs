@@ -25,14 +25,7 @@ pub(crate) fn pin_dir(seg: &Segment, p: &PinRec) -> Result<PinDir> {
 
 /// Finds a pin by its name or, as LinuxCNC does, by its name before aliasing.
 pub(crate) fn find_pin<'a>(seg: &'a Segment, name: &str) -> Result<Option<(u64, &'a PinRec)>> {
-    let key = Name::encode(name);
-    for item in list::iter::<PinRec>(seg, &seg.header().pins) {
-        let (off, p) = item?;
-        if p.name.eq_key(&key) || (!p.orig_name.is_empty() && p.orig_name.eq_key(&key)) {
-            return Ok(Some((off, p)));
-        }
-    }
-    Ok(None)
+    list::find_aliased(seg, &seg.header().pins, name)
 }
 
 pub(crate) fn require_pin<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &'a PinRec)> {
@@ -59,9 +52,32 @@ pub(crate) fn unlink_tx(tx: &mut Txn<'_>, pin_off: u64) -> Result<()> {
         PinDir::Io => &sig.bidirs,
     };
     tx.set(counter, counter.load(Relaxed).saturating_sub(1))?;
-    tx.set(&pin.dummy, cell.value.load(Relaxed))?;
-    tx.set(&pin.slot, seg.offset_of(&pin.dummy))?;
-    tx.set(&pin.signal, 0)
+    let w = pin.words(seg)?;
+    tx.set(&w.second, cell.value.load(Relaxed))?;
+    tx.set(&w.first, seg.offset_of(&w.second))?;
+    tx.set(&pin.signal, 0)?;
+    // Off the signal's list of pins.
+    let (prev, next) = (pin.sig_prev.load(Relaxed), pin.sig_next.load(Relaxed));
+    match prev {
+        0 => tx.set(&sig.first_pin, next)?,
+        p => tx.set(&tx.rec::<PinRec>(p)?.sig_next, next)?,
+    }
+    if next != 0 {
+        tx.set(&tx.rec::<PinRec>(next)?.sig_prev, prev)?;
+    }
+    tx.set(&pin.sig_prev, 0)?;
+    tx.set(&pin.sig_next, 0)
+}
+
+/// Puts a pin that was just linked to signal `s` on the signal's list.
+fn join_signal(tx: &mut Txn<'_>, pin_off: u64, pin: &PinRec, s: &SigRec) -> Result<()> {
+    let first = s.first_pin.load(Relaxed);
+    tx.set(&pin.sig_prev, 0)?;
+    tx.set(&pin.sig_next, first)?;
+    if first != 0 {
+        tx.set(&tx.rec::<PinRec>(first)?.sig_prev, pin_off)?;
+    }
+    tx.set(&s.first_pin, pin_off)
 }
 
 pub(crate) fn new_pin_tx(
@@ -86,9 +102,12 @@ pub(crate) fn new_pin_tx(
     rec.type_code.store(t.code() as u64, Relaxed);
     rec.dir.store(dir.code() as u64, Relaxed);
     rec.owner.store(comp, Relaxed);
-    rec.dummy.store(init, Relaxed);
-    rec.slot.store(seg.offset_of(&rec.dummy), Release);
+    let hot = tx.alloc_pair(PairPool::Pin, 0, init)?;
+    rec.hot.store(hot, Relaxed);
+    let w = rec.words(seg)?;
+    tx.set(&w.first, seg.offset_of(&w.second))?;
     list::insert_sorted(tx, &h.pins, off, rec)?;
+    super::component::adopt(tx, comp, |c| &c.own_pins, &rec.owner_next, off)?;
     Ok(off)
 }
 
@@ -162,7 +181,7 @@ impl Instance {
             // The first pin on a fresh signal (or an output joining readers
             // only) gives the signal its initial value, as LinuxCNC does.
             if (dir != PinDir::In || s.readers.load(Relaxed) == 0) && writers == 0 && bidirs == 0 {
-                tx.set(&cell.value, p.dummy.load(Relaxed))?;
+                tx.set(&cell.value, p.words(seg)?.second.load(Relaxed))?;
             }
             let counter = match dir {
                 PinDir::In => &s.readers,
@@ -171,9 +190,8 @@ impl Instance {
             };
             tx.set(counter, counter.load(Relaxed).saturating_add(1))?;
             tx.set(&p.signal, sig_off)?;
-            tx.set(&p.slot, seg.offset_of(&cell.value))?;
-            let _ = pin_off;
-            Ok(())
+            tx.set(&p.words(seg)?.first, seg.offset_of(&cell.value))?;
+            join_signal(tx, pin_off, p, s)
         })
     }
 
@@ -193,7 +211,7 @@ impl Instance {
             let seg = tx.seg();
             let (_, p) = require_pin(seg, pin)?;
             let t = pin_type(seg, p)?;
-            let w = seg.word(p.slot.load(Relaxed))?;
+            let w = seg.word(p.words(seg)?.first.load(Relaxed))?;
             Ok(Value::from_bits(t, w.load(Relaxed)))
         })
     }
@@ -225,7 +243,7 @@ impl Instance {
                 });
             }
             // A value write, not a structural change: no journal needed.
-            p.dummy.store(value.to_bits(), Relaxed);
+            p.words(seg)?.second.store(value.to_bits(), Relaxed);
             Ok(())
         })
     }

@@ -64,6 +64,7 @@ impl Component {
             r.blob.store(blob, Relaxed);
             r.size.store(words as u64 * 8, Relaxed);
             list::insert_sorted(tx, &h.regions, off, r)?;
+            super::component::adopt(tx, comp, |c| &c.own_regions, &r.owner_next, off)?;
             Ok(off)
         })?;
         inst.open_region_at(off)

@@ -30,11 +30,29 @@ pub(crate) fn require_signal<'a>(seg: &'a Segment, name: &str) -> Result<(u64, &
     })
 }
 
+/// The pins on signal `sig_off`'s list, in the list's order.
+fn linked_pins(seg: &Segment, sig_off: u64) -> Result<Vec<(u64, &PinRec)>> {
+    let s: &SigRec = seg.rec(sig_off)?;
+    let mut out = Vec::new();
+    let mut cur = s.first_pin.load(Relaxed);
+    while cur != 0 {
+        let p: &PinRec = seg.rec(cur)?;
+        if p.signal.load(Relaxed) != sig_off || out.len() as u64 > seg.size() / 64 {
+            return Err(HalError::BadSegment {
+                instance: seg.instance().to_string(),
+                reason: format!("the pin list of signal '{}' is broken", s.name.get()),
+            });
+        }
+        out.push((cur, p));
+        cur = p.sig_next.load(Relaxed);
+    }
+    Ok(out)
+}
+
 /// Name of the output pin driving a signal, if any.
 pub(crate) fn writer_of(seg: &Segment, sig_off: u64) -> Result<Option<String>> {
-    for item in list::iter::<PinRec>(seg, &seg.header().pins) {
-        let (_, p) = item?;
-        if p.signal.load(Relaxed) == sig_off && pin_dir(seg, p)? == PinDir::Out {
+    for (_, p) in linked_pins(seg, sig_off)? {
+        if pin_dir(seg, p)? == PinDir::Out {
             return Ok(Some(p.name.get()));
         }
     }
@@ -184,11 +202,7 @@ impl Instance {
 fn delsig_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let seg = tx.seg();
     let h = tx.header();
-    let linked: Vec<u64> = list::iter::<PinRec>(seg, &h.pins)
-        .filter_map(|r| r.ok())
-        .filter(|(_, p)| p.signal.load(Relaxed) == off)
-        .map(|(o, _)| o)
-        .collect();
+    let linked: Vec<u64> = linked_pins(seg, off)?.into_iter().map(|(o, _)| o).collect();
     for p in linked {
         super::pin::unlink_tx(tx, p)?;
     }
@@ -201,12 +215,10 @@ fn delsig_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
 
 /// Pins linked to signal `off`, with their directions, in pin-name order.
 pub(crate) fn pins_of(seg: &Segment, off: u64) -> Result<Vec<(String, PinDir)>> {
-    let mut out = Vec::new();
-    for item in list::iter::<PinRec>(seg, &seg.header().pins) {
-        let (_, p) = item?;
-        if p.signal.load(Relaxed) == off {
-            out.push((p.name.get(), pin_dir(seg, p)?));
-        }
-    }
+    let mut out = linked_pins(seg, off)?
+        .into_iter()
+        .map(|(_, p)| Ok((p.name.get(), pin_dir(seg, p)?)))
+        .collect::<Result<Vec<_>>>()?;
+    out.sort_unstable_by(|a, b| a.0.as_bytes().cmp(b.0.as_bytes()));
     Ok(out)
 }

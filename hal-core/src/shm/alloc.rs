@@ -19,6 +19,8 @@ pub(crate) enum BlockKind {
     Thread = 7,
     Region = 8,
     Blob = 9,
+    /// 64-byte blocks carved into four [`Pair`]s.
+    Pairs = 10,
 }
 
 impl BlockKind {
@@ -35,6 +37,7 @@ impl BlockKind {
             BlockKind::Thread => size_of::<ThreadRec>(),
             BlockKind::Region => size_of::<RegionRec>(),
             BlockKind::Blob => return None,
+            BlockKind::Pairs => 4 * size_of::<Pair>(),
         };
         Some((s as u64).next_multiple_of(64))
     }

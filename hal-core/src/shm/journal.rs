@@ -218,6 +218,52 @@ impl<'a> Txn<'a> {
         Ok(top)
     }
 
+    /// A [`Pair`] holding `first` and `second`, from the pool's free list or
+    /// carved from the current pair block (a new block when it is used up).
+    pub(crate) fn alloc_pair(&mut self, pool: PairPool, first: u64, second: u64) -> Result<u64> {
+        let h = self.header();
+        let free = match pool {
+            PairPool::Pin => &h.free_pin_pairs,
+            PairPool::Param => &h.free_param_pairs,
+        };
+        let off = match free.load(Relaxed) {
+            0 => {
+                let (mut block, used) = (h.pair_block.load(Relaxed), h.pair_used.load(Relaxed));
+                if block == 0 || used >= 4 {
+                    block = self.alloc_block(BlockKind::Pairs, 64)?;
+                    self.set(&h.pair_block, block)?;
+                    self.set(&h.pair_used, 0)?;
+                }
+                let used = h.pair_used.load(Relaxed);
+                self.set(&h.pair_used, used + 1)?;
+                block + used * 16
+            }
+            off => {
+                let next = self.seg.pair(off)?.first.load(Relaxed);
+                self.set(free, next)?;
+                off
+            }
+        };
+        // Journaled: a reused pair's first word held the free list's link.
+        let p = self.seg.pair(off)?;
+        self.set(&p.second, second)?;
+        self.set(&p.first, first)?;
+        Ok(off)
+    }
+
+    /// Returns a pair to its pool's free list; its record is already gone
+    /// from every list.
+    pub(crate) fn free_pair(&mut self, pool: PairPool, off: u64) -> Result<()> {
+        let h = self.header();
+        let free = match pool {
+            PairPool::Pin => &h.free_pin_pairs,
+            PairPool::Param => &h.free_param_pairs,
+        };
+        let p = self.seg.pair(off)?;
+        self.set(&p.first, free.load(Relaxed))?;
+        self.set(free, off)
+    }
+
     /// Returns a block to the free list of its kind. The caller has already
     /// unlinked it from every live list.
     pub(crate) fn free(&mut self, kind: BlockKind, off: u64) -> Result<()> {

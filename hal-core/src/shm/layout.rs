@@ -13,7 +13,7 @@ use super::mutex::RobustMutex;
 /// "HALSEGM1" as little-endian bytes.
 pub(crate) const MAGIC: u64 = u64::from_le_bytes(*b"HALSEGM1");
 /// Bumped whenever any layout in this file changes.
-pub(crate) const LAYOUT_VERSION: u64 = 3;
+pub(crate) const LAYOUT_VERSION: u64 = 4;
 
 /// A thread's switch bit (executor and [`ThreadRec`]'s `options`):
 /// per-function timing is off.
@@ -124,13 +124,18 @@ pub(crate) struct Header {
     pub alloc_top: AtomicU64,
     /// Free list heads, one per [`super::BlockKind`].
     pub free: [AtomicU64; 16],
-    pub comps: AtomicU64,
-    pub pins: AtomicU64,
-    pub params: AtomicU64,
-    pub signals: AtomicU64,
-    pub functs: AtomicU64,
+    pub comps: ObjList,
+    pub pins: ObjList,
+    pub params: ObjList,
+    pub signals: ObjList,
+    pub functs: ObjList,
+    /// Newest (slowest) thread first; not indexed (there are few).
     pub threads: AtomicU64,
-    pub regions: AtomicU64,
+    pub regions: ObjList,
+    /// Root of the tree of aliased pins by their original names.
+    pub pin_aliases: AtomicU64,
+    /// Root of the tree of aliased params by their original names.
+    pub param_aliases: AtomicU64,
     pub next_comp_id: AtomicU64,
     pub next_funct_id: AtomicU64,
     /// Period of the first thread ever created; 0 before.
@@ -149,9 +154,32 @@ pub(crate) struct Header {
     /// Set by `setexact_for_test_suite_only`-style callers; informational.
     pub exact_base_period: AtomicU64,
     /// halcmd's `lock` level: LinuxCNC's `HAL_LOCK_*` bits (see
-    /// `objects::status`). Was reserved word 0, so the layout is unchanged.
+    /// `objects::status`).
     pub lock_level: AtomicU64,
+    /// The block pairs are being carved from, and how many it has given.
+    pub pair_block: AtomicU64,
+    pub pair_used: AtomicU64,
+    /// Freed pairs of pins and of params (linked through their first word).
+    pub free_pin_pairs: AtomicU64,
+    pub free_param_pairs: AtomicU64,
     pub reserved: [AtomicU64; 15],
+}
+
+/// The head of a name-sorted object list and the root of the search tree
+/// over it (see `objects::index`). Dereferences to the list's first link,
+/// which is all a walk needs.
+#[repr(C)]
+pub(crate) struct ObjList {
+    pub first: AtomicU64,
+    pub root: AtomicU64,
+}
+
+impl std::ops::Deref for ObjList {
+    type Target = AtomicU64;
+
+    fn deref(&self) -> &AtomicU64 {
+        &self.first
+    }
 }
 
 pub(crate) trait Record {
@@ -176,6 +204,9 @@ macro_rules! record {
 record!(
     /// A HAL component.
     CompRec, 0x434f_4d50, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     id: AtomicU64,
     /// [`crate::ComponentKind`] code.
@@ -184,44 +215,78 @@ record!(
     pid: AtomicU64,
     /// Blob holding the `loadrt` arguments, 0 if none.
     args: AtomicU64,
+    /// The objects it owns, each kind on a list through their
+    /// `owner_next` (newest first), so that removing a component visits
+    /// only its own objects.
+    own_pins: AtomicU64,
+    own_params: AtomicU64,
+    own_functs: AtomicU64,
+    own_regions: AtomicU64,
 });
 
 record!(
-    /// A pin. `slot` holds the offset of the value cell in use: `dummy`'s own
+    /// A pin. Its slot holds the offset of the value cell in use: its own
+    /// cell (the word after the slot) while unlinked, the signal's cell
+    /// once linked. Both live in a [`Pair`].
     /// offset while unlinked, the signal's cell once linked.
     PinRec, 0x5049_4e00, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     /// The name before `alias`, empty when the pin has no alias.
     orig_name: Name,
+    /// Tree links of the alias index (by `orig_name`), while aliased.
+    alias_left: AtomicU64,
+    alias_right: AtomicU64,
     type_code: AtomicU64,
     dir: AtomicU64,
     owner: AtomicU64,
+    /// Next on the owner's list of pins.
+    owner_next: AtomicU64,
     signal: AtomicU64,
-    slot: AtomicU64,
-    dummy: AtomicU64,
+    /// Neighbours on the signal's list of pins while linked.
+    sig_prev: AtomicU64,
+    sig_next: AtomicU64,
+    /// The [`Pair`] holding the slot and the pin's own cell.
+    hot: AtomicU64,
 });
 
 record!(
     /// A parameter; its value lives inline.
     ParamRec, 0x5041_5241, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     orig_name: Name,
+    alias_left: AtomicU64,
+    alias_right: AtomicU64,
     type_code: AtomicU64,
     dir: AtomicU64,
     owner: AtomicU64,
-    value: AtomicU64,
+    /// Next on the owner's list of params.
+    owner_next: AtomicU64,
+    /// The [`Pair`] whose first word is the value.
+    hot: AtomicU64,
 });
 
 record!(
     /// A signal; its value lives in a separate cell so that a freed cell is
     /// only ever reused as a cell.
     SigRec, 0x5349_4700, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     type_code: AtomicU64,
     cell: AtomicU64,
     writers: AtomicU64,
     bidirs: AtomicU64,
     readers: AtomicU64,
+    /// The pins linked to it, through their `sig_prev`/`sig_next` (in no
+    /// particular order).
+    first_pin: AtomicU64,
 });
 
 record!(
@@ -235,8 +300,13 @@ record!(
 record!(
     /// A function's metadata; its code lives in the host's private table.
     FunctRec, 0x4655_4e43, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     owner: AtomicU64,
+    /// Next on the owner's list of functions.
+    owner_next: AtomicU64,
     code_id: AtomicU64,
     uses_fp: AtomicU64,
     reentrant: AtomicU64,
@@ -266,6 +336,8 @@ record!(
     /// host last set them; for `show thread` and `save` in other processes.
     options: AtomicU64,
     functs: AtomicU64,
+    /// The last entry of `functs` (0 when empty), where `addf` appends.
+    functs_last: AtomicU64,
     /// Functions run once, on the first cycle after start (`initf`).
     init_functs: AtomicU64,
     time_pin: AtomicU64,
@@ -286,8 +358,13 @@ record!(
 record!(
     /// A named memory region allocated by a component.
     RegionRec, 0x5245_4749, {
+    /// Tree links of the name index.
+    left: AtomicU64,
+    right: AtomicU64,
     name: Name,
     owner: AtomicU64,
+    /// Next on the owner's list of regions.
+    owner_next: AtomicU64,
     blob: AtomicU64,
     size: AtomicU64,
 });
@@ -298,6 +375,40 @@ record!(
     capacity: AtomicU64,
     len: AtomicU64,
 });
+
+/// The words realtime code reaches through a pin or param handle: a pin's
+/// slot and own cell, a param's value (and a spare word). Pairs are packed
+/// four to a 64-byte block in the order they are made, so the words one
+/// component's function reaches share a few cache lines instead of taking
+/// one line of a 640-byte record each. 16-byte aligned; not a record (no
+/// tag): only a record's `hot` offset leads to one.
+#[repr(C)]
+pub(crate) struct Pair {
+    pub first: AtomicU64,
+    pub second: AtomicU64,
+}
+
+impl PinRec {
+    /// The pin's slot (`first`) and own cell (`second`).
+    pub(crate) fn words<'a>(&self, seg: &'a super::Segment) -> crate::Result<&'a Pair> {
+        seg.pair(self.hot.load(Relaxed))
+    }
+}
+
+impl ParamRec {
+    /// The param's value word (`first`).
+    pub(crate) fn words<'a>(&self, seg: &'a super::Segment) -> crate::Result<&'a Pair> {
+        seg.pair(self.hot.load(Relaxed))
+    }
+}
+
+/// Which free list a freed pair returns to: a pin's pair is only reused by
+/// a pin (its own cell stays a value cell), a param's by a param.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum PairPool {
+    Pin,
+    Param,
+}
 
 /// Bucket of a wake-up latency: 0..=15 are 1 us wide (0-16 us), then
 /// 16..=63 grow by 2^(1/4) steps up to about 64 ms; the last takes the rest.

@@ -10,6 +10,7 @@ use memmap2::{MmapOptions, MmapRaw};
 
 use super::layout::*;
 use crate::error::{HalError, Result};
+use crate::handles::Cells;
 use crate::paths;
 
 /// A mapped segment. Shared between threads of one process; each process
@@ -23,6 +24,8 @@ pub(crate) struct Segment {
     size: u64,
     /// Journal offset, checked once and never reread from the segment.
     journal_off: u64,
+    /// Where value cells may lie, for every handle on this mapping.
+    cells: Cells,
     instance: String,
     path: PathBuf,
 }
@@ -71,14 +74,16 @@ impl Segment {
             .len(size as usize)
             .map_raw(&file)
             .map_err(|e| HalError::io("mapping shared memory segment", path, e))?;
-        let seg = Segment {
+        let mut seg = Segment {
             map,
             file,
             size,
             journal_off: HEADER_SIZE,
+            cells: Cells::EMPTY,
             instance: instance.to_string(),
             path: path.to_path_buf(),
         };
+        seg.cells = Cells::new(&seg);
         let h = seg.header();
         h.version.store(LAYOUT_VERSION, Relaxed);
         h.size.store(size, Relaxed);
@@ -135,6 +140,7 @@ impl Segment {
             file,
             size: len,
             journal_off: 0,
+            cells: Cells::EMPTY,
             instance: instance.to_string(),
             path,
         };
@@ -166,6 +172,7 @@ impl Segment {
             return Err(bad(format!("journal offset {jo:#x} out of range")));
         }
         seg.journal_off = jo;
+        seg.cells = Cells::new(&seg);
         Ok(seg)
     }
 
@@ -221,6 +228,20 @@ impl Segment {
         Ok(r)
     }
 
+    /// The [`Pair`] at `off`, after checking bounds and alignment.
+    pub(crate) fn pair(&self, off: u64) -> Result<&Pair> {
+        self.check_range(off, 16)?;
+        if off % 16 != 0 {
+            return Err(HalError::BadOffset {
+                offset: off,
+                size: self.size,
+            });
+        }
+        // SAFETY: inside the mapping and aligned; a Pair is two atomic
+        // words, for which any bits are valid.
+        Ok(unsafe { &*(self.base().add(off as usize) as *const Pair) })
+    }
+
     /// A run of `count` words at `off`, after a bounds check.
     pub(crate) fn words(&self, off: u64, count: u64) -> Result<&[AtomicU64]> {
         self.check_range(off, count.saturating_mul(8))?;
@@ -241,6 +262,12 @@ impl Segment {
     /// Offset of a reference into this segment.
     pub(crate) fn offset_of<T>(&self, r: &T) -> u64 {
         (r as *const T as usize - self.base() as usize) as u64
+    }
+
+    /// Where value cells may lie in this mapping.
+    #[inline(always)]
+    pub(crate) fn cells(&self) -> &Cells {
+        &self.cells
     }
 
     /// Largest offset a value cell may start at; used to clamp offsets on

@@ -194,6 +194,33 @@ fn rules_runtime_directory_and_limits_are_installed() {
     );
 }
 
+/// The names of a relation field's packages ("libc6 (>= 2.35), adduser"
+/// gives libc6 and adduser).
+fn relation_names(field: &str) -> Vec<&str> {
+    field
+        .split(',')
+        .filter_map(|r| r.split_whitespace().next())
+        .collect()
+}
+
+#[test]
+fn depends_lists_each_package_once_and_linuxcnc_is_a_conflict() {
+    let deb = deb_table();
+    let depends = relation_names(deb["depends"].as_str().unwrap());
+    for (i, name) in depends.iter().enumerate() {
+        assert!(!depends[..i].contains(name), "{name} twice in {depends:?}");
+    }
+    assert!(depends.contains(&"libc6"), "{depends:?}");
+    // halcmd, halrun, linuxcnc, rs274 and lcec_conf have LinuxCNC's
+    // names: the packages that ship LinuxCNC's own cannot be beside ours.
+    for field in ["conflicts", "replaces"] {
+        let names = relation_names(deb[field].as_str().unwrap());
+        for pkg in ["linuxcnc-uspace", "linuxcnc"] {
+            assert!(names.contains(&pkg), "{field} lacks {pkg}: {names:?}");
+        }
+    }
+}
+
 /// A directory of stand-ins for the commands the postinst calls: each
 /// appends its name and arguments to `log`; `getent` finds no group.
 fn stand_ins(dir: &Path, log: &Path) {

@@ -8,8 +8,8 @@
 use std::sync::Arc;
 
 use hal_cia402::{DriveControl, LinkSupervision, Restarting};
-use hal_core::RtLog;
 use hal_driver::fault::Fault;
+use hal_driver::LogSink;
 
 use super::faults;
 use super::shared::DriveShared;
@@ -86,7 +86,7 @@ impl DriveRt {
 
     /// Trips the latch with `fault` and says so once, with the node and,
     /// for drive errors, the error code and its meaning.
-    pub fn trip(&mut self, fault: &'static Fault, log: Option<&RtLog>, code: u16) {
+    pub fn trip(&mut self, fault: &'static Fault, log: Option<&LogSink>, code: u16) {
         self.ctl.trip(fault, log, code);
     }
 
@@ -102,7 +102,7 @@ impl DriveRt {
 
     /// A frame for this node; returns false if it is not one of its
     /// COB-IDs.
-    pub fn take(&mut self, base: u16, f: &Frame, now_ns: u64, log: Option<&RtLog>) -> bool {
+    pub fn take(&mut self, base: u16, f: &Frame, now_ns: u64, log: Option<&LogSink>) -> bool {
         let d = &f.data;
         match base {
             b if b == cob::TPDO[0] => {
@@ -154,7 +154,7 @@ impl DriveRt {
         expect_tpdo: bool,
         miss_limit: u32,
         hb_timeout_ns: u64,
-        log: Option<&RtLog>,
+        log: Option<&LogSink>,
     ) {
         if self.ctl.poll_restart(log) != Restarting::No {
             return;

@@ -44,7 +44,7 @@ mod shared;
 
 use std::sync::Arc;
 
-use hal_core::RtLog;
+use hal_driver::LogSink;
 
 pub use cell::RtCell;
 use drive::DriveRt;
@@ -140,7 +140,7 @@ pub struct Engine {
     drives: Vec<DriveRt>,
     by_node: [u8; 128],
     cfg: EngineConfig,
-    log: Option<RtLog>,
+    log: Option<LogSink>,
     helper: bool,
     status: Vec<DriveStatus>,
     sync_sent: bool,
@@ -170,7 +170,7 @@ impl Engine {
         nodes: Vec<NodeInfo>,
         shared: Vec<Arc<DriveShared>>,
         cfg: EngineConfig,
-        log: Option<RtLog>,
+        log: Option<LogSink>,
         helper: bool,
     ) -> Engine {
         let mut by_node = [0u8; 128];

@@ -3,33 +3,33 @@
 //! is 0 or 1; s32 and u32 are exact in an f64), so one table of pins
 //! serves every slave type.
 
-use hal_core::{Component, In, Io, Out, Param, Pin, Result, Rw};
+use hal_core::{HalHost, HostParam, HostPin, In, Io, Out, PinFactory, Result, Rw};
 
 use crate::lcec::pins::{Kind, PinSpec, PinType, PinValue};
 
-/// One exported pin or parameter.
-pub(crate) enum AnyPin {
-    BitIn(Pin<bool, In>),
-    BitOut(Pin<bool, Out>),
-    BitIo(Pin<bool, Io>),
-    BitParam(Param<bool, Rw>),
-    S32In(Pin<i32, In>),
-    S32Out(Pin<i32, Out>),
-    S32Io(Pin<i32, Io>),
-    S32Param(Param<i32, Rw>),
-    U32In(Pin<u32, In>),
-    U32Out(Pin<u32, Out>),
-    U32Io(Pin<u32, Io>),
-    U32Param(Param<u32, Rw>),
-    FloatIn(Pin<f64, In>),
-    FloatOut(Pin<f64, Out>),
-    FloatIo(Pin<f64, Io>),
-    FloatParam(Param<f64, Rw>),
+/// One exported pin or parameter, in host `H`.
+pub(crate) enum AnyPin<H: HalHost> {
+    BitIn(H::Pin<bool, In>),
+    BitOut(H::Pin<bool, Out>),
+    BitIo(H::Pin<bool, Io>),
+    BitParam(H::Param<bool, Rw>),
+    S32In(H::Pin<i32, In>),
+    S32Out(H::Pin<i32, Out>),
+    S32Io(H::Pin<i32, Io>),
+    S32Param(H::Param<i32, Rw>),
+    U32In(H::Pin<u32, In>),
+    U32Out(H::Pin<u32, Out>),
+    U32Io(H::Pin<u32, Io>),
+    U32Param(H::Param<u32, Rw>),
+    FloatIn(H::Pin<f64, In>),
+    FloatOut(H::Pin<f64, Out>),
+    FloatIo(H::Pin<f64, Io>),
+    FloatParam(H::Param<f64, Rw>),
 }
 
-impl AnyPin {
+impl<H: HalHost> AnyPin<H> {
     /// Exports `spec` on `c` as `name`, with its initial value.
-    pub(crate) fn export(c: &Component, name: &str, spec: &PinSpec) -> Result<AnyPin> {
+    pub(crate) fn export(c: &impl PinFactory<H>, name: &str, spec: &PinSpec) -> Result<Self> {
         use AnyPin::*;
         let (bit, int, uint, float) = match spec.initial {
             PinValue::Bit(b) => (b, 0, 0, 0.0),

@@ -11,8 +11,9 @@ use std::sync::Arc;
 
 use hal_cia402::objects::obj;
 use hal_cia402::{DriveControl, DriveInputs, DriveShared, LinkSupervision, Mode};
-use hal_core::RtLog;
+use hal_core::HalHost;
 use hal_driver::fault::Fault;
+use hal_driver::LogSink;
 
 use super::field::Field;
 use super::slave::Named;
@@ -135,7 +136,7 @@ impl DriveRt {
         self.reset_edge
     }
 
-    fn take_inputs(&mut self, p: &Named<'_>) {
+    fn take_inputs<H: HalHost>(&mut self, p: &Named<'_, H>) {
         let get = |n: &str| p.get(n).map_or(0.0, |x| x.get());
         let scale = get("srv-pos-scale");
         self.inputs = DriveInputs {
@@ -154,7 +155,13 @@ impl DriveRt {
     }
 
     /// Reception and supervision; the `srv-*` outputs.
-    pub(crate) fn read(&mut self, img: &[u8], healthy: bool, p: &Named<'_>, log: Option<&RtLog>) {
+    pub(crate) fn read<H: HalHost>(
+        &mut self,
+        img: &[u8],
+        healthy: bool,
+        p: &Named<'_, H>,
+        log: Option<&LogSink>,
+    ) {
         self.take_inputs(p);
         let rd = |f: Option<Field>| f.map_or(0, |f| f.read_signed(img));
         if healthy {
@@ -192,7 +199,7 @@ impl DriveRt {
     }
 
     /// Plans the controlword, target and mode into the outputs.
-    pub(crate) fn write(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_>) {
+    pub(crate) fn write<H: HalHost>(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_, H>) {
         self.take_inputs(p);
         self.reset_edge = self.inputs.fault_reset && !self.reset_prev;
         self.reset_prev = self.inputs.fault_reset;

@@ -2,6 +2,9 @@
 //! [backend=raw|sim] [iface=eth0,...]`, with linuxcnc-ethercat's names;
 //! or, as with linuxcnc-ethercat, `loadusr -W lcec_conf
 //! ethercat-conf.xml` then `loadrt lcec` ([`crate::lcec::handoff`]).
+//! The driver is one [`DriverModule`] ([`Lcec`]) for our host and for
+//! LinuxCNC (`lcec.so`); inside LinuxCNC only `config=` gives the
+//! configuration, as the hand-over lives in our host's instance.
 //!
 //! One realtime component `lcec`. For each `<master>` of the
 //! configuration (pins `lcec.<m>.`, `<m>` its name or index) a master
@@ -38,15 +41,16 @@ mod field;
 mod setup;
 mod slave;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
-use hal_core::{Component, HalError, Host, Result};
-use hal_driver::fault::{self, SafeState};
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
+use hal_core::{HalError, HalHost, Host, Instance, PinFactory, Result};
+use hal_driver::fault::SafeState;
+use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::{BackendTokens, Params};
 use hal_driver::rt_cell::RtCell;
-use hal_driver::ForModule;
+use hal_driver::{ForModule, LogSink};
 
 use any_pin::AnyPin;
 use slave::SlaveRt;
@@ -60,42 +64,68 @@ use crate::regs::al;
 pub use drive::SLAVE_LOST;
 
 /// Masters `iface=` names at most.
-const MAX_MASTERS: usize = 8;
+pub const MAX_MASTERS: usize = 8;
 
 /// Backends: raw sockets, or the simulated segment.
 pub const BACKENDS: BackendTokens = BackendTokens::new(&["raw"], &[]);
 
-const PARAMS: &[ParamDecl] = &[
-    ParamDecl {
-        name: "config",
-        kind: ParamKind::Str,
-        help: "linuxcnc-ethercat's configuration file (default: the one lcec_conf keeps)",
-    },
-    ParamDecl {
-        name: "backend",
-        kind: ParamKind::Str,
-        help: "raw (default): raw sockets | sim: the configured slaves simulated in process",
-    },
-    ParamDecl {
-        name: "iface",
-        kind: ParamKind::StrArray(MAX_MASTERS),
-        help: "per master, in file order: its network interface (default eth0)",
-    },
-];
+/// lcec's module parameters: the one table both hosts read (our host
+/// through [`MODULE`], LinuxCNC through `lcec.so`'s symbols).
+#[macro_export]
+macro_rules! lcec_params {
+    ($($then:tt)*) => { $($then)*! {
+        config: Str =
+            "linuxcnc-ethercat's configuration file (default: the one lcec_conf keeps)",
+        backend: Str =
+            "raw (default): raw sockets | sim: the configured slaves simulated in process",
+        iface: StrArray($crate::hal::MAX_MASTERS) =
+            "per master, in file order: its network interface (default eth0)",
+    } };
+}
 
-/// The `lcec` module.
+const PARAMS: &[ParamDecl] = lcec_params!(hal_driver::param_table);
+
+/// The `lcec` driver, declared once for both hosts. In LinuxCNC the
+/// configuration is always `config=`: `lcec_conf`'s hand-over lives in
+/// our host's instance.
+#[derive(Debug)]
+pub struct Lcec;
+
+/// The `lcec` module of our host, which also takes the configuration
+/// `loadusr -W lcec_conf FILE` keeps in the instance.
 pub static MODULE: ModuleDef = ModuleDef {
     name: NAME,
     params: PARAMS,
-    help: "EtherCAT masters on EtherCrab with linuxcnc-ethercat's configuration and pins",
+    help: Lcec::HELP,
     load,
 };
 
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let opened = open(args, Some(host.instance()))?;
+    module::load_opened::<Lcec>(host, opened)
+}
+
+impl DriverModule for Lcec {
+    const NAME: &'static str = NAME;
+    const HELP: &'static str =
+        "EtherCAT masters on EtherCrab with linuxcnc-ethercat's configuration and pins";
+    const PARAMS: &'static [ParamDecl] = PARAMS;
+    type Opened = Opened;
+
+    fn open(args: &ModuleArgs, _env: &LoadEnv) -> Result<Opened> {
+        open(args, None)
+    }
+
+    fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
+        export(o, ex)
+    }
+}
+
 /// One master, bound.
-struct MasterRt {
+struct MasterRt<H: HalHost> {
     cyclic: Cyclic,
-    slaves: Vec<SlaveRt>,
-    pins: Vec<AnyPin>,
+    slaves: Vec<SlaveRt<H>>,
+    pins: Vec<AnyPin<H>>,
     wkc_min: Option<u16>,
     wkc_last: u16,
     wkc_changes: u32,
@@ -123,8 +153,8 @@ struct Summary {
     all_op: bool,
 }
 
-impl MasterRt {
-    fn read(&mut self, log: Option<&hal_core::RtLog>) -> Summary {
+impl<H: HalHost> MasterRt<H> {
+    fn read(&mut self, log: Option<&LogSink>) -> Summary {
         let st = self.cyclic.read();
         let mut sum = Summary {
             link_up: st.link_up,
@@ -208,7 +238,7 @@ impl MasterRt {
 }
 
 /// Sets the state pins `pins` (master or global order) from `sum`.
-fn publish(pins: &[AnyPin], sum: &Summary) {
+fn publish<H: HalHost>(pins: &[AnyPin<H>], sum: &Summary) {
     pins[mp::RESPONDING].set(f64::from(sum.responding));
     for (k, on) in sum.states.iter().enumerate() {
         pins[mp::STATES + k].set(f64::from(u8::from(*on)));
@@ -219,12 +249,12 @@ fn publish(pins: &[AnyPin], sum: &Summary) {
 
 /// The masters, for the safe-state hook; dropping it stops their
 /// helper threads.
-struct SafeMasters {
-    cells: Vec<Arc<RtCell<MasterRt>>>,
+struct SafeMasters<H: HalHost> {
+    cells: Vec<Arc<RtCell<MasterRt<H>>>>,
     _masters: Vec<Master>,
 }
 
-impl SafeState for SafeMasters {
+impl<H: HalHost> SafeState for SafeMasters<H> {
     fn go_safe(&self) {
         for c in &self.cells {
             c.try_with(MasterRt::go_safe);
@@ -236,6 +266,13 @@ fn load_error(e: crate::Error) -> HalError {
     HalError::module_failed(NAME, e)
 }
 
+/// Every master of the configuration started on its link: what
+/// [`Lcec`]'s `open` opened.
+pub struct Opened {
+    file: PathBuf,
+    started: Vec<Started>,
+}
+
 /// A master started on its link, and what the simulator publishes.
 struct Started {
     conf: conf::Master,
@@ -244,12 +281,7 @@ struct Started {
     sim: Option<crate::link::SharedSegment>,
 }
 
-fn start(
-    cfg: &conf::Config,
-    file: &std::path::Path,
-    sim: bool,
-    ifaces: &[String],
-) -> Result<Vec<Started>> {
+fn start(cfg: &conf::Config, file: &Path, sim: bool, ifaces: &[String]) -> Result<Vec<Started>> {
     let mut out = Vec::with_capacity(cfg.masters.len());
     for (i, m) in cfg.masters.iter().enumerate() {
         let (link, seg): (Box<dyn Link>, _) = if sim {
@@ -278,11 +310,11 @@ fn start(
     Ok(out)
 }
 
-fn export_master(
-    c: &Component,
+fn export_master<H: HalHost>(
+    c: &impl PinFactory<H>,
     s: Started,
-    file: &std::path::Path,
-) -> Result<(MasterRt, Master, Option<crate::link::SharedSegment>)> {
+    file: &Path,
+) -> Result<(MasterRt<H>, Master, Option<crate::link::SharedSegment>)> {
     let name = s.conf.name.clone();
     let pins = pins::master_pins(false)
         .iter()
@@ -310,32 +342,34 @@ fn export_master(
     Ok((rt, s.master, s.sim))
 }
 
-/// The configuration: the file `config=` names, else the one
-/// `loadusr -W lcec_conf FILE` keeps in the instance.
+/// The configuration: the file `config=` names, else (our host) the one
+/// `loadusr -W lcec_conf FILE` keeps in `kept_in`.
 fn configuration(
-    host: &Host,
     args: &ModuleArgs,
     p: &Params<'_>,
+    kept_in: Option<&Instance>,
 ) -> Result<(PathBuf, conf::Config)> {
     if let Some(path) = args.str("config") {
         let file = PathBuf::from(path);
         let cfg = conf::read(&file).map_err(load_error)?;
         return Ok((file, cfg));
     }
-    let Some(kept) = handoff::take(host.instance()) else {
-        return Err(p
-            .error(
-                "config",
-                "no configuration: give config=ethercat-conf.xml, or run `loadusr -W lcec_conf ethercat-conf.xml` first",
-            ))
-            .for_module(NAME);
+    let Some(kept) = kept_in.and_then(handoff::take) else {
+        let how = if kept_in.is_some() {
+            "no configuration: give config=ethercat-conf.xml, or run `loadusr -W lcec_conf ethercat-conf.xml` first"
+        } else {
+            "no configuration: give config=ethercat-conf.xml"
+        };
+        return Err(p.error("config", how)).for_module(NAME);
     };
     let (file, text) = kept.map_err(load_error)?;
     let cfg = conf::parse(&text, &file).map_err(load_error)?;
     Ok((file, cfg))
 }
 
-fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+/// Reads the parameters and the configuration and starts every master,
+/// before any HAL object exists: a failure leaves nothing behind.
+fn open(args: &ModuleArgs, kept_in: Option<&Instance>) -> Result<Opened> {
     let p = Params::new(NAME, args);
     let token = p.str_or("backend", "raw");
     let backend = BACKENDS
@@ -348,39 +382,42 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         })
         .for_module(NAME)?;
     let ifaces = args.str_array("iface").to_vec();
-    let (file, cfg) = configuration(host, args, &p)?;
-    // Every master up before any HAL object exists: a failure leaves
-    // nothing behind.
+    let (file, cfg) = configuration(args, &p, kept_in)?;
     let started = start(&cfg, &file, backend.is_sim(), &ifaces)?;
-    let mut b = host.new_rt_component(NAME)?;
+    Ok(Opened { file, started })
+}
+
+/// Exports the global pins, then each master's pins and functions, then
+/// the functions of all masters and their safe state.
+fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
+    let comp = ex.component(NAME)?;
     let global = pins::master_pins(true)
         .iter()
-        .map(|p| AnyPin::export(b.component(), &pins::full_name(None, None, &p.name), p))
+        .map(|p| AnyPin::export(ex.pins(comp), &pins::full_name(None, None, &p.name), p))
         .collect::<Result<Vec<_>>>()?;
     let mut cells = Vec::new();
     let mut masters = Vec::new();
-    let mut sims = Vec::new();
-    for s in started {
+    for s in o.started {
         let name = s.conf.name.clone();
-        let (rt, master, sim) = export_master(b.component(), s, &file)?;
+        let (rt, master, sim) = export_master(ex.pins(comp), s, &o.file)?;
         let cell = Arc::new(RtCell::new(rt));
         let [read, write] = pins::master_functions(&name);
-        let (c, log) = (cell.clone(), host.rt_log());
-        b.funct(&read, false, move |_| {
+        let (c, log) = (cell.clone(), ex.log());
+        ex.funct(comp, &read, false, move |_| {
             c.try_with(|m| m.read(Some(&log)));
         })?;
         let c = cell.clone();
-        b.funct(&write, false, move |ctx| {
+        ex.funct(comp, &write, false, move |ctx| {
             c.try_with(|m| m.write(ctx.now_ns()));
         })?;
         if let Some(seg) = sim {
-            sims.push((name, seg));
+            ex.publish_sim(&format!("{NAME}.{name}"), &seg);
         }
         cells.push(cell);
         masters.push(master);
     }
-    let (all, log) = (cells.clone(), host.rt_log());
-    b.funct(pins::FUNCTIONS[0], false, move |_| {
+    let (all, log) = (cells.clone(), ex.log());
+    ex.funct(comp, pins::FUNCTIONS[0], false, move |_| {
         let mut sum = Summary {
             link_up: true,
             all_op: true,
@@ -399,21 +436,17 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         publish(&global, &sum);
     })?;
     let all = cells.clone();
-    b.funct(pins::FUNCTIONS[1], false, move |ctx| {
+    ex.funct(comp, pins::FUNCTIONS[1], false, move |ctx| {
         for c in &all {
             c.try_with(|m| m.write(ctx.now_ns()));
         }
     })?;
-    fault::install(
-        &mut b,
+    ex.safe_state(
+        comp,
         SafeMasters {
             cells,
             _masters: masters,
         },
     );
-    b.ready()?;
-    for (name, seg) in sims {
-        hal_driver::sim::publish(host.instance().name(), &format!("{NAME}.{name}"), &seg);
-    }
     Ok(())
 }

@@ -3,7 +3,8 @@
 //! computes beyond the bits (inverted inputs and outputs, analog scaling,
 //! counters) is here too; CiA 402 drives have [`super::drive`].
 
-use hal_core::{Component, Result};
+use hal_core::{HalHost, PinFactory, Result};
+use hal_driver::LogSink;
 
 use super::any_pin::AnyPin;
 use super::drive::DriveRt;
@@ -52,17 +53,17 @@ enum Role {
     Computed,
 }
 
-struct Bound {
+struct Bound<H: HalHost> {
     spec: PinSpec,
-    pin: AnyPin,
+    pin: AnyPin<H>,
     role: Role,
 }
 
 /// A slave's state pins, in [`pins::slave_state_pins`] order.
-struct StatePins(Vec<AnyPin>);
+struct StatePins<H: HalHost>(Vec<AnyPin<H>>);
 
 /// One slave of a master, bound.
-pub(crate) struct SlaveRt {
+pub(crate) struct SlaveRt<H: HalHost> {
     /// Its position in the master's [`crate::master::Cyclic`].
     pub(crate) index: usize,
     /// `lcec.<master>.<slave>`, for the log.
@@ -70,8 +71,8 @@ pub(crate) struct SlaveRt {
     /// Healthy at the last `read` (a change is logged once).
     was_healthy: bool,
     kind: String,
-    state: StatePins,
-    pins: Vec<Bound>,
+    state: StatePins<H>,
+    pins: Vec<Bound<H>>,
     drive: Option<Box<DriveRt>>,
     /// EL5101/EL7041: the counter extended past 16 bits.
     count: Counter,
@@ -83,19 +84,19 @@ struct Counter {
     count: i64,
 }
 
-impl SlaveRt {
+impl<H: HalHost> SlaveRt<H> {
     /// Exports slave `slave`'s pins as `lcec.<master>.<slave>.<pin>` and
     /// binds those with entries to `layout`. A generic slave's `halPin`
     /// whose entry the slave does not map is an error; a catalogue pin
     /// without its entry stays at its initial value.
     pub(crate) fn export(
-        c: &Component,
+        c: &impl PinFactory<H>,
         master: &str,
         slave: &crate::lcec::conf::Slave,
         index: usize,
         layout: &Layout,
         file: &std::path::Path,
-    ) -> Result<SlaveRt> {
+    ) -> Result<Self> {
         let specs = pins::slave_pins(slave, file).map_err(load_error)?;
         let name = |p: &str| pins::full_name(Some(master), Some(&slave.name), p);
         let state = pins::slave_state_pins();
@@ -144,7 +145,7 @@ impl SlaveRt {
         al_state: u8,
         healthy: bool,
         status: &ReadStatus,
-        log: Option<&hal_core::RtLog>,
+        log: Option<&LogSink>,
     ) {
         if healthy != self.was_healthy {
             self.was_healthy = healthy;
@@ -214,7 +215,7 @@ impl SlaveRt {
 
     /// Says once why the slave stopped exchanging data (its outputs go
     /// to their safe values), or that it is back.
-    fn log_health(&self, log: &hal_core::RtLog, al_state: u8, healthy: bool, st: &ReadStatus) {
+    fn log_health(&self, log: &LogSink, al_state: u8, healthy: bool, st: &ReadStatus) {
         let label = &self.label;
         if healthy {
             log.info(format_args!("{label}: back in OP, exchanging data"));
@@ -254,7 +255,7 @@ impl SlaveRt {
         }
     }
 
-    fn pin(&self, name: &str) -> Option<&AnyPin> {
+    fn pin(&self, name: &str) -> Option<&AnyPin<H>> {
         self.pins
             .iter()
             .find(|b| b.spec.name == name)
@@ -332,11 +333,11 @@ impl SlaveRt {
 }
 
 /// A slave's bound pins, found by name.
-pub(crate) struct Named<'a>(&'a [Bound]);
+pub(crate) struct Named<'a, H: HalHost>(&'a [Bound<H>]);
 
-impl Named<'_> {
+impl<H: HalHost> Named<'_, H> {
     /// The pin `name` (the part after the slave's name).
-    pub(crate) fn get(&self, name: &str) -> Option<&AnyPin> {
+    pub(crate) fn get(&self, name: &str) -> Option<&AnyPin<H>> {
         self.0.iter().find(|b| b.spec.name == name).map(|b| &b.pin)
     }
 }

@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use crate::error::{HalError, Result};
-use crate::exec::funct::{ExecList, FunctCode, TimingOut};
+use crate::exec::funct::{ExecList, FunctCode, Hint, TimingOut};
 use crate::exec::thread::{self, Placement, ThreadCtl};
 use crate::handles::{Param, Pin};
 use crate::objects::funct::{
@@ -161,6 +161,7 @@ impl Host {
             join: Some(join),
             functs: Vec::new(),
             init: Vec::new(),
+            stale: false,
         });
         drop(st);
         // Set-up notes matter once threads exist; say them once.
@@ -220,14 +221,18 @@ impl Host {
             len,
         })?;
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
-        let mut functs = st.threads[ti].functs.clone();
-        functs.insert(index, id);
         // Everything that can fail happens before anything changes.
-        let list = self.build_list(&st, &functs, &st.threads[ti].init)?;
+        let list = if self.shared.running.load(SeqCst) {
+            let mut functs = st.threads[ti].functs.clone();
+            functs.insert(index, id);
+            Some(self.build_list(&st, &functs, &st.threads[ti].init)?)
+        } else {
+            None
+        };
         self.inst
-            .tx(|tx| add_entry_tx(tx, thread_off, rec_off, index))?;
-        self.swap_list(&st.threads[ti].ctl, list);
-        st.threads[ti].functs = functs;
+            .tx(|tx| add_entry_tx(tx, thread_off, rec_off, index, index == len))?;
+        st.threads[ti].functs.insert(index, id);
+        self.publish(&mut st, ti, list);
         if let Some(slot) = st.functs[id].as_mut() {
             slot.threads.push(thread.to_string());
         }
@@ -263,13 +268,17 @@ impl Host {
             });
         }
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
-        let mut init = st.threads[ti].init.clone();
-        init.push(id);
-        let list = self.build_list(&st, &st.threads[ti].functs, &init)?;
+        let list = if self.shared.running.load(SeqCst) {
+            let mut init = st.threads[ti].init.clone();
+            init.push(id);
+            Some(self.build_list(&st, &st.threads[ti].functs, &init)?)
+        } else {
+            None
+        };
         self.inst
             .tx(|tx| crate::objects::funct::add_init_entry_tx(tx, thread_off, rec_off))?;
-        self.swap_list(&st.threads[ti].ctl, list);
-        st.threads[ti].init = init;
+        st.threads[ti].init.push(id);
+        self.publish(&mut st, ti, list);
         if let Some(slot) = st.functs[id].as_mut() {
             slot.threads.push(thread.to_string());
         }
@@ -319,19 +328,29 @@ impl Host {
         let (rec_off, thread_off) = (slot.rec_off, st.threads[ti].ctl.rec_off);
         // One entry per call, an init entry before a cyclic one, as
         // remove_entry_tx takes it off the thread's lists.
-        let mut functs = st.threads[ti].functs.clone();
-        let mut init = st.threads[ti].init.clone();
-        if let Some(pos) = init.iter().position(|&f| f == id) {
-            init.remove(pos);
-        } else if let Some(pos) = functs.iter().position(|&f| f == id) {
-            functs.remove(pos);
-        }
-        let list = self.build_list(st, &functs, &init)?;
+        let t = &st.threads[ti];
+        let (in_init, pos) = match t.init.iter().position(|&f| f == id) {
+            Some(pos) => (true, Some(pos)),
+            None => (false, t.functs.iter().position(|&f| f == id)),
+        };
+        let take = |v: &mut Vec<usize>, on: bool| {
+            if let (true, Some(p)) = (on, pos) {
+                v.remove(p);
+            }
+        };
+        let list = if self.shared.running.load(SeqCst) {
+            let (mut functs, mut init) = (t.functs.clone(), t.init.clone());
+            take(&mut init, in_init);
+            take(&mut functs, !in_init);
+            Some(self.build_list(st, &functs, &init)?)
+        } else {
+            None
+        };
         self.inst
             .tx(|tx| remove_entry_tx(tx, thread_off, rec_off).map(|_| ()))?;
-        self.swap_list(&st.threads[ti].ctl, list);
-        st.threads[ti].functs = functs;
-        st.threads[ti].init = init;
+        take(&mut st.threads[ti].init, in_init);
+        take(&mut st.threads[ti].functs, !in_init);
+        self.publish(st, ti, list);
         let tname = st.threads[ti].ctl.name.clone();
         if let Some(Some(slot)) = st.functs.get_mut(id) {
             if let Some(p) = slot.threads.iter().position(|n| *n == tname) {
@@ -365,9 +384,50 @@ impl Host {
                 &Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 &Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
             );
-            list.push(slot.code.clone(), id, timing);
+            let hint = match crate::objects::hot_span(seg, rec.owner.load(Relaxed))? {
+                Some((from, to)) => Hint::new(seg.base(), from, to),
+                None => Hint::NONE,
+            };
+            list.push(slot.code.clone(), id, timing, hint);
         }
         Ok(list)
+    }
+
+    /// Hands thread `ti` its new function list: `list` when threads run
+    /// (built before the change, so that nothing can fail after it), else
+    /// an empty list until the next `start` builds the real one
+    /// ([`Host::publish_stale`]): building a list costs its length, and a
+    /// configuration adds its functions one by one before it starts.
+    ///
+    /// The executor's list owns the code of every function on it (and so
+    /// whatever the closures hold: a module's devices, a simulated bus).
+    /// A function taken out while threads are stopped must therefore not
+    /// stay on the old list until the next start: the first change after a
+    /// stop swaps the old list for an empty one, which drops it. The swap
+    /// also waits for an executor that `stop` caught inside a cycle, so
+    /// that nothing the change removes is still being run.
+    pub(super) fn publish(&self, st: &mut HostState, ti: usize, list: Option<ExecList>) {
+        match list {
+            Some(list) => self.swap_list(&st.threads[ti].ctl, list),
+            None if st.threads[ti].stale => {}
+            None => {
+                self.swap_list(&st.threads[ti].ctl, ExecList::new(&self.inst.seg));
+                st.threads[ti].stale = true;
+            }
+        }
+    }
+
+    /// Builds and hands over the lists changed while threads were stopped.
+    pub(super) fn publish_stale(&self, st: &mut HostState) -> Result<()> {
+        for ti in 0..st.threads.len() {
+            if st.threads[ti].stale {
+                let t = &st.threads[ti];
+                let list = self.build_list(st, &t.functs, &t.init)?;
+                self.swap_list(&st.threads[ti].ctl, list);
+                st.threads[ti].stale = false;
+            }
+        }
+        Ok(())
     }
 
     /// Swaps a thread's list and frees the old one once the executor has

@@ -124,6 +124,7 @@ impl Host {
         }
         {
             let mut st = lock(&self.state);
+            self.publish_stale(&mut st)?;
             let mut notes = Vec::new();
             if !st.memory_locked {
                 st.memory_locked = true;
@@ -142,17 +143,20 @@ impl Host {
                     }
                 }
             }
+            // Threads start on a common grid a little ahead, so that all
+            // are awake before the first deadline and due together
+            // afterwards. Set while the state is locked: a change to a
+            // thread's list sees either stopped threads (and leaves its
+            // list to this start) or running ones.
+            self.shared
+                .start_ns
+                .store(crate::exec::clock::monotonic_ns() + 200_000, SeqCst);
+            self.shared.running.store(true, SeqCst);
             drop(st);
             for why in notes {
                 self.add_note(why);
             }
         }
-        // Threads start on a common grid a little ahead, so that all are
-        // awake before the first deadline and due together afterwards.
-        self.shared
-            .start_ns
-            .store(crate::exec::clock::monotonic_ns() + 200_000, SeqCst);
-        self.shared.running.store(true, SeqCst);
         self.wake_executors();
         Ok(())
     }

@@ -103,6 +103,9 @@ struct HostThread {
     functs: Vec<usize>,
     /// Code ids of the init cycle.
     init: Vec<usize>,
+    /// Whether `functs` or `init` changed since the executor's list was
+    /// built (changes made while threads are stopped are built at start).
+    stale: bool,
 }
 
 impl HostThread {

@@ -195,6 +195,7 @@ fn parse_load_comp(rest: &[String]) -> Result<Action, ToolsError> {
 
 fn run(cli: Cli) -> Result<ExitCode, ToolsError> {
     let instance = cli.instance.unwrap_or_else(hal_core::instance_from_env);
+    let quiet = cli.quiet;
     // A year at most: far beyond any wait, and an Instant that far ahead
     // still exists.
     let timeout = match &cli.timeout {
@@ -226,19 +227,19 @@ fn run(cli: Cli) -> Result<ExitCode, ToolsError> {
         Action::Queue(q) => {
             let goal = Pose(client.status()?.traj.goal);
             let cmd = motion_queue_args::parse(&q, rest, goal).map_err(|e| usage(e.to_string()))?;
-            Ok(send(&mut client, cmd))
+            Ok(send(&mut client, cmd, quiet))
         }
         Action::LoadComp { joint, entries } => {
-            let mut code = send(&mut client, Command::ClearJointComp { joint });
+            let mut code = send(&mut client, Command::ClearJointComp { joint }, quiet);
             for e in entries {
                 if code != ExitCode::SUCCESS {
                     break;
                 }
-                code = send(&mut client, e);
+                code = send(&mut client, e, quiet);
             }
             Ok(code)
         }
-        Action::Send(cmd) => Ok(send(&mut client, cmd)),
+        Action::Send(cmd) => Ok(send(&mut client, cmd, quiet)),
         Action::Status => {
             hal_tools::out!("{}", client.status()?);
             Ok(ExitCode::SUCCESS)
@@ -264,10 +265,12 @@ fn watch(client: &MotionClient, ms: u64, count: Option<u64>) -> Result<ExitCode,
 }
 
 /// Sends one command and prints its answer.
-fn send(client: &mut MotionClient, cmd: Command) -> ExitCode {
+fn send(client: &mut MotionClient, cmd: Command, quiet: bool) -> ExitCode {
     match client.send(cmd) {
         Ok(a) => {
-            hal_tools::outln!("accepted (serial {})", a.serial);
+            if !quiet {
+                hal_tools::outln!("accepted (serial {})", a.serial);
+            }
             ExitCode::SUCCESS
         }
         Err(r) => {

@@ -40,13 +40,14 @@ fn main() -> ExitCode {
         }
     }
     println!(
-        "{:.3} s, max following error {:.4}, max speed {:.3}/s (measured {:.3}/s), max axis acceleration {:.1}/s^2{}",
+        "{:.3} s, max following error {:.4} {u}, max speed {:.3} {u}/s (measured {:.3} {u}/s), max axis acceleration {:.1} {u}/s^2{}",
         f.seconds,
         f.max_ferror,
         f.max_speed,
         f.max_measured_speed,
         f.max_acc,
-        a.png.map_or(String::new(), |p| format!(", plot {p}"))
+        a.png.map_or(String::new(), |p| format!(", plot {p}")),
+        u = a.units,
     );
     ExitCode::SUCCESS
 }

@@ -127,6 +127,10 @@ pub struct Cli {
     /// HAL instance (default: $HAL_INSTANCE or 'default').
     #[arg(short, long, value_name = "NAME")]
     pub instance: Option<String>,
+    /// Print nothing when a command is accepted (a refusal is still
+    /// printed, and the exit status says which it was).
+    #[arg(short, long)]
+    pub quiet: bool,
     /// How long to wait for the answer (default 1; `wait`: 60).
     #[arg(short, long, value_name = "SECONDS")]
     pub timeout: Option<String>,

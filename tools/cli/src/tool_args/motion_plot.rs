@@ -15,7 +15,7 @@ use clap::Parser;
     version,
     after_help = "Examples:
   halsampler -n 5000 > run.samples && motion-plot run.samples run.png
-  motion-plot --period 0.0005 --title \"POCKET\" run.samples pocket.png
+  motion-plot --period 0.0005 --title \"POCKET\" --units mm run.samples pocket.png
   motion-plot run.samples                 only the summary"
 )]
 pub struct Args {
@@ -29,4 +29,8 @@ pub struct Args {
     /// The plot's title (default: the samples file's name).
     #[arg(long)]
     pub title: Option<String>,
+    /// The machine's length unit, for the summary's speeds and
+    /// accelerations ("mm", "inch").
+    #[arg(long, value_name = "UNIT", default_value = "units")]
+    pub units: String,
 }

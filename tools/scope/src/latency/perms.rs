@@ -174,7 +174,11 @@ fn soft_limit(limits: &str, name: &str) -> Option<String> {
     let soft = *f.first()?;
     Some(match (soft, f.get(2)) {
         ("unlimited", _) => "unlimited".to_string(),
-        (v, Some(&"bytes")) => format!("{v} bytes"),
+        // In kB, as the locked memory beside it (VmLck) is.
+        (v, Some(&"bytes")) => match v.parse::<u64>() {
+            Ok(bytes) => format!("{} kB", bytes / 1024),
+            Err(_) => format!("{v} bytes"),
+        },
         (v, _) => v.to_string(),
     })
 }
@@ -265,7 +269,7 @@ mod tests {
                       Max realtime priority     0                    0                    \n";
         assert_eq!(
             soft_limit(limits, "Max locked memory").as_deref(),
-            Some("8388608 bytes")
+            Some("8192 kB")
         );
         assert_eq!(
             soft_limit(limits, "Max realtime priority").as_deref(),
