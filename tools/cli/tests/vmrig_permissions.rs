@@ -33,19 +33,42 @@ fn require_rig() {
     );
 }
 
+/// Why a user-administration command failed.
+#[derive(Debug, thiserror::Error)]
+enum ShError {
+    /// The command could not be started.
+    #[error("{cmd}: {source}")]
+    Start {
+        cmd: String,
+        #[source]
+        source: std::io::Error,
+    },
+    /// It ran and failed; what it said on stderr.
+    #[error("{cmd} {args:?}: {stderr}")]
+    Failed {
+        cmd: String,
+        args: Vec<String>,
+        stderr: String,
+    },
+}
+
 /// Runs `cmd args`; its failure, with what it said.
-fn try_sh(cmd: &str, args: &[&str]) -> Result<(), String> {
+fn try_sh(cmd: &str, args: &[&str]) -> Result<(), ShError> {
     let out = Command::new(cmd)
         .args(args)
         .output()
-        .map_err(|e| format!("{cmd}: {e}"))?;
+        .map_err(|source| ShError::Start {
+            cmd: cmd.to_string(),
+            source,
+        })?;
     if out.status.success() {
         Ok(())
     } else {
-        Err(format!(
-            "{cmd} {args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        ))
+        Err(ShError::Failed {
+            cmd: cmd.to_string(),
+            args: args.iter().map(|a| a.to_string()).collect(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        })
     }
 }
 
@@ -108,10 +131,10 @@ impl Drop for Users {
     fn drop(&mut self) {
         let mut failed = Vec::new();
         for u in &self.made {
-            failed.extend(try_sh("userdel", &[u]).err());
+            failed.extend(try_sh("userdel", &[u]).err().map(|e| e.to_string()));
         }
         if self.made_group {
-            failed.extend(try_sh("groupdel", &["hal"]).err());
+            failed.extend(try_sh("groupdel", &["hal"]).err().map(|e| e.to_string()));
         }
         if !failed.is_empty() && !std::thread::panicking() {
             panic!("cleaning up: {}", failed.join("; "));
