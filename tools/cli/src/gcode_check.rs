@@ -41,10 +41,6 @@ fn setup(ini: Option<&Path>) -> Result<(Config, Vec<ToolEntry>, f64), ToolsError
 /// Every refusal of the program at `file`, as lines; empty when it is
 /// accepted.
 pub fn check(file: &Path, ini: Option<&Path>) -> Result<Vec<String>, ToolsError> {
-    // The suite's one bounded reader decides first whether the file may
-    // be read at all (a regular file within the limit), with its words.
-    hal_core::files::read_user_file(file, hal_core::files::limits::PROGRAM, "part program")
-        .map_err(|e| ToolsError::usage(e.to_string()))?;
     let (config, tools, user_per_mm) = setup(ini)?;
     Ok(list_refusals_for_machine(file, config, tools, user_per_mm)
         .iter()

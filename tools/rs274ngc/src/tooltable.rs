@@ -14,8 +14,8 @@ use crate::cfmt::{scan_double, scan_int_len};
 use crate::error::Result;
 use crate::source::read_bounded;
 
-/// Largest tool table read.
-pub const MAX_FILE_BYTES: u64 = 16 << 20;
+/// Largest tool table read: the suite's limit, as iocontrol reads it.
+pub const MAX_FILE_BYTES: u64 = hal_core::files::limits::TOOL_TABLE;
 
 /// Entries a table may hold (LinuxCNC's pocket limit).
 pub const MAX_TOOLS: usize = 999;

@@ -10,8 +10,9 @@ use std::path::{Path, PathBuf};
 use hal_lang::Ini;
 use rs274ngc::{Config, Features};
 
-/// Largest INI file (or included file) read.
-const MAX_INI_BYTES: u64 = 1 << 20;
+/// Largest INI file (or included file) read: the suite's limit for INI
+/// files, as `linuxcnc` reads them.
+const MAX_INI_BYTES: u64 = hal_core::files::limits::INI;
 
 /// Paths in a colon-separated list that exist, as absolute paths.
 fn path_list(value: &str) -> Vec<PathBuf> {
