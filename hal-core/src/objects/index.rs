@@ -56,6 +56,13 @@ fn budget(seg: &Segment) -> u64 {
     seg.size() / 64 + 1
 }
 
+/// Spends one step of a walk's budget; a walk that runs out is in a
+/// broken (cyclic) tree, and `what` says which walk.
+fn spend(steps: &mut u64, seg: &Segment, what: &str) -> Result<()> {
+    *steps = steps.checked_sub(1).ok_or_else(|| broken(seg, what))?;
+    Ok(())
+}
+
 fn broken(seg: &Segment, what: &str) -> HalError {
     HalError::BadSegment {
         instance: seg.instance().to_string(),
@@ -73,9 +80,7 @@ pub(crate) fn lookup<'a, T: Record>(
     let mut cur = root.load(Acquire);
     let mut steps = budget(seg);
     while cur != 0 {
-        steps = steps
-            .checked_sub(1)
-            .ok_or_else(|| broken(seg, "a search does not end"))?;
+        spend(&mut steps, seg, "a search does not end")?;
         let r: &T = seg.rec(cur)?;
         let n = view(r);
         cur = match n.key.cmp_key(key) {
@@ -126,9 +131,7 @@ pub(crate) fn insert<T: Record>(
     let mut cur = root.load(Relaxed);
     let mut steps = budget(seg);
     while cur != 0 {
-        steps = steps
-            .checked_sub(1)
-            .ok_or_else(|| broken(seg, "an insertion does not end"))?;
+        spend(&mut steps, seg, "an insertion does not end")?;
         let n = view(seg.rec::<T>(cur)?);
         match n.key.cmp_key(&key) {
             Ordering::Equal => return Err(broken(seg, "a name is already in the tree")),
@@ -184,9 +187,7 @@ pub(crate) fn remove<T: Record>(
     let mut cur = root.load(Relaxed);
     let mut steps = budget(seg);
     while cur != off {
-        steps = steps
-            .checked_sub(1)
-            .ok_or_else(|| broken(seg, "a removal does not end"))?;
+        spend(&mut steps, seg, "a removal does not end")?;
         if cur == 0 {
             return Err(broken(seg, &format!("record {off:#x} is not in its tree")));
         }
@@ -203,18 +204,14 @@ pub(crate) fn remove<T: Record>(
     // With a left subtree, the predecessor is its rightmost node.
     let mut cur = node.left.load(Relaxed);
     while cur != 0 {
-        steps = steps
-            .checked_sub(1)
-            .ok_or_else(|| broken(seg, "a removal does not end"))?;
+        spend(&mut steps, seg, "a removal does not end")?;
         before = Some(cur);
         cur = view(seg.rec::<T>(cur)?).right.load(Relaxed);
     }
     // Down by rotations until the node has at most one child, which then
     // takes its place.
     loop {
-        steps = steps
-            .checked_sub(1)
-            .ok_or_else(|| broken(seg, "a removal does not end"))?;
+        spend(&mut steps, seg, "a removal does not end")?;
         let (l, r) = (node.left.load(Relaxed), node.right.load(Relaxed));
         let link = link_to(seg, root, view, path.last())?;
         if l == 0 || r == 0 {
