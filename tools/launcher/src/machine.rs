@@ -337,7 +337,8 @@ pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
         let pins = if s.gui_pins.is_empty() {
             String::new()
         } else {
-            format!(" (GUI pins {})", s.gui_pins.join(", "))
+            // A GUI's pins, or halui pins this halui does not have yet.
+            format!(" (pins not present here: {})", s.gui_pins.join(", "))
         };
         lines.push(format!("{}: {}{pins}", s.at, s.command));
     }
