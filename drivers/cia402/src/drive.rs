@@ -341,6 +341,7 @@ impl<L: LinkSupervision> DriveControl<L> {
                 self.reset = Reset::Low;
             } else {
                 self.latch.reset();
+                self.comm_lost = false;
                 self.needs_enable_edge = true;
             }
         }
@@ -389,9 +390,13 @@ impl<L: LinkSupervision> DriveControl<L> {
                 self.restarting = true;
                 self.shared.set_restart(Restart::Requested);
             } else {
+                // The bus owner brings the link back on its own time (an
+                // EtherCAT slave returns to OP some cycles later): the
+                // latch is reset at the first status seen from now on, as
+                // after a helper's restart, so that a reset given while
+                // the line is still down is not lost to the next trip.
                 self.fresh_supervision();
-                self.latch.reset();
-                self.needs_enable_edge = true;
+                self.after_restart = true;
             }
         } else {
             self.emcy_code = 0;
