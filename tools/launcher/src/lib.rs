@@ -25,6 +25,7 @@ mod task_manual;
 mod task_pins;
 mod task_program;
 mod task_socket;
+mod task_spindle;
 mod twopass;
 
 pub use error::LaunchError;
