@@ -12,6 +12,7 @@
 
 mod logic;
 mod pins;
+mod spindle;
 
 use std::time::Duration;
 
@@ -38,10 +39,11 @@ pub const USAGE: &str = "\
 usage: halui [--instance NAME] [-ini MACHINE.ini]
 
 LinuxCNC's HAL user interface: the halui.* pins (machine, e-stop, mode,
-program, coolant, lube, homing, joint jogging, feed, rapid and maximum
-velocity overrides, [HALUI]MDI_COMMAND) as requests to task, and the
-machine's state on its status pins. The launcher (linuxcnc) starts it when
-[HAL]HALUI = halui. The INI file is $INI_FILE_NAME if -ini is not given.
+program, coolant, lube, homing, joint jogging, spindle, feed, rapid,
+spindle and maximum velocity overrides, [HALUI]MDI_COMMAND) as requests
+to task, and the machine's state on its status pins. The launcher
+(linuxcnc) starts it when [HAL]HALUI = halui. The INI file is
+$INI_FILE_NAME if -ini is not given.
 
 options:
   -ini FILE        the machine's INI file
@@ -105,6 +107,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         axes: &axes,
         mdi_commands: mdi.len(),
         units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
+        spindles: spindle::count(&ini)?,
     };
     let signals = ExitSignals::install()?;
     let instance = hal_core::instance_from_env();
@@ -119,6 +122,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         mdi_return: None,
         motion: None,
         said_waiting: false,
+        spindle: spindle::SpindleHalui::default(),
     };
     while !signals.requested() && inst.host_alive() {
         halui.cycle(&inst);
@@ -136,6 +140,23 @@ fn connection_gone(e: &std::io::Error) -> bool {
     )
 }
 
+/// Sends a request to the task of `instance`; a refusal is reported.
+/// Returns whether it was done.
+fn ask(instance: &str, words: &[&str]) -> bool {
+    let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+    match request(instance, &owned, REQUEST_WAIT) {
+        Ok(TaskAnswer::Done(_)) => true,
+        Ok(TaskAnswer::Refused(why)) => {
+            eprintln!("halui: {}: {why}", words.join(" "));
+            false
+        }
+        Err(e) => {
+            eprintln!("halui: {}: {e}", words.join(" "));
+            false
+        }
+    }
+}
+
 /// halui's state between cycles.
 struct Halui {
     instance: String,
@@ -150,6 +171,8 @@ struct Halui {
     motion: Option<motion::MotionClient>,
     /// Task's absence was reported.
     said_waiting: bool,
+    /// The spindle pins' edges and override counters.
+    spindle: spindle::SpindleHalui,
 }
 
 fn counter_index(which: Override) -> usize {
@@ -172,6 +195,13 @@ impl Halui {
             motion: motion.as_ref(),
         });
         let changes = self.edges.changes(&self.pins.buttons());
+        let instance = &self.instance;
+        self.spindle.cycle(
+            &self.pins.spindles,
+            motion.as_ref(),
+            state.is_some(),
+            |words| ask(instance, words),
+        );
         let Some(state) = state else { return };
         // Back to the mode an MDI command left, once its line ran (checked
         // before this cycle's presses: `state` is from before them).
@@ -230,18 +260,7 @@ impl Halui {
     /// Sends a request; a refusal is reported. Returns whether it was
     /// done.
     fn ask(&self, words: &[&str]) -> bool {
-        let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
-        match request(&self.instance, &owned, REQUEST_WAIT) {
-            Ok(TaskAnswer::Done(_)) => true,
-            Ok(TaskAnswer::Refused(why)) => {
-                eprintln!("halui: {}: {why}", words.join(" "));
-                false
-            }
-            Err(e) => {
-                eprintln!("halui: {}: {e}", words.join(" "));
-                false
-            }
-        }
+        ask(&self.instance, words)
     }
 
     /// Puts task in `mode` unless it is there.
