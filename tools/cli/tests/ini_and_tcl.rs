@@ -397,3 +397,46 @@ fn twopass_pass_0_hides_bare_commands_but_runs_hal_ones() {
     assert!(!saved(0).contains("and2"), "{}", saved(0));
     assert!(saved(1).contains("loadrt and2 names=g1"), "{}", saved(1));
 }
+
+#[test]
+fn hookup_moveoff_waits_for_pass_1_and_names_an_unconnected_joint() {
+    let s = Scratch::new("moveoff-hookup");
+    s.write(
+        "m.ini",
+        "[KINS]\nJOINTS = 1\n[JOINT_0]\nTYPE = LINEAR\n\
+         [HAL]\nTWOPASS = on\nHALFILE = a.hal\nHALFILE = LIB:hookup_moveoff.tcl\n",
+    );
+    s.write(
+        "a.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n\
+         addf motion-command-handler servo-thread\naddf motion-controller servo-thread\n",
+    );
+    let (ok, _, err) = halrun(&s.0, &["m.ini"], "moveoff-hookup");
+    assert!(!ok);
+    assert!(
+        err.contains(
+            "hookup_moveoff.tcl: joint.0.motor-pos-cmd is on no signal: \
+             a HAL file before hookup_moveoff.tcl must connect it"
+        ),
+        "{err}"
+    );
+    // Connected, the joint is hooked up (in pass 1: nothing in pass 0).
+    s.write(
+        "a.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n\
+         addf motion-command-handler servo-thread\naddf motion-controller servo-thread\n\
+         net J0:loop joint.0.motor-pos-cmd => joint.0.motor-pos-fb\n",
+    );
+    s.write("b.hal", "show sig hu:shortcircuit-0\n");
+    s.write(
+        "m.ini",
+        "[KINS]\nJOINTS = 1\n[JOINT_0]\nTYPE = LINEAR\n\
+         [HAL]\nTWOPASS = on\nHALFILE = a.hal\nHALFILE = LIB:hookup_moveoff.tcl\nHALFILE = b.hal\n",
+    );
+    let (ok, out, err) = halrun(&s.0, &["m.ini"], "moveoff-hookup-2");
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("<== mv.pos-plusoffset-0") && out.contains("==> mv.fb-0"),
+        "{out}"
+    );
+}
