@@ -525,3 +525,62 @@ fn unload_drops_what_the_module_owns_and_reload_works() {
         host.stop();
     }
 }
+
+fn load_gone(host: &Host, _: &ModuleArgs) -> Result<()> {
+    let mut b = host.new_rt_component("gone")?;
+    for i in 0..4 {
+        b.funct(&format!("gone.f{i}"), false, |_| {})?;
+    }
+    b.ready()
+}
+
+static GONE: ModuleDef = ModuleDef {
+    name: "gone",
+    params: &[],
+    help: "a test module with four functions",
+    load: load_gone,
+};
+
+/// Removing a component takes all its functions out of a thread in one
+/// pass (teardown grew with N² when each function searched the list): the
+/// others stay in order, and the list's end is kept, so a later append
+/// lands last.
+#[test]
+fn unload_takes_every_function_out_of_an_interleaved_thread() {
+    let host = host("interleaved");
+    host.create_thread("t", 1_000_000, true, None).unwrap();
+    let mut b = host.new_rt_component("keep").unwrap();
+    for name in ["keep.a", "keep.b", "keep.c", "keep.late"] {
+        b.funct(name, false, |_| {}).unwrap();
+    }
+    b.ready().unwrap();
+    host.loadrt(&GONE, &[] as &[&str]).unwrap();
+    for name in [
+        "gone.f0", "keep.a", "gone.f1", "keep.b", "gone.f2", "keep.c", "gone.f3",
+    ] {
+        host.addf(name, "t", -1).unwrap();
+    }
+    host.unloadrt("gone").unwrap();
+    let threads = host.instance().threads().unwrap();
+    assert_eq!(threads[0].functs, ["keep.a", "keep.b", "keep.c"]);
+    host.addf("keep.late", "t", -1).unwrap();
+    assert_eq!(
+        host.instance().threads().unwrap()[0].functs,
+        ["keep.a", "keep.b", "keep.c", "keep.late"]
+    );
+    // A second, emptying removal leaves an empty list that takes appends.
+    host.delf("keep.a", Some("t")).unwrap();
+    host.delf("keep.b", Some("t")).unwrap();
+    host.delf("keep.c", Some("t")).unwrap();
+    host.delf("keep.late", Some("t")).unwrap();
+    host.loadrt(&GONE, &[] as &[&str]).unwrap();
+    host.addf("gone.f2", "t", -1).unwrap();
+    host.unloadrt("gone").unwrap();
+    assert!(host.instance().threads().unwrap()[0].functs.is_empty());
+    host.addf("keep.b", "t", -1).unwrap();
+    host.addf("keep.a", "t", -1).unwrap();
+    assert_eq!(
+        host.instance().threads().unwrap()[0].functs,
+        ["keep.b", "keep.a"]
+    );
+}

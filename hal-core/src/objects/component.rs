@@ -190,8 +190,10 @@ pub(crate) fn remove_component_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
     let seg = tx.seg();
     let h = tx.header();
     let comp: &CompRec = tx.rec(off)?;
-    // Functions: out of every thread, then gone (their timing pins and
-    // params are on the component's lists too).
+    // Functions: out of every thread (one pass over each thread's list),
+    // then gone (their timing pins and params are on the component's
+    // lists too).
+    crate::objects::funct::remove_owned_entries_tx(tx, off)?;
     for f in owned::<FunctRec>(seg, &comp.own_functs, |f| &f.owner_next)? {
         crate::objects::funct::remove_funct_tx(tx, f)?;
     }

@@ -229,6 +229,63 @@ fn remove_from_list_tx(
     Ok(false)
 }
 
+/// Takes every entry of a function owned by component `comp` out of every
+/// thread's lists, in one pass over each list: removing a component with
+/// N functions in a thread then costs one walk of that thread, where one
+/// search per function made teardown grow with N².
+pub(crate) fn remove_owned_entries_tx(tx: &mut Txn<'_>, comp: u64) -> Result<()> {
+    let seg = tx.seg();
+    let h = tx.header();
+    let threads: Vec<u64> = list::iter::<ThreadRec>(seg, &h.threads)
+        .map(|r| r.map(|(o, _)| o))
+        .collect::<Result<_>>()?;
+    for thread in threads {
+        let t: &ThreadRec = tx.rec(thread)?;
+        remove_entries_where_tx(tx, &t.init_functs, None, comp)?;
+        remove_entries_where_tx(tx, &t.functs, Some(&t.functs_last), comp)?;
+    }
+    Ok(())
+}
+
+/// Removes, in one walk from `head`, every entry whose function is owned by
+/// `comp`, keeping `last` (the list's last entry) up to date.
+fn remove_entries_where_tx(
+    tx: &mut Txn<'_>,
+    head: &AtomicU64,
+    last: Option<&AtomicU64>,
+    comp: u64,
+) -> Result<()> {
+    let mut link = head;
+    let mut prev = 0;
+    let mut budget = tx.seg().size() / 64;
+    while link.load(Relaxed) != 0 {
+        if budget == 0 {
+            return Err(HalError::BadSegment {
+                instance: tx.seg().instance().to_string(),
+                reason: "thread function list does not terminate".into(),
+            });
+        }
+        budget -= 1;
+        let off = link.load(Relaxed);
+        let e: &EntryRec = tx.rec(off)?;
+        let funct = e.funct.load(Relaxed);
+        let f: &FunctRec = tx.rec(funct)?;
+        if f.owner.load(Relaxed) != comp {
+            prev = off;
+            link = &e.next;
+            continue;
+        }
+        // Unlink and free the entry; `link` now leads to its successor.
+        tx.set(link, e.next.load(Relaxed))?;
+        tx.free(BlockKind::Entry, off)?;
+        tx.set(&f.users, f.users.load(Relaxed).saturating_sub(1))?;
+    }
+    if let Some(last) = last {
+        tx.set(last, prev)?;
+    }
+    Ok(())
+}
+
 /// Thread creation parameters checked against LinuxCNC's rules.
 pub(crate) struct NewThread<'a> {
     pub name: &'a str,
