@@ -27,15 +27,27 @@ pub enum Op {
     /// An iocontrol request (tool prepare, change, number; coolant), once
     /// the moves before it have finished.
     Io(IoRequest),
-    /// A spindle command (start, speed change, stop) for motion, sent
-    /// once the moves before it have ended, as LinuxCNC's task does; the
-    /// feed move after a start or speed change waits in motion for
-    /// `spindle.N.at-speed`.
-    Spindle {
+    /// A motion command sent once the moves before it have ended, as
+    /// LinuxCNC's task sends them: spindle starts, speed changes and
+    /// stops (the feed move after a start or speed change waits in
+    /// motion for `spindle.N.at-speed`), and the immediate outputs M64,
+    /// M65, M68 (which therefore break blending, as LinuxCNC's).
+    AfterMoves {
         /// The command.
         command: Command,
         /// The program line it comes from.
         line: i32,
+    },
+    /// M66: once the moves before it end, wait for an input.
+    WaitInput {
+        /// The input number.
+        index: i32,
+        /// `motion.digital-in-NN` (P), else `motion.analog-in-NN` (E).
+        digital: bool,
+        /// LinuxCNC's L: 0 at once, 1 rise, 2 fall, 3 high, 4 low.
+        mode: i32,
+        /// Seconds at most (Q).
+        timeout: f64,
     },
     /// M0 (or M1 when `optional`): stop once the moves before it end.
     Stop {
@@ -57,6 +69,8 @@ pub struct TaskCanon {
     pub fault: Option<String>,
     /// The program line of the block being executed.
     pub line: i32,
+    /// The last M66 wait ran out of time.
+    pub input_timeout: bool,
     /// The M1 switch.
     pub optional_stop: bool,
     /// The block delete switch.
@@ -80,6 +94,8 @@ pub struct TaskCanon {
     axis_mask: u32,
     /// Each spindle as the program last set it: direction and speed.
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
+    /// Motion's digital and analog inputs when last synchronised.
+    io: motion::channel::IoState,
 }
 
 impl TaskCanon {
@@ -90,6 +106,7 @@ impl TaskCanon {
             ops: VecDeque::new(),
             fault: None,
             line: 0,
+            input_timeout: false,
             optional_stop: false,
             block_delete: false,
             user_per_mm,
@@ -110,16 +127,55 @@ impl TaskCanon {
             slot: 0,
             axis_mask,
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
+            io: motion::channel::IoState::default(),
         }
     }
 
     /// Takes the machine's state before the interpreter synchronises:
     /// where the queue ends (machine coordinates), the tool table (index
     /// 0 the spindle) and the slot of the tool in the spindle.
-    pub fn refresh(&mut self, goal: [f64; 9], tools: Vec<ToolEntry>, slot: i32) {
+    /// With it come motion's digital and analog inputs (`io`), which
+    /// M66 reads.
+    pub fn refresh(
+        &mut self,
+        goal: [f64; 9],
+        tools: Vec<ToolEntry>,
+        slot: i32,
+        io: motion::channel::IoState,
+    ) {
         self.goal = goal;
         self.tools = tools;
         self.slot = slot;
+        self.io = io;
+    }
+
+    /// Queues a motion command to go once the moves before it ended.
+    fn after_moves(&mut self, command: Command) {
+        self.ops.push_back(Op::AfterMoves {
+            command,
+            line: self.line,
+        });
+    }
+
+    /// M62 to M65: digital output `index`, with the next move or (`now`)
+    /// once the moves before have ended.
+    fn dout(&mut self, index: i32, on: bool, now: bool) {
+        let command = Command::SetDout { index, on, now };
+        if now {
+            self.after_moves(command);
+        } else {
+            self.ops.push_back(Op::Motion(command));
+        }
+    }
+
+    /// M67, M68: analog output `index` likewise.
+    fn aout(&mut self, index: i32, value: f64, now: bool) {
+        let command = Command::SetAout { index, value, now };
+        if now {
+            self.after_moves(command);
+        } else {
+            self.ops.push_back(Op::Motion(command));
+        }
     }
 
     /// The offsets in effect, machine units: G5x, G92, tool.
@@ -261,10 +317,7 @@ impl TaskCanon {
                 wait: true,
             },
         };
-        self.ops.push_back(Op::Spindle {
-            command,
-            line: self.line,
-        });
+        self.after_moves(command);
     }
 
     fn set_offset(&mut self, which: Offset, p: &Pose) {
@@ -494,32 +547,46 @@ impl Canon for TaskCanon {
         self.ops
             .push_back(Op::Motion(Command::FeedHoldEnable { on: false }));
     }
-    fn set_motion_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M62)");
+    fn set_motion_output_bit(&mut self, index: i32) {
+        self.dout(index, true, false);
     }
-    fn clear_motion_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M63)");
+    fn clear_motion_output_bit(&mut self, index: i32) {
+        self.dout(index, false, false);
     }
-    fn set_aux_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M64)");
+    fn set_aux_output_bit(&mut self, index: i32) {
+        self.dout(index, true, true);
     }
-    fn clear_aux_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M65)");
+    fn clear_aux_output_bit(&mut self, index: i32) {
+        self.dout(index, false, true);
     }
-    fn set_motion_output_value(&mut self, _index: i32, _value: f64) {
-        self.refuse("analog outputs (M67)");
+    fn set_motion_output_value(&mut self, index: i32, value: f64) {
+        self.aout(index, value, false);
     }
-    fn set_aux_output_value(&mut self, _index: i32, _value: f64) {
-        self.refuse("analog outputs (M68)");
+    fn set_aux_output_value(&mut self, index: i32, value: f64) {
+        self.aout(index, value, true);
     }
     fn wait_input(
         &mut self,
-        _index: i32,
-        _kind: InputKind,
-        _wait_type: i32,
-        _timeout: f64,
+        index: i32,
+        kind: InputKind,
+        wait_type: i32,
+        timeout: f64,
     ) -> Result<(), ()> {
-        self.refuse("waiting on an input (M66)");
+        let digital = kind == InputKind::Digital;
+        let count = if digital {
+            self.io.din.len()
+        } else {
+            self.io.ain.len()
+        };
+        if usize::try_from(index).map_or(true, |i| i >= count) {
+            return Err(());
+        }
+        self.ops.push_back(Op::WaitInput {
+            index,
+            digital,
+            mode: wait_type,
+            timeout,
+        });
         Ok(())
     }
     fn user_m_code(&mut self, number: i32, _p: f64, _q: f64) {
@@ -585,11 +652,22 @@ impl Canon for TaskCanon {
     fn queue_empty(&self) -> bool {
         self.ops.is_empty()
     }
-    fn digital_input(&self, _index: i32, default: bool) -> bool {
-        default
+    fn digital_input(&self, index: i32, default: bool) -> bool {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.io.din.get(i))
+            .copied()
+            .unwrap_or(default)
     }
-    fn analog_input(&self, _index: i32, default: f64) -> f64 {
-        default
+    fn analog_input(&self, index: i32, default: f64) -> f64 {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.io.ain.get(i))
+            .copied()
+            .unwrap_or(default)
+    }
+    fn input_timed_out(&self) -> bool {
+        self.input_timeout
     }
     fn toolchanger_fault(&self) -> i32 {
         0
@@ -695,7 +773,7 @@ mod tests {
         c.ops
             .iter()
             .filter_map(|op| match op {
-                Op::Spindle { command, line } => Some((*command, *line)),
+                Op::AfterMoves { command, line } => Some((*command, *line)),
                 _ => None,
             })
             .collect()
@@ -733,10 +811,63 @@ mod tests {
     }
 
     #[test]
+    fn outputs_go_with_the_next_move_or_after_the_moves_before() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.line = 3;
+        c.set_motion_output_bit(1);
+        c.set_aux_output_value(2, 4.5);
+        assert_eq!(
+            c.ops.iter().cloned().collect::<Vec<_>>(),
+            [
+                Op::Motion(Command::SetDout {
+                    index: 1,
+                    on: true,
+                    now: false
+                }),
+                Op::AfterMoves {
+                    command: Command::SetAout {
+                        index: 2,
+                        value: 4.5,
+                        now: true
+                    },
+                    line: 3
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn m66_waits_on_inputs_motion_has_and_reads_them() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        let io = motion::channel::IoState {
+            din: vec![false, true],
+            dout: vec![false, false],
+            ain: vec![1.5],
+            aout: vec![0.0],
+        };
+        c.refresh([0.0; 9], vec![ToolEntry::EMPTY], 0, io);
+        assert_eq!(c.wait_input(2, InputKind::Digital, 1, 1.0), Err(()));
+        assert_eq!(c.wait_input(1, InputKind::Analog, 0, 0.0), Err(()));
+        assert_eq!(c.wait_input(1, InputKind::Digital, 3, 2.0), Ok(()));
+        assert_eq!(
+            c.ops.back(),
+            Some(&Op::WaitInput {
+                index: 1,
+                digital: true,
+                mode: 3,
+                timeout: 2.0
+            })
+        );
+        assert!(c.digital_input(1, false) && !c.digital_input(0, true));
+        assert!(c.digital_input(7, true), "no such input: the default");
+        assert_eq!(c.analog_input(0, 0.0), 1.5);
+    }
+
+    #[test]
     fn calls_the_machine_cannot_do_are_a_fault() {
         let mut c = TaskCanon::new(1.0, 0b111);
-        c.set_aux_output_bit(1);
+        c.nurbs_feed(1, &[], 3);
         c.straight_probe(1, &Pose::ZERO, 0);
-        assert_eq!(c.fault.as_deref(), Some("digital outputs (M64)"));
+        assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
     }
 }

@@ -95,6 +95,8 @@ pub struct Program {
     read_line: i32,
     /// What the last run ended with.
     last_end: Option<Ended>,
+    /// The M66 wait in progress.
+    input_wait: Option<InputWait>,
     /// Motion's heartbeat when task last queued a command: motion counts
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
@@ -119,6 +121,7 @@ impl Program {
             read_line: 0,
             last_end: None,
             sent_beat: 0,
+            input_wait: None,
         }
     }
 
@@ -150,12 +153,9 @@ impl Program {
     /// Takes the machine's state into the canon and synchronises the
     /// interpreter (initialising it the first time: parameter file).
     fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), ProgramError> {
-        let goal = motion
-            .status()
-            .map(|s| s.traj.goal)
-            .ok_or(ProgramError::NoMotionStatus)?;
+        let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
         let (tools, slot) = tool_entries(io);
-        self.canon.refresh(goal, tools, slot);
+        self.canon.refresh(status.traj.goal, tools, slot, status.io);
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
@@ -322,6 +322,7 @@ impl Program {
         self.canon.fault = None;
         self.mdi.clear();
         self.io_busy = false;
+        self.input_wait = None;
         if self.state != RunState::Idle {
             self.last_end = Some(Ended::Failed("aborted".into()));
         }
@@ -485,7 +486,7 @@ impl Program {
                     Ok(Started::Waiting(_)) => self.io_busy = true,
                     Err(e) => return Err(e.into()),
                 },
-                Op::Spindle { command, line } => {
+                Op::AfterMoves { command, line } => {
                     motion
                         .command(command)
                         .map_err(|source| ProgramError::MotionAt { line, source })?;
@@ -502,6 +503,23 @@ impl Program {
                         return Ok(sent);
                     }
                     continue;
+                }
+                Op::WaitInput {
+                    index,
+                    digital,
+                    mode,
+                    timeout,
+                } => {
+                    if !self
+                        .input_wait
+                        .get_or_insert_with(|| {
+                            InputWait::start(index, digital, mode, timeout, motion)
+                        })
+                        .done(motion, &mut self.canon.input_timeout)
+                    {
+                        return Ok(sent);
+                    }
+                    self.input_wait = None;
                 }
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),
@@ -586,6 +604,74 @@ impl Program {
     }
 }
 
+/// An M66 wait: LinuxCNC's modes (L) 0 at once, 1 a rising edge, 2 a
+/// falling edge, 3 high, 4 low, on a digital input; analog inputs are
+/// read at once.
+#[derive(Debug, Clone, Copy)]
+struct InputWait {
+    index: usize,
+    mode: i32,
+    deadline: std::time::Instant,
+    /// The input's value when last looked at (for the edges).
+    last: Option<bool>,
+}
+
+impl InputWait {
+    fn start(index: i32, digital: bool, mode: i32, timeout: f64, motion: &MotionLink) -> Self {
+        let timeout = std::time::Duration::try_from_secs_f64(timeout.max(0.0))
+            .unwrap_or(std::time::Duration::MAX / 2);
+        let mut w = InputWait {
+            index: usize::try_from(index).unwrap_or(usize::MAX),
+            mode: if digital { mode } else { 0 },
+            deadline: std::time::Instant::now() + timeout,
+            last: None,
+        };
+        w.last = w.input(motion);
+        w
+    }
+
+    /// The digital input now, if motion's status can be read.
+    fn input(&self, motion: &MotionLink) -> Option<bool> {
+        motion
+            .status()
+            .and_then(|s| s.io.din.get(self.index).copied())
+    }
+
+    /// Whether the wait is over: the input did what `mode` waits for, or
+    /// the time ran out (`timed_out` set, as #5399 reads it).
+    fn done(&mut self, motion: &MotionLink, timed_out: &mut bool) -> bool {
+        let now = self.input(motion);
+        match self.step(now, std::time::Instant::now()) {
+            Some(out_of_time) => {
+                *timed_out = out_of_time;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// One look at the input (`now`, at time `at`): `None` while the
+    /// wait goes on, else whether it ran out of time.
+    fn step(&mut self, now: Option<bool>, at: std::time::Instant) -> Option<bool> {
+        let before = std::mem::replace(&mut self.last, now);
+        let met = match (self.mode, before, now) {
+            (1, Some(false), Some(true)) => true,
+            (2, Some(true), Some(false)) => true,
+            (3, _, Some(true)) => true,
+            (4, _, Some(false)) => true,
+            (1..=4, _, _) => false,
+            _ => true,
+        };
+        if met {
+            Some(false)
+        } else if at >= self.deadline {
+            Some(true)
+        } else {
+            None
+        }
+    }
+}
+
 /// Spindle 0 as `task-cmd status` shows it.
 fn spindle_text(s: &motion::channel::SpindleState) -> String {
     let turning = match s.speed {
@@ -660,4 +746,40 @@ fn tool_entries(io: &IoControl) -> (Vec<rs274ngc::ToolEntry>, i32) {
         entries[0] = entries[slot as usize];
     }
     (entries, slot)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::{Duration, Instant};
+
+    fn wait(mode: i32, last: bool, t0: Instant) -> InputWait {
+        InputWait {
+            index: 0,
+            mode,
+            deadline: t0 + Duration::from_secs(1),
+            last: Some(last),
+        }
+    }
+
+    #[test]
+    fn m66_modes_wait_for_edges_and_levels_until_the_timeout() {
+        let t0 = Instant::now();
+        // Rise: high at the start is not a rise.
+        let mut w = wait(1, true, t0);
+        assert_eq!(w.step(Some(true), t0), None);
+        assert_eq!(w.step(Some(false), t0), None);
+        assert_eq!(w.step(Some(true), t0), Some(false));
+        let mut w = wait(2, false, t0);
+        assert_eq!(w.step(Some(true), t0), None);
+        assert_eq!(w.step(Some(false), t0), Some(false));
+        assert_eq!(wait(3, false, t0).step(Some(true), t0), Some(false));
+        assert_eq!(wait(4, false, t0).step(Some(false), t0), Some(false));
+        // Immediate, and the timeout.
+        assert_eq!(wait(0, false, t0).step(Some(false), t0), Some(false));
+        let mut w = wait(3, false, t0);
+        assert_eq!(w.step(Some(false), t0), None);
+        let late = t0 + Duration::from_secs(2);
+        assert_eq!(w.step(Some(false), late), Some(true));
+    }
 }
