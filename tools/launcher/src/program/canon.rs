@@ -498,7 +498,13 @@ impl Canon for TaskCanon {
             .ok()
             .and_then(|i| self.tools.get_mut(i))
         {
-            Some(slot) => *slot = *entry,
+            Some(slot) => {
+                *slot = *entry;
+                self.ops.push_back(Op::Io(IoRequest::SetEntry {
+                    slot: index,
+                    entry: *entry,
+                }));
+            }
             None => self.refuse("a tool table entry outside the table (G10 L1)"),
         }
     }
