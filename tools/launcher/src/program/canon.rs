@@ -149,6 +149,36 @@ impl TaskCanon {
         self.io = io;
     }
 
+    /// Drops what the ops from index `from` on would do to the machine
+    /// (moves, dwells, outputs, spindle, tool and coolant requests,
+    /// stops, messages, input waits), keeping the planner settings the
+    /// program's modes set (termination condition, override enables):
+    /// lines skipped by a run from a line. As LinuxCNC's task, which
+    /// empties its list of the skipped lines' commands.
+    pub fn drop_actions_from(&mut self, from: usize) {
+        let mut i = from;
+        while i < self.ops.len() {
+            let keep = match &self.ops[i] {
+                Op::Motion(cmd) => !matches!(
+                    cmd,
+                    Command::Line { .. }
+                        | Command::Circle { .. }
+                        | Command::Dwell { .. }
+                        | Command::Probe { .. }
+                        | Command::SetDout { .. }
+                        | Command::SetAout { .. }
+                ),
+                Op::End => true,
+                _ => false,
+            };
+            if keep {
+                i += 1;
+            } else {
+                self.ops.remove(i);
+            }
+        }
+    }
+
     /// Queues a motion command to go once the moves before it ended.
     fn after_moves(&mut self, command: Command) {
         self.ops.push_back(Op::AfterMoves {
@@ -867,6 +897,34 @@ mod tests {
         assert!(c.digital_input(1, false) && !c.digital_input(0, true));
         assert!(c.digital_input(7, true), "no such input: the default");
         assert_eq!(c.analog_input(0, 0.0), 1.5);
+    }
+
+    #[test]
+    fn skipped_lines_keep_their_settings_and_move_nothing() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.set_motion_control_mode(MotionMode::ExactStop, 0.0);
+        let from = c.ops.len();
+        c.straight_feed(2, &p(1.0, 0.0, 0.0));
+        c.set_motion_control_mode(MotionMode::Continuous, 0.1);
+        c.start_spindle_clockwise(0);
+        c.flood_on();
+        c.dwell(1.0);
+        c.disable_feed_override();
+        c.program_end();
+        c.drop_actions_from(from);
+        let kept: Vec<Op> = c.ops.iter().skip(from).cloned().collect();
+        assert_eq!(
+            kept,
+            [
+                Op::Motion(Command::SetTermCond {
+                    cond: TermCond::Blend,
+                    tolerance: 0.1
+                }),
+                Op::Motion(Command::FeedScaleEnable { on: false }),
+                Op::End,
+            ]
+        );
+        assert_eq!(c.ops.len(), from + 3, "the ops before are kept");
     }
 
     #[test]

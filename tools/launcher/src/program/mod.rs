@@ -192,8 +192,9 @@ impl Program {
         Ok(())
     }
 
-    /// Starts the open program, from `line` on (earlier lines are read
-    /// and skipped).
+    /// Starts the open program, from `line` on: earlier lines run
+    /// through the interpreter (their modes, offsets and parameters
+    /// hold, as LinuxCNC's run from a line) without moving anything.
     pub fn run(
         &mut self,
         line: i32,
@@ -428,15 +429,19 @@ impl Program {
                 Err(source) => return Err(self.located(source)),
             }
             self.read_line = self.interp.sequence_number();
-            if self.read_line < self.start_line {
-                continue;
-            }
+            // Lines before the start line (run LINE) run through the
+            // interpreter, so their modal state holds, but move nothing.
+            let skipping = self.read_line < self.start_line;
+            let queued = self.canon.ops.len();
             self.canon.line = self.read_line;
             match self.interp.execute(&mut self.canon) {
                 Ok(Status::Exit) => self.read_done = true,
                 Ok(Status::ExecuteFinish) => self.needs_synch = true,
                 Ok(_) => {}
                 Err(source) => return Err(self.located(source)),
+            }
+            if skipping {
+                self.canon.drop_actions_from(queued);
             }
             if let Some(what) = self.canon.fault.take() {
                 return Err(ProgramError::Unsupported {
