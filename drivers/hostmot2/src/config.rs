@@ -15,8 +15,9 @@
 //! start in mode 0. The first such token limits the ports used to those
 //! named with a digit (`num_sserials`, as LinuxCNC counts it).
 //!
-//! Not supported, and said so: `firmware=` (this driver never programs an
-//! FPGA; flash it with mesaflash) is refused. The absolute-encoder and
+//! `firmware=<file>` names the bitfile the board's FPGA is loaded from
+//! (PLX-bridged boards, [`crate::fpga`]); boards with flash ignore it, as
+//! LinuxCNC's do. Not supported, and said so: the absolute-encoder and
 //! other module tokens (`ssi_chan_N`, `num_3pwmgens`, ...) are accepted
 //! and validated as LinuxCNC does, but those modules are not supported
 //! yet: their descriptors are ignored and their pins stay GPIO.
@@ -28,6 +29,8 @@ use crate::error::{Hm2Error, Result};
 /// The parsed config string of one board.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Config {
+    /// `firmware=`: the bitfile to load, relative to the firmware directory.
+    pub firmware: Option<String>,
     /// Encoders to use (−1 = all).
     pub num_encoders: i32,
     /// Step generators to use (−1 = all).
@@ -55,6 +58,7 @@ pub struct Config {
 impl Default for Config {
     fn default() -> Config {
         Config {
+            firmware: None,
             num_encoders: -1,
             num_stepgens: -1,
             num_pwmgens: -1,
@@ -117,11 +121,7 @@ pub fn parse(s: &str) -> Result<Config> {
         };
         match (key, value) {
             ("enable_raw", None) => c.enable_raw = true,
-            ("firmware", Some(f)) => {
-                return Err(Hm2Error::FirmwareUnsupported {
-                    file: f.to_string(),
-                })
-            }
+            ("firmware", Some(f)) => c.firmware = Some(f.to_string()),
             ("num_encoders", Some(v)) => c.num_encoders = count(token, v)?,
             ("num_stepgens", Some(v)) => c.num_stepgens = count(token, v)?,
             ("num_pwmgens", Some(v)) => c.num_pwmgens = count(token, v)?,
@@ -257,7 +257,7 @@ mod tests {
             ),
             ("num_stepgens=-2", "must be -1"),
             ("stepgen_width=9", "0 to 8"),
-            ("firmware=hm2/5i20/SV12.BIT", "does not program FPGAs"),
+            ("firmware", "invalid token in config string: \"firmware\""),
             (
                 "sserial_port_4=0000",
                 "sserial_port tag must be in the form",

@@ -32,14 +32,21 @@ pub enum Hm2Error {
         /// Why.
         reason: String,
     },
-    /// `firmware=` was given: programming FPGAs is not supported.
-    #[error(
-        "firmware=\"{file}\": this driver does not program FPGAs; \
-         flash the firmware with mesaflash and load without firmware="
-    )]
-    FirmwareUnsupported {
+    /// `firmware=` could not be loaded into the board's FPGA.
+    #[error("firmware=\"{file}\": {source}")]
+    FpgaLoad {
         /// The requested file.
         file: String,
+        /// Why.
+        #[source]
+        source: crate::fpga::FpgaError,
+    },
+    /// A simulated board cannot run the firmware it was given (or was
+    /// given none and has no flash).
+    #[error("{reason}")]
+    SimFirmware {
+        /// Why.
+        reason: String,
     },
     /// `sserial_port_N=` with N outside 0..3.
     #[error(
@@ -336,7 +343,7 @@ pub enum Hm2Error {
         "no {wanted} found on the PCI bus (searched {}); to try the driver without \
          a card, load a simulated one with sim=BOARD ({})",
         searched.display(),
-        crate::sim::boards::PRESETS.join(", ")
+        crate::sim::boards::pci_sim_names()
     )]
     NoPciCard {
         /// The boards looked for, by name and IDs.

@@ -14,6 +14,7 @@
 //! LinuxCNC's do.
 
 use std::collections::HashMap;
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex, TryLockError};
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
@@ -202,6 +203,9 @@ pub enum Source {
     Pci(Box<pci::OpenedBoard>),
     /// A simulated board.
     Sim(Arc<SimHm2>),
+    /// A simulated PLX card whose FPGA is not loaded yet: it becomes a
+    /// [`Source::Sim`] running the design `firmware=` loads.
+    SimPlx(Box<crate::pci_fpga::SimPlxCard>),
     /// A fixed register image (hm2_test).
     Image(Vec<u32>),
     /// A board on the network (hm2_eth), probed; its HAL objects are
@@ -229,6 +233,7 @@ pub struct Boards {
     debug: Debug,
     candidates: Vec<Candidate>,
     configs: Vec<String>,
+    firmware_dir: Option<PathBuf>,
 }
 
 impl Boards {
@@ -245,6 +250,7 @@ impl Boards {
             debug,
             candidates,
             configs,
+            firmware_dir: None,
         }
     }
 }
@@ -265,6 +271,7 @@ pub fn export_boards<H: DriverHost>(
         debug,
         candidates,
         configs,
+        firmware_dir,
     } = found;
     let log = ex.log();
     let comp = ex.component(module)?;
@@ -288,7 +295,13 @@ pub fn export_boards<H: DriverHost>(
             )
         };
         let config = config::parse(config_for(&configs, i)).map_err(|e| fail(e, &blog, ex))?;
-        let (transport, sim, keep): (Box<dyn Transport>, _, _) = match cand.source {
+        let mut msgs = MessageLog::default();
+        let source =
+            crate::pci_fpga::configure(cand.source, &config, firmware_dir.as_deref(), &mut msgs);
+        print_messages(&msgs, &blog);
+        msgs = MessageLog::default();
+        let source = source.map_err(|e| fail(e, &blog, ex))?;
+        let (transport, sim, keep): (Box<dyn Transport>, _, _) = match source {
             Source::Pci(opened) => {
                 let o = *opened;
                 (
@@ -303,13 +316,18 @@ pub fn export_boards<H: DriverHost>(
                 None,
             ),
             Source::Image(img) => (Box::new(ImageTransport::new(img, &name)), None, None),
+            Source::SimPlx(_) => {
+                let e = Hm2Error::SimFirmware {
+                    reason: "the simulated FPGA was not loaded".into(),
+                };
+                return Err(fail(e, &blog, ex));
+            }
             Source::Eth(t) => {
                 let mut t = t.into_host::<H>();
                 t.errors().export(ex.pins(comp), &name)?;
                 (Box::new(t), None, None)
             }
         };
-        let mut msgs = MessageLog::default();
         let board = Board::<H>::open(
             ex.pins(comp),
             cand.llio,
@@ -410,7 +428,8 @@ const HM2_PCI: &str = "hm2_pci";
 macro_rules! hm2_pci_params {
     ($($then:tt)*) => { $($then)*! {
         config: StrArray(8) = "hostmot2 config strings, one per board in probe order (see hostmot2(9))",
-        sim: StrArray(8) = "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24 or 5i25-7i77, one per board",
+        sim: StrArray(8) = "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24, 5i25-7i77, or a PLX card (5i20, 4i65, 5i22, 5i23, 4i68, 3x20, ...) loaded with firmware=, one per board",
+        firmware_dir: Str = "where firmware= files are (default /lib/firmware); for simulated PLX cards, where to read their bitfiles instead of the simulator's own",
     } };
 }
 
@@ -470,13 +489,26 @@ fn open_pci(
     let candidates: Vec<Candidate> = if !sims.is_empty() {
         let mut v = Vec::new();
         for (i, s) in sims.iter().enumerate() {
+            if let Some(card) = crate::pci_fpga::SimPlxCard::new(s) {
+                let llio = card.board.llio(next(card.board.board));
+                v.push(Candidate {
+                    fails: format!(
+                        "hm2_pci: simulated board {} fails HM2 registration",
+                        llio.name
+                    ),
+                    llio,
+                    source: Source::SimPlx(Box::new(card)),
+                    place: "(simulated)".into(),
+                });
+                continue;
+            }
             let spec = boards::preset(s)
                 .ok_or_else(|| {
                     params.item_error(
                         "sim",
                         i,
                         s,
-                        format!("not a simulated board ({})", boards::PRESETS.join(", ")),
+                        format!("not a simulated board ({})", boards::pci_sim_names()),
                     )
                 })
                 .for_module(HM2_PCI)?;
@@ -517,6 +549,10 @@ fn open_pci(
         debug,
         candidates,
         configs,
+        firmware_dir: args
+            .str("firmware_dir")
+            .filter(|d| !d.is_empty())
+            .map(PathBuf::from),
     })
 }
 
@@ -593,6 +629,7 @@ impl DriverModule for HalHm2Test {
             debug,
             candidates: vec![candidate],
             configs: args.str_array("config").to_vec(),
+            firmware_dir: None,
         })
     }
 

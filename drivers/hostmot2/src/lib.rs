@@ -33,8 +33,18 @@
 //! `num_stepgens`, `num_pwmgens`, `num_leds`, `stepgen_width`,
 //! `sserial_port_N`, `enable_raw`, and the tokens of modules not
 //! supported yet (`ssi_chan_N`, `num_3pwmgens`, ...: accepted and
-//! checked, their modules ignored so their pins stay GPIO). `firmware=`
-//! is refused: this driver never programs an FPGA (use mesaflash).
+//! checked, their modules ignored so their pins stay GPIO).
+//!
+//! # FPGA firmware: `firmware=`
+//!
+//! The PLX-bridged cards (5i20, 4i65 on a PLX 9030; 5i21, 5i22, 5i23,
+//! 4i68, 4i69, 3x20 on a PLX 9054/9056) have no flash: as in LinuxCNC,
+//! `config="firmware=hm2/5i20/SVST8_4.BIT ..."` loads the bitfile of that
+//! name under `/lib/firmware` (or under `hm2_pci firmware_dir=DIR`) into
+//! the FPGA at every load: the Xilinx header is parsed and its part
+//! checked against the card's, the bitstream clocked in through the
+//! bridge's /PROGRAM, /INIT, DONE and data lines ([`fpga`],
+//! [`pci_fpga`]). Boards with flash ignore `firmware=` (use mesaflash).
 //!
 //! # Smart Serial
 //!
@@ -47,7 +57,10 @@
 //! # The simulator: `hm2_pci sim=...`
 //!
 //! `loadrt hm2_pci config="..." sim=5i25` (or `sim=6i25`, `sim=5i24`,
-//! `sim=5i25-7i77` with a simulated 7I77 on Smart Serial, a list for
+//! `sim=5i25-7i77` with a simulated 7I77 on Smart Serial, a PLX card
+//! such as `sim=5i20` or `sim=5i22` whose simulated FPGA is loaded
+//! through its simulated bridge with the firmware `firmware=` names and
+//! then runs it ([`sim::plx_boards`]), a list for
 //! several boards) registers simulated boards instead of
 //! scanning the PCI bus. The choice of a parameter of `hm2_pci` rather
 //! than a module `hm2_sim`: a LinuxCNC configuration then runs without
@@ -124,6 +137,7 @@ mod error;
 pub mod eth;
 pub mod eth_sim_args;
 pub mod firmware;
+pub mod fpga;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod hal;
@@ -135,6 +149,7 @@ pub mod log;
 pub mod md;
 mod modules;
 pub mod pci;
+pub mod pci_fpga;
 pub mod pins;
 pub mod readhmid;
 pub mod regs;

@@ -4,10 +4,10 @@
 //!
 //! Every board LinuxCNC's table has is here, plus the 6i25T that
 //! LinuxCNC's probe code handles but its table misses. The PLX-bridged
-//! boards (5i20 ... 3x20) are found and mapped like the others; their
-//! FPGA must already be configured (`firmware=` is not supported) and the
-//! PLX 9030's local-bus ready bits are not touched, so a board whose
-//! EEPROM leaves them clear is reported by its cookie check.
+//! boards (5i20 ... 3x20) are found and mapped like the others; with
+//! `firmware=` their FPGA is loaded through the bridge's I/O BARs
+//! ([`crate::pci_fpga`]), which also sets the PLX 9030's local-bus ready
+//! bits an old EEPROM leaves clear.
 
 use hal_driver::bus::MmapWindow;
 use hal_driver::pci::{self, EnableGuard, PciDevice, PciMatch, Sysfs};

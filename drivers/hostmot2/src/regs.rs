@@ -382,3 +382,61 @@ pub mod pwmgen {
     /// Dither (version 1).
     pub const MODE_DITHER: u32 = 1 << 6;
 }
+
+/// The PLX 9030 bridge of the 5i20 and 4i65 (hardware.md 5.1): its
+/// local-configuration registers are I/O BAR 1, the FPGA's configuration
+/// data port is I/O BAR 2.
+pub mod plx9030 {
+    /// The configuration-registers BAR.
+    pub const CTRL_BAR: usize = 1;
+    /// The bitstream data-port BAR.
+    pub const DATA_BAR: usize = 2;
+    /// GPIO control/status register (GPIOC), offset in BAR 1.
+    pub const GPIOC: u16 = 0x54;
+    /// GPIO3 data: the FPGA's DONE (input; 1 = configured).
+    pub const DONE: u32 = 1 << 11;
+    /// GPIO4 data: the FPGA's /INIT (input; low while clearing its
+    /// memory, and after a CRC error).
+    pub const INIT: u32 = 1 << 14;
+    /// GPIO5 data: /LED (output, active low).
+    pub const LED: u32 = 1 << 17;
+    /// GPIO7 data: /WRITE (output, active low: the data port feeds the
+    /// FPGA's configuration port).
+    pub const WRITE: u32 = 1 << 23;
+    /// GPIO8 data: /PROGRAM (output, active low: clears the FPGA).
+    pub const PROGRAM: u32 = 1 << 26;
+    /// Local address space bus region descriptors LAS0BRD..LAS3BRD.
+    pub const LAS_BRD: [u16; 4] = [0x28, 0x2C, 0x30, 0x34];
+    /// LASxBRD bit: READY# input enable.
+    pub const LAS_BRD_READY: u32 = 1 << 1;
+}
+
+/// The PLX 9054/9056 bridge of the 5i21, 5i22, 5i23, 4i68, 4i69 and 3x20
+/// (hardware.md 5.1): configuration registers in I/O BAR 1, the data
+/// port in I/O BAR 2.
+pub mod plx9054 {
+    /// The configuration-registers BAR.
+    pub const CTRL_BAR: usize = 1;
+    /// The bitstream data-port BAR.
+    pub const DATA_BAR: usize = 2;
+    /// Control register (CNTRL), offset in BAR 1.
+    pub const CNTRL: u16 = 0x6C;
+    /// USERo: the FPGA's /PROGRAM (output, active low).
+    pub const PROGRAM: u32 = 1 << 16;
+    /// USERi: the FPGA's DONE (input; 1 = configured).
+    pub const DONE: u32 = 1 << 17;
+    /// Makes the USERi pin (DONE) a user input.
+    pub const DONE_ENABLE: u32 = 1 << 18;
+    /// Makes the USERo pin (/PROGRAM) a user output.
+    pub const PROGRAM_ENABLE: u32 = 1 << 19;
+}
+
+/// How long LinuxCNC's FPGA loader waits, counted in bridge register
+/// reads (hardware.md 5.1).
+pub mod fpga_wait {
+    /// Reads while waiting for /INIT after /PROGRAM is released (9030),
+    /// and reads of delay after the /PROGRAM pulse (9054).
+    pub const INIT_READS: u32 = 3300;
+    /// Reads while waiting for DONE after the bitstream (9054).
+    pub const DONE_READS: u32 = 20_000;
+}

@@ -125,8 +125,8 @@ fn refused_loads_leave_nothing_behind() {
             "config.num_stepgens=11, but only 10 are available",
         ),
         (
-            &["config=firmware=hm2/5i25/x.bit", "sim=5i25"][..],
-            "does not program FPGAs",
+            &["config=firmware=hm2/5i20/x.bit", "sim=5i20"][..],
+            "the simulator does not know the firmware 'x'",
         ),
         (
             &["config=,num_encoders=9", "sim=5i25,6i25"][..],

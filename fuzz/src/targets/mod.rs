@@ -18,6 +18,7 @@ crate::register_targets! {
     hm2_eth_reply,
     hm2_lbp16_request,
     hm2_sserial_records,
+    hm2_bitfile,
     motenc_registers,
     motenc_board_kind,
     stg_dio_param,

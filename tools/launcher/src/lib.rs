@@ -22,6 +22,7 @@ mod program;
 mod rules;
 mod task;
 mod task_manual;
+mod task_panel;
 mod task_pins;
 mod task_program;
 mod task_socket;

@@ -117,6 +117,12 @@ pub enum TaskRequest {
     MaxVelocity(f64),
     /// The state as `key=value` lines, for programs (halui).
     State,
+    /// The optional-stop switch (M1 stops).
+    OptionalStop(bool),
+    /// The block-delete switch (`/` lines skipped).
+    BlockDelete(bool),
+    /// MANUAL mode's jogs: world axes (teleop) or joints (free mode).
+    Teleop(bool),
     /// A spindle by hand: start, stop, speed steps, brake, override.
     Spindle {
         /// The spindle number.
@@ -184,6 +190,9 @@ pub const REQUESTS: &str = "\
   rapid-override SCALE  the rapid override (0 to 1)
   max-velocity VEL      the tool-tip speed limit ([TRAJ]MAX_LINEAR_VELOCITY)
   state                 the state as key=value lines, for programs
+  optional-stop on|off  M1 stops the program (off: M1 is passed over)
+  block-delete on|off   lines that start with / are skipped (on) or run
+  teleop on|off         MANUAL mode's jogs move world axes (on) or joints
   spindle [N] forward|reverse [RPM]
                         start spindle N (default 0) at RPM, else the S in
                         effect, else 500 (machine on, nothing running)
@@ -215,6 +224,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
             }),
         }
     };
+    if let Some(switch) = crate::task_panel::parse(&w) {
+        return switch;
+    }
     Ok(match w.as_slice() {
         ["estop"] => TaskRequest::Estop,
         ["estop-reset"] => TaskRequest::EstopReset,
@@ -298,6 +310,8 @@ pub struct Task {
     pub(crate) no_force_homing: bool,
     /// The overrides task last sent: feed, rapid, maximum velocity.
     pub(crate) overrides: crate::task_manual::Overrides,
+    /// The optional-stop and block-delete switches.
+    pub(crate) switches: crate::task_panel::Switches,
     /// The spindle override's limits.
     pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
     /// Motion's heartbeat before which its enable flag is not compared
@@ -329,6 +343,7 @@ impl Task {
             program: program.map(Program::new),
             settle_until: 0,
             overrides: crate::task_manual::Overrides::default(),
+            switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
         };
         t.pins.write(t.io.outputs());
@@ -567,6 +582,9 @@ impl Task {
             | TaskRequest::FeedOverride(_)
             | TaskRequest::RapidOverride(_)
             | TaskRequest::MaxVelocity(_) => Some(self.manual_request(req)),
+            TaskRequest::OptionalStop(_) | TaskRequest::BlockDelete(_) | TaskRequest::Teleop(_) => {
+                Some(self.panel_request(req))
+            }
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

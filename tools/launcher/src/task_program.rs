@@ -39,7 +39,7 @@ impl Task {
         let (Some(program), Some(motion)) = (&mut self.program, &mut self.motion) else {
             return;
         };
-        let ended = program.cycle(motion, &mut self.io, events, false);
+        let ended = program.cycle(motion, &mut self.io, events, self.switches.optional_stop);
         if let Some(Ended::Failed(why)) = &ended {
             eprintln!("task: {why}");
             // A failed run stops the machine's moves with a controlled

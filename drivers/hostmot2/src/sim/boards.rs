@@ -33,6 +33,17 @@ pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24", "5i25-7i77"];
 /// The Ethernet board names [`preset`] knows.
 pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e"];
 
+/// Every `hm2_pci sim=` name: the presets, then the PLX cards.
+pub fn pci_sim_names() -> String {
+    let plx = super::plx_boards::PLX_PRESETS.iter().map(|(n, _)| *n);
+    PRESETS
+        .iter()
+        .copied()
+        .chain(plx)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The firmware of a simulated board, by name.
 pub fn preset(name: &str) -> Option<FirmwareSpec> {
     match name {

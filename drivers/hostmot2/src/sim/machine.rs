@@ -175,17 +175,6 @@ impl World for Machine {
 /// * `7i76e`: the same with the switches on I/O 17, 18, 19 (P2).
 /// * `5i25-7i77`: stepper axes on the five step generators, no switches.
 pub fn preset(board: &str) -> Machine {
-    let servo = |k: usize| Servo {
-        pwm: k,
-        encoder: k,
-        motor: DcMotor::new(SERVO_MOTOR),
-        shaft: QuadEncoder::new(4000),
-        supply: 24.0,
-    };
-    let stepper = |k: usize| Stepper {
-        stepgen: k,
-        axis: StepperAxis::new(100.0),
-    };
     let steppers_with_switches = |n: usize, first_switch: usize| Machine {
         steppers: (0..n).map(stepper).collect(),
         switches: (0..3)
@@ -222,6 +211,37 @@ pub fn preset(board: &str) -> Machine {
             ..Machine::default()
         },
         _ => Machine::default(),
+    }
+}
+
+/// Servo k: PWM generator k drives a [`SERVO_MOTOR`] on a 24 V supply
+/// with encoder k (4000 counts, index once per revolution) on its shaft.
+fn servo(k: usize) -> Servo {
+    Servo {
+        pwm: k,
+        encoder: k,
+        motor: DcMotor::new(SERVO_MOTOR),
+        shaft: QuadEncoder::new(4000),
+        supply: 24.0,
+    }
+}
+
+/// Stepper axis k: step generator k, 100 steps per unit.
+fn stepper(k: usize) -> Stepper {
+    Stepper {
+        stepgen: k,
+        axis: StepperAxis::new(100.0),
+    }
+}
+
+/// The machine of a simulated PLX card (`sim=5i20`, ...) running a
+/// servo/stepper firmware: a servo on each of its `servos` channels and
+/// a stepper axis on each of its `steppers` step generators, no switches.
+pub fn servo_stepper(servos: usize, steppers: usize) -> Machine {
+    Machine {
+        servos: (0..servos).map(servo).collect(),
+        steppers: (0..steppers).map(stepper).collect(),
+        ..Machine::default()
     }
 }
 

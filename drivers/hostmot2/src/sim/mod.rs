@@ -11,6 +11,8 @@ pub mod ioport;
 pub mod machine;
 pub mod mirror;
 pub mod model;
+pub mod plx;
+pub mod plx_boards;
 pub mod pwm;
 pub mod sserial;
 pub mod stepgen;

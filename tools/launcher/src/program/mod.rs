@@ -556,6 +556,17 @@ impl Program {
         e
     }
 
+    /// The offsets in effect, machine units per axis: G5x, G92, tool.
+    pub fn offsets(&self) -> [[f64; 9]; 3] {
+        self.canon.offsets()
+    }
+
+    /// The block delete switch: lines starting with `/` are skipped
+    /// (read from the next line the interpreter reads).
+    pub fn set_block_delete(&mut self, on: bool) {
+        self.canon.block_delete = on;
+    }
+
     /// The program's lines of `task-cmd status`.
     pub fn status(&self, motion: Option<&MotionLink>) -> String {
         let motion_line = motion

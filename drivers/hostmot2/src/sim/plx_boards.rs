@@ -1,0 +1,294 @@
+//! The simulated PLX-bridged cards (`hm2_pci sim=5i20`, ...) and the
+//! firmwares they can be loaded with.
+//!
+//! | `sim=` | card | part | connectors | LEDs | ClockLow / ClockHigh |
+//! |---|---|---|---|---|---|
+//! | `5i20` | 5i20 (PLX 9030) | 2s200pq208 | P2, P3, P4 | 8 | 33.33 / 100 MHz |
+//! | `4i65` | 4i65 (PLX 9030) | 2s200pq208 | P1, P3, P4 | 8 | 33.33 / 100 MHz |
+//! | `5i22`, `5i22-1.5` | 5i22-1.0M, -1.5M (PLX 9054) | 3s1000fg320, 3s1500fg320 | P2, P3, P4, P5 | 8 | 48 / 96 MHz |
+//! | `5i23` | 5i23 (PLX 9054) | 3s400pq208 | P2, P3, P4 | 2 | 48 / 96 MHz |
+//! | `4i68` | 4i68 (PLX 9054) | 3s400pq208 | P1, P2, P4 | 4 | 48 / 96 MHz |
+//! | `3x20`, `3x20-1.5`, `3x20-2` | 3x20-1.0M, -1.5M, -2.0M (PLX 9056) | 3s1000fg456, ... | P4, P5, P6, P9, P8, P7 | 0 | 50 / 100 MHz |
+//!
+//! All have 24 pins per connector and no flash: the FPGA is empty until
+//! `firmware=` loads it. The firmware is chosen by its file name, Mesa's
+//! servo/stepper family: `SV<n>` (n servo channels) and `SVST<n>_<m>`
+//! (n servo channels and m step generators), e.g. SVST8_4, SVST8_8, SV12,
+//! SV16, SV24, SVST16_24. Servo channels come four to a connector, from
+//! the first; per group of two channels (k+1, k) the pins are index,
+//! index, B, B, A, A (encoder inputs), PWM, PWM, direction, direction,
+//! /enable, /enable. Step generators fill the connectors after the
+//! servos: six pins each (step, direction and four table outputs) where
+//! they fit, two (step, direction) otherwise; the rest are GPIO. Every
+//! firmware has a watchdog, the IOPorts, encoders v2, PWM generators v0
+//! (on ClockHigh), step generators v2 and the card's LEDs.
+//!
+//! With no `firmware_dir=` the simulator makes the bitfile of the named
+//! design itself ([`super::plx::bitfile`]), so a LinuxCNC configuration
+//! runs unchanged; the whole load (header check, /PROGRAM, the stream,
+//! DONE) runs on the simulated bridge either way.
+
+use crate::fpga::Bridge;
+use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
+use crate::pci::{self, PciBoard};
+use crate::pins::PinDescriptor;
+use crate::regs::gtag;
+
+/// The `sim=` names of the PLX cards, with their PCI table names.
+pub const PLX_PRESETS: &[(&str, &str)] = &[
+    ("5i20", "5i20"),
+    ("4i65", "4i65"),
+    ("5i22", "5i22-1.0M"),
+    ("5i22-1.5", "5i22-1.5M"),
+    ("5i23", "5i23"),
+    ("4i68", "4i68"),
+    ("3x20", "3x20-1.0M"),
+    ("3x20-1.5", "3x20-1.5M"),
+    ("3x20-2", "3x20-2.0M"),
+];
+
+/// The PCI table entry and bridge of simulated card `name`.
+pub fn card(name: &str) -> Option<(&'static PciBoard, Bridge)> {
+    let (_, table) = PLX_PRESETS.iter().find(|(n, _)| *n == name)?;
+    let board = pci::BOARDS.iter().find(|b| b.ids.name == *table)?;
+    let bridge = Bridge::of_device(board.ids.vendor, board.ids.device)?;
+    Some((board, bridge))
+}
+
+/// Servo channels and step generators of a firmware name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Design {
+    /// Servo channels (encoder + PWM generator).
+    pub servos: u32,
+    /// Step generators.
+    pub steppers: u32,
+}
+
+/// The design a firmware name describes (`SVST8_4`, `sv12`, with or
+/// without `.BIT`), if it is of the servo/stepper family.
+pub fn design(name: &str) -> Option<Design> {
+    let upper = name.to_ascii_uppercase();
+    let stem = upper.strip_suffix(".BIT").unwrap_or(&upper);
+    let num = |s: &str| {
+        (!s.is_empty() && s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()))
+            .then(|| s.parse::<u32>().ok())
+            .flatten()
+    };
+    if let Some(rest) = stem.strip_prefix("SVST") {
+        let (n, m) = rest.split_once('_')?;
+        return Some(Design {
+            servos: num(n)?,
+            steppers: num(m)?,
+        });
+    }
+    let n = num(stem.strip_prefix("SV")?)?;
+    Some(Design {
+        servos: n,
+        steppers: 0,
+    })
+}
+
+/// Why a firmware does not fit a simulated card.
+pub fn unfit(board: &PciBoard, d: Design) -> Option<String> {
+    let conns = board.connectors.len() as u32;
+    let width = board.pins_per_connector;
+    if d.servos == 0 && d.steppers == 0 {
+        return Some("it has neither servo channels nor step generators".into());
+    }
+    if d.servos % 4 != 0 {
+        return Some("servo channels come four to a connector".into());
+    }
+    let servo_conns = d.servos / 4;
+    if servo_conns > conns {
+        return Some(format!(
+            "{} servo channels need {servo_conns} connectors",
+            d.servos
+        ));
+    }
+    let left = (conns - servo_conns) * width;
+    if d.steppers * 2 > left {
+        return Some(format!(
+            "{} step generators do not fit the {left} pins left",
+            d.steppers
+        ));
+    }
+    None
+}
+
+/// The pins of two servo channels `k + 1` and `k`.
+fn servo_pair(k: u8) -> [PinDescriptor; 12] {
+    let (hi, lo) = (k + 1, k);
+    [
+        pd(gtag::ENCODER, hi, 0x03),
+        pd(gtag::ENCODER, lo, 0x03),
+        pd(gtag::ENCODER, hi, 0x02),
+        pd(gtag::ENCODER, lo, 0x02),
+        pd(gtag::ENCODER, hi, 0x01),
+        pd(gtag::ENCODER, lo, 0x01),
+        pd(gtag::PWMGEN, hi, 0x81),
+        pd(gtag::PWMGEN, lo, 0x81),
+        pd(gtag::PWMGEN, hi, 0x82),
+        pd(gtag::PWMGEN, lo, 0x82),
+        pd(gtag::PWMGEN, hi, 0x83),
+        pd(gtag::PWMGEN, lo, 0x83),
+    ]
+}
+
+/// The firmware `design_name` on simulated card `board`, or why not.
+pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, String> {
+    let d = design(design_name).ok_or_else(|| {
+        format!(
+            "the simulator does not know the firmware '{design_name}' \
+             (it has Mesa's SV<n> and SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ...)"
+        )
+    })?;
+    if let Some(why) = unfit(board, d) {
+        return Err(format!(
+            "the firmware '{design_name}' does not fit a {}: {why}",
+            board.board
+        ));
+    }
+    let total = board.connectors.len() * board.pins_per_connector as usize;
+    let mut pins = Vec::with_capacity(total);
+    for k in (0..d.servos as u8).step_by(2) {
+        pins.extend(servo_pair(k));
+    }
+    let left = total - pins.len();
+    let per = if d.steppers as usize * 6 <= left {
+        6
+    } else {
+        2
+    };
+    for k in 0..d.steppers as u8 {
+        for p in 1..=per {
+            pins.push(pd(gtag::STEPGEN, k, 0x80 | p));
+        }
+    }
+    pins.resize(total, gpio());
+    let mut modules = vec![
+        ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+        ModuleSpec::standard(gtag::IOPORT, 0, board.connectors.len() as u8),
+    ];
+    if d.servos > 0 {
+        modules.push(ModuleSpec::standard(gtag::ENCODER, 2, d.servos as u8));
+        modules.push(ModuleSpec::standard(gtag::PWMGEN, 0, d.servos as u8));
+    }
+    if d.steppers > 0 {
+        modules.push(ModuleSpec::standard(gtag::STEPGEN, 2, d.steppers as u8));
+    }
+    if board.leds > 0 {
+        modules.push(ModuleSpec::standard(gtag::LED, 0, 1));
+    }
+    let (clock_low, clock_high) = clocks(board.board);
+    let mut board_name = *b"MESA    ";
+    let short = board.board.to_ascii_uppercase();
+    let n = short.len().min(4);
+    board_name[4..4 + n].copy_from_slice(&short.as_bytes()[..n]);
+    Ok(FirmwareSpec {
+        board: board.board.into(),
+        board_name,
+        fpga_part: board.fpga_part.into(),
+        fpga_size: 0,
+        fpga_pins: 0,
+        connectors: board.connectors.iter().map(|c| c.to_string()).collect(),
+        port_width: board.pins_per_connector,
+        leds: board.leds,
+        clock_low,
+        clock_high,
+        modules,
+        pins,
+        remotes: Vec::new(),
+    })
+}
+
+/// The firmware clocks of a card type (hardware.md 5.3).
+fn clocks(board: &str) -> (u32, u32) {
+    match board {
+        "5i20" | "4i65" => (33_333_333, 100_000_000),
+        "3x20" => (50_000_000, 100_000_000),
+        _ => (48_000_000, 96_000_000),
+    }
+}
+
+/// The stem of a `firmware=` name: `hm2/5i20/SVST8_4.BIT` → `SVST8_4`.
+pub fn design_of_path(name: &str) -> &str {
+    let file = name.rsplit('/').next().unwrap_or(name);
+    match file.rfind('.') {
+        Some(dot) if dot > 0 => &file[..dot],
+        _ => file,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::idrom;
+    use crate::image::ImageTransport;
+
+    #[test]
+    fn the_family_names_parse() {
+        assert_eq!(
+            design("SVST8_4.BIT"),
+            Some(Design {
+                servos: 8,
+                steppers: 4
+            })
+        );
+        assert_eq!(
+            design("sv12"),
+            Some(Design {
+                servos: 12,
+                steppers: 0
+            })
+        );
+        for bad in ["7i77x2", "SVST8", "SV", "SVST_4", "SV1234", "SVSTx_4"] {
+            assert_eq!(design(bad), None, "{bad}");
+        }
+        assert_eq!(design_of_path("hm2/5i20/SVST8_4.BIT"), "SVST8_4");
+        assert_eq!(design_of_path("SV12"), "SV12");
+    }
+
+    #[test]
+    fn every_card_takes_its_configs_firmwares_and_the_images_load() {
+        for (name, fw) in [
+            ("5i20", "SVST8_4"),
+            ("5i20", "SV12"),
+            ("4i65", "SVST8_4"),
+            ("5i22", "SVST8_8"),
+            ("5i22-1.5", "SV16"),
+            ("5i23", "SVST8_4"),
+            ("4i68", "SVST8_4"),
+            ("3x20", "SV24"),
+            ("3x20", "SVST16_24"),
+        ] {
+            let (board, _) = card(name).unwrap();
+            let spec = firmware(board, fw).unwrap();
+            assert_eq!(spec.pins.len(), board.connectors.len() * 24, "{name} {fw}");
+            let llio = board.llio(0);
+            let mut t = ImageTransport::new(spec.image(), &llio.name);
+            idrom::check_identity(&mut t).unwrap();
+            idrom::read_header(&mut t, &llio).unwrap();
+        }
+    }
+
+    #[test]
+    fn firmwares_that_do_not_fit_say_why() {
+        let (board, _) = card("5i20").unwrap();
+        let e = firmware(board, "SV16").unwrap_err();
+        assert!(e.contains("16 servo channels need 4 connectors"), "{e}");
+        let e = firmware(board, "7i77x2").unwrap_err();
+        assert!(e.contains("does not know"), "{e}");
+        let e = firmware(board, "SVST8_30").unwrap_err();
+        assert!(e.contains("30 step generators"), "{e}");
+    }
+
+    #[test]
+    fn svst8_4_puts_the_steppers_on_p4_six_pins_apart() {
+        let (board, _) = card("5i20").unwrap();
+        let spec = firmware(board, "SVST8_4").unwrap();
+        assert_eq!(spec.pins[48], pd(gtag::STEPGEN, 0, 0x81));
+        assert_eq!(spec.pins[49], pd(gtag::STEPGEN, 0, 0x82));
+        assert_eq!(spec.pins[54], pd(gtag::STEPGEN, 1, 0x81));
+        assert_eq!(spec.pins[25], pd(gtag::ENCODER, 4, 0x03));
+    }
+}
