@@ -126,6 +126,22 @@ pub struct MotionStatus {
     pub traj: TrajState,
     /// The spindles, one per `num_spindles`.
     pub spindles: Vec<SpindleState>,
+    /// The digital and analog inputs and outputs.
+    pub io: IoState,
+}
+
+/// The synchronised I/O in a [`MotionStatus`] (`motion.digital-in-NN`
+/// and the rest), `num_dio` and `num_aio` of each.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct IoState {
+    /// `motion.digital-in-NN`.
+    pub din: Vec<bool>,
+    /// `motion.digital-out-NN`.
+    pub dout: Vec<bool>,
+    /// `motion.analog-in-NN`.
+    pub ain: Vec<f64>,
+    /// `motion.analog-out-NN`.
+    pub aout: Vec<f64>,
 }
 
 /// One spindle in a [`MotionStatus`].

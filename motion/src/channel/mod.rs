@@ -31,7 +31,7 @@
 //! float details, 8 checksum.
 
 use crate::kins::NUM_AXES;
-use crate::sizes::{MAX_JOINTS, MAX_SPINDLES};
+use crate::sizes::{MAX_IO, MAX_JOINTS, MAX_SPINDLES};
 
 mod client;
 mod records;
@@ -39,7 +39,7 @@ mod snapshot;
 
 pub use crate::command::{reject_code, result_name, WireError};
 pub use crate::status::{
-    AxisState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
+    AxisState, IoState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
 };
 pub use client::{Accepted, ClientError, MotionClient, Rejected, COMMAND_TIMEOUT};
 pub use records::{decode_command, decode_reply, encode_command, encode_reply};
@@ -77,8 +77,12 @@ pub const TRAJ_WORDS: usize = 37;
 pub const SPINDLES_START: usize = TRAJ_START + TRAJ_WORDS;
 /// Words per spindle in the status snapshot.
 pub const SPINDLE_WORDS: usize = 5;
+/// Where the digital and analog I/O block starts: the counts (num_dio,
+/// and num_aio shifted by 8), the digital inputs' and outputs' bits,
+/// then the analog inputs and outputs.
+pub const IO_START: usize = SPINDLES_START + 1 + MAX_SPINDLES * SPINDLE_WORDS;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = SPINDLES_START + 1 + MAX_SPINDLES * SPINDLE_WORDS;
+pub const STATUS_WORDS: usize = IO_START + 3 + 2 * MAX_IO;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).
@@ -87,7 +91,7 @@ pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0002;
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
 /// Version word of the status snapshot: "MOTSTA" and format 4 (format 2
 /// added the axis blocks and the mode flags, format 3 the coordinated
-/// planner block, format 4 the spindle block).
+/// planner block, format 4 the spindle and I/O blocks).
 pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0004;
 
 /// Float argument words of a command record.

@@ -2,15 +2,17 @@
 //! the controller, [`decode_status`] checks and reads it in a client.
 
 use super::{
-    AXES_START, AXIS_WORDS, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS, STATUS_HEADER,
+    AXES_START, AXIS_WORDS, IO_START, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS, STATUS_HEADER,
     STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState};
 use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
-use crate::sizes::{MAX_JOINTS, MAX_SPINDLES};
-use crate::status::{AxisState, JointState, LastCommand, MotionStatus, SpindleState, TrajState};
+use crate::sizes::{MAX_IO, MAX_JOINTS, MAX_SPINDLES};
+use crate::status::{
+    AxisState, IoState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
+};
 use crate::tp::PlannerType;
 
 /// Status flag bits of the header word 3.
@@ -177,6 +179,45 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         *o = v.to_bits();
     }
     fill_spindles(core, &mut out[SPINDLES_START..]);
+    fill_io(core, &mut out[IO_START..]);
+}
+
+/// The I/O block: counts, digital bits, analog values.
+fn fill_io(core: &MotionCore, out: &mut [u64]) {
+    let cfg = core.config();
+    out[0] = cfg.num_dio as u64 | (cfg.num_aio as u64) << 8;
+    let io = core.io_outputs();
+    let mut din = 0u64;
+    let mut dout = 0u64;
+    for i in 0..MAX_IO {
+        if core.inputs.din[i] {
+            din |= 1 << i;
+        }
+        if io.dout[i] {
+            dout |= 1 << i;
+        }
+        out[3 + i] = core.inputs.ain[i].to_bits();
+        out[3 + MAX_IO + i] = io.aout[i].to_bits();
+    }
+    out[1] = din;
+    out[2] = dout;
+}
+
+/// Decodes the I/O block.
+fn decode_io(w: &[u64]) -> Result<IoState, WireError> {
+    let (num_dio, num_aio) = ((w[0] & 0xff) as usize, ((w[0] >> 8) & 0xff) as usize);
+    if num_dio > MAX_IO || num_aio > MAX_IO || w[0] >> 16 != 0 {
+        return Err(WireError::BadStatus);
+    }
+    let bit = |word: u64, i: usize| word & (1 << i) != 0;
+    Ok(IoState {
+        din: (0..num_dio).map(|i| bit(w[1], i)).collect(),
+        dout: (0..num_dio).map(|i| bit(w[2], i)).collect(),
+        ain: (0..num_aio).map(|i| f64::from_bits(w[3 + i])).collect(),
+        aout: (0..num_aio)
+            .map(|i| f64::from_bits(w[3 + MAX_IO + i]))
+            .collect(),
+    })
 }
 
 /// The spindle block: the count, then one block per spindle.
@@ -312,6 +353,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         axes,
         traj: decode_traj(&w[TRAJ_START..])?,
         spindles: decode_spindles(&w[SPINDLES_START..])?,
+        io: decode_io(&w[IO_START..])?,
     })
 }
 

@@ -530,5 +530,37 @@ commands! {
             /// Engage (true) or release.
             on: bool,
         } = 63, cli planner "spindle-brake" { spindle: int(0, "SPINDLE"), on: flag(1, "the brake") };
+
+        // ---- Digital and analog outputs ----
+
+        /// SET_DOUT: `motion.digital-out-NN` number `index` to `on`, at
+        /// once (`now`: M64, M65) or when the next move queued starts
+        /// (M62, M63).
+        SetDout {
+            /// The output number.
+            [slot] index: i32,
+            /// On or off.
+            on: bool,
+            /// At once, not with the next move.
+            now: bool,
+        } = 64, cli planner "dout" {
+            index: int(0, "OUTPUT"),
+            on: flag(1, "the output"),
+            now: flag(2, "now"),
+        };
+        /// SET_AOUT: `motion.analog-out-NN` number `index` to `value`, at
+        /// once (`now`: M68) or when the next move queued starts (M67).
+        SetAout {
+            /// The output number.
+            [slot] index: i32,
+            /// The value.
+            value: f64,
+            /// At once, not with the next move.
+            now: bool,
+        } = 65, cli planner "aout" {
+            index: int(0, "OUTPUT"),
+            value: num(1, "VALUE"),
+            now: flag(2, "now"),
+        };
     }
 }

@@ -83,6 +83,10 @@ pub struct MotionConfig {
     pub num_spindles: usize,
     /// Misc-error inputs (0..=64).
     pub num_misc_error: usize,
+    /// Digital inputs and outputs (`motion.digital-in-NN`, 0..=64).
+    pub num_dio: usize,
+    /// Analog inputs and outputs (`motion.analog-in-NN`, 0..=64).
+    pub num_aio: usize,
     /// Joints with `unlock`/`is-unlocked` pins (bit n: joint n), the only
     /// ones that may be locking indexers.
     pub unlock_joints_mask: u32,
@@ -97,6 +101,8 @@ impl Default for MotionConfig {
             num_extrajoints: 0,
             num_spindles: 1,
             num_misc_error: 0,
+            num_dio: 4,
+            num_aio: 4,
             unlock_joints_mask: 0,
             servo_period_nsec: 1_000_000,
         }
@@ -136,6 +142,10 @@ pub struct MotionInputs {
     pub spindle_inhibit: [bool; MAX_SPINDLES],
     /// `spindle.N.speed-in`: the measured speed, revolutions per second.
     pub spindle_speed_in: [f64; MAX_SPINDLES],
+    /// `motion.digital-in-NN` (M66 P).
+    pub din: [bool; crate::sizes::MAX_IO],
+    /// `motion.analog-in-NN` (M66 E).
+    pub ain: [f64; crate::sizes::MAX_IO],
 }
 
 impl Default for MotionInputs {
@@ -156,6 +166,8 @@ impl Default for MotionInputs {
             spindle_at_speed: [true; MAX_SPINDLES],
             spindle_inhibit: [false; MAX_SPINDLES],
             spindle_speed_in: [0.0; MAX_SPINDLES],
+            din: [false; crate::sizes::MAX_IO],
+            ain: [0.0; crate::sizes::MAX_IO],
         }
     }
 }
@@ -300,6 +312,8 @@ impl MotionCore {
         cfg.num_extrajoints = cfg.num_extrajoints.min(cfg.num_joints);
         cfg.num_spindles = cfg.num_spindles.min(MAX_SPINDLES);
         cfg.num_misc_error = cfg.num_misc_error.min(MAX_MISC_ERROR);
+        cfg.num_dio = cfg.num_dio.min(crate::sizes::MAX_IO);
+        cfg.num_aio = cfg.num_aio.min(crate::sizes::MAX_IO);
         let kins_type = kins.kins_type();
         MotionCore {
             kins,
@@ -517,6 +531,11 @@ impl MotionCore {
         (self.feed_scale, self.rapid_scale, self.max_feed_override)
     }
 
+    /// The digital and analog outputs (M62 to M68).
+    pub fn io_outputs(&self) -> &crate::tp::IoOutputs {
+        self.tp.io_outputs()
+    }
+
     /// Whether a probing move is executing.
     pub fn probing(&self) -> bool {
         self.probe.probing
@@ -547,6 +566,8 @@ impl MotionCore {
 
 #[cfg(test)]
 mod coord_tests;
+#[cfg(test)]
+mod io_tests;
 #[cfg(test)]
 mod spindle_tests;
 #[cfg(test)]

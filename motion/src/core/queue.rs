@@ -281,6 +281,28 @@ impl MotionCore {
         self.rehome_all = true;
     }
 
+    /// SET_DOUT (M62 to M65).
+    pub(super) fn set_dout(&mut self, index: i32, on: bool, now: bool) -> CommandResult {
+        let i = Self::io_index(index, self.cfg.num_dio)?;
+        self.tp.set_dout(i, on, now);
+        Ok(())
+    }
+
+    /// SET_AOUT (M67, M68).
+    pub(super) fn set_aout(&mut self, index: i32, value: f64, now: bool) -> CommandResult {
+        let i = Self::io_index(index, self.cfg.num_aio)?;
+        let value = Self::finite(Quantity::AnalogValue, value)?;
+        self.tp.set_aout(i, value, now);
+        Ok(())
+    }
+
+    fn io_index(index: i32, count: usize) -> Result<usize, Reject> {
+        usize::try_from(index)
+            .ok()
+            .filter(|&i| i < count)
+            .ok_or(Reject::NoSuchOutput { index, count })
+    }
+
     /// SET_TERM_COND.
     pub(super) fn set_term_cond(&mut self, cond: TermCond, tolerance: f64) -> CommandResult {
         if !(tolerance.is_finite() && tolerance >= 0.0) {

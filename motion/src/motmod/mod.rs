@@ -120,6 +120,8 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
             num_extrajoints: p.num_extrajoints,
             num_spindles: p.num_spindles,
             num_misc_error: p.num_misc_error,
+            num_dio: p.dio.count,
+            num_aio: p.aio.count,
             unlock_joints_mask: p.unlock_joints_mask,
             servo_period_nsec: p.servo_period_nsec as u64,
         },

@@ -273,19 +273,20 @@ pub(super) struct MotionPins {
     pub(super) requested_vel: FOut,
     pub(super) distance_to_go: FOut,
     pub(super) feed_upm: FOut,
+    /// `motion.digital-in-NN`/`digital-out-NN` (or named) pairs.
+    pub(super) dio: Vec<(BIn, BOut)>,
+    /// `motion.analog-in-NN`/`analog-out-NN` (or named) pairs.
+    pub(super) aio: Vec<(FIn, FOut)>,
     /// Pins and params later milestones drive; they hold their defaults.
     pub(super) _later: LaterPins,
 }
 
 /// Outputs of parts that come later (reverse run, the feed rate in fixed
-/// units, which needs the machine's units, synchronised I/O, the
-/// interpreter's metadata, tool and external offsets) and the stale
+/// units, which needs the machine's units, the interpreter's metadata, tool and external offsets) and the stale
 /// LinuxCNC debug params: they hold their defaults.
 pub(super) struct LaterPins {
     pub(super) _tp_reverse: BOut,
     pub(super) _feed: [FOut; 4],
-    pub(super) _dio: Vec<(BIn, BOut)>,
-    pub(super) _aio: Vec<(FIn, FOut)>,
     pub(super) _interp: InterpPins,
     pub(super) _tooloffset: Vec<FOut>,
     pub(super) _eoffset: (BOut, BOut),
@@ -497,11 +498,11 @@ impl MotionPins {
             requested_vel,
             distance_to_go,
             feed_upm,
+            dio,
+            aio,
             _later: LaterPins {
                 _tp_reverse: tp_reverse,
                 _feed: feed,
-                _dio: dio,
-                _aio: aio,
                 _interp: interp,
                 _tooloffset: tooloffset,
                 _eoffset: (
@@ -578,6 +579,12 @@ impl HalIo {
         for (n, s) in self.spindles.iter().enumerate() {
             s.read(n, inp);
         }
+        for (slot, (din, _)) in inp.din.iter_mut().zip(&m.dio) {
+            *slot = din.get();
+        }
+        for (slot, (ain, _)) in inp.ain.iter_mut().zip(&m.aio) {
+            *slot = ain.get();
+        }
         for (ji, jp) in core.joint_inputs.iter_mut().zip(&self.joints) {
             ji.motor_pos_fb = jp.motor_pos_fb.get();
             ji.pos_lim_sw = jp.pos_lim_sw.get();
@@ -629,6 +636,13 @@ impl HalIo {
         m.debug_s32_0.set(core.override_limit_mask() as i32);
         for (n, s) in self.spindles.iter().enumerate() {
             s.write(n, core);
+        }
+        let io = core.io_outputs();
+        for ((_, dout), v) in m.dio.iter().zip(io.dout) {
+            dout.set(v);
+        }
+        for ((_, aout), v) in m.aio.iter().zip(io.aout) {
+            aout.set(v);
         }
         let tp = core.planner();
         let coord = core.state() == crate::core::MotionState::Coord;

@@ -83,7 +83,9 @@ impl Planner {
             kinks,
             step_stop: false,
             atspeed,
+            sync: false,
         };
+        seg.sync = self.sync_io.attach();
         self.goal = *end;
         self.join(&mut seg, lim);
         self.queue.push_back(seg);
@@ -128,7 +130,11 @@ impl Planner {
             return;
         }
         if let Ending::Blend { tolerance } = prev.ending {
-            if prev.blendable_line() && seg.blendable_line() && self.try_blend(seg, tolerance, lim)
+            // A segment carrying output changes keeps its start.
+            if !seg.sync
+                && prev.blendable_line()
+                && seg.blendable_line()
+                && self.try_blend(seg, tolerance, lim)
             {
                 return;
             }
@@ -212,6 +218,7 @@ impl Planner {
             kinks: true,
             step_stop: false,
             atspeed: false,
+            sync: false,
         };
         // Remember what may change, to put it back if the executor could
         // not follow.

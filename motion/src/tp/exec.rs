@@ -93,6 +93,7 @@ impl Planner {
             // waits, at rest, for `spindle.N.at-speed`.
             return self.pos;
         }
+        self.start_head();
         if head.kind == SegmentKind::Dwell {
             self.run_dwell(&head);
             return self.pos;
@@ -189,6 +190,8 @@ impl Planner {
             self.finish_head();
             if let Some(next) = self.queue.front() {
                 self.cross_acc = a_before.min(next.budget.acc);
+                // Crossed at speed: the next segment starts here.
+                self.start_head();
             }
         }
     }
@@ -208,6 +211,7 @@ impl Planner {
         }
         self.s = 0.0;
         self.dwell_left = None;
+        self.head_started = false;
         if self.stepping {
             let same = self.queue.front().is_some_and(|h| h.id == self.step_id);
             if !same {
@@ -380,6 +384,7 @@ impl Planner {
                     };
                     // The next segment's profile, sampled for the rest of
                     // the period.
+                    self.start_head();
                     self.exec_id = next.id;
                     let s = scales.net(next.enables, next.kind == SegmentKind::Traverse);
                     let vt = self.target_speed(&next, s).max(vf);

@@ -44,6 +44,7 @@ mod geom;
 mod lookahead;
 mod scurve;
 mod segment;
+mod sync_io;
 mod trapezoid;
 
 use std::collections::VecDeque;
@@ -58,6 +59,8 @@ use segment::{Ending, Segment};
 
 /// Segments the queue holds (LinuxCNC's `DEFAULT_TC_QUEUE_SIZE`).
 pub const QUEUE_SIZE: usize = 2000;
+
+pub use sync_io::{IoOutputs, SyncSet, SYNC_SETS};
 
 /// The overrides and inputs that set the feed scale, read every period.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -191,6 +194,11 @@ pub struct Planner {
     atspeed_pending: bool,
     /// The executing segment waits for the spindle at speed.
     waiting_for_atspeed: bool,
+    /// The executing segment has started (its output changes written).
+    head_started: bool,
+    /// Outputs changed in step with the queue (M62, M63, M67) and
+    /// their values.
+    sync_io: sync_io::SyncIo,
 }
 
 impl std::fmt::Debug for Planner {
@@ -233,6 +241,8 @@ impl Planner {
             scurve: scurve::SCurve::new(period),
             atspeed_pending: false,
             waiting_for_atspeed: false,
+            head_started: false,
+            sync_io: sync_io::SyncIo::default(),
         }
     }
 
@@ -308,6 +318,8 @@ impl Planner {
         self.aborting = false;
         self.requested_vel = 0.0;
         self.waiting_for_atspeed = false;
+        self.head_started = false;
+        self.sync_io.clear();
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
             self.planner = p;
@@ -379,12 +391,49 @@ impl Planner {
         if self.aborting {
             return Err(Reject::Aborting);
         }
-        if self.queue.len() >= QUEUE_SIZE {
+        if self.queue.len() >= QUEUE_SIZE || !self.sync_io.has_room() {
             return Err(Reject::QueueFull {
                 capacity: QUEUE_SIZE,
             });
         }
         Ok(())
+    }
+
+    /// Digital output `index` (below [`MAX_IO`](crate::sizes::MAX_IO))
+    /// to `on`: now, or when the next segment queued starts.
+    pub fn set_dout(&mut self, index: usize, on: bool, now: bool) {
+        if now {
+            self.sync_io.outputs.dout[index] = on;
+        } else {
+            self.sync_io.pending.set_dout(index, on);
+        }
+    }
+
+    /// Analog output `index` to `value`: now, or when the next segment
+    /// queued starts.
+    pub fn set_aout(&mut self, index: usize, value: f64, now: bool) {
+        if now {
+            self.sync_io.outputs.aout[index] = value;
+        } else {
+            self.sync_io.pending.set_aout(index, value);
+        }
+    }
+
+    /// The outputs M62 to M68 set.
+    pub fn io_outputs(&self) -> &IoOutputs {
+        &self.sync_io.outputs
+    }
+
+    /// The executing segment starts: the output changes it carries are
+    /// written.
+    pub(super) fn start_head(&mut self) {
+        if self.head_started {
+            return;
+        }
+        self.head_started = true;
+        if self.queue.front().is_some_and(|h| h.sync) {
+            self.sync_io.fire();
+        }
     }
 
     /// Whether the next segment pushed waits, from rest, for the
@@ -518,7 +567,7 @@ impl Planner {
     /// Queues a dwell of `seconds`.
     pub fn add_dwell(&mut self, seconds: f64, id: i32) -> Result<(), Reject> {
         self.can_queue()?;
-        let seg = Segment {
+        let mut seg = Segment {
             id,
             kind: SegmentKind::Dwell,
             path: geom::Path::Line {
@@ -544,7 +593,9 @@ impl Planner {
             kinks: false,
             step_stop: false,
             atspeed: false,
+            sync: false,
         };
+        seg.sync = self.sync_io.attach();
         if let Some(last) = self.queue.back_mut() {
             last.end_cap = 0.0;
         }

@@ -83,6 +83,8 @@ pub(crate) struct Segment {
     pub step_stop: bool,
     /// It starts, from rest, only once the spindle is at speed.
     pub atspeed: bool,
+    /// It carries output changes (M62, M63, M67) written when it starts.
+    pub sync: bool,
 }
 
 impl Segment {

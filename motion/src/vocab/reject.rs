@@ -341,6 +341,14 @@ rejects! {
             /// How many spindles there are.
             num_spindles: usize = n1,
         } = 57, "no such spindle" => "spindle {spindle} does not exist (there are {num_spindles})";
+        /// The digital or analog output number is outside `0..num_dio`
+        /// (`0..num_aio`).
+        NoSuchOutput {
+            /// The output number.
+            index: i32 = n0,
+            /// How many there are (motmod's num_dio or num_aio).
+            count: usize = n1,
+        } = 58, "no such output" => "output {index} does not exist (there are {count})";
     }
 }
 

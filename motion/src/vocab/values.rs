@@ -56,6 +56,8 @@ coded_enum! {
         PlannerType = 18 => "planner type",
         /// The spindle speed.
         SpindleSpeed = 19 => "spindle speed",
+        /// An analog output's value.
+        AnalogValue = 20 => "analog output value",
     }
 }
 

@@ -236,3 +236,37 @@ fn pause_resume_m0_and_abort_act_on_the_running_program() {
     assert!(stopped > 0.0 && stopped < 20.0, "{stopped}");
     m.stop();
 }
+
+#[test]
+fn run_from_a_line_keeps_the_modes_of_the_lines_it_skips() {
+    let s = Scratch::new("task-run-line");
+    let ini = mill_copy(&s);
+    // Line 3 sets incremental mode, G1 and the feed; line 4's move and
+    // line 5's M3 are skipped; line 6 moves Y by 3 from where the skipped
+    // lines left the interpreter (X3), straight from where the machine is.
+    let prog = s.write(
+        "from.ngc",
+        "G21 G90\nG0 X1\nG91 G1 F600\nX2\nM3 S1000\nY3\nM0\nM2\n",
+    );
+    let m = Machine::start(&ini, "task-run-line");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run", "6"]);
+    // At the M0: the skipped M3 started nothing.
+    let status = wait_status(&m, "HELD");
+    assert_eq!(m.getp("spindle.0.on"), "FALSE", "{status}");
+    assert!(status.contains("spindle: stopped"), "{status}");
+    assert!(status.contains("G91"), "{status}");
+    for (joint, want) in [(0, 3.0), (1, 3.0)] {
+        let got = pos(&m, joint);
+        assert!(
+            (got - want).abs() < 1e-6,
+            "joint {joint}: {got}, not {want}\n{status}"
+        );
+    }
+    m.task_ok(&["resume"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    m.stop();
+}

@@ -450,8 +450,10 @@ impl MotionLink {
     /// Abort: every move stops, and every spindle (as LinuxCNC's task
     /// abort does).
     pub fn abort(&mut self) -> Result<(), Reject> {
-        self.send(Command::Abort)?;
-        self.send(Command::SpindleOff { spindle: -1 })
+        let moves = self.send(Command::Abort);
+        // The spindle stops even if the abort was not taken.
+        let spindles = self.send(Command::SpindleOff { spindle: -1 });
+        moves.and(spindles)
     }
 
     /// The controller's status snapshot, if it can be read.

@@ -172,7 +172,8 @@ pub const REQUESTS: &str = "\
   mode manual|auto|mdi  switch mode (AUTO and MDI need the machine on and,
                         unless [TRAJ]NO_FORCE_HOMING, homed joints)
   open FILE             open a G-code program
-  run [LINE]            run it (AUTO), from LINE on if given
+  run [LINE]            run it (AUTO), from LINE on if given (the lines
+                        before run through the interpreter, moving nothing)
   pause | resume | step the running program (step: while paused)
   mdi G-CODE...         run a line of G-code (MDI mode)
   wait-done             answer once the program or MDI line has ended

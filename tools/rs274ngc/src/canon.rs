@@ -350,6 +350,11 @@ pub trait Canon {
     fn toolchanger_fault(&self) -> i32;
     /// Toolchanger fault reason (#5601).
     fn toolchanger_reason(&self) -> i32;
+    /// Whether the last M66 wait ran out of time (#5399 becomes −1, as
+    /// LinuxCNC's task reports it); a canon that never waits says no.
+    fn input_timed_out(&self) -> bool {
+        false
+    }
     /// Block delete switch: lines starting with `/` are skipped when on.
     fn block_delete(&self) -> bool;
     /// Optional stop switch (M1 stops when on).

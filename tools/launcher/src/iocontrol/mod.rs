@@ -18,7 +18,7 @@ pub use tooltable::ToolTable;
 
 /// What task asks iocontrol to do (LinuxCNC's `EMC_IO_*`, `EMC_TOOL_*`,
 /// `EMC_COOLANT_*`, `EMC_LUBE_*` and `EMC_AUX_ESTOP_*` messages).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum IoRequest {
     /// Assert the e-stop: `user-enable-out` off, every output safe.
     EstopOn,
@@ -47,6 +47,16 @@ pub enum IoRequest {
     Flood(bool),
     /// Lube on or off.
     Lube(bool),
+    /// G10 L1/L10/L11 (LinuxCNC's `EMC_TOOL_SET_OFFSET`): the offsets,
+    /// diameter, angles and orientation of the tool in table slot `slot`
+    /// (the interpreter's index: 0 the spindle), written to the tool
+    /// table file.
+    SetEntry {
+        /// The table slot.
+        slot: i32,
+        /// The values, machine units.
+        entry: rs274ngc::ToolEntry,
+    },
 }
 
 /// How a request went.
@@ -82,6 +92,12 @@ pub enum IoError {
     /// A handshake is already running.
     #[error("a tool {0:?} handshake is already in progress")]
     Busy(Handshake),
+    /// G10 L1 for a table slot that holds no tool.
+    #[error("tool table slot {slot} holds no tool")]
+    EmptySlot {
+        /// The slot asked for.
+        slot: i32,
+    },
 }
 
 /// Inputs read once per cycle.
@@ -290,6 +306,7 @@ impl IoControl {
             IoRequest::Mist(on) => self.out.coolant_mist = on,
             IoRequest::Flood(on) => self.out.coolant_flood = on,
             IoRequest::Lube(on) => self.out.lube = on,
+            IoRequest::SetEntry { slot, ref entry } => self.set_entry(slot, entry)?,
             IoRequest::Prepare { tool } => return self.prepare(tool),
             IoRequest::Load => return self.load(),
             IoRequest::SetNumber { tool } => {
@@ -360,28 +377,57 @@ impl IoControl {
                 self.table.put(slot, None);
             }
             self.table.slots.swap(0, slot);
-            match &self.save_to {
-                Some(s) if !s.allowed() => eprintln!(
-                    "iocontrol: the tool table {} is not written back: its last read was \
-                     incomplete (fix the file, then reload the tool table)",
-                    s.path().display()
-                ),
-                Some(s) => {
-                    // A failed save leaves the file behind the machine: say so.
-                    if let Err(e) = self.table.save(s.path()) {
-                        eprintln!(
-                            "iocontrol: saving the tool table {}: {e}",
-                            s.path().display()
-                        );
-                    }
-                }
-                None => {}
-            }
+            self.save_table();
         } else if slot == 0 {
             self.table.put(0, None);
         } else {
             let tool = self.table.tool(slot).cloned();
             self.table.put(0, tool);
+        }
+    }
+
+    /// G10 L1/L10/L11: sets the values of the tool in `slot` and saves
+    /// the table file. A non-random changer's spindle slot is a copy of
+    /// the loaded tool: it changes, the file does not (the interpreter
+    /// sets the tool's own slot too).
+    fn set_entry(&mut self, slot: i32, e: &rs274ngc::ToolEntry) -> Result<(), IoError> {
+        let tool = usize::try_from(slot)
+            .ok()
+            .and_then(|s| self.table.slots.get_mut(s))
+            .and_then(Option::as_mut)
+            .ok_or(IoError::EmptySlot { slot })?;
+        let o = &e.offset;
+        tool.offset = [o.x, o.y, o.z, o.a, o.b, o.c, o.u, o.v, o.w];
+        tool.diameter = e.diameter;
+        tool.front_angle = e.frontangle;
+        tool.back_angle = e.backangle;
+        tool.orientation = e.orientation;
+        if slot > 0 || self.table.random {
+            self.save_table();
+        }
+        Ok(())
+    }
+
+    /// Writes the table back to its file (a temporary file renamed over
+    /// it), unless the last read of the file was incomplete: a table the
+    /// user is fixing is never overwritten.
+    fn save_table(&self) {
+        match &self.save_to {
+            Some(s) if !s.allowed() => eprintln!(
+                "iocontrol: the tool table {} is not written back: its last read was \
+                 incomplete (fix the file, then reload the tool table)",
+                s.path().display()
+            ),
+            Some(s) => {
+                // A failed save leaves the file behind the machine: say so.
+                if let Err(e) = self.table.save(s.path()) {
+                    eprintln!(
+                        "iocontrol: saving the tool table {}: {e}",
+                        s.path().display()
+                    );
+                }
+            }
+            None => {}
         }
     }
 
@@ -517,6 +563,36 @@ mod tests {
             tool_changed: changed,
             lube_level: true,
         }
+    }
+
+    #[test]
+    fn g10_l1_sets_a_tool_and_writes_the_table_file() {
+        let d = std::env::temp_dir().join(format!("iocontrol-g10-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let path = d.join("t.tbl");
+        std::fs::write(&path, TABLE).unwrap();
+        let table = ToolTable::load(&path, false).unwrap();
+        let mut io = IoControl::new(table, Some(path.clone()));
+        let mut entry = rs274ngc::ToolEntry::EMPTY;
+        entry.toolno = 2;
+        entry.offset.z = 12.5;
+        entry.diameter = 6.0;
+        io.request(&IoRequest::SetEntry { slot: 2, entry }).unwrap();
+        let t = io.table().tool(2).unwrap();
+        assert_eq!((t.number, t.offset[2], t.diameter), (2, 12.5, 6.0));
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("T2 P3 D6.000000 Z+12.500000"), "{text}");
+        // An empty slot is refused; a table read incompletely is not
+        // overwritten.
+        assert_eq!(
+            io.request(&IoRequest::SetEntry { slot: 40, entry }),
+            Err(IoError::EmptySlot { slot: 40 })
+        );
+        io.reload_failed();
+        entry.offset.z = 1.0;
+        io.request(&IoRequest::SetEntry { slot: 2, entry }).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]

@@ -27,15 +27,27 @@ pub enum Op {
     /// An iocontrol request (tool prepare, change, number; coolant), once
     /// the moves before it have finished.
     Io(IoRequest),
-    /// A spindle command (start, speed change, stop) for motion, sent
-    /// once the moves before it have ended, as LinuxCNC's task does; the
-    /// feed move after a start or speed change waits in motion for
-    /// `spindle.N.at-speed`.
-    Spindle {
+    /// A motion command sent once the moves before it have ended, as
+    /// LinuxCNC's task sends them: spindle starts, speed changes and
+    /// stops (the feed move after a start or speed change waits in
+    /// motion for `spindle.N.at-speed`), and the immediate outputs M64,
+    /// M65, M68 (which therefore break blending, as LinuxCNC's).
+    AfterMoves {
         /// The command.
         command: Command,
         /// The program line it comes from.
         line: i32,
+    },
+    /// M66: once the moves before it end, wait for an input.
+    WaitInput {
+        /// The input number.
+        index: i32,
+        /// `motion.digital-in-NN` (P), else `motion.analog-in-NN` (E).
+        digital: bool,
+        /// LinuxCNC's L: 0 at once, 1 rise, 2 fall, 3 high, 4 low.
+        mode: i32,
+        /// Seconds at most (Q).
+        timeout: f64,
     },
     /// M0 (or M1 when `optional`): stop once the moves before it end.
     Stop {
@@ -57,6 +69,8 @@ pub struct TaskCanon {
     pub fault: Option<String>,
     /// The program line of the block being executed.
     pub line: i32,
+    /// The last M66 wait ran out of time.
+    pub input_timeout: bool,
     /// The M1 switch.
     pub optional_stop: bool,
     /// The block delete switch.
@@ -80,6 +94,8 @@ pub struct TaskCanon {
     axis_mask: u32,
     /// Each spindle as the program last set it: direction and speed.
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
+    /// Motion's digital and analog inputs when last synchronised.
+    io: motion::channel::IoState,
 }
 
 impl TaskCanon {
@@ -90,6 +106,7 @@ impl TaskCanon {
             ops: VecDeque::new(),
             fault: None,
             line: 0,
+            input_timeout: false,
             optional_stop: false,
             block_delete: false,
             user_per_mm,
@@ -110,16 +127,85 @@ impl TaskCanon {
             slot: 0,
             axis_mask,
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
+            io: motion::channel::IoState::default(),
         }
     }
 
     /// Takes the machine's state before the interpreter synchronises:
     /// where the queue ends (machine coordinates), the tool table (index
     /// 0 the spindle) and the slot of the tool in the spindle.
-    pub fn refresh(&mut self, goal: [f64; 9], tools: Vec<ToolEntry>, slot: i32) {
+    /// With it come motion's digital and analog inputs (`io`), which
+    /// M66 reads.
+    pub fn refresh(
+        &mut self,
+        goal: [f64; 9],
+        tools: Vec<ToolEntry>,
+        slot: i32,
+        io: motion::channel::IoState,
+    ) {
         self.goal = goal;
         self.tools = tools;
         self.slot = slot;
+        self.io = io;
+    }
+
+    /// Drops what the ops from index `from` on would do to the machine
+    /// (moves, dwells, outputs, spindle, tool and coolant requests,
+    /// stops, messages, input waits), keeping the planner settings the
+    /// program's modes set (termination condition, override enables):
+    /// lines skipped by a run from a line. As LinuxCNC's task, which
+    /// empties its list of the skipped lines' commands.
+    pub fn drop_actions_from(&mut self, from: usize) {
+        let mut i = from;
+        while i < self.ops.len() {
+            let keep = match &self.ops[i] {
+                Op::Motion(cmd) => !matches!(
+                    cmd,
+                    Command::Line { .. }
+                        | Command::Circle { .. }
+                        | Command::Dwell { .. }
+                        | Command::Probe { .. }
+                        | Command::SetDout { .. }
+                        | Command::SetAout { .. }
+                ),
+                Op::End => true,
+                _ => false,
+            };
+            if keep {
+                i += 1;
+            } else {
+                self.ops.remove(i);
+            }
+        }
+    }
+
+    /// Queues a motion command to go once the moves before it ended.
+    fn after_moves(&mut self, command: Command) {
+        self.ops.push_back(Op::AfterMoves {
+            command,
+            line: self.line,
+        });
+    }
+
+    /// M62 to M65: digital output `index`, with the next move or (`now`)
+    /// once the moves before have ended.
+    fn dout(&mut self, index: i32, on: bool, now: bool) {
+        let command = Command::SetDout { index, on, now };
+        if now {
+            self.after_moves(command);
+        } else {
+            self.ops.push_back(Op::Motion(command));
+        }
+    }
+
+    /// M67, M68: analog output `index` likewise.
+    fn aout(&mut self, index: i32, value: f64, now: bool) {
+        let command = Command::SetAout { index, value, now };
+        if now {
+            self.after_moves(command);
+        } else {
+            self.ops.push_back(Op::Motion(command));
+        }
     }
 
     /// The offsets in effect, machine units: G5x, G92, tool.
@@ -261,10 +347,7 @@ impl TaskCanon {
                 wait: true,
             },
         };
-        self.ops.push_back(Op::Spindle {
-            command,
-            line: self.line,
-        });
+        self.after_moves(command);
     }
 
     fn set_offset(&mut self, which: Offset, p: &Pose) {
@@ -445,7 +528,13 @@ impl Canon for TaskCanon {
             .ok()
             .and_then(|i| self.tools.get_mut(i))
         {
-            Some(slot) => *slot = *entry,
+            Some(slot) => {
+                *slot = *entry;
+                self.ops.push_back(Op::Io(IoRequest::SetEntry {
+                    slot: index,
+                    entry: *entry,
+                }));
+            }
             None => self.refuse("a tool table entry outside the table (G10 L1)"),
         }
     }
@@ -494,32 +583,46 @@ impl Canon for TaskCanon {
         self.ops
             .push_back(Op::Motion(Command::FeedHoldEnable { on: false }));
     }
-    fn set_motion_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M62)");
+    fn set_motion_output_bit(&mut self, index: i32) {
+        self.dout(index, true, false);
     }
-    fn clear_motion_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M63)");
+    fn clear_motion_output_bit(&mut self, index: i32) {
+        self.dout(index, false, false);
     }
-    fn set_aux_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M64)");
+    fn set_aux_output_bit(&mut self, index: i32) {
+        self.dout(index, true, true);
     }
-    fn clear_aux_output_bit(&mut self, _index: i32) {
-        self.refuse("digital outputs (M65)");
+    fn clear_aux_output_bit(&mut self, index: i32) {
+        self.dout(index, false, true);
     }
-    fn set_motion_output_value(&mut self, _index: i32, _value: f64) {
-        self.refuse("analog outputs (M67)");
+    fn set_motion_output_value(&mut self, index: i32, value: f64) {
+        self.aout(index, value, false);
     }
-    fn set_aux_output_value(&mut self, _index: i32, _value: f64) {
-        self.refuse("analog outputs (M68)");
+    fn set_aux_output_value(&mut self, index: i32, value: f64) {
+        self.aout(index, value, true);
     }
     fn wait_input(
         &mut self,
-        _index: i32,
-        _kind: InputKind,
-        _wait_type: i32,
-        _timeout: f64,
+        index: i32,
+        kind: InputKind,
+        wait_type: i32,
+        timeout: f64,
     ) -> Result<(), ()> {
-        self.refuse("waiting on an input (M66)");
+        let digital = kind == InputKind::Digital;
+        let count = if digital {
+            self.io.din.len()
+        } else {
+            self.io.ain.len()
+        };
+        if usize::try_from(index).map_or(true, |i| i >= count) {
+            return Err(());
+        }
+        self.ops.push_back(Op::WaitInput {
+            index,
+            digital,
+            mode: wait_type,
+            timeout,
+        });
         Ok(())
     }
     fn user_m_code(&mut self, number: i32, _p: f64, _q: f64) {
@@ -585,11 +688,22 @@ impl Canon for TaskCanon {
     fn queue_empty(&self) -> bool {
         self.ops.is_empty()
     }
-    fn digital_input(&self, _index: i32, default: bool) -> bool {
-        default
+    fn digital_input(&self, index: i32, default: bool) -> bool {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.io.din.get(i))
+            .copied()
+            .unwrap_or(default)
     }
-    fn analog_input(&self, _index: i32, default: f64) -> f64 {
-        default
+    fn analog_input(&self, index: i32, default: f64) -> f64 {
+        usize::try_from(index)
+            .ok()
+            .and_then(|i| self.io.ain.get(i))
+            .copied()
+            .unwrap_or(default)
+    }
+    fn input_timed_out(&self) -> bool {
+        self.input_timeout
     }
     fn toolchanger_fault(&self) -> i32 {
         0
@@ -618,125 +732,5 @@ impl Canon for TaskCanon {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn p(x: f64, y: f64, z: f64) -> Pose {
-        Pose {
-            x,
-            y,
-            z,
-            ..Pose::ZERO
-        }
-    }
-
-    fn line_end(op: Option<&Op>) -> [f64; 9] {
-        match op {
-            Some(Op::Motion(Command::Line { end, .. })) => end.0,
-            other => panic!("not a line: {other:?}"),
-        }
-    }
-
-    #[test]
-    fn moves_take_units_offsets_rotation_and_tool_length() {
-        let mut c = TaskCanon::new(1.0, 0b111);
-        c.use_length_units(Units::Inches);
-        c.set_g5x_offset(1, &p(1.0, 0.0, -1.0));
-        c.use_tool_length_offset(&p(0.0, 0.0, 0.5));
-        c.set_xy_rotation(90.0);
-        c.straight_traverse(7, &p(1.0, 0.0, 0.0));
-        let end = line_end(c.ops.back());
-        // X1 rotated by 90 degrees is Y1; plus G54 X1 Z-1 and tool Z0.5.
-        let want = [25.4, 25.4, -12.7];
-        for (got, want) in end.iter().zip(want) {
-            assert!((got - want).abs() < 1e-9, "{end:?}");
-        }
-        // The position reads back in program units and coordinates.
-        let back = c.position();
-        assert!((back.x - 1.0).abs() < 1e-9 && back.y.abs() < 1e-9 && back.z.abs() < 1e-9);
-    }
-
-    #[test]
-    fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
-        let mut c = TaskCanon::new(1.0, 0b111);
-        c.set_feed_rate(600.0);
-        c.select_plane(Plane::Xz);
-        c.arc_feed(
-            3,
-            &Arc {
-                first_end: 1.0,
-                second_end: 2.0,
-                first_axis: 0.0,
-                second_axis: 1.0,
-                rotation: -1,
-                axis_end_point: 5.0,
-                rest: Pose::ZERO,
-            },
-        );
-        match c.ops.back() {
-            Some(Op::Motion(Command::Circle {
-                end,
-                center,
-                normal,
-                turns,
-                vel,
-                id,
-            })) => {
-                assert_eq!(&end.0[..3], &[2.0, 5.0, 1.0]);
-                assert_eq!(*center, [1.0, 5.0, 0.0]);
-                assert_eq!(*normal, [0.0, 1.0, 0.0]);
-                assert_eq!((*turns, *vel, *id), (-1, 10.0, 3));
-            }
-            other => panic!("not an arc: {other:?}"),
-        }
-    }
-
-    fn spindle_commands(c: &TaskCanon) -> Vec<(Command, i32)> {
-        c.ops
-            .iter()
-            .filter_map(|op| match op {
-                Op::Spindle { command, line } => Some((*command, *line)),
-                _ => None,
-            })
-            .collect()
-    }
-
-    #[test]
-    fn spindle_words_become_motion_commands_in_program_order() {
-        let mut c = TaskCanon::new(1.0, 0b111);
-        c.line = 4;
-        // S alone while stopped changes nothing in motion.
-        c.set_spindle_speed(0, 1200.0);
-        assert!(c.ops.is_empty());
-        c.start_spindle_counterclockwise(0);
-        c.line = 5;
-        c.set_spindle_speed(0, 800.0);
-        c.line = 6;
-        c.stop_spindle_turning(0);
-        c.start_spindle_clockwise(1);
-        let on = |spindle, speed| Command::SpindleOn {
-            spindle,
-            speed,
-            wait: true,
-        };
-        assert_eq!(
-            spindle_commands(&c),
-            [
-                (on(0, -1200.0), 4),
-                (on(0, -800.0), 5),
-                (Command::SpindleOff { spindle: 0 }, 6),
-                (on(1, 0.0), 6),
-            ]
-        );
-        c.set_spindle_speed(9, 100.0);
-        assert_eq!(c.fault.as_deref(), Some("spindle 9"));
-    }
-
-    #[test]
-    fn calls_the_machine_cannot_do_are_a_fault() {
-        let mut c = TaskCanon::new(1.0, 0b111);
-        c.set_aux_output_bit(1);
-        c.straight_probe(1, &Pose::ZERO, 0);
-        assert_eq!(c.fault.as_deref(), Some("digital outputs (M64)"));
-    }
-}
+#[path = "canon_tests.rs"]
+mod tests;

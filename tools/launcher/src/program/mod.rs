@@ -10,6 +10,7 @@
 pub mod canon;
 mod config;
 mod error;
+mod input_wait;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -22,6 +23,7 @@ use crate::motion_setup::MotionLink;
 use canon::{Op, TaskCanon};
 pub use config::ProgramConfig;
 pub use error::ProgramError;
+use input_wait::InputWait;
 
 /// Blocks read ahead of motion at most (ops waiting in task).
 const READ_AHEAD_OPS: usize = 200;
@@ -95,6 +97,8 @@ pub struct Program {
     read_line: i32,
     /// What the last run ended with.
     last_end: Option<Ended>,
+    /// The M66 wait in progress.
+    input_wait: Option<InputWait>,
     /// Motion's heartbeat when task last queued a command: motion counts
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
@@ -119,6 +123,7 @@ impl Program {
             read_line: 0,
             last_end: None,
             sent_beat: 0,
+            input_wait: None,
         }
     }
 
@@ -150,12 +155,9 @@ impl Program {
     /// Takes the machine's state into the canon and synchronises the
     /// interpreter (initialising it the first time: parameter file).
     fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), ProgramError> {
-        let goal = motion
-            .status()
-            .map(|s| s.traj.goal)
-            .ok_or(ProgramError::NoMotionStatus)?;
+        let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
         let (tools, slot) = tool_entries(io);
-        self.canon.refresh(goal, tools, slot);
+        self.canon.refresh(status.traj.goal, tools, slot, status.io);
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
@@ -192,8 +194,9 @@ impl Program {
         Ok(())
     }
 
-    /// Starts the open program, from `line` on (earlier lines are read
-    /// and skipped).
+    /// Starts the open program, from `line` on: earlier lines run
+    /// through the interpreter (their modes, offsets and parameters
+    /// hold, as LinuxCNC's run from a line) without moving anything.
     pub fn run(
         &mut self,
         line: i32,
@@ -322,6 +325,7 @@ impl Program {
         self.canon.fault = None;
         self.mdi.clear();
         self.io_busy = false;
+        self.input_wait = None;
         if self.state != RunState::Idle {
             self.last_end = Some(Ended::Failed("aborted".into()));
         }
@@ -427,15 +431,19 @@ impl Program {
                 Err(source) => return Err(self.located(source)),
             }
             self.read_line = self.interp.sequence_number();
-            if self.read_line < self.start_line {
-                continue;
-            }
+            // Lines before the start line (run LINE) run through the
+            // interpreter, so their modal state holds, but move nothing.
+            let skipping = self.read_line < self.start_line;
+            let queued = self.canon.ops.len();
             self.canon.line = self.read_line;
             match self.interp.execute(&mut self.canon) {
                 Ok(Status::Exit) => self.read_done = true,
                 Ok(Status::ExecuteFinish) => self.needs_synch = true,
                 Ok(_) => {}
                 Err(source) => return Err(self.located(source)),
+            }
+            if skipping {
+                self.canon.drop_actions_from(queued);
             }
             if let Some(what) = self.canon.fault.take() {
                 return Err(ProgramError::Unsupported {
@@ -485,7 +493,7 @@ impl Program {
                     Ok(Started::Waiting(_)) => self.io_busy = true,
                     Err(e) => return Err(e.into()),
                 },
-                Op::Spindle { command, line } => {
+                Op::AfterMoves { command, line } => {
                     motion
                         .command(command)
                         .map_err(|source| ProgramError::MotionAt { line, source })?;
@@ -502,6 +510,23 @@ impl Program {
                         return Ok(sent);
                     }
                     continue;
+                }
+                Op::WaitInput {
+                    index,
+                    digital,
+                    mode,
+                    timeout,
+                } => {
+                    if !self
+                        .input_wait
+                        .get_or_insert_with(|| {
+                            InputWait::start(index, digital, mode, timeout, motion)
+                        })
+                        .done(motion, &mut self.canon.input_timeout)
+                    {
+                        return Ok(sent);
+                    }
+                    self.input_wait = None;
                 }
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),

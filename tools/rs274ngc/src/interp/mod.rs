@@ -322,7 +322,9 @@ impl Interp {
         self.params.set(5600, canon.toolchanger_fault() as f64);
         self.params.set(5601, canon.toolchanger_reason() as f64);
         if self.s.input_flag {
-            let value = if self.s.input_digital {
+            let value = if canon.input_timed_out() {
+                -1.0
+            } else if self.s.input_digital {
                 let default = self.params.get(5399) != 0.0;
                 if canon.digital_input(self.s.input_index, default) {
                     1.0

@@ -1,0 +1,204 @@
+//! Tests of task's canon: units, offsets and rotation on moves, arcs,
+//! spindle and output commands, M66, skipped lines, faults.
+
+use super::*;
+
+fn p(x: f64, y: f64, z: f64) -> Pose {
+    Pose {
+        x,
+        y,
+        z,
+        ..Pose::ZERO
+    }
+}
+
+fn line_end(op: Option<&Op>) -> [f64; 9] {
+    match op {
+        Some(Op::Motion(Command::Line { end, .. })) => end.0,
+        other => panic!("not a line: {other:?}"),
+    }
+}
+
+#[test]
+fn moves_take_units_offsets_rotation_and_tool_length() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.use_length_units(Units::Inches);
+    c.set_g5x_offset(1, &p(1.0, 0.0, -1.0));
+    c.use_tool_length_offset(&p(0.0, 0.0, 0.5));
+    c.set_xy_rotation(90.0);
+    c.straight_traverse(7, &p(1.0, 0.0, 0.0));
+    let end = line_end(c.ops.back());
+    // X1 rotated by 90 degrees is Y1; plus G54 X1 Z-1 and tool Z0.5.
+    let want = [25.4, 25.4, -12.7];
+    for (got, want) in end.iter().zip(want) {
+        assert!((got - want).abs() < 1e-9, "{end:?}");
+    }
+    // The position reads back in program units and coordinates.
+    let back = c.position();
+    assert!((back.x - 1.0).abs() < 1e-9 && back.y.abs() < 1e-9 && back.z.abs() < 1e-9);
+}
+
+#[test]
+fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_feed_rate(600.0);
+    c.select_plane(Plane::Xz);
+    c.arc_feed(
+        3,
+        &Arc {
+            first_end: 1.0,
+            second_end: 2.0,
+            first_axis: 0.0,
+            second_axis: 1.0,
+            rotation: -1,
+            axis_end_point: 5.0,
+            rest: Pose::ZERO,
+        },
+    );
+    match c.ops.back() {
+        Some(Op::Motion(Command::Circle {
+            end,
+            center,
+            normal,
+            turns,
+            vel,
+            id,
+        })) => {
+            assert_eq!(&end.0[..3], &[2.0, 5.0, 1.0]);
+            assert_eq!(*center, [1.0, 5.0, 0.0]);
+            assert_eq!(*normal, [0.0, 1.0, 0.0]);
+            assert_eq!((*turns, *vel, *id), (-1, 10.0, 3));
+        }
+        other => panic!("not an arc: {other:?}"),
+    }
+}
+
+fn spindle_commands(c: &TaskCanon) -> Vec<(Command, i32)> {
+    c.ops
+        .iter()
+        .filter_map(|op| match op {
+            Op::AfterMoves { command, line } => Some((*command, *line)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn spindle_words_become_motion_commands_in_program_order() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.line = 4;
+    // S alone while stopped changes nothing in motion.
+    c.set_spindle_speed(0, 1200.0);
+    assert!(c.ops.is_empty());
+    c.start_spindle_counterclockwise(0);
+    c.line = 5;
+    c.set_spindle_speed(0, 800.0);
+    c.line = 6;
+    c.stop_spindle_turning(0);
+    c.start_spindle_clockwise(1);
+    let on = |spindle, speed| Command::SpindleOn {
+        spindle,
+        speed,
+        wait: true,
+    };
+    assert_eq!(
+        spindle_commands(&c),
+        [
+            (on(0, -1200.0), 4),
+            (on(0, -800.0), 5),
+            (Command::SpindleOff { spindle: 0 }, 6),
+            (on(1, 0.0), 6),
+        ]
+    );
+    c.set_spindle_speed(9, 100.0);
+    assert_eq!(c.fault.as_deref(), Some("spindle 9"));
+}
+
+#[test]
+fn outputs_go_with_the_next_move_or_after_the_moves_before() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.line = 3;
+    c.set_motion_output_bit(1);
+    c.set_aux_output_value(2, 4.5);
+    assert_eq!(
+        c.ops.iter().cloned().collect::<Vec<_>>(),
+        [
+            Op::Motion(Command::SetDout {
+                index: 1,
+                on: true,
+                now: false
+            }),
+            Op::AfterMoves {
+                command: Command::SetAout {
+                    index: 2,
+                    value: 4.5,
+                    now: true
+                },
+                line: 3
+            },
+        ]
+    );
+}
+
+#[test]
+fn m66_waits_on_inputs_motion_has_and_reads_them() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    let io = motion::channel::IoState {
+        din: vec![false, true],
+        dout: vec![false, false],
+        ain: vec![1.5],
+        aout: vec![0.0],
+    };
+    c.refresh([0.0; 9], vec![ToolEntry::EMPTY], 0, io);
+    assert_eq!(c.wait_input(2, InputKind::Digital, 1, 1.0), Err(()));
+    assert_eq!(c.wait_input(1, InputKind::Analog, 0, 0.0), Err(()));
+    assert_eq!(c.wait_input(1, InputKind::Digital, 3, 2.0), Ok(()));
+    assert_eq!(
+        c.ops.back(),
+        Some(&Op::WaitInput {
+            index: 1,
+            digital: true,
+            mode: 3,
+            timeout: 2.0
+        })
+    );
+    assert!(c.digital_input(1, false) && !c.digital_input(0, true));
+    assert!(c.digital_input(7, true), "no such input: the default");
+    assert_eq!(c.analog_input(0, 0.0), 1.5);
+}
+
+#[test]
+fn skipped_lines_keep_their_settings_and_move_nothing() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_motion_control_mode(MotionMode::ExactStop, 0.0);
+    let from = c.ops.len();
+    c.straight_feed(2, &p(1.0, 0.0, 0.0));
+    c.set_motion_control_mode(MotionMode::Continuous, 0.1);
+    c.start_spindle_clockwise(0);
+    c.flood_on();
+    c.dwell(1.0);
+    c.disable_feed_override();
+    c.program_end();
+    c.drop_actions_from(from);
+    let kept: Vec<Op> = c.ops.iter().skip(from).cloned().collect();
+    assert_eq!(
+        kept,
+        [
+            Op::Motion(Command::SetTermCond {
+                cond: TermCond::Blend,
+                tolerance: 0.1
+            }),
+            Op::Motion(Command::FeedScaleEnable { on: false }),
+            Op::End,
+        ]
+    );
+    assert_eq!(c.ops.len(), from + 3, "the ops before are kept");
+}
+
+#[test]
+fn calls_the_machine_cannot_do_are_a_fault() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.nurbs_feed(1, &[], 3);
+    c.straight_probe(1, &Pose::ZERO, 0);
+    assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
+}
