@@ -124,3 +124,142 @@ fn halui_buttons_run_the_mill() {
     let err = m.stop();
     assert!(!err.contains("halui:"), "halui reported nothing: {err}");
 }
+
+/// Waits (up to 30 s) until `until` holds.
+fn wait_for(m: &Machine, what: &str, until: impl Fn() -> bool) {
+    let end = Instant::now() + Duration::from_secs(30);
+    while !until() {
+        assert!(
+            Instant::now() < end,
+            "{what}: not reached\n--- linuxcnc:\n{}",
+            m.stderr()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn float(m: &Machine, pin: &str) -> f64 {
+    m.getp(pin).parse().unwrap()
+}
+
+#[test]
+fn halui_selection_jog_modes_analog_switches_and_tool_pins() {
+    let s = Scratch::new("halui-panel");
+    let ini = mill_with_mdi(&s);
+    let prog = s.write("skip.ngc", "G21 G90\n/G0 X9\nG0 Y4\nM1\nG0 Y6\nM2\n");
+    let m = Machine::start(&ini, "halui-panel");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    // LinuxCNC's pins, its types and directions.
+    let pins = m.halcmd(&["show", "pin", "halui"]);
+    for (pin, kind) in [
+        ("halui.tool.length_offset.w", "float OUT"),
+        ("halui.tool.diameter", "float OUT"),
+        ("halui.joint.selected", "u32   OUT"),
+        ("halui.axis.selected", "u32   OUT"),
+        ("halui.joint.jog-deadband", "float IN"),
+        ("halui.axis.z.analog", "float IN"),
+        ("halui.axis.x.pos-relative", "float OUT"),
+        ("halui.joint.2.on-soft-max-limit", "bit   OUT"),
+        ("halui.joint.selected.override-limits", "bit   OUT"),
+        ("halui.mode.teleop", "bit   IN"),
+        ("halui.program.block-delete.is-on", "bit   OUT"),
+    ] {
+        let line = pins.lines().find(|l| l.ends_with(pin));
+        let line = line.unwrap_or_else(|| panic!("no {pin}:\n{pins}"));
+        assert!(line.contains(kind), "{pin}: {line}");
+    }
+    assert_eq!(m.getp("halui.joint.jog-deadband"), "0.2");
+    press(&m, "halui.estop.reset", || !is("halui.estop.is-activated"));
+    press(&m, "halui.machine.on", || is("halui.machine.is-on"));
+
+    // Not homed: joint mode. The selected joint jogs by its increment.
+    assert!(is("halui.mode.is-joint") && !is("halui.mode.is-teleop"));
+    assert!(is("halui.joint.0.is-selected"));
+    press(&m, "halui.joint.1.select", || {
+        m.getp("halui.joint.selected") == "1"
+    });
+    assert!(is("halui.joint.1.is-selected") && !is("halui.joint.0.is-selected"));
+    m.halcmd(&["setp", "halui.joint.jog-speed", "600"]);
+    m.halcmd(&["setp", "halui.joint.selected.increment", "2"]);
+    let before = pos(&m, 1);
+    press(&m, "halui.joint.selected.increment-plus", || {
+        pos(&m, 1) != before
+    });
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert!((pos(&m, 1) - (before + 2.0)).abs() < 1e-6, "{}", pos(&m, 1));
+
+    // A joystick on joint 0: jogs outside the deadband, stops inside.
+    let x0 = pos(&m, 0);
+    m.halcmd(&["setp", "halui.joint.0.analog", "0.5"]);
+    wait_for(&m, "analog jog", || pos(&m, 0) > x0 + 0.5);
+    m.halcmd(&["setp", "halui.joint.0.analog", "0.1"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    let held = pos(&m, 0);
+    std::thread::sleep(Duration::from_millis(200));
+    assert_eq!(pos(&m, 0), held, "inside the deadband: stopped");
+
+    // Homed: teleop, joint mode and back; the selected axis jogs.
+    press(&m, "halui.home-all", || {
+        (0..3).all(|j| is(&format!("halui.joint.{j}.is-homed")))
+    });
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    press(&m, "halui.mode.joint", || is("halui.mode.is-joint"));
+    press(&m, "halui.mode.teleop", || is("halui.mode.is-teleop"));
+    press(&m, "halui.axis.y.select", || {
+        m.getp("halui.axis.selected") == "1"
+    });
+    assert!(is("halui.axis.y.is-selected") && !is("halui.axis.x.is-selected"));
+    assert!(is("halui.joint.selected.is-homed"));
+    m.halcmd(&["setp", "halui.axis.jog-speed", "600"]);
+    m.halcmd(&["setp", "halui.axis.selected.increment", "1"]);
+    let y = pos(&m, 1);
+    press(&m, "halui.axis.selected.increment-minus", || {
+        pos(&m, 1) != y
+    });
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert!((pos(&m, 1) - (y - 1.0)).abs() < 1e-6, "{}", pos(&m, 1));
+    let fb = float(&m, "halui.axis.y.pos-feedback");
+    assert!((fb - (y - 1.0)).abs() < 1e-3, "feedback {fb}");
+
+    // Tool 2 (no changer here: M61) with its length offset, and a G92
+    // offset on X.
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "M61 Q2"]);
+    m.task_ok(&["wait-done"]);
+    m.task_ok(&["mdi", "G43"]);
+    m.task_ok(&["wait-done"]);
+    m.task_ok(&["mdi", "G92 X1"]);
+    m.task_ok(&["wait-done"]);
+    wait_for(&m, "tool pins", || m.getp("halui.tool.diameter") == "6");
+    assert_eq!(m.getp("halui.tool.number"), "2");
+    assert_eq!(m.getp("halui.tool.length_offset.z"), "20.5");
+    let x = float(&m, "halui.axis.x.pos-commanded");
+    let rel = float(&m, "halui.axis.x.pos-relative");
+    assert!((rel - 1.0).abs() < 1e-6, "X {x}, relative {rel}");
+
+    // Block delete skips the / line; optional stop holds at M1.
+    press(&m, "halui.program.block-delete.on", || {
+        is("halui.program.block-delete.is-on")
+    });
+    press(&m, "halui.program.optional-stop.on", || {
+        is("halui.program.optional-stop.is-on")
+    });
+    m.task_ok(&["mdi", "G92.1"]);
+    m.task_ok(&["wait-done"]);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    let x_start = pos(&m, 0);
+    press(&m, "halui.program.run", || is("halui.program.is-running"));
+    wait_for(&m, "M1 holds", || is("halui.program.is-paused"));
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert!((pos(&m, 1) - 4.0).abs() < 1e-6, "Y {}", pos(&m, 1));
+    assert_eq!(pos(&m, 0), x_start, "the / line was skipped");
+    press(&m, "halui.program.resume", || is("halui.program.is-idle"));
+    assert!((pos(&m, 1) - 6.0).abs() < 1e-6, "Y {}", pos(&m, 1));
+    press(&m, "halui.program.optional-stop.off", || {
+        !is("halui.program.optional-stop.is-on")
+    });
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}

@@ -22,9 +22,11 @@ mod program;
 mod rules;
 mod task;
 mod task_manual;
+mod task_panel;
 mod task_pins;
 mod task_program;
 mod task_socket;
+mod task_spindle;
 mod twopass;
 
 pub use error::LaunchError;

@@ -117,6 +117,19 @@ pub enum TaskRequest {
     MaxVelocity(f64),
     /// The state as `key=value` lines, for programs (halui).
     State,
+    /// The optional-stop switch (M1 stops).
+    OptionalStop(bool),
+    /// The block-delete switch (`/` lines skipped).
+    BlockDelete(bool),
+    /// MANUAL mode's jogs: world axes (teleop) or joints (free mode).
+    Teleop(bool),
+    /// A spindle by hand: start, stop, speed steps, brake, override.
+    Spindle {
+        /// The spindle number.
+        spindle: i32,
+        /// What it should do.
+        action: crate::task_spindle::SpindleAction,
+    },
 }
 
 /// Task's modes, as LinuxCNC's.
@@ -175,7 +188,19 @@ pub const REQUESTS: &str = "\
                         [DISPLAY]MAX_FEED_OVERRIDE)
   rapid-override SCALE  the rapid override (0 to 1)
   max-velocity VEL      the tool-tip speed limit ([TRAJ]MAX_LINEAR_VELOCITY)
-  state                 the state as key=value lines, for programs";
+  state                 the state as key=value lines, for programs
+  optional-stop on|off  M1 stops the program (off: M1 is passed over)
+  block-delete on|off   lines that start with / are skipped (on) or run
+  teleop on|off         MANUAL mode's jogs move world axes (on) or joints
+  spindle [N] forward|reverse [RPM]
+                        start spindle N (default 0) at RPM, else the S in
+                        effect, else 500 (machine on, nothing running)
+  spindle [N] off|increase|decrease
+                        stop it (brake on), or 100 rpm faster or slower
+  spindle [N] brake on|off
+  spindle [N] override SCALE
+                        the spindle override (1 = 100 %, within
+                        [DISPLAY]MIN/MAX_SPINDLE_OVERRIDE)";
 
 /// Parses `task-cmd`'s words.
 pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
@@ -198,6 +223,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
             }),
         }
     };
+    if let Some(switch) = crate::task_panel::parse(&w) {
+        return switch;
+    }
     Ok(match w.as_slice() {
         ["estop"] => TaskRequest::Estop,
         ["estop-reset"] => TaskRequest::EstopReset,
@@ -239,6 +267,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
         ["state"] => TaskRequest::State,
+        ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
             crate::task_manual::parse(word, rest)?
@@ -280,6 +309,10 @@ pub struct Task {
     pub(crate) no_force_homing: bool,
     /// The overrides task last sent: feed, rapid, maximum velocity.
     pub(crate) overrides: crate::task_manual::Overrides,
+    /// The optional-stop and block-delete switches.
+    pub(crate) switches: crate::task_panel::Switches,
+    /// The spindle override's limits.
+    pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -309,6 +342,8 @@ impl Task {
             program: program.map(Program::new),
             settle_until: 0,
             overrides: crate::task_manual::Overrides::default(),
+            switches: crate::task_panel::Switches::default(),
+            spindle_limits: crate::task_spindle::SpindleLimits::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -546,6 +581,12 @@ impl Task {
             | TaskRequest::FeedOverride(_)
             | TaskRequest::RapidOverride(_)
             | TaskRequest::MaxVelocity(_) => Some(self.manual_request(req)),
+            TaskRequest::OptionalStop(_) | TaskRequest::BlockDelete(_) | TaskRequest::Teleop(_) => {
+                Some(self.panel_request(req))
+            }
+            TaskRequest::Spindle { spindle, action } => {
+                Some(self.spindle_request(*spindle, *action))
+            }
             _ => self.program_request(req, id),
         }
     }

@@ -253,7 +253,9 @@ impl Task {
 
     /// The state as `key=value` lines: `machine` (ESTOP, OFF, ON), `mode`,
     /// `program` (IDLE, RUNNING, PAUSED), `mist`, `flood`, `lube` (0 or
-    /// 1), `tool`, `feed-override`, `rapid-override`, `max-velocity`.
+    /// 1), `tool`, `feed-override`, `rapid-override`, `max-velocity`;
+    /// then the switch, tool and offset lines of
+    /// [`panel_state_lines`](Task::panel_state_lines).
     pub(crate) fn state_lines(&self) -> String {
         let o = self.io.outputs();
         let bit = |b: bool| u8::from(b);
@@ -280,7 +282,7 @@ impl Task {
             self.overrides.feed,
             self.overrides.rapid,
             self.overrides.max_velocity,
-        )
+        ) + &self.panel_state_lines()
     }
 }
 

@@ -39,12 +39,13 @@ impl Task {
         let (Some(program), Some(motion)) = (&mut self.program, &mut self.motion) else {
             return;
         };
-        let ended = program.cycle(motion, &mut self.io, events, false);
+        let ended = program.cycle(motion, &mut self.io, events, self.switches.optional_stop);
         if let Some(Ended::Failed(why)) = &ended {
             eprintln!("task: {why}");
             // A failed run stops the machine's moves with a controlled
-            // deceleration and leaves no handshake half done.
-            let _ = motion.command(Command::Abort);
+            // deceleration, stops the spindle and leaves no handshake
+            // half done.
+            let _ = motion.abort();
             let _ = self.io.request(&IoRequest::Abort);
         }
         if program.settled() {

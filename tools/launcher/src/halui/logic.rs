@@ -8,6 +8,9 @@ use crate::error::LaunchError;
 use crate::task::Mode;
 use crate::task_manual::Jogged;
 
+use super::panel_state::{parse_panel, PanelState};
+use super::selection::OnSelected;
+
 /// What a button edge asks for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Action {
@@ -51,6 +54,27 @@ pub enum Action {
     /// `halui.joint.N.increment-plus`/`-minus` (or `halui.axis.L.*`): jog
     /// by the increment.
     JogIncrement(Jogged, f64),
+    /// A jog by a signed distance (the selected joint's or axis's
+    /// increment).
+    JogBy(Jogged, f64),
+    /// `halui.mode.teleop` (jogs move world axes) or `halui.mode.joint`
+    /// (jogs move joints).
+    JogMode {
+        /// Teleop rather than joint mode.
+        teleop: bool,
+    },
+    /// `halui.program.optional-stop.on`/`.off`.
+    OptionalStop(bool),
+    /// `halui.program.block-delete.on`/`.off`.
+    BlockDelete(bool),
+    /// `halui.joint.N.select`.
+    SelectJoint(usize),
+    /// `halui.axis.L.select` (the world axis number).
+    SelectAxis(usize),
+    /// A `halui.joint.selected.*` button.
+    SelectedJoint(OnSelected),
+    /// A `halui.axis.selected.*` button.
+    SelectedAxis(OnSelected),
     /// `halui.mdi-command-NN`.
     Mdi(usize),
     /// An override's `increase` (+1) or `decrease` (-1).
@@ -174,6 +198,8 @@ pub struct TaskState {
     pub rapid_override: f64,
     /// The tool-tip speed limit.
     pub max_velocity: f64,
+    /// Switches, tool offsets and diameter, relative offsets.
+    pub panel: PanelState,
 }
 
 impl TaskState {
@@ -257,6 +283,7 @@ pub fn parse_state(text: &str) -> Result<TaskState, LaunchError> {
         feed_override: number("feed-override")?,
         rapid_override: number("rapid-override")?,
         max_velocity: number("max-velocity")?,
+        panel: parse_panel(&fields)?,
     })
 }
 
@@ -276,7 +303,9 @@ mod tests {
     use super::*;
 
     const STATE: &str = "machine=ON\nmode=AUTO\nprogram=PAUSED\nmist=0\nflood=1\nlube=0\n\
-                         tool=3\nfeed-override=1.2\nrapid-override=0.5\nmax-velocity=4\n";
+                         tool=3\nfeed-override=1.2\nrapid-override=0.5\nmax-velocity=4\n\
+                         optional-stop=0\nblock-delete=1\ntool-offset=0 0 2 0 0 0 0 0 0\n\
+                         tool-diameter=0.5\nrelative-offset=1 0 2 0 0 0 0 0 0\n";
 
     #[test]
     fn edges_act_once_per_press_and_not_at_start() {
@@ -320,6 +349,8 @@ mod tests {
         );
         assert!(s.flood && !s.mist);
         assert_eq!((s.tool, s.override_value(Override::Feed)), (3, 1.2));
+        assert!(s.panel.block_delete && !s.panel.optional_stop);
+        assert_eq!(s.panel.relative_offset[0], 1.0);
         let e = parse_state(&STATE.replace("mist=0", "mist=2"))
             .unwrap_err()
             .to_string();

@@ -10,8 +10,14 @@
 //! connect its pins; task answers once the HAL files ran, until then the
 //! buttons wait.
 
+mod analog;
+mod joint_status;
 mod logic;
+mod panel_pins;
+mod panel_state;
 mod pins;
+mod selection;
+mod spindle;
 
 use std::time::Duration;
 
@@ -23,6 +29,7 @@ use crate::error::LaunchError;
 use crate::task::Mode;
 use crate::task_manual::Jogged;
 use crate::task_socket::{request, TaskAnswer, TaskClientError};
+use analog::AnalogJogs;
 use logic::{Action, Edges, Override, OverrideCounter, TaskState};
 use pins::{HaluiPins, Layout, Status};
 
@@ -38,16 +45,59 @@ pub const USAGE: &str = "\
 usage: halui [--instance NAME] [-ini MACHINE.ini]
 
 LinuxCNC's HAL user interface: the halui.* pins (machine, e-stop, mode,
-program, coolant, lube, homing, joint jogging, feed, rapid and maximum
+program, optional stop, block delete, coolant, lube, homing, joint and
+axis jogging, selection, spindle, feed, rapid, spindle and maximum
 velocity overrides, [HALUI]MDI_COMMAND) as requests to task, and the
-machine's state on its status pins. The launcher (linuxcnc) starts it when
-[HAL]HALUI = halui. The INI file is $INI_FILE_NAME if -ini is not given.
+machine's state on its status pins. The launcher (linuxcnc) starts it
+when [HAL]HALUI = halui. The INI file is $INI_FILE_NAME if -ini is not
+given. Buttons act on a rising edge; a jog button also stops its jog
+when released.
 
 options:
   -ini FILE        the machine's INI file
   --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
   -h, --help       print this help and exit
-  --version        print the version and exit";
+  --version        print the version and exit
+
+pins:
+  (N a joint number, L an axis letter of [TRAJ]COORDINATES; in: buttons
+  and settings, out: status)
+  machine.on/off in, machine.is-on out, machine.units-per-mm float out
+  estop.activate/reset in, estop.is-activated out
+  mode.manual/auto/mdi in, mode.is-manual/is-auto/is-mdi out
+  mode.teleop/joint in: MANUAL mode's jogs by world axis or by joint;
+    mode.is-teleop/is-joint out
+  program.run/pause/resume/step/stop in, abort in,
+    program.is-idle/is-running/is-paused out
+  program.optional-stop.on/off in, program.optional-stop.is-on out
+  program.block-delete.on/off in, program.block-delete.is-on out
+  mist, flood, lube: .on/.off in, .is-on out
+  home-all in; joint.N.home/unhome in
+  joint.N.is-homed, has-fault, on-hard-min-limit, on-hard-max-limit,
+    on-soft-min-limit, on-soft-max-limit, override-limits out
+  joint.N.plus/minus in: jog at joint.jog-speed (units per minute)
+  joint.N.increment float in, joint.N.increment-plus/minus in
+  joint.N.analog float in: jog at that fraction of joint.jog-speed while
+    outside joint.jog-deadband (float in, 0.2 at start)
+  axis.L.plus/minus/increment/increment-plus/increment-minus/analog,
+    axis.jog-speed, axis.jog-deadband: the same for world axes (teleop)
+  axis.L.pos-commanded, pos-feedback float out (machine coordinates),
+    axis.L.pos-relative float out (less the G5x, G92 and tool offsets)
+  joint.N.select in, joint.N.is-selected out, joint.selected u32 out;
+    joint.selected.home/unhome/plus/minus/increment-plus/increment-minus
+    in and joint.selected.increment float in act on the selected joint;
+    joint.selected.is-homed, has-fault, on-*-limit, override-limits out
+  axis.L.select in, axis.L.is-selected out, axis.selected u32 out (0 X
+    .. 8 W); axis.selected.plus/minus/increment-plus/increment-minus in,
+    axis.selected.increment float in
+  feed-override, rapid-override, max-velocity: .counts s32 in,
+    .count-enable in (TRUE at start), .direct-value in, .scale float in,
+    .increase/.decrease in, .value float out; feed and rapid .reset in;
+    max-velocity in machine units per second
+  tool.number u32 out, tool.diameter float out,
+    tool.length_offset.x .. .w float out
+  mdi-command-NN in: runs the NN-th [HALUI]MDI_COMMAND in MDI mode, then
+    returns to the mode before";
 
 /// Runs halui with its command line (without the suite's common options,
 /// which the binary takes first); returns the exit status.
@@ -105,6 +155,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         axes: &axes,
         mdi_commands: mdi.len(),
         units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
+        spindles: spindle::count(&ini)?,
     };
     let signals = ExitSignals::install()?;
     let instance = hal_core::instance_from_env();
@@ -115,10 +166,12 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         pins,
         mdi,
         edges: Edges::default(),
+        analog: AnalogJogs::default(),
         counters: [OverrideCounter::default(); 3],
         mdi_return: None,
         motion: None,
         said_waiting: false,
+        spindle: spindle::SpindleHalui::default(),
     };
     while !signals.requested() && inst.host_alive() {
         halui.cycle(&inst);
@@ -136,6 +189,23 @@ fn connection_gone(e: &std::io::Error) -> bool {
     )
 }
 
+/// Sends a request to the task of `instance`; a refusal is reported.
+/// Returns whether it was done.
+fn ask(instance: &str, words: &[&str]) -> bool {
+    let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+    match request(instance, &owned, REQUEST_WAIT) {
+        Ok(TaskAnswer::Done(_)) => true,
+        Ok(TaskAnswer::Refused(why)) => {
+            eprintln!("halui: {}: {why}", words.join(" "));
+            false
+        }
+        Err(e) => {
+            eprintln!("halui: {}: {e}", words.join(" "));
+            false
+        }
+    }
+}
+
 /// halui's state between cycles.
 struct Halui {
     instance: String,
@@ -143,6 +213,8 @@ struct Halui {
     /// `[HALUI]MDI_COMMAND`s, in order.
     mdi: Vec<String>,
     edges: Edges,
+    /// The analog jog inputs' memory.
+    analog: AnalogJogs,
     /// Feed, rapid, max-velocity.
     counters: [OverrideCounter; 3],
     /// The mode to go back to once an `mdi-command-NN` line has run.
@@ -150,6 +222,8 @@ struct Halui {
     motion: Option<motion::MotionClient>,
     /// Task's absence was reported.
     said_waiting: bool,
+    /// The spindle pins' edges and override counters.
+    spindle: spindle::SpindleHalui,
 }
 
 fn counter_index(which: Override) -> usize {
@@ -172,6 +246,13 @@ impl Halui {
             motion: motion.as_ref(),
         });
         let changes = self.edges.changes(&self.pins.buttons());
+        let instance = &self.instance;
+        self.spindle.cycle(
+            &self.pins.spindles,
+            motion.as_ref(),
+            state.is_some(),
+            |words| ask(instance, words),
+        );
         let Some(state) = state else { return };
         // Back to the mode an MDI command left, once its line ran (checked
         // before this cycle's presses: `state` is from before them).
@@ -187,6 +268,10 @@ impl Halui {
             if let Some(action) = self.pins.action(index, value) {
                 self.perform(action, &state);
             }
+        }
+        let readings = self.pins.analog.readings(|what| self.pins.jog_speed(what));
+        for action in self.analog.actions(&readings) {
+            self.perform(action, &state);
         }
         for (which, inputs) in self.pins.override_inputs() {
             let current = state.override_value(which);
@@ -230,18 +315,7 @@ impl Halui {
     /// Sends a request; a refusal is reported. Returns whether it was
     /// done.
     fn ask(&self, words: &[&str]) -> bool {
-        let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
-        match request(&self.instance, &owned, REQUEST_WAIT) {
-            Ok(TaskAnswer::Done(_)) => true,
-            Ok(TaskAnswer::Refused(why)) => {
-                eprintln!("halui: {}: {why}", words.join(" "));
-                false
-            }
-            Err(e) => {
-                eprintln!("halui: {}: {e}", words.join(" "));
-                false
-            }
-        }
+        ask(&self.instance, words)
     }
 
     /// Puts task in `mode` unless it is there.
@@ -249,7 +323,33 @@ impl Halui {
         state.task_mode() == Some(mode) || self.ask(&["mode", &mode.name().to_ascii_lowercase()])
     }
 
+    /// The selection buttons act on halui itself; a `selected` button
+    /// and an increment jog become the jog (or home) they ask for now.
+    /// `None` when nothing is left to ask task for.
+    fn resolve_selection(&mut self, action: Action) -> Option<Action> {
+        match action {
+            Action::SelectJoint(j) => {
+                self.pins.selection.select_joint(j);
+                None
+            }
+            Action::SelectAxis(a) => {
+                self.pins.selection.select_axis(a);
+                None
+            }
+            Action::SelectedJoint(_) | Action::SelectedAxis(_) => {
+                self.pins.selection.resolve(action)
+            }
+            Action::JogIncrement(what, dir) => {
+                Some(Action::JogBy(what, dir * self.pins.increment(what)))
+            }
+            other => Some(other),
+        }
+    }
+
     fn perform(&mut self, action: Action, state: &TaskState) {
+        let Some(action) = self.resolve_selection(action) else {
+            return;
+        };
         let on_off = |on: bool| if on { "on" } else { "off" };
         // Jog speeds are in machine units per minute, as LinuxCNC's.
         let jog_vel = |what: Jogged| self.pins.jog_speed(what) / 60.0;
@@ -286,12 +386,22 @@ impl Halui {
                     && self.ask(&["jog-cont", &target(what), &vel])
             }
             Action::JogStop(what) => self.ask(&["jog-stop", &target(what)]),
-            Action::JogIncrement(what, dir) => {
-                let dist = (dir * self.pins.increment(what)).to_string();
+            Action::JogBy(what, dist) => {
                 let vel = jog_vel(what).to_string();
                 self.ensure_mode(state, Mode::Manual)
-                    && self.ask(&["jog-incr", &target(what), &vel, &dist])
+                    && self.ask(&["jog-incr", &target(what), &vel, &dist.to_string()])
             }
+            Action::JogMode { teleop } => {
+                self.ensure_mode(state, Mode::Manual) && self.ask(&["teleop", on_off(teleop)])
+            }
+            Action::OptionalStop(on) => self.ask(&["optional-stop", on_off(on)]),
+            Action::BlockDelete(on) => self.ask(&["block-delete", on_off(on)]),
+            // Resolved by `resolve_selection` before.
+            Action::JogIncrement(..)
+            | Action::SelectJoint(_)
+            | Action::SelectAxis(_)
+            | Action::SelectedJoint(_)
+            | Action::SelectedAxis(_) => false,
             Action::Mdi(n) => self.mdi_command(n, state),
             Action::OverrideStep(which, dir) => {
                 let v = state.override_value(which) + dir * self.pins.override_scale(which);

@@ -4,7 +4,11 @@
 
 use hal_core::{Component, ComponentKind, In, Instance, Out, Pin};
 
+use super::analog::AnalogPins;
+use super::joint_status::{limits_overridden, JointStatusPins};
 use super::logic::{Action, Override, OverrideInputs, TaskState};
+use super::panel_pins::PanelPins;
+use super::selection::SelectionPins;
 use crate::task::Mode;
 use crate::task_manual::Jogged;
 
@@ -26,12 +30,9 @@ struct OverridePins {
     value: Pin<f64, Out>,
 }
 
-/// One joint's status pins.
+/// One joint's status pins and jog increment.
 struct JointPins {
-    is_homed: Pin<bool, Out>,
-    has_fault: Pin<bool, Out>,
-    on_hard_min_limit: Pin<bool, Out>,
-    on_hard_max_limit: Pin<bool, Out>,
+    status: JointStatusPins,
     increment: Pin<f64, In>,
 }
 
@@ -71,6 +72,13 @@ pub struct HaluiPins {
     flood_is_on: Pin<bool, Out>,
     lube_is_on: Pin<bool, Out>,
     tool_number: Pin<u32, Out>,
+    /// The selected joint and axis.
+    pub selection: SelectionPins,
+    /// Analog jogging.
+    pub analog: AnalogPins,
+    panel: PanelPins,
+    /// `halui.spindle.N.*` (see `spindle`).
+    pub(super) spindles: Vec<super::spindle::SpindlePins>,
 }
 
 /// What a machine's halui has pins for.
@@ -83,6 +91,8 @@ pub struct Layout<'a> {
     pub mdi_commands: usize,
     /// Machine units per millimetre.
     pub units_per_mm: f64,
+    /// `[TRAJ]SPINDLES`.
+    pub spindles: usize,
 }
 
 /// The buttons of a machine's halui, each with what its edges ask for.
@@ -161,6 +171,12 @@ fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<B
     for n in 0..layout.mdi_commands {
         button(&format!("mdi-command-{n:02}"), Action::Mdi(n), None)?;
     }
+    let more = super::selection::buttons(layout)
+        .into_iter()
+        .chain(super::panel_pins::buttons());
+    for (name, rise, fall) in more {
+        button(&name, rise, fall)?;
+    }
     Ok(buttons)
 }
 
@@ -186,10 +202,7 @@ impl HaluiPins {
         for j in 0..layout.joints {
             let name = |n: &str| p(&format!("joint.{j}.{n}"));
             joints.push(JointPins {
-                is_homed: comp.pin(&name("is-homed"))?,
-                has_fault: comp.pin(&name("has-fault"))?,
-                on_hard_min_limit: comp.pin(&name("on-hard-min-limit"))?,
-                on_hard_max_limit: comp.pin(&name("on-hard-max-limit"))?,
+                status: JointStatusPins::create(&comp, &p(&format!("joint.{j}")))?,
                 increment: comp.pin(&name("increment"))?,
             });
         }
@@ -200,6 +213,10 @@ impl HaluiPins {
                 pos_commanded: comp.pin(&p(&format!("axis.{letter}.pos-commanded")))?,
                 increment: comp.pin(&p(&format!("axis.{letter}.increment")))?,
             });
+        }
+        let mut spindles = Vec::with_capacity(layout.spindles);
+        for n in 0..layout.spindles {
+            spindles.push(super::spindle::SpindlePins::new(&comp, n)?);
         }
         let units: Pin<f64, Out> = comp.pin(&p("machine.units-per-mm"))?;
         units.set(layout.units_per_mm);
@@ -224,10 +241,14 @@ impl HaluiPins {
             flood_is_on: comp.pin(&p("flood.is-on"))?,
             lube_is_on: comp.pin(&p("lube.is-on"))?,
             tool_number: comp.pin(&p("tool.number"))?,
+            selection: SelectionPins::create(&comp, layout)?,
+            analog: AnalogPins::create(&comp, layout)?,
+            panel: PanelPins::create(&comp, layout)?,
             buttons,
             overrides,
             joints,
             axes,
+            spindles,
             comp,
         };
         pins.comp.ready()?;
@@ -300,6 +321,8 @@ impl HaluiPins {
 
     /// Writes the status pins.
     pub fn write(&self, status: &Status<'_>) {
+        self.panel.write(status.task, status.motion);
+        self.selection.write(status.motion);
         if let Some(t) = status.task {
             self.machine_is_on.set(t.machine == "ON");
             self.estop_is_activated.set(t.machine == "ESTOP");
@@ -320,11 +343,9 @@ impl HaluiPins {
         if let Some(m) = status.motion {
             self.mode_is_teleop.set(m.teleop_mode);
             self.mode_is_joint.set(!m.teleop_mode && !m.coord_mode);
-            for (pins, joint) in self.joints.iter().zip(&m.joints) {
-                pins.is_homed.set(joint.homed);
-                pins.has_fault.set(joint.faulted);
-                pins.on_hard_min_limit.set(joint.neg_hard_limit);
-                pins.on_hard_max_limit.set(joint.pos_hard_limit);
+            for (n, (pins, joint)) in self.joints.iter().zip(&m.joints).enumerate() {
+                pins.status
+                    .write(joint, limits_overridden(m.override_mask, n));
             }
             for p in &self.axes {
                 if let Some(a) = m.axes.get(p.axis) {
