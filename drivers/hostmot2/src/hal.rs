@@ -301,32 +301,9 @@ pub fn export_boards<H: DriverHost>(
         print_messages(&msgs, &blog);
         msgs = MessageLog::default();
         let source = source.map_err(|e| fail(e, &blog, ex))?;
-        let (transport, sim, keep): (Box<dyn Transport>, _, _) = match source {
-            Source::Pci(opened) => {
-                let o = *opened;
-                (
-                    Box::new(WindowTransport::new(o.window)),
-                    None,
-                    Some(o.enabled),
-                )
-            }
-            Source::Sim(board) => (
-                Box::new(WindowTransport::new(board.clone())),
-                Some(board),
-                None,
-            ),
-            Source::Image(img) => (Box::new(ImageTransport::new(img, &name)), None, None),
-            Source::SimPlx(_) => {
-                let e = Hm2Error::SimFirmware {
-                    reason: "the simulated FPGA was not loaded".into(),
-                };
-                return Err(fail(e, &blog, ex));
-            }
-            Source::Eth(t) => {
-                let mut t = t.into_host::<H>();
-                t.errors().export(ex.pins(comp), &name)?;
-                (Box::new(t), None, None)
-            }
+        let (transport, sim, keep) = match transport_of(source, ex, comp, &name)? {
+            Ok(opened) => opened,
+            Err(e) => return Err(fail(e, &blog, ex)),
         };
         let board = Board::<H>::open(
             ex.pins(comp),
@@ -353,6 +330,47 @@ pub fn export_boards<H: DriverHost>(
     ex.safe_state(comp, shared);
     ex.flush_log();
     Ok(())
+}
+
+/// A board's transport, its simulator (when simulated) and what keeps
+/// its device enabled.
+type Opened = (Box<dyn Transport>, Option<Arc<SimHm2>>, Option<EnableGuard>);
+
+/// Opens the transport to a board's registers. The outer error is HAL's
+/// (an Ethernet board's error pins refused); the inner one fails the
+/// board's registration.
+fn transport_of<H: DriverHost>(
+    source: Source,
+    ex: &mut Exporter<'_, H>,
+    comp: hal_driver::CompId,
+    name: &str,
+) -> hal_core::Result<Result<Opened, Hm2Error>> {
+    Ok(Ok(match source {
+        Source::Pci(opened) => {
+            let o = *opened;
+            (
+                Box::new(WindowTransport::new(o.window)),
+                None,
+                Some(o.enabled),
+            )
+        }
+        Source::Sim(board) => (
+            Box::new(WindowTransport::new(board.clone())),
+            Some(board),
+            None,
+        ),
+        Source::Image(img) => (Box::new(ImageTransport::new(img, name)), None, None),
+        Source::SimPlx(_) => {
+            return Ok(Err(Hm2Error::SimFirmware {
+                reason: "the simulated FPGA was not loaded".into(),
+            }))
+        }
+        Source::Eth(t) => {
+            let mut t = t.into_host::<H>();
+            t.errors().export(ex.pins(comp), name)?;
+            (Box::new(t), None, None)
+        }
+    }))
 }
 
 /// Prints registration messages: the debug dumps unconditionally (they
@@ -487,34 +505,7 @@ fn open_pci(
         *n - 1
     };
     let candidates: Vec<Candidate> = if !sims.is_empty() {
-        let mut v = Vec::new();
-        for (i, s) in sims.iter().enumerate() {
-            if let Some(card) = crate::pci_fpga::SimPlxCard::new(s) {
-                let llio = card.board.llio(next(card.board.board));
-                v.push(Candidate {
-                    fails: format!(
-                        "hm2_pci: simulated board {} fails HM2 registration",
-                        llio.name
-                    ),
-                    llio,
-                    source: Source::SimPlx(Box::new(card)),
-                    place: "(simulated)".into(),
-                });
-                continue;
-            }
-            let spec = boards::preset(s)
-                .ok_or_else(|| {
-                    params.item_error(
-                        "sim",
-                        i,
-                        s,
-                        format!("not a simulated board ({})", boards::pci_sim_names()),
-                    )
-                })
-                .for_module(HM2_PCI)?;
-            v.push(sim_candidate(spec, next(s), s));
-        }
-        v
+        sim_candidates(sims, &params, &mut next)?
     } else {
         pci::open_all(sysfs, boards)
             .map_err(|e| match e {
@@ -554,6 +545,42 @@ fn open_pci(
             .filter(|d| !d.is_empty())
             .map(PathBuf::from),
     })
+}
+
+/// The simulated boards `sim=` names; `next` numbers each board of a type.
+fn sim_candidates(
+    sims: &[String],
+    params: &hal_driver::params::Params<'_>,
+    next: &mut impl FnMut(&str) -> usize,
+) -> hal_core::Result<Vec<Candidate>> {
+    let mut v = Vec::new();
+    for (i, s) in sims.iter().enumerate() {
+        if let Some(card) = crate::pci_fpga::SimPlxCard::new(s) {
+            let llio = card.board.llio(next(card.board.board));
+            v.push(Candidate {
+                fails: format!(
+                    "hm2_pci: simulated board {} fails HM2 registration",
+                    llio.name
+                ),
+                llio,
+                source: Source::SimPlx(Box::new(card)),
+                place: "(simulated)".into(),
+            });
+            continue;
+        }
+        let spec = boards::preset(s)
+            .ok_or_else(|| {
+                params.item_error(
+                    "sim",
+                    i,
+                    s,
+                    format!("not a simulated board ({})", boards::pci_sim_names()),
+                )
+            })
+            .for_module(HM2_PCI)?;
+        v.push(sim_candidate(spec, next(s), s));
+    }
+    Ok(v)
 }
 
 /// A simulated board of firmware `spec`, the `n`th of its type, with the

@@ -159,6 +159,7 @@ fn load_sim(
     let shape = plx_boards::design(&design).unwrap_or(plx_boards::Design {
         servos: 0,
         steppers: 0,
+        seven_i47: false,
     });
     let machine = machine::servo_stepper(shape.servos as usize, shape.steppers as usize);
     let (sim_board, _) = sim::board(spec, Box::new(machine));

@@ -264,3 +264,34 @@ fn gantry_panels_shape() {
         assert!(err.contains(gui_pin), "{gui_pin}: {err}");
     }
 }
+
+/// LinuxCNC's hm2-servo sample for a 5i20 (its `firmware=hm2/5i20/SVST8_4.BIT`),
+/// unchanged but for `sim=5i20` on the driver line: the simulated card's
+/// FPGA is loaded through its simulated PLX bridge, and the three servo
+/// loops close through its encoders and PWM generators.
+#[test]
+fn hm2_servo_5i20_runs_on_the_simulated_card() {
+    runs("hm2-servo-5i20", "5i20.ini", |m| {
+        assert_eq!(m.getp("hm2_5i20.0.encoder.00.scale"), "81920");
+        assert_eq!(m.getp("hm2_5i20.0.pwmgen.pwm_frequency"), "40000");
+        m.motion(&["jog-incr", "0", "0.5", "0.1"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        let fb: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+        assert!((fb - 0.1).abs() < 0.002, "the servo loop follows: {fb}");
+    });
+}
+
+/// LinuxCNC's hm2-stepper sample for a 5i22-1.5 (its
+/// `firmware=hm2/5i22-1.5/SVST8_8.BIT`), unchanged but for `sim=5i22-1.5`:
+/// the step generators' feedback follows a jog, and the watchdog's
+/// `has_bit` feeds the e-stop latch without tripping it.
+#[test]
+fn hm2_stepper_5i22_runs_on_the_simulated_card() {
+    runs("hm2-stepper-5i22", "5i22-big.ini", |m| {
+        m.motion(&["jog-incr", "0", "0.5", "0.2"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+        let fb: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+        assert!((fb - 0.2).abs() < 0.001, "the step generator follows: {fb}");
+        assert_eq!(m.getp("hm2_5i22.0.watchdog.has_bit"), "FALSE");
+    });
+}

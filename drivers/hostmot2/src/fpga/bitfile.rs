@@ -176,23 +176,27 @@ fn finish(fields: [Option<String>; 4], bitstream: Vec<u8>) -> Result<BitFile, Fp
 }
 
 /// Reads and parses the bitfile at `path`: a regular file of at most
-/// [`MAX_FILE_BYTES`].
+/// [`MAX_FILE_BYTES`]. It is opened without blocking (a FIFO put there
+/// cannot stall the load) and checked to be a regular file before any read.
 pub fn read(path: &Path) -> Result<BitFile, FpgaError> {
+    use std::os::unix::fs::OpenOptionsExt;
     let io = |e: std::io::Error| FpgaError::BitfileRead {
         path: path.to_path_buf(),
         reason: e.to_string(),
     };
-    let meta = std::fs::metadata(path).map_err(io)?;
-    if !meta.is_file() {
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(nix::fcntl::OFlag::O_NONBLOCK.bits())
+        .open(path)
+        .map_err(io)?;
+    if !file.metadata().map_err(io)?.is_file() {
         return Err(FpgaError::BitfileRead {
             path: path.to_path_buf(),
             reason: "not a regular file".into(),
         });
     }
     let mut bytes = Vec::new();
-    std::fs::File::open(path)
-        .map_err(io)?
-        .take(MAX_FILE_BYTES + 1)
+    file.take(MAX_FILE_BYTES + 1)
         .read_to_end(&mut bytes)
         .map_err(io)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
@@ -328,5 +332,9 @@ mod tests {
         assert!(e.contains("not a regular file"), "{e}");
         let e = read(&dir.path().join("none.bit")).unwrap_err().to_string();
         assert!(e.contains("none.bit"), "{e}");
+        let fifo = dir.path().join("fifo.bit");
+        nix::unistd::mkfifo(&fifo, nix::sys::stat::Mode::S_IRWXU).unwrap();
+        let e = read(&fifo).unwrap_err().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
     }
 }

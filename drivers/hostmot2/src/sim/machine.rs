@@ -25,6 +25,9 @@ pub struct Servo {
     pub shaft: QuadEncoder,
     /// Supply voltage of the amplifier.
     pub supply: f64,
+    /// The motor leads are swapped: a positive duty turns the shaft
+    /// backwards (its encoder counts down).
+    pub reversed: bool,
 }
 
 /// A stepper axis driven by step generator `stepgen`.
@@ -122,7 +125,8 @@ impl World for Machine {
         for s in &mut self.servos {
             let drive = out.pwm.get(s.pwm).copied().unwrap_or_default();
             if drive.enabled {
-                s.motor.set_duty(drive.duty, s.supply);
+                let duty = if s.reversed { -drive.duty } else { drive.duty };
+                s.motor.set_duty(duty, s.supply);
             } else {
                 s.motor.set_volts(0.0);
             }
@@ -223,6 +227,7 @@ fn servo(k: usize) -> Servo {
         motor: DcMotor::new(SERVO_MOTOR),
         shaft: QuadEncoder::new(4000),
         supply: 24.0,
+        reversed: false,
     }
 }
 
@@ -237,9 +242,16 @@ fn stepper(k: usize) -> Stepper {
 /// The machine of a simulated PLX card (`sim=5i20`, ...) running a
 /// servo/stepper firmware: a servo on each of its `servos` channels and
 /// a stepper axis on each of its `steppers` step generators, no switches.
+/// The servos' motor leads are swapped, as LinuxCNC's hm2-servo sample
+/// configurations expect (each joint's OUTPUT_SCALE and INPUT_SCALE of
+/// opposite signs), so those close their loops unchanged.
 pub fn servo_stepper(servos: usize, steppers: usize) -> Machine {
+    let reversed = |k| Servo {
+        reversed: true,
+        ..servo(k)
+    };
     Machine {
-        servos: (0..servos).map(servo).collect(),
+        servos: (0..servos).map(reversed).collect(),
         steppers: (0..steppers).map(stepper).collect(),
         ..Machine::default()
     }

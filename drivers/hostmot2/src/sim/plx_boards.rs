@@ -19,7 +19,9 @@
 //! index, B, B, A, A (encoder inputs), PWM, PWM, direction, direction,
 //! /enable, /enable. Step generators fill the connectors after the
 //! servos: six pins each (step, direction and four table outputs) where
-//! they fit, two (step, direction) otherwise; the rest are GPIO. Every
+//! they fit, two (step, direction) otherwise; the rest are GPIO. A name
+//! ending in `_7I47` (SVST2_4_7I47, the Smithy machines' firmware) has
+//! four encoders and its own layout (`seven_i47_pins`). Every
 //! firmware has a watchdog, the IOPorts, encoders v2, PWM generators v0
 //! (on ClockHigh), step generators v2 and the card's LEDs.
 //!
@@ -62,6 +64,8 @@ pub struct Design {
     pub servos: u32,
     /// Step generators.
     pub steppers: u32,
+    /// Laid out for a 7I47 daughter card (`..._7I47`).
+    pub seven_i47: bool,
 }
 
 /// The design a firmware name describes (`SVST8_4`, `sv12`, with or
@@ -69,6 +73,12 @@ pub struct Design {
 pub fn design(name: &str) -> Option<Design> {
     let upper = name.to_ascii_uppercase();
     let stem = upper.strip_suffix(".BIT").unwrap_or(&upper);
+    if let Some(base) = stem.strip_suffix("_7I47") {
+        return design(base).filter(|d| !d.seven_i47).map(|d| Design {
+            seven_i47: true,
+            ..d
+        });
+    }
     let num = |s: &str| {
         (!s.is_empty() && s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()))
             .then(|| s.parse::<u32>().ok())
@@ -79,12 +89,14 @@ pub fn design(name: &str) -> Option<Design> {
         return Some(Design {
             servos: num(n)?,
             steppers: num(m)?,
+            seven_i47: false,
         });
     }
     let n = num(stem.strip_prefix("SV")?)?;
     Some(Design {
         servos: n,
         steppers: 0,
+        seven_i47: false,
     })
 }
 
@@ -92,6 +104,13 @@ pub fn design(name: &str) -> Option<Design> {
 pub fn unfit(board: &PciBoard, d: Design) -> Option<String> {
     let conns = board.connectors.len() as u32;
     let width = board.pins_per_connector;
+    if d.seven_i47 {
+        return (conns < 3 || width != 24 || d.servos > 2 || d.steppers > 4).then(|| {
+            "the 7I47 layout has at most 2 servo channels and 4 step generators, \
+             on a card of three 24-pin connectors"
+                .into()
+        });
+    }
     if d.servos == 0 && d.steppers == 0 {
         return Some("it has neither servo channels nor step generators".into());
     }
@@ -149,28 +168,19 @@ pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Str
         ));
     }
     let total = board.connectors.len() * board.pins_per_connector as usize;
-    let mut pins = Vec::with_capacity(total);
-    for k in (0..d.servos as u8).step_by(2) {
-        pins.extend(servo_pair(k));
-    }
-    let left = total - pins.len();
-    let per = if d.steppers as usize * 6 <= left {
-        6
+    let (pins, encoders) = if d.seven_i47 {
+        (seven_i47_pins(d, total), 4)
     } else {
-        2
+        (family_pins(d, total), d.servos)
     };
-    for k in 0..d.steppers as u8 {
-        for p in 1..=per {
-            pins.push(pd(gtag::STEPGEN, k, 0x80 | p));
-        }
-    }
-    pins.resize(total, gpio());
     let mut modules = vec![
         ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
         ModuleSpec::standard(gtag::IOPORT, 0, board.connectors.len() as u8),
     ];
+    if encoders > 0 {
+        modules.push(ModuleSpec::standard(gtag::ENCODER, 2, encoders as u8));
+    }
     if d.servos > 0 {
-        modules.push(ModuleSpec::standard(gtag::ENCODER, 2, d.servos as u8));
         modules.push(ModuleSpec::standard(gtag::PWMGEN, 0, d.servos as u8));
     }
     if d.steppers > 0 {
@@ -199,6 +209,60 @@ pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Str
         pins,
         remotes: Vec::new(),
     })
+}
+
+/// The family's pin-out: servo pairs from the first pin, then the step
+/// generators (six pins each where they fit, else two), then GPIO.
+fn family_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
+    let mut pins = Vec::with_capacity(total);
+    for k in (0..d.servos as u8).step_by(2) {
+        pins.extend(servo_pair(k));
+    }
+    let left = total - pins.len();
+    let per = if d.steppers as usize * 6 <= left {
+        6
+    } else {
+        2
+    };
+    for k in 0..d.steppers as u8 {
+        for p in 1..=per {
+            pins.push(pd(gtag::STEPGEN, k, 0x80 | p));
+        }
+    }
+    pins.resize(total, gpio());
+    pins
+}
+
+/// The 7I47 layout (this simulator's, shaped by the Smithy machines'
+/// HAL files): on the first connector step generators 0 and 1 (step,
+/// direction) at I/O 0 to 3, encoders 0 and 1 (A, B, index) at 4 to 9,
+/// PWM generators 0 and 1 (PWM, direction, /enable) at 10 to 15, step
+/// generators 2 and 3 at 16 to 19; encoders 2 and 3 on the last six pins
+/// of the third connector; the rest GPIO.
+fn seven_i47_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
+    let step = |k: u8| [pd(gtag::STEPGEN, k, 0x81), pd(gtag::STEPGEN, k, 0x82)];
+    let enc = |k: u8| (1..=3).map(move |f| pd(gtag::ENCODER, k, f));
+    let mut pins = Vec::with_capacity(total);
+    pins.extend(step(0));
+    pins.extend(step(1));
+    pins.extend(enc(0).chain(enc(1)));
+    for k in 0..2u8 {
+        pins.extend((0x81..=0x83).map(|f| pd(gtag::PWMGEN, k, f)));
+    }
+    pins.extend(step(2));
+    pins.extend(step(3));
+    pins.resize(total - 6, gpio());
+    pins.extend(enc(2).chain(enc(3)));
+    // Modules the design lacks leave their pins to GPIO.
+    for p in &mut pins {
+        let unit = p.sec_unit as u32;
+        let absent = (p.sec_tag == gtag::STEPGEN && unit >= d.steppers)
+            || (p.sec_tag == gtag::PWMGEN && unit >= d.servos);
+        if absent {
+            *p = gpio();
+        }
+    }
+    pins
 }
 
 /// The firmware clocks of a card type (hardware.md 5.3).
@@ -231,16 +295,27 @@ mod tests {
             design("SVST8_4.BIT"),
             Some(Design {
                 servos: 8,
-                steppers: 4
+                steppers: 4,
+                seven_i47: false,
             })
         );
         assert_eq!(
             design("sv12"),
             Some(Design {
                 servos: 12,
-                steppers: 0
+                steppers: 0,
+                seven_i47: false,
             })
         );
+        assert_eq!(
+            design("SVST2_4_7I47.BIT"),
+            Some(Design {
+                servos: 2,
+                steppers: 4,
+                seven_i47: true,
+            })
+        );
+        assert_eq!(design("SVST2_4_7I47_7I47"), None);
         for bad in ["7i77x2", "SVST8", "SV", "SVST_4", "SV1234", "SVSTx_4"] {
             assert_eq!(design(bad), None, "{bad}");
         }
@@ -260,6 +335,7 @@ mod tests {
             ("4i68", "SVST8_4"),
             ("3x20", "SV24"),
             ("3x20", "SVST16_24"),
+            ("5i20", "SVST2_4_7I47"),
         ] {
             let (board, _) = card(name).unwrap();
             let spec = firmware(board, fw).unwrap();
@@ -290,5 +366,20 @@ mod tests {
         assert_eq!(spec.pins[49], pd(gtag::STEPGEN, 0, 0x82));
         assert_eq!(spec.pins[54], pd(gtag::STEPGEN, 1, 0x81));
         assert_eq!(spec.pins[25], pd(gtag::ENCODER, 4, 0x03));
+    }
+
+    #[test]
+    fn the_7i47_layout_leaves_the_smithy_machines_gpio_free() {
+        let (board, _) = card("5i20").unwrap();
+        let spec = firmware(board, "SVST2_4_7I47").unwrap();
+        assert_eq!(spec.pins[0], pd(gtag::STEPGEN, 0, 0x81));
+        assert_eq!(spec.pins[18], pd(gtag::STEPGEN, 3, 0x81));
+        assert_eq!(spec.pins[66], pd(gtag::ENCODER, 2, 0x01));
+        for io in [22, 24, 39, 40, 46, 64] {
+            assert_eq!(spec.pins[io], gpio(), "I/O {io}");
+        }
+        assert_eq!(spec.module(gtag::ENCODER).unwrap().instances, 4);
+        let e = firmware(board, "SVST4_4_7I47").unwrap_err();
+        assert!(e.contains("7I47 layout"), "{e}");
     }
 }
