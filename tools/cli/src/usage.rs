@@ -13,8 +13,9 @@ usage: halrun [-I] [halcmd options] [FILE.hal | FILE.tcl | MACHINE.ini]
 
 Starts a HAL instance (its host, with the realtime threads), runs the file
 on it, then stops the instance: .hal files with halcmd, .tcl files with
-haltcl, and a machine's .ini file as linuxcnc would up to the start of its
-threads. With -I an interactive halcmd follows the file (with line editing,
+haltcl, and of a machine's .ini file only the [HAL]TWOPASS processing of
+its HALFILEs, as LinuxCNC's halrun (an .ini file without TWOPASS is
+refused; linuxcnc runs a whole machine). With -I an interactive halcmd follows the file (with line editing,
 history and completion on a terminal); with -T an interactive haltcl.
 
 options:
@@ -32,7 +33,7 @@ options:
 examples:
   halrun -f my.hal              run my.hal, then tear the instance down
   halrun -I my.hal              run my.hal, then an interactive halcmd
-  halrun machine.ini            a machine's HAL files, without its threads
+  halrun machine.ini            a TWOPASS machine's HALFILEs, as in pass 0 and 1
   halrun -U                     stop an instance left running";
 
 /// `haltcl --help`.

@@ -55,6 +55,17 @@ fn nets_change_while_threads_run() {
     run_exact("nets");
 }
 
+#[test]
+fn linuxcnc_twopass_test_prints_what_linuxcnc_prints() {
+    // LinuxCNC's tests/twopass: `halrun test.ini`, expected from its halrun.
+    let dir = case("twopass");
+    let out = halrun(&dir, &["test.ini"], "twopass");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let expected = std::fs::read_to_string(dir.join("expected")).unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), expected, "{stderr}");
+}
+
 const SHOW: &str =
     "show pin\nshow param\nshow sig\nshow funct\nshow thread\nshow alias\nlist comp\n";
 

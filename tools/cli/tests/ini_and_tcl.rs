@@ -7,7 +7,7 @@
 
 mod machine;
 
-use machine::{instance, text, tool, Scratch};
+use machine::{instance, root, text, tool, Scratch};
 
 /// `halrun ARGS` in `dir`: (success, stdout, stderr).
 fn halrun(dir: &std::path::Path, args: &[&str], tag: &str) -> (bool, String, String) {
@@ -254,13 +254,18 @@ fn includes_expand_in_place() {
     );
     s.write(
         "hal.inc",
-        "[HAL]\nHALFILE = f.hal\nHALCMD = list pin and2.[P](LAST).out\n",
+        "[HAL]\nTWOPASS = on\nHALFILE = f.hal\nHALFILE = g.hal\n",
     );
     s.write("sub/vals.inc", "COUNT = 2\nLAST = 1\n");
     s.write("f.hal", "loadrt and2 count=[P]COUNT\n");
+    s.write("g.hal", "list pin and2.[P](LAST).out\n");
     let (ok, out, err) = halrun(&s.0, &["m.ini"], "include");
     assert!(ok, "{err}");
-    assert_eq!(out, "and2.1.out \n");
+    assert_eq!(
+        out,
+        "twopass:invoked with <> options\ntwopass:found ./f.hal\ntwopass:found ./g.hal\n\
+         and2.1.out \n"
+    );
     s.write("loop.ini", "[A]\n#INCLUDE loop.inc\n");
     s.write("loop.inc", "X = 1\n#INCLUDE loop.inc\n");
     let (ok, _, err) = halrun(&s.0, &["loop.ini"], "include-loop");
@@ -275,14 +280,30 @@ fn lib_names_come_from_the_library_and_bare_names_from_the_ini_dir_first() {
         "m.ini",
         "[EMCMOT]\nEMCMOT = motmod\nBASE_PERIOD = 0\nSERVO_PERIOD = 1000000\n\
          [KINS]\nKINEMATICS = trivkins\nJOINTS = 3\n\
-         [HAL]\nHALFILE = LIB:core_sim.hal\nHALFILE = simulated_home.hal\nHALFILE = LIB:check_xyz_constraints.hal\n\
-         HALCMD = list pin beside.out\nHALCMD = show sig Xpos\n",
+         [HAL]\nTWOPASS = on\nHALFILE = LIB:core_sim.hal\nHALFILE = simulated_home.hal\n\
+         HALFILE = LIB:check_xyz_constraints.hal\nHALFILE = show.hal\n",
     );
     // A file beside the INI file wins over the library's of that name.
     s.write("simulated_home.hal", "loadrt and2 names=beside\n");
-    let (ok, out, err) = halrun(&s.0, &["m.ini"], "lib");
-    assert!(ok, "{err}");
-    assert!(out.starts_with("beside.out \n"), "{out}");
+    s.write("show.hal", "list pin beside.out\nshow sig Xpos\n");
+    // halrun runs only the HAL files, as LinuxCNC's: task's pins are not
+    // there, so core_sim.hal's iocontrol line fails; -k goes on.
+    let (ok, out, err) = halrun(&s.0, &["-k", "m.ini"], "lib");
+    assert!(!ok);
+    assert!(
+        err.contains("core_sim.hal:37: Pin 'iocontrol.0.user-enable-out' does not exist"),
+        "{err}"
+    );
+    let lib = std::fs::canonicalize(root().join("lib/hallib")).unwrap();
+    assert!(
+        out.starts_with(&format!(
+            "twopass:invoked with <> options\ntwopass:found {}/core_sim.hal\n\
+             twopass:found ./simulated_home.hal\n",
+            lib.display()
+        )),
+        "{out}"
+    );
+    assert!(out.contains("\nbeside.out \n"), "{out}");
     assert!(out.contains("<== joint.0.motor-pos-cmd"), "{out}");
     assert!(
         out.contains("==> wcomp_xvel.in") || out.contains("==> ddt_x.in"),
@@ -300,8 +321,11 @@ fn twopass_joins_loadrt_across_files_and_keeps_the_order_of_the_rest() {
     s.write(
         "m.ini",
         "[HAL]\nTWOPASS = on\nHALFILE = a.hal\nHALFILE = b.tcl\nHALFILE = c.hal\n\
-         HALCMD = list pin and2.*.out\nHALCMD = list pin *.Pgain\nHALCMD = getp p2.Pgain\n\
-         HALCMD = save thread\nHALCMD = list pin or2.0.out\n",
+         HALFILE = d.hal\n",
+    );
+    s.write(
+        "d.hal",
+        "list pin and2.*.out\nlist pin *.Pgain\ngetp p2.Pgain\nsave thread\nlist pin or2.0.out\n",
     );
     // a.hal uses and2.2, which only exists once b.tcl's and2 is counted in.
     s.write(
@@ -322,17 +346,20 @@ fn twopass_joins_loadrt_across_files_and_keeps_the_order_of_the_rest() {
     assert!(ok, "{err}");
     assert_eq!(
         out,
-        "and2.0.out and2.1.out and2.2.out \np1.Pgain p2.Pgain \n3\n\
+        "twopass:invoked with <> options\ntwopass:found ./a.hal\ntwopass:found ./b.tcl\n\
+         twopass:found ./c.hal\ntwopass:Sourcing ./c.hal WITHOUT twopass processing\n\
+         twopass:found ./d.hal\n\
+         and2.0.out and2.1.out and2.2.out \np1.Pgain p2.Pgain \n3\n\
          # realtime thread/function links\naddf or2.0 t\naddf and2.2 t\naddf and2.0 t\naddf p2.do-pid-calcs t\n\
          or2.0.out \n"
     );
-    // The same files without TWOPASS: a.hal fails at and2.2.
+    // Without TWOPASS, LinuxCNC's halrun runs nothing of an INI file.
     s.write("n.ini", "[HAL]\nHALFILE = a.hal\n");
-    let (ok, _, err) = halrun(&s.0, &["n.ini"], "onepass");
+    let (ok, out, _) = halrun(&s.0, &["n.ini"], "onepass");
     assert!(!ok);
-    assert!(
-        err.contains("a.hal:3: Pin 'and2.2.out' does not exist"),
-        "{err}"
+    assert_eq!(
+        out,
+        "halrun: An INI file may only be used if it specifies [HAL]TWOPASS\n"
     );
     // Forms may not mix.
     s.write("x.ini", "[HAL]\nTWOPASS = on\nHALFILE = x.hal\n");
@@ -344,5 +371,72 @@ fn twopass_joins_loadrt_across_files_and_keeps_the_order_of_the_rest() {
             "x.hal:2: twopass: loadrt and2: cannot mix count=, num_chan= and names= forms"
         ),
         "{err}"
+    );
+}
+
+#[test]
+fn twopass_pass_0_hides_bare_commands_but_runs_hal_ones() {
+    // As LinuxCNC's sim_lib.tcl does: `hal save` in pass 0 writes its
+    // file (and the script reads it back); bare commands do nothing.
+    let s = Scratch::new("twopass-hal");
+    s.write("m.ini", "[HAL]\nTWOPASS = on\nHALFILE = s.tcl\n");
+    s.write(
+        "s.tcl",
+        "set pass [::tp::passnumber]\nloadrt and2 names=g1\n\
+         set f [open saved_$pass.hal w]\nputs $f [hal save comp]\nclose $f\n\
+         set f [open saved_$pass.hal r]\nclose $f\n\
+         net n1 g1.in0\nsetp g1.in1 1\nputs \"pass $pass: [hal list sig] [getp g1.in1]\"\n",
+    );
+    let (ok, out, err) = halrun(&s.0, &["m.ini"], "twopass-hal");
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "twopass:invoked with <> options\ntwopass:found ./s.tcl\npass 0:  \npass 1: n1  TRUE\n"
+    );
+    let saved = |n: u8| std::fs::read_to_string(s.0.join(format!("saved_{n}.hal"))).unwrap();
+    assert!(!saved(0).contains("and2"), "{}", saved(0));
+    assert!(saved(1).contains("loadrt and2 names=g1"), "{}", saved(1));
+}
+
+#[test]
+fn hookup_moveoff_waits_for_pass_1_and_names_an_unconnected_joint() {
+    let s = Scratch::new("moveoff-hookup");
+    s.write(
+        "m.ini",
+        "[KINS]\nJOINTS = 1\n[JOINT_0]\nTYPE = LINEAR\n\
+         [HAL]\nTWOPASS = on\nHALFILE = a.hal\nHALFILE = LIB:hookup_moveoff.tcl\n",
+    );
+    s.write(
+        "a.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n\
+         addf motion-command-handler servo-thread\naddf motion-controller servo-thread\n",
+    );
+    let (ok, _, err) = halrun(&s.0, &["m.ini"], "moveoff-hookup");
+    assert!(!ok);
+    assert!(
+        err.contains(
+            "hookup_moveoff.tcl: joint.0.motor-pos-cmd is on no signal: \
+             a HAL file before hookup_moveoff.tcl must connect it"
+        ),
+        "{err}"
+    );
+    // Connected, the joint is hooked up (in pass 1: nothing in pass 0).
+    s.write(
+        "a.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n\
+         addf motion-command-handler servo-thread\naddf motion-controller servo-thread\n\
+         net J0:loop joint.0.motor-pos-cmd => joint.0.motor-pos-fb\n",
+    );
+    s.write("b.hal", "show sig hu:shortcircuit-0\n");
+    s.write(
+        "m.ini",
+        "[KINS]\nJOINTS = 1\n[JOINT_0]\nTYPE = LINEAR\n\
+         [HAL]\nTWOPASS = on\nHALFILE = a.hal\nHALFILE = LIB:hookup_moveoff.tcl\nHALFILE = b.hal\n",
+    );
+    let (ok, out, err) = halrun(&s.0, &["m.ini"], "moveoff-hookup-2");
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("<== mv.pos-plusoffset-0") && out.contains("==> mv.fb-0"),
+        "{out}"
     );
 }

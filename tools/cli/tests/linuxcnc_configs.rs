@@ -129,6 +129,38 @@ fn twopass_shape() {
 }
 
 #[test]
+fn moveoff_shape() {
+    runs("moveoff", "moveoff.ini", |m| {
+        // LIB:hookup_moveoff.tcl put mv between motion and the loops.
+        let plus = m.halcmd(&["show", "sig", "hu:plus-0"]);
+        assert!(
+            plus.contains("<== mv.pos-plusoffset-0") && plus.contains("==> J0_pid.command"),
+            "{plus}"
+        );
+        let minus = m.halcmd(&["show", "sig", "hu:minus-0"]);
+        assert!(minus.contains("==> joint.0.motor-pos-fb"), "{minus}");
+        let thread = m.halcmd(&["show", "thread"]);
+        let at = |f: &str| thread.find(f).unwrap_or_else(|| panic!("{f}: {thread}"));
+        assert!(at("mv.read-inputs") < at("motion-command-handler"));
+        assert!(at("motion-controller") < at("mv.write-outputs"));
+        // [MOVEOFF_0], else [JOINT_2]; [MOVEOFF].
+        assert_eq!(m.getp("mv.offset-max-0"), "10");
+        assert_eq!(m.getp("mv.offset-vel-2"), "5");
+        assert_eq!(m.getp("mv.epsilon"), "0.001");
+        // An offset on moveoff_external.hal's signals moves the loop;
+        // motion's feedback stays where it commands.
+        m.halcmd(&["setp", "mv.power-on", "TRUE"]);
+        m.halcmd(&["setp", "mv.apply-offsets", "TRUE"]);
+        m.halcmd(&["sets", "external_enable", "TRUE"]);
+        m.halcmd(&["sets", "external_offset_0", "1.5"]);
+        assert_eq!(m.wait_getp("mv.offset-current-0", "1.5"), "1.5");
+        assert_eq!(m.wait_getp("J0_mux.out", "1.5"), "1.5");
+        assert_eq!(m.getp("joint.0.motor-pos-fb"), "0");
+        assert_eq!(m.getp("mv.offset-applied"), "TRUE");
+    });
+}
+
+#[test]
 fn servo_pid_shape() {
     let err = runs("servo-pid", "servo.ini", |m| {
         m.motion(&["jog-incr", "0", "0.5", "0.1"]);

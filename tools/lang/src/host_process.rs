@@ -168,16 +168,32 @@ pub fn kill_host(pid: i32, limit: Duration) -> bool {
     }
     let end = std::time::Instant::now() + limit;
     while std::time::Instant::now() < end {
-        // Gone, or a zombie its parent has yet to reap: either way it
-        // holds nothing any more.
-        let zombie = std::fs::read_to_string(format!("/proc/{pid}/stat")).map(|s| {
-            s.rsplit_once(')')
-                .is_some_and(|(_, r)| r.trim_start().starts_with('Z'))
-        });
-        if !matches!(zombie, Ok(false)) {
+        if holds_nothing(pid.as_raw()) {
             return true;
         }
         std::thread::sleep(Duration::from_millis(10));
     }
     false
+}
+
+/// Whether process `pid` has let go of everything it held: it is gone, or
+/// it is a zombie its parent has yet to reap and none of its threads is
+/// still exiting. The leader of a killed multi-threaded process turns
+/// zombie first; its other threads, still on their way out, keep the
+/// shared file table, and with it the host's socket and lock, open until
+/// the last of them has left (each leaves `/proc/PID/task` when it has).
+fn holds_nothing(pid: i32) -> bool {
+    let Ok(stat) = std::fs::read_to_string(format!("/proc/{pid}/stat")) else {
+        return true;
+    };
+    let zombie = stat
+        .rsplit_once(')')
+        .is_some_and(|(_, r)| r.trim_start().starts_with('Z'));
+    if !zombie {
+        return false;
+    }
+    match std::fs::read_dir(format!("/proc/{pid}/task")) {
+        Ok(tasks) => tasks.count() <= 1,
+        Err(_) => true,
+    }
 }

@@ -84,19 +84,32 @@ impl HalSide<'_> {
         files: &[HalFile],
         options: &str,
     ) -> Result<(), LaunchError> {
-        let verbose = self.verbose || options.to_ascii_lowercase().contains("verbose");
-        if verbose {
-            eprintln!("twopass: invoked with <{options}> options");
-        }
+        // LinuxCNC's twopass.tcl names the options it knows, and says so
+        // (and which files it found) on stdout.
+        let lower = options.to_ascii_lowercase();
+        let known: Vec<&str> = ["verbose", "nodelete"]
+            .into_iter()
+            .filter(|k| lower.contains(k))
+            .collect();
+        let verbose = self.verbose || known.contains(&"verbose");
+        session.say(&format!(
+            "twopass:invoked with <{}> options",
+            known.join(" ")
+        ));
         let mut notwopass = Vec::new();
         for f in files {
-            if verbose {
-                eprintln!("twopass: found {}", f.path.display());
-            }
+            session.say(&format!(
+                "twopass:found {}",
+                f.twopass_name(&self.search.ini_dir)
+            ));
             if f.kind() == "hal" {
                 let text = hal_lang::lexer::read_text(&f.path)
                     .map_err(|e| LaunchError::read(&f.path, e))?;
                 if crate::twopass::is_notwopass(&text) {
+                    session.say(&format!(
+                        "twopass:Sourcing {} WITHOUT twopass processing",
+                        f.twopass_name(&self.search.ini_dir)
+                    ));
                     notwopass.push(f.path.clone());
                 }
             }
@@ -179,9 +192,10 @@ impl HalSide<'_> {
                 }
             }
             "tcl" => {
-                let twopass = match self.rules.borrow().phase {
+                let phase = self.rules.borrow().phase;
+                let twopass = match phase {
                     Phase::Normal => None,
-                    Phase::Pass0 => Some(0),
+                    Phase::Pass0 | Phase::Pass0Tcl => Some(0),
                     Phase::Pass1 => Some(1),
                 };
                 let job = TclJob {
@@ -190,7 +204,12 @@ impl HalSide<'_> {
                     prompt: false,
                     twopass,
                 };
-                haltcl::run(session, Some(self.ini), &job).map_err(|e| match e {
+                if phase == Phase::Pass0 {
+                    self.rules.borrow_mut().phase = Phase::Pass0Tcl;
+                }
+                let r = haltcl::run(session, Some(self.ini), &job);
+                self.rules.borrow_mut().phase = phase;
+                r.map_err(|e| match e {
                     haltcl::HaltclError::Failed { .. } => failed(),
                     haltcl::HaltclError::Stopped { .. } => LaunchError::StoppedDuringStart,
                     other => LaunchError::Tcl(other),

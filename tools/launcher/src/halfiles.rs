@@ -56,6 +56,20 @@ impl HalFile {
             .unwrap_or_default()
     }
 
+    /// The name LinuxCNC's twopass reports the file by (`twopass:found
+    /// NAME`): `./NAME` for a bare name found beside the INI file, else
+    /// the whole path found.
+    pub fn twopass_name(&self, ini_dir: &Path) -> String {
+        let name = self.spec.split_whitespace().next().unwrap_or("");
+        let bare =
+            !name.starts_with("LIB:") && !name.starts_with("~/") && !Path::new(name).is_absolute();
+        if bare && self.path == ini_dir.join(name) {
+            format!("./{name}")
+        } else {
+            self.path.display().to_string()
+        }
+    }
+
     /// The name messages use: the path relative to the working directory
     /// when below it, else the whole path.
     pub fn display_name(&self) -> String {
@@ -191,6 +205,17 @@ mod tests {
         assert_eq!(
             sp.resolve(&entry("LIB:core_sim.hal")).unwrap().path,
             lib.join("core_sim.hal")
+        );
+        // As LinuxCNC's twopass names them: ./NAME beside the INI file.
+        let name = |spec: &str| sp.resolve(&entry(spec)).unwrap().twopass_name(&ini);
+        assert_eq!(name("core_sim.hal"), "./core_sim.hal");
+        assert_eq!(
+            name("LIB:core_sim.hal"),
+            lib.join("core_sim.hal").display().to_string()
+        );
+        assert_eq!(
+            name("mine.hal"),
+            extra.join("mine.hal").display().to_string()
         );
         let tcl = sp
             .resolve(&entry("LIB:basic_sim.tcl -no_sim_spindle"))

@@ -31,8 +31,8 @@ mod twopass;
 
 pub use error::LaunchError;
 pub use machine::{
-    load_ini, parse_args, report_skipped, run, search_path, start_hal_side, HalStartup, Options,
-    USAGE,
+    asks_for_twopass, load_ini, parse_args, report_skipped, run, run_twopass, search_path,
+    start_hal_side, HalStartup, Options, USAGE,
 };
 pub use program::{ProgramConfig, ProgramError, RunState};
 pub use rules::Rules;

@@ -284,6 +284,33 @@ pub fn start_hal_side(
     })
 }
 
+/// What `halrun MACHINE.ini` does, as LinuxCNC's halrun: only the
+/// `[HAL]TWOPASS` processing of the `[HAL]HALFILE`s (no task pins, no
+/// planner or homing module, no `[HAL]HALCMD`). The caller checks that
+/// the INI file asks for TWOPASS ([`asks_for_twopass`]).
+pub fn run_twopass(
+    session: &mut Session<'_>,
+    ini: &Ini,
+    opts: &Options,
+) -> Result<(), LaunchError> {
+    let rules = Rc::new(RefCell::new(Rules::default()));
+    session.set_filter(rules.clone());
+    let side = HalSide {
+        ini,
+        search: search_path(ini, &opts.halfile_dirs),
+        rules,
+        keep_going: opts.keep_going,
+        verbose: opts.verbose,
+    };
+    side.halfiles(session)
+}
+
+/// Whether the INI file sets `[HAL]TWOPASS` (to anything but nothing).
+pub fn asks_for_twopass(ini: &Ini) -> bool {
+    ini.get("HAL", "TWOPASS")
+        .is_some_and(|v| !v.trim().is_empty())
+}
+
 /// Starts halui when `[HAL]HALUI` names it, as LinuxCNC's script does:
 /// `loadusr -Wn halui halui -ini MACHINE.ini`. Another program named
 /// there is not started (it is reported with the GUIs).

@@ -65,6 +65,12 @@ pub enum Phase {
     Normal,
     /// TWOPASS pass 0: gather `loadrt`, run `loadusr`, skip the rest.
     Pass0,
+    /// TWOPASS pass 0 in a Tcl file: gather `loadrt`, put `addf` off to
+    /// pass 1, run the rest. As under LinuxCNC's twopass.tcl, the Tcl
+    /// side hides the bare halcmd commands in this pass, so what reaches
+    /// the session is `loadrt`, `loadusr`, `addf` and what the script
+    /// asks of `hal` by name (`hal save`, `hal list`...), which runs.
+    Pass0Tcl,
     /// TWOPASS pass 1: everything but the `loadrt`s of pass 0 and the
     /// `loadusr`s.
     Pass1,
@@ -282,14 +288,14 @@ impl CommandFilter for Rules {
             return Ok(Verdict::Skip);
         }
         match (self.phase, cmd) {
-            (Phase::Pass0, "loadrt") => {
+            (Phase::Pass0 | Phase::Pass0Tcl, "loadrt") => {
                 self.twopass
                     .gather(&words[1..])
                     .map_err(|e| LangError::Filter(Box::new(e)))?;
                 return Ok(Verdict::Skip);
             }
             (Phase::Pass0, "loadusr" | "source" | "quit" | "exit") => {}
-            (Phase::Pass0, _) => return Ok(Verdict::Skip),
+            (Phase::Pass0, _) | (Phase::Pass0Tcl, "addf") => return Ok(Verdict::Skip),
             (Phase::Pass1, "loadrt") if self.twopass.loaded_in_pass0(module) => {
                 return Ok(Verdict::Skip)
             }

@@ -52,22 +52,69 @@ struct Objects {
     mode: Option<Field>,
 }
 
+/// The drive's `srv-*` pins, as indices into the slave's pins (found by
+/// name once, at export).
+struct DrivePins {
+    pos_scale: Option<usize>,
+    enable: Option<usize>,
+    fault_reset: Option<usize>,
+    target_position: Option<usize>,
+    target_velocity: Option<usize>,
+    home: Option<usize>,
+    actual_position: Option<usize>,
+    actual_velocity: Option<usize>,
+    enabled: Option<usize>,
+    fault: Option<usize>,
+    fault_code: Option<usize>,
+    error_code: Option<usize>,
+    statusword: Option<usize>,
+    opmode_display: Option<usize>,
+    home_complete: Option<usize>,
+    controlword: Option<usize>,
+}
+
+impl DrivePins {
+    fn new<H: HalHost>(p: &Named<'_, H>) -> DrivePins {
+        DrivePins {
+            pos_scale: p.index("srv-pos-scale"),
+            enable: p.index("srv-enable"),
+            fault_reset: p.index("srv-fault-reset"),
+            target_position: p.index("srv-target-position"),
+            target_velocity: p.index("srv-target-velocity"),
+            home: p.index("srv-home"),
+            actual_position: p.index("srv-actual-position"),
+            actual_velocity: p.index("srv-actual-velocity"),
+            enabled: p.index("srv-enabled"),
+            fault: p.index("srv-fault"),
+            fault_code: p.index("srv-fault-code"),
+            error_code: p.index("srv-error-code"),
+            statusword: p.index("srv-cia-statusword"),
+            opmode_display: p.index("srv-opmode-display"),
+            home_complete: p.index("srv-home-complete"),
+            controlword: p.index("srv-cia-controlword"),
+        }
+    }
+}
+
 /// One drive.
 pub(crate) struct DriveRt {
     ctl: DriveControl<EcatLink>,
     at: Objects,
+    pins: DrivePins,
     inputs: DriveInputs,
     reset_edge: bool,
     reset_prev: bool,
 }
 
 impl DriveRt {
-    /// The drive of `slave`, its objects found in `layout`.
-    pub(crate) fn new(
+    /// The drive of `slave`, its objects found in `layout`, its pins in
+    /// `pins`.
+    pub(crate) fn new<H: HalHost>(
         label: String,
         slave: &Slave,
         layout: &Layout,
         file: &std::path::Path,
+        pins: &Named<'_, H>,
     ) -> hal_core::Result<DriveRt> {
         let missing = |what: &str| {
             hal_core::HalError::module_failed(
@@ -125,6 +172,7 @@ impl DriveRt {
                 needs_restart,
             ),
             at,
+            pins: DrivePins::new(pins),
             inputs: DriveInputs::default(),
             reset_edge: false,
             reset_prev: false,
@@ -137,14 +185,15 @@ impl DriveRt {
     }
 
     fn take_inputs<H: HalHost>(&mut self, p: &Named<'_, H>) {
-        let get = |n: &str| p.get(n).map_or(0.0, |x| x.get());
-        let scale = get("srv-pos-scale");
+        let get = |i: Option<usize>| p.at(i).map_or(0.0, |x| x.get());
+        let at = &self.pins;
+        let scale = get(at.pos_scale);
         self.inputs = DriveInputs {
-            enable: get("srv-enable") != 0.0,
-            fault_reset: get("srv-fault-reset") != 0.0,
-            position_cmd: get("srv-target-position"),
-            velocity_cmd: get("srv-target-velocity"),
-            home: get("srv-home") != 0.0,
+            enable: get(at.enable) != 0.0,
+            fault_reset: get(at.fault_reset) != 0.0,
+            position_cmd: get(at.target_position),
+            velocity_cmd: get(at.target_velocity),
+            home: get(at.home) != 0.0,
             scale: if scale.is_finite() && scale.abs() > 1e-20 {
                 scale
             } else {
@@ -179,22 +228,23 @@ impl DriveRt {
         self.ctl.after_restart(healthy);
         self.ctl.supervise_drive(log);
         let fb = self.ctl.feedback(&self.inputs);
-        let set = |n: &str, v: f64| {
-            if let Some(pin) = p.get(n) {
+        let set = |i: Option<usize>, v: f64| {
+            if let Some(pin) = p.at(i) {
                 pin.set(v);
             }
         };
-        set("srv-actual-position", fb.position_fb);
-        set("srv-actual-velocity", fb.velocity_fb);
-        set("srv-enabled", f64::from(u8::from(fb.enabled)));
-        set("srv-fault", f64::from(u8::from(fb.amp_fault)));
-        set("srv-fault-code", f64::from(fb.fault_code));
-        set("srv-error-code", f64::from(fb.error_code));
-        set("srv-cia-statusword", f64::from(fb.statusword));
-        set("srv-opmode-display", f64::from(fb.mode_display));
-        set("srv-home-complete", f64::from(u8::from(fb.home_complete)));
+        let at = &self.pins;
+        set(at.actual_position, fb.position_fb);
+        set(at.actual_velocity, fb.velocity_fb);
+        set(at.enabled, f64::from(u8::from(fb.enabled)));
+        set(at.fault, f64::from(u8::from(fb.amp_fault)));
+        set(at.fault_code, f64::from(fb.fault_code));
+        set(at.error_code, f64::from(fb.error_code));
+        set(at.statusword, f64::from(fb.statusword));
+        set(at.opmode_display, f64::from(fb.mode_display));
+        set(at.home_complete, f64::from(u8::from(fb.home_complete)));
         if fb.home_clear {
-            set("srv-home", 0.0);
+            set(at.home, 0.0);
         }
     }
 
@@ -218,7 +268,7 @@ impl DriveRt {
         if let Some(f) = self.at.mode {
             f.write(img, plan.mode as u8 as u64);
         }
-        if let Some(pin) = p.get("srv-cia-controlword") {
+        if let Some(pin) = p.at(self.pins.controlword) {
             pin.set(f64::from(plan.controlword));
         }
     }

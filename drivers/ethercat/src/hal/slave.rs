@@ -70,12 +70,93 @@ pub(crate) struct SlaveRt<H: HalHost> {
     label: String,
     /// Healthy at the last `read` (a change is logged once).
     was_healthy: bool,
-    kind: String,
+    /// What the slave's type computes each cycle, its pins found once.
+    code: TypeCode,
     state: StatePins<H>,
     pins: Vec<Bound<H>>,
     drive: Option<Box<DriveRt>>,
     /// EL5101/EL7041: the counter extended past 16 bits.
     count: Counter,
+}
+
+/// What a slave type computes beyond its entries' bits, with the pins it
+/// uses found by name at export: the cycle indexes them and compares no
+/// names.
+enum TypeCode {
+    /// Nothing beyond the bits.
+    Plain,
+    /// EL3102: the scaled value of each channel.
+    AnalogIn([AnalogInPins; 2]),
+    /// EL4102: the duty cycle of each channel.
+    AnalogOut([AnalogOutPins; 2]),
+    /// EL5101, EL7041: the extended counter and the position.
+    Counter(CounterPins),
+}
+
+/// An EL3102 channel's pins (`ain-N-*`), as indices into the slave's pins.
+struct AnalogInPins {
+    raw: Option<usize>,
+    val: Option<usize>,
+    scale: Option<usize>,
+    bias: Option<usize>,
+}
+
+/// An EL4102 channel's pins (`aout-N-*`).
+struct AnalogOutPins {
+    value: Option<usize>,
+    scale: Option<usize>,
+    offset: Option<usize>,
+    min_dc: Option<usize>,
+    max_dc: Option<usize>,
+    enable: Option<usize>,
+    curr_dc: Option<usize>,
+    raw: Option<usize>,
+    pos: Option<usize>,
+    neg: Option<usize>,
+}
+
+/// The counter pins (`enc-*`) of an EL5101 or EL7041.
+struct CounterPins {
+    raw_count: Option<usize>,
+    reset: Option<usize>,
+    pos_scale: Option<usize>,
+    count: Option<usize>,
+    pos: Option<usize>,
+}
+
+impl TypeCode {
+    /// The code of slave type `kind`, its pins found in `pins`.
+    fn new<H: HalHost>(kind: &str, pins: &Named<'_, H>) -> TypeCode {
+        let ch = |kind: &str, n: usize, what: &str| pins.index(&format!("{kind}-{n}-{what}"));
+        match kind {
+            "EL3102" => TypeCode::AnalogIn([0, 1].map(|n| AnalogInPins {
+                raw: ch("ain", n, "raw"),
+                val: ch("ain", n, "val"),
+                scale: ch("ain", n, "scale"),
+                bias: ch("ain", n, "bias"),
+            })),
+            "EL4102" => TypeCode::AnalogOut([0, 1].map(|n| AnalogOutPins {
+                value: ch("aout", n, "value"),
+                scale: ch("aout", n, "scale"),
+                offset: ch("aout", n, "offset"),
+                min_dc: ch("aout", n, "min-dc"),
+                max_dc: ch("aout", n, "max-dc"),
+                enable: ch("aout", n, "enable"),
+                curr_dc: ch("aout", n, "curr-dc"),
+                raw: ch("aout", n, "raw"),
+                pos: ch("aout", n, "pos"),
+                neg: ch("aout", n, "neg"),
+            })),
+            "EL5101" | "EL7041" => TypeCode::Counter(CounterPins {
+                raw_count: pins.index("enc-raw-count"),
+                reset: pins.index("enc-reset"),
+                pos_scale: pins.index("enc-pos-scale"),
+                count: pins.index("enc-count"),
+                pos: pins.index("enc-pos"),
+            }),
+            _ => TypeCode::Plain,
+        }
+    }
 }
 
 #[derive(Default)]
@@ -116,12 +197,15 @@ impl<H: HalHost> SlaveRt<H> {
                 role,
             });
         }
+        let named = Named(&bound);
+        let code = TypeCode::new(&slave.kind, &named);
         let drive = if slave.kind == "basic_cia402" {
             Some(Box::new(DriveRt::new(
                 format!("{} (slave {})", name("srv"), slave.index),
                 slave,
                 layout,
                 file,
+                &named,
             )?))
         } else {
             None
@@ -130,7 +214,7 @@ impl<H: HalHost> SlaveRt<H> {
             index,
             label: pins::full_name(Some(master), None, &slave.name),
             was_healthy: true,
-            kind: slave.kind.clone(),
+            code,
             state,
             pins: bound,
             drive,
@@ -174,10 +258,10 @@ impl<H: HalHost> SlaveRt<H> {
                 b.pin.set(v);
             }
         }
-        match self.kind.as_str() {
-            "EL3102" => self.analog_in(),
-            "EL5101" | "EL7041" => self.counter(),
-            _ => {}
+        match &self.code {
+            TypeCode::AnalogIn(channels) => analog_in(&self.pins, channels),
+            TypeCode::Counter(at) => counter(&self.pins, at, &mut self.count),
+            TypeCode::Plain | TypeCode::AnalogOut(_) => {}
         }
         if let Some(d) = &mut self.drive {
             d.read(inputs, healthy, &Named(&self.pins), log);
@@ -186,8 +270,8 @@ impl<H: HalHost> SlaveRt<H> {
 
     /// A cycle's transmission into the slave's outputs.
     pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64) {
-        if self.kind == "EL4102" {
-            self.analog_out();
+        if let TypeCode::AnalogOut(channels) = &self.code {
+            analog_out(&self.pins, channels);
         }
         for b in &self.pins {
             match &b.role {
@@ -254,100 +338,94 @@ impl<H: HalHost> SlaveRt<H> {
             d.safe(outputs);
         }
     }
+}
 
-    fn pin(&self, name: &str) -> Option<&AnyPin<H>> {
-        self.pins
-            .iter()
-            .find(|b| b.spec.name == name)
-            .map(|b| &b.pin)
-    }
+/// The pin at `index` of a slave's pins, if the slave has it.
+fn at<H: HalHost>(pins: &[Bound<H>], index: Option<usize>) -> Option<&AnyPin<H>> {
+    index.and_then(|i| pins.get(i)).map(|b| &b.pin)
+}
 
-    /// The pin `KIND-CHANNEL-WHAT` (`ain-0-raw`), found without building
-    /// its name: this runs in the servo thread, which must not allocate.
-    fn channel_pin(&self, kind: &str, channel: usize, what: &str) -> Option<&AnyPin<H>> {
-        self.pins
-            .iter()
-            .find(|b| is_channel_pin(&b.spec.name, kind, channel, what))
-            .map(|b| &b.pin)
-    }
-
-    /// EL3102: `val` = `bias` + `scale` × raw / 32767.
-    fn analog_in(&self) {
-        for i in 0..2 {
-            let p = |s: &str| self.channel_pin("ain", i, s);
-            if let (Some(raw), Some(val), Some(scale), Some(bias)) =
-                (p("raw"), p("val"), p("scale"), p("bias"))
-            {
-                val.set(bias.get() + scale.get() * raw.get() / 32767.0);
-            }
-        }
-    }
-
-    /// EL4102: the duty cycle `value` × `scale` + `offset`, limited to
-    /// `min-dc`..`max-dc`, 0 while not enabled; `raw` = duty × 32767.
-    fn analog_out(&self) {
-        for i in 0..2 {
-            let p = |s: &str| self.channel_pin("aout", i, s);
-            let (Some(value), Some(scale), Some(offset), Some(lo), Some(hi)) = (
-                p("value"),
-                p("scale"),
-                p("offset"),
-                p("min-dc"),
-                p("max-dc"),
-            ) else {
-                continue;
-            };
-            let enabled = p("enable").is_some_and(AnyPin::is_set);
-            let dc = if enabled {
-                (value.get() * scale.get() + offset.get()).clamp(lo.get(), hi.get().max(lo.get()))
-            } else {
-                0.0
-            };
-            let raw = (dc * 32767.0).round();
-            for (s, v) in [
-                ("curr-dc", dc),
-                ("raw", raw),
-                ("pos", f64::from(u8::from(dc > 0.0))),
-                ("neg", f64::from(u8::from(dc < 0.0))),
-            ] {
-                if let Some(pin) = p(s) {
-                    pin.set(v);
-                }
-            }
-        }
-    }
-
-    /// EL5101, EL7041: the 16-bit counter extended, and the position.
-    fn counter(&mut self) {
-        let Some(raw) = self.pin("enc-raw-count").map(|p| p.get() as i64 as i16) else {
-            return;
-        };
-        let reset = self.pin("enc-reset").is_some_and(AnyPin::is_set);
-        let c = &mut self.count;
-        match c.last_raw {
-            Some(last) if !reset => c.count += i64::from(raw.wrapping_sub(last)),
-            _ => c.count = 0,
-        }
-        c.last_raw = Some(raw);
-        let count = c.count;
-        let scale = self.pin("enc-pos-scale").map_or(1.0, |s| s.get());
-        let scale = if scale.abs() < 1e-20 { 1.0 } else { scale };
-        if let Some(p) = self.pin("enc-count") {
-            p.set(count as f64);
-        }
-        if let Some(p) = self.pin("enc-pos") {
-            p.set(count as f64 / scale);
+/// EL3102: `val` = `bias` + `scale` × raw / 32767.
+fn analog_in<H: HalHost>(pins: &[Bound<H>], channels: &[AnalogInPins; 2]) {
+    for c in channels {
+        let p = |i| at(pins, i);
+        if let (Some(raw), Some(val), Some(scale), Some(bias)) =
+            (p(c.raw), p(c.val), p(c.scale), p(c.bias))
+        {
+            val.set(bias.get() + scale.get() * raw.get() / 32767.0);
         }
     }
 }
 
-/// A slave's bound pins, found by name.
+/// EL4102: the duty cycle `value` × `scale` + `offset`, limited to
+/// `min-dc`..`max-dc`, 0 while not enabled; `raw` = duty × 32767.
+fn analog_out<H: HalHost>(pins: &[Bound<H>], channels: &[AnalogOutPins; 2]) {
+    for c in channels {
+        let p = |i| at(pins, i);
+        let (Some(value), Some(scale), Some(offset), Some(lo), Some(hi)) = (
+            p(c.value),
+            p(c.scale),
+            p(c.offset),
+            p(c.min_dc),
+            p(c.max_dc),
+        ) else {
+            continue;
+        };
+        let enabled = p(c.enable).is_some_and(AnyPin::is_set);
+        let dc = if enabled {
+            (value.get() * scale.get() + offset.get()).clamp(lo.get(), hi.get().max(lo.get()))
+        } else {
+            0.0
+        };
+        let raw = (dc * 32767.0).round();
+        for (i, v) in [
+            (c.curr_dc, dc),
+            (c.raw, raw),
+            (c.pos, f64::from(u8::from(dc > 0.0))),
+            (c.neg, f64::from(u8::from(dc < 0.0))),
+        ] {
+            if let Some(pin) = p(i) {
+                pin.set(v);
+            }
+        }
+    }
+}
+
+/// EL5101, EL7041: the 16-bit counter extended, and the position.
+fn counter<H: HalHost>(pins: &[Bound<H>], c: &CounterPins, state: &mut Counter) {
+    let Some(raw) = at(pins, c.raw_count).map(|p| p.get() as i64 as i16) else {
+        return;
+    };
+    let reset = at(pins, c.reset).is_some_and(AnyPin::is_set);
+    match state.last_raw {
+        Some(last) if !reset => state.count += i64::from(raw.wrapping_sub(last)),
+        _ => state.count = 0,
+    }
+    state.last_raw = Some(raw);
+    let count = state.count;
+    let scale = at(pins, c.pos_scale).map_or(1.0, |s| s.get());
+    let scale = if scale.abs() < 1e-20 { 1.0 } else { scale };
+    if let Some(p) = at(pins, c.count) {
+        p.set(count as f64);
+    }
+    if let Some(p) = at(pins, c.pos) {
+        p.set(count as f64 / scale);
+    }
+}
+
+/// A slave's bound pins: found by name at export ([`Named::index`]), by
+/// that index in the cycle ([`Named::at`]).
 pub(crate) struct Named<'a, H: HalHost>(&'a [Bound<H>]);
 
 impl<H: HalHost> Named<'_, H> {
-    /// The pin `name` (the part after the slave's name).
-    pub(crate) fn get(&self, name: &str) -> Option<&AnyPin<H>> {
-        self.0.iter().find(|b| b.spec.name == name).map(|b| &b.pin)
+    /// The index of pin `name` (the part after the slave's name).
+    pub(crate) fn index(&self, name: &str) -> Option<usize> {
+        self.0.iter().position(|b| b.spec.name == name)
+    }
+
+    /// The pin at `index`, found by [`Named::index`].
+    pub(crate) fn at(&self, index: Option<usize>) -> Option<&AnyPin<H>> {
+        at(self.0, index)
     }
 }
 
@@ -430,32 +508,4 @@ fn role(
             invert: spec.name.ends_with("-not"),
         }
     })
-}
-
-/// Whether `name` is `KIND-CHANNEL-WHAT`, compared piece by piece so
-/// that nothing is allocated.
-fn is_channel_pin(name: &str, kind: &str, channel: usize, what: &str) -> bool {
-    let Some(rest) = name.strip_prefix(kind).and_then(|r| r.strip_prefix('-')) else {
-        return false;
-    };
-    let Some((number, tail)) = rest.split_once('-') else {
-        return false;
-    };
-    tail == what && number.parse::<usize>() == Ok(channel)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::is_channel_pin;
-
-    #[test]
-    fn channel_pins_are_matched_by_kind_channel_and_name() {
-        assert!(is_channel_pin("ain-0-raw", "ain", 0, "raw"));
-        assert!(is_channel_pin("aout-1-min-dc", "aout", 1, "min-dc"));
-        assert!(!is_channel_pin("ain-1-raw", "ain", 0, "raw"));
-        assert!(!is_channel_pin("aout-0-raw", "ain", 0, "raw"));
-        assert!(!is_channel_pin("ain-0-raw-x", "ain", 0, "raw"));
-        assert!(!is_channel_pin("ain-x-raw", "ain", 0, "raw"));
-        assert!(!is_channel_pin("ain", "ain", 0, "raw"));
-    }
 }

@@ -5,9 +5,9 @@
 //!   (then, with `-I`, an interactive halcmd; without a file, only that);
 //! * `halrun [-T] [-i INI] FILE.tcl` runs the file with haltcl (with
 //!   `-T`, an interactive haltcl follows);
-//! * `halrun [-I|-T] MACHINE.ini` runs the machine's HAL side: the task
-//!   pins, `[HAL]HALFILE` (TWOPASS too) and `[HAL]HALCMD`, as `linuxcnc`
-//!   does before it starts the threads;
+//! * `halrun [-I|-T] MACHINE.ini` runs only the `[HAL]TWOPASS` processing
+//!   of the machine's `[HAL]HALFILE`s, as LinuxCNC's halrun does (an INI
+//!   file without TWOPASS is refused, in LinuxCNC's words);
 //! * `halrun -U` stops the instance's realtime environment.
 //!
 //! The file may also be given as `-f FILE`.
@@ -241,13 +241,16 @@ fn run(inst: Instance, req: &Request, kind: Option<&str>) -> i32 {
     }
 }
 
-/// A `.ini` file: the machine's HAL side, then the sessions asked for.
+/// A `.ini` file, as LinuxCNC's halrun takes one: only the `[HAL]TWOPASS`
+/// processing of its HALFILEs (its `twopass:` lines on stdout), then the
+/// sessions asked for. Without TWOPASS nothing of the file runs.
 fn run_ini(inst: Instance, req: &Request) -> i32 {
     let path = req.file.clone().unwrap_or_default();
     let ini = match launcher::load_ini(Path::new(&path)) {
         Ok(i) => i,
         Err(e) => die(e),
     };
+    let mut status = 0;
     let opts = launcher::Options {
         ini_path: PathBuf::from(&path),
         keep_going: req.halcmd_opts.iter().any(|o| o == "-k"),
@@ -262,18 +265,15 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
         ..Default::default()
     };
     let mut session = Session::new(inst.clone(), hopts, &mut out, &mut err);
-    // The task pins live as long as this process runs the session.
-    let started = launcher::start_hal_side(&mut session, &ini, &opts);
-    let mut status = match &started {
-        Ok(s) => {
-            launcher::report_skipped(&ini, &s.rules.borrow(), &inst);
-            0
-        }
-        Err(e) => {
+    if launcher::asks_for_twopass(&ini) {
+        if let Err(e) = launcher::run_twopass(&mut session, &ini, &opts) {
             eprintln!("halrun: {e}");
-            1
+            status = 1;
         }
-    };
+    } else {
+        session.say("halrun: An INI file may only be used if it specifies [HAL]TWOPASS");
+        status = 1;
+    }
     if req.interactive_halcmd {
         let stdin = std::io::stdin();
         let prompt = stdin.is_terminal();
@@ -289,8 +289,6 @@ fn run_ini(inst: Instance, req: &Request) -> i32 {
         };
         status = status.max(tcl_status(haltcl::run(&mut session, Some(&ini), &job)));
     }
-    drop(session);
-    drop(started);
     status
 }
 

@@ -76,9 +76,12 @@ proc sets {name value} {
 }
 
 lassign [::haltcl::call commands] _ ::haltcl::commands
+# The halcmd commands made Tcl commands here (setp and sets above too).
+set ::haltcl::bare {setp sets}
 foreach ::haltcl::c $::haltcl::commands {
     if {[info commands ::$::haltcl::c] eq ""} {
         proc ::$::haltcl::c {args} "hal $::haltcl::c {*}\$args"
+        lappend ::haltcl::bare $::haltcl::c
     }
 }
 unset ::haltcl::c
@@ -115,6 +118,18 @@ if {$::haltcl::pass ne ""} {
     }
 }
 set ::argc [llength $::argv]
+# Pass 0 of [HAL]TWOPASS hides the bare halcmd commands, as LinuxCNC's
+# twopass.tcl does: they do nothing but loadrt (gathered), loadusr (run
+# now) and addf (put off to pass 1). `hal CMD` is not hidden: a script
+# may save or list what pass 0 has made.
+if {$::haltcl::pass eq "0"} {
+    foreach ::haltcl::c $::haltcl::bare {
+        if {$::haltcl::c ni {addf loadrt loadusr source list gets}} {
+            proc ::$::haltcl::c {args} {return}
+        }
+    }
+    unset ::haltcl::c
+}
 
 proc ::haltcl::repl {} {
     set cmd ""

@@ -203,6 +203,15 @@ impl<'o> Session<'o> {
         }
     }
 
+    /// Writes a line to the session's output, where commands write
+    /// theirs (the launcher's TWOPASS reports it in LinuxCNC's words, on
+    /// stdout, as LinuxCNC's twopass.tcl prints them).
+    pub fn say(&mut self, line: &str) {
+        let out = self.w_out();
+        let _ = writeln!(out, "{line}");
+        let _ = out.flush();
+    }
+
     /// Writes a HAL library error line (no file and line), unless `-Q`.
     fn lib_error(&mut self, msg: &str) {
         if !self.opts.silent {
