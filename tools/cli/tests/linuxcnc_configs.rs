@@ -295,3 +295,19 @@ fn hm2_stepper_5i22_runs_on_the_simulated_card() {
         assert_eq!(m.getp("hm2_5i22.0.watchdog.has_bit"), "FALSE");
     });
 }
+
+/// LinuxCNC's Smithy 622 mill (`by_machine/smithy`: a 5i20 with
+/// `firmware=hm2/5i20/SVST2_4_7I47.BIT`, raw GPIO for its panel),
+/// unchanged but for `sim=5i20` on its `hm2_pci` line: it loads and its
+/// threads run. Machine-on is not checked: its E-stop chain and limit
+/// switches are inputs (gpio.037, gpio.024 to .034) that the simulated
+/// card leaves undriven, where the real machine wires its switches.
+#[test]
+fn smithy_622_loads_and_runs_on_the_simulated_5i20() {
+    let dir = "smithy-622";
+    let m = Machine::start(&config(dir, "622.ini"), dir);
+    assert!(m.threads_run(), "{dir}: threads run\n{}", m.stderr());
+    assert_eq!(m.getp("hm2_5i20.0.stepgen.00.position-scale"), "63500");
+    assert_eq!(m.getp("charge-pump.enable"), "FALSE");
+    m.stop();
+}
