@@ -63,7 +63,10 @@ mod vocab;
 pub use axis::{AxisInputs, AxisStatus};
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
-pub use core::{MotionConfig, MotionCore, MotionInputs, MotionState, MODE_ENTRY_TOLERANCE};
+pub use core::{
+    MotionConfig, MotionCore, MotionInputs, MotionState, Spindle, SpindleOutput,
+    MODE_ENTRY_TOLERANCE,
+};
 pub use events::{Event, EventRing};
 pub use joint::{JointInputs, JointStatus};
 pub use kins::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};

@@ -124,6 +124,27 @@ pub struct MotionStatus {
     pub axes: Vec<AxisState>,
     /// The coordinated planner and probing.
     pub traj: TrajState,
+    /// The spindles, one per `num_spindles`.
+    pub spindles: Vec<SpindleState>,
+}
+
+/// One spindle in a [`MotionStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SpindleState {
+    /// Commanded on (M3/M4).
+    pub on: bool,
+    /// The brake is applied.
+    pub brake: bool,
+    /// `spindle.N.at-speed` as last read.
+    pub at_speed: bool,
+    /// Commanded speed, rpm (sign: direction; positive forward).
+    pub speed: f64,
+    /// The spindle override.
+    pub scale: f64,
+    /// `spindle.N.speed-out`: the speed with the override, rpm.
+    pub speed_out: f64,
+    /// `spindle.N.speed-in`: the measured speed, revolutions per second.
+    pub speed_in: f64,
 }
 
 /// The coordinated planner and probing in a [`MotionStatus`].
@@ -169,6 +190,8 @@ pub struct TrajState {
     pub pos_fb: [f64; 9],
     /// Where the last queued move ends (the next one starts there).
     pub goal: [f64; 9],
+    /// The executing move waits for the spindle at speed.
+    pub waiting_for_atspeed: bool,
 }
 
 impl fmt::Display for MotionStatus {
@@ -242,6 +265,7 @@ impl MotionStatus {
                 (t.queue_full, "queue-full"),
                 (t.probing, "probing"),
                 (t.scurve, "s-curve"),
+                (t.waiting_for_atspeed, "waiting-for-spindle-at-speed"),
             ]);
             writeln!(
                 f,

@@ -31,14 +31,16 @@
 //! float details, 8 checksum.
 
 use crate::kins::NUM_AXES;
-use crate::sizes::MAX_JOINTS;
+use crate::sizes::{MAX_JOINTS, MAX_SPINDLES};
 
 mod client;
 mod records;
 mod snapshot;
 
 pub use crate::command::{reject_code, result_name, WireError};
-pub use crate::status::{AxisState, JointState, LastCommand, MotionStatus, TrajState};
+pub use crate::status::{
+    AxisState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
+};
 pub use client::{Accepted, ClientError, MotionClient, Rejected, COMMAND_TIMEOUT};
 pub use records::{decode_command, decode_reply, encode_command, encode_reply};
 pub use snapshot::{decode_status, fill_status};
@@ -70,18 +72,23 @@ pub const AXIS_WORDS: usize = 5;
 pub const TRAJ_START: usize = AXES_START + NUM_AXES * AXIS_WORDS;
 /// Words of the coordinated-planner block.
 pub const TRAJ_WORDS: usize = 37;
+/// Where the spindle block starts (its first word: how many spindles),
+/// after the coordinated-planner block.
+pub const SPINDLES_START: usize = TRAJ_START + TRAJ_WORDS;
+/// Words per spindle in the status snapshot.
+pub const SPINDLE_WORDS: usize = 5;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = TRAJ_START + TRAJ_WORDS;
+pub const STATUS_WORDS: usize = SPINDLES_START + 1 + MAX_SPINDLES * SPINDLE_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).
 pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0002;
 /// Version word of an answer record: "MOTREP" and format 1.
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
-/// Version word of the status snapshot: "MOTSTA" and format 3 (format 2
+/// Version word of the status snapshot: "MOTSTA" and format 4 (format 2
 /// added the axis blocks and the mode flags, format 3 the coordinated
-/// planner block).
-pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0003;
+/// planner block, format 4 the spindle block).
+pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0004;
 
 /// Float argument words of a command record.
 pub(crate) const ARGS: usize = 4;

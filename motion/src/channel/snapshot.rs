@@ -2,14 +2,15 @@
 //! the controller, [`decode_status`] checks and reads it in a client.
 
 use super::{
-    AXES_START, AXIS_WORDS, JOINT_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
+    AXES_START, AXIS_WORDS, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS, STATUS_HEADER,
+    STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState};
 use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
-use crate::sizes::MAX_JOINTS;
-use crate::status::{AxisState, JointState, LastCommand, MotionStatus, TrajState};
+use crate::sizes::{MAX_JOINTS, MAX_SPINDLES};
+use crate::status::{AxisState, JointState, LastCommand, MotionStatus, SpindleState, TrajState};
 use crate::tp::PlannerType;
 
 /// Status flag bits of the header word 3.
@@ -64,6 +65,14 @@ pub(super) mod tflag {
     pub const PROBING: u64 = 32;
     pub const PROBE_TRIPPED: u64 = 64;
     pub const PROBE_INPUT: u64 = 128;
+    pub const WAITING_FOR_ATSPEED: u64 = 256;
+}
+
+/// Status flag bits of a spindle's first word.
+pub(super) mod sflag {
+    pub const ON: u64 = 1;
+    pub const BRAKE: u64 = 2;
+    pub const AT_SPEED: u64 = 4;
 }
 
 /// Fills `out` (at least [`STATUS_WORDS`] long) with the snapshot of
@@ -146,7 +155,8 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
         | bit(tp.planner == PlannerType::SCurve, tflag::SCURVE)
         | bit(core.probing(), tflag::PROBING)
         | bit(tripped, tflag::PROBE_TRIPPED)
-        | bit(core.inputs.probe_input, tflag::PROBE_INPUT);
+        | bit(core.inputs.probe_input, tflag::PROBE_INPUT)
+        | bit(tp.waiting_for_atspeed, tflag::WAITING_FOR_ATSPEED);
     w[1] = tp.exec_id as i64 as u64;
     w[2] = tp.depth as u64;
     w[3] = tp.current_vel.to_bits();
@@ -166,6 +176,49 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     for (o, v) in w[28..37].iter_mut().zip(core.planner_goal().0) {
         *o = v.to_bits();
     }
+    fill_spindles(core, &mut out[SPINDLES_START..]);
+}
+
+/// The spindle block: the count, then one block per spindle.
+fn fill_spindles(core: &MotionCore, out: &mut [u64]) {
+    let n = core.config().num_spindles.min(MAX_SPINDLES);
+    out[0] = n as u64;
+    let bit = |b: bool, f: u64| if b { f } else { 0 };
+    for i in 0..n {
+        let s = core.spindle(i);
+        let o = core.spindle_output(i);
+        let w = &mut out[1 + i * SPINDLE_WORDS..][..SPINDLE_WORDS];
+        w[0] = bit(s.on, sflag::ON)
+            | bit(s.brake, sflag::BRAKE)
+            | bit(core.inputs.spindle_at_speed[i], sflag::AT_SPEED);
+        w[1] = s.speed.to_bits();
+        w[2] = s.scale.to_bits();
+        w[3] = o.speed.to_bits();
+        w[4] = core.inputs.spindle_speed_in[i].to_bits();
+    }
+}
+
+/// Decodes the spindle block.
+fn decode_spindles(w: &[u64]) -> Result<Vec<SpindleState>, WireError> {
+    let n = usize::try_from(w[0]).map_err(|_| WireError::BadStatus)?;
+    if n > MAX_SPINDLES {
+        return Err(WireError::BadStatus);
+    }
+    Ok((0..n)
+        .map(|i| {
+            let b = 1 + i * SPINDLE_WORDS;
+            let f = |k: usize| f64::from_bits(w[b + k]);
+            SpindleState {
+                on: w[b] & sflag::ON != 0,
+                brake: w[b] & sflag::BRAKE != 0,
+                at_speed: w[b] & sflag::AT_SPEED != 0,
+                speed: f(1),
+                scale: f(2),
+                speed_out: f(3),
+                speed_in: f(4),
+            }
+        })
+        .collect())
 }
 
 /// Decodes a snapshot, validating its header.
@@ -258,6 +311,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         joints,
         axes,
         traj: decode_traj(&w[TRAJ_START..])?,
+        spindles: decode_spindles(&w[SPINDLES_START..])?,
     })
 }
 
@@ -285,6 +339,7 @@ fn decode_traj(w: &[u64]) -> Result<TrajState, WireError> {
         probing: on(tflag::PROBING),
         probe_tripped: on(tflag::PROBE_TRIPPED),
         probe_input: on(tflag::PROBE_INPUT),
+        waiting_for_atspeed: on(tflag::WAITING_FOR_ATSPEED),
         current_vel: f(3),
         requested_vel: f(4),
         distance_to_go: f(5),

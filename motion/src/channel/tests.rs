@@ -10,7 +10,7 @@ use crate::kins::Pose;
 
 /// One or more of every command, with values at the edges.
 pub(crate) fn all_commands() -> Vec<Command> {
-    // Long: one entry per command (opcodes 1 to 59), several at the edges.
+    // Long: one entry per command (opcodes 1 to 63), several at the edges.
     let mut pose = Pose::ZERO;
     for (i, v) in pose.0.iter_mut().enumerate() {
         *v = i as f64 * 1.5 - 3.0;
@@ -189,6 +189,25 @@ pub(crate) fn all_commands() -> Vec<Command> {
             reverse: -0.005,
         },
         Command::ClearJointComp { joint: 1 },
+        Command::SpindleOn {
+            spindle: 0,
+            speed: -1200.5,
+            wait: true,
+        },
+        Command::SpindleOn {
+            spindle: -1,
+            speed: 300.0,
+            wait: false,
+        },
+        Command::SpindleOff { spindle: 2 },
+        Command::SpindleScale {
+            spindle: 0,
+            scale: 1.25,
+        },
+        Command::SpindleBrake {
+            spindle: 0,
+            on: true,
+        },
     ]
 }
 
@@ -202,11 +221,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_59_is_used() {
+fn every_opcode_from_1_to_63_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=59).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=63).collect::<Vec<_>>());
 }
 
 #[test]
@@ -272,7 +291,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 60, 1000, u64::MAX] {
+    for op in [0u64, 64, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(

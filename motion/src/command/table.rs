@@ -489,5 +489,46 @@ commands! {
             /// The joint number.
             [slot] joint: i32,
         } = 59, cli planner "clear-comp" { joint: int(0, "JOINT") };
+
+        // ---- Spindles ----
+
+        /// SPINDLE_ON: `spindle` (−1: every spindle) turns at `speed` rpm,
+        /// positive forward (M3), negative in reverse (M4), its brake
+        /// released. With `wait`, the next feed move waits at rest for
+        /// `spindle.N.at-speed`. Needs motion enabled.
+        SpindleOn {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+            /// Speed in rpm; its sign gives the direction.
+            speed: f64,
+            /// Whether the next feed move waits for the spindle at speed.
+            wait: bool,
+        } = 60, cli planner "spindle-on" {
+            spindle: int(0, "SPINDLE"),
+            speed: num(1, "RPM"),
+            wait: flag(2, "the at-speed wait"),
+        };
+        /// SPINDLE_OFF: `spindle` (−1: every spindle) stops, its brake
+        /// applied.
+        SpindleOff {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+        } = 61, cli planner "spindle-off" { spindle: int(0, "SPINDLE") };
+        /// SPINDLE_SCALE: the spindle override of `spindle` (−1: every
+        /// spindle), at least 0; it applies while M51 enables it.
+        SpindleScale {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+            /// The scale factor.
+            scale: f64,
+        } = 62, cli planner "spindle-scale" { spindle: int(0, "SPINDLE"), scale: num(1, "SCALE") };
+        /// SPINDLE_BRAKE_ENGAGE (`on`; the spindle also stops) and
+        /// SPINDLE_BRAKE_RELEASE.
+        SpindleBrake {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+            /// Engage (true) or release.
+            on: bool,
+        } = 63, cli planner "spindle-brake" { spindle: int(0, "SPINDLE"), on: flag(1, "the brake") };
     }
 }

@@ -19,6 +19,7 @@ impl MotionCore {
             feed_hold: self.inputs.feed_hold,
             feed_inhibit: self.inputs.feed_inhibit,
             max_feed_override: self.max_feed_override,
+            spindle_at_speed: self.spindles_at_speed(),
         }
     }
 

@@ -12,7 +12,7 @@ use crate::test_support::{Sim, T};
 
 /// Three trivkins joints X Y Z: joints ±100, 10 u/s, 100 u/s²; axes ±50,
 /// 10 u/s, 100 u/s².
-fn xyz() -> Sim {
+pub(super) fn xyz() -> Sim {
     let kins = Arc::new(Trivkins::new("xyz", KinematicsType::Identity).unwrap());
     let mut m = MotionCore::new(MotionConfig::default(), kins);
     crate::test_support::configure_test_joints(&mut m);
@@ -20,7 +20,7 @@ fn xyz() -> Sim {
     Sim::new(m)
 }
 
-fn at(x: f64, y: f64, z: f64) -> Pose {
+pub(super) fn at(x: f64, y: f64, z: f64) -> Pose {
     let mut p = Pose::ZERO;
     p.0[0] = x;
     p.0[1] = y;
@@ -28,7 +28,7 @@ fn at(x: f64, y: f64, z: f64) -> Pose {
     p
 }
 
-fn line(x: f64, y: f64, vel: f64, id: i32) -> Command {
+pub(super) fn line(x: f64, y: f64, vel: f64, id: i32) -> Command {
     Command::Line {
         end: at(x, y, 0.0),
         vel,
@@ -39,7 +39,7 @@ fn line(x: f64, y: f64, vel: f64, id: i32) -> Command {
 
 impl Sim {
     /// Enabled and in coordinated mode.
-    fn coord(&mut self) {
+    pub(super) fn coord(&mut self) {
         self.enable();
         self.cmd(Command::Coord).unwrap();
         assert_eq!(self.m.state(), MotionState::Coord);

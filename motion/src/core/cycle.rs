@@ -348,6 +348,7 @@ impl MotionCore {
                 }
             }
             self.world_disable_edge();
+            self.stop_spindles();
             self.enabled = false;
         }
         if self.enabling && !self.enabled {

@@ -62,6 +62,7 @@ mod cycle;
 mod jog;
 mod modes;
 mod queue;
+mod spindle;
 mod teleop;
 
 pub use crate::sizes::{
@@ -69,6 +70,7 @@ pub use crate::sizes::{
 };
 pub use modes::MODE_ENTRY_TOLERANCE;
 use modes::{Mode, World};
+pub use spindle::{Spindle, SpindleOutput};
 
 /// How large the motion controller is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -128,6 +130,12 @@ pub struct MotionInputs {
     pub misc_error: [bool; MAX_MISC_ERROR],
     /// `spindle.N.amp-fault-in`.
     pub spindle_amp_fault: [bool; MAX_SPINDLES],
+    /// `spindle.N.at-speed` (default true).
+    pub spindle_at_speed: [bool; MAX_SPINDLES],
+    /// `spindle.N.inhibit`.
+    pub spindle_inhibit: [bool; MAX_SPINDLES],
+    /// `spindle.N.speed-in`: the measured speed, revolutions per second.
+    pub spindle_speed_in: [f64; MAX_SPINDLES],
 }
 
 impl Default for MotionInputs {
@@ -145,6 +153,9 @@ impl Default for MotionInputs {
             switchkins_type: 0.0,
             misc_error: [false; MAX_MISC_ERROR],
             spindle_amp_fault: [false; MAX_SPINDLES],
+            spindle_at_speed: [true; MAX_SPINDLES],
+            spindle_inhibit: [false; MAX_SPINDLES],
+            spindle_speed_in: [0.0; MAX_SPINDLES],
         }
     }
 }
@@ -228,6 +239,10 @@ pub struct MotionCore {
     max_feed_override: f64,
     /// Probing (G38.x) state.
     probe: ProbeState,
+    /// The spindles as commanded.
+    spindles: [Spindle; MAX_SPINDLES],
+    /// The next feed move waits for the spindles at speed.
+    atspeed_next_feed: bool,
 }
 
 /// Where probing stands.
@@ -328,6 +343,8 @@ impl MotionCore {
             rapid_scale: 1.0,
             max_feed_override: 1.0,
             probe: ProbeState::default(),
+            spindles: [Spindle::default(); MAX_SPINDLES],
+            atspeed_next_feed: false,
         }
     }
 
@@ -530,6 +547,8 @@ impl MotionCore {
 
 #[cfg(test)]
 mod coord_tests;
+#[cfg(test)]
+mod spindle_tests;
 #[cfg(test)]
 mod teleop_tests;
 #[cfg(test)]

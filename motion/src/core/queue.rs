@@ -185,8 +185,11 @@ impl MotionCore {
         }
         self.check_move(&end, None)?;
         let lim = self.planning_limits(&end);
-        self.tp
-            .add_line(end, kind, vel, id, self.enables_new, &lim)?;
+        let enables = self.enables_new;
+        let feed_move = kind == LineKind::Feed;
+        self.with_atspeed_barrier(feed_move, |tp| {
+            tp.add_line(end, kind, vel, id, enables, &lim)
+        })?;
         self.queued();
         Ok(())
     }
@@ -206,8 +209,10 @@ impl MotionCore {
         feed(vel)?;
         self.check_move(&end, Some((center, normal, turns)))?;
         let lim = self.planning_limits(&end);
-        self.tp
-            .add_arc(end, center, normal, turns, vel, id, self.enables_new, &lim)?;
+        let enables = self.enables_new;
+        self.with_atspeed_barrier(true, |tp| {
+            tp.add_arc(end, center, normal, turns, vel, id, enables, &lim)
+        })?;
         self.queued();
         Ok(())
     }
@@ -230,8 +235,8 @@ impl MotionCore {
         }
         self.check_move(&end, None)?;
         let lim = self.planning_limits(&end);
-        self.tp
-            .add_probe(end, vel, probe, id, self.enables_new, &lim)?;
+        let enables = self.enables_new;
+        self.with_atspeed_barrier(true, |tp| tp.add_probe(end, vel, probe, id, enables, &lim))?;
         self.probe.tripped = false;
         self.queued();
         Ok(())
@@ -249,6 +254,25 @@ impl MotionCore {
         self.tp.add_dwell(seconds, id)?;
         self.queued();
         Ok(())
+    }
+
+    /// Queues a move with `add`; a feed move (`feed_move`) takes the
+    /// at-speed barrier a spindle start left (it starts from rest once
+    /// the spindles are at speed). The barrier stays for the next feed
+    /// move when this one was refused or too short to queue.
+    fn with_atspeed_barrier(
+        &mut self,
+        feed_move: bool,
+        add: impl FnOnce(&mut crate::tp::Planner) -> CommandResult,
+    ) -> CommandResult {
+        self.tp
+            .set_atspeed_pending(feed_move && self.atspeed_next_feed);
+        let r = add(&mut self.tp);
+        let unused = self.tp.take_atspeed_pending();
+        if r.is_ok() && feed_move {
+            self.atspeed_next_feed = unused;
+        }
+        r
     }
 
     /// What every queued move does (as LinuxCNC's SET_LINE on success).

@@ -160,40 +160,49 @@ impl AxisPins {
     }
 }
 
-/// The spindle pins; spindle control arrives with the coordinated mode.
-/// The controller reads the amp fault (a fault disables motion) and the
-/// inhibit input.
+/// The spindle pins: the commanded state and speed out (LinuxCNC's
+/// `output_to_hal`), the at-speed, inhibit, speed and fault inputs in.
+/// The orient handshake and the index pins wait for M19 and spindle
+/// synchronised moves.
 pub(super) struct SpindlePins {
     pub(super) amp_fault: BIn,
     pub(super) inhibit: BIn,
-    pub(super) _outputs: (BOut, BOut, BOut, BOut, [FOut; 5]),
+    pub(super) at_speed: BIn,
+    pub(super) speed_in: FIn,
+    pub(super) on: BOut,
+    pub(super) forward: BOut,
+    pub(super) reverse: BOut,
+    pub(super) brake: BOut,
+    pub(super) speed_out: FOut,
+    pub(super) speed_out_abs: FOut,
+    pub(super) speed_out_rps: FOut,
+    pub(super) speed_out_rps_abs: FOut,
+    pub(super) speed_cmd_rps: FOut,
     pub(super) _orient: (FOut, Pin<i32, Out>, BOut, BOut, BIn, Pin<i32, In>),
-    pub(super) _feedback: (Pin<bool, Io>, FIn, FIn, BIn),
+    pub(super) _sync: (Pin<bool, Io>, FIn),
 }
 
 impl SpindlePins {
     pub(super) fn new(c: &Component, n: usize) -> Result<SpindlePins> {
         let p = |item: &str| format!("spindle.{n}.{item}");
+        // Created in LinuxCNC's order.
+        let sync = (c.pin(&p("index-enable"))?, c.pin(&p("revs"))?);
+        let speed_in = c.pin(&p("speed-in"))?;
+        // Default TRUE, so machines without the feedback do not wait.
+        let at_speed = c.pin_init(&p("at-speed"), true)?;
         Ok(SpindlePins {
-            _feedback: (
-                c.pin(&p("index-enable"))?,
-                c.pin(&p("revs"))?,
-                c.pin(&p("speed-in"))?,
-                c.pin_init(&p("at-speed"), true)?,
-            ),
-            _outputs: (
-                c.pin(&p("on"))?,
-                c.pin(&p("forward"))?,
-                c.pin(&p("reverse"))?,
-                c.pin(&p("brake"))?,
-                [
-                    c.pin(&p("speed-out"))?,
-                    c.pin(&p("speed-out-abs"))?,
-                    c.pin(&p("speed-out-rps"))?,
-                    c.pin(&p("speed-out-rps-abs"))?,
-                    c.pin(&p("speed-cmd-rps"))?,
-                ],
-            ),
+            _sync: sync,
+            speed_in,
+            at_speed,
+            on: c.pin(&p("on"))?,
+            forward: c.pin(&p("forward"))?,
+            reverse: c.pin(&p("reverse"))?,
+            brake: c.pin(&p("brake"))?,
+            speed_out: c.pin(&p("speed-out"))?,
+            speed_out_abs: c.pin(&p("speed-out-abs"))?,
+            speed_out_rps: c.pin(&p("speed-out-rps"))?,
+            speed_out_rps_abs: c.pin(&p("speed-out-rps-abs"))?,
+            speed_cmd_rps: c.pin(&p("speed-cmd-rps"))?,
             inhibit: c.pin(&p("inhibit"))?,
             amp_fault: c.pin(&p("amp-fault-in"))?,
             _orient: (
@@ -205,6 +214,28 @@ impl SpindlePins {
                 c.pin(&p("orient-fault"))?,
             ),
         })
+    }
+
+    /// Copies the inputs of spindle `n` into the core.
+    fn read(&self, n: usize, inp: &mut crate::core::MotionInputs) {
+        inp.spindle_amp_fault[n] = self.amp_fault.get();
+        inp.spindle_at_speed[n] = self.at_speed.get();
+        inp.spindle_inhibit[n] = self.inhibit.get();
+        inp.spindle_speed_in[n] = self.speed_in.get();
+    }
+
+    /// Writes what the core commands spindle `n` to do.
+    fn write(&self, n: usize, core: &MotionCore) {
+        let o = core.spindle_output(n);
+        self.on.set(o.on);
+        self.forward.set(o.forward);
+        self.reverse.set(o.reverse);
+        self.brake.set(o.brake);
+        self.speed_out.set(o.speed);
+        self.speed_out_abs.set(o.speed.abs());
+        self.speed_out_rps.set(o.speed / 60.0);
+        self.speed_out_rps_abs.set((o.speed / 60.0).abs());
+        self.speed_cmd_rps.set(o.cmd_rps);
     }
 }
 
@@ -544,8 +575,8 @@ impl HalIo {
         for (slot, pin) in inp.misc_error.iter_mut().zip(&m.misc_error) {
             *slot = pin.get();
         }
-        for (slot, s) in inp.spindle_amp_fault.iter_mut().zip(&self.spindles) {
-            *slot = s.amp_fault.get();
+        for (n, s) in self.spindles.iter().enumerate() {
+            s.read(n, inp);
         }
         for (ji, jp) in core.joint_inputs.iter_mut().zip(&self.joints) {
             ji.motor_pos_fb = jp.motor_pos_fb.get();
@@ -596,6 +627,9 @@ impl HalIo {
             None => 0.0,
         });
         m.debug_s32_0.set(core.override_limit_mask() as i32);
+        for (n, s) in self.spindles.iter().enumerate() {
+            s.write(n, core);
+        }
         let tp = core.planner();
         let coord = core.state() == crate::core::MotionState::Coord;
         m.program_line.set(if coord { tp.exec_id } else { 0 });

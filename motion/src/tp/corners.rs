@@ -42,6 +42,14 @@ impl Planner {
         if len < MIN_LENGTH {
             return;
         }
+        let atspeed = std::mem::take(&mut self.atspeed_pending);
+        if atspeed {
+            // It starts from rest: the segment before it stops.
+            if let Some(last) = self.queue.back_mut() {
+                last.ending = Ending::Stop;
+                last.end_cap = 0.0;
+            }
+        }
         let ending = self.ending();
         let prev_not_stop = self
             .queue
@@ -74,6 +82,7 @@ impl Planner {
             probe,
             kinks,
             step_stop: false,
+            atspeed,
         };
         self.goal = *end;
         self.join(&mut seg, lim);
@@ -202,6 +211,7 @@ impl Planner {
             probe: None,
             kinks: true,
             step_stop: false,
+            atspeed: false,
         };
         // Remember what may change, to put it back if the executor could
         // not follow.

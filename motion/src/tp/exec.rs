@@ -86,6 +86,13 @@ impl Planner {
             return self.pos;
         };
         self.exec_id = head.id;
+        self.waiting_for_atspeed =
+            head.atspeed && self.s == 0.0 && self.v == 0.0 && !scales.spindle_at_speed;
+        if self.waiting_for_atspeed {
+            // LinuxCNC's at-speed barrier: the move after a spindle start
+            // waits, at rest, for `spindle.N.at-speed`.
+            return self.pos;
+        }
         if head.kind == SegmentKind::Dwell {
             self.run_dwell(&head);
             return self.pos;

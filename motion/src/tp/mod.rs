@@ -74,6 +74,9 @@ pub struct ScaleInputs {
     pub feed_inhibit: bool,
     /// The largest feed override and adaptive factor.
     pub max_feed_override: f64,
+    /// Every running spindle is at speed (`spindle.N.at-speed`): a
+    /// segment queued behind a spindle start waits for it.
+    pub spindle_at_speed: bool,
 }
 
 impl Default for ScaleInputs {
@@ -85,6 +88,7 @@ impl Default for ScaleInputs {
             feed_hold: false,
             feed_inhibit: false,
             max_feed_override: 1.0,
+            spindle_at_speed: true,
         }
     }
 }
@@ -143,6 +147,10 @@ pub struct PlannerStatus {
     pub net_scale: f64,
     /// The planner in use.
     pub planner: PlannerType,
+    /// The executing segment waits for the spindle to reach its speed.
+    pub waiting_for_atspeed: bool,
+    /// The override enable bits of the executing segment, if any.
+    pub enables: Option<u8>,
 }
 
 /// The coordinated planner.
@@ -178,6 +186,11 @@ pub struct Planner {
     requested_vel: f64,
     net_scale: f64,
     scurve: scurve::SCurve,
+    /// The next segment pushed waits for the spindle at speed before it
+    /// starts (LinuxCNC's at-speed barrier), from rest.
+    atspeed_pending: bool,
+    /// The executing segment waits for the spindle at speed.
+    waiting_for_atspeed: bool,
 }
 
 impl std::fmt::Debug for Planner {
@@ -218,6 +231,8 @@ impl Planner {
             requested_vel: 0.0,
             net_scale: 1.0,
             scurve: scurve::SCurve::new(period),
+            atspeed_pending: false,
+            waiting_for_atspeed: false,
         }
     }
 
@@ -258,6 +273,8 @@ impl Planner {
             kind: head.map(|h| h.kind),
             net_scale: self.net_scale,
             planner: self.planner,
+            waiting_for_atspeed: self.waiting_for_atspeed,
+            enables: head.map(|h| h.enables),
         }
     }
 
@@ -290,6 +307,7 @@ impl Planner {
         self.stepping = false;
         self.aborting = false;
         self.requested_vel = 0.0;
+        self.waiting_for_atspeed = false;
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
             self.planner = p;
@@ -367,6 +385,19 @@ impl Planner {
             });
         }
         Ok(())
+    }
+
+    /// Whether the next segment pushed waits, from rest, for the
+    /// spindle at speed (set before queueing a feed move behind a spindle
+    /// start; [`Self::take_atspeed_pending`] tells whether it was used).
+    pub fn set_atspeed_pending(&mut self, on: bool) {
+        self.atspeed_pending = on;
+    }
+
+    /// Clears the at-speed request; true if no segment took it (a move
+    /// too short to queue, or a refusal).
+    pub fn take_atspeed_pending(&mut self) -> bool {
+        std::mem::take(&mut self.atspeed_pending)
     }
 
     /// The pose the next segment starts from.
@@ -512,6 +543,7 @@ impl Planner {
             probe: None,
             kinks: false,
             step_stop: false,
+            atspeed: false,
         };
         if let Some(last) = self.queue.back_mut() {
             last.end_cap = 0.0;

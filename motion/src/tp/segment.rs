@@ -81,6 +81,8 @@ pub(crate) struct Segment {
     pub kinks: bool,
     /// A single step ends at the end of this segment.
     pub step_stop: bool,
+    /// It starts, from rest, only once the spindle is at speed.
+    pub atspeed: bool,
 }
 
 impl Segment {

@@ -334,6 +334,13 @@ rejects! {
         /// This can only be changed while motion is disabled.
         MustBeDisabled = 56, "must be disabled"
             => "this can only be changed while motion is disabled";
+        /// The spindle number is neither −1 nor in `0..num_spindles`.
+        NoSuchSpindle {
+            /// The spindle number.
+            spindle: i32 = n0,
+            /// How many spindles there are.
+            num_spindles: usize = n1,
+        } = 57, "no such spindle" => "spindle {spindle} does not exist (there are {num_spindles})";
     }
 }
 

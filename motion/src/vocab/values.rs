@@ -54,6 +54,8 @@ coded_enum! {
         CompValue = 17 => "compensation value",
         /// The planner type.
         PlannerType = 18 => "planner type",
+        /// The spindle speed.
+        SpindleSpeed = 19 => "spindle speed",
     }
 }
 

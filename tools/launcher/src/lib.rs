@@ -26,6 +26,7 @@ mod task_panel;
 mod task_pins;
 mod task_program;
 mod task_socket;
+mod task_spindle;
 mod twopass;
 
 pub use error::LaunchError;

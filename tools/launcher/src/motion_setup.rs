@@ -447,9 +447,11 @@ impl MotionLink {
         self.send(Command::Disable)
     }
 
-    /// Abort: every move stops.
+    /// Abort: every move stops, and every spindle (as LinuxCNC's task
+    /// abort does).
     pub fn abort(&mut self) -> Result<(), Reject> {
-        self.send(Command::Abort)
+        self.send(Command::Abort)?;
+        self.send(Command::SpindleOff { spindle: -1 })
     }
 
     /// The controller's status snapshot, if it can be read.

@@ -123,6 +123,13 @@ pub enum TaskRequest {
     BlockDelete(bool),
     /// MANUAL mode's jogs: world axes (teleop) or joints (free mode).
     Teleop(bool),
+    /// A spindle by hand: start, stop, speed steps, brake, override.
+    Spindle {
+        /// The spindle number.
+        spindle: i32,
+        /// What it should do.
+        action: crate::task_spindle::SpindleAction,
+    },
 }
 
 /// Task's modes, as LinuxCNC's.
@@ -184,7 +191,16 @@ pub const REQUESTS: &str = "\
   state                 the state as key=value lines, for programs
   optional-stop on|off  M1 stops the program (off: M1 is passed over)
   block-delete on|off   lines that start with / are skipped (on) or run
-  teleop on|off         MANUAL mode's jogs move world axes (on) or joints";
+  teleop on|off         MANUAL mode's jogs move world axes (on) or joints
+  spindle [N] forward|reverse [RPM]
+                        start spindle N (default 0) at RPM, else the S in
+                        effect, else 500 (machine on, nothing running)
+  spindle [N] off|increase|decrease
+                        stop it (brake on), or 100 rpm faster or slower
+  spindle [N] brake on|off
+  spindle [N] override SCALE
+                        the spindle override (1 = 100 %, within
+                        [DISPLAY]MIN/MAX_SPINDLE_OVERRIDE)";
 
 /// Parses `task-cmd`'s words.
 pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
@@ -251,6 +267,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
         ["state"] => TaskRequest::State,
+        ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
             crate::task_manual::parse(word, rest)?
@@ -294,6 +311,8 @@ pub struct Task {
     pub(crate) overrides: crate::task_manual::Overrides,
     /// The optional-stop and block-delete switches.
     pub(crate) switches: crate::task_panel::Switches,
+    /// The spindle override's limits.
+    pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -324,6 +343,7 @@ impl Task {
             settle_until: 0,
             overrides: crate::task_manual::Overrides::default(),
             switches: crate::task_panel::Switches::default(),
+            spindle_limits: crate::task_spindle::SpindleLimits::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -563,6 +583,9 @@ impl Task {
             | TaskRequest::MaxVelocity(_) => Some(self.manual_request(req)),
             TaskRequest::OptionalStop(_) | TaskRequest::BlockDelete(_) | TaskRequest::Teleop(_) => {
                 Some(self.panel_request(req))
+            }
+            TaskRequest::Spindle { spindle, action } => {
+                Some(self.spindle_request(*spindle, *action))
             }
             _ => self.program_request(req, id),
         }

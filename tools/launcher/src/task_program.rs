@@ -43,8 +43,9 @@ impl Task {
         if let Some(Ended::Failed(why)) = &ended {
             eprintln!("task: {why}");
             // A failed run stops the machine's moves with a controlled
-            // deceleration and leaves no handshake half done.
-            let _ = motion.command(Command::Abort);
+            // deceleration, stops the spindle and leaves no handshake
+            // half done.
+            let _ = motion.abort();
             let _ = self.io.request(&IoRequest::Abort);
         }
         if program.settled() {

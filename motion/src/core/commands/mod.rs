@@ -114,6 +114,15 @@ impl MotionCore {
             C::SetAccLimit { acc } => self.set_traj_limit(Quantity::AccelerationLimit, acc),
             C::SetJerkLimit { jerk } => self.set_traj_limit(Quantity::JerkLimit, jerk),
             C::SetPlannerType { planner } => self.set_planner_type(planner),
+            // Spindles.
+            C::SpindleOn {
+                spindle,
+                speed,
+                wait,
+            } => self.spindle_on(spindle, speed, wait),
+            C::SpindleOff { spindle } => self.spindle_off(spindle),
+            C::SpindleScale { spindle, scale } => self.spindle_scale(spindle, scale),
+            C::SpindleBrake { spindle, on } => self.spindle_brake(spindle, on),
         }
     }
 

@@ -17,6 +17,7 @@ mod panel_pins;
 mod panel_state;
 mod pins;
 mod selection;
+mod spindle;
 
 use std::time::Duration;
 
@@ -45,11 +46,12 @@ usage: halui [--instance NAME] [-ini MACHINE.ini]
 
 LinuxCNC's HAL user interface: the halui.* pins (machine, e-stop, mode,
 program, optional stop, block delete, coolant, lube, homing, joint and
-axis jogging, selection, feed, rapid and maximum velocity overrides,
-[HALUI]MDI_COMMAND) as requests to task, and the machine's state on its
-status pins. The launcher (linuxcnc) starts it when [HAL]HALUI = halui.
-The INI file is $INI_FILE_NAME if -ini is not given. Buttons act on a
-rising edge; a jog button also stops its jog when released.
+axis jogging, selection, spindle, feed, rapid, spindle and maximum
+velocity overrides, [HALUI]MDI_COMMAND) as requests to task, and the
+machine's state on its status pins. The launcher (linuxcnc) starts it
+when [HAL]HALUI = halui. The INI file is $INI_FILE_NAME if -ini is not
+given. Buttons act on a rising edge; a jog button also stops its jog
+when released.
 
 options:
   -ini FILE        the machine's INI file
@@ -153,6 +155,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         axes: &axes,
         mdi_commands: mdi.len(),
         units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
+        spindles: spindle::count(&ini)?,
     };
     let signals = ExitSignals::install()?;
     let instance = hal_core::instance_from_env();
@@ -168,6 +171,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         mdi_return: None,
         motion: None,
         said_waiting: false,
+        spindle: spindle::SpindleHalui::default(),
     };
     while !signals.requested() && inst.host_alive() {
         halui.cycle(&inst);
@@ -183,6 +187,23 @@ fn connection_gone(e: &std::io::Error) -> bool {
         e.kind(),
         ConnectionReset | ConnectionRefused | ConnectionAborted | BrokenPipe | NotFound
     )
+}
+
+/// Sends a request to the task of `instance`; a refusal is reported.
+/// Returns whether it was done.
+fn ask(instance: &str, words: &[&str]) -> bool {
+    let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
+    match request(instance, &owned, REQUEST_WAIT) {
+        Ok(TaskAnswer::Done(_)) => true,
+        Ok(TaskAnswer::Refused(why)) => {
+            eprintln!("halui: {}: {why}", words.join(" "));
+            false
+        }
+        Err(e) => {
+            eprintln!("halui: {}: {e}", words.join(" "));
+            false
+        }
+    }
 }
 
 /// halui's state between cycles.
@@ -201,6 +222,8 @@ struct Halui {
     motion: Option<motion::MotionClient>,
     /// Task's absence was reported.
     said_waiting: bool,
+    /// The spindle pins' edges and override counters.
+    spindle: spindle::SpindleHalui,
 }
 
 fn counter_index(which: Override) -> usize {
@@ -223,6 +246,13 @@ impl Halui {
             motion: motion.as_ref(),
         });
         let changes = self.edges.changes(&self.pins.buttons());
+        let instance = &self.instance;
+        self.spindle.cycle(
+            &self.pins.spindles,
+            motion.as_ref(),
+            state.is_some(),
+            |words| ask(instance, words),
+        );
         let Some(state) = state else { return };
         // Back to the mode an MDI command left, once its line ran (checked
         // before this cycle's presses: `state` is from before them).
@@ -285,18 +315,7 @@ impl Halui {
     /// Sends a request; a refusal is reported. Returns whether it was
     /// done.
     fn ask(&self, words: &[&str]) -> bool {
-        let owned: Vec<String> = words.iter().map(|w| w.to_string()).collect();
-        match request(&self.instance, &owned, REQUEST_WAIT) {
-            Ok(TaskAnswer::Done(_)) => true,
-            Ok(TaskAnswer::Refused(why)) => {
-                eprintln!("halui: {}: {why}", words.join(" "));
-                false
-            }
-            Err(e) => {
-                eprintln!("halui: {}: {e}", words.join(" "));
-                false
-            }
-        }
+        ask(&self.instance, words)
     }
 
     /// Puts task in `mode` unless it is there.

@@ -77,6 +77,8 @@ pub struct HaluiPins {
     /// Analog jogging.
     pub analog: AnalogPins,
     panel: PanelPins,
+    /// `halui.spindle.N.*` (see `spindle`).
+    pub(super) spindles: Vec<super::spindle::SpindlePins>,
 }
 
 /// What a machine's halui has pins for.
@@ -89,6 +91,8 @@ pub struct Layout<'a> {
     pub mdi_commands: usize,
     /// Machine units per millimetre.
     pub units_per_mm: f64,
+    /// `[TRAJ]SPINDLES`.
+    pub spindles: usize,
 }
 
 /// The buttons of a machine's halui, each with what its edges ask for.
@@ -210,6 +214,10 @@ impl HaluiPins {
                 increment: comp.pin(&p(&format!("axis.{letter}.increment")))?,
             });
         }
+        let mut spindles = Vec::with_capacity(layout.spindles);
+        for n in 0..layout.spindles {
+            spindles.push(super::spindle::SpindlePins::new(&comp, n)?);
+        }
         let units: Pin<f64, Out> = comp.pin(&p("machine.units-per-mm"))?;
         units.set(layout.units_per_mm);
         let pins = HaluiPins {
@@ -240,6 +248,7 @@ impl HaluiPins {
             overrides,
             joints,
             axes,
+            spindles,
             comp,
         };
         pins.comp.ready()?;

@@ -27,13 +27,15 @@ pub enum Op {
     /// An iocontrol request (tool prepare, change, number; coolant), once
     /// the moves before it have finished.
     Io(IoRequest),
-    /// The spindle's direction and speed (kept in task's status; the
-    /// motion controller has no spindle command yet).
+    /// A spindle command (start, speed change, stop) for motion, sent
+    /// once the moves before it have ended, as LinuxCNC's task does; the
+    /// feed move after a start or speed change waits in motion for
+    /// `spindle.N.at-speed`.
     Spindle {
-        /// The direction.
-        direction: Direction,
-        /// The speed, rpm.
-        rpm: f64,
+        /// The command.
+        command: Command,
+        /// The program line it comes from.
+        line: i32,
     },
     /// M0 (or M1 when `optional`): stop once the moves before it end.
     Stop {
@@ -76,8 +78,8 @@ pub struct TaskCanon {
     tools: Vec<ToolEntry>,
     slot: i32,
     axis_mask: u32,
-    /// The spindle as the program last set it.
-    spindle: (Direction, f64),
+    /// Each spindle as the program last set it: direction and speed.
+    spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
 }
 
 impl TaskCanon {
@@ -107,7 +109,7 @@ impl TaskCanon {
             tools: vec![ToolEntry::EMPTY],
             slot: 0,
             axis_mask,
-            spindle: (Direction::Stopped, 0.0),
+            spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
         }
     }
 
@@ -215,10 +217,53 @@ impl TaskCanon {
         }));
     }
 
-    fn queue_spindle(&mut self) {
+    /// Spindle `spindle`'s modal state; `None` (and a fault) for a
+    /// number motion has no spindle for.
+    fn spindle_mut(&mut self, spindle: i32) -> Option<&mut (Direction, f64)> {
+        let slot = usize::try_from(spindle)
+            .ok()
+            .filter(|&n| n < self.spindles.len());
+        match slot {
+            Some(n) => Some(&mut self.spindles[n]),
+            None => {
+                self.refuse(&format!("spindle {spindle}"));
+                None
+            }
+        }
+    }
+
+    /// Sets spindle `spindle`'s direction and speed (`None`: as they
+    /// are) and queues what motion must do: a start or a speed change
+    /// while it turns, a stop for M5. A speed set while it stands only
+    /// changes the modal state.
+    fn queue_spindle(&mut self, spindle: i32, direction: Option<Direction>, rpm: Option<f64>) {
+        let Some(state) = self.spindle_mut(spindle) else {
+            return;
+        };
+        let stop = direction == Some(Direction::Stopped);
+        if let Some(d) = direction {
+            state.0 = d;
+        }
+        if let Some(r) = rpm {
+            state.1 = r;
+        }
+        let (dir, rpm) = *state;
+        let command = match dir {
+            Direction::Stopped if stop => Command::SpindleOff { spindle },
+            Direction::Stopped => return,
+            Direction::Clockwise | Direction::CounterClockwise => Command::SpindleOn {
+                spindle,
+                speed: if dir == Direction::Clockwise {
+                    rpm.abs()
+                } else {
+                    -rpm.abs()
+                },
+                wait: true,
+            },
+        };
         self.ops.push_back(Op::Spindle {
-            direction: self.spindle.0,
-            rpm: self.spindle.1,
+            command,
+            line: self.line,
         });
     }
 
@@ -347,21 +392,17 @@ impl Canon for TaskCanon {
     fn turn_probe_on(&mut self) {}
     fn turn_probe_off(&mut self) {}
 
-    fn set_spindle_speed(&mut self, _spindle: i32, rpm: f64) {
-        self.spindle.1 = rpm;
-        self.queue_spindle();
+    fn set_spindle_speed(&mut self, spindle: i32, rpm: f64) {
+        self.queue_spindle(spindle, None, Some(rpm));
     }
-    fn start_spindle_clockwise(&mut self, _spindle: i32) {
-        self.spindle.0 = Direction::Clockwise;
-        self.queue_spindle();
+    fn start_spindle_clockwise(&mut self, spindle: i32) {
+        self.queue_spindle(spindle, Some(Direction::Clockwise), None);
     }
-    fn start_spindle_counterclockwise(&mut self, _spindle: i32) {
-        self.spindle.0 = Direction::CounterClockwise;
-        self.queue_spindle();
+    fn start_spindle_counterclockwise(&mut self, spindle: i32) {
+        self.queue_spindle(spindle, Some(Direction::CounterClockwise), None);
     }
-    fn stop_spindle_turning(&mut self, _spindle: i32) {
-        self.spindle.0 = Direction::Stopped;
-        self.queue_spindle();
+    fn stop_spindle_turning(&mut self, spindle: i32) {
+        self.queue_spindle(spindle, Some(Direction::Stopped), None);
     }
     fn set_spindle_mode(&mut self, _spindle: i32, css_limit: f64) {
         if css_limit != 0.0 {
@@ -648,6 +689,47 @@ mod tests {
             }
             other => panic!("not an arc: {other:?}"),
         }
+    }
+
+    fn spindle_commands(c: &TaskCanon) -> Vec<(Command, i32)> {
+        c.ops
+            .iter()
+            .filter_map(|op| match op {
+                Op::Spindle { command, line } => Some((*command, *line)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn spindle_words_become_motion_commands_in_program_order() {
+        let mut c = TaskCanon::new(1.0, 0b111);
+        c.line = 4;
+        // S alone while stopped changes nothing in motion.
+        c.set_spindle_speed(0, 1200.0);
+        assert!(c.ops.is_empty());
+        c.start_spindle_counterclockwise(0);
+        c.line = 5;
+        c.set_spindle_speed(0, 800.0);
+        c.line = 6;
+        c.stop_spindle_turning(0);
+        c.start_spindle_clockwise(1);
+        let on = |spindle, speed| Command::SpindleOn {
+            spindle,
+            speed,
+            wait: true,
+        };
+        assert_eq!(
+            spindle_commands(&c),
+            [
+                (on(0, -1200.0), 4),
+                (on(0, -800.0), 5),
+                (Command::SpindleOff { spindle: 0 }, 6),
+                (on(1, 0.0), 6),
+            ]
+        );
+        c.set_spindle_speed(9, 100.0);
+        assert_eq!(c.fault.as_deref(), Some("spindle 9"));
     }
 
     #[test]

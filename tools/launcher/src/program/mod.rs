@@ -15,7 +15,7 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 
 use motion::{Command, Reject};
-use rs274ngc::{Direction, Interp, Status};
+use rs274ngc::{Interp, Status};
 
 use crate::iocontrol::{IoControl, IoEvent, Started};
 use crate::motion_setup::MotionLink;
@@ -91,8 +91,6 @@ pub struct Program {
     is_mdi: bool,
     /// Lines before this one are skipped (run LINE).
     start_line: i32,
-    /// The spindle as the program set it.
-    spindle: (Direction, f64),
     /// The program line of the last block read.
     read_line: i32,
     /// What the last run ended with.
@@ -118,7 +116,6 @@ impl Program {
             mdi: VecDeque::new(),
             is_mdi: false,
             start_line: 0,
-            spindle: (Direction::Stopped, 0.0),
             read_line: 0,
             last_end: None,
             sent_beat: 0,
@@ -138,6 +135,11 @@ impl Program {
     /// Whether nothing runs and no MDI line waits.
     pub fn settled(&self) -> bool {
         self.idle() && self.mdi.is_empty()
+    }
+
+    /// The spindle speed (S) in effect in the interpreter.
+    pub fn active_speed(&self) -> f64 {
+        self.interp.active_codes().speed
     }
 
     /// What the last run ended with, if one ended.
@@ -483,7 +485,12 @@ impl Program {
                     Ok(Started::Waiting(_)) => self.io_busy = true,
                     Err(e) => return Err(e.into()),
                 },
-                Op::Spindle { direction, rpm } => self.spindle = (direction, rpm),
+                Op::Spindle { command, line } => {
+                    motion
+                        .command(command)
+                        .map_err(|source| ProgramError::MotionAt { line, source })?;
+                    sent = true;
+                }
                 Op::Stop { optional } => {
                     self.canon.ops.pop_front();
                     if !optional || self.canon.optional_stop {
@@ -563,11 +570,10 @@ impl Program {
             .collect();
         let [g5x, g92, tool] = self.canon.offsets();
         let xyz = |a: [f64; 9]| format!("{:.4} {:.4} {:.4}", a[0], a[1], a[2]);
-        let spindle = match self.spindle.0 {
-            Direction::Stopped => "stopped".to_string(),
-            Direction::Clockwise => format!("clockwise {} rpm", self.spindle.1),
-            Direction::CounterClockwise => format!("counterclockwise {} rpm", self.spindle.1),
-        };
+        let spindle = motion
+            .and_then(MotionLink::status)
+            .and_then(|s| s.spindles.first().copied())
+            .map_or("unknown".to_string(), |s| spindle_text(&s));
         let mut s = format!(
             "program: {}\ninterp: {}\ncurrent line: {}\nmotion line: {motion_line}\n\
              modal: {} {} F{} S{}\noffsets: g5x {} g92 {} tool {}\nspindle: {spindle}\n",
@@ -589,6 +595,23 @@ impl Program {
         }
         s
     }
+}
+
+/// Spindle 0 as `task-cmd status` shows it.
+fn spindle_text(s: &motion::channel::SpindleState) -> String {
+    let turning = match s.speed {
+        _ if !s.on => "stopped".to_string(),
+        v if v < 0.0 => format!("counterclockwise {} rpm", -v),
+        v => format!("clockwise {v} rpm"),
+    };
+    let mut out = turning;
+    if s.scale != 1.0 {
+        out.push_str(&format!(", override {}", s.scale));
+    }
+    if s.brake {
+        out.push_str(", brake on");
+    }
+    out
 }
 
 /// The motion id (program line) a queued command carries.

@@ -1,0 +1,137 @@
+//! Tests of the spindle commands through the core: what the outputs
+//! show, the override and its enable, inhibit, the brake, the stop on
+//! disable, and the at-speed barrier of the feed move after a start.
+
+use super::coord_tests::{at, line, xyz};
+use crate::command::{Command, LineKind, Quantity, Reject};
+
+fn on(speed: f64, wait: bool) -> Command {
+    Command::SpindleOn {
+        spindle: 0,
+        speed,
+        wait,
+    }
+}
+
+#[test]
+fn a_start_drives_the_outputs_and_a_stop_brakes() {
+    let mut s = xyz();
+    assert_eq!(s.cmd(on(1000.0, false)), Err(Reject::NotEnabled));
+    s.coord();
+    s.cmd(on(-1200.0, false)).unwrap();
+    s.cycle();
+    let o = s.m.spindle_output(0);
+    assert!(o.on && o.reverse && !o.forward && !o.brake, "{o:?}");
+    assert_eq!((o.speed, o.cmd_rps), (-1200.0, -20.0));
+    s.cmd(Command::SpindleOff { spindle: 0 }).unwrap();
+    let o = s.m.spindle_output(0);
+    assert!(!o.on && !o.forward && !o.reverse && o.brake, "{o:?}");
+    assert_eq!((o.speed, o.cmd_rps), (0.0, 0.0));
+    assert_eq!(
+        s.cmd(Command::SpindleOff { spindle: 1 }),
+        Err(Reject::NoSuchSpindle {
+            spindle: 1,
+            num_spindles: 1
+        })
+    );
+    assert!(matches!(
+        s.cmd(on(f64::NAN, false)),
+        Err(Reject::BadValue {
+            what: Quantity::SpindleSpeed,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn the_override_applies_while_enabled_and_inhibit_holds_zero() {
+    let mut s = xyz();
+    s.coord();
+    s.cmd(on(1000.0, false)).unwrap();
+    s.cmd(Command::SpindleScale {
+        spindle: -1,
+        scale: 1.5,
+    })
+    .unwrap();
+    assert_eq!(s.m.spindle_output(0).speed, 1500.0);
+    // The command speed is the programmed one.
+    assert!((s.m.spindle_output(0).cmd_rps - 1000.0 / 60.0).abs() < 1e-12);
+    s.cmd(Command::SpindleScaleEnable { on: false }).unwrap();
+    assert_eq!(s.m.spindle_output(0).speed, 1000.0);
+    s.cmd(Command::SpindleScaleEnable { on: true }).unwrap();
+    s.m.inputs.spindle_inhibit[0] = true;
+    let o = s.m.spindle_output(0);
+    assert!(o.on && o.forward);
+    assert_eq!(o.speed, 0.0);
+    s.m.inputs.spindle_inhibit[0] = false;
+    // An override of 0 stops it, as LinuxCNC.
+    s.cmd(Command::SpindleScale {
+        spindle: 0,
+        scale: 0.0,
+    })
+    .unwrap();
+    assert!(!s.m.spindle_output(0).on);
+}
+
+#[test]
+fn the_brake_commands_and_disable_stop_the_spindle() {
+    let mut s = xyz();
+    s.coord();
+    s.cmd(on(500.0, false)).unwrap();
+    s.cmd(Command::SpindleBrake {
+        spindle: 0,
+        on: true,
+    })
+    .unwrap();
+    let o = s.m.spindle_output(0);
+    assert!(!o.on && o.brake);
+    s.cmd(Command::SpindleBrake {
+        spindle: 0,
+        on: false,
+    })
+    .unwrap();
+    assert!(!s.m.spindle_output(0).brake);
+    s.cmd(on(500.0, true)).unwrap();
+    s.cmd(Command::Disable).unwrap();
+    s.cycle();
+    let o = s.m.spindle_output(0);
+    assert!(!o.on && o.brake && o.speed == 0.0, "{o:?}");
+    assert!(!s.m.atspeed_next_feed());
+}
+
+#[test]
+fn the_feed_move_after_a_start_waits_for_at_speed() {
+    let mut s = xyz();
+    s.coord();
+    s.m.inputs.spindle_at_speed[0] = false;
+    s.cmd(on(1000.0, true)).unwrap();
+    assert!(s.m.atspeed_next_feed());
+    // A rapid does not wait and does not take the barrier.
+    s.cmd(Command::Line {
+        end: at(1.0, 0.0, 0.0),
+        vel: 0.0,
+        kind: LineKind::Traverse,
+        id: 1,
+    })
+    .unwrap();
+    assert!(s.m.atspeed_next_feed());
+    s.cmd(line(2.0, 0.0, 5.0, 2)).unwrap();
+    assert!(!s.m.atspeed_next_feed());
+    for _ in 0..2000 {
+        s.cycle();
+    }
+    // The rapid ran, the feed waits at its start.
+    assert!((s.j(0).pos_cmd - 1.0).abs() < 1e-9, "{}", s.j(0).pos_cmd);
+    let st = s.m.planner();
+    assert!(st.waiting_for_atspeed && st.depth == 1, "{st:?}");
+    s.m.inputs.spindle_at_speed[0] = true;
+    s.settle(5000);
+    assert!((s.j(0).pos_cmd - 2.0).abs() < 1e-9);
+    assert!(!s.m.planner().waiting_for_atspeed);
+    // Without the wait flag the next feed move goes at once.
+    s.m.inputs.spindle_at_speed[0] = false;
+    s.cmd(on(800.0, false)).unwrap();
+    s.cmd(line(3.0, 0.0, 5.0, 3)).unwrap();
+    s.settle(5000);
+    assert!((s.j(0).pos_cmd - 3.0).abs() < 1e-9);
+}
