@@ -155,7 +155,7 @@ fn moveoff_shape() {
         m.halcmd(&["sets", "external_offset_0", "1.5"]);
         assert_eq!(m.wait_getp("mv.offset-current-0", "1.5"), "1.5");
         assert_eq!(m.wait_getp("J0_mux.out", "1.5"), "1.5");
-        assert_eq!(m.getp("joint.0.motor-pos-fb"), "0");
+        assert_eq!(m.wait_getp("joint.0.motor-pos-fb", "0"), "0");
         assert_eq!(m.getp("mv.offset-applied"), "TRUE");
     });
 }
