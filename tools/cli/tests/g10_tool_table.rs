@@ -7,20 +7,7 @@
 
 mod machine;
 
-use machine::{root, Machine, Scratch};
-
-/// A copy of configs/sim/mill.
-fn mill_copy(s: &Scratch) -> std::path::PathBuf {
-    let src = root().join("configs/sim/mill");
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        let name = entry.file_name();
-        let name = name.to_str().unwrap();
-        if !name.starts_with("sim.var") {
-            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
-        }
-    }
-    s.0.join("mill.ini")
-}
+use machine::{mill_copy, Machine, Scratch};
 
 fn mdi(m: &Machine, line: &str) {
     let words: Vec<&str> = std::iter::once("mdi")
@@ -37,12 +24,7 @@ fn g10_l1_and_l10_write_the_tool_table() {
     let ini = mill_copy(&s);
     let table = s.0.join("sim.tbl");
     let m = Machine::start(&ini, "g10-table");
-    assert!(m.threads_run(), "threads run");
-    m.task_ok(&["estop-reset"]);
-    m.task_ok(&["machine-on"]);
-    m.motion(&["home", "-1"]);
-    m.motion(&["-t", "60", "wait", "all-homed"]);
-    m.motion(&["-t", "30", "wait", "in-position"]);
+    m.on_and_homed();
     m.task_ok(&["mode", "mdi"]);
 
     mdi(&m, "G21 G10 L1 P2 Z22.25 R3.5");

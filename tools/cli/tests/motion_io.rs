@@ -8,22 +8,8 @@
 
 mod machine;
 
-use machine::{root, Machine, Scratch};
+use machine::{mill_copy, Machine, Scratch};
 use std::time::{Duration, Instant};
-
-/// A copy of configs/sim/mill (motmod's default four digital and four
-/// analog inputs and outputs).
-fn mill_copy(s: &Scratch) -> std::path::PathBuf {
-    let src = root().join("configs/sim/mill");
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        let name = entry.file_name();
-        let name = name.to_str().unwrap();
-        if !name.starts_with("sim.var") {
-            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
-        }
-    }
-    s.0.join("mill.ini")
-}
 
 fn float(m: &Machine, pin: &str) -> f64 {
     m.getp(pin).parse().unwrap()
@@ -54,12 +40,7 @@ fn outputs_follow_the_program_and_m66_waits_on_inputs() {
     );
     let bad = s.write("bad.ngc", "G21 G90\nG0 X1\nM66 P9 L0\nM2\n");
     let m = Machine::start(&ini, "motion-io");
-    assert!(m.threads_run(), "threads run");
-    m.task_ok(&["estop-reset"]);
-    m.task_ok(&["machine-on"]);
-    m.motion(&["home", "-1"]);
-    m.motion(&["-t", "60", "wait", "all-homed"]);
-    m.motion(&["-t", "30", "wait", "in-position"]);
+    m.on_and_homed();
     m.task_ok(&["mode", "auto"]);
 
     run(&m, &main);

@@ -9,31 +9,8 @@
 
 mod machine;
 
-use machine::{root, Machine, Scratch};
+use machine::{mill_copy, Machine, Scratch};
 use std::time::{Duration, Instant};
-
-/// A copy of configs/sim/mill.
-fn mill_copy(s: &Scratch) -> std::path::PathBuf {
-    let src = root().join("configs/sim/mill");
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        let name = entry.file_name();
-        let name = name.to_str().unwrap();
-        if !name.starts_with("sim.var") {
-            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
-        }
-    }
-    s.0.join("mill.ini")
-}
-
-/// The machine on and homed.
-fn ready(m: &Machine) {
-    assert!(m.threads_run(), "threads run");
-    m.task_ok(&["estop-reset"]);
-    m.task_ok(&["machine-on"]);
-    m.motion(&["home", "-1"]);
-    m.motion(&["-t", "60", "wait", "all-homed"]);
-    m.motion(&["-t", "30", "wait", "in-position"]);
-}
 
 fn float(m: &Machine, pin: &str) -> f64 {
     m.getp(pin).parse().unwrap()
@@ -70,7 +47,7 @@ fn a_program_drives_the_spindle_and_waits_for_it_at_speed() {
         "G21 G90\nG0 X1\nM3 S1200\nG1 X5 F600\nM4 S800\nG1 X6\nM5\nG0 X7\nM2\n",
     );
     let m = Machine::start(&ini, "spindle-prog");
-    ready(&m);
+    m.on_and_homed();
     m.halcmd(&["setp", "spindle.0.at-speed", "FALSE"]);
     m.task_ok(&["mode", "auto"]);
     m.task_ok(&["open", prog.to_str().unwrap()]);
@@ -113,7 +90,7 @@ fn a_reverse_start_runs_before_the_next_move_and_abort_stops_it() {
     let ini = mill_copy(&s);
     let prog = s.write("rev.ngc", "G21 G90\nM4 S900\nG1 X30 F60\nM2\n");
     let m = Machine::start(&ini, "spindle-rev");
-    ready(&m);
+    m.on_and_homed();
     m.task_ok(&["mode", "auto"]);
     m.task_ok(&["open", prog.to_str().unwrap()]);
     m.task_ok(&["run"]);

@@ -8,21 +8,7 @@
 
 mod machine;
 
-use machine::{root, Machine, Scratch};
-
-/// A copy of configs/sim/mill (the interpreter writes its parameter
-/// file beside the INI file).
-fn mill_copy(s: &Scratch) -> std::path::PathBuf {
-    let src = root().join("configs/sim/mill");
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        let name = entry.file_name();
-        let name = name.to_str().unwrap();
-        if !name.starts_with("sim.var") {
-            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
-        }
-    }
-    s.0.join("mill.ini")
-}
+use machine::{mill_copy, Machine, Scratch};
 
 /// The machine on and homed, ready for AUTO or MDI.
 fn ready(m: &Machine) {

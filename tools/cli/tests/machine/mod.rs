@@ -40,6 +40,20 @@ impl Drop for Scratch {
     }
 }
 
+/// A copy of configs/sim/mill in `s`, without its parameter file (the
+/// interpreter writes one beside the INI file); returns the INI file.
+pub fn mill_copy(s: &Scratch) -> PathBuf {
+    let src = root().join("configs/sim/mill");
+    for entry in std::fs::read_dir(&src).unwrap().flatten() {
+        let name = entry.file_name();
+        let name = name.to_str().unwrap();
+        if !name.starts_with("sim.var") {
+            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
+        }
+    }
+    s.0.join("mill.ini")
+}
+
 fn env(cmd: &mut Command, instance: &str) {
     cmd.env("HAL_INSTANCE", instance)
         .env("HAL_NO_REALTIME", "1")
@@ -224,6 +238,16 @@ impl Machine {
 
     /// Whether the threads run: the motion controller's heartbeat (the
     /// servo cycles it ran) moves.
+    /// E-stop reset, machine on, every joint homed and in position.
+    pub fn on_and_homed(&self) {
+        assert!(self.threads_run(), "threads run");
+        self.task_ok(&["estop-reset"]);
+        self.task_ok(&["machine-on"]);
+        self.motion(&["home", "-1"]);
+        self.motion(&["-t", "60", "wait", "all-homed"]);
+        self.motion(&["-t", "30", "wait", "in-position"]);
+    }
+
     pub fn threads_run(&self) -> bool {
         let beat = || {
             let out = self.motion(&["status"]);
