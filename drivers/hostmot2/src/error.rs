@@ -41,12 +41,41 @@ pub enum Hm2Error {
         #[source]
         source: crate::fpga::FpgaError,
     },
-    /// A simulated board cannot run the firmware it was given (or was
-    /// given none and has no flash).
-    #[error("{reason}")]
-    SimFirmware {
-        /// Why.
-        reason: String,
+    /// A simulated card without flash was given no `firmware=`.
+    #[error(
+        "no firmware specified in config modparam!  the board had better have firmware \
+         configured already, or this won't work: the simulated {board} has no flash; name \
+         its firmware in the config string, e.g. firmware=hm2/{board}/SVST8_4.BIT"
+    )]
+    SimNoFirmware {
+        /// The card (`5i20`).
+        board: String,
+    },
+    /// The simulator has no firmware of this name.
+    #[error(
+        "the simulator does not know the firmware '{design}' (it has Mesa's SV<n> and \
+         SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ...)"
+    )]
+    SimUnknownFirmware {
+        /// The design name (`SVST8_4`).
+        design: String,
+    },
+    /// The firmware's modules do not fit the simulated card's connectors.
+    #[error("the firmware '{design}' does not fit a {board}: {why}")]
+    SimFirmwareUnfit {
+        /// The design name.
+        design: String,
+        /// The card.
+        board: String,
+        /// What does not fit.
+        why: crate::sim::plx_boards::Unfit,
+    },
+    /// A simulated PLX card was used before its FPGA was loaded, or its
+    /// FPGA raised DONE without running a design.
+    #[error("the simulated FPGA {what}")]
+    SimFpgaNotRunning {
+        /// "was not loaded", "raised DONE but runs no design".
+        what: &'static str,
     },
     /// `sserial_port_N=` with N outside 0..3.
     #[error(

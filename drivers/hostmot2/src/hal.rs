@@ -361,8 +361,8 @@ fn transport_of<H: DriverHost>(
         ),
         Source::Image(img) => (Box::new(ImageTransport::new(img, name)), None, None),
         Source::SimPlx(_) => {
-            return Ok(Err(Hm2Error::SimFirmware {
-                reason: "the simulated FPGA was not loaded".into(),
+            return Ok(Err(Hm2Error::SimFpgaNotRunning {
+                what: "was not loaded",
             }))
         }
         Source::Eth(t) => {

@@ -66,12 +66,8 @@ pub fn configure(
         }
         Source::SimPlx(card) => {
             let Some(name) = firmware else {
-                return Err(Hm2Error::SimFirmware {
-                    reason: format!(
-                        "{NO_FIRMWARE}: the simulated {} has no flash; name its firmware in the \
-                         config string, e.g. firmware=hm2/{}/SVST8_4.BIT",
-                        card.board.board, card.board.board
-                    ),
+                return Err(Hm2Error::SimNoFirmware {
+                    board: card.board.board.into(),
                 });
             };
             load_sim(&card, dir, name, log)
@@ -137,12 +133,11 @@ fn load_sim(
     log: &mut MessageLog,
 ) -> Result<Source> {
     let board = card.board;
-    let sim_err = |reason: String| Hm2Error::SimFirmware { reason };
     let file = match dir {
         Some(dir) => fpga::resolve(dir, name).and_then(|p| bitfile::read(&p)),
         None => {
             let design = plx_boards::design_of_path(name);
-            plx_boards::firmware(board, design).map_err(sim_err)?;
+            plx_boards::firmware(board, design)?;
             bitfile::parse(&sim::plx::bitfile(design, board.fpga_part))
         }
     }
@@ -151,11 +146,10 @@ fn load_sim(
         .and_then(|()| fpga::plx::program(&card.bridge.ports(), &file.bitstream))
         .map_err(|e| load_error(name, e))?;
     log.info(fpga::describe(name, &file));
-    let design = card
-        .bridge
-        .design()
-        .ok_or_else(|| sim_err("the simulated FPGA raised DONE but runs no design".to_string()))?;
-    let spec = plx_boards::firmware(board, &design).map_err(sim_err)?;
+    let design = card.bridge.design().ok_or(Hm2Error::SimFpgaNotRunning {
+        what: "raised DONE but runs no design",
+    })?;
+    let spec = plx_boards::firmware(board, &design)?;
     let shape = plx_boards::design(&design).unwrap_or(plx_boards::Design {
         servos: 0,
         steppers: 0,

@@ -30,6 +30,7 @@
 //! runs unchanged; the whole load (header check, /PROGRAM, the stream,
 //! DONE) runs on the simulated bridge either way.
 
+use crate::error::Hm2Error;
 use crate::fpga::Bridge;
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
 use crate::pci::{self, PciBoard};
@@ -101,35 +102,80 @@ pub fn design(name: &str) -> Option<Design> {
 }
 
 /// Why a firmware does not fit a simulated card.
-pub fn unfit(board: &PciBoard, d: Design) -> Option<String> {
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unfit {
+    /// The 7I47 layout needs three 24-pin connectors and has at most 2
+    /// servo channels and 4 step generators.
+    SevenI47,
+    /// Neither servo channels nor step generators.
+    Empty,
+    /// Servo channels not a multiple of four.
+    ServosNotByFour,
+    /// More servo connectors than the card has.
+    ServoConnectors {
+        /// Servo channels the firmware has.
+        servos: u32,
+        /// Connectors they need.
+        connectors: u32,
+    },
+    /// The step generators' pins do not fit what is left.
+    StepgenPins {
+        /// Step generators the firmware has.
+        steppers: u32,
+        /// Pins left after the servo connectors.
+        left: u32,
+    },
+}
+
+impl std::fmt::Display for Unfit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Unfit::SevenI47 => f.write_str(
+                "the 7I47 layout has at most 2 servo channels and 4 step generators, \
+                 on a card of three 24-pin connectors",
+            ),
+            Unfit::Empty => f.write_str("it has neither servo channels nor step generators"),
+            Unfit::ServosNotByFour => f.write_str("servo channels come four to a connector"),
+            Unfit::ServoConnectors { servos, connectors } => {
+                write!(f, "{servos} servo channels need {connectors} connectors")
+            }
+            Unfit::StepgenPins { steppers, left } => {
+                write!(
+                    f,
+                    "{steppers} step generators do not fit the {left} pins left"
+                )
+            }
+        }
+    }
+}
+
+/// Why firmware `d` does not fit simulated card `board`, if it does not.
+pub fn unfit(board: &PciBoard, d: Design) -> Option<Unfit> {
     let conns = board.connectors.len() as u32;
     let width = board.pins_per_connector;
     if d.seven_i47 {
-        return (conns < 3 || width != 24 || d.servos > 2 || d.steppers > 4).then(|| {
-            "the 7I47 layout has at most 2 servo channels and 4 step generators, \
-             on a card of three 24-pin connectors"
-                .into()
-        });
+        return (conns < 3 || width != 24 || d.servos > 2 || d.steppers > 4)
+            .then_some(Unfit::SevenI47);
     }
     if d.servos == 0 && d.steppers == 0 {
-        return Some("it has neither servo channels nor step generators".into());
+        return Some(Unfit::Empty);
     }
     if d.servos % 4 != 0 {
-        return Some("servo channels come four to a connector".into());
+        return Some(Unfit::ServosNotByFour);
     }
     let servo_conns = d.servos / 4;
     if servo_conns > conns {
-        return Some(format!(
-            "{} servo channels need {servo_conns} connectors",
-            d.servos
-        ));
+        return Some(Unfit::ServoConnectors {
+            servos: d.servos,
+            connectors: servo_conns,
+        });
     }
     let left = (conns - servo_conns) * width;
     if d.steppers * 2 > left {
-        return Some(format!(
-            "{} step generators do not fit the {left} pins left",
-            d.steppers
-        ));
+        return Some(Unfit::StepgenPins {
+            steppers: d.steppers,
+            left,
+        });
     }
     None
 }
@@ -154,18 +200,16 @@ fn servo_pair(k: u8) -> [PinDescriptor; 12] {
 }
 
 /// The firmware `design_name` on simulated card `board`, or why not.
-pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, String> {
-    let d = design(design_name).ok_or_else(|| {
-        format!(
-            "the simulator does not know the firmware '{design_name}' \
-             (it has Mesa's SV<n> and SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ...)"
-        )
+pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Hm2Error> {
+    let d = design(design_name).ok_or_else(|| Hm2Error::SimUnknownFirmware {
+        design: design_name.into(),
     })?;
     if let Some(why) = unfit(board, d) {
-        return Err(format!(
-            "the firmware '{design_name}' does not fit a {}: {why}",
-            board.board
-        ));
+        return Err(Hm2Error::SimFirmwareUnfit {
+            design: design_name.into(),
+            board: board.board.into(),
+            why,
+        });
     }
     let total = board.connectors.len() * board.pins_per_connector as usize;
     let (pins, encoders) = if d.seven_i47 {
@@ -351,11 +395,15 @@ mod tests {
     fn firmwares_that_do_not_fit_say_why() {
         let (board, _) = card("5i20").unwrap();
         let e = firmware(board, "SV16").unwrap_err();
-        assert!(e.contains("16 servo channels need 4 connectors"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("16 servo channels need 4 connectors"),
+            "{e}"
+        );
         let e = firmware(board, "7i77x2").unwrap_err();
-        assert!(e.contains("does not know"), "{e}");
+        assert!(e.to_string().contains("does not know"), "{e}");
         let e = firmware(board, "SVST8_30").unwrap_err();
-        assert!(e.contains("30 step generators"), "{e}");
+        assert!(e.to_string().contains("30 step generators"), "{e}");
     }
 
     #[test]
@@ -380,6 +428,6 @@ mod tests {
         }
         assert_eq!(spec.module(gtag::ENCODER).unwrap().instances, 4);
         let e = firmware(board, "SVST4_4_7I47").unwrap_err();
-        assert!(e.contains("7I47 layout"), "{e}");
+        assert!(e.to_string().contains("7I47 layout"), "{e}");
     }
 }
