@@ -70,20 +70,24 @@ pub(crate) fn new_funct_tx(
     Ok(off)
 }
 
-/// Removes a function, taking it out of every thread first. Its timing pin
-/// and params belong to its component, which removes them with its other
-/// pins and params (this is only called while removing the component).
+/// Removes a function that no thread lists any more: its component took
+/// all of its functions out of the threads first
+/// ([`remove_owned_entries_tx`]). Its timing pin and params belong to the
+/// component, which removes them with its other pins and params (this is
+/// only called while removing the component).
 pub(crate) fn remove_funct_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {
-    let seg = tx.seg();
     let h = tx.header();
     let f: &FunctRec = tx.rec(off)?;
     if f.users.load(Relaxed) != 0 {
-        let threads: Vec<u64> = list::iter::<ThreadRec>(seg, &h.threads)
-            .map(|r| r.map(|(o, _)| o))
-            .collect::<Result<_>>()?;
-        for t in threads {
-            while remove_entry_tx(tx, t, off)? {}
-        }
+        // A thread entry not found by the owner's pass: the segment's
+        // lists and counts disagree; the transaction is rolled back.
+        return Err(HalError::BadSegment {
+            instance: tx.seg().instance().to_string(),
+            reason: format!(
+                "function '{}' is still in a thread after its component left them",
+                f.name.get()
+            ),
+        });
     }
     list::remove::<FunctRec>(tx, &h.functs, off)?;
     tx.free(BlockKind::Funct, off)
