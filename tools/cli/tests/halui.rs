@@ -8,20 +8,12 @@
 
 mod machine;
 
-use machine::{root, Machine, Scratch};
+use machine::{mill_copy, Machine, Scratch};
 use std::time::{Duration, Instant};
 
 /// configs/sim/mill, copied, with two MDI commands for halui.
 fn mill_with_mdi(s: &Scratch) -> std::path::PathBuf {
-    let src = root().join("configs/sim/mill");
-    for entry in std::fs::read_dir(&src).unwrap().flatten() {
-        let name = entry.file_name();
-        let name = name.to_str().unwrap();
-        if !name.starts_with("sim.var") {
-            std::fs::copy(entry.path(), s.0.join(name)).unwrap();
-        }
-    }
-    let ini = s.0.join("mill.ini");
+    let ini = mill_copy(s);
     let mut text = std::fs::read_to_string(&ini).unwrap();
     text.push_str("\n[HALUI]\nMDI_COMMAND = G0 X3 Y2\nMDI_COMMAND = G0 X0 Y0\n");
     std::fs::write(&ini, text).unwrap();
