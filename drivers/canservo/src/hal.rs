@@ -242,10 +242,12 @@ impl<H: HalHost> DrivePins<H> {
     fn publish(&self, s: &DriveStatus) {
         self.position_fb.set(s.position_fb);
         self.velocity_fb.set(s.velocity_fb);
-        self.amp_fault.set(s.amp_fault);
+        // The codes go out before the flag, so whoever sees amp-fault
+        // TRUE also sees why.
         self.fault_code.set(s.fault_code);
         self.error_code.set(u32::from(s.error_code));
         self.error_register.set(s.error_register);
+        self.amp_fault.set(s.amp_fault);
         self.enabled.set(s.enabled);
         self.state.set(s.state.map_or(0, |st| st.number()));
         self.statusword.set(u32::from(s.statusword));

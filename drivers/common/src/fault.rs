@@ -174,11 +174,15 @@ impl<H: HalHost> FaultLatch<H> {
         {
             return false;
         }
-        if let Some(pin) = &self.pin {
-            pin.set(true);
-        }
+        // The code goes out before the flag: whoever sees `fault` TRUE
+        // (a panel, halcmd, a test polling from another thread) must
+        // also see why.
         if let Some(pin) = &self.code_pin {
             pin.set(fault.code);
+        }
+        std::sync::atomic::fence(Release);
+        if let Some(pin) = &self.pin {
+            pin.set(true);
         }
         if let Some(log) = &self.log {
             log.err(format_args!("{}: {}", self.prefix, fault.reason));
