@@ -55,6 +55,10 @@ fn basic_sim_tcl_shape() {
         assert!(m
             .halcmd(&["show", "sig", "J0:pos-fb"])
             .contains("==> joint.0.motor-pos-fb"));
+        // [EMCMOT]EMCMOT's unlock_joints_mask reached motmod.
+        assert!(m
+            .halcmd(&["show", "pin", "joint.2.unlock"])
+            .contains("joint.2.unlock"));
         m.motion(&["jog-incr", "0", "1", "0.5"]);
         m.motion(&["-t", "30", "wait", "in-position"]);
         assert_eq!(m.getp("joint.0.pos-fb"), "0.5");
