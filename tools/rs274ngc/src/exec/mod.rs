@@ -9,6 +9,7 @@ mod modes;
 mod motion;
 mod offsets;
 mod stop;
+mod threading;
 mod tools;
 
 pub(crate) use context::SavedState;
