@@ -411,6 +411,12 @@ pub enum InterpError {
     AnalogIndex(i32),
     #[error("Q word with M19 requires a value > 0")]
     M19Q,
+    #[error(
+        "Spindle ($) number out of range in M{m} Command\nnum_spindles ={count}. $={dollar}\n"
+    )]
+    SpindleOutOfRange { m: i32, count: usize, dollar: i32 },
+    #[error("Spindle ($) number out of range in M19 Command")]
+    M19SpindleOutOfRange,
     #[error("Invalid spindle ($) number in {0}")]
     SpindleNumber(&'static str),
     #[error("Spindle not turning in {0}")]

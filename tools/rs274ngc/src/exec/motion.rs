@@ -113,7 +113,7 @@ impl Interp {
                     if self.s.feed_rate == 0.0 {
                         return Err(InterpError::G1ZeroFeed);
                     }
-                    if self.s.speed == 0.0 {
+                    if self.s.spindles[self.s.feed_spindle].speed == 0.0 {
                         return Err(InterpError::ZeroSpeedFeedPerRev);
                     }
                 }

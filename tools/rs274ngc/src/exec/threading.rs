@@ -3,7 +3,7 @@
 //! LinuxCNC's interpreter emits them: START_SPEED_FEED_SYNCH before each
 //! synchronised feed, STOP_SPEED_FEED_SYNCH after it.
 
-use crate::block::{round_to_int, Block};
+use crate::block::Block;
 use crate::canon::{Canon, Direction, Pose};
 use crate::codes::*;
 use crate::error::{InterpError, Result};
@@ -38,15 +38,11 @@ struct Thread {
 impl Interp {
     /// The spindle a synchronised move follows: its `$` word, else 0.
     fn synched_spindle(&self, block: &Block) -> Option<i32> {
-        if !block.dollar_flag {
-            return Some(0);
-        }
-        let n = round_to_int(block.dollar_number);
-        (n == 0).then_some(n)
+        self.selected_spindles(block, false).map(|r| r.start as i32)
     }
 
-    fn spindle_turning(&self, _spindle: i32) -> bool {
-        self.s.spindle_turning != Direction::Stopped
+    fn spindle_turning(&self, spindle: i32) -> bool {
+        self.s.spindles[spindle as usize].turning != Direction::Stopped
     }
 
     /// G33: one straight feed locked to the spindle, `K` per revolution.
@@ -234,7 +230,7 @@ impl Thread {
         if depths.len().saturating_add(last) > max_passes {
             return None;
         }
-        depths.extend(std::iter::repeat(self.full_depth).take(last));
+        depths.extend(std::iter::repeat_n(self.full_depth, last));
         Some(depths)
     }
 }
