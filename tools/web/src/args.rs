@@ -39,9 +39,13 @@ options:
   --version            print the version and exit
 
 examples:
-  hal-web                          serve the default instance on http://127.0.0.1:8338/
-  ssh -L 8338:127.0.0.1:8338 MACHINE   then open http://localhost:8338/ on the laptop
-  hal-web --listen 0.0.0.0 --read-only a read-only view for the shop's network";
+  hal-web                      serve the default instance on http://127.0.0.1:8338/
+  hal-web --read-only -p 8400  a view that changes nothing, on port 8400
+  hal-web --listen 0.0.0.0     every address of the machine, with the token
+
+from a laptop:
+  ssh -L 8338:127.0.0.1:8338 MACHINE
+                               then open http://localhost:8338/ on the laptop";
 
 /// What the command line asks for.
 #[derive(Debug, Clone, PartialEq, Eq)]
