@@ -41,6 +41,18 @@ impl Interp {
         Ok(())
     }
 
+    /// G10 L0: reload the tool table, refused while a tool is in the
+    /// spindle (its offsets would change under it).
+    pub(crate) fn convert_reload_tool_data(&mut self, canon: &mut dyn Canon) -> Result<()> {
+        let loaded = self.s.tool(0).toolno;
+        if loaded > 0 {
+            return Err(InterpError::G10L0ToolLoaded(loaded));
+        }
+        canon.reload_tool_data();
+        self.load_tool_table(canon);
+        Ok(())
+    }
+
     /// M6.
     pub(crate) fn convert_tool_change(&mut self, canon: &mut dyn Canon) -> Result<()> {
         if self.s.selected_pocket < 0 {
