@@ -15,9 +15,12 @@ set base_period 0
 if {[info exists ::EMCMOT(BASE_PERIOD)]} {
   set base_period [lindex $::EMCMOT(BASE_PERIOD) 0]
 }
+# [EMCMOT]EMCMOT may carry motmod's own parameters
+# (motmod unlock_joints_mask=0x10): core_sim takes the INI's list whole
+# and splits its first entry into the module and its parameters.
 set emcmot motmod
 if {[info exists ::EMCMOT(EMCMOT)]} {
-  set emcmot [lindex $::EMCMOT(EMCMOT) 0]
+  set emcmot $::EMCMOT(EMCMOT)
 }
 core_sim $axes $number_of_joints [lindex $::EMCMOT(SERVO_PERIOD) 0] $base_period $emcmot
 

@@ -60,7 +60,7 @@ fn the_7i76_is_found_and_named_as_linuxcnc_names_it() {
         ("spinena-invert", Bit(false)),
         ("swrevision", U32(22)),
         ("nvunitnumber", U32(0x1000_1234)),
-        ("nvbaudrate", U32(10)),
+        ("nvbaudrate", U32(9)),
         ("nvwatchdogtimeout", U32(50)),
     ] {
         assert_eq!(

@@ -246,18 +246,46 @@ fn a_latin1_tool_table_keeps_every_tool_and_comment_byte_for_byte() {
 }
 
 #[test]
-fn a_tool_table_with_a_bad_line_stops_the_start_and_is_never_written() {
+fn a_tool_table_with_a_bad_line_starts_without_that_line_and_is_never_written() {
     let s = Scratch::new("badtable");
     let text = b"T5 P0 ;in the spindle\nT7 P12 ;drill\nT8 P3 Zbad\n";
     let ini = changer(&s, text);
-    let (status, err) = Machine::spawn(&ini, "badtable", &[]).wait_exit();
-    assert_eq!(status.code(), Some(1), "{err}");
+    // As LinuxCNC does, the start goes on with the lines that read; the
+    // one that does not is named, with its file and line.
+    let m = Machine::start(&ini, "badtable");
+    let err = m.stderr_with("could not be read");
     assert!(
-        err.contains("[EMCIO]TOOL_TABLE: the tool table cannot be read completely")
-            && err.contains("tools.tbl:3: 'Zbad': Z needs a number"),
+        err.contains("tools.tbl:3: 'Zbad': Z needs a number: line skipped")
+            && err.contains("1 line(s) of"),
         "{err}"
     );
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    change_tool(&m, "7", "12");
+    // Tool 8 was left out: asking for it is refused.
+    let (ok, _, refused) = m.task(&["-t", "2", "tool-change", "8"]);
+    assert!(!ok && refused.contains("tool 8"), "{refused}");
+    // The file keeps its bad line: it is never written back.
     assert_eq!(std::fs::read(s.0.join("tools.tbl")).unwrap(), text);
+    let stderr = m.stderr_with("is not written back");
+    assert!(stderr.contains("is not written back"), "{stderr}");
+    m.stop();
+}
+
+#[test]
+fn a_missing_tool_table_starts_empty() {
+    let s = Scratch::new("notable");
+    let ini = changer(&s, b"");
+    std::fs::remove_file(s.0.join("tools.tbl")).unwrap();
+    let m = Machine::start(&ini, "notable");
+    let err = m.stderr_with("starting with an empty tool table");
+    assert!(
+        err.contains("[EMCIO]TOOL_TABLE: tool table")
+            && err.contains("starting with an empty tool table"),
+        "{err}"
+    );
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "0");
+    m.stop();
 }
 
 #[test]

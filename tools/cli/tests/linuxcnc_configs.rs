@@ -55,6 +55,13 @@ fn basic_sim_tcl_shape() {
         assert!(m
             .halcmd(&["show", "sig", "J0:pos-fb"])
             .contains("==> joint.0.motor-pos-fb"));
+        // LIB:wheeljogpins.tcl 0.1: wheel jogging on, scale 0.1.
+        assert_eq!(m.getp("axis.w.jog-scale"), "0.1");
+        assert_eq!(m.getp("joint.2.jog-enable"), "TRUE");
+        // [EMCMOT]EMCMOT's unlock_joints_mask reached motmod.
+        assert!(m
+            .halcmd(&["show", "pin", "joint.2.unlock"])
+            .contains("joint.2.unlock"));
         m.motion(&["jog-incr", "0", "1", "0.5"]);
         m.motion(&["-t", "30", "wait", "in-position"]);
         assert_eq!(m.getp("joint.0.pos-fb"), "0.5");

@@ -216,7 +216,7 @@ pub enum LaunchError {
         #[source]
         source: crate::iocontrol::tooltable::TableError,
     },
-    /// The tool table could not be read completely at start.
+    /// The tool table file could not be read at start.
     #[error("{origin}: [EMCIO]TOOL_TABLE: {source}")]
     ToolTableAtStart {
         /// The INI line naming it.

@@ -167,10 +167,14 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
     Ok(ini)
 }
 
-/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none). A table
-/// that cannot be read completely stops the start, naming the file and
-/// each line; nothing of it is used, so nothing can write it back.
-fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
+/// The tool table `[EMCIO]TOOL_TABLE` names (empty if none), where it is
+/// written back, and whether it was read completely. As in LinuxCNC, a
+/// line that cannot be read is said and left out, and a file that does
+/// not exist yet is an empty table (a random changer's write-back
+/// creates it); a table with a line left out is never written back, so
+/// the line is not lost. A file that cannot be read at all (not a
+/// regular file, too large, no permission) stops the start.
+fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>, bool), LaunchError> {
     let random = ini.boolean("EMCIO", "RANDOM_TOOLCHANGER")?.unwrap_or(false);
     if let Some(e) = ini.entry("EMCIO", "DB_PROGRAM") {
         eprintln!(
@@ -182,14 +186,36 @@ fn tool_table(ini: &Ini) -> Result<(ToolTable, Option<PathBuf>), LaunchError> {
         .entry("EMCIO", "TOOL_TABLE")
         .filter(|e| !e.value.trim().is_empty())
     else {
-        return Ok((ToolTable::empty(random), None));
+        return Ok((ToolTable::empty(random), None, true));
     };
     let path = ini.dir().join(&e.value);
-    match ToolTable::load(&path, random) {
-        Ok(t) => Ok((t, Some(path))),
+    match ToolTable::load_skipping(&path, random) {
+        Ok((t, skipped)) => {
+            for line in &skipped {
+                eprintln!("{}: warning: {line}: line skipped", e.origin);
+            }
+            if !skipped.is_empty() {
+                eprintln!(
+                    "{}: warning: [EMCIO]TOOL_TABLE: {} line(s) of {} could not be read; \
+                     the tools on them are not in the table, and the file is not written \
+                     back until it reads completely",
+                    e.origin,
+                    skipped.len(),
+                    path.display()
+                );
+            }
+            Ok((t, Some(path), skipped.is_empty()))
+        }
+        Err(source) if source.is_not_found() => {
+            eprintln!(
+                "{}: warning: [EMCIO]TOOL_TABLE: {source}: starting with an empty tool table",
+                e.origin
+            );
+            Ok((ToolTable::empty(random), Some(path), true))
+        }
         Err(source) => Err(LaunchError::ToolTableAtStart {
             origin: e.origin.clone(),
-            source,
+            source: source.into(),
         }),
     }
 }
@@ -244,8 +270,11 @@ pub fn start_hal_side(
     } else {
         None
     };
-    let (table, table_path) = tool_table(ini)?;
-    let io = IoControl::new(table, table_path.clone());
+    let (table, table_path, complete) = tool_table(ini)?;
+    let mut io = IoControl::new(table, table_path.clone());
+    if !complete {
+        io.reload_failed();
+    }
     for (flag, section, key, default) in [
         (&opts.tpmod, "TRAJ", "TPMOD", "tpmod"),
         (&opts.homemod, "EMCMOT", "HOMEMOD", "homemod"),

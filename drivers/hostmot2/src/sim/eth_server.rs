@@ -280,7 +280,13 @@ impl Drop for Running {
 
 /// Serves `board` on 127.0.0.1 at a port the system picks, on a thread.
 pub fn spawn(board: EthBoard, faults: Faults) -> io::Result<Running> {
-    let socket = UdpSocket::bind("127.0.0.1:0")?;
+    spawn_on(board, faults, SocketAddr::from(([127, 0, 0, 1], 0)))
+}
+
+/// Serves `board` at `addr` (a loopback address of its own at LBP16's
+/// port 27181, for a tool that knows no other port), on a thread.
+pub fn spawn_on(board: EthBoard, faults: Faults, addr: SocketAddr) -> io::Result<Running> {
+    let socket = UdpSocket::bind(addr)?;
     let server = Server::new(socket, board, faults);
     let addr = server.local_addr()?;
     let shared = server.shared();

@@ -76,6 +76,13 @@ pub mod local {
     pub const CLOCK: u16 = 0x230;
 }
 
+/// The baud rates a remote's `NVBaudRate` global selects, by index (the
+/// cards' manuals; mesaflash prints the global with this table).
+pub const BAUD_RATES: [u32; 12] = [
+    9_600, 19_200, 38_400, 57_600, 115_200, 230_400, 460_800, 921_600, 1_250_000, 2_500_000,
+    5_000_000, 10_000_000,
+];
+
 /// LBP command bytes sent to a remote (CS bits 31..24 in setup mode).
 pub mod lbp {
     /// Read 1, 2, 4 or 8 bytes (+ 0..3) at the address in CS bits 15..0.

@@ -33,6 +33,15 @@ fn direction(r: &DataRecord) -> &'static str {
     }
 }
 
+/// A record's unit as shown: nothing for a unitless one (`None`).
+fn unit_text(unit: &str) -> &str {
+    if unit.eq_ignore_ascii_case("none") {
+        ""
+    } else {
+        unit
+    }
+}
+
 /// The HAL objects a record becomes (their names after the card's prefix).
 fn hal_names(r: &DataRecord) -> String {
     let n = r.hal_name();
@@ -96,9 +105,9 @@ pub fn report(f: &SserialFirmware, board: &str) -> String {
             );
             for d in &r.process {
                 let range = if d.min != d.max {
-                    format!("{}..{} {}", d.min, d.max, d.unit)
+                    format!("{}..{} {}", d.min, d.max, unit_text(&d.unit))
                 } else {
-                    d.unit.clone()
+                    unit_text(&d.unit).to_string()
                 };
                 let _ = writeln!(
                     s,
@@ -117,7 +126,7 @@ pub fn report(f: &SserialFirmware, board: &str) -> String {
                     s,
                     "      {:<20}= {v} (0x{v:X}){}{}",
                     g.hal_name(),
-                    if g.unit == "none" || g.unit.is_empty() {
+                    if unit_text(&g.unit).is_empty() {
                         String::new()
                     } else {
                         format!(" {}", g.unit)

@@ -206,9 +206,10 @@ impl IoControl {
         &self.table
     }
 
-    /// Keeps the table after its file could not be read again: until a
-    /// reload succeeds, changes are not written back (the file on disk is
-    /// the user's, half edited; writing would destroy their edit).
+    /// Keeps the table after its file could not be read again (or read
+    /// only in part at start): until a reload succeeds, changes are not
+    /// written back (the file on disk is the user's, half edited; writing
+    /// would destroy their edit).
     pub fn reload_failed(&mut self) {
         if let Some(s) = &mut self.save_to {
             s.set_read_complete(false);

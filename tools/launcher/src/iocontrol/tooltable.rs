@@ -4,10 +4,12 @@
 //! then `;` and a comment. Lines that are empty or only a comment are
 //! kept as they are.
 //!
-//! A table is read completely or not at all: a line that cannot be read
-//! (a bad number, no `T` or `P`, a tool or random-changer pocket given
-//! twice, more tools than slots) is an error naming the file and line,
-//! and the caller keeps what it had. Comments and words this reader does
+//! A line that cannot be read (a bad number, no `T` or `P`, a tool or
+//! random-changer pocket given twice, more tools than slots) is named
+//! with its file and line. A reload is complete or changes nothing, and
+//! the caller keeps what it had; at start, as in LinuxCNC, the lines that
+//! read make the table and the others are said and left out whole (and
+//! the file is then never written back, so none of it is lost). Comments and words this reader does
 //! not know are kept byte for byte (a Latin-1 comment is not UTF-8, and
 //! need not be) and written back as they were.
 //!
@@ -152,9 +154,21 @@ pub fn parse_line(line: &[u8]) -> Result<Option<Tool>, String> {
         let shown = String::from_utf8_lossy(word);
         let rest = std::str::from_utf8(&word[1..]).unwrap_or("");
         let letter = letter as char;
+        // A whole number, also written as one with a zero fraction
+        // (`Q0.0`, which GUIs' tool editors write); `Q1.5` is refused,
+        // not cut to 1.
         let int = || {
             rest.parse::<i32>()
-                .map_err(|_| format!("'{shown}': {letter} needs a whole number"))
+                .ok()
+                .or_else(|| {
+                    let v = rest.parse::<f64>().ok()?;
+                    let whole = v.is_finite()
+                        && v.fract() == 0.0
+                        && v >= f64::from(i32::MIN)
+                        && v <= f64::from(i32::MAX);
+                    whole.then_some(v as i32)
+                })
+                .ok_or_else(|| format!("'{shown}': {letter} needs a whole number"))
         };
         let real = || {
             rest.parse::<f64>()
@@ -204,6 +218,23 @@ impl ToolTable {
     /// Parses the bytes of a table file named `file` (for messages):
     /// every line, or an error listing each line that cannot be read.
     pub fn parse(bytes: &[u8], file: &str, random: bool) -> Result<ToolTable, TableError> {
+        let (t, problems) = ToolTable::parse_skipping(bytes, file, random);
+        if problems.is_empty() {
+            Ok(t)
+        } else {
+            Err(TableError::Lines(problems))
+        }
+    }
+
+    /// Parses what can be read: the table of every line that reads, and
+    /// the lines that did not (each left out whole, never half read, so
+    /// a tool is either as written or absent, and an absent tool is
+    /// refused when a program asks for it).
+    pub fn parse_skipping(
+        bytes: &[u8],
+        file: &str,
+        random: bool,
+    ) -> (ToolTable, Vec<TableProblem>) {
         let mut t = ToolTable::empty(random);
         let mut problems = Vec::new();
         let mut next_slot = 1;
@@ -261,11 +292,7 @@ impl ToolTable {
             t.put(slot, Some(tool));
             t.layout.push(Layout::Tool);
         }
-        if problems.is_empty() {
-            Ok(t)
-        } else {
-            Err(TableError::Lines(problems))
-        }
+        (t, problems)
     }
 
     /// Reads a table file: a regular file of at most
@@ -281,6 +308,22 @@ impl ToolTable {
         let first = if self.random { 0 } else { 1 };
         (first..self.slots.len())
             .find(|&i| self.slots[i].as_ref().is_some_and(|t| t.number == number))
+    }
+
+    /// Reads a table file at start as LinuxCNC does: the lines that
+    /// read, with the ones that do not listed (the caller says them and
+    /// keeps the file from being written back while any line was left
+    /// out, so nothing of it is lost).
+    pub fn load_skipping(
+        path: &Path,
+        random: bool,
+    ) -> Result<(ToolTable, Vec<TableProblem>), FileError> {
+        let bytes = read_user_file(path, limits::TOOL_TABLE, "tool table")?;
+        Ok(ToolTable::parse_skipping(
+            &bytes,
+            &path.display().to_string(),
+            random,
+        ))
     }
 
     /// The tool in slot `slot`.
@@ -465,6 +508,45 @@ T99999 P99999 Z+0.1 ;big tool number
         assert_eq!(t.tool(3).unwrap().comment, b"#7 tap drill");
         assert_eq!(t.slot_of(99999), Some(4));
         assert!(t.tool(0).is_none());
+    }
+
+    #[test]
+    fn whole_numbers_may_carry_a_zero_fraction_but_not_a_real_one() {
+        // The line gmoccapy's tool editor writes.
+        let t = parse(
+            b"T1 P101 Z-12.7129 D1.0 I0.0 J0.0 Q0.0 ;3/4 roughing\nT2.0 P2 Q2.000\n",
+            false,
+        );
+        assert_eq!(t.tool(1).unwrap().orientation, 0);
+        assert_eq!(t.tool(1).unwrap().pocket, 101);
+        assert_eq!(t.tool(2).unwrap().number, 2);
+        assert_eq!(t.tool(2).unwrap().orientation, 2);
+        assert_eq!(
+            problems(b"T3 P3 Q1.5\nT4 P4 Q1e10\n", false),
+            [
+                "bad.tbl:1: 'Q1.5': Q needs a whole number",
+                "bad.tbl:2: 'Q1e10': Q needs a whole number"
+            ]
+        );
+    }
+
+    #[test]
+    fn start_skips_what_does_not_read_and_keeps_the_rest() {
+        let (t, skipped) = ToolTable::parse_skipping(
+            b"TOOLNO POCKET\n1 1 +0.5 0.1 old\nT2 P2 Z0.1\n",
+            "o.tbl",
+            false,
+        );
+        assert_eq!(t.slot_of(2), Some(1));
+        assert_eq!(t.slots.iter().flatten().count(), 1);
+        let said: Vec<String> = skipped.iter().map(ToString::to_string).collect();
+        assert_eq!(
+            said,
+            [
+                "o.tbl:1: 'TOOLNO': T needs a whole number",
+                "o.tbl:2: no T word (tool number)"
+            ]
+        );
     }
 
     #[test]

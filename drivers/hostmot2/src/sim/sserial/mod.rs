@@ -17,6 +17,11 @@ pub mod remote;
 use crate::sserial::{cmd, lbp, local, status, MAX_CHANNELS};
 pub use remote::{RemoteKind, RemoteSpec, SimRemote};
 
+/// Where the per-channel blocks of the local parameters start, and
+/// their size.
+const CHANNEL_START: u16 = 0x10;
+const CHANNEL_STRIDE: u16 = 0x40;
+
 /// What a channel is doing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Chan {
@@ -49,10 +54,17 @@ impl SimPort {
         local[local::INTERFACE_WIDTH as usize] = channels as u8;
         local[local::MAJOR_REV as usize] = 0;
         local[local::MINOR_REV as usize] = 43;
-        local[local::CHANNEL_START as usize] = 0x10;
-        local[local::CHANNEL_STRIDE as usize] = 0x40;
+        local[local::CHANNEL_START as usize] = CHANNEL_START as u8;
+        local[local::CHANNEL_STRIDE as usize] = CHANNEL_STRIDE as u8;
         local[local::PROCESSOR_TYPE as usize] = 0x0D;
         local[local::CHANNELS as usize] = channels as u8;
+        // Every channel starts at the rate the cards ship with
+        // (remote::DEFAULT_BAUD_INDEX), in its block's baud-rate word.
+        let baud = crate::sserial::BAUD_RATES[remote::DEFAULT_BAUD_INDEX as usize].to_le_bytes();
+        for c in 0..MAX_CHANNELS {
+            let at = (CHANNEL_START + c as u16 * CHANNEL_STRIDE + local::BAUD_RATE) as usize;
+            local[at..at + 4].copy_from_slice(&baud);
+        }
         let clock = 100_000_000u32.to_le_bytes();
         local[local::CLOCK as usize..local::CLOCK as usize + 4].copy_from_slice(&clock);
         SimPort {

@@ -4,9 +4,25 @@
 //!
 //! Each describes itself as a real card does: a unit number, a name, and
 //! records in its memory (modes and globals in the GTOC, process data in
-//! one PTOC per mode). The record layouts are this simulator's (Mesa
-//! documents none; hostmot2-more.md 2.10): names and modes are the
-//! cards', widths and ranges chosen to fit 96 bits each way.
+//! one PTOC per mode), laid out so that Mesa's own tool reads them as it
+//! reads the cards (mesaflash `--sserial`, hostmot2-more.md 3.4):
+//!
+//! * every record is stored once; the PTOCs of the modes point at the
+//!   same record for an element they share;
+//! * each process-data element has its place in the card's memory
+//!   (ParmAddr, from [`PROCESS_AT`] on), as a global has;
+//! * the globals are `SwRevision` (16 bits), `NVUnitNumber` (32 bits)
+//!   and the 16-bit `NVBaudRate` (an index into
+//!   [`BAUD_RATES`](crate::sserial::BAUD_RATES), 2.5 Mbaud by default)
+//!   and `NVWatchDogTimeout` (ms, 50 by default), each at an even
+//!   address from [`PARAMS_AT`] on: mesaflash reads the last two as
+//!   16-bit values and indexes its table of baud rates with the first;
+//! * a unitless record says `None`, as the cards' records do (mesaflash
+//!   looks for that word).
+//!
+//! Names and modes are the cards'; the widths and ranges of the process
+//! data are chosen to fit 96 bits each way (no source read documents
+//! them, hostmot2-more.md 2.10).
 //!
 //! | remote | modes | process data (mode-dependent part in brackets) |
 //! |---|---|---|
@@ -14,11 +30,10 @@
 //! | 7I77 I/O | 0 `input_output`, 1 `io_analog`, 2 `io_analog_fieldvoltage`, 3 `io_encoder_analog_fieldvoltage` | out: `Output` 16 bits; in: `Input` 32 bits [≥ 1: `AnalogIn0..3`; ≥ 2: `FieldVoltage`; 3: `MPG0`, `MPG1`] |
 //! | 7I77 analog | 0 `analogout_enables` | out: `AnalogOut0..5` −10..10 V (13 bits signed), `AnalogEna`, `SpinEna` |
 //!
-//! Globals of every card: `SwRevision` (22), `NVUnitNumber`,
-//! `NVBaudRate`, `NVWatchDogTimeout` (ms, 50). The card's watchdog turns
-//! every output off when no process data came for that long while it
-//! runs, and reports it in its status until it is started again. A card
-//! whose cable is pulled ([`SimRemote::connected`] false) answers nothing.
+//! The card's watchdog turns every output off when no process data came
+//! for `NVWatchDogTimeout` while it runs, and reports it in its status
+//! until it is started again. A card whose cable is pulled
+//! ([`SimRemote::connected`] false) answers nothing.
 
 use crate::sserial::data;
 use crate::sserial::records::{data_type as t, dir, encode_table, DataRecord, ModeRecord};
@@ -48,10 +63,20 @@ pub struct RemoteSpec {
     pub unit: u32,
 }
 
+/// Where the records and tables start in the card's memory.
+const RECORDS_AT: u16 = 0x10;
+/// Where the process-data values live in the card's memory.
+pub const PROCESS_AT: u16 = 0x500;
 /// Where the global values live in the card's memory.
-const PARAMS_AT: u16 = 0x600;
+pub const PARAMS_AT: u16 = 0x600;
 /// Size of the card's memory.
 const MEMORY: usize = 0x800;
+/// `NVBaudRate` of a new card: index 9 of
+/// [`BAUD_RATES`](crate::sserial::BAUD_RATES), 2.5 Mbaud, the rate Mesa's
+/// cards ship with.
+pub const DEFAULT_BAUD_INDEX: u32 = 9;
+/// "No unit", as the cards spell it.
+const NO_UNIT: &str = "None";
 
 fn rec(bits: u8, ty: u8, d: u8, min: f32, max: f32, unit: &str, name: &str) -> DataRecord {
     DataRecord {
@@ -131,11 +156,11 @@ impl RemoteKind {
         let mut v = Vec::new();
         match self {
             RemoteKind::SevenI76 => {
-                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, "none", "Output"));
+                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, NO_UNIT, "Output"));
                 v.push(rec(16, t::UNSIGNED, dir::OUT, 0.0, 10.0, "V", "SpinOut"));
-                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinEna"));
-                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinDir"));
-                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, "none", "Input"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, NO_UNIT, "SpinEna"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, NO_UNIT, "SpinDir"));
+                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, NO_UNIT, "Input"));
                 if mode >= 1 {
                     v.extend(analog_ins());
                 }
@@ -145,8 +170,8 @@ impl RemoteKind {
                 }
             }
             RemoteKind::SevenI77Io => {
-                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, "none", "Output"));
-                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, "none", "Input"));
+                v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, NO_UNIT, "Output"));
+                v.push(rec(32, t::BITS, dir::IN, 0.0, 0.0, NO_UNIT, "Input"));
                 if mode >= 1 {
                     v.extend(analog_ins());
                 }
@@ -169,8 +194,8 @@ impl RemoteKind {
                         &format!("AnalogOut{k}"),
                     ));
                 }
-                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "AnalogEna"));
-                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, "none", "SpinEna"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, NO_UNIT, "AnalogEna"));
+                v.push(rec(1, t::BOOLEAN, dir::OUT, 0.0, 0.0, NO_UNIT, "SpinEna"));
             }
         }
         v
@@ -221,48 +246,79 @@ pub struct SimRemote {
 
 /// The card's globals: (record, initial value).
 fn globals(unit: u32) -> Vec<(DataRecord, u32)> {
+    let nv = |bits, max, unit, name| rec(bits, t::NV_UNSIGNED, dir::BOTH, 0.0, max, unit, name);
     vec![
         (
-            rec(16, t::UNSIGNED, dir::IN, 0.0, 65535.0, "none", "SwRevision"),
+            rec(
+                16,
+                t::UNSIGNED,
+                dir::IN,
+                0.0,
+                65535.0,
+                NO_UNIT,
+                "SwRevision",
+            ),
             22,
         ),
-        (
-            rec(
-                32,
-                t::NV_UNSIGNED,
-                dir::BOTH,
-                0.0,
-                0.0,
-                "none",
-                "NVUnitNumber",
-            ),
-            unit,
-        ),
-        (
-            rec(
-                8,
-                t::NV_UNSIGNED,
-                dir::BOTH,
-                0.0,
-                11.0,
-                "none",
-                "NVBaudRate",
-            ),
-            10,
-        ),
-        (
-            rec(
-                8,
-                t::NV_UNSIGNED,
-                dir::BOTH,
-                0.0,
-                255.0,
-                "ms",
-                "NVWatchDogTimeout",
-            ),
-            50,
-        ),
+        (nv(32, 0.0, NO_UNIT, "NVUnitNumber"), unit),
+        (nv(16, 11.0, NO_UNIT, "NVBaudRate"), DEFAULT_BAUD_INDEX),
+        (nv(16, 65535.0, "ms", "NVWatchDogTimeout"), 50),
     ]
+}
+
+/// The card's memory as it is being laid out: records and tables from
+/// [`RECORDS_AT`] upward, each record once.
+struct Layout {
+    memory: Vec<u8>,
+    at: usize,
+    /// Where each process-data record went, by name.
+    placed: Vec<(String, u16)>,
+}
+
+impl Layout {
+    fn new() -> Layout {
+        Layout {
+            memory: vec![0u8; MEMORY],
+            at: RECORDS_AT as usize,
+            placed: Vec::new(),
+        }
+    }
+
+    /// Stores `bytes` at the next free address, returning it.
+    fn place(&mut self, bytes: &[u8]) -> u16 {
+        let here = self.at;
+        self.memory[here..here + bytes.len()].copy_from_slice(bytes);
+        self.at += bytes.len();
+        here as u16
+    }
+
+    /// The address of process-data record `r`, stored on first use.
+    fn place_shared(&mut self, r: &DataRecord) -> u16 {
+        if let Some((_, a)) = self.placed.iter().find(|(n, _)| *n == r.name) {
+            return *a;
+        }
+        let a = self.place(&r.encode());
+        self.placed.push((r.name.clone(), a));
+        a
+    }
+}
+
+/// Gives each process-data element of every mode its place in the
+/// card's memory: an element the modes share has one place.
+fn place_process_data(modes: &mut [Vec<DataRecord>]) {
+    let mut places: Vec<(String, u16)> = Vec::new();
+    let mut next = PROCESS_AT;
+    for r in modes.iter_mut().flatten() {
+        r.addr = match places.iter().find(|(n, _)| *n == r.name) {
+            Some((_, a)) => *a,
+            None => {
+                let a = next;
+                next += (r.bits as u16).div_ceil(8).max(1);
+                places.push((r.name.clone(), a));
+                a
+            }
+        };
+    }
 }
 
 impl SimRemote {
@@ -270,15 +326,8 @@ impl SimRemote {
     pub fn new(kind: RemoteKind, unit: u32) -> SimRemote {
         let (code, _) = kind.identity();
         let unit = (code as u32) << 24 | (unit & 0x00FF_FFFF);
-        let mut memory = vec![0u8; MEMORY];
-        let mut at = 0x10usize;
-        let mut place = |bytes: Vec<u8>, memory: &mut Vec<u8>| -> u16 {
-            let here = at;
-            memory[here..here + bytes.len()].copy_from_slice(&bytes);
-            at += bytes.len();
-            here as u16
-        };
-        // Globals and modes, then the GTOC.
+        let mut layout = Layout::new();
+        // Globals and modes, then the GTOC; globals at even addresses.
         let mut gtoc_entries = Vec::new();
         let mut param_at = PARAMS_AT;
         let mut initial = Vec::new();
@@ -287,8 +336,8 @@ impl SimRemote {
             r.addr = param_at;
             initial.push((param_at, r.bits, v));
             params.push((r.name.clone(), param_at, r.bits));
-            param_at += (r.bits as u16).div_ceil(8).max(1);
-            gtoc_entries.push(place(r.encode(), &mut memory));
+            param_at += (r.bits as u16).div_ceil(8).next_multiple_of(2);
+            gtoc_entries.push(layout.place(&r.encode()));
         }
         for (i, name) in kind.modes().iter().enumerate() {
             let m = ModeRecord {
@@ -296,17 +345,17 @@ impl SimRemote {
                 software: true,
                 name: name.to_string(),
             };
-            gtoc_entries.push(place(m.encode(), &mut memory));
+            gtoc_entries.push(layout.place(&m.encode()));
         }
-        let gtoc = place(encode_table(&gtoc_entries), &mut memory);
+        let gtoc = layout.place(&encode_table(&gtoc_entries));
+        let mut per_mode: Vec<Vec<DataRecord>> = (0..kind.modes().len())
+            .map(|i| kind.process_data(i as u8))
+            .collect();
+        place_process_data(&mut per_mode);
         let mut modes = Vec::new();
-        for i in 0..kind.modes().len() {
-            let records = kind.process_data(i as u8);
-            let entries: Vec<u16> = records
-                .iter()
-                .map(|r| place(r.encode(), &mut memory))
-                .collect();
-            let ptoc = place(encode_table(&entries), &mut memory);
+        for records in per_mode {
+            let entries: Vec<u16> = records.iter().map(|r| layout.place_shared(r)).collect();
+            let ptoc = layout.place(&encode_table(&entries));
             modes.push(Mode {
                 ptoc,
                 fields: records
@@ -319,6 +368,7 @@ impl SimRemote {
                     .collect(),
             });
         }
+        let mut memory = layout.memory;
         for (a, bits, v) in initial {
             let n = (bits as usize).div_ceil(8);
             memory[a as usize..a as usize + n].copy_from_slice(&v.to_le_bytes()[..n]);
@@ -421,6 +471,21 @@ impl SimRemote {
     pub fn global(&self, name: &str) -> Option<u32> {
         let (_, addr, bits) = self.params.iter().find(|(n, _, _)| n == name)?;
         Some(self.read_memory(*addr, (*bits as usize).div_ceil(8)) as u32)
+    }
+
+    /// Sets a global, by the card's name of it (as a write to its
+    /// EEPROM would); false if the card has no such global.
+    pub fn set_global(&mut self, name: &str, v: u32) -> bool {
+        let Some(&(_, addr, bits)) = self.params.iter().find(|(n, _, _)| n == name) else {
+            return false;
+        };
+        let n = (bits as usize).div_ceil(8);
+        for (i, b) in v.to_le_bytes().iter().enumerate().take(n) {
+            if let Some(m) = self.memory.get_mut(addr as usize + i) {
+                *m = *b;
+            }
+        }
+        true
     }
 
     fn watchdog_ns(&self) -> u64 {
@@ -581,6 +646,83 @@ mod tests {
         assert_eq!(r.global("NVWatchDogTimeout"), Some(50));
         assert_eq!(r.global("NVUnitNumber"), Some(0x1000_1234));
         assert!(r.identify(3).is_none(), "no mode 3");
+    }
+
+    /// Every record of `r` (GTOC and each mode's PTOC): (address, record).
+    fn all_records(r: &mut SimRemote, modes: usize) -> Vec<(u16, Record)> {
+        let mut v = Vec::new();
+        for mode in 0..modes {
+            let [_, _, tocs] = r.identify(mode as u8).unwrap();
+            let mut byte = |a: u16| -> Result<u8, RecordError> { Ok(r.read_memory(a, 1) as u8) };
+            for toc in [(tocs >> 16) as u16, tocs as u16] {
+                for a in read_table(toc, &mut byte).unwrap() {
+                    v.push((a, read_record(a, &mut byte).unwrap()));
+                }
+            }
+        }
+        v
+    }
+
+    #[test]
+    fn records_are_laid_out_as_mesaflash_reads_the_cards() {
+        for kind in [
+            RemoteKind::SevenI76,
+            RemoteKind::SevenI77Io,
+            RemoteKind::SevenI77Analog,
+        ] {
+            let mut r = SimRemote::new(kind, 5);
+            let records = all_records(&mut r, kind.modes().len());
+            let mut globals = Vec::new();
+            for (at, rec) in &records {
+                let len = match rec {
+                    Record::Data(d) => d.encode().len(),
+                    Record::Mode(m) => m.encode().len(),
+                };
+                assert!(*at as usize + len <= PROCESS_AT as usize, "{kind:?}");
+                if let Record::Data(d) = rec {
+                    assert_ne!(d.unit, "none", "{kind:?}: {}", d.name);
+                    if d.name.starts_with("NV") || d.name == "SwRevision" {
+                        globals.push(d.clone());
+                    } else {
+                        // Process data has its place below the globals.
+                        assert!((PROCESS_AT..PARAMS_AT).contains(&d.addr), "{}", d.name);
+                    }
+                }
+            }
+            // Each record once: a shared element is one address in
+            // every PTOC.
+            for (a, ra) in &records {
+                for (b, rb) in &records {
+                    if let (Record::Data(x), Record::Data(y)) = (ra, rb) {
+                        if x.name == y.name {
+                            assert_eq!(a, b, "{kind:?} {}", x.name);
+                        }
+                    }
+                }
+            }
+            // What mesaflash reads: 16-bit NVBaudRate and
+            // NVWatchDogTimeout, a 32-bit unit number, at even addresses.
+            let width = |n: &str| {
+                globals
+                    .iter()
+                    .find(|g| g.name == n)
+                    .map(|g| (g.bits, g.addr % 2))
+            };
+            assert_eq!(width("SwRevision"), Some((16, 0)));
+            assert_eq!(width("NVUnitNumber"), Some((32, 0)));
+            assert_eq!(width("NVBaudRate"), Some((16, 0)));
+            assert_eq!(width("NVWatchDogTimeout"), Some((16, 0)));
+            let baud = globals.iter().find(|g| g.name == "NVBaudRate").unwrap();
+            assert_eq!(
+                r.read_memory(baud.addr, 2),
+                DEFAULT_BAUD_INDEX as u64,
+                "{kind:?}"
+            );
+            assert_eq!(
+                crate::sserial::BAUD_RATES[DEFAULT_BAUD_INDEX as usize],
+                2_500_000
+            );
+        }
     }
 
     #[test]
