@@ -254,6 +254,9 @@ pub trait Canon {
     fn change_tool_number(&mut self, index: i32);
     /// SET_TOOL_TABLE_ENTRY (G10 L1/L10/L11).
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry);
+    /// RELOAD_TOOLDATA (G10 L0): the world reloads its tool table; the
+    /// interpreter then reads it again through [`Canon::tool_table`].
+    fn reload_tool_data(&mut self);
 
     // -- coolant, overrides, I/O -----------------------------------------
     /// FLOOD_ON.

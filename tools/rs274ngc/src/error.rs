@@ -435,6 +435,8 @@ pub enum InterpError {
     G76JNotPositive,
     #[error("In G76, K must be greater than J")]
     G76KNotAboveJ,
+    #[error("G10 L0 not allowed with loaded tool <{0}>\n")]
+    G10L0ToolLoaded(i32),
     #[error("Bug code not g0 or g1")]
     CompMoveNotG0G1,
     #[error("Cannot restore context from invalid stack frame - missing M70/M73?")]

@@ -459,6 +459,12 @@ impl Canon for PrintCanon {
         self.active_slot = index;
     }
 
+    fn reload_tool_data(&mut self) {
+        // Standalone rs274's table lives in memory only: reloading keeps
+        // what G10 L1/L10/L11 wrote into it.
+        self.emit_line("RELOAD_TOOLDATA()");
+    }
+
     fn set_tool_table_entry(&mut self, index: i32, e: &ToolEntry) {
         if let Some(slot) = usize::try_from(index)
             .ok()

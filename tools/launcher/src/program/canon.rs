@@ -532,6 +532,9 @@ impl Canon for TaskCanon {
         self.slot = index;
         self.ops.push_back(Op::Io(IoRequest::SetNumber { tool }));
     }
+    fn reload_tool_data(&mut self) {
+        self.refuse("reloading the tool table (G10 L0)");
+    }
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry) {
         match usize::try_from(index)
             .ok()

@@ -53,6 +53,7 @@ impl ProgramConfig {
             tool_change_quill_up: flag(ini, "EMCIO", "TOOL_CHANGE_QUILL_UP"),
             tool_change_at_g30: flag(ini, "EMCIO", "TOOL_CHANGE_AT_G30"),
             tool_change_with_spindle_on: flag(ini, "EMCIO", "TOOL_CHANGE_WITH_SPINDLE_ON"),
+            features: rs274ngc::Features::from_ini_keys(|key| ini.get("RS274NGC", key)),
             ..Config::default()
         };
         if let Some(paths) = ini.get("RS274NGC", "SUBROUTINE_PATH") {

@@ -175,9 +175,7 @@ impl Interp {
                 if matches!(block.l_number, 1 | 10 | 11) {
                     self.convert_setup_tool(block, canon)
                 } else if block.l_number == 0 {
-                    Err(InterpError::Unsupported(
-                        "G10 L0 (reload the tool table) is not supported",
-                    ))
+                    self.convert_reload_tool_data(canon)
                 } else {
                     self.convert_setup(block, canon)
                 }

@@ -17,6 +17,10 @@ impl Interp {
         if toolno == 0 {
             return Ok(0);
         }
+        // Empty slots hold -1: no tool has a negative number.
+        if toolno < 0 {
+            return Err(InterpError::ToolNotFound(toolno));
+        }
         let start = if self.config.random_toolchanger { 0 } else { 1 };
         self.s
             .tool_table
@@ -38,6 +42,18 @@ impl Interp {
         canon.select_tool(block.t_number);
         self.s.selected_pocket = index;
         self.s.selected_tool = block.t_number;
+        Ok(())
+    }
+
+    /// G10 L0: reload the tool table, refused while a tool is in the
+    /// spindle (its offsets would change under it).
+    pub(crate) fn convert_reload_tool_data(&mut self, canon: &mut dyn Canon) -> Result<()> {
+        let loaded = self.s.tool(0).toolno;
+        if loaded > 0 {
+            return Err(InterpError::G10L0ToolLoaded(loaded));
+        }
+        canon.reload_tool_data();
+        self.load_tool_table(canon);
         Ok(())
     }
 
@@ -170,6 +186,9 @@ impl Interp {
             let add = self.user_pose_to_program(&self.s.tool(index).offset);
             crate::find::add_pose(&mut t, &add);
         } else if block.has_axis() {
+            // LinuxCNC 2.9 looks the (absent, -1) H word up all the same,
+            // so the axis-word form is refused with its message.
+            self.find_tool_index(block.h_number)?;
             let words = [
                 (block.x_flag, block.x_number, &mut t.x),
                 (block.y_flag, block.y_number, &mut t.y),
