@@ -14,6 +14,8 @@
 pub mod args;
 mod change;
 mod error;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod guard;
 mod machine;
 mod page;
