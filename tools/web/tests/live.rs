@@ -59,6 +59,38 @@ fn a_pin_value_updates_in_the_stream() {
 }
 
 #[test]
+fn a_long_watch_list_updates_too() {
+    let host = InProcessHost::start("web-many");
+    let inst = host.instance();
+    let comp = inst.new_component("webmany", ComponentKind::User).unwrap();
+    let pins: Vec<_> = (0..40)
+        .map(|i| comp.pin::<i32, Out>(&format!("webmany.{i}")).unwrap())
+        .collect();
+    comp.ready().unwrap();
+    let web = Web::start(&host.instance, &[]);
+    let mut items: Vec<_> = (0..40)
+        .map(|i| serde_json::json!({"kind": "pin", "name": format!("webmany.{i}")}))
+        .collect();
+    // The same item twice, and a signal that does not exist.
+    items.push(serde_json::json!({"kind": "pin", "name": "webmany.39"}));
+    items.push(serde_json::json!({"kind": "sig", "name": "nosuch"}));
+    let body = serde_json::json!({ "items": items, "hz": 20 }).to_string();
+    let mut first = true;
+    web.stream_until(&body, |event| {
+        let values = &event["values"];
+        if first {
+            assert_eq!(values["0"], "0", "{event}");
+            assert_eq!(values["40"], "0", "{event}");
+            assert!(values["41"].is_null(), "{event}");
+            pins[39].set(-7);
+            first = false;
+            return false;
+        }
+        values["39"] == "-7" && values["40"] == "-7"
+    });
+}
+
+#[test]
 fn the_tree_shows_signals_with_writer_and_readers() {
     let host = InProcessHost::start("web-tree");
     let inst = host.instance();
