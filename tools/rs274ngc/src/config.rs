@@ -82,6 +82,19 @@ pub struct Config {
     /// too small to deepen the hole at its size, is refused before it
     /// drills: an L or Q typo must not queue millions of moves.
     pub max_cycle_moves: u32,
+    /// How many spindles the machine has (`[TRAJ]SPINDLES`), selected by
+    /// the `$` word; 1 to [`MAX_SPINDLES`].
+    pub spindles: u32,
+}
+
+/// The most spindles LinuxCNC's motion controller has.
+pub const MAX_SPINDLES: u32 = 8;
+
+impl Config {
+    /// [`Config::spindles`] within 1 to [`MAX_SPINDLES`].
+    pub fn spindle_count(&self) -> usize {
+        self.spindles.clamp(1, MAX_SPINDLES) as usize
+    }
 }
 
 /// The default of [`Config::max_cycle_moves`]: far beyond any drilling
@@ -109,6 +122,7 @@ impl Default for Config {
             loop_on_main_m99: false,
             ini_values: BTreeMap::new(),
             max_cycle_moves: DEFAULT_MAX_CYCLE_MOVES,
+            spindles: 1,
         }
     }
 }

@@ -1,8 +1,8 @@
 //! The interpreter's settings from the machine's INI file, as LinuxCNC's
 //! task reads them: `[RS274NGC]PARAMETER_FILE` and `SUBROUTINE_PATH`,
 //! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`,
-//! `[TRAJ]LINEAR_UNITS`, the axes of `[TRAJ]COORDINATES` and whether AUTO
-//! needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
+//! `[TRAJ]LINEAR_UNITS` and `SPINDLES`, the axes of `[TRAJ]COORDINATES`
+//! and whether AUTO needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
 
 use std::path::{Path, PathBuf};
 
@@ -61,6 +61,12 @@ impl ProgramConfig {
                 .filter(|s| !s.trim().is_empty())
                 .map(|s| relative(&dir, s))
                 .collect();
+        }
+        if let Some(n) = ini
+            .get("TRAJ", "SPINDLES")
+            .and_then(|v| v.trim().parse::<u32>().ok())
+        {
+            interp.spindles = n;
         }
         if let Some(prefix) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
             interp.program_prefix = Some(relative(&dir, prefix));

@@ -51,8 +51,7 @@ impl Interp {
         }
         canon.start_change();
         if !self.config.tool_change_with_spindle_on {
-            canon.stop_spindle_turning(0);
-            self.s.spindle_turning = crate::canon::Direction::Stopped;
+            self.stop_all_spindles(canon, false);
         }
         if self.config.tool_change_quill_up {
             let up = self.find_relative(&Pose::ZERO);
