@@ -6,6 +6,7 @@
 
 mod common;
 
+use std::io::BufRead;
 use std::time::{Duration, Instant};
 
 use common::Web;
@@ -88,6 +89,29 @@ fn a_long_watch_list_updates_too() {
         }
         values["39"] == "-7" && values["40"] == "-7"
     });
+}
+
+#[test]
+fn live_streams_are_bounded_and_end_with_hal_web() {
+    let host = InProcessHost::start("web-bound");
+    let mut web = Web::start(&host.instance, &[]);
+    let body = r#"{"items":[{"kind":"thread","name":"nosuch"}],"hz":20}"#;
+    // Each stream answers with its head and a first event.
+    let mut open = Vec::new();
+    for _ in 0..8 {
+        let mut reader = web.open_stream(body);
+        let mut line = String::new();
+        while !line.starts_with("data:") {
+            line.clear();
+            assert!(reader.read_line(&mut line).unwrap() > 0, "a stream ended");
+        }
+        open.push(reader);
+    }
+    let (status, answer) = web.request("POST", "/api/stream", &[], Some(body));
+    assert_eq!(status, 503, "{answer}");
+    assert!(answer.contains("at most 8 live pages"), "{answer}");
+    // Open streams do not keep hal-web from ending.
+    assert!(web.ends_on_sigterm(Duration::from_secs(5)));
 }
 
 #[test]

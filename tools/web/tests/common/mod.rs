@@ -68,15 +68,34 @@ impl Web {
         self.request("POST", path, &headers, Some(body))
     }
 
-    /// Opens the live stream of `body` and reads events until `done`
-    /// accepts one's data (or 30 s pass: a failure).
-    pub fn stream_until(&self, body: &str, mut done: impl FnMut(&serde_json::Value) -> bool) {
+    /// Opens the live stream of `body` (reads time out after 30 s).
+    pub fn open_stream(&self, body: &str) -> BufReader<TcpStream> {
         let mut s = TcpStream::connect(self.addr).unwrap();
         s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
         s.write_all(head("POST", "/api/stream", &self.host(), &[], Some(body)).as_bytes())
             .unwrap();
+        BufReader::new(s)
+    }
+
+    /// Sends SIGTERM; whether hal-web ended within `within`.
+    pub fn ends_on_sigterm(&mut self, within: Duration) -> bool {
+        let pid = nix::unistd::Pid::from_raw(self.child.id() as i32);
+        let _ = nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGTERM);
+        let end = Instant::now() + within;
+        while Instant::now() < end {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        false
+    }
+
+    /// Opens the live stream of `body` and reads events until `done`
+    /// accepts one's data (or 30 s pass: a failure).
+    pub fn stream_until(&self, body: &str, mut done: impl FnMut(&serde_json::Value) -> bool) {
         let end = Instant::now() + Duration::from_secs(30);
-        let mut reader = BufReader::new(s);
+        let mut reader = self.open_stream(body);
         let mut line = String::new();
         let mut seen = Vec::new();
         while Instant::now() < end {
