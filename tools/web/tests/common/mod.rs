@@ -2,6 +2,7 @@
 //! small HTTP client (plain std sockets; the tests need no more).
 #![allow(dead_code)]
 
+pub mod mill;
 pub mod webdriver;
 
 use std::io::{BufRead, BufReader, Read, Write};

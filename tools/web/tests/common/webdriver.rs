@@ -85,19 +85,29 @@ impl Browser {
         )
     }
 
-    /// Types `text` into the element `css` selects (`\u{E007}` is Enter).
-    pub fn type_into(&self, css: &str, text: &str) {
+    /// The WebDriver id of the element `css` selects.
+    fn element(&self, css: &str) -> String {
         let el = self.session_call(
             "POST",
             "/element",
             Some(json!({ "using": "css selector", "value": css })),
         );
-        let id = el
-            .as_object()
+        el.as_object()
             .and_then(|o| o.values().next())
             .and_then(Value::as_str)
             .expect("an element")
-            .to_string();
+            .to_string()
+    }
+
+    /// Clicks the element `css` selects.
+    pub fn click(&self, css: &str) {
+        let id = self.element(css);
+        self.session_call("POST", &format!("/element/{id}/click"), Some(json!({})));
+    }
+
+    /// Types `text` into the element `css` selects (`\u{E007}` is Enter).
+    pub fn type_into(&self, css: &str, text: &str) {
+        let id = self.element(css);
         self.session_call(
             "POST",
             &format!("/element/{id}/value"),
