@@ -4,10 +4,8 @@
 //! test --workspace` and scripts/test-all build every binary first) and
 //! fail, saying so, when it is not there.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use hal_launcher::{request, TaskAnswer};
@@ -31,7 +29,6 @@ pub struct Mill {
     pub instance: String,
     dir: PathBuf,
     child: Child,
-    stderr: Arc<Mutex<String>>,
 }
 
 impl Mill {
@@ -48,41 +45,28 @@ impl Mill {
                 std::fs::copy(entry.path(), dir.join(&name)).unwrap();
             }
         }
-        let mut child = Command::new(suite_bin("linuxcnc"))
+        // Its messages go to a file beside the copy, shown if it fails.
+        let log = dir.join("linuxcnc.stderr");
+        let child = Command::new(suite_bin("linuxcnc"))
             .arg(dir.join("mill.ini"))
             .env("HAL_INSTANCE", &instance)
             .env("HAL_NO_REALTIME", "1")
             .env("HAL_SHM_SIZE", (16u64 << 20).to_string())
             .stdout(Stdio::null())
-            .stderr(Stdio::piped())
+            .stderr(std::fs::File::create(&log).unwrap())
             .spawn()
             .unwrap();
-        let stderr = Arc::new(Mutex::new(String::new()));
-        let mut pipe = child.stderr.take().unwrap();
-        let sink = stderr.clone();
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 4096];
-            while let Ok(n) = pipe.read(&mut buf) {
-                if n == 0 {
-                    break;
-                }
-                sink.lock()
-                    .unwrap()
-                    .push_str(&String::from_utf8_lossy(&buf[..n]));
-            }
-        });
         let mill = Mill {
             instance,
             dir,
             child,
-            stderr,
         };
         let end = Instant::now() + Duration::from_secs(90);
         while !matches!(mill.task("status"), Some(TaskAnswer::Done(_))) {
             assert!(
                 Instant::now() < end,
                 "the mill did not come up:\n{}",
-                mill.stderr.lock().unwrap()
+                std::fs::read_to_string(&log).unwrap_or_default()
             );
             std::thread::sleep(Duration::from_millis(50));
         }
