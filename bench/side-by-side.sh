@@ -48,8 +48,14 @@
 #   sum2 x100 untimed  ours only: timing1=0, no per-function .time/.tmax
 #   streamer         a one-column streamer (its FIFO filled by halstreamer
 #                    before start) and the sampler
-# and derives the per-function cost as (case - sampler-only) / 100, and the
-# streamer's as (streamer - sampler-only).
+#   parport          one of our drivers in both hosts: hal_parport on its
+#                    simulated port (cfg="0 sim"), parport.0.read and
+#                    parport.0.write, and the sampler. LinuxCNC loads the
+#                    same driver built as its module (linuxcnc-modules/
+#                    hal_parport, laid over its own by the peer script's -m)
+# and derives the per-function cost as (case - sampler-only) / 100, the
+# streamer's as (streamer - sampler-only), and the driver's read+write as
+# (parport - sampler-only).
 #
 # During the sampler-only case the script also reads the CPU time the
 # kernel charges to the thread (/proc/PID/task/TID/schedstat) over one
@@ -90,7 +96,7 @@ while getopts r:n:L:b:s:c:RPCh opt; do
     R) realtime=1 ;;
     P) with_peer="" ;;
     C) check=1 ;;
-    *) sed -n '2,70p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
+    *) sed -n '2,76p' "$0" | sed 's/^# \{0,1\}//'; exit 2 ;;
     esac
 done
 case $series in defaults | matched | both) ;; *) echo "side-by-side: -s takes defaults, matched or both" >&2; exit 2 ;; esac
@@ -106,6 +112,11 @@ if [ -z "$ours" ]; then
             break
         fi
     done
+fi
+# Our hal_parport as a LinuxCNC module, for the driver case on LinuxCNC.
+module_so=$top/target/release/liblcnc_hal_parport.so
+if [ -n "$with_peer" ] && [ ! -f "$module_so" ]; then
+    (cd "$top" && cargo build --release -p lcnc-hal-parport)
 fi
 ours=$(cd "$ours" && pwd)
 for b in $bins; do
@@ -131,6 +142,8 @@ cc -O2 -o "$work/tsc-hz" "$top/bench/tsc-hz.c"
 [ -z "$check" ] || cc -O2 -o "$work/burst" "$top/bench/burst.c"
 if [ -n "$with_peer" ]; then
     cc -O2 -shared -fPIC -o "$work/peer-shim.so" "$top/bench/peer-shim.c" -ldl
+    mkdir -p "$work/modules"
+    cp "$module_so" "$work/modules/hal_parport.so"
 fi
 tsc_hz=$("$work/tsc-hz")
 
@@ -177,6 +190,17 @@ loadusr -w halstreamer stream.txt
 start
 loadusr -w halsampler -n $samples
 EOF
+cat > "$work/parport.hal" <<EOF
+loadrt threads name1=t period1=1000000
+loadrt hal_parport cfg="0 sim"
+loadrt sampler cfg=s depth=$((samples + 100))
+addf parport.0.read t
+addf parport.0.write t
+net thread-time t.time => sampler.0.pin.0
+addf sampler.0 t
+start
+loadusr -w halsampler -n $samples
+EOF
 cat > "$work/latency.hal" <<EOF
 loadrt threads name1=t period1=1000000
 loadrt timedelta count=1
@@ -205,7 +229,7 @@ run_hal() {
         if [ "$ser" != defaults ]; then
             env+=(RTAPI_CPU_NUMBER="$cpu" SBS_TIMER_SLACK_NS=1 SBS_CPU_LATENCY=1)
         fi
-        (cd "$work" && env "${env[@]}" "$peer" run halrun -f "$name.hal")
+        (cd "$work" && env "${env[@]}" "$peer" run -m "$work/modules" halrun -f "$name.hal")
     fi > "$out" 2> "$out.err" || true
 }
 
@@ -268,7 +292,7 @@ median() {
 
 loadavg() { cut -d' ' -f1-3 /proc/loadavg; }
 
-cases="sampler-only sum2 and2 sum2-untimed streamer"
+cases="sampler-only sum2 and2 sum2-untimed streamer parport"
 impls=ours
 [ -z "$with_peer" ] || impls="ours lcnc"
 
@@ -350,6 +374,9 @@ report_series() {
     echo "streamer function, streamer - sampler-only (ns)"
     row streamer "$(difference "$(get "$ser" ours streamer)" "$so")" \
         "$(difference "$(get "$ser" lcnc streamer)" "$sl")"
+    echo "our hal_parport driver, read + write on its simulated port, parport - sampler-only (ns)"
+    row parport-read+write "$(difference "$(get "$ser" ours parport)" "$so")" \
+        "$(difference "$(get "$ser" lcnc parport)" "$sl")"
     echo "CPU charged to the sampler-only thread per cycle, median of $runs runs (ns)"
     row sampler-thread "$(get "$ser" ours cpu)" "$(get "$ser" lcnc cpu)"
     echo "1 ms interval error |timedelta.out - 1 ms| over $runs x $lat_samples cycles (ns on both sides)"
