@@ -56,6 +56,8 @@ pub const NOT_FUZZED: &[(&ModuleDef, &str)] = &[(
 pub const SIM_ONLY: &[&ModuleDef] = &[
     &PARPORT_SIM_ONLY,
     &HM2_PCI_SIM_ONLY,
+    &HM2_7I43_SIM_ONLY,
+    &HM2_7I90_SIM_ONLY,
     &MOTENC_SIM_ONLY,
     &STG_SIM_ONLY,
     &GPIO_SIM_ONLY,
@@ -209,6 +211,33 @@ fn hm2_pci_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
     hostmot2::hal::load_pci(host, args, &Sysfs::at(NOWHERE), &[])
 }
 
+/// `hm2_7i43` with no parallel port: `sim=` boards (behind simulated
+/// ports) load, a board without one is refused before any port I/O.
+static HM2_7I43_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hostmot2::epp::hal::HM2_7I43_MODULE.name,
+    params: hostmot2::epp::hal::HM2_7I43_MODULE.params,
+    help: hostmot2::epp::hal::HM2_7I43_MODULE.help,
+    load: hm2_7i43_sim_only,
+};
+
+fn hm2_7i43_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    use hostmot2::epp::hal::{load_without_ports, HalHm2_7i43, SEVEN_I43};
+    load_without_ports::<HalHm2_7i43>(host, args, &SEVEN_I43)
+}
+
+/// `hm2_7i90` as [`HM2_7I43_SIM_ONLY`].
+static HM2_7I90_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hostmot2::epp::hal::HM2_7I90_MODULE.name,
+    params: hostmot2::epp::hal::HM2_7I90_MODULE.params,
+    help: hostmot2::epp::hal::HM2_7I90_MODULE.help,
+    load: hm2_7i90_sim_only,
+};
+
+fn hm2_7i90_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    use hostmot2::epp::hal::{load_without_ports, HalHm2_7i90, SEVEN_I90};
+    load_without_ports::<HalHm2_7i90>(host, args, &SEVEN_I90)
+}
+
 /// `hal_motenc` with a PCI bus that has no boards: `backend=sim` boards
 /// load, `backend=pci` finds nothing (the driver's own error).
 static MOTENC_SIM_ONLY: ModuleDef = ModuleDef {
@@ -343,6 +372,12 @@ mod tests {
             .unwrap();
         assert!(host.loadrt(&HM2_PCI_SIM_ONLY, &[] as &[&str]).is_err());
         host.loadrt(&HM2_PCI_SIM_ONLY, &["sim=5i25"]).unwrap();
+        // hm2_7i43 and hm2_7i90: no port I/O, even at the default 0x378.
+        for m in [&HM2_7I43_SIM_ONLY, &HM2_7I90_SIM_ONLY] {
+            let e = host.loadrt(m, &["ioaddr=0x378"]).unwrap_err();
+            assert!(e.to_string().contains("real ports are not reached"), "{e}");
+        }
+        host.loadrt(&HM2_7I43_SIM_ONLY, &["sim=7i43"]).unwrap();
         host.unloadrt("all").unwrap();
         crate::snapshot::delete_threads(&host);
         assert!(empty());

@@ -401,6 +401,22 @@ pub enum Hm2Error {
         /// What went wrong.
         source: TransportError,
     },
+    /// A parallel port cannot be reached.
+    #[error("parallel port at {base:#x}: {reason}")]
+    EppPort {
+        /// The port's base address.
+        base: u16,
+        /// Why.
+        reason: String,
+    },
+    /// The board on a parallel port did not answer as one.
+    #[error("board on the parallel port at {base:#x}: {source}")]
+    EppBoard {
+        /// The port's base address.
+        base: u16,
+        /// What went wrong.
+        source: TransportError,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),

@@ -1,8 +1,9 @@
 //! Fuzz bodies for the parsers of outside bytes in this crate: register
 //! images through the IDROM loader, config strings, replies from the
 //! network to hm2_eth's cycle requests, request datagrams to the
-//! simulated Ethernet board, Smart Serial cards' records, and whole
-//! hostile cards through discovery. The workspace's fuzz crate
+//! simulated Ethernet board, Smart Serial cards' records, whole
+//! hostile cards through discovery, and a parallel port's reads under
+//! the EPP transport. The workspace's fuzz crate
 //! (`hal-fuzz`) can call them as its targets; until it has them, this
 //! crate's tests run them (100,000 generated cases each, fewer for the
 //! whole-card one, which runs discovery per case).
@@ -401,4 +402,131 @@ pub fn bitfile(data: &[u8]) {
             Err(e) => panic!("a load failed outside a step: {e}"),
         }
     }
+}
+
+/// A parallel port whose reads are a simulated EPP board's, except the
+/// ones the fuzz input replaces: (the n-th read, its value).
+struct EditedPort {
+    inner: std::sync::Arc<hal_driver::sim::SimBoard<crate::sim::epp::EppPortModel>>,
+    edits: Vec<(u32, u32)>,
+    reads: std::sync::atomic::AtomicU32,
+}
+
+impl EditedPort {
+    fn edit(&self, v: u32) -> u32 {
+        let n = self
+            .reads
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.edits
+            .iter()
+            .find(|(at, _)| *at == n)
+            .map_or(v, |&(_, e)| e)
+    }
+}
+
+impl hal_driver::bus::PortBus for EditedPort {
+    fn inb(&self, port: u16) -> u8 {
+        self.edit(self.inner.inb(port) as u32) as u8
+    }
+    fn outb(&self, port: u16, value: u8) {
+        self.inner.outb(port, value)
+    }
+    fn inw(&self, port: u16) -> u16 {
+        self.edit(self.inner.inw(port) as u32) as u16
+    }
+    fn outw(&self, port: u16, value: u16) {
+        self.inner.outw(port, value)
+    }
+    fn inl(&self, port: u16) -> u32 {
+        self.edit(self.inner.inl(port))
+    }
+    fn outl(&self, port: u16, value: u32) {
+        self.inner.outl(port, value)
+    }
+    fn errors(&self) -> u64 {
+        self.inner.errors()
+    }
+    fn describe(&self) -> String {
+        "fuzzed parallel port".into()
+    }
+}
+
+/// The EPP transport and the IDROM loader on a parallel port whose reads
+/// (status, EPP data) the input edits: byte 0 picks the board (bit 0:
+/// 7I43 or 7I90) and the access width (bit 1: byte cycles), then groups
+/// of three bytes replace one port read (a 16-bit read number, a value
+/// spread over the word). No panic; a failed transfer is one of the
+/// transport's EPP or bus errors; a refusal says why; an accepted board
+/// has the pins its llio says; a board set up once clears a timeout it
+/// meets and reads its cookie again once the edits are spent.
+pub fn epp_port(data: &[u8]) {
+    use crate::epp::hal::{PortPlace, SEVEN_I43, SEVEN_I90};
+    use crate::transport::{Transport, TransportError};
+    let flags = data.first().copied().unwrap_or(0);
+    let kind = if flags & 1 == 0 { SEVEN_I43 } else { SEVEN_I90 };
+    let wide = flags & 2 == 0;
+    let edits: Vec<(u32, u32)> = data
+        .get(1..)
+        .unwrap_or(&[])
+        .chunks_exact(3)
+        .take(64)
+        .map(|c| {
+            let v = c[2] as u32;
+            (
+                u16::from_le_bytes([c[0], c[1]]) as u32 % 4096,
+                v * 0x0101_0101,
+            )
+        })
+        .collect();
+    let place = PortPlace {
+        base: 0x378,
+        base_hi: Some(0x778),
+        wide,
+    };
+    let (port, _board) = crate::epp::hal::sim_port(kind.board, place).expect("a preset");
+    let bus = std::sync::Arc::new(EditedPort {
+        inner: port,
+        edits,
+        reads: std::sync::atomic::AtomicU32::new(0),
+    });
+    let mut t = crate::epp::EppTransport::new(bus.clone(), place.base, place.base_hi, wide);
+    let epp_error = |e: &TransportError| {
+        assert!(
+            matches!(
+                e,
+                TransportError::EppTimeout { .. }
+                    | TransportError::EppRange { .. }
+                    | TransportError::Bus { .. }
+            ),
+            "{e:?}"
+        );
+    };
+    if let Err(e) = t.set_up() {
+        epp_error(&e);
+        return;
+    }
+    let llio = kind.llio(0);
+    let mut log = MessageLog::default();
+    match firmware::load(
+        &llio,
+        &config::Config::default(),
+        Debug::default(),
+        &mut t,
+        &mut log,
+    ) {
+        Ok(fw) => assert_eq!(fw.pins.len() as u32, 24 * llio.connectors.len() as u32),
+        Err(e) => {
+            let text = e.to_string();
+            assert!(!text.trim().is_empty(), "a refusal without a reason: {e:?}");
+        }
+    }
+    // The edits spent, the board answers again.
+    bus.reads
+        .store(u32::MAX / 2, std::sync::atomic::Ordering::Relaxed);
+    let mut w = [0u32; 1];
+    if let Err(e) = t.read(0x100, &mut w) {
+        epp_error(&e);
+        t.read(0x100, &mut w).expect("a cleared timeout");
+    }
+    assert_eq!(w[0], crate::regs::COOKIE, "the cookie after the edits");
 }

@@ -211,6 +211,8 @@ pub enum Source {
     /// A board on the network (hm2_eth), probed; its HAL objects are
     /// made in the host it registers in.
     Eth(Box<crate::eth::EthTransport>),
+    /// A board on a parallel port (hm2_7i43, hm2_7i90), set up for EPP.
+    Epp(Box<crate::epp::EppSource>),
 }
 
 /// A board to register: its llio, where it is, and what to say when it
@@ -364,6 +366,10 @@ fn transport_of<H: DriverHost>(
             return Ok(Err(Hm2Error::SimFpgaNotRunning {
                 what: "was not loaded",
             }))
+        }
+        Source::Epp(e) => {
+            let e = *e;
+            (Box::new(e.transport), e.sim, None)
         }
         Source::Eth(t) => {
             let mut t = t.into_host::<H>();
@@ -666,12 +672,14 @@ impl DriverModule for HalHm2Test {
 }
 
 /// Every module this crate provides, for the host's registry.
-pub fn modules() -> [&'static ModuleDef; 4] {
+pub fn modules() -> [&'static ModuleDef; 6] {
     [
         &HOSTMOT2_MODULE,
         &HM2_PCI_MODULE,
         &HM2_TEST_MODULE,
         &crate::eth::hal::HM2_ETH_MODULE,
+        &crate::epp::hal::HM2_7I43_MODULE,
+        &crate::epp::hal::HM2_7I90_MODULE,
     ]
 }
 

@@ -25,6 +25,10 @@
 //!   `read-request` function and packet-error pins and params
 //!   ([`eth`]); the host's ARP table and firewall are never changed (the
 //!   setup steps are in [`eth`]).
+//! * `hm2_7i43 ioaddr=... config=...`, `hm2_7i90 ...`: the 7I43 and
+//!   7I90 on a PC parallel port in EPP mode, with LinuxCNC's `ioaddr`,
+//!   `ioaddr_hi`, `epp_wide` and `debug_epp` ([`epp`]); `sim=7i43` or
+//!   `sim=7i90` puts a simulated board behind a simulated port.
 //! * `hm2_test test_pattern=N`: LinuxCNC's test driver, a board serving
 //!   one of the broken register images 0..14 ([`test_patterns`]); each
 //!   load fails with LinuxCNC's message.
@@ -133,6 +137,7 @@ pub mod board;
 pub mod board_args;
 pub mod board_tool;
 pub mod config;
+pub mod epp;
 mod error;
 pub mod eth;
 pub mod eth_sim_args;

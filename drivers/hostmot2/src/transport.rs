@@ -62,6 +62,24 @@ pub enum TransportError {
         /// The limit.
         limit: i32,
     },
+    /// An EPP cycle timed out: the board did not answer.
+    #[error("EPP timeout at 0x{addr:04X} on the parallel port at {port:#x}: the board did not answer (cable, power, or the port not in EPP mode)")]
+    EppTimeout {
+        /// The burst's first byte address.
+        addr: u32,
+        /// The port's base address.
+        port: u16,
+    },
+    /// A burst past the 15 address bits EPP carries.
+    #[error(
+        "access of {words} words at 0x{addr:05X} leaves the EPP address range (0x0000..0x7FFF)"
+    )]
+    EppRange {
+        /// First byte address.
+        addr: u32,
+        /// Words.
+        words: usize,
+    },
     /// A board on the network never answered.
     #[error("no reply from {peer} ({attempts} requests, {timeout_ms} ms each)")]
     NoReply {

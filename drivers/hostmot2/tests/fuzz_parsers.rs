@@ -248,3 +248,18 @@ fn hostile_datagrams_on_the_socket_never_pass_for_the_reply() {
         })
         .unwrap();
 }
+
+#[test]
+fn epp_ports_with_edited_reads_fail_cleanly_and_recover() {
+    let bytes = prop::collection::vec(any::<u8>(), 0..100);
+    runner(5_000)
+        .run(&bytes, |data| {
+            fuzzing::epp_port(&data);
+            Ok(())
+        })
+        .unwrap();
+    // Untouched, both boards load.
+    fuzzing::epp_port(&[0]);
+    fuzzing::epp_port(&[1]);
+    fuzzing::epp_port(&[3]);
+}

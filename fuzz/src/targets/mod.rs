@@ -19,6 +19,7 @@ crate::register_targets! {
     hm2_lbp16_request,
     hm2_sserial_records,
     hm2_bitfile,
+    hm2_epp_port,
     motenc_registers,
     motenc_board_kind,
     stg_dio_param,
@@ -46,4 +47,5 @@ crate::register_targets! {
     rs274ngc_tool_table,
     motion_command_line,
     motion_records,
+    web_request,
 }

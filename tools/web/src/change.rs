@@ -61,7 +61,7 @@ pub fn run_halcmd(inst: &Instance, words: &[String]) -> Outcome {
 }
 
 /// Checks a change request's shape; the words to run.
-fn words(change: Change) -> Result<Vec<String>, String> {
+pub(crate) fn words(change: Change) -> Result<Vec<String>, String> {
     if !COMMANDS.contains(&change.command.as_str()) {
         return Err(format!(
             "'{}' is not a change the page may make (only {})",

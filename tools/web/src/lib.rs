@@ -14,6 +14,8 @@
 pub mod args;
 mod change;
 mod error;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod guard;
 mod machine;
 mod page;
@@ -53,8 +55,10 @@ pub fn run(options: &Options) -> Result<(), WebError> {
         .enable_io()
         .enable_time()
         // The blocking work (HAL reads, halcmd, task requests) on at most
-        // two threads: hal-web's CPU stays bounded whatever the browsers do.
-        .max_blocking_threads(2)
+        // four threads: hal-web's CPU stays bounded whatever the browsers
+        // do, and a button waiting on task (up to 20 s) leaves threads
+        // for the live values.
+        .max_blocking_threads(4)
         .build()
         .map_err(WebError::Runtime)?;
     let policy = guard::Policy {

@@ -15,7 +15,7 @@ const TOKEN_BYTES: usize = 24;
 
 /// A secret that requests must present.
 #[derive(Clone, PartialEq, Eq)]
-pub struct Token(String);
+pub struct Token(pub(crate) String);
 
 impl std::fmt::Debug for Token {
     /// Never prints the secret.

@@ -6,6 +6,7 @@
 
 mod common;
 
+use std::io::BufRead;
 use std::time::{Duration, Instant};
 
 use common::Web;
@@ -56,6 +57,61 @@ fn a_pin_value_updates_in_the_stream() {
         }
         values["0"] == "-2.25"
     });
+}
+
+#[test]
+fn a_long_watch_list_updates_too() {
+    let host = InProcessHost::start("web-many");
+    let inst = host.instance();
+    let comp = inst.new_component("webmany", ComponentKind::User).unwrap();
+    let pins: Vec<_> = (0..40)
+        .map(|i| comp.pin::<i32, Out>(&format!("webmany.{i}")).unwrap())
+        .collect();
+    comp.ready().unwrap();
+    let web = Web::start(&host.instance, &[]);
+    let mut items: Vec<_> = (0..40)
+        .map(|i| serde_json::json!({"kind": "pin", "name": format!("webmany.{i}")}))
+        .collect();
+    // The same item twice, and a signal that does not exist.
+    items.push(serde_json::json!({"kind": "pin", "name": "webmany.39"}));
+    items.push(serde_json::json!({"kind": "sig", "name": "nosuch"}));
+    let body = serde_json::json!({ "items": items, "hz": 20 }).to_string();
+    let mut first = true;
+    web.stream_until(&body, |event| {
+        let values = &event["values"];
+        if first {
+            assert_eq!(values["0"], "0", "{event}");
+            assert_eq!(values["40"], "0", "{event}");
+            assert!(values["41"].is_null(), "{event}");
+            pins[39].set(-7);
+            first = false;
+            return false;
+        }
+        values["39"] == "-7" && values["40"] == "-7"
+    });
+}
+
+#[test]
+fn live_streams_are_bounded_and_end_with_hal_web() {
+    let host = InProcessHost::start("web-bound");
+    let mut web = Web::start(&host.instance, &[]);
+    let body = r#"{"items":[{"kind":"thread","name":"nosuch"}],"hz":20}"#;
+    // Each stream answers with its head and a first event.
+    let mut open = Vec::new();
+    for _ in 0..8 {
+        let mut reader = web.open_stream(body);
+        let mut line = String::new();
+        while !line.starts_with("data:") {
+            line.clear();
+            assert!(reader.read_line(&mut line).unwrap() > 0, "a stream ended");
+        }
+        open.push(reader);
+    }
+    let (status, answer) = web.request("POST", "/api/stream", &[], Some(body));
+    assert_eq!(status, 503, "{answer}");
+    assert!(answer.contains("at most 8 live pages"), "{answer}");
+    // Open streams do not keep hal-web from ending.
+    assert!(web.ends_on_sigterm(Duration::from_secs(5)));
 }
 
 #[test]

@@ -214,15 +214,15 @@ fn seven_i76e() -> FirmwareSpec {
 }
 
 /// What distinguishes one board from another.
-struct Identity {
-    board: &'static str,
-    idrom_name: &'static str,
-    fpga_part: &'static str,
-    fpga_size: u32,
-    fpga_pins: u32,
-    connectors: &'static [&'static str],
-    port_width: u32,
-    clock_low: u32,
+pub(crate) struct Identity {
+    pub(crate) board: &'static str,
+    pub(crate) idrom_name: &'static str,
+    pub(crate) fpga_part: &'static str,
+    pub(crate) fpga_size: u32,
+    pub(crate) fpga_pins: u32,
+    pub(crate) connectors: &'static [&'static str],
+    pub(crate) port_width: u32,
+    pub(crate) clock_low: u32,
 }
 
 /// The 5i25's identity, shared by its two personalities.
@@ -238,7 +238,11 @@ const FIVE_I25: Identity = Identity {
 };
 
 /// A board's firmware: its identity, 2 LEDs, ClockHigh 200 MHz.
-fn firmware(id: Identity, modules: Vec<ModuleSpec>, pins: Vec<PinDescriptor>) -> FirmwareSpec {
+pub(crate) fn firmware(
+    id: Identity,
+    modules: Vec<ModuleSpec>,
+    pins: Vec<PinDescriptor>,
+) -> FirmwareSpec {
     let mut board_name = [b' '; 8];
     let n = id.idrom_name.len().min(8);
     board_name[..n].copy_from_slice(&id.idrom_name.as_bytes()[..n]);

@@ -209,6 +209,11 @@ pub fn preset(board: &str) -> Machine {
                 .collect(),
             ..Machine::default()
         },
+        "7i43" | "7i90" => Machine {
+            servos: (0..4).map(servo).collect(),
+            steppers: (0..4).map(stepper).collect(),
+            ..Machine::default()
+        },
         "5i24" => Machine {
             servos: (0..8).map(servo).collect(),
             steppers: (0..8).map(stepper).collect(),

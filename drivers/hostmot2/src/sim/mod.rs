@@ -5,6 +5,7 @@
 
 pub mod boards;
 pub mod encoder;
+pub mod epp;
 pub mod eth;
 pub mod eth_server;
 pub mod ioport;

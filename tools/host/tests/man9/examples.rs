@@ -157,6 +157,28 @@ const EXAMPLES: &[(&str, Example)] = &[
         },
     ),
     (
+        "hm2_7i43",
+        Example {
+            before: HM2_CORE,
+            args: "sim=7i43",
+            note: "The example uses a simulated 7I43 behind a simulated parallel port; \
+                   without sim= the module drives the 7I43 on the port at ioaddr= \
+                   (0x378) with raw port I/O.",
+            ..PLAIN
+        },
+    ),
+    (
+        "hm2_7i90",
+        Example {
+            before: HM2_CORE,
+            args: "sim=7i90",
+            note: "The example uses a simulated 7I90 behind a simulated parallel port; \
+                   without sim= the module drives the 7I90 on the port at ioaddr= \
+                   (0x378) with raw port I/O.",
+            ..PLAIN
+        },
+    ),
+    (
         "hm2_test",
         Example {
             before: HM2_CORE,

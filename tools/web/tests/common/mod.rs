@@ -2,6 +2,9 @@
 //! small HTTP client (plain std sockets; the tests need no more).
 #![allow(dead_code)]
 
+pub mod mill;
+pub mod webdriver;
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::process::{Child, Command, Stdio};
@@ -53,24 +56,7 @@ impl Web {
         headers: &[(&str, &str)],
         body: Option<&str>,
     ) -> (u16, String) {
-        let mut s = TcpStream::connect(self.addr).unwrap();
-        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
-        s.write_all(head(method, path, &self.host(), headers, body).as_bytes())
-            .unwrap();
-        let mut raw = Vec::new();
-        s.read_to_end(&mut raw).unwrap();
-        let text = String::from_utf8_lossy(&raw).into_owned();
-        let (head, body) = text.split_once("\r\n\r\n").expect("an HTTP answer");
-        let status = head.split_whitespace().nth(1).unwrap().parse().unwrap();
-        let body = if head
-            .to_ascii_lowercase()
-            .contains("transfer-encoding: chunked")
-        {
-            dechunk(body)
-        } else {
-            body.to_string()
-        };
-        (status, body)
+        http(self.addr, method, path, headers, body)
     }
 
     /// A change as the page sends it: JSON, from the page's own origin.
@@ -83,15 +69,34 @@ impl Web {
         self.request("POST", path, &headers, Some(body))
     }
 
-    /// Opens the live stream of `body` and reads events until `done`
-    /// accepts one's data (or 30 s pass: a failure).
-    pub fn stream_until(&self, body: &str, mut done: impl FnMut(&serde_json::Value) -> bool) {
+    /// Opens the live stream of `body` (reads time out after 30 s).
+    pub fn open_stream(&self, body: &str) -> BufReader<TcpStream> {
         let mut s = TcpStream::connect(self.addr).unwrap();
         s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
         s.write_all(head("POST", "/api/stream", &self.host(), &[], Some(body)).as_bytes())
             .unwrap();
+        BufReader::new(s)
+    }
+
+    /// Sends SIGTERM; whether hal-web ended within `within`.
+    pub fn ends_on_sigterm(&mut self, within: Duration) -> bool {
+        let pid = nix::unistd::Pid::from_raw(self.child.id() as i32);
+        let _ = nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGTERM);
+        let end = Instant::now() + within;
+        while Instant::now() < end {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        false
+    }
+
+    /// Opens the live stream of `body` and reads events until `done`
+    /// accepts one's data (or 30 s pass: a failure).
+    pub fn stream_until(&self, body: &str, mut done: impl FnMut(&serde_json::Value) -> bool) {
         let end = Instant::now() + Duration::from_secs(30);
-        let mut reader = BufReader::new(s);
+        let mut reader = self.open_stream(body);
         let mut line = String::new();
         let mut seen = Vec::new();
         while Instant::now() < end {
@@ -131,6 +136,64 @@ pub fn stop(child: &mut Child, grace: Duration) {
     }
     let _ = child.kill();
     let _ = child.wait();
+}
+
+/// One HTTP/1.1 request to `addr` (Host is `addr` unless `headers` name
+/// one); (status, body).
+pub fn http(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    headers: &[(&str, &str)],
+    body: Option<&str>,
+) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    s.write_all(head(method, path, &addr.to_string(), headers, body).as_bytes())
+        .unwrap();
+    let (head, body) = answer(&mut s);
+    let status = head.split_whitespace().nth(1).unwrap().parse().unwrap();
+    (status, body)
+}
+
+/// Reads an answer's head and body: Content-Length bytes when it says
+/// (a server may keep the connection open), else to the end.
+fn answer(s: &mut TcpStream) -> (String, String) {
+    let mut raw = Vec::new();
+    let mut buf = [0u8; 8192];
+    let split = loop {
+        if let Some(at) = raw.windows(4).position(|w| w == b"\r\n\r\n") {
+            break at;
+        }
+        let n = s.read(&mut buf).unwrap();
+        assert!(n > 0, "the connection closed before the answer's head");
+        raw.extend_from_slice(&buf[..n]);
+    };
+    let head = String::from_utf8_lossy(&raw[..split]).into_owned();
+    let mut body = raw[split + 4..].to_vec();
+    let lower = head.to_ascii_lowercase();
+    let length = lower
+        .lines()
+        .find_map(|l| l.strip_prefix("content-length:"))
+        .and_then(|v| v.trim().parse::<usize>().ok());
+    match length {
+        Some(len) => {
+            while body.len() < len {
+                let n = s.read(&mut buf).unwrap();
+                assert!(n > 0, "the connection closed inside the body");
+                body.extend_from_slice(&buf[..n]);
+            }
+        }
+        None => {
+            s.read_to_end(&mut body).unwrap();
+        }
+    }
+    let body = String::from_utf8_lossy(&body).into_owned();
+    if lower.contains("transfer-encoding: chunked") {
+        (head, dechunk(&body))
+    } else {
+        (head, body)
+    }
 }
 
 fn head(
