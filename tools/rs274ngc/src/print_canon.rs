@@ -314,6 +314,10 @@ impl Canon for PrintCanon {
 
     fn nurbs_feed(&mut self, _line: i32, points: &[ControlPoint], _order: u32) {
         self.emit_line(&format!("NURBS_FEED({}, ...)", points.len()));
+        // Standalone rs274 leaves its X and Y at 0 after a NURBS feed; a
+        // later resynchronisation (tool change, probe) shows it.
+        self.position.x = 0.0;
+        self.position.y = 0.0;
     }
 
     fn start_speed_feed_synch(

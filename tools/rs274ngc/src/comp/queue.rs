@@ -45,6 +45,9 @@ pub enum Queued {
     SpindleStop(i32),
     SetSpindleMode(i32, f64),
     SetSpindleSpeed(i32, f64),
+    /// M19: spindle, angle, direction mode; then the wait for it.
+    OrientSpindle(i32, f64, i32),
+    WaitOrientComplete(i32, f64),
     Comment(String),
 }
 
@@ -290,6 +293,8 @@ fn issue(q: Queued, g: CompGeometry, canon: &mut dyn Canon) {
         Queued::SpindleStop(n) => canon.stop_spindle_turning(n),
         Queued::SetSpindleMode(n, m) => canon.set_spindle_mode(n, m),
         Queued::SetSpindleSpeed(n, s) => canon.set_spindle_speed(n, s),
+        Queued::OrientSpindle(n, angle, mode) => canon.orient_spindle(n, angle, mode),
+        Queued::WaitOrientComplete(n, timeout) => canon.wait_spindle_orient_complete(n, timeout),
         Queued::Comment(c) => canon.comment(&c),
     }
 }

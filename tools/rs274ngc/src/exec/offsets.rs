@@ -150,8 +150,13 @@ impl Interp {
         block: &Block,
         canon: &mut dyn Canon,
     ) -> Result<()> {
+        // With compensation on, G52 and G92 are refused and (as in
+        // LinuxCNC 2.9) G92.1, G92.2 and G92.3 do nothing.
         if self.s.cutter_comp_side != Side::Off {
-            return Err(InterpError::AxisOffsetsWithComp);
+            if matches!(code, G_52 | G_92) {
+                return Err(InterpError::AxisOffsetsWithComp);
+            }
+            return Ok(());
         }
         let words = axis_words(block);
         match code {

@@ -58,13 +58,14 @@ impl Interp {
             } else {
                 0
             };
-            canon.orient_spindle(n as i32, angle, mode);
+            self.enqueue(canon, Queued::OrientSpindle(n as i32, angle, mode));
         }
         if block.q_flag {
             if block.q_number <= 0.0 {
                 return Err(InterpError::M19Q);
             }
-            canon.wait_spindle_orient_complete(n as i32, block.q_number);
+            let wait = Queued::WaitOrientComplete(n as i32, block.q_number);
+            self.enqueue(canon, wait);
         }
         Ok(())
     }

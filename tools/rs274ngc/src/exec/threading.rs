@@ -52,6 +52,13 @@ impl Interp {
         canon: &mut dyn Canon,
     ) -> Result<()> {
         self.s.arc_not_allowed = false;
+        if self.comp_active() {
+            // With compensation on, LinuxCNC sends the move through it
+            // unchecked, as a plain feed without synchronisation.
+            self.s.motion_mode = G_33;
+            let end = self.find_ends(block)?;
+            return self.straight_with_comp(G_33, block, canon, &end);
+        }
         let spindle = self
             .synched_spindle(block)
             .ok_or(InterpError::SpindleNumber("G33 move"))?;
@@ -60,11 +67,6 @@ impl Interp {
         }
         self.s.motion_mode = G_33;
         let end = self.find_ends(block)?;
-        if self.s.cutter_comp_side != Side::Off && self.s.cutter_comp_radius > 0.0 {
-            // With compensation on, LinuxCNC queues the move as a plain
-            // feed, without synchronisation.
-            return self.straight_with_comp(G_33, block, canon, &end);
-        }
         canon.start_speed_feed_synch(spindle, block.k_number, false);
         canon.straight_feed(block.line_number, &end);
         canon.stop_speed_feed_synch();
@@ -72,10 +74,21 @@ impl Interp {
         Ok(())
     }
 
+    /// Cutter radius compensation is on with a tool radius.
+    fn comp_active(&self) -> bool {
+        self.s.cutter_comp_side != Side::Off && self.s.cutter_comp_radius > 0.0
+    }
+
     /// G33.1: rigid tapping to the end point and back; the position does
     /// not change.
     pub(crate) fn convert_rigid_tap(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
         self.s.arc_not_allowed = false;
+        if self.comp_active() {
+            // As LinuxCNC: a plain feed through compensation (no tap).
+            self.s.motion_mode = G_33_1;
+            let end = self.find_ends(block)?;
+            return self.straight_with_comp(G_33_1, block, canon, &end);
+        }
         let spindle = self
             .synched_spindle(block)
             .ok_or(InterpError::SpindleNumber("G33.1 move"))?;
@@ -84,10 +97,6 @@ impl Interp {
         }
         self.s.motion_mode = G_33_1;
         let end = self.find_ends(block)?;
-        if self.s.cutter_comp_side != Side::Off && self.s.cutter_comp_radius > 0.0 {
-            // As LinuxCNC: a plain feed through compensation (no tap).
-            return self.straight_with_comp(G_33_1, block, canon, &end);
-        }
         let scale = if block.i_flag { block.i_number } else { 1.0 };
         canon.start_speed_feed_synch(spindle, block.k_number, false);
         canon.rigid_tap(block.line_number, (end.x, end.y, end.z), scale);
@@ -103,6 +112,9 @@ impl Interp {
         canon: &mut dyn Canon,
     ) -> Result<()> {
         self.s.arc_not_allowed = false;
+        if self.comp_active() {
+            return self.threading_with_comp(block, canon);
+        }
         let spindle = self
             .synched_spindle(block)
             .ok_or(InterpError::G76SpindleNumber)?;
@@ -113,9 +125,6 @@ impl Interp {
             return Err(InterpError::G76Rotary);
         }
         if self.s.cutter_comp_side != Side::Off {
-            if self.s.cutter_comp_radius > 0.0 {
-                return self.threading_with_comp(block, canon);
-            }
             return Err(InterpError::G76WithComp);
         }
         let thread = self.thread_words(block)?;
