@@ -14,7 +14,8 @@ cd "$(dirname "$0")/../.."
 
 fail() { echo -e "module package check: $*" >&2; exit 1; }
 
-deb=$(packaging/linuxcnc-modules/build-deb --profile dev target/debian-modules-ci | tail -1)
+# The modules `cargo test --workspace` built (no second cargo run).
+deb=$(packaging/linuxcnc-modules/build-deb --profile dev --no-build target/debian-modules-ci | tail -1)
 echo "package: $deb"
 package=hal-suite-linuxcnc-modules
 moddir=usr/lib/linuxcnc/modules
