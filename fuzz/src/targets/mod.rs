@@ -47,4 +47,5 @@ crate::register_targets! {
     rs274ngc_tool_table,
     motion_command_line,
     motion_records,
+    web_request,
 }

@@ -49,6 +49,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         attach: Some(&[]),
     },
     InstanceTool {
+        bin: "hal-web",
+        short: true,
+        attach: Some(&["-p", "0"]),
+    },
+    InstanceTool {
         bin: "halmeter",
         short: true,
         attach: Some(&["pin", "x"]),

@@ -145,6 +145,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "hal-web",
+            help(
+                "a running HAL instance and its machine in a browser",
+                hal_web::USAGE,
+                &["halcmd(1)", "halmeter(1)", "task-cmd(1)", "linuxcnc(1)"],
+            ),
+        ),
+        (
             "halmeter",
             help(
                 "watch one pin, signal or parameter of a HAL instance",

@@ -7,6 +7,7 @@ use hal_lang::ini::Ini;
 use motion::Command;
 
 use crate::error::LaunchError;
+use crate::motion_setup::MotionLink;
 use crate::task::{MachineState, Mode, Task, TaskRequest};
 
 type Answer = Result<String, LaunchError>;
@@ -255,7 +256,8 @@ impl Task {
     /// `program` (IDLE, RUNNING, PAUSED), `mist`, `flood`, `lube` (0 or
     /// 1), `tool`, `feed-override`, `rapid-override`, `max-velocity`;
     /// then the switch, tool and offset lines of
-    /// [`panel_state_lines`](Task::panel_state_lines).
+    /// [`panel_state_lines`](Task::panel_state_lines) and spindle 0's
+    /// (`spindle-speed`, `spindle-direction`, `spindle-at-speed`, ...).
     pub(crate) fn state_lines(&self) -> String {
         let o = self.io.outputs();
         let bit = |b: bool| u8::from(b);
@@ -283,6 +285,13 @@ impl Task {
             self.overrides.rapid,
             self.overrides.max_velocity,
         ) + &self.panel_state_lines()
+            + &crate::task_spindle::spindle_state_lines(
+                self.motion
+                    .as_ref()
+                    .and_then(MotionLink::status)
+                    .as_ref()
+                    .and_then(|s| s.spindles.first()),
+            )
     }
 }
 

@@ -227,12 +227,67 @@ fn on(spindle: i32, speed: f64) -> Command {
     }
 }
 
+/// Spindle 0 as motion last reported it, as `key=value` lines for
+/// task's state: `spindle-speed` (commanded rpm, 0 when stopped),
+/// `spindle-direction` (1 forward, -1 reverse, 0 stopped),
+/// `spindle-at-speed`, `spindle-brake` (0 or 1) and `spindle-override`.
+/// Without motion: stopped, not at speed, override 1.
+pub(crate) fn spindle_state_lines(status: Option<&motion::channel::SpindleState>) -> String {
+    let (speed, at_speed, brake, scale) = match status {
+        Some(s) if s.on => (s.speed, s.at_speed, s.brake, s.scale),
+        Some(s) => (0.0, s.at_speed, s.brake, s.scale),
+        None => (0.0, false, false, 1.0),
+    };
+    let direction = if speed > 0.0 {
+        1
+    } else if speed < 0.0 {
+        -1
+    } else {
+        0
+    };
+    format!(
+        "spindle-speed={}\nspindle-direction={direction}\nspindle-at-speed={}\n\
+         spindle-brake={}\nspindle-override={scale}\n",
+        speed.abs(),
+        u8::from(at_speed),
+        u8::from(brake),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn req(spindle: i32, action: SpindleAction) -> TaskRequest {
         TaskRequest::Spindle { spindle, action }
+    }
+
+    #[test]
+    fn spindle_state_lines_give_speed_direction_and_at_speed() {
+        let reverse = motion::channel::SpindleState {
+            on: true,
+            at_speed: true,
+            speed: -750.0,
+            scale: 0.8,
+            ..Default::default()
+        };
+        assert_eq!(
+            spindle_state_lines(Some(&reverse)),
+            "spindle-speed=750\nspindle-direction=-1\nspindle-at-speed=1\n\
+             spindle-brake=0\nspindle-override=0.8\n"
+        );
+        let off = motion::channel::SpindleState {
+            speed: 300.0,
+            brake: true,
+            scale: 1.0,
+            ..Default::default()
+        };
+        assert_eq!(
+            spindle_state_lines(Some(&off)),
+            "spindle-speed=0\nspindle-direction=0\nspindle-at-speed=0\n\
+             spindle-brake=1\nspindle-override=1\n"
+        );
+        assert!(spindle_state_lines(None).contains("spindle-direction=0\n"));
     }
 
     #[test]

@@ -169,7 +169,8 @@ impl Interp {
                 if self.s.feed_rate == 0.0 {
                     return Err(InterpError::ArcZeroFeed);
                 }
-                if self.s.speed == 0.0 && self.s.spindle_mode == SpindleMode::ConstantRpm {
+                let spindle = &self.s.spindles[self.s.feed_spindle];
+                if spindle.speed == 0.0 && spindle.mode == SpindleMode::ConstantRpm {
                     return Err(InterpError::ZeroSpeedFeedPerRev);
                 }
             }

@@ -227,6 +227,13 @@ impl Block {
             || self.v_flag
             || self.w_flag
     }
+
+    /// The spindle the `$` word names, cut to an integer (as LinuxCNC
+    /// does: `$1.6` is spindle 1, `$-1.5` means every spindle); None
+    /// without a `$` word.
+    pub fn dollar(&self) -> Option<i32> {
+        self.dollar_flag.then_some(self.dollar_number as i32)
+    }
 }
 
 /// C's `round_to_int`: round half away from zero, then truncate to `i32`.

@@ -195,6 +195,21 @@ pub trait Canon {
     fn straight_probe(&mut self, line: i32, end: &Pose, probe_type: u8);
     /// NURBS_FEED (G5, G5.1, G5.2/G5.3).
     fn nurbs_feed(&mut self, line: i32, points: &[ControlPoint], order: u32);
+    /// START_SPEED_FEED_SYNCH (G33, G33.1, G76): the feeds that follow
+    /// move `feed_per_revolution` program units per revolution of
+    /// `spindle`; `velocity_mode` ties velocity rather than position to
+    /// the spindle.
+    fn start_speed_feed_synch(
+        &mut self,
+        spindle: i32,
+        feed_per_revolution: f64,
+        velocity_mode: bool,
+    );
+    /// STOP_SPEED_FEED_SYNCH: the feeds that follow are timed again.
+    fn stop_speed_feed_synch(&mut self);
+    /// RIGID_TAP (G33.1): feed to `end` (X, Y, Z) synchronised with the
+    /// spindle, reverse it (`scale` times as fast) and come back.
+    fn rigid_tap(&mut self, line: i32, end: (f64, f64, f64), scale: f64);
     /// DWELL, seconds.
     fn dwell(&mut self, seconds: f64);
     /// SET_FEED_RATE.
@@ -239,6 +254,9 @@ pub trait Canon {
     fn change_tool_number(&mut self, index: i32);
     /// SET_TOOL_TABLE_ENTRY (G10 L1/L10/L11).
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry);
+    /// RELOAD_TOOLDATA (G10 L0): the world reloads its tool table; the
+    /// interpreter then reads it again through [`Canon::tool_table`].
+    fn reload_tool_data(&mut self);
 
     // -- coolant, overrides, I/O -----------------------------------------
     /// FLOOD_ON.

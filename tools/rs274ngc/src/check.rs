@@ -171,8 +171,7 @@ fn check_other_codes(block: &Block) -> Result<()> {
         && !matches!(block.m_modes[7], 3 | 4 | 5 | 19)
         && block.m_modes[9] != 51
         && !matches!(motion, G_33 | G_33_1 | G_76)
-        && !matches!(block.g_modes[GM_FEED_MODE], G_95)
-        && !matches!(block.g_modes[GM_SPINDLE_MODE], G_96 | G_97)
+        && !block.s_flag
     {
         return Err(InterpError::DollarUnused);
     }

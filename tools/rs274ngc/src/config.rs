@@ -5,30 +5,39 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// Optional interpreter features (`[RS274NGC]FEATURES` bits).
+/// Optional interpreter features: `[RS274NGC]` `RETAIN_G43`,
+/// `OWORD_NARGS`, `INI_VARS`, `HAL_PIN_VARS` and `NO_DOWNCASE_OWORD` since
+/// LinuxCNC 2.8 (before, bits of `FEATURES`, which 2.9 ignores).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Features {
-    /// Bit 0: keep G43 in effect across tool changes.
+    /// RETAIN_G43: keep G43 in effect across tool changes.
     pub retain_g43: bool,
-    /// Bit 1: subroutines see the number of arguments as `#<n_args>`.
+    /// OWORD_NARGS: subroutines see the number of arguments as `#<n_args>`.
     pub oword_n_args: bool,
-    /// Bit 2: `#<_ini[section]name>` reads the INI file.
+    /// INI_VARS: `#<_ini[section]name>` reads the INI file.
     pub ini_vars: bool,
-    /// Bit 3: `#<_hal[name]>` reads HAL items.
+    /// HAL_PIN_VARS: `#<_hal[name]>` reads HAL items.
     pub hal_pin_vars: bool,
-    /// Bit 4: O-word names keep their case.
+    /// NO_DOWNCASE_OWORD: O-word names keep their case.
     pub no_downcase_oword: bool,
 }
 
 impl Features {
-    /// Decode the FEATURES bit mask.
-    pub fn from_bits(bits: i64) -> Features {
+    /// The features as LinuxCNC 2.9 reads them from `[RS274NGC]`: `get`
+    /// answers a key's value. `INI_VARS` and `HAL_PIN_VARS` are on unless
+    /// set to 0; the others are off unless set to a non-zero integer.
+    pub fn from_ini_keys<'a>(get: impl Fn(&str) -> Option<&'a str>) -> Features {
+        let on = |key: &str, default: bool| {
+            get(key)
+                .and_then(|v| v.trim().parse::<i64>().ok())
+                .map_or(default, |v| v != 0)
+        };
         Features {
-            retain_g43: bits & 1 != 0,
-            oword_n_args: bits & 2 != 0,
-            ini_vars: bits & 4 != 0,
-            hal_pin_vars: bits & 8 != 0,
-            no_downcase_oword: bits & 16 != 0,
+            retain_g43: on("RETAIN_G43", false),
+            oword_n_args: on("OWORD_NARGS", false),
+            ini_vars: on("INI_VARS", true),
+            hal_pin_vars: on("HAL_PIN_VARS", true),
+            no_downcase_oword: on("NO_DOWNCASE_OWORD", false),
         }
     }
 }
@@ -82,6 +91,19 @@ pub struct Config {
     /// too small to deepen the hole at its size, is refused before it
     /// drills: an L or Q typo must not queue millions of moves.
     pub max_cycle_moves: u32,
+    /// How many spindles the machine has (`[TRAJ]SPINDLES`), selected by
+    /// the `$` word; 1 to [`MAX_SPINDLES`].
+    pub spindles: u32,
+}
+
+/// The most spindles LinuxCNC's motion controller has.
+pub const MAX_SPINDLES: u32 = 8;
+
+impl Config {
+    /// [`Config::spindles`] within 1 to [`MAX_SPINDLES`].
+    pub fn spindle_count(&self) -> usize {
+        self.spindles.clamp(1, MAX_SPINDLES) as usize
+    }
 }
 
 /// The default of [`Config::max_cycle_moves`]: far beyond any drilling
@@ -109,6 +131,7 @@ impl Default for Config {
             loop_on_main_m99: false,
             ini_values: BTreeMap::new(),
             max_cycle_moves: DEFAULT_MAX_CYCLE_MOVES,
+            spindles: 1,
         }
     }
 }

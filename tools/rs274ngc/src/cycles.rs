@@ -537,7 +537,7 @@ impl Interp {
         line: i32,
         canon: &mut dyn Canon,
     ) -> Result<()> {
-        let turning = self.s.spindle_turning;
+        let turning = self.s.spindles[0].turning;
         if motion == G_84 && turning == Direction::CounterClockwise {
             return Err(InterpError::G84CounterClockwise);
         }
@@ -570,7 +570,7 @@ impl Interp {
     }
 
     fn spindle_turning_for(&self, cycle: i32) -> Result<Direction> {
-        match self.s.spindle_turning {
+        match self.s.spindles[0].turning {
             Direction::Stopped => Err(InterpError::CycleSpindleNotTurning(cycle)),
             d => Ok(d),
         }

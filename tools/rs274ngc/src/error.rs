@@ -411,6 +411,34 @@ pub enum InterpError {
     AnalogIndex(i32),
     #[error("Q word with M19 requires a value > 0")]
     M19Q,
+    #[error(
+        "Spindle ($) number out of range in M{m} Command\nnum_spindles ={count}. $={dollar}\n"
+    )]
+    SpindleOutOfRange { m: i32, count: usize, dollar: i32 },
+    #[error("Spindle ($) number out of range in M19 Command")]
+    M19SpindleOutOfRange,
+    #[error("Invalid spindle ($) number in {0}")]
+    SpindleNumber(&'static str),
+    #[error("Spindle not turning in {0}")]
+    SpindleNotTurning(&'static str),
+    #[error("Chosen spindle ({0}) not turning in G76")]
+    G76SpindleNotTurning(i32),
+    #[error("Invalid D-number in G76 cycle")]
+    G76SpindleNumber,
+    #[error("Cannot use G76 threading cycle with cutter radius compensation on")]
+    G76WithComp,
+    #[error("Cannot move rotary axes with G76")]
+    G76Rotary,
+    #[error("In G76, I must not be 0")]
+    G76IZero,
+    #[error("In G76, J must be greater than 0")]
+    G76JNotPositive,
+    #[error("In G76, K must be greater than J")]
+    G76KNotAboveJ,
+    #[error("G10 L0 not allowed with loaded tool <{0}>\n")]
+    G10L0ToolLoaded(i32),
+    #[error("Bug code not g0 or g1")]
+    CompMoveNotG0G1,
     #[error("Cannot restore context from invalid stack frame - missing M70/M73?")]
     M72NoContext,
     #[error("Cannot enable overrides with cutter radius compensation on")]
@@ -446,6 +474,11 @@ pub enum InterpError {
          (check its L repeats and Q peck depth)"
     )]
     CycleTooLong { code: i32, moves: f64, limit: u32 },
+    #[error(
+        "G76 would make more than {limit} moves \
+         (check its J, K, R and H words)"
+    )]
+    ThreadTooLong { limit: u32 },
     #[error("Negative or zero q value used")]
     CycleQNotPositive,
     #[error("Q word missing with g{0}")]

@@ -38,9 +38,10 @@
 //! expressions, `#` and `#<name>` parameters, O-words and comments that
 //! act (`(MSG,`, `(DEBUG,`, `(PRINT,`, `(LOG...`), which a plain G-code
 //! tokenizer does not read, and the refusals must carry LinuxCNC's texts
-//! and places. Spindle-synchronised moves (G33, G33.1, G76) and the lathe
-//! roughing cycles (G70-G72) are refused with a message saying they are
-//! not supported yet.
+//! and places. Spindle-synchronised moves (G33, G33.1 and the G76 threading
+//! cycle) come out as LinuxCNC's canonical calls (START_SPEED_FEED_SYNCH,
+//! RIGID_TAP, ...); the lathe roughing cycles (G70-G72) are refused with
+//! a message saying they are not supported yet.
 
 #![forbid(unsafe_code)]
 

@@ -316,6 +316,32 @@ impl Canon for PrintCanon {
         self.emit_line(&format!("NURBS_FEED({}, ...)", points.len()));
     }
 
+    fn start_speed_feed_synch(
+        &mut self,
+        _spindle: i32,
+        feed_per_revolution: f64,
+        velocity_mode: bool,
+    ) {
+        self.emit_line(&format!(
+            "START_SPEED_FEED_SYNC({},{})",
+            f(feed_per_revolution, 6),
+            i32::from(velocity_mode)
+        ));
+    }
+
+    fn stop_speed_feed_synch(&mut self) {
+        self.emit_line("STOP_SPEED_FEED_SYNCH()");
+    }
+
+    fn rigid_tap(&mut self, _line: i32, end: (f64, f64, f64), _scale: f64) {
+        self.emit_line(&format!(
+            "RIGID_TAP({}, {}, {})",
+            f(end.0, 4),
+            f(end.1, 4),
+            f(end.2, 4)
+        ));
+    }
+
     fn dwell(&mut self, seconds: f64) {
         self.emit_line(&format!("DWELL({})", f(seconds, 4)));
     }
@@ -431,6 +457,12 @@ impl Canon for PrintCanon {
     fn change_tool_number(&mut self, index: i32) {
         self.emit_line(&format!("CHANGE_TOOL_NUMBER({index})"));
         self.active_slot = index;
+    }
+
+    fn reload_tool_data(&mut self) {
+        // Standalone rs274's table lives in memory only: reloading keeps
+        // what G10 L1/L10/L11 wrote into it.
+        self.emit_line("RELOAD_TOOLDATA()");
     }
 
     fn set_tool_table_entry(&mut self, index: i32, e: &ToolEntry) {

@@ -47,6 +47,26 @@ pub enum SpindleMode {
     ConstantSurface,
 }
 
+/// One spindle's modal state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpindleState {
+    /// The programmed speed (S), RPM or surface speed.
+    pub speed: f64,
+    /// Which way it turns (M3, M4, M5).
+    pub turning: Direction,
+    /// G96 or G97.
+    pub mode: SpindleMode,
+}
+
+impl SpindleState {
+    /// A spindle at rest: S0, M5, G97.
+    pub const STOPPED: SpindleState = SpindleState {
+        speed: 0.0,
+        turning: Direction::Stopped,
+        mode: SpindleMode::ConstantRpm,
+    };
+}
+
 /// The interpreter's settings.
 #[derive(Debug, Clone)]
 #[allow(missing_docs)]
@@ -74,9 +94,11 @@ pub struct Setup {
     pub ijk_distance_mode: DistanceMode,
     pub feed_mode: FeedMode,
     pub feed_rate: f64,
-    pub speed: f64,
-    pub spindle_turning: Direction,
-    pub spindle_mode: SpindleMode,
+    /// Every spindle ([TRAJ]SPINDLES of them, at least one); spindle 0
+    /// is the one the named parameters, cycles and M70-M73 know.
+    pub spindles: Vec<SpindleState>,
+    /// The spindle feed per revolution follows (G95's `$`).
+    pub feed_spindle: usize,
     /// The modal motion code (G-code times ten), G80 or -1.
     pub motion_mode: i32,
     pub control_mode: MotionMode,
@@ -156,9 +178,8 @@ impl Default for Setup {
             ijk_distance_mode: DistanceMode::Incremental,
             feed_mode: FeedMode::UnitsPerMinute,
             feed_rate: 0.0,
-            speed: 0.0,
-            spindle_turning: Direction::Stopped,
-            spindle_mode: SpindleMode::ConstantRpm,
+            spindles: vec![SpindleState::STOPPED],
+            feed_spindle: 0,
             motion_mode: G_80,
             control_mode: MotionMode::Continuous,
             tolerance: 0.0,

@@ -446,6 +446,15 @@ impl Canon for TaskCanon {
     fn nurbs_feed(&mut self, _line: i32, _points: &[ControlPoint], _order: u32) {
         self.refuse("NURBS moves (G5.2)");
     }
+    fn start_speed_feed_synch(&mut self, _spindle: i32, _per_rev: f64, _velocity_mode: bool) {
+        // Motion has no spindle-synchronised move yet (it would wait for
+        // the index pulse and follow spindle.N.revs).
+        self.refuse("spindle-synchronised motion (G33, G33.1, G76)");
+    }
+    fn stop_speed_feed_synch(&mut self) {}
+    fn rigid_tap(&mut self, _line: i32, _end: (f64, f64, f64), _scale: f64) {
+        self.refuse("rigid tapping (G33.1)");
+    }
     fn dwell(&mut self, seconds: f64) {
         self.ops.push_back(Op::Motion(Command::Dwell {
             seconds,
@@ -522,6 +531,9 @@ impl Canon for TaskCanon {
             .map_or(0, |e| e.toolno.max(0));
         self.slot = index;
         self.ops.push_back(Op::Io(IoRequest::SetNumber { tool }));
+    }
+    fn reload_tool_data(&mut self) {
+        self.refuse("reloading the tool table (G10 L0)");
     }
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry) {
         match usize::try_from(index)

@@ -202,3 +202,16 @@ fn calls_the_machine_cannot_do_are_a_fault() {
     c.straight_probe(1, &Pose::ZERO, 0);
     assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
 }
+
+#[test]
+fn spindle_synchronised_motion_is_a_fault() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.start_speed_feed_synch(0, 1.5, false);
+    assert_eq!(
+        c.fault.as_deref(),
+        Some("spindle-synchronised motion (G33, G33.1, G76)")
+    );
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
+    assert_eq!(c.fault.as_deref(), Some("rigid tapping (G33.1)"));
+}

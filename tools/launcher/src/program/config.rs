@@ -1,8 +1,8 @@
 //! The interpreter's settings from the machine's INI file, as LinuxCNC's
 //! task reads them: `[RS274NGC]PARAMETER_FILE` and `SUBROUTINE_PATH`,
 //! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`,
-//! `[TRAJ]LINEAR_UNITS`, the axes of `[TRAJ]COORDINATES` and whether AUTO
-//! needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
+//! `[TRAJ]LINEAR_UNITS` and `SPINDLES`, the axes of `[TRAJ]COORDINATES`
+//! and whether AUTO needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
 
 use std::path::{Path, PathBuf};
 
@@ -53,6 +53,7 @@ impl ProgramConfig {
             tool_change_quill_up: flag(ini, "EMCIO", "TOOL_CHANGE_QUILL_UP"),
             tool_change_at_g30: flag(ini, "EMCIO", "TOOL_CHANGE_AT_G30"),
             tool_change_with_spindle_on: flag(ini, "EMCIO", "TOOL_CHANGE_WITH_SPINDLE_ON"),
+            features: rs274ngc::Features::from_ini_keys(|key| ini.get("RS274NGC", key)),
             ..Config::default()
         };
         if let Some(paths) = ini.get("RS274NGC", "SUBROUTINE_PATH") {
@@ -61,6 +62,12 @@ impl ProgramConfig {
                 .filter(|s| !s.trim().is_empty())
                 .map(|s| relative(&dir, s))
                 .collect();
+        }
+        if let Some(n) = ini
+            .get("TRAJ", "SPINDLES")
+            .and_then(|v| v.trim().parse::<u32>().ok())
+        {
+            interp.spindles = n;
         }
         if let Some(prefix) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
             interp.program_prefix = Some(relative(&dir, prefix));

@@ -191,6 +191,9 @@ impl Interp {
         if distance <= radius {
             return Err(InterpError::CompEntryTooShort);
         }
+        if mv != G_0 && mv != G_1 {
+            return Err(InterpError::CompMoveNotG0G1);
+        }
         let alpha = (py - cy).atan2(px - cx)
             + if side == Side::Left {
                 PI / 2.0
@@ -235,8 +238,12 @@ impl Interp {
         let (mut end_x, mut end_y) = (cx, cy);
         let (opx, opy, opz) = self.comp_get_programmed();
         let (px, py, pz) = p;
-        let feed = mv == G_1;
+        // G33 and G33.1 are queued as feeds, except along the tool axis.
+        let feed = mv != G_0;
         if py == opy && px == opx {
+            if mv != G_0 && mv != G_1 {
+                return Err(InterpError::CompMoveNotG0G1);
+            }
             self.enqueue_straight(feed, line, px - opx, py - opy, cx, cy, pz, rest);
             let _ = opz;
         } else {
@@ -278,6 +285,8 @@ impl Interp {
                     self.enqueue_arc(line, 0.0, (mid_x, mid_y), (opx, opy), turn, cz, rest);
                 } else if mv == G_0 {
                     self.enqueue_straight(false, line, 0.0, 0.0, mid_x, mid_y, cz, rest);
+                } else {
+                    return Err(InterpError::CompMoveNotG0G1);
                 }
                 self.dequeue_canons(canon);
                 self.comp.set_endpoint(mid_x, mid_y);

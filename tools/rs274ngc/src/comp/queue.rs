@@ -33,16 +33,18 @@ pub enum Queued {
     },
     SetFeedRate(f64),
     Dwell(f64),
-    SetFeedMode(i32),
+    /// Feed mode (0 per minute, 1 per revolution) of a spindle.
+    SetFeedMode(i32, i32),
     MistOn,
     MistOff,
     FloodOn,
     FloodOff,
-    SpindleClockwise,
-    SpindleCounterClockwise,
-    SpindleStop,
-    SetSpindleMode(f64),
-    SetSpindleSpeed(f64),
+    /// The spindle calls, with the spindle's number.
+    SpindleClockwise(i32),
+    SpindleCounterClockwise(i32),
+    SpindleStop(i32),
+    SetSpindleMode(i32, f64),
+    SetSpindleSpeed(i32, f64),
     Comment(String),
 }
 
@@ -278,16 +280,16 @@ fn issue(q: Queued, g: CompGeometry, canon: &mut dyn Canon) {
         }
         Queued::SetFeedRate(f) => canon.set_feed_rate(f),
         Queued::Dwell(t) => canon.dwell(t),
-        Queued::SetFeedMode(m) => canon.set_feed_mode(0, m),
+        Queued::SetFeedMode(spindle, m) => canon.set_feed_mode(spindle, m),
         Queued::MistOn => canon.mist_on(),
         Queued::MistOff => canon.mist_off(),
         Queued::FloodOn => canon.flood_on(),
         Queued::FloodOff => canon.flood_off(),
-        Queued::SpindleClockwise => canon.start_spindle_clockwise(0),
-        Queued::SpindleCounterClockwise => canon.start_spindle_counterclockwise(0),
-        Queued::SpindleStop => canon.stop_spindle_turning(0),
-        Queued::SetSpindleMode(m) => canon.set_spindle_mode(0, m),
-        Queued::SetSpindleSpeed(s) => canon.set_spindle_speed(0, s),
+        Queued::SpindleClockwise(n) => canon.start_spindle_clockwise(n),
+        Queued::SpindleCounterClockwise(n) => canon.start_spindle_counterclockwise(n),
+        Queued::SpindleStop(n) => canon.stop_spindle_turning(n),
+        Queued::SetSpindleMode(n, m) => canon.set_spindle_mode(n, m),
+        Queued::SetSpindleSpeed(n, s) => canon.set_spindle_speed(n, s),
         Queued::Comment(c) => canon.comment(&c),
     }
 }

@@ -70,7 +70,7 @@ impl Interp {
             MotionMode::ExactStop => G_61_1,
             MotionMode::Continuous => G_64,
         };
-        g[13] = if s.spindle_mode == SpindleMode::ConstantRpm {
+        g[13] = if s.spindles[0].mode == SpindleMode::ConstantRpm {
             G_97
         } else {
             G_96
@@ -82,7 +82,7 @@ impl Interp {
         };
         g[15] = if s.lathe_diameter_mode { G_7 } else { G_8 };
         let mut m = [-1; 9];
-        m[2] = match s.spindle_turning {
+        m[2] = match s.spindles[0].turning {
             Direction::Clockwise => 3,
             Direction::CounterClockwise => 4,
             Direction::Stopped => 5,
@@ -106,7 +106,7 @@ impl Interp {
             g,
             m,
             feed: s.feed_rate,
-            speed: s.speed,
+            speed: s.spindles[0].speed,
         }
     }
 

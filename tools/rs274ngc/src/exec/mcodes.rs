@@ -1,10 +1,10 @@
 //! M-codes other than the stopping ones, in LinuxCNC's order: I/O
-//! (M62-M68), tool change (M6, M61), spindle (M3 M4 M5 M19) and modal
-//! state save/restore (M70-M73), coolant (M7 M8 M9), overrides
-//! (M48-M53), user M-codes (M100-M199).
+//! (M62-M68), tool change (M6, M61), spindle (M3 M4 M5 M19, in
+//! spindle.rs) and modal state save/restore (M70-M73), coolant (M7 M8
+//! M9), overrides (M48-M53), user M-codes (M100-M199).
 
 use crate::block::{round_to_int, Block};
-use crate::canon::{Canon, Direction, InputKind};
+use crate::canon::{Canon, InputKind};
 use crate::comp::Queued;
 use crate::error::{InterpError, Result};
 use crate::interp::Interp;
@@ -20,40 +20,7 @@ impl Interp {
             _ => {}
         }
         match block.m_modes[7] {
-            3 => {
-                self.enqueue(canon, Queued::SpindleClockwise);
-                self.s.spindle_turning = Direction::Clockwise;
-            }
-            4 => {
-                self.enqueue(canon, Queued::SpindleCounterClockwise);
-                self.s.spindle_turning = Direction::CounterClockwise;
-            }
-            5 => {
-                self.enqueue(canon, Queued::SpindleStop);
-                self.s.spindle_turning = Direction::Stopped;
-            }
-            19 => {
-                self.s.spindle_turning = Direction::Stopped;
-                if block.r_flag || block.p_flag {
-                    let angle = if block.r_flag {
-                        block.r_number + self.s.orient_offset
-                    } else {
-                        self.s.orient_offset
-                    };
-                    let mode = if block.p_flag {
-                        block.p_number as i32
-                    } else {
-                        0
-                    };
-                    canon.orient_spindle(0, angle, mode);
-                }
-                if block.q_flag {
-                    if block.q_number <= 0.0 {
-                        return Err(InterpError::M19Q);
-                    }
-                    canon.wait_spindle_orient_complete(0, block.q_number);
-                }
-            }
+            3 | 4 | 5 | 19 => self.convert_spindle_m(block, canon)?,
             70..=73 => self.convert_modal_state(block.m_modes[7], canon)?,
             _ => {}
         }
@@ -209,27 +176,37 @@ impl Interp {
                 InterpError::DisableOverridesWithComp
             });
         }
-        let s = &mut self.s;
+        let count = self.s.spindles.len() as i32;
         match (m, enable) {
             (48, _) => {
                 canon.enable_feed_override();
-                canon.enable_speed_override(0);
-                (s.feed_override, s.speed_override) = (true, true);
+                (0..count).for_each(|n| canon.enable_speed_override(n));
+                (self.s.feed_override, self.s.speed_override) = (true, true);
             }
             (49, _) => {
                 canon.disable_feed_override();
-                canon.disable_speed_override(0);
-                (s.feed_override, s.speed_override) = (false, false);
+                (0..count).for_each(|n| canon.disable_speed_override(n));
+                (self.s.feed_override, self.s.speed_override) = (false, false);
             }
             (50, true) => canon.enable_feed_override(),
             (50, false) => canon.disable_feed_override(),
-            (51, true) => canon.enable_speed_override(0),
-            (51, false) => canon.disable_speed_override(0),
+            (51, _) => {
+                let n = self
+                    .selected_spindles(block, false)
+                    .ok_or(InterpError::SpindleNumber("M51 command"))?
+                    .start as i32;
+                if enable {
+                    canon.enable_speed_override(n);
+                } else {
+                    canon.disable_speed_override(n);
+                }
+            }
             (52, true) => canon.enable_adaptive_feed(),
             (52, false) => canon.disable_adaptive_feed(),
             (53, true) => canon.enable_feed_hold(),
             _ => canon.disable_feed_hold(),
         }
+        let s = &mut self.s;
         match m {
             50 => s.feed_override = enable,
             51 => s.speed_override = enable,

@@ -8,7 +8,9 @@ mod mcodes;
 mod modes;
 mod motion;
 mod offsets;
+mod spindle;
 mod stop;
+mod threading;
 mod tools;
 
 pub(crate) use context::SavedState;
@@ -17,7 +19,9 @@ use crate::block::Block;
 use crate::canon::Canon;
 use crate::codes::*;
 use crate::comp::Queued;
-use crate::error::Result;
+use std::ops::Range;
+
+use crate::error::{InterpError, Result};
 use crate::interp::{Interp, Status};
 use crate::setup::{FeedMode, SpindleMode};
 
@@ -33,25 +37,30 @@ impl Interp {
             self.convert_comment(&comment, canon)?;
         }
         if block.g_modes[GM_SPINDLE_MODE] != -1 {
-            self.check_spindle_number(block, "Invalid spindle ($) number in Spindle Mode command")?;
-            self.convert_spindle_mode(block, canon);
+            let spindles = self
+                .selected_spindles(block, false)
+                .ok_or(InterpError::SpindleNumber("Spindle Mode command"))?;
+            self.convert_spindle_mode(block, spindles, canon);
         }
         if block.g_modes[GM_FEED_MODE] != -1 {
-            self.check_spindle_number(block, "Invalid spindle ($) number in Spindle Feed command")?;
-            self.convert_feed_mode(block.g_modes[GM_FEED_MODE], canon);
+            let spindle = self
+                .selected_spindles(block, false)
+                .ok_or(InterpError::SpindleNumber("Spindle Feed command"))?
+                .start;
+            self.convert_feed_mode(block.g_modes[GM_FEED_MODE], spindle, canon);
         }
         if block.f_flag && self.s.feed_mode != FeedMode::InverseTime {
             self.s.feed_rate = block.f_number;
             self.enqueue(canon, Queued::SetFeedRate(block.f_number));
         }
         if block.s_flag {
-            if block.dollar_flag && (block.dollar_number < -1.0 || block.dollar_number >= 1.0) {
-                return Err(crate::error::InterpError::Unsupported(
-                    "Invalid spindle ($) number in Spindle speed command",
-                ));
+            let spindles = self
+                .selected_spindles(block, true)
+                .ok_or(InterpError::SpindleNumber("Spindle speed command"))?;
+            for n in spindles {
+                self.s.spindles[n].speed = block.s_number;
+                self.enqueue(canon, Queued::SetSpindleSpeed(n as i32, block.s_number));
             }
-            self.s.speed = block.s_number;
-            self.enqueue(canon, Queued::SetSpindleSpeed(block.s_number));
         }
         if block.t_flag {
             self.convert_tool_select(block, canon)?;
@@ -69,26 +78,37 @@ impl Interp {
         Ok(Status::Ok)
     }
 
-    /// Only spindle 0 exists: `$0` (or no `$`) is accepted.
-    fn check_spindle_number(&self, block: &Block, message: &'static str) -> Result<()> {
-        if block.dollar_flag && (block.dollar_number < 0.0 || block.dollar_number >= 1.0) {
-            return Err(crate::error::InterpError::Unsupported(message));
+    /// The spindles a block's `$` word selects (spindle 0 without one;
+    /// every spindle for `$-1` where `all` allows it), the number cut to
+    /// an integer as LinuxCNC does; None when no such spindle exists.
+    pub(crate) fn selected_spindles(&self, block: &Block, all: bool) -> Option<Range<usize>> {
+        let count = self.s.spindles.len();
+        match block.dollar() {
+            None => Some(0..1),
+            Some(-1) if all => Some(0..count),
+            Some(n) => usize::try_from(n)
+                .ok()
+                .filter(|&n| n < count)
+                .map(|n| n..n + 1),
         }
-        Ok(())
     }
 
-    fn convert_spindle_mode(&mut self, block: &Block, canon: &mut dyn Canon) {
-        if block.g_modes[GM_SPINDLE_MODE] == G_97 {
-            self.s.spindle_mode = SpindleMode::ConstantRpm;
-            self.enqueue(canon, Queued::SetSpindleMode(0.0));
+    fn convert_spindle_mode(
+        &mut self,
+        block: &Block,
+        spindles: Range<usize>,
+        canon: &mut dyn Canon,
+    ) {
+        let (mode, limit) = if block.g_modes[GM_SPINDLE_MODE] == G_97 {
+            (SpindleMode::ConstantRpm, 0.0)
+        } else if block.d_flag {
+            (SpindleMode::ConstantSurface, block.d_number.abs())
         } else {
-            self.s.spindle_mode = SpindleMode::ConstantSurface;
-            let limit = if block.d_flag {
-                block.d_number.abs()
-            } else {
-                1e30
-            };
-            self.enqueue(canon, Queued::SetSpindleMode(limit));
+            (SpindleMode::ConstantSurface, 1e30)
+        };
+        for n in spindles {
+            self.s.spindles[n].mode = mode;
+            self.enqueue(canon, Queued::SetSpindleMode(n as i32, limit));
         }
     }
 
@@ -155,9 +175,7 @@ impl Interp {
                 if matches!(block.l_number, 1 | 10 | 11) {
                     self.convert_setup_tool(block, canon)
                 } else if block.l_number == 0 {
-                    Err(crate::error::InterpError::Unsupported(
-                        "G10 L0 (reload the tool table) is not supported",
-                    ))
+                    self.convert_reload_tool_data(canon)
                 } else {
                     self.convert_setup(block, canon)
                 }

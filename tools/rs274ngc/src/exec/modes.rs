@@ -220,7 +220,8 @@ impl Interp {
         }
     }
 
-    pub(crate) fn convert_feed_mode(&mut self, code: i32, canon: &mut dyn Canon) {
+    /// G93, G94, G95; `spindle` is the one G95 follows (its `$` word).
+    pub(crate) fn convert_feed_mode(&mut self, code: i32, spindle: usize, canon: &mut dyn Canon) {
         match code {
             G_93 => {
                 self.enqueue(
@@ -228,7 +229,7 @@ impl Interp {
                     Queued::Comment("interpreter: feed mode set to inverse time".into()),
                 );
                 self.s.feed_mode = FeedMode::InverseTime;
-                self.enqueue(canon, Queued::SetFeedMode(0));
+                self.enqueue(canon, Queued::SetFeedMode(0, 0));
             }
             G_94 => {
                 self.enqueue(
@@ -236,7 +237,7 @@ impl Interp {
                     Queued::Comment("interpreter: feed mode set to units per minute".into()),
                 );
                 self.s.feed_mode = FeedMode::UnitsPerMinute;
-                self.enqueue(canon, Queued::SetFeedMode(0));
+                self.enqueue(canon, Queued::SetFeedMode(0, 0));
                 self.s.feed_rate = 0.0;
                 self.enqueue(canon, Queued::SetFeedRate(0.0));
             }
@@ -246,7 +247,8 @@ impl Interp {
                     Queued::Comment("interpreter: feed mode set to units per revolution".into()),
                 );
                 self.s.feed_mode = FeedMode::UnitsPerRevolution;
-                self.enqueue(canon, Queued::SetFeedMode(1));
+                self.s.feed_spindle = spindle;
+                self.enqueue(canon, Queued::SetFeedMode(spindle as i32, 1));
                 self.s.feed_rate = 0.0;
                 self.enqueue(canon, Queued::SetFeedRate(0.0));
             }

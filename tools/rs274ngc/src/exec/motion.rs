@@ -1,6 +1,6 @@
 //! Motion: G0/G1 lines, G2/G3 arcs and helices, G38.x probing, G5.x
-//! splines, the canned cycles' entry, and the refusals of what is not
-//! supported (spindle-synchronised moves, lathe cycles).
+//! splines, the entries of the canned and threading cycles, and the
+//! refusal of what is not supported (the lathe roughing cycles).
 
 use crate::block::Block;
 use crate::canon::{Arc, Canon, ControlPoint, Plane, Pose};
@@ -10,9 +10,6 @@ use crate::error::{InterpError, Result};
 use crate::find::{find_arc_length, find_straight_length};
 use crate::interp::Interp;
 use crate::setup::{DistanceMode, FeedMode, Side};
-
-/// What LinuxCNC users see for spindle-synchronised moves.
-const SYNCHED_REFUSAL: &str = "spindle-synchronised moves are not supported yet";
 
 impl Interp {
     pub(crate) fn convert_motion(
@@ -26,10 +23,9 @@ impl Interp {
         }
         match motion {
             G_0 | G_1 => self.convert_straight(motion, block, canon),
-            G_33 | G_33_1 | G_76 => {
-                self.refused_word = Some(g_text(motion));
-                Err(InterpError::Unsupported(SYNCHED_REFUSAL))
-            }
+            G_33 => self.convert_synched_straight(block, canon),
+            G_33_1 => self.convert_rigid_tap(block, canon),
+            G_76 => self.convert_threading_cycle(block, canon),
             G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2 => {
                 self.refused_word = Some(g_text(motion));
                 if !block.q_flag {
@@ -117,7 +113,7 @@ impl Interp {
                     if self.s.feed_rate == 0.0 {
                         return Err(InterpError::G1ZeroFeed);
                     }
-                    if self.s.speed == 0.0 {
+                    if self.s.spindles[self.s.feed_spindle].speed == 0.0 {
                         return Err(InterpError::ZeroSpeedFeedPerRev);
                     }
                 }
@@ -134,19 +130,7 @@ impl Interp {
             self.inverse_time_rate_straight(canon, block, &end);
         }
         if self.s.cutter_comp_side != Side::Off && self.s.cutter_comp_radius > 0.0 {
-            if block.g_modes[GM_MODAL_0] == G_53 {
-                return Err(InterpError::G53WithComp);
-            }
-            let p = match self.s.plane {
-                Plane::Xz => (end.z, end.x, end.y),
-                Plane::Xy => (end.x, end.y, end.z),
-                _ => return Err(InterpError::CompPlane),
-            };
-            if self.s.cutter_comp_firstmove {
-                self.straight_comp1(canon, mv, block.line_number, p, &end)?;
-            } else {
-                self.straight_comp2(canon, mv, block.line_number, p, &end)?;
-            }
+            self.straight_with_comp(mv, block, canon, &end)
         } else {
             if mv == G_0 {
                 canon.straight_traverse(block.line_number, &end);
@@ -154,8 +138,31 @@ impl Interp {
                 canon.straight_feed(block.line_number, &end);
             }
             self.s.current = end;
+            Ok(())
         }
-        Ok(())
+    }
+
+    /// A G0 or G1 (`mv`) to `end` through cutter radius compensation.
+    pub(crate) fn straight_with_comp(
+        &mut self,
+        mv: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+        end: &Pose,
+    ) -> Result<()> {
+        if block.g_modes[GM_MODAL_0] == G_53 {
+            return Err(InterpError::G53WithComp);
+        }
+        let p = match self.s.plane {
+            Plane::Xz => (end.z, end.x, end.y),
+            Plane::Xy => (end.x, end.y, end.z),
+            _ => return Err(InterpError::CompPlane),
+        };
+        if self.s.cutter_comp_firstmove {
+            self.straight_comp1(canon, mv, block.line_number, p, end)
+        } else {
+            self.straight_comp2(canon, mv, block.line_number, p, end)
+        }
     }
 
     fn convert_arc(&mut self, mv: i32, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {

@@ -81,9 +81,8 @@ impl Interp {
         // M51 P0 outlive the program end for the spindle speed.
         s.cutter_comp_side = Side::Off;
         s.cutter_comp_firstmove = true;
-        canon.stop_spindle_turning(0);
-        s.spindle_turning = crate::canon::Direction::Stopped;
-        canon.set_spindle_mode(0, 0.0);
+        self.stop_all_spindles(canon, true);
+        let s = &mut self.s;
         s.motion_mode = crate::codes::G_1;
         if s.mist {
             canon.mist_off();

@@ -17,6 +17,10 @@ impl Interp {
         if toolno == 0 {
             return Ok(0);
         }
+        // Empty slots hold -1: no tool has a negative number.
+        if toolno < 0 {
+            return Err(InterpError::ToolNotFound(toolno));
+        }
         let start = if self.config.random_toolchanger { 0 } else { 1 };
         self.s
             .tool_table
@@ -41,6 +45,18 @@ impl Interp {
         Ok(())
     }
 
+    /// G10 L0: reload the tool table, refused while a tool is in the
+    /// spindle (its offsets would change under it).
+    pub(crate) fn convert_reload_tool_data(&mut self, canon: &mut dyn Canon) -> Result<()> {
+        let loaded = self.s.tool(0).toolno;
+        if loaded > 0 {
+            return Err(InterpError::G10L0ToolLoaded(loaded));
+        }
+        canon.reload_tool_data();
+        self.load_tool_table(canon);
+        Ok(())
+    }
+
     /// M6.
     pub(crate) fn convert_tool_change(&mut self, canon: &mut dyn Canon) -> Result<()> {
         if self.s.selected_pocket < 0 {
@@ -51,8 +67,7 @@ impl Interp {
         }
         canon.start_change();
         if !self.config.tool_change_with_spindle_on {
-            canon.stop_spindle_turning(0);
-            self.s.spindle_turning = crate::canon::Direction::Stopped;
+            self.stop_all_spindles(canon, false);
         }
         if self.config.tool_change_quill_up {
             let up = self.find_relative(&Pose::ZERO);
@@ -171,6 +186,9 @@ impl Interp {
             let add = self.user_pose_to_program(&self.s.tool(index).offset);
             crate::find::add_pose(&mut t, &add);
         } else if block.has_axis() {
+            // LinuxCNC 2.9 looks the (absent, -1) H word up all the same,
+            // so the axis-word form is refused with its message.
+            self.find_tool_index(block.h_number)?;
             let words = [
                 (block.x_flag, block.x_number, &mut t.x),
                 (block.y_flag, block.y_number, &mut t.y),

@@ -23,7 +23,7 @@ use crate::config::Config;
 use crate::control::Flow;
 use crate::error::{InterpError, Result};
 use crate::params::{file as param_file, Parameters};
-use crate::setup::Setup;
+use crate::setup::{Setup, SpindleState};
 use crate::source::{Line, Source, LINELEN};
 use crate::text::{close_and_downcase, CleanLine};
 
@@ -104,6 +104,7 @@ impl Interp {
     pub fn init(&mut self, canon: &mut dyn Canon) -> Result<()> {
         self.s = Setup {
             orient_offset: self.config.orient_offset,
+            spindles: vec![SpindleState::STOPPED; self.config.spindle_count()],
             ..Setup::default()
         };
         self.s.axis_mask = canon.axis_mask();

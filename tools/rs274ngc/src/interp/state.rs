@@ -187,7 +187,7 @@ impl Interp {
             } else {
                 G_99
             },
-            if s.spindle_mode == SpindleMode::ConstantSurface {
+            if s.spindles[0].mode == SpindleMode::ConstantSurface {
                 G_96
             } else {
                 G_97
@@ -195,7 +195,7 @@ impl Interp {
             if s.lathe_diameter_mode { G_7 } else { G_8 },
         ];
         let m = vec![
-            match s.spindle_turning {
+            match s.spindles[0].turning {
                 crate::canon::Direction::Clockwise => 3,
                 crate::canon::Direction::CounterClockwise => 4,
                 crate::canon::Direction::Stopped => 5,
@@ -212,7 +212,7 @@ impl Interp {
             g,
             m,
             feed: s.feed_rate,
-            speed: s.speed,
+            speed: s.spindles[0].speed,
         }
     }
 }

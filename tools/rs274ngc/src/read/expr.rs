@@ -62,7 +62,8 @@ enum Unary {
     Exists,
 }
 
-/// Two numbers this close are equal for EQ, NE, LE and GE.
+/// Two numbers this close are equal for EQ and NE (LE and GE compare
+/// exactly, as LinuxCNC 2.9 does).
 const TOLERANCE_EQUAL: f64 = 0.0001;
 
 fn apply_binary(left: f64, op: Op, right: f64) -> Result<f64> {
@@ -97,8 +98,8 @@ fn apply_binary(left: f64, op: Op, right: f64) -> Result<f64> {
         Op::Lt => truth(left < right),
         Op::Eq => truth((left - right).abs() < TOLERANCE_EQUAL),
         Op::Ne => truth((left - right).abs() >= TOLERANCE_EQUAL),
-        Op::Le => truth((left - right).abs() < TOLERANCE_EQUAL || left <= right),
-        Op::Ge => truth((left - right).abs() < TOLERANCE_EQUAL || left >= right),
+        Op::Le => truth(left <= right),
+        Op::Ge => truth(left >= right),
         Op::Gt => truth(left > right),
         Op::RightBracket => return Err(InterpError::UnknownOperation),
     })

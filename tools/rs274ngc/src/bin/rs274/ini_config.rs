@@ -1,9 +1,10 @@
 //! The INI keys rs274 takes from `-i`: `[RS274NGC]` `SUBROUTINE_PATH`,
-//! `USER_M_PATH`, `FEATURES`, tolerances, G92 persistence, Fanuc
-//! subroutines, `ORIENT_OFFSET`; `[EMCIO]` tool change options and
-//! `RANDOM_TOOLCHANGER`; `[DISPLAY]PROGRAM_PREFIX`; every entry for
-//! `#<_ini[section]key>`. The only use of the INI parser in this crate is
-//! here.
+//! `USER_M_PATH`, the feature keys (`INI_VARS`, `OWORD_NARGS`, ...),
+//! tolerances, G92 persistence, Fanuc subroutines, `ORIENT_OFFSET`;
+//! `[EMCIO]` tool change options and
+//! `RANDOM_TOOLCHANGER`; `[DISPLAY]PROGRAM_PREFIX`; `[TRAJ]SPINDLES`;
+//! every entry for `#<_ini[section]key>`. The only use of the INI parser
+//! in this crate is here.
 
 use std::path::{Path, PathBuf};
 
@@ -75,12 +76,8 @@ pub fn apply(path: &Path, config: &mut Config) -> bool {
     if let Some(value) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
         config.program_prefix = std::fs::canonicalize(expand_tilde(value.trim())).ok();
     }
-    if let Some(bits) = ini
-        .get("RS274NGC", "FEATURES")
-        .and_then(|v| v.trim().parse::<i64>().ok())
-    {
-        config.features = Features::from_bits(bits);
-    }
+    // LinuxCNC 2.9 reads a key per feature and ignores FEATURES.
+    config.features = Features::from_ini_keys(|key| ini.get("RS274NGC", key));
     if let Some(v) = number(&ini, "RS274NGC", "CENTER_ARC_RADIUS_TOLERANCE_INCH") {
         if (0.00004..=config.center_arc_radius_tolerance_inch).contains(&v) {
             config.center_arc_radius_tolerance_inch = v;
@@ -94,6 +91,12 @@ pub fn apply(path: &Path, config: &mut Config) -> bool {
     config.disable_g92_persistence = flag(&ini, "RS274NGC", "DISABLE_G92_PERSISTENCE");
     config.disable_fanuc_style_sub = flag(&ini, "RS274NGC", "DISABLE_FANUC_STYLE_SUB");
     config.orient_offset = number(&ini, "RS274NGC", "ORIENT_OFFSET").unwrap_or(0.0);
+    if let Some(n) = ini
+        .get("TRAJ", "SPINDLES")
+        .and_then(|v| v.trim().parse::<u32>().ok())
+    {
+        config.spindles = n;
+    }
     config.random_toolchanger = flag(&ini, "EMCIO", "RANDOM_TOOLCHANGER");
     config.tool_change_at_g30 = flag(&ini, "EMCIO", "TOOL_CHANGE_AT_G30");
     config.tool_change_quill_up = flag(&ini, "EMCIO", "TOOL_CHANGE_QUILL_UP");

@@ -1,0 +1,102 @@
+//! The HTTP server: routes, the guard in front of the API, and serving
+//! until the instance ends or a stop is requested.
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::http::{Method, StatusCode};
+use axum::middleware::{from_fn_with_state, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use hal_core::userspace::ExitSignals;
+use hal_core::Instance;
+
+use crate::state::{blocking, error, AppState, Shared};
+use crate::{change, guard, machine, page, snapshot, stream};
+
+/// Largest request body accepted (a watch list of [`crate::watch::MAX_ITEMS`]).
+const BODY_LIMIT: usize = 256 * 1024;
+
+/// How often the server looks for a stop request or a vanished instance.
+const STOP_POLL: Duration = Duration::from_millis(100);
+
+/// The routes of hal-web over `state`.
+pub fn router(state: Shared) -> Router {
+    let api = Router::new()
+        .route("/show", get(show))
+        .route("/stream", post(stream::post))
+        .route("/hal", post(change::post))
+        .route("/machine", get(machine::get).post(machine::post))
+        .layer(from_fn_with_state(state.clone(), admit))
+        .layer(DefaultBodyLimit::max(BODY_LIMIT));
+    Router::new()
+        .route("/", get(page::index))
+        .route("/app.js", get(page::script))
+        .route("/app.css", get(page::style))
+        .nest("/api", api)
+        .with_state(state)
+}
+
+/// The guard in front of every API request: the policy's checks, then a
+/// place among [`crate::state::MAX_REQUESTS`].
+async fn admit(State(state): State<Shared>, req: Request, next: Next) -> Response {
+    let change = req.method() == Method::POST && !req.uri().path().ends_with("/stream");
+    if let Err(refusal) = guard::check(req.headers(), &state.policy, change) {
+        return error(refusal.status(), refusal);
+    }
+    let Ok(_permit) = state.requests.clone().try_acquire_owned() else {
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "hal-web is busy with other requests; try again",
+        );
+    };
+    next.run(req).await
+}
+
+/// `GET /api/show`.
+async fn show(State(state): State<Shared>) -> Response {
+    let inst = state.inst.clone();
+    match blocking(move || snapshot::show(&inst)).await {
+        Ok(Ok(j)) => Json(j).into_response(),
+        Ok(Err(e)) => error(StatusCode::INTERNAL_SERVER_ERROR, e),
+        Err(r) => r,
+    }
+}
+
+/// Serves `inst` on `listener` until `exit` is requested or the
+/// instance's host is gone.
+pub async fn serve(
+    listener: tokio::net::TcpListener,
+    inst: Instance,
+    policy: guard::Policy,
+    exit: ExitSignals,
+) -> std::io::Result<()> {
+    let (stopping, stopping_rx) = tokio::sync::watch::channel(false);
+    let state = AppState::new(inst.clone(), policy, stopping_rx);
+    let stop = async move {
+        loop {
+            tokio::time::sleep(STOP_POLL).await;
+            if exit.requested() || !inst.host_alive() {
+                // Live streams see this at their next tick and end, so
+                // that the graceful shutdown does not wait on them.
+                let _ = stopping.send(true);
+                return;
+            }
+        }
+    };
+    axum::serve(listener, router(state))
+        .with_graceful_shutdown(stop)
+        .await
+}
+
+/// Binds `addr` (port 0: a free one) and says where it listens.
+pub async fn bind(addr: SocketAddr) -> Result<tokio::net::TcpListener, crate::WebError> {
+    tokio::net::TcpListener::bind(addr)
+        .await
+        .map_err(|source| crate::WebError::Bind {
+            addr: addr.to_string(),
+            source,
+        })
+}

@@ -1,0 +1,107 @@
+//! The live stream: what one page watches, read 1 to 20 times a second
+//! and sent as server-sent events, only the values that changed after the
+//! first. Streams are bounded in number ([`crate::state::MAX_STREAMS`])
+//! and items ([`MAX_ITEMS`]); each tick's reads run off the runtime's
+//! thread.
+
+use std::convert::Infallible;
+use std::time::Duration;
+
+use axum::extract::State;
+use axum::http::StatusCode;
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use futures_util::stream::{self, Stream};
+use serde::Deserialize;
+use serde_json::json;
+use tokio::sync::OwnedSemaphorePermit;
+
+use crate::state::{error, Shared, MAX_STREAMS};
+use crate::watch::{values, Item, MAX_ITEMS};
+
+/// The rate unless the page asks for another.
+const DEFAULT_HZ: u32 = 10;
+/// The fastest rate served.
+pub const MAX_HZ: u32 = 20;
+
+/// A stream request: `{"items": [{"kind": "pin", "name": "..."}], "hz": 20}`.
+#[derive(Debug, Deserialize)]
+pub struct Watch {
+    /// What to read.
+    pub items: Vec<Item>,
+    /// Reads per second (1 to 20).
+    pub hz: Option<u32>,
+}
+
+/// One stream's state between ticks.
+struct Ticker {
+    state: Shared,
+    items: std::sync::Arc<Vec<Item>>,
+    last: Vec<Option<String>>,
+    interval: tokio::time::Interval,
+    first: bool,
+    /// Held while the stream lives: its place among [`MAX_STREAMS`].
+    _permit: OwnedSemaphorePermit,
+}
+
+/// `POST /api/stream`.
+pub async fn post(State(state): State<Shared>, Json(watch): Json<Watch>) -> Response {
+    if watch.items.len() > MAX_ITEMS {
+        return error(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("a page may watch at most {MAX_ITEMS} items"),
+        );
+    }
+    let Ok(permit) = state.streams.clone().try_acquire_owned() else {
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("hal-web serves at most {MAX_STREAMS} live pages at once"),
+        );
+    };
+    let hz = watch.hz.unwrap_or(DEFAULT_HZ).clamp(1, MAX_HZ);
+    let mut interval = tokio::time::interval(Duration::from_millis(1000 / u64::from(hz)));
+    interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let ticker = Ticker {
+        state,
+        items: std::sync::Arc::new(watch.items),
+        last: Vec::new(),
+        interval,
+        first: true,
+        _permit: permit,
+    };
+    Sse::new(events(ticker))
+        .keep_alive(KeepAlive::default())
+        .into_response()
+}
+
+/// The events of one stream: `{"values": {"INDEX": "VALUE" or null}}`,
+/// every item at first, then those that changed; a tick with no change
+/// sends nothing.
+fn events(ticker: Ticker) -> impl Stream<Item = Result<Event, Infallible>> {
+    stream::unfold(ticker, |mut t| async move {
+        loop {
+            t.interval.tick().await;
+            if *t.state.stopping.borrow() {
+                return None;
+            }
+            let inst = t.state.inst.clone();
+            let items = t.items.clone();
+            let now = tokio::task::spawn_blocking(move || values(&inst, &items))
+                .await
+                .ok()?;
+            let mut changed = serde_json::Map::new();
+            for (i, v) in now.iter().enumerate() {
+                if t.first || t.last.get(i) != Some(v) {
+                    changed.insert(i.to_string(), json!(v));
+                }
+            }
+            t.first = false;
+            t.last = now;
+            if !changed.is_empty() {
+                let data = json!({ "values": changed }).to_string();
+                return Some((Ok(Event::default().data(data)), t));
+            }
+        }
+    })
+}
