@@ -209,10 +209,16 @@ pub fn preset(board: &str) -> Machine {
                 .collect(),
             ..Machine::default()
         },
-        "7i43" | "7i90" => Machine {
+        // The EPP boards: servos on their encoders and PWM generators,
+        // stepper axes with home switches on the first GPIO after the
+        // step pins (7I43: I/O 32..34 on P3; 7I90: I/O 10..12 on P1).
+        "7i43" => Machine {
             servos: (0..4).map(servo).collect(),
-            steppers: (0..4).map(stepper).collect(),
-            ..Machine::default()
+            ..steppers_with_switches(4, 32)
+        },
+        "7i90" => Machine {
+            servos: (0..4).map(servo).collect(),
+            ..steppers_with_switches(5, 10)
         },
         "5i24" => Machine {
             servos: (0..8).map(servo).collect(),
