@@ -78,6 +78,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::trivkins::MODULE,
         &kins::corexykins::MODULE,
         &kins::bipodkins::MODULE,
+        &kins::tripodkins::MODULE,
         &kins::scarakins::MODULE,
         &kins::pumakins::MODULE,
         &kins::genserkins::MODULE,

@@ -9,7 +9,7 @@
 //! lifetime rules.
 //!
 //! The modules, under LinuxCNC's names: [`trivkins`], [`corexykins`],
-//! [`bipodkins`] (the kinematics note's example), [`scarakins`],
+//! [`bipodkins`] (the kinematics note's example), [`tripodkins`], [`scarakins`],
 //! [`pumakins`], [`genserkins`], [`lineardeltakins`], [`rotarydeltakins`],
 //! [`genhexkins`], and [`trt`] (`xyzac-trt-kins`, `xyzbc-trt-kins`). Those
 //! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
@@ -33,6 +33,7 @@ pub mod scarakins;
 pub mod switchkins;
 #[cfg(test)]
 mod testing;
+pub mod tripodkins;
 pub mod trivkins;
 pub mod trt;
 
