@@ -51,27 +51,46 @@ impl Interp {
         block: &Block,
         canon: &mut dyn Canon,
     ) -> Result<()> {
-        self.s.arc_not_allowed = false;
-        if self.comp_active() {
-            // With compensation on, LinuxCNC sends the move through it
-            // unchecked, as a plain feed without synchronisation.
-            self.s.motion_mode = G_33;
-            let end = self.find_ends(block)?;
-            return self.straight_with_comp(G_33, block, canon, &end);
-        }
-        let spindle = self
-            .synched_spindle(block)
-            .ok_or(InterpError::SpindleNumber("G33 move"))?;
-        if !self.spindle_turning(spindle) {
-            return Err(InterpError::SpindleNotTurning("G33"));
-        }
-        self.s.motion_mode = G_33;
-        let end = self.find_ends(block)?;
+        let Some((spindle, end)) = self.begin_synched(G_33, "G33", "G33 move", block, canon)?
+        else {
+            return Ok(());
+        };
         canon.start_speed_feed_synch(spindle, block.k_number, false);
         canon.straight_feed(block.line_number, &end);
         canon.stop_speed_feed_synch();
         self.s.current = end;
         Ok(())
+    }
+
+    /// What G33 and G33.1 (`mode`, named `name` in messages) do first.
+    /// With cutter compensation on, LinuxCNC sends the move through it
+    /// unchecked, as a plain feed without synchronisation: done here, and
+    /// `None`. Otherwise the spindle the move is locked to (which must be
+    /// turning) and the end point.
+    fn begin_synched(
+        &mut self,
+        mode: i32,
+        name: &'static str,
+        move_name: &'static str,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<Option<(i32, Pose)>> {
+        self.s.arc_not_allowed = false;
+        if self.comp_active() {
+            self.s.motion_mode = mode;
+            let end = self.find_ends(block)?;
+            self.straight_with_comp(mode, block, canon, &end)?;
+            return Ok(None);
+        }
+        let spindle = self
+            .synched_spindle(block)
+            .ok_or(InterpError::SpindleNumber(move_name))?;
+        if !self.spindle_turning(spindle) {
+            return Err(InterpError::SpindleNotTurning(name));
+        }
+        self.s.motion_mode = mode;
+        let end = self.find_ends(block)?;
+        Ok(Some((spindle, end)))
     }
 
     /// Cutter radius compensation is on with a tool radius.
@@ -82,21 +101,11 @@ impl Interp {
     /// G33.1: rigid tapping to the end point and back; the position does
     /// not change.
     pub(crate) fn convert_rigid_tap(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
-        self.s.arc_not_allowed = false;
-        if self.comp_active() {
-            // As LinuxCNC: a plain feed through compensation (no tap).
-            self.s.motion_mode = G_33_1;
-            let end = self.find_ends(block)?;
-            return self.straight_with_comp(G_33_1, block, canon, &end);
-        }
-        let spindle = self
-            .synched_spindle(block)
-            .ok_or(InterpError::SpindleNumber("G33.1 move"))?;
-        if !self.spindle_turning(spindle) {
-            return Err(InterpError::SpindleNotTurning("G33.1"));
-        }
-        self.s.motion_mode = G_33_1;
-        let end = self.find_ends(block)?;
+        let Some((spindle, end)) =
+            self.begin_synched(G_33_1, "G33.1", "G33.1 move", block, canon)?
+        else {
+            return Ok(());
+        };
         let scale = if block.i_flag { block.i_number } else { 1.0 };
         canon.start_speed_feed_synch(spindle, block.k_number, false);
         canon.rigid_tap(block.line_number, (end.x, end.y, end.z), scale);
