@@ -273,7 +273,7 @@ pub fn start_hal_side(
     let (table, table_path, complete) = tool_table(ini)?;
     let mut io = IoControl::new(table, table_path.clone());
     if !complete {
-        io.reload_failed();
+        io.hold_write_back();
     }
     for (flag, section, key, default) in [
         (&opts.tpmod, "TRAJ", "TPMOD", "tpmod"),

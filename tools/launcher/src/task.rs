@@ -688,7 +688,7 @@ impl Task {
                 Ok(format!("tool table {} reloaded", path.display()))
             }
             Err(source) => {
-                self.io.reload_failed();
+                self.io.hold_write_back();
                 Err(LaunchError::ToolTable {
                     path: path.clone(),
                     source,

@@ -206,11 +206,11 @@ impl IoControl {
         &self.table
     }
 
-    /// Keeps the table after its file could not be read again (or read
-    /// only in part at start): until a reload succeeds, changes are not
-    /// written back (the file on disk is the user's, half edited; writing
-    /// would destroy their edit).
-    pub fn reload_failed(&mut self) {
+    /// Stops write-backs of the table until a reload reads its file
+    /// completely: called when a reload failed (the table in use stays)
+    /// and when the start read it only in part. The file on disk is the
+    /// user's, half edited; writing it would destroy their edit.
+    pub fn hold_write_back(&mut self) {
         if let Some(s) = &mut self.save_to {
             s.set_read_complete(false);
         }
@@ -589,7 +589,7 @@ mod tests {
             io.request(&IoRequest::SetEntry { slot: 40, entry }),
             Err(IoError::EmptySlot { slot: 40 })
         );
-        io.reload_failed();
+        io.hold_write_back();
         entry.offset.z = 1.0;
         io.request(&IoRequest::SetEntry { slot: 2, entry }).unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
