@@ -37,9 +37,11 @@
 
 mod any_pin;
 mod drive;
+mod encoder;
 mod field;
 mod setup;
 mod slave;
+mod stepper;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
