@@ -38,6 +38,7 @@ pub(crate) fn plan(m: &conf::Master, sim: bool) -> MasterConfig {
                     sync0_shift_ns: d.sync0_shift,
                     sync1_cycle_ns: d.sync1_cycle.ns(m.app_time_period),
                 }),
+                emergencies: s.kind == "basic_cia402",
             })
             .collect(),
         ref_clock_sync_cycles: m.ref_clock_sync_cycles,

@@ -213,12 +213,13 @@ impl<H: HalHost> SlaveRt<H> {
         })
     }
 
-    /// A cycle's reception: state pins, then every input.
+    /// A cycle's reception: state pins, then every input; `emcy`: the
+    /// error code of an emergency the slave sent since the last.
     pub(crate) fn read(
         &mut self,
         inputs: &[u8],
-        al_state: u8,
-        healthy: bool,
+        (al_state, healthy): (u8, bool),
+        emcy: Option<u16>,
         status: &ReadStatus,
         log: Option<&LogSink>,
     ) {
@@ -260,7 +261,7 @@ impl<H: HalHost> SlaveRt<H> {
             TypeCode::Plain | TypeCode::AnalogOut(_) => {}
         }
         if let Some(d) = &mut self.drive {
-            d.read(inputs, healthy, &Named(&self.pins), log);
+            d.read(inputs, healthy, emcy, &Named(&self.pins), log);
         }
     }
 

@@ -13,12 +13,22 @@ use std::time::{Duration, Instant};
 use ethercrab::{MainDevice, SubDeviceState};
 
 use super::dc::DcCycle;
+use super::emcy::MailboxPoll;
 use super::io::Io;
 use super::{Group, MasterConfig, Shared, SlaveInfo, LOST_LIMIT, MAX_SLAVES};
 use crate::regs::{self, al};
 
 /// The helper's cycles: each `write` of the realtime side sends one
 /// frame; its answer is published for the next `read`.
+/// What the helper does after each cycle's frame besides the frame.
+#[derive(Debug, Default)]
+pub(super) struct Extras {
+    /// The distributed clocks.
+    pub(super) clocks: DcCycle,
+    /// The mailboxes polled for emergencies.
+    pub(super) mailboxes: MailboxPoll,
+}
+
 pub(super) fn serve(
     md: &MainDevice<'_>,
     io: &mut Io<'_>,
@@ -26,7 +36,7 @@ pub(super) fn serve(
     shared: &Shared,
     slaves: &[SlaveInfo],
     cfg: &MasterConfig,
-    clocks: &mut DcCycle,
+    extras: &mut Extras,
 ) {
     let mut out = vec![0u8; shared.outputs.len()];
     let mut inp = vec![0u8; shared.inputs.len()];
@@ -90,9 +100,11 @@ pub(super) fn serve(
             }
         }
         let monitor = shared.clocks.monitor.load(Relaxed);
+        let clocks = &mut extras.clocks;
         if let Some(diff) = clocks.after_frame(md, io, shared.clocks.base, monitor, timeout) {
             shared.clocks.diff.store(diff, Relaxed);
         }
+        extras.mailboxes.poll(md, io, &shared.emergencies, timeout);
     }
 }
 
