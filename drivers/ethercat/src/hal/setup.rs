@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 use crate::lcec::conf;
-use crate::master::{MasterConfig, SdoWrite, SlavePlan};
+use crate::master::{DcPlan, MasterConfig, SdoWrite, SlavePlan};
 use crate::sim::{self, catalog, Segment};
 
 /// The master's plan for `m` (`sim`: on a simulated segment).
@@ -32,8 +32,15 @@ pub(crate) fn plan(m: &conf::Master, sim: bool) -> MasterConfig {
                         data: w.data.clone(),
                     })
                     .collect(),
+                dc: s.dc.map(|d| DcPlan {
+                    assign_activate: d.assign_activate,
+                    sync0_cycle_ns: d.sync0_cycle.ns(m.app_time_period),
+                    sync0_shift_ns: d.sync0_shift,
+                    sync1_cycle_ns: d.sync1_cycle.ns(m.app_time_period),
+                }),
             })
             .collect(),
+        ref_clock_sync_cycles: m.ref_clock_sync_cycles,
         ..MasterConfig::default()
     }
 }

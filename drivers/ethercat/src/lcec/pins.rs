@@ -8,8 +8,10 @@
 //!   ([`master_pins`]): `slaves-responding`, `state-init`, `state-preop`,
 //!   `state-safeop`, `state-op`, `link-up`, `all-op`; each master adds the
 //!   working counter (`wkc`, `wkc-state`, `wkc-min`, `wkc-change-count`,
-//!   `wkc-reset`) and the DC drift (`dc-sync-diff`, `dc-sync-converged`,
-//!   parameter `dc-sync-max`);
+//!   `wkc-reset`), the DC drift (`dc-sync-diff`, `dc-sync-converged`,
+//!   parameters `dc-sync-max`, `dc-sync-monitor`) and the time pair
+//!   (`app-time-lo`/`-hi`: the cycle's DC application time,
+//!   `mono-time-lo`/`-hi`: its CLOCK_MONOTONIC time);
 //! * every slave's state ([`slave_state_pins`]): `slave-online`,
 //!   `slave-oper`, `slave-state-init`, `-preop`, `-safeop`, `-op`;
 //! * what its type adds ([`slave_pins`]): `din-N`/`din-N-not` (EL1xxx),
@@ -198,6 +200,14 @@ pub fn master_pins(global: bool) -> Vec<PinSpec> {
             PinSpec::new("dc-sync-diff", U32, Kind::Out),
             PinSpec::new("dc-sync-converged", Bit, Kind::Out),
             PinSpec::new("dc-sync-max", U32, Kind::Param),
+            PinSpec {
+                initial: PinValue::Bit(true),
+                ..PinSpec::new("dc-sync-monitor", Bit, Kind::Param)
+            },
+            PinSpec::new("app-time-lo", U32, Kind::Out),
+            PinSpec::new("app-time-hi", U32, Kind::Out),
+            PinSpec::new("mono-time-lo", U32, Kind::Out),
+            PinSpec::new("mono-time-hi", U32, Kind::Out),
         ]);
     }
     v

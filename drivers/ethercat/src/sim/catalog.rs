@@ -74,6 +74,7 @@ fn device(
         group: group.to_string(),
         mailbox,
         dc: false,
+        needs_sync0: false,
         od,
         outputs_at: if mailbox { OUTPUTS_AT } else { 0x0F00 },
         inputs_at: if mailbox { INPUTS_AT } else { 0x1000 },
@@ -81,11 +82,28 @@ fn device(
     }
 }
 
+/// A device whose ESC has distributed clocks (a reference clock, and
+/// SYNC0/SYNC1 for those that use them).
+fn with_dc(
+    kind: &str,
+    id: Identity,
+    order: &str,
+    group: &str,
+    mailbox: bool,
+    od: Dictionary,
+    app: Box<dyn Application>,
+) -> Device {
+    Device {
+        dc: true,
+        ..device(kind, id, order, group, mailbox, od, app)
+    }
+}
+
 /// EK1100 EtherCAT coupler: no process data.
 pub fn ek1100(serial: u32) -> Device {
     let id = identity(0x044C_2C52, serial);
     let od = dictionary(id, "EK1100", &[], &[], &[], &[]);
-    device(
+    with_dc(
         "EK1100",
         id,
         "EK1100 EtherCAT-Koppler (2A E-Bus)",
@@ -303,7 +321,7 @@ pub fn el5101(serial: u32) -> Device {
         },
     ];
     let od = dictionary(id, "EL5101", &outs, &ins, &[0x1600], &[0x1A00, 0x1A02]);
-    device(
+    with_dc(
         "EL5101",
         id,
         "EL5101 1K. Inc. Encoder 5V",
@@ -494,7 +512,7 @@ pub fn el7041(serial: u32) -> Device {
     );
     od.add(0x8010, 5, "Motor EMF", (dtype::U16, 16), Access::Rw, 0);
     od.add(0x8012, 1, "Operation mode", (dtype::U8, 8), Access::Rw, 0);
-    device(
+    with_dc(
         "EL7041",
         id,
         "EL7041 1K. Schrittmotor-Endstufe (50V, 5A)",

@@ -340,6 +340,7 @@ pub fn servo(serial: u32) -> Device {
         group: "Drive".into(),
         mailbox: true,
         dc: true,
+        needs_sync0: false,
         od,
         outputs_at: OUTPUTS_AT,
         inputs_at: INPUTS_AT,
