@@ -57,6 +57,7 @@ fn bring_up_exchange_and_faults() {
                 data: 5000u32.to_le_bytes().to_vec(),
             }],
             dc: None,
+            emergencies: false,
         }],
         ..MasterConfig::default()
     };
@@ -157,6 +158,7 @@ fn a_wrong_slave_is_a_load_error_naming_it() {
             identity: Some((2, 0x07D8_3052)),
             sdos: vec![],
             dc: None,
+            emergencies: false,
         }],
         ..MasterConfig::default()
     };

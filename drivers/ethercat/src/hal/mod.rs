@@ -37,9 +37,11 @@
 
 mod any_pin;
 mod drive;
+mod encoder;
 mod field;
 mod setup;
 mod slave;
+mod stepper;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -179,7 +181,14 @@ impl<H: HalHost> MasterRt<H> {
         for s in &mut self.slaves {
             let state = self.cyclic.al_state(s.index);
             let healthy = self.cyclic.healthy(s.index);
-            s.read(self.cyclic.inputs(s.index), state, healthy, &st, log);
+            let emcy = self.cyclic.take_emergency(s.index);
+            s.read(
+                self.cyclic.inputs(s.index),
+                (state, healthy),
+                emcy,
+                &st,
+                log,
+            );
         }
         for i in 0..self.cyclic.slaves().len() {
             let state = self.cyclic.al_state(i);

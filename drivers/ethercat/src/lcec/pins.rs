@@ -395,7 +395,7 @@ fn encoder_el5101() -> Vec<PinSpec> {
         ("enc-set-raw-count-val", S32, In, e(0x7000, 2, 16)),
         ("enc-raw-count", S32, Out, e(0x6000, 2, 16)),
         ("enc-count", S32, Out, None),
-        ("enc-raw-latch", S32, Out, e(0x6000, 3, 16)),
+        ("enc-raw-latch", S32, Out, None),
         ("enc-raw-freq", U32, Out, e(0x6000, 4, 32)),
         ("enc-raw-period", U32, Out, e(0x6000, 5, 16)),
         ("enc-raw-window", U32, Out, e(0x6000, 6, 16)),
@@ -403,7 +403,15 @@ fn encoder_el5101() -> Vec<PinSpec> {
         ("enc-period", Float, Out, None),
         ("enc-frequency", Float, Out, None),
         ("enc-pos-scale", Float, Io, None),
+        ("enc-frequency-scale", Float, Io, None),
     ])
+    .into_iter()
+    .map(|p| match p.name.as_str() {
+        // lcec's default, kept for its users' configurations.
+        "enc-frequency-scale" => p.starting(0.05),
+        _ => p,
+    })
+    .collect()
 }
 
 fn stepper_el7041() -> Vec<PinSpec> {
@@ -429,7 +437,7 @@ fn stepper_el7041() -> Vec<PinSpec> {
         ("enc-set-raw-count-val", S32, In, e(0x7000, 0x11, 16)),
         ("enc-raw-count", S32, Out, e(0x6000, 0x11, 16)),
         ("enc-count", S32, Out, None),
-        ("enc-raw-latch", S32, Out, e(0x6000, 0x12, 16)),
+        ("enc-raw-latch", S32, Out, None),
         ("enc-pos", Float, Out, None),
         ("enc-pos-scale", Float, Io, None),
         ("srv-scale", Float, Io, None),
@@ -439,9 +447,9 @@ fn stepper_el7041() -> Vec<PinSpec> {
         ("srv-curr-dc", Float, Out, None),
         ("srv-enable", Bit, In, e(0x7010, 0x01, 1)),
         ("srv-absmode", Bit, In, None),
-        ("srv-cmd", Float, In, e(0x7010, 0x21, 16)),
-        ("srv-raw-cmd", S32, Out, e(0x7010, 0x21, 16)),
-        ("srv-reset", Bit, In, e(0x7010, 0x02, 1)),
+        ("srv-cmd", Float, In, None),
+        ("srv-raw-cmd", S32, Out, None),
+        ("srv-reset", Bit, In, None),
         ("srv-reduce-torque", Bit, In, e(0x7010, 0x03, 1)),
         ("srv-ready-to-enable", Bit, Out, e(0x6010, 0x01, 1)),
         ("srv-ready", Bit, Out, e(0x6010, 0x02, 1)),

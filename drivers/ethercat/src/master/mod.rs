@@ -34,6 +34,7 @@
 //! PRE-OP back to OP (AL control with error acknowledge).
 
 pub mod dc;
+pub mod emcy;
 pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
@@ -92,6 +93,8 @@ pub struct SlavePlan {
     pub sdos: Vec<SdoWrite>,
     /// Its SYNC unit (`<dcConf>`), set up in PRE-OP after the SDOs.
     pub dc: Option<DcPlan>,
+    /// Poll its mailbox for emergencies during cycles (CiA 402 drives).
+    pub emergencies: bool,
 }
 
 /// The master's settings.
@@ -177,6 +180,7 @@ struct Shared {
     counters: Counters,
     frame_ns: AtomicU32,
     clocks: Clocks,
+    emergencies: emcy::Slots,
 }
 
 /// The distributed clocks as the helper and the realtime side see them.
@@ -231,6 +235,8 @@ pub struct Cyclic {
     wkc: u16,
     /// EtherCAT time minus CLOCK_MONOTONIC (ns).
     app_base: i64,
+    /// Per slave: the count of the last emergency taken.
+    emcy_seen: Vec<u32>,
 }
 
 /// What one `read` found.
@@ -292,6 +298,7 @@ impl Master {
             last_read_tag: 0,
             wkc: 0,
             app_base: shared.clocks.base,
+            emcy_seen: vec![0; slaves.len()],
         };
         Ok((
             Master {
@@ -439,6 +446,17 @@ impl Cyclic {
         self.shared.clocks.monitor.store(on, Relaxed);
     }
 
+    /// The error code of an emergency slave `i` sent since the last
+    /// call, if any (the latest when several came).
+    pub fn take_emergency(&mut self, i: usize) -> Option<u16> {
+        let (count, code) = self.shared.emergencies.latest(i);
+        let seen = self.emcy_seen.get_mut(i)?;
+        (count != *seen).then(|| {
+            *seen = count;
+            code
+        })
+    }
+
     /// The clocks as the last frames saw them.
     pub fn dc_status(&self) -> DcStatus {
         let c = &self.shared.clocks;
@@ -494,7 +512,7 @@ fn helper(link: Box<dyn Link>, cfg: MasterConfig, ready: Ready) {
         buf: vec![0; 1600],
     };
     let up = bring_up(&md, &mut io, &cfg, &iface);
-    let (group, shared, slaves, mut clocks) = match up {
+    let (group, shared, slaves, mut extras) = match up {
         Ok(x) => x,
         Err(e) => {
             let _ = ready.send(Err(e));
@@ -504,7 +522,7 @@ fn helper(link: Box<dyn Link>, cfg: MasterConfig, ready: Ready) {
     if ready.send(Ok((shared.clone(), slaves.clone()))).is_err() {
         return;
     }
-    serve::serve(&md, &mut io, &group, &shared, &slaves, &cfg, &mut clocks);
+    serve::serve(&md, &mut io, &group, &shared, &slaves, &cfg, &mut extras);
 }
 
 type Group = ethercrab::SubDeviceGroup<
@@ -519,7 +537,7 @@ fn bring_up(
     io: &mut Io<'_>,
     cfg: &MasterConfig,
     iface: &str,
-) -> Result<(Group, Arc<Shared>, Vec<SlaveInfo>, DcCycle)> {
+) -> Result<(Group, Arc<Shared>, Vec<SlaveInfo>, serve::Extras)> {
     let group = io
         .block_on(md.init_single_group::<MAX_SLAVES, MAX_PDI>(ethercat_now))
         .map_err(|e| master_error(iface, "scanning the segment (INIT to PRE-OP)", e))?;
@@ -549,6 +567,18 @@ fn bring_up(
     let group = io
         .block_on(group.into_op(md))
         .map_err(|e| master_error(iface, "bringing the segment to OP", e))?;
+    let mut mailboxes = emcy::MailboxPoll::default();
+    for plan in cfg.slaves.iter().filter(|p| p.emergencies) {
+        let i = usize::from(plan.position);
+        let mailbox = layouts.get(i).and_then(|l| l.mailbox_in);
+        if let (Some(mailbox), Ok(sd)) = (mailbox, group.subdevice(md, i)) {
+            mailboxes.polled.push(emcy::Polled {
+                slave: i,
+                station: sd.configured_address(),
+                mailbox,
+            });
+        }
+    }
     let mut slaves = Vec::new();
     let (mut ins, mut outs) = (0usize, 0usize);
     let mut expected = 0u16;
@@ -587,8 +617,9 @@ fn bring_up(
             monitor: AtomicBool::new(true),
             ..Clocks::default()
         },
+        emergencies: emcy::Slots::new(slaves.len()),
     });
-    Ok((group, shared, slaves, clocks))
+    Ok((group, shared, slaves, serve::Extras { clocks, mailboxes }))
 }
 
 /// What the configuration says of one slave, done in PRE-OP: its

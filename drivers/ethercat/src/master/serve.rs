@@ -13,12 +13,22 @@ use std::time::{Duration, Instant};
 use ethercrab::{MainDevice, SubDeviceState};
 
 use super::dc::DcCycle;
+use super::emcy::MailboxPoll;
 use super::io::Io;
 use super::{Group, MasterConfig, Shared, SlaveInfo, LOST_LIMIT, MAX_SLAVES};
 use crate::regs::{self, al};
 
 /// The helper's cycles: each `write` of the realtime side sends one
 /// frame; its answer is published for the next `read`.
+/// What the helper does after each cycle's frame besides the frame.
+#[derive(Debug, Default)]
+pub(super) struct Extras {
+    /// The distributed clocks.
+    pub(super) clocks: DcCycle,
+    /// The mailboxes polled for emergencies.
+    pub(super) mailboxes: MailboxPoll,
+}
+
 pub(super) fn serve(
     md: &MainDevice<'_>,
     io: &mut Io<'_>,
@@ -26,7 +36,7 @@ pub(super) fn serve(
     shared: &Shared,
     slaves: &[SlaveInfo],
     cfg: &MasterConfig,
-    clocks: &mut DcCycle,
+    extras: &mut Extras,
 ) {
     let mut out = vec![0u8; shared.outputs.len()];
     let mut inp = vec![0u8; shared.inputs.len()];
@@ -64,34 +74,76 @@ pub(super) fn serve(
         }
         shared.link_up.store(io.link.is_up(), Relaxed);
         let started = Instant::now();
-        let frame = group.tx_rx_sync_system_time(md);
-        match io.block_on(with_deadline(frame, started + timeout)) {
-            Some(Ok(resp)) => {
-                lost_run = 0;
-                shared.frame_ns.store(
-                    started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
-                    Relaxed,
-                );
-                if let Some(t) = resp.extra {
-                    shared.clocks.reference.store(t, Relaxed);
-                }
-                received(md, group, shared, slaves, &resp, &mut inp);
-                shared.inputs.write(&inp, tag);
-            }
-            _ => {
-                shared.counters.lost.fetch_add(1, Relaxed);
-                lost_run += 1;
-                if lost_run >= LOST_LIMIT {
-                    // No frames back: as far as the slaves go, the link
-                    // is down.
-                    shared.wkc.store(0, Release);
-                    shared.link_up.store(false, Relaxed);
-                }
+        let has_reference = extras.clocks.reference.is_some();
+        let deadline = started + timeout;
+        if exchange(
+            md,
+            io,
+            group,
+            has_reference,
+            deadline,
+            shared,
+            slaves,
+            &mut inp,
+        ) {
+            lost_run = 0;
+            shared.frame_ns.store(
+                started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
+                Relaxed,
+            );
+            shared.inputs.write(&inp, tag);
+        } else {
+            shared.counters.lost.fetch_add(1, Relaxed);
+            lost_run += 1;
+            if lost_run >= LOST_LIMIT {
+                // No frames back: as far as the slaves go, the link is
+                // down.
+                shared.wkc.store(0, Release);
+                shared.link_up.store(false, Relaxed);
             }
         }
         let monitor = shared.clocks.monitor.load(Relaxed);
+        let clocks = &mut extras.clocks;
         if let Some(diff) = clocks.after_frame(md, io, shared.clocks.base, monitor, timeout) {
             shared.clocks.diff.store(diff, Relaxed);
+        }
+        extras.mailboxes.poll(md, io, &shared.emergencies, timeout);
+    }
+}
+
+/// One cycle's frame, back by `deadline` (true) or not: with a
+/// reference clock it carries the clock's time to the others (EtherCrab's
+/// `tx_rx_sync_system_time`, which must not be called without one: its
+/// fallback takes the process image's lock twice and spins forever).
+#[allow(clippy::too_many_arguments, reason = "the helper's state, passed down")]
+fn exchange(
+    md: &MainDevice<'_>,
+    io: &mut Io<'_>,
+    group: &Group,
+    has_reference: bool,
+    deadline: Instant,
+    shared: &Shared,
+    slaves: &[SlaveInfo],
+    inp: &mut [u8],
+) -> bool {
+    if has_reference {
+        match io.block_on(with_deadline(group.tx_rx_sync_system_time(md), deadline)) {
+            Some(Ok(resp)) => {
+                if let Some(t) = resp.extra {
+                    shared.clocks.reference.store(t, Relaxed);
+                }
+                received(md, group, shared, slaves, &resp, inp);
+                true
+            }
+            _ => false,
+        }
+    } else {
+        match io.block_on(with_deadline(group.tx_rx(md), deadline)) {
+            Some(Ok(resp)) => {
+                received(md, group, shared, slaves, &resp, inp);
+                true
+            }
+            _ => false,
         }
     }
 }

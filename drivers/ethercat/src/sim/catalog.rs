@@ -252,6 +252,9 @@ pub struct Encoder {
     /// Where the index pulse is (counts, modulo `index_every`).
     pub index_every: i64,
     position: f64,
+    /// The count latched at an index pulse while latch C was enabled;
+    /// it stays (and "latch C valid" with it) until the enable drops.
+    latched: Option<i64>,
 }
 
 impl Application for Encoder {
@@ -271,13 +274,20 @@ impl Application for Encoder {
             self.position = v as f64;
             status |= 0x04;
         }
-        if ctrl & 0x01 != 0 && self.index_every > 0 {
-            let a = before.floor() as i64 / self.index_every;
-            let b = count / self.index_every;
+        if ctrl & 0x01 == 0 {
+            self.latched = None;
+        } else if self.latched.is_none() && self.index_every > 0 {
+            let a = before.floor().div_euclid(self.index_every as f64);
+            let b = (count as f64).div_euclid(self.index_every as f64);
             if a != b {
-                od.set(0x6000, 3, (b * self.index_every) as u64);
-                status |= 0x01;
+                // The pulse between the two: the multiple passed.
+                let at = a.max(b) as i64 * self.index_every;
+                self.latched = Some(at);
+                od.set(0x6000, 3, at as u64);
             }
+        }
+        if self.latched.is_some() {
+            status |= 0x01;
         }
         od.set(0x6000, 1, u64::from(status));
         od.set(0x6000, 2, self.position.floor() as i64 as u64);
