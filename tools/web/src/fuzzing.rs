@@ -7,6 +7,7 @@ use axum::http::{HeaderMap, HeaderName, HeaderValue};
 use crate::change::{words, Change, COMMANDS};
 use crate::guard::{check, Policy};
 use crate::machine::Action;
+use crate::meters::{Meters, MAX_METERS};
 use crate::stream::Watch;
 use crate::token::{Token, HEADER};
 
@@ -66,7 +67,11 @@ pub fn request(data: &[u8]) {
             assert!(COMMANDS.contains(&w[0].as_str()) && w.len() <= 65);
         }
     }
-    let _ = serde_json::from_str::<Watch>(body);
+    if let Ok(watch) = serde_json::from_str::<Watch>(body) {
+        if Meters::new(&watch.meters).is_ok() {
+            assert!(watch.meters.len() <= MAX_METERS);
+        }
+    }
     let _ = serde_json::from_str::<Action>(body);
 }
 

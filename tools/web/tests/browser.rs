@@ -2,8 +2,10 @@
 //! chromium-driver): a watched pin's value updates on the page, and in
 //! the tree once a filter opens its group; a setp typed into the page is
 //! read back with halcmd's getp, and halcmd's refusal of a bad setp shows
-//! on the page word for word; on the simulated mill, the e-stop reset and
-//! machine-on buttons turn the machine on.
+//! on the page word for word; a meter shows the smallest and largest value
+//! seen;
+//! on the simulated mill, the e-stop reset and machine-on buttons turn
+//! the machine on.
 //!
 //! Ignored where chromium is absent; scripts/test-all runs it (with
 //! --include-ignored) when /usr/bin/chromium and /usr/bin/chromedriver
@@ -47,7 +49,9 @@ fn the_page_shows_live_values_and_sets_through_halcmd() {
     let watch =
         json!([{"kind": "pin", "name": "webpage.out"}, {"kind": "pin", "name": "webpage.in"}]);
     browser.eval(&format!(
-        "localStorage.setItem('hal-web.watch.{}', '{}'); return true;",
+        "localStorage.setItem('hal-web.watch.{0}', '{1}'); \
+         localStorage.setItem('hal-web.meters.{0}', '[{{\"kind\":\"pin\",\"name\":\"webpage.out\"}}]'); \
+         return true;",
         host.instance, watch
     ));
     browser.go(&url);
@@ -64,6 +68,15 @@ fn the_page_shows_live_values_and_sets_through_halcmd() {
     out.set(8.5);
     browser.wait_for(in_tree, &json!("8.5"));
     browser.wait_for(&value_of("webpage.out"), &json!("8.5"));
+    let meter = |cell: &str| {
+        format!(
+            "const c = document.querySelector('#meters tr[data-name=\"webpage.out\"] td.{cell}'); \
+             return c ? c.textContent : null;"
+        )
+    };
+    browser.wait_for(&meter("value"), &json!("8.5"));
+    browser.wait_for(&meter("min"), &json!("-4.75"));
+    browser.wait_for(&meter("max"), &json!("8.5"));
 
     let field = "#watch tr[data-name=\"webpage.in\"] input.set";
     browser.type_into(field, "3.25\u{E007}");
