@@ -1,6 +1,6 @@
 // hal-web's page: the HAL tree with live values, a watch list and meters
 // kept in localStorage, changes through halcmd's commands, and the
-// machine panel.
+// machine panel (the scope is in scope.js).
 // Every API request carries the access token (when one is in force) in
 // the X-HAL-Token header, never in a URL.
 "use strict";
@@ -425,6 +425,7 @@ async function load() {
   $("instance").textContent = "— " + state.instance;
   $("conn").textContent = "connected";
   drawTree();
+  scopeThreads();
 }
 
 document.addEventListener("DOMContentLoaded", () => {

@@ -6,7 +6,9 @@
 //! * The API (`/api/...`, behind [`guard`]): `show` (the whole tree),
 //!   `stream` (live values of what the page watches, and its meters),
 //!   `hal` (setp, sets, net, unlinkp through halcmd's command layer),
-//!   `machine` (task's state and buttons, as task-cmd sends them).
+//!   `machine` (task's state and buttons, as task-cmd sends them),
+//!   `scope` and `scope.csv` (captures by the headless halscope's sampler
+//!   and trigger).
 //! * The page: plain HTML and JavaScript built into the binary.
 
 #![forbid(unsafe_code)]
@@ -20,6 +22,7 @@ pub mod guard;
 mod machine;
 mod meters;
 mod page;
+mod scope;
 mod server;
 mod snapshot;
 mod state;

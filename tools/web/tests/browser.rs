@@ -4,6 +4,7 @@
 //! read back with halcmd's getp, and halcmd's refusal of a bad setp shows
 //! on the page word for word; a meter shows the smallest and largest value
 //! seen;
+//! the scope draws a capture and saves its CSV and PNG;
 //! on the simulated mill, the e-stop reset and machine-on buttons turn
 //! the machine on.
 //!
@@ -114,4 +115,96 @@ fn the_machine_buttons_turn_the_mill_on() {
     browser.click("#machine-machine-on");
     browser.wait_for(machine, &json!("ON"));
     assert!(matches!(mill.task("state"), Some(TaskAnswer::Done(s)) if s.contains("machine=ON")));
+}
+
+const SIGGEN: &str = "\
+loadrt siggen
+loadrt threads name1=servo-thread period1=1000000
+addf siggen.0.update servo-thread
+setp siggen.0.frequency 50
+net sq siggen.0.square
+start
+";
+
+/// Waits (up to 30 s) for `path` to exist with the whole download in it.
+fn downloaded(path: &std::path::Path) -> Vec<u8> {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    let partial = path.with_extension("crdownload");
+    loop {
+        if path.exists() && !partial.exists() {
+            return std::fs::read(path).unwrap();
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "{} was not downloaded",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+#[test]
+#[ignore = "needs Debian's chromium and chromium-driver (scripts/install-deps installs them; \
+            scripts/test-all runs this test with --include-ignored when they are there)"]
+fn the_scope_draws_a_capture_and_saves_csv_and_png() {
+    let host = InProcessHost::start("web-browser-scope");
+    let (ok, _, err) = host.run("setup.hal", SIGGEN, false);
+    assert!(ok, "{err}");
+    let web = Web::start(&host.instance, &[]);
+    let downloads = std::env::temp_dir().join(format!("hal-web-downloads-{}", host.instance));
+    let _ = std::fs::remove_dir_all(&downloads);
+    std::fs::create_dir_all(&downloads).unwrap();
+    let browser = Browser::downloading_to(&downloads);
+    browser.go(&format!("http://{}/", web.host()));
+    browser.wait_for(
+        "return document.querySelectorAll('#scope-thread option').length;",
+        &json!(1),
+    );
+    browser.type_into("#scope-pins", "sq,siggen.0.sine");
+    // 5 ms a division at 1 ms a sample: 50 samples, 10 before the trigger.
+    browser.eval(
+        "document.getElementById('scope-timebase').value = '5'; \
+         document.getElementById('scope-trigger').value = 'sq'; \
+         document.getElementById('scope-level').value = '0.5'; return true;",
+    );
+    browser.click("#scope-run");
+    browser.wait_for(
+        "return document.getElementById('scope').dataset.samples || null;",
+        &json!("50"),
+    );
+    browser.wait_for(
+        "return document.getElementById('scope-state').textContent;",
+        &json!("triggered"),
+    );
+    assert_eq!(
+        browser.eval("return document.getElementById('scope').dataset.drawn;"),
+        json!("100")
+    );
+    // Something other than the white background and the grid was drawn.
+    let colored = browser.eval(
+        "const c = document.getElementById('scope'); \
+         const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let n = 0; for (let i = 0; i < d.length; i += 4) \
+           if (d[i] > 150 && d[i + 1] < 80 && d[i + 2] < 80) n++; \
+         return n > 100;",
+    );
+    assert_eq!(colored, json!(true));
+
+    browser.click("#scope-csv");
+    let csv = String::from_utf8(downloaded(&downloads.join("halscope.csv"))).unwrap();
+    let (status, served) = web.request("GET", "/api/scope.csv", &[], None);
+    assert_eq!(status, 200);
+    assert_eq!(csv, served);
+    assert!(
+        csv.starts_with("sample,time_ms,sq,siggen.0.sine\n"),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 51);
+    let trigger_row: Vec<&str> = csv.lines().nth(11).unwrap().split(',').collect();
+    assert_eq!(trigger_row[1], "0.000000", "{csv}");
+
+    browser.click("#scope-png");
+    let png = downloaded(&downloads.join("halscope.png"));
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    let _ = std::fs::remove_dir_all(&downloads);
 }
