@@ -1,6 +1,7 @@
 // hal-web's page: the HAL tree with live values, a watch list and meters
 // kept in localStorage, changes through halcmd's commands, and the
-// machine panel (the scope is in scope.js).
+// machine panel (the scope and the threads are in scope.js and
+// threads.js).
 // Every API request carries the access token (when one is in force) in
 // the X-HAL-Token header, never in a URL.
 "use strict";

@@ -8,7 +8,8 @@
 //!   `hal` (setp, sets, net, unlinkp through halcmd's command layer),
 //!   `machine` (task's state and buttons, as task-cmd sends them),
 //!   `scope` and `scope.csv` (captures by the headless halscope's sampler
-//!   and trigger).
+//!   and trigger),
+//!   `threads` (timing and latency histograms, as latency-test reads them).
 //! * The page: plain HTML and JavaScript built into the binary.
 
 #![forbid(unsafe_code)]
@@ -27,6 +28,7 @@ mod server;
 mod snapshot;
 mod state;
 mod stream;
+mod threads;
 pub mod token;
 mod watch;
 

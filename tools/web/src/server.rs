@@ -14,7 +14,7 @@ use hal_core::userspace::ExitSignals;
 use hal_core::Instance;
 
 use crate::state::{blocking, error, AppState, Shared};
-use crate::{change, guard, machine, page, scope, snapshot, stream};
+use crate::{change, guard, machine, page, scope, snapshot, stream, threads};
 
 /// Largest request body accepted (a watch list of [`crate::watch::MAX_ITEMS`]).
 const BODY_LIMIT: usize = 256 * 1024;
@@ -30,6 +30,7 @@ pub fn router(state: Shared) -> Router {
         .route("/hal", post(change::post))
         .route("/machine", get(machine::get).post(machine::post))
         .route("/scope", post(scope::post))
+        .route("/threads", get(threads::get))
         .route("/scope.csv", get(scope::csv))
         .layer(from_fn_with_state(state.clone(), admit))
         .layer(DefaultBodyLimit::max(BODY_LIMIT));
@@ -37,6 +38,7 @@ pub fn router(state: Shared) -> Router {
         .route("/", get(page::index))
         .route("/app.js", get(page::script))
         .route("/scope.js", get(page::scope_script))
+        .route("/threads.js", get(page::threads_script))
         .route("/app.css", get(page::style))
         .nest("/api", api)
         .with_state(state)

@@ -5,6 +5,7 @@
 //! on the page word for word; a meter shows the smallest and largest value
 //! seen;
 //! the scope draws a capture and saves its CSV and PNG;
+//! the thread view shows a thread's latency histogram;
 //! on the simulated mill, the e-stop reset and machine-on buttons turn
 //! the machine on.
 //!
@@ -159,6 +160,12 @@ fn the_scope_draws_a_capture_and_saves_csv_and_png() {
     browser.wait_for(
         "return document.querySelectorAll('#scope-thread option').length;",
         &json!(1),
+    );
+    // The thread view shows the servo thread and its latency histogram.
+    browser.wait_for(
+        "return document.querySelector('#threads tr[data-name=\"servo-thread\"]') !== null \
+         && Number(document.getElementById('latency').dataset.bars || 0) > 0;",
+        &json!(true),
     );
     browser.type_into("#scope-pins", "sq,siggen.0.sine");
     // 5 ms a division at 1 ms a sample: 50 samples, 10 before the trigger.
