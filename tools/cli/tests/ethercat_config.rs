@@ -57,3 +57,27 @@ fn motion_homes_and_moves_three_ethercat_drives() {
         }
     }
 }
+
+/// configs/sim/ethercat-io.hal: the terminals and a generic slave laid
+/// out by its XML, on a simulated segment with distributed clocks.
+#[test]
+fn terminals_and_a_generic_slave_exchange_data() {
+    let dir = common::root().join("configs/sim");
+    let out = common::halrun(&dir, &["-f", "ethercat-io.hal"], "ethercat-io");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(value(&stdout, "lcec.all-op"), "TRUE");
+    assert_eq!(value(&stdout, "lcec.0.slaves-responding"), "0x00000006");
+    assert_eq!(value(&stdout, "lcec.0.aout.aout-0-raw"), "8192");
+    assert_eq!(value(&stdout, "lcec.0.stepper.srv-raw-cmd"), "16383");
+    assert_eq!(value(&stdout, "lcec.0.stepper.srv-move-pos"), "TRUE");
+    let count: i64 = value(&stdout, "lcec.0.stepper.enc-count").parse().unwrap();
+    assert!(count > 0, "the stepper's encoder counts: {count}");
+    let level: f64 = value(&stdout, "lcec.0.io.level").parse().unwrap();
+    assert!((level - 12.34).abs() < 1e-9, "level {level}");
+    assert_eq!(value(&stdout, "lcec.0.io.lamp-on"), "TRUE");
+}
