@@ -8,7 +8,9 @@
 //! runs (TWOPASS if asked), then every `[HAL]HALCMD`; the threads start;
 //! the motion controller is configured as task configures it; the
 //! `POSTGUI_HALFILE`s run. halui starts before the HAL files when
-//! `[HAL]HALUI = halui`. The GUI (`[DISPLAY]DISPLAY`), the
+//! `[HAL]HALUI = halui`; hal-web (the HAL and the machine in a browser)
+//! starts after the `POSTGUI_HALFILE`s, where a GUI would, when
+//! `[HAL]HALWEB = hal-web [OPTIONS]`. The GUI (`[DISPLAY]DISPLAY`), the
 //! `[APPLICATIONS]` and GUI-only HAL lines are not started: the launcher
 //! says what it skipped and which pins that left without their partner.
 //! It then runs the task's part (e-stop chain, iocontrol, `ini.*` pins,
@@ -57,8 +59,10 @@ usage: linuxcnc [-v] [-d] [-k] [-i NAME] [-t TPMOD] [-m HOMEMOD] [-H DIR]... MAC
 
 Runs a LinuxCNC machine configuration headless: its HAL files, its motion
 settings, iocontrol, the task pins and task with its G-code interpreter,
-until Ctrl-C or SIGTERM, and halui if [HAL]HALUI = halui. GUIs are not
-started. Send the machine
+until Ctrl-C or SIGTERM, halui if [HAL]HALUI = halui, and hal-web (the
+HAL and the machine in a browser) if [HAL]HALWEB = hal-web [OPTIONS],
+after the POSTGUI_HALFILEs, e.g. HALWEB = hal-web --read-only -p 8400.
+GUIs are not started. Send the machine
 task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
 mode, open, run, mdi, status; gcode-run runs a program through task) and
 motion commands with motion-cmd.
@@ -368,6 +372,38 @@ fn start_halui(session: &mut Session<'_>, ini: &Ini) -> Result<(), LaunchError> 
     }
 }
 
+/// The HAL command that starts hal-web when `[HAL]HALWEB` asks for it:
+/// `HALWEB = hal-web [OPTIONS]` becomes `loadusr -Wn hal-web hal-web
+/// OPTIONS` (the launcher goes on once it serves). `None` when the key is
+/// absent or names another program (reported with the GUIs).
+fn halweb_words(ini: &Ini) -> Option<Vec<String>> {
+    let e = ini.entry("HAL", "HALWEB")?;
+    let mut words = e.value.split_whitespace();
+    if words.next() != Some("hal-web") {
+        return None;
+    }
+    let mut cmd: Vec<String> = ["loadusr", "-Wn", "hal-web", "hal-web"]
+        .iter()
+        .map(|w| w.to_string())
+        .collect();
+    cmd.extend(words.map(str::to_string));
+    Some(cmd)
+}
+
+fn start_halweb(session: &mut Session<'_>, ini: &Ini) -> Result<(), LaunchError> {
+    let (Some(e), Some(words)) = (ini.entry("HAL", "HALWEB"), halweb_words(ini)) else {
+        return Ok(());
+    };
+    if session.run_words_at(Some(&e.origin.file), e.origin.line, &words) {
+        Ok(())
+    } else {
+        Err(LaunchError::Failed(format!(
+            "{}: [HAL]HALWEB = {}: hal-web did not start",
+            e.origin, e.value
+        )))
+    }
+}
+
 /// Says what was not started and which pins that left alone.
 pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
     let mut lines = Vec::new();
@@ -382,6 +418,12 @@ pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
         .filter(|e| !e.value.trim().is_empty() && e.value.trim() != "halui")
     {
         lines.push(format!("{}: halui ([HAL]HALUI = {})", e.origin, e.value));
+    }
+    if let Some(e) = ini
+        .entry("HAL", "HALWEB")
+        .filter(|e| halweb_words(ini).is_none() && !e.value.trim().is_empty())
+    {
+        lines.push(format!("{}: hal-web ([HAL]HALWEB = {})", e.origin, e.value));
     }
     for e in ini.all("APPLICATIONS", "APP") {
         lines.push(format!(
@@ -505,6 +547,7 @@ fn run_on_host(
         verbose: opts.verbose,
     };
     side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    start_halweb(&mut session, ini)?;
     report_skipped(ini, &startup.rules.borrow(), &inst);
     let mut server = crate::task_socket::TaskServer::bind(instance).map_err(|e| {
         let path = crate::task_socket::socket_path(instance).unwrap_or_default();
@@ -552,4 +595,32 @@ fn run_on_host(
     session.opts.stop = None;
     side.files_of(&mut session, "SHUTDOWN")?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halweb_starts_hal_web_with_its_options_only() {
+        let words = |text: &str| halweb_words(&Ini::parse(text));
+        assert_eq!(
+            words("[HAL]\nHALWEB = hal-web --read-only -p 8400\n").unwrap(),
+            [
+                "loadusr",
+                "-Wn",
+                "hal-web",
+                "hal-web",
+                "--read-only",
+                "-p",
+                "8400"
+            ]
+        );
+        assert_eq!(
+            words("[HAL]\nHALWEB = hal-web\n").unwrap(),
+            ["loadusr", "-Wn", "hal-web", "hal-web"]
+        );
+        assert_eq!(words("[HAL]\nHALWEB = webgui --x\n"), None);
+        assert_eq!(words("[HAL]\nHALUI = halui\n"), None);
+    }
 }

@@ -1,5 +1,7 @@
-// hal-web's page: the HAL tree with live values, a watch list kept in
-// localStorage, changes through halcmd's commands, and the machine panel.
+// hal-web's page: the HAL tree with live values, a watch list and meters
+// kept in localStorage, changes through halcmd's commands, and the
+// machine panel (the scope and the threads are in scope.js and
+// threads.js).
 // Every API request carries the access token (when one is in force) in
 // the X-HAL-Token header, never in a URL.
 "use strict";
@@ -61,6 +63,59 @@ function toggleWatch(kind, name) {
   setWatched(list);
 }
 
+// ---- meters (per instance, in localStorage): value, min and max ----
+
+function metersKey() { return "hal-web.meters." + state.instance; }
+
+function meterList() {
+  try { return JSON.parse(localStorage.getItem(metersKey()) || "[]"); }
+  catch (e) { return []; }
+}
+
+function toggleMeter(kind, name) {
+  const list = meterList();
+  const i = list.findIndex((m) => m.kind === kind && m.name === name);
+  if (i >= 0) list.splice(i, 1); else if (list.length < 16) list.push({ kind, name });
+  else say("a page shows at most 16 meters", true);
+  localStorage.setItem(metersKey(), JSON.stringify(list));
+  drawMeters();
+  restartStream();
+}
+
+function drawMeters() {
+  const body = $("meters").tBodies[0];
+  body.textContent = "";
+  for (const m of meterList()) {
+    const tr = document.createElement("tr");
+    tr.dataset.kind = m.kind;
+    tr.dataset.name = m.name;
+    tr.appendChild(cell(m.name));
+    tr.appendChild(cell("…", "value"));
+    tr.appendChild(cell("", "min"));
+    tr.appendChild(cell("", "max"));
+    const td = document.createElement("td");
+    const b = document.createElement("button");
+    b.type = "button";
+    b.textContent = "remove";
+    b.addEventListener("click", () => toggleMeter(m.kind, m.name));
+    td.appendChild(b);
+    tr.appendChild(td);
+    body.appendChild(tr);
+  }
+}
+
+function applyMeters(meters) {
+  const rows = $("meters").tBodies[0].rows;
+  const num = (x) => (x === null || x === undefined ? "" : String(x));
+  for (const [i, m] of Object.entries(meters)) {
+    const tr = rows[Number(i)];
+    if (!tr) continue;
+    tr.querySelector(".value").textContent = m.value === null ? "(gone)" : m.value;
+    tr.querySelector(".min").textContent = num(m.min);
+    tr.querySelector(".max").textContent = num(m.max);
+  }
+}
+
 // ---- rows ----
 
 function cell(text, cls) {
@@ -105,6 +160,17 @@ function watchButton(kind, name) {
   return td;
 }
 
+function meterButton(kind, name) {
+  const td = document.createElement("td");
+  const b = document.createElement("button");
+  b.className = "meter";
+  b.type = "button";
+  b.textContent = "meter";
+  b.addEventListener("click", () => toggleMeter(kind, name));
+  td.appendChild(b);
+  return td;
+}
+
 function rowFor(kind, o) {
   const tr = document.createElement("tr");
   tr.dataset.kind = kind;
@@ -129,6 +195,8 @@ function rowFor(kind, o) {
     (kind === "param" && o.dir === "RW") || (kind === "sig" && !o.writer);
   tr.appendChild(settable ? setField(kind, o.name) : cell(""));
   tr.appendChild(watchButton(kind, o.name));
+  tr.appendChild(kind === "pin" || kind === "sig" || kind === "param"
+    ? meterButton(kind, o.name) : cell(""));
   return tr;
 }
 
@@ -178,6 +246,7 @@ function drawTree() {
     tree.appendChild(group);
   }
   drawWatch();
+  drawMeters();
   restartStream();
 }
 
@@ -233,7 +302,8 @@ async function startStream() {
   if (state.streamAbort) state.streamAbort.abort();
   const items = visibleItems();
   state.streamKeys = items.map((w) => w.kind + ":" + w.name);
-  if (items.length === 0) return;
+  const meters = meterList();
+  if (items.length === 0 && meters.length === 0) return;
   const abort = new AbortController();
   state.streamAbort = abort;
   const headers = { "Content-Type": "application/json" };
@@ -242,7 +312,7 @@ async function startStream() {
   try {
     r = await fetch("/api/stream", {
       method: "POST", headers, signal: abort.signal,
-      body: JSON.stringify({ items, hz: 10 }),
+      body: JSON.stringify({ items, meters, hz: 10 }),
     });
   } catch (e) { return; }
   if (!r.ok) { say("live values: " + (await answer(r)).error, true); return; }
@@ -270,7 +340,8 @@ async function startStream() {
 }
 
 function applyValues(keys, event) {
-  for (const [i, v] of Object.entries(event.values)) {
+  if (event.meters) applyMeters(event.meters);
+  for (const [i, v] of Object.entries(event.values || {})) {
     const cells = state.rows.get(keys[Number(i)]) || [];
     for (const td of cells) td.textContent = v === null ? "(gone)" : v;
   }
@@ -355,6 +426,7 @@ async function load() {
   $("instance").textContent = "— " + state.instance;
   $("conn").textContent = "connected";
   drawTree();
+  scopeThreads();
 }
 
 document.addEventListener("DOMContentLoaded", () => {
@@ -367,6 +439,7 @@ document.addEventListener("DOMContentLoaded", () => {
   });
   $("filter").addEventListener("input", () => drawTree());
   $("refresh").addEventListener("click", () => load());
+  $("meters-reset").addEventListener("click", () => { drawMeters(); restartStream(); });
   $("change-form").addEventListener("submit", (e) => {
     e.preventDefault();
     const words = $("change-args").value.trim().split(/\s+/).filter((w) => w);

@@ -16,18 +16,25 @@ usage: hal-web [-i NAME] [--port PORT] [--listen ADDRESS] [--token] [--read-only
 
 Serves a running HAL instance in a browser: its pins, parameters, signals
 (with writer and readers), functions and threads as a tree with live
-values, watch lists, setp/sets/net/unlinkp through halcmd's own checks,
-and, when a machine runs on the instance (linuxcnc MACHINE.ini), its task
-state with the e-stop, machine-on, home, run, pause and abort buttons.
-Start it on its own against a running instance or with `loadusr -W hal-web`;
-it prints the address it serves once it listens.
+values, watch lists, meters (value, min and max), a scope (halscope's
+sampler and trigger: level, edge, pre-trigger; single, normal and auto
+modes; CSV and PNG), thread timing with live latency histograms,
+setp/sets/net/unlinkp through halcmd's own checks, and, when a machine
+runs on the instance (linuxcnc MACHINE.ini), its task state with the
+e-stop, machine-on, home, run, pause and abort buttons. Start it on its
+own against a running instance, with `loadusr -W hal-web`, or from the
+machine's INI file: [HAL]HALWEB = hal-web [OPTIONS] (linuxcnc starts it
+after the POSTGUI_HALFILEs). It prints the address it serves once it
+listens.
 
 It listens on 127.0.0.1 only unless --listen names another address; then
 (or with --token) every request must carry the access token in the
 X-HAL-Token header. The token is made afresh at each start, printed once
 (on a terminal) and stored, readable by its owner only, as
 hal-NAME.web-token in the private runtime directory. Every change also
-needs a same-origin request from the page.
+needs a same-origin request from the page, and so does a scope capture
+(it adds a sampler to the thread while it records); --read-only allows
+captures only through a sampler channel the HAL file loaded.
 
 options:
   -i, --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')

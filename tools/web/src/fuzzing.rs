@@ -5,8 +5,10 @@
 use axum::http::{HeaderMap, HeaderName, HeaderValue};
 
 use crate::change::{words, Change, COMMANDS};
-use crate::guard::{check, Policy};
+use crate::guard::{check, Access, Policy};
 use crate::machine::Action;
+use crate::meters::{Meters, MAX_METERS};
+use crate::scope::{plan, ScopeRequest, MAX_SAMPLES, MAX_TIMEOUT};
 use crate::stream::Watch;
 use crate::token::{Token, HEADER};
 
@@ -17,7 +19,8 @@ const SECRET: &str = "0123456789abcdef0123456789abcdef0123456789abcdef";
 /// Checks: a token policy admits only its token; no change is admitted
 /// read-only or without an Origin equal to `http://` and the Host; a body
 /// accepted as a change runs one of the four commands with at most
-/// 64 words.
+/// 64 words; a scope request accepted has a record of 2 to
+/// [`MAX_SAMPLES`] samples, fewer before the trigger, and a bounded wait.
 pub fn request(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let (head, body) = text.split_once("\n\n").unwrap_or((&text, ""));
@@ -47,27 +50,42 @@ pub fn request(data: &[u8]) {
         read_only: true,
     };
     let header = |name: &str| headers.get(name).and_then(|v| v.to_str().ok());
-    if check(&headers, &token, false).is_ok() {
+    if check(&headers, &token, Access::Read).is_ok() {
         assert_eq!(
             headers.get(HEADER).map(|v| v.as_bytes()),
             Some(SECRET.as_bytes())
         );
     }
-    for policy in [&token, &open] {
-        if check(&headers, policy, true).is_ok() {
+    for (policy, access) in [
+        (&token, Access::Change),
+        (&open, Access::Change),
+        (&read_only, Access::Capture),
+    ] {
+        if check(&headers, policy, access).is_ok() {
             let host = header("host").unwrap_or_default();
             assert!(!host.is_empty());
             assert_eq!(header("origin"), Some(format!("http://{host}").as_str()));
         }
     }
-    assert!(check(&headers, &read_only, true).is_err());
+    assert!(check(&headers, &read_only, Access::Change).is_err());
     if let Ok(change) = serde_json::from_str::<Change>(body) {
         if let Ok(w) = words(change) {
             assert!(COMMANDS.contains(&w[0].as_str()) && w.len() <= 65);
         }
     }
-    let _ = serde_json::from_str::<Watch>(body);
+    if let Ok(watch) = serde_json::from_str::<Watch>(body) {
+        if Meters::new(&watch.meters).is_ok() {
+            assert!(watch.meters.len() <= MAX_METERS);
+        }
+    }
     let _ = serde_json::from_str::<Action>(body);
+    if let Ok(req) = serde_json::from_str::<ScopeRequest>(body) {
+        if let Ok(plan) = plan(req) {
+            let r = &plan.request;
+            assert!(r.samples >= 2 && r.samples <= MAX_SAMPLES && r.pre < r.samples);
+            assert!(r.outputs.is_empty() && r.timeout <= MAX_TIMEOUT);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -79,5 +97,6 @@ mod tests {
         request(b"Host: 127.0.0.1:8338\nOrigin: http://127.0.0.1:8338\n\n{\"command\":\"setp\",\"args\":[\"a\",\"1\"]}");
         request(b"Host: m:1\nX-HAL-Token: 0123456789abcdef0123456789abcdef0123456789abcdef\n\n{\"items\":[]}");
         request(b"\xff\n\n\n{");
+        request(b"Host: 127.0.0.1:1\n\n{\"pins\":[\"a\"],\"thread\":\"t\",\"samples\":10,\"pre\":\"50%\",\"trigger\":\"a:rising:0\"}");
     }
 }

@@ -42,9 +42,22 @@ impl Refusal {
     }
 }
 
-/// Checks a request's headers; `change` for requests that change the HAL
-/// or the machine.
-pub fn check(headers: &HeaderMap, policy: &Policy, change: bool) -> Result<(), Refusal> {
+/// What a request may do, which decides what it needs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// Reads (the tree, live values, the machine's state): the token.
+    Read,
+    /// A scope capture: the token and the same origin (it adds a sampler
+    /// for the capture's time), allowed read-only; the capture itself
+    /// refuses read-only what would change the HAL.
+    Capture,
+    /// Changes the HAL or the machine: the token, the same origin, and
+    /// not read-only.
+    Change,
+}
+
+/// Checks a request's headers for `access`.
+pub fn check(headers: &HeaderMap, policy: &Policy, access: Access) -> Result<(), Refusal> {
     let host = text(headers, header::HOST.as_str()).unwrap_or_default();
     match &policy.token {
         Some(token) => {
@@ -62,10 +75,10 @@ pub fn check(headers: &HeaderMap, policy: &Policy, change: bool) -> Result<(), R
         None if !is_loopback_host(host) => return Err(Refusal::Host),
         None => {}
     }
-    if !change {
+    if access == Access::Read {
         return Ok(());
     }
-    if policy.read_only {
+    if access == Access::Change && policy.read_only {
         return Err(Refusal::ReadOnly);
     }
     let same_origin = text(headers, header::ORIGIN.as_str())
@@ -147,21 +160,21 @@ mod tests {
     fn changes_need_the_same_origin() {
         let p = open();
         let host = ("host", "127.0.0.1:9");
-        assert_eq!(check(&headers(&[host]), &p, false), Ok(()));
+        assert_eq!(check(&headers(&[host]), &p, Access::Read), Ok(()));
         assert_eq!(
-            check(&headers(&[host]), &p, true),
+            check(&headers(&[host]), &p, Access::Change),
             Err(Refusal::CrossOrigin)
         );
         let other = ("origin", "http://evil.example");
         assert_eq!(
-            check(&headers(&[host, other]), &p, true),
+            check(&headers(&[host, other]), &p, Access::Change),
             Err(Refusal::CrossOrigin)
         );
         let same = ("origin", "http://127.0.0.1:9");
-        assert_eq!(check(&headers(&[host, same]), &p, true), Ok(()));
+        assert_eq!(check(&headers(&[host, same]), &p, Access::Change), Ok(()));
         let cross_site = ("sec-fetch-site", "cross-site");
         assert_eq!(
-            check(&headers(&[host, same, cross_site]), &p, true),
+            check(&headers(&[host, same, cross_site]), &p, Access::Change),
             Err(Refusal::CrossOrigin)
         );
         let ro = Policy {
@@ -169,11 +182,19 @@ mod tests {
             ..open()
         };
         assert_eq!(
-            check(&headers(&[host, same]), &ro, true),
+            check(&headers(&[host, same]), &ro, Access::Change),
             Err(Refusal::ReadOnly)
         );
+        assert_eq!(check(&headers(&[host, same]), &ro, Access::Capture), Ok(()));
+        assert_eq!(
+            check(&headers(&[host, other]), &ro, Access::Capture),
+            Err(Refusal::CrossOrigin)
+        );
         let rebound = ("host", "evil.example:9");
-        assert_eq!(check(&headers(&[rebound]), &p, false), Err(Refusal::Host));
+        assert_eq!(
+            check(&headers(&[rebound]), &p, Access::Read),
+            Err(Refusal::Host)
+        );
     }
 
     #[test]
@@ -184,15 +205,21 @@ mod tests {
             read_only: false,
         };
         let host = ("host", "machine:8338");
-        assert_eq!(check(&headers(&[host]), &p, false), Err(Refusal::Token));
+        assert_eq!(
+            check(&headers(&[host]), &p, Access::Read),
+            Err(Refusal::Token)
+        );
         let wrong = ("x-hal-token", "00");
         assert_eq!(
-            check(&headers(&[host, wrong]), &p, false),
+            check(&headers(&[host, wrong]), &p, Access::Read),
             Err(Refusal::Token)
         );
         let right = ("x-hal-token", token.secret());
-        assert_eq!(check(&headers(&[host, right]), &p, false), Ok(()));
+        assert_eq!(check(&headers(&[host, right]), &p, Access::Read), Ok(()));
         let same = ("origin", "http://machine:8338");
-        assert_eq!(check(&headers(&[host, right, same]), &p, true), Ok(()));
+        assert_eq!(
+            check(&headers(&[host, right, same]), &p, Access::Change),
+            Ok(())
+        );
     }
 }

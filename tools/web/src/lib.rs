@@ -4,9 +4,12 @@
 //! * [`run`]: attach, make the token if one is needed, listen, register
 //!   the `hal-web` component as ready (`loadusr -W hal-web`), serve.
 //! * The API (`/api/...`, behind [`guard`]): `show` (the whole tree),
-//!   `stream` (live values of what the page watches), `hal` (setp, sets,
-//!   net, unlinkp through halcmd's command layer), `machine` (task's
-//!   state and buttons, as task-cmd sends them).
+//!   `stream` (live values of what the page watches, and its meters),
+//!   `hal` (setp, sets, net, unlinkp through halcmd's command layer),
+//!   `machine` (task's state and buttons, as task-cmd sends them),
+//!   `scope` and `scope.csv` (captures by the headless halscope's sampler
+//!   and trigger),
+//!   `threads` (timing and latency histograms, as latency-test reads them).
 //! * The page: plain HTML and JavaScript built into the binary.
 
 #![forbid(unsafe_code)]
@@ -18,11 +21,14 @@ mod error;
 pub mod fuzzing;
 pub mod guard;
 mod machine;
+mod meters;
 mod page;
+mod scope;
 mod server;
 mod snapshot;
 mod state;
 mod stream;
+mod threads;
 pub mod token;
 mod watch;
 

@@ -1,4 +1,7 @@
-//! The page itself: plain HTML, CSS and JavaScript built into the binary.
+//! The page itself: plain HTML, CSS and JavaScript built into the binary
+//! (app.js: the tree, watch list, meters, changes and machine panel;
+//! scope.js: the scope;
+//! threads.js: thread timing and latency histograms).
 //! They hold no data, so they are served without the token (a browser's
 //! first request cannot carry it); every `/api` request needs it.
 
@@ -7,6 +10,8 @@ use axum::response::{IntoResponse, Response};
 
 const INDEX: &str = include_str!("../assets/index.html");
 const SCRIPT: &str = include_str!("../assets/app.js");
+const SCOPE_SCRIPT: &str = include_str!("../assets/scope.js");
+const THREADS_SCRIPT: &str = include_str!("../assets/threads.js");
 const STYLE: &str = include_str!("../assets/app.css");
 
 /// The headers every page file gets: no framing by another site, no
@@ -36,6 +41,16 @@ pub async fn index() -> Response {
 /// `GET /app.js`.
 pub async fn script() -> Response {
     with_headers("text/javascript; charset=utf-8", SCRIPT)
+}
+
+/// `GET /scope.js`.
+pub async fn scope_script() -> Response {
+    with_headers("text/javascript; charset=utf-8", SCOPE_SCRIPT)
+}
+
+/// `GET /threads.js`.
+pub async fn threads_script() -> Response {
+    with_headers("text/javascript; charset=utf-8", THREADS_SCRIPT)
 }
 
 /// `GET /app.css`.

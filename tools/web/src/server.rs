@@ -14,7 +14,7 @@ use hal_core::userspace::ExitSignals;
 use hal_core::Instance;
 
 use crate::state::{blocking, error, AppState, Shared};
-use crate::{change, guard, machine, page, snapshot, stream};
+use crate::{change, guard, machine, page, scope, snapshot, stream, threads};
 
 /// Largest request body accepted (a watch list of [`crate::watch::MAX_ITEMS`]).
 const BODY_LIMIT: usize = 256 * 1024;
@@ -29,11 +29,16 @@ pub fn router(state: Shared) -> Router {
         .route("/stream", post(stream::post))
         .route("/hal", post(change::post))
         .route("/machine", get(machine::get).post(machine::post))
+        .route("/scope", post(scope::post))
+        .route("/threads", get(threads::get))
+        .route("/scope.csv", get(scope::csv))
         .layer(from_fn_with_state(state.clone(), admit))
         .layer(DefaultBodyLimit::max(BODY_LIMIT));
     Router::new()
         .route("/", get(page::index))
         .route("/app.js", get(page::script))
+        .route("/scope.js", get(page::scope_script))
+        .route("/threads.js", get(page::threads_script))
         .route("/app.css", get(page::style))
         .nest("/api", api)
         .with_state(state)
@@ -42,8 +47,15 @@ pub fn router(state: Shared) -> Router {
 /// The guard in front of every API request: the policy's checks, then a
 /// place among [`crate::state::MAX_REQUESTS`].
 async fn admit(State(state): State<Shared>, req: Request, next: Next) -> Response {
-    let change = req.method() == Method::POST && !req.uri().path().ends_with("/stream");
-    if let Err(refusal) = guard::check(req.headers(), &state.policy, change) {
+    let path = req.uri().path();
+    let access = if req.method() != Method::POST || path.ends_with("/stream") {
+        guard::Access::Read
+    } else if path.ends_with("/scope") {
+        guard::Access::Capture
+    } else {
+        guard::Access::Change
+    };
+    if let Err(refusal) = guard::check(req.headers(), &state.policy, access) {
         return error(refusal.status(), refusal);
     }
     let Ok(_permit) = state.requests.clone().try_acquire_owned() else {

@@ -29,6 +29,10 @@ pub struct AppState {
     pub requests: Arc<Semaphore>,
     /// Becomes true when the server stops: live streams end.
     pub stopping: tokio::sync::watch::Receiver<bool>,
+    /// The one permit for a scope capture.
+    pub capturing: Arc<Semaphore>,
+    /// The last scope record, for its CSV.
+    pub last_record: crate::scope::LastRecord,
 }
 
 /// A shared handle on the state.
@@ -47,6 +51,8 @@ impl AppState {
             policy,
             streams: Arc::new(Semaphore::new(MAX_STREAMS)),
             requests: Arc::new(Semaphore::new(MAX_REQUESTS)),
+            capturing: Arc::new(Semaphore::new(1)),
+            last_record: std::sync::Mutex::new(None),
         })
     }
 }

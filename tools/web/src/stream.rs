@@ -1,8 +1,10 @@
 //! The live stream: what one page watches, read 1 to 20 times a second
 //! and sent as server-sent events, only the values that changed after the
-//! first. Streams are bounded in number ([`crate::state::MAX_STREAMS`])
-//! and items ([`MAX_ITEMS`]); each tick's reads run off the runtime's
-//! thread.
+//! first, and the page's meters ([`crate::meters`]) with their smallest
+//! and largest values. Streams are bounded in number
+//! ([`crate::state::MAX_STREAMS`]), items ([`MAX_ITEMS`]) and meters
+//! ([`crate::meters::MAX_METERS`]); each tick's reads run off the
+//! runtime's thread.
 
 use std::convert::Infallible;
 use std::time::Duration;
@@ -17,6 +19,7 @@ use serde::Deserialize;
 use serde_json::json;
 use tokio::sync::OwnedSemaphorePermit;
 
+use crate::meters::{Meters, Reading};
 use crate::state::{error, Shared, MAX_STREAMS};
 use crate::watch::{values, Item, MAX_ITEMS};
 
@@ -25,11 +28,15 @@ const DEFAULT_HZ: u32 = 10;
 /// The fastest rate served.
 pub const MAX_HZ: u32 = 20;
 
-/// A stream request: `{"items": [{"kind": "pin", "name": "..."}], "hz": 20}`.
+/// A stream request: `{"items": [{"kind": "pin", "name": "..."}], "hz": 20,
+/// "meters": [{"kind": "sig", "name": "..."}]}`.
 #[derive(Debug, Deserialize)]
 pub struct Watch {
     /// What to read.
     pub items: Vec<Item>,
+    /// What to show as meters (value, min and max since the stream began).
+    #[serde(default)]
+    pub meters: Vec<Item>,
     /// Reads per second (1 to 20).
     pub hz: Option<u32>,
 }
@@ -39,6 +46,9 @@ struct Ticker {
     state: Shared,
     items: std::sync::Arc<Vec<Item>>,
     last: Vec<Option<String>>,
+    /// The meters, between their reads (taken while a read runs).
+    meters: Option<Meters>,
+    last_meters: Vec<Reading>,
     interval: tokio::time::Interval,
     first: bool,
     /// Held while the stream lives: its place among [`MAX_STREAMS`].
@@ -53,6 +63,10 @@ pub async fn post(State(state): State<Shared>, Json(watch): Json<Watch>) -> Resp
             format!("a page may watch at most {MAX_ITEMS} items"),
         );
     }
+    let meters = match Meters::new(&watch.meters) {
+        Ok(m) => m,
+        Err(msg) => return error(StatusCode::BAD_REQUEST, msg),
+    };
     let Ok(permit) = state.streams.clone().try_acquire_owned() else {
         return error(
             StatusCode::SERVICE_UNAVAILABLE,
@@ -66,6 +80,8 @@ pub async fn post(State(state): State<Shared>, Json(watch): Json<Watch>) -> Resp
         state,
         items: std::sync::Arc::new(watch.items),
         last: Vec::new(),
+        meters: Some(meters),
+        last_meters: Vec::new(),
         interval,
         first: true,
         _permit: permit,
@@ -75,9 +91,10 @@ pub async fn post(State(state): State<Shared>, Json(watch): Json<Watch>) -> Resp
         .into_response()
 }
 
-/// The events of one stream: `{"values": {"INDEX": "VALUE" or null}}`,
-/// every item at first, then those that changed; a tick with no change
-/// sends nothing.
+/// The events of one stream: `{"values": {"INDEX": "VALUE" or null},
+/// "meters": {"INDEX": {"value", "min", "max"}}}`, every item and meter
+/// at first, then those that changed; a tick with no change sends
+/// nothing.
 fn events(ticker: Ticker) -> impl Stream<Item = Result<Event, Infallible>> {
     stream::unfold(ticker, |mut t| async move {
         loop {
@@ -87,21 +104,43 @@ fn events(ticker: Ticker) -> impl Stream<Item = Result<Event, Infallible>> {
             }
             let inst = t.state.inst.clone();
             let items = t.items.clone();
-            let now = tokio::task::spawn_blocking(move || values(&inst, &items))
-                .await
-                .ok()?;
-            let mut changed = serde_json::Map::new();
-            for (i, v) in now.iter().enumerate() {
-                if t.first || t.last.get(i) != Some(v) {
-                    changed.insert(i.to_string(), json!(v));
-                }
-            }
+            let mut meters = t.meters.take()?;
+            let (now, meters, readings) = tokio::task::spawn_blocking(move || {
+                let now = values(&inst, &items);
+                let readings = meters.read(&inst).to_vec();
+                (now, meters, readings)
+            })
+            .await
+            .ok()?;
+            t.meters = Some(meters);
+            let changed = changes(t.first, &t.last, &now);
+            let changed_meters = changes(t.first, &t.last_meters, &readings);
             t.first = false;
             t.last = now;
-            if !changed.is_empty() {
-                let data = json!({ "values": changed }).to_string();
-                return Some((Ok(Event::default().data(data)), t));
+            t.last_meters = readings;
+            if !changed.is_empty() || !changed_meters.is_empty() {
+                let mut data = json!({ "values": changed });
+                if !changed_meters.is_empty() {
+                    data["meters"] = changed_meters.into();
+                }
+                return Some((Ok(Event::default().data(data.to_string())), t));
             }
         }
     })
+}
+
+/// The entries of `now` that differ from `last` (all of them when
+/// `first`), by index.
+fn changes<T: PartialEq + serde::Serialize>(
+    first: bool,
+    last: &[T],
+    now: &[T],
+) -> serde_json::Map<String, serde_json::Value> {
+    let mut changed = serde_json::Map::new();
+    for (i, v) in now.iter().enumerate() {
+        if first || last.get(i) != Some(v) {
+            changed.insert(i.to_string(), json!(v));
+        }
+    }
+    changed
 }

@@ -2,8 +2,12 @@
 //! chromium-driver): a watched pin's value updates on the page, and in
 //! the tree once a filter opens its group; a setp typed into the page is
 //! read back with halcmd's getp, and halcmd's refusal of a bad setp shows
-//! on the page word for word; on the simulated mill, the e-stop reset and
-//! machine-on buttons turn the machine on.
+//! on the page word for word; a meter shows the smallest and largest value
+//! seen;
+//! the scope draws a capture and saves its CSV and PNG;
+//! the thread view shows a thread's latency histogram;
+//! on the simulated mill, the e-stop reset and machine-on buttons turn
+//! the machine on.
 //!
 //! Ignored where chromium is absent; scripts/test-all runs it (with
 //! --include-ignored) when /usr/bin/chromium and /usr/bin/chromedriver
@@ -47,7 +51,9 @@ fn the_page_shows_live_values_and_sets_through_halcmd() {
     let watch =
         json!([{"kind": "pin", "name": "webpage.out"}, {"kind": "pin", "name": "webpage.in"}]);
     browser.eval(&format!(
-        "localStorage.setItem('hal-web.watch.{}', '{}'); return true;",
+        "localStorage.setItem('hal-web.watch.{0}', '{1}'); \
+         localStorage.setItem('hal-web.meters.{0}', '[{{\"kind\":\"pin\",\"name\":\"webpage.out\"}}]'); \
+         return true;",
         host.instance, watch
     ));
     browser.go(&url);
@@ -64,6 +70,15 @@ fn the_page_shows_live_values_and_sets_through_halcmd() {
     out.set(8.5);
     browser.wait_for(in_tree, &json!("8.5"));
     browser.wait_for(&value_of("webpage.out"), &json!("8.5"));
+    let meter = |cell: &str| {
+        format!(
+            "const c = document.querySelector('#meters tr[data-name=\"webpage.out\"] td.{cell}'); \
+             return c ? c.textContent : null;"
+        )
+    };
+    browser.wait_for(&meter("value"), &json!("8.5"));
+    browser.wait_for(&meter("min"), &json!("-4.75"));
+    browser.wait_for(&meter("max"), &json!("8.5"));
 
     let field = "#watch tr[data-name=\"webpage.in\"] input.set";
     browser.type_into(field, "3.25\u{E007}");
@@ -101,4 +116,102 @@ fn the_machine_buttons_turn_the_mill_on() {
     browser.click("#machine-machine-on");
     browser.wait_for(machine, &json!("ON"));
     assert!(matches!(mill.task("state"), Some(TaskAnswer::Done(s)) if s.contains("machine=ON")));
+}
+
+const SIGGEN: &str = "\
+loadrt siggen
+loadrt threads name1=servo-thread period1=1000000
+addf siggen.0.update servo-thread
+setp siggen.0.frequency 50
+net sq siggen.0.square
+start
+";
+
+/// Waits (up to 30 s) for `path` to exist with the whole download in it.
+fn downloaded(path: &std::path::Path) -> Vec<u8> {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(30);
+    let partial = path.with_extension("crdownload");
+    loop {
+        if path.exists() && !partial.exists() {
+            return std::fs::read(path).unwrap();
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "{} was not downloaded",
+            path.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+#[test]
+#[ignore = "needs Debian's chromium and chromium-driver (scripts/install-deps installs them; \
+            scripts/test-all runs this test with --include-ignored when they are there)"]
+fn the_scope_draws_a_capture_and_saves_csv_and_png() {
+    let host = InProcessHost::start("web-browser-scope");
+    let (ok, _, err) = host.run("setup.hal", SIGGEN, false);
+    assert!(ok, "{err}");
+    let web = Web::start(&host.instance, &[]);
+    let downloads = std::env::temp_dir().join(format!("hal-web-downloads-{}", host.instance));
+    let _ = std::fs::remove_dir_all(&downloads);
+    std::fs::create_dir_all(&downloads).unwrap();
+    let browser = Browser::downloading_to(&downloads);
+    browser.go(&format!("http://{}/", web.host()));
+    browser.wait_for(
+        "return document.querySelectorAll('#scope-thread option').length;",
+        &json!(1),
+    );
+    // The thread view shows the servo thread and its latency histogram.
+    browser.wait_for(
+        "return document.querySelector('#threads tr[data-name=\"servo-thread\"]') !== null \
+         && Number(document.getElementById('latency').dataset.bars || 0) > 0;",
+        &json!(true),
+    );
+    browser.type_into("#scope-pins", "sq,siggen.0.sine");
+    // 5 ms a division at 1 ms a sample: 50 samples, 10 before the trigger.
+    browser.eval(
+        "document.getElementById('scope-timebase').value = '5'; \
+         document.getElementById('scope-trigger').value = 'sq'; \
+         document.getElementById('scope-level').value = '0.5'; return true;",
+    );
+    browser.click("#scope-run");
+    browser.wait_for(
+        "return document.getElementById('scope').dataset.samples || null;",
+        &json!("50"),
+    );
+    browser.wait_for(
+        "return document.getElementById('scope-state').textContent;",
+        &json!("triggered"),
+    );
+    assert_eq!(
+        browser.eval("return document.getElementById('scope').dataset.drawn;"),
+        json!("100")
+    );
+    // Something other than the white background and the grid was drawn.
+    let colored = browser.eval(
+        "const c = document.getElementById('scope'); \
+         const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let n = 0; for (let i = 0; i < d.length; i += 4) \
+           if (d[i] > 150 && d[i + 1] < 80 && d[i + 2] < 80) n++; \
+         return n > 100;",
+    );
+    assert_eq!(colored, json!(true));
+
+    browser.click("#scope-csv");
+    let csv = String::from_utf8(downloaded(&downloads.join("halscope.csv"))).unwrap();
+    let (status, served) = web.request("GET", "/api/scope.csv", &[], None);
+    assert_eq!(status, 200);
+    assert_eq!(csv, served);
+    assert!(
+        csv.starts_with("sample,time_ms,sq,siggen.0.sine\n"),
+        "{csv}"
+    );
+    assert_eq!(csv.lines().count(), 51);
+    let trigger_row: Vec<&str> = csv.lines().nth(11).unwrap().split(',').collect();
+    assert_eq!(trigger_row[1], "0.000000", "{csv}");
+
+    browser.click("#scope-png");
+    let png = downloaded(&downloads.join("halscope.png"));
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    let _ = std::fs::remove_dir_all(&downloads);
 }

@@ -1,6 +1,6 @@
 //! hal-web on a running instance: started with `loadusr -W`, it becomes
 //! ready and ends with `unloadusr`; a pin's new value reaches the live
-//! stream; the tree lists signals with their writer and readers.
+//! stream; meters keep their smallest and largest values; the tree lists signals with their writer and readers.
 
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 
@@ -56,6 +56,53 @@ fn a_pin_value_updates_in_the_stream() {
             return false;
         }
         values["0"] == "-2.25"
+    });
+}
+
+#[test]
+fn meters_keep_the_smallest_and_largest_value_seen() {
+    let host = InProcessHost::start("web-meter");
+    let inst = host.instance();
+    let comp = inst.new_component("webmeter", ComponentKind::User).unwrap();
+    let pin = comp.pin::<f64, Out>("webmeter.out").unwrap();
+    comp.ready().unwrap();
+    pin.set(1.5);
+    let web = Web::start(&host.instance, &[]);
+    let (status, answer) = web.request(
+        "POST",
+        "/api/stream",
+        &[],
+        Some(r#"{"items":[],"meters":[{"kind":"thread","name":"x"}]}"#),
+    );
+    assert_eq!(status, 400, "{answer}");
+    assert!(answer.contains("not a 'thread'"), "{answer}");
+    let body = r#"{"items":[],"meters":[{"kind":"pin","name":"webmeter.out"},{"kind":"sig","name":"nosuch"}],"hz":20}"#;
+    // Each value is set once the meter has shown the one before.
+    let steps = [(-2.0, "-2"), (3.25, "3.25"), (0.5, "0.5")];
+    let mut step = 0;
+    web.stream_until(body, |event| {
+        let m = &event["meters"]["0"];
+        if step == 0 {
+            assert_eq!(m["value"], "1.5", "{event}");
+            assert_eq!(
+                (m["min"].as_f64(), m["max"].as_f64()),
+                (Some(1.5), Some(1.5))
+            );
+            let gone = &event["meters"]["1"];
+            assert!(gone["value"].is_null() && gone["min"].is_null(), "{event}");
+        } else if m["value"] != steps[step - 1].1 {
+            return false;
+        }
+        if step == steps.len() {
+            assert_eq!(
+                (m["min"].as_f64(), m["max"].as_f64()),
+                (Some(-2.0), Some(3.25))
+            );
+            return true;
+        }
+        pin.set(steps[step].0);
+        step += 1;
+        false
     });
 }
 

@@ -1,7 +1,8 @@
 //! The machine panel on the simulated mill (configs/sim/mill run by the
 //! suite's `linuxcnc`): the state reads as task's, machine-on and home go
 //! through task as task-cmd sends them, a refusal is task's message, and
-//! a button pressed from another origin does nothing.
+//! a button pressed from another origin does nothing; the launcher starts
+//! hal-web when the INI's `[HAL]HALWEB` asks for it.
 //! (`linuxcnc` comes from cargo's output directory: see [`Mill`].)
 
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -76,4 +77,35 @@ fn machine_on_and_home_go_through_task() {
         let joints = m["motion"]["joints"].as_object();
         joints.is_some_and(|j| !j.is_empty() && j.values().all(|j| j["homed"] == "TRUE"))
     });
+}
+
+#[test]
+fn the_launcher_starts_hal_web_when_the_ini_asks() {
+    // A free port for hal-web, which the INI names.
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mill = Mill::start_with(&format!("HALWEB = hal-web --read-only -p {port}"));
+    let inst = hal_core::Instance::attach(&mill.instance).unwrap();
+    // The launcher waited for it (loadusr -Wn) before task answered.
+    let comp = inst.component("hal-web").unwrap().expect("hal-web runs");
+    assert!(comp.ready);
+    let addr: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
+    let (status, body) = common::http(addr, "GET", "/api/show", &[], None);
+    assert_eq!(status, 200, "{body}");
+    let show: serde_json::Value = serde_json::from_str(&body).unwrap();
+    assert_eq!(show["instance"], mill.instance.as_str());
+    // With the INI's options: read-only.
+    let origin = format!("http://{addr}");
+    let (status, body) = common::http(
+        addr,
+        "POST",
+        "/api/hal",
+        &[("Origin", &origin)],
+        Some(r#"{"command":"setp","args":["motion.enable","0"]}"#),
+    );
+    assert_eq!(status, 403, "{body}");
+    assert!(body.contains("read-only"), "{body}");
 }

@@ -34,7 +34,17 @@ pub struct Mill {
 impl Mill {
     /// Starts the mill and waits until task answers.
     pub fn start() -> Mill {
-        let instance = format!("t-web-mill-{}", std::process::id());
+        Mill::start_with("")
+    }
+
+    /// Starts the mill with `hal_lines` added to its INI's `[HAL]`
+    /// section, and waits until task answers.
+    pub fn start_with(hal_lines: &str) -> Mill {
+        // Its own instance and directory, also beside another mill of
+        // the same test program.
+        static STARTED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let n = STARTED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let instance = format!("t-web-mill-{}-{n}", std::process::id());
         let dir = std::env::temp_dir().join(format!("hal-web-{instance}"));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
@@ -44,6 +54,12 @@ impl Mill {
             if !name.to_string_lossy().starts_with("sim.var") {
                 std::fs::copy(entry.path(), dir.join(&name)).unwrap();
             }
+        }
+        if !hal_lines.is_empty() {
+            let ini = dir.join("mill.ini");
+            let text = std::fs::read_to_string(&ini).unwrap();
+            let text = text.replacen("[HAL]\n", &format!("[HAL]\n{hal_lines}\n"), 1);
+            std::fs::write(&ini, text).unwrap();
         }
         // Its messages go to a file beside the copy, shown if it fails.
         let log = dir.join("linuxcnc.stderr");

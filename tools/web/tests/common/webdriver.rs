@@ -24,6 +24,15 @@ pub struct Browser {
 impl Browser {
     /// Starts chromedriver on a free port and opens a headless session.
     pub fn start() -> Browser {
+        Browser::start_with(None)
+    }
+
+    /// A session that saves downloads in `dir` without asking.
+    pub fn downloading_to(dir: &std::path::Path) -> Browser {
+        Browser::start_with(Some(dir))
+    }
+
+    fn start_with(downloads: Option<&std::path::Path>) -> Browser {
         let port = TcpListener::bind("127.0.0.1:0")
             .unwrap()
             .local_addr()
@@ -41,13 +50,20 @@ impl Browser {
             assert!(Instant::now() < end, "chromedriver did not listen");
             std::thread::sleep(Duration::from_millis(50));
         }
+        let mut options = json!({
+            "binary": CHROMIUM,
+            "args": ["--headless=new", "--no-sandbox", "--disable-gpu",
+                     "--disable-dev-shm-usage", "--window-size=1280,900"],
+        });
+        if let Some(dir) = downloads {
+            options["prefs"] = json!({
+                "download.default_directory": dir.display().to_string(),
+                "download.prompt_for_download": false,
+            });
+        }
         let caps = json!({"capabilities": {"alwaysMatch": {
             "browserName": "chrome",
-            "goog:chromeOptions": {
-                "binary": CHROMIUM,
-                "args": ["--headless=new", "--no-sandbox", "--disable-gpu",
-                         "--disable-dev-shm-usage", "--window-size=1280,900"],
-            },
+            "goog:chromeOptions": options,
         }}});
         let mut b = Browser {
             addr,

@@ -1,0 +1,290 @@
+//! The scope: captures taken by the headless halscope's own capture
+//! ([`hal_scope::scope::capture`]: its sampler at the full rate of a HAL
+//! thread, its trigger with level, edge and pre-trigger), asked for with
+//! halscope's words and refused with halscope's messages. The page draws
+//! the record; the last one is served as halscope's CSV.
+//!
+//! Modes: `single` and `normal` wait for the trigger (the page asks again
+//! after each record in normal mode); `auto` waits [`AUTO_WAIT`] for the
+//! trigger, then takes a record at once.
+
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use axum::extract::State;
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use hal_core::Instance;
+use hal_scope::scope::args::{Args, Request, Source};
+use hal_scope::scope::capture::numeric;
+use hal_scope::scope::output::{csv as record_csv, Record};
+use hal_scope::ScopeError;
+use serde::Deserialize;
+use serde_json::{json, Value as JsonValue};
+
+use crate::state::{blocking, error, Shared};
+
+/// Most samples in a record the page asks for (its JSON and drawing stay
+/// small); halscope itself takes more.
+pub const MAX_SAMPLES: usize = 200_000;
+
+/// Longest wait for a trigger: a capture holds one of the server's few
+/// blocking threads.
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// How long auto mode waits for the trigger before it records anyway.
+pub const AUTO_WAIT: Duration = Duration::from_millis(500);
+
+/// A capture request, in halscope's words: `{"pins": ["a", "b"],
+/// "thread": "servo-thread", "trigger": "a:rising:0.5", "samples": 1000,
+/// "pre": "20%", "timeout": 10, "mode": "normal"}`, or `"channel": N`
+/// for a sampler channel the HAL file made instead of pins and thread.
+#[derive(Debug, Deserialize)]
+pub struct ScopeRequest {
+    /// Pins or signals, one per channel.
+    #[serde(default)]
+    pub pins: Vec<String>,
+    /// The thread whose period is the sample interval.
+    pub thread: Option<String>,
+    /// A channel of a sampler the configuration loaded.
+    pub channel: Option<usize>,
+    /// `NAME:rising|falling:LEVEL`.
+    pub trigger: Option<String>,
+    /// Samples in the record.
+    pub samples: usize,
+    /// The share of the record before the trigger (`20%` or `0.2`).
+    pub pre: Option<String>,
+    /// Seconds to wait for the trigger (default 10).
+    pub timeout: Option<f64>,
+    /// `single`, `normal` or `auto`.
+    #[serde(default)]
+    pub mode: Mode,
+}
+
+/// The scope's trigger modes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    /// One record, on the trigger.
+    #[default]
+    Single,
+    /// Records on the trigger, again and again (the page repeats).
+    Normal,
+    /// Records on the trigger, or without it when none comes soon.
+    Auto,
+}
+
+/// A checked request: what the capture gets.
+#[derive(Debug)]
+pub struct Plan {
+    /// halscope's request (no output files).
+    pub request: Request,
+    /// The mode.
+    pub mode: Mode,
+}
+
+/// Checks `req` as halscope checks its command line (same messages), and
+/// against the page's bounds.
+pub fn plan(req: ScopeRequest) -> Result<Plan, String> {
+    if req.samples > MAX_SAMPLES {
+        return Err(format!(
+            "--samples {}: the page takes at most {MAX_SAMPLES} (halscope itself takes more)",
+            req.samples
+        ));
+    }
+    let timeout = req.timeout.unwrap_or(10.0);
+    if timeout > MAX_TIMEOUT.as_secs_f64() {
+        return Err(format!(
+            "--timeout {timeout}: the page waits at most {} s",
+            MAX_TIMEOUT.as_secs()
+        ));
+    }
+    let args = Args {
+        pins: req.pins,
+        thread: req.thread,
+        channel: req.channel,
+        trigger: req.trigger,
+        samples: req.samples,
+        pre: req.pre.unwrap_or_else(|| "0%".into()),
+        out: Vec::new(),
+        timeout,
+        instance: None,
+    };
+    if args.channel.is_some() && (args.thread.is_some() || !args.pins.is_empty()) {
+        // halscope's command line refuses the pair too.
+        return Err("give pins and thread, or a sampler channel, not both".into());
+    }
+    let request = args.request().map_err(|e| e.to_string())?;
+    Ok(Plan {
+        request,
+        mode: req.mode,
+    })
+}
+
+/// Takes one record as `plan` asks; whether the trigger came.
+pub fn take(
+    inst: &Instance,
+    plan: &Plan,
+    interrupted: &dyn Fn() -> bool,
+) -> Result<(Record, bool), ScopeError> {
+    let req = &plan.request;
+    if plan.mode != Mode::Auto || req.trigger.is_none() {
+        let record = hal_scope::scope::capture(inst, req, interrupted)?;
+        return Ok((record, req.trigger.is_some()));
+    }
+    let waiting = Request {
+        timeout: req.timeout.min(AUTO_WAIT),
+        ..req.clone()
+    };
+    match hal_scope::scope::capture(inst, &waiting, interrupted) {
+        Ok(record) => Ok((record, true)),
+        Err(ScopeError::Timeout(_)) => {
+            let at_once = Request {
+                trigger: None,
+                pre: 0,
+                ..req.clone()
+            };
+            Ok((
+                hal_scope::scope::capture(inst, &at_once, interrupted)?,
+                false,
+            ))
+        }
+        Err(e) => Err(e),
+    }
+}
+
+/// A record as the page draws it: a column of numbers per channel (bits
+/// as 0 and 1), halscope's sample tags, the trigger's index.
+pub fn record_json(r: &Record, triggered: bool) -> JsonValue {
+    let columns: Vec<Vec<f64>> = r
+        .types
+        .iter()
+        .enumerate()
+        .map(|(c, t)| r.rows.iter().map(|row| numeric(*t, row[c + 1])).collect())
+        .collect();
+    let first = r.rows.first().map(|row| (row[0] as u32).wrapping_sub(1));
+    json!({
+        "names": r.names,
+        "types": r.types.iter().map(|t| t.name()).collect::<Vec<_>>(),
+        "period_ns": r.period_ns,
+        "trigger_index": r.trigger_index,
+        "triggered": triggered,
+        "first_sample": first,
+        "columns": columns,
+    })
+}
+
+/// The last record taken, for the CSV.
+pub type LastRecord = Mutex<Option<Arc<Record>>>;
+
+/// `POST /api/scope`: takes a record; 200 with it, 400 for a request
+/// halscope refuses, 422 when the capture fails (halscope's message),
+/// 503 while another capture runs.
+pub async fn post(State(state): State<Shared>, Json(req): Json<ScopeRequest>) -> Response {
+    let plan = match plan(req) {
+        Ok(p) => p,
+        Err(msg) => return error(StatusCode::BAD_REQUEST, msg),
+    };
+    if state.policy.read_only && matches!(plan.request.source, Source::Own { .. }) {
+        return error(
+            StatusCode::FORBIDDEN,
+            "hal-web runs read-only (--read-only): a capture of pins would add a sampler; \
+             capture through a channel of a sampler the HAL file loaded",
+        );
+    }
+    let Ok(_permit) = state.capturing.clone().try_acquire_owned() else {
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "another capture is running; try again when it ends",
+        );
+    };
+    let inst = state.inst.clone();
+    let stopping = state.stopping.clone();
+    let taken = blocking(move || take(&inst, &plan, &|| *stopping.borrow())).await;
+    match taken {
+        Ok(Ok((record, triggered))) => {
+            let body = record_json(&record, triggered);
+            if let Ok(mut last) = state.last_record.lock() {
+                *last = Some(Arc::new(record));
+            }
+            Json(body).into_response()
+        }
+        Ok(Err(e)) => error(StatusCode::UNPROCESSABLE_ENTITY, e),
+        Err(r) => r,
+    }
+}
+
+/// `GET /api/scope.csv`: the last record as halscope writes its CSV.
+pub async fn csv(State(state): State<Shared>) -> Response {
+    let last = state.last_record.lock().ok().and_then(|l| l.clone());
+    let Some(record) = last else {
+        return error(StatusCode::NOT_FOUND, "no capture has been taken yet");
+    };
+    (
+        [
+            (header::CONTENT_TYPE, "text/csv; charset=utf-8"),
+            (
+                header::CONTENT_DISPOSITION,
+                "attachment; filename=\"halscope.csv\"",
+            ),
+            (header::CACHE_CONTROL, "no-store"),
+        ],
+        record_csv(&record),
+    )
+        .into_response()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn req(json: &str) -> Result<Plan, String> {
+        plan(serde_json::from_str(json).unwrap())
+    }
+
+    #[test]
+    fn requests_read_as_halscope_words() {
+        let p = req(
+            r#"{"pins":["a","b"],"thread":"servo-thread","trigger":"a:falling:-1",
+                        "samples":100,"pre":"20%","mode":"auto"}"#,
+        )
+        .unwrap();
+        assert_eq!(p.request.pre, 20);
+        assert_eq!(p.mode, Mode::Auto);
+        assert!(p.request.outputs.is_empty());
+        let p = req(r#"{"channel":2,"samples":10}"#).unwrap();
+        assert_eq!(p.request.source, Source::Channel(2));
+    }
+
+    #[test]
+    fn refusals_are_halscopes() {
+        use clap::Parser as _;
+        let e = |j: &str| req(j).unwrap_err();
+        let halscope = |words: &[&str]| {
+            let mut v = vec!["halscope"];
+            v.extend(words);
+            v.extend(["--out", "x.csv"]);
+            Args::try_parse_from(v)
+                .unwrap()
+                .request()
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            e(r#"{"pins":["a"],"thread":"t","samples":1}"#),
+            halscope(&["--pins", "a", "--thread", "t", "--samples", "1"])
+        );
+        assert_eq!(
+            e(r#"{"pins":["a"],"thread":"t","samples":10,"trigger":"a:up:1"}"#),
+            halscope(&["--pins", "a", "--thread", "t", "--trigger", "a:up:1"])
+        );
+        assert_eq!(
+            e(r#"{"pins":["a"],"samples":10}"#),
+            halscope(&["--pins", "a"])
+        );
+        assert!(e(r#"{"pins":["a"],"thread":"t","samples":200001}"#).contains("at most"));
+        assert!(e(r#"{"pins":["a"],"thread":"t","samples":9,"timeout":61}"#).contains("60 s"));
+        assert!(e(r#"{"pins":["a"],"channel":1,"samples":9}"#).contains("channel"));
+    }
+}

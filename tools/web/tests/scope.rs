@@ -1,0 +1,200 @@
+//! The scope served by hal-web against the headless halscope's capture:
+//! the same request on the same siggen gives the same record (trigger
+//! position, sample values, CSV); auto mode records without a trigger
+//! that never comes; refusals are halscope's; read-only and other
+//! origins take no capture of pins.
+
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod common;
+
+use clap::Parser as _;
+use common::Web;
+use hal_host::testing::InProcessHost;
+use hal_scope::scope::args::Args;
+use hal_scope::scope::output::{csv, Record};
+use serde_json::Value;
+
+const SIGGEN: &str = "\
+loadrt siggen
+loadrt threads name1=servo-thread period1=1000000
+addf siggen.0.update servo-thread
+setp siggen.0.frequency 50
+net sq siggen.0.square
+start
+";
+
+const PINS: &str = "sq,siggen.0.sawtooth,siggen.0.clock";
+
+fn siggen_host(tag: &str) -> InProcessHost {
+    let host = InProcessHost::start(tag);
+    let (ok, _, err) = host.run("setup.hal", SIGGEN, false);
+    assert!(ok, "{err}");
+    host
+}
+
+/// The headless halscope's record for its command line `words`.
+fn headless(host: &InProcessHost, words: &[&str]) -> Result<Record, String> {
+    let mut argv = vec!["halscope"];
+    argv.extend(words);
+    argv.extend(["--out", "unused.csv"]);
+    let mut req = Args::try_parse_from(argv)
+        .unwrap()
+        .request()
+        .map_err(|e| e.to_string())?;
+    req.outputs.clear();
+    hal_scope::scope::capture(&host.instance(), &req, &|| false).map_err(|e| e.to_string())
+}
+
+fn capture(web: &Web, body: &str) -> (u16, Value) {
+    let (status, answer) = web.post_same_origin("/api/scope", body, None);
+    (status, serde_json::from_str(&answer).unwrap())
+}
+
+fn column(v: &Value, c: usize) -> Vec<f64> {
+    v["columns"][c]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+/// CSV lines without their first field (the sampler's sample number,
+/// which differs between two captures).
+fn without_tags(text: &str) -> Vec<String> {
+    text.lines()
+        .map(|l| l.split_once(',').unwrap().1.to_string())
+        .collect()
+}
+
+#[test]
+fn a_capture_served_by_hal_web_equals_the_headless_capture() {
+    let host = siggen_host("web-scope");
+    let web = Web::start(&host.instance, &[]);
+    let (status, answer) = web.request("GET", "/api/scope.csv", &[], None);
+    assert_eq!(status, 404, "{answer}");
+    let body = serde_json::json!({
+        "pins": PINS.split(',').collect::<Vec<_>>(), "thread": "servo-thread",
+        "trigger": "sq:rising:0.5", "samples": 100, "pre": "20%", "mode": "single",
+    })
+    .to_string();
+    let (status, got) = capture(&web, &body);
+    assert_eq!(status, 200, "{got}");
+    let want = headless(
+        &host,
+        &[
+            "--pins",
+            PINS,
+            "--thread",
+            "servo-thread",
+            "--trigger",
+            "sq:rising:0.5",
+            "--samples",
+            "100",
+            "--pre",
+            "20%",
+        ],
+    )
+    .unwrap();
+    assert_eq!(want.trigger_index, 20);
+    assert_eq!(got["trigger_index"], 20);
+    assert_eq!(got["triggered"], true);
+    assert_eq!(got["period_ns"], want.period_ns);
+    assert_eq!(got["names"], serde_json::json!(want.names));
+    assert_eq!(got["types"], serde_json::json!(["float", "float", "bit"]));
+    let want_col = |c: usize| -> Vec<f64> {
+        want.rows
+            .iter()
+            .map(|r| hal_scope::scope::capture::numeric(want.types[c], r[c + 1]))
+            .collect()
+    };
+    // The square and the clock sample for sample; the sawtooth to the
+    // rounding of siggen's phase.
+    assert_eq!(column(&got, 0), want_col(0));
+    assert_eq!(column(&got, 2), want_col(2));
+    for (a, b) in column(&got, 1).iter().zip(want_col(1)) {
+        assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+    }
+    assert!(column(&got, 0)[19] < 0.5 && column(&got, 0)[20] >= 0.5);
+    // The CSV served is halscope's CSV of the same samples.
+    let (status, text) = web.request("GET", "/api/scope.csv", &[], None);
+    assert_eq!(status, 200, "{text}");
+    assert_eq!(without_tags(&text), without_tags(&csv(&want)));
+    let first_tag: u64 = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(got["first_sample"], first_tag);
+    // Nothing of the capture stays behind.
+    let inst = host.instance();
+    assert!(inst.component("sampler").unwrap().is_none());
+    assert!(inst
+        .pin("siggen.0.sawtooth")
+        .unwrap()
+        .unwrap()
+        .signal
+        .is_none());
+}
+
+#[test]
+fn auto_mode_records_without_a_trigger_and_refusals_are_halscopes() {
+    let host = siggen_host("web-scope-auto");
+    let web = Web::start(&host.instance, &[]);
+    let never = r#"{"pins":["sq"],"thread":"servo-thread","trigger":"sq:rising:5",
+                    "samples":30,"pre":"50%","mode":"auto","timeout":5}"#;
+    let (status, got) = capture(&web, never);
+    assert_eq!(status, 200, "{got}");
+    assert_eq!(got["triggered"], false);
+    assert_eq!(got["trigger_index"], 0);
+    assert_eq!(column(&got, 0).len(), 30);
+
+    // A capture that fails says what halscope says.
+    let (status, got) = capture(&web, r#"{"pins":["sq"],"thread":"fast","samples":10}"#);
+    assert_eq!(status, 422, "{got}");
+    let says = headless(
+        &host,
+        &["--pins", "sq", "--thread", "fast", "--samples", "10"],
+    )
+    .unwrap_err();
+    assert_eq!(got["error"], says);
+    let (status, got) = capture(
+        &web,
+        r#"{"pins":["sq"],"thread":"servo-thread","samples":1}"#,
+    );
+    assert_eq!(status, 400, "{got}");
+    let says = headless(
+        &host,
+        &["--pins", "sq", "--thread", "servo-thread", "--samples", "1"],
+    )
+    .unwrap_err();
+    assert_eq!(got["error"], says);
+
+    // From another origin: refused before anything is loaded.
+    let body = r#"{"pins":["sq"],"thread":"servo-thread","samples":10}"#;
+    let (status, answer) = web.request(
+        "POST",
+        "/api/scope",
+        &[("Origin", "http://evil.example")],
+        Some(body),
+    );
+    assert_eq!(status, 403, "{answer}");
+    assert!(answer.contains("same origin"), "{answer}");
+
+    // Read-only: pins would need a sampler of hal-web's own. (One hal-web
+    // serves an instance at a time.)
+    drop(web);
+    let ro = Web::start(&host.instance, &["--read-only"]);
+    let (status, got) = capture(&ro, body);
+    assert_eq!(status, 403, "{got}");
+    assert!(
+        got["error"].as_str().unwrap().contains("read-only"),
+        "{got}"
+    );
+    assert!(host.instance().component("sampler").unwrap().is_none());
+}
