@@ -3,9 +3,9 @@
 //! A pin handle points at the pin's slot in the segment. The slot holds the
 //! offset of the value cell in use (the pin's own, or its signal's once
 //! linked), so `get` and `set` are one load of the slot plus one access to
-//! the cell: no allocation, lock or system call. An offset outside the
-//! segment's cells is clamped into them, so even a corrupted slot cannot
-//! make the process touch memory outside the segment.
+//! the cell: no allocation, lock or system call. An offset that is not a
+//! cell's stands for the first cell, so even a corrupted slot cannot make
+//! the process touch memory outside the segment's cells.
 
 use std::marker::PhantomData;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
@@ -63,10 +63,10 @@ impl ParamAccess for Rw {
 #[derive(Clone, Copy)]
 pub(crate) struct Cells {
     base: *const u8,
-    /// The first offset a cell may have.
+    /// The first offset a cell may have (8-aligned).
     floor: u64,
-    /// How far past `floor` the last cell may start.
-    span: u64,
+    /// How far past `floor` the last cell may start, in words.
+    span_words: u64,
 }
 
 impl Cells {
@@ -74,35 +74,38 @@ impl Cells {
     pub(crate) const EMPTY: Cells = Cells {
         base: std::ptr::null(),
         floor: 0,
-        span: 0,
+        span_words: 0,
     };
 
     pub(crate) fn new(seg: &Segment) -> Cells {
         // A segment too small for any cell past its journal (only a
         // malformed one can be) still keeps every access inside it.
         let limit = seg.cell_limit();
-        let floor = seg.cell_floor().min(limit);
+        let floor = seg.cell_floor().next_multiple_of(8).min(limit);
         Cells {
             base: seg.base(),
             floor,
-            span: limit - floor,
+            span_words: (limit - floor) / 8,
         }
     }
 
-    /// The cell `slot` names.
+    /// The cell `slot` names; a slot naming anything but a cell (only a
+    /// corrupted segment has one) names the first cell instead.
     #[inline(always)]
     pub(crate) fn cell(&self, slot: &AtomicU64) -> &AtomicU64 {
         let off = slot.load(Relaxed);
-        // A valid offset is checked with one compare and a branch the CPU
-        // always predicts, so the cell's load issues right behind the
-        // slot's; clamping with conditional moves put two more dependent
-        // steps between them. Anything else is clamped out of line.
-        let off = if off.wrapping_sub(self.floor) <= self.span && off & 7 == 0 {
+        // One compare checks range and alignment: rotated right by three,
+        // a distance from the floor that is not a multiple of 8 keeps a
+        // low bit at the top and so exceeds any span. The fallback is a
+        // plain move, not a call, so the common path keeps its registers
+        // and the cell's load issues right behind the slot's.
+        let off = if off.wrapping_sub(self.floor).rotate_right(3) <= self.span_words {
             off
         } else {
-            clamp_cell(off, self.floor, self.floor + self.span)
+            self.floor
         };
-        // SAFETY: `off` lies in [floor, size-8] and is 8-aligned, so the word
+        // SAFETY: `off` lies in [floor, floor + 8 * span_words], is
+        // 8-aligned, and floor + 8 * span_words <= size - 8, so the word
         // lies inside the mapping (kept alive by the holder), past the
         // header and journal; any bits are a valid AtomicU64.
         unsafe { &*(self.base.add(off as usize) as *const AtomicU64) }
@@ -186,14 +189,6 @@ impl<T: PinValue> Pin<T, In> {
         // `Pair`, inside the mapping that `seg` keeps alive.
         unsafe { &*self.slot.add(1) }.store(v.to_bits(), Relaxed)
     }
-}
-
-/// Clamps a bad cell offset into `[floor, limit]` and aligns it (out of
-/// line: only a corrupted slot gets here).
-#[cold]
-#[inline(never)]
-fn clamp_cell(off: u64, floor: u64, limit: u64) -> u64 {
-    off.max(floor).min(limit) & !7
 }
 
 /// A parameter of value type `T`. The owning component may always write it;
@@ -390,7 +385,7 @@ mod tests {
         assert_eq!(pin.get(), 7);
         let cells = *pin.seg.cells();
         let first = cells.floor;
-        let last = cells.floor + cells.span;
+        let last = cells.floor + 8 * cells.span_words;
         let at = |p: &Pin<u32, Out>| p.cell() as *const AtomicU64 as usize - cells.base as usize;
         // SAFETY: the slot is in the mapping the handle keeps alive; the
         // test stands in for a process that scribbled over it.
@@ -400,8 +395,9 @@ mod tests {
             (0, first),
             (3, first),
             (first + 3, first),
-            (u64::MAX, last),
-            (last + 8, last),
+            (u64::MAX, first),
+            (last + 8, first),
+            (last + 3, first),
         ] {
             slot.store(bad, Relaxed);
             assert_eq!(at(&pin) as u64, lands, "slot {bad:#x}");

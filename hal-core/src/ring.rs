@@ -14,6 +14,7 @@
 //! column. The column count is 0 for an untyped ring; the types are packed
 //! three bits each, first column lowest.
 
+use std::ptr::NonNull;
 use std::sync::atomic::{AtomicU64, Ordering::*};
 
 use crate::error::{HalError, Result};
@@ -32,10 +33,27 @@ const DATA: usize = 24;
 pub const MAX_TYPED_COLUMNS: usize = 21;
 
 struct Ring {
+    /// Keeps the mapping `words` points into alive.
     region: Region,
+    /// The region's first word: at least `DATA + depth * width` words
+    /// (checked when the ring is made or opened), so that the realtime
+    /// path reaches a word without building and checking a slice.
+    words: NonNull<AtomicU64>,
     depth: u64,
     width: usize,
+    /// The index this end expects to use next and the record position it
+    /// stands for (index modulo depth), carried from one call to the next
+    /// so that a call needs no division; recomputed when the index is not
+    /// the expected one (another handle on the same end moved it).
+    cursor: (u64, u64),
 }
+
+// SAFETY: `words` points into the shared mapping that `region` keeps alive,
+// and every access through it is atomic; the ring is as shareable as the
+// region (a `Send + Sync` handle on the segment).
+unsafe impl Send for Ring {}
+// SAFETY: as above; the cursor is only changed through `&mut`.
+unsafe impl Sync for Ring {}
 
 impl Ring {
     fn create(comp: &Component, name: &str, depth: usize, width: usize) -> Result<Ring> {
@@ -56,11 +74,20 @@ impl Ring {
         let w = region.words();
         w[DEPTH].store(depth as u64, Relaxed);
         w[WIDTH].store(width as u64, Release);
-        Ok(Ring {
+        Ok(Ring::over(region, depth as u64, width))
+    }
+
+    /// A ring over `region`, whose words (checked by the caller) hold
+    /// the header and `depth` records of `width` words.
+    fn over(region: Region, depth: u64, width: usize) -> Ring {
+        let words = NonNull::from(region.words()).cast::<AtomicU64>();
+        Ring {
             region,
-            depth: depth as u64,
+            words,
+            depth,
             width,
-        })
+            cursor: (0, 0),
+        }
     }
 
     fn open(inst: &Instance, name: &str) -> Result<Ring> {
@@ -85,11 +112,7 @@ impl Ring {
                 w.len()
             )));
         }
-        Ok(Ring {
-            region,
-            depth,
-            width: width as usize,
-        })
+        Ok(Ring::over(region, depth, width as usize))
     }
 
     fn create_typed(comp: &Component, name: &str, depth: usize, types: &[HalType]) -> Result<Ring> {
@@ -124,15 +147,39 @@ impl Ring {
             .collect()
     }
 
+    /// Header word `i` (one of the constants above).
+    #[inline(always)]
     fn word(&self, i: usize) -> &AtomicU64 {
-        &self.region.words()[i]
+        debug_assert!(i < DATA);
+        // SAFETY: the region holds at least DATA words (see `words`), and
+        // the mapping lives as long as `self.region`.
+        unsafe { &*self.words.as_ptr().add(i) }
     }
 
-    fn slot(&self, index: u64) -> &[AtomicU64] {
-        let start = DATA + (index % self.depth) as usize * self.width;
-        &self.region.words()[start..start + self.width]
+    /// The words of the record at `index`.
+    #[inline(always)]
+    fn slot(&mut self, index: u64) -> &[AtomicU64] {
+        let pos = if index == self.cursor.0 {
+            self.cursor.1
+        } else {
+            index % self.depth
+        };
+        let next = pos + 1;
+        self.cursor = (
+            index.wrapping_add(1),
+            if next == self.depth { 0 } else { next },
+        );
+        // SAFETY: pos < depth, so the record's words lie within the
+        // DATA + depth * width words of the region (see `words`).
+        unsafe {
+            std::slice::from_raw_parts(
+                self.words.as_ptr().add(DATA + pos as usize * self.width),
+                self.width,
+            )
+        }
     }
 
+    #[inline(always)]
     fn len(&self) -> usize {
         let h = self.word(HEAD).load(Acquire);
         let t = self.word(TAIL).load(Acquire);
@@ -177,26 +224,31 @@ macro_rules! ring_end {
 
             /// The depth the ring was created with (one more than its
             /// capacity).
+            #[inline]
             pub fn depth(&self) -> usize {
                 self.0.depth as usize
             }
 
             /// Records waiting in the ring.
+            #[inline]
             pub fn len(&self) -> usize {
                 self.0.len()
             }
 
             /// Whether the ring holds no record.
+            #[inline]
             pub fn is_empty(&self) -> bool {
                 self.len() == 0
             }
 
             /// Most records the ring can hold (depth - 1).
+            #[inline]
             pub fn capacity(&self) -> usize {
                 self.0.depth as usize - 1
             }
 
             /// Words per record.
+            #[inline]
             pub fn width(&self) -> usize {
                 self.0.width
             }
@@ -211,7 +263,7 @@ impl RingWriter {
     /// Extra words are ignored and missing ones written as zero.
     #[inline]
     pub fn push(&mut self, record: &[u64]) -> bool {
-        let r = &self.0;
+        let r = &mut self.0;
         let head = r.word(HEAD).load(Relaxed);
         let tail = r.word(TAIL).load(Acquire);
         if head.wrapping_sub(tail) >= r.depth - 1 {
@@ -229,7 +281,7 @@ impl RingReader {
     /// Takes the oldest record into `out`; false if empty.
     #[inline]
     pub fn pop(&mut self, out: &mut [u64]) -> bool {
-        let r = &self.0;
+        let r = &mut self.0;
         let tail = r.word(TAIL).load(Relaxed);
         let head = r.word(HEAD).load(Acquire);
         if head == tail {

@@ -322,6 +322,8 @@ pub mod features {
     pub const DC_64: u16 = 1 << 3;
     /// Fixed FMMU/SM configuration not required.
     pub const FMMU_BIT_OPERATION: u16 = 1 << 0;
+    /// Enhanced DC sync activation (0x0981..0x0984 usable): SYNC0/SYNC1.
+    pub const ENHANCED_DC_SYNC: u16 = 1 << 8;
 }
 
 /// DC activation (0x0981) bits.

@@ -265,3 +265,70 @@ fn analog_terminals_and_the_encoder_scale_their_values() {
     assert!(pos > 10_000.0, "{pos}");
     h.stop();
 }
+
+#[test]
+fn distributed_clocks_pins() {
+    let file = conf_file(
+        "dc",
+        r#"<masters><master idx="0" appTimePeriod="1000000" refClockSyncCycles="1">
+  <slave idx="0" type="EK1100" name="D0"/>
+  <slave idx="1" type="basic_cia402" vid="00000e5c" pid="00000402" name="X">
+    <dcConf assignActivate="300" sync0Cycle="*1" sync0Shift="0"/>
+  </slave>
+</master></masters>"#,
+    );
+    let h = host("lcec-sim-dc");
+    h.loadrt(
+        &MODULE,
+        &[&format!("config={}", file.display()), "backend=sim"],
+    )
+    .unwrap();
+    let seg: SharedSegment = hal_driver::sim::find(h.instance().name(), "lcec.0").unwrap();
+    // lcec's default threshold: 4 % of the period.
+    let param = |n: &str| h.instance().param_value(n).unwrap();
+    assert_eq!(param("lcec.0.dc-sync-max"), Value::U32(40_000));
+    assert_eq!(param("lcec.0.dc-sync-monitor"), Value::Bit(true));
+    let activation = seg.lock().unwrap().slaves()[1].sync_activation().unwrap();
+    assert_eq!(
+        (activation.flags, activation.sync0_cycle),
+        (0x03, 1_000_000)
+    );
+    h.create_thread("servo", 1_000_000, true, None).unwrap();
+    h.addf("lcec.read-all", "servo", -1).unwrap();
+    h.addf("lcec.write-all", "servo", -1).unwrap();
+    h.start().unwrap();
+    wait("dc-sync-converged", || {
+        pin(&h, "lcec.0.dc-sync-converged") == Value::Bit(true)
+    });
+    match pin(&h, "lcec.0.dc-sync-diff") {
+        Value::U32(d) => assert!(d < 40_000, "{d}"),
+        v => panic!("{v:?}"),
+    }
+    // The time pair: the application time is the cycle's monotonic time
+    // on the time base the slaves' clocks keep (the reference clock
+    // follows it).
+    let word = |n: &str| match pin(&h, n) {
+        Value::U32(v) => u64::from(v),
+        v => panic!("{n} is {v:?}"),
+    };
+    let time =
+        |n: &str| word(&format!("lcec.0.{n}-time-hi")) << 32 | word(&format!("lcec.0.{n}-time-lo"));
+    wait("the time pins", || word("lcec.0.mono-time-hi") > 0);
+    h.stop();
+    let (app, mono) = (time("app"), time("mono"));
+    assert!(mono > 0 && app > 0);
+    let reference = seg.lock().unwrap().slaves()[0].system_time() as u64;
+    assert!(
+        reference.abs_diff(app) < 1_000_000_000,
+        "reference {reference}, app {app}"
+    );
+    h.start().unwrap();
+    // The monitor off: converged says nothing.
+    h.instance()
+        .set_param("lcec.0.dc-sync-monitor", Value::Bit(false))
+        .unwrap();
+    wait("converged off", || {
+        pin(&h, "lcec.0.dc-sync-converged") == Value::Bit(false)
+    });
+    h.stop();
+}

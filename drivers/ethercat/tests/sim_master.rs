@@ -56,6 +56,8 @@ fn bring_up_exchange_and_faults() {
                 sub: Some(0),
                 data: 5000u32.to_le_bytes().to_vec(),
             }],
+            dc: None,
+            emergencies: false,
         }],
         ..MasterConfig::default()
     };
@@ -155,6 +157,8 @@ fn a_wrong_slave_is_a_load_error_naming_it() {
             name: "D1".into(),
             identity: Some((2, 0x07D8_3052)),
             sdos: vec![],
+            dc: None,
+            emergencies: false,
         }],
         ..MasterConfig::default()
     };

@@ -243,43 +243,6 @@ impl TimingOut {
     }
 }
 
-/// Where a function's handles lead: the first cache line of its
-/// component's pin and param words in the segment, and how many lines
-/// (at most [`Hint::MAX_LINES`]) they take. The executor asks for them one
-/// function ahead, so a cycle that starts with cold caches waits for them
-/// while the function before runs rather than in turn.
-#[derive(Clone, Copy)]
-pub(crate) struct Hint {
-    first: *const u8,
-    lines: usize,
-}
-
-impl Hint {
-    /// Lines asked for per function.
-    pub(crate) const MAX_LINES: usize = 4;
-    /// No lines.
-    pub(crate) const NONE: Hint = Hint {
-        first: std::ptr::null(),
-        lines: 0,
-    };
-
-    /// The lines of segment offsets `[from, to)` in the mapping at `base`.
-    pub(crate) fn new(base: *const u8, from: u64, to: u64) -> Hint {
-        let first = from & !63;
-        Hint {
-            first: base.wrapping_add(first as usize),
-            lines: ((to.saturating_sub(first)).div_ceil(64) as usize).min(Self::MAX_LINES),
-        }
-    }
-
-    #[inline(always)]
-    fn prefetch(&self) {
-        for i in 0..self.lines {
-            prefetch_line(self.first.wrapping_add(i * 64));
-        }
-    }
-}
-
 /// Asks the CPU to load the cache line holding `p`.
 #[inline(always)]
 fn prefetch_line(p: *const u8) {
@@ -295,22 +258,11 @@ fn prefetch_line(p: *const u8) {
 }
 
 /// One function of an executor's list: its code and, beside it, the words
-/// its timing goes to and where its handles lead, so that one pass over
-/// the list reads 56 bytes per function in order and nothing else of it.
+/// its timing goes to, so that one pass over the list reads 40 bytes per
+/// function in order and nothing else of it.
 pub(crate) struct Entry {
     pub call: Call,
     pub timing: TimingOut,
-    pub hint: Hint,
-}
-
-impl Entry {
-    /// Asks for the lines this function will touch first: its closure's
-    /// and its component's pin and param words.
-    #[inline(always)]
-    pub(crate) fn prefetch(&self) {
-        self.call.prefetch();
-        self.hint.prefetch();
-    }
 }
 
 /// A thread's function list, replaced whole by the host.
@@ -343,11 +295,10 @@ impl ExecList {
         }
     }
 
-    pub(crate) fn push(&mut self, code: Arc<FunctCode>, id: usize, timing: TimingOut, hint: Hint) {
+    pub(crate) fn push(&mut self, code: Arc<FunctCode>, id: usize, timing: TimingOut) {
         self.entries.push(Entry {
             call: code.entry(),
             timing,
-            hint,
         });
         self.owners.push(code);
         self.ids.push(id);

@@ -317,18 +317,15 @@ fn run_untimed(calls: &[Call], ctx: &FunctCtx, current: &mut usize) {
     }
 }
 
-/// Calls every function of the list without timing them, asking for each
-/// function's lines while the one before runs.
+/// Calls every function of the list without timing them, asking for
+/// each function's closure while the one before runs.
 #[inline(always)]
 fn run_listed(list: &ExecList, ctx: &FunctCtx, current: &mut usize) {
     let entries = &list.entries;
-    if let Some(first) = entries.first() {
-        first.prefetch();
-    }
     for (i, e) in entries.iter().enumerate() {
         *current = i;
         if let Some(next) = entries.get(i + 1) {
-            next.prefetch();
+            next.call.prefetch();
         }
         // SAFETY: as in `run_untimed`.
         unsafe { e.call.run(ctx) };
@@ -349,13 +346,10 @@ fn run_timed(
 ) -> u64 {
     let mut prev = start;
     let entries = &list.entries;
-    if let Some(first) = entries.first() {
-        first.prefetch();
-    }
     for (i, e) in entries.iter().enumerate() {
         *current = i;
         if let Some(next) = entries.get(i + 1) {
-            next.prefetch();
+            next.call.prefetch();
         }
         // SAFETY: as in `run_untimed`.
         unsafe { e.call.run(ctx) };

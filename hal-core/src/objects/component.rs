@@ -137,34 +137,6 @@ pub(crate) fn adopt(
     tx.set(head, off)
 }
 
-/// The span of segment offsets holding the [`Pair`]s (pin slots and own
-/// cells, param values) of component `off`'s newest 16 pins and 16 params:
-/// where its functions' handles lead. Pairs are carved in the order they
-/// are made, so a component's usually lie together. `None` when it has
-/// neither.
-pub(crate) fn hot_span(seg: &Segment, off: u64) -> Result<Option<(u64, u64)>> {
-    let comp: &CompRec = seg.rec(off)?;
-    let mut span: Option<(u64, u64)> = None;
-    let mut widen = |at: u64| {
-        span = Some(span.map_or((at, at + 16), |(a, b)| (a.min(at), b.max(at + 16))));
-    };
-    let mut cur = comp.own_pins.load(Relaxed);
-    for _ in 0..16 {
-        let Ok(p) = seg.rec::<PinRec>(cur) else { break };
-        widen(p.hot.load(Relaxed));
-        cur = p.owner_next.load(Relaxed);
-    }
-    let mut cur = comp.own_params.load(Relaxed);
-    for _ in 0..16 {
-        let Ok(p) = seg.rec::<ParamRec>(cur) else {
-            break;
-        };
-        widen(p.hot.load(Relaxed));
-        cur = p.owner_next.load(Relaxed);
-    }
-    Ok(span)
-}
-
 /// The objects on one of a component's lists.
 fn owned<T: Record>(
     seg: &Segment,

@@ -20,7 +20,6 @@ use std::sync::atomic::Ordering::*;
 use std::sync::Arc;
 
 pub use alias::AliasKind;
-pub(crate) use component::hot_span;
 pub use component::{Component, ComponentKind};
 pub use info::*;
 pub(crate) use liveness::HostLock;

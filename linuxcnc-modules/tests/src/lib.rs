@@ -10,6 +10,7 @@
 //! tests are ignored otherwise.
 
 use std::io::Read;
+use std::os::unix::process::CommandExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -82,36 +83,49 @@ pub fn linuxcnc(modules: &Modules, text: &str) -> Run {
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
+        .process_group(0)
         .spawn()
         .expect("scripts/linuxcnc-peer runs");
-    let (mut out, mut err) = (child.stdout.take(), child.stderr.take());
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        if let Some(o) = out.as_mut() {
-            let _ = o.read_to_string(&mut s);
-        }
-        s
-    });
-    let mut stderr = String::new();
-    if let Some(e) = err.as_mut() {
-        let _ = e.read_to_string(&mut stderr);
-    }
+    // Both pipes are read by threads, so that a session that hangs is
+    // caught by the limit below instead of holding this read forever.
+    let stdout = read_in_thread(child.stdout.take());
+    let stderr = read_in_thread(child.stderr.take());
     let end = Instant::now() + SESSION_LIMIT;
     let status = loop {
         if let Some(st) = child.try_wait().expect("wait for halrun") {
             break st;
         }
         if Instant::now() > end {
-            let _ = child.kill();
-            panic!("LinuxCNC's halrun did not finish within {SESSION_LIMIT:?}:\n{stderr}");
+            // The peer script leads its own process group: killing the
+            // group kills the PID namespace's first process, and with it
+            // everything LinuxCNC started there, so both pipes close.
+            let group = nix::unistd::Pid::from_raw(child.id() as i32);
+            let _ = nix::sys::signal::killpg(group, nix::sys::signal::Signal::SIGKILL);
+            let _ = child.wait();
+            let stdout = stdout.join().expect("stdout reader");
+            let stderr = stderr.join().expect("stderr reader");
+            panic!(
+                "LinuxCNC's halrun did not finish within {SESSION_LIMIT:?}:\n{stdout}\n{stderr}"
+            );
         }
         std::thread::sleep(Duration::from_millis(20));
     };
     Run {
         ok: status.success(),
-        stdout: reader.join().expect("stdout reader"),
-        stderr,
+        stdout: stdout.join().expect("stdout reader"),
+        stderr: stderr.join().expect("stderr reader"),
     }
+}
+
+/// Reads a child's pipe to its end on a thread of its own.
+fn read_in_thread<R: Read + Send + 'static>(pipe: Option<R>) -> std::thread::JoinHandle<String> {
+    std::thread::spawn(move || {
+        let mut s = String::new();
+        if let Some(mut p) = pipe {
+            let _ = p.read_to_string(&mut s);
+        }
+        s
+    })
 }
 
 /// Runs `text` in our host (served in this process, instance named

@@ -203,11 +203,15 @@ impl DriveRt {
         };
     }
 
-    /// Reception and supervision; the `srv-*` outputs.
+    /// Reception and supervision; the `srv-*` outputs. `emcy`: the
+    /// error code of an emergency the drive sent since the last cycle
+    /// (read from its mailbox by the master's helper): it trips the
+    /// drive as canservo's EMCY does, with its code in `srv-error-code`.
     pub(crate) fn read<H: HalHost>(
         &mut self,
         img: &[u8],
         healthy: bool,
+        emcy: Option<u16>,
         p: &Named<'_, H>,
         log: Option<&LogSink>,
     ) {
@@ -223,6 +227,9 @@ impl DriveRt {
                 .observe_velocity(rd(self.at.velocity) as i32, rd(self.at.error_code) as u16);
         } else {
             self.ctl.trip(&SLAVE_LOST, log, 0);
+        }
+        if let Some(code) = emcy {
+            self.ctl.emcy(code, log);
         }
         self.ctl.poll_restart(log);
         self.ctl.after_restart(healthy);

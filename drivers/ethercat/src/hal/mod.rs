@@ -37,9 +37,11 @@
 
 mod any_pin;
 mod drive;
+mod encoder;
 mod field;
 mod setup;
 mod slave;
+mod stepper;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -58,6 +60,7 @@ use slave::SlaveRt;
 use crate::lcec::pins::{self, MODULE as NAME};
 use crate::lcec::{conf, handoff};
 use crate::link::{InProcess, Link, RawSocket};
+use crate::master::dc::NOT_HEARD;
 use crate::master::{Cyclic, Master};
 use crate::regs::al;
 
@@ -126,9 +129,17 @@ struct MasterRt<H: HalHost> {
     cyclic: Cyclic,
     slaves: Vec<SlaveRt<H>>,
     pins: Vec<AnyPin<H>>,
-    wkc_min: Option<u16>,
-    wkc_last: u16,
-    wkc_changes: u32,
+    wkc: WkcStats,
+}
+
+/// The working counter's statistics: from the first complete exchange
+/// on (bring-up's ramp does not count), until `wkc-reset`.
+#[derive(Default)]
+struct WkcStats {
+    armed: bool,
+    min: u16,
+    last: u16,
+    changes: u32,
 }
 
 /// Indices into a master's pins, in [`pins::master_pins`] order.
@@ -142,6 +153,12 @@ mod mp {
     pub const WKC_MIN: usize = 9;
     pub const WKC_CHANGES: usize = 10;
     pub const WKC_RESET: usize = 11;
+    pub const DC_DIFF: usize = 12;
+    pub const DC_CONVERGED: usize = 13;
+    pub const DC_MAX: usize = 14;
+    pub const DC_MONITOR: usize = 15;
+    pub const APP_TIME: usize = 16;
+    pub const MONO_TIME: usize = 18;
 }
 
 /// What one master's `read` found, for the global pins.
@@ -164,7 +181,14 @@ impl<H: HalHost> MasterRt<H> {
         for s in &mut self.slaves {
             let state = self.cyclic.al_state(s.index);
             let healthy = self.cyclic.healthy(s.index);
-            s.read(self.cyclic.inputs(s.index), state, healthy, &st, log);
+            let emcy = self.cyclic.take_emergency(s.index);
+            s.read(
+                self.cyclic.inputs(s.index),
+                (state, healthy),
+                emcy,
+                &st,
+                log,
+            );
         }
         for i in 0..self.cyclic.slaves().len() {
             let state = self.cyclic.al_state(i);
@@ -177,33 +201,69 @@ impl<H: HalHost> MasterRt<H> {
         }
         publish(&self.pins, &sum);
         self.wkc(st.wkc, st.expected_wkc);
+        self.clocks();
         sum
     }
 
     fn wkc(&mut self, wkc: u16, expected: u16) {
         let p = &self.pins;
+        let w = &mut self.wkc;
         if p[mp::WKC_RESET].is_set() {
-            self.wkc_min = None;
-            self.wkc_changes = 0;
+            *w = WkcStats::default();
             p[mp::WKC_RESET].set(0.0);
         }
-        if wkc != self.wkc_last {
-            self.wkc_changes = self.wkc_changes.wrapping_add(1);
-            self.wkc_last = wkc;
+        if !w.armed && wkc >= expected {
+            *w = WkcStats {
+                armed: true,
+                min: wkc,
+                last: wkc,
+                changes: 0,
+            };
         }
-        let min = self.wkc_min.map_or(wkc, |m| m.min(wkc));
-        self.wkc_min = Some(min);
+        if w.armed {
+            if wkc != w.last {
+                w.changes = w.changes.wrapping_add(1);
+                w.last = wkc;
+            }
+            w.min = w.min.min(wkc);
+        }
         p[mp::WKC].set(f64::from(wkc));
         p[mp::WKC_STATE].set(match wkc {
             0 => 0.0,
             w if w < expected => 1.0,
             _ => 2.0,
         });
-        p[mp::WKC_MIN].set(f64::from(min));
-        p[mp::WKC_CHANGES].set(f64::from(self.wkc_changes));
+        p[mp::WKC_MIN].set(f64::from(w.min));
+        p[mp::WKC_CHANGES].set(f64::from(w.changes));
+    }
+
+    /// `dc-sync-diff` and `dc-sync-converged` from the helper's monitor
+    /// (0 and false while no slave uses SYNC).
+    fn clocks(&mut self) {
+        let p = &self.pins;
+        let monitor = p[mp::DC_MONITOR].is_set();
+        self.cyclic.set_dc_monitor(monitor);
+        let dc = self.cyclic.dc_status();
+        if !dc.in_use || !monitor {
+            p[mp::DC_CONVERGED].set(0.0);
+            return;
+        }
+        let converged = dc.diff != NOT_HEARD && f64::from(dc.diff) < p[mp::DC_MAX].get();
+        p[mp::DC_DIFF].set(f64::from(dc.diff));
+        p[mp::DC_CONVERGED].set(f64::from(u8::from(converged)));
+    }
+
+    /// The cycle's time pair (`app-time-*`, `mono-time-*`).
+    fn times(&mut self, now_ns: u64) {
+        let app = self.cyclic.app_time(now_ns);
+        for (at, v) in [(mp::APP_TIME, app), (mp::MONO_TIME, now_ns)] {
+            self.pins[at].set(f64::from(v as u32));
+            self.pins[at + 1].set(f64::from((v >> 32) as u32));
+        }
     }
 
     fn write(&mut self, now_ns: u64) {
+        self.times(now_ns);
         let mut reset = false;
         for s in &mut self.slaves {
             s.write(self.cyclic.outputs_mut(s.index), now_ns);
@@ -335,10 +395,10 @@ fn export_master<H: HalHost>(
         cyclic: s.cyclic,
         slaves,
         pins,
-        wkc_min: None,
-        wkc_last: 0,
-        wkc_changes: 0,
+        wkc: WkcStats::default(),
     };
+    // lcec's default threshold: 4 % of the period.
+    rt.pins[mp::DC_MAX].set((s.conf.app_time_period / 25).min(u64::from(u32::MAX)) as f64);
     Ok((rt, s.master, s.sim))
 }
 

@@ -8,7 +8,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::error::{Error, Result};
 use crate::lcec::conf;
-use crate::master::{MasterConfig, SdoWrite, SlavePlan};
+use crate::master::{DcPlan, MasterConfig, SdoWrite, SlavePlan};
 use crate::sim::{self, catalog, Segment};
 
 /// The master's plan for `m` (`sim`: on a simulated segment).
@@ -31,11 +31,55 @@ pub(crate) fn plan(m: &conf::Master, sim: bool) -> MasterConfig {
                         sub: w.sub,
                         data: w.data.clone(),
                     })
+                    .chain(pdo_writes(s))
                     .collect(),
+                dc: s.dc.map(|d| DcPlan {
+                    assign_activate: d.assign_activate,
+                    sync0_cycle_ns: d.sync0_cycle.ns(m.app_time_period),
+                    sync0_shift_ns: d.sync0_shift,
+                    sync1_cycle_ns: d.sync1_cycle.ns(m.app_time_period),
+                }),
+                emergencies: s.kind == "basic_cia402",
             })
             .collect(),
+        ref_clock_sync_cycles: m.ref_clock_sync_cycles,
         ..MasterConfig::default()
     }
+}
+
+/// The SDO writes that give a slave the PDO layout of its
+/// `<syncManager>`s (`configPdos="true"`), after its `<sdoConfig>`s as
+/// IgH's master orders them: per sync manager its assignment (0x1C10 +
+/// index) emptied, each PDO's mapping written (sub-index 0 cleared, the
+/// entries as index << 16 | sub-index << 8 | bits, gaps with index 0,
+/// then the count), then the PDOs assigned and their count.
+pub(crate) fn pdo_writes(s: &conf::Slave) -> Vec<SdoWrite> {
+    let w = |index: u16, sub: u8, data: Vec<u8>| SdoWrite {
+        index,
+        sub: Some(sub),
+        data,
+    };
+    let mut out = Vec::new();
+    if !s.config_pdos {
+        return out;
+    }
+    for sm in &s.sync_managers {
+        let assign = 0x1C10 + u16::from(sm.index);
+        out.push(w(assign, 0, vec![0]));
+        for pdo in &sm.pdos {
+            out.push(w(pdo.index, 0, vec![0]));
+            for (k, e) in pdo.entries.iter().enumerate() {
+                let map = u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bit_len);
+                out.push(w(pdo.index, k as u8 + 1, map.to_le_bytes().to_vec()));
+            }
+            out.push(w(pdo.index, 0, vec![pdo.entries.len() as u8]));
+        }
+        for (k, pdo) in sm.pdos.iter().enumerate() {
+            out.push(w(assign, k as u8 + 1, pdo.index.to_le_bytes().to_vec()));
+        }
+        out.push(w(assign, 0, vec![sm.pdos.len() as u8]));
+    }
+    out
 }
 
 /// The vendor id and product code a slave must have: a generic slave's

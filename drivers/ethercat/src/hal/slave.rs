@@ -8,7 +8,9 @@ use hal_driver::LogSink;
 
 use super::any_pin::AnyPin;
 use super::drive::DriveRt;
+use super::encoder::{Encoder, EncoderPins};
 use super::field::{self, Field};
+use super::stepper::{Stepper, StepperPins};
 use crate::error::Error;
 use crate::lcec::pins::{self, Coding, Kind, PinSpec, PinType};
 use crate::master::{Layout, ReadStatus};
@@ -75,8 +77,10 @@ pub(crate) struct SlaveRt<H: HalHost> {
     state: StatePins<H>,
     pins: Vec<Bound<H>>,
     drive: Option<Box<DriveRt>>,
-    /// EL5101/EL7041: the counter extended past 16 bits.
-    count: Counter,
+    /// EL5101/EL7041: the counter extended past 16 bits, the latches.
+    encoder: Encoder,
+    /// EL7041: the motor's enable edge and automatic reset.
+    stepper: Stepper,
 }
 
 /// What a slave type computes beyond its entries' bits, with the pins it
@@ -89,8 +93,10 @@ enum TypeCode {
     AnalogIn([AnalogInPins; 2]),
     /// EL4102: the duty cycle of each channel.
     AnalogOut([AnalogOutPins; 2]),
-    /// EL5101, EL7041: the extended counter and the position.
-    Counter(CounterPins),
+    /// EL5101: the encoder.
+    Encoder(EncoderPins),
+    /// EL7041: the encoder and the motor in velocity mode.
+    Stepper(Box<(EncoderPins, StepperPins)>),
 }
 
 /// An EL3102 channel's pins (`ain-N-*`), as indices into the slave's pins.
@@ -115,18 +121,10 @@ struct AnalogOutPins {
     neg: Option<usize>,
 }
 
-/// The counter pins (`enc-*`) of an EL5101 or EL7041.
-struct CounterPins {
-    raw_count: Option<usize>,
-    reset: Option<usize>,
-    pos_scale: Option<usize>,
-    count: Option<usize>,
-    pos: Option<usize>,
-}
-
 impl TypeCode {
-    /// The code of slave type `kind`, its pins found in `pins`.
-    fn new<H: HalHost>(kind: &str, pins: &Named<'_, H>) -> TypeCode {
+    /// The code of slave type `kind`, its pins found in `pins`, its
+    /// entries in `layout`.
+    fn new<H: HalHost>(kind: &str, pins: &Named<'_, H>, layout: &Layout) -> TypeCode {
         let ch = |kind: &str, n: usize, what: &str| pins.index(&format!("{kind}-{n}-{what}"));
         match kind {
             "EL3102" => TypeCode::AnalogIn([0, 1].map(|n| AnalogInPins {
@@ -147,22 +145,14 @@ impl TypeCode {
                 pos: ch("aout", n, "pos"),
                 neg: ch("aout", n, "neg"),
             })),
-            "EL5101" | "EL7041" => TypeCode::Counter(CounterPins {
-                raw_count: pins.index("enc-raw-count"),
-                reset: pins.index("enc-reset"),
-                pos_scale: pins.index("enc-pos-scale"),
-                count: pins.index("enc-count"),
-                pos: pins.index("enc-pos"),
-            }),
+            "EL5101" => TypeCode::Encoder(EncoderPins::new(kind, pins, layout)),
+            "EL7041" => TypeCode::Stepper(Box::new((
+                EncoderPins::new(kind, pins, layout),
+                StepperPins::new(pins, layout),
+            ))),
             _ => TypeCode::Plain,
         }
     }
-}
-
-#[derive(Default)]
-struct Counter {
-    last_raw: Option<i16>,
-    count: i64,
 }
 
 impl<H: HalHost> SlaveRt<H> {
@@ -198,7 +188,7 @@ impl<H: HalHost> SlaveRt<H> {
             });
         }
         let named = Named(&bound);
-        let code = TypeCode::new(&slave.kind, &named);
+        let code = TypeCode::new(&slave.kind, &named, layout);
         let drive = if slave.kind == "basic_cia402" {
             Some(Box::new(DriveRt::new(
                 format!("{} (slave {})", name("srv"), slave.index),
@@ -218,16 +208,18 @@ impl<H: HalHost> SlaveRt<H> {
             state,
             pins: bound,
             drive,
-            count: Counter::default(),
+            encoder: Encoder::default(),
+            stepper: Stepper::default(),
         })
     }
 
-    /// A cycle's reception: state pins, then every input.
+    /// A cycle's reception: state pins, then every input; `emcy`: the
+    /// error code of an emergency the slave sent since the last.
     pub(crate) fn read(
         &mut self,
         inputs: &[u8],
-        al_state: u8,
-        healthy: bool,
+        (al_state, healthy): (u8, bool),
+        emcy: Option<u16>,
         status: &ReadStatus,
         log: Option<&LogSink>,
     ) {
@@ -258,13 +250,18 @@ impl<H: HalHost> SlaveRt<H> {
                 b.pin.set(v);
             }
         }
+        let named = Named(&self.pins);
         match &self.code {
             TypeCode::AnalogIn(channels) => analog_in(&self.pins, channels),
-            TypeCode::Counter(at) => counter(&self.pins, at, &mut self.count),
+            TypeCode::Encoder(at) => self.encoder.read(inputs, healthy, at, &named),
+            TypeCode::Stepper(at) => {
+                self.encoder.read(inputs, healthy, &at.0, &named);
+                self.stepper.read(&at.1, &named);
+            }
             TypeCode::Plain | TypeCode::AnalogOut(_) => {}
         }
         if let Some(d) = &mut self.drive {
-            d.read(inputs, healthy, &Named(&self.pins), log);
+            d.read(inputs, healthy, emcy, &Named(&self.pins), log);
         }
     }
 
@@ -291,6 +288,9 @@ impl<H: HalHost> SlaveRt<H> {
                 }
                 _ => {}
             }
+        }
+        if let TypeCode::Stepper(at) = &self.code {
+            self.stepper.write(outputs, &at.1, &Named(&self.pins));
         }
         if let Some(d) = &mut self.drive {
             d.write(outputs, now_ns, &Named(&self.pins));
@@ -388,28 +388,6 @@ fn analog_out<H: HalHost>(pins: &[Bound<H>], channels: &[AnalogOutPins; 2]) {
                 pin.set(v);
             }
         }
-    }
-}
-
-/// EL5101, EL7041: the 16-bit counter extended, and the position.
-fn counter<H: HalHost>(pins: &[Bound<H>], c: &CounterPins, state: &mut Counter) {
-    let Some(raw) = at(pins, c.raw_count).map(|p| p.get() as i64 as i16) else {
-        return;
-    };
-    let reset = at(pins, c.reset).is_some_and(AnyPin::is_set);
-    match state.last_raw {
-        Some(last) if !reset => state.count += i64::from(raw.wrapping_sub(last)),
-        _ => state.count = 0,
-    }
-    state.last_raw = Some(raw);
-    let count = state.count;
-    let scale = at(pins, c.pos_scale).map_or(1.0, |s| s.get());
-    let scale = if scale.abs() < 1e-20 { 1.0 } else { scale };
-    if let Some(p) = at(pins, c.count) {
-        p.set(count as f64);
-    }
-    if let Some(p) = at(pins, c.pos) {
-        p.set(count as f64 / scale);
     }
 }
 

@@ -518,8 +518,18 @@ fn sdo_config(cx: &Ctx<'_>, c: roxmltree::Node<'_, '_>) -> Result<SdoConfig> {
     Ok(SdoConfig { index, sub, data })
 }
 
+/// Sync managers a slave has at most (their PDO assignments are
+/// 0x1C10..0x1C2F).
+pub const MAX_SYNC_MANAGERS: u8 = 32;
+/// PDOs per sync manager and entries per PDO at most (CoE's sub-indices
+/// 1..254).
+pub const MAX_PDO_ITEMS: usize = 254;
+
 fn sync_manager(cx: &Ctx<'_>, c: roxmltree::Node<'_, '_>) -> Result<SyncManager> {
-    let index = cx.dec(c, "idx", None)?;
+    let index: u8 = cx.dec(c, "idx", None)?;
+    if index >= MAX_SYNC_MANAGERS {
+        return Err(cx.err(c, format!("idx {index} is not a sync manager 0..31")));
+    }
     let output = match cx.attr(c, "dir")? {
         "out" => true,
         "in" => false,
@@ -529,7 +539,16 @@ fn sync_manager(cx: &Ctx<'_>, c: roxmltree::Node<'_, '_>) -> Result<SyncManager>
     for p in cx.children(c, &["pdo"])? {
         let mut entries = Vec::new();
         for e in cx.children(p, &["pdoEntry"])? {
+            if entries.len() == MAX_PDO_ITEMS {
+                return Err(cx.err(e, format!("more than {MAX_PDO_ITEMS} entries in one PDO")));
+            }
             entries.push(pdo_entry(cx, e)?);
+        }
+        if pdos.len() == MAX_PDO_ITEMS {
+            return Err(cx.err(
+                p,
+                format!("more than {MAX_PDO_ITEMS} PDOs in one sync manager"),
+            ));
         }
         pdos.push(Pdo {
             index: cx.fit(p, "idx", cx.hex(p, "idx")?)?,

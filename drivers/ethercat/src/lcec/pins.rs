@@ -8,8 +8,10 @@
 //!   ([`master_pins`]): `slaves-responding`, `state-init`, `state-preop`,
 //!   `state-safeop`, `state-op`, `link-up`, `all-op`; each master adds the
 //!   working counter (`wkc`, `wkc-state`, `wkc-min`, `wkc-change-count`,
-//!   `wkc-reset`) and the DC drift (`dc-sync-diff`, `dc-sync-converged`,
-//!   parameter `dc-sync-max`);
+//!   `wkc-reset`), the DC drift (`dc-sync-diff`, `dc-sync-converged`,
+//!   parameters `dc-sync-max`, `dc-sync-monitor`) and the time pair
+//!   (`app-time-lo`/`-hi`: the cycle's DC application time,
+//!   `mono-time-lo`/`-hi`: its CLOCK_MONOTONIC time);
 //! * every slave's state ([`slave_state_pins`]): `slave-online`,
 //!   `slave-oper`, `slave-state-init`, `-preop`, `-safeop`, `-op`;
 //! * what its type adds ([`slave_pins`]): `din-N`/`din-N-not` (EL1xxx),
@@ -198,6 +200,14 @@ pub fn master_pins(global: bool) -> Vec<PinSpec> {
             PinSpec::new("dc-sync-diff", U32, Kind::Out),
             PinSpec::new("dc-sync-converged", Bit, Kind::Out),
             PinSpec::new("dc-sync-max", U32, Kind::Param),
+            PinSpec {
+                initial: PinValue::Bit(true),
+                ..PinSpec::new("dc-sync-monitor", Bit, Kind::Param)
+            },
+            PinSpec::new("app-time-lo", U32, Kind::Out),
+            PinSpec::new("app-time-hi", U32, Kind::Out),
+            PinSpec::new("mono-time-lo", U32, Kind::Out),
+            PinSpec::new("mono-time-hi", U32, Kind::Out),
         ]);
     }
     v
@@ -385,7 +395,7 @@ fn encoder_el5101() -> Vec<PinSpec> {
         ("enc-set-raw-count-val", S32, In, e(0x7000, 2, 16)),
         ("enc-raw-count", S32, Out, e(0x6000, 2, 16)),
         ("enc-count", S32, Out, None),
-        ("enc-raw-latch", S32, Out, e(0x6000, 3, 16)),
+        ("enc-raw-latch", S32, Out, None),
         ("enc-raw-freq", U32, Out, e(0x6000, 4, 32)),
         ("enc-raw-period", U32, Out, e(0x6000, 5, 16)),
         ("enc-raw-window", U32, Out, e(0x6000, 6, 16)),
@@ -393,7 +403,15 @@ fn encoder_el5101() -> Vec<PinSpec> {
         ("enc-period", Float, Out, None),
         ("enc-frequency", Float, Out, None),
         ("enc-pos-scale", Float, Io, None),
+        ("enc-frequency-scale", Float, Io, None),
     ])
+    .into_iter()
+    .map(|p| match p.name.as_str() {
+        // lcec's default, kept for its users' configurations.
+        "enc-frequency-scale" => p.starting(0.05),
+        _ => p,
+    })
+    .collect()
 }
 
 fn stepper_el7041() -> Vec<PinSpec> {
@@ -419,7 +437,7 @@ fn stepper_el7041() -> Vec<PinSpec> {
         ("enc-set-raw-count-val", S32, In, e(0x7000, 0x11, 16)),
         ("enc-raw-count", S32, Out, e(0x6000, 0x11, 16)),
         ("enc-count", S32, Out, None),
-        ("enc-raw-latch", S32, Out, e(0x6000, 0x12, 16)),
+        ("enc-raw-latch", S32, Out, None),
         ("enc-pos", Float, Out, None),
         ("enc-pos-scale", Float, Io, None),
         ("srv-scale", Float, Io, None),
@@ -429,9 +447,9 @@ fn stepper_el7041() -> Vec<PinSpec> {
         ("srv-curr-dc", Float, Out, None),
         ("srv-enable", Bit, In, e(0x7010, 0x01, 1)),
         ("srv-absmode", Bit, In, None),
-        ("srv-cmd", Float, In, e(0x7010, 0x21, 16)),
-        ("srv-raw-cmd", S32, Out, e(0x7010, 0x21, 16)),
-        ("srv-reset", Bit, In, e(0x7010, 0x02, 1)),
+        ("srv-cmd", Float, In, None),
+        ("srv-raw-cmd", S32, Out, None),
+        ("srv-reset", Bit, In, None),
         ("srv-reduce-torque", Bit, In, e(0x7010, 0x03, 1)),
         ("srv-ready-to-enable", Bit, Out, e(0x6010, 0x01, 1)),
         ("srv-ready", Bit, Out, e(0x6010, 0x02, 1)),

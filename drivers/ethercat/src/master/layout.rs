@@ -35,6 +35,8 @@ pub struct Layout {
     pub outputs: Vec<MappedEntry>,
     /// Inputs (slave → master).
     pub inputs: Vec<MappedEntry>,
+    /// The slave → master mailbox (start, bytes) of a slave with CoE.
+    pub mailbox_in: Option<(u16, u16)>,
 }
 
 impl Layout {
@@ -115,6 +117,10 @@ pub(crate) fn read<S: std::ops::Deref<Target = SubDevice>>(
     Ok(Layout {
         outputs: Layout::pack(&dirs[0]),
         inputs: Layout::pack(&dirs[1]),
+        mailbox_in: sii
+            .mailbox
+            .filter(|_| coe)
+            .map(|m| (m.tx_offset, m.tx_size)),
     })
 }
 
@@ -158,6 +164,7 @@ mod tests {
                 vec![(0x7040, 1, 8)],
             ]),
             inputs: Vec::new(),
+            mailbox_in: None,
         };
         let bits: Vec<usize> = l.outputs.iter().map(|e| e.bit).collect();
         assert_eq!(bits, [0, 1, 2, 8, 24, 32]);

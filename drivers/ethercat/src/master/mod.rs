@@ -33,25 +33,27 @@
 //! [`Cyclic::fault_reset`] asks the helper to bring slaves in SAFE-OP or
 //! PRE-OP back to OP (AL control with error acknowledge).
 
+pub mod dc;
+pub mod emcy;
 pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
+mod serve;
 
-use std::future::Future;
 use std::ops::Range;
-use std::pin::pin;
 use std::sync::atomic::{AtomicBool, AtomicU16, AtomicU32, AtomicU64, AtomicU8, Ordering::*};
 use std::sync::{mpsc, Arc};
-use std::task::Poll;
 use std::thread::{JoinHandle, Thread};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use ethercrab::std::ethercat_now;
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceState, Timeouts};
+use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
 use crate::error::{Error, Result};
 use crate::link::Link;
-use crate::regs::{self, al};
+use crate::regs::al;
+use dc::DcCycle;
+pub use dc::DcPlan;
 use exchange::Exchange;
 use io::Io;
 pub use layout::{Layout, MappedEntry};
@@ -89,6 +91,10 @@ pub struct SlavePlan {
     pub identity: Option<(u32, u32)>,
     /// SDO writes in PRE-OP, in order.
     pub sdos: Vec<SdoWrite>,
+    /// Its SYNC unit (`<dcConf>`), set up in PRE-OP after the SDOs.
+    pub dc: Option<DcPlan>,
+    /// Poll its mailbox for emergencies during cycles (CiA 402 drives).
+    pub emergencies: bool,
 }
 
 /// The master's settings.
@@ -107,6 +113,10 @@ pub struct MasterConfig {
     /// `loadrt lcec backend=sim` gives it 100 ms: a starved test machine
     /// must not look like a broken cable.
     pub frame_timeout: Option<Duration>,
+    /// With SYNC in use, the application time goes to the reference
+    /// clock every this many cycles (`refClockSyncCycles`; 0 or less:
+    /// never).
+    pub ref_clock_sync_cycles: i32,
 }
 
 impl Default for MasterConfig {
@@ -116,6 +126,7 @@ impl Default for MasterConfig {
             slaves: Vec::new(),
             state_timeout: Duration::from_secs(5),
             frame_timeout: None,
+            ref_clock_sync_cycles: 1,
         }
     }
 }
@@ -168,6 +179,36 @@ struct Shared {
     stop: AtomicBool,
     counters: Counters,
     frame_ns: AtomicU32,
+    clocks: Clocks,
+    emergencies: emcy::Slots,
+}
+
+/// The distributed clocks as the helper and the realtime side see them.
+#[derive(Debug, Default)]
+struct Clocks {
+    /// Some slave's SYNC unit is set up.
+    in_use: bool,
+    /// EtherCAT time minus CLOCK_MONOTONIC (ns): the application time
+    /// of a monotonic time.
+    base: i64,
+    /// The reference clock's system time as the last frame read it.
+    reference: AtomicU64,
+    /// The largest clock difference (ns), or [`dc::NOT_HEARD`].
+    diff: AtomicU32,
+    /// Whether the helper reads the difference each cycle.
+    monitor: AtomicBool,
+}
+
+/// What the realtime side knows of the clocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DcStatus {
+    /// Some slave's SYNC unit is set up.
+    pub in_use: bool,
+    /// The reference clock's system time at the last frame (0: none).
+    pub reference_time: u64,
+    /// The largest clock difference (ns; [`dc::NOT_HEARD`] while the
+    /// monitor hears nothing).
+    pub diff: u32,
 }
 
 /// The non-realtime handle: owns the helper thread.
@@ -192,6 +233,10 @@ pub struct Cyclic {
     tag: u64,
     last_read_tag: u64,
     wkc: u16,
+    /// EtherCAT time minus CLOCK_MONOTONIC (ns).
+    app_base: i64,
+    /// Per slave: the count of the last emergency taken.
+    emcy_seen: Vec<u32>,
 }
 
 /// What one `read` found.
@@ -252,6 +297,8 @@ impl Master {
             tag: 0,
             last_read_tag: 0,
             wkc: 0,
+            app_base: shared.clocks.base,
+            emcy_seen: vec![0; slaves.len()],
         };
         Ok((
             Master {
@@ -387,6 +434,39 @@ impl Cyclic {
         &self.shared.counters
     }
 
+    /// The application time (EtherCAT ns) of CLOCK_MONOTONIC time
+    /// `mono_ns`: the servo thread's time on the slaves' time base.
+    pub fn app_time(&self, mono_ns: u64) -> u64 {
+        (mono_ns as i64).wrapping_add(self.app_base) as u64
+    }
+
+    /// Whether the helper reads the clocks' difference each cycle
+    /// (`dc-sync-monitor`).
+    pub fn set_dc_monitor(&self, on: bool) {
+        self.shared.clocks.monitor.store(on, Relaxed);
+    }
+
+    /// The error code of an emergency slave `i` sent since the last
+    /// call, if any (the latest when several came).
+    pub fn take_emergency(&mut self, i: usize) -> Option<u16> {
+        let (count, code) = self.shared.emergencies.latest(i);
+        let seen = self.emcy_seen.get_mut(i)?;
+        (count != *seen).then(|| {
+            *seen = count;
+            code
+        })
+    }
+
+    /// The clocks as the last frames saw them.
+    pub fn dc_status(&self) -> DcStatus {
+        let c = &self.shared.clocks;
+        DcStatus {
+            in_use: c.in_use,
+            reference_time: c.reference.load(Relaxed),
+            diff: c.diff.load(Relaxed),
+        }
+    }
+
     /// How long the helper's last frame took to come back (ns).
     pub fn round_trip_ns(&self) -> u32 {
         self.shared.frame_ns.load(Relaxed)
@@ -432,7 +512,7 @@ fn helper(link: Box<dyn Link>, cfg: MasterConfig, ready: Ready) {
         buf: vec![0; 1600],
     };
     let up = bring_up(&md, &mut io, &cfg, &iface);
-    let (group, shared, slaves) = match up {
+    let (group, shared, slaves, mut extras) = match up {
         Ok(x) => x,
         Err(e) => {
             let _ = ready.send(Err(e));
@@ -442,7 +522,7 @@ fn helper(link: Box<dyn Link>, cfg: MasterConfig, ready: Ready) {
     if ready.send(Ok((shared.clone(), slaves.clone()))).is_err() {
         return;
     }
-    serve(&md, &mut io, &group, &shared, &slaves, &cfg);
+    serve::serve(&md, &mut io, &group, &shared, &slaves, &cfg, &mut extras);
 }
 
 type Group = ethercrab::SubDeviceGroup<
@@ -457,10 +537,15 @@ fn bring_up(
     io: &mut Io<'_>,
     cfg: &MasterConfig,
     iface: &str,
-) -> Result<(Group, Arc<Shared>, Vec<SlaveInfo>)> {
+) -> Result<(Group, Arc<Shared>, Vec<SlaveInfo>, serve::Extras)> {
     let group = io
         .block_on(md.init_single_group::<MAX_SLAVES, MAX_PDI>(ethercat_now))
         .map_err(|e| master_error(iface, "scanning the segment (INIT to PRE-OP)", e))?;
+    let mut clocks = DcCycle {
+        reference: dc::reference(group.iter(md)),
+        sync_every: u32::try_from(cfg.ref_clock_sync_cycles).unwrap_or(0),
+        ..DcCycle::default()
+    };
     for plan in &cfg.slaves {
         let sd = group
             .subdevice(md, usize::from(plan.position))
@@ -472,38 +557,8 @@ fn bring_up(
                     group.len()
                 ),
             })?;
-        let id = sd.identity();
-        if let Some((vid, pid)) = plan.identity {
-            if (id.vendor_id, id.product_id) != (vid, pid) {
-                return Err(Error::SlaveMismatch {
-                    position: plan.position,
-                    name: plan.name.clone(),
-                    reason: format!(
-                        "configured as vendor {vid:#010x} product {pid:#010x}, found {} (vendor {:#010x} product {:#010x})",
-                        sd.name(),
-                        id.vendor_id,
-                        id.product_id
-                    ),
-                });
-            }
-        }
-        for w in &plan.sdos {
-            let sub = match w.sub {
-                Some(s) => ethercrab::SubIndex::Index(s),
-                None => ethercrab::SubIndex::Complete,
-            };
-            io.block_on(sd.sdo_write(w.index, sub, w.data.as_slice()))
-                .map_err(|e| Error::SlaveMismatch {
-                    position: plan.position,
-                    name: plan.name.clone(),
-                    reason: format!(
-                        "SDO write of {:#06x}:{:?} ({} bytes) failed: {e}",
-                        w.index,
-                        w.sub,
-                        w.data.len()
-                    ),
-                })?;
-        }
+        apply_plan(md, io, &sd, plan, clocks.reference)?;
+        clocks.in_use |= plan.dc.is_some_and(|d| d.assign_activate != 0);
     }
     let mut layouts = Vec::with_capacity(group.len());
     for (i, sd) in group.iter(md).enumerate() {
@@ -512,6 +567,18 @@ fn bring_up(
     let group = io
         .block_on(group.into_op(md))
         .map_err(|e| master_error(iface, "bringing the segment to OP", e))?;
+    let mut mailboxes = emcy::MailboxPoll::default();
+    for plan in cfg.slaves.iter().filter(|p| p.emergencies) {
+        let i = usize::from(plan.position);
+        let mailbox = layouts.get(i).and_then(|l| l.mailbox_in);
+        if let (Some(mailbox), Ok(sd)) = (mailbox, group.subdevice(md, i)) {
+            mailboxes.polled.push(emcy::Polled {
+                slave: i,
+                station: sd.configured_address(),
+                mailbox,
+            });
+        }
+    }
     let mut slaves = Vec::new();
     let (mut ins, mut outs) = (0usize, 0usize);
     let mut expected = 0u16;
@@ -544,143 +611,59 @@ fn bring_up(
         stop: AtomicBool::new(false),
         counters: Counters::default(),
         frame_ns: AtomicU32::new(0),
+        clocks: Clocks {
+            in_use: clocks.in_use,
+            base: ethercat_now() as i64 - hal_core::clock::monotonic_ns() as i64,
+            monitor: AtomicBool::new(true),
+            ..Clocks::default()
+        },
+        emergencies: emcy::Slots::new(slaves.len()),
     });
-    Ok((group, shared, slaves))
+    Ok((group, shared, slaves, serve::Extras { clocks, mailboxes }))
 }
 
-fn serve(
+/// What the configuration says of one slave, done in PRE-OP: its
+/// identity checked, its SDO writes, its SYNC unit.
+fn apply_plan<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
     md: &MainDevice<'_>,
     io: &mut Io<'_>,
-    group: &Group,
-    shared: &Shared,
-    slaves: &[SlaveInfo],
-    cfg: &MasterConfig,
-) {
-    let mut out = vec![0u8; shared.outputs.len()];
-    let mut inp = vec![0u8; shared.inputs.len()];
-    let mut last_writes = 0;
-    let mut lost_run = 0u32;
-    let period = Duration::from_nanos(cfg.period_ns.max(1000));
-    while !shared.stop.load(Acquire) {
-        if shared.reset.swap(false, AcqRel) {
-            reset_slaves(md, io, group, shared);
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    plan: &SlavePlan,
+    reference: Option<u16>,
+) -> Result<()> {
+    let mismatch = |reason: String| Error::SlaveMismatch {
+        position: plan.position,
+        name: plan.name.clone(),
+        reason,
+    };
+    let id = sd.identity();
+    if let Some((vid, pid)) = plan.identity {
+        if (id.vendor_id, id.product_id) != (vid, pid) {
+            return Err(mismatch(format!(
+                "configured as vendor {vid:#010x} product {pid:#010x}, found {} (vendor {:#010x} product {:#010x})",
+                sd.name(),
+                id.vendor_id,
+                id.product_id
+            )));
         }
-        let writes = shared.outputs.writes();
-        if writes == last_writes {
-            std::thread::park_timeout(period * 4);
-            continue;
-        }
-        if writes > last_writes + 1 {
-            shared
-                .counters
-                .skipped
-                .fetch_add(writes - last_writes - 1, Relaxed);
-        }
-        last_writes = writes;
-        let Some(tag) = shared.outputs.read(&mut out) else {
-            continue;
+    }
+    for w in &plan.sdos {
+        let sub = match w.sub {
+            Some(s) => ethercrab::SubIndex::Index(s),
+            None => ethercrab::SubIndex::Complete,
         };
-        for (s, sd) in slaves.iter().zip(group.iter(md)) {
-            let mut raw = sd.io_raw_mut();
-            let o = raw.outputs();
-            if let Some(src) = out.get(s.outputs.clone()) {
-                if o.len() == src.len() {
-                    o.copy_from_slice(src);
-                }
-            }
-        }
-        shared.link_up.store(io.link.is_up(), Relaxed);
-        let started = Instant::now();
-        let timeout = cfg.frame_timeout.unwrap_or(period);
-        let r = io.block_on(with_deadline(group.tx_rx(md), started + timeout));
-        match r {
-            Some(Ok(resp)) => {
-                lost_run = 0;
-                shared.frame_ns.store(
-                    started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
-                    Relaxed,
-                );
-                for (i, st) in resp.subdevice_states.iter().enumerate() {
-                    if let Some(a) = shared.states.get(i) {
-                        a.store(state_byte(*st), Relaxed);
-                    }
-                }
-                if resp.working_counter < shared.expected_wkc {
-                    shared.counters.wkc_short.fetch_add(1, Relaxed);
-                }
-                shared.wkc.store(resp.working_counter, Release);
-                for (s, sd) in slaves.iter().zip(group.iter(md)) {
-                    let raw = sd.io_raw();
-                    if let Some(dst) = inp.get_mut(s.inputs.clone()) {
-                        if raw.inputs().len() == dst.len() {
-                            dst.copy_from_slice(raw.inputs());
-                        }
-                    }
-                }
-                shared.inputs.write(&inp, tag);
-            }
-            _ => {
-                shared.counters.lost.fetch_add(1, Relaxed);
-                lost_run += 1;
-                if lost_run >= LOST_LIMIT {
-                    // No frames back: as far as the slaves go, the link
-                    // is down.
-                    shared.wkc.store(0, Release);
-                    shared.link_up.store(false, Relaxed);
-                }
-            }
-        }
+        io.block_on(sd.sdo_write(w.index, sub, w.data.as_slice()))
+            .map_err(|e| {
+                mismatch(format!(
+                    "SDO write of {:#06x}:{:?} ({} bytes) failed: {e}",
+                    w.index,
+                    w.sub,
+                    w.data.len()
+                ))
+            })?;
     }
-}
-
-/// The future's output, or None once `deadline` passes.
-async fn with_deadline<F: Future>(fut: F, deadline: Instant) -> Option<F::Output> {
-    let mut fut = pin!(fut);
-    std::future::poll_fn(|cx| {
-        if let Poll::Ready(v) = fut.as_mut().poll(cx) {
-            return Poll::Ready(Some(v));
-        }
-        if Instant::now() >= deadline {
-            return Poll::Ready(None);
-        }
-        Poll::Pending
-    })
-    .await
-}
-
-fn state_byte(s: SubDeviceState) -> u8 {
-    match s {
-        SubDeviceState::Init => al::INIT,
-        SubDeviceState::PreOp => al::PREOP,
-        SubDeviceState::Bootstrap => al::BOOT,
-        SubDeviceState::SafeOp => al::SAFEOP,
-        SubDeviceState::Op => al::OP,
-        SubDeviceState::Other(b) => b,
-        SubDeviceState::None => 0,
+    if let Some(d) = &plan.dc {
+        dc::configure_sync(md, io, sd, (plan.position, &plan.name), d, reference)?;
     }
-}
-
-/// Slaves in SAFE-OP or PRE-OP (an AL error, a lost and found slave)
-/// are asked back to OP with the error acknowledged.
-fn reset_slaves(md: &MainDevice<'_>, io: &mut Io<'_>, group: &Group, shared: &Shared) {
-    for (i, sd) in group.iter(md).enumerate() {
-        let state = shared.states.get(i).map_or(0, |s| s.load(Relaxed)) & al::STATE_MASK;
-        let steps: &[u8] = match state {
-            al::OP => &[],
-            al::SAFEOP => &[al::OP],
-            al::PREOP => &[al::SAFEOP, al::OP],
-            _ => &[],
-        };
-        for &to in steps {
-            let request = u16::from(to | al::ERROR);
-            let _ = io.block_on(sd.register_write(regs::AL_CONTROL, request));
-            let deadline = Instant::now() + Duration::from_millis(500);
-            while Instant::now() < deadline {
-                match io.block_on(sd.register_read::<u16>(regs::AL_STATUS)) {
-                    Ok(s) if s as u8 & al::STATE_MASK == to => break,
-                    _ => std::thread::sleep(Duration::from_millis(1)),
-                }
-            }
-        }
-    }
+    Ok(())
 }

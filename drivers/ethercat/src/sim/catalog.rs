@@ -74,6 +74,7 @@ fn device(
         group: group.to_string(),
         mailbox,
         dc: false,
+        needs_sync0: false,
         od,
         outputs_at: if mailbox { OUTPUTS_AT } else { 0x0F00 },
         inputs_at: if mailbox { INPUTS_AT } else { 0x1000 },
@@ -81,11 +82,28 @@ fn device(
     }
 }
 
+/// A device whose ESC has distributed clocks (a reference clock, and
+/// SYNC0/SYNC1 for those that use them).
+fn with_dc(
+    kind: &str,
+    id: Identity,
+    order: &str,
+    group: &str,
+    mailbox: bool,
+    od: Dictionary,
+    app: Box<dyn Application>,
+) -> Device {
+    Device {
+        dc: true,
+        ..device(kind, id, order, group, mailbox, od, app)
+    }
+}
+
 /// EK1100 EtherCAT coupler: no process data.
 pub fn ek1100(serial: u32) -> Device {
     let id = identity(0x044C_2C52, serial);
     let od = dictionary(id, "EK1100", &[], &[], &[], &[]);
-    device(
+    with_dc(
         "EK1100",
         id,
         "EK1100 EtherCAT-Koppler (2A E-Bus)",
@@ -234,6 +252,9 @@ pub struct Encoder {
     /// Where the index pulse is (counts, modulo `index_every`).
     pub index_every: i64,
     position: f64,
+    /// The count latched at an index pulse while latch C was enabled;
+    /// it stays (and "latch C valid" with it) until the enable drops.
+    latched: Option<i64>,
 }
 
 impl Application for Encoder {
@@ -253,13 +274,20 @@ impl Application for Encoder {
             self.position = v as f64;
             status |= 0x04;
         }
-        if ctrl & 0x01 != 0 && self.index_every > 0 {
-            let a = before.floor() as i64 / self.index_every;
-            let b = count / self.index_every;
+        if ctrl & 0x01 == 0 {
+            self.latched = None;
+        } else if self.latched.is_none() && self.index_every > 0 {
+            let a = before.floor().div_euclid(self.index_every as f64);
+            let b = (count as f64).div_euclid(self.index_every as f64);
             if a != b {
-                od.set(0x6000, 3, (b * self.index_every) as u64);
-                status |= 0x01;
+                // The pulse between the two: the multiple passed.
+                let at = a.max(b) as i64 * self.index_every;
+                self.latched = Some(at);
+                od.set(0x6000, 3, at as u64);
             }
+        }
+        if self.latched.is_some() {
+            status |= 0x01;
         }
         od.set(0x6000, 1, u64::from(status));
         od.set(0x6000, 2, self.position.floor() as i64 as u64);
@@ -303,7 +331,7 @@ pub fn el5101(serial: u32) -> Device {
         },
     ];
     let od = dictionary(id, "EL5101", &outs, &ins, &[0x1600], &[0x1A00, 0x1A02]);
-    device(
+    with_dc(
         "EL5101",
         id,
         "EL5101 1K. Inc. Encoder 5V",
@@ -494,7 +522,7 @@ pub fn el7041(serial: u32) -> Device {
     );
     od.add(0x8010, 5, "Motor EMF", (dtype::U16, 16), Access::Rw, 0);
     od.add(0x8012, 1, "Operation mode", (dtype::U8, 8), Access::Rw, 0);
-    device(
+    with_dc(
         "EL7041",
         id,
         "EL7041 1K. Schrittmotor-Endstufe (50V, 5A)",

@@ -51,6 +51,9 @@ pub struct Device {
     pub mailbox: bool,
     /// Whether it offers distributed clocks (SYNC0).
     pub dc: bool,
+    /// Whether it refuses SAFE-OP unless the master activated SYNC0 (a
+    /// drive that runs only synchronised).
+    pub needs_sync0: bool,
     /// The object dictionary (process objects and PDOs even for devices
     /// without mailbox: they define the process image).
     pub od: Dictionary,

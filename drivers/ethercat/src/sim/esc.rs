@@ -11,6 +11,7 @@
 //! (LRD/LWR/LRW through the FMMUs); each returns the working counter
 //! increment. Nothing here panics on any address, length or value.
 
+use super::clock::{Activation, DcClock};
 use super::device::{Device, ASSIGN_INPUTS, ASSIGN_OUTPUTS};
 use super::mailbox::MailboxServer;
 use super::od::{copy_bits, AssignedPdo, Mapped};
@@ -34,17 +35,6 @@ pub enum Access {
     ReadWrite,
 }
 
-/// The DC clock of one slave.
-#[derive(Debug, Clone, Copy, Default)]
-struct Clock {
-    /// Local time = simulated time + this.
-    local_offset: i64,
-    /// Correction the drift control has applied to system time.
-    correction: i64,
-    /// Local time at the last frame's arrival.
-    arrival: i64,
-}
-
 /// One ESC.
 #[derive(Debug)]
 pub struct Esc {
@@ -53,7 +43,7 @@ pub struct Esc {
     mem: Vec<u8>,
     eeprom: Vec<u8>,
     mailbox: MailboxServer,
-    clock: Clock,
+    clock: DcClock,
     last_tick_ns: Option<u64>,
     layout_out: Vec<Mapped>,
     layout_in: Vec<Mapped>,
@@ -82,10 +72,7 @@ impl Esc {
             device,
             mem: vec![0; MEMORY],
             eeprom,
-            clock: Clock {
-                local_offset: i64::from(position + 1) * 1_000_000_007,
-                ..Clock::default()
-            },
+            clock: DcClock::new(position),
             last_tick_ns: None,
             layout_out: Vec::new(),
             layout_in: Vec::new(),
@@ -110,7 +97,7 @@ impl Esc {
         m[usize::from(regs::RAM_SIZE)] = 8;
         m[usize::from(regs::PORT_DESCRIPTOR)] = 0x0F; // ports 0, 1: MII
         let f = if self.device.dc {
-            features::DC | features::DC_64
+            features::DC | features::DC_64 | features::ENHANCED_DC_SYNC
         } else {
             0
         };
@@ -121,6 +108,7 @@ impl Esc {
         self.set_al(al::INIT, al_code::NONE);
         self.mailbox = MailboxServer::new(self.device.mailbox);
         self.last_tick_ns = None;
+        self.clock.reset();
     }
 
     /// The station address the master configured.
@@ -173,7 +161,7 @@ impl Esc {
     /// outputs of the last frame apply, inputs are refreshed), pending
     /// mailbox replies move into the mailbox.
     pub fn begin_frame(&mut self, now_ns: u64) {
-        self.clock.arrival = now_ns as i64 + self.clock.local_offset;
+        self.clock.arrive(now_ns);
         let dt = self.last_tick_ns.map_or(0, |t| now_ns.saturating_sub(t));
         self.last_tick_ns = Some(now_ns);
         let (state, _) = self.al_state();
@@ -280,6 +268,9 @@ impl Esc {
             let a = usize::from(regs::DC_SYSTEM_TIME);
             self.mem[a..a + 8].copy_from_slice(&t.to_le_bytes());
         }
+        if overlaps(regs::DC_SYNC0_STATUS, 1) {
+            self.clock.read_status(&mut self.mem);
+        }
     }
 
     /// Reading the last byte of a full slave → master mailbox empties it.
@@ -302,18 +293,30 @@ impl Esc {
     /// The system time now (local time of this frame plus offset and
     /// drift correction).
     pub fn system_time(&self) -> i64 {
-        let offset = u64::from_le_bytes(self.reg8(regs::DC_SYSTEM_TIME_OFFSET)) as i64;
-        self.clock
-            .arrival
-            .wrapping_add(offset)
-            .wrapping_add(self.clock.correction)
+        self.clock.system_time(&self.mem)
     }
 
-    fn reg8(&self, at: u16) -> [u8; 8] {
-        let a = usize::from(at);
-        let mut b = [0u8; 8];
-        b.copy_from_slice(&self.mem[a..a + 8]);
-        b
+    /// What the master activated in the SYNC unit, if anything.
+    pub fn sync_activation(&self) -> Option<Activation> {
+        self.clock.activation()
+    }
+
+    /// How often the master wrote this slave's system time (the drift
+    /// control's input) since power on.
+    pub fn system_time_writes(&self) -> u64 {
+        self.clock.writes()
+    }
+
+    /// SYNC0 pulses so far, at the time of the last frame.
+    pub fn sync0_events(&self) -> u64 {
+        self.clock.sync0_events(&self.mem)
+    }
+
+    /// `len` bytes of registers from `at` as they are (no side effect of
+    /// a read; past the end, nothing).
+    pub fn registers(&self, at: u16, len: usize) -> &[u8] {
+        let a = usize::from(at).min(MEMORY);
+        &self.mem[a..(a + len).min(MEMORY)]
     }
 
     fn writable(addr: usize) -> bool {
@@ -327,10 +330,11 @@ impl Esc {
     fn write(&mut self, ado: u16, data: &[u8]) {
         let at = usize::from(ado);
         // The system time register takes writes as the drift control's
-        // input, not as a value to hold.
+        // input, not as a value to hold (on a slave with DC).
         let touches =
             |reg: u16, n: usize| at < usize::from(reg) + n && at + data.len() > usize::from(reg);
-        let system_time_write = touches(regs::DC_SYSTEM_TIME, 4) && data.len() >= 4;
+        let system_time_write =
+            self.device.dc && touches(regs::DC_SYSTEM_TIME, 4) && data.len() >= 4;
         for (k, d) in data.iter().enumerate() {
             let a = at + k;
             if a < MEMORY && Esc::writable(a) && !(system_time_write && (0x910..0x918).contains(&a))
@@ -345,34 +349,21 @@ impl Esc {
             self.sii_command();
         }
         if touches(regs::DC_RECEIVE_TIME_PORT0, 4) {
-            self.latch_receive_times();
+            self.clock
+                .latch_receive_times(&mut self.mem, self.downstream_ns);
+        }
+        if touches(regs::DC_ACTIVATION, 1) {
+            self.clock.activate(&self.mem);
         }
         if system_time_write && at == usize::from(regs::DC_SYSTEM_TIME) {
             let mut b = [0u8; 8];
             for (k, x) in data.iter().take(8).enumerate() {
                 b[k] = *x;
             }
-            let received = if data.len() >= 8 {
-                u64::from_le_bytes(b) as i64
-            } else {
-                i64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            };
-            self.drift_control(received);
+            self.clock
+                .drift_control(&mut self.mem, u64::from_le_bytes(b), data.len());
         }
         self.mailbox_written(ado, data.len());
-    }
-
-    /// The master's system time arrives: the difference drives the
-    /// local clock towards it (a quarter of it per write, as a filter).
-    fn drift_control(&mut self, received: i64) {
-        let delay = i64::from(u32::from_le_bytes(self.reg4(regs::DC_SYSTEM_TIME_DELAY)));
-        let local = self.system_time();
-        let diff = received.wrapping_add(delay).wrapping_sub(local);
-        self.clock.correction = self.clock.correction.wrapping_add(diff / 4);
-        let magnitude = diff.unsigned_abs().min(0x7FFF_FFFF) as u32;
-        let sign = if diff > 0 { 1u32 << 31 } else { 0 };
-        let a = usize::from(regs::DC_SYSTEM_TIME_DIFFERENCE);
-        self.mem[a..a + 4].copy_from_slice(&(magnitude | sign).to_le_bytes());
     }
 
     fn reg4(&self, at: u16) -> [u8; 4] {
@@ -383,18 +374,6 @@ impl Esc {
             self.mem[a + 2],
             self.mem[a + 3],
         ]
-    }
-
-    /// A write to port 0's receive time latches every port's: port 0 when
-    /// the frame came in, port 1 when it came back from downstream.
-    fn latch_receive_times(&mut self) {
-        let arrival = self.clock.arrival;
-        let back = arrival + self.downstream_ns;
-        let a = usize::from(regs::DC_RECEIVE_TIME_PORT0);
-        self.mem[a..a + 4].copy_from_slice(&(arrival as u32).to_le_bytes());
-        self.mem[a + 4..a + 8].copy_from_slice(&(back as u32).to_le_bytes());
-        let pu = usize::from(regs::DC_RECEIVE_TIME_PU);
-        self.mem[pu..pu + 8].copy_from_slice(&(arrival as u64).to_le_bytes());
     }
 
     fn sii_command(&mut self) {
@@ -448,7 +427,9 @@ impl Esc {
             (_, al::BOOT) => Some(al_code::BOOTSTRAP_NOT_SUPPORTED),
             (s, w) if s == w => None,
             (al::INIT, al::PREOP) => self.check_mailbox(),
-            (al::PREOP, al::SAFEOP) => self.check_process_data(),
+            (al::PREOP, al::SAFEOP) => self
+                .check_process_data()
+                .or_else(|| self.clock.check(self.device.dc, self.device.needs_sync0)),
             (al::SAFEOP, al::OP) => None,
             (al::SAFEOP | al::OP, al::PREOP) | (al::OP, al::SAFEOP) => None,
             (_, al::SAFEOP | al::OP | al::PREOP) => Some(al_code::INVALID_STATE_CHANGE),

@@ -5,6 +5,7 @@
 //! ([`segment`]).
 
 pub mod catalog;
+pub mod clock;
 pub mod control;
 pub mod device;
 pub mod esc;

@@ -64,6 +64,17 @@ impl Servo {
         self.pending_fault = Some(code);
     }
 
+    /// Sends an emergency with `code` and nothing else (a warning a
+    /// drive reports while it keeps running, or an error the drive
+    /// reports before its state follows).
+    pub fn send_emergency(&mut self, code: u16) {
+        self.emergencies.push(Emergency {
+            code: ErrorCode(code),
+            register: 0x01,
+            data: [0; 5],
+        });
+    }
+
     fn fault(&mut self, od: &mut Dictionary, code: u16) {
         self.state = PowerState::Fault;
         od.set(obj::ERROR_CODE, 0, u64::from(code));
@@ -340,6 +351,7 @@ pub fn servo(serial: u32) -> Device {
         group: "Drive".into(),
         mailbox: true,
         dc: true,
+        needs_sync0: false,
         od,
         outputs_at: OUTPUTS_AT,
         inputs_at: INPUTS_AT,

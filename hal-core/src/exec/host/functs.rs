@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use crate::error::{HalError, Result};
-use crate::exec::funct::{ExecList, FunctCode, Hint, TimingOut};
+use crate::exec::funct::{ExecList, FunctCode, TimingOut};
 use crate::exec::thread::{self, Placement, ThreadCtl};
 use crate::handles::{Param, Pin};
 use crate::objects::funct::{
@@ -383,11 +383,7 @@ impl Host {
                 &Param::new(seg, rec.tmax_param.load(Relaxed))?,
                 &Param::new(seg, rec.tmax_inc_param.load(Relaxed))?,
             );
-            let hint = match crate::objects::hot_span(seg, rec.owner.load(Relaxed))? {
-                Some((from, to)) => Hint::new(seg.base(), from, to),
-                None => Hint::NONE,
-            };
-            list.push(slot.code.clone(), id, timing, hint);
+            list.push(slot.code.clone(), id, timing);
         }
         Ok(list)
     }

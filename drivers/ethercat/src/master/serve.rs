@@ -1,0 +1,229 @@
+//! The helper's cycles after bring-up: each `write` of the realtime
+//! side sends one frame (the process data, the states, the reference
+//! clock's time to the others); its answer is published for the next
+//! `read`; then the clocks' extra work ([`super::dc::DcCycle`]). A fault
+//! reset brings slaves that left OP back to it.
+
+use std::future::Future;
+use std::pin::pin;
+use std::sync::atomic::Ordering::*;
+use std::task::Poll;
+use std::time::{Duration, Instant};
+
+use ethercrab::{MainDevice, SubDeviceState};
+
+use super::dc::DcCycle;
+use super::emcy::MailboxPoll;
+use super::io::Io;
+use super::{Group, MasterConfig, Shared, SlaveInfo, LOST_LIMIT, MAX_SLAVES};
+use crate::regs::{self, al};
+
+/// The helper's cycles: each `write` of the realtime side sends one
+/// frame; its answer is published for the next `read`.
+/// What the helper does after each cycle's frame besides the frame.
+#[derive(Debug, Default)]
+pub(super) struct Extras {
+    /// The distributed clocks.
+    pub(super) clocks: DcCycle,
+    /// The mailboxes polled for emergencies.
+    pub(super) mailboxes: MailboxPoll,
+}
+
+pub(super) fn serve(
+    md: &MainDevice<'_>,
+    io: &mut Io<'_>,
+    group: &Group,
+    shared: &Shared,
+    slaves: &[SlaveInfo],
+    cfg: &MasterConfig,
+    extras: &mut Extras,
+) {
+    let mut out = vec![0u8; shared.outputs.len()];
+    let mut inp = vec![0u8; shared.inputs.len()];
+    let mut last_writes = 0;
+    let mut lost_run = 0u32;
+    let period = Duration::from_nanos(cfg.period_ns.max(1000));
+    let timeout = cfg.frame_timeout.unwrap_or(period);
+    while !shared.stop.load(Acquire) {
+        if shared.reset.swap(false, AcqRel) {
+            reset_slaves(md, io, group, shared);
+        }
+        let writes = shared.outputs.writes();
+        if writes == last_writes {
+            std::thread::park_timeout(period * 4);
+            continue;
+        }
+        if writes > last_writes + 1 {
+            shared
+                .counters
+                .skipped
+                .fetch_add(writes - last_writes - 1, Relaxed);
+        }
+        last_writes = writes;
+        let Some(tag) = shared.outputs.read(&mut out) else {
+            continue;
+        };
+        for (s, sd) in slaves.iter().zip(group.iter(md)) {
+            let mut raw = sd.io_raw_mut();
+            let o = raw.outputs();
+            if let Some(src) = out.get(s.outputs.clone()) {
+                if o.len() == src.len() {
+                    o.copy_from_slice(src);
+                }
+            }
+        }
+        shared.link_up.store(io.link.is_up(), Relaxed);
+        let started = Instant::now();
+        let has_reference = extras.clocks.reference.is_some();
+        let deadline = started + timeout;
+        if exchange(
+            md,
+            io,
+            group,
+            has_reference,
+            deadline,
+            shared,
+            slaves,
+            &mut inp,
+        ) {
+            lost_run = 0;
+            shared.frame_ns.store(
+                started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
+                Relaxed,
+            );
+            shared.inputs.write(&inp, tag);
+        } else {
+            shared.counters.lost.fetch_add(1, Relaxed);
+            lost_run += 1;
+            if lost_run >= LOST_LIMIT {
+                // No frames back: as far as the slaves go, the link is
+                // down.
+                shared.wkc.store(0, Release);
+                shared.link_up.store(false, Relaxed);
+            }
+        }
+        let monitor = shared.clocks.monitor.load(Relaxed);
+        let clocks = &mut extras.clocks;
+        if let Some(diff) = clocks.after_frame(md, io, shared.clocks.base, monitor, timeout) {
+            shared.clocks.diff.store(diff, Relaxed);
+        }
+        extras.mailboxes.poll(md, io, &shared.emergencies, timeout);
+    }
+}
+
+/// One cycle's frame, back by `deadline` (true) or not: with a
+/// reference clock it carries the clock's time to the others (EtherCrab's
+/// `tx_rx_sync_system_time`, which must not be called without one: its
+/// fallback takes the process image's lock twice and spins forever).
+#[allow(clippy::too_many_arguments, reason = "the helper's state, passed down")]
+fn exchange(
+    md: &MainDevice<'_>,
+    io: &mut Io<'_>,
+    group: &Group,
+    has_reference: bool,
+    deadline: Instant,
+    shared: &Shared,
+    slaves: &[SlaveInfo],
+    inp: &mut [u8],
+) -> bool {
+    if has_reference {
+        match io.block_on(with_deadline(group.tx_rx_sync_system_time(md), deadline)) {
+            Some(Ok(resp)) => {
+                if let Some(t) = resp.extra {
+                    shared.clocks.reference.store(t, Relaxed);
+                }
+                received(md, group, shared, slaves, &resp, inp);
+                true
+            }
+            _ => false,
+        }
+    } else {
+        match io.block_on(with_deadline(group.tx_rx(md), deadline)) {
+            Some(Ok(resp)) => {
+                received(md, group, shared, slaves, &resp, inp);
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// A cycle's answer: the slaves' states, the working counter, the inputs.
+fn received<T>(
+    md: &MainDevice<'_>,
+    group: &Group,
+    shared: &Shared,
+    slaves: &[SlaveInfo],
+    resp: &ethercrab::TxRxResponse<MAX_SLAVES, T>,
+    inp: &mut [u8],
+) {
+    for (i, st) in resp.subdevice_states.iter().enumerate() {
+        if let Some(a) = shared.states.get(i) {
+            a.store(state_byte(*st), Relaxed);
+        }
+    }
+    if resp.working_counter < shared.expected_wkc {
+        shared.counters.wkc_short.fetch_add(1, Relaxed);
+    }
+    shared.wkc.store(resp.working_counter, Release);
+    for (s, sd) in slaves.iter().zip(group.iter(md)) {
+        let raw = sd.io_raw();
+        if let Some(dst) = inp.get_mut(s.inputs.clone()) {
+            if raw.inputs().len() == dst.len() {
+                dst.copy_from_slice(raw.inputs());
+            }
+        }
+    }
+}
+
+/// The future's output, or None once `deadline` passes.
+pub(super) async fn with_deadline<F: Future>(fut: F, deadline: Instant) -> Option<F::Output> {
+    let mut fut = pin!(fut);
+    std::future::poll_fn(|cx| {
+        if let Poll::Ready(v) = fut.as_mut().poll(cx) {
+            return Poll::Ready(Some(v));
+        }
+        if Instant::now() >= deadline {
+            return Poll::Ready(None);
+        }
+        Poll::Pending
+    })
+    .await
+}
+
+fn state_byte(s: SubDeviceState) -> u8 {
+    match s {
+        SubDeviceState::Init => al::INIT,
+        SubDeviceState::PreOp => al::PREOP,
+        SubDeviceState::Bootstrap => al::BOOT,
+        SubDeviceState::SafeOp => al::SAFEOP,
+        SubDeviceState::Op => al::OP,
+        SubDeviceState::Other(b) => b,
+        SubDeviceState::None => 0,
+    }
+}
+
+/// Slaves in SAFE-OP or PRE-OP (an AL error, a lost and found slave)
+/// are asked back to OP with the error acknowledged.
+fn reset_slaves(md: &MainDevice<'_>, io: &mut Io<'_>, group: &Group, shared: &Shared) {
+    for (i, sd) in group.iter(md).enumerate() {
+        let state = shared.states.get(i).map_or(0, |s| s.load(Relaxed)) & al::STATE_MASK;
+        let steps: &[u8] = match state {
+            al::OP => &[],
+            al::SAFEOP => &[al::OP],
+            al::PREOP => &[al::SAFEOP, al::OP],
+            _ => &[],
+        };
+        for &to in steps {
+            let request = u16::from(to | al::ERROR);
+            let _ = io.block_on(sd.register_write(regs::AL_CONTROL, request));
+            let deadline = Instant::now() + Duration::from_millis(500);
+            while Instant::now() < deadline {
+                match io.block_on(sd.register_read::<u16>(regs::AL_STATUS)) {
+                    Ok(s) if s as u8 & al::STATE_MASK == to => break,
+                    _ => std::thread::sleep(Duration::from_millis(1)),
+                }
+            }
+        }
+    }
+}
