@@ -79,6 +79,7 @@ fn the_page_shows_live_values_and_sets_through_halcmd() {
     browser.wait_for(&meter("value"), &json!("8.5"));
     browser.wait_for(&meter("min"), &json!("-4.75"));
     browser.wait_for(&meter("max"), &json!("8.5"));
+    keep_screenshot(&browser, "main", "hal-web-pins.png");
 
     let field = "#watch tr[data-name=\"webpage.in\"] input.set";
     browser.type_into(field, "3.25\u{E007}");
@@ -116,6 +117,17 @@ fn the_machine_buttons_turn_the_mill_on() {
     browser.click("#machine-machine-on");
     browser.wait_for(machine, &json!("ON"));
     assert!(matches!(mill.task("state"), Some(TaskAnswer::Done(s)) if s.contains("machine=ON")));
+}
+
+/// A screenshot of the element `css` selects: a PNG, kept as `name` in
+/// the directory `HAL_WEB_SCREENSHOTS` names (the README's pictures are
+/// made so), else dropped.
+fn keep_screenshot(browser: &Browser, css: &str, name: &str) {
+    let png = browser.screenshot(css);
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "{name} is no PNG");
+    if let Some(dir) = std::env::var_os("HAL_WEB_SCREENSHOTS") {
+        std::fs::write(std::path::Path::new(&dir).join(name), png).unwrap();
+    }
 }
 
 const SIGGEN: &str = "\
@@ -196,6 +208,7 @@ fn the_scope_draws_a_capture_and_saves_csv_and_png() {
          return n > 100;",
     );
     assert_eq!(colored, json!(true));
+    keep_screenshot(&browser, "#scope-pane", "hal-web-scope.png");
 
     browser.click("#scope-csv");
     let csv = String::from_utf8(downloaded(&downloads.join("halscope.csv"))).unwrap();

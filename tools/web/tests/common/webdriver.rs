@@ -131,6 +131,13 @@ impl Browser {
         );
     }
 
+    /// A PNG of the element `css` selects, as the browser draws it.
+    pub fn screenshot(&self, css: &str) -> Vec<u8> {
+        let id = self.element(css);
+        let v = self.session_call("GET", &format!("/element/{id}/screenshot"), None);
+        base64_decode(v.as_str().expect("a screenshot"))
+    }
+
     /// Waits (up to 30 s) until `script` returns `want`.
     pub fn wait_for(&self, script: &str, want: &Value) {
         let end = Instant::now() + Duration::from_secs(30);
@@ -143,6 +150,31 @@ impl Browser {
             std::thread::sleep(Duration::from_millis(50));
         }
     }
+}
+
+/// Standard base64 (WebDriver's screenshots) to bytes.
+fn base64_decode(text: &str) -> Vec<u8> {
+    let value = |c: u8| -> Option<u32> {
+        match c {
+            b'A'..=b'Z' => Some(u32::from(c - b'A')),
+            b'a'..=b'z' => Some(u32::from(c - b'a') + 26),
+            b'0'..=b'9' => Some(u32::from(c - b'0') + 52),
+            b'+' => Some(62),
+            b'/' => Some(63),
+            _ => None,
+        }
+    };
+    let mut out = Vec::with_capacity(text.len() * 3 / 4);
+    let (mut acc, mut bits) = (0u32, 0);
+    for v in text.bytes().filter_map(value) {
+        acc = (acc << 6) | v;
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+        }
+    }
+    out
 }
 
 impl Drop for Browser {
