@@ -7,7 +7,7 @@
 //! the scope draws a capture and saves its CSV and PNG;
 //! the thread view shows a thread's latency histogram;
 //! on the simulated mill, the e-stop reset and machine-on buttons turn
-//! the machine on.
+//! the machine on, and "Home all" homes every joint.
 //!
 //! Ignored where chromium is absent; scripts/test-all runs it (with
 //! --include-ignored) when /usr/bin/chromium and /usr/bin/chromedriver
@@ -24,6 +24,7 @@ use hal_core::{ComponentKind, In, Out};
 use hal_host::testing::InProcessHost;
 use hal_launcher::TaskAnswer;
 use serde_json::json;
+use std::time::Duration;
 
 fn value_of(name: &str) -> String {
     format!(
@@ -117,6 +118,14 @@ fn the_machine_buttons_turn_the_mill_on() {
     browser.click("#machine-machine-on");
     browser.wait_for(machine, &json!("ON"));
     assert!(matches!(mill.task("state"), Some(TaskAnswer::Done(s)) if s.contains("machine=ON")));
+
+    // Manual mode, then "Home all": every joint's row reads homed.
+    browser.click("#machine-mode-manual");
+    browser.click("#machine-home");
+    let all_homed = "const rows = [...document.querySelectorAll('#machine-state tr')] \
+                       .filter(r => (r.dataset.key || '').startsWith('joint ')); \
+                     return rows.length > 0 && rows.every(r => r.textContent.endsWith(' homed'));";
+    browser.wait_for_within(all_homed, &json!(true), Duration::from_secs(120));
 }
 
 /// A screenshot of the element `css` selects: a PNG, kept as `name` in

@@ -140,7 +140,13 @@ impl Browser {
 
     /// Waits (up to 30 s) until `script` returns `want`.
     pub fn wait_for(&self, script: &str, want: &Value) {
-        let end = Instant::now() + Duration::from_secs(30);
+        self.wait_for_within(script, want, Duration::from_secs(30));
+    }
+
+    /// As [`Browser::wait_for`], for up to `limit` (homing a machine
+    /// takes longer than a page takes to update).
+    pub fn wait_for_within(&self, script: &str, want: &Value, limit: Duration) {
+        let end = Instant::now() + limit;
         loop {
             let got = self.eval(script);
             if &got == want {
