@@ -288,10 +288,19 @@ fn a_step_generator_moves_through_epp_in_a_thread() {
         Value::Float(f) => f,
         v => panic!("{v:?}"),
     };
-    while (fb() - 2.0).abs() > 0.01 {
-        assert!(Instant::now() < end, "position-fb stayed at {}", fb());
+    // Until the move's last step is counted: waiting for position-fb to
+    // come within 0.01 (one step) let the wait end at 199 counts.
+    let counts = || inst.pin_value(&format!("{s}.counts")).unwrap();
+    while counts() != Value::S32(200) {
+        assert!(
+            Instant::now() < end,
+            "counts stayed at {:?}, position-fb at {}",
+            counts(),
+            fb()
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
+    assert!((fb() - 2.0).abs() < 0.01, "position-fb {}", fb());
     h.stop();
     // 100 steps per unit, read back from the board through EPP.
     assert_eq!(
