@@ -10,6 +10,7 @@ use hal_scope::scope::capture::numeric;
 use hal_tools::meter::{read, Kind};
 use serde::Serialize;
 
+use crate::error::WebError;
 use crate::watch::Item;
 
 /// Most meters one page may show.
@@ -47,18 +48,18 @@ pub struct Meters {
 
 impl Meters {
     /// Meters on `items` (pins, signals or parameters), checked.
-    pub fn new(items: &[Item]) -> Result<Meters, String> {
+    pub fn new(items: &[Item]) -> Result<Meters, WebError> {
         if items.len() > MAX_METERS {
-            return Err(format!("a page may show at most {MAX_METERS} meters"));
+            return Err(WebError::TooManyMeters { max: MAX_METERS });
         }
         let items = items
             .iter()
             .map(|i| match Kind::from_word(&i.kind) {
                 Some(k) => Ok((k, i.name.clone())),
-                None => Err(format!(
-                    "a meter shows a pin, sig or param, not a '{}' ({})",
-                    i.kind, i.name
-                )),
+                None => Err(WebError::MeterKind {
+                    kind: i.kind.clone(),
+                    name: i.name.clone(),
+                }),
             })
             .collect::<Result<Vec<_>, _>>()?;
         let seen = vec![
@@ -122,7 +123,7 @@ mod tests {
         };
         assert!(Meters::new(&[item("sig"), item("param")]).is_ok());
         let e = Meters::new(&[item("thread")]).unwrap_err();
-        assert!(e.contains("not a 'thread'"), "{e}");
+        assert!(e.to_string().contains("not a 'thread'"), "{e}");
         assert!(Meters::new(&vec![item("pin"); MAX_METERS + 1]).is_err());
     }
 }

@@ -23,6 +23,7 @@ use hal_scope::ScopeError;
 use serde::Deserialize;
 use serde_json::{json, Value as JsonValue};
 
+use crate::error::WebError;
 use crate::state::{blocking, error, Shared};
 
 /// Most samples in a record the page asks for (its JSON and drawing stay
@@ -86,19 +87,19 @@ pub struct Plan {
 
 /// Checks `req` as halscope checks its command line (same messages), and
 /// against the page's bounds.
-pub fn plan(req: ScopeRequest) -> Result<Plan, String> {
+pub fn plan(req: ScopeRequest) -> Result<Plan, WebError> {
     if req.samples > MAX_SAMPLES {
-        return Err(format!(
-            "--samples {}: the page takes at most {MAX_SAMPLES} (halscope itself takes more)",
-            req.samples
-        ));
+        return Err(WebError::ScopeSamples {
+            asked: req.samples,
+            max: MAX_SAMPLES,
+        });
     }
     let timeout = req.timeout.unwrap_or(10.0);
     if timeout > MAX_TIMEOUT.as_secs_f64() {
-        return Err(format!(
-            "--timeout {timeout}: the page waits at most {} s",
-            MAX_TIMEOUT.as_secs()
-        ));
+        return Err(WebError::ScopeTimeout {
+            asked: timeout,
+            max_s: MAX_TIMEOUT.as_secs(),
+        });
     }
     let args = Args {
         pins: req.pins,
@@ -113,9 +114,9 @@ pub fn plan(req: ScopeRequest) -> Result<Plan, String> {
     };
     if args.channel.is_some() && (args.thread.is_some() || !args.pins.is_empty()) {
         // halscope's command line refuses the pair too.
-        return Err("give pins and thread, or a sampler channel, not both".into());
+        return Err(WebError::ScopeSourceBoth);
     }
-    let request = args.request().map_err(|e| e.to_string())?;
+    let request = args.request()?;
     Ok(Plan {
         request,
         mode: req.mode,
@@ -239,7 +240,7 @@ pub async fn csv(State(state): State<Shared>) -> Response {
 mod tests {
     use super::*;
 
-    fn req(json: &str) -> Result<Plan, String> {
+    fn req(json: &str) -> Result<Plan, WebError> {
         plan(serde_json::from_str(json).unwrap())
     }
 
@@ -260,7 +261,7 @@ mod tests {
     #[test]
     fn refusals_are_halscopes() {
         use clap::Parser as _;
-        let e = |j: &str| req(j).unwrap_err();
+        let e = |j: &str| req(j).unwrap_err().to_string();
         let halscope = |words: &[&str]| {
             let mut v = vec!["halscope"];
             v.extend(words);

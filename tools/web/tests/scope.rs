@@ -34,16 +34,13 @@ fn siggen_host(tag: &str) -> InProcessHost {
 }
 
 /// The headless halscope's record for its command line `words`.
-fn headless(host: &InProcessHost, words: &[&str]) -> Result<Record, String> {
+fn headless(host: &InProcessHost, words: &[&str]) -> Result<Record, hal_scope::scope::ScopeError> {
     let mut argv = vec!["halscope"];
     argv.extend(words);
     argv.extend(["--out", "unused.csv"]);
-    let mut req = Args::try_parse_from(argv)
-        .unwrap()
-        .request()
-        .map_err(|e| e.to_string())?;
+    let mut req = Args::try_parse_from(argv).unwrap().request()?;
     req.outputs.clear();
-    hal_scope::scope::capture(&host.instance(), &req, &|| false).map_err(|e| e.to_string())
+    hal_scope::scope::capture(&host.instance(), &req, &|| false)
 }
 
 fn capture(web: &Web, body: &str) -> (u16, Value) {
@@ -161,7 +158,8 @@ fn auto_mode_records_without_a_trigger_and_refusals_are_halscopes() {
         &host,
         &["--pins", "sq", "--thread", "fast", "--samples", "10"],
     )
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert_eq!(got["error"], says);
     let (status, got) = capture(
         &web,
@@ -172,7 +170,8 @@ fn auto_mode_records_without_a_trigger_and_refusals_are_halscopes() {
         &host,
         &["--pins", "sq", "--thread", "servo-thread", "--samples", "1"],
     )
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert_eq!(got["error"], says);
 
     // From another origin: refused before anything is loaded.
