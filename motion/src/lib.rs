@@ -87,6 +87,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::genhexkins::MODULE,
         &kins::trt::XYZAC_MODULE,
         &kins::trt::XYZBC_MODULE,
+        &kins::maxkins::MODULE,
         &motmod::MODULE,
     ]
 }

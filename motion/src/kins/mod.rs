@@ -9,9 +9,10 @@
 //! lifetime rules.
 //!
 //! The modules, under LinuxCNC's names: [`trivkins`], [`corexykins`],
-//! [`bipodkins`] (the kinematics note's example), [`tripodkins`], [`scarakins`],
-//! [`pumakins`], [`genserkins`], [`lineardeltakins`], [`rotarydeltakins`],
-//! [`genhexkins`], and [`trt`] (`xyzac-trt-kins`, `xyzbc-trt-kins`). Those
+//! [`bipodkins`] (the kinematics note's example), [`tripodkins`],
+//! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
+//! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
+//! `xyzbc-trt-kins`) and that of LinuxCNC's sim machine [`maxkins`]. Those
 //! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
 //! geometry in HAL pins read at every call, and refuses poses it cannot
 //! reach, and singular ones, with a [`KinsError`]: no module writes a
@@ -26,6 +27,7 @@ pub mod genserkins;
 pub mod lineardeltakins;
 mod loader;
 pub mod math;
+pub mod maxkins;
 mod pinned;
 pub mod pumakins;
 pub mod rotarydeltakins;
