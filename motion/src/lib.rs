@@ -88,6 +88,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::trt::XYZAC_MODULE,
         &kins::trt::XYZBC_MODULE,
         &kins::maxkins::MODULE,
+        &kins::fiveaxiskins::MODULE,
         &motmod::MODULE,
     ]
 }

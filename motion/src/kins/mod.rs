@@ -12,16 +12,17 @@
 //! [`bipodkins`] (the kinematics note's example), [`tripodkins`],
 //! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
-//! `xyzbc-trt-kins`) and that of LinuxCNC's sim machine [`maxkins`]. Those
-//! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
-//! geometry in HAL pins read at every call, and refuses poses it cannot
-//! reach, and singular ones, with a [`KinsError`]: no module writes a
-//! non-finite joint or pose. [`math`] and [`dh`] hold the geometry they
-//! share.
+//! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`] and
+//! [`fiveaxiskins`] (`5axiskins`). Those LinuxCNC makes switchable are
+//! built on [`switchkins`]. Each keeps its geometry in HAL pins read at
+//! every call, and refuses poses it cannot reach, and singular ones, with a
+//! [`KinsError`]: no module writes a non-finite joint or pose. [`math`] and
+//! [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
 pub mod dh;
+pub mod fiveaxiskins;
 pub mod genhexkins;
 pub mod genserkins;
 pub mod lineardeltakins;
