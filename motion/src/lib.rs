@@ -89,6 +89,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::trt::XYZBC_MODULE,
         &kins::maxkins::MODULE,
         &kins::fiveaxiskins::MODULE,
+        &kins::rosekins::MODULE,
         &motmod::MODULE,
     ]
 }

@@ -12,12 +12,12 @@
 //! [`bipodkins`] (the kinematics note's example), [`tripodkins`],
 //! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
-//! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`] and
-//! [`fiveaxiskins`] (`5axiskins`). Those LinuxCNC makes switchable are
-//! built on [`switchkins`]. Each keeps its geometry in HAL pins read at
-//! every call, and refuses poses it cannot reach, and singular ones, with a
-//! [`KinsError`]: no module writes a non-finite joint or pose. [`math`] and
-//! [`dh`] hold the geometry they share.
+//! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
+//! [`fiveaxiskins`] (`5axiskins`) and [`rosekins`]. Those LinuxCNC makes
+//! switchable are built on [`switchkins`]. Each keeps its geometry in HAL
+//! pins read at every call, and refuses poses it cannot reach, and singular
+//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
+//! [`math`] and [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
@@ -31,6 +31,7 @@ pub mod math;
 pub mod maxkins;
 mod pinned;
 pub mod pumakins;
+pub mod rosekins;
 pub mod rotarydeltakins;
 pub mod scarakins;
 pub mod switchkins;
