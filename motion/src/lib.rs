@@ -90,6 +90,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::maxkins::MODULE,
         &kins::fiveaxiskins::MODULE,
         &kins::rosekins::MODULE,
+        &kins::pentakins::MODULE,
         &motmod::MODULE,
     ]
 }

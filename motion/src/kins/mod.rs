@@ -13,11 +13,12 @@
 //! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
-//! [`fiveaxiskins`] (`5axiskins`) and [`rosekins`]. Those LinuxCNC makes
-//! switchable are built on [`switchkins`]. Each keeps its geometry in HAL
-//! pins read at every call, and refuses poses it cannot reach, and singular
-//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
-//! [`math`] and [`dh`] hold the geometry they share.
+//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`] and [`pentakins`]. Those
+//! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
+//! geometry in HAL pins read at every call, and refuses poses it cannot
+//! reach, and singular ones, with a [`KinsError`]: no module writes a
+//! non-finite joint or pose. [`math`] and [`dh`] hold the geometry they
+//! share.
 
 pub mod bipodkins;
 pub mod corexykins;
@@ -29,6 +30,7 @@ pub mod lineardeltakins;
 mod loader;
 pub mod math;
 pub mod maxkins;
+pub mod pentakins;
 mod pinned;
 pub mod pumakins;
 pub mod rosekins;
