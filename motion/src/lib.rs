@@ -91,6 +91,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::fiveaxiskins::MODULE,
         &kins::rosekins::MODULE,
         &kins::pentakins::MODULE,
+        &kins::xyzab_tdr::MODULE,
         &motmod::MODULE,
     ]
 }

@@ -13,12 +13,13 @@
 //! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
-//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`] and [`pentakins`]. Those
-//! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
-//! geometry in HAL pins read at every call, and refuses poses it cannot
-//! reach, and singular ones, with a [`KinsError`]: no module writes a
-//! non-finite joint or pose. [`math`] and [`dh`] hold the geometry they
-//! share.
+//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`] and
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`). Those LinuxCNC makes switchable are
+//! built on [`switchkins`], or on [`twotype`] for the two made from
+//! LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL pins read at
+//! every call, and refuses poses it cannot reach, and singular ones, with a
+//! [`KinsError`]: no module writes a non-finite joint or pose. [`math`] and
+//! [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
@@ -42,6 +43,8 @@ mod testing;
 pub mod tripodkins;
 pub mod trivkins;
 pub mod trt;
+pub mod twotype;
+pub mod xyzab_tdr;
 
 use std::sync::Arc;
 
