@@ -92,6 +92,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::rosekins::MODULE,
         &kins::pentakins::MODULE,
         &kins::xyzab_tdr::MODULE,
+        &kins::millturn::MODULE,
         &motmod::MODULE,
     ]
 }

@@ -13,13 +13,13 @@
 //! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
-//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`] and
-//! [`xyzab_tdr`] (`xyzab_tdr_kins`). Those LinuxCNC makes switchable are
-//! built on [`switchkins`], or on [`twotype`] for the two made from
-//! LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL pins read at
-//! every call, and refuses poses it cannot reach, and singular ones, with a
-//! [`KinsError`]: no module writes a non-finite joint or pose. [`math`] and
-//! [`dh`] hold the geometry they share.
+//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]. Those LinuxCNC makes
+//! switchable are built on [`switchkins`], or on [`twotype`] for the two
+//! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
+//! pins read at every call, and refuses poses it cannot reach, and singular
+//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
+//! [`math`] and [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
@@ -31,6 +31,7 @@ pub mod lineardeltakins;
 mod loader;
 pub mod math;
 pub mod maxkins;
+pub mod millturn;
 pub mod pentakins;
 mod pinned;
 pub mod pumakins;
