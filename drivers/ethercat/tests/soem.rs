@@ -17,7 +17,6 @@
 use std::collections::HashMap;
 use std::path::Path;
 use std::process::Command;
-use std::time::Duration;
 
 /// The segment: a coupler, digital in and out, analog in and out, a drive.
 const SEGMENT: &str = "EK1100\nEL1008\nEL2008\nEL3102\nEL4102\nservo serial=77\n";
@@ -143,8 +142,9 @@ fn run_in_namespace(dir: &Path, python: &str) -> (bool, String, String) {
     ignore = "needs pysoem installed (scripts/soem-peer install)"
 )]
 fn soem_brings_the_simulated_segment_to_op_and_enables_the_drive() {
-    let python = option_env!("SOEM_PEER_PYTHON")
-        .expect("pysoem was not installed when this test was built: run scripts/soem-peer install");
+    let Some(python) = option_env!("SOEM_PEER_PYTHON") else {
+        panic!("pysoem was not installed when this test was built: run scripts/soem-peer install");
+    };
     let dir = std::env::temp_dir().join(format!("hal-soem-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (ok, stdout, stderr) = run_in_namespace(&dir, python);
