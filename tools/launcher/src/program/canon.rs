@@ -9,6 +9,7 @@
 //! into a refusal of the program at that line.
 
 use std::collections::VecDeque;
+use std::path::PathBuf;
 
 use motion::command::{LineKind, TermCond};
 use motion::Command;
@@ -17,6 +18,7 @@ use rs274ngc::{
     ToolEntry, Units,
 };
 
+use super::user_m::UserMCodes;
 use crate::iocontrol::IoRequest;
 
 /// One thing task does for the program, in program order.
@@ -58,6 +60,21 @@ pub enum Op {
     End,
     /// (MSG,...), (DEBUG,...), (PRINT,...): text for the operator.
     Message(String),
+    /// M100 to M199: once the moves before it end, run the user program
+    /// with P and Q and wait for it to exit.
+    UserM {
+        /// The M-code number.
+        number: i32,
+        /// The program found for it.
+        program: PathBuf,
+        /// The P and Q words (-1 when absent).
+        p: f64,
+        /// See `p`.
+        q: f64,
+        /// The program place (file:line, or the MDI line), for errors;
+        /// task fills it in after the block executed.
+        at: String,
+    },
 }
 
 /// The canon task gives the interpreter.
@@ -96,6 +113,8 @@ pub struct TaskCanon {
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
+    /// The user M-code programs task found at start-up.
+    pub user_m: UserMCodes,
 }
 
 impl TaskCanon {
@@ -128,6 +147,7 @@ impl TaskCanon {
             axis_mask,
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
             io: motion::channel::IoState::default(),
+            user_m: UserMCodes::default(),
         }
     }
 
@@ -175,6 +195,26 @@ impl TaskCanon {
                 i += 1;
             } else {
                 self.ops.remove(i);
+            }
+        }
+    }
+
+    /// Whether the ops from index `from` on hold a user M-code.
+    pub fn has_user_m_from(&self, from: usize) -> bool {
+        self.ops
+            .iter()
+            .skip(from)
+            .any(|op| matches!(op, Op::UserM { .. }))
+    }
+
+    /// Gives the user M-codes from index `from` on without a program
+    /// place the place `at`.
+    pub fn place_user_m(&mut self, from: usize, at: &str) {
+        for op in self.ops.iter_mut().skip(from) {
+            if let Op::UserM { at: place, .. } = op {
+                if place.is_empty() {
+                    *place = at.to_string();
+                }
             }
         }
     }
@@ -637,8 +677,22 @@ impl Canon for TaskCanon {
         });
         Ok(())
     }
-    fn user_m_code(&mut self, number: i32, _p: f64, _q: f64) {
-        self.refuse(&format!("user M-code M{number}"));
+    fn user_m_code(&mut self, number: i32, p: f64, q: f64) {
+        match self.user_m.program(number) {
+            Some(program) => {
+                let program = program.to_path_buf();
+                self.ops.push_back(Op::UserM {
+                    number,
+                    program,
+                    p,
+                    q,
+                    at: String::new(),
+                });
+            }
+            // The interpreter asks `user_m_code_defined` first; a number
+            // without a program does not get here.
+            None => self.refuse(&format!("user M-code M{number} without a program")),
+        }
     }
 
     fn comment(&mut self, _text: &str) {}
@@ -729,8 +783,8 @@ impl Canon for TaskCanon {
     fn optional_stop(&self) -> bool {
         self.optional_stop
     }
-    fn user_m_code_defined(&self, _number: i32) -> bool {
-        false
+    fn user_m_code_defined(&self, number: i32) -> bool {
+        self.user_m.program(number).is_some()
     }
     fn motion_control_mode(&self) -> (MotionMode, f64) {
         self.control

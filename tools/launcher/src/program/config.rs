@@ -1,6 +1,7 @@
 //! The interpreter's settings from the machine's INI file, as LinuxCNC's
 //! task reads them: `[RS274NGC]PARAMETER_FILE` and `SUBROUTINE_PATH`,
-//! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`,
+//! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`, the
+//! directories searched for user M-codes (`[RS274NGC]USER_M_PATH`),
 //! `[TRAJ]LINEAR_UNITS` and `SPINDLES`, the axes of `[TRAJ]COORDINATES`
 //! and whether AUTO needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
 
@@ -22,6 +23,10 @@ pub struct ProgramConfig {
     pub axis_mask: u32,
     /// AUTO and MDI are allowed before homing.
     pub no_force_homing: bool,
+    /// Where task looks for the user M-code programs M100 to M199, in
+    /// order: the program prefix (`nc_files` beside the INI file without
+    /// one), then the first five directories of `USER_M_PATH`.
+    pub user_m_dirs: Vec<PathBuf>,
 }
 
 fn flag(ini: &Ini, section: &str, key: &str) -> bool {
@@ -72,6 +77,19 @@ impl ProgramConfig {
         if let Some(prefix) = ini.get("DISPLAY", "PROGRAM_PREFIX") {
             interp.program_prefix = Some(relative(&dir, prefix));
         }
+        let mut user_m_dirs = vec![interp
+            .program_prefix
+            .clone()
+            .unwrap_or_else(|| dir.join("nc_files"))];
+        if let Some(paths) = ini.get("RS274NGC", "USER_M_PATH") {
+            user_m_dirs.extend(
+                paths
+                    .split(':')
+                    .filter(|s| !s.trim().is_empty())
+                    .take(super::user_m::MAX_USER_M_DIRS)
+                    .map(|s| relative(&dir, s)),
+            );
+        }
         let units = ini.get("TRAJ", "LINEAR_UNITS").unwrap_or("mm").trim();
         let user_per_mm = match units {
             "inch" | "in" | "imperial" => 1.0 / 25.4,
@@ -94,6 +112,7 @@ impl ProgramConfig {
             user_per_mm,
             axis_mask,
             no_force_homing: flag(ini, "TRAJ", "NO_FORCE_HOMING"),
+            user_m_dirs,
         }
     }
 }

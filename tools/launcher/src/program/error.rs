@@ -89,6 +89,31 @@ pub enum ProgramError {
         #[source]
         source: Reject,
     },
+    /// A user M-code program (M100 to M199) could not be started.
+    #[error("{at}: M{number}: cannot run {}: {source}", .program.display())]
+    UserMStart {
+        /// The program place (file:line, or the MDI line).
+        at: String,
+        /// The M-code number.
+        number: i32,
+        /// The program task found for it.
+        program: PathBuf,
+        /// Why it did not start.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A user M-code program exited with a non-zero status or a signal.
+    #[error("{at}: M{number}: {} {how}", .program.display())]
+    UserMFailed {
+        /// The program place (file:line, or the MDI line).
+        at: String,
+        /// The M-code number.
+        number: i32,
+        /// The program.
+        program: PathBuf,
+        /// How it ended (`exited with status 3`).
+        how: String,
+    },
     /// iocontrol refused a tool or coolant request of the program.
     #[error(transparent)]
     Io(#[from] IoError),

@@ -11,6 +11,7 @@ pub mod canon;
 mod config;
 mod error;
 mod input_wait;
+mod user_m;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -99,6 +100,10 @@ pub struct Program {
     last_end: Option<Ended>,
     /// The M66 wait in progress.
     input_wait: Option<InputWait>,
+    /// The user M-code program task waits for.
+    user_m_running: Option<user_m::Running>,
+    /// User M-code programs interrupted by an abort, not yet reaped.
+    abandoned: user_m::Abandoned,
     /// Motion's heartbeat when task last queued a command: motion counts
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
@@ -108,8 +113,10 @@ pub struct Program {
 impl Program {
     /// A program side for the machine `config` describes.
     pub fn new(config: ProgramConfig) -> Program {
+        let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
+        canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
         Program {
-            canon: TaskCanon::new(config.user_per_mm, config.axis_mask),
+            canon,
             interp: Interp::new(config.interp),
             initialised: false,
             file: None,
@@ -124,6 +131,8 @@ impl Program {
             last_end: None,
             sent_beat: 0,
             input_wait: None,
+            user_m_running: None,
+            abandoned: user_m::Abandoned::default(),
         }
     }
 
@@ -326,6 +335,9 @@ impl Program {
         self.mdi.clear();
         self.io_busy = false;
         self.input_wait = None;
+        if let Some(running) = self.user_m_running.take() {
+            self.abandoned.push(running.interrupt());
+        }
         if self.state != RunState::Idle {
             self.last_end = Some(Ended::Failed("aborted".into()));
         }
@@ -343,6 +355,7 @@ impl Program {
         optional_stop: bool,
     ) -> Option<Ended> {
         self.canon.optional_stop = optional_stop;
+        self.abandoned.reap();
         if self.state == RunState::Idle {
             let text = self.mdi.pop_front()?;
             if let Err(e) = self.synch(motion, io) {
@@ -393,6 +406,7 @@ impl Program {
     fn execute_mdi(&mut self, text: &str) -> Result<(), ProgramError> {
         self.canon.line = 0;
         let r = self.interp.execute_mdi(text.as_bytes(), &mut self.canon);
+        self.canon.place_user_m(0, &format!("MDI '{text}'"));
         self.read_done = true;
         match r {
             Ok(Status::ExecuteFinish) => self.needs_synch = true,
@@ -444,6 +458,10 @@ impl Program {
             }
             if skipping {
                 self.canon.drop_actions_from(queued);
+            } else if self.canon.has_user_m_from(queued) {
+                let at = self.interp.error_location();
+                let at = format!("{}:{}", at.file.display(), at.line);
+                self.canon.place_user_m(queued, &at);
             }
             if let Some(what) = self.canon.fault.take() {
                 return Err(ProgramError::Unsupported {
@@ -530,10 +548,66 @@ impl Program {
                 }
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),
+                Op::UserM {
+                    number,
+                    program,
+                    p,
+                    q,
+                    at,
+                } => {
+                    if !self.user_m_done(number, &program, p, q, &at)? {
+                        return Ok(sent);
+                    }
+                }
             }
             self.canon.ops.pop_front();
         }
         Ok(sent)
+    }
+
+    /// Starts the user M-code program (the first time) and tells whether
+    /// it has exited well; an error if it could not start or failed.
+    fn user_m_done(
+        &mut self,
+        number: i32,
+        program: &Path,
+        p: f64,
+        q: f64,
+        at: &str,
+    ) -> Result<bool, ProgramError> {
+        let running = match &mut self.user_m_running {
+            Some(r) => r,
+            None => self
+                .user_m_running
+                .insert(user_m::Running::start(program, p, q).map_err(|source| {
+                    ProgramError::UserMStart {
+                        at: at.to_string(),
+                        number,
+                        program: program.to_path_buf(),
+                        source,
+                    }
+                })?),
+        };
+        let status = running.poll().map_err(|source| ProgramError::UserMStart {
+            at: at.to_string(),
+            number,
+            program: program.to_path_buf(),
+            source,
+        })?;
+        let Some(status) = status else {
+            return Ok(false);
+        };
+        self.user_m_running = None;
+        if status.success() {
+            Ok(true)
+        } else {
+            Err(ProgramError::UserMFailed {
+                at: at.to_string(),
+                number,
+                program: program.to_path_buf(),
+                how: user_m::exit_text(status),
+            })
+        }
     }
 
     fn fail(&mut self, why: ProgramError) -> Ended {

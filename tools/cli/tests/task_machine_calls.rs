@@ -1,0 +1,114 @@
+//! Canonical calls task carries out beyond moves, spindle and coolant,
+//! run through task on the simulated mill: user M-codes M100 to M199.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+
+use machine::{mill_copy, Machine, Scratch};
+
+/// The machine on and homed, in AUTO mode.
+fn auto(m: &Machine) {
+    m.on_and_homed();
+    m.task_ok(&["mode", "auto"]);
+}
+
+fn pos(m: &Machine, joint: usize) -> f64 {
+    m.getp(&format!("joint.{joint}.pos-cmd")).parse().unwrap()
+}
+
+/// Writes an executable shell script `name` in `s`.
+fn script(s: &Scratch, name: &str, body: &str) -> PathBuf {
+    let p = s.write(name, &format!("#!/bin/sh\n{body}"));
+    std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+    p
+}
+
+/// Adds `line` to section `[section]` of the INI file.
+fn ini_add(ini: &Path, section: &str, line: &str) {
+    let text = std::fs::read_to_string(ini).unwrap();
+    let head = format!("[{section}]\n");
+    assert!(text.contains(&head), "no [{section}] in {}", ini.display());
+    std::fs::write(ini, text.replacen(&head, &format!("{head}{line}\n"), 1)).unwrap();
+}
+
+/// Runs `prog` in AUTO mode to its end: (success, stdout, stderr).
+fn run(m: &Machine, prog: &Path) -> (bool, String, String) {
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    m.task(&["-t", "60", "wait-done"])
+}
+
+#[test]
+fn user_m_codes_run_their_program_with_p_and_q_between_moves() {
+    let s = Scratch::new("task-user-m");
+    let ini = mill_copy(&s);
+    // USER_M_PATH: the first directory with an executable M101 wins; the
+    // program prefix (../../nc_files/ here, absent) comes first.
+    ini_add(&ini, "RS274NGC", "USER_M_PATH = mfiles:more");
+    let halcmd = env!("CARGO_BIN_EXE_halcmd");
+    let log = s.0.join("m101.log");
+    script(
+        &s,
+        "mfiles/M101",
+        &format!(
+            "echo \"args $1 $2\" >> {log}\n\
+             echo \"x $({halcmd} getp joint.0.pos-cmd)\" >> {log}\n\
+             sleep 0.3\n\
+             echo \"x $({halcmd} getp joint.0.pos-cmd)\" >> {log}\n",
+            log = log.display()
+        ),
+    );
+    script(&s, "more/M101", "exit 9\n");
+    script(&s, "more/M102", "exit 3\n");
+    // Not executable: not a user M-code.
+    s.write("mfiles/M103", "#!/bin/sh\n");
+    let prog = s.write(
+        "user-m.ngc",
+        "G21 G90\nG0 X5\nM101 P1.5 Q-2\nG0 X7\nM101\nM2\n",
+    );
+    let m = Machine::start(&ini, "task-user-m");
+    auto(&m);
+    let (ok, out, err) = run(&m, &prog);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    assert!((pos(&m, 0) - 7.0).abs() < 1e-9);
+    // P and Q as C's %f prints them, -1 when absent; the program ran once
+    // X5 was reached, and X7 waited until it had exited.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 6, "{text}");
+    assert_eq!(lines[0], "args 1.500000 -2.000000", "{text}");
+    assert_eq!(lines[3], "args -1.000000 -1.000000", "{text}");
+    for (i, want) in [(1, 5.0), (2, 5.0), (4, 7.0), (5, 7.0)] {
+        let x: f64 = lines[i].trim_start_matches("x ").parse().unwrap();
+        assert!((x - want).abs() < 1e-9, "line {i}: {text}");
+    }
+
+    // A program that exits with a non-zero status stops the run and
+    // names the line and the file; the move after it does not run.
+    let bad = s.write("bad.ngc", "G21 G90\nG0 X1\nM102 P3\nG0 X2\nM2\n");
+    let (ok, out, err) = run(&m, &bad);
+    assert!(!ok, "{out}");
+    assert!(err.contains("bad.ngc:3: M102: "), "{err}");
+    assert!(err.contains("more/M102 exited with status 3"), "{err}");
+    assert!((pos(&m, 0) - 1.0).abs() < 1e-9);
+
+    // No executable M103: the interpreter's error, with the place.
+    let unknown = s.write("unknown.ngc", "G21 G90\nG0 X3\nM103\nM2\n");
+    let (ok, _, err) = run(&m, &unknown);
+    assert!(!ok);
+    assert!(err.contains("unknown.ngc:3"), "{err}");
+    assert!(err.contains("Unknown m code used: M103"), "{err}");
+
+    // MDI runs them too.
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "M101", "P7"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.contains("args 7.000000 -1.000000"), "{text}");
+    m.stop();
+}
