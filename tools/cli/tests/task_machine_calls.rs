@@ -112,3 +112,47 @@ fn user_m_codes_run_their_program_with_p_and_q_between_moves() {
     assert!(text.contains("args 7.000000 -1.000000"), "{text}");
     m.stop();
 }
+
+#[test]
+fn g10_l0_reloads_the_tool_table_the_next_g43_uses() {
+    let s = Scratch::new("task-g10l0");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-g10l0");
+    auto(&m);
+    // The file changes under the running machine: T2 becomes 7.5 long.
+    let table = s.0.join("sim.tbl");
+    let text = std::fs::read_to_string(&table).unwrap();
+    std::fs::write(
+        &table,
+        text.replace("T2 P2 D6.0 Z+20.5", "T2 P2 D6.0 Z+7.5"),
+    )
+    .unwrap();
+    let prog = s.write(
+        "reload.ngc",
+        "G21 G90\nG10 L0\nT2 M6\nG43\nG0 X1 Z-10\nM2\n",
+    );
+    let (ok, out, err) = run(&m, &prog);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("tool 0.0000 0.0000 7.5000"), "{status}");
+    assert!((pos(&m, 2) + 2.5).abs() < 1e-9, "{status}");
+    // With a tool in the spindle the interpreter refuses it, as
+    // LinuxCNC's does.
+    let again = s.write("again.ngc", "G10 L0\nM2\n");
+    let (ok, _, err) = run(&m, &again);
+    assert!(!ok);
+    assert!(err.contains("again.ngc:1"), "{err}");
+    // A table that cannot be read fails the run at its line; the
+    // table in use stays.
+    let unload = s.write("unload.ngc", "G49\nT0 M6\nM2\n");
+    let (ok, out, err) = run(&m, &unload);
+    assert!(ok, "{out}{err}");
+    std::fs::write(&table, "T1 P1 Z+1 junk here\nT3 P\n").unwrap();
+    let bad = s.write("bad-table.ngc", "G21 G90\nG0 X2\nG10 L0\nG0 X3\nM2\n");
+    let (ok, _, err) = run(&m, &bad);
+    assert!(!ok);
+    assert!(err.contains("line 3: G10 L0: "), "{err}");
+    assert!(err.contains("sim.tbl"), "{err}");
+    assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
+    m.stop();
+}

@@ -60,6 +60,12 @@ pub enum Op {
     End,
     /// (MSG,...), (DEBUG,...), (PRINT,...): text for the operator.
     Message(String),
+    /// G10 L0: once the moves before it end, read the tool table file
+    /// again; reading waits, then the interpreter takes the new table.
+    ReloadTools {
+        /// The program line.
+        line: i32,
+    },
     /// M100 to M199: once the moves before it end, run the user program
     /// with P and Q and wait for it to exit.
     UserM {
@@ -197,6 +203,15 @@ impl TaskCanon {
                 self.ops.remove(i);
             }
         }
+    }
+
+    /// Whether the ops from index `from` on reload the tool table (the
+    /// interpreter must then wait and synchronise).
+    pub fn has_reload_from(&self, from: usize) -> bool {
+        self.ops
+            .iter()
+            .skip(from)
+            .any(|op| matches!(op, Op::ReloadTools { .. }))
     }
 
     /// Whether the ops from index `from` on hold a user M-code.
@@ -573,7 +588,7 @@ impl Canon for TaskCanon {
         self.ops.push_back(Op::Io(IoRequest::SetNumber { tool }));
     }
     fn reload_tool_data(&mut self) {
-        self.refuse("reloading the tool table (G10 L0)");
+        self.ops.push_back(Op::ReloadTools { line: self.line });
     }
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry) {
         match usize::try_from(index)

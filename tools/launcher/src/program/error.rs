@@ -89,6 +89,23 @@ pub enum ProgramError {
         #[source]
         source: Reject,
     },
+    /// G10 L0 on a machine without a tool table file.
+    #[error("line {line}: G10 L0: the machine has no tool table file ([EMCIO]TOOL_TABLE)")]
+    NoToolTable {
+        /// The program line.
+        line: i32,
+    },
+    /// G10 L0 could not read the tool table file; the table in use stays.
+    #[error("line {line}: G10 L0: {}: {source}", .path.display())]
+    ToolTable {
+        /// The program line.
+        line: i32,
+        /// The tool table file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: crate::iocontrol::tooltable::TableError,
+    },
     /// A user M-code program (M100 to M199) could not be started.
     #[error("{at}: M{number}: cannot run {}: {source}", .program.display())]
     UserMStart {

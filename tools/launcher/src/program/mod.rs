@@ -102,6 +102,8 @@ pub struct Program {
     input_wait: Option<InputWait>,
     /// The user M-code program task waits for.
     user_m_running: Option<user_m::Running>,
+    /// The tool table file G10 L0 reads (`[EMCIO]TOOL_TABLE`).
+    tool_table: Option<PathBuf>,
     /// User M-code programs interrupted by an abort, not yet reaped.
     abandoned: user_m::Abandoned,
     /// Motion's heartbeat when task last queued a command: motion counts
@@ -111,8 +113,9 @@ pub struct Program {
 }
 
 impl Program {
-    /// A program side for the machine `config` describes.
-    pub fn new(config: ProgramConfig) -> Program {
+    /// A program side for the machine `config` describes, whose tool
+    /// table file (G10 L0 reads it again) is `tool_table`.
+    pub fn new(config: ProgramConfig, tool_table: Option<PathBuf>) -> Program {
         let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
         canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
         Program {
@@ -132,6 +135,7 @@ impl Program {
             sent_beat: 0,
             input_wait: None,
             user_m_running: None,
+            tool_table,
             abandoned: user_m::Abandoned::default(),
         }
     }
@@ -408,6 +412,9 @@ impl Program {
         let r = self.interp.execute_mdi(text.as_bytes(), &mut self.canon);
         self.canon.place_user_m(0, &format!("MDI '{text}'"));
         self.read_done = true;
+        if self.canon.has_reload_from(0) {
+            self.needs_synch = true;
+        }
         match r {
             Ok(Status::ExecuteFinish) => self.needs_synch = true,
             Ok(_) => {}
@@ -455,6 +462,9 @@ impl Program {
                 Ok(Status::ExecuteFinish) => self.needs_synch = true,
                 Ok(_) => {}
                 Err(source) => return Err(self.located(source)),
+            }
+            if !skipping && self.canon.has_reload_from(queued) {
+                self.needs_synch = true;
             }
             if skipping {
                 self.canon.drop_actions_from(queued);
@@ -546,6 +556,7 @@ impl Program {
                     }
                     self.input_wait = None;
                 }
+                Op::ReloadTools { line } => self.reload_tools(io, line)?,
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),
                 Op::UserM {
@@ -563,6 +574,25 @@ impl Program {
             self.canon.ops.pop_front();
         }
         Ok(sent)
+    }
+
+    /// G10 L0: iocontrol takes the tool table file as it is now; a file
+    /// that cannot be read completely leaves the table in use (and stops
+    /// write-backs over the user's half-made edit), and fails the run.
+    fn reload_tools(&mut self, io: &mut IoControl, line: i32) -> Result<(), ProgramError> {
+        let Some(path) = self.tool_table.clone() else {
+            return Err(ProgramError::NoToolTable { line });
+        };
+        match crate::iocontrol::ToolTable::load(&path, io.table().random) {
+            Ok(table) => {
+                io.reload(table);
+                Ok(())
+            }
+            Err(source) => {
+                io.hold_write_back();
+                Err(ProgramError::ToolTable { line, path, source })
+            }
+        }
     }
 
     /// Starts the user M-code program (the first time) and tells whether
