@@ -156,3 +156,83 @@ fn g10_l0_reloads_the_tool_table_the_next_g43_uses() {
     assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
     m.stop();
 }
+
+/// Waits (up to 20 s) until `halcmd getp PIN` reads `want`.
+fn wait_pin(m: &Machine, pin: &str, want: &str) {
+    let got = m.wait_getp(pin, want);
+    assert_eq!(got, want, "{pin}\n{}", m.task_ok(&["status"]));
+}
+
+#[test]
+fn m19_orients_the_spindle_and_waits_for_is_oriented() {
+    let s = Scratch::new("task-m19");
+    let ini = mill_copy(&s);
+    ini_add(&ini, "RS274NGC", "ORIENT_OFFSET = 5");
+    let prog = s.write(
+        "orient.ngc",
+        "G21 G90\nM3 S1000\nG0 X1\nM19 R30 P1 Q5\nG0 X2\nM0\nM2\n",
+    );
+    let m = Machine::start(&ini, "task-m19");
+    auto(&m);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    // The spindle stops and the drive is asked for R plus ORIENT_OFFSET.
+    wait_pin(&m, "spindle.0.orient", "TRUE");
+    assert_eq!(m.getp("spindle.0.orient-angle"), "35");
+    assert_eq!(m.getp("spindle.0.orient-mode"), "1");
+    assert_eq!(m.getp("spindle.0.on"), "FALSE");
+    assert_eq!(m.getp("spindle.0.locked"), "FALSE");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert!(
+        (pos(&m, 0) - 1.0).abs() < 1e-9,
+        "X moved before is-oriented"
+    );
+    m.halcmd(&["setp", "spindle.0.is-oriented", "TRUE"]);
+    // Oriented: locked with the brake on, and the program goes on to X2
+    // and its M0.
+    wait_pin(&m, "spindle.0.locked", "TRUE");
+    assert_eq!(m.getp("spindle.0.orient"), "FALSE");
+    assert_eq!(m.getp("spindle.0.brake"), "TRUE");
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while !m.task_ok(&["status"]).contains("interp: HELD") {
+        assert!(
+            std::time::Instant::now() < end,
+            "{}",
+            m.task_ok(&["status"])
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
+    // M2 stops the spindle, which ends the lock, as in LinuxCNC.
+    m.task_ok(&["resume"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    assert_eq!(m.getp("spindle.0.locked"), "FALSE");
+    m.halcmd(&["setp", "spindle.0.is-oriented", "FALSE"]);
+
+    // No is-oriented within Q seconds: LinuxCNC's message, the line.
+    let slow = s.write("slow.ngc", "G21 G90\nM19 R10 Q0.5\nG0 X3\nM2\n");
+    let (ok, _, err) = run(&m, &slow);
+    assert!(!ok);
+    assert!(
+        err.contains("line 2: wait for orient complete: TIMED OUT"),
+        "{err}"
+    );
+    assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
+
+    // A fault code from the drive fails the orientation.
+    let fault = s.write("fault.ngc", "G21 G90\nM19 R0 Q5\nG0 X3\nM2\n");
+    m.task_ok(&["open", fault.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    wait_pin(&m, "spindle.0.orient", "TRUE");
+    m.halcmd(&["setp", "spindle.0.orient-fault", "3"]);
+    let (ok, _, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(!ok);
+    assert!(
+        err.contains("line 2: fault 3 during orient in progress"),
+        "{err}"
+    );
+    assert_eq!(m.getp("spindle.0.orient"), "FALSE");
+    assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
+    m.stop();
+}

@@ -66,6 +66,16 @@ pub enum Op {
         /// The program line.
         line: i32,
     },
+    /// M19 with Q: once the moves before it end, wait until spindle
+    /// `spindle` is oriented (`is-oriented`), at most `timeout` seconds.
+    WaitOrient {
+        /// The spindle number.
+        spindle: i32,
+        /// Seconds at most.
+        timeout: f64,
+        /// The program line.
+        line: i32,
+    },
     /// M100 to M199: once the moves before it end, run the user program
     /// with P and Q and wait for it to exit.
     UserM {
@@ -556,10 +566,27 @@ impl Canon for TaskCanon {
             self.refuse("constant surface speed (G96)");
         }
     }
-    fn orient_spindle(&mut self, _spindle: i32, _orientation: f64, _mode: i32) {
-        self.refuse("spindle orientation (M19)");
+    fn orient_spindle(&mut self, spindle: i32, orientation: f64, mode: i32) {
+        if self.spindle_mut(spindle).is_none() {
+            return;
+        }
+        // The spindle stops to orient: every spindle counts as stopped.
+        for s in &mut self.spindles {
+            s.0 = Direction::Stopped;
+        }
+        self.after_moves(Command::SpindleOrient {
+            spindle,
+            angle: orientation,
+            mode,
+        });
     }
-    fn wait_spindle_orient_complete(&mut self, _spindle: i32, _timeout: f64) {}
+    fn wait_spindle_orient_complete(&mut self, spindle: i32, timeout: f64) {
+        self.ops.push_back(Op::WaitOrient {
+            spindle,
+            timeout,
+            line: self.line,
+        });
+    }
 
     fn use_tool_length_offset(&mut self, offset: &Pose) {
         self.set_offset(Offset::Tool, offset);

@@ -106,6 +106,20 @@ pub enum ProgramError {
         #[source]
         source: crate::iocontrol::tooltable::TableError,
     },
+    /// M19: the drive reported `spindle.N.orient-fault` while orienting.
+    #[error("line {line}: fault {fault} during orient in progress")]
+    OrientFault {
+        /// The program line.
+        line: i32,
+        /// The fault code.
+        fault: i32,
+    },
+    /// M19 Q: `is-oriented` did not come in time.
+    #[error("line {line}: wait for orient complete: TIMED OUT")]
+    OrientTimeout {
+        /// The program line.
+        line: i32,
+    },
     /// A user M-code program (M100 to M199) could not be started.
     #[error("{at}: M{number}: cannot run {}: {source}", .program.display())]
     UserMStart {

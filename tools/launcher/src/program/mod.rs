@@ -100,6 +100,8 @@ pub struct Program {
     last_end: Option<Ended>,
     /// The M66 wait in progress.
     input_wait: Option<InputWait>,
+    /// When the M19 wait in progress runs out of time.
+    orient_deadline: Option<std::time::Instant>,
     /// The user M-code program task waits for.
     user_m_running: Option<user_m::Running>,
     /// The tool table file G10 L0 reads (`[EMCIO]TOOL_TABLE`).
@@ -135,6 +137,7 @@ impl Program {
             sent_beat: 0,
             input_wait: None,
             user_m_running: None,
+            orient_deadline: None,
             tool_table,
             abandoned: user_m::Abandoned::default(),
         }
@@ -339,6 +342,7 @@ impl Program {
         self.mdi.clear();
         self.io_busy = false;
         self.input_wait = None;
+        self.orient_deadline = None;
         if let Some(running) = self.user_m_running.take() {
             self.abandoned.push(running.interrupt());
         }
@@ -557,6 +561,15 @@ impl Program {
                     self.input_wait = None;
                 }
                 Op::ReloadTools { line } => self.reload_tools(io, line)?,
+                Op::WaitOrient {
+                    spindle,
+                    timeout,
+                    line,
+                } => {
+                    if !self.oriented(motion, spindle, timeout, line)? {
+                        return Ok(sent);
+                    }
+                }
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),
                 Op::UserM {
@@ -591,6 +604,51 @@ impl Program {
             Err(source) => {
                 io.hold_write_back();
                 Err(ProgramError::ToolTable { line, path, source })
+            }
+        }
+    }
+
+    /// M19's wait: whether spindle `spindle` is oriented (or was never
+    /// asked to be); an error when its orientation failed or `timeout`
+    /// seconds passed, as LinuxCNC's task reports them.
+    fn oriented(
+        &mut self,
+        motion: &MotionLink,
+        spindle: i32,
+        timeout: f64,
+        line: i32,
+    ) -> Result<bool, ProgramError> {
+        let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
+        let state = usize::try_from(spindle)
+            .ok()
+            .and_then(|n| status.spindles.get(n));
+        let Some(state) = state else {
+            return Ok(true);
+        };
+        match state.orient {
+            motion::OrientState::None | motion::OrientState::Complete => {
+                self.orient_deadline = None;
+                Ok(true)
+            }
+            motion::OrientState::Faulted => {
+                self.orient_deadline = None;
+                Err(ProgramError::OrientFault {
+                    line,
+                    fault: state.orient_fault,
+                })
+            }
+            motion::OrientState::InProgress => {
+                let now = std::time::Instant::now();
+                let wait = std::time::Duration::try_from_secs_f64(timeout.max(0.0))
+                    .unwrap_or(std::time::Duration::MAX);
+                let deadline = *self
+                    .orient_deadline
+                    .get_or_insert_with(|| now.checked_add(wait).unwrap_or(now));
+                if now >= deadline {
+                    self.orient_deadline = None;
+                    return Err(ProgramError::OrientTimeout { line });
+                }
+                Ok(false)
             }
         }
     }
