@@ -1,5 +1,7 @@
 //! Canonical calls task carries out beyond moves, spindle and coolant,
-//! run through task on the simulated mill: user M-codes M100 to M199.
+//! run through task on the simulated mill: user M-codes M100 to M199,
+//! G10 L0 (reload the tool table), M19 (spindle orientation) and G38.2 to
+//! G38.5 (probing).
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -234,5 +236,63 @@ fn m19_orients_the_spindle_and_waits_for_is_oriented() {
     );
     assert_eq!(m.getp("spindle.0.orient"), "FALSE");
     assert!((pos(&m, 0) - 2.0).abs() < 1e-9);
+    m.stop();
+}
+
+#[test]
+fn g38_probes_stop_on_contact_and_hand_back_5061_to_5070() {
+    let s = Scratch::new("task-probe");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-probe");
+    auto(&m);
+    let prog = s.write(
+        "probe.ngc",
+        "G21 G90\nG0 X0 Y0 Z0\nG38.2 X10 F300\nG0 Y#5061 Z[#5070 * -1]\nM2\n",
+    );
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while pos(&m, 0) < 2.0 {
+        assert!(
+            std::time::Instant::now() < end,
+            "{}",
+            m.task_ok(&["status"])
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    m.halcmd(&["setp", "motion.probe-input", "TRUE"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
+    // Stopped short of X10; #5061 is where the contact came, #5070 1.
+    let (x, y) = (pos(&m, 0), pos(&m, 1));
+    assert!(x > 2.0 && x < 9.0, "x {x}");
+    assert!(y >= 2.0 && y <= x, "y {y} x {x}");
+    assert!((pos(&m, 2) + 1.0).abs() < 1e-9, "#5070");
+
+    // Still tripped: a G38.2 is refused with motion's message.
+    let again = s.write("again.ngc", "G21 G90\nG38.2 X0 F300\nM2\n");
+    let (ok, _, err) = run(&m, &again);
+    assert!(!ok);
+    assert!(
+        err.contains("line 2: Probe is already tripped when starting G38.2 or G38.3 move"),
+        "{err}"
+    );
+    m.halcmd(&["setp", "motion.probe-input", "FALSE"]);
+
+    // No contact: G38.2 fails and names the line, G38.3 gives #5070 0.
+    let miss = s.write("miss.ngc", "G21 G90\nG38.2 X1 F600\nG0 Z-5\nM2\n");
+    let (ok, _, err) = run(&m, &miss);
+    assert!(!ok);
+    assert!(
+        err.contains("line 2: G38.2 move finished without making contact"),
+        "{err}"
+    );
+    assert!((pos(&m, 0) - 1.0).abs() < 1e-6);
+    assert!((pos(&m, 2) + 1.0).abs() < 1e-9, "Z-5 did not run");
+    let quiet = s.write("quiet.ngc", "G21 G90\nG38.3 X0 F600\nG0 Z[#5070 - 2]\nM2\n");
+    let (ok, out, err) = run(&m, &quiet);
+    assert!(ok, "{out}{err}");
+    assert!(pos(&m, 0).abs() < 1e-6);
+    assert!((pos(&m, 2) + 2.0).abs() < 1e-9);
     m.stop();
 }

@@ -11,7 +11,7 @@
 use std::collections::VecDeque;
 use std::path::PathBuf;
 
-use motion::command::{LineKind, TermCond};
+use motion::command::{LineKind, ProbeType, TermCond};
 use motion::Command;
 use rs274ngc::{
     Arc, Canon, ControlPoint, Direction, FeedReference, InputKind, MotionMode, Plane, Pose,
@@ -76,6 +76,14 @@ pub enum Op {
         /// The program line.
         line: i32,
     },
+    /// After a G38.2 or G38.4 move: once it has ended, a probe that did
+    /// not find what it looked for fails the run.
+    ProbeCheck {
+        /// What the move looked for.
+        probe: ProbeType,
+        /// The program line.
+        line: i32,
+    },
     /// M100 to M199: once the moves before it end, run the user program
     /// with P and Q and wait for it to exit.
     UserM {
@@ -129,6 +137,9 @@ pub struct TaskCanon {
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
+    /// The last probing move's result: tripped, and where (machine
+    /// coordinates), as motion reported it when last synchronised.
+    probe: (bool, [f64; 9]),
     /// The user M-code programs task found at start-up.
     pub user_m: UserMCodes,
 }
@@ -164,6 +175,7 @@ impl TaskCanon {
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
+            probe: (false, [0.0; 9]),
         }
     }
 
@@ -171,14 +183,17 @@ impl TaskCanon {
     /// where the queue ends (machine coordinates), the tool table (index
     /// 0 the spindle) and the slot of the tool in the spindle.
     /// With it come motion's digital and analog inputs (`io`), which
-    /// M66 reads.
+    /// M66 reads, and the last probing move's result, which G38.n
+    /// hands to #5061-#5070.
     pub fn refresh(
         &mut self,
         goal: [f64; 9],
         tools: Vec<ToolEntry>,
         slot: i32,
         io: motion::channel::IoState,
+        probe: (bool, [f64; 9]),
     ) {
+        self.probe = probe;
         self.goal = goal;
         self.tools = tools;
         self.slot = slot;
@@ -505,8 +520,21 @@ impl Canon for TaskCanon {
             id: line,
         }));
     }
-    fn straight_probe(&mut self, _line: i32, _end: &Pose, _probe_type: u8) {
-        self.refuse("probing (G38.n)");
+    fn straight_probe(&mut self, line: i32, end: &Pose, probe_type: u8) {
+        let Some(probe) = ProbeType::from_bits(u64::from(probe_type)) else {
+            return self.refuse(&format!("probe type {probe_type}"));
+        };
+        let goal = self.to_machine(end);
+        self.goal = goal;
+        self.ops.push_back(Op::Motion(Command::Probe {
+            end: motion::Pose(goal),
+            vel: self.feed_per_second(),
+            probe,
+            id: line,
+        }));
+        if !probe.no_error {
+            self.ops.push_back(Op::ProbeCheck { probe, line });
+        }
     }
     fn nurbs_feed(&mut self, _line: i32, _points: &[ControlPoint], _order: u32) {
         self.refuse("NURBS moves (G5.2)");
@@ -765,10 +793,10 @@ impl Canon for TaskCanon {
         self.to_program(self.goal)
     }
     fn probe_position(&self) -> Pose {
-        self.position()
+        self.to_program(self.probe.1)
     }
     fn probe_tripped(&self) -> bool {
-        false
+        self.probe.0
     }
     fn length_unit_type(&self) -> Units {
         self.units

@@ -120,6 +120,14 @@ pub enum ProgramError {
         /// The program line.
         line: i32,
     },
+    /// A G38.2 or G38.4 move ended without finding what it looked for.
+    #[error("line {line}: {why}")]
+    Probe {
+        /// The program line.
+        line: i32,
+        /// Motion's message.
+        why: String,
+    },
     /// A user M-code program (M100 to M199) could not be started.
     #[error("{at}: M{number}: cannot run {}: {source}", .program.display())]
     UserMStart {

@@ -173,7 +173,9 @@ impl Program {
     fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), ProgramError> {
         let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
         let (tools, slot) = tool_entries(io);
-        self.canon.refresh(status.traj.goal, tools, slot, status.io);
+        let probe = (status.traj.probe_tripped, status.traj.probed);
+        self.canon
+            .refresh(status.traj.goal, tools, slot, status.io, probe);
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
@@ -561,6 +563,18 @@ impl Program {
                     self.input_wait = None;
                 }
                 Op::ReloadTools { line } => self.reload_tools(io, line)?,
+                Op::ProbeCheck { probe, line } => {
+                    let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
+                    if !status.traj.probe_tripped {
+                        let why = motion::Event::ProbeNoContact {
+                            trip_on_clear: probe.trip_on_clear,
+                        };
+                        return Err(ProgramError::Probe {
+                            line,
+                            why: why.to_string(),
+                        });
+                    }
+                }
                 Op::WaitOrient {
                     spindle,
                     timeout,
@@ -804,7 +818,10 @@ fn spindle_text(s: &motion::channel::SpindleState) -> String {
 /// The motion id (program line) a queued command carries.
 fn command_line(cmd: &Command) -> i32 {
     match cmd {
-        Command::Line { id, .. } | Command::Circle { id, .. } | Command::Dwell { id, .. } => *id,
+        Command::Line { id, .. }
+        | Command::Circle { id, .. }
+        | Command::Dwell { id, .. }
+        | Command::Probe { id, .. } => *id,
         _ => 0,
     }
 }
