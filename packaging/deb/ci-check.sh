@@ -8,10 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-CARGO_DEB_VERSION=3.8.0
-if ! cargo deb --version >/dev/null 2>&1; then
-    cargo install cargo-deb --locked --version "$CARGO_DEB_VERSION" --no-default-features
-fi
+packaging/deb/install-cargo-deb
 
 out=target/debian-ci
 rm -rf "$out"

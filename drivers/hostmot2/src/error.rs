@@ -351,6 +351,15 @@ pub enum Hm2Error {
     /// A `board_ip` item is not an address.
     #[error("not an IP address (a.b.c.d, optionally :port)")]
     NotAnAddress,
+    /// A `board_ip` item names the board an earlier item named: loading
+    /// it twice would give two HAL boards driving one card's outputs.
+    #[error("the same board as item {first} ({peer}): list each board once")]
+    SameBoardTwice {
+        /// The earlier item's index.
+        first: usize,
+        /// The address both items name.
+        peer: std::net::SocketAddr,
+    },
     /// The first reads and writes after configuration failed.
     #[error("comm errors while initializing firmware!")]
     CommErrors,

@@ -262,6 +262,11 @@ fn refused_loads_say_why_and_leave_nothing() {
     let h = with_core("hm2-eth-refused");
     let server = serve("7i96s", Faults::default());
     let ip = format!("board_ip={}", server.addr());
+    let twice = format!("board_ip={0},{0}", server.addr());
+    let same = format!(
+        "item 1 \"{0}\": the same board as item 0 ({0}): list each board once",
+        server.addr()
+    );
     for (args, want) in [
         (vec![], "parameter 'board_ip': no board given"),
         (
@@ -269,6 +274,7 @@ fn refused_loads_say_why_and_leave_nothing() {
             "parameter 'board_ip': item 0 \"192.168.1\": not an IP address",
         ),
         (vec![ip.as_str(), "board_rtnet=evl"], "only posix sockets"),
+        (vec![twice.as_str()], same.as_str()),
         (vec![ip.as_str(), "firewall=ufw"], "firewall"),
         (
             vec![ip.as_str(), "config=num_stepgens=6"],

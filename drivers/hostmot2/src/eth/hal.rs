@@ -147,11 +147,22 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
         *n += 1;
         *n - 1
     };
-    let mut candidates = Vec::new();
+    // Every address is read and checked before any board is probed.
+    let mut peers: Vec<SocketAddr> = Vec::with_capacity(ips.len());
     for (i, ip) in ips.iter().enumerate() {
         let peer = parse_board_address(ip)
             .map_err(|reason| params.item_error("board_ip", i, ip, reason))
             .for_module(HM2_ETH)?;
+        if let Some(first) = peers.iter().position(|&earlier| earlier == peer) {
+            return Err(params
+                .item_error("board_ip", i, ip, Hm2Error::SameBoardTwice { first, peer })
+                .into_hal(HM2_ETH));
+        }
+        peers.push(peer);
+    }
+    let mut candidates = Vec::new();
+    for (i, ip) in ips.iter().enumerate() {
+        let peer = peers[i];
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
             HalError::module_failed(

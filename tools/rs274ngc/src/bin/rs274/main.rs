@@ -128,15 +128,18 @@ fn user_m_codes(args: &Args, config: &Config) -> Vec<i32> {
 fn run(args: &Args) -> u8 {
     let config = config_from(args);
     let tools = tool_entries(args);
+    // Whole lines reach the output as they are made: a program that never
+    // ends (an O-word loop) is stopped by a signal, and what it printed up
+    // to then must not stay in a buffer.
     let out: Box<dyn Write> = match &args.output {
         Some(path) => match std::fs::File::create(path) {
-            Ok(f) => Box::new(std::io::BufWriter::new(f)),
+            Ok(f) => Box::new(std::io::LineWriter::new(f)),
             Err(_) => {
                 eprintln!("could not open output file {}", path.display());
                 return 1;
             }
         },
-        None => Box::new(std::io::BufWriter::new(std::io::stdout())),
+        None => Box::new(std::io::LineWriter::new(std::io::stdout())),
     };
     let mut canon = PrintCanon::new(Some(out), tools);
     canon.block_delete = args.block_delete;
