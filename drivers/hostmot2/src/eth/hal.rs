@@ -161,8 +161,7 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
         peers.push(peer);
     }
     let mut candidates = Vec::new();
-    for (i, ip) in ips.iter().enumerate() {
-        let peer = peers[i];
+    for (ip, &peer) in ips.iter().zip(&peers) {
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
             HalError::module_failed(
