@@ -20,6 +20,7 @@ mod exec;
 pub mod files;
 pub mod handles;
 mod hosted;
+pub mod instances;
 pub mod module;
 pub mod name;
 mod objects;

@@ -64,7 +64,7 @@ pub use axis::{AxisInputs, AxisStatus};
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
 pub use core::{
-    MotionConfig, MotionCore, MotionInputs, MotionState, Spindle, SpindleOutput,
+    MotionConfig, MotionCore, MotionInputs, MotionState, OrientState, Spindle, SpindleOutput,
     MODE_ENTRY_TOLERANCE,
 };
 pub use events::{Event, EventRing};
@@ -87,6 +87,12 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::genhexkins::MODULE,
         &kins::trt::XYZAC_MODULE,
         &kins::trt::XYZBC_MODULE,
+        &kins::maxkins::MODULE,
+        &kins::fiveaxiskins::MODULE,
+        &kins::rosekins::MODULE,
+        &kins::pentakins::MODULE,
+        &kins::xyzab_tdr::MODULE,
+        &kins::millturn::MODULE,
         &motmod::MODULE,
     ]
 }

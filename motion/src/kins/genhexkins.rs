@@ -43,7 +43,7 @@ use hal_core::{Component, Host, In, Out, Pin, Result};
 use super::loader::float_in;
 use super::math::{
     add, cross, deg, dot, finite, mat_mul, mat_vec, norm, rad, rot_x, rot_y, rot_z, rpy_matrix,
-    solve6, sub, unit, Mat3, Vec3,
+    solve6, sub, turn_derivative, unit, Mat3, Vec3,
 };
 use super::switchkins::{self, SwitchSpec};
 use super::trivkins::Trivkins;
@@ -295,9 +295,9 @@ impl Hexapod {
         let (rx, ry, rz) = (rot_x(roll), rot_y(pitch), rot_z(yaw));
         let r = mat_mul(&rz, &mat_mul(&ry, &rx));
         // How the rotation changes with each angle.
-        let d_roll = mat_mul(&rz, &mat_mul(&ry, &derivative(&rx, 0)));
-        let d_pitch = mat_mul(&rz, &mat_mul(&derivative(&ry, 1), &rx));
-        let d_yaw = mat_mul(&derivative(&rz, 2), &mat_mul(&ry, &rx));
+        let d_roll = mat_mul(&rz, &mat_mul(&ry, &turn_derivative(&rx, 0)));
+        let d_pitch = mat_mul(&rz, &mat_mul(&turn_derivative(&ry, 1), &rx));
+        let d_yaw = mat_mul(&turn_derivative(&rz, 2), &mat_mul(&ry, &rx));
         let mut jac = [[0.0; 6]; STRUTS];
         let mut error = [0.0; STRUTS];
         for i in 0..STRUTS {
@@ -312,18 +312,6 @@ impl Hexapod {
         }
         Some((jac, error))
     }
-}
-
-/// The derivative of an elementary rotation matrix about `axis` with
-/// respect to its angle.
-fn derivative(m: &Mat3, axis: usize) -> Mat3 {
-    // The derivative of a turn is the turn followed by the generator:
-    // for rotation about X, dR = R · [x]×, and the same for Y and Z.
-    let mut g = [[0.0; 3]; 3];
-    let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
-    g[b][a] = 1.0;
-    g[a][b] = -1.0;
-    mat_mul(m, &g)
 }
 
 impl Kinematics for Hexapod {

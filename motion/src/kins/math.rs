@@ -115,6 +115,18 @@ pub fn rot_z(a: f64) -> Mat3 {
     [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
 }
 
+/// The derivative of an elementary rotation matrix about `axis` with
+/// respect to its angle.
+pub fn turn_derivative(m: &Mat3, axis: usize) -> Mat3 {
+    // The derivative of a turn is the turn followed by the generator:
+    // for rotation about X, dR = R · [x]×, and the same for Y and Z.
+    let mut g = [[0.0; 3]; 3];
+    let (a, b) = ((axis + 1) % 3, (axis + 2) % 3);
+    g[b][a] = 1.0;
+    g[a][b] = -1.0;
+    mat_mul(m, &g)
+}
+
 /// The rotation of roll, pitch and yaw angles (radians), LinuxCNC's
 /// convention for the A, B and C of a pose: roll about X first, then
 /// pitch about Y, then yaw about Z, all about fixed axes
@@ -197,10 +209,16 @@ pub fn finite(values: &[f64]) -> Result<(), KinsError> {
     }
 }
 
-/// Solves `a · x = b` for a 6×6 system by Gaussian elimination with
+/// Solves `a · x = b` for a 6×6 system: [`solve_linear`] for six
+/// unknowns.
+pub fn solve6(a: [[f64; 6]; 6], b: [f64; 6]) -> Option<[f64; 6]> {
+    solve_linear(a, b)
+}
+
+/// Solves `a · x = b` for an N×N system by Gaussian elimination with
 /// partial pivoting; `None` when `a` is singular (a pivot smaller than
 /// 1e-12 of its largest entry) or holds non-finite values.
-pub fn solve6(mut a: [[f64; 6]; 6], mut b: [f64; 6]) -> Option<[f64; 6]> {
+pub fn solve_linear<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
     let largest =
         a.iter().flatten().fold(
             0.0f64,
@@ -210,15 +228,15 @@ pub fn solve6(mut a: [[f64; 6]; 6], mut b: [f64; 6]) -> Option<[f64; 6]> {
         return None;
     }
     let tiny = largest * 1e-12;
-    for col in 0..6 {
-        let pivot = (col..6).max_by(|&r, &s| a[r][col].abs().total_cmp(&a[s][col].abs()))?;
+    for col in 0..N {
+        let pivot = (col..N).max_by(|&r, &s| a[r][col].abs().total_cmp(&a[s][col].abs()))?;
         if a[pivot][col].abs() <= tiny {
             return None;
         }
         a.swap(col, pivot);
         b.swap(col, pivot);
         let pivot_row = a[col];
-        for row in col + 1..6 {
+        for row in col + 1..N {
             let f = a[row][col] / pivot_row[col];
             if f == 0.0 {
                 continue;
@@ -229,10 +247,10 @@ pub fn solve6(mut a: [[f64; 6]; 6], mut b: [f64; 6]) -> Option<[f64; 6]> {
             b[row] -= f * b[col];
         }
     }
-    let mut x = [0.0; 6];
-    for row in (0..6).rev() {
+    let mut x = [0.0; N];
+    for row in (0..N).rev() {
         let mut s = b[row];
-        for k in row + 1..6 {
+        for k in row + 1..N {
             s -= a[row][k] * x[k];
         }
         x[row] = s / a[row][row];
@@ -294,6 +312,21 @@ pub fn lower_sphere_intersection(centers: [Vec3; 3], radius: f64) -> Option<Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_derivative_of_a_turn() {
+        let a = 0.3;
+        let h = 1e-7;
+        for (axis, turn) in [(0, rot_x as fn(f64) -> Mat3), (1, rot_y), (2, rot_z)] {
+            let d = turn_derivative(&turn(a), axis);
+            let (m1, m0) = (turn(a + h), turn(a));
+            for r in 0..3 {
+                for c in 0..3 {
+                    assert!(((m1[r][c] - m0[r][c]) / h - d[r][c]).abs() < 1e-6);
+                }
+            }
+        }
+    }
     use proptest::prelude::*;
 
     fn close(a: &Mat3, b: &Mat3, tol: f64) -> bool {

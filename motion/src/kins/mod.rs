@@ -9,25 +9,33 @@
 //! lifetime rules.
 //!
 //! The modules, under LinuxCNC's names: [`trivkins`], [`corexykins`],
-//! [`bipodkins`] (the kinematics note's example), [`tripodkins`], [`scarakins`],
-//! [`pumakins`], [`genserkins`], [`lineardeltakins`], [`rotarydeltakins`],
-//! [`genhexkins`], and [`trt`] (`xyzac-trt-kins`, `xyzbc-trt-kins`). Those
-//! LinuxCNC makes switchable are built on [`switchkins`]. Each keeps its
-//! geometry in HAL pins read at every call, and refuses poses it cannot
-//! reach, and singular ones, with a [`KinsError`]: no module writes a
-//! non-finite joint or pose. [`math`] and [`dh`] hold the geometry they
-//! share.
+//! [`bipodkins`] (the kinematics note's example), [`tripodkins`],
+//! [`scarakins`], [`pumakins`], [`genserkins`], [`lineardeltakins`],
+//! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
+//! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
+//! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]. Those LinuxCNC makes
+//! switchable are built on [`switchkins`], or on [`twotype`] for the two
+//! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
+//! pins read at every call, and refuses poses it cannot reach, and singular
+//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
+//! [`math`] and [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
 pub mod dh;
+pub mod fiveaxiskins;
 pub mod genhexkins;
 pub mod genserkins;
 pub mod lineardeltakins;
 mod loader;
 pub mod math;
+pub mod maxkins;
+pub mod millturn;
+pub mod pentakins;
 mod pinned;
 pub mod pumakins;
+pub mod rosekins;
 pub mod rotarydeltakins;
 pub mod scarakins;
 pub mod switchkins;
@@ -36,6 +44,8 @@ mod testing;
 pub mod tripodkins;
 pub mod trivkins;
 pub mod trt;
+pub mod twotype;
+pub mod xyzab_tdr;
 
 use std::sync::Arc;
 

@@ -8,7 +8,7 @@
 
 mod machine;
 
-use machine::{root, Machine};
+use machine::{root, Machine, Scratch};
 
 fn config(dir: &str, ini: &str) -> std::path::PathBuf {
     root().join("tests/linuxcnc-configs").join(dir).join(ini)
@@ -316,5 +316,117 @@ fn smithy_622_loads_and_runs_on_the_simulated_5i20() {
     assert!(m.threads_run(), "{dir}: threads run\n{}", m.stderr());
     assert_eq!(m.getp("hm2_5i20.0.stepgen.00.position-scale"), "63500");
     assert_eq!(m.getp("charge-pump.enable"), "FALSE");
+    m.stop();
+}
+
+/// Copies the directory `from` into `to`, recursively.
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap().flatten() {
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap();
+        }
+    }
+}
+
+/// Starts LinuxCNC's own sample configuration `rel` (a path under the
+/// peer's sample-configs) unchanged, from a copy of its directory (what
+/// it writes, parameter and position files, stays in the copy), and
+/// turns it on; returns the machine and the copy, which must outlive it.
+fn peer_machine(rel: &str, tag: &str) -> (Machine, Scratch) {
+    let src = std::path::Path::new(env!("HAL_PEER_SAMPLE_CONFIGS")).join(rel);
+    let s = Scratch::new(tag);
+    copy_dir(src.parent().unwrap(), &s.0);
+    let m = Machine::start(&s.0.join(src.file_name().unwrap()), tag);
+    assert!(m.threads_run(), "{rel}: threads run\n{}", m.stderr());
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    assert_eq!(m.getp("motion.motion-enabled"), "TRUE", "{rel}");
+    (m, s)
+}
+
+/// LinuxCNC's 5axiskins bridge mill: seven joints from
+/// `coordinates=xyzbcwy` (Y on joints 1 and 6), the kinematics switch on
+/// an analog output, and the pivot length from a sum2 of the tool length.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_5axis_bridgemill_runs() {
+    let (m, _copy) = peer_machine("sim/axis/vismach/5axis/bridgemill/5axis.ini", "p5axis");
+    assert_eq!(m.getp("kinstype.is-0"), "TRUE");
+    assert!(m
+        .halcmd(&["show", "sig", ":pivot-len"])
+        .contains("==> 5axiskins.pivot-length"));
+    home_all(&m);
+    // Homed, in teleop: a Y jog moves both of Y's joints.
+    m.motion(&["axis-jog-incr", "y", "10", "2"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert_eq!(m.getp("joint.1.pos-fb"), "2");
+    assert_eq!(m.getp("joint.6.pos-fb"), "2");
+    m.stop();
+}
+
+/// LinuxCNC's max5 with maxkins: the pivot length from its INI file's
+/// `[MAX]B_PIVOT_LENGTH`, limit3 loops on five joints.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_max5_runs() {
+    let (m, _copy) = peer_machine("sim/axis/vismach/5axis/max5/max5kins.ini", "pmax5");
+    assert_eq!(m.getp("maxkins.pivot-length"), "0");
+    m.motion(&["jog-incr", "4", "10", "5"]);
+    m.motion(&["-t", "30", "wait", "in-position"]);
+    assert_eq!(m.getp("joint.4.pos-fb"), "5");
+    m.stop();
+}
+
+/// LinuxCNC's rose engine: rosekins on three joints, homed at once; a
+/// spindle turn shows on the module's pins.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_rose_engine_runs() {
+    let (m, _copy) = peer_machine("sim/axis/rose_engine/rose_engine.ini", "prose");
+    home_all(&m);
+    assert_eq!(m.getp("rosekins.revolutions"), "0");
+    m.stop();
+}
+
+/// LinuxCNC's pentapod: pentakins with the geometry of its
+/// kinematics.hal, and the iteration counts on its panel's signals.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_pentapod_runs() {
+    let (m, _copy) = peer_machine("sim/axis/pentapod/pentapod.ini", "ppenta");
+    assert_eq!(m.getp("pentakins.base.3.z"), "510");
+    assert_eq!(m.getp("pentakins.max-error"), "1000");
+    // The joints home at once, at the INI file's lengths.
+    home_all(&m);
+    assert_eq!(m.getp("joint.4.pos-fb"), "806.0397");
+    m.stop();
+}
+
+/// LinuxCNC's dual rotary table: xyzab_tdr_kins with its offsets set by
+/// HALCMD lines, the switch on an analog output.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_xyzab_tdr_runs() {
+    let (m, _copy) = peer_machine(
+        "sim/axis/vismach/5axis/table-dual-rotary/xyzab-tdr.ini",
+        "ptdr",
+    );
+    assert_eq!(m.getp("xyzab_tdr_kins.x-offset"), "-20");
+    assert_eq!(m.getp("kinstype.is-0"), "TRUE");
+    m.stop();
+}
+
+/// LinuxCNC's mill-turn: millturn's two kinematics, shown on
+/// `kinstype.is-0`/`is-1`.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_millturn_runs() {
+    let (m, _copy) = peer_machine("sim/axis/vismach/millturn/millturn.ini", "pmillturn");
+    assert_eq!(m.getp("kinstype.is-0"), "TRUE");
+    assert_eq!(m.getp("kinstype.is-1"), "FALSE");
     m.stop();
 }

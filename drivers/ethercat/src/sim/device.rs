@@ -304,6 +304,28 @@ pub fn dictionary(
         Access::Ro,
         u64::from(identity.serial),
     );
+    // The sync managers' kinds, as every mailbox device lists them:
+    // mailbox out (1), mailbox in (2), process data out (3) and in (4).
+    // Masters read it to find which assignment object (0x1C10 + SM)
+    // holds each direction's PDOs.
+    od.add(
+        0x1C00,
+        0,
+        "Sync manager type",
+        (dtype::U8, 8),
+        Access::Ro,
+        4,
+    );
+    for sm in 1..=4u8 {
+        od.add(
+            0x1C00,
+            sm,
+            "Sync manager type",
+            (dtype::U8, 8),
+            Access::Ro,
+            u64::from(sm),
+        );
+    }
     for (pdos, assign, assigned, access) in [
         (outputs, ASSIGN_OUTPUTS, assigned_out, Access::Rw),
         (inputs, ASSIGN_INPUTS, assigned_in, Access::Ro),

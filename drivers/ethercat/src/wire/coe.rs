@@ -426,6 +426,9 @@ pub fn parse_response(mailbox: &[u8]) -> Result<(MailboxHeader, SlaveMessage)> {
             })
         }
         service::SDO_RESPONSE => SlaveMessage::Sdo(parse_sdo_response(body)?),
+        // A slave aborts a transfer with service 2; a slave that (wrongly)
+        // sends it as a response is read the same way above.
+        service::SDO_REQUEST if is_abort(body) => SlaveMessage::Sdo(parse_sdo_response(body)?),
         service => SlaveMessage::Other {
             kind: h.kind,
             service,
@@ -611,8 +614,24 @@ pub fn encode_response(resp: &SdoResponse, address: u16, counter: u8) -> Vec<u8>
         address,
         counter,
         mailbox_type::COE,
-        &coe(service::SDO_RESPONSE, &body),
+        &coe(response_service(resp), &body),
     )
+}
+
+/// The CoE service a slave's SDO answer travels under. An abort is an
+/// "abort SDO transfer request" (service 2) from either side, as real
+/// slaves send it and as SOEM and the IgH master look for it; every
+/// other answer is an SDO response (service 3).
+fn response_service(resp: &SdoResponse) -> u8 {
+    match resp {
+        SdoResponse::Abort { .. } => service::SDO_REQUEST,
+        _ => service::SDO_RESPONSE,
+    }
+}
+
+/// Whether an SDO body is an abort transfer (command specifier 4).
+fn is_abort(body: &[u8]) -> bool {
+    body.first().is_some_and(|cmd| cmd >> 5 == 4)
 }
 
 /// Writes an emergency as a mailbox from station `address`.
@@ -707,6 +726,41 @@ mod tests {
             sub: 0,
             code: AbortCode::NO_OBJECT,
         });
+    }
+
+    #[test]
+    fn a_slave_aborts_under_the_sdo_request_service_and_either_service_is_read() {
+        let abort = SdoResponse::Abort {
+            index: 0x5555,
+            sub: 0,
+            code: AbortCode::NO_OBJECT,
+        };
+        let bytes = encode_response(&abort, 0x1001, 1);
+        // Mailbox header (6 bytes), then the CoE header: service in its
+        // high nibble.
+        assert_eq!(bytes[7] >> 4, service::SDO_REQUEST);
+        assert_eq!(bytes[8], 0x80);
+        assert_eq!(
+            parse_response(&bytes).unwrap().1,
+            SlaveMessage::Sdo(abort.clone())
+        );
+        let mut as_response = bytes.clone();
+        as_response[7] = (as_response[7] & 0x0F) | service::SDO_RESPONSE << 4;
+        assert_eq!(
+            parse_response(&as_response).unwrap().1,
+            SlaveMessage::Sdo(abort)
+        );
+        // Any other request-service body from a slave is not an answer.
+        let mut upload = as_response;
+        upload[7] = (upload[7] & 0x0F) | service::SDO_REQUEST << 4;
+        upload[8] = 0x40;
+        assert!(matches!(
+            parse_response(&upload).unwrap().1,
+            SlaveMessage::Other {
+                service: service::SDO_REQUEST,
+                ..
+            }
+        ));
     }
 
     #[test]

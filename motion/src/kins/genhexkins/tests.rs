@@ -94,21 +94,6 @@ fn screw_lead_corrects_twisted_struts() {
     assert!(same_pose(&s.pose, &p, 1e-7), "{s:?}");
 }
 
-#[test]
-fn the_derivative_of_a_turn() {
-    let a = 0.3;
-    let h = 1e-7;
-    for (axis, turn) in [(0, rot_x as fn(f64) -> Mat3), (1, rot_y), (2, rot_z)] {
-        let d = derivative(&turn(a), axis);
-        let (m1, m0) = (turn(a + h), turn(a));
-        for r in 0..3 {
-            for c in 0..3 {
-                assert!(((m1[r][c] - m0[r][c]) / h - d[r][c]).abs() < 1e-6);
-            }
-        }
-    }
-}
-
 fn geometry() -> impl Strategy<Value = Hexapod> {
     // Base points on a circle of 20 to 40, platform points on one of 8 to
     // 15, in pairs 120° apart (the classic 6-6 layout), with some wobble.
