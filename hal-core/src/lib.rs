@@ -48,7 +48,7 @@ pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};
 pub use objects::{
     instance_from_env, lock_bits, validate_instance_name, AliasKind, Component, ComponentInfo,
     ComponentKind, FunctInfo, HalStatistics, Instance, ParamInfo, PinInfo, Region, RegionInfo,
-    SignalInfo, ThreadInfo,
+    SignalInfo, ThreadInfo, ValueKind, ValueSet,
 };
 pub use ring::{RingReader, RingWriter, MAX_TYPED_COLUMNS};
 pub use rtlog::{MsgLevel, RtLog};

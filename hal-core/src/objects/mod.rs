@@ -15,6 +15,7 @@ mod pin;
 mod region;
 mod signal;
 mod status;
+mod value_set;
 
 use std::sync::atomic::Ordering::*;
 use std::sync::Arc;
@@ -25,6 +26,7 @@ pub use info::*;
 pub(crate) use liveness::HostLock;
 pub use region::Region;
 pub use status::{lock_bits, HalStatistics};
+pub use value_set::{ValueKind, ValueSet};
 
 use crate::error::{HalError, Result};
 use crate::shm::{Segment, Txn};

@@ -1,17 +1,17 @@
 //! Meters: a pin, signal or parameter shown with its value and the
 //! smallest and largest value seen since the meter started, read at each
-//! tick of the live stream through halmeter's reading (the path the
-//! stream's values take: one short read each, no lock held by realtime).
-//! A page resets its meters by opening a new stream.
+//! tick of the live stream the way the stream reads its values (one
+//! [`ValueSet`]: one short hold of the HAL lock, one load per value; the
+//! realtime threads never wait on it). A page resets its meters by
+//! opening a new stream.
 
-use hal_core::{Instance, Value};
+use hal_core::{Instance, Value, ValueSet};
 use hal_lang::format::get_value;
 use hal_scope::scope::capture::numeric;
-use hal_tools::meter::{read, Kind};
 use serde::Serialize;
 
 use crate::error::WebError;
-use crate::watch::Item;
+use crate::watch::{value_kind, Item};
 
 /// Most meters one page may show.
 pub const MAX_METERS: usize = 16;
@@ -42,7 +42,8 @@ impl Reading {
 /// The meters of one stream.
 #[derive(Debug)]
 pub struct Meters {
-    items: Vec<(Kind, String)>,
+    set: ValueSet,
+    values: Vec<Option<Value>>,
     seen: Vec<Reading>,
 }
 
@@ -54,7 +55,7 @@ impl Meters {
         }
         let items = items
             .iter()
-            .map(|i| match Kind::from_word(&i.kind) {
+            .map(|i| match value_kind(i) {
                 Some(k) => Ok((k, i.name.clone())),
                 None => Err(WebError::MeterKind {
                     kind: i.kind.clone(),
@@ -70,16 +71,26 @@ impl Meters {
             };
             items.len()
         ];
-        Ok(Meters { items, seen })
+        Ok(Meters {
+            set: ValueSet::new(items),
+            values: Vec::new(),
+            seen,
+        })
     }
 
     /// Reads every meter once; the readings, in order.
     pub fn read(&mut self, inst: &Instance) -> &[Reading] {
-        for ((kind, name), seen) in self.items.iter().zip(&mut self.seen) {
-            match read(inst, Some(*kind), name) {
-                Ok((_, v)) => seen.update(v),
+        if self.set.is_empty() {
+            return &self.seen;
+        }
+        if inst.read_values(&mut self.set, &mut self.values).is_err() {
+            self.values = vec![None; self.set.len()];
+        }
+        for (value, seen) in self.values.iter().zip(&mut self.seen) {
+            match value {
+                Some(v) => seen.update(*v),
                 // Gone (unloaded): the value goes, what was seen stays.
-                Err(_) => seen.value = None,
+                None => seen.value = None,
             }
         }
         &self.seen

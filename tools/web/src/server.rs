@@ -19,8 +19,13 @@ use crate::{change, guard, machine, page, scope, snapshot, stream, threads};
 /// Largest request body accepted (a watch list of [`crate::watch::MAX_ITEMS`]).
 const BODY_LIMIT: usize = 256 * 1024;
 
-/// How often the server looks for a stop request or a vanished instance.
+/// How often the server looks for a stop request.
 const STOP_POLL: Duration = Duration::from_millis(100);
+
+/// How often it asks whether the instance's host still runs: each ask
+/// opens and locks the host's lock file and checks the runtime directory
+/// (its group's lookup reads the group database), too dear for every poll.
+const HOST_POLL: Duration = Duration::from_secs(1);
 
 /// The routes of hal-web over `state`.
 pub fn router(state: Shared) -> Router {
@@ -88,9 +93,14 @@ pub async fn serve(
     let (stopping, stopping_rx) = tokio::sync::watch::channel(false);
     let state = AppState::new(inst.clone(), policy, stopping_rx);
     let stop = async move {
+        let mut host_asked = tokio::time::Instant::now();
         loop {
             tokio::time::sleep(STOP_POLL).await;
-            if exit.requested() || !inst.host_alive() {
+            let ask_host = host_asked.elapsed() >= HOST_POLL;
+            if ask_host {
+                host_asked = tokio::time::Instant::now();
+            }
+            if exit.requested() || (ask_host && !inst.host_alive()) {
                 // Live streams see this at their next tick and end, so
                 // that the graceful shutdown does not wait on them.
                 let _ = stopping.send(true);

@@ -21,7 +21,7 @@ use tokio::sync::OwnedSemaphorePermit;
 
 use crate::meters::{Meters, Reading};
 use crate::state::{error, Shared, MAX_STREAMS};
-use crate::watch::{values, Item, MAX_ITEMS};
+use crate::watch::{Item, Watched, MAX_ITEMS};
 
 /// The rate unless the page asks for another.
 const DEFAULT_HZ: u32 = 10;
@@ -44,11 +44,13 @@ pub struct Watch {
 /// One stream's state between ticks.
 struct Ticker {
     state: Shared,
-    items: std::sync::Arc<Vec<Item>>,
-    last: Vec<Option<String>>,
+    /// The watch list, between its reads (taken while a read runs).
+    watched: Option<Watched>,
     /// The meters, between their reads (taken while a read runs).
     meters: Option<Meters>,
     last_meters: Vec<Reading>,
+    /// The event's text, kept between ticks for its room.
+    text: Vec<u8>,
     interval: tokio::time::Interval,
     first: bool,
     /// Held while the stream lives: its place among [`MAX_STREAMS`].
@@ -78,10 +80,10 @@ pub async fn post(State(state): State<Shared>, Json(watch): Json<Watch>) -> Resp
     interval.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let ticker = Ticker {
         state,
-        items: std::sync::Arc::new(watch.items),
-        last: Vec::new(),
+        watched: Some(Watched::new(watch.items)),
         meters: Some(meters),
         last_meters: Vec::new(),
+        text: Vec::new(),
         interval,
         first: true,
         _permit: permit,
@@ -103,28 +105,42 @@ fn events(ticker: Ticker) -> impl Stream<Item = Result<Event, Infallible>> {
                 return None;
             }
             let inst = t.state.inst.clone();
-            let items = t.items.clone();
+            let mut watched = t.watched.take()?;
             let mut meters = t.meters.take()?;
-            let (now, meters, readings) = tokio::task::spawn_blocking(move || {
-                let now = values(&inst, &items);
-                let readings = meters.read(&inst).to_vec();
-                (now, meters, readings)
-            })
-            .await
-            .ok()?;
+            let mut text = std::mem::take(&mut t.text);
+            let (watched, meters, readings, mut text, values) =
+                tokio::task::spawn_blocking(move || {
+                    text.clear();
+                    text.extend_from_slice(b"{\"values\":{");
+                    let values = watched.changes(&inst, &mut text);
+                    text.push(b'}');
+                    let readings = meters.read(&inst).to_vec();
+                    (watched, meters, readings, text, values)
+                })
+                .await
+                .ok()?;
+            t.watched = Some(watched);
             t.meters = Some(meters);
-            let changed = changes(t.first, &t.last, &now);
             let changed_meters = changes(t.first, &t.last_meters, &readings);
             t.first = false;
-            t.last = now;
             t.last_meters = readings;
-            if !changed.is_empty() || !changed_meters.is_empty() {
-                let mut data = json!({ "values": changed });
-                if !changed_meters.is_empty() {
-                    data["meters"] = changed_meters.into();
-                }
-                return Some((Ok(Event::default().data(data.to_string())), t));
+            if values == 0 && changed_meters.is_empty() {
+                t.text = text;
+                continue;
             }
+            if !changed_meters.is_empty() {
+                text.extend_from_slice(b",\"meters\":");
+                // Writing to a Vec cannot fail.
+                let _ = serde_json::to_writer(&mut text, &changed_meters);
+            }
+            text.push(b'}');
+            // Plain ASCII and serde_json's text: always UTF-8.
+            let event = match std::str::from_utf8(&text) {
+                Ok(s) => Event::default().data(s),
+                Err(_) => return None,
+            };
+            t.text = text;
+            return Some((Ok(event), t));
         }
     })
 }

@@ -28,6 +28,11 @@ use wiring::Probe;
 /// How long the reader sleeps when the FIFO is empty.
 const POLL: Duration = Duration::from_millis(1);
 
+/// How often the reader asks whether the host still runs: each ask opens
+/// and locks the host's lock file and checks the runtime directory (its
+/// group's lookup reads the group database), too dear for every poll.
+const ALIVE_EVERY: Duration = Duration::from_millis(500);
+
 /// The trigger of `req` on the columns of `probe`: the name is a column's
 /// name or its number.
 fn trigger_of(req: &Request, probe: &Probe) -> Result<Option<Trigger>, ScopeError> {
@@ -87,6 +92,7 @@ pub fn capture(
     let record_time =
         Duration::from_nanos((req.samples as u64).saturating_mul(probe.period_ns.max(0) as u64));
     let end = Instant::now() + req.timeout + record_time;
+    let mut alive_asked = Instant::now();
     loop {
         let mut got = false;
         while !cap.done() && ring.pop(&mut record) {
@@ -107,8 +113,11 @@ pub fn capture(
         if interrupted() {
             return Err(ScopeError::Interrupted);
         }
-        if !inst.host_alive() {
-            return Err(ScopeError::HostExited);
+        if alive_asked.elapsed() >= ALIVE_EVERY {
+            if !inst.host_alive() {
+                return Err(ScopeError::HostExited);
+            }
+            alive_asked = Instant::now();
         }
         if Instant::now() > end {
             return Err(ScopeError::Timeout(format!(

@@ -43,6 +43,11 @@ impl Web {
         Web { addr, child }
     }
 
+    /// hal-web's process id.
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
     /// The Host (and same Origin) the page's requests carry.
     pub fn host(&self) -> String {
         self.addr.to_string()

@@ -131,9 +131,34 @@ impl Browser {
         );
     }
 
-    /// A PNG of the element `css` selects, as the browser draws it.
+    /// A PNG of the whole element `css` selects, as the browser draws it.
+    /// An element's screenshot holds only what the viewport shows: the
+    /// window is first made as tall as the page, and the element brought
+    /// to the top.
     pub fn screenshot(&self, css: &str) -> Vec<u8> {
         let id = self.element(css);
+        let rect = self.session_call("GET", "/window/rect", None);
+        let page = self.eval("return Math.ceil(document.documentElement.scrollHeight);");
+        let (width, height, page) = (
+            rect["width"].as_u64().unwrap_or(1280),
+            rect["height"].as_u64().unwrap_or(900),
+            page.as_u64().unwrap_or(0),
+        );
+        if page + 200 > height {
+            self.session_call(
+                "POST",
+                "/window/rect",
+                Some(json!({ "width": width, "height": page + 200 })),
+            );
+        }
+        self.session_call(
+            "POST",
+            "/execute/sync",
+            Some(json!({
+                "script": "document.querySelector(arguments[0]).scrollIntoView(); return true;",
+                "args": [css],
+            })),
+        );
         let v = self.session_call("GET", &format!("/element/{id}/screenshot"), None);
         base64_decode(v.as_str().expect("a screenshot"))
     }
