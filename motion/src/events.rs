@@ -93,6 +93,14 @@ pub enum Event {
     /// The probe input rose during a coordinated move that is not a
     /// probing move; the queue was aborted.
     ProbeTrippedDuringMove,
+    /// `spindle.N.orient-fault` was non-zero while an M19 orientation
+    /// ran; the orientation failed and the queue was aborted.
+    SpindleOrientFault {
+        /// The spindle number.
+        spindle: usize,
+        /// The fault code.
+        fault: i32,
+    },
 }
 
 impl std::fmt::Display for Event {
@@ -147,6 +155,9 @@ impl std::fmt::Display for Event {
                 trip_on_clear: true,
             } => f.write_str("G38.4 move finished without breaking contact"),
             Event::ProbeTrippedDuringMove => f.write_str("Probe tripped during non-probe move."),
+            Event::SpindleOrientFault { fault, .. } => {
+                write!(f, "fault {fault} during orient in progress")
+            }
         }
     }
 }
@@ -181,6 +192,9 @@ impl Event {
             Event::WorldModeDropped => (15, 0, 0),
             Event::ProbeNoContact { trip_on_clear } => (16, 0, u64::from(trip_on_clear)),
             Event::ProbeTrippedDuringMove => (17, 0, 0),
+            Event::SpindleOrientFault { spindle, fault } => {
+                (18, spindle as u64, fault as u32 as u64)
+            }
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -221,6 +235,10 @@ impl Event {
                 trip_on_clear: b == 1,
             },
             17 => Event::ProbeTrippedDuringMove,
+            18 => Event::SpindleOrientFault {
+                spindle: a,
+                fault: b as u32 as i32,
+            },
             _ => return None,
         })
     }
@@ -340,6 +358,10 @@ mod tests {
                 trip_on_clear: true,
             },
             Event::ProbeTrippedDuringMove,
+            Event::SpindleOrientFault {
+                spindle: 1,
+                fault: -7,
+            },
         ];
         let r = EventRing::default();
         for e in all {

@@ -64,7 +64,7 @@ pub use axis::{AxisInputs, AxisStatus};
 pub use channel::{Accepted, ClientError, MotionClient, MotionStatus, Rejected};
 pub use command::{Command, CommandResult, Direction, Feature, Quantity, Reject};
 pub use core::{
-    MotionConfig, MotionCore, MotionInputs, MotionState, Spindle, SpindleOutput,
+    MotionConfig, MotionCore, MotionInputs, MotionState, OrientState, Spindle, SpindleOutput,
     MODE_ENTRY_TOLERANCE,
 };
 pub use events::{Event, EventRing};

@@ -161,6 +161,10 @@ pub struct SpindleState {
     pub speed_out: f64,
     /// `spindle.N.speed-in`: the measured speed, revolutions per second.
     pub speed_in: f64,
+    /// Where an M19 orientation is.
+    pub orient: crate::core::OrientState,
+    /// `spindle.N.orient-fault` of the last failed orientation.
+    pub orient_fault: i32,
 }
 
 /// The coordinated planner and probing in a [`MotionStatus`].

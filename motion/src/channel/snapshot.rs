@@ -6,7 +6,7 @@ use super::{
     STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
-use crate::core::{MotionCore, MotionState};
+use crate::core::{MotionCore, MotionState, OrientState};
 use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
 use crate::sizes::{MAX_IO, MAX_JOINTS, MAX_SPINDLES};
@@ -75,6 +75,12 @@ pub(super) mod sflag {
     pub const ON: u64 = 1;
     pub const BRAKE: u64 = 2;
     pub const AT_SPEED: u64 = 4;
+    /// An M19 orientation runs.
+    pub const ORIENTING: u64 = 8;
+    /// The M19 orientation is complete (spindle locked).
+    pub const ORIENTED: u64 = 16;
+    /// The M19 orientation failed; the fault code is in bits 32-63.
+    pub const ORIENT_FAULTED: u64 = 32;
 }
 
 /// Fills `out` (at least [`STATUS_WORDS`] long) with the snapshot of
@@ -231,7 +237,14 @@ fn fill_spindles(core: &MotionCore, out: &mut [u64]) {
         let w = &mut out[1 + i * SPINDLE_WORDS..][..SPINDLE_WORDS];
         w[0] = bit(s.on, sflag::ON)
             | bit(s.brake, sflag::BRAKE)
-            | bit(core.inputs.spindle_at_speed[i], sflag::AT_SPEED);
+            | bit(core.inputs.spindle_at_speed[i], sflag::AT_SPEED)
+            | match s.orient {
+                OrientState::None => 0,
+                OrientState::InProgress => sflag::ORIENTING,
+                OrientState::Complete => sflag::ORIENTED,
+                OrientState::Faulted => sflag::ORIENT_FAULTED,
+            }
+            | (u64::from(s.orient_fault as u32) << 32);
         w[1] = s.speed.to_bits();
         w[2] = s.scale.to_bits();
         w[3] = o.speed.to_bits();
@@ -257,6 +270,16 @@ fn decode_spindles(w: &[u64]) -> Result<Vec<SpindleState>, WireError> {
                 scale: f(2),
                 speed_out: f(3),
                 speed_in: f(4),
+                orient: if w[b] & sflag::ORIENT_FAULTED != 0 {
+                    OrientState::Faulted
+                } else if w[b] & sflag::ORIENTED != 0 {
+                    OrientState::Complete
+                } else if w[b] & sflag::ORIENTING != 0 {
+                    OrientState::InProgress
+                } else {
+                    OrientState::None
+                },
+                orient_fault: (w[b] >> 32) as u32 as i32,
             }
         })
         .collect())

@@ -530,6 +530,23 @@ commands! {
             /// Engage (true) or release.
             on: bool,
         } = 63, cli planner "spindle-brake" { spindle: int(0, "SPINDLE"), on: flag(1, "the brake") };
+        /// SPINDLE_ORIENT (M19): `spindle` stops, its brake released, and
+        /// `spindle.N.orient` asks the drive to turn it to `angle` degrees
+        /// (`orient-angle`) in `mode` (`orient-mode`: 0 the shorter way,
+        /// 1 clockwise, 2 counterclockwise); `is-oriented` completes it
+        /// (`locked`, brake on), a non-zero `orient-fault` fails it.
+        SpindleOrient {
+            /// The spindle number.
+            [slot] spindle: i32,
+            /// The angle, degrees.
+            angle: f64,
+            /// The direction mode.
+            mode: i32,
+        } = 66, cli planner "spindle-orient" {
+            spindle: int(0, "SPINDLE"),
+            angle: num(1, "DEGREES"),
+            mode: int(2, "MODE"),
+        };
 
         // ---- Digital and analog outputs ----
 

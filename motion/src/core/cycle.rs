@@ -21,6 +21,7 @@ impl MotionCore {
         self.process_inputs();
         self.forward_kins_feedback();
         self.process_probe();
+        self.process_spindle_orient();
         self.check_for_faults();
         self.set_operating_mode();
         self.handle_jog_wheels();

@@ -70,7 +70,7 @@ pub use crate::sizes::{
 };
 pub use modes::MODE_ENTRY_TOLERANCE;
 use modes::{Mode, World};
-pub use spindle::{Spindle, SpindleOutput};
+pub use spindle::{OrientState, Spindle, SpindleOutput};
 
 /// How large the motion controller is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -142,6 +142,10 @@ pub struct MotionInputs {
     pub spindle_inhibit: [bool; MAX_SPINDLES],
     /// `spindle.N.speed-in`: the measured speed, revolutions per second.
     pub spindle_speed_in: [f64; MAX_SPINDLES],
+    /// `spindle.N.is-oriented`: the drive reached the M19 angle.
+    pub spindle_is_oriented: [bool; MAX_SPINDLES],
+    /// `spindle.N.orient-fault`: non-zero fails an M19.
+    pub spindle_orient_fault: [i32; MAX_SPINDLES],
     /// `motion.digital-in-NN` (M66 P).
     pub din: [bool; crate::sizes::MAX_IO],
     /// `motion.analog-in-NN` (M66 E).
@@ -166,6 +170,8 @@ impl Default for MotionInputs {
             spindle_at_speed: [true; MAX_SPINDLES],
             spindle_inhibit: [false; MAX_SPINDLES],
             spindle_speed_in: [0.0; MAX_SPINDLES],
+            spindle_is_oriented: [false; MAX_SPINDLES],
+            spindle_orient_fault: [0; MAX_SPINDLES],
             din: [false; crate::sizes::MAX_IO],
             ain: [0.0; crate::sizes::MAX_IO],
         }

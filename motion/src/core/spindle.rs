@@ -1,7 +1,8 @@
-//! The spindles: SPINDLE_ON, SPINDLE_OFF, SPINDLE_SCALE and the brake
-//! commands, the at-speed barrier they set for the next feed move, and
-//! what the `spindle.N.*` outputs show each cycle (reference "Spindle
-//! commands", §4.3 and `output_to_hal`).
+//! The spindles: SPINDLE_ON, SPINDLE_OFF, SPINDLE_SCALE, the brake
+//! commands and SPINDLE_ORIENT (M19) with its handshake, the at-speed
+//! barrier they set for the next feed move, and what the `spindle.N.*`
+//! outputs show each cycle (reference "Spindle commands", §4.3 and
+//! `output_to_hal`).
 //!
 //! Differences from LinuxCNC, for safety: a spindle starts only while
 //! motion is enabled, and every spindle stops (brake on) when motion
@@ -22,6 +23,28 @@ pub struct Spindle {
     pub brake: bool,
     /// The spindle override (SPINDLE_SCALE, at least 0).
     pub scale: f64,
+    /// Where an M19 orientation is.
+    pub orient: OrientState,
+    /// The M19 angle, degrees (`spindle.N.orient-angle`).
+    pub orient_angle: f64,
+    /// The M19 direction mode (`spindle.N.orient-mode`).
+    pub orient_mode: i32,
+    /// `spindle.N.orient-fault` when the last orientation failed.
+    pub orient_fault: i32,
+}
+
+/// Where a spindle orientation (M19) is, as LinuxCNC's motion reports it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OrientState {
+    /// None asked for (or cancelled by M3, M4, M5).
+    #[default]
+    None,
+    /// `spindle.N.orient` is on; waiting for `is-oriented`.
+    InProgress,
+    /// `is-oriented` came: the spindle is `locked`, brake on.
+    Complete,
+    /// `orient-fault` was non-zero while orienting.
+    Faulted,
 }
 
 impl Default for Spindle {
@@ -31,6 +54,10 @@ impl Default for Spindle {
             speed: 0.0,
             brake: false,
             scale: 1.0,
+            orient: OrientState::None,
+            orient_angle: 0.0,
+            orient_mode: 0,
+            orient_fault: 0,
         }
     }
 }
@@ -51,6 +78,14 @@ pub struct SpindleOutput {
     /// `spindle.N.speed-cmd-rps`: the commanded speed without override,
     /// revolutions per second.
     pub cmd_rps: f64,
+    /// `spindle.N.orient`: an orientation is asked for.
+    pub orient: bool,
+    /// `spindle.N.locked`: the orientation is complete.
+    pub locked: bool,
+    /// `spindle.N.orient-angle`.
+    pub orient_angle: f64,
+    /// `spindle.N.orient-mode`.
+    pub orient_mode: i32,
 }
 
 impl MotionCore {
@@ -79,6 +114,7 @@ impl MotionCore {
             s.on = true;
             s.speed = speed;
             s.brake = false;
+            s.orient = OrientState::None;
         }
         self.atspeed_next_feed = wait;
         Ok(())
@@ -91,9 +127,62 @@ impl MotionCore {
             s.on = false;
             s.speed = 0.0;
             s.brake = true;
+            s.orient = OrientState::None;
         }
         self.atspeed_next_feed = false;
         Ok(())
+    }
+
+    /// SPINDLE_ORIENT (M19): stop turning, brake released, and ask the
+    /// drive for `angle` degrees in `mode` until `is-oriented` or
+    /// `orient-fault` answers ([`Self::process_spindle_orient`]).
+    pub(super) fn spindle_orient(&mut self, spindle: i32, angle: f64, mode: i32) -> CommandResult {
+        if spindle < 0 {
+            return Err(Reject::NoSuchSpindle {
+                spindle,
+                num_spindles: self.cfg.num_spindles,
+            });
+        }
+        let range = self.spindle_range(spindle)?;
+        let angle = Self::finite(Quantity::OrientAngle, angle)?;
+        if !self.enabled {
+            return Err(Reject::NotEnabled);
+        }
+        for s in &mut self.spindles[range] {
+            s.on = false;
+            s.speed = 0.0;
+            s.brake = false;
+            s.orient = OrientState::InProgress;
+            s.orient_angle = angle;
+            s.orient_mode = mode;
+            s.orient_fault = 0;
+        }
+        Ok(())
+    }
+
+    /// The orient handshake, once per cycle: a non-zero `orient-fault`
+    /// fails the orientation (an error; the queue aborts), `is-oriented`
+    /// completes it (`locked`, brake on).
+    pub(super) fn process_spindle_orient(&mut self) {
+        for n in 0..self.cfg.num_spindles {
+            if self.spindles[n].orient != OrientState::InProgress {
+                continue;
+            }
+            let fault = self.inputs.spindle_orient_fault[n];
+            if fault != 0 {
+                let s = &mut self.spindles[n];
+                s.orient = OrientState::Faulted;
+                s.orient_fault = fault;
+                self.events
+                    .push(crate::Event::SpindleOrientFault { spindle: n, fault });
+                self.error = true;
+                self.tp.abort();
+            } else if self.inputs.spindle_is_oriented[n] {
+                let s = &mut self.spindles[n];
+                s.orient = OrientState::Complete;
+                s.brake = true;
+            }
+        }
     }
 
     /// SPINDLE_SCALE: the spindle override.
@@ -127,6 +216,9 @@ impl MotionCore {
                 s.on = false;
                 s.speed = 0.0;
                 s.brake = true;
+            }
+            if s.orient == OrientState::InProgress {
+                s.orient = OrientState::None;
             }
         }
         self.atspeed_next_feed = false;
@@ -180,6 +272,10 @@ impl MotionCore {
             brake: s.brake,
             speed,
             cmd_rps: if s.on { s.speed / 60.0 } else { 0.0 },
+            orient: s.orient == OrientState::InProgress,
+            locked: s.orient == OrientState::Complete,
+            orient_angle: s.orient_angle,
+            orient_mode: s.orient_mode,
         }
     }
 }

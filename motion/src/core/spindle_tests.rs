@@ -135,3 +135,72 @@ fn the_feed_move_after_a_start_waits_for_at_speed() {
     s.settle(5000);
     assert!((s.j(0).pos_cmd - 3.0).abs() < 1e-9);
 }
+
+fn orient(angle: f64, mode: i32) -> Command {
+    Command::SpindleOrient {
+        spindle: 0,
+        angle,
+        mode,
+    }
+}
+
+#[test]
+fn m19_orients_until_is_oriented_locks_and_m3_cancels() {
+    use crate::core::OrientState;
+    let mut s = xyz();
+    assert_eq!(s.cmd(orient(90.0, 1)), Err(Reject::NotEnabled));
+    s.coord();
+    s.cmd(on(1000.0, false)).unwrap();
+    s.cmd(orient(90.0, 1)).unwrap();
+    s.cycle();
+    let o = s.m.spindle_output(0);
+    assert!(o.orient && !o.locked && !o.on && !o.brake, "{o:?}");
+    assert_eq!((o.orient_angle, o.orient_mode), (90.0, 1));
+    assert_eq!(s.m.spindle(0).orient, OrientState::InProgress);
+    s.m.inputs.spindle_is_oriented[0] = true;
+    s.cycle();
+    let o = s.m.spindle_output(0);
+    assert!(!o.orient && o.locked && o.brake, "{o:?}");
+    assert_eq!(s.m.spindle(0).orient, OrientState::Complete);
+    s.cmd(on(500.0, false)).unwrap();
+    let o = s.m.spindle_output(0);
+    assert!(!o.orient && !o.locked && o.on, "{o:?}");
+    assert_eq!(s.m.spindle(0).orient, OrientState::None);
+    assert!(matches!(
+        s.cmd(orient(f64::INFINITY, 0)),
+        Err(Reject::BadValue {
+            what: Quantity::OrientAngle,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn an_orient_fault_fails_the_orientation_with_an_error() {
+    use crate::core::OrientState;
+    let mut s = xyz();
+    s.coord();
+    s.events();
+    s.cmd(orient(45.0, 0)).unwrap();
+    s.m.inputs.spindle_orient_fault[0] = 7;
+    s.cycle();
+    assert_eq!(s.m.spindle(0).orient, OrientState::Faulted);
+    assert_eq!(s.m.spindle(0).orient_fault, 7);
+    assert!(!s.m.spindle_output(0).orient);
+    assert!(s.m.error());
+    assert_eq!(
+        s.events(),
+        [crate::Event::SpindleOrientFault {
+            spindle: 0,
+            fault: 7
+        }]
+    );
+    assert_eq!(
+        crate::Event::SpindleOrientFault {
+            spindle: 0,
+            fault: 7
+        }
+        .to_string(),
+        "fault 7 during orient in progress"
+    );
+}

@@ -162,7 +162,8 @@ impl AxisPins {
 
 /// The spindle pins: the commanded state and speed out (LinuxCNC's
 /// `output_to_hal`), the at-speed, inhibit, speed and fault inputs in.
-/// The orient handshake and the index pins wait for M19 and spindle
+/// The orient handshake (M19): angle, mode, orient and locked out,
+/// is-oriented and orient-fault in. The index pins wait for spindle
 /// synchronised moves.
 pub(super) struct SpindlePins {
     pub(super) amp_fault: BIn,
@@ -178,7 +179,7 @@ pub(super) struct SpindlePins {
     pub(super) speed_out_rps: FOut,
     pub(super) speed_out_rps_abs: FOut,
     pub(super) speed_cmd_rps: FOut,
-    pub(super) _orient: (FOut, Pin<i32, Out>, BOut, BOut, BIn, Pin<i32, In>),
+    pub(super) orient: (FOut, Pin<i32, Out>, BOut, BOut, BIn, Pin<i32, In>),
     pub(super) _sync: (Pin<bool, Io>, FIn),
 }
 
@@ -205,7 +206,7 @@ impl SpindlePins {
             speed_cmd_rps: c.pin(&p("speed-cmd-rps"))?,
             inhibit: c.pin(&p("inhibit"))?,
             amp_fault: c.pin(&p("amp-fault-in"))?,
-            _orient: (
+            orient: (
                 c.pin(&p("orient-angle"))?,
                 c.pin(&p("orient-mode"))?,
                 c.pin(&p("orient"))?,
@@ -222,6 +223,8 @@ impl SpindlePins {
         inp.spindle_at_speed[n] = self.at_speed.get();
         inp.spindle_inhibit[n] = self.inhibit.get();
         inp.spindle_speed_in[n] = self.speed_in.get();
+        inp.spindle_is_oriented[n] = self.orient.4.get();
+        inp.spindle_orient_fault[n] = self.orient.5.get();
     }
 
     /// Writes what the core commands spindle `n` to do.
@@ -236,6 +239,11 @@ impl SpindlePins {
         self.speed_out_rps.set(o.speed / 60.0);
         self.speed_out_rps_abs.set((o.speed / 60.0).abs());
         self.speed_cmd_rps.set(o.cmd_rps);
+        let (angle, mode, orient, locked, _, _) = &self.orient;
+        angle.set(o.orient_angle);
+        mode.set(o.orient_mode);
+        orient.set(o.orient);
+        locked.set(o.locked);
     }
 }
 

@@ -58,6 +58,8 @@ coded_enum! {
         SpindleSpeed = 19 => "spindle speed",
         /// An analog output's value.
         AnalogValue = 20 => "analog output value",
+        /// A spindle orientation angle (M19 R).
+        OrientAngle = 21 => "spindle orientation angle",
     }
 }
 

@@ -123,6 +123,11 @@ impl MotionCore {
             C::SpindleOff { spindle } => self.spindle_off(spindle),
             C::SpindleScale { spindle, scale } => self.spindle_scale(spindle, scale),
             C::SpindleBrake { spindle, on } => self.spindle_brake(spindle, on),
+            C::SpindleOrient {
+                spindle,
+                angle,
+                mode,
+            } => self.spindle_orient(spindle, angle, mode),
             // Digital and analog outputs.
             C::SetDout { index, on, now } => self.set_dout(index, on, now),
             C::SetAout { index, value, now } => self.set_aout(index, value, now),

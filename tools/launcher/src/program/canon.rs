@@ -9,73 +9,17 @@
 //! into a refusal of the program at that line.
 
 use std::collections::VecDeque;
-use std::path::PathBuf;
 
-use motion::command::{LineKind, TermCond};
+use motion::command::{LineKind, ProbeType, TermCond};
 use motion::Command;
 use rs274ngc::{
     Arc, Canon, ControlPoint, Direction, FeedReference, InputKind, MotionMode, Plane, Pose,
     ToolEntry, Units,
 };
 
+pub use super::op::Op;
 use super::user_m::UserMCodes;
 use crate::iocontrol::IoRequest;
-
-/// One thing task does for the program, in program order.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Op {
-    /// A command for motion's queue (moves, dwell, planner settings).
-    Motion(Command),
-    /// An iocontrol request (tool prepare, change, number; coolant), once
-    /// the moves before it have finished.
-    Io(IoRequest),
-    /// A motion command sent once the moves before it have ended, as
-    /// LinuxCNC's task sends them: spindle starts, speed changes and
-    /// stops (the feed move after a start or speed change waits in
-    /// motion for `spindle.N.at-speed`), and the immediate outputs M64,
-    /// M65, M68 (which therefore break blending, as LinuxCNC's).
-    AfterMoves {
-        /// The command.
-        command: Command,
-        /// The program line it comes from.
-        line: i32,
-    },
-    /// M66: once the moves before it end, wait for an input.
-    WaitInput {
-        /// The input number.
-        index: i32,
-        /// `motion.digital-in-NN` (P), else `motion.analog-in-NN` (E).
-        digital: bool,
-        /// LinuxCNC's L: 0 at once, 1 rise, 2 fall, 3 high, 4 low.
-        mode: i32,
-        /// Seconds at most (Q).
-        timeout: f64,
-    },
-    /// M0 (or M1 when `optional`): stop once the moves before it end.
-    Stop {
-        /// M1: stops only with the optional stop switch on.
-        optional: bool,
-    },
-    /// M2, M30: the program ends once the moves before it end.
-    End,
-    /// (MSG,...), (DEBUG,...), (PRINT,...): text for the operator.
-    Message(String),
-    /// M100 to M199: once the moves before it end, run the user program
-    /// with P and Q and wait for it to exit.
-    UserM {
-        /// The M-code number.
-        number: i32,
-        /// The program found for it.
-        program: PathBuf,
-        /// The P and Q words (-1 when absent).
-        p: f64,
-        /// See `p`.
-        q: f64,
-        /// The program place (file:line, or the MDI line), for errors;
-        /// task fills it in after the block executed.
-        at: String,
-    },
-}
 
 /// The canon task gives the interpreter.
 #[derive(Debug)]
@@ -113,6 +57,9 @@ pub struct TaskCanon {
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
+    /// The last probing move's result: tripped, and where (machine
+    /// coordinates), as motion reported it when last synchronised.
+    probe: (bool, [f64; 9]),
     /// The user M-code programs task found at start-up.
     pub user_m: UserMCodes,
 }
@@ -148,6 +95,7 @@ impl TaskCanon {
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
+            probe: (false, [0.0; 9]),
         }
     }
 
@@ -155,14 +103,17 @@ impl TaskCanon {
     /// where the queue ends (machine coordinates), the tool table (index
     /// 0 the spindle) and the slot of the tool in the spindle.
     /// With it come motion's digital and analog inputs (`io`), which
-    /// M66 reads.
+    /// M66 reads, and the last probing move's result, which G38.n
+    /// hands to #5061-#5070.
     pub fn refresh(
         &mut self,
         goal: [f64; 9],
         tools: Vec<ToolEntry>,
         slot: i32,
         io: motion::channel::IoState,
+        probe: (bool, [f64; 9]),
     ) {
+        self.probe = probe;
         self.goal = goal;
         self.tools = tools;
         self.slot = slot;
@@ -197,6 +148,15 @@ impl TaskCanon {
                 self.ops.remove(i);
             }
         }
+    }
+
+    /// Whether the ops from index `from` on reload the tool table (the
+    /// interpreter must then wait and synchronise).
+    pub fn has_reload_from(&self, from: usize) -> bool {
+        self.ops
+            .iter()
+            .skip(from)
+            .any(|op| matches!(op, Op::ReloadTools { .. }))
     }
 
     /// Whether the ops from index `from` on hold a user M-code.
@@ -480,8 +440,21 @@ impl Canon for TaskCanon {
             id: line,
         }));
     }
-    fn straight_probe(&mut self, _line: i32, _end: &Pose, _probe_type: u8) {
-        self.refuse("probing (G38.n)");
+    fn straight_probe(&mut self, line: i32, end: &Pose, probe_type: u8) {
+        let Some(probe) = ProbeType::from_bits(u64::from(probe_type)) else {
+            return self.refuse(&format!("probe type {probe_type}"));
+        };
+        let goal = self.to_machine(end);
+        self.goal = goal;
+        self.ops.push_back(Op::Motion(Command::Probe {
+            end: motion::Pose(goal),
+            vel: self.feed_per_second(),
+            probe,
+            id: line,
+        }));
+        if !probe.no_error {
+            self.ops.push_back(Op::ProbeCheck { probe, line });
+        }
     }
     fn nurbs_feed(&mut self, _line: i32, _points: &[ControlPoint], _order: u32) {
         self.refuse("NURBS moves (G5.2)");
@@ -541,10 +514,27 @@ impl Canon for TaskCanon {
             self.refuse("constant surface speed (G96)");
         }
     }
-    fn orient_spindle(&mut self, _spindle: i32, _orientation: f64, _mode: i32) {
-        self.refuse("spindle orientation (M19)");
+    fn orient_spindle(&mut self, spindle: i32, orientation: f64, mode: i32) {
+        if self.spindle_mut(spindle).is_none() {
+            return;
+        }
+        // The spindle stops to orient: every spindle counts as stopped.
+        for s in &mut self.spindles {
+            s.0 = Direction::Stopped;
+        }
+        self.after_moves(Command::SpindleOrient {
+            spindle,
+            angle: orientation,
+            mode,
+        });
     }
-    fn wait_spindle_orient_complete(&mut self, _spindle: i32, _timeout: f64) {}
+    fn wait_spindle_orient_complete(&mut self, spindle: i32, timeout: f64) {
+        self.ops.push_back(Op::WaitOrient {
+            spindle,
+            timeout,
+            line: self.line,
+        });
+    }
 
     fn use_tool_length_offset(&mut self, offset: &Pose) {
         self.set_offset(Offset::Tool, offset);
@@ -573,7 +563,7 @@ impl Canon for TaskCanon {
         self.ops.push_back(Op::Io(IoRequest::SetNumber { tool }));
     }
     fn reload_tool_data(&mut self) {
-        self.refuse("reloading the tool table (G10 L0)");
+        self.ops.push_back(Op::ReloadTools { line: self.line });
     }
     fn set_tool_table_entry(&mut self, index: i32, entry: &ToolEntry) {
         match usize::try_from(index)
@@ -723,10 +713,10 @@ impl Canon for TaskCanon {
         self.to_program(self.goal)
     }
     fn probe_position(&self) -> Pose {
-        self.position()
+        self.to_program(self.probe.1)
     }
     fn probe_tripped(&self) -> bool {
-        false
+        self.probe.0
     }
     fn length_unit_type(&self) -> Units {
         self.units

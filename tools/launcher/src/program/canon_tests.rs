@@ -149,7 +149,7 @@ fn m66_waits_on_inputs_motion_has_and_reads_them() {
         ain: vec![1.5],
         aout: vec![0.0],
     };
-    c.refresh([0.0; 9], vec![ToolEntry::EMPTY], 0, io);
+    c.refresh([0.0; 9], vec![ToolEntry::EMPTY], 0, io, (false, [0.0; 9]));
     assert_eq!(c.wait_input(2, InputKind::Digital, 1, 1.0), Err(()));
     assert_eq!(c.wait_input(1, InputKind::Analog, 0, 0.0), Err(()));
     assert_eq!(c.wait_input(1, InputKind::Digital, 3, 2.0), Ok(()));
@@ -199,8 +199,44 @@ fn skipped_lines_keep_their_settings_and_move_nothing() {
 fn calls_the_machine_cannot_do_are_a_fault() {
     let mut c = TaskCanon::new(1.0, 0b111);
     c.nurbs_feed(1, &[], 3);
-    c.straight_probe(1, &Pose::ZERO, 0);
+    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
     assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
+}
+
+#[test]
+fn a_probe_queues_a_probing_move_and_its_check() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_feed_rate(60.0);
+    c.straight_probe(4, &p(0.0, 0.0, -2.0), 0);
+    match c.ops.front() {
+        Some(Op::Motion(Command::Probe {
+            end,
+            vel,
+            probe,
+            id,
+        })) => {
+            assert_eq!(end.0[2], -2.0);
+            assert_eq!((*vel, *probe, *id), (1.0, ProbeType::G38_2, 4));
+        }
+        other => panic!("not a probe: {other:?}"),
+    }
+    assert!(matches!(c.ops.get(1), Some(Op::ProbeCheck { line: 4, .. })));
+    // G38.3 ends without an error: no check.
+    c.straight_probe(5, &p(0.0, 0.0, -3.0), 1);
+    assert_eq!(c.ops.len(), 3);
+    // The result motion reports, in program coordinates.
+    c.set_g5x_offset(1, &p(1.0, 0.0, 0.0));
+    c.refresh(
+        [0.0; 9],
+        vec![ToolEntry::EMPTY],
+        0,
+        motion::channel::IoState::default(),
+        (true, [3.0, 0.0, -1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+    );
+    assert!(c.probe_tripped());
+    let at = c.probe_position();
+    assert!((at.x - 2.0).abs() < 1e-12 && (at.z + 1.5).abs() < 1e-12);
+    assert!(c.fault.is_none());
 }
 
 #[test]

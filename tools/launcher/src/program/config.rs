@@ -90,6 +90,12 @@ impl ProgramConfig {
                     .map(|s| relative(&dir, s)),
             );
         }
+        if let Some(v) = ini
+            .get("RS274NGC", "ORIENT_OFFSET")
+            .and_then(|v| v.trim().parse::<f64>().ok())
+        {
+            interp.orient_offset = v;
+        }
         let units = ini.get("TRAJ", "LINEAR_UNITS").unwrap_or("mm").trim();
         let user_per_mm = match units {
             "inch" | "in" | "imperial" => 1.0 / 25.4,

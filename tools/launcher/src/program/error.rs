@@ -89,6 +89,45 @@ pub enum ProgramError {
         #[source]
         source: Reject,
     },
+    /// G10 L0 on a machine without a tool table file.
+    #[error("line {line}: G10 L0: the machine has no tool table file ([EMCIO]TOOL_TABLE)")]
+    NoToolTable {
+        /// The program line.
+        line: i32,
+    },
+    /// G10 L0 could not read the tool table file; the table in use stays.
+    #[error("line {line}: G10 L0: {}: {source}", .path.display())]
+    ToolTable {
+        /// The program line.
+        line: i32,
+        /// The tool table file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: crate::iocontrol::tooltable::TableError,
+    },
+    /// M19: the drive reported `spindle.N.orient-fault` while orienting.
+    #[error("line {line}: fault {fault} during orient in progress")]
+    OrientFault {
+        /// The program line.
+        line: i32,
+        /// The fault code.
+        fault: i32,
+    },
+    /// M19 Q: `is-oriented` did not come in time.
+    #[error("line {line}: wait for orient complete: TIMED OUT")]
+    OrientTimeout {
+        /// The program line.
+        line: i32,
+    },
+    /// A G38.2 or G38.4 move ended without finding what it looked for.
+    #[error("line {line}: {why}")]
+    Probe {
+        /// The program line.
+        line: i32,
+        /// Motion's message.
+        why: String,
+    },
     /// A user M-code program (M100 to M199) could not be started.
     #[error("{at}: M{number}: cannot run {}: {source}", .program.display())]
     UserMStart {

@@ -11,7 +11,9 @@ pub mod canon;
 mod config;
 mod error;
 mod input_wait;
+mod op;
 mod user_m;
+mod waits;
 
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -100,8 +102,12 @@ pub struct Program {
     last_end: Option<Ended>,
     /// The M66 wait in progress.
     input_wait: Option<InputWait>,
+    /// When the M19 wait in progress runs out of time.
+    orient_deadline: Option<std::time::Instant>,
     /// The user M-code program task waits for.
     user_m_running: Option<user_m::Running>,
+    /// The tool table file G10 L0 reads (`[EMCIO]TOOL_TABLE`).
+    tool_table: Option<PathBuf>,
     /// User M-code programs interrupted by an abort, not yet reaped.
     abandoned: user_m::Abandoned,
     /// Motion's heartbeat when task last queued a command: motion counts
@@ -111,8 +117,9 @@ pub struct Program {
 }
 
 impl Program {
-    /// A program side for the machine `config` describes.
-    pub fn new(config: ProgramConfig) -> Program {
+    /// A program side for the machine `config` describes, whose tool
+    /// table file (G10 L0 reads it again) is `tool_table`.
+    pub fn new(config: ProgramConfig, tool_table: Option<PathBuf>) -> Program {
         let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
         canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
         Program {
@@ -132,6 +139,8 @@ impl Program {
             sent_beat: 0,
             input_wait: None,
             user_m_running: None,
+            orient_deadline: None,
+            tool_table,
             abandoned: user_m::Abandoned::default(),
         }
     }
@@ -166,7 +175,9 @@ impl Program {
     fn synch(&mut self, motion: &MotionLink, io: &IoControl) -> Result<(), ProgramError> {
         let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
         let (tools, slot) = tool_entries(io);
-        self.canon.refresh(status.traj.goal, tools, slot, status.io);
+        let probe = (status.traj.probe_tripped, status.traj.probed);
+        self.canon
+            .refresh(status.traj.goal, tools, slot, status.io, probe);
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
@@ -335,6 +346,7 @@ impl Program {
         self.mdi.clear();
         self.io_busy = false;
         self.input_wait = None;
+        self.orient_deadline = None;
         if let Some(running) = self.user_m_running.take() {
             self.abandoned.push(running.interrupt());
         }
@@ -408,6 +420,9 @@ impl Program {
         let r = self.interp.execute_mdi(text.as_bytes(), &mut self.canon);
         self.canon.place_user_m(0, &format!("MDI '{text}'"));
         self.read_done = true;
+        if self.canon.has_reload_from(0) {
+            self.needs_synch = true;
+        }
         match r {
             Ok(Status::ExecuteFinish) => self.needs_synch = true,
             Ok(_) => {}
@@ -455,6 +470,9 @@ impl Program {
                 Ok(Status::ExecuteFinish) => self.needs_synch = true,
                 Ok(_) => {}
                 Err(source) => return Err(self.located(source)),
+            }
+            if !skipping && self.canon.has_reload_from(queued) {
+                self.needs_synch = true;
             }
             if skipping {
                 self.canon.drop_actions_from(queued);
@@ -546,6 +564,28 @@ impl Program {
                     }
                     self.input_wait = None;
                 }
+                Op::ReloadTools { line } => self.reload_tools(io, line)?,
+                Op::ProbeCheck { probe, line } => {
+                    let status = motion.status().ok_or(ProgramError::NoMotionStatus)?;
+                    if !status.traj.probe_tripped {
+                        let why = motion::Event::ProbeNoContact {
+                            trip_on_clear: probe.trip_on_clear,
+                        };
+                        return Err(ProgramError::Probe {
+                            line,
+                            why: why.to_string(),
+                        });
+                    }
+                }
+                Op::WaitOrient {
+                    spindle,
+                    timeout,
+                    line,
+                } => {
+                    if !self.oriented(motion, spindle, timeout, line)? {
+                        return Ok(sent);
+                    }
+                }
                 Op::End => self.read_done = true,
                 Op::Message(text) => eprintln!("task: {text}"),
                 Op::UserM {
@@ -563,51 +603,6 @@ impl Program {
             self.canon.ops.pop_front();
         }
         Ok(sent)
-    }
-
-    /// Starts the user M-code program (the first time) and tells whether
-    /// it has exited well; an error if it could not start or failed.
-    fn user_m_done(
-        &mut self,
-        number: i32,
-        program: &Path,
-        p: f64,
-        q: f64,
-        at: &str,
-    ) -> Result<bool, ProgramError> {
-        let running = match &mut self.user_m_running {
-            Some(r) => r,
-            None => self
-                .user_m_running
-                .insert(user_m::Running::start(program, p, q).map_err(|source| {
-                    ProgramError::UserMStart {
-                        at: at.to_string(),
-                        number,
-                        program: program.to_path_buf(),
-                        source,
-                    }
-                })?),
-        };
-        let status = running.poll().map_err(|source| ProgramError::UserMStart {
-            at: at.to_string(),
-            number,
-            program: program.to_path_buf(),
-            source,
-        })?;
-        let Some(status) = status else {
-            return Ok(false);
-        };
-        self.user_m_running = None;
-        if status.success() {
-            Ok(true)
-        } else {
-            Err(ProgramError::UserMFailed {
-                at: at.to_string(),
-                number,
-                program: program.to_path_buf(),
-                how: user_m::exit_text(status),
-            })
-        }
     }
 
     fn fail(&mut self, why: ProgramError) -> Ended {
@@ -716,7 +711,10 @@ fn spindle_text(s: &motion::channel::SpindleState) -> String {
 /// The motion id (program line) a queued command carries.
 fn command_line(cmd: &Command) -> i32 {
     match cmd {
-        Command::Line { id, .. } | Command::Circle { id, .. } | Command::Dwell { id, .. } => *id,
+        Command::Line { id, .. }
+        | Command::Circle { id, .. }
+        | Command::Dwell { id, .. }
+        | Command::Probe { id, .. } => *id,
         _ => 0,
     }
 }
