@@ -42,8 +42,8 @@ use hal_core::{Component, Host, In, Out, Pin, Result};
 
 use super::loader::float_in;
 use super::math::{
-    add, cross, deg, dot, finite, mat_mul, mat_vec, norm, rad, rot_x, rot_y, rot_z, rpy_matrix,
-    solve6, sub, turn_derivative, unit, Mat3, Vec3,
+    add, cross, deg, dot, finite, mat_mul, mat_vec, newton, norm, rad, rot_x, rot_y, rot_z,
+    rpy_matrix, sub, turn_derivative, unit, Mat3, NewtonLimits, Vec3,
 };
 use super::switchkins::{self, SwitchSpec};
 use super::trivkins::Trivkins;
@@ -247,37 +247,25 @@ impl Hexapod {
         if joints.iter().any(|&l| l <= 0.0) {
             return Err(KinsError::NoSolution);
         }
-        let mut p = [guess[0], guess[1], guess[2]];
-        let mut angles = [rad(guess[3]), rad(guess[4]), rad(guess[5])];
-        let mut iterations = 0;
-        loop {
-            iterations += 1;
-            if iterations > self.limit_iterations {
-                return Err(KinsError::NotConverged);
-            }
-            let (jac, error) = self
-                .linearise(joints, p, angles)
-                .ok_or(KinsError::NoSolution)?;
-            let total: f64 = error.iter().map(|e| e.abs()).sum();
-            if total.is_nan() || total > self.max_error {
-                return Err(KinsError::NotConverged);
-            }
-            if error.iter().all(|e| e.abs() <= self.convergence_criterion) {
-                let pose = [
-                    p[0],
-                    p[1],
-                    p[2],
-                    deg(angles[0]),
-                    deg(angles[1]),
-                    deg(angles[2]),
-                ];
-                finite(&pose)?;
-                return Ok(Solution { pose, iterations });
-            }
-            let delta = solve6(jac, error).ok_or(KinsError::NoSolution)?;
-            p = sub(p, [delta[0], delta[1], delta[2]]);
-            angles = sub(angles, [delta[3], delta[4], delta[5]]);
-        }
+        let limits = NewtonLimits {
+            convergence_criterion: self.convergence_criterion,
+            limit_iterations: self.limit_iterations,
+            max_error: self.max_error,
+        };
+        let start = [
+            guess[0],
+            guess[1],
+            guess[2],
+            rad(guess[3]),
+            rad(guess[4]),
+            rad(guess[5]),
+        ];
+        let (x, iterations) = newton(&limits, start, |x| {
+            self.linearise(joints, [x[0], x[1], x[2]], [x[3], x[4], x[5]])
+        })?;
+        let pose = [x[0], x[1], x[2], deg(x[3]), deg(x[4]), deg(x[5])];
+        finite(&pose)?;
+        Ok(Solution { pose, iterations })
     }
 }
 

@@ -258,6 +258,54 @@ pub fn solve_linear<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Op
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
+/// The limits of an iterative forward solution (LinuxCNC's
+/// `convergence-criterion`, `limit-iterations` and `max-error` pins).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonLimits {
+    /// Largest residual of a converged solution.
+    pub convergence_criterion: f64,
+    /// Most iterations of one solution.
+    pub limit_iterations: u32,
+    /// Total residual beyond which the iteration gives up.
+    pub max_error: f64,
+}
+
+/// Newton's method on N equations in N unknowns from `start`:
+/// `linearise` gives the residuals at a point and their Jacobian (`None`
+/// where they cannot be computed). Returns the first point whose
+/// residuals are all within the criterion, with the iterations it took;
+/// refuses when the summed residuals pass `max_error`, the iterations
+/// the limit, or the Jacobian cannot be solved.
+pub fn newton<const N: usize>(
+    limits: &NewtonLimits,
+    start: [f64; N],
+    mut linearise: impl FnMut(&[f64; N]) -> Option<([[f64; N]; N], [f64; N])>,
+) -> Result<([f64; N], u32), KinsError> {
+    let mut x = start;
+    let mut iterations = 0;
+    loop {
+        iterations += 1;
+        if iterations > limits.limit_iterations {
+            return Err(KinsError::NotConverged);
+        }
+        let (jac, error) = linearise(&x).ok_or(KinsError::NoSolution)?;
+        let total: f64 = error.iter().map(|e| e.abs()).sum();
+        if total.is_nan() || total > limits.max_error {
+            return Err(KinsError::NotConverged);
+        }
+        if error
+            .iter()
+            .all(|e| e.abs() <= limits.convergence_criterion)
+        {
+            return Ok((x, iterations));
+        }
+        let delta = solve_linear(jac, error).ok_or(KinsError::NoSolution)?;
+        for (v, d) in x.iter_mut().zip(delta) {
+            *v -= d;
+        }
+    }
+}
+
 /// Whether `p` lies below the plane through the three `points` (on the
 /// side of smaller Z); `false` for a vertical plane or points in line.
 /// Of the two points equally far from three centers, the lower one is

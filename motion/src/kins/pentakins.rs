@@ -41,8 +41,8 @@ use hal_core::{Component, Host, In, Io, Out, Param, Pin, Result, Rw};
 
 use super::loader::{float_in, float_io, register};
 use super::math::{
-    add, column, deg, finite, mat_mul, mat_vec, rad, rot_x, rot_y, scale, solve_linear, sub,
-    transpose, turn_derivative, Mat3, Vec3,
+    add, column, deg, finite, mat_mul, mat_vec, newton, rad, rot_x, rot_y, scale, sub, transpose,
+    turn_derivative, Mat3, NewtonLimits, Vec3,
 };
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
 
@@ -222,30 +222,18 @@ impl Pentapod {
         if joints.iter().any(|&l| l <= 0.0) {
             return Err(KinsError::NoSolution);
         }
-        let mut p = [guess[0], guess[1], guess[2]];
-        let mut angles = [rad(guess[3]), rad(guess[4])];
-        let mut iterations = 0;
-        loop {
-            iterations += 1;
-            if iterations > self.limit_iterations {
-                return Err(KinsError::NotConverged);
-            }
-            let (jac, error) = self
-                .linearise(joints, p, angles)
-                .ok_or(KinsError::NoSolution)?;
-            let total: f64 = error.iter().map(|e| e.abs()).sum();
-            if total.is_nan() || total > self.max_error {
-                return Err(KinsError::NotConverged);
-            }
-            if error.iter().all(|e| e.abs() <= self.convergence_criterion) {
-                let pose = [p[0], p[1], p[2], deg(angles[0]), deg(angles[1])];
-                finite(&pose)?;
-                return Ok(Solution { pose, iterations });
-            }
-            let delta = solve_linear(jac, error).ok_or(KinsError::NoSolution)?;
-            p = sub(p, [delta[0], delta[1], delta[2]]);
-            angles = [angles[0] - delta[3], angles[1] - delta[4]];
-        }
+        let limits = NewtonLimits {
+            convergence_criterion: self.convergence_criterion,
+            limit_iterations: self.limit_iterations,
+            max_error: self.max_error,
+        };
+        let start = [guess[0], guess[1], guess[2], rad(guess[3]), rad(guess[4])];
+        let (x, iterations) = newton(&limits, start, |x| {
+            self.linearise(joints, [x[0], x[1], x[2]], [x[3], x[4]])
+        })?;
+        let pose = [x[0], x[1], x[2], deg(x[3]), deg(x[4])];
+        finite(&pose)?;
+        Ok(Solution { pose, iterations })
     }
 }
 

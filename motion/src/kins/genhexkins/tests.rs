@@ -1,5 +1,5 @@
 use super::*;
-use crate::kins::math::angle_diff;
+use crate::kins::math::{angle_diff, solve6};
 use proptest::prelude::*;
 
 fn same_pose(a: &[f64; 6], b: &[f64; 6], tol: f64) -> bool {
