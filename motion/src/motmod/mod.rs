@@ -52,14 +52,33 @@ pub static MODULE: ModuleDef = ModuleDef {
     load,
 };
 
-/// What both functions use: the controller, and the last command the
-/// handler answered through the channel (which the controller publishes
-/// with the status).
+/// What both functions use: the controller, the last command the
+/// handler answered through the channel, and the status snapshot both
+/// publish.
 struct Controller {
     core: MotionCore,
     last: LastCommand,
     /// Channel commands answered so far.
     served: u64,
+    /// The status snapshot's writer and the buffer it is filled in (set
+    /// once the channel exists).
+    status: Option<(SeqLockWriter, Box<[u64; STATUS_WORDS]>)>,
+}
+
+impl Controller {
+    /// Writes the status snapshot from the controller as it is now.
+    fn publish(&mut self) {
+        let Controller {
+            core,
+            last,
+            served,
+            status,
+        } = self;
+        if let Some((writer, buf)) = status {
+            channel::fill_status(core, *last, *served, &mut buf[..]);
+            writer.write(&buf[..]);
+        }
+    }
 }
 
 /// The [`Controller`], which each function claims with an atomic flag for
@@ -98,6 +117,7 @@ impl CoreCell {
                 core,
                 last: LastCommand::default(),
                 served: 0,
+                status: None,
             }),
         }
     }
@@ -149,7 +169,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
         record: [0; CMD_WORDS],
     };
     let safe_amps: Vec<BOut> = io.joints.iter().map(|j| j.amp_enable.clone()).collect();
-    add_controller(&mut b, io, cell.clone(), channel.status)?;
+    add_controller(&mut b, io, cell.clone())?;
     let h_cell = cell.clone();
     b.funct("motion-command-handler", true, move |_ctx| {
         handler.run(&h_cell)
@@ -187,14 +207,13 @@ struct ChannelEnds {
     commands: RingReader,
     /// Where the answers go.
     replies: RingWriter,
-    /// The status snapshot, and the buffer it is filled in.
-    status: (SeqLockWriter, [u64; STATUS_WORDS]),
 }
 
 impl ChannelEnds {
     /// Creates the channel's regions (the command ring is created here,
     /// owned by motmod, and read here; clients open its writing end) and
-    /// publishes the first status.
+    /// publishes the first status (the writer then stays with the
+    /// controller).
     fn create(host: &Host, c: &Component, cell: &CoreCell) -> Result<ChannelEnds> {
         RingWriter::create(c, channel::CMD_RING, channel::RING_DEPTH, CMD_WORDS)?;
         let commands = RingReader::open(host.instance(), channel::CMD_RING)?;
@@ -205,28 +224,19 @@ impl ChannelEnds {
             channel::REPLY_WORDS,
         )?;
         c.region(channel::LOCK, 16)?;
-        let mut status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
-        let mut buf = [0u64; STATUS_WORDS];
+        let status = SeqLockWriter::create(c, channel::STATUS, STATUS_WORDS)?;
+        let buf = Box::new([0u64; STATUS_WORDS]);
         cell.with(|ctl| {
-            channel::fill_status(&ctl.core, ctl.last, ctl.served, &mut buf);
-            status.write(&buf);
+            ctl.status = Some((status, buf));
+            ctl.publish();
         });
-        Ok(ChannelEnds {
-            commands,
-            replies,
-            status: (status, buf),
-        })
+        Ok(ChannelEnds { commands, replies })
     }
 }
 
 /// Exports `motion-controller`: the pins in, one cycle, the pins out, the
 /// status published.
-fn add_controller(
-    b: &mut RtComponentBuilder<'_>,
-    io: HalIo,
-    cell: Arc<CoreCell>,
-    (mut status, mut status_buf): (SeqLockWriter, [u64; STATUS_WORDS]),
-) -> Result<()> {
+fn add_controller(b: &mut RtComponentBuilder<'_>, io: HalIo, cell: Arc<CoreCell>) -> Result<()> {
     let mut last_ns: Option<u64> = None;
     b.funct("motion-controller", true, move |ctx| {
         let now = ctx.now_ns();
@@ -238,8 +248,7 @@ fn add_controller(
             io.read(core);
             core.cycle(ctx.fperiod());
             io.write(core);
-            channel::fill_status(core, ctl.last, ctl.served, &mut status_buf);
-            status.write(&status_buf);
+            ctl.publish();
         });
     })
 }
@@ -259,7 +268,10 @@ struct CommandHandler {
 
 impl CommandHandler {
     /// One period: the in-process command, then the channel's commands
-    /// (only as many as there is room to answer).
+    /// (only as many as there is room to answer). The status is published
+    /// before the answers go out, so a client that has its answer never
+    /// reads a status older than its command (motion-cmd takes the goal
+    /// of a queued move from it).
     fn run(&mut self, cell: &CoreCell) {
         if !self.mailbox.has_command() && self.commands.is_empty() {
             return;
@@ -270,22 +282,29 @@ impl CommandHandler {
             core.inputs.jog_inhibit = self.inputs.1.get();
             core.inputs.homing_inhibit = self.inputs.2.get();
             self.mailbox.serve(|cmd| core.command(cmd));
-            for _ in 0..channel::MAX_PER_PERIOD {
-                if self.replies.len() >= self.replies.capacity()
-                    || !self.commands.pop(&mut self.record)
-                {
-                    break;
-                }
+            let mut answers = [[0u64; channel::REPLY_WORDS]; channel::MAX_PER_PERIOD];
+            let mut answered = 0;
+            let room = self.replies.capacity() - self.replies.len();
+            while answered < channel::MAX_PER_PERIOD.min(room)
+                && self.commands.pop(&mut self.record)
+            {
                 let (serial, result) = match channel::decode_command(&self.record) {
-                    Ok((serial, cmd)) => (serial, core.command(&cmd)),
+                    Ok((serial, cmd)) => (serial, ctl.core.command(&cmd)),
                     Err((serial, error)) => (serial, Err(Reject::Malformed { error })),
                 };
-                self.replies.push(&channel::encode_reply(serial, &result));
+                answers[answered] = channel::encode_reply(serial, &result);
+                answered += 1;
                 ctl.last = LastCommand {
                     serial,
                     code: result.as_ref().err().map_or(0, channel::reject_code),
                 };
                 ctl.served += 1;
+            }
+            if answered > 0 {
+                ctl.publish();
+            }
+            for answer in &answers[..answered] {
+                self.replies.push(answer);
             }
         });
     }
