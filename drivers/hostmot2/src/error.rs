@@ -54,7 +54,8 @@ pub enum Hm2Error {
     /// The simulator has no firmware of this name.
     #[error(
         "the simulator does not know the firmware '{design}' (it has Mesa's SV<n> and \
-         SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ...)"
+         SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ..., SVST2_4_7I47, and Smithy's \
+         Smart Serial SSSVST<s>_<n>_<m>[_V<k>])"
     )]
     SimUnknownFirmware {
         /// The design name (`SVST8_4`).

@@ -55,8 +55,10 @@
 //! Remote cards on the FPGA's Smart Serial ports (7I76, 7I77, ...) are
 //! found at load and their process data become HAL pins and params under
 //! LinuxCNC's names (`hm2_7i76e.0.7i76.0.0.input-05`, `output-03`,
-//! `spinout`, `analogin0`; [`modules::sserial`]); the shared protocol
-//! pieces are in [`sserial`].
+//! `spinout`, `analogin0`; [`modules::sserial`]); the 8I20 drive and the
+//! 7I64, which do not describe themselves, by LinuxCNC's built-in tables
+//! (`hm2_5i20.0.8i20.0.0.current`, `bus-voltage`, `fault.overtemp`); the
+//! shared protocol pieces are in [`sserial`].
 //!
 //! # The simulator: `hm2_pci sim=...`
 //!
