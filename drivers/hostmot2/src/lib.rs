@@ -29,6 +29,10 @@
 //!   7I90 on a PC parallel port in EPP mode, with LinuxCNC's `ioaddr`,
 //!   `ioaddr_hi`, `epp_wide` and `debug_epp` ([`epp`]); `sim=7i43` or
 //!   `sim=7i90` puts a simulated board behind a simulated port.
+//! * `hm2_spi spidev_path=... config=...`, `hm2_rpspi spi_probe=...`:
+//!   the 7I90 (SPI mode), 7C80 and 7C81 over Linux's spidev with Mesa's
+//!   SPI frames ([`spi`]); `sim=7i90`, `sim=7c80`, `sim=7c81` put a
+//!   simulated board behind a simulated SPI link.
 //! * `hm2_test test_pattern=N`: LinuxCNC's test driver, a board serving
 //!   one of the broken register images 0..14 ([`test_patterns`]); each
 //!   load fails with LinuxCNC's message.
@@ -161,6 +165,7 @@ pub mod pins;
 pub mod readhmid;
 pub mod regs;
 pub mod sim;
+pub mod spi;
 pub mod sserial;
 pub mod test_patterns;
 mod tool_error;
