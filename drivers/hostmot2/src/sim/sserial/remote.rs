@@ -39,7 +39,9 @@
 //! until it is started again. A card whose cable is pulled
 //! ([`SimRemote::connected`] false) answers nothing.
 
-use super::eight_i20::{EightI20, Limits};
+use super::eight_i20::EightI20;
+mod eight_i20_card;
+
 use crate::sserial::data;
 use crate::sserial::legacy;
 use crate::sserial::records::{data_type as t, dir, encode_table, DataRecord, ModeRecord};
@@ -79,29 +81,6 @@ pub const PROCESS_AT: u16 = 0x500;
 pub const PARAMS_AT: u16 = 0x600;
 /// Size of the card's memory.
 const MEMORY: usize = 0x800;
-/// Size of the memory of a card without tables (its globals sit higher).
-const LEGACY_MEMORY: usize = 0x1000;
-/// The simulated 8I20's maximum current, 0.01 A (20 A).
-const EIGHT_I20_MAX_CURRENT: u16 = 2000;
-/// The simulated 8I20's globals (voltages and currents in hundredths).
-const EIGHT_I20_MEMORY: &[(&str, u32)] = &[
-    ("swrevision", 42),
-    ("nvmaxcurrent", 2000),
-    ("nvbusundervmax", 6000),
-    ("nvbusundervmin", 5000),
-    ("nvbusoverv", 39000),
-    ("nvbrakeonv", 37000),
-    ("nvbrakeoffv", 36000),
-    ("nvrembaudrate", 9),
-    ("nvkqp", 100),
-    ("nvkqihi", 20),
-    ("nvkqilo", 10),
-    ("nvkqil", 500),
-    ("nvkdp", 100),
-    ("nvkdihi", 20),
-    ("nvkdilo", 10),
-    ("nvkdil", 500),
-];
 /// `NVBaudRate` of a new card: index 9 of
 /// [`BAUD_RATES`](crate::sserial::BAUD_RATES), 2.5 Mbaud, the rate Mesa's
 /// cards ship with.
@@ -256,6 +235,23 @@ struct Mode {
     fields: Vec<Field>,
 }
 
+impl Mode {
+    /// A mode at `ptoc` moving `records`, every value 0.
+    fn new(ptoc: u16, records: Vec<DataRecord>) -> Mode {
+        Mode {
+            ptoc,
+            fields: records
+                .into_iter()
+                .map(|record| Field {
+                    record,
+                    value: 0.0,
+                    count: 0,
+                })
+                .collect(),
+        }
+    }
+}
+
 /// A simulated remote card.
 #[derive(Debug, Clone)]
 pub struct SimRemote {
@@ -398,17 +394,7 @@ impl SimRemote {
         for records in per_mode {
             let entries: Vec<u16> = records.iter().map(|r| layout.place_shared(r)).collect();
             let ptoc = layout.place(&encode_table(&entries));
-            modes.push(Mode {
-                ptoc,
-                fields: records
-                    .into_iter()
-                    .map(|record| Field {
-                        record,
-                        value: 0.0,
-                        count: 0,
-                    })
-                    .collect(),
-            });
+            modes.push(Mode::new(ptoc, records));
         }
         let mut memory = layout.memory;
         for (a, bits, v) in initial {
@@ -432,97 +418,6 @@ impl SimRemote {
             eeprom_writes: 0,
             fixed_ids: None,
             drive: None,
-        }
-    }
-
-    /// An 8I20: no tables, its globals at the addresses LinuxCNC knows,
-    /// one mode; values from [`EIGHT_I20_MEMORY`].
-    fn eight_i20(unit: u32) -> SimRemote {
-        let raw = u32::from_le_bytes(legacy::EIGHT_I20);
-        let b = legacy::built_in(raw).unwrap_or(legacy::BuiltIn {
-            process: Vec::new(),
-            globals: Vec::new(),
-        });
-        let mut r = SimRemote::new(RemoteKind::SevenI76, unit);
-        r.kind = RemoteKind::EightI20;
-        r.unit = unit;
-        r.memory = vec![0u8; LEGACY_MEMORY];
-        r.gtoc = 0;
-        r.params = b
-            .globals
-            .iter()
-            .map(|g| (g.name.clone(), g.addr, g.bits))
-            .collect();
-        for (name, v) in EIGHT_I20_MEMORY {
-            r.set_global(name, *v);
-        }
-        r.set_global("unitnumber", unit);
-        let max_amps = EIGHT_I20_MAX_CURRENT as f32 / 100.0;
-        let at = legacy::EIGHT_I20_MAX_CURRENT_AT as usize;
-        r.memory[at..at + 2].copy_from_slice(&EIGHT_I20_MAX_CURRENT.to_le_bytes());
-        let mut process = b.process;
-        if let Some(c) = process.get_mut(legacy::EIGHT_I20_CURRENT) {
-            c.min = -max_amps;
-            c.max = max_amps;
-        }
-        r.modes = vec![Mode {
-            ptoc: 0,
-            fields: process
-                .into_iter()
-                .map(|record| Field {
-                    record,
-                    value: 0.0,
-                    count: 0,
-                })
-                .collect(),
-        }];
-        r.drive = Some(EightI20::default());
-        r
-    }
-
-    /// A 16-bit value of the card's memory in hundredths.
-    fn hundredths(&self, addr: u16) -> f64 {
-        self.read_memory(addr, 2) as f64 / 100.0
-    }
-
-    /// An 8I20's limits, from its memory.
-    fn drive_limits(&self) -> Limits {
-        let nv = |name: &str| {
-            self.params
-                .iter()
-                .find(|(n, _, _)| n == name)
-                .map_or(0.0, |&(_, a, _)| self.hundredths(a))
-        };
-        Limits {
-            max_current: self.hundredths(legacy::EIGHT_I20_MAX_CURRENT_AT),
-            under_min: nv("nvbusundervmin"),
-            under_max: nv("nvbusundervmax"),
-            over: nv("nvbusoverv"),
-            brake_on: nv("nvbrakeonv"),
-            brake_off: nv("nvbrakeoffv"),
-        }
-    }
-
-    /// Runs an 8I20's power stage on the commands just received and
-    /// puts what it reports in its input fields.
-    fn run_drive(&mut self) {
-        let limits = self.drive_limits();
-        let angle = self.value("angle").unwrap_or(0.0);
-        let current = self.value("current").unwrap_or(0.0);
-        let Some(d) = self.drive.as_mut() else {
-            return;
-        };
-        d.command(angle, current, &limits);
-        self.run_drive_report();
-    }
-
-    /// Puts what an 8I20 reports in its input fields.
-    fn run_drive_report(&mut self) {
-        let Some(inputs) = self.drive.as_ref().map(EightI20::inputs) else {
-            return;
-        };
-        for (name, v) in inputs {
-            self.set_value(&name, v);
         }
     }
 
