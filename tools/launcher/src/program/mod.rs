@@ -114,6 +114,13 @@ pub struct Program {
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
     sent_beat: u64,
+    /// Motion's reported-message count when the run started: a fault
+    /// reported after it stops the run.
+    seen_events: u64,
+    /// The program line motion executed last in this run.
+    motion_line: i32,
+    /// The MDI line that runs, for messages.
+    mdi_text: String,
 }
 
 impl Program {
@@ -137,6 +144,9 @@ impl Program {
             read_line: 0,
             last_end: None,
             sent_beat: 0,
+            seen_events: 0,
+            motion_line: 0,
+            mdi_text: String::new(),
             input_wait: None,
             user_m_running: None,
             orient_deadline: None,
@@ -236,6 +246,7 @@ impl Program {
         }
         self.synch(motion, io)?;
         self.start(false, line);
+        self.watch_from(motion);
         Ok(())
     }
 
@@ -374,6 +385,8 @@ impl Program {
                 return Some(self.fail(e));
             }
             self.start(true, 0);
+            self.watch_from(motion);
+            self.mdi_text.clone_from(&text);
             if let Err(e) = self.execute_mdi(&text) {
                 return Some(self.fail(e));
             }
@@ -389,6 +402,9 @@ impl Program {
             return Some(self.fail(e));
         }
         let status = motion.status()?;
+        if let Err(e) = self.watch_motion(&status) {
+            return Some(self.fail(e));
+        }
         let motion_idle = status.traj.depth == 0
             && status.in_position
             && status.heartbeat >= self.sent_beat.saturating_add(3);
@@ -413,6 +429,48 @@ impl Program {
             return Some(self.finish());
         }
         None
+    }
+
+    /// Starts watching motion's messages and lines for a new run.
+    fn watch_from(&mut self, motion: &MotionLink) {
+        self.motion_line = 0;
+        if let Some(status) = motion.status() {
+            self.seen_events = status.events_reported;
+        }
+    }
+
+    /// Follows the line motion executes; a fault motion reported since
+    /// the run started (a following error, a limit, an amplifier fault,
+    /// motion disabled by its enable input...) ends the run, naming the
+    /// line that was moving, as LinuxCNC's task aborts on a motion error.
+    fn watch_motion(&mut self, status: &motion::MotionStatus) -> Result<(), ProgramError> {
+        if self.state == RunState::Idle {
+            return Ok(());
+        }
+        if status.traj.exec_id > 0 {
+            self.motion_line = status.traj.exec_id;
+        }
+        if status.events_reported == self.seen_events {
+            return Ok(());
+        }
+        self.seen_events = status.events_reported;
+        match status.last_event.filter(motion::Event::stops_a_program) {
+            Some(event) => Err(ProgramError::MotionFault {
+                at: self.motion_place(),
+                event,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Where the run is, as motion sees it: `file:line` of the line
+    /// moving (or last moved), or the MDI line.
+    fn motion_place(&self) -> String {
+        if self.is_mdi {
+            return format!("MDI '{}'", self.mdi_text);
+        }
+        let file = self.file.as_deref().unwrap_or(Path::new(""));
+        format!("{}:{}", file.display(), self.motion_line)
     }
 
     fn execute_mdi(&mut self, text: &str) -> Result<(), ProgramError> {
