@@ -53,8 +53,16 @@ pub struct TaskCanon {
     tools: Vec<ToolEntry>,
     slot: i32,
     axis_mask: u32,
-    /// Each spindle as the program last set it: direction and speed.
+    /// Each spindle as the program last set it: direction and speed
+    /// (rpm, or with constant surface speed the surface speed).
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
+    /// Each spindle's constant surface speed limit, rpm (G96 D; 0: G97).
+    css_limit: [f64; motion::sizes::MAX_SPINDLES],
+    /// Feed per revolution (G95): the spindle it follows.
+    feed_per_rev: Option<i32>,
+    /// The feed per revolution motion was last given (machine units per
+    /// revolution, 0: off), and for which spindle.
+    sent_per_rev: (i32, f64),
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
     /// The last probing move's result: tripped, and where (machine
@@ -93,6 +101,9 @@ impl TaskCanon {
             slot: 0,
             axis_mask,
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
+            css_limit: [0.0; motion::sizes::MAX_SPINDLES],
+            feed_per_rev: None,
+            sent_per_rev: (0, 0.0),
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
             probe: (false, [0.0; 9]),
@@ -289,6 +300,9 @@ impl TaskCanon {
     }
 
     fn queue_line(&mut self, line: i32, end: &Pose, kind: LineKind) {
+        if kind == LineKind::Feed {
+            self.sync_feed_mode();
+        }
         let goal = self.to_machine(end);
         let vel = match kind {
             LineKind::Traverse => 0.0,
@@ -333,7 +347,15 @@ impl TaskCanon {
         if let Some(r) = rpm {
             state.1 = r;
         }
-        let (dir, rpm) = *state;
+        let (dir, speed) = *state;
+        let css_limit = self.css_limit[spindle as usize];
+        // With constant surface speed motion turns the spindle at the
+        // speed for the radius, at most the limit given with SPINDLE_ON.
+        let (rpm, factor) = if css_limit > 0.0 {
+            (css_limit, self.css_factor(speed))
+        } else {
+            (speed, 0.0)
+        };
         let command = match dir {
             Direction::Stopped if stop => Command::SpindleOff { spindle },
             Direction::Stopped => return,
@@ -347,7 +369,52 @@ impl TaskCanon {
                 wait: true,
             },
         };
+        if matches!(command, Command::SpindleOn { .. }) {
+            // The surface speed first: the limit alone would be the speed
+            // for a period.
+            let x_offset = self.g5x[0] + self.g92[0] + self.tool_offset[0];
+            self.after_moves(Command::SpindleCss {
+                spindle,
+                factor,
+                x_offset,
+            });
+        }
         self.after_moves(command);
+    }
+
+    /// Constant surface speed `surface` (G96 S: metres per minute in
+    /// G21, feet per minute in G20) as rpm times radius in machine units.
+    fn css_factor(&self, surface: f64) -> f64 {
+        let program_units_per_min = match self.units {
+            Units::Inches => surface * 12.0,
+            _ => surface * 1000.0,
+        };
+        let machine = program_units_per_min * self.units.mm_per_unit() * self.user_per_mm;
+        machine.abs() / std::f64::consts::TAU
+    }
+
+    /// Before a feed move: motion's feed per revolution as the program's
+    /// (G95 F, machine units per revolution; 0 in G93 and G94).
+    fn sync_feed_mode(&mut self) {
+        let want = match self.feed_per_rev {
+            Some(spindle) => (
+                spindle,
+                self.feed * self.units.mm_per_unit() * self.user_per_mm,
+            ),
+            None => (self.sent_per_rev.0, 0.0),
+        };
+        if want != self.sent_per_rev {
+            self.sent_per_rev = want;
+            self.ops.push_back(Op::Motion(Command::SetFeedPerRev {
+                spindle: want.0,
+                per_rev: want.1,
+            }));
+        }
+    }
+
+    /// After an abort: motion's planner forgot its feed per revolution.
+    pub fn planner_reset(&mut self) {
+        self.sent_per_rev = (0, 0.0);
     }
 
     fn set_offset(&mut self, which: Offset, p: &Pose) {
@@ -431,6 +498,7 @@ impl Canon for TaskCanon {
             arc.rotation
         };
         self.goal = goal;
+        self.sync_feed_mode();
         self.ops.push_back(Op::Motion(Command::Circle {
             end: motion::Pose(goal),
             center: [c[0], c[1], c[2]],
@@ -477,9 +545,10 @@ impl Canon for TaskCanon {
     fn set_feed_rate(&mut self, rate: f64) {
         self.feed = rate;
     }
-    fn set_feed_mode(&mut self, _spindle: i32, mode: i32) {
-        if mode != 0 {
-            self.refuse("feed per revolution (G95)");
+    fn set_feed_mode(&mut self, spindle: i32, mode: i32) {
+        self.feed_per_rev = (mode == 1).then_some(spindle);
+        if mode == 1 && self.spindle_mut(spindle).is_none() {
+            self.feed_per_rev = None;
         }
     }
     fn set_motion_control_mode(&mut self, mode: MotionMode, tolerance: f64) {
@@ -509,9 +578,9 @@ impl Canon for TaskCanon {
     fn stop_spindle_turning(&mut self, spindle: i32) {
         self.queue_spindle(spindle, Some(Direction::Stopped), None);
     }
-    fn set_spindle_mode(&mut self, _spindle: i32, css_limit: f64) {
-        if css_limit != 0.0 {
-            self.refuse("constant surface speed (G96)");
+    fn set_spindle_mode(&mut self, spindle: i32, css_limit: f64) {
+        if self.spindle_mut(spindle).is_some() {
+            self.css_limit[spindle as usize] = css_limit.abs();
         }
     }
     fn orient_spindle(&mut self, spindle: i32, orientation: f64, mode: i32) {

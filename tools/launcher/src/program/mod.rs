@@ -353,6 +353,7 @@ impl Program {
     pub fn abort(&mut self) {
         self.interp.abort(&mut self.canon);
         self.canon.ops.clear();
+        self.canon.planner_reset();
         self.canon.fault = None;
         self.mdi.clear();
         self.io_busy = false;
