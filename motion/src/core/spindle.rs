@@ -129,7 +129,12 @@ impl MotionCore {
 
     /// Constant surface speed on (`factor` > 0) or off (0) for `spindle`
     /// (−1: every one).
-    pub(super) fn spindle_css(&mut self, spindle: i32, factor: f64, x_offset: f64) -> CommandResult {
+    pub(super) fn spindle_css(
+        &mut self,
+        spindle: i32,
+        factor: f64,
+        x_offset: f64,
+    ) -> CommandResult {
         let range = self.spindle_range(spindle)?;
         let factor = Self::non_negative(Quantity::SurfaceSpeed, factor)?;
         let x_offset = Self::finite(Quantity::SurfaceSpeed, x_offset)?;

@@ -347,7 +347,11 @@ fn feed_per_revolution_follows_speed_in_and_surface_speed_follows_x() {
     // be 2387 rpm, over the D limit of 1000.
     m.task_ok(&["mdi", "G96", "D1000", "S30", "M3"]);
     m.task_ok(&["-t", "60", "wait-done"]);
-    wait_near(&m, "spindle.0.speed-out", 30_000.0 / std::f64::consts::TAU / 10.0);
+    wait_near(
+        &m,
+        "spindle.0.speed-out",
+        30_000.0 / std::f64::consts::TAU / 10.0,
+    );
     m.task_ok(&["mdi", "G0", "X2"]);
     m.task_ok(&["-t", "60", "wait-done"]);
     wait_near(&m, "spindle.0.speed-out", 1000.0);

@@ -270,15 +270,21 @@ fn constant_surface_speed_goes_to_motion_before_the_start() {
     c.start_spindle_clockwise(0);
     let got = spindle_commands(&c);
     match got.as_slice() {
-        [(Command::SpindleCss {
-            spindle: 0,
-            factor,
-            x_offset,
-        }, 3), (Command::SpindleOn {
-            spindle: 0,
-            speed,
-            wait: true,
-        }, 3)] => {
+        [(
+            Command::SpindleCss {
+                spindle: 0,
+                factor,
+                x_offset,
+            },
+            3,
+        ), (
+            Command::SpindleOn {
+                spindle: 0,
+                speed,
+                wait: true,
+            },
+            3,
+        )] => {
             assert!((factor - 91440.0 / std::f64::consts::TAU).abs() < 1e-6);
             assert_eq!((*x_offset, *speed), (-2.0, 1500.0));
         }
@@ -320,7 +326,10 @@ fn feed_per_revolution_goes_to_motion_before_the_feed_moves() {
         .ops
         .iter()
         .filter_map(|op| match op {
-            Op::Motion(Command::SetFeedPerRev { spindle: 0, per_rev }) => Some(*per_rev),
+            Op::Motion(Command::SetFeedPerRev {
+                spindle: 0,
+                per_rev,
+            }) => Some(*per_rev),
             _ => None,
         })
         .collect();
