@@ -58,6 +58,8 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
     &HM2_PCI_SIM_ONLY,
     &HM2_7I43_SIM_ONLY,
     &HM2_7I90_SIM_ONLY,
+    &HM2_SPI_SIM_ONLY,
+    &HM2_RPSPI_SIM_ONLY,
     &MOTENC_SIM_ONLY,
     &STG_SIM_ONLY,
     &GPIO_SIM_ONLY,
@@ -238,6 +240,33 @@ fn hm2_7i90_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
     load_without_ports::<HalHm2_7i90>(host, args, &SEVEN_I90)
 }
 
+/// `hm2_spi` with no spidev device: `sim=` boards (behind simulated SPI
+/// links) load, a board without one is refused before any device opens.
+static HM2_SPI_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hostmot2::spi::hal::HM2_SPI_MODULE.name,
+    params: hostmot2::spi::hal::HM2_SPI_MODULE.params,
+    help: hostmot2::spi::hal::HM2_SPI_MODULE.help,
+    load: hm2_spi_sim_only,
+};
+
+fn hm2_spi_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    use hostmot2::spi::hal::{load_without_devices, HalHm2Spi};
+    load_without_devices::<HalHm2Spi>(host, args)
+}
+
+/// `hm2_rpspi` as [`HM2_SPI_SIM_ONLY`].
+static HM2_RPSPI_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hostmot2::spi::hal::HM2_RPSPI_MODULE.name,
+    params: hostmot2::spi::hal::HM2_RPSPI_MODULE.params,
+    help: hostmot2::spi::hal::HM2_RPSPI_MODULE.help,
+    load: hm2_rpspi_sim_only,
+};
+
+fn hm2_rpspi_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    use hostmot2::spi::hal::{load_without_devices, HalHm2Rpspi};
+    load_without_devices::<HalHm2Rpspi>(host, args)
+}
+
 /// `hal_motenc` with a PCI bus that has no boards: `backend=sim` boards
 /// load, `backend=pci` finds nothing (the driver's own error).
 static MOTENC_SIM_ONLY: ModuleDef = ModuleDef {
@@ -378,6 +407,15 @@ mod tests {
             assert!(e.to_string().contains("real ports are not reached"), "{e}");
         }
         host.loadrt(&HM2_7I43_SIM_ONLY, &["sim=7i43"]).unwrap();
+        // hm2_spi and hm2_rpspi: no spidev device is opened.
+        for m in [&HM2_SPI_SIM_ONLY, &HM2_RPSPI_SIM_ONLY] {
+            let e = host.loadrt(m, &[] as &[&str]).unwrap_err();
+            assert!(
+                e.to_string().contains("real devices are not reached"),
+                "{e}"
+            );
+        }
+        host.loadrt(&HM2_RPSPI_SIM_ONLY, &["sim=7c80"]).unwrap();
         host.unloadrt("all").unwrap();
         crate::snapshot::delete_threads(&host);
         assert!(empty());

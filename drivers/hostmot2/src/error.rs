@@ -54,7 +54,8 @@ pub enum Hm2Error {
     /// The simulator has no firmware of this name.
     #[error(
         "the simulator does not know the firmware '{design}' (it has Mesa's SV<n> and \
-         SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ...)"
+         SVST<n>_<m> servo/stepper firmwares: SVST8_4, SV12, ..., SVST2_4_7I47, and Smithy's \
+         Smart Serial SSSVST<s>_<n>_<m>[_V<k>])"
     )]
     SimUnknownFirmware {
         /// The design name (`SVST8_4`).
@@ -425,6 +426,42 @@ pub enum Hm2Error {
         base: u16,
         /// What went wrong.
         source: TransportError,
+    },
+    /// An SPI device cannot be opened or set up.
+    #[error("SPI device {device}: {reason}")]
+    SpiDevice {
+        /// The device (`/dev/spidev0.0`).
+        device: String,
+        /// Why.
+        reason: String,
+    },
+    /// The board on an SPI device did not answer as one.
+    #[error("board on SPI device {device}: {source}")]
+    SpiBoard {
+        /// The device.
+        device: String,
+        /// What went wrong.
+        source: TransportError,
+    },
+    /// What answers on an SPI device is no HostMot2 board.
+    #[error("SPI device {device}: no HostMot2 board answers (cookie 0x{cookie:08X}, configuration name {name:?}; a board answers 0x55AACAFE, \"HOSTMOT2\")")]
+    SpiNotHostmot2 {
+        /// The device.
+        device: String,
+        /// What was read at 0x100.
+        cookie: u32,
+        /// What was read at 0x104.
+        name: String,
+    },
+    /// A HostMot2 board of a kind the SPI drivers do not know.
+    #[error(
+        "SPI device {device}: unknown HostMot2 board name {name:?} (known: 7I90, 7C80, 7C81, 7I43)"
+    )]
+    SpiUnknownBoard {
+        /// The device.
+        device: String,
+        /// The IDROM's board name.
+        name: String,
     },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]

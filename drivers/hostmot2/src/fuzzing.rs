@@ -530,3 +530,67 @@ pub fn epp_port(data: &[u8]) {
     }
     assert_eq!(w[0], crate::regs::COOKIE, "the cookie after the edits");
 }
+
+/// A message arriving at an SPI board: the bytes are its words (big
+/// endian, as they come off the wire), served by Mesa's SPI framing
+/// ([`crate::spi::frame::serve`]) against a register file of the 64 KiB
+/// window. Checks: every command word decodes back to itself; a served
+/// message leaves only read data in the buffer; a refused one says why,
+/// leaves the rest zero and did nothing after the bad frame.
+pub fn spi_frames(data: &[u8]) {
+    use crate::spi::frame::{serve, Command, Registers};
+    struct Regs {
+        words: Vec<u32>,
+        accesses: usize,
+    }
+    impl Registers for Regs {
+        fn read(&mut self, addr: u32) -> u32 {
+            self.accesses += 1;
+            self.words[(addr as usize / 4) % self.words.len()]
+        }
+        fn write(&mut self, addr: u32, value: u32) {
+            self.accesses += 1;
+            let n = self.words.len();
+            self.words[(addr as usize / 4) % n] = value;
+        }
+    }
+    let mut buf: Vec<u32> = data
+        .chunks(4)
+        .take(2048)
+        .map(|c| {
+            let mut b = [0u8; 4];
+            b[..c.len()].copy_from_slice(c);
+            u32::from_be_bytes(b)
+        })
+        .collect();
+    for &w in &buf {
+        if let Ok(c) = Command::decode(w, 0) {
+            assert_eq!(c.encode(), w, "command 0x{w:08X} does not round-trip");
+        }
+    }
+    let mut regs = Regs {
+        words: vec![0; WINDOW_WORDS],
+        accesses: 0,
+    };
+    let sent = buf.clone();
+    match serve(&mut buf, &mut regs) {
+        Ok(frames) => {
+            assert!(frames <= sent.len());
+            assert_eq!(
+                regs.accesses,
+                sent.len() - frames,
+                "one access per data word"
+            );
+        }
+        Err(e) => {
+            assert!(!e.to_string().is_empty());
+            let at = match e {
+                crate::spi::frame::FrameError::NotACommand { at, .. }
+                | crate::spi::frame::FrameError::BadCount { at, .. }
+                | crate::spi::frame::FrameError::Truncated { at, .. } => at,
+            };
+            assert!(buf[at..].iter().all(|&w| w == 0), "the rest reads zero");
+            assert!(regs.accesses <= at, "nothing done after the bad frame");
+        }
+    }
+}

@@ -213,6 +213,8 @@ pub enum Source {
     Eth(Box<crate::eth::EthTransport>),
     /// A board on a parallel port (hm2_7i43, hm2_7i90), set up for EPP.
     Epp(Box<crate::epp::EppSource>),
+    /// A board on an SPI device (hm2_spi, hm2_rpspi), identified.
+    Spi(Box<crate::spi::SpiSource>),
 }
 
 /// A board to register: its llio, where it is, and what to say when it
@@ -370,6 +372,10 @@ fn transport_of<H: DriverHost>(
         Source::Epp(e) => {
             let e = *e;
             (Box::new(e.transport), e.sim, None)
+        }
+        Source::Spi(s) => {
+            let s = *s;
+            (Box::new(s.transport), s.sim, None)
         }
         Source::Eth(t) => {
             let mut t = t.into_host::<H>();
@@ -672,7 +678,7 @@ impl DriverModule for HalHm2Test {
 }
 
 /// Every module this crate provides, for the host's registry.
-pub fn modules() -> [&'static ModuleDef; 6] {
+pub fn modules() -> [&'static ModuleDef; 8] {
     [
         &HOSTMOT2_MODULE,
         &HM2_PCI_MODULE,
@@ -680,6 +686,8 @@ pub fn modules() -> [&'static ModuleDef; 6] {
         &crate::eth::hal::HM2_ETH_MODULE,
         &crate::epp::hal::HM2_7I43_MODULE,
         &crate::epp::hal::HM2_7I90_MODULE,
+        &crate::spi::hal::HM2_SPI_MODULE,
+        &crate::spi::hal::HM2_RPSPI_MODULE,
     ]
 }
 

@@ -29,6 +29,10 @@
 //!   7I90 on a PC parallel port in EPP mode, with LinuxCNC's `ioaddr`,
 //!   `ioaddr_hi`, `epp_wide` and `debug_epp` ([`epp`]); `sim=7i43` or
 //!   `sim=7i90` puts a simulated board behind a simulated port.
+//! * `hm2_spi spidev_path=... config=...`, `hm2_rpspi spi_probe=...`:
+//!   the 7I90 (SPI mode), 7C80 and 7C81 over Linux's spidev with Mesa's
+//!   SPI frames ([`spi`]); `sim=7i90`, `sim=7c80`, `sim=7c81` put a
+//!   simulated board behind a simulated SPI link.
 //! * `hm2_test test_pattern=N`: LinuxCNC's test driver, a board serving
 //!   one of the broken register images 0..14 ([`test_patterns`]); each
 //!   load fails with LinuxCNC's message.
@@ -55,8 +59,10 @@
 //! Remote cards on the FPGA's Smart Serial ports (7I76, 7I77, ...) are
 //! found at load and their process data become HAL pins and params under
 //! LinuxCNC's names (`hm2_7i76e.0.7i76.0.0.input-05`, `output-03`,
-//! `spinout`, `analogin0`; [`modules::sserial`]); the shared protocol
-//! pieces are in [`sserial`].
+//! `spinout`, `analogin0`; [`modules::sserial`]); the 8I20 drive and the
+//! 7I64, which do not describe themselves, by LinuxCNC's built-in tables
+//! (`hm2_5i20.0.8i20.0.0.current`, `bus-voltage`, `fault.overtemp`); the
+//! shared protocol pieces are in [`sserial`].
 //!
 //! # The simulator: `hm2_pci sim=...`
 //!
@@ -159,6 +165,7 @@ pub mod pins;
 pub mod readhmid;
 pub mod regs;
 pub mod sim;
+pub mod spi;
 pub mod sserial;
 pub mod test_patterns;
 mod tool_error;

@@ -154,6 +154,7 @@ fn load_sim(
         servos: 0,
         steppers: 0,
         seven_i47: false,
+        sserial: 0,
     });
     let machine = machine::servo_stepper(shape.servos as usize, shape.steppers as usize);
     let (sim_board, _) = sim::board(spec, Box::new(machine));

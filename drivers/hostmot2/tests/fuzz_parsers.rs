@@ -263,3 +263,18 @@ fn epp_ports_with_edited_reads_fail_cleanly_and_recover() {
     fuzzing::epp_port(&[1]);
     fuzzing::epp_port(&[3]);
 }
+
+#[test]
+fn spi_messages_are_served_or_refused_with_a_reason() {
+    let bytes = prop::collection::vec(any::<u8>(), 0..200);
+    runner(1_000)
+        .run(&bytes, |data| {
+            fuzzing::spi_frames(&data);
+            Ok(())
+        })
+        .unwrap();
+    // A read of the cookie, then a write burst; and a junk word.
+    fuzzing::spi_frames(&[0x01, 0x00, 0xA8, 0x10, 0, 0, 0, 0]);
+    fuzzing::spi_frames(&[0x0C, 0x00, 0xB8, 0x20, 1, 2, 3, 4, 5, 6, 7, 8]);
+    fuzzing::spi_frames(&[0x12, 0x34, 0x56, 0x78]);
+}

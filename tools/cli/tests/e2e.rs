@@ -845,6 +845,17 @@ fn hm2_epp_stepper_machine_samples_as_on_the_pci_simulator() {
     assert!(got.ends_with("\nFALSE\n"), "the watchdog never bit");
 }
 
+/// The stepper machine of hm2-stepper over SPI (hm2_rpspi with a
+/// simulated 7C80 behind a simulated SPI link): the same commands give
+/// the same samples as on the PCI simulator, and the watchdog never bit.
+#[test]
+fn hm2_spi_stepper_machine_samples_as_on_the_pci_simulator() {
+    let got = run_exact("hm2-spi-stepper");
+    let pci = std::fs::read_to_string(case("hm2-stepper").join("expected")).unwrap();
+    assert_eq!(machine_rows(&got), machine_rows(&pci));
+    assert!(got.ends_with("\nFALSE\n"), "the watchdog never bit");
+}
+
 /// The README's simulated mill runs the shipped pocket program: the
 /// samples match the expected file exactly; every commanded point lies
 /// in the pocket (or on the way in and out), the cut is at Z -1, and the

@@ -23,6 +23,7 @@
 //! | [`IopermPorts`] | `PortBus` | `ioperm` over declared ranges and x86 `in`/`out`; the permission is taken per thread on first use |
 //! | [`DevPortPorts`] | `PortBus` | `pread`/`pwrite` on `/dev/port` |
 //! | [`SysfsIoBar`] | `PortBus` | `pread`/`pwrite` of 1, 2 or 4 bytes on an I/O BAR's sysfs `resourceN` |
+//! | [`Spidev`] | [`SpiBus`] | the `SPI_IOC_MESSAGE` ioctl on `/dev/spidevB.C` (a third bus: a full-duplex SPI link) |
 //!
 //! Every backend and the simulator also take [`RegWindow::tick`] /
 //! [`PortBus::tick`]: a driver's `read` function passes the HAL thread's
@@ -33,12 +34,14 @@ mod devport;
 mod ioperm;
 mod mmap;
 mod ranges;
+mod spi;
 mod sysfs_io;
 
 pub use devport::DevPortPorts;
 pub use ioperm::IopermPorts;
 pub use mmap::MmapWindow;
 pub use ranges::PortRange;
+pub use spi::{SpiBus, Spidev, MAX_MESSAGE_WORDS};
 pub use sysfs_io::SysfsIoBar;
 
 use std::sync::Arc;

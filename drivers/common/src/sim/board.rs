@@ -6,7 +6,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use super::clock::{Clock, SimClock};
 use super::log::{Access, AccessLog, Dir, Width};
-use crate::bus::{PortBus, RegWindow, ALL_ONES};
+use crate::bus::{PortBus, RegWindow, SpiBus, ALL_ONES};
 
 /// What every board model has: time and a name.
 pub trait BoardModel: Send + 'static {
@@ -50,6 +50,13 @@ pub trait PortModel: BoardModel {
 
     /// Writes `width` at absolute `port` (ignored where nothing decodes).
     fn write(&mut self, port: u16, width: Width, value: u32);
+}
+
+/// A device on an SPI link: each message is exchanged word for word.
+pub trait SpiModel: BoardModel {
+    /// One message: `buf` holds the words the host shifts out and, on
+    /// return, the words the device shifted back.
+    fn exchange(&mut self, buf: &mut [u32]);
 }
 
 struct Inner<M> {
@@ -326,6 +333,21 @@ impl<M: PortModel> PortBus for SimBoard<M> {
         self.lock().model.describe()
     }
     #[inline]
+    fn tick(&self, now_ns: u64) {
+        self.tick_model(now_ns)
+    }
+}
+
+impl<M: SpiModel> SpiBus for SimBoard<M> {
+    fn transfer(&self, buf: &mut [u32], _speed_hz: u32) {
+        self.lock().model.exchange(buf);
+    }
+    fn errors(&self) -> u64 {
+        self.refused()
+    }
+    fn describe(&self) -> String {
+        self.lock().model.describe()
+    }
     fn tick(&self, now_ns: u64) {
         self.tick_model(now_ns)
     }

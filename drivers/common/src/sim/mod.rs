@@ -24,7 +24,7 @@ mod clock;
 mod log;
 mod registry;
 
-pub use board::{BoardModel, MemModel, PortModel, SimBoard};
+pub use board::{BoardModel, MemModel, PortModel, SimBoard, SpiModel};
 pub use clock::{Clock, MonotonicClock, SimClock};
 pub use log::{Access, AccessLog, Dir, Width};
 pub use registry::{find, publish, publish_any};

@@ -220,6 +220,10 @@ pub fn preset(board: &str) -> Machine {
             servos: (0..4).map(servo).collect(),
             ..steppers_with_switches(5, 10)
         },
+        // The SPI hats: steppers with home switches on the first GPIO
+        // after the encoder and PWM pins (7C80: I/O 18..20; 7C81: 16..18).
+        "7c80" => steppers_with_switches(6, 18),
+        "7c81" => steppers_with_switches(5, 16),
         "5i24" => Machine {
             servos: (0..8).map(servo).collect(),
             steppers: (0..8).map(stepper).collect(),

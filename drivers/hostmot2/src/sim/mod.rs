@@ -15,6 +15,7 @@ pub mod model;
 pub mod plx;
 pub mod plx_boards;
 pub mod pwm;
+pub mod spi;
 pub mod sserial;
 pub mod stepgen;
 pub mod watchdog;

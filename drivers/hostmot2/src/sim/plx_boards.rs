@@ -21,7 +21,11 @@
 //! servos: six pins each (step, direction and four table outputs) where
 //! they fit, two (step, direction) otherwise; the rest are GPIO. A name
 //! ending in `_7I47` (SVST2_4_7I47, the Smithy machines' firmware) has
-//! four encoders and its own layout (`seven_i47_pins`). Every
+//! four encoders and its own layout (`seven_i47_pins`); Smithy's Smart
+//! Serial firmware `SSSVST<s>_<n>_<m>[_V<k>]` (`sssvst2_2_4_v31`: s Smart
+//! Serial channels, n servo channels, m step generators) has that layout
+//! with the Smart Serial channels on the last two encoders' pins and an
+//! 8I20 drive on channel 0 ([`crate::sim::sserial::eight_i20`]). Every
 //! firmware has a watchdog, the IOPorts, encoders v2, PWM generators v0
 //! (on ClockHigh), step generators v2 and the card's LEDs.
 //!
@@ -36,6 +40,7 @@ use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
 use crate::pci::{self, PciBoard};
 use crate::pins::PinDescriptor;
 use crate::regs::gtag;
+use crate::sim::sserial::{RemoteKind, RemoteSpec};
 
 /// The `sim=` names of the PLX cards, with their PCI table names.
 pub const PLX_PRESETS: &[(&str, &str)] = &[
@@ -65,8 +70,10 @@ pub struct Design {
     pub servos: u32,
     /// Step generators.
     pub steppers: u32,
-    /// Laid out for a 7I47 daughter card (`..._7I47`).
+    /// Laid out for a 7I47 daughter card (`..._7I47`, `SSSVST...`).
     pub seven_i47: bool,
+    /// Smart Serial channels (`SSSVST<s>_<n>_<m>`).
+    pub sserial: u32,
 }
 
 /// The design a firmware name describes (`SVST8_4`, `sv12`, with or
@@ -74,23 +81,22 @@ pub struct Design {
 pub fn design(name: &str) -> Option<Design> {
     let upper = name.to_ascii_uppercase();
     let stem = upper.strip_suffix(".BIT").unwrap_or(&upper);
+    if let Some(rest) = stem.strip_prefix("SSSVST") {
+        return smithy_sserial(rest);
+    }
     if let Some(base) = stem.strip_suffix("_7I47") {
         return design(base).filter(|d| !d.seven_i47).map(|d| Design {
             seven_i47: true,
             ..d
         });
     }
-    let num = |s: &str| {
-        (!s.is_empty() && s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()))
-            .then(|| s.parse::<u32>().ok())
-            .flatten()
-    };
     if let Some(rest) = stem.strip_prefix("SVST") {
         let (n, m) = rest.split_once('_')?;
         return Some(Design {
             servos: num(n)?,
             steppers: num(m)?,
             seven_i47: false,
+            sserial: 0,
         });
     }
     let n = num(stem.strip_prefix("SV")?)?;
@@ -98,6 +104,34 @@ pub fn design(name: &str) -> Option<Design> {
         servos: n,
         steppers: 0,
         seven_i47: false,
+        sserial: 0,
+    })
+}
+
+/// A count of one to three digits.
+fn num(s: &str) -> Option<u32> {
+    (!s.is_empty() && s.len() <= 3 && s.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| s.parse::<u32>().ok())
+        .flatten()
+}
+
+/// Smithy's Smart Serial firmware after its `SSSVST`: `<s>_<n>_<m>`
+/// (Smart Serial channels, servo channels, step generators) with an
+/// optional version `_V<k>`, e.g. `sssvst2_2_4_v31`.
+fn smithy_sserial(rest: &str) -> Option<Design> {
+    let mut parts: Vec<&str> = rest.split('_').collect();
+    if let Some(v) = parts.last().and_then(|p| p.strip_prefix('V')) {
+        num(v)?;
+        parts.pop();
+    }
+    let [s, n, m] = parts[..] else {
+        return None;
+    };
+    Some(Design {
+        servos: num(n)?,
+        steppers: num(m)?,
+        seven_i47: true,
+        sserial: num(s)?,
     })
 }
 
@@ -131,8 +165,8 @@ impl std::fmt::Display for Unfit {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match *self {
             Unfit::SevenI47 => f.write_str(
-                "the 7I47 layout has at most 2 servo channels and 4 step generators, \
-                 on a card of three 24-pin connectors",
+                "the 7I47 layout has at most 2 servo channels, 4 step generators and \
+                 2 Smart Serial channels, on a card of three 24-pin connectors",
             ),
             Unfit::Empty => f.write_str("it has neither servo channels nor step generators"),
             Unfit::ServosNotByFour => f.write_str("servo channels come four to a connector"),
@@ -154,7 +188,7 @@ pub fn unfit(board: &PciBoard, d: Design) -> Option<Unfit> {
     let conns = board.connectors.len() as u32;
     let width = board.pins_per_connector;
     if d.seven_i47 {
-        return (conns < 3 || width != 24 || d.servos > 2 || d.steppers > 4)
+        return (conns < 3 || width != 24 || d.servos > 2 || d.steppers > 4 || d.sserial > 2)
             .then_some(Unfit::SevenI47);
     }
     if d.servos == 0 && d.steppers == 0 {
@@ -213,7 +247,8 @@ pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Hm2
     }
     let total = board.connectors.len() * board.pins_per_connector as usize;
     let (pins, encoders) = if d.seven_i47 {
-        (seven_i47_pins(d, total), 4)
+        // Smart Serial channels take the last two encoders' pins.
+        (seven_i47_pins(d, total), if d.sserial > 0 { 2 } else { 4 })
     } else {
         (family_pins(d, total), d.servos)
     };
@@ -229,6 +264,9 @@ pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Hm2
     }
     if d.steppers > 0 {
         modules.push(ModuleSpec::standard(gtag::STEPGEN, 2, d.steppers as u8));
+    }
+    if d.sserial > 0 {
+        modules.push(ModuleSpec::standard(gtag::SSERIAL, 0, 1));
     }
     if board.leds > 0 {
         modules.push(ModuleSpec::standard(gtag::LED, 0, 1));
@@ -251,7 +289,17 @@ pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Hm2
         clock_high,
         modules,
         pins,
-        remotes: Vec::new(),
+        // The Smithy machines' 8I20 spindle drive on the first channel.
+        remotes: if d.sserial > 0 {
+            vec![RemoteSpec {
+                port: 0,
+                channel: 0,
+                kind: RemoteKind::EightI20,
+                unit: 0x0820,
+            }]
+        } else {
+            Vec::new()
+        },
     })
 }
 
@@ -282,7 +330,8 @@ fn family_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
 /// direction) at I/O 0 to 3, encoders 0 and 1 (A, B, index) at 4 to 9,
 /// PWM generators 0 and 1 (PWM, direction, /enable) at 10 to 15, step
 /// generators 2 and 3 at 16 to 19; encoders 2 and 3 on the last six pins
-/// of the third connector; the rest GPIO.
+/// of the third connector, or in the Smart Serial designs (`SSSVST`)
+/// Smart Serial channels 0 and 1 (RX, TX, TX enable); the rest GPIO.
 fn seven_i47_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
     let step = |k: u8| [pd(gtag::STEPGEN, k, 0x81), pd(gtag::STEPGEN, k, 0x82)];
     let enc = |k: u8| (1..=3).map(move |f| pd(gtag::ENCODER, k, f));
@@ -296,12 +345,23 @@ fn seven_i47_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
     pins.extend(step(2));
     pins.extend(step(3));
     pins.resize(total - 6, gpio());
-    pins.extend(enc(2).chain(enc(3)));
+    if d.sserial > 0 {
+        for c in 0..2u8 {
+            pins.extend([
+                pd(gtag::SSERIAL, 0, 0x01 + c),
+                pd(gtag::SSERIAL, 0, 0x81 + c),
+                pd(gtag::SSERIAL, 0, 0x91 + c),
+            ]);
+        }
+    } else {
+        pins.extend(enc(2).chain(enc(3)));
+    }
     // Modules the design lacks leave their pins to GPIO.
     for p in &mut pins {
         let unit = p.sec_unit as u32;
         let absent = (p.sec_tag == gtag::STEPGEN && unit >= d.steppers)
-            || (p.sec_tag == gtag::PWMGEN && unit >= d.servos);
+            || (p.sec_tag == gtag::PWMGEN && unit >= d.servos)
+            || (p.sec_tag == gtag::SSERIAL && (p.sec_pin & 0x0F) as u32 > d.sserial);
         if absent {
             *p = gpio();
         }
@@ -341,6 +401,7 @@ mod tests {
                 servos: 8,
                 steppers: 4,
                 seven_i47: false,
+                sserial: 0,
             })
         );
         assert_eq!(
@@ -349,6 +410,7 @@ mod tests {
                 servos: 12,
                 steppers: 0,
                 seven_i47: false,
+                sserial: 0,
             })
         );
         assert_eq!(
@@ -357,8 +419,27 @@ mod tests {
                 servos: 2,
                 steppers: 4,
                 seven_i47: true,
+                sserial: 0,
             })
         );
+        assert_eq!(
+            design("sssvst2_2_4_v31.bit"),
+            Some(Design {
+                servos: 2,
+                steppers: 4,
+                seven_i47: true,
+                sserial: 2,
+            })
+        );
+        assert_eq!(design("SSSVST1_2_4").map(|d| d.sserial), Some(1));
+        for bad in [
+            "SSSVST2_4",
+            "SSSVST2_2_4_V",
+            "SSSVST2_2_4_Vx",
+            "SSSVST2_2_4_5_6",
+        ] {
+            assert_eq!(design(bad), None, "{bad}");
+        }
         assert_eq!(design("SVST2_4_7I47_7I47"), None);
         for bad in ["7i77x2", "SVST8", "SV", "SVST_4", "SV1234", "SVSTx_4"] {
             assert_eq!(design(bad), None, "{bad}");
@@ -380,6 +461,7 @@ mod tests {
             ("3x20", "SV24"),
             ("3x20", "SVST16_24"),
             ("5i20", "SVST2_4_7I47"),
+            ("5i20", "sssvst2_2_4_v31"),
         ] {
             let (board, _) = card(name).unwrap();
             let spec = firmware(board, fw).unwrap();
@@ -414,6 +496,28 @@ mod tests {
         assert_eq!(spec.pins[49], pd(gtag::STEPGEN, 0, 0x82));
         assert_eq!(spec.pins[54], pd(gtag::STEPGEN, 1, 0x81));
         assert_eq!(spec.pins[25], pd(gtag::ENCODER, 4, 0x03));
+    }
+
+    #[test]
+    fn smithys_sserial_firmware_has_an_8i20_on_channel_0() {
+        let (board, _) = card("5i20").unwrap();
+        let spec = firmware(board, "sssvst2_2_4_v31").unwrap();
+        assert_eq!(spec.pins[66], pd(gtag::SSERIAL, 0, 0x01));
+        assert_eq!(spec.pins[67], pd(gtag::SSERIAL, 0, 0x81));
+        assert_eq!(spec.pins[71], pd(gtag::SSERIAL, 0, 0x92));
+        assert_eq!(spec.module(gtag::SSERIAL).unwrap().instances, 1);
+        assert_eq!(spec.module(gtag::ENCODER).unwrap().instances, 2);
+        assert_eq!(spec.module(gtag::STEPGEN).unwrap().instances, 4);
+        // The GPIO the 1240combined machines use stay free.
+        for io in [22, 24, 29, 35, 39, 41, 43, 45] {
+            assert_eq!(spec.pins[io], gpio(), "I/O {io}");
+        }
+        assert_eq!(spec.remotes.len(), 1);
+        assert_eq!(spec.remotes[0].kind, RemoteKind::EightI20);
+        let one = firmware(board, "sssvst1_2_4").unwrap();
+        assert_eq!(one.pins[69], gpio(), "no channel 1");
+        let e = firmware(board, "sssvst3_2_4").unwrap_err();
+        assert!(e.to_string().contains("2 Smart Serial channels"), "{e}");
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //! and remote cards are [`sim::sserial`](crate::sim::sserial).
 
 pub mod data;
+pub mod legacy;
 pub mod records;
 pub mod report;
 

@@ -43,8 +43,7 @@ fn unit_text(unit: &str) -> &str {
 }
 
 /// The HAL objects a record becomes (their names after the card's prefix).
-fn hal_names(r: &DataRecord) -> String {
-    let n = r.hal_name();
+fn hal_names(n: String, r: &DataRecord) -> String {
     match r.data_type {
         t::PAD => String::new(),
         t::BITS if r.bits > 1 => format!("{n}-00 .. {n}-{:02}", r.bits - 1),
@@ -117,7 +116,7 @@ pub fn report(f: &SserialFirmware, board: &str) -> String {
                     d.bits,
                     d.name,
                     range,
-                    hal_names(d)
+                    hal_names(r.hal_name(d), d)
                 );
             }
             let _ = writeln!(s, "    globals:");
@@ -125,7 +124,7 @@ pub fn report(f: &SserialFirmware, board: &str) -> String {
                 let _ = writeln!(
                     s,
                     "      {:<20}= {v} (0x{v:X}){}{}",
-                    g.hal_name(),
+                    r.hal_name(g),
                     if unit_text(&g.unit).is_empty() {
                         String::new()
                     } else {

@@ -179,6 +179,28 @@ const EXAMPLES: &[(&str, Example)] = &[
         },
     ),
     (
+        "hm2_spi",
+        Example {
+            before: HM2_CORE,
+            args: "sim=7i90",
+            note: "The example uses a simulated 7I90 behind a simulated SPI link; \
+                   without sim= the module drives the board on spidev_path= \
+                   (/dev/spidev1.0).",
+            ..PLAIN
+        },
+    ),
+    (
+        "hm2_rpspi",
+        Example {
+            before: HM2_CORE,
+            args: "sim=7c80",
+            note: "The example uses a simulated 7C80 behind a simulated SPI link; \
+                   without sim= the module drives the boards at the places spi_probe= \
+                   names (/dev/spidev0.0 for SPI0/CE0).",
+            ..PLAIN
+        },
+    ),
+    (
         "hm2_test",
         Example {
             before: HM2_CORE,

@@ -12,6 +12,10 @@
 //!    gives the channels that have a card to the module, the others stay
 //!    GPIO. The ports start at the first `write`.
 //!
+//! The 8I20 and 7I64 name no tables: their process data and globals are
+//! the driver's own ([`legacy`]), and an 8I20's current is scaled to the
+//! maximum current it keeps in its memory.
+//!
 //! Everything a card says is checked: a table without end, a record
 //! that is not one, process data wider than the module's registers or of
 //! a type the driver cannot move are refused with the port, channel and
@@ -25,6 +29,7 @@ use crate::log::MessageLog;
 use crate::md::ModuleDescriptor;
 use crate::pins::PinDescriptor;
 use crate::regs::{gtag, ioport as io};
+use crate::sserial::legacy;
 use crate::sserial::records::{self, data_type as dt, DataRecord, ModeRecord, Record, RecordError};
 use crate::sserial::{
     cmd, lbp, local, reg, remote_name, status, PinRole, MAX_CHANNELS, MAX_DATA_BITS,
@@ -48,12 +53,24 @@ pub struct RemoteFound {
     pub globals: Vec<(DataRecord, u64)>,
     /// Its modes.
     pub modes: Vec<ModeRecord>,
+    /// Its tables are the driver's own ([`legacy`]): it names no tables.
+    pub built_in: bool,
 }
 
 impl RemoteFound {
     /// The name in HAL names (`7i76`).
     pub fn name(&self) -> String {
         remote_name(self.raw_name)
+    }
+
+    /// A record's name in HAL names: lower-cased as LinuxCNC keeps the
+    /// names it reads from a card, as written for the built-in tables.
+    pub fn hal_name(&self, r: &DataRecord) -> String {
+        if self.built_in {
+            r.name.clone()
+        } else {
+            r.hal_name()
+        }
     }
 
     /// Bits the host receives and sends.
@@ -343,6 +360,17 @@ fn read_card(
             }
         }
     }
+    read_globals(p, found, globals)
+}
+
+/// Reads the values of card `found`'s `globals` (the non-volatile ones
+/// from its EEPROM) into it.
+fn read_globals(
+    p: &mut Port,
+    found: &mut RemoteFound,
+    globals: Vec<DataRecord>,
+) -> std::result::Result<(), Fail> {
+    let c = found.channel;
     for g in globals {
         let nv = records::data_type::is_nonvolatile(g.data_type);
         if nv {
@@ -361,6 +389,28 @@ fn read_card(
         found.globals.push((g, raw? & mask));
     }
     Ok(())
+}
+
+/// Takes the built-in tables of a card that does not describe itself
+/// and reads its globals; an 8I20's current scale is its own maximum
+/// current, read from its memory.
+fn read_built_in(
+    p: &mut Port,
+    found: &mut RemoteFound,
+    mut b: legacy::BuiltIn,
+) -> std::result::Result<(), Fail> {
+    if found.raw_name.to_le_bytes() == legacy::EIGHT_I20 {
+        let c = found.channel;
+        let raw = p.transfer(c, lbp::READ + 1, legacy::EIGHT_I20_MAX_CURRENT_AT, 0)? as u16;
+        let amps = raw as f32 * 0.01;
+        if let Some(current) = b.process.get_mut(legacy::EIGHT_I20_CURRENT) {
+            current.min = -amps;
+            current.max = amps;
+        }
+    }
+    found.process = b.process;
+    found.built_in = true;
+    read_globals(p, found, b.globals)
 }
 
 /// The I/O pins of `port`'s enabled channels: (io, is output).
@@ -534,22 +584,30 @@ fn discover_port(
                 process: Vec::new(),
                 globals: Vec::new(),
                 modes: Vec::new(),
+                built_in: false,
             };
-            if ptoc == 0 {
-                if ids[1] != 0 {
-                    log.warn(format!(
-                        "Smart Serial port {index} channel {c}: {} describes no process data (a card from before discovery is not supported): its pins stay GPIO",
-                        found.name()
-                    ));
-                }
-                continue;
-            }
             let context = |reason: String| Hm2Error::Sserial {
                 port: index,
                 channel: Some(c),
                 reason,
             };
-            match read_card(&mut p, &mut found, ptoc, gtoc) {
+            let built_in = (ptoc == 0 && gtoc == 0)
+                .then(|| legacy::built_in(ids[1]))
+                .flatten();
+            let read = match built_in {
+                Some(b) => read_built_in(&mut p, &mut found, b),
+                None if ptoc == 0 => {
+                    if ids[1] != 0 {
+                        log.warn(format!(
+                            "Smart Serial port {index} channel {c}: {} describes no process data and is not a card this driver knows: its pins stay GPIO",
+                            found.name()
+                        ));
+                    }
+                    continue;
+                }
+                None => read_card(&mut p, &mut found, ptoc, gtoc),
+            };
+            match read {
                 Ok(()) => {}
                 Err(Fail::Hm2(e)) => return Err(e),
                 Err(Fail::Record(e)) => return Err(context(e.to_string())),

@@ -177,16 +177,15 @@ fn float_pin<H: HalHost, F: PinFactory<H>>(
 }
 
 impl<H: HalHost> Field<H> {
-    /// Exports the HAL objects of `r` under `prefix`, at the given bit
-    /// offsets of the two streams.
+    /// Exports the HAL objects of `r` named `base` (`<card>.<name>`), at
+    /// the given bit offsets of the two streams.
     pub fn export(
         c: &impl PinFactory<H>,
-        prefix: &str,
+        base: &str,
         r: &DataRecord,
         at_in: Option<usize>,
         at_out: Option<usize>,
     ) -> HalResult<Field<H>> {
-        let base = format!("{prefix}.{}", r.hal_name());
         let (min, max) = if r.min == r.max {
             (0.0, 1.0)
         } else {
@@ -212,7 +211,7 @@ impl<H: HalHost> Field<H> {
                 }
             }
             t::UNSIGNED | t::SIGNED => Kind::Number {
-                pin: float_pin(c, &base, r)?,
+                pin: float_pin(c, base, r)?,
                 signed: r.data_type == t::SIGNED,
                 scalemax: c.param(&format!("{base}-scalemax"), max)?,
                 limits: if r.is_out() {
@@ -225,7 +224,7 @@ impl<H: HalHost> Field<H> {
                 },
             },
             t::BOOLEAN => Kind::Boolean {
-                pin: bit_pin(c, &base, r)?,
+                pin: bit_pin(c, base, r)?,
                 not: if r.is_in() && !r.is_out() {
                     Some(c.pin(&format!("{base}-not"))?)
                 } else {
@@ -238,11 +237,11 @@ impl<H: HalHost> Field<H> {
                 },
             },
             t::STREAM => Kind::Stream(match (r.is_in(), r.is_out()) {
-                (true, true) => WordPin::Io(c.pin(&base)?),
-                (true, false) => WordPin::Out(c.pin(&base)?),
-                _ => WordPin::In(c.pin(&base)?),
+                (true, true) => WordPin::Io(c.pin(base)?),
+                (true, false) => WordPin::Out(c.pin(base)?),
+                _ => WordPin::In(c.pin(base)?),
             }),
-            t::FLOAT => Kind::Float(float_pin(c, &base, r)?),
+            t::FLOAT => Kind::Float(float_pin(c, base, r)?),
             t::ENCODER => Kind::Encoder(Box::new(Encoder {
                 count: c.pin(&format!("{base}.count"))?,
                 rawcounts: c.pin(&format!("{base}.rawcounts"))?,

@@ -297,11 +297,12 @@ impl<H: HalHost> Sserial<H> {
                 if rec.is_out() {
                     at_out += rec.bits as usize;
                 }
-                fields.push(Field::export(x.comp, &prefix, rec, i_at, o_at)?);
+                let base = format!("{prefix}.{}", r.hal_name(rec));
+                fields.push(Field::export(x.comp, &base, rec, i_at, o_at)?);
             }
             let mut globals = Vec::new();
             for (g, v) in &r.globals {
-                let name = format!("{prefix}.{}", g.hal_name());
+                let name = format!("{prefix}.{}", r.hal_name(g));
                 globals.push(Global::export(x.comp, &name, g, *v)?);
             }
             remotes.push(Remote {

@@ -12,6 +12,7 @@
 //! a watchdog bite or a pulled cable cuts it off, and a transfer on it
 //! fails with a timeout in the channel's status.
 
+pub mod eight_i20;
 pub mod remote;
 
 use crate::sserial::{cmd, lbp, local, status, MAX_CHANNELS};

@@ -1,6 +1,10 @@
 //! Simulated Smart Serial remote cards: the 7I76 (32 inputs, 16 outputs,
-//! spindle DAC) and the two channels of the 7I77 (I/O; six analog
-//! outputs with enables).
+//! spindle DAC), the two channels of the 7I77 (I/O; six analog
+//! outputs with enables) and the 8I20 drive.
+//!
+//! The 8I20 predates self-description: it names no tables, its globals
+//! sit where LinuxCNC's built-in table ([`legacy`]) says, and its power
+//! stage is modelled in [`super::eight_i20`].
 //!
 //! Each describes itself as a real card does: a unit number, a name, and
 //! records in its memory (modes and globals in the GTOC, process data in
@@ -35,7 +39,9 @@
 //! until it is started again. A card whose cable is pulled
 //! ([`SimRemote::connected`] false) answers nothing.
 
+use super::eight_i20::{EightI20, Limits};
 use crate::sserial::data;
+use crate::sserial::legacy;
 use crate::sserial::records::{data_type as t, dir, encode_table, DataRecord, ModeRecord};
 use crate::sserial::{remote_type, status};
 
@@ -48,6 +54,8 @@ pub enum RemoteKind {
     SevenI77Io,
     /// 7I77, its analog channel.
     SevenI77Analog,
+    /// 8I20 drive (no self-description: [`legacy`]).
+    EightI20,
 }
 
 /// A remote card on a port's channel, for a firmware description.
@@ -71,6 +79,29 @@ pub const PROCESS_AT: u16 = 0x500;
 pub const PARAMS_AT: u16 = 0x600;
 /// Size of the card's memory.
 const MEMORY: usize = 0x800;
+/// Size of the memory of a card without tables (its globals sit higher).
+const LEGACY_MEMORY: usize = 0x1000;
+/// The simulated 8I20's maximum current, 0.01 A (20 A).
+const EIGHT_I20_MAX_CURRENT: u16 = 2000;
+/// The simulated 8I20's globals (voltages and currents in hundredths).
+const EIGHT_I20_MEMORY: &[(&str, u32)] = &[
+    ("swrevision", 42),
+    ("nvmaxcurrent", 2000),
+    ("nvbusundervmax", 6000),
+    ("nvbusundervmin", 5000),
+    ("nvbusoverv", 39000),
+    ("nvbrakeonv", 37000),
+    ("nvbrakeoffv", 36000),
+    ("nvrembaudrate", 9),
+    ("nvkqp", 100),
+    ("nvkqihi", 20),
+    ("nvkqilo", 10),
+    ("nvkqil", 500),
+    ("nvkdp", 100),
+    ("nvkdihi", 20),
+    ("nvkdilo", 10),
+    ("nvkdil", 500),
+];
 /// `NVBaudRate` of a new card: index 9 of
 /// [`BAUD_RATES`](crate::sserial::BAUD_RATES), 2.5 Mbaud, the rate Mesa's
 /// cards ship with.
@@ -134,6 +165,7 @@ impl RemoteKind {
             RemoteKind::SevenI76 => (remote_type::SEVEN_I76, *b"7I76"),
             RemoteKind::SevenI77Io => (remote_type::SEVEN_I77_IO, *b"7I77"),
             RemoteKind::SevenI77Analog => (remote_type::SEVEN_I77_ANALOG, *b"7I77"),
+            RemoteKind::EightI20 => (0, legacy::EIGHT_I20),
         }
     }
 
@@ -148,6 +180,7 @@ impl RemoteKind {
                 "io_encoder_analog_fieldvoltage",
             ],
             RemoteKind::SevenI77Analog => &["analogout_enables"],
+            RemoteKind::EightI20 => &[],
         }
     }
 
@@ -155,6 +188,10 @@ impl RemoteKind {
     pub fn process_data(self, mode: u8) -> Vec<DataRecord> {
         let mut v = Vec::new();
         match self {
+            RemoteKind::EightI20 => {
+                let raw = u32::from_le_bytes(legacy::EIGHT_I20);
+                v = legacy::built_in(raw).map(|b| b.process).unwrap_or_default();
+            }
             RemoteKind::SevenI76 => {
                 v.push(rec(16, t::BITS, dir::OUT, 0.0, 0.0, NO_UNIT, "Output"));
                 v.push(rec(16, t::UNSIGNED, dir::OUT, 0.0, 10.0, "V", "SpinOut"));
@@ -242,6 +279,8 @@ pub struct SimRemote {
     pub eeprom_writes: u64,
     /// A card that answers every setup start with these words.
     fixed_ids: Option<[u32; 3]>,
+    /// An 8I20's power stage.
+    pub drive: Option<EightI20>,
 }
 
 /// The card's globals: (record, initial value).
@@ -326,6 +365,9 @@ impl SimRemote {
     pub fn new(kind: RemoteKind, unit: u32) -> SimRemote {
         let (code, _) = kind.identity();
         let unit = (code as u32) << 24 | (unit & 0x00FF_FFFF);
+        if kind == RemoteKind::EightI20 {
+            return Self::eight_i20(unit);
+        }
         let mut layout = Layout::new();
         // Globals and modes, then the GTOC; globals at even addresses.
         let mut gtoc_entries = Vec::new();
@@ -389,6 +431,98 @@ impl SimRemote {
             transfers: 0,
             eeprom_writes: 0,
             fixed_ids: None,
+            drive: None,
+        }
+    }
+
+    /// An 8I20: no tables, its globals at the addresses LinuxCNC knows,
+    /// one mode; values from [`EIGHT_I20_MEMORY`].
+    fn eight_i20(unit: u32) -> SimRemote {
+        let raw = u32::from_le_bytes(legacy::EIGHT_I20);
+        let b = legacy::built_in(raw).unwrap_or(legacy::BuiltIn {
+            process: Vec::new(),
+            globals: Vec::new(),
+        });
+        let mut r = SimRemote::new(RemoteKind::SevenI76, unit);
+        r.kind = RemoteKind::EightI20;
+        r.unit = unit;
+        r.memory = vec![0u8; LEGACY_MEMORY];
+        r.gtoc = 0;
+        r.params = b
+            .globals
+            .iter()
+            .map(|g| (g.name.clone(), g.addr, g.bits))
+            .collect();
+        for (name, v) in EIGHT_I20_MEMORY {
+            r.set_global(name, *v);
+        }
+        r.set_global("unitnumber", unit);
+        let max_amps = EIGHT_I20_MAX_CURRENT as f32 / 100.0;
+        let at = legacy::EIGHT_I20_MAX_CURRENT_AT as usize;
+        r.memory[at..at + 2].copy_from_slice(&EIGHT_I20_MAX_CURRENT.to_le_bytes());
+        let mut process = b.process;
+        if let Some(c) = process.get_mut(legacy::EIGHT_I20_CURRENT) {
+            c.min = -max_amps;
+            c.max = max_amps;
+        }
+        r.modes = vec![Mode {
+            ptoc: 0,
+            fields: process
+                .into_iter()
+                .map(|record| Field {
+                    record,
+                    value: 0.0,
+                    count: 0,
+                })
+                .collect(),
+        }];
+        r.drive = Some(EightI20::default());
+        r
+    }
+
+    /// A 16-bit value of the card's memory in hundredths.
+    fn hundredths(&self, addr: u16) -> f64 {
+        self.read_memory(addr, 2) as f64 / 100.0
+    }
+
+    /// An 8I20's limits, from its memory.
+    fn drive_limits(&self) -> Limits {
+        let nv = |name: &str| {
+            self.params
+                .iter()
+                .find(|(n, _, _)| n == name)
+                .map_or(0.0, |&(_, a, _)| self.hundredths(a))
+        };
+        Limits {
+            max_current: self.hundredths(legacy::EIGHT_I20_MAX_CURRENT_AT),
+            under_min: nv("nvbusundervmin"),
+            under_max: nv("nvbusundervmax"),
+            over: nv("nvbusoverv"),
+            brake_on: nv("nvbrakeonv"),
+            brake_off: nv("nvbrakeoffv"),
+        }
+    }
+
+    /// Runs an 8I20's power stage on the commands just received and
+    /// puts what it reports in its input fields.
+    fn run_drive(&mut self) {
+        let limits = self.drive_limits();
+        let angle = self.value("angle").unwrap_or(0.0);
+        let current = self.value("current").unwrap_or(0.0);
+        let Some(d) = self.drive.as_mut() else {
+            return;
+        };
+        d.command(angle, current, &limits);
+        self.run_drive_report();
+    }
+
+    /// Puts what an 8I20 reports in its input fields.
+    fn run_drive_report(&mut self) {
+        let Some(inputs) = self.drive.as_ref().map(EightI20::inputs) else {
+            return;
+        };
+        for (name, v) in inputs {
+            self.set_value(&name, v);
         }
     }
 
@@ -433,6 +567,9 @@ impl SimRemote {
         self.running = true;
         self.tripped = false;
         self.quiet_ns = 0;
+        if let Some(d) = self.drive.as_mut() {
+            d.restart();
+        }
         true
     }
 
@@ -545,10 +682,11 @@ impl SimRemote {
 
     /// Its status bits (reported in the channel's CS register).
     pub fn status(&self) -> u32 {
+        let drive = self.drive.as_ref().map_or(0, EightI20::cs_status);
         if self.tripped {
-            status::WATCHDOG | status::REMOTE_FAULT
+            status::WATCHDOG | status::REMOTE_FAULT | drive
         } else {
-            0
+            drive
         }
     }
 
@@ -576,6 +714,13 @@ impl SimRemote {
                     };
                 }
             }
+        }
+        if !tripped {
+            self.run_drive();
+        }
+        for f in self.fields_mut() {
+            let r = &f.record;
+            let len = r.bits as usize;
             if r.is_in() {
                 let raw = match r.data_type {
                     t::UNSIGNED => data::unsigned_raw(
@@ -601,6 +746,9 @@ impl SimRemote {
     /// Lets `dt_ns` pass: without process data for the watchdog's time
     /// a running card turns every output off.
     pub fn advance(&mut self, dt_ns: u64) {
+        if let Some(d) = self.drive.as_mut() {
+            d.advance(dt_ns);
+        }
         if self.mode.is_none() || self.tripped || !(self.running || self.transfers > 0) {
             return;
         }
@@ -612,6 +760,10 @@ impl SimRemote {
                     f.value = 0.0;
                 }
             }
+            if let Some(d) = self.drive.as_mut() {
+                d.watchdog();
+            }
+            self.run_drive_report();
         }
     }
 }
