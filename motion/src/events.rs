@@ -199,6 +199,35 @@ impl Event {
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
 
+    /// The event a wire word (as the status snapshot carries it) stands
+    /// for; `None` for 0 or a word no event encodes to.
+    pub fn from_word(w: u64) -> Option<Event> {
+        Event::decode(w)
+    }
+
+    /// Whether the event is a fault that stops a running program: a joint
+    /// or spindle fault, a limit, the enable or a misc error input, a
+    /// kinematics failure, a probe contact during a plain move. (Probe
+    /// moves without contact and orient faults are reported by the
+    /// program step that waits for them; jog and homing messages concern
+    /// manual operation.)
+    pub fn stops_a_program(&self) -> bool {
+        matches!(
+            self,
+            Event::JointOnLimit { .. }
+                | Event::JointAmpFault { .. }
+                | Event::JointFollowingError { .. }
+                | Event::EnableInputStopped
+                | Event::MiscError { .. }
+                | Event::SpindleAmpFault { .. }
+                | Event::SoftLimitExceeded { .. }
+                | Event::KinsSwitchFailed { .. }
+                | Event::InverseKinsFailed
+                | Event::NonFiniteJoint { .. }
+                | Event::ProbeTrippedDuringMove
+        )
+    }
+
     fn decode(w: u64) -> Option<Event> {
         let a = ((w >> 32) & 0xff_ffff) as usize;
         let b = w & 0xffff_ffff;
@@ -256,6 +285,10 @@ pub struct EventRing {
     /// Messages read so far.
     tail: AtomicUsize,
     dropped: AtomicU64,
+    /// Messages reported so far, dropped ones included.
+    reported: AtomicU64,
+    /// The last message reported, encoded (0: none yet).
+    last: AtomicU64,
     reader: Mutex<()>,
 }
 
@@ -266,6 +299,8 @@ impl Default for EventRing {
             head: AtomicUsize::new(0),
             tail: AtomicUsize::new(0),
             dropped: AtomicU64::new(0),
+            reported: AtomicU64::new(0),
+            last: AtomicU64::new(0),
             reader: Mutex::new(()),
         }
     }
@@ -284,6 +319,10 @@ impl EventRing {
     /// Adds a message (realtime side; one producer). Drops it if the ring
     /// is full.
     pub fn push(&self, e: Event) {
+        // The count and the last message are what another process sees
+        // (through the status snapshot), whether or not the ring is full.
+        self.last.store(e.encode(), Relaxed);
+        self.reported.fetch_add(1, Release);
         let head = self.head.load(Relaxed);
         if head.wrapping_sub(self.tail.load(Acquire)) >= EVENT_CAPACITY {
             self.dropped.fetch_add(1, Relaxed);
@@ -307,6 +346,13 @@ impl EventRing {
         }
         self.tail.store(tail, Release);
         out
+    }
+
+    /// How many messages were reported so far, and the last one (its
+    /// wire word, see [`Event::from_word`]; 0 before the first).
+    pub fn reported(&self) -> (u64, u64) {
+        let n = self.reported.load(Acquire);
+        (n, self.last.load(Relaxed))
     }
 
     /// How many messages were dropped because the ring was full.
@@ -387,5 +433,25 @@ mod tests {
         assert_eq!(r.dropped(), 5);
         r.push(Event::EnableInputStopped);
         assert_eq!(r.drain(), [Event::EnableInputStopped]);
+    }
+
+    #[test]
+    fn the_count_and_last_event_include_dropped_ones() {
+        let r = EventRing::default();
+        assert_eq!(r.reported(), (0, 0));
+        assert_eq!(Event::from_word(0), None);
+        for j in 0..EVENT_CAPACITY + 2 {
+            r.push(Event::JointAmpFault { joint: j });
+        }
+        let (n, last) = r.reported();
+        assert_eq!(n, EVENT_CAPACITY as u64 + 2);
+        assert_eq!(
+            Event::from_word(last),
+            Some(Event::JointAmpFault {
+                joint: EVENT_CAPACITY + 1
+            })
+        );
+        assert!(Event::JointFollowingError { joint: 0 }.stops_a_program());
+        assert!(!Event::JogStopped { immediate: true }.stops_a_program());
     }
 }

@@ -114,6 +114,11 @@ pub struct MotionStatus {
     pub last: LastCommand,
     /// Commands answered through the channel.
     pub served: u64,
+    /// Messages the controller reported since it loaded (LinuxCNC's
+    /// error messages: faults, limits, probe and jog messages).
+    pub events_reported: u64,
+    /// The last of them, if any.
+    pub last_event: Option<crate::events::Event>,
     /// The free-mode SCALE.
     pub scale: f64,
     /// Joints whose hard limits are overridden.

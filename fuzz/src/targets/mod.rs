@@ -41,6 +41,7 @@ crate::register_targets! {
     tool_table,
     task_state,
     twopass_loadrt,
+    old_format_config,
     comp_file,
     part_program,
     rs274ngc_program,

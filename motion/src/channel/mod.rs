@@ -26,6 +26,10 @@
 //! 4..=27 up to 24 float arguments (unused ones zero; a pose is nine of
 //! them), 28..=30 reserved (zero), 31 checksum.
 //!
+//! Status header words 10 and 11: how many messages the controller
+//! reported (see [`crate::Event`]) and the last one's wire word, so a
+//! client in another process sees faults as they happen.
+//!
 //! Answer record: 0 version ([`REPLY_VERSION`]), 1 serial, 2 result code
 //! (0 accepted, else [`reject_code`]), 3 and 4 integer details, 5..=7
 //! float details, 8 checksum.

@@ -113,6 +113,9 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     out[7] = core.scale().to_bits();
     out[8] = core.override_limit_mask() as u64;
     out[9] = served;
+    let (reported, last_event) = core.events().reported();
+    out[10] = reported;
+    out[11] = last_event;
     // Read through references: this runs every servo cycle.
     for j in 0..n {
         let s = core.joint_ref(j);
@@ -372,6 +375,8 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         scale: f(7),
         override_mask: w[8],
         served: w[9],
+        events_reported: w[10],
+        last_event: crate::events::Event::from_word(w[11]),
         joints,
         axes,
         traj: decode_traj(&w[TRAJ_START..])?,

@@ -213,6 +213,15 @@ pub(crate) fn all_commands() -> Vec<Command> {
             angle: 92.5,
             mode: 2,
         },
+        Command::SetFeedPerRev {
+            spindle: 1,
+            per_rev: 0.25,
+        },
+        Command::SpindleCss {
+            spindle: 0,
+            factor: 31830.98,
+            x_offset: -2.5,
+        },
         Command::SetDout {
             index: 63,
             on: true,
@@ -236,11 +245,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_66_is_used() {
+fn every_opcode_from_1_to_68_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=66).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=68).collect::<Vec<_>>());
 }
 
 #[test]
@@ -306,7 +315,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 67, 1000, u64::MAX] {
+    for op in [0u64, 69, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(

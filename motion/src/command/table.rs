@@ -547,6 +547,37 @@ commands! {
             angle: num(1, "DEGREES"),
             mode: int(2, "MODE"),
         };
+        /// Feed per revolution (G95; LinuxCNC's SET_SPINDLESYNC in
+        /// velocity mode): the feed moves queued after it move `per_rev`
+        /// machine units per revolution of `spindle`, their speed following
+        /// `spindle.N.speed-in` (revolutions per second) each period; 0
+        /// ends it (units per minute again).
+        SetFeedPerRev {
+            /// The spindle followed.
+            [slot] spindle: i32,
+            /// Machine units per revolution (0: off).
+            per_rev: f64,
+        } = 67, cli planner "feed-per-rev" {
+            spindle: int(0, "SPINDLE"),
+            per_rev: num(1, "UNITS-PER-REV"),
+        };
+        /// Constant surface speed (G96): while `spindle` turns, its speed
+        /// is `factor / |X - x_offset|` rpm (X the commanded machine
+        /// position, `x_offset` where the spindle axis is), at most the
+        /// speed of its SPINDLE_ON (the G96 D limit), in that direction;
+        /// `factor` 0 ends it (the SPINDLE_ON speed again).
+        SpindleCss {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+            /// Surface speed over 2π: machine units per minute.
+            factor: f64,
+            /// The machine X of the spindle axis.
+            x_offset: f64,
+        } = 68, cli planner "spindle-css" {
+            spindle: int(0, "SPINDLE"),
+            factor: num(1, "FACTOR"),
+            x_offset: num(2, "X-OFFSET"),
+        };
 
         // ---- Digital and analog outputs ----
 

@@ -20,6 +20,7 @@ impl MotionCore {
             feed_inhibit: self.inputs.feed_inhibit,
             max_feed_override: self.max_feed_override,
             spindle_at_speed: self.spindles_at_speed(),
+            spindle_rps: self.inputs.spindle_speed_in,
         }
     }
 

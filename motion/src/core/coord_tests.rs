@@ -46,7 +46,7 @@ impl Sim {
     }
 
     /// Runs until the queue is done; returns each period's joint commands.
-    fn run_queue(&mut self, limit: usize) -> Vec<[f64; 3]> {
+    pub(super) fn run_queue(&mut self, limit: usize) -> Vec<[f64; 3]> {
         let mut out = Vec::new();
         for _ in 0..limit {
             self.cycle();

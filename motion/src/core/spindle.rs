@@ -31,6 +31,11 @@ pub struct Spindle {
     pub orient_mode: i32,
     /// `spindle.N.orient-fault` when the last orientation failed.
     pub orient_fault: i32,
+    /// Constant surface speed (G96): rpm times radius, machine units
+    /// (0: off; `speed` is then the speed, else its limit).
+    pub css_factor: f64,
+    /// The machine X of the spindle axis, for the radius.
+    pub css_x_offset: f64,
 }
 
 /// Where a spindle orientation (M19) is, as LinuxCNC's motion reports it.
@@ -58,6 +63,8 @@ impl Default for Spindle {
             orient_angle: 0.0,
             orient_mode: 0,
             orient_fault: 0,
+            css_factor: 0.0,
+            css_x_offset: 0.0,
         }
     }
 }
@@ -118,6 +125,62 @@ impl MotionCore {
         }
         self.atspeed_next_feed = wait;
         Ok(())
+    }
+
+    /// Constant surface speed on (`factor` > 0) or off (0) for `spindle`
+    /// (−1: every one).
+    pub(super) fn spindle_css(
+        &mut self,
+        spindle: i32,
+        factor: f64,
+        x_offset: f64,
+    ) -> CommandResult {
+        let range = self.spindle_range(spindle)?;
+        let factor = Self::non_negative(Quantity::SurfaceSpeed, factor)?;
+        let x_offset = Self::finite(Quantity::SurfaceSpeed, x_offset)?;
+        for s in &mut self.spindles[range] {
+            s.css_factor = factor;
+            s.css_x_offset = x_offset;
+        }
+        Ok(())
+    }
+
+    /// Feed per revolution of the moves queued next: `per_rev` machine
+    /// units per revolution of `spindle` (0: off).
+    pub(super) fn set_feed_per_rev(&mut self, spindle: i32, per_rev: f64) -> CommandResult {
+        let per_rev = Self::non_negative(Quantity::FeedPerRev, per_rev)?;
+        let range = self.spindle_range(spindle)?;
+        // One spindle: −1 (every spindle) means nothing here.
+        if spindle < 0 {
+            return Err(Reject::NoSuchSpindle {
+                spindle,
+                num_spindles: self.cfg.num_spindles,
+            });
+        }
+        let follow = (per_rev > 0.0).then_some(crate::tp::FeedPerRev {
+            spindle: range.start,
+            per_rev,
+        });
+        self.tp.set_feed_per_rev(follow);
+        Ok(())
+    }
+
+    /// The speed spindle `n` is commanded now, rpm, signed: its SPINDLE_ON
+    /// speed or, with constant surface speed, the speed for the commanded
+    /// X radius, at most the SPINDLE_ON speed.
+    pub fn spindle_speed_now(&self, n: usize) -> f64 {
+        let s = &self.spindles[n];
+        if s.css_factor <= 0.0 {
+            return s.speed;
+        }
+        let limit = s.speed.abs();
+        let radius = (self.carte_pos_cmd.0[0] - s.css_x_offset).abs();
+        let rpm = if radius > 0.0 {
+            (s.css_factor / radius).min(limit)
+        } else {
+            limit
+        };
+        rpm.copysign(s.speed)
     }
 
     /// SPINDLE_OFF: stop, brake applied.
@@ -260,10 +323,11 @@ impl MotionCore {
             1.0
         };
         let on = s.on && s.speed != 0.0 && scale != 0.0;
+        let commanded = self.spindle_speed_now(n);
         let speed = if !on || self.inputs.spindle_inhibit[n] {
             0.0
         } else {
-            s.speed * scale
+            commanded * scale
         };
         SpindleOutput {
             on,
@@ -271,7 +335,7 @@ impl MotionCore {
             reverse: on && s.speed < 0.0,
             brake: s.brake,
             speed,
-            cmd_rps: if s.on { s.speed / 60.0 } else { 0.0 },
+            cmd_rps: if s.on { commanded / 60.0 } else { 0.0 },
             orient: s.orient == OrientState::InProgress,
             locked: s.orient == OrientState::Complete,
             orient_angle: s.orient_angle,

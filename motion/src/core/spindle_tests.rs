@@ -204,3 +204,98 @@ fn an_orient_fault_fails_the_orientation_with_an_error() {
         "fault 7 during orient in progress"
     );
 }
+
+#[test]
+fn feed_per_revolution_follows_the_spindle_speed_feedback() {
+    let mut s = xyz();
+    s.coord();
+    s.cmd(Command::SetFeedPerRev {
+        spindle: 0,
+        per_rev: 0.5,
+    })
+    .unwrap();
+    // The programmed speed of the move is not used: 0.5 per revolution
+    // at 10 rev/s is 5 u/s.
+    s.cmd(line(40.0, 0.0, 1.0, 1)).unwrap();
+    s.m.inputs.spindle_speed_in[0] = 10.0;
+    s.run(300);
+    assert!((s.m.planner().current_vel - 5.0).abs() < 1e-9);
+    // Turning in reverse counts the same; slower, slower feed.
+    s.m.inputs.spindle_speed_in[0] = -4.0;
+    s.run(300);
+    assert!((s.m.planner().current_vel - 2.0).abs() < 1e-9);
+    // No spindle speed, no feed.
+    s.m.inputs.spindle_speed_in[0] = 0.0;
+    s.run(300);
+    assert_eq!(s.m.planner().current_vel, 0.0);
+    // Faster than the axes allow: held to their limit (10 u/s).
+    s.m.inputs.spindle_speed_in[0] = 100.0;
+    s.run(300);
+    assert!((s.m.planner().current_vel - 10.0).abs() < 1e-9);
+    s.run_queue(100_000);
+    // Off again: the next move runs at its programmed speed.
+    s.cmd(Command::SetFeedPerRev {
+        spindle: 0,
+        per_rev: 0.0,
+    })
+    .unwrap();
+    s.cmd(line(0.0, 0.0, 3.0, 2)).unwrap();
+    s.run(300);
+    assert!((s.m.planner().current_vel - 3.0).abs() < 1e-9);
+    assert_eq!(
+        s.cmd(Command::SetFeedPerRev {
+            spindle: -1,
+            per_rev: 1.0
+        }),
+        Err(Reject::NoSuchSpindle {
+            spindle: -1,
+            num_spindles: 1
+        })
+    );
+    assert!(matches!(
+        s.cmd(Command::SetFeedPerRev {
+            spindle: 0,
+            per_rev: -1.0
+        }),
+        Err(Reject::BadValue {
+            what: Quantity::FeedPerRev,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn constant_surface_speed_follows_the_x_radius_up_to_the_limit() {
+    let mut s = xyz();
+    s.coord();
+    let css = |factor| Command::SpindleCss {
+        spindle: 0,
+        factor,
+        x_offset: -5.0,
+    };
+    s.cmd(css(1000.0)).unwrap();
+    s.cmd(on(-800.0, false)).unwrap();
+    s.cycle();
+    // X 0 is 5 from the spindle axis: 200 rpm, in reverse.
+    assert!((s.m.spindle_output(0).speed + 200.0).abs() < 1e-9);
+    s.cmd(line(15.0, 0.0, 10.0, 1)).unwrap();
+    s.run_queue(100_000);
+    assert!((s.m.spindle_output(0).speed + 50.0).abs() < 1e-9);
+    // On the axis: the limit (the SPINDLE_ON speed).
+    s.cmd(line(-5.0, 0.0, 10.0, 2)).unwrap();
+    s.run_queue(100_000);
+    assert_eq!(s.m.spindle_output(0).speed, -800.0);
+    assert!((s.m.spindle_output(0).cmd_rps + 800.0 / 60.0).abs() < 1e-9);
+    // Off: the SPINDLE_ON speed.
+    s.cmd(css(0.0)).unwrap();
+    s.cmd(line(15.0, 0.0, 10.0, 3)).unwrap();
+    s.run_queue(100_000);
+    assert_eq!(s.m.spindle_output(0).speed, -800.0);
+    assert!(matches!(
+        s.cmd(css(f64::NAN)),
+        Err(Reject::BadValue {
+            what: Quantity::SurfaceSpeed,
+            ..
+        })
+    ));
+}

@@ -84,6 +84,10 @@ impl Planner {
             step_stop: false,
             atspeed,
             sync: false,
+            per_rev: match kind {
+                SegmentKind::Feed | SegmentKind::Arc => self.feed_per_rev,
+                _ => None,
+            },
         };
         seg.sync = self.sync_io.attach();
         self.goal = *end;
@@ -219,6 +223,7 @@ impl Planner {
             step_stop: false,
             atspeed: false,
             sync: false,
+            per_rev: prev.per_rev.or(seg.per_rev),
         };
         // Remember what may change, to put it back if the executor could
         // not follow.

@@ -30,16 +30,28 @@ fn brake_speed(d: f64, c: f64, a: f64, t: f64) -> f64 {
 impl Planner {
     /// The speed a segment asks for at scale `scale` (soft; 0 while
     /// paused or aborting).
-    fn target_speed(&self, seg: &Segment, scale: f64) -> f64 {
+    fn target_speed(&self, seg: &Segment, scales: &ScaleInputs, scale: f64) -> f64 {
         if self.paused || self.aborting {
             return 0.0;
         }
         let vmax = seg.budget.vmax;
         if seg.kind == SegmentKind::Traverse {
-            vmax * scale.min(1.0)
-        } else {
-            (seg.req_vel * scale).min(vmax)
+            return vmax * scale.min(1.0);
         }
+        let req = match seg.per_rev {
+            // G95: the path speed follows the spindle's measured speed,
+            // whichever way it turns.
+            Some(f) => {
+                let rps = scales.spindle_rps.get(f.spindle).copied().unwrap_or(0.0);
+                if rps.is_finite() {
+                    f.per_rev * rps.abs()
+                } else {
+                    0.0
+                }
+            }
+            None => seg.req_vel,
+        };
+        (req * scale).min(vmax)
     }
 
     /// The acceleration the executing segment brakes with: its own, or
@@ -100,12 +112,12 @@ impl Planner {
         }
         let scale = scales.net(head.enables, head.kind == SegmentKind::Traverse);
         self.net_scale = scale;
-        let vt = self.target_speed(&head, scale);
+        let vt = self.target_speed(&head, scales, scale);
         self.requested_vel = vt;
         let next_vt = match self.queue.get(1) {
             Some(next) if next.kind != SegmentKind::Dwell => {
                 let s = scales.net(next.enables, next.kind == SegmentKind::Traverse);
-                self.target_speed(next, s)
+                self.target_speed(next, scales, s)
             }
             _ => 0.0,
         };
@@ -387,11 +399,11 @@ impl Planner {
                     self.start_head();
                     self.exec_id = next.id;
                     let s = scales.net(next.enables, next.kind == SegmentKind::Traverse);
-                    let vt = self.target_speed(&next, s).max(vf);
+                    let vt = self.target_speed(&next, scales, s).max(vf);
                     let after = match self.queue.get(1) {
                         Some(n2) if n2.kind != SegmentKind::Dwell => {
                             let s2 = scales.net(n2.enables, n2.kind == SegmentKind::Traverse);
-                            self.target_speed(n2, s2)
+                            self.target_speed(n2, scales, s2)
                         }
                         _ => 0.0,
                     };

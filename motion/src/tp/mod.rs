@@ -50,7 +50,7 @@ mod trapezoid;
 use std::collections::VecDeque;
 
 pub use budget::{AxisLimits, PlannerType, TrajLimits};
-pub use segment::SegmentKind;
+pub use segment::{FeedPerRev, SegmentKind};
 
 use crate::command::{LineKind, ProbeType, Reject, TermCond};
 use crate::kins::Pose;
@@ -80,6 +80,9 @@ pub struct ScaleInputs {
     /// Every running spindle is at speed (`spindle.N.at-speed`): a
     /// segment queued behind a spindle start waits for it.
     pub spindle_at_speed: bool,
+    /// Each spindle's `speed-in`, revolutions per second (feed per
+    /// revolution follows it).
+    pub spindle_rps: [f64; crate::sizes::MAX_SPINDLES],
 }
 
 impl Default for ScaleInputs {
@@ -92,6 +95,7 @@ impl Default for ScaleInputs {
             feed_inhibit: false,
             max_feed_override: 1.0,
             spindle_at_speed: true,
+            spindle_rps: [0.0; crate::sizes::MAX_SPINDLES],
         }
     }
 }
@@ -196,6 +200,8 @@ pub struct Planner {
     waiting_for_atspeed: bool,
     /// The executing segment has started (its output changes written).
     head_started: bool,
+    /// The feed per revolution of the feed moves queued next (G95).
+    feed_per_rev: Option<FeedPerRev>,
     /// Outputs changed in step with the queue (M62, M63, M67) and
     /// their values.
     sync_io: sync_io::SyncIo,
@@ -242,6 +248,7 @@ impl Planner {
             atspeed_pending: false,
             waiting_for_atspeed: false,
             head_started: false,
+            feed_per_rev: None,
             sync_io: sync_io::SyncIo::default(),
         }
     }
@@ -319,11 +326,18 @@ impl Planner {
         self.requested_vel = 0.0;
         self.waiting_for_atspeed = false;
         self.head_started = false;
+        self.feed_per_rev = None;
         self.sync_io.clear();
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
             self.planner = p;
         }
+    }
+
+    /// Sets the feed per revolution of the feed moves queued next (`None`:
+    /// units per minute again).
+    pub fn set_feed_per_rev(&mut self, per_rev: Option<FeedPerRev>) {
+        self.feed_per_rev = per_rev;
     }
 
     /// Sets the termination condition of the segments queued next.
@@ -594,6 +608,7 @@ impl Planner {
             step_stop: false,
             atspeed: false,
             sync: false,
+            per_rev: None,
         };
         seg.sync = self.sync_io.attach();
         if let Some(last) = self.queue.back_mut() {

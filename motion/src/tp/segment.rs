@@ -85,6 +85,18 @@ pub(crate) struct Segment {
     pub atspeed: bool,
     /// It carries output changes (M62, M63, M67) written when it starts.
     pub sync: bool,
+    /// Feed per revolution (G95): its speed follows a spindle's
+    /// `speed-in` instead of `req_vel`.
+    pub per_rev: Option<FeedPerRev>,
+}
+
+/// A feed per revolution (LinuxCNC's velocity-mode spindle sync, G95).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FeedPerRev {
+    /// The spindle whose `speed-in` sets the speed.
+    pub spindle: usize,
+    /// Path length per revolution, machine units.
+    pub per_rev: f64,
 }
 
 impl Segment {

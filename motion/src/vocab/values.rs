@@ -60,6 +60,10 @@ coded_enum! {
         AnalogValue = 20 => "analog output value",
         /// A spindle orientation angle (M19 R).
         OrientAngle = 21 => "spindle orientation angle",
+        /// A feed per revolution (G95).
+        FeedPerRev = 22 => "feed per revolution",
+        /// A constant surface speed setting (G96).
+        SurfaceSpeed = 23 => "constant surface speed",
     }
 }
 

@@ -430,3 +430,51 @@ fn peer_millturn_runs() {
     assert_eq!(m.getp("kinstype.is-1"), "FALSE");
     m.stop();
 }
+
+/// LinuxCNC's rolfmill, written before joints and axes were apart
+/// (`[EMC]VERSION = $Revision$`, `[AXIS_n]` sections, `[TRAJ]AXES`,
+/// `axis.N.*` pins): run converted in memory, as LinuxCNC's update_ini
+/// converts it, with halui reading the same conversion; its 3-D view
+/// (a vismach script) is a GUI, not started. Its files stay as they were.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_rolfmill_in_the_old_format_runs_converted() {
+    let rel = "sim/axis/vismach/rolfmill/rolfmill.ini";
+    let (m, copy) = peer_machine(rel, "prolf");
+    assert!(m
+        .halcmd(&["show", "sig", "Xpos"])
+        .contains("==> joint.0.motor-pos-fb"));
+    // [KINS]JOINTS = 3 from COORDINATES = X Y Z.
+    assert_eq!(m.getp("joint.2.motor-pos-fb"), "0");
+    assert!(m
+        .halcmd(&["show", "pin", "halui.machine.is-on"])
+        .contains("halui.machine.is-on"));
+    let err = m.stop();
+    assert!(
+        err.contains("[KINS]KINEMATICS = trivkins coordinates=XYZ, [KINS]JOINTS = 3"),
+        "{err}"
+    );
+    assert!(err.contains("converted in memory"), "{err}");
+    assert!(err.contains("loadusr -W ./rolfmill"), "{err}");
+    let src = std::path::Path::new(env!("HAL_PEER_SAMPLE_CONFIGS")).join(rel);
+    for name in ["rolfmill.ini", "rolfmill.hal"] {
+        assert_eq!(
+            std::fs::read(src.with_file_name(name)).unwrap(),
+            std::fs::read(copy.0.join(name)).unwrap(),
+            "{name} was rewritten"
+        );
+    }
+}
+
+/// LinuxCNC's XHC HB04 pendant demo: the pendant's settings are checked,
+/// and with no pendant driver here the machine starts without it.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_xhc_hb04_starts_without_the_pendant() {
+    let (m, _copy) = peer_machine("sim/axis/xhc-hb04/xhc-hb04-layout2.ini", "pxhc");
+    let err = m.stop();
+    assert!(
+        err.contains("xhc-hb04.tcl: this suite has no driver"),
+        "{err}"
+    );
+}

@@ -87,7 +87,9 @@ fn moves_are_queued_and_programs_run_from_other_processes() {
     let s = wait_status(&inst, "the pause", |s| {
         s.contains("paused") && s.contains("speed 0.000000")
     });
-    assert!(s.contains("line 7"), "{s}");
+    // Paused on the path: in line 7, or (on a loaded machine, where the
+    // pause can come late) in line 8, never past the queue's end.
+    assert!(s.contains("line 7") || s.contains("line 8"), "{s}");
     let (code, out, _) = mcmd(&["line", "9", "5", "X=20"], &inst);
     assert_eq!(code, 1);
     assert!(out.contains("outside its limits"), "{out}");

@@ -256,3 +256,107 @@ fn run_from_a_line_keeps_the_modes_of_the_lines_it_skips() {
     assert!(ok, "{out}{err}\n--- linuxcnc:\n{}", m.stderr());
     m.stop();
 }
+
+#[test]
+fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
+    let s = Scratch::new("task-fault");
+    let ini = mill_copy(&s);
+    let prog = s.write("fault.ngc", "G21 G90\nG0 X1\nG1 X40 F300\nG1 X0\nM2\n");
+    let m = Machine::start(&ini, "task-fault");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    wait_status(&m, "motion line: 3");
+    // X's positive limit switch trips: motion disables itself; task ends
+    // the run at the line that was moving and turns the machine off.
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "TRUE"]);
+    let (ok, out, err) = m.task(&["-t", "30", "wait-done"]);
+    assert!(!ok, "{out}");
+    assert!(
+        err.contains("fault.ngc:3: joint 0 on limit switch error"),
+        "{err}\n--- linuxcnc:\n{}",
+        m.stderr()
+    );
+    let status = wait_status(&m, "state: OFF");
+    assert!(status.contains("interp: IDLE"), "{status}");
+    assert!(status.contains("mode: MANUAL"), "{status}");
+    let stopped = pos(&m, 0);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 0), stopped, "{status}");
+    assert!(stopped > 1.0 && stopped < 40.0, "{stopped}");
+    let needle = "disabled itself (last reported: joint 0 on limit switch error)";
+    assert!(m.stderr_with(needle).contains(needle), "{}", m.stderr());
+    // A following error during an MDI line: Y's feedback is cut.
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["mode", "mdi"]);
+    m.halcmd(&["unlinkp", "joint.1.motor-pos-fb"]);
+    m.task_ok(&["mdi", "G1", "Y30", "F300"]);
+    let (ok, out, err) = m.task(&["-t", "30", "wait-done"]);
+    assert!(!ok, "{out}");
+    assert!(
+        err.contains("MDI 'G1 Y30 F300': joint 1 following error"),
+        "{err}\n--- linuxcnc:\n{}",
+        m.stderr()
+    );
+    let status = wait_status(&m, "state: OFF");
+    let stopped = pos(&m, 1);
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert_eq!(pos(&m, 1), stopped, "{status}");
+    assert!(stopped < 30.0, "{stopped}");
+    m.stop();
+}
+
+/// Polls pin `name` until it is within 1e-3 of `want` (10 s at most).
+fn wait_near(m: &Machine, name: &str, want: f64) {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    loop {
+        let got: f64 = m.getp(name).parse().unwrap();
+        if (got - want).abs() < 1e-3 {
+            return;
+        }
+        assert!(
+            std::time::Instant::now() < end,
+            "{name} is {got}, not {want}\n{}",
+            m.task_ok(&["status"])
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn feed_per_revolution_follows_speed_in_and_surface_speed_follows_x() {
+    let s = Scratch::new("task-g95");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-g95");
+    ready(&m);
+    m.task_ok(&["mode", "mdi"]);
+    // G95: 0.2 mm per revolution at 10 rev/s is 2 mm/s, at 5 rev/s 1 mm/s.
+    m.halcmd(&["setp", "spindle.0.speed-in", "10"]);
+    m.task_ok(&["mdi", "G21", "G90", "G95", "M3", "S600"]);
+    m.task_ok(&["mdi", "G1", "X30", "F0.2"]);
+    wait_near(&m, "motion.current-vel", 2.0);
+    m.halcmd(&["setp", "spindle.0.speed-in", "5"]);
+    wait_near(&m, "motion.current-vel", 1.0);
+    m.task_ok(&["abort"]);
+    let _ = m.task(&["-t", "30", "wait-done"]);
+    m.task_ok(&["mdi", "G94", "G0", "X10"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    // G96: 30 m/min at a radius of 10 mm is 477.46 rpm; at 2 mm it would
+    // be 2387 rpm, over the D limit of 1000.
+    m.task_ok(&["mdi", "G96", "D1000", "S30", "M3"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    wait_near(
+        &m,
+        "spindle.0.speed-out",
+        30_000.0 / std::f64::consts::TAU / 10.0,
+    );
+    m.task_ok(&["mdi", "G0", "X2"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    wait_near(&m, "spindle.0.speed-out", 1000.0);
+    m.task_ok(&["mdi", "G97", "S300"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    wait_near(&m, "spindle.0.speed-out", 300.0);
+    m.stop();
+}

@@ -13,6 +13,7 @@ use hal_lang::lexer::tokenize;
 use hal_lang::Session;
 
 use crate::halfiles::{HalFile, SearchPath};
+use crate::old_format::HalRenames;
 use crate::rules::{Phase, Rules};
 use crate::LaunchError;
 
@@ -28,6 +29,8 @@ pub struct HalSide<'a> {
     pub keep_going: bool,
     /// Say what is done.
     pub verbose: bool,
+    /// The pin renames of an old-format configuration, for its own files.
+    pub renames: Option<&'a HalRenames>,
 }
 
 impl HalSide<'_> {
@@ -185,7 +188,21 @@ impl HalSide<'_> {
                 let text = hal_lang::lexer::read_text(&f.path)
                     .map_err(|e| LaunchError::read(&f.path, e))?;
                 let name = f.display_name();
-                if session.run_text(Some(&name), &text) {
+                let renames = self.renames.filter(|_| !self.search.in_library(&f.path));
+                let ok = match renames {
+                    None => session.run_text(Some(&name), &text),
+                    Some(r) => {
+                        let (lines, changed) = r.convert_text(&text);
+                        if changed > 0 {
+                            eprintln!(
+                                "linuxcnc: note: {name}: {changed} line(s) read with the \
+                                 current pin names (old-format configuration)"
+                            );
+                        }
+                        session.run_lines(Some(&name), &lines)
+                    }
+                };
+                if ok {
                     Ok(())
                 } else {
                     Err(failed())

@@ -94,6 +94,12 @@ pub struct SearchPath {
 }
 
 impl SearchPath {
+    /// Whether `path` is in the library of standard HAL files (which are
+    /// in the current format, whatever the machine's INI file says).
+    pub fn in_library(&self, path: &Path) -> bool {
+        self.lib.as_ref().is_some_and(|lib| path.starts_with(lib))
+    }
+
     /// Finds the file an INI entry names.
     pub fn resolve(&self, entry: &Entry) -> Result<HalFile, LaunchError> {
         let mut words = entry.value.split_whitespace();

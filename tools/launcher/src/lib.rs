@@ -17,6 +17,7 @@ pub mod halui;
 mod iocontrol;
 mod machine;
 mod motion_setup;
+mod old_format;
 pub mod part_program;
 mod program;
 mod rules;
@@ -32,7 +33,7 @@ mod twopass;
 pub use error::LaunchError;
 pub use machine::{
     asks_for_twopass, load_ini, parse_args, report_skipped, run, run_twopass, search_path,
-    start_hal_side, HalStartup, Options, USAGE,
+    HalStartup, Options, USAGE,
 };
 pub use program::{ProgramConfig, ProgramError, RunState};
 pub use rules::Rules;
@@ -44,6 +45,7 @@ pub use task_socket::{request, TaskAnswer, TaskClientError};
 pub mod fuzz {
     pub use crate::halui::fuzz_state as task_state;
     pub use crate::iocontrol::tooltable::fuzz_parse as tool_table;
+    pub use crate::old_format::fuzz_convert as old_format_config;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;
 }

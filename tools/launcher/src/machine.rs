@@ -31,6 +31,7 @@ use crate::error::LaunchError;
 use crate::hal_side::HalSide;
 use crate::halfiles::SearchPath;
 use crate::iocontrol::{IoControl, IoPins, ToolTable};
+use crate::old_format::HalRenames;
 use crate::rules::Rules;
 use crate::task_pins::TaskPins;
 
@@ -246,6 +247,7 @@ pub fn start_hal_side(
     session: &mut Session<'_>,
     ini: &Ini,
     opts: &Options,
+    renames: Option<&HalRenames>,
 ) -> Result<HalStartup, LaunchError> {
     let rules = Rc::new(RefCell::new(Rules::default()));
     if let Some(display) = ini.get("DISPLAY", "DISPLAY") {
@@ -305,6 +307,7 @@ pub fn start_hal_side(
         rules: rules.clone(),
         keep_going: opts.keep_going,
         verbose: opts.verbose,
+        renames,
     };
     side.halfiles(session)?;
     side.halcmds(session)?;
@@ -334,6 +337,7 @@ pub fn run_twopass(
         rules,
         keep_going: opts.keep_going,
         verbose: opts.verbose,
+        renames: None,
     };
     side.halfiles(session)
 }
@@ -469,6 +473,16 @@ pub fn run(opts: &Options) -> i32 {
 
 fn run_machine(opts: &Options) -> Result<(), LaunchError> {
     let ini = load_ini(&opts.ini_path)?;
+    // A configuration for an older LinuxCNC runs converted, as
+    // LinuxCNC's script runs update_ini on it; its files stay as they are.
+    let converted = crate::old_format::convert(&ini, &search_path(&ini, &opts.halfile_dirs))?;
+    if let Some(c) = &converted {
+        crate::old_format::announce(c, &opts.ini_path);
+    }
+    let (ini, renames) = match converted {
+        Some(c) => (c.ini, Some(c.renames)),
+        None => (ini, None),
+    };
     let instance = hal_core::instance_from_env();
     eprintln!(
         "Machine configuration directory is '{}'",
@@ -483,7 +497,7 @@ fn run_machine(opts: &Options) -> Result<(), LaunchError> {
     );
     let signals = hal_core::userspace::ExitSignals::install()?;
     let mut host = hal_lang::host_process::start_host_own_group(&instance)?;
-    let result = run_on_host(&ini, opts, &instance, &signals);
+    let result = run_on_host(&ini, renames.as_ref(), opts, &instance, &signals);
     if let Err(e) = hal_lang::host_process::stop_host(&instance, Duration::from_secs(20)) {
         eprintln!("linuxcnc: stopping the HAL host: {e}");
         let _ = host.kill();
@@ -494,6 +508,7 @@ fn run_machine(opts: &Options) -> Result<(), LaunchError> {
 
 fn run_on_host(
     ini: &Ini,
+    renames: Option<&HalRenames>,
     opts: &Options,
     instance: &str,
     signals: &hal_core::userspace::ExitSignals,
@@ -515,8 +530,8 @@ fn run_on_host(
     }
     // LinuxCNC's order: halui starts before the HAL files, which may
     // connect its pins.
-    let startup =
-        start_halui(&mut session, ini).and_then(|()| start_hal_side(&mut session, ini, opts));
+    let startup = start_halui(&mut session, ini)
+        .and_then(|()| start_hal_side(&mut session, ini, opts, renames));
     if signals.requested() {
         return Err(LaunchError::StoppedDuringStart);
     }
@@ -545,6 +560,7 @@ fn run_on_host(
         rules: startup.rules.clone(),
         keep_going: opts.keep_going,
         verbose: opts.verbose,
+        renames,
     };
     side.files_of(&mut session, "POSTGUI_HALFILE")?;
     start_halweb(&mut session, ini)?;

@@ -130,6 +130,44 @@ fn is_gui_program(program: &str) -> bool {
     GUI_PROGRAMS.contains(&program) || program == "vismach" || program.ends_with("gui")
 }
 
+/// Python modules that only a program with a window imports: vismach
+/// (a machine's own 3-D view), GTK, Tk and Qt.
+const GUI_MODULES: &[&str] = &[
+    "vismach", "gtk", "gobject", "gi", "tkinter", "Tkinter", "PyQt5", "PyQt6", "qtvcp",
+];
+
+/// Whether `program` (as a `loadusr` names it) is a machine's own GUI
+/// program: a Python script beside the configuration that imports a
+/// module of [`GUI_MODULES`] (LinuxCNC's rolfmill starts its 3-D view with
+/// `loadusr -W ./rolfmill`, craftsman its tool change dialog with
+/// `loadusr -W ./craftsman_toolchange`). Only a file named by a path, or
+/// found in the working directory (the INI file's), is looked at, and
+/// only its first 64 KiB.
+fn is_gui_script(program: &str) -> bool {
+    let path = std::path::Path::new(program);
+    if !path.is_file() {
+        return false;
+    }
+    let Ok(text) = hal_core::files::read_user_text(path, 64 << 10, "program") else {
+        // Larger than a script, or not readable: not a GUI script.
+        return false;
+    };
+    text.lines().any(|line| {
+        let line = line.trim_start();
+        let modules = if let Some(rest) = line.strip_prefix("from ") {
+            rest.split_whitespace().next().unwrap_or("")
+        } else if let Some(rest) = line.strip_prefix("import ") {
+            rest.split('#').next().unwrap_or("")
+        } else {
+            return false;
+        };
+        modules
+            .split(',')
+            .map(|m| m.trim().split(['.', ' ']).next().unwrap_or(""))
+            .any(|m| GUI_MODULES.contains(&m))
+    })
+}
+
 /// The HAL component a GUI panel command creates (`[DISPLAY]GLADEVCP`,
 /// `[DISPLAY]EMBED_TAB_COMMAND`): the name given with `-c` or `-Wn`, else
 /// `gladevcp` for a GladeVCP panel, else the screen name a QtVCP panel is
@@ -201,7 +239,7 @@ impl Rules {
                 let spec = usr::parse(&args).ok()?;
                 let program = base(&spec.program);
                 let nogui = spec.args.iter().any(|a| a == "--nogui");
-                if !is_gui_program(program) || nogui {
+                if !(is_gui_program(program) || is_gui_script(&spec.program)) || nogui {
                     return None;
                 }
                 // pyvcp and gladevcp name their component with -c.
@@ -332,6 +370,37 @@ mod tests {
                 "{command}"
             );
         }
+    }
+
+    #[test]
+    fn a_script_that_imports_a_gui_toolkit_is_a_gui() {
+        let dir = std::env::temp_dir().join(format!("rules-gui-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scripts = [
+            (
+                "mill",
+                "#!/usr/bin/env python3\nfrom vismach import *\n",
+                true,
+            ),
+            ("dialog", "import sys, os \nimport gettext, gobject\n", true),
+            ("panel", "from gi.repository import Gtk\n", true),
+            ("helper", "#!/bin/sh\nexec halcmd show\n", false),
+            (
+                "worker",
+                "import hal, time  # no window\nfrom math import pi\n",
+                false,
+            ),
+        ];
+        for (name, text, gui) in scripts {
+            std::fs::write(dir.join(name), text).unwrap();
+            assert_eq!(
+                is_gui_script(&dir.join(name).display().to_string()),
+                gui,
+                "{name}"
+            );
+        }
+        assert!(!is_gui_script(&dir.join("absent").display().to_string()));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

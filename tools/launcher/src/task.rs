@@ -396,7 +396,11 @@ impl Task {
         }
         match (self.state == MachineState::On, status.enabled) {
             (true, false) => {
-                eprintln!("task: the motion controller disabled itself: machine off");
+                let why = status
+                    .last_event
+                    .filter(motion::Event::stops_a_program)
+                    .map_or(String::new(), |e| format!(" (last reported: {e})"));
+                eprintln!("task: the motion controller disabled itself{why}: machine off");
                 self.state = MachineState::Off;
                 self.stop_program();
             }

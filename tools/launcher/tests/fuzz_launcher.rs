@@ -1,10 +1,11 @@
 //! The parsers of the launcher's input files never panic, whatever the
 //! bytes: INI files (with #INCLUDE), tool tables, TWOPASS's loadrt
-//! gathering. Their bodies are the `fuzz_*` functions of the crate, for
+//! gathering, the update of old-format configurations. Their bodies are the `fuzz_*` functions of the crate, for
 //! the fuzz/ targets; here 10^5 cases each on stable, built from the
 //! tokens that matter to each parser.
 
 use hal_lang::ini::fuzz_parse as ini_fuzz;
+use hal_launcher::fuzz::old_format_config as old_format_fuzz;
 use hal_launcher::fuzz::tool_table as tooltable_fuzz;
 use hal_launcher::fuzz::twopass_loadrt as fuzz_gather;
 use proptest::prelude::*;
@@ -132,6 +133,52 @@ proptest! {
     }
 }
 
+/// Pieces of old-format INI and HAL files (one text serves as both).
+const OLD_FORMAT: &[&str] = &[
+    "[EMC]\nVERSION = $Revision$\n",
+    "[EMC]\nVERSION = 1.0\n",
+    "[TRAJ]\n",
+    "COORDINATES = ",
+    "AXES = ",
+    "[AXIS_0]\n",
+    "[AXIS_2]\n",
+    "[JOINT_1]\n",
+    "[KINS]\nJOINTS = 2\n",
+    "HOME_SEQUENCE = ",
+    "LOCKING_INDEXER = 1\n",
+    "[RS274NGC]\nFEATURES = ",
+    "MAX_VELOCITY = 5\n",
+    "loadrt trivkins coordinates=",
+    "loadrt gantrykins\n",
+    "setp gantrykins.joint-",
+    "setp axis.0.jog-scale 1\n",
+    "net s axis.2.joint-pos-fb ",
+    "halui.jog.1.plus ",
+    "halui.joint.2.home ",
+    "motion.spindle-on ",
+    "[AXIS_2]SCALE",
+    "num_joints=[TRAJ]AXES",
+    "servo_period_nsec=1 ",
+    "XYZ",
+    "X Y Y Z",
+    "\\\n",
+    "#",
+    "\n",
+    " ",
+    "0",
+    "9",
+    "-1",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 5_000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn old_format_updates_never_panic(text in texts(OLD_FORMAT, 40)) {
+        old_format_fuzz(text.as_bytes());
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 20_000, failure_persistence: None, ..ProptestConfig::default() })]
 
@@ -140,5 +187,6 @@ proptest! {
         ini_fuzz(&bytes);
         tooltable_fuzz(&bytes);
         fuzz_gather(&bytes);
+        old_format_fuzz(&bytes);
     }
 }

@@ -7,9 +7,15 @@
 //! Modes: `single` and `normal` wait for the trigger (the page asks again
 //! after each record in normal mode); `auto` waits [`AUTO_WAIT`] for the
 //! trigger, then takes a record at once.
+//!
+//! The sampler a capture of pins loads stays between records of the same
+//! pins ([`Kept`]), so a page in normal mode does not load, link and
+//! remove a sampler ten times a second; it is removed when another
+//! source is asked for, after [`KEEP_IDLE`] without a record, on a failed
+//! record and when the server stops.
 
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use axum::extract::State;
 use axum::http::{header, StatusCode};
@@ -19,6 +25,7 @@ use hal_core::Instance;
 use hal_scope::scope::args::{Args, Request, Source};
 use hal_scope::scope::capture::numeric;
 use hal_scope::scope::output::{csv as record_csv, Record};
+use hal_scope::scope::Session;
 use hal_scope::ScopeError;
 use serde::Deserialize;
 use serde_json::{json, Value as JsonValue};
@@ -36,6 +43,25 @@ pub const MAX_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// How long auto mode waits for the trigger before it records anyway.
 pub const AUTO_WAIT: Duration = Duration::from_millis(500);
+
+/// How long a sampler stays loaded after its last record.
+pub const KEEP_IDLE: Duration = Duration::from_secs(2);
+
+/// The capture session kept between records, and when it last recorded.
+pub struct Kept {
+    session: Session,
+    used: Instant,
+}
+
+impl Kept {
+    /// Removes the session's sampler.
+    pub fn close(self) -> Result<(), ScopeError> {
+        self.session.close()
+    }
+}
+
+/// The kept session, if any (locked for the length of a capture).
+pub type KeptSession = Mutex<Option<Kept>>;
 
 /// A capture request, in halscope's words: `{"pins": ["a", "b"],
 /// "thread": "servo-thread", "trigger": "a:rising:0.5", "samples": 1000,
@@ -123,22 +149,60 @@ pub fn plan(req: ScopeRequest) -> Result<Plan, WebError> {
     })
 }
 
-/// Takes one record as `plan` asks; whether the trigger came.
+/// Takes one record as `plan` asks, in the kept session when it records
+/// the same source; whether the trigger came. The session is kept for the
+/// next record unless the record failed for another reason than a
+/// trigger that did not come.
 pub fn take(
+    inst: &Instance,
+    plan: &Plan,
+    kept: &mut Option<Kept>,
+    interrupted: &dyn Fn() -> bool,
+) -> Result<(Record, bool), ScopeError> {
+    let source = &plan.request.source;
+    let mut session = match kept.take() {
+        Some(k) if k.session.serves(source) => k.session,
+        other => {
+            // Only one sampler of our own can be loaded at a time.
+            if let Some(k) = other {
+                k.session.close()?;
+            }
+            Session::open(inst, source)?
+        }
+    };
+    let taken = record_in(&mut session, inst, plan, interrupted);
+    match &taken {
+        Ok(_) | Err(ScopeError::Timeout(_)) => {
+            *kept = Some(Kept {
+                session,
+                used: Instant::now(),
+            })
+        }
+        Err(_) => {
+            // The record's error is the one to report.
+            let _ = session.close();
+        }
+    }
+    taken
+}
+
+/// One record of `session` in `plan`'s mode.
+fn record_in(
+    session: &mut Session,
     inst: &Instance,
     plan: &Plan,
     interrupted: &dyn Fn() -> bool,
 ) -> Result<(Record, bool), ScopeError> {
     let req = &plan.request;
     if plan.mode != Mode::Auto || req.trigger.is_none() {
-        let record = hal_scope::scope::capture(inst, req, interrupted)?;
+        let record = session.record(inst, req, interrupted)?;
         return Ok((record, req.trigger.is_some()));
     }
     let waiting = Request {
         timeout: req.timeout.min(AUTO_WAIT),
         ..req.clone()
     };
-    match hal_scope::scope::capture(inst, &waiting, interrupted) {
+    match session.record(inst, &waiting, interrupted) {
         Ok(record) => Ok((record, true)),
         Err(ScopeError::Timeout(_)) => {
             let at_once = Request {
@@ -146,13 +210,20 @@ pub fn take(
                 pre: 0,
                 ..req.clone()
             };
-            Ok((
-                hal_scope::scope::capture(inst, &at_once, interrupted)?,
-                false,
-            ))
+            Ok((session.record(inst, &at_once, interrupted)?, false))
         }
         Err(e) => Err(e),
     }
+}
+
+/// Takes the kept session out when it has not recorded for `idle`, or
+/// at once with `Duration::ZERO`; `None` while a capture holds it.
+pub fn idle_session(kept: &KeptSession, idle: Duration) -> Option<Session> {
+    let mut guard = kept.try_lock().ok()?;
+    if guard.as_ref()?.used.elapsed() < idle {
+        return None;
+    }
+    guard.take().map(|k| k.session)
 }
 
 /// A record as the page draws it: a column of numbers per channel (bits
@@ -200,9 +271,21 @@ pub async fn post(State(state): State<Shared>, Json(req): Json<ScopeRequest>) ->
             "another capture is running; try again when it ends",
         );
     };
-    let inst = state.inst.clone();
-    let stopping = state.stopping.clone();
-    let taken = blocking(move || take(&inst, &plan, &|| *stopping.borrow())).await;
+    let worker = state.clone();
+    let taken = blocking(move || {
+        let stopping = || *worker.stopping.borrow();
+        match worker.kept_scope.lock() {
+            Ok(mut kept) => take(&worker.inst, &plan, &mut kept, &stopping),
+            Err(poisoned) => {
+                // A capture that panicked left the session in an unknown
+                // state: drop it (removing its sampler) and start afresh.
+                let mut kept = poisoned.into_inner();
+                *kept = None;
+                take(&worker.inst, &plan, &mut kept, &stopping)
+            }
+        }
+    })
+    .await;
     match taken {
         Ok(Ok((record, triggered))) => {
             let body = record_json(&record, triggered);

@@ -92,10 +92,15 @@ pub async fn serve(
 ) -> std::io::Result<()> {
     let (stopping, stopping_rx) = tokio::sync::watch::channel(false);
     let state = AppState::new(inst.clone(), policy, stopping_rx);
+    let watcher = state.clone();
     let stop = async move {
         let mut host_asked = tokio::time::Instant::now();
         loop {
             tokio::time::sleep(STOP_POLL).await;
+            if let Some(idle) = scope::idle_session(&watcher.kept_scope, scope::KEEP_IDLE) {
+                // Removing the sampler asks the host: not on this thread.
+                tokio::task::spawn_blocking(move || idle.close());
+            }
             let ask_host = host_asked.elapsed() >= HOST_POLL;
             if ask_host {
                 host_asked = tokio::time::Instant::now();
@@ -108,9 +113,20 @@ pub async fn serve(
             }
         }
     };
-    axum::serve(listener, router(state))
+    let served = axum::serve(listener, router(state.clone()))
         .with_graceful_shutdown(stop)
-        .await
+        .await;
+    // The scope's sampler goes with the server (a capture still running
+    // has seen `stopping` and ended).
+    let kept = state
+        .kept_scope
+        .lock()
+        .map(|mut k| k.take())
+        .unwrap_or_else(|p| p.into_inner().take());
+    if let Some(k) = kept {
+        let _ = tokio::task::spawn_blocking(move || k.close()).await;
+    }
+    served
 }
 
 /// Binds `addr` (port 0: a free one) and says where it listens.

@@ -33,6 +33,8 @@ pub struct AppState {
     pub capturing: Arc<Semaphore>,
     /// The last scope record, for its CSV.
     pub last_record: crate::scope::LastRecord,
+    /// The scope's sampler, kept between records of the same pins.
+    pub kept_scope: crate::scope::KeptSession,
 }
 
 /// A shared handle on the state.
@@ -53,6 +55,7 @@ impl AppState {
             requests: Arc::new(Semaphore::new(MAX_REQUESTS)),
             capturing: Arc::new(Semaphore::new(1)),
             last_record: std::sync::Mutex::new(None),
+            kept_scope: std::sync::Mutex::new(None),
         })
     }
 }

@@ -2,7 +2,8 @@
 //! the same request on the same siggen gives the same record (trigger
 //! position, sample values, CSV); auto mode records without a trigger
 //! that never comes; refusals are halscope's; read-only and other
-//! origins take no capture of pins.
+//! origins take no capture of pins; a page asking record after record
+//! keeps one sampler, checks it is still wired, and removes it when idle.
 
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 
@@ -43,6 +44,19 @@ fn headless(host: &InProcessHost, words: &[&str]) -> Result<Record, hal_scope::s
     hal_scope::scope::capture(&host.instance(), &req, &|| false)
 }
 
+/// Waits (up to 10 s) until hal-web has removed its idle sampler.
+fn wait_sampler_removed(host: &InProcessHost) {
+    let inst = host.instance();
+    let until = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while inst.component("sampler").unwrap().is_some() {
+        assert!(
+            std::time::Instant::now() < until,
+            "hal-web's idle sampler was not removed"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
 fn capture(web: &Web, body: &str) -> (u16, Value) {
     let (status, answer) = web.post_same_origin("/api/scope", body, None);
     (status, serde_json::from_str(&answer).unwrap())
@@ -78,6 +92,8 @@ fn a_capture_served_by_hal_web_equals_the_headless_capture() {
     .to_string();
     let (status, got) = capture(&web, &body);
     assert_eq!(status, 200, "{got}");
+    // The sampler stays for the next record a while, then goes.
+    wait_sampler_removed(&host);
     let want = headless(
         &host,
         &[
@@ -196,4 +212,58 @@ fn auto_mode_records_without_a_trigger_and_refusals_are_halscopes() {
         "{got}"
     );
     assert!(host.instance().component("sampler").unwrap().is_none());
+}
+
+#[test]
+fn record_after_record_keeps_one_sampler_while_it_is_wired_as_made() {
+    let host = siggen_host("web-scope-kept");
+    let web = Web::start(&host.instance, &[]);
+    let inst = host.instance();
+    let normal = r#"{"pins":["sq","siggen.0.sawtooth"],"thread":"servo-thread",
+                     "trigger":"sq:rising:0.5","samples":20,"mode":"normal"}"#;
+    let sampler_id = || inst.component("sampler").unwrap().map(|c| c.id);
+    let (status, got) = capture(&web, normal);
+    assert_eq!(status, 200, "{got}");
+    let first = sampler_id().expect("the sampler is kept after a record");
+    for _ in 0..3 {
+        let (status, got) = capture(&web, normal);
+        assert_eq!(status, 200, "{got}");
+        assert_eq!(got["trigger_index"], 0);
+        assert_eq!(sampler_id(), Some(first), "the same sampler records again");
+    }
+
+    // Another source: the old sampler goes, a new one comes.
+    let other = r#"{"pins":["siggen.0.clock"],"thread":"servo-thread","samples":10}"#;
+    let (status, got) = capture(&web, other);
+    assert_eq!(status, 200, "{got}");
+    assert_eq!(got["names"], serde_json::json!(["siggen.0.clock"]));
+    let second = sampler_id().unwrap();
+    assert_ne!(second, first);
+
+    // Someone rewires the kept sampler: the next record says so and the
+    // sampler goes; the one after starts afresh.
+    inst.unlink("sampler.0.pin.0").unwrap();
+    let (status, got) = capture(&web, other);
+    assert_eq!(status, 422, "{got}");
+    let said = got["error"].as_str().unwrap();
+    assert!(said.contains("changed since the last record"), "{said}");
+    assert!(said.contains("sampler.0.pin.0"), "{said}");
+    assert_eq!(sampler_id(), None);
+    let (status, got) = capture(&web, other);
+    assert_eq!(status, 200, "{got}");
+
+    // Idle: removed with the signals it made.
+    wait_sampler_removed(&host);
+    let signals = inst.signals().unwrap();
+    assert!(
+        signals.iter().all(|s| !s.name.starts_with("halscope-")),
+        "{:?}",
+        signals.iter().map(|s| &s.name).collect::<Vec<_>>()
+    );
+    assert!(inst
+        .pin("siggen.0.clock")
+        .unwrap()
+        .unwrap()
+        .signal
+        .is_none());
 }

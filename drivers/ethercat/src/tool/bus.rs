@@ -62,8 +62,10 @@ pub fn with_bus<T>(link: Box<dyn Link>, f: impl FnOnce(&mut Bus<'_>) -> Result<T
         step: "frame storage".into(),
         reason: "already in use".into(),
     })?;
+    // A bring-up tool waits on nothing else: a frame late by a loaded
+    // machine's scheduling (or a simulator's) must not end the command.
     let timeouts = Timeouts {
-        pdu: Duration::from_millis(100),
+        pdu: Duration::from_millis(1000),
         eeprom: Duration::from_millis(500),
         mailbox_echo: Duration::from_millis(500),
         mailbox_response: Duration::from_millis(1000),

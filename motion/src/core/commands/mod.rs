@@ -128,6 +128,12 @@ impl MotionCore {
                 angle,
                 mode,
             } => self.spindle_orient(spindle, angle, mode),
+            C::SetFeedPerRev { spindle, per_rev } => self.set_feed_per_rev(spindle, per_rev),
+            C::SpindleCss {
+                spindle,
+                factor,
+                x_offset,
+            } => self.spindle_css(spindle, factor, x_offset),
             // Digital and analog outputs.
             C::SetDout { index, on, now } => self.set_dout(index, on, now),
             C::SetAout { index, value, now } => self.set_aout(index, value, now),

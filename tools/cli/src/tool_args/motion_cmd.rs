@@ -117,6 +117,12 @@ axes left out stay where the last queued move ends):
                                 [TRAJ] MAX_LINEAR_VELOCITY, _ACCELERATION,
                                 _JERK
   planner-type 0|1              trapezoidal or S-curve (PLANNER_TYPE)
+  feed-per-rev SPINDLE UNITS    G95: the next feed moves go UNITS per
+                                revolution of SPINDLE (its speed-in); 0 off
+  spindle-css SPINDLE FACTOR X-OFFSET
+                                G96: the spindle turns at FACTOR / |X -
+                                X-OFFSET| rpm, at most its spindle-on speed
+                                (FACTOR: surface speed / 2 pi); 0 off
 ";
 
 /// Sends one command to the motion controller (motmod) of a running HAL

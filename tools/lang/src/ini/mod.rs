@@ -233,6 +233,30 @@ impl Ini {
         Ok(ini)
     }
 
+    /// The same file with `entries` in place of its own: a configuration
+    /// read in an older format and converted in memory (the launcher's
+    /// update of pre-2.8 INI files). The file name and the warnings stay;
+    /// the sections are those of the new entries, in order, plus the
+    /// sections the file had without any entry.
+    pub fn with_entries(&self, entries: Vec<Entry>) -> Ini {
+        let mut sections: Vec<String> = Vec::new();
+        let empty = self
+            .sections
+            .iter()
+            .filter(|s| !self.entries.iter().any(|e| &e.section == *s));
+        for s in entries.iter().map(|e| &e.section).chain(empty) {
+            if !sections.contains(s) {
+                sections.push(s.clone());
+            }
+        }
+        Ini {
+            entries,
+            sections,
+            warnings: self.warnings.clone(),
+            path: self.path.clone(),
+        }
+    }
+
     /// The file this INI was read from.
     pub fn path(&self) -> Option<&Path> {
         self.path.as_deref()

@@ -12,7 +12,7 @@ use hal_core::Instance;
 
 use crate::error::Result;
 use crate::ini::Ini;
-use crate::lexer::{logical_lines, tokenize, without_comment};
+use crate::lexer::{logical_lines, tokenize, without_comment, Line};
 use crate::protocol::{Client, ClientError, HostLink};
 
 pub use table::command_names;
@@ -230,10 +230,18 @@ impl<'o> Session<'o> {
     /// Runs every command of a file's text; `name` labels messages. Returns
     /// false if a command failed (and, without `-k`, stops there).
     pub fn run_text(&mut self, name: Option<&str>, text: &str) -> bool {
+        self.run_lines(name, &logical_lines(text))
+    }
+
+    /// Runs logical lines of a file (as [`logical_lines`] cuts them),
+    /// each reported under its own line number; several may share one
+    /// (a line the launcher rewrote into two commands). Returns false
+    /// if a command failed (and, without `-k`, stops there).
+    pub fn run_lines(&mut self, name: Option<&str>, lines: &[Line]) -> bool {
         let saved = (self.source.take(), self.line);
         self.source = name.map(str::to_string);
         let mut ok = true;
-        for line in logical_lines(text) {
+        for line in lines {
             self.line = line.number;
             if self.stop_requested() {
                 self.report("stop requested: the rest of the file is not run");

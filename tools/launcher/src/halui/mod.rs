@@ -144,7 +144,8 @@ fn ini_path(args: &[String]) -> Result<std::path::PathBuf, LaunchError> {
 }
 
 fn run(args: &[String]) -> Result<(), LaunchError> {
-    let ini = Ini::load(&ini_path(args)?)?;
+    // An old-format configuration is read as the launcher reads it.
+    let ini = crate::old_format::current_format(Ini::load(&ini_path(args)?)?)?;
     let axes = crate::config::axis_letters(&ini);
     let mdi: Vec<String> = ini
         .all("HALUI", "MDI_COMMAND")

@@ -18,6 +18,8 @@ use rs274ngc::{
 };
 
 pub use super::op::Op;
+
+mod spindle;
 use super::user_m::UserMCodes;
 use crate::iocontrol::IoRequest;
 
@@ -53,8 +55,16 @@ pub struct TaskCanon {
     tools: Vec<ToolEntry>,
     slot: i32,
     axis_mask: u32,
-    /// Each spindle as the program last set it: direction and speed.
+    /// Each spindle as the program last set it: direction and speed
+    /// (rpm, or with constant surface speed the surface speed).
     spindles: [(Direction, f64); motion::sizes::MAX_SPINDLES],
+    /// Each spindle's constant surface speed limit, rpm (G96 D; 0: G97).
+    css_limit: [f64; motion::sizes::MAX_SPINDLES],
+    /// Feed per revolution (G95): the spindle it follows.
+    feed_per_rev: Option<i32>,
+    /// The feed per revolution motion was last given (machine units per
+    /// revolution, 0: off), and for which spindle.
+    sent_per_rev: (i32, f64),
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
     /// The last probing move's result: tripped, and where (machine
@@ -93,6 +103,9 @@ impl TaskCanon {
             slot: 0,
             axis_mask,
             spindles: [(Direction::Stopped, 0.0); motion::sizes::MAX_SPINDLES],
+            css_limit: [0.0; motion::sizes::MAX_SPINDLES],
+            feed_per_rev: None,
+            sent_per_rev: (0, 0.0),
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
             probe: (false, [0.0; 9]),
@@ -289,6 +302,9 @@ impl TaskCanon {
     }
 
     fn queue_line(&mut self, line: i32, end: &Pose, kind: LineKind) {
+        if kind == LineKind::Feed {
+            self.sync_feed_mode();
+        }
         let goal = self.to_machine(end);
         let vel = match kind {
             LineKind::Traverse => 0.0,
@@ -301,53 +317,6 @@ impl TaskCanon {
             kind,
             id: line,
         }));
-    }
-
-    /// Spindle `spindle`'s modal state; `None` (and a fault) for a
-    /// number motion has no spindle for.
-    fn spindle_mut(&mut self, spindle: i32) -> Option<&mut (Direction, f64)> {
-        let slot = usize::try_from(spindle)
-            .ok()
-            .filter(|&n| n < self.spindles.len());
-        match slot {
-            Some(n) => Some(&mut self.spindles[n]),
-            None => {
-                self.refuse(&format!("spindle {spindle}"));
-                None
-            }
-        }
-    }
-
-    /// Sets spindle `spindle`'s direction and speed (`None`: as they
-    /// are) and queues what motion must do: a start or a speed change
-    /// while it turns, a stop for M5. A speed set while it stands only
-    /// changes the modal state.
-    fn queue_spindle(&mut self, spindle: i32, direction: Option<Direction>, rpm: Option<f64>) {
-        let Some(state) = self.spindle_mut(spindle) else {
-            return;
-        };
-        let stop = direction == Some(Direction::Stopped);
-        if let Some(d) = direction {
-            state.0 = d;
-        }
-        if let Some(r) = rpm {
-            state.1 = r;
-        }
-        let (dir, rpm) = *state;
-        let command = match dir {
-            Direction::Stopped if stop => Command::SpindleOff { spindle },
-            Direction::Stopped => return,
-            Direction::Clockwise | Direction::CounterClockwise => Command::SpindleOn {
-                spindle,
-                speed: if dir == Direction::Clockwise {
-                    rpm.abs()
-                } else {
-                    -rpm.abs()
-                },
-                wait: true,
-            },
-        };
-        self.after_moves(command);
     }
 
     fn set_offset(&mut self, which: Offset, p: &Pose) {
@@ -431,6 +400,7 @@ impl Canon for TaskCanon {
             arc.rotation
         };
         self.goal = goal;
+        self.sync_feed_mode();
         self.ops.push_back(Op::Motion(Command::Circle {
             end: motion::Pose(goal),
             center: [c[0], c[1], c[2]],
@@ -477,9 +447,10 @@ impl Canon for TaskCanon {
     fn set_feed_rate(&mut self, rate: f64) {
         self.feed = rate;
     }
-    fn set_feed_mode(&mut self, _spindle: i32, mode: i32) {
-        if mode != 0 {
-            self.refuse("feed per revolution (G95)");
+    fn set_feed_mode(&mut self, spindle: i32, mode: i32) {
+        self.feed_per_rev = (mode == 1).then_some(spindle);
+        if mode == 1 && self.spindle_mut(spindle).is_none() {
+            self.feed_per_rev = None;
         }
     }
     fn set_motion_control_mode(&mut self, mode: MotionMode, tolerance: f64) {
@@ -509,9 +480,9 @@ impl Canon for TaskCanon {
     fn stop_spindle_turning(&mut self, spindle: i32) {
         self.queue_spindle(spindle, Some(Direction::Stopped), None);
     }
-    fn set_spindle_mode(&mut self, _spindle: i32, css_limit: f64) {
-        if css_limit != 0.0 {
-            self.refuse("constant surface speed (G96)");
+    fn set_spindle_mode(&mut self, spindle: i32, css_limit: f64) {
+        if self.spindle_mut(spindle).is_some() {
+            self.css_limit[spindle as usize] = css_limit.abs();
         }
     }
     fn orient_spindle(&mut self, spindle: i32, orientation: f64, mode: i32) {

@@ -73,10 +73,16 @@ fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
     }
 }
 
+/// The spindle commands queued, with their lines (constant surface speed
+/// switched off, sent with every start, left out).
 fn spindle_commands(c: &TaskCanon) -> Vec<(Command, i32)> {
     c.ops
         .iter()
         .filter_map(|op| match op {
+            Op::AfterMoves {
+                command: Command::SpindleCss { factor, .. },
+                ..
+            } if *factor == 0.0 => None,
             Op::AfterMoves { command, line } => Some((*command, *line)),
             _ => None,
         })
@@ -250,4 +256,97 @@ fn spindle_synchronised_motion_is_a_fault() {
     let mut c = TaskCanon::new(1.0, 0b111);
     c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
     assert_eq!(c.fault.as_deref(), Some("rigid tapping (G33.1)"));
+}
+
+#[test]
+fn constant_surface_speed_goes_to_motion_before_the_start() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_g5x_offset(1, &p(-2.0, 0.0, 0.0));
+    c.line = 3;
+    // G20 G96 D1500 S300 M3: 300 ft/min is 91440 mm/min.
+    c.use_length_units(Units::Inches);
+    c.set_spindle_mode(0, 1500.0);
+    c.set_spindle_speed(0, 300.0);
+    c.start_spindle_clockwise(0);
+    let got = spindle_commands(&c);
+    match got.as_slice() {
+        [(
+            Command::SpindleCss {
+                spindle: 0,
+                factor,
+                x_offset,
+            },
+            3,
+        ), (
+            Command::SpindleOn {
+                spindle: 0,
+                speed,
+                wait: true,
+            },
+            3,
+        )] => {
+            assert!((factor - 91440.0 / std::f64::consts::TAU).abs() < 1e-6);
+            assert_eq!((*x_offset, *speed), (-2.0, 1500.0));
+        }
+        other => panic!("{other:?}"),
+    }
+    // G97 S800: off, then the speed.
+    c.ops.clear();
+    c.set_spindle_mode(0, 0.0);
+    c.set_spindle_speed(0, 800.0);
+    assert!(matches!(
+        c.ops.front(),
+        Some(Op::AfterMoves {
+            command: Command::SpindleCss { factor, .. },
+            ..
+        }) if *factor == 0.0
+    ));
+    assert!(matches!(
+        c.ops.get(1),
+        Some(Op::AfterMoves {
+            command: Command::SpindleOn { speed, .. },
+            ..
+        }) if *speed == 800.0
+    ));
+}
+
+#[test]
+fn feed_per_revolution_goes_to_motion_before_the_feed_moves() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.use_length_units(Units::Inches);
+    c.set_feed_mode(0, 1);
+    c.set_feed_rate(0.01);
+    c.straight_traverse(1, &p(1.0, 0.0, 0.0));
+    c.straight_feed(2, &p(2.0, 0.0, 0.0));
+    c.straight_feed(3, &p(3.0, 0.0, 0.0));
+    c.set_feed_mode(0, 0);
+    c.set_feed_rate(10.0);
+    c.straight_feed(4, &p(4.0, 0.0, 0.0));
+    let per_rev: Vec<f64> = c
+        .ops
+        .iter()
+        .filter_map(|op| match op {
+            Op::Motion(Command::SetFeedPerRev {
+                spindle: 0,
+                per_rev,
+            }) => Some(*per_rev),
+            _ => None,
+        })
+        .collect();
+    // Once before the first feed move (not the rapid), off before G94's.
+    assert_eq!(per_rev.len(), 2, "{:?}", c.ops);
+    assert!((per_rev[0] - 0.254).abs() < 1e-12 && per_rev[1] == 0.0);
+    assert!(matches!(
+        c.ops.get(1),
+        Some(Op::Motion(Command::SetFeedPerRev { .. }))
+    ));
+    // After an abort motion's planner has forgotten it: sent again.
+    c.planner_reset();
+    c.ops.clear();
+    c.set_feed_mode(0, 1);
+    c.straight_feed(5, &p(5.0, 0.0, 0.0));
+    assert!(matches!(
+        c.ops.front(),
+        Some(Op::Motion(Command::SetFeedPerRev { .. }))
+    ));
 }

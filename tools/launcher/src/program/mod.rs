@@ -11,6 +11,7 @@ pub mod canon;
 mod config;
 mod error;
 mod input_wait;
+mod motion_watch;
 mod op;
 mod user_m;
 mod waits;
@@ -114,6 +115,13 @@ pub struct Program {
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
     sent_beat: u64,
+    /// Motion's reported-message count when the run started: a fault
+    /// reported after it stops the run.
+    seen_events: u64,
+    /// The program line motion executed last in this run.
+    motion_line: i32,
+    /// The MDI line that runs, for messages.
+    mdi_text: String,
 }
 
 impl Program {
@@ -137,6 +145,9 @@ impl Program {
             read_line: 0,
             last_end: None,
             sent_beat: 0,
+            seen_events: 0,
+            motion_line: 0,
+            mdi_text: String::new(),
             input_wait: None,
             user_m_running: None,
             orient_deadline: None,
@@ -236,6 +247,7 @@ impl Program {
         }
         self.synch(motion, io)?;
         self.start(false, line);
+        self.watch_from(motion);
         Ok(())
     }
 
@@ -342,6 +354,7 @@ impl Program {
     pub fn abort(&mut self) {
         self.interp.abort(&mut self.canon);
         self.canon.ops.clear();
+        self.canon.planner_reset();
         self.canon.fault = None;
         self.mdi.clear();
         self.io_busy = false;
@@ -374,6 +387,8 @@ impl Program {
                 return Some(self.fail(e));
             }
             self.start(true, 0);
+            self.watch_from(motion);
+            self.mdi_text.clone_from(&text);
             if let Err(e) = self.execute_mdi(&text) {
                 return Some(self.fail(e));
             }
@@ -389,6 +404,9 @@ impl Program {
             return Some(self.fail(e));
         }
         let status = motion.status()?;
+        if let Err(e) = self.watch_motion(&status) {
+            return Some(self.fail(e));
+        }
         let motion_idle = status.traj.depth == 0
             && status.in_position
             && status.heartbeat >= self.sent_beat.saturating_add(3);

@@ -65,28 +65,100 @@ fn trigger_of(req: &Request, probe: &Probe) -> Result<Option<Trigger>, ScopeErro
 }
 
 /// Captures one record on `inst` as `req` asks; `interrupted` ends the
-/// wait early.
+/// wait early. What the capture added to the instance is removed again.
 pub fn capture(
     inst: &Instance,
     req: &Request,
     interrupted: &dyn Fn() -> bool,
 ) -> Result<Record, ScopeError> {
-    let mut probe = match &req.source {
-        Source::Own { names, thread } => Probe::own(inst, names, thread)?,
-        Source::Channel(c) => Probe::channel(inst, *c)?,
-    };
-    let trigger = trigger_of(req, &probe)?;
-    probe.check_running(inst)?;
-    let (mut ring, _) = crate::fifo::open_sampler(inst, probe.channel)
-        .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
+    let mut session = Session::open(inst, &req.source)?;
+    let record = session.record(inst, req, interrupted)?;
+    session.close()?;
+    Ok(record)
+}
+
+/// A sampler channel made ready for records, kept between them: a client
+/// that asks for record after record of the same pins (a scope in normal
+/// mode) loads and links its sampler once, not once per record. Dropping
+/// it removes what it added.
+pub struct Session {
+    probe: Probe,
+    /// Whether a record was taken: samples since then are stale.
+    used: bool,
+}
+
+impl Session {
+    /// Prepares `source`: loads and links a sampler of its own for pins,
+    /// or finds the configuration's channel.
+    pub fn open(inst: &Instance, source: &Source) -> Result<Session, ScopeError> {
+        let probe = match source {
+            Source::Own { names, thread } => Probe::own(inst, names, thread)?,
+            Source::Channel(c) => Probe::channel(inst, *c)?,
+        };
+        Ok(Session { probe, used: false })
+    }
+
+    /// Whether this session records `source`.
+    pub fn serves(&self, source: &Source) -> bool {
+        match source {
+            Source::Own { names, thread } => {
+                self.probe.is_own() && self.probe.names == *names && self.probe.thread == *thread
+            }
+            Source::Channel(c) => !self.probe.is_own() && self.probe.channel == *c,
+        }
+    }
+
+    /// Takes one record as `req` asks (its source must be this session's).
+    pub fn record(
+        &mut self,
+        inst: &Instance,
+        req: &Request,
+        interrupted: &dyn Fn() -> bool,
+    ) -> Result<Record, ScopeError> {
+        if self.used {
+            // Someone may have changed the HAL since the last record.
+            self.probe.check_wiring(inst)?;
+        }
+        let trigger = trigger_of(req, &self.probe)?;
+        self.probe.check_running(inst)?;
+        let (mut ring, _) = crate::fifo::open_sampler(inst, self.probe.channel)
+            .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
+        let mut record = vec![0u64; self.probe.types.len() + 1];
+        if self.used || !self.probe.is_own() {
+            // What the channel holds already was sampled before we came.
+            while ring.pop(&mut record) {}
+        }
+        self.used = true;
+        let cap = Capture::new(req.samples, req.pre, trigger);
+        let (rows, trigger_index) = fill(inst, &self.probe, &mut ring, cap, req, interrupted)?;
+        Ok(Record {
+            names: self.probe.names.clone(),
+            types: self.probe.types.clone(),
+            rows,
+            trigger_index,
+            period_ns: self.probe.period_ns,
+        })
+    }
+
+    /// Removes what the session added, and says whether that worked.
+    pub fn close(mut self) -> Result<(), ScopeError> {
+        self.probe.remove()
+    }
+}
+
+/// Reads `ring` into `cap` until the record is complete, the trigger's
+/// wait times out, the host exits or `interrupted` says so.
+fn fill(
+    inst: &Instance,
+    probe: &Probe,
+    ring: &mut hal_core::RingReader,
+    mut cap: Capture,
+    req: &Request,
+    interrupted: &dyn Fn() -> bool,
+) -> Result<(Vec<Vec<u64>>, usize), ScopeError> {
     let overruns_pin = format!("sampler.{}.overruns", probe.channel);
     let overruns = || inst.pin_value(&overruns_pin).ok();
     let mut record = vec![0u64; probe.types.len() + 1];
-    if matches!(req.source, Source::Channel(_)) {
-        // What the channel holds already was sampled before we came.
-        while ring.pop(&mut record) {}
-    }
-    let mut cap = Capture::new(req.samples, req.pre, trigger);
     let mut seen_overruns = overruns();
     // The timeout is for the trigger: the record itself takes its time.
     let record_time =
@@ -134,15 +206,7 @@ pub fn capture(
             std::thread::sleep(POLL);
         }
     }
-    let (rows, trigger_index) = cap.into_record();
-    probe.remove()?;
-    Ok(Record {
-        names: probe.names.clone(),
-        types: probe.types.clone(),
-        rows,
-        trigger_index,
-        period_ns: probe.period_ns,
-    })
+    Ok(cap.into_record())
 }
 
 /// Writes `r` to every output of `req`.

@@ -38,6 +38,8 @@ pub struct Probe {
 struct OwnSampler {
     /// Signals halscope made, with the pin it linked to each.
     made_signals: Vec<(String, String)>,
+    /// The signal each column was linked to.
+    linked: Vec<String>,
     funct_added: bool,
 }
 
@@ -140,6 +142,7 @@ impl Probe {
             period_ns,
             own: Some(OwnSampler {
                 made_signals: Vec::new(),
+                linked: Vec::new(),
                 funct_added: false,
             }),
         };
@@ -167,6 +170,9 @@ impl Probe {
             };
             inst.link(&pin_name("sampler", 0, m), &signal)
                 .map_err(hal)?;
+            if let Some(own) = probe.own.as_mut() {
+                own.linked.push(signal);
+            }
         }
         probe.call(&["addf", "sampler.0", thread])?;
         if let Some(own) = probe.own.as_mut() {
@@ -207,6 +213,50 @@ impl Probe {
             }
         }
         first_error.map_or(Ok(()), Err)
+    }
+
+    /// Whether the sampler is halscope's own (loaded for this probe).
+    pub fn is_own(&self) -> bool {
+        self.own.is_some()
+    }
+
+    /// Checks that the channel still records what it did when the probe
+    /// was made: the same column types and, for an own sampler, each
+    /// column on the signal it was linked to and the function in its
+    /// thread. Between records a kept probe leaves the HAL open to
+    /// anyone's changes.
+    pub fn check_wiring(&self, inst: &Instance) -> Result<(), ScopeError> {
+        let changed = |what: String| {
+            Err(ScopeError::Usage(format!(
+                "the sampler channel {} changed since the last record: {what}",
+                self.channel
+            )))
+        };
+        let types = crate::fifo::columns(inst, "sampler", self.channel)
+            .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
+        if types != self.types {
+            return changed("its columns have other types".into());
+        }
+        let Some(own) = &self.own else {
+            return Ok(());
+        };
+        for (m, want) in own.linked.iter().enumerate() {
+            let pin = pin_name("sampler", self.channel, m);
+            let now = inst.pin(&pin).map_err(hal)?.and_then(|p| p.signal);
+            if now.as_deref() != Some(want.as_str()) {
+                return changed(format!("{pin} is no longer on signal {want}"));
+            }
+        }
+        let funct = format!("sampler.{}", self.channel);
+        let in_thread = inst
+            .threads()
+            .map_err(hal)?
+            .iter()
+            .any(|t| t.name == self.thread && t.functs.contains(&funct));
+        if !in_thread {
+            return changed(format!("{funct} is no longer in {}", self.thread));
+        }
+        Ok(())
     }
 
     /// Checks that the thread runs (a stopped thread samples nothing).
