@@ -232,7 +232,11 @@ impl Machine {
             &self.instance,
             None,
         ));
-        assert!(ok, "motion-cmd {args:?}: {out}{err}");
+        assert!(
+            ok,
+            "motion-cmd {args:?}: {out}{err}\n--- the machine's stderr:\n{}",
+            self.stderr()
+        );
         out
     }
 
