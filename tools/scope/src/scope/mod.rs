@@ -33,6 +33,11 @@ const POLL: Duration = Duration::from_millis(1);
 /// group's lookup reads the group database), too dear for every poll.
 const ALIVE_EVERY: Duration = Duration::from_millis(500);
 
+/// How often the reader looks at the sampler's overrun count while the
+/// record fills (each look is a lookup by name under the HAL's lock); it
+/// always looks once more before it takes a record as complete.
+const OVERRUNS_EVERY: Duration = Duration::from_millis(10);
+
 /// The trigger of `req` on the columns of `probe`: the name is a column's
 /// name or its number.
 fn trigger_of(req: &Request, probe: &Probe) -> Result<Option<Trigger>, ScopeError> {
@@ -165,6 +170,7 @@ fn fill(
         Duration::from_nanos((req.samples as u64).saturating_mul(probe.period_ns.max(0) as u64));
     let end = Instant::now() + req.timeout + record_time;
     let mut alive_asked = Instant::now();
+    let mut overruns_asked = Instant::now();
     loop {
         let mut got = false;
         while !cap.done() && ring.pop(&mut record) {
@@ -173,11 +179,14 @@ fn fill(
         }
         // The sampler counts only records it wrote: a full FIFO shows in
         // its overrun pin, not in the sample numbers.
-        let now_overruns = overruns();
-        if now_overruns != seen_overruns {
-            seen_overruns = now_overruns;
-            cap.restart();
-            continue;
+        if cap.done() || overruns_asked.elapsed() >= OVERRUNS_EVERY {
+            overruns_asked = Instant::now();
+            let now_overruns = overruns();
+            if now_overruns != seen_overruns {
+                seen_overruns = now_overruns;
+                cap.restart();
+                continue;
+            }
         }
         if cap.done() {
             break;
