@@ -8,14 +8,16 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
+mod common;
+use common::with_core;
+
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use hal_core::{Host, HostConfig, Value};
+use hal_core::Value;
 use hal_driver::sim::{self as layer_sim, Access, AccessLog, Dir, SimBoard, Width};
 use hostmot2::epp::hal::{PortPlace, HM2_7I43_MODULE, HM2_7I90_MODULE};
 use hostmot2::epp::{ecr, EppTransport};
-use hostmot2::hal::HOSTMOT2_MODULE;
 use hostmot2::sim::epp::EppPortModel;
 use hostmot2::sim::{machine, SimHm2};
 use hostmot2::transport::{Transport, TransportError};
@@ -152,12 +154,6 @@ fn a_pulled_cable_is_a_timeout_and_the_next_transfer_works_again() {
         t.read(0x7FFC, &mut w),
         Err(TransportError::EppRange { .. })
     ));
-}
-
-fn with_core(tag: &str) -> Host {
-    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
-    h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
-    h
 }
 
 #[test]

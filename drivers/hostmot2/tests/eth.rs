@@ -14,11 +14,10 @@ use std::net::UdpSocket;
 use std::time::Duration;
 
 use common::eth::{serve, EthRig};
-use common::{Named, Rig, PERIOD};
+use common::{with_core, Named, Rig, PERIOD};
 use hal_core::{Host, HostConfig, Value};
 use hostmot2::eth::hal::{probe, HM2_ETH_MODULE};
 use hostmot2::eth::EthTransport;
-use hostmot2::hal::HOSTMOT2_MODULE;
 use hostmot2::lbp16::{addr, enable, space, Command, Width};
 use hostmot2::sim::boards;
 use hostmot2::sim::eth_server::Faults;
@@ -143,12 +142,6 @@ fn every_lbp16_command_form_over_udp() {
     t.write16(space::COMM_CTRL, addr::CTRL_RESET, &[1]).unwrap();
     t.read(0x100, &mut led).unwrap();
     assert_eq!(server.shared().with(|b| b.resets()), 1);
-}
-
-fn with_core(tag: &str) -> Host {
-    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
-    h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
-    h
 }
 
 fn verbose(h: Host) -> Host {

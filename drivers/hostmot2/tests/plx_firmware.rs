@@ -8,26 +8,18 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
+mod common;
+use common::{has_pin, with_core};
+
 use std::path::Path;
 
 use hal_core::module::ModuleArgs;
-use hal_core::{Host, HostConfig};
 use hal_driver::pci::fake::{FakeBar, FakeSysfs};
 use hal_driver::pci::PciIds;
 use hostmot2::fpga::bitfile;
-use hostmot2::hal::{self, HM2_PCI_MODULE, HOSTMOT2_MODULE};
+use hostmot2::hal::{self, HM2_PCI_MODULE};
 use hostmot2::pci::BOARDS;
 use hostmot2::sim::plx;
-
-fn with_core(tag: &str) -> Host {
-    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
-    h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
-    h
-}
-
-fn has_pin(h: &Host, pin: &str) -> bool {
-    h.instance().pin(pin).unwrap().is_some()
-}
 
 #[test]
 fn a_simulated_5i20_runs_the_firmware_its_config_names() {

@@ -7,25 +7,16 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
+mod common;
+use common::{has_pin, with_core};
+
 use hal_core::Value::{Bit, Float};
-use hal_core::{Host, HostConfig};
-use hostmot2::hal::HOSTMOT2_MODULE;
 use hostmot2::sim::spi::SpiBoardModel;
 use hostmot2::spi::hal::{HM2_RPSPI_MODULE, HM2_SPI_MODULE};
 use hostmot2::spi::{frame::Command, identify, SpiTransport};
 use std::sync::Arc;
 
 use hal_driver::sim::SimBoard;
-
-fn with_core(tag: &str) -> Host {
-    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
-    h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
-    h
-}
-
-fn has_pin(h: &Host, pin: &str) -> bool {
-    h.instance().pin(pin).unwrap().is_some()
-}
 
 #[test]
 fn hm2_spi_finds_a_7i90_and_names_it() {

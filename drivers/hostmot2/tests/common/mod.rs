@@ -182,3 +182,17 @@ impl Rig {
 }
 
 pub mod eth;
+
+/// A host of its own with the hostmot2 core loaded, as every board
+/// driver needs before its own `loadrt`.
+pub fn with_core(tag: &str) -> Host {
+    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
+    h.loadrt(&hostmot2::hal::HOSTMOT2_MODULE, &[] as &[&str])
+        .unwrap();
+    h
+}
+
+/// Whether `pin` exists on `h`'s instance.
+pub fn has_pin(h: &Host, pin: &str) -> bool {
+    h.instance().pin(pin).unwrap().is_some()
+}
