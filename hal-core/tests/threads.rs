@@ -584,3 +584,38 @@ fn unload_takes_every_function_out_of_an_interleaved_thread() {
         ["keep.b", "keep.a"]
     );
 }
+
+#[test]
+fn start_returns_with_every_thread_shown_running_and_stop_with_none() {
+    let host = host("shownrun");
+    for (name, period) in [("fast", 100_000), ("slow", 1_000_000), ("idle", 5_000_000)] {
+        host.create_thread(name, period, true, None).unwrap();
+    }
+    let running = |host: &Host| -> Vec<(String, bool)> {
+        let mut v: Vec<_> = host
+            .instance()
+            .threads()
+            .unwrap()
+            .into_iter()
+            .map(|t| (t.name, t.running))
+            .collect();
+        v.sort();
+        v
+    };
+    // Repeated, since the race this guards (a query between `start` and
+    // a thread's first wake-up) is a matter of timing.
+    for round in 0..50 {
+        host.start().unwrap();
+        assert!(
+            running(&host).iter().all(|(_, r)| *r),
+            "round {round}: right after start: {:?}",
+            running(&host)
+        );
+        host.stop();
+        assert!(
+            running(&host).iter().all(|(_, r)| !*r),
+            "round {round}: right after stop: {:?}",
+            running(&host)
+        );
+    }
+}

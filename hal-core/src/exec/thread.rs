@@ -123,7 +123,7 @@ impl ThreadCtl {
     fn park(&self, rec: &ThreadRec) {
         self.idle.store(true, SeqCst);
         rec.seen_epoch.store(u64::MAX, SeqCst);
-        rec.running.store(0, Relaxed);
+        rec.running.store(0, SeqCst);
         self.epoch.fetch_add(1, SeqCst);
     }
 }
@@ -177,11 +177,15 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>, allowed: Vec<usize>)
 
     'park: loop {
         ctl.park(rec);
+        // The host's `start` and `stop` mark the records; this park must not
+        // undo a start that came between the last stop and here.
+        if sh.running.load(SeqCst) && !ctl.exit.load(SeqCst) {
+            rec.running.store(1, SeqCst);
+        }
         sh.wait_for_start(&ctl);
         if ctl.exit.load(Acquire) {
             break;
         }
-        rec.running.store(1, Relaxed);
         // First deadline: the next multiple of the period after start.
         let start = sh.start_ns.load(Acquire);
         let mut now = monotonic_ns();

@@ -14,7 +14,7 @@ use crate::exec::thread::{HostShared, NO_FAULT, SUPERVISOR_EXIT};
 use crate::objects::{validate_instance_name, HostLock, Instance};
 use crate::paths;
 use crate::rtlog::RtLogService;
-use crate::shm::Segment;
+use crate::shm::{Segment, ThreadRec};
 
 use super::{lock, wait_for_boundary, Host, HostConfig, HostState};
 
@@ -152,6 +152,10 @@ impl Host {
                 .start_ns
                 .store(crate::exec::clock::monotonic_ns() + 200_000, SeqCst);
             self.shared.running.store(true, SeqCst);
+            // Marked here rather than by each thread when it wakes, so that a
+            // query right after `start` sees every thread running, as
+            // LinuxCNC's `start` leaves them.
+            self.mark_threads_running(&st, true);
             drop(st);
             for why in notes {
                 self.add_note(why);
@@ -167,8 +171,18 @@ impl Host {
     pub fn stop(&self) {
         self.shared.running.store(false, SeqCst);
         let st = lock(&self.state);
+        self.mark_threads_running(&st, false);
         for t in &st.threads {
             wait_for_boundary(&t.ctl, Duration::from_secs(10));
+        }
+    }
+
+    /// Sets the `running` flag that queries read in every thread's record.
+    fn mark_threads_running(&self, st: &HostState, running: bool) {
+        for t in &st.threads {
+            if let Ok(rec) = self.inst.seg.rec::<ThreadRec>(t.ctl.rec_off) {
+                rec.running.store(u64::from(running), SeqCst);
+            }
         }
     }
 
