@@ -132,8 +132,13 @@ pub trait Transport: Send {
     /// Fills `out` with the data of every queued read, in queue order,
     /// and empties the queue.
     fn receive_queued_reads(&mut self, out: &mut [u32]) -> Result<(), TransportError>;
-    /// Queues a write for this cycle.
-    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError>;
+    /// Queues a write for this cycle. By default the write goes to the
+    /// board at once: right for transports whose writes reach the
+    /// registers directly (PCI window, EPP, SPI), which then only check
+    /// the bus in `send_queued_writes`.
+    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
+        self.write(addr, data)
+    }
     /// Sends the queued writes and empties the queue.
     fn send_queued_writes(&mut self) -> Result<(), TransportError>;
     /// Transfers so far.

@@ -87,10 +87,6 @@ impl<W: RegWindow> Transport for WindowTransport<W> {
         self.check()
     }
 
-    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
-        self.write(addr, data)
-    }
-
     fn send_queued_writes(&mut self) -> Result<(), TransportError> {
         self.check()
     }

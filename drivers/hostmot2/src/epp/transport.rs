@@ -209,10 +209,6 @@ impl Transport for EppTransport {
         self.check(first)
     }
 
-    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
-        self.write(addr, data)
-    }
-
     fn send_queued_writes(&mut self) -> Result<(), TransportError> {
         self.check_bus()
     }

@@ -162,10 +162,6 @@ impl Transport for SpiTransport {
         self.check_bus()
     }
 
-    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
-        self.write(addr, data)
-    }
-
     fn send_queued_writes(&mut self) -> Result<(), TransportError> {
         self.check_bus()
     }
