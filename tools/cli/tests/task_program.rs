@@ -360,3 +360,75 @@ fn feed_per_revolution_follows_speed_in_and_surface_speed_follows_x() {
     wait_near(&m, "spindle.0.speed-out", 300.0);
     m.stop();
 }
+
+/// Runs `prog` in AUTO to its end; returns whether it succeeded and the
+/// error text.
+fn run_program(m: &Machine, prog: &std::path::Path) -> (bool, String) {
+    m.task_ok(&["open", prog.to_str().unwrap()]);
+    m.task_ok(&["run"]);
+    let (ok, out, err) = m.task(&["-t", "60", "wait-done"]);
+    (ok, format!("{out}{err}"))
+}
+
+#[test]
+fn iov2_gives_a_change_up_on_a_changer_fault_soft_or_hard() {
+    let s = Scratch::new("task-iov2");
+    let ini = mill_copy(&s);
+    let text = std::fs::read_to_string(&ini).unwrap();
+    let text = text
+        .replace("[EMCIO]\n", "[EMCIO]\nEMCIO = iov2 -support-start-change\n")
+        .replace("[TASK]\n", "[TASK]\nIO_ERROR = Toolchanger fault %d\n");
+    std::fs::write(&ini, text).unwrap();
+    let m = Machine::start(&ini, "task-iov2");
+    // The changer of this test acknowledges aborts and change starts at once.
+    m.halcmd(&[
+        "net",
+        "abort",
+        "iocontrol.0.emc-abort",
+        "iocontrol.0.emc-abort-ack",
+    ]);
+    m.halcmd(&[
+        "net",
+        "start",
+        "iocontrol.0.start-change",
+        "iocontrol.0.start-change-ack",
+    ]);
+    assert_eq!(m.getp("iocontrol.0.state"), "0");
+    ready(&m);
+    m.task_ok(&["mode", "auto"]);
+    let fault = |reason: &str| {
+        m.halcmd(&["setp", "iocontrol.0.toolchanger-reason", reason]);
+        m.halcmd(&["setp", "iocontrol.0.toolchanger-fault", "TRUE"]);
+        m.wait_getp("iocontrol.0.toolchanger-fault-ack", "TRUE");
+        m.halcmd(&["setp", "iocontrol.0.toolchanger-fault", "FALSE"]);
+        m.wait_getp("iocontrol.0.toolchanger-fault-ack", "FALSE");
+    };
+    // A soft fault (reason > 0): the M6 is given up, the program goes on.
+    fault("5");
+    let prog = s.write("soft.ngc", "G21 G90\nT1 M6\nG0 X1\nM2\n");
+    let (ok, out) = run_program(&m, &prog);
+    assert!(ok, "{out}\n--- linuxcnc:\n{}", m.stderr());
+    assert!((pos(&m, 0) - 1.0).abs() < 1e-6);
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "0", "no tool was loaded");
+    assert_eq!(m.getp("iocontrol.0.toolchanger-faulted"), "TRUE");
+    let needle = "M6: toolchanger soft fault=1, reason=5";
+    assert!(m.stderr_with(needle).contains(needle), "{}", m.stderr());
+    // Cleared, the same change goes through.
+    m.halcmd(&["setp", "iocontrol.0.toolchanger-clear-fault", "TRUE"]);
+    m.wait_getp("iocontrol.0.toolchanger-faulted", "FALSE");
+    m.halcmd(&["setp", "iocontrol.0.toolchanger-clear-fault", "FALSE"]);
+    let (ok, out) = run_program(&m, &prog);
+    assert!(ok, "{out}\n--- linuxcnc:\n{}", m.stderr());
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "1");
+    // A hard fault (reason < 0): the run stops with [TASK]IO_ERROR's text
+    // and the move after the M6 never runs.
+    fault("-3");
+    let prog = s.write("hard.ngc", "G21 G90\nT2 M6\nG0 X2\nM2\n");
+    let (ok, out) = run_program(&m, &prog);
+    assert!(!ok, "{out}");
+    assert!(out.contains("Toolchanger fault -3"), "{out}");
+    assert!((pos(&m, 0) - 1.0).abs() < 1e-6, "X2 never ran");
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "1");
+    assert_eq!(m.getp("iocontrol.0.emc-reason"), "8", "the run's abort");
+    m.stop();
+}

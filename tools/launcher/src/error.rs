@@ -201,6 +201,16 @@ pub enum LaunchError {
          stayed FALSE: the external e-stop chain is open"
     )]
     ChainOpen,
+    /// The tool changer had faulted, so iocontrol gave the change up
+    /// (iov2's `toolchanger-faulted`).
+    #[error(
+        "the tool change was given up: the tool changer faulted (toolchanger-reason {reason}); \
+         clear it with iocontrol.0.toolchanger-clear-fault"
+    )]
+    ToolchangerFault {
+        /// `toolchanger-reason` when the change was given up.
+        reason: i32,
+    },
     /// iocontrol refused a tool request.
     #[error(transparent)]
     Tool(#[from] crate::iocontrol::IoError),

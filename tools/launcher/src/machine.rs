@@ -30,7 +30,7 @@ use hal_lang::{Options as HalcmdOptions, Session};
 use crate::error::LaunchError;
 use crate::hal_side::HalSide;
 use crate::halfiles::SearchPath;
-use crate::iocontrol::{IoControl, IoPins, ToolTable};
+use crate::iocontrol::{Flavour, IoControl, IoPins, ToolTable};
 use crate::old_format::HalRenames;
 use crate::rules::Rules;
 use crate::task_pins::TaskPins;
@@ -270,7 +270,8 @@ pub fn start_hal_side(
         }
     }
     session.set_filter(rules.clone());
-    let io_pins = IoPins::create(session.instance())?;
+    let flavour = Flavour::from_ini(ini);
+    let io_pins = IoPins::create(session.instance(), flavour)?;
     let task_pins = if ini.entry("KINS", "JOINTS").is_some() {
         Some(TaskPins::create(session.instance(), ini)?)
     } else {
@@ -278,6 +279,7 @@ pub fn start_hal_side(
     };
     let (table, table_path, complete) = tool_table(ini)?;
     let mut io = IoControl::new(table, table_path.clone());
+    io.set_flavour(flavour);
     if !complete {
         io.hold_write_back();
     }

@@ -473,7 +473,13 @@ impl Task {
                     }
                 }
                 Waiting::Change => {
-                    if events.iter().any(|e| matches!(e, IoEvent::Changed { .. })) {
+                    let fault = events.iter().find_map(|e| match e {
+                        IoEvent::ChangeFaulted { reason } => Some(*reason),
+                        _ => None,
+                    });
+                    if let Some(reason) = fault {
+                        self.answer(server, id, Err(LaunchError::ToolchangerFault { reason }));
+                    } else if events.iter().any(|e| matches!(e, IoEvent::Changed { .. })) {
                         self.answer(server, id, Ok(self.in_spindle()));
                     } else {
                         self.waiting.push((id, Waiting::Change));
@@ -709,6 +715,7 @@ impl Task {
             None => "none",
             Some(Handshake::Prepare) => "waiting for tool-prepared",
             Some(Handshake::Change) => "waiting for tool-changed",
+            Some(Handshake::StartChange) => "waiting for start-change-ack",
         };
         let mut s = format!(
             "state: {}\nmode: {}\ntool in spindle: {}\nprepared: {}\nhandshake: {handshake}\n\

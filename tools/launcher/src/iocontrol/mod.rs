@@ -6,15 +6,19 @@
 //!
 //! [`IoControl`] is the logic, free of HAL: requests come in, inputs are
 //! stepped once per cycle, outputs are read back. [`IoPins`] binds it to a
-//! user-space HAL component named `iocontrol`.
+//! user-space HAL component named `iocontrol`. With `[EMCIO]EMCIO = iov2`
+//! it speaks LinuxCNC's second tool changer protocol too ([`v2`]).
 
 pub mod tooltable;
+pub mod v2;
 
 use std::path::PathBuf;
 
 use hal_core::{Component, ComponentKind, In, Instance, Out, Pin};
 
 pub use tooltable::ToolTable;
+pub use v2::Flavour;
+use v2::{state, V2Inputs, V2Outputs, V2Pins, V2State};
 
 /// What task asks iocontrol to do (LinuxCNC's `EMC_IO_*`, `EMC_TOOL_*`,
 /// `EMC_COOLANT_*`, `EMC_LUBE_*` and `EMC_AUX_ESTOP_*` messages).
@@ -36,6 +40,10 @@ pub enum IoRequest {
     },
     /// Change to the prepared tool (M6).
     Load,
+    /// The very start of an M6, before the spindle stops or the machine
+    /// moves to the change position (`start-change`; iov2 with
+    /// `-support-start-change` only, done at once otherwise).
+    StartChange,
     /// Declare tool `tool` in the spindle without a change (M61).
     SetNumber {
         /// The tool number.
@@ -75,6 +83,8 @@ pub enum Handshake {
     Prepare,
     /// `tool-change` is waiting for `tool-changed`.
     Change,
+    /// `start-change` is waiting for `start-change-ack`.
+    StartChange,
 }
 
 /// Why a request was refused.
@@ -111,6 +121,8 @@ pub struct IoInputs {
     pub tool_changed: bool,
     /// `lube_level`.
     pub lube_level: bool,
+    /// The iov2 protocol's inputs (all low without it).
+    pub v2: V2Inputs,
 }
 
 /// Outputs, as the pins show them.
@@ -141,6 +153,10 @@ pub struct IoOutputs {
     pub tool_number: i32,
     /// `tool-change`.
     pub tool_change: bool,
+    /// `state` (iov2 only): one of [`v2::state`].
+    pub state: i32,
+    /// The iov2 protocol's outputs.
+    pub v2: V2Outputs,
 }
 
 /// The end of a handshake, reported by [`IoControl::step`].
@@ -156,6 +172,15 @@ pub enum IoEvent {
         /// The tool now in the spindle.
         tool: i32,
     },
+    /// The changer acknowledged the start of a change (iov2).
+    StartChangeAcked,
+    /// The change was given up because the changer had faulted (iov2):
+    /// the tool in the spindle is unchanged. A positive reason is a soft
+    /// fault, the program goes on; otherwise it stops.
+    ChangeFaulted {
+        /// `toolchanger-reason` as the change was given up.
+        reason: i32,
+    },
 }
 
 /// iocontrol's logic.
@@ -170,6 +195,10 @@ pub struct IoControl {
     pulse: bool,
     /// Where a random changer's table is saved after each change.
     save_to: Option<tooltable::SaveTo>,
+    /// `io` or `iov2`, and iov2's options.
+    flavour: Flavour,
+    /// iov2's remembered fault reason.
+    v2: V2State,
 }
 
 impl IoControl {
@@ -188,12 +217,19 @@ impl IoControl {
             tool_in_spindle,
             pulse: false,
             save_to: save_to.map(tooltable::SaveTo::new),
+            flavour: Flavour::IO,
+            v2: V2State::default(),
         };
         if !io.table.random {
             io.table.put(0, None);
         }
         io.out.tool_number = tool_in_spindle;
         io
+    }
+
+    /// Speaks `flavour`'s protocol (plain `io` until this is called).
+    pub fn set_flavour(&mut self, flavour: Flavour) {
+        self.flavour = flavour;
     }
 
     /// The outputs.
@@ -247,6 +283,8 @@ impl IoControl {
     pub fn busy(&self) -> Option<Handshake> {
         if self.out.tool_change {
             Some(Handshake::Change)
+        } else if self.out.v2.start_change {
+            Some(Handshake::StartChange)
         } else if self.out.tool_prepare {
             Some(Handshake::Prepare)
         } else {
@@ -301,8 +339,30 @@ impl IoControl {
             IoRequest::Abort => {
                 self.out.coolant_mist = false;
                 self.out.coolant_flood = false;
+                // The changer hears of the abort before its request lines
+                // drop, so that it cannot take the drop for a completion.
+                if self.flavour.v2 {
+                    self.out.v2.emc_reason = v2::REASON_TASK_ABORT;
+                    self.out.v2.emc_abort = true;
+                }
                 self.out.tool_change = false;
                 self.out.tool_prepare = false;
+                self.out.v2.start_change = false;
+                self.out.state = if self.flavour.v2 {
+                    state::WAIT_FOR_ABORT_ACK
+                } else {
+                    state::IDLE
+                };
+            }
+            IoRequest::StartChange => {
+                if self.flavour.start_change {
+                    if let Some(h) = self.busy() {
+                        return Err(IoError::Busy(h));
+                    }
+                    self.out.v2.start_change = true;
+                    self.out.state = state::START_CHANGE;
+                    return Ok(Started::Waiting(Handshake::StartChange));
+                }
             }
             IoRequest::Mist(on) => self.out.coolant_mist = on,
             IoRequest::Flood(on) => self.out.coolant_flood = on,
@@ -349,6 +409,7 @@ impl IoControl {
             return Ok(Started::Done);
         }
         self.out.tool_prepare = true;
+        self.out.state = state::PREPARING;
         Ok(Started::Waiting(Handshake::Prepare))
     }
 
@@ -366,6 +427,7 @@ impl IoControl {
             return Ok(Started::Done);
         }
         self.out.tool_change = true;
+        self.out.state = state::CHANGING;
         Ok(Started::Waiting(Handshake::Change))
     }
 
@@ -441,12 +503,34 @@ impl IoControl {
         } else {
             self.out.user_request_enable = false;
         }
+        if self.flavour.v2 {
+            let seen = self.v2.step(&inp.v2, &mut self.out.v2);
+            if seen.abort_acked {
+                self.out.state = state::IDLE;
+            }
+            if seen.start_change_acked {
+                events.push(IoEvent::StartChangeAcked);
+            }
+        }
         if self.out.tool_prepare && inp.tool_prepared {
             let slot = self.out.tool_prep_index.max(0) as usize;
             self.prepped = Some(slot);
             self.out.tool_prepare = false;
+            self.out.state = state::IDLE;
             events.push(IoEvent::Prepared {
                 tool: self.prep_number_of(slot),
+            });
+        }
+        if self.out.tool_change && self.flavour.v2 && self.out.v2.toolchanger_faulted {
+            // A fault remembered since the prepare gives the change up:
+            // the changer is told why, the tool stays where it is.
+            self.v2.reason = inp.v2.toolchanger_reason;
+            self.out.v2.emc_reason = v2::REASON_TOOLCHANGER_FAULT;
+            self.out.v2.emc_abort = true;
+            self.out.tool_change = false;
+            self.out.state = state::WAIT_FOR_ABORT_ACK;
+            events.push(IoEvent::ChangeFaulted {
+                reason: self.v2.reason,
             });
         }
         if self.out.tool_change && inp.tool_changed {
@@ -460,6 +544,7 @@ impl IoControl {
             self.out.tool_prep_pocket = 0;
             self.out.tool_prep_index = 0;
             self.out.tool_change = false;
+            self.out.state = state::IDLE;
             events.push(IoEvent::Changed {
                 tool: self.tool_in_spindle,
             });
@@ -483,15 +568,19 @@ pub struct IoPins {
     tool_prep_number: Pin<i32, Out>,
     tool_prep_pocket: Pin<i32, Out>,
     tool_prep_index: Pin<i32, Out>,
-    tool_from_pocket: Pin<i32, Out>,
+    /// `io` only: LinuxCNC's iov2 has no `tool-from-pocket`.
+    tool_from_pocket: Option<Pin<i32, Out>>,
     tool_number: Pin<i32, Out>,
     tool_change: Pin<bool, Out>,
     tool_changed: Pin<bool, In>,
+    /// iov2 only.
+    state: Option<Pin<i32, Out>>,
+    v2: Option<V2Pins>,
 }
 
 impl IoPins {
-    /// Creates the component and its pins (LinuxCNC's names).
-    pub fn create(inst: &Instance) -> hal_core::Result<IoPins> {
+    /// Creates the component and the pins of `flavour` (LinuxCNC's names).
+    pub fn create(inst: &Instance, flavour: Flavour) -> hal_core::Result<IoPins> {
         let c = inst.new_component("iocontrol", ComponentKind::User)?;
         let p = |n: &str| format!("iocontrol.0.{n}");
         let pins = IoPins {
@@ -504,13 +593,24 @@ impl IoPins {
             tool_number: c.pin(&p("tool-number"))?,
             tool_prep_number: c.pin(&p("tool-prep-number"))?,
             tool_prep_index: c.pin(&p("tool-prep-index"))?,
-            tool_from_pocket: c.pin(&p("tool-from-pocket"))?,
+            tool_from_pocket: match flavour.iov2 {
+                false => Some(c.pin(&p("tool-from-pocket"))?),
+                true => None,
+            },
             tool_prep_pocket: c.pin(&p("tool-prep-pocket"))?,
             tool_prepared: c.pin(&p("tool-prepared"))?,
             tool_change: c.pin(&p("tool-change"))?,
             tool_changed: c.pin(&p("tool-changed"))?,
             emc_enable_in: c.pin(&p("emc-enable-in"))?,
             lube_level: c.pin(&p("lube_level"))?,
+            state: match flavour.iov2 {
+                true => Some(c.pin(&p("state"))?),
+                false => None,
+            },
+            v2: match flavour.v2 {
+                true => Some(V2Pins::create(&c)?),
+                false => None,
+            },
             _comp: c,
         };
         pins._comp.ready()?;
@@ -524,6 +624,7 @@ impl IoPins {
             tool_prepared: self.tool_prepared.get(),
             tool_changed: self.tool_changed.get(),
             lube_level: self.lube_level.get(),
+            v2: self.v2.as_ref().map(V2Pins::inputs).unwrap_or_default(),
         }
     }
 
@@ -538,9 +639,17 @@ impl IoPins {
         self.tool_prep_number.set(o.tool_prep_number);
         self.tool_prep_pocket.set(o.tool_prep_pocket);
         self.tool_prep_index.set(o.tool_prep_index);
-        self.tool_from_pocket.set(o.tool_from_pocket);
+        if let Some(p) = &self.tool_from_pocket {
+            p.set(o.tool_from_pocket);
+        }
         self.tool_number.set(o.tool_number);
         self.tool_change.set(o.tool_change);
+        if let Some(p) = &self.state {
+            p.set(o.state);
+        }
+        if let Some(p) = &self.v2 {
+            p.write(&o.v2);
+        }
     }
 }
 
@@ -563,6 +672,7 @@ mod tests {
             tool_prepared: prepared,
             tool_changed: changed,
             lube_level: true,
+            v2: V2Inputs::default(),
         }
     }
 

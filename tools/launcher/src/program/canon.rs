@@ -513,7 +513,9 @@ impl Canon for TaskCanon {
     fn select_tool(&mut self, tool: i32) {
         self.ops.push_back(Op::Io(IoRequest::Prepare { tool }));
     }
-    fn start_change(&mut self) {}
+    fn start_change(&mut self) {
+        self.ops.push_back(Op::Io(IoRequest::StartChange));
+    }
     fn change_tool(&mut self, index: i32) {
         if let Some(entry) = usize::try_from(index)
             .ok()

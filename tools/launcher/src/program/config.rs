@@ -27,6 +27,9 @@ pub struct ProgramConfig {
     /// order: the program prefix (`nc_files` beside the INI file without
     /// one), then the first five directories of `USER_M_PATH`.
     pub user_m_dirs: Vec<PathBuf>,
+    /// `[TASK]IO_ERROR`: the text of a hard tool changer fault, its `%d`
+    /// the reason (LinuxCNC's default "toolchanger error %d").
+    pub io_error: String,
 }
 
 fn flag(ini: &Ini, section: &str, key: &str) -> bool {
@@ -119,6 +122,10 @@ impl ProgramConfig {
             axis_mask,
             no_force_homing: flag(ini, "TRAJ", "NO_FORCE_HOMING"),
             user_m_dirs,
+            io_error: ini
+                .get("TASK", "IO_ERROR")
+                .map_or("toolchanger error %d", str::trim)
+                .to_string(),
         }
     }
 }

@@ -17,6 +17,12 @@ pub enum ProgramError {
         /// What the operator can do (empty, or a parenthesised hint).
         hint: &'static str,
     },
+    /// The tool changer faulted and the M6 was given up (iov2).
+    #[error("{text}")]
+    Toolchanger {
+        /// `[TASK]IO_ERROR` with the reason, or the fault's description.
+        text: String,
+    },
     /// `run` before `open`.
     #[error("no program is open (task-cmd open FILE)")]
     NoProgram,

@@ -122,6 +122,8 @@ pub struct Program {
     motion_line: i32,
     /// The MDI line that runs, for messages.
     mdi_text: String,
+    /// `[TASK]IO_ERROR`.
+    io_error: String,
 }
 
 impl Program {
@@ -148,6 +150,7 @@ impl Program {
             seen_events: 0,
             motion_line: 0,
             mdi_text: String::new(),
+            io_error: config.io_error,
             input_wait: None,
             user_m_running: None,
             orient_deadline: None,
@@ -393,12 +396,10 @@ impl Program {
                 return Some(self.fail(e));
             }
         }
-        if self.io_busy
-            && events
-                .iter()
-                .any(|e| matches!(e, IoEvent::Prepared { .. } | IoEvent::Changed { .. }))
-        {
-            self.io_busy = false;
+        if self.io_busy {
+            if let Err(e) = self.io_events(events) {
+                return Some(self.fail(e));
+            }
         }
         if let Err(e) = self.read_ahead() {
             return Some(self.fail(e));
@@ -621,6 +622,30 @@ impl Program {
             self.canon.ops.pop_front();
         }
         Ok(sent)
+    }
+
+    /// Ends the iocontrol handshake an op waits for. A change that the
+    /// tool changer's fault gave up (iov2) goes on without the tool on a
+    /// soft fault (a positive reason) and stops the run on a hard one,
+    /// as LinuxCNC's task does.
+    fn io_events(&mut self, events: &[IoEvent]) -> Result<(), ProgramError> {
+        for e in events {
+            match *e {
+                IoEvent::Prepared { .. } | IoEvent::Changed { .. } | IoEvent::StartChangeAcked => {
+                    self.io_busy = false;
+                }
+                IoEvent::ChangeFaulted { reason } if reason > 0 => {
+                    eprintln!("task: M6: toolchanger soft fault=1, reason={reason}");
+                    self.io_busy = false;
+                }
+                IoEvent::ChangeFaulted { reason } => {
+                    return Err(ProgramError::Toolchanger {
+                        text: crate::iocontrol::v2::hard_fault_text(&self.io_error, reason),
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     fn fail(&mut self, why: ProgramError) -> Ended {
