@@ -285,8 +285,9 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_eq!(pos(&m, 0), stopped, "{status}");
     assert!(stopped > 1.0 && stopped < 40.0, "{stopped}");
-    let needle = "disabled itself (last reported: joint 0 on limit switch error)";
-    assert!(m.stderr_with(needle).contains(needle), "{}", m.stderr());
+    let needle = "disabled itself (last fault: joint 0 on limit switch error)";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{err}");
     // A following error during an MDI line: Y's feedback is cut.
     m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
     m.task_ok(&["machine-on"]);
@@ -301,6 +302,10 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
         m.stderr()
     );
     let status = wait_status(&m, "state: OFF");
+    // The fault says how large the error was, and task's messages name it.
+    let needle = "disabled itself (last fault: joint 1 following error (error ";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{err}");
     let stopped = pos(&m, 1);
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_eq!(pos(&m, 1), stopped, "{status}");
