@@ -288,6 +288,9 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
     let needle = "disabled itself (last fault: joint 0 on limit switch error)";
     let err = m.stderr_with(needle);
     assert!(err.contains(needle), "{err}");
+    // Task printed motion's message once, as it saw it.
+    let fault = "task: motion error: joint 0 on limit switch error\n";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
     // A following error during an MDI line: Y's feedback is cut.
     m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
     m.task_ok(&["machine-on"]);
@@ -306,6 +309,8 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
     let needle = "disabled itself (last fault: joint 1 following error (error ";
     let err = m.stderr_with(needle);
     assert!(err.contains(needle), "{err}");
+    let fault = "task: motion error: joint 1 following error (error ";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
     let stopped = pos(&m, 1);
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_eq!(pos(&m, 1), stopped, "{status}");
