@@ -370,3 +370,36 @@ fn feed_per_revolution_follows_speed_in_and_surface_speed_follows_x() {
     wait_near(&m, "spindle.0.speed-out", 300.0);
     m.stop();
 }
+
+/// The case that lost its cause: a following error while Z homes disables
+/// motion, and homing's abort message comes after it in the same cycle.
+/// Task prints both, once, the fault first, and its machine-off message
+/// names the fault, not the homing message.
+#[test]
+fn a_following_error_while_homing_is_named_not_the_homing_abort_after_it() {
+    let s = Scratch::new("task-home-fault");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-home-fault");
+    assert!(m.threads_run(), "threads run");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // Z (HOME_SEQUENCE 0) homes first; its feedback no longer follows.
+    m.halcmd(&["unlinkp", "joint.2.motor-pos-fb"]);
+    m.motion(&["home", "-1"]);
+    let status = wait_status(&m, "state: OFF");
+    let needle = "disabled itself (last fault: joint 2 following error (error ";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{status}\n{err}");
+    let fault = "task: motion error: joint 2 following error (error ";
+    let abort = "task: motion: homing of joint 2 aborted";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
+    assert_eq!(err.matches(abort).count(), 1, "{err}");
+    assert!(err.find(fault) < err.find(abort), "{err}");
+    // motion-cmd's status keeps the fault beside the last message.
+    let st = m.motion(&["status"]);
+    assert!(
+        st.contains("last fault: joint 2 following error (error "),
+        "{st}"
+    );
+    m.stop();
+}
