@@ -8,6 +8,7 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering::*};
 use std::sync::Mutex;
 
 use crate::command::Direction;
+use crate::fault::{FaultCell, FollowingErrorTrip};
 use crate::homing::{HomeFault, HomeState};
 
 /// Something the controller reports.
@@ -163,7 +164,7 @@ impl std::fmt::Display for Event {
 }
 
 impl Event {
-    fn encode(self) -> u64 {
+    pub(crate) fn encode(self) -> u64 {
         let (code, a, b): (u64, u64, u64) = match self {
             Event::JointOnLimit { joint } => (1, joint as u64, 0),
             Event::JointAmpFault { joint } => (2, joint as u64, 0),
@@ -289,6 +290,8 @@ pub struct EventRing {
     reported: AtomicU64,
     /// The last message reported, encoded (0: none yet).
     last: AtomicU64,
+    /// The last fault reported, kept when later messages are not faults.
+    faults: FaultCell,
     reader: Mutex<()>,
 }
 
@@ -301,6 +304,7 @@ impl Default for EventRing {
             dropped: AtomicU64::new(0),
             reported: AtomicU64::new(0),
             last: AtomicU64::new(0),
+            faults: FaultCell::default(),
             reader: Mutex::new(()),
         }
     }
@@ -319,10 +323,24 @@ impl EventRing {
     /// Adds a message (realtime side; one producer). Drops it if the ring
     /// is full.
     pub fn push(&self, e: Event) {
-        // The count and the last message are what another process sees
-        // (through the status snapshot), whether or not the ring is full.
+        self.push_with(e, None);
+    }
+
+    /// Adds a following error with its size when it tripped (realtime
+    /// side), so the fault record says how large it was.
+    pub fn push_following_error(&self, joint: usize, trip: FollowingErrorTrip) {
+        self.push_with(Event::JointFollowingError { joint }, Some(trip));
+    }
+
+    fn push_with(&self, e: Event, trip: Option<FollowingErrorTrip>) {
+        // The count, the last message and the last fault are what another
+        // process sees (through the status snapshot), whether or not the
+        // ring is full.
         self.last.store(e.encode(), Relaxed);
-        self.reported.fetch_add(1, Release);
+        let number = self.reported.fetch_add(1, Release) + 1;
+        if e.stops_a_program() {
+            self.faults.record(e, number, trip);
+        }
         let head = self.head.load(Relaxed);
         if head.wrapping_sub(self.tail.load(Acquire)) >= EVENT_CAPACITY {
             self.dropped.fetch_add(1, Relaxed);
@@ -353,6 +371,11 @@ impl EventRing {
     pub fn reported(&self) -> (u64, u64) {
         let n = self.reported.load(Acquire);
         (n, self.last.load(Relaxed))
+    }
+
+    /// The last fault's record (see [`crate::fault`]).
+    pub fn fault_words(&self) -> [u64; crate::fault::FAULT_WORDS] {
+        self.faults.words()
     }
 
     /// How many messages were dropped because the ring was full.

@@ -43,6 +43,7 @@ pub mod comp;
 pub mod comp_file;
 mod core;
 mod events;
+mod fault;
 #[doc(hidden)]
 pub mod fuzzing;
 pub mod homing;
@@ -68,6 +69,7 @@ pub use core::{
     MODE_ENTRY_TOLERANCE,
 };
 pub use events::{Event, EventRing};
+pub use fault::{Fault, FollowingErrorTrip, FAULT_WORDS};
 pub use joint::{JointInputs, JointStatus};
 pub use kins::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
 pub use motmod::MotionHandle;

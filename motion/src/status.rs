@@ -119,6 +119,11 @@ pub struct MotionStatus {
     pub events_reported: u64,
     /// The last of them, if any.
     pub last_event: Option<crate::events::Event>,
+    /// Faults among those messages (the ones that stop a program): 0
+    /// also from a controller that does not report them.
+    pub faults_reported: u64,
+    /// The last fault, if any, kept when later messages are not faults.
+    pub last_fault: Option<crate::fault::Fault>,
     /// The free-mode SCALE.
     pub scale: f64,
     /// Joints whose hard limits are overridden.
@@ -275,6 +280,13 @@ impl MotionStatus {
         if !self.enabled && (self.teleop_mode || self.coord_mode) {
             let m = if self.teleop_mode { "TELEOP" } else { "COORD" };
             writeln!(f, "mode on enable: {m}")?;
+        }
+        if let Some(fault) = &self.last_fault {
+            writeln!(
+                f,
+                "last fault: {fault} (message {} of {}; faults reported: {})",
+                fault.number, self.events_reported, self.faults_reported
+            )?;
         }
         Ok(())
     }

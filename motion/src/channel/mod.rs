@@ -28,7 +28,16 @@
 //!
 //! Status header words 10 and 11: how many messages the controller
 //! reported (see [`crate::Event`]) and the last one's wire word, so a
-//! client in another process sees faults as they happen.
+//! client in another process sees faults as they happen. The fault block
+//! at [`FAULT_START`] keeps the last fault (see [`crate::Fault`]) when
+//! later messages are not faults.
+//!
+//! The status format grows only at its end. A layout change of existing
+//! words takes a new [`STATUS_VERSION`] (a reader refuses any other);
+//! words appended keep the version: a reader copies the words it knows
+//! (the snapshot region states its length), and a newer reader of an
+//! older controller's shorter snapshot finds the appended words zero,
+//! which reads as "not reported".
 //!
 //! Answer record: 0 version ([`REPLY_VERSION`]), 1 serial, 2 result code
 //! (0 accepted, else [`reject_code`]), 3 and 4 integer details, 5..=7
@@ -85,8 +94,11 @@ pub const SPINDLE_WORDS: usize = 5;
 /// and num_aio shifted by 8), the digital inputs' and outputs' bits,
 /// then the analog inputs and outputs.
 pub const IO_START: usize = SPINDLES_START + 1 + MAX_SPINDLES * SPINDLE_WORDS;
+/// Where the fault block starts, after the I/O block: appended to
+/// format 4, whose snapshot ended here.
+pub const FAULT_START: usize = IO_START + 3 + 2 * MAX_IO;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = IO_START + 3 + 2 * MAX_IO;
+pub const STATUS_WORDS: usize = FAULT_START + crate::fault::FAULT_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).
@@ -95,7 +107,8 @@ pub const CMD_VERSION: u64 = 0x4d4f_5443_4d44_0002;
 pub const REPLY_VERSION: u64 = 0x4d4f_5452_4550_0001;
 /// Version word of the status snapshot: "MOTSTA" and format 4 (format 2
 /// added the axis blocks and the mode flags, format 3 the coordinated
-/// planner block, format 4 the spindle and I/O blocks).
+/// planner block, format 4 the spindle and I/O blocks; the fault block
+/// was appended to format 4, see the module).
 pub const STATUS_VERSION: u64 = 0x4d4f_5453_5441_0004;
 
 /// Float argument words of a command record.
@@ -118,5 +131,7 @@ pub fn checksum(words: &[u64]) -> u64 {
     h
 }
 
+#[cfg(test)]
+mod fault_tests;
 #[cfg(test)]
 pub(crate) mod tests;

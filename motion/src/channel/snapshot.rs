@@ -2,11 +2,12 @@
 //! the controller, [`decode_status`] checks and reads it in a client.
 
 use super::{
-    AXES_START, AXIS_WORDS, IO_START, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS, STATUS_HEADER,
-    STATUS_VERSION, STATUS_WORDS, TRAJ_START,
+    AXES_START, AXIS_WORDS, FAULT_START, IO_START, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS,
+    STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState, OrientState};
+use crate::fault::{Fault, FAULT_WORDS};
 use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
 use crate::sizes::{MAX_IO, MAX_JOINTS, MAX_SPINDLES};
@@ -116,6 +117,7 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     let (reported, last_event) = core.events().reported();
     out[10] = reported;
     out[11] = last_event;
+    out[FAULT_START..][..FAULT_WORDS].copy_from_slice(&core.events().fault_words());
     // Read through references: this runs every servo cycle.
     for j in 0..n {
         let s = core.joint_ref(j);
@@ -377,6 +379,11 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         served: w[9],
         events_reported: w[10],
         last_event: crate::events::Event::from_word(w[11]),
+        faults_reported: w[FAULT_START],
+        last_fault: w[FAULT_START..][..FAULT_WORDS]
+            .try_into()
+            .ok()
+            .and_then(|f| Fault::from_words(&f)),
         joints,
         axes,
         traj: decode_traj(&w[TRAJ_START..])?,

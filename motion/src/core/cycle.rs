@@ -322,7 +322,11 @@ impl MotionCore {
             }
             if jt.ferror_flag {
                 if !jt.error {
-                    self.events.push(Event::JointFollowingError { joint: n });
+                    let trip = crate::fault::FollowingErrorTrip {
+                        error: jt.ferror,
+                        limit: jt.ferror_limit,
+                    };
+                    self.events.push_following_error(n, trip);
                 }
                 jt.error = true;
                 self.enabling = false;

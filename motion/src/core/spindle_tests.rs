@@ -3,7 +3,7 @@
 //! disable, and the at-speed barrier of the feed move after a start.
 
 use super::coord_tests::{at, line, xyz};
-use crate::command::{Command, LineKind, Quantity, Reject};
+use crate::command::{Command, LineKind, ProbeType, Quantity, Reject};
 
 fn on(speed: f64, wait: bool) -> Command {
     Command::SpindleOn {
@@ -262,6 +262,42 @@ fn feed_per_revolution_follows_the_spindle_speed_feedback() {
             ..
         })
     ));
+}
+
+/// LinuxCNC's interpreter refuses G38.n under G95 ("Cannot probe with
+/// feed per rev mode"), and its probe moves carry no feed mode: a probe
+/// queued while feed per revolution is set moves at its own speed (the
+/// program's F per minute), whatever the spindle turns; the feed move
+/// after it follows the spindle again.
+#[test]
+fn a_probe_move_under_feed_per_revolution_keeps_its_speed_per_minute() {
+    let mut s = xyz();
+    s.coord();
+    s.cmd(Command::SetFeedPerRev {
+        spindle: 0,
+        per_rev: 0.5,
+    })
+    .unwrap();
+    s.m.inputs.spindle_speed_in[0] = 10.0;
+    // F120 per minute: 2 u/s, not 0.5 per revolution at 10 rev/s (5 u/s).
+    s.cmd(Command::Probe {
+        end: at(0.0, 0.0, -20.0),
+        vel: 2.0,
+        probe: ProbeType::G38_3,
+        id: 1,
+    })
+    .unwrap();
+    s.run(300);
+    assert!((s.m.planner().current_vel - 2.0).abs() < 1e-9);
+    // Without spindle speed the probe still moves.
+    s.m.inputs.spindle_speed_in[0] = 0.0;
+    s.run(300);
+    assert!((s.m.planner().current_vel - 2.0).abs() < 1e-9);
+    s.run_queue(100_000);
+    s.m.inputs.spindle_speed_in[0] = 10.0;
+    s.cmd(line(30.0, 0.0, 1.0, 2)).unwrap();
+    s.run(300);
+    assert!((s.m.planner().current_vel - 5.0).abs() < 1e-9);
 }
 
 #[test]

@@ -285,8 +285,12 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_eq!(pos(&m, 0), stopped, "{status}");
     assert!(stopped > 1.0 && stopped < 40.0, "{stopped}");
-    let needle = "disabled itself (last reported: joint 0 on limit switch error)";
-    assert!(m.stderr_with(needle).contains(needle), "{}", m.stderr());
+    let needle = "disabled itself (last fault: joint 0 on limit switch error)";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{err}");
+    // Task printed motion's message once, as it saw it.
+    let fault = "task: motion error: joint 0 on limit switch error\n";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
     // A following error during an MDI line: Y's feedback is cut.
     m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
     m.task_ok(&["machine-on"]);
@@ -301,6 +305,12 @@ fn a_motion_fault_aborts_the_run_names_the_line_and_nothing_moves() {
         m.stderr()
     );
     let status = wait_status(&m, "state: OFF");
+    // The fault says how large the error was, and task's messages name it.
+    let needle = "disabled itself (last fault: joint 1 following error (error ";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{err}");
+    let fault = "task: motion error: joint 1 following error (error ";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
     let stopped = pos(&m, 1);
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_eq!(pos(&m, 1), stopped, "{status}");
@@ -358,6 +368,39 @@ fn feed_per_revolution_follows_speed_in_and_surface_speed_follows_x() {
     m.task_ok(&["mdi", "G97", "S300"]);
     m.task_ok(&["-t", "60", "wait-done"]);
     wait_near(&m, "spindle.0.speed-out", 300.0);
+    m.stop();
+}
+
+/// The case that lost its cause: a following error while Z homes disables
+/// motion, and homing's abort message comes after it in the same cycle.
+/// Task prints both, once, the fault first, and its machine-off message
+/// names the fault, not the homing message.
+#[test]
+fn a_following_error_while_homing_is_named_not_the_homing_abort_after_it() {
+    let s = Scratch::new("task-home-fault");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-home-fault");
+    assert!(m.threads_run(), "threads run");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    // Z (HOME_SEQUENCE 0) homes first; its feedback no longer follows.
+    m.halcmd(&["unlinkp", "joint.2.motor-pos-fb"]);
+    m.motion(&["home", "-1"]);
+    let status = wait_status(&m, "state: OFF");
+    let needle = "disabled itself (last fault: joint 2 following error (error ";
+    let err = m.stderr_with(needle);
+    assert!(err.contains(needle), "{status}\n{err}");
+    let fault = "task: motion error: joint 2 following error (error ";
+    let abort = "task: motion: homing of joint 2 aborted";
+    assert_eq!(err.matches(fault).count(), 1, "{err}");
+    assert_eq!(err.matches(abort).count(), 1, "{err}");
+    assert!(err.find(fault) < err.find(abort), "{err}");
+    // motion-cmd's status keeps the fault beside the last message.
+    let st = m.motion(&["status"]);
+    assert!(
+        st.contains("last fault: joint 2 following error (error "),
+        "{st}"
+    );
     m.stop();
 }
 

@@ -23,6 +23,7 @@ mod program;
 mod rules;
 mod task;
 mod task_manual;
+mod task_motion;
 mod task_panel;
 mod task_pins;
 mod task_program;

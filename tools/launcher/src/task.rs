@@ -317,7 +317,9 @@ pub struct Task {
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
-    settle_until: u64,
+    pub(crate) settle_until: u64,
+    /// What task has seen of motion's messages.
+    pub(crate) motion_messages: crate::task_motion::MotionMessages,
 }
 
 impl Task {
@@ -342,6 +344,7 @@ impl Task {
             program: program.map(|p| Program::new(p, table_path.clone())),
             table_path,
             settle_until: 0,
+            motion_messages: crate::task_motion::MotionMessages::default(),
             overrides: crate::task_manual::Overrides::default(),
             switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
@@ -381,42 +384,6 @@ impl Task {
         }
         self.watch_motion();
         self.pins.write(self.io.outputs());
-    }
-
-    /// Task is the one authority over the machine state: every cycle it
-    /// compares motion's enable flag with its own state. Motion that
-    /// disabled itself turns the machine off; motion enabled while task
-    /// is not on (an enable answered too late, after a stalled servo
-    /// thread) is disabled again.
-    fn watch_motion(&mut self) {
-        let Some(m) = &mut self.motion else { return };
-        let Some(status) = m.status() else { return };
-        if status.heartbeat < self.settle_until {
-            return;
-        }
-        match (self.state == MachineState::On, status.enabled) {
-            (true, false) => {
-                let why = status
-                    .last_event
-                    .filter(motion::Event::stops_a_program)
-                    .map_or(String::new(), |e| format!(" (last reported: {e})"));
-                eprintln!("task: the motion controller disabled itself{why}: machine off");
-                self.state = MachineState::Off;
-                self.stop_program();
-            }
-            (false, true) => {
-                eprintln!(
-                    "task: the motion controller is enabled while the machine is {}: \
-                     disabling it",
-                    self.state.name()
-                );
-                if let Err(source) = m.disable() {
-                    eprintln!("task: {}", LaunchError::Disabling { source });
-                }
-                self.settle();
-            }
-            _ => {}
-        }
     }
 
     /// Holds back [`Task::watch_motion`] until motion's snapshot shows the

@@ -97,12 +97,12 @@ pub enum ProgramError {
     },
     /// The motion controller reported a fault while the run moved the
     /// machine; the run is aborted.
-    #[error("{at}: {event}: the motion controller stopped; the run is aborted")]
+    #[error("{at}: {fault}: the motion controller stopped; the run is aborted")]
     MotionFault {
         /// The file and the line motion was executing (or the MDI line).
         at: String,
         /// What motion reported.
-        event: motion::Event,
+        fault: motion::Fault,
     },
     /// G10 L0 on a machine without a tool table file.
     #[error("line {line}: G10 L0: the machine has no tool table file ([EMCIO]TOOL_TABLE)")]

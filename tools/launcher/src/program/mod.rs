@@ -115,9 +115,9 @@ pub struct Program {
     /// as idle only in a snapshot taken a few cycles later, which shows
     /// the command in the queue (or done).
     sent_beat: u64,
-    /// Motion's reported-message count when the run started: a fault
-    /// reported after it stops the run.
-    seen_events: u64,
+    /// Motion's fault count when the run started (then as last seen): a
+    /// fault reported after it stops the run.
+    seen_faults: u64,
     /// The program line motion executed last in this run.
     motion_line: i32,
     /// The MDI line that runs, for messages.
@@ -147,7 +147,7 @@ impl Program {
             read_line: 0,
             last_end: None,
             sent_beat: 0,
-            seen_events: 0,
+            seen_faults: 0,
             motion_line: 0,
             mdi_text: String::new(),
             io_error: config.io_error,

@@ -12,7 +12,7 @@ impl Program {
     pub(super) fn watch_from(&mut self, motion: &MotionLink) {
         self.motion_line = 0;
         if let Some(status) = motion.status() {
-            self.seen_events = status.events_reported;
+            self.seen_faults = status.faults_reported;
         }
     }
 
@@ -30,14 +30,14 @@ impl Program {
         if status.traj.exec_id > 0 {
             self.motion_line = status.traj.exec_id;
         }
-        if status.events_reported == self.seen_events {
+        if status.faults_reported == self.seen_faults {
             return Ok(());
         }
-        self.seen_events = status.events_reported;
-        match status.last_event.filter(motion::Event::stops_a_program) {
-            Some(event) => Err(ProgramError::MotionFault {
+        self.seen_faults = status.faults_reported;
+        match status.last_fault {
+            Some(fault) => Err(ProgramError::MotionFault {
                 at: self.motion_place(),
-                event,
+                fault,
             }),
             None => Ok(()),
         }
