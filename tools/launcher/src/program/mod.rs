@@ -534,7 +534,10 @@ impl Program {
             match op {
                 Op::Motion(cmd) => match motion.command(cmd) {
                     Ok(()) => sent = true,
-                    Err(Reject::QueueFull { .. }) => return Ok(sent),
+                    // A full queue, or an abort (the operator's, just
+                    // before this MDI line or run) still bringing the
+                    // machine to rest: the move goes next cycle.
+                    Err(Reject::QueueFull { .. } | Reject::Aborting) => return Ok(sent),
                     Err(source) => {
                         return Err(ProgramError::MotionAt {
                             line: command_line(&cmd),
