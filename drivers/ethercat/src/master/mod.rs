@@ -38,6 +38,7 @@ pub mod emcy;
 pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
+pub mod pll;
 mod serve;
 
 use std::ops::Range;
@@ -117,6 +118,10 @@ pub struct MasterConfig {
     /// clock every this many cycles (`refClockSyncCycles`; 0 or less:
     /// never).
     pub ref_clock_sync_cycles: i32,
+    /// `syncToRefClock`: the reference clock runs free and the
+    /// application time follows it ([`pll`]); the master writes no
+    /// time to it.
+    pub sync_to_ref_clock: bool,
 }
 
 impl Default for MasterConfig {
@@ -127,6 +132,7 @@ impl Default for MasterConfig {
             state_timeout: Duration::from_secs(5),
             frame_timeout: None,
             ref_clock_sync_cycles: 1,
+            sync_to_ref_clock: false,
         }
     }
 }
@@ -543,7 +549,10 @@ fn bring_up(
         .map_err(|e| master_error(iface, "scanning the segment (INIT to PRE-OP)", e))?;
     let mut clocks = DcCycle {
         reference: dc::reference(group.iter(md)),
-        sync_every: u32::try_from(cfg.ref_clock_sync_cycles).unwrap_or(0),
+        sync_every: match cfg.sync_to_ref_clock {
+            true => 0,
+            false => u32::try_from(cfg.ref_clock_sync_cycles).unwrap_or(0),
+        },
         ..DcCycle::default()
     };
     for plan in &cfg.slaves {
