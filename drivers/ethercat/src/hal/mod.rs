@@ -139,7 +139,14 @@ struct MasterRt<H: HalHost> {
     pll: Option<Pll>,
     /// The last `read` had the inputs of the last `write`'s frame.
     fresh: bool,
+    /// `read`s so far: every [`REWRITE_EVERY`] one slave's output pins
+    /// (or the master's) are written whole again.
+    reads: u32,
 }
+
+/// Every this many `read`s the next slave's output pins (in turn, the
+/// master's after the last slave's) are written whether changed or not.
+const REWRITE_EVERY: u32 = 64;
 
 /// The working counter's statistics: from the first complete exchange
 /// on (bring-up's ramp does not count), until `wkc-reset`.
@@ -188,6 +195,14 @@ impl<H: HalHost> MasterRt<H> {
     fn read(&mut self, log: Option<&LogSink>) -> Summary {
         let st = self.cyclic.read();
         self.fresh = st.fresh;
+        self.reads = self.reads.wrapping_add(1);
+        if self.reads % REWRITE_EVERY == 0 {
+            let turn = (self.reads / REWRITE_EVERY) as usize % (self.slaves.len() + 1);
+            match self.slaves.get(turn) {
+                Some(s) => s.rewrite_outputs(),
+                None => self.pins.iter().for_each(AnyPin::forget),
+            }
+        }
         let mut sum = Summary {
             link_up: st.link_up,
             all_op: st.all_op,
@@ -437,6 +452,7 @@ fn export_master<H: HalHost>(
         wkc: WkcStats::default(),
         pll: s.conf.sync_to_ref_clock.then(Pll::new),
         fresh: false,
+        reads: 0,
     };
     // lcec's default threshold: 4 % of the period.
     rt.pins[mp::DC_MAX].set((s.conf.app_time_period / 25).min(u64::from(u32::MAX)) as f64);
@@ -521,7 +537,12 @@ fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
         masters.push(master);
     }
     let (all, log) = (cells.clone(), ex.log());
+    let mut reads = 0u32;
     ex.funct(comp, pins::FUNCTIONS[0], false, move |_| {
+        reads = reads.wrapping_add(1);
+        if reads % (REWRITE_EVERY * 16) == 0 {
+            global.iter().for_each(AnyPin::forget);
+        }
         let mut sum = Summary {
             link_up: true,
             all_op: true,

@@ -56,9 +56,10 @@ enum Role {
 }
 
 struct Bound<H: HalHost> {
-    spec: PinSpec,
     pin: AnyPin<H>,
     role: Role,
+    /// The pin's name after the slave's (found at export).
+    name: Box<str>,
 }
 
 /// A slave's state pins, in [`pins::slave_state_pins`] order.
@@ -76,6 +77,10 @@ pub(crate) struct SlaveRt<H: HalHost> {
     code: TypeCode,
     state: StatePins<H>,
     pins: Vec<Bound<H>>,
+    /// The pins taking their value from the inputs, and those putting
+    /// theirs into the outputs: the cycle walks these, not every pin.
+    inputs: Vec<usize>,
+    outputs: Vec<usize>,
     drive: Option<Box<DriveRt>>,
     /// EL5101/EL7041: the counter extended past 16 bits, the latches.
     encoder: Encoder,
@@ -182,9 +187,9 @@ impl<H: HalHost> SlaveRt<H> {
             let pin = AnyPin::export(c, &name(&spec.name), spec)?;
             let role = role(slave, spec, &specs, layout, file)?;
             bound.push(Bound {
-                spec: spec.clone(),
                 pin,
                 role,
+                name: spec.name.as_str().into(),
             });
         }
         let named = Named(&bound);
@@ -200,8 +205,17 @@ impl<H: HalHost> SlaveRt<H> {
         } else {
             None
         };
+        let with = |f: fn(&Role) -> bool| {
+            (0..bound.len())
+                .filter(|&i| f(&bound[i].role))
+                .collect::<Vec<_>>()
+        };
+        let inputs = with(|r| matches!(r, Role::Input { .. }));
+        let outputs = with(|r| matches!(r, Role::Output { .. } | Role::OutputFrom { .. }));
         Ok(SlaveRt {
             index,
+            inputs,
+            outputs,
             label: pins::full_name(Some(master), None, &slave.name),
             was_healthy: true,
             code,
@@ -241,7 +255,8 @@ impl<H: HalHost> SlaveRt<H> {
         ]) {
             pin.set(f64::from(u8::from(on)));
         }
-        for b in &self.pins {
+        for &i in &self.inputs {
+            let b = &self.pins[i];
             if let Role::Input { at, coding, invert } = &b.role {
                 let mut v = field::decode(coding, at.read(inputs), at.bits);
                 if *invert {
@@ -270,7 +285,8 @@ impl<H: HalHost> SlaveRt<H> {
         if let TypeCode::AnalogOut(channels) = &self.code {
             analog_out(&self.pins, channels);
         }
-        for b in &self.pins {
+        for &i in &self.outputs {
+            let b = &self.pins[i];
             match &b.role {
                 Role::Output { at, coding, invert } => {
                     let mut v = b.pin.get();
@@ -323,6 +339,15 @@ impl<H: HalHost> SlaveRt<H> {
                 "{label}: working counter {} of {}: a slave does not exchange its data; outputs safe",
                 st.wkc, st.expected_wkc
             ));
+        }
+    }
+
+    /// Forgets what its output pins last wrote, so the next cycle
+    /// writes them all (see [`AnyPin`]: a host that links an output
+    /// pin to a signal that keeps its own value is set right this way).
+    pub(crate) fn rewrite_outputs(&self) {
+        for p in self.state.0.iter().chain(self.pins.iter().map(|b| &b.pin)) {
+            p.forget();
         }
     }
 
@@ -398,7 +423,7 @@ pub(crate) struct Named<'a, H: HalHost>(&'a [Bound<H>]);
 impl<H: HalHost> Named<'_, H> {
     /// The index of pin `name` (the part after the slave's name).
     pub(crate) fn index(&self, name: &str) -> Option<usize> {
-        self.0.iter().position(|b| b.spec.name == name)
+        self.0.iter().position(|b| &*b.name == name)
     }
 
     /// The pin at `index`, found by [`Named::index`].
