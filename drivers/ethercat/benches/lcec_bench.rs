@@ -10,7 +10,9 @@
 //! The `.time` pins are wall time, so they also count what preempts or
 //! interrupts the thread and its cache misses on a loaded machine; the
 //! CPU the servo thread used (the kernel's schedstat of `hal-servo`,
-//! its wake-ups and the executor included) is printed per period too.
+//! its wake-ups and the executor included) is printed per period too,
+//! with that of a thread of the same period and no function: the
+//! difference is the CPU of `read` and `write`.
 //!
 //! `cargo bench -p hal-ethercat --bench lcec_bench`. The pins are read
 //! from this thread about once per period, so the figures are a sample
@@ -107,6 +109,8 @@ fn main() {
     .unwrap();
     let seg: SharedSegment = hal_driver::sim::find(host.instance().name(), "lcec.0").unwrap();
     host.create_thread("servo", 1_000_000, true, None).unwrap();
+    // A thread with no function: what waking every period costs alone.
+    host.create_thread("empty", 1_000_000, true, None).unwrap();
     host.addf("lcec.0.read", "servo", -1).unwrap();
     host.addf("lcec.0.write", "servo", -1).unwrap();
     host.start().unwrap();
@@ -130,6 +134,7 @@ fn main() {
     let (frames0, _) = seg.lock().unwrap().counters();
     let beat0 = int(&host, "servo.threadbeat");
     let cpu0 = thread_cpu_ns("hal-servo");
+    let empty0 = thread_cpu_ns("hal-empty");
     let (mut read, mut write, mut thread) = (
         Vec::with_capacity(SAMPLES),
         Vec::with_capacity(SAMPLES),
@@ -144,6 +149,7 @@ fn main() {
     let (frames1, dropped) = seg.lock().unwrap().counters();
     let beat1 = int(&host, "servo.threadbeat");
     let cpu1 = thread_cpu_ns("hal-servo");
+    let empty1 = thread_cpu_ns("hal-empty");
     let wkc = int(&host, "lcec.0.wkc");
     host.stop();
 
@@ -177,12 +183,16 @@ fn main() {
             v.last().copied().unwrap_or(0)
         );
     }
-    match (cpu0, cpu1) {
-        (Some(a), Some(b)) => println!(
-            "  servo thread CPU per period (schedstat, wake-up and executor included): {} ns",
-            (b - a) / periods as u64
-        ),
-        _ => println!("  servo thread CPU per period: the kernel gives no schedstat"),
+    match (cpu0, cpu1, empty0, empty1) {
+        (Some(a), Some(b), Some(c), Some(d)) => {
+            let (servo, empty) = ((b - a) / periods as u64, (d - c) / periods as u64);
+            println!(
+                "  CPU per period (schedstat): servo thread {servo} ns, a thread with no function {empty} ns: \
+                 read + write {} ns",
+                servo.saturating_sub(empty)
+            );
+        }
+        _ => println!("  CPU per period: the kernel gives no schedstat"),
     }
     println!(
         "  frames per period {:.2} ({} frames, {} dropped); working counter {wkc}",
