@@ -21,6 +21,24 @@ use hal_core::{HalHost, HostParam, HostPin, In, Io, Out, PinFactory, Result, Rw}
 
 use crate::lcec::pins::{Kind, PinSpec, PinType, PinValue};
 
+/// `v` rounded half away from zero, as `f64::round` does, saturated to
+/// i64 (NaN: 0), without the library call `round` is on a CPU without
+/// SSE4.1 (most pins this rounds are whole numbers already).
+#[inline]
+fn round(v: f64) -> i64 {
+    let i = v as i64;
+    // Exact: below 2^53 the difference is a representable fraction,
+    // and above it every f64 is whole.
+    let frac = v - i as f64;
+    if frac >= 0.5 {
+        i.saturating_add(1)
+    } else if frac <= -0.5 {
+        i.saturating_sub(1)
+    } else {
+        i
+    }
+}
+
 /// One exported pin or parameter, in host `H`.
 pub(crate) struct AnyPin<H: HalHost> {
     handle: Handle<H>,
@@ -138,8 +156,8 @@ impl<H: HalHost> AnyPin<H> {
     #[inline]
     pub(crate) fn set(&self, v: f64) {
         use Handle::*;
-        let int = || v.round().clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
-        let uint = || v.round().clamp(0.0, f64::from(u32::MAX)) as u32;
+        let int = || round(v).clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32;
+        let uint = || round(v).clamp(0, i64::from(u32::MAX)) as u32;
         match &self.handle {
             BitOut(p) => {
                 let b = v != 0.0;
@@ -174,5 +192,36 @@ impl<H: HalHost> AnyPin<H> {
             FloatParam(p) => p.set(v),
             BitIn(_) | S32In(_) | U32In(_) | FloatIn(_) => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::round;
+
+    #[test]
+    fn rounding_is_f64_round_saturated() {
+        for v in [
+            0.0f64,
+            0.49999999999999994,
+            0.5,
+            1.5,
+            2.5,
+            -0.5,
+            -1.5,
+            -2.4,
+            1e15 + 0.5,
+            -7.0,
+            4.5e15,
+            9.3e18,
+            -9.3e18,
+            1e300,
+        ] {
+            // `as` saturates, as `round` must.
+            let want = v.round() as i64;
+            assert_eq!(round(v), want, "{v}");
+        }
+        assert_eq!(round(f64::NAN), 0);
+        assert_eq!(round(f64::INFINITY), i64::MAX);
     }
 }

@@ -198,7 +198,7 @@ impl<H: HalHost> MasterRt<H> {
         self.reads = self.reads.wrapping_add(1);
         if self.reads % REWRITE_EVERY == 0 {
             let turn = (self.reads / REWRITE_EVERY) as usize % (self.slaves.len() + 1);
-            match self.slaves.get(turn) {
+            match self.slaves.get_mut(turn) {
                 Some(s) => s.rewrite_outputs(),
                 None => self.pins.iter().for_each(AnyPin::forget),
             }

@@ -55,6 +55,17 @@ enum Role {
     Computed,
 }
 
+/// An input pin's entry, next to the others of its slave.
+struct InputSlot {
+    at: Field,
+    coding: Coding,
+    invert: bool,
+    /// Its index in the slave's pins.
+    pin: usize,
+    /// The bits it last took.
+    last: Option<u64>,
+}
+
 struct Bound<H: HalHost> {
     pin: AnyPin<H>,
     role: Role,
@@ -77,10 +88,14 @@ pub(crate) struct SlaveRt<H: HalHost> {
     code: TypeCode,
     state: StatePins<H>,
     pins: Vec<Bound<H>>,
-    /// The pins taking their value from the inputs, and those putting
-    /// theirs into the outputs: the cycle walks these, not every pin.
-    inputs: Vec<usize>,
+    /// The pins taking their value from the inputs, each with the bits
+    /// it last took (a pin whose bits did not change is not touched),
+    /// and the pins putting theirs into the outputs: the cycle walks
+    /// these, not every pin.
+    inputs: Vec<InputSlot>,
     outputs: Vec<usize>,
+    /// The AL state byte and health the state pins last showed.
+    shown_state: Option<(u8, bool)>,
     drive: Option<Box<DriveRt>>,
     /// EL5101/EL7041: the counter extended past 16 bits, the latches.
     encoder: Encoder,
@@ -210,12 +225,26 @@ impl<H: HalHost> SlaveRt<H> {
                 .filter(|&i| f(&bound[i].role))
                 .collect::<Vec<_>>()
         };
-        let inputs = with(|r| matches!(r, Role::Input { .. }));
+        let inputs = bound
+            .iter()
+            .enumerate()
+            .filter_map(|(pin, b)| match b.role {
+                Role::Input { at, coding, invert } => Some(InputSlot {
+                    at,
+                    coding,
+                    invert,
+                    pin,
+                    last: None,
+                }),
+                _ => None,
+            })
+            .collect();
         let outputs = with(|r| matches!(r, Role::Output { .. } | Role::OutputFrom { .. }));
         Ok(SlaveRt {
             index,
             inputs,
             outputs,
+            shown_state: None,
             label: pins::full_name(Some(master), None, &slave.name),
             was_healthy: true,
             code,
@@ -243,25 +272,32 @@ impl<H: HalHost> SlaveRt<H> {
                 self.log_health(log, al_state, healthy, status);
             }
         }
-        let st = al_state & al::STATE_MASK;
-        let online = al_state != 0;
-        for (pin, on) in self.state.0.iter().zip([
-            online,
-            healthy,
-            st == al::INIT,
-            st == al::PREOP,
-            st == al::SAFEOP,
-            st == al::OP,
-        ]) {
-            pin.set(f64::from(u8::from(on)));
+        if self.shown_state != Some((al_state, healthy)) {
+            self.shown_state = Some((al_state, healthy));
+            let st = al_state & al::STATE_MASK;
+            let online = al_state != 0;
+            for (pin, on) in self.state.0.iter().zip([
+                online,
+                healthy,
+                st == al::INIT,
+                st == al::PREOP,
+                st == al::SAFEOP,
+                st == al::OP,
+            ]) {
+                pin.set(f64::from(u8::from(on)));
+            }
         }
-        for &i in &self.inputs {
-            let b = &self.pins[i];
-            if let Role::Input { at, coding, invert } = &b.role {
-                let mut v = field::decode(coding, at.read(inputs), at.bits);
-                if *invert {
-                    v = f64::from(u8::from(v == 0.0));
-                }
+        for slot in &mut self.inputs {
+            let raw = slot.at.read(inputs);
+            if slot.last == Some(raw) {
+                continue;
+            }
+            slot.last = Some(raw);
+            let mut v = field::decode(&slot.coding, raw, slot.at.bits);
+            if slot.invert {
+                v = f64::from(u8::from(v == 0.0));
+            }
+            if let Some(b) = self.pins.get(slot.pin) {
                 b.pin.set(v);
             }
         }
@@ -345,9 +381,13 @@ impl<H: HalHost> SlaveRt<H> {
     /// Forgets what its output pins last wrote, so the next cycle
     /// writes them all (see [`AnyPin`]: a host that links an output
     /// pin to a signal that keeps its own value is set right this way).
-    pub(crate) fn rewrite_outputs(&self) {
+    pub(crate) fn rewrite_outputs(&mut self) {
         for p in self.state.0.iter().chain(self.pins.iter().map(|b| &b.pin)) {
             p.forget();
+        }
+        self.shown_state = None;
+        for slot in &mut self.inputs {
+            slot.last = None;
         }
     }
 
