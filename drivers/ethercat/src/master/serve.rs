@@ -59,6 +59,7 @@ pub(super) fn serve(
                 .fetch_add(writes - last_writes - 1, Relaxed);
         }
         last_writes = writes;
+        waiting.saw(shared.written_at.load(Relaxed));
         let Some(tag) = shared.outputs.read(&mut out) else {
             continue;
         };
@@ -113,15 +114,25 @@ pub(super) fn serve(
 /// How the helper waits for the realtime side's next `write` without
 /// the realtime side waking it (a futex wake is a system call, and on a
 /// virtual machine an interrupt to another CPU: more than the rest of
-/// `write`): it sleeps until shortly before a period after the last
-/// write, then looks every [`NextWrite::step`] ns until the write is
-/// there. A frame goes out at most a step (plus the helper's own
-/// wake-up) after its `write`. With no write for four periods (the
-/// thread stopped) it sleeps a period at a time, or until unparked.
+/// `write`): it sleeps until shortly before the writes' interval after
+/// the last write, then looks every [`NextWrite::step`] ns until the
+/// write is there. A frame goes out at most a step (plus the helper's
+/// own wake-up) after its `write`. The interval is the configured period
+/// until the writes show theirs: the shortest gap of the last 16 (a
+/// thread faster than `appTimePeriod` is followed from its first short
+/// gap). With no write for four periods (the thread stopped) it sleeps a
+/// period at a time, or until unparked.
 #[derive(Debug)]
 pub(super) struct NextWrite {
     period: u64,
     step: u64,
+    /// The expected gap between writes.
+    interval: u64,
+    /// The shortest gap of the current window, and its gaps so far.
+    window_min: u64,
+    window_len: u32,
+    /// The time of the last write seen.
+    prev: u64,
 }
 
 impl NextWrite {
@@ -131,7 +142,30 @@ impl NextWrite {
         NextWrite {
             period,
             step: (period / 40).clamp(5_000, 25_000),
+            interval: period,
+            window_min: u64::MAX,
+            window_len: 0,
+            prev: 0,
         }
+    }
+
+    /// A write made at `written_at` was seen.
+    pub(super) fn saw(&mut self, written_at: u64) {
+        if self.prev != 0 && written_at > self.prev {
+            let gap = written_at - self.prev;
+            let (lo, hi) = (2 * self.step, 4 * self.period);
+            if gap < self.interval {
+                self.interval = gap.clamp(lo, hi);
+            }
+            self.window_min = self.window_min.min(gap);
+            self.window_len += 1;
+            if self.window_len >= 16 {
+                self.interval = self.window_min.clamp(lo, hi);
+                self.window_min = u64::MAX;
+                self.window_len = 0;
+            }
+        }
+        self.prev = written_at;
     }
 
     /// When to look again (CLOCK_MONOTONIC ns) for a write after the one
@@ -140,7 +174,7 @@ impl NextWrite {
         if written_at == 0 || now > written_at.saturating_add(4 * self.period) {
             return None;
         }
-        let expected = written_at + self.period;
+        let expected = written_at + self.interval;
         Some(if now + self.step < expected {
             expected - self.step
         } else {
@@ -292,5 +326,22 @@ mod tests {
         assert_eq!(w.next_look(10_000_000, 14_000_001), None);
         assert_eq!(w.next_look(0, 5), None);
         assert_eq!(NextWrite::new(50_000).step, 5_000);
+    }
+
+    #[test]
+    fn the_interval_follows_the_writes() {
+        let mut w = NextWrite::new(1_000_000);
+        // A thread four times faster than configured: followed at once.
+        w.saw(10_000_000);
+        w.saw(10_250_000);
+        assert_eq!(w.next_look(10_250_000, 10_260_000), Some(10_475_000));
+        // A slower one (2 ms): once a whole window of 16 gaps is of it.
+        let mut t = 10_250_000;
+        for _ in 0..32 {
+            t += 2_000_000;
+            w.saw(t);
+        }
+        assert_eq!(w.interval, 2_000_000);
+        assert_eq!(w.next_look(t, t + 10_000), Some(t + 1_975_000));
     }
 }
