@@ -7,6 +7,16 @@
 //! which the realtime functions only hand data to), and the frames the
 //! master sends per period.
 //!
+//! The `.time` pins are wall time, so they also count what preempts or
+//! interrupts the thread and its cache misses on a loaded machine; the
+//! CPU the servo thread used (the kernel's schedstat of `hal-servo`,
+//! its wake-ups and the executor included) is printed per period too,
+//! with that of a thread of the same period and no function. The two
+//! wake at the same deadlines, and the first to run pays the switch
+//! into this process from whatever ran before (on a virtual machine a
+//! large part of the servo thread's figure), so their difference is
+//! not what `read` and `write` cost: the `.time` pins say that.
+//!
 //! `cargo bench -p hal-ethercat --bench lcec_bench`. The pins are read
 //! from this thread about once per period, so the figures are a sample
 //! of the periods, not every one. Realtime scheduling is used where the
@@ -65,6 +75,19 @@ fn wait(what: &str, mut cond: impl FnMut() -> bool) {
     }
 }
 
+/// CPU time (ns) the thread named `comm` of this process has run, from
+/// /proc/self/task/*/schedstat; None where the kernel gives none.
+fn thread_cpu_ns(comm: &str) -> Option<u64> {
+    for task in std::fs::read_dir("/proc/self/task").ok()?.flatten() {
+        let p = task.path();
+        if std::fs::read_to_string(p.join("comm")).ok()?.trim() == comm {
+            let stat = std::fs::read_to_string(p.join("schedstat")).ok()?;
+            return stat.split_whitespace().next()?.parse().ok();
+        }
+    }
+    None
+}
+
 fn percentile(sorted: &[i64], p: f64) -> i64 {
     let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
     sorted[i.min(sorted.len() - 1)]
@@ -89,6 +112,8 @@ fn main() {
     .unwrap();
     let seg: SharedSegment = hal_driver::sim::find(host.instance().name(), "lcec.0").unwrap();
     host.create_thread("servo", 1_000_000, true, None).unwrap();
+    // A thread with no function: what waking every period costs alone.
+    host.create_thread("empty", 1_000_000, true, None).unwrap();
     host.addf("lcec.0.read", "servo", -1).unwrap();
     host.addf("lcec.0.write", "servo", -1).unwrap();
     host.start().unwrap();
@@ -111,6 +136,8 @@ fn main() {
 
     let (frames0, _) = seg.lock().unwrap().counters();
     let beat0 = int(&host, "servo.threadbeat");
+    let cpu0 = thread_cpu_ns("hal-servo");
+    let empty0 = thread_cpu_ns("hal-empty");
     let (mut read, mut write, mut thread) = (
         Vec::with_capacity(SAMPLES),
         Vec::with_capacity(SAMPLES),
@@ -124,6 +151,8 @@ fn main() {
     }
     let (frames1, dropped) = seg.lock().unwrap().counters();
     let beat1 = int(&host, "servo.threadbeat");
+    let cpu1 = thread_cpu_ns("hal-servo");
+    let empty1 = thread_cpu_ns("hal-empty");
     let wkc = int(&host, "lcec.0.wkc");
     host.stop();
 
@@ -156,6 +185,15 @@ fn main() {
             percentile(v, 0.99),
             v.last().copied().unwrap_or(0)
         );
+    }
+    match (cpu0, cpu1, empty0, empty1) {
+        (Some(a), Some(b), Some(c), Some(d)) => {
+            let (servo, empty) = ((b - a) / periods as u64, (d - c) / periods as u64);
+            println!(
+                "  CPU per period (schedstat): servo thread {servo} ns, a thread with no function {empty} ns"
+            );
+        }
+        _ => println!("  CPU per period: the kernel gives no schedstat"),
     }
     println!(
         "  frames per period {:.2} ({} frames, {} dropped); working counter {wkc}",

@@ -1,7 +1,8 @@
-//! lcec's EL5101 index latch and EL7041 velocity mode on the simulated
-//! segment, through `loadrt lcec backend=sim` in a HAL host: the latch
-//! C enable is cleared once the terminal latched at an index pulse and
-//! the count restarts there; the stepper's command becomes the duty
+//! lcec's EL5101 and EL7041 index latches and the EL7041's velocity
+//! mode on the simulated segment, through `loadrt lcec backend=sim` in
+//! a HAL host: the latch C enable is cleared once the terminal latched
+//! at an index pulse and the count restarts there (as an index-enable
+//! pin works); the stepper's command becomes the duty
 //! cycle and the 16-bit velocity on the wire, its error is `srv-fault`
 //! and a fault reset (or an enable edge) clears it.
 #![allow(
@@ -109,6 +110,39 @@ fn stepper(seg: &SharedSegment, f: impl FnOnce(&mut Stepper)) {
 
 fn velocity_on_wire(seg: &SharedSegment) -> i16 {
     seg.lock().unwrap().slaves()[1].device.od.get(0x7010, 0x21) as u16 as i16
+}
+
+#[test]
+fn el7041_latches_at_the_encoder_index_and_counts_from_it() {
+    let (h, seg) = started("lcec-stepper-latch");
+    let x = |p: &str| format!("lcec.0.x.{p}");
+    // 0.1 of full speed: 2000 steps/s, an index pulse every 1000.
+    set(&h, &x("srv-cmd"), Value::Float(0.1));
+    set(&h, &x("srv-enable"), Value::Bit(true));
+    wait("counting", || s32(&h, &x("enc-count")) > 100);
+    assert_eq!(pin(&h, &x("enc-latch-c-valid")), Value::Bit(false));
+    set(&h, &x("enc-latch-c-enable"), Value::Bit(true));
+    wait("latch C enabled on the wire", || {
+        seg.lock().unwrap().slaves()[1].device.od.get(0x7000, 1) == 1
+    });
+    // The driver clears the enable once the terminal latched; the
+    // terminal then drops its latch.
+    wait("the latch", || {
+        pin(&h, &x("enc-latch-c-enable")) == Value::Bit(false)
+    });
+    let latch = s32(&h, &x("enc-raw-latch"));
+    assert!(latch > 0 && latch % 1000 == 0, "latched at {latch}");
+    wait("latch C valid dropped", || {
+        pin(&h, &x("enc-latch-c-valid")) == Value::Bit(false)
+    });
+    h.stop();
+    let od_latch = seg.lock().unwrap().slaves()[1].device.od.get(0x6000, 0x12);
+    assert_eq!(od_latch, u64::from(latch as u16));
+    // The count runs from the index: raw count minus the latched one.
+    let raw = s32(&h, &x("enc-raw-count")) as i16;
+    let count = s32(&h, &x("enc-count"));
+    assert_eq!(count, i32::from(raw.wrapping_sub(latch as i16)));
+    assert!(count > 0, "the motor went on past the index: {count}");
 }
 
 #[test]

@@ -184,6 +184,15 @@ impl DriveRt {
         self.reset_edge
     }
 
+    /// What `read`'s feedback uses of the inputs (the scale, and the
+    /// position command a homing drive echoes): the rest are taken by
+    /// `write`, which acts on them.
+    fn take_feedback_inputs<H: HalHost>(&mut self, p: &Named<'_, H>) {
+        let get = |i: Option<usize>| p.at(i).map_or(0.0, |x| x.get());
+        self.inputs.scale = usable_scale(get(self.pins.pos_scale));
+        self.inputs.position_cmd = get(self.pins.target_position);
+    }
+
     fn take_inputs<H: HalHost>(&mut self, p: &Named<'_, H>) {
         let get = |i: Option<usize>| p.at(i).map_or(0.0, |x| x.get());
         let at = &self.pins;
@@ -194,11 +203,7 @@ impl DriveRt {
             position_cmd: get(at.target_position),
             velocity_cmd: get(at.target_velocity),
             home: get(at.home) != 0.0,
-            scale: if scale.is_finite() && scale.abs() > 1e-20 {
-                scale
-            } else {
-                1.0
-            },
+            scale: usable_scale(scale),
             command_tolerance: 0.01,
         };
     }
@@ -215,7 +220,7 @@ impl DriveRt {
         p: &Named<'_, H>,
         log: Option<&LogSink>,
     ) {
-        self.take_inputs(p);
+        self.take_feedback_inputs(p);
         let rd = |f: Option<Field>| f.map_or(0, |f| f.read_signed(img));
         if healthy {
             self.ctl.observe_status(
@@ -283,5 +288,14 @@ impl DriveRt {
     /// The safe state: controlword disable voltage.
     pub(crate) fn safe(&mut self, img: &mut [u8]) {
         self.at.controlword.write(img, 0);
+    }
+}
+
+/// `position-scale` as used: 1 where it is zero, tiny or not finite.
+fn usable_scale(scale: f64) -> f64 {
+    if scale.is_finite() && scale.abs() > 1e-20 {
+        scale
+    } else {
+        1.0
     }
 }

@@ -17,7 +17,10 @@
 //!   `lcec.link-up`, `lcec.all-op` for all masters together, and the
 //!   same per master plus `wkc`, `wkc-state`, `wkc-min`,
 //!   `wkc-change-count`, `wkc-reset`, `dc-sync-diff`,
-//!   `dc-sync-converged`, `dc-sync-max`;
+//!   `dc-sync-converged`, `dc-sync-max`, `app-time-*`, `mono-time-*`
+//!   and, for `syncToRefClock`, the PLL ([`crate::master::pll`]:
+//!   `pll-err`, `pll-out`, `pll-reset-count`, `pll-step`,
+//!   `pll-max-err`);
 //! * per slave `lcec.<m>.<slave>.slave-online`, `slave-oper`,
 //!   `slave-state-{init,preop,safeop,op}` and the pins of its type.
 //!
@@ -47,7 +50,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
-use hal_core::{HalError, HalHost, Host, Instance, PinFactory, Result};
+use hal_core::{FunctCtx, HalError, HalHost, Host, Instance, PinFactory, Result};
 use hal_driver::fault::SafeState;
 use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::{BackendTokens, Params};
@@ -61,6 +64,7 @@ use crate::lcec::pins::{self, MODULE as NAME};
 use crate::lcec::{conf, handoff};
 use crate::link::{InProcess, Link, RawSocket};
 use crate::master::dc::NOT_HEARD;
+use crate::master::pll::{self, Pll};
 use crate::master::{Cyclic, Master};
 use crate::regs::al;
 
@@ -130,7 +134,19 @@ struct MasterRt<H: HalHost> {
     slaves: Vec<SlaveRt<H>>,
     pins: Vec<AnyPin<H>>,
     wkc: WkcStats,
+    /// `syncToRefClock`: the application time follows the reference
+    /// clock.
+    pll: Option<Pll>,
+    /// The last `read` had the inputs of the last `write`'s frame.
+    fresh: bool,
+    /// `read`s so far: every [`REWRITE_EVERY`] one slave's output pins
+    /// (or the master's) are written whole again.
+    reads: u32,
 }
+
+/// Every this many `read`s the next slave's output pins (in turn, the
+/// master's after the last slave's) are written whether changed or not.
+const REWRITE_EVERY: u32 = 64;
 
 /// The working counter's statistics: from the first complete exchange
 /// on (bring-up's ramp does not count), until `wkc-reset`.
@@ -159,6 +175,11 @@ mod mp {
     pub const DC_MONITOR: usize = 15;
     pub const APP_TIME: usize = 16;
     pub const MONO_TIME: usize = 18;
+    pub const PLL_ERR: usize = 20;
+    pub const PLL_OUT: usize = 21;
+    pub const PLL_RESETS: usize = 22;
+    pub const PLL_STEP: usize = 23;
+    pub const PLL_MAX_ERR: usize = 24;
 }
 
 /// What one master's `read` found, for the global pins.
@@ -173,6 +194,15 @@ struct Summary {
 impl<H: HalHost> MasterRt<H> {
     fn read(&mut self, log: Option<&LogSink>) -> Summary {
         let st = self.cyclic.read();
+        self.fresh = st.fresh;
+        self.reads = self.reads.wrapping_add(1);
+        if self.reads % REWRITE_EVERY == 0 {
+            let turn = (self.reads / REWRITE_EVERY) as usize % (self.slaves.len() + 1);
+            match self.slaves.get_mut(turn) {
+                Some(s) => s.rewrite_outputs(),
+                None => self.pins.iter().for_each(AnyPin::forget),
+            }
+        }
         let mut sum = Summary {
             link_up: st.link_up,
             all_op: st.all_op,
@@ -253,17 +283,41 @@ impl<H: HalHost> MasterRt<H> {
         p[mp::DC_CONVERGED].set(f64::from(u8::from(converged)));
     }
 
-    /// The cycle's time pair (`app-time-*`, `mono-time-*`).
-    fn times(&mut self, now_ns: u64) {
-        let app = self.cyclic.app_time(now_ns);
+    /// The cycle's time pair (`app-time-*`, `mono-time-*`): the
+    /// application time on the host's clock, or with `syncToRefClock`
+    /// as the PLL makes it follow the reference clock.
+    fn times(&mut self, ctx: &FunctCtx) {
+        let now_ns = ctx.now_ns();
+        let app = match &mut self.pll {
+            None => self.cyclic.app_time(now_ns),
+            Some(pll) => {
+                let p = &self.pins;
+                let dc = self.cyclic.dc_status();
+                let reference = (self.fresh && dc.reference_time != 0).then_some(dc.reference_time);
+                let c = pll.cycle(
+                    self.cyclic.app_time(ctx.deadline_ns()),
+                    now_ns,
+                    ctx.deadline_ns(),
+                    ctx.period().max(1) as u64,
+                    reference,
+                    p[mp::PLL_STEP].get() as u32,
+                    p[mp::PLL_MAX_ERR].get() as u32,
+                );
+                p[mp::PLL_ERR].set(f64::from(c.err));
+                p[mp::PLL_OUT].set(f64::from(c.out));
+                p[mp::PLL_RESETS].set(f64::from(pll.resets()));
+                c.app_time
+            }
+        };
         for (at, v) in [(mp::APP_TIME, app), (mp::MONO_TIME, now_ns)] {
             self.pins[at].set(f64::from(v as u32));
             self.pins[at + 1].set(f64::from((v >> 32) as u32));
         }
     }
 
-    fn write(&mut self, now_ns: u64) {
-        self.times(now_ns);
+    fn write(&mut self, ctx: &FunctCtx) {
+        let now_ns = ctx.now_ns();
+        self.times(ctx);
         let mut reset = false;
         for s in &mut self.slaves {
             s.write(self.cyclic.outputs_mut(s.index), now_ns);
@@ -396,9 +450,15 @@ fn export_master<H: HalHost>(
         slaves,
         pins,
         wkc: WkcStats::default(),
+        pll: s.conf.sync_to_ref_clock.then(Pll::new),
+        fresh: false,
+        reads: 0,
     };
     // lcec's default threshold: 4 % of the period.
     rt.pins[mp::DC_MAX].set((s.conf.app_time_period / 25).min(u64::from(u32::MAX)) as f64);
+    let period = s.conf.app_time_period;
+    rt.pins[mp::PLL_STEP].set(f64::from(pll::default_step(period)));
+    rt.pins[mp::PLL_MAX_ERR].set(f64::from(pll::default_max_err(period)));
     Ok((rt, s.master, s.sim))
 }
 
@@ -468,7 +528,7 @@ fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
         })?;
         let c = cell.clone();
         ex.funct(comp, &write, false, move |ctx| {
-            c.try_with(|m| m.write(ctx.now_ns()));
+            c.try_with(|m| m.write(ctx));
         })?;
         if let Some(seg) = sim {
             ex.publish_sim(&format!("{NAME}.{name}"), &seg);
@@ -477,7 +537,12 @@ fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
         masters.push(master);
     }
     let (all, log) = (cells.clone(), ex.log());
+    let mut reads = 0u32;
     ex.funct(comp, pins::FUNCTIONS[0], false, move |_| {
+        reads = reads.wrapping_add(1);
+        if reads % (REWRITE_EVERY * 16) == 0 {
+            global.iter().for_each(AnyPin::forget);
+        }
         let mut sum = Summary {
             link_up: true,
             all_op: true,
@@ -498,7 +563,7 @@ fn export<H: DriverHost>(o: Opened, ex: &mut Exporter<'_, H>) -> Result<()> {
     let all = cells.clone();
     ex.funct(comp, pins::FUNCTIONS[1], false, move |ctx| {
         for c in &all {
-            c.try_with(|m| m.write(ctx.now_ns()));
+            c.try_with(|m| m.write(ctx));
         }
     })?;
     ex.safe_state(

@@ -43,6 +43,7 @@ pub(crate) fn plan(m: &conf::Master, sim: bool) -> MasterConfig {
             })
             .collect(),
         ref_clock_sync_cycles: m.ref_clock_sync_cycles,
+        sync_to_ref_clock: m.sync_to_ref_clock,
         ..MasterConfig::default()
     }
 }

@@ -55,10 +55,22 @@ enum Role {
     Computed,
 }
 
+/// An input pin's entry, next to the others of its slave.
+struct InputSlot {
+    at: Field,
+    coding: Coding,
+    invert: bool,
+    /// Its index in the slave's pins.
+    pin: usize,
+    /// The bits it last took.
+    last: Option<u64>,
+}
+
 struct Bound<H: HalHost> {
-    spec: PinSpec,
     pin: AnyPin<H>,
     role: Role,
+    /// The pin's name after the slave's (found at export).
+    name: Box<str>,
 }
 
 /// A slave's state pins, in [`pins::slave_state_pins`] order.
@@ -76,6 +88,14 @@ pub(crate) struct SlaveRt<H: HalHost> {
     code: TypeCode,
     state: StatePins<H>,
     pins: Vec<Bound<H>>,
+    /// The pins taking their value from the inputs, each with the bits
+    /// it last took (a pin whose bits did not change is not touched),
+    /// and the pins putting theirs into the outputs: the cycle walks
+    /// these, not every pin.
+    inputs: Vec<InputSlot>,
+    outputs: Vec<usize>,
+    /// The AL state byte and health the state pins last showed.
+    shown_state: Option<(u8, bool)>,
     drive: Option<Box<DriveRt>>,
     /// EL5101/EL7041: the counter extended past 16 bits, the latches.
     encoder: Encoder,
@@ -182,9 +202,9 @@ impl<H: HalHost> SlaveRt<H> {
             let pin = AnyPin::export(c, &name(&spec.name), spec)?;
             let role = role(slave, spec, &specs, layout, file)?;
             bound.push(Bound {
-                spec: spec.clone(),
                 pin,
                 role,
+                name: spec.name.as_str().into(),
             });
         }
         let named = Named(&bound);
@@ -200,8 +220,31 @@ impl<H: HalHost> SlaveRt<H> {
         } else {
             None
         };
+        let with = |f: fn(&Role) -> bool| {
+            (0..bound.len())
+                .filter(|&i| f(&bound[i].role))
+                .collect::<Vec<_>>()
+        };
+        let inputs = bound
+            .iter()
+            .enumerate()
+            .filter_map(|(pin, b)| match b.role {
+                Role::Input { at, coding, invert } => Some(InputSlot {
+                    at,
+                    coding,
+                    invert,
+                    pin,
+                    last: None,
+                }),
+                _ => None,
+            })
+            .collect();
+        let outputs = with(|r| matches!(r, Role::Output { .. } | Role::OutputFrom { .. }));
         Ok(SlaveRt {
             index,
+            inputs,
+            outputs,
+            shown_state: None,
             label: pins::full_name(Some(master), None, &slave.name),
             was_healthy: true,
             code,
@@ -229,24 +272,32 @@ impl<H: HalHost> SlaveRt<H> {
                 self.log_health(log, al_state, healthy, status);
             }
         }
-        let st = al_state & al::STATE_MASK;
-        let online = al_state != 0;
-        for (pin, on) in self.state.0.iter().zip([
-            online,
-            healthy,
-            st == al::INIT,
-            st == al::PREOP,
-            st == al::SAFEOP,
-            st == al::OP,
-        ]) {
-            pin.set(f64::from(u8::from(on)));
+        if self.shown_state != Some((al_state, healthy)) {
+            self.shown_state = Some((al_state, healthy));
+            let st = al_state & al::STATE_MASK;
+            let online = al_state != 0;
+            for (pin, on) in self.state.0.iter().zip([
+                online,
+                healthy,
+                st == al::INIT,
+                st == al::PREOP,
+                st == al::SAFEOP,
+                st == al::OP,
+            ]) {
+                pin.set(f64::from(u8::from(on)));
+            }
         }
-        for b in &self.pins {
-            if let Role::Input { at, coding, invert } = &b.role {
-                let mut v = field::decode(coding, at.read(inputs), at.bits);
-                if *invert {
-                    v = f64::from(u8::from(v == 0.0));
-                }
+        for slot in &mut self.inputs {
+            let raw = slot.at.read(inputs);
+            if slot.last == Some(raw) {
+                continue;
+            }
+            slot.last = Some(raw);
+            let mut v = field::decode(&slot.coding, raw, slot.at.bits);
+            if slot.invert {
+                v = f64::from(u8::from(v == 0.0));
+            }
+            if let Some(b) = self.pins.get(slot.pin) {
                 b.pin.set(v);
             }
         }
@@ -270,7 +321,8 @@ impl<H: HalHost> SlaveRt<H> {
         if let TypeCode::AnalogOut(channels) = &self.code {
             analog_out(&self.pins, channels);
         }
-        for b in &self.pins {
+        for &i in &self.outputs {
+            let b = &self.pins[i];
             match &b.role {
                 Role::Output { at, coding, invert } => {
                     let mut v = b.pin.get();
@@ -323,6 +375,19 @@ impl<H: HalHost> SlaveRt<H> {
                 "{label}: working counter {} of {}: a slave does not exchange its data; outputs safe",
                 st.wkc, st.expected_wkc
             ));
+        }
+    }
+
+    /// Forgets what its output pins last wrote, so the next cycle
+    /// writes them all (see [`AnyPin`]: a host that links an output
+    /// pin to a signal that keeps its own value is set right this way).
+    pub(crate) fn rewrite_outputs(&mut self) {
+        for p in self.state.0.iter().chain(self.pins.iter().map(|b| &b.pin)) {
+            p.forget();
+        }
+        self.shown_state = None;
+        for slot in &mut self.inputs {
+            slot.last = None;
         }
     }
 
@@ -398,7 +463,7 @@ pub(crate) struct Named<'a, H: HalHost>(&'a [Bound<H>]);
 impl<H: HalHost> Named<'_, H> {
     /// The index of pin `name` (the part after the slave's name).
     pub(crate) fn index(&self, name: &str) -> Option<usize> {
-        self.0.iter().position(|b| b.spec.name == name)
+        self.0.iter().position(|b| &*b.name == name)
     }
 
     /// The pin at `index`, found by [`Named::index`].

@@ -117,11 +117,18 @@ impl Stepper {
             self.pulse_cycles = 0;
         }
         self.last_enable = enable;
-        let hi = get(at.max_dc).min(1.0);
-        let lo = get(at.min_dc).min(hi).max(-1.0);
+        let (hi0, lo0) = (get(at.max_dc), get(at.min_dc));
+        let hi = hi0.min(1.0);
+        let lo = lo0.min(hi).max(-1.0);
         let hi = hi.max(lo);
-        set(at.max_dc, hi);
-        set(at.min_dc, lo);
+        // Written back only when limited (a write is a store to the
+        // HAL's shared memory each period).
+        if hi.to_bits() != hi0.to_bits() {
+            set(at.max_dc, hi);
+        }
+        if lo.to_bits() != lo0.to_bits() {
+            set(at.min_dc, lo);
+        }
         let mut scale = get(at.scale);
         if !scale.is_finite() || scale.abs() < 1e-20 {
             scale = 1.0;

@@ -191,8 +191,15 @@ pub struct Master {
     pub name: String,
     /// Application time period (ns).
     pub app_time_period: u64,
-    /// Reference clock sync cycles.
+    /// Reference clock sync cycles: the application time goes to the
+    /// reference clock every this many cycles (unless
+    /// `sync_to_ref_clock`).
     pub ref_clock_sync_cycles: i32,
+    /// `syncToRefClock`: the master's application time follows the
+    /// reference clock (lcec's PLL) instead of the reference clock
+    /// taking the application time. Without the attribute, a negative
+    /// `refClockSyncCycles` asks for it (as lcec reads older files).
+    pub sync_to_ref_clock: bool,
     /// Slaves.
     pub slaves: Vec<Slave>,
 }
@@ -357,13 +364,14 @@ pub fn parse(text: &str, file: &Path) -> Result<Config> {
     let mut cfg = Config::default();
     for m in cx.children(root, &["master"])? {
         let index = cx.dec(m, "idx", Some(0u32))?;
-        let master = Master {
+        let mut master = Master {
             index,
             name: m
                 .attribute("name")
                 .map_or_else(|| index.to_string(), str::to_string),
             app_time_period: cx.dec(m, "appTimePeriod", None)?,
             ref_clock_sync_cycles: cx.dec(m, "refClockSyncCycles", None)?,
+            sync_to_ref_clock: false,
             slaves: cx
                 .children(m, &["slave"])?
                 .into_iter()
@@ -373,6 +381,17 @@ pub fn parse(text: &str, file: &Path) -> Result<Config> {
         if master.app_time_period == 0 {
             return Err(cx.err(m, "appTimePeriod must be more than 0 ns"));
         }
+        master.sync_to_ref_clock = match m.attribute("syncToRefClock").map(str::trim) {
+            Some("true" | "1") => true,
+            Some("false" | "0") => false,
+            Some(v) => {
+                return Err(cx.err(
+                    m,
+                    format!("syncToRefClock=\"{v}\" is neither true nor false"),
+                ))
+            }
+            None => master.ref_clock_sync_cycles < 0,
+        };
         if let Some(dup) = cfg
             .masters
             .iter()
@@ -674,6 +693,26 @@ mod tests {
             vec![("maxCurrent".into(), "1500".into())]
         );
         assert_eq!(m.slaves[2].line, 5);
+    }
+
+    #[test]
+    fn sync_to_ref_clock_from_the_attribute_or_a_negative_cycle_count() {
+        let master = |attrs: &str| {
+            let xml =
+                format!("<masters><master idx=\"0\" appTimePeriod=\"1000000\" {attrs}/></masters>");
+            parse(&xml, Path::new("t.xml")).map(|c| c.masters[0].sync_to_ref_clock)
+        };
+        assert!(!master(r#"refClockSyncCycles="1000""#).unwrap());
+        assert!(master(r#"refClockSyncCycles="-1""#).unwrap());
+        assert!(master(r#"refClockSyncCycles="1000" syncToRefClock="true""#).unwrap());
+        assert!(!master(r#"refClockSyncCycles="-1" syncToRefClock="false""#).unwrap());
+        let e = master(r#"refClockSyncCycles="1" syncToRefClock="yes""#)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("t.xml") && e.contains("syncToRefClock=\"yes\""),
+            "{e}"
+        );
     }
 
     #[test]

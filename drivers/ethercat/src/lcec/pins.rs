@@ -11,7 +11,9 @@
 //!   `wkc-reset`), the DC drift (`dc-sync-diff`, `dc-sync-converged`,
 //!   parameters `dc-sync-max`, `dc-sync-monitor`) and the time pair
 //!   (`app-time-lo`/`-hi`: the cycle's DC application time,
-//!   `mono-time-lo`/`-hi`: its CLOCK_MONOTONIC time);
+//!   `mono-time-lo`/`-hi`: its CLOCK_MONOTONIC time) and, for
+//!   `syncToRefClock`, the PLL (`pll-err`, `pll-out`,
+//!   `pll-reset-count`, parameters `pll-step`, `pll-max-err`);
 //! * every slave's state ([`slave_state_pins`]): `slave-online`,
 //!   `slave-oper`, `slave-state-init`, `-preop`, `-safeop`, `-op`;
 //! * what its type adds ([`slave_pins`]): `din-N`/`din-N-not` (EL1xxx),
@@ -208,6 +210,11 @@ pub fn master_pins(global: bool) -> Vec<PinSpec> {
             PinSpec::new("app-time-hi", U32, Kind::Out),
             PinSpec::new("mono-time-lo", U32, Kind::Out),
             PinSpec::new("mono-time-hi", U32, Kind::Out),
+            PinSpec::new("pll-err", S32, Kind::Out),
+            PinSpec::new("pll-out", S32, Kind::Out),
+            PinSpec::new("pll-reset-count", U32, Kind::Out),
+            PinSpec::new("pll-step", U32, Kind::Param),
+            PinSpec::new("pll-max-err", U32, Kind::Param),
         ]);
     }
     v

@@ -17,11 +17,13 @@
 //!   input image plus a bounded retry (4 tries) when the helper is
 //!   publishing at that instant.
 //! * [`Cyclic::write`] publishes the outputs (safe values, zeros, for
-//!   slaves that are not healthy) and wakes the helper (one futex wake
-//!   through `Thread::unpark`). Worst case: a copy of the output image
-//!   plus that system call; it never waits.
+//!   slaves that are not healthy) and the time; it does not wake the
+//!   helper, which looks for the write when it is due (a step of 1/40 of
+//!   the period at most after it). Worst case: a copy of the output
+//!   image and a clock read (vDSO); after an idle spell of four periods
+//!   one futex wake. It never waits.
 //!
-//! The helper sends the frame at once, waits for it up to the PDU
+//! The helper sends the frame once it sees it, waits for it up to the PDU
 //! timeout (one period by default), and publishes the inputs, the
 //! working counter and each slave's AL state; a frame that does not come
 //! back is counted as lost, never waited for by the realtime side, and
@@ -38,6 +40,7 @@ pub mod emcy;
 pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
+pub mod pll;
 mod serve;
 
 use std::ops::Range;
@@ -117,6 +120,10 @@ pub struct MasterConfig {
     /// clock every this many cycles (`refClockSyncCycles`; 0 or less:
     /// never).
     pub ref_clock_sync_cycles: i32,
+    /// `syncToRefClock`: the reference clock runs free and the
+    /// application time follows it ([`pll`]); the master writes no
+    /// time to it.
+    pub sync_to_ref_clock: bool,
 }
 
 impl Default for MasterConfig {
@@ -127,6 +134,7 @@ impl Default for MasterConfig {
             state_timeout: Duration::from_secs(5),
             frame_timeout: None,
             ref_clock_sync_cycles: 1,
+            sync_to_ref_clock: false,
         }
     }
 }
@@ -179,6 +187,9 @@ struct Shared {
     stop: AtomicBool,
     counters: Counters,
     frame_ns: AtomicU32,
+    /// CLOCK_MONOTONIC ns of the last `write` (0: none yet): when the
+    /// helper expects the next.
+    written_at: AtomicU64,
     clocks: Clocks,
     emergencies: emcy::Slots,
 }
@@ -237,6 +248,10 @@ pub struct Cyclic {
     app_base: i64,
     /// Per slave: the count of the last emergency taken.
     emcy_seen: Vec<u32>,
+    /// CLOCK_MONOTONIC ns of the last `write`.
+    last_write_ns: u64,
+    /// The servo period (ns).
+    period_ns: u64,
 }
 
 /// What one `read` found.
@@ -258,6 +273,7 @@ impl Master {
     /// Starts the helper on `link` and brings the segment to OP.
     pub fn start(link: Box<dyn Link>, cfg: MasterConfig) -> Result<(Master, Cyclic)> {
         let iface = link.describe();
+        let period_ns = cfg.period_ns.max(1000);
         let (tx, rx) = mpsc::channel();
         let name = format!(
             "ethercat-{}",
@@ -296,6 +312,8 @@ impl Master {
             shared: shared.clone(),
             tag: 0,
             last_read_tag: 0,
+            last_write_ns: 0,
+            period_ns,
             wkc: 0,
             app_base: shared.clocks.base,
             emcy_seen: vec![0; slaves.len()],
@@ -419,8 +437,25 @@ impl Cyclic {
         }
         self.tag += 1;
         self.shared.outputs.write(&self.staged, self.tag);
+        self.shared
+            .written_at
+            .store(hal_core::clock::monotonic_ns(), Relaxed);
         self.shared.counters.cycles.fetch_add(1, Relaxed);
-        self.helper.unpark();
+        // The helper is not woken: it looks for the write when one is
+        // due ([`serve::NextWrite`]); after an idle spell (no write for
+        // four periods) it may be parked, and is woken.
+        if self.idle_before() {
+            self.helper.unpark();
+        }
+    }
+
+    /// Whether the write before this one was more than four periods ago
+    /// (or there was none), so that the helper may be parked.
+    fn idle_before(&mut self) -> bool {
+        let now = self.shared.written_at.load(Relaxed);
+        let idle = now.saturating_sub(self.last_write_ns) > 4 * self.period_ns;
+        self.last_write_ns = now;
+        idle
     }
 
     /// Asks the helper to bring slaves that left OP back to it.
@@ -543,7 +578,10 @@ fn bring_up(
         .map_err(|e| master_error(iface, "scanning the segment (INIT to PRE-OP)", e))?;
     let mut clocks = DcCycle {
         reference: dc::reference(group.iter(md)),
-        sync_every: u32::try_from(cfg.ref_clock_sync_cycles).unwrap_or(0),
+        sync_every: match cfg.sync_to_ref_clock {
+            true => 0,
+            false => u32::try_from(cfg.ref_clock_sync_cycles).unwrap_or(0),
+        },
         ..DcCycle::default()
     };
     for plan in &cfg.slaves {
@@ -611,6 +649,7 @@ fn bring_up(
         stop: AtomicBool::new(false),
         counters: Counters::default(),
         frame_ns: AtomicU32::new(0),
+        written_at: AtomicU64::new(0),
         clocks: Clocks {
             in_use: clocks.in_use,
             base: ethercat_now() as i64 - hal_core::clock::monotonic_ns() as i64,

@@ -18,8 +18,6 @@ use super::io::Io;
 use super::{Group, MasterConfig, Shared, SlaveInfo, LOST_LIMIT, MAX_SLAVES};
 use crate::regs::{self, al};
 
-/// The helper's cycles: each `write` of the realtime side sends one
-/// frame; its answer is published for the next `read`.
 /// What the helper does after each cycle's frame besides the frame.
 #[derive(Debug, Default)]
 pub(super) struct Extras {
@@ -44,13 +42,14 @@ pub(super) fn serve(
     let mut lost_run = 0u32;
     let period = Duration::from_nanos(cfg.period_ns.max(1000));
     let timeout = cfg.frame_timeout.unwrap_or(period);
+    let mut waiting = NextWrite::new(cfg.period_ns.max(1000));
     while !shared.stop.load(Acquire) {
         if shared.reset.swap(false, AcqRel) {
             reset_slaves(md, io, group, shared);
         }
         let writes = shared.outputs.writes();
         if writes == last_writes {
-            std::thread::park_timeout(period * 4);
+            waiting.wait(shared.written_at.load(Relaxed));
             continue;
         }
         if writes > last_writes + 1 {
@@ -60,6 +59,7 @@ pub(super) fn serve(
                 .fetch_add(writes - last_writes - 1, Relaxed);
         }
         last_writes = writes;
+        waiting.saw(shared.written_at.load(Relaxed));
         let Some(tag) = shared.outputs.read(&mut out) else {
             continue;
         };
@@ -108,6 +108,87 @@ pub(super) fn serve(
             shared.clocks.diff.store(diff, Relaxed);
         }
         extras.mailboxes.poll(md, io, &shared.emergencies, timeout);
+    }
+}
+
+/// How the helper waits for the realtime side's next `write` without
+/// the realtime side waking it (a futex wake is a system call, and on a
+/// virtual machine an interrupt to another CPU: more than the rest of
+/// `write`): it sleeps until shortly before the writes' interval after
+/// the last write, then looks every [`NextWrite::step`] ns until the
+/// write is there. A frame goes out at most a step (plus the helper's
+/// own wake-up) after its `write`. The interval is the configured period
+/// until the writes show theirs: the shortest gap of the last 16 (a
+/// thread faster than `appTimePeriod` is followed from its first short
+/// gap). With no write for four periods (the thread stopped) it sleeps a
+/// period at a time, or until unparked.
+#[derive(Debug)]
+pub(super) struct NextWrite {
+    period: u64,
+    step: u64,
+    /// The expected gap between writes.
+    interval: u64,
+    /// The shortest gap of the current window, and its gaps so far.
+    window_min: u64,
+    window_len: u32,
+    /// The time of the last write seen.
+    prev: u64,
+}
+
+impl NextWrite {
+    /// The waits for a servo thread of `period` ns: steps of 1/40 of
+    /// it, 5 to 25 µs.
+    pub(super) fn new(period: u64) -> NextWrite {
+        NextWrite {
+            period,
+            step: (period / 40).clamp(5_000, 25_000),
+            interval: period,
+            window_min: u64::MAX,
+            window_len: 0,
+            prev: 0,
+        }
+    }
+
+    /// A write made at `written_at` was seen.
+    pub(super) fn saw(&mut self, written_at: u64) {
+        if self.prev != 0 && written_at > self.prev {
+            let gap = written_at - self.prev;
+            let (lo, hi) = (2 * self.step, 4 * self.period);
+            if gap < self.interval {
+                self.interval = gap.clamp(lo, hi);
+            }
+            self.window_min = self.window_min.min(gap);
+            self.window_len += 1;
+            if self.window_len >= 16 {
+                self.interval = self.window_min.clamp(lo, hi);
+                self.window_min = u64::MAX;
+                self.window_len = 0;
+            }
+        }
+        self.prev = written_at;
+    }
+
+    /// When to look again (CLOCK_MONOTONIC ns) for a write after the one
+    /// made at `written_at`, it being `now`; None: idle, park.
+    pub(super) fn next_look(&self, written_at: u64, now: u64) -> Option<u64> {
+        if written_at == 0 || now > written_at.saturating_add(4 * self.period) {
+            return None;
+        }
+        let expected = written_at + self.interval;
+        Some(if now + self.step < expected {
+            expected - self.step
+        } else {
+            now + self.step
+        })
+    }
+
+    /// Sleeps until the next look.
+    fn wait(&mut self, written_at: u64) {
+        let now = hal_core::clock::monotonic_ns();
+        match self.next_look(written_at, now) {
+            Some(t) => hal_core::clock::sleep_until(t),
+            None => std::thread::park_timeout(Duration::from_nanos(self.period)),
+        }
     }
 }
 
@@ -225,5 +306,42 @@ fn reset_slaves(md: &MainDevice<'_>, io: &mut Io<'_>, group: &Group, shared: &Sh
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::NextWrite;
+
+    #[test]
+    fn the_helper_looks_just_before_a_period_after_the_last_write() {
+        let w = NextWrite::new(1_000_000);
+        assert_eq!(w.step, 25_000);
+        // Right after a write: sleep until a step before the next.
+        assert_eq!(w.next_look(10_000_000, 10_050_000), Some(10_975_000));
+        // Around the expected time, and when it is late: every step.
+        assert_eq!(w.next_look(10_000_000, 10_990_000), Some(11_015_000));
+        assert_eq!(w.next_look(10_000_000, 12_000_000), Some(12_025_000));
+        // No write for four periods, or none yet: park.
+        assert_eq!(w.next_look(10_000_000, 14_000_001), None);
+        assert_eq!(w.next_look(0, 5), None);
+        assert_eq!(NextWrite::new(50_000).step, 5_000);
+    }
+
+    #[test]
+    fn the_interval_follows_the_writes() {
+        let mut w = NextWrite::new(1_000_000);
+        // A thread four times faster than configured: followed at once.
+        w.saw(10_000_000);
+        w.saw(10_250_000);
+        assert_eq!(w.next_look(10_250_000, 10_260_000), Some(10_475_000));
+        // A slower one (2 ms): once a whole window of 16 gaps is of it.
+        let mut t = 10_250_000;
+        for _ in 0..32 {
+            t += 2_000_000;
+            w.saw(t);
+        }
+        assert_eq!(w.interval, 2_000_000);
+        assert_eq!(w.next_look(t, t + 10_000), Some(t + 1_975_000));
     }
 }

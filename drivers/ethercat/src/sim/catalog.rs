@@ -348,7 +348,11 @@ pub fn el5101(serial: u32) -> Device {
 /// The EL7041's stepper in velocity mode with its encoder, as lcec
 /// configures it: while enabled the motor turns at the commanded share
 /// of `max_speed` (16-bit velocity, ±32767 full speed), and the encoder
-/// counts its steps.
+/// counts its steps. The encoder's C track pulses every `index_every`
+/// counts (`Status of input C` in the cycle it passes); with latch C
+/// enabled (0x7000:01) the first pulse's count is latched into
+/// 0x6000:12 and `Latch C valid` (0x6000:01) set, both held until the
+/// enable drops, as the terminal does.
 #[derive(Debug)]
 pub struct Stepper {
     /// Steps per second at full command.
@@ -357,7 +361,27 @@ pub struct Stepper {
     pub position: f64,
     /// An error the test raised (cleared by the reset bit).
     pub error: bool,
+    /// Counts between the encoder's index pulses (0: none).
+    pub index_every: i64,
+    /// The count latched at an index pulse while latch C was enabled.
+    latched: Option<i64>,
     toggle: bool,
+}
+
+impl Stepper {
+    /// The index pulse passed between counts `before` and `after`, if
+    /// one did: the multiple of `index_every` crossed.
+    fn index_between(&self, before: f64, after: f64) -> Option<i64> {
+        if self.index_every <= 0 {
+            return None;
+        }
+        let every = self.index_every as f64;
+        let (a, b) = (
+            before.floor().div_euclid(every),
+            after.floor().div_euclid(every),
+        );
+        (a != b).then(|| a.max(b) as i64 * self.index_every)
+    }
 }
 
 impl Application for Stepper {
@@ -378,11 +402,21 @@ impl Application for Stepper {
             0.0
         };
         let mut moving = 0.0;
+        let before = self.position;
         if enable && !self.error {
             moving = velocity * dt_ns as f64 * 1e-9;
             self.position += moving;
         }
+        let index = self.index_between(before, self.position);
+        if !bit(od, 0x7000, 1) {
+            self.latched = None;
+        } else if let (None, Some(at)) = (self.latched, index) {
+            self.latched = Some(at);
+            od.set(0x6000, 0x12, u64::from(at as u16));
+        }
         self.toggle = !self.toggle;
+        od.set(0x6000, 1, u64::from(self.latched.is_some()));
+        od.set(0x6000, 0x0B, u64::from(index.is_some()));
         od.set(0x6000, 3, status);
         od.set(0x6000, 0x10, u64::from(self.toggle));
         od.set(0x6000, 0x11, u64::from(self.position.floor() as i64 as u16));
@@ -533,6 +567,8 @@ pub fn el7041(serial: u32) -> Device {
             max_speed: 20_000.0,
             position: 0.0,
             error: false,
+            index_every: 1000,
+            latched: None,
             toggle: false,
         }),
     )

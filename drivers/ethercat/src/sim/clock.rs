@@ -43,6 +43,8 @@ pub(crate) struct DcClock {
     correction: i64,
     /// Local time at the last frame's arrival.
     arrival: i64,
+    /// Simulated time of the last frame's arrival.
+    arrived_at: i64,
     /// The SYNC unit, once activated.
     activation: Option<Activation>,
     /// SYNC0 events seen by the last read of the status register.
@@ -90,9 +92,31 @@ impl DcClock {
     /// A frame arrives at simulated time `now_ns`.
     pub(crate) fn arrive(&mut self, now_ns: u64) {
         let now = now_ns as i64;
-        self.arrival = now
-            .wrapping_add(now / 1_000_000 * self.ppm)
-            .wrapping_add(self.local_offset);
+        self.arrived_at = now;
+        self.arrival = self.local_at(now);
+    }
+
+    /// Local time at simulated time `now`.
+    fn local_at(&self, now: i64) -> i64 {
+        let drift = i128::from(now) * i128::from(self.ppm) / 1_000_000;
+        now.wrapping_add(drift as i64)
+            .wrapping_add(self.local_offset)
+    }
+
+    /// The quartz runs `ppm` parts per million fast (negative: slow)
+    /// from the last frame on: local time goes on from where it is, at
+    /// the new rate.
+    pub(crate) fn set_ppm(&mut self, ppm: i64) {
+        let before = self.local_at(self.arrived_at);
+        self.ppm = ppm;
+        let after = self.local_at(self.arrived_at);
+        self.local_offset = self.local_offset.wrapping_add(before.wrapping_sub(after));
+    }
+
+    /// Local time jumps by `ns` (a disturbed or replaced clock).
+    pub(crate) fn step(&mut self, ns: i64) {
+        self.local_offset = self.local_offset.wrapping_add(ns);
+        self.arrival = self.arrival.wrapping_add(ns);
     }
 
     /// The system time now: local time plus the master's offset and the

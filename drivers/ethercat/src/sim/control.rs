@@ -11,6 +11,8 @@
 //! | `al-error N CODE` | slave N drops to SAFE-OP with AL status code CODE |
 //! | `drive-fault N CODE` | the drive at N faults with error code CODE (and sends an EMCY); a stepper terminal raises its error bit |
 //! | `shaft N COUNTS_PER_S` | the encoder at N turns at that rate |
+//! | `drift N PPM` | the DC clock of slave N runs PPM parts per million fast (negative: slow) against the host |
+//! | `clock-step N NS` | the DC clock of slave N jumps by NS (negative: back) |
 //!
 //! Numbers are decimal or `0x` hexadecimal.
 
@@ -38,7 +40,16 @@ pub enum Control {
     DriveFault(usize, u16),
     /// An encoder's shaft speed (counts per second).
     Shaft(usize, f64),
+    /// A slave's DC clock rate against the host (ppm).
+    Drift(usize, i64),
+    /// A slave's DC clock jumps (ns).
+    ClockStep(usize, i64),
 }
+
+/// The largest drift `drift` takes (ppm): a tenth of a percent.
+pub const MAX_DRIFT_PPM: u64 = 1000;
+/// The largest jump `clock-step` takes (ns): an hour.
+pub const MAX_CLOCK_STEP_NS: u64 = 3_600_000_000_000;
 
 fn bad(line: &str, reason: impl Into<String>) -> Error {
     Error::malformed(format!("command '{line}'"), reason)
@@ -81,10 +92,33 @@ impl Control {
                 let v = w.next().and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
                 Control::Shaft(p, v.ok_or_else(|| bad(line, "speed is not a number"))?)
             }
+            "drift" | "clock-step" => {
+                let p = position(w.next())?;
+                let v = w
+                    .next()
+                    .and_then(|s| s.parse::<i64>().ok())
+                    .ok_or_else(|| bad(line, "the amount is not a whole number"))?;
+                match cmd {
+                    "drift" if v.unsigned_abs() <= MAX_DRIFT_PPM => Control::Drift(p, v),
+                    "drift" => {
+                        return Err(bad(
+                            line,
+                            format!("a drift past ±{MAX_DRIFT_PPM} ppm is no quartz"),
+                        ))
+                    }
+                    _ if v.unsigned_abs() <= MAX_CLOCK_STEP_NS => Control::ClockStep(p, v),
+                    _ => {
+                        return Err(bad(
+                            line,
+                            format!("a clock step past ±{MAX_CLOCK_STEP_NS} ns (an hour)"),
+                        ))
+                    }
+                }
+            }
             _ => {
                 return Err(bad(
                     line,
-                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S",
+                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS",
                 ))
             }
         };
@@ -136,6 +170,11 @@ impl Control {
                     }
                 }
             }
+            Control::Drift(p, ppm) => seg
+                .slave_mut(p)
+                .ok_or_else(|| missing(p))?
+                .set_clock_ppm(ppm),
+            Control::ClockStep(p, ns) => seg.slave_mut(p).ok_or_else(|| missing(p))?.step_clock(ns),
             Control::Reset(p) => return Err(missing(p)),
         }
         Ok(())
@@ -204,6 +243,8 @@ mod tests {
             "al-error 1 0x1b",
             "drive-fault 2 0x2310",
             "shaft 1 1000.5",
+            "drift 0 -300",
+            "clock-step 2 5000000",
         ] {
             Control::parse(line).unwrap().apply(&mut seg).unwrap();
         }
@@ -218,5 +259,30 @@ mod tests {
         assert!(e("al-error 1").contains("code is missing"));
         assert!(e("al-error 1 0x10000").contains("over 0xffff"));
         assert!(e("link down now").contains("too many words"));
+        assert!(e("drift 0 5000").contains("no quartz"));
+        assert!(e("drift 0 fast").contains("not a whole number"));
+        assert!(e("clock-step 0 -9223372036854775808").contains("an hour"));
+        assert!(e("clock-step 7 1").contains("no slave 7"));
+    }
+
+    #[test]
+    fn a_drift_changes_the_rate_not_the_time() {
+        let mut seg = Segment::new(vec![device_by_name("EK1100", 1).unwrap()]);
+        let frame = |seg: &mut Segment, now: u64| {
+            let mut b = crate::wire::frame::FrameBuilder::new([2, 0, 0, 0, 0, 1]);
+            b.push(crate::wire::frame::Command::Brd, 0, 0, &[0; 2])
+                .unwrap();
+            let mut f = b.finish();
+            seg.process(&mut f, now);
+            seg.slaves()[0].system_time()
+        };
+        let t0 = frame(&mut seg, 5_000_000_000);
+        Control::Drift(0, 500).apply(&mut seg).unwrap();
+        assert_eq!(frame(&mut seg, 5_000_000_000), t0, "no jump");
+        let t1 = frame(&mut seg, 6_000_000_000);
+        // One second at 500 ppm (the EK1100's own -20 ppm replaced).
+        assert_eq!(t1 - t0, 1_000_500_000);
+        Control::ClockStep(0, -7).apply(&mut seg).unwrap();
+        assert_eq!(frame(&mut seg, 6_000_000_000), t1 - 7);
     }
 }

@@ -296,6 +296,17 @@ impl Esc {
         self.clock.system_time(&self.mem)
     }
 
+    /// The local clock runs `ppm` parts per million fast (negative:
+    /// slow) from now on, against the simulated time (the host's).
+    pub fn set_clock_ppm(&mut self, ppm: i64) {
+        self.clock.set_ppm(ppm);
+    }
+
+    /// The local clock jumps by `ns`.
+    pub fn step_clock(&mut self, ns: i64) {
+        self.clock.step(ns);
+    }
+
     /// What the master activated in the SYNC unit, if anything.
     pub fn sync_activation(&self) -> Option<Activation> {
         self.clock.activation()
