@@ -15,27 +15,23 @@
 
 use hal_scope::scope::capture::numeric;
 use hal_scope::scope::output::Record;
-use serde_json::{json, Value as JsonValue};
+use serde_json::{json, Map, Value as JsonValue};
 
 /// The media type of the binary form.
 pub const BINARY_TYPE: &str = "application/octet-stream";
 
 /// What describes a record beside its columns.
-fn header(r: &Record, triggered: bool) -> serde_json::Map<String, JsonValue> {
+fn header(r: &Record, triggered: bool) -> Map<String, JsonValue> {
     let first = r.rows.first().map(|row| (row[0] as u32).wrapping_sub(1));
-    let head = json!({
-        "names": r.names,
-        "types": r.types.iter().map(|t| t.name()).collect::<Vec<_>>(),
-        "period_ns": r.period_ns,
-        "trigger_index": r.trigger_index,
-        "triggered": triggered,
-        "first_sample": first,
-    });
-    match head {
-        JsonValue::Object(map) => map,
-        // `json!` of an object literal is an object.
-        _ => serde_json::Map::new(),
-    }
+    let types: Vec<&str> = r.types.iter().map(|t| t.name()).collect();
+    Map::from_iter([
+        ("names".to_string(), json!(r.names)),
+        ("types".to_string(), json!(types)),
+        ("period_ns".to_string(), json!(r.period_ns)),
+        ("trigger_index".to_string(), json!(r.trigger_index)),
+        ("triggered".to_string(), json!(triggered)),
+        ("first_sample".to_string(), json!(first)),
+    ])
 }
 
 /// Channel `c` of `r` as numbers.
