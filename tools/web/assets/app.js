@@ -23,8 +23,9 @@ function say(text, isError) {
   m.className = isError ? "error" : "";
 }
 
-async function api(path, body) {
+async function api(path, body, accept) {
   const init = { method: body === undefined ? "GET" : "POST", headers: {} };
+  if (accept) init.headers["Accept"] = accept;
   if (state.token) init.headers["X-HAL-Token"] = state.token;
   if (body !== undefined) {
     init.headers["Content-Type"] = "application/json";

@@ -58,24 +58,41 @@ function scopeRequest() {
   return req;
 }
 
+// A record in hal-web's binary form (tools/web/src/record.rs): the
+// header's length (u32), the header (JSON), zeros to a multiple of 8,
+// then each channel's samples as f64, all little-endian.
+function scopeDecode(buf) {
+  const view = new DataView(buf);
+  const len = view.getUint32(0, true);
+  const rec = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, 4, len)));
+  let at = Math.ceil((4 + len) / 8) * 8;
+  rec.columns = rec.names.map(() => {
+    const col = new Array(rec.samples);
+    for (let i = 0; i < rec.samples; i++, at += 8) col[i] = view.getFloat64(at, true);
+    return col;
+  });
+  return rec;
+}
+
 async function scopeRun() {
   if (scope.running) return;
   scope.running = true;
   $("scope-state").textContent = "waiting";
   try {
     do {
-      const r = await api("/api/scope", scopeRequest());
-      const j = await answer(r);
+      const r = await api("/api/scope", scopeRequest(), "application/octet-stream");
       if (!r.ok) {
+        const j = await answer(r);
         // Normal and auto modes keep waiting for a trigger that is late.
         const late = r.status === 422 && /no complete record/.test(j.error || "");
         if (late && $("scope-mode").value !== "single") continue;
         say("scope: " + (j.error || r.statusText), true);
         break;
       }
-      scope.record = j;
+      const rec = scopeDecode(await r.arrayBuffer());
+      scope.record = rec;
       scopeDraw();
-      $("scope-state").textContent = j.triggered ? "triggered" : "untriggered (auto)";
+      $("scope-state").textContent = rec.triggered ? "triggered" : "untriggered (auto)";
     } while (scope.running && $("scope-mode").value !== "single");
   } finally {
     scope.running = false;
@@ -117,7 +134,7 @@ function scopeDraw() {
     g.lineWidth = 1.5;
     g.beginPath();
     col.forEach((v, i) => {
-      if (v === null) return;
+      if (v === null || !isFinite(v)) return;
       if (i === 0) g.moveTo(x(i), y(v)); else g.lineTo(x(i), y(v));
       drawn++;
     });

@@ -10,12 +10,12 @@
 //! 20 Hz with the pins changing (each tick reads and sends all 1000
 //! values); the same with the scope running as the page runs it in
 //! normal mode (a record of 1000 samples, 10 ms/div, on the square's
-//! rising edge, asked for again as soon as one arrives: the issue's
-//! case); the stream with the pins standing still (each tick reads them
-//! and sends nothing). hal-web's figure is its own user and system time
-//! over the phase (from /proc), as a share of one core; the servo
-//! thread's is its wake-up latency histogram over the phase (bucket upper
-//! edges).
+//! rising edge, asked for again as soon as one arrives, in the binary
+//! form the page takes: the case); the stream with the pins
+//! standing still (each tick reads them and sends nothing). hal-web's
+//! figure is its own user and system time over the phase (from /proc),
+//! as a share of one core; the servo thread's is its wake-up latency
+//! histogram over the phase (bucket upper edges).
 //!
 //! `cargo bench -p hal-web --bench cpu` (a release build of hal-web);
 //! `HAL_WEB_BENCH_SECS` sets each phase's length (default 20 s).
@@ -170,9 +170,10 @@ fn start_scope(
                 std::thread::sleep(Duration::from_millis(20));
                 continue;
             }
-            let (status, answer) = web.post_same_origin("/api/scope", &body, None);
+            let (status, answer) = web.post_binary("/api/scope", &body);
             let failed = status != 200;
             if failed && counts[1].load(Ordering::Relaxed) == 0 {
+                let answer = String::from_utf8_lossy(&answer);
                 println!("  the scope's capture failed ({status}): {answer}");
             }
             counts[usize::from(failed)].fetch_add(1, Ordering::Relaxed);

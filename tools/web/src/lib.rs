@@ -8,7 +8,7 @@
 //!   `hal` (setp, sets, net, unlinkp through halcmd's command layer),
 //!   `machine` (task's state and buttons, as task-cmd sends them),
 //!   `scope` and `scope.csv` (captures by the headless halscope's sampler
-//!   and trigger),
+//!   and trigger; `record` is how a record is sent),
 //!   `threads` (timing and latency histograms, as latency-test reads them).
 //! * The page: plain HTML and JavaScript built into the binary.
 
@@ -23,6 +23,7 @@ pub mod guard;
 mod machine;
 mod meters;
 mod page;
+mod record;
 mod scope;
 mod server;
 mod snapshot;

@@ -18,19 +18,18 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use axum::extract::State;
-use axum::http::{header, StatusCode};
+use axum::http::{header, HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use hal_core::Instance;
 use hal_scope::scope::args::{Args, Request, Source};
-use hal_scope::scope::capture::numeric;
 use hal_scope::scope::output::{csv as record_csv, Record};
 use hal_scope::scope::Session;
 use hal_scope::ScopeError;
 use serde::Deserialize;
-use serde_json::{json, Value as JsonValue};
 
 use crate::error::WebError;
+use crate::record;
 use crate::state::{blocking, error, Shared};
 
 /// Most samples in a record the page asks for (its JSON and drawing stay
@@ -226,34 +225,20 @@ pub fn idle_session(kept: &KeptSession, idle: Duration) -> Option<Session> {
     guard.take().map(|k| k.session)
 }
 
-/// A record as the page draws it: a column of numbers per channel (bits
-/// as 0 and 1), halscope's sample tags, the trigger's index.
-pub fn record_json(r: &Record, triggered: bool) -> JsonValue {
-    let columns: Vec<Vec<f64>> = r
-        .types
-        .iter()
-        .enumerate()
-        .map(|(c, t)| r.rows.iter().map(|row| numeric(*t, row[c + 1])).collect())
-        .collect();
-    let first = r.rows.first().map(|row| (row[0] as u32).wrapping_sub(1));
-    json!({
-        "names": r.names,
-        "types": r.types.iter().map(|t| t.name()).collect::<Vec<_>>(),
-        "period_ns": r.period_ns,
-        "trigger_index": r.trigger_index,
-        "triggered": triggered,
-        "first_sample": first,
-        "columns": columns,
-    })
-}
-
 /// The last record taken, for the CSV.
 pub type LastRecord = Mutex<Option<Arc<Record>>>;
 
-/// `POST /api/scope`: takes a record; 200 with it, 400 for a request
-/// halscope refuses, 422 when the capture fails (halscope's message),
-/// 503 while another capture runs.
-pub async fn post(State(state): State<Shared>, Json(req): Json<ScopeRequest>) -> Response {
+/// `POST /api/scope`: takes a record; 200 with it (JSON, or the binary
+/// form of [`record`] when the request accepts
+/// `application/octet-stream`), 400 for a request halscope refuses, 422
+/// when the capture fails (halscope's message), 503 while another
+/// capture runs. Refusals are JSON either way.
+pub async fn post(
+    State(state): State<Shared>,
+    headers: HeaderMap,
+    Json(req): Json<ScopeRequest>,
+) -> Response {
+    let binary = wants_binary(&headers);
     let plan = match plan(req) {
         Ok(p) => p,
         Err(msg) => return error(StatusCode::BAD_REQUEST, msg),
@@ -287,16 +272,41 @@ pub async fn post(State(state): State<Shared>, Json(req): Json<ScopeRequest>) ->
     })
     .await;
     match taken {
-        Ok(Ok((record, triggered))) => {
-            let body = record_json(&record, triggered);
+        Ok(Ok((taken, triggered))) => {
+            let answer = if binary {
+                (
+                    [
+                        (header::CONTENT_TYPE, record::BINARY_TYPE),
+                        (header::CACHE_CONTROL, "no-store"),
+                    ],
+                    record::binary(&taken, triggered),
+                )
+                    .into_response()
+            } else {
+                Json(record::json(&taken, triggered)).into_response()
+            };
             if let Ok(mut last) = state.last_record.lock() {
-                *last = Some(Arc::new(record));
+                *last = Some(Arc::new(taken));
             }
-            Json(body).into_response()
+            answer
         }
         Ok(Err(e)) => error(StatusCode::UNPROCESSABLE_ENTITY, e),
         Err(r) => r,
     }
+}
+
+/// Whether the request's `Accept` names the binary record.
+fn wants_binary(headers: &HeaderMap) -> bool {
+    headers
+        .get_all(header::ACCEPT)
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .flat_map(|v| v.split(','))
+        .any(|t| {
+            t.split(';')
+                .next()
+                .is_some_and(|m| m.trim().eq_ignore_ascii_case(record::BINARY_TYPE))
+        })
 }
 
 /// `GET /api/scope.csv`: the last record as halscope writes its CSV.
@@ -325,6 +335,20 @@ mod tests {
 
     fn req(json: &str) -> Result<Plan, WebError> {
         plan(serde_json::from_str(json).unwrap())
+    }
+
+    #[test]
+    fn the_binary_record_is_for_who_accepts_it() {
+        let accept = |v: &str| {
+            let mut h = HeaderMap::new();
+            h.insert(header::ACCEPT, v.parse().unwrap());
+            wants_binary(&h)
+        };
+        assert!(accept("application/octet-stream"));
+        assert!(accept("application/json, Application/Octet-Stream;q=0.9"));
+        assert!(!accept("application/json"));
+        assert!(!accept("*/*"));
+        assert!(!wants_binary(&HeaderMap::new()));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The scope served by hal-web against the headless halscope's capture:
 //! the same request on the same siggen gives the same record (trigger
-//! position, sample values, CSV); auto mode records without a trigger
+//! position, sample values, CSV); the page's binary form of a record
+//! holds the record the CSV is of; auto mode records without a trigger
 //! that never comes; refusals are halscope's; read-only and other
 //! origins take no capture of pins; a page asking record after record
 //! keeps one sampler, checks it is still wired, and removes it when idle.
@@ -153,6 +154,77 @@ fn a_capture_served_by_hal_web_equals_the_headless_capture() {
         .unwrap()
         .signal
         .is_none());
+}
+
+/// The binary form of a record (tools/web/src/record.rs): its header
+/// and its columns.
+fn decode(bytes: &[u8]) -> (Value, Vec<Vec<f64>>) {
+    let len = u32::from_le_bytes(bytes[..4].try_into().unwrap()) as usize;
+    let head: Value = serde_json::from_slice(&bytes[4..4 + len]).unwrap();
+    let n = head["samples"].as_u64().unwrap() as usize;
+    let body = &bytes[(4 + len).next_multiple_of(8)..];
+    assert_eq!(body.len(), 8 * n * head["names"].as_array().unwrap().len());
+    let columns = body
+        .chunks(8 * n)
+        .map(|c| {
+            c.chunks(8)
+                .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+                .collect()
+        })
+        .collect();
+    (head, columns)
+}
+
+#[test]
+fn the_page_gets_the_record_in_binary_and_the_same_record_as_csv() {
+    let host = siggen_host("web-scope-binary");
+    let web = Web::start(&host.instance, &[]);
+    let body = serde_json::json!({
+        "pins": PINS.split(',').collect::<Vec<_>>(), "thread": "servo-thread",
+        "trigger": "sq:rising:0.5", "samples": 60, "pre": "25%", "mode": "normal",
+    })
+    .to_string();
+    let (status, bytes) = web.post_binary("/api/scope", &body);
+    assert_eq!(status, 200, "{}", String::from_utf8_lossy(&bytes));
+    let (head, columns) = decode(&bytes);
+    assert_eq!(head["samples"], 60);
+    assert_eq!(head["trigger_index"], 15);
+    assert_eq!(head["triggered"], true);
+    assert_eq!(head["types"], serde_json::json!(["float", "float", "bit"]));
+    assert!(columns[0][14] < 0.5 && columns[0][15] >= 0.5);
+    // The CSV served is of the same record: sample for sample, to the
+    // CSV's six decimals.
+    let (status, text) = web.request("GET", "/api/scope.csv", &[], None);
+    assert_eq!(status, 200, "{text}");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(2).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 60);
+    for (i, row) in rows.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            assert!((columns[c][i] - v).abs() < 1e-6, "sample {i}, column {c}");
+        }
+    }
+    let first_tag: u64 = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(head["first_sample"], first_tag);
+    // A refusal is JSON, whatever the request accepts.
+    let (status, bytes) = web.post_binary(
+        "/api/scope",
+        r#"{"pins":["sq"],"thread":"servo-thread","samples":1}"#,
+    );
+    assert_eq!(status, 400);
+    let refusal: Value = serde_json::from_slice(&bytes).unwrap();
+    assert!(refusal["error"].is_string(), "{refusal}");
 }
 
 #[test]

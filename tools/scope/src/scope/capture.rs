@@ -109,6 +109,13 @@ impl Capture {
         self.triggered && self.rows.len() >= self.samples
     }
 
+    /// The samples still missing from a triggered record; `None` while
+    /// the trigger has not come.
+    pub fn missing(&self) -> Option<usize> {
+        self.triggered
+            .then(|| self.samples.saturating_sub(self.rows.len()))
+    }
+
     /// Whether the trigger has come.
     pub fn triggered(&self) -> bool {
         self.triggered
@@ -179,11 +186,28 @@ mod tests {
             c.push(&square(n));
             n += 1;
         }
+        assert_eq!(c.missing(), Some(0));
         let (rows, at) = c.into_record();
         assert_eq!(at, 3);
         let numbers: Vec<u64> = rows.iter().map(|r| r[0]).collect();
         // First rise at sample 5 (4 -> 5); three samples before it.
         assert_eq!(numbers, [2, 3, 4, 5, 6, 7, 8, 9]);
+    }
+
+    #[test]
+    fn missing_counts_down_from_the_trigger() {
+        let mut c = Capture::new(8, 3, trig(Edge::Rising));
+        for n in 1..=4 {
+            c.push(&square(n));
+            assert_eq!(c.missing(), None, "sample {n}");
+        }
+        // The rise at 5: three samples before it and itself are in.
+        c.push(&square(5));
+        assert_eq!(c.missing(), Some(4));
+        c.push(&square(6));
+        assert_eq!(c.missing(), Some(3));
+        // Without a trigger a record is triggered from the start.
+        assert_eq!(Capture::new(5, 0, None).missing(), Some(5));
     }
 
     #[test]

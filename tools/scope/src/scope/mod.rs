@@ -25,8 +25,12 @@ use capture::{Capture, Trigger};
 use output::Record;
 use wiring::Probe;
 
-/// How long the reader sleeps when the FIFO is empty.
-const POLL: Duration = Duration::from_millis(1);
+/// The shortest sleep of the reader between looks at the FIFO.
+const POLL_MIN: Duration = Duration::from_millis(1);
+
+/// The longest: how late the reader may see an interruption, the
+/// trigger's timeout or lost samples.
+const POLL_MAX: Duration = Duration::from_millis(20);
 
 /// How often the reader asks whether the host still runs: each ask opens
 /// and locks the host's lock file and checks the runtime directory (its
@@ -212,10 +216,22 @@ fn fill(
             )));
         }
         if !got {
-            std::thread::sleep(POLL);
+            std::thread::sleep(next_look(ring.depth(), probe.period_ns, cap.missing()));
         }
     }
     Ok(cap.into_record())
+}
+
+/// How long the reader sleeps with the FIFO drained: until about a
+/// quarter of a FIFO of `depth` has filled at one sample each
+/// `period_ns`, or until the `missing` samples of a triggered record have
+/// come, whichever is sooner; within [`POLL_MIN`] and [`POLL_MAX`]. (Each
+/// look costs a wake-up: at 1 ms, a 10 kHz record of 1000 samples took a
+/// hundred of them.)
+fn next_look(depth: usize, period_ns: i64, missing: Option<usize>) -> Duration {
+    let samples = (depth / 4).min(missing.unwrap_or(usize::MAX)) as u64;
+    let period = u64::try_from(period_ns).unwrap_or(0);
+    Duration::from_nanos(samples.saturating_mul(period)).clamp(POLL_MIN, POLL_MAX)
 }
 
 /// Writes `r` to every output of `req`.
@@ -254,4 +270,25 @@ pub fn title(r: &Record, req: &Request) -> String {
         r.rows.len(),
         r.period_ns as f64 / 1000.0
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_reader_sleeps_for_a_quarter_fifo_or_the_missing_samples() {
+        let ms = Duration::from_millis;
+        // 10 kHz into 8192 records: a quarter is 205 ms, past the bound.
+        assert_eq!(next_look(8192, 100_000, None), POLL_MAX);
+        // A small FIFO: a quarter of 40 records of 1 ms.
+        assert_eq!(next_look(40, 1_000_000, None), ms(10));
+        // A triggered record wants 50 more samples of 100 us.
+        assert_eq!(next_look(8192, 100_000, Some(50)), ms(5));
+        // Never busier than the floor, even with one sample missing or
+        // no period known.
+        assert_eq!(next_look(8192, 25_000, Some(1)), POLL_MIN);
+        assert_eq!(next_look(8192, -1, None), POLL_MIN);
+        assert_eq!(next_look(0, 100_000, None), POLL_MIN);
+    }
 }

@@ -64,6 +64,17 @@ impl Web {
         http(self.addr, method, path, headers, body)
     }
 
+    /// A capture as the page asks for it: JSON, from the page's own
+    /// origin, answered in the binary form; (status, body).
+    pub fn post_binary(&self, path: &str, body: &str) -> (u16, Vec<u8>) {
+        let origin = format!("http://{}", self.host());
+        let headers = [
+            ("Origin", origin.as_str()),
+            ("Accept", "application/octet-stream"),
+        ];
+        http_bytes(self.addr, "POST", path, &headers, Some(body))
+    }
+
     /// A change as the page sends it: JSON, from the page's own origin.
     pub fn post_same_origin(&self, path: &str, body: &str, token: Option<&str>) -> (u16, String) {
         let origin = format!("http://{}", self.host());
@@ -152,6 +163,18 @@ pub fn http(
     headers: &[(&str, &str)],
     body: Option<&str>,
 ) -> (u16, String) {
+    let (status, body) = http_bytes(addr, method, path, headers, body);
+    (status, String::from_utf8_lossy(&body).into_owned())
+}
+
+/// As [`http`], with the body's bytes as they came.
+pub fn http_bytes(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    headers: &[(&str, &str)],
+    body: Option<&str>,
+) -> (u16, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();
     s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
     s.write_all(head(method, path, &addr.to_string(), headers, body).as_bytes())
@@ -163,7 +186,7 @@ pub fn http(
 
 /// Reads an answer's head and body: Content-Length bytes when it says
 /// (a server may keep the connection open), else to the end.
-fn answer(s: &mut TcpStream) -> (String, String) {
+fn answer(s: &mut TcpStream) -> (String, Vec<u8>) {
     let mut raw = Vec::new();
     let mut buf = [0u8; 8192];
     let split = loop {
@@ -193,7 +216,6 @@ fn answer(s: &mut TcpStream) -> (String, String) {
             s.read_to_end(&mut body).unwrap();
         }
     }
-    let body = String::from_utf8_lossy(&body).into_owned();
     if lower.contains("transfer-encoding: chunked") {
         (head, dechunk(&body))
     } else {
@@ -226,15 +248,17 @@ fn head(
     h
 }
 
-fn dechunk(mut body: &str) -> String {
-    let mut out = String::new();
-    while let Some((size, rest)) = body.split_once("\r\n") {
+fn dechunk(mut body: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    while let Some(eol) = body.windows(2).position(|w| w == b"\r\n") {
+        let size = String::from_utf8_lossy(&body[..eol]);
         let n = usize::from_str_radix(size.trim(), 16).unwrap_or(0);
+        let rest = &body[eol + 2..];
         if n == 0 || rest.len() < n {
             break;
         }
-        out.push_str(&rest[..n]);
-        body = rest[n..].trim_start_matches("\r\n");
+        out.extend_from_slice(&rest[..n]);
+        body = rest[n..].strip_prefix(b"\r\n").unwrap_or(&rest[n..]);
     }
     out
 }
