@@ -15,7 +15,9 @@ use crate::error::CompError;
 use crate::halcomp::{HalComp, Inst};
 use crate::halcomp_module;
 
-fn gate2(inst: &mut Inst<'_, '_>, op: fn(bool, bool) -> bool) -> Result<()> {
+/// A two-input gate. `op` is generic, not a function pointer, so that each
+/// gate's operation is inlined into its function body.
+fn gate2(inst: &mut Inst<'_, '_>, op: impl Fn(bool, bool) -> bool + Send + 'static) -> Result<()> {
     let in0 = inst.pin_in::<bool>("in0")?;
     let in1 = inst.pin_in::<bool>("in1")?;
     let out = inst.pin_out::<bool>("out")?;
