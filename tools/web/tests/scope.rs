@@ -135,15 +135,7 @@ fn a_capture_served_by_hal_web_equals_the_headless_capture() {
     let (status, text) = web.request("GET", "/api/scope.csv", &[], None);
     assert_eq!(status, 200, "{text}");
     assert_eq!(without_tags(&text), without_tags(&csv(&want)));
-    let first_tag: u64 = text
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let first_tag = first_tag(&text);
     assert_eq!(got["first_sample"], first_tag);
     // Nothing of the capture stays behind.
     let inst = host.instance();
@@ -207,15 +199,7 @@ fn the_page_gets_the_record_in_binary_and_the_same_record_as_csv() {
             assert!((columns[c][i] - v).abs() < 1e-6, "sample {i}, column {c}");
         }
     }
-    let first_tag: u64 = text
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let first_tag = first_tag(&text);
     assert_eq!(head["first_sample"], first_tag);
     // A refusal is JSON, whatever the request accepts.
     let (status, bytes) = web.post_binary(
@@ -338,4 +322,13 @@ fn record_after_record_keeps_one_sampler_while_it_is_wired_as_made() {
         .unwrap()
         .signal
         .is_none());
+}
+
+/// The sample tag of the first data row of a served CSV.
+fn first_tag(csv: &str) -> u64 {
+    csv.lines()
+        .nth(1)
+        .and_then(|row| row.split(',').next())
+        .and_then(|tag| tag.parse().ok())
+        .unwrap_or_else(|| panic!("no first sample tag in:\n{csv}"))
 }
