@@ -134,7 +134,11 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
     while !signals.requested() && inst.host_alive() {
         let enabled = pins.enable.get();
         // Task is asked only while compensating.
-        let machine = if enabled { task.read() } else { None };
+        let machine = if enabled && ctl.compensating() {
+            task.read()
+        } else {
+            None
+        };
         let out = ctl.step(&Inputs {
             enable: enabled,
             x: pins.x.get(),

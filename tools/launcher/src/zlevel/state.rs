@@ -94,6 +94,12 @@ impl Controller {
         }
     }
 
+    /// Whether a map is loaded and compensation runs (task's state is
+    /// needed then only).
+    pub fn compensating(&self) -> bool {
+        self.phase == Phase::Running
+    }
+
     /// Loads the map unless the loaded one is of the file's current time.
     fn load(&mut self) -> bool {
         let mtime = std::fs::metadata(&self.file)
