@@ -493,8 +493,12 @@ fn zlevel_shape() {
         assert_eq!(m.getp("z_level_compensation.scale"), "0.001");
         assert_eq!(m.getp("axis.z.eoffset-counts"), "50");
         m.task_ok(&["mode", "mdi"]);
+        // A G54 offset of X5: X10 is machine X15, and the map is looked
+        // up at X10 (less the G5x offset, as LinuxCNC's component does).
+        m.task_ok(&["mdi", "G10 L2 P1 X5 Y0"]);
         m.task_ok(&["mdi", "G0 X10 Y20"]);
-        // 0.0504 + 0.01 + 0.04 = 0.1004: 100 counts.
+        assert_eq!(m.wait_getp("axis.x.pos-cmd", "15"), "15");
+        // 0.0504 + 0.01 + 0.04 = 0.1004: 100 counts (105 at X15).
         assert_eq!(m.wait_getp("z_level_compensation.counts", "100"), "100");
         m.halcmd(&["sets", "z_compensation_on", "FALSE"]);
         assert_eq!(m.wait_getp("z_level_compensation.counts", "0"), "0");
