@@ -328,4 +328,79 @@ mod tests {
         assert_eq!(Method::from_pin(0), (Method::Linear, true));
         assert_eq!(Method::from_pin(2), (Method::Nearest, false));
     }
+
+    /// The area of the points' convex hull (Andrew's monotone chain).
+    fn hull_area(pts: &[ProbePoint]) -> f64 {
+        let mut v: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.y)).collect();
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        v.dedup();
+        let mut hull: Vec<(f64, f64)> = Vec::new();
+        for pass in 0..2 {
+            let start = hull.len();
+            let iter: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
+                Box::new(v.iter())
+            } else {
+                Box::new(v.iter().rev())
+            };
+            for &p in iter {
+                while hull.len() >= start + 2
+                    && orient(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+                {
+                    hull.pop();
+                }
+                hull.push(p);
+            }
+            hull.pop();
+        }
+        let n = hull.len();
+        (0..n)
+            .map(|i| orient((0.0, 0.0), hull[i], hull[(i + 1) % n]))
+            .sum::<f64>()
+            / 2.0
+    }
+
+    #[test]
+    fn triangles_cover_the_convex_hull() {
+        // Probing grids (collinear rows on the hull, cocircular squares)
+        // and scattered points from a fixed linear congruential sequence.
+        let mut sets = Vec::new();
+        for (nx, ny, step) in [(5, 7, 25.0), (10, 10, 3.3), (2, 12, 40.0)] {
+            let mut v = Vec::new();
+            for j in 0..ny {
+                for i in 0..nx {
+                    v.push(pt(f64::from(i) * step, f64::from(j) * step, 0.0));
+                }
+            }
+            sets.push(v);
+        }
+        let mut seed: u64 = 12345;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 33) % 2000) as f64 / 10.0
+        };
+        for n in [3, 10, 60, 300] {
+            sets.push((0..n).map(|_| pt(next(), next(), 0.0)).collect());
+        }
+        for pts in sets {
+            let s = Surface::new(&pts);
+            let area: f64 = s
+                .triangles()
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(|k| pts[k]);
+                    let o = orient((a.x, a.y), (b.x, b.y), (c.x, c.y));
+                    assert!(o > 0.0, "counter-clockwise, not degenerate");
+                    o / 2.0
+                })
+                .sum();
+            let hull = hull_area(&pts);
+            assert!(
+                (area - hull).abs() < 1e-6 * hull,
+                "{} points: {area} vs {hull}",
+                pts.len()
+            );
+        }
+    }
 }
