@@ -40,6 +40,7 @@ crate::register_targets! {
     ini_file,
     tool_table,
     task_state,
+    probe_points,
     twopass_loadrt,
     old_format_config,
     comp_file,

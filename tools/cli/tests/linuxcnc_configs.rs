@@ -478,3 +478,29 @@ fn peer_xhc_hb04_starts_without_the_pendant() {
         "{err}"
     );
 }
+
+/// qtdragon_hd's z_level_compensation: the probe map of the
+/// configuration directory gives the Z offset at the commanded X/Y as
+/// counts of 0.001 for motion's external offset; off again, counts are 0.
+#[test]
+fn zlevel_shape() {
+    runs("zlevel", "zlevel.ini", |m| {
+        home_all(m);
+        assert_eq!(m.getp("z_level_compensation.counts"), "0");
+        m.halcmd(&["sets", "z_compensation_on", "TRUE"]);
+        // At X0 Y0 the plane is 0.0504: 50 counts.
+        assert_eq!(m.wait_getp("z_level_compensation.counts", "50"), "50");
+        assert_eq!(m.getp("z_level_compensation.scale"), "0.001");
+        assert_eq!(m.getp("axis.z.eoffset-counts"), "50");
+        m.task_ok(&["mode", "mdi"]);
+        // A G54 offset of X5: X10 is machine X15, and the map is looked
+        // up at X10 (less the G5x offset, as LinuxCNC's component does).
+        m.task_ok(&["mdi", "G10 L2 P1 X5 Y0"]);
+        m.task_ok(&["mdi", "G0 X10 Y20"]);
+        assert_eq!(m.wait_getp("axis.x.pos-cmd", "15"), "15");
+        // 0.0504 + 0.01 + 0.04 = 0.1004: 100 counts (105 at X15).
+        assert_eq!(m.wait_getp("z_level_compensation.counts", "100"), "100");
+        m.halcmd(&["sets", "z_compensation_on", "FALSE"]);
+        assert_eq!(m.wait_getp("z_level_compensation.counts", "0"), "0");
+    });
+}

@@ -217,6 +217,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "z_level_compensation",
+            help(
+                "Z offset from a probed surface map through external offsets",
+                hal_launcher::zlevel::USAGE,
+                &["linuxcnc(1)", "halui(1)"],
+            ),
+        ),
+        (
             "latency-test",
             help(
                 "measure how late HAL threads wake up",

@@ -293,6 +293,23 @@ pub enum LaunchError {
     /// Boxed: an interpreter refusal with its place is large.
     #[error(transparent)]
     Run(Box<crate::program::ProgramError>),
+    /// z_level_compensation's probe file is not a usable map (`line` 0:
+    /// the file as a whole).
+    #[error("{}{}: {why}", .path.display(), if *.line > 0 { format!(": line {line}") } else { String::new() })]
+    ProbeFile {
+        /// The probe file.
+        path: PathBuf,
+        /// The line (1-based), 0 for the whole file.
+        line: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// z_level_compensation's command line.
+    #[error("z_level_compensation: {why}")]
+    ZLevelUsage {
+        /// What is wrong.
+        why: String,
+    },
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

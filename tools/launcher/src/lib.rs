@@ -5,7 +5,8 @@
 //! task's requests (`task-cmd`, [`request`]) and the safe state at the end.
 //! [`part_program`] runs G-code through the interpreter on a live motion
 //! controller (`gcode-run`). [`halui`] is LinuxCNC's HAL user interface,
-//! a client of task.
+//! a client of task. [`zlevel`] is `z_level_compensation`, the Z offset
+//! from a probed surface map.
 
 #![forbid(unsafe_code)]
 
@@ -30,6 +31,7 @@ mod task_program;
 mod task_socket;
 mod task_spindle;
 mod twopass;
+pub mod zlevel;
 
 pub use error::LaunchError;
 pub use machine::{
@@ -49,4 +51,5 @@ pub mod fuzz {
     pub use crate::old_format::fuzz_convert as old_format_config;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;
+    pub use crate::zlevel::probe::fuzz_parse as probe_points;
 }

@@ -100,7 +100,8 @@ impl Task {
     /// `optional-stop` and `block-delete` (0 or 1), `tool-offset` (the
     /// tool length offsets of X Y Z A B C U V W), `tool-diameter` (0 with
     /// no tool), `relative-offset` (what lies between machine and relative
-    /// coordinates: G5x, G92 and tool offsets together, per axis).
+    /// coordinates: G5x, G92 and tool offsets together, per axis),
+    /// `g5x-offset` (the active G5x work offset alone, per axis).
     pub(crate) fn panel_state_lines(&self) -> String {
         let [g5x, g92, tool] = self.program.as_ref().map_or([[0.0; 9]; 3], |p| p.offsets());
         let mut relative = [0.0; 9];
@@ -116,11 +117,12 @@ impl Task {
             .map_or(0.0, |t| t.diameter);
         format!(
             "optional-stop={}\nblock-delete={}\ntool-offset={}\ntool-diameter={diameter}\n\
-             relative-offset={}\n",
+             relative-offset={}\ng5x-offset={}\n",
             u8::from(self.switches.optional_stop),
             u8::from(self.switches.block_delete),
             row(&tool),
             row(&relative),
+            row(&g5x),
         )
     }
 }
