@@ -17,7 +17,13 @@ fn config(dir: &str, ini: &str) -> std::path::PathBuf {
 /// Starts the machine, checks its threads run, turns it on, runs
 /// `more` on it, stops it; returns its stderr.
 fn runs(dir: &str, ini: &str, more: impl FnOnce(&Machine)) -> String {
-    let m = Machine::start(&config(dir, ini), dir);
+    runs_at(&config(dir, ini), dir, more)
+}
+
+/// [`runs`] for the INI file at `ini`, on the instance named after `tag`.
+fn runs_at(ini: &std::path::Path, tag: &str, more: impl FnOnce(&Machine)) -> String {
+    let dir = tag;
+    let m = Machine::start(ini, tag);
     assert!(m.threads_run(), "{dir}: threads run\n{}", m.stderr());
     m.task_ok(&["estop-reset"]);
     m.task_ok(&["machine-on"]);
@@ -484,7 +490,14 @@ fn peer_xhc_hb04_starts_without_the_pendant() {
 /// counts of 0.001 for motion's external offset; off again, counts are 0.
 #[test]
 fn zlevel_shape() {
-    runs("zlevel", "zlevel.ini", |m| {
+    // A private copy: the run writes the interpreter's parameter file (the
+    // G10 below) beside the INI file.
+    let s = Scratch::new("zlevel");
+    for entry in std::fs::read_dir(root().join("tests/linuxcnc-configs/zlevel")).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
+    }
+    runs_at(&s.0.join("zlevel.ini"), "zlevel", |m| {
         home_all(m);
         assert_eq!(m.getp("z_level_compensation.counts"), "0");
         m.halcmd(&["sets", "z_compensation_on", "TRUE"]);
