@@ -497,7 +497,7 @@ fn zlevel_shape() {
         let entry = entry.unwrap();
         std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
     }
-    runs_at(&s.0.join("zlevel.ini"), "zlevel", |m| {
+    let err = runs_at(&s.0.join("zlevel.ini"), "zlevel", |m| {
         home_all(m);
         assert_eq!(m.getp("z_level_compensation.counts"), "0");
         m.halcmd(&["sets", "z_compensation_on", "TRUE"]);
@@ -516,4 +516,10 @@ fn zlevel_shape() {
         m.halcmd(&["sets", "z_compensation_on", "FALSE"]);
         assert_eq!(m.wait_getp("z_level_compensation.counts", "0"), "0");
     });
+    // The motion controller does not apply external offsets: it says so.
+    assert!(
+        err.contains("OFFSET_AV_RATIO: external offsets are not supported")
+            && err.contains("axis.z.eoffset-* have no effect"),
+        "{err}"
+    );
 }

@@ -274,6 +274,21 @@ impl MotionLink {
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
         }
+        // External offsets (LinuxCNC's eoffset pins) take OFFSET_AV_RATIO of
+        // the axis's velocity and acceleration from planned moves; this
+        // controller does not apply them, and says so rather than run the
+        // machine otherwise than the configuration expects in silence.
+        let ratio = ini.real(&sec, "OFFSET_AV_RATIO")?.unwrap_or(0.0);
+        if ratio != 0.0 {
+            notes.push(format!(
+                "{}: external offsets are not supported by the motion controller: \
+                 axis.{}.eoffset-* have no effect, and planned moves keep the axis's full \
+                 velocity and acceleration (LinuxCNC would leave them {:.0} % of it)",
+                at(ini, &sec, &["OFFSET_AV_RATIO"]),
+                letter.to_ascii_lowercase(),
+                (1.0 - ratio) * 100.0
+            ));
+        }
         if ini.entry(&sec, "LOCKING_INDEXER_JOINT").is_some() {
             notes.push(format!(
                 "{}: axis locking indexers are not supported by the motion controller; homing the joint still unlocks it",
