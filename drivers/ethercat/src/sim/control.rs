@@ -181,10 +181,21 @@ impl Control {
     }
 }
 
+/// How long [`serve`] waits before it listens again on an interface that
+/// is down.
+const CABLE_OUT_PAUSE: Duration = Duration::from_millis(10);
+
+/// Whether `e` says the interface is down (`ip link set ... down`, the
+/// cable out): the slaves wait for it to come back, as real ones do.
+fn cable_out(e: &std::io::Error) -> bool {
+    e.raw_os_error() == Some(libc::ENETDOWN)
+}
+
 /// Answers every frame that arrives on `link` with `segment` until
 /// `stop` is set; returns the frames answered. Times are the monotonic
-/// clock since the start. A receive error other than a timeout ends the
-/// loop with that error.
+/// clock since the start. While the interface is down the segment waits
+/// for it (frames are lost, as with the cable out); any other receive or
+/// send error ends the loop with that error.
 pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) -> Result<u64> {
     let epoch = Instant::now();
     let mut buf = vec![0u8; 1600];
@@ -193,6 +204,10 @@ pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) ->
         let n = match link.recv(&mut buf, Duration::from_millis(50)) {
             Ok(Some(n)) => n,
             Ok(None) => continue,
+            Err(e) if cable_out(&e) => {
+                std::thread::sleep(CABLE_OUT_PAUSE);
+                continue;
+            }
             Err(e) => {
                 return Err(Error::Interface {
                     iface: link.describe(),
@@ -208,7 +223,10 @@ pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) ->
             Err(p) => p.into_inner().process(frame, now),
         };
         if outcome == Outcome::Returned {
-            if let Err(e) = link.send(frame) {
+            if let Err(e) = link
+                .send(frame)
+                .or_else(|e| if cable_out(&e) { Ok(()) } else { Err(e) })
+            {
                 return Err(Error::Interface {
                     iface: link.describe(),
                     reason: "sending".into(),

@@ -1,0 +1,307 @@
+//! Our master on a real wire: `loadrt lcec` (raw socket) on one end of a
+//! veth pair, `ethercat-sim` on the other, in a network namespace this
+//! test makes for its own thread (so copies of the test run side by
+//! side). A mixed segment (coupler, digital in and out, three CiA 402
+//! drives) comes to OP, the three drives are enabled and follow CSP
+//! commands, then the link goes down: the pins say so within a bound and
+//! the drives' outputs are safe (disabled; after the link returns a
+//! drive needs a fault reset and a new enable before it moves again),
+//! and everything comes back once the link does.
+//!
+//! Needs root (a network namespace and a veth pair): without it
+//! (build.rs probes for it) the test is reported as ignored.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use hal_core::{Host, HostConfig, MsgLevel, Value};
+use hal_ethercat::hal::MODULE;
+
+mod common {
+    pub mod veth;
+}
+use common::veth;
+
+/// The simulator's segment: the same slaves, in the same order, as
+/// [`CONF`].
+const SEGMENT: &str = "EK1100\nEL1008\nEL2008\nservo serial=1\nservo serial=2\nservo serial=3\n";
+
+/// The drives' names in [`CONF`], with a CSP command for each (mm) and
+/// one after the fault.
+const DRIVES: [(&str, f64, f64); 3] = [("X", 2.5, -1.0), ("Y", -4.25, 3.0), ("Z", 10.0, 0.5)];
+
+const CONF: &str = r#"<masters>
+  <master idx="0" appTimePeriod="1000000" refClockSyncCycles="1000">
+    <slave idx="0" type="EK1100" name="D0"/>
+    <slave idx="1" type="EL1008" name="D1"/>
+    <slave idx="2" type="EL2008" name="D2"/>
+    <slave idx="3" type="basic_cia402" vid="00000e5c" pid="00000402" name="X">
+      <modParam name="mode" value="csp"/>
+    </slave>
+    <slave idx="4" type="basic_cia402" vid="00000e5c" pid="00000402" name="Y">
+      <modParam name="mode" value="csp"/>
+    </slave>
+    <slave idx="5" type="basic_cia402" vid="00000e5c" pid="00000402" name="Z">
+      <modParam name="mode" value="csp"/>
+    </slave>
+  </master>
+</masters>
+"#;
+
+/// The slaves' names in [`CONF`].
+const SLAVES: [&str; 6] = ["D0", "D1", "D2", "X", "Y", "Z"];
+
+/// How long the pins may take to say the link is down: the master
+/// declares it after a few lost frames at 1 ms; this allows for a loaded
+/// test machine without letting a pin that never changes pass.
+const FAULT_BOUND: Duration = Duration::from_secs(2);
+
+/// Puts the calling thread (and the threads and processes it starts
+/// from now on) in a new network namespace; its sockets and interfaces
+/// are invisible to every other test.
+fn own_network_namespace() {
+    // SAFETY: unshare(2) with CLONE_NEWNET takes no pointers and changes
+    // only the calling thread's network namespace; the process's other
+    // threads (the test harness) keep theirs.
+    let r = unsafe { libc::unshare(libc::CLONE_NEWNET) };
+    assert_eq!(
+        r,
+        0,
+        "unshare(CLONE_NEWNET): {} (build.rs found it possible at build time)",
+        std::io::Error::last_os_error()
+    );
+}
+
+fn sh(script: &str) {
+    let out = Command::new("sh").args(["-c", script]).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{script}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// `ethercat-sim` on `iface`, its output in `dir/sim.log`, once it
+/// answers.
+fn start_sim(dir: &Path, iface: &str) -> Child {
+    let seg = dir.join("segment.txt");
+    std::fs::write(&seg, SEGMENT).unwrap();
+    let log = dir.join("sim.log");
+    let child = Command::new(env!("CARGO_BIN_EXE_ethercat-sim"))
+        .args(["--iface", iface])
+        .arg(&seg)
+        .stdin(Stdio::piped())
+        .stdout(std::fs::File::create(&log).unwrap())
+        .stderr(std::fs::File::create(dir.join("sim.err")).unwrap())
+        .spawn()
+        .unwrap();
+    wait("ethercat-sim to answer", Duration::from_secs(10), || {
+        std::fs::read_to_string(&log).is_ok_and(|s| s.contains(veth::SIM_READY))
+    });
+    child
+}
+
+fn pin(host: &Host, name: &str) -> Value {
+    host.instance().pin_value(name).unwrap()
+}
+
+fn set(host: &Host, name: &str, v: Value) {
+    host.instance().set_pin(name, v).unwrap();
+}
+
+fn bit(host: &Host, name: &str) -> bool {
+    match pin(host, name) {
+        Value::Bit(b) => b,
+        v => panic!("{name} is {v:?}"),
+    }
+}
+
+fn float(host: &Host, name: &str) -> f64 {
+    match pin(host, name) {
+        Value::Float(f) => f,
+        v => panic!("{name} is {v:?}"),
+    }
+}
+
+fn wait(what: &str, limit: Duration, mut cond: impl FnMut() -> bool) -> Duration {
+    let start = Instant::now();
+    while !cond() {
+        assert!(
+            start.elapsed() < limit,
+            "timed out ({limit:?}) waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    start.elapsed()
+}
+
+/// [`wait`], and on a timeout the master's and slaves' state pins.
+fn wait_or(what: &str, limit: Duration, h: &Host, mut cond: impl FnMut() -> bool) -> Duration {
+    let start = Instant::now();
+    while !cond() {
+        if start.elapsed() >= limit {
+            let mut names = vec![
+                "lcec.0.link-up".to_string(),
+                "lcec.0.all-op".into(),
+                "lcec.all-op".into(),
+                "lcec.0.slaves-responding".into(),
+            ];
+            names.extend(SLAVES.iter().map(|s| format!("lcec.0.{s}.slave-state-op")));
+            names.extend(
+                DRIVES
+                    .iter()
+                    .map(|(d, ..)| format!("lcec.0.{d}.srv-enabled")),
+            );
+            let pins: Vec<String> = names
+                .iter()
+                .map(|n| format!("{n} = {:?}", pin(h, n)))
+                .collect();
+            panic!(
+                "timed out ({limit:?}) waiting for {what}:\n{}",
+                pins.join("\n")
+            );
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    start.elapsed()
+}
+
+const LONG: Duration = Duration::from_secs(30);
+
+/// Every slave in OP, on the master's pins and each slave's.
+fn all_op(h: &Host) -> bool {
+    bit(h, "lcec.0.all-op")
+        && bit(h, "lcec.all-op")
+        && bit(h, "lcec.0.link-up")
+        && SLAVES
+            .iter()
+            .all(|s| bit(h, &format!("lcec.0.{s}.slave-state-op")))
+}
+
+/// Enables the three drives and moves each to its command (index 1 of
+/// [`DRIVES`], or 2).
+fn enable_and_move(h: &Host, second: bool) {
+    for (d, ..) in DRIVES {
+        set(h, &format!("lcec.0.{d}.srv-enable"), Value::Bit(true));
+    }
+    for (d, ..) in DRIVES {
+        wait(&format!("{d} enabled"), LONG, || {
+            bit(h, &format!("lcec.0.{d}.srv-enabled"))
+        });
+    }
+    for (d, a, b) in DRIVES {
+        let to = if second { b } else { a };
+        set(
+            h,
+            &format!("lcec.0.{d}.srv-target-position"),
+            Value::Float(to),
+        );
+    }
+    for (d, a, b) in DRIVES {
+        let to = if second { b } else { a };
+        let name = format!("lcec.0.{d}.srv-actual-position");
+        wait(&format!("{d} at {to}"), LONG, || {
+            (float(h, &name) - to).abs() < 1e-3
+        });
+    }
+}
+
+fn conf_file(dir: &Path) -> PathBuf {
+    let p = dir.join("ethercat-conf.xml");
+    std::fs::write(&p, CONF).unwrap();
+    p
+}
+
+#[test]
+#[cfg_attr(
+    not(netns),
+    ignore = "needs root: a network namespace and a veth pair (build.rs found neither possible)"
+)]
+fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and_survives_link_loss(
+) {
+    own_network_namespace();
+    let id = std::process::id();
+    // Interface names: at most 15 bytes; unique per process besides.
+    let (m_if, s_if) = (format!("ecm{id:x}"), format!("ecs{id:x}"));
+    sh(&veth::veth_script(&m_if, &s_if));
+    let dir = std::env::temp_dir().join(format!("hal-ecat-veth-{id}"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut sim = start_sim(&dir, &s_if);
+    let file = conf_file(&dir);
+
+    let h = Host::create(HostConfig::for_tests("lcec-veth")).unwrap();
+    h.rt_log().set_level(MsgLevel::Info);
+    h.loadrt(
+        &MODULE,
+        &[
+            &format!("config={}", file.display()),
+            &format!("iface={m_if}"),
+        ],
+    )
+    .unwrap();
+    h.create_thread("servo", 1_000_000, true, None).unwrap();
+    h.addf("lcec.read-all", "servo", -1).unwrap();
+    h.addf("lcec.write-all", "servo", -1).unwrap();
+    h.start().unwrap();
+
+    wait_or("all slaves in OP", LONG, &h, || all_op(&h));
+    assert_eq!(pin(&h, "lcec.0.slaves-responding"), Value::U32(6));
+    for (d, ..) in DRIVES {
+        set(
+            &h,
+            &format!("lcec.0.{d}.srv-pos-scale"),
+            Value::Float(1000.0),
+        );
+    }
+    enable_and_move(&h, false);
+    set(&h, "lcec.0.D2.dout-0", Value::Bit(true));
+
+    // The link down at the slaves' end: every frame is lost.
+    sh(&format!("ip link set {s_if} down"));
+    let took = wait_or("the pins to say the link is down", FAULT_BOUND, &h, || {
+        !bit(&h, "lcec.0.link-up")
+            && !bit(&h, "lcec.0.all-op")
+            && !bit(&h, "lcec.all-op")
+            && SLAVES
+                .iter()
+                .all(|s| !bit(&h, &format!("lcec.0.{s}.slave-state-op")))
+            && DRIVES
+                .iter()
+                .all(|(d, ..)| !bit(&h, &format!("lcec.0.{d}.srv-enabled")))
+    });
+    println!("link down seen on the pins after {took:?}");
+    assert_eq!(pin(&h, "lcec.0.slaves-responding"), Value::U32(0));
+
+    // The link back: the segment returns to OP; the drives stay disabled
+    // (their controlword went safe) until reset and enabled again.
+    sh(&format!("ip link set {s_if} up"));
+    wait_or("all slaves in OP again", LONG, &h, || all_op(&h));
+    assert_eq!(pin(&h, "lcec.0.slaves-responding"), Value::U32(6));
+    for (d, ..) in DRIVES {
+        assert!(!bit(&h, &format!("lcec.0.{d}.srv-enabled")), "{d}");
+        set(&h, &format!("lcec.0.{d}.srv-enable"), Value::Bit(false));
+        set(&h, &format!("lcec.0.{d}.srv-fault-reset"), Value::Bit(true));
+    }
+    for (d, ..) in DRIVES {
+        wait(&format!("{d}'s fault cleared"), LONG, || {
+            !bit(&h, &format!("lcec.0.{d}.srv-fault"))
+        });
+        set(
+            &h,
+            &format!("lcec.0.{d}.srv-fault-reset"),
+            Value::Bit(false),
+        );
+    }
+    enable_and_move(&h, true);
+
+    h.stop();
+    h.unloadrt("lcec").unwrap();
+    sim.kill().unwrap();
+    sim.wait().unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
