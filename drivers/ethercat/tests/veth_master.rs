@@ -36,7 +36,7 @@ const SEGMENT: &str = "EK1100\nEL1008\nEL2008\nservo serial=1\nservo serial=2\ns
 const DRIVES: [(&str, f64, f64); 3] = [("X", 2.5, -1.0), ("Y", -4.25, 3.0), ("Z", 10.0, 0.5)];
 
 const CONF: &str = r#"<masters>
-  <master idx="0" appTimePeriod="1000000" refClockSyncCycles="1000">
+  <master idx="0" appTimePeriod="4000000" refClockSyncCycles="250">
     <slave idx="0" type="EK1100" name="D0"/>
     <slave idx="1" type="EL1008" name="D1"/>
     <slave idx="2" type="EL2008" name="D2"/>
@@ -53,11 +53,18 @@ const CONF: &str = r#"<masters>
 </masters>
 "#;
 
+/// The servo period, as `appTimePeriod` in [`CONF`]. A frame not back
+/// within the period is lost, and three lost in a row take the link
+/// down: 4 ms rather than 1 ms, so that two copies of this test on a
+/// loaded two-core machine (the simulator a process that must be
+/// scheduled) do not see a link fault nobody injected.
+const PERIOD_NS: i64 = 4_000_000;
+
 /// The slaves' names in [`CONF`].
 const SLAVES: [&str; 6] = ["D0", "D1", "D2", "X", "Y", "Z"];
 
 /// How long the pins may take to say the link is down: the master
-/// declares it after a few lost frames at 1 ms; this allows for a loaded
+/// declares it after three lost frames, 12 ms; this allows for a loaded
 /// test machine without letting a pin that never changes pass.
 const FAULT_BOUND: Duration = Duration::from_secs(2);
 
@@ -244,7 +251,7 @@ fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and
         ],
     )
     .unwrap();
-    h.create_thread("servo", 1_000_000, true, None).unwrap();
+    h.create_thread("servo", PERIOD_NS, true, None).unwrap();
     h.addf("lcec.read-all", "servo", -1).unwrap();
     h.addf("lcec.write-all", "servo", -1).unwrap();
     h.start().unwrap();

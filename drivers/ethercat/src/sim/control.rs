@@ -188,7 +188,8 @@ const CABLE_OUT_PAUSE: Duration = Duration::from_millis(10);
 /// Whether `e` says the interface is down (`ip link set ... down`, the
 /// cable out): the slaves wait for it to come back, as real ones do.
 fn cable_out(e: &std::io::Error) -> bool {
-    e.raw_os_error() == Some(libc::ENETDOWN)
+    // The link's errors keep the kind but not always the OS number.
+    e.kind() == std::io::ErrorKind::NetworkDown || e.raw_os_error() == Some(libc::ENETDOWN)
 }
 
 /// Answers every frame that arrives on `link` with `segment` until

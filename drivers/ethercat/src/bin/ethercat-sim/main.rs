@@ -79,7 +79,14 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("ethercat-sim: {e}");
+            // The whole chain: the OS error says why the link failed.
+            let mut line = format!("ethercat-sim: {e}");
+            let mut cause = std::error::Error::source(&e);
+            while let Some(c) = cause {
+                line.push_str(&format!(": {c}"));
+                cause = c.source();
+            }
+            eprintln!("{line}");
             ExitCode::from(1)
         }
     }
