@@ -2,11 +2,17 @@
 //! veth pair, `ethercat-sim` on the other, in a network namespace this
 //! test makes for its own thread (so copies of the test run side by
 //! side). A mixed segment (coupler, digital in and out, three CiA 402
-//! drives) comes to OP, the three drives are enabled and follow CSP
-//! commands, then the link goes down: the pins say so within a bound and
-//! the drives' outputs are safe (disabled; after the link returns a
-//! drive needs a fault reset and a new enable before it moves again),
-//! and everything comes back once the link does.
+//! drives) comes to OP and the three drives are enabled and follow CSP
+//! commands. Then faults over the wire, each seen on the pins within
+//! [`FAULT_BOUND`]:
+//! * the slaves' end of the pair down: link-up, all-op, every slave's
+//!   state pins and the drives' enable go false; with the link back the
+//!   segment is in OP, the drives disabled (their controlword went
+//!   safe) until a fault reset and a new enable, and they move again;
+//! * the line cut before the first drive (the simulator's `cut 3`): the
+//!   drives lost and faulted while the link stays up; back after
+//!   `cut none` and a fault reset;
+//! * the simulator killed, the carrier still up: the link is down.
 //!
 //! Needs root (a network namespace and a veth pair): without it
 //! (build.rs probes for it) the test is reported as ignored.
@@ -15,6 +21,7 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -229,8 +236,7 @@ fn conf_file(dir: &Path) -> PathBuf {
     not(netns),
     ignore = "needs root: a network namespace and a veth pair (build.rs found neither possible)"
 )]
-fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and_survives_link_loss(
-) {
+fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and_survives_faults() {
     own_network_namespace();
     let id = std::process::id();
     // Interface names: at most 15 bytes; unique per process besides.
@@ -266,49 +272,100 @@ fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and
         );
     }
     enable_and_move(&h, false);
-    set(&h, "lcec.0.D2.dout-0", Value::Bit(true));
 
-    // The link down at the slaves' end: every frame is lost.
-    sh(&format!("ip link set {s_if} down"));
-    let took = wait_or("the pins to say the link is down", FAULT_BOUND, &h, || {
-        !bit(&h, "lcec.0.link-up")
-            && !bit(&h, "lcec.0.all-op")
-            && !bit(&h, "lcec.all-op")
-            && SLAVES
-                .iter()
-                .all(|s| !bit(&h, &format!("lcec.0.{s}.slave-state-op")))
-            && DRIVES
-                .iter()
-                .all(|(d, ..)| !bit(&h, &format!("lcec.0.{d}.srv-enabled")))
-    });
-    println!("link down seen on the pins after {took:?}");
-    assert_eq!(pin(&h, "lcec.0.slaves-responding"), Value::U32(0));
-
-    // The link back: the segment returns to OP; the drives stay disabled
-    // (their controlword went safe) until reset and enabled again.
-    sh(&format!("ip link set {s_if} up"));
-    wait_or("all slaves in OP again", LONG, &h, || all_op(&h));
-    assert_eq!(pin(&h, "lcec.0.slaves-responding"), Value::U32(6));
-    for (d, ..) in DRIVES {
-        assert!(!bit(&h, &format!("lcec.0.{d}.srv-enabled")), "{d}");
-        set(&h, &format!("lcec.0.{d}.srv-enable"), Value::Bit(false));
-        set(&h, &format!("lcec.0.{d}.srv-fault-reset"), Value::Bit(true));
-    }
-    for (d, ..) in DRIVES {
-        wait(&format!("{d}'s fault cleared"), LONG, || {
-            !bit(&h, &format!("lcec.0.{d}.srv-fault"))
-        });
-        set(
-            &h,
-            &format!("lcec.0.{d}.srv-fault-reset"),
-            Value::Bit(false),
-        );
-    }
-    enable_and_move(&h, true);
+    pull_the_link(&h, &s_if);
+    cut_the_line(&h, &mut sim);
+    kill_the_sim(&h, &mut sim);
 
     h.stop();
     h.unloadrt("lcec").unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every pin that says the link is down: the master's, every slave's
+/// state, the drives disabled, nobody responding.
+fn link_down_seen(h: &Host) -> bool {
+    !bit(h, "lcec.0.link-up")
+        && !bit(h, "lcec.0.all-op")
+        && !bit(h, "lcec.all-op")
+        && pin(h, "lcec.0.slaves-responding") == Value::U32(0)
+        && SLAVES.iter().all(|s| {
+            !bit(h, &format!("lcec.0.{s}.slave-state-op"))
+                && !bit(h, &format!("lcec.0.{s}.slave-online"))
+        })
+        && DRIVES
+            .iter()
+            .all(|(d, ..)| !bit(h, &format!("lcec.0.{d}.srv-enabled")))
+}
+
+/// The drives faulted by a lost link or slave: disabled until a fault
+/// reset (their controlword went safe, so they do not come back on
+/// their own), then cleared.
+fn fault_reset_drives(h: &Host) {
+    for (d, ..) in DRIVES {
+        assert!(!bit(h, &format!("lcec.0.{d}.srv-enabled")), "{d}");
+        set(h, &format!("lcec.0.{d}.srv-enable"), Value::Bit(false));
+        set(h, &format!("lcec.0.{d}.srv-fault-reset"), Value::Bit(true));
+    }
+    for (d, ..) in DRIVES {
+        wait(&format!("{d}'s fault cleared"), LONG, || {
+            !bit(h, &format!("lcec.0.{d}.srv-fault"))
+        });
+        set(h, &format!("lcec.0.{d}.srv-fault-reset"), Value::Bit(false));
+    }
+}
+
+/// The slaves' end of the pair down (every frame lost, the simulator
+/// waiting), then up: the pins say so within [`FAULT_BOUND`]; once the
+/// link is back the segment is in OP and the drives move after a fault
+/// reset.
+fn pull_the_link(h: &Host, s_if: &str) {
+    sh(&format!("ip link set {s_if} down"));
+    let took = wait_or("the pins to say the link is down", FAULT_BOUND, h, || {
+        link_down_seen(h)
+    });
+    println!("link down seen on the pins after {took:?}");
+    sh(&format!("ip link set {s_if} up"));
+    wait_or("all slaves in OP again", LONG, h, || all_op(h));
+    assert_eq!(pin(h, "lcec.0.slaves-responding"), Value::U32(6));
+    fault_reset_drives(h);
+    enable_and_move(h, true);
+}
+
+/// The line cut before the first drive (`cut 3` on the simulator's
+/// standard input): the working counter falls short, the three drives
+/// are lost and disabled within [`FAULT_BOUND`], the link stays up; the
+/// line whole again and a fault reset bring them back.
+fn cut_the_line(h: &Host, sim: &mut Child) {
+    let mut say = |line: &str| {
+        let stdin = sim.stdin.as_mut().unwrap();
+        writeln!(stdin, "{line}").unwrap();
+        stdin.flush().unwrap();
+    };
+    say("cut 3");
+    let took = wait_or("the drives lost", FAULT_BOUND, h, || {
+        !bit(h, "lcec.0.all-op")
+            && DRIVES.iter().all(|(d, ..)| {
+                !bit(h, &format!("lcec.0.{d}.slave-oper"))
+                    && !bit(h, &format!("lcec.0.{d}.srv-enabled"))
+                    && bit(h, &format!("lcec.0.{d}.srv-fault"))
+            })
+    });
+    println!("the cut seen on the pins after {took:?}");
+    assert!(bit(h, "lcec.0.link-up"));
+    say("cut none");
+    wait_or("all slaves in OP after the cut", LONG, h, || all_op(h));
+    fault_reset_drives(h);
+    enable_and_move(h, false);
+}
+
+/// The simulator killed: nothing answers though the carrier stays up;
+/// the pins say the link is down within [`FAULT_BOUND`].
+fn kill_the_sim(h: &Host, sim: &mut Child) {
     sim.kill().unwrap();
     sim.wait().unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
+    let took = wait_or("the pins to say nothing answers", FAULT_BOUND, h, || {
+        link_down_seen(h)
+    });
+    println!("the simulator's end seen on the pins after {took:?}");
 }
