@@ -100,24 +100,36 @@ fn sh(script: &str) {
     );
 }
 
+/// The running `ethercat-sim`, killed when dropped, so a failed test
+/// leaves no simulator behind.
+struct Sim(Child);
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        // Already gone when the test killed it: nothing to do.
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 /// `ethercat-sim` on `iface`, its output in `dir/sim.log`, once it
 /// answers.
-fn start_sim(dir: &Path, iface: &str) -> Child {
+fn start_sim(dir: &Path, iface: &str) -> Sim {
     let seg = dir.join("segment.txt");
     std::fs::write(&seg, SEGMENT).unwrap();
     let log = dir.join("sim.log");
-    let child = Command::new(env!("CARGO_BIN_EXE_ethercat-sim"))
+    let sim = Sim(Command::new(env!("CARGO_BIN_EXE_ethercat-sim"))
         .args(["--iface", iface])
         .arg(&seg)
         .stdin(Stdio::piped())
         .stdout(std::fs::File::create(&log).unwrap())
         .stderr(std::fs::File::create(dir.join("sim.err")).unwrap())
         .spawn()
-        .unwrap();
+        .unwrap());
     wait("ethercat-sim to answer", Duration::from_secs(10), || {
         std::fs::read_to_string(&log).is_ok_and(|s| s.contains(veth::SIM_READY))
     });
-    child
+    sim
 }
 
 fn pin(host: &Host, name: &str) -> Value {
@@ -336,9 +348,9 @@ fn pull_the_link(h: &Host, s_if: &str) {
 /// standard input): the working counter falls short, the three drives
 /// are lost and disabled within [`FAULT_BOUND`], the link stays up; the
 /// line whole again and a fault reset bring them back.
-fn cut_the_line(h: &Host, sim: &mut Child) {
+fn cut_the_line(h: &Host, sim: &mut Sim) {
     let mut say = |line: &str| {
-        let stdin = sim.stdin.as_mut().unwrap();
+        let stdin = sim.0.stdin.as_mut().unwrap();
         writeln!(stdin, "{line}").unwrap();
         stdin.flush().unwrap();
     };
@@ -361,9 +373,9 @@ fn cut_the_line(h: &Host, sim: &mut Child) {
 
 /// The simulator killed: nothing answers though the carrier stays up;
 /// the pins say the link is down within [`FAULT_BOUND`].
-fn kill_the_sim(h: &Host, sim: &mut Child) {
-    sim.kill().unwrap();
-    sim.wait().unwrap();
+fn kill_the_sim(h: &Host, sim: &mut Sim) {
+    sim.0.kill().unwrap();
+    sim.0.wait().unwrap();
     let took = wait_or("the pins to say nothing answers", FAULT_BOUND, h, || {
         link_down_seen(h)
     });
