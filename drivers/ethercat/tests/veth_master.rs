@@ -67,6 +67,13 @@ const CONF: &str = r#"<masters>
 /// scheduled) do not see a link fault nobody injected.
 const PERIOD_NS: i64 = 4_000_000;
 
+/// The drives' positions on the segment.
+const DRIVE_POSITIONS: std::ops::Range<usize> = 3..6;
+/// EL2008's first output, as the simulator holds it.
+const DOUT_0: &str = "7000:01";
+/// A CiA 402 drive's controlword.
+const CONTROLWORD: &str = "6040:00";
+
 /// The slaves' names in [`CONF`].
 const SLAVES: [&str; 6] = ["D0", "D1", "D2", "X", "Y", "Z"];
 
@@ -102,7 +109,7 @@ fn sh(script: &str) {
 
 /// The running `ethercat-sim`, killed when dropped, so a failed test
 /// leaves no simulator behind.
-struct Sim(Child);
+struct Sim(Child, PathBuf);
 
 impl Drop for Sim {
     fn drop(&mut self) {
@@ -112,20 +119,54 @@ impl Drop for Sim {
     }
 }
 
+impl Sim {
+    /// Sends a command to the simulator's standard input.
+    fn say(&mut self, line: &str) {
+        let stdin = self.0.stdin.as_mut().unwrap();
+        writeln!(stdin, "{line}").unwrap();
+        stdin.flush().unwrap();
+    }
+
+    /// The value of object `at` (`INDEX:SUB`, hexadecimal) of slave
+    /// `slave` as the simulator holds it: what the master last wrote
+    /// there over the wire.
+    fn show(&mut self, slave: usize, at: &str) -> u64 {
+        let key = format!("ethercat-sim: slave {slave} {at} = 0x");
+        let answers = |log: &Path| {
+            let text = std::fs::read_to_string(log).unwrap_or_default();
+            text.lines()
+                .filter_map(|l| l.strip_prefix(&key))
+                .map(|v| u64::from_str_radix(v, 16).unwrap())
+                .collect::<Vec<_>>()
+        };
+        let before = answers(&self.1).len();
+        self.say(&format!("show {slave} {at}"));
+        let mut got = Vec::new();
+        wait(&format!("the simulator to show {at}"), LONG, || {
+            got = answers(&self.1);
+            got.len() > before
+        });
+        got[before]
+    }
+}
+
 /// `ethercat-sim` on `iface`, its output in `dir/sim.log`, once it
 /// answers.
 fn start_sim(dir: &Path, iface: &str) -> Sim {
     let seg = dir.join("segment.txt");
     std::fs::write(&seg, SEGMENT).unwrap();
     let log = dir.join("sim.log");
-    let sim = Sim(Command::new(env!("CARGO_BIN_EXE_ethercat-sim"))
-        .args(["--iface", iface])
-        .arg(&seg)
-        .stdin(Stdio::piped())
-        .stdout(std::fs::File::create(&log).unwrap())
-        .stderr(std::fs::File::create(dir.join("sim.err")).unwrap())
-        .spawn()
-        .unwrap());
+    let sim = Sim(
+        Command::new(env!("CARGO_BIN_EXE_ethercat-sim"))
+            .args(["--iface", iface])
+            .arg(&seg)
+            .stdin(Stdio::piped())
+            .stdout(std::fs::File::create(&log).unwrap())
+            .stderr(std::fs::File::create(dir.join("sim.err")).unwrap())
+            .spawn()
+            .unwrap(),
+        log.clone(),
+    );
     wait("ethercat-sim to answer", Duration::from_secs(10), || {
         std::fs::read_to_string(&log).is_ok_and(|s| s.contains(veth::SIM_READY))
     });
@@ -284,8 +325,15 @@ fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and
         );
     }
     enable_and_move(&h, false);
+    // What the master writes reaches the slaves: an output on, the
+    // drives' controlword "enable operation".
+    set(&h, "lcec.0.D2.dout-0", Value::Bit(true));
+    wait("dout-0 on the wire", LONG, || sim.show(2, DOUT_0) == 1);
+    for p in DRIVE_POSITIONS {
+        assert_eq!(sim.show(p, CONTROLWORD) & 0x0f, 0x0f, "drive at {p}");
+    }
 
-    pull_the_link(&h, &s_if);
+    pull_the_link(&h, &mut sim, &s_if);
     cut_the_line(&h, &mut sim);
     kill_the_sim(&h, &mut sim);
 
@@ -331,7 +379,7 @@ fn fault_reset_drives(h: &Host) {
 /// waiting), then up: the pins say so within [`FAULT_BOUND`]; once the
 /// link is back the segment is in OP and the drives move after a fault
 /// reset.
-fn pull_the_link(h: &Host, s_if: &str) {
+fn pull_the_link(h: &Host, sim: &mut Sim, s_if: &str) {
     sh(&format!("ip link set {s_if} down"));
     let took = wait_or("the pins to say the link is down", FAULT_BOUND, h, || {
         link_down_seen(h)
@@ -340,6 +388,12 @@ fn pull_the_link(h: &Host, s_if: &str) {
     sh(&format!("ip link set {s_if} up"));
     wait_or("all slaves in OP again", LONG, h, || all_op(h));
     assert_eq!(pin(h, "lcec.0.slaves-responding"), Value::U32(6));
+    // The first frames after the link returned carried the drives'
+    // safe controlword: none is told to enable operation.
+    for p in DRIVE_POSITIONS {
+        let cw = sim.show(p, CONTROLWORD);
+        assert_ne!(cw & 0x0f, 0x0f, "drive at {p}: controlword {cw:#x}");
+    }
     fault_reset_drives(h);
     enable_and_move(h, true);
 }
@@ -349,12 +403,7 @@ fn pull_the_link(h: &Host, s_if: &str) {
 /// are lost and disabled within [`FAULT_BOUND`], the link stays up; the
 /// line whole again and a fault reset bring them back.
 fn cut_the_line(h: &Host, sim: &mut Sim) {
-    let mut say = |line: &str| {
-        let stdin = sim.0.stdin.as_mut().unwrap();
-        writeln!(stdin, "{line}").unwrap();
-        stdin.flush().unwrap();
-    };
-    say("cut 3");
+    sim.say("cut 3");
     let took = wait_or("the drives lost", FAULT_BOUND, h, || {
         !bit(h, "lcec.0.all-op")
             && DRIVES.iter().all(|(d, ..)| {
@@ -365,8 +414,17 @@ fn cut_the_line(h: &Host, sim: &mut Sim) {
     });
     println!("the cut seen on the pins after {took:?}");
     assert!(bit(h, "lcec.0.link-up"));
-    say("cut none");
+    // The working counter is the segment's: the master cannot tell which
+    // slave is short, so the reachable EL2008's output goes safe too,
+    // on the wire.
+    wait("dout-0 safe on the wire", FAULT_BOUND, || {
+        sim.show(2, DOUT_0) == 0
+    });
+    sim.say("cut none");
     wait_or("all slaves in OP after the cut", LONG, h, || all_op(h));
+    wait("dout-0 on the wire again", LONG, || {
+        sim.show(2, DOUT_0) == 1
+    });
     fault_reset_drives(h);
     enable_and_move(h, false);
 }

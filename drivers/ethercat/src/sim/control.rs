@@ -13,6 +13,7 @@
 //! | `shaft N COUNTS_PER_S` | the encoder at N turns at that rate |
 //! | `drift N PPM` | the DC clock of slave N runs PPM parts per million fast (negative: slow) against the host |
 //! | `clock-step N NS` | the DC clock of slave N jumps by NS (negative: back) |
+//! | `show N INDEX:SUB` | no fault: prints object INDEX:SUB of slave N (hexadecimal), e.g. an output the master wrote |
 //!
 //! Numbers are decimal or `0x` hexadecimal.
 
@@ -44,6 +45,8 @@ pub enum Control {
     Drift(usize, i64),
     /// A slave's DC clock jumps (ns).
     ClockStep(usize, i64),
+    /// No fault: the value of a slave's object (index, subindex).
+    Show(usize, u16, u8),
 }
 
 /// The largest drift `drift` takes (ppm): a tenth of a percent.
@@ -92,6 +95,20 @@ impl Control {
                 let v = w.next().and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
                 Control::Shaft(p, v.ok_or_else(|| bad(line, "speed is not a number"))?)
             }
+            "show" => {
+                let p = position(w.next())?;
+                let at = w.next().ok_or_else(|| bad(line, "INDEX:SUB is missing"))?;
+                let (i, sub) = at
+                    .split_once(':')
+                    .ok_or_else(|| bad(line, format!("'{at}' is not INDEX:SUB")))?;
+                let hex = |t: &str, max: u64| {
+                    u64::from_str_radix(t, 16)
+                        .ok()
+                        .filter(|v| *v <= max)
+                        .ok_or_else(|| bad(line, format!("'{t}' in '{at}' is not a hexadecimal {}", if max > 0xff { "index" } else { "subindex" })))
+                };
+                Control::Show(p, hex(i, 0xffff)? as u16, hex(sub, 0xff)? as u8)
+            }
             "drift" | "clock-step" => {
                 let p = position(w.next())?;
                 let v = w
@@ -118,7 +135,7 @@ impl Control {
             _ => {
                 return Err(bad(
                     line,
-                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS",
+                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS, show N INDEX:SUB",
                 ))
             }
         };
@@ -128,9 +145,9 @@ impl Control {
         Ok(c)
     }
 
-    /// Applies the command to `seg`; an error says which slave is not
-    /// there or cannot take it.
-    pub fn apply(self, seg: &mut Segment) -> Result<()> {
+    /// Applies the command to `seg`, with what it has to say (`show`'s
+    /// value); an error says which slave is not there or cannot take it.
+    pub fn apply(self, seg: &mut Segment) -> Result<Option<String>> {
         let n = seg.slaves().len();
         let missing =
             |p: usize| Error::malformed("command", format!("no slave {p} (the segment has {n})"));
@@ -175,9 +192,19 @@ impl Control {
                 .ok_or_else(|| missing(p))?
                 .set_clock_ppm(ppm),
             Control::ClockStep(p, ns) => seg.slave_mut(p).ok_or_else(|| missing(p))?.step_clock(ns),
+            Control::Show(p, index, sub) => {
+                let v = seg
+                    .slaves()
+                    .get(p)
+                    .ok_or_else(|| missing(p))?
+                    .device
+                    .od
+                    .get(index, sub);
+                return Ok(Some(format!("slave {p} {index:04x}:{sub:02x} = {v:#x}")));
+            }
             Control::Reset(p) => return Err(missing(p)),
         }
-        Ok(())
+        Ok(None)
     }
 }
 
@@ -264,6 +291,7 @@ mod tests {
             "shaft 1 1000.5",
             "drift 0 -300",
             "clock-step 2 5000000",
+            "show 1 6000:01",
         ] {
             Control::parse(line).unwrap().apply(&mut seg).unwrap();
         }
@@ -282,6 +310,18 @@ mod tests {
         assert!(e("drift 0 fast").contains("not a whole number"));
         assert!(e("clock-step 0 -9223372036854775808").contains("an hour"));
         assert!(e("clock-step 7 1").contains("no slave 7"));
+        assert!(e("show 7 6000:01").contains("no slave 7"));
+        assert!(e("show 1 6000").contains("is not INDEX:SUB"));
+        assert!(e("show 1 6000:100").contains("not a hexadecimal subindex"));
+        assert!(e("show 1 10000:1").contains("not a hexadecimal index"));
+        assert_eq!(
+            Control::parse("show 0 1018:01")
+                .unwrap()
+                .apply(&mut seg)
+                .unwrap()
+                .as_deref(),
+            Some("slave 0 1018:01 = 0x2")
+        );
     }
 
     #[test]
@@ -296,7 +336,7 @@ mod tests {
             seg.slaves()[0].system_time()
         };
         let t0 = frame(&mut seg, 5_000_000_000);
-        Control::Drift(0, 500).apply(&mut seg).unwrap();
+        assert_eq!(Control::Drift(0, 500).apply(&mut seg).unwrap(), None);
         assert_eq!(frame(&mut seg, 5_000_000_000), t0, "no jump");
         let t1 = frame(&mut seg, 6_000_000_000);
         // One second at 500 ppm (the EK1100's own -20 ppm replaced).

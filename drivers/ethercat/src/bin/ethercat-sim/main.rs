@@ -62,7 +62,8 @@ fn main() -> ExitCode {
                     Err(p) => c.apply(&mut p.into_inner()),
                 });
                 match r {
-                    Ok(()) => println!("ethercat-sim: {}", line.trim()),
+                    Ok(None) => println!("ethercat-sim: {}", line.trim()),
+                    Ok(Some(said)) => println!("ethercat-sim: {said}"),
                     Err(e) => eprintln!("ethercat-sim: {e}"),
                 }
             }
