@@ -219,6 +219,23 @@ fn cable_out(e: &std::io::Error) -> bool {
     e.kind() == std::io::ErrorKind::NetworkDown || e.raw_os_error() == Some(libc::ENETDOWN)
 }
 
+/// The most frames [`drop_stale`] throws away: more than a socket's
+/// queue holds, and a bound on the loop.
+const MAX_STALE: usize = 4096;
+
+/// Throws away the frames that were waiting when the interface went
+/// down (the kernel reports the error before them): they were sent
+/// before the cable was pulled, and a real slave never sees those after
+/// it is plugged in again. Answering them late would hand the master
+/// stale replies and apply old outputs.
+fn drop_stale(link: &mut dyn Link, buf: &mut [u8]) {
+    for _ in 0..MAX_STALE {
+        if !matches!(link.recv(buf, Duration::ZERO), Ok(Some(_))) {
+            break;
+        }
+    }
+}
+
 /// Answers every frame that arrives on `link` with `segment` until
 /// `stop` is set; returns the frames answered. Times are the monotonic
 /// clock since the start. While the interface is down the segment waits
@@ -233,6 +250,7 @@ pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) ->
             Ok(Some(n)) => n,
             Ok(None) => continue,
             Err(e) if cable_out(&e) => {
+                drop_stale(link, &mut buf);
                 std::thread::sleep(CABLE_OUT_PAUSE);
                 continue;
             }
