@@ -410,10 +410,10 @@ fn pull_the_link(h: &Host, sim: &mut Sim, s_if: &str) {
     wait_or("all slaves in OP again", LONG, h, || all_op(h));
     assert_eq!(pin(h, "lcec.0.slaves-responding"), Value::U32(6));
     // The drives' controlword on the wire is safe: none is told to
-    // enable operation. (Right after all-op, about one run in twenty
-    // with two copies at once, the simulator still held 0xf: whether
-    // from a frame of before the outage or one the master wrote is
-    // open; hence the bound rather than the first frame.)
+    // enable operation. The simulated ESC applies a frame's outputs when
+    // the next frame arrives (sim/esc.rs, begin_frame), so right after
+    // all-op it may still hold the last outputs of before the outage
+    // (0xf); hence a wait within the bound rather than the first look.
     for p in DRIVE_POSITIONS {
         wait("the controlword safe on the wire", FAULT_BOUND, || {
             sim.show(p, CONTROLWORD) & 0x0f != 0x0f
