@@ -18,6 +18,11 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::process::Command;
 
+mod common {
+    pub mod veth;
+}
+use common::veth;
+
 /// The segment: a coupler, digital in and out, analog in and out, a drive.
 const SEGMENT: &str = "EK1100\nEL1008\nEL2008\nEL3102\nEL4102\nservo serial=77\n";
 
@@ -87,18 +92,14 @@ m.write_state()
 m.close()
 "#;
 
-/// The namespace's script: the veth pair, the simulator on one end, SOEM
-/// on the other; the simulator's own output follows SOEM's.
+/// The namespace's script after the veth pair (ecmaster, ecslave): the
+/// simulator on one end, SOEM on the other; the simulator's own output
+/// follows SOEM's.
 const RUN: &str = r#"
-set -u
-ip link set lo up
-ip link add ecmaster type veth peer name ecslave
-ip link set ecmaster up
-ip link set ecslave up
 "$SIM" --iface ecslave segment.txt >sim.log 2>&1 &
 sim=$!
 for _ in $(seq 100); do
-    grep -q 'slave(s)' sim.log && break
+    grep -qF "$SIM_READY" sim.log && break
     sleep 0.05
 done
 timeout 120 "$PYTHON" master.py ecmaster
@@ -113,7 +114,8 @@ exit $rc
 fn run_in_namespace(dir: &Path, python: &str) -> (bool, String, String) {
     std::fs::write(dir.join("segment.txt"), SEGMENT).unwrap();
     std::fs::write(dir.join("master.py"), MASTER).unwrap();
-    std::fs::write(dir.join("run.sh"), RUN).unwrap();
+    let script = format!("set -u\n{}{RUN}", veth::veth_script("ecmaster", "ecslave"));
+    std::fs::write(dir.join("run.sh"), script).unwrap();
     let out = Command::new("timeout")
         .args([
             "180",
@@ -127,6 +129,7 @@ fn run_in_namespace(dir: &Path, python: &str) -> (bool, String, String) {
         .current_dir(dir)
         .env("SIM", env!("CARGO_BIN_EXE_ethercat-sim"))
         .env("PYTHON", python)
+        .env("SIM_READY", veth::SIM_READY)
         .output()
         .unwrap();
     (

@@ -208,8 +208,13 @@ impl<H: HalHost> MasterRt<H> {
             all_op: st.all_op,
             ..Summary::default()
         };
+        // With the link down no slave answers: its state is unknown (0),
+        // as IgH reports a slave it lost, not the last one it read, so
+        // `slave-online` and `slave-state-*` go false with `link-up`.
+        let link_up = st.link_up;
+        let al_state = |cyclic: &Cyclic, i: usize| if link_up { cyclic.al_state(i) } else { 0 };
         for s in &mut self.slaves {
-            let state = self.cyclic.al_state(s.index);
+            let state = al_state(&self.cyclic, s.index);
             let healthy = self.cyclic.healthy(s.index);
             let emcy = self.cyclic.take_emergency(s.index);
             s.read(
@@ -221,8 +226,8 @@ impl<H: HalHost> MasterRt<H> {
             );
         }
         for i in 0..self.cyclic.slaves().len() {
-            let state = self.cyclic.al_state(i);
-            if state != 0 && st.link_up {
+            let state = al_state(&self.cyclic, i);
+            if state != 0 {
                 sum.responding += 1;
             }
             for (k, want) in [al::INIT, al::PREOP, al::SAFEOP, al::OP].iter().enumerate() {

@@ -72,7 +72,15 @@ pub(super) fn serve(
                 }
             }
         }
-        shared.link_up.store(io.link.is_up(), Relaxed);
+        // The carrier alone does not make the link up: while frames are
+        // still being lost (LOST_LIMIT in a row) it stays down, so the
+        // pins do not flicker back to up before each frame when the
+        // carrier is there (or cannot be read, as in another network
+        // namespace) but nothing answers.
+        let carrier = io.link.is_up();
+        shared
+            .link_up
+            .store(carrier && lost_run < LOST_LIMIT, Relaxed);
         let started = Instant::now();
         let has_reference = extras.clocks.reference.is_some();
         let deadline = started + timeout;
@@ -87,6 +95,7 @@ pub(super) fn serve(
             &mut inp,
         ) {
             lost_run = 0;
+            shared.link_up.store(carrier, Relaxed);
             shared.frame_ns.store(
                 started.elapsed().as_nanos().min(u128::from(u32::MAX)) as u32,
                 Relaxed,

@@ -13,6 +13,7 @@
 //! | `shaft N COUNTS_PER_S` | the encoder at N turns at that rate |
 //! | `drift N PPM` | the DC clock of slave N runs PPM parts per million fast (negative: slow) against the host |
 //! | `clock-step N NS` | the DC clock of slave N jumps by NS (negative: back) |
+//! | `show N INDEX:SUB` | no fault: prints object INDEX:SUB of slave N (hexadecimal), e.g. an output the master wrote |
 //!
 //! Numbers are decimal or `0x` hexadecimal.
 
@@ -44,6 +45,8 @@ pub enum Control {
     Drift(usize, i64),
     /// A slave's DC clock jumps (ns).
     ClockStep(usize, i64),
+    /// No fault: the value of a slave's object (index, subindex).
+    Show(usize, u16, u8),
 }
 
 /// The largest drift `drift` takes (ppm): a tenth of a percent.
@@ -92,6 +95,20 @@ impl Control {
                 let v = w.next().and_then(|s| s.parse::<f64>().ok()).filter(|v| v.is_finite());
                 Control::Shaft(p, v.ok_or_else(|| bad(line, "speed is not a number"))?)
             }
+            "show" => {
+                let p = position(w.next())?;
+                let at = w.next().ok_or_else(|| bad(line, "INDEX:SUB is missing"))?;
+                let (i, sub) = at
+                    .split_once(':')
+                    .ok_or_else(|| bad(line, format!("'{at}' is not INDEX:SUB")))?;
+                let hex = |t: &str, max: u64| {
+                    u64::from_str_radix(t, 16)
+                        .ok()
+                        .filter(|v| *v <= max)
+                        .ok_or_else(|| bad(line, format!("'{t}' in '{at}' is not a hexadecimal {}", if max > 0xff { "index" } else { "subindex" })))
+                };
+                Control::Show(p, hex(i, 0xffff)? as u16, hex(sub, 0xff)? as u8)
+            }
             "drift" | "clock-step" => {
                 let p = position(w.next())?;
                 let v = w
@@ -118,7 +135,7 @@ impl Control {
             _ => {
                 return Err(bad(
                     line,
-                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS",
+                    "unknown; commands: link down|up, cut N|none, reset N, al-error N CODE, drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS, show N INDEX:SUB",
                 ))
             }
         };
@@ -128,9 +145,9 @@ impl Control {
         Ok(c)
     }
 
-    /// Applies the command to `seg`; an error says which slave is not
-    /// there or cannot take it.
-    pub fn apply(self, seg: &mut Segment) -> Result<()> {
+    /// Applies the command to `seg`, with what it has to say (`show`'s
+    /// value); an error says which slave is not there or cannot take it.
+    pub fn apply(self, seg: &mut Segment) -> Result<Option<String>> {
         let n = seg.slaves().len();
         let missing =
             |p: usize| Error::malformed("command", format!("no slave {p} (the segment has {n})"));
@@ -175,16 +192,55 @@ impl Control {
                 .ok_or_else(|| missing(p))?
                 .set_clock_ppm(ppm),
             Control::ClockStep(p, ns) => seg.slave_mut(p).ok_or_else(|| missing(p))?.step_clock(ns),
+            Control::Show(p, index, sub) => {
+                let v = seg
+                    .slaves()
+                    .get(p)
+                    .ok_or_else(|| missing(p))?
+                    .device
+                    .od
+                    .get(index, sub);
+                return Ok(Some(format!("slave {p} {index:04x}:{sub:02x} = {v:#x}")));
+            }
             Control::Reset(p) => return Err(missing(p)),
         }
-        Ok(())
+        Ok(None)
+    }
+}
+
+/// How long [`serve`] waits before it listens again on an interface that
+/// is down.
+const CABLE_OUT_PAUSE: Duration = Duration::from_millis(10);
+
+/// Whether `e` says the interface is down (`ip link set ... down`, the
+/// cable out): the slaves wait for it to come back, as real ones do.
+fn cable_out(e: &std::io::Error) -> bool {
+    // The link's errors keep the kind but not always the OS number.
+    e.kind() == std::io::ErrorKind::NetworkDown || e.raw_os_error() == Some(libc::ENETDOWN)
+}
+
+/// The most frames [`drop_stale`] throws away: more than a socket's
+/// queue holds, and a bound on the loop.
+const MAX_STALE: usize = 4096;
+
+/// Throws away the frames that were waiting when the interface went
+/// down (the kernel reports the error before them): they were sent
+/// before the cable was pulled, and a real slave never sees those after
+/// it is plugged in again. Answering them late would hand the master
+/// stale replies and apply old outputs.
+fn drop_stale(link: &mut dyn Link, buf: &mut [u8]) {
+    for _ in 0..MAX_STALE {
+        if !matches!(link.recv(buf, Duration::ZERO), Ok(Some(_))) {
+            break;
+        }
     }
 }
 
 /// Answers every frame that arrives on `link` with `segment` until
 /// `stop` is set; returns the frames answered. Times are the monotonic
-/// clock since the start. A receive error other than a timeout ends the
-/// loop with that error.
+/// clock since the start. While the interface is down the segment waits
+/// for it (frames are lost, as with the cable out); any other receive or
+/// send error ends the loop with that error.
 pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) -> Result<u64> {
     let epoch = Instant::now();
     let mut buf = vec![0u8; 1600];
@@ -193,6 +249,11 @@ pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) ->
         let n = match link.recv(&mut buf, Duration::from_millis(50)) {
             Ok(Some(n)) => n,
             Ok(None) => continue,
+            Err(e) if cable_out(&e) => {
+                drop_stale(link, &mut buf);
+                std::thread::sleep(CABLE_OUT_PAUSE);
+                continue;
+            }
             Err(e) => {
                 return Err(Error::Interface {
                     iface: link.describe(),
@@ -208,7 +269,10 @@ pub fn serve(link: &mut dyn Link, segment: &SharedSegment, stop: &AtomicBool) ->
             Err(p) => p.into_inner().process(frame, now),
         };
         if outcome == Outcome::Returned {
-            if let Err(e) = link.send(frame) {
+            if let Err(e) = link
+                .send(frame)
+                .or_else(|e| if cable_out(&e) { Ok(()) } else { Err(e) })
+            {
                 return Err(Error::Interface {
                     iface: link.describe(),
                     reason: "sending".into(),
@@ -245,6 +309,7 @@ mod tests {
             "shaft 1 1000.5",
             "drift 0 -300",
             "clock-step 2 5000000",
+            "show 1 6000:01",
         ] {
             Control::parse(line).unwrap().apply(&mut seg).unwrap();
         }
@@ -263,6 +328,18 @@ mod tests {
         assert!(e("drift 0 fast").contains("not a whole number"));
         assert!(e("clock-step 0 -9223372036854775808").contains("an hour"));
         assert!(e("clock-step 7 1").contains("no slave 7"));
+        assert!(e("show 7 6000:01").contains("no slave 7"));
+        assert!(e("show 1 6000").contains("is not INDEX:SUB"));
+        assert!(e("show 1 6000:100").contains("not a hexadecimal subindex"));
+        assert!(e("show 1 10000:1").contains("not a hexadecimal index"));
+        assert_eq!(
+            Control::parse("show 0 1018:01")
+                .unwrap()
+                .apply(&mut seg)
+                .unwrap()
+                .as_deref(),
+            Some("slave 0 1018:01 = 0x2")
+        );
     }
 
     #[test]
@@ -277,7 +354,7 @@ mod tests {
             seg.slaves()[0].system_time()
         };
         let t0 = frame(&mut seg, 5_000_000_000);
-        Control::Drift(0, 500).apply(&mut seg).unwrap();
+        assert_eq!(Control::Drift(0, 500).apply(&mut seg).unwrap(), None);
         assert_eq!(frame(&mut seg, 5_000_000_000), t0, "no jump");
         let t1 = frame(&mut seg, 6_000_000_000);
         // One second at 500 ppm (the EK1100's own -20 ppm replaced).

@@ -17,7 +17,7 @@ use clap::Parser;
         vid=, pid=, out=INDEX:SUB:BITS,... and in=...); # starts a comment. Each slave \
         answers every EtherCAT frame on the interface as an ESC does. Standard input takes \
         fault commands, one per line: link down|up, cut N|none, reset N, al-error N CODE, \
-        drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS. Stop with \
+        drive-fault N CODE, shaft N COUNTS_PER_S, drift N PPM, clock-step N NS; show N INDEX:SUB prints a slave's object (hexadecimal). Stop with \
         Ctrl-C or SIGTERM. The raw \
         socket needs CAP_NET_RAW."
 )]

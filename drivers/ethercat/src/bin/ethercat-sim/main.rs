@@ -62,7 +62,8 @@ fn main() -> ExitCode {
                     Err(p) => c.apply(&mut p.into_inner()),
                 });
                 match r {
-                    Ok(()) => println!("ethercat-sim: {}", line.trim()),
+                    Ok(None) => println!("ethercat-sim: {}", line.trim()),
+                    Ok(Some(said)) => println!("ethercat-sim: {said}"),
                     Err(e) => eprintln!("ethercat-sim: {e}"),
                 }
             }
@@ -79,7 +80,14 @@ fn main() -> ExitCode {
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("ethercat-sim: {e}");
+            // The whole chain: the OS error says why the link failed.
+            let mut line = format!("ethercat-sim: {e}");
+            let mut cause = std::error::Error::source(&e);
+            while let Some(c) = cause {
+                line.push_str(&format!(": {c}"));
+                cause = c.source();
+            }
+            eprintln!("{line}");
             ExitCode::from(1)
         }
     }
