@@ -9,7 +9,10 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
-use std::time::{Duration, Instant};
+mod common {
+    pub mod wait;
+}
+use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
@@ -27,14 +30,6 @@ fn pin(h: &Host, name: &str) -> Value {
 
 fn set(h: &Host, name: &str, v: Value) {
     h.instance().set_pin(name, v).unwrap();
-}
-
-fn wait(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
 }
 
 #[test]

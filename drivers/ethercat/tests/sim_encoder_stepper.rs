@@ -11,7 +11,11 @@
 )]
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+
+mod common {
+    pub mod wait;
+}
+use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
@@ -64,14 +68,6 @@ fn float(h: &Host, name: &str) -> f64 {
     match pin(h, name) {
         Value::Float(v) => v,
         v => panic!("{name} is {v:?}"),
-    }
-}
-
-fn wait(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
     }
 }
 

@@ -10,7 +10,11 @@
 )]
 
 use std::path::Path;
-use std::time::{Duration, Instant};
+
+mod common {
+    pub mod wait;
+}
+use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
@@ -40,14 +44,6 @@ fn conf(config_pdos: bool) -> String {
 
 fn pin(h: &Host, name: &str) -> Value {
     h.instance().pin_value(name).unwrap()
-}
-
-fn wait(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
 }
 
 fn load(tag: &str, text: &str) -> (Host, SharedSegment) {

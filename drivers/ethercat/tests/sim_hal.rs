@@ -9,7 +9,11 @@
 )]
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+
+mod common {
+    pub mod wait;
+}
+use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
@@ -59,14 +63,6 @@ fn pin(host: &Host, name: &str) -> Value {
 
 fn set(host: &Host, name: &str, v: Value) {
     host.instance().set_pin(name, v).unwrap();
-}
-
-fn wait(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
-    }
 }
 
 fn float(host: &Host, name: &str) -> f64 {

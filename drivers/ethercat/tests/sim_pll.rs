@@ -14,6 +14,11 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+mod common {
+    pub mod wait;
+}
+use common::wait::wait;
+
 use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
 use hal_ethercat::link::SharedSegment;
@@ -47,14 +52,6 @@ fn int(host: &Host, name: &str) -> i64 {
         Value::U32(v) => i64::from(v),
         Value::Bit(b) => i64::from(b),
         v => panic!("{name} is {v:?}"),
-    }
-}
-
-fn wait(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + Duration::from_secs(30);
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(2));
     }
 }
 
