@@ -86,16 +86,11 @@ const FAULT_BOUND: Duration = Duration::from_secs(2);
 /// from now on) in a new network namespace; its sockets and interfaces
 /// are invisible to every other test.
 fn own_network_namespace() {
-    // SAFETY: unshare(2) with CLONE_NEWNET takes no pointers and changes
-    // only the calling thread's network namespace; the process's other
-    // threads (the test harness) keep theirs.
-    let r = unsafe { libc::unshare(libc::CLONE_NEWNET) };
-    assert_eq!(
-        r,
-        0,
-        "unshare(CLONE_NEWNET): {} (build.rs found it possible at build time)",
-        std::io::Error::last_os_error()
-    );
+    // unshare(2) changes only the calling thread's network namespace; the
+    // process's other threads (the test harness) keep theirs.
+    if let Err(e) = nix::sched::unshare(nix::sched::CloneFlags::CLONE_NEWNET) {
+        panic!("unshare(CLONE_NEWNET): {e} (build.rs found it possible at build time)");
+    }
 }
 
 fn sh(script: &str) {

@@ -118,6 +118,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: None,
     },
+    InstanceTool {
+        bin: "z_level_compensation",
+        short: false,
+        attach: Some(&[]),
+    },
 ];
 
 /// Runs `exe args` in a scratch directory, with no standard input and an
