@@ -7,7 +7,9 @@
 //! the scope draws a capture and saves its CSV and PNG;
 //! the thread view shows a thread's latency histogram;
 //! on the simulated mill, the e-stop reset and machine-on buttons turn
-//! the machine on, and "Home all" homes every joint.
+//! the machine on, and "Home all" homes every joint; another site's page
+//! posting a setp, and hal-web's own page without the token (hal-web
+//! started with --token), change nothing, and the token lets it through.
 //!
 //! Ignored where chromium is absent; scripts/test-all runs it (with
 //! --include-ignored) when /usr/bin/chromium and /usr/bin/chromedriver
@@ -236,4 +238,91 @@ fn the_scope_draws_a_capture_and_saves_csv_and_png() {
     let png = downloaded(&downloads.join("halscope.png"));
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
     let _ = std::fs::remove_dir_all(&downloads);
+}
+
+/// Serves `html` to every request on a port of its own: a page of
+/// another origin than hal-web's. Returns its address.
+fn serve_other_origin(html: String) -> std::net::SocketAddr {
+    use std::io::{Read, Write};
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap();
+    std::thread::spawn(move || {
+        for mut conn in listener.incoming().flatten() {
+            let mut request = [0u8; 4096];
+            let _ = conn.read(&mut request);
+            let answer = format!(
+                "HTTP/1.1 200 OK\r\nContent-Type: text/html\r\nContent-Length: {}\r\n\
+                 Connection: close\r\n\r\n{html}",
+                html.len()
+            );
+            let _ = conn.write_all(answer.as_bytes());
+        }
+    });
+    addr
+}
+
+#[test]
+#[ignore = "needs Debian's chromium and chromium-driver (scripts/install-deps installs them; \
+            scripts/test-all runs this test with --include-ignored when they are there)"]
+fn another_sites_page_and_a_page_without_the_token_change_nothing() {
+    let host = InProcessHost::start("web-browser-guard");
+    let inst = host.instance();
+    let comp = inst.new_component("webguard", ComponentKind::User).unwrap();
+    let _in = comp.pin::<f64, In>("webguard.in").unwrap();
+    comp.ready().unwrap();
+    let getp = || {
+        let (ok, got, err) = halcmd(&host.instance, &["getp", "webguard.in"]);
+        assert!(ok, "{err}");
+        got.trim().to_string()
+    };
+    let web = Web::start(&host.instance, &["--token"]);
+    let token_path = hal_web::token::path(&host.instance).unwrap();
+    let token = std::fs::read_to_string(&token_path).unwrap();
+    let token = token.trim().to_string();
+    let setp =
+        |value: &str| json!({ "command": "setp", "args": ["webguard.in", value] }).to_string();
+
+    // Another site's page posts a setp to hal-web as a "simple" request
+    // (no preflight), even with the token it could not know: refused.
+    let evil = format!(
+        "<html><body><script>\
+         fetch('http://{}/api/hal', {{method: 'POST', mode: 'no-cors', \
+         headers: {{'Content-Type': 'text/plain'}}, body: '{}'}})\
+         .then(() => {{ document.title = 'sent'; }}, () => {{ document.title = 'failed'; }});\
+         </script></body></html>",
+        web.host(),
+        setp("7")
+    );
+    let evil_addr = serve_other_origin(evil);
+    let browser = Browser::start();
+    browser.go(&format!("http://{evil_addr}/"));
+    browser.wait_for("return document.title;", &json!("sent"));
+    assert_eq!(getp(), "0", "another origin's request changed the HAL");
+
+    // hal-web's own page without the token: the same setp is refused and
+    // the page asks for the token; with it, the setp goes through.
+    browser.go(&format!("http://{}/", web.host()));
+    let post = |with_token: bool| {
+        let header = if with_token {
+            format!("'X-HAL-Token': '{token}', ")
+        } else {
+            String::new()
+        };
+        format!(
+            "const r = await fetch('/api/hal', {{method: 'POST', \
+             headers: {{{header}'Content-Type': 'application/json'}}, body: '{}'}}); \
+             return r.status;",
+            setp("3.5")
+        )
+    };
+    let status = browser.eval(&format!("return (async () => {{ {} }})();", post(false)));
+    assert_eq!(status, json!(401));
+    assert_eq!(getp(), "0", "a request without the token changed the HAL");
+    browser.wait_for(
+        "return !document.getElementById('token-form').hidden;",
+        &json!(true),
+    );
+    let status = browser.eval(&format!("return (async () => {{ {} }})();", post(true)));
+    assert_eq!(status, json!(200));
+    assert_eq!(getp(), "3.5");
 }
