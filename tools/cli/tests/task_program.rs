@@ -456,6 +456,14 @@ fn iov2_gives_a_change_up_on_a_changer_fault_soft_or_hard() {
     assert_eq!(m.getp("iocontrol.0.toolchanger-faulted"), "TRUE");
     let needle = "M6: toolchanger soft fault=1, reason=5";
     assert!(m.stderr_with(needle).contains(needle), "{}", m.stderr());
+    // The program sees the fault and its reason in #5600 and #5601.
+    let branch = s.write(
+        "branch.ngc",
+        "G21 G90\nO1 if [[#5600 EQ 1] AND [#5601 EQ 5]]\nG0 X4\nO1 else\nG0 X6\nO1 endif\nM2\n",
+    );
+    let (ok, out) = run_program(&m, &branch);
+    assert!(ok, "{out}\n--- linuxcnc:\n{}", m.stderr());
+    assert!((pos(&m, 0) - 4.0).abs() < 1e-6, "X {}", pos(&m, 0));
     // Cleared, the same change goes through.
     m.halcmd(&["setp", "iocontrol.0.toolchanger-clear-fault", "TRUE"]);
     m.wait_getp("iocontrol.0.toolchanger-faulted", "FALSE");

@@ -269,6 +269,13 @@ impl IoControl {
         }
     }
 
+    /// iov2's fault as the interpreter sees it (#5600 and #5601):
+    /// `toolchanger-faulted` as 1 or 0, and the changer's last fault
+    /// reason (0 once cleared). Both 0 under plain `io`.
+    pub fn toolchanger_fault(&self) -> (i32, i32) {
+        (i32::from(self.out.v2.toolchanger_faulted), self.v2.reason)
+    }
+
     /// The tool in the spindle (0: none).
     pub fn tool_in_spindle(&self) -> i32 {
         self.tool_in_spindle

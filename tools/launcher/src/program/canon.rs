@@ -38,6 +38,9 @@ pub struct TaskCanon {
     pub optional_stop: bool,
     /// The block delete switch.
     pub block_delete: bool,
+    /// iov2's `toolchanger-faulted` (1 or 0) and the changer's last fault
+    /// reason, which the interpreter reads into #5600 and #5601.
+    pub toolchanger: (i32, i32),
     /// Machine (user) units per millimetre.
     user_per_mm: f64,
     units: Units,
@@ -83,6 +86,7 @@ impl TaskCanon {
             fault: None,
             line: 0,
             input_timeout: false,
+            toolchanger: (0, 0),
             optional_stop: false,
             block_delete: false,
             user_per_mm,
@@ -735,10 +739,10 @@ impl Canon for TaskCanon {
         self.input_timeout
     }
     fn toolchanger_fault(&self) -> i32 {
-        0
+        self.toolchanger.0
     }
     fn toolchanger_reason(&self) -> i32 {
-        0
+        self.toolchanger.1
     }
     fn block_delete(&self) -> bool {
         self.block_delete

@@ -193,6 +193,7 @@ impl Program {
         let probe = (status.traj.probe_tripped, status.traj.probed);
         self.canon
             .refresh(status.traj.goal, tools, slot, status.io, probe);
+        self.canon.toolchanger = io.toolchanger_fault();
         if !self.initialised {
             self.interp
                 .init(&mut self.canon)
