@@ -304,6 +304,10 @@ pub enum LaunchError {
         /// What is wrong.
         why: String,
     },
+    /// A user's file (a probe map) could not be read: missing, not a
+    /// regular file, too large.
+    #[error(transparent)]
+    File(#[from] hal_core::files::FileError),
     /// z_level_compensation's command line.
     #[error("z_level_compensation: {why}")]
     ZLevelUsage {

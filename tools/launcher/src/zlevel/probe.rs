@@ -2,7 +2,6 @@
 //! probed point a line as `X Y Z` (more columns are ignored, `#` starts a
 //! comment, blank lines are skipped), read with a bound on its size.
 
-use std::io::Read;
 use std::path::Path;
 
 use crate::error::LaunchError;
@@ -83,19 +82,10 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Vec<ProbePoint>, LaunchError> 
 }
 
 /// Reads and parses the probe file at `path`, at most [`MAX_BYTES`] of it.
+/// Through the suite's reader of users' files: only a regular file is
+/// read (a FIFO named like the map is refused, never waited on).
 pub fn load(path: &Path) -> Result<Vec<ProbePoint>, LaunchError> {
-    let file = std::fs::File::open(path).map_err(|e| LaunchError::read(path, e))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| LaunchError::read(path, e))?;
-    if bytes.len() as u64 > MAX_BYTES {
-        return Err(LaunchError::ProbeFile {
-            path: path.to_path_buf(),
-            line: 0,
-            why: format!("is larger than {MAX_BYTES} bytes"),
-        });
-    }
+    let bytes = hal_core::files::read_user_file(path, MAX_BYTES, "probe file")?;
     parse(path, &bytes)
 }
 
@@ -166,7 +156,15 @@ mod tests {
     #[test]
     fn dev_zero_and_huge_files_are_bounded() {
         let e = load(Path::new("/dev/zero")).unwrap_err().to_string();
-        assert!(e.contains("/dev/zero") && e.contains("larger than"), "{e}");
+        assert!(
+            e.contains("/dev/zero") && e.contains("not a regular file"),
+            "{e}"
+        );
+        let big = std::env::temp_dir().join(format!("zlevel-big-{}.txt", std::process::id()));
+        std::fs::write(&big, vec![b'\n'; MAX_BYTES as usize + 1]).unwrap();
+        let e = load(&big).unwrap_err().to_string();
+        std::fs::remove_file(&big).unwrap();
+        assert!(e.contains("zlevel-big") && e.contains("larger than"), "{e}");
         let e = load(Path::new("/nonexistent/probe_points.txt"))
             .unwrap_err()
             .to_string();
