@@ -49,6 +49,39 @@ pub fn print_version(tool: &str) {
     crate::outln!("{}", hal_core::userspace::version_line(tool));
 }
 
+/// The `main` of a user program that lives in a library (halui,
+/// z_level_compensation): `--help` prints `usage`, `--version` the version
+/// line, `--instance NAME` selects the instance, and every other word goes
+/// to `run`, whose status is the exit status.
+pub fn user_program_main(tool: &str, usage: &str, run: fn(&[String]) -> i32) -> ! {
+    let args = crate::stdio::args_or_exit(tool, 2);
+    let mut rest = Vec::new();
+    let mut i = 0;
+    while i < args.len() {
+        match common(&args, i, false) {
+            Ok(Some(Common::Help)) => {
+                crate::outln!("{usage}");
+                std::process::exit(0);
+            }
+            Ok(Some(Common::Version)) => {
+                print_version(tool);
+                std::process::exit(0);
+            }
+            Ok(Some(Common::Instance(_, n))) => {
+                i += n;
+                continue;
+            }
+            Ok(None) => rest.push(args[i].clone()),
+            Err(e) => {
+                eprintln!("{tool}: {e}");
+                std::process::exit(2);
+            }
+        }
+        i += 1;
+    }
+    std::process::exit(run(&rest))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
