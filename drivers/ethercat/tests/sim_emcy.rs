@@ -10,8 +10,10 @@
 )]
 
 mod common {
+    pub mod pins;
     pub mod wait;
 }
+use common::pins::{pin, set};
 use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
@@ -23,14 +25,6 @@ const CONF: &str = r#"<masters><master idx="0" appTimePeriod="1000000" refClockS
   <slave idx="0" type="EK1100" name="D0"/>
   <slave idx="1" type="basic_cia402" vid="00000e5c" pid="00000402" name="X"/>
 </master></masters>"#;
-
-fn pin(h: &Host, name: &str) -> Value {
-    h.instance().pin_value(name).unwrap()
-}
-
-fn set(h: &Host, name: &str, v: Value) {
-    h.instance().set_pin(name, v).unwrap();
-}
 
 #[test]
 fn an_emergency_in_the_mailbox_trips_the_drive_with_its_code() {

@@ -13,8 +13,10 @@
 use std::path::PathBuf;
 
 mod common {
+    pub mod pins;
     pub mod wait;
 }
+use common::pins::{float, pin, s32, set};
 use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
@@ -47,28 +49,6 @@ fn started(tag: &str) -> (Host, SharedSegment) {
     h.start().unwrap();
     wait("all-op", || pin(&h, "lcec.all-op") == Value::Bit(true));
     (h, seg)
-}
-
-fn pin(h: &Host, name: &str) -> Value {
-    h.instance().pin_value(name).unwrap()
-}
-
-fn set(h: &Host, name: &str, v: Value) {
-    h.instance().set_pin(name, v).unwrap();
-}
-
-fn s32(h: &Host, name: &str) -> i32 {
-    match pin(h, name) {
-        Value::S32(v) => v,
-        v => panic!("{name} is {v:?}"),
-    }
-}
-
-fn float(h: &Host, name: &str) -> f64 {
-    match pin(h, name) {
-        Value::Float(v) => v,
-        v => panic!("{name} is {v:?}"),
-    }
 }
 
 #[test]

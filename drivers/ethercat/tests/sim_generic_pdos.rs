@@ -12,8 +12,10 @@
 use std::path::Path;
 
 mod common {
+    pub mod pins;
     pub mod wait;
 }
+use common::pins::pin;
 use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
@@ -40,10 +42,6 @@ fn conf(config_pdos: bool) -> String {
   </slave>
 </master></masters>"#
     )
-}
-
-fn pin(h: &Host, name: &str) -> Value {
-    h.instance().pin_value(name).unwrap()
 }
 
 fn load(tag: &str, text: &str) -> (Host, SharedSegment) {

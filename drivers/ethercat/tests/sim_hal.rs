@@ -11,8 +11,10 @@
 use std::path::PathBuf;
 
 mod common {
+    pub mod pins;
     pub mod wait;
 }
+use common::pins::{float, pin, set};
 use common::wait::wait;
 
 use hal_core::{Host, HostConfig, MsgLevel, Value};
@@ -55,21 +57,6 @@ fn host(tag: &str) -> Host {
     let h = Host::create(HostConfig::for_tests(tag)).unwrap();
     h.rt_log().set_level(MsgLevel::Info);
     h
-}
-
-fn pin(host: &Host, name: &str) -> Value {
-    host.instance().pin_value(name).unwrap()
-}
-
-fn set(host: &Host, name: &str, v: Value) {
-    host.instance().set_pin(name, v).unwrap();
-}
-
-fn float(host: &Host, name: &str) -> f64 {
-    match pin(host, name) {
-        Value::Float(f) => f,
-        v => panic!("{name} is {v:?}"),
-    }
 }
 
 #[test]

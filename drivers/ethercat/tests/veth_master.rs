@@ -30,9 +30,13 @@ use hal_core::{Host, HostConfig, MsgLevel, Value};
 use hal_ethercat::hal::MODULE;
 
 mod common {
+    pub mod pins;
     pub mod veth;
+    pub mod wait;
 }
+use common::pins::{bit, float, pin, set};
 use common::veth;
+use common::wait::wait_within;
 
 /// The simulator's segment: the same slaves, in the same order, as
 /// [`CONF`].
@@ -137,7 +141,7 @@ impl Sim {
         let before = answers(&self.1).len();
         self.say(&format!("show {slave} {at}"));
         let mut got = Vec::new();
-        wait(&format!("the simulator to show {at}"), LONG, || {
+        wait_within(&format!("the simulator to show {at}"), LONG, || {
             got = answers(&self.1);
             got.len() > before
         });
@@ -162,47 +166,13 @@ fn start_sim(dir: &Path, iface: &str) -> Sim {
             .unwrap(),
         log.clone(),
     );
-    wait("ethercat-sim to answer", Duration::from_secs(10), || {
+    wait_within("ethercat-sim to answer", Duration::from_secs(10), || {
         std::fs::read_to_string(&log).is_ok_and(|s| s.contains(veth::SIM_READY))
     });
     sim
 }
 
-fn pin(host: &Host, name: &str) -> Value {
-    host.instance().pin_value(name).unwrap()
-}
-
-fn set(host: &Host, name: &str, v: Value) {
-    host.instance().set_pin(name, v).unwrap();
-}
-
-fn bit(host: &Host, name: &str) -> bool {
-    match pin(host, name) {
-        Value::Bit(b) => b,
-        v => panic!("{name} is {v:?}"),
-    }
-}
-
-fn float(host: &Host, name: &str) -> f64 {
-    match pin(host, name) {
-        Value::Float(f) => f,
-        v => panic!("{name} is {v:?}"),
-    }
-}
-
-fn wait(what: &str, limit: Duration, mut cond: impl FnMut() -> bool) -> Duration {
-    let start = Instant::now();
-    while !cond() {
-        assert!(
-            start.elapsed() < limit,
-            "timed out ({limit:?}) waiting for {what}"
-        );
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    start.elapsed()
-}
-
-/// [`wait`], and on a timeout the master's and slaves' state pins.
+/// [`wait_within`], and on a timeout the master's and slaves' state pins.
 fn wait_or(what: &str, limit: Duration, h: &Host, mut cond: impl FnMut() -> bool) -> Duration {
     let start = Instant::now();
     while !cond() {
@@ -328,7 +298,7 @@ fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and
     // What the master writes reaches the slaves: an output on, the
     // drives' controlword "enable operation".
     set(&h, "lcec.0.D2.dout-0", Value::Bit(true));
-    wait("dout-0 on the wire", LONG, || sim.show(2, DOUT_0) == 1);
+    wait_within("dout-0 on the wire", LONG, || sim.show(2, DOUT_0) == 1);
     for p in DRIVE_POSITIONS {
         assert_eq!(sim.show(p, CONTROLWORD) & 0x0f, 0x0f, "drive at {p}");
     }
@@ -364,7 +334,7 @@ fn link_down_seen(h: &Host) -> bool {
 fn cycles(h: &Host, n: usize) {
     for _ in 0..n {
         let before = pin(h, "lcec.0.mono-time-lo");
-        wait("a servo cycle", LONG, || {
+        wait_within("a servo cycle", LONG, || {
             pin(h, "lcec.0.mono-time-lo") != before
         });
     }
@@ -383,7 +353,7 @@ fn fault_reset_drives(h: &Host) {
     // layer acts on an edge of each.
     cycles(h, 3);
     for (d, ..) in DRIVES {
-        wait(&format!("{d}'s fault cleared"), LONG, || {
+        wait_within(&format!("{d}'s fault cleared"), LONG, || {
             !bit(h, &format!("lcec.0.{d}.srv-fault"))
         });
         set(h, &format!("lcec.0.{d}.srv-fault-reset"), Value::Bit(false));
@@ -410,7 +380,7 @@ fn pull_the_link(h: &Host, sim: &mut Sim, s_if: &str) {
     // all-op it may still hold the last outputs of before the outage
     // (0xf); hence a wait within the bound rather than the first look.
     for p in DRIVE_POSITIONS {
-        wait("the controlword safe on the wire", FAULT_BOUND, || {
+        wait_within("the controlword safe on the wire", FAULT_BOUND, || {
             sim.show(p, CONTROLWORD) & 0x0f != 0x0f
         });
     }
@@ -437,12 +407,12 @@ fn cut_the_line(h: &Host, sim: &mut Sim) {
     // The working counter is the segment's: the master cannot tell which
     // slave is short, so the reachable EL2008's output goes safe too,
     // on the wire.
-    wait("dout-0 safe on the wire", FAULT_BOUND, || {
+    wait_within("dout-0 safe on the wire", FAULT_BOUND, || {
         sim.show(2, DOUT_0) == 0
     });
     sim.say("cut none");
     wait_or("all slaves in OP after the cut", LONG, h, || all_op(h));
-    wait("dout-0 on the wire again", LONG, || {
+    wait_within("dout-0 on the wire again", LONG, || {
         sim.show(2, DOUT_0) == 1
     });
     fault_reset_drives(h);
