@@ -331,6 +331,14 @@ impl RtLogService {
         }
     }
 
+    /// The log without starting the drain thread: for a producer made
+    /// before anything is logged (the executors' delay report), whose
+    /// messages are printed once [`handle`](Self::handle) or
+    /// [`flush`](Self::flush) runs.
+    pub(crate) fn ring(&self) -> RtLog {
+        self.log.clone()
+    }
+
     /// The log, starting the drain thread the first time.
     pub(crate) fn handle(&self) -> RtLog {
         if !self.started.swap(true, AcqRel) {

@@ -7,7 +7,7 @@
 
 mod common;
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering::*};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering::*};
 use std::sync::{Arc, Mutex};
 
 use common::*;
@@ -616,6 +616,55 @@ fn start_returns_with_every_thread_shown_running_and_stop_with_none() {
             running(&host).iter().all(|(_, r)| !*r),
             "round {round}: right after stop: {:?}",
             running(&host)
+        );
+    }
+}
+
+/// A cycle that ends after the thread's next deadline: under SCHED_FIFO
+/// the host says so once, in LinuxCNC's words, however many cycles are
+/// late; without realtime, late cycles are only counted (as in LinuxCNC,
+/// which says nothing when it runs without SCHED_FIFO).
+#[test]
+fn a_late_realtime_cycle_is_reported_once() {
+    let host = host_with("late", RealtimeMode::Auto);
+    let log = host.rt_log();
+    let mut b = host.new_rt_component("slowfunct").unwrap();
+    let calls = Arc::new(AtomicUsize::new(0));
+    let seen = calls.clone();
+    b.funct("slowfunct.0.run", false, move |_| {
+        seen.fetch_add(1, SeqCst);
+        std::thread::sleep(std::time::Duration::from_millis(3));
+    })
+    .unwrap();
+    b.ready().unwrap();
+    host.create_thread("servo", 1_000_000, true, None).unwrap();
+    host.addf("slowfunct.0.run", "servo", -1).unwrap();
+    host.start().unwrap();
+    assert!(
+        wait_until(20.0, || calls.load(SeqCst) >= 5),
+        "5 late cycles ran"
+    );
+    host.stop();
+    host.flush_rt_log();
+    let history = log.history();
+    let reports: Vec<_> = history
+        .iter()
+        .filter(|(_, text)| text.starts_with("Unexpected realtime delay"))
+        .collect();
+    if host.is_realtime() {
+        assert_eq!(reports.len(), 1, "said once: {history:?}");
+        let (level, text) = reports[0];
+        assert_eq!(*level, MsgLevel::Err);
+        assert_eq!(
+            text.as_str(),
+            "Unexpected realtime delay on task 0 with period 1000000\n\
+             This Message will only display once per session.\n\
+             Run the Latency Test and resolve before continuing.\n"
+        );
+    } else {
+        assert!(
+            reports.is_empty(),
+            "no report without realtime: {history:?}"
         );
     }
 }

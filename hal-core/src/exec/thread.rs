@@ -15,6 +15,7 @@ use super::clock::{monotonic_ns, rdtsc, sleep_until, TickClock};
 use super::funct::{Call, ExecList, FunctCtx};
 use super::realtime;
 use crate::handles::{Out, Param, Pin, Rw};
+use crate::rtlog::RtLog;
 use crate::shm::{latency_bucket, Segment, ThreadRec, HIST_BUCKETS};
 pub(crate) use crate::shm::{THREAD_CATCH_UP, THREAD_NO_FUNCT_TIMING};
 
@@ -46,6 +47,11 @@ pub(crate) struct HostShared {
     /// are multiples of its period after it, so threads whose periods
     /// divide each other are due at the same instants.
     pub start_ns: AtomicU64,
+    /// The host's realtime message log (printed by its drain thread).
+    pub log: RtLog,
+    /// Set once a realtime thread has reported a missed deadline: like
+    /// LinuxCNC, the host says it once per session.
+    pub delay_reported: AtomicBool,
 }
 
 /// Where an executor's OS thread runs: the CPU chosen for it (explicitly
@@ -62,6 +68,9 @@ pub(crate) struct Placement {
 /// Control block of one executor, shared with the host.
 pub(crate) struct ThreadCtl {
     pub name: String,
+    /// The thread's number in creation order from 0, as LinuxCNC numbers
+    /// its realtime tasks in messages.
+    pub task_id: usize,
     pub period: i64,
     pub priority: i32,
     pub placement: Mutex<Placement>,
@@ -134,6 +143,22 @@ impl HostShared {
         let mut g = lock.lock().unwrap_or_else(|e| e.into_inner());
         while !self.running.load(Acquire) && !ctl.exit.load(Acquire) {
             g = cv.wait(g).unwrap_or_else(|e| e.into_inner());
+        }
+    }
+
+    /// Called on a realtime thread whose cycle ended after its next
+    /// deadline. Under SCHED_FIFO this means the host cannot keep its
+    /// periods (LinuxCNC's "Unexpected realtime delay"), said once per
+    /// host in LinuxCNC's words; without realtime, late cycles are
+    /// expected and only counted. Realtime-safe: one swap and a log push.
+    fn report_delay(&self, ctl: &ThreadCtl) {
+        if self.realtime && !self.delay_reported.swap(true, Relaxed) {
+            self.log.err(format_args!(
+                "Unexpected realtime delay on task {} with period {}\n\
+                 This Message will only display once per session.\n\
+                 Run the Latency Test and resolve before continuing.\n",
+                ctl.task_id, ctl.period
+            ));
         }
     }
 
@@ -257,6 +282,7 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>, allowed: Vec<usize>)
                 };
                 rec.overruns
                     .store(rec.overruns.load(Relaxed).wrapping_add(late), Relaxed);
+                sh.report_delay(&ctl);
             }
         }
     }

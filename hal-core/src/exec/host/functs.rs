@@ -104,6 +104,7 @@ impl Host {
             let priority = rec.priority.load(Relaxed) as i32;
             let ctl = Arc::new(ThreadCtl {
                 name: name.to_string(),
+                task_id: st.threads.len(),
                 period,
                 priority,
                 placement: Mutex::new(Placement {

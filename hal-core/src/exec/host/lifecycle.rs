@@ -63,6 +63,7 @@ impl Host {
                  (serialised, no preemption): {why}"
             ));
         }
+        let rt_log = RtLogService::new();
         let shared = Arc::new(HostShared {
             seg: seg.clone(),
             running: AtomicBool::new(false),
@@ -73,6 +74,8 @@ impl Host {
             clock: TickClock::calibrate(),
             realtime,
             start_ns: AtomicU64::new(0),
+            log: rt_log.ring(),
+            delay_reported: AtomicBool::new(false),
         });
         let state = Arc::new(Mutex::new(HostState {
             timing_default: true,
@@ -103,7 +106,7 @@ impl Host {
             notes: Mutex::new(notes),
             notes_printed: AtomicBool::new(false),
             shut_down: AtomicBool::new(false),
-            rt_log: RtLogService::new(),
+            rt_log,
             allowed_cpus,
             default_cpu,
             _lock: lock,
@@ -160,6 +163,11 @@ impl Host {
             for why in notes {
                 self.add_note(why);
             }
+        }
+        if self.shared.realtime {
+            // A realtime thread may report a missed deadline: make sure
+            // something prints it.
+            self.rt_log.handle();
         }
         self.wake_executors();
         Ok(())
