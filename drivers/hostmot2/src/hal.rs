@@ -257,6 +257,12 @@ impl Boards {
             firmware_dir: None,
         }
     }
+
+    /// Where `firmware=` files are read, instead of /lib/firmware.
+    pub fn with_firmware_dir(mut self, dir: Option<PathBuf>) -> Boards {
+        self.firmware_dir = dir;
+        self
+    }
 }
 
 /// The config strings' item for board `i`.
@@ -305,13 +311,20 @@ pub fn export_boards<H: DriverHost>(
         print_messages(&msgs, &blog);
         msgs = MessageLog::default();
         let source = source.map_err(|e| fail(e, &blog, ex))?;
+        let mut llio = cand.llio;
+        if let Source::Epp(epp) = &source {
+            // The 7I43's CPLD said which FPGA the card carries.
+            if let Some(part) = epp.fpga_part {
+                llio.fpga_part = part.into();
+            }
+        }
         let (transport, sim, keep) = match transport_of(source, ex, comp, &name)? {
             Ok(opened) => opened,
             Err(e) => return Err(fail(e, &blog, ex)),
         };
         let board = Board::<H>::open(
             ex.pins(comp),
-            cand.llio,
+            llio,
             &config,
             debug,
             transport,

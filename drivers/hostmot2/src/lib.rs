@@ -52,7 +52,10 @@
 //! the FPGA at every load: the Xilinx header is parsed and its part
 //! checked against the card's, the bitstream clocked in through the
 //! bridge's /PROGRAM, /INIT, DONE and data lines ([`fpga`],
-//! [`pci_fpga`]). Boards with flash ignore `firmware=` (use mesaflash).
+//! [`pci_fpga`]). The 7I43 on EPP is loaded the same way through its
+//! CPLD, which also says whether it carries the 200k- or 400k-gate part
+//! ([`epp::cpld`], [`epp::load`]). Boards with flash ignore `firmware=`
+//! (use mesaflash).
 //!
 //! # Smart Serial
 //!

@@ -2,7 +2,8 @@
 //! between the config string and the cookie: a PLX-bridged card named
 //! with `firmware=` is loaded from its bitfile; one without is assumed
 //! configured already, as LinuxCNC says; boards with flash ignore
-//! `firmware=`. A simulated PLX card is loaded the same way through its
+//! `firmware=`. The 7I43 on EPP is loaded through its CPLD
+//! ([`crate::epp::load`]). A simulated PLX card is loaded the same way through its
 //! simulated bridge and then runs the design it was loaded with.
 
 use std::path::Path;
@@ -16,7 +17,7 @@ use crate::fpga::{self, bitfile, BitFile, Bridge, FpgaError, PlxPorts, ProgramSt
 use crate::hal::Source;
 use crate::log::MessageLog;
 use crate::pci::PciBoard;
-use crate::sim::{self, machine, plx::SimPlxBridge, plx_boards};
+use crate::sim::{self, plx::SimPlxBridge, plx_boards};
 
 /// A simulated PLX card before its FPGA is loaded.
 pub struct SimPlxCard {
@@ -38,7 +39,7 @@ impl SimPlxCard {
 }
 
 /// LinuxCNC's words when a programmable board gets no `firmware=`.
-const NO_FIRMWARE: &str = "no firmware specified in config modparam!  the board had better have firmware configured already, or this won't work";
+pub(crate) const NO_FIRMWARE: &str = "no firmware specified in config modparam!  the board had better have firmware configured already, or this won't work";
 
 /// Loads the FPGA of `source` as `config` asks; returns where the
 /// board's registers now are. `dir` overrides the firmware directory.
@@ -72,6 +73,7 @@ pub fn configure(
             };
             load_sim(&card, dir, name, log)
         }
+        Source::Epp(epp) => crate::epp::load::configure(epp, firmware, dir, log).map(Source::Epp),
         other => {
             if let Some(name) = firmware {
                 log.info(ignored(name));
@@ -81,11 +83,13 @@ pub fn configure(
     }
 }
 
-fn ignored(name: &str) -> String {
+/// The message for `firmware=` on a board that loads from its flash.
+pub(crate) fn ignored(name: &str) -> String {
     format!("firmware={name} ignored: this board loads its FPGA from its own flash")
 }
 
-fn load_error(name: &str, source: FpgaError) -> Hm2Error {
+/// A failed load of `name`, as the registration reports it.
+pub(crate) fn load_error(name: &str, source: FpgaError) -> Hm2Error {
     Hm2Error::FpgaLoad {
         file: name.to_string(),
         source,
@@ -137,7 +141,7 @@ fn load_sim(
         Some(dir) => fpga::resolve(dir, name).and_then(|p| bitfile::read(&p)),
         None => {
             let design = plx_boards::design_of_path(name);
-            plx_boards::firmware(board, design)?;
+            plx_boards::firmware(&board.into(), design)?;
             bitfile::parse(&sim::plx::bitfile(design, board.fpga_part))
         }
     }
@@ -149,14 +153,5 @@ fn load_sim(
     let design = card.bridge.design().ok_or(Hm2Error::SimFpgaNotRunning {
         what: "raised DONE but runs no design",
     })?;
-    let spec = plx_boards::firmware(board, &design)?;
-    let shape = plx_boards::design(&design).unwrap_or(plx_boards::Design {
-        servos: 0,
-        steppers: 0,
-        seven_i47: false,
-        sserial: 0,
-    });
-    let machine = machine::servo_stepper(shape.servos as usize, shape.steppers as usize);
-    let (sim_board, _) = sim::board(spec, Box::new(machine));
-    Ok(Source::Sim(sim_board))
+    Ok(Source::Sim(plx_boards::running(&board.into(), &design)?))
 }

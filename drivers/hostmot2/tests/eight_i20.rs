@@ -22,7 +22,7 @@ const CARD: &str = "8i20.0.0";
 
 fn rig(tag: &str) -> Rig {
     let (board, _) = plx_boards::card("5i20").unwrap();
-    let spec = plx_boards::firmware(board, "sssvst2_2_4_v31").unwrap();
+    let spec = plx_boards::firmware(&board.into(), "sssvst2_2_4_v31").unwrap();
     let bench = Box::new(Bench {
         pins: vec![None; 72],
         ..Bench::default()

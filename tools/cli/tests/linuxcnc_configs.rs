@@ -313,10 +313,10 @@ fn hm2_servo_5i20_runs_on_the_simulated_card() {
     m.stop();
 }
 
-/// The other PCI cards of LinuxCNC's hm2-servo sample: each INI names its
+/// The other cards of LinuxCNC's hm2-servo sample: each INI names its
 /// card's firmware (a 5i23, a 4i65 and a 4i68 through their PLX bridges,
-/// a 3x20's 1M-gate SV24), and the servo loops close on the simulated
-/// card the same way.
+/// a 3x20's 1M-gate SV24, a 7i43-4's SVST4_4 through its CPLD over EPP),
+/// and the servo loops close on the simulated card the same way.
 #[test]
 fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
     for (ini, prefix) in [
@@ -324,6 +324,7 @@ fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
         ("4i65.ini", "hm2_4i65.0"),
         ("4i68.ini", "hm2_4i68.0"),
         ("3x20-small.ini", "hm2_3x20.0"),
+        ("7i43-big.ini", "hm2_7i43.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
         assert_eq!(
@@ -347,8 +348,9 @@ fn hm2_stepper_5i22_runs_on_the_simulated_card() {
 }
 
 /// The other cards of LinuxCNC's hm2-stepper sample: a 5i20, a 4i65, a
-/// 5i22-1 (sim=5i22, the 1M-gate card), a 7i43-2 over EPP and a 7i90;
-/// each one's step generators follow a jog.
+/// 5i22-1 (sim=5i22, the 1M-gate card), a 7i43-2 over EPP (sim=7i43-2,
+/// loaded through its CPLD) and a 7i90; each one's step generators
+/// follow a jog.
 #[test]
 fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
     for (ini, prefix) in [

@@ -36,7 +36,8 @@ macro_rules! hm2_epp_params {
         epp_wide: IntArray(4) = "1 (default): 32-bit EPP accesses; 0: byte accesses only",
         config: StrArray(4) = "hostmot2 config strings, one per board (see hostmot2(9))",
         debug_epp: Int = "LinuxCNC prints every EPP cycle; here the load says so and the simulator's access log shows them",
-        sim: StrArray(4) = "simulated boards behind simulated ports instead of real ones (7i43 or 7i90), one per board",
+        sim: StrArray(4) = "simulated boards behind simulated ports instead of real ones (7i43, 7i43-2 or 7i90), one per board",
+        firmware_dir: Str = "where firmware= files are (default /lib/firmware); for a simulated 7i43, where to read its bitfiles instead of the simulator's own",
     } };
 }
 
@@ -220,12 +221,11 @@ pub fn sim_port(
     let spec = sim_epp::preset(name)?;
     let (board, _) = sim::board(spec, Box::new(machine::preset(name)));
     let hi = place.base_hi.unwrap_or(place.base.wrapping_add(HI_OFFSET));
-    let port = Arc::new(SimBoard::new(EppPortModel::new(
-        place.base,
-        hi,
-        board.clone(),
-    )));
-    Some((port, board))
+    let mut model = EppPortModel::new(place.base, hi, board.clone());
+    if let Some(part) = sim_epp::seven_i43_part(name) {
+        model = model.with_cpld(part);
+    }
+    Some((Arc::new(SimBoard::new(model)), board))
 }
 
 /// Opens a real parallel port.
@@ -288,23 +288,32 @@ fn open_epp(
             "{module}: board at {:#x} fails HM2 registration",
             place.base
         );
-        let (bus, sim): (Arc<dyn PortBus>, _) = match sims.get(i) {
+        let (bus, sim, sim_port): (Arc<dyn PortBus>, _, _) = match sims.get(i) {
             Some(name) => {
                 let (port, board) = sim_port(name, place)
-                    .filter(|_| name == kind.board)
+                    .filter(|_| sim_epp::board_of(name) == Some(kind.board))
                     .ok_or_else(|| {
+                        let names: Vec<&str> = sim_epp::EPP_PRESETS
+                            .iter()
+                            .copied()
+                            .filter(|n| sim_epp::board_of(n) == Some(kind.board))
+                            .collect();
                         params.item_error(
                             "sim",
                             i,
                             name,
-                            format!("not a simulated board of this module ({})", kind.board),
+                            format!(
+                                "not a simulated board of this module ({})",
+                                names.join(", ")
+                            ),
                         )
                     })
                     .for_module(module)?;
-                (port, Some(board))
+                (port.clone(), Some(board), Some(port))
             }
             None => (
                 real(place).map_err(|e| HalError::module_failed(module, e))?,
+                None,
                 None,
             ),
         };
@@ -332,13 +341,21 @@ fn open_epp(
             place: format!("at {:#x}", place.base),
             fails,
             llio,
-            source: Source::Epp(Box::new(super::EppSource { transport: t, sim })),
+            source: Source::Epp(Box::new(super::EppSource {
+                transport: t,
+                sim,
+                sim_port,
+                has_cpld: kind.board == SEVEN_I43.board,
+                fpga_part: None,
+            })),
         });
     }
-    Ok(Boards::new(
-        module,
-        debug,
-        candidates,
-        args.str_array("config").to_vec(),
-    ))
+    Ok(
+        Boards::new(module, debug, candidates, args.str_array("config").to_vec())
+            .with_firmware_dir(
+                args.str("firmware_dir")
+                    .filter(|d| !d.is_empty())
+                    .map(std::path::PathBuf::from),
+            ),
+    )
 }

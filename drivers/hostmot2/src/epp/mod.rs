@@ -39,18 +39,25 @@
 //!
 //! # What is not here
 //!
-//! The 7I43's FPGA is loaded from its EEPROM: `firmware=` (which
-//! LinuxCNC's hm2_7i43 sends through the card's CPLD) is ignored with a
-//! message, and the FPGA size the CPLD would report is not asked for.
-//! `debug_epp` does not print every cycle (that would be a print in a
+//! A 7I43 given `firmware=` is loaded through its CPLD ([`cpld`]) as
+//! LinuxCNC's hm2_7i43 does, the FPGA's size (7I43-2 or 7I43-4) taken
+//! from the CPLD and checked against the bitfile's part; without it the
+//! FPGA is assumed loaded already (from the card's EEPROM). LinuxCNC
+//! resets the FPGA at every load to ask the CPLD for the size; here the
+//! reset happens only when there is firmware to load, so a card running
+//! from its EEPROM is left running. The 7I90 loads from its flash and
+//! ignores `firmware=`. `debug_epp` does not print every cycle (that would be a print in a
 //! realtime function): the load says so, and the simulator's access log
 //! shows the cycles.
 //!
 //! # Modules
 //!
-//! [`transport`] (the EPP transport), [`hal`] (the two `loadrt` modules).
+//! [`transport`] (the EPP transport), [`cpld`] (the 7I43's FPGA loader),
+//! [`hal`] (the two `loadrt` modules).
 
+pub mod cpld;
 pub mod hal;
+pub mod load;
 pub mod transport;
 
 pub use transport::EppTransport;
@@ -66,6 +73,13 @@ pub struct EppSource {
     pub transport: EppTransport,
     /// The simulated board, if it is one.
     pub sim: Option<Arc<crate::sim::SimHm2>>,
+    /// The simulated port, if it is one (a 7I43 loaded through its CPLD
+    /// gets the simulator's HostMot2 for its new design here).
+    pub sim_port: Option<Arc<hal_driver::sim::SimBoard<crate::sim::epp::EppPortModel>>>,
+    /// A 7I43: `firmware=` is loaded through its CPLD ([`cpld`]).
+    pub has_cpld: bool,
+    /// The FPGA part the CPLD reported, once asked.
+    pub fpga_part: Option<&'static str>,
 }
 
 /// Register offsets from the port's base address.

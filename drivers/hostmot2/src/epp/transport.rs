@@ -82,20 +82,14 @@ impl EppTransport {
         self.bus.inb(self.base.wrapping_add(reg::STATUS))
     }
 
-    /// Clears the status register's timeout bit: port chips differ (some
-    /// clear it when read, some when it is written as 1, some as 0), so
-    /// all three. True if it is clear now.
     fn clear_timeout(&self) -> bool {
-        let st = self.status();
-        if st & STATUS_TIMEOUT == 0 {
-            return true;
-        }
-        let _ = self.status();
-        let st = self.status();
-        let at = self.base.wrapping_add(reg::STATUS);
-        self.bus.outb(at, st | STATUS_TIMEOUT);
-        self.bus.outb(at, st & !STATUS_TIMEOUT);
-        self.status() & STATUS_TIMEOUT == 0
+        clear_timeout(&*self.bus, self.base)
+    }
+
+    /// The 7I43's CPLD behind this transport's port, for loading its FPGA
+    /// before the board is registered.
+    pub fn cpld(&self) -> super::cpld::Cpld<'_> {
+        super::cpld::Cpld::new(&*self.bus, self.base)
     }
 
     fn read_words(&self, addr: u32, buf: &mut [u32]) {
@@ -137,6 +131,26 @@ impl EppTransport {
         }
         self.check_bus()
     }
+}
+
+/// Whether the status register of the port at `base` shows an EPP timeout.
+pub(super) fn timed_out(bus: &dyn PortBus, base: u16) -> bool {
+    bus.inb(base.wrapping_add(reg::STATUS)) & STATUS_TIMEOUT != 0
+}
+
+/// Clears the status register's timeout bit of the port at `base`: port
+/// chips differ (some clear it when read, some when it is written as 1,
+/// some as 0), so all three. True if it is clear now.
+pub(super) fn clear_timeout(bus: &dyn PortBus, base: u16) -> bool {
+    if !timed_out(bus, base) {
+        return true;
+    }
+    let at = base.wrapping_add(reg::STATUS);
+    let _ = bus.inb(at);
+    let st = bus.inb(at);
+    bus.outb(at, st | STATUS_TIMEOUT);
+    bus.outb(at, st & !STATUS_TIMEOUT);
+    !timed_out(bus, base)
 }
 
 /// An address cycle pair on the port at `base`: `addr` with

@@ -24,7 +24,7 @@
 //!
 //! | name | board | connectors | firmware |
 //! |---|---|---|---|
-//! | `7i43` | 7I43 (400k gates) | P4, P3 × 24 | P4: 4 encoders (A, B, index), 4 PWM generators (PWM, dir, /enable); P3: 4 step generators (step/dir), 16 GPIO; watchdog, 8 LEDs; ClockLow 50 MHz, ClockHigh 100 MHz |
+//! | `7i43`, `7i43-2` | 7I43-4 (400k gates), 7I43-2 (200k) | P4, P3 × 24 | P4: 4 encoders (A, B, index), 4 PWM generators (PWM, dir, /enable); P3: 4 step generators (step/dir), 16 GPIO; watchdog, 8 LEDs; ClockLow 50 MHz, ClockHigh 100 MHz |
 //! | `7i90` | 7I90HD | P1, P2, P3 × 24 | P1: 5 step generators, 14 GPIO; P2: 4 encoders, 4 PWM generators; P3: 24 GPIO; watchdog, 2 LEDs; 100 / 200 MHz |
 
 use std::sync::Arc;
@@ -32,19 +32,23 @@ use std::sync::Arc;
 use hal_driver::sim::{BoardModel, PortModel, Width};
 
 use super::boards::{firmware, Identity};
+use super::cpld::SimCpld;
 use super::SimHm2;
-use crate::epp::{self, ecr, reg};
+use crate::epp::{self, cpld, ecr, reg};
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
 use crate::regs::gtag;
 
 /// The EPP board presets `sim=` takes.
-pub const EPP_PRESETS: &[&str] = &["7i43", "7i90"];
+pub const EPP_PRESETS: &[&str] = &["7i43", "7i43-2", "7i90"];
 
 /// A parallel port in EPP mode with a HostMot2 board on its cable.
 pub struct EppPortModel {
     base: u16,
     base_hi: u16,
-    board: Arc<SimHm2>,
+    /// The design that answers the port (`None`: none runs).
+    board: Option<Arc<SimHm2>>,
+    /// The 7I43's CPLD, on a card that loads its FPGA from the port.
+    cpld: Option<SimCpld>,
     spp_data: u8,
     control: u8,
     ecr: u8,
@@ -62,13 +66,20 @@ pub struct EppPortModel {
     pub timeouts: u64,
 }
 
+impl std::fmt::Debug for EppPortModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&BoardModel::describe(self))
+    }
+}
+
 impl EppPortModel {
     /// A port at `base` (ECR at `base_hi + 2`) with `board` behind it.
     pub fn new(base: u16, base_hi: u16, board: Arc<SimHm2>) -> EppPortModel {
         EppPortModel {
             base,
             base_hi,
-            board,
+            board: Some(board),
+            cpld: None,
             spp_data: 0,
             control: 0,
             // A PC's port comes up in plain (SPP) mode.
@@ -84,9 +95,35 @@ impl EppPortModel {
         }
     }
 
-    /// The board behind the port.
-    pub fn board(&self) -> &Arc<SimHm2> {
-        &self.board
+    /// A 7I43 with FPGA `part` and its CPLD: the design given to
+    /// [`new`](Self::new) runs as if loaded from the card's EEPROM until
+    /// the driver writes the release key; then the CPLD answers and takes
+    /// a bitstream ([`crate::sim::cpld`]).
+    pub fn with_cpld(mut self, part: &str) -> EppPortModel {
+        self.cpld = Some(SimCpld::new(part, self.board.is_some()));
+        self
+    }
+
+    /// The design behind the port, if one runs.
+    pub fn board(&self) -> Option<&Arc<SimHm2>> {
+        self.board.as_ref()
+    }
+
+    /// The design the FPGA was loaded with through the CPLD, once DONE.
+    pub fn loaded_design(&self) -> Option<String> {
+        let cpld = self.cpld.as_ref()?;
+        (!cpld.answers()).then(|| cpld.design().map(str::to_string))?
+    }
+
+    /// Puts the simulator's HostMot2 for the loaded design behind the
+    /// port.
+    pub fn install(&mut self, board: Arc<SimHm2>) {
+        self.board = Some(board);
+    }
+
+    /// The CPLD, while it answers the port.
+    fn answering_cpld(&mut self) -> Option<&mut SimCpld> {
+        self.cpld.as_mut().filter(|c| c.answers())
     }
 
     /// The address latch (bit 15: auto-increment).
@@ -121,15 +158,32 @@ impl EppPortModel {
         at
     }
 
+    /// The board a HostMot2 cycle reaches; without one (no design runs
+    /// and no CPLD answers) the cycle times out.
+    fn design_or_timeout(&mut self) -> Option<Arc<SimHm2>> {
+        let board = self.board.clone();
+        if board.is_none() {
+            self.timeouts += 1;
+            self.timeout = true;
+        }
+        board
+    }
+
     fn read_data(&mut self) -> u8 {
         if !self.cycle_ok() {
             return 0xFF;
         }
         self.data_cycles += 1;
+        if let Some(cpld) = self.answering_cpld() {
+            return cpld.read();
+        }
+        let Some(board) = self.design_or_timeout() else {
+            return 0xFF;
+        };
         let at = self.data_address();
         let lane = (at & 3) as usize;
         if lane == 0 {
-            self.read_latch = hal_driver::bus::RegWindow::read32(&*self.board, (at & !3) as usize);
+            self.read_latch = hal_driver::bus::RegWindow::read32(&*board, (at & !3) as usize);
         }
         self.read_latch.to_le_bytes()[lane]
     }
@@ -139,12 +193,30 @@ impl EppPortModel {
             return;
         }
         self.data_cycles += 1;
+        if let Some(cpld) = self.answering_cpld() {
+            cpld.write(v);
+            return;
+        }
+        if let Some(cpld) = self.cpld.as_mut() {
+            // Any design loaded through the CPLD watches for the key,
+            // even one the simulator has not been given a model of.
+            let at = self.address & epp::ADDRESS_MASK;
+            if at == cpld::RELEASE_AT && v == cpld::RELEASE_KEY {
+                cpld.take_port_back();
+                self.board = None;
+                self.data_address();
+                return;
+            }
+        }
+        let Some(board) = self.design_or_timeout() else {
+            return;
+        };
         let at = self.data_address();
         let lane = (at & 3) as usize;
         self.write_latch[lane] = v;
         if lane == 3 {
             let word = u32::from_le_bytes(self.write_latch);
-            hal_driver::bus::RegWindow::write32(&*self.board, (at & !3) as usize, word);
+            hal_driver::bus::RegWindow::write32(&*board, (at & !3) as usize, word);
         }
     }
 
@@ -153,6 +225,10 @@ impl EppPortModel {
             return;
         }
         self.address_cycles += 1;
+        if let Some(cpld) = self.answering_cpld() {
+            cpld.address(v);
+            return;
+        }
         self.address = (self.address >> 8) | (v as u16) << 8;
     }
 
@@ -186,10 +262,14 @@ impl EppPortModel {
 /// advances it), so the port's own clock moves nothing.
 impl BoardModel for EppPortModel {
     fn describe(&self) -> String {
+        let behind = match (&self.board, &self.cpld) {
+            (Some(board), _) => hal_driver::bus::RegWindow::describe(&**board),
+            (None, Some(_)) => "a 7I43 whose FPGA runs no design (its CPLD answers)".into(),
+            (None, None) => "nothing answering".into(),
+        };
         format!(
-            "simulated parallel port at {:#x} (EPP) with {}",
-            self.base,
-            hal_driver::bus::RegWindow::describe(&*self.board)
+            "simulated parallel port at {:#x} (EPP) with {behind}",
+            self.base
         )
     }
 }
@@ -225,8 +305,28 @@ impl PortModel for EppPortModel {
 /// The firmware of a simulated EPP board, by name ([`EPP_PRESETS`]).
 pub fn preset(name: &str) -> Option<FirmwareSpec> {
     match name {
-        "7i43" => Some(seven_i43()),
+        "7i43" => Some(seven_i43(cpld::PART_400K, 400)),
+        "7i43-2" => Some(seven_i43(cpld::PART_200K, 200)),
         "7i90" => Some(seven_i90()),
+        _ => None,
+    }
+}
+
+/// The board type (`7i43`) of a simulated EPP board's name (`7i43-2`).
+pub fn board_of(name: &str) -> Option<&'static str> {
+    match name {
+        "7i43" | "7i43-2" => Some("7i43"),
+        "7i90" => Some("7i90"),
+        _ => None,
+    }
+}
+
+/// The FPGA part of a simulated 7I43 (`7i43`: the 400k-gate 7I43-4,
+/// `7i43-2`: the 200k-gate one); `None` for other boards.
+pub fn seven_i43_part(name: &str) -> Option<&'static str> {
+    match name {
+        "7i43" => Some(cpld::PART_400K),
+        "7i43-2" => Some(cpld::PART_200K),
         _ => None,
     }
 }
@@ -249,8 +349,9 @@ fn pwm_pins(k: u8) -> [crate::pins::PinDescriptor; 3] {
     ]
 }
 
-/// 7I43: servo I/O on P4, steppers and GPIO on P3.
-fn seven_i43() -> FirmwareSpec {
+/// 7I43 with FPGA `part` of `kgates`: servo I/O on P4, steppers and
+/// GPIO on P3.
+fn seven_i43(part: &'static str, kgates: u32) -> FirmwareSpec {
     let mut pins = Vec::new();
     for k in 0..4u8 {
         pins.extend(encoder_pins(k));
@@ -267,8 +368,8 @@ fn seven_i43() -> FirmwareSpec {
         Identity {
             board: "7i43",
             idrom_name: "MESA7I43",
-            fpga_part: "3s400tq144",
-            fpga_size: 400,
+            fpga_part: part,
+            fpga_size: kgates,
             fpga_pins: 144,
             connectors: &["P4", "P3"],
             port_width: 24,

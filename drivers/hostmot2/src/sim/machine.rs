@@ -212,7 +212,7 @@ pub fn preset(board: &str) -> Machine {
         // The EPP boards: servos on their encoders and PWM generators,
         // stepper axes with home switches on the first GPIO after the
         // step pins (7I43: I/O 32..34 on P3; 7I90: I/O 10..12 on P1).
-        "7i43" => Machine {
+        "7i43" | "7i43-2" => Machine {
             servos: (0..4).map(servo).collect(),
             ..steppers_with_switches(4, 32)
         },

@@ -4,6 +4,7 @@
 //! in simulated time, its connectors wired to a [`World`].
 
 pub mod boards;
+pub mod cpld;
 pub mod encoder;
 pub mod epp;
 pub mod eth;
@@ -20,6 +21,7 @@ pub mod sserial;
 pub mod stepgen;
 pub mod watchdog;
 pub mod world;
+pub mod xilinx;
 
 pub use model::Hm2Model;
 pub use world::{Bench, EncoderIn, Inputs, Outputs, PwmOut, StepOut, World};

@@ -3,34 +3,17 @@
 //! 5i22 (PLX 9054: /PROGRAM on USERo, DONE on USERi) and the FPGA's
 //! configuration port on the data port, as a [`PortBus`].
 //!
-//! The FPGA behaves as the loader expects of a Xilinx part: /PROGRAM low
-//! clears it (DONE and /INIT low); released, it raises /INIT after a few
-//! reads ([`SimPlxBridge::set_clear_reads`]); it takes bytes on the data
-//! port (on the 9030 only while /WRITE is low), bit-reversed back as the
-//! card's wiring does; it raises DONE only after a whole, valid stream
-//! of the simulator's format ([`bitstream`]) for its own part; a stream
-//! for another part or with a bad checksum pulls /INIT low (the CRC
-//! error) and DONE stays low; a stream cut short leaves both as they
-//! were. Once DONE, [`SimPlxBridge::design`] names the firmware it runs.
-//!
-//! The simulator's stream, after any number of 0xFF bytes:
-//!
-//! | bytes | content |
-//! |---|---|
-//! | 4 | the Xilinx sync word AA 99 55 66 |
-//! | 4 | `HM2S`, this simulator's stream |
-//! | 4 | part ID: FNV-1a of the part name (`2s200pq208`) |
-//! | 2 + n | design name length, name (`SVST8_4`) |
-//! | 4 + m | frame data length, frame data |
-//! | 4 | FNV-1a of everything from `HM2S` to the last frame byte |
-//!
-//! All numbers big-endian. Real Xilinx streams are not modelled: a
-//! Mesa bitfile never raises DONE here.
+//! The FPGA is the simulated part of [`super::xilinx`]: /PROGRAM,
+//! /INIT, DONE and the data port reach its [`ConfigPort`]; on the 9030 it
+//! takes bytes only while /WRITE is low. Once DONE,
+//! [`SimPlxBridge::design`] names the firmware it runs.
 
 use std::sync::Mutex;
 
 use hal_driver::bus::{PortBus, ALL_ONES};
 
+use super::xilinx::ConfigPort;
+pub use super::xilinx::{bitfile, bitstream};
 use crate::fpga::{Bridge, PlxPorts};
 use crate::regs::{plx9030, plx9054};
 
@@ -41,133 +24,13 @@ pub const CTRL_LEN: u16 = 0x100;
 /// The simulated data port.
 pub const DATA_BASE: u16 = 0xE400;
 
-const SYNC: [u8; 4] = [0xAA, 0x99, 0x55, 0x66];
-const TAG: &[u8; 4] = b"HM2S";
-/// Longest frame data the simulated FPGA takes.
-const MAX_FRAMES: usize = 4 << 20;
-/// Frame bytes of a generated stream (the real parts need 100 KiB to
-/// 1 MiB; the simulator's stream only has to be long enough to be cut).
-const FRAME_BYTES: usize = 4096;
-
-/// FNV-1a, 32 bits: the simulator's part IDs and checksum.
-fn fnv1a(bytes: &[u8]) -> u32 {
-    bytes.iter().fold(0x811C_9DC5u32, |h, &b| {
-        (h ^ b as u32).wrapping_mul(0x0100_0193)
-    })
-}
-
-/// The simulator's bitstream of `design` for `part`, as it appears in
-/// the bitfile (before the driver's bit reversal).
-pub fn bitstream(design: &str, part: &str) -> Vec<u8> {
-    let mut body = Vec::with_capacity(FRAME_BYTES + 64);
-    body.extend_from_slice(TAG);
-    body.extend_from_slice(&fnv1a(part.as_bytes()).to_be_bytes());
-    let name = &design.as_bytes()[..design.len().min(u16::MAX as usize)];
-    body.extend_from_slice(&(name.len() as u16).to_be_bytes());
-    body.extend_from_slice(name);
-    body.extend_from_slice(&(FRAME_BYTES as u32).to_be_bytes());
-    body.extend((0..FRAME_BYTES).map(|i| (i as u32).wrapping_mul(2_654_435_761) as u8 >> 1));
-    let sum = fnv1a(&body);
-    body.extend_from_slice(&sum.to_be_bytes());
-    let mut out = vec![0xFF; 8];
-    out.extend_from_slice(&SYNC);
-    out.extend_from_slice(&body);
-    out
-}
-
-/// A whole bitfile of `design` for `part` in the simulator's format.
-pub fn bitfile(design: &str, part: &str) -> Vec<u8> {
-    crate::fpga::bitfile::build(
-        &format!("{}.ncd;UserID=0xFFFFFFFF", design.to_ascii_lowercase()),
-        part,
-        "2026/01/01",
-        "00:00:00",
-        &bitstream(design, part),
-    )
-}
-
-/// What the stream received so far amounts to.
-#[derive(Debug, Clone, PartialEq, Eq)]
-enum Verdict {
-    /// More bytes needed.
-    Incomplete,
-    /// The stream is wrong: /INIT goes low.
-    Bad,
-    /// Configured with this design.
-    Done(String),
-}
-
-/// Judges the bytes after the sync word.
-fn judge(body: &[u8], part_id: u32) -> Verdict {
-    let be32 = |at: usize| {
-        body.get(at..at + 4)
-            .map(|b| u32::from_be_bytes([b[0], b[1], b[2], b[3]]))
-    };
-    if body.len() < 4 {
-        return Verdict::Incomplete;
-    }
-    if &body[..4] != TAG {
-        return Verdict::Bad;
-    }
-    let Some(id) = be32(4) else {
-        return Verdict::Incomplete;
-    };
-    if id != part_id {
-        return Verdict::Bad;
-    }
-    let Some(n) = body
-        .get(8..10)
-        .map(|b| u16::from_be_bytes([b[0], b[1]]) as usize)
-    else {
-        return Verdict::Incomplete;
-    };
-    let Some(m) = be32(10 + n) else {
-        return Verdict::Incomplete;
-    };
-    let m = m as usize;
-    if m > MAX_FRAMES {
-        return Verdict::Bad;
-    }
-    let end = 14 + n + m;
-    let Some(sum) = be32(end) else {
-        return Verdict::Incomplete;
-    };
-    if sum != fnv1a(&body[..end]) {
-        return Verdict::Bad;
-    }
-    match std::str::from_utf8(&body[10..10 + n]) {
-        Ok(name) => Verdict::Done(name.to_string()),
-        Err(_) => Verdict::Bad,
-    }
-}
-
-/// The FPGA's configuration state.
-#[derive(Debug, Default)]
-struct Fpga {
-    /// Held in reset by /PROGRAM.
-    held: bool,
-    /// Reads left before /INIT rises after /PROGRAM is released (`None`:
-    /// never).
-    clearing: Option<u32>,
-    /// /INIT high: ready for data (or configured).
-    init: bool,
-    /// The last four bytes before sync.
-    window: [u8; 4],
-    /// Sync word seen.
-    synced: bool,
-    /// Bytes after the sync word.
-    body: Vec<u8>,
-    /// The outcome, once decided.
-    verdict: Option<Verdict>,
-}
-
 #[derive(Debug)]
 struct State {
     ctrl: u32,
     /// The other local configuration registers, as written (all 0 at
     /// first, as an old 9030 EEPROM leaves LASxBRD's READY# bit).
     others: [u32; CTRL_LEN as usize / 4],
-    fpga: Fpga,
+    fpga: ConfigPort,
     clear_reads: Option<u32>,
     done_stuck_low: bool,
     bytes: u64,
@@ -177,7 +40,6 @@ struct State {
 #[derive(Debug)]
 pub struct SimPlxBridge {
     bridge: Bridge,
-    part_id: u32,
     state: Mutex<State>,
     errors: std::sync::atomic::AtomicU64,
 }
@@ -192,11 +54,10 @@ impl SimPlxBridge {
         };
         SimPlxBridge {
             bridge,
-            part_id: fnv1a(part.as_bytes()),
             state: Mutex::new(State {
                 ctrl,
                 others: [0; CTRL_LEN as usize / 4],
-                fpga: Fpga::default(),
+                fpga: ConfigPort::new(part),
                 clear_reads: Some(3),
                 done_stuck_low: false,
                 bytes: 0,
@@ -235,10 +96,10 @@ impl SimPlxBridge {
     /// The design the FPGA runs, once DONE is high.
     pub fn design(&self) -> Option<String> {
         let s = self.lock();
-        match &s.fpga.verdict {
-            Some(Verdict::Done(d)) if !s.done_stuck_low && !s.fpga.held => Some(d.clone()),
-            _ => None,
+        if s.done_stuck_low {
+            return None;
         }
+        s.fpga.design().map(str::to_string)
     }
 
     /// Data bytes the FPGA took since it was made.
@@ -269,31 +130,18 @@ impl SimPlxBridge {
         s.ctrl = value;
         let low = self.program_low(value);
         let clear_reads = s.clear_reads;
-        let f = &mut s.fpga;
         if low {
-            *f = Fpga {
-                held: true,
-                ..Fpga::default()
-            };
-        } else if f.held {
-            f.held = false;
-            f.clearing = clear_reads;
+            s.fpga.hold();
+        } else {
+            s.fpga.release(clear_reads);
         }
     }
 
     fn read_ctrl(&self) -> u32 {
         let mut s = self.lock();
-        let stuck = s.done_stuck_low;
-        let f = &mut s.fpga;
-        if !f.held && !f.init {
-            match &mut f.clearing {
-                Some(0) => f.init = true,
-                Some(n) => *n -= 1,
-                None => {}
-            }
-        }
-        let done = matches!(f.verdict, Some(Verdict::Done(_))) && !stuck && !f.held;
-        let init = f.init && f.verdict != Some(Verdict::Bad);
+        s.fpga.poll();
+        let done = s.fpga.done() && !s.done_stuck_low;
+        let init = s.fpga.init();
         let ctrl = s.ctrl;
         match self.bridge {
             Bridge::Plx9030 => {
@@ -322,26 +170,9 @@ impl SimPlxBridge {
             Bridge::Plx9030 => s.ctrl & plx9030::WRITE == 0,
             Bridge::Plx9054 => true,
         };
-        let part_id = self.part_id;
-        let f = &mut s.fpga;
-        if f.held || !f.init || !writing || f.verdict.is_some() {
-            return;
+        if writing && s.fpga.take(byte) {
+            s.bytes += 1;
         }
-        // The card wires the data bus reversed: undo the driver's reversal.
-        let b = byte.reverse_bits();
-        if !f.synced {
-            f.window = [f.window[1], f.window[2], f.window[3], b];
-            f.synced = f.window == SYNC;
-        } else if f.body.len() < MAX_FRAMES + 1024 {
-            f.body.push(b);
-            match judge(&f.body, part_id) {
-                Verdict::Incomplete => {}
-                v => f.verdict = Some(v),
-            }
-        } else {
-            f.verdict = Some(Verdict::Bad);
-        }
-        s.bytes += 1;
     }
 
     fn miss(&self) {

@@ -34,6 +34,9 @@
 //! runs unchanged; the whole load (header check, /PROGRAM, the stream,
 //! DONE) runs on the simulated bridge either way.
 
+use std::sync::Arc;
+
+use super::{machine, SimHm2};
 use crate::error::Hm2Error;
 use crate::fpga::Bridge;
 use crate::image::{gpio, pd, FirmwareSpec, ModuleSpec};
@@ -183,8 +186,65 @@ impl std::fmt::Display for Unfit {
     }
 }
 
+/// What a card without flash offers the servo/stepper family: the PLX
+/// cards' PCI table entries and the 7I43 (loaded through its CPLD).
+#[derive(Debug, Clone, Copy)]
+pub struct Card<'a> {
+    /// Its type in HAL names (`5i20`, `7i43`).
+    pub board: &'a str,
+    /// The FPGA part.
+    pub fpga_part: &'a str,
+    /// Connector names, in I/O order.
+    pub connectors: &'a [&'a str],
+    /// Pins per connector.
+    pub pins_per_connector: u32,
+    /// LEDs.
+    pub leds: u32,
+}
+
+impl<'a> From<&'a PciBoard> for Card<'a> {
+    fn from(b: &'a PciBoard) -> Card<'a> {
+        Card {
+            board: b.board,
+            fpga_part: b.fpga_part,
+            connectors: b.connectors,
+            pins_per_connector: b.pins_per_connector,
+            leds: b.leds,
+        }
+    }
+}
+
+/// The 7I43 with FPGA `part` as a card of this family: two 24-pin
+/// connectors (P4, P3) and 8 LEDs; loaded through its CPLD.
+pub fn seven_i43(part: &str) -> Card<'_> {
+    Card {
+        board: "7i43",
+        fpga_part: part,
+        connectors: &["P4", "P3"],
+        pins_per_connector: 24,
+        leds: 8,
+    }
+}
+
+/// The simulator's HostMot2 running `design_name` on `card`, with a
+/// servo on each servo channel (motor leads swapped, as LinuxCNC's
+/// hm2-servo samples expect) and a stepper axis on each step generator:
+/// what a card runs once its FPGA is loaded.
+pub fn running(card: &Card<'_>, design_name: &str) -> Result<Arc<SimHm2>, Hm2Error> {
+    let spec = firmware(card, design_name)?;
+    let shape = design(design_name).unwrap_or(Design {
+        servos: 0,
+        steppers: 0,
+        seven_i47: false,
+        sserial: 0,
+    });
+    let machine = machine::servo_stepper(shape.servos as usize, shape.steppers as usize);
+    let (board, _) = crate::sim::board(spec, Box::new(machine));
+    Ok(board)
+}
+
 /// Why firmware `d` does not fit simulated card `board`, if it does not.
-pub fn unfit(board: &PciBoard, d: Design) -> Option<Unfit> {
+pub fn unfit(board: &Card<'_>, d: Design) -> Option<Unfit> {
     let conns = board.connectors.len() as u32;
     let width = board.pins_per_connector;
     if d.seven_i47 {
@@ -234,7 +294,7 @@ fn servo_pair(k: u8) -> [PinDescriptor; 12] {
 }
 
 /// The firmware `design_name` on simulated card `board`, or why not.
-pub fn firmware(board: &PciBoard, design_name: &str) -> Result<FirmwareSpec, Hm2Error> {
+pub fn firmware(board: &Card<'_>, design_name: &str) -> Result<FirmwareSpec, Hm2Error> {
     let d = design(design_name).ok_or_else(|| Hm2Error::SimUnknownFirmware {
         design: design_name.into(),
     })?;
@@ -373,7 +433,7 @@ fn seven_i47_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
 fn clocks(board: &str) -> (u32, u32) {
     match board {
         "5i20" | "4i65" => (33_333_333, 100_000_000),
-        "3x20" => (50_000_000, 100_000_000),
+        "3x20" | "7i43" => (50_000_000, 100_000_000),
         _ => (48_000_000, 96_000_000),
     }
 }
@@ -464,7 +524,7 @@ mod tests {
             ("5i20", "sssvst2_2_4_v31"),
         ] {
             let (board, _) = card(name).unwrap();
-            let spec = firmware(board, fw).unwrap();
+            let spec = firmware(&board.into(), fw).unwrap();
             assert_eq!(spec.pins.len(), board.connectors.len() * 24, "{name} {fw}");
             let llio = board.llio(0);
             let mut t = ImageTransport::new(spec.image(), &llio.name);
@@ -476,22 +536,22 @@ mod tests {
     #[test]
     fn firmwares_that_do_not_fit_say_why() {
         let (board, _) = card("5i20").unwrap();
-        let e = firmware(board, "SV16").unwrap_err();
+        let e = firmware(&board.into(), "SV16").unwrap_err();
         assert!(
             e.to_string()
                 .contains("16 servo channels need 4 connectors"),
             "{e}"
         );
-        let e = firmware(board, "7i77x2").unwrap_err();
+        let e = firmware(&board.into(), "7i77x2").unwrap_err();
         assert!(e.to_string().contains("does not know"), "{e}");
-        let e = firmware(board, "SVST8_30").unwrap_err();
+        let e = firmware(&board.into(), "SVST8_30").unwrap_err();
         assert!(e.to_string().contains("30 step generators"), "{e}");
     }
 
     #[test]
     fn svst8_4_puts_the_steppers_on_p4_six_pins_apart() {
         let (board, _) = card("5i20").unwrap();
-        let spec = firmware(board, "SVST8_4").unwrap();
+        let spec = firmware(&board.into(), "SVST8_4").unwrap();
         assert_eq!(spec.pins[48], pd(gtag::STEPGEN, 0, 0x81));
         assert_eq!(spec.pins[49], pd(gtag::STEPGEN, 0, 0x82));
         assert_eq!(spec.pins[54], pd(gtag::STEPGEN, 1, 0x81));
@@ -501,7 +561,7 @@ mod tests {
     #[test]
     fn smithys_sserial_firmware_has_an_8i20_on_channel_0() {
         let (board, _) = card("5i20").unwrap();
-        let spec = firmware(board, "sssvst2_2_4_v31").unwrap();
+        let spec = firmware(&board.into(), "sssvst2_2_4_v31").unwrap();
         assert_eq!(spec.pins[66], pd(gtag::SSERIAL, 0, 0x01));
         assert_eq!(spec.pins[67], pd(gtag::SSERIAL, 0, 0x81));
         assert_eq!(spec.pins[71], pd(gtag::SSERIAL, 0, 0x92));
@@ -514,16 +574,16 @@ mod tests {
         }
         assert_eq!(spec.remotes.len(), 1);
         assert_eq!(spec.remotes[0].kind, RemoteKind::EightI20);
-        let one = firmware(board, "sssvst1_2_4").unwrap();
+        let one = firmware(&board.into(), "sssvst1_2_4").unwrap();
         assert_eq!(one.pins[69], gpio(), "no channel 1");
-        let e = firmware(board, "sssvst3_2_4").unwrap_err();
+        let e = firmware(&board.into(), "sssvst3_2_4").unwrap_err();
         assert!(e.to_string().contains("2 Smart Serial channels"), "{e}");
     }
 
     #[test]
     fn the_7i47_layout_leaves_the_smithy_machines_gpio_free() {
         let (board, _) = card("5i20").unwrap();
-        let spec = firmware(board, "SVST2_4_7I47").unwrap();
+        let spec = firmware(&board.into(), "SVST2_4_7I47").unwrap();
         assert_eq!(spec.pins[0], pd(gtag::STEPGEN, 0, 0x81));
         assert_eq!(spec.pins[18], pd(gtag::STEPGEN, 3, 0x81));
         assert_eq!(spec.pins[66], pd(gtag::ENCODER, 2, 0x01));
@@ -531,7 +591,7 @@ mod tests {
             assert_eq!(spec.pins[io], gpio(), "I/O {io}");
         }
         assert_eq!(spec.module(gtag::ENCODER).unwrap().instances, 4);
-        let e = firmware(board, "SVST4_4_7I47").unwrap_err();
+        let e = firmware(&board.into(), "SVST4_4_7I47").unwrap_err();
         assert!(e.to_string().contains("7I47 layout"), "{e}");
     }
 }
