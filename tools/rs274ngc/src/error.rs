@@ -414,8 +414,9 @@ pub enum InterpError {
     #[error("G7X error: offsetting the profile took more than {0} steps")]
     G7xOffsetSteps(usize),
     #[error(
-        "G7X error: the cycle would make more than {limit} moves \
-         (check its I cutting increment, or P passes for G70)"
+        "G7X error: the cycle would make more than {limit} moves or passes \
+         (a cutting increment I too small, too many G70 passes P, \
+         or a profile whose passes never end)"
     )]
     G7xTooManyPasses { limit: u32 },
     #[error("G7X error: the profile subroutine read more than {0} blocks without returning")]

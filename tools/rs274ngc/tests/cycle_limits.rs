@@ -183,3 +183,25 @@ fn a_profile_subroutine_that_never_returns_is_refused() {
     );
     assert_eq!(feeds(&lines), 0, "{lines:#?}");
 }
+
+#[test]
+fn a_profile_whose_passes_never_end_is_refused() {
+    // On this profile (an arc bottoming out just under a pass) LinuxCNC
+    // 2.9's G71 loops for ever without a move; ours stops at the limit.
+    let program = "G18 G20 G90 G7 F5\nG0 X2 Z0.3\no100 sub\nG1 X0.205 Z0.000\n\
+                   G2 X0.115 Z-0.100 I0.0645 K-0.1478\nG1 X0.235 Z-0.153\nG1 X0.361\n\
+                   o100 endsub\nG71 Q100 D0.009 I0.069 R0.013\n";
+    let small = Config {
+        max_cycle_moves: 10_000,
+        ..Config::default()
+    };
+    let (refusal, lines) = run(program, small);
+    assert!(
+        matches!(
+            refusal,
+            Some(InterpError::G7xTooManyPasses { limit: 10_000 })
+        ),
+        "{refusal:?}"
+    );
+    assert_eq!(feeds(&lines), 0, "{lines:#?}");
+}

@@ -75,7 +75,9 @@ impl Interp {
         }
         let words = block.clone();
         self.rapid_uncompensated(block, canon)?;
-        let (path, last) = self.read_profile(words.q_number, C::new(z, x), modes, canon)?;
+        let (path, mut last) = self.read_profile(words.q_number, C::new(z, x), modes, canon)?;
+        // The moves belong to the cycle's line (for task's motion line).
+        last.line_number = words.line_number;
         if path.segs.len() <= 1 {
             return Ok(());
         }
