@@ -160,6 +160,9 @@ fn check_other_codes(block: &Block) -> Result<()> {
         motion,
         G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2
     );
+    // LinuxCNC 2.9 takes I (increment) and R (retract) with the roughing
+    // cycles only, P (passes) with G70 only, and J, K, L with none.
+    let roughing = lathe_cycle && motion != G_70;
     if block.d_flag
         && !matches!(g7, G_41 | G_42 | G_41_1 | G_42_1)
         && block.g_modes[GM_SPINDLE_MODE] != G_96
@@ -190,24 +193,19 @@ fn check_other_codes(block: &Block) -> Result<()> {
         && !arc_or_spline
         && !matches!(motion, G_76 | G_87 | G_33_1)
         && g0 != G_10
-        && !lathe_cycle
+        && !roughing
     {
         return Err(InterpError::IWordUnused);
     }
-    if block.j_flag
-        && !arc_or_spline
-        && !matches!(motion, G_76 | G_87)
-        && g0 != G_10
-        && !lathe_cycle
-    {
+    if block.j_flag && !arc_or_spline && !matches!(motion, G_76 | G_87) && g0 != G_10 {
         return Err(InterpError::JWordUnused);
     }
-    if block.k_flag && !matches!(motion, G_2 | G_3 | G_33 | G_33_1 | G_76 | G_87) && !lathe_cycle {
+    if block.k_flag && !matches!(motion, G_2 | G_3 | G_33 | G_33_1 | G_76 | G_87) {
         return Err(InterpError::KWordUnused);
     }
     // G74 takes no L (LinuxCNC's check predates it).
     if block.l_number != -1
-        && !((cycle && motion != G_74) || motion == G_76 || motion == G_5_2 || lathe_cycle)
+        && !((cycle && motion != G_74) || motion == G_76 || motion == G_5_2)
         && g0 != G_10
         && !matches!(g7, G_41 | G_41_1 | G_42 | G_42_1)
         && m5 != 66
@@ -218,11 +216,16 @@ fn check_other_codes(block: &Block) -> Result<()> {
     if block.p_flag {
         check_p_word(block, motion)?;
     }
-    check_q_r_and_threading(block, cycle, lathe_cycle)
+    check_q_r_and_threading(block, cycle, lathe_cycle, roughing)
 }
 
 /// The Q, R and S words and G33/G76's own words.
-fn check_q_r_and_threading(block: &Block, cycle: bool, lathe_cycle: bool) -> Result<()> {
+fn check_q_r_and_threading(
+    block: &Block,
+    cycle: bool,
+    lathe_cycle: bool,
+    roughing: bool,
+) -> Result<()> {
     let motion = block.motion_to_be;
     let g0 = block.g_modes[GM_MODAL_0];
     let g7 = block.g_modes[GM_CUTTER_COMP];
@@ -242,7 +245,7 @@ fn check_q_r_and_threading(block: &Block, cycle: bool, lathe_cycle: bool) -> Res
     if block.r_flag {
         let uses_r = matches!(motion, G_2 | G_3 | G_76 | G_73 | G_74)
             || cycle
-            || lathe_cycle
+            || roughing
             || matches!(g7, G_41_1 | G_42_1)
             || g0 == G_10
             || block.m_modes[7] == 19;
@@ -285,7 +288,6 @@ fn check_p_word(block: &Block, motion: i32) -> Result<()> {
             motion,
             G_76 | G_82 | G_86 | G_88 | G_89 | G_5 | G_5_2 | G_2 | G_3 | G_74 | G_84 | G_70
         )
-        || matches!(motion, G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2)
         || matches!(m9, 50..=53)
         || matches!(m5, 62..=66)
         || block.m_modes[7] == 19

@@ -3,7 +3,10 @@
 //! and G98/G99 retract levels.
 //!
 //! The code works in the plane's (aa, bb, cc) coordinates: (X, Y, Z) in
-//! G17, (Y, Z, X) in G19, (Z, X, Y) in G18.
+//! G17, (Y, Z, X) in G19, (Z, X, Y) in G18. The lathe cycles G70-G72
+//! are in [`lathe`].
+
+pub(crate) mod lathe;
 
 use crate::block::Block;
 use crate::canon::{Canon, Direction, MotionMode, Plane, Pose, Units};

@@ -379,6 +379,50 @@ pub enum InterpError {
     SplinePq,
     #[error("G7x.x  requires a Q word")]
     G7xNeedsQ,
+    #[error("G{0}.{1} cannot be used with cutter compensation enabled")]
+    G7xWithComp(i32, i32),
+    #[error("G{0}.{1} can only be used in XZ plane (G18)")]
+    G7xPlane(i32, i32),
+    #[error("G7x error: Cannot use U in incremental mode (G91)")]
+    G7xUIncremental,
+    #[error("G7x error: Cannot use U and X in the same block")]
+    G7xUAndX,
+    #[error("G7x error: Cannot use W in incremental mode (G91)")]
+    G7xWIncremental,
+    #[error("G7x error: Cannot use W and Z in the same block")]
+    G7xWAndZ,
+    #[error("G7X error: both R and I or K flag used for arc")]
+    G7xArcRAndIk,
+    #[error("G7X error: either I or K must be present for arc")]
+    G7xArcNoIk,
+    #[error("G7X error: Both A and C parameters on a corner")]
+    G7xFilletAndChamfer,
+    #[error("G7X error: I must be greater than zero.")]
+    G7xIncrement,
+    #[error("G7X error: Not monotonic")]
+    G7xNotMonotonic,
+    #[error("G7X error: Cannot intersect parallel lines")]
+    G7xParallelLines,
+    #[error("G7X error: How did we get here?")]
+    G7xLostPath,
+    #[error("G7X error: x too large in straight dive")]
+    G7xXTooLarge,
+    #[error("G7X error: Corner finish failed at {0}")]
+    G7xCornerFinish(String),
+    #[error("G7X error: the profile vanished when offset by the finishing allowance")]
+    G7xProfileVanished,
+    #[error("G7X error: offsetting the profile took more than {0} steps")]
+    G7xOffsetSteps(usize),
+    #[error(
+        "G7X error: the cycle would make more than {limit} moves or passes \
+         (a cutting increment I too small, too many G70 passes P, \
+         or a profile whose passes never end)"
+    )]
+    G7xTooManyPasses { limit: u32 },
+    #[error("G7X error: the profile subroutine read more than {0} blocks without returning")]
+    G7xProfileTooLong(usize),
+    #[error("G7X error: the profile has more than {0} segments")]
+    G7xTooManySegments(usize),
     #[error("Cannot set motion output with cutter radius compensation on")]
     M62WithComp,
     #[error("Cannot set motion digital output with cutter radius compensation on")]

@@ -40,8 +40,17 @@
 //! tokenizer does not read, and the refusals must carry LinuxCNC's texts
 //! and places. Spindle-synchronised moves (G33, G33.1 and the G76 threading
 //! cycle) come out as LinuxCNC's canonical calls (START_SPEED_FEED_SYNCH,
-//! RIGID_TAP, ...); the lathe roughing cycles (G70-G72) are refused with
-//! a message saying they are not supported yet.
+//! RIGID_TAP, ...). The lathe cycles are LinuxCNC 2.9's: G70 finishing,
+//! G71/G71.1/G71.2 roughing along Z and G72/G72.1/G72.2 roughing along X
+//! (facing), with the profile in the O-word subroutine `Q` names (G0-G3
+//! moves, U/W increments, A fillets and C chamfers), D the allowance
+//! left (G70: the first pass's distance, E the last's, P the passes), I
+//! the depth of cut, R the retract; .1 leaves the pockets and .2 cuts
+//! only them. Their moves print as LinuxCNC's to the last digit (the
+//! geometry rounds as C++'s `std::complex` does). Unlike LinuxCNC, a
+//! profile subroutine that never returns and a cycle that would make
+//! more than [`Config::max_cycle_moves`] moves are refused with a
+//! message instead of running without end.
 
 #![forbid(unsafe_code)]
 

@@ -1,6 +1,7 @@
 //! A canned cycle whose L repeats or Q pecks would make an absurd number
 //! of moves is refused before it drills, with the limit in the message;
-//! ordinary cycles are untouched by the limit.
+//! so is a lathe cycle (G70-G72) whose I or P would, or whose profile
+//! subroutine never returns. Ordinary cycles are untouched by the limit.
 
 use std::io::Write;
 use std::sync::{Arc, Mutex};
@@ -125,4 +126,82 @@ fn repeats_beyond_the_limit_are_refused_and_the_limit_is_configurable() {
     );
     assert!(refusal.is_none(), "{refusal:?}");
     assert_eq!(feeds(&lines), 10, "{lines:#?}");
+}
+
+/// A G71 profile (a shoulder) in subroutine 100, then `cycle`.
+fn lathe_program(cycle: &str) -> String {
+    format!(
+        "G18 G21 G90 G8 F100\nG0 X12 Z2\no100 sub\nG1 X3 Z0\nG1 Z-12\nG1 X11\no100 endsub\n{cycle}\n"
+    )
+}
+
+#[test]
+fn an_ordinary_lathe_roughing_cycle_cuts_every_pass() {
+    let (refusal, lines) = run(&lathe_program("G71 Q100 D0.2 I1"), Config::default());
+    assert!(refusal.is_none(), "refused: {refusal:?}");
+    // From X12 down to the 3.2 shoulder in 1 mm passes: 9 passes and
+    // the cut along the finished profile.
+    assert!(feeds(&lines) >= 9, "{lines:#?}");
+}
+
+#[test]
+fn a_lathe_cut_increment_too_small_for_the_profile_is_refused_before_it_cuts() {
+    let (refusal, lines) = run(
+        &lathe_program("G71 Q100 D0.2 I0.000000001"),
+        Config::default(),
+    );
+    let refusal = refusal.expect("the cycle was not refused");
+    assert!(
+        matches!(refusal, InterpError::G7xTooManyPasses { limit: 1_000_000 }),
+        "{refusal:?}"
+    );
+    assert!(
+        refusal.to_string().contains("more than 1000000 moves"),
+        "{refusal}"
+    );
+    assert_eq!(feeds(&lines), 0, "it cut before refusing: {lines:#?}");
+}
+
+#[test]
+fn finishing_passes_beyond_the_limit_are_refused() {
+    let (refusal, lines) = run(&lathe_program("G70 Q100 P1000000000"), Config::default());
+    assert!(
+        matches!(refusal, Some(InterpError::G7xTooManyPasses { .. })),
+        "{refusal:?}"
+    );
+    assert_eq!(feeds(&lines), 0, "{lines:#?}");
+}
+
+#[test]
+fn a_profile_subroutine_that_never_returns_is_refused() {
+    let program = "G18 G21 G90 G8 F100\nG0 X12 Z2\no100 sub\nG1 X3 Z0\n\
+                   o101 while [1]\nG1 Z-12\no101 endwhile\no100 endsub\nG71 Q100 I1\n";
+    let (refusal, lines) = run(program, Config::default());
+    assert!(
+        matches!(refusal, Some(InterpError::G7xProfileTooLong(_))),
+        "{refusal:?}"
+    );
+    assert_eq!(feeds(&lines), 0, "{lines:#?}");
+}
+
+#[test]
+fn a_profile_whose_passes_never_end_is_refused() {
+    // On this profile (an arc bottoming out just under a pass) LinuxCNC
+    // 2.9's G71 loops for ever without a move; ours stops at the limit.
+    let program = "G18 G20 G90 G7 F5\nG0 X2 Z0.3\no100 sub\nG1 X0.205 Z0.000\n\
+                   G2 X0.115 Z-0.100 I0.0645 K-0.1478\nG1 X0.235 Z-0.153\nG1 X0.361\n\
+                   o100 endsub\nG71 Q100 D0.009 I0.069 R0.013\n";
+    let small = Config {
+        max_cycle_moves: 10_000,
+        ..Config::default()
+    };
+    let (refusal, lines) = run(program, small);
+    assert!(
+        matches!(
+            refusal,
+            Some(InterpError::G7xTooManyPasses { limit: 10_000 })
+        ),
+        "{refusal:?}"
+    );
+    assert_eq!(feeds(&lines), 0, "{lines:#?}");
 }

@@ -4,6 +4,7 @@
 
 mod comment;
 mod context;
+mod g7x;
 mod mcodes;
 mod modes;
 mod motion;

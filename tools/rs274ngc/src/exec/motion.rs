@@ -1,6 +1,5 @@
 //! Motion: G0/G1 lines, G2/G3 arcs and helices, G38.x probing, G5.x
-//! splines, the entries of the canned and threading cycles, and the
-//! refusal of what is not supported (the lathe roughing cycles).
+//! splines, and the entries of the canned, threading and lathe cycles.
 
 use crate::block::Block;
 use crate::canon::{Arc, Canon, ControlPoint, Plane, Pose};
@@ -27,13 +26,7 @@ impl Interp {
             G_33_1 => self.convert_rigid_tap(block, canon),
             G_76 => self.convert_threading_cycle(block, canon),
             G_70 | G_71 | G_71_1 | G_71_2 | G_72 | G_72_1 | G_72_2 => {
-                self.refused_word = Some(g_text(motion));
-                if !block.q_flag {
-                    return Err(InterpError::G7xNeedsQ);
-                }
-                Err(InterpError::Unsupported(
-                    "lathe roughing cycles (G70-G72) are not supported yet",
-                ))
+                self.convert_g7x(block, canon)
             }
             G_2 | G_3 => self.convert_arc(motion, block, canon),
             G_38_2 | G_38_3 | G_38_4 | G_38_5 => self.convert_probe(motion, block, canon),
@@ -100,7 +93,12 @@ impl Interp {
         self.s.feed_rate = rate;
     }
 
-    fn convert_straight(&mut self, mv: i32, block: &Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_straight(
+        &mut self,
+        mv: i32,
+        block: &Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         self.s.arc_not_allowed = false;
         if mv == G_1 {
             match self.s.feed_mode {
@@ -165,7 +163,12 @@ impl Interp {
         }
     }
 
-    fn convert_arc(&mut self, mv: i32, block: &mut Block, canon: &mut dyn Canon) -> Result<()> {
+    pub(crate) fn convert_arc(
+        &mut self,
+        mv: i32,
+        block: &mut Block,
+        canon: &mut dyn Canon,
+    ) -> Result<()> {
         if self.s.arc_not_allowed {
             return Err(InterpError::ArcAfterCompOff);
         }

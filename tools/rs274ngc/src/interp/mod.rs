@@ -67,6 +67,8 @@ pub struct Interp {
     pub(crate) item_start: usize,
     /// The word a refusal is about, when execution knows it.
     pub(crate) refused_word: Option<String>,
+    /// A G7x cycle is reading its profile (U, W, A and C read as words).
+    pub(crate) reading_profile: bool,
     /// Parameter numbers the parameter file held.
     pub(crate) param_file_numbers: Vec<usize>,
 }
@@ -90,6 +92,7 @@ impl Interp {
             comp: CompQueue::default(),
             item_start: 0,
             refused_word: None,
+            reading_profile: false,
             param_file_numbers: Vec::new(),
         }
     }
@@ -273,7 +276,11 @@ impl Interp {
         status
     }
 
-    fn read_line(&mut self, command: Option<&[u8]>, canon: &mut dyn Canon) -> Result<Status> {
+    pub(crate) fn read_line(
+        &mut self,
+        command: Option<&[u8]>,
+        canon: &mut dyn Canon,
+    ) -> Result<Status> {
         self.refused_word = None;
         self.item_start = 0;
         self.read_inputs(canon)?;

@@ -121,7 +121,10 @@ impl Interp {
             b'w' => 8,
             _ => return true,
         };
-        self.s.axis_mask & (1 << bit) != 0
+        // A G7x profile may use U and W (increments) and A and C (corner
+        // finishes) whatever the machine's axes.
+        let profile_word = matches!(letter, b'a' | b'c' | b'u' | b'w');
+        (self.reading_profile && profile_word) || self.s.axis_mask & (1 << bit) != 0
     }
 
     fn read_n_number(&mut self, line: &[u8], counter: &mut usize, block: &mut Block) -> Result<()> {
