@@ -485,9 +485,23 @@ fn peer_xhc_hb04_starts_without_the_pendant() {
     );
 }
 
+/// Waits (up to 10 s) until the float pin `name` reads `want` to within
+/// 1e-6; returns the last value read.
+fn wait_float(m: &Machine, name: &str, want: f64) -> f64 {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    loop {
+        let v: f64 = m.getp(name).parse().unwrap_or(f64::NAN);
+        if (v - want).abs() < 1e-6 || std::time::Instant::now() > end {
+            return v;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 /// qtdragon_hd's z_level_compensation: the probe map of the
 /// configuration directory gives the Z offset at the commanded X/Y as
-/// counts of 0.001 for motion's external offset; off again, counts are 0.
+/// counts of 0.001 for motion's external offset, which motion applies to Z
+/// (OFFSET_AV_RATIO 0.2); off again, counts are 0 and so is the offset.
 #[test]
 fn zlevel_shape() {
     // A private copy: the run writes the interpreter's parameter file (the
@@ -500,11 +514,20 @@ fn zlevel_shape() {
     let err = runs_at(&s.0.join("zlevel.ini"), "zlevel", |m| {
         home_all(m);
         assert_eq!(m.getp("z_level_compensation.counts"), "0");
+        // What qtdragon_hd's GUI file sets: the offset's enable and scale.
+        m.halcmd(&["setp", "axis.z.eoffset-enable", "TRUE"]);
+        m.halcmd(&["setp", "axis.z.eoffset-scale", "0.001"]);
         m.halcmd(&["sets", "z_compensation_on", "TRUE"]);
         // At X0 Y0 the plane is 0.0504: 50 counts.
         assert_eq!(m.wait_getp("z_level_compensation.counts", "50"), "50");
         assert_eq!(m.getp("z_level_compensation.scale"), "0.001");
         assert_eq!(m.getp("axis.z.eoffset-counts"), "50");
+        // Motion applies it: Z's joint moves, axis.z.pos-cmd does not.
+        assert!((wait_float(m, "axis.z.eoffset", 0.05) - 0.05).abs() < 1e-6);
+        let z = wait_float(m, "joint.2.pos-cmd", 0.05);
+        assert!((z - 0.05).abs() < 1e-6, "{z}");
+        assert_eq!(m.getp("axis.z.pos-cmd"), "0");
+        assert_eq!(m.getp("motion.eoffset-active"), "TRUE");
         m.task_ok(&["mode", "mdi"]);
         // A G54 offset of X5: X10 is machine X15, and the map is looked
         // up at X10 (less the G5x offset, as LinuxCNC's component does).
@@ -513,13 +536,14 @@ fn zlevel_shape() {
         assert_eq!(m.wait_getp("axis.x.pos-cmd", "15"), "15");
         // 0.0504 + 0.01 + 0.04 = 0.1004: 100 counts (105 at X15).
         assert_eq!(m.wait_getp("z_level_compensation.counts", "100"), "100");
+        let z = wait_float(m, "joint.2.pos-cmd", 0.1);
+        assert!((z - 0.1).abs() < 1e-6, "{z}");
         m.halcmd(&["sets", "z_compensation_on", "FALSE"]);
         assert_eq!(m.wait_getp("z_level_compensation.counts", "0"), "0");
+        let z = wait_float(m, "joint.2.pos-cmd", 0.0);
+        assert!(z.abs() < 1e-6, "{z}");
+        assert_eq!(m.wait_getp("motion.eoffset-active", "FALSE"), "FALSE");
     });
-    // The motion controller does not apply external offsets: it says so.
-    assert!(
-        err.contains("OFFSET_AV_RATIO: external offsets are not supported")
-            && err.contains("axis.z.eoffset-* have no effect"),
-        "{err}"
-    );
+    // External offsets are applied: no note about them.
+    assert!(!err.contains("OFFSET_AV_RATIO"), "{err}");
 }
