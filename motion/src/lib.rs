@@ -27,8 +27,9 @@
 //!   (reported messages), `status` (the status a client reads), `kins`,
 //!   the homing states and `registry`.
 //! * The controller, independent of HAL: `simple_tp`, `joint` and `axis`
-//!   (one joint, one world axis), `eoffset` (an axis's external offset), `homing` (state machines and sequence
-//!   manager), `tp` and `core`.
+//!   (one joint, one world axis), `eoffset` (an axis's external
+//!   offset), `homing` (state machines and sequence manager), `tp` and
+//!   `core`.
 //! * The bindings, on top: `channel` (the shared-memory command channel
 //!   and status snapshot), `mailbox` (the in-process command hand-off) and
 //!   `motmod` (the `motmod` module: pins, params, threads, the

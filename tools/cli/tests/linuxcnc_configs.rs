@@ -498,6 +498,36 @@ fn wait_float(m: &Machine, name: &str, want: f64) -> f64 {
     }
 }
 
+/// LinuxCNC's external offsets demo (Z: OFFSET_AV_RATIO 0.2, limits
+/// -1..1, eoffset-scale 0.1 from its HAL file): counts on its `e:zcounts`
+/// signal offset Z's joint; past MAX_LIMIT the offset stops at the limit
+/// and motion.eoffset-limited says so; counted back, Z returns.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_eoffsets_offset_z_within_its_limits() {
+    let (m, _copy) = peer_machine("sim/axis/external_offsets/eoffsets.ini", "peoff");
+    home_all(&m);
+    let z0: f64 = m.getp("joint.2.pos-cmd").parse().unwrap();
+    // The enable is the PyVCP panel's button, which does not run here:
+    // its signal stays, without a writer.
+    m.halcmd(&["sets", "E:z-enable", "TRUE"]);
+    m.halcmd(&["sets", "e:zcounts", "3"]);
+    let z = wait_float(&m, "joint.2.pos-cmd", z0 + 0.3);
+    assert!((z - (z0 + 0.3)).abs() < 1e-6, "{z} from {z0}");
+    assert_eq!(m.getp("motion.eoffset-active"), "TRUE");
+    assert_eq!(m.getp("motion.eoffset-limited"), "FALSE");
+    // Far past MAX_LIMIT = 1: held on it.
+    m.halcmd(&["sets", "e:zcounts", "100"]);
+    assert_eq!(m.wait_getp("motion.eoffset-limited", "TRUE"), "TRUE");
+    let z = wait_float(&m, "joint.2.pos-cmd", 1.0);
+    assert!((z - 1.0).abs() < 1e-9, "{z}");
+    m.halcmd(&["sets", "e:zcounts", "0"]);
+    let z = wait_float(&m, "joint.2.pos-cmd", z0);
+    assert!((z - z0).abs() < 1e-6, "{z} back to {z0}");
+    assert_eq!(m.wait_getp("motion.eoffset-limited", "FALSE"), "FALSE");
+    m.stop();
+}
+
 /// qtdragon_hd's z_level_compensation: the probe map of the
 /// configuration directory gives the Z offset at the commanded X/Y as
 /// counts of 0.001 for motion's external offset, which motion applies to Z
