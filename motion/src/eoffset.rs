@@ -107,6 +107,11 @@ impl ExtOffset {
         self.tp.curr_vel
     }
 
+    /// Whether `eoffset-enable` was true when the inputs were last taken.
+    pub fn enabled(&self) -> bool {
+        self.tp.enable
+    }
+
     /// Whether the offset planner moves.
     pub fn moving(&self) -> bool {
         self.tp.active

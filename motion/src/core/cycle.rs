@@ -26,7 +26,7 @@ impl MotionCore {
         self.set_operating_mode();
         self.handle_jog_wheels();
         self.handle_axis_jog_wheels();
-        self.take_eoffset_inputs();
+        self.take_eoffset_inputs(period);
         let mut homed_all_now = false;
         if self.state == MotionState::Free {
             let was_homing = self.homing.is_active();

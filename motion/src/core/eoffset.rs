@@ -20,13 +20,17 @@
 
 use super::*;
 use crate::eoffset::Intake;
+use crate::events::Event;
 
 impl MotionCore {
     /// Takes the `axis.L.eoffset-*` inputs of this cycle. Counts are taken
-    /// while motion is enabled and every joint homed.
-    pub(super) fn take_eoffset_inputs(&mut self) {
+    /// while motion is enabled and every joint homed. An enable input
+    /// falling while its offset is not zero is reported (as LinuxCNC
+    /// does): the offset stays.
+    pub(super) fn take_eoffset_inputs(&mut self, period: f64) {
         let may_request = self.enabled && self.is_all_homed();
-        for (ax, inp) in self.world.axes.iter_mut().zip(&self.axis_inputs) {
+        let axes = self.world.axes.iter_mut().zip(&self.axis_inputs);
+        for (a, (ax, inp)) in axes.enumerate() {
             let intake = if ax.cfg.eoffset_ratio <= 0.0 {
                 Intake::Off
             } else if may_request {
@@ -34,7 +38,17 @@ impl MotionCore {
             } else {
                 Intake::Hold
             };
+            let was_enabled = ax.eoffset.enabled();
             ax.eoffset.take_inputs(&inp.eoffset, intake);
+            let (_, acc) = ax.cfg.eoffset_limits();
+            if was_enabled
+                && !ax.eoffset.enabled()
+                && self.enabled
+                && ax.eoffset.is_active(acc, period)
+            {
+                self.events
+                    .push(Event::EoffsetDisabledWhileApplied { axis: a });
+            }
         }
     }
 

@@ -8,6 +8,7 @@ use super::coord_tests::{at, xyz};
 use super::*;
 use crate::command::{Command, LineKind, Quantity, Reject};
 use crate::eoffset::EoffsetInputs;
+use crate::events::Event;
 use crate::test_support::{Sim, T};
 
 const Z: usize = 2;
@@ -174,6 +175,35 @@ fn a_continuous_jog_stops_where_the_sum_reaches_the_limit() {
     assert!((ax.teleop_pos - 47.0).abs() < 1e-6, "{}", ax.teleop_pos);
     assert!((s.j(0).pos_cmd - 50.0).abs() < 1e-6);
     assert!(s.m.eoffset_limited());
+}
+
+#[test]
+fn disabling_an_applied_offset_holds_it_and_says_so() {
+    let mut s = xyz();
+    s.with_ratio(Z as i32, 0.2, Command::Teleop);
+    s.eoffset_pins(Z, 0, 0.25);
+    s.cycle();
+    s.eoffset_pins(Z, 4, 0.25);
+    s.run(2000);
+    s.events();
+    s.m.axis_inputs[Z].eoffset.enable = false;
+    s.run(100);
+    assert_eq!(s.events(), [Event::EoffsetDisabledWhileApplied { axis: 2 }]);
+    assert!((s.j(Z).pos_cmd - 1.0).abs() < 1e-6, "held");
+    assert_eq!(
+        Event::EoffsetDisabledWhileApplied { axis: 2 }.to_string(),
+        "axis Z external offset disabled while not zero: it is held; to clear it, re-enable \
+         it and count it back to zero, pulse eoffset-clear, or turn the machine off and on"
+    );
+    // Re-enabled and counted back to zero: disabling then says nothing.
+    s.eoffset_pins(Z, 4, 0.25);
+    s.cycle();
+    s.eoffset_pins(Z, 0, 0.25);
+    s.run(2000);
+    assert!(s.j(Z).pos_cmd.abs() < 1e-6);
+    s.m.axis_inputs[Z].eoffset.enable = false;
+    s.run(10);
+    assert_eq!(s.events(), []);
 }
 
 #[test]

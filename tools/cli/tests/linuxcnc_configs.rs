@@ -577,3 +577,35 @@ fn zlevel_shape() {
     // External offsets are applied: no note about them.
     assert!(!err.contains("OFFSET_AV_RATIO"), "{err}");
 }
+
+/// An OFFSET_AV_RATIO outside 0..0.9 is replaced by 0.1, as LinuxCNC
+/// does, with a note naming the line: Z's jogs then get 0.9 of its
+/// MAX_VELOCITY of 5.
+#[test]
+fn an_offset_ratio_out_of_range_falls_back_to_0_1_with_a_note() {
+    let s = Scratch::new("zlratio");
+    for entry in std::fs::read_dir(root().join("tests/linuxcnc-configs/zlevel")).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
+    }
+    let ini = s.0.join("zlevel.ini");
+    let text = std::fs::read_to_string(&ini).unwrap();
+    assert!(text.contains("OFFSET_AV_RATIO = 0.2"));
+    std::fs::write(
+        &ini,
+        text.replace("OFFSET_AV_RATIO = 0.2", "OFFSET_AV_RATIO = 1.5"),
+    )
+    .unwrap();
+    let err = runs_at(&ini, "zlratio", |m| {
+        home_all(m);
+        m.motion(&["axis-jog-cont", "z", "100"]);
+        assert_eq!(m.getp("axis.z.teleop-vel-lim"), "4.5");
+        m.motion(&["axis-jog-abort", "z"]);
+    });
+    assert!(
+        err.contains(
+            "[AXIS_Z]OFFSET_AV_RATIO: 1.5 is outside 0 to 0.9: 0.1 is used instead, as LinuxCNC does"
+        ),
+        "{err}"
+    );
+}
