@@ -26,7 +26,11 @@
 //! jog-inhibit is true), and a wheel target beyond a limit only skips that
 //! axis (LinuxCNC skips all the axes after it too). The per-cycle axis
 //! limit stop clamps onto the limit and ends the jog (see
-//! [`crate::axis::Axis`]).
+//! [`crate::axis::Axis`]). With an external offset applied (see
+//! `core::eoffset`), jog targets, the limit checks and the limit stop use
+//! the axis's limits less the offset, so that planned plus offset stays
+//! within them, and jogs get the share of the axis's velocity and
+//! acceleration that `OFFSET_AV_RATIO` leaves.
 //!
 //! Other safety details: while a homed joint's command is beyond its soft
 //! limits in teleop, axis jogs are stopped and the motion error is set
