@@ -5,7 +5,8 @@
 //! jogging in teleop mode (inverse kinematics each cycle); and for 3 and 9
 //! joints, coordinated motion along a zig-zag of short lines whose corners
 //! are blended, with the queue kept full (2000 moves), with the
-//! trapezoidal and the S-curve planner: mean and largest cycle (queueing
+//! trapezoidal and the S-curve planner, and with the trapezoidal one
+//! while an external offset on Z moves: mean and largest cycle (queueing
 //! not included). Run with `cargo bench -p motion --bench servo_cycle`.
 //! It prints figures; it checks nothing.
 
@@ -16,7 +17,7 @@ use std::time::Instant;
 use motion::command::{LineKind, TermCond};
 use motion::homing::HomingConfig;
 use motion::kins::trivkins::Trivkins;
-use motion::{Command, KinematicsType, MotionConfig, MotionCore, Pose};
+use motion::{Command, EoffsetInputs, KinematicsType, MotionConfig, MotionCore, Pose};
 
 /// Applies `c`; a refusal is a bug of the scenario.
 fn apply(m: &mut MotionCore, c: Command) {
@@ -156,17 +157,65 @@ fn main() {
     }
     for scurve in [false, true] {
         for n in [3, 9] {
-            coordinated(n, scurve);
+            coordinated(n, scurve, false);
         }
     }
+    for n in [3, 9] {
+        coordinated(n, false, true);
+    }
+}
+
+/// Homes every joint (no switches: at once) and gives Z an external
+/// offset's share of its limits (OFFSET_AV_RATIO 0.2), its offset enabled
+/// at 0.001 per count.
+fn with_z_offset(m: &mut MotionCore, n: usize) {
+    apply(m, Command::Disable);
+    m.cycle(0.001);
+    apply(
+        m,
+        Command::SetAxisEoffsetRatio {
+            axis: 2,
+            ratio: 0.2,
+        },
+    );
+    for j in 0..n as i32 {
+        let config = HomingConfig {
+            sequence: 0,
+            ..HomingConfig::default()
+        };
+        apply(m, Command::SetJointHomingParams { joint: j, config });
+    }
+    apply(m, Command::Enable);
+    m.cycle(0.001);
+    apply(m, Command::Home { joint: -1 });
+    for _ in 0..1000 {
+        for j in 0..n {
+            m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+        }
+        m.cycle(0.001);
+        if m.is_all_homed() && m.in_position() && m.teleop_mode() {
+            break;
+        }
+    }
+    assert!(m.is_all_homed(), "homed");
+    m.axis_inputs[2].eoffset = EoffsetInputs {
+        enable: true,
+        clear: false,
+        counts: 0,
+        scale: 0.001,
+    };
 }
 
 /// The coordinated scenario: a zig-zag in XY (every axis configured, the
 /// kinematics computing all of them), corners blended within 0.01, the
-/// queue topped up after every cycle.
-fn coordinated(n: usize, scurve: bool) {
+/// queue topped up after every cycle; with `eoffset`, Z's external offset
+/// follows a triangle wave of ±0.1 meanwhile.
+fn coordinated(n: usize, scurve: bool, eoffset: bool) {
     const CYCLES: u32 = 100_000;
     let mut m = machine(n);
+    if eoffset {
+        with_z_offset(&mut m, n);
+    }
     for a in 0..n as i32 {
         for c in [
             Command::SetAxisVelLimit { axis: a, vel: 10.0 },
@@ -210,9 +259,14 @@ fn coordinated(n: usize, scurve: bool) {
     };
     while queue_one(&mut m) {}
     let mut times = Vec::with_capacity(CYCLES as usize);
-    for _ in 0..CYCLES {
+    for c in 0..CYCLES {
         for j in 0..n {
             m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+        }
+        if eoffset {
+            // 100 counts up and down every 2000 cycles.
+            let t = (c / 10 % 200) as i32;
+            m.axis_inputs[2].eoffset.counts = if t < 100 { t } else { 200 - t };
         }
         let start = Instant::now();
         m.cycle(black_box(0.001));
@@ -225,12 +279,18 @@ fn coordinated(n: usize, scurve: bool) {
         m.is_enabled() && m.planner().depth > 1900 && id > 100,
         "at id {id}"
     );
+    let with = if eoffset {
+        assert!(m.eoffset_active(), "the offset was applied");
+        ", an external offset on Z moving"
+    } else {
+        ""
+    };
     times.sort_by(f64::total_cmp);
     let at = |q: usize| times[times.len() * q / 1000];
     // The largest includes the process being preempted on a busy machine.
     let planner = if scurve { "S-curve" } else { "trapezoidal" };
     println!(
-        "motion servo cycle, {n} axes coordinated, blending, full queue, {planner}: \
+        "motion servo cycle, {n} axes coordinated, blending, full queue, {planner}{with}: \
          median {:.0} ns, 99.9th percentile {:.0} ns, largest {:.0} ns ({id} lines run)",
         at(500),
         at(999),

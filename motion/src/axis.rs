@@ -3,8 +3,11 @@
 //!
 //! In teleop mode each of the nine axes has its own [`SimpleTp`] in world
 //! coordinates; their positions make the commanded pose, and the inverse
-//! kinematics turn that into joint commands (see `core::teleop`).
+//! kinematics turn that into joint commands (see `core::teleop`). In the
+//! world modes an external offset ([`crate::eoffset`]) may be added to the
+//! planned position; the axis's limits then bound the sum.
 
+use crate::eoffset::{EoffsetInputs, ExtOffset};
 use crate::simple_tp::SimpleTp;
 
 /// The configuration of an axis (LinuxCNC's `[AXIS_L]` values, sent by
@@ -27,6 +30,30 @@ pub struct AxisConfig {
     pub acc_limit: f64,
     /// Maximum jerk of coordinated moves (S-curve planning; 0: none).
     pub jerk_limit: f64,
+    /// `OFFSET_AV_RATIO`: the share of the velocity and acceleration limits
+    /// kept for the external offset (0..=0.9; 0: no external offset).
+    pub eoffset_ratio: f64,
+}
+
+impl AxisConfig {
+    /// The velocity limit of planned moves (teleop jogs, the coordinated
+    /// planner): what the external offset leaves.
+    pub fn plan_vel(&self) -> f64 {
+        self.vel_limit * (1.0 - self.eoffset_ratio)
+    }
+
+    /// The acceleration limit of planned moves.
+    pub fn plan_acc(&self) -> f64 {
+        self.acc_limit * (1.0 - self.eoffset_ratio)
+    }
+
+    /// The velocity and acceleration limits of the external offset.
+    pub fn eoffset_limits(&self) -> (f64, f64) {
+        (
+            self.vel_limit * self.eoffset_ratio,
+            self.acc_limit * self.eoffset_ratio,
+        )
+    }
 }
 
 impl Default for AxisConfig {
@@ -37,6 +64,7 @@ impl Default for AxisConfig {
             vel_limit: 1.0,
             acc_limit: 1.0,
             jerk_limit: 0.0,
+            eoffset_ratio: 0.0,
         }
     }
 }
@@ -54,6 +82,8 @@ pub struct AxisInputs {
     pub jog_vel_mode: bool,
     /// `axis.L.jog-accel-fraction` (default 1; used only within (0, 1]).
     pub jog_accel_fraction: f64,
+    /// `axis.L.eoffset-*`.
+    pub eoffset: EoffsetInputs,
 }
 
 impl Default for AxisInputs {
@@ -64,6 +94,7 @@ impl Default for AxisInputs {
             jog_scale: 0.0,
             jog_vel_mode: false,
             jog_accel_fraction: 1.0,
+            eoffset: EoffsetInputs::default(),
         }
     }
 }
@@ -82,6 +113,8 @@ pub struct Axis {
     pub(crate) wheel_jog_active: bool,
     /// `jog-counts` as last seen.
     pub(crate) old_jog_counts: i32,
+    /// The external offset.
+    pub(crate) eoffset: ExtOffset,
 }
 
 /// A copy of an axis's state for readers outside the controller.
@@ -105,6 +138,10 @@ pub struct AxisStatus {
     pub kb_jog_active: bool,
     /// A jog-wheel jog is active.
     pub wheel_jog_active: bool,
+    /// The applied external offset (`axis.L.eoffset`).
+    pub eoffset: f64,
+    /// The requested external offset (`axis.L.eoffset-request`).
+    pub eoffset_request: f64,
 }
 
 /// The acceleration of a wheel jog: `acc_limit × fraction` for a fraction
@@ -132,7 +169,16 @@ impl Axis {
             teleop_tp_active: tp.active,
             kb_jog_active: self.kb_jog_active,
             wheel_jog_active: self.wheel_jog_active,
+            eoffset: self.eoffset.applied(),
+            eoffset_request: self.eoffset.request(),
         }
+    }
+
+    /// The limits of the planned position: the axis's, less the applied
+    /// external offset (their sum must stay within the axis's).
+    pub(crate) fn planned_limits(&self) -> (f64, f64) {
+        let o = self.eoffset.applied();
+        (self.cfg.min_pos_limit - o, self.cfg.max_pos_limit - o)
     }
 
     /// Whether a keyboard or wheel jog is in progress.
@@ -161,11 +207,13 @@ impl Axis {
     }
 
     /// One teleop period (LinuxCNC's `axis_calc_motion` plus the limit
-    /// check): the velocity limit is re-clamped to the axis's (it may have
-    /// been lowered during the jog), the acceleration is the axis's (a
-    /// fraction of it for wheel jogs), the planner advances with `scale`
-    /// applied to its velocity limit, and a position beyond a limit is
-    /// stopped hard there.
+    /// check): the velocity limit is re-clamped to the axis's planning
+    /// limit (it may have been lowered during the jog), the acceleration is
+    /// the axis's planning limit (a fraction of it for wheel jogs), the
+    /// planner advances with `scale` applied to its velocity limit, and a
+    /// position beyond a limit is stopped hard there. The limits are those
+    /// of the planned position ([`Axis::planned_limits`]): with an external
+    /// offset applied, the sum stops on the axis's limit.
     ///
     /// The hard stop differs from LinuxCNC in two ways, both so that it
     /// cannot leave the planner stuck: the position is clamped onto the
@@ -177,22 +225,23 @@ impl Axis {
     /// jogged back in.
     pub(crate) fn update(&mut self, period: f64, scale: f64, accel_fraction: f64) {
         let cfg = self.cfg;
+        let (min, max) = self.planned_limits();
         let tp = &mut self.teleop_tp;
-        if tp.max_vel > cfg.vel_limit {
-            tp.max_vel = cfg.vel_limit;
+        if tp.max_vel > cfg.plan_vel() {
+            tp.max_vel = cfg.plan_vel();
         }
         tp.max_acc = if self.wheel_jog_active {
-            wheel_acc(cfg.acc_limit, accel_fraction)
+            wheel_acc(cfg.plan_acc(), accel_fraction)
         } else {
-            cfg.acc_limit
+            cfg.plan_acc()
         };
         let old = tp.curr_pos;
         tp.update(period, scale);
         let new = tp.curr_pos;
-        let stop_at = if new > cfg.max_pos_limit && new > old {
-            Some(old.max(cfg.max_pos_limit))
-        } else if new < cfg.min_pos_limit && new < old {
-            Some(old.min(cfg.min_pos_limit))
+        let stop_at = if new > max && new > old {
+            Some(old.max(max))
+        } else if new < min && new < old {
+            Some(old.min(min))
         } else {
             None
         };

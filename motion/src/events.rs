@@ -102,6 +102,12 @@ pub enum Event {
         /// The fault code.
         fault: i32,
     },
+    /// `axis.L.eoffset-enable` went false while the axis's external offset
+    /// was not zero: the offset is held.
+    EoffsetDisabledWhileApplied {
+        /// The axis number (0..=8: X Y Z A B C U V W).
+        axis: usize,
+    },
 }
 
 impl std::fmt::Display for Event {
@@ -159,6 +165,15 @@ impl std::fmt::Display for Event {
             Event::SpindleOrientFault { fault, .. } => {
                 write!(f, "fault {fault} during orient in progress")
             }
+            Event::EoffsetDisabledWhileApplied { axis } => write!(
+                f,
+                "axis {} external offset disabled while not zero: it is held; to clear it, \
+                 re-enable it and count it back to zero, pulse eoffset-clear, or turn the \
+                 machine off and on",
+                crate::kins::AXIS_LETTERS
+                    .get(axis)
+                    .map_or('?', |l| l.to_ascii_uppercase())
+            ),
         }
     }
 }
@@ -196,6 +211,7 @@ impl Event {
             Event::SpindleOrientFault { spindle, fault } => {
                 (18, spindle as u64, fault as u32 as u64)
             }
+            Event::EoffsetDisabledWhileApplied { axis } => (19, axis as u64, 0),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -269,6 +285,7 @@ impl Event {
                 spindle: a,
                 fault: b as u32 as i32,
             },
+            19 => Event::EoffsetDisabledWhileApplied { axis: a },
             _ => return None,
         })
     }
@@ -431,6 +448,7 @@ mod tests {
                 spindle: 1,
                 fault: -7,
             },
+            Event::EoffsetDisabledWhileApplied { axis: 8 },
         ];
         let r = EventRing::default();
         for e in all {

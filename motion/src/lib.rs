@@ -14,7 +14,8 @@
 //! [`channel`] (the shared-memory channel's regions and records),
 //! [`homing`] (the homing configuration and states), [`kins`] (the
 //! [`Kinematics`] trait, poses and the kinematics modules), [`tp`] and
-//! [`simple_tp`] (the coordinated and the single-axis planner), [`sizes`]
+//! [`simple_tp`] (the coordinated and the single-axis planner), [`eoffset`]
+//! (the external axis offsets and `OFFSET_AV_RATIO`), [`sizes`]
 //! (the maxima), [`comp`] and [`comp_file`] (screw compensation).
 //!
 //! Inside, three layers; a file only uses files of its own layer or
@@ -26,8 +27,9 @@
 //!   (reported messages), `status` (the status a client reads), `kins`,
 //!   the homing states and `registry`.
 //! * The controller, independent of HAL: `simple_tp`, `joint` and `axis`
-//!   (one joint, one world axis), `homing` (state machines and sequence
-//!   manager), `tp` and `core`.
+//!   (one joint, one world axis), `eoffset` (an axis's external
+//!   offset), `homing` (state machines and sequence manager), `tp` and
+//!   `core`.
 //! * The bindings, on top: `channel` (the shared-memory command channel
 //!   and status snapshot), `mailbox` (the in-process command hand-off) and
 //!   `motmod` (the `motmod` module: pins, params, threads, the
@@ -42,6 +44,7 @@ pub mod command;
 pub mod comp;
 pub mod comp_file;
 mod core;
+pub mod eoffset;
 mod events;
 mod fault;
 #[doc(hidden)]
@@ -68,6 +71,7 @@ pub use core::{
     MotionConfig, MotionCore, MotionInputs, MotionState, OrientState, Spindle, SpindleOutput,
     MODE_ENTRY_TOLERANCE,
 };
+pub use eoffset::EoffsetInputs;
 pub use events::{Event, EventRing};
 pub use fault::{Fault, FollowingErrorTrip, FAULT_WORDS};
 pub use joint::{JointInputs, JointStatus};

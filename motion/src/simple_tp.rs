@@ -1,6 +1,6 @@
 //! The single-axis trapezoidal planner (LinuxCNC `simple_tp`), used for
-//! every joint in free mode (jogs, homing moves) and later for the teleop
-//! and external-offset planners.
+//! every joint in free mode (jogs, homing moves), for each world axis in
+//! teleop mode and for each axis's external offset.
 //!
 //! Each period it asks for the largest velocity from which the target can
 //! still be reached without overshoot when braking at the acceleration

@@ -138,6 +138,22 @@ pub struct MotionStatus {
     pub spindles: Vec<SpindleState>,
     /// The digital and analog inputs and outputs.
     pub io: IoState,
+    /// The external axis offsets.
+    pub eoffset: EoffsetState,
+}
+
+/// The external axis offsets in a [`MotionStatus`] (all zero from a
+/// controller that does not report them).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EoffsetState {
+    /// `motion.eoffset-active`: some applied offset is not zero.
+    pub active: bool,
+    /// `motion.eoffset-limited`: an axis with an offset is on a soft limit.
+    pub limited: bool,
+    /// The applied offsets (`axis.L.eoffset`), X Y Z A B C U V W.
+    pub applied: [f64; 9],
+    /// The requested offsets (`axis.L.eoffset-request`).
+    pub requested: [f64; 9],
 }
 
 /// The synchronised I/O in a [`MotionStatus`] (`motion.digital-in-NN`
@@ -229,7 +245,8 @@ impl fmt::Display for MotionStatus {
         self.fmt_machine(f)?;
         self.fmt_traj(f)?;
         self.fmt_joints(f)?;
-        self.fmt_axes(f)
+        self.fmt_axes(f)?;
+        self.fmt_eoffsets(f)
     }
 }
 
@@ -407,6 +424,32 @@ impl MotionStatus {
             )?;
         }
         Ok(())
+    }
+}
+
+impl MotionStatus {
+    /// The external offsets line: the axes whose offset or request is not
+    /// zero, and the flags (nothing when there are none).
+    fn fmt_eoffsets(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let e = &self.eoffset;
+        let used: Vec<usize> = (0..9)
+            .filter(|&a| e.applied[a] != 0.0 || e.requested[a] != 0.0)
+            .collect();
+        if used.is_empty() && !e.active && !e.limited {
+            return Ok(());
+        }
+        write!(f, "external offsets:")?;
+        for a in used {
+            write!(
+                f,
+                " {} {:.6} (request {:.6})",
+                AXIS_LETTERS[a].to_ascii_uppercase(),
+                e.applied[a],
+                e.requested[a]
+            )?;
+        }
+        let flags = flag_names(&[(e.active, "active"), (e.limited, "limited")]);
+        writeln!(f, "{flags}")
     }
 }
 

@@ -1,7 +1,8 @@
 //! The servo cycle and the commands the realtime handler takes never
 //! allocate: coordinated motion with blends, arcs, pauses and aborts on
-//! both planners (the S-curve one calls Ruckig), counted by a global
-//! allocator that tallies allocations made by this thread while armed.
+//! both planners (the S-curve one calls Ruckig), with an external offset
+//! turned in and cleared on Z, counted by a global allocator that tallies
+//! allocations made by this thread while armed.
 #![allow(
     clippy::unwrap_used,
     reason = "test code: a failed unwrap fails the test"
@@ -13,7 +14,7 @@ use std::sync::Arc;
 
 use motion::command::{LineKind, TermCond};
 use motion::kins::trivkins::Trivkins;
-use motion::{Command, KinematicsType, MotionConfig, MotionCore, Pose};
+use motion::{Command, EoffsetInputs, KinematicsType, MotionConfig, MotionCore, Pose};
 
 struct Counting;
 
@@ -80,11 +81,23 @@ fn machine() -> MotionCore {
                 acc: 100.0,
             },
             Command::SetAxisJerkLimit { axis: j, jerk: 1e6 },
+            Command::SetJointHomingParams {
+                joint: j,
+                config: motion::homing::HomingConfig {
+                    sequence: 0,
+                    ..Default::default()
+                },
+            },
         ] {
             m.command(&c).unwrap();
         }
     }
     m.command(&Command::SetJerkLimit { jerk: 1e6 }).unwrap();
+    m.command(&Command::SetAxisEoffsetRatio {
+        axis: 2,
+        ratio: 0.2,
+    })
+    .unwrap();
     m
 }
 
@@ -102,7 +115,21 @@ fn cycles_and_commands_do_not_allocate() {
         m.command(&Command::SetPlannerType { planner }).unwrap();
         m.command(&Command::Enable).unwrap();
         step(&mut m);
-        m.command(&Command::Coord).unwrap();
+        m.command(&Command::Home { joint: -1 }).unwrap();
+        for _ in 0..1000 {
+            step(&mut m);
+            if m.is_all_homed() && m.command(&Command::Coord).is_ok() {
+                break;
+            }
+        }
+        assert!(m.coord_mode(), "homed and in coordinated mode");
+        m.axis_inputs[2].eoffset = EoffsetInputs {
+            enable: true,
+            clear: false,
+            counts: 0,
+            scale: 0.001,
+        };
+        step(&mut m);
         let n = allocations(|| {
             m.command(&Command::SetTermCond {
                 cond: TermCond::Blend,
@@ -135,11 +162,15 @@ fn cycles_and_commands_do_not_allocate() {
                 assert_eq!(r, Ok(()), "move {k}");
             }
             for k in 0..3000 {
+                let z = &mut m.axis_inputs[2].eoffset;
+                z.counts = (k / 10).min(150);
+                z.clear = k >= 2200;
                 step(&mut m);
                 match k {
                     800 => m.command(&Command::Pause).unwrap(),
                     1200 => m.command(&Command::Resume).unwrap(),
                     1300 => m.command(&Command::FeedScale { scale: 0.5 }).unwrap(),
+                    2100 => assert!(m.axis(2).unwrap().eoffset > 0.1, "offset applied"),
                     2500 => m.command(&Command::Abort).unwrap(),
                     _ => {}
                 }
@@ -150,5 +181,7 @@ fn cycles_and_commands_do_not_allocate() {
             "planner {planner}: {n} allocations in the realtime path"
         );
         assert!(m.planner().exec_id > 5, "it moved: {:?}", m.planner());
+        let z = m.axis(2).unwrap();
+        assert_eq!(z.eoffset_request, 0.0, "cleared");
     }
 }

@@ -69,13 +69,13 @@ fn the_fault_block_is_appended_to_format_4() {
     // Format 4's snapshot ended where the fault block starts: a reader
     // built before it reads the same words at the same places.
     assert_eq!(FAULT_START, IO_START + 3 + 2 * crate::sizes::MAX_IO);
-    assert_eq!(STATUS_WORDS, FAULT_START + crate::FAULT_WORDS);
+    assert_eq!(EOFFSET_START, FAULT_START + crate::FAULT_WORDS);
     let s = tripped();
     let w = snapshot(&s);
     // A controller from before the fault block publishes fewer words; the
     // reader's copy has zeros there: no fault, everything else the same.
     let mut old = w;
-    old[FAULT_START..].fill(0);
+    old[FAULT_START..EOFFSET_START].fill(0);
     let (new, old) = (decode_status(&w).unwrap(), decode_status(&old).unwrap());
     assert_eq!((old.faults_reported, old.last_fault), (0, None));
     assert!(new.last_fault.is_some());

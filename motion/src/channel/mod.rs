@@ -30,7 +30,8 @@
 //! reported (see [`crate::Event`]) and the last one's wire word, so a
 //! client in another process sees faults as they happen. The fault block
 //! at [`FAULT_START`] keeps the last fault (see [`crate::Fault`]) when
-//! later messages are not faults.
+//! later messages are not faults. The external-offset block at
+//! [`EOFFSET_START`] follows it.
 //!
 //! The status format grows only at its end. A layout change of existing
 //! words takes a new [`STATUS_VERSION`] (a reader refuses any other);
@@ -52,7 +53,8 @@ mod snapshot;
 
 pub use crate::command::{reject_code, result_name, WireError};
 pub use crate::status::{
-    AxisState, IoState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
+    AxisState, EoffsetState, IoState, JointState, LastCommand, MotionStatus, SpindleState,
+    TrajState,
 };
 pub use client::{Accepted, ClientError, MotionClient, Rejected, COMMAND_TIMEOUT};
 pub use records::{decode_command, decode_reply, encode_command, encode_reply};
@@ -97,8 +99,15 @@ pub const IO_START: usize = SPINDLES_START + 1 + MAX_SPINDLES * SPINDLE_WORDS;
 /// Where the fault block starts, after the I/O block: appended to
 /// format 4, whose snapshot ended here.
 pub const FAULT_START: usize = IO_START + 3 + 2 * MAX_IO;
+/// Where the external-offset block starts, after the fault block
+/// (appended to format 4 too): a flags word (bit 0
+/// `motion.eoffset-active`, bit 1 `motion.eoffset-limited`), the nine
+/// applied offsets, then the nine requested ones, X to W.
+pub const EOFFSET_START: usize = FAULT_START + crate::fault::FAULT_WORDS;
+/// Words of the external-offset block.
+pub const EOFFSET_WORDS: usize = 1 + 2 * NUM_AXES;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = FAULT_START + crate::fault::FAULT_WORDS;
+pub const STATUS_WORDS: usize = EOFFSET_START + EOFFSET_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).
@@ -131,6 +140,8 @@ pub fn checksum(words: &[u64]) -> u64 {
     h
 }
 
+#[cfg(test)]
+mod eoffset_tests;
 #[cfg(test)]
 mod fault_tests;
 #[cfg(test)]

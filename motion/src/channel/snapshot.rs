@@ -2,8 +2,8 @@
 //! the controller, [`decode_status`] checks and reads it in a client.
 
 use super::{
-    AXES_START, AXIS_WORDS, FAULT_START, IO_START, JOINT_WORDS, SPINDLES_START, SPINDLE_WORDS,
-    STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
+    AXES_START, AXIS_WORDS, EOFFSET_START, FAULT_START, IO_START, JOINT_WORDS, SPINDLES_START,
+    SPINDLE_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState, OrientState};
@@ -12,7 +12,8 @@ use crate::homing::HomeState;
 use crate::kins::NUM_AXES;
 use crate::sizes::{MAX_IO, MAX_JOINTS, MAX_SPINDLES};
 use crate::status::{
-    AxisState, IoState, JointState, LastCommand, MotionStatus, SpindleState, TrajState,
+    AxisState, EoffsetState, IoState, JointState, LastCommand, MotionStatus, SpindleState,
+    TrajState,
 };
 use crate::tp::PlannerType;
 
@@ -191,6 +192,48 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     }
     fill_spindles(core, &mut out[SPINDLES_START..]);
     fill_io(core, &mut out[IO_START..]);
+    fill_eoffsets(core, &mut out[EOFFSET_START..]);
+}
+
+/// Flags word of the external-offset block.
+mod eflag {
+    pub const ACTIVE: u64 = 1;
+    pub const LIMITED: u64 = 2;
+}
+
+/// The external-offset block: flags, applied offsets, requests.
+fn fill_eoffsets(core: &MotionCore, out: &mut [u64]) {
+    out[0] = if core.eoffset_active() {
+        eflag::ACTIVE
+    } else {
+        0
+    } | if core.eoffset_limited() {
+        eflag::LIMITED
+    } else {
+        0
+    };
+    for a in 0..NUM_AXES {
+        let e = &core.axis_ref(a).eoffset;
+        out[1 + a] = e.applied().to_bits();
+        out[1 + NUM_AXES + a] = e.request().to_bits();
+    }
+}
+
+/// Decodes the external-offset block (all zero from a controller that
+/// does not report it).
+fn decode_eoffsets(w: &[u64]) -> EoffsetState {
+    let mut applied = [0.0; NUM_AXES];
+    let mut requested = [0.0; NUM_AXES];
+    for a in 0..NUM_AXES {
+        applied[a] = f64::from_bits(w[1 + a]);
+        requested[a] = f64::from_bits(w[1 + NUM_AXES + a]);
+    }
+    EoffsetState {
+        active: w[0] & eflag::ACTIVE != 0,
+        limited: w[0] & eflag::LIMITED != 0,
+        applied,
+        requested,
+    }
 }
 
 /// The I/O block: counts, digital bits, analog values.
@@ -389,6 +432,7 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
         traj: decode_traj(&w[TRAJ_START..])?,
         spindles: decode_spindles(&w[SPINDLES_START..])?,
         io: decode_io(&w[IO_START..])?,
+        eoffset: decode_eoffsets(&w[EOFFSET_START..]),
     })
 }
 

@@ -182,6 +182,10 @@ pub(crate) fn all_commands() -> Vec<Command> {
             jerk: 5e4,
         },
         Command::SetAxisJerkLimit { axis: 1, jerk: 0.0 },
+        Command::SetAxisEoffsetRatio {
+            axis: 2,
+            ratio: 0.25,
+        },
         Command::SetJointComp {
             joint: 0,
             nominal: -1.0,
@@ -245,11 +249,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_68_is_used() {
+fn every_opcode_from_1_to_69_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=68).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=69).collect::<Vec<_>>());
 }
 
 #[test]
@@ -315,7 +319,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 69, 1000, u64::MAX] {
+    for op in [0u64, 70, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(

@@ -290,6 +290,17 @@ commands! {
             /// Acceleration.
             acc: f64,
         } = 35, cli basic "set-axis-acc-limit" { axis: world_axis(0), acc: num(1, "ACC") };
+        /// `[AXIS_L]OFFSET_AV_RATIO` of world axis `axis` (0..=0.9): the
+        /// share of its velocity and acceleration limits kept for its
+        /// external offset (`axis.L.eoffset-*`); planned moves get the rest.
+        /// 0 (the default) leaves the offset pins without effect. Only
+        /// while disabled.
+        SetAxisEoffsetRatio {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// The ratio.
+            ratio: f64,
+        } = 69, cli basic "set-axis-eoffset-ratio" { axis: world_axis(0), ratio: num(1, "RATIO") };
 
         // ---- Queueing and the coordinated planner (coordinated mode) ----
 

@@ -28,7 +28,8 @@ impl MotionCore {
     pub(super) fn coord_pos_cmds(&mut self, period: f64) {
         self.abort_axis_jogs(true);
         let scales = self.scale_inputs();
-        self.carte_pos_cmd = self.tp.run(&scales);
+        let planned = self.tp.run(&scales);
+        self.carte_pos_cmd = self.add_eoffsets(period, &planned);
         self.net_feed_scale = self.tp.status().net_scale;
         self.carte_pos_cmd_ok = true;
         self.joints_from_world(period);

@@ -26,6 +26,7 @@ impl MotionCore {
         self.set_operating_mode();
         self.handle_jog_wheels();
         self.handle_axis_jog_wheels();
+        self.take_eoffset_inputs(period);
         let mut homed_all_now = false;
         if self.state == MotionState::Free {
             let was_homing = self.homing.is_active();
@@ -33,6 +34,7 @@ impl MotionCore {
             homed_all_now = was_homing && !self.homing.is_active() && self.is_all_homed();
         }
         self.get_pos_cmds(period);
+        self.eoffset_flags(period);
         if homed_all_now {
             // As LinuxCNC: once homing has homed every joint, motion goes
             // to teleop mode by itself (world jogs from then on). Entered
@@ -367,6 +369,7 @@ impl MotionCore {
             }
             self.enabled = true;
             self.error = false;
+            self.reset_eoffsets();
             self.world_enable_edge();
         }
         self.state = self.operating_state();

@@ -29,7 +29,8 @@
 //! accessors; `commands` applies commands, `jog` the joint jogs (keyboard
 //! and wheel), `cycle` the servo cycle, `modes` the FREE/TELEOP/COORD
 //! requests and the world modes' kinematics, `teleop` the axis jogs and
-//! the teleop cycle, `coord` coordinated mode. Modes: disabled, free
+//! the teleop cycle, `coord` coordinated mode, `eoffset` the external
+//! axis offsets. Modes: disabled, free
 //! (joint) mode, teleop mode (world axis jogs through the inverse
 //! kinematics) and coordinated mode; `modes` and `teleop` document their
 //! differences from LinuxCNC. The spindles come later (their HAL pins
@@ -59,6 +60,7 @@ use crate::tp::{Planner, PlannerStatus};
 mod commands;
 mod coord;
 mod cycle;
+mod eoffset;
 mod jog;
 mod modes;
 mod queue;
@@ -572,6 +574,8 @@ impl MotionCore {
 
 #[cfg(test)]
 mod coord_tests;
+#[cfg(test)]
+mod eoffset_tests;
 #[cfg(test)]
 mod io_tests;
 #[cfg(test)]

@@ -53,6 +53,10 @@ pub(crate) struct World {
     pub(crate) axes: [Axis; NUM_AXES],
     /// The first wheel pass only records the counts.
     pub(super) wheel_first_pass: bool,
+    /// `motion.eoffset-active`.
+    pub(super) eoffset_active: bool,
+    /// `motion.eoffset-limited`.
+    pub(super) eoffset_limited: bool,
 }
 
 impl Default for World {
@@ -61,6 +65,8 @@ impl Default for World {
             mode: Mode::Free,
             axes: [Axis::default(); NUM_AXES],
             wheel_first_pass: true,
+            eoffset_active: false,
+            eoffset_limited: false,
         }
     }
 }
@@ -127,7 +133,7 @@ impl MotionCore {
         if mode == self.world.mode {
             return Ok(());
         }
-        if self.something_moves() {
+        if self.something_moves() || (mode == Mode::Free && self.eoffsets_moving()) {
             return Err(Reject::NotInPosition);
         }
         if mode == Mode::Free {
@@ -212,13 +218,15 @@ impl MotionCore {
         }
     }
 
-    /// Enters teleop or coordinated mode at `carte_pos_cmd`.
+    /// Enters teleop or coordinated mode at `carte_pos_cmd`: the planners
+    /// start from it less the external offsets.
     pub(super) fn enter_world(&mut self, mode: Mode) {
         for jt in &mut self.joints {
             jt.rest_planner_at(jt.free_tp.curr_pos);
         }
+        let planned = self.without_eoffsets(&self.carte_pos_cmd);
         for (a, ax) in self.world.axes.iter_mut().enumerate() {
-            ax.set_at_rest(self.carte_pos_cmd.0[a]);
+            ax.set_at_rest(planned.0[a]);
         }
         self.carte_pos_cmd_ok = true;
         if mode == Mode::Coord {
@@ -226,7 +234,7 @@ impl MotionCore {
             self.overriding = false;
         }
         // The queue starts empty at the pose (LinuxCNC's tpSetPos).
-        self.tp.set_pos(self.carte_pos_cmd);
+        self.tp.set_pos(planned);
         self.world.mode = mode;
         self.error = false;
         self.inpos = true;

@@ -121,8 +121,8 @@ impl MotionCore {
         let mut lim = AxisLimits::default();
         for a in 0..NUM_AXES {
             let cfg = self.world.axes[a].cfg;
-            lim.vel[a] = cfg.vel_limit;
-            lim.acc[a] = cfg.acc_limit;
+            lim.vel[a] = cfg.plan_vel();
+            lim.acc[a] = cfg.plan_acc();
             lim.jerk[a] = cfg.jerk_limit;
         }
         let n = self.load_positions(|jt| jt.coarse_pos);
@@ -156,8 +156,11 @@ impl MotionCore {
                 if !(ratio > 1e-9 && ratio.is_finite()) {
                     continue;
                 }
-                lim.vel[a] = lim.vel[a].min(jt.cfg.vel_limit / ratio);
-                lim.acc[a] = lim.acc[a].min(jt.cfg.acc_limit / ratio);
+                // The axis's external offset takes its share of the
+                // joint's limits too.
+                let keep = 1.0 - self.world.axes[a].cfg.eoffset_ratio;
+                lim.vel[a] = lim.vel[a].min(jt.cfg.vel_limit / ratio * keep);
+                lim.acc[a] = lim.acc[a].min(jt.cfg.acc_limit / ratio * keep);
                 if jt.cfg.jerk_limit > 0.0 {
                     let j_axis = jt.cfg.jerk_limit / ratio;
                     lim.jerk[a] = if lim.jerk[a] > 0.0 {

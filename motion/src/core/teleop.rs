@@ -26,7 +26,11 @@
 //! jog-inhibit is true), and a wheel target beyond a limit only skips that
 //! axis (LinuxCNC skips all the axes after it too). The per-cycle axis
 //! limit stop clamps onto the limit and ends the jog (see
-//! [`crate::axis::Axis`]).
+//! [`crate::axis::Axis`]). With an external offset applied (see
+//! `core::eoffset`), jog targets, the limit checks and the limit stop use
+//! the axis's limits less the offset, so that planned plus offset stays
+//! within them, and jogs get the share of the axis's velocity and
+//! acceleration that `OFFSET_AV_RATIO` leaves.
 //!
 //! Other safety details: while a homed joint's command is beyond its soft
 //! limits in teleop, axis jogs are stopped and the motion error is set
@@ -93,8 +97,8 @@ impl MotionCore {
     /// What every accepted axis jog does once its target is set.
     pub(super) fn start_axis_jog(&mut self, a: usize, vel: f64) {
         let ax = &mut self.world.axes[a];
-        ax.teleop_tp.max_vel = vel.abs().min(ax.cfg.vel_limit);
-        ax.teleop_tp.max_acc = ax.cfg.acc_limit;
+        ax.teleop_tp.max_vel = vel.abs().min(ax.cfg.plan_vel());
+        ax.teleop_tp.max_acc = ax.cfg.plan_acc();
         ax.kb_jog_active = true;
         ax.teleop_tp.enable = true;
     }
@@ -104,24 +108,21 @@ impl MotionCore {
         let a = self.axis_jog_checks(axis, vel)?;
         let ax = &self.world.axes[a];
         let here = ax.teleop_tp.curr_pos;
+        let (min, max) = ax.planned_limits();
         // From beyond a limit the jog would head for the limit, backwards.
-        if vel > 0.0 && here > ax.cfg.max_pos_limit {
+        if vel > 0.0 && here > max {
             return Err(Reject::AxisPastLimit {
                 axis: a,
                 dir: Direction::Positive,
             });
         }
-        if vel < 0.0 && here < ax.cfg.min_pos_limit {
+        if vel < 0.0 && here < min {
             return Err(Reject::AxisPastLimit {
                 axis: a,
                 dir: Direction::Negative,
             });
         }
-        let target = if vel > 0.0 {
-            ax.cfg.max_pos_limit
-        } else {
-            ax.cfg.min_pos_limit
-        };
+        let target = if vel > 0.0 { max } else { min };
         self.world.axes[a].teleop_tp.pos_cmd = target;
         self.start_axis_jog(a, vel);
         Ok(())
@@ -144,13 +145,13 @@ impl MotionCore {
                 value: target,
             });
         }
-        let cfg = self.world.axes[a].cfg;
-        if target > cfg.max_pos_limit || target < cfg.min_pos_limit {
+        let (min, max) = self.world.axes[a].planned_limits();
+        if target > max || target < min {
             return Err(Reject::AxisTargetOutsideLimits {
                 axis: a,
                 target,
-                min: cfg.min_pos_limit,
-                max: cfg.max_pos_limit,
+                min,
+                max,
             });
         }
         self.world.axes[a].teleop_tp.pos_cmd = target;
@@ -162,13 +163,13 @@ impl MotionCore {
     pub(super) fn axis_jog_abs(&mut self, axis: i32, vel: f64, pos: f64) -> CommandResult {
         let a = self.axis_jog_checks(axis, vel)?;
         let pos = Self::finite(Quantity::JogPosition, pos)?;
-        let cfg = self.world.axes[a].cfg;
+        let (min, max) = self.world.axes[a].planned_limits();
         // Written out: `f64::clamp` would panic on reversed bounds, which
         // the limit commands never allow anyway.
-        let target = if pos > cfg.max_pos_limit {
-            cfg.max_pos_limit
-        } else if pos < cfg.min_pos_limit {
-            cfg.min_pos_limit
+        let target = if pos > max {
+            max
+        } else if pos < min {
+            min
         } else {
             pos
         };
@@ -224,6 +225,23 @@ impl MotionCore {
         Ok(())
     }
 
+    /// SET_AXIS_EOFFSET_RATIO: only while disabled, so that no offset is
+    /// moving or held when its share of the limits changes.
+    pub(super) fn set_axis_eoffset_ratio(&mut self, axis: i32, ratio: f64) -> CommandResult {
+        let a = axis_index(axis)?;
+        if !crate::eoffset::ratio_ok(ratio) {
+            return Err(Reject::BadValue {
+                what: Quantity::EoffsetRatio,
+                value: ratio,
+            });
+        }
+        if self.enabled {
+            return Err(Reject::MustBeDisabled);
+        }
+        self.world.axes[a].cfg.eoffset_ratio = ratio;
+        Ok(())
+    }
+
     /// Ends every axis jog (ABORT: at the acceleration limits, each axis on
     /// its own, not along a path).
     pub(super) fn abort_axis_jogs(&mut self, immediate: bool) {
@@ -270,8 +288,9 @@ impl MotionCore {
     /// rest, or the next teleop cycle would feed the old kinematics' pose
     /// to the new inverse and jump.
     pub(super) fn world_kins_switched(&mut self) {
+        let planned = self.without_eoffsets(&self.carte_pos_cmd);
         for (a, ax) in self.world.axes.iter_mut().enumerate() {
-            ax.set_at_rest(self.carte_pos_cmd.0[a]);
+            ax.set_at_rest(planned.0[a]);
         }
     }
 
@@ -319,16 +338,17 @@ impl MotionCore {
                 continue;
             }
             let cfg = ax.cfg;
+            let (min, max) = ax.planned_limits();
             let mut pos = ax.teleop_tp.pos_cmd + distance;
-            if pos > cfg.max_pos_limit || pos < cfg.min_pos_limit {
+            if pos > max || pos < min {
                 continue;
             }
-            let acc = wheel_acc(cfg.acc_limit, inp.jog_accel_fraction);
+            let acc = wheel_acc(cfg.plan_acc(), inp.jog_accel_fraction);
             if inp.jog_vel_mode {
                 // Stop when the wheel stops: never more than a stopping
                 // distance ahead of the axis.
                 let here = ax.teleop_tp.curr_pos;
-                let stop_dist = cfg.vel_limit * cfg.vel_limit / (2.0 * acc);
+                let stop_dist = cfg.plan_vel() * cfg.plan_vel() / (2.0 * acc);
                 if pos > here + stop_dist {
                     pos = here + stop_dist;
                 } else if pos < here - stop_dist {
@@ -336,17 +356,19 @@ impl MotionCore {
                 }
             }
             ax.teleop_tp.pos_cmd = pos;
-            ax.teleop_tp.max_vel = cfg.vel_limit;
+            ax.teleop_tp.max_vel = cfg.plan_vel();
             ax.teleop_tp.max_acc = acc;
             ax.wheel_jog_active = true;
             ax.teleop_tp.enable = true;
         }
     }
 
-    /// TELEOP position commands: the axis planners make the pose, the
-    /// inverse kinematics the joint commands.
+    /// TELEOP position commands: the axis planners make the planned pose,
+    /// the external offsets are added, the inverse kinematics give the
+    /// joint commands.
     pub(super) fn teleop_pos_cmds(&mut self, period: f64) {
         self.inpos = true;
+        let mut planned = self.carte_pos_cmd;
         for a in 0..NUM_AXES {
             let frac = self.axis_inputs[a].jog_accel_fraction;
             let ax = &mut self.world.axes[a];
@@ -360,8 +382,9 @@ impl MotionCore {
                 ax.kb_jog_active = false;
                 ax.wheel_jog_active = false;
             }
-            self.carte_pos_cmd.0[a] = ax.teleop_tp.curr_pos;
+            planned.0[a] = ax.teleop_tp.curr_pos;
         }
+        self.carte_pos_cmd = self.add_eoffsets(period, &planned);
         self.carte_pos_cmd_ok = true;
         self.joints_from_world(period);
         if self.overriding && self.inpos {

@@ -118,13 +118,12 @@ pub(super) struct AxisPins {
     pub(super) teleop_pos_cmd: FOut,
     pub(super) teleop_vel_lim: FOut,
     pub(super) teleop_tp_enable: BOut,
-    // Inputs and outputs the external offsets will use.
-    pub(super) _eoffset_enable: BIn,
-    pub(super) _eoffset_clear: BIn,
-    pub(super) _eoffset_counts: Pin<i32, In>,
-    pub(super) _eoffset_scale: FIn,
-    pub(super) _eoffset: FOut,
-    pub(super) _eoffset_request: FOut,
+    pub(super) eoffset_enable: BIn,
+    pub(super) eoffset_clear: BIn,
+    pub(super) eoffset_counts: Pin<i32, In>,
+    pub(super) eoffset_scale: FIn,
+    pub(super) eoffset: FOut,
+    pub(super) eoffset_request: FOut,
     pub(super) jog_enable: BIn,
     pub(super) jog_scale: FIn,
     pub(super) jog_counts: Pin<i32, In>,
@@ -143,12 +142,12 @@ impl AxisPins {
             teleop_pos_cmd: c.pin(&p("teleop-pos-cmd"))?,
             teleop_vel_lim: c.pin(&p("teleop-vel-lim"))?,
             teleop_tp_enable: c.pin(&p("teleop-tp-enable"))?,
-            _eoffset_enable: c.pin(&p("eoffset-enable"))?,
-            _eoffset_clear: c.pin(&p("eoffset-clear"))?,
-            _eoffset_counts: c.pin(&p("eoffset-counts"))?,
-            _eoffset_scale: c.pin(&p("eoffset-scale"))?,
-            _eoffset: c.pin(&p("eoffset"))?,
-            _eoffset_request: c.pin(&p("eoffset-request"))?,
+            eoffset_enable: c.pin(&p("eoffset-enable"))?,
+            eoffset_clear: c.pin(&p("eoffset-clear"))?,
+            eoffset_counts: c.pin(&p("eoffset-counts"))?,
+            eoffset_scale: c.pin(&p("eoffset-scale"))?,
+            eoffset: c.pin(&p("eoffset"))?,
+            eoffset_request: c.pin(&p("eoffset-request"))?,
             jog_enable: c.pin(&p("jog-enable"))?,
             jog_scale: c.pin(&p("jog-scale"))?,
             jog_counts: c.pin(&p("jog-counts"))?,
@@ -285,19 +284,21 @@ pub(super) struct MotionPins {
     pub(super) dio: Vec<(BIn, BOut)>,
     /// `motion.analog-in-NN`/`analog-out-NN` (or named) pairs.
     pub(super) aio: Vec<(FIn, FOut)>,
+    /// `motion.eoffset-limited` and `motion.eoffset-active`.
+    pub(super) eoffset: (BOut, BOut),
     /// Pins and params later milestones drive; they hold their defaults.
     pub(super) _later: LaterPins,
 }
 
 /// Outputs of parts that come later (reverse run, the feed rate in fixed
-/// units, which needs the machine's units, the interpreter's metadata, tool and external offsets) and the stale
-/// LinuxCNC debug params: they hold their defaults.
+/// units, which needs the machine's units, the interpreter's metadata and
+/// tool offsets) and the stale LinuxCNC debug params: they hold their
+/// defaults.
 pub(super) struct LaterPins {
     pub(super) _tp_reverse: BOut,
     pub(super) _feed: [FOut; 4],
     pub(super) _interp: InterpPins,
     pub(super) _tooloffset: Vec<FOut>,
-    pub(super) _eoffset: (BOut, BOut),
     pub(super) _debug_bit_1: Param<bool, Ro>,
     pub(super) _debug_floats: [Param<f64, Ro>; 3],
     pub(super) _debug_s32_1: Param<i32, Ro>,
@@ -508,15 +509,15 @@ impl MotionPins {
             feed_upm,
             dio,
             aio,
+            eoffset: (
+                c.pin("motion.eoffset-limited")?,
+                c.pin("motion.eoffset-active")?,
+            ),
             _later: LaterPins {
                 _tp_reverse: tp_reverse,
                 _feed: feed,
                 _interp: interp,
                 _tooloffset: tooloffset,
-                _eoffset: (
-                    c.pin("motion.eoffset-limited")?,
-                    c.pin("motion.eoffset-active")?,
-                ),
                 _debug_bit_1: debug_bit_1,
                 _debug_floats: [debug_float_0, debug_float_1, debug_float_2],
                 _debug_s32_1: debug_s32_1,
@@ -618,6 +619,10 @@ impl HalIo {
             ai.jog_scale = ap.jog_scale.get();
             ai.jog_vel_mode = ap.jog_vel_mode.get();
             ai.jog_accel_fraction = ap.jog_accel_fraction.get();
+            ai.eoffset.enable = ap.eoffset_enable.get();
+            ai.eoffset.clear = ap.eoffset_clear.get();
+            ai.eoffset.counts = ap.eoffset_counts.get();
+            ai.eoffset.scale = ap.eoffset_scale.get();
         }
     }
 
@@ -660,6 +665,8 @@ impl HalIo {
         m.requested_vel.set(tp.requested_vel);
         m.distance_to_go.set(tp.distance_to_go);
         m.feed_upm.set(tp.requested_vel * 60.0);
+        m.eoffset.0.set(core.eoffset_limited());
+        m.eoffset.1.set(core.eoffset_active());
         for (j, jp) in self.joints.iter().enumerate() {
             let jt = core.joint_ref(j);
             jp.motor_offset.set(jt.motor_offset);
@@ -701,8 +708,14 @@ impl HalIo {
         }
         let (pose, _) = core.carte_pos_cmd();
         for (a, ap) in self.axes.iter().enumerate() {
-            ap.pos_cmd.set(pose.0[a]);
             let ax = core.axis_ref(a);
+            // As LinuxCNC: the position without the external offset,
+            // which has pins of its own.
+            let o = ax.eoffset.applied();
+            ap.pos_cmd
+                .set(if o != 0.0 { pose.0[a] - o } else { pose.0[a] });
+            ap.eoffset.set(o);
+            ap.eoffset_request.set(ax.eoffset.request());
             ap.teleop_pos_cmd.set(ax.teleop_tp.pos_cmd);
             ap.teleop_vel_cmd.set(ax.teleop_tp.curr_vel);
             ap.teleop_vel_lim.set(ax.teleop_tp.max_vel);

@@ -64,6 +64,9 @@ coded_enum! {
         FeedPerRev = 22 => "feed per revolution",
         /// A constant surface speed setting (G96).
         SurfaceSpeed = 23 => "constant surface speed",
+        /// An external offset's share of an axis's limits
+        /// (`OFFSET_AV_RATIO`, 0..=0.9).
+        EoffsetRatio = 24 => "external offset ratio (OFFSET_AV_RATIO, 0 to 0.9)",
     }
 }
 

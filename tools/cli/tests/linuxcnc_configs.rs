@@ -546,9 +546,53 @@ fn peer_xhc_hb04_starts_without_the_pendant() {
     );
 }
 
+/// Waits (up to 10 s) until the float pin `name` reads `want` to within
+/// 1e-6; returns the last value read.
+fn wait_float(m: &Machine, name: &str, want: f64) -> f64 {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    loop {
+        let v: f64 = m.getp(name).parse().unwrap_or(f64::NAN);
+        if (v - want).abs() < 1e-6 || std::time::Instant::now() > end {
+            return v;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
+/// LinuxCNC's external offsets demo (Z: OFFSET_AV_RATIO 0.2, limits
+/// -1..1, eoffset-scale 0.1 from its HAL file): counts on its `e:zcounts`
+/// signal offset Z's joint; past MAX_LIMIT the offset stops at the limit
+/// and motion.eoffset-limited says so; counted back, Z returns.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_eoffsets_offset_z_within_its_limits() {
+    let (m, _copy) = peer_machine("sim/axis/external_offsets/eoffsets.ini", "peoff");
+    home_all(&m);
+    let z0: f64 = m.getp("joint.2.pos-cmd").parse().unwrap();
+    // The enable is the PyVCP panel's button, which does not run here:
+    // its signal stays, without a writer.
+    m.halcmd(&["sets", "E:z-enable", "TRUE"]);
+    m.halcmd(&["sets", "e:zcounts", "3"]);
+    let z = wait_float(&m, "joint.2.pos-cmd", z0 + 0.3);
+    assert!((z - (z0 + 0.3)).abs() < 1e-6, "{z} from {z0}");
+    assert_eq!(m.getp("motion.eoffset-active"), "TRUE");
+    assert_eq!(m.getp("motion.eoffset-limited"), "FALSE");
+    // Far past MAX_LIMIT = 1: held on it.
+    m.halcmd(&["sets", "e:zcounts", "100"]);
+    assert_eq!(m.wait_getp("motion.eoffset-limited", "TRUE"), "TRUE");
+    let z = wait_float(&m, "joint.2.pos-cmd", 1.0);
+    assert!((z - 1.0).abs() < 1e-9, "{z}");
+    m.halcmd(&["sets", "e:zcounts", "0"]);
+    let z = wait_float(&m, "joint.2.pos-cmd", z0);
+    assert!((z - z0).abs() < 1e-6, "{z} back to {z0}");
+    assert_eq!(m.wait_getp("motion.eoffset-limited", "FALSE"), "FALSE");
+    m.stop();
+}
+
 /// qtdragon_hd's z_level_compensation: the probe map of the
 /// configuration directory gives the Z offset at the commanded X/Y as
-/// counts of 0.001 for motion's external offset; off again, counts are 0.
+/// counts of 0.001 for motion's external offset, which motion applies to Z
+/// (OFFSET_AV_RATIO 0.2); off again, counts are 0 and so is the offset.
 #[test]
 fn zlevel_shape() {
     // A private copy: the run writes the interpreter's parameter file (the
@@ -561,11 +605,20 @@ fn zlevel_shape() {
     let err = runs_at(&s.0.join("zlevel.ini"), "zlevel", |m| {
         home_all(m);
         assert_eq!(m.getp("z_level_compensation.counts"), "0");
+        // What qtdragon_hd's GUI file sets: the offset's enable and scale.
+        m.halcmd(&["setp", "axis.z.eoffset-enable", "TRUE"]);
+        m.halcmd(&["setp", "axis.z.eoffset-scale", "0.001"]);
         m.halcmd(&["sets", "z_compensation_on", "TRUE"]);
         // At X0 Y0 the plane is 0.0504: 50 counts.
         assert_eq!(m.wait_getp("z_level_compensation.counts", "50"), "50");
         assert_eq!(m.getp("z_level_compensation.scale"), "0.001");
         assert_eq!(m.getp("axis.z.eoffset-counts"), "50");
+        // Motion applies it: Z's joint moves, axis.z.pos-cmd does not.
+        assert!((wait_float(m, "axis.z.eoffset", 0.05) - 0.05).abs() < 1e-6);
+        let z = wait_float(m, "joint.2.pos-cmd", 0.05);
+        assert!((z - 0.05).abs() < 1e-6, "{z}");
+        assert_eq!(m.getp("axis.z.pos-cmd"), "0");
+        assert_eq!(m.getp("motion.eoffset-active"), "TRUE");
         m.task_ok(&["mode", "mdi"]);
         // A G54 offset of X5: X10 is machine X15, and the map is looked
         // up at X10 (less the G5x offset, as LinuxCNC's component does).
@@ -574,13 +627,46 @@ fn zlevel_shape() {
         assert_eq!(m.wait_getp("axis.x.pos-cmd", "15"), "15");
         // 0.0504 + 0.01 + 0.04 = 0.1004: 100 counts (105 at X15).
         assert_eq!(m.wait_getp("z_level_compensation.counts", "100"), "100");
+        let z = wait_float(m, "joint.2.pos-cmd", 0.1);
+        assert!((z - 0.1).abs() < 1e-6, "{z}");
         m.halcmd(&["sets", "z_compensation_on", "FALSE"]);
         assert_eq!(m.wait_getp("z_level_compensation.counts", "0"), "0");
+        let z = wait_float(m, "joint.2.pos-cmd", 0.0);
+        assert!(z.abs() < 1e-6, "{z}");
+        assert_eq!(m.wait_getp("motion.eoffset-active", "FALSE"), "FALSE");
     });
-    // The motion controller does not apply external offsets: it says so.
+    // External offsets are applied: no note about them.
+    assert!(!err.contains("OFFSET_AV_RATIO"), "{err}");
+}
+
+/// An OFFSET_AV_RATIO outside 0..0.9 is replaced by 0.1, as LinuxCNC
+/// does, with a note naming the line: Z's jogs then get 0.9 of its
+/// MAX_VELOCITY of 5.
+#[test]
+fn an_offset_ratio_out_of_range_falls_back_to_0_1_with_a_note() {
+    let s = Scratch::new("zlratio");
+    for entry in std::fs::read_dir(root().join("tests/linuxcnc-configs/zlevel")).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
+    }
+    let ini = s.0.join("zlevel.ini");
+    let text = std::fs::read_to_string(&ini).unwrap();
+    assert!(text.contains("OFFSET_AV_RATIO = 0.2"));
+    std::fs::write(
+        &ini,
+        text.replace("OFFSET_AV_RATIO = 0.2", "OFFSET_AV_RATIO = 1.5"),
+    )
+    .unwrap();
+    let err = runs_at(&ini, "zlratio", |m| {
+        home_all(m);
+        m.motion(&["axis-jog-cont", "z", "100"]);
+        assert_eq!(m.getp("axis.z.teleop-vel-lim"), "4.5");
+        m.motion(&["axis-jog-abort", "z"]);
+    });
     assert!(
-        err.contains("OFFSET_AV_RATIO: external offsets are not supported")
-            && err.contains("axis.z.eoffset-* have no effect"),
+        err.contains(
+            "[AXIS_Z]OFFSET_AV_RATIO: 1.5 is outside 0 to 0.9: 0.1 is used instead, as LinuxCNC does"
+        ),
         "{err}"
     );
 }

@@ -127,3 +127,56 @@ fn motion_cmd_jogs_axes_in_teleop_mode() {
     assert!(run(realtime, &["stop"], &inst).status.success());
     let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
 }
+
+#[test]
+fn motion_cmd_sets_the_eoffset_ratio_and_its_status_shows_the_offsets() {
+    let inst = common::instance("mcmd-eoff");
+    let (code, out, _) = mcmd(&["--help"], &inst);
+    assert_eq!(code, 0);
+    assert!(out.contains("set-axis-eoffset-ratio AXIS RATIO"), "{out}");
+    let realtime = env!("CARGO_BIN_EXE_realtime");
+    start_motion_instance(&inst);
+    wait_status(&inst, "the first status", |s| s.contains("mode DISABLED"));
+    for (j, l) in [("0", "x"), ("1", "y"), ("2", "z")] {
+        accepted(&["activate", j], &inst);
+        accepted(&["set-limits", j, "-10", "10"], &inst);
+        accepted(&["set-vel-limit", j, "20"], &inst);
+        accepted(&["set-acc-limit", j, "500"], &inst);
+        accepted(&["set-homing-params", j, "HOME_SEQUENCE=0"], &inst);
+        accepted(&["set-axis-limits", l, "-5", "5"], &inst);
+        accepted(&["set-axis-vel-limit", l, "10"], &inst);
+        accepted(&["set-axis-acc-limit", l, "100"], &inst);
+    }
+    rejected(
+        &["set-axis-eoffset-ratio", "z", "0.95"],
+        &inst,
+        "bad external offset ratio (OFFSET_AV_RATIO, 0 to 0.9) 0.95",
+    );
+    accepted(&["set-axis-eoffset-ratio", "z", "0.2"], &inst);
+    accepted(&["enable"], &inst);
+    rejected(
+        &["set-axis-eoffset-ratio", "z", "0.3"],
+        &inst,
+        "only be changed while motion is disabled",
+    );
+    accepted(&["home", "-1"], &inst);
+    wait_status(&inst, "homed, in teleop", |s| {
+        s.contains("all-homed yes") && s.contains("mode TELEOP")
+    });
+    common::halcmd(&["setp", "axis.z.eoffset-scale", "0.5"], &inst);
+    common::halcmd(&["setp", "axis.z.eoffset-enable", "1"], &inst);
+    common::halcmd(&["setp", "axis.z.eoffset-counts", "1"], &inst);
+    let s = wait_status(&inst, "the offset", |s| {
+        s.contains("external offsets: Z 0.500000 (request 0.500000) active")
+    });
+    // The joint carries it; the axis table shows the commanded pose.
+    assert!(
+        s.lines()
+            .any(|l| l.starts_with("2     yes    yes") && l.contains("0.500000")),
+        "{s}"
+    );
+    accepted(&["disable"], &inst);
+    wait_status(&inst, "disabled", |s| s.contains("mode DISABLED"));
+    assert!(run(realtime, &["stop"], &inst).status.success());
+    let _ = std::fs::remove_file(hal_lang::host_process::log_path(&inst).unwrap());
+}

@@ -1,7 +1,8 @@
 //! Every exchange of the launcher with the motion controller, through its
 //! public command channel: configuring it from the INI file as LinuxCNC's
 //! task does at start-up (joint limits, following error, backlash or
-//! screw-error table, jerk, homing, activation; axis limits and jerk; the
+//! screw-error table, jerk, homing, activation; axis limits, jerk and the
+//! external offsets' share (`OFFSET_AV_RATIO`); the
 //! world home, the coordinated planner's limits and type), following the
 //! `ini.*` pins, and enabling, disabling and aborting for the task
 //! requests. `[TRAJ]` keys without a motion setting are listed with why. Kept in this one module so changes of the motion API touch
@@ -11,7 +12,7 @@ use hal_core::Instance;
 use hal_lang::ini::Ini;
 use motion::homing::{HomeFlags, HomingConfig};
 use motion::kins::Pose;
-use motion::{Command, MotionClient, Reject};
+use motion::{eoffset, Command, MotionClient, Reject};
 
 use crate::config::{
     axis_letters, joint_comp, joint_count, max_feed_override, AxisLimits, HomingIni, JointLimits,
@@ -229,7 +230,8 @@ impl MotionLink {
         self.setting(ini, &sec, &[], Command::JointActivate { joint })
     }
 
-    /// `[AXIS_L]`: position, velocity, acceleration and jerk limits.
+    /// `[AXIS_L]`: position, velocity, acceleration and jerk limits, and the
+    /// external offset's share of them.
     fn configure_axis(
         &mut self,
         ini: &Ini,
@@ -274,21 +276,7 @@ impl MotionLink {
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
         }
-        // External offsets (LinuxCNC's eoffset pins) take OFFSET_AV_RATIO of
-        // the axis's velocity and acceleration from planned moves; this
-        // controller does not apply them, and says so rather than run the
-        // machine otherwise than the configuration expects in silence.
-        let ratio = ini.real(&sec, "OFFSET_AV_RATIO")?.unwrap_or(0.0);
-        if ratio != 0.0 {
-            notes.push(format!(
-                "{}: external offsets are not supported by the motion controller: \
-                 axis.{}.eoffset-* have no effect, and planned moves keep the axis's full \
-                 velocity and acceleration (LinuxCNC would leave them {:.0} % of it)",
-                at(ini, &sec, &["OFFSET_AV_RATIO"]),
-                letter.to_ascii_lowercase(),
-                (1.0 - ratio) * 100.0
-            ));
-        }
+        self.configure_eoffset(ini, &sec, a, notes)?;
         if ini.entry(&sec, "LOCKING_INDEXER_JOINT").is_some() {
             notes.push(format!(
                 "{}: axis locking indexers are not supported by the motion controller; homing the joint still unlocks it",
@@ -296,6 +284,35 @@ impl MotionLink {
             ));
         }
         Ok(())
+    }
+
+    /// `[AXIS_L]OFFSET_AV_RATIO`: the share of the axis's velocity and
+    /// acceleration limits its external offset (`axis.L.eoffset-*`) gets;
+    /// planned moves keep the rest. As LinuxCNC does, a value outside
+    /// 0..=0.9 is replaced by 0.1, with a note.
+    fn configure_eoffset(
+        &mut self,
+        ini: &Ini,
+        sec: &str,
+        axis: i32,
+        notes: &mut Vec<String>,
+    ) -> Result<(), LaunchError> {
+        let Some(given) = ini.real(sec, "OFFSET_AV_RATIO")? else {
+            return Ok(());
+        };
+        let ratio = if eoffset::ratio_ok(given) {
+            given
+        } else {
+            notes.push(format!(
+                "{}: {given} is outside 0 to {}: {} is used instead, as LinuxCNC does",
+                at(ini, sec, &["OFFSET_AV_RATIO"]),
+                eoffset::MAX_RATIO,
+                eoffset::FALLBACK_RATIO
+            ));
+            eoffset::FALLBACK_RATIO
+        };
+        let cmd = Command::SetAxisEoffsetRatio { axis, ratio };
+        self.setting(ini, sec, &["OFFSET_AV_RATIO"], cmd)
     }
 
     /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the world home, the

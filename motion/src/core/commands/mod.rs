@@ -81,6 +81,7 @@ impl MotionCore {
             C::SetAxisVelLimit { axis, vel } => self.set_axis_vel_limit(axis, vel),
             C::SetAxisAccLimit { axis, acc } => self.set_axis_acc_limit(axis, acc),
             C::SetAxisJerkLimit { axis, jerk } => self.set_axis_jerk_limit(axis, jerk),
+            C::SetAxisEoffsetRatio { axis, ratio } => self.set_axis_eoffset_ratio(axis, ratio),
             // Coordinated mode.
             C::Line { end, vel, kind, id } => self.queue_line(end, vel, kind, id),
             C::Circle {

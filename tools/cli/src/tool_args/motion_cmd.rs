@@ -62,6 +62,10 @@ axes (teleop mode):
   set-axis-limits AXIS MIN MAX  axis position limits
   set-axis-vel-limit AXIS VEL   axis maximum velocity
   set-axis-acc-limit AXIS ACC   axis maximum acceleration
+  set-axis-eoffset-ratio AXIS RATIO
+                                OFFSET_AV_RATIO (0..0.9): the share of the
+                                axis limits its external offset
+                                (axis.L.eoffset-*) gets; only while disabled
 
 configuration:
   set-limits JOINT MIN MAX      soft position limits
