@@ -316,8 +316,13 @@ impl<H: HalHost> SlaveRt<H> {
         }
     }
 
-    /// A cycle's transmission into the slave's outputs.
-    pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64) {
+    /// A cycle's transmission into the slave's outputs; an unhealthy
+    /// slave gets its safe outputs ([`SlaveRt::hold_safe`]) instead.
+    pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64, healthy: bool) {
+        if !healthy {
+            self.hold_safe(outputs, now_ns);
+            return;
+        }
         if let TypeCode::AnalogOut(channels) = &self.code {
             analog_out(&self.pins, channels);
         }
@@ -346,6 +351,35 @@ impl<H: HalHost> SlaveRt<H> {
         }
         if let Some(d) = &mut self.drive {
             d.write(outputs, now_ns, &Named(&self.pins));
+        }
+    }
+
+    /// The safe outputs of a slave that is not exchanging data, per
+    /// meaning, and the output pins that report them: digital and
+    /// generic entries 0 (lcec has no per-entry safe value), the
+    /// EL4102's channels 0 V (`curr-dc`, `raw`, `pos`, `neg` 0), the
+    /// EL7041 disabled (`srv-curr-dc`, `srv-raw-cmd` 0), a drive's
+    /// controlword as the CiA 402 layer plans it with its latch tripped
+    /// (`srv-cia-controlword`). These are what the next frame carries,
+    /// the first after the link returns included.
+    fn hold_safe(&mut self, outputs: &mut [u8], now_ns: u64) {
+        outputs.fill(0);
+        let named = Named(&self.pins);
+        match &self.code {
+            TypeCode::AnalogOut(channels) => {
+                for c in channels {
+                    for i in [c.curr_dc, c.raw, c.pos, c.neg] {
+                        if let Some(pin) = named.at(i) {
+                            pin.set(0.0);
+                        }
+                    }
+                }
+            }
+            TypeCode::Stepper(at) => self.stepper.safe(&at.1, &named),
+            TypeCode::Plain | TypeCode::AnalogIn(_) | TypeCode::Encoder(_) => {}
+        }
+        if let Some(d) = &mut self.drive {
+            d.write_lost(outputs, now_ns, &named);
         }
     }
 

@@ -157,4 +157,14 @@ impl Stepper {
             f.write(out, u64::from(reset));
         }
     }
+
+    /// The safe state's pins (the terminal disabled, its velocity 0 on
+    /// the wire): `srv-curr-dc` and `srv-raw-cmd` show 0.
+    pub(crate) fn safe<H: HalHost>(&mut self, at: &StepperPins, p: &Named<'_, H>) {
+        for i in [at.curr_dc, at.raw_cmd] {
+            if let Some(x) = p.at(i) {
+                x.set(0.0);
+            }
+        }
+    }
 }

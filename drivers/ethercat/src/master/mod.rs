@@ -16,8 +16,10 @@
 //!   previous inputs and counts a late frame. Worst case: a copy of the
 //!   input image plus a bounded retry (4 tries) when the helper is
 //!   publishing at that instant.
-//! * [`Cyclic::write`] publishes the outputs (safe values, zeros, for
-//!   slaves that are not healthy) and the time; it does not wake the
+//! * [`Cyclic::write`] publishes the outputs (for slaves that are not
+//!   healthy their safe values: the caller's, per slave and meaning,
+//!   where it said it makes them ([`Cyclic::caller_makes_safe`]), else
+//!   zeros) and the time; it does not wake the
 //!   helper, which looks for the write when it is due (a step of 1/40 of
 //!   the period at most after it). Worst case: a copy of the output
 //!   image and a clock read (vDSO); after an idle spell of four periods
@@ -241,6 +243,10 @@ pub struct Cyclic {
     outputs: Vec<u8>,
     staged: Vec<u8>,
     healthy: Vec<bool>,
+    /// Per slave: the caller fills its safe outputs itself while it is
+    /// unhealthy ([`Cyclic::caller_makes_safe`]); `write` zeroes the
+    /// others'.
+    caller_safe: Vec<bool>,
     tag: u64,
     last_read_tag: u64,
     wkc: u16,
@@ -308,6 +314,7 @@ impl Master {
             outputs: vec![0; shared.outputs.len()],
             staged: vec![0; shared.outputs.len()],
             healthy: vec![true; slaves.len()],
+            caller_safe: vec![false; slaves.len()],
             slaves: slaves.clone(),
             shared: shared.clone(),
             tag: 0,
@@ -424,12 +431,23 @@ impl Cyclic {
         self.shared.states.get(i).map_or(0, |s| s.load(Relaxed))
     }
 
-    /// Publishes the outputs (zeros for unhealthy slaves) and wakes the
-    /// helper to send the frame. Never waits.
+    /// Slave `i`'s safe outputs are the caller's: while it is unhealthy
+    /// the caller puts them in [`Cyclic::outputs_mut`] (per slave and per
+    /// meaning: a drive's controlword, an output's level) and `write`
+    /// sends them as they are, instead of zeros. One authority over what
+    /// goes on the wire, so what the caller reports is what was sent.
+    pub fn caller_makes_safe(&mut self, i: usize) {
+        if let Some(c) = self.caller_safe.get_mut(i) {
+            *c = true;
+        }
+    }
+
+    /// Publishes the outputs (zeros for unhealthy slaves whose safe
+    /// outputs are not the caller's) and the time. Never waits.
     pub fn write(&mut self) {
         self.staged.copy_from_slice(&self.outputs);
-        for (s, ok) in self.slaves.iter().zip(&self.healthy) {
-            if !ok {
+        for ((s, ok), own) in self.slaves.iter().zip(&self.healthy).zip(&self.caller_safe) {
+            if !ok && !own {
                 if let Some(o) = self.staged.get_mut(s.outputs.clone()) {
                     o.fill(0);
                 }
