@@ -222,6 +222,12 @@ impl<H: HalHost> MasterRt<H> {
             let state = al_state(&self.cyclic, s.index);
             let healthy = self.cyclic.healthy(s.index);
             let emcy = self.cyclic.take_emergency(s.index);
+            let expected = self
+                .cyclic
+                .slaves()
+                .get(s.index)
+                .map_or((0, 0), |i| (i.identity.0, i.identity.1));
+            s.show_refused(self.cyclic.refused(s.index), expected, log);
             s.read(
                 self.cyclic.inputs(s.index),
                 (state, healthy),

@@ -101,6 +101,9 @@ pub(crate) struct SlaveRt<H: HalHost> {
     encoder: Encoder,
     /// EL7041: the motor's enable edge and automatic reset.
     stepper: Stepper,
+    /// The other device found at its position that the master refused
+    /// to bring back (vendor, product), as last logged.
+    refused_shown: Option<(u32, u32)>,
 }
 
 /// What a slave type computes beyond its entries' bits, with the pins it
@@ -253,6 +256,7 @@ impl<H: HalHost> SlaveRt<H> {
             drive,
             encoder: Encoder::default(),
             stepper: Stepper::default(),
+            refused_shown: None,
         })
     }
 
@@ -380,6 +384,27 @@ impl<H: HalHost> SlaveRt<H> {
         }
         if let Some(d) = &mut self.drive {
             d.write_lost(outputs, now_ns, &named);
+        }
+    }
+
+    /// Says once that the master found another device at this slave's
+    /// position (`refused`: its vendor and product) than the one it
+    /// brought up (`expected`), and left it unconfigured.
+    pub(crate) fn show_refused(
+        &mut self,
+        refused: Option<(u32, u32)>,
+        expected: (u32, u32),
+        log: Option<&LogSink>,
+    ) {
+        if refused == self.refused_shown {
+            return;
+        }
+        self.refused_shown = refused;
+        if let (Some(log), Some((vendor, product))) = (log, refused) {
+            log.err(format_args!(
+                "{}: position {} now holds vendor {vendor:#010x} product {product:#010x}, not the device found at start-up (vendor {:#010x} product {:#010x}): not configured, left in INIT",
+                self.label, self.index, expected.0, expected.1
+            ));
         }
     }
 

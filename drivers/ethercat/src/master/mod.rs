@@ -35,7 +35,10 @@
 //! OP (lost, reset, AL error), or the link down make the affected slaves
 //! unhealthy; `write` gives them safe outputs from that period on, and
 //! [`Cyclic::fault_reset`] asks the helper to bring slaves in SAFE-OP or
-//! PRE-OP back to OP (AL control with error acknowledge).
+//! PRE-OP back to OP (AL control with error acknowledge). A slave that
+//! lost its configuration (power-cycled, replugged: INIT without a
+//! station address) is brought back to OP by the helper on its own,
+//! between cycles ([`recover`]).
 
 pub mod dc;
 pub mod emcy;
@@ -43,6 +46,7 @@ pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
 pub mod pll;
+mod recover;
 mod serve;
 
 use std::ops::Range;
@@ -194,6 +198,11 @@ struct Shared {
     written_at: AtomicU64,
     clocks: Clocks,
     emergencies: emcy::Slots,
+    /// Per slave: a different device was found at its position when it
+    /// was to be brought back ([`recover`]), and what it is (vendor id
+    /// << 32 | product code).
+    refused: Box<[AtomicBool]>,
+    found: Box<[AtomicU64]>,
 }
 
 /// The distributed clocks as the helper and the realtime side see them.
@@ -487,6 +496,19 @@ impl Cyclic {
         &self.shared.counters
     }
 
+    /// The vendor id and product code of the device found at slave `i`'s
+    /// position when the master was to bring it back after it lost its
+    /// configuration, if that is not the device found at bring-up (the
+    /// master refuses to configure it).
+    pub fn refused(&self, i: usize) -> Option<(u32, u32)> {
+        let flag = self.shared.refused.get(i)?;
+        if !flag.load(Acquire) {
+            return None;
+        }
+        let v = self.shared.found.get(i)?.load(Relaxed);
+        Some(((v >> 32) as u32, v as u32))
+    }
+
     /// The application time (EtherCAT ns) of CLOCK_MONOTONIC time
     /// `mono_ns`: the servo thread's time on the slaves' time base.
     pub fn app_time(&self, mono_ns: u64) -> u64 {
@@ -678,8 +700,20 @@ fn bring_up(
             ..Clocks::default()
         },
         emergencies: emcy::Slots::new(slaves.len()),
+        refused: (0..slaves.len()).map(|_| AtomicBool::new(false)).collect(),
+        found: (0..slaves.len()).map(|_| AtomicU64::new(0)).collect(),
     });
-    Ok((group, shared, slaves, serve::Extras { clocks, mailboxes }))
+    let recovery = recover::Recovery::new(md, io, &slaves);
+    Ok((
+        group,
+        shared,
+        slaves,
+        serve::Extras {
+            clocks,
+            mailboxes,
+            recovery,
+        },
+    ))
 }
 
 /// What the configuration says of one slave, done in PRE-OP: its
