@@ -36,8 +36,9 @@
 //! (`srv-cia-controlword`, `aout-N-curr-dc`, `srv-curr-dc`, ...) show
 //! what went on the wire; a drive enables again only after
 //! `srv-fault-reset` and a new rising `srv-enable`. A rising
-//! `srv-fault-reset` brings slaves back to OP. At unload, exit or after a panic every slave's outputs go to
-//! their safe values (zeros; drives: disable voltage) in one last frame.
+//! `srv-fault-reset` brings slaves back to OP. At unload, exit or after
+//! a panic every slave's outputs go to their safe values (zeros; drives:
+//! disable voltage) in one last frame.
 //!
 //! With `backend=sim` the segment is published for tests as
 //! `lcec.<m>` ([`hal_driver::sim::find`] with

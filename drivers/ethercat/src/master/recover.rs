@@ -63,6 +63,18 @@ enum Stage {
     Op { until: Instant },
 }
 
+/// What step 1 found at a slave's position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    /// The slave, brought to INIT with its mailbox set up, PRE-OP asked.
+    Started,
+    /// The slave with its address and in PRE-OP, SAFE-OP or OP: nothing
+    /// to bring back.
+    Configured,
+    /// A different device (refused).
+    Refused,
+}
+
 /// The recovery of every slave of a master.
 #[derive(Debug, Default)]
 pub(super) struct Recovery {
@@ -87,14 +99,14 @@ impl Recovery {
         let kept = slaves
             .iter()
             .map(|s| Kept {
-                sms: read_block(
+                sms: without_status(read_block(
                     md,
                     io,
                     s.station,
                     regs::SM_COUNT,
                     regs::SM_BASE,
                     regs::SM_LEN,
-                ),
+                )),
                 fmmus: read_block(
                     md,
                     io,
@@ -145,8 +157,10 @@ impl Recovery {
                         stage
                     } else {
                         match self.find(md, io, group, shared, i, s) {
-                            Ok(true) => Stage::PreOp { until },
-                            Ok(false) | Err(_) => retry,
+                            Ok(Found::Started) => Stage::PreOp { until },
+                            // Its state check was lost, not the slave.
+                            Ok(Found::Configured) => Stage::Idle { next: None },
+                            Ok(Found::Refused) | Err(_) => retry,
                         }
                     }
                 }
@@ -190,8 +204,7 @@ impl Recovery {
 
     /// Step 1: finds the slave at its position, gives it its station
     /// address, checks its identity, sets up its mailbox and asks for
-    /// PRE-OP. Ok(false): nothing answers there, or a different device
-    /// does (refused).
+    /// PRE-OP. An error: nothing answers there (or a step failed).
     #[allow(clippy::too_many_arguments, reason = "the helper's state, passed down")]
     fn find(
         &mut self,
@@ -201,13 +214,23 @@ impl Recovery {
         shared: &Shared,
         i: usize,
         s: &SlaveInfo,
-    ) -> Result<bool> {
+    ) -> Result<Found> {
         // EtherCrab's APxx take the position and count down themselves.
         let auto = s.position;
         let station: u16 = io
             .block_on(Command::aprd(auto, regs::STATION_ADDRESS).receive::<u16>(md))
             .map_err(|e| fail("looking at the position", e))?;
-        if station != s.station {
+        if station == s.station {
+            // It kept its address: only a slave in INIT is brought up
+            // again (one in PRE-OP or SAFE-OP waits for a fault reset;
+            // one in OP lost a state check, not its configuration).
+            let status: u16 = io
+                .block_on(Command::fprd(s.station, regs::AL_STATUS).receive::<u16>(md))
+                .map_err(|e| fail("reading the AL status", e))?;
+            if status as u8 & al::STATE_MASK != al::INIT {
+                return Ok(Found::Configured);
+            }
+        } else {
             io.block_on(Command::apwr(auto, regs::STATION_ADDRESS).send(md, s.station))
                 .map_err(|e| fail("setting the station address", e))?;
         }
@@ -223,17 +246,19 @@ impl Recovery {
             flag.store(refused, Release);
         }
         if refused {
-            return Ok(false);
+            return Ok(Found::Refused);
         }
-        let kept = &self.kept[i];
+        let Some(kept) = self.kept.get(i) else {
+            return Err(fail("its registers", "not kept at bring-up"));
+        };
         for (k, sm_regs) in kept.sms.chunks(usize::from(regs::SM_LEN)).enumerate() {
-            let mailbox = sm_regs[usize::from(sm::CONTROL)] & sm::MODE_MASK == sm::MODE_MAILBOX;
+            let mailbox = is_mailbox(sm_regs);
             if mailbox {
                 write_block(md, io, s.station, regs::SM_BASE, regs::SM_LEN, k, sm_regs)?;
             }
         }
         request(md, io, s.station, al::PREOP)?;
-        Ok(true)
+        Ok(Found::Started)
     }
 
     /// Step 3: in PRE-OP, the configuration's SDO writes, the process
@@ -260,9 +285,11 @@ impl Recovery {
             io.block_on(sd.sdo_write(w.index, sub, w.data.as_slice()))
                 .map_err(|e| fail("an SDO write of the configuration", e))?;
         }
-        let kept = &self.kept[i];
+        let Some(kept) = self.kept.get(i) else {
+            return Err(fail("its registers", "not kept at bring-up"));
+        };
         for (k, sm_regs) in kept.sms.chunks(usize::from(regs::SM_LEN)).enumerate() {
-            let mailbox = sm_regs[usize::from(sm::CONTROL)] & sm::MODE_MASK == sm::MODE_MAILBOX;
+            let mailbox = is_mailbox(sm_regs);
             if !mailbox {
                 write_block(md, io, s.station, regs::SM_BASE, regs::SM_LEN, k, sm_regs)?;
             }
@@ -368,6 +395,25 @@ fn read_block(
         Ok(data) => data.to_vec(),
         Err(_) => Vec::new(),
     }
+}
+
+/// Whether a sync manager's registers set it up as a mailbox.
+fn is_mailbox(sm_regs: &[u8]) -> bool {
+    sm_regs
+        .get(usize::from(sm::CONTROL))
+        .is_some_and(|c| c & sm::MODE_MASK == sm::MODE_MAILBOX)
+}
+
+/// Sync manager registers with their status bytes cleared: the status
+/// (a mailbox full, a buffer written) is the slave's to report, not
+/// configuration to write back.
+fn without_status(mut sms: Vec<u8>) -> Vec<u8> {
+    for sm_regs in sms.chunks_mut(usize::from(regs::SM_LEN)) {
+        if let Some(b) = sm_regs.get_mut(usize::from(sm::STATUS)) {
+            *b = 0;
+        }
+    }
+    sms
 }
 
 /// Writes block `k` (`len` bytes from `base`) of slave `station`.
