@@ -3,7 +3,8 @@
 //! OP without a fault reset (its state pins go through INIT on the way)
 //! and its outputs follow the pins again; a different device plugged in
 //! its place is refused, stays in INIT, and the log names the slave,
-//! the position and both identities. The veth test restarts a whole
+//! the position and both identities; a drive behind a cut line is said
+//! not to answer, and is in OP again once the line is whole. The veth test restarts a whole
 //! segment over a wire; `sim_master` the master's side in detail.
 #![allow(
     clippy::unwrap_used,
@@ -97,6 +98,21 @@ fn a_power_cycled_terminal_comes_back_to_op_and_another_device_in_its_place_is_r
     let times = h.rt_log().history().iter().filter(|(_, l)| says(l)).count();
     assert_eq!(times, 1, "the refusal is logged once");
     assert!(bit(&h, "lcec.0.D1.slave-state-init"));
+
+    // The line cut before the drive: the master looks for it, says once
+    // that nothing answers there; whole again, it is in OP as it was.
+    seg.lock().unwrap().cut_before(Some(2));
+    let unanswered = |l: &str| {
+        l == "lcec.0.X: not back in OP: no answer at its station address nor at its position; the master tries again every 500 ms"
+    };
+    wait("the drive unanswered in the log", || {
+        h.flush_rt_log();
+        h.rt_log().history().iter().any(|(_, l)| unanswered(l))
+    });
+    seg.lock().unwrap().cut_before(None);
+    wait("the drive in OP again", || {
+        bit(&h, "lcec.0.X.slave-state-op")
+    });
     h.stop();
     h.unloadrt("lcec").unwrap();
 }

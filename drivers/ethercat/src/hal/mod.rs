@@ -229,6 +229,7 @@ impl<H: HalHost> MasterRt<H> {
                 .get(s.index)
                 .map_or((0, 0), |i| (i.identity.0, i.identity.1));
             s.show_refused(self.cyclic.refused(s.index), expected, log);
+            s.show_failure(self.cyclic.recovery_failure(s.index), log);
             s.read(
                 self.cyclic.inputs(s.index),
                 (state, healthy),

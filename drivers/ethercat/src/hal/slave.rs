@@ -13,7 +13,7 @@ use super::field::{self, Field};
 use super::stepper::{Stepper, StepperPins};
 use crate::error::Error;
 use crate::lcec::pins::{self, Coding, Kind, PinSpec, PinType};
-use crate::master::{Layout, ReadStatus};
+use crate::master::{Failure, Layout, ReadStatus};
 use crate::regs::al;
 
 /// Bits within an 8-bit status or control entry, for the catalogue pins
@@ -104,6 +104,8 @@ pub(crate) struct SlaveRt<H: HalHost> {
     /// The other device found at its position that the master refused
     /// to bring back (vendor, product), as last logged.
     refused_shown: Option<(u32, u32)>,
+    /// Why bringing it back failed, as last logged.
+    failure_shown: Option<Failure>,
 }
 
 /// What a slave type computes beyond its entries' bits, with the pins it
@@ -257,6 +259,7 @@ impl<H: HalHost> SlaveRt<H> {
             encoder: Encoder::default(),
             stepper: Stepper::default(),
             refused_shown: None,
+            failure_shown: None,
         })
     }
 
@@ -405,6 +408,24 @@ impl<H: HalHost> SlaveRt<H> {
                 "{}: position {} now holds vendor {vendor:#010x} product {product:#010x}, not the device found at start-up (vendor {:#010x} product {:#010x}): not configured, left in INIT",
                 self.label, self.index, expected.0, expected.1
             ));
+        }
+    }
+
+    /// Says once why the master could not bring the slave back after it
+    /// lost its configuration (a different device is said by
+    /// [`SlaveRt::show_refused`]).
+    pub(crate) fn show_failure(&mut self, failure: Option<Failure>, log: Option<&LogSink>) {
+        if failure == self.failure_shown {
+            return;
+        }
+        self.failure_shown = failure;
+        match (log, failure) {
+            (Some(log), Some(f)) if f != Failure::Refused => log.err(format_args!(
+                "{}: not back in OP: {}; the master tries again every 500 ms",
+                self.label,
+                f.describe()
+            )),
+            _ => {}
         }
     }
 

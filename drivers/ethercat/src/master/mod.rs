@@ -66,6 +66,7 @@ pub use dc::DcPlan;
 use exchange::Exchange;
 use io::Io;
 pub use layout::{Layout, MappedEntry};
+pub use recover::Failure;
 
 /// Slaves per master at most.
 pub const MAX_SLAVES: usize = 64;
@@ -203,6 +204,9 @@ struct Shared {
     /// << 32 | product code).
     refused: Box<[AtomicBool]>,
     found: Box<[AtomicU64]>,
+    /// Per slave: why the last try to bring it back failed
+    /// ([`recover::Failure`] as a code; 0: none).
+    recovery: Box<[AtomicU8]>,
 }
 
 /// The distributed clocks as the helper and the realtime side see them.
@@ -509,6 +513,13 @@ impl Cyclic {
         Some(((v >> 32) as u32, v as u32))
     }
 
+    /// Why the last try to bring slave `i` back (after it lost its
+    /// configuration) failed, while it is not back; the helper tries
+    /// again every 500 ms.
+    pub fn recovery_failure(&self, i: usize) -> Option<Failure> {
+        Failure::from_code(self.shared.recovery.get(i)?.load(Relaxed))
+    }
+
     /// The application time (EtherCAT ns) of CLOCK_MONOTONIC time
     /// `mono_ns`: the servo thread's time on the slaves' time base.
     pub fn app_time(&self, mono_ns: u64) -> u64 {
@@ -702,6 +713,7 @@ fn bring_up(
         emergencies: emcy::Slots::new(slaves.len()),
         refused: (0..slaves.len()).map(|_| AtomicBool::new(false)).collect(),
         found: (0..slaves.len()).map(|_| AtomicU64::new(0)).collect(),
+        recovery: (0..slaves.len()).map(|_| AtomicU8::new(0)).collect(),
     });
     let recovery = recover::Recovery::new(md, io, &slaves);
     Ok((

@@ -63,6 +63,66 @@ enum Stage {
     Op { until: Instant },
 }
 
+/// Why the last try to bring a slave back failed (it is tried again
+/// after [`RETRY`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Failure {
+    /// Nothing answers at its position (or its station address could
+    /// not be set).
+    NotFound = 1,
+    /// A different device sits at its position ([`super::Cyclic::refused`]).
+    Refused = 2,
+    /// It did not reach PRE-OP (its mailbox set-up refused).
+    PreOp = 3,
+    /// Its PRE-OP configuration failed: the SDO writes, the sync
+    /// managers and FMMUs, the clocks.
+    Configuration = 4,
+    /// It did not reach SAFE-OP (its process data set-up refused).
+    SafeOp = 5,
+    /// It did not reach OP.
+    Op = 6,
+}
+
+impl Failure {
+    /// The failure of code `v` (0 or unknown: none).
+    pub fn from_code(v: u8) -> Option<Failure> {
+        Some(match v {
+            1 => Failure::NotFound,
+            2 => Failure::Refused,
+            3 => Failure::PreOp,
+            4 => Failure::Configuration,
+            5 => Failure::SafeOp,
+            6 => Failure::Op,
+            _ => return None,
+        })
+    }
+
+    /// What failed, for the log.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Failure::NotFound => "no answer at its station address nor at its position",
+            Failure::Refused => "a different device sits at its position",
+            Failure::PreOp => "it did not reach PRE-OP (mailbox set-up)",
+            Failure::Configuration => {
+                "its PRE-OP configuration failed (SDO writes, sync managers, FMMUs, clocks)"
+            }
+            Failure::SafeOp => "it did not reach SAFE-OP (process data set-up)",
+            Failure::Op => "it did not reach OP",
+        }
+    }
+}
+
+/// Publishes slave `i`'s last failure (None: brought back).
+fn report(shared: &Shared, i: usize, f: Option<Failure>) {
+    let code = f.map_or(0, |f| f as u8);
+    if let Some(a) = shared.recovery.get(i) {
+        if a.load(Relaxed) != code {
+            a.store(code, Relaxed);
+        }
+    }
+}
+
 /// What step 1 found at a slave's position.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Found {
@@ -147,58 +207,64 @@ impl Recovery {
                 continue;
             };
             let until = now + cfg.state_timeout;
-            let retry = Stage::Idle {
-                next: Some(now + RETRY),
-            };
-            let next = match stage {
+            let (next, failed) = match stage {
                 Stage::Idle { next } => {
+                    if state == al::OP {
+                        // Back (on its own, or the line whole again).
+                        report(shared, i, None);
+                    }
                     let lost = state == 0 || state == al::INIT;
                     if !lost || next.is_some_and(|t| now < t) {
-                        stage
+                        (stage, None)
                     } else {
                         match self.find(md, io, group, shared, i, s) {
-                            Ok(Found::Started) => Stage::PreOp { until },
+                            Ok(Found::Started) => (Stage::PreOp { until }, None),
                             // Its state check was lost, not the slave.
-                            Ok(Found::Configured) => Stage::Idle { next: None },
-                            Ok(Found::Refused) | Err(_) => retry,
+                            Ok(Found::Configured) => (Stage::Idle { next: None }, None),
+                            Ok(Found::Refused) => (stage, Some(Failure::Refused)),
+                            Err(_) => (stage, Some(Failure::NotFound)),
                         }
                     }
                 }
-                Stage::PreOp { until: t } => {
-                    if state == al::PREOP {
-                        match self.configure(md, io, group, i, s, cfg) {
-                            Ok(()) => Stage::SafeOp { until },
-                            Err(_) => retry,
-                        }
-                    } else if now > t {
-                        retry
-                    } else {
-                        stage
+                Stage::PreOp { until: t } => match state {
+                    al::PREOP => match self.configure(md, io, group, i, s, cfg) {
+                        Ok(()) => (Stage::SafeOp { until }, None),
+                        Err(_) => (stage, Some(Failure::Configuration)),
+                    },
+                    _ if now > t => (stage, Some(Failure::PreOp)),
+                    _ => (stage, None),
+                },
+                Stage::SafeOp { until: t } => match state {
+                    al::SAFEOP => match request(md, io, s.station, al::OP) {
+                        Ok(()) => (Stage::Op { until }, None),
+                        Err(_) => (stage, Some(Failure::Op)),
+                    },
+                    _ if now > t => (stage, Some(Failure::SafeOp)),
+                    _ => (stage, None),
+                },
+                Stage::Op { until: t } => match state {
+                    al::OP => {
+                        report(shared, i, None);
+                        (Stage::Idle { next: None }, None)
                     }
-                }
-                Stage::SafeOp { until: t } => {
-                    if state == al::SAFEOP {
-                        match request(md, io, s.station, al::OP) {
-                            Ok(()) => Stage::Op { until },
-                            Err(_) => retry,
-                        }
-                    } else if now > t {
-                        retry
-                    } else {
-                        stage
+                    _ if now > t => (stage, Some(Failure::Op)),
+                    _ => (stage, None),
+                },
+            };
+            self.stages[i] = match failed {
+                None => next,
+                Some(f) => {
+                    report(shared, i, Some(f));
+                    if !matches!(stage, Stage::Idle { .. }) {
+                        // Half brought up: back to INIT, so that the
+                        // next try starts from the beginning.
+                        let _ = request(md, io, s.station, al::INIT | al::ERROR);
                     }
-                }
-                Stage::Op { until: t } => {
-                    if state == al::OP {
-                        Stage::Idle { next: None }
-                    } else if now > t {
-                        retry
-                    } else {
-                        stage
+                    Stage::Idle {
+                        next: Some(now + RETRY),
                     }
                 }
             };
-            self.stages[i] = next;
         }
     }
 
