@@ -107,6 +107,8 @@ pub(crate) struct DriveRt {
     /// The position actual and mode display last received.
     last_position: i32,
     last_mode: i8,
+    /// The drive stopped exchanging data since its latch last tripped.
+    link_lost: bool,
 }
 
 /// How long a tripped drive gets quick stop before disable voltage
@@ -185,6 +187,7 @@ impl DriveRt {
             reset_prev: false,
             last_position: 0,
             last_mode: 0,
+            link_lost: false,
         })
     }
 
@@ -278,6 +281,7 @@ impl DriveRt {
     /// it still believes enabled) and one controlword, disable voltage,
     /// holds from the loss until the enable sequence starts again.
     fn lost(&mut self, log: Option<&LogSink>) {
+        self.link_lost = true;
         self.ctl.trip(&SLAVE_LOST, log, 0);
         self.ctl
             .observe_status(0, self.last_position, self.last_mode);
@@ -308,7 +312,13 @@ impl DriveRt {
         // watchdog made it: straight to disable voltage, so that no
         // quick stop reaches it late. Other faults (a drive fault, an
         // EMCY) get the quick stop first, as canservo's.
-        let comm_lost = self.ctl.latch.fault().is_some_and(needs_restart);
+        // So does one that lost its link during a quick stop of another
+        // fault: a quick stop that some frames reach and others not
+        // would alternate with disable voltage.
+        if !self.ctl.latch.is_tripped() {
+            self.link_lost = false;
+        }
+        let comm_lost = self.link_lost || self.ctl.latch.fault().is_some_and(needs_restart);
         let quick_stop_ns = if comm_lost { 0 } else { QUICK_STOP_NS };
         let Some(plan) = self.ctl.plan(&self.inputs, now_ns, quick_stop_ns, false) else {
             return;
