@@ -9,6 +9,8 @@
 //! * The first frame after the link returns carries the safe values
 //!   (each slave's outputs as that frame wrote them: the simulated ESC
 //!   keeps them, `Esc::outputs_after_silence`), not those of before.
+//! * The EL7041 stays disabled with `srv-enable` still high, until that
+//!   falls and rises again.
 //! * The drive never enables by itself: with `srv-enable` still high it
 //!   gets disable voltage until a fault reset and a new enable, and the
 //!   controlwords it acted on from the return on are disable voltage,
@@ -188,7 +190,9 @@ fn a_lost_link_puts_each_slave_safe_the_first_frame_back_is_safe_and_the_drive_e
             "the drive's controlword in the first frame back"
         );
     }
-    // The drive stays disabled with its enable still high.
+    // The drive and the stepper stay off with their enables still high.
+    assert_eq!(wire(&seg, 3, 0x7010, 1), 0, "the EL7041 stays disabled");
+    assert_eq!(num(&h, "lcec.0.st.srv-curr-dc"), 0.0);
     assert!(!bit(&h, "lcec.0.X.srv-enabled"));
     assert!(bit(&h, "lcec.0.X.srv-enable"));
     assert_eq!(num(&h, "lcec.0.X.srv-cia-controlword"), 0.0);
@@ -216,6 +220,13 @@ fn a_lost_link_puts_each_slave_safe_the_first_frame_back_is_safe_and_the_drive_e
         seq == [0x00, 0x06, 0x07, 0x0f] || seq == [0x00, 0x80, 0x00, 0x06, 0x07, 0x0f],
         "controlwords the drive acted on after the return: {seq:x?} (all: {since_return:x?})"
     );
+    // The stepper after a new enable edge.
+    set(&h, "lcec.0.st.srv-enable", Value::Bit(false));
+    cycles(&h, 3);
+    set(&h, "lcec.0.st.srv-enable", Value::Bit(true));
+    wait("the EL7041 enabled again", || {
+        wire(&seg, 3, 0x7010, 1) == 1 && num(&h, "lcec.0.st.srv-curr-dc") > 0.05
+    });
     // And the other slaves follow their pins again.
     wait("the outputs back on the wire", || {
         wire(&seg, 1, 0x7000, 1) == 1 && wire(&seg, 2, 0x3001, 1) == 8192

@@ -35,7 +35,8 @@
 //! its latch tripped: disable voltage), and its output pins
 //! (`srv-cia-controlword`, `aout-N-curr-dc`, `srv-curr-dc`, ...) show
 //! what went on the wire; a drive enables again only after
-//! `srv-fault-reset` and a new rising `srv-enable`. A rising
+//! `srv-fault-reset` and a new rising `srv-enable`, the EL7041 after a
+//! new rising `srv-enable`. A rising
 //! `srv-fault-reset` brings slaves back to OP. At unload, exit or after
 //! a panic every slave's outputs go to their safe values (zeros; drives:
 //! disable voltage) in one last frame.
