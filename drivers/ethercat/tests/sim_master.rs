@@ -10,8 +10,8 @@ use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use hal_ethercat::link::{InProcess, SharedSegment};
-use hal_ethercat::master::{Cyclic, Master, MasterConfig, SdoWrite, SlavePlan};
-use hal_ethercat::regs::{al, al_code};
+use hal_ethercat::master::{Cyclic, DcPlan, Master, MasterConfig, SdoWrite, SlavePlan};
+use hal_ethercat::regs::{self, al, al_code};
 use hal_ethercat::sim::{self, Segment};
 
 fn segment() -> SharedSegment {
@@ -166,4 +166,112 @@ fn a_wrong_slave_is_a_load_error_naming_it() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("slave 1 (D1)") && e.contains("EL1008"), "{e}");
+}
+
+/// Runs cycles until `cond` holds, for at most `limit`.
+fn cycles_until(
+    c: &mut Cyclic,
+    limit: Duration,
+    mut cond: impl FnMut(&mut Cyclic) -> bool,
+) -> bool {
+    let start = std::time::Instant::now();
+    while start.elapsed() < limit {
+        cycles(c, 1, |_| {});
+        if cond(c) {
+            return true;
+        }
+    }
+    false
+}
+
+#[test]
+fn a_power_cycled_slave_is_brought_back_to_op_and_a_different_device_is_refused() {
+    let seg = segment();
+    let cfg = MasterConfig {
+        slaves: vec![SlavePlan {
+            position: 7,
+            name: "servo".into(),
+            identity: Some((sim::servo::SIM_VENDOR, sim::servo::SIM_SERVO)),
+            sdos: vec![SdoWrite {
+                index: 0x6081,
+                sub: Some(0),
+                data: 5000u32.to_le_bytes().to_vec(),
+            }],
+            dc: Some(DcPlan {
+                assign_activate: 0x0300,
+                sync0_cycle_ns: 1_000_000,
+                sync0_shift_ns: 0,
+                sync1_cycle_ns: 0,
+            }),
+            emergencies: false,
+        }],
+        ..MasterConfig::default()
+    };
+    let (mut master, mut c) = Master::start(Box::new(InProcess::new(seg.clone())), cfg).unwrap();
+    cycles(&mut c, 5, |_| {});
+    assert!(c.read().all_op);
+    let station = seg.lock().unwrap().slaves()[7].station_address();
+
+    // The drive and the EL2008 power-cycle: INIT, no station address,
+    // the drive's PRE-OP configuration forgotten.
+    {
+        let mut s = seg.lock().unwrap();
+        s.slave_mut(7).unwrap().device.od.set(0x6081, 0, 1);
+        s.reset_slave(7);
+        s.reset_slave(2);
+        assert_eq!(s.slaves()[7].al_state(), (al::INIT, false));
+        assert_eq!(s.slaves()[7].station_address(), 0);
+    }
+    cycles(&mut c, 2, |_| {});
+    assert!(!c.read().all_op, "the lost slaves are seen");
+    // No fault reset: the master brings them back on its own, the
+    // others exchanging data meanwhile.
+    let back = cycles_until(&mut c, Duration::from_secs(20), |c| c.read().all_op);
+    assert!(
+        back,
+        "all slaves back in OP; states {:?}",
+        (0..8).map(|i| c.al_state(i)).collect::<Vec<_>>()
+    );
+    {
+        let s = seg.lock().unwrap();
+        assert_eq!(s.slaves()[7].station_address(), station);
+        assert_eq!(
+            s.slaves()[7].device.od.get(0x6081, 0),
+            5000,
+            "the SDO write again"
+        );
+        assert_eq!(s.slaves()[2].al_state(), (al::OP, false));
+        // Its clock given its offset again (power-on cleared it), its
+        // SYNC unit running.
+        let offset = s.slaves()[7].registers(regs::DC_SYSTEM_TIME_OFFSET, 8);
+        assert!(offset.iter().any(|b| *b != 0), "the DC offset set again");
+        let sync = s.slaves()[7].sync_activation().expect("SYNC set up again");
+        assert_eq!(sync.sync0_cycle, 1_000_000);
+    }
+    // Outputs reach the EL2008 again.
+    cycles(&mut c, 5, |c| c.outputs_mut(2)[0] = 0b0010_0000);
+    assert_eq!(seg.lock().unwrap().slaves()[2].device.od.get(0x7050, 1), 1);
+    assert_eq!(c.refused(2), None);
+
+    // An EL1008 plugged where the EL2008 was: refused, named, left in
+    // INIT; the rest keep running.
+    {
+        let mut s = seg.lock().unwrap();
+        let el1008 = sim::device_by_name("EL1008", 999).unwrap();
+        *s.slave_mut(2).unwrap() = sim::esc::Esc::new(el1008, 2);
+        s.reset_slave(2);
+    }
+    let seen = cycles_until(&mut c, Duration::from_secs(20), |c| c.refused(2).is_some());
+    assert!(seen, "the other device is refused");
+    let (vendor, product) = c.refused(2).unwrap();
+    assert_eq!((vendor, product), (2, 0x03F0_3052), "EL1008's identity");
+    cycles(&mut c, 20, |_| {});
+    assert!(!c.read().all_op);
+    assert!(c.healthy(7) || c.read().wkc < c.read().expected_wkc);
+    let s2 = seg.lock().unwrap().slaves()[2].al_state().0;
+    assert!(
+        s2 == al::INIT,
+        "the other device stays in INIT, not {s2:#x}"
+    );
+    master.stop();
 }

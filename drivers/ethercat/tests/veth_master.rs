@@ -12,7 +12,11 @@
 //! * the line cut before the first drive (the simulator's `cut 3`): the
 //!   drives lost and faulted while the link stays up; back after
 //!   `cut none` and a fault reset;
-//! * the simulator killed, the carrier still up: the link is down.
+//! * the simulator killed, the carrier still up: the link is down;
+//! * the simulator started again (every slave in INIT without its
+//!   station address, as after a power cycle): the master brings the
+//!   segment back to OP on its own, and after a fault reset the drives
+//!   move again.
 //!
 //! Needs root (a network namespace and a veth pair): without it
 //! (build.rs probes for it) the test is reported as ignored.
@@ -306,6 +310,7 @@ fn our_master_on_a_veth_pair_brings_a_mixed_segment_to_op_moves_three_drives_and
     pull_the_link(&h, &mut sim, &s_if);
     cut_the_line(&h, &mut sim);
     kill_the_sim(&h, &mut sim);
+    restart_the_sim(&h, &mut sim, &dir, &s_if);
 
     h.stop();
     h.unloadrt("lcec").unwrap();
@@ -428,4 +433,38 @@ fn kill_the_sim(h: &Host, sim: &mut Sim) {
         link_down_seen(h)
     });
     println!("the simulator's end seen on the pins after {took:?}");
+}
+
+/// A new simulator on the same segment file, as a segment powered up
+/// again: its slaves in INIT with no station address. The master brings
+/// them back to OP by itself (no fault reset needed for that); the
+/// drives stay disabled until a fault reset and a new enable, then move.
+fn restart_the_sim(h: &Host, sim: &mut Sim, dir: &Path, s_if: &str) {
+    *sim = start_sim(dir, s_if);
+    let took = wait_or("all slaves in OP after the restart", LONG, h, || all_op(h));
+    println!("the restarted segment in OP after {took:?}");
+    assert_eq!(pin(h, "lcec.0.slaves-responding"), Value::U32(6));
+    for p in DRIVE_POSITIONS {
+        assert_eq!(
+            sim.show(p, CONTROLWORD) & 0x0f,
+            0,
+            "the drive at {p} is not enabled by a restart"
+        );
+    }
+    fault_reset_drives(h);
+    // The restarted drives stand at 0: the command comes to where they
+    // are before they follow it (as motion's does while disabled).
+    for (d, ..) in DRIVES {
+        let at = float(h, &format!("lcec.0.{d}.srv-actual-position"));
+        set(
+            h,
+            &format!("lcec.0.{d}.srv-target-position"),
+            Value::Float(at),
+        );
+    }
+    enable_and_move(h, false);
+    // Outputs reach the restarted EL2008 again.
+    wait_within("dout-0 on the wire after the restart", LONG, || {
+        sim.show(2, DOUT_0) == 1
+    });
 }

@@ -104,7 +104,16 @@ pub(crate) struct DriveRt {
     inputs: DriveInputs,
     reset_edge: bool,
     reset_prev: bool,
+    /// The position actual and mode display last received.
+    last_position: i32,
+    last_mode: i8,
+    /// The drive stopped exchanging data since its latch last tripped.
+    link_lost: bool,
 }
+
+/// How long a tripped drive gets quick stop before disable voltage
+/// (a drive fault or EMCY while the drive still hears the master).
+const QUICK_STOP_NS: u64 = 1_000_000_000;
 
 impl DriveRt {
     /// The drive of `slave`, its objects found in `layout`, its pins in
@@ -176,6 +185,9 @@ impl DriveRt {
             inputs: DriveInputs::default(),
             reset_edge: false,
             reset_prev: false,
+            last_position: 0,
+            last_mode: 0,
+            link_lost: false,
         })
     }
 
@@ -223,15 +235,17 @@ impl DriveRt {
         self.take_feedback_inputs(p);
         let rd = |f: Option<Field>| f.map_or(0, |f| f.read_signed(img));
         if healthy {
+            self.last_position = self.at.position.read_signed(img) as i32;
+            self.last_mode = rd(self.at.mode_display) as i8;
             self.ctl.observe_status(
                 self.at.statusword.read(img) as u16,
-                self.at.position.read_signed(img) as i32,
-                rd(self.at.mode_display) as i8,
+                self.last_position,
+                self.last_mode,
             );
             self.ctl
                 .observe_velocity(rd(self.at.velocity) as i32, rd(self.at.error_code) as u16);
         } else {
-            self.ctl.trip(&SLAVE_LOST, log, 0);
+            self.lost(log);
         }
         if let Some(code) = emcy {
             self.ctl.emcy(code, log);
@@ -260,12 +274,53 @@ impl DriveRt {
         }
     }
 
+    /// The drive does not exchange data: the latch trips, and what the
+    /// drive last said of its power state is forgotten (statusword 0):
+    /// it is unknown until a status comes again, so the planner does not
+    /// plan from a state of before the loss (a quick stop for a drive
+    /// it still believes enabled) and one controlword, disable voltage,
+    /// holds from the loss until the enable sequence starts again.
+    fn lost(&mut self, log: Option<&LogSink>) {
+        self.link_lost = true;
+        self.ctl.trip(&SLAVE_LOST, log, 0);
+        self.ctl
+            .observe_status(0, self.last_position, self.last_mode);
+    }
+
     /// Plans the controlword, target and mode into the outputs.
     pub(crate) fn write<H: HalHost>(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_, H>) {
         self.take_inputs(p);
         self.reset_edge = self.inputs.fault_reset && !self.reset_prev;
         self.reset_prev = self.inputs.fault_reset;
-        let Some(plan) = self.ctl.plan(&self.inputs, now_ns, 1_000_000_000, false) else {
+        self.plan_into(img, now_ns, p);
+    }
+
+    /// The outputs of a drive that does not exchange data (its slave
+    /// left OP, the working counter is short, the link is down): the
+    /// CiA 402 layer's plan with the latch tripped, so the controlword
+    /// on the wire and `srv-cia-controlword` are the one the layer
+    /// chose, and the first frame after the loss carries it. A fault
+    /// reset given meanwhile is taken (its edge is not lost).
+    pub(crate) fn write_lost<H: HalHost>(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_, H>) {
+        self.lost(None);
+        self.write(img, now_ns, p);
+    }
+
+    fn plan_into<H: HalHost>(&mut self, img: &mut [u8], now_ns: u64, p: &Named<'_, H>) {
+        // A drive tripped by a lost slave could not hear a quick stop,
+        // and when the link returns its state is whatever its own
+        // watchdog made it: straight to disable voltage, so that no
+        // quick stop reaches it late. Other faults (a drive fault, an
+        // EMCY) get the quick stop first, as canservo's.
+        // So does one that lost its link during a quick stop of another
+        // fault: a quick stop that some frames reach and others not
+        // would alternate with disable voltage.
+        if !self.ctl.latch.is_tripped() {
+            self.link_lost = false;
+        }
+        let comm_lost = self.link_lost || self.ctl.latch.fault().is_some_and(needs_restart);
+        let quick_stop_ns = if comm_lost { 0 } else { QUICK_STOP_NS };
+        let Some(plan) = self.ctl.plan(&self.inputs, now_ns, quick_stop_ns, false) else {
             return;
         };
         self.at.controlword.write(img, u64::from(plan.controlword));

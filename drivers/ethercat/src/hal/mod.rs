@@ -29,10 +29,17 @@
 //! last frame and never waits for one; `write` fills the outputs and
 //! hands the frame to the master's helper thread ([`crate::master`] says
 //! what each costs at worst). A slave that is not in OP, or whose data
-//! missed the working counter, gets zero outputs that period (its drive
-//! trips `srv-fault`); a rising `srv-fault-reset` brings slaves back to
-//! OP. At unload, exit or after a panic every slave's outputs go to
-//! their safe values (zeros; drives: disable voltage) in one last frame.
+//! missed the working counter, gets its safe outputs that period, per
+//! slave and per meaning (digital outputs off, analog outputs 0 V, the
+//! EL7041 disabled, a drive's controlword from the CiA 402 layer with
+//! its latch tripped: disable voltage), and its output pins
+//! (`srv-cia-controlword`, `aout-N-curr-dc`, `srv-curr-dc`, ...) show
+//! what went on the wire; a drive enables again only after
+//! `srv-fault-reset` and a new rising `srv-enable`, the EL7041 after a
+//! new rising `srv-enable`. A rising
+//! `srv-fault-reset` brings slaves back to OP. At unload, exit or after
+//! a panic every slave's outputs go to their safe values (zeros; drives:
+//! disable voltage) in one last frame.
 //!
 //! With `backend=sim` the segment is published for tests as
 //! `lcec.<m>` ([`hal_driver::sim::find`] with
@@ -217,6 +224,13 @@ impl<H: HalHost> MasterRt<H> {
             let state = al_state(&self.cyclic, s.index);
             let healthy = self.cyclic.healthy(s.index);
             let emcy = self.cyclic.take_emergency(s.index);
+            let expected = self
+                .cyclic
+                .slaves()
+                .get(s.index)
+                .map_or((0, 0), |i| (i.identity.0, i.identity.1));
+            s.show_refused(self.cyclic.refused(s.index), expected, log);
+            s.show_failure(self.cyclic.recovery_failure(s.index), log);
             s.read(
                 self.cyclic.inputs(s.index),
                 (state, healthy),
@@ -325,7 +339,8 @@ impl<H: HalHost> MasterRt<H> {
         self.times(ctx);
         let mut reset = false;
         for s in &mut self.slaves {
-            s.write(self.cyclic.outputs_mut(s.index), now_ns);
+            let healthy = self.cyclic.healthy(s.index);
+            s.write(self.cyclic.outputs_mut(s.index), now_ns, healthy);
             reset |= s.wants_reset();
         }
         if reset {
@@ -440,10 +455,11 @@ fn export_master<H: HalHost>(
         .map(|p| AnyPin::export(c, &pins::full_name(Some(&name), None, &p.name), p))
         .collect::<Result<Vec<_>>>()?;
     let mut slaves = Vec::with_capacity(s.conf.slaves.len());
+    let mut cyclic = s.cyclic;
     for sc in &s.conf.slaves {
         let index = usize::from(sc.index);
-        let layout = s
-            .cyclic
+        cyclic.caller_makes_safe(index);
+        let layout = cyclic
             .slaves()
             .get(index)
             .map(|i| i.layout.clone())
@@ -451,7 +467,7 @@ fn export_master<H: HalHost>(
         slaves.push(SlaveRt::export(c, &name, sc, index, &layout, file)?);
     }
     let rt = MasterRt {
-        cyclic: s.cyclic,
+        cyclic,
         slaves,
         pins,
         wkc: WkcStats::default(),

@@ -13,7 +13,7 @@ use super::field::{self, Field};
 use super::stepper::{Stepper, StepperPins};
 use crate::error::Error;
 use crate::lcec::pins::{self, Coding, Kind, PinSpec, PinType};
-use crate::master::{Layout, ReadStatus};
+use crate::master::{Failure, Layout, ReadStatus};
 use crate::regs::al;
 
 /// Bits within an 8-bit status or control entry, for the catalogue pins
@@ -101,6 +101,11 @@ pub(crate) struct SlaveRt<H: HalHost> {
     encoder: Encoder,
     /// EL7041: the motor's enable edge and automatic reset.
     stepper: Stepper,
+    /// The other device found at its position that the master refused
+    /// to bring back (vendor, product), as last logged.
+    refused_shown: Option<(u32, u32)>,
+    /// Why bringing it back failed, as last logged.
+    failure_shown: Option<Failure>,
 }
 
 /// What a slave type computes beyond its entries' bits, with the pins it
@@ -253,6 +258,8 @@ impl<H: HalHost> SlaveRt<H> {
             drive,
             encoder: Encoder::default(),
             stepper: Stepper::default(),
+            refused_shown: None,
+            failure_shown: None,
         })
     }
 
@@ -316,8 +323,13 @@ impl<H: HalHost> SlaveRt<H> {
         }
     }
 
-    /// A cycle's transmission into the slave's outputs.
-    pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64) {
+    /// A cycle's transmission into the slave's outputs; an unhealthy
+    /// slave gets its safe outputs ([`SlaveRt::hold_safe`]) instead.
+    pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64, healthy: bool) {
+        if !healthy {
+            self.hold_safe(outputs, now_ns);
+            return;
+        }
         if let TypeCode::AnalogOut(channels) = &self.code {
             analog_out(&self.pins, channels);
         }
@@ -346,6 +358,74 @@ impl<H: HalHost> SlaveRt<H> {
         }
         if let Some(d) = &mut self.drive {
             d.write(outputs, now_ns, &Named(&self.pins));
+        }
+    }
+
+    /// The safe outputs of a slave that is not exchanging data, per
+    /// meaning, and the output pins that report them: digital and
+    /// generic entries 0 (lcec has no per-entry safe value), the
+    /// EL4102's channels 0 V (`curr-dc`, `raw`, `pos`, `neg` 0), the
+    /// EL7041 disabled (`srv-curr-dc`, `srv-raw-cmd` 0), a drive's
+    /// controlword as the CiA 402 layer plans it with its latch tripped
+    /// (`srv-cia-controlword`). These are what the next frame carries,
+    /// the first after the link returns included.
+    fn hold_safe(&mut self, outputs: &mut [u8], now_ns: u64) {
+        outputs.fill(0);
+        let named = Named(&self.pins);
+        match &self.code {
+            TypeCode::AnalogOut(channels) => {
+                for c in channels {
+                    for i in [c.curr_dc, c.raw, c.pos, c.neg] {
+                        if let Some(pin) = named.at(i) {
+                            pin.set(0.0);
+                        }
+                    }
+                }
+            }
+            TypeCode::Stepper(at) => self.stepper.safe(&at.1, &named),
+            TypeCode::Plain | TypeCode::AnalogIn(_) | TypeCode::Encoder(_) => {}
+        }
+        if let Some(d) = &mut self.drive {
+            d.write_lost(outputs, now_ns, &named);
+        }
+    }
+
+    /// Says once that the master found another device at this slave's
+    /// position (`refused`: its vendor and product) than the one it
+    /// brought up (`expected`), and left it unconfigured.
+    pub(crate) fn show_refused(
+        &mut self,
+        refused: Option<(u32, u32)>,
+        expected: (u32, u32),
+        log: Option<&LogSink>,
+    ) {
+        if refused == self.refused_shown {
+            return;
+        }
+        self.refused_shown = refused;
+        if let (Some(log), Some((vendor, product))) = (log, refused) {
+            log.err(format_args!(
+                "{}: position {} now holds vendor {vendor:#010x} product {product:#010x}, not the device found at start-up (vendor {:#010x} product {:#010x}): not configured, left in INIT",
+                self.label, self.index, expected.0, expected.1
+            ));
+        }
+    }
+
+    /// Says once why the master could not bring the slave back after it
+    /// lost its configuration (a different device is said by
+    /// [`SlaveRt::show_refused`]).
+    pub(crate) fn show_failure(&mut self, failure: Option<Failure>, log: Option<&LogSink>) {
+        if failure == self.failure_shown {
+            return;
+        }
+        self.failure_shown = failure;
+        match (log, failure) {
+            (Some(log), Some(f)) if f != Failure::Refused => log.err(format_args!(
+                "{}: not back in OP: {}; the master tries again every 500 ms",
+                self.label,
+                f.describe()
+            )),
+            _ => {}
         }
     }
 

@@ -6,7 +6,9 @@
 //! is off. `srv-fault` is the terminal's error bit; `srv-fault-reset` or
 //! `srv-reset` set the terminal's reset bit, and an enable's rising edge
 //! while in error pulses it once (one cycle on, one off) with `srv-fault`
-//! held low meanwhile.
+//! held low meanwhile. After the terminal's safe state (its link or
+//! slave lost) the motor stays off, its enable bit 0, until `srv-enable`
+//! falls and rises again.
 
 use hal_core::HalHost;
 
@@ -33,6 +35,8 @@ pub(crate) struct StepperPins {
     velocity: Option<Field>,
     /// The reset bit (0x7010:02) in the outputs.
     reset_bit: Option<Field>,
+    /// The enable bit (0x7010:01) in the outputs.
+    enable_bit: Option<Field>,
 }
 
 impl StepperPins {
@@ -60,6 +64,7 @@ impl StepperPins {
             fault_reset: p.index("srv-fault-reset"),
             velocity: output(0x21),
             reset_bit: output(0x02),
+            enable_bit: output(0x01),
         }
     }
 }
@@ -74,6 +79,8 @@ pub(crate) struct Stepper {
     retry: bool,
     /// Its reset bit this cycle.
     pulse_on: bool,
+    /// Held off since its safe state, until `srv-enable` falls.
+    held: bool,
     /// Cycles the pulse has been in its current half.
     pulse_cycles: u8,
 }
@@ -110,7 +117,17 @@ impl Stepper {
                 x.set(v);
             }
         };
-        let enable = get(at.enable) != 0.0;
+        // After its safe state (the link or the slave lost) the motor
+        // stays off until `srv-enable` falls and rises again: it never
+        // powers up by itself when the link returns.
+        let asked = get(at.enable) != 0.0;
+        if !asked {
+            self.held = false;
+        }
+        let enable = asked && !self.held;
+        if let (true, Some(f)) = (self.held, at.enable_bit) {
+            f.write(out, 0);
+        }
         if enable && !self.last_enable && self.in_error {
             self.retry = true;
             self.pulse_on = true;
@@ -155,6 +172,19 @@ impl Stepper {
             get(at.reset) != 0.0 || get(at.fault_reset) != 0.0 || (self.retry && self.pulse_on);
         if let Some(f) = at.reset_bit {
             f.write(out, u64::from(reset));
+        }
+    }
+
+    /// The safe state's pins (the terminal disabled, its velocity 0 on
+    /// the wire): `srv-curr-dc` and `srv-raw-cmd` show 0; the motor is
+    /// held off until a new rising `srv-enable`.
+    pub(crate) fn safe<H: HalHost>(&mut self, at: &StepperPins, p: &Named<'_, H>) {
+        self.held = true;
+        self.last_enable = false;
+        for i in [at.curr_dc, at.raw_cmd] {
+            if let Some(x) = p.at(i) {
+                x.set(0.0);
+            }
         }
     }
 }

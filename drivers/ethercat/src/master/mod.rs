@@ -16,8 +16,10 @@
 //!   previous inputs and counts a late frame. Worst case: a copy of the
 //!   input image plus a bounded retry (4 tries) when the helper is
 //!   publishing at that instant.
-//! * [`Cyclic::write`] publishes the outputs (safe values, zeros, for
-//!   slaves that are not healthy) and the time; it does not wake the
+//! * [`Cyclic::write`] publishes the outputs (for slaves that are not
+//!   healthy their safe values: the caller's, per slave and meaning,
+//!   where it said it makes them ([`Cyclic::caller_makes_safe`]), else
+//!   zeros) and the time; it does not wake the
 //!   helper, which looks for the write when it is due (a step of 1/40 of
 //!   the period at most after it). Worst case: a copy of the output
 //!   image and a clock read (vDSO); after an idle spell of four periods
@@ -33,7 +35,10 @@
 //! OP (lost, reset, AL error), or the link down make the affected slaves
 //! unhealthy; `write` gives them safe outputs from that period on, and
 //! [`Cyclic::fault_reset`] asks the helper to bring slaves in SAFE-OP or
-//! PRE-OP back to OP (AL control with error acknowledge).
+//! PRE-OP back to OP (AL control with error acknowledge). A slave that
+//! lost its configuration (power-cycled, replugged: INIT without a
+//! station address) is brought back to OP by the helper on its own,
+//! between cycles ([`recover`]).
 
 pub mod dc;
 pub mod emcy;
@@ -41,6 +46,7 @@ pub mod exchange;
 pub(crate) mod io;
 pub mod layout;
 pub mod pll;
+mod recover;
 mod serve;
 
 use std::ops::Range;
@@ -60,6 +66,7 @@ pub use dc::DcPlan;
 use exchange::Exchange;
 use io::Io;
 pub use layout::{Layout, MappedEntry};
+pub use recover::Failure;
 
 /// Slaves per master at most.
 pub const MAX_SLAVES: usize = 64;
@@ -192,6 +199,14 @@ struct Shared {
     written_at: AtomicU64,
     clocks: Clocks,
     emergencies: emcy::Slots,
+    /// Per slave: a different device was found at its position when it
+    /// was to be brought back ([`recover`]), and what it is (vendor id
+    /// << 32 | product code).
+    refused: Box<[AtomicBool]>,
+    found: Box<[AtomicU64]>,
+    /// Per slave: why the last try to bring it back failed
+    /// ([`recover::Failure`] as a code; 0: none).
+    recovery: Box<[AtomicU8]>,
 }
 
 /// The distributed clocks as the helper and the realtime side see them.
@@ -241,6 +256,10 @@ pub struct Cyclic {
     outputs: Vec<u8>,
     staged: Vec<u8>,
     healthy: Vec<bool>,
+    /// Per slave: the caller fills its safe outputs itself while it is
+    /// unhealthy ([`Cyclic::caller_makes_safe`]); `write` zeroes the
+    /// others'.
+    caller_safe: Vec<bool>,
     tag: u64,
     last_read_tag: u64,
     wkc: u16,
@@ -308,6 +327,7 @@ impl Master {
             outputs: vec![0; shared.outputs.len()],
             staged: vec![0; shared.outputs.len()],
             healthy: vec![true; slaves.len()],
+            caller_safe: vec![false; slaves.len()],
             slaves: slaves.clone(),
             shared: shared.clone(),
             tag: 0,
@@ -424,12 +444,23 @@ impl Cyclic {
         self.shared.states.get(i).map_or(0, |s| s.load(Relaxed))
     }
 
-    /// Publishes the outputs (zeros for unhealthy slaves) and wakes the
-    /// helper to send the frame. Never waits.
+    /// Slave `i`'s safe outputs are the caller's: while it is unhealthy
+    /// the caller puts them in [`Cyclic::outputs_mut`] (per slave and per
+    /// meaning: a drive's controlword, an output's level) and `write`
+    /// sends them as they are, instead of zeros. One authority over what
+    /// goes on the wire, so what the caller reports is what was sent.
+    pub fn caller_makes_safe(&mut self, i: usize) {
+        if let Some(c) = self.caller_safe.get_mut(i) {
+            *c = true;
+        }
+    }
+
+    /// Publishes the outputs (zeros for unhealthy slaves whose safe
+    /// outputs are not the caller's) and the time. Never waits.
     pub fn write(&mut self) {
         self.staged.copy_from_slice(&self.outputs);
-        for (s, ok) in self.slaves.iter().zip(&self.healthy) {
-            if !ok {
+        for ((s, ok), own) in self.slaves.iter().zip(&self.healthy).zip(&self.caller_safe) {
+            if !ok && !own {
                 if let Some(o) = self.staged.get_mut(s.outputs.clone()) {
                     o.fill(0);
                 }
@@ -467,6 +498,26 @@ impl Cyclic {
     /// The counters.
     pub fn counters(&self) -> &Counters {
         &self.shared.counters
+    }
+
+    /// The vendor id and product code of the device found at slave `i`'s
+    /// position when the master was to bring it back after it lost its
+    /// configuration, if that is not the device found at bring-up (the
+    /// master refuses to configure it).
+    pub fn refused(&self, i: usize) -> Option<(u32, u32)> {
+        let flag = self.shared.refused.get(i)?;
+        if !flag.load(Acquire) {
+            return None;
+        }
+        let v = self.shared.found.get(i)?.load(Relaxed);
+        Some(((v >> 32) as u32, v as u32))
+    }
+
+    /// Why the last try to bring slave `i` back (after it lost its
+    /// configuration) failed, while it is not back; the helper tries
+    /// again every 500 ms.
+    pub fn recovery_failure(&self, i: usize) -> Option<Failure> {
+        Failure::from_code(self.shared.recovery.get(i)?.load(Relaxed))
     }
 
     /// The application time (EtherCAT ns) of CLOCK_MONOTONIC time
@@ -660,8 +711,21 @@ fn bring_up(
             ..Clocks::default()
         },
         emergencies: emcy::Slots::new(slaves.len()),
+        refused: (0..slaves.len()).map(|_| AtomicBool::new(false)).collect(),
+        found: (0..slaves.len()).map(|_| AtomicU64::new(0)).collect(),
+        recovery: (0..slaves.len()).map(|_| AtomicU8::new(0)).collect(),
     });
-    Ok((group, shared, slaves, serve::Extras { clocks, mailboxes }))
+    let recovery = recover::Recovery::new(md, io, &slaves);
+    Ok((
+        group,
+        shared,
+        slaves,
+        serve::Extras {
+            clocks,
+            mailboxes,
+            recovery,
+        },
+    ))
 }
 
 /// What the configuration says of one slave, done in PRE-OP: its

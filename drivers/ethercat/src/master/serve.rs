@@ -15,6 +15,7 @@ use ethercrab::{MainDevice, SubDeviceState};
 use super::dc::DcCycle;
 use super::emcy::MailboxPoll;
 use super::io::Io;
+use super::recover::Recovery;
 use super::{Group, MasterConfig, Shared, SlaveInfo, LOST_LIMIT, MAX_SLAVES};
 use crate::regs::{self, al};
 
@@ -25,6 +26,8 @@ pub(super) struct Extras {
     pub(super) clocks: DcCycle,
     /// The mailboxes polled for emergencies.
     pub(super) mailboxes: MailboxPoll,
+    /// Slaves that lost their configuration, brought back.
+    pub(super) recovery: Recovery,
 }
 
 pub(super) fn serve(
@@ -45,7 +48,7 @@ pub(super) fn serve(
     let mut waiting = NextWrite::new(cfg.period_ns.max(1000));
     while !shared.stop.load(Acquire) {
         if shared.reset.swap(false, AcqRel) {
-            reset_slaves(md, io, group, shared);
+            reset_slaves(md, io, group, shared, &extras.recovery);
         }
         let writes = shared.outputs.writes();
         if writes == last_writes {
@@ -101,6 +104,7 @@ pub(super) fn serve(
                 Relaxed,
             );
             shared.inputs.write(&inp, tag);
+            extras.recovery.step(md, io, group, shared, slaves, cfg);
         } else {
             shared.counters.lost.fetch_add(1, Relaxed);
             lost_run += 1;
@@ -295,8 +299,19 @@ fn state_byte(s: SubDeviceState) -> u8 {
 
 /// Slaves in SAFE-OP or PRE-OP (an AL error, a lost and found slave)
 /// are asked back to OP with the error acknowledged.
-fn reset_slaves(md: &MainDevice<'_>, io: &mut Io<'_>, group: &Group, shared: &Shared) {
+/// Slaves being brought back after they lost their configuration are
+/// left to that.
+fn reset_slaves(
+    md: &MainDevice<'_>,
+    io: &mut Io<'_>,
+    group: &Group,
+    shared: &Shared,
+    recovery: &Recovery,
+) {
     for (i, sd) in group.iter(md).enumerate() {
+        if recovery.busy(i) {
+            continue;
+        }
         let state = shared.states.get(i).map_or(0, |s| s.load(Relaxed)) & al::STATE_MASK;
         let steps: &[u8] = match state {
             al::OP => &[],

@@ -24,6 +24,12 @@ pub const FMMUS: u16 = 8;
 /// Sync managers.
 pub const SYNC_MANAGERS: u16 = 8;
 
+/// The process data watchdog (an ESC's default, 100 ms): outputs not
+/// refreshed by a frame for this long are cleared, so that a slave
+/// whose master vanished does not act on the last outputs of before
+/// when frames come again.
+pub const OUTPUT_WATCHDOG_NS: u64 = 100_000_000;
+
 /// A physical access: read, write or both.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Access {
@@ -51,6 +57,11 @@ pub struct Esc {
     /// How long a frame takes to come back from the slaves after this
     /// one (port 1's receive time minus port 0's).
     downstream_ns: i64,
+    /// The watchdog expired and no frame has written the outputs since.
+    silent: bool,
+    /// The outputs' process RAM as the first frame after the last
+    /// silence wrote it.
+    after_silence: Option<Vec<u8>>,
 }
 
 fn put16(mem: &mut [u8], at: u16, v: u16) {
@@ -78,6 +89,8 @@ impl Esc {
             layout_in: Vec::new(),
             position,
             downstream_ns: 0,
+            silent: false,
+            after_silence: None,
         };
         esc.power_on();
         esc
@@ -166,6 +179,10 @@ impl Esc {
         self.last_tick_ns = Some(now_ns);
         let (state, _) = self.al_state();
         let op = state == al::OP;
+        if op && dt > OUTPUT_WATCHDOG_NS {
+            self.clear_outputs();
+            self.silent = true;
+        }
         if op {
             self.unpack_outputs();
         }
@@ -187,6 +204,21 @@ impl Esc {
             self.mem[usize::from(base + sm::CONTROL)],
             self.mem[usize::from(base + sm::ACTIVATE)] & sm::ENABLE != 0,
         )
+    }
+
+    /// The outputs the master sent first after the last silence of the
+    /// watchdog's length (the process RAM of the outputs as that frame
+    /// wrote it), if there was one: what a slave acts on first when its
+    /// master comes back.
+    pub fn outputs_after_silence(&self) -> Option<&[u8]> {
+        self.after_silence.as_deref()
+    }
+
+    /// The watchdog expired: the outputs' process RAM goes to zero.
+    fn clear_outputs(&mut self) {
+        let start = usize::from(self.device.outputs_at).min(MEMORY);
+        let end = (start + self.device.image_bytes().0).min(MEMORY);
+        self.mem[start..end].fill(0);
     }
 
     fn unpack_outputs(&mut self) {
@@ -588,6 +620,12 @@ impl Esc {
                 copy_bits(data, data_bit, &mut self.mem[start..], phys_bit, bits);
                 did_write = true;
             }
+        }
+        if did_write && self.silent {
+            self.silent = false;
+            let start = usize::from(self.device.outputs_at).min(MEMORY);
+            let end = (start + self.device.image_bytes().0).min(MEMORY);
+            self.after_silence = Some(self.mem[start..end].to_vec());
         }
         let w = if read && write { 2 } else { 1 };
         u16::from(did_read) + if did_write { w } else { 0 }

@@ -55,7 +55,13 @@ pub struct Servo {
     emergencies: Vec<Emergency>,
     homing: Homing,
     pp_target: Option<f64>,
+    /// The controlword each cycle acted on, oldest first (the last
+    /// [`APPLIED_KEPT`]): what reached the drive, for tests.
+    pub applied: std::collections::VecDeque<u16>,
 }
+
+/// How many applied controlwords [`Servo::applied`] keeps.
+pub const APPLIED_KEPT: usize = 65_536;
 
 impl Servo {
     /// Raises a drive fault with `code` (over-current, following error,
@@ -186,6 +192,10 @@ impl Application for Servo {
             }
             cw::DISABLE_VOLTAGE
         };
+        if self.applied.len() >= APPLIED_KEPT {
+            self.applied.pop_front();
+        }
+        self.applied.push_back(controlword);
         self.power(od, controlword);
         let bits = self.motion(od, controlword, now_ns, dt);
         self.prev_cw = controlword;
@@ -364,6 +374,7 @@ pub fn servo(serial: u32) -> Device {
             emergencies: Vec::new(),
             homing: Homing::Idle,
             pp_target: None,
+            applied: std::collections::VecDeque::new(),
         }),
     }
 }
