@@ -173,9 +173,18 @@ fn the_application_time_follows_a_drifting_reference_clock() {
     wait("the reset counted", || {
         int(&host, "lcec.0.pll-reset-count") > resets1
     });
-    std::thread::sleep(Duration::from_millis(300));
-    let (errs, _) = errors(&host, Duration::from_millis(500));
-    let median = errs[errs.len() / 2];
+    // Converged again within a few seconds: on a loaded machine the
+    // helper thread (not realtime) can take its sample of the reference
+    // late around the jump, and the controller then walks the rest out
+    // at pll-step a period (4 µs in 4 ms: 1 ms a second).
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let median = loop {
+        let (errs, _) = errors(&host, Duration::from_millis(250));
+        let median = errs[errs.len() / 2];
+        if median <= 100_000 || Instant::now() > deadline {
+            break median;
+        }
+    };
     assert!(median <= 100_000, "after the reset: median {median} ns");
 
     host.stop();
