@@ -97,6 +97,7 @@ mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod line;
+pub mod mb2hal;
 pub mod modbus;
 mod opts;
 pub mod regs;
