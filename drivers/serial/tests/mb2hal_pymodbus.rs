@@ -464,16 +464,18 @@ fn every_transaction_code_over_rtu_on_a_pty() {
     not(pymodbus_peer),
     ignore = "needs pymodbus and pyserial in target/python-venv (scripts/install-deps)"
 )]
-fn a_server_that_comes_late_costs_errors_not_the_component() {
+fn a_late_server_and_a_refused_read_cost_errors_not_the_component() {
     let port = free_port();
     let dir = Dir::new("late");
     let ini = dir.write(
         "mb.ini",
         &format!(
-            "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=1\nHAL_MODULE_NAME=mblate\n\
+            "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=2\nHAL_MODULE_NAME=mblate\n\
              [TRANSACTION_00]\nLINK_TYPE=tcp\nTCP_IP=127.0.0.1\nTCP_PORT={port}\n\
              MB_SLAVE_ID=1\nFIRST_ELEMENT=0\nNELEMENTS=2\n\
-             MB_TX_CODE=fnct_04_read_input_registers\nDEBUG=0\n"
+             MB_TX_CODE=fnct_04_read_input_registers\nDEBUG=0\n\
+             [TRANSACTION_01]\nFIRST_ELEMENT=1000\nNELEMENTS=1\n\
+             MB_TX_CODE=fnct_03_read_holding_registers\nMAX_UPDATE_RATE=20\n"
         ),
     );
     let hal = Hal::new("mb2hal-late", "mblate");
@@ -491,6 +493,16 @@ fn a_server_that_comes_late_costs_errors_not_the_component() {
     wait_for("the link to recover", || {
         errors() == 0 && hal.get("00.01.int") == Value::S32(201)
     });
+    // A register the server does not have: refused with an exception,
+    // counted, while the other transaction on the link goes on working.
+    let refused = || match hal.get("01.num_errors") {
+        Value::U32(v) => v,
+        other => panic!("{other:?}"),
+    };
+    let now = refused();
+    wait_for("the refusals to count", || refused() >= now + 3);
+    assert_eq!(errors(), 0);
+    assert_eq!(hal.get("01.00.int"), Value::S32(0));
     assert_eq!(terminate(&mut proc), 0);
 }
 

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use super::super::reader::{parse_version, tx_number};
 use super::*;
 
 /// Parses `text` as the file `mb.ini`.

@@ -26,6 +26,7 @@
 pub mod config;
 pub mod hal;
 pub mod link;
+mod reader;
 pub mod tcp;
 pub mod transaction;
 
@@ -48,16 +49,39 @@ pub const NAME: &str = "mb2hal";
 /// The help text.
 pub const USAGE: &str = "\
 Usage: mb2hal config=FILE [--instance NAME]
-Runs the Modbus transactions an INI file lists, over Modbus TCP and RTU, as HAL pins (LinuxCNC's mb2hal).
-The file has an [MB2HAL_INIT] section (INIT_DEBUG, VERSION, HAL_MODULE_NAME, SLOWDOWN, TOTAL_TRANSACTIONS) and one [TRANSACTION_NN] section per transaction, from 00 (LINK_TYPE, TCP_IP, TCP_PORT, SERIAL_PORT, SERIAL_BAUD, SERIAL_BITS, SERIAL_PARITY, SERIAL_STOP, SERIAL_DELAY_MS, MB_SLAVE_ID, FIRST_ELEMENT, NELEMENTS or PIN_NAMES, MB_TX_CODE, MB_RESPONSE_TIMEOUT_MS, MB_BYTE_TIMEOUT_MS, HAL_TX_NAME, MAX_UPDATE_RATE, DEBUG). A transaction that leaves out a link key, MB_SLAVE_ID, a timeout, MAX_UPDATE_RATE or DEBUG takes the previous one's.
+Runs the Modbus transactions an INI file lists, over Modbus TCP and RTU,
+as HAL pins: LinuxCNC's mb2hal. Each link (a TCP server, a serial line)
+runs its transactions in turn in a thread of its own; a link that fails
+is tried again after a pause, and its transactions count the failures in
+their num_errors pins.
+The file has an [MB2HAL_INIT] section (INIT_DEBUG, VERSION,
+HAL_MODULE_NAME, SLOWDOWN, TOTAL_TRANSACTIONS) and one [TRANSACTION_NN]
+section per transaction from 00 (LINK_TYPE, TCP_IP, TCP_PORT,
+SERIAL_PORT, SERIAL_BAUD, SERIAL_BITS, SERIAL_PARITY, SERIAL_STOP,
+SERIAL_DELAY_MS, MB_SLAVE_ID, FIRST_ELEMENT, NELEMENTS or PIN_NAMES,
+MB_TX_CODE, MB_RESPONSE_TIMEOUT_MS, MB_BYTE_TIMEOUT_MS, HAL_TX_NAME,
+MAX_UPDATE_RATE, DEBUG). A transaction that leaves out a link key,
+MB_SLAVE_ID, a timeout, MAX_UPDATE_RATE or DEBUG takes the previous
+one's.
+Arguments:
+  config=FILE   the INI file (required)
 Options:
-  config=FILE                 the INI file (required)
       --instance NAME         the HAL instance (default $HAL_INSTANCE, else 'default')
   -h, --help                  print this help and exit
       --version               print the version and exit
+Pins:
+  (MODULE is HAL_MODULE_NAME; TX is HAL_TX_NAME, else the transaction's number)
+  MODULE.TX.num_errors        u32 out: failures since the last success
+  MODULE.TX.NN.bit, .bit-inv  bit out: fnct_01_read_coils, fnct_02_read_discrete_inputs
+  MODULE.TX.NN.float, .int    float, s32 out: fnct_03_read_holding_registers,
+                              fnct_04_read_input_registers
+  MODULE.TX.NN.bit            bit in: fnct_05_write_single_coil, fnct_15_write_multiple_coils
+  MODULE.TX.NN.float, .int    float, s32 in: fnct_06_write_single_register,
+                              fnct_16_write_multiple_registers (their sum, 0 to 65535)
+  (NN counts from 00, or is a name of PIN_NAMES with VERSION = 1.1)
 Examples:
   loadusr -W mb2hal config=mb2hal.ini
-  loadusr -Wn plc mb2hal config=plc.ini
+  loadusr -Wn plc mb2hal config=plc.ini   (HAL_MODULE_NAME = plc)
 ";
 
 /// What the command line asks for.
