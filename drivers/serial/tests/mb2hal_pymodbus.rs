@@ -9,7 +9,8 @@
 //!
 //! pymodbus comes from the workspace's Python environment
 //! (target/python-venv, filled by scripts/install-deps); without it the
-//! tests are reported as ignored.
+//! tests that start it are reported as ignored. A bad INI file and a
+//! serial device that is not there need no server and always run.
 #![allow(
     clippy::unwrap_used,
     reason = "test code: a failed unwrap fails the test"
@@ -275,12 +276,17 @@ impl Hal {
 
     /// Starts mb2hal on `ini`, as `loadusr -W` does.
     fn start(&self, ini: &Path) -> Proc {
+        self.start_logged(ini, Stdio::inherit())
+    }
+
+    /// Starts mb2hal on `ini` with its messages to `stderr`.
+    fn start_logged(&self, ini: &Path, stderr: Stdio) -> Proc {
         let child = Command::new(env!("CARGO_BIN_EXE_mb2hal"))
             .arg(format!("config={}", ini.display()))
             .env("HAL_INSTANCE", self.inst.name())
             .env("HAL_NO_REALTIME", "1")
             .stdout(Stdio::null())
-            .stderr(Stdio::inherit())
+            .stderr(stderr)
             .spawn()
             .expect("mb2hal starts");
         let mut p = Proc(child);
@@ -473,18 +479,25 @@ fn a_late_server_and_a_refused_read_cost_errors_not_the_component() {
             "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=2\nHAL_MODULE_NAME=mblate\n\
              [TRANSACTION_00]\nLINK_TYPE=tcp\nTCP_IP=127.0.0.1\nTCP_PORT={port}\n\
              MB_SLAVE_ID=1\nFIRST_ELEMENT=0\nNELEMENTS=2\n\
-             MB_TX_CODE=fnct_04_read_input_registers\nDEBUG=0\n\
+             MB_TX_CODE=fnct_04_read_input_registers\n\
              [TRANSACTION_01]\nFIRST_ELEMENT=1000\nNELEMENTS=1\n\
              MB_TX_CODE=fnct_03_read_holding_registers\nMAX_UPDATE_RATE=20\n"
         ),
     );
     let hal = Hal::new("mb2hal-late", "mblate");
-    let mut proc = hal.start(&ini);
+    let log = dir.0.join("stderr.txt");
+    let mut proc = hal.start_logged(&ini, std::fs::File::create(&log).unwrap().into());
     let errors = || match hal.get("00.num_errors") {
         Value::U32(v) => v,
         other => panic!("{other:?}"),
     };
     wait_for("connection failures to count", || errors() >= 2);
+    // The link's other transaction could not run either: it counts too.
+    assert!(
+        matches!(hal.get("01.num_errors"), Value::U32(n) if n >= 1),
+        "{:?}",
+        hal.get("01.num_errors")
+    );
     // Backed off, not busy: a few attempts a second at most.
     let before = errors();
     std::thread::sleep(Duration::from_millis(500));
@@ -504,6 +517,24 @@ fn a_late_server_and_a_refused_read_cost_errors_not_the_component() {
     assert_eq!(errors(), 0);
     assert_eq!(hal.get("01.00.int"), Value::S32(0));
     assert_eq!(terminate(&mut proc), 0);
+    // Each failure is said once, with the section, the code, the link
+    // and the reason; so is the recovery.
+    let said = std::fs::read_to_string(&log).unwrap();
+    let refused = format!(
+        "mb2hal: [TRANSACTION_00] fnct_04_read_input_registers (00) on tcp 127.0.0.1:{port}: \
+         cannot connect to Modbus TCP server 127.0.0.1:{port}: "
+    );
+    assert_eq!(said.matches(&refused).count(), 1, "{said}");
+    assert_eq!(
+        said.matches("mb2hal: [TRANSACTION_00] works again").count(),
+        1,
+        "{said}"
+    );
+    let exception = format!(
+        "mb2hal: [TRANSACTION_01] fnct_03_read_holding_registers (01) on tcp 127.0.0.1:{port}: \
+         slave 1: function 0x03 refused: illegal data address (exception 0x02)\n"
+    );
+    assert_eq!(said.matches(&exception).count(), 1, "{said}");
 }
 
 #[test]
@@ -538,4 +569,29 @@ fn a_bad_file_is_refused_before_the_component_exists() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/mb.ini"));
+}
+
+#[test]
+fn a_serial_device_that_is_not_there_costs_errors_not_the_component() {
+    let dir = Dir::new("nodev");
+    let ini = dir.write(
+        "mb.ini",
+        "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=1\nHAL_MODULE_NAME=mbnodev\n\
+         [TRANSACTION_00]\nLINK_TYPE=serial\nSERIAL_PORT=/nonexistent/ttyUSB9\n\
+         SERIAL_BAUD=19200\nSERIAL_PARITY=even\nMB_SLAVE_ID=1\nFIRST_ELEMENT=0\n\
+         NELEMENTS=1\nMB_TX_CODE=fnct_05_write_single_coil\n",
+    );
+    let hal = Hal::new("mb2hal-nodev", "mbnodev");
+    let log = dir.0.join("stderr.txt");
+    let mut proc = hal.start_logged(&ini, std::fs::File::create(&log).unwrap().into());
+    wait_for(
+        "open failures to count",
+        || matches!(hal.get("00.num_errors"), Value::U32(n) if n >= 2),
+    );
+    assert_eq!(terminate(&mut proc), 0);
+    let said = std::fs::read_to_string(&log).unwrap();
+    let want = "mb2hal: [TRANSACTION_00] fnct_05_write_single_coil (00) on serial \
+                /nonexistent/ttyUSB9 19200 baud 8E1: cannot open serial device \
+                /nonexistent/ttyUSB9: no such device";
+    assert_eq!(said.matches(want).count(), 1, "{said}");
 }

@@ -4,7 +4,8 @@
 //! each. A link that fails (refused connection, closed socket, gone
 //! device) is closed and tried again after a pause that doubles up to
 //! [`BACKOFF_MAX`]; a failed transaction counts in its `num_errors` and
-//! is said once on stderr until it works again.
+//! is said once on stderr until it works again. When the link itself
+//! fails, every transaction that was due counts the failure.
 
 use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 use std::time::{Duration, Instant};
@@ -228,6 +229,15 @@ impl LinkRunner {
                     }
                     s.said = Some(msg);
                     if e.is_line_failure() {
+                        // The others that were due cannot run either:
+                        // they fail with it.
+                        for (j, o) in self.txs.iter_mut().enumerate() {
+                            if j != i && o.next <= now {
+                                let n = o.pins.num_errors.get().saturating_add(1);
+                                o.pins.num_errors.set(n);
+                                o.next = now + o.tx.period();
+                            }
+                        }
                         self.link.close();
                         self.down_until = Some(Instant::now() + self.backoff);
                         self.backoff = (self.backoff * 2).min(BACKOFF_MAX);
