@@ -476,7 +476,7 @@ fn a_late_server_and_a_refused_read_cost_errors_not_the_component() {
     let ini = dir.write(
         "mb.ini",
         &format!(
-            "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=2\nHAL_MODULE_NAME=mblate\n\
+            "[MB2HAL_INIT]\nTOTAL_TRANSACTIONS=2\nHAL_MODULE_NAME=mblate\nINIT_DEBUG=2\n\
              [TRANSACTION_00]\nLINK_TYPE=tcp\nTCP_IP=127.0.0.1\nTCP_PORT={port}\n\
              MB_SLAVE_ID=1\nFIRST_ELEMENT=0\nNELEMENTS=2\n\
              MB_TX_CODE=fnct_04_read_input_registers\n\
@@ -535,6 +535,13 @@ fn a_late_server_and_a_refused_read_cost_errors_not_the_component() {
          slave 1: function 0x03 refused: illegal data address (exception 0x02)\n"
     );
     assert_eq!(said.matches(&exception).count(), 1, "{said}");
+    // INIT_DEBUG=2 shows each transaction as read, inherited keys too.
+    let settings = format!(
+        "mb2hal: [TRANSACTION_01] fnct_03_read_holding_registers on tcp 127.0.0.1:{port}, \
+         slave 1, from 1000 x1 (00), timeouts 500 ms / 500 ms, rate 20 Hz, debug 1, \
+         pins mblate.01.*\n"
+    );
+    assert!(said.contains(&settings), "{said}");
 }
 
 #[test]

@@ -185,6 +185,27 @@ pub fn run(path: &std::path::Path, instance: Option<&str>) -> Result<()> {
             names.join(", ")
         );
     }
+    if config.init_debug >= 2 {
+        for tx in &config.transactions {
+            eprintln!(
+                "{NAME}: [{}] {} on {}, slave {}, from {} x{} ({}), timeouts {} ms / {} ms, \
+                 rate {} Hz, debug {}, pins {}.{}.*",
+                tx.section,
+                tx.code.name(),
+                tx.link.describe(),
+                tx.slave,
+                tx.first,
+                tx.count(),
+                tx.elements.join(","),
+                tx.response_timeout.as_millis(),
+                tx.byte_timeout.as_millis(),
+                tx.max_update_rate,
+                tx.debug,
+                config.module_name,
+                tx.hal_name
+            );
+        }
+    }
     let exit = ExitSignals::install()?;
     let inst = match instance {
         Some(name) => Instance::attach(name)?,
