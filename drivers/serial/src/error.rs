@@ -181,6 +181,67 @@ pub enum SerialError {
     /// A command-line usage error (unknown option, missing value).
     #[error("{0}")]
     Usage(String),
+    /// A Modbus TCP server could not be reached.
+    #[error("cannot connect to Modbus TCP server {address}: {source}")]
+    Connect {
+        /// `IP:port`.
+        address: String,
+        /// The system's answer.
+        #[source]
+        source: io::Error,
+    },
+    /// Sending to or receiving from a Modbus TCP server failed, or it
+    /// closed the connection.
+    #[error("Modbus TCP server {address}: {op} failed: {source}")]
+    Net {
+        /// `IP:port`.
+        address: String,
+        /// "write" or "read".
+        op: &'static str,
+        /// The system's answer.
+        #[source]
+        source: io::Error,
+    },
+    /// A Modbus TCP reply whose MBAP header cannot be right (protocol
+    /// identifier, length): the stream is out of step.
+    #[error("Modbus TCP server {address}: bad reply header: {what}")]
+    BadHeader {
+        /// `IP:port`.
+        address: String,
+        /// What is wrong with it.
+        what: String,
+    },
+    /// An INI file could not be read.
+    #[error(transparent)]
+    Ini(#[from] hal_lang::ini::IniError),
+    /// A value in a configuration file that cannot be used.
+    #[error("{at}: [{section}] {key} = {value}: {reason}")]
+    Config {
+        /// Where the value is: the file as it was named, and the line
+        /// (`mb.ini:12`).
+        at: String,
+        /// The section.
+        section: String,
+        /// The key.
+        key: String,
+        /// The value as written.
+        value: String,
+        /// Why it is refused, and what would be accepted.
+        reason: String,
+    },
+    /// A key (or, with an empty key, a section) that must be in a
+    /// configuration file is not.
+    #[error("{file}: [{section}]{}{} is missing{}", if .key.is_empty() { "" } else { " " }, .key, reason_suffix(.reason))]
+    ConfigMissing {
+        /// The file, as it was named.
+        file: String,
+        /// The section.
+        section: String,
+        /// The key (empty for the whole section).
+        key: String,
+        /// Why it is needed (may be empty).
+        reason: String,
+    },
     /// A HAL error (attaching, creating pins).
     #[error(transparent)]
     Hal(#[from] hal_core::HalError),
@@ -209,7 +270,9 @@ impl SerialError {
             SerialError::WrongSlave { .. } | SerialError::BadReply { .. } => {
                 code::INVALID_EXCEPTION_CODE
             }
-            SerialError::Io { op: "write", .. } => code::PORT_FAILURE,
+            SerialError::Io { op: "write", .. } | SerialError::Net { op: "write", .. } => {
+                code::PORT_FAILURE
+            }
             _ => code::PORT_SOCKET_FAILURE,
         }
     }
@@ -232,7 +295,15 @@ impl SerialError {
 
     /// Whether the line itself failed (the device must be reopened).
     pub fn is_line_failure(&self) -> bool {
-        matches!(self, SerialError::Io { .. } | SerialError::LineDown { .. })
+        matches!(
+            self,
+            SerialError::Io { .. }
+                | SerialError::Open { .. }
+                | SerialError::LineDown { .. }
+                | SerialError::Connect { .. }
+                | SerialError::Net { .. }
+                | SerialError::BadHeader { .. }
+        )
     }
 }
 

@@ -109,3 +109,80 @@ pub fn command_line(bytes: &[u8]) {
         Err(e) => assert!(!e.to_string().is_empty()),
     }
 }
+
+/// An mb2hal INI file (`#INCLUDE`s of anything fail): a configuration
+/// whose every transaction fits its function, names valid pins and
+/// stays in the address space, or a refusal with a message.
+pub fn mb2hal_ini(bytes: &[u8]) {
+    use crate::mb2hal::config::Config;
+    use std::path::Path;
+    let text = String::from_utf8_lossy(bytes).into_owned();
+    let mut read = |p: &Path| -> std::io::Result<String> {
+        if p == Path::new("fuzz.ini") {
+            Ok(text.clone())
+        } else {
+            Err(std::io::ErrorKind::NotFound.into())
+        }
+    };
+    let ini = match hal_lang::ini::Ini::parse_with(Path::new("fuzz.ini"), &mut read) {
+        Ok(ini) => ini,
+        Err(e) => return assert!(!e.to_string().is_empty()),
+    };
+    match Config::from_ini(&ini) {
+        Ok(c) => {
+            assert!(!c.transactions.is_empty() && c.transactions.len() <= 100);
+            for tx in &c.transactions {
+                let n = usize::from(tx.count());
+                assert!(n >= 1 && n <= usize::from(tx.code.max_count()));
+                assert_eq!(n, tx.elements.len());
+                assert!(usize::from(tx.first) + n - 1 <= 65535);
+                for e in &tx.elements {
+                    let pin = format!("{}.{}.{e}.bit-inv", c.module_name, tx.hal_name);
+                    assert!(hal_core::name::validate("pin", &pin).is_ok(), "{pin}");
+                }
+            }
+            let links: usize = c.links().iter().map(|(_, txs)| txs.len()).sum();
+            assert_eq!(links, c.transactions.len());
+        }
+        Err(e) => assert!(!e.to_string().is_empty()),
+    }
+}
+
+/// Bytes from a Modbus TCP server as the reply to one transaction. The
+/// first byte picks the transaction and how the bytes are cut into
+/// reads; the rest is what the socket delivers. An accepted reply
+/// answers the transaction asked with the values it asked for.
+pub fn modbus_tcp_reply(bytes: &[u8]) {
+    use crate::mb2hal::tcp::{MbapClient, ScriptWire};
+    use crate::modbus::functions as f;
+    let Some((&sel, answer)) = bytes.split_first() else {
+        return;
+    };
+    let chunk = usize::from(sel >> 4) + 1;
+    let wire = ScriptWire::new(answer.chunks(chunk).map(<[u8]>::to_vec));
+    let mut c = MbapClient::new(wire, "fuzz:502");
+    let count = u16::from(sel >> 5) + 1;
+    let outcome: Result<(), SerialError> = match sel % 8 {
+        0 => f::read_bits(&mut c, 1, 0x01, 0, count).map(|v| assert_eq!(v.len(), count.into())),
+        1 => f::read_bits(&mut c, 1, 0x02, 7, 17).map(|v| assert_eq!(v.len(), 17)),
+        2 => {
+            f::read_registers(&mut c, 1, 0x03, 0, count).map(|v| assert_eq!(v.len(), count.into()))
+        }
+        3 => f::read_registers(&mut c, 1, 0x04, 0, 125).map(|v| assert_eq!(v.len(), 125)),
+        4 => f::write_coil(&mut c, 1, 3, true),
+        5 => f::write_register(&mut c, 1, 3, 0x1234),
+        6 => f::write_coils(&mut c, 1, 3, &[true, false, true]),
+        _ => f::write_registers(&mut c, 1, 3, &[1, 2, 3]),
+    };
+    match outcome {
+        Ok(()) => assert!(answer.len() >= 9, "a reply has a header and a PDU"),
+        Err(e) => {
+            assert!(!e.to_string().is_empty());
+            assert!(e.code() < 0);
+        }
+    }
+    assert!(
+        c.wire().sent.len() <= 7 + 253,
+        "one request, never a second"
+    );
+}

@@ -1,11 +1,13 @@
-//! Serial-line drivers: a Modbus RTU master and LinuxCNC's spindle VFD
-//! components `hy_vfd` (Huanyang HY series, their own protocol) and
-//! `hy_gt_vfd` (Huanyang GT series, standard Modbus), with a simulated
-//! drive so their configurations run without hardware.
+//! Serial-line and Modbus drivers: a Modbus RTU master and LinuxCNC's
+//! spindle VFD components `hy_vfd` (Huanyang HY series, their own
+//! protocol) and `hy_gt_vfd` (Huanyang GT series, standard Modbus), with
+//! a simulated drive so their configurations run without hardware; and
+//! LinuxCNC's INI-driven Modbus master [`mb2hal`] (TCP and RTU).
 //!
 //! ```text
 //! loadusr -Wn spindle-vfd hy_vfd -n spindle-vfd -d /dev/serial/by-id/usb-FTDI_...-if00-port0
 //! loadusr -Wn hy_gt_vfd hy_gt_vfd -d sim -S 24000 -F 400 -f 120
+//! loadusr -W mb2hal config=mb2hal.ini
 //! ```
 //!
 //! # User-space components, as in LinuxCNC
@@ -66,6 +68,12 @@
 //! but not its function codes, so one small framing layer serves both.
 //! The CRC comes from the `crc` crate's catalogue (CRC-16/MODBUS).
 //!
+//! The data functions (coils, discrete inputs, holding and input
+//! registers, read and written: [`modbus::functions`]) run on any
+//! [`modbus::Transact`]: the RTU master, or `mb2hal`'s Modbus TCP client
+//! ([`mb2hal::tcp`]: MBAP framing on a `TcpStream`, late replies skipped
+//! by transaction id).
+//!
 //! # Health and faults
 //!
 //! Both components add three pins to LinuxCNC's: `modbus-ok` (every
@@ -86,7 +94,9 @@
 //! `tests/gt_vfd.rs`); the tty backend on a real pty
 //! (`tests/pty_line.rs`); the real programs in their own processes on a
 //! pty, unplugged and plugged back (`tests/real_tty.rs`, also run in the
-//! VM rig by `.ci/run`); `configs/sim/spindle-vfd.hal` as halrun runs
+//! VM rig by `.ci/run`); `mb2hal` against pymodbus over TCP and RTU
+//! (`tests/mb2hal_pymodbus.rs`, ignored without pymodbus in
+//! target/python-venv); `configs/sim/spindle-vfd.hal` as halrun runs
 //! it (`tests/sim_config.rs`); and the `fuzzing` targets (feature `fuzzing`)
 //! (`tests/fuzz_serial.rs`).
 
@@ -97,6 +107,7 @@ mod error;
 #[cfg(any(test, feature = "fuzzing"))]
 pub mod fuzzing;
 pub mod line;
+pub mod mb2hal;
 pub mod modbus;
 mod opts;
 pub mod regs;

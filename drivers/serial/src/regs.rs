@@ -5,12 +5,24 @@
 
 /// Modbus RTU (the public function codes this crate uses).
 pub mod modbus {
+    /// Read coils: start address, count (1..=2000); the reply packs the
+    /// bits eight to a byte, lowest address in bit 0.
+    pub const READ_COILS: u8 = 0x01;
+    /// Read discrete inputs: as [`READ_COILS`].
+    pub const READ_DISCRETE_INPUTS: u8 = 0x02;
     /// Read holding registers: start address, count (1..=125).
     pub const READ_HOLDING_REGISTERS: u8 = 0x03;
     /// Read input registers: start address, count (1..=125).
     pub const READ_INPUT_REGISTERS: u8 = 0x04;
     /// Write single register: address, value; the reply echoes both.
     pub const WRITE_SINGLE_REGISTER: u8 = 0x06;
+    /// Write single coil: address, 0xFF00 (on) or 0x0000 (off); the reply
+    /// echoes both.
+    pub const WRITE_SINGLE_COIL: u8 = 0x05;
+    /// Write multiple coils: address, count (1..=1968), byte count, the
+    /// bits packed as [`READ_COILS`] replies them; the reply carries
+    /// address and count.
+    pub const WRITE_MULTIPLE_COILS: u8 = 0x0F;
     /// Write multiple registers: address, count (1..=123), byte count,
     /// values; the reply carries address and count.
     pub const WRITE_MULTIPLE_REGISTERS: u8 = 0x10;
@@ -18,6 +30,12 @@ pub mod modbus {
     pub const EXCEPTION_FLAG: u8 = 0x80;
     /// Most registers one read may ask for.
     pub const MAX_READ_COUNT: u16 = 125;
+    /// Most bits one read of coils or discrete inputs may ask for.
+    pub const MAX_READ_BITS: u16 = 2000;
+    /// Most coils one multiple write may carry.
+    pub const MAX_WRITE_BITS: u16 = 1968;
+    /// The coil value of "on" in a single-coil write.
+    pub const COIL_ON: u16 = 0xFF00;
     /// Most registers one multiple write may carry.
     pub const MAX_WRITE_COUNT: u16 = 123;
     /// The broadcast address: every slave obeys, none replies.

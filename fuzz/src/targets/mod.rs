@@ -37,6 +37,8 @@ crate::register_targets! {
     serial_modbus_reply,
     serial_slave_request,
     serial_command_line,
+    serial_mb2hal_ini,
+    serial_modbus_tcp_reply,
     ini_file,
     tool_table,
     task_state,

@@ -103,6 +103,14 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: Some(&["-d", "sim", "-S", "24000", "-F", "400", "-f", "20"]),
     },
+    // mb2hal reads its INI file before it attaches (a bad file is
+    // refused first), and the conventions' scratch directory has none:
+    // only the bad instance name is tried.
+    InstanceTool {
+        bin: "mb2hal",
+        short: false,
+        attach: None,
+    },
     InstanceTool {
         bin: "hal-host",
         short: true,

@@ -249,6 +249,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "mb2hal",
+            help(
+                "LinuxCNC's INI-driven Modbus master (TCP and RTU) as a HAL component",
+                hal_serial::mb2hal::USAGE,
+                &["hy_gt_vfd(1)", "halcmd(1)"],
+            ),
+        ),
+        (
             "ethercat-tool",
             Clap(Box::new(hal_ethercat::tool::args::Cli::command())),
         ),

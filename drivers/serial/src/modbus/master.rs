@@ -106,6 +106,12 @@ impl<L: SerialLine> Master<L> {
         &self.config
     }
 
+    /// The policy, to change between transactions (mb2hal's timeouts
+    /// are per transaction).
+    pub fn config_mut(&mut self) -> &mut MasterConfig {
+        &mut self.config
+    }
+
     /// The counters.
     pub fn stats(&self) -> MasterStats {
         self.stats
