@@ -3,7 +3,8 @@
 //! LinuxCNC does: `sin[90]` is `sinl(90 * M_PIl / 180)` rounded to a
 //! double, so `sin[180]` is a tiny positive number, `cos[60]` is 0.5
 //! exactly, and `acos[0.5]` is 60 exactly. Plain double arithmetic gives
-//! other last bits (and other signs of zero in printed output).
+//! other last bits (and other signs of zero in printed output). Cutter
+//! compensation adds and subtracts `M_PIl` multiples the same way.
 
 /// A finite extended-precision number: `mant * 2^(exp - 63)`, with the
 /// top bit of `mant` set (or `mant == 0` for zero).
@@ -79,6 +80,42 @@ impl Ext {
         let m = self.mant as u128 * b.mant as u128;
         // (ma 2^(ea-63)) (mb 2^(eb-63)) = m 2^(ea+eb-126) = m 2^((ea+eb+1) - 127)
         Ext::round(self.neg != b.neg, m, self.exp + b.exp + 1)
+    }
+
+    /// The sum, rounded once to 64 bits of mantissa.
+    fn add(self, b: Ext) -> Ext {
+        if self.mant == 0 {
+            return b;
+        }
+        if b.mant == 0 {
+            return self;
+        }
+        let (big, small) = if (self.exp, self.mant) >= (b.exp, b.mant) {
+            (self, b)
+        } else {
+            (b, self)
+        };
+        // Both mantissas at bits 126..63 of 128, the smaller shifted
+        // right by the exponent difference with a sticky bit for what
+        // falls off (63 guard bits are plenty to round correctly).
+        let mb = (big.mant as u128) << 63;
+        let ms = (small.mant as u128) << 63;
+        let shift = (big.exp - small.exp) as u32;
+        let ms = if shift >= 127 {
+            1
+        } else {
+            (ms >> shift) | u128::from(ms & ((1u128 << shift) - 1) != 0)
+        };
+        let m = if big.neg == small.neg {
+            mb + ms
+        } else {
+            mb - ms
+        };
+        if m == 0 {
+            return Ext::ZERO;
+        }
+        // m 2^(eb - 126) = m 2^((eb + 1) - 127)
+        Ext::round(big.neg, m, big.exp + 1)
     }
 
     fn div(self, b: Ext) -> Ext {
@@ -221,13 +258,19 @@ fn sin_cos_small(r: Dd) -> (Dd, Dd) {
 
 /// sin, cos or tan of an extended-precision angle, rounded to double.
 fn trig(a: Ext, f: Trig) -> f64 {
+    trig_dd(a, f).to_f64()
+}
+
+/// sin, cos or tan of an extended-precision angle in double-double.
+fn trig_dd(a: Ext, f: Trig) -> Dd {
     let (hi, lo) = a.to_pair();
     if !hi.is_finite() || hi.abs() > 1e15 {
-        return match f {
+        let v = match f {
             Trig::Sin => hi.sin(),
             Trig::Cos => hi.cos(),
             Trig::Tan => hi.tan(),
         };
+        return Dd { hi: v, lo: 0.0 };
     }
     let k = (hi / (PI_1 / 2.0)).round();
     // r = a - k π/2, with π/2 in three parts (each product exact in Dd).
@@ -243,9 +286,9 @@ fn trig(a: Ext, f: Trig) -> f64 {
         _ => (c.neg(), s),
     };
     match f {
-        Trig::Sin => sin.to_f64(),
-        Trig::Cos => cos.to_f64(),
-        Trig::Tan => sin.div(cos).to_f64(),
+        Trig::Sin => sin,
+        Trig::Cos => cos,
+        Trig::Tan => sin.div(cos),
     }
 }
 
@@ -293,6 +336,49 @@ pub fn rad_to_deg(r: f64) -> f64 {
     Ext::from_f64(r * 180.0).div(PI_L).to_f64()
 }
 
+/// `a + k * M_PIl / 2` rounded to double, as C evaluates a double plus
+/// a `long double` multiple of π and stores the result in a double
+/// (cutter compensation's angles). `k` must be a power of two or its
+/// negative (±1, ±2, ±4).
+pub fn add_half_pis(a: f64, k: i32) -> f64 {
+    if !a.is_finite() {
+        return a + f64::from(k) * std::f64::consts::FRAC_PI_2;
+    }
+    let m = k.unsigned_abs();
+    debug_assert!(m.is_power_of_two());
+    let step = Ext {
+        neg: k < 0,
+        exp: PI_L.exp - 1 + m.trailing_zeros() as i32,
+        mant: PI_L.mant,
+    };
+    Ext::from_f64(a).add(step).to_f64()
+}
+
+/// `((a + M_PIl) + b)` in `long double`, rounded to double.
+pub fn sum_with_pi(a: f64, b: f64) -> f64 {
+    if !a.is_finite() || !b.is_finite() {
+        return a + std::f64::consts::PI + b;
+    }
+    Ext::from_f64(a).add(PI_L).add(Ext::from_f64(b)).to_f64()
+}
+
+/// `r * sinl(b - M_PIl / 2)` rounded to double: the `long double`
+/// angle keeps its sine in extended precision until the product is
+/// stored.
+pub fn scaled_sin_less_half_pi(r: f64, b: f64) -> f64 {
+    if !r.is_finite() || !b.is_finite() {
+        return r * (b - std::f64::consts::FRAC_PI_2).sin();
+    }
+    let half = Ext {
+        neg: true,
+        exp: PI_L.exp - 1,
+        mant: PI_L.mant,
+    };
+    trig_dd(Ext::from_f64(b).add(half), Trig::Sin)
+        .mul_f(r)
+        .to_f64()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -307,6 +393,34 @@ mod tests {
         assert_eq!(q, 1.0 / 3.0);
         let p = Ext::from_f64(3.0).mul(Ext::from_f64(7.0)).to_f64();
         assert_eq!(p, 21.0);
+        let one = Ext::from_f64(1.0);
+        assert_eq!(one.add(Ext::from_f64(2.0)).to_f64(), 3.0);
+        assert_eq!(one.add(Ext::from_f64(-1.0)).to_f64(), 0.0);
+        assert_eq!(one.add(Ext::from_f64(-0.25)).to_f64(), 0.75);
+        assert_eq!(Ext::from_f64(1e300).add(one).to_f64(), 1e300);
+    }
+
+    #[test]
+    fn half_pis_carry_the_long_double_remainder() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        assert_eq!(add_half_pis(0.0, 2), PI);
+        assert_eq!(add_half_pis(0.0, -1), -FRAC_PI_2);
+        // M_PIl is a little more than the double π: what is left is the
+        // part of π a double drops (about 1.22e-16), cut to 64 bits.
+        let rest = add_half_pis(PI, -2);
+        assert!(rest < -1.2e-16 && rest > -1.3e-16, "{rest}");
+        let rest = add_half_pis(-FRAC_PI_2, 1);
+        assert!(rest > 6.0e-17 && rest < 6.2e-17, "{rest}");
+        assert!((add_half_pis(1.0, 4) - (1.0 + 2.0 * PI)).abs() <= 1e-15);
+        assert!(add_half_pis(f64::NAN, 1).is_nan());
+        assert_eq!(sum_with_pi(-PI, 0.0), add_half_pis(-PI, 2));
+        assert!((sum_with_pi(0.5, -0.25) - (PI + 0.25)).abs() < 1e-15);
+        assert_eq!(
+            scaled_sin_less_half_pi(2.0, FRAC_PI_2),
+            2.0 * add_half_pis(FRAC_PI_2, -1)
+        );
+        assert_eq!(scaled_sin_less_half_pi(3.0, PI), 3.0);
+        assert!(scaled_sin_less_half_pi(f64::NAN, 1.0).is_nan());
     }
 
     #[test]

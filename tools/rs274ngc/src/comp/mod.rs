@@ -15,6 +15,7 @@ use crate::codes::{G_0, G_1, G_2, G_3};
 use crate::error::{InterpError, Result};
 use crate::find::find_turn;
 use crate::interp::Interp;
+use crate::ld::{add_half_pis, scaled_sin_less_half_pi, sum_with_pi};
 use crate::setup::{DistanceMode, Side};
 
 /// Corners sharper than this (radians) count as concave.
@@ -194,12 +195,10 @@ impl Interp {
         if mv != G_0 && mv != G_1 {
             return Err(InterpError::CompMoveNotG0G1);
         }
-        let alpha = (py - cy).atan2(px - cx)
-            + if side == Side::Left {
-                PI / 2.0
-            } else {
-                -PI / 2.0
-            };
+        let alpha = add_half_pis(
+            (py - cy).atan2(px - cx),
+            if side == Side::Left { 1 } else { -1 },
+        );
         let end_x = px + radius * alpha.cos();
         let end_y = py + radius * alpha.sin();
         self.comp.set_endpoint(cx, cy);
@@ -253,14 +252,14 @@ impl Interp {
             let mut alpha = (py - opy).atan2(px - opx);
             let (beta, gamma) = if side == Side::Left {
                 if theta < alpha {
-                    theta += 2.0 * PI;
+                    theta = add_half_pis(theta, 4);
                 }
-                ((theta - alpha) - FRAC_PI_2, FRAC_PI_2)
+                (add_half_pis(theta - alpha, -1), FRAC_PI_2)
             } else {
                 if alpha < theta {
-                    alpha += 2.0 * PI;
+                    alpha = add_half_pis(alpha, 4);
                 }
-                ((alpha - theta) - FRAC_PI_2, -FRAC_PI_2)
+                (add_half_pis(alpha - theta, -1), -FRAC_PI_2)
             };
             end_x = px + radius * (alpha + gamma).cos();
             end_y = py + radius * (alpha + gamma).sin();
@@ -292,7 +291,7 @@ impl Interp {
                 self.comp.set_endpoint(mid_x, mid_y);
             } else if concave {
                 if front_arc_turn.is_none() {
-                    let halfcorner = (beta + PI) / 2.0;
+                    let halfcorner = add_half_pis(beta, 2) / 2.0;
                     if halfcorner == 0.0 {
                         return Err(InterpError::CompZeroCorner);
                     }
@@ -338,11 +337,7 @@ impl Interp {
         };
         let oldrad = (center2 - end2).hypot(center1 - end1);
         let base_dir = (p.1 - op.1).atan2(p.0 - op.0);
-        let theta = if turn > 0 {
-            base_dir + FRAC_PI_2
-        } else {
-            base_dir - FRAC_PI_2
-        };
+        let theta = add_half_pis(base_dir, if turn > 0 { 1 } else { -1 });
         let phi = (center2 - op.1).atan2(center1 - op.0);
         let inside = tool_inside_arc(side, turn);
         let oldrad_uncomp = if inside {
@@ -360,7 +355,7 @@ impl Interp {
         if !(-1.0..=1.0).contains(&l) {
             return Err(InterpError::CompArcLineGouge);
         }
-        let angle = sign * l.acos() + theta + PI;
+        let angle = add_half_pis(sign * l.acos() + theta, 2);
         Ok((
             center1 + oldrad * angle.cos(),
             center2 + oldrad * angle.sin(),
@@ -527,7 +522,7 @@ impl Interp {
             }
         } else {
             gamma = (end_y - centery).atan2(end_x - centerx);
-            delta += PI;
+            delta = add_half_pis(delta, 2);
         }
         let new_end_x = end_x + tool_radius * gamma.cos();
         let new_end_y = end_y + tool_radius * gamma.sin();
@@ -638,7 +633,7 @@ fn line_arc_corner(
     theta: f64,
     center: (f64, f64),
 ) -> Result<(f64, f64)> {
-    let cy = arc_radius * (beta - FRAC_PI_2).sin();
+    let cy = scaled_sin_less_half_pi(arc_radius, beta);
     let (dist, angle) = if tool_inside_arc(side, turn) {
         let dist = arc_radius - tool_radius;
         let l = (cy + tool_radius) / dist;
@@ -662,9 +657,9 @@ fn line_arc_corner(
         (
             dist,
             if turn > 0 {
-                theta + PI - l.asin()
+                sum_with_pi(theta, -l.asin())
             } else {
-                theta + PI + l.asin()
+                sum_with_pi(theta, l.asin())
             },
         )
     };
@@ -683,26 +678,18 @@ fn corner_angles(
     to_center: (f64, f64),
 ) -> (f64, f64, f64) {
     let mut theta = from_current.1.atan2(from_current.0);
-    theta = if side == Side::Left {
-        theta - FRAC_PI_2
-    } else {
-        theta + FRAC_PI_2
-    };
+    theta = add_half_pis(theta, if side == Side::Left { -1 } else { 1 });
     let delta = to_center.1.atan2(to_center.0);
-    let alpha = if mv == G_3 {
-        delta - FRAC_PI_2
-    } else {
-        delta + FRAC_PI_2
-    };
+    let alpha = add_half_pis(delta, if mv == G_3 { -1 } else { 1 });
     let mut beta = if side == Side::Left {
         theta - alpha
     } else {
         alpha - theta
     };
     if beta > 1.5 * PI {
-        beta -= 2.0 * PI;
+        beta = add_half_pis(beta, -4);
     } else if beta < -FRAC_PI_2 {
-        beta += 2.0 * PI;
+        beta = add_half_pis(beta, 4);
     }
     (theta, delta, beta)
 }

@@ -74,7 +74,12 @@ impl Interp {
             z = if block.z_flag { block.z_number } else { z };
         }
         let words = block.clone();
-        self.rapid_uncompensated(block, canon)?;
+        // Under cutter compensation (G70 only) this rapid and every move
+        // of the passes go through the compensation queue, as in
+        // LinuxCNC 2.9: the rapid is the entry move if the comp has not
+        // moved yet.
+        let compensating = self.s.cutter_comp_side != Side::Off;
+        self.convert_straight(G_0, block, canon)?;
         let (path, mut last) = self.read_profile(words.q_number, C::new(z, x), modes, canon)?;
         // The moves belong to the cycle's line (for task's motion line).
         last.line_number = words.line_number;
@@ -83,8 +88,17 @@ impl Interp {
         }
         let word = |flag: bool, value: f64, default: f64| if flag { value } else { default };
         let increment = word(words.i_flag, words.i_number, 1.0);
-        self.s.current.x = start_x;
-        self.s.current.z = start_z;
+        // Reading the profile left the current point at its end. Without
+        // compensation the point the cycle started from is put back (no
+        // move shows it: each pass starts with an absolute rapid). With
+        // it, LinuxCNC 2.9 leaves the profile's end as the tool's
+        // position, and the compensation of the first pass's rapids
+        // starts from there (the programmed point stays the cycle's
+        // start point).
+        if !compensating {
+            self.s.current.x = start_x;
+            self.s.current.z = start_z;
+        }
         if increment <= 0.0 {
             return Err(InterpError::G7xIncrement);
         }
@@ -125,16 +139,6 @@ impl Interp {
             72 => lathe::rough(path, pockets, true, &rough, &mut machine),
             _ => Ok(()),
         }
-    }
-
-    /// The cycle's first move: a rapid to its start point, cutter
-    /// compensation suspended.
-    fn rapid_uncompensated(&mut self, block: &Block, canon: &mut dyn Canon) -> Result<()> {
-        let side = self.s.cutter_comp_side;
-        self.s.cutter_comp_side = Side::Off;
-        let result = self.convert_straight(G_0, block, canon);
-        self.s.cutter_comp_side = side;
-        result
     }
 
     /// Call subroutine `q` and collect its moves from `start`; returns
@@ -332,13 +336,5 @@ impl Motion for Machine<'_> {
 
     fn note(&mut self, text: &str) {
         self.canon.print(text);
-    }
-
-    fn rapid_uncompensated(&mut self, end: C) -> Result<()> {
-        let side = self.interp.s.cutter_comp_side;
-        self.interp.s.cutter_comp_side = Side::Off;
-        let result = self.rapid(end);
-        self.interp.s.cutter_comp_side = side;
-        result
     }
 }

@@ -59,7 +59,7 @@ pub(crate) fn finish(mut path: Profile, w: &Finish, out: &mut dyn Motion) -> Res
             out.note(&note);
         }
         offset?;
-        out.rapid_uncompensated(cut.segs[0].start)?;
+        out.rapid(cut.segs[0].start)?;
         out.rapid(cut.segs[0].end)?;
         for s in &cut.segs[1..] {
             s.draw(&mut out)?;

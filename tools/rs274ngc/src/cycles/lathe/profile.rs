@@ -285,11 +285,6 @@ impl Motion for Flipped<'_> {
         self.out.arc(ccw, center, end)
     }
 
-    fn rapid_uncompensated(&mut self, end: C) -> Result<()> {
-        let end = self.point(end);
-        self.out.rapid_uncompensated(end)
-    }
-
     fn note(&mut self, text: &str) {
         self.out.note(text);
     }

@@ -23,11 +23,6 @@ pub(crate) trait Motion {
     fn rapid(&mut self, end: C) -> Result<()>;
     /// An arc about `center` to `end`, counterclockwise if `ccw`.
     fn arc(&mut self, ccw: bool, center: C, end: C) -> Result<()>;
-    /// A rapid to `end` with cutter compensation suspended (the lead-in
-    /// of a G70 pass).
-    fn rapid_uncompensated(&mut self, end: C) -> Result<()> {
-        self.rapid(end)
-    }
     /// A diagnostic line LinuxCNC prints on standard output.
     fn note(&mut self, _text: &str) {}
 }
