@@ -428,6 +428,20 @@ impl MotionStatus {
 }
 
 impl MotionStatus {
+    /// The external offsets line as `motion-cmd status` prints it
+    /// (`external offsets: Z 0.500000 (request 0.500000) active`), or
+    /// `None` while no offset is applied, requested or flagged.
+    pub fn external_offsets_line(&self) -> Option<String> {
+        struct Line<'a>(&'a MotionStatus);
+        impl fmt::Display for Line<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                self.0.fmt_eoffsets(f)
+            }
+        }
+        let line = Line(self).to_string();
+        (!line.is_empty()).then(|| line.trim_end().to_string())
+    }
+
     /// The external offsets line: the axes whose offset or request is not
     /// zero, and the flags (nothing when there are none).
     fn fmt_eoffsets(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

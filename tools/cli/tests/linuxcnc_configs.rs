@@ -577,6 +577,11 @@ fn peer_eoffsets_offset_z_within_its_limits() {
     assert!((z - (z0 + 0.3)).abs() < 1e-6, "{z} from {z0}");
     assert_eq!(m.getp("motion.eoffset-active"), "TRUE");
     assert_eq!(m.getp("motion.eoffset-limited"), "FALSE");
+    let status = m.task_ok(&["status"]);
+    assert!(
+        status.contains("external offsets: Z 0.300000 (request 0.300000) active"),
+        "{status}"
+    );
     // Far past MAX_LIMIT = 1: held on it.
     m.halcmd(&["sets", "e:zcounts", "100"]);
     assert_eq!(m.wait_getp("motion.eoffset-limited", "TRUE"), "TRUE");

@@ -499,20 +499,28 @@ impl MotionLink {
         self.send(cmd)
     }
 
-    /// A one-line summary for `task-cmd status`.
+    /// The summary for `task-cmd status`: one line, and motion's external
+    /// offsets line while one is applied or requested.
     pub fn summary(&self) -> String {
         match self.client.status() {
-            Ok(s) => format!(
-                "motion: {} ({}), {} joints, {}",
-                if s.enabled { "enabled" } else { "disabled" },
-                s.mode,
-                s.joints.iter().filter(|j| j.active).count(),
-                if s.all_homed {
-                    "all homed"
-                } else {
-                    "not all homed"
+            Ok(s) => {
+                let mut text = format!(
+                    "motion: {} ({}), {} joints, {}",
+                    if s.enabled { "enabled" } else { "disabled" },
+                    s.mode,
+                    s.joints.iter().filter(|j| j.active).count(),
+                    if s.all_homed {
+                        "all homed"
+                    } else {
+                        "not all homed"
+                    }
+                );
+                if let Some(line) = s.external_offsets_line() {
+                    text.push('\n');
+                    text.push_str(&line);
                 }
-            ),
+                text
+            }
             Err(e) => format!("motion: status not readable: {e}"),
         }
     }
