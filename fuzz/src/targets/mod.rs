@@ -43,6 +43,7 @@ crate::register_targets! {
     tool_table,
     task_state,
     probe_points,
+    position_file,
     twopass_loadrt,
     old_format_config,
     comp_file,

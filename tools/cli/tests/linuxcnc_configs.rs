@@ -675,3 +675,74 @@ fn an_offset_ratio_out_of_range_falls_back_to_0_1_with_a_note() {
         "{err}"
     );
 }
+
+/// `[TRAJ]POSITION_FILE` (the axis-mm shape with it added): at exit the
+/// joints' positions are written, 16 lines of 17 decimals as LinuxCNC
+/// writes them; at the next start each joint reads its saved position
+/// before anything moves. A file that does not hold 16 numbers is not
+/// used, with a note naming the joint that failed.
+#[test]
+fn position_file_keeps_the_joints_between_runs() {
+    let s = Scratch::new("posfile");
+    let src = root().join("tests/linuxcnc-configs/axis-mm");
+    for entry in std::fs::read_dir(&src).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
+    }
+    let ini = s.0.join("axis_mm.ini");
+    let text = std::fs::read_to_string(&ini)
+        .unwrap()
+        .replace("[TRAJ]\n", "[TRAJ]\nPOSITION_FILE = position.txt\n");
+    std::fs::write(&ini, text).unwrap();
+    let saved = s.0.join("position.txt");
+
+    runs_at(&ini, "posfile-1", |m| {
+        assert_eq!(
+            m.getp("joint.0.pos-fb"),
+            "0",
+            "no file yet: nothing restored"
+        );
+        m.motion(&["jog-incr", "0", "10", "2.5"]);
+        m.motion(&["-t", "30", "wait", "in-position"]);
+    });
+    let text = std::fs::read_to_string(&saved).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 16, "{text}");
+    // 17 decimals, as LinuxCNC's %.17f: "2.49999999996020517".
+    assert_eq!(lines[0].split_once('.').map(|(_, f)| f.len()), Some(17));
+    let saved0: f64 = lines[0].parse().unwrap();
+    assert!((saved0 - 2.5).abs() < 1e-6, "{text}");
+    assert!(
+        lines[1..].iter().all(|l| *l == "0.00000000000000000"),
+        "{text}"
+    );
+
+    let m = Machine::start(&ini, "posfile-2");
+    assert!(m.threads_run(), "{}", m.stderr());
+    let fb: f64 = m.getp("joint.0.pos-fb").parse().unwrap();
+    // halcmd shows floats to a few digits; the restored value is the saved one.
+    assert!(
+        (fb - saved0).abs() < 1e-6,
+        "restored before machine-on: {fb}"
+    );
+    let offset: f64 = m.getp("joint.0.motor-offset").parse().unwrap();
+    assert!((offset + saved0).abs() < 1e-6, "motor offset {offset}");
+    assert_eq!(m.getp("joint.1.pos-fb"), "0");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    let cmd: f64 = m.getp("joint.0.pos-cmd").parse().unwrap();
+    assert!(
+        (cmd - saved0).abs() < 1e-6,
+        "nothing moved at machine-on: {cmd}"
+    );
+    m.stop();
+
+    std::fs::write(&saved, "1 2 3\n").unwrap();
+    let err = runs_at(&ini, "posfile-3", |m| {
+        assert_eq!(m.getp("joint.0.pos-fb"), "0");
+    });
+    assert!(
+        err.contains("position.txt: joint 3: the file ends before joint 3's position (positions not restored)"),
+        "{err}"
+    );
+}

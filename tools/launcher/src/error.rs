@@ -314,6 +314,16 @@ pub enum LaunchError {
         /// What is wrong.
         why: String,
     },
+    /// `[TRAJ]POSITION_FILE` does not hold 16 finite positions.
+    #[error("{}: joint {joint}: {why} (positions not restored)", .path.display())]
+    PositionFile {
+        /// The position file.
+        path: PathBuf,
+        /// The first joint slot that could not be read.
+        joint: usize,
+        /// What is wrong.
+        why: String,
+    },
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

@@ -20,6 +20,7 @@ mod machine;
 mod motion_setup;
 mod old_format;
 pub mod part_program;
+mod position_file;
 mod program;
 mod rules;
 mod task;
@@ -50,6 +51,7 @@ pub mod fuzz {
     pub use crate::iocontrol::tooltable::fuzz_parse as tool_table;
     pub use crate::old_format::fuzz_convert as old_format_config;
     pub use crate::part_program::fuzz_program as part_program;
+    pub use crate::position_file::fuzz_parse as position_file;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;
     pub use crate::zlevel::probe::fuzz_parse as probe_points;
 }

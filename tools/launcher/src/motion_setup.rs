@@ -50,15 +50,13 @@ const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
         &["SPINDLES"],
         "motmod's num_spindles module parameter sets the spindles",
     ),
-    (
-        &["POSITION_FILE"],
-        "joint positions are not saved or restored between runs",
-    ),
 ];
 
 /// The motion controller of an instance.
 pub struct MotionLink {
     client: MotionClient,
+    /// `[TRAJ]POSITION_FILE`, written at exit.
+    position_file: Option<std::path::PathBuf>,
 }
 
 /// The INI position to name for a setting made of `keys` of `section`.
@@ -100,6 +98,7 @@ impl MotionLink {
     pub fn connect(inst: &Instance) -> Option<MotionLink> {
         MotionClient::open(inst).ok().map(|c| MotionLink {
             client: c.with_timeout(std::time::Duration::from_secs(2)),
+            position_file: None,
         })
     }
 
@@ -133,7 +132,57 @@ impl MotionLink {
             self.configure_axis(ini, axis, letter, &mut notes)?;
         }
         self.configure_traj(ini, &mut notes)?;
+        self.restore_positions(ini, &mut notes)?;
         Ok(notes)
+    }
+
+    /// `[TRAJ]POSITION_FILE`: each joint reads the position saved at the
+    /// last exit where its motor is now (its motor offset is set to the
+    /// negated position), as LinuxCNC's task does before anything moves.
+    /// A missing file restores nothing; an unreadable one is said in a
+    /// note and not used.
+    fn restore_positions(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        self.position_file = crate::position_file::path_of(ini);
+        let Some(path) = &self.position_file else {
+            return Ok(());
+        };
+        let positions = match crate::position_file::load(path) {
+            Ok(crate::position_file::Loaded::Positions(p)) => p,
+            Ok(crate::position_file::Loaded::Missing) => return Ok(()),
+            Err(e) => {
+                notes.push(e.to_string());
+                return Ok(());
+            }
+        };
+        let joints = joint_count(ini)?.min(positions.len());
+        for (j, pos) in positions.iter().enumerate().take(joints) {
+            self.setting(
+                ini,
+                "TRAJ",
+                &["POSITION_FILE"],
+                Command::SetJointMotorOffset {
+                    joint: j as i32,
+                    offset: -pos,
+                },
+            )?;
+        }
+        Ok(())
+    }
+
+    /// Writes every joint's feedback position to `[TRAJ]POSITION_FILE`,
+    /// if the INI names one (at exit, after motion is disabled).
+    pub fn save_positions(&self) -> Result<(), LaunchError> {
+        let Some(path) = &self.position_file else {
+            return Ok(());
+        };
+        let status = self.client.status().map_err(|e| LaunchError::Io {
+            path: path.clone(),
+            source: std::io::Error::other(format!(
+                "joint positions not saved: motion's status is not readable ({e})"
+            )),
+        })?;
+        let positions: Vec<f64> = status.joints.iter().map(|j| j.pos_fb).collect();
+        crate::position_file::save(path, &positions)
     }
 
     /// `[JOINT_j]`: limits, following error, backlash or compensation

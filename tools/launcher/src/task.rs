@@ -714,6 +714,11 @@ impl Task {
         self.go_estop();
         self.pins.write(self.io.outputs());
         self.fail_all(server, || LaunchError::ShuttingDown);
+        if let Some(m) = &self.motion {
+            if let Err(why) = m.save_positions() {
+                eprintln!("task: {why}");
+            }
+        }
         if let Some(p) = &mut self.program {
             if let Err(why) = p.save_parameters() {
                 eprintln!("task: {why}");
