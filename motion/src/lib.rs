@@ -99,6 +99,10 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::pentakins::MODULE,
         &kins::xyzab_tdr::MODULE,
         &kins::millturn::MODULE,
+        &kins::scorbotkins::MODULE,
+        &kins::rotatekins::MODULE,
+        &kins::userkins::MODULE,
+        &kins::gantrykins::MODULE,
         &motmod::MODULE,
     ]
 }

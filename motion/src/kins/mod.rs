@@ -14,7 +14,10 @@
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
 //! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
-//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]. Those LinuxCNC makes
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; [`scorbotkins`]
+//! (`scorbot-kins`), [`rotatekins`], [`userkins`] (LinuxCNC's template,
+//! unmodified) and [`gantrykins`] (LinuxCNC 2.7's, for the configurations
+//! that still set its parameters). Those LinuxCNC makes
 //! switchable are built on [`switchkins`], or on [`twotype`] for the two
 //! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
 //! pins read at every call, and refuses poses it cannot reach, and singular
@@ -25,6 +28,7 @@ pub mod bipodkins;
 pub mod corexykins;
 pub mod dh;
 pub mod fiveaxiskins;
+pub mod gantrykins;
 pub mod genhexkins;
 pub mod genserkins;
 pub mod lineardeltakins;
@@ -37,7 +41,9 @@ mod pinned;
 pub mod pumakins;
 pub mod rosekins;
 pub mod rotarydeltakins;
+pub mod rotatekins;
 pub mod scarakins;
+pub mod scorbotkins;
 pub mod switchkins;
 #[cfg(test)]
 mod testing;
@@ -45,6 +51,7 @@ pub mod tripodkins;
 pub mod trivkins;
 pub mod trt;
 pub mod twotype;
+pub mod userkins;
 pub mod xyzab_tdr;
 
 use std::sync::Arc;

@@ -1,0 +1,197 @@
+//! The kinematics modules of LinuxCNC's Scorbot ER-3, rotary-table and
+//! template configurations, and LinuxCNC 2.7's gantrykins, through HAL:
+//! what `loadrt` exports (names, types, directions and values as
+//! LinuxCNC's modules export them), parameters read at every call, and
+//! refused module parameters.
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
+
+mod common;
+
+use common::*;
+use hal_core::{HalError, Host, Value};
+use motion::kins::{kinematics_for, Kinematics};
+use motion::{KinematicsType, KinsError, KinsFlags, Pose};
+
+/// The pins and params the component `comp` owns, one line each as
+/// `TYPE DIR VALUE NAME`, sorted by name.
+fn exports(h: &Host, comp: &str) -> Vec<String> {
+    let inst = h.instance();
+    let pins = inst
+        .pins()
+        .unwrap()
+        .into_iter()
+        .filter(|p| p.owner == comp)
+        .map(|p| {
+            (
+                p.name,
+                format!("{:?} {} {:?}", p.hal_type, p.dir.label(), p.value),
+            )
+        });
+    let params = inst
+        .params()
+        .unwrap()
+        .into_iter()
+        .filter(|p| p.owner == comp)
+        .map(|p| {
+            (
+                p.name,
+                format!("{:?} {} {:?}", p.hal_type, p.dir.label(), p.value),
+            )
+        });
+    let mut v: Vec<(String, String)> = pins.chain(params).collect();
+    v.sort();
+    v.into_iter().map(|(n, l)| format!("{l} {n}")).collect()
+}
+
+fn kins(h: &Host) -> std::sync::Arc<dyn Kinematics> {
+    kinematics_for(h.instance().name())
+        .expect("kinematics registered")
+        .1
+}
+
+fn inverse(k: &dyn Kinematics, axes: &[f64], n: usize) -> Result<Vec<f64>, KinsError> {
+    let mut p = Pose::ZERO;
+    p.0[..axes.len()].copy_from_slice(axes);
+    let mut j = vec![0.0; n];
+    k.inverse(&p, &mut j, &mut KinsFlags::default())?;
+    Ok(j)
+}
+
+fn forward(k: &dyn Kinematics, joints: &[f64]) -> Pose {
+    let mut p = Pose::ZERO;
+    k.forward(joints, &mut p, &mut KinsFlags::default())
+        .unwrap();
+    p
+}
+
+fn sorted(items: &[&str]) -> Vec<String> {
+    let mut v: Vec<String> = items.iter().map(|s| s.to_string()).collect();
+    v.sort_by(|a, b| a.rsplit(' ').next().cmp(&b.rsplit(' ').next()));
+    v
+}
+
+#[test]
+fn modules_export_what_linuxcnc_exports() {
+    let gantry: Vec<String> = [0, 1, 2, 3, 4, 5, -1, -1, -1]
+        .iter()
+        .enumerate()
+        .map(|(i, a)| format!("S32 RW S32({a}) gantrykins.joint-{i}"))
+        .collect();
+    let cases: Vec<(&str, Vec<String>, KinematicsType)> = vec![
+        ("scorbot-kins", vec![], KinematicsType::Both),
+        ("rotatekins", vec![], KinematicsType::Both),
+        (
+            "userkins",
+            sorted(&[
+                "S32 OUT S32(0) userkins.0.fdemo.time",
+                "S32 RW S32(0) userkins.0.fdemo.tmax",
+                "Bit RO Bit(false) userkins.0.fdemo.tmax-increased",
+                "S32 OUT S32(0) userkins.0.fpin",
+                "U32 IN U32(0) userkins.in",
+                "U32 OUT U32(0) userkins.out",
+                "Float RO Float(0.0) userkins.param-ro",
+                "Float RW Float(0.0) userkins.param-rw",
+            ]),
+            KinematicsType::Identity,
+        ),
+        ("gantrykins", gantry, KinematicsType::Both),
+    ];
+    for (module, want, kins_type) in cases {
+        let h = host(&format!("kmore-{module}"));
+        loadrt(&h, module, &[]).unwrap();
+        assert_eq!(h.loaded_components(), [module]);
+        assert_eq!(exports(&h, module), want, "{module}");
+        let k = kins(&h);
+        assert_eq!(k.name(), module);
+        assert_eq!(k.kins_type(), kins_type, "{module}");
+        assert!(!k.is_switchable(), "{module}");
+        h.unloadrt(module).unwrap();
+        assert!(kinematics_for(h.instance().name()).is_none());
+    }
+}
+
+#[test]
+fn scorbot_reaches_round_its_base_and_refuses_what_it_cannot_reach() {
+    let h = host("kmore-scorbot");
+    loadrt(&h, "scorbot-kins", &[]).unwrap();
+    let k = kins(&h);
+    let pose = [150.0, -220.0, 260.0, 10.0, -30.0];
+    let j = inverse(&*k, &pose, 5).unwrap();
+    let back = forward(&*k, &j);
+    assert!(
+        back.0.iter().zip(pose).all(|(a, b)| (a - b).abs() < 1e-9),
+        "{back:?}"
+    );
+    assert_eq!(back.0[5..], [0.0; 4]);
+    assert_eq!(
+        inverse(&*k, &[500.0, 0.0, 140.0, 0.0, 0.0], 5),
+        Err(KinsError::NoSolution)
+    );
+}
+
+#[test]
+fn gantry_parameters_are_read_at_every_call() {
+    let h = host("kmore-gantry");
+    // stepper-gantry's kinematics.hal, after a plain load.
+    loadrt(&h, "gantrykins", &[]).unwrap();
+    let k = kins(&h);
+    let pose = [1.0, 2.0, 3.0, 4.0];
+    assert_eq!(inverse(&*k, &pose, 4).unwrap(), [1.0, 2.0, 3.0, 4.0]);
+    h.instance()
+        .set_param("gantrykins.joint-3", Value::S32(1))
+        .unwrap();
+    assert_eq!(inverse(&*k, &pose, 4).unwrap(), [1.0, 2.0, 3.0, 2.0]);
+    assert_eq!(k.has_axis(3), Some(false));
+    let back = forward(&*k, &[1.0, 2.0, 3.0, 2.0]);
+    assert_eq!(back.0[..4], [1.0, 2.0, 3.0, 0.0]);
+    // coordinates= sets the same map at load.
+    h.unloadrt("gantrykins").unwrap();
+    loadrt(&h, "gantrykins", &["coordinates=xyzy"]).unwrap();
+    assert_eq!(
+        h.instance().param_value("gantrykins.joint-3").unwrap(),
+        Value::S32(1)
+    );
+}
+
+#[test]
+fn userkins_echoes_its_pin_and_runs_its_demo_function() {
+    let h = host("kmore-userkins");
+    loadrt(&h, "userkins", &["names=ua,ub"]).unwrap();
+    let k = kins(&h);
+    h.instance().set_pin("userkins.in", Value::U32(9)).unwrap();
+    assert_eq!(inverse(&*k, &[1.0, 2.0, 3.0], 3).unwrap(), [1.0, 2.0, 3.0]);
+    assert_eq!(
+        h.instance().pin_value("userkins.out").unwrap(),
+        Value::U32(9)
+    );
+    h.create_thread("demo-thread", 1_000_000, true, None)
+        .unwrap();
+    h.addf("ub.fdemo", "demo-thread", -1).unwrap();
+    h.start().unwrap();
+    wait_for(
+        "fdemo runs",
+        || matches!(h.instance().pin_value("ub.fpin").unwrap(), Value::S32(n) if n >= 3),
+    );
+    assert_eq!(h.instance().pin_value("ua.fpin").unwrap(), Value::S32(0));
+}
+
+#[test]
+fn bad_module_parameters_name_the_parameter_and_leave_nothing() {
+    let h = host("kmore-bad");
+    for (module, args, param) in [
+        ("gantrykins", &["coordinates=xyq"][..], "coordinates"),
+        ("gantrykins", &["coordinates=xyzabcuvwx"][..], "coordinates"),
+        ("scorbot-kins", &["coordinates=xyz"][..], "coordinates"),
+        ("rotatekins", &["kinstype=b"][..], "kinstype"),
+    ] {
+        match loadrt(&h, module, args) {
+            Err(HalError::ModuleParam { param: p, .. }) => assert_eq!(p, param, "{module}"),
+            other => panic!("{module} {args:?}: {other:?}"),
+        }
+        assert!(h.loaded_components().is_empty());
+        assert!(kinematics_for(h.instance().name()).is_none());
+    }
+}
