@@ -103,6 +103,8 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::rotatekins::MODULE,
         &kins::userkins::MODULE,
         &kins::gantrykins::MODULE,
+        &kins::gentrivkins::MODULE,
+        &kins::matrixkins::MODULE,
         &motmod::MODULE,
     ]
 }

@@ -98,6 +98,23 @@ fn modules_export_what_linuxcnc_exports() {
             KinematicsType::Identity,
         ),
         ("gantrykins", gantry, KinematicsType::Both),
+        ("gentrivkins", vec![], KinematicsType::Identity),
+        (
+            "matrixkins",
+            sorted(&[
+                "Bit OUT Bit(true) matrixkins.0.dummy",
+                "Float RW Float(1.0) matrixkins.C_xx",
+                "Float RW Float(0.0) matrixkins.C_xy",
+                "Float RW Float(0.0) matrixkins.C_xz",
+                "Float RW Float(0.0) matrixkins.C_yx",
+                "Float RW Float(1.0) matrixkins.C_yy",
+                "Float RW Float(0.0) matrixkins.C_yz",
+                "Float RW Float(0.0) matrixkins.C_zx",
+                "Float RW Float(0.0) matrixkins.C_zy",
+                "Float RW Float(1.0) matrixkins.C_zz",
+            ]),
+            KinematicsType::Both,
+        ),
     ];
     for (module, want, kins_type) in cases {
         let h = host(&format!("kmore-{module}"));
@@ -157,6 +174,53 @@ fn gantry_parameters_are_read_at_every_call() {
 }
 
 #[test]
+fn matrix_coefficients_are_read_at_every_call() {
+    let h = host("kmore-matrix");
+    loadrt(&h, "matrixkins", &[]).unwrap();
+    let k = kins(&h);
+    let pose = [10.0, 20.0, 30.0];
+    assert_eq!(inverse(&*k, &pose, 3).unwrap(), pose);
+    // LinuxCNC's matrixkins test: Z skewed by X and Y.
+    let inst = h.instance();
+    inst.set_param("matrixkins.C_zx", Value::Float(0.01))
+        .unwrap();
+    inst.set_param("matrixkins.C_zy", Value::Float(0.03))
+        .unwrap();
+    let j = inverse(&*k, &pose, 3).unwrap();
+    assert!((j[2] - (30.0 + 0.1 + 0.6)).abs() < 1e-12, "{j:?}");
+    let back = forward(&*k, &j);
+    assert!(back.0[..3]
+        .iter()
+        .zip(pose)
+        .all(|(a, b)| (a - b).abs() < 1e-9));
+    // A singular matrix: the forward kinematics refuse.
+    inst.set_param("matrixkins.C_zz", Value::Float(0.0))
+        .unwrap();
+    inst.set_param("matrixkins.C_zx", Value::Float(0.0))
+        .unwrap();
+    inst.set_param("matrixkins.C_zy", Value::Float(0.0))
+        .unwrap();
+    let mut p = Pose::ZERO;
+    assert_eq!(
+        k.forward(&j, &mut p, &mut KinsFlags::default()),
+        Err(KinsError::NoSolution)
+    );
+}
+
+#[test]
+fn gentrivkins_takes_trivkins_parameters() {
+    let h = host("kmore-gentriv");
+    loadrt(&h, "gentrivkins", &["coordinates=xyzy", "kinstype=b"]).unwrap();
+    let k = kins(&h);
+    assert_eq!(k.kins_type(), KinematicsType::Both);
+    assert_eq!(
+        inverse(&*k, &[1.0, 2.0, 3.0], 4).unwrap(),
+        [1.0, 2.0, 3.0, 2.0]
+    );
+    assert_eq!(k.has_axis(3), Some(false));
+}
+
+#[test]
 fn userkins_echoes_its_pin_and_runs_its_demo_function() {
     let h = host("kmore-userkins");
     loadrt(&h, "userkins", &["names=ua,ub"]).unwrap();
@@ -186,6 +250,9 @@ fn bad_module_parameters_name_the_parameter_and_leave_nothing() {
         ("gantrykins", &["coordinates=xyzabcuvwx"][..], "coordinates"),
         ("scorbot-kins", &["coordinates=xyz"][..], "coordinates"),
         ("rotatekins", &["kinstype=b"][..], "kinstype"),
+        ("gentrivkins", &["kinstype=q"][..], "kinstype"),
+        ("gentrivkins", &["coordinates=x-y"][..], "coordinates"),
+        ("matrixkins", &["coordinates=xyz"][..], "coordinates"),
     ] {
         match loadrt(&h, module, args) {
             Err(HalError::ModuleParam { param: p, .. }) => assert_eq!(p, param, "{module}"),

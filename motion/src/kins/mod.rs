@@ -16,8 +16,9 @@
 //! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
 //! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; [`scorbotkins`]
 //! (`scorbot-kins`), [`rotatekins`], [`userkins`] (LinuxCNC's template,
-//! unmodified) and [`gantrykins`] (LinuxCNC 2.7's, for the configurations
-//! that still set its parameters). Those LinuxCNC makes
+//! unmodified), [`matrixkins`] (calibrated X Y Z), and LinuxCNC 2.7's
+//! [`gantrykins`] and [`gentrivkins`] for the configurations still
+//! written for them. Those LinuxCNC makes
 //! switchable are built on [`switchkins`], or on [`twotype`] for the two
 //! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
 //! pins read at every call, and refuses poses it cannot reach, and singular
@@ -31,9 +32,11 @@ pub mod fiveaxiskins;
 pub mod gantrykins;
 pub mod genhexkins;
 pub mod genserkins;
+pub mod gentrivkins;
 pub mod lineardeltakins;
 mod loader;
 pub mod math;
+pub mod matrixkins;
 pub mod maxkins;
 pub mod millturn;
 pub mod pentakins;
