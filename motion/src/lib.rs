@@ -105,6 +105,7 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::gantrykins::MODULE,
         &kins::gentrivkins::MODULE,
         &kins::matrixkins::MODULE,
+        &kins::three21kins::MODULE,
         &motmod::MODULE,
     ]
 }

@@ -80,7 +80,7 @@ fn modules_export_what_linuxcnc_exports() {
         .enumerate()
         .map(|(i, a)| format!("S32 RW S32({a}) gantrykins.joint-{i}"))
         .collect();
-    let cases: Vec<(&str, Vec<String>, KinematicsType)> = vec![
+    let mut cases: Vec<(&str, Vec<String>, KinematicsType)> = vec![
         ("scorbot-kins", vec![], KinematicsType::Both),
         ("rotatekins", vec![], KinematicsType::Both),
         (
@@ -116,6 +116,20 @@ fn modules_export_what_linuxcnc_exports() {
             KinematicsType::Both,
         ),
     ];
+    let three21 = sorted(&[
+        "Float IN Float(64.2) three21kins.A1",
+        "Float IN Float(305.0) three21kins.A2",
+        "Float IN Float(0.0) three21kins.A3",
+        "Float IN Float(169.77) three21kins.D1",
+        "Float IN Float(0.0) three21kins.D2",
+        "Float IN Float(-6.25) three21kins.D3",
+        "Float IN Float(223.63) three21kins.D4",
+        "Float IN Float(36.5) three21kins.D6",
+        "Bit OUT Bit(true) kinstype.is-0",
+        "Bit OUT Bit(false) kinstype.is-1",
+        "Bit OUT Bit(false) kinstype.is-2",
+    ]);
+    cases.push(("three21kins", three21, KinematicsType::Both));
     for (module, want, kins_type) in cases {
         let h = host(&format!("kmore-{module}"));
         loadrt(&h, module, &[]).unwrap();
@@ -124,7 +138,7 @@ fn modules_export_what_linuxcnc_exports() {
         let k = kins(&h);
         assert_eq!(k.name(), module);
         assert_eq!(k.kins_type(), kins_type, "{module}");
-        assert!(!k.is_switchable(), "{module}");
+        assert_eq!(k.is_switchable(), module == "three21kins", "{module}");
         h.unloadrt(module).unwrap();
         assert!(kinematics_for(h.instance().name()).is_none());
     }
@@ -205,6 +219,26 @@ fn matrix_coefficients_are_read_at_every_call() {
         k.forward(&j, &mut p, &mut KinsFlags::default()),
         Err(KinsError::NoSolution)
     );
+}
+
+#[test]
+fn three21kins_reads_its_dimensions_and_switches() {
+    let h = host("kmore-three21");
+    loadrt(&h, "three21kins", &["sparm=identityfirst"]).unwrap();
+    let k = kins(&h);
+    // identityfirst: type 0 is identity, type 1 the arm.
+    let home = [369.2, -6.25, -90.36, 0.0, 0.0, 0.0];
+    assert_eq!(inverse(&*k, &home, 6).unwrap(), home);
+    k.switch_to(1).unwrap();
+    let at_zero = forward(&*k, &[0.0; 6]);
+    assert!((at_zero.0[0] - 369.2).abs() < 1e-9, "{at_zero:?}");
+    h.instance()
+        .set_pin("three21kins.A1", Value::Float(0.0))
+        .unwrap();
+    let moved = forward(&*k, &[0.0; 6]);
+    assert!((moved.0[0] - 305.0).abs() < 1e-9, "{moved:?}");
+    let j = inverse(&*k, &moved.0[..6], 6).unwrap();
+    assert!(j.iter().all(|v| v.abs() < 1e-6), "{j:?}");
 }
 
 #[test]

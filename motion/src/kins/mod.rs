@@ -16,7 +16,8 @@
 //! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
 //! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; [`scorbotkins`]
 //! (`scorbot-kins`), [`rotatekins`], [`userkins`] (LinuxCNC's template,
-//! unmodified), [`matrixkins`] (calibrated X Y Z), and LinuxCNC 2.7's
+//! unmodified), [`matrixkins`] (calibrated X Y Z), [`three21kins`]
+//! (six-joint arms on pumakins' solver), and LinuxCNC 2.7's
 //! [`gantrykins`] and [`gentrivkins`] for the configurations still
 //! written for them. Those LinuxCNC makes
 //! switchable are built on [`switchkins`], or on [`twotype`] for the two
@@ -50,6 +51,7 @@ pub mod scorbotkins;
 pub mod switchkins;
 #[cfg(test)]
 mod testing;
+pub mod three21kins;
 pub mod tripodkins;
 pub mod trivkins;
 pub mod trt;
