@@ -106,6 +106,8 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::gentrivkins::MODULE,
         &kins::matrixkins::MODULE,
         &kins::three21kins::MODULE,
+        &kins::trsrn::XYZACB_MODULE,
+        &kins::trsrn::XYZBCA_MODULE,
         &motmod::MODULE,
     ]
 }

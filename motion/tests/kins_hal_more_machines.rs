@@ -242,6 +242,76 @@ fn three21kins_reads_its_dimensions_and_switches() {
 }
 
 #[test]
+fn trsrn_modules_export_what_linuxcnc_exports_and_switch_three_ways() {
+    for (module, comp_prefix, l) in [
+        ("xyzacb_trsrn", "xyzacb-trsrn", 'y'),
+        ("xyzbca_trsrn", "xyzbca-trsrn", 'x'),
+    ] {
+        let h = host(&format!("kmore-{module}"));
+        loadrt(&h, module, &[]).unwrap();
+        let p = format!("{module}_kins");
+        let mut want: Vec<String> = [
+            format!("S32 OUT S32(0) {comp_prefix}.0.fdemo.time"),
+            format!("S32 RW S32(0) {comp_prefix}.0.fdemo.tmax"),
+            format!("Bit RO Bit(false) {comp_prefix}.0.fdemo.tmax-increased"),
+            format!("S32 OUT S32(0) {comp_prefix}.0.fpin"),
+            format!("U32 IN U32(0) {p}.in"),
+            format!("U32 OUT U32(0) {p}.out"),
+            "Bit OUT Bit(true) kinstype.is-0".into(),
+            "Bit OUT Bit(false) kinstype.is-1".into(),
+            "Bit OUT Bit(false) kinstype.is-2".into(),
+        ]
+        .into_iter()
+        .chain(
+            [
+                "tool-offset-z".to_string(),
+                format!("{l}-pivot"),
+                "z-pivot".into(),
+                "x-offset".into(),
+                "y-offset".into(),
+                format!("{l}-rot-axis"),
+                "z-rot-axis".into(),
+                "pre-rot".into(),
+                "nut-angle".into(),
+                "primary-angle".into(),
+                "secondary-angle".into(),
+            ]
+            .map(|n| format!("Float IN Float(0.0) {p}.{n}")),
+        )
+        .collect();
+        want.sort_by(|a, b| a.rsplit(' ').next().cmp(&b.rsplit(' ').next()));
+        assert_eq!(exports(&h, module), want, "{module}");
+        let k = kins(&h);
+        assert!(k.is_switchable());
+        assert_eq!(k.kins_type(), KinematicsType::Both);
+        let inst = h.instance();
+        inst.set_pin(&format!("{p}.z-pivot"), Value::Float(100.0))
+            .unwrap();
+        inst.set_pin(&format!("{p}.nut-angle"), Value::Float(45.0))
+            .unwrap();
+        inst.set_pin(&format!("{p}.primary-angle"), Value::Float(30.0))
+            .unwrap();
+        inst.set_pin(&format!("{p}.in"), Value::U32(4)).unwrap();
+        let pose = [10.0, 20.0, 30.0, 15.0, 25.0, 35.0];
+        assert_eq!(inverse(&*k, &pose, 6).unwrap(), pose, "type 0 is identity");
+        assert_eq!(inst.pin_value(&format!("{p}.out")).unwrap(), Value::U32(4));
+        for t in [1, 2] {
+            k.switch_to(t).unwrap();
+            let j = inverse(&*k, &pose, 6).unwrap();
+            assert_ne!(j[..3], pose[..3], "{module} type {t}");
+            let back = forward(&*k, &j);
+            assert!(
+                back.0.iter().zip(pose).all(|(a, b)| (a - b).abs() < 1e-9),
+                "{module} type {t}: {back:?}"
+            );
+        }
+        let is = |i: usize| inst.pin_value(&format!("kinstype.is-{i}")).unwrap();
+        assert_eq!([is(0), is(1), is(2)], [false, false, true].map(Value::Bit));
+        assert!(k.switch_to(3).is_err());
+    }
+}
+
+#[test]
 fn gentrivkins_takes_trivkins_parameters() {
     let h = host("kmore-gentriv");
     loadrt(&h, "gentrivkins", &["coordinates=xyzy", "kinstype=b"]).unwrap();

@@ -17,7 +17,8 @@
 //! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; [`scorbotkins`]
 //! (`scorbot-kins`), [`rotatekins`], [`userkins`] (LinuxCNC's template,
 //! unmodified), [`matrixkins`] (calibrated X Y Z), [`three21kins`]
-//! (six-joint arms on pumakins' solver), and LinuxCNC 2.7's
+//! (six-joint arms on pumakins' solver), [`trsrn`] (`xyzacb_trsrn`,
+//! `xyzbca_trsrn`), and LinuxCNC 2.7's
 //! [`gantrykins`] and [`gentrivkins`] for the configurations still
 //! written for them. Those LinuxCNC makes
 //! switchable are built on [`switchkins`], or on [`twotype`] for the two
@@ -54,6 +55,7 @@ mod testing;
 pub mod three21kins;
 pub mod tripodkins;
 pub mod trivkins;
+pub mod trsrn;
 pub mod trt;
 pub mod twotype;
 pub mod userkins;
