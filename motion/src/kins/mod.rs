@@ -14,17 +14,17 @@
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
 //! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
-//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; [`scorbotkins`]
-//! (`scorbot-kins`), [`rotatekins`], [`userkins`] (LinuxCNC's template,
-//! unmodified), [`matrixkins`] (calibrated X Y Z), [`three21kins`]
-//! (six-joint arms on pumakins' solver), [`trsrn`] (`xyzacb_trsrn`,
-//! `xyzbca_trsrn`), and LinuxCNC 2.7's
-//! [`gantrykins`] and [`gentrivkins`] for the configurations still
-//! written for them. Those LinuxCNC makes
-//! switchable are built on [`switchkins`], or on [`twotype`] for the two
-//! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
-//! pins read at every call, and refuses poses it cannot reach, and singular
-//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; then
+//! [`scorbotkins`] (`scorbot-kins`), [`rotatekins`], [`userkins`]
+//! (LinuxCNC's template, unmodified), [`matrixkins`] (calibrated X Y Z),
+//! [`three21kins`] (six-joint arms on pumakins' solver), [`trsrn`]
+//! (`xyzacb_trsrn`, `xyzbca_trsrn`), and LinuxCNC 2.7's [`gantrykins`]
+//! and [`gentrivkins`] for the configurations still written for them.
+//! Those LinuxCNC makes switchable are built on [`switchkins`], or on
+//! [`twotype`] for those made from LinuxCNC's `userkins.comp` template.
+//! Each keeps its geometry in HAL pins or parameters read at every call,
+//! and refuses poses it cannot reach, and singular ones, with a
+//! [`KinsError`]: no module writes a non-finite joint or pose.
 //! [`math`] and [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
