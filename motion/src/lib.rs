@@ -99,6 +99,15 @@ pub fn modules() -> Vec<&'static hal_core::ModuleDef> {
         &kins::pentakins::MODULE,
         &kins::xyzab_tdr::MODULE,
         &kins::millturn::MODULE,
+        &kins::scorbotkins::MODULE,
+        &kins::rotatekins::MODULE,
+        &kins::userkins::MODULE,
+        &kins::gantrykins::MODULE,
+        &kins::gentrivkins::MODULE,
+        &kins::matrixkins::MODULE,
+        &kins::three21kins::MODULE,
+        &kins::trsrn::XYZACB_MODULE,
+        &kins::trsrn::XYZBCA_MODULE,
         &motmod::MODULE,
     ]
 }

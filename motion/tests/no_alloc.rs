@@ -185,3 +185,51 @@ fn cycles_and_commands_do_not_allocate() {
         assert_eq!(z.eoffset_request, 0.0, "cleared");
     }
 }
+
+/// Every kinematics module's forward and inverse calls, as `loadrt`
+/// registers them with their default parameters, in every type of the
+/// switchable ones, run without allocating, whether they succeed or
+/// refuse the pose.
+#[test]
+fn kinematics_calls_do_not_allocate() {
+    use hal_core::{Host, HostConfig};
+    use motion::kins::kinematics_for;
+    use motion::KinsFlags;
+
+    for def in motion::modules() {
+        if def.name == "motmod" {
+            continue;
+        }
+        let host = Host::create(HostConfig::for_tests(&format!("mot-noalloc-{}", def.name)))
+            .expect("host starts");
+        host.loadrt::<&str>(def, &[]).unwrap();
+        let (_, k) = kinematics_for(host.instance().name()).expect("registered");
+        let mut joints = [0.0; 16];
+        let mut flags = KinsFlags::default();
+        let poses = [
+            Pose([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 0.5, 0.25, 0.125]),
+            Pose([1e9, -1e9, 1e9, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            Pose([f64::NAN; 9]),
+        ];
+        // Every type of a switchable module (the switch itself is not
+        // counted: motion makes it outside the servo cycle's maths).
+        let types = if k.is_switchable() { 3 } else { 1 };
+        for t in 0..types {
+            if k.is_switchable() && k.switch_to(t).is_err() {
+                continue;
+            }
+            let n = allocations(|| {
+                for p in &poses {
+                    let mut pose = *p;
+                    let _ = k.inverse(&pose, &mut joints, &mut flags);
+                    let _ = k.forward(&joints, &mut pose, &mut flags);
+                }
+            });
+            assert_eq!(
+                n, 0,
+                "{} type {t}: {n} allocations in kinematics calls",
+                def.name
+            );
+        }
+    }
+}

@@ -14,22 +14,31 @@
 //! [`rotarydeltakins`], [`genhexkins`], [`trt`] (`xyzac-trt-kins`,
 //! `xyzbc-trt-kins`), and those of LinuxCNC's sim machines: [`maxkins`],
 //! [`fiveaxiskins`] (`5axiskins`), [`rosekins`], [`pentakins`],
-//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]. Those LinuxCNC makes
-//! switchable are built on [`switchkins`], or on [`twotype`] for the two
-//! made from LinuxCNC's `userkins.comp`. Each keeps its geometry in HAL
-//! pins read at every call, and refuses poses it cannot reach, and singular
-//! ones, with a [`KinsError`]: no module writes a non-finite joint or pose.
+//! [`xyzab_tdr`] (`xyzab_tdr_kins`) and [`millturn`]; then
+//! [`scorbotkins`] (`scorbot-kins`), [`rotatekins`], [`userkins`]
+//! (LinuxCNC's template, unmodified), [`matrixkins`] (calibrated X Y Z),
+//! [`three21kins`] (six-joint arms on pumakins' solver), [`trsrn`]
+//! (`xyzacb_trsrn`, `xyzbca_trsrn`), and LinuxCNC 2.7's [`gantrykins`]
+//! and [`gentrivkins`] for the configurations still written for them.
+//! Those LinuxCNC makes switchable are built on [`switchkins`], or on
+//! [`twotype`] for those made from LinuxCNC's `userkins.comp` template.
+//! Each keeps its geometry in HAL pins or parameters read at every call,
+//! and refuses poses it cannot reach, and singular ones, with a
+//! [`KinsError`]: no module writes a non-finite joint or pose.
 //! [`math`] and [`dh`] hold the geometry they share.
 
 pub mod bipodkins;
 pub mod corexykins;
 pub mod dh;
 pub mod fiveaxiskins;
+pub mod gantrykins;
 pub mod genhexkins;
 pub mod genserkins;
+pub mod gentrivkins;
 pub mod lineardeltakins;
 mod loader;
 pub mod math;
+pub mod matrixkins;
 pub mod maxkins;
 pub mod millturn;
 pub mod pentakins;
@@ -37,14 +46,19 @@ mod pinned;
 pub mod pumakins;
 pub mod rosekins;
 pub mod rotarydeltakins;
+pub mod rotatekins;
 pub mod scarakins;
+pub mod scorbotkins;
 pub mod switchkins;
 #[cfg(test)]
 mod testing;
+pub mod three21kins;
 pub mod tripodkins;
 pub mod trivkins;
+pub mod trsrn;
 pub mod trt;
 pub mod twotype;
+pub mod userkins;
 pub mod xyzab_tdr;
 
 use std::sync::Arc;

@@ -81,6 +81,41 @@ impl Default for Puma {
     }
 }
 
+/// The arm chain pumakins and three21kins share: a PUMA whose shoulder
+/// sits `d1` up the waist axis and `a1` out from it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Arm6 {
+    /// Shoulder out from the waist axis.
+    pub a1: f64,
+    /// Shoulder up from the base.
+    pub d1: f64,
+    /// Upper arm length.
+    pub a2: f64,
+    /// Elbow offset.
+    pub a3: f64,
+    /// Shoulder offset (across the arm's plane).
+    pub d3: f64,
+    /// Forearm length.
+    pub d4: f64,
+    /// Wrist centre to tool tip, along the tool axis.
+    pub d6: f64,
+}
+
+impl Puma {
+    /// The chain with the shoulder on the waist axis at the base.
+    fn arm6(&self) -> Arm6 {
+        Arm6 {
+            a1: 0.0,
+            d1: 0.0,
+            a2: self.a2,
+            a3: self.a3,
+            d3: self.d3,
+            d4: self.d4,
+            d6: self.d6,
+        }
+    }
+}
+
 /// The arm's solution for a wrist-centre position (radians).
 struct Arm {
     th1: f64,
@@ -92,13 +127,13 @@ struct Arm {
     th23: f64,
 }
 
-impl Puma {
+impl Arm6 {
     fn links(&self) -> [DhLink; LINKS] {
         use std::f64::consts::FRAC_PI_2;
         let l = |a, alpha, d| DhLink { a, alpha, d };
         [
-            l(0.0, 0.0, 0.0),
-            l(0.0, -FRAC_PI_2, 0.0),
+            l(0.0, 0.0, self.d1),
+            l(self.a1, -FRAC_PI_2, 0.0),
             l(self.a2, 0.0, self.d3),
             l(self.a3, -FRAC_PI_2, self.d4),
             l(0.0, FRAC_PI_2, 0.0),
@@ -106,12 +141,14 @@ impl Puma {
         ]
     }
 
-    fn dims(&self) -> [f64; 5] {
-        [self.a2, self.a3, self.d3, self.d4, self.d6]
+    fn dims(&self) -> [f64; 7] {
+        [
+            self.a1, self.d1, self.a2, self.a3, self.d3, self.d4, self.d6,
+        ]
     }
 
     /// The wrist centre's frame (joints in radians).
-    fn wrist(&self, q: &[f64; JOINTS]) -> Frame {
+    pub(crate) fn wrist(&self, q: &[f64; JOINTS]) -> Frame {
         chain(&self.links(), q).0
     }
 
@@ -119,6 +156,7 @@ impl Puma {
     /// the flags pick.
     fn arm(&self, p: [f64; 3], flags: u64) -> Option<Arm> {
         let [px, py, pz] = p;
+        let pz = pz - self.d1;
         let planar2 = px * px + py * py - self.d3 * self.d3;
         if planar2 < 0.0 || self.a2 == 0.0 {
             return None;
@@ -131,7 +169,11 @@ impl Puma {
         let th1 = py.atan2(px) - self.d3.atan2(shoulder * planar2.sqrt());
         let (s1, c1) = th1.sin_cos();
         let forearm2 = self.a3 * self.a3 + self.d4 * self.d4;
-        let k = (planar2 + pz * pz - self.a2 * self.a2 - forearm2) / (2.0 * self.a2);
+        // The wrist centre's distance out along the arm's plane, from the
+        // shoulder (a1 out from the waist axis).
+        let out = c1 * px + s1 * py;
+        let reach2 = planar2 - 2.0 * self.a1 * out + self.a1 * self.a1;
+        let k = (reach2 + pz * pz - self.a2 * self.a2 - forearm2) / (2.0 * self.a2);
         let disc = forearm2 - k * k;
         if disc < 0.0 {
             return None;
@@ -139,7 +181,7 @@ impl Puma {
         let elbow = if flags & ELBOW_DOWN != 0 { -1.0 } else { 1.0 };
         let th3 = self.a3.atan2(self.d4) - k.atan2(elbow * disc.sqrt());
         let (s3, c3) = th3.sin_cos();
-        let u = c1 * px + s1 * py;
+        let u = out - self.a1;
         let t1 = (-self.a3 - self.a2 * c3) * pz + u * (self.a2 * s3 - self.d4);
         let t2 = (self.a2 * s3 - self.d4) * pz + (self.a3 + self.a2 * c3) * u;
         let t3 = pz * pz + u * u;
@@ -187,16 +229,10 @@ impl Puma {
     }
 }
 
-impl Kinematics for Puma {
-    fn name(&self) -> &str {
-        "pumakins"
-    }
-
-    fn kins_type(&self) -> KinematicsType {
-        KinematicsType::Both
-    }
-
-    fn forward(
+impl Arm6 {
+    /// Forward kinematics, setting the inverse flags that pick these
+    /// joints' solution.
+    pub(crate) fn forward(
         &self,
         joints: &[f64],
         pose: &mut Pose,
@@ -238,7 +274,8 @@ impl Kinematics for Puma {
         Ok(())
     }
 
-    fn inverse(
+    /// Inverse kinematics on the branches the inverse flags pick.
+    pub(crate) fn inverse(
         &self,
         pose: &Pose,
         joints: &mut [f64],
@@ -276,6 +313,34 @@ impl Kinematics for Puma {
         joints[..JOINTS].copy_from_slice(&out);
         flags.forward = fflags;
         Ok(())
+    }
+}
+
+impl Kinematics for Puma {
+    fn name(&self) -> &str {
+        "pumakins"
+    }
+
+    fn kins_type(&self) -> KinematicsType {
+        KinematicsType::Both
+    }
+
+    fn forward(
+        &self,
+        joints: &[f64],
+        pose: &mut Pose,
+        flags: &mut KinsFlags,
+    ) -> std::result::Result<(), KinsError> {
+        self.arm6().forward(joints, pose, flags)
+    }
+
+    fn inverse(
+        &self,
+        pose: &Pose,
+        joints: &mut [f64],
+        flags: &mut KinsFlags,
+    ) -> std::result::Result<(), KinsError> {
+        self.arm6().inverse(pose, joints, flags)
     }
 
     fn has_axis(&self, axis: usize) -> Option<bool> {

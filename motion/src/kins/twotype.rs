@@ -1,9 +1,11 @@
 //! The switchable kinematics LinuxCNC builds from its `userkins.comp`
-//! template with halcompile (`xyzab_tdr_kins`, `millturn`): two types,
+//! template with halcompile (`xyzab_tdr_kins`, `millturn`, and with a
+//! third type `xyzacb_trsrn`, `xyzbca_trsrn`): two (or three) types,
 //! 0 at startup, chosen at run time through `motion.switchkins-type`
-//! and shown on `kinstype.is-0` and `kinstype.is-1` (bit out, no module
-//! prefix). Unlike [`super::switchkins`] there is no third type, no
-//! `coordinates=` (the joints are fixed) and no `sparm=`; the module
+//! and shown on `kinstype.is-0`, `kinstype.is-1` … (bit out, no module
+//! prefix). Unlike [`super::switchkins`] every type is the module's
+//! own, and there is no `coordinates=` (the joints are fixed) and no
+//! `sparm=`; the module
 //! takes halcompile's `count=` or `names=`, whose instances only carry
 //! the template's demonstration pins. The type is KINEMATICS_BOTH
 //! whatever the active type.
@@ -17,13 +19,19 @@ use hal_core::{Component, Host, ModuleArgs, Out, Pin, Result, RtComponentBuilder
 use super::loader::register;
 use super::{Kinematics, KinematicsType, KinsError, KinsFlags, Pose};
 
-/// How many types the modules offer.
+/// How many types the modules offer, unless they say otherwise.
 pub const TYPES: usize = 2;
+
+/// The most types a module may offer (the trsrn modules' three).
+pub const MAX_TYPES: usize = 3;
 
 /// A module's two kinematics.
 pub trait TwoTypes: Send + Sync + 'static {
     /// The module's name.
     const NAME: &'static str;
+
+    /// How many types the module offers (at most [`MAX_TYPES`]).
+    const TYPES: usize = TYPES;
 
     /// Forward kinematics of type `kins_type` (0 or 1).
     fn forward(
@@ -50,7 +58,7 @@ pub struct TwoTypeKins<T> {
     /// The module's kinematics.
     pub inner: T,
     current: AtomicUsize,
-    kinstype_is: Option<[Pin<bool, Out>; TYPES]>,
+    kinstype_is: Option<[Option<Pin<bool, Out>>; MAX_TYPES]>,
 }
 
 impl<T: TwoTypes> TwoTypeKins<T> {
@@ -104,17 +112,19 @@ impl<T: TwoTypes> Kinematics for TwoTypeKins<T> {
         true
     }
 
-    /// Activates type 0 or 1; anything else is refused and leaves the
-    /// active type alone.
+    /// Activates one of the module's types; anything else is refused and
+    /// leaves the active type alone.
     fn switch_to(&self, kins_type: i32) -> std::result::Result<(), KinsError> {
         let t = usize::try_from(kins_type)
             .ok()
-            .filter(|&t| t < TYPES)
+            .filter(|&t| t < T::TYPES.min(MAX_TYPES))
             .ok_or(KinsError::Unsupported)?;
         self.current.store(t, Relaxed);
         if let Some(pins) = &self.kinstype_is {
             for (i, pin) in pins.iter().enumerate() {
-                pin.set(i == t);
+                if let Some(pin) = pin {
+                    pin.set(i == t);
+                }
             }
         }
         Ok(())
@@ -137,7 +147,10 @@ pub fn load<T: TwoTypes>(
         instance(&mut b, prefix)?;
     }
     let c = b.component();
-    let kinstype_is = [c.pin("kinstype.is-0")?, c.pin("kinstype.is-1")?];
+    let mut kinstype_is = [None, None, None];
+    for (i, slot) in kinstype_is.iter_mut().take(T::TYPES).enumerate() {
+        *slot = Some(c.pin(&format!("kinstype.is-{i}"))?);
+    }
     let kins = TwoTypeKins {
         inner: make(c)?,
         current: AtomicUsize::new(0),

@@ -498,6 +498,74 @@ fn peer_millturn_runs() {
     m.stop();
 }
 
+/// LinuxCNC's axis sim with its trivkins swapped for matrixkins and for
+/// userkins (the `[KINS]KINEMATICS` line changed in a copy): matrixkins'
+/// calibration matrix, set at run time, moves joint 1 when X moves;
+/// userkins, the template unmodified, keeps X on joint 0 alone.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_axis_runs_on_matrixkins_and_userkins() {
+    for (kins, tag, joint1) in [("matrixkins", "pmatrixk", "1"), ("userkins", "puserk", "0")] {
+        let src = std::path::Path::new(env!("HAL_PEER_SAMPLE_CONFIGS")).join("sim/axis/axis.ini");
+        let s = Scratch::new(tag);
+        // Its own files only: the directory's subdirectories are other
+        // configurations (one holds dangling links).
+        std::fs::create_dir_all(&s.0).unwrap();
+        for entry in std::fs::read_dir(src.parent().unwrap()).unwrap().flatten() {
+            if entry.file_type().unwrap().is_file() {
+                std::fs::copy(entry.path(), s.0.join(entry.file_name())).unwrap();
+            }
+        }
+        let ini = s.0.join("axis.ini");
+        let text = std::fs::read_to_string(&ini).unwrap();
+        let line = "KINEMATICS = trivkins\n";
+        assert!(text.contains(line), "axis.ini's [KINS] changed");
+        std::fs::write(&ini, text.replace(line, &format!("KINEMATICS = {kins}\n"))).unwrap();
+        runs_at(&ini, tag, |m| {
+            if kins == "matrixkins" {
+                m.halcmd(&["setp", "matrixkins.C_yx", "0.5"]);
+            }
+            home_all(m);
+            m.motion(&["teleop"]);
+            m.motion(&["axis-jog-incr", "x", "10", "2"]);
+            m.motion(&["-t", "30", "wait", "in-position"]);
+            assert_eq!(m.getp("joint.0.pos-fb"), "2", "{kins}");
+            assert_eq!(m.getp("joint.1.pos-fb"), joint1, "{kins}");
+        });
+    }
+}
+
+/// LinuxCNC's Scorbot ER-3 arm on scorbot-kins, without its hardware:
+/// the copy's HAL files leave out `loadusr -W scorbot-er-3` (the arm's
+/// driver program) and the nets to its pins, so the joints' commands
+/// loop back as feedback. The unchanged configuration stops at that
+/// `loadusr`, as it would on a machine without the arm.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_scorbot_runs_on_scorbot_kins_without_its_arm() {
+    let rel = "by_machine/scorbot-er-3/scorbot-er-3.ini";
+    let src = std::path::Path::new(env!("HAL_PEER_SAMPLE_CONFIGS")).join(rel);
+    let s = Scratch::new("pscorbot");
+    copy_dir(src.parent().unwrap(), &s.0);
+    for name in ["scorbot-er-3.hal", "pyvcp.hal"] {
+        let hal = s.0.join(name);
+        let text = std::fs::read_to_string(&hal).unwrap();
+        let kept: String = text
+            .lines()
+            .filter(|l| !l.contains("loadusr") && !l.contains("scorbot-er-3."))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert!(kept.len() < text.len(), "{name} changed");
+        std::fs::write(&hal, kept).unwrap();
+    }
+    runs_at(&s.0.join("scorbot-er-3.ini"), "pscorbot", |m| {
+        assert!(m.halcmd(&["show", "comp"]).contains("scorbot-kins"));
+        // The wrist's differential turns the pitch and roll commands into
+        // the two motors' and back.
+        assert_eq!(m.getp("joint.3.motor-pos-fb"), "0");
+    });
+}
+
 /// LinuxCNC's rolfmill, written before joints and axes were apart
 /// (`[EMC]VERSION = $Revision$`, `[AXIS_n]` sections, `[TRAJ]AXES`,
 /// `axis.N.*` pins): run converted in memory, as LinuxCNC's update_ini

@@ -108,7 +108,7 @@ fn geometry() -> impl Strategy<Value = Puma> {
 /// joint 5 not at 0 or 180, the wrist off the waist axis.
 fn regular(k: &Puma, j: &[f64; 6]) -> bool {
     let q = j.map(rad);
-    let w = k.wrist(&q);
+    let w = k.arm6().wrist(&q);
     let planar = (w.pos[0].powi(2) + w.pos[1].powi(2) - k.d3 * k.d3)
         .max(0.0)
         .sqrt();
