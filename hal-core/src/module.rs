@@ -76,10 +76,17 @@ impl ModuleArgs {
             let Some((key, value)) = arg.split_once('=') else {
                 return Err(bad(&arg, "expected name=value".into()));
             };
-            let decl = decls
-                .iter()
-                .find(|d| d.name == key)
-                .ok_or_else(|| bad(key, "unknown parameter".into()))?;
+            let decl = decls.iter().find(|d| d.name == key).ok_or_else(|| {
+                let known: Vec<&str> = decls.iter().map(|d| d.name).collect();
+                bad(
+                    key,
+                    if known.is_empty() {
+                        format!("unknown parameter ({module} takes none)")
+                    } else {
+                        format!("unknown parameter ({module} takes {})", known.join(", "))
+                    },
+                )
+            })?;
             let parsed = match decl.kind {
                 ParamKind::Int => {
                     ArgValue::Int(parse_c_int(value, 32).map_err(|r| bad(key, r.to_string()))?)

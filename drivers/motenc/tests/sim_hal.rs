@@ -558,7 +558,7 @@ fn bad_parameters_load_nothing() {
         ),
         (
             &["bogus=1"],
-            "hal_motenc: parameter 'bogus': unknown parameter",
+            "hal_motenc: parameter 'bogus': unknown parameter (hal_motenc takes backend, sim_boards, sim_ids)",
         ),
     ] {
         let e = host.loadrt(&MODULE, args).unwrap_err().to_string();

@@ -45,7 +45,7 @@ fn every_kind_of_bad_line_has_its_message() {
         ("delf and2.0 t", "HAL: ERROR: function 'and2.0' is not in thread 't'\nbad.hal:1: delf failed\n"),
         ("loadrt and2", "HAL: ERROR: module 'and2' is already loaded\nbad.hal:1: insmod for and2 failed, returned -1\n"),
         ("loadrt or2 count=x", "HAL: ERROR: or2: parameter 'count': 'x' is not a number\nbad.hal:1: insmod for or2 failed, returned -1\n"),
-        ("loadrt or2 bogus=1", "HAL: ERROR: or2: parameter 'bogus': unknown parameter\nbad.hal:1: insmod for or2 failed, returned -1\n"),
+        ("loadrt or2 bogus=1", "HAL: ERROR: or2: parameter 'bogus': unknown parameter (or2 takes count, names)\nbad.hal:1: insmod for or2 failed, returned -1\n"),
         ("loadrt or2 count=1 names=a", "HAL: ERROR: or2: count= and names= are mutually exclusive\nbad.hal:1: insmod for or2 failed, returned -1\n"),
         ("loadrt nosuch", "HAL: ERROR: module 'nosuch' not found\nbad.hal:1: insmod for nosuch failed, returned -1\n"),
         ("loadrt sampler", "HAL: ERROR: sampler: no channels specified\nbad.hal:1: insmod for sampler failed, returned -1\n"),
