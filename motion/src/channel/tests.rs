@@ -506,6 +506,7 @@ fn all_rejects() -> Vec<Reject> {
         Reject::NoUnlockPins { joint: 7 },
         Reject::IndexerNeedsRapid { axis: 4 },
         Reject::IndexerNotAlone { axis: 3 },
+        Reject::IndexerJog { axis: 5, joint: 7 },
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -599,11 +600,11 @@ fn status_snapshot_decodes_and_validates_its_header() {
 }
 
 #[test]
-fn every_reason_code_from_1_to_61_is_used_and_named() {
+fn every_reason_code_from_1_to_62_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=61).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=62).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

@@ -304,3 +304,34 @@ fn disabling_drops_the_unlock_and_the_queue() {
     s.cycle();
     assert!(!s.m.unlock_output(JB) && s.m.planner().depth == 0);
 }
+
+#[test]
+fn a_locking_indexer_axis_does_not_jog_in_teleop() {
+    let mut s = xyzb();
+    s.cmd(Command::Teleop).unwrap();
+    s.cycle();
+    assert_eq!(
+        s.cmd(Command::AxisJogCont {
+            axis: B as i32,
+            vel: 5.0
+        }),
+        Err(Reject::IndexerJog { axis: B, joint: JB })
+    );
+    let refused = Reject::IndexerJog { axis: B, joint: JB }.to_string();
+    assert!(
+        refused.contains("axis B") && refused.contains("joint 3"),
+        "{refused}"
+    );
+    // Its wheel counts are ignored; X's wheel still jogs X.
+    for a in [0, B] {
+        s.m.axis_inputs[a].jog_enable = true;
+        s.m.axis_inputs[a].jog_scale = 0.1;
+    }
+    s.cycle();
+    s.m.axis_inputs[0].jog_counts = 10;
+    s.m.axis_inputs[B].jog_counts = 10;
+    s.run(500);
+    assert!((s.j(0).pos_cmd - 1.0).abs() < 1e-9);
+    assert_eq!(s.j(JB).pos_cmd, 0.0);
+    assert!(!s.m.unlock_output(JB));
+}

@@ -373,6 +373,16 @@ rejects! {
         } = 61, "locking indexer not alone"
             => "axis {} is a locking indexer: a move of it may move no other axis",
                 axis_letter(axis);
+        /// A locking indexer axis is not jogged in teleop mode (jog its
+        /// joint in joint mode, or move it with G0).
+        IndexerJog {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            axis: usize = n0,
+            /// Its locking indexer joint.
+            joint: usize = n1,
+        } = 62, "locking indexer jog"
+            => "cannot jog axis {}: it is a locking indexer (joint {joint}); move it with G0",
+                axis_letter(axis);
     }
 }
 
