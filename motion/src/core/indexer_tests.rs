@@ -128,7 +128,20 @@ impl Indexer {
 
 #[test]
 fn an_indexer_rapid_unlocks_moves_and_locks_before_the_next_move() {
+    indexer_sequence(xyzb());
+}
+
+#[test]
+fn the_s_curve_planner_runs_the_same_sequence() {
     let mut s = xyzb();
+    s.cmd(Command::SetJerkLimit { jerk: 1e5 }).unwrap();
+    s.cmd(Command::SetPlannerType { planner: 1 }).unwrap();
+    indexer_sequence(s);
+}
+
+/// A feed move of X, the indexer's rapid of B, a feed move of X: the
+/// handshake around the rapid, at rest on both sides.
+fn indexer_sequence(mut s: Sim) {
     s.cmd(feed(2.0, 0.0, 1)).unwrap();
     s.cmd(rapid(2.0, 30.0, 2)).unwrap();
     s.cmd(feed(4.0, 30.0, 3)).unwrap();
@@ -334,4 +347,30 @@ fn a_locking_indexer_axis_does_not_jog_in_teleop() {
     assert!((s.j(0).pos_cmd - 1.0).abs() < 1e-9);
     assert_eq!(s.j(JB).pos_cmd, 0.0);
     assert!(!s.m.unlock_output(JB));
+}
+
+#[test]
+fn an_abort_during_the_move_stops_b_before_dropping_the_unlock() {
+    let mut s = xyzb();
+    s.cmd(rapid(0.0, 30.0, 1)).unwrap();
+    let mut ix = Indexer::new();
+    let mut p = Vec::new();
+    while !p.iter().any(|q: &Period| q.b > 10.0) {
+        p.extend(ix.run(&mut s, 1));
+        assert!(p.len() < 10_000, "B never got past 10");
+    }
+    s.cmd(Command::Abort).unwrap();
+    let after = ix.run(&mut s, 2_000);
+    // B slows down within its acceleration limit while still unlocked.
+    let drop = after.iter().position(|q| !q.unlock).unwrap();
+    let mut last = p.last().unwrap().b;
+    let mut v = (last - p[p.len() - 2].b) / T;
+    for q in &after[..drop] {
+        let v1 = (q.b - last) / T;
+        assert!((v1 - v).abs() / T <= 100.0 + 1e-6, "{v} -> {v1}");
+        (last, v) = (q.b, v1);
+    }
+    assert!(after[drop..].iter().all(|q| q.b == after[drop].b));
+    assert!(after[drop].b < 30.0 && s.m.planner().depth == 0);
+    assert!(!s.m.error());
 }
