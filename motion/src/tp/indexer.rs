@@ -5,7 +5,9 @@
 //! `joint.N.is-unlocked`; it then moves; at its end the request drops and
 //! the planner waits, at rest, for is-unlocked to fall before the next
 //! segment starts. While any of this runs `motion.motion-type` reads 6
-//! (LinuxCNC's "rotary unlock for traverse").
+//! (LinuxCNC's "rotary unlock for traverse"). An abort brakes the move to
+//! rest first; clearing the queue then drops the request without waiting
+//! for the lock (nothing is queued to wait for it).
 //!
 //! LinuxCNC waits for the indexer without a limit. Here each wait gives up
 //! after [`INDEXER_TIMEOUT`] seconds: the planner reports the joint and
