@@ -108,6 +108,16 @@ pub enum Event {
         /// The axis number (0..=8: X Y Z A B C U V W).
         axis: usize,
     },
+    /// A locking indexer joint did not answer its unlock (`unlocking`:
+    /// `joint.N.is-unlocked` stayed false) or its lock (it stayed true)
+    /// within [`INDEXER_TIMEOUT`](crate::tp::INDEXER_TIMEOUT) seconds; the
+    /// queue was aborted.
+    IndexerTimeout {
+        /// The joint number.
+        joint: usize,
+        /// Whether it was being unlocked (else locked).
+        unlocking: bool,
+    },
 }
 
 impl std::fmt::Display for Event {
@@ -174,6 +184,24 @@ impl std::fmt::Display for Event {
                     .get(axis)
                     .map_or('?', |l| l.to_ascii_uppercase())
             ),
+            Event::IndexerTimeout {
+                joint,
+                unlocking: true,
+            } => write!(
+                f,
+                "locking indexer joint {joint}: joint.{joint}.is-unlocked did not become true \
+                 within {} s of joint.{joint}.unlock; the move was aborted",
+                crate::tp::INDEXER_TIMEOUT
+            ),
+            Event::IndexerTimeout {
+                joint,
+                unlocking: false,
+            } => write!(
+                f,
+                "locking indexer joint {joint}: joint.{joint}.is-unlocked did not become false \
+                 within {} s of dropping joint.{joint}.unlock; the program was aborted",
+                crate::tp::INDEXER_TIMEOUT
+            ),
         }
     }
 }
@@ -212,6 +240,7 @@ impl Event {
                 (18, spindle as u64, fault as u32 as u64)
             }
             Event::EoffsetDisabledWhileApplied { axis } => (19, axis as u64, 0),
+            Event::IndexerTimeout { joint, unlocking } => (20, joint as u64, u64::from(unlocking)),
         };
         (code << 56) | ((a & 0xff_ffff) << 32) | (b & 0xffff_ffff)
     }
@@ -242,6 +271,7 @@ impl Event {
                 | Event::InverseKinsFailed
                 | Event::NonFiniteJoint { .. }
                 | Event::ProbeTrippedDuringMove
+                | Event::IndexerTimeout { .. }
         )
     }
 
@@ -286,6 +316,10 @@ impl Event {
                 fault: b as u32 as i32,
             },
             19 => Event::EoffsetDisabledWhileApplied { axis: a },
+            20 => Event::IndexerTimeout {
+                joint: a,
+                unlocking: b == 1,
+            },
             _ => return None,
         })
     }
@@ -449,6 +483,14 @@ mod tests {
                 fault: -7,
             },
             Event::EoffsetDisabledWhileApplied { axis: 8 },
+            Event::IndexerTimeout {
+                joint: 15,
+                unlocking: true,
+            },
+            Event::IndexerTimeout {
+                joint: 3,
+                unlocking: false,
+            },
         ];
         let r = EventRing::default();
         for e in all {

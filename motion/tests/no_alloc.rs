@@ -1,7 +1,8 @@
 //! The servo cycle and the commands the realtime handler takes never
 //! allocate: coordinated motion with blends, arcs, pauses and aborts on
 //! both planners (the S-curve one calls Ruckig), with an external offset
-//! turned in and cleared on Z, counted by a global allocator that tallies
+//! turned in and cleared on Z, and a locking indexer's rapid (unlock,
+//! move, relock), counted by a global allocator that tallies
 //! allocations made by this thread while armed.
 #![allow(
     clippy::unwrap_used,
@@ -232,4 +233,101 @@ fn kinematics_calls_do_not_allocate() {
             );
         }
     }
+}
+
+#[test]
+fn a_locking_indexer_rapid_does_not_allocate() {
+    let kins = Arc::new(Trivkins::new("xyzb", KinematicsType::Identity).unwrap());
+    let cfg = MotionConfig {
+        num_joints: 4,
+        unlock_joints_mask: 0x8,
+        ..MotionConfig::default()
+    };
+    let mut m = MotionCore::new(cfg, kins);
+    for j in 0..4 {
+        for c in [
+            Command::JointActivate { joint: j },
+            Command::SetJointPositionLimits {
+                joint: j,
+                min: -1e6,
+                max: 1e6,
+            },
+            Command::SetJointVelLimit {
+                joint: j,
+                vel: 100.0,
+            },
+            Command::SetJointAccLimit {
+                joint: j,
+                acc: 1000.0,
+            },
+            Command::SetJointHomingParams {
+                joint: j,
+                config: motion::homing::HomingConfig {
+                    sequence: 0,
+                    ..Default::default()
+                },
+            },
+        ] {
+            m.command(&c).unwrap();
+        }
+    }
+    for c in [
+        Command::SetAxisPositionLimits {
+            axis: 4,
+            min: -1e6,
+            max: 1e6,
+        },
+        Command::SetAxisVelLimit {
+            axis: 4,
+            vel: 100.0,
+        },
+        Command::SetAxisAccLimit {
+            axis: 4,
+            acc: 1000.0,
+        },
+        Command::SetAxisLockingIndexer { axis: 4, joint: 3 },
+    ] {
+        m.command(&c).unwrap();
+    }
+    m.command(&Command::Enable).unwrap();
+    step4(&mut m);
+    m.command(&Command::Home { joint: -1 }).unwrap();
+    for _ in 0..1000 {
+        step4(&mut m);
+        if m.is_all_homed() && m.command(&Command::Coord).is_ok() {
+            break;
+        }
+    }
+    assert!(m.coord_mode(), "homed and in coordinated mode");
+    step4(&mut m);
+    let mut seen_unlock = false;
+    let n = allocations(|| {
+        for (k, b) in [(1, 10.0), (2, 0.0)] {
+            let mut end = Pose::ZERO;
+            end.0[4] = b;
+            m.command(&Command::Line {
+                end,
+                vel: 0.0,
+                kind: LineKind::Traverse,
+                id: k,
+            })
+            .unwrap();
+        }
+        for _ in 0..3000 {
+            step4(&mut m);
+            seen_unlock |= m.unlock_output(3);
+        }
+    });
+    assert_eq!(n, 0, "{n} allocations in the realtime path");
+    assert!(seen_unlock && !m.unlock_output(3), "{:?}", m.planner());
+    assert_eq!(m.planner().exec_id, 2, "{:?}", m.planner());
+}
+
+/// [`step`] for four joints; joint 3's clamp answers its unlock at once.
+fn step4(m: &mut MotionCore) {
+    for j in 0..4 {
+        m.joint_inputs[j].motor_pos_fb = m.joint(j).motor_pos_cmd;
+    }
+    m.joint_inputs[3].is_unlocked = m.unlock_output(3);
+    m.cycle(0.001);
 }

@@ -178,7 +178,7 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     w[5] = tp.distance_to_go.to_bits();
     w[6] = feed.to_bits();
     w[7] = rapid.to_bits();
-    w[8] = tp.kind.map_or(0, |k| k.number()) as i64 as u64;
+    w[8] = tp.motion_type() as i64 as u64;
     w[9] = tp.net_scale.to_bits();
     for (o, v) in w[10..19].iter_mut().zip(probed.0) {
         *o = v.to_bits();

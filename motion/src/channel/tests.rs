@@ -186,6 +186,7 @@ pub(crate) fn all_commands() -> Vec<Command> {
             axis: 2,
             ratio: 0.25,
         },
+        Command::SetAxisLockingIndexer { axis: 4, joint: 4 },
         Command::SetJointComp {
             joint: 0,
             nominal: -1.0,
@@ -249,11 +250,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_69_is_used() {
+fn every_opcode_from_1_to_70_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=69).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=70).collect::<Vec<_>>());
 }
 
 #[test]
@@ -319,7 +320,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 70, 1000, u64::MAX] {
+    for op in [0u64, 71, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(
@@ -497,6 +498,15 @@ fn all_rejects() -> Vec<Reject> {
         },
         Reject::CompTableFull { joint: 3 },
         Reject::MustBeDisabled,
+        Reject::NoSuchSpindle {
+            spindle: 3,
+            num_spindles: 1,
+        },
+        Reject::NoSuchOutput { index: 9, count: 4 },
+        Reject::NoUnlockPins { joint: 7 },
+        Reject::IndexerNeedsRapid { axis: 4 },
+        Reject::IndexerNotAlone { axis: 3 },
+        Reject::IndexerJog { axis: 5, joint: 7 },
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -590,11 +600,11 @@ fn status_snapshot_decodes_and_validates_its_header() {
 }
 
 #[test]
-fn every_reason_code_from_1_to_56_is_used_and_named() {
+fn every_reason_code_from_1_to_62_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=56).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=62).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

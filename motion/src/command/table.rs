@@ -301,6 +301,19 @@ commands! {
             /// The ratio.
             ratio: f64,
         } = 69, cli basic "set-axis-eoffset-ratio" { axis: world_axis(0), ratio: num(1, "RATIO") };
+        /// `[AXIS_L]LOCKING_INDEXER_JOINT`: world axis `axis` is a locking
+        /// indexer driven by `joint` (-1: none, the default). A rapid that
+        /// moves the axis, alone, raises `joint.N.unlock`, waits for
+        /// `joint.N.is-unlocked`, moves, drops the unlock and waits for
+        /// is-unlocked to fall; any other move of the axis is refused. The
+        /// joint needs unlock pins (motmod's `unlock_joints_mask`). Only
+        /// while disabled.
+        SetAxisLockingIndexer {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            [slot] axis: i32,
+            /// The joint, or -1.
+            joint: i32,
+        } = 70, cli basic "set-axis-locking-indexer" { axis: world_axis(0), joint: int(1, "JOINT") };
 
         // ---- Queueing and the coordinated planner (coordinated mode) ----
 

@@ -21,6 +21,7 @@ impl MotionCore {
             max_feed_override: self.max_feed_override,
             spindle_at_speed: self.spindles_at_speed(),
             spindle_rps: self.inputs.spindle_speed_in,
+            unlocked: self.unlocked_mask(),
         }
     }
 
@@ -29,6 +30,7 @@ impl MotionCore {
         self.abort_axis_jogs(true);
         let scales = self.scale_inputs();
         let planned = self.tp.run(&scales);
+        self.report_indexer_fault();
         self.carte_pos_cmd = self.add_eoffsets(period, &planned);
         self.net_feed_scale = self.tp.status().net_scale;
         self.carte_pos_cmd_ok = true;

@@ -61,6 +61,7 @@ mod commands;
 mod coord;
 mod cycle;
 mod eoffset;
+mod indexer;
 mod jog;
 mod modes;
 mod queue;
@@ -263,6 +264,8 @@ pub struct MotionCore {
     spindles: [Spindle; MAX_SPINDLES],
     /// The next feed move waits for the spindles at speed.
     atspeed_next_feed: bool,
+    /// Each world axis's locking indexer joint (`LOCKING_INDEXER_JOINT`).
+    indexer_joint: [Option<u8>; NUM_AXES],
 }
 
 /// Where probing stands.
@@ -367,6 +370,7 @@ impl MotionCore {
             probe: ProbeState::default(),
             spindles: [Spindle::default(); MAX_SPINDLES],
             atspeed_next_feed: false,
+            indexer_joint: [None; NUM_AXES],
         }
     }
 
@@ -494,10 +498,10 @@ impl MotionCore {
         self.homing.joints[j].index_drive
     }
 
-    /// Joint `j`'s `unlock` output (locking indexers); false while
-    /// disabled.
+    /// Joint `j`'s `unlock` output (locking indexers: homing, or the
+    /// planner around an indexer's rapid); false while disabled.
     pub fn unlock_output(&self, j: usize) -> bool {
-        self.enabled && self.homing.joints[j].unlock
+        self.enabled && (self.homing.joints[j].unlock || self.tp.indexer_unlock() == Some(j))
     }
 
     /// Whether every active joint is homed.
@@ -576,6 +580,8 @@ impl MotionCore {
 mod coord_tests;
 #[cfg(test)]
 mod eoffset_tests;
+#[cfg(test)]
+mod indexer_tests;
 #[cfg(test)]
 mod io_tests;
 #[cfg(test)]

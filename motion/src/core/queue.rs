@@ -187,12 +187,17 @@ impl MotionCore {
             feed(vel)?;
         }
         self.check_move(&end, None)?;
+        let indexer = self.indexer_move(&end, kind == LineKind::Traverse)?;
         let lim = self.planning_limits(&end);
         let enables = self.enables_new;
         let feed_move = kind == LineKind::Feed;
-        self.with_atspeed_barrier(feed_move, |tp| {
+        self.tp.set_indexer_pending(indexer);
+        let r = self.with_atspeed_barrier(feed_move, |tp| {
             tp.add_line(end, kind, vel, id, enables, &lim)
-        })?;
+        });
+        // A move too short to queue leaves no request for the next one.
+        self.tp.set_indexer_pending(None);
+        r?;
         self.queued();
         Ok(())
     }
@@ -211,6 +216,7 @@ impl MotionCore {
         self.queue_allowed()?;
         feed(vel)?;
         self.check_move(&end, Some((center, normal, turns)))?;
+        self.no_indexer_move(&end)?;
         let lim = self.planning_limits(&end);
         let enables = self.enables_new;
         self.with_atspeed_barrier(true, |tp| {
@@ -237,6 +243,7 @@ impl MotionCore {
             });
         }
         self.check_move(&end, None)?;
+        self.no_indexer_move(&end)?;
         let lim = self.planning_limits(&end);
         let enables = self.enables_new;
         self.with_atspeed_barrier(true, |tp| tp.add_probe(end, vel, probe, id, enables, &lim))?;

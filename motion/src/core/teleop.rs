@@ -80,6 +80,13 @@ impl MotionCore {
         if self.world.axes[a].wheel_jog_active {
             return Err(Reject::AxisWheelJogActive { axis: a });
         }
+        if let Some(joint) = self.indexer_joint[a] {
+            // As LinuxCNC: a locking indexer axis does not jog in teleop.
+            return Err(Reject::IndexerJog {
+                axis: a,
+                joint: usize::from(joint),
+            });
+        }
         Ok(a)
     }
 
@@ -328,6 +335,10 @@ impl MotionCore {
             let delta = inp.jog_counts.wrapping_sub(ax.old_jog_counts);
             ax.old_jog_counts = inp.jog_counts;
             if first || delta == 0 || !may_move || !inp.jog_enable || !in_kins {
+                continue;
+            }
+            // A locking indexer axis is not wheel jogged (as LinuxCNC).
+            if self.indexer_joint[a].is_some() {
                 continue;
             }
             if ax.kb_jog_active {

@@ -660,8 +660,7 @@ impl HalIo {
         let tp = core.planner();
         let coord = core.state() == crate::core::MotionState::Coord;
         m.program_line.set(if coord { tp.exec_id } else { 0 });
-        m.motion_type
-            .set(tp.kind.filter(|_| coord).map_or(0, |k| k.number()));
+        m.motion_type.set(if coord { tp.motion_type() } else { 0 });
         m.requested_vel.set(tp.requested_vel);
         m.distance_to_go.set(tp.distance_to_go);
         m.feed_upm.set(tp.requested_vel * 60.0);

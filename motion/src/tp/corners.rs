@@ -43,14 +43,20 @@ impl Planner {
             return;
         }
         let atspeed = std::mem::take(&mut self.atspeed_pending);
-        if atspeed {
+        let indexer = self.indexer_pending.take().map(|j| j as u8);
+        if atspeed || indexer.is_some() {
             // It starts from rest: the segment before it stops.
             if let Some(last) = self.queue.back_mut() {
                 last.ending = Ending::Stop;
                 last.end_cap = 0.0;
             }
         }
-        let ending = self.ending();
+        // A locking indexer's move ends at rest too.
+        let ending = if indexer.is_some() {
+            Ending::Stop
+        } else {
+            self.ending()
+        };
         let prev_not_stop = self
             .queue
             .back()
@@ -83,6 +89,7 @@ impl Planner {
             kinks,
             step_stop: false,
             atspeed,
+            indexer,
             sync: false,
             per_rev: match kind {
                 SegmentKind::Feed | SegmentKind::Arc => self.feed_per_rev,
@@ -222,6 +229,7 @@ impl Planner {
             kinks: true,
             step_stop: false,
             atspeed: false,
+            indexer: None,
             sync: false,
             per_rev: prev.per_rev.or(seg.per_rev),
         };

@@ -89,6 +89,11 @@ impl Planner {
             self.clear();
             return self.pos;
         }
+        if self.indexer_step(scales.unlocked) {
+            // A locking indexer is unlocking or relocking, at rest.
+            self.exec_id = self.queue.front().map_or(self.exec_id, |h| h.id);
+            return self.pos;
+        }
         let Some(head) = self.queue.front().copied() else {
             self.v = 0.0;
             self.a = 0.0;
@@ -220,6 +225,7 @@ impl Planner {
     fn finish_head(&mut self) {
         if let Some(done) = self.queue.pop_front() {
             self.exec_id = done.id;
+            self.indexer_segment_done(done.indexer);
         }
         self.s = 0.0;
         self.dwell_left = None;

@@ -41,6 +41,7 @@ mod budget;
 mod corners;
 mod exec;
 mod geom;
+mod indexer;
 mod lookahead;
 mod scurve;
 mod segment;
@@ -50,6 +51,7 @@ mod trapezoid;
 use std::collections::VecDeque;
 
 pub use budget::{AxisLimits, PlannerType, TrajLimits};
+pub use indexer::{IndexerFault, IndexerPhase, INDEXER_TIMEOUT};
 pub use segment::{FeedPerRev, SegmentKind};
 
 use crate::command::{LineKind, ProbeType, Reject, TermCond};
@@ -83,6 +85,8 @@ pub struct ScaleInputs {
     /// Each spindle's `speed-in`, revolutions per second (feed per
     /// revolution follows it).
     pub spindle_rps: [f64; crate::sizes::MAX_SPINDLES],
+    /// Each joint's `is-unlocked` (bit n: joint n), for locking indexers.
+    pub unlocked: u32,
 }
 
 impl Default for ScaleInputs {
@@ -96,6 +100,7 @@ impl Default for ScaleInputs {
             max_feed_override: 1.0,
             spindle_at_speed: true,
             spindle_rps: [0.0; crate::sizes::MAX_SPINDLES],
+            unlocked: 0,
         }
     }
 }
@@ -158,6 +163,20 @@ pub struct PlannerStatus {
     pub waiting_for_atspeed: bool,
     /// The override enable bits of the executing segment, if any.
     pub enables: Option<u8>,
+    /// A locking indexer's handshake or move runs.
+    pub indexer: Option<IndexerPhase>,
+}
+
+impl PlannerStatus {
+    /// LinuxCNC's `motion.motion-type`: the executing segment's kind, or 6
+    /// (rotary unlock for traverse) while a locking indexer unlocks, moves
+    /// or relocks.
+    pub fn motion_type(&self) -> i32 {
+        if self.indexer.is_some() {
+            return 6;
+        }
+        self.kind.map_or(0, |k| k.number())
+    }
 }
 
 /// The coordinated planner.
@@ -202,6 +221,12 @@ pub struct Planner {
     head_started: bool,
     /// The feed per revolution of the feed moves queued next (G95).
     feed_per_rev: Option<FeedPerRev>,
+    /// The next segment pushed is a locking indexer's move of this joint.
+    indexer_pending: Option<usize>,
+    /// The locking indexer handshake in progress.
+    indexer: Option<indexer::IndexerRun>,
+    /// A handshake wait that ran out, for the controller to report.
+    indexer_fault: Option<IndexerFault>,
     /// Outputs changed in step with the queue (M62, M63, M67) and
     /// their values.
     sync_io: sync_io::SyncIo,
@@ -249,6 +274,9 @@ impl Planner {
             waiting_for_atspeed: false,
             head_started: false,
             feed_per_rev: None,
+            indexer_pending: None,
+            indexer: None,
+            indexer_fault: None,
             sync_io: sync_io::SyncIo::default(),
         }
     }
@@ -260,7 +288,7 @@ impl Planner {
 
     /// Whether nothing is queued and the motion is at rest.
     pub fn is_done(&self) -> bool {
-        self.queue.is_empty() && self.v == 0.0 && !self.hold
+        self.queue.is_empty() && self.v == 0.0 && !self.hold && self.indexer.is_none()
     }
 
     /// The planner in use.
@@ -291,6 +319,7 @@ impl Planner {
             net_scale: self.net_scale,
             planner: self.planner,
             waiting_for_atspeed: self.waiting_for_atspeed,
+            indexer: self.indexer_phase(),
             enables: head.map(|h| h.enables),
         }
     }
@@ -313,6 +342,10 @@ impl Planner {
     /// the drives are off); the goal becomes the commanded pose.
     pub fn clear(&mut self) {
         self.queue.clear();
+        // An unlocked indexer's request drops with the queue (its lock is
+        // not waited for: nothing moves after a clear).
+        self.indexer = None;
+        self.indexer_pending = None;
         self.goal = self.pos;
         self.s = 0.0;
         self.v = 0.0;
@@ -609,6 +642,7 @@ impl Planner {
             atspeed: false,
             sync: false,
             per_rev: None,
+            indexer: None,
         };
         seg.sync = self.sync_io.attach();
         if let Some(last) = self.queue.back_mut() {

@@ -88,6 +88,8 @@ pub(crate) struct Segment {
     /// Feed per revolution (G95): its speed follows a spindle's
     /// `speed-in` instead of `req_vel`.
     pub per_rev: Option<FeedPerRev>,
+    /// A locking indexer's rapid: the joint unlocked around it.
+    pub indexer: Option<u8>,
 }
 
 /// A feed per revolution (LinuxCNC's velocity-mode spindle sync, G95).

@@ -349,6 +349,40 @@ rejects! {
             /// How many there are (motmod's num_dio or num_aio).
             count: usize = n1,
         } = 58, "no such output" => "output {index} does not exist (there are {count})";
+        /// A locking indexer needs a joint with `unlock`/`is-unlocked` pins
+        /// (motmod's `unlock_joints_mask`).
+        NoUnlockPins {
+            /// The joint number.
+            joint: i32 = n0,
+        } = 59, "no unlock pins"
+            => "joint {joint} has no unlock pins (add it to motmod's unlock_joints_mask) and \
+                cannot be a locking indexer";
+        /// A feed move, arc or probing move would move a locking indexer
+        /// axis: only a rapid (G0) unlocks it.
+        IndexerNeedsRapid {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            axis: usize = n0,
+        } = 60, "locking indexer needs a rapid"
+            => "axis {} is a locking indexer: only a rapid move (G0) may move it, and alone",
+                axis_letter(axis);
+        /// A rapid would move a locking indexer axis together with other
+        /// axes.
+        IndexerNotAlone {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            axis: usize = n0,
+        } = 61, "locking indexer not alone"
+            => "axis {} is a locking indexer: a move of it may move no other axis",
+                axis_letter(axis);
+        /// A locking indexer axis is not jogged in teleop mode (jog its
+        /// joint in joint mode, or move it with G0).
+        IndexerJog {
+            /// The world axis: 0..=8 for X Y Z A B C U V W.
+            axis: usize = n0,
+            /// Its locking indexer joint.
+            joint: usize = n1,
+        } = 62, "locking indexer jog"
+            => "cannot jog axis {}: it is a locking indexer (joint {joint}); move it with G0",
+                axis_letter(axis);
     }
 }
 

@@ -814,3 +814,37 @@ fn position_file_keeps_the_joints_between_runs() {
         "{err}"
     );
 }
+
+/// LinuxCNC's locking indexer sample (B on joint 3; a timedelay stands
+/// in for the clamp: 0.75 s to unlock, 0.5 s to lock): G0 B90 raises
+/// joint.3.unlock with motion-type 6, B's joint waits for is-unlocked,
+/// moves, and the unlock drops at the end; a feed move of B is refused
+/// with motion's message.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_locking_indexer_unlocks_around_a_rapid() {
+    let (m, _copy) = peer_machine("sim/axis/ja_tests/xyzb_locking_indexer/xyzb.ini", "pindex");
+    home_all(&m);
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "G0 B90"]);
+    assert_eq!(m.wait_getp("joint.3.unlock", "TRUE"), "TRUE");
+    assert_eq!(m.getp("motion.motion-type"), "6");
+    // Still clamped (the on-delay is 0.75 s): B has not moved.
+    assert_eq!(m.getp("joint.3.is-unlocked"), "FALSE");
+    assert_eq!(m.getp("joint.3.pos-cmd"), "0");
+    let b = wait_float(&m, "joint.3.pos-cmd", 90.0);
+    assert!((b - 90.0).abs() < 1e-9, "{b}");
+    m.task_ok(&["wait-done"]);
+    assert_eq!(m.getp("joint.3.unlock"), "FALSE");
+    assert_eq!(m.getp("joint.3.is-unlocked"), "FALSE");
+    assert_eq!(m.getp("motion.motion-type"), "0");
+    let (_, out, err) = m.task(&["mdi", "G1 B100 F100"]);
+    let _ = m.task(&["wait-done"]);
+    let all = format!("{out}{err}{}", m.stderr());
+    assert!(
+        all.contains("axis B is a locking indexer: only a rapid move (G0) may move it"),
+        "{all}"
+    );
+    assert!((wait_float(&m, "joint.3.pos-cmd", 90.0) - 90.0).abs() < 1e-9);
+    m.stop();
+}

@@ -326,13 +326,20 @@ impl MotionLink {
             self.setting(ini, &sec, keys, cmd)?;
         }
         self.configure_eoffset(ini, &sec, a, notes)?;
-        if ini.entry(&sec, "LOCKING_INDEXER_JOINT").is_some() {
-            notes.push(format!(
-                "{}: axis locking indexers are not supported by the motion controller; homing the joint still unlocks it",
-                at(ini, &sec, &["LOCKING_INDEXER_JOINT"])
-            ));
-        }
-        Ok(())
+        self.configure_indexer(ini, &sec, a)
+    }
+
+    /// `[AXIS_L]LOCKING_INDEXER_JOINT`: the joint that drives the axis as
+    /// a locking indexer (motion unlocks it around each rapid of the
+    /// axis). Motion refuses a joint without unlock pins (motmod's
+    /// `unlock_joints_mask`), naming the entry.
+    fn configure_indexer(&mut self, ini: &Ini, sec: &str, axis: i32) -> Result<(), LaunchError> {
+        let Some(joint) = ini.int(sec, "LOCKING_INDEXER_JOINT")? else {
+            return Ok(());
+        };
+        let joint = i32::try_from(joint).unwrap_or(i32::MAX);
+        let cmd = Command::SetAxisLockingIndexer { axis, joint };
+        self.setting(ini, sec, &["LOCKING_INDEXER_JOINT"], cmd)
     }
 
     /// `[AXIS_L]OFFSET_AV_RATIO`: the share of the axis's velocity and

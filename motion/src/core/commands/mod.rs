@@ -82,6 +82,7 @@ impl MotionCore {
             C::SetAxisAccLimit { axis, acc } => self.set_axis_acc_limit(axis, acc),
             C::SetAxisJerkLimit { axis, jerk } => self.set_axis_jerk_limit(axis, jerk),
             C::SetAxisEoffsetRatio { axis, ratio } => self.set_axis_eoffset_ratio(axis, ratio),
+            C::SetAxisLockingIndexer { axis, joint } => self.set_axis_locking_indexer(axis, joint),
             // Coordinated mode.
             C::Line { end, vel, kind, id } => self.queue_line(end, vel, kind, id),
             C::Circle {

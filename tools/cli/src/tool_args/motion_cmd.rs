@@ -66,6 +66,10 @@ axes (teleop mode):
                                 OFFSET_AV_RATIO (0..0.9): the share of the
                                 axis limits its external offset
                                 (axis.L.eoffset-*) gets; only while disabled
+  set-axis-locking-indexer AXIS JOINT
+                                LOCKING_INDEXER_JOINT: JOINT (-1: none)
+                                unlocks around each rapid of AXIS; it needs
+                                unlock pins; only while disabled
 
 configuration:
   set-limits JOINT MIN MAX      soft position limits
