@@ -280,13 +280,15 @@ fn distributed_clocks_pins() {
     h.addf("lcec.read-all", "servo", -1).unwrap();
     h.addf("lcec.write-all", "servo", -1).unwrap();
     h.start().unwrap();
-    wait("dc-sync-converged", || {
+    // Converged, and the difference under the threshold, read in one
+    // cycle's worth: the two pins are read apart, and on a loaded test
+    // machine the master's helper (not realtime) can be late with a
+    // sample in between (one run under the whole suite read 250 ms
+    // right after `converged`).
+    wait("dc-sync-converged with a small dc-sync-diff", || {
         pin(&h, "lcec.0.dc-sync-converged") == Value::Bit(true)
+            && matches!(pin(&h, "lcec.0.dc-sync-diff"), Value::U32(d) if d < 40_000)
     });
-    match pin(&h, "lcec.0.dc-sync-diff") {
-        Value::U32(d) => assert!(d < 40_000, "{d}"),
-        v => panic!("{v:?}"),
-    }
     // The time pair: the application time is the cycle's monotonic time
     // on the time base the slaves' clocks keep (the reference clock
     // follows it).
