@@ -40,8 +40,9 @@ pub const DISPLAY_INTERVAL: Duration = Duration::from_millis(100);
 /// How long `-x` waits for the pendant before giving up.
 pub const REQUIRE_WAIT: Duration = Duration::from_secs(180);
 
-const USAGE: &str = "\
-Usage: xhc-hb04 [-I button-cfg-file] [-h] [-H] [-x] [-s n]
+/// The help text.
+pub const USAGE: &str = "\
+Usage: xhc-hb04 [-I button-cfg-file] [-h] [-H] [-x] [-s n] [--instance NAME]
   -I button-cfg-file  the pendant's button layout ([XHC-HB04] BUTTON=CODE:pin-name)
   -H                  run as a HAL component (without it: print the pendant's reports)
   -x                  wait for the pendant before creating HAL pins
@@ -51,7 +52,9 @@ Usage: xhc-hb04 [-I button-cfg-file] [-h] [-H] [-x] [-s n]
                         3: 1,10,100
                         4: 1,5,10,20,50,100
                         5: 1,10,50,100,1000
-  -h                  print this help and exit
+  --instance NAME     the HAL instance to join (default: $HAL_INSTANCE, or the default one)
+  -h, --help          print this help and exit
+      --version       print the version and exit
 ";
 
 /// What the command line asks for.
@@ -74,6 +77,8 @@ pub enum Command {
     Run(Options),
     /// `-h`.
     Help,
+    /// `--version`.
+    Version,
 }
 
 /// Reads the command line (without the program name).
@@ -86,6 +91,12 @@ pub fn parse_args(args: &[String]) -> Result<Command> {
     };
     let mut i = 0;
     while i < args.len() {
+        if let Some(found) = hal_core::userspace::instance_option(args, i, true) {
+            let (name, used) = found?;
+            hal_core::userspace::select_instance(&name)?;
+            i += used;
+            continue;
+        }
         let a = args[i].as_str();
         let value = |i: usize| {
             args.get(i + 1)
@@ -93,6 +104,7 @@ pub fn parse_args(args: &[String]) -> Result<Command> {
         };
         match a {
             "-h" | "--help" => return Ok(Command::Help),
+            "--version" => return Ok(Command::Version),
             "-H" => o.hal = true,
             "-x" => o.require_pendant = true,
             "-I" => {
@@ -124,6 +136,10 @@ pub fn main(args: &[String]) -> i32 {
     match parse_args(args.get(1..).unwrap_or_default()) {
         Ok(Command::Help) => {
             print!("{USAGE}");
+            0
+        }
+        Ok(Command::Version) => {
+            println!("{}", hal_core::userspace::version_line(NAME));
             0
         }
         Ok(Command::Run(o)) => match run(&o) {
