@@ -39,6 +39,7 @@ crate::register_targets! {
     serial_command_line,
     serial_mb2hal_ini,
     serial_modbus_tcp_reply,
+    xhc_input_report,
     ini_file,
     tool_table,
     task_state,

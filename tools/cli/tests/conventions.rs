@@ -111,6 +111,12 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: None,
     },
+    // Without -x the pendant's driver makes its pins at once.
+    InstanceTool {
+        bin: "xhc-hb04",
+        short: true,
+        attach: Some(&["-H"]),
+    },
     InstanceTool {
         bin: "hal-host",
         short: true,

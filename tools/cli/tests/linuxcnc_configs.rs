@@ -601,17 +601,56 @@ fn peer_rolfmill_in_the_old_format_runs_converted() {
     }
 }
 
-/// LinuxCNC's XHC HB04 pendant demo: the pendant's settings are checked,
-/// and with no pendant driver here the machine starts without it.
+/// Fails with what to build when the pendant driver (package hal-usb,
+/// not a binary of this package) is not beside `linuxcnc`.
+fn need_xhc_hb04() {
+    let exe = std::path::Path::new(env!("CARGO_BIN_EXE_linuxcnc")).with_file_name("xhc-hb04");
+    assert!(
+        exe.exists(),
+        "{} is missing: run `cargo build -p hal-usb` first",
+        exe.display()
+    );
+}
+
+/// LinuxCNC's XHC HB04 pendant demo (require_pendant = no): with no
+/// pendant the driver's pins exist, `connected` is false, and the wheel,
+/// buttons and start/pause are wired through pendant_util to the axes,
+/// joints and halui.
 #[test]
 #[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
 fn peer_xhc_hb04_starts_without_the_pendant() {
+    need_xhc_hb04();
     let (m, _copy) = peer_machine("sim/axis/xhc-hb04/xhc-hb04-layout2.ini", "pxhc");
+    assert_eq!(m.getp("xhc-hb04.connected"), "FALSE");
+    assert_eq!(m.getp("xhc-hb04.require_pendant"), "FALSE");
+    assert_eq!(m.getp("xhc-hb04.button-zero-x"), "FALSE");
+    let wheel = m.halcmd(&["show", "sig", "pendant:wheel-counts"]);
+    assert!(wheel.contains("<== xhc-hb04.jog.counts"), "{wheel}");
+    assert!(wheel.contains("==> pendant_util.in0"), "{wheel}");
+    assert!(wheel.contains("==> halui.feed-override.counts"), "{wheel}");
+    let x = m.halcmd(&["show", "sig", "pendant:wheel-counts-x-filtered"]);
+    assert!(x.contains("==> joint.0.jog-counts"), "{x}");
+    let run = m.halcmd(&["show", "sig", "pendant:program-run"]);
+    assert!(run.contains("<== pendant_util.run"), "{run}");
+    assert_eq!(m.getp("pendant_util.k"), "100");
+    m.stop();
+}
+
+/// LinuxCNC's xyzx demo with the pendant: X on joints 0 and 3, so the
+/// Tcl wires axis x only and the POSTGUI file puts joint 3 on
+/// pendant_util's fourth filter.
+#[test]
+#[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
+fn peer_xyzx_xhc_hb04_postgui_drives_joint_3() {
+    need_xhc_hb04();
+    let (m, _copy) = peer_machine("sim/axis/ja_tests/xyzx_mpg/xyzx-xhc-hb04.ini", "pxyzx");
+    let j3 = m.halcmd(&["show", "sig", "optionalj3:filtered"]);
+    assert!(j3.contains("<== pendant_util.out3"), "{j3}");
+    assert!(j3.contains("==> joint.3.jog-counts"), "{j3}");
+    assert_eq!(m.getp("pendant_util.scale3"), "100");
+    assert_eq!(m.getp("xhc-hb04.inch-icon"), "TRUE");
     let err = m.stop();
-    assert!(
-        err.contains("xhc-hb04.tcl: this suite has no driver"),
-        "{err}"
-    );
+    assert!(err.contains("coordinate x has no single joint"), "{err}");
 }
 
 /// Waits (up to 10 s) until the float pin `name` reads `want` to within

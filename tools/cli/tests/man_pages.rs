@@ -257,6 +257,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "xhc-hb04",
+            help(
+                "the XHC-HB04 wireless MPG pendant as a HAL component",
+                hal_usb::xhc::USAGE,
+                &["halui(1)", "halcmd(1)"],
+            ),
+        ),
+        (
             "ethercat-tool",
             Clap(Box::new(hal_ethercat::tool::args::Cli::command())),
         ),
