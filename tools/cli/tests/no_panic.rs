@@ -222,6 +222,16 @@ const PROBES: &[Probe] = &[
         live: &[&["--help"]],
     },
     Probe {
+        bin: "xhc-hb04",
+        templates: &[&["-H", "-I", "{}"], &["-H", "-s", "{}"]],
+        skip_options: &[(
+            "--instance",
+            "an accepted name leaves it waiting for the pendant until stopped",
+        )],
+        no_bare_run: Some("without -H it waits for the pendant until stopped, as LinuxCNC's"),
+        live: &[&["--help"]],
+    },
+    Probe {
         bin: "latency-test",
         templates: &[
             &["-d", "{}"],

@@ -135,11 +135,11 @@ pub fn parse_args(args: &[String]) -> Result<Command> {
 pub fn main(args: &[String]) -> i32 {
     match parse_args(args.get(1..).unwrap_or_default()) {
         Ok(Command::Help) => {
-            print!("{USAGE}");
+            hal_core::out!("{USAGE}");
             0
         }
         Ok(Command::Version) => {
-            println!("{}", hal_core::userspace::version_line(NAME));
+            hal_core::outln!("{}", hal_core::userspace::version_line(NAME));
             0
         }
         Ok(Command::Run(o)) => match run(&o) {
@@ -325,7 +325,7 @@ fn print_reports(exit: &ExitSignals, list: &[Button]) -> Result<()> {
             }
             Err(e) => format!("{}: {e}", hex.join(" ")),
         };
-        println!("{line}");
+        hal_core::outln!("{line}");
     }
     Ok(())
 }
