@@ -27,9 +27,8 @@ struct Proc(Child);
 impl Proc {
     /// SIGTERM, as `unloadusr` sends it; the exit status.
     fn terminate(&mut self) -> i32 {
-        let pid = i32::try_from(self.0.id()).unwrap();
-        // SAFETY: kill(2) on our own child's pid.
-        assert_eq!(unsafe { libc::kill(pid, libc::SIGTERM) }, 0);
+        let pid = nix::unistd::Pid::from_raw(i32::try_from(self.0.id()).unwrap());
+        nix::sys::signal::kill(pid, nix::sys::signal::Signal::SIGTERM).unwrap();
         let end = Instant::now() + PATIENCE;
         loop {
             if let Ok(Some(st)) = self.0.try_wait() {
