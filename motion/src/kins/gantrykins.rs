@@ -54,7 +54,10 @@ pub static MODULE: ModuleDef = ModuleDef {
 
 /// The axis number of each joint from a `coordinates=` value (−1 past
 /// its letters), or why it was refused.
-pub fn parse_coordinates(coordinates: &str) -> std::result::Result<[i32; JOINTS], String> {
+pub fn parse_coordinates(
+    coordinates: &str,
+) -> std::result::Result<[i32; JOINTS], super::trivkins::TrivkinsError> {
+    use super::trivkins::TrivkinsError;
     let mut map = [-1; JOINTS];
     let letters = coordinates.chars().filter(|c| !matches!(c, ' ' | '\t'));
     for (n, c) in letters.enumerate() {
@@ -62,10 +65,13 @@ pub fn parse_coordinates(coordinates: &str) -> std::result::Result<[i32; JOINTS]
         let axis = AXIS_LETTERS
             .iter()
             .position(|&l| l == lower)
-            .ok_or_else(|| format!("invalid character '{c}', expected axis letters XYZABCUVW"))?;
+            .ok_or(TrivkinsError::BadLetter(c))?;
         let slot = map
             .get_mut(n)
-            .ok_or_else(|| format!("more than {JOINTS} letters in '{coordinates}'"))?;
+            .ok_or_else(|| TrivkinsError::TooManyLetters {
+                given: coordinates.to_string(),
+                max: JOINTS,
+            })?;
         // An axis index is below NUM_AXES, so it fits an i32.
         *slot = i32::try_from(axis).unwrap_or(-1);
     }
@@ -185,7 +191,7 @@ impl Kinematics for GantryParams {
 
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let map = parse_coordinates(args.str("coordinates").unwrap_or(DEFAULT_COORDINATES))
-        .map_err(|reason| bad_param(NAME, "coordinates", reason))?;
+        .map_err(|e| bad_param(NAME, "coordinates", e.to_string()))?;
     let b = host.new_rt_component(NAME)?;
     let c = b.component();
     let mut params = Vec::with_capacity(JOINTS);
@@ -224,9 +230,13 @@ mod tests {
             [0, 1, 1, 2, -1, -1, -1, -1, -1]
         );
         assert_eq!(parse_coordinates("").unwrap(), [-1; 9]);
-        assert!(parse_coordinates("xyq").unwrap_err().contains("'q'"));
+        assert!(parse_coordinates("xyq")
+            .unwrap_err()
+            .to_string()
+            .contains("'q'"));
         assert!(parse_coordinates("xyzabcuvwx")
             .unwrap_err()
+            .to_string()
             .contains("more than 9"));
     }
 

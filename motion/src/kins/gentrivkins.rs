@@ -94,7 +94,7 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let kins_type = parse_kinstype(args.str("kinstype").unwrap_or("1"))
         .map_err(|e| bad_param(NAME, "kinstype", e.to_string()))?;
     let map = parse_coordinates(args.str("coordinates").unwrap_or(DEFAULT_COORDINATES))
-        .map_err(|reason| bad_param(NAME, "coordinates", reason))?;
+        .map_err(|e| bad_param(NAME, "coordinates", e.to_string()))?;
     let kins = Gentriv {
         map: Gantry { map },
         kins_type,

@@ -75,6 +75,14 @@ pub enum TrivkinsError {
     Empty,
     /// A `kinstype` whose first character is not 1, B, F or I.
     BadKinsType(String),
+    /// More letters than a module with a fixed joint count takes
+    /// (gantrykins, gentrivkins: 9).
+    TooManyLetters {
+        /// The value given.
+        given: String,
+        /// The most letters allowed.
+        max: usize,
+    },
 }
 
 impl std::fmt::Display for TrivkinsError {
@@ -92,6 +100,9 @@ impl std::fmt::Display for TrivkinsError {
                 write!(f, "{n} joints, at most {MAX_JOINTS} are allowed")
             }
             TrivkinsError::Empty => f.write_str("no axis letter given"),
+            TrivkinsError::TooManyLetters { given, max } => {
+                write!(f, "more than {max} letters in '{given}'")
+            }
             TrivkinsError::BadKinsType(s) => write!(
                 f,
                 "'{s}' is not a kinematics type: use 1 (identity), B (both), F (forward only) or I (inverse only)"

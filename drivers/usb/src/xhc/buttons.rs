@@ -6,7 +6,7 @@ use std::path::Path;
 
 use hal_lang::ini::Ini;
 
-use crate::error::{Result, UsbError};
+use crate::error::{ButtonProblem, Result, UsbError};
 
 /// The section the button lines are in.
 pub const SECTION: &str = "XHC-HB04";
@@ -38,18 +38,18 @@ pub fn load(path: &Path) -> Result<Vec<Button>> {
 pub fn from_ini(ini: &Ini) -> Result<Vec<Button>> {
     let mut out: Vec<Button> = Vec::new();
     for e in ini.all(SECTION, "BUTTON") {
-        let bad = |reason: &str| UsbError::BadButton {
+        let bad = |problem: ButtonProblem| UsbError::BadButton {
             file: e.origin.file.to_string(),
             line: e.origin.line,
             value: e.value.clone(),
-            reason: reason.to_string(),
+            problem,
         };
         if out.len() == MAX_BUTTONS {
-            return Err(bad(&format!("more than {MAX_BUTTONS} buttons")));
+            return Err(bad(ButtonProblem::TooMany { max: MAX_BUTTONS }));
         }
-        let b = parse_line(&e.value).map_err(|r| bad(&r))?;
+        let b = parse_line(&e.value).map_err(bad)?;
         if out.iter().any(|o| o.name == b.name) {
-            return Err(bad(&format!("pin name '{}' given twice", b.name)));
+            return Err(bad(ButtonProblem::Twice(b.name)));
         }
         out.push(b);
     }
@@ -57,25 +57,21 @@ pub fn from_ini(ini: &Ini) -> Result<Vec<Button>> {
 }
 
 /// One `CODE:name` value.
-pub fn parse_line(value: &str) -> std::result::Result<Button, String> {
-    let (code, name) = value
-        .split_once(':')
-        .ok_or("expected CODE:pin-name, e.g. 0D:button-step")?;
+pub fn parse_line(value: &str) -> std::result::Result<Button, ButtonProblem> {
+    let (code, name) = value.split_once(':').ok_or(ButtonProblem::NoColon)?;
     let code = code.trim();
-    let code = u8::from_str_radix(code, 16)
-        .map_err(|_| format!("button code '{code}' is not a hex byte"))?;
+    let code =
+        u8::from_str_radix(code, 16).map_err(|_| ButtonProblem::BadCode(code.to_string()))?;
     if code == 0 {
-        return Err("button code 00 means no button".into());
+        return Err(ButtonProblem::ZeroCode);
     }
     let name = name.trim();
     if name.is_empty() || name.len() > MAX_NAME {
-        return Err(format!("pin name must be 1..={MAX_NAME} characters"));
+        return Err(ButtonProblem::NameLength { max: MAX_NAME });
     }
     let ok = |c: char| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.');
     if !name.chars().all(ok) {
-        return Err(format!(
-            "pin name '{name}' may hold only letters, digits, '-', '_' and '.'"
-        ));
+        return Err(ButtonProblem::NameCharacters(name.to_string()));
     }
     Ok(Button {
         code,
