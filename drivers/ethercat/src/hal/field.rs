@@ -15,38 +15,79 @@ pub(crate) struct Field {
 
 impl Field {
     /// The field's bits, zero-extended (0 where the image is short).
+    ///
+    /// Runs for every input entry every period, so the common shapes
+    /// are quick: a field inside one byte (a digital input, a byte) is
+    /// one load, and the rest take the 8 bytes from its first at once
+    /// where the image has them (a byte at a time near its end), plus
+    /// a ninth for a 64-bit field that does not start on a byte.
     #[inline]
     pub(crate) fn read(self, img: &[u8]) -> u64 {
-        let bits = usize::from(self.bits.min(64));
-        let (first, shift) = (self.bit / 8, self.bit % 8);
-        // The bytes the field touches, gathered little-endian (a byte
-        // at a time, not a bit at a time; 9 bytes at most).
-        let mut v = 0u128;
-        for i in 0..(shift + bits).div_ceil(8) {
-            if let Some(&b) = img.get(first + i) {
-                v |= u128::from(b) << (8 * i);
-            }
-        }
-        let v = (v >> shift) as u64;
-        if bits >= 64 {
-            v
-        } else {
-            v & ((1u64 << bits) - 1)
-        }
-    }
-
-    /// Writes the low bits of `v` into the field (nothing past the image).
-    #[inline]
-    pub(crate) fn write(self, img: &mut [u8], v: u64) {
-        let bits = usize::from(self.bits.min(64));
-        let (first, shift) = (self.bit / 8, self.bit % 8);
+        let bits = u32::from(self.bits.min(64));
+        let (first, shift) = (self.bit / 8, (self.bit % 8) as u32);
         let mask = if bits >= 64 {
             u64::MAX
         } else {
             (1u64 << bits) - 1
         };
-        let (mask, v) = (u128::from(mask) << shift, u128::from(v) << shift);
-        for i in 0..(shift + bits).div_ceil(8) {
+        if shift + bits <= 8 {
+            return img
+                .get(first)
+                .map_or(0, |&b| (u64::from(b) >> shift) & mask);
+        }
+        let low = match img.get(first..first.saturating_add(8)) {
+            Some(b) => <[u8; 8]>::try_from(b).map_or(0, u64::from_le_bytes),
+            // Fewer than 8 bytes from `first` to the end: they fit.
+            None => img
+                .get(first..)
+                .unwrap_or(&[])
+                .iter()
+                .rev()
+                .fold(0u64, |v, &b| v << 8 | u64::from(b)),
+        };
+        let mut v = low >> shift;
+        if shift + bits > 64 {
+            if let Some(&b) = img.get(first.saturating_add(8)) {
+                v |= u64::from(b) << (64 - shift);
+            }
+        }
+        v & mask
+    }
+
+    /// Writes the low bits of `v` into the field (nothing past the
+    /// image). As [`Field::read`], a field inside one byte and one with
+    /// 8 bytes of image from its first are written without a byte loop.
+    #[inline]
+    pub(crate) fn write(self, img: &mut [u8], v: u64) {
+        let bits = u32::from(self.bits.min(64));
+        let (first, shift) = (self.bit / 8, (self.bit % 8) as u32);
+        let mask = if bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << bits) - 1
+        };
+        if shift + bits <= 8 {
+            if let Some(b) = img.get_mut(first) {
+                let m = (mask << shift) as u8;
+                *b = (*b & !m) | ((v << shift) as u8 & m);
+            }
+            return;
+        }
+        let (mask, v) = (u128::from(mask) << shift, u128::from(v & mask) << shift);
+        if let Some(word) = img.get_mut(first..first.saturating_add(8)) {
+            if let Ok(word) = <&mut [u8; 8]>::try_from(word) {
+                let (m, low) = (mask as u64, v as u64);
+                *word = ((u64::from_le_bytes(*word) & !m) | low).to_le_bytes();
+            }
+            if shift + bits > 64 {
+                if let Some(b) = img.get_mut(first.saturating_add(8)) {
+                    let m = (mask >> 64) as u8;
+                    *b = (*b & !m) | ((v >> 64) as u8 & m);
+                }
+            }
+            return;
+        }
+        for i in 0..(shift + bits).div_ceil(8) as usize {
             if let Some(b) = img.get_mut(first + i) {
                 let m = (mask >> (8 * i)) as u8;
                 *b = (*b & !m) | ((v >> (8 * i)) as u8 & m);

@@ -66,6 +66,34 @@ struct InputSlot {
     last: Option<u64>,
 }
 
+/// A pin putting its value into the outputs, with what it last put.
+struct OutputSlot {
+    /// Its index in the slave's pins.
+    pin: usize,
+    /// The value it last encoded (its f64 bits) and the field's bits
+    /// that made: while both hold, encoding again would write the same.
+    last: Option<(u64, u64)>,
+}
+
+impl OutputSlot {
+    /// Puts `v` into the field `at` of `img`, unless the field already
+    /// holds what `v` encodes to. The field is read back rather than
+    /// trusted, so whatever else wrote the image since (safe outputs, a
+    /// drive's words, an overlapping entry) is written over as before.
+    #[inline]
+    fn put(&mut self, img: &mut [u8], at: Field, coding: &Coding, v: f64) {
+        let key = v.to_bits();
+        if self
+            .last
+            .is_some_and(|(k, raw)| k == key && at.read(img) == raw)
+        {
+            return;
+        }
+        at.write(img, field::encode(coding, v, at.bits));
+        self.last = Some((key, at.read(img)));
+    }
+}
+
 struct Bound<H: HalHost> {
     pin: AnyPin<H>,
     role: Role,
@@ -93,7 +121,12 @@ pub(crate) struct SlaveRt<H: HalHost> {
     /// and the pins putting theirs into the outputs: the cycle walks
     /// these, not every pin.
     inputs: Vec<InputSlot>,
-    outputs: Vec<usize>,
+    /// The bytes the slots read as they were when the slots last took
+    /// them (while `seen_valid`): an image that did not change since is
+    /// not walked again, which most terminals' images do not.
+    seen: Box<[u8]>,
+    seen_valid: bool,
+    outputs: Vec<OutputSlot>,
     /// The AL state byte and health the state pins last showed.
     shown_state: Option<(u8, bool)>,
     drive: Option<Box<DriveRt>>,
@@ -243,11 +276,22 @@ impl<H: HalHost> SlaveRt<H> {
                 }),
                 _ => None,
             })
+            .collect::<Vec<_>>();
+        // The bytes the slots read: a slave's whole image for most types.
+        let extent = inputs
+            .iter()
+            .map(|s| (s.at.bit + usize::from(s.at.bits)).div_ceil(8))
+            .max()
+            .unwrap_or(0);
+        let outputs = with(|r| matches!(r, Role::Output { .. } | Role::OutputFrom { .. }))
+            .into_iter()
+            .map(|pin| OutputSlot { pin, last: None })
             .collect();
-        let outputs = with(|r| matches!(r, Role::Output { .. } | Role::OutputFrom { .. }));
         Ok(SlaveRt {
             index,
             inputs,
+            seen: vec![0; extent].into_boxed_slice(),
+            seen_valid: false,
             outputs,
             shown_state: None,
             label: pins::full_name(Some(master), None, &slave.name),
@@ -294,18 +338,15 @@ impl<H: HalHost> SlaveRt<H> {
                 pin.set(f64::from(u8::from(on)));
             }
         }
-        for slot in &mut self.inputs {
-            let raw = slot.at.read(inputs);
-            if slot.last == Some(raw) {
-                continue;
-            }
-            slot.last = Some(raw);
-            let mut v = field::decode(&slot.coding, raw, slot.at.bits);
-            if slot.invert {
-                v = f64::from(u8::from(v == 0.0));
-            }
-            if let Some(b) = self.pins.get(slot.pin) {
-                b.pin.set(v);
+        let span = inputs.get(..self.seen.len());
+        if !(self.seen_valid && span == Some(&self.seen[..])) {
+            self.take_slots(inputs);
+            match span {
+                Some(bytes) => {
+                    self.seen.copy_from_slice(bytes);
+                    self.seen_valid = true;
+                }
+                None => self.seen_valid = false,
             }
         }
         let named = Named(&self.pins);
@@ -323,6 +364,24 @@ impl<H: HalHost> SlaveRt<H> {
         }
     }
 
+    /// The input pins whose bits changed since they last took them.
+    fn take_slots(&mut self, inputs: &[u8]) {
+        for slot in &mut self.inputs {
+            let raw = slot.at.read(inputs);
+            if slot.last == Some(raw) {
+                continue;
+            }
+            slot.last = Some(raw);
+            let mut v = field::decode(&slot.coding, raw, slot.at.bits);
+            if slot.invert {
+                v = f64::from(u8::from(v == 0.0));
+            }
+            if let Some(b) = self.pins.get(slot.pin) {
+                b.pin.set(v);
+            }
+        }
+    }
+
     /// A cycle's transmission into the slave's outputs; an unhealthy
     /// slave gets its safe outputs ([`SlaveRt::hold_safe`]) instead.
     pub(crate) fn write(&mut self, outputs: &mut [u8], now_ns: u64, healthy: bool) {
@@ -333,25 +392,24 @@ impl<H: HalHost> SlaveRt<H> {
         if let TypeCode::AnalogOut(channels) = &self.code {
             analog_out(&self.pins, channels);
         }
-        for &i in &self.outputs {
-            let b = &self.pins[i];
-            match &b.role {
+        for slot in &mut self.outputs {
+            let b = &self.pins[slot.pin];
+            let (at, coding, v) = match &b.role {
                 Role::Output { at, coding, invert } => {
                     let mut v = b.pin.get();
                     if invert.is_some_and(|i| self.pins[i].pin.is_set()) {
                         v = f64::from(u8::from(v == 0.0));
                     }
-                    at.write(outputs, field::encode(coding, v, at.bits));
+                    (*at, *coding, v)
                 }
-                Role::OutputFrom { at, source } => {
-                    let v = self.pins[*source].pin.get();
-                    at.write(
-                        outputs,
-                        field::encode(&field::plain(PinType::S32), v, at.bits),
-                    );
-                }
-                _ => {}
-            }
+                Role::OutputFrom { at, source } => (
+                    *at,
+                    field::plain(PinType::S32),
+                    self.pins[*source].pin.get(),
+                ),
+                _ => continue,
+            };
+            slot.put(outputs, at, &coding, v);
         }
         if let TypeCode::Stepper(at) = &self.code {
             self.stepper.write(outputs, &at.1, &Named(&self.pins));
@@ -466,6 +524,7 @@ impl<H: HalHost> SlaveRt<H> {
             p.forget();
         }
         self.shown_state = None;
+        self.seen_valid = false;
         for slot in &mut self.inputs {
             slot.last = None;
         }
