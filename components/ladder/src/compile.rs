@@ -193,14 +193,35 @@ fn sections(project: &Project, sizes: &Sizes, prog: &mut Program) -> Result<(), 
             first: s.first as u32,
             last: s.last as u32,
         };
-        chain(prog, &sec).map_err(|what| structure(format!("{at}: {what}")))?;
+        chain(prog, &sec).map_err(|b| {
+            structure(match b {
+                ChainBreak::EndsAt(r) => format!(
+                    "{at}: rung {r} ends the chain before the last rung {} is reached",
+                    s.last
+                ),
+                ChainBreak::Loops => format!(
+                    "{at}: the rungs from {} never reach the last rung {} (a loop)",
+                    s.first, s.last
+                ),
+            })
+        })?;
         prog.sections[idx] = sec;
     }
     Ok(())
 }
 
-/// Follows a section's rungs from its first to its last.
-pub(crate) fn chain(prog: &Program, s: &Section) -> Result<(), String> {
+/// Why a section's rungs do not lead from its first to its last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChainBreak {
+    /// The chain ends at this rung (no next rung, or one not defined).
+    EndsAt(usize),
+    /// The chain loops without reaching the last rung.
+    Loops,
+}
+
+/// Follows a section's rungs from its first to its last (no allocation:
+/// the realtime side checks decoded programs with it too).
+pub fn chain(prog: &Program, s: &Section) -> Result<(), ChainBreak> {
     let mut r = s.first as usize;
     for _ in 0..prog.rungs.len() {
         if r == s.last as usize {
@@ -208,17 +229,11 @@ pub(crate) fn chain(prog: &Program, s: &Section) -> Result<(), String> {
         }
         let next = prog.rungs.get(r).map_or(-1, |x| x.next);
         if next < 0 || !prog.rungs.get(next as usize).is_some_and(|x| x.used) {
-            return Err(format!(
-                "rung {r} ends the chain before the last rung {} is reached",
-                s.last
-            ));
+            return Err(ChainBreak::EndsAt(r));
         }
         r = next as usize;
     }
-    Err(format!(
-        "the rungs from {} never reach the last rung {} (a loop)",
-        s.first, s.last
-    ))
+    Err(ChainBreak::Loops)
 }
 
 fn check_calls(project: &Project, prog: &Program) -> Result<(), LadderError> {

@@ -472,3 +472,106 @@ fn decode_expr(r: &mut Reader<'_>, s: &Sizes, e: &mut Expr) -> Result<(), ()> {
     }
     e.check().map_err(|_| ())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::ContactKind;
+
+    fn small() -> Sizes {
+        Sizes {
+            rungs: 3,
+            exprs: 2,
+            sections: 2,
+            timers: 1,
+            monostables: 1,
+            counters: 1,
+            timers_iec: 1,
+            ..Sizes::default()
+        }
+    }
+
+    fn program(s: &Sizes) -> Program {
+        let mut p = Program::empty(s);
+        p.rungs[0].used = true;
+        p.rungs[0].cells[0] = Cell {
+            element: Element::Contact(
+                ContactKind::Rising,
+                VarRef {
+                    kind: crate::model::VarKind::Input,
+                    index: 1,
+                },
+            ),
+            top: false,
+        };
+        p.sections[0] = Section {
+            role: SectionRole::Main,
+            first: 0,
+            last: 0,
+        };
+        p.exprs[1] = Expr::assign("%W1:=%IW0*3", s).unwrap();
+        p.timers_iec[0] = IecSetup {
+            base_ms: 100,
+            preset: 7,
+            mode: IecMode::Pulse,
+        };
+        p
+    }
+
+    fn region(s: &Sizes) -> Vec<AtomicU64> {
+        let w: Vec<AtomicU64> = (0..region_words(s)).map(|_| AtomicU64::new(0)).collect();
+        init(&w, s);
+        w
+    }
+
+    #[test]
+    fn round_trip_and_sizes() {
+        let s = small();
+        let w = region(&s);
+        assert_eq!(read_sizes(&w), Some(s));
+        let p = program(&s);
+        let seq = publish(&w, &encode(&p, &s)).unwrap();
+        assert_eq!(seq & 1, 0);
+        assert_eq!(sequence(&w), seq);
+        let mut back = Program::empty(&s);
+        decode(&w, &s, &mut back).unwrap();
+        assert_eq!(back, p);
+        set_status(&w, Status::Refused(seq, Part::Rung, 2));
+        assert_eq!(status(&w), Status::Refused(seq, Part::Rung, 2));
+        assert!(read_sizes(&w[..3]).is_none());
+    }
+
+    #[test]
+    fn damaged_words_are_refused_never_a_panic() {
+        let s = small();
+        let w = region(&s);
+        let body = encode(&program(&s), &s);
+        let mut back = Program::empty(&s);
+        // A section past the rungs, an unknown cell, an unbalanced
+        // expression: each refused, naming its part.
+        let cases: [(usize, u64, Part); 3] = [
+            (0, 1 | 9 << 32, Part::Section),
+            (s.sections + 1, 77, Part::Rung),
+            (
+                s.sections + s.rungs * RUNG_WORDS + EXPR_WORDS + 2,
+                5,
+                Part::Expr,
+            ),
+        ];
+        for (at, v, part) in cases {
+            let mut b = body.clone();
+            b[at] = v;
+            publish(&w, &b).unwrap();
+            assert_eq!(decode(&w, &s, &mut back).unwrap_err().0, part, "word {at}");
+        }
+        // Every word replaced by a few values: decoded or refused.
+        for at in 0..body.len() {
+            for v in [0, 1, u64::MAX, 0x8000_0000_0000_0063, 0xffff_0032] {
+                let mut b = body.clone();
+                b[at] = v;
+                publish(&w, &b).unwrap();
+                let _ = decode(&w, &s, &mut back);
+            }
+        }
+    }
+}

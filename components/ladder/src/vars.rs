@@ -384,3 +384,90 @@ impl Vars {
         t.q
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::IecSetup;
+
+    fn with_iec(mode: IecMode, preset: i32) -> Vars {
+        let s = Sizes::default();
+        let mut p = Program::empty(&s);
+        p.timers_iec[0] = IecSetup {
+            base_ms: 100,
+            preset,
+            mode,
+        };
+        let mut v = Vars::new(&s);
+        v.reset(&p);
+        v
+    }
+
+    /// Q over `inputs`, one 100 ms scan each.
+    fn run(v: &mut Vars, inputs: &str) -> String {
+        inputs
+            .chars()
+            .map(|c| {
+                if v.timer_iec(0, c == '1', 100) {
+                    '1'
+                } else {
+                    '0'
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn iec_timers_over_many_scans() {
+        // Preset 3 x 100 ms.
+        let mut ton = with_iec(IecMode::OnDelay, 3);
+        assert_eq!(run(&mut ton, "0111110110000"), "0000110000000");
+        let mut tof = with_iec(IecMode::OffDelay, 3);
+        assert_eq!(run(&mut tof, "0110000011000"), "0111110011111");
+        let mut tp = with_iec(IecMode::Pulse, 3);
+        assert_eq!(run(&mut tp, "01000011111100"), "01110011100000");
+        assert_eq!(
+            tp.read(VarRef {
+                kind: VarKind::TimerIecValue,
+                index: 0
+            }),
+            3
+        );
+        let mut zero = with_iec(IecMode::OnDelay, 0);
+        assert_eq!(run(&mut zero, "0110"), "0110");
+    }
+
+    #[test]
+    fn counter_wraps_both_ways() {
+        let s = Sizes::default();
+        let mut p = Program::empty(&s);
+        p.counters[0] = 2;
+        let mut v = Vars::new(&s);
+        v.reset(&p);
+        let up = |v: &mut Vars, on: bool| v.counter(0, [false, false, on, false]);
+        assert_eq!(up(&mut v, true), (false, false, false));
+        up(&mut v, false);
+        assert_eq!(up(&mut v, true), (false, true, false), "2 = preset: done");
+        let down = |v: &mut Vars, on: bool| v.counter(0, [false, false, false, on]);
+        down(&mut v, true);
+        down(&mut v, false);
+        down(&mut v, true);
+        down(&mut v, false);
+        assert_eq!(down(&mut v, true), (true, false, false), "0 -> 9999: empty");
+        assert_eq!(
+            v.read(VarRef {
+                kind: VarKind::CounterValue,
+                index: 0
+            }),
+            COUNTER_MAX
+        );
+        down(&mut v, false);
+        assert_eq!(up(&mut v, true), (false, false, true), "9999 -> 0: full");
+        assert_eq!(
+            v.counter(0, [false, true, false, false]),
+            (false, true, false),
+            "preset"
+        );
+        assert!(!v.counter(0, [true, true, false, false]).1, "reset wins");
+    }
+}
