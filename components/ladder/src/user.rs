@@ -4,7 +4,9 @@
 //! its next refresh. Without `--nogui` LinuxCNC's would open its editor
 //! window; there is no window here, so the program is loaded all the
 //! same (if a file is given) and the loader says so. It exits once the
-//! program is handed over, so `loadusr -w` goes on.
+//! program is handed over, so `loadusr -w` goes on: after waiting up to
+//! [`ACK_WAIT`] for the module's answer (a refusal is an error; no answer
+//! is not, as the refresh funct may not run yet).
 
 use std::path::Path;
 
@@ -125,11 +127,39 @@ pub fn load(inst: &Instance, instance: &str, path: &Path) -> Result<Vec<String>,
     let project = clp::parse(&text).map_err(|e| in_file(path, e))?;
     let compiled = compile::compile(&project, &sizes).map_err(|e| in_file(path, e))?;
     let body = handoff::encode(&compiled.program, &sizes);
-    handoff::publish(words, &body).ok_or_else(|| LadderError::Handoff {
+    let seq = handoff::publish(words, &body).ok_or_else(|| LadderError::Handoff {
         region: handoff::REGION.into(),
         what: "smaller than the program".into(),
     })?;
+    answer(words, seq, ACK_WAIT)?;
     Ok(compiled.notes)
+}
+
+/// How long the loader waits for the module to take the program.
+pub const ACK_WAIT: std::time::Duration = std::time::Duration::from_millis(500);
+
+/// Waits up to `wait` for the module's answer to program `seq`: a
+/// refusal is an error; no answer is not (the refresh funct may not be
+/// in a running thread yet: HAL files often `addf` it, or `start`, after
+/// the `loadusr`), and the module takes the program when it first runs.
+fn answer(
+    words: &[std::sync::atomic::AtomicU64],
+    seq: u64,
+    wait: std::time::Duration,
+) -> Result<(), LadderError> {
+    let end = std::time::Instant::now() + wait;
+    loop {
+        match handoff::status(words) {
+            handoff::Status::Running(s) if s == seq => return Ok(()),
+            handoff::Status::Refused(s, part, item) if s == seq => {
+                return Err(LadderError::Refused {
+                    what: format!("{part} {item} did not pass its checks"),
+                })
+            }
+            _ if std::time::Instant::now() >= end => return Ok(()),
+            _ => std::thread::sleep(std::time::Duration::from_millis(2)),
+        }
+    }
 }
 
 /// Puts the file's name before a parse error.
@@ -166,5 +196,27 @@ mod tests {
             .contains("--bogus"));
         assert!(parse_args(&w(&["a.clp", "b.clp"])).is_err());
         assert_eq!(parse_args(&w(&["--modmaster"])).unwrap().ignored.len(), 1);
+    }
+
+    #[test]
+    fn the_modules_answer() {
+        use std::sync::atomic::AtomicU64;
+        use std::time::Duration;
+        let s = crate::model::Sizes::default();
+        let words: Vec<AtomicU64> = (0..handoff::region_words(&s))
+            .map(|_| AtomicU64::new(0))
+            .collect();
+        handoff::init(&words, &s);
+        assert!(answer(&words, 2, Duration::ZERO).is_ok(), "no answer yet");
+        handoff::set_status(&words, handoff::Status::Running(2));
+        assert!(answer(&words, 2, Duration::from_secs(5)).is_ok());
+        handoff::set_status(&words, handoff::Status::Refused(4, handoff::Part::Rung, 7));
+        let e = answer(&words, 4, Duration::from_secs(5))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "classicladder_rt refused the program: rung 7 did not pass its checks"
+        );
     }
 }

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use hal_core::{Host, HostConfig, Value};
 use hal_ladder::module::MODULE;
-use hal_ladder::user;
+use hal_ladder::{handoff, user};
 
 /// A project of our own: Q0 = I0, Q1 = not I0, %QW0 := %IW0*2 + %IF0,
 /// Q2 = (%IW0 > 10), %QF0 := %IW0, and counter 0 counting I1's rising
@@ -112,6 +112,14 @@ fn pins_params_and_a_program_running_in_a_thread() {
     assert_eq!(
         inst.param_value("classicladder.ladder-state").unwrap(),
         Value::S32(2)
+    );
+    // Loaded again while the thread runs: the module answers.
+    user::load(inst, "test", &file).unwrap();
+    let region = inst.region(handoff::REGION).unwrap();
+    let seq = handoff::sequence(region.words());
+    assert_eq!(
+        handoff::status(region.words()),
+        handoff::Status::Running(seq)
     );
     let get = |p: &str| inst.pin_value(p).unwrap();
     assert_eq!(get("classicladder.0.out-00"), Value::Bit(false));
