@@ -7,7 +7,7 @@
 //! address, to any I/O port); `hal_stg` as root probes I/O ports; the PCI
 //! drivers map the BARs of whatever board sysfs lists. So no driver module
 //! reaches the fuzzers as it is: [`fuzz_registry`] keeps the software
-//! modules (those of `hal_components`, `motion` and the launcher's
+//! modules (those of `hal_components`, `hal_ladder`, `motion` and the launcher's
 //! `tpmod`/`homemod`) and the driver modules of [`NO_DEVICE`], and swaps
 //! every other module for its entry in [`SIM_ONLY`], which parses the
 //! fuzzed parameters with the driver's own code and then loads it with a
@@ -75,6 +75,7 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
 fn software_modules() -> Vec<&'static str> {
     hal_components::modules()
         .into_iter()
+        .chain(hal_ladder::modules())
         .chain(motion::modules())
         .chain(motion::tp_home::modules())
         .map(|d| d.name)

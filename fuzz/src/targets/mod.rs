@@ -48,6 +48,7 @@ crate::register_targets! {
     twopass_loadrt,
     old_format_config,
     comp_file,
+    classicladder_clp,
     part_program,
     rs274ngc_program,
     rs274ngc_parameter_file,

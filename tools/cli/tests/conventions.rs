@@ -132,6 +132,12 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: None,
     },
+    // The loader attaches before it reads the project file.
+    InstanceTool {
+        bin: "classicladder",
+        short: false,
+        attach: Some(&["--nogui", "x.clp"]),
+    },
     InstanceTool {
         bin: "z_level_compensation",
         short: false,

@@ -217,6 +217,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "classicladder",
+            help(
+                "load a ClassicLadder project into classicladder_rt",
+                hal_ladder::user::USAGE,
+                &["halrun(1)", "halcmd(1)"],
+            ),
+        ),
+        (
             "z_level_compensation",
             help(
                 "Z offset from a probed surface map through external offsets",

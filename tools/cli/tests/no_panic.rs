@@ -173,6 +173,13 @@ const PROBES: &[Probe] = &[
         live: &[&["--help"]],
     },
     Probe {
+        bin: "classicladder",
+        templates: &[&["--nogui", "{}"], &["{}"]],
+        skip_options: &[],
+        no_bare_run: None,
+        live: &[&["--help"]],
+    },
+    Probe {
         bin: "halui",
         templates: &[&["-ini", "{}"], &["{}"]],
         skip_options: &[],

@@ -20,6 +20,7 @@ use crate::error::HostError;
 pub fn registry() -> Registry {
     let mut r = Registry::new();
     r.add(&hal_components::modules());
+    r.add(&hal_ladder::modules());
     r.add(&[&hal_parport::MODULE]);
     r.add(&hostmot2::hal::modules());
     r.add(&motion::tp_home::modules());

@@ -1,0 +1,212 @@
+//! `loadrt classicladder_rt`: LinuxCNC's ClassicLadder realtime module.
+//! Its parameters size the PLC (LinuxCNC's names and defaults; 0 or a
+//! negative value keeps the default, as there); it makes the pins
+//! `classicladder.0.in-NN`, `out-NN`, `s32in-NN`, `s32out-NN`,
+//! `floatin-NN`, `floatout-NN` and `hide_gui`, the parameter
+//! `classicladder.ladder-state` (0 until a program is loaded, 2 while it
+//! runs) and the funct `classicladder.0.refresh`. The funct takes a new
+//! program from the loader's region ([`crate::handoff`]), and, each time
+//! at least a millisecond has passed, reads the inputs, scans the rungs
+//! with the milliseconds passed, and writes the outputs.
+
+use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
+use hal_core::{HalError, Host, In, Out, Param, Pin, Result, Ro};
+
+use crate::handoff::{self, Status};
+use crate::model::{Program, Sizes};
+use crate::runtime::Engine;
+
+/// The most of any one object a module may be asked for.
+pub const MAX_SIZE: i64 = 10_000;
+
+const fn p(name: &'static str, help: &'static str) -> ParamDecl {
+    ParamDecl {
+        name,
+        kind: ParamKind::Int,
+        help,
+    }
+}
+
+const PARAMS: &[ParamDecl] = &[
+    p("numRungs", "rungs (default 100)"),
+    p("numBits", "memory bits %B (default 500)"),
+    p("numWords", "memory words %W (default 100)"),
+    p("numTimers", "old timers %T (default 10)"),
+    p("numMonostables", "monostables %M (default 10)"),
+    p("numCounters", "counters %C (default 10)"),
+    p("numTimersIec", "IEC timers %TM (default 10)"),
+    p("numPhysInputs", "bit inputs %I, pins in-NN (default 15)"),
+    p("numPhysOutputs", "bit outputs %Q, pins out-NN (default 15)"),
+    p("numArithmExpr", "arithmetic expressions (default 100)"),
+    p("numSections", "sections (default 10)"),
+    p("numSymbols", "symbols (default 100)"),
+    p("numS32in", "s32 inputs %IW, pins s32in-NN (default 10)"),
+    p("numS32out", "s32 outputs %QW, pins s32out-NN (default 10)"),
+    p(
+        "numFloatIn",
+        "float inputs %IF, pins floatin-NN (default 10)",
+    ),
+    p(
+        "numFloatOut",
+        "float outputs %QF, pins floatout-NN (default 10)",
+    ),
+];
+
+/// The `classicladder_rt` module.
+pub static MODULE: ModuleDef = ModuleDef {
+    name: "classicladder_rt",
+    params: PARAMS,
+    help: "ClassicLadder: a ladder-logic PLC; load its program with loadusr classicladder FILE.clp",
+    load,
+};
+
+/// The sizes `args` ask for.
+pub fn sizes(args: &ModuleArgs) -> Result<Sizes> {
+    let mut s = Sizes::default();
+    let fields: [(&str, &mut usize); 16] = [
+        ("numRungs", &mut s.rungs),
+        ("numBits", &mut s.bits),
+        ("numWords", &mut s.words),
+        ("numTimers", &mut s.timers),
+        ("numMonostables", &mut s.monostables),
+        ("numCounters", &mut s.counters),
+        ("numTimersIec", &mut s.timers_iec),
+        ("numPhysInputs", &mut s.inputs),
+        ("numPhysOutputs", &mut s.outputs),
+        ("numArithmExpr", &mut s.exprs),
+        ("numSections", &mut s.sections),
+        ("numSymbols", &mut s.symbols),
+        ("numS32in", &mut s.s32_in),
+        ("numS32out", &mut s.s32_out),
+        ("numFloatIn", &mut s.float_in),
+        ("numFloatOut", &mut s.float_out),
+    ];
+    for (name, slot) in fields {
+        match args.int(name) {
+            Some(v) if v > MAX_SIZE => {
+                return Err(HalError::ModuleParam {
+                    module: MODULE.name.into(),
+                    param: name.into(),
+                    reason: format!("{v} is more than {MAX_SIZE}"),
+                })
+            }
+            Some(v) if v > 0 => *slot = v as usize,
+            _ => {}
+        }
+    }
+    Ok(s)
+}
+
+/// The pins of the module.
+struct Pins {
+    inputs: Vec<Pin<bool, In>>,
+    outputs: Vec<Pin<bool, Out>>,
+    s32_in: Vec<Pin<i32, In>>,
+    s32_out: Vec<Pin<i32, Out>>,
+    float_in: Vec<Pin<f64, In>>,
+    float_out: Vec<Pin<f64, Out>>,
+    state: Param<i32, Ro>,
+}
+
+fn pins(c: &hal_core::Component, s: &Sizes) -> Result<Pins> {
+    let n = |kind: &str, i: usize| format!("classicladder.0.{kind}-{i:02}");
+    let inputs = (0..s.inputs)
+        .map(|i| c.pin(&n("in", i)))
+        .collect::<Result<_>>()?;
+    let _hide_gui: Pin<bool, In> = c.pin("classicladder.0.hide_gui")?;
+    let s32_in = (0..s.s32_in)
+        .map(|i| c.pin(&n("s32in", i)))
+        .collect::<Result<_>>()?;
+    let float_in = (0..s.float_in)
+        .map(|i| c.pin(&n("floatin", i)))
+        .collect::<Result<_>>()?;
+    let outputs = (0..s.outputs)
+        .map(|i| c.pin(&n("out", i)))
+        .collect::<Result<_>>()?;
+    let s32_out = (0..s.s32_out)
+        .map(|i| c.pin(&n("s32out", i)))
+        .collect::<Result<_>>()?;
+    let float_out = (0..s.float_out)
+        .map(|i| c.pin(&n("floatout", i)))
+        .collect::<Result<_>>()?;
+    Ok(Pins {
+        inputs,
+        outputs,
+        s32_in,
+        s32_out,
+        float_in,
+        float_out,
+        state: c.param("classicladder.ladder-state", 0)?,
+    })
+}
+
+/// A float input as ClassicLadder takes it: truncated toward zero,
+/// saturated to s32 (NaN reads 0).
+fn truncate(v: f64) -> i32 {
+    v as i32
+}
+
+fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
+    let s = sizes(args)?;
+    let mut b = host.new_rt_component("classicladder_rt")?;
+    let c = b.component();
+    let mut pins = pins(c, &s)?;
+    let region = c.region(handoff::REGION, handoff::region_words(&s) * 8)?;
+    handoff::init(region.words(), &s);
+    let mut engine = Engine::new(&s);
+    let mut current = Box::new(Program::empty(&s));
+    let mut spare = Box::new(Program::empty(&s));
+    let mut handled: u64 = 0;
+    let mut running = false;
+    let mut leftover_ns: i64 = 0;
+    b.funct("classicladder.0.refresh", true, move |ctx| {
+        let words = region.words();
+        let seq = handoff::sequence(words);
+        if seq != handled && seq & 1 == 0 {
+            let result = handoff::decode(words, &s, &mut spare);
+            if handoff::unchanged(words, seq) {
+                handled = seq;
+                match result {
+                    Ok(()) => {
+                        std::mem::swap(&mut current, &mut spare);
+                        engine.install(&current);
+                        running = true;
+                        handoff::set_status(words, Status::Running(seq));
+                    }
+                    Err((part, item)) => {
+                        handoff::set_status(words, Status::Refused(seq, part, item))
+                    }
+                }
+            }
+        }
+        leftover_ns = leftover_ns.saturating_add(ctx.period().max(0));
+        let ms = leftover_ns / 1_000_000;
+        leftover_ns %= 1_000_000;
+        pins.state.set(if running { 2 } else { 0 });
+        if ms < 1 || !running {
+            return;
+        }
+        let v = &mut engine.vars;
+        for (slot, pin) in v.inputs.iter_mut().zip(&pins.inputs) {
+            *slot = pin.get();
+        }
+        for (slot, pin) in v.word_in.iter_mut().zip(&pins.s32_in) {
+            *slot = pin.get();
+        }
+        for (slot, pin) in v.float_in.iter_mut().zip(&pins.float_in) {
+            *slot = truncate(pin.get());
+        }
+        engine.scan(&current, ms.min(i32::MAX as i64) as i32);
+        let v = &engine.vars;
+        for (pin, val) in pins.outputs.iter_mut().zip(&v.outputs) {
+            pin.set(*val);
+        }
+        for (pin, val) in pins.s32_out.iter_mut().zip(&v.word_out) {
+            pin.set(*val);
+        }
+        for (pin, val) in pins.float_out.iter_mut().zip(&v.float_out) {
+            pin.set(*val as f64);
+        }
+    })?;
+    b.ready()
+}
