@@ -102,3 +102,113 @@ fn an_armed_counter_clears_at_the_index() {
     assert_eq!(epp.select_read(enc::ISR), 1);
     assert_eq!(epp.select_read(enc::ISR), 0, "clear on read");
 }
+
+/// A port bus that counts the EPP address cycles and records the
+/// control register values written, in front of a simulated port.
+struct Counting {
+    inner: Arc<SimBoard<PpmcPort>>,
+    address_cycles: std::sync::atomic::AtomicU32,
+    controls: std::sync::Mutex<Vec<u8>>,
+}
+
+impl hal_driver::bus::PortBus for Counting {
+    fn inb(&self, port: u16) -> u8 {
+        self.inner.inb(port)
+    }
+    fn outb(&self, port: u16, value: u8) {
+        match port {
+            0x37B => {
+                self.address_cycles
+                    .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+            0x37A => self.controls.lock().unwrap().push(value),
+            _ => {}
+        }
+        self.inner.outb(port, value)
+    }
+    fn inw(&self, port: u16) -> u16 {
+        self.inner.inw(port)
+    }
+    fn outw(&self, port: u16, value: u16) {
+        self.inner.outw(port, value)
+    }
+    fn inl(&self, port: u16) -> u32 {
+        self.inner.inl(port)
+    }
+    fn outl(&self, port: u16, value: u32) {
+        self.inner.outl(port, value)
+    }
+    fn errors(&self) -> u64 {
+        0
+    }
+    fn describe(&self) -> String {
+        "counting".into()
+    }
+}
+
+fn counting(spec: &str, turn_for_reads: bool) -> (Arc<Counting>, Epp) {
+    let spec = SimSpec::parse(spec).unwrap();
+    let c = Arc::new(Counting {
+        inner: Arc::new(SimBoard::new(PpmcPort::new(0x378, 0x778, &spec))),
+        address_cycles: Default::default(),
+        controls: Default::default(),
+    });
+    let epp = Epp::new(c.clone(), 0x378, turn_for_reads);
+    (c, epp)
+}
+
+#[test]
+fn a_run_of_registers_is_one_address_cycle() {
+    use crate::epp::block;
+    use std::sync::atomic::Ordering::Relaxed;
+    let (c, epp) = counting("upc", true);
+    let mut buf = [0u8; 32];
+    // Counters and ISR, then the timestamps: two runs.
+    epp.read_map(
+        0,
+        block(enc::COUNT0, enc::ISR) | block(enc::TS0, enc::TB + 1),
+        &mut buf,
+    );
+    assert_eq!(c.address_cycles.swap(0, Relaxed), 2);
+    // The PWM generators and their control block: two runs.
+    let wr = [0x11u8; 32];
+    epp.write_map(0, block(0x10, 0x17) | block(0x1C, 0x1E), &wr);
+    assert_eq!(c.address_cycles.swap(0, Relaxed), 2);
+    c.inner.with(|p| {
+        let w = &p.boards[0].written;
+        assert_eq!(&w[0x10..0x18], &[0x11; 8]);
+        assert_eq!(&w[0x18..0x1C], &[0; 4], "outside the map");
+        assert_eq!(&w[0x1C..0x1F], &[0x11; 3]);
+    });
+}
+
+#[test]
+fn epp_dir_decides_whether_reads_turn_the_data_lines() {
+    for (turn, want) in [(true, vec![0x04, 0x24]), (false, vec![0x04])] {
+        let (c, epp) = counting("dac", turn);
+        assert_eq!(epp.select_read(0x0F), 0x21);
+        assert_eq!(
+            *c.controls.lock().unwrap(),
+            want,
+            "epp_dir={}",
+            u8::from(!turn)
+        );
+    }
+}
+
+#[test]
+fn timestamps_and_timebase_latch_with_the_counts() {
+    let (sim, epp) = bus("encoder+dac");
+    let code = crate::regs::dac16_code(1.0).to_le_bytes();
+    epp.select_write(0x20, code[0]);
+    epp.write_more(code[1]);
+    sim.advance(50_000_000);
+    epp.select_write(enc::RATE, enc::RATE_STROBE);
+    let ts = u16::from_le_bytes([epp.select_read(enc::TS0), epp.read_more()]);
+    let tb = u16::from_le_bytes([epp.select_read(enc::TB), epp.read_more()]);
+    assert_eq!(tb, 50_000, "the 1 MHz timebase at the strobe");
+    assert!(
+        tb.wrapping_sub(ts) < 20,
+        "a count just before the strobe: {ts}"
+    );
+}
