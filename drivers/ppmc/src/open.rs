@@ -199,67 +199,107 @@ impl Used {
     }
 }
 
-/// The options of each board found on bus `bus`, checked.
+/// The options of each board found on bus `bus`, checked, and which
+/// board strobes the counters and holds the estop circuit.
 fn plan(
     bus: usize,
     found: &[Found],
     o: &Options,
     used: &mut Used,
 ) -> Result<Vec<Planned>, PpmcError> {
-    let mut strobe_taken = false;
-    let mut estop_taken = false;
-    found
-        .iter()
-        .map(|&f| {
-            let here = |c: &SlotCode| c.bus == bus && c.slot == f.slot;
-            let take = |list: &[SlotCode], used: &mut Vec<usize>| -> Option<SlotCode> {
-                let hits: Vec<usize> = (0..list.len()).filter(|&i| here(&list[i])).collect();
-                used.extend(&hits);
-                hits.first().map(|&i| list[i])
+    let (mut strobe_taken, mut estop_taken) = (false, false);
+    let mut planned = Vec::with_capacity(found.len());
+    for &f in found {
+        let (extra, timestamp, enc_clock) = options_of(bus, f, o, used)?;
+        let counters = f.id.kind.has_encoders();
+        let dio = f.id.kind.is_uxc() || f.id.kind == Kind::Dio;
+        planned.push(Planned {
+            found: f,
+            extra,
+            timestamp,
+            enc_clock,
+            strobe: counters && !strobe_taken,
+            estop_master: dio && !estop_taken,
+        });
+        strobe_taken |= counters;
+        estop_taken |= dio;
+    }
+    Ok(planned)
+}
+
+/// The first item of `list` that names board `f` of bus `bus`; every
+/// such item's index goes into `used`.
+fn take(
+    list: impl Iterator<Item = SlotCode>,
+    bus: usize,
+    f: Found,
+    used: &mut Vec<usize>,
+) -> Option<SlotCode> {
+    let mut first = None;
+    for (i, c) in list.enumerate() {
+        if c.bus == bus && c.slot == f.slot {
+            used.push(i);
+            first = first.or(Some(c));
+        }
+    }
+    first
+}
+
+/// Board `f`'s extra port use, timestamps and filter clock, from the
+/// options that name it; an option it cannot take is an error.
+fn options_of(
+    bus: usize,
+    f: Found,
+    o: &Options,
+    used: &mut Used,
+) -> Result<(ExtraUse, bool, Option<u8>), PpmcError> {
+    let bad = |param: &'static str, c: SlotCode, reason: String| PpmcError::BadOption {
+        param,
+        code: c.given,
+        reason,
+    };
+    let what = format!(
+        "the board at slot {} of bus {bus} is a {} revision {}",
+        f.slot, f.id.kind, f.id.rev
+    );
+    let xdac = take(o.extradac.iter().copied(), bus, f, &mut used.extradac);
+    let xdout = take(o.extradout.iter().copied(), bus, f, &mut used.extradout);
+    let extra = match (xdac, xdout) {
+        (Some(c), Some(_)) => {
+            let why = "extradout names the same board: its extra port is one or the other";
+            return Err(bad("extradac", c, why.into()));
+        }
+        (Some(c), None) | (None, Some(c)) if !f.id.has_extra_port() => {
+            let param = if xdac.is_some() {
+                "extradac"
+            } else {
+                "extradout"
             };
-            let bad = |param: &'static str, c: SlotCode, reason: String| PpmcError::BadOption {
-                param,
-                code: c.given,
-                reason,
-            };
-            let what = format!("the board at slot {} of bus {bus} is a {} revision {}", f.slot, f.id.kind, f.id.rev);
-            let xdac = take(&o.extradac, &mut used.extradac);
-            let xdout = take(&o.extradout, &mut used.extradout);
-            let extra = match (xdac, xdout) {
-                (Some(c), Some(_)) => {
-                    return Err(bad("extradac", c, "extradout names the same board: its extra port is one or the other".into()))
-                }
-                (Some(c), None) | (None, Some(c)) if !f.id.has_extra_port() => {
-                    let p = if xdac.is_some() { "extradac" } else { "extradout" };
-                    return Err(bad(p, c, format!("{what}, which has no extra port (every USC has one; a UPC from revision 2)")));
-                }
-                (Some(_), None) => ExtraUse::Dac,
-                (None, Some(_)) => ExtraUse::Douts,
-                (None, None) => ExtraUse::None,
-            };
-            let timestamp = match take(&o.timestamp, &mut used.timestamp) {
-                Some(c) if !f.id.has_timestamps() || !f.id.has_index() => {
-                    return Err(bad("timestamp", c, format!("{what}, whose firmware has no encoder timestamps (an encoder board or UPC of revision 4 or later has them)")))
-                }
-                Some(_) => true,
-                None => false,
-            };
-            let clocks: Vec<SlotCode> = o.enc_clock.iter().map(|(c, _)| *c).collect();
-            let enc_clock = match take(&clocks, &mut used.enc_clock) {
-                Some(c) if !f.id.has_filter_clock() => {
-                    return Err(bad("enc_clock", c, format!("{what}, whose filter clock cannot be set (an encoder board of revision 4 or later)")))
-                }
-                Some(c) => o.enc_clock.iter().find(|(k, _)| *k == c).map(|(_, r)| *r),
-                None => None,
-            };
-            let strobe = f.id.kind.has_encoders() && !strobe_taken;
-            strobe_taken |= f.id.kind.has_encoders();
-            let has_dio = f.id.kind.is_uxc() || f.id.kind == Kind::Dio;
-            let estop_master = has_dio && !estop_taken;
-            estop_taken |= has_dio;
-            Ok(Planned { found: f, extra, timestamp, enc_clock, strobe, estop_master })
-        })
-        .collect()
+            let why = "which has no extra port (every USC has one; a UPC from revision 2)";
+            return Err(bad(param, c, format!("{what}, {why}")));
+        }
+        (Some(_), None) => ExtraUse::Dac,
+        (None, Some(_)) => ExtraUse::Douts,
+        (None, None) => ExtraUse::None,
+    };
+    let timestamp = match take(o.timestamp.iter().copied(), bus, f, &mut used.timestamp) {
+        Some(c) if !f.id.has_timestamps() || !f.id.has_index() => {
+            let why = "whose firmware has no encoder timestamps (an encoder board or UPC of \
+                       revision 4 or later has them)";
+            return Err(bad("timestamp", c, format!("{what}, {why}")));
+        }
+        found => found.is_some(),
+    };
+    let clocks = o.enc_clock.iter().map(|(c, _)| *c);
+    let enc_clock = match take(clocks, bus, f, &mut used.enc_clock) {
+        Some(c) if !f.id.has_filter_clock() => {
+            let why = "whose filter clock cannot be set (an encoder board of revision 4 or later)";
+            return Err(bad("enc_clock", c, format!("{what}, {why}")));
+        }
+        Some(c) => o.enc_clock.iter().find(|(k, _)| *k == c).map(|(_, r)| *r),
+        None => None,
+    };
+    Ok((extra, timestamp, enc_clock))
 }
 
 /// Sets the boards up: counters cleared and latched by the first board's

@@ -224,18 +224,23 @@ fn clocks(p: &Params<'_>, args: &ModuleArgs) -> Result<Vec<(SlotCode, u8)>, Driv
         .map(|(i, &v)| {
             let bad = |why: &str| p.item_error("enc_clock", i, &shown(v), why);
             if v < 0 {
-                return Err(bad("not a code 0xFBS (F the clock in MHz: 1, 2 for 2.5, 5 or a for 10)"));
+                return Err(bad(
+                    "not a code 0xFBS (F the clock in MHz: 1, 2 for 2.5, 5 or a for 10)",
+                ));
             }
-            let code = slot_code(v & 0xFF).ok_or_else(|| {
-                bad("its low byte is not a bus/slot code 0xBS (B the bus 0..2, S the slot 0..f)")
-            })?;
+            let code = slot_code(v & 0xFF)
+                .map(|c| SlotCode { given: v, ..c })
+                .ok_or_else(|| {
+                    bad("its low byte is not a bus/slot code 0xBS (B the bus 0..2, S the slot 0..f)")
+                })?;
             let mhz = v >> 8;
             let reg = enc::CLOCKS
                 .iter()
                 .find(|(m, _)| *m as i64 == mhz)
                 .map(|(_, r)| *r)
                 .ok_or_else(|| {
-                    bad("the clock (the digits before the bus/slot code) must be 1, 2 (2.5 MHz), 5 or a (10 MHz)")
+                    bad("the clock (the digits before the bus/slot code) must be 1, 2 (2.5 MHz), \
+                         5 or a (10 MHz)")
                 })?;
             Ok((code, reg))
         })

@@ -166,7 +166,7 @@ fn options_that_name_no_suitable_board_fail_the_load() {
         (&["sim=upc", "extradac=0x00", "extradout=0x00"], "hal_ppmc: extradac=0x00: extradout names the same board: its extra port is one or the other"),
         (&["sim=upc:3", "timestamp=0x00"], "hal_ppmc: timestamp=0x00: the board at slot 0 of bus 0 is a Universal PWM Controller revision 3, whose firmware has no encoder timestamps (an encoder board or UPC of revision 4 or later has them)"),
         (&["sim=usc", "extradac=0x01"], "hal_ppmc: extradac=0x01: no board starts at slot 1 of bus 0 (it should be a USC or UPC)"),
-        (&["sim=ppmc", "enc_clock=0x502"], "hal_ppmc: enc_clock=0x02: the board at slot 2 of bus 0 is a PPMC DAC board revision 1, whose filter clock cannot be set (an encoder board of revision 4 or later)"),
+        (&["sim=ppmc", "enc_clock=0x502"], "hal_ppmc: enc_clock=0x502: the board at slot 2 of bus 0 is a PPMC DAC board revision 1, whose filter clock cannot be set (an encoder board of revision 4 or later)"),
         (&["sim=dac+dac", "timestamp=0x00"], "hal_ppmc: timestamp=0x00: the board at slot 0 of bus 0 is a PPMC DAC board revision 1, whose firmware has no encoder timestamps (an encoder board or UPC of revision 4 or later has them)"),
     ] {
         let e = host.loadrt(&MODULE, args).unwrap_err().to_string();
