@@ -65,7 +65,10 @@
 //! 7) is on and its safety chain is closed; its estop input (input 15)
 //! reads TRUE only then. The DIO board's `din.estop.in` reads TRUE while
 //! the board is in estop. LinuxCNC's sample configurations chain these
-//! through `estop_latch` and work unchanged.
+//! through `estop_latch` and work unchanged. The first board with
+//! digital I/O on a bus holds the estop circuit; the driver makes every
+//! later one its slave at load, as LinuxCNC's does (a DIO board through
+//! its estop register, a USC/UPC through its slave register).
 //!
 //! # Differences from LinuxCNC's driver
 //!

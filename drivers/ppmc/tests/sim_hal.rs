@@ -373,3 +373,40 @@ fn two_buses_and_port_numbers() {
     );
     assert!(!has_pin(&host, "ppmc.0.DAC.00.value"));
 }
+
+#[test]
+fn later_estop_boards_are_slaves_of_the_first() {
+    let host = host("slaves");
+    host.loadrt(&MODULE, &["sim=dio+dio+usc"]).unwrap();
+    // The second DIO board numbers on; only the first has the estop pins.
+    assert!(has_pin(&host, "ppmc.0.din.31.in"));
+    assert!(has_pin(&host, "ppmc.0.dout.15.out"));
+    assert!(has_pin(&host, "ppmc.0.din.estop.in"));
+    assert!(has_pin(&host, "ppmc.0.dout.Estop.out"));
+    // The USC after them: inputs 32..47, outputs 16..23.
+    assert!(has_pin(&host, "ppmc.0.din.47.in"));
+    assert!(has_param(&host, "ppmc.0.dout.23-invert"));
+    let sim = port(&host, 0);
+    sim.with(|p| {
+        assert_eq!(
+            p.board(1).unwrap().written[2],
+            2,
+            "second DIO told it is a slave"
+        );
+        assert!(p.board(2).unwrap().slave, "the USC too");
+    });
+    run(&host, &["ppmc.0.read", "ppmc.0.write"]);
+    set(&host, "ppmc.0.dout.09.out", Value::Bit(true));
+    wait("the second board's output", || {
+        sim.with(|p| p.board(1).unwrap().outputs(true)) == 0x02
+    });
+    // Its estop register is not rewritten by the realtime functions.
+    assert_eq!(sim.with(|p| p.board(1).unwrap().written[2]), 2);
+    // The slave USC steps once the first DIO board is out of estop.
+    set(&host, "ppmc.0.stepgen.00.velocity", Value::Float(1000.0));
+    set(&host, "ppmc.0.stepgen.00.enable", Value::Bit(true));
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(s32(&host, "ppmc.0.encoder.00.count"), 0, "in estop");
+    set(&host, "ppmc.0.dout.Estop.out", Value::Bit(true));
+    wait("steps", || s32(&host, "ppmc.0.encoder.00.count") > 10);
+}

@@ -8,7 +8,8 @@
 //! or UPC drives its step/PWM outputs and its digital outputs only while
 //! its estop output is on and the safety chain is closed; its estop
 //! input reads 1 only then. A DIO board's estop input reads 1 while the
-//! board is in estop.
+//! board is in estop. A board made a slave follows the estop output of
+//! the bus's first board with an estop circuit ([`super::PpmcPort::enabled`]).
 
 use crate::regs::{self, ctrl, dac, dio, enc, pwm, stepgen, uxc, ID_OFFSET};
 use crate::scan::{BoardId, Kind};
@@ -174,6 +175,22 @@ impl Board {
             Kind::Dio => self.written[dio::ESTOP_OUT as usize] & 1 != 0,
             _ => true,
         }
+    }
+
+    /// Whether the board's estop follows another's: a USC/UPC told so
+    /// through its slave register, a DIO board through its estop
+    /// register's slave value.
+    pub fn is_slave(&self) -> bool {
+        match self.id.kind {
+            Kind::Usc | Kind::Upc => self.slave,
+            Kind::Dio => self.written[dio::ESTOP_OUT as usize] == dio::SLAVE,
+            _ => false,
+        }
+    }
+
+    /// Whether the board has an estop circuit (digital I/O).
+    pub fn has_estop(&self) -> bool {
+        self.id.kind.is_uxc() || self.id.kind == Kind::Dio
     }
 
     /// Reads the byte at `off`; `enabled`: the estop circuit is closed

@@ -205,16 +205,17 @@ impl PpmcPort {
     }
 
     /// Whether board `b`'s outputs are live: the chain closed and its
-    /// estop output on (a slave USC/UPC follows the first one's).
+    /// estop output on (a slave follows the bus's first board with an
+    /// estop circuit that is not one).
     pub fn enabled(&self, b: &Board) -> bool {
         if !self.chain_closed {
             return false;
         }
-        if b.id.kind.is_uxc() && b.slave {
+        if b.is_slave() {
             return self
                 .boards
                 .iter()
-                .find(|m| m.id.kind.is_uxc() && !m.slave)
+                .find(|m| m.has_estop() && !m.is_slave())
                 .is_some_and(Board::estop_out);
         }
         b.estop_out()
