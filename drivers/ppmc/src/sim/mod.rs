@@ -37,7 +37,7 @@ use hal_parport::regs as port;
 
 pub use boards::{Board, Counters, INDEX_COUNTS};
 
-use crate::regs::{self, SLOTS, SLOT_SIZE};
+use crate::regs::{SLOTS, SLOT_SIZE};
 use crate::scan::{BoardId, Kind};
 
 /// Motor counts per second for each volt of a DAC channel.
@@ -410,12 +410,6 @@ impl PortModel for PpmcPort {
             _ => {}
         }
     }
-}
-
-/// The registers a test reads back: board `slot`'s written byte `off`.
-pub fn written(port: &PpmcPort, slot: usize, off: u8) -> Option<u8> {
-    port.board(slot)
-        .map(|b| b.written[off as usize % regs::SPAN])
 }
 
 #[cfg(test)]
