@@ -27,7 +27,10 @@
 //! loops at unity gain, with their own PID tunings.
 //! Index pulses come every [`INDEX_COUNTS`] counts. The safety chain of
 //! the estop circuit is closed unless a test opens it
-//! ([`PpmcPort::chain_closed`]).
+//! ([`PpmcPort::chain_closed`]). The USC/UPC watchdog (a jumper option
+//! that also wants writes to two adjacent velocity outputs before the
+//! board leaves estop) is not modelled: the boards act as with the
+//! jumper off.
 
 pub mod boards;
 
