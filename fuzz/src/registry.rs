@@ -62,6 +62,7 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
     &HM2_RPSPI_SIM_ONLY,
     &MOTENC_SIM_ONLY,
     &STG_SIM_ONLY,
+    &PPMC_SIM_ONLY,
     &GPIO_SIM_ONLY,
     &PCA9685_SIM_ONLY,
     &MCP23017_SIM_ONLY,
@@ -158,6 +159,15 @@ macro_rules! backend_forced_to_sim {
         }
     };
 }
+
+/// `hal_ppmc` with simulated buses only: a bus without `sim=` is refused
+/// before any port I/O.
+static PPMC_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hal_ppmc::MODULE.name,
+    params: hal_ppmc::MODULE.params,
+    help: hal_ppmc::MODULE.help,
+    load: hal_ppmc::hal::load_sim_only,
+};
 
 backend_forced_to_sim!(
     STG_SIM_ONLY,
@@ -367,6 +377,20 @@ mod tests {
         assert!(find::<SimBoard<hal_stg::sim::StgModel>>(&inst, "stg").is_some());
         assert!(host.instance().pin("stg.1.counts").unwrap().is_some());
         assert!(host.instance().pin("stg.2.counts").unwrap().is_none());
+        host.unloadrt("all").unwrap();
+
+        // hal_ppmc: without sim= it would scan the EPP port at 0x378.
+        let e = host
+            .loadrt(&PPMC_SIM_ONLY, &["port_addr=0x378"])
+            .unwrap_err();
+        assert!(e.to_string().contains("simulated buses only"), "{e}");
+        assert!(empty());
+        host.loadrt(&PPMC_SIM_ONLY, &["sim=usc"]).unwrap();
+        assert!(host
+            .instance()
+            .pin("ppmc.0.stepgen.03.velocity")
+            .unwrap()
+            .is_some());
         host.unloadrt("all").unwrap();
 
         // hal_gpio: `cdev` would request lines of /dev/gpiochip*.

@@ -25,6 +25,8 @@ crate::register_targets! {
     motenc_board_kind,
     stg_dio_param,
     stg_board_test_register,
+    ppmc_board_ids,
+    ppmc_sim_spec,
     i2c_replies,
     canservo_frames,
     canservo_drive_file,

@@ -109,8 +109,9 @@ fn stg_servo_machine_homes_on_index_and_reaches_its_positions() {
     );
 }
 
-/// configs/sim/motenc-servo.hal and stg-servo.hal, as a user runs them:
-/// the joints reach X 20, Y 10, Z -10 and the boards report no fault.
+/// configs/sim/motenc-servo.hal, stg-servo.hal and ppmc-usc-stepper.hal
+/// (a stepper machine on a simulated Pico USC), as a user runs them: the
+/// joints reach X 20, Y 10, Z -10 and the boards report no fault.
 #[test]
 fn the_servo_card_configs_run() {
     let dir = root().join("configs/sim");
@@ -118,6 +119,7 @@ fn the_servo_card_configs_run() {
         for (file, fault) in [
             ("motenc-servo.hal", "motenc.0.fault"),
             ("stg-servo.hal", "stg.fault"),
+            ("ppmc-usc-stepper.hal", "ppmc.0.fault"),
         ] {
             let dir = &dir;
             s.spawn(move || {

@@ -28,6 +28,7 @@ pub fn registry() -> Registry {
     r.add(&hal_i2c::modules());
     r.add(&[&hal_motenc::MODULE]);
     r.add(&[&hal_stg::MODULE]);
+    r.add(&[&hal_ppmc::MODULE]);
     r.add(&[&hal_canservo::MODULE]);
     r.add(&[&hal_ethercat::MODULE]);
     r.add(&motion::modules());

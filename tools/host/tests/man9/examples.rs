@@ -129,6 +129,14 @@ const EXAMPLES: &[(&str, Example)] = &[
         ),
     ),
     (
+        "hal_ppmc",
+        sim(
+            "sim=ppmc",
+            "The example uses a simulated PPMC set (encoder, DAC and digital I/O boards); \
+             without sim= the driver scans the EPP port at port_addr (default 0x378).",
+        ),
+    ),
+    (
         "hal_motenc",
         sim(
             "backend=sim",
