@@ -189,4 +189,40 @@ mod tests {
         inst.read_values(&mut set, &mut out).unwrap();
         assert_eq!(out, vec![None; 5]);
     }
+
+    #[test]
+    fn a_cell_reader_reads_value_words_and_never_outside_the_cells() {
+        let host = Host::create(HostConfig::for_tests("cell-reader")).unwrap();
+        let inst = host.instance();
+        let comp = inst.new_component("cr", ComponentKind::User).unwrap();
+        let a = comp.pin::<f64, Out>("cr.a").unwrap();
+        let region = comp.region("cr.words", 64).unwrap();
+        comp.ready().unwrap();
+        let reader = region.cell_reader();
+        let (off, generation, t) = inst.value_word(ValueKind::Pin, "cr.a").unwrap().unwrap();
+        assert_eq!((t, generation), (HalType::Float, inst.generation()));
+        a.set(2.5);
+        assert_eq!(f64::from_bits(reader.read(off)), 2.5);
+        // Linked, the pin's value lives in the signal's cell: a new word,
+        // found at a new generation.
+        inst.newsig("s", HalType::Float).unwrap();
+        inst.link("cr.a", "s").unwrap();
+        let (moved, later, _) = inst.value_word(ValueKind::Pin, "cr.a").unwrap().unwrap();
+        assert!(moved != off && later != generation);
+        a.set(-1.0);
+        assert_eq!(f64::from_bits(reader.read(moved)), -1.0);
+        assert_eq!(
+            inst.value_word(ValueKind::Signal, "s").unwrap().unwrap().0,
+            moved
+        );
+        assert!(inst
+            .value_word(ValueKind::Pin, "cr.none")
+            .unwrap()
+            .is_none());
+        // Offsets that name no cell (past the end, misaligned, zero) read
+        // a cell of the segment, never outside it.
+        for bad in [u64::MAX, off + 3, 0, 1 << 40] {
+            let _ = reader.read(bad);
+        }
+    }
 }

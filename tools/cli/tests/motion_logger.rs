@@ -152,3 +152,25 @@ fn motion_logger_refuses_bad_arguments_and_a_missing_instance() {
     let (ok, _, err) = text(&tool(bin, &["never.log"], &inst, None));
     assert!(!ok && err.contains("motion-logger:"), "{err}");
 }
+
+#[test]
+fn motion_logger_does_not_start_beside_motmod() {
+    let host = hal_host::testing::InProcessHost::start("motion-logger-beside");
+    let (ok, _, err) = host.run(
+        "motmod.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    let bin = env!("CARGO_BIN_EXE_motion-logger");
+    let out = tool(bin, &[], &host.instance, None);
+    let (ok, _, err) = text(&out);
+    assert!(!ok && err.contains("exists already"), "{err}");
+    assert_eq!(out.status.code(), Some(2));
+    // Nothing of it stays: no component of its name.
+    assert!(host
+        .instance()
+        .component("motion-logger")
+        .unwrap()
+        .is_none());
+}

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use hal_core::userspace::ExitSignals;
-use hal_core::{ComponentKind, Instance, Io, Pin};
+use hal_core::{ComponentKind, HalError, Instance, Io, Pin};
 use hal_tools::ToolsError;
 use motion::logger::{Logger, USAGE};
 
@@ -61,7 +61,13 @@ fn serve(args: &[String]) -> Result<(), ToolsError> {
     let inst = Instance::attach(&hal_core::instance_from_env())?;
     let comp = inst.new_component("motion-logger", ComponentKind::User)?;
     let reopen: Pin<bool, Io> = comp.pin("motion-logger.reopen-log")?;
-    let mut logger = Logger::create(&inst, &comp)?;
+    let mut logger = Logger::create(&inst, &comp).map_err(|e| match e {
+        HalError::Duplicate { kind, name } => ToolsError::usage(format!(
+            "motion's command channel ({kind} '{name}') exists already: motmod or another \
+             motion-logger is loaded, and motion-logger takes its place, not its side"
+        )),
+        e => e.into(),
+    })?;
     comp.ready()?;
     let mut log = Log { path, file: None };
     let mut failed = None;
