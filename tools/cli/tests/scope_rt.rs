@@ -188,6 +188,9 @@ fn halscope_refuses_what_scope_rt_cannot_record() {
         &["--pins", "sq", "--trigger", "x:rising:0"],
         "not a captured name",
     );
+    // Bare, as LinuxCNC's configurations start its GUI: what this one is.
+    let (ok, out) = halscope(&host.instance, &[]);
+    assert!(!ok && out.contains("headless"), "{out}");
     // The record fits: 50 samples of 2 channels.
     let (ok, out) = halscope(
         &host.instance,
