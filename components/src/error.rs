@@ -154,6 +154,27 @@ pub enum CompError {
         /// What the instance held afterwards, by kind.
         after: String,
     },
+    /// A word of scope_rt's shared region that does not hold what the
+    /// layout allows (a region of another version, or garbage).
+    #[error("scope_rt's shared region: {field} is {value}, {expected}")]
+    ScopeShm {
+        /// The word's name in the layout.
+        field: &'static str,
+        /// What it holds.
+        value: u64,
+        /// What it should hold.
+        expected: String,
+    },
+    /// A capture setting scope_rt cannot take.
+    #[error("scope_rt: {setting} {value}: {reason}")]
+    ScopeSetting {
+        /// The setting.
+        setting: &'static str,
+        /// Its value.
+        value: u64,
+        /// Why it is refused.
+        reason: String,
+    },
 }
 
 impl From<HalError> for CompError {

@@ -7,7 +7,7 @@
 //!   `num_chan=`/`names=` channels of the C-style components) shared by
 //!   the components; `cmath`: C's float-to-integer conversions and the
 //!   cached scale reciprocal.
-//! * `infra`: threads, sampler, streamer, threadtest.
+//! * `infra`: threads, sampler, streamer, scope_rt, threadtest.
 //! * `stepgen`: stepgen (every step type, position and velocity control).
 //! * `encoder`: encoder, sim_encoder, encoder_ratio.
 //! * `counting`: counter.
@@ -88,6 +88,7 @@ pub fn modules() -> Vec<&'static ModuleDef> {
     let mut v: Vec<&'static ModuleDef> = vec![
         &infra::threads::MODULE,
         &infra::sampler::MODULE,
+        &infra::scope_rt::MODULE,
         &infra::streamer::MODULE,
         &counting::counter::MODULE,
         &infra::threadtest::MODULE,

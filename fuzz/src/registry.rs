@@ -55,6 +55,7 @@ pub const NOT_FUZZED: &[(&ModuleDef, &str)] = &[(
 /// Driver modules in their simulated-only form, by `loadrt` name.
 pub const SIM_ONLY: &[&ModuleDef] = &[
     &PARPORT_SIM_ONLY,
+    &SPEAKER_SIM_ONLY,
     &HM2_PCI_SIM_ONLY,
     &HM2_7I43_SIM_ONLY,
     &HM2_7I90_SIM_ONLY,
@@ -206,6 +207,21 @@ backend_forced_to_sim!(
     hal_ethercat::MODULE,
     hal_ethercat::hal::BACKENDS
 );
+
+/// `hal_speaker` with its `backend` checked by the driver, then always
+/// the simulated speaker: no port 0x61 access.
+static SPEAKER_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hal_parport::speaker::MODULE.name,
+    params: hal_parport::speaker::MODULE.params,
+    help: hal_parport::speaker::MODULE.help,
+    load: speaker_sim_only,
+};
+
+fn speaker_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
+    use hal_parport::speaker::{backend, load_on, open, Backend};
+    backend(args)?;
+    load_on(host, open(host, Backend::Sim)?)
+}
 
 /// `canservo` as its crate offers it for fuzzing: every drive simulated
 /// whatever `backend=` says, the parameters parsed by the driver's code.

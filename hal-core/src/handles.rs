@@ -408,3 +408,39 @@ mod tests {
         assert_eq!(pin.get(), 7);
     }
 }
+
+/// Reads value cells whose offsets are held in shared words rather than
+/// in a pin's slot: a probe that a tool in another process points at pins
+/// and signals at run time (halscope's `scope_rt`). An offset that is not
+/// a cell's reads the first cell, as a corrupted slot does, so garbage
+/// offsets written by another process never reach outside the segment's
+/// cells.
+#[derive(Clone)]
+pub struct CellReader {
+    cells: Cells,
+    _seg: Arc<Segment>,
+}
+
+// SAFETY: the reader only performs atomic loads of shared memory that the
+// Arc keeps mapped; sharing or sending it between threads is sound.
+unsafe impl Send for CellReader {}
+// SAFETY: as above.
+unsafe impl Sync for CellReader {}
+
+impl CellReader {
+    pub(crate) fn new(seg: &Arc<Segment>) -> CellReader {
+        CellReader {
+            cells: Cells::new(seg),
+            _seg: seg.clone(),
+        }
+    }
+
+    /// The cell encoding held by the cell at segment offset `off` (the
+    /// first cell's when `off` names no cell). No allocation, lock or
+    /// system call: callable from a realtime function.
+    #[inline]
+    pub fn read(&self, off: u64) -> u64 {
+        let slot = AtomicU64::new(off);
+        self.cells.cell(&slot).load(Relaxed)
+    }
+}

@@ -41,7 +41,7 @@ pub use exec::{
     TOP_PRIORITY,
 };
 pub use handles::{
-    Direction, In, Io, Out, Param, ParamAccess, Pin, RawParam, RawPin, Ro, Rw, Writable,
+    CellReader, Direction, In, Io, Out, Param, ParamAccess, Pin, RawParam, RawPin, Ro, Rw, Writable,
 };
 pub use hosted::{HalHost, HostParam, HostPin, Ours, PinFactory};
 pub use module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind, Registry};

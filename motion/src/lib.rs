@@ -52,6 +52,7 @@ pub mod fuzzing;
 pub mod homing;
 mod joint;
 pub mod kins;
+pub mod logger;
 mod mailbox;
 mod motmod;
 mod registry;

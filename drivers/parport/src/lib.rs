@@ -56,6 +56,8 @@
 //! * [`driver`]: the read/write/reset algorithm on a `PortIo`.
 //! * [`hal`]: the HAL binding and [`MODULE`].
 //! * [`clock`]: the time source of write/reset timing.
+//! * [`speaker`]: `hal_speaker`, LinuxCNC's PC-speaker driver, on the
+//!   same port layer (its own module, [`speaker::MODULE`]).
 
 pub mod cfg;
 pub mod clock;
@@ -65,6 +67,7 @@ pub mod port;
 pub mod regs;
 pub mod select;
 pub mod sim;
+pub mod speaker;
 pub mod tool;
 pub mod tool_args;
 

@@ -57,5 +57,6 @@ crate::register_targets! {
     rs274ngc_tool_table,
     motion_command_line,
     motion_records,
+    scope_rt_region,
     web_request,
 }

@@ -38,6 +38,13 @@ impl Region {
     pub fn len_bytes(&self) -> usize {
         self.words * 8
     }
+
+    /// A reader of the instance's value cells by offset (see
+    /// [`Instance::value_word`]), for realtime code that samples values a
+    /// tool chose through this region.
+    pub fn cell_reader(&self) -> crate::handles::CellReader {
+        crate::handles::CellReader::new(&self.seg)
+    }
 }
 
 impl Component {

@@ -60,38 +60,55 @@ impl ValueSet {
     fn find(&mut self, seg: &Segment) -> Result<()> {
         self.words.clear();
         for (kind, name) in &self.names {
-            let word = match kind {
-                ValueKind::Pin => match super::pin::find_pin(seg, name)? {
-                    Some((_, p)) => Some((
-                        p.words(seg)?.first.load(Relaxed),
-                        super::pin::pin_type(seg, p)?,
-                    )),
-                    None => None,
-                },
-                ValueKind::Param => match super::param::find_param(seg, name)? {
-                    Some((_, p)) => Some((
-                        seg.offset_of(&p.words(seg)?.first),
-                        super::param::param_type(seg, p)?,
-                    )),
-                    None => None,
-                },
-                ValueKind::Signal => {
-                    match super::list::find::<SigRec>(seg, &seg.header().signals, name)? {
-                        Some((_, s)) => {
-                            let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
-                            Some((seg.offset_of(&cell.value), super::signal::sig_type(seg, s)?))
-                        }
-                        None => None,
-                    }
-                }
-            };
-            self.words.push(word);
+            self.words.push(word_of(seg, *kind, name)?);
         }
         Ok(())
     }
 }
 
+/// The offset of the word holding the value of `name` (a pin's current
+/// cell: its own, or its signal's) and its type; None when the instance
+/// has no such object. The HAL lock is held.
+fn word_of(seg: &Segment, kind: ValueKind, name: &str) -> Result<Option<(u64, HalType)>> {
+    Ok(match kind {
+        ValueKind::Pin => match super::pin::find_pin(seg, name)? {
+            Some((_, p)) => Some((
+                p.words(seg)?.first.load(Relaxed),
+                super::pin::pin_type(seg, p)?,
+            )),
+            None => None,
+        },
+        ValueKind::Param => match super::param::find_param(seg, name)? {
+            Some((_, p)) => Some((
+                seg.offset_of(&p.words(seg)?.first),
+                super::param::param_type(seg, p)?,
+            )),
+            None => None,
+        },
+        ValueKind::Signal => match super::list::find::<SigRec>(seg, &seg.header().signals, name)? {
+            Some((_, s)) => {
+                let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
+                Some((seg.offset_of(&cell.value), super::signal::sig_type(seg, s)?))
+            }
+            None => None,
+        },
+    })
+}
+
 impl Instance {
+    /// Where the value of `name` lives now, as an offset in the segment,
+    /// with the instance's generation it was found at and the value's
+    /// type; None when the instance has no such object. The offset stays
+    /// good while the generation stands (a `net` or `unlinkp` moves a
+    /// pin's value to another cell). For a [`crate::CellReader`].
+    pub fn value_word(&self, kind: ValueKind, name: &str) -> Result<Option<(u64, u64, HalType)>> {
+        self.tx(|tx| {
+            let seg = tx.seg();
+            let generation = seg.header().generation.load(Acquire);
+            Ok(word_of(seg, kind, name)?.map(|(off, t)| (off, generation, t)))
+        })
+    }
+
     /// Reads the current value of every name of `set` into `out` (cleared
     /// first, then one entry per name in order; None for a name the
     /// instance does not have). One hold of the HAL lock; names are
@@ -171,5 +188,41 @@ mod tests {
         drop((a, _b, _p, comp));
         inst.read_values(&mut set, &mut out).unwrap();
         assert_eq!(out, vec![None; 5]);
+    }
+
+    #[test]
+    fn a_cell_reader_reads_value_words_and_never_outside_the_cells() {
+        let host = Host::create(HostConfig::for_tests("cell-reader")).unwrap();
+        let inst = host.instance();
+        let comp = inst.new_component("cr", ComponentKind::User).unwrap();
+        let a = comp.pin::<f64, Out>("cr.a").unwrap();
+        let region = comp.region("cr.words", 64).unwrap();
+        comp.ready().unwrap();
+        let reader = region.cell_reader();
+        let (off, generation, t) = inst.value_word(ValueKind::Pin, "cr.a").unwrap().unwrap();
+        assert_eq!((t, generation), (HalType::Float, inst.generation()));
+        a.set(2.5);
+        assert_eq!(f64::from_bits(reader.read(off)), 2.5);
+        // Linked, the pin's value lives in the signal's cell: a new word,
+        // found at a new generation.
+        inst.newsig("s", HalType::Float).unwrap();
+        inst.link("cr.a", "s").unwrap();
+        let (moved, later, _) = inst.value_word(ValueKind::Pin, "cr.a").unwrap().unwrap();
+        assert!(moved != off && later != generation);
+        a.set(-1.0);
+        assert_eq!(f64::from_bits(reader.read(moved)), -1.0);
+        assert_eq!(
+            inst.value_word(ValueKind::Signal, "s").unwrap().unwrap().0,
+            moved
+        );
+        assert!(inst
+            .value_word(ValueKind::Pin, "cr.none")
+            .unwrap()
+            .is_none());
+        // Offsets that name no cell (past the end, misaligned, zero) read
+        // a cell of the segment, never outside it.
+        for bad in [u64::MAX, off + 3, 0, 1 << 40] {
+            let _ = reader.read(bad);
+        }
     }
 }

@@ -569,8 +569,8 @@ impl MotionCore {
         &self.homing.joints[j].trace
     }
 
-    /// Marks joint `j` homed or not, as the homing state machine will.
-    #[cfg(test)]
+    /// Marks joint `j` homed or not, as the homing state machine will
+    /// (tests; the motion-logger stand-in, which homes at once).
     pub(crate) fn set_homed(&mut self, j: usize, homed: bool) {
         self.joints[j].homed = homed;
     }

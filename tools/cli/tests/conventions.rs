@@ -143,6 +143,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: Some(&[]),
     },
+    InstanceTool {
+        bin: "motion-logger",
+        short: false,
+        attach: Some(&[]),
+    },
 ];
 
 /// Runs `exe args` in a scratch directory, with no standard input and an

@@ -225,6 +225,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "motion-logger",
+            help(
+                "stand in for the motion controller and log every command",
+                motion::logger::USAGE,
+                &["linuxcnc(1)", "motion-cmd(1)"],
+            ),
+        ),
+        (
             "z_level_compensation",
             help(
                 "Z offset from a probed surface map through external offsets",

@@ -21,7 +21,7 @@ pub fn registry() -> Registry {
     let mut r = Registry::new();
     r.add(&hal_components::modules());
     r.add(&hal_ladder::modules());
-    r.add(&[&hal_parport::MODULE]);
+    r.add(&[&hal_parport::MODULE, &hal_parport::speaker::MODULE]);
     r.add(&hostmot2::hal::modules());
     r.add(&motion::tp_home::modules());
     r.add(&[&hal_gpio::MODULE]);

@@ -169,6 +169,10 @@ pub enum ScopeError {
         /// The field.
         value: String,
     },
+    /// scope_rt refused the capture's settings, or its shared region
+    /// holds what its layout does not allow.
+    #[error(transparent)]
+    ScopeRt(#[from] hal_components::CompError),
 }
 
 impl ScopeError {

@@ -129,6 +129,7 @@ pub fn plan(req: ScopeRequest) -> Result<Plan, WebError> {
     let args = Args {
         pins: req.pins,
         thread: req.thread,
+        mult: 1,
         channel: req.channel,
         trigger: req.trigger,
         samples: req.samples,
@@ -387,10 +388,10 @@ mod tests {
             e(r#"{"pins":["a"],"thread":"t","samples":10,"trigger":"a:up:1"}"#),
             halscope(&["--pins", "a", "--thread", "t", "--trigger", "a:up:1"])
         );
-        assert_eq!(
-            e(r#"{"pins":["a"],"samples":10}"#),
-            halscope(&["--pins", "a"])
-        );
+        // Pins without a thread parse (scope_rt, when loaded, knows its
+        // thread); neither pins nor a channel is refused alike.
+        assert!(req(r#"{"pins":["a"],"samples":10}"#).is_ok());
+        assert_eq!(e(r#"{"samples":10}"#), halscope(&[]));
         assert!(e(r#"{"pins":["a"],"thread":"t","samples":200001}"#).contains("at most"));
         assert!(e(r#"{"pins":["a"],"thread":"t","samples":9,"timeout":61}"#).contains("60 s"));
         assert!(e(r#"{"pins":["a"],"channel":1,"samples":9}"#).contains("channel"));

@@ -24,6 +24,16 @@ fn main() -> ExitCode {
 }
 
 fn run() -> Result<(), ScopeError> {
+    // LinuxCNC's configurations start its GUI bare ('loadusr halscope',
+    // beside 'loadrt scope_rt'): say what this one is instead of clap's
+    // missing-argument error.
+    if std::env::args_os().len() == 1 {
+        return Err(ScopeError::Usage(
+            "this halscope is headless (no window): name what to capture and where, e.g. \
+             'halscope --pins NAME,... --out capture.png'"
+                .into(),
+        ));
+    }
     let args = Args::parse();
     let name = args.instance.clone().unwrap_or_else(instance_from_env);
     let req = args.request()?;

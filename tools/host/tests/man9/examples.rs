@@ -122,6 +122,14 @@ const EXAMPLES: &[(&str, Example)] = &[
         ),
     ),
     (
+        "hal_speaker",
+        sim(
+            "backend=sim",
+            "The example uses the simulated speaker; auto (the default) takes port 0x61 \
+             through ioperm when it is permitted, and the simulator otherwise.",
+        ),
+    ),
+    (
         "hal_stg",
         sim(
             "backend=sim",

@@ -18,9 +18,16 @@ Examples:
   halscope --channel 0 --trigger 0:falling:0 --samples 500 --out c.csv
       (capture through channel 0 of a sampler the HAL file loaded;
        trigger on its first column)
+  halscope --pins siggen.0.sine --mult 4 --trigger 0:rising:0 --out s.csv
+      (the HAL file loaded scope_rt and added scope.sample to a thread:
+       it samples, every 4th period)
 
 Names in --pins are pins or signals; the trigger names one of them (or
-its column number). Without --trigger the capture starts at once.";
+its column number). Without --trigger the capture starts at once.
+When the configuration loaded scope_rt, --pins are captured through it
+(at most 16, the record at most its num_samples / channels samples),
+in the thread where scope.sample was added; otherwise halscope loads a
+sampler of its own in --thread.";
 
 /// Captures HAL pins at the full rate of a thread into a PNG, CSV or VCD
 /// file, with an oscilloscope's trigger (level, edge, pre-trigger).
@@ -30,9 +37,14 @@ pub struct Args {
     /// Pins or signals to capture, comma separated (at most 21).
     #[arg(long, value_delimiter = ',', conflicts_with = "channel")]
     pub pins: Vec<String>,
-    /// The thread to sample in (its period is the sample interval).
+    /// The thread to sample in (its period is the sample interval);
+    /// with scope_rt loaded, where scope.sample runs (may be left out).
     #[arg(long, conflicts_with = "channel")]
     pub thread: Option<String>,
+    /// Sample rate multiplier: record every Nth period of the thread
+    /// (scope_rt only).
+    #[arg(long, default_value_t = 1)]
+    pub mult: u32,
     /// Capture through this channel of a `sampler` already loaded and
     /// netted by the HAL file (instead of --pins and --thread).
     #[arg(long)]
@@ -88,17 +100,20 @@ pub struct Request {
     pub outputs: Vec<(PathBuf, Format)>,
     /// How long to wait for the record.
     pub timeout: Duration,
+    /// Record every `mult`-th period (scope_rt only; 1 otherwise).
+    pub mult: u32,
 }
 
 /// Where the samples come from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Source {
-    /// halscope loads a sampler of its own for these names on this thread.
+    /// Pins or signals, captured through scope_rt when the configuration
+    /// loaded it, else by a sampler of halscope's own in the thread.
     Own {
         /// Pins or signals.
         names: Vec<String>,
-        /// The thread.
-        thread: String,
+        /// The thread (may be left out with scope_rt).
+        thread: Option<String>,
     },
     /// A channel of a sampler the configuration loaded.
     Channel(usize),
@@ -136,7 +151,7 @@ impl Args {
         let usage = |m: String| ScopeError::Usage(m);
         let source = match (self.channel, self.thread) {
             (Some(c), _) => Source::Channel(c),
-            (None, Some(thread)) => {
+            (None, thread) if !self.pins.is_empty() => {
                 let names: Vec<String> = self
                     .pins
                     .iter()
@@ -148,7 +163,7 @@ impl Args {
                 }
                 Source::Own { names, thread }
             }
-            (None, None) => return Err(usage("give --pins and --thread, or --channel".into())),
+            (None, _) => return Err(usage("give --pins (and --thread), or --channel".into())),
         };
         if self.samples < 2 || self.samples > MAX_SAMPLES {
             return Err(usage(format!(
@@ -198,6 +213,15 @@ impl Args {
                 Ok((p, f))
             })
             .collect::<Result<Vec<_>, _>>()?;
+        if self.mult == 0 || self.mult > i32::MAX as u32 {
+            return Err(usage(format!("--mult {}: give 1 to 2147483647", self.mult)));
+        }
+        if self.mult > 1 && matches!(source, Source::Channel(_)) {
+            return Err(usage(
+                "--mult: a sampler channel samples every period; the multiplier is scope_rt's"
+                    .into(),
+            ));
+        }
         if !(self.timeout.is_finite() && self.timeout > 0.0 && self.timeout < 1e7) {
             return Err(usage(format!(
                 "--timeout {}: give a positive number of seconds",
@@ -211,6 +235,7 @@ impl Args {
             pre,
             outputs,
             timeout: Duration::from_secs_f64(self.timeout),
+            mult: self.mult,
         })
     }
 }
@@ -250,7 +275,7 @@ mod tests {
             r.source,
             Source::Own {
                 names: vec!["a".into(), "b".into(), "c".into()],
-                thread: "servo-thread".into()
+                thread: Some("servo-thread".into())
             }
         );
         assert_eq!(r.pre, 200);
@@ -268,7 +293,9 @@ mod tests {
     #[test]
     fn bad_arguments_say_what() {
         let e = |a: &[&str]| req(a).unwrap_err().to_string();
-        assert!(e(&["--pins", "a", "--out", "x.png"]).contains("--channel"));
+        assert!(e(&["--out", "x.png"]).contains("--channel"));
+        assert!(e(&["--pins", "a", "--mult", "0", "--out", "x.png"]).contains("--mult"));
+        assert!(e(&["--channel", "1", "--mult", "2", "--out", "x.png"]).contains("scope_rt"));
         assert!(
             e(&["--pins", "a", "--thread", "t", "--out", "x.gif"]).contains(".png, .csv or .vcd")
         );

@@ -3,14 +3,20 @@
 //! pre-trigger), and writes the record as a PNG plot, a CSV table or a
 //! VCD for waveform viewers.
 //!
+//! When the configuration loaded `scope_rt` (LinuxCNC's realtime half of
+//! halscope) and added `scope.sample` to a thread, pins are captured
+//! through it instead ([`rt`]).
+//!
 //! Modules: [`args`] (the command line), [`wiring`] (the sampler channel
 //! and its links, undone at the end), [`capture`] (trigger and record),
-//! [`output`] (CSV and VCD), [`plot`] (the PNG).
+//! [`rt`] (capture through scope_rt), [`output`] (CSV and VCD), [`plot`]
+//! (the PNG).
 
 pub mod args;
 pub mod capture;
 pub mod output;
 pub mod plot;
+pub mod rt;
 pub mod wiring;
 
 use std::time::{Duration, Instant};
@@ -23,6 +29,7 @@ pub use crate::error::ScopeError;
 use args::{Format, Request, Source};
 use capture::{Capture, Trigger};
 use output::Record;
+use rt::RtProbe;
 use wiring::Probe;
 
 /// The shortest sleep of the reader between looks at the FIFO.
@@ -86,34 +93,59 @@ pub fn capture(
     Ok(record)
 }
 
-/// A sampler channel made ready for records, kept between them: a client
-/// that asks for record after record of the same pins (a scope in normal
-/// mode) loads and links its sampler once, not once per record. Dropping
-/// it removes what it added.
+/// A sampler channel (or scope_rt) made ready for records, kept between
+/// them: a client that asks for record after record of the same pins (a
+/// scope in normal mode) loads and links its sampler once, not once per
+/// record. Dropping it removes what it added.
 pub struct Session {
-    probe: Probe,
+    via: Via,
     /// Whether a record was taken: samples since then are stale.
     used: bool,
 }
 
+/// What a session records through.
+enum Via {
+    /// A sampler channel, halscope's own or the configuration's.
+    Sampler(Probe),
+    /// The configuration's scope_rt.
+    ScopeRt(RtProbe),
+}
+
 impl Session {
-    /// Prepares `source`: loads and links a sampler of its own for pins,
-    /// or finds the configuration's channel.
+    /// Prepares `source`: pins through scope_rt when the configuration
+    /// loaded it; otherwise loads and links a sampler of its own for
+    /// pins, or finds the configuration's channel.
     pub fn open(inst: &Instance, source: &Source) -> Result<Session, ScopeError> {
-        let probe = match source {
-            Source::Own { names, thread } => Probe::own(inst, names, thread)?,
-            Source::Channel(c) => Probe::channel(inst, *c)?,
+        let via = match source {
+            Source::Own { names, thread } if rt::loaded(inst)? => {
+                Via::ScopeRt(RtProbe::open(inst, names, thread.as_deref())?)
+            }
+            Source::Own { names, thread } => {
+                let thread = thread.as_deref().ok_or_else(|| {
+                    ScopeError::Usage(
+                        "give --thread: no scope_rt is loaded to sample in, so halscope \
+                         loads a sampler of its own in that thread"
+                            .into(),
+                    )
+                })?;
+                Via::Sampler(Probe::own(inst, names, thread)?)
+            }
+            Source::Channel(c) => Via::Sampler(Probe::channel(inst, *c)?),
         };
-        Ok(Session { probe, used: false })
+        Ok(Session { via, used: false })
     }
 
     /// Whether this session records `source`.
     pub fn serves(&self, source: &Source) -> bool {
-        match source {
-            Source::Own { names, thread } => {
-                self.probe.is_own() && self.probe.names == *names && self.probe.thread == *thread
+        match (&self.via, source) {
+            (Via::ScopeRt(p), Source::Own { names, thread }) => {
+                p.names == *names && thread.as_ref().is_none_or(|t| *t == p.thread)
             }
-            Source::Channel(c) => !self.probe.is_own() && self.probe.channel == *c,
+            (Via::Sampler(p), Source::Own { names, thread }) => {
+                p.is_own() && p.names == *names && thread.as_ref() == Some(&p.thread)
+            }
+            (Via::Sampler(p), Source::Channel(c)) => !p.is_own() && p.channel == *c,
+            (Via::ScopeRt(_), Source::Channel(_)) => false,
         }
     }
 
@@ -124,34 +156,48 @@ impl Session {
         req: &Request,
         interrupted: &dyn Fn() -> bool,
     ) -> Result<Record, ScopeError> {
+        let probe = match &mut self.via {
+            Via::ScopeRt(p) => return p.record(inst, req, interrupted),
+            Via::Sampler(p) => p,
+        };
+        if req.mult != 1 {
+            return Err(ScopeError::Usage(
+                "--mult: only scope_rt samples at a multiple of the period; load it \
+                 (loadrt scope_rt, addf scope.sample THREAD)"
+                    .into(),
+            ));
+        }
         if self.used {
             // Someone may have changed the HAL since the last record.
-            self.probe.check_wiring(inst)?;
+            probe.check_wiring(inst)?;
         }
-        let trigger = trigger_of(req, &self.probe)?;
-        self.probe.check_running(inst)?;
-        let (mut ring, _) = crate::fifo::open_sampler(inst, self.probe.channel)
+        let trigger = trigger_of(req, probe)?;
+        probe.check_running(inst)?;
+        let (mut ring, _) = crate::fifo::open_sampler(inst, probe.channel)
             .map_err(|e| ScopeError::Sampler(Box::new(e)))?;
-        let mut record = vec![0u64; self.probe.types.len() + 1];
-        if self.used || !self.probe.is_own() {
+        let mut record = vec![0u64; probe.types.len() + 1];
+        if self.used || !probe.is_own() {
             // What the channel holds already was sampled before we came.
             while ring.pop(&mut record) {}
         }
         self.used = true;
         let cap = Capture::new(req.samples, req.pre, trigger);
-        let (rows, trigger_index) = fill(inst, &self.probe, &mut ring, cap, req, interrupted)?;
+        let (rows, trigger_index) = fill(inst, probe, &mut ring, cap, req, interrupted)?;
         Ok(Record {
-            names: self.probe.names.clone(),
-            types: self.probe.types.clone(),
+            names: probe.names.clone(),
+            types: probe.types.clone(),
             rows,
             trigger_index,
-            period_ns: self.probe.period_ns,
+            period_ns: probe.period_ns,
         })
     }
 
     /// Removes what the session added, and says whether that worked.
-    pub fn close(mut self) -> Result<(), ScopeError> {
-        self.probe.remove()
+    pub fn close(self) -> Result<(), ScopeError> {
+        match self.via {
+            Via::Sampler(mut p) => p.remove(),
+            Via::ScopeRt(_) => Ok(()),
+        }
     }
 }
 

@@ -1,0 +1,251 @@
+//! One log line per command, in LinuxCNC's motion-logger words where
+//! LinuxCNC has the command: its name (`SET_LINE`, `JOINT_HOME`, ...), the
+//! same fields in the same order, numbers as C's `%.6g`, and a bare name
+//! where LinuxCNC prints one. Where our command carries less or more than
+//! LinuxCNC's (`SET_LINE` has no ini_maxvel, acc or turn here) the line
+//! has the fields we have; commands LinuxCNC does not have are named in
+//! the same style with all their fields (`name=value, ...`).
+
+use std::fmt::Write as _;
+
+use crate::command::{Command, LineKind};
+use crate::kins::Pose;
+
+/// `v` as C's `printf("%.6g")` writes it.
+pub fn g6(v: f64) -> String {
+    if v.is_nan() {
+        return "nan".into();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    if v == 0.0 {
+        return if v.is_sign_negative() { "-0" } else { "0" }.into();
+    }
+    let sci = format!("{v:.5e}");
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    if !(-4..6).contains(&exp) {
+        let m = trim_zeros(mantissa);
+        let sign = if exp < 0 { '-' } else { '+' };
+        format!("{m}e{sign}{:02}", exp.unsigned_abs())
+    } else {
+        let decimals = (5 - exp).max(0) as usize;
+        trim_zeros(&format!("{v:.decimals$}")).to_string()
+    }
+}
+
+/// `s` without the trailing zeros of its fraction (and the point, if
+/// nothing is left after it).
+fn trim_zeros(s: &str) -> &str {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        s
+    }
+}
+
+/// `x=.., y=.., ..., w=..` of a pose, in `%.6g`.
+fn pose(p: &Pose) -> String {
+    let mut s = String::new();
+    for (i, (name, v)) in ["x", "y", "z", "a", "b", "c", "u", "v", "w"]
+        .iter()
+        .zip(p.0.iter())
+        .enumerate()
+    {
+        if i > 0 {
+            s.push_str(", ");
+        }
+        let _ = write!(s, "{name}={}", g6(*v));
+    }
+    s
+}
+
+fn on(b: bool) -> u8 {
+    u8::from(b)
+}
+
+/// LinuxCNC's motion types: 1 traverse, 2 feed, 3 arc, 5 probing.
+fn motion_type(kind: LineKind) -> i32 {
+    match kind {
+        LineKind::Traverse => 1,
+        LineKind::Feed => 2,
+    }
+}
+
+/// The log line of `cmd` (without the newline).
+pub fn line(cmd: &Command) -> String {
+    use Command as C;
+    let g = g6;
+    match *cmd {
+        C::Abort => "ABORT".into(),
+        C::Enable => "ENABLE".into(),
+        C::Disable => "DISABLE".into(),
+        C::Free => "FREE".into(),
+        C::Teleop => "TELEOP".into(),
+        C::Coord => "COORD".into(),
+        C::JogCont { .. } => "JOG_CONT".into(),
+        C::JogIncr { .. } => "JOG_INCR".into(),
+        C::JogAbs { .. } => "JOG_ABS".into(),
+        C::JogAbort { joint } => format!("JOG_ABORT joint={joint}"),
+        C::JointActivate { joint } => format!("JOINT_ACTIVATE joint={joint}"),
+        C::JointDeactivate { joint } => format!("JOINT_DEACTIVATE joint={joint}"),
+        C::OverrideLimits { .. } => "OVERRIDE_LIMITS".into(),
+        C::Scale { scale } => format!("SCALE scale={}", g(scale)),
+        C::EnableAmplifier { joint } => format!("ENABLE_AMPLIFIER joint={joint}"),
+        C::DisableAmplifier { joint } => format!("DISABLE_AMPLIFIER joint={joint}"),
+        C::SetJointPositionLimits { joint, min, max } => format!(
+            "SET_JOINT_POSITION_LIMITS joint={joint}, min={}, max={}",
+            g(min),
+            g(max)
+        ),
+        C::SetJointVelLimit { joint, vel } => {
+            format!("SET_JOINT_VEL_LIMIT joint={joint}, vel={}", g(vel))
+        }
+        C::SetJointAccLimit { joint, acc } => {
+            format!("SET_JOINT_ACC_LIMIT joint={joint}, acc={}", g(acc))
+        }
+        C::SetJointMinFerror { joint, ferror } => {
+            format!("SET_JOINT_MIN_FERROR joint={joint}, minFerror={}", g(ferror))
+        }
+        C::SetJointMaxFerror { joint, ferror } => {
+            format!("SET_JOINT_MAX_FERROR joint={joint}, maxFerror={}", g(ferror))
+        }
+        C::SetJointBacklash { joint, backlash } => {
+            format!("SET_JOINT_BACKLASH joint={joint}, backlash={}", g(backlash))
+        }
+        C::SetJointMotorOffset { .. } => "SET_JOINT_MOTOR_OFFSET".into(),
+        C::SetWorldHome { pose: p } => format!("SET_WORLD_HOME {}", pose(&p)),
+        C::Home { joint } => format!("JOINT_HOME joint={joint}"),
+        C::Unhome { joint } => format!("JOINT_UNHOME joint={joint}"),
+        C::SetJointHomingParams { joint, config: h } => format!(
+            "SET_JOINT_HOMING_PARAMS joint={joint}, offset={} home={}, final_vel={}, \
+             search_vel={}, latch_vel={}, flags=0x{:08x}, sequence={}, volatile={}",
+            g(h.offset),
+            g(h.home),
+            g(h.final_vel),
+            g(h.search_vel),
+            g(h.latch_vel),
+            h.flags.bits(),
+            h.sequence,
+            on(h.volatile_home)
+        ),
+        C::UpdateJointHomingParams {
+            joint,
+            offset,
+            home,
+            sequence,
+        } => format!(
+            "UPDATE_JOINT_HOMING_PARAMS joint={joint}, offset={} home={} home_sequence={sequence}",
+            g(offset),
+            g(home)
+        ),
+        C::AxisJogCont { axis, vel } => format!("AXIS_JOG_CONT axis={axis}, vel={}", g(vel)),
+        C::AxisJogIncr { axis, vel, offset } => format!(
+            "AXIS_JOG_INCR axis={axis}, vel={}, offset={}",
+            g(vel),
+            g(offset)
+        ),
+        C::AxisJogAbs { axis, vel, pos } => {
+            format!("AXIS_JOG_ABS axis={axis}, vel={}, pos={}", g(vel), g(pos))
+        }
+        C::AxisJogAbort { axis } => format!("AXIS_JOG_ABORT axis={axis}"),
+        C::SetAxisPositionLimits { axis, min, max } => format!(
+            "SET_AXIS_POSITION_LIMITS axis={axis}, min={}, max={}",
+            g(min),
+            g(max)
+        ),
+        C::SetAxisVelLimit { axis, vel } => format!("SET_AXIS_VEL_LIMIT axis={axis} vel={}", g(vel)),
+        C::SetAxisAccLimit { axis, acc } => {
+            format!("SET_AXIS_ACC_LIMIT axis={axis}, acc={}", g(acc))
+        }
+        C::SetAxisEoffsetRatio { axis, ratio } => {
+            format!("SET_AXIS_EOFFSET_RATIO axis={axis}, ratio={}", g(ratio))
+        }
+        C::SetAxisLockingIndexer { axis, joint } => {
+            format!("SET_AXIS_LOCKING_JOINT axis={axis}, locking_joint={joint}")
+        }
+        C::Line { end, vel, kind, id } => format!(
+            "SET_LINE {}, id={id}, motion_type={}, vel={}",
+            pose(&end),
+            motion_type(kind),
+            g(vel)
+        ),
+        C::Circle {
+            end,
+            center,
+            normal,
+            turns,
+            vel,
+            id,
+        } => format!(
+            "SET_CIRCLE:\n    pos: {}\n    center: x={}, y={}, z={}\n    normal: x={}, y={}, z={}\n    \
+             id={id}, motion_type=3, vel={}, turn={turns}",
+            pose(&end),
+            g(center[0]),
+            g(center[1]),
+            g(center[2]),
+            g(normal[0]),
+            g(normal[1]),
+            g(normal[2]),
+            g(vel)
+        ),
+        C::Dwell { seconds, id } => format!("DWELL seconds={}, id={id}", g(seconds)),
+        C::Probe { .. } => "PROBE".into(),
+        C::ClearProbeFlags => "CLEAR_PROBE_FLAGS".into(),
+        C::SetTermCond { cond, tolerance } => format!(
+            "SET_TERM_COND termCond={}, tolerance={}",
+            cond.code(),
+            g(tolerance)
+        ),
+        C::Pause => "PAUSE".into(),
+        C::Resume => "RESUME".into(),
+        C::Step => "STEP".into(),
+        C::FeedScale { .. } => "FEED_SCALE".into(),
+        C::RapidScale { .. } => "RAPID_SCALE".into(),
+        C::SetMaxFeedOverride { scale } => format!("SET_MAX_FEED_OVERRIDE {}", g(scale)),
+        C::FeedScaleEnable { .. } => "FS_ENABLE".into(),
+        C::FeedHoldEnable { .. } => "FH_ENABLE".into(),
+        C::AdaptiveFeedEnable { .. } => "AF_ENABLE".into(),
+        C::SpindleScaleEnable { .. } => "SS_ENABLE".into(),
+        C::SetVelLimit { vel } => format!("SET_VEL_LIMIT vel={}", g(vel)),
+        C::SetAccLimit { acc } => format!("SET_ACC acc={}", g(acc)),
+        C::SetJerkLimit { jerk } => format!("SET_JERK jerk={}", g(jerk)),
+        C::SetPlannerType { planner } => format!("SET_PLANNER_TYPE planner_type={planner}"),
+        C::SetJointJerkLimit { joint, jerk } => {
+            format!("SET_JOINT_JERK_LIMIT joint={joint}, jerk={}", g(jerk))
+        }
+        C::SetAxisJerkLimit { axis, jerk } => {
+            format!("SET_AXIS_JERK_LIMIT axis={axis}, jerk={}", g(jerk))
+        }
+        C::SetJointComp { .. } => "SET_JOINT_COMP".into(),
+        C::ClearJointComp { joint } => format!("CLEAR_JOINT_COMP joint={joint}"),
+        C::SpindleOn {
+            spindle,
+            speed,
+            wait,
+        } => format!(
+            "SPINDLE_ON spindle={spindle}, speed={speed:.6}, wait_for_at_speed={}",
+            on(wait)
+        ),
+        C::SpindleOff { .. } => "SPINDLE_OFF".into(),
+        C::SpindleScale { .. } => "SPINDLE_SCALE".into(),
+        C::SpindleBrake { on: engage, .. } => if engage {
+            "SPINDLE_BRAKE_ENGAGE"
+        } else {
+            "SPINDLE_BRAKE_RELEASE"
+        }
+        .into(),
+        C::SpindleOrient { .. } => "SPINDLE_ORIENT".into(),
+        C::SetFeedPerRev { spindle, per_rev } => {
+            format!("SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}")
+        }
+        C::SpindleCss {
+            spindle,
+            factor,
+            x_offset,
+        } => format!("SPINDLE_CSS spindle={spindle}, css_factor={factor:.6}, xoffset={x_offset:.6}"),
+        C::SetDout { .. } => "SET_DOUT".into(),
+        C::SetAout { .. } => "SET_AOUT".into(),
+    }
+}

@@ -1,0 +1,176 @@
+//! motion-logger in motion's place: LinuxCNC's motion-logger test setup
+//! (a HAL file with `loadusr -W motion-logger out.motion-logger` and no
+//! motmod) run by our `linuxcnc`; task's start-up configuration and MDI
+//! moves are answered and logged one line per command in LinuxCNC's
+//! words; `motion-logger.reopen-log` starts a new file.
+
+// Test code: a failed unwrap is a failed test, with its message.
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+
+mod machine;
+
+use std::time::{Duration, Instant};
+
+use machine::{text, tool, Machine, Scratch};
+
+const INI: &str = "\
+[EMC]
+VERSION = 1.1
+[DISPLAY]
+DISPLAY = dummy
+[TASK]
+TASK = milltask
+CYCLE_TIME = 0.001
+[RS274NGC]
+PARAMETER_FILE = sim.var
+[EMCMOT]
+COMM_TIMEOUT = 4.0
+SERVO_PERIOD = 1000000
+[EMCIO]
+TOOL_TABLE = simpockets.tbl
+[HAL]
+HALFILE = mock-motion.hal
+[TRAJ]
+NO_FORCE_HOMING = 1
+COORDINATES = X Y Z
+LINEAR_UNITS = inch
+ANGULAR_UNITS = degree
+MAX_LINEAR_VELOCITY = 4
+[KINS]
+KINEMATICS = trivkins
+JOINTS = 3
+[AXIS_X]
+MIN_LIMIT = -40.0
+MAX_LIMIT = 40.0
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+[JOINT_0]
+TYPE = LINEAR
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+MIN_LIMIT = -40.0
+MAX_LIMIT = 40.0
+[AXIS_Y]
+MIN_LIMIT = -40.0
+MAX_LIMIT = 40.0
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+[JOINT_1]
+TYPE = LINEAR
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+MIN_LIMIT = -40.0
+MAX_LIMIT = 40.0
+[AXIS_Z]
+MIN_LIMIT = -4.0
+MAX_LIMIT = 4.0
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+[JOINT_2]
+TYPE = LINEAR
+MAX_VELOCITY = 4
+MAX_ACCELERATION = 1000.0
+MIN_LIMIT = -4.0
+MAX_LIMIT = 4.0
+";
+
+/// The lines of `path` once it holds one matching `last`.
+fn lines_until(path: &std::path::Path, last: &str) -> Vec<String> {
+    let end = Instant::now() + Duration::from_secs(10);
+    loop {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        if text.lines().any(|l| l == last) {
+            return text.lines().map(str::to_string).collect();
+        }
+        assert!(
+            Instant::now() < end,
+            "no '{last}' in {}:\n{text}",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn task_runs_against_motion_logger_and_every_command_is_logged() {
+    let s = Scratch::new("motion-logger");
+    let ini = s.write("test.ini", INI);
+    s.write(
+        "mock-motion.hal",
+        "loadusr -W motion-logger out.motion-logger\nsetp iocontrol.0.emc-enable-in 1\n",
+    );
+    s.write("simpockets.tbl", "T1 P1 ;tool\n");
+    let log = s.0.join("out.motion-logger");
+    let m = Machine::start(&ini, "motion-logger");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "G0", "X1", "Y2", "Z3"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let line = "SET_LINE x=1, y=2, z=3, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, vel=0";
+    let lines = lines_until(&log, line);
+    // Task's start-up configuration, joint by joint, in LinuxCNC's words.
+    for want in [
+        "SET_JOINT_POSITION_LIMITS joint=0, min=-40, max=40",
+        "SET_JOINT_VEL_LIMIT joint=2, vel=4",
+        "JOINT_ACTIVATE joint=2",
+        "SET_AXIS_POSITION_LIMITS axis=2, min=-4, max=4",
+        "SET_VEL_LIMIT vel=4",
+    ] {
+        assert!(lines.iter().any(|l| l == want), "no '{want}' in {lines:#?}");
+    }
+    // Machine on, then the move in coordinated mode.
+    let at = |w: &str| lines.iter().position(|l| l == w).unwrap();
+    assert!(
+        at("ENABLE") < at("COORD") && at("COORD") < at(line),
+        "{lines:#?}"
+    );
+    // reopen-log: the file is closed; the next command starts a new one.
+    m.halcmd(&["setp", "motion-logger.reopen-log", "1"]);
+    m.wait_getp("motion-logger.reopen-log", "FALSE");
+    std::fs::rename(&log, s.0.join("result.first")).unwrap();
+    m.task_ok(&["mdi", "G1", "X0.5", "F60"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    // Nothing moved (the logger runs no move), so task's position after
+    // the MDI line is where motion says the machine is: the origin.
+    let second =
+        "SET_LINE x=0.5, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=2, vel=1";
+    let lines = lines_until(&log, second);
+    assert!(!lines.iter().any(|l| l == line), "{lines:#?}");
+    m.stop();
+}
+
+#[test]
+fn motion_logger_refuses_bad_arguments_and_a_missing_instance() {
+    let inst = machine::instance("motion-logger-args");
+    let bin = env!("CARGO_BIN_EXE_motion-logger");
+    let (ok, _, err) = text(&tool(bin, &["a", "b"], &inst, None));
+    assert!(!ok && err.contains("at most one LOGFILE"), "{err}");
+    let (ok, out, _) = text(&tool(bin, &["--help"], &inst, None));
+    assert!(ok && out.contains("reopen-log"), "{out}");
+    // No instance: a clear error, no log file made.
+    let (ok, _, err) = text(&tool(bin, &["never.log"], &inst, None));
+    assert!(!ok && err.contains("motion-logger:"), "{err}");
+}
+
+#[test]
+fn motion_logger_does_not_start_beside_motmod() {
+    let host = hal_host::testing::InProcessHost::start("motion-logger-beside");
+    let (ok, _, err) = host.run(
+        "motmod.hal",
+        "loadrt trivkins\nloadrt motmod servo_period_nsec=1000000 num_joints=1\n",
+        false,
+    );
+    assert!(ok, "{err}");
+    let bin = env!("CARGO_BIN_EXE_motion-logger");
+    let out = tool(bin, &[], &host.instance, None);
+    let (ok, _, err) = text(&out);
+    assert!(!ok && err.contains("exists already"), "{err}");
+    assert_eq!(out.status.code(), Some(2));
+    // Nothing of it stays: no component of its name.
+    assert!(host
+        .instance()
+        .component("motion-logger")
+        .unwrap()
+        .is_none());
+}
