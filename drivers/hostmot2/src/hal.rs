@@ -55,7 +55,7 @@ macro_rules! hostmot2_params {
         debug_pin_descriptors: Int = "log every pin descriptor",
         debug_modules: Int = "log what each module uses",
         use_serial_numbers: Int = "name Smart Serial cards hm2_<card>.<unit number> instead of by board, port and channel",
-        sserial_baudrate: Int = "set every Smart Serial channel to this baud rate at load (-1: leave it)",
+        sserial_baudrate: Int = "set every Smart Serial channel to this baud rate at load (-1: leave it); 115200 is setup mode: any Mesa remote is found for setsserial flash, gets no pins and is not started",
     } };
 }
 

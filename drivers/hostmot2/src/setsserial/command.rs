@@ -61,7 +61,8 @@ pub fn parse(cmd: &str) -> Result<Command> {
     }
 }
 
-/// An unsigned or signed integer in decimal or `0x` hex.
+/// An integer of 64 bits, unsigned or signed (`i64::MIN..=u64::MAX`), in
+/// decimal or `0x` hex.
 pub fn parse_int(s: &str) -> Option<i128> {
     let (neg, digits) = match s.strip_prefix('-') {
         Some(rest) => (true, rest),
@@ -81,7 +82,10 @@ pub fn parse_int(s: &str) -> Option<i128> {
         }
         None => return None,
     };
-    Some(if neg { -v } else { v })
+    let v = if neg { -v } else { v };
+    (i128::from(i64::MIN)..=i128::from(u64::MAX))
+        .contains(&v)
+        .then_some(v)
 }
 
 #[cfg(test)]
@@ -125,7 +129,20 @@ mod tests {
         assert_eq!(parse_int("750"), Some(750));
         assert_eq!(parse_int("0x1F"), Some(31));
         assert_eq!(parse_int("-5"), Some(-5));
-        for bad in ["", "0x", "12a", "1.5", "-", "0x10000000000000000", "1e3"] {
+        assert_eq!(parse_int("0xFFFFFFFFFFFFFFFF"), Some(u64::MAX as i128));
+        assert_eq!(parse_int("-9223372036854775808"), Some(i64::MIN as i128));
+        // The fuzzer's finding: 20 decimal digits past u64.
+        for bad in [
+            "",
+            "0x",
+            "12a",
+            "1.5",
+            "-",
+            "0x10000000000000000",
+            "1e3",
+            "99999999999999999999",
+            "-9223372036854775809",
+        ] {
             assert_eq!(parse_int(bad), None, "{bad}");
         }
     }
