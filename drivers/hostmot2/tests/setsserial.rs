@@ -252,3 +252,41 @@ fn flash_refuses_what_it_cannot_do() {
     let e = flash(&h, dir.path(), IO, "hm2/7i77/7I77.BIN").unwrap_err();
     assert!(e.contains("not done after 1000 ms"), "{e}");
 }
+
+/// A Smithy 5i20 with its 8I20, hostmot2 loaded with `core`.
+fn smithy(tag: &str, core: &[&str]) -> (Host, Arc<SimHm2>) {
+    let h = Host::create(HostConfig::for_tests(tag)).unwrap();
+    h.loadrt(&HOSTMOT2_MODULE, core).unwrap();
+    h.loadrt(
+        &HM2_PCI_MODULE,
+        &[
+            "config=firmware=hm2/5i20/sssvst2_2_4_v31.bit num_encoders=1 num_pwmgens=0 num_stepgens=4 sserial_port_0=0xxxxxxx",
+            "sim=5i20",
+        ],
+    )
+    .unwrap();
+    let sim = hal_driver::sim::find::<SimHm2>(h.instance().name(), "hm2_5i20.0").unwrap();
+    (h, sim)
+}
+
+#[test]
+fn the_8i20s_maximum_current_and_its_flash() {
+    let (h, sim) = smithy("setss-8i20", &[]);
+    setsserial(&h, &["cmd=set hm2_8i20.0820.nvmaxcurrent 750"]).unwrap();
+    assert_eq!(global(&sim, 0, "nvmaxcurrent"), Some(750));
+
+    // Flashing an 8I20 needs SSLBP 37; a 7I77 would do with 34.
+    let (h, sim) = smithy("setss-8i20-flash", &["sserial_baudrate=115200"]);
+    let img = image();
+    let dir = firmware_dir(&img);
+    sim.with(|m| m.sserial().ports[0].set_local(local::MINOR_REV, 36));
+    let e = flash(&h, dir.path(), "hm2_5i20.0.8i20.0.0", "hm2/7i77/7I77.BIN").unwrap_err();
+    assert!(
+        e.contains("version 37 or later") && e.contains("runs version 36"),
+        "{e}"
+    );
+    sim.with(|m| m.sserial().ports[0].set_local(local::MINOR_REV, 37));
+    flash(&h, dir.path(), "hm2_5i20.0.8i20.0.0", "hm2/7i77/7I77.BIN").unwrap();
+    let block1 = sim.with(|m| m.sserial().remote(0, 0).unwrap().flash.bytes[1024..2048].to_vec());
+    assert_eq!(block1, img[1024..2048]);
+}

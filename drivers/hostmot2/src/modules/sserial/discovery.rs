@@ -16,6 +16,13 @@
 //! the driver's own ([`legacy`]), and an 8I20's current is scaled to the
 //! maximum current it keeps in its memory.
 //!
+//! With hostmot2's `sserial_baudrate=115200` discovery is in setup mode
+//! (LinuxCNC's choice, for reflashing remotes with `setsserial`): a card
+//! counts when the second character of its name is `I` (any Mesa card),
+//! none of its records is read, and its port gets no HAL objects and is
+//! never started; its channel pins still go to the module so that
+//! `setsserial` reaches it.
+//!
 //! Everything a card says is checked: a table without end, a record
 //! that is not one, process data wider than the module's registers or of
 //! a type the driver cannot move are refused with the port, channel and
