@@ -290,3 +290,38 @@ fn the_8i20s_maximum_current_and_its_flash() {
     let block1 = sim.with(|m| m.sserial().remote(0, 0).unwrap().flash.bytes[1024..2048].to_vec());
     assert_eq!(block1, img[1024..2048]);
 }
+
+#[test]
+fn a_running_port_starts_again_after_set() {
+    let (h, sim) = board("setss-running", &[]);
+    h.create_thread("servo", 1_000_000, false, None).unwrap();
+    h.addf("hm2_5i25.0.read", "servo", -1).unwrap();
+    h.addf("hm2_5i25.0.write", "servo", -1).unwrap();
+    h.start().unwrap();
+    let inst = h.instance();
+    let state = || {
+        inst.pin_value("hm2_5i25.0.sserial.port-0.port_state")
+            .unwrap()
+    };
+    let wait_running = || {
+        let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+        while state() != hal_core::Value::U32(3) {
+            assert!(
+                std::time::Instant::now() < end,
+                "port never ran: {:?}",
+                state()
+            );
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    };
+    wait_running();
+    setsserial(&h, &[&format!("cmd=set {IO}.nvwatchdogtimeout 40")]).unwrap();
+    assert_eq!(global(&sim, 0, "NVWatchDogTimeout"), Some(40));
+    wait_running();
+    assert_eq!(
+        inst.pin_value("hm2_5i25.0.sserial.port-0.fault-count")
+            .unwrap(),
+        hal_core::Value::U32(0)
+    );
+    h.stop();
+}
