@@ -32,11 +32,14 @@ use hal_parport::select::SysPaths;
 const NOWHERE: &str = "/nonexistent/hal-fuzz";
 
 /// Driver modules that reach no device whatever their parameters, loaded
-/// as they are: `hostmot2` (the driver core: settings only) and `hm2_test`
-/// (a register image held in memory).
+/// as they are: `hostmot2` (the driver core: settings only), `hm2_test`
+/// (a register image held in memory) and `setsserial` (it reaches only
+/// the boards already loaded in its HAL, which the fuzz registry's
+/// drivers make simulated ones; it reads, never writes, a regular file).
 pub const NO_DEVICE: &[&ModuleDef] = &[
     &hostmot2::hal::HOSTMOT2_MODULE,
     &hostmot2::hal::HM2_TEST_MODULE,
+    &hostmot2::SETSSERIAL_MODULE,
 ];
 
 /// Driver modules the fuzzers never load, each with the reason.

@@ -277,6 +277,26 @@ impl<H: HalHost> Board<H> {
         &self.llio.name
     }
 
+    /// Runs `job` on the Smart Serial module's registers directly
+    /// (`setsserial`), then puts its ports back to idle; false if the
+    /// board has no such module.
+    pub(crate) fn sserial_setup(
+        &mut self,
+        job: &mut dyn FnMut(
+            &mut dyn Transport,
+            &crate::modules::sserial::discovery::SserialFirmware,
+        ),
+    ) -> bool {
+        let Some(found) = self.fw.sserial.as_ref() else {
+            return false;
+        };
+        job(self.transport.as_mut(), found);
+        if let Some(s) = &mut self.sserial {
+            s.restart_after_setup();
+        }
+        true
+    }
+
     /// What the driver learned from the firmware.
     pub fn firmware(&self) -> &Firmware {
         &self.fw

@@ -463,6 +463,95 @@ pub enum Hm2Error {
         /// The IDROM's board name.
         name: String,
     },
+    /// `setsserial cmd=` is not a command it knows.
+    #[error("setsserial: cmd=\"{cmd}\": {reason} (use \"set <remote>.<parameter> <value>\" or \"flash <remote> <file>.BIN\")")]
+    SetsserialCommand {
+        /// The string given.
+        cmd: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// No loaded board has a Smart Serial remote of this name.
+    #[error("setsserial: no Smart Serial remote {name} on the hostmot2 boards loaded in this HAL (remotes: {known})")]
+    NoSuchRemote {
+        /// The name asked for.
+        name: String,
+        /// The remotes there are.
+        known: String,
+    },
+    /// The remote has no global of this name.
+    #[error("setsserial: the remote {remote} has no parameter {global} (it has: {known})")]
+    NoSuchGlobal {
+        /// The remote.
+        remote: String,
+        /// The parameter asked for.
+        global: String,
+        /// Its globals.
+        known: String,
+    },
+    /// The value cannot be written to the global.
+    #[error("setsserial: {remote}.{global}: value \"{value}\" refused: {reason}")]
+    BadGlobalValue {
+        /// The remote.
+        remote: String,
+        /// The global.
+        global: String,
+        /// The value given.
+        value: String,
+        /// Why.
+        reason: String,
+    },
+    /// Only Mesa's .BIN remote firmware files are flashed.
+    #[error(
+        "setsserial: {file}: not a .BIN file (only remote firmware .BIN files can be flashed)"
+    )]
+    NotBinFile {
+        /// The file named.
+        file: String,
+    },
+    /// Flashing a remote needs the ports in setup mode.
+    #[error("setsserial: flashing needs the Smart Serial ports in setup mode: load hostmot2 with sserial_baudrate=115200 (it was {})", baud.map_or("not given".to_string(), |b| b.to_string()))]
+    FlashNeedsSetupMode {
+        /// hostmot2's `sserial_baudrate`.
+        baud: Option<u32>,
+    },
+    /// The FPGA's Smart Serial firmware cannot flash this remote.
+    #[error("setsserial: flashing {remote} needs Smart Serial firmware version {needed} or later; port {port} runs version {version} (update the FPGA firmware first)")]
+    SslbpTooOld {
+        /// The remote.
+        remote: String,
+        /// Its port.
+        port: u8,
+        /// The SSLBP version the port reports.
+        version: u8,
+        /// The version needed.
+        needed: u8,
+    },
+    /// The remote firmware file cannot be used.
+    #[error("setsserial: firmware file {}: {reason}", path.display())]
+    RemoteFirmwareFile {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A step of a setsserial command failed.
+    #[error("setsserial: {remote}: {step}: {source}")]
+    SetsserialStep {
+        /// The remote.
+        remote: String,
+        /// The step (`NV access on`, `erase block 3`, ...).
+        step: String,
+        /// What went wrong.
+        #[source]
+        source: Box<Hm2Error>,
+    },
+    /// The remote's cookie after a flash command is not the expected one.
+    #[error("sync failed: the remote's cookie reads 0x{cookie:02X}, not 0x5A")]
+    FlashSyncFailed {
+        /// What was read.
+        cookie: u8,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),

@@ -594,3 +594,23 @@ pub fn spi_frames(data: &[u8]) {
         }
     }
 }
+
+/// `setsserial`'s `cmd=` string and its numbers: a command of three
+/// words or a refusal that says what is wrong, never a panic.
+pub fn setsserial_cmd(text: &str) {
+    use crate::setsserial::command::{parse, parse_int, Command, MAX_CMD};
+    match parse(text) {
+        Ok(Command::Set { target, value }) => {
+            assert!(text.len() <= MAX_CMD);
+            assert!(text.contains(&target) && text.contains(&value));
+            if let Some(v) = parse_int(&value) {
+                assert!(v.unsigned_abs() <= u128::from(u64::MAX));
+            }
+        }
+        Ok(Command::Flash { remote, file }) => {
+            assert!(text.contains(&remote));
+            assert!(file.to_ascii_lowercase().ends_with(".bin"));
+        }
+        Err(e) => assert!(!e.to_string().trim().is_empty()),
+    }
+}

@@ -55,7 +55,7 @@ macro_rules! hostmot2_params {
         debug_pin_descriptors: Int = "log every pin descriptor",
         debug_modules: Int = "log what each module uses",
         use_serial_numbers: Int = "name Smart Serial cards hm2_<card>.<unit number> instead of by board, port and channel",
-        sserial_baudrate: Int = "set every Smart Serial channel to this baud rate at load (-1: leave it)",
+        sserial_baudrate: Int = "set every Smart Serial channel to this baud rate at load (-1: leave it); 115200 is setup mode: any Mesa remote is found for setsserial flash, gets no pins and is not started",
     } };
 }
 
@@ -186,6 +186,27 @@ impl<H: HalHost> SharedBoard<H> {
     }
 }
 
+impl<H: HalHost> crate::registry::SserialAccess for SharedBoard<H>
+where
+    Board<H>: Send,
+{
+    fn sserial(&self) -> Option<crate::modules::sserial::discovery::SserialFirmware> {
+        let b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+        b.firmware().sserial.clone()
+    }
+
+    fn setup_job(
+        &self,
+        job: &mut dyn FnMut(
+            &mut dyn Transport,
+            &crate::modules::sserial::discovery::SserialFirmware,
+        ),
+    ) -> bool {
+        let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+        b.sserial_setup(job)
+    }
+}
+
 impl<H: HalHost> SafeState for SharedBoard<H> {
     fn go_safe(&self) {
         let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
@@ -238,12 +259,15 @@ pub struct Boards {
     candidates: Vec<Candidate>,
     configs: Vec<String>,
     firmware_dir: Option<PathBuf>,
+    /// The HAL's name, for the board registry.
+    instance: String,
 }
 
 impl Boards {
-    /// The boards `module` registers, with their config strings and the
-    /// core's settings.
+    /// The boards `module` registers into the HAL `env` loads into, with
+    /// their config strings and the core's settings.
     pub fn new(
+        env: &LoadEnv,
         module: &'static str,
         debug: Debug,
         candidates: Vec<Candidate>,
@@ -255,6 +279,7 @@ impl Boards {
             candidates,
             configs,
             firmware_dir: None,
+            instance: env.instance().to_string(),
         }
     }
 
@@ -282,6 +307,7 @@ pub fn export_boards<H: DriverHost>(
         candidates,
         configs,
         firmware_dir,
+        instance,
     } = found;
     let log = ex.log();
     let comp = ex.component(module)?;
@@ -335,6 +361,8 @@ pub fn export_boards<H: DriverHost>(
         let board = board.map_err(|e| fail(e, &blog, ex))?;
         let board = Arc::new(SharedBoard::new(board, keep));
         export_functions(ex, comp, &name, &board, sim.clone())?;
+        let access: Arc<dyn crate::registry::SserialAccess> = board.clone();
+        crate::registry::register(&instance, &name, &access);
         log.info(format_args!(
             "{name}: initialized AnyIO board {}",
             cand.place
@@ -565,6 +593,7 @@ fn open_pci(
         debug,
         candidates,
         configs,
+        instance: env.instance().to_string(),
         firmware_dir: args
             .str("firmware_dir")
             .filter(|d| !d.is_empty())
@@ -682,6 +711,7 @@ impl DriverModule for HalHm2Test {
             candidates: vec![candidate],
             configs: args.str_array("config").to_vec(),
             firmware_dir: None,
+            instance: env.instance().to_string(),
         })
     }
 
@@ -691,7 +721,7 @@ impl DriverModule for HalHm2Test {
 }
 
 /// Every module this crate provides, for the host's registry.
-pub fn modules() -> [&'static ModuleDef; 8] {
+pub fn modules() -> [&'static ModuleDef; 9] {
     [
         &HOSTMOT2_MODULE,
         &HM2_PCI_MODULE,
@@ -701,6 +731,7 @@ pub fn modules() -> [&'static ModuleDef; 8] {
         &crate::epp::hal::HM2_7I90_MODULE,
         &crate::spi::hal::HM2_SPI_MODULE,
         &crate::spi::hal::HM2_RPSPI_MODULE,
+        &crate::setsserial::SETSSERIAL_MODULE,
     ]
 }
 

@@ -67,6 +67,13 @@
 //! (`hm2_5i20.0.8i20.0.0.current`, `bus-voltage`, `fault.overtemp`); the
 //! shared protocol pieces are in [`sserial`].
 //!
+//! `loadrt hostmot2 sserial_baudrate=115200` puts discovery in setup
+//! mode (any Mesa remote is found and named, none gets pins or is
+//! started), for `loadrt setsserial cmd="flash <remote> <file>.BIN"`;
+//! `setsserial cmd="set <remote>.<parameter> <value>"` writes a remote's
+//! EEPROM parameter ([`setsserial`]). Both reach the loaded board
+//! through a registry of the boards of each HAL.
+//!
 //! # The simulator: `hm2_pci sim=...`
 //!
 //! `loadrt hm2_pci config="..." sim=5i25` (or `sim=6i25`, `sim=5i24`,
@@ -166,7 +173,9 @@ pub mod pci;
 pub mod pci_fpga;
 pub mod pins;
 pub mod readhmid;
+mod registry;
 pub mod regs;
+pub mod setsserial;
 pub mod sim;
 pub mod spi;
 pub mod sserial;
@@ -179,4 +188,5 @@ pub mod window;
 pub use error::{Hm2Error, Result};
 pub use eth::hal::HM2_ETH_MODULE;
 pub use hal::{modules, HM2_PCI_MODULE, HM2_TEST_MODULE, HOSTMOT2_MODULE};
+pub use setsserial::SETSSERIAL_MODULE;
 pub use tool_error::ToolError;

@@ -18,6 +18,7 @@ crate::register_targets! {
     hm2_eth_reply,
     hm2_lbp16_request,
     hm2_sserial_records,
+    hm2_setsserial_cmd,
     hm2_bitfile,
     hm2_epp_port,
     hm2_spi_frames,

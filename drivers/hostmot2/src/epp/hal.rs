@@ -350,12 +350,16 @@ fn open_epp(
             })),
         });
     }
-    Ok(
-        Boards::new(module, debug, candidates, args.str_array("config").to_vec())
-            .with_firmware_dir(
-                args.str("firmware_dir")
-                    .filter(|d| !d.is_empty())
-                    .map(std::path::PathBuf::from),
-            ),
+    Ok(Boards::new(
+        env,
+        module,
+        debug,
+        candidates,
+        args.str_array("config").to_vec(),
     )
+    .with_firmware_dir(
+        args.str("firmware_dir")
+            .filter(|d| !d.is_empty())
+            .map(std::path::PathBuf::from),
+    ))
 }

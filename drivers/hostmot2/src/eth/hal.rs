@@ -211,6 +211,7 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
         });
     }
     Ok(Boards::new(
+        env,
         HM2_ETH,
         debug,
         candidates,

@@ -345,6 +345,7 @@ fn open_spi(
         });
     }
     Ok(Boards::new(
+        env,
         module,
         debug,
         candidates,

@@ -94,6 +94,43 @@ pub mod lbp {
     pub const WRITE: u8 = 0x64;
     /// Non-volatile access: interface 0 = 1 for EEPROM, 0 for RAM.
     pub const NONVOLATILE: u8 = 0xEC;
+    /// Write 8 bytes (flash data, from interfaces 0 and 1).
+    pub const WRITE_DOUBLE: u8 = 0x67;
+    /// Write 4 bytes.
+    pub const WRITE_LONG: u8 = 0x66;
+    /// Write 1 byte.
+    pub const WRITE_BYTE: u8 = 0x64;
+    /// Special read: the cookie (0x5A when the card is in step).
+    pub const COOKIE: u8 = 0xDF;
+}
+
+/// A remote's flash controller in flash access mode: its registers in
+/// the remote's address space and its command bytes.
+pub mod flash {
+    /// The flash address (u32) the next erase or write acts on.
+    pub const ADDR: u16 = 0x8000;
+    /// log2 of the erase block size (byte).
+    pub const ERASE_SIZE: u16 = 0x8004;
+    /// log2 of the write size (byte).
+    pub const WRITE_SIZE: u16 = 0x8005;
+    /// The command byte.
+    pub const COMMAND: u16 = 0x8007;
+    /// Command: erase the block at [`ADDR`].
+    pub const ERASE: u8 = 0xFE;
+    /// Command: program the written bytes at [`ADDR`].
+    pub const WRITE: u8 = 0xFD;
+    /// What the cookie read answers when the remote is in step.
+    pub const COOKIE: u8 = 0x5A;
+}
+
+/// What interface 0 selects with [`lbp::NONVOLATILE`].
+pub mod access {
+    /// The card's RAM (normal).
+    pub const RAM: u32 = 0;
+    /// Its EEPROM (non-volatile globals).
+    pub const EEPROM: u32 = 1;
+    /// Its firmware flash.
+    pub const FLASH: u32 = 2;
 }
 
 /// Status bits of a channel's CS register.

@@ -217,6 +217,28 @@ const EXAMPLES: &[(&str, Example)] = &[
         },
     ),
     (
+        "setsserial",
+        Example {
+            before: "loadrt hostmot2\nloadrt hm2_pci sim=5i25-7i77",
+            args: "cmd=\"set hm2_5i25.0.7i77.0.0.nvwatchdogtimeout 50\"",
+            note: "setsserial acts once at load on a remote of a board a hostmot2 driver \
+                   loaded (here the simulated 7I77 of a simulated 5I25): \
+                   cmd=\"set <remote>.<parameter> <value>\" writes the parameter into the \
+                   remote's EEPROM (decimal or 0x hex; the remote named as the driver names \
+                   it, by board, port and channel or by unit number), \
+                   cmd=\"flash <remote> <file>.BIN\" writes a remote firmware file from \
+                   firmware_dir= (/lib/firmware) into its flash and needs hostmot2 loaded \
+                   with sserial_baudrate=115200 (setup mode) and Smart Serial firmware \
+                   version 34 (37 for an 8I20). LinuxCNC's setsserial always fails to load, \
+                   so that it never stays loaded; this one succeeds when the command did and \
+                   fails naming the step that went wrong otherwise, so a script can tell. \
+                   Either way it makes no component, pin, function or thread and holds \
+                   nothing; the host still lists the module after a success, so run \
+                   unloadrt setsserial before the next command.",
+            ..PLAIN
+        },
+    ),
+    (
         "hm2_test",
         Example {
             before: HM2_CORE,

@@ -16,6 +16,13 @@
 //! the driver's own ([`legacy`]), and an 8I20's current is scaled to the
 //! maximum current it keeps in its memory.
 //!
+//! With hostmot2's `sserial_baudrate=115200` discovery is in setup mode
+//! (LinuxCNC's choice, for reflashing remotes with `setsserial`): a card
+//! counts when the second character of its name is `I` (any Mesa card),
+//! none of its records is read, and its port gets no HAL objects and is
+//! never started; its channel pins still go to the module so that
+//! `setsserial` reaches it.
+//!
 //! Everything a card says is checked: a table without end, a record
 //! that is not one, process data wider than the module's registers or of
 //! a type the driver cannot move are refused with the port, channel and
@@ -102,6 +109,10 @@ pub struct PortFound {
     pub revision: u8,
     /// The cards found, by channel.
     pub remotes: Vec<RemoteFound>,
+    /// Found in setup mode (hostmot2's `sserial_baudrate=115200`): the
+    /// cards are only named, for `setsserial`; the port gets no HAL
+    /// objects and is never started in normal mode.
+    pub setup: bool,
 }
 
 impl PortFound {
@@ -492,6 +503,40 @@ pub struct Setup<'a> {
     pub baudrate: Option<u32>,
 }
 
+/// The baud rate that puts discovery in setup mode (LinuxCNC's choice:
+/// the rate remote cards are reflashed at).
+pub const SETUP_BAUD: u32 = 115_200;
+
+/// A card found in setup mode: any Mesa card (an `I` as the second
+/// character of its name), taken as it answers, with no records read.
+fn setup_remote(
+    port: u8,
+    channel: u8,
+    mode: u8,
+    ids: [u32; 3],
+    log: &mut MessageLog,
+) -> Option<RemoteFound> {
+    if ids[1].to_le_bytes()[1] != b'I' {
+        return None;
+    }
+    let found = RemoteFound {
+        channel,
+        mode,
+        unit: ids[0],
+        raw_name: ids[1],
+        process: Vec::new(),
+        globals: Vec::new(),
+        modes: Vec::new(),
+        built_in: false,
+    };
+    log.info(format!(
+        "Smart Serial port {port} channel {channel}: {} (unit 0x{:08X}) in setup mode: no pins made, the port is not started",
+        found.name(),
+        found.unit
+    ));
+    Some(found)
+}
+
 /// Finds the cards on the ports in use.
 pub fn discover(t: &mut dyn Transport, s: &Setup, log: &mut MessageLog) -> Result<SserialFirmware> {
     let mut out = Vec::new();
@@ -545,6 +590,7 @@ fn discover_port(
             "Smart Serial port {index}: baud rate set to {baud}"
         ));
     }
+    let setup = baudrate == Some(SETUP_BAUD);
     p.command(cmd::STOP, budget::STOP)?;
     let mut mask = 0u32;
     for c in 0..channels {
@@ -576,6 +622,12 @@ fn discover_port(
                 *w = p.read(p.addr(reg::INTERFACE0 + k, c as usize))?;
             }
             let (ptoc, gtoc) = (ids[2] as u16, (ids[2] >> 16) as u16);
+            if setup {
+                if let Some(found) = setup_remote(index, c, mode, ids, log) {
+                    remotes.push(found);
+                }
+                continue;
+            }
             let mut found = RemoteFound {
                 channel: c,
                 mode,
@@ -647,5 +699,6 @@ fn discover_port(
         channels,
         revision,
         remotes,
+        setup,
     })
 }

@@ -230,7 +230,12 @@ pub struct Sserial<H: HalHost = Ours> {
 }
 
 /// The prefix of a card's objects.
-fn remote_prefix(board: &str, r: &RemoteFound, port: u8, serial_numbers: bool) -> String {
+pub(crate) fn remote_prefix(
+    board: &str,
+    r: &RemoteFound,
+    port: u8,
+    serial_numbers: bool,
+) -> String {
     if serial_numbers {
         format!("hm2_{}.{:04x}", r.name(), r.unit & 0xFFFF)
     } else {
@@ -250,7 +255,7 @@ impl<H: HalHost> Sserial<H> {
     ) -> HalResult<Sserial<H>> {
         let mut ports = Vec::new();
         for p in &f.ports {
-            if p.remotes.is_empty() {
+            if p.remotes.is_empty() || p.setup {
                 continue;
             }
             ports.push(Self::export_port(x, &f.md, p, serial_numbers)?);
@@ -379,6 +384,18 @@ impl<H: HalHost> Sserial<H> {
             p.port_state.set(state::IDLE);
         }
         Ok(())
+    }
+
+    /// Puts every port back to idle after `setsserial` used the module
+    /// directly (it stops the channels): the ports whose `run` is TRUE
+    /// start again at the next `write`.
+    pub fn restart_after_setup(&mut self) {
+        for p in &mut self.ports {
+            p.pending = None;
+            p.misses = 0;
+            p.faults = 0;
+            p.set_state(state::IDLE);
+        }
     }
 
     /// Whether any port is stopped by faults.

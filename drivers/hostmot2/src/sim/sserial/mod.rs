@@ -13,6 +13,7 @@
 //! fails with a timeout in the channel's status.
 
 pub mod eight_i20;
+pub mod flash;
 pub mod remote;
 
 use crate::sserial::{cmd, lbp, local, status, MAX_CHANNELS};
@@ -46,6 +47,10 @@ pub struct SimPort {
     pub remotes: [Option<SimRemote>; MAX_CHANNELS],
     /// Commands executed.
     pub commands: u64,
+    /// The processor hangs: commands are not executed and the command
+    /// register keeps reading the last one (tests of the host's waits).
+    pub stuck: bool,
+    busy: u32,
 }
 
 impl SimPort {
@@ -79,6 +84,8 @@ impl SimPort {
             local,
             remotes: Default::default(),
             commands: 0,
+            stuck: false,
+            busy: 0,
         }
     }
 
@@ -104,11 +111,23 @@ impl SimPort {
         self.cs_status[c] = why;
     }
 
+    /// Sets local parameter byte `at` (tests: an older processor).
+    pub fn set_local(&mut self, at: u16, v: u8) {
+        if let Some(b) = self.local.get_mut(at as usize) {
+            *b = v;
+        }
+    }
+
     /// Executes a command.
     fn command(&mut self, v: u32, reachable: u8) {
         if v & cmd::NOTHING != 0 {
             return;
         }
+        if self.stuck {
+            self.busy = v;
+            return;
+        }
+        self.busy = 0;
         self.commands += 1;
         let v = v & 0xFFFF;
         if v & 0xE000 == cmd::WRITE_LOCAL {
@@ -215,7 +234,8 @@ impl SimPort {
             lbp::WRITE => {
                 card.write_memory(addr, size, out[0] as u64 | (out[1] as u64) << 32);
             }
-            _ if op == lbp::NONVOLATILE => card.set_nonvolatile(out[0] == 1),
+            _ if op == lbp::NONVOLATILE => card.set_nonvolatile(out[0]),
+            _ if op == lbp::COOKIE => back = [card.flash.cookie() as u32, 0, 0],
             _ => {
                 self.fail(c, status::REMOTE_FAULT | status::LBPCOM);
                 return;
@@ -261,7 +281,7 @@ impl SimSserial {
         };
         let c = chan as usize % MAX_CHANNELS;
         match reg {
-            0 => 0,
+            0 => p.busy,
             1 => p.data,
             2 => p.cs_status[c],
             3..=5 => p.iface_in[c][reg as usize - 3],

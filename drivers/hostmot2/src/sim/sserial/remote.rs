@@ -263,6 +263,10 @@ pub struct SimRemote {
     mode: Option<u8>,
     running: bool,
     nonvolatile: bool,
+    /// Setup-mode accesses go to the flash (flash access mode).
+    flash_mode: bool,
+    /// Its firmware flash.
+    pub flash: super::flash::SimFlash,
     /// Each global: name, address, bits.
     params: Vec<(String, u16, u8)>,
     quiet_ns: u64,
@@ -410,6 +414,8 @@ impl SimRemote {
             mode: None,
             running: false,
             nonvolatile: false,
+            flash_mode: false,
+            flash: super::flash::SimFlash::default(),
             params,
             quiet_ns: 0,
             tripped: false,
@@ -475,6 +481,9 @@ impl SimRemote {
 
     /// Bytes of its memory (a setup-mode read).
     pub fn read_memory(&self, addr: u16, n: usize) -> u64 {
+        if self.flash_mode {
+            return self.flash.read(addr, n);
+        }
         let mut v = [0u8; 8];
         for (i, b) in v.iter_mut().enumerate().take(n.min(8)) {
             *b = self.memory.get(addr as usize + i).copied().unwrap_or(0);
@@ -484,6 +493,9 @@ impl SimRemote {
 
     /// A setup-mode write of `n` bytes.
     pub fn write_memory(&mut self, addr: u16, n: usize, v: u64) {
+        if self.flash_mode {
+            return self.flash.write(addr, n, v);
+        }
         if self.nonvolatile {
             self.eeprom_writes += 1;
         }
@@ -494,9 +506,11 @@ impl SimRemote {
         }
     }
 
-    /// Switches setup-mode accesses to the EEPROM (or back to RAM).
-    pub fn set_nonvolatile(&mut self, on: bool) {
-        self.nonvolatile = on;
+    /// The non-volatile access command: setup-mode accesses go to RAM
+    /// (0), the EEPROM (1) or the flash (2).
+    pub fn set_nonvolatile(&mut self, which: u32) {
+        self.nonvolatile = which == 1;
+        self.flash_mode = which == 2;
     }
 
     /// A global's value, by the card's name of it.

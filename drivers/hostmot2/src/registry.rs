@@ -1,0 +1,62 @@
+//! The boards registered in each HAL, for `setsserial`: LinuxCNC's
+//! setsserial reaches the loaded hostmot2 boards through the driver's
+//! global list of them; here each board driver adds its boards to this
+//! registry keyed by the HAL's name ([`LoadEnv::instance`]) and board
+//! name, so tests in one process never see each other's boards.
+//!
+//! Entries are weak: an unloaded board is gone from the registry with
+//! its last function, and a dead entry is dropped at the next
+//! registration.
+//!
+//! [`LoadEnv::instance`]: hal_driver::module::LoadEnv::instance
+
+use std::sync::{Arc, Mutex, Weak};
+
+use crate::modules::sserial::discovery::SserialFirmware;
+use crate::transport::Transport;
+
+/// What `setsserial` may do with a registered board.
+pub(crate) trait SserialAccess: Send + Sync {
+    /// What discovery found on the board's Smart Serial ports, if it has
+    /// the module.
+    fn sserial(&self) -> Option<SserialFirmware>;
+
+    /// Runs `job` with the board's transport while none of its
+    /// functions runs (it waits for the one running, if any), then puts
+    /// its Smart Serial ports back to idle so they restart normally.
+    /// False if the board has no Smart Serial module.
+    fn setup_job(&self, job: &mut dyn FnMut(&mut dyn Transport, &SserialFirmware)) -> bool;
+}
+
+/// One registered board.
+struct Entry {
+    instance: String,
+    name: String,
+    board: Weak<dyn SserialAccess>,
+}
+
+static BOARDS: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
+
+fn boards() -> std::sync::MutexGuard<'static, Vec<Entry>> {
+    BOARDS.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Registers board `name` of HAL `instance`.
+pub(crate) fn register(instance: &str, name: &str, board: &Arc<dyn SserialAccess>) {
+    let mut all = boards();
+    all.retain(|e| e.board.strong_count() > 0);
+    all.push(Entry {
+        instance: instance.to_string(),
+        name: name.to_string(),
+        board: Arc::downgrade(board),
+    });
+}
+
+/// Every live board of HAL `instance`, in registration order, by name.
+pub(crate) fn boards_of(instance: &str) -> Vec<(String, Arc<dyn SserialAccess>)> {
+    boards()
+        .iter()
+        .filter(|e| e.instance == instance)
+        .filter_map(|e| Some((e.name.clone(), e.board.upgrade()?)))
+        .collect()
+}
