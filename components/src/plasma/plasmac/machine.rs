@@ -55,6 +55,37 @@ impl Ctx<'_> {
         self.counts_at(self.i.axis_z_max_limit - margin)
     }
 
+    /// X and Y offset counts for `x`/`y` (counts), held so that the axes
+    /// stay within their limits (when the limits are connected).
+    pub fn xy_within_limits(&self, x: i32, y: i32) -> (i32, i32) {
+        let i = self.i;
+        let hold = |want: i32, pos: f64, current: f64, min: f64, max: f64| {
+            if max <= min {
+                return want;
+            }
+            let base = pos - current;
+            let lo = self.counts(min - base);
+            let hi = self.counts(max - base);
+            want.clamp(lo.min(hi), hi.max(lo))
+        };
+        (
+            hold(
+                x,
+                i.axis_x_position,
+                i.x_offset_current,
+                i.axis_x_min_limit,
+                i.axis_x_max_limit,
+            ),
+            hold(
+                y,
+                i.axis_y_position,
+                i.y_offset_current,
+                i.axis_y_min_limit,
+                i.axis_y_max_limit,
+            ),
+        )
+    }
+
     /// Whether a float, ohmic or breakaway sensor is on.
     pub fn sensor(&self) -> bool {
         self.i.float_switch || self.i.ohmic_probe || self.i.breakaway

@@ -12,13 +12,15 @@
 //! pause, resume or stop the program.
 //!
 //! Its pins are LinuxCNC's, with their types, directions and defaults.
-//! These inputs are read by nothing here, as they are only carried for a
-//! GUI or kept for compatibility: `kerf-width`, `requested-velocity`,
-//! `multi-tool`, `gcode-scale`, `offset-set-probe`, `offset-set-scribe`,
+//! `debug-print` prints each state change. These inputs are read by
+//! nothing here, as they are only carried for a GUI or kept for
+//! compatibility: `kerf-width`, `requested-velocity`, `multi-tool`,
+//! `gcode-scale`, `offset-set-probe`, `offset-set-scribe`,
 //! `offset-probe-delay`, `offset-probe-x`, `offset-probe-y`,
 //! `laser-recovery-start`, `laser-x-offset`, `laser-y-offset`,
-//! `ohmic-max-attempts` and `debug-print` (which prints each state
-//! change). `program-run` and `laser-recovery-state` stay at zero.
+//! `offsets-active` and `ohmic-max-attempts` (the ohmic probe is tried
+//! once; the float switch is always the fallback). `program-run` and
+//! `laser-recovery-state` stay at zero.
 //! Errors are printed once on stderr, and `state-out` and
 //! `stop-type-out` carry LinuxCNC's numbers.
 

@@ -136,14 +136,15 @@ impl Plasmac {
         self.enter(State::MaxHeight);
     }
 
-    /// `CONSUMABLE_CHANGE_ON`: X/Y go to `x-offset`/`y-offset` while the
-    /// change is asked for.
+    /// `CONSUMABLE_CHANGE_ON`: X/Y go to `x-offset`/`y-offset` (held
+    /// within the X and Y limits) while the change is asked for.
     pub(super) fn consumable_change_on(&mut self, c: &Ctx<'_>) {
         let i = c.i;
         self.o.consumable_changing = true;
         let v = c.speed(i.xy_feed_rate);
-        self.x.go(i.x_offset, v);
-        self.y.go(i.y_offset, v);
+        let (x, y) = c.xy_within_limits(i.x_offset, i.y_offset);
+        self.x.go(x, v);
+        self.y.go(y, v);
         if !i.consumable_change {
             self.enter(State::ConsumableChangeOff);
         }
@@ -169,8 +170,9 @@ impl Plasmac {
         let i = c.i;
         self.o.cut_recovering = true;
         let v = c.speed(i.xy_feed_rate);
-        self.x.go(i.x_offset, v);
-        self.y.go(i.y_offset, v);
+        let (x, y) = c.xy_within_limits(i.x_offset, i.y_offset);
+        self.x.go(x, v);
+        self.y.go(y, v);
         if i.program_is_paused {
             self.job.paused_seen = true;
             if !i.cut_recovery && i.x_offset == 0 && i.y_offset == 0 {

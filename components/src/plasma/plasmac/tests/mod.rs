@@ -3,6 +3,7 @@
 //! the torch height), the full cut cycle, every error path, and a load
 //! through the host.
 
+mod actions;
 mod cycle;
 mod faults;
 mod host;
@@ -18,6 +19,9 @@ const PERIOD: i64 = 1_000_000;
 struct Bench {
     p: Plasmac,
     i: Inputs,
+    /// X and Y without the offsets.
+    base_x: f64,
+    base_y: f64,
     /// Machine Z of the top of the stock.
     surface: f64,
     /// Torch travel before the float switch trips.
@@ -71,6 +75,8 @@ impl Bench {
         Bench {
             p: Plasmac::default(),
             i,
+            base_x: 0.0,
+            base_y: 0.0,
             surface: -50.0,
             travel: 0.5,
             volts_error: 0.0,
@@ -93,6 +99,8 @@ impl Bench {
         self.i.x_offset_current = f64::from(self.p.o.x_offset_counts) * scale;
         self.i.y_offset_current = f64::from(self.p.o.y_offset_counts) * scale;
         self.i.axis_z_position = self.i.z_offset_current;
+        self.i.axis_x_position = self.base_x + self.i.x_offset_current;
+        self.i.axis_y_position = self.base_y + self.i.y_offset_current;
         self.i.float_switch = self.z() <= self.surface - self.travel;
         let lit = self.p.o.torch_on && !self.arc_dead;
         self.i.arc_ok_in = lit;
