@@ -205,3 +205,20 @@ fn torch_pulse_fires_for_its_time() {
     b.until_state(20, State::Idle);
     assert!(!b.p.o.torch_on);
 }
+
+#[test]
+fn mode_0_takes_arc_ok_from_the_voltage_window() {
+    let mut b = Bench::new();
+    b.i.mode = 0;
+    b.i.arc_ok_low = 60.0;
+    b.i.arc_ok_high = 250.0;
+    b.i.ok_sample_counts = 3;
+    b.i.ok_sample_threshold = 10.0;
+    b.cut();
+    assert!(b.p.o.arc_ok_out);
+    assert!(b.faults.is_empty(), "{:?}", b.faults);
+    // A voltage out of the window is a lost arc.
+    b.volts_error = 200.0;
+    b.until_state(100, State::MaxHeight);
+    assert_eq!(b.faults, [Fault::ArcLost]);
+}
