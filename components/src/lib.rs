@@ -29,7 +29,7 @@
 //! * `toolchange`: carousel. `motor`: bldc, clarke2, clarke3, clarkeinv.
 //! * `offsets`: moveoff, eoffset_per_angle. `joints`: gantry,
 //!   differential, corexy_by_hal.
-//! * `plasma`: thc, thcud, ohmic. `laser`: laserpower.
+//! * `plasma`: thc, thcud, ohmic, plasmac. `laser`: laserpower.
 //! * `panel`: xhc_hb04_util, anglejog, message, matrix_kb,
 //!   sim_matrix_kb. `stats`: histobins, latencybins.
 //! * In the families above as well: match8, lut5, maj3, tristate_bit,

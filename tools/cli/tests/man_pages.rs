@@ -241,6 +241,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "sim-torch",
+            help(
+                "the simulated plasma torch of QtPlasmaC's sim configurations",
+                hal_launcher::sim_torch::USAGE,
+                &["linuxcnc(1)", "plasmac(9)"],
+            ),
+        ),
+        (
             "latency-test",
             help(
                 "measure how late HAL threads wake up",

@@ -314,6 +314,12 @@ pub enum LaunchError {
         /// What is wrong.
         why: String,
     },
+    /// sim-torch's command line.
+    #[error("sim-torch: {why}")]
+    SimTorchUsage {
+        /// What is wrong.
+        why: String,
+    },
     /// `[TRAJ]POSITION_FILE` does not hold 16 finite positions.
     #[error("{}: joint {joint}: {why} (positions not restored)", .path.display())]
     PositionFile {

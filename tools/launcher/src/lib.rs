@@ -6,7 +6,8 @@
 //! [`part_program`] runs G-code through the interpreter on a live motion
 //! controller (`gcode-run`). [`halui`] is LinuxCNC's HAL user interface,
 //! a client of task. [`zlevel`] is `z_level_compensation`, the Z offset
-//! from a probed surface map.
+//! from a probed surface map. [`sim_torch`] is `sim-torch`, the simulated
+//! plasma torch of LinuxCNC's QtPlasmaC sim configurations.
 
 #![forbid(unsafe_code)]
 
@@ -23,6 +24,7 @@ pub mod part_program;
 mod position_file;
 mod program;
 mod rules;
+pub mod sim_torch;
 mod task;
 mod task_manual;
 mod task_motion;
