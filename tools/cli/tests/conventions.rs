@@ -148,6 +148,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: Some(&[]),
     },
+    InstanceTool {
+        bin: "sim-torch",
+        short: false,
+        attach: Some(&[]),
+    },
 ];
 
 /// Runs `exe args` in a scratch directory, with no standard input and an
