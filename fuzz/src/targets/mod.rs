@@ -55,4 +55,5 @@ crate::register_targets! {
     motion_command_line,
     motion_records,
     web_request,
+    raster_program,
 }
