@@ -237,6 +237,12 @@ impl Inst<'_, '_> {
         self.b.component().pin(&self.item(item))
     }
 
+    /// An input pin `<prefix>.<item>` of type `port`: the reading end of
+    /// a byte stream.
+    pub fn port_in(&mut self, item: &str) -> Result<hal_core::PortIn> {
+        self.b.component().port_in(&self.item(item))
+    }
+
     /// An input pin with a default.
     pub fn pin_in_init<T: PinValue>(&mut self, item: &str, init: T) -> Result<Pin<T, In>> {
         self.b.component().pin_init(&self.item(item), init)

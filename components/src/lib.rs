@@ -80,6 +80,8 @@ mod timing;
 mod toolchange;
 
 pub use error::CompError;
+/// The `raster_program` fuzz target's body (the bytes of raster's port).
+pub use laser::raster::fuzz_program as fuzz_raster_program;
 
 use hal_core::ModuleDef;
 

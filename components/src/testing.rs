@@ -206,6 +206,7 @@ fn parse_value(t: hal_core::HalType, s: &str) -> Value {
         T::U32 => Value::U32(num(t, s)),
         T::S64 => Value::S64(num(t, s)),
         T::U64 => Value::U64(num(t, s)),
+        T::Port => Value::Port(num(t, s)),
     }
 }
 

@@ -103,6 +103,44 @@ pub enum HalError {
         /// The I/O pin refused.
         pin: String,
     },
+    /// A second input pin, or an I/O pin, would join a port signal: a
+    /// port carries bytes from one writer to one reader.
+    #[error("port signal '{signal}' takes one output and one input pin, cannot add pin '{pin}'")]
+    PortSignalFull {
+        /// The signal.
+        signal: String,
+        /// The pin refused.
+        pin: String,
+    },
+    /// `sets` on a port signal whose buffer is made already.
+    #[error("port is already allocated with {size} bytes.")]
+    PortAllocated {
+        /// The signal.
+        signal: String,
+        /// The size of its buffer.
+        size: u32,
+    },
+    /// `sets` on a port signal with a size out of range.
+    #[error("port size {size} is too large (at most {max} bytes)")]
+    BadPortSize {
+        /// The size asked for.
+        size: u32,
+        /// The largest allowed.
+        max: u32,
+    },
+    /// A parameter, or a pin made as a plain value, of type `port`: a
+    /// port is only ever a pin made with `port_in`/`port_out`.
+    #[error("'{name}' cannot be a port: only port pins (port_in, port_out) carry one")]
+    NotAPortMaker {
+        /// The pin or parameter.
+        name: String,
+    },
+    /// `setp` on a port pin: a port's buffer belongs to its signal.
+    #[error("pin '{pin}' is a port: size its signal with sets instead")]
+    PortPinSet {
+        /// The pin.
+        pin: String,
+    },
     /// The pin is linked to a signal already; `unlinkp` it first.
     #[error("pin '{pin}' is already linked to signal '{signal}'")]
     PinAlreadyLinked {

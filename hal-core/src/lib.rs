@@ -25,6 +25,7 @@ pub mod module;
 pub mod name;
 mod objects;
 pub mod paths;
+mod port;
 mod ring;
 mod rtlog;
 mod seqlock;
@@ -50,6 +51,7 @@ pub use objects::{
     ComponentKind, FunctInfo, HalStatistics, Instance, ParamInfo, PinInfo, Region, RegionInfo,
     SignalInfo, ThreadInfo, ValueKind, ValueSet,
 };
+pub use port::{PortIn, PortOut, MAX_PORT_SIZE};
 pub use ring::{RingReader, RingWriter, MAX_TYPED_COLUMNS};
 pub use rtlog::{MsgLevel, RtLog};
 pub use seqlock::{SeqLockReader, SeqLockWriter};

@@ -18,10 +18,15 @@ pub enum HalType {
     S64,
     /// `u64`: an unsigned 64-bit integer.
     U64,
+    /// `port`: a one-way byte stream between an output and an input pin
+    /// ([`crate::PortIn`], [`crate::PortOut`]); its value is the size of
+    /// its signal's buffer.
+    Port,
 }
 
 impl HalType {
-    /// Every type, in LinuxCNC's order.
+    /// Every type that holds a value (every type but `port`), in
+    /// LinuxCNC's order: what parameters, rings and conversions take.
     pub const ALL: [HalType; 6] = [
         HalType::Bit,
         HalType::Float,
@@ -40,12 +45,16 @@ impl HalType {
             HalType::U32 => "u32",
             HalType::S64 => "s64",
             HalType::U64 => "u64",
+            HalType::Port => "port",
         }
     }
 
     /// Parses a halcmd type name.
     pub fn from_name(name: &str) -> Option<HalType> {
-        HalType::ALL.into_iter().find(|t| t.name() == name)
+        HalType::ALL
+            .into_iter()
+            .chain([HalType::Port])
+            .find(|t| t.name() == name)
     }
 
     pub(crate) fn code(self) -> u32 {
@@ -56,11 +65,15 @@ impl HalType {
             HalType::U32 => 4,
             HalType::S64 => 5,
             HalType::U64 => 6,
+            HalType::Port => 7,
         }
     }
 
     pub(crate) fn from_code(code: u32) -> Option<HalType> {
-        HalType::ALL.into_iter().find(|t| t.code() == code)
+        HalType::ALL
+            .into_iter()
+            .chain([HalType::Port])
+            .find(|t| t.code() == code)
     }
 }
 
@@ -159,6 +172,8 @@ pub enum Value {
     S64(i64),
     /// A `u64` value.
     U64(u64),
+    /// A `port`: the size in bytes of its signal's buffer (0: none yet).
+    Port(u32),
 }
 
 impl Value {
@@ -171,6 +186,7 @@ impl Value {
             Value::U32(_) => HalType::U32,
             Value::S64(_) => HalType::S64,
             Value::U64(_) => HalType::U64,
+            Value::Port(_) => HalType::Port,
         }
     }
 
@@ -188,6 +204,9 @@ impl Value {
             Value::U32(v) => v as u64,
             Value::S64(v) => v as u64,
             Value::U64(v) => v,
+            // A buffer's place is the segment's business: the value says
+            // only its size.
+            Value::Port(size) => u64::from(size),
         }
     }
 
@@ -201,6 +220,7 @@ impl Value {
             HalType::U32 => Value::U32(bits as u32),
             HalType::S64 => Value::S64(bits as i64),
             HalType::U64 => Value::U64(bits),
+            HalType::Port => Value::Port(bits as u32),
         }
     }
 }
@@ -245,7 +265,7 @@ mod tests {
 
     #[test]
     fn codes_round_trip() {
-        for t in HalType::ALL {
+        for t in HalType::ALL.into_iter().chain([HalType::Port]) {
             assert_eq!(HalType::from_code(t.code()), Some(t));
             assert_eq!(HalType::from_name(t.name()), Some(t));
         }

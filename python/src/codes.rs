@@ -4,8 +4,7 @@
 
 use hal_core::{HalType, ParamDir, PinDir};
 
-/// `HAL_BIT` and the other type constants, in LinuxCNC's numbering (5 is
-/// `HAL_PORT`, which this HAL does not have).
+/// `HAL_BIT` and the other type constants, in LinuxCNC's numbering.
 pub(crate) const TYPES: [(&str, i32); 7] = [
     ("HAL_BIT", 1),
     ("HAL_FLOAT", 2),
@@ -31,14 +30,15 @@ pub(crate) const STREAMER_BASE: i32 = 0x4853_5430;
 /// Key of sampler channel 0; channel n is this plus n (LinuxCNC's).
 pub(crate) const SAMPLER_BASE: i32 = 0x4853_4130;
 
-/// The HAL type of a LinuxCNC type number; `None` for `HAL_PORT` and
-/// numbers that are no type.
+/// The HAL type of a LinuxCNC type number; `None` for numbers that are
+/// no type.
 pub(crate) fn hal_type(code: i64) -> Option<HalType> {
     match code {
         1 => Some(HalType::Bit),
         2 => Some(HalType::Float),
         3 => Some(HalType::S32),
         4 => Some(HalType::U32),
+        5 => Some(HalType::Port),
         6 => Some(HalType::S64),
         7 => Some(HalType::U64),
         _ => None,
@@ -52,6 +52,7 @@ pub(crate) fn type_code(t: HalType) -> i32 {
         HalType::Float => 2,
         HalType::S32 => 3,
         HalType::U32 => 4,
+        HalType::Port => 5,
         HalType::S64 => 6,
         HalType::U64 => 7,
     }
@@ -64,6 +65,7 @@ pub(crate) fn type_label(t: HalType) -> &'static str {
         HalType::Float => "FLOAT",
         HalType::S32 => "S32",
         HalType::U32 => "U32",
+        HalType::Port => "PORT",
         HalType::S64 => "S64",
         HalType::U64 => "U64",
     }
@@ -76,6 +78,8 @@ pub(crate) fn type_letter(t: HalType) -> u8 {
         HalType::Float => b'f',
         HalType::S32 => b's',
         HalType::U32 => b'u',
+        // No stream carries a port; the letter only names it.
+        HalType::Port => b'p',
         HalType::S64 => b'l',
         HalType::U64 => b'k',
     }

@@ -86,6 +86,11 @@ pub(crate) fn to_value(obj: &Bound<'_, PyAny>, t: HalType) -> PyResult<Value> {
         HalType::S64 => Value::S64(long_long(obj)?),
         // Python raises OverflowError for a negative or too large int.
         HalType::U64 => Value::U64(as_int(obj)?.extract::<u64>()?),
+        // A port's value is its buffer's size.
+        HalType::Port => {
+            let v = long_long(obj)?;
+            Value::Port(u32::try_from(v).map_err(|_| out_of_range(v))?)
+        }
     })
 }
 
@@ -95,7 +100,7 @@ pub(crate) fn to_python(py: Python<'_>, v: Value) -> PyResult<Py<PyAny>> {
         Value::Bit(b) => b.into_py_any(py),
         Value::Float(f) => f.into_py_any(py),
         Value::S32(x) => x.into_py_any(py),
-        Value::U32(x) => x.into_py_any(py),
+        Value::U32(x) | Value::Port(x) => x.into_py_any(py),
         Value::S64(x) => x.into_py_any(py),
         Value::U64(x) => x.into_py_any(py),
     }

@@ -17,6 +17,8 @@ fn range(t: HalType) -> (i128, i128) {
         HalType::U64 => (0, u64::MAX as i128),
         // Only ever a source here; its range covers every target.
         HalType::Float => (i128::MIN, i128::MAX),
+        // No conversion takes or gives a port: nothing fits it.
+        HalType::Port => (0, 0),
     }
 }
 
@@ -46,6 +48,7 @@ fn num(v: Value) -> Num {
         Value::U32(x) => Num::Int(x as i128),
         Value::S64(x) => Num::Int(x as i128),
         Value::U64(x) => Num::Int(x as i128),
+        Value::Port(size) => Num::Int(size as i128),
     }
 }
 
@@ -59,7 +62,10 @@ pub fn c_convert(v: Value, to: HalType) -> Value {
             Value::U32(x) => x as f64,
             Value::S64(x) => x as f64,
             Value::U64(x) => x as f64,
+            Value::Port(size) => size as f64,
         }),
+        // No conversion gives a port.
+        (_, HalType::Port) => Value::Port(0),
         (Num::Int(i), HalType::Bit) => Value::Bit(i != 0),
         (Num::Int(i), HalType::S32) => Value::S32(i as i32),
         (Num::Int(i), HalType::U32) => Value::U32(i as u32),

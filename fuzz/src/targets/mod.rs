@@ -60,4 +60,5 @@ crate::register_targets! {
     motion_records,
     scope_rt_region,
     web_request,
+    raster_program,
 }

@@ -237,8 +237,31 @@ impl Component {
         Pin::new(&self.inst.seg, off)
     }
 
+    /// Creates an input pin of type `port`: the reading end of a byte
+    /// stream ([`crate::PortIn`]).
+    pub fn port_in(&self, name: &str) -> Result<crate::PortIn> {
+        let t = crate::types::HalType::Port;
+        let off = self.inst.new_pin(self.off, name, t, crate::PinDir::In, 0)?;
+        crate::PortIn::new(&self.inst.seg, off)
+    }
+
+    /// Creates an output pin of type `port`: the writing end of a byte
+    /// stream ([`crate::PortOut`]).
+    pub fn port_out(&self, name: &str) -> Result<crate::PortOut> {
+        let t = crate::types::HalType::Port;
+        let off = self
+            .inst
+            .new_pin(self.off, name, t, crate::PinDir::Out, 0)?;
+        crate::PortOut::new(&self.inst.seg, off)
+    }
+
     /// Creates a pin whose type is chosen at run time, initially zero.
     pub fn pin_raw<D: Direction>(&self, name: &str, t: crate::types::HalType) -> Result<RawPin<D>> {
+        if t == crate::types::HalType::Port {
+            return Err(crate::HalError::NotAPortMaker {
+                name: name.to_string(),
+            });
+        }
         let off = self.inst.new_pin(self.off, name, t, D::DIR, 0)?;
         RawPin::new(&self.inst.seg, off, t)
     }

@@ -89,6 +89,11 @@ pub(crate) fn new_param_tx(
     init: u64,
 ) -> Result<u64> {
     validate("param", name)?;
+    if t == HalType::Port {
+        return Err(HalError::NotAPortMaker {
+            name: name.to_string(),
+        });
+    }
     let seg = tx.seg();
     let h = tx.header();
     if find_param(seg, name)?.is_some() {

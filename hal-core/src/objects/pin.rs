@@ -53,7 +53,13 @@ pub(crate) fn unlink_tx(tx: &mut Txn<'_>, pin_off: u64) -> Result<()> {
     };
     tx.set(counter, counter.load(Relaxed).saturating_sub(1))?;
     let w = pin.words(seg)?;
-    tx.set(&w.second, cell.value.load(Relaxed))?;
+    // A pin keeps its signal's value; a port pin leaves the buffer with
+    // the signal, so that it stays between one writer and one reader.
+    let kept = match pin_type(seg, pin)? {
+        HalType::Port => 0,
+        _ => cell.value.load(Relaxed),
+    };
+    tx.set(&w.second, kept)?;
     tx.set(&w.first, seg.offset_of(&w.second))?;
     tx.set(&pin.signal, 0)?;
     // Off the signal's list of pins.
@@ -177,10 +183,22 @@ impl Instance {
                     pin: p.name.get(),
                 });
             }
+            let port = st == HalType::Port;
+            if port && (dir == PinDir::Io || (dir == PinDir::In && s.readers.load(Relaxed) > 0)) {
+                return Err(HalError::PortSignalFull {
+                    signal: s.name.get(),
+                    pin: p.name.get(),
+                });
+            }
             let cell: &CellRec = tx.rec(s.cell.load(Relaxed))?;
             // The first pin on a fresh signal (or an output joining readers
-            // only) gives the signal its initial value, as LinuxCNC does.
-            if (dir != PinDir::In || s.readers.load(Relaxed) == 0) && writers == 0 && bidirs == 0 {
+            // only) gives the signal its initial value, as LinuxCNC does;
+            // a port signal keeps its buffer.
+            if !port
+                && (dir != PinDir::In || s.readers.load(Relaxed) == 0)
+                && writers == 0
+                && bidirs == 0
+            {
                 tx.set(&cell.value, p.words(seg)?.second.load(Relaxed))?;
             }
             let counter = match dir {
@@ -230,6 +248,9 @@ impl Instance {
                     expected: value.hal_type(),
                     actual: t,
                 });
+            }
+            if t == HalType::Port {
+                return Err(HalError::PortPinSet { pin: p.name.get() });
             }
             if pin_dir(seg, p)? == PinDir::Out {
                 return Err(HalError::PinIsOutput { name: p.name.get() });

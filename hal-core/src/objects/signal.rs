@@ -193,10 +193,36 @@ impl Instance {
                 });
             }
             let cell: &CellRec = seg.rec(s.cell.load(Relaxed))?;
+            if let Value::Port(size) = value {
+                return size_port(tx, cell, name, size);
+            }
             cell.value.store(value.to_bits(), Relaxed);
             Ok(())
         })
     }
+}
+
+/// `sets` on a port signal: makes its buffer of `size` bytes, once.
+fn size_port(tx: &mut Txn<'_>, cell: &CellRec, name: &str, size: u32) -> Result<()> {
+    let current = Value::from_bits(HalType::Port, cell.value.load(Relaxed));
+    if let Value::Port(have @ 1..) = current {
+        return Err(HalError::PortAllocated {
+            signal: name.to_string(),
+            size: have,
+        });
+    }
+    // LinuxCNC takes a size of 0 and makes no buffer.
+    if size == 0 {
+        return Ok(());
+    }
+    if size > crate::port::MAX_PORT_SIZE {
+        return Err(HalError::BadPortSize {
+            size,
+            max: crate::port::MAX_PORT_SIZE,
+        });
+    }
+    let bits = crate::port::alloc(tx, size)?;
+    tx.set(&cell.value, bits)
 }
 
 fn delsig_tx(tx: &mut Txn<'_>, off: u64) -> Result<()> {

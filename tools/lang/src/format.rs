@@ -61,6 +61,8 @@ pub fn show_value(v: Value) -> String {
         Value::S64(x) => x.to_string(),
         Value::U32(x) => format!("0x{x:08X}"),
         Value::U64(x) => format!("0x{x:016X}"),
+        // The size of the port's buffer, in bytes.
+        Value::Port(x) => x.to_string(),
     }
 }
 

@@ -40,6 +40,11 @@ pub fn parse_value(t: HalType, text: &str) -> Result<Value, ValueError> {
         HalType::U64 => parse_c_uint(text)
             .map(Value::U64)
             .ok_or_else(|| int_error(text)),
+        // A port's value is the size of its buffer, as strtoul reads it.
+        HalType::Port => parse_c_uint(text)
+            .filter(|v| *v <= u64::from(u32::MAX))
+            .map(|v| Value::Port(v as u32))
+            .ok_or(ValueError::Invalid),
     }
 }
 

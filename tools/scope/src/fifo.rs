@@ -81,7 +81,7 @@ pub fn format_value(t: HalType, bits: u64) -> String {
         Value::Bit(b) => (b as u8).to_string(),
         Value::Float(f) => fmt_f(f),
         Value::S32(x) => x.to_string(),
-        Value::U32(x) => x.to_string(),
+        Value::U32(x) | Value::Port(x) => x.to_string(),
         Value::S64(x) => x.to_string(),
         Value::U64(x) => x.to_string(),
     }
@@ -185,6 +185,8 @@ pub fn parse_line(line: &str, cols: &[HalType]) -> Option<Result<Vec<u64>, Scope
                 Some(x) => Value::U64(x),
                 None => return Some(Err(bad())),
             },
+            // A ring column is never a port.
+            HalType::Port => return Some(Err(bad())),
         };
         record.push(v.to_bits());
         rest = &trimmed[end..];

@@ -47,6 +47,8 @@ unsafe fn load<T: PinValue>(p: *const c_void) -> T {
             HalType::Float | HalType::S64 | HalType::U64 => {
                 T::from_bits((*p.cast::<AtomicU64>()).load(Relaxed))
             }
+            // No value type is a port: nothing to read.
+            HalType::Port => T::from_bits(0),
         }
     }
 }
@@ -67,6 +69,8 @@ unsafe fn store<T: PinValue>(p: *const c_void, v: T) {
             HalType::Float | HalType::S64 | HalType::U64 => {
                 (*p.cast::<AtomicU64>()).store(bits, Relaxed)
             }
+            // No value type is a port: nothing to write.
+            HalType::Port => {}
         }
     }
 }

@@ -58,6 +58,8 @@ fn for_type<F: Copy>(table: &PerType<F>, t: HalType) -> Option<F> {
         HalType::U32 => Some(table.u32),
         HalType::S64 => table.s64,
         HalType::U64 => table.u64,
+        // Our modules make no port pins in LinuxCNC.
+        HalType::Port => None,
     }
 }
 

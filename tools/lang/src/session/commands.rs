@@ -138,6 +138,9 @@ impl Session<'_> {
             .map_err(|_| LangError::NoSignal {
                 name: name.to_string(),
             })?;
+        if t == HalType::Port {
+            return self.sets_port(name, value);
+        }
         let v = parse_value(t, value).map_err(|source| LangError::BadValue {
             what: "signal",
             name: name.to_string(),
@@ -150,6 +153,29 @@ impl Session<'_> {
             },
             other => other.into(),
         })
+    }
+
+    /// `sets` on a port signal: makes its buffer of VALUE bytes. As
+    /// LinuxCNC's, a refusal is reported at the line, then `sets failed`.
+    fn sets_port(&mut self, name: &str, value: &str) -> CmdResult {
+        let refused = match parse_value(HalType::Port, value) {
+            Err(_) => format!("value '{value}' invalid for PORT"),
+            Ok(size) => match self.inst.set_signal(name, size) {
+                Ok(()) => return Ok(()),
+                Err(HalError::SignalDriven { .. }) => {
+                    return Err(LangError::NotWritable {
+                        what: "signal",
+                        name: name.to_string(),
+                    })
+                }
+                Err(e @ (HalError::PortAllocated { .. } | HalError::BadPortSize { .. })) => {
+                    e.to_string()
+                }
+                Err(other) => return Err(other.into()),
+            },
+        };
+        self.report(&refused);
+        Err(LangError::halcmd("sets failed"))
     }
 
     /// `alias` and `unalias`: as LinuxCNC's do_alias_cmd, the library's

@@ -47,7 +47,7 @@ pub fn numeric(t: HalType, bits: u64) -> f64 {
         Value::Bit(b) => f64::from(u8::from(b)),
         Value::Float(f) => f,
         Value::S32(v) => f64::from(v),
-        Value::U32(v) => f64::from(v),
+        Value::U32(v) | Value::Port(v) => f64::from(v),
         Value::S64(v) => v as f64,
         Value::U64(v) => v as f64,
     }

@@ -70,7 +70,7 @@ fn vcd_value(t: HalType, bits: u64, id: &str) -> String {
         Value::Bit(b) => format!("{}{id}", u8::from(b)),
         Value::Float(f) => format!("r{f:?} {id}"),
         Value::S32(v) => format!("b{:b} {id}", v as u32),
-        Value::U32(v) => format!("b{v:b} {id}"),
+        Value::U32(v) | Value::Port(v) => format!("b{v:b} {id}"),
         Value::S64(v) => format!("b{:b} {id}", v as u64),
         Value::U64(v) => format!("b{v:b} {id}"),
     }
@@ -90,7 +90,7 @@ pub fn vcd(r: &Record) -> String {
         let (kind, width) = match t {
             HalType::Bit => ("wire", 1),
             HalType::Float => ("real", 64),
-            HalType::S32 | HalType::U32 => ("integer", 32),
+            HalType::S32 | HalType::U32 | HalType::Port => ("integer", 32),
             HalType::S64 | HalType::U64 => ("integer", 64),
         };
         let _ = writeln!(s, "$var {kind} {width} {} {name} $end", vcd_id(m));

@@ -52,7 +52,8 @@ fn cfg_letter(t: HalType) -> char {
         HalType::Bit => 'b',
         HalType::Float => 'f',
         HalType::S32 => 's',
-        HalType::U32 => 'u',
+        // A port is probed as the size of its buffer.
+        HalType::U32 | HalType::Port => 'u',
         HalType::S64 => 'l',
         HalType::U64 => 'k',
     }
