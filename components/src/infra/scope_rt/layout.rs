@@ -173,7 +173,8 @@ impl Fault {
     }
 }
 
-/// A type's code in [`w::CHAN_TYPE`] (LinuxCNC's numbering).
+/// A type's code in [`w::CHAN_TYPE`] (this layout's own numbering; a
+/// port is sampled as the size of its buffer).
 pub fn type_code(t: HalType) -> u64 {
     match t {
         HalType::Bit => 1,
@@ -182,6 +183,7 @@ pub fn type_code(t: HalType) -> u64 {
         HalType::U32 => 4,
         HalType::S64 => 5,
         HalType::U64 => 6,
+        HalType::Port => 7,
     }
 }
 
@@ -194,6 +196,7 @@ pub fn type_of(code: u64) -> Option<HalType> {
         4 => HalType::U32,
         5 => HalType::S64,
         6 => HalType::U64,
+        7 => HalType::Port,
         _ => return None,
     })
 }
@@ -204,7 +207,7 @@ pub fn numeric(t: HalType, bits: u64) -> f64 {
         Value::Bit(b) => f64::from(u8::from(b)),
         Value::Float(f) => f,
         Value::S32(v) => f64::from(v),
-        Value::U32(v) => f64::from(v),
+        Value::U32(v) | Value::Port(v) => f64::from(v),
         Value::S64(v) => v as f64,
         Value::U64(v) => v as f64,
     }
