@@ -499,7 +499,7 @@ pub enum Hm2Error {
         /// The value given.
         value: String,
         /// Why.
-        reason: String,
+        reason: crate::setsserial::ValueProblem,
     },
     /// Only Mesa's .BIN remote firmware files are flashed.
     #[error(

@@ -228,7 +228,7 @@ fn set(instance: &str, target: &str, value: &str) -> Result<String> {
     let writable = if rec.is_out() {
         Ok(())
     } else {
-        Err("the remote only reports this parameter".to_string())
+        Err(ValueProblem::ReadOnly)
     };
     let raw = writable
         .and_then(|()| raw_value(rec, value))
@@ -265,30 +265,64 @@ fn set(instance: &str, target: &str, value: &str) -> Result<String> {
     ))
 }
 
+/// Why a value cannot be written to a global.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ValueProblem {
+    /// The remote only reports the global.
+    #[error("the remote only reports this parameter")]
+    ReadOnly,
+    /// A float global and no finite number.
+    #[error("not a finite number")]
+    NotFinite,
+    /// A float global of a width other than 32 or 64 bits.
+    #[error("a float of {bits} bits cannot be written")]
+    FloatWidth {
+        /// The global's width.
+        bits: u32,
+    },
+    /// An integer global and no integer.
+    #[error("not a decimal or 0x hex integer")]
+    NotInteger,
+    /// An integer the global's width and sign cannot hold.
+    #[error("outside {}..={} ({bits} bits)", range_of(*signed, *bits).0, range_of(*signed, *bits).1)]
+    OutOfRange {
+        /// Whether the global is signed.
+        signed: bool,
+        /// The global's width (1 to 64).
+        bits: u32,
+    },
+}
+
+/// The values a global of `bits` bits takes.
+fn range_of(signed: bool, bits: u32) -> (i128, i128) {
+    let bits = bits.clamp(1, 64);
+    if signed {
+        (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
+    } else {
+        (0, (1i128 << bits) - 1)
+    }
+}
+
 /// The raw bits `value` gives global `r`.
-fn raw_value(r: &DataRecord, value: &str) -> std::result::Result<u64, String> {
+fn raw_value(r: &DataRecord, value: &str) -> std::result::Result<u64, ValueProblem> {
     let bits = r.bits.clamp(1, 64) as u32;
     if matches!(r.data_type, dt::FLOAT | dt::NV_FLOAT) {
         let v: f64 = value
             .parse()
             .ok()
             .filter(|v: &f64| v.is_finite())
-            .ok_or("not a finite number")?;
+            .ok_or(ValueProblem::NotFinite)?;
         return match bits {
             32 => Ok((v as f32).to_bits() as u64),
             64 => Ok(v.to_bits()),
-            b => Err(format!("a float of {b} bits cannot be written")),
+            bits => Err(ValueProblem::FloatWidth { bits }),
         };
     }
-    let v = command::parse_int(value).ok_or("not a decimal or 0x hex integer")?;
+    let v = command::parse_int(value).ok_or(ValueProblem::NotInteger)?;
     let signed = matches!(r.data_type, dt::SIGNED | dt::NV_SIGNED);
-    let (lo, hi) = if signed {
-        (-(1i128 << (bits - 1)), (1i128 << (bits - 1)) - 1)
-    } else {
-        (0, (1i128 << bits) - 1)
-    };
+    let (lo, hi) = range_of(signed, bits);
     if !(lo..=hi).contains(&v) {
-        return Err(format!("outside {lo}..={hi} ({bits} bits)"));
+        return Err(ValueProblem::OutOfRange { signed, bits });
     }
     let mask = if bits == 64 {
         u64::MAX

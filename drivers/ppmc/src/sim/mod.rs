@@ -65,6 +65,23 @@ fn servo(counts_per_volt: f64, tau: f64) -> DcMotor {
     })
 }
 
+/// Why a `sim=` item names no bus of boards.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SimSpecError {
+    /// A revision that is not 1 to 14.
+    #[error("'{0}' is not a firmware revision (1..14)")]
+    Revision(String),
+    /// A name that is no simulated board.
+    #[error(
+        "'{0}' is not a simulated board (encoder, dac, dio, usc, upc, or ppmc for \
+         encoder+dac+dio; a revision may follow, as upc:2)"
+    )]
+    Board(String),
+    /// More boards than a bus has slots.
+    #[error("these boards need {0} slots; a bus has {SLOTS}")]
+    Slots(usize),
+}
+
 /// The boards `sim=` puts on one bus.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SimSpec {
@@ -78,7 +95,7 @@ impl SimSpec {
     /// optional firmware revision (`upc:2`). Without one a board has the
     /// newest revision this driver knows (encoder 4, DAC 1, DIO 2, USC 3,
     /// UPC 4).
-    pub fn parse(text: &str) -> Result<SimSpec, String> {
+    pub fn parse(text: &str) -> Result<SimSpec, SimSpecError> {
         let mut boards = Vec::new();
         for word in text.split('+').map(str::trim) {
             let (name, rev) = match word.split_once(':') {
@@ -87,7 +104,7 @@ impl SimSpec {
                         .parse::<u8>()
                         .ok()
                         .filter(|r| (1..=14).contains(r))
-                        .ok_or_else(|| format!("'{r}' is not a firmware revision (1..14)"))?;
+                        .ok_or_else(|| SimSpecError::Revision(r.to_string()))?;
                     (n, Some(rev))
                 }
                 None => (word, None),
@@ -99,12 +116,7 @@ impl SimSpec {
                 "usc" => &[(Kind::Usc, 3)],
                 "upc" => &[(Kind::Upc, 4)],
                 "ppmc" if rev.is_none() => &[(Kind::Encoder, 4), (Kind::Dac, 1), (Kind::Dio, 2)],
-                _ => {
-                    return Err(format!(
-                        "'{name}' is not a simulated board (encoder, dac, dio, usc, upc, or ppmc \
-                         for encoder+dac+dio; a revision may follow, as upc:2)"
-                    ))
-                }
+                _ => return Err(SimSpecError::Board(name.to_string())),
             };
             boards.extend(kinds.iter().map(|&(kind, r)| BoardId {
                 kind,
@@ -113,9 +125,7 @@ impl SimSpec {
         }
         let slots: usize = boards.iter().map(|b| b.slots()).sum();
         if slots > SLOTS {
-            return Err(format!(
-                "these boards need {slots} slots; a bus has {SLOTS}"
-            ));
+            return Err(SimSpecError::Slots(slots));
         }
         Ok(SimSpec { boards })
     }
