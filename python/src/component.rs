@@ -279,7 +279,9 @@ impl PyComponent {
     /// Creates a pin: `newpin(name, type, dir)`.
     fn newpin(&self, name: &str, hal_type: i32, dir: i32) -> PyResult<PyItem> {
         self.new_item(name, "pin", |comp, full| {
+            // Python components make no port pins, as in LinuxCNC 2.9.
             let t = codes::hal_type(hal_type as i64)
+                .filter(|t| *t != hal_core::HalType::Port)
                 .ok_or_else(|| error::new_err(format!("Invalid pin type {hal_type}")))?;
             let d = codes::pin_dir(dir as i64)
                 .ok_or_else(|| error::new_err(format!("Invalid pin direction {dir}")))?;
@@ -300,6 +302,7 @@ impl PyComponent {
     fn newparam(&self, name: &str, hal_type: i32, dir: i32) -> PyResult<PyItem> {
         self.new_item(name, "parameter", |comp, full| {
             let t = codes::hal_type(hal_type as i64)
+                .filter(|t| *t != hal_core::HalType::Port)
                 .ok_or_else(|| error::new_err(format!("Invalid param type {hal_type}")))?;
             let d = codes::param_dir(dir as i64)
                 .ok_or_else(|| error::new_err(format!("Invalid param direction {dir}")))?;

@@ -72,7 +72,10 @@ pub(crate) fn component_is_ready(name: &str) -> PyResult<bool> {
 #[pyfunction]
 pub(crate) fn new_sig(name: &str, hal_type: i32) -> PyResult<bool> {
     let t =
-        codes::hal_type(hal_type as i64).ok_or_else(|| runtime("not a valid HAL signal type"))?;
+        // Ports are made with halcmd (`newsig NAME port`), not from Python.
+        codes::hal_type(hal_type as i64)
+            .filter(|t| *t != hal_core::HalType::Port)
+            .ok_or_else(|| runtime("not a valid HAL signal type"))?;
     Ok(instance()?.newsig(name, t).is_err())
 }
 

@@ -9,47 +9,9 @@
 
 mod common;
 
-use std::path::PathBuf;
-use std::process::Command;
-
 use hal_host::testing::InProcessHost;
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(common::instance(tag));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn halscope(instance: &str, args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_halscope"))
-        .args(args)
-        .env("HAL_INSTANCE", instance)
-        .output()
-        .expect("halscope runs");
-    (
-        out.status.success(),
-        format!(
-            "{}{}",
-            String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
-        ),
-    )
-}
-
-/// CSV rows as (sample tag, time, values as text).
-fn csv_rows(text: &str) -> Vec<(u32, f64, Vec<String>)> {
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
-            (
-                f[0].parse().unwrap(),
-                f[1].parse().unwrap(),
-                f[2..].iter().map(|s| s.to_string()).collect(),
-            )
-        })
-        .collect()
-}
+use common::scope::{csv_rows, halscope, temp_dir};
 
 /// siggen at 50 Hz in a 1 ms thread, scope_rt's function after it.
 fn setup(num_samples: &str) -> String {

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod bins;
+pub mod scope;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
