@@ -10,6 +10,8 @@
 //! * [`handoff`]: the program's way from the loader to the module.
 //! * `fuzzing` (feature `fuzzing`): the `.clp` fuzz-target body.
 
+#![forbid(unsafe_code)]
+
 pub mod clp;
 pub mod compile;
 mod error;
