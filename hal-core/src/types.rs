@@ -57,7 +57,11 @@ impl HalType {
             .find(|t| t.name() == name)
     }
 
-    pub(crate) fn code(self) -> u32 {
+    /// The type's number in the segment's records and in the layouts
+    /// other shared structures build on them (1 bit, 2 float, 3 s32,
+    /// 4 u32, 5 s64, 6 u64, 7 port). Not LinuxCNC's numbering, which
+    /// puts the port at 5.
+    pub fn code(self) -> u32 {
         match self {
             HalType::Bit => 1,
             HalType::Float => 2,
@@ -69,7 +73,8 @@ impl HalType {
         }
     }
 
-    pub(crate) fn from_code(code: u32) -> Option<HalType> {
+    /// The type numbered `code` by [`HalType::code`].
+    pub fn from_code(code: u32) -> Option<HalType> {
         HalType::ALL
             .into_iter()
             .chain([HalType::Port])

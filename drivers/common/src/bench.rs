@@ -104,3 +104,24 @@ pub fn print_functions(title: &str, times: &[FunctTime], reads: usize) {
         totals[0], totals[1]
     );
 }
+
+/// Runs `bench` for every case and says on stderr which failed and why.
+/// A case that cannot run fails the benchmark (exit status 1): it is
+/// never passed over as if it had been measured.
+pub fn run_cases<C, E: std::fmt::Display>(
+    cases: impl IntoIterator<Item = (String, C)>,
+    mut bench: impl FnMut(&str, C) -> Result<(), E>,
+) -> std::process::ExitCode {
+    let mut failed = 0;
+    for (label, case) in cases {
+        if let Err(e) = bench(&label, case) {
+            eprintln!("  {label}: failed: {e}");
+            failed += 1;
+        }
+    }
+    if failed == 0 {
+        std::process::ExitCode::SUCCESS
+    } else {
+        std::process::ExitCode::FAILURE
+    }
+}

@@ -32,22 +32,36 @@ fn board(tag: &str, core: &[&str]) -> (Host, Arc<SimHm2>) {
     (h, sim)
 }
 
-/// `loadrt setsserial` with `args`; the error's whole text on failure.
-fn setsserial(h: &Host, args: &[&str]) -> Result<(), String> {
-    let r = h.loadrt(&SETSSERIAL_MODULE, args).map_err(|e| {
-        let mut text = e.to_string();
-        let mut src = std::error::Error::source(&e);
-        while let Some(s) = src {
-            text.push_str(" / ");
-            text.push_str(&s.to_string());
-            src = s.source();
-        }
-        text
-    });
-    if r.is_ok() {
-        h.unloadrt("setsserial").unwrap();
+/// Why `loadrt setsserial` failed: the host's error, shown with every
+/// cause below it (the step and the board's reason) on one line.
+#[derive(Debug, thiserror::Error)]
+#[error("{}", whole_text(.0))]
+struct Refused(#[source] hal_core::HalError);
+
+impl Refused {
+    /// Whether the whole text says `what`.
+    fn contains(&self, what: &str) -> bool {
+        self.to_string().contains(what)
     }
-    r
+}
+
+/// `e` and its causes, joined by " / ".
+fn whole_text(e: &hal_core::HalError) -> String {
+    let mut text = e.to_string();
+    let mut src = std::error::Error::source(e);
+    while let Some(s) = src {
+        text.push_str(" / ");
+        text.push_str(&s.to_string());
+        src = s.source();
+    }
+    text
+}
+
+/// `loadrt setsserial` with `args`, unloaded again when it loaded.
+fn setsserial(h: &Host, args: &[&str]) -> Result<(), Refused> {
+    h.loadrt(&SETSSERIAL_MODULE, args).map_err(Refused)?;
+    h.unloadrt("setsserial").unwrap();
+    Ok(())
 }
 
 fn global(sim: &SimHm2, chan: usize, name: &str) -> Option<u32> {
@@ -147,7 +161,7 @@ fn flash_args(dir: &Path, remote: &str, file: &str) -> Vec<String> {
     ]
 }
 
-fn flash(h: &Host, dir: &Path, remote: &str, file: &str) -> Result<(), String> {
+fn flash(h: &Host, dir: &Path, remote: &str, file: &str) -> Result<(), Refused> {
     let args = flash_args(dir, remote, file);
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     setsserial(h, &args)

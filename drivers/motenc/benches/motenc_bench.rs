@@ -12,17 +12,16 @@
 use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
-use hal_driver::bench::{hal_functions, print_functions};
+use hal_driver::bench::{hal_functions, print_functions, run_cases};
 
 const READS: [&str; 4] = ["encoder-read", "digital-in-read", "adc-read", "misc-update"];
 const WRITES: [&str; 2] = ["dac-write", "digital-out-write"];
 
-fn main() {
-    for (kind, tag) in [("100", "MOTENC-100"), ("lite", "MOTENC-Lite")] {
-        if let Err(e) = bench(kind, tag) {
-            println!("  {tag}: skipped ({e})");
-        }
-    }
+fn main() -> std::process::ExitCode {
+    let cases = [("100", "MOTENC-100"), ("lite", "MOTENC-Lite")];
+    run_cases(cases.map(|(k, t)| (t.to_string(), k)), |tag, kind| {
+        bench(kind, tag)
+    })
 }
 
 fn bench(kind: &str, tag: &str) -> hal_core::Result<()> {

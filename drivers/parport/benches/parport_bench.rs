@@ -11,6 +11,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
+use hal_driver::bench::run_cases;
 use hal_parport::cfg::Mode;
 use hal_parport::clock::MonotonicClock;
 use hal_parport::driver::{Outputs, PortDriver};
@@ -33,7 +34,7 @@ fn driver(mode: Mode) -> PortDriver {
     d
 }
 
-fn main() {
+fn main() -> std::process::ExitCode {
     println!("hal_parport on the simulator ({N} calls each)");
     let out = driver(Mode::Out);
     per_call("read, out mode (status)", |_| {
@@ -63,9 +64,9 @@ fn main() {
         }));
         out.reset(0, 1_000_000);
     });
-    if let Err(e) = hal_functions() {
-        println!("  (HAL function timing skipped: {e})");
-    }
+    run_cases([("HAL function timing".to_string(), ())], |_, ()| {
+        hal_functions()
+    })
 }
 
 /// Runs `parport.0.read` and `.write` in a 100 us thread and prints the

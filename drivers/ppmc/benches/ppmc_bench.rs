@@ -14,10 +14,10 @@
 use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
-use hal_driver::bench::{hal_functions, print_functions};
+use hal_driver::bench::{hal_functions, print_functions, run_cases};
 
-fn main() {
-    for (label, args) in [
+fn main() -> std::process::ExitCode {
+    let cases = [
         ("PPMC set", &["sim=ppmc"][..]),
         (
             "USC + UPC",
@@ -28,11 +28,8 @@ fn main() {
                 "timestamp=0x02",
             ],
         ),
-    ] {
-        if let Err(e) = bench(label, args) {
-            println!("  {label}: skipped ({e})");
-        }
-    }
+    ];
+    run_cases(cases.map(|(l, a)| (l.to_string(), a)), bench)
 }
 
 fn bench(label: &str, args: &[&str]) -> hal_core::Result<()> {

@@ -13,17 +13,13 @@
 use std::time::Duration;
 
 use hal_core::{Host, HostConfig, Value};
-use hal_driver::bench::{hal_functions, print_functions};
+use hal_driver::bench::{hal_functions, print_functions, run_cases};
 
 const READS: [&str; 3] = ["capture-position", "read-adcs", "di-read"];
 const WRITES: [&str; 2] = ["write-dacs", "do-write"];
 
-fn main() {
-    for model in [1, 2] {
-        if let Err(e) = bench(model) {
-            println!("  Model {model}: skipped ({e})");
-        }
-    }
+fn main() -> std::process::ExitCode {
+    run_cases([1u8, 2].map(|m| (format!("Model {m}"), m)), |_, m| bench(m))
 }
 
 fn bench(model: u8) -> hal_core::Result<()> {

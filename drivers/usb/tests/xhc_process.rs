@@ -10,16 +10,9 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use hal_core::{Host, HostConfig, Instance, Value};
+use hal_driver::testing::wait;
 
 const PATIENCE: Duration = Duration::from_secs(60);
-
-fn wait_for(what: &str, mut cond: impl FnMut() -> bool) {
-    let end = Instant::now() + PATIENCE;
-    while !cond() {
-        assert!(Instant::now() < end, "timed out waiting for {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
 
 /// The driver's process, killed if the test ends early.
 struct Proc(Child);
@@ -65,7 +58,7 @@ fn without_a_pendant_the_pins_exist_and_step_sizes_work() {
         .spawn()
         .unwrap();
     let mut p = Proc(child);
-    wait_for("xhc-hb04 ready", || {
+    wait("xhc-hb04 ready", || {
         inst.component("xhc-hb04").unwrap().is_some_and(|c| c.ready)
     });
     let get = |pin: &str| inst.pin_value(&format!("xhc-hb04.{pin}")).unwrap();
@@ -88,7 +81,7 @@ fn without_a_pendant_the_pins_exist_and_step_sizes_work() {
         inst.pin_value(&format!("xhc-hb04.{pin}")).unwrap();
     }
     // Sequence 4 is 1, 5, 10, 20, 50, 100: up twice, down three times.
-    wait_for("the first step size", || get("stepsize") == Value::S32(1));
+    wait("the first step size", || get("stepsize") == Value::S32(1));
     let pulse = |pin: &str| {
         let name = format!("xhc-hb04.{pin}");
         inst.set_pin(&name, Value::Bit(true)).unwrap();
@@ -98,12 +91,12 @@ fn without_a_pendant_the_pins_exist_and_step_sizes_work() {
     };
     pulse("stepsize-up");
     pulse("stepsize-up");
-    wait_for("step size 10", || get("stepsize") == Value::S32(10));
+    wait("step size 10", || get("stepsize") == Value::S32(10));
     assert_eq!(get("jog.scale"), Value::Float(0.01));
     for _ in 0..3 {
         pulse("stepsize-down");
     }
-    wait_for("step size 100 (wrapped)", || {
+    wait("step size 100 (wrapped)", || {
         get("stepsize") == Value::S32(100)
     });
     assert_eq!(p.terminate(), 0);

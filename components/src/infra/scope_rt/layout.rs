@@ -173,32 +173,14 @@ impl Fault {
     }
 }
 
-/// A type's code in [`w::CHAN_TYPE`] (this layout's own numbering; a
-/// port is sampled as the size of its buffer).
+/// A type's code in [`w::CHAN_TYPE`]: the segment's own numbering.
 pub fn type_code(t: HalType) -> u64 {
-    match t {
-        HalType::Bit => 1,
-        HalType::Float => 2,
-        HalType::S32 => 3,
-        HalType::U32 => 4,
-        HalType::S64 => 5,
-        HalType::U64 => 6,
-        HalType::Port => 7,
-    }
+    u64::from(t.code())
 }
 
 /// The type a code names, if any.
 pub fn type_of(code: u64) -> Option<HalType> {
-    Some(match code {
-        1 => HalType::Bit,
-        2 => HalType::Float,
-        3 => HalType::S32,
-        4 => HalType::U32,
-        5 => HalType::S64,
-        6 => HalType::U64,
-        7 => HalType::Port,
-        _ => return None,
-    })
+    u32::try_from(code).ok().and_then(HalType::from_code)
 }
 
 /// A sample's value as a number (a bit as 0 or 1), for the trigger.
@@ -471,7 +453,7 @@ impl Status {
                 .push(type_of(code).ok_or_else(|| CompError::ScopeShm {
                     field: "a channel type",
                     value: code,
-                    expected: "expected 1 to 6".into(),
+                    expected: "expected 1 to 7".into(),
                 })?);
         }
         self.samples = within(
