@@ -143,6 +143,12 @@ impl<T: PinValue, D: Direction> Pin<T, D> {
         self.seg.cells().cell(unsafe { &*self.slot })
     }
 
+    /// The mapping the pin lives in (for handles built on a pin, as the
+    /// port handles are).
+    pub(crate) fn segment(&self) -> &Segment {
+        &self.seg
+    }
+
     /// The pin's slot (for the executor's timing outputs).
     pub(crate) fn slot(&self) -> &AtomicU64 {
         // SAFETY: as in `cell`.

@@ -20,7 +20,8 @@ use std::sync::atomic::{AtomicU64, Ordering::*};
 use std::sync::Arc;
 
 use crate::error::{HalError, Result};
-use crate::shm::{BlobRec, PinRec, Segment, Txn};
+use crate::handles::{Direction, In, Out, Pin};
+use crate::shm::{BlobRec, Segment, Txn};
 
 /// The largest buffer `sets` makes (bytes): a port's bytes come out of
 /// the instance's segment, which is a few MiB.
@@ -138,39 +139,26 @@ impl Buffer<'_> {
     }
 }
 
-/// What both port handles hold: the pin's slot and the mapping.
-struct PortPin {
-    slot: *const AtomicU64,
-    seg: Arc<Segment>,
-}
+/// What both port handles hold: the pin, whose cell (its signal's, once
+/// linked) names the buffer.
+struct PortPin<D: Direction>(Pin<u64, D>);
 
-// SAFETY: the handle performs only atomic accesses to shared memory that
-// the Arc keeps mapped; sending or sharing it between threads is sound.
-unsafe impl Send for PortPin {}
-// SAFETY: as above.
-unsafe impl Sync for PortPin {}
-
-impl PortPin {
-    fn new(seg: &Arc<Segment>, off: u64) -> Result<PortPin> {
-        let rec: &PinRec = seg.rec(off)?;
-        Ok(PortPin {
-            slot: &rec.words(seg)?.first,
-            seg: seg.clone(),
-        })
+impl<D: Direction> PortPin<D> {
+    fn new(seg: &Arc<Segment>, off: u64) -> Result<PortPin<D>> {
+        Pin::new(seg, off).map(PortPin)
     }
 
     /// The buffer of the signal the pin is on now; None while it has
     /// none (an unlinked pin, a signal not yet sized) or where the cell
     /// names no buffer inside the segment (only a corrupted one does).
     fn buffer(&self) -> Option<Buffer<'_>> {
-        // SAFETY: `slot` points into the mapping, which `seg` keeps alive.
-        let bits = self.seg.cells().cell(unsafe { &*self.slot }).load(Relaxed);
-        let (size, off) = decode(bits);
+        let seg = self.0.segment();
+        let (size, off) = decode(self.0.get());
         // A buffer lies in the heap, past the header and the journal.
-        if size == 0 || off < self.seg.cell_floor() {
+        if size == 0 || off < seg.cell_floor() {
             return None;
         }
-        let words = self.seg.words(off, CTL_WORDS + size.div_ceil(8)).ok()?;
+        let words = seg.words(off, CTL_WORDS + size.div_ceil(8)).ok()?;
         let (ctl, bytes) = words.split_at(CTL_WORDS as usize);
         Some(Buffer {
             read_pos: &ctl[0],
@@ -186,7 +174,7 @@ impl PortPin {
 }
 
 /// The reading end of a port: an input pin of type `port`.
-pub struct PortIn(PortPin);
+pub struct PortIn(PortPin<In>);
 
 impl PortIn {
     pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<PortIn> {
@@ -231,7 +219,7 @@ impl PortIn {
 }
 
 /// The writing end of a port: an output pin of type `port`.
-pub struct PortOut(PortPin);
+pub struct PortOut(PortPin<Out>);
 
 impl PortOut {
     pub(crate) fn new(seg: &Arc<Segment>, off: u64) -> Result<PortOut> {

@@ -372,6 +372,34 @@ fn within(name: &'static str, value: u64, lo: u64, hi: u64) -> Result<usize, Com
     }
 }
 
+/// The state and fault words, checked.
+fn state_and_fault(words: &[u64]) -> Result<(State, Fault), CompError> {
+    let state_word = field(words, w::STATE, "the state")?;
+    let state = State::from_word(state_word).ok_or_else(|| CompError::ScopeShm {
+        field: "the state",
+        value: state_word,
+        expected: "expected 0 to 7".into(),
+    })?;
+    let fault_word = field(words, w::FAULT, "the fault code")?;
+    let fault = Fault::from_word(fault_word).ok_or_else(|| CompError::ScopeShm {
+        field: "the fault code",
+        value: fault_word,
+        expected: "expected 0 to 7".into(),
+    })?;
+    Ok((state, fault))
+}
+
+/// The state and fault of a live region, from its header alone: what a
+/// tool polling for the end of a record needs, without copying the
+/// samples each time (a region may hold millions of words).
+pub fn poll(words: &[AtomicU64]) -> Result<(State, Fault), CompError> {
+    let mut header = [0u64; HEADER_WORDS];
+    for (h, w) in header.iter_mut().zip(words) {
+        *h = w.load(Relaxed);
+    }
+    state_and_fault(&header[..words.len().min(HEADER_WORDS)])
+}
+
 impl Status {
     /// Reads a copy of the region's words, checking every word used:
     /// identity, buffer length against the copy's, and in state `Done`
@@ -410,18 +438,7 @@ impl Status {
             1,
             room,
         )?;
-        let state_word = field(words, w::STATE, "the state")?;
-        let state = State::from_word(state_word).ok_or_else(|| CompError::ScopeShm {
-            field: "the state",
-            value: state_word,
-            expected: "expected 0 to 7".into(),
-        })?;
-        let fault_word = field(words, w::FAULT, "the fault code")?;
-        let fault = Fault::from_word(fault_word).ok_or_else(|| CompError::ScopeShm {
-            field: "the fault code",
-            value: fault_word,
-            expected: "expected 0 to 7".into(),
-        })?;
+        let (state, fault) = state_and_fault(words)?;
         let mut st = Status {
             state,
             buf_len,

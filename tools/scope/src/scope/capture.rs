@@ -6,7 +6,8 @@
 
 use std::collections::VecDeque;
 
-use hal_core::{HalType, Value};
+use hal_components::infra::scope_rt::layout;
+use hal_core::HalType;
 
 /// The direction the trigger signal crosses the level in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,25 +42,14 @@ pub struct Trigger {
     pub level: f64,
 }
 
-/// A sample value as a number (bits as 0 and 1).
-pub fn numeric(t: HalType, bits: u64) -> f64 {
-    match Value::from_bits(t, bits) {
-        Value::Bit(b) => f64::from(u8::from(b)),
-        Value::Float(f) => f,
-        Value::S32(v) => f64::from(v),
-        Value::U32(v) | Value::Port(v) => f64::from(v),
-        Value::S64(v) => v as f64,
-        Value::U64(v) => v as f64,
-    }
-}
+/// A sample value as a number (bits as 0 and 1): scope_rt's reading,
+/// so both ways of capturing trigger alike.
+pub use hal_components::infra::scope_rt::layout::numeric;
 
 impl Trigger {
     /// Whether going from `prev` to `now` fires the trigger.
     pub fn fires(&self, prev: f64, now: f64) -> bool {
-        match self.edge {
-            Edge::Rising => prev < self.level && now >= self.level,
-            Edge::Falling => prev > self.level && now <= self.level,
-        }
+        layout::fires(self.edge == Edge::Rising, self.level, prev, now)
     }
 }
 

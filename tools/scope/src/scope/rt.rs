@@ -156,14 +156,14 @@ impl RtProbe {
         );
         let end = Instant::now() + req.timeout + record_time;
         let mut looks = 0u32;
-        let (words, st) = loop {
-            let (words, st) = status(&self.region)?;
-            match st.state {
-                State::Done => break (words, st),
+        loop {
+            let (state, fault) = layout::poll(self.region.words())?;
+            match state {
+                State::Done => break,
                 State::Fault => {
                     return Err(ScopeError::Usage(format!(
                         "scope_rt refused the capture: {}",
-                        st.fault.describe()
+                        fault.describe()
                     )))
                 }
                 State::Idle | State::Reset => {
@@ -174,8 +174,10 @@ impl RtProbe {
                 _ => {}
             }
             looks = looks.wrapping_add(1);
-            self.wait(inst, interrupted, end, &st, looks)?;
-        };
+            self.wait(inst, interrupted, end, state, looks)?;
+        }
+        // The samples are copied once, complete.
+        let (words, st) = status(&self.region)?;
         drop(armed);
         if inst.generation() != generation {
             return Err(changed());
@@ -213,8 +215,7 @@ impl RtProbe {
             .max(Duration::from_secs(2));
         let end = Instant::now() + patience;
         loop {
-            let (_, st) = status(&self.region)?;
-            if st.state == State::Idle {
+            if layout::poll(self.region.words())?.0 == State::Idle {
                 return Ok(());
             }
             if Instant::now() > end {
@@ -240,7 +241,7 @@ impl RtProbe {
         inst: &Instance,
         interrupted: &dyn Fn() -> bool,
         end: Instant,
-        st: &Status,
+        state: State,
         looks: u32,
     ) -> Result<(), ScopeError> {
         if interrupted() {
@@ -249,7 +250,7 @@ impl RtProbe {
         if Instant::now() > end {
             return Err(ScopeError::Timeout(format!(
                 "no complete record from scope_rt in time ({})",
-                match st.state {
+                match state {
                     State::PostTrig => "triggered, samples still missing",
                     _ => "no trigger",
                 }
