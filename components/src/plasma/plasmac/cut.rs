@@ -115,11 +115,6 @@ impl Plasmac {
     pub(super) fn finish_cut(&mut self, c: &Ctx<'_>) {
         let i = c.i;
         self.o.torch_on = false;
-        self.o.thc_active = false;
-        self.o.led_up = false;
-        self.o.led_down = false;
-        self.o.cornerlock_is_locked = false;
-        self.o.voidlock_is_locked = false;
         self.thc.reset();
         self.job.last_end = Some((i.axis_x_position, i.axis_y_position));
         let top = c.top();

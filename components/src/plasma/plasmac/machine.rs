@@ -41,11 +41,7 @@ impl Ctx<'_> {
 
     /// Machine units per mm (unset reads as metric).
     pub fn units_per_mm(&self) -> f64 {
-        if self.i.units_per_mm > 0.0 {
-            self.i.units_per_mm
-        } else {
-            1.0
-        }
+        moves::usable_units_per_mm(self.i.units_per_mm)
     }
 
     /// Counts of the highest Z the component drives to: `max-offset` mm
@@ -364,6 +360,16 @@ impl Plasmac {
         let i = c.i;
         let o = &mut self.o;
         o.state_out = self.state.number();
+        // The THC's indicators belong to the cut: every other state shows
+        // it idle, however the cut was left (its end, a pause, a fault,
+        // a stop).
+        if !matches!(self.state, State::CutMode01 | State::CutMode2) {
+            o.thc_active = false;
+            o.led_up = false;
+            o.led_down = false;
+            o.cornerlock_is_locked = false;
+            o.voidlock_is_locked = false;
+        }
         o.stop_type_out = self.stop_type as i32;
         o.arc_voltage_out = self.senses.volts;
         o.arc_ok_out = self.senses.arc_ok && o.torch_on;

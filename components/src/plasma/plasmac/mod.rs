@@ -46,38 +46,7 @@ use crate::halcomp_module;
 use crate::notice::Notice;
 use machine::Plasmac;
 use pins::{InPins, Inputs, OutPins};
-use state::FAULT_TEXTS;
-
-/// What `debug-print` prints on entering each state, by number.
-const STATE_TEXTS: &[&str] = &[
-    "plasmac: IDLE\n",
-    "plasmac: PROBE_HEIGHT\n",
-    "plasmac: PROBE_DOWN\n",
-    "plasmac: PROBE_UP\n",
-    "plasmac: ZERO_HEIGHT\n",
-    "plasmac: PIERCE_HEIGHT\n",
-    "plasmac: TORCH_ON\n",
-    "plasmac: ARC_OK\n",
-    "plasmac: PIERCE_DELAY\n",
-    "plasmac: PUDDLE_JUMP\n",
-    "plasmac: CUT_HEIGHT\n",
-    "plasmac: CUT_MODE_01\n",
-    "plasmac: CUT_MODE_2\n",
-    "plasmac: PAUSE_AT_END\n",
-    "plasmac: SAFE_HEIGHT\n",
-    "plasmac: MAX_HEIGHT\n",
-    "plasmac: END_CUT\n",
-    "plasmac: END_JOB\n",
-    "plasmac: TORCHPULSE\n",
-    "plasmac: PAUSED_MOTION\n",
-    "plasmac: OHMIC_TEST\n",
-    "plasmac: PROBE_TEST\n",
-    "plasmac: SCRIBING\n",
-    "plasmac: CONSUMABLE_CHANGE_ON\n",
-    "plasmac: CONSUMABLE_CHANGE_OFF\n",
-    "plasmac: CUT_RECOVERY_ON\n",
-    "plasmac: CUT_RECOVERY_OFF\n",
-];
+use state::{FAULT_TEXTS, STATE_TEXTS};
 
 /// The `plasmac` component.
 pub struct PlasmacComp;

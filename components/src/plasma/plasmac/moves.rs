@@ -43,15 +43,20 @@ impl Mover {
     }
 }
 
-/// Units per offset count: 0.001 mm over `resolution` counts, in machine
-/// units (`units-per-mm`; 0 or unset reads as metric).
-pub fn offset_scale(resolution: i32, units_per_mm: f64) -> f64 {
-    let upm = if units_per_mm > 0.0 && units_per_mm.is_finite() {
+/// `units-per-mm` as the component uses it: 0, negative, unset or not a
+/// number reads as metric (1).
+pub fn usable_units_per_mm(units_per_mm: f64) -> f64 {
+    if units_per_mm > 0.0 && units_per_mm.is_finite() {
         units_per_mm
     } else {
         1.0
-    };
-    0.001 * upm / f64::from(resolution.max(1))
+    }
+}
+
+/// Units per offset count: 0.001 mm over `resolution` counts, in machine
+/// units per mm `upm` ([`usable_units_per_mm`]).
+pub fn offset_scale(resolution: i32, upm: f64) -> f64 {
+    0.001 * usable_units_per_mm(upm) / f64::from(resolution.max(1))
 }
 
 /// Counts per period of a feed rate in units per minute (at least one).

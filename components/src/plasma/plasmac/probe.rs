@@ -16,9 +16,6 @@ impl Plasmac {
         self.o.ohmic_enable = false;
         self.o.scribe_arm = false;
         self.o.scribe_on = false;
-        self.o.thc_active = false;
-        self.o.led_up = false;
-        self.o.led_down = false;
         self.stop_type = StopType::None;
         if self.job.pulse_pending && i.torch_enable {
             self.job.pulse_pending = false;

@@ -162,6 +162,37 @@ impl Fault {
     }
 }
 
+/// What `debug-print` prints on entering each state, by number.
+pub(super) const STATE_TEXTS: &[&str] = &[
+    "plasmac: IDLE\n",
+    "plasmac: PROBE_HEIGHT\n",
+    "plasmac: PROBE_DOWN\n",
+    "plasmac: PROBE_UP\n",
+    "plasmac: ZERO_HEIGHT\n",
+    "plasmac: PIERCE_HEIGHT\n",
+    "plasmac: TORCH_ON\n",
+    "plasmac: ARC_OK\n",
+    "plasmac: PIERCE_DELAY\n",
+    "plasmac: PUDDLE_JUMP\n",
+    "plasmac: CUT_HEIGHT\n",
+    "plasmac: CUT_MODE_01\n",
+    "plasmac: CUT_MODE_2\n",
+    "plasmac: PAUSE_AT_END\n",
+    "plasmac: SAFE_HEIGHT\n",
+    "plasmac: MAX_HEIGHT\n",
+    "plasmac: END_CUT\n",
+    "plasmac: END_JOB\n",
+    "plasmac: TORCHPULSE\n",
+    "plasmac: PAUSED_MOTION\n",
+    "plasmac: OHMIC_TEST\n",
+    "plasmac: PROBE_TEST\n",
+    "plasmac: SCRIBING\n",
+    "plasmac: CONSUMABLE_CHANGE_ON\n",
+    "plasmac: CONSUMABLE_CHANGE_OFF\n",
+    "plasmac: CUT_RECOVERY_ON\n",
+    "plasmac: CUT_RECOVERY_OFF\n",
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,6 +205,11 @@ mod tests {
         assert_eq!(State::CutRecoveryOff.number(), 26);
         assert_eq!(StopType::Pause as i32, 3);
         assert_eq!(FAULT_TEXTS.len(), Fault::NotHomed.index() + 1);
+        assert_eq!(
+            STATE_TEXTS.len(),
+            State::CutRecoveryOff.number() as usize + 1
+        );
+        assert!(STATE_TEXTS[11].contains("CUT_MODE_01"));
         assert_eq!(Fault::ArcLost.stop_type(), StopType::Wait);
         assert_eq!(Fault::ProbeMinLimit.stop_type(), StopType::Stop);
     }

@@ -89,6 +89,11 @@ fn thc_past_the_z_minimum_limit_stops() {
     b.volts_error = 50.0; // reads far too high: THC dives
     b.until(1000, "fault", |b| !b.faults.is_empty());
     check(&b, Fault::ThcMinLimit, StopType::Stop);
+    // The THC's indicators go out with the cut, though it never ended.
+    b.tick();
+    let o = &b.p.o;
+    assert!(!o.thc_active && !o.led_up && !o.led_down, "{o:?}");
+    assert!(!o.cornerlock_is_locked && !o.voidlock_is_locked);
 }
 
 #[test]
