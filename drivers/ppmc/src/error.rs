@@ -48,6 +48,16 @@ pub enum PpmcError {
         #[source]
         source: DriverError,
     },
+    /// hal_parport's port choice refused a bus's port (no such port,
+    /// or one port given twice).
+    #[error("port_addr item {bus}: {source}")]
+    PortChoice {
+        /// The bus (its item in `port_addr`).
+        bus: usize,
+        /// Why.
+        #[source]
+        source: hal_parport::port::PortError,
+    },
     /// The shared driver layer failed (a parameter).
     #[error(transparent)]
     Driver(#[from] DriverError),

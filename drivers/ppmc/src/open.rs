@@ -8,15 +8,16 @@ use std::sync::Arc;
 
 use hal_driver::bus::{IopermPorts, PortBus, PortRange};
 use hal_driver::sim::SimBoard;
+use hal_parport::cfg::{Mode, PortSpec};
 use hal_parport::regs as port;
-use hal_parport::select::{linux_ports, sim_base, SysPaths};
+use hal_parport::select::{choose_all, sim_base, Choice, SysPaths};
 
 use crate::epp::Epp;
 use crate::error::PpmcError;
-use crate::params::{BusConfig, Config, Options, PortAddr, SlotCode};
+use crate::params::{Config, Options, PortAddr, SlotCode};
 use crate::regs::{dac, dio, enc, pwm, stepgen, uxc, ID_OFFSET, SLOT_SIZE};
 use crate::scan::{scan, Found, Kind};
-use crate::sim::PpmcPort;
+use crate::sim::{PpmcPort, SimSpec};
 
 /// What a USC/UPC's extra port drives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,8 +68,12 @@ pub struct OpenedBus {
 pub fn open(cfg: &Config) -> Result<Vec<OpenedBus>, PpmcError> {
     let mut used = Used::default();
     let mut buses = Vec::new();
+    let mut real = choose_ports(cfg)?.into_iter();
     for b in &cfg.buses {
-        let (bus, base, base_hi, sim) = port_of(b)?;
+        let (bus, base, base_hi, sim) = match &b.sim {
+            Some(spec) => sim_port(b.port, spec),
+            None => raw_port(b.number, real.next().flatten())?,
+        };
         let epp = Epp::new(bus, base, b.turn_for_reads);
         epp.set_up(base_hi);
         let found = scan(|slot| {
@@ -105,37 +110,62 @@ type PortOf = (
     Option<Arc<SimBoard<PpmcPort>>>,
 );
 
-fn port_of(b: &BusConfig) -> Result<PortOf, PpmcError> {
-    if let Some(spec) = &b.sim {
-        let base = match b.port {
-            PortAddr::Address(a) => a,
-            PortAddr::Number(n) => sim_base(n),
-        };
-        let hi = base.wrapping_add(port::HI_OFFSET);
-        let sim = Arc::new(SimBoard::new(PpmcPort::new(base, hi, spec)));
-        return Ok((sim.clone(), base, Some(hi), Some(sim)));
-    }
-    let known = linux_ports(&SysPaths::system());
-    let (base, base_hi) = match b.port {
-        PortAddr::Address(a) => (
-            a,
-            known.iter().find(|p| p.base == a).and_then(|p| p.base_hi),
-        ),
-        PortAddr::Number(n) => {
-            let p = known
-                .iter()
-                .find(|p| p.num == n)
-                .ok_or_else(|| PpmcError::BadOption {
-                    param: "port_addr",
-                    code: n as i64,
-                    reason: format!(
-                    "Linux lists no parallel port {n} (/proc/sys/dev/parport/parport{n}); give \
-                     the port's I/O address instead"
-                ),
-                })?;
-            (p.base, p.base_hi)
-        }
+/// A real port's base and ECR block addresses.
+type RawAt = (u16, Option<u16>);
+
+/// The real ports of `cfg`'s buses, chosen as hal_parport chooses an
+/// epp-mode port (raw I/O at the address Linux lists, or the one given),
+/// with its check that no port is given twice; one entry per real bus,
+/// in order.
+fn choose_ports(cfg: &Config) -> Result<Vec<Option<RawAt>>, PpmcError> {
+    let real: Vec<(usize, PortSpec)> = cfg
+        .buses
+        .iter()
+        .filter(|b| b.sim.is_none())
+        .map(|b| {
+            let spec = PortSpec {
+                addr: b.port,
+                mode: Mode::Epp,
+                backend: None,
+            };
+            (b.number, spec)
+        })
+        .collect();
+    let specs: Vec<PortSpec> = real.iter().map(|(_, s)| *s).collect();
+    let choices =
+        choose_all(&specs, &SysPaths::system()).map_err(|(i, source)| PpmcError::PortChoice {
+            bus: real.get(i).map_or(i, |(n, _)| *n),
+            source,
+        })?;
+    // An epp-mode port is always raw I/O (ppdev cannot reach the ECR).
+    Ok(choices
+        .into_iter()
+        .map(|c| match c {
+            Choice::Raw { base, base_hi, .. } => Some((base, base_hi)),
+            Choice::Ppdev { .. } | Choice::Sim { .. } => None,
+        })
+        .collect())
+}
+
+/// A simulated port at `addr` with the boards of `spec`.
+fn sim_port(addr: PortAddr, spec: &SimSpec) -> PortOf {
+    let base = match addr {
+        PortAddr::Address(a) => a,
+        PortAddr::Number(n) => sim_base(n),
     };
+    let hi = base.wrapping_add(port::HI_OFFSET);
+    let sim = Arc::new(SimBoard::new(PpmcPort::new(base, hi, spec)));
+    (sim.clone(), base, Some(hi), Some(sim))
+}
+
+/// Raw I/O on the port hal_parport's choice named. The port is not
+/// claimed through ppdev (a claim blocks while another holder has it).
+fn raw_port(bus: usize, choice: Option<RawAt>) -> Result<PortOf, PpmcError> {
+    let (base, base_hi) = choice.ok_or_else(|| PpmcError::BadOption {
+        param: "port_addr",
+        code: bus as i64,
+        reason: "hal_parport chose no raw I/O for this epp-mode port".into(),
+    })?;
     let wrap = |source| PpmcError::Port { port: base, source };
     let mut ranges = vec![PortRange::new(base, port::BASE_SPAN).map_err(wrap)?];
     if let Some(hi) = base_hi {
@@ -381,6 +411,32 @@ pub fn go_safe(epp: &Epp, boards: &[Planned]) {
         }
         if kind.has_encoders() && p.found.id.has_index() {
             epp.select_write(base + enc::INDEX, 0);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hal_core::ModuleArgs;
+
+    /// One port given twice is refused before any port is touched, as
+    /// hal_parport refuses it: two buses would strobe the same boards.
+    #[test]
+    fn one_port_twice_is_refused() {
+        let a = ModuleArgs::parse(
+            crate::hal::NAME,
+            crate::hal::PARAMS,
+            &["port_addr=0x278,0x278"],
+        )
+        .unwrap();
+        let cfg = crate::params::parse(&a).unwrap();
+        match open(&cfg) {
+            Err(e @ PpmcError::PortChoice { bus: 1, .. }) => {
+                assert!(e.to_string().contains("port_addr item 1"), "{e}");
+            }
+            Err(e) => panic!("refused otherwise: {e}"),
+            Ok(_) => panic!("two buses on one port"),
         }
     }
 }

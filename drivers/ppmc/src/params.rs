@@ -24,14 +24,9 @@ pub const MAX_OPTIONS: usize = MAX_BUS * 8;
 /// The first port's address when `port_addr` is not given.
 pub const DEFAULT_PORT: i64 = 0x378;
 
-/// Where a bus's port is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PortAddr {
-    /// An I/O address.
-    Address(u16),
-    /// A port number Linux registered (`/dev/parportN`).
-    Number(u8),
-}
+/// Where a bus's port is: hal_parport's `port_addr` item (an I/O
+/// address, or a port number Linux registered).
+pub use hal_parport::cfg::PortAddr;
 
 /// One bus.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -163,20 +163,11 @@ fn export_bus<H: DriverHost>(
     })?;
     let s = sh.clone();
     ex.funct(comp, &format!("ppmc.{n}.write"), true, move |_| write(&s))?;
-    ex.safe_state(comp, ArcSafe(safe));
+    ex.safe_state(comp, safe);
     if let Some(s) = &sh.sim {
         ex.publish_sim(&format!("ppmc.{n}"), s);
     }
     Ok(())
-}
-
-/// The safe state, shared with the fault latch.
-struct ArcSafe(Arc<SafeBus>);
-
-impl SafeState for ArcSafe {
-    fn go_safe(&self) {
-        self.0.go_safe();
-    }
 }
 
 /// `ppmc.<bus>.read`: moves a simulated bus one period, strobes and reads
