@@ -6,7 +6,10 @@
 //!
 //! Entries are weak: an unloaded board is gone from the registry with
 //! its last function, and a dead entry is dropped at the next
-//! registration.
+//! registration. (hal-driver's `sim::registry` is the same idea for
+//! simulated boards, found by their concrete type; this one holds real
+//! and simulated boards alike behind the `SserialAccess` trait, which a
+//! lookup by type cannot give.)
 //!
 //! [`LoadEnv::instance`]: hal_driver::module::LoadEnv::instance
 
@@ -41,10 +44,11 @@ fn boards() -> std::sync::MutexGuard<'static, Vec<Entry>> {
     BOARDS.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// Registers board `name` of HAL `instance`.
+/// Registers board `name` of HAL `instance`, replacing an earlier board
+/// of that name (a board reloaded while its old handle still lives).
 pub(crate) fn register(instance: &str, name: &str, board: &Arc<dyn SserialAccess>) {
     let mut all = boards();
-    all.retain(|e| e.board.strong_count() > 0);
+    all.retain(|e| e.board.strong_count() > 0 && !(e.instance == instance && e.name == name));
     all.push(Entry {
         instance: instance.to_string(),
         name: name.to_string(),
