@@ -46,10 +46,19 @@ fn headless(host: &InProcessHost, words: &[&str]) -> Result<Record, hal_scope::s
 }
 
 /// Waits (up to 10 s) until hal-web has removed its idle sampler.
+/// Waits until hal-web's idle sampler is gone, with the signals it made
+/// (it unloads the sampler first, then deletes them: a test looking at
+/// the signals the moment the sampler goes may catch them on the way).
 fn wait_sampler_removed(host: &InProcessHost) {
     let inst = host.instance();
     let until = std::time::Instant::now() + std::time::Duration::from_secs(10);
-    while inst.component("sampler").unwrap().is_some() {
+    let made_signals = || {
+        inst.signals()
+            .unwrap()
+            .iter()
+            .any(|s| s.name.starts_with("halscope-"))
+    };
+    while inst.component("sampler").unwrap().is_some() || made_signals() {
         assert!(
             std::time::Instant::now() < until,
             "hal-web's idle sampler was not removed"
