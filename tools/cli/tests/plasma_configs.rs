@@ -32,6 +32,20 @@ fn wait(m: &Machine, pin: &str, want: &str) {
     assert_eq!(got, want, "{pin}\n{}", m.stderr());
 }
 
+/// Reads `pin` as a number until `holds` says yes or 20 s pass; the last
+/// value read. (The torch and the offset move in their own processes and
+/// threads: a fixed pause is too short on a loaded machine.)
+fn wait_value(m: &Machine, pin: &str, holds: impl Fn(f64) -> bool) -> f64 {
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    loop {
+        let v: f64 = m.getp(pin).parse().unwrap();
+        if holds(v) || std::time::Instant::now() > end {
+            return v;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 #[test]
 #[cfg_attr(hal_no_peer_configs, ignore = "needs LinuxCNC's sample configurations")]
 fn peer_qtplasmac_probes_through_external_offsets() {
@@ -53,7 +67,7 @@ fn peer_qtplasmac_probes_through_external_offsets() {
         m.halcmd(&["setp", &format!("plasmac.{pin}"), v]);
     }
     wait(&m, "plasmac.state-out", "18");
-    let volts: f64 = m.getp("sim-torch.voltage-out").parse().unwrap();
+    let volts = wait_value(&m, "sim-torch.voltage-out", |v| v > 0.0);
     assert!(volts > 0.0, "sim-torch lit: {volts}");
     m.halcmd(&["setp", "plasmac.torch-pulse-start", "0"]);
     wait(&m, "plasmac.state-out", "0");
@@ -76,7 +90,9 @@ fn peer_qtplasmac_probes_through_external_offsets() {
     m.halcmd(&["setp", "plasmac.probe-test", "1"]);
     wait(&m, "plasmac.state-out", "2");
     assert_eq!(m.getp("axis.z.eoffset-enable"), "TRUE");
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    // Trip the switch once Z is well into the slow part (below -10): the
+    // pierce height is about 2.8 above where it trips.
+    wait_value(&m, "joint.3.pos-fb", |z| z < -15.0);
     m.halcmd(&["sets", "sim:float", "1"]);
     wait(&m, "plasmac.state-out", "3");
     m.halcmd(&["sets", "sim:float", "0"]);
