@@ -92,7 +92,7 @@ fn peer_qtplasmac_probes_through_external_offsets() {
     assert_eq!(m.getp("axis.z.eoffset-enable"), "TRUE");
     // Trip the switch once Z is well into the slow part (below -10): the
     // pierce height is about 2.8 above where it trips.
-    wait_value(&m, "joint.3.pos-fb", |z| z < -15.0);
+    wait_value(&m, "joint.3.pos-fb", |z| z < -13.5);
     m.halcmd(&["sets", "sim:float", "1"]);
     wait(&m, "plasmac.state-out", "3");
     m.halcmd(&["sets", "sim:float", "0"]);
