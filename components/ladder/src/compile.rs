@@ -174,10 +174,15 @@ fn sections(project: &Project, sizes: &Sizes, prog: &mut Program) -> Result<(), 
         }
         let role = match s.sub {
             -1 => SectionRole::Main,
-            n if (0..=i32::MAX as i64).contains(&n) => SectionRole::SubRoutine(n as u32),
+            // A call can only name a sub-routine below numSections, so a
+            // larger number could never run (and would not fit the
+            // hand-off's 24-bit field).
+            n if (0..sizes.sections as i64).contains(&n) => SectionRole::SubRoutine(n as u32),
             n => {
                 return Err(structure(format!(
-                    "{at}: sub-routine number {n} is negative"
+                    "{at}: sub-routine number {n} is not between 0 and {} (numSections={})",
+                    sizes.sections.saturating_sub(1) as i64,
+                    sizes.sections
                 )))
             }
         };

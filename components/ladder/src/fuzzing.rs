@@ -76,4 +76,18 @@ mod tests {
         super::clp_bundle(TIMERS.as_bytes());
         super::clp_bundle(b"_FILES_CLASSICLADDER\n_FILE-rung_0.csv\n");
     }
+
+    /// Found by the fuzzer in CI: a sub-routine number past numSections
+    /// compiled, then came back from the hand-off cut to 24 bits.
+    #[test]
+    fn a_sub_routine_number_past_num_sections_is_refused() {
+        let text = TIMERS.replace("000,0,-1,0,0,0", "000,0,2147483647,0,0,0");
+        let p = crate::clp::parse(&text).unwrap();
+        let err = crate::compile::compile(&p, &crate::model::Sizes::default())
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(err.contains("sub-routine number 2147483647"), "{err}");
+        super::clp_bundle(text.as_bytes());
+    }
 }
