@@ -84,8 +84,7 @@ mod tests {
         let text = TIMERS.replace("000,0,-1,0,0,0", "000,0,2147483647,0,0,0");
         let p = crate::clp::parse(&text).unwrap();
         let err = crate::compile::compile(&p, &crate::model::Sizes::default())
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         assert!(err.contains("sub-routine number 2147483647"), "{err}");
         super::clp_bundle(text.as_bytes());

@@ -146,6 +146,11 @@ fn truncate(v: f64) -> i32 {
     v as i32
 }
 
+/// How many words of a new program the refresh funct decodes per
+/// period: about 10 µs of work, so a default-sized program (11 000 words)
+/// is taken in 6 periods and the largest sizes never stretch one period.
+const DECODE_WORDS_PER_PERIOD: usize = 2048;
+
 fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let s = sizes(args)?;
     let mut b = host.new_rt_component("classicladder_rt")?;
@@ -156,27 +161,20 @@ fn load(host: &Host, args: &ModuleArgs) -> Result<()> {
     let mut engine = Engine::new(&s);
     let mut current = Box::new(Program::empty(&s));
     let mut spare = Box::new(Program::empty(&s));
-    let mut handled: u64 = 0;
+    let mut intake = handoff::Intake::new();
     let mut running = false;
     let mut leftover_ns: i64 = 0;
     b.funct("classicladder.0.refresh", true, move |ctx| {
         let words = region.words();
-        let seq = handoff::sequence(words);
-        if seq != handled && seq & 1 == 0 {
-            let result = handoff::decode(words, &s, &mut spare);
-            if handoff::unchanged(words, seq) {
-                handled = seq;
-                match result {
-                    Ok(()) => {
-                        std::mem::swap(&mut current, &mut spare);
-                        engine.install(&current);
-                        running = true;
-                        handoff::set_status(words, Status::Running(seq));
-                    }
-                    Err((part, item)) => {
-                        handoff::set_status(words, Status::Refused(seq, part, item))
-                    }
+        if let Some((seq, verdict)) = intake.poll(words, &s, &mut spare, DECODE_WORDS_PER_PERIOD) {
+            match verdict {
+                Ok(()) => {
+                    std::mem::swap(&mut current, &mut spare);
+                    engine.install(&current);
+                    running = true;
+                    handoff::set_status(words, Status::Running(seq));
                 }
+                Err((part, item)) => handoff::set_status(words, Status::Refused(seq, part, item)),
             }
         }
         leftover_ns = leftover_ns.saturating_add(ctx.period().max(0));

@@ -108,11 +108,15 @@ fn pins_params_and_a_program_running_in_a_thread() {
     let notes = user::load(inst, "test", &file).unwrap();
     assert!(notes.is_empty(), "{notes:?}");
     host.start().unwrap();
-    wait(&host, 3);
-    assert_eq!(
-        inst.param_value("classicladder.ladder-state").unwrap(),
-        Value::S32(2)
-    );
+    // The module decodes a new program about 2048 words a period: the
+    // default sizes' 11 000 take 6 periods.
+    let end = Instant::now() + Duration::from_secs(10);
+    while inst.param_value("classicladder.ladder-state").unwrap() != Value::S32(2) {
+        assert!(Instant::now() < end, "the program is never taken");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let taken_at = cycles(&host);
+    assert!(taken_at >= 6, "taken in {taken_at} periods: not spread");
     // Loaded again while the thread runs: the module answers.
     user::load(inst, "test", &file).unwrap();
     let region = inst.region(handoff::REGION).unwrap();

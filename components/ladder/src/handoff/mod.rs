@@ -16,11 +16,12 @@
 
 use std::sync::atomic::{AtomicU64, Ordering::*};
 
-use crate::expr::{CmpOp, Expr, ExprForm, Op, MAX_OPS};
-use crate::model::{
-    Cell, Element, IecMode, IecSetup, Program, Rung, Section, SectionRole, Sizes, TimerSetup,
-    VarRef, CELLS,
-};
+mod decode;
+
+pub use decode::{decode, Intake};
+
+use crate::expr::{CmpOp, ExprForm, Op, MAX_OPS};
+use crate::model::{IecMode, Program, SectionRole, Sizes, VarRef, CELLS};
 
 /// The region's name.
 pub const REGION: &str = "classicladder.0.program";
@@ -298,185 +299,11 @@ pub fn unchanged(words: &[AtomicU64], seq: u64) -> bool {
     words.get(SEQ).is_some_and(|w| w.load(Relaxed) == seq)
 }
 
-/// Reads words one after the other, 0 past the end.
-struct Reader<'a> {
-    words: &'a [AtomicU64],
-    pos: usize,
-}
-
-impl Reader<'_> {
-    fn next(&mut self) -> u64 {
-        let v = self.words.get(self.pos).map_or(0, |w| w.load(Relaxed));
-        self.pos += 1;
-        v
-    }
-}
-
-/// Decodes the region's program into `p` (sized for `s`) without
-/// allocating; a refusal names the part and item that is wrong.
-pub fn decode(words: &[AtomicU64], s: &Sizes, p: &mut Program) -> Result<(), Refusal> {
-    if words.len() < region_words(s) {
-        return Err((Part::Setup, 0));
-    }
-    let mut r = Reader { words, pos: BODY };
-    for (i, sec) in p.sections.iter_mut().enumerate() {
-        let w = r.next();
-        let bad = (Part::Section, i as u32);
-        let first = (w >> 32 & 0xffff) as u32;
-        let last = (w >> 48) as u32;
-        let role = match w & 0xff {
-            0 => SectionRole::Unused,
-            1 => SectionRole::Main,
-            2 => SectionRole::SubRoutine((w >> 8 & 0xff_ffff) as u32),
-            _ => return Err(bad),
-        };
-        if first as usize >= s.rungs || last as usize >= s.rungs {
-            return Err(bad);
-        }
-        *sec = Section { role, first, last };
-    }
-    for (i, rung) in p.rungs.iter_mut().enumerate() {
-        decode_rung(&mut r, s, rung).map_err(|_| (Part::Rung, i as u32))?;
-    }
-    for (i, e) in p.exprs.iter_mut().enumerate() {
-        decode_expr(&mut r, s, e).map_err(|_| (Part::Expr, i as u32))?;
-    }
-    let timer = |w: u64| -> Option<TimerSetup> {
-        let base_ms = (w & 0xffff_ffff) as u32 as i32;
-        let preset = (w >> 32) as u32 as i32;
-        ([60_000, 1000, 100].contains(&base_ms) && preset >= 0)
-            .then_some(TimerSetup { base_ms, preset })
-    };
-    for t in p.timers.iter_mut().chain(p.monostables.iter_mut()) {
-        *t = timer(r.next()).ok_or((Part::Setup, 0))?;
-    }
-    for c in p.counters.iter_mut() {
-        *c = (r.next() & 0xffff_ffff) as u32 as i32;
-    }
-    for t in p.timers_iec.iter_mut() {
-        let w = r.next();
-        let mode = match w >> 24 & 0xff {
-            0 => IecMode::OnDelay,
-            1 => IecMode::OffDelay,
-            2 => IecMode::Pulse,
-            _ => return Err((Part::Setup, 0)),
-        };
-        let base = timer((w & 0xff_ffff) | (w & !0xffff_ffff)).ok_or((Part::Setup, 0))?;
-        *t = IecSetup {
-            base_ms: base.base_ms,
-            preset: base.preset,
-            mode,
-        };
-    }
-    for (i, sec) in p.sections.iter().enumerate() {
-        if sec.role != SectionRole::Unused {
-            let ok = p.rungs[sec.first as usize].used
-                && p.rungs[sec.last as usize].used
-                && crate::compile::chain(p, sec).is_ok();
-            if !ok {
-                return Err((Part::Section, i as u32));
-            }
-        }
-    }
-    Ok(())
-}
-
-fn decode_rung(r: &mut Reader<'_>, s: &Sizes, rung: &mut Rung) -> Result<(), ()> {
-    let h = r.next();
-    rung.used = h & 1 == 1;
-    rung.next = (h >> 32) as u32 as i32;
-    if rung.next < -1 || rung.next as i64 >= s.rungs as i64 {
-        return Err(());
-    }
-    for (i, c) in rung.cells.iter_mut().enumerate() {
-        let w = r.next();
-        let (x, y) = (i / crate::model::RUNG_HEIGHT, i % crate::model::RUNG_HEIGHT);
-        let element = Element::from_codes(
-            (w & 0xff) as i64,
-            (w >> 16 & 0xffff) as i64,
-            (w >> 32) as i64,
-            x,
-            y,
-            s,
-        )
-        .map_err(|_| ())?;
-        *c = Cell {
-            element,
-            top: w >> 8 & 1 == 1,
-        };
-    }
-    Ok(())
-}
-
-fn decode_var(w: u64, s: &Sizes) -> Result<VarRef, ()> {
-    VarRef::from_codes((w & 0xffff) as i64, (w >> 32) as i64, s).map_err(|_| ())
-}
-
-fn decode_expr(r: &mut Reader<'_>, s: &Sizes, e: &mut Expr) -> Result<(), ()> {
-    let h = r.next();
-    let target = r.next();
-    let len = (h >> 24 & 0xff) as usize;
-    if len > MAX_OPS {
-        return Err(());
-    }
-    e.form = match h & 0xff {
-        0 => ExprForm::Empty,
-        1 => {
-            let op = match h >> 8 & 0xff {
-                0 => CmpOp::Eq,
-                1 => CmpOp::Ne,
-                2 => CmpOp::Lt,
-                3 => CmpOp::Le,
-                4 => CmpOp::Gt,
-                5 => CmpOp::Ge,
-                _ => return Err(()),
-            };
-            ExprForm::Compare {
-                op,
-                split: (h >> 16 & 0xff) as u8,
-            }
-        }
-        2 => {
-            let t = decode_var(target, s)?;
-            if !t.kind.is_writable() {
-                return Err(());
-            }
-            ExprForm::Assign { target: t }
-        }
-        _ => return Err(()),
-    };
-    e.len = len as u8;
-    for op in e.ops.iter_mut() {
-        let w = r.next();
-        let val = (w >> 32) as u32;
-        let n = u8::try_from(val).map_err(|_| ());
-        *op = match w & 0xff {
-            1 => Op::Const(val as i32),
-            2 => Op::Load(decode_var(w >> 8 & 0xffff | w & !0xffff_ffff, s)?),
-            3 => Op::Not,
-            4 => Op::Neg,
-            5 => Op::Add,
-            6 => Op::Sub,
-            7 => Op::Mul,
-            8 => Op::Div,
-            9 => Op::Rem,
-            10 => Op::Pow,
-            11 => Op::And,
-            12 => Op::Or,
-            13 => Op::Abs,
-            14 => Op::Min(n?),
-            15 => Op::Max(n?),
-            16 => Op::Avg(n?),
-            _ => return Err(()),
-        };
-    }
-    e.check().map_err(|_| ())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::ContactKind;
+    use crate::expr::Expr;
+    use crate::model::{Cell, ContactKind, Element, IecSetup, Section};
 
     fn small() -> Sizes {
         Sizes {
@@ -573,5 +400,50 @@ mod tests {
                 let _ = decode(&w, &s, &mut back);
             }
         }
+    }
+
+    #[test]
+    fn a_program_is_taken_a_few_words_per_poll() {
+        let s = Sizes {
+            rungs: 40,
+            ..small()
+        };
+        let w = region(&s);
+        let p = program(&s);
+        let mut intake = Intake::new();
+        let mut spare = Program::empty(&s);
+        assert_eq!(intake.poll(&w, &s, &mut spare, 64), None, "nothing yet");
+        let seq = publish(&w, &encode(&p, &s)).unwrap();
+        let mut polls = 1;
+        let verdict = loop {
+            if let Some(v) = intake.poll(&w, &s, &mut spare, 64) {
+                break v;
+            }
+            polls += 1;
+            assert!(polls < 1000, "never finished");
+        };
+        assert_eq!(verdict, (seq, Ok(())));
+        assert!(polls >= region_words(&s) / 128, "{polls} polls: not spread");
+        assert_eq!(spare, p);
+        assert_eq!(intake.poll(&w, &s, &mut spare, 64), None, "answered once");
+    }
+
+    #[test]
+    fn a_program_replaced_while_decoding_is_started_again() {
+        let s = Sizes {
+            rungs: 40,
+            ..small()
+        };
+        let w = region(&s);
+        let mut intake = Intake::new();
+        let mut spare = Program::empty(&s);
+        publish(&w, &encode(&program(&s), &s)).unwrap();
+        assert_eq!(intake.poll(&w, &s, &mut spare, 64), None, "under way");
+        // The second program has a bad section: the answer is about it.
+        let mut body = encode(&program(&s), &s);
+        body[1] = 9;
+        let seq = publish(&w, &body).unwrap();
+        let verdict = (0..1000).find_map(|_| intake.poll(&w, &s, &mut spare, 64));
+        assert_eq!(verdict, Some((seq, Err((Part::Section, 1)))));
     }
 }
