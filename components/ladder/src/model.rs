@@ -19,68 +19,71 @@ pub const CELLS: usize = RUNG_WIDTH * RUNG_HEIGHT;
 /// Counters count from 0 to this and wrap.
 pub const COUNTER_MAX: i32 = 9999;
 
-/// How many of each object the module holds (its `loadrt` parameters).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Sizes {
-    /// `numRungs`.
-    pub rungs: usize,
-    /// `numBits` (%B).
-    pub bits: usize,
-    /// `numWords` (%W).
-    pub words: usize,
-    /// `numTimers` (%T, the old timers).
-    pub timers: usize,
-    /// `numMonostables` (%M).
-    pub monostables: usize,
-    /// `numCounters` (%C).
-    pub counters: usize,
-    /// `numTimersIec` (%TM).
-    pub timers_iec: usize,
-    /// `numPhysInputs` (%I, pins in-NN).
-    pub inputs: usize,
-    /// `numPhysOutputs` (%Q, pins out-NN).
-    pub outputs: usize,
-    /// `numArithmExpr`.
-    pub exprs: usize,
-    /// `numSections`.
-    pub sections: usize,
-    /// `numSymbols`.
-    pub symbols: usize,
-    /// `numS32in` (%IW, pins s32in-NN).
-    pub s32_in: usize,
-    /// `numS32out` (%QW, pins s32out-NN).
-    pub s32_out: usize,
-    /// `numFloatIn` (%IF, pins floatin-NN).
-    pub float_in: usize,
-    /// `numFloatOut` (%QF, pins floatout-NN).
-    pub float_out: usize,
-    /// Error bits (%E); not a parameter in LinuxCNC.
-    pub error_bits: usize,
+/// Defines [`Sizes`] from one list: each field with its `loadrt`
+/// parameter (`None` for a size LinuxCNC does not let one set), LinuxCNC's
+/// default and what it counts. The struct, its default, the module's
+/// parameter table and the hand-off's word order all come from it.
+macro_rules! sizes {
+    ($($field:ident: $param:expr, $default:literal, $what:literal;)*) => {
+        /// How many of each object the module holds (its `loadrt`
+        /// parameters).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub struct Sizes {
+            $(
+                #[doc = $what]
+                pub $field: usize,
+            )*
+        }
+
+        impl Default for Sizes {
+            /// LinuxCNC's defaults.
+            fn default() -> Self {
+                Sizes { $($field: $default,)* }
+            }
+        }
+
+        impl Sizes {
+            /// How many sizes there are.
+            pub const COUNT: usize = [$($default),*].len();
+
+            /// Each size's `loadrt` parameter (`None`: not settable) and
+            /// its help text, in the order of [`Sizes::to_array`].
+            pub const PARAMS: [(Option<&'static str>, &'static str); Self::COUNT] = [
+                $(($param, concat!($what, " (default ", $default, ")")),)*
+            ];
+
+            /// The sizes in a fixed order (the hand-off's).
+            pub fn to_array(&self) -> [usize; Self::COUNT] {
+                [$(self.$field),*]
+            }
+
+            /// The sizes from [`Sizes::to_array`]'s order.
+            pub fn from_array(v: [usize; Self::COUNT]) -> Sizes {
+                let mut it = v.into_iter();
+                Sizes { $($field: it.next().unwrap_or($default),)* }
+            }
+        }
+    };
 }
 
-impl Default for Sizes {
-    /// LinuxCNC's defaults.
-    fn default() -> Self {
-        Sizes {
-            rungs: 100,
-            bits: 500,
-            words: 100,
-            timers: 10,
-            monostables: 10,
-            counters: 10,
-            timers_iec: 10,
-            inputs: 15,
-            outputs: 15,
-            exprs: 100,
-            sections: 10,
-            symbols: 100,
-            s32_in: 10,
-            s32_out: 10,
-            float_in: 10,
-            float_out: 10,
-            error_bits: 10,
-        }
-    }
+sizes! {
+    rungs: Some("numRungs"), 100, "rungs";
+    bits: Some("numBits"), 500, "memory bits %B";
+    words: Some("numWords"), 100, "memory words %W";
+    timers: Some("numTimers"), 10, "old timers %T";
+    monostables: Some("numMonostables"), 10, "monostables %M";
+    counters: Some("numCounters"), 10, "counters %C";
+    timers_iec: Some("numTimersIec"), 10, "IEC timers %TM";
+    inputs: Some("numPhysInputs"), 15, "bit inputs %I, pins in-NN";
+    outputs: Some("numPhysOutputs"), 15, "bit outputs %Q, pins out-NN";
+    exprs: Some("numArithmExpr"), 100, "arithmetic expressions";
+    sections: Some("numSections"), 10, "sections";
+    symbols: Some("numSymbols"), 100, "symbols";
+    s32_in: Some("numS32in"), 10, "s32 inputs %IW, pins s32in-NN";
+    s32_out: Some("numS32out"), 10, "s32 outputs %QW, pins s32out-NN";
+    float_in: Some("numFloatIn"), 10, "float inputs %IF, pins floatin-NN";
+    float_out: Some("numFloatOut"), 10, "float outputs %QF, pins floatout-NN";
+    error_bits: None, 10, "error bits %E (not a parameter in LinuxCNC)";
 }
 
 /// The kinds of variables, with ClassicLadder's type codes.

@@ -19,38 +19,40 @@ use crate::runtime::Engine;
 /// The most of any one object a module may be asked for.
 pub const MAX_SIZE: i64 = 10_000;
 
-const fn p(name: &'static str, help: &'static str) -> ParamDecl {
-    ParamDecl {
-        name,
+/// The settable sizes, as `loadrt` parameters.
+const PARAMS: &[ParamDecl] = &{
+    const N: usize = settable();
+    let mut out = [ParamDecl {
+        name: "",
         kind: ParamKind::Int,
-        help,
+        help: "",
+    }; N];
+    let (mut i, mut k) = (0, 0);
+    while i < Sizes::COUNT {
+        if let (Some(name), help) = Sizes::PARAMS[i] {
+            out[k] = ParamDecl {
+                name,
+                kind: ParamKind::Int,
+                help,
+            };
+            k += 1;
+        }
+        i += 1;
     }
-}
+    out
+};
 
-const PARAMS: &[ParamDecl] = &[
-    p("numRungs", "rungs (default 100)"),
-    p("numBits", "memory bits %B (default 500)"),
-    p("numWords", "memory words %W (default 100)"),
-    p("numTimers", "old timers %T (default 10)"),
-    p("numMonostables", "monostables %M (default 10)"),
-    p("numCounters", "counters %C (default 10)"),
-    p("numTimersIec", "IEC timers %TM (default 10)"),
-    p("numPhysInputs", "bit inputs %I, pins in-NN (default 15)"),
-    p("numPhysOutputs", "bit outputs %Q, pins out-NN (default 15)"),
-    p("numArithmExpr", "arithmetic expressions (default 100)"),
-    p("numSections", "sections (default 10)"),
-    p("numSymbols", "symbols (default 100)"),
-    p("numS32in", "s32 inputs %IW, pins s32in-NN (default 10)"),
-    p("numS32out", "s32 outputs %QW, pins s32out-NN (default 10)"),
-    p(
-        "numFloatIn",
-        "float inputs %IF, pins floatin-NN (default 10)",
-    ),
-    p(
-        "numFloatOut",
-        "float outputs %QF, pins floatout-NN (default 10)",
-    ),
-];
+/// How many sizes are `loadrt` parameters.
+const fn settable() -> usize {
+    let (mut i, mut n) = (0, 0);
+    while i < Sizes::COUNT {
+        if Sizes::PARAMS[i].0.is_some() {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
 
 /// The `classicladder_rt` module.
 pub static MODULE: ModuleDef = ModuleDef {
@@ -62,39 +64,22 @@ pub static MODULE: ModuleDef = ModuleDef {
 
 /// The sizes `args` ask for.
 pub fn sizes(args: &ModuleArgs) -> Result<Sizes> {
-    let mut s = Sizes::default();
-    let fields: [(&str, &mut usize); 16] = [
-        ("numRungs", &mut s.rungs),
-        ("numBits", &mut s.bits),
-        ("numWords", &mut s.words),
-        ("numTimers", &mut s.timers),
-        ("numMonostables", &mut s.monostables),
-        ("numCounters", &mut s.counters),
-        ("numTimersIec", &mut s.timers_iec),
-        ("numPhysInputs", &mut s.inputs),
-        ("numPhysOutputs", &mut s.outputs),
-        ("numArithmExpr", &mut s.exprs),
-        ("numSections", &mut s.sections),
-        ("numSymbols", &mut s.symbols),
-        ("numS32in", &mut s.s32_in),
-        ("numS32out", &mut s.s32_out),
-        ("numFloatIn", &mut s.float_in),
-        ("numFloatOut", &mut s.float_out),
-    ];
-    for (name, slot) in fields {
+    let mut v = Sizes::default().to_array();
+    for (slot, (param, _)) in v.iter_mut().zip(Sizes::PARAMS) {
+        let Some(name) = param else { continue };
         match args.int(name) {
-            Some(v) if v > MAX_SIZE => {
+            Some(n) if n > MAX_SIZE => {
                 return Err(HalError::ModuleParam {
                     module: MODULE.name.into(),
                     param: name.into(),
-                    reason: format!("{v} is more than {MAX_SIZE}"),
+                    reason: format!("{n} is more than {MAX_SIZE}"),
                 })
             }
-            Some(v) if v > 0 => *slot = v as usize,
+            Some(n) if n > 0 => *slot = n as usize,
             _ => {}
         }
     }
-    Ok(s)
+    Ok(Sizes::from_array(v))
 }
 
 /// The pins of the module.

@@ -32,9 +32,9 @@ const STATUS: usize = 2;
 const STATUS_SEQ: usize = 3;
 const DETAIL: usize = 4;
 const SIZES: usize = 5;
-const N_SIZES: usize = 17;
 /// Where the program's words start.
 pub const BODY: usize = 24;
+const _: () = assert!(SIZES + Sizes::COUNT <= BODY, "the sizes overlap the body");
 const RUNG_WORDS: usize = 1 + CELLS;
 const EXPR_WORDS: usize = 2 + MAX_OPS;
 
@@ -98,31 +98,9 @@ pub fn region_words(s: &Sizes) -> usize {
         + s.timers_iec
 }
 
-fn sizes_list(s: &Sizes) -> [usize; N_SIZES] {
-    [
-        s.rungs,
-        s.bits,
-        s.words,
-        s.timers,
-        s.monostables,
-        s.counters,
-        s.timers_iec,
-        s.inputs,
-        s.outputs,
-        s.exprs,
-        s.sections,
-        s.symbols,
-        s.s32_in,
-        s.s32_out,
-        s.float_in,
-        s.float_out,
-        s.error_bits,
-    ]
-}
-
 /// Written by the module at `loadrt`.
 pub fn init(words: &[AtomicU64], s: &Sizes) {
-    for (i, v) in sizes_list(s).iter().enumerate() {
+    for (i, v) in s.to_array().iter().enumerate() {
         if let Some(w) = words.get(SIZES + i) {
             w.store(*v as u64, Relaxed);
         }
@@ -137,28 +115,9 @@ pub fn read_sizes(words: &[AtomicU64]) -> Option<Sizes> {
     if words.len() < BODY || words[0].load(Acquire) != MAGIC {
         return None;
     }
-    let v: Vec<usize> = (0..N_SIZES)
-        .map(|i| words[SIZES + i].load(Relaxed) as usize)
-        .collect();
-    let s = Sizes {
-        rungs: v[0],
-        bits: v[1],
-        words: v[2],
-        timers: v[3],
-        monostables: v[4],
-        counters: v[5],
-        timers_iec: v[6],
-        inputs: v[7],
-        outputs: v[8],
-        exprs: v[9],
-        sections: v[10],
-        symbols: v[11],
-        s32_in: v[12],
-        s32_out: v[13],
-        float_in: v[14],
-        float_out: v[15],
-        error_bits: v[16],
-    };
+    let s = Sizes::from_array(std::array::from_fn(|i| {
+        words[SIZES + i].load(Relaxed) as usize
+    }));
     (region_words(&s) <= words.len()).then_some(s)
 }
 
