@@ -15,6 +15,7 @@
 //! `exec` (host, threads, executor), `ring` and `seqlock` (channels),
 //! `userspace` (helpers for user-space component processes).
 
+pub mod cfmt;
 mod error;
 mod exec;
 pub mod files;

@@ -5,8 +5,8 @@ use hal_core::{
     SignalInfo, ThreadInfo, Value,
 };
 
-use crate::cfmt::fmt_g;
 use crate::error::{LangError, Result};
+use hal_core::cfmt::fmt_g;
 
 /// Whether `name` matches one of `patterns` the way halcmd matches: a
 /// pattern matches a name it is a prefix of, or that it matches as a shell

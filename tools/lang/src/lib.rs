@@ -13,7 +13,6 @@
 //! - [`protocol`] and [`host_process`]: the client side of the host's
 //!   control socket, and starting and stopping a host process.
 
-mod cfmt;
 mod error;
 pub mod format;
 pub mod haltcl;
@@ -27,8 +26,8 @@ pub mod session;
 pub mod usr;
 mod values;
 
-pub use cfmt::fmt_f;
 pub use error::{LangError, Result};
+pub use hal_core::cfmt::fmt_f;
 pub use ini::{Ini, IniError};
 pub use protocol::{Client, ClientError, HostLink};
 pub use session::{CommandFilter, Options, Session, SharedFilter, Verdict};

@@ -1,4 +1,5 @@
-//! C printf conversions halcmd's output depends on, reproduced exactly.
+//! C printf conversions reproduced exactly: halcmd's values (`%.7g`),
+//! motion-logger's numbers (`%.6g`) and `%f`.
 
 /// C's `%.{prec}g`.
 pub fn fmt_g(v: f64, prec: usize) -> String {
