@@ -22,6 +22,7 @@ use std::sync::Arc;
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl, ParamKind};
 use hal_core::{HalError, Host, In, Pin, Result};
 use hal_driver::bus::{DevPortPorts, IopermPorts, PortBus, PortRange};
+use hal_driver::params::BackendTokens;
 use hal_driver::sim::SimBoard;
 
 use sim::{SpeakerModel, PORT_B};
@@ -32,7 +33,8 @@ pub const NAME: &str = "hal_speaker";
 const PARAMS: &[ParamDecl] = &[ParamDecl {
     name: "backend",
     kind: ParamKind::Str,
-    help: "auto (default: ioperm if permitted, else simulated), ioperm, devport or sim",
+    help:
+        "auto|ioperm|devport|sim: auto (the default) takes ioperm if permitted, else the simulator",
 }];
 
 /// The `hal_speaker` module.
@@ -60,21 +62,22 @@ pub enum Backend {
     Sim,
 }
 
+/// The `backend=` tokens, read the way every driver reads them.
+const BACKENDS: BackendTokens = BackendTokens::new(&["auto", "ioperm", "devport"], &[]);
+
 /// `backend=`, checked.
 pub fn backend(args: &ModuleArgs) -> Result<Backend> {
     let token = args.str("backend").unwrap_or("auto");
-    Ok(match token.to_ascii_lowercase().as_str() {
+    let bad = || HalError::ModuleParam {
+        module: NAME.into(),
+        param: "backend".into(),
+        reason: format!("'{token}' is not one of {}", BACKENDS.list()),
+    };
+    Ok(match BACKENDS.parse(token).ok_or_else(bad)?.token() {
         "auto" => Backend::Auto,
         "ioperm" => Backend::Ioperm,
         "devport" => Backend::DevPort,
-        "sim" => Backend::Sim,
-        _ => {
-            return Err(HalError::ModuleParam {
-                module: NAME.into(),
-                param: "backend".into(),
-                reason: format!("'{token}' is not one of auto, ioperm, devport, sim"),
-            })
-        }
+        _ => Backend::Sim,
     })
 }
 
