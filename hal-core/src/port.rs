@@ -117,11 +117,13 @@ impl Buffer<'_> {
         true
     }
 
-    /// Room for bytes (the writer's view).
+    /// Room for bytes (the writer's view). A buffer of `size` bytes holds
+    /// at most `size - 1`, as LinuxCNC's does (its ring keeps one byte
+    /// free to tell full from empty): `sets p 9` gives 8 writable bytes.
     fn writable(&self) -> u64 {
         let r = self.read_pos.load(Acquire);
         let used = self.write_pos.load(Relaxed).wrapping_sub(r).min(self.size);
-        self.size - used
+        (self.size - 1).saturating_sub(used)
     }
 
     /// Appends all of `src`, if there is room for all of it.
