@@ -2,7 +2,8 @@
 //! pin to one input pin through a signal, as LinuxCNC 2.9 has them.
 //!
 //! A port signal holds no value but a buffer, made by `sets SIGNAL SIZE`
-//! (once: a buffer's size never changes) and kept for the instance's
+//! (once: a buffer's size never changes; allowed with the writer linked;
+//! SIZE - 1 bytes fit, as in LinuxCNC) and kept for the instance's
 //! life, as LinuxCNC keeps it. The signal's cell says where it is: the
 //! size in bytes in its low 32 bits, the buffer's first word / 8 in the
 //! high 32 bits (0 and 0 while no buffer is made). So `show` and `gets`
