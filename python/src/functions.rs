@@ -147,8 +147,9 @@ pub(crate) fn set_p(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
     Ok(true)
 }
 
-/// Sets a signal that has no writer, from text or a number. Returns True;
-/// raises RuntimeError otherwise.
+/// Sets a signal that has no writer, from text or a number; a port
+/// signal (its value the size of the buffer to make) may have one, as in
+/// LinuxCNC. Returns True; raises RuntimeError otherwise.
 #[pyfunction]
 pub(crate) fn set_s(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
     let inst = instance()?;
@@ -157,7 +158,7 @@ pub(crate) fn set_s(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
         .signal(name)
         .map_err(fail)?
         .ok_or_else(|| runtime("signal not found"))?;
-    if sig.writers > 0 {
+    if sig.writers > 0 && sig.hal_type != HalType::Port {
         return Err(runtime(format!("signal '{name}' already has writer(s)")));
     }
     let v = value_for("set_s", name, value, sig.hal_type)?;

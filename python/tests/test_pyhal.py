@@ -116,3 +116,23 @@ def test_an_exited_component(hal_instance):
 def test_a_duplicate_component_name(comp):
     with pytest.raises(HalException, match='failed to make component "ph": .+'):
         pyhal.component("ph")
+
+
+def test_a_port_signal_is_sized_with_its_writer_linked(comp):
+    import hal
+
+    rx = comp.pinNew("rx", halType.PORT, pinDir.IN)
+    tx = comp.pinNew("tx", halType.PORT, pinDir.OUT)
+    comp.sigNew("p", halType.PORT)
+    comp.sigLink("ph.tx", "p")
+    comp.sigLink("ph.rx", "p")
+    # As LinuxCNC's: the writer drives the bytes, not the buffer's size.
+    assert hal.set_s("p", 6) is True
+    assert (tx.size(), rx.size(), tx.writable()) == (6, 6, 5)
+    with pytest.raises(RuntimeError, match="set_s: p: port is already allocated with 6 bytes"):
+        hal.set_s("p", 8)
+    comp.sigNew("v", halType.FLOAT)
+    comp.pinNew("out", halType.FLOAT, pinDir.OUT)
+    comp.sigLink("ph.out", "v")
+    with pytest.raises(RuntimeError, match="signal 'v' already has writer"):
+        hal.set_s("v", 1.0)
