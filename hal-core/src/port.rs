@@ -2,7 +2,8 @@
 //! pin to one input pin through a signal, as LinuxCNC 2.9 has them.
 //!
 //! A port signal holds no value but a buffer, made by `sets SIGNAL SIZE`
-//! (once: a buffer's size never changes) and kept for the instance's
+//! (once: a buffer's size never changes; allowed with the writer linked;
+//! SIZE - 1 bytes fit, as in LinuxCNC) and kept for the instance's
 //! life, as LinuxCNC keeps it. The signal's cell says where it is: the
 //! size in bytes in its low 32 bits, the buffer's first word / 8 in the
 //! high 32 bits (0 and 0 while no buffer is made). So `show` and `gets`
@@ -117,11 +118,13 @@ impl Buffer<'_> {
         true
     }
 
-    /// Room for bytes (the writer's view).
+    /// Room for bytes (the writer's view). A buffer of `size` bytes holds
+    /// at most `size - 1`, as LinuxCNC's does (its ring keeps one byte
+    /// free to tell full from empty): `sets p 9` gives 8 writable bytes.
     fn writable(&self) -> u64 {
         let r = self.read_pos.load(Acquire);
         let used = self.write_pos.load(Relaxed).wrapping_sub(r).min(self.size);
-        self.size - used
+        (self.size - 1).saturating_sub(used)
     }
 
     /// Appends all of `src`, if there is room for all of it.

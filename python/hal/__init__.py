@@ -2,7 +2,8 @@
 
 Creates user-space HAL components in Python, with pins and parameters of
 every HAL type, and works on the HAL instance as a whole (signals, values
-by name, listings, sampler and streamer FIFOs).
+by name, listings, sampler and streamer FIFOs). `hal.query` describes every
+pin, param, signal, component, function and thread as dicts.
 
 Typical use:
 
@@ -63,6 +64,14 @@ Dir = _enum.IntEnum(
         ("WO", HAL_WO),  # noqa: F405
         ("RW", HAL_RW),  # noqa: F405
     ],
+    module=__name__,
+)
+
+# hal.CompType: the kinds of component `hal.query` reports, LinuxCNC's
+# numbers.
+CompType = _enum.IntEnum(
+    "CompType",
+    [("UNKNOWN", -1), ("USER", 0), ("REALTIME", 1), ("OTHER", 2)],
     module=__name__,
 )
 
@@ -145,6 +154,9 @@ class component(_hal.component):
     def getparam(self, *a, **kw):
         return Param(_hal.component.getparam(self, *a, **kw))
 
+
+# hal.query needs Type, Dir and CompType above.
+from . import query  # noqa: E402,F401
 
 # Components leave the HAL when the interpreter exits, however it exits.
 _atexit.register(_hal._exit_all)

@@ -151,6 +151,16 @@ impl Shared {
         self.read().is_some()
     }
 
+    /// Runs `f` on the HAL component and the full name of its item
+    /// `name` (`prefix.name`), while the component exists.
+    pub(crate) fn with_prefixed<T>(
+        &self,
+        name: &str,
+        f: impl FnOnce(&Component, &str) -> PyResult<T>,
+    ) -> PyResult<T> {
+        self.with_live(|l| f(&l.comp, &format!("{}.{}", l.prefix, name)))
+    }
+
     /// Runs `f` on the HAL component while it exists.
     pub(crate) fn with_component<T>(
         &self,

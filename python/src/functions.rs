@@ -13,6 +13,7 @@ use pyo3::IntoPyObjectExt;
 use crate::codes;
 use crate::convert::{to_python, to_value};
 use crate::instance::shared_or_runtime_error as instance;
+use crate::instance::{error, hal_error, shared};
 
 fn runtime(msg: impl Into<String>) -> PyErr {
     PyRuntimeError::new_err(msg.into())
@@ -79,6 +80,29 @@ pub(crate) fn new_sig(name: &str, hal_type: i32) -> PyResult<bool> {
     Ok(instance()?.newsig(name, t).is_err())
 }
 
+/// Creates a signal of any type, ports included; raises `hal.error` with
+/// the HAL's reason (for `pyhal`, which says which signal).
+#[pyfunction]
+#[pyo3(name = "_new_signal")]
+pub(crate) fn new_signal(name: &str, hal_type: i32) -> PyResult<()> {
+    let t = codes::hal_type(hal_type as i64).ok_or_else(|| {
+        error::new_err(format!(
+            "signal {name}: {hal_type} is not a HAL type number"
+        ))
+    })?;
+    let inst = shared().map_err(hal_error)?;
+    inst.newsig(name, t).map_err(hal_error)
+}
+
+/// Links a pin to a signal; raises `hal.error` with the HAL's reason (for
+/// `pyhal`, which names both).
+#[pyfunction]
+#[pyo3(name = "_link")]
+pub(crate) fn link(pin: &str, signal: &str) -> PyResult<()> {
+    let inst = shared().map_err(hal_error)?;
+    inst.link(pin, signal).map_err(hal_error)
+}
+
 /// Links a pin to a signal. Returns False on success, True on failure.
 #[pyfunction]
 pub(crate) fn connect(pin: &str, signal: &str) -> PyResult<bool> {
@@ -123,8 +147,9 @@ pub(crate) fn set_p(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
     Ok(true)
 }
 
-/// Sets a signal that has no writer, from text or a number. Returns True;
-/// raises RuntimeError otherwise.
+/// Sets a signal that has no writer, from text or a number; a port
+/// signal (its value the size of the buffer to make) may have one, as in
+/// LinuxCNC. Returns True; raises RuntimeError otherwise.
 #[pyfunction]
 pub(crate) fn set_s(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
     let inst = instance()?;
@@ -133,7 +158,7 @@ pub(crate) fn set_s(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
         .signal(name)
         .map_err(fail)?
         .ok_or_else(|| runtime("signal not found"))?;
-    if sig.writers > 0 {
+    if sig.writers > 0 && sig.hal_type != HalType::Port {
         return Err(runtime(format!("signal '{name}' already has writer(s)")));
     }
     let v = value_for("set_s", name, value, sig.hal_type)?;

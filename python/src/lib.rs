@@ -7,6 +7,8 @@
 //! * `functions.rs`: functions on the whole instance (signals, values by
 //!   name, listings).
 //! * `stream.rs`: `hal.stream`, feeding a streamer and reading a sampler.
+//! * `query.rs`: the dicts of `hal.query` (LinuxCNC 2.10's query API).
+//! * `port.rs`: port pins, for the `pyhal` package.
 //! * `convert.rs`: Python objects to HAL values, with LinuxCNC's
 //!   exceptions; `codes.rs`: LinuxCNC's numbers for types and directions.
 
@@ -15,6 +17,8 @@ mod component;
 mod convert;
 mod functions;
 mod instance;
+mod port;
+mod query;
 mod stream;
 
 use std::sync::atomic::{AtomicI32, Ordering::Relaxed};
@@ -72,6 +76,23 @@ fn _hal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<component::PyComponent>()?;
     m.add_class::<component::PyItem>()?;
     m.add_class::<stream::PyStream>()?;
+    m.add_class::<port::PyPort>()?;
+    m.add_function(wrap_pyfunction!(port::new_port, m)?)?;
+    m.add_function(wrap_pyfunction!(functions::new_signal, m)?)?;
+    m.add_function(wrap_pyfunction!(functions::link, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_pins, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_pin, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_params, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_param, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_signals, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_signal, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_signalpins, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_comps, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_comp, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_functs, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_funct, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(query::query_thread, m)?)?;
     m.add_function(wrap_pyfunction!(functions::pin_has_writer, m)?)?;
     m.add_function(wrap_pyfunction!(functions::component_exists, m)?)?;
     m.add_function(wrap_pyfunction!(functions::component_is_ready, m)?)?;

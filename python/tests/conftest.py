@@ -100,6 +100,21 @@ def hal_instance():
 
 
 @pytest.fixture
+def hal_instance_name():
+    """A unique instance name in HAL_INSTANCE, for a test whose program
+    starts the instance itself; stopped afterwards whatever happened."""
+    import hal
+
+    name = "pyt-%d-%d" % (os.getpid(), next(_names))
+    os.environ["HAL_INSTANCE"] = name
+    try:
+        yield name
+    finally:
+        hal._hal._exit_all()
+        subprocess.run(["realtime", "stop"], capture_output=True, timeout=120)
+
+
+@pytest.fixture
 def children():
     """Processes a test starts; killed at the end if still running."""
     procs = []

@@ -172,7 +172,8 @@ impl Instance {
         })
     }
 
-    /// Sets a signal that has no output pin (halcmd `sets`).
+    /// Sets a signal that has no output pin (halcmd `sets`); a port
+    /// signal is sized whether or not its writer is linked.
     pub fn set_signal(&self, name: &str, value: Value) -> Result<()> {
         self.tx(|tx| {
             let seg = tx.seg();
@@ -186,7 +187,9 @@ impl Instance {
                     actual: t,
                 });
             }
-            if s.writers.load(Relaxed) > 0 {
+            // A port's value is its buffer, which no writer drives: as in
+            // LinuxCNC, `sets` sizes it with the writer linked.
+            if s.writers.load(Relaxed) > 0 && t != HalType::Port {
                 return Err(HalError::SignalDriven {
                     signal: name.to_string(),
                     writer: writer_of(seg, off)?.unwrap_or_default(),

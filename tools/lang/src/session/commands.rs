@@ -161,13 +161,9 @@ impl Session<'_> {
         let refused = match parse_value(HalType::Port, value) {
             Err(_) => format!("value '{value}' invalid for PORT"),
             Ok(size) => match self.inst.set_signal(name, size) {
+                // A linked writer does not stop it: the buffer is no value
+                // the writer drives (LinuxCNC sizes it all the same).
                 Ok(()) => return Ok(()),
-                Err(HalError::SignalDriven { .. }) => {
-                    return Err(LangError::NotWritable {
-                        what: "signal",
-                        name: name.to_string(),
-                    })
-                }
                 Err(e @ (HalError::PortAllocated { .. } | HalError::BadPortSize { .. })) => {
                     e.to_string()
                 }
