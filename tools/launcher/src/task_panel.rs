@@ -164,6 +164,15 @@ mod tests {
             parse(&["teleop", "on"]).unwrap().unwrap(),
             TaskRequest::Teleop(true)
         );
+        assert_eq!(
+            parse(&["feed-hold", "off"]).unwrap().unwrap(),
+            TaskRequest::FeedHold(false)
+        );
+        let words = ["override-limits".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::OverrideLimits
+        );
         assert!(parse(&["mode", "auto"]).is_none());
         let e = parse(&["teleop", "maybe"])
             .unwrap()

@@ -45,8 +45,7 @@ const HANDLER_LIMIT: u64 = 4 << 20;
 
 /// `panelui`'s usage text.
 pub const USAGE: &str = "\
-usage: panelui [--instance NAME] [-c CHANNEL] [-n COUNT] [-t] [-d] [-v]
-               [--config FILE]
+usage: panelui [--instance NAME] [-c CHANNEL] [-n COUNT] [-t] [-d] [-v] [--config FILE]
 
 LinuxCNC's operator panel: reads the keycodes of a Mesa 7I73 style key
 matrix (or sim_matrix_kb) from sampler channel CHANNEL (default 0; load
