@@ -2,8 +2,8 @@
 //! through `linuxcnc`: sim_matrix_kb's keycodes reach panelui through a
 //! sampler; a key pressed on sim_matrix_kb's button pins changes
 //! panelui's pins (a radio group that sets the MPG jog scale) and sends
-//! task commands (flood coolant, the spindle). A panel file naming an
-//! unknown command stops the start, naming its line.
+//! task commands (flood coolant, the spindle, a jog). A panel file
+//! naming an unknown command stops the start, naming its line.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -124,6 +124,29 @@ fn peer_panelui_demo_keys_drive_pins_and_task() {
     // R1C3 (spindle_stop).
     tap(&m, "sim-spindle-stop");
     wait(&m, "spindle.0.on", "FALSE");
+
+    // R3C2 (jog_z+, momentary: continuous_jog, 2, 1 while held): in joint
+    // mode Z is joint 1 of COORDINATES = X Z; it jogs at mpg_med's
+    // set_linear_jog_velocity (10 per minute) and stops on release.
+    m.halcmd(&["sets", "sim-jog-z-pos", "1"]);
+    let end = Instant::now() + Duration::from_secs(10);
+    while m.getp("joint.1.pos-cmd").parse::<f64>().unwrap() < 0.02 {
+        assert!(Instant::now() < end, "Z jogs\n{}", m.stderr());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(m.getp("joint.0.pos-cmd").parse::<f64>().unwrap(), 0.0);
+    m.halcmd(&["sets", "sim-jog-z-pos", "0"]);
+    let end = Instant::now() + Duration::from_secs(10);
+    let mut last = f64::NAN;
+    loop {
+        std::thread::sleep(Duration::from_millis(200));
+        let z: f64 = m.getp("joint.1.pos-cmd").parse().unwrap();
+        if z == last {
+            break;
+        }
+        assert!(Instant::now() < end, "Z stops\n{}", m.stderr());
+        last = z;
+    }
     m.stop();
 }
 

@@ -492,7 +492,8 @@ fn check_group_output(b: &Button, kind: Option<PinKind>, line: usize) -> Result<
 }
 
 /// Fuzz body: any bytes as a panel file; a file read has unique names
-/// and keys, and each group's default is one of its buttons.
+/// and keys, each group's default is one of its buttons, and pressing
+/// any key leaves one button of each group true.
 pub fn fuzz_config(data: &[u8]) {
     let text = String::from_utf8_lossy(data);
     let handlers = ["user_cmd".to_string()];
@@ -506,6 +507,18 @@ pub fn fuzz_config(data: &[u8]) {
             }
             for g in &cfg.groups {
                 assert!(g.members.contains(&g.default));
+            }
+            // Every key pressed and released: one true button a group.
+            let groups = cfg.groups.clone();
+            let (mut panel, _) = super::panel::Panel::new(cfg);
+            for code in 0..64 {
+                for pressed in [true, false] {
+                    let _ = panel.key(code / 8, code % 8, pressed);
+                    for g in &groups {
+                        let on = g.members.iter().filter(|&&m| panel.state(m)).count();
+                        assert_eq!(on, 1, "group {}", g.name);
+                    }
+                }
             }
         }
         Err(e) => assert!(e.line >= 1 && !e.why.is_empty()),
