@@ -149,33 +149,24 @@ impl Runner {
     }
 
     fn run(&mut self, who: &str, c: &Command, s: &Snapshot) {
-        let ask = |w: &[&str]| self.ask(who, w, REQUEST_WAIT);
-        let on_off = |b: bool| if b { "on" } else { "off" };
-        match c {
-            Command::Mist(on) => _ = ask(&["coolant", "mist", on_off(*on)]),
-            Command::Flood(on) => _ = ask(&["coolant", "flood", on_off(*on)]),
-            Command::Estop => _ = ask(&["estop"]),
-            Command::EstopReset => _ = ask(&["estop-reset"]),
-            Command::MachineOn => _ = ask(&["machine-on"]),
-            Command::MachineOff => _ = ask(&["machine-off"]),
-            Command::HomeAll => _ = self.mode(who, s, "manual") && ask(&["home", "all"]),
-            Command::UnhomeAll => _ = self.mode(who, s, "manual") && ask(&["unhome", "all"]),
-            Command::Home(j) => _ = self.mode(who, s, "manual") && ask(&["home", &j.to_string()]),
-            Command::Unhome(j) => {
-                _ = self.mode(who, s, "manual") && ask(&["unhome", &j.to_string()])
+        if let Some((mode, words)) = plain_request(c) {
+            let w: Vec<&str> = words.iter().map(String::as_str).collect();
+            if mode.is_none_or(|m| self.mode(who, s, m)) {
+                self.ask(who, &w, REQUEST_WAIT);
             }
+            return;
+        }
+        match c {
             Command::Jogging => _ = self.mode(who, s, "manual"),
-            Command::OverrideLimits => _ = self.mode(who, s, "manual") && ask(&["override-limits"]),
             Command::SpindleForwardAdjust(rpm) | Command::SpindleReverseAdjust(rpm) => {
                 let dir = if matches!(c, Command::SpindleForwardAdjust(_)) {
                     1
                 } else {
                     -1
                 };
-                if s.mode == "MDI" && !self.mode(who, s, "manual") {
-                    return;
+                if s.mode != "MDI" || self.mode(who, s, "manual") {
+                    self.spindle_adjust(who, s, dir, *rpm);
                 }
-                self.spindle_adjust(who, s, dir, *rpm);
             }
             Command::SpindleForward(rpm) | Command::SpindleReverse(rpm) => {
                 let word = if matches!(c, Command::SpindleForward(_)) {
@@ -184,17 +175,9 @@ impl Runner {
                     "reverse"
                 };
                 if self.mode(who, s, "manual") && s.spindle_direction == 0 {
-                    ask(&["spindle", "0", word, &rpm.to_string()]);
+                    let rpm = rpm.to_string();
+                    self.ask(who, &["spindle", "0", word, &rpm], REQUEST_WAIT);
                 }
-            }
-            Command::SpindleStop => {
-                _ = self.mode(who, s, "manual") && ask(&["spindle", "0", "off"])
-            }
-            Command::SpindleFaster => {
-                _ = self.mode(who, s, "manual") && ask(&["spindle", "0", "increase"])
-            }
-            Command::SpindleSlower => {
-                _ = self.mode(who, s, "manual") && ask(&["spindle", "0", "decrease"])
             }
             Command::LinearJogVelocity(v) => {
                 self.linear_speed = v / 60.0;
@@ -216,30 +199,22 @@ impl Runner {
                     self.ask(who, &["jog-incr", &target, &speed, &dist], REQUEST_WAIT);
                 }
             }
-            Command::QuillUp(z) => {
-                let line = format!("G53 G0 Z {z:.6}");
-                self.mdi(who, s, &[line]);
-            }
-            Command::FeedHold(on) => _ = ask(&["feed-hold", on_off(*on)]),
-            Command::FeedOverride(x) => _ = ask(&["feed-override", &x.to_string()]),
-            Command::RapidOverride(x) => _ = ask(&["rapid-override", &x.to_string()]),
-            Command::SpindleOverride(x) => _ = ask(&["spindle", "0", "override", &x.to_string()]),
-            Command::MaxVelocity(x) => _ = ask(&["max-velocity", &x.to_string()]),
-            Command::ReloadToolTable => _ = ask(&["reload-tool-table"]),
-            Command::OptionalStop(on) => _ = ask(&["optional-stop", on_off(*on)]),
-            Command::BlockDelete(on) => _ = ask(&["block-delete", on_off(*on)]),
-            Command::Abort => _ = ask(&["abort"]),
-            Command::Pause => _ = ask(&["pause"]),
-            Command::Resume => _ = ask(&["resume"]),
-            Command::SingleBlock(on) => {
-                if s.program != "IDLE" {
-                    ask(&[if *on { "pause" } else { "resume" }]);
-                }
+            _ => self.program_command(who, c, s),
+        }
+    }
+
+    /// The program and MDI commands, and those that do nothing here.
+    fn program_command(&mut self, who: &str, c: &Command, s: &Snapshot) {
+        match c {
+            Command::QuillUp(z) => _ = self.mdi(who, s, &[format!("G53 G0 Z {z:.6}")]),
+            Command::SingleBlock(on) if s.program != "IDLE" => {
+                let w = if *on { "pause" } else { "resume" };
+                self.ask(who, &[w], REQUEST_WAIT);
             }
             Command::SmartCycleStart => self.cycle_start(who, s),
             Command::Restart(line) => {
                 if self.mode(who, s, "auto") {
-                    ask(&["run", &line.to_string()]);
+                    self.ask(who, &["run", &line.to_string()], REQUEST_WAIT);
                 }
                 self.restart_line = self.restart_reset;
             }
@@ -248,19 +223,20 @@ impl Runner {
                 self.restart_reset = 0;
             }
             Command::Mdi(lines) => _ = self.mdi(who, s, lines),
-            Command::MdiAndReturn(lines) => {
-                if s.program == "IDLE" {
-                    let before = s.mode.to_ascii_lowercase();
-                    if self.mdi(who, s, lines) && before != "mdi" {
-                        self.return_to = Some(before);
-                    }
+            Command::MdiAndReturn(lines) if s.program == "IDLE" => {
+                let before = s.mode.to_ascii_lowercase();
+                if self.mdi(who, s, lines) && before != "mdi" {
+                    self.return_to = Some(before);
                 }
             }
-            Command::MdiActive => {}
             Command::Handler(name) => eprintln!(
                 "panelui: {who}: {name} is a function of panelui_handler.py, which is \
                  Python: this panelui does not run it"
             ),
+            // `mdi_active` keeps a value nobody reads; single_block while
+            // idle and mdi_and_return while busy do nothing, as LinuxCNC's;
+            // the rest are plain requests or taken by `run`.
+            _ => {}
         }
     }
 
@@ -369,6 +345,62 @@ impl Runner {
     }
 }
 
+/// A command that is one task request, perhaps after a mode change: the
+/// mode (lower case) and the request's words. `None` for the others.
+pub fn plain_request(c: &Command) -> Option<(Option<&'static str>, Vec<String>)> {
+    let on_off = |b: bool| if b { "on" } else { "off" };
+    let manual = Some("manual");
+    let (mode, words): (Option<&'static str>, Vec<String>) = match c {
+        Command::Mist(on) => (
+            None,
+            vec!["coolant".into(), "mist".into(), on_off(*on).into()],
+        ),
+        Command::Flood(on) => (
+            None,
+            vec!["coolant".into(), "flood".into(), on_off(*on).into()],
+        ),
+        Command::Estop => (None, vec!["estop".into()]),
+        Command::EstopReset => (None, vec!["estop-reset".into()]),
+        Command::MachineOn => (None, vec!["machine-on".into()]),
+        Command::MachineOff => (None, vec!["machine-off".into()]),
+        Command::HomeAll => (manual, vec!["home".into(), "all".into()]),
+        Command::UnhomeAll => (manual, vec!["unhome".into(), "all".into()]),
+        Command::Home(j) => (manual, vec!["home".into(), j.to_string()]),
+        Command::Unhome(j) => (manual, vec!["unhome".into(), j.to_string()]),
+        Command::OverrideLimits => (manual, vec!["override-limits".into()]),
+        Command::SpindleStop => (manual, vec!["spindle".into(), "0".into(), "off".into()]),
+        Command::SpindleFaster => (
+            manual,
+            vec!["spindle".into(), "0".into(), "increase".into()],
+        ),
+        Command::SpindleSlower => (
+            manual,
+            vec!["spindle".into(), "0".into(), "decrease".into()],
+        ),
+        Command::FeedHold(on) => (None, vec!["feed-hold".into(), on_off(*on).into()]),
+        Command::FeedOverride(x) => (None, vec!["feed-override".into(), x.to_string()]),
+        Command::RapidOverride(x) => (None, vec!["rapid-override".into(), x.to_string()]),
+        Command::SpindleOverride(x) => (
+            None,
+            vec![
+                "spindle".into(),
+                "0".into(),
+                "override".into(),
+                x.to_string(),
+            ],
+        ),
+        Command::MaxVelocity(x) => (None, vec!["max-velocity".into(), x.to_string()]),
+        Command::ReloadToolTable => (None, vec!["reload-tool-table".into()]),
+        Command::OptionalStop(on) => (None, vec!["optional-stop".into(), on_off(*on).into()]),
+        Command::BlockDelete(on) => (None, vec!["block-delete".into(), on_off(*on).into()]),
+        Command::Abort => (None, vec!["abort".into()]),
+        Command::Pause => (None, vec!["pause".into()]),
+        Command::Resume => (None, vec!["resume".into()]),
+        _ => return None,
+    };
+    Some((mode, words))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -384,6 +416,47 @@ mod tests {
             ("MANUAL", "IDLE", -1)
         );
         assert!(parse_snapshot("mode=MANUAL\n").is_none());
+    }
+
+    #[test]
+    fn plain_commands_are_one_task_request() {
+        let w = |c: Command| plain_request(&c).map(|(m, w)| (m, w.join(" ")));
+        assert_eq!(
+            w(Command::Flood(true)),
+            Some((None, "coolant flood on".into()))
+        );
+        assert_eq!(w(Command::Home(2)), Some((Some("manual"), "home 2".into())));
+        assert_eq!(
+            w(Command::SpindleStop),
+            Some((Some("manual"), "spindle 0 off".into()))
+        );
+        assert_eq!(
+            w(Command::FeedHold(false)),
+            Some((None, "feed-hold off".into()))
+        );
+        assert_eq!(
+            w(Command::SpindleOverride(0.8)),
+            Some((None, "spindle 0 override 0.8".into()))
+        );
+        assert_eq!(w(Command::SmartCycleStart), None);
+        // Each plain request is one task parses.
+        for c in [
+            Command::Mist(false),
+            Command::EstopReset,
+            Command::UnhomeAll,
+            Command::OverrideLimits,
+            Command::SpindleFaster,
+            Command::RapidOverride(0.5),
+            Command::MaxVelocity(2.0),
+            Command::ReloadToolTable,
+            Command::OptionalStop(true),
+            Command::BlockDelete(false),
+            Command::Abort,
+            Command::Resume,
+        ] {
+            let (_, words) = plain_request(&c).unwrap();
+            assert!(crate::task::parse_request(&words).is_ok(), "{words:?}");
+        }
     }
 
     #[test]
