@@ -234,8 +234,20 @@ fn no_subsections(s: &Section) -> Result<(), ConfigError> {
     }
 }
 
+/// A button's or group's name, part of its pins' names.
+fn check_name(name: &str, line: usize) -> Result<(), ConfigError> {
+    if name.chars().any(|c| c.is_whitespace() || c.is_control()) {
+        return err(
+            line,
+            format!("{name:?} cannot be part of a HAL pin name (blank or control character)"),
+        );
+    }
+    Ok(())
+}
+
 /// Adds a button, checking its name and key are its own.
 fn add(cfg: &mut PanelConfig, b: Button, line: usize) -> Result<usize, ConfigError> {
+    check_name(&b.name, line)?;
     if cfg.buttons.iter().any(|o| o.name == b.name) || cfg.groups.iter().any(|g| g.name == b.name) {
         return err(line, format!("the name {} is used twice", b.name));
     }
@@ -416,6 +428,7 @@ fn group(cfg: &mut PanelConfig, g: &Section, handlers: &[String]) -> Result<(), 
             );
         }
     }
+    check_name(&g.name, g.line)?;
     if cfg.buttons.iter().any(|b| b.name == g.name) || cfg.groups.iter().any(|o| o.name == g.name) {
         return err(g.line, format!("the name {} is used twice", g.name));
     }
@@ -606,6 +619,7 @@ mod tests {
             (GROUP.replace("GROUP_OUTPUT = 2", "GROUP_OUTPUT = two"), 18, "must be a number"),
             (GROUP.replace("OUTPUT = S32", "OUTPUT = BIT"), 6, "OUTPUT must be one of S32, U32, FLOAT, NONE"),
             ("NAME = x\n".into(), 1, "outside any section"),
+            ("[TOGGLE_BUTTONS]\n  [[a b]]\n    KEY = R1C1\n".into(), 2, "HAL pin name"),
             ("[ZMQ_SETUP]\nENABLE = True\n".into(), 2, "not supported"),
         ];
         for (text, line, why) in cases {
