@@ -50,6 +50,7 @@ crate::register_targets! {
     position_file,
     twopass_loadrt,
     old_format_config,
+    panelui_config,
     comp_file,
     classicladder_clp,
     part_program,

@@ -153,6 +153,11 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: false,
         attach: Some(&[]),
     },
+    InstanceTool {
+        bin: "panelui",
+        short: false,
+        attach: Some(&[]),
+    },
 ];
 
 /// Runs `exe args` in a scratch directory, with no standard input and an

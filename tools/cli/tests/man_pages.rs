@@ -249,6 +249,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "panelui",
+            help(
+                "an operator panel: key matrix codes into button pins and task commands",
+                hal_launcher::panelui::USAGE,
+                &["linuxcnc(1)", "sampler(9)", "sim_matrix_kb(9)", "halui(1)"],
+            ),
+        ),
+        (
             "latency-test",
             help(
                 "measure how late HAL threads wake up",

@@ -330,6 +330,30 @@ pub enum LaunchError {
         /// What is wrong.
         why: String,
     },
+    /// panelui's command line.
+    #[error("{why}")]
+    PaneluiUsage {
+        /// What is wrong.
+        why: String,
+    },
+    /// A line of panelui's panel file.
+    #[error("{}:{line}: {why}", .path.display())]
+    PaneluiConfig {
+        /// The panel file.
+        path: PathBuf,
+        /// The line (1-based).
+        line: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// The sampler channel panelui reads keycodes from.
+    #[error("sampler channel {chan}: {why}")]
+    PaneluiSampler {
+        /// The channel.
+        chan: usize,
+        /// What is wrong.
+        why: String,
+    },
     /// A switch request (coolant, lube) without `on` or `off`.
     #[error("expected on or off, not {given:?}")]
     OnOff {

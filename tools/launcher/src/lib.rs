@@ -7,7 +7,9 @@
 //! controller (`gcode-run`). [`halui`] is LinuxCNC's HAL user interface,
 //! a client of task. [`zlevel`] is `z_level_compensation`, the Z offset
 //! from a probed surface map. [`sim_torch`] is `sim-torch`, the simulated
-//! plasma torch of LinuxCNC's QtPlasmaC sim configurations.
+//! plasma torch of LinuxCNC's QtPlasmaC sim configurations. [`panelui`]
+//! is LinuxCNC's operator panel, key matrix codes from a sampler turned
+//! into button pins and task commands.
 
 #![forbid(unsafe_code)]
 
@@ -20,6 +22,7 @@ mod iocontrol;
 mod machine;
 mod motion_setup;
 mod old_format;
+pub mod panelui;
 pub mod part_program;
 mod position_file;
 mod program;
@@ -52,6 +55,7 @@ pub mod fuzz {
     pub use crate::halui::fuzz_state as task_state;
     pub use crate::iocontrol::tooltable::fuzz_parse as tool_table;
     pub use crate::old_format::fuzz_convert as old_format_config;
+    pub use crate::panelui::fuzz_config as panelui_config;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::position_file::fuzz_parse as position_file;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;

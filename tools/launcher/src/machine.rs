@@ -166,6 +166,9 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
     let dir = ini.dir();
     std::env::set_current_dir(&dir).map_err(|e| LaunchError::read(&dir, e))?;
     std::env::set_var("INI_FILE_NAME", &abs);
+    // LinuxCNC's script exports the configuration's directory too
+    // (panelui finds _panelui.ini there).
+    std::env::set_var("CONFIG_DIR", &dir);
     if let Some(lib) = crate::halfiles::hallib_dir() {
         std::env::set_var("HALLIB_DIR", lib);
     }

@@ -123,6 +123,11 @@ pub enum TaskRequest {
     BlockDelete(bool),
     /// MANUAL mode's jogs: world axes (teleop) or joints (free mode).
     Teleop(bool),
+    /// Whether `motion.feed-hold` holds the moves (LinuxCNC's feed hold
+    /// enable, M53).
+    FeedHold(bool),
+    /// Override the joints' tripped hard limits until the next jog ends.
+    OverrideLimits,
     /// A spindle by hand: start, stop, speed steps, brake, override.
     Spindle {
         /// The spindle number.
@@ -193,6 +198,9 @@ pub const REQUESTS: &str = "\
   optional-stop on|off  M1 stops the program (off: M1 is passed over)
   block-delete on|off   lines that start with / are skipped (on) or run
   teleop on|off         MANUAL mode's jogs move world axes (on) or joints
+  feed-hold on|off      whether motion.feed-hold holds the moves (M53)
+  override-limits       override the joints' tripped hard limits until
+                        the next jog ends
   spindle [N] forward|reverse [RPM]
                         start spindle N (default 0) at RPM, else the S in
                         effect, else 500 (machine on, nothing running)
@@ -268,6 +276,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
         ["state"] => TaskRequest::State,
+        ["override-limits"] => TaskRequest::OverrideLimits,
         ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
@@ -559,9 +568,11 @@ impl Task {
             | TaskRequest::FeedOverride(_)
             | TaskRequest::RapidOverride(_)
             | TaskRequest::MaxVelocity(_) => Some(self.manual_request(req)),
-            TaskRequest::OptionalStop(_) | TaskRequest::BlockDelete(_) | TaskRequest::Teleop(_) => {
-                Some(self.panel_request(req))
-            }
+            TaskRequest::OptionalStop(_)
+            | TaskRequest::BlockDelete(_)
+            | TaskRequest::Teleop(_)
+            | TaskRequest::FeedHold(_)
+            | TaskRequest::OverrideLimits => Some(self.panel_request(req)),
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

@@ -23,14 +23,15 @@ pub struct Switches {
     pub block_delete: bool,
 }
 
-/// Parses `optional-stop on|off`, `block-delete on|off` and `teleop
-/// on|off`; `None` when `words` is none of them.
+/// Parses `optional-stop on|off`, `block-delete on|off`, `teleop on|off`
+/// and `feed-hold on|off`; `None` when `words` is none of them.
 pub fn parse(words: &[&str]) -> Option<Result<TaskRequest, LaunchError>> {
     let (name, rest) = words.split_first()?;
     let make: fn(bool) -> TaskRequest = match *name {
         "optional-stop" => TaskRequest::OptionalStop,
         "block-delete" => TaskRequest::BlockDelete,
         "teleop" => TaskRequest::Teleop,
+        "feed-hold" => TaskRequest::FeedHold,
         _ => return None,
     };
     Some(match rest {
@@ -58,7 +59,15 @@ fn row(values: &[f64; 9]) -> String {
 }
 
 impl Task {
-    /// Takes an optional-stop, block-delete or teleop request.
+    /// Sends `cmd` to the motion controller.
+    fn motion_command(&mut self, cmd: Command) -> Result<(), LaunchError> {
+        let m = self.motion.as_mut().ok_or(LaunchError::NoMotion)?;
+        m.command(cmd)
+            .map_err(|source| LaunchError::MotionRefused { source })
+    }
+
+    /// Takes an optional-stop, block-delete, teleop, feed-hold or
+    /// override-limits request.
     pub(crate) fn panel_request(&mut self, req: &TaskRequest) -> Answer {
         match *req {
             TaskRequest::OptionalStop(on) => {
@@ -73,6 +82,16 @@ impl Task {
                 Ok(format!("block delete {}", on_off(on)))
             }
             TaskRequest::Teleop(on) => self.teleop(on),
+            TaskRequest::FeedHold(on) => {
+                self.motion_command(Command::FeedHoldEnable { on })?;
+                Ok(format!("feed hold {}", on_off(on)))
+            }
+            TaskRequest::OverrideLimits => {
+                // Joint 0 (not below 0, which ends an override): every
+                // joint's tripped hard limits, until the next jog ends.
+                self.motion_command(Command::OverrideLimits { joint: 0 })?;
+                Ok("limits overridden until the next jog ends".to_string())
+            }
             _ => Err(LaunchError::Program("not a switch request".into())),
         }
     }
@@ -144,6 +163,15 @@ mod tests {
         assert_eq!(
             parse(&["teleop", "on"]).unwrap().unwrap(),
             TaskRequest::Teleop(true)
+        );
+        assert_eq!(
+            parse(&["feed-hold", "off"]).unwrap().unwrap(),
+            TaskRequest::FeedHold(false)
+        );
+        let words = ["override-limits".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::OverrideLimits
         );
         assert!(parse(&["mode", "auto"]).is_none());
         let e = parse(&["teleop", "maybe"])
