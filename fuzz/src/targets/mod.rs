@@ -43,6 +43,8 @@ crate::register_targets! {
     serial_mb2hal_ini,
     serial_modbus_tcp_reply,
     xhc_input_report,
+    input_event_records,
+    input_sim_description,
     ini_file,
     tool_table,
     task_state,

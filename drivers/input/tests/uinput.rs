@@ -1,0 +1,339 @@
+//! hal_input on the kernel's evdev interface, against devices this test
+//! makes through `/dev/uinput`: the capabilities, names and axis ranges
+//! hal_input reads with its ioctls, events written to the uinput device
+//! arriving as `input_event` records, LED events hal_input writes coming
+//! back to the uinput device, EVIOCGRAB, the keys held at start, and an
+//! unplug (UI_DEV_DESTROY) ending the program with everything released.
+//!
+//! Needs root and the uinput module: the VM rig (`../shared/tools/vmrig`)
+//! has both (this test loads uinput and evdev if they are missing).
+//! Elsewhere the tests are ignored, with the reason; run on purpose
+//! without uinput they fail.
+//!
+//! ```text
+//! vmrig run -- target/debug/deps/uinput-<hash> --include-ignored --test-threads=1
+//! ```
+#![allow(
+    clippy::unwrap_used,
+    reason = "test code: a failed unwrap fails the test"
+)]
+
+use std::fs::File;
+use std::io::{Read, Write};
+use std::os::fd::AsRawFd;
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use hal_core::{ComponentKind, HalType, Host, HostConfig, Value};
+use hal_driver::testing::wait;
+use hal_input::evdev::Nodes;
+use hal_input::regs::{Event, EVENT_SIZE, EV_ABS, EV_KEY, EV_LED, EV_REL, EV_SYN};
+use hal_input::run::{open, Bound};
+use hal_input::spec::Parts;
+use hal_input::InputError;
+
+const UINPUT: &str = "/dev/uinput";
+const BTN_A: u16 = 0x130;
+const BTN_B: u16 = 0x131;
+const KEY_A: u16 = 30;
+const REL_WHEEL: u16 = 8;
+const ABS_X: u16 = 0;
+const LED_NUML: u16 = 0;
+
+/// `_IOC` for the uinput requests ('U').
+const fn ioc(dir: u64, nr: u64, size: u64) -> u64 {
+    (dir << 30) | (size << 16) | ((b'U' as u64) << 8) | nr
+}
+const UI_DEV_CREATE: u64 = ioc(0, 1, 0);
+const UI_DEV_DESTROY: u64 = ioc(0, 2, 0);
+/// `struct uinput_setup`: input_id (8), name[80], ff_effects_max (4).
+const SETUP_SIZE: usize = 92;
+const UI_DEV_SETUP: u64 = ioc(1, 3, SETUP_SIZE as u64);
+/// `struct uinput_abs_setup`: code (2), padding (2), input_absinfo (24).
+const ABS_SETUP_SIZE: usize = 28;
+const UI_ABS_SETUP: u64 = ioc(1, 4, ABS_SETUP_SIZE as u64);
+const UI_SET_EVBIT: u64 = ioc(1, 100, 4);
+const UI_SET_KEYBIT: u64 = ioc(1, 101, 4);
+const UI_SET_RELBIT: u64 = ioc(1, 102, 4);
+const UI_SET_ABSBIT: u64 = ioc(1, 103, 4);
+const UI_SET_LEDBIT: u64 = ioc(1, 105, 4);
+
+/// A device made through uinput; destroyed when dropped.
+struct Uinput {
+    file: File,
+    name: String,
+    alive: bool,
+}
+
+/// Loads uinput, and evdev (the event nodes' handler; a kernel with
+/// no event node at all may not have it loaded), unless already there.
+fn require_uinput() {
+    if !Path::new(UINPUT).exists() {
+        let _ = Command::new("modprobe").arg("uinput").status();
+    }
+    if !Path::new("/sys/class/input").read_dir().is_ok_and(|mut d| {
+        d.any(|e| e.is_ok_and(|e| e.file_name().to_string_lossy().starts_with("event")))
+    }) {
+        let _ = Command::new("modprobe").arg("evdev").status();
+    }
+    assert!(
+        Path::new(UINPUT).exists(),
+        "no {UINPUT} (needs root and the uinput module); run this binary through the VM rig"
+    );
+}
+
+impl Uinput {
+    /// A pad with BTN_A, BTN_B, KEY_A, REL_WHEEL, ABS_X (-100..100, fuzz
+    /// 0, flat 4, at 10) and LED_NUML.
+    fn pad(tag: &str) -> Uinput {
+        require_uinput();
+        let file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(UINPUT)
+            .unwrap();
+        let name = format!("hal uinput {tag} {}", std::process::id());
+        let u = Uinput {
+            file,
+            name,
+            alive: false,
+        };
+        for (req, bit) in [
+            (UI_SET_EVBIT, EV_KEY),
+            (UI_SET_EVBIT, EV_REL),
+            (UI_SET_EVBIT, EV_ABS),
+            (UI_SET_EVBIT, EV_LED),
+            (UI_SET_KEYBIT, BTN_A),
+            (UI_SET_KEYBIT, BTN_B),
+            (UI_SET_KEYBIT, KEY_A),
+            (UI_SET_RELBIT, REL_WHEEL),
+            (UI_SET_ABSBIT, ABS_X),
+            (UI_SET_LEDBIT, LED_NUML),
+        ] {
+            u.ioctl_int(req, i32::from(bit));
+        }
+        let mut abs = [0u8; ABS_SETUP_SIZE];
+        abs[0..2].copy_from_slice(&ABS_X.to_ne_bytes());
+        for (i, v) in [10i32, -100, 100, 0, 4, 0].iter().enumerate() {
+            abs[4 + 4 * i..8 + 4 * i].copy_from_slice(&v.to_ne_bytes());
+        }
+        u.ioctl_buf(UI_ABS_SETUP, &mut abs);
+        let mut setup = [0u8; SETUP_SIZE];
+        for (i, v) in [3u16, 0x1d6b, 0x0104, 1].iter().enumerate() {
+            setup[2 * i..2 * i + 2].copy_from_slice(&v.to_ne_bytes());
+        }
+        setup[8..8 + u.name.len()].copy_from_slice(u.name.as_bytes());
+        u.ioctl_buf(UI_DEV_SETUP, &mut setup);
+        let mut u = u;
+        u.ioctl_int(UI_DEV_CREATE, 0);
+        u.alive = true;
+        // The node appears when the kernel has made it (devtmpfs).
+        wait("the event node", || Nodes.nodes_named(&u.name));
+        u
+    }
+
+    fn ioctl_int(&self, req: u64, arg: i32) {
+        // SAFETY: the uinput requests used with this take an int by
+        // value (or nothing, for create and destroy).
+        let r = unsafe { libc::ioctl(self.file.as_raw_fd(), req as _, arg) };
+        assert!(
+            r >= 0,
+            "uinput ioctl {req:#x}: {}",
+            std::io::Error::last_os_error()
+        );
+    }
+
+    fn ioctl_buf(&self, req: u64, buf: &mut [u8]) {
+        assert_eq!(((req >> 16) & 0x3fff) as usize, buf.len());
+        // SAFETY: the request's size field is buf's length (checked
+        // above): the kernel reads that many bytes from buf.
+        let r = unsafe { libc::ioctl(self.file.as_raw_fd(), req as _, buf.as_mut_ptr()) };
+        assert!(
+            r >= 0,
+            "uinput ioctl {req:#x}: {}",
+            std::io::Error::last_os_error()
+        );
+    }
+
+    /// Sends events, then a SYN_REPORT.
+    fn send(&mut self, events: &[(u16, u16, i32)]) {
+        let mut bytes = Vec::new();
+        for &(kind, code, value) in events.iter().chain([(EV_SYN, 0, 0)].iter()) {
+            bytes.extend_from_slice(&Event { kind, code, value }.to_record());
+        }
+        self.file.write_all(&bytes).unwrap();
+    }
+
+    /// The LED events hal_input wrote to the device so far.
+    fn leds(&mut self) -> Vec<(u16, i32)> {
+        let mut out = Vec::new();
+        let mut rec = [0u8; EVENT_SIZE];
+        while let Ok(n) = self.file.read(&mut rec) {
+            if n != EVENT_SIZE {
+                break;
+            }
+            let e = Event::from_record(&rec);
+            if e.kind == EV_LED {
+                out.push((e.code, e.value));
+            }
+        }
+        out
+    }
+
+    fn destroy(&mut self) {
+        if self.alive {
+            self.ioctl_int(UI_DEV_DESTROY, 0);
+            self.alive = false;
+        }
+    }
+}
+
+impl Drop for Uinput {
+    fn drop(&mut self) {
+        if self.alive {
+            // SAFETY: UI_DEV_DESTROY takes no argument.
+            unsafe { libc::ioctl(self.file.as_raw_fd(), UI_DEV_DESTROY as _, 0) };
+        }
+    }
+}
+
+/// Whether an event node of that name exists.
+trait NamedNodes {
+    fn nodes_named(&self, name: &str) -> bool;
+}
+
+impl NamedNodes for Nodes {
+    fn nodes_named(&self, name: &str) -> bool {
+        use hal_input::device::Catalogue;
+        self.nodes()
+            .iter()
+            .any(|n| self.open(n).is_ok_and(|d| d.identity().name == name))
+    }
+}
+
+#[test]
+#[ignore = "needs root and /dev/uinput: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
+fn a_uinput_pad_drives_the_pins_through_the_kernel() {
+    let mut u = Uinput::pad("pins");
+    let host = Host::create(HostConfig::for_tests("hi-uinput")).unwrap();
+    let inst = host.instance().clone();
+    let comp = inst
+        .new_component("hal_input", ComponentKind::User)
+        .unwrap();
+    let dev = open(&Nodes, &format!("+{}", u.name)).unwrap();
+    assert!(dev.identity().path.starts_with("/dev/input"));
+    assert_eq!(dev.identity().id.vendor, 0x1d6b);
+    let mut b = Bound::new(&comp, 0, dev, Parts::ALL).unwrap();
+    let get = |pin: &str| inst.pin_value(&format!("input.0.{pin}")).unwrap();
+    // What the ioctls read: the axis range and value, the pins made.
+    assert_eq!(get("abs-x-counts"), Value::S32(10));
+    assert_eq!(get("abs-x-flat"), Value::S32(4));
+    assert_eq!(
+        inst.param_value("input.0.abs-x-min").unwrap(),
+        Value::S32(-100)
+    );
+    assert_eq!(get("abs-x-scale"), Value::Float(100.0));
+    for pin in [
+        "btn-a",
+        "btn-b-not",
+        "key-a",
+        "rel-wheel-counts",
+        "led-numl",
+    ] {
+        get(pin);
+    }
+    assert!(inst.pin("input.0.btn-c").unwrap().is_none());
+    u.send(&[
+        (EV_KEY, BTN_A, 1),
+        (EV_REL, REL_WHEEL, -2),
+        (EV_ABS, ABS_X, 50),
+    ]);
+    let end = Instant::now() + Duration::from_secs(20);
+    while get("abs-x-position") != Value::Float(0.5) {
+        assert!(Instant::now() < end, "the events never arrived");
+        b.step().unwrap();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert_eq!(get("btn-a"), Value::Bit(true));
+    assert_eq!(get("btn-a-not"), Value::Bit(false));
+    assert_eq!(get("rel-wheel-counts"), Value::S32(-2));
+    // LEDs: off at start, then the pin's state reaches the device.
+    inst.set_pin("input.0.led-numl", Value::Bit(true)).unwrap();
+    b.step().unwrap();
+    let mut leds = Vec::new();
+    let end = Instant::now() + Duration::from_secs(20);
+    while !leds.contains(&(LED_NUML, 1)) {
+        assert!(Instant::now() < end, "LED writes seen: {leds:?}");
+        leds.extend(u.leds());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert_eq!(leds.first(), Some(&(LED_NUML, 0)), "{leds:?}");
+    // Unplugged: the next read says so, by name.
+    u.destroy();
+    let end = Instant::now() + Duration::from_secs(20);
+    let e = loop {
+        match b.step() {
+            Ok(_) => assert!(Instant::now() < end, "the unplug was never seen"),
+            Err(e) => break e,
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert!(matches!(e, InputError::Gone { .. }), "{e}");
+    assert!(e.to_string().contains(&u.name), "{e}");
+}
+
+#[test]
+#[ignore = "needs root and /dev/uinput: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
+fn the_program_on_a_uinput_pad_releases_everything_when_it_is_unplugged() {
+    let mut u = Uinput::pad("proc");
+    let host = Host::create(HostConfig::for_tests("hi-uinput-proc")).unwrap();
+    let inst = host.instance().clone();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hal_input"))
+        .args(["-KA", &u.name])
+        .env("HAL_INSTANCE", inst.name())
+        .env("HAL_NO_REALTIME", "1")
+        .env_remove("HAL_INPUT_SIM")
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait("hal_input ready", || {
+        inst.component("hal_input")
+            .unwrap()
+            .is_some_and(|c| c.ready)
+    });
+    assert!(
+        inst.pin("input.0.rel-wheel-counts").unwrap().is_none(),
+        "-KA"
+    );
+    inst.newsig("jog", HalType::Bit).unwrap();
+    inst.link("input.0.key-a", "jog").unwrap();
+    u.send(&[(EV_KEY, KEY_A, 1), (EV_ABS, ABS_X, -100)]);
+    wait("KEY_A held", || {
+        inst.signal_value("jog").unwrap() == Value::Bit(true)
+    });
+    wait("the axis at -1", || {
+        inst.pin_value("input.0.abs-x-is-neg").unwrap() == Value::Bit(true)
+    });
+    u.destroy();
+    let end = Instant::now() + Duration::from_secs(30);
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        assert!(Instant::now() < end, "hal_input did not exit on the unplug");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(err.contains("the device went away"), "{err}");
+    assert_eq!(inst.signal_value("jog").unwrap(), Value::Bit(false));
+}
