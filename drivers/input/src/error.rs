@@ -9,16 +9,24 @@ pub enum InputError {
     /// A bad command line.
     #[error("{0}")]
     Usage(String),
-    /// No event node could be opened at all.
+    /// There are no event nodes at all.
+    #[error("no input devices: {dir} has no event nodes")]
+    NoDevices {
+        /// Where the devices were looked for.
+        dir: String,
+    },
+    /// No event node could be opened.
     #[error(
-        "no input devices could be opened ({dir}: {why}); this usually means the event \
-         nodes are not readable and writable by this user: see 'PERMISSIONS AND UDEV' in \
-         hal_input(1)"
+        "none of the {count} input devices in {dir} could be opened (the last: {why}); \
+         hal_input needs read and write access to them (a udev rule, or this user in \
+         the group that owns them)"
     )]
     NothingOpens {
         /// Where the devices were looked for.
         dir: String,
-        /// The last reason an open failed, or that there were none.
+        /// How many nodes there are.
+        count: usize,
+        /// Why the last open failed.
         why: String,
     },
     /// No device matches an inputspec.

@@ -49,8 +49,10 @@ An inputspec is
 A subset option before an inputspec picks its features (default all):
   -K keys and buttons, -R relative axes, -A absolute axes, -L LEDs
 
-Pins of device N (NAME as the kernel names the code: key-a, btn-trigger,
-abs-x, rel-wheel, led-numl):
+NAME below is the kernel's name of a code in lower case, with '-' for '_'
+(key-a, btn-trigger, abs-x, rel-wheel, led-numl).
+
+Pins of device N:
   input.N.KEY, input.N.KEY-not                        bit out
   input.N.ABS-counts s32 out, -position float out, -is-pos/-is-neg bit out,
     -scale/-offset float in, -fuzz/-flat s32 in; -min/-max s32 params (r)

@@ -160,7 +160,7 @@ impl SimCatalogue {
 
 impl Catalogue for SimCatalogue {
     fn describe(&self) -> String {
-        "the simulated devices".into()
+        "the --sim description".into()
     }
 
     fn exists(&self, path: &Path) -> bool {

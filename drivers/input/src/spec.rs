@@ -233,9 +233,15 @@ pub fn find(cat: &dyn Catalogue, spec: &str) -> Result<Box<dyn InputDevice>> {
         None => (spec, 0),
     };
     let mut opened = 0;
-    let mut last_failure = String::from("no event nodes");
-    for node in cat.nodes() {
-        let dev = match cat.open(&node) {
+    let mut last_failure = String::new();
+    let nodes = cat.nodes();
+    if nodes.is_empty() {
+        return Err(InputError::NoDevices {
+            dir: cat.describe(),
+        });
+    }
+    for node in &nodes {
+        let dev = match cat.open(node) {
             Ok(d) => d,
             Err(e) => {
                 last_failure = crate::chain(&e);
@@ -262,6 +268,7 @@ pub fn find(cat: &dyn Catalogue, spec: &str) -> Result<Box<dyn InputDevice>> {
     if opened == 0 {
         return Err(InputError::NothingOpens {
             dir: cat.describe(),
+            count: nodes.len(),
             why: last_failure,
         });
     }

@@ -368,7 +368,19 @@ fn inputspecs_pick_devices_as_linuxcncs() {
     assert!(r.cat.handle(0).unwrap().grabbed());
     let none = SimCatalogue::new(Vec::new());
     let e = open(&none, "x").err().unwrap().to_string();
-    assert!(e.contains("no input devices could be opened"), "{e}");
+    assert!(
+        e.contains("no input devices: the --sim description has no event nodes"),
+        "{e}"
+    );
+    let text = "device Broken\nevents /nonexistent/pad.fifo\n";
+    let broken = SimCatalogue::new(parse(text, "b.txt", Path::new(".")).unwrap());
+    let e = open(&broken, "Broken").err().unwrap().to_string();
+    assert!(
+        e.contains("none of the 1 input devices in the --sim description could be opened")
+            && e.contains("/nonexistent/pad.fifo")
+            && e.contains("read and write access"),
+        "{e}"
+    );
 }
 
 #[test]
