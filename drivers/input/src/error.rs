@@ -68,7 +68,9 @@ pub enum InputError {
         source: Option<std::io::Error>,
     },
     /// A device hal_input was serving went away.
-    #[error("{prefix}: the device went away")]
+    #[error(
+        "{prefix}: the device went away (every key now reads released, every absolute axis centred)"
+    )]
     Lost {
         /// The device's pins (`input.N`).
         prefix: String,

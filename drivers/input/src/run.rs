@@ -185,12 +185,6 @@ pub fn run(o: &Options) -> Result<()> {
     for b in &bound {
         b.pins.safe_state();
     }
-    if let Err(e) = &result {
-        eprintln!(
-            "{NAME}: every key released, every absolute axis centred; exiting ({})",
-            chain(e)
-        );
-    }
     result
 }
 
