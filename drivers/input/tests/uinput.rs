@@ -218,6 +218,8 @@ impl NamedNodes for Nodes {
 #[ignore = "needs root and /dev/uinput: runs in the VM rig (../shared/tools/vmrig, scripts/test-all)"]
 fn a_uinput_pad_drives_the_pins_through_the_kernel() {
     let mut u = Uinput::pad("pins");
+    // Held before hal_input opens the device: EVIOCGKEY shows it held.
+    u.send(&[(EV_KEY, BTN_B, 1)]);
     let host = Host::create(HostConfig::for_tests("hi-uinput")).unwrap();
     let inst = host.instance().clone();
     let comp = inst
@@ -236,6 +238,8 @@ fn a_uinput_pad_drives_the_pins_through_the_kernel() {
         Value::S32(-100)
     );
     assert_eq!(get("abs-x-scale"), Value::Float(100.0));
+    assert_eq!(get("btn-b"), Value::Bit(true), "held at start");
+    assert_eq!(get("btn-b-not"), Value::Bit(false));
     for pin in [
         "btn-a",
         "btn-b-not",
