@@ -23,7 +23,7 @@ keys BTN_A BTN_B KEY_A
 held BTN_B
 abs ABS_X 0 255 2 10 128
 abs ABS_HAT0X -1 1 0 0 0
-rel REL_WHEEL REL_X
+rel REL_WHEEL REL_X REL_11
 leds LED_NUML LED_CAPSL
 device Sim Keyboard
 phys isa0060/serio0/input0
@@ -116,6 +116,8 @@ fn pins_have_linuxcncs_names_types_and_defaults() {
         ("input.0.rel-wheel-position", (Float, Out)),
         ("input.0.rel-wheel-reset", (Bit, In)),
         ("input.0.rel-wheel-scale", (Float, In)),
+        // REL_WHEEL_HI_RES, which LinuxCNC's tables do not name.
+        ("input.0.rel-11-counts", (S32, Out)),
         ("input.0.led-numl", (Bit, In)),
         ("input.0.led-numl-invert", (Bit, In)),
         ("input.0.led-capsl", (Bit, In)),
@@ -283,12 +285,12 @@ fn subsets_make_only_their_pins_and_ignore_other_events() {
     h.push(&[
         ev(EV_KEY, 0x132, 1),
         ev(EV_KEY, 0x132, 0),
-        ev(EV_REL, 11, 120),
+        ev(EV_REL, 12, 120),
     ]);
     let notes = b.step().unwrap();
     assert_eq!(notes.len(), 2, "{notes:?}");
     assert!(notes[0].contains("EV_KEY BTN_C"), "{notes:?}");
-    assert!(notes[1].contains("EV_REL 11"), "{notes:?}");
+    assert!(notes[1].contains("EV_REL REL_12"), "{notes:?}");
 }
 
 #[test]

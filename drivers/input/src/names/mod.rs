@@ -17,11 +17,14 @@ fn table_of(kind: u16) -> Option<(&'static [(u16, &'static str)], &'static str)>
     }
 }
 
-/// The largest code of `kind` hal_input asks the device about: the last
-/// one its table names (LinuxCNC's asks for no more, so a newer code
-/// such as `REL_WHEEL_HI_RES` gets no pin).
+/// The largest code of `kind` hal_input asks the device about: as
+/// LinuxCNC's, the codes of the whole bytes of a bitmap that reaches its
+/// table's last code (`ABS_MT_DISTANCE` 0x3b: up to 0x3f; `REL_MISC` 9:
+/// up to 15, so `REL_WHEEL_HI_RES` is `rel-11`; keys up to 0x2e7).
 pub fn last_code(kind: u16) -> Option<u16> {
-    table_of(kind).and_then(|(t, _)| t.last().map(|(c, _)| *c))
+    let (t, _) = table_of(kind)?;
+    let last = t.last().map(|(c, _)| *c)?;
+    Some((last / 8) * 8 + 7)
 }
 
 /// The name of a code (`BTN_TRIGGER`, `ABS_X`; `KEY_<decimal>` for a code
@@ -115,7 +118,12 @@ mod tests {
         assert_eq!(code_name(EV_KEY, 0x100).as_deref(), Some("BTN_0"));
         assert_eq!(code_name(EV_KEY, 0x110).as_deref(), Some("BTN_LEFT"));
         assert_eq!(code_name(EV_REL, 8).as_deref(), Some("REL_WHEEL"));
-        assert_eq!(code_name(EV_REL, 11), None, "REL_WHEEL_HI_RES has no pin");
+        assert_eq!(code_name(EV_REL, 11).as_deref(), Some("REL_11"));
+        assert_eq!(code_name(EV_REL, 16), None);
+        assert_eq!(code_name(EV_ABS, 0x3c).as_deref(), Some("ABS_60"));
+        assert_eq!(code_name(EV_ABS, 0x40), None);
+        assert_eq!(code_name(EV_LED, 15).as_deref(), Some("LED_15"));
+        assert_eq!(last_code(EV_KEY), Some(0x2e7));
         assert_eq!(code_name(EV_ABS, 0x10).as_deref(), Some("ABS_HAT0X"));
         assert_eq!(code_name(EV_LED, 0).as_deref(), Some("LED_NUML"));
         assert_eq!(code_name(EV_ABS, 0x0b).as_deref(), Some("ABS_11"));
@@ -131,7 +139,8 @@ mod tests {
         assert_eq!(code_by_name(EV_KEY, "BTN_MOUSE"), None, "alias not kept");
         assert_eq!(code_by_name(EV_ABS, "ABS_11"), Some(11));
         assert_eq!(code_by_name(EV_REL, "0x8"), Some(8));
-        assert_eq!(code_by_name(EV_REL, "11"), None);
+        assert_eq!(code_by_name(EV_REL, "11"), Some(11));
+        assert_eq!(code_by_name(EV_REL, "16"), None);
         assert_eq!(code_by_name(EV_LED, "LED_CAPSL"), Some(1));
         assert_eq!(code_by_name(EV_KEY, "KEY_"), None);
     }

@@ -1,10 +1,10 @@
 //! The code names hal_input's pins are made from, as LinuxCNC's
 //! `linux_event` module names them: the kernel's names
 //! (`input-event-codes.h`), one per code where the kernel has aliases
-//! (`BTN_0`, not `BTN_MISC`; `BTN_A`, not `BTN_GAMEPAD`...). A code past
-//! the last one listed for its type is never asked for; one inside the
-//! range but not listed is named `KEY_<decimal>` (or `ABS_`, `REL_`,
-//! `LED_`). Generated data: sorted by code.
+//! (`BTN_0`, not `BTN_MISC`; `BTN_A`, not `BTN_GAMEPAD`...). Codes past
+//! the byte of the last one listed for its type are never asked for; one
+//! inside that range but not listed is named `KEY_<decimal>` (or `ABS_`,
+//! `REL_`, `LED_`). Generated data: sorted by code.
 
 /// `EV_KEY` codes (keys and buttons).
 pub const KEYS: &[(u16, &str)] = &[
