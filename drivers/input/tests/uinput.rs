@@ -3,7 +3,9 @@
 //! hal_input reads with its ioctls, events written to the uinput device
 //! arriving as `input_event` records, LED events hal_input writes coming
 //! back to the uinput device, EVIOCGRAB, the keys held at start, and an
-//! unplug (UI_DEV_DESTROY) ending the program with everything released.
+//! unplug (UI_DEV_DESTROY) ending the program with everything released;
+//! and LinuxCNC's own hal_input (the peer, `scripts/linuxcnc-peer`) on
+//! the same device making the same pins, params and values.
 //!
 //! Needs root and the uinput module: the VM rig (`../shared/tools/vmrig`)
 //! has both (this test loads uinput and evdev if they are missing).
@@ -88,6 +90,12 @@ impl Uinput {
     /// A pad with BTN_A, BTN_B, KEY_A, REL_WHEEL, ABS_X (-100..100, fuzz
     /// 0, flat 4, at 10) and LED_NUML.
     fn pad(tag: &str) -> Uinput {
+        Uinput::make(tag, &[], &[])
+    }
+
+    /// The pad with more codes (`(UI_SET_*BIT, code)`) and more absolute
+    /// axes (`(code, [value, min, max, fuzz, flat, resolution])`).
+    fn make(tag: &str, extra: &[(u64, u16)], extra_abs: &[(u16, [i32; 6])]) -> Uinput {
         require_uinput();
         let file = std::fs::OpenOptions::new()
             .read(true)
@@ -112,15 +120,23 @@ impl Uinput {
             (UI_SET_RELBIT, REL_WHEEL),
             (UI_SET_ABSBIT, ABS_X),
             (UI_SET_LEDBIT, LED_NUML),
-        ] {
-            u.ioctl_int(req, i32::from(bit));
+        ]
+        .iter()
+        .chain(extra)
+        {
+            u.ioctl_int(*req, i32::from(*bit));
         }
-        let mut abs = [0u8; ABS_SETUP_SIZE];
-        abs[0..2].copy_from_slice(&ABS_X.to_ne_bytes());
-        for (i, v) in [10i32, -100, 100, 0, 4, 0].iter().enumerate() {
-            abs[4 + 4 * i..8 + 4 * i].copy_from_slice(&v.to_ne_bytes());
+        for (code, info) in [(ABS_X, [10i32, -100, 100, 0, 4, 0])]
+            .iter()
+            .chain(extra_abs)
+        {
+            let mut abs = [0u8; ABS_SETUP_SIZE];
+            abs[0..2].copy_from_slice(&code.to_ne_bytes());
+            for (i, v) in info.iter().enumerate() {
+                abs[4 + 4 * i..8 + 4 * i].copy_from_slice(&v.to_ne_bytes());
+            }
+            u.ioctl_buf(UI_ABS_SETUP, &mut abs);
         }
-        u.ioctl_buf(UI_ABS_SETUP, &mut abs);
         let mut setup = [0u8; SETUP_SIZE];
         for (i, v) in [3u16, 0x1d6b, 0x0104, 1].iter().enumerate() {
             setup[2 * i..2 * i + 2].copy_from_slice(&v.to_ne_bytes());
@@ -340,4 +356,110 @@ fn the_program_on_a_uinput_pad_releases_everything_when_it_is_unplugged() {
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(err.contains("the device went away"), "{err}");
     assert_eq!(inst.signal_value("jog").unwrap(), Value::Bit(false));
+}
+
+/// The rows of `show pin` and `show param` (script mode) for names under
+/// `input.`: type, direction, value and name (the owner's id differs
+/// between the two HALs).
+fn input_rows(stdout: &str) -> Vec<String> {
+    let mut rows: Vec<String> = stdout
+        .lines()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>())
+        .filter(|f| f.len() >= 5 && f[4].starts_with("input."))
+        .map(|f| f[1..5].join(" "))
+        .collect();
+    rows.sort();
+    rows
+}
+
+#[test]
+#[ignore = "needs root, /dev/uinput and LinuxCNC unpacked (scripts/linuxcnc-peer install): runs in the VM rig"]
+fn linuxcncs_own_hal_input_makes_the_same_pins_on_the_same_device() {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/linuxcnc-peer");
+    let peer = Command::new(&script).arg("prefix").output().unwrap();
+    assert!(
+        peer.status.success(),
+        "LinuxCNC is not unpacked: run scripts/linuxcnc-peer install"
+    );
+    // Besides the pad's codes: key aliases (BTN_TRIGGER, BTN_0), the
+    // last key LinuxCNC asks for and one past it, codes its tables do
+    // not name (REL_WHEEL_HI_RES, ABS_MT_TOOL_X, LED 11), a hat.
+    let u = Uinput::make(
+        "peer",
+        &[
+            (UI_SET_KEYBIT, 0x100),
+            (UI_SET_KEYBIT, 0x120),
+            (UI_SET_KEYBIT, 0x2e7),
+            (UI_SET_KEYBIT, 0x2e8),
+            (UI_SET_RELBIT, 11),
+            (UI_SET_RELBIT, 0),
+            (UI_SET_ABSBIT, 0x10),
+            (UI_SET_ABSBIT, 0x3c),
+            (UI_SET_LEDBIT, 1),
+            (UI_SET_LEDBIT, 11),
+        ],
+        &[(0x10, [0, -1, 1, 0, 0, 0]), (0x3c, [300, 0, 1023, 3, 0, 0])],
+    );
+    let node = open(&Nodes, &u.name).unwrap().identity().path.clone();
+    // LinuxCNC runs as nobody: let it open the node.
+    std::fs::set_permissions(&node, std::os::unix::fs::PermissionsExt::from_mode(0o666)).unwrap();
+    // A second after ready, both have run their cycle (is-pos, is-neg).
+    let text = format!(
+        "loadusr -W hal_input {}\nloadusr -w sleep 1\nshow pin\nshow param\n",
+        node.display()
+    );
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    let file = dir.join(format!("peer-hal-input-{}.hal", std::process::id()));
+    std::fs::write(&file, &text).unwrap();
+    let out = Command::new(&script)
+        .args(["run", "halrun", "-s", "-k", "-f"])
+        .arg(&file)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let theirs = String::from_utf8_lossy(&out.stdout).into_owned();
+    let their_err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let theirs = input_rows(&theirs);
+    assert!(!theirs.is_empty(), "LinuxCNC made no pins:\n{their_err}");
+    let has = |name: &str| {
+        theirs
+            .iter()
+            .any(|r| r.ends_with(&format!(" input.0.{name}")))
+    };
+    for name in [
+        "btn-0",
+        "btn-trigger",
+        "btn-trigger-happy40",
+        "rel-11-counts",
+        "abs-60-flat",
+        "abs-60-max",
+        "abs-hat0x-is-neg",
+        "led-11-invert",
+        "led-capsl",
+    ] {
+        assert!(has(name), "LinuxCNC has no {name}: {theirs:#?}");
+    }
+    assert!(!theirs.iter().any(|r| r.contains("key-744")), "{theirs:#?}");
+
+    let host = Host::create(HostConfig::for_tests("hi-peer")).unwrap();
+    let inst = host.instance().clone();
+    let (mut so, mut se) = (Vec::new(), Vec::new());
+    let opts = hal_lang::Options {
+        keep_going: true,
+        script: true,
+        ..Default::default()
+    };
+    let ok = hal_lang::Session::new(inst.clone(), opts, &mut so, &mut se)
+        .run_text(Some("peer.hal"), &text);
+    assert!(ok, "{}", String::from_utf8_lossy(&se));
+    let ours = input_rows(&String::from_utf8_lossy(&so));
+    let _ = hal_lang::Session::new(inst, hal_lang::Options::default(), &mut so, &mut se)
+        .run_text(Some("unload.hal"), "unloadusr hal_input\n");
+    let only_theirs: Vec<&String> = theirs.iter().filter(|r| !ours.contains(r)).collect();
+    let only_ours: Vec<&String> = ours.iter().filter(|r| !theirs.contains(r)).collect();
+    assert!(
+        only_theirs.is_empty() && only_ours.is_empty(),
+        "LinuxCNC only: {only_theirs:#?}\nours only: {only_ours:#?}"
+    );
+    std::fs::remove_file(&file).unwrap();
 }
