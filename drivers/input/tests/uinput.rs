@@ -375,31 +375,8 @@ fn input_rows(stdout: &str) -> Vec<String> {
 #[test]
 #[ignore = "needs root, /dev/uinput and LinuxCNC unpacked (scripts/linuxcnc-peer install): runs in the VM rig"]
 fn linuxcncs_own_hal_input_makes_the_same_pins_on_the_same_device() {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/linuxcnc-peer");
-    let peer = Command::new(&script).arg("prefix").output().unwrap();
-    assert!(
-        peer.status.success(),
-        "LinuxCNC is not unpacked: run scripts/linuxcnc-peer install"
-    );
-    // Besides the pad's codes: key aliases (BTN_TRIGGER, BTN_0), the
-    // last key LinuxCNC asks for and one past it, codes its tables do
-    // not name (REL_WHEEL_HI_RES, ABS_MT_TOOL_X, LED 11), a hat.
-    let u = Uinput::make(
-        "peer",
-        &[
-            (UI_SET_KEYBIT, 0x100),
-            (UI_SET_KEYBIT, 0x120),
-            (UI_SET_KEYBIT, 0x2e7),
-            (UI_SET_KEYBIT, 0x2e8),
-            (UI_SET_RELBIT, 11),
-            (UI_SET_RELBIT, 0),
-            (UI_SET_ABSBIT, 0x10),
-            (UI_SET_ABSBIT, 0x3c),
-            (UI_SET_LEDBIT, 1),
-            (UI_SET_LEDBIT, 11),
-        ],
-        &[(0x10, [0, -1, 1, 0, 0, 0]), (0x3c, [300, 0, 1023, 3, 0, 0])],
-    );
+    let script = peer_script();
+    let u = rich_pad("peer");
     let node = open(&Nodes, &u.name).unwrap().identity().path.clone();
     // LinuxCNC runs as nobody: let it open the node.
     std::fs::set_permissions(&node, std::os::unix::fs::PermissionsExt::from_mode(0o666)).unwrap();
@@ -462,4 +439,143 @@ fn linuxcncs_own_hal_input_makes_the_same_pins_on_the_same_device() {
         "LinuxCNC only: {only_theirs:#?}\nours only: {only_ours:#?}"
     );
     std::fs::remove_file(&file).unwrap();
+}
+
+/// A pad with more than [`Uinput::pad`]'s codes: key aliases
+/// (BTN_TRIGGER, BTN_0), the last key LinuxCNC asks for and one past it,
+/// codes its tables do not name (REL_WHEEL_HI_RES, ABS_MT_TOOL_X, LED
+/// 11), a hat.
+fn rich_pad(tag: &str) -> Uinput {
+    Uinput::make(
+        tag,
+        &[
+            (UI_SET_KEYBIT, 0x100),
+            (UI_SET_KEYBIT, 0x120),
+            (UI_SET_KEYBIT, 0x2e7),
+            (UI_SET_KEYBIT, 0x2e8),
+            (UI_SET_RELBIT, 11),
+            (UI_SET_RELBIT, 0),
+            (UI_SET_ABSBIT, 0x10),
+            (UI_SET_ABSBIT, 0x3c),
+            (UI_SET_LEDBIT, 1),
+            (UI_SET_LEDBIT, 11),
+        ],
+        &[(0x10, [0, -1, 1, 0, 0, 0]), (0x3c, [300, 0, 1023, 3, 0, 0])],
+    )
+}
+
+/// Fails the test unless LinuxCNC is unpacked; the peer script.
+fn peer_script() -> std::path::PathBuf {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scripts/linuxcnc-peer");
+    let peer = Command::new(&script).arg("prefix").output().unwrap();
+    assert!(
+        peer.status.success(),
+        "LinuxCNC is not unpacked: run scripts/linuxcnc-peer install"
+    );
+    script
+}
+
+#[test]
+#[ignore = "needs root, /dev/uinput and LinuxCNC unpacked (scripts/linuxcnc-peer install): runs in the VM rig"]
+fn linuxcncs_own_hal_input_and_ours_agree_on_the_same_events() {
+    let script = peer_script();
+    let mut u = rich_pad("events");
+    let node = open(&Nodes, &u.name).unwrap().identity().path.clone();
+    std::fs::set_permissions(&node, std::os::unix::fs::PermissionsExt::from_mode(0o666)).unwrap();
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("peer-events-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::set_permissions(&dir, std::os::unix::fs::PermissionsExt::from_mode(0o777)).unwrap();
+    // Each session: ready, then it waits for the events, then shows.
+    std::fs::write(
+        dir.join("wait-go.sh"),
+        format!(
+            "until [ -e {0}/go ]; do sleep 0.05; done\nsleep 1\n",
+            dir.display()
+        ),
+    )
+    .unwrap();
+    let text = |tag: &str| {
+        format!(
+            "loadusr -W hal_input {node}\nloadusr -w touch {d}/ready-{tag}\n\
+             loadusr -w sh {d}/wait-go.sh\nshow pin\nshow param\n",
+            node = node.display(),
+            d = dir.display()
+        )
+    };
+    let file = dir.join("theirs.hal");
+    std::fs::write(&file, text("theirs")).unwrap();
+    let theirs = std::thread::spawn(move || {
+        Command::new(&script)
+            .args(["run", "halrun", "-s", "-k", "-f"])
+            .arg(&file)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap()
+    });
+    let host = Host::create(HostConfig::for_tests("hi-peer-ev")).unwrap();
+    let inst = host.instance().clone();
+    let ours_text = text("ours");
+    let ours_inst = inst.clone();
+    let ours = std::thread::spawn(move || {
+        let (mut so, mut se) = (Vec::new(), Vec::new());
+        let opts = hal_lang::Options {
+            keep_going: true,
+            script: true,
+            ..Default::default()
+        };
+        let ok = hal_lang::Session::new(ours_inst, opts, &mut so, &mut se)
+            .run_text(Some("ours.hal"), &ours_text);
+        (ok, so, se)
+    });
+    let end = Instant::now() + Duration::from_secs(180);
+    while !(dir.join("ready-theirs").exists() && dir.join("ready-ours").exists()) {
+        assert!(
+            Instant::now() < end,
+            "the two hal_inputs never both became ready"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    u.send(&[
+        (EV_KEY, 0x100, 1),
+        (EV_KEY, KEY_A, 1),
+        (EV_REL, REL_WHEEL, 3),
+        (EV_REL, 11, 120),
+        (EV_REL, 0, -7),
+        (EV_ABS, 0x3c, 1000),
+        (EV_ABS, 0x10, -1),
+    ]);
+    u.send(&[
+        (EV_KEY, KEY_A, 0),
+        (EV_REL, REL_WHEEL, -1),
+        (EV_ABS, ABS_X, 2),
+    ]);
+    std::fs::write(dir.join("go"), "").unwrap();
+    let out = theirs.join().unwrap();
+    let (ok, so, se) = ours.join().unwrap();
+    assert!(ok, "{}", String::from_utf8_lossy(&se));
+    let theirs = input_rows(&String::from_utf8_lossy(&out.stdout));
+    assert!(
+        theirs
+            .iter()
+            .any(|r| r == "s32 OUT 2 input.0.rel-wheel-counts"),
+        "LinuxCNC did not see the events: {theirs:#?}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ours = input_rows(&String::from_utf8_lossy(&so));
+    let _ = hal_lang::Session::new(
+        inst,
+        hal_lang::Options::default(),
+        &mut Vec::new(),
+        &mut Vec::new(),
+    )
+    .run_text(Some("unload.hal"), "unloadusr hal_input\n");
+    let only_theirs: Vec<&String> = theirs.iter().filter(|r| !ours.contains(r)).collect();
+    let only_ours: Vec<&String> = ours.iter().filter(|r| !theirs.contains(r)).collect();
+    assert!(
+        only_theirs.is_empty() && only_ours.is_empty(),
+        "LinuxCNC only: {only_theirs:#?}\nours only: {only_ours:#?}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
