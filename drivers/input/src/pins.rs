@@ -197,11 +197,8 @@ impl DevicePins {
     /// takes (once per type and code).
     pub fn apply(&mut self, dev: &mut dyn InputDevice, e: &Event) -> Result<Option<String>> {
         let wanted = match e.kind {
-            EV_SYN if e.code == SYN_DROPPED && self.parts.keys => {
-                // Events were lost: ask the kernel which keys are held.
-                let mut held = dev.keys_held()?;
-                held.sort_unstable();
-                self.apply_held(&held);
+            EV_SYN if e.code == SYN_DROPPED => {
+                self.resync(dev)?;
                 return Ok(None);
             }
             EV_SYN | crate::regs::EV_SND | crate::regs::EV_MSC | EV_LED => return Ok(None),
@@ -228,6 +225,26 @@ impl DevicePins {
             self.prefix,
             type_name(e.kind)
         )))
+    }
+
+    /// Events were lost (the kernel's buffer overflowed): asks the
+    /// kernel which keys are held and where the absolute axes are. Lost
+    /// relative motion cannot be had again.
+    fn resync(&self, dev: &mut dyn InputDevice) -> Result<()> {
+        if !self.keys.is_empty() {
+            let mut held = dev.keys_held()?;
+            held.sort_unstable();
+            self.apply_held(&held);
+        }
+        for a in &self.abs {
+            let value = dev.absinfo(a.code)?.value;
+            self.absolute(&Event {
+                kind: EV_ABS,
+                code: a.code,
+                value,
+            });
+        }
+        Ok(())
     }
 
     fn key(&self, e: &Event) -> bool {

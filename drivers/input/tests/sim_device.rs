@@ -294,18 +294,27 @@ fn subsets_make_only_their_pins_and_ignore_other_events() {
 }
 
 #[test]
-fn a_lost_sync_reads_the_held_keys_again() {
+fn a_lost_sync_reads_the_held_keys_and_axes_again() {
     let r = rig("in-dropped");
     let mut b = r.bind(0, "Gamepad", Parts::ALL);
     let h = r.cat.handle(0).unwrap();
     h.push(&[ev(EV_KEY, 0x131, 0), ev(EV_KEY, 0x130, 1)]);
     b.step().unwrap();
     assert_eq!(r.get("input.0.btn-b"), Value::Bit(false));
-    // The simulated kernel says BTN_B is held: a SYN_DROPPED resyncs.
+    h.push(&[ev(EV_ABS, 0, 0)]);
+    b.step().unwrap();
+    assert_eq!(r.get("input.0.abs-x-counts"), Value::S32(0));
+    // The simulated kernel says BTN_B is held and ABS_X at 128: a
+    // SYN_DROPPED reads both again.
     h.push(&[ev(EV_SYN, SYN_DROPPED, 0)]);
     b.step().unwrap();
     assert_eq!(r.get("input.0.btn-b"), Value::Bit(true));
     assert_eq!(r.get("input.0.btn-a"), Value::Bit(false));
+    assert_eq!(
+        r.get("input.0.abs-x-counts"),
+        Value::S32(127),
+        "128 is within flat"
+    );
 }
 
 #[test]
