@@ -380,9 +380,11 @@ fn linuxcncs_own_hal_input_makes_the_same_pins_on_the_same_device() {
     let node = open(&Nodes, &u.name).unwrap().identity().path.clone();
     // LinuxCNC runs as nobody: let it open the node.
     std::fs::set_permissions(&node, std::os::unix::fs::PermissionsExt::from_mode(0o666)).unwrap();
-    // A second after ready, both have run their cycle (is-pos, is-neg).
+    // The node three times: every feature, LEDs only, keys and
+    // absolute axes only. A second after ready, both have run their
+    // cycle (is-pos, is-neg).
     let text = format!(
-        "loadusr -W hal_input {}\nloadusr -w sleep 1\nshow pin\nshow param\n",
+        "loadusr -W hal_input {0} -L {0} -KA {0}\nloadusr -w sleep 1\nshow pin\nshow param\n",
         node.display()
     );
     let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
@@ -417,6 +419,17 @@ fn linuxcncs_own_hal_input_makes_the_same_pins_on_the_same_device() {
         assert!(has(name), "LinuxCNC has no {name}: {theirs:#?}");
     }
     assert!(!theirs.iter().any(|r| r.contains("key-744")), "{theirs:#?}");
+    for (name, made) in [
+        ("input.1.led-capsl", true),
+        ("input.1.btn-a", false),
+        ("input.2.btn-a", true),
+        ("input.2.abs-x-counts", true),
+        ("input.2.rel-wheel-counts", false),
+        ("input.2.led-numl", false),
+    ] {
+        let found = theirs.iter().any(|r| r.ends_with(&format!(" {name}")));
+        assert_eq!(found, made, "LinuxCNC's {name}: {theirs:#?}");
+    }
 
     let host = Host::create(HostConfig::for_tests("hi-peer")).unwrap();
     let inst = host.instance().clone();
