@@ -52,3 +52,37 @@ pub fn sim_description(data: &[u8]) {
         }
     }
 }
+
+/// A command line, arguments separated by NUL bytes (a line naming
+/// `--instance` is skipped: that option sets the process's environment):
+/// parsed into at least one non-empty inputspec, help, version, or a
+/// refusal with a message. Each word is also a shell pattern: one
+/// without `*`, `?` or `[` matches itself, and matching never panics.
+pub fn command_line(data: &[u8]) {
+    use crate::spec::{glob_match, parse_args, Command};
+    let text = String::from_utf8_lossy(data);
+    let args: Vec<String> = text.split('\0').map(str::to_string).collect();
+    if args.iter().any(|a| a.starts_with("--instance")) {
+        return;
+    }
+    match parse_args(&args) {
+        Ok(Command::Run(o)) => {
+            assert!(!o.devices.is_empty());
+            assert!(o
+                .devices
+                .iter()
+                .all(|d| !d.spec.is_empty() && d.spec != "+"));
+        }
+        Ok(Command::Help | Command::Version) => {}
+        Err(e) => assert!(!e.to_string().is_empty()),
+    }
+    for w in &args {
+        if !w.contains(['*', '?', '[']) {
+            assert!(glob_match(w, w), "{w:?}");
+        }
+        assert!(glob_match("*", w));
+        if let Some(other) = args.first() {
+            let _ = glob_match(w, other);
+        }
+    }
+}

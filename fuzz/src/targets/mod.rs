@@ -45,6 +45,7 @@ crate::register_targets! {
     xhc_input_report,
     input_event_records,
     input_sim_description,
+    input_command_line,
     ini_file,
     tool_table,
     task_state,
