@@ -117,6 +117,14 @@ const INSTANCE_TOOLS: &[InstanceTool] = &[
         short: true,
         attach: Some(&["-H"]),
     },
+    // hal_input opens its devices before it attaches, and the
+    // conventions' scratch directory has no simulated ones: only the bad
+    // instance name is tried.
+    InstanceTool {
+        bin: "hal_input",
+        short: false,
+        attach: None,
+    },
     InstanceTool {
         bin: "hal-host",
         short: true,

@@ -297,6 +297,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "hal_input",
+            help(
+                "Linux input devices (keyboards, joysticks, jog wheels, gamepads) as HAL pins",
+                hal_input::run::USAGE,
+                &["xhc-hb04(1)", "halcmd(1)"],
+            ),
+        ),
+        (
             "ethercat-tool",
             Clap(Box::new(hal_ethercat::tool::args::Cli::command())),
         ),
