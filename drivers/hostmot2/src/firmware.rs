@@ -63,6 +63,8 @@ pub struct Firmware {
     pub led: Option<ModuleUse>,
     /// The Smart Serial ports in use and the cards found on them.
     pub sserial: Option<SserialFirmware>,
+    /// The PktUARTs (for hm2_modbus).
+    pub pktuart: crate::pktuart::PktUartFirmware,
 }
 
 /// Reads and checks everything, logging what LinuxCNC logs. On an error
@@ -117,7 +119,12 @@ pub fn load(
         )?),
         _ => None,
     };
+    let pktuart = crate::pktuart::PktUartFirmware::discover(&mds, &llio.name)?;
+    for p in &pktuart.instances {
+        log.info(format!("created PktUART Interface function {}.", p.name));
+    }
     let used = InstancesUsed {
+        pktuarts: pktuart.instances.len() as u32,
         encoders: plan.encoder.map_or(0, |m| m.instances),
         stepgens: plan.stepgen.map_or(0, |m| m.instances),
         pwmgens: plan.pwmgen.map_or(0, |m| m.instances),
@@ -173,6 +180,7 @@ pub fn load(
         pwmgen: plan.pwmgen,
         led: plan.led,
         sserial,
+        pktuart,
     })
 }
 

@@ -158,6 +158,8 @@ pub struct InstancesUsed {
     pub pwmgens: u32,
     /// Per Smart Serial port, the channels with a card (bit mask).
     pub sserial: [u8; crate::sserial::MAX_PORTS],
+    /// PktUARTs (all the firmware has, as LinuxCNC takes them).
+    pub pktuarts: u32,
 }
 
 impl InstancesUsed {
@@ -166,6 +168,7 @@ impl InstancesUsed {
             gtag::ENCODER => self.encoders,
             gtag::STEPGEN => self.stepgens,
             gtag::PWMGEN => self.pwmgens,
+            gtag::PKTUART_TX | gtag::PKTUART_RX => self.pktuarts,
             _ => 0,
         }
     }

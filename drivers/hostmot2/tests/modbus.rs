@@ -486,3 +486,138 @@ fn mbccb_refusals_name_the_offset_and_field() {
         "{e}"
     );
 }
+
+mod hal_load {
+    use super::*;
+    use hal_core::Value as V;
+    use hal_core::{Host, HostConfig};
+    use hostmot2::hal::{HM2_PCI_MODULE, HOSTMOT2_MODULE};
+    use hostmot2::modbus::hal::HM2_MODBUS_MODULE;
+    use std::time::{Duration, Instant};
+
+    fn host(tag: &str) -> (Host, Arc<SimHm2>) {
+        let h = Host::create(HostConfig::for_tests(tag)).unwrap();
+        h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
+        h.loadrt(&HM2_PCI_MODULE, &["sim=5i25-pktuart"]).unwrap();
+        let sim = hal_driver::sim::find::<SimHm2>(h.instance().name(), "hm2_5i25.0").unwrap();
+        sim.with(|m| m.pktuart(0).unwrap().attach(Box::new(slave())));
+        (h, sim)
+    }
+
+    fn file(dir: &tempfile::TempDir, bytes: &[u8]) -> String {
+        let p = dir.path().join("test.mbccb");
+        std::fs::write(&p, bytes).unwrap();
+        p.to_str().unwrap().to_string()
+    }
+
+    fn wait(what: &str, mut ok: impl FnMut() -> bool) {
+        let end = Instant::now() + Duration::from_secs(20);
+        while !ok() {
+            assert!(Instant::now() < end, "{what} never happened");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn loadrt_hm2_modbus_runs_the_file_in_a_servo_thread() {
+        let (h, sim) = host("hm2-modbus-run");
+        let dir = tempfile::tempdir().unwrap();
+        let path = file(&dir, &encode(&sample_file()));
+        h.loadrt(
+            &HM2_MODBUS_MODULE,
+            &["ports=hm2_5i25.0.pktuart.0", &format!("mbccbs={path}")],
+        )
+        .unwrap();
+        let inst = h.instance();
+        assert_eq!(
+            inst.param_value("hm2_modbus.0.baudrate").unwrap(),
+            V::U32(38_400)
+        );
+        assert_eq!(inst.param_value("hm2_modbus.0.parity").unwrap(), V::U32(2));
+        assert_eq!(
+            inst.param_value("hm2_modbus.0.rxdelay").unwrap(),
+            V::U32(67)
+        );
+        for p in [
+            "hm2_modbus.0.fault",
+            "hm2_modbus.0.fault-command",
+            "hm2_modbus.0.last-error-code",
+            "hm2_modbus.0.reset",
+            "hm2_modbus.0.suspend",
+            "hm2_modbus.0.command.03.error-code",
+            "hm2_modbus.0.vfd.freq.scaled",
+            "hm2_modbus.0.vfd.freq.offset",
+            "hm2_modbus.0.relay.state-03",
+        ] {
+            assert!(inst.pin(p).unwrap().is_some(), "{p}");
+        }
+        h.create_thread("servo", 1_000_000, true, None).unwrap();
+        h.addf("hm2_5i25.0.read", "servo", -1).unwrap();
+        h.addf("hm2_modbus.0.process", "servo", -1).unwrap();
+        h.addf("hm2_5i25.0.write", "servo", -1).unwrap();
+        h.start().unwrap();
+        let pin = |n: &str| inst.pin_value(&format!("hm2_modbus.0.{n}")).unwrap();
+        wait("the float read", || pin("vfd.freq") == V::Float(12.5));
+        assert_eq!(pin("relay.state-01"), V::Bit(true));
+        assert_eq!(pin("vfd.status"), V::U32(0x8001));
+        inst.set_pin("hm2_modbus.0.vfd.cmd", V::S32(1234)).unwrap();
+        let held = |i: usize| {
+            sim.with(|m| m.pktuart(0).unwrap().peer::<ModbusSlave>().unwrap().holding[i])
+        };
+        wait("the register write", || held(10) == 1234);
+        sim.with(|m| m.pktuart(0).unwrap().peer::<ModbusSlave>().unwrap().silent = true);
+        wait("the fault", || pin("fault") == V::Bit(true));
+        wait("the disabling", || {
+            pin("command.00.disabled") == V::Bit(true)
+        });
+        assert_eq!(pin("last-error-code"), V::U32(errno::ETIMEDOUT));
+        h.stop();
+    }
+
+    #[test]
+    fn loadrt_hm2_modbus_refuses_what_it_cannot_run() {
+        let (h, _sim) = host("hm2-modbus-refuse");
+        let dir = tempfile::tempdir().unwrap();
+        let good = file(&dir, &encode(&sample_file()));
+        let err = |args: &[&str]| h.loadrt(&HM2_MODBUS_MODULE, args).unwrap_err().to_string();
+        assert!(err(&[]).contains("at least one valid pktuart port"));
+        assert!(err(&["ports=hm2_5i25.0.pktuart.0"]).contains("missing mbccb file"));
+        let e = err(&["ports=hm2_5i25.0.pktuart.7", &format!("mbccbs={good}")]);
+        assert!(e.contains("'hm2_5i25.0.pktuart.7' does not exist"), "{e}");
+        let bad = dir.path().join("bad.mbccb");
+        std::fs::write(
+            &bad,
+            b"MesaMB02 and then some more bytes to pass the size check ........",
+        )
+        .unwrap();
+        let e = err(&[
+            "ports=hm2_5i25.0.pktuart.0",
+            &format!("mbccbs={}", bad.display()),
+        ]);
+        assert!(
+            e.contains("byte offset 0") && e.contains("signature"),
+            "{e}"
+        );
+        let e = err(&["ports=hm2_5i25.0.pktuart.0", "mbccbs=/nonexistent/x.mbccb"]);
+        assert!(e.contains("cannot read mbccb file"), "{e}");
+        // Nothing stayed loaded.
+        assert!(h.instance().pin("hm2_modbus.0.fault").unwrap().is_none());
+    }
+}
+
+/// The sample command file kept in the tree (hm2_modbus's man page loads
+/// it) is the fuzz target's seed; `HAL_UPDATE_MAN=1` rewrites it.
+#[test]
+fn the_sample_mbccb_in_the_tree_is_current() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sample.mbccb");
+    let want = hostmot2::fuzzing::seed_mbccbs().remove(0);
+    if std::env::var_os("HAL_UPDATE_MAN").is_some() {
+        std::fs::write(&path, &want).unwrap();
+    }
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        want,
+        "run with HAL_UPDATE_MAN=1"
+    );
+    assert!(mbccb::parse(&want).is_ok());
+}

@@ -8,6 +8,7 @@
 pub mod encode;
 pub mod engine;
 pub mod frame;
+pub mod hal;
 pub mod line;
 pub mod mbccb;
 pub mod pins;
