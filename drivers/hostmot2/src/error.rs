@@ -590,6 +590,16 @@ pub enum Hm2Error {
         /// The name asked for.
         port: String,
     },
+    /// An `.mbccs` source (mesambccc) is refused: where and why.
+    #[error("line {line}, column {column}: {what}")]
+    Mbccs {
+        /// 1-based line.
+        line: u32,
+        /// 1-based column.
+        column: u32,
+        /// What is wrong.
+        what: String,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),

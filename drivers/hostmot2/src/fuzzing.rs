@@ -791,3 +791,46 @@ impl crate::modbus::engine::Port for FuzzPort<'_> {
         Ok((count, n))
     }
 }
+
+/// A sample `.mbccs` source for the `hm2_mbccs` target.
+pub const SEED_MBCCS: &str = r#"<?xml version="1.0"?>
+<mesamodbus baudrate="19200" parity="E" timeout="auto">
+  <devices><device address="1" name="dev" /></devices>
+  <initlist>
+    <command device="dev" function="W_REGISTERS" address="4"><data modbustype="S_ABCD" value="-5" /></command>
+    <command delay="100" />
+    <command baudrate="9600" parity="N" />
+  </initlist>
+  <commands>
+    <command device="dev" function="R_COILS" address="0" count="3" name="c" />
+    <command device="dev" function="R_REGISTERS" address="8" modbustype="F_ABCD" haltype="HAL_FLOAT">
+      <pin name="a" /><pin skip="2" /><pin name="b" modbustype="U_AB" haltype="HAL_U32" />
+    </command>
+    <command device="broadcast" function="W_COILS" address="1" count="2" name="w" />
+    <command delay="50" />
+  </commands>
+</mesamodbus>
+"#;
+
+/// An `.mbccs` source through mesambccc's compiler: no panic; a refusal
+/// names a line inside the text; an accepted source compiles to a file
+/// hm2_modbus's parser takes back unchanged.
+pub fn mbccs_source(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    match crate::modbus::mbccs::compile(text) {
+        Ok((file, _)) => {
+            let bytes = crate::modbus::encode::encode(&file);
+            let back = crate::modbus::mbccb::parse(&bytes).expect("a compiled source loads");
+            assert_eq!(back.commands, file.commands);
+            assert_eq!(back.inits, file.inits);
+        }
+        Err(e) => {
+            if let crate::Hm2Error::Mbccs { line, .. } = &e {
+                assert!(*line as usize <= text.lines().count() + 1, "{e}");
+            }
+            assert!(!e.to_string().trim().is_empty());
+        }
+    }
+}

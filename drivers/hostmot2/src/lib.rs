@@ -168,6 +168,7 @@ pub mod lbp16;
 pub mod llio;
 pub mod log;
 pub mod md;
+pub mod mesambccc_args;
 pub mod modbus;
 mod modules;
 pub mod pci;

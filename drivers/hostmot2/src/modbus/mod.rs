@@ -11,6 +11,7 @@ pub mod frame;
 pub mod hal;
 pub mod line;
 pub mod mbccb;
+pub mod mbccs;
 pub mod pins;
 pub mod rtu;
 pub mod values;
