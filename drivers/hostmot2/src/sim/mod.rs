@@ -17,6 +17,7 @@ pub mod model;
 pub mod pktuart;
 pub mod plx;
 pub mod plx_boards;
+pub mod pty_peer;
 pub mod pwm;
 pub mod spi;
 pub mod sserial;
