@@ -119,7 +119,13 @@ pub fn load(
         )?),
         _ => None,
     };
-    let pktuart = crate::pktuart::PktUartFirmware::discover(&mds, &llio.name)?;
+    let mut pktuart = crate::pktuart::PktUartFirmware::discover(&mds, &llio.name)?;
+    let n = crate::config::instances(
+        "num_pktuarts",
+        config.num_pktuarts,
+        pktuart.instances.len() as u32,
+    )?;
+    pktuart.instances.truncate(n as usize);
     for p in &pktuart.instances {
         log.info(format!("created PktUART Interface function {}.", p.name));
     }

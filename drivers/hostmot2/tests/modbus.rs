@@ -621,3 +621,38 @@ fn the_sample_mbccb_in_the_tree_is_current() {
     );
     assert!(mbccb::parse(&want).is_ok());
 }
+
+/// `config="num_pktuarts=N"` limits the PktUARTs as LinuxCNC does: the
+/// first N, and more than the firmware has refuses the board.
+#[test]
+fn num_pktuarts_takes_the_first_n() {
+    use hal_core::{Host, HostConfig};
+    use hostmot2::hal::{HM2_PCI_MODULE, HOSTMOT2_MODULE};
+    use hostmot2::modbus::hal::HM2_MODBUS_MODULE;
+    let h = Host::create(HostConfig::for_tests("hm2-modbus-num")).unwrap();
+    h.loadrt(&HOSTMOT2_MODULE, &[] as &[&str]).unwrap();
+    let e = h
+        .loadrt(
+            &HM2_PCI_MODULE,
+            &["sim=5i25-pktuart", "config=num_pktuarts=3"],
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("num_pktuarts=3, but only 2"), "{e}");
+    h.loadrt(
+        &HM2_PCI_MODULE,
+        &["sim=5i25-pktuart", "config=num_pktuarts=1"],
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("f.mbccb");
+    std::fs::write(&path, encode(&sample_file())).unwrap();
+    let files = format!("mbccbs={}", path.display());
+    let e = h
+        .loadrt(&HM2_MODBUS_MODULE, &["ports=hm2_5i25.0.pktuart.1", &files])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("does not exist"), "{e}");
+    h.loadrt(&HM2_MODBUS_MODULE, &["ports=hm2_5i25.0.pktuart.0", &files])
+        .unwrap();
+}
