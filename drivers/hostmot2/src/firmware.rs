@@ -307,6 +307,8 @@ fn plan_modules(
                 let n = config::instances("num_sserials", config.num_sserials, m.instances as u32)?;
                 plan.sserial = used(m, n);
             }
+            // Paired, checked and counted by PktUartFirmware::discover.
+            gtag::PKTUART_TX | gtag::PKTUART_RX => {}
             tag => {
                 if gtag::name(tag).is_none() {
                     log.warn(format!("Firmware contains unknown function (gtag-{tag})"));

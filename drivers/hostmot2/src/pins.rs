@@ -252,6 +252,9 @@ pub fn log_function_name(tag: u8, function: u8, output: bool) -> String {
         (gtag::PWMGEN, 1, _) => "Out0 (PWM or Up)",
         (gtag::PWMGEN, 2, _) => "Out1 (Dir or Down)",
         (gtag::PWMGEN, 3, _) => "Not-Enable",
+        (gtag::PKTUART_TX, 1, _) => "TX Data",
+        (gtag::PKTUART_TX, 2, _) => "Drv Enable",
+        (gtag::PKTUART_RX, 1, _) => "RX Data",
         (gtag::SSERIAL, f, o) => {
             // Function codes keep the SecPin's high nibble (without the
             // output bit): rx 0x0n, tx 0x0n out, txen 0x1n, ntxen 0x2n.
