@@ -318,29 +318,89 @@ impl Ctx<'_> {
         } else {
             0
         };
-        let (def_m, def_h) = if is_bits(func) {
-            (Some(ModbusType(0)), Some(HalType::Bit))
-        } else {
-            let m = match attr(cmd, "modbustype") {
-                None => None,
-                Some(n) => Some(
-                    modbus_type(n)
-                        .ok_or_else(|| self.err(cmd, format!("unknown modbustype '{n}'")))?,
-                ),
-            };
-            let h = match attr(cmd, "haltype") {
-                None => None,
-                Some(n) => Some(
-                    hal_type(n).ok_or_else(|| self.err(cmd, format!("unknown haltype '{n}'")))?,
-                ),
-            };
-            (m, h)
+        let (def_m, def_h) = self.command_types(cmd, func)?;
+        let (cflags, pflags) = self.command_flags(cmd, &dev, func, interval, def_h)?;
+        let name = attr(cmd, "name");
+        if let Some(n) = name {
+            if !valid_name(n) || n.len() > MAX_PIN_NAME - 3 {
+                let max = MAX_PIN_NAME - 3;
+                let why =
+                    format!("name '{n}': lower case letters, digits, '.' and '-', at most {max}");
+                return Err(self.err(cmd, why));
+            }
+        }
+        let defs = (def_m, def_h, pflags);
+        let (mut pins, regofs) = self.pins(cmd, func, &dev, name, defs)?;
+        let count = if count == 0 { pins.len() } else { count };
+        if count == 0 || pins.len() > count {
+            let why = format!("{} <pin> tags for a count of {count}", pins.len());
+            return Err(self.err(cmd, why));
+        }
+        let regofs = self.fill_pins(cmd, (func, &dev, name, count), defs, &mut pins, regofs)?;
+        let max = max_count(func);
+        if regofs > max || count > max || addr as usize + regofs > 65536 {
+            let why = format!(
+                "{count} pins in {regofs} registers out of range [1..{max}] at address {addr}"
+            );
+            return Err(self.err(cmd, why));
+        }
+        if is_bits(func) {
+            // Coils have no type table: their place is their index.
+            pins.iter_mut().for_each(|p| p.regofs = 0);
+        }
+        let timeout_us = match timeout {
+            0 => self.auto_timeout(func, regofs, &self.comms),
+            t => t,
         };
-        if func == 6 && def_m.is_some_and(|m| m.regs() != 1) {
+        let regcnt = regofs as u16;
+        Ok(Command {
+            mbid,
+            func,
+            flags: cflags,
+            addr,
+            regcnt,
+            interval_us: interval,
+            timeout_us,
+            pins,
+        })
+    }
+
+    /// The command's default Modbus and HAL types (bit for coils).
+    fn command_types(&self, cmd: Node, func: u8) -> Result<(Option<ModbusType>, Option<HalType>)> {
+        if is_bits(func) {
+            return Ok((Some(ModbusType(0)), Some(HalType::Bit)));
+        }
+        let m = match attr(cmd, "modbustype") {
+            None => None,
+            Some(n) => Some(
+                modbus_type(n).ok_or_else(|| self.err(cmd, format!("unknown modbustype '{n}'")))?,
+            ),
+        };
+        let h = match attr(cmd, "haltype") {
+            None => None,
+            Some(n) => {
+                Some(hal_type(n).ok_or_else(|| self.err(cmd, format!("unknown haltype '{n}'")))?)
+            }
+        };
+        if func == 6 && m.is_some_and(|m| m.regs() != 1) {
             return Err(self.err(cmd, "W_REGISTER needs a 16-bit modbustype".into()));
         }
+        Ok((m, h))
+    }
+
+    /// The command's flags and its pins' default flags: writeflush from
+    /// `<mesamodbus>` (writes only), scale for floats, clamp for
+    /// registers, each overridable.
+    fn command_flags(
+        &mut self,
+        cmd: Node,
+        dev: &str,
+        func: u8,
+        interval: u32,
+        def_h: Option<HalType>,
+    ) -> Result<(u16, u8)> {
         let base_c = if self.writeflush { flags::WFLUSH } else { 0 };
-        let mut cflags = self.cmd_flags(cmd, &dev, base_c)?;
+        let mut cflags = self.cmd_flags(cmd, dev, base_c)?;
         let mut base_p = if def_h == Some(HalType::Float) {
             pinf::SCALE
         } else {
@@ -350,9 +410,7 @@ impl Ctx<'_> {
             base_p |= pinf::CLAMP;
         }
         let mut pflags = self.pin_flags(cmd, base_p)?;
-        if pflags & pinf::SCALE != 0
-            && matches!(def_h, Some(HalType::U32 | HalType::U64 | HalType::Bit))
-        {
+        if matches!(def_h, Some(HalType::U32 | HalType::U64 | HalType::Bit)) {
             pflags &= !pinf::SCALE;
         }
         if cflags & flags::RESEND != 0 && interval == u32::MAX {
@@ -364,72 +422,85 @@ impl Ctx<'_> {
         if !is_write(func) {
             cflags &= !flags::WFLUSH;
         }
-        let name = attr(cmd, "name");
-        if let Some(n) = name {
-            if !valid_name(n) || n.len() > MAX_PIN_NAME - 3 {
-                return Err(self.err(
-                    cmd,
-                    format!(
-                        "name '{n}': lower case letters, digits, '.' and '-', at most {}",
-                        MAX_PIN_NAME - 3
-                    ),
-                ));
-            }
-        }
-        let (mut pins, mut regofs) = self.pins(cmd, func, &dev, name, (def_m, def_h, pflags))?;
-        let count = if count == 0 { pins.len() } else { count };
-        if count == 0 || pins.len() > count {
-            return Err(self.err(
-                cmd,
-                format!("{} <pin> tags for a count of {count}", pins.len()),
-            ));
-        }
+        Ok((cflags, pflags))
+    }
+
+    /// Pins `<name>-NN` up to `count` after the `<pin>` tags' ones;
+    /// returns the register offset after them.
+    fn fill_pins(
+        &mut self,
+        cmd: Node,
+        (func, dev, name, count): (u8, &str, Option<&str>, usize),
+        (def_m, def_h, pflags): (Option<ModbusType>, Option<HalType>, u8),
+        pins: &mut Vec<PinSpec>,
+        mut regofs: usize,
+    ) -> Result<usize> {
         while pins.len() < count {
             let (Some(m), Some(h), Some(n)) = (def_m, def_h, name) else {
-                return Err(self.err(
-                    cmd,
-                    "pins made from 'count' need 'name', 'modbustype' and 'haltype'".into(),
-                ));
+                let why = "pins made from 'count' need 'name', 'modbustype' and 'haltype'";
+                return Err(self.err(cmd, why.into()));
             };
             let full = format!("{dev}.{n}-{:02}", pins.len());
             self.claim(cmd, &full)?;
-            let fl = if is_bits(func) { 0 } else { pflags };
+            let flags = if is_bits(func) { 0 } else { pflags };
             pins.push(PinSpec {
                 name: full,
                 htype: h,
                 mtype: m,
-                flags: fl,
+                flags,
                 regofs: regofs as u8,
             });
             regofs += m.regs() as usize;
         }
-        if regofs > max_count(func) || count > max_count(func) || addr as usize + regofs > 65536 {
-            return Err(self.err(
-                cmd,
-                format!(
-                    "{count} pins in {regofs} registers out of range [1..{}] at address {addr}",
-                    max_count(func)
-                ),
-            ));
-        }
-        if is_bits(func) {
-            // Coils have no type table: their place is their index.
-            pins.iter_mut().for_each(|p| p.regofs = 0);
-        }
-        let timeout = if timeout == 0 {
-            self.auto_timeout(func, regofs, &self.comms)
-        } else {
-            timeout
+        Ok(regofs)
+    }
+
+    /// A `<pin>` of a register function: its types (the command's
+    /// unless given), flags, and where it sits.
+    fn reg_pin(
+        &mut self,
+        p: Node,
+        func: u8,
+        name: String,
+        regofs: usize,
+        (def_m, def_h, pflags): (Option<ModbusType>, Option<HalType>, u8),
+    ) -> Result<PinSpec> {
+        let m = match attr(p, "modbustype") {
+            Some(n) => {
+                modbus_type(n).ok_or_else(|| self.err(p, format!("unknown modbustype '{n}'")))?
+            }
+            None => def_m
+                .ok_or_else(|| self.err(p, "no 'modbustype' on the command or the pin".into()))?,
         };
-        Ok(Command {
-            mbid,
-            func,
-            flags: cflags,
-            addr,
-            regcnt: regofs as u16,
-            interval_us: interval,
-            timeout_us: timeout,
-            pins,
+        let h = match attr(p, "haltype") {
+            Some(n) => hal_type(n).ok_or_else(|| self.err(p, format!("unknown haltype '{n}'")))?,
+            None => {
+                def_h.ok_or_else(|| self.err(p, "no 'haltype' on the command or the pin".into()))?
+            }
+        };
+        if h == HalType::Bit && m.kind() != 0 {
+            let why = "HAL_BIT with a register function needs an unsigned modbustype";
+            return Err(self.err(p, why.into()));
+        }
+        if func == 6 && m.regs() != 1 {
+            return Err(self.err(p, "W_REGISTER needs a 16-bit modbustype".into()));
+        }
+        let mut flags = self.pin_flags(p, pflags)?;
+        if matches!(h, HalType::U32 | HalType::U64 | HalType::Bit) {
+            flags &= !pinf::SCALE;
+        }
+        if (m.regs() >= 2 && regofs % 2 != 0) || (m.regs() >= 4 && regofs % 4 != 0) {
+            self.warn(
+                p,
+                "multi-register type not aligned to its natural boundary".into(),
+            );
+        }
+        Ok(PinSpec {
+            name,
+            htype: h,
+            mtype: m,
+            flags,
+            regofs: regofs as u8,
         })
     }
 
@@ -503,47 +574,9 @@ impl Ctx<'_> {
                 regofs += 1;
                 continue;
             }
-            let m = match attr(p, "modbustype") {
-                Some(n) => modbus_type(n)
-                    .ok_or_else(|| self.err(p, format!("unknown modbustype '{n}'")))?,
-                None => def_m.ok_or_else(|| {
-                    self.err(p, "no 'modbustype' on the command or the pin".into())
-                })?,
-            };
-            let h = match attr(p, "haltype") {
-                Some(n) => {
-                    hal_type(n).ok_or_else(|| self.err(p, format!("unknown haltype '{n}'")))?
-                }
-                None => def_h
-                    .ok_or_else(|| self.err(p, "no 'haltype' on the command or the pin".into()))?,
-            };
-            if h == HalType::Bit && m.kind() != 0 {
-                return Err(self.err(
-                    p,
-                    "HAL_BIT with a register function needs an unsigned modbustype".into(),
-                ));
-            }
-            if func == 6 && m.regs() != 1 {
-                return Err(self.err(p, "W_REGISTER needs a 16-bit modbustype".into()));
-            }
-            let mut f = self.pin_flags(p, pflags)?;
-            if matches!(h, HalType::U32 | HalType::U64 | HalType::Bit) {
-                f &= !pinf::SCALE;
-            }
-            if (m.regs() >= 2 && regofs % 2 != 0) || (m.regs() >= 4 && regofs % 4 != 0) {
-                self.warn(
-                    p,
-                    "multi-register type not aligned to its natural boundary".into(),
-                );
-            }
-            pins.push(PinSpec {
-                name: full,
-                htype: h,
-                mtype: m,
-                flags: f,
-                regofs: regofs as u8,
-            });
-            regofs += m.regs() as usize;
+            let spec = self.reg_pin(p, func, full, regofs, (def_m, def_h, pflags))?;
+            regofs += spec.mtype.regs() as usize;
+            pins.push(spec);
         }
         Ok((pins, regofs))
     }

@@ -101,31 +101,7 @@ pub fn compile(text: &str) -> Result<Compiled> {
             "writeflush",
         ],
     );
-    cx.comms = cx.comms_of(root, DEFAULT_COMMS)?;
-    let mut fmt = parity_format(cx.comms.parity)
-        | if cx.comms.stop_bits == 2 {
-            format::STOP_BITS2
-        } else {
-            0
-        };
-    match attr(root, "duplex").map(str::to_ascii_lowercase).as_deref() {
-        None | Some("half") => {}
-        Some("full") => fmt |= format::DUPLEX,
-        Some(_) => return Err(cx.err(root, "attribute 'duplex' must be 'full' or 'half'".into())),
-    }
-    if cx.boolean(root, "suspend")?.unwrap_or(false) {
-        fmt |= format::SUSPEND;
-    }
-    cx.writeflush = cx.boolean(root, "writeflush")?.unwrap_or(true);
-    cx.interval = match attr(root, "interval") {
-        None => 0,
-        Some(_) => cx.int(root, "interval", 0, MAX_INTERVAL)? as u32,
-    };
-    cx.timeout = match attr(root, "timeout") {
-        None => 0,
-        Some(v) if v.eq_ignore_ascii_case("auto") => 0,
-        Some(_) => cx.int(root, "timeout", 10_000, 10_000_000)? as u32,
-    };
+    let fmt = cx.header(root)?;
     let (mut inits, mut commands, mut seen_devices) = (None, None, false);
     for node in root.children().filter(Node::is_element) {
         match node.tag_name().name() {
@@ -161,6 +137,41 @@ pub fn compile(text: &str) -> Result<Compiled> {
         warnings: Vec::new(),
     };
     Ok((file, cx.warnings))
+}
+
+impl Ctx<'_> {
+    /// `<mesamodbus>`'s settings: the line, suspend, duplex, the default
+    /// writeflush, interval and timeout; returns the header's format bits.
+    fn header(&mut self, root: Node) -> Result<u16> {
+        self.comms = self.comms_of(root, DEFAULT_COMMS)?;
+        let mut fmt = parity_format(self.comms.parity)
+            | if self.comms.stop_bits == 2 {
+                format::STOP_BITS2
+            } else {
+                0
+            };
+        match attr(root, "duplex").map(str::to_ascii_lowercase).as_deref() {
+            None | Some("half") => {}
+            Some("full") => fmt |= format::DUPLEX,
+            Some(_) => {
+                return Err(self.err(root, "attribute 'duplex' must be 'full' or 'half'".into()))
+            }
+        }
+        if self.boolean(root, "suspend")?.unwrap_or(false) {
+            fmt |= format::SUSPEND;
+        }
+        self.writeflush = self.boolean(root, "writeflush")?.unwrap_or(true);
+        self.interval = match attr(root, "interval") {
+            None => 0,
+            Some(_) => self.int(root, "interval", 0, MAX_INTERVAL)? as u32,
+        };
+        self.timeout = match attr(root, "timeout") {
+            None => 0,
+            Some(v) if v.eq_ignore_ascii_case("auto") => 0,
+            Some(_) => self.int(root, "timeout", 10_000, 10_000_000)? as u32,
+        };
+        Ok(fmt)
+    }
 }
 
 fn attr<'a>(n: Node<'a, '_>, name: &str) -> Option<&'a str> {
