@@ -3,7 +3,7 @@
 //! tables are padded with empty fragments so their records are 4-byte
 //! aligned, pin names carry their NUL.
 
-use super::mbccb::{Init, Mbccb, HEADER_LEN, RECORD_LEN, SIGNATURE};
+use super::mbccb::{Command, Init, Mbccb, HEADER_LEN, RECORD_LEN, SIGNATURE};
 
 struct Segment(Vec<u8>);
 
@@ -34,72 +34,11 @@ pub fn encode(m: &Mbccb) -> Vec<u8> {
     let mut data = Segment(vec![0]);
     let mut inits = Vec::with_capacity(m.inits.len() * RECORD_LEN);
     for i in &m.inits {
-        let mut r = [0u8; RECORD_LEN];
-        match i {
-            Init::Delay { us } => record(&mut r, 24, &us.to_be_bytes()),
-            Init::Comms {
-                baud,
-                flags,
-                rxdelay,
-                txdelay,
-                drvdelay,
-                icdelay,
-            } => {
-                record(&mut r, 2, &flags.to_be_bytes());
-                record(&mut r, 4, &1u16.to_be_bytes());
-                record(&mut r, 6, &rxdelay.to_be_bytes());
-                record(&mut r, 8, &txdelay.to_be_bytes());
-                record(&mut r, 10, &drvdelay.to_be_bytes());
-                record(&mut r, 12, &icdelay.to_be_bytes());
-                record(&mut r, 24, &baud.to_be_bytes());
-            }
-            Init::Packet {
-                mbid,
-                func,
-                flags,
-                timeout_us,
-                pdu,
-            } => {
-                r[0] = *mbid;
-                r[1] = *func;
-                record(&mut r, 2, &flags.to_be_bytes());
-                record(&mut r, 24, &timeout_us.to_be_bytes());
-                record(&mut r, 28, &data.push(pdu).to_be_bytes());
-            }
-        }
-        inits.extend_from_slice(&r);
+        inits.extend_from_slice(&init_record(i, &mut data));
     }
     let mut cmds = Vec::with_capacity(m.commands.len() * RECORD_LEN);
     for c in &m.commands {
-        let mut r = [0u8; RECORD_LEN];
-        r[0] = c.mbid;
-        r[1] = c.func;
-        record(&mut r, 2, &c.flags.to_be_bytes());
-        record(&mut r, 4, &c.addr.to_be_bytes());
-        record(&mut r, 6, &(c.pins.len() as u16).to_be_bytes());
-        record(&mut r, 8, &c.regcnt.to_be_bytes());
-        record(&mut r, 20, &c.interval_us.to_be_bytes());
-        record(&mut r, 24, &c.timeout_us.to_be_bytes());
-        if matches!(c.func, 3 | 4 | 6 | 16) {
-            data.align();
-            let table: Vec<u8> = c
-                .pins
-                .iter()
-                .flat_map(|p| [p.mtype.0, htype_code(p.htype), p.flags, p.regofs])
-                .collect();
-            record(&mut r, 16, &data.push(&table).to_be_bytes());
-        }
-        if !c.pins.is_empty() {
-            let mut first = None;
-            for p in &c.pins {
-                let mut name = p.name.as_bytes().to_vec();
-                name.push(0);
-                let at = data.push(&name);
-                first.get_or_insert(at);
-            }
-            record(&mut r, 28, &first.unwrap_or(0).to_be_bytes());
-        }
-        cmds.extend_from_slice(&r);
+        cmds.extend_from_slice(&command_record(c, &mut data));
     }
     let mut out = Vec::with_capacity(HEADER_LEN + inits.len() + cmds.len() + data.0.len());
     out.extend_from_slice(SIGNATURE);
@@ -127,4 +66,73 @@ fn htype_code(t: super::mbccb::HalType) -> u8 {
         S64 => 6,
         U64 => 7,
     }
+}
+
+/// An init record; its request goes into `data`.
+fn init_record(i: &Init, data: &mut Segment) -> [u8; RECORD_LEN] {
+    let mut r = [0u8; RECORD_LEN];
+    match i {
+        Init::Delay { us } => record(&mut r, 24, &us.to_be_bytes()),
+        Init::Comms {
+            baud,
+            flags,
+            rxdelay,
+            txdelay,
+            drvdelay,
+            icdelay,
+        } => {
+            record(&mut r, 2, &flags.to_be_bytes());
+            record(&mut r, 4, &1u16.to_be_bytes());
+            record(&mut r, 6, &rxdelay.to_be_bytes());
+            record(&mut r, 8, &txdelay.to_be_bytes());
+            record(&mut r, 10, &drvdelay.to_be_bytes());
+            record(&mut r, 12, &icdelay.to_be_bytes());
+            record(&mut r, 24, &baud.to_be_bytes());
+        }
+        Init::Packet {
+            mbid,
+            func,
+            flags,
+            timeout_us,
+            pdu,
+        } => {
+            r[0] = *mbid;
+            r[1] = *func;
+            record(&mut r, 2, &flags.to_be_bytes());
+            record(&mut r, 24, &timeout_us.to_be_bytes());
+            record(&mut r, 28, &data.push(pdu).to_be_bytes());
+        }
+    }
+    r
+}
+
+/// A command record; its type table and pin names go into `data`.
+fn command_record(c: &Command, data: &mut Segment) -> [u8; RECORD_LEN] {
+    let mut r = [0u8; RECORD_LEN];
+    r[0] = c.mbid;
+    r[1] = c.func;
+    record(&mut r, 2, &c.flags.to_be_bytes());
+    record(&mut r, 4, &c.addr.to_be_bytes());
+    record(&mut r, 6, &(c.pins.len() as u16).to_be_bytes());
+    record(&mut r, 8, &c.regcnt.to_be_bytes());
+    record(&mut r, 20, &c.interval_us.to_be_bytes());
+    record(&mut r, 24, &c.timeout_us.to_be_bytes());
+    if matches!(c.func, 3 | 4 | 6 | 16) {
+        data.align();
+        let table: Vec<u8> = c
+            .pins
+            .iter()
+            .flat_map(|p| [p.mtype.0, htype_code(p.htype), p.flags, p.regofs])
+            .collect();
+        record(&mut r, 16, &data.push(&table).to_be_bytes());
+    }
+    let mut first = None;
+    for p in &c.pins {
+        let mut name = p.name.as_bytes().to_vec();
+        name.push(0);
+        let at = data.push(&name);
+        first.get_or_insert(at);
+    }
+    record(&mut r, 28, &first.unwrap_or(0).to_be_bytes());
+    r
 }

@@ -306,43 +306,7 @@ pub fn parse(file: &[u8]) -> Result<Mbccb> {
         return Err(err(0, MbccbProblem::Signature { found }));
     }
     let h = header(file)?;
-    let (initlen, cmdslen, datalen) = (be32(file, 52), be32(file, 56), be32(file, 60));
-    for (at, len, name) in [(52, initlen, "initlen"), (56, cmdslen, "cmdslen")] {
-        if len as usize % RECORD_LEN != 0 {
-            return Err(field(
-                at,
-                name.into(),
-                len.into(),
-                "must be a multiple of 32",
-            ));
-        }
-    }
-    if cmdslen == 0 {
-        return Err(field(
-            56,
-            "cmdslen".into(),
-            0,
-            "must hold at least one command",
-        ));
-    }
-    if datalen == 0 {
-        return Err(field(
-            60,
-            "datalen".into(),
-            0,
-            "must hold at least the pin names",
-        ));
-    }
-    let expected = HEADER_LEN as u64 + u64::from(initlen) + u64::from(cmdslen) + u64::from(datalen);
-    if expected != file.len() as u64 {
-        return Err(err(
-            file.len().min(expected as usize),
-            MbccbProblem::SizeMismatch {
-                len: file.len(),
-                expected: expected as usize,
-            },
-        ));
-    }
+    let (initlen, cmdslen) = sections(file)?;
     let init_at = HEADER_LEN;
     let cmds_at = init_at + initlen as usize;
     let data_at = cmds_at + cmdslen as usize;
@@ -442,43 +406,7 @@ fn init(file: &[u8], at: usize, i: usize, data: &Data) -> Result<Init> {
     }
     let timeout = be32(r, 24);
     if func == 0 {
-        if mbid != 0 {
-            return Err(field(
-                at,
-                format!("init {i} device"),
-                mbid.into(),
-                "must be 0 in a meta command",
-            ));
-        }
-        return match be16(r, 4) {
-            0 if timeout <= MAX_DELAY_US => Ok(Init::Delay { us: timeout }),
-            0 => Err(field(
-                at + 24,
-                format!("init {i} delay"),
-                timeout.into(),
-                "must be at most 60000000 us",
-            )),
-            1 if (300..=10_000_000).contains(&timeout) => Ok(Init::Comms {
-                baud: timeout,
-                flags: fl,
-                rxdelay: be16(r, 6).min(1020),
-                txdelay: be16(r, 8).min(1020),
-                drvdelay: be16(r, 10).min(31),
-                icdelay: be32(r, 12).min(255),
-            }),
-            1 => Err(field(
-                at + 24,
-                format!("init {i} baudrate"),
-                timeout.into(),
-                "must be 300..=10000000",
-            )),
-            m => Err(field(
-                at + 4,
-                format!("init {i} meta command"),
-                m.into(),
-                "must be 0 (delay) or 1 (comms change)",
-            )),
-        };
+        return init_meta(r, at, i);
     }
     if !rtu::supported(func) {
         return Err(field(
@@ -594,29 +522,7 @@ fn command(
             ))
         }
     };
-    let mut p = be32(r, 28) as usize;
-    for (pin, (htype, mtype, fl, regofs)) in htypes.into_iter().enumerate() {
-        let what = format!("command {c} pin {pin} name");
-        let frag = data.fragment(p as u32, at + 28, what)?;
-        let name = pin_name(frag, c, pin).map_err(|why| {
-            err(
-                data.base + p,
-                MbccbProblem::PinName {
-                    command: c,
-                    pin,
-                    why,
-                },
-            )
-        })?;
-        cmd.pins.push(PinSpec {
-            name,
-            htype,
-            mtype,
-            flags: fl,
-            regofs,
-        });
-        p += frag.len() + 1;
-    }
+    cmd.pins = pins_of(be32(r, 28), at + 28, c, htypes, data)?;
     Ok(cmd)
 }
 
@@ -675,51 +581,14 @@ fn types(
     let mut next = 0u16;
     let mut out = Vec::with_capacity(pincnt as usize);
     for (pin, rec) in t.chunks(4).enumerate() {
-        let off = data.base + ptr as usize + 1 + 4 * pin;
-        let mtype = ModbusType(rec[0]);
-        if !mtype.valid() {
-            return Err(field(
-                off,
-                format!("command {c} pin {pin} modbustype"),
-                rec[0].into(),
-                "is not a known type",
-            ));
-        }
-        if single && mtype.regs() != 1 {
-            return Err(field(
-                off,
-                format!("command {c} pin {pin} modbustype"),
-                rec[0].into(),
-                "must be one register for W_REGISTER",
-            ));
-        }
-        let htype = HalType::from_code(rec[1]).ok_or_else(|| {
-            field(
-                off + 1,
-                format!("command {c} pin {pin} haltype"),
-                rec[1].into(),
-                "must be bit, float, s32, u32, s64 or u64",
-            )
-        })?;
-        if rec[2] & !pinf::MASK != 0 {
-            return Err(field(
-                off + 2,
-                format!("command {c} pin {pin} flags"),
-                rec[2].into(),
-                "only 0x03 may be set",
-            ));
-        }
-        let regofs = u16::from(rec[3]);
-        if (pin == 0 && regofs != 0) || regofs < next || regofs + u16::from(mtype.regs()) > regcnt {
-            return Err(field(
-                off + 3,
-                format!("command {c} pin {pin} register offset"),
-                regofs.into(),
-                "must follow the previous pin and fit the register count",
-            ));
-        }
-        next = regofs + u16::from(mtype.regs());
-        out.push((htype, mtype, rec[2], rec[3]));
+        let at = TypeAt {
+            off: data.base + ptr as usize + 1 + 4 * pin,
+            c,
+            pin,
+        };
+        let t = type_record(&at, rec, single, regcnt, next)?;
+        next = u16::from(t.3) + u16::from(t.1.regs());
+        out.push(t);
     }
     Ok(out)
 }
@@ -748,4 +617,169 @@ fn pin_name(frag: &[u8], _c: usize, _pin: usize) -> std::result::Result<String, 
         ));
     }
     Ok(String::from_utf8_lossy(text).into_owned())
+}
+
+/// Where a type record is: its offset, command and pin.
+struct TypeAt {
+    off: usize,
+    c: usize,
+    pin: usize,
+}
+
+/// One 4-byte type record (Modbus type, HAL type, flags, register
+/// offset), checked against the command (`next`: the first register the
+/// pin may start at).
+fn type_record(
+    at: &TypeAt,
+    rec: &[u8],
+    single: bool,
+    regcnt: u16,
+    next: u16,
+) -> Result<(HalType, ModbusType, u8, u8)> {
+    let (off, c, pin) = (at.off, at.c, at.pin);
+    let what = |f: &str| format!("command {c} pin {pin} {f}");
+    let mtype = ModbusType(rec[0]);
+    if !mtype.valid() {
+        return Err(field(
+            off,
+            what("modbustype"),
+            rec[0].into(),
+            "is not a known type",
+        ));
+    }
+    if single && mtype.regs() != 1 {
+        let e = "must be one register for W_REGISTER";
+        return Err(field(off, what("modbustype"), rec[0].into(), e));
+    }
+    let htype = HalType::from_code(rec[1]).ok_or_else(|| {
+        let e = "must be bit, float, s32, u32, s64 or u64";
+        field(off + 1, what("haltype"), rec[1].into(), e)
+    })?;
+    if rec[2] & !pinf::MASK != 0 {
+        return Err(field(
+            off + 2,
+            what("flags"),
+            rec[2].into(),
+            "only 0x03 may be set",
+        ));
+    }
+    let regofs = u16::from(rec[3]);
+    if (pin == 0 && regofs != 0) || regofs < next || regofs + u16::from(mtype.regs()) > regcnt {
+        let e = "must follow the previous pin and fit the register count";
+        return Err(field(off + 3, what("register offset"), regofs.into(), e));
+    }
+    Ok((htype, mtype, rec[2], rec[3]))
+}
+
+/// The pins of command `c`: their names from the fragments at `ptr` (the
+/// pointer field at `ptr_at`), with their types.
+fn pins_of(
+    ptr: u32,
+    ptr_at: usize,
+    c: usize,
+    types: Vec<(HalType, ModbusType, u8, u8)>,
+    data: &Data,
+) -> Result<Vec<PinSpec>> {
+    let mut p = ptr as usize;
+    let mut pins = Vec::with_capacity(types.len());
+    for (pin, (htype, mtype, flags, regofs)) in types.into_iter().enumerate() {
+        let frag = data.fragment(p as u32, ptr_at, format!("command {c} pin {pin} name"))?;
+        let name = pin_name(frag, c, pin).map_err(|why| {
+            let what = MbccbProblem::PinName {
+                command: c,
+                pin,
+                why,
+            };
+            err(data.base + p, what)
+        })?;
+        pins.push(PinSpec {
+            name,
+            htype,
+            mtype,
+            flags,
+            regofs,
+        });
+        p += frag.len() + 1;
+    }
+    Ok(pins)
+}
+
+/// A meta init record (function 0): a delay or a line change.
+fn init_meta(r: &[u8], at: usize, i: usize) -> Result<Init> {
+    let (mbid, fl, value) = (r[0], be16(r, 2), be32(r, 24));
+    if mbid != 0 {
+        let e = "must be 0 in a meta command";
+        return Err(field(at, format!("init {i} device"), mbid.into(), e));
+    }
+    match be16(r, 4) {
+        0 if value <= MAX_DELAY_US => Ok(Init::Delay { us: value }),
+        0 => {
+            let e = "must be at most 60000000 us";
+            Err(field(at + 24, format!("init {i} delay"), value.into(), e))
+        }
+        1 if (300..=10_000_000).contains(&value) => Ok(Init::Comms {
+            baud: value,
+            flags: fl,
+            rxdelay: be16(r, 6).min(1020),
+            txdelay: be16(r, 8).min(1020),
+            drvdelay: be16(r, 10).min(31),
+            icdelay: be32(r, 12).min(255),
+        }),
+        1 => {
+            let e = "must be 300..=10000000";
+            Err(field(
+                at + 24,
+                format!("init {i} baudrate"),
+                value.into(),
+                e,
+            ))
+        }
+        m => {
+            let e = "must be 0 (delay) or 1 (comms change)";
+            Err(field(at + 4, format!("init {i} meta command"), m.into(), e))
+        }
+    }
+}
+
+/// The section lengths (init, commands) after checking them against each
+/// other and the file's size.
+fn sections(file: &[u8]) -> Result<(u32, u32)> {
+    let (initlen, cmdslen, datalen) = (be32(file, 52), be32(file, 56), be32(file, 60));
+    for (at, len, name) in [(52, initlen, "initlen"), (56, cmdslen, "cmdslen")] {
+        if len as usize % RECORD_LEN != 0 {
+            return Err(field(
+                at,
+                name.into(),
+                len.into(),
+                "must be a multiple of 32",
+            ));
+        }
+    }
+    if cmdslen == 0 {
+        return Err(field(
+            56,
+            "cmdslen".into(),
+            0,
+            "must hold at least one command",
+        ));
+    }
+    if datalen == 0 {
+        return Err(field(
+            60,
+            "datalen".into(),
+            0,
+            "must hold at least the pin names",
+        ));
+    }
+    let expected = HEADER_LEN as u64 + u64::from(initlen) + u64::from(cmdslen) + u64::from(datalen);
+    if expected != file.len() as u64 {
+        return Err(err(
+            file.len().min(expected as usize),
+            MbccbProblem::SizeMismatch {
+                len: file.len(),
+                expected: expected as usize,
+            },
+        ));
+    }
+    Ok((initlen, cmdslen))
 }
