@@ -656,3 +656,41 @@ fn num_pktuarts_takes_the_first_n() {
     h.loadrt(&HM2_MODBUS_MODULE, &["ports=hm2_5i25.0.pktuart.0", &files])
         .unwrap();
 }
+
+/// Broadcasts expect no answer, `timesout` commands may go unanswered
+/// without an error, and an `interval="once"` command runs once.
+#[test]
+fn broadcast_timesout_and_once_behave_as_documented() {
+    let mut f = sample_file();
+    f.inits.clear();
+    let mut bc = cmd(0, 16, 20, 1, vec![pin("all.v", HalType::U32, 0x00, 0, 0)]);
+    bc.flags = 0;
+    let mut quiet = cmd(9, 3, 0, 1, vec![pin("ghost.v", HalType::U32, 0x00, 0, 0)]);
+    quiet.flags = flags::TIMESOUT;
+    let mut once = cmd(5, 4, 0, 1, vec![pin("vfd.once", HalType::U32, 0x00, 0, 0)]);
+    once.interval_us = u32::MAX;
+    f.commands = vec![bc, quiet, once];
+    let mut b = Bus::new(f);
+    b.set("all.v", Value::U32(77));
+    b.run(300);
+    assert_eq!(b.slave(|s| s.holding[20]), 77, "broadcast write taken");
+    assert!(!b.engine.global.fault, "{:?}", b.engine.global);
+    assert_eq!(b.engine.commands[0].errors, 0);
+    assert_eq!(b.engine.commands[1].errors, 0, "timesout: no error");
+    let reads4 = b.slave(|s| s.requests.iter().filter(|r| r[1] == 4).count());
+    assert_eq!(reads4, 1, "once means once");
+    // Without timesout the silent device counts errors.
+    let mut f = sample_file();
+    f.inits.clear();
+    f.commands = vec![cmd(
+        9,
+        3,
+        0,
+        1,
+        vec![pin("ghost.v", HalType::U32, 0x00, 0, 0)],
+    )];
+    let mut b = Bus::new(f);
+    b.run(300);
+    assert!(b.engine.global.fault);
+    assert!(b.engine.commands[0].errors > 0);
+}
