@@ -13,6 +13,15 @@
 //! timeout also clears the PktUART and waits 25 ms before the next
 //! command. Read pins keep their last good value; `fault` clears with the
 //! next good reply.
+//!
+//! Where this differs from LinuxCNC's hm2_modbus: `error-code` shows
+//! every error as it happens (its man page says "the last error"; the C
+//! sets it only when it disables the command); `fault` rises on any
+//! failed exchange, not only on a timeout; a reply from another device
+//! counts as an error (ERANGE) instead of a silent resend; init replies
+//! are checked (device, function, CRC, exception), their data unused.
+//! The PktUART is reached by immediate register accesses through the
+//! board's transport, where LinuxCNC queues them into the board's cycle.
 
 use super::frame::{self, errno};
 use super::line::{Line, Versions};
