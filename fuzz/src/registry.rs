@@ -33,13 +33,15 @@ const NOWHERE: &str = "/nonexistent/hal-fuzz";
 
 /// Driver modules that reach no device whatever their parameters, loaded
 /// as they are: `hostmot2` (the driver core: settings only), `hm2_test`
-/// (a register image held in memory) and `setsserial` (it reaches only
-/// the boards already loaded in its HAL, which the fuzz registry's
-/// drivers make simulated ones; it reads, never writes, a regular file).
+/// (a register image held in memory), and `setsserial` and `hm2_modbus`
+/// (they reach only the boards already loaded in their HAL, which the
+/// fuzz registry's drivers make simulated ones; they read, never write,
+/// a regular file).
 pub const NO_DEVICE: &[&ModuleDef] = &[
     &hostmot2::hal::HOSTMOT2_MODULE,
     &hostmot2::hal::HM2_TEST_MODULE,
     &hostmot2::SETSSERIAL_MODULE,
+    &hostmot2::modbus::hal::HM2_MODBUS_MODULE,
 ];
 
 /// Driver modules the fuzzers never load, each with the reason.

@@ -297,6 +297,12 @@ impl<H: HalHost> Board<H> {
         true
     }
 
+    /// The board's transport, for another module's direct register
+    /// access (`hm2_modbus`'s PktUART) between the board's functions.
+    pub(crate) fn transport_mut(&mut self) -> &mut dyn Transport {
+        self.transport.as_mut()
+    }
+
     /// What the driver learned from the firmware.
     pub fn firmware(&self) -> &Firmware {
         &self.fw

@@ -39,6 +39,8 @@ pub struct Config {
     pub num_pwmgens: i32,
     /// LEDs to export (−1 = all the board has).
     pub num_leds: i32,
+    /// PktUARTs to use (−1 = all), for hm2_modbus.
+    pub num_pktuarts: i32,
     /// Step generator output pins taken from GPIO (default 2).
     pub stepgen_width: i32,
     /// Export the raw register access pins.
@@ -63,6 +65,7 @@ impl Default for Config {
             num_stepgens: -1,
             num_pwmgens: -1,
             num_leds: -1,
+            num_pktuarts: -1,
             stepgen_width: 2,
             enable_raw: false,
             sserial_ports: Default::default(),
@@ -80,7 +83,6 @@ const UNSUPPORTED_COUNTS: &[&str] = &[
     "num_resolvers",
     "num_bspis",
     "num_uarts",
-    "num_pktuarts",
     "num_dplls",
     "num_inmuxs",
     "num_inms",
@@ -126,6 +128,7 @@ pub fn parse(s: &str) -> Result<Config> {
             ("num_stepgens", Some(v)) => c.num_stepgens = count(token, v)?,
             ("num_pwmgens", Some(v)) => c.num_pwmgens = count(token, v)?,
             ("num_leds", Some(v)) => c.num_leds = count(token, v)?,
+            ("num_pktuarts", Some(v)) => c.num_pktuarts = count(token, v)?,
             ("stepgen_width", Some(v)) => {
                 let w = number(token, v)?;
                 if !(0..=8).contains(&w) {

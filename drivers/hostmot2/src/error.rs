@@ -552,9 +552,122 @@ pub enum Hm2Error {
         /// What was read.
         cookie: u8,
     },
+    /// A firmware with only one half of its PktUARTs, or halves of
+    /// different sizes.
+    #[error(
+        "inconsistent PktUART firmware: {tx} transmitter and {rx} receiver instances \
+         (they must pair up), not loading driver"
+    )]
+    PktUartHalves {
+        /// Transmitter instances.
+        tx: u8,
+        /// Receiver instances.
+        rx: u8,
+    },
+    /// An `.mbccb` file (hm2_modbus) is refused: what is wrong, at which
+    /// byte offset of the file.
+    #[error("mbccb file, byte offset {offset}: {what}")]
+    Mbccb {
+        /// Byte offset in the file of the field at fault.
+        offset: usize,
+        /// What is wrong with it.
+        what: MbccbProblem,
+    },
+    /// An `.mbccb` file could not be read.
+    #[error("cannot read mbccb file '{path}': {reason}")]
+    MbccbRead {
+        /// The file.
+        path: String,
+        /// Why (the system's message).
+        reason: String,
+    },
+    /// `loadrt hm2_modbus` parameters that do not fit together.
+    #[error("hm2_modbus: {0}")]
+    ModbusParams(ModbusParamProblem),
+    /// A PktUART named in `ports=` that no loaded board has.
+    #[error("hm2_modbus: port '{port}' does not exist (no loaded board has that PktUART)")]
+    NoSuchPktUart {
+        /// The name asked for.
+        port: String,
+    },
+    /// An `.mbccs` source (mesambccc) is refused: where and why.
+    #[error("line {line}, column {column}: {what}")]
+    Mbccs {
+        /// 1-based line.
+        line: u32,
+        /// 1-based column.
+        column: u32,
+        /// What is wrong.
+        what: String,
+    },
     /// HAL refused an object (a name clash, a full segment).
     #[error("{0}")]
     Hal(String),
+}
+
+/// What is wrong in an `.mbccb` file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MbccbProblem {
+    /// The file ends before a structure it announces.
+    #[error("file ends after {len} bytes, {need} needed")]
+    Truncated {
+        /// Bytes needed.
+        need: usize,
+        /// Bytes in the file.
+        len: usize,
+    },
+    /// The file is larger than its header says, or than the 128 KiB limit.
+    #[error("file is {len} bytes, expected {expected}")]
+    SizeMismatch {
+        /// Bytes in the file.
+        len: usize,
+        /// Bytes expected.
+        expected: usize,
+    },
+    /// Not an mbccb file.
+    #[error(
+        "signature is {found:?}, expected \"MesaMB01\" (compile the .mbccs source with mesambccc)"
+    )]
+    Signature {
+        /// The eight bytes found (non-printable shown as '?').
+        found: String,
+    },
+    /// A numeric field out of range.
+    #[error("{field} is {value}, {expected}")]
+    Field {
+        /// The field (`rxdelay`, `command 3 function`).
+        field: String,
+        /// Its value.
+        value: u64,
+        /// What it should be.
+        expected: &'static str,
+    },
+    /// A pin name that HAL cannot take.
+    #[error("pin {pin} of command {command}: {why}")]
+    PinName {
+        /// Command index.
+        command: usize,
+        /// Pin index in the command.
+        pin: usize,
+        /// Why.
+        why: String,
+    },
+}
+
+/// What is wrong with `loadrt hm2_modbus` parameters.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ModbusParamProblem {
+    /// No `ports=`.
+    #[error(
+        "the component requires at least one valid pktuart port, eg ports=\"hm2_5i25.0.pktuart.7\""
+    )]
+    NoPorts,
+    /// A port without its file.
+    #[error("missing mbccb file path for instance {0} in 'mbccbs' argument")]
+    MissingFile(usize),
+    /// More than eight ports.
+    #[error("{0} ports given, at most 8 are supported")]
+    TooMany(usize),
 }
 
 impl From<hal_core::HalError> for Hm2Error {

@@ -63,6 +63,8 @@ pub struct Firmware {
     pub led: Option<ModuleUse>,
     /// The Smart Serial ports in use and the cards found on them.
     pub sserial: Option<SserialFirmware>,
+    /// The PktUARTs (for hm2_modbus).
+    pub pktuart: crate::pktuart::PktUartFirmware,
 }
 
 /// Reads and checks everything, logging what LinuxCNC logs. On an error
@@ -117,7 +119,18 @@ pub fn load(
         )?),
         _ => None,
     };
+    let mut pktuart = crate::pktuart::PktUartFirmware::discover(&mds, &llio.name)?;
+    let n = crate::config::instances(
+        "num_pktuarts",
+        config.num_pktuarts,
+        pktuart.instances.len() as u32,
+    )?;
+    pktuart.instances.truncate(n as usize);
+    for p in &pktuart.instances {
+        log.info(format!("created PktUART Interface function {}.", p.name));
+    }
     let used = InstancesUsed {
+        pktuarts: pktuart.instances.len() as u32,
         encoders: plan.encoder.map_or(0, |m| m.instances),
         stepgens: plan.stepgen.map_or(0, |m| m.instances),
         pwmgens: plan.pwmgen.map_or(0, |m| m.instances),
@@ -173,6 +186,7 @@ pub fn load(
         pwmgen: plan.pwmgen,
         led: plan.led,
         sserial,
+        pktuart,
     })
 }
 
@@ -293,6 +307,8 @@ fn plan_modules(
                 let n = config::instances("num_sserials", config.num_sserials, m.instances as u32)?;
                 plan.sserial = used(m, n);
             }
+            // Paired, checked and counted by PktUartFirmware::discover.
+            gtag::PKTUART_TX | gtag::PKTUART_RX => {}
             tag => {
                 if gtag::name(tag).is_none() {
                     log.warn(format!("Firmware contains unknown function (gtag-{tag})"));

@@ -205,6 +205,20 @@ where
         let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
         b.sserial_setup(job)
     }
+
+    fn pktuart(&self) -> crate::pktuart::PktUartFirmware {
+        let b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+        b.firmware().pktuart.clone()
+    }
+
+    fn transport_job(&self, wait: bool, job: &mut dyn FnMut(&mut dyn Transport)) -> bool {
+        if wait {
+            let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+            job(b.transport_mut());
+            return true;
+        }
+        self.with(|b| job(b.transport_mut())).is_some()
+    }
 }
 
 impl<H: HalHost> SafeState for SharedBoard<H> {
@@ -499,7 +513,7 @@ const HM2_PCI: &str = "hm2_pci";
 macro_rules! hm2_pci_params {
     ($($then:tt)*) => { $($then)*! {
         config: StrArray(8) = "hostmot2 config strings, one per board in probe order (see hostmot2(9))",
-        sim: StrArray(8) = "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24, 5i25-7i77, or a PLX card (5i20, 4i65, 5i22, 5i23, 4i68, 3x20, ...) loaded with firmware=, one per board",
+        sim: StrArray(8) = "simulated boards instead of the PCI bus: 5i25, 6i25, 5i24, 5i25-7i77, 5i25-pktuart, or a PLX card (5i20, 4i65, 5i22, 5i23, 4i68, 3x20, ...) loaded with firmware=, one per board",
         firmware_dir: Str = "where firmware= files are (default /lib/firmware); for simulated PLX cards, where to read their bitfiles instead of the simulator's own",
     } };
 }
@@ -721,7 +735,7 @@ impl DriverModule for HalHm2Test {
 }
 
 /// Every module this crate provides, for the host's registry.
-pub fn modules() -> [&'static ModuleDef; 9] {
+pub fn modules() -> [&'static ModuleDef; 10] {
     [
         &HOSTMOT2_MODULE,
         &HM2_PCI_MODULE,
@@ -732,6 +746,7 @@ pub fn modules() -> [&'static ModuleDef; 9] {
         &crate::spi::hal::HM2_SPI_MODULE,
         &crate::spi::hal::HM2_RPSPI_MODULE,
         &crate::setsserial::SETSSERIAL_MODULE,
+        &crate::modbus::hal::HM2_MODBUS_MODULE,
     ]
 }
 

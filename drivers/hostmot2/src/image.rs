@@ -58,6 +58,8 @@ impl ModuleSpec {
             gtag::PWMGEN => (0x4000, 5, 0x03, Clock::High),
             gtag::LED => (0x0200, 1, 0, Clock::Low),
             gtag::SSERIAL => (0x5A00, 6, 0x3C, Clock::Low),
+            gtag::PKTUART_TX => (0x6000, 4, 0x0F, Clock::Low),
+            gtag::PKTUART_RX => (0x6400, 4, 0x0F, Clock::Low),
             _ => (0x5000, 1, 0, Clock::Low),
         };
         ModuleSpec {

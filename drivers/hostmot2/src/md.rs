@@ -285,3 +285,20 @@ pub fn check_sserial(md: &ModuleDescriptor) -> Result<()> {
     // The last register of the last port, channel 7.
     check_extent(md, 4 * crate::sserial::MAX_CHANNELS as u64)
 }
+
+/// Checks a PktUART transmitter or receiver descriptor: four registers,
+/// each per instance (MultipleRegisters 0x0F), instances 4 bytes apart in
+/// the firmware Mesa ships; versions 2 and up (LinuxCNC's hm2_modbus
+/// refuses older ones and they lack the 24-bit rate word).
+pub fn check_pktuart(md: &ModuleDescriptor) -> Result<()> {
+    if md.num_registers != 4 || md.multiple_registers != 0x0F {
+        return Err(md.inconsistent("inconsistent Module Descriptor for PktUART".into()));
+    }
+    if md.version < 2 {
+        return Err(md.inconsistent(format!(
+            "PktUART version {} is not supported (version 2 or later needed)",
+            md.version
+        )));
+    }
+    check_window(md)
+}

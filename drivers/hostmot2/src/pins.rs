@@ -158,6 +158,8 @@ pub struct InstancesUsed {
     pub pwmgens: u32,
     /// Per Smart Serial port, the channels with a card (bit mask).
     pub sserial: [u8; crate::sserial::MAX_PORTS],
+    /// PktUARTs (all the firmware has, as LinuxCNC takes them).
+    pub pktuarts: u32,
 }
 
 impl InstancesUsed {
@@ -166,6 +168,7 @@ impl InstancesUsed {
             gtag::ENCODER => self.encoders,
             gtag::STEPGEN => self.stepgens,
             gtag::PWMGEN => self.pwmgens,
+            gtag::PKTUART_TX | gtag::PKTUART_RX => self.pktuarts,
             _ => 0,
         }
     }
@@ -249,6 +252,9 @@ pub fn log_function_name(tag: u8, function: u8, output: bool) -> String {
         (gtag::PWMGEN, 1, _) => "Out0 (PWM or Up)",
         (gtag::PWMGEN, 2, _) => "Out1 (Dir or Down)",
         (gtag::PWMGEN, 3, _) => "Not-Enable",
+        (gtag::PKTUART_TX, 1, _) => "TX Data",
+        (gtag::PKTUART_TX, 2, _) => "Drv Enable",
+        (gtag::PKTUART_RX, 1, _) => "RX Data",
         (gtag::SSERIAL, f, o) => {
             // Function codes keep the SecPin's high nibble (without the
             // output bit): rx 0x0n, tx 0x0n out, txen 0x1n, ntxen 0x2n.

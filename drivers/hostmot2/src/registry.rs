@@ -29,6 +29,14 @@ pub(crate) trait SserialAccess: Send + Sync {
     /// its Smart Serial ports back to idle so they restart normally.
     /// False if the board has no Smart Serial module.
     fn setup_job(&self, job: &mut dyn FnMut(&mut dyn Transport, &SserialFirmware)) -> bool;
+
+    /// The board's PktUARTs (for `hm2_modbus`).
+    fn pktuart(&self) -> crate::pktuart::PktUartFirmware;
+
+    /// Runs `job` with the board's transport. With `wait` unset it never
+    /// waits (a realtime caller): false if one of the board's functions
+    /// holds it now, and `job` did not run.
+    fn transport_job(&self, wait: bool, job: &mut dyn FnMut(&mut dyn Transport)) -> bool;
 }
 
 /// One registered board.

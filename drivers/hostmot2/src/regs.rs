@@ -94,6 +94,10 @@ pub mod gtag {
     pub const MUXED_ENCODER_SEL: u8 = 13;
     /// HM2 DPLL.
     pub const HM2DPLL: u8 = 26;
+    /// PktUART transmitter.
+    pub const PKTUART_TX: u8 = 0x1B;
+    /// PktUART receiver.
+    pub const PKTUART_RX: u8 = 0x1C;
     /// The LEDs.
     pub const LED: u8 = 0x80;
     /// Smart Serial.
@@ -439,4 +443,117 @@ pub mod fpga_wait {
     pub const INIT_READS: u32 = 3300;
     /// Reads while waiting for DONE after the bitstream (9054).
     pub const DONE_READS: u32 = 20_000;
+}
+
+/// PktUART registers and bits (Mesa's regmap, as LinuxCNC's
+/// `hostmot2-serial.h` names them). The transmitter and the receiver are
+/// separate modules (GTags 0x1B and 0x1C) with the same four registers
+/// per instance.
+pub mod pktuart {
+    /// Data register index: a write (TX) queues four bytes, low byte
+    /// first; a read (RX) pops four.
+    pub const DATA: usize = 0;
+    /// Count register index: a TX write queues a frame of that many
+    /// bytes; an RX read pops one received frame's size and status.
+    pub const COUNT: usize = 1;
+    /// Bit-rate register index: baud x 2^24 / ClockLow (v2+); on the
+    /// receiver bits 24..31 hold the high byte of the input filter.
+    pub const BITRATE: usize = 2;
+    /// Mode/status register index.
+    pub const MODE: usize = 3;
+    /// The word that, written to a mode register, aborts the transfer in
+    /// progress and empties the data and count FIFOs.
+    pub const CLEAR: u32 = 0x8001_0000;
+    /// Frames the count FIFO of either direction holds.
+    pub const MAX_FRAMES: usize = 16;
+    /// The largest frame, in bytes (the 10-bit count).
+    pub const MAX_FRAME_BYTES: usize = 1023;
+
+    /// Transmitter mode/status bits.
+    pub mod tx {
+        /// RO: the data FIFO holds data.
+        pub const HAS_DATA: u32 = 1 << 21;
+        /// WO (v3+): the inter-frame delay counts in units of 4 bit times.
+        pub const IF_SCALE: u32 = 1 << 20;
+        /// WO (v3+): two stop bits.
+        pub const STOP_BITS2: u32 = 1 << 19;
+        /// WO: odd parity (with `PARITY_EN`).
+        pub const PARITY_ODD: u32 = 1 << 18;
+        /// WO: parity enable.
+        pub const PARITY_EN: u32 = 1 << 17;
+        /// RO: frames waiting to be sent, bits 16..20.
+        pub const NFRAMES_SHIFT: u32 = 16;
+        /// Inter-frame delay in bit times, bits 8..15.
+        pub const IF_DELAY_SHIFT: u32 = 8;
+        /// RO: the transmitter is sending.
+        pub const BUSY: u32 = 1 << 7;
+        /// The RS-485 driver is on.
+        pub const DRIVE_EN: u32 = 1 << 6;
+        /// The RS-485 driver turns on by itself while sending.
+        pub const DRIVE_AUTO: u32 = 1 << 5;
+        /// RO: the send-count FIFO overflowed.
+        pub const SCFIFO_ERROR: u32 = 1 << 4;
+        /// Driver-enable to start-of-data delay, bits 0..3.
+        pub const DRIVE_DELAY_MASK: u32 = 0xF;
+    }
+
+    /// Receiver mode/status bits.
+    pub mod rx {
+        /// RO: a data FIFO read found it empty.
+        pub const BAD_POP: u32 = 1 << 30;
+        /// Input filter (low byte), bits 22..29, in ClockLow periods.
+        pub const FILTER_SHIFT: u32 = 22;
+        /// RO: the data FIFO holds data.
+        pub const HAS_DATA: u32 = 1 << 21;
+        /// WO (v3+): the inter-frame delay counts in units of 4 bit times.
+        pub const IF_SCALE: u32 = 1 << 20;
+        /// WO (v3+): two stop bits.
+        pub const STOP_BITS2: u32 = 1 << 19;
+        /// WO: odd parity (with `PARITY_EN`).
+        pub const PARITY_ODD: u32 = 1 << 18;
+        /// WO: parity enable.
+        pub const PARITY_EN: u32 = 1 << 17;
+        /// RO: frames received, bits 16..20.
+        pub const NFRAMES_SHIFT: u32 = 16;
+        /// Inter-frame delay in bit times, bits 8..15.
+        pub const IF_DELAY_SHIFT: u32 = 8;
+        /// RO: a frame is being received.
+        pub const BUSY: u32 = 1 << 7;
+        /// RO: input masked (the transmitter is sending).
+        pub const MASKED: u32 = 1 << 6;
+        /// Sticky: a parity error.
+        pub const PARITY_ERROR: u32 = 1 << 5;
+        /// Sticky: the receive-count FIFO overflowed.
+        pub const RCFIFO_ERROR: u32 = 1 << 4;
+        /// The receiver is on.
+        pub const RX_EN: u32 = 1 << 3;
+        /// Input is masked while the transmitter sends (half duplex).
+        pub const RX_MASK_EN: u32 = 1 << 2;
+        /// Sticky: no stop bit where one was due.
+        pub const OVERRUN_ERROR: u32 = 1 << 1;
+        /// Sticky: a false start bit.
+        pub const START_BIT_ERROR: u32 = 1 << 0;
+    }
+
+    /// Receive-count word bits (one per received frame).
+    pub mod rcr {
+        /// Longest gap between two characters, in bit times, bits 24..31
+        /// (v3+).
+        pub const ICHAR_SHIFT: u32 = 24;
+        /// The frame had a parity error.
+        pub const PARITY_ERROR: u32 = 1 << 16;
+        /// The frame had an overrun (missing stop bit).
+        pub const OVERRUN_ERROR: u32 = 1 << 15;
+        /// The frame had a false start bit.
+        pub const START_BIT_ERROR: u32 = 1 << 14;
+        /// Frame size in bytes, bits 0..9.
+        pub const NBYTES_MASK: u32 = 0x3FF;
+        /// Any error bit of a frame.
+        pub const ERRORS: u32 = PARITY_ERROR | OVERRUN_ERROR | START_BIT_ERROR;
+    }
+
+    /// The frame count in a mode/status word.
+    pub fn nframes(mode: u32) -> usize {
+        ((mode >> 16) & 0x1F) as usize
+    }
 }

@@ -20,6 +20,8 @@ crate::register_targets! {
     hm2_sserial_records,
     hm2_setsserial_cmd,
     hm2_bitfile,
+    hm2_mbccb,
+    hm2_mbccs,
     hm2_epp_port,
     hm2_spi_frames,
     motenc_registers,

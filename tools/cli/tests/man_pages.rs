@@ -103,6 +103,10 @@ fn pages() -> Vec<(&'static str, Source)> {
             Clap(Box::new(hostmot2::eth_sim_args::Cli::command())),
         ),
         (
+            "mesambccc",
+            Clap(Box::new(hostmot2::mesambccc_args::Cli::command())),
+        ),
+        (
             "canservo-sim",
             Clap(Box::new(canservo_sim_args::Args::command())),
         ),

@@ -8,6 +8,7 @@
 //! | `6i25` | 6i25, servo pin-out | P3, P2 × 17 | P3: 4 encoders with probe (A, B, index), 5 GPIO; P2: 4 PWM generators with dither (PWM, dir, /enable), 5 GPIO |
 //! | `5i24` | 5i24 | P4, P3, P2 × 24 | P4: 8 encoders; P3: 8 PWM generators; P2: 8 step generators with index/probe latch (0xC2), 8 GPIO |
 //! | `5i25-7i77` | 5i25 | P3, P2 × 17 | P3: Smart Serial port 0 with 2 channels and a simulated 7I77 on them (I/O, analog), 1 encoder, 8 GPIO; P2: 5 step generators, 1 encoder, 4 GPIO |
+//! | `5i25-pktuart` | 5i25 | P3, P2 × 17 | P3: 2 PktUARTs v3 (TX, TX enable, RX each; `hm2_modbus`), 1 encoder, 8 GPIO; P2: 5 step generators, 1 encoder, 4 GPIO. Nothing is on the PktUARTs' lines until a test plugs a peer in ([`SimPktUart::attach`](crate::sim::pktuart::SimPktUart::attach)) |
 //!
 //! and the Ethernet boards the `hm2-eth-sim` tool serves ([`ETH_PRESETS`]):
 //!
@@ -28,7 +29,7 @@ use crate::regs::gtag;
 use crate::sim::sserial::{RemoteKind, RemoteSpec};
 
 /// The PCI board names [`preset`] knows.
-pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24", "5i25-7i77"];
+pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24", "5i25-7i77", "5i25-pktuart"];
 
 /// The Ethernet board names [`preset`] knows.
 pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e"];
@@ -51,6 +52,7 @@ pub fn preset(name: &str) -> Option<FirmwareSpec> {
         "6i25" => Some(six_i25()),
         "5i24" => Some(five_i24()),
         "5i25-7i77" => Some(five_i25_7i77()),
+        "5i25-pktuart" => Some(five_i25_pktuart()),
         "7i96s" => Some(seven_i96s()),
         "7i76e" => Some(seven_i76e()),
         _ => None,
@@ -154,6 +156,30 @@ fn five_i25_7i77() -> FirmwareSpec {
         pins,
     );
     fw.remotes = seven_i77_on(0, 0).to_vec();
+    fw
+}
+
+/// 5i25 with two PktUARTs on P3 (the 5i25-7i77 pin-out with PktUARTs
+/// where the Smart Serial channels are).
+fn five_i25_pktuart() -> FirmwareSpec {
+    let mut fw = five_i25_7i77();
+    fw.board = "5i25".into();
+    fw.remotes.clear();
+    let sserial_pins = fw.pins.iter_mut().filter(|p| p.sec_tag == gtag::SSERIAL);
+    for (io, p) in sserial_pins.enumerate() {
+        // Per channel (RX, TX, TX enable): PktUART unit = channel.
+        let unit = (io / 3) as u8;
+        *p = match io % 3 {
+            0 => pd(gtag::PKTUART_RX, unit, 0x01),
+            1 => pd(gtag::PKTUART_TX, unit, 0x81),
+            _ => pd(gtag::PKTUART_TX, unit, 0x82),
+        };
+    }
+    for m in fw.modules.iter_mut().filter(|m| m.gtag == gtag::SSERIAL) {
+        *m = ModuleSpec::standard(gtag::PKTUART_TX, 3, 2);
+    }
+    fw.modules
+        .push(ModuleSpec::standard(gtag::PKTUART_RX, 3, 2));
     fw
 }
 

@@ -9,6 +9,7 @@
 
 use super::encoder::{Counter, SimEncoders};
 use super::ioport::SimIoPort;
+use super::pktuart::{SimPktUart, SimPktUarts};
 use super::pwm::SimPwms;
 use super::sserial::SimSserial;
 use super::stepgen::{Gen, SimStepgens};
@@ -31,6 +32,8 @@ enum Target {
     Led,
     /// Smart Serial register, port, channel.
     Sserial(u8, u8, u8),
+    /// PktUART half (false TX, true RX), register, instance.
+    PktUart(bool, u8, u8),
 }
 
 /// The I/O pins of one module instance, by function.
@@ -56,6 +59,7 @@ pub struct Hm2Model {
     stepgens: SimStepgens,
     pwms: SimPwms,
     sserial: SimSserial,
+    pktuarts: SimPktUarts,
     /// Per Smart Serial port, the I/O pin of each channel's TX.
     sserial_tx: Vec<[Option<usize>; crate::sserial::MAX_CHANNELS]>,
     led: u32,
@@ -170,6 +174,8 @@ impl Hm2Model {
                         gtag::STEPGEN => Target::Stepgen(reg, inst),
                         gtag::PWMGEN => Target::Pwm(reg, inst),
                         gtag::LED => Target::Led,
+                        gtag::PKTUART_TX => Target::PktUart(false, reg, inst),
+                        gtag::PKTUART_RX => Target::PktUart(true, reg, inst),
                         _ => continue,
                     };
                     if let Some(slot) = map.get_mut(addr / 4) {
@@ -204,8 +210,17 @@ impl Hm2Model {
         for r in &spec.remotes {
             sserial.attach(r);
         }
+        let pktuarts = match (spec.module(gtag::PKTUART_TX), spec.module(gtag::PKTUART_RX)) {
+            (Some(t), Some(r)) => SimPktUarts {
+                ports: (0..t.instances.min(r.instances))
+                    .map(|_| SimPktUart::new(spec.clock_low, t.version, r.version))
+                    .collect(),
+            },
+            _ => SimPktUarts::default(),
+        };
         Hm2Model {
             sserial,
+            pktuarts,
             sserial_tx,
             image,
             map,
@@ -326,6 +341,11 @@ impl Hm2Model {
             Target::Pwm(reg, i) => self.pwms.read(reg as usize, i as usize),
             Target::Led => self.led,
             Target::Sserial(reg, port, chan) => self.sserial.read(reg, port, chan),
+            Target::PktUart(is_rx, reg, i) => self
+                .pktuarts
+                .ports
+                .get_mut(i as usize)
+                .map_or(0, |p| p.read(is_rx, reg as usize)),
         }
     }
 
@@ -361,6 +381,11 @@ impl Hm2Model {
                 let reachable = self.sserial_reachable(port as usize);
                 self.sserial.write(reg, port, chan, v, reachable)
             }
+            Target::PktUart(is_rx, reg, i) => {
+                if let Some(p) = self.pktuarts.ports.get_mut(i as usize) {
+                    p.write(is_rx, reg as usize, v)
+                }
+            }
         }
     }
 
@@ -376,6 +401,7 @@ impl Hm2Model {
         }
         self.stepgens.advance(ticks);
         self.sserial.advance(dt_ns);
+        self.pktuarts.advance(dt_ns);
         for (i, g) in self.stepgens.gens.iter().enumerate() {
             let made = g.emitted - self.emitted[i];
             self.emitted[i] = g.emitted;
@@ -431,6 +457,11 @@ impl Hm2Model {
         }
         self.time_ns += dt_ns;
         self.stale = true;
+    }
+
+    /// PktUART `i`, to plug something into its line.
+    pub fn pktuart(&mut self, i: usize) -> Option<&mut SimPktUart> {
+        self.pktuarts.ports.get_mut(i)
     }
 
     /// The world at the connectors, if it is a `W`.

@@ -239,6 +239,24 @@ const EXAMPLES: &[(&str, Example)] = &[
         },
     ),
     (
+        "hm2_modbus",
+        Example {
+            before: "loadrt hostmot2\nloadrt hm2_pci sim=5i25-pktuart",
+            args: "ports=hm2_5i25.0.pktuart.0 mbccbs=../../drivers/hostmot2/tests/data/sample.mbccb",
+            note: "hm2_modbus runs Modbus RTU over a PktUART of a board a hostmot2 driver \
+                   loaded (here PktUART 0 of a simulated 5I25), one instance per port in \
+                   ports=, each running the compiled command file (.mbccb, written by \
+                   LinuxCNC's mesambccc) at the same place in mbccbs=. Besides the \
+                   instance's pins and parameters, each command of the file makes \
+                   command.MM pins and the file names its data pins. Add \
+                   hm2_modbus.N.process after the board's read and before its write. \
+                   A failed exchange counts on the command's errors pin and sets fault; \
+                   the fifth in a row disables the command until reset rises; read pins \
+                   keep their last good value.",
+            ..PLAIN
+        },
+    ),
+    (
         "hm2_test",
         Example {
             before: HM2_CORE,
