@@ -650,8 +650,30 @@ pub enum MbccbProblem {
         /// Pin index in the command.
         pin: usize,
         /// Why.
-        why: String,
+        why: PinNameProblem,
     },
+}
+
+/// What is wrong with a pin name in an `.mbccb` file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PinNameProblem {
+    /// No characters before the NUL.
+    #[error("name is empty")]
+    Empty,
+    /// Longer than a name may be.
+    #[error("name is too long ({len} > {max} bytes)")]
+    TooLong {
+        /// Its length with the NUL.
+        len: usize,
+        /// The most allowed.
+        max: usize,
+    },
+    /// The last byte is not NUL.
+    #[error("name is not NUL terminated")]
+    Unterminated,
+    /// A byte outside a-z 0-9 . -.
+    #[error("invalid character 0x{0:02x} in name (allowed: a-z 0-9 . -)")]
+    BadByte(u8),
 }
 
 /// What is wrong with `loadrt hm2_modbus` parameters.

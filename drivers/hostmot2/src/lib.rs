@@ -188,7 +188,7 @@ mod tram;
 pub mod transport;
 pub mod window;
 
-pub use error::{Hm2Error, MbccbProblem, ModbusParamProblem, Result};
+pub use error::{Hm2Error, MbccbProblem, ModbusParamProblem, PinNameProblem, Result};
 pub use eth::hal::HM2_ETH_MODULE;
 pub use hal::{modules, HM2_PCI_MODULE, HM2_TEST_MODULE, HOSTMOT2_MODULE};
 pub use setsserial::SETSSERIAL_MODULE;

@@ -95,11 +95,66 @@ pub enum InputError {
         /// Its line (from 1).
         line: usize,
         /// What is wrong.
-        what: String,
+        what: SimProblem,
     },
     /// HAL failed (boxed: HAL's error is large).
     #[error(transparent)]
     Hal(Box<hal_core::HalError>),
+}
+
+/// What is wrong with a line of the simulated devices' description.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum SimProblem {
+    /// More devices than hal_input takes.
+    #[error("more than {0} devices")]
+    TooManyDevices(usize),
+    /// More script steps than a device may have.
+    #[error("more than {0} steps")]
+    TooManySteps(usize),
+    /// A device line before any `device` line.
+    #[error("'{0}' before the first 'device' line")]
+    NoDevice(String),
+    /// A word that starts no known line.
+    #[error("unknown word '{0}'")]
+    UnknownWord(String),
+    /// A line's arguments do not fit its form.
+    #[error("{0}")]
+    Usage(&'static str),
+    /// A code name hal_input does not know for that event type.
+    #[error("'{name}' is no {kind} code hal_input knows")]
+    UnknownCode {
+        /// The name as written.
+        name: String,
+        /// The event type (EV_KEY, ...).
+        kind: String,
+    },
+    /// `abs` with its minimum above its maximum.
+    #[error("abs {name}: minimum {minimum} above maximum {maximum}")]
+    Range {
+        /// The axis.
+        name: String,
+        /// Its minimum.
+        minimum: i32,
+        /// Its maximum.
+        maximum: i32,
+    },
+    /// Script steps out of time order.
+    #[error("steps must be in time order")]
+    OutOfOrder,
+    /// An unknown event type in a step.
+    #[error("'{0}' is no event type")]
+    EventType(String),
+    /// An unknown event code in a step.
+    #[error("'{code}' is no code of {kind}")]
+    EventCode {
+        /// The code as written.
+        code: String,
+        /// The event type as written.
+        kind: String,
+    },
+    /// A step's value does not fit 32 bits.
+    #[error("'{0}' is no 32-bit value")]
+    Value(String),
 }
 
 impl From<hal_core::HalError> for InputError {

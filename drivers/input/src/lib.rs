@@ -22,7 +22,7 @@ pub mod run;
 pub mod sim;
 pub mod spec;
 
-pub use error::{InputError, Result};
+pub use error::{InputError, Result, SimProblem};
 
 /// An error and its sources on one line.
 pub fn chain(e: &dyn std::error::Error) -> String {

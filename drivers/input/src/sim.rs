@@ -34,7 +34,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use crate::device::{human_order, Catalogue, Identity, InputDevice};
-use crate::error::{InputError, Result};
+use crate::error::{InputError, Result, SimProblem};
 use crate::names;
 use crate::regs::{self, AbsInfo, Event, InputId, EV_ABS, EV_KEY, EV_LED, EV_REL};
 
@@ -396,7 +396,7 @@ fn event_code(kind: u16, w: &str) -> Option<u16> {
 pub fn parse(text: &str, file: &str, base: &Path) -> Result<Vec<SimSpec>> {
     let mut specs: Vec<SimSpec> = Vec::new();
     for (n, line) in text.lines().enumerate() {
-        let bad = |what: String| InputError::SimLine {
+        let bad = |what: SimProblem| InputError::SimLine {
             file: file.to_string(),
             line: n + 1,
             what,
@@ -405,7 +405,7 @@ pub fn parse(text: &str, file: &str, base: &Path) -> Result<Vec<SimSpec>> {
         let Some(&key) = w.first() else { continue };
         if key == "device" {
             if specs.len() == DEVICES_MAX {
-                return Err(bad(format!("more than {DEVICES_MAX} devices")));
+                return Err(bad(SimProblem::TooManyDevices(DEVICES_MAX)));
             }
             let name = line.split('#').next().unwrap_or("").trim()["device".len()..].trim();
             let name = name.trim_matches('"').to_string();
@@ -421,7 +421,7 @@ pub fn parse(text: &str, file: &str, base: &Path) -> Result<Vec<SimSpec>> {
             continue;
         }
         let Some(spec) = specs.last_mut() else {
-            return Err(bad(format!("'{key}' before the first 'device' line")));
+            return Err(bad(SimProblem::NoDevice(key.to_string())));
         };
         parse_line(spec, &w, base).map_err(bad)?;
     }
@@ -429,24 +429,15 @@ pub fn parse(text: &str, file: &str, base: &Path) -> Result<Vec<SimSpec>> {
 }
 
 /// One line of a device.
-fn parse_line(spec: &mut SimSpec, w: &[&str], base: &Path) -> std::result::Result<(), String> {
+fn parse_line(spec: &mut SimSpec, w: &[&str], base: &Path) -> std::result::Result<(), SimProblem> {
     let args = &w[1..];
-    let codes = |kind: u16| -> std::result::Result<Vec<u16>, String> {
-        args.iter()
-            .map(|a| {
-                names::code_by_name(kind, a).ok_or_else(|| {
-                    format!(
-                        "'{a}' is no {} code hal_input knows",
-                        names::type_name(kind)
-                    )
-                })
-            })
-            .collect()
+    let codes = |kind: u16| -> std::result::Result<Vec<u16>, SimProblem> {
+        args.iter().map(|a| known_code(kind, a)).collect()
     };
     match w[0] {
         "node" => match args {
             [p] => spec.who.path = PathBuf::from(p),
-            _ => return Err("node takes one path".into()),
+            _ => return Err(SimProblem::Usage("node takes one path")),
         },
         "phys" => spec.who.phys = Some(args.join(" ")),
         "id" => {
@@ -463,7 +454,11 @@ fn parse_line(spec: &mut SimSpec, w: &[&str], base: &Path) -> std::result::Resul
                         version,
                     }
                 }
-                _ => return Err("id takes four hex words: bus vendor product version".into()),
+                _ => {
+                    return Err(SimProblem::Usage(
+                        "id takes four hex words: bus vendor product version",
+                    ))
+                }
             }
         }
         "keys" => spec.keys.extend(codes(EV_KEY)?),
@@ -473,40 +468,40 @@ fn parse_line(spec: &mut SimSpec, w: &[&str], base: &Path) -> std::result::Resul
         "abs" => spec.abs.push(parse_abs(args)?),
         "events" => match args {
             [p] => spec.events = Some(base.join(p)),
-            _ => return Err("events takes one path".into()),
+            _ => return Err(SimProblem::Usage("events takes one path")),
         },
         "at" => {
             if spec.script.len() == STEPS_MAX {
-                return Err(format!("more than {STEPS_MAX} steps"));
+                return Err(SimProblem::TooManySteps(STEPS_MAX));
             }
             let step = parse_step(args)?;
             if spec.script.last().is_some_and(|(t, _)| *t > step.0) {
-                return Err("steps must be in time order".into());
+                return Err(SimProblem::OutOfOrder);
             }
             spec.script.push(step);
         }
-        other => return Err(format!("unknown word '{other}'")),
+        other => return Err(SimProblem::UnknownWord(other.to_string())),
     }
     Ok(())
 }
 
 /// `abs NAME MIN MAX [FUZZ [FLAT [VALUE]]]`.
-fn parse_abs(args: &[&str]) -> std::result::Result<(u16, AbsInfo), String> {
-    let usage = "abs takes NAME MIN MAX [FUZZ [FLAT [VALUE]]]";
+fn parse_abs(args: &[&str]) -> std::result::Result<(u16, AbsInfo), SimProblem> {
+    const USAGE: &str = "abs takes NAME MIN MAX [FUZZ [FLAT [VALUE]]], numbers that fit 32 bits";
     if !(3..=6).contains(&args.len()) {
-        return Err(usage.into());
+        return Err(SimProblem::Usage(USAGE));
     }
-    let code = names::code_by_name(EV_ABS, args[0])
-        .ok_or_else(|| format!("'{}' is no EV_ABS code hal_input knows", args[0]))?;
+    let code = known_code(EV_ABS, args[0])?;
     let nums: Option<Vec<i32>> = args[1..].iter().map(|a| number::<i32>(a)).collect();
-    let nums = nums.ok_or_else(|| format!("{usage}: numbers that fit 32 bits"))?;
+    let nums = nums.ok_or(SimProblem::Usage(USAGE))?;
     let at = |i: usize| nums.get(i).copied().unwrap_or(0);
     let (minimum, maximum) = (at(0), at(1));
     if minimum > maximum {
-        return Err(format!(
-            "abs {}: minimum {minimum} above maximum {maximum}",
-            args[0]
-        ));
+        return Err(SimProblem::Range {
+            name: args[0].to_string(),
+            minimum,
+            maximum,
+        });
     }
     Ok((
         code,
@@ -528,23 +523,34 @@ fn centre(minimum: i32, maximum: i32) -> i32 {
 }
 
 /// `at MS TYPE CODE VALUE` or `at MS unplug`.
-fn parse_step(args: &[&str]) -> std::result::Result<(Duration, Step), String> {
-    let usage = "at takes MS TYPE CODE VALUE, or MS unplug";
+fn parse_step(args: &[&str]) -> std::result::Result<(Duration, Step), SimProblem> {
+    const USAGE: &str = "at takes MS TYPE CODE VALUE, or MS unplug";
     let ms = args
         .first()
         .and_then(|a| a.parse::<u64>().ok())
-        .ok_or_else(|| usage.to_string())?;
+        .ok_or(SimProblem::Usage(USAGE))?;
     let at = Duration::from_millis(ms);
     match &args[1..] {
         ["unplug"] => Ok((at, Step::Unplug)),
         [t, c, v] => {
-            let kind = event_type(t).ok_or_else(|| format!("'{t}' is no event type"))?;
-            let code = event_code(kind, c).ok_or_else(|| format!("'{c}' is no code of {t}"))?;
-            let value = number::<i32>(v).ok_or_else(|| format!("'{v}' is no 32-bit value"))?;
+            let kind = event_type(t).ok_or_else(|| SimProblem::EventType(t.to_string()))?;
+            let code = event_code(kind, c).ok_or_else(|| SimProblem::EventCode {
+                code: c.to_string(),
+                kind: t.to_string(),
+            })?;
+            let value = number::<i32>(v).ok_or_else(|| SimProblem::Value(v.to_string()))?;
             Ok((at, Step::Event(Event { kind, code, value })))
         }
-        _ => Err(usage.into()),
+        _ => Err(SimProblem::Usage(USAGE)),
     }
+}
+
+/// The code `name` of event type `kind`, as hal_input names codes.
+fn known_code(kind: u16, name: &str) -> std::result::Result<u16, SimProblem> {
+    names::code_by_name(kind, name).ok_or_else(|| SimProblem::UnknownCode {
+        name: name.to_string(),
+        kind: names::type_name(kind),
+    })
 }
 
 #[cfg(test)]

@@ -45,14 +45,23 @@ fn main() {
     }
 }
 
-fn read(cli: &Cli) -> Result<String, String> {
-    let f = std::fs::File::open(&cli.source).map_err(|e| e.to_string())?;
+/// Why the source could not be read.
+#[derive(Debug, thiserror::Error)]
+enum ReadError {
+    /// Opening or reading it failed.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// It is larger than any command source should be.
+    #[error("larger than {0} bytes")]
+    TooLarge(u64),
+}
+
+fn read(cli: &Cli) -> Result<String, ReadError> {
+    let f = std::fs::File::open(&cli.source)?;
     let mut text = String::new();
-    f.take(MAX_SOURCE + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| e.to_string())?;
+    f.take(MAX_SOURCE + 1).read_to_string(&mut text)?;
     if text.len() as u64 > MAX_SOURCE {
-        return Err(format!("larger than {MAX_SOURCE} bytes"));
+        return Err(ReadError::TooLarge(MAX_SOURCE));
     }
     Ok(text)
 }

@@ -4,7 +4,7 @@
 //! NUL-terminated pin names). All numbers are big-endian. Every field is
 //! checked here, and a refusal names the byte offset of the field.
 
-use crate::error::{Hm2Error, MbccbProblem, Result};
+use crate::error::{Hm2Error, MbccbProblem, PinNameProblem, Result};
 use crate::modbus::rtu;
 
 /// Signature and version.
@@ -594,27 +594,25 @@ fn types(
 }
 
 /// A pin name fragment: 2..=24 bytes, NUL-terminated, `[a-z0-9.-]`.
-fn pin_name(frag: &[u8], _c: usize, _pin: usize) -> std::result::Result<String, String> {
+fn pin_name(frag: &[u8]) -> std::result::Result<String, PinNameProblem> {
     if frag.len() < 2 {
-        return Err("name is empty".into());
+        return Err(PinNameProblem::Empty);
     }
     if frag.len() > MAX_PIN_NAME {
-        return Err(format!(
-            "name is too long ({} > {MAX_PIN_NAME} bytes)",
-            frag.len()
-        ));
+        return Err(PinNameProblem::TooLong {
+            len: frag.len(),
+            max: MAX_PIN_NAME,
+        });
     }
     let (text, nul) = frag.split_at(frag.len() - 1);
     if nul[0] != 0 {
-        return Err("name is not NUL terminated".into());
+        return Err(PinNameProblem::Unterminated);
     }
     if let Some(&b) = text
         .iter()
         .find(|&&b| !(b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'.' || b == b'-'))
     {
-        return Err(format!(
-            "invalid character 0x{b:02x} in name (allowed: a-z 0-9 . -)"
-        ));
+        return Err(PinNameProblem::BadByte(b));
     }
     Ok(String::from_utf8_lossy(text).into_owned())
 }
@@ -684,7 +682,7 @@ fn pins_of(
     let mut pins = Vec::with_capacity(types.len());
     for (pin, (htype, mtype, flags, regofs)) in types.into_iter().enumerate() {
         let frag = data.fragment(p as u32, ptr_at, format!("command {c} pin {pin} name"))?;
-        let name = pin_name(frag, c, pin).map_err(|why| {
+        let name = pin_name(frag).map_err(|why| {
             let what = MbccbProblem::PinName {
                 command: c,
                 pin,

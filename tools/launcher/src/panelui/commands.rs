@@ -167,10 +167,67 @@ pub const NAMES: &[&str] = &[
 /// The RPM of a spindle command given no number (`NONE`), as LinuxCNC's.
 const DEFAULT_RPM: f64 = 100.0;
 
+/// Why a command value was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CommandProblem {
+    /// A name that is neither a command nor a handler function.
+    #[error("unknown command {name:?} (panelui's commands: {known}{handlers})")]
+    Unknown {
+        /// The name as written.
+        name: String,
+        /// panelui's command names, comma-separated.
+        known: String,
+        /// `; panelui_handler.py defines: ...`, or nothing.
+        handlers: String,
+    },
+    /// A command's argument is wrong.
+    #[error("{command}: {problem}")]
+    Argument {
+        /// The command as written.
+        command: String,
+        /// What is wrong with its argument.
+        problem: ArgProblem,
+    },
+}
+
+/// What is wrong with a command's argument.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ArgProblem {
+    /// The argument is missing (or NONE).
+    #[error("needs {0}")]
+    Missing(&'static str),
+    /// Not a finite number.
+    #[error("{what} must be a number, not {text:?}")]
+    NotANumber {
+        /// What the argument is.
+        what: &'static str,
+        /// As written.
+        text: String,
+    },
+    /// Not a whole number.
+    #[error("{what} must be a whole number, not {text:?}")]
+    NotAnInteger {
+        /// What the argument is.
+        what: &'static str,
+        /// As written.
+        text: String,
+    },
+    /// A number outside what the argument allows.
+    #[error("{what} must be {allowed}, not {value}")]
+    OutOfRange {
+        /// What the argument is.
+        what: &'static str,
+        /// The values allowed.
+        allowed: &'static str,
+        /// The value given.
+        value: f64,
+    },
+}
+
 /// Reads a command value: `None` for `NONE`/`CLEAR` (no command), else
 /// the command. `handlers` are the function names of the configuration's
 /// handler file.
-pub fn parse(items: &[&str], handlers: &[String]) -> Result<Option<Command>, String> {
+pub fn parse(items: &[&str], handlers: &[String]) -> Result<Option<Command>, CommandProblem> {
     let Some((name, args)) = items.split_first() else {
         return Ok(None);
     };
@@ -178,23 +235,29 @@ pub fn parse(items: &[&str], handlers: &[String]) -> Result<Option<Command>, Str
     if lower == "none" || lower == "clear" || lower.is_empty() {
         return Ok(None);
     }
+    let unknown = || CommandProblem::Unknown {
+        name: name.to_string(),
+        known: NAMES.join(", "),
+        handlers: if handlers.is_empty() {
+            String::new()
+        } else {
+            format!("; panelui_handler.py defines: {}", handlers.join(", "))
+        },
+    };
     if !NAMES.contains(&lower.as_str()) {
         if handlers.iter().any(|h| h.eq_ignore_ascii_case(name)) {
             return Ok(Some(Command::Handler(name.to_string())));
         }
-        return Err(format!(
-            "unknown command {name:?} (panelui's commands: {}{})",
-            NAMES.join(", "),
-            if handlers.is_empty() {
-                String::new()
-            } else {
-                format!("; panelui_handler.py defines: {}", handlers.join(", "))
-            }
-        ));
+        return Err(unknown());
     }
-    with_args(&lower, args)
-        .map(Some)
-        .map_err(|why| format!("{name}: {why}"))
+    match with_args(&lower, args) {
+        Ok(Some(c)) => Ok(Some(c)),
+        Ok(None) => Err(unknown()),
+        Err(problem) => Err(CommandProblem::Argument {
+            command: name.to_string(),
+            problem,
+        }),
+    }
 }
 
 /// A value that stands for "no argument".
@@ -202,76 +265,91 @@ fn absent(a: Option<&&str>) -> bool {
     a.is_none_or(|a| a.eq_ignore_ascii_case("none") || a.is_empty())
 }
 
-fn number(a: Option<&&str>, what: &str) -> Result<f64, String> {
+fn number(a: Option<&&str>, what: &'static str) -> Result<f64, ArgProblem> {
     let Some(a) = a.filter(|_| !absent(a)) else {
-        return Err(format!("needs {what}"));
+        return Err(ArgProblem::Missing(what));
     };
     a.parse::<f64>()
         .ok()
         .filter(|x| x.is_finite())
-        .ok_or_else(|| format!("{what} must be a number, not {a:?}"))
+        .ok_or_else(|| ArgProblem::NotANumber {
+            what,
+            text: a.to_string(),
+        })
 }
 
-fn integer(a: Option<&&str>, what: &str) -> Result<i32, String> {
+fn integer(a: Option<&&str>, what: &'static str) -> Result<i32, ArgProblem> {
     let Some(a) = a.filter(|_| !absent(a)) else {
-        return Err(format!("needs {what}"));
+        return Err(ArgProblem::Missing(what));
     };
-    a.parse::<i32>()
-        .map_err(|_| format!("{what} must be a whole number, not {a:?}"))
+    a.parse::<i32>().map_err(|_| ArgProblem::NotAnInteger {
+        what,
+        text: a.to_string(),
+    })
 }
 
-fn flag(a: Option<&&str>) -> Result<bool, String> {
-    match integer(a, "0 or 1")? {
-        0 => Ok(false),
-        1 => Ok(true),
-        n => Err(format!("takes 0 or 1, not {n}")),
+/// An integer that must lie in `range` (`allowed` says so in words).
+fn ranged(
+    a: Option<&&str>,
+    what: &'static str,
+    range: std::ops::RangeInclusive<i32>,
+    allowed: &'static str,
+) -> Result<i32, ArgProblem> {
+    let n = integer(a, what)?;
+    if range.contains(&n) {
+        Ok(n)
+    } else {
+        Err(ArgProblem::OutOfRange {
+            what,
+            allowed,
+            value: f64::from(n),
+        })
     }
 }
 
-fn rpm(a: Option<&&str>) -> Result<f64, String> {
+fn flag(a: Option<&&str>) -> Result<bool, ArgProblem> {
+    Ok(ranged(a, "the flag", 0..=1, "0 or 1")? == 1)
+}
+
+fn rpm(a: Option<&&str>) -> Result<f64, ArgProblem> {
     if absent(a) {
         return Ok(DEFAULT_RPM);
     }
-    let r = number(a, "an RPM")?;
-    if r < 0.0 {
-        return Err(format!("the RPM must not be negative, not {r}"));
-    }
-    Ok(r)
+    non_negative(number(a, "the RPM")?, "the RPM")
 }
 
-fn axis(a: Option<&&str>) -> Result<usize, String> {
-    let n = integer(a, "an axis number (0..8: X Y Z A B C U V W)")?;
-    usize::try_from(n)
-        .ok()
-        .filter(|&n| n < 9)
-        .ok_or_else(|| format!("the axis number must be 0..8 (X Y Z A B C U V W), not {n}"))
+fn axis(a: Option<&&str>) -> Result<usize, ArgProblem> {
+    let n = ranged(a, "the axis number", 0..=8, "0..8 (X Y Z A B C U V W)")?;
+    Ok(n as usize)
 }
 
-fn direction(a: Option<&&str>) -> Result<i32, String> {
-    let d = integer(a, "a direction (1, -1 or 0)")?;
-    if (-1..=1).contains(&d) {
-        Ok(d)
-    } else {
-        Err(format!("the direction must be 1, -1 or 0, not {d}"))
-    }
+fn direction(a: Option<&&str>) -> Result<i32, ArgProblem> {
+    ranged(a, "the direction", -1..=1, "1, -1 or 0")
 }
 
-fn lines(args: &[&str]) -> Result<Vec<String>, String> {
+fn lines(args: &[&str]) -> Result<Vec<String>, ArgProblem> {
     let v: Vec<String> = args
         .iter()
         .filter(|a| !absent(Some(a)))
         .map(|a| a.to_string())
         .collect();
     if v.is_empty() {
-        return Err("needs a line of G-code".into());
+        return Err(ArgProblem::Missing("a line of G-code"));
     }
     Ok(v)
 }
 
-fn with_args(name: &str, args: &[&str]) -> Result<Command, String> {
+/// A non-negative number argument.
+fn amount(a: Option<&&str>, what: &'static str) -> Result<f64, ArgProblem> {
+    non_negative(number(a, what)?, what)
+}
+
+/// The command `name` (lower case) with its arguments; `None` for a name
+/// that is no command.
+fn with_args(name: &str, args: &[&str]) -> Result<Option<Command>, ArgProblem> {
     let a0 = args.first();
     let a1 = args.get(1);
-    Ok(match name {
+    Ok(Some(match name {
         "mist_on" => Command::Mist(true),
         "mist_off" => Command::Mist(false),
         "flood_on" => Command::Flood(true),
@@ -293,12 +371,8 @@ fn with_args(name: &str, args: &[&str]) -> Result<Command, String> {
         "spindle_stop" => Command::SpindleStop,
         "spindle_faster" => Command::SpindleFaster,
         "spindle_slower" => Command::SpindleSlower,
-        "set_linear_jog_velocity" => {
-            Command::LinearJogVelocity(non_negative(number(a0, "a speed")?)?)
-        }
-        "set_angular_jog_velocity" => {
-            Command::AngularJogVelocity(non_negative(number(a0, "a speed")?)?)
-        }
+        "set_linear_jog_velocity" => Command::LinearJogVelocity(amount(a0, "the speed")?),
+        "set_angular_jog_velocity" => Command::AngularJogVelocity(amount(a0, "the speed")?),
         "continuous_jog" => Command::ContinuousJog {
             axis: axis(a0)?,
             direction: direction(a1)?,
@@ -306,14 +380,14 @@ fn with_args(name: &str, args: &[&str]) -> Result<Command, String> {
         "incremental_jog" => Command::IncrementalJog {
             axis: axis(a0)?,
             direction: direction(a1)?,
-            distance: non_negative(number(args.get(2), "a distance")?)?,
+            distance: amount(args.get(2), "the distance")?,
         },
-        "quill_up" => Command::QuillUp(number(a0, "a Z position")?),
+        "quill_up" => Command::QuillUp(number(a0, "the Z position")?),
         "feed_hold" => Command::FeedHold(flag(a0)?),
-        "feed_override" => Command::FeedOverride(non_negative(number(a0, "a scale")?)?),
-        "rapid_override" => Command::RapidOverride(non_negative(number(a0, "a scale")?)?),
-        "spindle_override" => Command::SpindleOverride(non_negative(number(a0, "a scale")?)?),
-        "max_velocity" => Command::MaxVelocity(non_negative(number(a0, "a speed")?)?),
+        "feed_override" => Command::FeedOverride(amount(a0, "the scale")?),
+        "rapid_override" => Command::RapidOverride(amount(a0, "the scale")?),
+        "spindle_override" => Command::SpindleOverride(amount(a0, "the scale")?),
+        "max_velocity" => Command::MaxVelocity(amount(a0, "the speed")?),
         "reload_tooltable" => Command::ReloadToolTable,
         "optional_stop" => Command::OptionalStop(flag(a0)?),
         "block_delete" => Command::BlockDelete(flag(a0)?),
@@ -327,30 +401,25 @@ fn with_args(name: &str, args: &[&str]) -> Result<Command, String> {
         "mdi" => Command::Mdi(lines(args)?),
         "mdi_and_return" => Command::MdiAndReturn(lines(args)?),
         "mdi_active" => Command::MdiActive,
-        other => return Err(format!("{other} is not a command")),
-    })
+        _ => return Ok(None),
+    }))
 }
 
-fn joint(a: Option<&&str>) -> Result<i32, String> {
-    let j = integer(a, "a joint number")?;
-    if (0..16).contains(&j) {
-        Ok(j)
-    } else {
-        Err(format!("the joint number must be 0..15, not {j}"))
-    }
+fn joint(a: Option<&&str>) -> Result<i32, ArgProblem> {
+    ranged(a, "the joint number", 0..=15, "0..15")
 }
 
-fn line_number(a: Option<&&str>) -> Result<i32, String> {
-    let n = integer(a, "a line number")?;
-    if n < 0 {
-        return Err(format!("the line number must not be negative, not {n}"));
-    }
-    Ok(n)
+fn line_number(a: Option<&&str>) -> Result<i32, ArgProblem> {
+    ranged(a, "the line number", 0..=i32::MAX, "0 or more")
 }
 
-fn non_negative(x: f64) -> Result<f64, String> {
+fn non_negative(x: f64, what: &'static str) -> Result<f64, ArgProblem> {
     if x < 0.0 {
-        Err(format!("must not be negative, not {x}"))
+        Err(ArgProblem::OutOfRange {
+            what,
+            allowed: "0 or more",
+            value: x,
+        })
     } else {
         Ok(x)
     }
@@ -360,7 +429,7 @@ fn non_negative(x: f64) -> Result<f64, String> {
 mod tests {
     use super::*;
 
-    fn p(items: &[&str]) -> Result<Option<Command>, String> {
+    fn p(items: &[&str]) -> Result<Option<Command>, CommandProblem> {
         parse(items, &["hello_world".to_string()])
     }
 
@@ -399,24 +468,24 @@ mod tests {
 
     #[test]
     fn unknown_names_and_bad_arguments_are_refused() {
-        let e = p(&["spindle_sideways", "1"]).unwrap_err();
+        let e = p(&["spindle_sideways", "1"]).unwrap_err().to_string();
         assert!(e.contains("unknown command \"spindle_sideways\""), "{e}");
         assert!(e.contains("hello_world"), "{e}");
         let cases = [
-            (&["feed_hold", "2"][..], "takes 0 or 1"),
+            (&["feed_hold", "2"][..], "the flag must be 0 or 1, not 2"),
             (
                 &["continuous_jog", "9", "1"][..],
                 "axis number must be 0..8",
             ),
             (&["continuous_jog", "0", "2"][..], "direction must be"),
-            (&["continuous_jog", "0"][..], "needs a direction"),
+            (&["continuous_jog", "0"][..], "needs the direction"),
             (&["set_linear_jog_velocity", "fast"][..], "must be a number"),
-            (&["home_selected", "NONE"][..], "needs a joint number"),
+            (&["home_selected", "NONE"][..], "needs the joint number"),
             (&["mdi", "NONE"][..], "needs a line of G-code"),
-            (&["feed_override", "-1"][..], "must not be negative"),
+            (&["feed_override", "-1"][..], "must be 0 or more, not -1"),
         ];
         for (items, why) in cases {
-            let e = p(items).unwrap_err();
+            let e = p(items).unwrap_err().to_string();
             assert!(e.contains(why), "{items:?}: {e}");
         }
     }

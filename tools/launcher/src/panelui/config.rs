@@ -125,7 +125,7 @@ impl From<SyntaxError> for ConfigError {
     fn from(e: SyntaxError) -> ConfigError {
         ConfigError {
             line: e.line,
-            why: e.why,
+            why: e.why.to_string(),
         }
     }
 }

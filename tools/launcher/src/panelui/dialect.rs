@@ -77,7 +77,97 @@ pub struct SyntaxError {
     /// The line (1-based).
     pub line: usize,
     /// What is wrong.
-    pub why: String,
+    pub why: LineProblem,
+}
+
+/// What is wrong with a line of a panel file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LineProblem {
+    /// The file is longer than a panel file can be.
+    #[error("more than {0} lines")]
+    TooLong(usize),
+    /// `[name` without its `]`.
+    #[error("section header {0:?} has no closing ']'")]
+    Unclosed(String),
+    /// `[[name]` or `[name]]`.
+    #[error(
+        "section header {header:?} opens with {depth} '[' but does not close with {depth} ']'"
+    )]
+    Unbalanced {
+        /// The header as written.
+        header: String,
+        /// How many `[` open it.
+        depth: usize,
+    },
+    /// Something other than a comment after a header.
+    #[error("unexpected {0:?} after the section header")]
+    AfterHeader(String),
+    /// `[]`.
+    #[error("a section header without a name")]
+    NoName,
+    /// A `[` inside a section name.
+    #[error("section name {0:?} holds a '['")]
+    BracketInName(String),
+    /// A section more than one level below the one before it.
+    #[error("section [{name}] is nested {depth} deep inside a section {inside} deep")]
+    TooDeep {
+        /// The section.
+        name: String,
+        /// Its depth.
+        depth: usize,
+        /// The depth of the section it is in.
+        inside: usize,
+    },
+    /// A section name given twice in one parent.
+    #[error("section [{name}] appears twice here (first at line {first})")]
+    SectionTwice {
+        /// The section.
+        name: String,
+        /// The line of the first.
+        first: usize,
+    },
+    /// A key given twice in one section.
+    #[error("{key} is given twice in this section (first at line {first})")]
+    KeyTwice {
+        /// The key.
+        key: String,
+        /// The line of the first.
+        first: usize,
+    },
+    /// Neither a header nor `KEY = value`.
+    #[error("{0:?} is neither a [section] header nor KEY = value")]
+    NotAnEntry(String),
+    /// ` = value`.
+    #[error("a value without a key")]
+    NoKey,
+    /// A key with a quote, bracket or `#`.
+    #[error("key {0:?} holds a quote, bracket or '#'")]
+    BadKey(String),
+    /// `"""` or `'''`.
+    #[error("multi-line (triple-quoted) values are not supported")]
+    TripleQuoted,
+    /// A quote left open.
+    #[error("the quote {quote} in {value:?} is not closed")]
+    OpenQuote {
+        /// The quote character.
+        quote: char,
+        /// The value.
+        value: String,
+    },
+    /// Something but a comma or comment after a quoted item.
+    #[error("unexpected {found:?} after a quoted item in {value:?}")]
+    AfterQuote {
+        /// What follows the item.
+        found: char,
+        /// The value.
+        value: String,
+    },
+    /// `ab"c`.
+    #[error("a quote inside the unquoted item of {0:?}")]
+    QuoteInItem(String),
+    /// `a,,b`.
+    #[error("an empty item in the list {0:?}")]
+    EmptyItem(String),
 }
 
 /// Reads a panel file's text into its sections.
@@ -90,10 +180,10 @@ pub fn parse(text: &str) -> Result<Section, SyntaxError> {
         if line > MAX_LINES {
             return Err(SyntaxError {
                 line,
-                why: format!("more than {MAX_LINES} lines"),
+                why: LineProblem::TooLong(MAX_LINES),
             });
         }
-        let bad = |why: String| SyntaxError { line, why };
+        let bad = |why: LineProblem| SyntaxError { line, why };
         let t = raw.trim();
         if t.is_empty() || t.starts_with('#') {
             continue;
@@ -101,18 +191,19 @@ pub fn parse(text: &str) -> Result<Section, SyntaxError> {
         if t.starts_with('[') {
             let (depth, name) = header(t).map_err(bad)?;
             if depth > path.len() + 1 {
-                return Err(bad(format!(
-                    "section [{name}] is nested {depth} deep inside a section {} deep",
-                    path.len()
-                )));
+                return Err(bad(LineProblem::TooDeep {
+                    name,
+                    depth,
+                    inside: path.len(),
+                }));
             }
             path.truncate(depth - 1);
             let parent = walk(&mut root, &path);
             if let Some(first) = parent.sections.iter().find(|s| s.name == name) {
-                return Err(bad(format!(
-                    "section [{name}] appears twice here (first at line {})",
-                    first.line
-                )));
+                return Err(bad(LineProblem::SectionTwice {
+                    first: first.line,
+                    name,
+                }));
             }
             parent.sections.push(Section {
                 name,
@@ -125,10 +216,10 @@ pub fn parse(text: &str) -> Result<Section, SyntaxError> {
         let (key, value) = entry(t).map_err(bad)?;
         let section = walk(&mut root, &path);
         if let Some(first) = section.entries.iter().find(|e| e.key == key) {
-            return Err(bad(format!(
-                "{key} is given twice in this section (first at line {})",
-                first.line
-            )));
+            return Err(bad(LineProblem::KeyTwice {
+                first: first.line,
+                key,
+            }));
         }
         section.entries.push(Entry { key, value, line });
     }
@@ -144,55 +235,54 @@ fn walk<'a>(root: &'a mut Section, path: &[usize]) -> &'a mut Section {
 }
 
 /// A section header: its depth and name; a comment may follow it.
-fn header(t: &str) -> Result<(usize, String), String> {
+fn header(t: &str) -> Result<(usize, String), LineProblem> {
     let depth = t.chars().take_while(|&c| c == '[').count();
     let rest = &t[depth..];
     let close = "]".repeat(depth);
     let Some(end) = rest.find(']') else {
-        return Err(format!("section header {t:?} has no closing ']'"));
+        return Err(LineProblem::Unclosed(t.to_string()));
     };
     let name = rest[..end].trim();
     let after = &rest[end..];
     if !after.starts_with(&close) || after[depth..].starts_with(']') {
-        return Err(format!(
-            "section header {t:?} opens with {depth} '[' but does not close with {depth} ']'"
-        ));
+        return Err(LineProblem::Unbalanced {
+            header: t.to_string(),
+            depth,
+        });
     }
     let tail = after[depth..].trim();
     if !(tail.is_empty() || tail.starts_with('#')) {
-        return Err(format!("unexpected {tail:?} after the section header"));
+        return Err(LineProblem::AfterHeader(tail.to_string()));
     }
     if name.is_empty() {
-        return Err("a section header without a name".into());
+        return Err(LineProblem::NoName);
     }
     if name.contains('[') {
-        return Err(format!("section name {name:?} holds a '['"));
+        return Err(LineProblem::BracketInName(name.to_string()));
     }
     Ok((depth, name.to_string()))
 }
 
 /// `KEY = value`.
-fn entry(t: &str) -> Result<(String, Value), String> {
+fn entry(t: &str) -> Result<(String, Value), LineProblem> {
     let Some((k, v)) = t.split_once('=') else {
-        return Err(format!(
-            "{t:?} is neither a [section] header nor KEY = value"
-        ));
+        return Err(LineProblem::NotAnEntry(t.to_string()));
     };
     let key = k.trim();
     if key.is_empty() {
-        return Err("a value without a key".into());
+        return Err(LineProblem::NoKey);
     }
     if key.contains(['"', '\'', '[', ']', '#']) {
-        return Err(format!("key {key:?} holds a quote, bracket or '#'"));
+        return Err(LineProblem::BadKey(key.to_string()));
     }
     Ok((key.to_string(), value(v.trim())?))
 }
 
 /// A value: items split at unquoted commas, quotes removed, an unquoted
 /// `#` ending it.
-fn value(v: &str) -> Result<Value, String> {
+fn value(v: &str) -> Result<Value, LineProblem> {
     if v.starts_with("\"\"\"") || v.starts_with("'''") {
-        return Err("multi-line (triple-quoted) values are not supported".into());
+        return Err(LineProblem::TripleQuoted);
     }
     let mut items: Vec<String> = Vec::new();
     let mut commas = 0;
@@ -212,20 +302,26 @@ fn value(v: &str) -> Result<Value, String> {
                     item.push(c);
                 }
                 if !closed {
-                    return Err(format!("the quote {q} in {v:?} is not closed"));
+                    return Err(LineProblem::OpenQuote {
+                        quote: q,
+                        value: v.to_string(),
+                    });
                 }
                 while chars.next_if(|c| c.is_whitespace()).is_some() {}
                 match chars.peek() {
                     None | Some(',') | Some('#') => {}
                     Some(c) => {
-                        return Err(format!("unexpected {c:?} after a quoted item in {v:?}"))
+                        return Err(LineProblem::AfterQuote {
+                            found: *c,
+                            value: v.to_string(),
+                        })
                     }
                 }
             }
             _ => {
                 while let Some(c) = chars.next_if(|c| *c != ',' && *c != '#') {
                     if c == '"' || c == '\'' {
-                        return Err(format!("a quote inside the unquoted item of {v:?}"));
+                        return Err(LineProblem::QuoteInItem(v.to_string()));
                     }
                     item.push(c);
                 }
@@ -251,7 +347,7 @@ fn value(v: &str) -> Result<Value, String> {
         return Ok(Value::One(items.pop().unwrap_or_default()));
     }
     if items.iter().any(String::is_empty) {
-        return Err(format!("an empty item in the list {v:?}"));
+        return Err(LineProblem::EmptyItem(v.to_string()));
     }
     Ok(Value::List(items))
 }
@@ -320,7 +416,7 @@ mod tests {
         for (text, line, why) in cases {
             let e = parse(text).unwrap_err();
             assert_eq!(e.line, line, "{text:?}: {e:?}");
-            assert!(e.why.contains(why), "{text:?}: {}", e.why);
+            assert!(e.why.to_string().contains(why), "{text:?}: {}", e.why);
         }
     }
 
