@@ -8,6 +8,8 @@
 pub mod encode;
 pub mod engine;
 pub mod frame;
+#[cfg(any(test, feature = "fuzzing"))]
+pub mod fuzzing;
 pub mod hal;
 pub mod line;
 pub mod mbccb;
