@@ -453,9 +453,18 @@ fn restart_the_sim(h: &Host, sim: &mut Sim, dir: &Path, s_if: &str) {
     }
     fault_reset_drives(h);
     // The restarted drives stand at 0: the command comes to where they
-    // are before they follow it (as motion's does while disabled).
+    // are before they follow it (as motion's does while disabled). The
+    // pins may still hold the old drives' positions for a few cycles
+    // after all-op: wait until they read the new ones, or the command
+    // would go to a stale position the drive layer never tracks onto
+    // (it holds an enabled drive until the command comes within
+    // tolerance of where the drive is).
     for (d, ..) in DRIVES {
-        let at = float(h, &format!("lcec.0.{d}.srv-actual-position"));
+        let name = format!("lcec.0.{d}.srv-actual-position");
+        wait_or(&format!("{d} reading its restarted drive"), LONG, h, || {
+            float(h, &name).abs() < 1e-9
+        });
+        let at = float(h, &name);
         set(
             h,
             &format!("lcec.0.{d}.srv-target-position"),
