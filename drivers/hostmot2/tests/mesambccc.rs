@@ -134,6 +134,15 @@ fn refusals_name_their_line() {
     assert!(what.contains("already in use"), "{what}");
     let range = SOURCE.replace(r#"baudrate="19200""#, r#"baudrate="300""#);
     assert!(line_of(&range).1.contains("1200..=1000000"));
+    // Found by the fuzzer: a skip before the first pin compiled to a file
+    // hm2_modbus refuses (its first pin must be at the first register).
+    let lead = SOURCE.replace(
+        "      <pin name=\"freq\" />\n",
+        "      <pin skip=\"2\" />\n      <pin name=\"freq\" />\n",
+    );
+    let (line, what) = line_of(&lead);
+    assert_eq!(line, 22);
+    assert!(what.contains("before the first pin"), "{what}");
 }
 
 #[test]

@@ -539,6 +539,14 @@ impl Ctx<'_> {
                     return Err(self.err(p, format!("'skip' is not allowed with function {func}")));
                 }
                 self.check_attrs(p, &["skip"]);
+                // hm2_modbus takes a command's first pin at its first
+                // register, so a leading skip is a later address.
+                if pins.is_empty() {
+                    return Err(self.err(
+                        p,
+                        "'skip' before the first pin: start the command's address after the skipped registers instead".into(),
+                    ));
+                }
                 let s = self.int(p, "skip", 1, 24)? as usize;
                 if s > 11 {
                     self.warn(
