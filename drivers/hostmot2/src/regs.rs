@@ -469,8 +469,9 @@ pub mod pktuart {
     /// The largest frame, in bytes (the 10-bit count).
     pub const MAX_FRAME_BYTES: usize = 1023;
 
-    /// Transmitter mode/status bits.
-    pub mod tx {
+    /// The mode/status bits the transmitter and receiver registers share
+    /// (each half's own bits are in [`tx`] and [`rx`]).
+    pub mod line {
         /// RO: the data FIFO holds data.
         pub const HAS_DATA: u32 = 1 << 21;
         /// WO (v3+): the inter-frame delay counts in units of 4 bit times.
@@ -481,12 +482,17 @@ pub mod pktuart {
         pub const PARITY_ODD: u32 = 1 << 18;
         /// WO: parity enable.
         pub const PARITY_EN: u32 = 1 << 17;
-        /// RO: frames waiting to be sent, bits 16..20.
+        /// RO: frames queued (TX) or received (RX), bits 16..20.
         pub const NFRAMES_SHIFT: u32 = 16;
         /// Inter-frame delay in bit times, bits 8..15.
         pub const IF_DELAY_SHIFT: u32 = 8;
-        /// RO: the transmitter is sending.
+        /// RO: sending (TX) or receiving a frame (RX).
         pub const BUSY: u32 = 1 << 7;
+    }
+
+    /// Transmitter mode/status bits.
+    pub mod tx {
+        pub use super::line::*;
         /// The RS-485 driver is on.
         pub const DRIVE_EN: u32 = 1 << 6;
         /// The RS-485 driver turns on by itself while sending.
@@ -499,26 +505,11 @@ pub mod pktuart {
 
     /// Receiver mode/status bits.
     pub mod rx {
+        pub use super::line::*;
         /// RO: a data FIFO read found it empty.
         pub const BAD_POP: u32 = 1 << 30;
         /// Input filter (low byte), bits 22..29, in ClockLow periods.
         pub const FILTER_SHIFT: u32 = 22;
-        /// RO: the data FIFO holds data.
-        pub const HAS_DATA: u32 = 1 << 21;
-        /// WO (v3+): the inter-frame delay counts in units of 4 bit times.
-        pub const IF_SCALE: u32 = 1 << 20;
-        /// WO (v3+): two stop bits.
-        pub const STOP_BITS2: u32 = 1 << 19;
-        /// WO: odd parity (with `PARITY_EN`).
-        pub const PARITY_ODD: u32 = 1 << 18;
-        /// WO: parity enable.
-        pub const PARITY_EN: u32 = 1 << 17;
-        /// RO: frames received, bits 16..20.
-        pub const NFRAMES_SHIFT: u32 = 16;
-        /// Inter-frame delay in bit times, bits 8..15.
-        pub const IF_DELAY_SHIFT: u32 = 8;
-        /// RO: a frame is being received.
-        pub const BUSY: u32 = 1 << 7;
         /// RO: input masked (the transmitter is sending).
         pub const MASKED: u32 = 1 << 6;
         /// Sticky: a parity error.
