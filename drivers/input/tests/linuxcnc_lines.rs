@@ -13,10 +13,10 @@
 
 use std::io::Write;
 use std::path::Path;
-use std::time::Duration;
 
-use hal_core::{HostConfig, Instance, Value};
+use hal_core::Value;
 use hal_driver::testing::wait;
+use hal_host::testing::InProcessHost;
 use hal_input::regs::{Event, EV_KEY, EV_REL, EV_SYN};
 
 const DEVICES: &str = "\
@@ -51,18 +51,9 @@ net click input.0.rel-x-reset
 net click input.0.rel-y-reset
 ";
 
-fn run(inst: &Instance, file: &str, text: &str) {
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let ok = {
-        let mut s = hal_lang::Session::new(
-            inst.clone(),
-            hal_lang::Options::default(),
-            &mut out,
-            &mut err,
-        );
-        s.run_text(Some(file), text)
-    };
-    assert!(ok, "{file}: {}", String::from_utf8_lossy(&err));
+fn run(host: &InProcessHost, file: &str, text: &str) {
+    let (ok, _, err) = host.run(file, text, false);
+    assert!(ok, "{file}: {err}");
 }
 
 fn records(events: &[(u16, u16, i32)]) -> Vec<u8> {
@@ -85,23 +76,12 @@ fn linuxcncs_hal_input_lines_run_on_simulated_devices() {
     std::fs::write(&desc, DEVICES).unwrap();
     std::env::set_var("HAL_INPUT_SIM", &desc);
 
-    let mut cfg = HostConfig::for_tests("lcnc-lines");
-    cfg.shm_size = 8 << 20;
-    let name = cfg.instance.clone();
-    let (tx, rx) = std::sync::mpsc::channel();
-    let host = std::thread::spawn(move || {
-        hal_host::serve(cfg, move || {
-            let _ = tx.send(());
-        })
-        .expect("the host serves");
-    });
-    rx.recv_timeout(Duration::from_secs(60))
-        .expect("host ready");
-    let inst = Instance::attach(&name).unwrap();
+    let host = InProcessHost::start("lcnc-lines");
+    let inst = host.instance();
 
     // tracking-test.hal: the mouse's axes and wheel, its buttons; -RK
     // makes no LED pins.
-    run(&inst, "tracking-test.hal", TRACKING_TEST);
+    run(&host, "tracking-test.hal", TRACKING_TEST);
     assert!(inst.pin("input.0.btn-left").unwrap().is_some());
     assert!(inst.pin("input.0.rel-x-counts").unwrap().is_some());
     let mut w = std::fs::OpenOptions::new().write(true).open(&fifo).unwrap();
@@ -123,14 +103,14 @@ fn linuxcncs_hal_input_lines_run_on_simulated_devices() {
     wait("counting again", || {
         inst.signal_value("x-mouse").unwrap() == Value::Float(3.0)
     });
-    run(&inst, "unload.hal", "unloadusr hal_input\n");
+    run(&host, "unload.hal", "unloadusr hal_input\n");
     assert!(inst.component("hal_input").unwrap().is_none());
 
     // plasma-5i20.hal: `-W` is hal_input's argument there (a subset
     // option naming no feature, overridden by -KRAL); loadusr does not
     // wait.
     run(
-        &inst,
+        &host,
         "plasma-5i20.hal",
         "loadusr hal_input -W -KRAL Dual\n",
     );
@@ -154,11 +134,10 @@ fn linuxcncs_hal_input_lines_run_on_simulated_devices() {
         inst.pin_value("input.0.abs-x-scale").unwrap(),
         Value::Float(127.5)
     );
-    run(&inst, "unload.hal", "unloadusr hal_input\n");
+    run(&host, "unload.hal", "unloadusr hal_input\n");
 
     drop(w);
     drop(inst);
-    hal_lang::host_process::stop_host(&name, Duration::from_secs(20)).unwrap();
-    host.join().unwrap();
+    drop(host);
     std::fs::remove_dir_all(&dir).unwrap();
 }

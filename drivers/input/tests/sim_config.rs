@@ -11,11 +11,10 @@
     reason = "test code: a failed unwrap fails the test"
 )]
 
-use std::path::Path;
-use std::time::Duration;
-
-use hal_core::{HostConfig, Instance, Value};
+use hal_core::{Instance, Value};
 use hal_driver::testing::wait;
+use hal_host::testing::InProcessHost;
+use std::path::Path;
 
 fn float(inst: &Instance, sig: &str) -> f64 {
     match inst.signal_value(sig).unwrap() {
@@ -26,39 +25,15 @@ fn float(inst: &Instance, sig: &str) -> f64 {
 
 #[test]
 fn the_hal_input_config_runs_on_simulated_devices() {
-    let mut cfg = HostConfig::for_tests("hal-input-config");
-    cfg.shm_size = 8 << 20;
-    let name = cfg.instance.clone();
-    let (tx, rx) = std::sync::mpsc::channel();
-    let host = std::thread::spawn(move || {
-        hal_host::serve(cfg, move || {
-            let _ = tx.send(());
-        })
-        .expect("the host serves");
-    });
-    rx.recv_timeout(Duration::from_secs(60))
-        .expect("host ready");
-    let inst = Instance::attach(&name).unwrap();
+    let host = InProcessHost::start("hal-input-config");
+    let inst = host.instance();
 
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/sim");
     std::env::set_current_dir(&dir).unwrap();
     std::env::remove_var("HAL_INPUT_SIM");
     let text = std::fs::read_to_string("hal-input.hal").unwrap();
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let ok = {
-        let mut session = hal_lang::Session::new(
-            inst.clone(),
-            hal_lang::Options::default(),
-            &mut out,
-            &mut err,
-        );
-        session.run_text(Some("hal-input.hal"), &text)
-    };
-    let said = format!(
-        "{}\n{}",
-        String::from_utf8_lossy(&out),
-        String::from_utf8_lossy(&err)
-    );
+    let (ok, out, err) = host.run("hal-input.hal", &text, false);
+    let said = format!("{out}\n{err}");
     assert!(ok, "{said}");
     assert!(said.contains("feed-override"), "{said}");
     let c = inst.component("hal_input").unwrap().unwrap();
@@ -75,17 +50,8 @@ fn the_hal_input_config_runs_on_simulated_devices() {
 
     // unloadusr: hal_input goes, leaving the button released and the
     // stick centred in their signals.
-    let (mut out, mut err) = (Vec::new(), Vec::new());
-    let ok = {
-        let mut session = hal_lang::Session::new(
-            inst.clone(),
-            hal_lang::Options::default(),
-            &mut out,
-            &mut err,
-        );
-        session.run_text(Some("unload.hal"), "unloadusr hal_input\n")
-    };
-    assert!(ok, "{}", String::from_utf8_lossy(&err));
+    let (ok, _, err) = host.run("unload.hal", "unloadusr hal_input\n", false);
+    assert!(ok, "{err}");
     assert!(inst.component("hal_input").unwrap().is_none());
     assert_eq!(
         inst.signal_value("override-enable").unwrap(),
@@ -96,6 +62,5 @@ fn the_hal_input_config_runs_on_simulated_devices() {
         float(&inst, "jog-speed").abs() < 1e-9
     });
     drop(inst);
-    hal_lang::host_process::stop_host(&name, Duration::from_secs(20)).unwrap();
-    host.join().unwrap();
+    drop(host);
 }
