@@ -8,12 +8,15 @@
 //! Likewise cfg `pymodbus_peer` and `PYMODBUS_PYTHON` when the
 //! workspace's Python environment (`$HAL_PYTHON_VENV`, else
 //! target/python-venv, filled by scripts/install-deps) has pymodbus and
-//! pyserial, for hm2_modbus against pymodbus (tests/modbus_pymodbus.rs).
+//! pyserial, for hm2_modbus against pymodbus (tests/modbus_pymodbus.rs); see
+//! build-support/pymodbus_probe.rs.
 
 use std::path::PathBuf;
 
+include!("../../build-support/pymodbus_probe.rs");
+
 fn main() {
-    pymodbus();
+    pymodbus_probe();
     println!("cargo:rustc-check-cfg=cfg(mesaflash_peer)");
     println!("cargo:rerun-if-env-changed=MESAFLASH_PEER_PREFIX");
     let prefix = std::env::var_os("MESAFLASH_PEER_PREFIX")
@@ -29,32 +32,5 @@ fn main() {
         println!("cargo:rustc-env=MESAFLASH_PEER_BIN={}", binary.display());
         let libs = prefix.join("usr/lib/x86_64-linux-gnu");
         println!("cargo:rustc-env=MESAFLASH_PEER_LIBS={}", libs.display());
-    }
-}
-
-/// The pymodbus probe (as drivers/serial/build.rs makes it for mb2hal).
-fn pymodbus() {
-    println!("cargo:rustc-check-cfg=cfg(pymodbus_peer)");
-    println!("cargo:rerun-if-env-changed=HAL_PYTHON_VENV");
-    let venv = std::env::var_os("HAL_PYTHON_VENV")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            let here = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
-            here.join("../../target/python-venv")
-        });
-    println!(
-        "cargo:rerun-if-changed={}",
-        venv.join(".pymodbus-installed").display()
-    );
-    let python = venv.join("bin/python");
-    let found = std::process::Command::new(&python)
-        .args(["-c", "import pymodbus, serial"])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if found {
-        println!("cargo:rustc-cfg=pymodbus_peer");
-        println!("cargo:rustc-env=PYMODBUS_PYTHON={}", python.display());
     }
 }

@@ -1,36 +1,10 @@
-//! Tells the tests whether pymodbus can run here: cfg `pymodbus_peer`,
-//! and the Python that has it in `PYMODBUS_PYTHON`, when the workspace's
-//! Python environment (`$HAL_PYTHON_VENV`, else target/python-venv,
-//! which scripts/install-deps fills) imports pymodbus and pyserial.
-//! Without them the tests of mb2hal against pymodbus
-//! (tests/mb2hal_pymodbus.rs) are reported as ignored, with that reason.
+//! Tells the tests whether pymodbus can run here (cfg `pymodbus_peer`,
+//! see build-support/pymodbus_probe.rs): without it the tests of mb2hal
+//! against pymodbus (tests/mb2hal_pymodbus.rs) are reported as ignored,
+//! with that reason.
 
-use std::path::PathBuf;
+include!("../../build-support/pymodbus_probe.rs");
 
 fn main() {
-    println!("cargo:rustc-check-cfg=cfg(pymodbus_peer)");
-    println!("cargo:rerun-if-env-changed=HAL_PYTHON_VENV");
-    let venv = std::env::var_os("HAL_PYTHON_VENV")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            let here = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
-            here.join("../../target/python-venv")
-        });
-    // install-deps touches this marker after installing pymodbus, so the
-    // probe runs again then.
-    println!(
-        "cargo:rerun-if-changed={}",
-        venv.join(".pymodbus-installed").display()
-    );
-    let python = venv.join("bin/python");
-    let found = std::process::Command::new(&python)
-        .args(["-c", "import pymodbus, serial"])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if found {
-        println!("cargo:rustc-cfg=pymodbus_peer");
-        println!("cargo:rustc-env=PYMODBUS_PYTHON={}", python.display());
-    }
+    pymodbus_probe();
 }
