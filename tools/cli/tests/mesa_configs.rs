@@ -2,8 +2,9 @@
 //! tests/linuxcnc-configs with only the simulator word added to their
 //! `[HOSTMOT2]DRIVER` or `loadrt hm2_pci` line, run headless through
 //! `linuxcnc` on the simulated cards: PLX cards whose FPGA is loaded from
-//! `firmware=`, a 3x20, the EPP 7I43 (through its CPLD) and 7I90, and a
-//! Smithy mill.
+//! `firmware=`, a 3x20, the EPP 7I43 (through its CPLD) and 7I90, the
+//! Ethernet 7I93 and 7I96S (`hm2_eth sim=`, in process), and a Smithy
+//! mill.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -98,6 +99,45 @@ fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
         ("7i43-small.ini", "hm2_7i43.0"),
         ("7i90.ini", "hm2_7i90.0"),
     ] {
+        let m = mesa_sample_follows_a_jog("hm2-stepper", ini, 0.2, 0.001);
+        assert_eq!(
+            m.getp(&format!("{prefix}.watchdog.has_bit")),
+            "FALSE",
+            "{ini}"
+        );
+        m.stop();
+    }
+}
+
+/// LinuxCNC's Ethernet servo samples (hm2-servo-eth.hal with `loadrt
+/// hm2_eth board_ip=... config=...`), unchanged but for `sim=7i93` or
+/// `sim=7i96s` on the DRIVER line: the board is simulated inside the HAL
+/// process and reached through hm2_eth's LBP16 datagrams, and the three
+/// servo loops close through its encoders and PWM generators.
+#[test]
+fn hm2_servo_ethernet_samples_close_their_loops() {
+    for (ini, prefix) in [("7i93.ini", "hm2_7i93.0"), ("7i96s.ini", "hm2_7i96s.0")] {
+        let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
+        assert_eq!(
+            m.getp(&format!("{prefix}.encoder.00.scale")),
+            "81920",
+            "{ini}"
+        );
+        assert_eq!(
+            m.getp(&format!("{prefix}.packet-error-total")),
+            "0",
+            "{ini}"
+        );
+        m.stop();
+    }
+}
+
+/// LinuxCNC's Ethernet stepper samples (hm2-stepper-eth.hal), unchanged
+/// but for `sim=7i93` or `sim=7i96s`: the step generators' feedback
+/// follows a jog and the watchdog feeds the e-stop latch untripped.
+#[test]
+fn hm2_stepper_ethernet_samples_follow_a_jog() {
+    for (ini, prefix) in [("7i93.ini", "hm2_7i93.0"), ("7i96s.ini", "hm2_7i96s.0")] {
         let m = mesa_sample_follows_a_jog("hm2-stepper", ini, 0.2, 0.001);
         assert_eq!(
             m.getp(&format!("{prefix}.watchdog.has_bit")),

@@ -3,13 +3,14 @@
 //! hostmot2 core over an [`EthTransport`].
 
 use std::collections::HashMap;
-use std::net::{IpAddr, SocketAddr};
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::sync::{Arc, Mutex};
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
 use hal_core::HalError;
 use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 use hal_driver::params::Params;
-use hal_driver::ForModule;
+use hal_driver::{DriverError, ForModule};
 
 use super::boards::{self, LEDS};
 use super::transport::EthTransport;
@@ -17,6 +18,7 @@ use crate::error::Hm2Error;
 use crate::hal::{core, export_boards, Boards, Candidate, Source};
 use crate::lbp16::{self, addr, space};
 use crate::llio::Llio;
+use crate::sim::{boards as sim_boards, eth as sim_eth};
 use crate::transport::{Transport, TransportError};
 
 /// Most boards one `hm2_eth` load drives (LinuxCNC's `MAX_ETH_BOARDS`).
@@ -34,6 +36,7 @@ macro_rules! hm2_eth_params {
         board_rtnet: StrArray(4) = "socket kind per board: posix (the only one supported)",
         firewall: Str = "accepted for compatibility (auto, iptables, nft, nftables, none): the host's firewall is never changed",
         debug: Int = "LinuxCNC logs every packet; here use tcpdump -X udp port 27181",
+        sim: StrArray(4) = "simulated boards in this process instead of the network (7i96s, 7i76e, 7i93, 7i92, 7i95), one per board; board_ip then only names them in messages",
     } };
 }
 
@@ -47,7 +50,7 @@ pub static HM2_ETH_MODULE: ModuleDef = module::module_def::<HalHm2Eth>();
 impl DriverModule for HalHm2Eth {
     const NAME: &'static str = HM2_ETH;
     const HELP: &'static str =
-        "Mesa Ethernet Anything I/O boards with HostMot2 firmware (LBP16 over UDP)";
+        "Mesa Ethernet Anything I/O boards with HostMot2 firmware (LBP16 over UDP; or simulated ones: sim=7i96s)";
     const PARAMS: &'static [ParamDecl] = hm2_eth_params!(hal_driver::param_table);
     type Opened = Boards;
 
@@ -108,6 +111,102 @@ pub fn llio_from_idrom(t: &mut EthTransport, name: &str, n: usize) -> Result<Lli
     ))
 }
 
+/// The address a simulated board without `board_ip` is named by: the
+/// boards' factory address 192.168.1.121, the next ones counting up.
+fn default_sim_place(i: usize) -> SocketAddr {
+    SocketAddr::from(([192, 168, 1, 121 + i as u8], lbp16::UDP_PORT))
+}
+
+/// The simulated boards `sim=` names, checked: each item one of
+/// [`sim_boards::ETH_PRESETS`], and as many as `board_ip` has addresses
+/// when both are given. Empty without `sim`.
+pub fn sim_names(args: &ModuleArgs) -> Result<Vec<&'static str>, DriverError> {
+    let params = Params::new(HM2_ETH, args);
+    let sims = args.str_array("sim");
+    let known = sim_boards::ETH_PRESETS.join(", ");
+    let names = sims
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if s.is_empty() {
+                return Err(params.item_error(
+                    "sim",
+                    i,
+                    s,
+                    format!("no board named: sim=BOARD, one of {known}"),
+                ));
+            }
+            sim_boards::ETH_PRESETS
+                .iter()
+                .find(|&&k| k == s)
+                .copied()
+                .ok_or_else(|| {
+                    params.item_error(
+                        "sim",
+                        i,
+                        s,
+                        format!("not a simulated Ethernet board ({known})"),
+                    )
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let ips = args.str_array("board_ip");
+    if !names.is_empty() && !ips.is_empty() && ips.len() != names.len() {
+        return Err(params.error(
+            "sim",
+            format!(
+                "{} simulated boards for {} board_ip addresses: give one sim item per board",
+                names.len(),
+                ips.len()
+            ),
+        ));
+    }
+    Ok(names)
+}
+
+/// Where each board is: `board_ip`'s addresses, checked, or for
+/// simulated boards without it [`default_sim_place`]s.
+fn board_places(args: &ModuleArgs, sims: usize) -> Result<Vec<SocketAddr>, DriverError> {
+    let params = Params::new(HM2_ETH, args);
+    let ips = args.str_array("board_ip");
+    if ips.is_empty() {
+        if sims == 0 {
+            return Err(params.error(
+                "board_ip",
+                "no board given: hm2_eth probes only the listed boards (board_ip=192.168.1.121, or sim=BOARD for a simulated one)",
+            ));
+        }
+        return Ok((0..sims).map(default_sim_place).collect());
+    }
+    let mut peers: Vec<SocketAddr> = Vec::with_capacity(ips.len());
+    for (i, ip) in ips.iter().enumerate() {
+        let peer = parse_board_address(ip)
+            .map_err(|reason| params.item_error("board_ip", i, ip, reason))?;
+        if let Some(first) = peers.iter().position(|&earlier| earlier == peer) {
+            return Err(params.item_error(
+                "board_ip",
+                i,
+                ip,
+                Hm2Error::SameBoardTwice { first, peer },
+            ));
+        }
+        peers.push(peer);
+    }
+    Ok(peers)
+}
+
+/// The transport to simulated board `name` named by `place`: the preset
+/// with its machine, its EEPROM holding `place`'s IPv4 address.
+fn sim_transport(name: &str, place: SocketAddr) -> Option<EthTransport> {
+    let spec = sim_boards::preset(name)?;
+    let ip = match place.ip() {
+        IpAddr::V4(v4) => v4,
+        IpAddr::V6(_) => Ipv4Addr::new(192, 168, 1, 121),
+    };
+    let board = sim_eth::preset_board(name, spec, ip.octets())?;
+    Some(EthTransport::simulated(Arc::new(Mutex::new(board)), place))
+}
+
 /// Probes the boards `args` list.
 fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
     let debug = core(env, HM2_ETH)?;
@@ -116,15 +215,7 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
     log.info(format_args!(
         "hm2_eth: loading Mesa AnyIO HostMot2 ethernet driver version 0.2"
     ));
-    let ips = args.str_array("board_ip");
-    if ips.is_empty() {
-        return Err(params
-            .error(
-                "board_ip",
-                "no board given: hm2_eth probes only the listed boards (board_ip=192.168.1.121)",
-            )
-            .into_hal(HM2_ETH));
-    }
+    let sims = sim_names(args).for_module(HM2_ETH)?;
     for (i, r) in args.str_array("board_rtnet").iter().enumerate() {
         if !r.is_empty() && r != "posix" {
             return Err(params
@@ -148,34 +239,40 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
         *n - 1
     };
     // Every address is read and checked before any board is probed.
-    let mut peers: Vec<SocketAddr> = Vec::with_capacity(ips.len());
-    for (i, ip) in ips.iter().enumerate() {
-        let peer = parse_board_address(ip)
-            .map_err(|reason| params.item_error("board_ip", i, ip, reason))
-            .for_module(HM2_ETH)?;
-        if let Some(first) = peers.iter().position(|&earlier| earlier == peer) {
-            return Err(params
-                .item_error("board_ip", i, ip, Hm2Error::SameBoardTwice { first, peer })
-                .into_hal(HM2_ETH));
-        }
-        peers.push(peer);
-    }
+    let peers = board_places(args, sims.len()).for_module(HM2_ETH)?;
     let mut candidates = Vec::new();
-    for (ip, &peer) in ips.iter().zip(&peers) {
+    for (i, &peer) in peers.iter().enumerate() {
+        let address = args
+            .str_array("board_ip")
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| peer.ip().to_string());
         let refuse = |e: TransportError| {
             log.err(format_args!("hm2_eth: board at {peer}: {e}"));
             HalError::module_failed(
                 HM2_ETH,
                 Hm2Error::EthBoard {
-                    address: ip.to_string(),
+                    address: address.clone(),
                     peer,
                     source: e,
                 },
             )
         };
-        let mut t = EthTransport::connect(peer).map_err(refuse)?;
+        let mut t = match sims.get(i) {
+            Some(name) => sim_transport(name, peer).ok_or_else(|| {
+                params
+                    .item_error("sim", i, name, "not a simulated Ethernet board")
+                    .into_hal(HM2_ETH)
+            })?,
+            None => EthTransport::connect(peer).map_err(refuse)?,
+        };
+        let simulated = t.sim_board().is_some();
         let found = probe(&mut t).map_err(refuse)?;
-        log.info(format_args!("hm2_eth: discovered {}", found.name));
+        log.info(format_args!(
+            "hm2_eth: discovered {}{}",
+            found.name,
+            if simulated { " (simulated)" } else { "" }
+        ));
         let llio = match boards::lookup(&found.name) {
             Some(kind) => kind.llio(next(kind.board)),
             None => {
@@ -191,7 +288,7 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
                 llio_from_idrom(&mut t, &found.name, next(&board)).map_err(refuse)?
             }
         };
-        if !peer.ip().is_loopback() {
+        if !peer.ip().is_loopback() && !simulated {
             let m = found.mac;
             log.info(format_args!(
                 "hm2_eth: {} ({}, MAC {:02x}:{:02x}:{:02x}:{:02x}:{:02x}:{:02x}): the host's ARP table and firewall are left as they are (firewall={}); see the hostmot2 documentation for the dedicated-interface setup",
@@ -203,8 +300,13 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
         }
         debug_assert!(llio.num_leds <= LEDS);
         t.set_name(&found.name);
+        let place = if simulated {
+            format!("(simulated at {peer})")
+        } else {
+            format!("at {peer}")
+        };
         candidates.push(Candidate {
-            place: format!("at {peer}"),
+            place,
             fails: format!("hm2_eth: board at {peer} fails HM2 registration"),
             llio,
             source: Source::Eth(Box::new(t)),
@@ -222,6 +324,75 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn args(words: &[&str]) -> ModuleArgs {
+        ModuleArgs::parse(HM2_ETH, HalHm2Eth::PARAMS, words).unwrap()
+    }
+
+    fn refused(words: &[&str]) -> String {
+        sim_names(&args(words))
+            .and_then(|_| board_places(&args(words), 0))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn sim_takes_one_known_board_per_item() {
+        assert_eq!(
+            sim_names(&args(&[
+                "sim=7i93,7i96s",
+                "board_ip=10.10.10.10,10.10.10.11"
+            ]))
+            .unwrap(),
+            ["7i93", "7i96s"]
+        );
+        assert_eq!(sim_names(&args(&["sim=7i92"])).unwrap(), ["7i92"]);
+        assert!(sim_names(&args(&["board_ip=10.0.0.1"])).unwrap().is_empty());
+        let e = refused(&["sim=7i99"]);
+        assert!(
+            e.contains("7i99") && e.contains("7i96s, 7i76e, 7i93"),
+            "{e}"
+        );
+        let e = refused(&["sim=5i25"]);
+        assert!(e.contains("not a simulated Ethernet board"), "{e}");
+        for bare in [&["sim="][..], &["sim=7i93,"], &["sim=,7i93"]] {
+            let e = refused(bare);
+            assert!(e.contains("no board named: sim=BOARD, one of 7i96s"), "{e}");
+        }
+        let e = refused(&["sim=7i93,7i93", "board_ip=10.10.10.10"]);
+        assert!(
+            e.contains("2 simulated boards for 1 board_ip addresses"),
+            "{e}"
+        );
+        let e = refused(&["sim=7i93", "board_ip=10.10.10.10,10.10.10.11"]);
+        assert!(e.contains("1 simulated boards for 2"), "{e}");
+    }
+
+    #[test]
+    fn simulated_boards_are_named_by_board_ip_or_the_factory_address() {
+        let a = args(&["sim=7i93,7i93"]);
+        assert_eq!(
+            board_places(&a, 2).unwrap(),
+            [
+                "192.168.1.121:27181".parse().unwrap(),
+                "192.168.1.122:27181".parse().unwrap()
+            ]
+        );
+        let a = args(&["sim=7i96s", "board_ip=10.10.10.10"]);
+        assert_eq!(
+            board_places(&a, 1).unwrap(),
+            ["10.10.10.10:27181".parse().unwrap()]
+        );
+        let e = board_places(&args(&["board_ip=10.1.1.1,10.1.1.1"]), 0).unwrap_err();
+        assert!(e.to_string().contains("board_ip"), "{e}");
+        let e = board_places(&args(&[]), 0).unwrap_err();
+        assert!(e.to_string().contains("sim=BOARD"), "{e}");
+        let t = sim_transport("7i93", "10.10.10.10:27181".parse().unwrap()).unwrap();
+        let board = t.sim_board().unwrap().lock().unwrap();
+        assert_eq!(board.identity().ip, [10, 10, 10, 10]);
+        assert_eq!(board.identity().name, "7I93");
+        assert!(sim_transport("5i25", t.peer()).is_none());
+    }
 
     #[test]
     fn board_addresses() {
