@@ -55,7 +55,7 @@ impl DriverModule for HalHm2Eth {
     type Opened = Boards;
 
     fn open(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
-        open_eth(args, env)
+        open_eth(args, env, &EthTransport::connect)
     }
 
     fn export<H: DriverHost>(found: Boards, ex: &mut Exporter<'_, H>) -> hal_core::Result<()> {
@@ -207,8 +207,28 @@ fn sim_transport(name: &str, place: SocketAddr) -> Option<EthTransport> {
     Some(EthTransport::simulated(Arc::new(Mutex::new(board)), place))
 }
 
-/// Probes the boards `args` list.
-fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
+/// Opens the transport to a network board at an address.
+type NetworkOpener = dyn Fn(SocketAddr) -> Result<EthTransport, TransportError>;
+
+/// Loads `hm2_eth` into our `host` with simulated boards only: a board
+/// without a `sim=` item is refused before any socket is made (the
+/// fuzzers load hm2_eth so).
+pub fn load_without_network(host: &hal_core::Host, args: &ModuleArgs) -> hal_core::Result<()> {
+    let refuse = |peer: SocketAddr| -> Result<EthTransport, TransportError> {
+        Err(TransportError::Socket {
+            op: "reaching",
+            peer: peer.to_string(),
+            reason: "the network is not reached in this load (simulated boards only: sim=)".into(),
+        })
+    };
+    let env = module::env(host);
+    let found = open_eth(args, &env, &refuse)?;
+    module::load_opened::<HalHm2Eth>(host, found)
+}
+
+/// Probes the boards `args` list: network ones through `network`, the
+/// `sim` items as simulated ones.
+fn open_eth(args: &ModuleArgs, env: &LoadEnv, network: &NetworkOpener) -> hal_core::Result<Boards> {
     let debug = core(env, HM2_ETH)?;
     let params = Params::new(HM2_ETH, args);
     let log = env.log();
@@ -264,7 +284,7 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv) -> hal_core::Result<Boards> {
                     .item_error("sim", i, name, "not a simulated Ethernet board")
                     .into_hal(HM2_ETH)
             })?,
-            None => EthTransport::connect(peer).map_err(refuse)?,
+            None => network(peer).map_err(refuse)?,
         };
         let simulated = t.sim_board().is_some();
         let found = probe(&mut t).map_err(refuse)?;
