@@ -144,6 +144,10 @@ fn refused_sim_loads_name_the_boards() {
             "no board named: sim=BOARD, one of 7i96s, 7i76e, 7i93, 7i92, 7i95",
         ),
         (
+            &["sim"],
+            "expected sim=VALUE: simulated boards in this process instead of the network (7i96s, 7i76e, 7i93, 7i92, 7i95)",
+        ),
+        (
             &["sim=7i93,7i96s", "board_ip=10.10.10.10"],
             "2 simulated boards for 1 board_ip addresses",
         ),

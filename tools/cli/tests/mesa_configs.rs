@@ -54,8 +54,9 @@ fn hm2_servo_5i20_runs_on_the_simulated_card() {
 
 /// The other cards of LinuxCNC's hm2-servo sample: each INI names its
 /// card's firmware (a 5i23, a 4i65 and a 4i68 through their PLX bridges,
-/// a 3x20's 1M-gate SV24, a 7i43-4's SVST4_4 through its CPLD over EPP),
-/// and the servo loops close on the simulated card the same way.
+/// a 3x20's 1M-gate SV24, a 7i43-4's SVST4_4 through its CPLD over EPP,
+/// a 7I90 over EPP with its own firmware), and the servo loops close on
+/// the simulated card the same way.
 #[test]
 fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
     for (ini, prefix) in [
@@ -64,6 +65,7 @@ fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
         ("4i68.ini", "hm2_4i68.0"),
         ("3x20-small.ini", "hm2_3x20.0"),
         ("7i43-big.ini", "hm2_7i43.0"),
+        ("7i90.ini", "hm2_7i90.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
         assert_eq!(

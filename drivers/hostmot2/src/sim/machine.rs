@@ -184,6 +184,9 @@ impl World for Machine {
 ///   I/O 29, 30, 31 (the first pins of TB1).
 /// * `7i76e`: the same with the switches on I/O 17, 18, 19 (P2).
 /// * `5i25-7i77`: stepper axes on the five step generators, no switches.
+/// * `7i90`: four servos on PWM generators and encoders 0..3, leads
+///   swapped as for the 7i96s; stepper axes with home switches on I/O
+///   10..12.
 pub fn preset(board: &str) -> Machine {
     let steppers_with_switches = |n: usize, first_switch: usize| Machine {
         steppers: (0..n).map(stepper).collect(),
@@ -230,8 +233,10 @@ pub fn preset(board: &str) -> Machine {
             servos: (0..4).map(servo).collect(),
             ..steppers_with_switches(4, 32)
         },
+        // The 7I90's servos are wired as LinuxCNC's hm2-servo 7i90
+        // sample expects (leads swapped, see `servo_stepper`).
         "7i90" => Machine {
-            servos: (0..4).map(servo).collect(),
+            servos: servo_stepper(4, 0).servos,
             ..steppers_with_switches(5, 10)
         },
         // The SPI hats: steppers with home switches on the first GPIO
