@@ -54,9 +54,10 @@ fn hm2_servo_5i20_runs_on_the_simulated_card() {
 
 /// The other cards of LinuxCNC's hm2-servo sample: each INI names its
 /// card's firmware (a 5i23, a 4i65 and a 4i68 through their PLX bridges,
-/// a 3x20's 1M-gate SV24, a 7i43-4's SVST4_4 through its CPLD over EPP,
-/// a 7I90 over EPP with its own firmware), and the servo loops close on
-/// the simulated card the same way.
+/// a 3x20's 1M-gate SV24, a 7i43-4's and a 7i43-2's SVST4_4 through the
+/// CPLD over EPP, a 5i22-1's SVST8_8, a 7I90 over EPP with its own
+/// firmware), and the servo loops close on the simulated card the same
+/// way.
 #[test]
 fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
     for (ini, prefix) in [
@@ -65,6 +66,8 @@ fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
         ("4i68.ini", "hm2_4i68.0"),
         ("3x20-small.ini", "hm2_3x20.0"),
         ("7i43-big.ini", "hm2_7i43.0"),
+        ("7i43-small.ini", "hm2_7i43.0"),
+        ("5i22-small.ini", "hm2_5i22.0"),
         ("7i90.ini", "hm2_7i90.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
@@ -90,8 +93,9 @@ fn hm2_stepper_5i22_runs_on_the_simulated_card() {
 
 /// The other cards of LinuxCNC's hm2-stepper sample: a 5i20, a 4i65, a
 /// 5i22-1 (sim=5i22, the 1M-gate card), a 7i43-2 over EPP (sim=7i43-2,
-/// loaded through its CPLD) and a 7i90; each one's step generators
-/// follow a jog.
+/// loaded through its CPLD), a 7i90 over EPP, a 5i23, and a 7I90 on a
+/// Raspberry Pi's SPI (hm2_rpspi sim=7i90, its hm2-stepper-rpspi.hal
+/// passing spiclk_rate=); each one's step generators follow a jog.
 #[test]
 fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
     for (ini, prefix) in [
@@ -100,6 +104,8 @@ fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
         ("5i22-small.ini", "hm2_5i22.0"),
         ("7i43-small.ini", "hm2_7i43.0"),
         ("7i90.ini", "hm2_7i90.0"),
+        ("5i23.ini", "hm2_5i23.0"),
+        ("7i90-rpi-spi.ini", "hm2_7i90.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-stepper", ini, 0.2, 0.001);
         assert_eq!(
