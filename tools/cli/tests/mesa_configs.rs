@@ -55,7 +55,7 @@ fn hm2_servo_5i20_runs_on_the_simulated_card() {
 /// The other cards of LinuxCNC's hm2-servo sample: each INI names its
 /// card's firmware (a 5i23, a 4i65 and a 4i68 through their PLX bridges,
 /// a 3x20's 1M-gate SV24, a 7i43-4's and a 7i43-2's SVST4_4 through the
-/// CPLD over EPP, a 5i22-1's SVST8_8, a 7I90 over EPP with its own
+/// CPLD over EPP, a 5i22-1's and a 5i22-1.5's SVST8_8, a 7I90 over EPP with its own
 /// firmware), and the servo loops close on the simulated card the same
 /// way.
 #[test]
@@ -68,6 +68,7 @@ fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
         ("7i43-big.ini", "hm2_7i43.0"),
         ("7i43-small.ini", "hm2_7i43.0"),
         ("5i22-small.ini", "hm2_5i22.0"),
+        ("5i22-big.ini", "hm2_5i22.0"),
         ("7i90.ini", "hm2_7i90.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
@@ -102,6 +103,7 @@ fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
         ("5i20.ini", "hm2_5i20.0"),
         ("4i65.ini", "hm2_4i65.0"),
         ("5i22-small.ini", "hm2_5i22.0"),
+        ("5i22-big.ini", "hm2_5i22.0"),
         ("7i43-small.ini", "hm2_7i43.0"),
         ("7i90.ini", "hm2_7i90.0"),
         ("5i23.ini", "hm2_5i23.0"),
