@@ -252,85 +252,21 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv, network: &NetworkOpener) -> hal_co
             lbp16::UDP_PORT
         ));
     }
-    let mut counts: HashMap<String, usize> = HashMap::new();
-    let mut next = |board: &str| {
-        let n = counts.entry(board.to_string()).or_insert(0);
-        *n += 1;
-        *n - 1
-    };
     // Every address is read and checked before any board is probed.
     let peers = board_places(args, sims.len()).for_module(HM2_ETH)?;
-    let mut candidates = Vec::new();
+    let mut counts: HashMap<String, usize> = HashMap::new();
+    let mut candidates = Vec::with_capacity(peers.len());
     for (i, &peer) in peers.iter().enumerate() {
-        let address = args
-            .str_array("board_ip")
-            .get(i)
-            .cloned()
-            .unwrap_or_else(|| peer.ip().to_string());
-        let refuse = |e: TransportError| {
-            log.err(format_args!("hm2_eth: board at {peer}: {e}"));
-            HalError::module_failed(
-                HM2_ETH,
-                Hm2Error::EthBoard {
-                    address: address.clone(),
-                    peer,
-                    source: e,
-                },
-            )
+        let place = Place {
+            address: args
+                .str_array("board_ip")
+                .get(i)
+                .cloned()
+                .unwrap_or_else(|| peer.ip().to_string()),
+            peer,
+            sim: sims.get(i).copied(),
         };
-        let mut t = match sims.get(i) {
-            Some(name) => sim_transport(name, peer).ok_or_else(|| {
-                params
-                    .item_error("sim", i, name, "not a simulated Ethernet board")
-                    .into_hal(HM2_ETH)
-            })?,
-            None => network(peer).map_err(refuse)?,
-        };
-        let simulated = t.sim_board().is_some();
-        let found = probe(&mut t).map_err(refuse)?;
-        log.info(format_args!(
-            "hm2_eth: discovered {}{}",
-            found.name,
-            if simulated { " (simulated)" } else { "" }
-        ));
-        let llio = match boards::lookup(&found.name) {
-            Some(kind) => kind.llio(next(kind.board)),
-            None => {
-                log.err(format_args!(
-                    "hm2_eth: Unrecognized ethernet board found: {} -- port names will be wrong",
-                    found.name
-                ));
-                let short = boards::unknown_llio(&found.name, 0, 1, 1).name;
-                let board = short
-                    .trim_start_matches("hm2_")
-                    .trim_end_matches(".0")
-                    .to_string();
-                llio_from_idrom(&mut t, &found.name, next(&board)).map_err(refuse)?
-            }
-        };
-        if !peer.ip().is_loopback() && !simulated {
-            let m = found.mac;
-            log.info(format_args!(
-                "hm2_eth: {} ({}, MAC {:02x}:{:02x}:{:02x}:{:02x}:{:02x}:{:02x}): the host's ARP table and firewall are left as they are (firewall={}); see the hostmot2 documentation for the dedicated-interface setup",
-                llio.name,
-                peer.ip(),
-                m[0], m[1], m[2], m[3], m[4], m[5],
-                firewall.unwrap_or("auto")
-            ));
-        }
-        debug_assert!(llio.num_leds <= LEDS);
-        t.set_name(&found.name);
-        let place = if simulated {
-            format!("(simulated at {peer})")
-        } else {
-            format!("at {peer}")
-        };
-        candidates.push(Candidate {
-            place,
-            fails: format!("hm2_eth: board at {peer} fails HM2 registration"),
-            llio,
-            source: Source::Eth(Box::new(t)),
-        });
+        candidates.push(open_board(&place, env, network, &mut counts, firewall)?);
     }
     Ok(Boards::new(
         env,
@@ -339,6 +275,101 @@ fn open_eth(args: &ModuleArgs, env: &LoadEnv, network: &NetworkOpener) -> hal_co
         candidates,
         args.str_array("config").to_vec(),
     ))
+}
+
+/// Where one board is: as given, as an address, and the simulated board
+/// that stands in for it.
+struct Place {
+    /// The `board_ip` item (or the address named for a simulated board).
+    address: String,
+    /// Its address.
+    peer: SocketAddr,
+    /// The `sim` item.
+    sim: Option<&'static str>,
+}
+
+/// Opens and identifies the board at `place`; `counts` numbers the
+/// boards of each type.
+fn open_board(
+    place: &Place,
+    env: &LoadEnv,
+    network: &NetworkOpener,
+    counts: &mut HashMap<String, usize>,
+    firewall: Option<&str>,
+) -> hal_core::Result<Candidate> {
+    let log = env.log();
+    let peer = place.peer;
+    let refuse = |e: TransportError| {
+        log.err(format_args!("hm2_eth: board at {peer}: {e}"));
+        HalError::module_failed(
+            HM2_ETH,
+            Hm2Error::EthBoard {
+                address: place.address.clone(),
+                peer,
+                source: e,
+            },
+        )
+    };
+    let mut t = match place.sim {
+        // sim_names checked the name: every one has a preset.
+        Some(name) => sim_transport(name, peer)
+            .ok_or_else(|| TransportError::Socket {
+                op: "simulating",
+                peer: peer.to_string(),
+                reason: format!("no simulated Ethernet board '{name}'"),
+            })
+            .map_err(refuse)?,
+        None => network(peer).map_err(refuse)?,
+    };
+    let simulated = t.sim_board().is_some();
+    let found = probe(&mut t).map_err(refuse)?;
+    log.info(format_args!(
+        "hm2_eth: discovered {}{}",
+        found.name,
+        if simulated { " (simulated)" } else { "" }
+    ));
+    let mut next = |board: &str| {
+        let n = counts.entry(board.to_string()).or_insert(0);
+        *n += 1;
+        *n - 1
+    };
+    let llio = match boards::lookup(&found.name) {
+        Some(kind) => kind.llio(next(kind.board)),
+        None => {
+            log.err(format_args!(
+                "hm2_eth: Unrecognized ethernet board found: {} -- port names will be wrong",
+                found.name
+            ));
+            let short = boards::unknown_llio(&found.name, 0, 1, 1).name;
+            let board = short
+                .trim_start_matches("hm2_")
+                .trim_end_matches(".0")
+                .to_string();
+            llio_from_idrom(&mut t, &found.name, next(&board)).map_err(refuse)?
+        }
+    };
+    if !peer.ip().is_loopback() && !simulated {
+        let m = found.mac;
+        log.info(format_args!(
+            "hm2_eth: {} ({}, MAC {:02x}:{:02x}:{:02x}:{:02x}:{:02x}:{:02x}): the host's ARP table and firewall are left as they are (firewall={}); see the hostmot2 documentation for the dedicated-interface setup",
+            llio.name,
+            peer.ip(),
+            m[0], m[1], m[2], m[3], m[4], m[5],
+            firewall.unwrap_or("auto")
+        ));
+    }
+    debug_assert!(llio.num_leds <= LEDS);
+    t.set_name(&found.name);
+    Ok(Candidate {
+        place: if simulated {
+            format!("(simulated at {peer})")
+        } else {
+            format!("at {peer}")
+        },
+        fails: format!("hm2_eth: board at {peer} fails HM2 registration"),
+        llio,
+        source: Source::Eth(Box::new(t)),
+    })
 }
 
 #[cfg(test)]
@@ -412,6 +443,9 @@ mod tests {
         assert_eq!(board.identity().ip, [10, 10, 10, 10]);
         assert_eq!(board.identity().name, "7I93");
         assert!(sim_transport("5i25", t.peer()).is_none());
+        for name in sim_boards::ETH_PRESETS {
+            assert!(sim_transport(name, t.peer()).is_some(), "{name}");
+        }
     }
 
     #[test]
