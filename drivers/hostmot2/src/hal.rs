@@ -219,6 +219,21 @@ where
         }
         self.with(|b| job(b.transport_mut())).is_some()
     }
+
+    fn attach_pktuart(&self, inst: &crate::pktuart::PktUartInstance) -> crate::Result<usize> {
+        let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+        b.attach_pktuart(inst)
+    }
+
+    fn detach_pktuart(&self, id: usize) {
+        let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
+        b.detach_pktuart(id);
+    }
+
+    fn link_job(&self, id: usize, job: &mut dyn FnMut(&mut crate::pktuart::PktUartLink)) -> bool {
+        self.with(|b| b.pktuart_link(id).map(job).is_some())
+            .unwrap_or(false)
+    }
 }
 
 impl<H: HalHost> SafeState for SharedBoard<H> {
