@@ -236,6 +236,25 @@ where
     }
 }
 
+/// Makes `board` known to the modules that use a loaded board's Smart
+/// Serial ports or PktUARTs (`setsserial`, `hm2_modbus`) in HAL
+/// `instance`, under the board's name: what the board drivers do for
+/// their boards, for a program (or test) that registers a board itself.
+/// The entry lasts as long as `board`.
+pub fn publish_board<H: HalHost + 'static>(instance: &str, board: &Arc<SharedBoard<H>>)
+where
+    Board<H>: Send,
+{
+    let name = board
+        .board
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .name()
+        .to_string();
+    let access: Arc<dyn crate::registry::SserialAccess> = board.clone();
+    crate::registry::register(instance, &name, &access);
+}
+
 impl<H: HalHost> SafeState for SharedBoard<H> {
     fn go_safe(&self) {
         let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
