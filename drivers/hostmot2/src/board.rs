@@ -393,11 +393,10 @@ impl<H: HalHost> Board<H> {
             self.tram.retarget_read(start, addr);
         }
         let t = self.transport.as_mut();
-        let queued = self
-            .tram
-            .queue_reads(t)
-            .and_then(|()| self.links.queue_reads(t))
-            .and_then(|()| t.send_queued_reads());
+        let queued = self.tram.queue_reads(t).and_then(|()| {
+            self.links.queue_reads(t);
+            t.send_queued_reads()
+        });
         match queued {
             // A request that could not leave is counted; `read` skips.
             Ok(()) | Err(TransportError::Lost) => self.requested = true,
@@ -531,7 +530,7 @@ impl<H: HalHost> Board<H> {
             Some(r) => r.write(t)?,
             None => false,
         };
-        self.links.queue_writes(t)?;
+        self.links.queue_writes(t);
         t.send_queued_writes()?;
         if dump {
             self.dump_state();

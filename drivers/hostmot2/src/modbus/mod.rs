@@ -15,10 +15,10 @@
 //! as LinuxCNC's hm2 modules get theirs:
 //!
 //! 1. the board's `read` burst carries, after the TRAM regions, the
-//!    reads the engine asked for one period before (the receive-count
-//!    pop of a waiting frame, or, once its size is known, up to 64 of
-//!    its data words), then the transmitter's and receiver's mode/status
-//!    words, read last so they show the FIFOs after the pops;
+//!    transmitter's and receiver's mode/status words, then the reads the
+//!    engine asked for one period before (the receive-count pop of a
+//!    waiting frame, or, once its size is known, up to 64 of its data
+//!    words);
 //! 2. `process` steps the engine on those words (transmitter busy,
 //!    frames waiting, the frame fetched) and stages what it sends: a
 //!    request's data words and count, an init's line settings, the
@@ -35,7 +35,10 @@
 //! fetched even if the timeout runs out meanwhile. A period whose read
 //! burst did not arrive (board stopped, packet lost) starts nothing, and
 //! a frame whose words a lost burst carried counts as an I/O error
-//! (`EIO`), as a failed transfer did before.
+//! (`EIO`), as a failed transfer did before. On a network board a burst
+//! is one datagram of limited size: the PktUART's reads and writes that
+//! do not fit wait for the next period's, so they never make the board's
+//! own transfer fail.
 //!
 //! [`PktUartLink`]: crate::pktuart::PktUartLink
 

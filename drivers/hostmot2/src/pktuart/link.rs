@@ -7,23 +7,29 @@
 //!
 //! Per read burst the link adds, after the board's TRAM regions:
 //!
-//! 1. the receive-count pop, when the user asked for the next frame in
+//! 1. the transmitter's and the receiver's mode/status words;
+//! 2. the receive-count pop, when the user asked for the next frame in
 //!    the period before;
-//! 2. up to [`CHUNK_WORDS`] pops of that frame's data, once its count
+//! 3. or up to [`CHUNK_WORDS`] pops of that frame's data, once its count
 //!    word (and so its size) came in the burst before; a longer frame
-//!    drains over several bursts;
-//! 3. the transmitter's and the receiver's mode/status words, read last
-//!    so they show the FIFOs after this burst's pops.
+//!    drains over several bursts.
 //!
 //! So a frame the receiver holds at burst k is in the user's hands after
-//! burst k + 2. The writes (frame words and count, mode and bit-rate
+//! burst k + 2. (The status words are read before this burst's pops;
+//! the frame count they show can include the frame being fetched, which
+//! its user knows.) The writes (frame words and count, mode and bit-rate
 //! words, clears) go out in the board's write burst of the same period,
 //! in the order they were staged.
+//!
+//! A burst has a size limit on a network board (one datagram each way).
+//! The link never makes the board's burst fail: what does not fit waits
+//! for the next one (pops and staged writes, in order); if not even the
+//! status words fit, that period has no status.
 
 use super::config::{self, LineConfig};
 use super::discovery::PktUartInstance;
 use crate::regs::pktuart::{self as r, rcr};
-use crate::transport::{Transport, TransportError, WriteQueue};
+use crate::transport::{Transport, TransportError};
 
 /// Frame words popped per burst at most: a whole Modbus RTU frame (256
 /// bytes). The largest frame allowed to send, too.
@@ -72,16 +78,18 @@ enum Rx {
     Lost,
 }
 
-/// What the burst under way carries for this link.
+/// What the burst under way carries for this link, in this order.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 struct Carried {
+    /// Status words (both, or fewer when the burst was full).
+    status: usize,
     count: bool,
     data: usize,
 }
 
 impl Carried {
     fn words(&self) -> usize {
-        usize::from(self.count) + self.data + 2
+        self.status + usize::from(self.count) + self.data
     }
 }
 
@@ -93,21 +101,25 @@ pub struct PktUartLink {
     rx: Rx,
     carried: Option<Carried>,
     frame: [u8; CHUNK_WORDS * 4],
-    writes: WriteQueue,
+    /// Staged one-word writes (address, word); those before `sent` went
+    /// out already.
+    writes: [(u32, u32); BURST_WRITES],
+    staged: usize,
+    sent: usize,
 }
 
 impl PktUartLink {
     /// A link to `inst`, its buffers sized (load time).
     pub fn new(inst: PktUartInstance) -> PktUartLink {
-        let mut writes = WriteQueue::default();
-        writes.reserve(BURST_WRITES, BURST_WRITES);
         PktUartLink {
             inst,
             status: None,
             rx: Rx::Idle,
             carried: None,
             frame: [0; CHUNK_WORDS * 4],
-            writes,
+            writes: [(0, 0); BURST_WRITES],
+            staged: 0,
+            sent: 0,
         }
     }
 
@@ -168,10 +180,10 @@ impl PktUartLink {
             config::tx_words(tx, i.clock_hz, i.tx_version),
         );
         let (rxr, txr) = (i.rx, i.tx);
-        self.writes.push(rxr[r::BITRATE], &[rw.bitrate])?;
-        self.writes.push(rxr[r::MODE], &[rw.mode])?;
-        self.writes.push(txr[r::BITRATE], &[tw.bitrate])?;
-        self.writes.push(txr[r::MODE], &[tw.mode])?;
+        self.stage(rxr[r::BITRATE], rw.bitrate)?;
+        self.stage(rxr[r::MODE], rw.mode)?;
+        self.stage(txr[r::BITRATE], tw.bitrate)?;
+        self.stage(txr[r::MODE], tw.mode)?;
         if flush {
             self.clear()?;
         }
@@ -182,8 +194,8 @@ impl PktUartLink {
     /// way (the clear empties the FIFOs it was popping).
     pub fn clear(&mut self) -> Result<(), TransportError> {
         self.rx = Rx::Idle;
-        self.writes.push(self.inst.tx[r::MODE], &[r::CLEAR])?;
-        self.writes.push(self.inst.rx[r::MODE], &[r::CLEAR])
+        self.stage(self.inst.tx[r::MODE], r::CLEAR)?;
+        self.stage(self.inst.rx[r::MODE], r::CLEAR)
     }
 
     /// Stages one frame (at most [`CHUNK_WORDS`] words): its words, four
@@ -198,36 +210,55 @@ impl PktUartLink {
         for chunk in frame.chunks(4) {
             let mut b = [0u8; 4];
             b[..chunk.len()].copy_from_slice(chunk);
-            self.writes.push(data, &[u32::from_le_bytes(b)])?;
+            self.stage(data, u32::from_le_bytes(b))?;
         }
-        self.writes
-            .push(self.inst.tx[r::COUNT], &[frame.len() as u32])
+        self.stage(self.inst.tx[r::COUNT], frame.len() as u32)
+    }
+
+    /// Stages one write after the others.
+    fn stage(&mut self, addr: u32, word: u32) -> Result<(), TransportError> {
+        if self.staged == self.writes.len() && self.sent > 0 {
+            // Move what is still waiting to the front.
+            self.writes.copy_within(self.sent..self.staged, 0);
+            self.staged -= self.sent;
+            self.sent = 0;
+        }
+        let Some(slot) = self.writes.get_mut(self.staged) else {
+            return Err(TransportError::QueueFull {
+                what: "PktUART writes (the board's write burst did not run)",
+            });
+        };
+        *slot = (addr, word);
+        self.staged += 1;
+        Ok(())
     }
 
     // ---- the board's side (its read and write functions)
 
-    /// Queues this burst's reads (see the module docs); returns the words
-    /// they bring.
-    pub fn queue_reads(&mut self, t: &mut dyn Transport) -> Result<usize, TransportError> {
+    /// Queues this burst's reads (see the module docs), as many as the
+    /// transport takes; returns the words they bring.
+    pub fn queue_reads(&mut self, t: &mut dyn Transport) -> usize {
         let mut c = Carried::default();
         let rxr = self.inst.rx;
-        match self.rx {
-            Rx::WantCount => {
-                t.queue_read(rxr[r::COUNT], 1)?;
-                c.count = true;
+        for reg in [self.inst.tx[r::MODE], rxr[r::MODE]] {
+            if t.queue_read(reg, 1).is_err() {
+                break;
             }
-            Rx::Data { left, .. } if left > 0 => {
-                c.data = left.min(CHUNK_WORDS);
-                for _ in 0..c.data {
-                    t.queue_read(rxr[r::DATA], 1)?;
-                }
-            }
-            _ => {}
+            c.status += 1;
         }
-        t.queue_read(self.inst.tx[r::MODE], 1)?;
-        t.queue_read(rxr[r::MODE], 1)?;
+        if c.status == 2 {
+            match self.rx {
+                Rx::WantCount => c.count = t.queue_read(rxr[r::COUNT], 1).is_ok(),
+                Rx::Data { left, .. } => {
+                    while c.data < left.min(CHUNK_WORDS) && t.queue_read(rxr[r::DATA], 1).is_ok() {
+                        c.data += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
         self.carried = Some(c);
-        Ok(c.words())
+        c.words()
     }
 
     /// Words the burst under way carries for this link (0 if none).
@@ -243,6 +274,8 @@ impl PktUartLink {
         };
         let mut w = words.iter().copied();
         let mut next = || w.next().unwrap_or(0);
+        let (tx_mode, rx_mode) = (next(), next());
+        self.status = (c.status == 2).then_some(Status { tx_mode, rx_mode });
         if c.count {
             let count = next();
             if self.rx == Rx::WantCount {
@@ -275,10 +308,6 @@ impl PktUartLink {
         {
             self.rx = Rx::Done { count, got };
         }
-        self.status = Some(Status {
-            tx_mode: next(),
-            rx_mode: next(),
-        });
     }
 
     /// The burst that carried this link's reads was lost: a frame whose
@@ -293,15 +322,17 @@ impl PktUartLink {
         self.status = None;
     }
 
-    /// Queues the writes staged since the last call into the board's
-    /// write burst, in order.
-    pub fn queue_writes(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
-        let r = self
-            .writes
-            .iter()
-            .try_for_each(|(a, d)| t.queue_write(a, d));
-        self.writes.clear();
-        r
+    /// Queues the staged writes into the board's write burst, in order,
+    /// as many as the transport takes; the rest wait for the next burst.
+    pub fn queue_writes(&mut self, t: &mut dyn Transport) {
+        while let Some(&(addr, word)) = self.writes[..self.staged].get(self.sent) {
+            if t.queue_write(addr, &[word]).is_err() {
+                return;
+            }
+            self.sent += 1;
+        }
+        self.staged = 0;
+        self.sent = 0;
     }
 }
 
@@ -315,7 +346,7 @@ impl PktUartLink {
         t: &mut dyn Transport,
         between: impl FnOnce(&mut PktUartLink),
     ) -> Result<(), TransportError> {
-        let n = self.queue_reads(t)?;
+        let n = self.queue_reads(t);
         let mut words = [0; BURST_READS];
         let got = t
             .send_queued_reads()
@@ -325,7 +356,7 @@ impl PktUartLink {
             Err(_) => self.reads_lost(),
         }
         between(self);
-        self.queue_writes(t)?;
+        self.queue_writes(t);
         t.send_queued_writes()?;
         got
     }
@@ -344,6 +375,8 @@ mod tests {
         answers: Vec<u32>,
         log: Vec<(u32, usize)>,
         written: Vec<(u32, u32)>,
+        /// Queued reads and writes a burst takes (none: any number).
+        room: Option<(usize, usize)>,
     }
 
     impl Transport for Script {
@@ -357,6 +390,9 @@ mod tests {
             self.reads.reserve(reads);
         }
         fn queue_read(&mut self, addr: u32, words: usize) -> Result<(), TransportError> {
+            if self.room.is_some_and(|(r, _)| self.log.len() >= r) {
+                return Err(TransportError::QueueFull { what: "reads" });
+            }
             self.log.push((addr, words));
             self.reads.push(addr, words)
         }
@@ -371,6 +407,9 @@ mod tests {
             })
         }
         fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
+            if self.room.is_some_and(|(_, w)| self.written.len() >= w) {
+                return Err(TransportError::QueueFull { what: "writes" });
+            }
             self.written.extend(data.iter().map(|&d| (addr, d)));
             Ok(())
         }
@@ -399,7 +438,7 @@ mod tests {
 
     fn burst(l: &mut PktUartLink, t: &mut Script, answers: &[u32]) {
         t.log.clear();
-        let n = l.queue_reads(t).unwrap();
+        let n = l.queue_reads(t);
         t.answers = answers.to_vec();
         let mut out = vec![0; n];
         t.receive_queued_reads(&mut out).unwrap();
@@ -418,11 +457,11 @@ mod tests {
         assert_eq!(l.take_status(), None, "taken once");
         let mut out = [0u8; 8];
         assert_eq!(l.fetch_frame(&mut out), Ok(None));
-        burst(&mut l, &mut t, &[5, 0, 0]);
-        assert_eq!(t.log[0], (0x204, 1), "the count pop first");
+        burst(&mut l, &mut t, &[0, 1 << 16, 5]);
+        assert_eq!(t.log[2], (0x204, 1), "the count pop after the status");
         assert_eq!(l.fetch_frame(&mut out), Ok(None));
-        burst(&mut l, &mut t, &[0x0403_0201, 0x05, 0, 0]);
-        assert_eq!(t.log[..2], [(0x200, 1), (0x200, 1)], "two data pops");
+        burst(&mut l, &mut t, &[0, 0, 0x0403_0201, 0x05]);
+        assert_eq!(t.log[2..], [(0x200, 1), (0x200, 1)], "two data pops");
         assert_eq!(l.fetch_frame(&mut out), Ok(Some((5, 5))));
         assert_eq!(out[..5], [1, 2, 3, 4, 5]);
         assert!(!l.fetching());
@@ -435,13 +474,13 @@ mod tests {
         let mut l = PktUartLink::new(inst());
         let mut out = [0u8; 8];
         l.fetch_frame(&mut out).unwrap();
-        l.queue_reads(&mut t).unwrap();
+        l.queue_reads(&mut t);
         l.reads_lost();
         assert_eq!(l.take_status(), None);
         assert_eq!(l.fetch_frame(&mut out), Err(TransportError::Lost));
         l.send(&[1, 2, 3, 4, 5]).unwrap();
         l.clear().unwrap();
-        l.queue_writes(&mut t).unwrap();
+        l.queue_writes(&mut t);
         assert_eq!(
             t.written,
             vec![
@@ -453,5 +492,37 @@ mod tests {
             ]
         );
         assert!(l.send(&[0; 257]).is_err(), "over 256 bytes");
+    }
+
+    #[test]
+    fn what_a_full_burst_cannot_take_waits_for_the_next() {
+        let mut t = Script::default();
+        t.reserve(BURST_READS, 0, 0, 0);
+        let mut l = PktUartLink::new(inst());
+        let mut out = [0u8; 16];
+        // Room for the status and one data pop a burst.
+        t.room = Some((3, 2));
+        l.fetch_frame(&mut out).unwrap();
+        burst(&mut l, &mut t, &[0, 1 << 16, 9]);
+        burst(&mut l, &mut t, &[0, 0, 0x0403_0201]);
+        assert_eq!(l.fetch_frame(&mut out), Ok(None), "two words left");
+        burst(&mut l, &mut t, &[0, 0, 0x0807_0605]);
+        burst(&mut l, &mut t, &[0, 0, 0x09]);
+        assert_eq!(l.fetch_frame(&mut out), Ok(Some((9, 9))));
+        assert_eq!(out[..9], [1, 2, 3, 4, 5, 6, 7, 8, 9]);
+        // No room even for the status: no status that period.
+        t.room = Some((1, 2));
+        burst(&mut l, &mut t, &[0]);
+        assert_eq!(l.take_status(), None);
+        // A 5-byte frame and its count: three writes, two a burst.
+        l.send(&[1, 2, 3, 4, 5]).unwrap();
+        l.queue_writes(&mut t);
+        assert_eq!(t.written, [(0x100, 0x0403_0201), (0x100, 5)]);
+        t.written.clear();
+        l.queue_writes(&mut t);
+        assert_eq!(t.written, [(0x104, 5)], "the count follows");
+        t.written.clear();
+        l.queue_writes(&mut t);
+        assert!(t.written.is_empty());
     }
 }

@@ -93,13 +93,13 @@ impl Links {
         )
     }
 
-    /// Queues every link's reads (after the TRAM regions).
-    pub fn queue_reads(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
+    /// Queues every link's reads (after the TRAM regions), as many as
+    /// the transport takes: never fails the board's burst.
+    pub fn queue_reads(&mut self, t: &mut dyn Transport) {
         self.carried = 0;
         for s in self.slots.iter_mut().flatten().filter(|s| s.live) {
-            self.carried += s.link.queue_reads(t)?;
+            self.carried += s.link.queue_reads(t);
         }
-        Ok(())
     }
 
     /// Receives the burst: the TRAM words into `tram`, the rest to the
@@ -141,12 +141,13 @@ impl Links {
         self.retire();
     }
 
-    /// Queues every link's staged writes.
-    pub fn queue_writes(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
+    /// Queues every link's staged writes, as many as the transport
+    /// takes (the rest wait for the next burst): never fails the board's
+    /// burst.
+    pub fn queue_writes(&mut self, t: &mut dyn Transport) {
         for s in self.slots.iter_mut().flatten() {
-            s.link.queue_writes(t)?;
+            s.link.queue_writes(t);
         }
-        Ok(())
     }
 
     /// Frees the slots of detached links (no allocation).
