@@ -307,7 +307,8 @@ impl<H: HalHost> Board<H> {
     }
 
     /// The board's transport, for another module's direct register
-    /// access (`hm2_modbus`'s PktUART) between the board's functions.
+    /// access at load time (`hm2_modbus` setting its PktUART up); in
+    /// realtime such a module uses a link ([`attach_pktuart`](Self::attach_pktuart)).
     pub(crate) fn transport_mut(&mut self) -> &mut dyn Transport {
         self.transport.as_mut()
     }
