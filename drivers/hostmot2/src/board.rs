@@ -19,6 +19,8 @@ use crate::modules::sserial::Sserial;
 use crate::modules::stepgen::Stepgens;
 use crate::modules::watchdog::{Watchdog, WatchdogEvent};
 use crate::modules::{Export, Notify};
+use crate::pktuart::links::Links;
+use crate::pktuart::{PktUartInstance, PktUartLink};
 use crate::regs::gtag;
 use crate::tram::Tram;
 use crate::transport::{TransferStats, Transport, TransportError};
@@ -38,6 +40,10 @@ pub struct Board<H: HalHost = Ours> {
     led: Option<Leds<H>>,
     sserial: Option<Sserial<H>>,
     raw: Option<Raw<H>>,
+    /// PktUARTs whose traffic rides in the bursts (`hm2_modbus`).
+    links: Links,
+    /// What the transport was sized for without links.
+    reserved: (usize, usize, usize, usize),
     say: Notify,
     latch: FaultLatch,
     recover: bool,
@@ -173,12 +179,13 @@ impl<H: HalHost> Board<H> {
             .sum::<usize>()
             + fw.ioport.instances as usize;
         let config_writes = 64 + 24 * instances;
-        transport.reserve(
+        let reserved = (
             reads,
             read_words,
             writes + config_writes,
             write_words + config_writes,
         );
+        transport.reserve(reserved.0, reserved.1, reserved.2, reserved.3);
         let mut board = Board {
             llio,
             fw,
@@ -193,6 +200,8 @@ impl<H: HalHost> Board<H> {
             led,
             sserial,
             raw,
+            links: Links::default(),
+            reserved,
             latch: FaultLatch::new(format!("hm2/{prefix}")).with_log(say.log().clone()),
             say,
             recover: false,
@@ -298,9 +307,33 @@ impl<H: HalHost> Board<H> {
     }
 
     /// The board's transport, for another module's direct register
-    /// access (`hm2_modbus`'s PktUART) between the board's functions.
+    /// access at load time (`hm2_modbus` setting its PktUART up); in
+    /// realtime such a module uses a link ([`attach_pktuart`](Self::attach_pktuart)).
     pub(crate) fn transport_mut(&mut self) -> &mut dyn Transport {
         self.transport.as_mut()
+    }
+
+    /// Carries the PktUART `inst`'s traffic in this board's bursts from
+    /// the next cycle on (load time: sizes the buffers and the
+    /// transport's queues); the link's id.
+    pub fn attach_pktuart(&mut self, inst: &PktUartInstance) -> Result<usize> {
+        let id = self.links.attach(inst, self.tram.read_buf.len())?;
+        let (r, rw, w, ww) = self.reserved;
+        let (lr, lrw, lw, lww) = self.links.reserve_sizes();
+        self.transport.reserve(r + lr, rw + lrw, w + lw, ww + lww);
+        Ok(id)
+    }
+
+    /// Stops carrying link `id` (load time).
+    pub fn detach_pktuart(&mut self, id: usize) {
+        self.links.detach(id);
+    }
+
+    /// Link `id`, for its user's realtime function (between this board's
+    /// `read` and `write`).
+    #[inline]
+    pub fn pktuart_link(&mut self, id: usize) -> Option<&mut PktUartLink> {
+        self.links.get(id)
     }
 
     /// What the driver learned from the firmware.
@@ -360,10 +393,18 @@ impl<H: HalHost> Board<H> {
             let (start, addr) = raw.target();
             self.tram.retarget_read(start, addr);
         }
-        match self.tram.request_reads(self.transport.as_mut()) {
+        let t = self.transport.as_mut();
+        let queued = self.tram.queue_reads(t).and_then(|()| {
+            self.links.queue_reads(t);
+            t.send_queued_reads()
+        });
+        match queued {
             // A request that could not leave is counted; `read` skips.
             Ok(()) | Err(TransportError::Lost) => self.requested = true,
-            Err(e) => self.fail(fault_of(&e, &READ_FAILED)),
+            Err(e) => {
+                self.links.lost();
+                self.fail(fault_of(&e, &READ_FAILED));
+            }
         }
     }
 
@@ -379,7 +420,13 @@ impl<H: HalHost> Board<H> {
             }
         }
         self.requested = false;
-        match self.tram.receive_reads(self.transport.as_mut()) {
+        let t = self.transport.as_mut();
+        let received = if self.links.carrying() {
+            self.links.receive(t, &mut self.tram.read_buf)
+        } else {
+            self.tram.receive_reads(t)
+        };
+        match received {
             Ok(()) => {}
             // A tolerated packet error: this cycle's inputs stay as they were.
             Err(TransportError::Lost) => return,
@@ -484,6 +531,7 @@ impl<H: HalHost> Board<H> {
             Some(r) => r.write(t)?,
             None => false,
         };
+        self.links.queue_writes(t);
         t.send_queued_writes()?;
         if dump {
             self.dump_state();

@@ -590,6 +590,12 @@ pub enum Hm2Error {
         /// The name asked for.
         port: String,
     },
+    /// A PktUART another `hm2_modbus` instance already runs.
+    #[error("hm2_modbus: port '{port}' is already in use by another hm2_modbus instance")]
+    PktUartInUse {
+        /// The PktUART's name.
+        port: String,
+    },
     /// An `.mbccs` source (mesambccc) is refused: where and why.
     #[error("line {line}, column {column}: {what}")]
     Mbccs {

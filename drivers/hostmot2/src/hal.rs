@@ -15,11 +15,10 @@
 
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex, TryLockError};
+use std::sync::Arc;
 
 use hal_core::module::{ModuleArgs, ModuleDef, ParamDecl};
-use hal_core::{HalError, HalHost, Host, MsgLevel};
-use hal_driver::fault::SafeState;
+use hal_core::{HalError, Host, MsgLevel};
 use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv, PublishedWord};
 use hal_driver::pci::{EnableGuard, Sysfs};
 use hal_driver::ForModule;
@@ -32,6 +31,7 @@ use crate::image::{FirmwareSpec, ImageTransport};
 use crate::llio::Llio;
 use crate::log::{BoardLog, MessageLog};
 use crate::pci::{self, PciBoard};
+pub use crate::shared_board::{publish_board, SharedBoard};
 use crate::sim::{self, boards, machine, SimHm2};
 use crate::test_patterns;
 use crate::transport::Transport;
@@ -149,83 +149,6 @@ pub(crate) fn core(env: &LoadEnv, module: &str) -> hal_core::Result<Debug> {
     env.word(HOSTMOT2)
         .map(core_of)
         .ok_or_else(|| HalError::module_failed(module, Hm2Error::CoreNotLoaded))
-}
-
-// ---------------------------------------------------------------------
-// A board behind a lock its functions share.
-// ---------------------------------------------------------------------
-
-/// A registered board shared by its functions and the safe state. The
-/// functions of one instance never run at the same time (the host
-/// serialises threads), so the lock is never contended: a function takes
-/// it with `try_lock`, which never waits, and would skip its cycle rather
-/// than block if it ever were.
-pub struct SharedBoard<H: HalHost> {
-    board: Mutex<Board<H>>,
-    /// What must live as long as the board (a PCI device's enable).
-    _keep: Option<EnableGuard>,
-}
-
-impl<H: HalHost> SharedBoard<H> {
-    /// Shares `board`, keeping `keep` alive with it.
-    pub fn new(board: Board<H>, keep: Option<EnableGuard>) -> SharedBoard<H> {
-        SharedBoard {
-            board: Mutex::new(board),
-            _keep: keep,
-        }
-    }
-
-    /// Runs `f` on the board unless another function holds it.
-    #[inline]
-    pub fn with<R>(&self, f: impl FnOnce(&mut Board<H>) -> R) -> Option<R> {
-        match self.board.try_lock() {
-            Ok(mut b) => Some(f(&mut b)),
-            Err(TryLockError::Poisoned(p)) => Some(f(&mut p.into_inner())),
-            Err(TryLockError::WouldBlock) => None,
-        }
-    }
-}
-
-impl<H: HalHost> crate::registry::SserialAccess for SharedBoard<H>
-where
-    Board<H>: Send,
-{
-    fn sserial(&self) -> Option<crate::modules::sserial::discovery::SserialFirmware> {
-        let b = self.board.lock().unwrap_or_else(|e| e.into_inner());
-        b.firmware().sserial.clone()
-    }
-
-    fn setup_job(
-        &self,
-        job: &mut dyn FnMut(
-            &mut dyn Transport,
-            &crate::modules::sserial::discovery::SserialFirmware,
-        ),
-    ) -> bool {
-        let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
-        b.sserial_setup(job)
-    }
-
-    fn pktuart(&self) -> crate::pktuart::PktUartFirmware {
-        let b = self.board.lock().unwrap_or_else(|e| e.into_inner());
-        b.firmware().pktuart.clone()
-    }
-
-    fn transport_job(&self, wait: bool, job: &mut dyn FnMut(&mut dyn Transport)) -> bool {
-        if wait {
-            let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
-            job(b.transport_mut());
-            return true;
-        }
-        self.with(|b| job(b.transport_mut())).is_some()
-    }
-}
-
-impl<H: HalHost> SafeState for SharedBoard<H> {
-    fn go_safe(&self) {
-        let mut b = self.board.lock().unwrap_or_else(|e| e.into_inner());
-        b.go_safe();
-    }
 }
 
 // ---------------------------------------------------------------------

@@ -179,6 +179,7 @@ pub mod readhmid;
 mod registry;
 pub mod regs;
 pub mod setsserial;
+mod shared_board;
 pub mod sim;
 pub mod spi;
 pub mod sserial;

@@ -16,6 +16,7 @@
 use std::sync::{Arc, Mutex, Weak};
 
 use crate::modules::sserial::discovery::SserialFirmware;
+use crate::pktuart::{PktUartInstance, PktUartLink};
 use crate::transport::Transport;
 
 /// What `setsserial` may do with a registered board.
@@ -37,6 +38,18 @@ pub(crate) trait SserialAccess: Send + Sync {
     /// waits (a realtime caller): false if one of the board's functions
     /// holds it now, and `job` did not run.
     fn transport_job(&self, wait: bool, job: &mut dyn FnMut(&mut dyn Transport)) -> bool;
+
+    /// Carries PktUART `inst`'s traffic in the board's bursts (load
+    /// time, waits for the board); the link's id.
+    fn attach_pktuart(&self, inst: &PktUartInstance) -> crate::error::Result<usize>;
+
+    /// Stops carrying link `id` (unload time, waits for the board).
+    fn detach_pktuart(&self, id: usize);
+
+    /// Runs `job` on link `id` unless one of the board's functions holds
+    /// the board now (never waits: a realtime caller); false if `job`
+    /// did not run.
+    fn link_job(&self, id: usize, job: &mut dyn FnMut(&mut PktUartLink)) -> bool;
 }
 
 /// One registered board.

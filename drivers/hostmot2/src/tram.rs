@@ -95,10 +95,17 @@ impl Tram {
     /// Queues every read region and sends the request (the first half
     /// of a cycle's read; `read-request` on a network board).
     pub fn request_reads(&mut self, t: &mut dyn Transport) -> Result<(), TransportError> {
+        self.queue_reads(t)?;
+        t.send_queued_reads()
+    }
+
+    /// Queues every read region without sending (the board adds its
+    /// PktUART links' reads to the same burst).
+    pub fn queue_reads(&self, t: &mut dyn Transport) -> Result<(), TransportError> {
         for r in &self.reads {
             t.queue_read(r.addr, r.slot.words)?;
         }
-        t.send_queued_reads()
+        Ok(())
     }
 
     /// Receives the requested regions into `read_buf`.

@@ -168,6 +168,117 @@ pub trait Transport: Send {
     fn recover(&mut self) {}
 }
 
+/// Calls a [`CountingTransport`] saw, shared with whoever watches it.
+#[derive(Debug, Default)]
+pub struct CallCounts {
+    /// Immediate reads ([`Transport::read`]): one round trip each on a
+    /// network board.
+    pub reads: std::sync::atomic::AtomicU64,
+    /// Immediate writes ([`Transport::write`]).
+    pub writes: std::sync::atomic::AtomicU64,
+    /// Read bursts sent ([`Transport::send_queued_reads`]).
+    pub read_bursts: std::sync::atomic::AtomicU64,
+    /// Write bursts sent ([`Transport::send_queued_writes`]).
+    pub write_bursts: std::sync::atomic::AtomicU64,
+}
+
+impl CallCounts {
+    /// Immediate accesses so far (reads and writes).
+    pub fn immediate(&self) -> u64 {
+        use std::sync::atomic::Ordering::Relaxed;
+        self.reads.load(Relaxed) + self.writes.load(Relaxed)
+    }
+
+    /// Bursts sent so far (read and write).
+    pub fn bursts(&self) -> u64 {
+        use std::sync::atomic::Ordering::Relaxed;
+        self.read_bursts.load(Relaxed) + self.write_bursts.load(Relaxed)
+    }
+}
+
+/// A transport that counts the calls made through it into a shared
+/// [`CallCounts`] and otherwise passes everything on: tests and benches
+/// use it to show that realtime code makes no immediate accesses.
+pub struct CountingTransport<T> {
+    inner: T,
+    counts: std::sync::Arc<CallCounts>,
+}
+
+impl<T: Transport> CountingTransport<T> {
+    /// Counts the calls to `inner`.
+    pub fn new(inner: T) -> CountingTransport<T> {
+        CountingTransport {
+            inner,
+            counts: Default::default(),
+        }
+    }
+
+    /// The counters, to watch while the transport is in use.
+    pub fn counts(&self) -> std::sync::Arc<CallCounts> {
+        self.counts.clone()
+    }
+}
+
+impl<T: Transport> Transport for CountingTransport<T> {
+    fn read(&mut self, addr: u32, buf: &mut [u32]) -> Result<(), TransportError> {
+        self.counts
+            .reads
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.read(addr, buf)
+    }
+    fn write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
+        self.counts
+            .writes
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.write(addr, data)
+    }
+    fn reserve(&mut self, reads: usize, read_words: usize, writes: usize, write_words: usize) {
+        self.inner.reserve(reads, read_words, writes, write_words);
+    }
+    fn queue_read(&mut self, addr: u32, words: usize) -> Result<(), TransportError> {
+        self.inner.queue_read(addr, words)
+    }
+    fn send_queued_reads(&mut self) -> Result<(), TransportError> {
+        self.counts
+            .read_bursts
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.send_queued_reads()
+    }
+    fn receive_queued_reads(&mut self, out: &mut [u32]) -> Result<(), TransportError> {
+        self.inner.receive_queued_reads(out)
+    }
+    fn queue_write(&mut self, addr: u32, data: &[u32]) -> Result<(), TransportError> {
+        self.inner.queue_write(addr, data)
+    }
+    fn send_queued_writes(&mut self) -> Result<(), TransportError> {
+        self.counts
+            .write_bursts
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.send_queued_writes()
+    }
+    fn stats(&self) -> TransferStats {
+        self.inner.stats()
+    }
+    fn split_read(&self) -> bool {
+        self.inner.split_read()
+    }
+    fn threadsafe(&self) -> bool {
+        self.inner.threadsafe()
+    }
+    fn describe(&self) -> String {
+        self.inner.describe()
+    }
+    fn set_cycle_period(&mut self, period_ns: i64) {
+        self.inner.set_cycle_period(period_ns);
+    }
+    fn take_resync(&mut self) -> bool {
+        self.inner.take_resync()
+    }
+    fn recover(&mut self) {
+        self.inner.recover();
+    }
+}
+
 /// Checks that `words` words at `addr` stay inside the register window.
 #[inline]
 pub fn check_window(addr: u32, words: usize) -> Result<(), TransportError> {

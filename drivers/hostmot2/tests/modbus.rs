@@ -13,17 +13,19 @@ use std::sync::Arc;
 use hostmot2::image::{FirmwareSpec, ModuleSpec};
 use hostmot2::md;
 use hostmot2::modbus::encode::encode;
-use hostmot2::modbus::engine::{Engine, TransportPort, MAX_ERRORS};
+use hostmot2::modbus::engine::{Engine, MAX_ERRORS};
 use hostmot2::modbus::frame::errno;
 use hostmot2::modbus::line::Versions;
 use hostmot2::modbus::mbccb::{
     self, flags, format, Command, HalType, Init, Mbccb, ModbusType, PinSpec,
 };
 use hostmot2::modbus::values::Value;
-use hostmot2::pktuart::{LineConfig, PktUartFirmware, PktUartPort};
+use hostmot2::pktuart::link::BURST_READS;
+use hostmot2::pktuart::{LineConfig, PktUartFirmware, PktUartLink, PktUartPort};
 use hostmot2::regs::{gtag, pktuart as r};
 use hostmot2::sim::modbus_slave::ModbusSlave;
 use hostmot2::sim::{self, Bench, SimHm2, SimTransport};
+use hostmot2::transport::Transport;
 use hostmot2::{Hm2Error, MbccbProblem};
 
 const PERIOD: i64 = 1_000_000;
@@ -254,10 +256,12 @@ fn slave() -> ModbusSlave {
     s
 }
 
+/// The engine on a PktUART link whose bursts the test carries as a
+/// board's `read` and `write` would.
 struct Bus {
     rig: Rig,
     engine: Engine,
-    scratch: [u32; 64],
+    link: PktUartLink,
 }
 
 impl Bus {
@@ -271,20 +275,17 @@ impl Bus {
         rig.port.configure(&mut rig.t, &rx, &tx, true).unwrap();
         rig.sim
             .with(|m| m.pktuart(0).unwrap().attach(Box::new(slave())));
-        Bus {
-            rig,
-            engine,
-            scratch: [0; 64],
-        }
+        rig.t.reserve(BURST_READS, BURST_READS, 0, 0);
+        let link = PktUartLink::new(rig.port.instance().clone());
+        Bus { rig, engine, link }
     }
 
+    /// One period: the read burst, the engine, the write burst.
     fn cycle(&mut self) {
-        let mut p = TransportPort {
-            port: &self.rig.port,
-            t: &mut self.rig.t,
-            scratch: &mut self.scratch,
-        };
-        self.engine.process(&mut p, PERIOD);
+        let e = &mut self.engine;
+        self.link
+            .run_period(&mut self.rig.t, |l| e.process(l, PERIOD))
+            .unwrap();
         self.rig.sim.advance(PERIOD as u64);
     }
 

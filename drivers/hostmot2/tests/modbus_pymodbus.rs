@@ -19,15 +19,17 @@ mod with_pymodbus {
     use std::time::{Duration, Instant};
 
     use hostmot2::md;
-    use hostmot2::modbus::engine::{Engine, TransportPort};
+    use hostmot2::modbus::engine::Engine;
     use hostmot2::modbus::line::Versions;
     use hostmot2::modbus::mbccb::{Command, HalType, Mbccb, ModbusType, PinSpec};
     use hostmot2::modbus::rtu::crc16;
     use hostmot2::modbus::values::Value;
-    use hostmot2::pktuart::{PktUartFirmware, PktUartPort};
+    use hostmot2::pktuart::link::BURST_READS;
+    use hostmot2::pktuart::{PktUartFirmware, PktUartLink, PktUartPort};
     use hostmot2::sim::pktuart::{LineSettings, SerialPeer};
     use hostmot2::sim::pty_peer::PtyPeer;
     use hostmot2::sim::{self, Bench};
+    use hostmot2::transport::Transport;
 
     struct Kill(Child);
     impl Drop for Kill {
@@ -140,21 +142,19 @@ mod with_pymodbus {
             .unwrap()
             .instances[0]
             .clone();
-        let port = PktUartPort::new(inst);
+        let port = PktUartPort::new(inst.clone());
         let mut e = Engine::new(file, Versions { rx: 3, tx: 3 });
         let (rx, tx) = e.configs();
         port.configure(&mut t, &rx, &tx, true).unwrap();
         board.with(|m| m.pktuart(0).unwrap().attach(Box::new(peer)));
         let w = e.pins.iter().position(|p| p.spec.name == "w10").unwrap();
         e.pins[w].value = Value::U32(4321);
-        let mut scratch = [0u32; 64];
+        // The link's traffic as the board's bursts carry it.
+        t.reserve(BURST_READS, BURST_READS, 0, 0);
+        let mut link = PktUartLink::new(inst);
         for _ in 0..400 {
-            let mut p = TransportPort {
-                port: &port,
-                t: &mut t,
-                scratch: &mut scratch,
-            };
-            e.process(&mut p, 1_000_000);
+            link.run_period(&mut t, |l| e.process(l, 1_000_000))
+                .unwrap();
             board.advance(1_000_000);
         }
         let v = |n: &str| e.pins.iter().find(|p| p.spec.name == n).unwrap().value;

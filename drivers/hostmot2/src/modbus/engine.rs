@@ -20,8 +20,11 @@
 //! failed exchange, not only on a timeout; a reply from another device
 //! counts as an error (ERANGE) instead of a silent resend; init replies
 //! are checked (device, function, CRC, exception), their data unused.
-//! The PktUART is reached by immediate register accesses through the
-//! board's transport, where LinuxCNC queues them into the board's cycle.
+//!
+//! The engine never reaches the board itself: its [`Port`] is a
+//! [`PktUartLink`] whose status words and frame data come in the board's
+//! read burst and whose writes go in its write burst (see
+//! [`super`] for the timing).
 
 use super::frame::{self, errno};
 use super::line::{Line, Versions};
@@ -29,73 +32,65 @@ use super::mbccb::{flags, format, Init, Mbccb};
 use super::pins::{data_pins, CommandPins, DataPin, GlobalPins};
 use super::rtu::{self, crc16};
 use crate::pktuart::config::LineConfig;
-use crate::pktuart::PktUartPort;
-use crate::regs::pktuart::{self as r, rcr};
-use crate::transport::{Transport, TransportError};
+use crate::pktuart::link::{PktUartLink, Status};
+use crate::regs::pktuart::rcr;
+use crate::transport::TransportError;
 
 /// Consecutive errors that disable a command.
 pub const MAX_ERRORS: u32 = 5;
 /// The wait after a timeout's PktUART clear.
 const RESET_WAIT_NS: i64 = 25_000_000;
 
-/// What the engine needs of a PktUART.
+/// What the engine needs of a PktUART: what its board's read burst
+/// brought this period, writes staged for the board's write burst, and
+/// frames fetched over the next read bursts. None of it waits or talks
+/// to the board.
 pub trait Port {
-    /// Sets both directions, clearing the FIFOs when `flush`.
+    /// The mode/status words of this period's read burst, once; `None`
+    /// when no burst arrived since the last period.
+    fn take_status(&mut self) -> Option<Status>;
+    /// Stages both directions' settings, clearing the FIFOs when `flush`.
     fn configure(
         &mut self,
         rx: &LineConfig,
         tx: &LineConfig,
         flush: bool,
     ) -> Result<(), TransportError>;
-    /// Aborts and empties both directions.
+    /// Stages the abort of both directions (and drops a fetch under way).
     fn clear(&mut self) -> Result<(), TransportError>;
-    /// Queues one frame.
+    /// Stages one frame.
     fn send(&mut self, frame: &[u8]) -> Result<(), TransportError>;
-    /// Whether the transmitter is still sending.
-    fn tx_busy(&mut self) -> Result<bool, TransportError>;
-    /// Frames waiting in the receiver.
-    fn rx_frames(&mut self) -> Result<usize, TransportError>;
-    /// Pops one frame into `out`: its count word, and the bytes stored.
-    fn read_frame(&mut self, out: &mut [u8]) -> Result<(u32, usize), TransportError>;
+    /// Whether a frame is being fetched.
+    fn fetching(&self) -> bool;
+    /// Fetches the next received frame into `out`: `None` while it is on
+    /// its way (the first call asks for it), then its count word and the
+    /// bytes stored.
+    fn fetch_frame(&mut self, out: &mut [u8]) -> Result<Option<(u32, usize)>, TransportError>;
 }
 
-/// A [`PktUartPort`] through a transport, as [`Port`].
-pub struct TransportPort<'a> {
-    /// The PktUART.
-    pub port: &'a PktUartPort,
-    /// Its board's transport.
-    pub t: &'a mut dyn Transport,
-    /// Packing space for outgoing frames.
-    pub scratch: &'a mut [u32; rtu::MAX_FRAME / 4],
-}
-
-impl Port for TransportPort<'_> {
+impl Port for PktUartLink {
+    fn take_status(&mut self) -> Option<Status> {
+        PktUartLink::take_status(self)
+    }
     fn configure(
         &mut self,
         rx: &LineConfig,
         tx: &LineConfig,
         flush: bool,
     ) -> Result<(), TransportError> {
-        self.port.configure(self.t, rx, tx, flush)
+        PktUartLink::configure(self, rx, tx, flush)
     }
     fn clear(&mut self) -> Result<(), TransportError> {
-        self.port.clear(self.t)
+        PktUartLink::clear(self)
     }
     fn send(&mut self, frame: &[u8]) -> Result<(), TransportError> {
-        self.port.send(self.t, frame, self.scratch)
+        PktUartLink::send(self, frame)
     }
-    fn tx_busy(&mut self) -> Result<bool, TransportError> {
-        Ok(self.port.tx_status(self.t)? & r::tx::BUSY != 0)
+    fn fetching(&self) -> bool {
+        PktUartLink::fetching(self)
     }
-    fn rx_frames(&mut self) -> Result<usize, TransportError> {
-        Ok(r::nframes(self.port.rx_status(self.t)?))
-    }
-    fn read_frame(&mut self, out: &mut [u8]) -> Result<(u32, usize), TransportError> {
-        let count = self.port.pop_frame_size(self.t)?;
-        let n = self
-            .port
-            .read_frame(self.t, (count & rcr::NBYTES_MASK) as usize, out)?;
-        Ok((count, n))
+    fn fetch_frame(&mut self, out: &mut [u8]) -> Result<Option<(u32, usize)>, TransportError> {
+        PktUartLink::fetch_frame(self, out)
     }
 }
 
@@ -235,6 +230,7 @@ impl Engine {
 
     /// One servo period of `period_ns`.
     pub fn process(&mut self, port: &mut dyn Port, period_ns: i64) {
+        let status = port.take_status();
         if self.suspended {
             if self.global.suspend {
                 return;
@@ -249,7 +245,7 @@ impl Engine {
             self.global_reset_edge();
         }
         self.timeout_ns = self.timeout_ns.saturating_sub(period_ns);
-        if let Err(e) = self.step(port) {
+        if let Err(e) = self.step(port, status) {
             // The board did not answer: the board driver reports that;
             // here the exchange is lost and the port is cleared.
             let _ = e;
@@ -258,9 +254,9 @@ impl Engine {
         }
     }
 
-    fn step(&mut self, port: &mut dyn Port) -> Result<(), TransportError> {
+    fn step(&mut self, port: &mut dyn Port, status: Option<Status>) -> Result<(), TransportError> {
         match self.state {
-            State::Start => self.start(port),
+            State::Start => self.start(port, status),
             State::Delay => {
                 if self.timeout_ns < 0 {
                     self.global.fault = false;
@@ -269,19 +265,19 @@ impl Engine {
                 Ok(())
             }
             State::WaitSent => {
-                if port.tx_busy()? {
+                if status.is_none_or(|s| s.tx_busy()) {
                     self.check_timeout(port);
                     return Ok(());
                 }
                 if self.expects_answer() {
                     self.state = State::WaitReply;
-                    self.wait_reply(port)
+                    self.wait_reply(port, status)
                 } else {
                     self.next();
                     Ok(())
                 }
             }
-            State::WaitReply => self.wait_reply(port),
+            State::WaitReply => self.wait_reply(port, status),
             State::ResetWait => {
                 if self.timeout_ns < 0 {
                     self.next();
@@ -308,11 +304,16 @@ impl Engine {
         }
     }
 
-    fn start(&mut self, port: &mut dyn Port) -> Result<(), TransportError> {
-        if port.rx_frames()? > 0 {
-            // Out of band: nothing was asked. Dropped.
-            port.read_frame(&mut self.rx)?;
-            self.stray_frames += 1;
+    fn start(&mut self, port: &mut dyn Port, status: Option<Status>) -> Result<(), TransportError> {
+        let Some(status) = status else {
+            // No news from the board this period: nothing is started.
+            return Ok(());
+        };
+        if port.fetching() || status.rx_frames() > 0 {
+            // Out of band: nothing was asked. Dropped once it is in.
+            if port.fetch_frame(&mut self.rx)?.is_some() {
+                self.stray_frames += 1;
+            }
             return Ok(());
         }
         if self.in_init {
@@ -442,12 +443,19 @@ impl Engine {
         Ok(())
     }
 
-    fn wait_reply(&mut self, port: &mut dyn Port) -> Result<(), TransportError> {
-        if port.rx_frames()? == 0 {
+    fn wait_reply(
+        &mut self,
+        port: &mut dyn Port,
+        status: Option<Status>,
+    ) -> Result<(), TransportError> {
+        // A reply seen in time is fetched whatever the time left.
+        if !port.fetching() && status.is_none_or(|s| s.rx_frames() == 0) {
             self.check_timeout(port);
             return Ok(());
         }
-        let (count, n) = port.read_frame(&mut self.rx)?;
+        let Some((count, n)) = port.fetch_frame(&mut self.rx)? else {
+            return Ok(());
+        };
         let size = (count & rcr::NBYTES_MASK) as usize;
         let ichar = count >> rcr::ICHAR_SHIFT;
         let result = if count & rcr::ERRORS != 0 {

@@ -119,7 +119,11 @@ pub fn mbccb_file(data: &[u8]) {
         .iter()
         .map(|p| std::mem::discriminant(&p.value))
         .collect();
-    let mut port = FuzzPort { bytes: data, at: 0 };
+    let mut port = FuzzPort {
+        bytes: data,
+        at: 0,
+        fetching: false,
+    };
     for _ in 0..64 {
         e.process(&mut port, 5_000_000);
     }
@@ -128,10 +132,12 @@ pub fn mbccb_file(data: &[u8]) {
     }
 }
 
-/// A PktUART whose every receive is the next slice of the fuzz input.
+/// A PktUART whose every status and received frame is the next slice of
+/// the fuzz input.
 struct FuzzPort<'a> {
     bytes: &'a [u8],
     at: usize,
+    fetching: bool,
 }
 
 impl FuzzPort<'_> {
@@ -158,16 +164,29 @@ impl crate::modbus::engine::Port for FuzzPort<'_> {
     fn send(&mut self, _frame: &[u8]) -> Result<(), crate::transport::TransportError> {
         Ok(())
     }
-    fn tx_busy(&mut self) -> Result<bool, crate::transport::TransportError> {
-        Ok(self.take(1).first().is_some_and(|b| b & 0x80 != 0))
+    fn take_status(&mut self) -> Option<crate::pktuart::link::Status> {
+        use crate::regs::pktuart::{rx, tx};
+        let b = self.take(1).first().copied().unwrap_or(0);
+        if b & 0x40 != 0 {
+            return None;
+        }
+        Some(crate::pktuart::link::Status {
+            tx_mode: if b & 0x80 != 0 { tx::BUSY } else { 0 },
+            rx_mode: u32::from(b & 1) << rx::NFRAMES_SHIFT,
+        })
     }
-    fn rx_frames(&mut self) -> Result<usize, crate::transport::TransportError> {
-        Ok(self.take(1).first().map_or(0, |b| usize::from(b & 1)))
+    fn fetching(&self) -> bool {
+        self.fetching
     }
-    fn read_frame(
+    fn fetch_frame(
         &mut self,
         out: &mut [u8],
-    ) -> Result<(u32, usize), crate::transport::TransportError> {
+    ) -> Result<Option<(u32, usize)>, crate::transport::TransportError> {
+        if !self.fetching {
+            self.fetching = true;
+            return Ok(None);
+        }
+        self.fetching = false;
         let count = self
             .take(4)
             .iter()
@@ -176,7 +195,7 @@ impl crate::modbus::engine::Port for FuzzPort<'_> {
         let src = self.take(want.min(out.len()));
         let n = src.len();
         out[..n].copy_from_slice(src);
-        Ok((count, n))
+        Ok(Some((count, n)))
     }
 }
 

@@ -10,8 +10,11 @@
 //! goes after the board's `read` and before its `write`.
 //!
 //! The function reads its input pins, takes at most one step of the
-//! Modbus exchange through the board's transport (skipping the period
-//! if a board function holds it), and sets its output pins.
+//! Modbus exchange on what the board's `read` brought (staging what its
+//! `write` sends; the period is skipped if a board function holds the
+//! board), and sets its output pins. It never reaches the board itself.
+//! Load time sets the PktUART up directly and attaches it to the board's
+//! bursts; unloading detaches it.
 
 use std::io::Read;
 use std::sync::Arc;
@@ -21,7 +24,7 @@ use hal_core::{HalError, HalHost};
 use hal_core::{HostParam, HostPin, In, Out, PinFactory, Ro};
 use hal_driver::module::{self, DriverHost, DriverModule, Exporter, LoadEnv};
 
-use super::engine::{Engine, TransportPort};
+use super::engine::Engine;
 use super::line::Versions;
 use super::mbccb::{self, HalType};
 use super::pins::DataPin;
@@ -51,11 +54,31 @@ pub struct HalModbus;
 /// The `hm2_modbus` module.
 pub static HM2_MODBUS_MODULE: ModuleDef = module::module_def::<HalModbus>();
 
-/// One instance, opened: its board, PktUART and engine.
+/// One instance, opened: its PktUART's link on its board, and engine.
 pub struct Opened {
-    board: Arc<dyn SserialAccess>,
-    port: PktUartPort,
+    link: Attached,
     engine: Engine,
+}
+
+/// A PktUART attached to its board's bursts; detached when dropped (at
+/// unload, or when a later port of the same load fails).
+struct Attached {
+    board: Arc<dyn SserialAccess>,
+    id: usize,
+}
+
+impl Attached {
+    /// Runs `job` on the link unless a board function holds the board.
+    #[inline]
+    fn job(&self, job: &mut dyn FnMut(&mut crate::pktuart::PktUartLink)) -> bool {
+        self.board.link_job(self.id, job)
+    }
+}
+
+impl Drop for Attached {
+    fn drop(&mut self) {
+        self.board.detach_pktuart(self.id);
+    }
 }
 
 fn fail(e: Hm2Error) -> HalError {
@@ -109,23 +132,11 @@ impl DriverModule for HalModbus {
         for (i, o) in opened.into_iter().enumerate() {
             let prefix = format!("{NAME}.{i}");
             let hal = HalPins::<H>::export(ex.pins(comp), &prefix, &o.engine)?;
-            let Opened {
-                board,
-                port,
-                mut engine,
-            } = o;
-            let mut scratch = [0u32; super::rtu::MAX_FRAME / 4];
+            let Opened { link, mut engine } = o;
             ex.funct(comp, &format!("{prefix}.process"), true, move |ctx| {
                 hal.get(&mut engine);
                 let period = ctx.period();
-                board.transport_job(false, &mut |t| {
-                    let mut p = TransportPort {
-                        port: &port,
-                        t,
-                        scratch: &mut scratch,
-                    };
-                    engine.process(&mut p, period);
-                });
+                link.job(&mut |l| engine.process(l, period));
                 hal.set(&engine);
             })?;
         }
@@ -160,9 +171,9 @@ fn open_one(instance: &str, port_name: &str, file: &str) -> Result<Opened, Hm2Er
         op: format!("PktUART setup of {port_name}"),
         source,
     })?;
+    let id = board.attach_pktuart(port.instance())?;
     Ok(Opened {
-        board,
-        port,
+        link: Attached { board, id },
         engine,
     })
 }

@@ -7,8 +7,11 @@
 
 pub mod config;
 pub mod discovery;
+pub mod link;
+pub mod links;
 pub mod port;
 
 pub use config::{LineConfig, ModeWords};
 pub use discovery::{PktUartFirmware, PktUartInstance};
+pub use link::PktUartLink;
 pub use port::PktUartPort;

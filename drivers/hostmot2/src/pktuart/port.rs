@@ -3,9 +3,9 @@
 //! word, then its size into the count FIFO) and frames in (the count FIFO
 //! popped once per frame, then the frame's words).
 //!
-//! Every call here is one or a few immediate register accesses; the
-//! Modbus engine makes at most a few per servo period and never waits on
-//! the line.
+//! Every call here is one or a few immediate register accesses: for
+//! load-time set-up, tools and tests. Realtime users reach a PktUART
+//! through its board's per-cycle bursts instead ([`super::link`]).
 
 use super::config::{self, LineConfig};
 use super::discovery::PktUartInstance;

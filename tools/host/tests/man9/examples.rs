@@ -251,8 +251,11 @@ const EXAMPLES: &[(&str, Example)] = &[
                    LinuxCNC's mesambccc) at the same place in mbccbs=. Besides the \
                    instance's pins and parameters, each command of the file makes \
                    command.MM pins and the file names its data pins. Add \
-                   hm2_modbus.N.process after the board's read and before its write. \
-                   A failed exchange counts on the command's errors pin and sets fault; \
+                   hm2_modbus.N.process after the board's read and before its write: \
+                   its PktUART's status words, received frames and writes travel in \
+                   those two functions' bursts (no register access of its own, so no \
+                   extra round trip on hm2_eth), and a reply reaches the pins two \
+                   periods after the status shows it. A failed exchange counts on the command's errors pin and sets fault; \
                    the fifth in a row disables the command until reset rises; read pins \
                    keep their last good value.",
             ..PLAIN
