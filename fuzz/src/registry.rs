@@ -11,9 +11,9 @@
 //! `tpmod`/`homemod`) and the driver modules of [`NO_DEVICE`], and swaps
 //! every other module for its entry in [`SIM_ONLY`], which parses the
 //! fuzzed parameters with the driver's own code and then loads it with a
-//! simulated backend only. The modules of [`NOT_FUZZED`] (`hm2_eth`)
-//! have no simulated-only form and are left out of the fuzzers' registry
-//! altogether. A registry module in none of these stops the fuzz run with
+//! simulated backend only. The modules of [`NOT_FUZZED`] (none today)
+//! would have no simulated-only form and be left out of the fuzzers'
+//! registry altogether. A registry module in none of these stops the fuzz run with
 //! a message saying what to add, so a new driver cannot reach the fuzzers
 //! with its real backend.
 
@@ -44,18 +44,10 @@ pub const NO_DEVICE: &[&ModuleDef] = &[
     &hostmot2::modbus::hal::HM2_MODBUS_MODULE,
 ];
 
-/// Driver modules the fuzzers never load, each with the reason.
-///
-/// `hm2_eth` opens a UDP socket to every `board_ip` address it is given
-/// and sends it LBP16 requests: a fuzzed address would send packets to
-/// any host of any network. Its loader has no simulator token (boards are
-/// found only at the listed addresses), so no parameter can keep it off
-/// the network. Its parsers of network bytes are fuzzed without a socket
-/// by the `hm2_eth_reply` and `hm2_lbp16_request` targets.
-pub const NOT_FUZZED: &[(&ModuleDef, &str)] = &[(
-    &hostmot2::eth::hal::HM2_ETH_MODULE,
-    "sends UDP packets to the fuzzed board_ip addresses; no simulated-only form",
-)];
+/// Driver modules the fuzzers never load, each with the reason: a
+/// driver no parameter can keep off its device or network would go here
+/// (`hm2_eth` did until it had `sim=`).
+pub const NOT_FUZZED: &[(&ModuleDef, &str)] = &[];
 
 /// Driver modules in their simulated-only form, by `loadrt` name.
 pub const SIM_ONLY: &[&ModuleDef] = &[
@@ -66,6 +58,7 @@ pub const SIM_ONLY: &[&ModuleDef] = &[
     &HM2_7I90_SIM_ONLY,
     &HM2_SPI_SIM_ONLY,
     &HM2_RPSPI_SIM_ONLY,
+    &HM2_ETH_SIM_ONLY,
     &MOTENC_SIM_ONLY,
     &STG_SIM_ONLY,
     &PPMC_SIM_ONLY,
@@ -299,6 +292,16 @@ fn hm2_rpspi_sim_only(host: &Host, args: &ModuleArgs) -> Result<()> {
     load_without_devices::<HalHm2Rpspi>(host, args)
 }
 
+/// `hm2_eth` with `sim=` boards only: a board without a `sim` item is
+/// refused before any socket is made, so no fuzzed `board_ip` is ever
+/// sent a packet.
+static HM2_ETH_SIM_ONLY: ModuleDef = ModuleDef {
+    name: hostmot2::eth::hal::HM2_ETH_MODULE.name,
+    params: hostmot2::eth::hal::HM2_ETH_MODULE.params,
+    help: hostmot2::eth::hal::HM2_ETH_MODULE.help,
+    load: hostmot2::eth::hal::load_without_network,
+};
+
 /// `hal_motenc` with a PCI bus that has no boards: `backend=sim` boards
 /// load, `backend=pci` finds nothing (the driver's own error).
 static MOTENC_SIM_ONLY: ModuleDef = ModuleDef {
@@ -361,7 +364,7 @@ mod tests {
         let mut host = hal_host::registry().names();
         host.retain(|n| !NOT_FUZZED.iter().any(|(d, _)| d.name == *n));
         assert_eq!(r.names(), host);
-        assert!(r.find("hm2_eth").is_none());
+        assert!(std::ptr::eq(r.find("hm2_eth").unwrap(), &HM2_ETH_SIM_ONLY));
         let pp = r.find("hal_parport").unwrap();
         assert!(std::ptr::eq(pp, &PARPORT_SIM_ONLY));
     }
@@ -462,6 +465,18 @@ mod tests {
             );
         }
         host.loadrt(&HM2_RPSPI_SIM_ONLY, &["sim=7c80"]).unwrap();
+        // hm2_eth: a board_ip without sim= would be sent LBP16 requests.
+        let e = host
+            .loadrt(&HM2_ETH_SIM_ONLY, &["board_ip=192.0.2.1"])
+            .unwrap_err();
+        assert!(e.to_string().contains("the network is not reached"), "{e}");
+        host.loadrt(&HM2_ETH_SIM_ONLY, &["board_ip=192.0.2.1", "sim=7i93"])
+            .unwrap();
+        assert!(host
+            .instance()
+            .pin("hm2_7i93.0.stepgen.07.position-fb")
+            .unwrap()
+            .is_some());
         host.unloadrt("all").unwrap();
         crate::snapshot::delete_threads(&host);
         assert!(empty());

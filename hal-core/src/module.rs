@@ -74,7 +74,13 @@ impl ModuleArgs {
                 reason,
             };
             let Some((key, value)) = arg.split_once('=') else {
-                return Err(bad(&arg, "expected name=value".into()));
+                // A bare parameter name: say what its value is (its help
+                // lists the choices, e.g. the boards of a `sim`).
+                let reason = match decls.iter().find(|d| d.name == arg) {
+                    Some(d) => format!("expected {arg}=VALUE: {}", d.help),
+                    None => "expected name=value".into(),
+                };
+                return Err(bad(&arg, reason));
             };
             let decl = decls.iter().find(|d| d.name == key).ok_or_else(|| {
                 let known: Vec<&str> = decls.iter().map(|d| d.name).collect();
@@ -337,7 +343,8 @@ mod tests {
     #[test]
     fn rejects_bad_arguments_naming_the_parameter() {
         for (args, param, reason) in [
-            (&["count"][..], "count", "expected name=value"),
+            (&["count"][..], "count", "expected count=VALUE: "),
+            (&["7"][..], "7", "expected name=value"),
             (&["bogus=1"][..], "bogus", "unknown parameter"),
             (&["count=12x"][..], "count", "not a number"),
             (&["count=2147483648"][..], "count", "out of range"),

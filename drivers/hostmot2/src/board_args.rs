@@ -23,8 +23,9 @@ Examples:
 
 BOARD is a PCI bus address from `hal-board list`, an Ethernet board's IP
 address (optionally :port; boards answer on 27181), or sim:5i25,
-sim:6i25, sim:5i24, sim:5i25-7i77, sim:5i25-pktuart, sim:7i96s, sim:7i76e for a simulated
-board (fresh for each command). Reading PCI boards needs access to their
+sim:6i25, sim:5i24, sim:5i25-7i77, sim:5i25-pktuart, sim:7i96s, sim:7i76e,
+sim:7i93, sim:7i92, sim:7i95 for a simulated board (fresh for each
+command). Reading PCI boards needs access to their
 sysfs resource files: see udev/README.md. probe reads ISA ports: it needs
 CAP_SYS_RAWIO (--via ioperm or devport); --via sim or sim1 probes a
 simulated Model II or I at 0x300.";

@@ -118,7 +118,7 @@ pub fn list(sysfs: &Sysfs) -> Vec<String> {
     for (title, names) in [
         ("simulated boards (hm2_pci sim=NAME):", boards::PRESETS),
         (
-            "simulated Ethernet boards (hm2-eth-sim --board NAME):",
+            "simulated Ethernet boards (hm2_eth sim=NAME, hm2-eth-sim --board NAME):",
             boards::ETH_PRESETS,
         ),
     ] {

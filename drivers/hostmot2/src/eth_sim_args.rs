@@ -16,25 +16,35 @@ In a HAL file (loadusr -W waits until it listens; it exits with the HAL):
   loadrt hostmot2
   loadrt hm2_eth board_ip=127.0.0.1 config=\"num_stepgens=3\"
 
-Boards: 7i96s (5 step generators, 1 encoder, Smart Serial on P1), 7i76e
-(the on-card 7i76's step generators and Smart Serial); a simulated 7I76
-on Smart Serial (--remote 7i77: a 7I77, --remote none). The machine at the
+Boards: 7i96s (5 step generators, 3 encoders, 3 PWM generators, Smart
+Serial on P1), 7i76e (the on-card 7i76's step generators and Smart
+Serial), 7i93 (two 50-pin headers: 4 servo channels on P2, 8 step
+generators on P1), 7i92 (per header 5 step generators and an encoder),
+7i95 (6 step generators, 3 encoders); on the boards with Smart Serial a
+simulated 7I76 (--remote 7i77: a 7I77, --remote none). The machine at the
 connectors: stepper axes of 100 steps per unit on every step generator,
 home switches closing at +10 units for axes 0..2 (7i96s: I/O 34..36,
-7i76e: I/O 17..19). Simulated time moves one --period-ns per cycle's read
-request, so every run is the same; --wall-clock follows the host's time.";
+7i76e: I/O 17..19, 7i92: 13..15, 7i95: 29..31); servos (PWM generator k
+driving a motor with encoder k on its shaft, leads swapped as LinuxCNC's
+hm2-servo samples expect) on the 7i96s's and 7i93's servo channels.
+Simulated time moves one --period-ns per cycle's read request, so every
+run is the same; --wall-clock follows the host's time.
+
+The same boards run inside the HAL process with loadrt hm2_eth sim=BOARD
+(no network, no hm2-eth-sim).";
 
 /// A simulated Mesa Ethernet board (LBP16 over UDP).
 #[derive(Parser, Debug)]
 #[command(name = "hm2-eth-sim", version, after_help = EXAMPLES)]
 pub struct Cli {
-    /// The board: 7i96s or 7i76e.
+    /// The board: 7i96s, 7i76e, 7i93, 7i92 or 7i95.
     #[arg(long, default_value = "7i96s")]
     pub board: String,
-    /// What is plugged into Smart Serial port 0: 7i76 (channel 0), 7i77
+    /// What is plugged into Smart Serial port 0: 7i76 (channel 0; the
+    /// default on the boards with Smart Serial, 7i96s and 7i76e), 7i77
     /// (channels 0 and 1) or none.
-    #[arg(long, default_value = "7i76")]
-    pub remote: String,
+    #[arg(long)]
+    pub remote: Option<String>,
     /// Address to answer on (port 0: one the system picks).
     #[arg(long, default_value = "127.0.0.1:27181")]
     pub listen: SocketAddr,

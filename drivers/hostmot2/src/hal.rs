@@ -358,6 +358,10 @@ fn transport_of<H: DriverHost>(
         Source::Eth(t) => {
             let mut t = t.into_host::<H>();
             t.errors().export(ex.pins(comp), name)?;
+            if let Some(board) = t.sim_board() {
+                // Tests and tools find the board under its HAL name.
+                ex.publish_sim(name, &board.clone());
+            }
             (Box::new(t), None, None)
         }
     }))

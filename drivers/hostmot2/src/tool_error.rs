@@ -94,6 +94,14 @@ pub enum ToolError {
     /// `--remote 7i77` on a board with one Smart Serial channel.
     #[error("--remote 7i77 needs two channels: --board 7i96s")]
     RemoteNeedsTwoChannels,
+    /// `--remote 7i76` or `7i77` given for a board without Smart Serial.
+    #[error("--remote {remote}: --board {board} has no Smart Serial port (--remote none)")]
+    NoSmartSerial {
+        /// The remote asked for.
+        remote: String,
+        /// The board.
+        board: String,
+    },
     /// `--remote` names no remote card.
     #[error("--remote {remote}: 7i76, 7i77 or none")]
     NotARemote {

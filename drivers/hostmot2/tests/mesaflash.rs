@@ -302,3 +302,35 @@ fn mesaflash_readhmid_agrees_with_ours() {
         assert_eq!(rows, pin_rows(&ours), "{preset}");
     }
 }
+
+/// The boards `hm2_eth sim=` added for LinuxCNC's 7I93 samples (and the
+/// 7I92 and 7I95): mesaflash reads their IDROMs as ours does, connector
+/// by connector.
+#[test]
+#[cfg_attr(
+    not(mesaflash_peer),
+    ignore = "needs mesaflash unpacked (scripts/mesaflash-peer install)"
+)]
+fn mesaflash_readhmid_reads_the_7i93_7i92_and_7i95() {
+    for (preset, name, connectors, pins) in [
+        ("7i93", "MESA7I93", 2, 48),
+        ("7i92", "MESA7I92", 2, 34),
+        ("7i95", "MESA7I95", 2, 58),
+    ] {
+        let board = serve(preset, Vec::new());
+        let run = mesaflash(preset, &board, &["--readhmid"]);
+        assert_clean(&run, "--readhmid");
+        let theirs = &run.stdout;
+        assert!(
+            theirs.contains(&format!("  BoardName : {name}\n")),
+            "{theirs}"
+        );
+        assert!(!theirs.contains("Unknown"), "{theirs}");
+        let mut t = EthTransport::connect(board.addr()).unwrap();
+        let ours = readhmid::read_hmid(&mut t, &vec!["??".to_string(); connectors]).unwrap();
+        assert_eq!(modules_part(theirs), modules_part(&ours), "{preset}");
+        let rows = pin_rows(theirs);
+        assert_eq!(rows.len(), pins, "{preset}\n{theirs}");
+        assert_eq!(rows, pin_rows(&ours), "{preset}");
+    }
+}

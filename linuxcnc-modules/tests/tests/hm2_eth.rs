@@ -2,7 +2,8 @@
 //! halrun beside our host ([`hal_linuxcnc_tests::check`]), both talking
 //! LBP16 over UDP to one `hm2-eth-sim` process (a simulated 7I96S) on a
 //! port of its own, and a step generator moving the simulated axis in a
-//! LinuxCNC thread.
+//! LinuxCNC thread; and `sim=7i93`, a simulated board inside each HAL
+//! process.
 #![allow(
     clippy::unwrap_used,
     reason = "test code: a failed unwrap fails the test"
@@ -113,6 +114,53 @@ stop",
             values.get(1).map(String::as_str),
             Some("FALSE"),
             "{host}: io_error"
+        );
+    }
+}
+
+#[test]
+#[cfg_attr(
+    not(linuxcnc_peer),
+    ignore = "needs LinuxCNC unpacked (scripts/linuxcnc-peer install) and root for its mount namespace"
+)]
+fn hm2_eth_sim_in_linuxcnc_runs_a_simulated_7i93_in_process() {
+    // Each session has its own simulated board inside its HAL process:
+    // no hm2-eth-sim, no socket; board_ip only names the board.
+    let out = check(&Case {
+        module: "hm2_eth",
+        lib: "lcnc_hm2_eth",
+        args:
+            "board_ip=10.10.10.10 sim=7i93 config=\"num_encoders=4 num_pwmgens=4 num_stepgens=3\"",
+        owners: &["hm2_eth"],
+        run: "setp hm2_7i93.0.stepgen.00.position-scale 200
+setp hm2_7i93.0.stepgen.00.maxvel 4
+setp hm2_7i93.0.stepgen.00.maxaccel 40
+setp hm2_7i93.0.stepgen.00.enable 1
+setp hm2_7i93.0.stepgen.00.position-cmd 1.5
+addf hm2_7i93.0.read-request t
+addf hm2_7i93.0.read t
+addf hm2_7i93.0.write t
+start
+loadusr -w sleep 3
+getp hm2_7i93.0.stepgen.00.position-fb
+getp hm2_7i93.0.packet-error-total
+stop",
+        refused: &["sim=7i99", "sim=7i93,7i93 board_ip=10.10.10.10"],
+        needs: &[("hostmot2", "lcnc_hostmot2")],
+    });
+    for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
+        let pos: f64 = values
+            .first()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{host}: no position in {values:?}"));
+        assert!(
+            (pos - 1.5).abs() < 0.01,
+            "{host}: the axis stands at {pos}, not 1.5"
+        );
+        assert_eq!(
+            values.get(1).map(String::as_str),
+            Some("0"),
+            "{host}: no packet error in process"
         );
     }
 }

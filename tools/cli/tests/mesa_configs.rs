@@ -2,8 +2,9 @@
 //! tests/linuxcnc-configs with only the simulator word added to their
 //! `[HOSTMOT2]DRIVER` or `loadrt hm2_pci` line, run headless through
 //! `linuxcnc` on the simulated cards: PLX cards whose FPGA is loaded from
-//! `firmware=`, a 3x20, the EPP 7I43 (through its CPLD) and 7I90, and a
-//! Smithy mill.
+//! `firmware=`, a 3x20, the EPP 7I43 (through its CPLD) and 7I90, the
+//! Ethernet 7I93 and 7I96S (`hm2_eth sim=`, in process), and a Smithy
+//! mill.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -53,8 +54,10 @@ fn hm2_servo_5i20_runs_on_the_simulated_card() {
 
 /// The other cards of LinuxCNC's hm2-servo sample: each INI names its
 /// card's firmware (a 5i23, a 4i65 and a 4i68 through their PLX bridges,
-/// a 3x20's 1M-gate SV24, a 7i43-4's SVST4_4 through its CPLD over EPP),
-/// and the servo loops close on the simulated card the same way.
+/// a 3x20's 1M-gate SV24, a 7i43-4's and a 7i43-2's SVST4_4 through the
+/// CPLD over EPP, a 5i22-1's and a 5i22-1.5's SVST8_8, a 7I90 over EPP with its own
+/// firmware), and the servo loops close on the simulated card the same
+/// way.
 #[test]
 fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
     for (ini, prefix) in [
@@ -63,6 +66,10 @@ fn hm2_servo_samples_for_the_other_cards_close_their_loops() {
         ("4i68.ini", "hm2_4i68.0"),
         ("3x20-small.ini", "hm2_3x20.0"),
         ("7i43-big.ini", "hm2_7i43.0"),
+        ("7i43-small.ini", "hm2_7i43.0"),
+        ("5i22-small.ini", "hm2_5i22.0"),
+        ("5i22-big.ini", "hm2_5i22.0"),
+        ("7i90.ini", "hm2_7i90.0"),
     ] {
         let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
         assert_eq!(
@@ -87,17 +94,60 @@ fn hm2_stepper_5i22_runs_on_the_simulated_card() {
 
 /// The other cards of LinuxCNC's hm2-stepper sample: a 5i20, a 4i65, a
 /// 5i22-1 (sim=5i22, the 1M-gate card), a 7i43-2 over EPP (sim=7i43-2,
-/// loaded through its CPLD) and a 7i90; each one's step generators
-/// follow a jog.
+/// loaded through its CPLD), a 7i90 over EPP, a 5i23, and a 7I90 on a
+/// Raspberry Pi's SPI (hm2_rpspi sim=7i90, its hm2-stepper-rpspi.hal
+/// passing spiclk_rate=); each one's step generators follow a jog.
 #[test]
 fn hm2_stepper_samples_for_the_other_cards_follow_a_jog() {
     for (ini, prefix) in [
         ("5i20.ini", "hm2_5i20.0"),
         ("4i65.ini", "hm2_4i65.0"),
         ("5i22-small.ini", "hm2_5i22.0"),
+        ("5i22-big.ini", "hm2_5i22.0"),
         ("7i43-small.ini", "hm2_7i43.0"),
         ("7i90.ini", "hm2_7i90.0"),
+        ("5i23.ini", "hm2_5i23.0"),
+        ("7i90-rpi-spi.ini", "hm2_7i90.0"),
     ] {
+        let m = mesa_sample_follows_a_jog("hm2-stepper", ini, 0.2, 0.001);
+        assert_eq!(
+            m.getp(&format!("{prefix}.watchdog.has_bit")),
+            "FALSE",
+            "{ini}"
+        );
+        m.stop();
+    }
+}
+
+/// LinuxCNC's Ethernet servo samples (hm2-servo-eth.hal with `loadrt
+/// hm2_eth board_ip=... config=...`), unchanged but for `sim=7i93` or
+/// `sim=7i96s` on the DRIVER line: the board is simulated inside the HAL
+/// process and reached through hm2_eth's LBP16 datagrams, and the three
+/// servo loops close through its encoders and PWM generators.
+#[test]
+fn hm2_servo_ethernet_samples_close_their_loops() {
+    for (ini, prefix) in [("7i93.ini", "hm2_7i93.0"), ("7i96s.ini", "hm2_7i96s.0")] {
+        let m = mesa_sample_follows_a_jog("hm2-servo", ini, 0.1, 0.002);
+        assert_eq!(
+            m.getp(&format!("{prefix}.encoder.00.scale")),
+            "81920",
+            "{ini}"
+        );
+        assert_eq!(
+            m.getp(&format!("{prefix}.packet-error-total")),
+            "0",
+            "{ini}"
+        );
+        m.stop();
+    }
+}
+
+/// LinuxCNC's Ethernet stepper samples (hm2-stepper-eth.hal), unchanged
+/// but for `sim=7i93` or `sim=7i96s`: the step generators' feedback
+/// follows a jog and the watchdog feeds the e-stop latch untripped.
+#[test]
+fn hm2_stepper_ethernet_samples_follow_a_jog() {
+    for (ini, prefix) in [("7i93.ini", "hm2_7i93.0"), ("7i96s.ini", "hm2_7i96s.0")] {
         let m = mesa_sample_follows_a_jog("hm2-stepper", ini, 0.2, 0.001);
         assert_eq!(
             m.getp(&format!("{prefix}.watchdog.has_bit")),

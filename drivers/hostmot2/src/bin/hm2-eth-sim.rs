@@ -10,10 +10,10 @@ use std::time::Duration;
 use clap::Parser;
 use hal_core::userspace::ExitSignals;
 use hal_core::{ComponentKind, Instance};
+use hostmot2::regs::gtag;
 use hostmot2::sim::boards;
-use hostmot2::sim::eth::{EthBoard, EthIdentity};
+use hostmot2::sim::eth::{preset_board, EthIdentity};
 use hostmot2::sim::eth_server::{Faults, Server};
-use hostmot2::sim::{machine, Hm2Model};
 
 use hostmot2::eth_sim_args::Cli;
 use hostmot2::ToolError;
@@ -42,7 +42,15 @@ fn run(cli: Cli) -> Result<(), ToolError> {
             board: cli.board.clone(),
             boards: boards::ETH_PRESETS.join(", "),
         })?;
-    spec.remotes = match cli.remote.as_str() {
+    let sserial = spec.modules.iter().any(|m| m.gtag == gtag::SSERIAL);
+    let remote = cli.remote.as_deref();
+    spec.remotes = match remote.unwrap_or(if sserial { "7i76" } else { "none" }) {
+        "7i76" | "7i77" if !sserial => {
+            return Err(ToolError::NoSmartSerial {
+                remote: remote.unwrap_or_default().to_string(),
+                board: cli.board.clone(),
+            })
+        }
         "7i76" => vec![boards::seven_i76_on(0, 0)],
         "7i77" if cli.board == "7i96s" => boards::seven_i77_on(0, 0).to_vec(),
         "7i77" => return Err(ToolError::RemoteNeedsTwoChannels),
@@ -62,9 +70,13 @@ fn run(cli: Cli) -> Result<(), ToolError> {
         duplicate: rate("duplicate", cli.duplicate)?,
         seed: cli.seed,
     };
-    let name = boards::eth_name(&cli.board).expect("an Ethernet preset");
-    let model = Hm2Model::with_world(spec, Box::new(machine::preset(&cli.board)));
-    let board = EthBoard::new(model, EthIdentity::new(name));
+    let board = preset_board(&cli.board, spec, EthIdentity::new("").ip).ok_or_else(|| {
+        ToolError::NotAnEthBoard {
+            board: cli.board.clone(),
+            boards: boards::ETH_PRESETS.join(", "),
+        }
+    })?;
+    let name = board.identity().name.clone();
     let board = if cli.wall_clock {
         board.with_wall_clock()
     } else {

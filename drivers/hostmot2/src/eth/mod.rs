@@ -1,5 +1,6 @@
 //! `hm2_eth`: Mesa's Ethernet cards (7I76E, 7I96S, 7I92, 7I95, 7I97, ...)
-//! over LBP16 on UDP (hostmot2-more.md 1).
+//! over LBP16 on UDP (hostmot2-more.md 1), or simulated ones in process
+//! (`sim=`).
 //!
 //! ```text
 //! loadrt hostmot2
@@ -20,6 +21,32 @@
 //! An address may carry a port (`board_ip=127.0.0.1:40123`): the boards
 //! listen on 27181, a simulator may listen elsewhere, and tests run
 //! several side by side.
+//!
+//! Ours besides: `sim` (one item per board, comma-separated like
+//! `board_ip`: `7i96s`, `7i76e`, `7i93`, `7i92` or `7i95`, the boards of
+//! [`crate::sim::boards`]) puts a simulated board inside the HAL process
+//! in place of each network board. The transport is the same, its
+//! datagrams byte for byte as on the wire, but each goes to the
+//! simulated board's LBP16 handler instead of a socket ([`link`]); the
+//! board names itself as the real card does (`7I93`, so `hm2_7i93.0`),
+//! runs its machine ([`crate::sim::machine::preset`]) one thread period
+//! per cycle, and is published for tests under its HAL name
+//! ([`link::SharedEthBoard`]). `board_ip` may stay as the configuration
+//! has it: its addresses only name the boards in messages (and sit in
+//! their EEPROM), nothing is sent; given both, they must have as many
+//! items. Without `board_ip` the simulated boards are named
+//! 192.168.1.121, .122, ... A LinuxCNC configuration so runs with one
+//! word added to its driver line:
+//!
+//! ```text
+//! [HOSTMOT2]
+//! DRIVER=hm2_eth sim=7i93
+//! BOARD_IP=192.168.1.121
+//! ```
+//!
+//! An empty item (`sim=`, `sim=7i93,`) or an unknown board is refused
+//! with the list of boards; the separate `hm2-eth-sim` tool serves the
+//! same boards on a UDP port instead, with injected faults.
 //!
 //! # Names and functions
 //!
@@ -71,11 +98,13 @@
 //! # Modules
 //!
 //! [`boards`] (the table), [`errors`] (packet errors), [`transport`] (the
-//! UDP transport), [`hal`] (the `loadrt` module).
+//! LBP16 transport), [`link`] (its UDP socket or in-process simulated
+//! board), [`hal`] (the `loadrt` module).
 
 pub mod boards;
 pub mod errors;
 pub mod hal;
+pub mod link;
 pub mod transport;
 
 pub use transport::EthTransport;

@@ -1,6 +1,6 @@
 //! The Ethernet transport: the hostmot2 core's [`Transport`] over LBP16
 //! on a UDP socket `connect()`ed to one board (only its datagrams are
-//! received).
+//! received), or on an in-process simulated board ([`super::link`]).
 //!
 //! # Each cycle
 //!
@@ -40,16 +40,14 @@
 //! address. Plain writes are one datagram each, without reply.
 
 use std::io;
-use std::net::{SocketAddr, UdpSocket};
-use std::os::fd::AsFd;
+use std::net::SocketAddr;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-use nix::poll::{ppoll, PollFd, PollFlags};
-use nix::sys::time::TimeSpec;
 
 use hal_core::{HalHost, Ours};
 
 use super::errors::PacketErrors;
+use super::link::{Link, SharedEthBoard, SimLink};
 use crate::lbp16::{self, addr, space, Command, Request, Width};
 use crate::transport::{ReadQueue, TransferStats, Transport, TransportError};
 
@@ -118,9 +116,9 @@ pub struct Traffic {
     pub bytes_received: u64,
 }
 
-/// A board reached over UDP.
+/// A board reached over UDP (or a simulated one, [`Link`]).
 pub struct EthTransport<H: HalHost = Ours> {
-    socket: UdpSocket,
+    link: Link,
     peer: SocketAddr,
     name: String,
     reads: ReadQueue,
@@ -163,21 +161,20 @@ impl EthTransport {
     /// objects are made in the host the board registers in
     /// ([`into_host`](Self::into_host) moves it there first).
     pub fn connect(peer: SocketAddr) -> Result<EthTransport, TransportError> {
-        let local: SocketAddr = if peer.is_ipv4() {
-            "0.0.0.0:0".parse().expect("address")
-        } else {
-            "[::]:0".parse().expect("address")
-        };
-        let socket =
-            UdpSocket::bind(local).map_err(|e| socket_error("binding a socket for", peer, e))?;
-        socket
-            .connect(peer)
-            .map_err(|e| socket_error("connecting to", peer, e))?;
-        socket
-            .set_nonblocking(true)
-            .map_err(|e| socket_error("configuring the socket for", peer, e))?;
-        Ok(EthTransport {
-            socket,
+        let link = Link::udp(peer).map_err(|(op, e)| socket_error(op, peer, e))?;
+        Ok(EthTransport::over(link, peer))
+    }
+
+    /// A transport to a simulated board in this process: its datagrams
+    /// go to the board's LBP16 handler instead of a socket. `place` is
+    /// the address the configuration gave, for messages only.
+    pub fn simulated(board: Arc<SharedEthBoard>, place: SocketAddr) -> EthTransport {
+        EthTransport::over(Link::Sim(SimLink::new(board)), place)
+    }
+
+    fn over(link: Link, peer: SocketAddr) -> EthTransport {
+        EthTransport {
+            link,
             peer,
             name: peer.to_string(),
             reads: ReadQueue::default(),
@@ -195,7 +192,7 @@ impl EthTransport {
             resync: false,
             stats: TransferStats::default(),
             traffic: Traffic::default(),
-        })
+        }
     }
 }
 
@@ -205,7 +202,7 @@ impl<H: HalHost> EthTransport<H> {
     /// the driver was loaded into.
     pub fn into_host<H2: HalHost>(self) -> EthTransport<H2> {
         EthTransport {
-            socket: self.socket,
+            link: self.link,
             peer: self.peer,
             name: self.name,
             reads: self.reads,
@@ -231,9 +228,20 @@ impl<H: HalHost> EthTransport<H> {
         self.peer
     }
 
-    /// Names the board in messages (`7I96S at 192.168.1.121:27181`).
+    /// Names the board in messages (`7I96S at 192.168.1.121:27181`,
+    /// `7I93 simulated at 10.10.10.10:27181`).
     pub fn set_name(&mut self, name: &str) {
-        self.name = format!("{name} at {}", self.peer);
+        let how = if self.link.sim_board().is_some() {
+            " simulated"
+        } else {
+            ""
+        };
+        self.name = format!("{name}{how} at {}", self.peer);
+    }
+
+    /// The simulated board behind this transport, if it is one.
+    pub fn sim_board(&self) -> Option<&Arc<SharedEthBoard>> {
+        self.link.sim_board()
     }
 
     /// The packet-error counter and its HAL objects.
@@ -253,7 +261,7 @@ impl<H: HalHost> EthTransport<H> {
             Which::Writes => self.writes.bytes(),
             Which::Single => self.single.bytes(),
         };
-        let n = self.socket.send(bytes)?;
+        let n = self.link.send(bytes)?;
         self.traffic.sent += 1;
         self.traffic.bytes_sent += n as u64;
         Ok(())
@@ -261,28 +269,10 @@ impl<H: HalHost> EthTransport<H> {
 
     /// Receives one datagram into `reply`, waiting until `deadline` at most.
     fn receive_until(&mut self, deadline: Instant) -> io::Result<usize> {
-        loop {
-            match self.socket.recv(&mut self.reply[..]) {
-                Ok(n) => {
-                    self.traffic.received += 1;
-                    self.traffic.bytes_received += n as u64;
-                    return Ok(n);
-                }
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-                Err(e) => return Err(e),
-            }
-            let now = Instant::now();
-            if now >= deadline {
-                return Err(io::ErrorKind::TimedOut.into());
-            }
-            let left = deadline - now;
-            let mut fds = [PollFd::new(self.socket.as_fd(), PollFlags::POLLIN)];
-            match ppoll(&mut fds, Some(TimeSpec::from_duration(left)), None) {
-                Ok(_) | Err(nix::errno::Errno::EINTR) => {}
-                Err(e) => return Err(e.into()),
-            }
-        }
+        let n = self.link.receive_until(&mut self.reply[..], deadline)?;
+        self.traffic.received += 1;
+        self.traffic.bytes_received += n as u64;
+        Ok(n)
     }
 
     /// Counts a packet error: the cycle is skipped, or at the limit the
@@ -625,6 +615,9 @@ impl<H: HalHost> Transport for EthTransport<H> {
     }
 
     fn set_cycle_period(&mut self, period_ns: i64) {
+        if period_ns != self.period_ns {
+            self.link.set_period(period_ns);
+        }
         self.period_ns = period_ns;
     }
 

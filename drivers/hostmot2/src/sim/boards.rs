@@ -14,11 +14,20 @@
 //!
 //! | name | space-7 name | connectors | firmware |
 //! |---|---|---|---|
-//! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 11 GPIO; TB1: 5 step generators (step/dir), 1 encoder (A, B, index), 4 GPIO; TB2: 17 GPIO (the 11 isolated inputs and 6 outputs) |
+//! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 3 PWM generators (PWM, dir, /enable), 2 GPIO; TB1: 5 step generators (step/dir), encoder 0 (A, B, index), 4 GPIO; TB2: 11 GPIO (the isolated inputs), encoders 1 and 2 |
 //! | `7i76e` | `7I76E-16` | P1, P2, P3 × 17 | P1 (the on-card 7i76): 5 step generators, Smart Serial port 0 channel 0, 1 encoder, 1 GPIO; P2, P3: GPIO |
+//! | `7i93` | `7I93` | P2, P1 × 24 | the PCI cards' SVST4_8 layout ([`super::plx_boards`]): P2: 4 servo channels (encoder A, B, index; PWM, dir, /enable, paired); P1: 8 step generators (step/dir), 8 GPIO |
+//! | `7i92` | `7I92` | P2, P1 × 17 | the `5i25` firmware: per header 5 step generators, 1 encoder, 4 GPIO |
+//! | `7i95` | `7I95` | P1, TB1 × 29 | P1: 6 step generators, 3 encoders, 5 GPIO; TB1: 29 GPIO |
 //!
-//! A simulated 7I76 is plugged into channel 0 of each Ethernet board's
-//! Smart Serial port ([`seven_i76_on`]; [`seven_i77_on`] gives a 7I77).
+//! The 7i96s's three PWM generators and two extra encoders are more than
+//! the card's own firmware has: LinuxCNC's hm2-servo sample for it asks
+//! for three servo channels. The 7i93, 7i92 and 7i95 pin-outs are this
+//! simulator's.
+//!
+//! A simulated 7I76 is plugged into channel 0 of the 7i96s's and 7i76e's
+//! Smart Serial port ([`seven_i76_on`]; [`seven_i77_on`] gives a 7I77);
+//! the 7i93, 7i92 and 7i95 have no Smart Serial.
 //! All run ClockLow at 100 MHz and ClockHigh at 200 MHz, except the 6i25
 //! whose ClockLow is 66.67 MHz. Every board has a watchdog and 2 LEDs
 //! (the Ethernet ones 4).
@@ -32,7 +41,7 @@ use crate::sim::sserial::{RemoteKind, RemoteSpec};
 pub const PRESETS: &[&str] = &["5i25", "6i25", "5i24", "5i25-7i77", "5i25-pktuart"];
 
 /// The Ethernet board names [`preset`] knows.
-pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e"];
+pub const ETH_PRESETS: &[&str] = &["7i96s", "7i76e", "7i93", "7i92", "7i95"];
 
 /// Every `hm2_pci sim=` name: the presets, then the PLX cards.
 pub fn pci_sim_names() -> String {
@@ -55,6 +64,9 @@ pub fn preset(name: &str) -> Option<FirmwareSpec> {
         "5i25-pktuart" => Some(five_i25_pktuart()),
         "7i96s" => Some(seven_i96s()),
         "7i76e" => Some(seven_i76e()),
+        "7i93" => Some(seven_i93()),
+        "7i92" => Some(seven_i92()),
+        "7i95" => Some(seven_i95()),
         _ => None,
     }
 }
@@ -64,6 +76,9 @@ pub fn eth_name(name: &str) -> Option<&'static str> {
     match name {
         "7i96s" => Some("7I96S"),
         "7i76e" => Some("7I76E-16"),
+        "7i93" => Some("7I93"),
+        "7i92" => Some("7I92"),
+        "7i95" => Some("7I95"),
         _ => None,
     }
 }
@@ -183,12 +198,16 @@ fn five_i25_pktuart() -> FirmwareSpec {
     fw
 }
 
-/// 7i96S: Smart Serial on P1, steppers and an encoder on TB1, I/O on TB2.
+/// 7i96S: Smart Serial and three PWM generators on P1, steppers and an
+/// encoder on TB1, I/O and two more encoders on TB2.
 fn seven_i96s() -> FirmwareSpec {
     let mut pins = Vec::new();
     pins.extend(sserial_channel(0, 0));
     pins.extend(sserial_channel(0, 1));
-    pins.extend(std::iter::repeat_n(gpio(), 11));
+    for k in 0..3u8 {
+        pins.extend((0x81..=0x83).map(|f| pd(gtag::PWMGEN, k, f)));
+    }
+    pins.extend(std::iter::repeat_n(gpio(), 2));
     for k in 0..5u8 {
         pins.push(pd(gtag::STEPGEN, k, 0x81));
         pins.push(pd(gtag::STEPGEN, k, 0x82));
@@ -196,8 +215,11 @@ fn seven_i96s() -> FirmwareSpec {
     for f in 1..=3 {
         pins.push(pd(gtag::ENCODER, 0, f));
     }
-    pins.extend(std::iter::repeat_n(gpio(), 4 + 17));
-    eth_firmware(
+    pins.extend(std::iter::repeat_n(gpio(), 4 + 11));
+    for k in 1..3u8 {
+        pins.extend((1..=3).map(|f| pd(gtag::ENCODER, k, f)));
+    }
+    let mut fw = eth_firmware(
         Identity {
             board: "7i96s",
             idrom_name: "MESA7I96",
@@ -209,7 +231,14 @@ fn seven_i96s() -> FirmwareSpec {
             clock_low: 100_000_000,
         },
         pins,
-    )
+    );
+    for m in fw.modules.iter_mut().filter(|m| m.gtag == gtag::ENCODER) {
+        *m = ModuleSpec::standard(gtag::ENCODER, 2, 3);
+    }
+    let led = fw.modules.len() - 1;
+    fw.modules
+        .insert(led, ModuleSpec::standard(gtag::PWMGEN, 0, 3));
+    fw
 }
 
 /// 7i76E: the on-card 7i76's steppers, Smart Serial and encoder on P1.
@@ -235,6 +264,118 @@ fn seven_i76e() -> FirmwareSpec {
             port_width: 17,
             clock_low: 100_000_000,
         },
+        pins,
+    )
+}
+
+/// A board without Smart Serial: watchdog, IOPorts, `encoders` encoders
+/// v2, `pwmgens` PWM generators v0, `stepgens` step generators v2 and 4
+/// LEDs (the Ethernet boards'), on `pins`.
+fn plain_eth_firmware(
+    id: Identity,
+    encoders: u8,
+    pwmgens: u8,
+    stepgens: u8,
+    pins: Vec<PinDescriptor>,
+) -> FirmwareSpec {
+    let mut modules = vec![
+        ModuleSpec::standard(gtag::WATCHDOG, 0, 1),
+        ModuleSpec::standard(gtag::IOPORT, 0, id.connectors.len() as u8),
+    ];
+    for (tag, version, n) in [
+        (gtag::ENCODER, 2, encoders),
+        (gtag::PWMGEN, 0, pwmgens),
+        (gtag::STEPGEN, 2, stepgens),
+    ] {
+        if n > 0 {
+            modules.push(ModuleSpec::standard(tag, version, n));
+        }
+    }
+    modules.push(ModuleSpec::standard(gtag::LED, 0, 1));
+    let mut fw = firmware(id, modules, pins);
+    fw.leds = 4;
+    fw
+}
+
+/// 7I93: two 50-pin headers with the PCI cards' servo/stepper family
+/// pin-out for SVST4_8 ([`super::plx_boards`]): four servo channels
+/// (encoder and PWM generator) on P2, eight step generators (step,
+/// direction) and 8 GPIO on P1.
+fn seven_i93() -> FirmwareSpec {
+    let design = super::plx_boards::Design {
+        servos: 4,
+        steppers: 8,
+        seven_i47: false,
+        sserial: 0,
+    };
+    plain_eth_firmware(
+        Identity {
+            board: "7i93",
+            idrom_name: "MESA7I93",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P2", "P1"],
+            port_width: 24,
+            clock_low: 100_000_000,
+        },
+        4,
+        4,
+        8,
+        super::plx_boards::family_pins(design, 48),
+    )
+}
+
+/// 7I92: the 5i25's 7i76-style firmware on its two 26-pin headers (per
+/// header 5 step generators, 1 encoder, 4 GPIO).
+fn seven_i92() -> FirmwareSpec {
+    let mut fw = five_i25();
+    let pins = std::mem::take(&mut fw.pins);
+    plain_eth_firmware(
+        Identity {
+            board: "7i92",
+            idrom_name: "MESA7I92",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P2", "P1"],
+            port_width: 17,
+            clock_low: 100_000_000,
+        },
+        2,
+        0,
+        10,
+        pins,
+    )
+}
+
+/// 7I95: on the first connector 6 step generators (step, direction), 3
+/// encoders (A, B, index) and 5 GPIO; the second (the isolated inputs,
+/// outputs and expansion) all GPIO.
+fn seven_i95() -> FirmwareSpec {
+    let mut pins = Vec::new();
+    for k in 0..6u8 {
+        pins.push(pd(gtag::STEPGEN, k, 0x81));
+        pins.push(pd(gtag::STEPGEN, k, 0x82));
+    }
+    for k in 0..3u8 {
+        pins.extend((1..=3).map(|f| pd(gtag::ENCODER, k, f)));
+    }
+    pins.resize(2 * 29, gpio());
+    plain_eth_firmware(
+        Identity {
+            board: "7i95",
+            idrom_name: "MESA7I95",
+            fpga_part: "6slx9tqg144",
+            fpga_size: 9,
+            fpga_pins: 144,
+            connectors: &["P1", "TB1"],
+            port_width: 29,
+            clock_low: 100_000_000,
+        },
+        3,
+        0,
+        6,
         pins,
     )
 }

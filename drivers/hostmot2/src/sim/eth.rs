@@ -27,7 +27,8 @@
 //! does not have, a space without memory) are counted as memory errors
 //! and read as zero.
 
-use super::Hm2Model;
+use super::{boards, machine, Hm2Model};
+use crate::image::FirmwareSpec;
 use crate::lbp16::{self, addr, enable, space, Command, Width};
 
 /// Bytes of the EEPROM space.
@@ -63,6 +64,21 @@ impl EthIdentity {
             flash_id: 0x14,
         }
     }
+}
+
+/// Ethernet preset `name` ([`boards::ETH_PRESETS`]) running `spec` (its
+/// firmware, perhaps with other remotes plugged in), wired to its machine
+/// ([`machine::preset`]), named as the card names itself (`7I93`) and
+/// holding `ip` in its EEPROM; `None` when `name` is not an Ethernet
+/// preset. Time moves only when the caller moves it.
+pub fn preset_board(name: &str, spec: FirmwareSpec, ip: [u8; 4]) -> Option<EthBoard> {
+    let space7 = boards::eth_name(name)?;
+    let model = Hm2Model::with_world(spec, Box::new(machine::preset(name)));
+    let identity = EthIdentity {
+        ip,
+        ..EthIdentity::new(space7)
+    };
+    Some(EthBoard::new(model, identity))
 }
 
 /// A simulated Ethernet board.
@@ -141,6 +157,14 @@ impl EthBoard {
     pub fn with_period(mut self, period_ns: u64) -> EthBoard {
         self.period_ns = Some(period_ns);
         self
+    }
+
+    /// Lets `period_ns` of simulated time pass before each later cycle's
+    /// read request is answered (the driver's thread period, once known).
+    pub fn set_period(&mut self, period_ns: u64) {
+        if self.wall.is_none() {
+            self.period_ns = Some(period_ns);
+        }
     }
 
     /// Lets the host's time pass: before each datagram, the time since

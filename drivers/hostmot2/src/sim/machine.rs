@@ -175,9 +175,18 @@ impl World for Machine {
 /// * `5i24`: eight servos as above on PWM/encoder 0..7 and eight stepper
 ///   axes on step generators 0..7, no switches.
 /// * `7i96s`: the `5i25` machine on the 7i96S's five step generators,
-///   its home switches on I/O 34, 35, 36 (the first inputs of TB2).
+///   its home switches on I/O 34, 35, 36 (the first inputs of TB2), and
+///   three servos on PWM generators and encoders 0..2 with their motor
+///   leads swapped (as [`servo_stepper`]).
+/// * `7i93`: [`servo_stepper`] with 4 servos and 8 stepper axes.
+/// * `7i92`: the `5i25` machine (switches on I/O 13, 14, 15).
+/// * `7i95`: stepper axes on its 6 step generators, home switches on
+///   I/O 29, 30, 31 (the first pins of TB1).
 /// * `7i76e`: the same with the switches on I/O 17, 18, 19 (P2).
 /// * `5i25-7i77`: stepper axes on the five step generators, no switches.
+/// * `7i90`: four servos on PWM generators and encoders 0..3, leads
+///   swapped as for the 7i96s; stepper axes with home switches on I/O
+///   10..12.
 pub fn preset(board: &str) -> Machine {
     let steppers_with_switches = |n: usize, first_switch: usize| Machine {
         steppers: (0..n).map(stepper).collect(),
@@ -192,7 +201,15 @@ pub fn preset(board: &str) -> Machine {
     };
     match board {
         "5i25" => steppers_with_switches(10, 13),
-        "7i96s" => steppers_with_switches(5, 34),
+        // The 7i96s's servos are wired as LinuxCNC's hm2-servo samples
+        // expect (leads swapped, see `servo_stepper`).
+        "7i96s" => Machine {
+            servos: servo_stepper(3, 0).servos,
+            ..steppers_with_switches(5, 34)
+        },
+        "7i93" => servo_stepper(4, 8),
+        "7i92" => steppers_with_switches(10, 13),
+        "7i95" => steppers_with_switches(6, 29),
         "7i76e" => steppers_with_switches(5, 17),
         "5i25-7i77" => Machine {
             steppers: (0..5).map(stepper).collect(),
@@ -216,8 +233,10 @@ pub fn preset(board: &str) -> Machine {
             servos: (0..4).map(servo).collect(),
             ..steppers_with_switches(4, 32)
         },
+        // The 7I90's servos are wired as LinuxCNC's hm2-servo 7i90
+        // sample expects (leads swapped, see `servo_stepper`).
         "7i90" => Machine {
-            servos: (0..4).map(servo).collect(),
+            servos: servo_stepper(4, 0).servos,
             ..steppers_with_switches(5, 10)
         },
         // The SPI hats: steppers with home switches on the first GPIO

@@ -365,7 +365,7 @@ pub fn firmware(board: &Card<'_>, design_name: &str) -> Result<FirmwareSpec, Hm2
 
 /// The family's pin-out: servo pairs from the first pin, then the step
 /// generators (six pins each where they fit, else two), then GPIO.
-fn family_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
+pub(crate) fn family_pins(d: Design, total: usize) -> Vec<PinDescriptor> {
     let mut pins = Vec::with_capacity(total);
     for k in (0..d.servos as u8).step_by(2) {
         pins.extend(servo_pair(k));

@@ -167,7 +167,9 @@ const EXAMPLES: &[(&str, Example)] = &[
             before: HM2_CORE,
             args: "",
             note: "The example talks to a simulated 7I96S (the board hm2-eth-sim(1) \
-                   serves) on this machine; give board_ip= the address of a real board.",
+                   serves) on this machine; give board_ip= the address of a real board, \
+                   or sim=7i96s (7i76e, 7i93, 7i92, 7i95) for the same board inside the \
+                   HAL process, with no network.",
             eth_board: Some("7i96s"),
             fails: false,
         },
