@@ -14,6 +14,7 @@
 #![forbid(unsafe_code)]
 
 mod config;
+mod display;
 mod error;
 mod hal_side;
 mod halfiles;
@@ -36,6 +37,7 @@ mod task_pins;
 mod task_program;
 mod task_socket;
 mod task_spindle;
+mod task_stat;
 mod twopass;
 pub mod zlevel;
 

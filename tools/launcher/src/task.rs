@@ -128,6 +128,23 @@ pub enum TaskRequest {
     FeedHold(bool),
     /// Override the joints' tripped hard limits until the next jog ends.
     OverrideLimits,
+    /// The state as one snapshot of `NAME=KIND:VALUE` lines in
+    /// LinuxCNC's names (the Python `linuxcnc.stat`).
+    Stat,
+    /// Set `motion.digital-out-NN` at once.
+    SetDout {
+        /// The output number.
+        index: i32,
+        /// On or off.
+        on: bool,
+    },
+    /// Set `motion.analog-out-NN` at once.
+    SetAout {
+        /// The output number.
+        index: i32,
+        /// The value.
+        value: f64,
+    },
     /// A spindle by hand: start, stop, speed steps, brake, override.
     Spindle {
         /// The spindle number.
@@ -195,6 +212,10 @@ pub const REQUESTS: &str = "\
   rapid-override SCALE  the rapid override (0 to 1)
   max-velocity VEL      the tool-tip speed limit ([TRAJ]MAX_LINEAR_VELOCITY)
   state                 the state as key=value lines, for programs
+  stat                  the state as NAME=KIND:VALUE lines in LinuxCNC's
+                        names (the Python linuxcnc module's stat)
+  set-dout N on|off     set motion.digital-out-NN at once (as M64/M65)
+  set-aout N VALUE      set motion.analog-out-NN at once (as M68)
   optional-stop on|off  M1 stops the program (off: M1 is passed over)
   block-delete on|off   lines that start with / are skipped (on) or run
   teleop on|off         MANUAL mode's jogs move world axes (on) or joints
@@ -234,6 +255,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
     };
     if let Some(switch) = crate::task_panel::parse(&w) {
         return switch;
+    }
+    if let Some(r) = crate::task_stat::parse(&w) {
+        return r;
     }
     Ok(match w.as_slice() {
         ["estop"] => TaskRequest::Estop,
@@ -560,6 +584,10 @@ impl Task {
             TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
             TaskRequest::Status => Some(Ok(self.status())),
             TaskRequest::State => Some(Ok(self.state_lines())),
+            TaskRequest::Stat => Some(Ok(self.stat_lines())),
+            TaskRequest::SetDout { .. } | TaskRequest::SetAout { .. } => {
+                Some(self.output_request(req))
+            }
             TaskRequest::Home(_)
             | TaskRequest::Unhome(_)
             | TaskRequest::JogCont { .. }

@@ -70,6 +70,16 @@ impl RunState {
     }
 }
 
+/// What status readers see of the program side ([`Program::view`]).
+pub struct ProgramView<'a> {
+    /// The open program.
+    pub file: Option<&'a std::path::Path>,
+    /// The program line of the last block read.
+    pub read_line: i32,
+    /// The modal codes, feed and speed in effect.
+    pub codes: rs274ngc::ActiveCodes,
+}
+
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Ended {
@@ -183,6 +193,16 @@ impl Program {
     /// What the last run ended with, if one ended.
     pub fn last_end(&self) -> Option<&Ended> {
         self.last_end.as_ref()
+    }
+
+    /// The open program, if any; the program line read last; the
+    /// interpreter's modal codes and the axes it knows.
+    pub fn view(&self) -> ProgramView<'_> {
+        ProgramView {
+            file: self.file.as_deref(),
+            read_line: self.read_line,
+            codes: self.interp.active_codes(),
+        }
     }
 
     /// Takes the machine's state into the canon and synchronises the

@@ -1,0 +1,126 @@
+#!/usr/bin/env python3
+"""A display program for `linuxcnc`: drives the simulated mill through
+the `linuxcnc` module (e-stop reset, machine on, homing, an MDI move, a
+short program) and checks the status on the way. Prints what it checked
+to stdout; exits 0 when every check held, else 1. With `--exit N` it
+only checks that task answers and exits N."""
+
+import os
+import sys
+import time
+
+import linuxcnc
+
+
+def fail(why):
+    print("machine_ui: FAILED: " + why, flush=True)
+    sys.exit(1)
+
+
+def check(cond, why):
+    if not cond:
+        fail(why)
+    print("machine_ui: ok: " + why, flush=True)
+
+
+def wait(s, cond, what, timeout=60.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        s.poll()
+        if cond():
+            return
+        time.sleep(0.02)
+    fail("timed out waiting for " + what)
+
+
+def near(a, b):
+    return abs(a - b) < 1e-6
+
+
+def ok_or_fail(c, e, what):
+    r = c.wait_complete()
+    msg = e.poll()
+    if r != linuxcnc.RCS_DONE:
+        fail("%s: wait_complete gave %r (%r)" % (what, r, msg))
+
+
+def main(argv):
+    check(argv[1:3] == ["-ini", os.environ.get("INI_FILE_NAME")],
+          "started as PROGRAM -ini INIFILE: %r" % argv[1:])
+    c = linuxcnc.command()
+    s = linuxcnc.stat()
+    e = linuxcnc.error_channel()
+    s.poll()
+    check(s.task_state == linuxcnc.STATE_ESTOP and s.estop, "the machine starts in e-stop")
+    if "--exit" in argv:
+        sys.exit(int(argv[argv.index("--exit") + 1]))
+    ini = linuxcnc.ini(s.ini_filename)
+    check(ini.find("KINS", "JOINTS") == "3", "linuxcnc.ini finds [KINS]JOINTS")
+
+    # Refused while in e-stop: reported, not raised.
+    c.state(linuxcnc.STATE_ON)
+    check(c.wait_complete() == linuxcnc.RCS_ERROR, "machine on in e-stop is refused")
+    kind, text = e.poll()
+    check(kind == linuxcnc.NML_ERROR and text, "the refusal is on the error channel: " + text)
+    check(e.poll() is None, "and only once")
+
+    c.state(linuxcnc.STATE_ESTOP_RESET)
+    ok_or_fail(c, e, "estop reset")
+    c.state(linuxcnc.STATE_ON)
+    ok_or_fail(c, e, "machine on")
+    s.poll()
+    check(s.task_state == linuxcnc.STATE_ON and s.enabled and not s.estop, "the machine is on")
+
+    c.mode(linuxcnc.MODE_MANUAL)
+    ok_or_fail(c, e, "manual mode")
+    c.home(-1)
+    ok_or_fail(c, e, "home all")
+    wait(s, lambda: all(s.homed[:3]), "all joints homed")
+    check(s.joints == 3 and s.homed[3:] == (0,) * (len(s.homed) - 3), "three joints homed")
+    wait(s, lambda: s.inpos, "homing to finish moving")
+
+    c.mode(linuxcnc.MODE_MDI)
+    ok_or_fail(c, e, "MDI mode")
+    s.poll()
+    check(s.task_mode == linuxcnc.MODE_MDI, "task is in MDI mode")
+    c.mdi("G0 X2 Y1")
+    ok_or_fail(c, e, "the MDI move")
+    s.poll()
+    check(near(s.position[0], 2.0) and near(s.position[1], 1.0),
+          "the MDI move reached X2 Y1: %r" % (s.position[:3],))
+    check(len(s.position) == 9 and len(s.actual_position) == 9, "positions have nine axes")
+    check(s.interp_state == linuxcnc.INTERP_IDLE, "the interpreter is idle after MDI")
+    check(200 not in s.gcodes and 210 in s.gcodes, "G21 is active")
+    check(s.g5x_index == 1, "G54 is active")
+
+    prog = os.path.join(os.path.dirname(s.ini_filename), "ui-test.ngc")
+    with open(prog, "w") as f:
+        f.write("G21 G90\nG1 X3 F600\nG1 Y-1\nG0 Z0.5\nM2\n")
+    c.mode(linuxcnc.MODE_AUTO)
+    ok_or_fail(c, e, "AUTO mode")
+    c.program_open(prog)
+    ok_or_fail(c, e, "opening the program")
+    s.poll()
+    check(s.file == os.path.realpath(prog), "stat.file is the program: %r" % s.file)
+    c.auto(linuxcnc.AUTO_RUN, 0)
+    ok_or_fail(c, e, "running the program")
+    wait(s, lambda: s.interp_state != linuxcnc.INTERP_IDLE or near(s.position[2], 0.5),
+         "the program to start")
+    wait(s, lambda: s.interp_state == linuxcnc.INTERP_IDLE, "the program to end")
+    wait(s, lambda: s.inpos and s.queue == 0, "motion to settle")
+    check(near(s.position[0], 3.0) and near(s.position[1], -1.0) and near(s.position[2], 0.5),
+          "the program ended at X3 Y-1 Z0.5: %r" % (s.position[:3],))
+    check(all(abs(a - b) < 1e-3 for a, b in zip(s.actual_position[:3], s.position[:3])),
+          "feedback follows the command")
+    check(e.poll() is None, "no errors were reported")
+
+    try:
+        s.cycle_time
+        fail("stat.cycle_time gave a value")
+    except NotImplementedError as err:
+        check("cycle_time" in str(err), "an unsupplied stat value says so: %s" % err)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
