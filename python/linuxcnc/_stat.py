@@ -13,13 +13,11 @@ from . import _session
 
 # LinuxCNC's status names that task does not (yet) supply here.
 _NOT_SUPPLIED = frozenset(
-    """acceleration active_queue adaptive_feed_enabled angular_units
-    call_level command cycle_time debug delay_left dtg
-    feed_hold_enabled feed_override_enabled input_timeout
-    interpreter_errcode kinematics_type limit linear_units lube_level
-    max_acceleration misc_error motion_id num_extrajoints pocket_prepped
-    queued_mdi_commands rotation_xy spindle_override_enabled
-    tool_from_pocket velocity""".split()
+    """active_queue adaptive_feed_enabled call_level command debug
+    delay_left dtg feed_hold_enabled feed_override_enabled input_timeout
+    interpreter_errcode kinematics_type limit lube_level misc_error
+    motion_id num_extrajoints pocket_prepped queued_mdi_commands
+    rotation_xy spindle_override_enabled tool_from_pocket""".split()
 )
 
 

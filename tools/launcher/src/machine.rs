@@ -620,6 +620,7 @@ fn run_on_host(
     );
     task.overrides = crate::task_manual::Overrides::from_ini(ini)?;
     task.spindle_limits = crate::task_spindle::SpindleLimits::from_ini(ini)?;
+    task.traj_info = crate::task_stat::TrajInfo::from_ini(ini)?;
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
         "linuxcnc: machine '{machine}' runs on HAL instance '{instance}' (e-stop); \

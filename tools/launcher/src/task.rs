@@ -347,6 +347,8 @@ pub struct Task {
     pub(crate) switches: crate::task_panel::Switches,
     /// The spindle override's limits.
     pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
+    /// The INI settings `stat` reports (units, cycle time, speeds).
+    pub(crate) traj_info: crate::task_stat::TrajInfo,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -381,6 +383,7 @@ impl Task {
             overrides: crate::task_manual::Overrides::default(),
             switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
+            traj_info: crate::task_stat::TrajInfo::default(),
         };
         t.pins.write(t.io.outputs());
         t

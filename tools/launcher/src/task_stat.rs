@@ -14,6 +14,50 @@ use crate::error::LaunchError;
 use crate::program::{ProgramView, RunState};
 use crate::task::{MachineState, Mode, Task, TaskRequest};
 
+/// The machine's settings the snapshot reports, from the INI file.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct TrajInfo {
+    /// Machine units per millimetre (`[TRAJ]LINEAR_UNITS`).
+    pub linear_units: f64,
+    /// Machine units per degree (`[TRAJ]ANGULAR_UNITS`).
+    pub angular_units: f64,
+    /// The servo period in seconds (`[EMCMOT]SERVO_PERIOD`).
+    pub cycle_time: f64,
+    /// `[TRAJ]DEFAULT_LINEAR_VELOCITY`, per second.
+    pub velocity: f64,
+    /// `[TRAJ]DEFAULT_LINEAR_ACCELERATION`.
+    pub acceleration: f64,
+    /// `[TRAJ]MAX_LINEAR_ACCELERATION`.
+    pub max_acceleration: f64,
+}
+
+impl TrajInfo {
+    /// The settings of `ini`, with LinuxCNC's defaults.
+    pub(crate) fn from_ini(ini: &hal_lang::ini::Ini) -> Result<TrajInfo, LaunchError> {
+        let traj = crate::config::TrajSettings::from_ini(ini)?;
+        let angular = ini.get("TRAJ", "ANGULAR_UNITS").unwrap_or("degree").trim();
+        let angular_units = match angular {
+            "deg" | "degree" | "degrees" => 1.0,
+            "rad" | "radian" | "radians" => std::f64::consts::PI / 180.0,
+            "grad" | "gon" => 400.0 / 360.0,
+            other => other
+                .parse::<f64>()
+                .ok()
+                .filter(|v| *v > 0.0)
+                .unwrap_or(1.0),
+        };
+        let servo_ns = ini.real("EMCMOT", "SERVO_PERIOD")?.unwrap_or(1_000_000.0);
+        Ok(TrajInfo {
+            linear_units: crate::program::ProgramConfig::from_ini(ini).user_per_mm,
+            angular_units,
+            cycle_time: servo_ns * 1e-9,
+            velocity: traj.default_velocity,
+            acceleration: traj.default_acceleration,
+            max_acceleration: traj.max_acceleration,
+        })
+    }
+}
+
 /// One value of the snapshot.
 pub(crate) enum Value {
     /// An integer.
@@ -182,6 +226,24 @@ const FIELDS: &[Field] = &[
     ("rapidrate", |c| Some(Value::Float(c.task.overrides.rapid))),
     ("max_velocity", |c| {
         Some(Value::Float(c.task.overrides.max_velocity))
+    }),
+    ("linear_units", |c| {
+        Some(Value::Float(c.task.traj_info.linear_units))
+    }),
+    ("angular_units", |c| {
+        Some(Value::Float(c.task.traj_info.angular_units))
+    }),
+    ("cycle_time", |c| {
+        Some(Value::Float(c.task.traj_info.cycle_time))
+    }),
+    ("velocity", |c| {
+        Some(Value::Float(c.task.traj_info.velocity))
+    }),
+    ("acceleration", |c| {
+        Some(Value::Float(c.task.traj_info.acceleration))
+    }),
+    ("max_acceleration", |c| {
+        Some(Value::Float(c.task.traj_info.max_acceleration))
     }),
     ("optional_stop", |c| {
         Some(bit(c.task.switches.optional_stop))
