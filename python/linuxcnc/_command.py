@@ -66,7 +66,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
             return -1
         self._waits_for_run = False
         if not done:
-            _errors._report(text)
+            # The failure itself is on task's error channel already.
             _session.status = k.RCS_ERROR
         return _session.status
 
@@ -220,6 +220,20 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """Reads the tool table file again."""
         self._send(["reload-tool-table"])
 
+    # Operator messages, for every error channel.
+
+    def error_msg(self, text):
+        """An OPERATOR_ERROR message."""
+        self._send(["message", "error", text])
+
+    def text_msg(self, text):
+        """An OPERATOR_TEXT message."""
+        self._send(["message", "text", text])
+
+    def display_msg(self, text):
+        """An OPERATOR_DISPLAY message."""
+        self._send(["message", "display", text])
+
     def __getattr__(self, name):
         if name in _NOT_SUPPLIED:
             raise NotImplementedError(
@@ -230,7 +244,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug display_msg error_msg reset_interpreter set_adaptive_feed
-    set_feed_override set_max_limit set_min_limit set_spindle_override
-    task_plan_synch text_msg tool_offset traj_mode""".split()
+    """debug reset_interpreter set_adaptive_feed set_feed_override
+    set_max_limit set_min_limit set_spindle_override task_plan_synch
+    tool_offset traj_mode""".split()
 )

@@ -65,7 +65,8 @@ def main(argv):
     c.state(linuxcnc.STATE_ON)
     check(c.wait_complete() == linuxcnc.RCS_ERROR, "machine on in e-stop is refused")
     kind, text = e.poll()
-    check(kind == linuxcnc.NML_ERROR and text, "the refusal is on the error channel: " + text)
+    check(kind == linuxcnc.OPERATOR_ERROR and text,
+          "the refusal is on the error channel: " + text)
     check(e.poll() is None, "and only once")
 
     c.state(linuxcnc.STATE_ESTOP_RESET)
@@ -96,10 +97,16 @@ def main(argv):
     check(s.interp_state == linuxcnc.INTERP_IDLE, "the interpreter is idle after MDI")
     check(200 not in s.gcodes and 210 in s.gcodes, "G21 is active")
     check(s.g5x_index == 1, "G54 is active")
+    c.mdi("G2 X1")
+    check(c.wait_complete() == linuxcnc.RCS_ERROR, "an arc without a centre fails")
+    kind, text = e.poll()
+    check(kind == linuxcnc.OPERATOR_ERROR, "its error is on the error channel: " + text)
+    c.display_msg("look here")
+    check(e.poll() == (linuxcnc.OPERATOR_DISPLAY, "look here"), "display_msg reaches the channel")
 
     prog = os.path.join(os.path.dirname(s.ini_filename), "ui-test.ngc")
     with open(prog, "w") as f:
-        f.write("G21 G90\nG1 X3 F600\nG1 Y-1\nG0 Z0.5\nM2\n")
+        f.write("G21 G90\nG1 X3 F600\n(MSG, halfway)\nG1 Y-1\nG0 Z0.5\nM2\n")
     c.mode(linuxcnc.MODE_AUTO)
     ok_or_fail(c, e, "AUTO mode")
     c.program_open(prog)
@@ -116,7 +123,10 @@ def main(argv):
           "the program ended at X3 Y-1 Z0.5: %r" % (s.position[:3],))
     check(all(abs(a - b) < 1e-3 for a, b in zip(s.actual_position[:3], s.position[:3])),
           "feedback follows the command")
-    check(e.poll() is None, "no errors were reported")
+    m = e.poll()
+    check(m is not None and m[0] == linuxcnc.OPERATOR_DISPLAY and m[1].strip() == "halfway",
+          "the MSG comment was shown: %r" % (m,))
+    check(e.poll() is None, "nothing else was reported")
 
     try:
         s.kinematics_type

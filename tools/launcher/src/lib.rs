@@ -31,6 +31,7 @@ mod rules;
 pub mod sim_torch;
 mod task;
 mod task_manual;
+mod task_messages;
 mod task_motion;
 mod task_panel;
 mod task_pins;

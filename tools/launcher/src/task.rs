@@ -131,6 +131,15 @@ pub enum TaskRequest {
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
+    /// The messages for the error channel after a number.
+    Messages(u64),
+    /// An operator message for the error channel (LinuxCNC's kind).
+    Message {
+        /// OPERATOR_ERROR, OPERATOR_TEXT or OPERATOR_DISPLAY.
+        kind: i32,
+        /// The text.
+        text: String,
+    },
     /// Set `motion.digital-out-NN` at once.
     SetDout {
         /// The output number.
@@ -216,6 +225,10 @@ pub const REQUESTS: &str = "\
                         names (the Python linuxcnc module's stat)
   set-dout N on|off     set motion.digital-out-NN at once (as M64/M65)
   set-aout N VALUE      set motion.analog-out-NN at once (as M68)
+  messages SEQ          the error channel's messages after number SEQ: the
+                        newest number, then SEQ KIND TEXT lines
+  message error|text|display TEXT
+                        add an operator message to the error channel
   optional-stop on|off  M1 stops the program (off: M1 is passed over)
   block-delete on|off   lines that start with / are skipped (on) or run
   teleop on|off         MANUAL mode's jogs move world axes (on) or joints
@@ -257,6 +270,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         return switch;
     }
     if let Some(r) = crate::task_stat::parse(&w) {
+        return r;
+    }
+    if let Some(r) = crate::task_messages::parse(&w) {
         return r;
     }
     Ok(match w.as_slice() {
@@ -349,6 +365,8 @@ pub struct Task {
     pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
     /// The INI settings `stat` reports (units, cycle time, speeds).
     pub(crate) traj_info: crate::task_stat::TrajInfo,
+    /// What the error channel carries.
+    pub(crate) messages: crate::task_messages::MessageLog,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -384,6 +402,7 @@ impl Task {
             switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
             traj_info: crate::task_stat::TrajInfo::default(),
+            messages: crate::task_messages::MessageLog::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -588,6 +607,11 @@ impl Task {
             TaskRequest::Status => Some(Ok(self.status())),
             TaskRequest::State => Some(Ok(self.state_lines())),
             TaskRequest::Stat => Some(Ok(self.stat_lines())),
+            TaskRequest::Messages(seq) => Some(Ok(self.messages.since(*seq))),
+            TaskRequest::Message { kind, text } => {
+                self.messages.push(*kind, text);
+                Some(Ok("message kept".into()))
+            }
             TaskRequest::SetDout { .. } | TaskRequest::SetAout { .. } => {
                 Some(self.output_request(req))
             }

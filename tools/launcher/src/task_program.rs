@@ -40,8 +40,14 @@ impl Task {
             return;
         };
         let ended = program.cycle(motion, &mut self.io, events, self.switches.optional_stop);
+        for text in program.messages.drain(..) {
+            self.messages
+                .push(crate::task_messages::OPERATOR_DISPLAY, &text);
+        }
         if let Some(Ended::Failed(why)) = &ended {
             eprintln!("task: {why}");
+            self.messages
+                .push(crate::task_messages::OPERATOR_ERROR, why);
             // A failed run stops the machine's moves with a controlled
             // deceleration, stops the spindle and leaves no handshake
             // half done.

@@ -135,6 +135,8 @@ pub struct Program {
     mdi_text: String,
     /// `[TASK]IO_ERROR`.
     io_error: String,
+    /// The program's messages (MSG comments) not yet taken by task.
+    pub messages: Vec<String>,
 }
 
 impl Program {
@@ -167,6 +169,7 @@ impl Program {
             orient_deadline: None,
             tool_table,
             abandoned: user_m::Abandoned::default(),
+            messages: Vec::new(),
         }
     }
 
@@ -631,7 +634,12 @@ impl Program {
                     }
                 }
                 Op::End => self.read_done = true,
-                Op::Message(text) => eprintln!("task: {text}"),
+                Op::Message(text) => {
+                    eprintln!("task: {text}");
+                    if self.messages.len() < 256 {
+                        self.messages.push(text);
+                    }
+                }
                 Op::UserM {
                     number,
                     program,
