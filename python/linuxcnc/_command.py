@@ -216,6 +216,10 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """motion.analog-out-NN, at once."""
         self._send(["set-aout", int(index), float(value)])
 
+    def reset_interpreter(self):
+        """Starts the interpreter afresh (refused while something runs)."""
+        self._send(["reset-interpreter"])
+
     def load_tool_table(self):
         """Reads the tool table file again."""
         self._send(["reload-tool-table"])
@@ -244,7 +248,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug reset_interpreter set_adaptive_feed set_feed_override
+    """debug set_adaptive_feed set_feed_override
     set_max_limit set_min_limit set_spindle_override task_plan_synch
     tool_offset traj_mode""".split()
 )

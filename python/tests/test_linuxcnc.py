@@ -104,8 +104,8 @@ def test_without_a_machine_stat_and_command_say_so(hal_instance_name):
         linuxcnc.stat().poll()
     with pytest.raises(linuxcnc.error, match="no machine runs"):
         linuxcnc.command().state(linuxcnc.STATE_ESTOP_RESET)
-    with pytest.raises(NotImplementedError, match="reset_interpreter"):
-        linuxcnc.command().reset_interpreter()
+    with pytest.raises(NotImplementedError, match="set_adaptive_feed"):
+        linuxcnc.command().set_adaptive_feed(1)
 
 
 def _mill(tmp_path, display):
@@ -142,6 +142,9 @@ def test_a_display_program_drives_the_machine(tmp_path, hal_instance_name):
     assert "machine_ui: ok: the program ended at X3 Y-1 Z0.5" in r.stdout, out
     assert "the display program exited" in r.stderr, out
     assert "GUI './machine_ui.py'" not in r.stderr, out
+    # As in LinuxCNC, the POSTGUI files are the display's to run.
+    assert "POSTGUI_HALFILE is left to the display program" in r.stderr, out
+    assert "pyvcp.spindle-rpm" not in r.stderr, out
 
 
 def test_linuxcnc_exits_with_the_display_programs_status(tmp_path, hal_instance_name):

@@ -1,10 +1,11 @@
 //! `[DISPLAY]DISPLAY` when it names a program of the configuration's own
 //! (a path such as `./test-ui.py`, or a name in the configuration's
 //! `bin/` directory) rather than one of LinuxCNC's GUIs: the launcher runs
-//! it after the POSTGUI files as LinuxCNC's script does, `PROGRAM -ini
-//! INIFILE ARGS...` in the configuration's directory, keeps task running
-//! while it runs, and stops the machine when it exits, with its exit
-//! status. The GUIs themselves stay skipped on this headless machine.
+//! it once task runs, as LinuxCNC's script does, `PROGRAM -ini INIFILE
+//! ARGS...` in the configuration's directory, keeps task running while it
+//! runs, and stops the machine when it exits, with its exit status. Its
+//! POSTGUI files are left to it, as LinuxCNC leaves them to its GUIs. The
+//! GUIs themselves stay skipped on this headless machine.
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};

@@ -65,8 +65,9 @@ HAL and the machine in a browser) if [HAL]HALWEB = hal-web [OPTIONS],
 after the POSTGUI_HALFILEs, e.g. HALWEB = hal-web --read-only -p 8400.
 GUIs are not started; a [DISPLAY]DISPLAY naming a program of the
 configuration's own (a path such as ./test-ui.py, or a program in its bin/
-directory) runs as LinuxCNC runs it, PROGRAM -ini INIFILE [ARGS], and when
-it exits the machine stops and linuxcnc exits with its status. Send the machine
+directory) runs as LinuxCNC runs it, PROGRAM -ini INIFILE [ARGS], without
+the POSTGUI_HALFILEs (a GUI's to run), and when it exits the machine stops
+and linuxcnc exits with its status. Send the machine
 task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
 mode, open, run, mdi, status; gcode-run runs a program through task) and
 motion commands with motion-cmd.
@@ -594,7 +595,18 @@ fn run_on_host(
         verbose: opts.verbose,
         renames,
     };
-    side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    // LinuxCNC's GUIs run the POSTGUI files once their pins exist; its
+    // script never does. Here they stand in for the GUI that is not
+    // started, but a display program of the configuration's own runs
+    // them itself if it wants them, as under LinuxCNC.
+    if crate::display::display_program(ini).is_none() {
+        side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    } else if let Some(e) = ini.entry("HAL", "POSTGUI_HALFILE") {
+        eprintln!(
+            "note: {}: [HAL]POSTGUI_HALFILE is left to the display program, as LinuxCNC does",
+            e.origin
+        );
+    }
     start_halweb(&mut session, ini)?;
     report_skipped(ini, &startup.rules.borrow(), &inst);
     let mut server = crate::task_socket::TaskServer::bind(instance).map_err(|e| {

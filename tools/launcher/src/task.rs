@@ -131,6 +131,8 @@ pub enum TaskRequest {
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
+    /// Start the interpreter afresh (nothing may run).
+    ResetInterpreter,
     /// The messages for the error channel after a number.
     Messages(u64),
     /// An operator message for the error channel (LinuxCNC's kind).
@@ -199,6 +201,8 @@ pub const REQUESTS: &str = "\
   coolant mist|flood on|off
   lube on|off
   reload-tool-table     read the tool table file again
+  reset-interpreter     start the interpreter afresh: its start-up modal
+                        state, the parameter file as saved (nothing may run)
   status                machine state, mode, tool, coolant, motion, program
   mode manual|auto|mdi  switch mode (AUTO and MDI need the machine on and,
                         unless [TRAJ]NO_FORCE_HOMING, homed joints)
@@ -297,6 +301,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         }
         ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
         ["reload-tool-table"] => TaskRequest::ReloadToolTable,
+        ["reset-interpreter"] => TaskRequest::ResetInterpreter,
         ["status"] => TaskRequest::Status,
         ["mode", "manual"] => TaskRequest::Mode(Mode::Manual),
         ["mode", "auto"] => TaskRequest::Mode(Mode::Auto),

@@ -377,6 +377,23 @@ impl Program {
             })
     }
 
+    /// Starts the interpreter afresh (LinuxCNC's reset_interpreter): its
+    /// start-up modal state and the parameter file as saved. Refused
+    /// while something runs.
+    pub fn reset_interpreter(
+        &mut self,
+        motion: &MotionLink,
+        io: &IoControl,
+    ) -> Result<(), ProgramError> {
+        if !self.settled() {
+            return Err(ProgramError::Running {
+                hint: " (abort it before resetting the interpreter)",
+            });
+        }
+        self.initialised = false;
+        self.synch(motion, io)
+    }
+
     /// Stops everything: the interpreter, the ops not yet carried out,
     /// MDI lines waiting (motion and iocontrol are aborted by task).
     pub fn abort(&mut self) {
