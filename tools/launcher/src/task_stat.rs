@@ -219,6 +219,15 @@ const FIELDS: &[Field] = &[
     ("tool_in_spindle", |c| {
         Some(Value::Int(c.task.io.tool_in_spindle().into()))
     }),
+    ("pocket_prepped", |c| {
+        // The table slot prepared, -1 for none, as LinuxCNC's.
+        Some(Value::Int(
+            c.task.io.prepped_slot().map_or(-1, |s| s as i64),
+        ))
+    }),
+    ("tool_from_pocket", |c| {
+        Some(Value::Int(c.task.io.outputs().tool_from_pocket.into()))
+    }),
     ("mist", |c| Some(bit(c.task.io.outputs().coolant_mist))),
     ("flood", |c| Some(bit(c.task.io.outputs().coolant_flood))),
     ("lube", |c| Some(bit(c.task.io.outputs().lube))),
