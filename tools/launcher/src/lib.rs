@@ -61,6 +61,7 @@ pub mod fuzz {
     pub use crate::panelui::fuzz_config as panelui_config;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::position_file::fuzz_parse as position_file;
+    pub use crate::task::fuzz_request as task_request;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;
     pub use crate::zlevel::probe::fuzz_parse as probe_points;
 }

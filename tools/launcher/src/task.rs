@@ -798,6 +798,24 @@ impl Task {
     }
 }
 
+/// The fuzz body for requests arriving on task's socket: a request line
+/// (words separated by 0x1F) through [`parse_request`]; a refusal names
+/// the request, and an accepted `message` keeps one line whatever its
+/// text.
+pub fn fuzz_request(data: &[u8]) {
+    let line = String::from_utf8_lossy(data);
+    let words = hal_lang::protocol::decode_request(&line);
+    match parse_request(&words) {
+        Ok(TaskRequest::Message { kind, text }) => {
+            let mut log = crate::task_messages::MessageLog::default();
+            log.push(kind, &text);
+            assert_eq!(log.since(0).lines().count(), 2);
+        }
+        Ok(_) => {}
+        Err(e) => assert!(!e.to_string().is_empty()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
