@@ -26,6 +26,25 @@ pub struct DisplayProgram {
     pub origin: String,
 }
 
+/// LinuxCNC's user interfaces, skipped on this headless machine even when
+/// named by a path.
+const GUIS: &[&str] = &[
+    "axis",
+    "touchy",
+    "gmoccapy",
+    "gscreen",
+    "qtvcp",
+    "qtplasmac",
+    "tklinuxcnc",
+    "tkemc",
+    "keystick",
+    "xemc",
+    "mini",
+    "linuxcncrsh",
+    "dummy",
+    "halui",
+];
+
 /// The display program `ini` names, if it is one the launcher runs (a
 /// path, or a program in `CONFIG_DIR/bin`); `None` for LinuxCNC's GUIs
 /// and for no `[DISPLAY]DISPLAY`.
@@ -33,6 +52,10 @@ pub fn display_program(ini: &Ini) -> Option<DisplayProgram> {
     let e = ini.entry("DISPLAY", "DISPLAY")?;
     let mut words = e.value.split_whitespace();
     let program = words.next()?.to_string();
+    let base = program.rsplit('/').next().unwrap_or(&program);
+    if GUIS.contains(&base) {
+        return None;
+    }
     let in_bin = !program.contains('/') && ini.dir().join("bin").join(&program).is_file();
     if !program.contains('/') && !in_bin {
         return None;
@@ -146,6 +169,7 @@ mod tests {
         assert_eq!(p.args, ["--fast"]);
         assert_eq!(d("[DISPLAY]\nDISPLAY = axis\n"), None);
         assert_eq!(d("[DISPLAY]\nDISPLAY = gmoccapy -c x\n"), None);
+        assert_eq!(d("[DISPLAY]\nDISPLAY = /usr/bin/axis\n"), None);
         assert_eq!(d("[DISPLAY]\nDISPLAY =\n"), None);
         assert_eq!(d("[EMC]\nMACHINE = m\n"), None);
     }
