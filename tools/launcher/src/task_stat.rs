@@ -175,9 +175,6 @@ const FIELDS: &[Field] = &[
             f.map_or(String::new(), |f| f.display().to_string()),
         ))
     }),
-    ("current_line", |c| {
-        Some(Value::Int(c.program.as_ref()?.read_line.into()))
-    }),
     ("read_line", |c| {
         Some(Value::Int(c.program.as_ref()?.read_line.into()))
     }),
@@ -298,6 +295,8 @@ const MOTION_FIELDS: &[Of<MotionStatus>] = &[
     ("probe_val", |m| bit(m.traj.probe_input)),
     ("probing", |m| bit(m.traj.probing)),
     ("motion_line", |m| Value::Int(m.traj.exec_id.into())),
+    // The line executing: motion's, as LinuxCNC reports it.
+    ("current_line", |m| Value::Int(m.traj.exec_id.into())),
     ("queue", |m| Value::Int(m.traj.depth as i64)),
     ("queue_full", |m| bit(m.traj.queue_full)),
     ("paused", |m| bit(m.traj.paused)),
