@@ -124,6 +124,47 @@ fn g5x_index(p: &ProgramView) -> Option<i64> {
         .map(|i| i as i64 + 1)
 }
 
+/// Where each of the interpreter's modal G-codes (in
+/// [`rs274ngc::ActiveCodes`]'s order: motion, plane, distance, IJK
+/// distance, feed mode, units, cutter compensation, tool length,
+/// coordinate system, control mode, retract mode, spindle mode, lathe
+/// mode) goes in LinuxCNC's 17 (0: the line; 2, 12, 16: not kept here).
+const GCODE_SLOTS: [usize; 13] = [1, 3, 6, 14, 7, 5, 4, 9, 8, 11, 10, 13, 15];
+
+/// The active G-codes in LinuxCNC's layout, -1 where there is none.
+fn linuxcnc_gcodes(p: &ProgramView) -> Vec<i64> {
+    let mut v = vec![-1i64; 17];
+    v[0] = p.read_line.into();
+    for (code, slot) in p.codes.g.iter().zip(GCODE_SLOTS) {
+        v[slot] = (*code).into();
+    }
+    v
+}
+
+/// The active M-codes in LinuxCNC's layout of 10: the line, stopping
+/// (none between blocks), spindle, tool change (none), mist (9 when no
+/// coolant runs, -1 when only flood does), flood, overrides.
+fn linuxcnc_mcodes(p: &ProgramView) -> Vec<i64> {
+    let m = &p.codes.m;
+    let has = |code: i32| m.contains(&code);
+    let mut v = vec![-1i64; 10];
+    v[0] = p.read_line.into();
+    v[2] = m.first().map_or(-1, |c| (*c).into());
+    v[4] = if has(7) {
+        7
+    } else if has(8) {
+        -1
+    } else {
+        9
+    };
+    v[5] = if has(8) { 8 } else { -1 };
+    v[6] = m
+        .iter()
+        .find(|c| (48..=51).contains(*c))
+        .map_or(-1, |c| (*c).into());
+    v
+}
+
 /// LinuxCNC's interpreter state: IDLE 1, READING 2, PAUSED 3.
 fn interp_state(c: &Ctx) -> Option<Value> {
     let p = c.task.program.as_ref()?;
@@ -179,20 +220,12 @@ const FIELDS: &[Field] = &[
         Some(Value::Int(c.program.as_ref()?.read_line.into()))
     }),
     ("gcodes", |c| {
-        // LinuxCNC's layout: the line first, then the active G-codes
-        // (times ten), -1 for the unused of its 17.
         let p = c.program.as_ref()?;
-        let mut v = vec![i64::from(p.read_line)];
-        v.extend(p.codes.g.iter().map(|g| i64::from(*g)));
-        v.resize(17.max(v.len()), -1);
-        Some(Value::Ints(v))
+        Some(Value::Ints(linuxcnc_gcodes(p)))
     }),
     ("mcodes", |c| {
         let p = c.program.as_ref()?;
-        let mut v = vec![i64::from(p.read_line)];
-        v.extend(p.codes.m.iter().map(|m| i64::from(*m)));
-        v.resize(10.max(v.len()), -1);
-        Some(Value::Ints(v))
+        Some(Value::Ints(linuxcnc_mcodes(p)))
     }),
     ("settings", |c| {
         let p = c.program.as_ref()?;
@@ -581,6 +614,31 @@ mod tests {
         assert!(e.contains("on or off, not 'maybe'"), "{e}");
         let e = p("set-aout 1 inf").unwrap().unwrap_err().to_string();
         assert!(e.contains("not 'inf'"), "{e}");
+    }
+
+    #[test]
+    fn codes_go_where_linuxcnc_puts_them() {
+        let codes = rs274ngc::ActiveCodes {
+            g: vec![
+                10, 170, 900, 901, 940, 210, 400, 490, 540, 640, 980, 970, 80,
+            ],
+            m: vec![3, 9, 8, 48],
+            feed: 600.0,
+            speed: 1000.0,
+        };
+        let p = ProgramView {
+            file: None,
+            read_line: 7,
+            codes,
+        };
+        assert_eq!(
+            linuxcnc_gcodes(&p),
+            [7, 10, -1, 170, 400, 210, 900, 940, 540, 490, 980, 640, -1, 970, 901, 80, -1]
+        );
+        assert_eq!(linuxcnc_mcodes(&p), [7, -1, 3, -1, -1, 8, 48, -1, -1, -1]);
+        let mut p = p;
+        p.codes.m = vec![5, 9, 9, 49];
+        assert_eq!(linuxcnc_mcodes(&p), [7, -1, 5, -1, 9, -1, 49, -1, -1, -1]);
     }
 
     #[test]
