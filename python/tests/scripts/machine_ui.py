@@ -151,6 +151,36 @@ def main(argv):
           "the MSG comment was shown: %r" % (m,))
     check(e.poll() is None, "nothing else was reported")
 
+    # A long move: pause, resume, then abort it.
+    with open(prog, "w") as f:
+        f.write("G21 G90\nG1 X40 F300\nM2\n")
+    c.program_open(prog)
+    ok_or_fail(c, e, "opening the long program")
+    c.auto(linuxcnc.AUTO_RUN, 0)
+    ok_or_fail(c, e, "running the long program")
+    wait(s, lambda: s.position[0] > 3.5, "the long move to start")
+    c.auto(linuxcnc.AUTO_PAUSE)
+    ok_or_fail(c, e, "pausing")
+    wait(s, lambda: s.paused and s.interp_state == linuxcnc.INTERP_PAUSED and s.task_paused,
+         "the pause to show")
+    wait(s, lambda: s.current_vel == 0.0, "the pause to stop the move", timeout=10)
+    held = s.position[0]
+    time.sleep(0.2)
+    s.poll()
+    check(s.position[0] == held and held < 40, "paused at X%.3f" % held)
+    c.auto(linuxcnc.AUTO_RESUME)
+    ok_or_fail(c, e, "resuming")
+    wait(s, lambda: s.position[0] > held + 0.2, "the move to go on")
+    c.abort()
+    ok_or_fail(c, e, "abort")
+    wait(s, lambda: s.interp_state == linuxcnc.INTERP_IDLE and s.inpos, "the abort to stop it")
+    check(s.position[0] < 40, "the abort stopped the move at X%.3f" % s.position[0])
+    c.set_analog_output(0, 2.5)
+    ok_or_fail(c, e, "setting analog output 0")
+    wait(s, lambda: s.aout[0] == 2.5, "motion.analog-out-00 to show", timeout=5)
+    check(True, "set_analog_output sets motion.analog-out-00")
+
+
     try:
         s.kinematics_type
         fail("stat.kinematics_type gave a value")
