@@ -15,9 +15,8 @@ from . import _session
 _NOT_SUPPLIED = frozenset(
     """active_queue adaptive_feed_enabled call_level command debug
     delay_left dtg feed_hold_enabled feed_override_enabled input_timeout
-    interpreter_errcode kinematics_type limit lube_level misc_error
-    motion_id num_extrajoints queued_mdi_commands rotation_xy
-    spindle_override_enabled""".split()
+    interpreter_errcode kinematics_type limit misc_error motion_id
+    num_extrajoints rotation_xy spindle_override_enabled""".split()
 )
 
 

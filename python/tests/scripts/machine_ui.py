@@ -95,6 +95,10 @@ def main(argv):
           "the MDI move reached X2 Y1: %r" % (s.position[:3],))
     check(len(s.position) == 9 and len(s.actual_position) == 9, "positions have nine axes")
     check(s.interp_state == linuxcnc.INTERP_IDLE, "the interpreter is idle after MDI")
+    check(s.queued_mdi_commands == 0 and s.lube_level in (0, 1),
+          "no MDI waits; lube_level reads")
+    check(s.spindles >= 1 and s.spindle[0]["enabled"] == 0 and s.spindle[0].orient_fault == 0,
+          "spindle 0 is off")
     check(len(s.gcodes) == 17 and s.gcodes[5] == 210 and s.gcodes[6] == 900,
           "G21 and G90 are in LinuxCNC's places: %r" % (s.gcodes,))
     check(s.gcodes[8] == 540 and s.g5x_index == 1, "G54 is active")

@@ -352,7 +352,7 @@ const RESET_WAIT: Duration = Duration::from_secs(1);
 /// The task: iocontrol, the `ini.*` pins, the machine state, the waiters.
 pub struct Task {
     pub(crate) io: IoControl,
-    pins: IoPins,
+    pub(crate) pins: IoPins,
     ini_pins: Option<TaskPins>,
     pub(crate) motion: Option<MotionLink>,
     pub(crate) state: MachineState,

@@ -261,6 +261,10 @@ const FIELDS: &[Field] = &[
     ("mist", |c| Some(bit(c.task.io.outputs().coolant_mist))),
     ("flood", |c| Some(bit(c.task.io.outputs().coolant_flood))),
     ("lube", |c| Some(bit(c.task.io.outputs().lube))),
+    ("lube_level", |c| Some(bit(c.task.pins.inputs().lube_level))),
+    ("queued_mdi_commands", |c| {
+        Some(Value::Int(c.program.as_ref()?.queued_mdi as i64))
+    }),
     ("feedrate", |c| Some(Value::Float(c.task.overrides.feed))),
     ("rapidrate", |c| Some(Value::Float(c.task.overrides.rapid))),
     ("max_velocity", |c| {
@@ -386,6 +390,7 @@ const SPINDLE_FIELDS: &[Of<motion::channel::SpindleState>] = &[
         })
     }),
     ("override", |s| Value::Float(s.scale)),
+    ("orient_fault", |s| Value::Int(s.orient_fault.into())),
 ];
 
 /// The fields of each of `stat.tool_table` (an empty slot: id -1).
@@ -630,6 +635,7 @@ mod tests {
             file: None,
             read_line: 7,
             codes,
+            queued_mdi: 0,
         };
         assert_eq!(
             linuxcnc_gcodes(&p),

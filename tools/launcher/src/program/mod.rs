@@ -78,6 +78,8 @@ pub struct ProgramView<'a> {
     pub read_line: i32,
     /// The modal codes, feed and speed in effect.
     pub codes: rs274ngc::ActiveCodes,
+    /// MDI lines waiting to run.
+    pub queued_mdi: usize,
 }
 
 /// How a run ended.
@@ -205,6 +207,7 @@ impl Program {
             file: self.file.as_deref(),
             read_line: self.read_line,
             codes: self.interp.active_codes(),
+            queued_mdi: self.mdi.len(),
         }
     }
 
