@@ -171,24 +171,24 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
     # Spindle, coolant, outputs, tools.
 
-    def spindle(self, direction, *args):
-        """SPINDLE_FORWARD/REVERSE [speed [spindle]], or SPINDLE_OFF,
-        SPINDLE_INCREASE, SPINDLE_DECREASE [spindle]."""
+    def spindle(self, direction, speed=None, number=0, wait_for_speed=None):
+        """SPINDLE_FORWARD, SPINDLE_REVERSE (at `speed`, else the S in
+        effect), SPINDLE_OFF, SPINDLE_INCREASE or SPINDLE_DECREASE of
+        spindle `number`, as LinuxCNC's (direction, speed, spindle, wait).
+        Starting a spindle answers at once: `wait_for_speed` changes nothing."""
+        number = int(number)
         if direction in (k.SPINDLE_FORWARD, k.SPINDLE_REVERSE):
-            speed = args[0] if args else None
-            number = int(args[1]) if len(args) > 1 else 0
             words = ["spindle", number, "forward" if direction > 0 else "reverse"]
             if speed is not None:
                 words.append(abs(float(speed)))
             return self._send(words)
+        if direction == k.SPINDLE_CONSTANT:
+            raise NotImplementedError("linuxcnc.command.spindle(SPINDLE_CONSTANT)")
         actions = {
             k.SPINDLE_OFF: "off",
             k.SPINDLE_INCREASE: "increase",
             k.SPINDLE_DECREASE: "decrease",
         }
-        if direction == k.SPINDLE_CONSTANT:
-            raise NotImplementedError("linuxcnc.command.spindle(SPINDLE_CONSTANT)")
-        number = int(args[0]) if args else 0
         self._send(["spindle", number, _choice(actions, direction, "spindle")])
 
     def brake(self, what, number=0):

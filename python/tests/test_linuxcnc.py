@@ -74,10 +74,14 @@ def test_ini_find_and_findall(tmp_path):
     ini = linuxcnc.ini(str(p))
     assert ini.find("EMC", "MACHINE") == "test  mill"
     assert ini.find("EMC", "NOPE") is None
-    assert ini.find("EMC", "NOPE", "x") == "x"
+    # As LinuxCNC's: the third argument is which occurrence, from 1.
+    assert ini.find("HAL", "HALFILE", 2) == "b.hal"
+    assert ini.find("HAL", "HALFILE", 3) is None
+    with pytest.raises(TypeError):
+        ini.find("EMC", "NOPE", "x")
     assert ini.findall("HAL", "HALFILE") == ["a.hal", "b.hal"]
     assert ini.findall("HAL", "NOPE") == []
-    with pytest.raises(OSError, match="missing.ini"):
+    with pytest.raises(linuxcnc.error, match="missing.ini"):
         linuxcnc.ini(str(tmp_path / "missing.ini"))
 
 
