@@ -11,12 +11,25 @@ import os
 
 from . import _session
 
-# LinuxCNC's status names that task does not (yet) supply here.
-_NOT_SUPPLIED = frozenset(
-    """active_queue adaptive_feed_enabled call_level command debug
-    delay_left dtg feed_hold_enabled feed_override_enabled input_timeout
-    interpreter_errcode kinematics_type limit misc_error motion_id
-    num_extrajoints rotation_xy spindle_override_enabled""".split()
+# LinuxCNC's status names (its stat's attributes). One that task's
+# snapshot does not hold (not supplied yet, or no motion controller is
+# loaded) raises NotImplementedError naming it.
+_LINUXCNC_NAMES = frozenset(
+    """acceleration active_queue actual_position adaptive_feed_enabled ain
+    angular_units aout axis axis_mask block_delete call_level command
+    current_line current_vel cycle_time debug delay_left din
+    distance_to_go dout dtg echo_serial_number enabled estop exec_state
+    feed_hold_enabled feed_override_enabled feedrate file flood g5x_index
+    g5x_offset g92_offset gcodes homed ini_filename inpos input_timeout
+    interp_state interpreter_errcode joint joint_actual_position
+    joint_position joints kinematics_type limit linear_units lube
+    lube_level max_acceleration max_velocity mcodes misc_error mist
+    motion_id motion_line motion_mode motion_type num_extrajoints
+    optional_stop paused pocket_prepped position probe_tripped probe_val
+    probed_position probing program_units queue queue_full
+    queued_mdi_commands rapidrate read_line rotation_xy settings spindle
+    spindles state task_mode task_paused task_state tool_from_pocket
+    tool_in_spindle tool_offset tool_table velocity""".split()
 )
 
 
@@ -91,7 +104,7 @@ class stat:  # noqa: N801  (LinuxCNC's name)
             return self._values[name]
         except KeyError:
             pass
-        if name in _NOT_SUPPLIED:
+        if name in _LINUXCNC_NAMES:
             raise NotImplementedError(
                 "linuxcnc.stat.%s is not supplied by this machine's task" % name
             )

@@ -18,9 +18,10 @@ from conftest import BIN, REPO, SCRIPTS
 PEER = REPO / "target" / "linuxcnc-peer"
 
 
-def _peer_constants():
-    """LinuxCNC's own module's upper-case names and values, or None when
-    the peer (scripts/linuxcnc-peer) is not extracted or cannot load."""
+def _peer(code):
+    """The lines `code` prints with LinuxCNC's own module importable, or
+    None when the peer (scripts/linuxcnc-peer) is not extracted or cannot
+    load here."""
     dist = PEER / "usr" / "lib" / "python3" / "dist-packages"
     if not dist.is_dir():
         return None
@@ -29,18 +30,38 @@ def _peer_constants():
     env["LD_LIBRARY_PATH"] = os.pathsep.join(
         str(PEER / d) for d in ("usr/lib", "usr/lib/x86_64-linux-gnu")
     )
-    code = (
-        "import linuxcnc\n"
+    r = subprocess.run(
+        ["python3", "-c", "import linuxcnc\n" + code],
+        env=env, capture_output=True, text=True, timeout=60,
+    )
+    if r.returncode != 0:
+        return None
+    return r.stdout.splitlines()
+
+
+def _peer_constants():
+    """LinuxCNC's own module's upper-case names and values, or None."""
+    lines = _peer(
         "for n in dir(linuxcnc):\n"
         "    v = getattr(linuxcnc, n)\n"
         "    if n.isupper() and isinstance(v, int): print(n, v)\n"
     )
-    r = subprocess.run(
-        ["python3", "-c", code], env=env, capture_output=True, text=True, timeout=60
-    )
-    if r.returncode != 0:
+    if lines is None:
         return None
-    return {n: int(v) for n, v in (line.split() for line in r.stdout.splitlines())}
+    return {n: int(v) for n, v in (line.split() for line in lines)}
+
+
+def test_every_linuxcnc_stat_and_command_name_is_known():
+    stat_names = _peer("print(*[n for n in dir(linuxcnc.stat) if not n.startswith('_')])")
+    cmd_names = _peer("print(*[n for n in dir(linuxcnc.command) if not n.startswith('_')])")
+    if stat_names is None or cmd_names is None:
+        pytest.skip("LinuxCNC's module is not here to compare with (run scripts/linuxcnc-peer)")
+    from linuxcnc import _command
+
+    peer_stat = set(stat_names[0].split()) - {"poll"}
+    assert peer_stat == set(_stat._LINUXCNC_NAMES)
+    for name in cmd_names[0].split():
+        assert hasattr(linuxcnc.command, name) or name in _command._NOT_SUPPLIED, name
 
 
 def test_constants_match_linuxcncs_module():
