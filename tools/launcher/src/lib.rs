@@ -30,6 +30,7 @@ mod program;
 mod rules;
 pub mod sim_torch;
 mod task;
+mod task_help;
 mod task_manual;
 mod task_messages;
 mod task_motion;
@@ -49,7 +50,7 @@ pub use machine::{
 };
 pub use program::{ProgramConfig, ProgramError, RunState};
 pub use rules::Rules;
-pub use task::REQUESTS;
+pub use task_help::REQUESTS;
 pub use task_socket::{request, TaskAnswer, TaskClientError};
 
 /// Entry points of the fuzz targets (fuzz/README.md) for the launcher's

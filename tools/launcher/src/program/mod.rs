@@ -15,6 +15,7 @@ mod io_watch;
 mod motion_watch;
 mod op;
 mod user_m;
+mod view;
 mod waits;
 
 use std::collections::VecDeque;
@@ -29,6 +30,7 @@ use canon::{Op, TaskCanon};
 pub use config::ProgramConfig;
 pub use error::ProgramError;
 use input_wait::InputWait;
+pub use view::ProgramView;
 
 /// Blocks read ahead of motion at most (ops waiting in task).
 const READ_AHEAD_OPS: usize = 200;
@@ -68,18 +70,6 @@ impl RunState {
             RunState::Paused | RunState::Held => "PAUSED",
         }
     }
-}
-
-/// What status readers see of the program side ([`Program::view`]).
-pub struct ProgramView<'a> {
-    /// The open program.
-    pub file: Option<&'a std::path::Path>,
-    /// The program line of the last block read.
-    pub read_line: i32,
-    /// The modal codes, feed and speed in effect.
-    pub codes: rs274ngc::ActiveCodes,
-    /// MDI lines waiting to run.
-    pub queued_mdi: usize,
 }
 
 /// How a run ended.
@@ -198,17 +188,6 @@ impl Program {
     /// What the last run ended with, if one ended.
     pub fn last_end(&self) -> Option<&Ended> {
         self.last_end.as_ref()
-    }
-
-    /// The open program, if any; the program line read last; the
-    /// interpreter's modal codes and the axes it knows.
-    pub fn view(&self) -> ProgramView<'_> {
-        ProgramView {
-            file: self.file.as_deref(),
-            read_line: self.read_line,
-            codes: self.interp.active_codes(),
-            queued_mdi: self.mdi.len(),
-        }
     }
 
     /// Takes the machine's state into the canon and synchronises the
@@ -378,23 +357,6 @@ impl Program {
                 doing: "saving the parameter file",
                 source,
             })
-    }
-
-    /// Starts the interpreter afresh (LinuxCNC's reset_interpreter): its
-    /// start-up modal state and the parameter file as saved. Refused
-    /// while something runs.
-    pub fn reset_interpreter(
-        &mut self,
-        motion: &MotionLink,
-        io: &IoControl,
-    ) -> Result<(), ProgramError> {
-        if !self.settled() {
-            return Err(ProgramError::Running {
-                hint: " (abort it before resetting the interpreter)",
-            });
-        }
-        self.initialised = false;
-        self.synch(motion, io)
     }
 
     /// Stops everything: the interpreter, the ops not yet carried out,
