@@ -32,10 +32,17 @@ fn mill_with_display(s: &Scratch, script: &str, args: &str) -> std::path::PathBu
 fn the_display_program_drives_task_and_its_status_is_linuxcncs() {
     let s = Scratch::new("display-status");
     let task_cmd = env!("CARGO_BIN_EXE_task-cmd");
+    // The launcher's own directory is on the display's PATH.
+    let bin_dir = std::path::Path::new(env!("CARGO_BIN_EXE_linuxcnc"))
+        .parent()
+        .unwrap()
+        .display()
+        .to_string();
     let script = format!(
         "#!/bin/sh\n\
          [ \"$1\" = -ini ] && [ \"$2\" = \"$INI_FILE_NAME\" ] && [ \"$3\" = --flag ] || exit 9\n\
          [ \"$(pwd)\" = \"$CONFIG_DIR\" ] || exit 10\n\
+         [ \"$(command -v halcmd)\" = \"{bin_dir}/halcmd\" ] || exit 15\n\
          {task_cmd} estop-reset && {task_cmd} machine-on || exit 11\n\
          {task_cmd} stat > stat.txt || exit 12\n\
          {task_cmd} message display from the ui || exit 13\n\

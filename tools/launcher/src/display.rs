@@ -78,13 +78,28 @@ fn python_dist() -> Option<PathBuf> {
         .then_some(dist)
 }
 
-/// `dir` in front of the search path in `var` (colon-separated).
-fn prepend(dir: &Path, var: &str) -> OsString {
-    let mut paths = vec![dir.to_path_buf()];
+/// `dirs` in front of the search path in `var` (colon-separated); the
+/// path as it was if a directory cannot be in one (it holds a colon).
+fn prepend(dirs: &[PathBuf], var: &str) -> OsString {
+    let mut paths = dirs.to_vec();
     if let Some(old) = std::env::var_os(var) {
         paths.extend(std::env::split_paths(&old));
     }
-    std::env::join_paths(paths).unwrap_or_else(|_| dir.as_os_str().to_os_string())
+    std::env::join_paths(&paths).unwrap_or_else(|_| std::env::var_os(var).unwrap_or_default())
+}
+
+/// Where the display looks for programs first: the configuration's
+/// `bin/` (as LinuxCNC's script puts it), then this launcher's own
+/// directory, so `halcmd` and the other tools it calls are this suite's.
+fn search_dirs(config_dir: &Path) -> Vec<PathBuf> {
+    let mut dirs = vec![config_dir.join("bin")];
+    if let Some(own) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent().map(Path::to_path_buf))
+    {
+        dirs.push(own);
+    }
+    dirs
 }
 
 /// Starts the display program in the configuration's directory with
@@ -108,9 +123,9 @@ pub fn start(
         .current_dir(&dir)
         .env("HAL_INSTANCE", instance)
         .env("INI_FILE_NAME", ini_file)
-        .env("PATH", prepend(&dir.join("bin"), "PATH"));
+        .env("PATH", prepend(&search_dirs(&dir), "PATH"));
     if let Some(dist) = python_dist() {
-        cmd.env("PYTHONPATH", prepend(&dist, "PYTHONPATH"));
+        cmd.env("PYTHONPATH", prepend(&[dist], "PYTHONPATH"));
     }
     eprintln!(
         "linuxcnc: starting the display program {} ({})",
