@@ -36,10 +36,14 @@ def _messages_after(seq):
     if not done:
         raise error("task refused its messages: " + text)
     lines = text.splitlines()
+    if not lines or not lines[0].isdigit():
+        raise error("task's messages answer does not start with a number: %r" % text[:80])
     newest = int(lines[0])
     found = []
     for line in lines[1:]:
-        n, kind, rest = (line.split(" ", 2) + [""])[:3]
+        n, kind, rest = (line.split(" ", 2) + ["", ""])[:3]
+        if not kind.lstrip("-").isdigit():
+            raise error("task's message line is not SEQ KIND TEXT: %r" % line)
         found.append((int(kind), rest))
     return newest, found
 

@@ -29,9 +29,13 @@ pub struct MessageLog {
 }
 
 impl MessageLog {
-    /// Adds a message of `kind` (one line; newlines become spaces).
+    /// Adds a message of `kind` (one line: control characters, newlines
+    /// and the protocol's separators among them, become spaces).
     pub fn push(&mut self, kind: i32, text: &str) {
-        let mut text = text.replace(['\n', '\r'], " ");
+        let mut text: String = text
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
         if text.len() > MAX_TEXT {
             let mut end = MAX_TEXT;
             while !text.is_char_boundary(end) {
@@ -98,9 +102,9 @@ mod tests {
     fn messages_are_numbered_and_read_from_a_point() {
         let mut log = MessageLog::default();
         assert_eq!(log.since(0), "0\n");
-        log.push(OPERATOR_ERROR, "first\nline");
+        log.push(OPERATOR_ERROR, "first\nline\u{1e}");
         log.push(OPERATOR_DISPLAY, "second");
-        assert_eq!(log.since(0), "2\n1 11 first line\n2 13 second\n");
+        assert_eq!(log.since(0), "2\n1 11 first line \n2 13 second\n");
         assert_eq!(log.since(1), "2\n2 13 second\n");
         assert_eq!(log.since(2), "2\n");
         for i in 0..KEPT + 5 {

@@ -64,7 +64,7 @@ pub(crate) enum Value {
     Int(i64),
     /// A number.
     Float(f64),
-    /// A text (newlines become spaces).
+    /// A text (control characters, newlines among them, become spaces).
     Text(String),
     /// Integers.
     Ints(Vec<i64>),
@@ -419,7 +419,13 @@ fn push(out: &mut String, name: &str, v: &Value) {
     let _ = match v {
         Value::Int(i) => writeln!(out, "{name}=i:{i}"),
         Value::Float(f) => writeln!(out, "{name}=f:{f}"),
-        Value::Text(t) => writeln!(out, "{name}=s:{}", t.replace(['\n', '\r'], " ")),
+        Value::Text(t) => {
+            let one_line: String = t
+                .chars()
+                .map(|c| if c.is_control() { ' ' } else { c })
+                .collect();
+            writeln!(out, "{name}=s:{one_line}")
+        }
         Value::Ints(v) => {
             let t: Vec<String> = v.iter().map(i64::to_string).collect();
             writeln!(out, "{name}=I:{}", t.join(" "))
