@@ -78,8 +78,10 @@ def main(argv):
 
     c.mode(linuxcnc.MODE_MANUAL)
     ok_or_fail(c, e, "manual mode")
-    c.home(-1)
-    ok_or_fail(c, e, "home all")
+    # Joint by joint, one call after the other, as scripts often do.
+    for joint in range(3):
+        c.home(joint)
+        ok_or_fail(c, e, "home joint %d" % joint)
     util.wait_for_home([1, 1, 1, 0, 0, 0, 0, 0, 0], timeout=60)
     check(s.joints == 3 and s.homed[3:] == (0,) * (len(s.homed) - 3), "three joints homed")
     wait(s, lambda: s.inpos, "homing to finish moving")

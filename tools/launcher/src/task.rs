@@ -310,6 +310,8 @@ pub struct Task {
     pub(crate) traj_info: crate::task_stat::TrajInfo,
     /// What the error channel carries.
     pub(crate) messages: crate::task_messages::MessageLog,
+    /// Joints to home once the homing in progress ends.
+    pub(crate) pending_homes: crate::task_manual::PendingHomes,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -346,6 +348,7 @@ impl Task {
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
             traj_info: crate::task_stat::TrajInfo::default(),
             messages: crate::task_messages::MessageLog::default(),
+            pending_homes: crate::task_manual::PendingHomes::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -381,6 +384,7 @@ impl Task {
             }
         }
         self.watch_motion();
+        self.home_pending();
         self.pins.write(self.io.outputs());
     }
 
@@ -393,6 +397,7 @@ impl Task {
     }
 
     fn go_estop(&mut self) {
+        self.pending_homes.clear();
         let _ = self.io.request(&IoRequest::EstopOn);
         if let Some(m) = &mut self.motion {
             if let Err(source) = m.disable() {
@@ -521,6 +526,7 @@ impl Task {
             TaskRequest::MachineOn => Some(self.machine_on()),
             TaskRequest::MachineOff => Some(self.machine_off()),
             TaskRequest::Abort => {
+                self.pending_homes.clear();
                 if let Some(p) = &mut self.program {
                     p.abort();
                 }
@@ -558,7 +564,8 @@ impl Task {
             TaskRequest::SetDout { .. } | TaskRequest::SetAout { .. } => {
                 Some(self.output_request(req))
             }
-            TaskRequest::Home(_)
+            TaskRequest::Home(Some(joint)) => Some(self.home_joint(*joint)),
+            TaskRequest::Home(None)
             | TaskRequest::Unhome(_)
             | TaskRequest::JogCont { .. }
             | TaskRequest::JogIncr { .. }
@@ -608,6 +615,7 @@ impl Task {
 
     /// Machine off: motion disabled; from on, the state becomes off.
     fn machine_off(&mut self) -> Answer {
+        self.pending_homes.clear();
         if let Some(m) = &mut self.motion {
             let r = m.disable();
             self.settle();
