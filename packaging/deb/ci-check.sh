@@ -86,6 +86,8 @@ has usr/lib/python3/dist-packages/hal/__init__.py
 has usr/lib/python3/dist-packages/hal/_hal.abi3.so
 has usr/lib/python3/dist-packages/hal/query.py
 has usr/lib/python3/dist-packages/pyhal/__init__.py
+has usr/lib/python3/dist-packages/linuxcnc/__init__.py
+has usr/lib/python3/dist-packages/linuxcnc/_stat.py
 grep -q -E '[[:space:]]\./usr/share/hal-suite/python/hal-[^/]*-abi3-[^/]*\.whl$' <<<"$listing" \
     || fail "missing the Python wheel under usr/share/hal-suite/python"
 # No setuid or setgid bit on anything; the host is not world-executable.

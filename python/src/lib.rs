@@ -9,6 +9,8 @@
 //! * `stream.rs`: `hal.stream`, feeding a streamer and reading a sampler.
 //! * `query.rs`: the dicts of `hal.query` (LinuxCNC 2.10's query API).
 //! * `port.rs`: port pins, for the `pyhal` package.
+//! * `task_client.rs`: task requests and INI files, for the `linuxcnc`
+//!   package.
 //! * `convert.rs`: Python objects to HAL values, with LinuxCNC's
 //!   exceptions; `codes.rs`: LinuxCNC's numbers for types and directions.
 
@@ -20,6 +22,7 @@ mod instance;
 mod port;
 mod query;
 mod stream;
+mod task_client;
 
 use std::sync::atomic::{AtomicI32, Ordering::Relaxed};
 
@@ -110,6 +113,8 @@ fn _hal(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(set_msg_level, m)?)?;
     m.add_function(wrap_pyfunction!(get_msg_level, m)?)?;
     m.add_function(wrap_pyfunction!(_exit_all, m)?)?;
+    m.add_function(wrap_pyfunction!(task_client::task_request, m)?)?;
+    m.add_function(wrap_pyfunction!(task_client::ini_entries, m)?)?;
     for (name, code) in codes::TYPES.iter().chain(&codes::DIRS).chain(&MSG_LEVELS) {
         m.add(*name, *code)?;
     }

@@ -51,6 +51,7 @@ crate::register_targets! {
     ini_file,
     tool_table,
     task_state,
+    task_request,
     probe_points,
     position_file,
     twopass_loadrt,

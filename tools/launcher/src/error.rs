@@ -241,6 +241,17 @@ pub enum LaunchError {
         /// Its words.
         words: String,
     },
+    /// `[DISPLAY]DISPLAY`'s program could not be started.
+    #[error("{origin}: can't execute DISPLAY program {}: {source}", .program.display())]
+    Display {
+        /// The program.
+        program: std::path::PathBuf,
+        /// Where the INI file names it.
+        origin: String,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
     /// A tool request without its number.
     #[error("missing TOOL number")]
     MissingTool,

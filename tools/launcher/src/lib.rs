@@ -14,6 +14,7 @@
 #![forbid(unsafe_code)]
 
 mod config;
+mod display;
 mod error;
 mod hal_side;
 mod halfiles;
@@ -29,13 +30,16 @@ mod program;
 mod rules;
 pub mod sim_torch;
 mod task;
+mod task_help;
 mod task_manual;
+mod task_messages;
 mod task_motion;
 mod task_panel;
 mod task_pins;
 mod task_program;
 mod task_socket;
 mod task_spindle;
+mod task_stat;
 mod twopass;
 pub mod zlevel;
 
@@ -46,7 +50,7 @@ pub use machine::{
 };
 pub use program::{ProgramConfig, ProgramError, RunState};
 pub use rules::Rules;
-pub use task::REQUESTS;
+pub use task_help::REQUESTS;
 pub use task_socket::{request, TaskAnswer, TaskClientError};
 
 /// Entry points of the fuzz targets (fuzz/README.md) for the launcher's
@@ -58,6 +62,7 @@ pub mod fuzz {
     pub use crate::panelui::fuzz_config as panelui_config;
     pub use crate::part_program::fuzz_program as part_program;
     pub use crate::position_file::fuzz_parse as position_file;
+    pub use crate::task::fuzz_request as task_request;
     pub use crate::twopass::fuzz_gather as twopass_loadrt;
     pub use crate::zlevel::probe::fuzz_parse as probe_points;
 }

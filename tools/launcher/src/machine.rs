@@ -63,7 +63,11 @@ settings, iocontrol, the task pins and task with its G-code interpreter,
 until Ctrl-C or SIGTERM, halui if [HAL]HALUI = halui, and hal-web (the
 HAL and the machine in a browser) if [HAL]HALWEB = hal-web [OPTIONS],
 after the POSTGUI_HALFILEs, e.g. HALWEB = hal-web --read-only -p 8400.
-GUIs are not started. Send the machine
+GUIs are not started; a [DISPLAY]DISPLAY naming a program of the
+configuration's own (a path such as ./test-ui.py, or a program in its bin/
+directory) runs as LinuxCNC runs it, PROGRAM -ini INIFILE [ARGS], without
+the POSTGUI_HALFILEs (a GUI's to run), and when it exits the machine stops
+and linuxcnc exits with its status. Send the machine
 task requests with task-cmd (estop-reset, machine-on, tool-change, coolant,
 mode, open, run, mdi, status; gcode-run runs a program through task) and
 motion commands with motion-cmd.
@@ -416,7 +420,10 @@ fn start_halweb(session: &mut Session<'_>, ini: &Ini) -> Result<(), LaunchError>
 /// Says what was not started and which pins that left alone.
 pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
     let mut lines = Vec::new();
-    if let Some(e) = ini.entry("DISPLAY", "DISPLAY") {
+    if let Some(e) = ini
+        .entry("DISPLAY", "DISPLAY")
+        .filter(|_| crate::display::display_program(ini).is_none())
+    {
         lines.push(format!(
             "{}: GUI '{}' ([DISPLAY]DISPLAY)",
             e.origin, e.value
@@ -465,10 +472,31 @@ pub fn report_skipped(ini: &Ini, rules: &Rules, inst: &Instance) {
     }
 }
 
-/// Runs the machine until Ctrl-C or SIGTERM. Returns the exit status.
+/// Starts `[DISPLAY]DISPLAY`'s program if it is one the launcher runs:
+/// the child, and the status so far (1: it could not start).
+fn start_display(ini: &Ini, instance: &str) -> (Option<std::process::Child>, i32) {
+    let Some(d) = crate::display::display_program(ini) else {
+        return (None, 0);
+    };
+    let ini_file = std::env::var_os("INI_FILE_NAME")
+        .map(PathBuf::from)
+        .or_else(|| ini.path().map(Path::to_path_buf))
+        .unwrap_or_default();
+    match crate::display::start(&d, ini, &ini_file, instance) {
+        Ok(child) => (Some(child), 0),
+        Err(e) => {
+            eprintln!("linuxcnc: {e}");
+            (None, 1)
+        }
+    }
+}
+
+/// Runs the machine until Ctrl-C or SIGTERM, or until the display
+/// program ([`crate::display`]) exits. Returns the exit status: the
+/// display's, as LinuxCNC's script does, else 0 (1 on an error).
 pub fn run(opts: &Options) -> i32 {
     match run_machine(opts) {
-        Ok(()) => 0,
+        Ok(status) => status,
         Err(e) => {
             eprintln!("linuxcnc: {e}");
             1
@@ -476,7 +504,7 @@ pub fn run(opts: &Options) -> i32 {
     }
 }
 
-fn run_machine(opts: &Options) -> Result<(), LaunchError> {
+fn run_machine(opts: &Options) -> Result<i32, LaunchError> {
     let ini = load_ini(&opts.ini_path)?;
     // A configuration for an older LinuxCNC runs converted, as
     // LinuxCNC's script runs update_ini on it; its files stay as they are.
@@ -517,7 +545,7 @@ fn run_on_host(
     opts: &Options,
     instance: &str,
     signals: &hal_core::userspace::ExitSignals,
-) -> Result<(), LaunchError> {
+) -> Result<i32, LaunchError> {
     let inst = Instance::attach(instance)?;
     let (mut out, mut err) = (hal_core::stdio::stdout(), std::io::stderr());
     let hopts = HalcmdOptions {
@@ -567,7 +595,18 @@ fn run_on_host(
         verbose: opts.verbose,
         renames,
     };
-    side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    // LinuxCNC's GUIs run the POSTGUI files once their pins exist; its
+    // script never does. Here they stand in for the GUI that is not
+    // started, but a display program of the configuration's own runs
+    // them itself if it wants them, as under LinuxCNC.
+    if crate::display::display_program(ini).is_none() {
+        side.files_of(&mut session, "POSTGUI_HALFILE")?;
+    } else if let Some(e) = ini.entry("HAL", "POSTGUI_HALFILE") {
+        eprintln!(
+            "note: {}: [HAL]POSTGUI_HALFILE is left to the display program, as LinuxCNC does",
+            e.origin
+        );
+    }
     start_halweb(&mut session, ini)?;
     report_skipped(ini, &startup.rules.borrow(), &inst);
     let mut server = crate::task_socket::TaskServer::bind(instance).map_err(|e| {
@@ -593,21 +632,37 @@ fn run_on_host(
     );
     task.overrides = crate::task_manual::Overrides::from_ini(ini)?;
     task.spindle_limits = crate::task_spindle::SpindleLimits::from_ini(ini)?;
+    task.traj_info = crate::task_stat::TrajInfo::from_ini(ini)?;
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
         "linuxcnc: machine '{machine}' runs on HAL instance '{instance}' (e-stop); \
          task-cmd estop-reset, task-cmd machine-on; Ctrl-C stops it"
     );
+    let (mut display, mut status) = start_display(ini, instance);
     let cycle = Duration::from_millis(10);
-    while !signals.requested() {
+    // A display that could not start ends the run at once (status 1).
+    while !signals.requested() && status == 0 {
         for (id, words) in server.poll() {
             task.handle(&mut server, id, &words);
         }
         task.step(&mut server);
         if !inst.host_alive() {
+            if let Some(d) = &mut display {
+                crate::display::stop(d, Duration::from_secs(5));
+            }
             return Err(LaunchError::HostExited);
         }
+        if let Some(Ok(Some(done))) = display.as_mut().map(std::process::Child::try_wait) {
+            status = crate::display::exit_code(done);
+            eprintln!("linuxcnc: the display program exited ({done}); stopping");
+            display = None;
+            break;
+        }
         std::thread::sleep(cycle);
+    }
+    if let Some(d) = &mut display {
+        // Stopped by a signal: the display goes first, as in LinuxCNC.
+        crate::display::stop(d, Duration::from_secs(5));
     }
     eprintln!("linuxcnc: stopping: e-stop, motion disabled");
     task.shut_down(&mut server);
@@ -615,7 +670,7 @@ fn run_on_host(
     // The stop was asked for: SHUTDOWN files are how it is done.
     session.opts.stop = None;
     side.files_of(&mut session, "SHUTDOWN")?;
-    Ok(())
+    Ok(status)
 }
 
 #[cfg(test)]

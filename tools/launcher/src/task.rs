@@ -128,6 +128,34 @@ pub enum TaskRequest {
     FeedHold(bool),
     /// Override the joints' tripped hard limits until the next jog ends.
     OverrideLimits,
+    /// The state as one snapshot of `NAME=KIND:VALUE` lines in
+    /// LinuxCNC's names (the Python `linuxcnc.stat`).
+    Stat,
+    /// Start the interpreter afresh (nothing may run).
+    ResetInterpreter,
+    /// The messages for the error channel after a number.
+    Messages(u64),
+    /// An operator message for the error channel (LinuxCNC's kind).
+    Message {
+        /// OPERATOR_ERROR, OPERATOR_TEXT or OPERATOR_DISPLAY.
+        kind: i32,
+        /// The text.
+        text: String,
+    },
+    /// Set `motion.digital-out-NN` at once.
+    SetDout {
+        /// The output number.
+        index: i32,
+        /// On or off.
+        on: bool,
+    },
+    /// Set `motion.analog-out-NN` at once.
+    SetAout {
+        /// The output number.
+        index: i32,
+        /// The value.
+        value: f64,
+    },
     /// A spindle by hand: start, stop, speed steps, brake, override.
     Spindle {
         /// The spindle number.
@@ -159,58 +187,6 @@ impl Mode {
     }
 }
 
-/// The words `task-cmd` accepts, for its help text.
-pub const REQUESTS: &str = "\
-\x20 estop                 assert the e-stop
-  estop-reset           release the e-stop (user-enable-out on, a pulse on
-                        user-request-enable); waits for emc-enable-in
-  machine-on | machine-off
-  abort                 stop motion, coolant and any tool handshake
-  tool-change TOOL      prepare TOOL and change to it (T<n> M6)
-  tool-prepare TOOL     prepare TOOL (T<n>)
-  tool-load             change to the prepared tool (M6)
-  set-tool TOOL         declare TOOL in the spindle (M61)
-  coolant mist|flood on|off
-  lube on|off
-  reload-tool-table     read the tool table file again
-  status                machine state, mode, tool, coolant, motion, program
-  mode manual|auto|mdi  switch mode (AUTO and MDI need the machine on and,
-                        unless [TRAJ]NO_FORCE_HOMING, homed joints)
-  open FILE             open a G-code program
-  run [LINE]            run it (AUTO), from LINE on if given (the lines
-                        before run through the interpreter, moving nothing)
-  pause | resume | step the running program (step: while paused)
-  mdi G-CODE...         run a line of G-code (MDI mode)
-  wait-done             answer once the program or MDI line has ended
-  home JOINT|all        home a joint or every joint (MANUAL mode)
-  unhome JOINT|all      forget a joint's home (MANUAL mode)
-  jog-cont JOINT|AXIS VEL
-                        jog a joint (a number; free mode) or an axis (a
-                        letter; teleop) at VEL until jog-stop (MANUAL mode)
-  jog-incr JOINT|AXIS VEL DISTANCE
-                        jog a joint or an axis by DISTANCE (MANUAL mode)
-  jog-stop JOINT|AXIS   stop a joint's or an axis's jog
-  feed-override SCALE   the feed override (1 = 100 %, at most
-                        [DISPLAY]MAX_FEED_OVERRIDE)
-  rapid-override SCALE  the rapid override (0 to 1)
-  max-velocity VEL      the tool-tip speed limit ([TRAJ]MAX_LINEAR_VELOCITY)
-  state                 the state as key=value lines, for programs
-  optional-stop on|off  M1 stops the program (off: M1 is passed over)
-  block-delete on|off   lines that start with / are skipped (on) or run
-  teleop on|off         MANUAL mode's jogs move world axes (on) or joints
-  feed-hold on|off      whether motion.feed-hold holds the moves (M53)
-  override-limits       override the joints' tripped hard limits until
-                        the next jog ends
-  spindle [N] forward|reverse [RPM]
-                        start spindle N (default 0) at RPM, else the S in
-                        effect, else 500 (machine on, nothing running)
-  spindle [N] off|increase|decrease
-                        stop it (brake on), or 100 rpm faster or slower
-  spindle [N] brake on|off
-  spindle [N] override SCALE
-                        the spindle override (1 = 100 %, within
-                        [DISPLAY]MIN/MAX_SPINDLE_OVERRIDE)";
-
 /// Parses `task-cmd`'s words.
 pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
     let w: Vec<&str> = words.iter().map(String::as_str).collect();
@@ -235,6 +211,12 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
     if let Some(switch) = crate::task_panel::parse(&w) {
         return switch;
     }
+    if let Some(r) = crate::task_stat::parse(&w) {
+        return r;
+    }
+    if let Some(r) = crate::task_messages::parse(&w) {
+        return r;
+    }
     Ok(match w.as_slice() {
         ["estop"] => TaskRequest::Estop,
         ["estop-reset"] => TaskRequest::EstopReset,
@@ -257,6 +239,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         }
         ["lube", rest @ ..] if rest.len() == 1 => TaskRequest::Lube(on_off(rest.first())?),
         ["reload-tool-table"] => TaskRequest::ReloadToolTable,
+        ["reset-interpreter"] => TaskRequest::ResetInterpreter,
         ["status"] => TaskRequest::Status,
         ["mode", "manual"] => TaskRequest::Mode(Mode::Manual),
         ["mode", "auto"] => TaskRequest::Mode(Mode::Auto),
@@ -307,7 +290,7 @@ const RESET_WAIT: Duration = Duration::from_secs(1);
 /// The task: iocontrol, the `ini.*` pins, the machine state, the waiters.
 pub struct Task {
     pub(crate) io: IoControl,
-    pins: IoPins,
+    pub(crate) pins: IoPins,
     ini_pins: Option<TaskPins>,
     pub(crate) motion: Option<MotionLink>,
     pub(crate) state: MachineState,
@@ -323,6 +306,12 @@ pub struct Task {
     pub(crate) switches: crate::task_panel::Switches,
     /// The spindle override's limits.
     pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
+    /// The INI settings `stat` reports (units, cycle time, speeds).
+    pub(crate) traj_info: crate::task_stat::TrajInfo,
+    /// What the error channel carries.
+    pub(crate) messages: crate::task_messages::MessageLog,
+    /// Joints to home once the homing in progress ends.
+    pub(crate) pending_homes: crate::task_manual::PendingHomes,
     /// Motion's heartbeat before which its enable flag is not compared
     /// with the machine state (an enable or disable just sent shows in
     /// the snapshot a cycle or two later).
@@ -357,6 +346,9 @@ impl Task {
             overrides: crate::task_manual::Overrides::default(),
             switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
+            traj_info: crate::task_stat::TrajInfo::default(),
+            messages: crate::task_messages::MessageLog::default(),
+            pending_homes: crate::task_manual::PendingHomes::default(),
         };
         t.pins.write(t.io.outputs());
         t
@@ -392,6 +384,7 @@ impl Task {
             }
         }
         self.watch_motion();
+        self.home_pending();
         self.pins.write(self.io.outputs());
     }
 
@@ -404,6 +397,7 @@ impl Task {
     }
 
     fn go_estop(&mut self) {
+        self.pending_homes.clear();
         let _ = self.io.request(&IoRequest::EstopOn);
         if let Some(m) = &mut self.motion {
             if let Err(source) = m.disable() {
@@ -532,6 +526,7 @@ impl Task {
             TaskRequest::MachineOn => Some(self.machine_on()),
             TaskRequest::MachineOff => Some(self.machine_off()),
             TaskRequest::Abort => {
+                self.pending_homes.clear();
                 if let Some(p) = &mut self.program {
                     p.abort();
                 }
@@ -560,7 +555,17 @@ impl Task {
             TaskRequest::ReloadToolTable => Some(self.reload_tool_table()),
             TaskRequest::Status => Some(Ok(self.status())),
             TaskRequest::State => Some(Ok(self.state_lines())),
-            TaskRequest::Home(_)
+            TaskRequest::Stat => Some(Ok(self.stat_lines())),
+            TaskRequest::Messages(seq) => Some(Ok(self.messages.since(*seq))),
+            TaskRequest::Message { kind, text } => {
+                self.messages.push(*kind, text);
+                Some(Ok("message kept".into()))
+            }
+            TaskRequest::SetDout { .. } | TaskRequest::SetAout { .. } => {
+                Some(self.output_request(req))
+            }
+            TaskRequest::Home(Some(joint)) => Some(self.home_joint(*joint)),
+            TaskRequest::Home(None)
             | TaskRequest::Unhome(_)
             | TaskRequest::JogCont { .. }
             | TaskRequest::JogIncr { .. }
@@ -610,6 +615,7 @@ impl Task {
 
     /// Machine off: motion disabled; from on, the state becomes off.
     fn machine_off(&mut self) -> Answer {
+        self.pending_homes.clear();
         if let Some(m) = &mut self.motion {
             let r = m.disable();
             self.settle();
@@ -735,6 +741,24 @@ impl Task {
                 eprintln!("task: {why}");
             }
         }
+    }
+}
+
+/// The fuzz body for requests arriving on task's socket: a request line
+/// (words separated by 0x1F) through [`parse_request`]; a refusal names
+/// the request, and an accepted `message` keeps one line whatever its
+/// text.
+pub fn fuzz_request(data: &[u8]) {
+    let line = String::from_utf8_lossy(data);
+    let words = hal_lang::protocol::decode_request(&line);
+    match parse_request(&words) {
+        Ok(TaskRequest::Message { kind, text }) => {
+            let mut log = crate::task_messages::MessageLog::default();
+            log.push(kind, &text);
+            assert_eq!(log.since(0).lines().count(), 2);
+        }
+        Ok(_) => {}
+        Err(e) => assert!(!e.to_string().is_empty()),
     }
 }
 

@@ -3,6 +3,8 @@
 //! and rapid overrides and the tool-tip speed limit; and the `state`
 //! answer, the machine state as `key=value` lines for programs.
 
+use std::time::{Duration, Instant};
+
 use hal_lang::ini::Ini;
 use motion::Command;
 
@@ -159,7 +161,86 @@ pub fn parse(word: &str, rest: &[&str]) -> Result<TaskRequest, LaunchError> {
     })
 }
 
+/// How long a joint's home waits for the homing in progress to end.
+const PENDING_HOME_WAIT: Duration = Duration::from_secs(300);
+
+/// Joints whose home was asked while another joint homed: the motion
+/// controller takes one homing at a time, so task sends each once the
+/// homing in progress has ended (a client asking for joints 0, 1 and 2
+/// one after the other gets all three homed, as under LinuxCNC).
+#[derive(Debug, Default)]
+pub struct PendingHomes(Vec<(i32, Instant)>);
+
+impl PendingHomes {
+    /// Forgets them (abort, e-stop, machine off).
+    pub fn clear(&mut self) {
+        self.0.clear();
+    }
+}
+
 impl Task {
+    /// Homes one joint, or keeps it for when the homing in progress ends.
+    pub(crate) fn home_joint(&mut self, joint: i32) -> Answer {
+        if !self.pending_homes.0.is_empty() {
+            self.require_manual("home")?;
+            self.pending_homes
+                .0
+                .push((joint, Instant::now() + PENDING_HOME_WAIT));
+            return Ok(format!("joint {joint} homes after the joints before it"));
+        }
+        match self.manual_request(&TaskRequest::Home(Some(joint))) {
+            Err(LaunchError::MotionRefused {
+                source: motion::Reject::HomingActive,
+            }) => {
+                self.pending_homes
+                    .0
+                    .push((joint, Instant::now() + PENDING_HOME_WAIT));
+                Ok(format!(
+                    "joint {joint} homes once the homing in progress ends"
+                ))
+            }
+            other => other,
+        }
+    }
+
+    /// Sends the first pending home once motion shows no homing; a
+    /// refusal other than "homing active" drops it, on the error channel.
+    pub(crate) fn home_pending(&mut self) {
+        let Some(&(joint, until)) = self.pending_homes.0.first() else {
+            return;
+        };
+        let homing = self
+            .motion
+            .as_ref()
+            .and_then(MotionLink::status)
+            .is_none_or(|s| s.homing_active);
+        if homing && Instant::now() < until {
+            return;
+        }
+        let result = if homing {
+            Err(LaunchError::Program(format!(
+                "home joint {joint}: the homing in progress did not end within {} s",
+                PENDING_HOME_WAIT.as_secs()
+            )))
+        } else {
+            self.manual_request(&TaskRequest::Home(Some(joint)))
+        };
+        match result {
+            Err(LaunchError::MotionRefused {
+                source: motion::Reject::HomingActive,
+            }) if Instant::now() < until => {}
+            Err(e) => {
+                self.pending_homes.0.remove(0);
+                eprintln!("task: {e}");
+                self.messages
+                    .push(crate::task_messages::OPERATOR_ERROR, &e.to_string());
+            }
+            Ok(_) => {
+                self.pending_homes.0.remove(0);
+            }
+        }
+    }
+
     /// Takes a home, jog or override request.
     pub(crate) fn manual_request(&mut self, req: &TaskRequest) -> Answer {
         let (cmd, done) = match *req {

@@ -83,6 +83,8 @@ impl Task {
         let Some(status) = m.status() else { return };
         for line in self.motion_messages.news(&status) {
             eprintln!("{line}");
+            self.messages
+                .push(crate::task_messages::OPERATOR_ERROR, &line);
         }
         if status.heartbeat < self.settle_until {
             return;
@@ -92,6 +94,10 @@ impl Task {
             (true, false) => {
                 let why = self.motion_messages.why_disabled(&status);
                 eprintln!("task: the motion controller disabled itself{why}: machine off");
+                self.messages.push(
+                    crate::task_messages::OPERATOR_ERROR,
+                    &format!("the motion controller disabled itself{why}: machine off"),
+                );
                 self.state = MachineState::Off;
                 self.stop_program();
             }

@@ -40,8 +40,14 @@ impl Task {
             return;
         };
         let ended = program.cycle(motion, &mut self.io, events, self.switches.optional_stop);
+        for text in program.messages.drain(..) {
+            self.messages
+                .push(crate::task_messages::OPERATOR_DISPLAY, &text);
+        }
         if let Some(Ended::Failed(why)) = &ended {
             eprintln!("task: {why}");
+            self.messages
+                .push(crate::task_messages::OPERATOR_ERROR, why);
             // A failed run stops the machine's moves with a controlled
             // deceleration, stops the spindle and leaves no handshake
             // half done.
@@ -91,6 +97,7 @@ impl Task {
                 return None;
             }
             TaskRequest::Open(path) => self.open(path),
+            TaskRequest::ResetInterpreter => self.reset_interpreter(),
             TaskRequest::Run(line) => self.run(*line),
             TaskRequest::Mdi(text) => self.mdi(text),
             TaskRequest::Pause | TaskRequest::Resume | TaskRequest::Step => self.control(req),
@@ -120,6 +127,14 @@ impl Task {
             std::fs::canonicalize(path).map_err(|e| refused(format!("{}: {e}", path.display())))?;
         p.open(&path, m, &self.io)?;
         Ok(format!("opened {}", path.display()))
+    }
+
+    fn reset_interpreter(&mut self) -> Answer {
+        let (Some(p), Some(m)) = (&mut self.program, &self.motion) else {
+            return Err(LaunchError::NoMotion);
+        };
+        p.reset_interpreter(m, &self.io)?;
+        Ok("interpreter reset".into())
     }
 
     fn run(&mut self, line: i32) -> Answer {

@@ -281,6 +281,11 @@ impl IoControl {
         self.tool_in_spindle
     }
 
+    /// The table slot prepared, if any (LinuxCNC's `pocketPrepped`).
+    pub fn prepped_slot(&self) -> Option<usize> {
+        self.prepped
+    }
+
     /// The tool prepared, if any.
     pub fn prepared_tool(&self) -> Option<i32> {
         self.prepped.map(|s| self.prep_number_of(s))

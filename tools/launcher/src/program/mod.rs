@@ -15,6 +15,7 @@ mod io_watch;
 mod motion_watch;
 mod op;
 mod user_m;
+mod view;
 mod waits;
 
 use std::collections::VecDeque;
@@ -29,6 +30,7 @@ use canon::{Op, TaskCanon};
 pub use config::ProgramConfig;
 pub use error::ProgramError;
 use input_wait::InputWait;
+pub use view::ProgramView;
 
 /// Blocks read ahead of motion at most (ops waiting in task).
 const READ_AHEAD_OPS: usize = 200;
@@ -125,6 +127,8 @@ pub struct Program {
     mdi_text: String,
     /// `[TASK]IO_ERROR`.
     io_error: String,
+    /// The program's messages (MSG comments) not yet taken by task.
+    pub messages: Vec<String>,
 }
 
 impl Program {
@@ -157,6 +161,7 @@ impl Program {
             orient_deadline: None,
             tool_table,
             abandoned: user_m::Abandoned::default(),
+            messages: Vec::new(),
         }
     }
 
@@ -611,7 +616,12 @@ impl Program {
                     }
                 }
                 Op::End => self.read_done = true,
-                Op::Message(text) => eprintln!("task: {text}"),
+                Op::Message(text) => {
+                    eprintln!("task: {text}");
+                    if self.messages.len() < 256 {
+                        self.messages.push(text);
+                    }
+                }
                 Op::UserM {
                     number,
                     program,
