@@ -30,8 +30,17 @@ use hostmot2::{Hm2Error, MbccbProblem};
 
 const PERIOD: i64 = 1_000_000;
 
-fn spec(version: u8) -> FirmwareSpec {
+/// The simulated 7i96s without its own PktUART: each test gives it the
+/// PktUARTs it needs.
+fn without_pktuart() -> FirmwareSpec {
     let mut s = sim::boards::preset("7i96s").unwrap();
+    s.modules
+        .retain(|m| m.gtag != gtag::PKTUART_TX && m.gtag != gtag::PKTUART_RX);
+    s
+}
+
+fn spec(version: u8) -> FirmwareSpec {
+    let mut s = without_pktuart();
     s.modules
         .push(ModuleSpec::standard(gtag::PKTUART_TX, version, 2));
     s.modules
@@ -80,7 +89,7 @@ fn pktuart_is_found_in_the_descriptors() {
     assert_eq!(i.rx, [0x6400, 0x6500, 0x6600, 0x6700]);
     assert_eq!(i.version_word(), 0x33);
     // One half alone is refused.
-    let mut s = sim::boards::preset("7i96s").unwrap();
+    let mut s = without_pktuart();
     s.modules.push(ModuleSpec::standard(gtag::PKTUART_TX, 3, 1));
     let idrom = s.idrom();
     let (_sim, mut t) = sim::board(s, Box::new(Bench::default()));

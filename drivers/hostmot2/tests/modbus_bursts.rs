@@ -23,7 +23,6 @@ use hostmot2::config::Config;
 use hostmot2::eth::EthTransport;
 use hostmot2::firmware::Debug;
 use hostmot2::hal::{publish_board, SharedBoard};
-use hostmot2::image::ModuleSpec;
 use hostmot2::log::{BoardLog, MessageLog};
 use hostmot2::modbus::encode::encode;
 use hostmot2::modbus::engine::Engine;
@@ -31,7 +30,6 @@ use hostmot2::modbus::hal::HM2_MODBUS_MODULE;
 use hostmot2::modbus::line::Versions;
 use hostmot2::modbus::mbccb::{format, Command, HalType, Mbccb, ModbusType, PinSpec};
 use hostmot2::modbus::values::Value;
-use hostmot2::regs::gtag;
 use hostmot2::sim::eth_server::Faults;
 use hostmot2::sim::modbus_slave::ModbusSlave;
 use hostmot2::sim::{boards, Bench, Hm2Model, SimHm2};
@@ -268,17 +266,13 @@ fn one_pktuart_serves_one_hm2_modbus_instance() {
         .unwrap();
 }
 
-/// The Ethernet path: a 7I96S whose firmware has PktUARTs, served over
+/// The Ethernet path: a 7I96S (its firmware has a PktUART), served over
 /// UDP by the simulator, its transport counted; the engine stepped on
 /// its link between the board's `read` and `write`, as the servo thread
 /// runs them.
 #[test]
 fn over_ethernet_each_period_is_one_request_and_one_write_datagram() {
-    let mut spec = boards::preset("7i96s").unwrap();
-    spec.modules
-        .push(ModuleSpec::standard(gtag::PKTUART_TX, 3, 2));
-    spec.modules
-        .push(ModuleSpec::standard(gtag::PKTUART_RX, 3, 2));
+    let spec = boards::preset("7i96s").unwrap();
     let server = common::eth::serve_spec("7i96s", spec, Faults::default());
     server
         .shared()

@@ -14,7 +14,7 @@
 //!
 //! | name | space-7 name | connectors | firmware |
 //! |---|---|---|---|
-//! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 3 PWM generators (PWM, dir, /enable), 2 GPIO; TB1: 5 step generators (step/dir), encoder 0 (A, B, index), 4 GPIO; TB2: 11 GPIO (the isolated inputs), encoders 1 and 2 |
+//! | `7i96s` | `7I96S` | P1, TB1, TB2 × 17 | P1: Smart Serial port 0 with 2 channels (RX, TX, TX enable each), 3 PWM generators (PWM, dir, /enable), 2 GPIO; TB1: 5 step generators (step/dir), encoder 0 (A, B, index), 4 GPIO; TB2: 11 GPIO (the isolated inputs), encoders 1 and 2; one PktUART v3 on the RS-422/485 port (`hm2_7i96s.0.pktuart.0`, no connector pins; nothing on its line until a test plugs a peer in) |
 //! | `7i76e` | `7I76E-16` | P1, P2, P3 × 17 | P1 (the on-card 7i76): 5 step generators, Smart Serial port 0 channel 0, 1 encoder, 1 GPIO; P2, P3: GPIO |
 //! | `7i93` | `7I93` | P2, P1 × 24 | the PCI cards' SVST4_8 layout ([`super::plx_boards`]): P2: 4 servo channels (encoder A, B, index; PWM, dir, /enable, paired); P1: 8 step generators (step/dir), 8 GPIO |
 //! | `7i92` | `7I92` | P2, P1 × 17 | the `5i25` firmware: per header 5 step generators, 1 encoder, 4 GPIO |
@@ -238,6 +238,13 @@ fn seven_i96s() -> FirmwareSpec {
     let led = fw.modules.len() - 1;
     fw.modules
         .insert(led, ModuleSpec::standard(gtag::PWMGEN, 0, 3));
+    // The card's RS-422/485 port: one PktUART (v3), as Mesa's 7I96S
+    // firmware has for `hm2_modbus`. Its transceiver is wired on the
+    // card, so no connector pin is given to it here.
+    fw.modules
+        .push(ModuleSpec::standard(gtag::PKTUART_TX, 3, 1));
+    fw.modules
+        .push(ModuleSpec::standard(gtag::PKTUART_RX, 3, 1));
     fw
 }
 
