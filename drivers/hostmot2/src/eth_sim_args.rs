@@ -17,7 +17,7 @@ In a HAL file (loadusr -W waits until it listens; it exits with the HAL):
   loadrt hm2_eth board_ip=127.0.0.1 config=\"num_stepgens=3\"
 
 Boards: 7i96s (5 step generators, 3 encoders, 3 PWM generators, Smart
-Serial on P1), 7i76e (the on-card 7i76's step generators and Smart
+Serial on P1, a PktUART for hm2_modbus with nothing on its line), 7i76e (the on-card 7i76's step generators and Smart
 Serial), 7i93 (two 50-pin headers: 4 servo channels on P2, 8 step
 generators on P1), 7i92 (per header 5 step generators and an encoder),
 7i95 (6 step generators, 3 encoders); on the boards with Smart Serial a
