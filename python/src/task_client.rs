@@ -34,28 +34,85 @@ pub fn task_request(py: Python<'_>, words: Vec<String>, timeout: f64) -> PyResul
     let line = hal_lang::protocol::encode_request(&words)
         .map_err(|e| PyValueError::new_err(format!("task request {words:?}: {e}")))?;
     py.detach(|| exchange(&instance, &line, Duration::from_secs_f64(timeout)))
-        .map_err(PyOSError::new_err)
+        .map_err(|e| PyOSError::new_err(chain(&e)))
 }
 
-fn exchange(instance: &str, line: &str, timeout: Duration) -> Result<(bool, String), String> {
-    let path: PathBuf = hal_core::paths::runtime_file(instance, "-task.sock")
-        .map_err(|e| format!("the task socket of HAL instance '{instance}': {e}"))?;
+/// Why a request to task got no answer.
+#[derive(Debug, thiserror::Error)]
+pub enum TaskClientError {
+    /// The instance's runtime directory gave no socket path.
+    #[error("the task socket of HAL instance '{instance}'")]
+    SocketPath {
+        instance: String,
+        #[source]
+        source: hal_core::HalError,
+    },
+    /// Nothing listens at the socket: no machine runs on the instance.
+    #[error("no machine runs on HAL instance '{instance}' (no task at {}): start it with linuxcnc MACHINE.ini", path.display())]
+    NoMachine { instance: String, path: PathBuf },
+    /// Connecting, writing or reading failed.
+    #[error("{step} task at {}", path.display())]
+    Io {
+        step: &'static str,
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The answer was not `ok` or `err`, a unit separator and a text.
+    #[error("malformed answer from task: {answer:?}")]
+    Malformed { answer: String },
+}
+
+/// The error and its causes in one line, for a Python exception.
+fn chain(e: &TaskClientError) -> String {
+    let mut text = e.to_string();
+    let mut cause = std::error::Error::source(e);
+    while let Some(c) = cause {
+        text.push_str(": ");
+        text.push_str(&c.to_string());
+        cause = c.source();
+    }
+    text
+}
+
+fn exchange(
+    instance: &str,
+    line: &str,
+    timeout: Duration,
+) -> Result<(bool, String), TaskClientError> {
+    let path: PathBuf =
+        hal_core::paths::runtime_file(instance, "-task.sock").map_err(|source| {
+            TaskClientError::SocketPath {
+                instance: instance.to_string(),
+                source,
+            }
+        })?;
+    let io = |step: &'static str| {
+        let path = path.clone();
+        move |source| TaskClientError::Io { step, path, source }
+    };
     let mut s = UnixStream::connect(&path).map_err(|e| match e.kind() {
-        ErrorKind::NotFound | ErrorKind::ConnectionRefused => format!(
-            "no machine runs on HAL instance '{instance}' (no task at {}): start it with linuxcnc MACHINE.ini",
-            path.display()
-        ),
-        _ => format!("connecting to task at {}: {e}", path.display()),
+        ErrorKind::NotFound | ErrorKind::ConnectionRefused => TaskClientError::NoMachine {
+            instance: instance.to_string(),
+            path: path.clone(),
+        },
+        _ => io("connecting to")(e),
     })?;
-    let io = |e: std::io::Error| format!("talking to task at {}: {e}", path.display());
-    s.set_write_timeout(Some(timeout)).map_err(io)?;
-    s.set_read_timeout(Some(timeout)).map_err(io)?;
-    s.write_all(format!("{line}\n").as_bytes()).map_err(io)?;
+    s.set_write_timeout(Some(timeout))
+        .map_err(io("talking to"))?;
+    s.set_read_timeout(Some(timeout))
+        .map_err(io("talking to"))?;
+    s.write_all(format!("{line}\n").as_bytes())
+        .map_err(io("writing to"))?;
     let mut answer = Vec::new();
-    s.take(MAX_ANSWER).read_to_end(&mut answer).map_err(io)?;
+    s.take(MAX_ANSWER)
+        .read_to_end(&mut answer)
+        .map_err(io("reading from"))?;
     let answer = String::from_utf8_lossy(&answer);
     let answer = answer.trim_end_matches('\n');
-    let malformed = || format!("malformed answer from task: {answer:?}");
+    let malformed = || TaskClientError::Malformed {
+        answer: answer.to_string(),
+    };
     let (tag, text) = answer.split_once(UNIT).ok_or_else(malformed)?;
     let text = text.replace(LINE, "\n");
     match tag {
