@@ -31,7 +31,6 @@ use hostmot2::firmware::Debug;
 use hostmot2::log::{BoardLog, MessageLog};
 use hostmot2::modbus::engine::{Engine, Port};
 use hostmot2::modbus::line::Versions;
-use hostmot2::modbus::mbccb::{format, Command, HalType, Mbccb, ModbusType, PinSpec};
 use hostmot2::modbus::values::Value;
 use hostmot2::pktuart::link::Status;
 use hostmot2::pktuart::{LineConfig, PktUartPort};
@@ -44,39 +43,9 @@ use hostmot2::window::WindowTransport;
 const PERIOD: i64 = 1_000_000;
 const N: u64 = 20_000;
 
-fn file() -> Mbccb {
-    let pin = |name: &str, regofs: u8| PinSpec {
-        name: name.into(),
-        htype: HalType::U32,
-        mtype: ModbusType(0),
-        flags: 0,
-        regofs,
-    };
-    let cmd = |func: u8, addr: u16, pins: Vec<PinSpec>| Command {
-        mbid: 7,
-        func,
-        flags: 0,
-        addr,
-        regcnt: 2,
-        interval_us: 0,
-        timeout_us: 50_000,
-        pins,
-    };
-    Mbccb {
-        baudrate: 115_200,
-        format: format::PARITY_EN,
-        txdelay: 0,
-        rxdelay: 0,
-        drvdelay: 0,
-        icdelay: 0,
-        inits: Vec::new(),
-        commands: vec![
-            cmd(3, 2, vec![pin("in.a", 0), pin("in.b", 1)]),
-            cmd(16, 10, vec![pin("out.a", 0), pin("out.b", 1)]),
-        ],
-        warnings: Vec::new(),
-    }
-}
+#[path = "../tests/common/modbus_file.rs"]
+mod modbus_file;
+use modbus_file::file;
 
 fn sim_board() -> Arc<SimHm2> {
     let spec = boards::preset("5i25-pktuart").unwrap();

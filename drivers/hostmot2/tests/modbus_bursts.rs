@@ -28,7 +28,6 @@ use hostmot2::modbus::encode::encode;
 use hostmot2::modbus::engine::Engine;
 use hostmot2::modbus::hal::HM2_MODBUS_MODULE;
 use hostmot2::modbus::line::Versions;
-use hostmot2::modbus::mbccb::{format, Command, HalType, Mbccb, ModbusType, PinSpec};
 use hostmot2::modbus::values::Value;
 use hostmot2::sim::eth_server::Faults;
 use hostmot2::sim::modbus_slave::ModbusSlave;
@@ -38,44 +37,7 @@ use hostmot2::window::WindowTransport;
 
 const PERIOD: i64 = 1_000_000;
 
-fn u32_pin(name: &str, regofs: u8) -> PinSpec {
-    PinSpec {
-        name: name.into(),
-        htype: HalType::U32,
-        mtype: ModbusType(0),
-        flags: 0,
-        regofs,
-    }
-}
-
-/// Reads holding registers 2 and 3 of device 7, writes registers 10 and
-/// 11 from two pins.
-fn file() -> Mbccb {
-    let cmd = |func: u8, addr: u16, pins: Vec<PinSpec>| Command {
-        mbid: 7,
-        func,
-        flags: 0,
-        addr,
-        regcnt: 2,
-        interval_us: 0,
-        timeout_us: 50_000,
-        pins,
-    };
-    Mbccb {
-        baudrate: 115_200,
-        format: format::PARITY_EN,
-        txdelay: 0,
-        rxdelay: 0,
-        drvdelay: 0,
-        icdelay: 0,
-        inits: Vec::new(),
-        commands: vec![
-            cmd(3, 2, vec![u32_pin("in.a", 0), u32_pin("in.b", 1)]),
-            cmd(16, 10, vec![u32_pin("out.a", 0), u32_pin("out.b", 1)]),
-        ],
-        warnings: Vec::new(),
-    }
-}
+use common::modbus_file::file;
 
 fn slave() -> ModbusSlave {
     let mut s = ModbusSlave::new(7, 16);

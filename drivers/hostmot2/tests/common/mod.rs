@@ -182,6 +182,7 @@ impl Rig {
 }
 
 pub mod eth;
+pub mod modbus_file;
 
 /// A host of its own with the hostmot2 core loaded, as every board
 /// driver needs before its own `loadrt`.
