@@ -238,6 +238,29 @@ pub struct Outcome {
     pub ours: Vec<String>,
 }
 
+impl Outcome {
+    /// Checks, in each host, that the first value read is a position
+    /// within 0.01 of `want` and the second is `then` (`what` names it in
+    /// the failure).
+    pub fn assert_axis_at(&self, want: f64, then: &str, what: &str) {
+        for (host, values) in [("LinuxCNC", &self.theirs), ("ours", &self.ours)] {
+            let pos: f64 = values
+                .first()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or_else(|| panic!("{host}: no position in {values:?}"));
+            assert!(
+                (pos - want).abs() < 0.01,
+                "{host}: the axis stands at {pos}, not {want}"
+            );
+            assert_eq!(
+                values.get(1).map(String::as_str),
+                Some(then),
+                "{host}: {what}"
+            );
+        }
+    }
+}
+
 /// Loads and unloads after the first round in [`check`].
 pub const CYCLES: u64 = 100;
 

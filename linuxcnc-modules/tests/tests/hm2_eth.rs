@@ -101,21 +101,7 @@ stop",
         refused: &["board_ip=192.168.1", "board_ip=300.1.1.1"],
         needs: &[("hostmot2", "lcnc_hostmot2")],
     });
-    for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
-        let pos: f64 = values
-            .first()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("{host}: no position in {values:?}"));
-        assert!(
-            (pos - 1.5).abs() < 0.01,
-            "{host}: the axis stands at {pos}, not 1.5"
-        );
-        assert_eq!(
-            values.get(1).map(String::as_str),
-            Some("FALSE"),
-            "{host}: io_error"
-        );
-    }
+    out.assert_axis_at(1.5, "FALSE", "io_error");
 }
 
 #[test]
@@ -148,19 +134,5 @@ stop",
         refused: &["sim=7i99", "sim=7i93,7i93 board_ip=10.10.10.10"],
         needs: &[("hostmot2", "lcnc_hostmot2")],
     });
-    for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
-        let pos: f64 = values
-            .first()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("{host}: no position in {values:?}"));
-        assert!(
-            (pos - 1.5).abs() < 0.01,
-            "{host}: the axis stands at {pos}, not 1.5"
-        );
-        assert_eq!(
-            values.get(1).map(String::as_str),
-            Some("0"),
-            "{host}: no packet error in process"
-        );
-    }
+    out.assert_axis_at(1.5, "0", "no packet error in process");
 }

@@ -32,19 +32,5 @@ stop",
         refused: &["sim=5i99", "sim=5i25 config=\"num_encoders=x\""],
         needs: &[("hostmot2", "lcnc_hostmot2")],
     });
-    for (host, values) in [("LinuxCNC", &out.theirs), ("ours", &out.ours)] {
-        let pos: f64 = values
-            .first()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("{host}: no position in {values:?}"));
-        assert!(
-            (pos - 1.5).abs() < 0.01,
-            "{host}: the axis stands at {pos}, not 1.5"
-        );
-        assert_eq!(
-            values.get(1).map(String::as_str),
-            Some("FALSE"),
-            "{host}: io_error"
-        );
-    }
+    out.assert_axis_at(1.5, "FALSE", "io_error");
 }
