@@ -611,3 +611,32 @@ fn short_long_and_foreign_replies_never_pass_for_data() {
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     th.join().unwrap();
 }
+
+/// A request that cannot be sent (the board's port refuses: ICMP port
+/// unreachable, reported on the next send) loses that cycle: the receive
+/// that follows says so, rather than that its queue no longer matches.
+#[test]
+fn a_request_that_never_left_reads_as_lost() {
+    let gone = UdpSocket::bind("127.0.0.1:0").unwrap();
+    let addr = gone.local_addr().unwrap();
+    drop(gone);
+    let mut t = EthTransport::connect(addr).unwrap();
+    t.set_cycle_period(PERIOD);
+    t.reserve(4, 8, 4, 8);
+    // The first request goes out and draws the refusal; a later send
+    // reports it.
+    let mut refused = false;
+    for _ in 0..50 {
+        t.queue_read(0x100, 3).unwrap();
+        if t.send_queued_reads().is_err() {
+            refused = true;
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(refused, "no send to a closed port was refused");
+    let mut out = [7u32; 3];
+    let e = t.receive_queued_reads(&mut out).unwrap_err();
+    assert!(matches!(e, TransportError::Lost), "{e:?}");
+    assert_eq!(out, [7; 3], "nothing copied");
+}

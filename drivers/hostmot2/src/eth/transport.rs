@@ -508,16 +508,17 @@ impl<H: HalHost> Transport for EthTransport<H> {
         let words = self.reads.words();
         let regions = self.reads.items().len();
         self.reads.clear();
+        let Some(sent_at) = self.sent_at.take() else {
+            // The request never left (its queue went with it): its error
+            // is already counted, and this cycle's data is lost.
+            return Err(TransportError::Lost);
+        };
         if out.len() != words {
             return Err(TransportError::QueueMismatch {
                 queued: words,
                 got: out.len(),
             });
         }
-        let Some(sent_at) = self.sent_at.take() else {
-            // The request never left: its error is already counted.
-            return Err(TransportError::Lost);
-        };
         let timeout = if self.period_ns > 0 {
             Duration::from_nanos(self.errors.timeout_ns(self.period_ns))
         } else {
