@@ -94,6 +94,12 @@ def main(argv):
 
     c.mode(linuxcnc.MODE_MDI)
     ok_or_fail(c, e, "MDI mode")
+    # The override enables (M50/M51 from a GUI), off and on again.
+    for on in (False, True):
+        c.set_feed_override(on)
+        ok_or_fail(c, e, "feed override enable %s" % on)
+        c.set_spindle_override(on)
+        ok_or_fail(c, e, "spindle override enable %s" % on)
     s.poll()
     check(s.task_mode == linuxcnc.MODE_MDI, "task is in MDI mode")
     c.mdi("G0 X2 Y1")
