@@ -165,6 +165,20 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """The rapid override (0 to 1)."""
         self._send(["rapid-override", float(scale)])
 
+    def set_feed_override(self, enable):
+        """Whether the feed and rapid overrides apply (as M50)."""
+        self._send(["feed-override-enable", _on_off(enable)])
+
+    def set_spindle_override(self, enable, spindle=0):
+        """Whether the spindle override applies (as M51). Motion keeps
+        one enable for every spindle, so only spindle 0 is named."""
+        if int(spindle) != 0:
+            raise NotImplementedError(
+                "linuxcnc.command.set_spindle_override: one enable covers every "
+                "spindle here; name spindle 0"
+            )
+        self._send(["spindle-override-enable", _on_off(enable)])
+
     def maxvel(self, velocity):
         """The tool-tip speed limit, machine units per second."""
         self._send(["max-velocity", float(velocity)])
@@ -248,7 +262,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug set_adaptive_feed set_feed_override
-    set_max_limit set_min_limit set_spindle_override task_plan_synch
+    """debug set_adaptive_feed
+    set_max_limit set_min_limit task_plan_synch
     tool_offset traj_mode""".split()
 )

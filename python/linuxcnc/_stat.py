@@ -75,6 +75,10 @@ def parse(text):
             values[name] = v
     for lst, records in lists.items():
         values[lst] = tuple(records[i] for i in sorted(records))
+    if "axis_mask" in values:
+        # LinuxCNC 2.7's name, gone from 2.9's module but still read by
+        # many of its test scripts: how many axes the machine has.
+        values["axes"] = bin(values["axis_mask"]).count("1")
     return values
 
 

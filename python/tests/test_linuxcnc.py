@@ -124,6 +124,13 @@ def test_stat_lines_become_attributes_and_records():
         _stat.parse("a=q:1\n")
 
 
+def test_stat_has_older_linuxcncs_axes_count():
+    # Scripts written for LinuxCNC 2.7 wait until `axes` is not 0.
+    assert _stat.parse("axis_mask=i:7\n")["axes"] == 3
+    assert _stat.parse("axis_mask=i:%d\n" % 0b100100111)["axes"] == 5
+    assert "axes" not in _stat.parse("task_state=i:1\n")
+
+
 def test_without_a_machine_stat_and_command_say_so(hal_instance_name):
     with pytest.raises(linuxcnc.error, match=hal_instance_name):
         linuxcnc.stat().poll()
@@ -216,3 +223,23 @@ def test_linuxcncs_guis_are_still_skipped(tmp_path, hal_instance_name):
         out, err = p.communicate(timeout=120)
     assert p.returncode == 0, err
     assert "GUI 'axis' ([DISPLAY]DISPLAY)" in err, err
+
+
+def test_an_ini_reached_through_a_link_keeps_the_links_directory(tmp_path, hal_instance_name):
+    # LinuxCNC's test directories link a shared INI file into each case;
+    # the case's directory (holding its display program and tables) is the
+    # configuration's, as LinuxCNC's script takes `pwd`/FILE unresolved.
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    ini = _mill(shared, "./machine_ui.py --exit 5")
+    case = tmp_path / "case"
+    case.mkdir()
+    for f in shared.iterdir():
+        if f.name != "mill.ini":
+            f.rename(case / f.name)
+    (case / "mill.ini").symlink_to("../shared/mill.ini")
+    r = _run_linuxcnc(case / "mill.ini")
+    out = r.stdout + r.stderr
+    assert r.returncode == 5, out
+    assert "Machine configuration directory is '%s'" % case in out, out
+    assert "can't execute DISPLAY program" not in out, out

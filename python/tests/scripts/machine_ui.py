@@ -85,9 +85,21 @@ def main(argv):
     util.wait_for_home([1, 1, 1, 0, 0, 0, 0, 0, 0], timeout=60)
     check(s.joints == 3 and s.homed[3:] == (0,) * (len(s.homed) - 3), "three joints homed")
     wait(s, lambda: s.inpos, "homing to finish moving")
+    # Homed and inside the travel: no limit bit in LinuxCNC's mask, no
+    # soft limit on any joint; scripts of LinuxCNC 2.7 read `axes`.
+    check(len(s.limit) == len(s.homed) and not any(s.limit), "no limit bits")
+    check(not any(j["min_soft_limit"] or j["max_soft_limit"] for j in s.joint),
+          "no joint at a soft limit")
+    check(s.axes == 3, "stat.axes counts X Y Z")
 
     c.mode(linuxcnc.MODE_MDI)
     ok_or_fail(c, e, "MDI mode")
+    # The override enables (M50/M51 from a GUI), off and on again.
+    for on in (False, True):
+        c.set_feed_override(on)
+        ok_or_fail(c, e, "feed override enable %s" % on)
+        c.set_spindle_override(on)
+        ok_or_fail(c, e, "spindle override enable %s" % on)
     s.poll()
     check(s.task_mode == linuxcnc.MODE_MDI, "task is in MDI mode")
     c.mdi("G0 X2 Y1")

@@ -162,7 +162,10 @@ pub fn load_ini(path: &Path) -> Result<Ini, LaunchError> {
             source: e.into(),
         })
     })?;
-    let abs = std::fs::canonicalize(path).map_err(|e| LaunchError::read(path, e))?;
+    // Made absolute without resolving links, as LinuxCNC's script does
+    // (`pwd`/FILE): a test directory whose INI file is a link to a shared
+    // one keeps its own directory as the configuration's.
+    let abs = std::path::absolute(path).map_err(|e| LaunchError::read(path, e))?;
     let ini = Ini::load(&abs)?;
     for w in ini.warnings() {
         eprintln!("{w}");

@@ -126,6 +126,12 @@ pub enum TaskRequest {
     /// Whether `motion.feed-hold` holds the moves (LinuxCNC's feed hold
     /// enable, M53).
     FeedHold(bool),
+    /// Whether the feed and rapid overrides apply to the moves queued
+    /// next (LinuxCNC's feed override enable, M50).
+    FeedOverrideEnable(bool),
+    /// Whether the spindle override applies (LinuxCNC's spindle override
+    /// enable, M51).
+    SpindleOverrideEnable(bool),
     /// Override the joints' tripped hard limits until the next jog ends.
     OverrideLimits,
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
@@ -577,6 +583,8 @@ impl Task {
             | TaskRequest::BlockDelete(_)
             | TaskRequest::Teleop(_)
             | TaskRequest::FeedHold(_)
+            | TaskRequest::FeedOverrideEnable(_)
+            | TaskRequest::SpindleOverrideEnable(_)
             | TaskRequest::OverrideLimits => Some(self.panel_request(req)),
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))

@@ -50,6 +50,11 @@ pub const REQUESTS: &str = "\
   block-delete on|off   lines that start with / are skipped (on) or run
   teleop on|off         MANUAL mode's jogs move world axes (on) or joints
   feed-hold on|off      whether motion.feed-hold holds the moves (M53)
+  feed-override-enable on|off
+                        whether the feed and rapid overrides apply to the
+                        moves queued next (M50)
+  spindle-override-enable on|off
+                        whether the spindle override applies (M51)
   override-limits       override the joints' tripped hard limits until
                         the next jog ends
   spindle [N] forward|reverse [RPM]

@@ -7,6 +7,23 @@ use motion::MotionStatus;
 use crate::error::LaunchError;
 use crate::task::{MachineState, Task};
 
+/// One thing motion reported: the line task prints, and the text its
+/// error channel gets (motion's own words, as LinuxCNC's channel carries
+/// them: `joint 0 on limit switch error`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct MotionNews {
+    /// Printed on task's standard error.
+    pub printed: String,
+    /// Put on the error channel.
+    pub channel: String,
+}
+
+impl MotionNews {
+    fn new(printed: String, channel: String) -> MotionNews {
+        MotionNews { printed, channel }
+    }
+}
+
 /// What task has seen of motion's messages.
 #[derive(Debug, Default)]
 pub(crate) struct MotionMessages {
@@ -25,7 +42,7 @@ impl MotionMessages {
     /// they are the same message), and how many it reported between two
     /// looks that task could not see (the snapshot carries the last
     /// message and the last fault only).
-    pub(crate) fn news(&mut self, status: &MotionStatus) -> Vec<String> {
+    pub(crate) fn news(&mut self, status: &MotionStatus) -> Vec<MotionNews> {
         let mut lines = Vec::new();
         let new_messages = status.events_reported.saturating_sub(self.messages);
         if new_messages == 0 {
@@ -36,24 +53,25 @@ impl MotionMessages {
             .last_fault
             .filter(|_| status.faults_reported > self.faults);
         if let Some(f) = &fault {
-            lines.push(format!("task: motion error: {f}"));
+            lines.push(MotionNews::new(
+                format!("task: motion error: {f}"),
+                f.event.to_string(),
+            ));
             shown += 1;
         }
         let last_is_fault = fault.is_some_and(|f| f.number == status.events_reported);
         if let Some(e) = status.last_event.filter(|_| !last_is_fault) {
-            lines.push(format!("task: motion: {e}"));
+            lines.push(MotionNews::new(format!("task: motion: {e}"), e.to_string()));
             shown += 1;
         }
         if new_messages > shown {
             let unseen = new_messages - shown;
             let s = if unseen == 1 { "" } else { "s" };
-            lines.insert(
-                0,
-                format!(
-                    "task: motion reported {unseen} more message{s} between two of task's \
-                     cycles (not shown: only the last message and the last fault are kept)"
-                ),
+            let text = format!(
+                "motion reported {unseen} more message{s} between two of task's \
+                 cycles (not shown: only the last message and the last fault are kept)"
             );
+            lines.insert(0, MotionNews::new(format!("task: {text}"), text));
         }
         self.messages = status.events_reported;
         self.faults = status.faults_reported;
@@ -81,10 +99,10 @@ impl Task {
     pub(crate) fn watch_motion(&mut self) {
         let Some(m) = &mut self.motion else { return };
         let Some(status) = m.status() else { return };
-        for line in self.motion_messages.news(&status) {
-            eprintln!("{line}");
+        for news in self.motion_messages.news(&status) {
+            eprintln!("{}", news.printed);
             self.messages
-                .push(crate::task_messages::OPERATOR_ERROR, &line);
+                .push(crate::task_messages::OPERATOR_ERROR, &news.channel);
         }
         if status.heartbeat < self.settle_until {
             return;
@@ -147,11 +165,14 @@ mod tests {
     fn a_fault_then_a_homing_message_print_once_each() {
         let mut seen = MotionMessages::default();
         let fe = Event::JointFollowingError { joint: 2 };
-        let lines = seen.news(&status(1, fe, 1, Some(ferror(1))));
+        let news = seen.news(&status(1, fe, 1, Some(ferror(1))));
+        let lines: Vec<&str> = news.iter().map(|n| n.printed.as_str()).collect();
         assert_eq!(
             lines,
             ["task: motion error: joint 2 following error (error 0.250000, limit 0.125000)"]
         );
+        // The error channel gets motion's words alone, as LinuxCNC's.
+        assert_eq!(news[0].channel, "joint 2 following error");
         let s = status(1, fe, 1, Some(ferror(1)));
         assert!(seen.news(&s).is_empty(), "printed once");
         let abort = Event::HomingAborted {
@@ -160,9 +181,12 @@ mod tests {
             state: motion::homing::HomeState::Idle,
         };
         let s = status(2, abort, 1, Some(ferror(1)));
-        let lines = seen.news(&s);
-        assert_eq!(lines.len(), 1, "{lines:?}");
-        assert!(lines[0].starts_with("task: motion: homing of joint 2 aborted"));
+        let news = seen.news(&s);
+        assert_eq!(news.len(), 1, "{news:?}");
+        assert!(news[0]
+            .printed
+            .starts_with("task: motion: homing of joint 2 aborted"));
+        assert!(news[0].channel.starts_with("homing of joint 2 aborted"));
         // Motion disabled itself: the fault is named, not the homing
         // message that came after it.
         assert_eq!(
@@ -177,11 +201,16 @@ mod tests {
         let abort = Event::JogStopped { immediate: false };
         // Fault (message 2) and a jog message (3) since the last look,
         // and one message before them that task never saw.
-        let lines = seen.news(&status(3, abort, 1, Some(ferror(2))));
+        let news = seen.news(&status(3, abort, 1, Some(ferror(2))));
+        let lines: Vec<&str> = news.iter().map(|n| n.printed.as_str()).collect();
         assert_eq!(lines.len(), 3, "{lines:?}");
         assert!(lines[0].contains("1 more message between"), "{lines:?}");
+        assert!(news[0]
+            .channel
+            .starts_with("motion reported 1 more message"));
         assert!(lines[1].starts_with("task: motion error: joint 2 following error"));
         assert_eq!(lines[2], "task: motion: Jog aborted by jog-stop");
+        assert_eq!(news[2].channel, "Jog aborted by jog-stop");
     }
 
     #[test]

@@ -23,8 +23,9 @@ pub struct Switches {
     pub block_delete: bool,
 }
 
-/// Parses `optional-stop on|off`, `block-delete on|off`, `teleop on|off`
-/// and `feed-hold on|off`; `None` when `words` is none of them.
+/// Parses `optional-stop on|off`, `block-delete on|off`, `teleop on|off`,
+/// `feed-hold on|off`, `feed-override-enable on|off` and
+/// `spindle-override-enable on|off`; `None` when `words` is none of them.
 pub fn parse(words: &[&str]) -> Option<Result<TaskRequest, LaunchError>> {
     let (name, rest) = words.split_first()?;
     let make: fn(bool) -> TaskRequest = match *name {
@@ -32,6 +33,8 @@ pub fn parse(words: &[&str]) -> Option<Result<TaskRequest, LaunchError>> {
         "block-delete" => TaskRequest::BlockDelete,
         "teleop" => TaskRequest::Teleop,
         "feed-hold" => TaskRequest::FeedHold,
+        "feed-override-enable" => TaskRequest::FeedOverrideEnable,
+        "spindle-override-enable" => TaskRequest::SpindleOverrideEnable,
         _ => return None,
     };
     Some(match rest {
@@ -52,6 +55,15 @@ fn on_off(on: bool) -> &'static str {
     }
 }
 
+/// `enabled` or `disabled`.
+fn enabled(on: bool) -> &'static str {
+    if on {
+        "enabled"
+    } else {
+        "disabled"
+    }
+}
+
 /// A row of nine numbers, space-separated, for the `state` answer.
 fn row(values: &[f64; 9]) -> String {
     let words: Vec<String> = values.iter().map(f64::to_string).collect();
@@ -66,8 +78,8 @@ impl Task {
             .map_err(|source| LaunchError::MotionRefused { source })
     }
 
-    /// Takes an optional-stop, block-delete, teleop, feed-hold or
-    /// override-limits request.
+    /// Takes an optional-stop, block-delete, teleop, feed-hold, override
+    /// enable or override-limits request.
     pub(crate) fn panel_request(&mut self, req: &TaskRequest) -> Answer {
         match *req {
             TaskRequest::OptionalStop(on) => {
@@ -85,6 +97,14 @@ impl Task {
             TaskRequest::FeedHold(on) => {
                 self.motion_command(Command::FeedHoldEnable { on })?;
                 Ok(format!("feed hold {}", on_off(on)))
+            }
+            TaskRequest::FeedOverrideEnable(on) => {
+                self.motion_command(Command::FeedScaleEnable { on })?;
+                Ok(format!("feed override {}", enabled(on)))
+            }
+            TaskRequest::SpindleOverrideEnable(on) => {
+                self.motion_command(Command::SpindleScaleEnable { on })?;
+                Ok(format!("spindle override {}", enabled(on)))
             }
             TaskRequest::OverrideLimits => {
                 // Joint 0 (not below 0, which ends an override): every
@@ -168,6 +188,15 @@ mod tests {
             parse(&["feed-hold", "off"]).unwrap().unwrap(),
             TaskRequest::FeedHold(false)
         );
+        assert_eq!(
+            parse(&["feed-override-enable", "off"]).unwrap().unwrap(),
+            TaskRequest::FeedOverrideEnable(false)
+        );
+        assert_eq!(
+            parse(&["spindle-override-enable", "on"]).unwrap().unwrap(),
+            TaskRequest::SpindleOverrideEnable(true)
+        );
+        assert!(parse(&["feed-override-enable", "1"]).unwrap().is_err());
         let words = ["override-limits".to_string()];
         assert_eq!(
             crate::task::parse_request(&words).unwrap(),

@@ -311,6 +311,13 @@ const MOTION_FIELDS: &[Of<MotionStatus>] = &[
         v.resize(MAX_JOINTS.max(v.len()), 0);
         Value::Ints(v)
     }),
+    // Per joint, LinuxCNC's limit mask: 1 the negative limit switch, 2
+    // the positive one, 4 below the soft limit, 8 above it.
+    ("limit", |m| {
+        let mut v: Vec<i64> = m.joints.iter().map(limit_mask).collect();
+        v.resize(MAX_JOINTS.max(v.len()), 0);
+        Value::Ints(v)
+    }),
     ("joints", |m| {
         Value::Int(m.joints.iter().filter(|j| j.active).count() as i64)
     }),
@@ -365,9 +372,30 @@ const JOINT_FIELDS: &[Of<motion::channel::JointState>] = &[
     ("max_ferror", |j| Value::Float(j.ferror_limit)),
     ("min_hard_limit", |j| bit(j.neg_hard_limit)),
     ("max_hard_limit", |j| bit(j.pos_hard_limit)),
+    ("min_soft_limit", |j| bit(below_soft_limit(j))),
+    ("max_soft_limit", |j| bit(above_soft_limit(j))),
     ("min_position_limit", |j| Value::Float(j.min_limit)),
     ("max_position_limit", |j| Value::Float(j.max_limit)),
 ];
+
+/// A homed joint commanded below its lower soft limit (an unhomed joint
+/// has no soft limits, as in LinuxCNC).
+fn below_soft_limit(j: &motion::channel::JointState) -> bool {
+    j.homed && j.pos_cmd < j.min_limit
+}
+
+/// A homed joint commanded above its upper soft limit.
+fn above_soft_limit(j: &motion::channel::JointState) -> bool {
+    j.homed && j.pos_cmd > j.max_limit
+}
+
+/// A joint's bits of `stat.limit`.
+fn limit_mask(j: &motion::channel::JointState) -> i64 {
+    i64::from(j.neg_hard_limit)
+        | i64::from(j.pos_hard_limit) << 1
+        | i64::from(below_soft_limit(j)) << 2
+        | i64::from(above_soft_limit(j)) << 3
+}
 
 /// The fields of each of `stat.axis`.
 const AXIS_FIELDS: &[Of<motion::channel::AxisState>] = &[
@@ -651,6 +679,42 @@ mod tests {
         let mut p = p;
         p.codes.m = vec![5, 9, 9, 49];
         assert_eq!(linuxcnc_mcodes(&p), [7, -1, 5, -1, 9, -1, 49, -1, -1, -1]);
+    }
+
+    #[test]
+    fn limit_bits_follow_linuxcncs_mask() {
+        let j = motion::channel::JointState {
+            min_limit: -1.0,
+            max_limit: 1.0,
+            ..Default::default()
+        };
+        assert_eq!(limit_mask(&j), 0);
+        let on_switch = motion::channel::JointState {
+            neg_hard_limit: true,
+            ..j
+        };
+        assert_eq!(limit_mask(&on_switch), 1);
+        let both = motion::channel::JointState {
+            neg_hard_limit: true,
+            pos_hard_limit: true,
+            ..j
+        };
+        assert_eq!(limit_mask(&both), 3);
+        // Beyond the soft limits counts only once the joint is homed.
+        let beyond = motion::channel::JointState { pos_cmd: -2.0, ..j };
+        assert_eq!(limit_mask(&beyond), 0);
+        let homed_low = motion::channel::JointState {
+            homed: true,
+            ..beyond
+        };
+        assert_eq!(limit_mask(&homed_low), 4);
+        let homed_high = motion::channel::JointState {
+            homed: true,
+            pos_cmd: 2.0,
+            ..j
+        };
+        assert_eq!(limit_mask(&homed_high), 8);
+        assert!(above_soft_limit(&homed_high) && !below_soft_limit(&homed_high));
     }
 
     #[test]

@@ -420,6 +420,13 @@ impl IoControl {
             self.prepped = Some(0);
             return Ok(Started::Done);
         }
+        if !random && slot == 0 {
+            // T0 on a non-random changer (unload): the spindle slot counts
+            // as prepared from the request on (stat.pocket_prepped reads
+            // 0 during the handshake, as LinuxCNC's); the handshake still
+            // runs.
+            self.prepped = Some(0);
+        }
         self.out.tool_prepare = true;
         self.out.state = state::PREPARING;
         Ok(Started::Waiting(Handshake::Prepare))
@@ -434,8 +441,9 @@ impl IoControl {
             return Ok(Started::Done);
         }
         if !self.table.random && slot > 0 && self.tool_in_spindle == self.prep_number_of(slot) {
-            // Already in the spindle.
-            self.prepped = None;
+            // Already in the spindle: nothing changes, and the tool stays
+            // prepared (tool-prep-number, tool-prep-pocket and
+            // stat.pocket_prepped keep it), as in LinuxCNC.
             return Ok(Started::Done);
         }
         self.out.tool_change = true;

@@ -107,9 +107,14 @@ fn non_random_prepare_and_change_handshakes() {
     io.request(&IoRequest::Prepare { tool: 2 }).unwrap();
     io.step(&inputs(true, false));
     assert_eq!(io.request(&IoRequest::Load), Ok(Started::Done));
+    assert_eq!(io.prepared_tool(), Some(2), "still prepared, as LinuxCNC's");
+    let o = *io.outputs();
+    assert_eq!((o.tool_prep_number, o.tool_change), (2, false));
     // T0 M6 unloads.
     io.request(&IoRequest::Prepare { tool: 0 }).unwrap();
     assert_eq!(io.outputs().tool_prep_number, 0);
+    assert_eq!(io.prepped_slot(), Some(0), "T0 counts as prepared at once");
+    assert!(io.outputs().tool_prepare, "the handshake still runs");
     io.step(&inputs(true, false));
     io.request(&IoRequest::Load).unwrap();
     assert_eq!(io.step(&inputs(true, true)), [IoEvent::Changed { tool: 0 }]);

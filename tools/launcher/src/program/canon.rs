@@ -28,6 +28,9 @@ use crate::iocontrol::IoRequest;
 pub struct TaskCanon {
     /// What the program asked for, not yet carried out.
     pub ops: VecDeque<Op>,
+    /// Where M6 traverses before the change (`[EMCIO]TOOL_CHANGE_POSITION`,
+    /// machine coordinates; None for an axis that stays).
+    pub tool_change_position: Option<[Option<f64>; 9]>,
     /// A call the machine cannot carry out (the first one).
     pub fault: Option<String>,
     /// The program line of the block being executed.
@@ -82,6 +85,7 @@ impl TaskCanon {
     /// for inch) with the axes of `axis_mask` (bit 0 X ... bit 8 W).
     pub fn new(user_per_mm: f64, axis_mask: u32) -> TaskCanon {
         TaskCanon {
+            tool_change_position: None,
             ops: VecDeque::new(),
             fault: None,
             line: 0,
@@ -529,6 +533,23 @@ impl Canon for TaskCanon {
             self.tools[0] = entry;
         }
         self.slot = index;
+        if let Some(position) = self.tool_change_position {
+            // As LinuxCNC's canon: a traverse to the change position in
+            // machine coordinates, before the load, even when the tool is
+            // in the spindle already. The interpreter takes the new
+            // position when it synchronises after M6.
+            for (goal, p) in self.goal.iter_mut().zip(position) {
+                if let Some(p) = p {
+                    *goal = p;
+                }
+            }
+            self.ops.push_back(Op::Motion(Command::Line {
+                end: motion::Pose(self.goal),
+                vel: 0.0,
+                kind: LineKind::Traverse,
+                id: self.line,
+            }));
+        }
         self.ops.push_back(Op::Io(IoRequest::Load));
     }
     fn change_tool_number(&mut self, index: i32) {

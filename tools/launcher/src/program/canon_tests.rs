@@ -350,3 +350,38 @@ fn feed_per_revolution_goes_to_motion_before_the_feed_moves() {
         Some(Op::Motion(Command::SetFeedPerRev { .. }))
     ));
 }
+
+#[test]
+fn m6_traverses_to_the_tool_change_position_before_the_load() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.straight_traverse(3, &p(5.0, 6.0, 7.0));
+    c.ops.clear();
+    // Without a change position the load comes alone.
+    c.change_tool(0);
+    assert!(matches!(c.ops.pop_front(), Some(Op::Io(IoRequest::Load))));
+    assert!(c.ops.is_empty());
+    // X Y Z given: a traverse there (machine coordinates, offsets not
+    // applied), the other axes where they were, then the load.
+    c.tool_change_position = Some([
+        Some(0.5),
+        Some(-1.0),
+        Some(2.0),
+        None,
+        None,
+        None,
+        None,
+        None,
+        None,
+    ]);
+    c.set_g5x_offset(1, &p(100.0, 100.0, 100.0));
+    c.line = 9;
+    c.change_tool(0);
+    match c.ops.pop_front() {
+        Some(Op::Motion(Command::Line { end, vel, kind, id })) => {
+            assert_eq!(&end.0[..3], &[0.5, -1.0, 2.0]);
+            assert_eq!((vel, kind, id), (0.0, LineKind::Traverse, 9));
+        }
+        other => panic!("not a traverse: {other:?}"),
+    }
+    assert!(matches!(c.ops.pop_front(), Some(Op::Io(IoRequest::Load))));
+}

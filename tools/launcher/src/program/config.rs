@@ -30,6 +30,40 @@ pub struct ProgramConfig {
     /// `[TASK]IO_ERROR`: the text of a hard tool changer fault, its `%d`
     /// the reason (LinuxCNC's default "toolchanger error %d").
     pub io_error: String,
+    /// `[EMCIO]TOOL_CHANGE_POSITION`: where M6 traverses before the
+    /// change, machine coordinates and units, for X Y Z (3 numbers),
+    /// X Y Z A B C (6) or all nine axes (9); the others stay where they
+    /// are. None without one.
+    pub tool_change_position: Option<[Option<f64>; 9]>,
+}
+
+/// `[EMCIO]TOOL_CHANGE_POSITION` read as LinuxCNC reads it: 3, 6 or 9
+/// numbers. Anything else is said (with where it is) and ignored, as
+/// LinuxCNC ignores it.
+fn tool_change_position(ini: &Ini) -> Option<[Option<f64>; 9]> {
+    let e = ini.entry("EMCIO", "TOOL_CHANGE_POSITION")?;
+    let numbers: Option<Vec<f64>> = e
+        .value
+        .split_whitespace()
+        .map(|w| w.parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
+    match numbers {
+        Some(v) if matches!(v.len(), 3 | 6 | 9) => {
+            let mut p = [None; 9];
+            for (slot, value) in p.iter_mut().zip(v) {
+                *slot = Some(value);
+            }
+            Some(p)
+        }
+        _ => {
+            eprintln!(
+                "{}: warning: [EMCIO]TOOL_CHANGE_POSITION '{}' is not 3, 6 or 9 numbers: ignored",
+                e.origin,
+                e.value.trim()
+            );
+            None
+        }
+    }
 }
 
 fn flag(ini: &Ini, section: &str, key: &str) -> bool {
@@ -126,6 +160,7 @@ impl ProgramConfig {
                 .get("TASK", "IO_ERROR")
                 .map_or("toolchanger error %d", str::trim)
                 .to_string(),
+            tool_change_position: tool_change_position(ini),
         }
     }
 }

@@ -137,6 +137,7 @@ impl Program {
     pub fn new(config: ProgramConfig, tool_table: Option<PathBuf>) -> Program {
         let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
         canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
+        canon.tool_change_position = config.tool_change_position;
         Program {
             canon,
             interp: Interp::new(config.interp),

@@ -1,0 +1,80 @@
+"""scripts/lcnc-regress: test directories in LinuxCNC's layout, judged as
+LinuxCNC's runner judges them (exit status, `expected`, `checkresult`,
+`skip`, `xfail`), with our programs first on PATH."""
+
+import subprocess
+import sys
+
+import pytest
+
+from conftest import BIN, REPO
+
+RUNNER = REPO / "scripts" / "lcnc-regress"
+
+
+def _case(root, name, files):
+    d = root / name
+    d.mkdir(parents=True)
+    for fname, text in files.items():
+        f = d / fname
+        f.write_text(text)
+        if fname in ("test.sh", "test", "checkresult", "skip"):
+            f.chmod(0o755)
+    return d
+
+
+def _run(*dirs):
+    if not (BIN / "linuxcnc").exists():
+        pytest.skip("linuxcnc is not built in %s" % BIN)
+    return subprocess.run(
+        [sys.executable, str(RUNNER), "--bin", str(BIN), "--timeout", "30", *map(str, dirs)],
+        capture_output=True, text=True, timeout=120,
+    )
+
+
+def test_verdicts_follow_linuxcncs_runner(tmp_path):
+    _case(tmp_path, "a-status-ok", {"test.sh": "exit 0\n"})
+    _case(tmp_path, "b-status-bad", {"test.sh": "echo why >&2\nexit 3\n"})
+    _case(tmp_path, "c-expected-same", {"test.sh": "echo hello\n", "expected": "hello\n"})
+    _case(tmp_path, "d-expected-differs", {"test.sh": "echo hullo\n", "expected": "hello\n"})
+    _case(tmp_path, "e-checkresult", {
+        "test.sh": "echo 42\n",
+        "checkresult": "#!/bin/sh\ngrep -qx 42 \"$1\"\n",
+    })
+    _case(tmp_path, "f-skipped", {"test.sh": "exit 1\n", "skip": ""})
+    _case(tmp_path, "g-xfail", {"test.sh": "exit 1\n", "xfail": ""})
+    r = _run(tmp_path)
+    out = r.stdout
+    assert r.returncode == 1, out + r.stderr
+    lines = {l.split()[1].rsplit("/", 1)[-1].rstrip(":"): l.split()[0]
+             for l in out.splitlines() if l[:5].strip() in ("PASS", "FAIL", "SKIP", "XFAIL")}
+    assert lines == {
+        "a-status-ok": "PASS", "b-status-bad": "FAIL", "c-expected-same": "PASS",
+        "d-expected-differs": "FAIL", "e-checkresult": "PASS", "f-skipped": "SKIP",
+        "g-xfail": "XFAIL",
+    }, out
+    assert "exit status 3" in out and "why" in out, out
+    assert "-hello" in out and "+hullo" in out, out
+    assert "3 passed, 2 failed, 1 skipped, 1 failed as expected" in out, out
+    # The test's output stays in its directory, as LinuxCNC's runner leaves it.
+    assert (tmp_path / "c-expected-same" / "result").read_text() == "hello\n"
+
+
+def test_our_programs_come_first_with_a_hal_instance_of_their_own(tmp_path):
+    d = _case(tmp_path, "env", {
+        "test.sh": "command -v halcmd\necho \"$HAL_INSTANCE\"\n"
+                   "python3 -c 'import linuxcnc, hal; print(\"modules ok\")'\n",
+    })
+    r = _run(d)
+    assert r.returncode == 0, r.stdout + r.stderr
+    got = (d / "result").read_text().splitlines()
+    assert got[0] == str(BIN / "halcmd"), got
+    assert got[1].startswith("lcnc-regress-"), got
+    assert got[2] == "modules ok", got
+
+
+def test_bad_arguments_are_refused(tmp_path):
+    r = _run(tmp_path / "missing")
+    assert r.returncode == 2 and "not a directory" in r.stderr, r.stderr
+    r = _run(tmp_path)
+    assert r.returncode == 2 and "no test directories" in r.stderr, r.stderr
