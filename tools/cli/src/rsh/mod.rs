@@ -3,6 +3,7 @@
 //! [`parse`] takes a line apart, [`session`] answers it for one
 //! connection, [`stat`] reads task's status snapshot.
 
+pub mod fuzz;
 pub mod parse;
 pub mod reply;
 pub mod server;

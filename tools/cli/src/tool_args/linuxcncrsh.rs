@@ -8,7 +8,19 @@ use std::path::PathBuf;
 /// linuxcncrsh; `shutdown` from an enabled session ends it and with it
 /// the machine.
 #[derive(Debug, clap::Parser)]
-#[command(name = "linuxcncrsh", version)]
+#[command(
+    name = "linuxcncrsh",
+    version,
+    after_help = "A client sends `hello PASSWORD CLIENT VERSION`, then `set enable PASSWORD` to
+command the machine; `help get` lists the subcommands of get and set. Replies
+end with CR LF: `NAME VALUE` for a get, `SET NAME ACK` (with `set verbose on`)
+or `SET NAME NAK` for a set, `GET NAME NAK` for what cannot be got, `ERROR OK`
+or the reason for `get error`.
+
+Examples:
+  linuxcncrsh -ini mill.ini --port 6000
+  printf 'hello EMC me 1.0\\nget plat\\nquit\\n' | nc localhost 5007"
+)]
 pub struct Args {
     /// The TCP port to listen on.
     #[arg(short = 'p', long, default_value_t = 5007)]
