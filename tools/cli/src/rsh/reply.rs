@@ -35,9 +35,15 @@ fn pick(v: &[f64], arg: Option<&&str>) -> Option<String> {
     }
 }
 
+/// The joints LinuxCNC's per-joint replies list: the configured ones,
+/// and at least six.
+fn listed_joints(s: &Snapshot) -> Option<usize> {
+    Some(usize::try_from(s.int("joints")?).ok()?.max(POSITION_AXES))
+}
+
 /// Per-joint words (`OK`, `FAULT`, ...) for the joints asked about.
 fn per_joint(s: &Snapshot, arg: Option<&&str>, f: impl Fn(usize) -> String) -> Option<String> {
-    let joints = usize::try_from(s.int("joints")?).ok()?;
+    let joints = listed_joints(s)?;
     match arg {
         None => Some((0..joints).map(f).collect::<Vec<_>>().join(" ")),
         Some(w) => {

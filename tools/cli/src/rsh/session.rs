@@ -143,8 +143,9 @@ impl<'s> Session<'s> {
             Request::Empty => {}
             Request::Hello(words) => {
                 let ok = words.is_some_and(|[pw, _, _]| pw == self.cfg.connect_pw);
-                if ok {
+                if let (true, Some([_, _, version])) = (ok, words) {
                     self.hello = true;
+                    self.comm_prot = version.chars().take(16).collect();
                     // Only messages from now on are this session's.
                     if let Ok(text) = m.ask(&words_of(&["messages", "0"]), self.wait()) {
                         self.seq = newest(&text);
@@ -154,6 +155,8 @@ impl<'s> Session<'s> {
                     out.push("HELLO NAK".to_string());
                 }
             }
+            // LinuxCNC answers nothing to `get wait`.
+            Request::Get(Ok(e), _) if self.hello && e.sub == Sub::Wait => {}
             Request::Get(sub, args) => match sub {
                 Ok(e) if self.hello => match self.get(e, &args, m) {
                     Some(lines) => out.extend(lines),
@@ -213,7 +216,11 @@ impl<'s> Session<'s> {
 
     /// The reply lines of `get`; `None` for what cannot be got.
     fn get(&mut self, e: &Entry, args: &[&str], m: &mut dyn Machine) -> Option<Vec<String>> {
-        let name = upper(e);
+        let name = match e.sub {
+            // LinuxCNC answers both under the one name.
+            Sub::ProgramLinearUnits => "PROGRAM_UNITS".to_string(),
+            _ => upper(e),
+        };
         if let Some(v) = self.get_local(e.sub) {
             return Some(vec![format!("{name} {v}")]);
         }
@@ -427,10 +434,12 @@ impl<'s> Session<'s> {
         };
         let requests = super::reply::requests(e.sub, args, mdi, self.wait_done).ok_or(None)?;
         for r in requests {
-            if let Err(err) = m.ask(&r, self.wait()) {
-                self.error = Some(err.to_string());
-                return Err(None);
-            }
+            // A refusal is the NAK (LinuxCNC's `get error` stays OK after
+            // one); what task reports on its error channel is `get error`'s.
+            m.ask(&r, self.wait()).map_err(|_| None)?;
+        }
+        if self.wait_done && e.sub == Sub::Home {
+            self.wait_homing(m);
         }
         Ok(())
     }
@@ -478,12 +487,32 @@ impl<'s> Session<'s> {
         for n in range {
             let mut w = vec!["spindle".to_string(), n.to_string()];
             w.extend(words(action));
-            if let Err(err) = m.ask(&w, self.wait()) {
-                self.error = Some(err.to_string());
-                return Err(None);
-            }
+            m.ask(&w, self.wait()).map_err(|_| None)?;
         }
         Ok(())
+    }
+}
+
+/// The longest `set home` waits for the homing to end (with set_wait done).
+const HOMING_WAIT: Duration = Duration::from_secs(120);
+
+impl Session<'_> {
+    /// With set_wait done, a home is done when no joint homes any more
+    /// and motion is in position.
+    fn wait_homing(&mut self, m: &mut dyn Machine) {
+        let end = std::time::Instant::now() + self.wait().min(HOMING_WAIT);
+        while std::time::Instant::now() < end {
+            let Ok(text) = m.ask(&words_of(&["stat"]), self.wait()) else {
+                return;
+            };
+            let s = Snapshot::parse(&text);
+            let joints = s.int("joints").unwrap_or(0);
+            let homing = (0..joints).any(|j| s.flag(&format!("joint.{j}.homing")));
+            if !homing && s.flag("inpos") {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
     }
 }
 
