@@ -162,12 +162,13 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
             pick(&sum, arg)?
         }
         Sub::JointPos => {
-            let joints = usize::try_from(s.int("joints")?).ok()?;
-            let v: Vec<f64> = s
+            let joints = listed_joints(s)?;
+            let mut v: Vec<f64> = s
                 .nums("joint_actual_position")
                 .into_iter()
                 .take(joints)
                 .collect();
+            v.resize(joints, 0.0);
             pick(&v, arg)?
         }
         Sub::JointFault => per_joint(s, arg, |j| {

@@ -155,8 +155,9 @@ impl<'s> Session<'s> {
                     out.push("HELLO NAK".to_string());
                 }
             }
-            // LinuxCNC answers nothing to `get wait`.
-            Request::Get(Ok(e), _) if self.hello && e.sub == Sub::Wait => {}
+            // LinuxCNC answers nothing to a get of wait, probe, probe_clear.
+            Request::Get(Ok(e), _)
+                if self.hello && matches!(e.sub, Sub::Wait | Sub::Probe | Sub::ProbeClear) => {}
             Request::Get(sub, args) => match sub {
                 Ok(e) if self.hello => match self.get(e, &args, m) {
                     Some(lines) => out.extend(lines),
