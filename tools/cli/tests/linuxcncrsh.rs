@@ -131,6 +131,11 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     // LinuxCNC lists six joints at least.
     assert_eq!(c.ask("get joint_fault"), "JOINT_FAULT OK OK OK OK OK OK");
     assert_eq!(c.ask("get comm_prot"), "COMM_PROT 1.0");
+    assert_eq!(
+        c.ask("get joint_type"),
+        "JOINT_TYPE LINEAR LINEAR LINEAR LINEAR LINEAR LINEAR"
+    );
+    assert_eq!(c.ask("get joint_units 0"), "JOINT_UNITS MM");
     assert_eq!(c.ask("get program_linear_units"), "PROGRAM_UNITS MM");
     assert_eq!(c.ask("get joint_limit 1"), "JOINT_LIMIT OK");
 

@@ -35,6 +35,22 @@ fn ini_int(text: &str) -> Option<i64> {
     }
 }
 
+/// `[JOINT_n]TYPE = ANGULAR` for each of the `[KINS]JOINTS` joints.
+fn joint_kinds(ini: Option<&hal_lang::ini::Ini>) -> Vec<bool> {
+    let Some(ini) = ini else { return Vec::new() };
+    let joints = ini
+        .get("KINS", "JOINTS")
+        .and_then(|j| j.trim().parse::<usize>().ok())
+        .unwrap_or(0)
+        .min(16);
+    (0..joints)
+        .map(|j| {
+            ini.get(&format!("JOINT_{j}"), "TYPE")
+                .is_some_and(|t| t.trim().eq_ignore_ascii_case("ANGULAR"))
+        })
+        .collect()
+}
+
 fn settings(args: &Args) -> Result<Settings, ToolsError> {
     let ini_file = args
         .ini
@@ -58,6 +74,7 @@ fn settings(args: &Args) -> Result<Settings, ToolsError> {
         identity_kins: get("KINS", "KINEMATICS")
             .is_some_and(|k| k.split_whitespace().next() == Some("trivkins")),
         open_dir,
+        angular_joints: joint_kinds(ini.as_ref()),
     })
 }
 

@@ -40,6 +40,7 @@ pub fn lines(data: &[u8]) {
         debug: 0,
         identity_kins: true,
         open_dir: None,
+        angular_joints: vec![false, false, true],
     };
     let mut session = Session::new(&cfg);
     let mut machine = Scripted { turn: 0 };

@@ -194,6 +194,23 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
             }
             .to_string()
         })?,
+        Sub::JointType => per_joint(s, arg, |j| {
+            let angular = session.joint_is_angular(j).unwrap_or(false);
+            if angular { "ANGULAR" } else { "LINEAR" }.to_string()
+        })?,
+        // A joint that is not configured has units 1 (LinuxCNC's MM).
+        Sub::JointUnits => {
+            let linear = linear_name(s.num("linear_units")?);
+            let angular = angular_name(s.num("angular_units")?);
+            per_joint(s, arg, |j| {
+                match session.joint_is_angular(j) {
+                    Some(true) => angular,
+                    Some(false) => linear,
+                    None => "MM",
+                }
+                .to_string()
+            })?
+        }
         Sub::FeedOverride => format!("{}", (s.num("feedrate")? * 100.0).round() as i64),
         Sub::SpindleOverride => {
             format!("{}", (s.num("spindle.0.override")? * 100.0).round() as i64)

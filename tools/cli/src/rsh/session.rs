@@ -41,6 +41,8 @@ pub struct Settings {
     pub identity_kins: bool,
     /// Where a relative `set open` file is taken from (`--path`).
     pub open_dir: Option<std::path::PathBuf>,
+    /// Whether each configured joint is angular (`[JOINT_n]TYPE`).
+    pub angular_joints: Vec<bool>,
 }
 
 /// What the server does after a line.
@@ -249,6 +251,11 @@ impl<'s> Session<'s> {
         }
         let v = super::reply::value(e.sub, args, &s, self)?;
         Some(vec![format!("{name} {v}")])
+    }
+
+    /// Whether joint `j` is configured as angular (`None`: not configured).
+    pub fn joint_is_angular(&self, j: usize) -> Option<bool> {
+        self.cfg.angular_joints.get(j).copied()
     }
 
     /// The display's linear units conversion (`AUTO`, `INCH`, `MM`, `CM`).
