@@ -52,6 +52,7 @@ crate::register_targets! {
     tool_table,
     task_state,
     task_request,
+    linuxcncrsh_line,
     probe_points,
     position_file,
     twopass_loadrt,

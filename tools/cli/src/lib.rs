@@ -24,6 +24,7 @@ pub mod gcode_task;
 pub mod line_editor;
 pub mod meter;
 pub mod motion_queue_args;
+pub mod rsh;
 pub mod stdio;
 pub mod task_gate;
 pub mod tool_args;

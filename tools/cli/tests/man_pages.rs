@@ -87,6 +87,10 @@ fn pages() -> Vec<(&'static str, Source)> {
             Clap(Box::new(tool_args::gcode_run::Args::command())),
         ),
         (
+            "linuxcncrsh",
+            Clap(Box::new(tool_args::linuxcncrsh::Args::command())),
+        ),
+        (
             "motion-plot",
             Clap(Box::new(tool_args::motion_plot::Args::command())),
         ),

@@ -40,10 +40,13 @@ const GUIS: &[&str] = &[
     "keystick",
     "xemc",
     "mini",
-    "linuxcncrsh",
     "dummy",
     "halui",
 ];
+
+/// Display programs of this suite, run from the launcher's own directory
+/// when named without a path (LinuxCNC's are on its PATH the same way).
+const OWN: &[&str] = &["linuxcncrsh"];
 
 /// The display program `ini` names, if it is one the launcher runs (a
 /// path, or a program in `CONFIG_DIR/bin`); `None` for LinuxCNC's GUIs
@@ -57,7 +60,7 @@ pub fn display_program(ini: &Ini) -> Option<DisplayProgram> {
         return None;
     }
     let in_bin = !program.contains('/') && ini.dir().join("bin").join(&program).is_file();
-    if !program.contains('/') && !in_bin {
+    if !program.contains('/') && !in_bin && !OWN.contains(&program.as_str()) {
         return None;
     }
     Some(DisplayProgram {
@@ -111,10 +114,16 @@ pub fn start(
     instance: &str,
 ) -> Result<Child, LaunchError> {
     let dir = ini.dir();
+    let in_bin = dir.join("bin").join(&d.program);
+    let own = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent().map(|p| p.join(&d.program)));
     let program = if d.program.contains('/') {
         dir.join(&d.program)
+    } else if in_bin.is_file() || !OWN.contains(&d.program.as_str()) {
+        in_bin
     } else {
-        dir.join("bin").join(&d.program)
+        own.unwrap_or(in_bin)
     };
     let mut cmd = Command::new(&program);
     cmd.arg("-ini")
@@ -186,6 +195,14 @@ mod tests {
         assert_eq!(d("[DISPLAY]\nDISPLAY = gmoccapy -c x\n"), None);
         assert_eq!(d("[DISPLAY]\nDISPLAY = /usr/bin/axis\n"), None);
         assert_eq!(d("[DISPLAY]\nDISPLAY =\n"), None);
+        let rsh = d("[DISPLAY]\nDISPLAY = linuxcncrsh --port 6001\n").unwrap();
+        assert_eq!(
+            (rsh.program.as_str(), rsh.args.as_slice()),
+            (
+                "linuxcncrsh",
+                &["--port".to_string(), "6001".to_string()][..]
+            )
+        );
         assert_eq!(d("[EMC]\nMACHINE = m\n"), None);
     }
 

@@ -3,5 +3,6 @@
 //! pages (packaging/man/) from the same definitions as `--help`.
 
 pub mod gcode_run;
+pub mod linuxcncrsh;
 pub mod motion_cmd;
 pub mod motion_plot;

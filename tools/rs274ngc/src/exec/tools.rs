@@ -13,8 +13,10 @@ impl Interp {
     /// The tool table index holding tool `toolno` (0: the spindle for
     /// tool 0 on a non-random changer).
     pub(crate) fn find_tool_index(&self, toolno: i32) -> Result<i32> {
-        // T0 is the empty spindle (entry 0) for either kind of changer.
-        if toolno == 0 {
+        // On a non-random changer T0 is the empty spindle (entry 0); on a
+        // random one T0 is a tool like any other, looked up in the table
+        // (the spindle's entry included), and an error when it has none.
+        if toolno == 0 && !self.config.random_toolchanger {
             return Ok(0);
         }
         // Empty slots hold -1: no tool has a negative number.
