@@ -229,6 +229,34 @@ const PROBES: &[Probe] = &[
         live: &[&["--help"]],
     },
     Probe {
+        bin: "linuxcncrsh",
+        templates: &[],
+        // A port, name, password, session count or folder it accepts
+        // starts the server, which serves until stopped.
+        skip_options: &[
+            ("--port", "an accepted port serves until stopped"),
+            ("-p", "the same as --port"),
+            ("--name", "any name is accepted and serves until stopped"),
+            ("-n", "the same as --name"),
+            (
+                "--connectpw",
+                "any password is accepted and serves until stopped",
+            ),
+            ("-w", "the same as --connectpw"),
+            (
+                "--enablepw",
+                "any password is accepted and serves until stopped",
+            ),
+            ("-e", "the same as --enablepw"),
+            ("--sessions", "an accepted count serves until stopped"),
+            ("-s", "the same as --sessions"),
+            ("--path", "any folder is accepted and serves until stopped"),
+            ("-d", "the same as --path"),
+        ],
+        no_bare_run: Some("it serves on TCP port 5007 until stopped, as LinuxCNC's"),
+        live: &[&["--help"]],
+    },
+    Probe {
         bin: "xhc-hb04",
         templates: &[&["-H", "-I", "{}"], &["-H", "-s", "{}"]],
         skip_options: &[(

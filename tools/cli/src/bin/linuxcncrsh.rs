@@ -79,7 +79,7 @@ fn settings(args: &Args) -> Result<Settings, ToolsError> {
 }
 
 fn main() -> ExitCode {
-    let args = match Args::try_parse_from(normalise(std::env::args())) {
+    let args = match Args::try_parse_from(normalise(std::env::args_os())) {
         Ok(a) => a,
         Err(e) => {
             let _ = e.print();

@@ -48,15 +48,18 @@ pub struct Args {
 }
 
 /// The command line with LinuxCNC's single-dash `-ini` (and the `--`
-/// that may come before it) in clap's spelling.
-pub fn normalise(args: impl IntoIterator<Item = String>) -> Vec<String> {
+/// that may come before it) in clap's spelling. Arguments that are not
+/// UTF-8 pass through untouched, for clap to refuse with its message.
+pub fn normalise<A: Into<std::ffi::OsString>>(
+    args: impl IntoIterator<Item = A>,
+) -> Vec<std::ffi::OsString> {
     let mut out = Vec::new();
-    let mut it = args.into_iter().peekable();
+    let mut it = args.into_iter().map(Into::into).peekable();
     while let Some(a) = it.next() {
         if a == "--" && it.peek().is_some_and(|n| n == "-ini") {
             continue;
         }
-        out.push(if a == "-ini" { "--ini".to_string() } else { a });
+        out.push(if a == "-ini" { "--ini".into() } else { a });
     }
     out
 }
