@@ -85,6 +85,7 @@ pub use canon::{
     ToolEntry, Units,
 };
 pub use cfmt::f as format_fixed;
+pub use codes::g_text;
 pub use config::{Config, Features};
 pub use error::{InterpError, Result};
 pub use interp::{ActiveCodes, Interp, Location, Status};

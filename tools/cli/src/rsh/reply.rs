@@ -100,15 +100,9 @@ fn program_codes(s: &Snapshot) -> String {
         .nums("gcodes")
         .iter()
         .skip(1)
-        .map(|g| *g as i64)
+        .map(|g| *g as i32)
         .filter(|g| *g >= 0)
-        .map(|g| {
-            if g % 10 == 0 {
-                format!("G{}", g / 10)
-            } else {
-                format!("G{}.{}", g / 10, g % 10)
-            }
-        })
+        .map(rs274ngc::g_text)
         .collect();
     let settings = s.nums("settings");
     out.push(format!("F{}", settings.get(1).copied().unwrap_or(0.0)));

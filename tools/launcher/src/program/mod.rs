@@ -683,13 +683,7 @@ impl Program {
             .g
             .iter()
             .filter(|g| **g >= 0)
-            .map(|g| {
-                if g % 10 == 0 {
-                    format!("G{}", g / 10)
-                } else {
-                    format!("G{}.{}", g / 10, g % 10)
-                }
-            })
+            .map(|g| rs274ngc::g_text(*g))
             .collect();
         let m: Vec<String> = codes
             .m
