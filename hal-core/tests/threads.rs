@@ -236,6 +236,14 @@ fn a_panicking_function_halts_threads_and_calls_safe_state() {
     );
     assert_eq!(host.fault().as_deref(), Some("bad.f"));
     assert!(!host.is_running());
+    assert!(
+        host.instance()
+            .threads()
+            .unwrap()
+            .iter()
+            .all(|t| !t.running),
+        "a halted thread is shown stopped"
+    );
     let calls = n.load(SeqCst);
     std::thread::sleep(std::time::Duration::from_millis(20));
     assert_eq!(n.load(SeqCst), calls, "threads stay halted");
@@ -618,6 +626,21 @@ fn start_returns_with_every_thread_shown_running_and_stop_with_none() {
             running(&host)
         );
     }
+    // A thread made while the others run starts at once and says so.
+    host.start().unwrap();
+    host.create_thread("late", 10_000_000, true, None).unwrap();
+    assert!(
+        running(&host).iter().all(|(_, r)| *r),
+        "{:?}",
+        running(&host)
+    );
+    host.stop();
+    host.create_thread("later", 20_000_000, true, None).unwrap();
+    assert!(
+        running(&host).iter().all(|(_, r)| !*r),
+        "{:?}",
+        running(&host)
+    );
 }
 
 /// A cycle that ends after the thread's next deadline: under SCHED_FIFO

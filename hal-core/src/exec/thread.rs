@@ -128,11 +128,14 @@ impl ThreadCtl {
         let _ = realtime::place_thread(tid, p.cpu, allowed);
     }
 
-    /// Marks the executor as holding nothing (parked or gone).
+    /// Marks the executor as holding nothing (parked or gone). The
+    /// record's `running` flag is not the executor's to write: the host
+    /// sets it under its state lock at start, stop, thread creation and
+    /// fault, so a query never sees a started thread as stopped while it
+    /// parks on its way round.
     fn park(&self, rec: &ThreadRec) {
         self.idle.store(true, SeqCst);
         rec.seen_epoch.store(u64::MAX, SeqCst);
-        rec.running.store(0, SeqCst);
         self.epoch.fetch_add(1, SeqCst);
     }
 }
@@ -202,11 +205,6 @@ pub(crate) fn run(ctl: Arc<ThreadCtl>, sh: Arc<HostShared>, allowed: Vec<usize>)
 
     'park: loop {
         ctl.park(rec);
-        // The host's `start` and `stop` mark the records; this park must not
-        // undo a start that came between the last stop and here.
-        if sh.running.load(SeqCst) && !ctl.exit.load(SeqCst) {
-            rec.running.store(1, SeqCst);
-        }
         sh.wait_for_start(&ctl);
         if ctl.exit.load(Acquire) {
             break;

@@ -156,6 +156,12 @@ impl Host {
                 return Err(HalError::io("starting thread", "", e));
             }
         };
+        // A thread made while others run starts at once: shown running,
+        // as `start` shows the others. Under the state lock, like `start`.
+        if let Ok(rec) = seg.rec::<ThreadRec>(off) {
+            rec.running
+                .store(u64::from(self.shared.running.load(SeqCst)), SeqCst);
+        }
         st.threads.push(HostThread {
             ctl,
             join: Some(join),

@@ -319,6 +319,11 @@ fn supervise(shared: Arc<HostShared>, state: Arc<Mutex<HostState>>) {
         // Cycles still in progress would overwrite the safe outputs.
         for t in &st.threads {
             wait_for_boundary(&t.ctl, Duration::from_secs(10));
+            // The executors never write their record's flag; a halted
+            // thread is shown stopped from here on.
+            if let Ok(rec) = shared.seg.rec::<ThreadRec>(t.ctl.rec_off) {
+                rec.running.store(0, SeqCst);
+            }
         }
         for c in st.comps.iter_mut().rev() {
             if let Some(h) = c.safe_state.as_mut() {
