@@ -54,6 +54,7 @@ impl Parser<'_, '_> {
             if let Some(rest) = raw.strip_prefix("#INCLUDE") {
                 if rest.starts_with([' ', '\t']) || rest.is_empty() {
                     let r = self.include(rest.trim(), origin, dir, depth);
+                    let r = self.skip_as_linuxcnc_does(r);
                     self.or_warn(r)?;
                     continue;
                 }
@@ -174,6 +175,31 @@ impl Parser<'_, '_> {
         let r = self.text(&text, file, &sub_dir, depth + 1);
         self.stack.pop();
         r
+    }
+
+    /// LinuxCNC's launcher reports an `#INCLUDE` without a file name, or
+    /// of a file that does not exist, and goes on without it; so do we,
+    /// with a warning naming the line. Other failures (a cycle, too deep,
+    /// a file that exists but cannot be read) stay errors.
+    fn skip_as_linuxcnc_does(&mut self, r: Result<(), IniError>) -> Result<(), IniError> {
+        match r {
+            Err(IniError::IncludeWithoutName { origin }) => {
+                self.warn(origin, "#INCLUDE without a file name, skipped".into());
+                Ok(())
+            }
+            Err(IniError::Io {
+                origin: Some(origin),
+                path,
+                source,
+            }) if source.kind() == std::io::ErrorKind::NotFound => {
+                self.warn(
+                    origin,
+                    format!("#INCLUDE {}: no such file, skipped", path.display()),
+                );
+                Ok(())
+            }
+            other => other,
+        }
     }
 
     fn warn(&mut self, origin: Origin, message: String) {
