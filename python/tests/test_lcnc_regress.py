@@ -2,6 +2,7 @@
 LinuxCNC's runner judges them (exit status, `expected`, `checkresult`,
 `skip`, `xfail`), with our programs first on PATH."""
 
+import os
 import subprocess
 import sys
 
@@ -23,12 +24,12 @@ def _case(root, name, files):
     return d
 
 
-def _run(*dirs):
+def _run(*dirs, env=None):
     if not (BIN / "linuxcnc").exists():
         pytest.skip("linuxcnc is not built in %s" % BIN)
     return subprocess.run(
         [sys.executable, str(RUNNER), "--bin", str(BIN), "--timeout", "30", *map(str, dirs)],
-        capture_output=True, text=True, timeout=120,
+        capture_output=True, text=True, timeout=120, env=env,
     )
 
 
@@ -71,6 +72,21 @@ def test_our_programs_come_first_with_a_hal_instance_of_their_own(tmp_path):
     assert got[0] == str(BIN / "halcmd"), got
     assert got[1].startswith("lcnc-regress-"), got
     assert got[2] == "modules ok", got
+
+
+def test_emc2_home_is_the_top_of_the_tree_the_test_lies_in(tmp_path):
+    # LinuxCNC's checkresult scripts read $EMC2_HOME/tests/motion/g0/....
+    d = _case(tmp_path / "tree" / "tests" / "motion", "g0", {
+        "test.sh": "echo \"$EMC2_HOME\"\n",
+    })
+    env = {k: v for k, v in os.environ.items() if k != "EMC2_HOME"}
+    r = _run(d, env=env)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert (d / "result").read_text() == "%s\n" % (tmp_path / "tree").resolve()
+    # Outside such a tree it is left unset.
+    e = _case(tmp_path, "plain", {"test.sh": "echo \"${EMC2_HOME-unset}\"\n"})
+    r = _run(e, env=env)
+    assert (e / "result").read_text() == "unset\n", r.stdout + r.stderr
 
 
 def test_bad_arguments_are_refused(tmp_path):

@@ -5,7 +5,8 @@
 //! when a rapid meets a feed move or the other way round, and around
 //! probing moves and dwells. Otherwise, under blending (G64) two straight
 //! XYZ moves get a blend arc tangent to both, as large as the tolerance,
-//! half of each move and the acceleration budget allow; every other
+//! half of each move and the acceleration budget allow but no larger than
+//! the programmed feed (at the largest feed override) needs; every other
 //! corner is a kink crossed no faster than its [`kink_cap`], which is
 //! full speed for a tangent corner and next to nothing for a sharp one.
 //!
@@ -162,6 +163,48 @@ impl Planner {
         }
     }
 
+    /// The smallest cut, at most `cut`, whose blend arc at `corner` can
+    /// still be run at `goal` (the programmed feed at the largest feed
+    /// override), as LinuxCNC sizes its blend arcs: no larger than the
+    /// speed needs, so the path keeps as close to the corner as it can
+    /// without slowing down. `cut` itself when even its arc is slower.
+    fn cut_for_speed(
+        &self,
+        corner: &Pose,
+        u1: geom::V3,
+        u2: geom::V3,
+        cut: f64,
+        goal: f64,
+        lim: &AxisLimits,
+    ) -> f64 {
+        let vmax_at = |c: f64| -> Option<f64> {
+            let blend = geom::blend_arc(corner, u1, u2, c)?;
+            let path = Path::Arc(blend.arc);
+            let len = path.length();
+            self.budget_for(&path, len, lim, true).map(|b| b.vmax)
+        };
+        if !(goal > 0.0 && cut > MIN_LENGTH) {
+            return cut;
+        }
+        let Some(full) = vmax_at(cut) else {
+            return cut;
+        };
+        if full <= goal {
+            return cut;
+        }
+        // A turn's speed grows with the square root of its radius, and the
+        // radius with the cut: start there and correct for the other caps.
+        let mut c = cut * (goal / full).powi(2);
+        for _ in 0..4 {
+            match vmax_at(c) {
+                Some(v) if v >= goal => return c,
+                Some(v) if v > 0.0 => c = (c * (goal / v).powi(2) * 1.01).min(cut),
+                _ => return cut,
+            }
+        }
+        cut
+    }
+
     /// Puts a blend arc between the last queued line and the line `seg`,
     /// if one fits and the executor can keep the changed speeds. True if
     /// it did.
@@ -189,10 +232,17 @@ impl Planner {
             // The executing line cannot lose what it has already run.
             cut = cut.min(prev.len - self.s);
         }
+        let corner = prev.end();
+        let goal = prev.req_vel.max(seg.req_vel)
+            * if prev.kind == SegmentKind::Traverse && seg.kind == SegmentKind::Traverse {
+                1.0
+            } else {
+                self.max_feed_scale
+            };
+        cut = self.cut_for_speed(&corner, u1, u2, cut, goal, lim);
         if cut.is_nan() || cut <= MIN_LENGTH {
             return false;
         }
-        let corner = prev.end();
         let Some(blend) = geom::blend_arc(&corner, u1, u2, cut) else {
             return false;
         };

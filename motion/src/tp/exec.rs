@@ -78,6 +78,7 @@ impl Planner {
     /// One servo period; returns the commanded pose.
     pub fn run(&mut self, scales: &ScaleInputs) -> Pose {
         self.requested_vel = 0.0;
+        self.max_feed_scale = scales.max_feed_override.max(0.0);
         if self.hold {
             // The period at rest after an exact stop.
             self.hold = false;

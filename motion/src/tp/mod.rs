@@ -211,6 +211,9 @@ pub struct Planner {
     aborting: bool,
     requested_vel: f64,
     net_scale: f64,
+    /// The largest feed override seen (`ScaleInputs::max_feed_override`):
+    /// a blend arc is sized for the programmed feed times it.
+    max_feed_scale: f64,
     scurve: scurve::SCurve,
     /// The next segment pushed waits for the spindle at speed before it
     /// starts (LinuxCNC's at-speed barrier), from rest.
@@ -269,6 +272,7 @@ impl Planner {
             aborting: false,
             requested_vel: 0.0,
             net_scale: 1.0,
+            max_feed_scale: 1.0,
             scurve: scurve::SCurve::new(period),
             atspeed_pending: false,
             waiting_for_atspeed: false,

@@ -307,3 +307,61 @@ fn the_s_curve_planner_keeps_jerk_limits_and_ends_exactly() {
     assert_within(&p, &lim, true);
     assert_eq!(tp.pos(), xyz(5.0, 5.0, 0.0));
 }
+
+/// The closest the path comes to the corner at (10, 0), and the slowest
+/// path speed between X 5 and Y 5 (around the corner).
+fn corner_approach(p: &[Pose]) -> (f64, f64) {
+    let closest = p
+        .iter()
+        .map(|q| ((q.0[0] - 10.0).powi(2) + q.0[1].powi(2)).sqrt())
+        .fold(f64::INFINITY, f64::min);
+    let slowest = p
+        .windows(2)
+        .filter(|w| w[0].0[0] > 5.0 && w[1].0[1] < 5.0)
+        .map(|w| ((w[1].0[0] - w[0].0[0]).hypot(w[1].0[1] - w[0].0[1])) / T)
+        .fold(f64::INFINITY, f64::min);
+    (closest, slowest)
+}
+
+fn right_angle(feed: f64, scales: &ScaleInputs) -> Vec<Pose> {
+    let mut tp = Planner::new(T);
+    tp.set_term_cond(TermCond::Blend, 0.1);
+    let lim = limits(20.0, 100.0, 0.0);
+    // One period first, so the planner has seen the override.
+    tp.run(scales);
+    tp.add_line(xyz(10.0, 0.0, 0.0), LineKind::Feed, feed, 1, ENABLES, &lim)
+        .unwrap();
+    tp.add_line(xyz(10.0, 10.0, 0.0), LineKind::Feed, feed, 2, ENABLES, &lim)
+        .unwrap();
+    let p = run(&mut tp, scales, 100_000);
+    assert_within(&p, &lim, false);
+    p
+}
+
+#[test]
+fn a_slow_corner_gets_the_smallest_blend_arc_that_keeps_the_feed() {
+    // At 1 unit/s the tolerance (0.1: an arc 0.24 from the corner) is far
+    // more than the speed needs: as LinuxCNC, the arc is only as large as
+    // the feed needs, so the path stays near the corner, at full feed.
+    let (closest, slowest) = corner_approach(&right_angle(1.0, &ScaleInputs::default()));
+    assert!(closest < 0.01, "the arc keeps near the corner: {closest}");
+    assert!(closest > 0.0, "the corner is still rounded");
+    assert!(
+        slowest > 0.999,
+        "the corner is crossed at the feed: {slowest}"
+    );
+    // Room for a feed override of 2: a larger arc, crossed at twice the
+    // feed when the override asks for it.
+    let mut scales = ScaleInputs {
+        max_feed_override: 2.0,
+        ..ScaleInputs::default()
+    };
+    scales.feed = 2.0;
+    let (wider, fast) = corner_approach(&right_angle(1.0, &scales));
+    assert!(wider > 3.0 * closest, "{wider} vs {closest}");
+    assert!(fast > 1.999, "crossed at twice the feed: {fast}");
+    // A fast feed still uses the whole tolerance (the arc midpoint is the
+    // tolerance from the corner).
+    let (tol_limited, _) = corner_approach(&right_angle(15.0, &ScaleInputs::default()));
+    assert!((tol_limited - 0.1).abs() < 1e-3, "{tol_limited}");
+}

@@ -21,6 +21,7 @@ pub mod conventions;
 mod error;
 pub mod gcode_check;
 pub mod gcode_task;
+pub mod inivar;
 pub mod line_editor;
 pub mod meter;
 pub mod motion_queue_args;

@@ -169,3 +169,26 @@ pub fn task_cmd() -> String {
         hal_launcher::REQUESTS
     )
 }
+
+/// `inivar --help`.
+pub const INIVAR: &str = "\
+usage: inivar -var VARIABLE [-tildeexpand] [-sec SECTION] [-ini FILE] [-num N]
+
+Prints the value of VARIABLE in an INI file, as the file has it, for shell
+scripts (LinuxCNC's inivar). Without -sec the first VARIABLE of any
+section is taken. Exit status 1 when it is not there (the message on
+standard error names what was asked) or the command line is bad, 255 when
+the file cannot be read.
+
+options:
+  -var VARIABLE        the key to print
+  -sec SECTION         the section (without brackets) it is in
+  -ini FILE            the INI file (default emc.ini)
+  -num N               the Nth occurrence, from 1 (default 1)
+  -tildeexpand         a leading ~ in the value becomes $HOME
+  -h, --help           print this help and exit
+  --version            print the version and exit
+
+examples:
+  inivar -var SERVO_PERIOD -sec EMCMOT -ini machine.ini
+  inivar -var HALFILE -sec HAL -num 2 -ini machine.ini";

@@ -177,6 +177,14 @@ fn pages() -> Vec<(&'static str, Source)> {
             ),
         ),
         (
+            "inivar",
+            help(
+                "print one value of an INI file",
+                usage::INIVAR,
+                &["linuxcnc(1)", "halcmd(1)"],
+            ),
+        ),
+        (
             "halstreamer",
             help(
                 "feed lines of values into a streamer channel",

@@ -485,3 +485,46 @@ fn iov2_gives_a_change_up_on_a_changer_fault_soft_or_hard() {
     assert_eq!(m.getp("iocontrol.0.emc-reason"), "8", "the run's abort");
     m.stop();
 }
+
+/// MDI lines queued while a move runs are read as soon as the moves
+/// before them are in motion's queue, as LinuxCNC's task reads them, so
+/// under G64 the corner between two lines is blended: Y starts moving
+/// while X is still short of the corner. (Before, each line waited for
+/// the machine to stop, and every corner was an exact stop.)
+#[test]
+fn queued_mdi_lines_blend_their_corner() {
+    let s = Scratch::new("task-mdi-blend");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-mdi-blend");
+    ready(&m);
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "G21", "G90", "G64", "P1"]);
+    m.task_ok(&["mdi", "G1", "X10", "Y0", "F60"]);
+    m.task_ok(&["mdi", "G1", "X10", "Y10", "F60"]);
+    // Y moving while X has not reached the corner: the blend arc. Y is
+    // read first, X after it (X only grows on this path).
+    let mut blended = false;
+    let start = std::time::Instant::now();
+    while start.elapsed() < std::time::Duration::from_secs(30) {
+        let y = pos(&m, 1);
+        let x = pos(&m, 0);
+        if y > 0.01 && x < 9.99 {
+            blended = true;
+            break;
+        }
+        if y > 9.0 {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(blended, "the corner at X10 Y0 was an exact stop");
+    m.task_ok(&["-t", "60", "wait-done"]);
+    assert!((pos(&m, 0) - 10.0).abs() < 1e-6 && (pos(&m, 1) - 10.0).abs() < 1e-6);
+    // A dwell between two lines: the lines after it still run in order
+    // and end where they say.
+    m.task_ok(&["mdi", "G1", "X0", "F600"]);
+    m.task_ok(&["mdi", "G4", "P0.1"]);
+    m.task_ok(&["mdi", "G1", "Y0", "F600"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    assert!(pos(&m, 0).abs() < 1e-6 && pos(&m, 1).abs() < 1e-6);
+}

@@ -12,6 +12,7 @@ mod config;
 mod error;
 mod input_wait;
 mod io_watch;
+mod mdi_chain;
 mod motion_watch;
 mod op;
 mod user_m;
@@ -425,6 +426,12 @@ impl Program {
             Err(e) => return Some(self.fail(e)),
         }
         let motion_idle = motion_idle && status.heartbeat >= self.sent_beat.saturating_add(3);
+        if !motion_idle && self.can_chain_mdi() {
+            if let Err(e) = self.chain_next_mdi() {
+                return Some(self.fail(e));
+            }
+            return None;
+        }
         let all_done = self.canon.ops.is_empty() && !self.io_busy && motion_idle;
         if self.needs_synch && all_done {
             self.needs_synch = false;
