@@ -63,8 +63,9 @@ pub fn line(cmd: &Command) -> String {
         C::JointDeactivate { joint } => format!("JOINT_DEACTIVATE joint={joint}"),
         C::OverrideLimits { .. } => "OVERRIDE_LIMITS".into(),
         C::Scale { scale } => format!("SCALE scale={}", g(scale)),
-        C::EnableAmplifier { joint } => format!("ENABLE_AMPLIFIER joint={joint}"),
-        C::DisableAmplifier { joint } => format!("DISABLE_AMPLIFIER joint={joint}"),
+        // LinuxCNC's logger names the joint of neither.
+        C::EnableAmplifier { .. } => "ENABLE_AMPLIFIER".into(),
+        C::DisableAmplifier { .. } => "DISABLE_AMPLIFIER".into(),
         C::SetJointPositionLimits { joint, min, max } => format!(
             "SET_JOINT_POSITION_LIMITS joint={joint}, min={}, max={}",
             g(min),

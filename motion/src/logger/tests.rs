@@ -63,6 +63,20 @@ fn lines_in_linuxcnc_words() {
     assert_eq!(line(&Command::FeedScale { scale: 1.0 }), "FEED_SCALE");
 }
 
+/// LinuxCNC 2.9's logger writes the amplifier commands bare, one line a
+/// joint, as its machine-on and e-stop sequences show.
+#[test]
+fn amplifier_lines_name_no_joint() {
+    assert_eq!(
+        line(&Command::EnableAmplifier { joint: 3 }),
+        "ENABLE_AMPLIFIER"
+    );
+    assert_eq!(
+        line(&Command::DisableAmplifier { joint: 0 }),
+        "DISABLE_AMPLIFIER"
+    );
+}
+
 #[test]
 fn task_talks_to_it_as_to_motmod_and_every_command_is_logged() {
     let host = Host::create(HostConfig::for_tests("motion-logger")).unwrap();
