@@ -1,12 +1,14 @@
 //! Every exchange of the launcher with the motion controller, through its
 //! public command channel: configuring it from the INI file as LinuxCNC's
-//! task does at start-up (joint limits, following error, backlash or
-//! screw-error table, jerk, homing, activation; axis limits, jerk and the
-//! external offsets' share (`OFFSET_AV_RATIO`); the
-//! world home, the coordinated planner's limits and type), following the
-//! `ini.*` pins, and enabling, disabling and aborting for the task
-//! requests. `[TRAJ]` keys without a motion setting are listed with why. Kept in this one module so changes of the motion API touch
-//! the launcher in one place.
+//! task does at start-up, in its order (the coordinated planner's limits
+//! and type and the world home; then per joint backlash, limits,
+//! following error, homing, velocity, acceleration, jerk, screw-error
+//! table, activation; then per axis limits, jerk, the external offsets'
+//! share (`OFFSET_AV_RATIO`) and the locking indexer), following the
+//! `ini.*` pins, and enabling, disabling, aborting and e-stop for the
+//! task requests. `[TRAJ]` keys without a motion setting are listed with
+//! why. Kept in this one module so changes of the motion API touch the
+//! launcher in one place.
 
 use hal_core::Instance;
 use hal_lang::ini::Ini;
