@@ -44,7 +44,14 @@ fn motion_type(kind: LineKind) -> i32 {
     }
 }
 
-/// The log line of `cmd` (without the newline).
+/// SPINDLE_ON as LinuxCNC's logger writes it: the speed, the constant
+/// surface speed factor and the X offset, as C's `%f`.
+pub fn spindle_on(speed: f64, css_factor: f64, x_offset: f64) -> String {
+    format!("SPINDLE_ON speed={speed:.6}, css_factor={css_factor:.6}, xoffset={x_offset:.6}")
+}
+
+/// The log line of `cmd` (without the newline). SPINDLE_ON's shows no
+/// surface speed here ([`spindle_on`] takes it from motion's state).
 pub fn line(cmd: &Command) -> String {
     use Command as C;
     let g = g6;
@@ -192,14 +199,7 @@ pub fn line(cmd: &Command) -> String {
         }
         C::SetJointComp { .. } => "SET_JOINT_COMP".into(),
         C::ClearJointComp { joint } => format!("CLEAR_JOINT_COMP joint={joint}"),
-        C::SpindleOn {
-            spindle,
-            speed,
-            wait,
-        } => format!(
-            "SPINDLE_ON spindle={spindle}, speed={speed:.6}, wait_for_at_speed={}",
-            on(wait)
-        ),
+        C::SpindleOn { speed, .. } => spindle_on(speed, 0.0, 0.0),
         C::SpindleOff { .. } => "SPINDLE_OFF".into(),
         C::SpindleScale { .. } => "SPINDLE_SCALE".into(),
         C::SpindleBrake { on: engage, .. } => if engage {
