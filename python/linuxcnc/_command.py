@@ -4,7 +4,9 @@ Each method sends one request and returns once task has answered (an
 e-stop reset waits for the e-stop chain, a mode change for motion); a
 refusal goes to the error channel and makes `wait_complete()` return
 RCS_ERROR, as in LinuxCNC. `wait_complete()` after `mdi()` waits until
-the MDI line has run. Methods task has no request for raise
+the MDI line has run, and after `auto(AUTO_RUN)` until the program has
+ended (LinuxCNC's task reports a run as executing until its interpreter
+is idle again), or -1 once its timeout passes. Methods task has no request for raise
 NotImplementedError naming them.
 """
 
@@ -57,7 +59,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
     def wait_complete(self, timeout=5.0):
         """RCS_DONE or RCS_ERROR for the last command, -1 if an MDI line
-        it started has not ended within `timeout` seconds."""
+        or program run it started has not ended within `timeout` seconds."""
         if not self._waits_for_run or _session.status != k.RCS_DONE:
             return _session.status
         try:
@@ -101,7 +103,7 @@ class command:  # noqa: N801  (LinuxCNC's name)
     def auto(self, what, line=0):
         """AUTO_RUN (from `line`), AUTO_PAUSE, AUTO_RESUME or AUTO_STEP."""
         if what == k.AUTO_RUN:
-            return self._send(["run", int(line)])
+            return self._send(["run", int(line)], waits_for_run=True)
         if what in (k.AUTO_REVERSE, k.AUTO_FORWARD):
             raise NotImplementedError(
                 "linuxcnc.command.auto(AUTO_REVERSE/AUTO_FORWARD): task cannot run backwards"

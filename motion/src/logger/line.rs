@@ -44,7 +44,14 @@ fn motion_type(kind: LineKind) -> i32 {
     }
 }
 
-/// The log line of `cmd` (without the newline).
+/// SPINDLE_ON as LinuxCNC's logger writes it: the speed, the constant
+/// surface speed factor and the X offset, as C's `%f`.
+pub fn spindle_on(speed: f64, css_factor: f64, x_offset: f64) -> String {
+    format!("SPINDLE_ON speed={speed:.6}, css_factor={css_factor:.6}, xoffset={x_offset:.6}")
+}
+
+/// The log line of `cmd` (without the newline). SPINDLE_ON's shows no
+/// surface speed here ([`spindle_on`] takes it from motion's state).
 pub fn line(cmd: &Command) -> String {
     use Command as C;
     let g = g6;
@@ -63,8 +70,9 @@ pub fn line(cmd: &Command) -> String {
         C::JointDeactivate { joint } => format!("JOINT_DEACTIVATE joint={joint}"),
         C::OverrideLimits { .. } => "OVERRIDE_LIMITS".into(),
         C::Scale { scale } => format!("SCALE scale={}", g(scale)),
-        C::EnableAmplifier { joint } => format!("ENABLE_AMPLIFIER joint={joint}"),
-        C::DisableAmplifier { joint } => format!("DISABLE_AMPLIFIER joint={joint}"),
+        // LinuxCNC's logger names the joint of neither.
+        C::EnableAmplifier { .. } => "ENABLE_AMPLIFIER".into(),
+        C::DisableAmplifier { .. } => "DISABLE_AMPLIFIER".into(),
         C::SetJointPositionLimits { joint, min, max } => format!(
             "SET_JOINT_POSITION_LIMITS joint={joint}, min={}, max={}",
             g(min),
@@ -191,14 +199,7 @@ pub fn line(cmd: &Command) -> String {
         }
         C::SetJointComp { .. } => "SET_JOINT_COMP".into(),
         C::ClearJointComp { joint } => format!("CLEAR_JOINT_COMP joint={joint}"),
-        C::SpindleOn {
-            spindle,
-            speed,
-            wait,
-        } => format!(
-            "SPINDLE_ON spindle={spindle}, speed={speed:.6}, wait_for_at_speed={}",
-            on(wait)
-        ),
+        C::SpindleOn { speed, .. } => spindle_on(speed, 0.0, 0.0),
         C::SpindleOff { .. } => "SPINDLE_OFF".into(),
         C::SpindleScale { .. } => "SPINDLE_SCALE".into(),
         C::SpindleBrake { on: engage, .. } => if engage {

@@ -45,8 +45,11 @@ marks joints homed at once. HAL files load it with
 Lines follow LinuxCNC's motion-logger: the command's name and its fields
 as name=value with numbers as printf's %.6g ('SET_LINE x=1, ..., w=9,
 id=2, motion_type=2, vel=1.5', 'JOINT_HOME joint=-1', 'COORD'). SET_LINE
-has no ini_maxvel, acc or turn here; commands LinuxCNC's logger does not
-know are named in its style with all their fields.
+has no ini_maxvel, acc or turn here; SPINDLE_CSS writes no line of its
+own: SPINDLE_ON shows its factor and offset ('SPINDLE_ON speed=500.000000,
+css_factor=0.000000, xoffset=0.000000'), as LinuxCNC's command carries
+them; commands LinuxCNC's logger does not know are named in its style
+with all their fields.
 
 options:
   --instance NAME  the HAL instance (default $HAL_INSTANCE, else 'default')
@@ -109,7 +112,9 @@ impl Logger {
         while self.replies.len() < self.replies.capacity() && self.commands.pop(&mut self.record) {
             let (serial, result) = match decode_command(&self.record) {
                 Ok((serial, cmd)) => {
-                    log(&line::line(&cmd));
+                    if let Some(text) = self.text_of(&cmd) {
+                        log(&text);
+                    }
                     (serial, self.apply(&cmd))
                 }
                 Err((serial, error)) => {
@@ -148,6 +153,26 @@ impl Logger {
     fn publish(&mut self) {
         fill_status(&self.core, self.last, self.served, &mut self.buf[..]);
         self.status.write(&self.buf[..]);
+    }
+
+    /// The log line of `cmd`, if it has one of its own. LinuxCNC's
+    /// SPINDLE_ON carries the constant-surface-speed factor and X offset
+    /// that ours sends before it as SPINDLE_CSS: that one writes no line,
+    /// and SPINDLE_ON's line shows what the spindle then has, as
+    /// LinuxCNC's logger writes it.
+    fn text_of(&self, cmd: &Command) -> Option<String> {
+        match *cmd {
+            Command::SpindleCss { .. } => None,
+            Command::SpindleOn { spindle, speed, .. } => {
+                let n = usize::try_from(spindle)
+                    .ok()
+                    .filter(|&n| n < crate::sizes::MAX_SPINDLES)
+                    .unwrap_or(0);
+                let s = self.core.spindle(n);
+                Some(line::spindle_on(speed, s.css_factor, s.css_x_offset))
+            }
+            _ => Some(line::line(cmd)),
+        }
     }
 
     /// What the stand-in does with `cmd`, and its answer.

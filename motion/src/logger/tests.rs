@@ -63,6 +63,20 @@ fn lines_in_linuxcnc_words() {
     assert_eq!(line(&Command::FeedScale { scale: 1.0 }), "FEED_SCALE");
 }
 
+/// LinuxCNC 2.9's logger writes the amplifier commands bare, one line a
+/// joint, as its machine-on and e-stop sequences show.
+#[test]
+fn amplifier_lines_name_no_joint() {
+    assert_eq!(
+        line(&Command::EnableAmplifier { joint: 3 }),
+        "ENABLE_AMPLIFIER"
+    );
+    assert_eq!(
+        line(&Command::DisableAmplifier { joint: 0 }),
+        "DISABLE_AMPLIFIER"
+    );
+}
+
 #[test]
 fn task_talks_to_it_as_to_motmod_and_every_command_is_logged() {
     let host = Host::create(HostConfig::for_tests("motion-logger")).unwrap();
@@ -99,6 +113,21 @@ fn task_talks_to_it_as_to_motmod_and_every_command_is_logged() {
             id: 3,
         })
         .unwrap();
+    // Constant surface speed, then the spindle: one line, LinuxCNC's.
+    client
+        .send(Command::SpindleCss {
+            spindle: 0,
+            factor: 100.0,
+            x_offset: 0.5,
+        })
+        .unwrap();
+    client
+        .send(Command::SpindleOn {
+            spindle: 0,
+            speed: 500.0,
+            wait: false,
+        })
+        .unwrap();
     // Refused as motion refuses it, and logged all the same.
     let refused = client.send(Command::Home { joint: 40 }).unwrap_err();
     assert!(
@@ -125,6 +154,7 @@ fn task_talks_to_it_as_to_motmod_and_every_command_is_logged() {
             "JOINT_HOME joint=-1",
             "COORD",
             "SET_LINE x=0.1, y=0.2, z=0.3, a=0, b=0, c=0, u=0, v=0, w=0, id=3, motion_type=1, vel=1",
+            "SPINDLE_ON speed=500.000000, css_factor=100.000000, xoffset=0.500000",
             "JOINT_HOME joint=40",
         ]
     );

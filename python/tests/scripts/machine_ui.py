@@ -170,7 +170,11 @@ def main(argv):
     s.poll()
     check(s.file == os.path.realpath(prog), "stat.file is the program: %r" % s.file)
     c.auto(linuxcnc.AUTO_RUN, 0)
-    ok_or_fail(c, e, "running the program")
+    # As in LinuxCNC, wait_complete() after a run returns at its end (its
+    # MSG stays on the error channel for the check below).
+    check(c.wait_complete() == linuxcnc.RCS_DONE, "wait_complete() returns when the program ends")
+    s.poll()
+    check(s.interp_state == linuxcnc.INTERP_IDLE, "the interpreter is idle once it returned")
     wait(s, lambda: s.interp_state != linuxcnc.INTERP_IDLE or near(s.position[2], 0.5),
          "the program to start")
     wait(s, lambda: s.interp_state == linuxcnc.INTERP_IDLE, "the program to end")
@@ -190,7 +194,10 @@ def main(argv):
     c.program_open(prog)
     ok_or_fail(c, e, "opening the long program")
     c.auto(linuxcnc.AUTO_RUN, 0)
-    ok_or_fail(c, e, "running the long program")
+    # As in LinuxCNC, wait_complete() after a run waits for its end: the
+    # long program is still running when a short wait gives up.
+    check(c.wait_complete(0.2) == -1, "wait_complete(0.2) gives up while the long program runs")
+    check(e.poll() is None, "running the long program reported nothing")
     wait(s, lambda: s.position[0] > 3.5, "the long move to start")
     c.auto(linuxcnc.AUTO_PAUSE)
     ok_or_fail(c, e, "pausing")

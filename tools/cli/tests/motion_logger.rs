@@ -140,6 +140,91 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     m.stop();
 }
 
+/// Every line of `path` from the first one equal to `from` on.
+fn from_line(path: &std::path::Path, from: &str, last: &str) -> Vec<String> {
+    let lines = lines_until(path, last);
+    let at = lines.iter().position(|l| l == from).unwrap_or_else(|| {
+        panic!("no '{from}' in {lines:#?}");
+    });
+    lines[at..].to_vec()
+}
+
+/// What LinuxCNC 2.9's task sends motion at start-up (planner settings,
+/// then each joint, then each axis; no jerk when the INI sets none), on
+/// entering e-stop (abort, disable, volatile homes cleared, free mode),
+/// on e-stop reset (abort), machine on (enable) and entering MDI
+/// (coordinated mode, abort): the motion-logger log shows it in order.
+#[test]
+fn task_sends_linuxcnc_startup_and_state_sequences() {
+    let s = Scratch::new("motion-logger-seq");
+    let ini = s.write("test.ini", INI);
+    s.write(
+        "mock-motion.hal",
+        "loadusr -W motion-logger out.motion-logger\nsetp iocontrol.0.emc-enable-in 1\n",
+    );
+    s.write("simpockets.tbl", "T1 P1 ;tool\n");
+    let log = s.0.join("out.motion-logger");
+    let m = Machine::start(&ini, "motion-logger-seq");
+    let start = lines_until(&log, "FREE");
+    let joint = |j: u32, min: i32, max: i32| {
+        [
+            format!("SET_JOINT_BACKLASH joint={j}, backlash=0"),
+            format!("SET_JOINT_POSITION_LIMITS joint={j}, min={min}, max={max}"),
+            format!("SET_JOINT_MAX_FERROR joint={j}, maxFerror=1"),
+            format!("SET_JOINT_MIN_FERROR joint={j}, minFerror=1"),
+            format!(
+                "SET_JOINT_HOMING_PARAMS joint={j}, offset=0 home=0, final_vel=-1, search_vel=0, \
+                 latch_vel=0, flags=0x00000000, sequence=999, volatile=0"
+            ),
+            format!("SET_JOINT_VEL_LIMIT joint={j}, vel=4"),
+            format!("SET_JOINT_ACC_LIMIT joint={j}, acc=1000"),
+            format!("JOINT_ACTIVATE joint={j}"),
+        ]
+    };
+    let axis = |a: u32, min: i32, max: i32| {
+        [
+            format!("SET_AXIS_POSITION_LIMITS axis={a}, min={min}, max={max}"),
+            format!("SET_AXIS_VEL_LIMIT axis={a} vel=4"),
+            format!("SET_AXIS_ACC_LIMIT axis={a}, acc=1000"),
+            format!("SET_AXIS_LOCKING_JOINT axis={a}, locking_joint=-1"),
+        ]
+    };
+    let abort = [
+        "JOG_ABORT joint=0",
+        "JOG_ABORT joint=1",
+        "JOG_ABORT joint=2",
+        "ABORT",
+    ];
+    let mut want: Vec<String> = [
+        "SET_VEL_LIMIT vel=4",
+        "SET_ACC acc=1e+99",
+        "SET_MAX_FEED_OVERRIDE 1",
+        "SET_WORLD_HOME x=0, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0",
+    ]
+    .map(String::from)
+    .to_vec();
+    want.extend(joint(0, -40, 40));
+    want.extend(joint(1, -40, 40));
+    want.extend(joint(2, -4, 4));
+    want.extend(axis(0, -40, 40));
+    want.extend(axis(1, -40, 40));
+    want.extend(axis(2, -4, 4));
+    want.extend(abort.map(String::from));
+    want.extend(["SPINDLE_OFF", "DISABLE", "JOINT_UNHOME joint=-2", "FREE"].map(String::from));
+    assert_eq!(start, want);
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["mode", "mdi"]);
+    // Each request's commands are answered before its reply: all logged.
+    let after = from_line(&log, "FREE", "COORD");
+    let mut want = vec!["FREE".to_string()];
+    want.extend(abort.map(String::from));
+    want.extend(["SPINDLE_OFF", "ENABLE", "COORD"].map(String::from));
+    want.extend(abort.map(String::from));
+    assert_eq!(after, want);
+    m.stop();
+}
+
 #[test]
 fn motion_logger_refuses_bad_arguments_and_a_missing_instance() {
     let inst = machine::instance("motion-logger-args");

@@ -617,8 +617,11 @@ fn run_on_host(
         LaunchError::read(&path, e)
     })?;
     if let Some(m) = &mut motion {
-        // Task starts in e-stop with motion disabled.
-        let _ = m.disable();
+        // Task starts in e-stop with motion disabled, in MANUAL mode: as
+        // LinuxCNC's task, it goes through its e-stop sequence, then asks
+        // motion for free mode (teleop if every joint is homed).
+        let _ = m.estop();
+        let _ = m.command(crate::motion_setup::manual_mode(m.status().as_ref()));
     }
     // Programs and MDI run through task where there is a motion
     // controller to run them.

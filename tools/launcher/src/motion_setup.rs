@@ -1,12 +1,14 @@
 //! Every exchange of the launcher with the motion controller, through its
 //! public command channel: configuring it from the INI file as LinuxCNC's
-//! task does at start-up (joint limits, following error, backlash or
-//! screw-error table, jerk, homing, activation; axis limits, jerk and the
-//! external offsets' share (`OFFSET_AV_RATIO`); the
-//! world home, the coordinated planner's limits and type), following the
-//! `ini.*` pins, and enabling, disabling and aborting for the task
-//! requests. `[TRAJ]` keys without a motion setting are listed with why. Kept in this one module so changes of the motion API touch
-//! the launcher in one place.
+//! task does at start-up, in its order (the coordinated planner's limits
+//! and type and the world home; then per joint backlash, limits,
+//! following error, homing, velocity, acceleration, jerk, screw-error
+//! table, activation; then per axis limits, jerk, the external offsets'
+//! share (`OFFSET_AV_RATIO`) and the locking indexer), following the
+//! `ini.*` pins, and enabling, disabling, aborting and e-stop for the
+//! task requests. `[TRAJ]` keys without a motion setting are listed with
+//! why. Kept in this one module so changes of the motion API touch the
+//! launcher in one place.
 
 use hal_core::Instance;
 use hal_lang::ini::Ini;
@@ -57,6 +59,18 @@ pub struct MotionLink {
     client: MotionClient,
     /// `[TRAJ]POSITION_FILE`, written at exit.
     position_file: Option<std::path::PathBuf>,
+    /// `[KINS]JOINTS`: the joints an abort stops one by one.
+    joints: usize,
+}
+
+/// Motion's mode for task's MANUAL mode: teleop once every joint is
+/// homed, free before (and when motion's status cannot be read).
+pub fn manual_mode(status: Option<&motion::MotionStatus>) -> Command {
+    if status.is_some_and(|s| s.all_homed) {
+        Command::Teleop
+    } else {
+        Command::Free
+    }
 }
 
 /// The INI position to name for a setting made of `keys` of `section`.
@@ -99,6 +113,7 @@ impl MotionLink {
         MotionClient::open(inst).ok().map(|c| MotionLink {
             client: c.with_timeout(std::time::Duration::from_secs(2)),
             position_file: None,
+            joints: 0,
         })
     }
 
@@ -123,15 +138,18 @@ impl MotionLink {
 
     /// Sends what task sends at start-up; returns notes about settings the
     /// controller does not take.
+    /// The order is LinuxCNC 2.9 task's: the trajectory planner's settings
+    /// first, then each joint, then each axis.
     pub fn configure(&mut self, ini: &Ini) -> Result<Vec<String>, LaunchError> {
         let mut notes = Vec::new();
-        for j in 0..joint_count(ini)? {
+        self.joints = joint_count(ini)?;
+        self.configure_traj(ini, &mut notes)?;
+        for j in 0..self.joints {
             self.configure_joint(ini, j, &mut notes)?;
         }
         for (axis, letter) in axis_letters(ini) {
             self.configure_axis(ini, axis, letter, &mut notes)?;
         }
-        self.configure_traj(ini, &mut notes)?;
         self.restore_positions(ini, &mut notes)?;
         Ok(notes)
     }
@@ -185,8 +203,9 @@ impl MotionLink {
         crate::position_file::save(path, &positions)
     }
 
-    /// `[JOINT_j]`: limits, following error, backlash or compensation
-    /// table, homing, then activation.
+    /// `[JOINT_j]`: backlash, limits, following error, homing, velocity,
+    /// acceleration and jerk, the compensation table, then activation (in
+    /// LinuxCNC's order).
     fn configure_joint(
         &mut self,
         ini: &Ini,
@@ -196,7 +215,7 @@ impl MotionLink {
         let l = JointLimits::from_ini(ini, j)?;
         let sec = format!("JOINT_{j}");
         let joint = j as i32;
-        let steps: [(Command, &[&str]); 8] = [
+        let steps: [(Command, &[&str]); 7] = [
             (
                 Command::SetJointBacklash {
                     joint,
@@ -227,6 +246,13 @@ impl MotionLink {
                 &["MIN_FERROR", "FERROR"],
             ),
             (
+                Command::SetJointHomingParams {
+                    joint,
+                    config: homing_config(&l.homing),
+                },
+                &["HOME_SEARCH_VEL", "HOME_LATCH_VEL", "HOME_SEQUENCE", "HOME"],
+            ),
+            (
                 Command::SetJointVelLimit {
                     joint,
                     vel: l.max_velocity,
@@ -240,23 +266,18 @@ impl MotionLink {
                 },
                 &["MAX_ACCELERATION"],
             ),
-            (
-                Command::SetJointJerkLimit {
-                    joint,
-                    jerk: l.max_jerk,
-                },
-                &["MAX_JERK"],
-            ),
-            (
-                Command::SetJointHomingParams {
-                    joint,
-                    config: homing_config(&l.homing),
-                },
-                &["HOME_SEARCH_VEL", "HOME_LATCH_VEL", "HOME_SEQUENCE", "HOME"],
-            ),
         ];
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
+        }
+        // Jerk (S-curve planning) is ours, not LinuxCNC 2.9's: sent only
+        // when the INI sets it; motion's default (no limit) stands else.
+        if ini.entry(&sec, "MAX_JERK").is_some() {
+            let cmd = Command::SetJointJerkLimit {
+                joint,
+                jerk: l.max_jerk,
+            };
+            self.setting(ini, &sec, &["MAX_JERK"], cmd)?;
         }
         if let Some(entries) = joint_comp(ini, j)? {
             self.setting(ini, &sec, &["COMP_FILE"], Command::ClearJointComp { joint })?;
@@ -291,7 +312,7 @@ impl MotionLink {
         let l = AxisLimits::from_ini(ini, letter)?;
         let sec = format!("AXIS_{}", letter.to_ascii_uppercase());
         let a = axis as i32;
-        let steps: [(Command, &[&str]); 4] = [
+        let steps: [(Command, &[&str]); 3] = [
             (
                 Command::SetAxisPositionLimits {
                     axis: a,
@@ -314,16 +335,16 @@ impl MotionLink {
                 },
                 &["MAX_ACCELERATION"],
             ),
-            (
-                Command::SetAxisJerkLimit {
-                    axis: a,
-                    jerk: l.max_jerk,
-                },
-                &["MAX_JERK"],
-            ),
         ];
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
+        }
+        if ini.entry(&sec, "MAX_JERK").is_some() {
+            let cmd = Command::SetAxisJerkLimit {
+                axis: a,
+                jerk: l.max_jerk,
+            };
+            self.setting(ini, &sec, &["MAX_JERK"], cmd)?;
         }
         self.configure_eoffset(ini, &sec, a, notes)?;
         self.configure_indexer(ini, &sec, a)
@@ -334,10 +355,12 @@ impl MotionLink {
     /// axis). Motion refuses a joint without unlock pins (motmod's
     /// `unlock_joints_mask`), naming the entry.
     fn configure_indexer(&mut self, ini: &Ini, sec: &str, axis: i32) -> Result<(), LaunchError> {
-        let Some(joint) = ini.int(sec, "LOCKING_INDEXER_JOINT")? else {
-            return Ok(());
+        // Without one, -1 (an ordinary axis) is sent, as LinuxCNC's task
+        // sends it for every axis.
+        let joint = match ini.int(sec, "LOCKING_INDEXER_JOINT")? {
+            Some(joint) => i32::try_from(joint).unwrap_or(i32::MAX),
+            None => -1,
         };
-        let joint = i32::try_from(joint).unwrap_or(i32::MAX);
         let cmd = Command::SetAxisLockingIndexer { axis, joint };
         self.setting(ini, sec, &["LOCKING_INDEXER_JOINT"], cmd)
     }
@@ -375,14 +398,6 @@ impl MotionLink {
     /// coordinated planner's limits and its type.
     fn configure_traj(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
         let traj = TrajSettings::from_ini(ini)?;
-        if let Some(pose) = traj.home {
-            self.setting(
-                ini,
-                "TRAJ",
-                &["HOME"],
-                Command::SetWorldHome { pose: Pose(pose) },
-            )?;
-        }
         let vel = Command::SetVelLimit {
             vel: traj.max_velocity,
         };
@@ -399,13 +414,17 @@ impl MotionLink {
         // LinuxCNC takes a jerk below 1 as "no S-curve": the planner falls
         // back to trapezoidal with a message rather than refusing the
         // configuration.
+        // Jerk and the planner's type are not LinuxCNC 2.9's: sent only
+        // when the INI names them (motion's defaults are no jerk limit and
+        // the trapezoidal planner).
         let jerk_ok = traj.max_jerk >= 1.0;
-        if traj.max_jerk > 0.0 {
+        let named = ini.entry("TRAJ", "MAX_LINEAR_JERK").is_some();
+        if named && traj.max_jerk > 0.0 {
             let jerk = Command::SetJerkLimit {
                 jerk: traj.max_jerk,
             };
             self.setting(ini, "TRAJ", &["MAX_LINEAR_JERK"], jerk)?;
-        } else {
+        } else if named {
             notes.push(format!(
                 "{}: {} is no jerk limit; not sent (the controller keeps LinuxCNC's default, 1e9)",
                 at(ini, "TRAJ", &["MAX_LINEAR_JERK"]),
@@ -423,11 +442,17 @@ impl MotionLink {
         } else {
             traj.planner_type
         };
-        let cmd = Command::SetPlannerType { planner };
-        self.setting(ini, "TRAJ", &["PLANNER_TYPE"], cmd)?;
+        if ini.entry("TRAJ", "PLANNER_TYPE").is_some() {
+            let cmd = Command::SetPlannerType { planner };
+            self.setting(ini, "TRAJ", &["PLANNER_TYPE"], cmd)?;
+        }
         let scale = max_feed_override(ini)?;
         let cmd = Command::SetMaxFeedOverride { scale };
         self.setting(ini, "DISPLAY", &["MAX_FEED_OVERRIDE"], cmd)?;
+        // Sent with or without [TRAJ]HOME (the origin then), as LinuxCNC's
+        // task sends it.
+        let home = Pose(traj.home.unwrap_or([0.0; 9]));
+        self.setting(ini, "TRAJ", &["HOME"], Command::SetWorldHome { pose: home })?;
         for (keys, why) in TRAJ_READ_ONLY {
             let given: Vec<&str> = keys
                 .iter()
@@ -535,13 +560,37 @@ impl MotionLink {
         self.send(Command::Disable)
     }
 
+    /// Stops every move as LinuxCNC's task does: each joint's jog or
+    /// homing (JOG_ABORT, joint by joint), then the planners (ABORT).
+    /// Every command is sent even if one is refused; the first refusal is
+    /// returned.
+    pub fn abort_moves(&mut self) -> Result<(), Reject> {
+        let mut first = Ok(());
+        for j in 0..self.joints {
+            let r = self.send(Command::JogAbort { joint: j as i32 });
+            first = first.and(r);
+        }
+        first.and(self.send(Command::Abort))
+    }
+
     /// Abort: every move stops, and every spindle (as LinuxCNC's task
     /// abort does).
     pub fn abort(&mut self) -> Result<(), Reject> {
-        let moves = self.send(Command::Abort);
+        let moves = self.abort_moves();
         // The spindle stops even if the abort was not taken.
         let spindles = self.send(Command::SpindleOff { spindle: -1 });
         moves.and(spindles)
+    }
+
+    /// Into e-stop, in LinuxCNC's task's order: abort (moves and
+    /// spindles), motion disabled, then the joints with VOLATILE_HOME
+    /// unhomed (JOINT_UNHOME -2). A refused disable is returned; the rest
+    /// is sent whatever the answers.
+    pub fn estop(&mut self) -> Result<(), Reject> {
+        let _ = self.abort();
+        let disabled = self.disable();
+        let _ = self.send(Command::Unhome { joint: -2 });
+        disabled
     }
 
     /// The controller's status snapshot, if it can be read.

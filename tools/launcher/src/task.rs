@@ -406,7 +406,7 @@ impl Task {
         self.pending_homes.clear();
         let _ = self.io.request(&IoRequest::EstopOn);
         if let Some(m) = &mut self.motion {
-            if let Err(source) = m.disable() {
+            if let Err(source) = m.estop() {
                 eprintln!("task: {}", LaunchError::Disabling { source });
             }
         }
@@ -521,6 +521,11 @@ impl Task {
             }
             TaskRequest::EstopReset => {
                 let _ = self.io.request(&IoRequest::EstopOff);
+                // LinuxCNC's task aborts on the way out of e-stop: nothing
+                // queued or jogging before it survives the reset.
+                if let Some(m) = &mut self.motion {
+                    let _ = m.abort();
+                }
                 self.waiting.push((
                     id,
                     Waiting::EnableIn {

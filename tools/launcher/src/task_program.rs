@@ -182,11 +182,7 @@ impl Task {
         let m = self.motion.as_mut()?;
         let status = m.status()?;
         let cmd = if mode == Mode::Manual {
-            if status.all_homed {
-                Command::Teleop
-            } else {
-                Command::Free
-            }
+            crate::motion_setup::manual_mode(Some(&status))
         } else {
             if self.state != MachineState::On {
                 return Some(Err(LaunchError::NotOn {
@@ -207,6 +203,11 @@ impl Task {
                 mode.name(),
                 cmd.name()
             ))));
+        }
+        if mode != Mode::Manual {
+            // Entering AUTO or MDI, LinuxCNC's task aborts motion (nothing
+            // runs: a running program refuses the switch above).
+            let _ = m.abort_moves();
         }
         self.waiting.push((
             id,
