@@ -528,3 +528,57 @@ fn queued_mdi_lines_blend_their_corner() {
     m.task_ok(&["-t", "60", "wait-done"]);
     assert!(pos(&m, 0).abs() < 1e-6 && pos(&m, 1).abs() < 1e-6);
 }
+
+/// `RS274NGC_STARTUP_CODE` runs when task starts and again after
+/// `reset-interpreter`, before anything else; a move in it is sent to
+/// motion like any other and refused in e-stop, with the error shown.
+#[test]
+fn startup_code_sets_the_modes_at_start_and_after_an_interpreter_reset() {
+    let s = Scratch::new("task-startup-code");
+    let ini = mill_copy(&s);
+    let text = std::fs::read_to_string(&ini).unwrap().replace(
+        "[RS274NGC]\n",
+        "[RS274NGC]\nRS274NGC_STARTUP_CODE = G20 G91 G64 P0.02 F12\n",
+    );
+    std::fs::write(&ini, text).unwrap();
+    let m = Machine::start(&ini, "task-startup-code");
+    let modal = |m: &Machine| {
+        let status = m.task_ok(&["status"]);
+        status
+            .lines()
+            .find(|l| l.starts_with("modal:"))
+            .unwrap_or_default()
+            .to_string()
+    };
+    let started = wait_status(&m, "G91");
+    assert!(
+        started.contains("G20") && started.contains("F12"),
+        "{started}"
+    );
+    ready(&m);
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "G21", "G90"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let changed = modal(&m);
+    assert!(
+        changed.contains("G90") && changed.contains("G21"),
+        "{changed}"
+    );
+    m.task_ok(&["reset-interpreter"]);
+    let again = wait_status(&m, "G91");
+    assert!(again.contains("G20"), "{again}");
+    m.stop();
+
+    // A move in the start-up code while in e-stop: refused by motion,
+    // reported, nothing moves.
+    let text = std::fs::read_to_string(&ini).unwrap().replace(
+        "RS274NGC_STARTUP_CODE = G20 G91 G64 P0.02 F12",
+        "RS274NGC_STARTUP_CODE = G21 G90 G0 X5",
+    );
+    std::fs::write(&ini, text).unwrap();
+    let m = Machine::start(&ini, "task-startup-move");
+    let failed = wait_status(&m, "last run:");
+    assert!(failed.contains("G0 X5"), "{failed}");
+    assert_eq!(pos(&m, 0), 0.0);
+    m.stop();
+}

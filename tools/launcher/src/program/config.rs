@@ -35,6 +35,10 @@ pub struct ProgramConfig {
     /// X Y Z A B C (6) or all nine axes (9); the others stay where they
     /// are. None without one.
     pub tool_change_position: Option<[Option<f64>; 9]>,
+    /// `RS274NGC_STARTUP_CODE` ([EMC] first, then [RS274NGC], as
+    /// LinuxCNC's task looks): G-code the interpreter runs each time it
+    /// starts, before anything else. None when unset or blank.
+    pub startup_code: Option<String>,
 }
 
 /// `[EMCIO]TOOL_CHANGE_POSITION` read as LinuxCNC reads it: 3, 6 or 9
@@ -161,6 +165,12 @@ impl ProgramConfig {
                 .map_or("toolchanger error %d", str::trim)
                 .to_string(),
             tool_change_position: tool_change_position(ini),
+            startup_code: ["EMC", "RS274NGC"]
+                .iter()
+                .filter_map(|section| ini.get(section, "RS274NGC_STARTUP_CODE"))
+                .map(str::trim)
+                .find(|code| !code.is_empty())
+                .map(str::to_string),
         }
     }
 }

@@ -86,11 +86,12 @@ pub enum ProgramError {
     /// The motion controller refused a pause, resume or step.
     #[error(transparent)]
     Motion(Reject),
-    /// The motion controller refused a command of program line `line`.
-    #[error("line {line}: {source}")]
+    /// The motion controller refused a command of a program line or an
+    /// MDI line.
+    #[error("{at}: {source}")]
     MotionAt {
-        /// The program line the command came from.
-        line: i32,
+        /// Where the command came from: `line N` or `MDI 'text'`.
+        at: String,
         /// The controller's answer.
         #[source]
         source: Reject,

@@ -130,6 +130,11 @@ pub struct Program {
     io_error: String,
     /// The program's messages (MSG comments) not yet taken by task.
     pub messages: Vec<String>,
+    /// `RS274NGC_STARTUP_CODE`.
+    startup_code: Option<String>,
+    /// The start-up code is due: at task start and after the
+    /// interpreter is reset, before any other line.
+    startup_due: bool,
 }
 
 impl Program {
@@ -164,6 +169,8 @@ impl Program {
             tool_table,
             abandoned: user_m::Abandoned::default(),
             messages: Vec::new(),
+            startup_due: config.startup_code.is_some(),
+            startup_code: config.startup_code,
         }
     }
 
@@ -394,6 +401,14 @@ impl Program {
         self.canon.optional_stop = optional_stop;
         self.abandoned.reap();
         if self.state == RunState::Idle {
+            if std::mem::take(&mut self.startup_due) {
+                // As LinuxCNC's task: the start-up code runs as the
+                // interpreter's first line; a move in it goes to motion
+                // like any other (and is refused while in e-stop).
+                if let Some(code) = &self.startup_code {
+                    self.mdi.push_front(code.clone());
+                }
+            }
             let text = self.mdi.pop_front()?;
             if let Err(e) = self.synch(motion, io) {
                 return Some(self.fail(e));
@@ -555,7 +570,7 @@ impl Program {
                     Err(Reject::QueueFull { .. } | Reject::Aborting) => return Ok(sent),
                     Err(source) => {
                         return Err(ProgramError::MotionAt {
-                            line: command_line(&cmd),
+                            at: self.place(command_line(&cmd)),
                             source,
                         })
                     }
@@ -569,7 +584,10 @@ impl Program {
                 Op::AfterMoves { command, line } => {
                     motion
                         .command(command)
-                        .map_err(|source| ProgramError::MotionAt { line, source })?;
+                        .map_err(|source| ProgramError::MotionAt {
+                            at: self.place(line),
+                            source,
+                        })?;
                     sent = true;
                 }
                 Op::Stop { optional } => {
@@ -645,6 +663,16 @@ impl Program {
             self.canon.ops.pop_front();
         }
         Ok(sent)
+    }
+
+    /// Where a command of program line `line` came from, for messages:
+    /// the MDI line itself in an MDI run (its line number is 0).
+    fn place(&self, line: i32) -> String {
+        if self.is_mdi {
+            format!("MDI '{}'", self.mdi_text)
+        } else {
+            format!("line {line}")
+        }
     }
 
     fn fail(&mut self, why: ProgramError) -> Ended {

@@ -28,8 +28,9 @@ impl Program {
     }
 
     /// Starts the interpreter afresh (LinuxCNC's reset_interpreter): its
-    /// start-up modal state and the parameter file as saved. Refused
-    /// while something runs.
+    /// start-up modal state and the parameter file as saved, then the
+    /// INI's `RS274NGC_STARTUP_CODE` (in the next cycle). Refused while
+    /// something runs.
     pub fn reset_interpreter(
         &mut self,
         motion: &MotionLink,
@@ -41,6 +42,8 @@ impl Program {
             });
         }
         self.initialised = false;
-        self.synch(motion, io)
+        self.synch(motion, io)?;
+        self.startup_due = self.startup_code.is_some();
+        Ok(())
     }
 }
