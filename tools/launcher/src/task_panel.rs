@@ -13,14 +13,24 @@ use crate::task::{Mode, Task, TaskRequest};
 
 type Answer = Result<String, LaunchError>;
 
-/// The optional-stop and block-delete switches. Both start off: the
-/// operator (a GUI or halui) turns them on.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// The optional-stop and block-delete switches. Optional stop starts on
+/// and block delete off, as LinuxCNC's interpreter starts them; the
+/// operator (a GUI or halui) changes them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Switches {
     /// M1 stops the program as M0 does.
     pub optional_stop: bool,
     /// Lines that start with `/` are skipped.
     pub block_delete: bool,
+}
+
+impl Default for Switches {
+    fn default() -> Switches {
+        Switches {
+            optional_stop: true,
+            block_delete: false,
+        }
+    }
 }
 
 /// Parses `optional-stop on|off`, `block-delete on|off`, `teleop on|off`,

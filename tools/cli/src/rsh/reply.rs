@@ -143,7 +143,10 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
         Sub::Lube => on(s.flag("lube")),
         Sub::LubeLevel => if s.flag("lube_level") { "OK" } else { "LOW" }.to_string(),
         Sub::Tool => s.int("tool_in_spindle")?.to_string(),
-        Sub::ToolOffset => format!("{}", s.nums("tool_offset").get(2).copied().unwrap_or(0.0)),
+        Sub::ToolOffset => format!(
+            "{:.6}",
+            s.nums("tool_offset").get(2).copied().unwrap_or(0.0)
+        ),
         Sub::AbsCmdPos => pick(&six(&s.nums("position")), arg)?,
         Sub::AbsActPos => pick(&six(&s.nums("actual_position")), arg)?,
         Sub::RelCmdPos => pick(&relative(s, "position"), arg)?,
