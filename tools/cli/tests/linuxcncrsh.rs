@@ -154,6 +154,19 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     // MDI, waited for; positions in LinuxCNC's six columns.
     assert_eq!(c.ask("set mode mdi"), "SET MODE ACK");
     assert_eq!(c.ask("set set_wait done"), "SET SET_WAIT ACK");
+    // Overriding limits is MANUAL's and a step AUTO's: refused here with
+    // LinuxCNC's words on the error channel.
+    assert_eq!(c.ask("get override_limits"), "OVERRIDE_LIMITS 0");
+    assert_eq!(c.ask("set override_limits off"), "SET OVERRIDE_LIMITS NAK");
+    assert_eq!(
+        c.ask("get error"),
+        "ERROR can't do that (EMC_JOINT_OVERRIDE_LIMITS:129) in MDI mode"
+    );
+    assert_eq!(c.ask("set step"), "SET STEP NAK");
+    assert_eq!(
+        c.ask("get error"),
+        "ERROR can't do that (EMC_TASK_PLAN_STEP:511) in MDI mode"
+    );
     assert_eq!(c.ask("set mdi g0 x1 y2"), "SET MDI ACK");
     assert_eq!(
         c.ask("get abs_cmd_pos"),

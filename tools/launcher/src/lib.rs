@@ -33,6 +33,7 @@ mod task;
 mod task_help;
 mod task_manual;
 mod task_messages;
+mod task_mode_filter;
 mod task_motion;
 mod task_panel;
 mod task_pins;

@@ -132,8 +132,9 @@ pub enum TaskRequest {
     /// Whether the spindle override applies (LinuxCNC's spindle override
     /// enable, M51).
     SpindleOverrideEnable(bool),
-    /// Override the joints' tripped hard limits until the next jog ends.
-    OverrideLimits,
+    /// Override the joints' tripped hard limits until the next jog ends
+    /// (`true`), or end an override (`false`).
+    OverrideLimits(bool),
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
@@ -265,7 +266,8 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
         ["state"] => TaskRequest::State,
-        ["override-limits"] => TaskRequest::OverrideLimits,
+        ["override-limits"] | ["override-limits", "on"] => TaskRequest::OverrideLimits(true),
+        ["override-limits", "off"] => TaskRequest::OverrideLimits(false),
         ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
@@ -585,7 +587,7 @@ impl Task {
             | TaskRequest::FeedHold(_)
             | TaskRequest::FeedOverrideEnable(_)
             | TaskRequest::SpindleOverrideEnable(_)
-            | TaskRequest::OverrideLimits => Some(self.panel_request(req)),
+            | TaskRequest::OverrideLimits(_) => Some(self.panel_request(req)),
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

@@ -55,8 +55,10 @@ pub const REQUESTS: &str = "\
                         moves queued next (M50)
   spindle-override-enable on|off
                         whether the spindle override applies (M51)
-  override-limits       override the joints' tripped hard limits until
-                        the next jog ends
+  override-limits [on|off]
+                        override the joints' tripped hard limits until
+                        the next jog ends, or end the override (MANUAL
+                        mode only)
   spindle [N] forward|reverse [RPM]
                         start spindle N (default 0) at RPM, else the S in
                         effect, else 500 (machine on, nothing running)

@@ -116,11 +116,18 @@ impl Task {
                 self.motion_command(Command::SpindleScaleEnable { on })?;
                 Ok(format!("spindle override {}", enabled(on)))
             }
-            TaskRequest::OverrideLimits => {
-                // Joint 0 (not below 0, which ends an override): every
-                // joint's tripped hard limits, until the next jog ends.
-                self.motion_command(Command::OverrideLimits { joint: 0 })?;
-                Ok("limits overridden until the next jog ends".to_string())
+            TaskRequest::OverrideLimits(on) => {
+                self.mode_filter(req)?;
+                // Joint 0: every joint's tripped hard limits, until the
+                // next jog ends; a joint below 0 ends the override.
+                let joint = if on { 0 } else { -1 };
+                self.motion_command(Command::OverrideLimits { joint })?;
+                Ok(if on {
+                    "limits overridden until the next jog ends"
+                } else {
+                    "limits override ended"
+                }
+                .to_string())
             }
             _ => Err(LaunchError::Program("not a switch request".into())),
         }
@@ -210,7 +217,12 @@ mod tests {
         let words = ["override-limits".to_string()];
         assert_eq!(
             crate::task::parse_request(&words).unwrap(),
-            TaskRequest::OverrideLimits
+            TaskRequest::OverrideLimits(true)
+        );
+        let words = ["override-limits".to_string(), "off".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::OverrideLimits(false)
         );
         assert!(parse(&["mode", "auto"]).is_none());
         let e = parse(&["teleop", "maybe"])

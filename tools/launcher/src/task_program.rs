@@ -156,6 +156,7 @@ impl Task {
     }
 
     fn control(&mut self, req: &TaskRequest) -> Answer {
+        self.mode_filter(req)?;
         let (Some(p), Some(m)) = (&mut self.program, &mut self.motion) else {
             return Err(LaunchError::NoMotion);
         };

@@ -318,6 +318,8 @@ const MOTION_FIELDS: &[Of<MotionStatus>] = &[
         v.resize(MAX_JOINTS.max(v.len()), 0);
         Value::Ints(v)
     }),
+    // LinuxCNC's joint override_limits: an override is in effect.
+    ("override_limits", |m| bit(m.override_mask != 0)),
     ("joints", |m| {
         Value::Int(m.joints.iter().filter(|j| j.active).count() as i64)
     }),

@@ -242,6 +242,7 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
         Sub::ProbeTripped => (s.flag("probe_tripped") as i32).to_string(),
         Sub::ProbeValue => s.int("probe_val").unwrap_or(0).to_string(),
         Sub::OptionalStop => (s.flag("optional_stop") as i32).to_string(),
+        Sub::OverrideLimits => (s.flag("override_limits") as i32).to_string(),
         Sub::TeleopEnable => if s.int("motion_mode") == Some(3) {
             "YES"
         } else {
@@ -341,10 +342,7 @@ pub fn requests(sub: Sub, args: &[&str], mdi: &str, wait_done: bool) -> Option<V
         Sub::Abort => one(w(&["abort"])),
         Sub::OptionalStop => one(w(&["optional-stop", flag?])),
         Sub::TeleopEnable => one(w(&["teleop", flag?])),
-        Sub::OverrideLimits => match flag? {
-            "on" => one(w(&["override-limits"])),
-            _ => Some(vec![]),
-        },
+        Sub::OverrideLimits => one(w(&["override-limits", flag?])),
         Sub::Wait => match first.as_deref()? {
             "done" => one(w(&["wait-done"])),
             "received" => Some(vec![]),
