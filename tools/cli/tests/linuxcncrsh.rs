@@ -128,6 +128,9 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     assert_eq!(c.ask("set pause"), "SET PAUSE ACK");
     assert_eq!(c.ask("set resume"), "SET RESUME ACK");
     assert_eq!(c.ask("get error"), "ERROR OK");
+    // The probe's tripped flag is cleared in any mode.
+    assert_eq!(c.ask("set probe_clear"), "SET PROBE_CLEAR ACK");
+    assert_eq!(c.ask("get probe_tripped"), "PROBE_TRIPPED 0");
     assert_eq!(c.ask("set home -1"), "SET HOME ACK");
     c.ask_until(
         "get joint_homed",

@@ -135,6 +135,8 @@ pub enum TaskRequest {
     /// Override the joints' tripped hard limits until the next jog ends
     /// (`true`), or end an override (`false`).
     OverrideLimits(bool),
+    /// Forget the last probe result (the tripped flag).
+    ClearProbe,
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
@@ -268,6 +270,7 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["state"] => TaskRequest::State,
         ["override-limits"] | ["override-limits", "on"] => TaskRequest::OverrideLimits(true),
         ["override-limits", "off"] => TaskRequest::OverrideLimits(false),
+        ["clear-probe"] => TaskRequest::ClearProbe,
         ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
@@ -587,7 +590,8 @@ impl Task {
             | TaskRequest::FeedHold(_)
             | TaskRequest::FeedOverrideEnable(_)
             | TaskRequest::SpindleOverrideEnable(_)
-            | TaskRequest::OverrideLimits(_) => Some(self.panel_request(req)),
+            | TaskRequest::OverrideLimits(_)
+            | TaskRequest::ClearProbe => Some(self.panel_request(req)),
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

@@ -55,6 +55,7 @@ pub const REQUESTS: &str = "\
                         moves queued next (M50)
   spindle-override-enable on|off
                         whether the spindle override applies (M51)
+  clear-probe           forget the last probe result (the tripped flag)
   override-limits [on|off]
                         override the joints' tripped hard limits until
                         the next jog ends, or end the override (MANUAL

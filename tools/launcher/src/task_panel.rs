@@ -89,7 +89,7 @@ impl Task {
     }
 
     /// Takes an optional-stop, block-delete, teleop, feed-hold, override
-    /// enable or override-limits request.
+    /// enable, override-limits or clear-probe request.
     pub(crate) fn panel_request(&mut self, req: &TaskRequest) -> Answer {
         match *req {
             TaskRequest::OptionalStop(on) => {
@@ -128,6 +128,11 @@ impl Task {
                     "limits override ended"
                 }
                 .to_string())
+            }
+            TaskRequest::ClearProbe => {
+                // Taken in every state, as LinuxCNC's task takes it.
+                self.motion_command(Command::ClearProbeFlags)?;
+                Ok("probe tripped flag cleared".to_string())
             }
             _ => Err(LaunchError::Program("not a switch request".into())),
         }
@@ -218,6 +223,11 @@ mod tests {
         assert_eq!(
             crate::task::parse_request(&words).unwrap(),
             TaskRequest::OverrideLimits(true)
+        );
+        let words = ["clear-probe".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::ClearProbe
         );
         let words = ["override-limits".to_string(), "off".to_string()];
         assert_eq!(

@@ -336,6 +336,7 @@ pub fn requests(sub: Sub, args: &[&str], mdi: &str, wait_done: bool) -> Option<V
             [n] if n.parse::<u32>().is_ok() => one(w(&["run", n])),
             _ => None,
         },
+        Sub::ProbeClear => one(w(&["clear-probe"])),
         Sub::Pause => one(w(&["pause"])),
         Sub::Resume => one(w(&["resume"])),
         Sub::Step => one(w(&["step"])),
