@@ -155,6 +155,26 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """Overrides tripped hard limits until the next jog ends."""
         self._send(["override-limits"])
 
+    def traj_mode(self, mode):
+        """The trajectory mode: TRAJ_MODE_FREE, TRAJ_MODE_COORD or
+        TRAJ_MODE_TELEOP."""
+        words = {
+            k.TRAJ_MODE_FREE: "free",
+            k.TRAJ_MODE_COORD: "coord",
+            k.TRAJ_MODE_TELEOP: "teleop",
+        }
+        if mode not in words:
+            raise ValueError("linuxcnc.command.traj_mode: unknown mode %r" % (mode,))
+        self._send(["traj-mode", words[mode]])
+
+    def set_min_limit(self, axis, limit):
+        """The lower soft limit of world axis `axis` (0-8, X..W)."""
+        self._send(["axis-limit", str(int(axis)), "min", repr(float(limit))])
+
+    def set_max_limit(self, axis, limit):
+        """The upper soft limit of world axis `axis` (0-8, X..W)."""
+        self._send(["axis-limit", str(int(axis)), "max", repr(float(limit))])
+
     # Overrides.
 
     def feedrate(self, scale):
@@ -262,7 +282,6 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug set_adaptive_feed
-    set_max_limit set_min_limit task_plan_synch
-    tool_offset traj_mode""".split()
+    """debug set_adaptive_feed task_plan_synch
+    tool_offset""".split()
 )

@@ -296,3 +296,38 @@ fn g38_probes_stop_on_contact_and_hand_back_5061_to_5070() {
     assert!((pos(&m, 2) + 2.0).abs() < 1e-9);
     m.stop();
 }
+
+/// The value of `name` in task's `stat` snapshot.
+fn stat_value(m: &Machine, name: &str) -> String {
+    let text = m.task_ok(&["stat"]);
+    let head = format!("{name}=");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&head))
+        .unwrap_or_else(|| panic!("no {name} in stat:\n{text}"));
+    line.split_once(':').unwrap().1.to_string()
+}
+
+#[test]
+fn traj_mode_and_axis_limits_are_set_through_task() {
+    let s = Scratch::new("task-traj");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-traj");
+    m.on_and_homed();
+    // LinuxCNC's traj_mode: free (1), teleop (3), coordinated (2).
+    m.task_ok(&["traj-mode", "free"]);
+    assert_eq!(stat_value(&m, "motion_mode"), "1");
+    m.task_ok(&["traj-mode", "teleop"]);
+    assert_eq!(stat_value(&m, "motion_mode"), "3");
+    // One soft limit of world axis X changes, the other is kept.
+    let min_before = stat_value(&m, "axis.0.min_position_limit");
+    m.task_ok(&["axis-limit", "0", "max", "12.5"]);
+    assert_eq!(stat_value(&m, "axis.0.max_position_limit"), "12.5");
+    assert_eq!(stat_value(&m, "axis.0.min_position_limit"), min_before);
+    // A lower limit above the upper one is refused and changes nothing.
+    let (ok, _, err) = m.task(&["axis-limit", "0", "min", "20"]);
+    assert!(!ok);
+    assert!(err.contains("above the upper limit"), "{err}");
+    assert_eq!(stat_value(&m, "axis.0.min_position_limit"), min_before);
+    m.stop();
+}

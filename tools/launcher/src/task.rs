@@ -137,6 +137,17 @@ pub enum TaskRequest {
     OverrideLimits(bool),
     /// Forget the last probe result (the tripped flag).
     ClearProbe,
+    /// The trajectory mode (LinuxCNC's traj_mode).
+    TrajMode(crate::task_traj::TrajMode),
+    /// One soft position limit of a world axis (0..=8).
+    AxisLimit {
+        /// The world axis.
+        axis: usize,
+        /// The upper limit (else the lower).
+        upper: bool,
+        /// The new limit.
+        value: f64,
+    },
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
@@ -224,6 +235,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         return r;
     }
     if let Some(r) = crate::task_messages::parse(&w) {
+        return r;
+    }
+    if let Some(r) = crate::task_traj::parse(&w) {
         return r;
     }
     Ok(match w.as_slice() {
@@ -592,6 +606,9 @@ impl Task {
             | TaskRequest::SpindleOverrideEnable(_)
             | TaskRequest::OverrideLimits(_)
             | TaskRequest::ClearProbe => Some(self.panel_request(req)),
+            TaskRequest::TrajMode(_) | TaskRequest::AxisLimit { .. } => {
+                Some(self.traj_request(req))
+            }
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

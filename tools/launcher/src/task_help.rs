@@ -56,6 +56,12 @@ pub const REQUESTS: &str = "\
   spindle-override-enable on|off
                         whether the spindle override applies (M51)
   clear-probe           forget the last probe result (the tripped flag)
+  traj-mode free|coord|teleop
+                        the trajectory mode: joints one by one, coordinated,
+                        or jogs in world axes (free and teleop: MANUAL mode)
+  axis-limit AXIS min|max VALUE
+                        one soft position limit of world axis AXIS (0-8,
+                        X Y Z A B C U V W), the other kept
   override-limits [on|off]
                         override the joints' tripped hard limits until
                         the next jog ends, or end the override (MANUAL
