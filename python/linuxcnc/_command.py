@@ -155,6 +155,14 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """Overrides tripped hard limits until the next jog ends."""
         self._send(["override-limits"])
 
+    def tool_offset(self, toolno, z_offset, x_offset, diameter, frontangle, backangle,
+                    orientation):
+        """Sets a tool's values in the tool table (saved), as G10 L1 does."""
+        words = [str(int(toolno))]
+        words += [repr(float(v)) for v in (z_offset, x_offset, diameter, frontangle, backangle)]
+        words.append(str(int(orientation)))
+        self._send(["tool-offset"] + words)
+
     def traj_mode(self, mode):
         """The trajectory mode: TRAJ_MODE_FREE, TRAJ_MODE_COORD or
         TRAJ_MODE_TELEOP."""
@@ -282,6 +290,5 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug set_adaptive_feed task_plan_synch
-    tool_offset""".split()
+    """debug set_adaptive_feed task_plan_synch""".split()
 )

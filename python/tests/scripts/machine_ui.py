@@ -115,6 +115,14 @@ def main(argv):
     c.set_min_limit(1, low)
     ok_or_fail(c, e, "set_min_limit back")
 
+    # tool_offset with LinuxCNC's seven values sets the table entry.
+    c.tool_offset(3, 42.5, 0.0, 5.2, 0.0, 0.0, 0)
+    ok_or_fail(c, e, "tool_offset")
+    s.poll()
+    t3 = [t for t in s.tool_table if t.id == 3]
+    check(len(t3) == 1 and near(t3[0].zoffset, 42.5) and near(t3[0].diameter, 5.2),
+          "tool_offset sets tool 3's Z offset and diameter")
+
     c.mode(linuxcnc.MODE_MDI)
     ok_or_fail(c, e, "MDI mode")
     c.mdi("G64 P0.05 Q0.01")

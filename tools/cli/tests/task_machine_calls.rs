@@ -331,3 +331,38 @@ fn traj_mode_and_axis_limits_are_set_through_task() {
     assert_eq!(stat_value(&m, "axis.0.min_position_limit"), min_before);
     m.stop();
 }
+
+#[test]
+fn tool_offset_sets_the_table_and_the_next_g43_uses_it() {
+    let s = Scratch::new("task-tooloff");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-tooloff");
+    m.on_and_homed();
+    m.task_ok(&["tool-offset", "2", "21.5", "0.5", "6.5", "0", "0", "0"]);
+    let text = m.task_ok(&["stat"]);
+    let slot = text
+        .lines()
+        .find_map(|l| {
+            l.strip_suffix("=i:2")?
+                .strip_prefix("tool_table.")?
+                .strip_suffix(".id")
+        })
+        .unwrap_or_else(|| panic!("no tool 2 in stat:\n{text}"));
+    let field = |name: &str| stat_value(&m, &format!("tool_table.{slot}.{name}"));
+    assert_eq!(field("zoffset"), "21.5");
+    assert_eq!(field("xoffset"), "0.5");
+    assert_eq!(field("diameter"), "6.5");
+    // Saved to the table file, and taken by the interpreter's next G43.
+    let saved = std::fs::read_to_string(s.0.join("sim.tbl")).unwrap();
+    assert!(saved.contains("21.5"), "{saved}");
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "T2 M6 G43"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let offset = stat_value(&m, "tool_offset");
+    assert_eq!(offset.split_whitespace().nth(2), Some("21.5"), "{offset}");
+    // A tool the table does not hold is refused.
+    let (ok, _, err) = m.task(&["tool-offset", "77", "1", "0", "0", "0", "0", "0"]);
+    assert!(!ok);
+    assert!(err.contains("tool 77 is not in the tool table"), "{err}");
+    m.stop();
+}

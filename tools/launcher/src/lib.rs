@@ -41,6 +41,7 @@ mod task_program;
 mod task_socket;
 mod task_spindle;
 mod task_stat;
+mod task_tool_offset;
 mod task_traj;
 mod twopass;
 pub mod zlevel;

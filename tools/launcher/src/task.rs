@@ -137,6 +137,8 @@ pub enum TaskRequest {
     OverrideLimits(bool),
     /// Forget the last probe result (the tripped flag).
     ClearProbe,
+    /// A tool's offsets, diameter, angles and orientation in the table.
+    ToolOffset(crate::task_tool_offset::ToolOffset),
     /// The trajectory mode (LinuxCNC's traj_mode).
     TrajMode(crate::task_traj::TrajMode),
     /// One soft position limit of a world axis (0..=8).
@@ -238,6 +240,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         return r;
     }
     if let Some(r) = crate::task_traj::parse(&w) {
+        return r;
+    }
+    if let Some(r) = crate::task_tool_offset::parse(&w) {
         return r;
     }
     Ok(match w.as_slice() {
@@ -606,6 +611,7 @@ impl Task {
             | TaskRequest::SpindleOverrideEnable(_)
             | TaskRequest::OverrideLimits(_)
             | TaskRequest::ClearProbe => Some(self.panel_request(req)),
+            TaskRequest::ToolOffset(o) => Some(self.tool_offset(o)),
             TaskRequest::TrajMode(_) | TaskRequest::AxisLimit { .. } => {
                 Some(self.traj_request(req))
             }

@@ -56,6 +56,9 @@ pub const REQUESTS: &str = "\
   spindle-override-enable on|off
                         whether the spindle override applies (M51)
   clear-probe           forget the last probe result (the tripped flag)
+  tool-offset TOOL Z X DIAMETER FRONT BACK ORIENTATION
+                        set a tool's values in the tool table (saved), as
+                        G10 L1 does (nothing running)
   traj-mode free|coord|teleop
                         the trajectory mode: joints one by one, coordinated,
                         or jogs in world axes (free and teleop: MANUAL mode)
