@@ -196,6 +196,9 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     assert_eq!(c.ask("get probe"), "FLOOD ON");
     assert_eq!(c.ask("get wait"), "FLOOD ON");
     assert_eq!(c.ask("get tool_offset"), "TOOL_OFFSET 0.000000");
+    // set tool_offset takes a tool, its length and its diameter.
+    assert_eq!(c.ask("set tool_offset 1"), "SET TOOL_OFFSET NAK");
+    assert_eq!(c.ask("set tool_offset 3 40 5"), "SET TOOL_OFFSET ACK");
     assert_eq!(c.ask("get spindle"), "SPINDLE 0 OFF");
     assert_eq!(
         c.ask("set spindle forward 99"),

@@ -337,6 +337,12 @@ pub fn requests(sub: Sub, args: &[&str], mdi: &str, wait_done: bool) -> Option<V
             _ => None,
         },
         Sub::ProbeClear => one(w(&["clear-probe"])),
+        // LinuxCNC's is a mill-style entry: length and diameter, with X,
+        // the angles and the orientation 0.
+        Sub::ToolOffset => match args {
+            [t, l, d] => one(w(&["tool-offset", t, l, "0", d, "0", "0", "0"])),
+            _ => None,
+        },
         Sub::Pause => one(w(&["pause"])),
         Sub::Resume => one(w(&["resume"])),
         Sub::Step => one(w(&["step"])),
