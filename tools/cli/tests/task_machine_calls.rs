@@ -314,6 +314,9 @@ fn traj_mode_and_axis_limits_are_set_through_task() {
     let ini = mill_copy(&s);
     let m = Machine::start(&ini, "task-traj");
     m.on_and_homed();
+    // Pause and resume are taken with nothing running, and say so.
+    assert!(m.task_ok(&["pause"]).contains("nothing runs to pause"));
+    assert!(m.task_ok(&["resume"]).contains("nothing paused to resume"));
     // LinuxCNC's traj_mode: free (1), teleop (3), coordinated (2).
     m.task_ok(&["traj-mode", "free"]);
     assert_eq!(stat_value(&m, "motion_mode"), "1");
