@@ -157,6 +157,34 @@ class command:  # noqa: N801  (LinuxCNC's name)
         """Overrides tripped hard limits until the next jog ends."""
         self._send(["override-limits"])
 
+    def tool_offset(self, toolno, z_offset, x_offset, diameter, frontangle, backangle,
+                    orientation):
+        """Sets a tool's values in the tool table (saved), as G10 L1 does."""
+        words = [str(int(toolno))]
+        words += [repr(float(v)) for v in (z_offset, x_offset, diameter, frontangle, backangle)]
+        words.append(str(int(orientation)))
+        self._send(["tool-offset"] + words)
+
+    def traj_mode(self, mode):
+        """The trajectory mode: TRAJ_MODE_FREE, TRAJ_MODE_COORD or
+        TRAJ_MODE_TELEOP."""
+        words = {
+            k.TRAJ_MODE_FREE: "free",
+            k.TRAJ_MODE_COORD: "coord",
+            k.TRAJ_MODE_TELEOP: "teleop",
+        }
+        if mode not in words:
+            raise ValueError("linuxcnc.command.traj_mode: unknown mode %r" % (mode,))
+        self._send(["traj-mode", words[mode]])
+
+    def set_min_limit(self, axis, limit):
+        """The lower soft limit of world axis `axis` (0-8, X..W)."""
+        self._send(["axis-limit", str(int(axis)), "min", repr(float(limit))])
+
+    def set_max_limit(self, axis, limit):
+        """The upper soft limit of world axis `axis` (0-8, X..W)."""
+        self._send(["axis-limit", str(int(axis)), "max", repr(float(limit))])
+
     # Overrides.
 
     def feedrate(self, scale):
@@ -264,7 +292,5 @@ class command:  # noqa: N801  (LinuxCNC's name)
 
 # LinuxCNC's command methods task has no request for (yet).
 _NOT_SUPPLIED = frozenset(
-    """debug set_adaptive_feed
-    set_max_limit set_min_limit task_plan_synch
-    tool_offset traj_mode""".split()
+    """debug set_adaptive_feed task_plan_synch""".split()
 )

@@ -91,9 +91,45 @@ def main(argv):
     check(not any(j["min_soft_limit"] or j["max_soft_limit"] for j in s.joint),
           "no joint at a soft limit")
     check(s.axes == 3, "stat.axes counts X Y Z")
+    check(s.optional_stop == 1, "optional stop starts on, as LinuxCNC's")
+
+    # traj_mode with LinuxCNC's constants; motion_mode follows.
+    c.traj_mode(linuxcnc.TRAJ_MODE_FREE)
+    ok_or_fail(c, e, "traj_mode free")
+    wait(s, lambda: s.motion_mode == linuxcnc.TRAJ_MODE_FREE, "free mode")
+    c.traj_mode(linuxcnc.TRAJ_MODE_TELEOP)
+    ok_or_fail(c, e, "traj_mode teleop")
+    wait(s, lambda: s.motion_mode == linuxcnc.TRAJ_MODE_TELEOP, "teleop mode")
+    # One soft limit of Y at a time, the other kept.
+    low, high = s.axis[1]["min_position_limit"], s.axis[1]["max_position_limit"]
+    c.set_max_limit(1, high - 1.0)
+    ok_or_fail(c, e, "set_max_limit")
+    c.set_min_limit(1, low + 1.0)
+    ok_or_fail(c, e, "set_min_limit")
+    s.poll()
+    check(near(s.axis[1]["max_position_limit"], high - 1.0)
+          and near(s.axis[1]["min_position_limit"], low + 1.0),
+          "set_min_limit and set_max_limit move Y's soft limits")
+    c.set_max_limit(1, high)
+    ok_or_fail(c, e, "set_max_limit back")
+    c.set_min_limit(1, low)
+    ok_or_fail(c, e, "set_min_limit back")
+
+    # tool_offset with LinuxCNC's seven values sets the table entry.
+    c.tool_offset(3, 42.5, 0.0, 5.2, 0.0, 0.0, 0)
+    ok_or_fail(c, e, "tool_offset")
+    s.poll()
+    t3 = [t for t in s.tool_table if t.id == 3]
+    check(len(t3) == 1 and near(t3[0].zoffset, 42.5) and near(t3[0].diameter, 5.2),
+          "tool_offset sets tool 3's Z offset and diameter")
 
     c.mode(linuxcnc.MODE_MDI)
     ok_or_fail(c, e, "MDI mode")
+    c.mdi("G64 P0.05 Q0.01")
+    ok_or_fail(c, e, "G64 P0.05 Q0.01")
+    s.poll()
+    check(len(s.settings) == 5 and near(s.settings[3], 0.05) and near(s.settings[4], 0.01),
+          "stat.settings holds the G64 tolerances: %r" % (s.settings,))
     # The override enables (M50/M51 from a GUI), off and on again.
     for on in (False, True):
         c.set_feed_override(on)

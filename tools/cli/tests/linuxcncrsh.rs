@@ -123,11 +123,26 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     assert_eq!(c.ask("get machine"), "MACHINE ON");
     assert_eq!(c.ask("set mode manual"), "SET MODE ACK");
     assert_eq!(c.ask("get mode"), "MODE MANUAL");
+    // Pause and resume are taken with nothing running, as LinuxCNC's
+    // task takes them in every mode: nothing is held, nothing reported.
+    assert_eq!(c.ask("set pause"), "SET PAUSE ACK");
+    assert_eq!(c.ask("set resume"), "SET RESUME ACK");
+    assert_eq!(c.ask("get error"), "ERROR OK");
+    // The probe's tripped flag is cleared in any mode.
+    assert_eq!(c.ask("set probe_clear"), "SET PROBE_CLEAR ACK");
+    assert_eq!(c.ask("get probe_tripped"), "PROBE_TRIPPED 0");
     assert_eq!(c.ask("set home -1"), "SET HOME ACK");
     c.ask_until(
         "get joint_homed",
         "JOINT_HOMED HOMED HOMED HOMED NOT NOT NOT",
     );
+    // A joint the machine lacks but LinuxCNC's motion has room for (16)
+    // is taken and homes nothing; past that it is refused.
+    assert_eq!(c.ask("set home 5"), "SET HOME ACK");
+    assert_eq!(c.ask("get error"), "ERROR OK");
+    assert_eq!(c.ask("set home 17"), "SET HOME NAK");
+    // Optional stop starts on, as LinuxCNC's interpreter starts it.
+    assert_eq!(c.ask("get optional_stop"), "OPTIONAL_STOP 1");
     // LinuxCNC lists six joints at least.
     assert_eq!(c.ask("get joint_fault"), "JOINT_FAULT OK OK OK OK OK OK");
     assert_eq!(c.ask("get comm_prot"), "COMM_PROT 1.0");
@@ -142,6 +157,19 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     // MDI, waited for; positions in LinuxCNC's six columns.
     assert_eq!(c.ask("set mode mdi"), "SET MODE ACK");
     assert_eq!(c.ask("set set_wait done"), "SET SET_WAIT ACK");
+    // Overriding limits is MANUAL's and a step AUTO's: refused here with
+    // LinuxCNC's words on the error channel.
+    assert_eq!(c.ask("get override_limits"), "OVERRIDE_LIMITS 0");
+    assert_eq!(c.ask("set override_limits off"), "SET OVERRIDE_LIMITS NAK");
+    assert_eq!(
+        c.ask("get error"),
+        "ERROR can't do that (EMC_JOINT_OVERRIDE_LIMITS:129) in MDI mode"
+    );
+    assert_eq!(c.ask("set step"), "SET STEP NAK");
+    assert_eq!(
+        c.ask("get error"),
+        "ERROR can't do that (EMC_TASK_PLAN_STEP:511) in MDI mode"
+    );
     assert_eq!(c.ask("set mdi g0 x1 y2"), "SET MDI ACK");
     assert_eq!(
         c.ask("get abs_cmd_pos"),
@@ -163,10 +191,23 @@ fn a_client_drives_the_machine_and_shutdown_ends_it() {
     assert_eq!(c.ask("get flood"), "FLOOD OFF");
     assert_eq!(c.ask("set flood on"), "SET FLOOD ACK");
     assert_eq!(c.ask("get flood"), "FLOOD ON");
+    // A get of probe, probe_clear or wait writes nothing and sends the
+    // reply buffer again: the last value line.
+    assert_eq!(c.ask("get probe"), "FLOOD ON");
+    assert_eq!(c.ask("get wait"), "FLOOD ON");
+    assert_eq!(c.ask("get tool_offset"), "TOOL_OFFSET 0.000000");
+    // set tool_offset takes a tool, its length and its diameter.
+    assert_eq!(c.ask("set tool_offset 1"), "SET TOOL_OFFSET NAK");
+    assert_eq!(c.ask("set tool_offset 3 40 5"), "SET TOOL_OFFSET ACK");
     assert_eq!(c.ask("get spindle"), "SPINDLE 0 OFF");
     assert_eq!(
         c.ask("set spindle forward 99"),
         "error: invalid spindle: 99 (valid: -1 - 1)"
+    );
+    // A custom error's message is left in the buffer without its lead.
+    assert_eq!(
+        c.ask("get probe_clear"),
+        "invalid spindle: 99 (valid: -1 - 1)"
     );
     assert_eq!(c.ask("set spindle forward"), "SET SPINDLE ACK");
     c.ask_until("get spindle 0", "SPINDLE 0 FORWARD");

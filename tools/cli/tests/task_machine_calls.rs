@@ -296,3 +296,76 @@ fn g38_probes_stop_on_contact_and_hand_back_5061_to_5070() {
     assert!((pos(&m, 2) + 2.0).abs() < 1e-9);
     m.stop();
 }
+
+/// The value of `name` in task's `stat` snapshot.
+fn stat_value(m: &Machine, name: &str) -> String {
+    let text = m.task_ok(&["stat"]);
+    let head = format!("{name}=");
+    let line = text
+        .lines()
+        .find(|l| l.starts_with(&head))
+        .unwrap_or_else(|| panic!("no {name} in stat:\n{text}"));
+    line.split_once(':').unwrap().1.to_string()
+}
+
+#[test]
+fn traj_mode_and_axis_limits_are_set_through_task() {
+    let s = Scratch::new("task-traj");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-traj");
+    m.on_and_homed();
+    // Pause and resume are taken with nothing running, and say so.
+    assert!(m.task_ok(&["pause"]).contains("nothing runs to pause"));
+    assert!(m.task_ok(&["resume"]).contains("nothing paused to resume"));
+    // LinuxCNC's traj_mode: free (1), teleop (3), coordinated (2).
+    m.task_ok(&["traj-mode", "free"]);
+    assert_eq!(stat_value(&m, "motion_mode"), "1");
+    m.task_ok(&["traj-mode", "teleop"]);
+    assert_eq!(stat_value(&m, "motion_mode"), "3");
+    // One soft limit of world axis X changes, the other is kept.
+    let min_before = stat_value(&m, "axis.0.min_position_limit");
+    m.task_ok(&["axis-limit", "0", "max", "12.5"]);
+    assert_eq!(stat_value(&m, "axis.0.max_position_limit"), "12.5");
+    assert_eq!(stat_value(&m, "axis.0.min_position_limit"), min_before);
+    // A lower limit above the upper one is refused and changes nothing.
+    let (ok, _, err) = m.task(&["axis-limit", "0", "min", "20"]);
+    assert!(!ok);
+    assert!(err.contains("above the upper limit"), "{err}");
+    assert_eq!(stat_value(&m, "axis.0.min_position_limit"), min_before);
+    m.stop();
+}
+
+#[test]
+fn tool_offset_sets_the_table_and_the_next_g43_uses_it() {
+    let s = Scratch::new("task-tooloff");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-tooloff");
+    m.on_and_homed();
+    m.task_ok(&["tool-offset", "2", "21.5", "0.5", "6.5", "0", "0", "0"]);
+    let text = m.task_ok(&["stat"]);
+    let slot = text
+        .lines()
+        .find_map(|l| {
+            l.strip_suffix("=i:2")?
+                .strip_prefix("tool_table.")?
+                .strip_suffix(".id")
+        })
+        .unwrap_or_else(|| panic!("no tool 2 in stat:\n{text}"));
+    let field = |name: &str| stat_value(&m, &format!("tool_table.{slot}.{name}"));
+    assert_eq!(field("zoffset"), "21.5");
+    assert_eq!(field("xoffset"), "0.5");
+    assert_eq!(field("diameter"), "6.5");
+    // Saved to the table file, and taken by the interpreter's next G43.
+    let saved = std::fs::read_to_string(s.0.join("sim.tbl")).unwrap();
+    assert!(saved.contains("21.5"), "{saved}");
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "T2 M6 G43"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let offset = stat_value(&m, "tool_offset");
+    assert_eq!(offset.split_whitespace().nth(2), Some("21.5"), "{offset}");
+    // A tool the table does not hold is refused.
+    let (ok, _, err) = m.task(&["tool-offset", "77", "1", "0", "0", "0", "0", "0"]);
+    assert!(!ok);
+    assert!(err.contains("tool 77 is not in the tool table"), "{err}");
+    m.stop();
+}

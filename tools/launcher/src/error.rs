@@ -279,6 +279,19 @@ pub enum LaunchError {
         /// What is wrong with its argument.
         why: String,
     },
+    /// A request LinuxCNC's task takes in one mode only, in another, in
+    /// LinuxCNC's words.
+    #[error("{}", crate::task_mode_filter::refusal_text(command, *number, mode, interp))]
+    ModeRefused {
+        /// LinuxCNC's name for the command (`EMC_TASK_PLAN_STEP`).
+        command: &'static str,
+        /// LinuxCNC's number for it.
+        number: u32,
+        /// Task's mode.
+        mode: &'static str,
+        /// The interpreter's state, as LinuxCNC names it in AUTO mode.
+        interp: &'static str,
+    },
     /// A manual request (home, jog) outside MANUAL mode.
     #[error("{request} needs MANUAL mode (task is in {mode} mode)")]
     NotManual {

@@ -33,6 +33,7 @@ mod task;
 mod task_help;
 mod task_manual;
 mod task_messages;
+mod task_mode_filter;
 mod task_motion;
 mod task_panel;
 mod task_pins;
@@ -40,6 +41,8 @@ mod task_program;
 mod task_socket;
 mod task_spindle;
 mod task_stat;
+mod task_tool_offset;
+mod task_traj;
 mod twopass;
 pub mod zlevel;
 

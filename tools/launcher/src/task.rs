@@ -132,8 +132,24 @@ pub enum TaskRequest {
     /// Whether the spindle override applies (LinuxCNC's spindle override
     /// enable, M51).
     SpindleOverrideEnable(bool),
-    /// Override the joints' tripped hard limits until the next jog ends.
-    OverrideLimits,
+    /// Override the joints' tripped hard limits until the next jog ends
+    /// (`true`), or end an override (`false`).
+    OverrideLimits(bool),
+    /// Forget the last probe result (the tripped flag).
+    ClearProbe,
+    /// A tool's offsets, diameter, angles and orientation in the table.
+    ToolOffset(crate::task_tool_offset::ToolOffset),
+    /// The trajectory mode (LinuxCNC's traj_mode).
+    TrajMode(crate::task_traj::TrajMode),
+    /// One soft position limit of a world axis (0..=8).
+    AxisLimit {
+        /// The world axis.
+        axis: usize,
+        /// The upper limit (else the lower).
+        upper: bool,
+        /// The new limit.
+        value: f64,
+    },
     /// The state as one snapshot of `NAME=KIND:VALUE` lines in
     /// LinuxCNC's names (the Python `linuxcnc.stat`).
     Stat,
@@ -223,6 +239,12 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
     if let Some(r) = crate::task_messages::parse(&w) {
         return r;
     }
+    if let Some(r) = crate::task_traj::parse(&w) {
+        return r;
+    }
+    if let Some(r) = crate::task_tool_offset::parse(&w) {
+        return r;
+    }
     Ok(match w.as_slice() {
         ["estop"] => TaskRequest::Estop,
         ["estop-reset"] => TaskRequest::EstopReset,
@@ -265,7 +287,9 @@ pub fn parse_request(words: &[String]) -> Result<TaskRequest, LaunchError> {
         ["mdi", rest @ ..] if !rest.is_empty() => TaskRequest::Mdi(rest.join(" ")),
         ["wait-done"] => TaskRequest::WaitDone,
         ["state"] => TaskRequest::State,
-        ["override-limits"] => TaskRequest::OverrideLimits,
+        ["override-limits"] | ["override-limits", "on"] => TaskRequest::OverrideLimits(true),
+        ["override-limits", "off"] => TaskRequest::OverrideLimits(false),
+        ["clear-probe"] => TaskRequest::ClearProbe,
         ["spindle", rest @ ..] => crate::task_spindle::parse(rest)?,
         [word @ ("home" | "unhome" | "jog-cont" | "jog-incr" | "jog-stop"), rest @ ..]
         | [word @ ("feed-override" | "rapid-override" | "max-velocity"), rest @ ..] => {
@@ -590,7 +614,12 @@ impl Task {
             | TaskRequest::FeedHold(_)
             | TaskRequest::FeedOverrideEnable(_)
             | TaskRequest::SpindleOverrideEnable(_)
-            | TaskRequest::OverrideLimits => Some(self.panel_request(req)),
+            | TaskRequest::OverrideLimits(_)
+            | TaskRequest::ClearProbe => Some(self.panel_request(req)),
+            TaskRequest::ToolOffset(o) => Some(self.tool_offset(o)),
+            TaskRequest::TrajMode(_) | TaskRequest::AxisLimit { .. } => {
+                Some(self.traj_request(req))
+            }
             TaskRequest::Spindle { spindle, action } => {
                 Some(self.spindle_request(*spindle, *action))
             }

@@ -55,8 +55,20 @@ pub const REQUESTS: &str = "\
                         moves queued next (M50)
   spindle-override-enable on|off
                         whether the spindle override applies (M51)
-  override-limits       override the joints' tripped hard limits until
-                        the next jog ends
+  clear-probe           forget the last probe result (the tripped flag)
+  tool-offset TOOL Z X DIAMETER FRONT BACK ORIENTATION
+                        set a tool's values in the tool table (saved), as
+                        G10 L1 does (nothing running)
+  traj-mode free|coord|teleop
+                        the trajectory mode: joints one by one, coordinated,
+                        or jogs in world axes (free and teleop: MANUAL mode)
+  axis-limit AXIS min|max VALUE
+                        one soft position limit of world axis AXIS (0-8,
+                        X Y Z A B C U V W), the other kept
+  override-limits [on|off]
+                        override the joints' tripped hard limits until
+                        the next jog ends, or end the override (MANUAL
+                        mode only)
   spindle [N] forward|reverse [RPM]
                         start spindle N (default 0) at RPM, else the S in
                         effect, else 500 (machine on, nothing running)

@@ -13,14 +13,24 @@ use crate::task::{Mode, Task, TaskRequest};
 
 type Answer = Result<String, LaunchError>;
 
-/// The optional-stop and block-delete switches. Both start off: the
-/// operator (a GUI or halui) turns them on.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// The optional-stop and block-delete switches. Optional stop starts on
+/// and block delete off, as LinuxCNC's interpreter starts them; the
+/// operator (a GUI or halui) changes them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Switches {
     /// M1 stops the program as M0 does.
     pub optional_stop: bool,
     /// Lines that start with `/` are skipped.
     pub block_delete: bool,
+}
+
+impl Default for Switches {
+    fn default() -> Switches {
+        Switches {
+            optional_stop: true,
+            block_delete: false,
+        }
+    }
 }
 
 /// Parses `optional-stop on|off`, `block-delete on|off`, `teleop on|off`,
@@ -79,7 +89,7 @@ impl Task {
     }
 
     /// Takes an optional-stop, block-delete, teleop, feed-hold, override
-    /// enable or override-limits request.
+    /// enable, override-limits or clear-probe request.
     pub(crate) fn panel_request(&mut self, req: &TaskRequest) -> Answer {
         match *req {
             TaskRequest::OptionalStop(on) => {
@@ -106,11 +116,23 @@ impl Task {
                 self.motion_command(Command::SpindleScaleEnable { on })?;
                 Ok(format!("spindle override {}", enabled(on)))
             }
-            TaskRequest::OverrideLimits => {
-                // Joint 0 (not below 0, which ends an override): every
-                // joint's tripped hard limits, until the next jog ends.
-                self.motion_command(Command::OverrideLimits { joint: 0 })?;
-                Ok("limits overridden until the next jog ends".to_string())
+            TaskRequest::OverrideLimits(on) => {
+                self.mode_filter(req)?;
+                // Joint 0: every joint's tripped hard limits, until the
+                // next jog ends; a joint below 0 ends the override.
+                let joint = if on { 0 } else { -1 };
+                self.motion_command(Command::OverrideLimits { joint })?;
+                Ok(if on {
+                    "limits overridden until the next jog ends"
+                } else {
+                    "limits override ended"
+                }
+                .to_string())
+            }
+            TaskRequest::ClearProbe => {
+                // Taken in every state, as LinuxCNC's task takes it.
+                self.motion_command(Command::ClearProbeFlags)?;
+                Ok("probe tripped flag cleared".to_string())
             }
             _ => Err(LaunchError::Program("not a switch request".into())),
         }
@@ -200,7 +222,17 @@ mod tests {
         let words = ["override-limits".to_string()];
         assert_eq!(
             crate::task::parse_request(&words).unwrap(),
-            TaskRequest::OverrideLimits
+            TaskRequest::OverrideLimits(true)
+        );
+        let words = ["clear-probe".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::ClearProbe
+        );
+        let words = ["override-limits".to_string(), "off".to_string()];
+        assert_eq!(
+            crate::task::parse_request(&words).unwrap(),
+            TaskRequest::OverrideLimits(false)
         );
         assert!(parse(&["mode", "auto"]).is_none());
         let e = parse(&["teleop", "maybe"])

@@ -10,7 +10,7 @@ use motion::Command;
 
 use crate::error::LaunchError;
 use crate::iocontrol::{IoEvent, IoRequest};
-use crate::program::Ended;
+use crate::program::{Ended, RunState};
 use crate::task::{MachineState, Mode, Task, TaskRequest, Waiting};
 use crate::task_socket::{ConnId, TaskServer};
 
@@ -156,11 +156,19 @@ impl Task {
     }
 
     fn control(&mut self, req: &TaskRequest) -> Answer {
+        self.mode_filter(req)?;
         let (Some(p), Some(m)) = (&mut self.program, &mut self.motion) else {
             return Err(LaunchError::NoMotion);
         };
+        // Pause and resume are taken with nothing to act on (LinuxCNC's
+        // task takes them in every state): the answer says so.
+        let state = p.run_state();
         let (r, done) = match req {
+            TaskRequest::Pause if state != RunState::Running => (Ok(()), "nothing runs to pause"),
             TaskRequest::Pause => (p.pause(m), "paused"),
+            TaskRequest::Resume if !matches!(state, RunState::Paused | RunState::Held) => {
+                (Ok(()), "nothing paused to resume")
+            }
             TaskRequest::Resume => (p.resume(m), "resumed"),
             _ => (p.step(m), "stepping"),
         };

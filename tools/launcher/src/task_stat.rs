@@ -141,6 +141,19 @@ fn linuxcnc_gcodes(p: &ProgramView) -> Vec<i64> {
     v
 }
 
+/// LinuxCNC's interpreter settings: the line read, the feed rate, the
+/// spindle speed, the blend tolerance (G64 P) and the naive-CAM
+/// tolerance (G64 Q).
+fn linuxcnc_settings(p: &ProgramView) -> [f64; 5] {
+    [
+        f64::from(p.read_line),
+        p.codes.feed,
+        p.codes.speed,
+        p.codes.tolerance,
+        p.codes.naivecam_tolerance,
+    ]
+}
+
 /// The active M-codes in LinuxCNC's layout of 10: the line, stopping
 /// (none between blocks), spindle, tool change (none), mist (9 when no
 /// coolant runs, -1 when only flood does), flood, overrides.
@@ -228,12 +241,7 @@ const FIELDS: &[Field] = &[
         Some(Value::Ints(linuxcnc_mcodes(p)))
     }),
     ("settings", |c| {
-        let p = c.program.as_ref()?;
-        Some(floats([
-            f64::from(p.read_line),
-            p.codes.feed,
-            p.codes.speed,
-        ]))
+        Some(floats(linuxcnc_settings(c.program.as_ref()?)))
     }),
     ("program_units", |c| {
         // LinuxCNC: 1 inch (G20), 2 mm (G21).
@@ -318,6 +326,8 @@ const MOTION_FIELDS: &[Of<MotionStatus>] = &[
         v.resize(MAX_JOINTS.max(v.len()), 0);
         Value::Ints(v)
     }),
+    // LinuxCNC's joint override_limits: an override is in effect.
+    ("override_limits", |m| bit(m.override_mask != 0)),
     ("joints", |m| {
         Value::Int(m.joints.iter().filter(|j| j.active).count() as i64)
     }),
@@ -664,6 +674,8 @@ mod tests {
             m: vec![3, 9, 8, 48],
             feed: 600.0,
             speed: 1000.0,
+            tolerance: 0.05,
+            naivecam_tolerance: 0.01,
         };
         let p = ProgramView {
             file: None,
@@ -676,6 +688,7 @@ mod tests {
             [7, 10, -1, 170, 400, 210, 900, 940, 540, 490, 980, 640, -1, 970, 901, 80, -1]
         );
         assert_eq!(linuxcnc_mcodes(&p), [7, -1, 3, -1, -1, 8, 48, -1, -1, -1]);
+        assert_eq!(linuxcnc_settings(&p), [7.0, 600.0, 1000.0, 0.05, 0.01]);
         let mut p = p;
         p.codes.m = vec![5, 9, 9, 49];
         assert_eq!(linuxcnc_mcodes(&p), [7, -1, 5, -1, 9, -1, 49, -1, -1, -1]);

@@ -143,7 +143,10 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
         Sub::Lube => on(s.flag("lube")),
         Sub::LubeLevel => if s.flag("lube_level") { "OK" } else { "LOW" }.to_string(),
         Sub::Tool => s.int("tool_in_spindle")?.to_string(),
-        Sub::ToolOffset => format!("{}", s.nums("tool_offset").get(2).copied().unwrap_or(0.0)),
+        Sub::ToolOffset => format!(
+            "{:.6}",
+            s.nums("tool_offset").get(2).copied().unwrap_or(0.0)
+        ),
         Sub::AbsCmdPos => pick(&six(&s.nums("position")), arg)?,
         Sub::AbsActPos => pick(&six(&s.nums("actual_position")), arg)?,
         Sub::RelCmdPos => pick(&relative(s, "position"), arg)?,
@@ -239,6 +242,7 @@ pub fn value(sub: Sub, args: &[&str], s: &Snapshot, session: &Session) -> Option
         Sub::ProbeTripped => (s.flag("probe_tripped") as i32).to_string(),
         Sub::ProbeValue => s.int("probe_val").unwrap_or(0).to_string(),
         Sub::OptionalStop => (s.flag("optional_stop") as i32).to_string(),
+        Sub::OverrideLimits => (s.flag("override_limits") as i32).to_string(),
         Sub::TeleopEnable => if s.int("motion_mode") == Some(3) {
             "YES"
         } else {
@@ -332,16 +336,20 @@ pub fn requests(sub: Sub, args: &[&str], mdi: &str, wait_done: bool) -> Option<V
             [n] if n.parse::<u32>().is_ok() => one(w(&["run", n])),
             _ => None,
         },
+        Sub::ProbeClear => one(w(&["clear-probe"])),
+        // LinuxCNC's is a mill-style entry: length and diameter, with X,
+        // the angles and the orientation 0.
+        Sub::ToolOffset => match args {
+            [t, l, d] => one(w(&["tool-offset", t, l, "0", d, "0", "0", "0"])),
+            _ => None,
+        },
         Sub::Pause => one(w(&["pause"])),
         Sub::Resume => one(w(&["resume"])),
         Sub::Step => one(w(&["step"])),
         Sub::Abort => one(w(&["abort"])),
         Sub::OptionalStop => one(w(&["optional-stop", flag?])),
         Sub::TeleopEnable => one(w(&["teleop", flag?])),
-        Sub::OverrideLimits => match flag? {
-            "on" => one(w(&["override-limits"])),
-            _ => Some(vec![]),
-        },
+        Sub::OverrideLimits => one(w(&["override-limits", flag?])),
         Sub::Wait => match first.as_deref()? {
             "done" => one(w(&["wait-done"])),
             "received" => Some(vec![]),

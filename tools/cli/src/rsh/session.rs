@@ -76,6 +76,11 @@ pub struct Session<'s> {
     error: Option<String>,
     operator_text: Option<String>,
     operator_display: Option<String>,
+    /// The text of the last value or error message a command produced.
+    /// LinuxCNC's server keeps it in one reply buffer per connection and
+    /// sends that buffer again, unchanged, for a `get` of `wait`, `probe`
+    /// or `probe_clear`, which write nothing into it.
+    reply_buffer: String,
 }
 
 /// `on` or `off` (any case) as a flag.
@@ -128,6 +133,7 @@ impl<'s> Session<'s> {
             error: None,
             operator_text: None,
             operator_display: None,
+            reply_buffer: String::new(),
         }
     }
 
@@ -157,12 +163,20 @@ impl<'s> Session<'s> {
                     out.push("HELLO NAK".to_string());
                 }
             }
-            // LinuxCNC answers nothing to a get of wait, probe, probe_clear.
+            // These write no value: the reply buffer goes out as it is.
             Request::Get(Ok(e), _)
-                if self.hello && matches!(e.sub, Sub::Wait | Sub::Probe | Sub::ProbeClear) => {}
+                if self.hello && matches!(e.sub, Sub::Wait | Sub::Probe | Sub::ProbeClear) =>
+            {
+                out.push(self.reply_buffer.clone());
+            }
             Request::Get(sub, args) => match sub {
                 Ok(e) if self.hello => match self.get(e, &args, m) {
-                    Some(lines) => out.extend(lines),
+                    Some(lines) => {
+                        if let Some(last) = lines.last() {
+                            self.reply_buffer = buffered(last);
+                        }
+                        out.extend(lines);
+                    }
                     None => out.push(format!("GET {} NAK", upper(e))),
                 },
                 Ok(e) => out.push(format!("GET {} NAK", upper(e))),
@@ -174,7 +188,10 @@ impl<'s> Session<'s> {
                     match self.set(e, &args, mdi, m) {
                         Ok(()) if self.verbose => out.push(format!("SET {} ACK", upper(e))),
                         Ok(()) => {}
-                        Err(Some(text)) => out.push(text),
+                        Err(Some(text)) => {
+                            self.reply_buffer = buffered(&text);
+                            out.push(text);
+                        }
                         Err(None) => out.push(format!("SET {} NAK", upper(e))),
                     }
                 }
@@ -440,6 +457,9 @@ impl<'s> Session<'s> {
             }
             _ => args,
         };
+        if e.sub == Sub::Home && self.home_of_missing_joint(args, m)? {
+            return Ok(());
+        }
         let requests = super::reply::requests(e.sub, args, mdi, self.wait_done).ok_or(None)?;
         for r in requests {
             // A refusal is the NAK (LinuxCNC's `get error` stays OK after
@@ -501,6 +521,31 @@ impl<'s> Session<'s> {
     }
 }
 
+/// The most joints LinuxCNC's motion has room for; `set home` takes a
+/// joint number up to this one.
+const MAX_JOINTS: i64 = 16;
+
+impl Session<'_> {
+    /// Whether `set home N` names a joint the machine does not have but
+    /// LinuxCNC's motion has room for (up to [`MAX_JOINTS`]): LinuxCNC
+    /// takes that request and homes nothing, so it is acknowledged
+    /// without a request to task. A number past that, or not a number,
+    /// is the NAK.
+    fn home_of_missing_joint(
+        &mut self,
+        args: &[&str],
+        m: &mut dyn Machine,
+    ) -> Result<bool, Option<String>> {
+        let joint = args
+            .first()
+            .and_then(|w| w.parse::<i64>().ok())
+            .filter(|j| (-1..=MAX_JOINTS).contains(j))
+            .ok_or(None)?;
+        let s = Snapshot::parse(&m.ask(&words_of(&["stat"]), self.wait()).map_err(|_| None)?);
+        Ok(s.int("joints").is_some_and(|n| joint >= n))
+    }
+}
+
 /// The longest `set home` waits for the homing to end (with set_wait done).
 const HOMING_WAIT: Duration = Duration::from_secs(120);
 
@@ -523,6 +568,15 @@ impl Session<'_> {
         }
     }
 }
+
+/// What a reply line leaves in the reply buffer: a custom error's
+/// message without its `error: ` lead, any other line whole.
+fn buffered(line: &str) -> String {
+    line.strip_prefix(ERROR_LEAD).unwrap_or(line).to_string()
+}
+
+/// The lead of a custom error reply (`error: invalid spindle: ...`).
+const ERROR_LEAD: &str = "error: ";
 
 fn words_of(w: &[&str]) -> Vec<String> {
     words(w)

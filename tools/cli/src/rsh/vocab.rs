@@ -186,7 +186,11 @@ pub const SUBCOMMANDS: &[Entry] = &[
     e("Time", Sub::Time, ""),
     e("Timeout", Sub::Timeout, "<seconds>"),
     e("Tool", Sub::Tool, ""),
-    e("Tool_offset", Sub::ToolOffset, ""),
+    e(
+        "Tool_offset",
+        Sub::ToolOffset,
+        "[<tool> <length> <diameter>]",
+    ),
     e("Update", Sub::Update, "{None|Auto}"),
     e("User_angular_units", Sub::UserAngularUnits, ""),
     e("User_linear_units", Sub::UserLinearUnits, ""),

@@ -302,11 +302,10 @@ impl Program {
 
     /// Pause along the path.
     pub fn pause(&mut self, motion: &mut MotionLink) -> Result<(), ProgramError> {
+        // As LinuxCNC's task, a pause is taken in every state; with
+        // nothing running, or already held, there is nothing to hold.
         if self.state != RunState::Running {
-            return Err(ProgramError::WrongState {
-                what: "nothing to pause",
-                state: self.state,
-            });
+            return Ok(());
         }
         motion
             .command(Command::Pause)
@@ -325,10 +324,9 @@ impl Program {
                 self.state = RunState::Running;
                 Ok(())
             }
-            state => Err(ProgramError::WrongState {
-                what: "nothing to resume",
-                state,
-            }),
+            // Taken in every state, as LinuxCNC's task takes it: with
+            // nothing paused, nothing changes.
+            _ => Ok(()),
         }
     }
 

@@ -46,6 +46,10 @@ pub struct ActiveCodes {
     pub feed: f64,
     /// Spindle speed.
     pub speed: f64,
+    /// The blend tolerance in effect (G64 P; 0 for none).
+    pub tolerance: f64,
+    /// The naive-CAM tolerance in effect (G64 Q).
+    pub naivecam_tolerance: f64,
 }
 
 impl Interp {
@@ -213,6 +217,8 @@ impl Interp {
             m,
             feed: s.feed_rate,
             speed: s.spindles[0].speed,
+            tolerance: s.tolerance,
+            naivecam_tolerance: s.naivecam_tolerance,
         }
     }
 }
