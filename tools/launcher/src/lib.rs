@@ -38,6 +38,7 @@ mod task_motion;
 mod task_panel;
 mod task_pins;
 mod task_program;
+mod task_request;
 mod task_socket;
 mod task_spindle;
 mod task_stat;

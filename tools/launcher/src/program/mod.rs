@@ -705,69 +705,6 @@ impl Program {
     pub fn set_block_delete(&mut self, on: bool) {
         self.canon.block_delete = on;
     }
-
-    /// The program's lines of `task-cmd status`.
-    pub fn status(&self, motion: Option<&MotionLink>) -> String {
-        let motion_line = motion
-            .and_then(MotionLink::status)
-            .map_or(0, |s| s.traj.exec_id);
-        let codes = self.interp.active_codes();
-        let g: Vec<String> = codes
-            .g
-            .iter()
-            .filter(|g| **g >= 0)
-            .map(|g| rs274ngc::g_text(*g))
-            .collect();
-        let m: Vec<String> = codes
-            .m
-            .iter()
-            .filter(|m| **m >= 0)
-            .map(|m| format!("M{m}"))
-            .collect();
-        let [g5x, g92, tool] = self.canon.offsets();
-        let xyz = |a: [f64; 9]| format!("{:.4} {:.4} {:.4}", a[0], a[1], a[2]);
-        let spindle = motion
-            .and_then(MotionLink::status)
-            .and_then(|s| s.spindles.first().copied())
-            .map_or("unknown".to_string(), |s| spindle_text(&s));
-        let mut s = format!(
-            "program: {}\ninterp: {}\ncurrent line: {}\nmotion line: {motion_line}\n\
-             modal: {} {} F{} S{}\noffsets: g5x {} g92 {} tool {}\nspindle: {spindle}\n",
-            self.file
-                .as_deref()
-                .map_or("none".to_string(), |p| p.display().to_string()),
-            self.state.name(),
-            self.read_line,
-            g.join(" "),
-            m.join(" "),
-            codes.feed,
-            codes.speed,
-            xyz(g5x),
-            xyz(g92),
-            xyz(tool),
-        );
-        if let Some(Ended::Failed(why)) = &self.last_end {
-            s.push_str(&format!("last run: {why}\n"));
-        }
-        s
-    }
-}
-
-/// Spindle 0 as `task-cmd status` shows it.
-fn spindle_text(s: &motion::channel::SpindleState) -> String {
-    let turning = match s.speed {
-        _ if !s.on => "stopped".to_string(),
-        v if v < 0.0 => format!("counterclockwise {} rpm", -v),
-        v => format!("clockwise {v} rpm"),
-    };
-    let mut out = turning;
-    if s.scale != 1.0 {
-        out.push_str(&format!(", override {}", s.scale));
-    }
-    if s.brake {
-        out.push_str(", brake on");
-    }
-    out
 }
 
 /// The motion id (program line) a queued command carries.
