@@ -11,6 +11,8 @@ import pytest
 from conftest import BIN, REPO
 
 RUNNER = REPO / "scripts" / "lcnc-regress"
+# A checkresult that takes any output (a test needs one, or `expected`).
+ACCEPT = "#!/bin/sh\nexit 0\n"
 
 
 def _case(root, name, files):
@@ -19,7 +21,9 @@ def _case(root, name, files):
     for fname, text in files.items():
         f = d / fname
         f.write_text(text)
-        if fname in ("test.sh", "test", "checkresult", "skip"):
+        # A `skip` is executable only when it is a script (an executable
+        # skip decides by its exit status).
+        if fname in ("test.sh", "test", "checkresult") or text.startswith("#!"):
             f.chmod(0o755)
     return d
 
@@ -44,19 +48,30 @@ def test_verdicts_follow_linuxcncs_runner(tmp_path):
     })
     _case(tmp_path, "f-skipped", {"test.sh": "exit 1\n", "skip": ""})
     _case(tmp_path, "g-xfail", {"test.sh": "exit 1\n", "xfail": ""})
+    # An executable skip that exits 0 lets the test run; one that exits
+    # non-zero skips it.
+    _case(tmp_path, "h-skip-says-run", {
+        "test.sh": "echo 1\n", "expected": "1\n", "skip": "#!/bin/sh\nexit 0\n"})
+    _case(tmp_path, "i-skip-says-skip", {"test.sh": "exit 1\n", "skip": "#!/bin/sh\nexit 1\n"})
+    # checkresult is asked before expected.
+    _case(tmp_path, "j-checkresult-first", {
+        "test.sh": "echo 42\n", "expected": "41\n",
+        "checkresult": "#!/bin/sh\ngrep -qx 42 \"$1\"\n"})
     r = _run(tmp_path)
     out = r.stdout
     assert r.returncode == 1, out + r.stderr
     lines = {l.split()[1].rsplit("/", 1)[-1].rstrip(":"): l.split()[0]
              for l in out.splitlines() if l[:5].strip() in ("PASS", "FAIL", "SKIP", "XFAIL")}
     assert lines == {
-        "a-status-ok": "PASS", "b-status-bad": "FAIL", "c-expected-same": "PASS",
+        "a-status-ok": "FAIL", "b-status-bad": "FAIL", "c-expected-same": "PASS",
         "d-expected-differs": "FAIL", "e-checkresult": "PASS", "f-skipped": "SKIP",
-        "g-xfail": "XFAIL",
+        "g-xfail": "XFAIL", "h-skip-says-run": "PASS", "i-skip-says-skip": "SKIP",
+        "j-checkresult-first": "PASS",
     }, out
     assert "exit status 3" in out and "why" in out, out
     assert "-hello" in out and "+hullo" in out, out
-    assert "3 passed, 2 failed, 1 skipped, 1 failed as expected" in out, out
+    assert "neither expected nor checkresult" in out, out
+    assert "4 passed, 3 failed, 2 skipped, 1 failed as expected" in out, out
     # The test's output stays in its directory, as LinuxCNC's runner leaves it.
     assert (tmp_path / "c-expected-same" / "result").read_text() == "hello\n"
 
@@ -65,6 +80,7 @@ def test_our_programs_come_first_with_a_hal_instance_of_their_own(tmp_path):
     d = _case(tmp_path, "env", {
         "test.sh": "command -v halcmd\necho \"$HAL_INSTANCE\"\n"
                    "python3 -c 'import linuxcnc, hal; print(\"modules ok\")'\n",
+        "checkresult": ACCEPT,
     })
     r = _run(d)
     assert r.returncode == 0, r.stdout + r.stderr
@@ -78,6 +94,7 @@ def test_emc2_home_is_the_top_of_the_tree_the_test_lies_in(tmp_path):
     # LinuxCNC's checkresult scripts read $EMC2_HOME/tests/motion/g0/....
     d = _case(tmp_path / "tree" / "tests" / "motion", "g0", {
         "test.sh": "echo \"$EMC2_HOME\"\n",
+        "checkresult": ACCEPT,
     })
     env = {k: v for k, v in os.environ.items() if k != "EMC2_HOME"}
     r = _run(d, env=env)
