@@ -1,7 +1,9 @@
 //! halui on the simulated mill (`[HAL]HALUI = halui`): its buttons drive
 //! task as a panel's would (e-stop reset, machine on, homing, an
 //! `[HALUI]MDI_COMMAND`, a program started, paused, resumed and stopped,
-//! coolant, jogging, the feed override), and its status pins follow.
+//! coolant, jogging, the feed override), and its status pins follow. A
+//! held `selected` jog moves to a newly selected joint, and a held jog
+//! follows a changed jog speed, as in LinuxCNC.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -256,6 +258,45 @@ fn halui_selection_jog_modes_analog_switches_and_tool_pins() {
     press(&m, "halui.program.optional-stop.off", || {
         !is("halui.program.optional-stop.is-on")
     });
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}
+
+/// A held `halui.joint.selected.minus` goes with the selection: the joint
+/// selected before stops and the new one jogs (LinuxCNC's tests/halui/
+/// jogging); a held plus/minus jog restarts at a changed jog speed.
+#[test]
+fn halui_held_jogs_follow_the_selection_and_the_jog_speed() {
+    let s = Scratch::new("halui-handover");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-handover");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    let vel = |j: usize| float(&m, &format!("joint.{j}.vel-cmd"));
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    press(&m, "halui.estop.reset", || !is("halui.estop.is-activated"));
+    press(&m, "halui.machine.on", || is("halui.machine.is-on"));
+    // Units per minute: 60 is one unit a second.
+    m.halcmd(&["setp", "halui.joint.jog-speed", "60"]);
+    assert!(is("halui.joint.0.is-selected"));
+    m.halcmd(&["setp", "halui.joint.selected.minus", "TRUE"]);
+    wait_for(&m, "joint 0 jogs", || (vel(0) + 1.0).abs() < 1e-6);
+    press(&m, "halui.joint.1.select", || {
+        is("halui.joint.1.is-selected")
+    });
+    wait_for(&m, "joint 1 takes the jog over", || {
+        (vel(1) + 1.0).abs() < 1e-6 && vel(0) == 0.0
+    });
+    assert_eq!(vel(2), 0.0, "joint 2 was not selected");
+    m.halcmd(&["setp", "halui.joint.selected.minus", "FALSE"]);
+    wait_for(&m, "joint 1 stops", || vel(1) == 0.0);
+
+    m.halcmd(&["setp", "halui.joint.2.plus", "TRUE"]);
+    wait_for(&m, "joint 2 jogs at 1/s", || (vel(2) - 1.0).abs() < 1e-6);
+    m.halcmd(&["setp", "halui.joint.jog-speed", "120"]);
+    wait_for(&m, "joint 2 jogs at 2/s", || (vel(2) - 2.0).abs() < 1e-6);
+    m.halcmd(&["setp", "halui.joint.2.plus", "FALSE"]);
+    wait_for(&m, "joint 2 stops", || vel(2) == 0.0);
+    assert_eq!(vel(0), 0.0, "joint 0 stayed stopped");
     let err = m.stop();
     assert!(!err.contains("halui:"), "halui reported nothing: {err}");
 }

@@ -32,6 +32,7 @@ use crate::task_socket::{request, TaskAnswer, TaskClientError};
 use analog::AnalogJogs;
 use logic::{Action, Edges, Override, OverrideCounter, TaskState};
 use pins::{HaluiPins, Layout, Status};
+use selection::OnSelected;
 
 pub use logic::fuzz_state;
 
@@ -39,6 +40,8 @@ pub use logic::fuzz_state;
 const CYCLE: Duration = Duration::from_millis(20);
 /// How long a request may take (a mode change waits up to 5 s for motion).
 const REQUEST_WAIT: Duration = Duration::from_secs(10);
+/// A jog speed change smaller than this is no change.
+const SPEED_CHANGE: f64 = 1e-5;
 
 /// `halui`'s usage text.
 pub const USAGE: &str = "\
@@ -173,6 +176,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         motion: None,
         said_waiting: false,
         spindle: spindle::SpindleHalui::default(),
+        jog_speeds: None,
     };
     while !signals.requested() && inst.host_alive() {
         halui.cycle(&inst);
@@ -225,6 +229,8 @@ struct Halui {
     said_waiting: bool,
     /// The spindle pins' edges and override counters.
     spindle: spindle::SpindleHalui,
+    /// `joint.jog-speed` and `axis.jog-speed` as last seen.
+    jog_speeds: Option<[f64; 2]>,
 }
 
 fn counter_index(which: Override) -> usize {
@@ -270,6 +276,7 @@ impl Halui {
                 self.perform(action, &state);
             }
         }
+        self.follow_jog_speed(&state);
         let readings = self.pins.analog.readings(|what| self.pins.jog_speed(what));
         for action in self.analog.actions(&readings) {
             self.perform(action, &state);
@@ -326,31 +333,98 @@ impl Halui {
 
     /// The selection buttons act on halui itself; a `selected` button
     /// and an increment jog become the jog (or home) they ask for now.
-    /// `None` when nothing is left to ask task for.
-    fn resolve_selection(&mut self, action: Action) -> Option<Action> {
+    /// Empty when nothing is left to ask task for.
+    fn resolve_selection(&mut self, action: Action) -> Vec<Action> {
         match action {
             Action::SelectJoint(j) => {
+                let before = self.pins.selection.joint();
                 self.pins.selection.select_joint(j);
-                None
+                self.hand_over(Action::SelectedJoint, Jogged::Joint, before, j)
             }
             Action::SelectAxis(a) => {
+                let before = self.pins.selection.axis();
                 self.pins.selection.select_axis(a);
-                None
+                self.hand_over(Action::SelectedAxis, Jogged::Axis, before, a)
             }
             Action::SelectedJoint(_) | Action::SelectedAxis(_) => {
-                self.pins.selection.resolve(action)
+                self.pins.selection.resolve(action).into_iter().collect()
             }
             Action::JogIncrement(what, dir) => {
-                Some(Action::JogBy(what, dir * self.pins.increment(what)))
+                vec![Action::JogBy(what, dir * self.pins.increment(what))]
             }
-            other => Some(other),
+            other => vec![other],
+        }
+    }
+
+    /// A new selection while a `selected` jog button is held moves the
+    /// jog over, as LinuxCNC's halui does: the joint (axis) selected
+    /// before stops, unless its own plus/minus button holds it, and the
+    /// new one jogs in the held direction (plus before minus).
+    fn hand_over(
+        &self,
+        selected: fn(OnSelected) -> Action,
+        jogged: fn(i32) -> Jogged,
+        before: usize,
+        now: usize,
+    ) -> Vec<Action> {
+        let held = |dir: f64| self.pins.held(selected(OnSelected::JogStart(dir)));
+        let dir = if held(1.0) {
+            1.0
+        } else if held(-1.0) {
+            -1.0
+        } else {
+            return Vec::new();
+        };
+        let (Ok(before), Ok(now)) = (i32::try_from(before), i32::try_from(now)) else {
+            return Vec::new();
+        };
+        if before == now {
+            return Vec::new();
+        }
+        let old = jogged(before);
+        let own = [1.0, -1.0]
+            .iter()
+            .any(|&d| self.pins.held(Action::JogStart(old, d)));
+        let mut out = Vec::new();
+        if !own {
+            out.push(Action::JogStop(old));
+        }
+        out.push(Action::JogStart(jogged(now), dir));
+        out
+    }
+
+    /// A changed `joint.jog-speed` (`axis.jog-speed`) restarts the jogs
+    /// its held plus/minus buttons make at the new speed, as LinuxCNC's
+    /// halui does. The first cycle only notes the speeds.
+    fn follow_jog_speed(&mut self, state: &TaskState) {
+        let now = [
+            self.pins.jog_speed(Jogged::Joint(0)),
+            self.pins.jog_speed(Jogged::Axis(0)),
+        ];
+        let Some(before) = self.jog_speeds.replace(now) else {
+            return;
+        };
+        let changed = |what: Jogged| match what {
+            Jogged::Joint(_) => (now[0] - before[0]).abs() > SPEED_CHANGE,
+            Jogged::Axis(_) => (now[1] - before[1]).abs() > SPEED_CHANGE,
+        };
+        for action in self.pins.held_jogs() {
+            if let Action::JogStart(what, _) = action {
+                if changed(what) {
+                    self.request(action, state);
+                }
+            }
         }
     }
 
     fn perform(&mut self, action: Action, state: &TaskState) {
-        let Some(action) = self.resolve_selection(action) else {
-            return;
-        };
+        for action in self.resolve_selection(action) {
+            self.request(action, state);
+        }
+    }
+
+    /// Asks task for what one resolved action means.
+    fn request(&mut self, action: Action, state: &TaskState) {
         let on_off = |on: bool| if on { "on" } else { "off" };
         // Jog speeds are in machine units per minute, as LinuxCNC's.
         let jog_vel = |what: Jogged| self.pins.jog_speed(what) / 60.0;

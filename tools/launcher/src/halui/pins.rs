@@ -270,6 +270,20 @@ impl HaluiPins {
         }
     }
 
+    /// Whether a button whose rising edge asks for `rise` is held now.
+    pub fn held(&self, rise: Action) -> bool {
+        self.buttons.iter().any(|b| b.rise == rise && b.pin.get())
+    }
+
+    /// The jogs (`JogStart`) of the plus/minus buttons held now.
+    pub fn held_jogs(&self) -> Vec<Action> {
+        self.buttons
+            .iter()
+            .filter(|b| matches!(b.rise, Action::JogStart(..)) && b.pin.get())
+            .map(|b| b.rise)
+            .collect()
+    }
+
     /// `halui.joint.jog-speed` or `halui.axis.jog-speed`.
     pub fn jog_speed(&self, what: Jogged) -> f64 {
         match what {

@@ -119,6 +119,16 @@ impl SelectionPins {
         })
     }
 
+    /// The selected joint.
+    pub fn joint(&self) -> usize {
+        self.joint
+    }
+
+    /// The selected world axis.
+    pub fn axis(&self) -> usize {
+        self.axis
+    }
+
     /// Selects joint `j`.
     pub fn select_joint(&mut self, j: usize) {
         self.joint = j;
