@@ -15,9 +15,17 @@ use std::time::{Duration, Instant};
 
 /// configs/sim/mill, copied, with two MDI commands for halui.
 fn mill_with_mdi(s: &Scratch) -> std::path::PathBuf {
+    mill_with_commands(s, &["G0 X3 Y2", "G0 X0 Y0"])
+}
+
+/// configs/sim/mill, copied, with these `[HALUI]MDI_COMMAND`s.
+fn mill_with_commands(s: &Scratch, commands: &[&str]) -> std::path::PathBuf {
     let ini = mill_copy(s);
     let mut text = std::fs::read_to_string(&ini).unwrap();
-    text.push_str("\n[HALUI]\nMDI_COMMAND = G0 X3 Y2\nMDI_COMMAND = G0 X0 Y0\n");
+    text.push_str("\n[HALUI]\n");
+    for c in commands {
+        text.push_str(&format!("MDI_COMMAND = {c}\n"));
+    }
     std::fs::write(&ini, text).unwrap();
     ini
 }
@@ -35,6 +43,14 @@ fn press(m: &Machine, pin: &str, until: impl Fn() -> bool) {
         std::thread::sleep(Duration::from_millis(20));
     }
     m.halcmd(&["setp", pin, "FALSE"]);
+}
+
+/// A button held for several of halui's 20 ms cycles, then released.
+fn pulse(m: &Machine, pin: &str) {
+    m.halcmd(&["setp", pin, "TRUE"]);
+    std::thread::sleep(Duration::from_millis(150));
+    m.halcmd(&["setp", pin, "FALSE"]);
+    std::thread::sleep(Duration::from_millis(150));
 }
 
 fn pos(m: &Machine, joint: usize) -> f64 {
@@ -120,7 +136,7 @@ fn halui_buttons_run_the_mill() {
 }
 
 /// Waits (up to 30 s) until `until` holds.
-fn wait_for(m: &Machine, what: &str, until: impl Fn() -> bool) {
+fn wait_for(m: &Machine, what: &str, mut until: impl FnMut() -> bool) {
     let end = Instant::now() + Duration::from_secs(30);
     while !until() {
         assert!(
@@ -299,4 +315,73 @@ fn halui_held_jogs_follow_the_selection_and_the_jog_speed() {
     assert_eq!(vel(0), 0.0, "joint 0 stayed stopped");
     let err = m.stop();
     assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}
+
+/// `halui.halui-mdi-is-running` (LinuxCNC's, made when MDI commands are
+/// configured) is TRUE from the press until the line and any queued
+/// behind it ran and the mode is back; a line task refuses puts the mode
+/// back at once; a mode button for the mode task is in sends nothing.
+#[test]
+fn halui_mdi_commands_show_running_and_come_back_from_a_refusal() {
+    let s = Scratch::new("halui-mdi-run");
+    let ini = mill_with_commands(&s, &["G0 X0 Y0", "G1 X4 F120", "G1 X0 F120"]);
+    let m = Machine::start(&ini, "halui-mdi-run");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    let pins = m.halcmd(&["show", "pin", "halui.halui-mdi-is-running"]);
+    assert!(pins.contains("bit   OUT"), "{pins}");
+    m.on_and_homed();
+    m.task_ok(&["mode", "manual"]);
+    wait_for(&m, "manual", || is("halui.mode.is-manual"));
+    assert!(!is("halui.halui-mdi-is-running"));
+
+    // Two seconds out, queued two seconds back: one run, then MANUAL.
+    press(&m, "halui.mdi-command-01", || {
+        is("halui.halui-mdi-is-running")
+    });
+    wait_for(&m, "MDI", || is("halui.mode.is-mdi"));
+    wait_for(&m, "under way", || pos(&m, 0) > 0.5);
+    pulse(&m, "halui.mdi-command-02");
+    // Already in MDI: no request (task would refuse a mode change now).
+    pulse(&m, "halui.mode.mdi");
+    let mut furthest = 0.0f64;
+    wait_for(&m, "back in MANUAL", || {
+        furthest = furthest.max(pos(&m, 0));
+        is("halui.mode.is-manual")
+    });
+    assert!(
+        furthest > 3.99 && pos(&m, 0).abs() < 1e-6,
+        "furthest {furthest}, X {}\n{}",
+        pos(&m, 0),
+        m.stderr()
+    );
+    assert!(!is("halui.halui-mdi-is-running"));
+
+    // In e-stop task takes MDI mode but refuses the line: back to MANUAL.
+    m.task_ok(&["estop"]);
+    pulse(&m, "halui.mdi-command-01");
+    wait_for(&m, "the refusal", || {
+        m.stderr().contains("halui: mdi G1 X4 F120:")
+    });
+    wait_for(&m, "MANUAL again", || is("halui.mode.is-manual"));
+    assert!(!is("halui.halui-mdi-is-running"));
+    assert_eq!(m.task_ok(&["status"]).lines().nth(1), Some("mode: MANUAL"));
+    let err = m.stop();
+    assert!(
+        !err.contains("halui: mode"),
+        "no mode request refused: {err}"
+    );
+}
+
+/// No `[HALUI]MDI_COMMAND`: no `halui-mdi-is-running`, as in LinuxCNC.
+#[test]
+fn halui_has_no_mdi_running_pin_without_mdi_commands() {
+    let s = Scratch::new("halui-no-mdi");
+    // The simulated mill has [HAL]HALUI = halui and no [HALUI] section.
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "halui-no-mdi");
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    let pins = m.halcmd(&["show", "pin", "halui"]);
+    assert!(pins.contains("halui.machine.on"), "{pins}");
+    assert!(!pins.contains("mdi-is-running"), "{pins}");
+    m.stop();
 }

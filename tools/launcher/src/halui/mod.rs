@@ -100,7 +100,10 @@ pins:
   tool.number u32 out, tool.diameter float out,
     tool.length_offset.x .. .w float out
   mdi-command-NN in: runs the NN-th [HALUI]MDI_COMMAND in MDI mode, then
-    returns to the mode before";
+    returns to the mode before; halui-mdi-is-running out: TRUE until it
+    (and any line queued behind it) ran
+  a held joint.selected.plus/minus (axis.selected.*) moves to a newly
+  selected joint (axis); held jogs follow a changed jog-speed";
 
 /// Runs halui with its command line (without the suite's common options,
 /// which the binary takes first); returns the exit status.
@@ -173,6 +176,7 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         analog: AnalogJogs::default(),
         counters: [OverrideCounter::default(); 3],
         mdi_return: None,
+        mdi_running: false,
         motion: None,
         said_waiting: false,
         spindle: spindle::SpindleHalui::default(),
@@ -224,6 +228,9 @@ struct Halui {
     counters: [OverrideCounter; 3],
     /// The mode to go back to once an `mdi-command-NN` line has run.
     mdi_return: Option<Mode>,
+    /// An `mdi-command-NN` line task took has not finished
+    /// (`halui.halui-mdi-is-running`).
+    mdi_running: bool,
     motion: Option<motion::MotionClient>,
     /// Task's absence was reported.
     said_waiting: bool,
@@ -261,11 +268,12 @@ impl Halui {
             |words| ask(instance, words),
         );
         let Some(state) = state else { return };
-        // Back to the mode an MDI command left, once its line ran (checked
-        // before this cycle's presses: `state` is from before them).
-        if let Some(mode) = self.mdi_return {
-            if state.program == "IDLE" {
-                self.mdi_return = None;
+        // Back to the mode an MDI command left, once its line (and any
+        // queued after it) ran (checked before this cycle's presses:
+        // `state` is from before them).
+        if self.mdi_running && state.program == "IDLE" {
+            self.mdi_running = false;
+            if let Some(mode) = self.mdi_return.take() {
                 if state.task_mode() != Some(mode) {
                     self.ask(&["mode", &mode.name().to_ascii_lowercase()]);
                 }
@@ -287,6 +295,7 @@ impl Halui {
                 self.ask(&[which.request(), &v.to_string()]);
             }
         }
+        self.pins.set_mdi_running(self.mdi_running);
     }
 
     /// Task's state, or `None` while no task answers.
@@ -439,7 +448,8 @@ impl Halui {
             Action::MachineOff => self.ask(&["machine-off"]),
             Action::EstopActivate => self.ask(&["estop"]),
             Action::EstopReset => self.ask(&["estop-reset"]),
-            Action::Mode(m) => self.ask(&["mode", &m.name().to_ascii_lowercase()]),
+            // As LinuxCNC's halui: nothing is sent for the mode task is in.
+            Action::Mode(m) => self.ensure_mode(state, m),
             Action::Run => self.ensure_mode(state, Mode::Auto) && self.ask(&["run"]),
             Action::Pause => self.ask(&["pause"]),
             Action::Resume => self.ask(&["resume"]),
@@ -486,8 +496,16 @@ impl Halui {
         };
     }
 
+    /// Back to `before` at once, when task refused the line after the
+    /// switch to MDI.
+    fn mdi_return_now(&self, before: Option<Mode>) {
+        if let Some(mode) = before.filter(|m| *m != Mode::Mdi) {
+            self.ask(&["mode", &mode.name().to_ascii_lowercase()]);
+        }
+    }
+
     /// `mdi-command-NN`: MDI mode (remembering the mode to go back to),
-    /// the line, and back once it ran.
+    /// the line, and back once it ran (or at once when task refuses it).
     fn mdi_command(&mut self, n: usize, state: &TaskState) -> bool {
         let Some(line) = self.mdi.get(n).cloned() else {
             return false;
@@ -497,8 +515,14 @@ impl Halui {
             return false;
         }
         let done = self.ask(&["mdi", &line]);
-        if done && before != Some(Mode::Mdi) {
-            self.mdi_return = before;
+        if done {
+            // A line queued behind a running one keeps the first's mode.
+            if !self.mdi_running && before != Some(Mode::Mdi) {
+                self.mdi_return = before;
+            }
+            self.mdi_running = true;
+        } else if !self.mdi_running {
+            self.mdi_return_now(before);
         }
         done
     }

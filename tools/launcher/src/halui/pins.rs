@@ -72,6 +72,9 @@ pub struct HaluiPins {
     flood_is_on: Pin<bool, Out>,
     lube_is_on: Pin<bool, Out>,
     tool_number: Pin<u32, Out>,
+    /// `halui.halui-mdi-is-running`, made when MDI commands are
+    /// configured.
+    mdi_is_running: Option<Pin<bool, Out>>,
     /// The selected joint and axis.
     pub selection: SelectionPins,
     /// Analog jogging.
@@ -241,6 +244,11 @@ impl HaluiPins {
             flood_is_on: comp.pin(&p("flood.is-on"))?,
             lube_is_on: comp.pin(&p("lube.is-on"))?,
             tool_number: comp.pin(&p("tool.number"))?,
+            mdi_is_running: if layout.mdi_commands > 0 {
+                Some(comp.pin(&p("halui-mdi-is-running"))?)
+            } else {
+                None
+            },
             selection: SelectionPins::create(&comp, layout)?,
             analog: AnalogPins::create(&comp, layout)?,
             panel: PanelPins::create(&comp, layout)?,
@@ -267,6 +275,13 @@ impl HaluiPins {
             Some(b.rise)
         } else {
             b.fall
+        }
+    }
+
+    /// Shows whether an `mdi-command-NN` of halui's runs.
+    pub fn set_mdi_running(&self, running: bool) {
+        if let Some(pin) = &self.mdi_is_running {
+            pin.set(running);
         }
     }
 
