@@ -385,3 +385,39 @@ fn halui_has_no_mdi_running_pin_without_mdi_commands() {
     assert!(!pins.contains("mdi-is-running"), "{pins}");
     m.stop();
 }
+
+/// A tripped hard limit overridden: task reports one flag for every
+/// joint (`stat`'s `joint.N.override_limits`, halui's
+/// `joint.N.override-limits`), as LinuxCNC's does, until a jog ends.
+#[test]
+fn an_overridden_limit_shows_on_every_joint() {
+    let s = Scratch::new("halui-override");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-override");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    m.on_and_homed();
+    m.task_ok(&["mode", "manual"]);
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "TRUE"]);
+    wait_for(&m, "the limit", || is("halui.joint.0.on-hard-max-limit"));
+    assert!(!is("halui.joint.1.override-limits"));
+    m.task_ok(&["override-limits"]);
+    wait_for(&m, "the override", || {
+        (0..3).all(|j| is(&format!("halui.joint.{j}.override-limits")))
+    });
+    assert!(is("halui.joint.selected.override-limits"));
+    let stat = m.task_ok(&["stat"]);
+    for j in 0..3 {
+        let line = format!("joint.{j}.override_limits=i:1");
+        assert!(stat.lines().any(|l| l == line), "{line}:\n{stat}");
+    }
+    // The trip turned the machine off; the override stays.
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["teleop", "off"]);
+    assert!(is("halui.joint.2.override-limits"));
+    m.task_ok(&["jog-incr", "0", "10", "-0.5"]);
+    wait_for(&m, "the override ends with the jog", || {
+        !is("halui.joint.2.override-limits")
+    });
+    m.stop();
+}

@@ -372,9 +372,9 @@ impl HaluiPins {
         if let Some(m) = status.motion {
             self.mode_is_teleop.set(m.teleop_mode);
             self.mode_is_joint.set(!m.teleop_mode && !m.coord_mode);
-            for (n, (pins, joint)) in self.joints.iter().zip(&m.joints).enumerate() {
-                pins.status
-                    .write(joint, limits_overridden(m.override_mask, n));
+            let overridden = limits_overridden(m.override_mask);
+            for (pins, joint) in self.joints.iter().zip(&m.joints) {
+                pins.status.write(joint, overridden);
             }
             for p in &self.axes {
                 if let Some(a) = m.axes.get(p.axis) {

@@ -179,7 +179,7 @@ impl SelectionPins {
         }
         if let Some(m) = motion {
             if let Some(joint) = m.joints.get(self.joint) {
-                let overridden = limits_overridden(m.override_mask, self.joint);
+                let overridden = limits_overridden(m.override_mask);
                 self.joint_status.write(joint, overridden);
             }
         }
