@@ -421,3 +421,30 @@ fn an_overridden_limit_shows_on_every_joint() {
     });
     m.stop();
 }
+
+/// The override scales start as LinuxCNC's halui has them (0.1 for feed,
+/// rapid and spindle, 0 for max-velocity), so counts and increase act at
+/// once; `spindle.N.override.reset` puts the spindle override back to 1.
+#[test]
+fn override_scales_start_at_a_tenth_and_the_spindle_override_resets() {
+    let s = Scratch::new("halui-scales");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-scales");
+    m.on_and_homed();
+    for (pin, want) in [
+        ("halui.feed-override.scale", "0.1"),
+        ("halui.rapid-override.scale", "0.1"),
+        ("halui.spindle.0.override.scale", "0.1"),
+        ("halui.max-velocity.scale", "0"),
+    ] {
+        assert_eq!(m.getp(pin), want, "{pin}");
+    }
+    m.halcmd(&["setp", "halui.feed-override.counts", "-2"]);
+    assert_eq!(m.wait_getp("halui.feed-override.value", "0.8"), "0.8");
+    pulse(&m, "halui.spindle.0.override.decrease");
+    assert_eq!(m.wait_getp("halui.spindle.0.override.value", "0.9"), "0.9");
+    pulse(&m, "halui.spindle.0.override.reset");
+    assert_eq!(m.wait_getp("halui.spindle.0.override.value", "1"), "1");
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}

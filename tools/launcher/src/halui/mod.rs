@@ -94,9 +94,14 @@ pins:
     .. 8 W); axis.selected.plus/minus/increment-plus/increment-minus in,
     axis.selected.increment float in
   feed-override, rapid-override, max-velocity: .counts s32 in,
-    .count-enable in (TRUE at start), .direct-value in, .scale float in,
-    .increase/.decrease in, .value float out; feed and rapid .reset in;
-    max-velocity in machine units per second
+    .count-enable in (TRUE at start), .direct-value in, .scale float in
+    (0.1 at start, 0 for max-velocity), .increase/.decrease in, .value
+    float out; feed and rapid .reset in; max-velocity in machine units
+    per second
+  spindle.N.override.*: the same (scale 0.1 at start) with .reset in;
+    spindle.N.start/stop/forward/reverse/increase/decrease/brake-on/
+    brake-off in, spindle.N.is-on/runs-forward/runs-backward/brake-is-on
+    out
   tool.number u32 out, tool.diameter float out,
     tool.length_offset.x .. .w float out
   mdi-command-NN in: runs the NN-th [HALUI]MDI_COMMAND in MDI mode, then

@@ -196,7 +196,7 @@ impl HaluiPins {
                 which,
                 count_enable: comp.pin_init(&p(&format!("{pre}.count-enable")), true)?,
                 counts: comp.pin(&p(&format!("{pre}.counts")))?,
-                scale: comp.pin(&p(&format!("{pre}.scale")))?,
+                scale: comp.pin_init(&p(&format!("{pre}.scale")), which.default_scale())?,
                 direct_value: comp.pin(&p(&format!("{pre}.direct-value")))?,
                 value: comp.pin(&p(&format!("{pre}.value")))?,
             });
