@@ -372,17 +372,29 @@ fn halui_mdi_commands_show_running_and_come_back_from_a_refusal() {
     );
 }
 
-/// No `[HALUI]MDI_COMMAND`: no `halui-mdi-is-running`, as in LinuxCNC.
+/// As in LinuxCNC: no `[HALUI]MDI_COMMAND`, no `halui-mdi-is-running`;
+/// no `[JOINT_n]HOME_SEQUENCE`, no `home-all`.
 #[test]
-fn halui_has_no_mdi_running_pin_without_mdi_commands() {
+fn halui_has_no_mdi_running_or_home_all_pin_without_their_settings() {
     let s = Scratch::new("halui-no-mdi");
     // The simulated mill has [HAL]HALUI = halui and no [HALUI] section.
     let ini = mill_copy(&s);
+    let text = std::fs::read_to_string(&ini).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with("HOME_SEQUENCE"))
+        .collect();
+    assert!(
+        kept.len() < text.lines().count(),
+        "the mill has home sequences"
+    );
+    std::fs::write(&ini, kept.join("\n")).unwrap();
     let m = Machine::start(&ini, "halui-no-mdi");
     assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
     let pins = m.halcmd(&["show", "pin", "halui"]);
     assert!(pins.contains("halui.machine.on"), "{pins}");
     assert!(!pins.contains("mdi-is-running"), "{pins}");
+    assert!(!pins.contains("halui.home-all"), "{pins}");
     m.stop();
 }
 

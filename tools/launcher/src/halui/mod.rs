@@ -75,7 +75,8 @@ pins:
   program.optional-stop.on/off in, program.optional-stop.is-on out
   program.block-delete.on/off in, program.block-delete.is-on out
   mist, flood, lube: .on/.off in, .is-on out
-  home-all in; joint.N.home/unhome in
+  home-all in (when some [JOINT_n]HOME_SEQUENCE is set); joint.N.home/
+    unhome in
   joint.N.is-homed, has-fault, on-hard-min-limit, on-hard-max-limit,
     on-soft-min-limit, on-soft-max-limit, override-limits out
   joint.N.plus/minus in: jog at joint.jog-speed (units per minute)
@@ -168,6 +169,8 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         mdi_commands: mdi.len(),
         units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
         spindles: spindle::count(&ini)?,
+        home_all: (0..crate::config::joint_count(&ini)?)
+            .any(|j| ini.get(&format!("JOINT_{j}"), "HOME_SEQUENCE").is_some()),
     };
     let signals = ExitSignals::install()?;
     let instance = hal_core::instance_from_env();

@@ -96,6 +96,8 @@ pub struct Layout<'a> {
     pub units_per_mm: f64,
     /// `[TRAJ]SPINDLES`.
     pub spindles: usize,
+    /// Some `[JOINT_n]HOME_SEQUENCE` is set (`halui.home-all` exists).
+    pub home_all: bool,
 }
 
 /// The buttons of a machine's halui, each with what its edges ask for.
@@ -125,9 +127,12 @@ fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<B
         ("flood.off", Action::Flood(false)),
         ("lube.on", Action::Lube(true)),
         ("lube.off", Action::Lube(false)),
-        ("home-all", Action::HomeAll),
     ] {
         button(name, action, None)?;
+    }
+    // As in LinuxCNC: only a machine with a home sequence homes all.
+    if layout.home_all {
+        button("home-all", Action::HomeAll, None)?;
     }
     for o in [Override::Feed, Override::Rapid, Override::MaxVelocity] {
         let pre = o.prefix();
