@@ -1,7 +1,9 @@
 //! halui on the simulated mill (`[HAL]HALUI = halui`): its buttons drive
 //! task as a panel's would (e-stop reset, machine on, homing, an
 //! `[HALUI]MDI_COMMAND`, a program started, paused, resumed and stopped,
-//! coolant, jogging, the feed override), and its status pins follow.
+//! coolant, jogging, the feed override), and its status pins follow. A
+//! held `selected` jog moves to a newly selected joint, and a held jog
+//! follows a changed jog speed, as in LinuxCNC.
 
 // Test code: a failed unwrap is a failed test, with its message.
 #![cfg_attr(test, allow(clippy::unwrap_used))]
@@ -13,9 +15,17 @@ use std::time::{Duration, Instant};
 
 /// configs/sim/mill, copied, with two MDI commands for halui.
 fn mill_with_mdi(s: &Scratch) -> std::path::PathBuf {
+    mill_with_commands(s, &["G0 X3 Y2", "G0 X0 Y0"])
+}
+
+/// configs/sim/mill, copied, with these `[HALUI]MDI_COMMAND`s.
+fn mill_with_commands(s: &Scratch, commands: &[&str]) -> std::path::PathBuf {
     let ini = mill_copy(s);
     let mut text = std::fs::read_to_string(&ini).unwrap();
-    text.push_str("\n[HALUI]\nMDI_COMMAND = G0 X3 Y2\nMDI_COMMAND = G0 X0 Y0\n");
+    text.push_str("\n[HALUI]\n");
+    for c in commands {
+        text.push_str(&format!("MDI_COMMAND = {c}\n"));
+    }
     std::fs::write(&ini, text).unwrap();
     ini
 }
@@ -33,6 +43,14 @@ fn press(m: &Machine, pin: &str, until: impl Fn() -> bool) {
         std::thread::sleep(Duration::from_millis(20));
     }
     m.halcmd(&["setp", pin, "FALSE"]);
+}
+
+/// A button held for several of halui's 20 ms cycles, then released.
+fn pulse(m: &Machine, pin: &str) {
+    m.halcmd(&["setp", pin, "TRUE"]);
+    std::thread::sleep(Duration::from_millis(150));
+    m.halcmd(&["setp", pin, "FALSE"]);
+    std::thread::sleep(Duration::from_millis(150));
 }
 
 fn pos(m: &Machine, joint: usize) -> f64 {
@@ -118,7 +136,7 @@ fn halui_buttons_run_the_mill() {
 }
 
 /// Waits (up to 30 s) until `until` holds.
-fn wait_for(m: &Machine, what: &str, until: impl Fn() -> bool) {
+fn wait_for(m: &Machine, what: &str, mut until: impl FnMut() -> bool) {
     let end = Instant::now() + Duration::from_secs(30);
     while !until() {
         assert!(
@@ -256,6 +274,189 @@ fn halui_selection_jog_modes_analog_switches_and_tool_pins() {
     press(&m, "halui.program.optional-stop.off", || {
         !is("halui.program.optional-stop.is-on")
     });
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}
+
+/// A held `halui.joint.selected.minus` goes with the selection: the joint
+/// selected before stops and the new one jogs (LinuxCNC's tests/halui/
+/// jogging); a held plus/minus jog restarts at a changed jog speed.
+#[test]
+fn halui_held_jogs_follow_the_selection_and_the_jog_speed() {
+    let s = Scratch::new("halui-handover");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-handover");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    let vel = |j: usize| float(&m, &format!("joint.{j}.vel-cmd"));
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    press(&m, "halui.estop.reset", || !is("halui.estop.is-activated"));
+    press(&m, "halui.machine.on", || is("halui.machine.is-on"));
+    // Units per minute: 60 is one unit a second.
+    m.halcmd(&["setp", "halui.joint.jog-speed", "60"]);
+    assert!(is("halui.joint.0.is-selected"));
+    m.halcmd(&["setp", "halui.joint.selected.minus", "TRUE"]);
+    wait_for(&m, "joint 0 jogs", || (vel(0) + 1.0).abs() < 1e-6);
+    press(&m, "halui.joint.1.select", || {
+        is("halui.joint.1.is-selected")
+    });
+    wait_for(&m, "joint 1 takes the jog over", || {
+        (vel(1) + 1.0).abs() < 1e-6 && vel(0) == 0.0
+    });
+    assert_eq!(vel(2), 0.0, "joint 2 was not selected");
+    m.halcmd(&["setp", "halui.joint.selected.minus", "FALSE"]);
+    wait_for(&m, "joint 1 stops", || vel(1) == 0.0);
+
+    m.halcmd(&["setp", "halui.joint.2.plus", "TRUE"]);
+    wait_for(&m, "joint 2 jogs at 1/s", || (vel(2) - 1.0).abs() < 1e-6);
+    m.halcmd(&["setp", "halui.joint.jog-speed", "120"]);
+    wait_for(&m, "joint 2 jogs at 2/s", || (vel(2) - 2.0).abs() < 1e-6);
+    m.halcmd(&["setp", "halui.joint.2.plus", "FALSE"]);
+    wait_for(&m, "joint 2 stops", || vel(2) == 0.0);
+    assert_eq!(vel(0), 0.0, "joint 0 stayed stopped");
+    let err = m.stop();
+    assert!(!err.contains("halui:"), "halui reported nothing: {err}");
+}
+
+/// `halui.halui-mdi-is-running` (LinuxCNC's, made when MDI commands are
+/// configured) is TRUE from the press until the line and any queued
+/// behind it ran and the mode is back; a line task refuses puts the mode
+/// back at once; a mode button for the mode task is in sends nothing.
+#[test]
+fn halui_mdi_commands_show_running_and_come_back_from_a_refusal() {
+    let s = Scratch::new("halui-mdi-run");
+    let ini = mill_with_commands(&s, &["G0 X0 Y0", "G1 X4 F120", "G1 X0 F120"]);
+    let m = Machine::start(&ini, "halui-mdi-run");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    let pins = m.halcmd(&["show", "pin", "halui.halui-mdi-is-running"]);
+    assert!(pins.contains("bit   OUT"), "{pins}");
+    m.on_and_homed();
+    m.task_ok(&["mode", "manual"]);
+    wait_for(&m, "manual", || is("halui.mode.is-manual"));
+    assert!(!is("halui.halui-mdi-is-running"));
+
+    // Two seconds out, queued two seconds back: one run, then MANUAL.
+    press(&m, "halui.mdi-command-01", || {
+        is("halui.halui-mdi-is-running")
+    });
+    wait_for(&m, "MDI", || is("halui.mode.is-mdi"));
+    wait_for(&m, "under way", || pos(&m, 0) > 0.5);
+    pulse(&m, "halui.mdi-command-02");
+    // Already in MDI: no request (task would refuse a mode change now).
+    pulse(&m, "halui.mode.mdi");
+    let mut furthest = 0.0f64;
+    wait_for(&m, "back in MANUAL", || {
+        furthest = furthest.max(pos(&m, 0));
+        is("halui.mode.is-manual")
+    });
+    assert!(
+        furthest > 3.99 && pos(&m, 0).abs() < 1e-6,
+        "furthest {furthest}, X {}\n{}",
+        pos(&m, 0),
+        m.stderr()
+    );
+    assert!(!is("halui.halui-mdi-is-running"));
+
+    // In e-stop task takes MDI mode but refuses the line: back to MANUAL.
+    m.task_ok(&["estop"]);
+    pulse(&m, "halui.mdi-command-01");
+    wait_for(&m, "the refusal", || {
+        m.stderr().contains("halui: mdi G1 X4 F120:")
+    });
+    wait_for(&m, "MANUAL again", || is("halui.mode.is-manual"));
+    assert!(!is("halui.halui-mdi-is-running"));
+    assert_eq!(m.task_ok(&["status"]).lines().nth(1), Some("mode: MANUAL"));
+    let err = m.stop();
+    assert!(
+        !err.contains("halui: mode"),
+        "no mode request refused: {err}"
+    );
+}
+
+/// As in LinuxCNC: no `[HALUI]MDI_COMMAND`, no `halui-mdi-is-running`;
+/// no `[JOINT_n]HOME_SEQUENCE`, no `home-all`.
+#[test]
+fn halui_has_no_mdi_running_or_home_all_pin_without_their_settings() {
+    let s = Scratch::new("halui-no-mdi");
+    // The simulated mill has [HAL]HALUI = halui and no [HALUI] section.
+    let ini = mill_copy(&s);
+    let text = std::fs::read_to_string(&ini).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with("HOME_SEQUENCE"))
+        .collect();
+    assert!(
+        kept.len() < text.lines().count(),
+        "the mill has home sequences"
+    );
+    std::fs::write(&ini, kept.join("\n")).unwrap();
+    let m = Machine::start(&ini, "halui-no-mdi");
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    let pins = m.halcmd(&["show", "pin", "halui"]);
+    assert!(pins.contains("halui.machine.on"), "{pins}");
+    assert!(!pins.contains("mdi-is-running"), "{pins}");
+    assert!(!pins.contains("halui.home-all"), "{pins}");
+    m.stop();
+}
+
+/// A tripped hard limit overridden: task reports one flag for every
+/// joint (`stat`'s `joint.N.override_limits`, halui's
+/// `joint.N.override-limits`), as LinuxCNC's does, until a jog ends.
+#[test]
+fn an_overridden_limit_shows_on_every_joint() {
+    let s = Scratch::new("halui-override");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-override");
+    let is = |pin: &str| m.getp(pin) == "TRUE";
+    m.on_and_homed();
+    m.task_ok(&["mode", "manual"]);
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "TRUE"]);
+    wait_for(&m, "the limit", || is("halui.joint.0.on-hard-max-limit"));
+    assert!(!is("halui.joint.1.override-limits"));
+    m.task_ok(&["override-limits"]);
+    wait_for(&m, "the override", || {
+        (0..3).all(|j| is(&format!("halui.joint.{j}.override-limits")))
+    });
+    assert!(is("halui.joint.selected.override-limits"));
+    let stat = m.task_ok(&["stat"]);
+    for j in 0..3 {
+        let line = format!("joint.{j}.override_limits=i:1");
+        assert!(stat.lines().any(|l| l == line), "{line}:\n{stat}");
+    }
+    // The trip turned the machine off; the override stays.
+    m.halcmd(&["setp", "joint.0.pos-lim-sw-in", "FALSE"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["teleop", "off"]);
+    assert!(is("halui.joint.2.override-limits"));
+    m.task_ok(&["jog-incr", "0", "10", "-0.5"]);
+    wait_for(&m, "the override ends with the jog", || {
+        !is("halui.joint.2.override-limits")
+    });
+    m.stop();
+}
+
+/// The override scales start as LinuxCNC's halui has them (0.1 for feed,
+/// rapid and spindle, 0 for max-velocity), so counts and increase act at
+/// once; `spindle.N.override.reset` puts the spindle override back to 1.
+#[test]
+fn override_scales_start_at_a_tenth_and_the_spindle_override_resets() {
+    let s = Scratch::new("halui-scales");
+    let ini = mill_with_mdi(&s);
+    let m = Machine::start(&ini, "halui-scales");
+    m.on_and_homed();
+    for (pin, want) in [
+        ("halui.feed-override.scale", "0.1"),
+        ("halui.rapid-override.scale", "0.1"),
+        ("halui.spindle.0.override.scale", "0.1"),
+        ("halui.max-velocity.scale", "0"),
+    ] {
+        assert_eq!(m.getp(pin), want, "{pin}");
+    }
+    m.halcmd(&["setp", "halui.feed-override.counts", "-2"]);
+    assert_eq!(m.wait_getp("halui.feed-override.value", "0.8"), "0.8");
+    pulse(&m, "halui.spindle.0.override.decrease");
+    assert_eq!(m.wait_getp("halui.spindle.0.override.value", "0.9"), "0.9");
+    pulse(&m, "halui.spindle.0.override.reset");
+    assert_eq!(m.wait_getp("halui.spindle.0.override.value", "1"), "1");
     let err = m.stop();
     assert!(!err.contains("halui:"), "halui reported nothing: {err}");
 }

@@ -582,3 +582,31 @@ fn startup_code_sets_the_modes_at_start_and_after_an_interpreter_reset() {
     assert_eq!(pos(&m, 0), 0.0);
     m.stop();
 }
+
+/// As in LinuxCNC, task changes mode with the machine off or in e-stop:
+/// motion keeps the mode and enters it when the machine comes on, where
+/// an MDI line then runs.
+#[test]
+fn the_mode_changes_with_the_machine_off_or_in_estop() {
+    let s = Scratch::new("task-mode-off");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "task-mode-off");
+    m.on_and_homed();
+    m.task_ok(&["machine-off"]);
+    assert_eq!(m.task_ok(&["mode", "mdi"]).trim(), "mode MDI");
+    assert_eq!(m.task_ok(&["mode", "manual"]).trim(), "mode MANUAL");
+    m.task_ok(&["estop"]);
+    assert_eq!(m.task_ok(&["mode", "auto"]).trim(), "mode AUTO");
+    assert_eq!(m.task_ok(&["mode", "mdi"]).trim(), "mode MDI");
+    let status = m.task_ok(&["status"]);
+    assert!(status.contains("mode: MDI"), "{status}");
+    // The line itself still needs the machine on.
+    let (ok, _, err) = m.task(&["mdi", "G0", "X1"]);
+    assert!(!ok, "an MDI line ran in e-stop: {err}");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["mdi", "G0", "X1"]);
+    m.task_ok(&["-t", "60", "wait-done"]);
+    assert!((pos(&m, 0) - 1.0).abs() < 1e-6, "X {}", pos(&m, 0));
+    m.stop();
+}

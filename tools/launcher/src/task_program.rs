@@ -176,7 +176,9 @@ impl Task {
     }
 
     /// Changes mode: refused while something runs; AUTO and MDI put
-    /// motion in coordinated mode and answer once it shows it.
+    /// motion in coordinated mode and answer once it shows it. As in
+    /// LinuxCNC, the machine need not be on: motion, disabled, keeps the
+    /// mode and enters it when the machine comes on.
     fn switch_mode(&mut self, mode: Mode, id: ConnId) -> Option<Answer> {
         if self.program.as_ref().is_some_and(|p| !p.settled()) {
             return Some(Err(refused(format!(
@@ -192,11 +194,6 @@ impl Task {
         let cmd = if mode == Mode::Manual {
             crate::motion_setup::manual_mode(Some(&status))
         } else {
-            if self.state != MachineState::On {
-                return Some(Err(LaunchError::NotOn {
-                    state: self.state.name(),
-                }));
-            }
             if !status.all_homed && !self.no_force_homing {
                 return Some(Err(refused(format!(
                     "{} mode needs the machine homed ([TRAJ]NO_FORCE_HOMING is not set)",
@@ -233,7 +230,8 @@ impl Task {
         let status = self.motion.as_ref()?.status()?;
         let reached = match mode {
             Mode::Manual => status.mode != "COORD",
-            Mode::Auto | Mode::Mdi => status.mode == "COORD",
+            // Disabled (e-stop or off): motion enters COORD once enabled.
+            Mode::Auto | Mode::Mdi => matches!(status.mode, "COORD" | "DISABLED"),
         };
         if reached {
             self.mode = mode;

@@ -507,6 +507,12 @@ impl Task {
             }
             let joints = m.joints.iter().filter(|j| j.active).count();
             push_records(&mut out, "joint", &m.joints[..joints], JOINT_FIELDS);
+            // One flag for every joint, as LinuxCNC's task reports it: any
+            // overridden limit.
+            let overridden = bit(m.override_mask != 0);
+            for i in 0..joints {
+                push(&mut out, &format!("joint.{i}.override_limits"), &overridden);
+            }
             push_records(&mut out, "axis", &m.axes, AXIS_FIELDS);
             push_records(&mut out, "spindle", &m.spindles, SPINDLE_FIELDS);
         }

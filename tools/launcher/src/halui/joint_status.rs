@@ -60,12 +60,11 @@ impl JointStatusPins {
     }
 }
 
-/// Whether joint `n`'s hard limits are overridden, from motion's mask.
-pub fn limits_overridden(mask: u64, n: usize) -> bool {
-    u32::try_from(n)
-        .ok()
-        .and_then(|n| 1u64.checked_shl(n))
-        .is_some_and(|bit| mask & bit != 0)
+/// Whether the joints' `override-limits` show, from motion's mask (two
+/// bits a joint): as in LinuxCNC, task reports one flag for all joints,
+/// set while any tripped limit is overridden.
+pub fn limits_overridden(mask: u64) -> bool {
+    mask != 0
 }
 
 #[cfg(test)]
@@ -89,7 +88,8 @@ mod tests {
         assert_eq!(beyond_soft_limits(&j), (true, false));
         j.homed = false;
         assert_eq!(beyond_soft_limits(&j), (false, false), "not homed");
-        assert!(limits_overridden(0b100, 2) && !limits_overridden(0b100, 1));
-        assert!(!limits_overridden(u64::MAX, 64));
+        // Joint 1's upper limit overridden: every joint shows it.
+        assert!(limits_overridden(0b1000));
+        assert!(!limits_overridden(0));
     }
 }

@@ -104,6 +104,15 @@ impl Override {
         }
     }
 
+    /// `scale` at start, as LinuxCNC's halui has it: 0.1 for the feed
+    /// and rapid overrides, 0 for the maximum velocity.
+    pub fn default_scale(self) -> f64 {
+        match self {
+            Override::Feed | Override::Rapid => 0.1,
+            Override::MaxVelocity => 0.0,
+        }
+    }
+
     /// The task request that sets it.
     pub fn request(self) -> &'static str {
         self.prefix()

@@ -32,6 +32,7 @@ use crate::task_socket::{request, TaskAnswer, TaskClientError};
 use analog::AnalogJogs;
 use logic::{Action, Edges, Override, OverrideCounter, TaskState};
 use pins::{HaluiPins, Layout, Status};
+use selection::OnSelected;
 
 pub use logic::fuzz_state;
 
@@ -39,6 +40,8 @@ pub use logic::fuzz_state;
 const CYCLE: Duration = Duration::from_millis(20);
 /// How long a request may take (a mode change waits up to 5 s for motion).
 const REQUEST_WAIT: Duration = Duration::from_secs(10);
+/// A jog speed change smaller than this is no change.
+const SPEED_CHANGE: f64 = 1e-5;
 
 /// `halui`'s usage text.
 pub const USAGE: &str = "\
@@ -72,7 +75,8 @@ pins:
   program.optional-stop.on/off in, program.optional-stop.is-on out
   program.block-delete.on/off in, program.block-delete.is-on out
   mist, flood, lube: .on/.off in, .is-on out
-  home-all in; joint.N.home/unhome in
+  home-all in (when some [JOINT_n]HOME_SEQUENCE is set); joint.N.home/
+    unhome in
   joint.N.is-homed, has-fault, on-hard-min-limit, on-hard-max-limit,
     on-soft-min-limit, on-soft-max-limit, override-limits out
   joint.N.plus/minus in: jog at joint.jog-speed (units per minute)
@@ -91,13 +95,21 @@ pins:
     .. 8 W); axis.selected.plus/minus/increment-plus/increment-minus in,
     axis.selected.increment float in
   feed-override, rapid-override, max-velocity: .counts s32 in,
-    .count-enable in (TRUE at start), .direct-value in, .scale float in,
-    .increase/.decrease in, .value float out; feed and rapid .reset in;
-    max-velocity in machine units per second
+    .count-enable in (TRUE at start), .direct-value in, .scale float in
+    (0.1 at start, 0 for max-velocity), .increase/.decrease in, .value
+    float out; feed and rapid .reset in; max-velocity in machine units
+    per second
+  spindle.N.override.*: the same (scale 0.1 at start) with .reset in;
+    spindle.N.start/stop/forward/reverse/increase/decrease/brake-on/
+    brake-off in, spindle.N.is-on/runs-forward/runs-backward/brake-is-on
+    out
   tool.number u32 out, tool.diameter float out,
     tool.length_offset.x .. .w float out
   mdi-command-NN in: runs the NN-th [HALUI]MDI_COMMAND in MDI mode, then
-    returns to the mode before";
+    returns to the mode before; halui-mdi-is-running out: TRUE until it
+    (and any line queued behind it) ran
+  a held joint.selected.plus/minus (axis.selected.*) moves to a newly
+  selected joint (axis); held jogs follow a changed jog-speed";
 
 /// Runs halui with its command line (without the suite's common options,
 /// which the binary takes first); returns the exit status.
@@ -157,6 +169,8 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         mdi_commands: mdi.len(),
         units_per_mm: crate::program::ProgramConfig::from_ini(&ini).user_per_mm,
         spindles: spindle::count(&ini)?,
+        home_all: (0..crate::config::joint_count(&ini)?)
+            .any(|j| ini.get(&format!("JOINT_{j}"), "HOME_SEQUENCE").is_some()),
     };
     let signals = ExitSignals::install()?;
     let instance = hal_core::instance_from_env();
@@ -170,9 +184,11 @@ fn run(args: &[String]) -> Result<(), LaunchError> {
         analog: AnalogJogs::default(),
         counters: [OverrideCounter::default(); 3],
         mdi_return: None,
+        mdi_running: false,
         motion: None,
         said_waiting: false,
         spindle: spindle::SpindleHalui::default(),
+        jog_speeds: None,
     };
     while !signals.requested() && inst.host_alive() {
         halui.cycle(&inst);
@@ -220,11 +236,16 @@ struct Halui {
     counters: [OverrideCounter; 3],
     /// The mode to go back to once an `mdi-command-NN` line has run.
     mdi_return: Option<Mode>,
+    /// An `mdi-command-NN` line task took has not finished
+    /// (`halui.halui-mdi-is-running`).
+    mdi_running: bool,
     motion: Option<motion::MotionClient>,
     /// Task's absence was reported.
     said_waiting: bool,
     /// The spindle pins' edges and override counters.
     spindle: spindle::SpindleHalui,
+    /// `joint.jog-speed` and `axis.jog-speed` as last seen.
+    jog_speeds: Option<[f64; 2]>,
 }
 
 fn counter_index(which: Override) -> usize {
@@ -255,11 +276,12 @@ impl Halui {
             |words| ask(instance, words),
         );
         let Some(state) = state else { return };
-        // Back to the mode an MDI command left, once its line ran (checked
-        // before this cycle's presses: `state` is from before them).
-        if let Some(mode) = self.mdi_return {
-            if state.program == "IDLE" {
-                self.mdi_return = None;
+        // Back to the mode an MDI command left, once its line (and any
+        // queued after it) ran (checked before this cycle's presses:
+        // `state` is from before them).
+        if self.mdi_running && state.program == "IDLE" {
+            self.mdi_running = false;
+            if let Some(mode) = self.mdi_return.take() {
                 if state.task_mode() != Some(mode) {
                     self.ask(&["mode", &mode.name().to_ascii_lowercase()]);
                 }
@@ -270,6 +292,7 @@ impl Halui {
                 self.perform(action, &state);
             }
         }
+        self.follow_jog_speed(&state);
         let readings = self.pins.analog.readings(|what| self.pins.jog_speed(what));
         for action in self.analog.actions(&readings) {
             self.perform(action, &state);
@@ -280,6 +303,7 @@ impl Halui {
                 self.ask(&[which.request(), &v.to_string()]);
             }
         }
+        self.pins.set_mdi_running(self.mdi_running);
     }
 
     /// Task's state, or `None` while no task answers.
@@ -326,31 +350,98 @@ impl Halui {
 
     /// The selection buttons act on halui itself; a `selected` button
     /// and an increment jog become the jog (or home) they ask for now.
-    /// `None` when nothing is left to ask task for.
-    fn resolve_selection(&mut self, action: Action) -> Option<Action> {
+    /// Empty when nothing is left to ask task for.
+    fn resolve_selection(&mut self, action: Action) -> Vec<Action> {
         match action {
             Action::SelectJoint(j) => {
+                let before = self.pins.selection.joint();
                 self.pins.selection.select_joint(j);
-                None
+                self.hand_over(Action::SelectedJoint, Jogged::Joint, before, j)
             }
             Action::SelectAxis(a) => {
+                let before = self.pins.selection.axis();
                 self.pins.selection.select_axis(a);
-                None
+                self.hand_over(Action::SelectedAxis, Jogged::Axis, before, a)
             }
             Action::SelectedJoint(_) | Action::SelectedAxis(_) => {
-                self.pins.selection.resolve(action)
+                self.pins.selection.resolve(action).into_iter().collect()
             }
             Action::JogIncrement(what, dir) => {
-                Some(Action::JogBy(what, dir * self.pins.increment(what)))
+                vec![Action::JogBy(what, dir * self.pins.increment(what))]
             }
-            other => Some(other),
+            other => vec![other],
+        }
+    }
+
+    /// A new selection while a `selected` jog button is held moves the
+    /// jog over, as LinuxCNC's halui does: the joint (axis) selected
+    /// before stops, unless its own plus/minus button holds it, and the
+    /// new one jogs in the held direction (plus before minus).
+    fn hand_over(
+        &self,
+        selected: fn(OnSelected) -> Action,
+        jogged: fn(i32) -> Jogged,
+        before: usize,
+        now: usize,
+    ) -> Vec<Action> {
+        let held = |dir: f64| self.pins.held(selected(OnSelected::JogStart(dir)));
+        let dir = if held(1.0) {
+            1.0
+        } else if held(-1.0) {
+            -1.0
+        } else {
+            return Vec::new();
+        };
+        let (Ok(before), Ok(now)) = (i32::try_from(before), i32::try_from(now)) else {
+            return Vec::new();
+        };
+        if before == now {
+            return Vec::new();
+        }
+        let old = jogged(before);
+        let own = [1.0, -1.0]
+            .iter()
+            .any(|&d| self.pins.held(Action::JogStart(old, d)));
+        let mut out = Vec::new();
+        if !own {
+            out.push(Action::JogStop(old));
+        }
+        out.push(Action::JogStart(jogged(now), dir));
+        out
+    }
+
+    /// A changed `joint.jog-speed` (`axis.jog-speed`) restarts the jogs
+    /// its held plus/minus buttons make at the new speed, as LinuxCNC's
+    /// halui does. The first cycle only notes the speeds.
+    fn follow_jog_speed(&mut self, state: &TaskState) {
+        let now = [
+            self.pins.jog_speed(Jogged::Joint(0)),
+            self.pins.jog_speed(Jogged::Axis(0)),
+        ];
+        let Some(before) = self.jog_speeds.replace(now) else {
+            return;
+        };
+        let changed = |what: Jogged| match what {
+            Jogged::Joint(_) => (now[0] - before[0]).abs() > SPEED_CHANGE,
+            Jogged::Axis(_) => (now[1] - before[1]).abs() > SPEED_CHANGE,
+        };
+        for action in self.pins.held_jogs() {
+            if let Action::JogStart(what, _) = action {
+                if changed(what) {
+                    self.request(action, state);
+                }
+            }
         }
     }
 
     fn perform(&mut self, action: Action, state: &TaskState) {
-        let Some(action) = self.resolve_selection(action) else {
-            return;
-        };
+        for action in self.resolve_selection(action) {
+            self.request(action, state);
+        }
+    }
+
+    /// Asks task for what one resolved action means.
+    fn request(&mut self, action: Action, state: &TaskState) {
         let on_off = |on: bool| if on { "on" } else { "off" };
         // Jog speeds are in machine units per minute, as LinuxCNC's.
         let jog_vel = |what: Jogged| self.pins.jog_speed(what) / 60.0;
@@ -365,7 +456,8 @@ impl Halui {
             Action::MachineOff => self.ask(&["machine-off"]),
             Action::EstopActivate => self.ask(&["estop"]),
             Action::EstopReset => self.ask(&["estop-reset"]),
-            Action::Mode(m) => self.ask(&["mode", &m.name().to_ascii_lowercase()]),
+            // As LinuxCNC's halui: nothing is sent for the mode task is in.
+            Action::Mode(m) => self.ensure_mode(state, m),
             Action::Run => self.ensure_mode(state, Mode::Auto) && self.ask(&["run"]),
             Action::Pause => self.ask(&["pause"]),
             Action::Resume => self.ask(&["resume"]),
@@ -412,8 +504,16 @@ impl Halui {
         };
     }
 
+    /// Back to `before` at once, when task refused the line after the
+    /// switch to MDI.
+    fn mdi_return_now(&self, before: Option<Mode>) {
+        if let Some(mode) = before.filter(|m| *m != Mode::Mdi) {
+            self.ask(&["mode", &mode.name().to_ascii_lowercase()]);
+        }
+    }
+
     /// `mdi-command-NN`: MDI mode (remembering the mode to go back to),
-    /// the line, and back once it ran.
+    /// the line, and back once it ran (or at once when task refuses it).
     fn mdi_command(&mut self, n: usize, state: &TaskState) -> bool {
         let Some(line) = self.mdi.get(n).cloned() else {
             return false;
@@ -423,8 +523,14 @@ impl Halui {
             return false;
         }
         let done = self.ask(&["mdi", &line]);
-        if done && before != Some(Mode::Mdi) {
-            self.mdi_return = before;
+        if done {
+            // A line queued behind a running one keeps the first's mode.
+            if !self.mdi_running && before != Some(Mode::Mdi) {
+                self.mdi_return = before;
+            }
+            self.mdi_running = true;
+        } else if !self.mdi_running {
+            self.mdi_return_now(before);
         }
         done
     }

@@ -72,6 +72,9 @@ pub struct HaluiPins {
     flood_is_on: Pin<bool, Out>,
     lube_is_on: Pin<bool, Out>,
     tool_number: Pin<u32, Out>,
+    /// `halui.halui-mdi-is-running`, made when MDI commands are
+    /// configured.
+    mdi_is_running: Option<Pin<bool, Out>>,
     /// The selected joint and axis.
     pub selection: SelectionPins,
     /// Analog jogging.
@@ -93,6 +96,8 @@ pub struct Layout<'a> {
     pub units_per_mm: f64,
     /// `[TRAJ]SPINDLES`.
     pub spindles: usize,
+    /// Some `[JOINT_n]HOME_SEQUENCE` is set (`halui.home-all` exists).
+    pub home_all: bool,
 }
 
 /// The buttons of a machine's halui, each with what its edges ask for.
@@ -122,9 +127,12 @@ fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<B
         ("flood.off", Action::Flood(false)),
         ("lube.on", Action::Lube(true)),
         ("lube.off", Action::Lube(false)),
-        ("home-all", Action::HomeAll),
     ] {
         button(name, action, None)?;
+    }
+    // As in LinuxCNC: only a machine with a home sequence homes all.
+    if layout.home_all {
+        button("home-all", Action::HomeAll, None)?;
     }
     for o in [Override::Feed, Override::Rapid, Override::MaxVelocity] {
         let pre = o.prefix();
@@ -193,7 +201,7 @@ impl HaluiPins {
                 which,
                 count_enable: comp.pin_init(&p(&format!("{pre}.count-enable")), true)?,
                 counts: comp.pin(&p(&format!("{pre}.counts")))?,
-                scale: comp.pin(&p(&format!("{pre}.scale")))?,
+                scale: comp.pin_init(&p(&format!("{pre}.scale")), which.default_scale())?,
                 direct_value: comp.pin(&p(&format!("{pre}.direct-value")))?,
                 value: comp.pin(&p(&format!("{pre}.value")))?,
             });
@@ -241,6 +249,11 @@ impl HaluiPins {
             flood_is_on: comp.pin(&p("flood.is-on"))?,
             lube_is_on: comp.pin(&p("lube.is-on"))?,
             tool_number: comp.pin(&p("tool.number"))?,
+            mdi_is_running: if layout.mdi_commands > 0 {
+                Some(comp.pin(&p("halui-mdi-is-running"))?)
+            } else {
+                None
+            },
             selection: SelectionPins::create(&comp, layout)?,
             analog: AnalogPins::create(&comp, layout)?,
             panel: PanelPins::create(&comp, layout)?,
@@ -268,6 +281,27 @@ impl HaluiPins {
         } else {
             b.fall
         }
+    }
+
+    /// Shows whether an `mdi-command-NN` of halui's runs.
+    pub fn set_mdi_running(&self, running: bool) {
+        if let Some(pin) = &self.mdi_is_running {
+            pin.set(running);
+        }
+    }
+
+    /// Whether a button whose rising edge asks for `rise` is held now.
+    pub fn held(&self, rise: Action) -> bool {
+        self.buttons.iter().any(|b| b.rise == rise && b.pin.get())
+    }
+
+    /// The jogs (`JogStart`) of the plus/minus buttons held now.
+    pub fn held_jogs(&self) -> Vec<Action> {
+        self.buttons
+            .iter()
+            .filter(|b| matches!(b.rise, Action::JogStart(..)) && b.pin.get())
+            .map(|b| b.rise)
+            .collect()
     }
 
     /// `halui.joint.jog-speed` or `halui.axis.jog-speed`.
@@ -343,9 +377,9 @@ impl HaluiPins {
         if let Some(m) = status.motion {
             self.mode_is_teleop.set(m.teleop_mode);
             self.mode_is_joint.set(!m.teleop_mode && !m.coord_mode);
-            for (n, (pins, joint)) in self.joints.iter().zip(&m.joints).enumerate() {
-                pins.status
-                    .write(joint, limits_overridden(m.override_mask, n));
+            let overridden = limits_overridden(m.override_mask);
+            for (pins, joint) in self.joints.iter().zip(&m.joints) {
+                pins.status.write(joint, overridden);
             }
             for p in &self.axes {
                 if let Some(a) = m.axes.get(p.axis) {

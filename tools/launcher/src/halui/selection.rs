@@ -119,6 +119,16 @@ impl SelectionPins {
         })
     }
 
+    /// The selected joint.
+    pub fn joint(&self) -> usize {
+        self.joint
+    }
+
+    /// The selected world axis.
+    pub fn axis(&self) -> usize {
+        self.axis
+    }
+
     /// Selects joint `j`.
     pub fn select_joint(&mut self, j: usize) {
         self.joint = j;
@@ -169,7 +179,7 @@ impl SelectionPins {
         }
         if let Some(m) = motion {
             if let Some(joint) = m.joints.get(self.joint) {
-                let overridden = limits_overridden(m.override_mask, self.joint);
+                let overridden = limits_overridden(m.override_mask);
                 self.joint_status.write(joint, overridden);
             }
         }

@@ -2,8 +2,8 @@
 //! N from 0 to `[TRAJ]SPINDLES` − 1): the buttons `start`, `stop`,
 //! `forward`, `reverse`, `increase`, `decrease`, `brake-on`, `brake-off`
 //! as task's `spindle` requests; the override's `count-enable`, `counts`,
-//! `scale`, `direct-value`, `increase`, `decrease` as `spindle N
-//! override`; and the status pins `is-on`, `runs-forward`,
+//! `scale`, `direct-value`, `increase`, `decrease` and `reset` (back to
+//! one) as `spindle N override`; and the status pins `is-on`, `runs-forward`,
 //! `runs-backward`, `brake-is-on`, `override.value` from motion's
 //! snapshot.
 
@@ -40,6 +40,7 @@ pub struct SpindlePins {
     direct_value: Pin<bool, In>,
     increase: Pin<bool, In>,
     decrease: Pin<bool, In>,
+    reset: Pin<bool, In>,
     value: Pin<f64, Out>,
     is_on: Pin<bool, Out>,
     runs_forward: Pin<bool, Out>,
@@ -59,10 +60,12 @@ impl SpindlePins {
             buttons,
             count_enable: comp.pin_init(&p("override.count-enable"), true)?,
             counts: comp.pin(&p("override.counts"))?,
-            scale: comp.pin(&p("override.scale"))?,
+            // 0.1 at start, as in LinuxCNC.
+            scale: comp.pin_init(&p("override.scale"), 0.1)?,
             direct_value: comp.pin(&p("override.direct-value"))?,
             increase: comp.pin(&p("override.increase"))?,
             decrease: comp.pin(&p("override.decrease"))?,
+            reset: comp.pin(&p("override.reset"))?,
             value: comp.pin_init(&p("override.value"), 1.0)?,
             is_on: comp.pin(&p("is-on"))?,
             runs_forward: comp.pin(&p("runs-forward"))?,
@@ -72,11 +75,12 @@ impl SpindlePins {
     }
 
     /// The buttons' values: the eight of [`BUTTONS`], then the override's
-    /// increase and decrease.
+    /// increase, decrease and reset.
     fn pressed(&self) -> Vec<bool> {
         let mut v: Vec<bool> = self.buttons.iter().map(Pin::get).collect();
         v.push(self.increase.get());
         v.push(self.decrease.get());
+        v.push(self.reset.get());
         v
     }
 
@@ -145,8 +149,12 @@ impl SpindleHalui {
                         ask(&w);
                     }
                     None => {
-                        let dir = if i == BUTTONS.len() { 1.0 } else { -1.0 };
-                        let v = (current + dir * inputs.scale).max(0.0).to_string();
+                        let v = match i - BUTTONS.len() {
+                            0 => current + inputs.scale,
+                            1 => current - inputs.scale,
+                            _ => 1.0,
+                        };
+                        let v = v.max(0.0).to_string();
                         ask(&["spindle", &spindle, "override", &v]);
                     }
                 }
