@@ -11,7 +11,7 @@ use motion::Command;
 use crate::error::LaunchError;
 use crate::iocontrol::{IoEvent, IoRequest};
 use crate::program::{Ended, RunState};
-use crate::task::{MachineState, Mode, Task, TaskRequest, Waiting};
+use crate::task::{Mode, Task, TaskRequest, Waiting};
 use crate::task_socket::{ConnId, TaskServer};
 
 /// How long a mode change waits for motion to show the mode.
