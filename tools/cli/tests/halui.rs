@@ -184,7 +184,9 @@ fn halui_selection_jog_modes_analog_switches_and_tool_pins() {
     press(&m, "halui.machine.on", || is("halui.machine.is-on"));
 
     // Not homed: joint mode. The selected joint jogs by its increment.
-    assert!(is("halui.mode.is-joint") && !is("halui.mode.is-teleop"));
+    wait_for(&m, "joint mode", || {
+        is("halui.mode.is-joint") && !is("halui.mode.is-teleop")
+    });
     assert!(is("halui.joint.0.is-selected"));
     press(&m, "halui.joint.1.select", || {
         m.getp("halui.joint.selected") == "1"
@@ -349,7 +351,10 @@ fn halui_mdi_commands_show_running_and_come_back_from_a_refusal() {
         is("halui.mode.is-manual")
     });
     assert!(
-        furthest > 3.99 && pos(&m, 0).abs() < 1e-6,
+        // The first line ran on (it turns at X4; X is above 3 for half a
+        // second, which polling through halcmd sees even on a loaded
+        // machine), then the queued one brought X back.
+        furthest > 3.0 && pos(&m, 0).abs() < 1e-6,
         "furthest {furthest}, X {}\n{}",
         pos(&m, 0),
         m.stderr()
