@@ -403,6 +403,50 @@ fn halui_has_no_mdi_running_or_home_all_pin_without_their_settings() {
     m.stop();
 }
 
+/// As LinuxCNC's halui: the input pins of all nine axis letters exist on
+/// an X-Y-Z machine, so a pendant's HAL file netting `halui.axis.a.plus`
+/// loads; the status pins exist only for the machine's own axes; a press
+/// on an absent axis moves nothing.
+#[test]
+fn every_axis_letter_has_input_pins_and_only_real_axes_have_status_pins() {
+    let s = Scratch::new("halui-axis-letters");
+    let ini = mill_copy(&s);
+    let m = Machine::start(&ini, "halui-axis-letters");
+    assert_eq!(m.wait_getp("halui.estop.is-activated", "TRUE"), "TRUE");
+    let pins = m.halcmd(&["show", "pin", "halui.axis"]);
+    for letter in ["x", "a", "w"] {
+        for (name, kind) in [
+            ("select", "bit   IN"),
+            ("plus", "bit   IN"),
+            ("minus", "bit   IN"),
+            ("increment-plus", "bit   IN"),
+            ("increment-minus", "bit   IN"),
+            ("analog", "float IN"),
+            ("increment", "float IN"),
+        ] {
+            let pin = format!("halui.axis.{letter}.{name}");
+            let line = pins.lines().find(|l| l.ends_with(&pin));
+            let line = line.unwrap_or_else(|| panic!("no {pin}:\n{pins}"));
+            assert!(line.contains(kind), "{pin}: {line}");
+        }
+    }
+    assert!(pins.contains("halui.axis.z.pos-commanded"), "{pins}");
+    assert!(!pins.contains("halui.axis.a.pos-commanded"), "{pins}");
+    assert!(!pins.contains("halui.axis.a.is-selected"), "{pins}");
+    m.halcmd(&["net", "pendant-a-plus", "halui.axis.a.plus"]);
+    m.on_and_homed();
+    let before: Vec<f64> = (0..3).map(|j| pos(&m, j)).collect();
+    m.halcmd(&["sets", "pendant-a-plus", "1"]);
+    std::thread::sleep(Duration::from_millis(300));
+    m.halcmd(&["sets", "pendant-a-plus", "0"]);
+    let after: Vec<f64> = (0..3).map(|j| pos(&m, j)).collect();
+    assert_eq!(
+        before, after,
+        "a press on the absent A axis moved the machine"
+    );
+    m.stop();
+}
+
 /// A tripped hard limit overridden: task reports one flag for every
 /// joint (`stat`'s `joint.N.override_limits`, halui's
 /// `joint.N.override-limits`), as LinuxCNC's does, until a jog ends.

@@ -84,7 +84,9 @@ pins:
   joint.N.analog float in: jog at that fraction of joint.jog-speed while
     outside joint.jog-deadband (float in, 0.2 at start)
   axis.L.plus/minus/increment/increment-plus/increment-minus/analog,
-    axis.jog-speed, axis.jog-deadband: the same for world axes (teleop)
+    axis.jog-speed, axis.jog-deadband: the same for world axes (teleop);
+    these and axis.L.select exist for all nine letters x..w, as in
+    LinuxCNC, and do nothing on an axis the machine lacks
   axis.L.pos-commanded, pos-feedback float out (machine coordinates),
     axis.L.pos-relative float out (less the G5x, G92 and tool offsets)
   joint.N.select in, joint.N.is-selected out, joint.selected u32 out;

@@ -188,6 +188,34 @@ fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<B
     Ok(buttons)
 }
 
+/// The world axes' letters, X to W.
+const AXIS_LETTERS: [char; 9] = ['x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'];
+
+/// LinuxCNC's halui makes the input pins of every axis letter, X to W,
+/// whatever the machine's axes (its status pins only for the machine's
+/// own): a pendant's HAL file that nets `halui.axis.a.plus` loads on a
+/// machine without A. On such an axis the pins do nothing.
+fn absent_axis_inputs(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<()> {
+    let absent = AXIS_LETTERS
+        .iter()
+        .filter(|l| !layout.axes.iter().any(|(_, letter)| letter == *l));
+    for letter in absent {
+        for name in [
+            "select",
+            "plus",
+            "minus",
+            "increment-plus",
+            "increment-minus",
+        ] {
+            let _: Pin<bool, In> = comp.pin(&format!("halui.axis.{letter}.{name}"))?;
+        }
+        for name in ["analog", "increment"] {
+            let _: Pin<f64, In> = comp.pin(&format!("halui.axis.{letter}.{name}"))?;
+        }
+    }
+    Ok(())
+}
+
 impl HaluiPins {
     /// Creates the component `halui` and its pins, and makes it ready.
     pub fn create(inst: &Instance, layout: &Layout<'_>) -> hal_core::Result<HaluiPins> {
@@ -222,6 +250,7 @@ impl HaluiPins {
                 increment: comp.pin(&p(&format!("axis.{letter}.increment")))?,
             });
         }
+        absent_axis_inputs(&comp, layout)?;
         let mut spindles = Vec::with_capacity(layout.spindles);
         for n in 0..layout.spindles {
             spindles.push(super::spindle::SpindlePins::new(&comp, n)?);
