@@ -81,6 +81,26 @@ fn column(v: &Value, c: usize) -> Vec<f64> {
         .collect()
 }
 
+/// `got` equals `want` except at samples next to an edge of either (a
+/// value that differs from a neighbour's).
+fn assert_same_but_edge_jitter(what: &str, got: &[f64], want: &[f64]) {
+    assert_eq!(got.len(), want.len(), "{what}: lengths");
+    let at_edge = |v: &[f64], i: usize| {
+        (i > 0 && v[i - 1] != v[i]) || v.get(i + 1).is_some_and(|n| *n != v[i])
+    };
+    for i in 0..got.len() {
+        assert!(
+            got[i] == want[i] || at_edge(got, i) || at_edge(want, i),
+            "{what} differs at sample {i}:\n got  {got:?}\n want {want:?}"
+        );
+    }
+    let differing = got.iter().zip(want).filter(|(a, b)| a != b).count();
+    assert!(
+        differing <= 2,
+        "{what}: {differing} samples differ:\n got  {got:?}\n want {want:?}"
+    );
+}
+
 /// CSV lines without their first field (the sampler's sample number,
 /// which differs between two captures).
 fn without_tags(text: &str) -> Vec<String> {
@@ -132,10 +152,14 @@ fn a_capture_served_by_hal_web_equals_the_headless_capture() {
             .map(|r| hal_scope::scope::capture::numeric(want.types[c], r[c + 1]))
             .collect()
     };
-    // The square and the clock sample for sample; the sawtooth to the
-    // rounding of siggen's phase.
-    assert_eq!(column(&got, 0), want_col(0));
-    assert_eq!(column(&got, 2), want_col(2));
+    // The square and the clock sample for sample, but for an edge one
+    // sample early or late: siggen's phase step (50 Hz at 1 ms) is not
+    // exact in binary, so when the phase lands a rounding error away from
+    // a switching point, two records taken at different times may put
+    // that edge on neighbouring samples. The sawtooth to the rounding of
+    // siggen's phase.
+    assert_same_but_edge_jitter("square", &column(&got, 0), &want_col(0));
+    assert_same_but_edge_jitter("clock", &column(&got, 2), &want_col(2));
     for (a, b) in column(&got, 1).iter().zip(want_col(1)) {
         assert!((a - b).abs() < 1e-9, "{a} vs {b}");
     }
