@@ -83,39 +83,18 @@ impl Task {
             });
         }
         let table = self.io.table();
-        let slot = table
-            .slot_of(o.tool)
-            .ok_or_else(|| LaunchError::BadArgument {
-                request: "tool-offset",
-                why: format!("tool {} is not in the tool table", o.tool),
-            })?;
-        let t = table.tool(slot).ok_or_else(|| LaunchError::BadArgument {
+        let not_in_table = || LaunchError::BadArgument {
             request: "tool-offset",
             why: format!("tool {} is not in the tool table", o.tool),
-        })?;
-        let mut offset = t.offset;
-        offset[0] = o.x;
-        offset[2] = o.z;
-        let [x, y, z, a, b, c, u, v, w] = offset;
-        let entry = rs274ngc::ToolEntry {
-            toolno: t.number,
-            pocketno: t.pocket,
-            offset: rs274ngc::Pose {
-                x,
-                y,
-                z,
-                a,
-                b,
-                c,
-                u,
-                v,
-                w,
-            },
-            diameter: o.diameter,
-            frontangle: o.front_angle,
-            backangle: o.back_angle,
-            orientation: o.orientation,
         };
+        let slot = table.slot_of(o.tool).ok_or_else(not_in_table)?;
+        let mut entry = table.tool(slot).ok_or_else(not_in_table)?.entry();
+        entry.offset.x = o.x;
+        entry.offset.z = o.z;
+        entry.diameter = o.diameter;
+        entry.frontangle = o.front_angle;
+        entry.backangle = o.back_angle;
+        entry.orientation = o.orientation;
         // A non-random changer's spindle slot is a copy of the tool loaded.
         let copy = !table.random && self.io.tool_in_spindle() == o.tool;
         self.io.request(&IoRequest::SetEntry {

@@ -246,7 +246,8 @@ struct Halui {
     said_waiting: bool,
     /// The spindle pins' edges and override counters.
     spindle: spindle::SpindleHalui,
-    /// `joint.jog-speed` and `axis.jog-speed` as last seen.
+    /// `joint.jog-speed` and `axis.jog-speed` as the held jogs last
+    /// started with.
     jog_speeds: Option<[f64; 2]>,
 }
 
@@ -420,12 +421,17 @@ impl Halui {
             self.pins.jog_speed(Jogged::Joint(0)),
             self.pins.jog_speed(Jogged::Axis(0)),
         ];
-        let Some(before) = self.jog_speeds.replace(now) else {
+        let before = *self.jog_speeds.get_or_insert(now);
+        let changed = [0, 1].map(|i| (now[i] - before[i]).abs() > SPEED_CHANGE);
+        if changed == [false, false] {
+            // Kept as it was, so that a speed creeping by less than
+            // SPEED_CHANGE a cycle still counts once it has moved enough.
             return;
-        };
+        }
+        self.jog_speeds = Some(now);
         let changed = |what: Jogged| match what {
-            Jogged::Joint(_) => (now[0] - before[0]).abs() > SPEED_CHANGE,
-            Jogged::Axis(_) => (now[1] - before[1]).abs() > SPEED_CHANGE,
+            Jogged::Joint(_) => changed[0],
+            Jogged::Axis(_) => changed[1],
         };
         for action in self.pins.held_jogs() {
             if let Action::JogStart(what, _) = action {

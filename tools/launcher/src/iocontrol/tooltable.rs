@@ -65,6 +65,30 @@ impl Tool {
             comment: Vec::new(),
         }
     }
+
+    /// The tool as the interpreter's tool table holds it.
+    pub fn entry(&self) -> rs274ngc::ToolEntry {
+        let [x, y, z, a, b, c, u, v, w] = self.offset;
+        rs274ngc::ToolEntry {
+            toolno: self.number,
+            pocketno: self.pocket,
+            offset: rs274ngc::Pose {
+                x,
+                y,
+                z,
+                a,
+                b,
+                c,
+                u,
+                v,
+                w,
+            },
+            diameter: self.diameter,
+            frontangle: self.front_angle,
+            backangle: self.back_angle,
+            orientation: self.orientation,
+        }
+    }
 }
 
 /// A line that could not be read, and why.

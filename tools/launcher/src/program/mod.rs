@@ -725,27 +725,9 @@ fn tool_entries(io: &IoControl) -> (Vec<rs274ngc::ToolEntry>, i32) {
     let entries: Vec<rs274ngc::ToolEntry> = table
         .slots
         .iter()
-        .map(|slot| match slot {
-            Some(t) => rs274ngc::ToolEntry {
-                toolno: t.number,
-                pocketno: t.pocket,
-                offset: rs274ngc::Pose {
-                    x: t.offset[0],
-                    y: t.offset[1],
-                    z: t.offset[2],
-                    a: t.offset[3],
-                    b: t.offset[4],
-                    c: t.offset[5],
-                    u: t.offset[6],
-                    v: t.offset[7],
-                    w: t.offset[8],
-                },
-                diameter: t.diameter,
-                frontangle: t.front_angle,
-                backangle: t.back_angle,
-                orientation: t.orientation,
-            },
-            None => rs274ngc::ToolEntry::EMPTY,
+        .map(|slot| {
+            slot.as_ref()
+                .map_or(rs274ngc::ToolEntry::EMPTY, |t| t.entry())
         })
         .collect();
     let spindle = io.tool_in_spindle();
