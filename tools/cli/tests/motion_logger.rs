@@ -91,9 +91,9 @@ fn lines_until(path: &std::path::Path, last: &str) -> Vec<String> {
     }
 }
 
-#[test]
-fn task_runs_against_motion_logger_and_every_command_is_logged() {
-    let s = Scratch::new("motion-logger");
+/// The test machine in `s` with motion-logger in motion's place: its
+/// INI file and the log motion-logger writes.
+fn logger_machine(s: &Scratch) -> (std::path::PathBuf, std::path::PathBuf) {
     let ini = s.write("test.ini", INI);
     s.write(
         "mock-motion.hal",
@@ -101,6 +101,13 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     );
     s.write("simpockets.tbl", "T1 P1 ;tool\n");
     let log = s.0.join("out.motion-logger");
+    (ini, log)
+}
+
+#[test]
+fn task_runs_against_motion_logger_and_every_command_is_logged() {
+    let s = Scratch::new("motion-logger");
+    let (ini, log) = logger_machine(&s);
     let m = Machine::start(&ini, "motion-logger");
     m.task_ok(&["estop-reset"]);
     m.task_ok(&["machine-on"]);
@@ -157,13 +164,7 @@ fn from_line(path: &std::path::Path, from: &str, last: &str) -> Vec<String> {
 #[test]
 fn task_sends_linuxcnc_startup_and_state_sequences() {
     let s = Scratch::new("motion-logger-seq");
-    let ini = s.write("test.ini", INI);
-    s.write(
-        "mock-motion.hal",
-        "loadusr -W motion-logger out.motion-logger\nsetp iocontrol.0.emc-enable-in 1\n",
-    );
-    s.write("simpockets.tbl", "T1 P1 ;tool\n");
-    let log = s.0.join("out.motion-logger");
+    let (ini, log) = logger_machine(&s);
     let m = Machine::start(&ini, "motion-logger-seq");
     let start = lines_until(&log, "FREE");
     let joint = |j: u32, min: i32, max: i32| {
