@@ -238,6 +238,14 @@ pub struct TrajState {
     pub goal: [f64; 9],
     /// The executing move waits for the spindle at speed.
     pub waiting_for_atspeed: bool,
+    /// Per axis, the executing move's end minus the commanded position.
+    pub dtg: [f64; 9],
+    /// The override enable bits for the next move (`SS_ENABLED` and the
+    /// others); `None` from a controller that does not report them.
+    pub enables: Option<u8>,
+    /// LinuxCNC's kinematics type number (1 identity, 2 forward only, 3
+    /// inverse only, 4 both); `None` when not reported.
+    pub kinematics_type: Option<i32>,
 }
 
 impl fmt::Display for MotionStatus {

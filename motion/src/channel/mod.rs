@@ -31,7 +31,7 @@
 //! client in another process sees faults as they happen. The fault block
 //! at [`FAULT_START`] keeps the last fault (see [`crate::Fault`]) when
 //! later messages are not faults. The external-offset block at
-//! [`EOFFSET_START`] follows it.
+//! [`EOFFSET_START`] follows it, then the path block at [`PATH_START`].
 //!
 //! The status format grows only at its end. A layout change of existing
 //! words takes a new [`STATUS_VERSION`] (a reader refuses any other);
@@ -106,8 +106,16 @@ pub const FAULT_START: usize = IO_START + 3 + 2 * MAX_IO;
 pub const EOFFSET_START: usize = FAULT_START + crate::fault::FAULT_WORDS;
 /// Words of the external-offset block.
 pub const EOFFSET_WORDS: usize = 1 + 2 * NUM_AXES;
+/// Where the path block starts, after the external-offset block
+/// (appended to format 4): a flags word (bit 0 set by a controller that
+/// reports the block, bits 8 to 15 the override enable bits, bits 16 to
+/// 23 the kinematics type), then the executing move's distance to go per
+/// axis, X to W.
+pub const PATH_START: usize = EOFFSET_START + EOFFSET_WORDS;
+/// Words of the path block.
+pub const PATH_WORDS: usize = 1 + NUM_AXES;
 /// Words of the status snapshot.
-pub const STATUS_WORDS: usize = EOFFSET_START + EOFFSET_WORDS;
+pub const STATUS_WORDS: usize = PATH_START + PATH_WORDS;
 
 /// Version word of a command record: "MOTCMD" and format 2 (format 2
 /// has 32 words, for the queueing commands' poses).

@@ -2,8 +2,8 @@
 //! the controller, [`decode_status`] checks and reads it in a client.
 
 use super::{
-    AXES_START, AXIS_WORDS, EOFFSET_START, FAULT_START, IO_START, JOINT_WORDS, SPINDLES_START,
-    SPINDLE_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
+    AXES_START, AXIS_WORDS, EOFFSET_START, FAULT_START, IO_START, JOINT_WORDS, PATH_START,
+    SPINDLES_START, SPINDLE_WORDS, STATUS_HEADER, STATUS_VERSION, STATUS_WORDS, TRAJ_START,
 };
 use crate::command::WireError;
 use crate::core::{MotionCore, MotionState, OrientState};
@@ -193,6 +193,31 @@ pub fn fill_status(core: &MotionCore, last: LastCommand, served: u64, out: &mut 
     fill_spindles(core, &mut out[SPINDLES_START..]);
     fill_io(core, &mut out[IO_START..]);
     fill_eoffsets(core, &mut out[EOFFSET_START..]);
+    fill_path(core, &tp, &mut out[PATH_START..]);
+}
+
+/// Bit 0 of the path block's flags word: the controller reports it.
+const PATH_REPORTED: u64 = 1;
+
+/// The path block: override enables, kinematics type, distance to go.
+fn fill_path(core: &MotionCore, tp: &crate::tp::PlannerStatus, out: &mut [u64]) {
+    out[0] = PATH_REPORTED | u64::from(core.enables()) << 8 | (core.kins_type() as u64) << 16;
+    for (o, v) in out[1..=NUM_AXES].iter_mut().zip(tp.dtg.0) {
+        *o = v.to_bits();
+    }
+}
+
+/// Decodes the path block into `traj` (left as not reported when the
+/// flags word is zero).
+fn decode_path(w: &[u64], traj: &mut TrajState) {
+    if w[0] & PATH_REPORTED == 0 {
+        return;
+    }
+    traj.enables = Some((w[0] >> 8) as u8);
+    traj.kinematics_type = Some(i32::from((w[0] >> 16) as u8));
+    for (d, v) in traj.dtg.iter_mut().zip(&w[1..=NUM_AXES]) {
+        *d = f64::from_bits(*v);
+    }
 }
 
 /// Flags word of the external-offset block.
@@ -429,7 +454,11 @@ pub fn decode_status(w: &[u64]) -> Result<MotionStatus, WireError> {
             .and_then(|f| Fault::from_words(&f)),
         joints,
         axes,
-        traj: decode_traj(&w[TRAJ_START..])?,
+        traj: {
+            let mut traj = decode_traj(&w[TRAJ_START..])?;
+            decode_path(&w[PATH_START..], &mut traj);
+            traj
+        },
         spindles: decode_spindles(&w[SPINDLES_START..])?,
         io: decode_io(&w[IO_START..])?,
         eoffset: decode_eoffsets(&w[EOFFSET_START..]),
@@ -471,5 +500,8 @@ fn decode_traj(w: &[u64]) -> Result<TrajState, WireError> {
         probed,
         pos_fb,
         goal,
+        dtg: [0.0; 9],
+        enables: None,
+        kinematics_type: None,
     })
 }

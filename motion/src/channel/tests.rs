@@ -580,6 +580,17 @@ fn status_snapshot_decodes_and_validates_its_header() {
     assert!(text.contains("home-state=INITIAL_SEARCH_WAIT"), "{text}");
     assert!(text.contains("mode FREE  enabled yes"), "{text}");
     assert!(text.contains("last command: serial 42 accepted"), "{text}");
+    // An older controller's snapshot has no path block: not reported.
+    assert_eq!((s.traj.enables, s.traj.kinematics_type), (None, None));
+    let mut path = w;
+    path[PATH_START] = 1 | 0x0b << 8 | 4 << 16;
+    path[PATH_START + 3] = (-2.5f64).to_bits();
+    let s = decode_status(&path).unwrap();
+    assert_eq!(
+        (s.traj.enables, s.traj.kinematics_type),
+        (Some(0x0b), Some(4))
+    );
+    assert_eq!(s.traj.dtg[2], -2.5);
 
     let mut bad = w;
     bad[0] ^= 1;

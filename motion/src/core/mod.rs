@@ -519,6 +519,12 @@ impl MotionCore {
         self.kins_type
     }
 
+    /// The override enable bits the next queued move takes (M48 to M53:
+    /// `SS_ENABLED`, `FS_ENABLED`, `AF_ENABLED`, `FH_ENABLED`).
+    pub fn enables(&self) -> u8 {
+        self.enables_new
+    }
+
     pub(crate) fn joint_ref(&self, j: usize) -> &Joint {
         &self.joints[j]
     }

@@ -153,6 +153,9 @@ pub struct PlannerStatus {
     pub requested_vel: f64,
     /// Distance left in the executing segment.
     pub distance_to_go: f64,
+    /// Per axis, the executing segment's end minus where the path is now
+    /// (LinuxCNC's `dtg`; zero with nothing moving or in a dwell).
+    pub dtg: Pose,
     /// The executing segment's kind, if any.
     pub kind: Option<SegmentKind>,
     /// The net feed scale of the executing segment.
@@ -319,6 +322,12 @@ impl Planner {
             current_vel: self.v,
             requested_vel: self.requested_vel,
             distance_to_go: head.map_or(0.0, |h| (h.len - self.s).max(0.0)),
+            dtg: head
+                .filter(|h| h.kind != SegmentKind::Dwell)
+                .map_or(Pose::default(), |h| {
+                    let end = h.end();
+                    Pose(std::array::from_fn(|a| end.0[a] - self.pos.0[a]))
+                }),
             kind: head.map(|h| h.kind),
             net_scale: self.net_scale,
             planner: self.planner,

@@ -365,3 +365,30 @@ fn a_slow_corner_gets_the_smallest_blend_arc_that_keeps_the_feed() {
     let (tol_limited, _) = corner_approach(&right_angle(15.0, &ScaleInputs::default()));
     assert!((tol_limited - 0.1).abs() < 1e-3, "{tol_limited}");
 }
+
+#[test]
+fn dtg_is_the_executing_segments_end_minus_the_position() {
+    let mut tp = Planner::new(T);
+    let lim = limits(10.0, 100.0, 0.0);
+    assert_eq!(tp.status().dtg, Pose::ZERO, "nothing queued");
+    tp.add_line(xyz(5.0, -3.0, 0.0), LineKind::Feed, 8.0, 1, ENABLES, &lim)
+        .unwrap();
+    tp.add_dwell(0.5, 2).unwrap();
+    let s = ScaleInputs::default();
+    for _ in 0..200 {
+        tp.run(&s);
+    }
+    let (pos, dtg) = (tp.pos(), tp.status().dtg);
+    assert!(pos.0[0] > 0.0 && pos.0[0] < 5.0, "still on the line");
+    for (a, goal) in [(0, 5.0), (1, -3.0), (2, 0.0)] {
+        assert!(
+            (dtg.0[a] - (goal - pos.0[a])).abs() < 1e-12,
+            "axis {a}: {dtg:?}"
+        );
+    }
+    // The line ends, the dwell runs: no distance to go.
+    while tp.status().exec_id != 2 {
+        tp.run(&s);
+    }
+    assert_eq!(tp.status().dtg, Pose::ZERO);
+}

@@ -244,6 +244,13 @@ def main(argv):
     time.sleep(0.2)
     s.poll()
     check(s.position[0] == held and held < 40, "paused at X%.3f" % held)
+    check(abs(s.dtg[0] - (40 - held)) < 1e-9 and s.dtg[1:] == (0.0,) * 8,
+          "dtg shows what is left of the move: %r" % (s.dtg,))
+    check(s.feed_override_enabled == 1 and s.feed_hold_enabled == 1
+          and s.adaptive_feed_enabled == 0, "override enables as after start-up")
+    check(s.kinematics_type == linuxcnc.KINEMATICS_IDENTITY, "trivkins is identity kinematics")
+    check(s.call_level == 0 and s.rotation_xy == 0.0, "main program, no rotation")
+    check(s.spindle[0].override_enabled == 1, "the spindle override is enabled")
     c.auto(linuxcnc.AUTO_RESUME)
     ok_or_fail(c, e, "resuming")
     wait(s, lambda: s.position[0] > held + 0.2, "the move to go on")
@@ -258,10 +265,10 @@ def main(argv):
 
 
     try:
-        s.kinematics_type
-        fail("stat.kinematics_type gave a value")
+        s.interpreter_errcode
+        fail("stat.interpreter_errcode gave a value")
     except NotImplementedError as err:
-        check("kinematics_type" in str(err), "an unsupplied stat value says so: %s" % err)
+        check("interpreter_errcode" in str(err), "an unsupplied stat value says so: %s" % err)
     return 0
 
 

@@ -300,7 +300,32 @@ const FIELDS: &[Field] = &[
         Some(bit(c.task.switches.optional_stop))
     }),
     ("block_delete", |c| Some(bit(c.task.switches.block_delete))),
+    ("call_level", |c| {
+        Some(Value::Int(c.program.as_ref()?.call_level as i64))
+    }),
+    ("rotation_xy", |c| {
+        Some(Value::Float(c.program.as_ref()?.rotation_xy))
+    }),
+    ("dtg", |c| Some(floats(c.motion?.traj.dtg))),
+    ("kinematics_type", |c| {
+        Some(Value::Int(c.motion?.traj.kinematics_type?.into()))
+    }),
+    ("feed_override_enabled", |c| {
+        enabled(c, motion::sizes::FS_ENABLED)
+    }),
+    ("adaptive_feed_enabled", |c| {
+        enabled(c, motion::sizes::AF_ENABLED)
+    }),
+    ("feed_hold_enabled", |c| {
+        enabled(c, motion::sizes::FH_ENABLED)
+    }),
 ];
+
+/// Whether motion's override enable `bit` (M48 to M53) is set for the
+/// next move.
+fn enabled(c: &Ctx, bit_mask: u8) -> Option<Value> {
+    Some(bit(c.motion?.traj.enables? & bit_mask != 0))
+}
 
 /// The fields motion's snapshot supplies.
 const MOTION_FIELDS: &[Of<MotionStatus>] = &[
@@ -515,6 +540,13 @@ impl Task {
             }
             push_records(&mut out, "axis", &m.axes, AXIS_FIELDS);
             push_records(&mut out, "spindle", &m.spindles, SPINDLE_FIELDS);
+            // M51 enables or disables the override of every spindle.
+            if let Some(enables) = m.traj.enables {
+                let on = bit(enables & motion::sizes::SS_ENABLED != 0);
+                for i in 0..m.spindles.len() {
+                    push(&mut out, &format!("spindle.{i}.override_enabled"), &on);
+                }
+            }
         }
         let table = self.io.table();
         for (i, slot) in table.slots.iter().enumerate() {
@@ -688,6 +720,8 @@ mod tests {
             read_line: 7,
             codes,
             queued_mdi: 0,
+            call_level: 0,
+            rotation_xy: 0.0,
         };
         assert_eq!(
             linuxcnc_gcodes(&p),

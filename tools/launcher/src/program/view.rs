@@ -15,6 +15,11 @@ pub struct ProgramView<'a> {
     pub codes: rs274ngc::ActiveCodes,
     /// MDI lines waiting to run.
     pub queued_mdi: usize,
+    /// How deep in subroutine calls the interpreter is (0: the main
+    /// program).
+    pub call_level: usize,
+    /// The XY rotation of the active coordinate system, degrees.
+    pub rotation_xy: f64,
 }
 
 impl Program {
@@ -26,6 +31,8 @@ impl Program {
             read_line: self.read_line,
             codes: self.interp.active_codes(),
             queued_mdi: self.mdi.len(),
+            call_level: self.interp.call_level(),
+            rotation_xy: self.interp.settings().rotation_xy,
         }
     }
 
