@@ -44,11 +44,15 @@ fn offset_z() -> Sim {
 #[test]
 fn the_offsets_are_reported_after_the_fault_block() {
     assert_eq!(EOFFSET_START, FAULT_START + crate::FAULT_WORDS);
-    assert_eq!(STATUS_WORDS, EOFFSET_START + EOFFSET_WORDS);
+    assert_eq!(PATH_START, EOFFSET_START + EOFFSET_WORDS);
+    assert_eq!(STATUS_WORDS, PATH_START + PATH_WORDS);
     let s = offset_z();
     let mut w = [0u64; STATUS_WORDS];
     fill_status(&s.m, LastCommand::default(), 0, &mut w);
     let st = decode_status(&w).unwrap();
+    // The path block after it: the controller's own enables and kinematics.
+    assert_eq!(st.traj.enables, Some(s.m.enables()));
+    assert_eq!(st.traj.kinematics_type, Some(s.m.kins_type() as i32));
     let e = st.eoffset;
     assert!(e.active && !e.limited);
     assert!((e.applied[2] - 0.75).abs() < 1e-6, "{}", e.applied[2]);
@@ -67,9 +71,15 @@ fn the_offsets_are_reported_after_the_fault_block() {
     old[EOFFSET_START..].fill(0);
     let old = decode_status(&old).unwrap();
     assert_eq!(old.eoffset, EoffsetState::default());
+    // (The path block after it is gone too: not reported.)
     assert_eq!(
         MotionStatus {
             eoffset: EoffsetState::default(),
+            traj: crate::status::TrajState {
+                enables: None,
+                kinematics_type: None,
+                ..st.traj
+            },
             ..st
         },
         old
