@@ -189,8 +189,11 @@ def main(argv):
     ok_or_fail(c, e, "resetting the interpreter")
     s.poll()
     check(s.gcodes[6] == 900, "the reset brought back G90")
+    check(s.interpreter_errcode == 0, "no interpreter error yet")
     c.mdi("G2 X1")
     check(c.wait_complete() == linuxcnc.RCS_ERROR, "an arc without a centre fails")
+    s.poll()
+    check(s.interpreter_errcode == 5, "the interpreter's error code is INTERP_ERROR")
     kind, text = e.poll()
     check(kind == linuxcnc.OPERATOR_ERROR, "its error is on the error channel: " + text)
     c.display_msg("look here")
@@ -265,10 +268,10 @@ def main(argv):
 
 
     try:
-        s.interpreter_errcode
-        fail("stat.interpreter_errcode gave a value")
+        s.delay_left
+        fail("stat.delay_left gave a value")
     except NotImplementedError as err:
-        check("interpreter_errcode" in str(err), "an unsupplied stat value says so: %s" % err)
+        check("delay_left" in str(err), "an unsupplied stat value says so: %s" % err)
     return 0
 
 

@@ -306,6 +306,9 @@ const FIELDS: &[Field] = &[
     ("rotation_xy", |c| {
         Some(Value::Float(c.program.as_ref()?.rotation_xy))
     }),
+    ("interpreter_errcode", |c| {
+        Some(Value::Int(c.program.as_ref()?.interpreter_errcode.into()))
+    }),
     ("dtg", |c| Some(floats(c.motion?.traj.dtg))),
     ("kinematics_type", |c| {
         Some(Value::Int(c.motion?.traj.kinematics_type?.into()))
@@ -722,6 +725,7 @@ mod tests {
             queued_mdi: 0,
             call_level: 0,
             rotation_xy: 0.0,
+            interpreter_errcode: 0,
         };
         assert_eq!(
             linuxcnc_gcodes(&p),

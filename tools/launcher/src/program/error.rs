@@ -173,3 +173,24 @@ pub enum ProgramError {
     #[error(transparent)]
     Io(#[from] IoError),
 }
+
+/// LinuxCNC's interpreter return code for an error (`INTERP_ERROR`).
+pub const INTERP_ERROR: i32 = 5;
+
+impl ProgramError {
+    /// The interpreter return code LinuxCNC's task keeps for this error
+    /// (`stat.interpreter_errcode`): [`INTERP_ERROR`] for what the
+    /// interpreter itself refused (a program or MDI line, opening a
+    /// program, its start-up or synchronisation); `None` for refusals
+    /// by task, motion or iocontrol.
+    pub fn interp_errcode(&self) -> Option<i32> {
+        matches!(
+            self,
+            ProgramError::Interpreter { .. }
+                | ProgramError::Open { .. }
+                | ProgramError::Line { .. }
+                | ProgramError::Mdi { .. }
+        )
+        .then_some(INTERP_ERROR)
+    }
+}

@@ -85,6 +85,8 @@ pub enum Ended {
 /// The program side of task.
 pub struct Program {
     interp: Interp,
+    /// The return code of the interpreter's last error (0: none yet).
+    interp_errcode: i32,
     canon: TaskCanon,
     initialised: bool,
     file: Option<PathBuf>,
@@ -147,6 +149,7 @@ impl Program {
         Program {
             canon,
             interp: Interp::new(config.interp),
+            interp_errcode: 0,
             initialised: false,
             file: None,
             state: RunState::Idle,
@@ -239,9 +242,21 @@ impl Program {
         }
         self.synch(motion, io)?;
         self.interp.close(&mut self.canon);
-        self.reopen(path)?;
+        if let Err(e) = self.reopen(path) {
+            self.note_error(&e);
+            return Err(e);
+        }
         self.file = Some(path.to_path_buf());
         Ok(())
+    }
+
+    /// Keeps the interpreter's return code of `e`, if it is an
+    /// interpreter error (LinuxCNC's `interpreter_errcode` stays until
+    /// the next one).
+    fn note_error(&mut self, e: &ProgramError) {
+        if let Some(code) = e.interp_errcode() {
+            self.interp_errcode = code;
+        }
     }
 
     /// Starts the open program, from `line` on: earlier lines run
@@ -674,6 +689,7 @@ impl Program {
     }
 
     fn fail(&mut self, why: ProgramError) -> Ended {
+        self.note_error(&why);
         self.abort();
         let e = Ended::Failed(why.to_string());
         self.last_end = Some(e.clone());

@@ -20,6 +20,8 @@ pub struct ProgramView<'a> {
     pub call_level: usize,
     /// The XY rotation of the active coordinate system, degrees.
     pub rotation_xy: f64,
+    /// The return code of the interpreter's last error (0: none yet).
+    pub interpreter_errcode: i32,
 }
 
 impl Program {
@@ -33,6 +35,7 @@ impl Program {
             queued_mdi: self.mdi.len(),
             call_level: self.interp.call_level(),
             rotation_xy: self.interp.settings().rotation_xy,
+            interpreter_errcode: self.interp_errcode,
         }
     }
 
