@@ -538,7 +538,7 @@ fn startup_code_sets_the_modes_at_start_and_after_an_interpreter_reset() {
     let ini = mill_copy(&s);
     let text = std::fs::read_to_string(&ini).unwrap().replace(
         "[RS274NGC]\n",
-        "[RS274NGC]\nRS274NGC_STARTUP_CODE = G20 G91 G64 P0.02 F12\n",
+        "[RS274NGC]\nRS274NGC_STARTUP_CODE = G0 G20 G91 G64 P0.02 F12\n",
     );
     std::fs::write(&ini, text).unwrap();
     let m = Machine::start(&ini, "task-startup-code");
@@ -556,6 +556,10 @@ fn startup_code_sets_the_modes_at_start_and_after_an_interpreter_reset() {
         "{started}"
     );
     ready(&m);
+    // `G0` without axis words goes nowhere: nothing is sent to motion,
+    // so the start-up code ran without a refusal though in e-stop.
+    let status = m.task_ok(&["status"]);
+    assert!(!status.contains("last run:"), "{status}");
     m.task_ok(&["mode", "mdi"]);
     m.task_ok(&["mdi", "G21", "G90"]);
     m.task_ok(&["-t", "30", "wait-done"]);
@@ -572,7 +576,7 @@ fn startup_code_sets_the_modes_at_start_and_after_an_interpreter_reset() {
     // A move in the start-up code while in e-stop: refused by motion,
     // reported, nothing moves.
     let text = std::fs::read_to_string(&ini).unwrap().replace(
-        "RS274NGC_STARTUP_CODE = G20 G91 G64 P0.02 F12",
+        "RS274NGC_STARTUP_CODE = G0 G20 G91 G64 P0.02 F12",
         "RS274NGC_STARTUP_CODE = G21 G90 G0 X5",
     );
     std::fs::write(&ini, text).unwrap();

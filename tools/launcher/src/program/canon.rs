@@ -318,7 +318,16 @@ impl TaskCanon {
             LineKind::Traverse => 0.0,
             LineKind::Feed => self.feed_per_second(),
         };
+        let zero_length = goal
+            .iter()
+            .zip(&self.goal)
+            .all(|(to, from)| (to - from).abs() < ZERO_MOVE);
         self.goal = goal;
+        if zero_length {
+            // As LinuxCNC's canon: a move that goes nowhere (`G0` with no
+            // axis word, `G1 X0` at X0) is not sent to motion.
+            return;
+        }
         self.ops.push_back(Op::Motion(Command::Line {
             end: motion::Pose(goal),
             vel,
@@ -336,6 +345,10 @@ impl TaskCanon {
         }
     }
 }
+
+/// Below this distance on every axis (machine units) a straight move
+/// goes nowhere and is not sent (LinuxCNC's canon uses the same bound).
+const ZERO_MOVE: f64 = 1e-7;
 
 /// Which offset a call sets.
 #[derive(Clone, Copy)]

@@ -385,3 +385,16 @@ fn m6_traverses_to_the_tool_change_position_before_the_load() {
     }
     assert!(matches!(c.ops.pop_front(), Some(Op::Io(IoRequest::Load))));
 }
+
+#[test]
+fn a_move_that_goes_nowhere_is_not_sent() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_feed_rate(600.0);
+    c.straight_traverse(1, &p(0.0, 0.0, 0.0));
+    c.straight_feed(2, &p(0.0, 0.0, 0.0));
+    assert!(c.ops.is_empty(), "{:?}", c.ops);
+    c.straight_feed(3, &p(1.0, 0.0, 0.0));
+    assert_eq!(line_end(c.ops.back())[0], 1.0);
+    c.straight_traverse(4, &p(1.0, 0.0, 0.0));
+    assert_eq!(c.ops.len(), 1, "{:?}", c.ops);
+}
