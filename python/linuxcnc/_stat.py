@@ -33,6 +33,31 @@ _LINUXCNC_NAMES = frozenset(
 )
 
 
+# The status names LinuxCNC 2.9's module gives as Python bools (True or
+# False, printed so), read from its stat on the 2.9 peer; task sends them
+# as integers.
+_BOOL_NAMES = frozenset(
+    """adaptive_feed_enabled block_delete enabled feed_hold_enabled
+    feed_override_enabled inpos input_timeout optional_stop paused
+    probe_tripped probing queue_full""".split()
+)
+
+# The fields of list records that are bools there, per list.
+_BOOL_FIELDS = {"spindle": frozenset(("override_enabled", "homed"))}
+
+# The order of a list record's fields in LinuxCNC 2.9's module (a printed
+# record lists them so); fields task sends that are not named here follow.
+_FIELD_ORDER = {
+    "joint": """jointType units backlash min_position_limit
+    max_position_limit max_ferror min_ferror ferror_current ferror_highmark
+    output input velocity inpos homing homed fault enabled min_soft_limit
+    max_soft_limit min_hard_limit max_hard_limit override_limits""".split(),
+    "axis": "velocity min_position_limit max_position_limit".split(),
+    "spindle": """brake direction enabled override_enabled speed override
+    homed orient_state orient_fault""".split(),
+}
+
+
 class _Record(dict):
     """A record of a status list: a dict whose keys read as attributes."""
 
@@ -57,6 +82,18 @@ def _value(kind, text):
     raise ValueError("unknown kind %r" % kind)
 
 
+def _as_linuxcncs(lst, record):
+    """`record` of list `lst` with LinuxCNC's field order and bools."""
+    order = _FIELD_ORDER.get(lst, ())
+    bools = _BOOL_FIELDS.get(lst, ())
+    out = _Record()
+    known = [f for f in order if f in record]
+    for field in known + [f for f in record if f not in order]:
+        v = record[field]
+        out[field] = bool(v) if field in bools else v
+    return out
+
+
 def parse(text):
     """The snapshot's lines as a dict of attribute values."""
     values = {}
@@ -74,7 +111,11 @@ def parse(text):
         else:
             values[name] = v
     for lst, records in lists.items():
-        values[lst] = tuple(records[i] for i in sorted(records))
+        values[lst] = tuple(
+            _as_linuxcncs(lst, records[i]) for i in sorted(records)
+        )
+    for name in _BOOL_NAMES.intersection(values):
+        values[name] = bool(values[name])
     if "axis_mask" in values:
         # LinuxCNC 2.7's name, gone from 2.9's module but still read by
         # many of its test scripts: how many axes the machine has.

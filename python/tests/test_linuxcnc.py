@@ -124,6 +124,35 @@ def test_stat_lines_become_attributes_and_records():
         _stat.parse("a=q:1\n")
 
 
+def test_stat_gives_bools_and_record_fields_as_linuxcnc_29_does():
+    # LinuxCNC 2.9's stat (read on the 2.9 peer) has these as bools, and a
+    # printed record lists its fields in the module's order: its
+    # hard-limits test prints both.
+    v = _stat.parse(
+        "enabled=i:1\ninpos=i:0\npaused=i:0\nqueue_full=i:1\n"
+        "task_state=i:4\njoint.0.override_limits=i:0\njoint.0.homed=i:1\n"
+        "joint.0.input=f:0.5\njoint.0.min_position_limit=f:-10\n"
+        "joint.0.extra=i:3\nspindle.0.homed=i:0\n"
+        "spindle.0.override_enabled=i:1\nspindle.0.speed=f:0\n"
+    )
+    flags = (v["enabled"], v["inpos"], v["paused"], v["queue_full"])
+    assert flags == (True, False, False, True)
+    assert repr(v["enabled"]) == "True"
+    assert type(v["task_state"]) is int
+    assert list(v["joint"][0]) == [
+        "min_position_limit",
+        "input",
+        "homed",
+        "override_limits",
+        "extra",
+    ]
+    shown = str(v["joint"][0])
+    assert shown.startswith("{'min_position_limit': -10.0, 'input': 0.5,")
+    s = v["spindle"][0]
+    assert list(s) == ["override_enabled", "speed", "homed"]
+    assert (s["override_enabled"], s["homed"], type(s["speed"])) == (True, False, float)
+
+
 def test_stat_has_older_linuxcncs_axes_count():
     # Scripts written for LinuxCNC 2.7 wait until `axes` is not 0.
     assert _stat.parse("axis_mask=i:7\n")["axes"] == 3

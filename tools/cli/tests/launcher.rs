@@ -284,7 +284,9 @@ fn a_missing_tool_table_starts_empty() {
             && err.contains("starting with an empty tool table"),
         "{err}"
     );
-    assert_eq!(m.getp("iocontrol.0.tool-number"), "0");
+    // A random changer with nothing in pocket 0 reports tool -1, as
+    // LinuxCNC 2.9 does (checked on the 2.9 peer with a missing table).
+    assert_eq!(m.getp("iocontrol.0.tool-number"), "-1");
     m.stop();
 }
 

@@ -42,6 +42,7 @@ mod task_request;
 mod task_socket;
 mod task_spindle;
 mod task_stat;
+mod task_stat_joint;
 mod task_tool_offset;
 mod task_traj;
 mod twopass;

@@ -639,6 +639,11 @@ fn run_on_host(
     task.overrides = crate::task_manual::Overrides::from_ini(ini)?;
     task.spindle_limits = crate::task_spindle::SpindleLimits::from_ini(ini)?;
     task.traj_info = crate::task_stat::TrajInfo::from_ini(ini)?;
+    task.joint_info = crate::task_stat_joint::JointInfo::all_from_ini(
+        ini,
+        task.traj_info.linear_units,
+        task.traj_info.angular_units,
+    )?;
     let machine = ini.get("EMC", "MACHINE").unwrap_or("(unnamed)");
     eprintln!(
         "linuxcnc: machine '{machine}' runs on HAL instance '{instance}' (e-stop); \

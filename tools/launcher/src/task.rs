@@ -101,6 +101,8 @@ pub struct Task {
     pub(crate) spindle_limits: crate::task_spindle::SpindleLimits,
     /// The INI settings `stat` reports (units, cycle time, speeds).
     pub(crate) traj_info: crate::task_stat::TrajInfo,
+    /// Each joint's INI settings `stat.joint` reports.
+    pub(crate) joint_info: Vec<crate::task_stat_joint::JointInfo>,
     /// What the error channel carries.
     pub(crate) messages: crate::task_messages::MessageLog,
     /// Joints to home once the homing in progress ends.
@@ -140,6 +142,7 @@ impl Task {
             switches: crate::task_panel::Switches::default(),
             spindle_limits: crate::task_spindle::SpindleLimits::default(),
             traj_info: crate::task_stat::TrajInfo::default(),
+            joint_info: Vec::new(),
             messages: crate::task_messages::MessageLog::default(),
             pending_homes: crate::task_manual::PendingHomes::default(),
         };

@@ -407,7 +407,6 @@ const JOINT_FIELDS: &[Of<motion::channel::JointState>] = &[
     ("output", |j| Value::Float(j.pos_cmd)),
     ("velocity", |j| Value::Float(j.vel_cmd)),
     ("ferror_current", |j| Value::Float(j.ferror)),
-    ("max_ferror", |j| Value::Float(j.ferror_limit)),
     ("min_hard_limit", |j| bit(j.neg_hard_limit)),
     ("max_hard_limit", |j| bit(j.pos_hard_limit)),
     ("min_soft_limit", |j| bit(below_soft_limit(j))),
@@ -511,6 +510,20 @@ fn push_records<T>(out: &mut String, list: &str, items: &[T], fields: &[Of<T>]) 
     }
 }
 
+/// Joint `i`'s INI settings, as LinuxCNC's `stat.joint` has them.
+fn push_joint_info(out: &mut String, i: usize, info: &crate::task_stat_joint::JointInfo) {
+    let fields = [
+        ("jointType", Value::Int(info.joint_type)),
+        ("units", Value::Float(info.units)),
+        ("backlash", Value::Float(info.backlash)),
+        ("max_ferror", Value::Float(info.max_ferror)),
+        ("min_ferror", Value::Float(info.min_ferror)),
+    ];
+    for (name, v) in &fields {
+        push(out, &format!("joint.{i}.{name}"), v);
+    }
+}
+
 impl Task {
     /// The `stat` snapshot.
     pub(crate) fn stat_lines(&self) -> String {
@@ -535,6 +548,9 @@ impl Task {
             }
             let joints = m.joints.iter().filter(|j| j.active).count();
             push_records(&mut out, "joint", &m.joints[..joints], JOINT_FIELDS);
+            for (i, info) in self.joint_info.iter().take(joints).enumerate() {
+                push_joint_info(&mut out, i, info);
+            }
             // One flag for every joint, as LinuxCNC's task reports it: any
             // overridden limit.
             let overridden = bit(m.override_mask != 0);

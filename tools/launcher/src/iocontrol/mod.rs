@@ -203,10 +203,12 @@ pub struct IoControl {
 
 impl IoControl {
     /// iocontrol with `table`. A non-random changer starts with an empty
-    /// spindle; a random one with the tool the table puts in pocket 0.
+    /// spindle (tool 0); a random one with the tool the table puts in
+    /// pocket 0, or -1 when the table has nothing there (LinuxCNC 2.9's
+    /// number for an empty tool table entry).
     pub fn new(table: ToolTable, save_to: Option<PathBuf>) -> IoControl {
         let tool_in_spindle = if table.random {
-            table.tool(0).map_or(0, |t| t.number)
+            random_spindle_tool(&table)
         } else {
             0
         };
@@ -276,7 +278,8 @@ impl IoControl {
         (i32::from(self.out.v2.toolchanger_faulted), self.v2.reason)
     }
 
-    /// The tool in the spindle (0: none).
+    /// The tool in the spindle (0: none on a non-random changer; -1: an
+    /// empty pocket 0 on a random one).
     pub fn tool_in_spindle(&self) -> i32 {
         self.tool_in_spindle
     }
@@ -387,6 +390,8 @@ impl IoControl {
                 self.load_slot(slot);
                 self.tool_in_spindle = if !self.table.random && slot == 0 {
                     0
+                } else if self.table.random {
+                    random_spindle_tool(&self.table)
                 } else {
                     self.table.tool(0).map_or(0, |t| t.number)
                 };
@@ -571,6 +576,13 @@ impl IoControl {
         }
         events
     }
+}
+
+/// The tool a random changer's pocket 0 holds: its number, or -1 when
+/// the pocket is empty (what LinuxCNC reports on `tool-number` and in
+/// `stat.tool_in_spindle` then).
+fn random_spindle_tool(table: &ToolTable) -> i32 {
+    table.tool(0).map_or(-1, |t| t.number)
 }
 
 /// The `iocontrol.0.*` pins of a user-space component named `iocontrol`.

@@ -122,6 +122,30 @@ fn non_random_prepare_and_change_handshakes() {
 }
 
 #[test]
+fn random_changer_with_an_empty_pocket_0_starts_with_tool_minus_1() {
+    // LinuxCNC 2.9 (its io-startup test, random/no-tool-in-P0, run on
+    // the 2.9 peer) reports -1 on tool-number and in stat.tool_in_spindle
+    // when a random changer's table has nothing in pocket 0; a non-random
+    // changer starts with 0 from the same table.
+    let table = "T2 P2 D1.123 Z+2.0 ;\nT1 P1 D0.125 Z+1.0 ;\n";
+    let random = ToolTable::parse(table.as_bytes(), "t.tbl", true).unwrap();
+    let mut io = IoControl::new(random, None);
+    assert_eq!(io.tool_in_spindle(), -1);
+    assert_eq!(io.outputs().tool_number, -1);
+    // T1 M6: the tool comes to the spindle, the empty entry goes to P1.
+    io.request(&IoRequest::Prepare { tool: 1 }).unwrap();
+    io.step(&inputs(true, false));
+    io.request(&IoRequest::Load).unwrap();
+    assert_eq!(io.step(&inputs(true, true)), [IoEvent::Changed { tool: 1 }]);
+    assert_eq!((io.tool_in_spindle(), io.outputs().tool_number), (1, 1));
+    assert!(io.table().tool(1).is_none(), "pocket 1 now holds nothing");
+
+    let nonrandom = ToolTable::parse(table.as_bytes(), "t.tbl", false).unwrap();
+    let io = IoControl::new(nonrandom, None);
+    assert_eq!((io.tool_in_spindle(), io.outputs().tool_number), (0, 0));
+}
+
+#[test]
 fn random_changer_swaps_pockets() {
     let mut io = io(true);
     assert_eq!(io.tool_in_spindle(), 7, "pocket 0 holds tool 7");

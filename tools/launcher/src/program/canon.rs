@@ -234,10 +234,24 @@ impl TaskCanon {
         [self.g5x, self.g92, self.tool_offset]
     }
 
-    /// Program units to machine units, per axis (A B C are angles).
-    fn scale(&self) -> [f64; 9] {
-        let k = self.units.mm_per_unit() * self.user_per_mm;
-        [k, k, k, 1.0, 1.0, 1.0, k, k, k]
+    /// Whether axis `i` (X Y Z A B C U V W) is a length (A B C are
+    /// angles, taken as they are).
+    fn is_length(i: usize) -> bool {
+        !(3..6).contains(&i)
+    }
+
+    /// A length in program units in machine units: to millimetres first,
+    /// then to machine units, two roundings as LinuxCNC's canon has them
+    /// (one factor made of the two would be off by a bit: 0.2 inch on an
+    /// inch machine would come out 0.19999999999999998).
+    fn length_to_machine(&self, v: f64) -> f64 {
+        v * self.units.mm_per_unit() * self.user_per_mm
+    }
+
+    /// A length in machine units in program units (the way back, the
+    /// same two steps).
+    fn length_to_program(&self, v: f64) -> f64 {
+        v / self.user_per_mm / self.units.mm_per_unit()
     }
 
     fn pose_to_array(p: &Pose) -> [f64; 9] {
@@ -260,12 +274,23 @@ impl TaskCanon {
 
     /// A program-units vector (no offsets) in machine units.
     fn scaled(&self, p: &Pose) -> [f64; 9] {
-        let k = self.scale();
         let mut a = Self::pose_to_array(p);
-        for (v, k) in a.iter_mut().zip(k) {
-            *v *= k;
+        for (i, v) in a.iter_mut().enumerate() {
+            if Self::is_length(i) {
+                *v = self.length_to_machine(*v);
+            }
         }
         a
+    }
+
+    /// A machine-units vector (no offsets) in program units.
+    fn unscaled(&self, mut a: [f64; 9]) -> Pose {
+        for (i, v) in a.iter_mut().enumerate() {
+            if Self::is_length(i) {
+                *v = self.length_to_program(*v);
+            }
+        }
+        Self::array_to_pose(a)
     }
 
     /// A program position in machine coordinates: scaled, rotated about
@@ -292,10 +317,7 @@ impl TaskCanon {
         let (x, y) = (a[0], a[1]);
         a[0] = x * c + y * s;
         a[1] = -x * s + y * c;
-        for (v, k) in a.iter_mut().zip(self.scale()) {
-            *v /= k;
-        }
-        Self::array_to_pose(a)
+        self.unscaled(a)
     }
 
     /// The feed rate in machine units per second.
@@ -742,12 +764,7 @@ impl Canon for TaskCanon {
         self.feed
     }
     fn tool_length_offset(&self) -> Pose {
-        let k = self.scale();
-        let mut a = self.tool_offset;
-        for (v, k) in a.iter_mut().zip(k) {
-            *v /= k;
-        }
-        Self::array_to_pose(a)
+        self.unscaled(self.tool_offset)
     }
     fn tool_table(&self) -> Vec<ToolEntry> {
         self.tools.clone()

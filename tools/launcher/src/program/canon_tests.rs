@@ -39,6 +39,30 @@ fn moves_take_units_offsets_rotation_and_tool_length() {
 }
 
 #[test]
+fn inch_moves_on_an_inch_machine_end_on_the_numbers_given() {
+    // LinuxCNC's ccomp-early-exit test, run on the 2.9 peer, reads
+    // stat.position (0.1, 0.2, 0.3) exactly after G0 X0.1 Y0.2 Z0.3 on an
+    // inch machine: program units go to millimetres and then to machine
+    // units, two roundings. One factor (25.4 * (1 / 25.4), a bit under 1)
+    // gave 0.09999999999999999, 0.19999999999999998, 0.29999999999999993.
+    let mut c = TaskCanon::new(1.0 / 25.4, 0b111);
+    c.use_length_units(Units::Inches);
+    c.straight_traverse(1, &p(0.1, 0.2, 0.3));
+    let end = line_end(c.ops.back());
+    assert_eq!(end[..3], [0.1, 0.2, 0.3]);
+    // X0.9 goes through the same two steps as LinuxCNC's, to the same bits.
+    c.straight_traverse(2, &p(0.9, 0.2, 0.3));
+    let end = line_end(c.ops.back());
+    assert_eq!(end[..3], [0.9 * 25.4 * (1.0 / 25.4), 0.2, 0.3]);
+    // Millimetre programs on the inch machine: 2.54, 5.08 and 7.62 mm
+    // come out as 0.1, 0.2 and 0.3 inch.
+    c.use_length_units(Units::Mm);
+    c.straight_traverse(3, &p(2.54, 5.08, 7.62));
+    let end = line_end(c.ops.back());
+    assert_eq!(end[..3], [0.1, 0.2, 0.3]);
+}
+
+#[test]
 fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
     let mut c = TaskCanon::new(1.0, 0b111);
     c.set_feed_rate(600.0);
