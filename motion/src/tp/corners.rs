@@ -13,7 +13,7 @@
 //! A change may only lower how fast the executing segment may end if the
 //! executor can still keep it: otherwise the corner is left as a kink.
 
-use super::budget::{budget, corner_cap, Budget, Corner};
+use super::budget::{budget, corner_cap, Budget, Corner, Joins};
 use super::geom::{self, Path, MIN_LENGTH};
 use super::segment::{Ending, Segment, SegmentKind};
 use super::{AxisLimits, Planner, PlannerType};
@@ -58,13 +58,18 @@ impl Planner {
         } else {
             self.ending()
         };
-        let prev_not_stop = self
+        let prev_ending = self
             .queue
             .back()
-            .is_some_and(|p| p.ending != Ending::Stop && joinable(p.kind, kind));
-        let own_not_stop = ending != Ending::Stop && probe.is_none();
-        let kinks = prev_not_stop || own_not_stop;
-        let Some(b) = self.budget_for(&path, len, lim, kinks) else {
+            .filter(|p| joinable(p.kind, kind))
+            .map_or(Ending::Stop, |p| p.ending);
+        let own_ending = if probe.is_some() {
+            Ending::Stop
+        } else {
+            ending
+        };
+        let joins = joins_of(prev_ending, own_ending);
+        let Some(b) = self.budget_for(&path, len, lim, joins) else {
             return;
         };
         let mut seg = Segment {
@@ -87,7 +92,7 @@ impl Planner {
             enables,
             dwell: 0.0,
             probe,
-            kinks,
+            joins,
             step_stop: false,
             atspeed,
             indexer,
@@ -113,7 +118,7 @@ impl Planner {
 
     /// The budget of `path`, `len` long (see [`budget`]); the `[TRAJ]` speed
     /// limit does not apply to purely rotary moves.
-    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, kinks: bool) -> Option<Budget> {
+    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, joins: Joins) -> Option<Budget> {
         let f = path.factors(len);
         let rotary_only = [0, 1, 2, 6, 7, 8].iter().all(|&i| f.speed(i) == 0.0);
         budget(
@@ -122,7 +127,7 @@ impl Planner {
             lim,
             &self.traj,
             self.period,
-            kinks,
+            joins,
             self.planner,
             rotary_only,
         )
@@ -151,16 +156,46 @@ impl Planner {
                 return;
             }
         }
-        let cap = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
+        let kink = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
         // A corner that cannot be crossed faster than one period's speed
         // change is a stop (a reversal, a sharp corner).
-        let slowest = prev.budget.acc.min(seg.budget.acc) * self.period;
-        let cap = cap.min(prev.budget.vmax).min(seg.budget.vmax);
-        if cap > slowest {
+        let crossable = |p: &Budget| {
+            let cap = kink.min(p.vmax).min(seg.budget.vmax);
+            (cap > p.acc.min(seg.budget.acc) * self.period).then_some(cap)
+        };
+        let Some(mut cap) = crossable(&prev.budget) else {
+            return;
+        };
+        if prev.joins == Joins::Stop && kink.is_finite() {
+            // A G61 move queued as if it stopped is crossed at a kink
+            // after all: it keeps the kink reserve from now on.
+            let Some(b) = self.kink_budget(&prev, lim) else {
+                return;
+            };
+            let Some(c) = crossable(&b) else {
+                return;
+            };
+            cap = c;
             if let Some(last) = self.queue.back_mut() {
-                last.end_cap = cap;
+                last.budget = b;
+                last.joins = Joins::Kink;
             }
         }
+        if let Some(last) = self.queue.back_mut() {
+            last.end_cap = cap;
+        }
+    }
+
+    /// The budget of the last queued move, `last`, with the kink reserve
+    /// kept at its end; `None` if it may not change any more (it is
+    /// running) or the limits leave it no speed.
+    fn kink_budget(&self, last: &Segment, lim: &AxisLimits) -> Option<Budget> {
+        let running = self.queue.len() == 1 && (self.head_started || self.s > 0.0 || self.v > 0.0);
+        if running {
+            return None;
+        }
+        let b = self.budget_for(&last.path, last.nominal_len, lim, Joins::Kink)?;
+        Some(cap_by_length(b, last.len, self.period))
     }
 
     /// The smallest cut, at most `cut`, whose blend arc at `corner` can
@@ -181,7 +216,8 @@ impl Planner {
             let blend = geom::blend_arc(corner, u1, u2, c)?;
             let path = Path::Arc(blend.arc);
             let len = path.length();
-            self.budget_for(&path, len, lim, true).map(|b| b.vmax)
+            self.budget_for(&path, len, lim, Joins::Tangent)
+                .map(|b| b.vmax)
         };
         if !(goal > 0.0 && cut > MIN_LENGTH) {
             return cut;
@@ -251,7 +287,7 @@ impl Planner {
         if len < 1e-6 {
             return false;
         }
-        let Some(b) = self.budget_for(&path, len, lim, true) else {
+        let Some(b) = self.budget_for(&path, len, lim, Joins::Tangent) else {
             return false;
         };
         let arc_end = path.point(len, len);
@@ -276,7 +312,7 @@ impl Planner {
             enables: prev.enables,
             dwell: 0.0,
             probe: None,
-            kinks: true,
+            joins: Joins::Tangent,
             step_stop: false,
             atspeed: false,
             indexer: None,
@@ -350,6 +386,21 @@ impl Planner {
 fn joinable(a: SegmentKind, b: SegmentKind) -> bool {
     use SegmentKind::*;
     matches!((a, b), (Traverse, Traverse) | (Feed | Arc, Feed | Arc))
+}
+
+/// How a move meets its neighbours, from how the move before it ends
+/// (`Stop` if they cannot meet at speed) and how it ends itself: a move
+/// that may be blended at either end is [`Joins::Blend`] (LinuxCNC halves
+/// its acceleration for a parabolic blend at either end); one after a G61
+/// move is [`Joins::Kink`]. A G61 move's own end counts as a stop until
+/// the next move is found to meet it at speed (see `join`): alone, it
+/// runs at the whole acceleration, as in LinuxCNC.
+fn joins_of(prev: Ending, own: Ending) -> Joins {
+    match (prev, own) {
+        (Ending::Blend { .. }, _) | (_, Ending::Blend { .. }) => Joins::Blend,
+        (Ending::ExactPath, _) => Joins::Kink,
+        _ => Joins::Stop,
+    }
 }
 
 /// The corner where `a` ends and `b` starts.

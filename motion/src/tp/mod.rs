@@ -32,7 +32,19 @@
 //! * no parabolic blending (segments overlapping in time): a corner is a
 //!   blend arc, a kink crossed at the speed the axes can take, or a stop;
 //!   arc-to-line and arc-to-arc corners that are not tangent are crossed
-//!   at their kink speed (often a near stop) rather than blended;
+//!   at their kink speed (often a near stop) rather than blended. The
+//!   acceleration budget is still LinuxCNC's (see `budget`): a move that
+//!   may be blended (G64, the last queued one included) gets half the
+//!   tangential acceleration, an exact-path or exact-stop move the whole,
+//!   a turn up to 0.866 of it as centripetal acceleration, so the same
+//!   MAX_ACCELERATION gives the same acceleration per move as there. The
+//!   differences: where a kink may be crossed at speed, 10 % of each
+//!   axis's acceleration is kept free (a G61 move gets this reserve once
+//!   the next move is found to meet it at speed, unless it is already
+//!   running, when that corner becomes a stop); LinuxCNC instead lowers
+//!   the acceleration around the kink. The line before a blend arc keeps
+//!   its half (LinuxCNC gives it the whole once the arc is made), as a
+//!   queued segment's budget is not raised afterwards;
 //! * no reverse run, spindle-synchronised motion or rigid tapping yet;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
@@ -641,7 +653,7 @@ impl Planner {
             enables: 0,
             dwell: seconds,
             probe: None,
-            kinks: false,
+            joins: budget::Joins::Stop,
             step_stop: false,
             atspeed: false,
             sync: false,

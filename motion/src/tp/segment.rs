@@ -1,6 +1,6 @@
 //! One queued move: its path, limits, how it ends, and what it reports.
 
-use super::budget::Budget;
+use super::budget::{Budget, Joins};
 use super::geom::Path;
 use crate::command::ProbeType;
 use crate::kins::{Pose, NUM_AXES};
@@ -77,8 +77,8 @@ pub(crate) struct Segment {
     /// Seconds to wait (dwells).
     pub dwell: f64,
     pub probe: Option<ProbeType>,
-    /// Whether the budget keeps the kink reserves.
-    pub kinks: bool,
+    /// How it meets its neighbours, as its budget was made for.
+    pub joins: Joins,
     /// A single step ends at the end of this segment.
     pub step_stop: bool,
     /// It starts, from rest, only once the spindle is at speed.
