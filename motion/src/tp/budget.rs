@@ -16,12 +16,12 @@
 //!   free: crossing a kink at speed `c` changes axis `i`'s velocity by
 //!   `c·|Δt_i|` within one period, which the corner cap keeps within that
 //!   reserve;
-//! * a segment that may be blended ([`Joins::Blend`]: it ends under G64,
-//!   the last queued move included, or starts where a G64 move ends) may
-//!   use [`BLEND_SHARE`] of its tangential acceleration, as LinuxCNC's
-//!   planner gives it (it keeps the other half for its parabolic blends):
-//!   the same MAX_ACCELERATION gives the same acceleration per move as
-//!   there. A lone G0 under G64 speeds up at half the axis limit;
+//! * a segment that may be blended ([`Joins::Blend`]: an end under G64
+//!   not met by a blend arc, the last queued move included) may use
+//!   [`BLEND_SHARE`] of its tangential acceleration, as LinuxCNC's planner
+//!   gives it (it keeps the other half for its parabolic blends): the same
+//!   MAX_ACCELERATION gives the same acceleration per move as there. A
+//!   lone G0 under G64 speeds up at half the axis limit;
 //! * jerk (S-curve planner): the bound of `AxisFactors::jerk` stays
 //!   within `J_i`; a segment entered or left at speed keeps
 //!   [`JERK_RESERVE`] of it for the corners: the velocity jump and the
@@ -31,10 +31,11 @@
 //!   `√(J·R·T)` (its centripetal acceleration `v²/R` may appear within
 //!   one period).
 //!
-//! Each segment's numbers are fixed when it is queued, except that an
-//! exact-path (G61) move not yet started is given the kink reserve when
-//! the next move turns out to meet it at speed; changing a later corner
-//! never changes what the executing segment may do.
+//! A segment's numbers are made when it is queued and again, until it
+//! starts, when the next move settles how its end is met: a blend arc
+//! (the whole acceleration, as LinuxCNC once its arc blend is made) or a
+//! kink crossed at speed under G61 (the kink reserve). Changing a later
+//! corner never changes what the executing segment may do.
 
 use super::geom::AxisFactors;
 use crate::kins::NUM_AXES;
@@ -53,6 +54,22 @@ pub const NORMAL_SHARE: f64 = 0.866_025_403_784_438_6;
 /// uses ([`Joins::Blend`]): LinuxCNC's planner halves it there.
 pub const BLEND_SHARE: f64 = 0.5;
 
+/// How one end of a segment meets its neighbour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum End {
+    /// At rest: an exact stop, a move that cannot join its neighbour, an
+    /// exact-path (G61) end until the next move is found to meet it at
+    /// speed.
+    Stop,
+    /// Tangent to a blend arc.
+    Tangent,
+    /// Crossed at speed at a kink (G61).
+    Kink,
+    /// May be blended (G64): not yet met by a next move, or crossed at a
+    /// kink (where LinuxCNC falls back to a parabolic blend).
+    Open,
+}
+
 /// How a segment meets its neighbours, which sets the share of the axes'
 /// limits it may use (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -60,10 +77,11 @@ pub(crate) enum Joins {
     /// Both ends at rest (exact stops, G61.1, a lone G61 move): the whole
     /// acceleration and jerk.
     Stop,
-    /// Entered and left at speed, but tangentially (a blend arc): the whole
-    /// acceleration, the jerk reserve (S-curve).
+    /// Entered or left at speed, but tangentially (a blend arc, a line
+    /// blended into arcs at both ends): the whole acceleration, the jerk
+    /// reserve (S-curve).
     Tangent,
-    /// An end may be crossed at speed at a kink (G61): the kink and jerk
+    /// An end is crossed at speed at a kink (G61): the kink and jerk
     /// reserves.
     Kink,
     /// An end may be blended (G64): the kink and jerk reserves, and
@@ -72,6 +90,24 @@ pub(crate) enum Joins {
 }
 
 impl Joins {
+    /// The rule, written once: what a segment whose ends meet their
+    /// neighbours as `start` and `end` may use. As LinuxCNC's planner,
+    /// half the tangential acceleration wherever an end may be blended
+    /// (the last queued G64 move, a move after one), the whole once both
+    /// corners are settled as tangent blend arcs or stops.
+    pub(crate) fn of(start: End, end: End) -> Joins {
+        let either = |e: End| start == e || end == e;
+        if either(End::Open) {
+            Joins::Blend
+        } else if either(End::Kink) {
+            Joins::Kink
+        } else if either(End::Tangent) {
+            Joins::Tangent
+        } else {
+            Joins::Stop
+        }
+    }
+
     /// A kink may be crossed at speed at an end.
     fn kinks(self) -> bool {
         matches!(self, Joins::Kink | Joins::Blend)

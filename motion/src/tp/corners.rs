@@ -13,7 +13,7 @@
 //! A change may only lower how fast the executing segment may end if the
 //! executor can still keep it: otherwise the corner is left as a kink.
 
-use super::budget::{budget, corner_cap, Budget, Corner, Joins};
+use super::budget::{budget, corner_cap, Budget, Corner, End, Joins};
 use super::geom::{self, Path, MIN_LENGTH};
 use super::segment::{Ending, Segment, SegmentKind};
 use super::{AxisLimits, Planner, PlannerType};
@@ -68,8 +68,8 @@ impl Planner {
         } else {
             ending
         };
-        let joins = joins_of(prev_ending, own_ending);
-        let Some(b) = self.budget_for(&path, len, lim, joins) else {
+        let (start_joins, end_joins) = ends_of(prev_ending, own_ending);
+        let Some(b) = self.budget_for(&path, len, lim, Joins::of(start_joins, end_joins)) else {
             return;
         };
         let mut seg = Segment {
@@ -92,7 +92,8 @@ impl Planner {
             enables,
             dwell: 0.0,
             probe,
-            joins,
+            start_joins,
+            end_joins,
             step_stop: false,
             atspeed,
             indexer,
@@ -166,19 +167,20 @@ impl Planner {
         let Some(mut cap) = crossable(&prev.budget) else {
             return;
         };
-        if prev.joins == Joins::Stop && kink.is_finite() {
+        if prev.end_joins == End::Stop && kink.is_finite() {
             // A G61 move queued as if it stopped is crossed at a kink
             // after all: it keeps the kink reserve from now on.
-            let Some(b) = self.kink_budget(&prev, lim) else {
+            let mut kinked = prev;
+            kinked.end_joins = End::Kink;
+            if !self.rebudget(&mut kinked, 1, lim) {
                 return;
-            };
-            let Some(c) = crossable(&b) else {
+            }
+            let Some(c) = crossable(&kinked.budget) else {
                 return;
             };
             cap = c;
             if let Some(last) = self.queue.back_mut() {
-                last.budget = b;
-                last.joins = Joins::Kink;
+                *last = kinked;
             }
         }
         if let Some(last) = self.queue.back_mut() {
@@ -186,16 +188,22 @@ impl Planner {
         }
     }
 
-    /// The budget of the last queued move, `last`, with the kink reserve
-    /// kept at its end; `None` if it may not change any more (it is
-    /// running) or the limits leave it no speed.
-    fn kink_budget(&self, last: &Segment, lim: &AxisLimits) -> Option<Budget> {
-        let running = self.queue.len() == 1 && (self.head_started || self.s > 0.0 || self.v > 0.0);
-        if running {
-            return None;
+    /// Makes `seg`'s budget again for how its ends now meet their
+    /// neighbours, unless it is the executing segment and has started
+    /// (`from_tail`: its place counted from the tail, 0 for a segment not
+    /// queued yet). False if it could not (running, or the limits leave
+    /// it no speed): `seg` is then unchanged.
+    fn rebudget(&self, seg: &mut Segment, from_tail: usize, lim: &AxisLimits) -> bool {
+        let n = self.queue.len();
+        let started = self.head_started || self.s > 0.0 || self.v > 0.0;
+        if from_tail > 0 && n == from_tail && started {
+            return false;
         }
-        let b = self.budget_for(&last.path, last.nominal_len, lim, Joins::Kink)?;
-        Some(cap_by_length(b, last.len, self.period))
+        let Some(b) = self.budget_for(&seg.path, seg.nominal_len, lim, seg.joins()) else {
+            return false;
+        };
+        seg.budget = cap_by_length(b, seg.len, self.period);
+        true
     }
 
     /// The smallest cut, at most `cut`, whose blend arc at `corner` can
@@ -312,7 +320,8 @@ impl Planner {
             enables: prev.enables,
             dwell: 0.0,
             probe: None,
-            joins: Joins::Tangent,
+            start_joins: End::Tangent,
+            end_joins: End::Tangent,
             step_stop: false,
             atspeed: false,
             indexer: None,
@@ -328,13 +337,21 @@ impl Planner {
         }
         let saved_seg = *seg;
 
+        // Both lines now meet the arc tangentially: as in LinuxCNC, a
+        // line settled that way at both ends gets the whole acceleration.
         let mut trimmed = prev;
         trimmed.cut_end(cut);
-        trimmed.budget = cap_by_length(trimmed.budget, trimmed.len, self.period);
+        trimmed.end_joins = End::Tangent;
+        if !self.rebudget(&mut trimmed, 1, lim) {
+            trimmed.budget = cap_by_length(trimmed.budget, trimmed.len, self.period);
+        }
         trimmed.end_cap = trimmed.budget.vmax.min(b.vmax);
         let consumed = trimmed.len < MIN_LENGTH && (n > 1 || (self.s == 0.0 && self.v == 0.0));
         seg.cut_start(cut);
-        seg.budget = cap_by_length(seg.budget, seg.len, self.period);
+        seg.start_joins = End::Tangent;
+        if !self.rebudget(seg, 0, lim) {
+            seg.budget = cap_by_length(seg.budget, seg.len, self.period);
+        }
         if consumed {
             self.queue.pop_back();
         } else {
@@ -388,19 +405,24 @@ fn joinable(a: SegmentKind, b: SegmentKind) -> bool {
     matches!((a, b), (Traverse, Traverse) | (Feed | Arc, Feed | Arc))
 }
 
-/// How a move meets its neighbours, from how the move before it ends
-/// (`Stop` if they cannot meet at speed) and how it ends itself: a move
-/// that may be blended at either end is [`Joins::Blend`] (LinuxCNC halves
-/// its acceleration for a parabolic blend at either end); one after a G61
-/// move is [`Joins::Kink`]. A G61 move's own end counts as a stop until
-/// the next move is found to meet it at speed (see `join`): alone, it
-/// runs at the whole acceleration, as in LinuxCNC.
-fn joins_of(prev: Ending, own: Ending) -> Joins {
-    match (prev, own) {
-        (Ending::Blend { .. }, _) | (_, Ending::Blend { .. }) => Joins::Blend,
-        (Ending::ExactPath, _) => Joins::Kink,
-        _ => Joins::Stop,
-    }
+/// How a new move's ends meet its neighbours, from how the move before
+/// it ends (`Stop` if they cannot meet at speed) and how it ends itself,
+/// until the corners are settled (see `join`): under G64 an end is
+/// `Open` (it may be blended); after a G61 move the start is a `Kink`;
+/// a G61 move's own end counts as a stop until the next move is found to
+/// meet it at speed (alone, it runs at the whole acceleration, as in
+/// LinuxCNC).
+fn ends_of(prev: Ending, own: Ending) -> (End, End) {
+    let start = match prev {
+        Ending::Blend { .. } => End::Open,
+        Ending::ExactPath => End::Kink,
+        Ending::Stop => End::Stop,
+    };
+    let end = match own {
+        Ending::Blend { .. } => End::Open,
+        Ending::ExactPath | Ending::Stop => End::Stop,
+    };
+    (start, end)
 }
 
 /// The corner where `a` ends and `b` starts.

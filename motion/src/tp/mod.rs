@@ -35,16 +35,16 @@
 //!   at their kink speed (often a near stop) rather than blended. The
 //!   acceleration budget is still LinuxCNC's (see `budget`): a move that
 //!   may be blended (G64, the last queued one included) gets half the
-//!   tangential acceleration, an exact-path or exact-stop move the whole,
-//!   a turn up to 0.866 of it as centripetal acceleration, so the same
-//!   MAX_ACCELERATION gives the same acceleration per move as there. The
-//!   differences: where a kink may be crossed at speed, 10 % of each
-//!   axis's acceleration is kept free (a G61 move gets this reserve once
-//!   the next move is found to meet it at speed, unless it is already
-//!   running, when that corner becomes a stop); LinuxCNC instead lowers
-//!   the acceleration around the kink. The line before a blend arc keeps
-//!   its half (LinuxCNC gives it the whole once the arc is made), as a
-//!   queued segment's budget is not raised afterwards;
+//!   tangential acceleration, one whose corners are settled as blend arcs
+//!   or stops the whole, a turn up to 0.866 of it as centripetal
+//!   acceleration, so the same MAX_ACCELERATION gives the same
+//!   acceleration per move as there. The difference: where a kink is
+//!   crossed at speed, 10 % of each axis's acceleration is kept free for
+//!   the velocity jump (a G61 move gets this reserve once the next move is
+//!   found to meet it at speed, unless it is already running, when that
+//!   corner becomes a stop); LinuxCNC lowers the acceleration around the
+//!   kink instead. A move already running keeps its budget when the next
+//!   move settles its end (LinuxCNC raises it);
 //! * no reverse run, spindle-synchronised motion or rigid tapping yet;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
@@ -653,7 +653,8 @@ impl Planner {
             enables: 0,
             dwell: seconds,
             probe: None,
-            joins: budget::Joins::Stop,
+            start_joins: budget::End::Stop,
+            end_joins: budget::End::Stop,
             step_stop: false,
             atspeed: false,
             sync: false,

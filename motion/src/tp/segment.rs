@@ -1,6 +1,6 @@
 //! One queued move: its path, limits, how it ends, and what it reports.
 
-use super::budget::{Budget, Joins};
+use super::budget::{Budget, End, Joins};
 use super::geom::Path;
 use crate::command::ProbeType;
 use crate::kins::{Pose, NUM_AXES};
@@ -77,8 +77,11 @@ pub(crate) struct Segment {
     /// Seconds to wait (dwells).
     pub dwell: f64,
     pub probe: Option<ProbeType>,
-    /// How it meets its neighbours, as its budget was made for.
-    pub joins: Joins,
+    /// How its start meets the move before it (its budget is made for
+    /// [`Segment::joins`]).
+    pub start_joins: End,
+    /// How its end meets the move after it.
+    pub end_joins: End,
     /// A single step ends at the end of this segment.
     pub step_stop: bool,
     /// It starts, from rest, only once the spindle is at speed.
@@ -130,6 +133,11 @@ impl Segment {
         matches!(self.kind, SegmentKind::Feed | SegmentKind::Traverse)
             && matches!(self.path, Path::Line { .. })
             && !self.path.moves_other_axes()
+    }
+
+    /// How it meets its neighbours.
+    pub fn joins(&self) -> Joins {
+        Joins::of(self.start_joins, self.end_joins)
     }
 
     /// Takes `cut` off the end.

@@ -120,12 +120,20 @@ fn a_running_g61_move_is_not_changed_by_the_next_one() {
     assert_eq!(p.last().unwrap().0[0], 2.0);
 }
 
+/// The path acceleration (Y only) of every period.
+fn y_accels(p: &[Pose]) -> Vec<f64> {
+    let v: Vec<f64> = p.windows(2).map(|w| (w[1].0[1] - w[0].0[1]) / T).collect();
+    v.windows(2).map(|w| (w[1] - w[0]) / T).collect()
+}
+
 #[test]
-fn a_blended_corner_runs_its_lines_at_half_and_turns_at_0_866() {
+fn a_blended_corner_gives_the_settled_line_the_whole_and_turns_at_0_866() {
     // A right angle under G64 at a feed far above what the tolerance
-    // allows through the corner: the lines speed up and slow down at half
-    // the limit; the blend arc is crossed at the speed whose centripetal
-    // acceleration is 0.866 of it.
+    // allows through the corner. As in LinuxCNC: the first line, its end
+    // settled as a tangent blend arc, speeds up at the whole limit; the
+    // last line, which may still be blended, slows down at half; the arc
+    // is crossed at the speed whose centripetal acceleration is 0.866 of
+    // the limit.
     let mut tp = Planner::new(T);
     tp.set_term_cond(TermCond::Blend, 0.01);
     let lim = limits(20.0, 100.0, 0.0);
@@ -139,12 +147,23 @@ fn a_blended_corner_runs_its_lines_at_half_and_turns_at_0_866() {
     assert_within(&p, &lim, false);
     let a = x_accels(&p);
     assert!(
-        (a[0] - 50.0).abs() < 1e-6,
-        "half along the first line: {}",
+        (a[0] - 100.0).abs() < 1e-6,
+        "the whole along the first line: {}",
         a[0]
     );
-    let (_, peak, _) = extremes(&p);
-    assert!(peak[0] <= 100.0 * (1.0 + 1e-6) && peak[1] <= 100.0 * (1.0 + 1e-6));
+    let ay = y_accels(&p);
+    let down: Vec<f64> = ay
+        .iter()
+        .rev()
+        .copied()
+        .take_while(|x| *x < -1e-6)
+        .collect();
+    assert!(down.len() > 10, "{down:?}");
+    // The last period or two land the stop exactly: no harder.
+    assert!(down.iter().all(|y| *y > -50.0 - 1e-6), "{down:?}");
+    for y in &down[2..] {
+        assert!((y + 50.0).abs() < 1e-6, "half along the last line: {y}");
+    }
     // The arc: 90°, midpoint 0.01 from the corner, radius 0.01/(√2 − 1).
     let r = 0.01 / (2f64.sqrt() - 1.0);
     let v_arc = (NORMAL_SHARE * 100.0 * r).sqrt();
@@ -157,4 +176,38 @@ fn a_blended_corner_runs_its_lines_at_half_and_turns_at_0_866() {
         slowest > 0.97 * v_arc && slowest < 1.01 * v_arc,
         "crossed at {slowest}, arc speed {v_arc}"
     );
+}
+
+#[test]
+fn a_line_blended_at_both_ends_gets_the_whole_acceleration() {
+    // A zigzag of G64 lines along X: each middle line meets blend arcs at
+    // both ends and speeds up at the whole limit; the lines keep it once
+    // the next corner is settled, not before.
+    let mut tp = Planner::new(T);
+    tp.set_term_cond(TermCond::Blend, 0.001);
+    let lim = limits(20.0, 100.0, 0.0);
+    let pts = [(1.0, 0.0), (1.0, 1.0), (2.0, 1.0), (2.0, 2.0)];
+    for (k, (x, y)) in pts.iter().enumerate() {
+        tp.add_line(
+            xyz(*x, *y, 0.0),
+            LineKind::Feed,
+            10.0,
+            k as i32 + 1,
+            ENABLES,
+            &lim,
+        )
+        .unwrap();
+    }
+    let lines: Vec<_> = tp.queue.iter().filter(|s| s.blendable_line()).collect();
+    assert_eq!(lines.len(), 4);
+    for l in &lines[..3] {
+        assert_eq!(l.joins(), budget::Joins::Tangent);
+        assert!((l.budget.acc - 100.0).abs() < 1e-9, "{}", l.budget.acc);
+    }
+    assert_eq!(lines[3].joins(), budget::Joins::Blend);
+    assert!((lines[3].budget.acc - 50.0).abs() < 1e-9);
+    let mut p = vec![tp.pos()];
+    p.extend(run(&mut tp, &ScaleInputs::default(), 100_000));
+    assert_within(&p, &lim, false);
+    assert_eq!(*p.last().unwrap(), xyz(2.0, 2.0, 0.0));
 }
