@@ -189,20 +189,28 @@ impl Planner {
     }
 
     /// Makes `seg`'s budget again for how its ends now meet their
-    /// neighbours, unless it is the executing segment and has started
-    /// (`from_tail`: its place counted from the tail, 0 for a segment not
-    /// queued yet). False if it could not (running, or the limits leave
-    /// it no speed): `seg` is then unchanged.
+    /// neighbours (`from_tail`: its place counted from the tail, 0 for a
+    /// segment not queued yet). The executing segment, once started, may
+    /// only gain (trapezoidal planner: the next period simply may change
+    /// speed faster; the S-curve planner keeps what it planned with). False
+    /// if it could not: `seg`'s budget is then unchanged, never more than
+    /// its ends allow.
     fn rebudget(&self, seg: &mut Segment, from_tail: usize, lim: &AxisLimits) -> bool {
         let n = self.queue.len();
-        let started = self.head_started || self.s > 0.0 || self.v > 0.0;
-        if from_tail > 0 && n == from_tail && started {
+        let running =
+            from_tail > 0 && n == from_tail && (self.head_started || self.s > 0.0 || self.v > 0.0);
+        if running && self.planner != PlannerType::Trapezoidal {
             return false;
         }
         let Some(b) = self.budget_for(&seg.path, seg.nominal_len, lim, seg.joins()) else {
             return false;
         };
-        seg.budget = cap_by_length(b, seg.len, self.period);
+        let b = cap_by_length(b, seg.len, self.period);
+        let was = cap_by_length(seg.budget, seg.len, self.period);
+        if running && (b.acc < was.acc || b.vmax < was.vmax) {
+            return false;
+        }
+        seg.budget = b;
         true
     }
 

@@ -78,7 +78,8 @@ pub(crate) struct Segment {
     pub dwell: f64,
     pub probe: Option<ProbeType>,
     /// How its start meets the move before it (its budget is made for
-    /// [`Segment::joins`]).
+    /// [`Segment::joins`], or is lower where a running segment could not
+    /// be given more).
     pub start_joins: End,
     /// How its end meets the move after it.
     pub end_joins: End,

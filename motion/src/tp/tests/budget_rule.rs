@@ -211,3 +211,47 @@ fn a_line_blended_at_both_ends_gets_the_whole_acceleration() {
     assert_within(&p, &lim, false);
     assert_eq!(*p.last().unwrap(), xyz(2.0, 2.0, 0.0));
 }
+
+#[test]
+fn a_running_line_settled_by_a_blend_arc_speeds_up_harder_from_then_on() {
+    // The first G64 line starts alone (half); once the next line blends
+    // into it, the trapezoidal planner may use the whole limit for the
+    // rest of it. The S-curve planner keeps what it planned with.
+    for planner in [PlannerType::Trapezoidal, PlannerType::SCurve] {
+        let mut tp = Planner::new(T);
+        tp.set_planner_type(planner);
+        tp.set_term_cond(TermCond::Blend, 0.01);
+        let lim = limits(20.0, 100.0, 1e6);
+        tp.add_line(xyz(2.0, 0.0, 0.0), LineKind::Feed, 10.0, 1, ENABLES, &lim)
+            .unwrap();
+        let scales = ScaleInputs::default();
+        let mut p = vec![tp.pos()];
+        for _ in 0..10 {
+            p.push(tp.run(&scales));
+        }
+        tp.add_line(xyz(2.0, 2.0, 0.0), LineKind::Feed, 10.0, 2, ENABLES, &lim)
+            .unwrap();
+        for _ in 0..10 {
+            p.push(tp.run(&scales));
+        }
+        let a = x_accels(&p);
+        let before = a[..9].iter().fold(0.0f64, |m, x| m.max(*x));
+        let after = a[11..].iter().fold(0.0f64, |m, x| m.max(*x));
+        assert!(
+            before <= 50.0 + 1e-6,
+            "{planner:?}: half while alone: {before}"
+        );
+        match planner {
+            PlannerType::Trapezoidal => {
+                assert!(
+                    (after - 100.0).abs() < 1e-6,
+                    "the whole once settled: {after}"
+                )
+            }
+            PlannerType::SCurve => assert!(after <= 50.0 + 1e-6, "unchanged: {after}"),
+        }
+        p.extend(run(&mut tp, &scales, 100_000));
+        assert_within(&p, &lim, planner == PlannerType::SCurve);
+        assert_eq!(*p.last().unwrap(), xyz(2.0, 2.0, 0.0));
+    }
+}
