@@ -174,54 +174,66 @@ fn arb_program() -> impl Strategy<Value = Program> {
 /// Queues the program; returns the largest blend tolerance in effect (0:
 /// none) and the programmed end.
 fn queue(tp: &mut Planner, p: &Program) -> (f64, [f64; 3]) {
+    start(tp, p);
+    let mut tol_max: f64 = 0.0;
+    let mut end = p.start;
+    for k in 0..p.moves.len() {
+        queue_move(tp, p, k, &mut tol_max, &mut end);
+    }
+    (tol_max, end)
+}
+
+/// Puts the planner at the program's start, with its planner type.
+fn start(tp: &mut Planner, p: &Program) {
     tp.set_pos(pose(p.start));
     if p.scurve {
         tp.set_planner_type(PlannerType::SCurve);
     }
-    let mut tol_max: f64 = 0.0;
-    let mut end = p.start;
-    for (k, (mv, term, tol)) in p.moves.iter().enumerate() {
-        tp.set_term_cond(*term, *tol);
-        if *term == TermCond::Blend {
-            // Tolerance 0 blends within a quarter of the shorter move.
-            tol_max = tol_max.max(if *tol > 0.0 { *tol } else { 10.0 });
+}
+
+/// Queues move `k` of the program; keeps the largest blend tolerance in
+/// effect and the programmed end up to date.
+fn queue_move(tp: &mut Planner, p: &Program, k: usize, tol_max: &mut f64, end: &mut [f64; 3]) {
+    let (mv, term, tol) = &p.moves[k];
+    tp.set_term_cond(*term, *tol);
+    if *term == TermCond::Blend {
+        // Tolerance 0 blends within a quarter of the shorter move.
+        *tol_max = tol_max.max(if *tol > 0.0 { *tol } else { 10.0 });
+    }
+    let id = k as i32 + 1;
+    match mv {
+        Move::Line { to, feed } => {
+            let (kind, vel) = match feed {
+                Some(f) => (LineKind::Feed, *f),
+                None => (LineKind::Traverse, 0.0),
+            };
+            tp.add_line(pose(*to), kind, vel, id, ENABLES, &p.limits)
+                .unwrap();
+            *end = *to;
         }
-        let id = k as i32 + 1;
-        match mv {
-            Move::Line { to, feed } => {
-                let (kind, vel) = match feed {
-                    Some(f) => (LineKind::Feed, *f),
-                    None => (LineKind::Traverse, 0.0),
-                };
-                tp.add_line(pose(*to), kind, vel, id, ENABLES, &p.limits)
-                    .unwrap();
-                end = *to;
-            }
-            Move::Arc {
-                to,
-                center,
-                turns,
-                feed,
-            } => {
-                if tp
-                    .add_arc(
-                        pose(*to),
-                        *center,
-                        [0.0, 0.0, 1.0],
-                        *turns,
-                        *feed,
-                        id,
-                        ENABLES,
-                        &p.limits,
-                    )
-                    .is_ok()
-                {
-                    end = *to;
-                }
+        Move::Arc {
+            to,
+            center,
+            turns,
+            feed,
+        } => {
+            if tp
+                .add_arc(
+                    pose(*to),
+                    *center,
+                    [0.0, 0.0, 1.0],
+                    *turns,
+                    *feed,
+                    id,
+                    ENABLES,
+                    &p.limits,
+                )
+                .is_ok()
+            {
+                *end = *to;
             }
         }
     }
-    (tol_max, end)
 }
 
 /// Checks the sampled poses against the limits.
@@ -399,6 +411,40 @@ proptest! {
         check_limits(&samples, &p.limits, p.scurve)?;
         let last = samples.last().unwrap();
         prop_assert_eq!(xyz(last), end, "ends exactly on the last point");
+        check_on_path(&ids, &p, tol)?;
+    }
+
+    #[test]
+    fn moves_queued_while_running_keep_the_limits_and_end_exactly(
+        p in arb_program(),
+        gaps in prop::collection::vec(0usize..400, 10),
+    ) {
+        // Each move arrives some periods after the one before (MDI):
+        // corners are settled, and budgets changed, while a move runs.
+        let mut tp = Planner::new(T);
+        start(&mut tp, &p);
+        let scales = ScaleInputs::default();
+        let (mut tol, mut end) = (0.0, p.start);
+        let mut samples = vec![tp.pos()];
+        let mut ids = vec![(tp.pos(), 1)];
+        for (k, gap) in gaps.iter().enumerate().take(p.moves.len()) {
+            queue_move(&mut tp, &p, k, &mut tol, &mut end);
+            for _ in 0..*gap {
+                let q = tp.run(&scales);
+                samples.push(q);
+                ids.push((q, tp.status().exec_id));
+            }
+        }
+        let mut n = 0;
+        while !tp.is_done() {
+            let q = tp.run(&scales);
+            samples.push(q);
+            ids.push((q, tp.status().exec_id));
+            n += 1;
+            prop_assert!(n < 2_000_000, "never finished");
+        }
+        check_limits(&samples, &p.limits, p.scurve)?;
+        prop_assert_eq!(xyz(samples.last().unwrap()), end, "ends exactly on the last point");
         check_on_path(&ids, &p, tol)?;
     }
 

@@ -3,26 +3,38 @@
 //! segment's `AxisFactors`, and the speed at which a corner between two
 //! segments may be crossed.
 //!
-//! The rules, per axis `i` with limits `V_i`, `A_i`, `J_i`:
+//! The rules, per axis `i` with limits `V_i`, `A_i`, `J_i`, depend on how
+//! the segment meets its neighbours ([`Joins`]):
 //! * speed: `v · speed_i ≤ V_i`;
 //! * acceleration: the bound of `AxisFactors::accel` at the segment's
 //!   speed cap stays within `A_i`; the centripetal part is held to
-//!   [`NORMAL_SHARE`] of it, so some is left for speeding up and slowing
-//!   down along the arc;
-//! * a segment that may meet another at a kink (neither end is an exact
-//!   stop) keeps [`KINK_RESERVE`] of each axis's acceleration (and half its
-//!   jerk for the S-curve planner) free: crossing a kink at speed `c`
-//!   changes axis `i`'s velocity by `c·|Δt_i|` within one period, which the
-//!   corner cap keeps within that reserve;
+//!   [`NORMAL_SHARE`] of it (LinuxCNC's 0.866), so a turn at full speed
+//!   keeps half the acceleration for speeding up and slowing down along
+//!   it;
+//! * a segment that may meet another at a kink ([`Joins::Kink`],
+//!   [`Joins::Blend`]) keeps [`KINK_RESERVE`] of each axis's acceleration
+//!   free: crossing a kink at speed `c` changes axis `i`'s velocity by
+//!   `c·|Δt_i|` within one period, which the corner cap keeps within that
+//!   reserve;
+//! * a segment that may be blended ([`Joins::Blend`]: an end under G64
+//!   not met by a blend arc, the last queued move included) may use
+//!   [`BLEND_SHARE`] of its tangential acceleration, as LinuxCNC's planner
+//!   gives it (it keeps the other half for its parabolic blends): the same
+//!   MAX_ACCELERATION gives the same acceleration per move as there. A
+//!   lone G0 under G64 speeds up at half the axis limit;
 //! * jerk (S-curve planner): the bound of `AxisFactors::jerk` stays
-//!   within `J_i`; at a corner, the velocity jump and the jump of the
-//!   centripetal acceleration (where a straight move meets a turn), both
-//!   within one period, stay within the reserved half of `J_i`; and, as
+//!   within `J_i`; a segment entered or left at speed keeps
+//!   [`JERK_RESERVE`] of it for the corners: the velocity jump and the
+//!   jump of the centripetal acceleration (where a straight move meets a
+//!   turn), both within one period, stay within that reserve; and, as
 //!   LinuxCNC, a turn that may be entered at speed goes no faster than
 //!   `√(J·R·T)` (its centripetal acceleration `v²/R` may appear within
 //!   one period).
 //!
-//! Each segment's numbers are fixed when it is queued, so changing a later
+//! A segment's numbers are made when it is queued and again, until it
+//! starts, when the next move settles how its end is met: a blend arc
+//! (the whole acceleration, as LinuxCNC once its arc blend is made) or a
+//! kink crossed at speed under G61 (the kink reserve). Changing a later
 //! corner never changes what the executing segment may do.
 
 use super::geom::AxisFactors;
@@ -35,8 +47,77 @@ pub const KINK_RESERVE: f64 = 0.1;
 /// turn begins or ends (S-curve planner).
 pub const JERK_RESERVE: f64 = 0.5;
 /// The largest share of an axis's acceleration a turn's centripetal
-/// acceleration may take.
-pub const NORMAL_SHARE: f64 = 0.75;
+/// acceleration may take: `√(1 − 0.5²)`, LinuxCNC's blend-arc ratio, so a
+/// turn at full speed keeps half the acceleration along the path.
+pub const NORMAL_SHARE: f64 = 0.866_025_403_784_438_6;
+/// Share of the tangential acceleration a segment that may be blended
+/// uses ([`Joins::Blend`]): LinuxCNC's planner halves it there.
+pub const BLEND_SHARE: f64 = 0.5;
+
+/// How one end of a segment meets its neighbour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum End {
+    /// At rest: an exact stop, a move that cannot join its neighbour, an
+    /// exact-path (G61) end until the next move is found to meet it at
+    /// speed.
+    Stop,
+    /// Tangent to a blend arc.
+    Tangent,
+    /// Crossed at speed at a kink (G61).
+    Kink,
+    /// May be blended (G64): not yet met by a next move, or crossed at a
+    /// kink (where LinuxCNC falls back to a parabolic blend).
+    Open,
+}
+
+/// How a segment meets its neighbours, which sets the share of the axes'
+/// limits it may use (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Joins {
+    /// Both ends at rest (exact stops, G61.1, a lone G61 move): the whole
+    /// acceleration and jerk.
+    Stop,
+    /// Entered or left at speed, but tangentially (a blend arc, a line
+    /// blended into arcs at both ends): the whole acceleration, the jerk
+    /// reserve (S-curve).
+    Tangent,
+    /// An end is crossed at speed at a kink (G61): the kink and jerk
+    /// reserves.
+    Kink,
+    /// An end may be blended (G64): the kink and jerk reserves, and
+    /// [`BLEND_SHARE`] of the tangential acceleration.
+    Blend,
+}
+
+impl Joins {
+    /// The rule, written once: what a segment whose ends meet their
+    /// neighbours as `start` and `end` may use. As LinuxCNC's planner,
+    /// half the tangential acceleration wherever an end may be blended
+    /// (the last queued G64 move, a move after one), the whole once both
+    /// corners are settled as tangent blend arcs or stops.
+    pub(crate) fn of(start: End, end: End) -> Joins {
+        let either = |e: End| start == e || end == e;
+        if either(End::Open) {
+            Joins::Blend
+        } else if either(End::Kink) {
+            Joins::Kink
+        } else if either(End::Tangent) {
+            Joins::Tangent
+        } else {
+            Joins::Stop
+        }
+    }
+
+    /// A kink may be crossed at speed at an end.
+    fn kinks(self) -> bool {
+        matches!(self, Joins::Kink | Joins::Blend)
+    }
+
+    /// An end may be crossed at speed.
+    fn at_speed(self) -> bool {
+        self != Joins::Stop
+    }
+}
 
 /// The kinematic limits of the nine world axes, as the planner uses them
 /// (the smaller of each axis's own limits and those of the joints it
@@ -121,9 +202,8 @@ fn solve_increasing(bound: impl Fn(f64) -> f64, limit: f64, hi: f64) -> f64 {
     lo
 }
 
-/// The budget of a segment `len` long with factors `f`. `kinks`: the
-/// segment may meet a neighbour at a kink or start a turn at speed (keep
-/// the reserves). `rotary_only`: no XYZ or UVW motion (the traj speed
+/// The budget of a segment `len` long with factors `f` that meets its
+/// neighbours as `joins` says. `rotary_only`: no XYZ or UVW motion (the traj speed
 /// limit does not apply). `None` if the limits leave no speed at all.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn budget(
@@ -132,13 +212,13 @@ pub(crate) fn budget(
     lim: &AxisLimits,
     traj: &TrajLimits,
     period: f64,
-    kinks: bool,
+    joins: Joins,
     planner: PlannerType,
     rotary_only: bool,
 ) -> Option<Budget> {
     let scurve = planner == PlannerType::SCurve;
-    let acc_share = if kinks { 1.0 - KINK_RESERVE } else { 1.0 };
-    let jerk_share = if kinks && scurve {
+    let jerk_reserve = joins.at_speed() && scurve;
+    let jerk_share = if jerk_reserve {
         1.0 - JERK_RESERVE
     } else {
         1.0
@@ -155,8 +235,8 @@ pub(crate) fn budget(
         vmax = vmax.min(lim.vel[i] / k);
         if f.rot[i] > 0.0 && f.omega > 0.0 {
             let turning = f.rot[i] * f.omega;
-            vmax = vmax.min((NORMAL_SHARE * acc_share * lim.acc[i] / turning).sqrt());
-            if scurve && kinks && lim.jerk[i] > 0.0 {
+            vmax = vmax.min((NORMAL_SHARE * lim.acc[i] / turning).sqrt());
+            if jerk_reserve && lim.jerk[i] > 0.0 {
                 // The centripetal acceleration changes within one period
                 // where the turn meets a straight move, and the discrete
                 // jerk of the turn itself: LinuxCNC's √(J·R·T) bound.
@@ -168,7 +248,7 @@ pub(crate) fn budget(
         return None;
     }
     for _ in 0..40 {
-        let acc = tangential_acc(f, lim, traj, vmax, acc_share);
+        let acc = path_acc(f, lim, traj, vmax, joins);
         if acc <= 0.0 {
             return None;
         }
@@ -206,6 +286,25 @@ fn min_axis_jerk(f: &AxisFactors, lim: &AxisLimits) -> f64 {
         }
     }
     j
+}
+
+/// The tangential acceleration a segment meeting its neighbours as
+/// `joins` says may use at speed `vmax`: what every axis allows within
+/// its share (less the kink reserve where a kink may be crossed), and
+/// for a segment that may be blended no more than [`BLEND_SHARE`] of what
+/// the whole limits allow (the `[TRAJ]` limit included).
+fn path_acc(f: &AxisFactors, lim: &AxisLimits, traj: &TrajLimits, vmax: f64, joins: Joins) -> f64 {
+    let share = if joins.kinks() {
+        1.0 - KINK_RESERVE
+    } else {
+        1.0
+    };
+    let acc = tangential_acc(f, lim, traj, vmax, share);
+    if joins == Joins::Blend {
+        acc.min(BLEND_SHARE * tangential_acc(f, lim, traj, vmax, 1.0))
+    } else {
+        acc
+    }
 }
 
 /// The tangential acceleration every axis allows at speed `vmax`.
@@ -285,8 +384,7 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_diagonal_line_is_held_by_its_slowest_axis() {
+    fn line_budget(lim: &AxisLimits, traj: &TrajLimits, joins: Joins) -> Budget {
         let mut d = [0.0; NUM_AXES];
         d[0] = 3.0;
         d[1] = 4.0;
@@ -294,40 +392,51 @@ mod tests {
             start: Pose::ZERO,
             delta: d,
         };
-        let mut lim = limits(10.0, 100.0, 0.0);
-        lim.vel[1] = 4.0;
-        let b = budget(
+        budget(
             &p.factors(5.0),
             5.0,
-            &lim,
-            &TrajLimits::default(),
+            lim,
+            traj,
             0.001,
-            false,
+            joins,
             PlannerType::Trapezoidal,
             false,
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn a_diagonal_line_is_held_by_its_slowest_axis() {
+        let mut lim = limits(10.0, 100.0, 0.0);
+        lim.vel[1] = 4.0;
+        let traj = TrajLimits::default();
+        let b = line_budget(&lim, &traj, Joins::Stop);
         // Y moves 0.8 per unit of path: 4 / 0.8 = 5.
         assert!((b.vmax - 5.0).abs() < 1e-12);
         // X moves 0.6, Y 0.8: Y's 100 limits the path to 125.
         assert!((b.acc - 125.0).abs() < 1e-9);
-        // With kinks possible, 10 % is kept back.
-        let k = budget(
-            &p.factors(5.0),
-            5.0,
-            &lim,
-            &TrajLimits::default(),
-            0.001,
-            true,
-            PlannerType::Trapezoidal,
-            false,
-        )
-        .unwrap();
+        // With kinks possible (G61), 10 % is kept back.
+        let k = line_budget(&lim, &traj, Joins::Kink);
         assert!((k.acc - 112.5).abs() < 1e-9);
+        // A move that may be blended (G64) gets half, as in LinuxCNC.
+        let g64 = line_budget(&lim, &traj, Joins::Blend);
+        assert!((g64.acc - 62.5).abs() < 1e-9);
+        assert_eq!(g64.vmax, b.vmax);
     }
 
     #[test]
-    fn a_circle_keeps_its_centripetal_acceleration_within_the_share() {
+    fn the_blend_share_halves_the_traj_limit_too() {
+        let lim = limits(10.0, 100.0, 0.0);
+        let traj = TrajLimits {
+            max_acc: 40.0,
+            ..TrajLimits::default()
+        };
+        assert!((line_budget(&lim, &traj, Joins::Stop).acc - 40.0).abs() < 1e-9);
+        assert!((line_budget(&lim, &traj, Joins::Kink).acc - 40.0).abs() < 1e-9);
+        assert!((line_budget(&lim, &traj, Joins::Blend).acc - 20.0).abs() < 1e-9);
+    }
+
+    fn circle_budget(joins: Joins) -> (AxisFactors, Budget) {
         let mut start = Pose::ZERO;
         start.0[0] = 2.0;
         let a = arc_move(&start, &start, [0.0; 3], [0.0, 0.0, 1.0], 0).unwrap();
@@ -341,15 +450,34 @@ mod tests {
             &lim,
             &TrajLimits::default(),
             0.001,
-            false,
+            joins,
             PlannerType::Trapezoidal,
             false,
         )
         .unwrap();
-        assert!((b.vmax * b.vmax / 2.0 - 0.75 * 50.0).abs() < 1e-9);
-        // At that speed the worst axis acceleration is exactly the limit.
-        assert!((f.accel(0, b.vmax, b.acc) - 50.0).abs() < 1e-6);
-        assert!((b.acc - 50.0 * (1.0f64 - 0.75 * 0.75).sqrt()).abs() < 1e-6);
+        (f, b)
+    }
+
+    #[test]
+    fn a_circle_keeps_its_centripetal_acceleration_within_the_share() {
+        for joins in [Joins::Stop, Joins::Tangent] {
+            let (f, b) = circle_budget(joins);
+            // LinuxCNC's 0.866 of the limit for the turn.
+            assert!((b.vmax * b.vmax / 2.0 - NORMAL_SHARE * 50.0).abs() < 1e-9);
+            // At that speed the worst axis acceleration is exactly the limit:
+            // half of it is left along the path.
+            assert!((f.accel(0, b.vmax, b.acc) - 50.0).abs() < 1e-6);
+            assert!((b.acc - 25.0).abs() < 1e-6, "{}", b.acc);
+        }
+        // The turn is as fast with the kink reserve kept, and what is left
+        // of 90 % along the path, no more than half of the 25 under G64.
+        let (f, k) = circle_budget(Joins::Kink);
+        assert!((k.vmax * k.vmax / 2.0 - NORMAL_SHARE * 50.0).abs() < 1e-9);
+        assert!((f.accel(0, k.vmax, k.acc) - 45.0).abs() < 1e-6);
+        let (_, g64) = circle_budget(Joins::Blend);
+        assert_eq!(g64.vmax, k.vmax);
+        assert!((g64.acc - k.acc.min(12.5)).abs() < 1e-9);
+        assert!(g64.acc > 12.0, "{}", g64.acc);
     }
 
     #[test]

@@ -13,7 +13,7 @@
 //! A change may only lower how fast the executing segment may end if the
 //! executor can still keep it: otherwise the corner is left as a kink.
 
-use super::budget::{budget, corner_cap, Budget, Corner};
+use super::budget::{budget, corner_cap, Budget, Corner, End, Joins};
 use super::geom::{self, Path, MIN_LENGTH};
 use super::segment::{Ending, Segment, SegmentKind};
 use super::{AxisLimits, Planner, PlannerType};
@@ -58,13 +58,18 @@ impl Planner {
         } else {
             self.ending()
         };
-        let prev_not_stop = self
+        let prev_ending = self
             .queue
             .back()
-            .is_some_and(|p| p.ending != Ending::Stop && joinable(p.kind, kind));
-        let own_not_stop = ending != Ending::Stop && probe.is_none();
-        let kinks = prev_not_stop || own_not_stop;
-        let Some(b) = self.budget_for(&path, len, lim, kinks) else {
+            .filter(|p| joinable(p.kind, kind))
+            .map_or(Ending::Stop, |p| p.ending);
+        let own_ending = if probe.is_some() {
+            Ending::Stop
+        } else {
+            ending
+        };
+        let (start_joins, end_joins) = ends_of(prev_ending, own_ending);
+        let Some(b) = self.budget_for(&path, len, lim, Joins::of(start_joins, end_joins)) else {
             return;
         };
         let mut seg = Segment {
@@ -87,7 +92,8 @@ impl Planner {
             enables,
             dwell: 0.0,
             probe,
-            kinks,
+            start_joins,
+            end_joins,
             step_stop: false,
             atspeed,
             indexer,
@@ -113,7 +119,7 @@ impl Planner {
 
     /// The budget of `path`, `len` long (see [`budget`]); the `[TRAJ]` speed
     /// limit does not apply to purely rotary moves.
-    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, kinks: bool) -> Option<Budget> {
+    fn budget_for(&self, path: &Path, len: f64, lim: &AxisLimits, joins: Joins) -> Option<Budget> {
         let f = path.factors(len);
         let rotary_only = [0, 1, 2, 6, 7, 8].iter().all(|&i| f.speed(i) == 0.0);
         budget(
@@ -122,7 +128,7 @@ impl Planner {
             lim,
             &self.traj,
             self.period,
-            kinks,
+            joins,
             self.planner,
             rotary_only,
         )
@@ -151,16 +157,61 @@ impl Planner {
                 return;
             }
         }
-        let cap = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
+        let kink = corner_cap(&corner(&prev, seg), lim, self.period, self.planner);
         // A corner that cannot be crossed faster than one period's speed
         // change is a stop (a reversal, a sharp corner).
-        let slowest = prev.budget.acc.min(seg.budget.acc) * self.period;
-        let cap = cap.min(prev.budget.vmax).min(seg.budget.vmax);
-        if cap > slowest {
+        let crossable = |p: &Budget| {
+            let cap = kink.min(p.vmax).min(seg.budget.vmax);
+            (cap > p.acc.min(seg.budget.acc) * self.period).then_some(cap)
+        };
+        let Some(mut cap) = crossable(&prev.budget) else {
+            return;
+        };
+        if prev.end_joins == End::Stop && kink.is_finite() {
+            // A G61 move queued as if it stopped is crossed at a kink
+            // after all: it keeps the kink reserve from now on.
+            let mut kinked = prev;
+            kinked.end_joins = End::Kink;
+            if !self.rebudget(&mut kinked, 1, lim) {
+                return;
+            }
+            let Some(c) = crossable(&kinked.budget) else {
+                return;
+            };
+            cap = c;
             if let Some(last) = self.queue.back_mut() {
-                last.end_cap = cap;
+                *last = kinked;
             }
         }
+        if let Some(last) = self.queue.back_mut() {
+            last.end_cap = cap;
+        }
+    }
+
+    /// Makes `seg`'s budget again for how its ends now meet their
+    /// neighbours (`from_tail`: its place counted from the tail, 0 for a
+    /// segment not queued yet). The executing segment, once started, may
+    /// only gain (trapezoidal planner: the next period simply may change
+    /// speed faster; the S-curve planner keeps what it planned with). False
+    /// if it could not: `seg`'s budget is then unchanged, never more than
+    /// its ends allow.
+    fn rebudget(&self, seg: &mut Segment, from_tail: usize, lim: &AxisLimits) -> bool {
+        let n = self.queue.len();
+        let running =
+            from_tail > 0 && n == from_tail && (self.head_started || self.s > 0.0 || self.v > 0.0);
+        if running && self.planner != PlannerType::Trapezoidal {
+            return false;
+        }
+        let Some(b) = self.budget_for(&seg.path, seg.nominal_len, lim, seg.joins()) else {
+            return false;
+        };
+        let b = cap_by_length(b, seg.len, self.period);
+        let was = cap_by_length(seg.budget, seg.len, self.period);
+        if running && (b.acc < was.acc || b.vmax < was.vmax) {
+            return false;
+        }
+        seg.budget = b;
+        true
     }
 
     /// The smallest cut, at most `cut`, whose blend arc at `corner` can
@@ -181,7 +232,8 @@ impl Planner {
             let blend = geom::blend_arc(corner, u1, u2, c)?;
             let path = Path::Arc(blend.arc);
             let len = path.length();
-            self.budget_for(&path, len, lim, true).map(|b| b.vmax)
+            self.budget_for(&path, len, lim, Joins::Tangent)
+                .map(|b| b.vmax)
         };
         if !(goal > 0.0 && cut > MIN_LENGTH) {
             return cut;
@@ -251,7 +303,7 @@ impl Planner {
         if len < 1e-6 {
             return false;
         }
-        let Some(b) = self.budget_for(&path, len, lim, true) else {
+        let Some(b) = self.budget_for(&path, len, lim, Joins::Tangent) else {
             return false;
         };
         let arc_end = path.point(len, len);
@@ -276,7 +328,8 @@ impl Planner {
             enables: prev.enables,
             dwell: 0.0,
             probe: None,
-            kinks: true,
+            start_joins: End::Tangent,
+            end_joins: End::Tangent,
             step_stop: false,
             atspeed: false,
             indexer: None,
@@ -292,13 +345,21 @@ impl Planner {
         }
         let saved_seg = *seg;
 
+        // Both lines now meet the arc tangentially: as in LinuxCNC, a
+        // line settled that way at both ends gets the whole acceleration.
         let mut trimmed = prev;
         trimmed.cut_end(cut);
-        trimmed.budget = cap_by_length(trimmed.budget, trimmed.len, self.period);
+        trimmed.end_joins = End::Tangent;
+        if !self.rebudget(&mut trimmed, 1, lim) {
+            trimmed.budget = cap_by_length(trimmed.budget, trimmed.len, self.period);
+        }
         trimmed.end_cap = trimmed.budget.vmax.min(b.vmax);
         let consumed = trimmed.len < MIN_LENGTH && (n > 1 || (self.s == 0.0 && self.v == 0.0));
         seg.cut_start(cut);
-        seg.budget = cap_by_length(seg.budget, seg.len, self.period);
+        seg.start_joins = End::Tangent;
+        if !self.rebudget(seg, 0, lim) {
+            seg.budget = cap_by_length(seg.budget, seg.len, self.period);
+        }
         if consumed {
             self.queue.pop_back();
         } else {
@@ -350,6 +411,26 @@ impl Planner {
 fn joinable(a: SegmentKind, b: SegmentKind) -> bool {
     use SegmentKind::*;
     matches!((a, b), (Traverse, Traverse) | (Feed | Arc, Feed | Arc))
+}
+
+/// How a new move's ends meet its neighbours, from how the move before
+/// it ends (`Stop` if they cannot meet at speed) and how it ends itself,
+/// until the corners are settled (see `join`): under G64 an end is
+/// `Open` (it may be blended); after a G61 move the start is a `Kink`;
+/// a G61 move's own end counts as a stop until the next move is found to
+/// meet it at speed (alone, it runs at the whole acceleration, as in
+/// LinuxCNC).
+fn ends_of(prev: Ending, own: Ending) -> (End, End) {
+    let start = match prev {
+        Ending::Blend { .. } => End::Open,
+        Ending::ExactPath => End::Kink,
+        Ending::Stop => End::Stop,
+    };
+    let end = match own {
+        Ending::Blend { .. } => End::Open,
+        Ending::ExactPath | Ending::Stop => End::Stop,
+    };
+    (start, end)
 }
 
 /// The corner where `a` ends and `b` starts.

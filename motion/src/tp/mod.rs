@@ -32,7 +32,19 @@
 //! * no parabolic blending (segments overlapping in time): a corner is a
 //!   blend arc, a kink crossed at the speed the axes can take, or a stop;
 //!   arc-to-line and arc-to-arc corners that are not tangent are crossed
-//!   at their kink speed (often a near stop) rather than blended;
+//!   at their kink speed (often a near stop) rather than blended. The
+//!   acceleration budget is still LinuxCNC's (see `budget`): a move that
+//!   may be blended (G64, the last queued one included) gets half the
+//!   tangential acceleration, one whose corners are settled as blend arcs
+//!   or stops the whole, a turn up to 0.866 of it as centripetal
+//!   acceleration, so the same MAX_ACCELERATION gives the same
+//!   acceleration per move as there. The difference: where a kink is
+//!   crossed at speed, 10 % of each axis's acceleration is kept free for
+//!   the velocity jump (a G61 move gets this reserve once the next move is
+//!   found to meet it at speed, unless it is already running, when that
+//!   corner becomes a stop); LinuxCNC lowers the acceleration around the
+//!   kink instead. A move already running keeps its budget when the next
+//!   move settles its end (LinuxCNC raises it);
 //! * no reverse run, spindle-synchronised motion or rigid tapping yet;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
@@ -650,7 +662,8 @@ impl Planner {
             enables: 0,
             dwell: seconds,
             probe: None,
-            kinks: false,
+            start_joins: budget::End::Stop,
+            end_joins: budget::End::Stop,
             step_stop: false,
             atspeed: false,
             sync: false,

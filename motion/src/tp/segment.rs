@@ -1,6 +1,6 @@
 //! One queued move: its path, limits, how it ends, and what it reports.
 
-use super::budget::Budget;
+use super::budget::{Budget, End, Joins};
 use super::geom::Path;
 use crate::command::ProbeType;
 use crate::kins::{Pose, NUM_AXES};
@@ -77,8 +77,12 @@ pub(crate) struct Segment {
     /// Seconds to wait (dwells).
     pub dwell: f64,
     pub probe: Option<ProbeType>,
-    /// Whether the budget keeps the kink reserves.
-    pub kinks: bool,
+    /// How its start meets the move before it (its budget is made for
+    /// [`Segment::joins`], or is lower where a running segment could not
+    /// be given more).
+    pub start_joins: End,
+    /// How its end meets the move after it.
+    pub end_joins: End,
     /// A single step ends at the end of this segment.
     pub step_stop: bool,
     /// It starts, from rest, only once the spindle is at speed.
@@ -130,6 +134,11 @@ impl Segment {
         matches!(self.kind, SegmentKind::Feed | SegmentKind::Traverse)
             && matches!(self.path, Path::Line { .. })
             && !self.path.moves_other_axes()
+    }
+
+    /// How it meets its neighbours.
+    pub fn joins(&self) -> Joins {
+        Joins::of(self.start_joins, self.end_joins)
     }
 
     /// Takes `cut` off the end.

@@ -6,6 +6,8 @@ use super::*;
 use crate::command::{LineKind, TermCond};
 use crate::kins::NUM_AXES;
 
+mod budget_rule;
+
 const T: f64 = 0.001;
 
 fn xyz(x: f64, y: f64, z: f64) -> Pose {

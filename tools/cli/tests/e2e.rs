@@ -902,7 +902,14 @@ fn the_simulated_mill_runs_the_shipped_pocket() {
         figures[2] <= 10.0 + 0.002,
         "the sampled speed (6 decimals): {summary}"
     );
-    assert!(figures[4] <= 100.0, "{summary}");
+    // The positions are printed to 6 decimals: their second difference
+    // is off by up to 2e-6 per period², 2 units/s² at 1 ms. The planner
+    // keeps 100 on the unrounded positions (motion's own tests); lines
+    // blended at both ends use all of it, as in LinuxCNC.
+    assert!(
+        (99.0..=100.0 + 2.0).contains(&figures[4]),
+        "the sampled acceleration (6 decimals): {summary}"
+    );
     for j in 0..3 {
         assert!(text.contains(&format!("TRUE  joint.{j}.homed\n")), "{j}");
     }

@@ -433,7 +433,10 @@ fn traj_settings_and_a_comp_file_reach_the_planner() {
         m.motion(&["status"]).contains(" s-curve"),
         "S-curve planner"
     );
-    // Ask for far more than MAX_LINEAR_VELOCITY: X forward, Y back.
+    // Ask for far more than MAX_LINEAR_VELOCITY: X forward, Y back, as
+    // an exact stop (a move that may be blended, G64, gets half the
+    // acceleration, as in LinuxCNC).
+    m.motion(&["term-cond", "stop"]);
     restart_watch(&m, &["speed", "acc", "jerk"]);
     m.motion(&["line", "7", "100", "X=4", "Y=-1"]);
     m.motion(&["-t", "30", "wait", "queue-done"]);
