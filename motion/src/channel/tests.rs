@@ -222,6 +222,16 @@ pub(crate) fn all_commands() -> Vec<Command> {
             spindle: 1,
             per_rev: 0.25,
         },
+        Command::SpindleSync {
+            spindle: 0,
+            per_rev: 1.5,
+            velocity_mode: false,
+        },
+        Command::SpindleSync {
+            spindle: 1,
+            per_rev: 0.0,
+            velocity_mode: true,
+        },
         Command::SpindleCss {
             spindle: 0,
             factor: 31830.98,
@@ -250,11 +260,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_70_is_used() {
+fn every_opcode_from_1_to_the_last_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=70).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=71).collect::<Vec<_>>());
 }
 
 #[test]
@@ -320,7 +330,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 71, 1000, u64::MAX] {
+    for op in [0u64, 900, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(

@@ -22,6 +22,11 @@ impl MotionCore {
             spindle_at_speed: self.spindles_at_speed(),
             spindle_rps: self.inputs.spindle_speed_in,
             unlocked: self.unlocked_mask(),
+            spindle_revs: self.inputs.spindle_revs,
+            spindle_index_enable: (0..self.cfg.num_spindles)
+                .filter(|&n| self.inputs.spindle_index_enable[n])
+                .fold(0, |m, n| m | 1 << n),
+            spindle_reverse: self.spindles_reversed(),
         }
     }
 

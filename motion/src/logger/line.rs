@@ -212,6 +212,14 @@ pub fn line(cmd: &Command) -> String {
         C::SetFeedPerRev { spindle, per_rev } => {
             format!("SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}")
         }
+        C::SpindleSync {
+            spindle,
+            per_rev,
+            velocity_mode,
+        } => format!(
+            "SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}, velocity_mode={}",
+            i32::from(velocity_mode)
+        ),
         C::SpindleCss {
             spindle,
             factor,

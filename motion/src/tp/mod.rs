@@ -33,7 +33,11 @@
 //!   blend arc, a kink crossed at the speed the axes can take, or a stop;
 //!   arc-to-line and arc-to-arc corners that are not tangent are crossed
 //!   at their kink speed (often a near stop) rather than blended;
-//! * no reverse run, spindle-synchronised motion or rigid tapping yet;
+//! * no reverse run;
+//! * spindle-synchronised segments (`spindle_sync`) are locked to the
+//!   spindle's position at its index pulse rather than where the axis
+//!   first reaches the spindle's speed, and they run on the trapezoidal
+//!   planner whichever planner is chosen;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
 
@@ -45,6 +49,7 @@ mod indexer;
 mod lookahead;
 mod scurve;
 mod segment;
+mod spindle_sync;
 mod sync_io;
 mod trapezoid;
 
@@ -87,6 +92,13 @@ pub struct ScaleInputs {
     pub spindle_rps: [f64; crate::sizes::MAX_SPINDLES],
     /// Each joint's `is-unlocked` (bit n: joint n), for locking indexers.
     pub unlocked: u32,
+    /// Each spindle's `revs`: its position, revolutions.
+    pub spindle_revs: [f64; crate::sizes::MAX_SPINDLES],
+    /// Each spindle's `index-enable` as read back (bit n: spindle n).
+    pub spindle_index_enable: u32,
+    /// The spindles commanded to turn in reverse (bit n: spindle n):
+    /// their `revs` count down.
+    pub spindle_reverse: u32,
 }
 
 impl Default for ScaleInputs {
@@ -101,6 +113,9 @@ impl Default for ScaleInputs {
             spindle_at_speed: true,
             spindle_rps: [0.0; crate::sizes::MAX_SPINDLES],
             unlocked: 0,
+            spindle_revs: [0.0; crate::sizes::MAX_SPINDLES],
+            spindle_index_enable: 0,
+            spindle_reverse: 0,
         }
     }
 }
@@ -224,6 +239,10 @@ pub struct Planner {
     head_started: bool,
     /// The feed per revolution of the feed moves queued next (G95).
     feed_per_rev: Option<FeedPerRev>,
+    /// The position synchronisation of the feed moves queued next (G33).
+    position_sync: Option<FeedPerRev>,
+    /// The lock of the executing segment to its spindle.
+    track: spindle_sync::Track,
     /// The next segment pushed is a locking indexer's move of this joint.
     indexer_pending: Option<usize>,
     /// The locking indexer handshake in progress.
@@ -278,6 +297,8 @@ impl Planner {
             waiting_for_atspeed: false,
             head_started: false,
             feed_per_rev: None,
+            position_sync: None,
+            track: spindle_sync::Track::default(),
             indexer_pending: None,
             indexer: None,
             indexer_fault: None,
@@ -364,6 +385,8 @@ impl Planner {
         self.waiting_for_atspeed = false;
         self.head_started = false;
         self.feed_per_rev = None;
+        self.position_sync = None;
+        self.track = spindle_sync::Track::default();
         self.sync_io.clear();
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
@@ -375,6 +398,13 @@ impl Planner {
     /// units per minute again).
     pub fn set_feed_per_rev(&mut self, per_rev: Option<FeedPerRev>) {
         self.feed_per_rev = per_rev;
+    }
+
+    /// Sets the position synchronisation of the feed moves queued next
+    /// (G33: their progress follows the spindle's position; `None`:
+    /// off). It takes precedence over a feed per revolution.
+    pub fn set_position_sync(&mut self, sync: Option<FeedPerRev>) {
+        self.position_sync = sync;
     }
 
     /// Sets the termination condition of the segments queued next.
@@ -646,6 +676,7 @@ impl Planner {
             atspeed: false,
             sync: false,
             per_rev: None,
+            locked: None,
             indexer: None,
         };
         seg.sync = self.sync_io.attach();
@@ -658,5 +689,7 @@ impl Planner {
     }
 }
 
+#[cfg(test)]
+mod spindle_sync_tests;
 #[cfg(test)]
 mod tests;

@@ -88,6 +88,9 @@ pub(crate) struct Segment {
     /// Feed per revolution (G95): its speed follows a spindle's
     /// `speed-in` instead of `req_vel`.
     pub per_rev: Option<FeedPerRev>,
+    /// Position synchronisation (G33, G76): its progress follows the
+    /// spindle's `revs` times this many units per revolution.
+    pub locked: Option<FeedPerRev>,
     /// A locking indexer's rapid: the joint unlocked around it.
     pub indexer: Option<u8>,
 }
@@ -130,6 +133,7 @@ impl Segment {
         matches!(self.kind, SegmentKind::Feed | SegmentKind::Traverse)
             && matches!(self.path, Path::Line { .. })
             && !self.path.moves_other_axes()
+            && self.locked.is_none()
     }
 
     /// Takes `cut` off the end.

@@ -131,6 +131,11 @@ impl MotionCore {
                 mode,
             } => self.spindle_orient(spindle, angle, mode),
             C::SetFeedPerRev { spindle, per_rev } => self.set_feed_per_rev(spindle, per_rev),
+            C::SpindleSync {
+                spindle,
+                per_rev,
+                velocity_mode,
+            } => self.spindle_sync(spindle, per_rev, velocity_mode),
             C::SpindleCss {
                 spindle,
                 factor,
