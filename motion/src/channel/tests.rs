@@ -232,6 +232,12 @@ pub(crate) fn all_commands() -> Vec<Command> {
             per_rev: 0.0,
             velocity_mode: true,
         },
+        Command::RigidTap {
+            end: Pose([1.0, 2.0, -3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            vel: 2.5,
+            scale: 1.5,
+            id: 12,
+        },
         Command::SpindleCss {
             spindle: 0,
             factor: 31830.98,
@@ -264,7 +270,7 @@ fn every_opcode_from_1_to_the_last_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=71).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=72).collect::<Vec<_>>());
 }
 
 #[test]
@@ -517,6 +523,7 @@ fn all_rejects() -> Vec<Reject> {
         Reject::IndexerNeedsRapid { axis: 4 },
         Reject::IndexerNotAlone { axis: 3 },
         Reject::IndexerJog { axis: 5, joint: 7 },
+        Reject::RigidTapNotSynchronised,
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -614,7 +621,7 @@ fn every_reason_code_from_1_to_62_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=62).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=63).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

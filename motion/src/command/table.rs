@@ -606,6 +606,28 @@ commands! {
             per_rev: num(1, "UNITS-PER-REV"),
             velocity_mode: flag(2, "velocity mode"),
         };
+        /// RIGID_TAP (G33.1): queue a rigid tap from where the queue ends to
+        /// `end`'s X, Y and Z and back, at the position synchronisation in
+        /// effect ([`Command::SpindleSync`], refused without it): locked to
+        /// the spindle to the depth, where motion multiplies the spindle's
+        /// speed by −`scale`; back to the start locked to the reversed
+        /// spindle, where it divides the speed by −`scale`; then onto the
+        /// start. `vel` is the programmed speed; `id` the motion id.
+        RigidTap {
+            /// The bottom of the hole (X, Y, Z; the other axes stay).
+            end: Pose,
+            /// Programmed speed along the path, units per second.
+            vel: f64,
+            /// The reversal's speed factor (G33.1 I, > 0).
+            scale: f64,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 72, cli planner "rigid-tap" {
+            end: end_words(3),
+            vel: num(1, "VEL"),
+            scale: num(2, "SCALE"),
+            id: int(0, "ID"),
+        };
         /// Constant surface speed (G96): while `spindle` turns, its speed
         /// is `factor / |X - x_offset|` rpm (X the commanded machine
         /// position, `x_offset` where the spindle axis is), at most the

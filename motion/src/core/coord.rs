@@ -35,6 +35,12 @@ impl MotionCore {
         self.abort_axis_jogs(true);
         let scales = self.scale_inputs();
         let planned = self.tp.run(&scales);
+        if let Some((n, factor)) = self.tp.take_spindle_reversal() {
+            // A rigid tap reverses its spindle (and restores it).
+            if let Some(s) = self.spindles.get_mut(n) {
+                s.speed *= factor;
+            }
+        }
         self.report_indexer_fault();
         self.carte_pos_cmd = self.add_eoffsets(period, &planned);
         self.net_feed_scale = self.tp.status().net_scale;

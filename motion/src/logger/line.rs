@@ -212,6 +212,7 @@ pub fn line(cmd: &Command) -> String {
         C::SetFeedPerRev { spindle, per_rev } => {
             format!("SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}")
         }
+        C::RigidTap { .. } => "RIGID_TAP".into(),
         C::SpindleSync {
             spindle,
             per_rev,

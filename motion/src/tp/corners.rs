@@ -104,6 +104,7 @@ impl Planner {
                 _ => None,
             },
             locked,
+            tap: None,
         };
         seg.sync = self.sync_io.attach();
         self.goal = *end;
@@ -291,6 +292,7 @@ impl Planner {
             sync: false,
             per_rev: prev.per_rev.or(seg.per_rev),
             locked: None,
+            tap: None,
         };
         // Remember what may change, to put it back if the executor could
         // not follow.

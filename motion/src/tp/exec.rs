@@ -134,6 +134,16 @@ impl Planner {
             self.run_dwell(&head);
             return self.pos;
         }
+        if let Some(tap) = head.tap {
+            self.scurve.reset();
+            self.a = 0.0;
+            if tap.state == super::TapState::FinalPlacement {
+                self.step_tap_placement(&head);
+            } else {
+                self.step_tap(scales);
+            }
+            return self.pos;
+        }
         if head.locked.is_some() {
             self.net_scale = 1.0;
             let vt = self.sync_target(&head, scales);
@@ -183,7 +193,7 @@ impl Planner {
         }
     }
 
-    fn step_trapezoid(&mut self, head: &Segment, vt: f64, next_vt: f64) {
+    pub(super) fn step_trapezoid(&mut self, head: &Segment, vt: f64, next_vt: f64) {
         let t = self.period;
         let d = head.len - self.s;
         let a_brake = self.brake_acc(head);
@@ -210,7 +220,7 @@ impl Planner {
     /// The speed for the coming period: `target` clamped to one step of
     /// acceleration `a` from the current speed and below `hard` and
     /// `vmax` (which win should they conflict).
-    fn trapezoid_speed(&self, a: f64, target: f64, hard: f64, vmax: f64) -> f64 {
+    pub(super) fn trapezoid_speed(&self, a: f64, target: f64, hard: f64, vmax: f64) -> f64 {
         let t = self.period;
         let lo = (self.v - a * t).max(0.0);
         let hi = (self.v + a * t).min(hard).min(vmax);
@@ -258,7 +268,7 @@ impl Planner {
     }
 
     /// The executing segment is done: the next one starts.
-    fn finish_head(&mut self) {
+    pub(super) fn finish_head(&mut self) {
         if let Some(done) = self.queue.pop_front() {
             self.exec_id = done.id;
             self.sync_segment_done(&done);

@@ -14,6 +14,8 @@
 //!   whole queue after each new segment).
 //! * `trapezoid` and `scurve`: the two velocity planners along the path;
 //!   `exec` runs them and the queue (pause, step, abort, dwells).
+//! * `spindle_sync` and `rigid_tap`: segments locked to a spindle's
+//!   position (G33, G76, G33.1).
 //!
 //! Guarantees, for the trapezoidal planner and, with jerk, the S-curve
 //! one: no axis ever moves faster, accelerates or (S-curve) jerks harder
@@ -36,8 +38,9 @@
 //! * no reverse run;
 //! * spindle-synchronised segments (`spindle_sync`) are locked to the
 //!   spindle's position at its index pulse rather than where the axis
-//!   first reaches the spindle's speed, and they run on the trapezoidal
-//!   planner whichever planner is chosen;
+//!   first reaches the spindle's speed, a rigid tap's return keeps the
+//!   tapping phase, and both run on the trapezoidal planner whichever
+//!   planner is chosen;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
 
@@ -47,6 +50,7 @@ mod exec;
 mod geom;
 mod indexer;
 mod lookahead;
+mod rigid_tap;
 mod scurve;
 mod segment;
 mod spindle_sync;
@@ -57,6 +61,7 @@ use std::collections::VecDeque;
 
 pub use budget::{AxisLimits, PlannerType, TrajLimits};
 pub use indexer::{IndexerFault, IndexerPhase, INDEXER_TIMEOUT};
+pub use rigid_tap::TapState;
 pub use segment::{FeedPerRev, SegmentKind};
 
 use crate::command::{LineKind, ProbeType, Reject, TermCond};
@@ -243,6 +248,9 @@ pub struct Planner {
     position_sync: Option<FeedPerRev>,
     /// The lock of the executing segment to its spindle.
     track: spindle_sync::Track,
+    /// A rigid tap's spindle reversal for the controller: the spindle
+    /// and the factor of its speed.
+    spindle_reversal: Option<(usize, f64)>,
     /// The next segment pushed is a locking indexer's move of this joint.
     indexer_pending: Option<usize>,
     /// The locking indexer handshake in progress.
@@ -299,6 +307,7 @@ impl Planner {
             feed_per_rev: None,
             position_sync: None,
             track: spindle_sync::Track::default(),
+            spindle_reversal: None,
             indexer_pending: None,
             indexer: None,
             indexer_fault: None,
@@ -387,6 +396,7 @@ impl Planner {
         self.feed_per_rev = None;
         self.position_sync = None;
         self.track = spindle_sync::Track::default();
+        self.spindle_reversal = None;
         self.sync_io.clear();
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
@@ -677,6 +687,7 @@ impl Planner {
             sync: false,
             per_rev: None,
             locked: None,
+            tap: None,
             indexer: None,
         };
         seg.sync = self.sync_io.attach();

@@ -91,6 +91,8 @@ pub(crate) struct Segment {
     /// Position synchronisation (G33, G76): its progress follows the
     /// spindle's `revs` times this many units per revolution.
     pub locked: Option<FeedPerRev>,
+    /// A rigid tap (G33.1) and where it is.
+    pub tap: Option<super::rigid_tap::Tap>,
     /// A locking indexer's rapid: the joint unlocked around it.
     pub indexer: Option<u8>,
 }

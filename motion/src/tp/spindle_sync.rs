@@ -41,7 +41,7 @@ pub(super) enum Phase {
 }
 
 /// The spindle tracking state of the planner.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Track {
     pub phase: Phase,
     /// The spindle position the executing segment's start stands for,
@@ -51,17 +51,47 @@ pub(super) struct Track {
     pub prev_revs: f64,
     /// The spindle whose `index-enable` is to be set this period.
     pub arm: Option<usize>,
+    /// -1 if the spindle turned in reverse when the lock was taken (its
+    /// `revs` count down), else 1: kept while locked, through a rigid
+    /// tap's reversals.
+    pub sign: f64,
 }
 
-/// Spindle `n`'s position in revolutions, positive in its commanded
-/// direction.
-pub(super) fn signed_revs(scales: &ScaleInputs, n: usize) -> f64 {
-    let revs = scales.spindle_revs.get(n).copied().unwrap_or(0.0);
-    let revs = if revs.is_finite() { revs } else { 0.0 };
-    if scales.spindle_reverse & (1 << n) != 0 {
-        -revs
-    } else {
-        revs
+impl Default for Track {
+    fn default() -> Self {
+        Track {
+            phase: Phase::Off,
+            origin: 0.0,
+            prev_revs: 0.0,
+            arm: None,
+            sign: 1.0,
+        }
+    }
+}
+
+impl Planner {
+    /// Spindle `n`'s position in revolutions, positive in the direction
+    /// it turned when the lock was taken.
+    pub(super) fn track_revs(&self, scales: &ScaleInputs, n: usize) -> f64 {
+        let revs = scales.spindle_revs.get(n).copied().unwrap_or(0.0);
+        let revs = if revs.is_finite() { revs } else { 0.0 };
+        revs * self.track.sign
+    }
+
+    /// The path speed that brings the progress to `desired` at the end of
+    /// this period while the spindle moves it `spindle_vel`: a small
+    /// error closed within the period, a large one no faster than the
+    /// braking curve of acceleration `a` allows. Never negative.
+    pub(super) fn follow_speed(&self, desired: f64, spindle_vel: f64, a: f64) -> f64 {
+        let t = self.period;
+        let e = desired - self.s - spindle_vel * t;
+        let correction = (e.abs() / t).min((a * e.abs()).sqrt()).copysign(e);
+        let v = spindle_vel + correction;
+        if v.is_finite() {
+            v.max(0.0)
+        } else {
+            0.0
+        }
     }
 }
 
@@ -99,7 +129,9 @@ impl Planner {
                 // The encoder restarted its count at the index: 0 there,
                 // whatever it has turned since, is the origin.
                 self.track.origin = 0.0;
-                self.track.prev_revs = signed_revs(scales, lock.spindle);
+                let reverse = scales.spindle_reverse & (1 << lock.spindle) != 0;
+                self.track.sign = if reverse { -1.0 } else { 1.0 };
+                self.track.prev_revs = self.track_revs(scales, lock.spindle);
                 self.track.phase = Phase::Locked;
                 false
             }
@@ -124,27 +156,14 @@ impl Planner {
         let Some(lock) = head.locked else {
             return 0.0;
         };
-        let t = self.period;
-        let revs = signed_revs(scales, lock.spindle);
-        let spindle_vel = (revs - self.track.prev_revs) / t * lock.per_rev;
+        let revs = self.track_revs(scales, lock.spindle);
+        let spindle_vel = (revs - self.track.prev_revs) / self.period * lock.per_rev;
         self.track.prev_revs = revs;
         if self.aborting {
             return 0.0;
         }
-        // Where the progress should be at the end of this period, and
-        // what is left of the way once the spindle's speed is moved.
         let desired = (revs - self.track.origin) * lock.per_rev;
-        let e = desired - self.s - spindle_vel * t;
-        // Closes a small error within the period, a large one no faster
-        // than the braking curve allows.
-        let a = head.budget.acc;
-        let correction = (e.abs() / t).min((a * e.abs()).sqrt()).copysign(e);
-        let v = spindle_vel + correction;
-        if v.is_finite() {
-            v.max(0.0)
-        } else {
-            0.0
-        }
+        self.follow_speed(desired, spindle_vel, head.budget.acc)
     }
 
     /// A synchronised segment is done: the next one keeps the phase.

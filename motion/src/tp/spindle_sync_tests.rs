@@ -4,7 +4,7 @@
 //! mark, as LinuxCNC's encoders do.
 
 use super::*;
-use crate::command::{LineKind, TermCond};
+use crate::command::{LineKind, Reject, TermCond};
 use crate::kins::NUM_AXES;
 
 const T: f64 = 0.001;
@@ -322,4 +322,101 @@ fn an_abort_while_waiting_for_the_index_drops_the_queue() {
     step(&mut tp, &mut sp, &mut scales);
     assert!(tp.is_done() && !tp.waiting_for_index());
     assert_eq!(tp.pos(), Pose::ZERO);
+}
+
+/// A spindle whose speed follows its command at `acc` rev/s².
+struct DrivenSpindle {
+    sp: SimSpindle,
+    cmd: f64,
+    acc: f64,
+}
+
+impl DrivenSpindle {
+    fn step(&mut self, tp: &mut Planner, scales: &mut ScaleInputs) -> Pose {
+        let dv = (self.cmd - self.sp.rps).clamp(-self.acc * T, self.acc * T);
+        self.sp.rps += dv;
+        scales.spindle_reverse = u32::from(self.cmd < 0.0);
+        let p = step(tp, &mut self.sp, scales);
+        if let Some((0, f)) = tp.take_spindle_reversal() {
+            self.cmd *= f;
+        }
+        p
+    }
+}
+
+#[test]
+fn a_rigid_tap_follows_the_spindle_down_reverses_and_returns_to_its_start() {
+    let mut tp = Planner::new(T);
+    let lim = limits(30.0, 800.0);
+    tp.set_pos(Pose([1.0, 2.0, 5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]));
+    // No synchronisation: refused, as LinuxCNC.
+    let bottom = Pose([1.0, 2.0, -5.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    assert_eq!(
+        tp.add_rigid_tap(bottom, 5.0, 1.0, 4, ENABLES, &lim),
+        Err(Reject::RigidTapNotSynchronised)
+    );
+    // M6 × 1: 1 mm per revolution, 8 rev/s, back twice as fast.
+    tp.set_position_sync(lock(1.0));
+    tp.add_rigid_tap(bottom, 8.0, 2.0, 4, ENABLES, &lim)
+        .unwrap();
+    assert_eq!(tp.goal().0[2], 5.0, "it comes back");
+    let mut sp = DrivenSpindle {
+        sp: SimSpindle::new(8.0, 0.0),
+        cmd: 8.0,
+        acc: 400.0,
+    };
+    let mut scales = ScaleInputs::default();
+    let mut zs = Vec::new();
+    let mut states = Vec::new();
+    let mut cmds = Vec::new();
+    for _ in 0..100_000 {
+        let p = sp.step(&mut tp, &mut scales);
+        assert_eq!((p.0[0], p.0[1]), (1.0, 2.0), "straight along Z");
+        if let Some(s) = tp.tap_state() {
+            if states.last() != Some(&s) {
+                states.push(s);
+            }
+            // Locked while tapping and coming back (once the lag of
+            // each start is made up): the same helix.
+            let locked = match s {
+                TapState::Tapping => p.0[2] < 4.0,
+                TapState::Retraction => p.0[2] > -4.0 && p.0[2] < 4.0,
+                _ => false,
+            };
+            if locked {
+                let helix = 5.0 - sp.sp.revs();
+                assert!(
+                    (p.0[2] - helix).abs() < 1e-9,
+                    "{s:?}: z {} helix {helix}",
+                    p.0[2]
+                );
+            }
+        }
+        if cmds.last() != Some(&sp.cmd) {
+            cmds.push(sp.cmd);
+        }
+        zs.push(p.0[2]);
+        if tp.is_done() {
+            break;
+        }
+    }
+    assert!(tp.is_done());
+    assert_eq!(
+        states,
+        [
+            TapState::Tapping,
+            TapState::Reversing,
+            TapState::Retraction,
+            TapState::FinalReversal,
+            TapState::FinalPlacement
+        ]
+    );
+    // Reversed twice as fast, then forward at the speed again.
+    assert_eq!(cmds, [8.0, -16.0, 8.0]);
+    let deepest = zs.iter().fold(f64::INFINITY, |m, &z| m.min(z));
+    assert!(deepest <= -5.0 && deepest > -5.5, "deepest {deepest}");
+    assert_eq!(*zs.last().unwrap(), 5.0, "back on the start exactly");
+    let (v, a) = extremes(&zs);
+    assert!(v <= 30.0 * (1.0 + 1e-9), "velocity {v}");
+    assert!(a <= 800.0 * (1.0 + 1e-6), "acceleration {a}");
 }

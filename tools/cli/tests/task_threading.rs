@@ -100,14 +100,16 @@ net tool-prep-loop iocontrol.0.tool-prepare iocontrol.0.tool-prepared
 net tool-change-loop iocontrol.0.tool-change iocontrol.0.tool-changed
 ";
 
-/// X, Z and the spindle's revs every servo period, after the spindle
-/// model has run (sim_spindle_encoder.hal adds it after motion).
+/// X, Z, the spindle's revs and `spindle.0.reverse` every servo
+/// period, after the spindle model has run (sim_spindle_encoder.hal adds
+/// it after motion).
 fn record_hal() -> String {
     format!(
-        "loadrt sampler depth={DEPTH} cfg=fff
+        "loadrt sampler depth={DEPTH} cfg=fffb
 net Xpos => sampler.0.pin.0
 net Zpos => sampler.0.pin.1
 net spindle-pos => sampler.0.pin.2
+net spindle-reverse spindle.0.reverse => sampler.0.pin.3
 setp sampler.0.enable FALSE
 addf sampler.0 servo-thread
 "
@@ -128,8 +130,9 @@ fn lathe(s: &Scratch, tag: &str) -> Machine {
     m
 }
 
-/// Runs `prog` with the sampler on; returns the samples (X, Z, revs).
-fn run_recorded(m: &Machine, s: &Scratch, name: &str, prog: &str) -> Vec<[f64; 3]> {
+/// Runs `prog` with the sampler on; returns the samples (X, Z, revs,
+/// reverse as 0 or 1).
+fn run_recorded(m: &Machine, s: &Scratch, name: &str, prog: &str) -> Vec<[f64; 4]> {
     let path = s.write(name, prog);
     m.task_ok(&["open", path.to_str().unwrap()]);
     m.halcmd(&["setp", "sampler.0.enable", "TRUE"]);
@@ -153,7 +156,7 @@ fn run_recorded(m: &Machine, s: &Scratch, name: &str, prog: &str) -> Vec<[f64; 3
     text.lines()
         .map(|l| {
             let v: Vec<f64> = l.split_whitespace().map(|w| w.parse().unwrap()).collect();
-            [v[0], v[1], v[2]]
+            [v[0], v[1], v[2], v[3]]
         })
         .collect()
 }
@@ -161,7 +164,7 @@ fn run_recorded(m: &Machine, s: &Scratch, name: &str, prog: &str) -> Vec<[f64; 3
 /// The threading passes: runs of samples where Z goes down at X below
 /// `x_clear` (the rapids back run at X = `x_clear`), each sample with
 /// the revs motion read for it.
-fn passes(samples: &[[f64; 3]], x_clear: f64) -> Vec<Vec<[f64; 3]>> {
+fn passes(samples: &[[f64; 4]], x_clear: f64) -> Vec<Vec<[f64; 3]>> {
     let mut out: Vec<Vec<[f64; 3]>> = Vec::new();
     let mut current: Vec<[f64; 3]> = Vec::new();
     for w in samples.windows(2) {
@@ -250,5 +253,33 @@ fn a_g76_cycle_cuts_every_pass_on_the_same_helix() {
     let depths: Vec<f64> = p.iter().map(|q| q[q.len() / 2][0]).collect();
     assert!(depths.windows(2).all(|w| w[1] <= w[0] + 1e-9), "{depths:?}");
     assert!((depths.last().unwrap() - 8.5).abs() < 1e-6, "{depths:?}");
+    m.stop();
+}
+
+#[test]
+fn a_rigid_tap_reverses_the_spindle_and_comes_back_to_its_start() {
+    let s = Scratch::new("task-g33-1");
+    let m = lathe(&s, "task-g33-1");
+    // A 1 mm pitch tap 12 mm deep at 300 rpm, back at 1.5 times the
+    // speed; then a move from where the tap started.
+    let prog = "G21 G18 G90\nS300 M3\nG0 X0 Z5\nG33.1 Z-7 K1 I1.5\nG0 X3\nM2\n";
+    let samples = run_recorded(&m, &s, "tap.ngc", prog);
+    let deepest = samples.iter().fold(f64::INFINITY, |d, s| d.min(s[1]));
+    assert!(deepest <= -7.0 && deepest > -8.0, "deepest Z {deepest}");
+    // The spindle turned back (its count went down) and forward again.
+    let revs: Vec<f64> = samples.iter().map(|s| s[2]).collect();
+    // (Not the restart of the count at the index, a whole turn.)
+    let turning_back = |w: &[f64]| w[1] < w[0] - 1e-9 && w[0] - w[1] < 0.5;
+    let down = revs.windows(2).position(turning_back).unwrap();
+    let up_again = revs[down..].windows(2).position(|w| w[1] > w[0] + 1e-9);
+    assert!(up_again.is_some(), "the spindle turned forward again");
+    // Back on the start, X untouched until the G0 after it.
+    let at_x3 = samples.iter().position(|s| s[0] > 0.0).unwrap();
+    assert_eq!(samples[at_x3 - 1][1], 5.0, "Z back at the start");
+    assert!(samples[..at_x3].iter().all(|s| s[0] == 0.0));
+    // spindle.0.reverse followed: on while the count went down, off
+    // again before the tap ended.
+    assert!(samples[down + 1][3] == 1.0 || samples[down][3] == 1.0);
+    assert_eq!(samples[at_x3 - 1][3], 0.0);
     m.stop();
 }

@@ -94,6 +94,12 @@ impl MotionCore {
                 id,
             } => self.queue_circle(end, center, normal, turns, vel, id),
             C::Dwell { seconds, id } => self.queue_dwell(seconds, id),
+            C::RigidTap {
+                end,
+                vel,
+                scale,
+                id,
+            } => self.queue_rigid_tap(end, vel, scale, id),
             C::Probe {
                 end,
                 vel,

@@ -131,6 +131,8 @@ axes left out stay where the last queued move ends):
                                 G33 (0): the next feed moves wait for the
                                 spindle's index and follow its revs, UNITS
                                 per revolution; 1 as feed-per-rev; 0 off
+  rigid-tap ID VEL SCALE END...  G33.1 under spindle-sync: tap to END's X Y Z
+                                and back, the spindle reversed at SCALE
   spindle-css SPINDLE FACTOR X-OFFSET
                                 G96: the spindle turns at FACTOR / |X -
                                 X-OFFSET| rpm, at most its spindle-on speed

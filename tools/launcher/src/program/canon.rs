@@ -447,8 +447,8 @@ impl Canon for TaskCanon {
     fn stop_speed_feed_synch(&mut self) {
         self.stop_synch();
     }
-    fn rigid_tap(&mut self, _line: i32, _end: (f64, f64, f64), _scale: f64) {
-        self.refuse("rigid tapping (G33.1)");
+    fn rigid_tap(&mut self, line: i32, end: (f64, f64, f64), scale: f64) {
+        self.queue_rigid_tap(line, end, scale);
     }
     fn dwell(&mut self, seconds: f64) {
         self.ops.push_back(Op::Motion(Command::Dwell {

@@ -205,7 +205,7 @@ fn skipped_lines_keep_their_settings_and_move_nothing() {
 fn calls_the_machine_cannot_do_are_a_fault() {
     let mut c = TaskCanon::new(1.0, 0b111);
     c.nurbs_feed(1, &[], 3);
-    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
+    c.straight_feed(2, &p(0.0, 0.0, -1.0));
     assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
 }
 
@@ -303,10 +303,47 @@ fn a_synchronised_feed_goes_to_motion_between_spindle_syncs() {
 }
 
 #[test]
-fn rigid_tapping_is_a_fault() {
+fn a_rigid_tap_goes_to_motion_and_the_queue_ends_where_it_was() {
     let mut c = TaskCanon::new(1.0, 0b111);
-    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
-    assert_eq!(c.fault.as_deref(), Some("rigid tapping (G33.1)"));
+    c.set_g5x_offset(1, &p(10.0, 0.0, 0.0));
+    c.set_spindle_speed(0, 600.0);
+    c.start_spindle_clockwise(0);
+    c.straight_traverse(1, &p(1.0, 2.0, 3.0));
+    c.ops.clear();
+    // Without the synchronisation the interpreter always sends first.
+    c.rigid_tap(2, (1.0, 2.0, -4.0), 1.5);
+    assert_eq!(
+        c.fault.as_deref(),
+        Some("rigid tapping (G33.1) without spindle synchronisation")
+    );
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_g5x_offset(1, &p(10.0, 0.0, 0.0));
+    c.set_spindle_speed(0, 600.0);
+    c.start_spindle_clockwise(0);
+    c.straight_traverse(1, &p(1.0, 2.0, 3.0));
+    c.ops.clear();
+    c.start_speed_feed_synch(0, 1.25, false);
+    c.rigid_tap(2, (1.0, 2.0, -4.0), 1.5);
+    c.stop_speed_feed_synch();
+    assert!(c.fault.is_none(), "{:?}", c.fault);
+    match &c.ops[1] {
+        Op::Motion(Command::RigidTap {
+            end,
+            vel,
+            scale,
+            id: 2,
+        }) => {
+            assert_eq!((end.0[0], end.0[1], end.0[2]), (11.0, 2.0, -4.0));
+            assert_eq!((*vel, *scale), (12.5, 1.5));
+        }
+        other => panic!("not a rigid tap: {other:?}"),
+    }
+    // The next move starts from the tap's start.
+    c.straight_feed(3, &p(1.0, 3.0, 3.0));
+    match c.ops.back() {
+        Some(Op::Motion(Command::Line { end, .. })) => assert_eq!(end.0[..3], [11.0, 3.0, 3.0]),
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

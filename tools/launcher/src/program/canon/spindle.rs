@@ -156,6 +156,24 @@ impl TaskCanon {
         }));
     }
 
+    /// RIGID_TAP (G33.1): motion taps to `end` (program X, Y, Z) and
+    /// comes back; the queue ends where it was.
+    pub(super) fn queue_rigid_tap(&mut self, line: i32, end: (f64, f64, f64), scale: f64) {
+        if self.synched.is_none() {
+            return self.refuse("rigid tapping (G33.1) without spindle synchronisation");
+        }
+        let mut at = self.to_program(self.goal);
+        (at.x, at.y, at.z) = end;
+        let bottom = self.to_machine(&at);
+        let vel = self.synched_speed().unwrap_or(self.feed_per_second());
+        self.ops.push_back(Op::Motion(Command::RigidTap {
+            end: motion::Pose(bottom),
+            vel,
+            scale,
+            id: line,
+        }));
+    }
+
     /// The programmed path speed of a synchronised feed move (machine
     /// units per second): the pitch at the spindle's programmed speed.
     /// Motion follows the spindle instead; the speed only has to be a
