@@ -182,15 +182,12 @@ impl Planner {
             return;
         };
         let revs = self.track_revs(scales, lock.spindle);
-        let dr = revs - self.track.prev_revs;
-        self.track.prev_revs = revs;
+        let (dr, rps) = self.spindle_moved(revs);
         let p = lock.per_rev;
         let a = head.budget.acc;
         let (desired, spindle_vel) = match tap.state {
-            TapState::Tapping | TapState::Reversing => {
-                ((revs - self.track.origin) * p, dr / self.period * p)
-            }
-            _ => ((tap.revs_at_reversal - revs) * p, -dr / self.period * p),
+            TapState::Tapping | TapState::Reversing => ((revs - self.track.origin) * p, rps * p),
+            _ => ((tap.revs_at_reversal - revs) * p, -rps * p),
         };
         // Once the spindle has turned back, the axis stops to turn too.
         let turned = match tap.state {

@@ -28,6 +28,13 @@
 use super::segment::Segment;
 use super::{Planner, ScaleInputs};
 
+/// The share of the newest speed sample in the smoothed spindle speed,
+/// each period.
+const SPEED_SMOOTHING: f64 = 0.05;
+
+/// Periods over which a small position error is closed.
+const CORRECTION_PERIODS: f64 = 10.0;
+
 /// Where the lock to the spindle is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(super) enum Phase {
@@ -51,6 +58,10 @@ pub(super) struct Track {
     pub prev_revs: f64,
     /// The spindle whose `index-enable` is to be set this period.
     pub arm: Option<usize>,
+    /// The spindle's speed, revolutions per second, from its position
+    /// differences smoothed over a few periods (an encoder's count
+    /// changes by whole counts).
+    pub vel_est: f64,
     /// -1 if the spindle turned in reverse when the lock was taken (its
     /// `revs` count down), else 1: kept while locked, through a rigid
     /// tap's reversals.
@@ -64,6 +75,7 @@ impl Default for Track {
             origin: 0.0,
             prev_revs: 0.0,
             arm: None,
+            vel_est: 0.0,
             sign: 1.0,
         }
     }
@@ -78,14 +90,30 @@ impl Planner {
         revs * self.track.sign
     }
 
-    /// The path speed that brings the progress to `desired` at the end of
-    /// this period while the spindle moves it `spindle_vel`: a small
-    /// error closed within the period, a large one no faster than the
-    /// braking curve of acceleration `a` allows. Never negative.
+    /// Takes this period's spindle position `revs`: the change since the
+    /// last period, and the smoothed speed (revolutions per second).
+    pub(super) fn spindle_moved(&mut self, revs: f64) -> (f64, f64) {
+        let dr = revs - self.track.prev_revs;
+        self.track.prev_revs = revs;
+        let raw = dr / self.period;
+        self.track.vel_est += SPEED_SMOOTHING * (raw - self.track.vel_est);
+        if !self.track.vel_est.is_finite() {
+            self.track.vel_est = 0.0;
+        }
+        (dr, self.track.vel_est)
+    }
+
+    /// The path speed that brings the progress towards `desired` while
+    /// the spindle moves it at `spindle_vel`: a small error closed over
+    /// a few periods (an encoder's counts do not shake the axis), a
+    /// large one no faster than the braking curve of acceleration `a`
+    /// allows. Never negative.
     pub(super) fn follow_speed(&self, desired: f64, spindle_vel: f64, a: f64) -> f64 {
         let t = self.period;
         let e = desired - self.s - spindle_vel * t;
-        let correction = (e.abs() / t).min((a * e.abs()).sqrt()).copysign(e);
+        let correction = (e.abs() / (CORRECTION_PERIODS * t))
+            .min((a * e.abs()).sqrt())
+            .copysign(e);
         let v = spindle_vel + correction;
         if v.is_finite() {
             v.max(0.0)
@@ -132,6 +160,7 @@ impl Planner {
                 let reverse = scales.spindle_reverse & (1 << lock.spindle) != 0;
                 self.track.sign = if reverse { -1.0 } else { 1.0 };
                 self.track.prev_revs = self.track_revs(scales, lock.spindle);
+                self.track.vel_est = 0.0;
                 self.track.phase = Phase::Locked;
                 false
             }
@@ -157,8 +186,7 @@ impl Planner {
             return 0.0;
         };
         let revs = self.track_revs(scales, lock.spindle);
-        let spindle_vel = (revs - self.track.prev_revs) / self.period * lock.per_rev;
-        self.track.prev_revs = revs;
+        let spindle_vel = self.spindle_moved(revs).1 * lock.per_rev;
         if self.aborting {
             return 0.0;
         }
