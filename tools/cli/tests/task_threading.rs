@@ -213,6 +213,20 @@ fn check_locked(passes: &[Vec<[f64; 3]>], pitch: f64, z_start: f64, z_from: f64,
 fn g33_passes_start_at_the_same_spindle_angle() {
     let s = Scratch::new("task-g33");
     let m = lathe(&s, "task-g33");
+    // The spindle model reports its speed in revolutions per second, as
+    // motion's speed-in takes it: 600 rpm is 10.
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "S600", "M3"]);
+    m.wait_getp("spindle.0.at-speed", "TRUE");
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    let mut rps: f64 = 0.0;
+    while std::time::Instant::now() < end && (rps - 10.0).abs() > 1e-3 {
+        rps = m.getp("spindle.0.speed-in").parse().unwrap();
+    }
+    assert!((rps - 10.0).abs() <= 1e-3, "speed-in {rps}");
+    m.task_ok(&["mdi", "M5"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    m.task_ok(&["mode", "auto"]);
     // Three passes deeper each time, 1.5 mm pitch at 300 rpm (7.5 mm/s).
     let prog = "G21 G18 G90 G8\nS300 M3\n\
         G0 X12 Z2\n\
