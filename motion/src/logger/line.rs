@@ -214,13 +214,16 @@ pub fn line(cmd: &Command) -> String {
         }
         C::RigidTap { .. } => "RIGID_TAP".into(),
         C::SpindleSync {
-            spindle,
             per_rev,
             velocity_mode,
-        } => format!(
-            "SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}, velocity_mode={}",
-            i32::from(velocity_mode)
-        ),
+            ..
+        } => {
+            // LinuxCNC's flags: non-zero in velocity mode.
+            format!(
+                "SET_SPINDLESYNC sync={per_rev:.6}, flags=0x{:08x}",
+                u32::from(velocity_mode)
+            )
+        }
         C::SpindleCss {
             spindle,
             factor,
