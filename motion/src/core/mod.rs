@@ -33,8 +33,8 @@
 //! axis offsets. Modes: disabled, free
 //! (joint) mode, teleop mode (world axis jogs through the inverse
 //! kinematics) and coordinated mode; `modes` and `teleop` document their
-//! differences from LinuxCNC. The spindles come later (their HAL pins
-//! already exist). Deliberate differences from LinuxCNC, each
+//! differences from LinuxCNC; `spindle` the spindles and the spindle
+//! synchronisation commands. Deliberate differences from LinuxCNC, each
 //! following a "→ Design" note of the reference:
 //! * every refused command returns a [`Reject`](crate::command::Reject) and changes nothing, and a
 //!   refused jog does not set the joint's error flag;

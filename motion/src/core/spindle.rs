@@ -1,6 +1,8 @@
 //! The spindles: SPINDLE_ON, SPINDLE_OFF, SPINDLE_SCALE, the brake
 //! commands and SPINDLE_ORIENT (M19) with its handshake, the at-speed
-//! barrier they set for the next feed move, and what the `spindle.N.*`
+//! barrier they set for the next feed move, SET_SPINDLESYNC (G95 feed per
+//! revolution, G33 position sync; the planner's `spindle_sync` does the
+//! following) with the `index-enable` it sets, and what the `spindle.N.*`
 //! outputs show each cycle (reference "Spindle commands", §4.3 and
 //! `output_to_hal`).
 //!
