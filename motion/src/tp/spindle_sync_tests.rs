@@ -464,3 +464,37 @@ fn an_encoder_counting_whole_counts_does_not_shake_the_axis() {
         "{v} {a}"
     );
 }
+
+#[test]
+fn an_unsynchronised_move_after_a_synchronised_one_follows_it_at_its_own_feed() {
+    let mut tp = Planner::new(T);
+    tp.set_term_cond(TermCond::Blend, 0.0);
+    let lim = limits(20.0, 500.0);
+    tp.set_position_sync(lock(0.5));
+    tp.add_line(z(-5.0), LineKind::Feed, 1.0, 1, ENABLES, &lim)
+        .unwrap();
+    tp.set_position_sync(None);
+    tp.add_line(z(-10.0), LineKind::Feed, 2.0, 2, ENABLES, &lim)
+        .unwrap();
+    let mut sp = SimSpindle::new(10.0, 0.0);
+    // The feed override applies to the second move only.
+    let mut scales = ScaleInputs {
+        feed: 0.5,
+        ..ScaleInputs::default()
+    };
+    let trace = run_all(&mut tp, &mut sp, &mut scales);
+    let zs: Vec<f64> = trace.iter().map(|t| t.0).collect();
+    let speeds: Vec<f64> = zs.windows(2).map(|w| (w[0] - w[1]) / T).collect();
+    // No stop where they meet: crossed while slowing from 5 to 1.
+    let at_corner = zs.iter().position(|&z| z <= -5.0).unwrap();
+    assert!(speeds[at_corner - 1] > 0.9, "{}", speeds[at_corner - 1]);
+    // Then the programmed 2 u/s times the override.
+    let cruise = zs.iter().position(|&z| z <= -8.0).unwrap();
+    assert!((speeds[cruise] - 1.0).abs() < 1e-9, "{}", speeds[cruise]);
+    assert_eq!(*zs.last().unwrap(), -10.0);
+    let (v, a) = extremes(&zs);
+    assert!(
+        v <= 20.0 * (1.0 + 1e-9) && a <= 500.0 * (1.0 + 1e-6),
+        "{v} {a}"
+    );
+}
