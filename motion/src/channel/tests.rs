@@ -222,6 +222,22 @@ pub(crate) fn all_commands() -> Vec<Command> {
             spindle: 1,
             per_rev: 0.25,
         },
+        Command::SpindleSync {
+            spindle: 0,
+            per_rev: 1.5,
+            velocity_mode: false,
+        },
+        Command::SpindleSync {
+            spindle: 1,
+            per_rev: 0.0,
+            velocity_mode: true,
+        },
+        Command::RigidTap {
+            end: Pose([1.0, 2.0, -3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            vel: 2.5,
+            scale: 1.5,
+            id: 12,
+        },
         Command::SpindleCss {
             spindle: 0,
             factor: 31830.98,
@@ -250,11 +266,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_70_is_used() {
+fn every_opcode_from_1_to_the_last_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=70).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=72).collect::<Vec<_>>());
 }
 
 #[test]
@@ -320,7 +336,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 71, 1000, u64::MAX] {
+    for op in [0u64, 900, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(
@@ -507,6 +523,7 @@ fn all_rejects() -> Vec<Reject> {
         Reject::IndexerNeedsRapid { axis: 4 },
         Reject::IndexerNotAlone { axis: 3 },
         Reject::IndexerJog { axis: 5, joint: 7 },
+        Reject::RigidTapNotSynchronised,
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
@@ -615,7 +632,7 @@ fn every_reason_code_from_1_to_62_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=62).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=63).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

@@ -585,6 +585,49 @@ commands! {
             spindle: int(0, "SPINDLE"),
             per_rev: num(1, "UNITS-PER-REV"),
         };
+        /// SET_SPINDLESYNC: the feed moves queued after it follow `spindle`,
+        /// `per_rev` machine units along their path per revolution; 0 ends
+        /// it. In position mode (G33, G76; `velocity_mode` false) each
+        /// synchronised run starts at rest: it waits for the spindles at
+        /// speed, sets `spindle.N.index-enable`, waits for the encoder to
+        /// clear it and then keeps the progress at `spindle.N.revs` (from
+        /// the index) times `per_rev`, within the axes' limits; the feed
+        /// override, feed hold and pause do not apply to it. In velocity
+        /// mode it is [`Command::SetFeedPerRev`].
+        SpindleSync {
+            /// The spindle followed.
+            [slot] spindle: i32,
+            /// Machine units per revolution (0: off).
+            per_rev: f64,
+            /// Follow the spindle's speed (G95) rather than its position.
+            velocity_mode: bool,
+        } = 71, cli planner "spindle-sync" {
+            spindle: int(0, "SPINDLE"),
+            per_rev: num(1, "UNITS-PER-REV"),
+            velocity_mode: flag(2, "velocity mode"),
+        };
+        /// RIGID_TAP (G33.1): queue a rigid tap from where the queue ends to
+        /// `end`'s X, Y and Z and back, at the position synchronisation in
+        /// effect ([`Command::SpindleSync`], refused without it): locked to
+        /// the spindle to the depth, where motion multiplies the spindle's
+        /// speed by −`scale`; back to the start locked to the reversed
+        /// spindle, where it divides the speed by −`scale`; then onto the
+        /// start. `vel` is the programmed speed; `id` the motion id.
+        RigidTap {
+            /// The bottom of the hole (X, Y, Z; the other axes stay).
+            end: Pose,
+            /// Programmed speed along the path, units per second.
+            vel: f64,
+            /// The reversal's speed factor (G33.1 I, > 0).
+            scale: f64,
+            /// The motion id reported while it runs (the program line).
+            [slot] id: i32,
+        } = 72, cli planner "rigid-tap" {
+            end: end_words(3),
+            vel: num(1, "VEL"),
+            scale: num(2, "SCALE"),
+            id: int(0, "ID"),
+        };
         /// Constant surface speed (G96): while `spindle` turns, its speed
         /// is `factor / |X - x_offset|` rpm (X the commanded machine
         /// position, `x_offset` where the spindle axis is), at most the

@@ -22,6 +22,11 @@ impl MotionCore {
             spindle_at_speed: self.spindles_at_speed(),
             spindle_rps: self.inputs.spindle_speed_in,
             unlocked: self.unlocked_mask(),
+            spindle_revs: self.inputs.spindle_revs,
+            spindle_index_enable: (0..self.cfg.num_spindles)
+                .filter(|&n| self.inputs.spindle_index_enable[n])
+                .fold(0, |m, n| m | 1 << n),
+            spindle_reverse: self.spindles_reversed(),
         }
     }
 
@@ -30,6 +35,12 @@ impl MotionCore {
         self.abort_axis_jogs(true);
         let scales = self.scale_inputs();
         let planned = self.tp.run(&scales);
+        if let Some((n, factor)) = self.tp.take_spindle_reversal() {
+            // A rigid tap reverses its spindle (and restores it).
+            if let Some(s) = self.spindles.get_mut(n) {
+                s.speed *= factor;
+            }
+        }
         self.report_indexer_fault();
         self.carte_pos_cmd = self.add_eoffsets(period, &planned);
         self.net_feed_scale = self.tp.status().net_scale;

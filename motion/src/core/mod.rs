@@ -33,8 +33,8 @@
 //! axis offsets. Modes: disabled, free
 //! (joint) mode, teleop mode (world axis jogs through the inverse
 //! kinematics) and coordinated mode; `modes` and `teleop` document their
-//! differences from LinuxCNC. The spindles come later (their HAL pins
-//! already exist). Deliberate differences from LinuxCNC, each
+//! differences from LinuxCNC; `spindle` the spindles and the spindle
+//! synchronisation commands. Deliberate differences from LinuxCNC, each
 //! following a "→ Design" note of the reference:
 //! * every refused command returns a [`Reject`](crate::command::Reject) and changes nothing, and a
 //!   refused jog does not set the joint's error flag;
@@ -145,6 +145,11 @@ pub struct MotionInputs {
     pub spindle_inhibit: [bool; MAX_SPINDLES],
     /// `spindle.N.speed-in`: the measured speed, revolutions per second.
     pub spindle_speed_in: [f64; MAX_SPINDLES],
+    /// `spindle.N.revs`: the measured position, revolutions.
+    pub spindle_revs: [f64; MAX_SPINDLES],
+    /// `spindle.N.index-enable` as read back (the encoder clears it at
+    /// the index).
+    pub spindle_index_enable: [bool; MAX_SPINDLES],
     /// `spindle.N.is-oriented`: the drive reached the M19 angle.
     pub spindle_is_oriented: [bool; MAX_SPINDLES],
     /// `spindle.N.orient-fault`: non-zero fails an M19.
@@ -173,6 +178,8 @@ impl Default for MotionInputs {
             spindle_at_speed: [true; MAX_SPINDLES],
             spindle_inhibit: [false; MAX_SPINDLES],
             spindle_speed_in: [0.0; MAX_SPINDLES],
+            spindle_revs: [0.0; MAX_SPINDLES],
+            spindle_index_enable: [false; MAX_SPINDLES],
             spindle_is_oriented: [false; MAX_SPINDLES],
             spindle_orient_fault: [0; MAX_SPINDLES],
             din: [false; crate::sizes::MAX_IO],

@@ -226,6 +226,30 @@ impl MotionCore {
         Ok(())
     }
 
+    /// RIGID_TAP (G33.1): the tap to `end` and back.
+    pub(super) fn queue_rigid_tap(
+        &mut self,
+        end: Pose,
+        vel: f64,
+        scale: f64,
+        id: i32,
+    ) -> CommandResult {
+        self.queue_allowed()?;
+        feed(vel)?;
+        // It moves in X, Y and Z only, to the end and back.
+        let mut end3 = self.tp.goal();
+        end3.0[..3].copy_from_slice(&end.0[..3]);
+        self.check_move(&end3, None)?;
+        self.no_indexer_move(&end3)?;
+        let lim = self.planning_limits(&end3);
+        let enables = self.enables_new;
+        self.with_atspeed_barrier(true, |tp| {
+            tp.add_rigid_tap(end3, vel, scale, id, enables, &lim)
+        })?;
+        self.queued();
+        Ok(())
+    }
+
     /// PROBE: clears the last result; refused if the input already shows
     /// what the move looks for (unless errors are suppressed).
     pub(super) fn queue_probe(

@@ -1,6 +1,8 @@
 //! The spindles: SPINDLE_ON, SPINDLE_OFF, SPINDLE_SCALE, the brake
 //! commands and SPINDLE_ORIENT (M19) with its handshake, the at-speed
-//! barrier they set for the next feed move, and what the `spindle.N.*`
+//! barrier they set for the next feed move, SET_SPINDLESYNC (G95 feed per
+//! revolution, G33 position sync; the planner's `spindle_sync` does the
+//! following) with the `index-enable` it sets, and what the `spindle.N.*`
 //! outputs show each cycle (reference "Spindle commands", §4.3 and
 //! `output_to_hal`).
 //!
@@ -163,6 +165,50 @@ impl MotionCore {
         });
         self.tp.set_feed_per_rev(follow);
         Ok(())
+    }
+
+    /// SET_SPINDLESYNC: the feed moves queued next follow `spindle`'s
+    /// position (`velocity_mode` false) or speed at `per_rev` machine
+    /// units per revolution; 0 ends both.
+    pub(super) fn spindle_sync(
+        &mut self,
+        spindle: i32,
+        per_rev: f64,
+        velocity_mode: bool,
+    ) -> CommandResult {
+        if velocity_mode {
+            return self.set_feed_per_rev(spindle, per_rev);
+        }
+        let per_rev = Self::non_negative(Quantity::FeedPerRev, per_rev)?;
+        let range = self.spindle_range(spindle)?;
+        if spindle < 0 {
+            return Err(Reject::NoSuchSpindle {
+                spindle,
+                num_spindles: self.cfg.num_spindles,
+            });
+        }
+        let follow = (per_rev > 0.0).then_some(crate::tp::FeedPerRev {
+            spindle: range.start,
+            per_rev,
+        });
+        self.tp.set_position_sync(follow);
+        if follow.is_none() {
+            self.tp.set_feed_per_rev(None);
+        }
+        Ok(())
+    }
+
+    /// The spindles commanded in reverse (bit n: spindle n).
+    pub(super) fn spindles_reversed(&self) -> u32 {
+        (0..self.cfg.num_spindles)
+            .filter(|&n| self.spindles[n].speed < 0.0)
+            .fold(0, |m, n| m | 1 << n)
+    }
+
+    /// Whether spindle `n`'s `index-enable` is set this cycle: a
+    /// position-synchronised move waits for its index.
+    pub fn spindle_index_arm(&self, n: usize) -> bool {
+        self.state == MotionState::Coord && self.tp.index_arm() == Some(n)
     }
 
     /// The speed spindle `n` is commanded now, rpm, signed: its SPINDLE_ON

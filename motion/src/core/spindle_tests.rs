@@ -4,6 +4,7 @@
 
 use super::coord_tests::{at, line, xyz};
 use crate::command::{Command, LineKind, ProbeType, Quantity, Reject};
+use crate::test_support::T;
 
 fn on(speed: f64, wait: bool) -> Command {
     Command::SpindleOn {
@@ -334,4 +335,103 @@ fn constant_surface_speed_follows_the_x_radius_up_to_the_limit() {
             ..
         })
     ));
+}
+
+/// SET_SPINDLESYNC and RIGID_TAP through the core: their checks, the
+/// `index-enable` the controller sets for the start of a G33 move, and a
+/// rigid tap reversing the commanded spindle (its direction outputs
+/// follow) and restoring it.
+#[test]
+fn spindle_sync_arms_the_index_and_a_rigid_tap_reverses_the_spindle() {
+    let mut s = xyz();
+    s.coord();
+    let sync = |spindle, per_rev| Command::SpindleSync {
+        spindle,
+        per_rev,
+        velocity_mode: false,
+    };
+    assert!(matches!(
+        s.cmd(sync(-1, 1.0)),
+        Err(Reject::NoSuchSpindle { spindle: -1, .. })
+    ));
+    assert!(matches!(
+        s.cmd(sync(0, -1.0)),
+        Err(Reject::BadValue {
+            what: Quantity::FeedPerRev,
+            ..
+        })
+    ));
+    let tap = Command::RigidTap {
+        end: at(0.0, 0.0, -5.0),
+        vel: 5.0,
+        scale: 1.0,
+        id: 3,
+    };
+    assert_eq!(s.cmd(tap), Err(Reject::RigidTapNotSynchronised));
+    // A G33 move: index-enable is set once, and nothing moves until it
+    // clears.
+    s.cmd(on(600.0, false)).unwrap();
+    s.cmd(sync(0, 0.5)).unwrap();
+    s.cmd(Command::Line {
+        end: at(0.0, 0.0, -2.0),
+        vel: 5.0,
+        kind: LineKind::Feed,
+        id: 1,
+    })
+    .unwrap();
+    s.cmd(sync(0, 0.0)).unwrap();
+    s.m.inputs.spindle_speed_in[0] = 10.0;
+    s.cycle();
+    assert!(s.m.spindle_index_arm(0));
+    s.m.inputs.spindle_index_enable[0] = true;
+    for _ in 0..20 {
+        s.cycle();
+        assert!(!s.m.spindle_index_arm(0));
+        assert_eq!(s.j(2).pos_cmd, 0.0);
+    }
+    // The index: revs restart at 0 and count on at 10 rev/s.
+    s.m.inputs.spindle_index_enable[0] = false;
+    let mut revs = 0.0;
+    for _ in 0..2000 {
+        revs += 10.0 * T;
+        s.m.inputs.spindle_revs[0] = revs;
+        s.cycle();
+        if s.m.in_position() {
+            break;
+        }
+    }
+    assert_eq!(s.j(2).pos_cmd, -2.0);
+    // A rigid tap: reversed at the depth (twice as fast), forward again
+    // at the top; the direction outputs follow.
+    s.cmd(sync(0, 0.5)).unwrap();
+    s.cmd(Command::RigidTap {
+        end: at(0.0, 0.0, -4.0),
+        vel: 5.0,
+        scale: 2.0,
+        id: 3,
+    })
+    .unwrap();
+    s.cmd(sync(0, 0.0)).unwrap();
+    let mut rps = 10.0;
+    let mut speeds = vec![s.m.spindle(0).speed];
+    let mut reverse_seen = false;
+    for _ in 0..20_000 {
+        // The spindle follows its command at 200 rev/s².
+        let want = s.m.spindle(0).speed / 60.0;
+        rps += (want - rps).clamp(-200.0 * T, 200.0 * T);
+        revs += rps * T;
+        s.m.inputs.spindle_revs[0] = revs;
+        s.cycle();
+        let speed = s.m.spindle(0).speed;
+        if speeds.last() != Some(&speed) {
+            speeds.push(speed);
+        }
+        reverse_seen |= s.m.spindle_output(0).reverse;
+        if s.m.in_position() {
+            break;
+        }
+    }
+    assert_eq!(speeds, [600.0, -1200.0, 600.0]);
+    assert!(reverse_seen && s.m.spindle_output(0).forward);
+    assert_eq!(s.j(2).pos_cmd, -2.0, "back where it started");
 }

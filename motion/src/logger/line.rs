@@ -212,6 +212,18 @@ pub fn line(cmd: &Command) -> String {
         C::SetFeedPerRev { spindle, per_rev } => {
             format!("SET_SPINDLESYNC spindle={spindle}, sync={per_rev:.6}")
         }
+        C::RigidTap { .. } => "RIGID_TAP".into(),
+        C::SpindleSync {
+            per_rev,
+            velocity_mode,
+            ..
+        } => {
+            // LinuxCNC's flags: non-zero in velocity mode.
+            format!(
+                "SET_SPINDLESYNC sync={per_rev:.6}, flags=0x{:08x}",
+                u32::from(velocity_mode)
+            )
+        }
         C::SpindleCss {
             spindle,
             factor,

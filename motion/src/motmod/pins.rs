@@ -179,7 +179,8 @@ pub(super) struct SpindlePins {
     pub(super) speed_out_rps_abs: FOut,
     pub(super) speed_cmd_rps: FOut,
     pub(super) orient: (FOut, Pin<i32, Out>, BOut, BOut, BIn, Pin<i32, In>),
-    pub(super) _sync: (Pin<bool, Io>, FIn),
+    /// `index-enable` and `revs`.
+    pub(super) sync: (Pin<bool, Io>, FIn),
 }
 
 impl SpindlePins {
@@ -191,7 +192,7 @@ impl SpindlePins {
         // Default TRUE, so machines without the feedback do not wait.
         let at_speed = c.pin_init(&p("at-speed"), true)?;
         Ok(SpindlePins {
-            _sync: sync,
+            sync,
             speed_in,
             at_speed,
             on: c.pin(&p("on"))?,
@@ -222,6 +223,8 @@ impl SpindlePins {
         inp.spindle_at_speed[n] = self.at_speed.get();
         inp.spindle_inhibit[n] = self.inhibit.get();
         inp.spindle_speed_in[n] = self.speed_in.get();
+        inp.spindle_revs[n] = self.sync.1.get();
+        inp.spindle_index_enable[n] = self.sync.0.get();
         inp.spindle_is_oriented[n] = self.orient.4.get();
         inp.spindle_orient_fault[n] = self.orient.5.get();
     }
@@ -238,6 +241,10 @@ impl SpindlePins {
         self.speed_out_rps.set(o.speed / 60.0);
         self.speed_out_rps_abs.set((o.speed / 60.0).abs());
         self.speed_cmd_rps.set(o.cmd_rps);
+        // Set only: the encoder clears it at the index.
+        if core.spindle_index_arm(n) {
+            self.sync.0.set(true);
+        }
         let (angle, mode, orient, locked, _, _) = &self.orient;
         angle.set(o.orient_angle);
         mode.set(o.orient_mode);

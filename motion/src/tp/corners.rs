@@ -45,7 +45,14 @@ impl Planner {
         }
         let atspeed = std::mem::take(&mut self.atspeed_pending);
         let indexer = self.indexer_pending.take().map(|j| j as u8);
-        if atspeed || indexer.is_some() {
+        let locked = match kind {
+            SegmentKind::Feed | SegmentKind::Arc => self.position_sync,
+            _ => None,
+        };
+        // Entering position synchronisation waits for the spindle's index
+        // at rest (LinuxCNC's early-stop rule).
+        let enters_sync = locked.is_some() && self.queue.back().is_none_or(|p| p.locked.is_none());
+        if atspeed || indexer.is_some() || enters_sync {
             // It starts from rest: the segment before it stops.
             if let Some(last) = self.queue.back_mut() {
                 last.ending = Ending::Stop;
@@ -99,9 +106,11 @@ impl Planner {
             indexer,
             sync: false,
             per_rev: match kind {
-                SegmentKind::Feed | SegmentKind::Arc => self.feed_per_rev,
+                SegmentKind::Feed | SegmentKind::Arc if locked.is_none() => self.feed_per_rev,
                 _ => None,
             },
+            locked,
+            tap: None,
         };
         seg.sync = self.sync_io.attach();
         self.goal = *end;
@@ -335,6 +344,8 @@ impl Planner {
             indexer: None,
             sync: false,
             per_rev: prev.per_rev.or(seg.per_rev),
+            locked: None,
+            tap: None,
         };
         // Remember what may change, to put it back if the executor could
         // not follow.

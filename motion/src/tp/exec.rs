@@ -31,10 +31,21 @@ impl Planner {
     /// The speed a segment asks for at scale `scale` (soft; 0 while
     /// paused or aborting).
     fn target_speed(&self, seg: &Segment, scales: &ScaleInputs, scale: f64) -> f64 {
+        let vmax = seg.budget.vmax;
+        if let Some(lock) = seg.locked {
+            // A synchronised segment after the executing one: the
+            // spindle's speed, neither paused nor scaled.
+            let rps = scales.spindle_rps.get(lock.spindle).copied().unwrap_or(0.0);
+            let v = lock.per_rev * rps.abs();
+            return if v.is_finite() && !self.aborting {
+                v.min(vmax)
+            } else {
+                0.0
+            };
+        }
         if self.paused || self.aborting {
             return 0.0;
         }
-        let vmax = seg.budget.vmax;
         if seg.kind == SegmentKind::Traverse {
             return vmax * scale.min(1.0);
         }
@@ -78,6 +89,7 @@ impl Planner {
     /// One servo period; returns the commanded pose.
     pub fn run(&mut self, scales: &ScaleInputs) -> Pose {
         self.requested_vel = 0.0;
+        self.track.arm = None;
         self.max_feed_scale = scales.max_feed_override.max(0.0);
         if self.hold {
             // The period at rest after an exact stop.
@@ -98,6 +110,8 @@ impl Planner {
         let Some(head) = self.queue.front().copied() else {
             self.v = 0.0;
             self.a = 0.0;
+            // An empty queue ends the lock to the spindle.
+            self.track = Default::default();
             if let Some(p) = self.pending_planner.take() {
                 self.planner = p;
             }
@@ -111,27 +125,58 @@ impl Planner {
             // waits, at rest, for `spindle.N.at-speed`.
             return self.pos;
         }
+        if self.sync_wait(&head, scales) {
+            // At rest until the spindle is at speed and its index passes.
+            return self.pos;
+        }
         self.start_head();
         if head.kind == SegmentKind::Dwell {
             self.run_dwell(&head);
+            return self.pos;
+        }
+        if let Some(tap) = head.tap {
+            self.scurve.reset();
+            self.a = 0.0;
+            if tap.state == super::TapState::FinalPlacement {
+                self.step_tap_placement(&head);
+            } else {
+                self.step_tap(scales);
+            }
+            return self.pos;
+        }
+        if head.locked.is_some() {
+            self.net_scale = 1.0;
+            let vt = self.sync_target(&head, scales);
+            self.requested_vel = vt;
+            let next_vt = self.next_target(scales);
+            // The trapezoidal steps, whatever the planner type.
+            self.scurve.reset();
+            self.a = 0.0;
+            self.step_trapezoid(&head, vt, next_vt);
             return self.pos;
         }
         let scale = scales.net(head.enables, head.kind == SegmentKind::Traverse);
         self.net_scale = scale;
         let vt = self.target_speed(&head, scales, scale);
         self.requested_vel = vt;
-        let next_vt = match self.queue.get(1) {
-            Some(next) if next.kind != SegmentKind::Dwell => {
-                let s = scales.net(next.enables, next.kind == SegmentKind::Traverse);
-                self.target_speed(next, scales, s)
-            }
-            _ => 0.0,
-        };
+        let next_vt = self.next_target(scales);
         match self.planner {
             PlannerType::Trapezoidal => self.step_trapezoid(&head, vt, next_vt),
             PlannerType::SCurve => self.step_scurve(vt, next_vt, scales),
         }
         self.pos
+    }
+
+    /// The speed the segment after the executing one asks for (0: none,
+    /// or a dwell).
+    fn next_target(&self, scales: &ScaleInputs) -> f64 {
+        match self.queue.get(1) {
+            Some(next) if next.kind != SegmentKind::Dwell => {
+                let s = scales.net(next.enables, next.kind == SegmentKind::Traverse);
+                self.target_speed(next, scales, s)
+            }
+            _ => 0.0,
+        }
     }
 
     fn run_dwell(&mut self, head: &Segment) {
@@ -148,7 +193,7 @@ impl Planner {
         }
     }
 
-    fn step_trapezoid(&mut self, head: &Segment, vt: f64, next_vt: f64) {
+    pub(super) fn step_trapezoid(&mut self, head: &Segment, vt: f64, next_vt: f64) {
         let t = self.period;
         let d = head.len - self.s;
         let a_brake = self.brake_acc(head);
@@ -175,7 +220,7 @@ impl Planner {
     /// The speed for the coming period: `target` clamped to one step of
     /// acceleration `a` from the current speed and below `hard` and
     /// `vmax` (which win should they conflict).
-    fn trapezoid_speed(&self, a: f64, target: f64, hard: f64, vmax: f64) -> f64 {
+    pub(super) fn trapezoid_speed(&self, a: f64, target: f64, hard: f64, vmax: f64) -> f64 {
         let t = self.period;
         let lo = (self.v - a * t).max(0.0);
         let hi = (self.v + a * t).min(hard).min(vmax);
@@ -223,9 +268,10 @@ impl Planner {
     }
 
     /// The executing segment is done: the next one starts.
-    fn finish_head(&mut self) {
+    pub(super) fn finish_head(&mut self) {
         if let Some(done) = self.queue.pop_front() {
             self.exec_id = done.id;
+            self.sync_segment_done(&done);
             self.indexer_segment_done(done.indexer);
         }
         self.s = 0.0;

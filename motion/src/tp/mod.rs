@@ -14,6 +14,8 @@
 //!   whole queue after each new segment).
 //! * `trapezoid` and `scurve`: the two velocity planners along the path;
 //!   `exec` runs them and the queue (pause, step, abort, dwells).
+//! * `spindle_sync` and `rigid_tap`: segments locked to a spindle's
+//!   position (G33, G76, G33.1).
 //!
 //! Guarantees, for the trapezoidal planner and, with jerk, the S-curve
 //! one: no axis ever moves faster, accelerates or (S-curve) jerks harder
@@ -45,7 +47,12 @@
 //!   corner becomes a stop); LinuxCNC lowers the acceleration around the
 //!   kink instead. A move already running keeps its budget when the next
 //!   move settles its end (LinuxCNC raises it);
-//! * no reverse run, spindle-synchronised motion or rigid tapping yet;
+//! * no reverse run;
+//! * spindle-synchronised segments (`spindle_sync`) are locked to the
+//!   spindle's position at its index pulse rather than where the axis
+//!   first reaches the spindle's speed, a rigid tap's return keeps the
+//!   tapping phase, and both run on the trapezoidal planner whichever
+//!   planner is chosen;
 //! * a resume requested while the S-curve planner is still braking for a
 //!   pause takes effect once it is at rest.
 
@@ -55,8 +62,10 @@ mod exec;
 mod geom;
 mod indexer;
 mod lookahead;
+mod rigid_tap;
 mod scurve;
 mod segment;
+mod spindle_sync;
 mod sync_io;
 mod trapezoid;
 
@@ -64,6 +73,7 @@ use std::collections::VecDeque;
 
 pub use budget::{AxisLimits, PlannerType, TrajLimits};
 pub use indexer::{IndexerFault, IndexerPhase, INDEXER_TIMEOUT};
+pub use rigid_tap::TapState;
 pub use segment::{FeedPerRev, SegmentKind};
 
 use crate::command::{LineKind, ProbeType, Reject, TermCond};
@@ -99,6 +109,13 @@ pub struct ScaleInputs {
     pub spindle_rps: [f64; crate::sizes::MAX_SPINDLES],
     /// Each joint's `is-unlocked` (bit n: joint n), for locking indexers.
     pub unlocked: u32,
+    /// Each spindle's `revs`: its position, revolutions.
+    pub spindle_revs: [f64; crate::sizes::MAX_SPINDLES],
+    /// Each spindle's `index-enable` as read back (bit n: spindle n).
+    pub spindle_index_enable: u32,
+    /// The spindles commanded to turn in reverse (bit n: spindle n):
+    /// their `revs` count down.
+    pub spindle_reverse: u32,
 }
 
 impl Default for ScaleInputs {
@@ -113,6 +130,9 @@ impl Default for ScaleInputs {
             spindle_at_speed: true,
             spindle_rps: [0.0; crate::sizes::MAX_SPINDLES],
             unlocked: 0,
+            spindle_revs: [0.0; crate::sizes::MAX_SPINDLES],
+            spindle_index_enable: 0,
+            spindle_reverse: 0,
         }
     }
 }
@@ -239,6 +259,13 @@ pub struct Planner {
     head_started: bool,
     /// The feed per revolution of the feed moves queued next (G95).
     feed_per_rev: Option<FeedPerRev>,
+    /// The position synchronisation of the feed moves queued next (G33).
+    position_sync: Option<FeedPerRev>,
+    /// The lock of the executing segment to its spindle.
+    track: spindle_sync::Track,
+    /// A rigid tap's spindle reversal for the controller: the spindle
+    /// and the factor of its speed.
+    spindle_reversal: Option<(usize, f64)>,
     /// The next segment pushed is a locking indexer's move of this joint.
     indexer_pending: Option<usize>,
     /// The locking indexer handshake in progress.
@@ -293,6 +320,9 @@ impl Planner {
             waiting_for_atspeed: false,
             head_started: false,
             feed_per_rev: None,
+            position_sync: None,
+            track: spindle_sync::Track::default(),
+            spindle_reversal: None,
             indexer_pending: None,
             indexer: None,
             indexer_fault: None,
@@ -385,6 +415,9 @@ impl Planner {
         self.waiting_for_atspeed = false;
         self.head_started = false;
         self.feed_per_rev = None;
+        self.position_sync = None;
+        self.track = spindle_sync::Track::default();
+        self.spindle_reversal = None;
         self.sync_io.clear();
         self.scurve.reset();
         if let Some(p) = self.pending_planner.take() {
@@ -396,6 +429,13 @@ impl Planner {
     /// units per minute again).
     pub fn set_feed_per_rev(&mut self, per_rev: Option<FeedPerRev>) {
         self.feed_per_rev = per_rev;
+    }
+
+    /// Sets the position synchronisation of the feed moves queued next
+    /// (G33: their progress follows the spindle's position; `None`:
+    /// off). It takes precedence over a feed per revolution.
+    pub fn set_position_sync(&mut self, sync: Option<FeedPerRev>) {
+        self.position_sync = sync;
     }
 
     /// Sets the termination condition of the segments queued next.
@@ -668,6 +708,8 @@ impl Planner {
             atspeed: false,
             sync: false,
             per_rev: None,
+            locked: None,
+            tap: None,
             indexer: None,
         };
         seg.sync = self.sync_io.attach();
@@ -680,5 +722,7 @@ impl Planner {
     }
 }
 
+#[cfg(test)]
+mod spindle_sync_tests;
 #[cfg(test)]
 mod tests;

@@ -92,6 +92,11 @@ pub(crate) struct Segment {
     /// Feed per revolution (G95): its speed follows a spindle's
     /// `speed-in` instead of `req_vel`.
     pub per_rev: Option<FeedPerRev>,
+    /// Position synchronisation (G33, G76): its progress follows the
+    /// spindle's `revs` times this many units per revolution.
+    pub locked: Option<FeedPerRev>,
+    /// A rigid tap (G33.1) and where it is.
+    pub tap: Option<super::rigid_tap::Tap>,
     /// A locking indexer's rapid: the joint unlocked around it.
     pub indexer: Option<u8>,
 }
@@ -134,6 +139,7 @@ impl Segment {
         matches!(self.kind, SegmentKind::Feed | SegmentKind::Traverse)
             && matches!(self.path, Path::Line { .. })
             && !self.path.moves_other_axes()
+            && self.locked.is_none()
     }
 
     /// How it meets its neighbours.

@@ -383,6 +383,10 @@ rejects! {
         } = 62, "locking indexer jog"
             => "cannot jog axis {}: it is a locking indexer (joint {joint}); move it with G0",
                 axis_letter(axis);
+        /// A rigid tap needs the position synchronisation on
+        /// ([`crate::Command::SpindleSync`] in position mode).
+        RigidTapNotSynchronised = 63, "rigid tap not synchronised"
+            => "Cannot add unsynchronized rigid tap move";
     }
 }
 

@@ -94,6 +94,12 @@ impl MotionCore {
                 id,
             } => self.queue_circle(end, center, normal, turns, vel, id),
             C::Dwell { seconds, id } => self.queue_dwell(seconds, id),
+            C::RigidTap {
+                end,
+                vel,
+                scale,
+                id,
+            } => self.queue_rigid_tap(end, vel, scale, id),
             C::Probe {
                 end,
                 vel,
@@ -131,6 +137,11 @@ impl MotionCore {
                 mode,
             } => self.spindle_orient(spindle, angle, mode),
             C::SetFeedPerRev { spindle, per_rev } => self.set_feed_per_rev(spindle, per_rev),
+            C::SpindleSync {
+                spindle,
+                per_rev,
+                velocity_mode,
+            } => self.spindle_sync(spindle, per_rev, velocity_mode),
             C::SpindleCss {
                 spindle,
                 factor,

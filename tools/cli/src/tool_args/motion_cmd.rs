@@ -127,6 +127,12 @@ axes left out stay where the last queued move ends):
   planner-type 0|1              trapezoidal or S-curve (PLANNER_TYPE)
   feed-per-rev SPINDLE UNITS    G95: the next feed moves go UNITS per
                                 revolution of SPINDLE (its speed-in); 0 off
+  spindle-sync SPINDLE UNITS 0|1
+                                G33 (0): the next feed moves wait for the
+                                spindle's index and follow its revs, UNITS
+                                per revolution; 1 as feed-per-rev; 0 off
+  rigid-tap ID VEL SCALE END...  G33.1 under spindle-sync: tap to END's X Y Z
+                                and back, the spindle reversed at SCALE
   spindle-css SPINDLE FACTOR X-OFFSET
                                 G96: the spindle turns at FACTOR / |X -
                                 X-OFFSET| rpm, at most its spindle-on speed

@@ -71,6 +71,9 @@ pub struct TaskCanon {
     /// The feed per revolution motion was last given (machine units per
     /// revolution, 0: off), and for which spindle.
     sent_per_rev: (i32, f64),
+    /// Position synchronisation (G33, G33.1, G76) in effect: the spindle
+    /// and machine units per revolution.
+    synched: Option<(i32, f64)>,
     /// Motion's digital and analog inputs when last synchronised.
     io: motion::channel::IoState,
     /// The last probing move's result: tripped, and where (machine
@@ -114,6 +117,7 @@ impl TaskCanon {
             css_limit: [0.0; motion::sizes::MAX_SPINDLES],
             feed_per_rev: None,
             sent_per_rev: (0, 0.0),
+            synched: None,
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
             probe: (false, [0.0; 9]),
@@ -338,16 +342,18 @@ impl TaskCanon {
         let goal = self.to_machine(end);
         let vel = match kind {
             LineKind::Traverse => 0.0,
-            LineKind::Feed => self.feed_per_second(),
+            LineKind::Feed => self.synched_speed().unwrap_or(self.feed_per_second()),
         };
         let zero_length = goal
             .iter()
             .zip(&self.goal)
             .all(|(to, from)| (to - from).abs() < ZERO_MOVE);
         self.goal = goal;
-        if zero_length {
+        let synched = kind == LineKind::Feed && self.synched.is_some();
+        if zero_length && !synched {
             // As LinuxCNC's canon: a move that goes nowhere (`G0` with no
-            // axis word, `G1 X0` at X0) is not sent to motion.
+            // axis word, `G1 X0` at X0) is not sent to motion, unless it
+            // is spindle-synchronised.
             return;
         }
         self.ops.push_back(Op::Motion(Command::Line {
@@ -472,14 +478,14 @@ impl Canon for TaskCanon {
     fn nurbs_feed(&mut self, _line: i32, _points: &[ControlPoint], _order: u32) {
         self.refuse("NURBS moves (G5.2)");
     }
-    fn start_speed_feed_synch(&mut self, _spindle: i32, _per_rev: f64, _velocity_mode: bool) {
-        // Motion has no spindle-synchronised move yet (it would wait for
-        // the index pulse and follow spindle.N.revs).
-        self.refuse("spindle-synchronised motion (G33, G33.1, G76)");
+    fn start_speed_feed_synch(&mut self, spindle: i32, per_rev: f64, velocity_mode: bool) {
+        self.start_synch(spindle, per_rev, velocity_mode);
     }
-    fn stop_speed_feed_synch(&mut self) {}
-    fn rigid_tap(&mut self, _line: i32, _end: (f64, f64, f64), _scale: f64) {
-        self.refuse("rigid tapping (G33.1)");
+    fn stop_speed_feed_synch(&mut self) {
+        self.stop_synch();
+    }
+    fn rigid_tap(&mut self, line: i32, end: (f64, f64, f64), scale: f64) {
+        self.queue_rigid_tap(line, end, scale);
     }
     fn dwell(&mut self, seconds: f64) {
         self.ops.push_back(Op::Motion(Command::Dwell {

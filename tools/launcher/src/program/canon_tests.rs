@@ -229,7 +229,7 @@ fn skipped_lines_keep_their_settings_and_move_nothing() {
 fn calls_the_machine_cannot_do_are_a_fault() {
     let mut c = TaskCanon::new(1.0, 0b111);
     c.nurbs_feed(1, &[], 3);
-    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
+    c.straight_feed(2, &p(0.0, 0.0, -1.0));
     assert_eq!(c.fault.as_deref(), Some("NURBS moves (G5.2)"));
 }
 
@@ -270,16 +270,104 @@ fn a_probe_queues_a_probing_move_and_its_check() {
 }
 
 #[test]
-fn spindle_synchronised_motion_is_a_fault() {
+fn a_synchronised_feed_goes_to_motion_between_spindle_syncs() {
+    // An inch program on a millimetre machine: K0.1 is 2.54 mm per turn.
     let mut c = TaskCanon::new(1.0, 0b111);
-    c.start_speed_feed_synch(0, 1.5, false);
+    c.use_length_units(Units::Inches);
+    c.set_feed_rate(0.0);
+    c.set_spindle_speed(0, 300.0);
+    c.start_spindle_clockwise(0);
+    c.set_feed_mode(0, 1);
+    c.set_feed_rate(0.01);
+    c.ops.clear();
+    c.start_speed_feed_synch(0, 0.1, false);
+    c.straight_feed(7, &p(0.0, 0.0, -1.0));
+    c.stop_speed_feed_synch();
+    c.straight_feed(8, &p(0.0, 0.0, -2.0));
+    assert!(c.fault.is_none(), "{:?}", c.fault);
+    let ops: Vec<_> = c.ops.iter().collect();
+    assert!(
+        matches!(ops[0], Op::Motion(Command::SpindleSync { spindle: 0, per_rev, velocity_mode: false })
+            if (per_rev - 2.54).abs() < 1e-12),
+        "{ops:?}"
+    );
+    // No feed per revolution inside the synchronised move; its speed is
+    // the pitch at the programmed spindle speed (motion follows the
+    // spindle instead).
+    match ops[1] {
+        Op::Motion(Command::Line {
+            end,
+            vel,
+            kind: LineKind::Feed,
+            id: 7,
+        }) => {
+            assert!((end.0[2] + 25.4).abs() < 1e-9);
+            assert!((vel - 2.54 * 5.0).abs() < 1e-9, "{vel}");
+        }
+        other => panic!("not the synchronised line: {other:?}"),
+    }
+    assert_eq!(
+        ops[2],
+        &Op::Motion(Command::SpindleSync {
+            spindle: 0,
+            per_rev: 0.0,
+            velocity_mode: false
+        })
+    );
+    // The G95 feed comes back for the next feed move.
+    assert!(
+        matches!(ops[3], Op::Motion(Command::SetFeedPerRev { spindle: 0, per_rev })
+            if (per_rev - 0.254).abs() < 1e-12),
+        "{ops:?}"
+    );
+    assert!(matches!(ops[4], Op::Motion(Command::Line { id: 8, .. })));
+    // A spindle motion does not have is refused.
+    c.start_speed_feed_synch(9, 1.0, false);
+    assert_eq!(c.fault.as_deref(), Some("spindle 9"));
+}
+
+#[test]
+fn a_rigid_tap_goes_to_motion_and_the_queue_ends_where_it_was() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_g5x_offset(1, &p(10.0, 0.0, 0.0));
+    c.set_spindle_speed(0, 600.0);
+    c.start_spindle_clockwise(0);
+    c.straight_traverse(1, &p(1.0, 2.0, 3.0));
+    c.ops.clear();
+    // Without the synchronisation the interpreter always sends first.
+    c.rigid_tap(2, (1.0, 2.0, -4.0), 1.5);
     assert_eq!(
         c.fault.as_deref(),
-        Some("spindle-synchronised motion (G33, G33.1, G76)")
+        Some("rigid tapping (G33.1) without spindle synchronisation")
     );
     let mut c = TaskCanon::new(1.0, 0b111);
-    c.rigid_tap(1, (0.0, 0.0, -1.0), 1.0);
-    assert_eq!(c.fault.as_deref(), Some("rigid tapping (G33.1)"));
+    c.set_g5x_offset(1, &p(10.0, 0.0, 0.0));
+    c.set_spindle_speed(0, 600.0);
+    c.start_spindle_clockwise(0);
+    c.straight_traverse(1, &p(1.0, 2.0, 3.0));
+    c.ops.clear();
+    c.start_speed_feed_synch(0, 1.25, false);
+    c.rigid_tap(2, (1.0, 2.0, -4.0), 1.5);
+    c.stop_speed_feed_synch();
+    assert!(c.fault.is_none(), "{:?}", c.fault);
+    match &c.ops[1] {
+        Op::Motion(Command::RigidTap {
+            end,
+            vel,
+            scale,
+            id: 2,
+        }) => {
+            assert_eq!((end.0[0], end.0[1], end.0[2]), (11.0, 2.0, -4.0));
+            assert_eq!((*vel, *scale), (12.5, 1.5));
+        }
+        other => panic!("not a rigid tap: {other:?}"),
+    }
+    // The next move starts from the tap's start.
+    c.straight_feed(3, &p(1.0, 3.0, 3.0));
+    match c.ops.back() {
+        Some(Op::Motion(Command::Line { end, .. })) => assert_eq!(end.0[..3], [11.0, 3.0, 3.0]),
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! Task's canon for the spindles and the feed mode: M3/M4/M5 and S as
 //! motion's SPINDLE_ON and SPINDLE_OFF, constant surface speed (G96 with
 //! its D limit) and feed per revolution (G95) as motion's SpindleCss and
-//! SetFeedPerRev.
+//! SetFeedPerRev, and spindle-synchronised motion (G33, G33.1, G76) as
+//! motion's SpindleSync.
 
 use motion::Command;
 use rs274ngc::{Direction, Units};
@@ -93,6 +94,10 @@ impl TaskCanon {
     /// Before a feed move: motion's feed per revolution as the program's
     /// (G95 F, machine units per revolution; 0 in G93 and G94).
     pub(super) fn sync_feed_mode(&mut self) {
+        if self.synched.is_some() {
+            // Locked to the spindle's position: the feed mode waits.
+            return;
+        }
         let want = match self.feed_per_rev {
             Some(spindle) => (
                 spindle,
@@ -109,8 +114,74 @@ impl TaskCanon {
         }
     }
 
-    /// After an abort: motion's planner forgot its feed per revolution.
+    /// After an abort: motion's planner forgot its feed per revolution
+    /// and its synchronisation.
     pub fn planner_reset(&mut self) {
         self.sent_per_rev = (0, 0.0);
+        self.synched = None;
+    }
+
+    /// START_SPEED_FEED_SYNCH: the feed moves that follow go `per_rev`
+    /// program units per revolution of `spindle`, locked to its position
+    /// (or, `velocity_mode`, to its speed).
+    pub(super) fn start_synch(&mut self, spindle: i32, per_rev: f64, velocity_mode: bool) {
+        if self.spindle_mut(spindle).is_none() {
+            return;
+        }
+        let per_rev = per_rev * self.units.mm_per_unit() * self.user_per_mm;
+        if velocity_mode {
+            // As G95: the feed mode's bookkeeping sends it.
+            self.synched = None;
+            self.sent_per_rev = (spindle, per_rev);
+        } else {
+            self.synched = Some((spindle, per_rev));
+        }
+        self.ops.push_back(Op::Motion(Command::SpindleSync {
+            spindle,
+            per_rev,
+            velocity_mode,
+        }));
+    }
+
+    /// STOP_SPEED_FEED_SYNCH: motion's synchronisation off (which ends a
+    /// feed per revolution too: the next feed move sends it again).
+    pub(super) fn stop_synch(&mut self) {
+        let spindle = self.synched.map_or(self.sent_per_rev.0, |s| s.0);
+        self.synched = None;
+        self.sent_per_rev = (spindle, 0.0);
+        self.ops.push_back(Op::Motion(Command::SpindleSync {
+            spindle,
+            per_rev: 0.0,
+            velocity_mode: false,
+        }));
+    }
+
+    /// RIGID_TAP (G33.1): motion taps to `end` (program X, Y, Z) and
+    /// comes back; the queue ends where it was.
+    pub(super) fn queue_rigid_tap(&mut self, line: i32, end: (f64, f64, f64), scale: f64) {
+        if self.synched.is_none() {
+            return self.refuse("rigid tapping (G33.1) without spindle synchronisation");
+        }
+        let mut at = self.to_program(self.goal);
+        (at.x, at.y, at.z) = end;
+        let bottom = self.to_machine(&at);
+        let vel = self.synched_speed().unwrap_or(self.feed_per_second());
+        self.ops.push_back(Op::Motion(Command::RigidTap {
+            end: motion::Pose(bottom),
+            vel,
+            scale,
+            id: line,
+        }));
+    }
+
+    /// The programmed path speed of a synchronised feed move (machine
+    /// units per second): the pitch at the spindle's programmed speed.
+    /// Motion follows the spindle instead; the speed only has to be a
+    /// valid one.
+    pub(super) fn synched_speed(&self) -> Option<f64> {
+        let (spindle, per_rev) = self.synched?;
+        let rpm = self.spindles.get(spindle as usize).map_or(0.0, |s| s.1);
+        let v = per_rev * rpm.abs() / 60.0;
+        (v.is_finite() && v > 0.0).then_some(v)
     }
 }
