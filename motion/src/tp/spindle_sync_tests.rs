@@ -300,8 +300,10 @@ fn feed_override_feed_hold_and_pause_leave_a_synchronised_move_alone() {
         }
         last = q;
     }
-    // Ran to its end and stopped there (the next move is paused).
-    assert_eq!(last.0[2], -10.0);
+    // Ran to its end and stopped there (the next move is paused). The
+    // corner into the next move is settled at speed, so the stop is on
+    // the next move's first point, within rounding of the end.
+    assert!((last.0[2] + 10.0).abs() < 1e-12, "{}", last.0[2]);
     assert_eq!(tp.status().exec_id, 2);
 }
 
