@@ -110,6 +110,8 @@ fn the_feed_move_after_a_start_waits_for_at_speed() {
     s.cmd(Command::Line {
         end: at(1.0, 0.0, 0.0),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 1,
     })

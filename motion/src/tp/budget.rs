@@ -49,6 +49,12 @@ pub struct AxisLimits {
     pub acc: [f64; NUM_AXES],
     /// Jerk limits (0: none).
     pub jerk: [f64; NUM_AXES],
+    /// The move's own cap on its path speed (SET_LINE's `ini_maxvel`;
+    /// infinite: none).
+    pub path_vel: f64,
+    /// The move's own cap on its path acceleration (SET_LINE's `acc`;
+    /// infinite: none).
+    pub path_acc: f64,
 }
 
 impl Default for AxisLimits {
@@ -57,6 +63,8 @@ impl Default for AxisLimits {
             vel: [1.0; NUM_AXES],
             acc: [1.0; NUM_AXES],
             jerk: [0.0; NUM_AXES],
+            path_vel: f64::INFINITY,
+            path_acc: f64::INFINITY,
         }
     }
 }
@@ -143,7 +151,7 @@ pub(crate) fn budget(
     } else {
         1.0
     };
-    let mut vmax = len / period;
+    let mut vmax = (len / period).min(lim.path_vel);
     if !rotary_only {
         vmax = vmax.min(traj.max_vel);
     }
@@ -168,7 +176,7 @@ pub(crate) fn budget(
         return None;
     }
     for _ in 0..40 {
-        let acc = tangential_acc(f, lim, traj, vmax, acc_share);
+        let acc = tangential_acc(f, lim, traj, vmax, acc_share).min(lim.path_acc);
         if acc <= 0.0 {
             return None;
         }
@@ -282,6 +290,7 @@ mod tests {
             vel: [v; NUM_AXES],
             acc: [a; NUM_AXES],
             jerk: [j; NUM_AXES],
+            ..AxisLimits::default()
         }
     }
 

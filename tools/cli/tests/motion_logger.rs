@@ -72,6 +72,10 @@ MAX_VELOCITY = 4
 MAX_ACCELERATION = 1000.0
 MIN_LIMIT = -4.0
 MAX_LIMIT = 4.0
+[SPINDLE_0]
+MAX_FORWARD_VELOCITY = 3000
+MIN_FORWARD_VELOCITY = 100
+MAX_REVERSE_VELOCITY = 2000
 ";
 
 /// The lines of `path` once it holds one matching `last`.
@@ -114,7 +118,10 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     m.task_ok(&["mode", "mdi"]);
     m.task_ok(&["mdi", "G0", "X1", "Y2", "Z3"]);
     m.task_ok(&["-t", "30", "wait-done"]);
-    let line = "SET_LINE x=1, y=2, z=3, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, vel=0";
+    // A rapid at the path speed the axes allow (Z's 3 inches at 4 in/s
+    // set the time), as LinuxCNC's canon works it out.
+    let line = "SET_LINE x=1, y=2, z=3, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, \
+                vel=4.98888, ini_maxvel=4.98888, acc=1247.22, turn=-1";
     let lines = lines_until(&log, line);
     // Task's start-up configuration, joint by joint, in LinuxCNC's words.
     for want in [
@@ -140,10 +147,24 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     m.task_ok(&["-t", "30", "wait-done"]);
     // Nothing moved (the logger runs no move), so task's position after
     // the MDI line is where motion says the machine is: the origin.
-    let second =
-        "SET_LINE x=0.5, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=2, vel=1";
+    let second = "SET_LINE x=0.5, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=2, \
+                  vel=1, ini_maxvel=4, acc=1000, turn=-1";
     let lines = lines_until(&log, second);
     assert!(!lines.iter().any(|l| l == line), "{lines:#?}");
+    // G43.1 and G49 give motion the tool offset, in machine units.
+    m.task_ok(&["mdi", "G43.1", "Z0.25"]);
+    m.task_ok(&["mdi", "G49"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let zero = "SET_OFFSET x=0, y=0, z=0, a=0, b=0, c=0 u=0, v=0, w=0";
+    let lines = from_line(&log, second, zero);
+    assert_eq!(
+        lines[1..],
+        [
+            "SET_OFFSET x=0, y=0, z=0.25, a=0, b=0, c=0 u=0, v=0, w=0",
+            zero
+        ],
+        "{lines:#?}"
+    );
     m.stop();
 }
 
@@ -156,8 +177,9 @@ fn from_line(path: &std::path::Path, from: &str, last: &str) -> Vec<String> {
     lines[at..].to_vec()
 }
 
-/// What LinuxCNC 2.9's task sends motion at start-up (planner settings,
-/// then each joint, then each axis; no jerk when the INI sets none), on
+/// What LinuxCNC 2.9's task sends motion at start-up (the joint and
+/// spindle counts and planner settings, then each joint, then each axis,
+/// then each spindle's speed range; no jerk when the INI sets none), on
 /// entering e-stop (abort, disable, volatile homes cleared, free mode),
 /// on e-stop reset (abort), machine on (enable) and entering MDI
 /// (coordinated mode, abort): the motion-logger log shows it in order.
@@ -197,8 +219,12 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
         "ABORT",
     ];
     let mut want: Vec<String> = [
+        "SET_NUM_JOINTS 3",
+        "SET_NUM_SPINDLES 1",
+        "SET_VEL vel=0, ini_maxvel=1",
         "SET_VEL_LIMIT vel=4",
         "SET_ACC acc=1e+99",
+        "SETUP_ARC_BLENDS",
         "SET_MAX_FEED_OVERRIDE 1",
         "SET_WORLD_HOME x=0, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0",
     ]
@@ -210,6 +236,8 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     want.extend(axis(0, -40, 40));
     want.extend(axis(1, -40, 40));
     want.extend(axis(2, -4, 4));
+    // [SPINDLE_0]: MIN_REVERSE_VELOCITY defaults to the forward one.
+    want.push("SET_SPINDLE_PARAMS, 3.00e+03, 1.00e+02, -2.00e+03, -1.00e+02".into());
     want.extend(abort.map(String::from));
     want.extend(["SPINDLE_OFF", "DISABLE", "JOINT_UNHOME joint=-2", "FREE"].map(String::from));
     assert_eq!(start, want);

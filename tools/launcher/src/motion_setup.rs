@@ -26,33 +26,12 @@ use crate::LaunchError;
 /// `[TRAJ]` keys the motion controller has no setting for, with why:
 /// read (and shown as `ini.traj_*` pins where LinuxCNC has one), never
 /// sent.
-const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
-    (
-        &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
-        "the jog speed a GUI starts with; no GUI runs here and every jog names its speed",
-    ),
-    (
-        &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
-        "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
-         jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
-         MAX_LINEAR_ACCELERATION",
-    ),
-    (
-        &[
-            "ARC_BLEND_ENABLE",
-            "ARC_BLEND_FALLBACK_ENABLE",
-            "ARC_BLEND_OPTIMIZATION_DEPTH",
-            "ARC_BLEND_GAP_CYCLES",
-            "ARC_BLEND_RAMP_FREQ",
-        ],
-        "the planner always blends corners with arcs within the G64 tolerance and looks ahead \
-         over the whole queue; it has no switch, depth, gap or ramp setting",
-    ),
-    (
-        &["SPINDLES"],
-        "motmod's num_spindles module parameter sets the spindles",
-    ),
-];
+const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[(
+    &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
+    "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
+     jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
+     MAX_LINEAR_ACCELERATION",
+)];
 
 /// The motion controller of an instance.
 pub struct MotionLink {
@@ -61,6 +40,8 @@ pub struct MotionLink {
     position_file: Option<std::path::PathBuf>,
     /// `[KINS]JOINTS`: the joints an abort stops one by one.
     joints: usize,
+    /// The spindles motion was told of (`[TRAJ]SPINDLES`).
+    spindles: usize,
 }
 
 /// Motion's mode for task's MANUAL mode: teleop once every joint is
@@ -114,6 +95,7 @@ impl MotionLink {
             client: c.with_timeout(std::time::Duration::from_secs(2)),
             position_file: None,
             joints: 0,
+            spindles: 1,
         })
     }
 
@@ -149,6 +131,9 @@ impl MotionLink {
         }
         for (axis, letter) in axis_letters(ini) {
             self.configure_axis(ini, axis, letter, &mut notes)?;
+        }
+        for spindle in 0..self.spindles {
+            self.configure_spindle(ini, spindle)?;
         }
         self.restore_positions(ini, &mut notes)?;
         Ok(notes)
@@ -394,10 +379,78 @@ impl MotionLink {
         self.setting(ini, sec, &["OFFSET_AV_RATIO"], cmd)
     }
 
-    /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the world home, the
-    /// coordinated planner's limits and its type.
+    /// `[SPINDLE_n]`: the speed range, rpm (MAX_FORWARD_VELOCITY,
+    /// default no limit; MIN_FORWARD_VELOCITY, default 0; the reverse
+    /// ones default to the forward ones, as in LinuxCNC).
+    fn configure_spindle(&mut self, ini: &Ini, spindle: usize) -> Result<(), LaunchError> {
+        let sec = format!("SPINDLE_{spindle}");
+        let max_fwd = ini.real(&sec, "MAX_FORWARD_VELOCITY")?.unwrap_or(1e99);
+        let min_fwd = ini.real(&sec, "MIN_FORWARD_VELOCITY")?.unwrap_or(0.0);
+        let max_rev = ini.real(&sec, "MAX_REVERSE_VELOCITY")?.unwrap_or(max_fwd);
+        let min_rev = ini.real(&sec, "MIN_REVERSE_VELOCITY")?.unwrap_or(min_fwd);
+        // Reverse speeds are negative (0 - v keeps a 0 positive).
+        let cmd = Command::SetSpindleParams {
+            spindle: spindle as i32,
+            max_pos: max_fwd,
+            min_pos: min_fwd,
+            max_neg: 0.0 - max_rev,
+            min_neg: 0.0 - min_rev,
+        };
+        let keys = [
+            "MAX_FORWARD_VELOCITY",
+            "MIN_FORWARD_VELOCITY",
+            "MAX_REVERSE_VELOCITY",
+            "MIN_REVERSE_VELOCITY",
+        ];
+        self.setting(ini, &sec, &keys, cmd)
+    }
+
+    /// `[KINS]JOINTS` and `[TRAJ]SPINDLES` (default 1): the joints and
+    /// spindles motion uses. More spindles than motmod's num_spindles is
+    /// said in a note and motmod's number used, as LinuxCNC does.
+    fn configure_counts(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        let joints = i32::try_from(self.joints).unwrap_or(i32::MAX);
+        self.setting(ini, "KINS", &["JOINTS"], Command::SetNumJoints { joints })?;
+        let asked = ini.int("TRAJ", "SPINDLES")?.unwrap_or(1);
+        let spindles = i32::try_from(asked).unwrap_or(i32::MAX);
+        self.spindles = match self.send(Command::SetNumSpindles { spindles }) {
+            Ok(()) => asked as usize,
+            Err(Reject::BadSpindleCount { loaded, .. }) if spindles > 0 => {
+                notes.push(format!(
+                    "{}: {spindles} spindles, but motion has {loaded} (motmod's num_spindles): \
+                     {loaded} used",
+                    at(ini, "TRAJ", &["SPINDLES"])
+                ));
+                loaded
+            }
+            Err(source) => {
+                return Err(LaunchError::Motion {
+                    at: at(ini, "TRAJ", &["SPINDLES"]),
+                    source,
+                })
+            }
+        };
+        Ok(())
+    }
+
+    /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the joints and
+    /// spindles, the default velocity, the coordinated planner's limits,
+    /// arc blends and type, and the world home.
     fn configure_traj(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        self.configure_counts(ini, notes)?;
         let traj = TrajSettings::from_ini(ini)?;
+        // LinuxCNC's task gives the planner velocity 0 and the default
+        // velocity as its INI velocity.
+        let vel = Command::SetVel {
+            vel: 0.0,
+            ini_maxvel: traj.default_velocity,
+        };
+        self.setting(
+            ini,
+            "TRAJ",
+            &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
+            vel,
+        )?;
         let vel = Command::SetVelLimit {
             vel: traj.max_velocity,
         };
@@ -411,6 +464,23 @@ impl MotionLink {
             &["MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION"],
             acc,
         )?;
+        // Whole numbers in LinuxCNC; `as` saturates, and motion refuses
+        // a negative one naming the entry.
+        let blends = Command::SetupArcBlends {
+            enable: traj.arc_blend_enable,
+            fallback: traj.arc_blend_fallback_enable,
+            depth: traj.arc_blend_optimization_depth as i32,
+            gap_cycles: traj.arc_blend_gap_cycles as i32,
+            ramp_freq: traj.arc_blend_ramp_freq,
+        };
+        let keys = [
+            "ARC_BLEND_ENABLE",
+            "ARC_BLEND_FALLBACK_ENABLE",
+            "ARC_BLEND_OPTIMIZATION_DEPTH",
+            "ARC_BLEND_GAP_CYCLES",
+            "ARC_BLEND_RAMP_FREQ",
+        ];
+        self.setting(ini, "TRAJ", &keys, blends)?;
         // LinuxCNC takes a jerk below 1 as "no S-curve": the planner falls
         // back to trapezoidal with a message rather than refusing the
         // configuration.

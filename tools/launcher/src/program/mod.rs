@@ -146,6 +146,7 @@ impl Program {
         let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
         canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
         canon.tool_change_position = config.tool_change_position;
+        canon.rates = config.axis_rates;
         Program {
             canon,
             interp: Interp::new(config.interp),
