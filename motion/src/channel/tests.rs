@@ -10,7 +10,7 @@ use crate::kins::Pose;
 
 /// One or more of every command, with values at the edges.
 pub(crate) fn all_commands() -> Vec<Command> {
-    // Long: one entry per command (opcodes 1 to 76), several at the edges.
+    // Long: one entry per command (opcodes 1 to 77), several at the edges.
     let mut pose = Pose::ZERO;
     for (i, v) in pose.0.iter_mut().enumerate() {
         *v = i as f64 * 1.5 - 3.0;
@@ -264,6 +264,10 @@ pub(crate) fn all_commands() -> Vec<Command> {
             min_neg: -0.5,
         },
         Command::SetToolOffset { offset: pose },
+        Command::SetProbeErrInhibit {
+            jog: true,
+            home: false,
+        },
     ]
 }
 
@@ -277,11 +281,11 @@ fn every_command_round_trips() {
 }
 
 #[test]
-fn every_opcode_from_1_to_76_is_used() {
+fn every_opcode_from_1_to_77_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=76).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=77).collect::<Vec<_>>());
 }
 
 #[test]
@@ -347,7 +351,7 @@ fn well_sealed_but_invalid_records_are_rejected_with_the_reason() {
     let mut w = good;
     w[1] = 0;
     assert_eq!(decode_command(&seal(w)), Err((0, WireError::ZeroSerial)));
-    for op in [0u64, 77, 1000, u64::MAX] {
+    for op in [0u64, 78, 1000, u64::MAX] {
         let mut w = good;
         w[2] = op;
         assert_eq!(

@@ -432,6 +432,18 @@ commands! {
         };
         /// CLEAR_PROBE_FLAGS: forget the last probe result.
         ClearProbeFlags = 40, cli planner "clear-probe" {};
+        /// SET_PROBE_ERR_INHIBIT (`[TRAJ]NO_PROBE_JOG_ERROR`,
+        /// `NO_PROBE_HOME_ERROR`): with `jog`, a probe contact no longer
+        /// stops jogs; with `home`, it no longer aborts homing.
+        SetProbeErrInhibit {
+            /// Jogs go on through a probe contact.
+            jog: bool,
+            /// Homing goes on through a probe contact.
+            home: bool,
+        } = 77, cli planner "probe-err-inhibit" {
+            jog: flag(0, "the jog inhibit"),
+            home: flag(1, "the home inhibit"),
+        };
         /// SET_TERM_COND: how the moves queued from now on end; `tolerance`
         /// is the blend tolerance (G64 P) for [`TermCond::Blend`].
         SetTermCond {

@@ -272,6 +272,9 @@ pub struct MotionCore {
     spindles_in_use: usize,
     /// The tool offset (SET_OFFSET), shown on `motion.tooloffset.L`.
     tool_offset: Pose,
+    /// SET_PROBE_ERR_INHIBIT: a probe contact stops no jog, aborts no
+    /// homing.
+    probe_err_inhibit: (bool, bool),
 }
 
 /// Where probing stands.
@@ -380,6 +383,7 @@ impl MotionCore {
             joints_in_use: cfg.num_joints,
             spindles_in_use: cfg.num_spindles,
             tool_offset: Pose::ZERO,
+            probe_err_inhibit: (false, false),
         }
     }
 

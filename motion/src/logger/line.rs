@@ -205,6 +205,9 @@ pub fn line(cmd: &Command) -> String {
         C::Dwell { seconds, id } => format!("DWELL seconds={}, id={id}", g(seconds)),
         C::Probe { .. } => "PROBE".into(),
         C::ClearProbeFlags => "CLEAR_PROBE_FLAGS".into(),
+        C::SetProbeErrInhibit { jog, home } => {
+            format!("SETUP_SET_PROBE_ERR_INHIBIT {} {}", on(jog), on(home))
+        }
         C::SetTermCond { cond, tolerance } => format!(
             "SET_TERM_COND termCond={}, tolerance={}",
             cond.code(),

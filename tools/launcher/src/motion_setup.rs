@@ -33,6 +33,18 @@ const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[(
      MAX_LINEAR_ACCELERATION",
 )];
 
+/// The upper position limit LinuxCNC's task has for a joint or axis
+/// before the INI's: it sets the lower limit first, with this upper one,
+/// then both.
+const TASK_FIRST_UPPER_LIMIT: f64 = 0.0;
+
+/// Whether the lower limit `min` is sent on its own first, as LinuxCNC's
+/// task sends it: only where it is not above [`TASK_FIRST_UPPER_LIMIT`]
+/// (motion refuses reversed limits; LinuxCNC's took them for a moment).
+fn lower_limit_first(min: f64) -> bool {
+    min <= TASK_FIRST_UPPER_LIMIT
+}
+
 /// The motion controller of an instance.
 pub struct MotionLink {
     client: MotionClient,
@@ -200,7 +212,7 @@ impl MotionLink {
         let l = JointLimits::from_ini(ini, j)?;
         let sec = format!("JOINT_{j}");
         let joint = j as i32;
-        let steps: [(Command, &[&str]); 7] = [
+        let mut steps: Vec<(Command, &[&str])> = vec![
             (
                 Command::SetJointBacklash {
                     joint,
@@ -252,6 +264,14 @@ impl MotionLink {
                 &["MAX_ACCELERATION"],
             ),
         ];
+        if lower_limit_first(l.min_limit) {
+            let cmd = Command::SetJointPositionLimits {
+                joint,
+                min: l.min_limit,
+                max: TASK_FIRST_UPPER_LIMIT,
+            };
+            steps.insert(1, (cmd, &["MIN_LIMIT"]));
+        }
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
         }
@@ -297,6 +317,14 @@ impl MotionLink {
         let l = AxisLimits::from_ini(ini, letter)?;
         let sec = format!("AXIS_{}", letter.to_ascii_uppercase());
         let a = axis as i32;
+        if lower_limit_first(l.min_limit) {
+            let cmd = Command::SetAxisPositionLimits {
+                axis: a,
+                min: l.min_limit,
+                max: TASK_FIRST_UPPER_LIMIT,
+            };
+            self.setting(ini, &sec, &["MIN_LIMIT"], cmd)?;
+        }
         let steps: [(Command, &[&str]); 3] = [
             (
                 Command::SetAxisPositionLimits {
@@ -519,6 +547,12 @@ impl MotionLink {
         let scale = max_feed_override(ini)?;
         let cmd = Command::SetMaxFeedOverride { scale };
         self.setting(ini, "DISPLAY", &["MAX_FEED_OVERRIDE"], cmd)?;
+        let cmd = Command::SetProbeErrInhibit {
+            jog: ini.boolean("TRAJ", "NO_PROBE_JOG_ERROR")?.unwrap_or(false),
+            home: ini.boolean("TRAJ", "NO_PROBE_HOME_ERROR")?.unwrap_or(false),
+        };
+        let keys = ["NO_PROBE_JOG_ERROR", "NO_PROBE_HOME_ERROR"];
+        self.setting(ini, "TRAJ", &keys, cmd)?;
         // Sent with or without [TRAJ]HOME (the origin then), as LinuxCNC's
         // task sends it.
         let home = Pose(traj.home.unwrap_or([0.0; 9]));
@@ -631,13 +665,18 @@ impl MotionLink {
     }
 
     /// Stops every move as LinuxCNC's task does: each joint's jog or
-    /// homing (JOG_ABORT, joint by joint), then the planners (ABORT).
-    /// Every command is sent even if one is refused; the first refusal is
+    /// homing (JOG_ABORT for every joint number motion can have, as
+    /// LinuxCNC's task sends it; motion refuses those beyond the machine's
+    /// joints, which is no fault), then the planners (ABORT). Every
+    /// command is sent even if one is refused; the first refusal is
     /// returned.
     pub fn abort_moves(&mut self) -> Result<(), Reject> {
         let mut first = Ok(());
-        for j in 0..self.joints {
-            let r = self.send(Command::JogAbort { joint: j as i32 });
+        for j in 0..motion::sizes::MAX_JOINTS {
+            let r = match self.send(Command::JogAbort { joint: j as i32 }) {
+                Err(Reject::NoSuchJoint { .. }) if j >= self.joints => Ok(()),
+                r => r,
+            };
             first = first.and(r);
         }
         first.and(self.send(Command::Abort))

@@ -119,6 +119,10 @@ impl MotionCore {
                 id,
             } => self.queue_probe(end, vel, probe, id),
             C::ClearProbeFlags => self.clear_probe_flags(),
+            C::SetProbeErrInhibit { jog, home } => {
+                self.probe_err_inhibit = (jog, home);
+                Ok(())
+            }
             C::SetTermCond { cond, tolerance } => self.set_term_cond(cond, tolerance),
             C::Pause => self.pause(),
             C::Resume => self.resume(),
