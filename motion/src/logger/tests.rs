@@ -109,6 +109,22 @@ fn start_up_settings_in_linuxcnc_words() {
         }),
         "SET_OFFSET x=0, y=0, z=1.5, a=0, b=0, c=0 u=0, v=0, w=-0.25"
     );
+    let arc = Command::Circle {
+        end: Pose([1.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        center: [0.0, 0.0, 0.0],
+        normal: [0.0, 0.0, 1.0],
+        turns: -1,
+        vel: 0.5,
+        ini_maxvel: 2.0,
+        acc: 40.0,
+        id: 7,
+    };
+    assert_eq!(
+        line(&arc),
+        "SET_CIRCLE:\n    pos: x=1, y=0, z=0.5, a=0, b=0, c=0, u=0, v=0, w=0\n    \
+         center: x=0, y=0, z=0\n    normal: x=0, y=0, z=1\n    \
+         id=7, motion_type=3, vel=0.5, ini_maxvel=2, acc=40, turn=-1"
+    );
     assert_eq!(e2(2.5e-3), "2.50e-03");
     assert_eq!(e2(-1234.5), "-1.23e+03");
 }
