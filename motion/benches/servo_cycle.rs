@@ -252,6 +252,8 @@ fn coordinated(n: usize, scurve: bool, eoffset: bool) {
         m.command(&Command::Line {
             end,
             vel: 8.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Feed,
             id: k,
         })

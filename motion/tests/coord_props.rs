@@ -64,6 +64,7 @@ fn arb_limits() -> impl Strategy<Value = AxisLimits> {
                 vel: [10.0; NUM_AXES],
                 acc: [100.0; NUM_AXES],
                 jerk: [0.0; NUM_AXES],
+                ..AxisLimits::default()
             };
             l.vel[..3].copy_from_slice(&v);
             l.acc[..3].copy_from_slice(&a);

@@ -94,6 +94,8 @@ fn an_offset_turned_in_during_a_move_is_added_to_the_joint_commands() {
     c.send(Command::Line {
         end,
         vel: 8.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id: 1,
     })

@@ -99,6 +99,8 @@ fn a_rapid_of_the_indexer_axis_unlocks_moves_and_relocks() {
         .send(Command::Line {
             end: at(0.0, 10.0),
             vel: 5.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Feed,
             id: 1,
         })
@@ -107,6 +109,8 @@ fn a_rapid_of_the_indexer_axis_unlocks_moves_and_relocks() {
     c.send(Command::Line {
         end: at(0.0, 30.0),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 2,
     })
@@ -114,6 +118,8 @@ fn a_rapid_of_the_indexer_axis_unlocks_moves_and_relocks() {
     c.send(Command::Line {
         end: at(2.0, 30.0),
         vel: 20.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id: 3,
     })

@@ -149,12 +149,16 @@ fn cycles_and_commands_do_not_allocate() {
                         normal: [0.0, 0.0, 1.0],
                         turns: 0,
                         vel: 5.0,
+                        ini_maxvel: 0.0,
+                        acc: 0.0,
                         id: k,
                     }
                 } else {
                     Command::Line {
                         end,
                         vel: 8.0,
+                        ini_maxvel: 0.0,
+                        acc: 0.0,
                         kind: LineKind::Feed,
                         id: k,
                     }
@@ -308,6 +312,8 @@ fn a_locking_indexer_rapid_does_not_allocate() {
             m.command(&Command::Line {
                 end,
                 vel: 0.0,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Traverse,
                 id: k,
             })

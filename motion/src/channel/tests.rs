@@ -10,7 +10,7 @@ use crate::kins::Pose;
 
 /// One or more of every command, with values at the edges.
 pub(crate) fn all_commands() -> Vec<Command> {
-    // Long: one entry per command (opcodes 1 to 66), several at the edges.
+    // Long: one entry per command (opcodes 1 to 77), several at the edges.
     let mut pose = Pose::ZERO;
     for (i, v) in pose.0.iter_mut().enumerate() {
         *v = i as f64 * 1.5 - 3.0;
@@ -131,12 +131,16 @@ pub(crate) fn all_commands() -> Vec<Command> {
         Command::Line {
             end: pose,
             vel: 12.5,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Feed,
             id: 42,
         },
         Command::Line {
             end: pose,
             vel: 0.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Traverse,
             id: -1,
         },
@@ -146,6 +150,8 @@ pub(crate) fn all_commands() -> Vec<Command> {
             normal: [0.0, 0.0, 1.0],
             turns: -3,
             vel: 4.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             id: i32::MAX,
         },
         Command::Dwell {
@@ -253,6 +259,31 @@ pub(crate) fn all_commands() -> Vec<Command> {
             value: -4.25,
             now: true,
         },
+        Command::SetNumJoints { joints: 9 },
+        Command::SetNumSpindles { spindles: 2 },
+        Command::SetVel {
+            vel: 0.0,
+            ini_maxvel: 1.2,
+        },
+        Command::SetupArcBlends {
+            enable: true,
+            fallback: false,
+            depth: 50,
+            gap_cycles: 4,
+            ramp_freq: 100.0,
+        },
+        Command::SetSpindleParams {
+            spindle: -1,
+            max_pos: 1e99,
+            min_pos: 100.0,
+            max_neg: -3000.0,
+            min_neg: -0.5,
+        },
+        Command::SetToolOffset { offset: pose },
+        Command::SetProbeErrInhibit {
+            jog: true,
+            home: false,
+        },
     ]
 }
 
@@ -270,7 +301,7 @@ fn every_opcode_from_1_to_the_last_is_used() {
     let mut ops: Vec<u64> = all_commands().iter().map(Command::opcode).collect();
     ops.sort();
     ops.dedup();
-    assert_eq!(ops, (1..=72).collect::<Vec<_>>());
+    assert_eq!(ops, (1..=79).collect::<Vec<_>>());
 }
 
 #[test]
@@ -628,11 +659,11 @@ fn status_snapshot_decodes_and_validates_its_header() {
 }
 
 #[test]
-fn every_reason_code_from_1_to_62_is_used_and_named() {
+fn every_reason_code_from_1_to_the_last_is_used_and_named() {
     let mut codes: Vec<u64> = all_rejects().iter().map(reject_code).collect();
     codes.sort();
     codes.dedup();
-    assert_eq!(codes, (1..=63).collect::<Vec<_>>());
+    assert_eq!(codes, (1..=66).collect::<Vec<_>>());
     for c in codes {
         assert_ne!(result_name(c), "unknown", "{c}");
     }

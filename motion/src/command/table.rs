@@ -172,6 +172,22 @@ commands! {
             /// The motor offset (motor position minus joint position).
             offset: f64,
         } = 23, cli basic "set-motor-offset" { joint: int(0, "JOINT"), offset: num(1, "VALUE") };
+        /// SET_NUM_JOINTS: the joints the machine uses (`[KINS]JOINTS`),
+        /// 1 up to the joints motion was loaded with; the joints above
+        /// them are made inactive and refuse activation until a larger
+        /// number is set. Only while disabled.
+        SetNumJoints {
+            /// How many joints.
+            joints: i32,
+        } = 71, cli basic "set-num-joints" { joints: int(0, "JOINTS") };
+        /// SET_NUM_SPINDLES: the spindles the machine uses
+        /// (`[TRAJ]SPINDLES`), 1 up to the spindles motion was loaded
+        /// with; commands to the spindles above them are refused. Only
+        /// while disabled.
+        SetNumSpindles {
+            /// How many spindles.
+            spindles: i32,
+        } = 72, cli basic "set-num-spindles" { spindles: int(0, "SPINDLES") };
         /// The world pose used as the first guess of iterative forward
         /// kinematics.
         SetWorldHome {
@@ -317,14 +333,25 @@ commands! {
 
         // ---- Queueing and the coordinated planner (coordinated mode) ----
 
-        /// SET_LINE: queue a straight move to `end`. `vel` is the programmed
-        /// speed along the path (feed moves; ignored for rapids); `id` the
-        /// motion id reported while it runs (the program line).
+        /// SET_LINE: queue a straight move to `end`. `vel` is the speed
+        /// asked for along the path: the feed of a feed move; for a rapid,
+        /// the traverse speed task worked out (0: as fast as the limits
+        /// allow). `ini_maxvel` and `acc` are the path speed and
+        /// acceleration the axes' INI limits allow along this move, as task
+        /// works them out (LinuxCNC's SET_LINE fields of those names): the
+        /// move never goes faster, not even with the feed override, nor
+        /// accelerates harder; 0 leaves motion's own limits alone. `id` is
+        /// the motion id reported while it runs (the program line).
         Line {
             /// The end point.
             end: Pose,
-            /// Programmed speed along the path, units per second.
+            /// Speed asked for along the path, units per second.
             vel: f64,
+            /// The largest path speed along this move (0: no cap of its own).
+            ini_maxvel: f64,
+            /// The largest path acceleration along this move (0: no cap of
+            /// its own).
+            acc: f64,
             /// What kind of move.
             kind: LineKind,
             /// The motion id reported while it runs (the program line).
@@ -332,11 +359,15 @@ commands! {
         } = 36, cli planner "line" {
             end: end_words(2),
             vel: num(1, "VEL"),
+            ini_maxvel: fixed(0.0),
+            acc: fixed(0.0),
             kind: fixed(LineKind::Feed),
             id: int(0, "ID"),
         }, cli planner "rapid" {
             end: end_words(1),
             vel: fixed(0.0),
+            ini_maxvel: fixed(0.0),
+            acc: fixed(0.0),
             kind: fixed(LineKind::Traverse),
             id: int(0, "ID"),
         };
@@ -356,6 +387,12 @@ commands! {
             turns: i32,
             /// Programmed speed along the path, units per second.
             vel: f64,
+            /// The largest path speed along this move (0: no cap of its
+            /// own), as for [`Command::Line`].
+            ini_maxvel: f64,
+            /// The largest path acceleration along this move (0: no cap of
+            /// its own).
+            acc: f64,
             /// The motion id reported while it runs (the program line).
             [slot] id: i32,
         } = 37, cli planner "arc" {
@@ -364,6 +401,8 @@ commands! {
             normal: arc_normal(),
             turns: arc_turns(),
             vel: num(1, "VEL"),
+            ini_maxvel: fixed(0.0),
+            acc: fixed(0.0),
             id: int(0, "ID"),
         };
         /// Queue a pause of `seconds` (G4) after the moves before it stop.
@@ -393,6 +432,18 @@ commands! {
         };
         /// CLEAR_PROBE_FLAGS: forget the last probe result.
         ClearProbeFlags = 40, cli planner "clear-probe" {};
+        /// SET_PROBE_ERR_INHIBIT (`[TRAJ]NO_PROBE_JOG_ERROR`,
+        /// `NO_PROBE_HOME_ERROR`): with `jog`, a probe contact no longer
+        /// stops jogs; with `home`, it no longer aborts homing.
+        SetProbeErrInhibit {
+            /// Jogs go on through a probe contact.
+            jog: bool,
+            /// Homing goes on through a probe contact.
+            home: bool,
+        } = 77, cli planner "probe-err-inhibit" {
+            jog: flag(0, "the jog inhibit"),
+            home: flag(1, "the home inhibit"),
+        };
         /// SET_TERM_COND: how the moves queued from now on end; `tolerance`
         /// is the blend tolerance (G64 P) for [`TermCond::Blend`].
         SetTermCond {
@@ -473,6 +524,48 @@ commands! {
             /// The planner type.
             planner: i32,
         } = 55, cli planner "planner-type" { planner: int(0, "TYPE") };
+        /// SET_VEL: the trajectory velocity and the INI velocity task
+        /// gives the coordinated planner (LinuxCNC's task sends 0 and
+        /// `[TRAJ]DEFAULT_LINEAR_VELOCITY`). The planner keeps both, as
+        /// LinuxCNC's does, without limiting any move by them: each queued
+        /// move carries its own speed and caps. Both ≥ 0.
+        SetVel {
+            /// The trajectory velocity.
+            vel: f64,
+            /// The INI (default) velocity.
+            ini_maxvel: f64,
+        } = 73, cli planner "set-vel" { vel: num(0, "VEL"), ini_maxvel: num(1, "INI-MAXVEL") };
+        /// SETUP_ARC_BLENDS: `[TRAJ]ARC_BLEND_*`. With `enable` off,
+        /// blending (G64) runs as exact path (G61) for the moves queued
+        /// from now on: no corner is rounded; one the axes can take at
+        /// speed is crossed at speed, any other at rest. `fallback`, `depth` (≥ 0), `gap_cycles` (≥ 0) and `ramp_freq`
+        /// (≥ 0) are kept for LinuxCNC's planner options; this planner
+        /// looks ahead over the whole queue and has no ramp mode.
+        SetupArcBlends {
+            /// Blend arcs at corners.
+            enable: bool,
+            /// ARC_BLEND_FALLBACK_ENABLE.
+            fallback: bool,
+            /// ARC_BLEND_OPTIMIZATION_DEPTH.
+            depth: i32,
+            /// ARC_BLEND_GAP_CYCLES.
+            gap_cycles: i32,
+            /// ARC_BLEND_RAMP_FREQ, Hz.
+            ramp_freq: f64,
+        } = 74, cli planner "arc-blends" {
+            enable: flag(0, "the arc blends"),
+            fallback: flag(1, "the fallback"),
+            depth: int(2, "DEPTH"),
+            gap_cycles: int(3, "GAP-CYCLES"),
+            ramp_freq: num(4, "RAMP-FREQ"),
+        };
+        /// SET_OFFSET: the tool length offset in effect (machine units,
+        /// nine axes), which motion shows on `motion.tooloffset.L` for
+        /// kinematics and HAL logic that follow the tool tip.
+        SetToolOffset {
+            /// The offset.
+            offset: Pose,
+        } = 76, cli planner "tool-offset" { offset: coordinates(0, "offset") };
         /// SET_JOINT_JERK_LIMIT: maximum jerk of `joint` (≥ 0; 0 no limit).
         SetJointJerkLimit {
             /// The joint number.
@@ -538,6 +631,31 @@ commands! {
             /// The spindle number, or −1 for all.
             [slot] spindle: i32,
         } = 61, cli planner "spindle-off" { spindle: int(0, "SPINDLE") };
+        /// SET_SPINDLE_PARAMS: the speed range of `spindle` (−1: every
+        /// spindle), rpm: forward speeds are held within
+        /// `min_pos..=max_pos`, reverse speeds within `max_neg..=min_neg`
+        /// (`[SPINDLE_n]MAX_FORWARD_VELOCITY`, `MIN_FORWARD_VELOCITY`,
+        /// `MAX_REVERSE_VELOCITY` negated, `MIN_REVERSE_VELOCITY`
+        /// negated). Needs `0 ≤ min_pos ≤ max_pos` and
+        /// `max_neg ≤ min_neg ≤ 0`.
+        SetSpindleParams {
+            /// The spindle number, or −1 for all.
+            [slot] spindle: i32,
+            /// The fastest forward speed.
+            max_pos: f64,
+            /// The slowest forward speed.
+            min_pos: f64,
+            /// The fastest reverse speed (≤ 0).
+            max_neg: f64,
+            /// The slowest reverse speed (≤ 0).
+            min_neg: f64,
+        } = 75, cli planner "spindle-params" {
+            spindle: int(0, "SPINDLE"),
+            max_pos: num(1, "MAX-FORWARD"),
+            min_pos: num(2, "MIN-FORWARD"),
+            max_neg: num(3, "MAX-REVERSE"),
+            min_neg: num(4, "MIN-REVERSE"),
+        };
         /// SPINDLE_SCALE: the spindle override of `spindle` (−1: every
         /// spindle), at least 0; it applies while M51 enables it.
         SpindleScale {
@@ -601,7 +719,7 @@ commands! {
             per_rev: f64,
             /// Follow the spindle's speed (G95) rather than its position.
             velocity_mode: bool,
-        } = 71, cli planner "spindle-sync" {
+        } = 78, cli planner "spindle-sync" {
             spindle: int(0, "SPINDLE"),
             per_rev: num(1, "UNITS-PER-REV"),
             velocity_mode: flag(2, "velocity mode"),
@@ -622,7 +740,7 @@ commands! {
             scale: f64,
             /// The motion id reported while it runs (the program line).
             [slot] id: i32,
-        } = 72, cli planner "rigid-tap" {
+        } = 79, cli planner "rigid-tap" {
             end: end_words(3),
             vel: num(1, "VEL"),
             scale: num(2, "SCALE"),

@@ -52,6 +52,8 @@ fn a_form_says_only_the_values_it_can() {
     let rapid = |vel| Command::Line {
         end: Pose::ZERO,
         vel,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 1,
     };
@@ -90,6 +92,8 @@ fn moves_keep_the_axes_left_out() {
         Command::Line {
             end,
             vel: 12.5,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Feed,
             id: 3
         }

@@ -32,6 +32,8 @@ pub(super) fn line(x: f64, y: f64, vel: f64, id: i32) -> Command {
     Command::Line {
         end: at(x, y, 0.0),
         vel,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id,
     }
@@ -60,7 +62,7 @@ impl Sim {
 }
 
 /// Largest |velocity| and |acceleration| of each joint.
-fn extremes(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+pub(super) fn extremes(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
     let mut v = [0.0f64; 3];
     let mut a = [0.0f64; 3];
     for j in 0..3 {
@@ -96,6 +98,8 @@ fn moves_are_queued_only_in_coordinated_mode_and_enabled() {
     s.cmd(Command::Line {
         end: at(0.0, 2.0, 0.0),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 11,
     })
@@ -127,6 +131,8 @@ fn moves_beyond_axis_or_joint_limits_or_on_a_limit_switch_are_refused() {
         normal: [0.0, 0.0, 1.0],
         turns: 0,
         vel: 5.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         id: 2,
     };
     // Radius 2.5 about 47.5: reaches x = 50 exactly (allowed).
@@ -138,6 +144,8 @@ fn moves_beyond_axis_or_joint_limits_or_on_a_limit_switch_are_refused() {
         normal: [0.0, 0.0, 1.0],
         turns: 0,
         vel: 5.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         id: 3,
     };
     assert!(matches!(

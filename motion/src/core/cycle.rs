@@ -197,8 +197,10 @@ impl MotionCore {
     }
 
     /// A probe contact while jogging stops the jogs (no probing moves in
-    /// free mode).
+    /// free mode) and aborts homing, unless SET_PROBE_ERR_INHIBIT says
+    /// otherwise.
     pub(super) fn process_probe(&mut self) {
+        let (jog_ok, home_ok) = self.probe_err_inhibit;
         let probe = self.inputs.probe_input;
         if self.coord_probe(probe) {
             self.old_probe = probe;
@@ -209,7 +211,7 @@ impl MotionCore {
             self.error = true;
             self.events.push(Event::ProbeTrippedDuringMove);
         }
-        if probe && !self.old_probe && self.homing.is_active() {
+        if probe && !self.old_probe && self.homing.is_active() && !home_ok {
             if let Some(joint) = (0..self.joints.len()).find(|&j| self.joints[j].homing) {
                 self.events.push(Event::HomingAborted {
                     joint,
@@ -219,7 +221,7 @@ impl MotionCore {
             }
             self.homing.abort(&mut self.joints);
         }
-        if probe && !self.old_probe {
+        if probe && !self.old_probe && !jog_ok {
             let mut stopped = false;
             for jt in &mut self.joints {
                 if jt.active && jt.free_tp.enable && !jt.homing {

@@ -61,6 +61,8 @@ fn a_coordinated_move_carries_the_offset_within_its_share() {
     s.cmd(Command::Line {
         end: at(10.0, 0.0, 0.0),
         vel: 5.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id: 1,
     })
@@ -96,6 +98,8 @@ fn planned_moves_get_what_the_offset_leaves() {
     s.cmd(Command::Line {
         end: at(20.0, 0.0, 0.0),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 1,
     })
@@ -135,6 +139,8 @@ fn the_soft_limit_bounds_planned_plus_offset_and_raises_eoffset_limited() {
     s.cmd(Command::Line {
         end: at(0.0, 0.0, 48.0),
         vel: 10.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id: 1,
     })

@@ -54,6 +54,8 @@ fn rapid(x: f64, b: f64, id: i32) -> Command {
     Command::Line {
         end: pose(x, b),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id,
     }
@@ -63,6 +65,8 @@ fn feed(x: f64, b: f64, id: i32) -> Command {
     Command::Line {
         end: pose(x, b),
         vel: 5.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id,
     }
@@ -206,6 +210,8 @@ fn moves_of_an_indexer_axis_other_than_a_lone_rapid_are_refused() {
             normal: [0.0, 0.0, 1.0],
             turns: 0,
             vel: 5.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             id: 1,
         }),
         Err(Reject::IndexerNeedsRapid { axis: B })

@@ -273,6 +273,15 @@ pub struct MotionCore {
     atspeed_next_feed: bool,
     /// Each world axis's locking indexer joint (`LOCKING_INDEXER_JOINT`).
     indexer_joint: [Option<u8>; NUM_AXES],
+    /// The joints commands may name (SET_NUM_JOINTS; all at first).
+    joints_in_use: usize,
+    /// The spindles commands may name (SET_NUM_SPINDLES; all at first).
+    spindles_in_use: usize,
+    /// The tool offset (SET_OFFSET), shown on `motion.tooloffset.L`.
+    tool_offset: Pose,
+    /// SET_PROBE_ERR_INHIBIT: a probe contact stops no jog, aborts no
+    /// homing.
+    probe_err_inhibit: (bool, bool),
 }
 
 /// Where probing stands.
@@ -378,6 +387,10 @@ impl MotionCore {
             spindles: [Spindle::default(); MAX_SPINDLES],
             atspeed_next_feed: false,
             indexer_joint: [None; NUM_AXES],
+            joints_in_use: cfg.num_joints,
+            spindles_in_use: cfg.num_spindles,
+            tool_offset: Pose::ZERO,
+            probe_err_inhibit: (false, false),
         }
     }
 
@@ -597,6 +610,8 @@ mod eoffset_tests;
 mod indexer_tests;
 #[cfg(test)]
 mod io_tests;
+#[cfg(test)]
+mod setup_tests;
 #[cfg(test)]
 mod spindle_tests;
 #[cfg(test)]

@@ -29,6 +29,42 @@ fn coordinate(v: f64) -> Result<f64, Reject> {
     }
 }
 
+/// A queued move's own caps on its path speed and acceleration
+/// (SET_LINE's and SET_CIRCLE's `ini_maxvel` and `acc`; infinite where
+/// the command gave 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct MoveCaps {
+    vel: f64,
+    acc: f64,
+}
+
+impl MoveCaps {
+    /// The caps of `ini_maxvel` and `acc`: each finite and at least 0,
+    /// 0 for none.
+    pub(super) fn new(ini_maxvel: f64, acc: f64) -> Result<MoveCaps, Reject> {
+        let cap = |what, v: f64| {
+            if !(v.is_finite() && v >= 0.0) {
+                Err(Reject::BadValue { what, value: v })
+            } else if v == 0.0 {
+                Ok(f64::INFINITY)
+            } else {
+                Ok(v)
+            }
+        };
+        Ok(MoveCaps {
+            vel: cap(Quantity::MoveSpeedCap, ini_maxvel)?,
+            acc: cap(Quantity::MoveAccelerationCap, acc)?,
+        })
+    }
+
+    /// `lim` with these caps.
+    fn apply(self, mut lim: AxisLimits) -> AxisLimits {
+        lim.path_vel = self.vel;
+        lim.path_acc = self.acc;
+        lim
+    }
+}
+
 /// A usable programmed speed.
 fn feed(vel: f64) -> Result<f64, Reject> {
     if vel.is_finite() && vel > 0.0 {
@@ -179,16 +215,18 @@ impl MotionCore {
         &mut self,
         end: Pose,
         vel: f64,
+        caps: MoveCaps,
         kind: LineKind,
         id: i32,
     ) -> CommandResult {
         self.queue_allowed()?;
-        if kind == LineKind::Feed {
+        // A rapid's speed is optional (0: as fast as the limits allow).
+        if kind == LineKind::Feed || vel != 0.0 {
             feed(vel)?;
         }
         self.check_move(&end, None)?;
         let indexer = self.indexer_move(&end, kind == LineKind::Traverse)?;
-        let lim = self.planning_limits(&end);
+        let lim = caps.apply(self.planning_limits(&end));
         let enables = self.enables_new;
         let feed_move = kind == LineKind::Feed;
         self.tp.set_indexer_pending(indexer);
@@ -202,22 +240,21 @@ impl MotionCore {
         Ok(())
     }
 
-    /// SET_CIRCLE.
-    #[allow(clippy::too_many_arguments)]
+    /// SET_CIRCLE: `arc` is its center, normal and turns.
     pub(super) fn queue_circle(
         &mut self,
         end: Pose,
-        center: [f64; 3],
-        normal: [f64; 3],
-        turns: i32,
+        arc: ([f64; 3], [f64; 3], i32),
         vel: f64,
+        caps: MoveCaps,
         id: i32,
     ) -> CommandResult {
+        let (center, normal, turns) = arc;
         self.queue_allowed()?;
         feed(vel)?;
-        self.check_move(&end, Some((center, normal, turns)))?;
+        self.check_move(&end, Some(arc))?;
         self.no_indexer_move(&end)?;
-        let lim = self.planning_limits(&end);
+        let lim = caps.apply(self.planning_limits(&end));
         let enables = self.enables_new;
         self.with_atspeed_barrier(true, |tp| {
             tp.add_arc(end, center, normal, turns, vel, id, enables, &lim)
@@ -417,6 +454,34 @@ impl MotionCore {
             return Err(Reject::NeedsJerkLimit { jerk: value });
         }
         self.tp.set_traj_limits(t);
+        Ok(())
+    }
+
+    /// SET_VEL: the trajectory velocity and INI velocity, both finite
+    /// and at least 0, kept by the planner.
+    pub(super) fn set_traj_vel(&mut self, vel: f64, ini_maxvel: f64) -> CommandResult {
+        let vel = Self::non_negative(Quantity::TrajVelocity, vel)?;
+        let ini_maxvel = Self::non_negative(Quantity::TrajVelocity, ini_maxvel)?;
+        self.tp.set_traj_vel(vel, ini_maxvel);
+        Ok(())
+    }
+
+    /// SETUP_ARC_BLENDS, for the moves queued next.
+    pub(super) fn set_arc_blends(&mut self, blends: crate::tp::ArcBlends) -> CommandResult {
+        let whole = |v: i32| {
+            if v >= 0 {
+                Ok(())
+            } else {
+                Err(Reject::BadValue {
+                    what: Quantity::ArcBlendSetting,
+                    value: f64::from(v),
+                })
+            }
+        };
+        whole(blends.depth)?;
+        whole(blends.gap_cycles)?;
+        Self::non_negative(Quantity::ArcBlendSetting, blends.ramp_freq)?;
+        self.tp.set_arc_blends(blends);
         Ok(())
     }
 

@@ -38,6 +38,47 @@ pub struct Spindle {
     pub css_factor: f64,
     /// The machine X of the spindle axis, for the radius.
     pub css_x_offset: f64,
+    /// The speed range (SET_SPINDLE_PARAMS).
+    pub limits: SpindleLimits,
+}
+
+/// A spindle's speed range, rpm (SET_SPINDLE_PARAMS): forward speeds lie
+/// within `min_pos..=max_pos`, reverse speeds within `max_neg..=min_neg`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpindleLimits {
+    /// The fastest forward speed.
+    pub max_pos: f64,
+    /// The slowest forward speed.
+    pub min_pos: f64,
+    /// The fastest reverse speed (≤ 0).
+    pub max_neg: f64,
+    /// The slowest reverse speed (≤ 0).
+    pub min_neg: f64,
+}
+
+impl Default for SpindleLimits {
+    /// No limit (LinuxCNC's defaults: ±1e99, 0).
+    fn default() -> Self {
+        SpindleLimits {
+            max_pos: 1e99,
+            min_pos: 0.0,
+            max_neg: -1e99,
+            min_neg: 0.0,
+        }
+    }
+}
+
+impl SpindleLimits {
+    /// `speed` held within the range of its direction (0 stays 0).
+    pub fn clamp(&self, speed: f64) -> f64 {
+        if speed > 0.0 {
+            speed.clamp(self.min_pos, self.max_pos)
+        } else if speed < 0.0 {
+            speed.clamp(self.max_neg, self.min_neg)
+        } else {
+            speed
+        }
+    }
 }
 
 /// Where a spindle orientation (M19) is, as LinuxCNC's motion reports it.
@@ -67,6 +108,7 @@ impl Default for Spindle {
             orient_fault: 0,
             css_factor: 0.0,
             css_x_offset: 0.0,
+            limits: SpindleLimits::default(),
         }
     }
 }
@@ -100,7 +142,7 @@ pub struct SpindleOutput {
 impl MotionCore {
     /// The spindles a command names: `spindle` or, for −1, every one.
     fn spindle_range(&self, spindle: i32) -> Result<std::ops::Range<usize>, Reject> {
-        let n = self.cfg.num_spindles;
+        let n = self.spindles_in_use;
         match spindle {
             -1 => Ok(0..n),
             s if s >= 0 && (s as usize) < n => Ok(s as usize..s as usize + 1),
@@ -121,11 +163,47 @@ impl MotionCore {
         }
         for s in &mut self.spindles[range] {
             s.on = true;
-            s.speed = speed;
+            s.speed = s.limits.clamp(speed);
             s.brake = false;
             s.orient = OrientState::None;
         }
         self.atspeed_next_feed = wait;
+        Ok(())
+    }
+
+    /// SET_SPINDLE_PARAMS: the speed range of `spindle` (−1: every
+    /// one); a spindle turning now keeps its speed until its next
+    /// SPINDLE_ON.
+    pub(super) fn set_spindle_params(
+        &mut self,
+        spindle: i32,
+        limits: SpindleLimits,
+    ) -> CommandResult {
+        let range = self.spindle_range(spindle)?;
+        let SpindleLimits {
+            max_pos,
+            min_pos,
+            max_neg,
+            min_neg,
+        } = limits;
+        for v in [max_pos, min_pos, max_neg, min_neg] {
+            Self::finite(Quantity::SpindleSpeedLimit, v)?;
+        }
+        if !(0.0 <= min_pos && min_pos <= max_pos) {
+            return Err(Reject::SpindleRangeReversed {
+                low: min_pos,
+                high: max_pos,
+            });
+        }
+        if !(max_neg <= min_neg && min_neg <= 0.0) {
+            return Err(Reject::SpindleRangeReversed {
+                low: max_neg,
+                high: min_neg,
+            });
+        }
+        for s in &mut self.spindles[range] {
+            s.limits = limits;
+        }
         Ok(())
     }
 
@@ -156,7 +234,7 @@ impl MotionCore {
         if spindle < 0 {
             return Err(Reject::NoSuchSpindle {
                 spindle,
-                num_spindles: self.cfg.num_spindles,
+                num_spindles: self.spindles_in_use,
             });
         }
         let follow = (per_rev > 0.0).then_some(crate::tp::FeedPerRev {
@@ -249,7 +327,7 @@ impl MotionCore {
         if spindle < 0 {
             return Err(Reject::NoSuchSpindle {
                 spindle,
-                num_spindles: self.cfg.num_spindles,
+                num_spindles: self.spindles_in_use,
             });
         }
         let range = self.spindle_range(spindle)?;

@@ -111,6 +111,8 @@ fn the_feed_move_after_a_start_waits_for_at_speed() {
     s.cmd(Command::Line {
         end: at(1.0, 0.0, 0.0),
         vel: 0.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Traverse,
         id: 1,
     })
@@ -375,6 +377,8 @@ fn spindle_sync_arms_the_index_and_a_rigid_tap_reverses_the_spindle() {
     s.cmd(Command::Line {
         end: at(0.0, 0.0, -2.0),
         vel: 5.0,
+        ini_maxvel: 0.0,
+        acc: 0.0,
         kind: LineKind::Feed,
         id: 1,
     })

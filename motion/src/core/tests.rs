@@ -642,6 +642,18 @@ fn a_probe_contact_stops_jogs() {
     s.cmd(Command::JogCont { joint: 0, vel: 5.0 }).unwrap();
     s.run(20);
     assert!(s.j(0).free_tp_enable);
+    // NO_PROBE_JOG_ERROR: the jog goes on through a contact.
+    s.m.inputs.probe_input = false;
+    s.cycle();
+    s.cmd(Command::SetProbeErrInhibit {
+        jog: true,
+        home: false,
+    })
+    .unwrap();
+    s.m.inputs.probe_input = true;
+    s.cycle();
+    assert!(s.j(0).free_tp_enable);
+    assert_eq!(s.events(), []);
 }
 
 #[test]

@@ -1134,6 +1134,27 @@ fn disable_abort_and_jog_abort_cancel_homing_and_disarm_the_index() {
     }
 }
 
+/// NO_PROBE_HOME_ERROR (SET_PROBE_ERR_INHIBIT): homing goes on through
+/// a probe contact.
+#[test]
+fn a_probe_contact_with_the_home_inhibit_leaves_homing_running() {
+    let mut r = rig(vec![switch_axis(0.0, 5.0, 1000.0)]);
+    r.configure(0, cfg(4.0, 0.5));
+    r.cmd(Command::SetProbeErrInhibit {
+        jog: false,
+        home: true,
+    })
+    .unwrap();
+    r.cmd(Command::Home { joint: 0 }).unwrap();
+    r.run(20);
+    r.m.inputs.probe_input = true;
+    r.cycle();
+    assert!(r.m.homing_active());
+    assert_eq!(r.events(), []);
+    r.home_to_end(20_000);
+    assert!(r.m.joint(0).homed);
+}
+
 #[test]
 fn unhome_rules() {
     let mut r = rig(vec![Axis::default(), Axis::default(), Axis::default()]);

@@ -1,10 +1,11 @@
 //! One log line per command, in LinuxCNC's motion-logger words where
 //! LinuxCNC has the command: its name (`SET_LINE`, `JOINT_HOME`, ...), the
 //! same fields in the same order, numbers as C's `%.6g`, and a bare name
-//! where LinuxCNC prints one. Where our command carries less or more than
-//! LinuxCNC's (`SET_LINE` has no ini_maxvel, acc or turn here) the line
-//! has the fields we have; commands LinuxCNC does not have are named in
-//! the same style with all their fields (`name=value, ...`).
+//! where LinuxCNC prints one. SET_LINE's `turn` is LinuxCNC's locking
+//! indexer joint, which our SET_LINE does not carry (motion knows the
+//! indexer from SET_AXIS_LOCKING_JOINT): it shows -1, as LinuxCNC's task
+//! sends for every other move. Commands LinuxCNC does not have are named
+//! in the same style with all their fields (`name=value, ...`).
 
 use std::fmt::Write as _;
 
@@ -14,6 +15,18 @@ use crate::kins::Pose;
 /// `v` as C's `printf("%.6g")` writes it.
 pub fn g6(v: f64) -> String {
     hal_core::cfmt::fmt_g(v, 6)
+}
+
+/// `v` as C's `printf("%.2e")` writes it.
+pub fn e2(v: f64) -> String {
+    if !v.is_finite() {
+        return hal_core::cfmt::fmt_f(v);
+    }
+    let s = format!("{v:.2e}");
+    let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let sign = if exp < 0 { '-' } else { '+' };
+    format!("{mantissa}e{sign}{:02}", exp.unsigned_abs())
 }
 
 /// `x=.., y=.., ..., w=..` of a pose, in `%.6g`.
@@ -95,6 +108,13 @@ pub fn line(cmd: &Command) -> String {
         }
         C::SetJointMotorOffset { .. } => "SET_JOINT_MOTOR_OFFSET".into(),
         C::SetWorldHome { pose: p } => format!("SET_WORLD_HOME {}", pose(&p)),
+        C::SetNumJoints { joints } => format!("SET_NUM_JOINTS {joints}"),
+        C::SetNumSpindles { spindles } => format!("SET_NUM_SPINDLES {spindles}"),
+        // LinuxCNC's logger writes the offset without the comma after c.
+        C::SetToolOffset { offset: p } => {
+            let [x, y, z, a, b, c, u, v, w] = p.0.map(g);
+            format!("SET_OFFSET x={x}, y={y}, z={z}, a={a}, b={b}, c={c} u={u}, v={v}, w={w}")
+        }
         C::Home { joint } => format!("JOINT_HOME joint={joint}"),
         C::Unhome { joint } => format!("JOINT_UNHOME joint={joint}"),
         C::SetJointHomingParams { joint, config: h } => format!(
@@ -144,11 +164,20 @@ pub fn line(cmd: &Command) -> String {
         C::SetAxisLockingIndexer { axis, joint } => {
             format!("SET_AXIS_LOCKING_JOINT axis={axis}, locking_joint={joint}")
         }
-        C::Line { end, vel, kind, id } => format!(
-            "SET_LINE {}, id={id}, motion_type={}, vel={}",
+        C::Line {
+            end,
+            vel,
+            ini_maxvel,
+            acc,
+            kind,
+            id,
+        } => format!(
+            "SET_LINE {}, id={id}, motion_type={}, vel={}, ini_maxvel={}, acc={}, turn=-1",
             pose(&end),
             motion_type(kind),
-            g(vel)
+            g(vel),
+            g(ini_maxvel),
+            g(acc)
         ),
         C::Circle {
             end,
@@ -156,10 +185,12 @@ pub fn line(cmd: &Command) -> String {
             normal,
             turns,
             vel,
+            ini_maxvel,
+            acc,
             id,
         } => format!(
             "SET_CIRCLE:\n    pos: {}\n    center: x={}, y={}, z={}\n    normal: x={}, y={}, z={}\n    \
-             id={id}, motion_type=3, vel={}, turn={turns}",
+             id={id}, motion_type=3, vel={}, ini_maxvel={}, acc={}, turn={turns}",
             pose(&end),
             g(center[0]),
             g(center[1]),
@@ -167,11 +198,16 @@ pub fn line(cmd: &Command) -> String {
             g(normal[0]),
             g(normal[1]),
             g(normal[2]),
-            g(vel)
+            g(vel),
+            g(ini_maxvel),
+            g(acc)
         ),
         C::Dwell { seconds, id } => format!("DWELL seconds={}, id={id}", g(seconds)),
         C::Probe { .. } => "PROBE".into(),
         C::ClearProbeFlags => "CLEAR_PROBE_FLAGS".into(),
+        C::SetProbeErrInhibit { jog, home } => {
+            format!("SETUP_SET_PROBE_ERR_INHIBIT {} {}", on(jog), on(home))
+        }
         C::SetTermCond { cond, tolerance } => format!(
             "SET_TERM_COND termCond={}, tolerance={}",
             cond.code(),
@@ -191,6 +227,10 @@ pub fn line(cmd: &Command) -> String {
         C::SetAccLimit { acc } => format!("SET_ACC acc={}", g(acc)),
         C::SetJerkLimit { jerk } => format!("SET_JERK jerk={}", g(jerk)),
         C::SetPlannerType { planner } => format!("SET_PLANNER_TYPE planner_type={planner}"),
+        C::SetVel { vel, ini_maxvel } => {
+            format!("SET_VEL vel={}, ini_maxvel={}", g(vel), g(ini_maxvel))
+        }
+        C::SetupArcBlends { .. } => "SETUP_ARC_BLENDS".into(),
         C::SetJointJerkLimit { joint, jerk } => {
             format!("SET_JOINT_JERK_LIMIT joint={joint}, jerk={}", g(jerk))
         }
@@ -202,6 +242,20 @@ pub fn line(cmd: &Command) -> String {
         C::SpindleOn { speed, .. } => spindle_on(speed, 0.0, 0.0),
         C::SpindleOff { .. } => "SPINDLE_OFF".into(),
         C::SpindleScale { .. } => "SPINDLE_SCALE".into(),
+        // LinuxCNC's logger names neither the spindle nor the values.
+        C::SetSpindleParams {
+            max_pos,
+            min_pos,
+            max_neg,
+            min_neg,
+            ..
+        } => format!(
+            "SET_SPINDLE_PARAMS, {}, {}, {}, {}",
+            e2(max_pos),
+            e2(min_pos),
+            e2(max_neg),
+            e2(min_neg)
+        ),
         C::SpindleBrake { on: engage, .. } => if engage {
             "SPINDLE_BRAKE_ENGAGE"
         } else {

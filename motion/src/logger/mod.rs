@@ -44,9 +44,10 @@ marks joints homed at once. HAL files load it with
 
 Lines follow LinuxCNC's motion-logger: the command's name and its fields
 as name=value with numbers as printf's %.6g ('SET_LINE x=1, ..., w=9,
-id=2, motion_type=2, vel=1.5', 'JOINT_HOME joint=-1', 'COORD'). SET_LINE
-has no ini_maxvel, acc or turn here; SPINDLE_CSS writes no line of its
-own: SPINDLE_ON shows its factor and offset ('SPINDLE_ON speed=500.000000,
+id=2, motion_type=2, vel=1.5, ini_maxvel=4, acc=1000, turn=-1',
+'JOINT_HOME joint=-1', 'COORD'). SET_LINE's turn, LinuxCNC's locking
+indexer joint, is always -1 here (motion knows the indexer from
+SET_AXIS_LOCKING_JOINT); SPINDLE_CSS writes no line of its own: SPINDLE_ON shows its factor and offset ('SPINDLE_ON speed=500.000000,
 css_factor=0.000000, xoffset=0.000000'), as LinuxCNC's command carries
 them; commands LinuxCNC's logger does not know are named in its style
 with all their fields.

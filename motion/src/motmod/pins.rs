@@ -293,19 +293,20 @@ pub(super) struct MotionPins {
     pub(super) aio: Vec<(FIn, FOut)>,
     /// `motion.eoffset-limited` and `motion.eoffset-active`.
     pub(super) eoffset: (BOut, BOut),
+    /// `motion.tooloffset.L`: the tool offset SET_OFFSET gave.
+    pub(super) tooloffset: Vec<FOut>,
     /// Pins and params later milestones drive; they hold their defaults.
     pub(super) _later: LaterPins,
 }
 
 /// Outputs of parts that come later (reverse run, the feed rate in fixed
-/// units, which needs the machine's units, the interpreter's metadata and
-/// tool offsets) and the stale LinuxCNC debug params: they hold their
+/// units, which needs the machine's units, the interpreter's metadata)
+/// and the stale LinuxCNC debug params: they hold their
 /// defaults.
 pub(super) struct LaterPins {
     pub(super) _tp_reverse: BOut,
     pub(super) _feed: [FOut; 4],
     pub(super) _interp: InterpPins,
-    pub(super) _tooloffset: Vec<FOut>,
     pub(super) _debug_bit_1: Param<bool, Ro>,
     pub(super) _debug_floats: [Param<f64, Ro>; 3],
     pub(super) _debug_s32_1: Param<i32, Ro>,
@@ -520,11 +521,11 @@ impl MotionPins {
                 c.pin("motion.eoffset-limited")?,
                 c.pin("motion.eoffset-active")?,
             ),
+            tooloffset,
             _later: LaterPins {
                 _tp_reverse: tp_reverse,
                 _feed: feed,
                 _interp: interp,
-                _tooloffset: tooloffset,
                 _debug_bit_1: debug_bit_1,
                 _debug_floats: [debug_float_0, debug_float_1, debug_float_2],
                 _debug_s32_1: debug_s32_1,
@@ -673,6 +674,9 @@ impl HalIo {
         m.feed_upm.set(tp.requested_vel * 60.0);
         m.eoffset.0.set(core.eoffset_limited());
         m.eoffset.1.set(core.eoffset_active());
+        for (pin, v) in m.tooloffset.iter().zip(core.tool_offset().0) {
+            pin.set(v);
+        }
         for (j, jp) in self.joints.iter().enumerate() {
             let jt = core.joint_ref(j);
             jp.motor_offset.set(jt.motor_offset);

@@ -130,6 +130,12 @@ pub struct AxisLimits {
     pub acc: [f64; NUM_AXES],
     /// Jerk limits (0: none).
     pub jerk: [f64; NUM_AXES],
+    /// The move's own cap on its path speed (SET_LINE's `ini_maxvel`;
+    /// infinite: none).
+    pub path_vel: f64,
+    /// The move's own cap on its path acceleration (SET_LINE's `acc`;
+    /// infinite: none).
+    pub path_acc: f64,
 }
 
 impl Default for AxisLimits {
@@ -138,6 +144,8 @@ impl Default for AxisLimits {
             vel: [1.0; NUM_AXES],
             acc: [1.0; NUM_AXES],
             jerk: [0.0; NUM_AXES],
+            path_vel: f64::INFINITY,
+            path_acc: f64::INFINITY,
         }
     }
 }
@@ -223,7 +231,7 @@ pub(crate) fn budget(
     } else {
         1.0
     };
-    let mut vmax = len / period;
+    let mut vmax = (len / period).min(lim.path_vel);
     if !rotary_only {
         vmax = vmax.min(traj.max_vel);
     }
@@ -315,7 +323,9 @@ fn tangential_acc(
     vmax: f64,
     share: f64,
 ) -> f64 {
-    let mut acc = traj.max_acc;
+    // The machine's limit and the move's own (its SET_LINE acc), which
+    // the blend share then halves as LinuxCNC halves a move's maxaccel.
+    let mut acc = traj.max_acc.min(lim.path_acc);
     for i in 0..NUM_AXES {
         let k = f.speed(i);
         if k <= 0.0 {
@@ -381,6 +391,7 @@ mod tests {
             vel: [v; NUM_AXES],
             acc: [a; NUM_AXES],
             jerk: [j; NUM_AXES],
+            ..AxisLimits::default()
         }
     }
 

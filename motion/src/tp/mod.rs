@@ -214,6 +214,37 @@ impl PlannerStatus {
     }
 }
 
+/// `[TRAJ]ARC_BLEND_*` as SETUP_ARC_BLENDS gives them (see
+/// [`crate::Command::SetupArcBlends`]); only `enable` changes what this
+/// planner does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArcBlends {
+    /// Corners are rounded with blend arcs (G64).
+    pub enable: bool,
+    /// ARC_BLEND_FALLBACK_ENABLE.
+    pub fallback: bool,
+    /// ARC_BLEND_OPTIMIZATION_DEPTH.
+    pub depth: i32,
+    /// ARC_BLEND_GAP_CYCLES.
+    pub gap_cycles: i32,
+    /// ARC_BLEND_RAMP_FREQ, Hz.
+    pub ramp_freq: f64,
+}
+
+impl Default for ArcBlends {
+    /// LinuxCNC's defaults: enabled, no fallback, depth 50, 4 gap cycles,
+    /// 100 Hz.
+    fn default() -> Self {
+        ArcBlends {
+            enable: true,
+            fallback: false,
+            depth: 50,
+            gap_cycles: 4,
+            ramp_freq: 100.0,
+        }
+    }
+}
+
 /// The coordinated planner.
 pub struct Planner {
     queue: VecDeque<Segment>,
@@ -224,6 +255,11 @@ pub struct Planner {
     pending_planner: Option<PlannerType>,
     term: TermCond,
     tolerance: f64,
+    /// SET_VEL: the trajectory velocity and the INI velocity, kept (as
+    /// LinuxCNC's planner keeps them), not used to limit moves.
+    traj_vel: (f64, f64),
+    /// SETUP_ARC_BLENDS.
+    arc_blends: ArcBlends,
     /// The pose new segments start from (end of the last queued one).
     goal: Pose,
     /// The commanded pose.
@@ -299,6 +335,8 @@ impl Planner {
             pending_planner: None,
             term: TermCond::Blend,
             tolerance: 0.0,
+            traj_vel: (0.0, 0.0),
+            arc_blends: ArcBlends::default(),
             goal: Pose::ZERO,
             pos: Pose::ZERO,
             s: 0.0,
@@ -444,6 +482,26 @@ impl Planner {
         self.tolerance = tolerance;
     }
 
+    /// SET_VEL: keeps the trajectory velocity and the INI velocity.
+    pub fn set_traj_vel(&mut self, vel: f64, ini_maxvel: f64) {
+        self.traj_vel = (vel, ini_maxvel);
+    }
+
+    /// The trajectory velocity and the INI velocity SET_VEL gave.
+    pub fn traj_vel(&self) -> (f64, f64) {
+        self.traj_vel
+    }
+
+    /// SETUP_ARC_BLENDS, for the segments queued next.
+    pub fn set_arc_blends(&mut self, blends: ArcBlends) {
+        self.arc_blends = blends;
+    }
+
+    /// The arc blend settings in effect.
+    pub fn arc_blends(&self) -> ArcBlends {
+        self.arc_blends
+    }
+
     /// Sets the machine-wide limits (for segments queued next).
     pub fn set_traj_limits(&mut self, traj: TrajLimits) {
         self.traj = traj;
@@ -492,6 +550,8 @@ impl Planner {
         match self.term {
             TermCond::Stop => Ending::Stop,
             TermCond::ExactPath => Ending::ExactPath,
+            // Without arc blends no corner is rounded.
+            TermCond::Blend if !self.arc_blends.enable => Ending::ExactPath,
             TermCond::Blend => Ending::Blend {
                 tolerance: self.tolerance,
             },
@@ -579,6 +639,9 @@ impl Planner {
     ) -> Result<(), Reject> {
         self.can_queue()?;
         let (kind, req) = match kind {
+            // A rapid goes as fast as its limits allow, or at the speed
+            // task gave it.
+            LineKind::Traverse if vel > 0.0 => (SegmentKind::Traverse, vel),
             LineKind::Traverse => (SegmentKind::Traverse, f64::INFINITY),
             LineKind::Feed => (SegmentKind::Feed, vel),
         };

@@ -81,6 +81,8 @@ fn limits(v: f64, a: f64) -> AxisLimits {
         vel: [v; NUM_AXES],
         acc: [a; NUM_AXES],
         jerk: [0.0; NUM_AXES],
+        path_vel: f64::INFINITY,
+        path_acc: f64::INFINITY,
     }
 }
 

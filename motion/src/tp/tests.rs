@@ -23,6 +23,7 @@ fn limits(v: f64, a: f64, j: f64) -> AxisLimits {
         vel: [v; NUM_AXES],
         acc: [a; NUM_AXES],
         jerk: [j; NUM_AXES],
+        ..AxisLimits::default()
     }
 }
 

@@ -387,6 +387,33 @@ rejects! {
         /// ([`crate::Command::SpindleSync`] in position mode).
         RigidTapNotSynchronised = 63, "rigid tap not synchronised"
             => "Cannot add unsynchronized rigid tap move";
+        /// SET_NUM_JOINTS asked for no joints or for more than motion
+        /// was loaded with.
+        BadJointCount {
+            /// The number asked for.
+            count: i32 = n0,
+            /// The joints motion was loaded with (motmod's num_joints).
+            loaded: usize = n1,
+        } = 64, "bad joint count"
+            => "{count} joints asked for: motion has 1 to {loaded} (motmod's num_joints)";
+        /// SET_NUM_SPINDLES asked for no spindles or for more than motion
+        /// was loaded with.
+        BadSpindleCount {
+            /// The number asked for.
+            count: i32 = n0,
+            /// The spindles motion was loaded with (motmod's num_spindles).
+            loaded: usize = n1,
+        } = 65, "bad spindle count"
+            => "{count} spindles asked for: motion has 1 to {loaded} (motmod's num_spindles)";
+        /// SET_SPINDLE_PARAMS: a speed range whose slow end is beyond its
+        /// fast end, or on the wrong side of 0.
+        SpindleRangeReversed {
+            /// The slow forward (or fast reverse) end.
+            low: f64 = f0,
+            /// The fast forward (or slow reverse) end.
+            high: f64 = f1,
+        } = 66, "spindle range reversed"
+            => "spindle speed range {low} to {high} is reversed or crosses 0";
     }
 }
 

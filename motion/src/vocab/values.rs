@@ -67,6 +67,18 @@ coded_enum! {
         /// An external offset's share of an axis's limits
         /// (`OFFSET_AV_RATIO`, 0..=0.9).
         EoffsetRatio = 24 => "external offset ratio (OFFSET_AV_RATIO, 0 to 0.9)",
+        /// A queued move's own path speed cap (SET_LINE's ini_maxvel).
+        MoveSpeedCap = 25 => "move's speed cap (ini_maxvel)",
+        /// A queued move's own path acceleration cap (SET_LINE's acc).
+        MoveAccelerationCap = 26 => "move's acceleration cap",
+        /// The trajectory velocity or INI velocity of SET_VEL.
+        TrajVelocity = 27 => "trajectory velocity",
+        /// An arc blend setting (SETUP_ARC_BLENDS).
+        ArcBlendSetting = 28 => "arc blend setting",
+        /// A tool offset coordinate (SET_OFFSET).
+        ToolOffset = 29 => "tool offset",
+        /// A spindle speed limit (SET_SPINDLE_PARAMS).
+        SpindleSpeedLimit = 30 => "spindle speed limit",
     }
 }
 

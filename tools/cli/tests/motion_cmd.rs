@@ -43,6 +43,18 @@ fn motion_cmd_enables_and_jogs_a_joint_of_a_running_instance() {
     let (code, out, _) = mcmd(&["amp-enable", "0"], &inst);
     assert_eq!(code, 1);
     assert!(out.contains("not supported"), "{out}");
+    // [KINS]JOINTS beyond what motmod was loaded with is refused, naming it.
+    let (code, out, _) = mcmd(&["set-num-joints", "9"], &inst);
+    assert_eq!(code, 1);
+    assert!(out.contains("motmod's num_joints"), "{out}");
+    accepted(&["set-num-joints", "3"], &inst);
+    accepted(
+        &["spindle-params", "0", "3000", "100", "-3000", "-100"],
+        &inst,
+    );
+    accepted(&["set-vel", "0", "1.2"], &inst);
+    accepted(&["arc-blends", "1", "0", "50", "4", "100"], &inst);
+    accepted(&["probe-err-inhibit", "0", "0"], &inst);
 
     accepted(&["enable"], &inst);
     wait_status(&inst, "enabled", |s| {

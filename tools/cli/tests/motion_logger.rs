@@ -72,6 +72,10 @@ MAX_VELOCITY = 4
 MAX_ACCELERATION = 1000.0
 MIN_LIMIT = -4.0
 MAX_LIMIT = 4.0
+[SPINDLE_0]
+MAX_FORWARD_VELOCITY = 3000
+MIN_FORWARD_VELOCITY = 100
+MAX_REVERSE_VELOCITY = 2000
 ";
 
 /// The lines of `path` once it holds one matching `last`.
@@ -114,7 +118,10 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     m.task_ok(&["mode", "mdi"]);
     m.task_ok(&["mdi", "G0", "X1", "Y2", "Z3"]);
     m.task_ok(&["-t", "30", "wait-done"]);
-    let line = "SET_LINE x=1, y=2, z=3, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, vel=0";
+    // A rapid at the path speed the axes allow (Z's 3 inches at 4 in/s
+    // set the time), as LinuxCNC's canon works it out.
+    let line = "SET_LINE x=1, y=2, z=3, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, \
+                vel=4.98888, ini_maxvel=4.98888, acc=1247.22, turn=-1";
     let lines = lines_until(&log, line);
     // Task's start-up configuration, joint by joint, in LinuxCNC's words.
     for want in [
@@ -140,10 +147,24 @@ fn task_runs_against_motion_logger_and_every_command_is_logged() {
     m.task_ok(&["-t", "30", "wait-done"]);
     // Nothing moved (the logger runs no move), so task's position after
     // the MDI line is where motion says the machine is: the origin.
-    let second =
-        "SET_LINE x=0.5, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=2, vel=1";
+    let second = "SET_LINE x=0.5, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=2, \
+                  vel=1, ini_maxvel=4, acc=1000, turn=-1";
     let lines = lines_until(&log, second);
     assert!(!lines.iter().any(|l| l == line), "{lines:#?}");
+    // G43.1 and G49 give motion the tool offset, in machine units.
+    m.task_ok(&["mdi", "G43.1", "Z0.25"]);
+    m.task_ok(&["mdi", "G49"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let zero = "SET_OFFSET x=0, y=0, z=0, a=0, b=0, c=0 u=0, v=0, w=0";
+    let lines = from_line(&log, second, zero);
+    assert_eq!(
+        lines[1..],
+        [
+            "SET_OFFSET x=0, y=0, z=0.25, a=0, b=0, c=0 u=0, v=0, w=0",
+            zero
+        ],
+        "{lines:#?}"
+    );
     m.stop();
 }
 
@@ -156,10 +177,12 @@ fn from_line(path: &std::path::Path, from: &str, last: &str) -> Vec<String> {
     lines[at..].to_vec()
 }
 
-/// What LinuxCNC 2.9's task sends motion at start-up (planner settings,
-/// then each joint, then each axis; no jerk when the INI sets none), on
+/// What LinuxCNC 2.9's task sends motion at start-up (the joint and
+/// spindle counts and planner settings, then each joint, then each axis,
+/// then each spindle's speed range; no jerk when the INI sets none), on
 /// entering e-stop (abort, disable, volatile homes cleared, free mode),
-/// on e-stop reset (abort), machine on (enable) and entering MDI
+/// on an abort in e-stop (the moves only), on e-stop reset (abort),
+/// machine on (enable) and entering MDI
 /// (coordinated mode, abort): the motion-logger log shows it in order.
 #[test]
 fn task_sends_linuxcnc_startup_and_state_sequences() {
@@ -170,6 +193,8 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     let joint = |j: u32, min: i32, max: i32| {
         [
             format!("SET_JOINT_BACKLASH joint={j}, backlash=0"),
+            // The lower limit first, with the upper one task had (0).
+            format!("SET_JOINT_POSITION_LIMITS joint={j}, min={min}, max=0"),
             format!("SET_JOINT_POSITION_LIMITS joint={j}, min={min}, max={max}"),
             format!("SET_JOINT_MAX_FERROR joint={j}, maxFerror=1"),
             format!("SET_JOINT_MIN_FERROR joint={j}, minFerror=1"),
@@ -184,22 +209,27 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     };
     let axis = |a: u32, min: i32, max: i32| {
         [
+            format!("SET_AXIS_POSITION_LIMITS axis={a}, min={min}, max=0"),
             format!("SET_AXIS_POSITION_LIMITS axis={a}, min={min}, max={max}"),
             format!("SET_AXIS_VEL_LIMIT axis={a} vel=4"),
             format!("SET_AXIS_ACC_LIMIT axis={a}, acc=1000"),
             format!("SET_AXIS_LOCKING_JOINT axis={a}, locking_joint=-1"),
         ]
     };
-    let abort = [
-        "JOG_ABORT joint=0",
-        "JOG_ABORT joint=1",
-        "JOG_ABORT joint=2",
-        "ABORT",
-    ];
+    // Every joint number motion can have, as LinuxCNC's task aborts.
+    let abort: Vec<String> = (0..16)
+        .map(|j| format!("JOG_ABORT joint={j}"))
+        .chain(["ABORT".to_string()])
+        .collect();
     let mut want: Vec<String> = [
+        "SET_NUM_JOINTS 3",
+        "SET_NUM_SPINDLES 1",
+        "SET_VEL vel=0, ini_maxvel=1",
         "SET_VEL_LIMIT vel=4",
         "SET_ACC acc=1e+99",
+        "SETUP_ARC_BLENDS",
         "SET_MAX_FEED_OVERRIDE 1",
+        "SETUP_SET_PROBE_ERR_INHIBIT 0 0",
         "SET_WORLD_HOME x=0, y=0, z=0, a=0, b=0, c=0, u=0, v=0, w=0",
     ]
     .map(String::from)
@@ -210,19 +240,54 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     want.extend(axis(0, -40, 40));
     want.extend(axis(1, -40, 40));
     want.extend(axis(2, -4, 4));
-    want.extend(abort.map(String::from));
+    // [SPINDLE_0]: MIN_REVERSE_VELOCITY defaults to the forward one.
+    want.push("SET_SPINDLE_PARAMS, 3.00e+03, 1.00e+02, -2.00e+03, -1.00e+02".into());
+    want.extend(abort.iter().cloned());
     want.extend(["SPINDLE_OFF", "DISABLE", "JOINT_UNHOME joint=-2", "FREE"].map(String::from));
     assert_eq!(start, want);
+    // An abort in e-stop stops the moves only (the spindles are stopped).
+    m.task_ok(&["abort"]);
     m.task_ok(&["estop-reset"]);
     m.task_ok(&["machine-on"]);
     m.task_ok(&["mode", "mdi"]);
     // Each request's commands are answered before its reply: all logged.
     let after = from_line(&log, "FREE", "COORD");
     let mut want = vec!["FREE".to_string()];
-    want.extend(abort.map(String::from));
+    want.extend(abort.iter().cloned());
+    want.extend(abort.iter().cloned());
     want.extend(["SPINDLE_OFF", "ENABLE", "COORD"].map(String::from));
-    want.extend(abort.map(String::from));
+    want.extend(abort.iter().cloned());
     assert_eq!(after, want);
+    m.stop();
+}
+
+/// RS274NGC_STARTUP_CODE runs while the machine is in e-stop: its modal
+/// settings hold, but none of its moves reaches motion (LinuxCNC's
+/// startup-gcode-abort test shows none), so the machine stays where it is.
+#[test]
+fn the_startup_code_moves_nothing_while_the_machine_is_off() {
+    let s = Scratch::new("motion-logger-startup");
+    let (ini, log) = logger_machine(&s);
+    let text = std::fs::read_to_string(&ini).unwrap().replace(
+        "PARAMETER_FILE = sim.var",
+        "PARAMETER_FILE = sim.var\nRS274NGC_STARTUP_CODE = G0 X1",
+    );
+    std::fs::write(&ini, text).unwrap();
+    let m = Machine::start(&ini, "motion-logger-startup");
+    lines_until(&log, "FREE");
+    m.task_ok(&["estop-reset"]);
+    m.task_ok(&["machine-on"]);
+    m.task_ok(&["mode", "mdi"]);
+    m.task_ok(&["mdi", "G0", "Y1"]);
+    m.task_ok(&["-t", "30", "wait-done"]);
+    let y = "SET_LINE x=0, y=1, z=0, a=0, b=0, c=0, u=0, v=0, w=0, id=0, motion_type=1, \
+             vel=4, ini_maxvel=4, acc=1000, turn=-1";
+    let lines = lines_until(&log, y);
+    assert_eq!(
+        lines.iter().filter(|l| l.starts_with("SET_LINE")).count(),
+        1,
+        "{lines:#?}"
+    );
     m.stop();
 }
 

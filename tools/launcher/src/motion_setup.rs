@@ -26,33 +26,24 @@ use crate::LaunchError;
 /// `[TRAJ]` keys the motion controller has no setting for, with why:
 /// read (and shown as `ini.traj_*` pins where LinuxCNC has one), never
 /// sent.
-const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[
-    (
-        &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
-        "the jog speed a GUI starts with; no GUI runs here and every jog names its speed",
-    ),
-    (
-        &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
-        "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
-         jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
-         MAX_LINEAR_ACCELERATION",
-    ),
-    (
-        &[
-            "ARC_BLEND_ENABLE",
-            "ARC_BLEND_FALLBACK_ENABLE",
-            "ARC_BLEND_OPTIMIZATION_DEPTH",
-            "ARC_BLEND_GAP_CYCLES",
-            "ARC_BLEND_RAMP_FREQ",
-        ],
-        "the planner always blends corners with arcs within the G64 tolerance and looks ahead \
-         over the whole queue; it has no switch, depth, gap or ramp setting",
-    ),
-    (
-        &["SPINDLES"],
-        "motmod's num_spindles module parameter sets the spindles",
-    ),
-];
+const TRAJ_READ_ONLY: &[(&[&str], &str)] = &[(
+    &["DEFAULT_LINEAR_ACCELERATION", "DEFAULT_ACCELERATION"],
+    "LinuxCNC's SET_ACC (teleop jogs, and a cap on joint accelerations in free mode); here \
+     jogs keep the [JOINT_n] and [AXIS_L] MAX_ACCELERATION and coordinated moves \
+     MAX_LINEAR_ACCELERATION",
+)];
+
+/// The upper position limit LinuxCNC's task has for a joint or axis
+/// before the INI's: it sets the lower limit first, with this upper one,
+/// then both.
+const TASK_FIRST_UPPER_LIMIT: f64 = 0.0;
+
+/// Whether the lower limit `min` is sent on its own first, as LinuxCNC's
+/// task sends it: only where it is not above [`TASK_FIRST_UPPER_LIMIT`]
+/// (motion refuses reversed limits; LinuxCNC's took them for a moment).
+fn lower_limit_first(min: f64) -> bool {
+    min <= TASK_FIRST_UPPER_LIMIT
+}
 
 /// The motion controller of an instance.
 pub struct MotionLink {
@@ -61,6 +52,8 @@ pub struct MotionLink {
     position_file: Option<std::path::PathBuf>,
     /// `[KINS]JOINTS`: the joints an abort stops one by one.
     joints: usize,
+    /// The spindles motion was told of (`[TRAJ]SPINDLES`).
+    spindles: usize,
 }
 
 /// Motion's mode for task's MANUAL mode: teleop once every joint is
@@ -114,6 +107,7 @@ impl MotionLink {
             client: c.with_timeout(std::time::Duration::from_secs(2)),
             position_file: None,
             joints: 0,
+            spindles: 1,
         })
     }
 
@@ -149,6 +143,9 @@ impl MotionLink {
         }
         for (axis, letter) in axis_letters(ini) {
             self.configure_axis(ini, axis, letter, &mut notes)?;
+        }
+        for spindle in 0..self.spindles {
+            self.configure_spindle(ini, spindle)?;
         }
         self.restore_positions(ini, &mut notes)?;
         Ok(notes)
@@ -215,7 +212,7 @@ impl MotionLink {
         let l = JointLimits::from_ini(ini, j)?;
         let sec = format!("JOINT_{j}");
         let joint = j as i32;
-        let steps: [(Command, &[&str]); 7] = [
+        let mut steps: Vec<(Command, &[&str])> = vec![
             (
                 Command::SetJointBacklash {
                     joint,
@@ -267,6 +264,14 @@ impl MotionLink {
                 &["MAX_ACCELERATION"],
             ),
         ];
+        if lower_limit_first(l.min_limit) {
+            let cmd = Command::SetJointPositionLimits {
+                joint,
+                min: l.min_limit,
+                max: TASK_FIRST_UPPER_LIMIT,
+            };
+            steps.insert(1, (cmd, &["MIN_LIMIT"]));
+        }
         for (cmd, keys) in steps {
             self.setting(ini, &sec, keys, cmd)?;
         }
@@ -312,6 +317,14 @@ impl MotionLink {
         let l = AxisLimits::from_ini(ini, letter)?;
         let sec = format!("AXIS_{}", letter.to_ascii_uppercase());
         let a = axis as i32;
+        if lower_limit_first(l.min_limit) {
+            let cmd = Command::SetAxisPositionLimits {
+                axis: a,
+                min: l.min_limit,
+                max: TASK_FIRST_UPPER_LIMIT,
+            };
+            self.setting(ini, &sec, &["MIN_LIMIT"], cmd)?;
+        }
         let steps: [(Command, &[&str]); 3] = [
             (
                 Command::SetAxisPositionLimits {
@@ -394,10 +407,78 @@ impl MotionLink {
         self.setting(ini, sec, &["OFFSET_AV_RATIO"], cmd)
     }
 
-    /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the world home, the
-    /// coordinated planner's limits and its type.
+    /// `[SPINDLE_n]`: the speed range, rpm (MAX_FORWARD_VELOCITY,
+    /// default no limit; MIN_FORWARD_VELOCITY, default 0; the reverse
+    /// ones default to the forward ones, as in LinuxCNC).
+    fn configure_spindle(&mut self, ini: &Ini, spindle: usize) -> Result<(), LaunchError> {
+        let sec = format!("SPINDLE_{spindle}");
+        let max_fwd = ini.real(&sec, "MAX_FORWARD_VELOCITY")?.unwrap_or(1e99);
+        let min_fwd = ini.real(&sec, "MIN_FORWARD_VELOCITY")?.unwrap_or(0.0);
+        let max_rev = ini.real(&sec, "MAX_REVERSE_VELOCITY")?.unwrap_or(max_fwd);
+        let min_rev = ini.real(&sec, "MIN_REVERSE_VELOCITY")?.unwrap_or(min_fwd);
+        // Reverse speeds are negative (0 - v keeps a 0 positive).
+        let cmd = Command::SetSpindleParams {
+            spindle: spindle as i32,
+            max_pos: max_fwd,
+            min_pos: min_fwd,
+            max_neg: 0.0 - max_rev,
+            min_neg: 0.0 - min_rev,
+        };
+        let keys = [
+            "MAX_FORWARD_VELOCITY",
+            "MIN_FORWARD_VELOCITY",
+            "MAX_REVERSE_VELOCITY",
+            "MIN_REVERSE_VELOCITY",
+        ];
+        self.setting(ini, &sec, &keys, cmd)
+    }
+
+    /// `[KINS]JOINTS` and `[TRAJ]SPINDLES` (default 1): the joints and
+    /// spindles motion uses. More spindles than motmod's num_spindles is
+    /// said in a note and motmod's number used, as LinuxCNC does.
+    fn configure_counts(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        let joints = i32::try_from(self.joints).unwrap_or(i32::MAX);
+        self.setting(ini, "KINS", &["JOINTS"], Command::SetNumJoints { joints })?;
+        let asked = ini.int("TRAJ", "SPINDLES")?.unwrap_or(1);
+        let spindles = i32::try_from(asked).unwrap_or(i32::MAX);
+        self.spindles = match self.send(Command::SetNumSpindles { spindles }) {
+            Ok(()) => asked as usize,
+            Err(Reject::BadSpindleCount { loaded, .. }) if spindles > 0 => {
+                notes.push(format!(
+                    "{}: {spindles} spindles, but motion has {loaded} (motmod's num_spindles): \
+                     {loaded} used",
+                    at(ini, "TRAJ", &["SPINDLES"])
+                ));
+                loaded
+            }
+            Err(source) => {
+                return Err(LaunchError::Motion {
+                    at: at(ini, "TRAJ", &["SPINDLES"]),
+                    source,
+                })
+            }
+        };
+        Ok(())
+    }
+
+    /// `[TRAJ]` (and `[DISPLAY]MAX_FEED_OVERRIDE`): the joints and
+    /// spindles, the default velocity, the coordinated planner's limits,
+    /// arc blends and type, and the world home.
     fn configure_traj(&mut self, ini: &Ini, notes: &mut Vec<String>) -> Result<(), LaunchError> {
+        self.configure_counts(ini, notes)?;
         let traj = TrajSettings::from_ini(ini)?;
+        // LinuxCNC's task gives the planner velocity 0 and the default
+        // velocity as its INI velocity.
+        let vel = Command::SetVel {
+            vel: 0.0,
+            ini_maxvel: traj.default_velocity,
+        };
+        self.setting(
+            ini,
+            "TRAJ",
+            &["DEFAULT_LINEAR_VELOCITY", "DEFAULT_VELOCITY"],
+            vel,
+        )?;
         let vel = Command::SetVelLimit {
             vel: traj.max_velocity,
         };
@@ -411,6 +492,23 @@ impl MotionLink {
             &["MAX_LINEAR_ACCELERATION", "MAX_ACCELERATION"],
             acc,
         )?;
+        // Whole numbers in LinuxCNC; `as` saturates, and motion refuses
+        // a negative one naming the entry.
+        let blends = Command::SetupArcBlends {
+            enable: traj.arc_blend_enable,
+            fallback: traj.arc_blend_fallback_enable,
+            depth: traj.arc_blend_optimization_depth as i32,
+            gap_cycles: traj.arc_blend_gap_cycles as i32,
+            ramp_freq: traj.arc_blend_ramp_freq,
+        };
+        let keys = [
+            "ARC_BLEND_ENABLE",
+            "ARC_BLEND_FALLBACK_ENABLE",
+            "ARC_BLEND_OPTIMIZATION_DEPTH",
+            "ARC_BLEND_GAP_CYCLES",
+            "ARC_BLEND_RAMP_FREQ",
+        ];
+        self.setting(ini, "TRAJ", &keys, blends)?;
         // LinuxCNC takes a jerk below 1 as "no S-curve": the planner falls
         // back to trapezoidal with a message rather than refusing the
         // configuration.
@@ -449,6 +547,12 @@ impl MotionLink {
         let scale = max_feed_override(ini)?;
         let cmd = Command::SetMaxFeedOverride { scale };
         self.setting(ini, "DISPLAY", &["MAX_FEED_OVERRIDE"], cmd)?;
+        let cmd = Command::SetProbeErrInhibit {
+            jog: ini.boolean("TRAJ", "NO_PROBE_JOG_ERROR")?.unwrap_or(false),
+            home: ini.boolean("TRAJ", "NO_PROBE_HOME_ERROR")?.unwrap_or(false),
+        };
+        let keys = ["NO_PROBE_JOG_ERROR", "NO_PROBE_HOME_ERROR"];
+        self.setting(ini, "TRAJ", &keys, cmd)?;
         // Sent with or without [TRAJ]HOME (the origin then), as LinuxCNC's
         // task sends it.
         let home = Pose(traj.home.unwrap_or([0.0; 9]));
@@ -561,13 +665,18 @@ impl MotionLink {
     }
 
     /// Stops every move as LinuxCNC's task does: each joint's jog or
-    /// homing (JOG_ABORT, joint by joint), then the planners (ABORT).
-    /// Every command is sent even if one is refused; the first refusal is
+    /// homing (JOG_ABORT for every joint number motion can have, as
+    /// LinuxCNC's task sends it; motion refuses those beyond the machine's
+    /// joints, which is no fault), then the planners (ABORT). Every
+    /// command is sent even if one is refused; the first refusal is
     /// returned.
     pub fn abort_moves(&mut self) -> Result<(), Reject> {
         let mut first = Ok(());
-        for j in 0..self.joints {
-            let r = self.send(Command::JogAbort { joint: j as i32 });
+        for j in 0..motion::sizes::MAX_JOINTS {
+            let r = match self.send(Command::JogAbort { joint: j as i32 }) {
+                Err(Reject::NoSuchJoint { .. }) if j >= self.joints => Ok(()),
+                r => r,
+            };
             first = first.and(r);
         }
         first.and(self.send(Command::Abort))

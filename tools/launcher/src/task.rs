@@ -332,9 +332,12 @@ impl Task {
                     p.abort();
                 }
                 let _ = self.io.request(&IoRequest::Abort);
+                // In e-stop motion's disable stopped every spindle
+                // already: the moves are aborted, no SPINDLE_OFF is sent
+                // (as LinuxCNC's task in e-stop).
+                let estop = self.state == MachineState::Estop;
                 Some(match &mut self.motion {
-                    Some(m) => m
-                        .abort()
+                    Some(m) => if estop { m.abort_moves() } else { m.abort() }
                         .map(|()| "aborted".to_string())
                         .map_err(|source| LaunchError::MotionRefused { source }),
                     None => Ok("aborted".to_string()),

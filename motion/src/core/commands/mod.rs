@@ -8,14 +8,17 @@
 //! world home); teleop mode's axis jogs and limits are in `teleop`,
 //! coordinated mode's queueing and planner commands in `queue`.
 
-use super::queue::Override;
+use super::queue::{MoveCaps, Override};
+use super::spindle::SpindleLimits;
 use super::*;
 use crate::command::{Command, CommandResult, Quantity, Reject};
 use crate::sizes::{AF_ENABLED, FH_ENABLED, FS_ENABLED, SS_ENABLED};
+use crate::tp::ArcBlends;
 
 mod homing;
 mod joints;
 mod machine;
+mod machine_setup;
 mod settings;
 
 impl MotionCore {
@@ -70,6 +73,9 @@ impl MotionCore {
             } => self.add_comp(joint, nominal, forward, reverse),
             C::ClearJointComp { joint } => self.clear_comp(joint),
             C::SetWorldHome { pose } => self.set_world_home(pose),
+            C::SetNumJoints { joints } => self.set_num_joints(joints),
+            C::SetNumSpindles { spindles } => self.set_num_spindles(spindles),
+            C::SetToolOffset { offset } => self.set_tool_offset(offset),
             // Teleop mode.
             C::AxisJogCont { axis, vel } => self.axis_jog_cont(axis, vel),
             C::AxisJogIncr { axis, vel, offset } => self.axis_jog_incr(axis, vel, offset),
@@ -84,15 +90,27 @@ impl MotionCore {
             C::SetAxisEoffsetRatio { axis, ratio } => self.set_axis_eoffset_ratio(axis, ratio),
             C::SetAxisLockingIndexer { axis, joint } => self.set_axis_locking_indexer(axis, joint),
             // Coordinated mode.
-            C::Line { end, vel, kind, id } => self.queue_line(end, vel, kind, id),
+            C::Line {
+                end,
+                vel,
+                ini_maxvel,
+                acc,
+                kind,
+                id,
+            } => self.queue_line(end, vel, MoveCaps::new(ini_maxvel, acc)?, kind, id),
             C::Circle {
                 end,
                 center,
                 normal,
                 turns,
                 vel,
+                ini_maxvel,
+                acc,
                 id,
-            } => self.queue_circle(end, center, normal, turns, vel, id),
+            } => {
+                let caps = MoveCaps::new(ini_maxvel, acc)?;
+                self.queue_circle(end, (center, normal, turns), vel, caps, id)
+            }
             C::Dwell { seconds, id } => self.queue_dwell(seconds, id),
             C::RigidTap {
                 end,
@@ -107,6 +125,10 @@ impl MotionCore {
                 id,
             } => self.queue_probe(end, vel, probe, id),
             C::ClearProbeFlags => self.clear_probe_flags(),
+            C::SetProbeErrInhibit { jog, home } => {
+                self.probe_err_inhibit = (jog, home);
+                Ok(())
+            }
             C::SetTermCond { cond, tolerance } => self.set_term_cond(cond, tolerance),
             C::Pause => self.pause(),
             C::Resume => self.resume(),
@@ -122,6 +144,20 @@ impl MotionCore {
             C::SetAccLimit { acc } => self.set_traj_limit(Quantity::AccelerationLimit, acc),
             C::SetJerkLimit { jerk } => self.set_traj_limit(Quantity::JerkLimit, jerk),
             C::SetPlannerType { planner } => self.set_planner_type(planner),
+            C::SetVel { vel, ini_maxvel } => self.set_traj_vel(vel, ini_maxvel),
+            C::SetupArcBlends {
+                enable,
+                fallback,
+                depth,
+                gap_cycles,
+                ramp_freq,
+            } => self.set_arc_blends(ArcBlends {
+                enable,
+                fallback,
+                depth,
+                gap_cycles,
+                ramp_freq,
+            }),
             // Spindles.
             C::SpindleOn {
                 spindle,
@@ -130,6 +166,21 @@ impl MotionCore {
             } => self.spindle_on(spindle, speed, wait),
             C::SpindleOff { spindle } => self.spindle_off(spindle),
             C::SpindleScale { spindle, scale } => self.spindle_scale(spindle, scale),
+            C::SetSpindleParams {
+                spindle,
+                max_pos,
+                min_pos,
+                max_neg,
+                min_neg,
+            } => self.set_spindle_params(
+                spindle,
+                SpindleLimits {
+                    max_pos,
+                    min_pos,
+                    max_neg,
+                    min_neg,
+                },
+            ),
             C::SpindleBrake { spindle, on } => self.spindle_brake(spindle, on),
             C::SpindleOrient {
                 spindle,
@@ -157,12 +208,12 @@ impl MotionCore {
     // The value checks the handlers share
 
     pub(super) fn joint_index(&self, joint: i32) -> Result<usize, Reject> {
-        if joint >= 0 && (joint as usize) < self.joints.len() {
+        if joint >= 0 && (joint as usize) < self.joints_in_use {
             Ok(joint as usize)
         } else {
             Err(Reject::NoSuchJoint {
                 joint,
-                num_joints: self.joints.len(),
+                num_joints: self.joints_in_use,
             })
         }
     }

@@ -102,6 +102,11 @@ configuration:
   load-comp JOINT FILE TYPE     load a [JOINT_n]COMP_FILE of COMP_FILE_TYPE
                                 0 or 1 (replaces the table; errors name the
                                 file and line)
+  set-num-joints N              [KINS]JOINTS: the joints commands may name
+                                (1 to motmod's num_joints; the others are
+                                made inactive); only while disabled
+  set-num-spindles N            [TRAJ]SPINDLES likewise (1 to motmod's
+                                num_spindles); only while disabled
 
 coordinated moves (coord mode; END is AXIS=VALUE words, e.g. X=10 Y=-2;
 axes left out stay where the last queued move ends):
@@ -125,6 +130,14 @@ axes left out stay where the last queued move ends):
                                 [TRAJ] MAX_LINEAR_VELOCITY, _ACCELERATION,
                                 _JERK
   planner-type 0|1              trapezoidal or S-curve (PLANNER_TYPE)
+  set-vel VEL INI-MAXVEL        SET_VEL: the trajectory velocity and the INI
+                                (default) velocity, kept; no move is limited
+                                by them
+  arc-blends 0|1 0|1 DEPTH GAP-CYCLES RAMP-FREQ
+                                [TRAJ]ARC_BLEND_ENABLE, _FALLBACK_ENABLE,
+                                _OPTIMIZATION_DEPTH, _GAP_CYCLES, _RAMP_FREQ;
+                                without arc blends G64 runs as G61
+  tool-offset X Y Z A B C U V W the tool offset (G43), on motion.tooloffset.L
   feed-per-rev SPINDLE UNITS    G95: the next feed moves go UNITS per
                                 revolution of SPINDLE (its speed-in); 0 off
   spindle-sync SPINDLE UNITS 0|1
@@ -137,6 +150,9 @@ axes left out stay where the last queued move ends):
                                 G96: the spindle turns at FACTOR / |X -
                                 X-OFFSET| rpm, at most its spindle-on speed
                                 (FACTOR: surface speed / 2 pi); 0 off
+  spindle-params SPINDLE MAX-FORWARD MIN-FORWARD MAX-REVERSE MIN-REVERSE
+                                the speed range, rpm (the reverse ones 0 or
+                                less): SPINDLE-ON speeds are held within it
 ";
 
 /// Sends one command to the motion controller (motmod) of a running HAL

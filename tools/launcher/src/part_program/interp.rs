@@ -148,6 +148,8 @@ impl Interp<'_> {
                 Command::Line {
                     end: Pose(p.end),
                     vel: p.vel,
+                    ini_maxvel: 0.0,
+                    acc: 0.0,
                     kind: LineKind::Feed,
                     id: p.id,
                 },
@@ -185,6 +187,8 @@ impl Interp<'_> {
                 Command::Line {
                     end: Pose(end),
                     vel: 0.0,
+                    ini_maxvel: 0.0,
+                    acc: 0.0,
                     kind: LineKind::Traverse,
                     id,
                 },
@@ -236,6 +240,8 @@ impl Interp<'_> {
             Command::Line {
                 end: Pose(end),
                 vel,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Feed,
                 id,
             },
@@ -356,6 +362,8 @@ impl Interp<'_> {
                 normal,
                 turns,
                 vel,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 id,
             },
             loc,

@@ -44,24 +44,32 @@ fn lines_rapids_and_modes() {
             Command::Line {
                 end: at(1.0, 2.0, 0.0),
                 vel: 0.0,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Traverse,
                 id: 2
             },
             Command::Line {
                 end: at(1.0, 2.0, -1.0),
                 vel: 10.0,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Feed,
                 id: 3
             },
             Command::Line {
                 end: at(3.0, 2.0, -1.0),
                 vel: 10.0,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Feed,
                 id: 4
             },
             Command::Line {
                 end: at(4.0, 3.0, -1.0),
                 vel: 10.0,
+                ini_maxvel: 0.0,
+                acc: 0.0,
                 kind: LineKind::Feed,
                 id: 5
             },
@@ -77,6 +85,8 @@ fn inches_on_a_millimetre_machine_and_the_other_way() {
         [Command::Line {
             end: at(25.4, 0.0, 0.0),
             vel: 25.4,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             kind: LineKind::Feed,
             id: 1
         }]
@@ -101,6 +111,8 @@ fn arcs_by_centre_and_radius_in_every_plane() {
             normal: [0.0, 0.0, 1.0],
             turns: 0,
             vel: 1.0,
+            ini_maxvel: 0.0,
+            acc: 0.0,
             id: 2
         }
     );

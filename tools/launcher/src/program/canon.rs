@@ -19,9 +19,11 @@ use rs274ngc::{
 
 pub use super::op::Op;
 
+mod rates;
 mod spindle;
 use super::user_m::UserMCodes;
 use crate::iocontrol::IoRequest;
+pub use rates::AxisRates;
 
 /// The canon task gives the interpreter.
 #[derive(Debug)]
@@ -81,6 +83,9 @@ pub struct TaskCanon {
     probe: (bool, [f64; 9]),
     /// The user M-code programs task found at start-up.
     pub user_m: UserMCodes,
+    /// Each axis's INI velocity and acceleration limits, from which each
+    /// move's path limits are worked out.
+    pub rates: AxisRates,
 }
 
 impl TaskCanon {
@@ -121,6 +126,7 @@ impl TaskCanon {
             io: motion::channel::IoState::default(),
             user_m: UserMCodes::default(),
             probe: (false, [0.0; 9]),
+            rates: AxisRates::default(),
         }
     }
 
@@ -340,25 +346,43 @@ impl TaskCanon {
             self.sync_feed_mode();
         }
         let goal = self.to_machine(end);
-        let vel = match kind {
-            LineKind::Traverse => 0.0,
-            LineKind::Feed => self.synched_speed().unwrap_or(self.feed_per_second()),
-        };
-        let zero_length = goal
-            .iter()
-            .zip(&self.goal)
-            .all(|(to, from)| (to - from).abs() < ZERO_MOVE);
-        self.goal = goal;
+        self.line_to(goal, kind, line);
+    }
+
+    /// Queues a straight move to `goal` (machine coordinates) with the
+    /// path limits the axes allow along it: a rapid at that speed, a feed
+    /// at its feed rate (a spindle-synchronised one at the speed the
+    /// spindle sets), at most that. A move of no length is not queued
+    /// unless it is spindle-synchronised, as in LinuxCNC's canon.
+    fn line_to(&mut self, goal: [f64; 9], kind: LineKind, line: i32) {
         let synched = kind == LineKind::Feed && self.synched.is_some();
-        if zero_length && !synched {
-            // As LinuxCNC's canon: a move that goes nowhere (`G0` with no
-            // axis word, `G1 X0` at X0) is not sent to motion, unless it
-            // is spindle-synchronised.
-            return;
-        }
+        let rates = match self.rates.straight(&self.goal, &goal) {
+            Some(rates) => rates,
+            // No caps of its own (0): the axes' limits apply.
+            None if synched => rates::MoveRates { vel: 0.0, acc: 0.0 },
+            None => {
+                // `G0` with no axis word, `G1 X0` at X0: nothing to send.
+                self.goal = goal;
+                return;
+            }
+        };
+        let vel = match kind {
+            LineKind::Traverse => rates.vel,
+            LineKind::Feed => {
+                let v = self.synched_speed().unwrap_or(self.feed_per_second());
+                if rates.vel > 0.0 {
+                    v.min(rates.vel)
+                } else {
+                    v
+                }
+            }
+        };
+        self.goal = goal;
         self.ops.push_back(Op::Motion(Command::Line {
             end: motion::Pose(goal),
             vel,
+            ini_maxvel: rates.vel,
+            acc: rates.acc,
             kind,
             id: line,
         }));
@@ -373,10 +397,6 @@ impl TaskCanon {
         }
     }
 }
-
-/// Below this distance on every axis (machine units) a straight move
-/// goes nowhere and is not sent (LinuxCNC's canon uses the same bound).
-const ZERO_MOVE: f64 = 1e-7;
 
 /// Which offset a call sets.
 #[derive(Clone, Copy)]
@@ -448,14 +468,20 @@ impl Canon for TaskCanon {
         } else {
             arc.rotation
         };
+        let center = [c[0], c[1], c[2]];
+        let Some(rates) = self.rates.arc(&self.goal, &goal, center, normal, turns) else {
+            return;
+        };
         self.goal = goal;
         self.sync_feed_mode();
         self.ops.push_back(Op::Motion(Command::Circle {
             end: motion::Pose(goal),
-            center: [c[0], c[1], c[2]],
+            center,
             normal,
             turns,
-            vel: self.feed_per_second(),
+            vel: self.feed_per_second().min(rates.vel),
+            ini_maxvel: rates.vel,
+            acc: rates.acc,
             id: line,
         }));
     }
@@ -558,6 +584,11 @@ impl Canon for TaskCanon {
 
     fn use_tool_length_offset(&mut self, offset: &Pose) {
         self.set_offset(Offset::Tool, offset);
+        // Motion shows it (motion.tooloffset.L) from when the moves
+        // before have ended, as LinuxCNC's task sends SET_OFFSET.
+        self.after_moves(Command::SetToolOffset {
+            offset: motion::Pose(self.tool_offset),
+        });
     }
     fn select_tool(&mut self, tool: i32) {
         self.ops.push_back(Op::Io(IoRequest::Prepare { tool }));
@@ -577,19 +608,16 @@ impl Canon for TaskCanon {
         if let Some(position) = self.tool_change_position {
             // As LinuxCNC's canon: a traverse to the change position in
             // machine coordinates, before the load, even when the tool is
-            // in the spindle already. The interpreter takes the new
-            // position when it synchronises after M6.
-            for (goal, p) in self.goal.iter_mut().zip(position) {
+            // in the spindle already (none when the machine is there).
+            // The interpreter takes the new position when it synchronises
+            // after M6.
+            let mut goal = self.goal;
+            for (g, p) in goal.iter_mut().zip(position) {
                 if let Some(p) = p {
-                    *goal = p;
+                    *g = p;
                 }
             }
-            self.ops.push_back(Op::Motion(Command::Line {
-                end: motion::Pose(self.goal),
-                vel: 0.0,
-                kind: LineKind::Traverse,
-                id: self.line,
-            }));
+            self.line_to(goal, LineKind::Traverse, self.line);
         }
         self.ops.push_back(Op::Io(IoRequest::Load));
     }

@@ -87,6 +87,7 @@ fn an_xz_arc_turns_about_y_and_feeds_in_units_per_second() {
             turns,
             vel,
             id,
+            ..
         })) => {
             assert_eq!(&end.0[..3], &[2.0, 5.0, 1.0]);
             assert_eq!(*center, [1.0, 5.0, 0.0]);
@@ -300,6 +301,7 @@ fn a_synchronised_feed_goes_to_motion_between_spindle_syncs() {
             vel,
             kind: LineKind::Feed,
             id: 7,
+            ..
         }) => {
             assert!((end.0[2] + 25.4).abs() < 1e-9);
             assert!((vel - 2.54 * 5.0).abs() < 1e-9, "{vel}");
@@ -466,6 +468,10 @@ fn feed_per_revolution_goes_to_motion_before_the_feed_moves() {
 #[test]
 fn m6_traverses_to_the_tool_change_position_before_the_load() {
     let mut c = TaskCanon::new(1.0, 0b111);
+    c.rates = AxisRates {
+        vel: [4.0; 9],
+        acc: [1000.0; 9],
+    };
     c.straight_traverse(3, &p(5.0, 6.0, 7.0));
     c.ops.clear();
     // Without a change position the load comes alone.
@@ -489,9 +495,19 @@ fn m6_traverses_to_the_tool_change_position_before_the_load() {
     c.line = 9;
     c.change_tool(0);
     match c.ops.pop_front() {
-        Some(Op::Motion(Command::Line { end, vel, kind, id })) => {
+        Some(Op::Motion(Command::Line {
+            end,
+            vel,
+            ini_maxvel,
+            acc: _,
+            kind,
+            id,
+        })) => {
             assert_eq!(&end.0[..3], &[0.5, -1.0, 2.0]);
-            assert_eq!((vel, kind, id), (0.0, LineKind::Traverse, 9));
+            assert_eq!((kind, id), (LineKind::Traverse, 9));
+            // From (5, 6, 7): Y's 7 units at 4 u/s set the time.
+            assert_eq!(vel, ini_maxvel);
+            assert!((vel - 94.25f64.sqrt() / 1.75).abs() < 1e-9, "{vel}");
         }
         other => panic!("not a traverse: {other:?}"),
     }
@@ -509,4 +525,54 @@ fn a_move_that_goes_nowhere_is_not_sent() {
     assert_eq!(line_end(c.ops.back())[0], 1.0);
     c.straight_traverse(4, &p(1.0, 0.0, 0.0));
     assert_eq!(c.ops.len(), 1, "{:?}", c.ops);
+}
+
+/// What LinuxCNC's canon sends for each move: the path speed and
+/// acceleration the axes' limits allow along it (`ini_maxvel`, `acc`), a
+/// rapid at that speed, a feed at its feed rate up to it; no move of no
+/// length.
+#[test]
+fn moves_carry_the_path_limits_of_their_axes_and_empty_moves_are_dropped() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.rates = AxisRates {
+        vel: [4.0, 2.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0, 4.0],
+        acc: [1000.0; 9],
+    };
+    let rates = |op: Option<Op>| match op {
+        Some(Op::Motion(Command::Line {
+            vel,
+            ini_maxvel,
+            acc,
+            ..
+        })) => (vel, ini_maxvel, acc),
+        other => panic!("not a line: {other:?}"),
+    };
+    c.straight_traverse(1, &p(3.0, 4.0, 0.0));
+    // Y's 4 units at 2 u/s take 2 s for a path 5 long.
+    assert_eq!(rates(c.ops.pop_front()), (2.5, 2.5, 1250.0));
+    c.set_feed_rate(60.0);
+    c.straight_feed(2, &p(3.0, 0.0, 0.0));
+    assert_eq!(rates(c.ops.pop_front()), (1.0, 2.0, 1000.0));
+    c.set_feed_rate(6000.0);
+    c.straight_feed(3, &p(6.0, 0.0, 0.0));
+    assert_eq!(rates(c.ops.pop_front()), (4.0, 4.0, 1000.0));
+    c.straight_traverse(4, &p(6.0, 0.0, 0.0));
+    c.straight_feed(5, &p(6.0, 0.0, 0.0));
+    assert!(c.ops.is_empty(), "{:?}", c.ops);
+}
+
+/// G43 and G49 give motion the tool offset (machine units) once the
+/// moves before have ended, as LinuxCNC's task sends SET_OFFSET.
+#[test]
+fn the_tool_length_offset_goes_to_motion_after_the_moves() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.use_length_units(Units::Inches);
+    c.use_tool_length_offset(&p(0.0, 0.0, 0.5));
+    match c.ops.pop_back() {
+        Some(Op::AfterMoves {
+            command: Command::SetToolOffset { offset },
+            ..
+        }) => assert_eq!(offset.0, [0.0, 0.0, 12.7, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        other => panic!("not a tool offset: {other:?}"),
+    }
 }

@@ -3,13 +3,15 @@
 //! `[EMCIO]` tool change options, `[DISPLAY]PROGRAM_PREFIX`, the
 //! directories searched for user M-codes (`[RS274NGC]USER_M_PATH`),
 //! `[TRAJ]LINEAR_UNITS` and `SPINDLES`, the axes of `[TRAJ]COORDINATES`
-//! and whether AUTO needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
+//! with their `[AXIS_L]` velocity and acceleration limits, and whether
+//! AUTO needs homed joints (`[TRAJ]NO_FORCE_HOMING`).
 
 use std::path::{Path, PathBuf};
 
 use hal_lang::ini::Ini;
 use rs274ngc::Config;
 
+use super::canon::AxisRates;
 use crate::config::axis_letters;
 
 /// What the program side of task needs from the INI file.
@@ -39,6 +41,10 @@ pub struct ProgramConfig {
     /// LinuxCNC's task looks): G-code the interpreter runs each time it
     /// starts, before anything else. None when unset or blank.
     pub startup_code: Option<String>,
+    /// Each axis's `[AXIS_L]MAX_VELOCITY` and `MAX_ACCELERATION`, from
+    /// which each move's path limits are worked out (no limit for an
+    /// axis without them).
+    pub axis_rates: AxisRates,
 }
 
 /// `[EMCIO]TOOL_CHANGE_POSITION` read as LinuxCNC reads it: 3, 6 or 9
@@ -148,6 +154,14 @@ impl ProgramConfig {
                 .filter(|v| *v > 0.0)
                 .unwrap_or(1.0),
         };
+        let mut axis_rates = AxisRates::default();
+        for &(axis, letter) in &axis_letters(ini) {
+            // A bad value is refused when motion is configured.
+            if let Ok(l) = crate::config::AxisLimits::from_ini(ini, letter) {
+                axis_rates.vel[axis] = l.max_velocity;
+                axis_rates.acc[axis] = l.max_acceleration;
+            }
+        }
         let mut axis_mask = axis_letters(ini)
             .iter()
             .fold(0u32, |m, (axis, _)| m | (1 << axis));
@@ -158,6 +172,7 @@ impl ProgramConfig {
             interp,
             user_per_mm,
             axis_mask,
+            axis_rates,
             no_force_homing: flag(ini, "TRAJ", "NO_FORCE_HOMING"),
             user_m_dirs,
             io_error: ini

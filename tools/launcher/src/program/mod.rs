@@ -146,6 +146,7 @@ impl Program {
         let mut canon = TaskCanon::new(config.user_per_mm, config.axis_mask);
         canon.user_m = user_m::UserMCodes::scan(&config.user_m_dirs);
         canon.tool_change_position = config.tool_change_position;
+        canon.rates = config.axis_rates;
         Program {
             canon,
             interp: Interp::new(config.interp),
@@ -414,13 +415,11 @@ impl Program {
         self.canon.optional_stop = optional_stop;
         self.abandoned.reap();
         if self.state == RunState::Idle {
-            if std::mem::take(&mut self.startup_due) {
-                // As LinuxCNC's task: the start-up code runs as the
-                // interpreter's first line; a move in it goes to motion
-                // like any other (and is refused while in e-stop).
-                if let Some(code) = &self.startup_code {
-                    self.mdi.push_front(code.clone());
-                }
+            // As LinuxCNC's task: the start-up code runs as the
+            // interpreter's first line.
+            let startup = std::mem::take(&mut self.startup_due) && self.startup_code.is_some();
+            if let (true, Some(code)) = (startup, &self.startup_code) {
+                self.mdi.push_front(code.clone());
             }
             let text = self.mdi.pop_front()?;
             if let Err(e) = self.synch(motion, io) {
@@ -431,6 +430,12 @@ impl Program {
             self.mdi_text.clone_from(&text);
             if let Err(e) = self.execute_mdi(&text) {
                 return Some(self.fail(e));
+            }
+            // While the machine is off its modal settings hold but it
+            // moves nothing: LinuxCNC's task sends none of its moves,
+            // dwells or outputs then.
+            if startup && !motion.status().is_some_and(|s| s.enabled) {
+                self.canon.drop_actions_from(0);
             }
         }
         if self.io_busy {
