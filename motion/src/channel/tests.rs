@@ -555,6 +555,18 @@ fn all_rejects() -> Vec<Reject> {
         Reject::IndexerNotAlone { axis: 3 },
         Reject::IndexerJog { axis: 5, joint: 7 },
         Reject::RigidTapNotSynchronised,
+        Reject::BadJointCount {
+            count: 12,
+            loaded: 3,
+        },
+        Reject::BadSpindleCount {
+            count: 0,
+            loaded: 1,
+        },
+        Reject::SpindleRangeReversed {
+            low: 500.0,
+            high: 100.0,
+        },
     ];
     for code in 1..=9 {
         v.push(Reject::BadHomingConfig {
