@@ -101,14 +101,15 @@ commands! {
             /// The scale, clamped to 0..=1.
             scale: f64,
         } = 14, cli basic "scale" { scale: num(0, "VALUE") };
-        /// LinuxCNC's legacy ENABLE_AMPLIFIER: refused, because a joint's
-        /// amplifier follows ENABLE/DISABLE and has no side channel
-        /// (reference "→ Design").
+        /// LinuxCNC's ENABLE_AMPLIFIER, sent by task after ENABLE for each
+        /// joint: taken and does nothing, as in LinuxCNC 2.9, because a
+        /// joint's amplifier follows ENABLE/DISABLE.
         EnableAmplifier {
             /// The joint number.
             [slot] joint: i32,
         } = 15, cli basic "amp-enable" { joint: int(0, "JOINT") };
-        /// LinuxCNC's legacy DISABLE_AMPLIFIER: refused like
+        /// LinuxCNC's DISABLE_AMPLIFIER, sent by task before DISABLE for
+        /// each joint: taken and does nothing, like
         /// [`Command::EnableAmplifier`].
         DisableAmplifier {
             /// The joint number.

@@ -85,9 +85,6 @@ coded_enum! {
 coded_enum! {
     /// What a [`Reject::Unsupported`](super::Reject::Unsupported) refuses.
     pub enum Feature {
-        /// A joint's amplifier follows ENABLE/DISABLE and
-        /// JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command.
-        AmplifierCommand = 0 => "a joint's amplifier follows ENABLE/DISABLE and JOINT_ACTIVATE/DEACTIVATE; there is no separate amplifier command",
         /// Teleop and coordinated modes need inverse kinematics.
         WorldModeWithoutInverse = 1 => "teleop and coordinated modes need inverse kinematics",
     }

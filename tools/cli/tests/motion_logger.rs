@@ -243,7 +243,10 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     // [SPINDLE_0]: MIN_REVERSE_VELOCITY defaults to the forward one.
     want.push("SET_SPINDLE_PARAMS, 3.00e+03, 1.00e+02, -2.00e+03, -1.00e+02".into());
     want.extend(abort.iter().cloned());
-    want.extend(["SPINDLE_OFF", "DISABLE", "JOINT_UNHOME joint=-2", "FREE"].map(String::from));
+    // Each joint's DISABLE_AMPLIFIER before DISABLE, as LinuxCNC's task.
+    want.push("SPINDLE_OFF".into());
+    want.extend(["DISABLE_AMPLIFIER"; 3].map(String::from));
+    want.extend(["DISABLE", "JOINT_UNHOME joint=-2", "FREE"].map(String::from));
     assert_eq!(start, want);
     // An abort in e-stop stops the moves only (the spindles are stopped).
     m.task_ok(&["abort"]);
@@ -255,7 +258,9 @@ fn task_sends_linuxcnc_startup_and_state_sequences() {
     let mut want = vec!["FREE".to_string()];
     want.extend(abort.iter().cloned());
     want.extend(abort.iter().cloned());
-    want.extend(["SPINDLE_OFF", "ENABLE", "COORD"].map(String::from));
+    want.extend(["SPINDLE_OFF", "ENABLE"].map(String::from));
+    want.extend(["ENABLE_AMPLIFIER"; 3].map(String::from));
+    want.push("COORD".into());
     want.extend(abort.iter().cloned());
     assert_eq!(after, want);
     m.stop();

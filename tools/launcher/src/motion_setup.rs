@@ -654,14 +654,30 @@ impl MotionLink {
         })
     }
 
-    /// Machine on: amplifiers enabled.
+    /// Machine on: amplifiers enabled. ENABLE, then ENABLE_AMPLIFIER for
+    /// each joint, as LinuxCNC's task sends them (motion takes those and
+    /// does nothing more: the amplifiers follow ENABLE).
     pub fn enable(&mut self) -> Result<(), Reject> {
-        self.send(Command::Enable)
+        self.send(Command::Enable)?;
+        for joint in 0..self.joints {
+            self.send(Command::EnableAmplifier {
+                joint: joint as i32,
+            })?;
+        }
+        Ok(())
     }
 
     /// Machine off or e-stop: planners stopped, amplifiers off.
+    /// DISABLE_AMPLIFIER for each joint, then DISABLE, as LinuxCNC's task
+    /// sends them; DISABLE is sent even if one of the others is refused.
     pub fn disable(&mut self) -> Result<(), Reject> {
-        self.send(Command::Disable)
+        let mut first = Ok(());
+        for joint in 0..self.joints {
+            first = first.and(self.send(Command::DisableAmplifier {
+                joint: joint as i32,
+            }));
+        }
+        self.send(Command::Disable).and(first)
     }
 
     /// Stops every move as LinuxCNC's task does: each joint's jog or

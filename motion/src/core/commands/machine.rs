@@ -2,7 +2,7 @@
 //! amplifier commands (the mode requests are in `modes`).
 
 use super::super::*;
-use crate::command::{CommandResult, Feature, Reject};
+use crate::command::{CommandResult, Reject};
 
 impl MotionCore {
     /// ABORT: stops every free-mode move and queued motion, ends homing
@@ -36,12 +36,13 @@ impl MotionCore {
         Ok(())
     }
 
-    /// ENABLE_AMPLIFIER and DISABLE_AMPLIFIER: refused (an amplifier
-    /// follows the enable state), after the joint number is checked.
+    /// ENABLE_AMPLIFIER and DISABLE_AMPLIFIER: taken and nothing done
+    /// once the joint number is checked, as LinuxCNC 2.9's motion does.
+    /// A joint's amplifier follows ENABLE/DISABLE and the joint's active
+    /// state, so an amplifier can never be off while motion runs its
+    /// joint (that would skip its limit and following-error checks).
     pub(in crate::core) fn amplifier(&mut self, joint: i32) -> CommandResult {
         self.joint_index(joint)?;
-        Err(Reject::Unsupported {
-            what: Feature::AmplifierCommand,
-        })
+        Ok(())
     }
 }
