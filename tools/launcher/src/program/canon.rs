@@ -527,6 +527,11 @@ impl Canon for TaskCanon {
         if mode == 1 && self.spindle_mut(spindle).is_none() {
             self.feed_per_rev = None;
         }
+        if mode == 0 {
+            // As LinuxCNC's canon: units per minute (G94, and the end of
+            // a program) ends any synchronisation with the spindle.
+            self.stop_synch();
+        }
     }
     fn set_motion_control_mode(&mut self, mode: MotionMode, tolerance: f64) {
         self.control = (mode, tolerance);

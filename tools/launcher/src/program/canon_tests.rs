@@ -447,9 +447,14 @@ fn feed_per_revolution_goes_to_motion_before_the_feed_moves() {
             _ => None,
         })
         .collect();
-    // Once before the first feed move (not the rapid), off before G94's.
-    assert_eq!(per_rev.len(), 2, "{:?}", c.ops);
-    assert!((per_rev[0] - 0.254).abs() < 1e-12 && per_rev[1] == 0.0);
+    // Once before the first feed move (not the rapid); G94 ends it as
+    // LinuxCNC's canon does, by ending the spindle synchronisation.
+    assert_eq!(per_rev.len(), 1, "{:?}", c.ops);
+    assert!((per_rev[0] - 0.254).abs() < 1e-12);
+    assert!(matches!(
+        c.ops.get(4),
+        Some(Op::Motion(Command::SpindleSync { per_rev, .. })) if *per_rev == 0.0
+    ));
     assert!(matches!(
         c.ops.get(1),
         Some(Op::Motion(Command::SetFeedPerRev { .. }))
@@ -575,4 +580,25 @@ fn the_tool_length_offset_goes_to_motion_after_the_moves() {
         }) => assert_eq!(offset.0, [0.0, 0.0, 12.7, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
         other => panic!("not a tool offset: {other:?}"),
     }
+}
+
+#[test]
+fn units_per_minute_ends_the_spindle_synchronisation() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_spindle_speed(0, 600.0);
+    c.start_speed_feed_synch(0, 0.1, false);
+    c.set_feed_mode(0, 0);
+    assert!(
+        matches!(
+            c.ops.back(),
+            Some(Op::Motion(Command::SpindleSync {
+                per_rev,
+                velocity_mode: false,
+                ..
+            })) if *per_rev == 0.0
+        ),
+        "{:?}",
+        c.ops
+    );
+    assert!(c.synched.is_none());
 }
