@@ -72,6 +72,21 @@ mod trapezoid;
 use std::collections::VecDeque;
 
 pub use budget::{AxisLimits, PlannerType, TrajLimits};
+
+/// The path length the planner gives an arc from `start` to `end` about
+/// the axis through `center` along `normal`, `turns` as SET_CIRCLE has
+/// them (a helix or spiral included); `None` for an arc the planner
+/// refuses (no radius, no normal). For senders that work out a move's
+/// own limits from its length, as LinuxCNC's canon does.
+pub fn arc_length(
+    start: &Pose,
+    end: &Pose,
+    center: [f64; 3],
+    normal: [f64; 3],
+    turns: i32,
+) -> Option<f64> {
+    geom::arc_move(start, end, center, normal, turns).map(|a| geom::Path::Arc(a).length())
+}
 pub use indexer::{IndexerFault, IndexerPhase, INDEXER_TIMEOUT};
 pub use rigid_tap::TapState;
 pub use segment::{FeedPerRev, SegmentKind};

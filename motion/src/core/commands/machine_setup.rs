@@ -5,18 +5,23 @@
 use super::super::*;
 use crate::command::{CommandResult, Quantity, Reject};
 
+/// `count` as a number of joints or spindles motion was loaded with
+/// `loaded` of: 1 to `loaded`, else `None`.
+fn count_within(count: i32, loaded: usize) -> Option<usize> {
+    usize::try_from(count)
+        .ok()
+        .filter(|&n| (1..=loaded).contains(&n))
+}
+
 impl MotionCore {
     /// SET_NUM_JOINTS: commands may name joints `0..joints` only; the
     /// joints above are made inactive. Only while disabled.
     pub(in crate::core) fn set_num_joints(&mut self, joints: i32) -> CommandResult {
         let loaded = self.joints.len();
-        let n = usize::try_from(joints)
-            .ok()
-            .filter(|&n| (1..=loaded).contains(&n))
-            .ok_or(Reject::BadJointCount {
-                count: joints,
-                loaded,
-            })?;
+        let n = count_within(joints, loaded).ok_or(Reject::BadJointCount {
+            count: joints,
+            loaded,
+        })?;
         if self.enabled {
             return Err(Reject::MustBeDisabled);
         }
@@ -39,13 +44,10 @@ impl MotionCore {
     /// disabled.
     pub(in crate::core) fn set_num_spindles(&mut self, spindles: i32) -> CommandResult {
         let loaded = self.cfg.num_spindles;
-        let n = usize::try_from(spindles)
-            .ok()
-            .filter(|&n| (1..=loaded).contains(&n))
-            .ok_or(Reject::BadSpindleCount {
-                count: spindles,
-                loaded,
-            })?;
+        let n = count_within(spindles, loaded).ok_or(Reject::BadSpindleCount {
+            count: spindles,
+            loaded,
+        })?;
         if self.enabled {
             return Err(Reject::MustBeDisabled);
         }

@@ -188,15 +188,12 @@ fn make_buttons(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<Vec<B
     Ok(buttons)
 }
 
-/// The world axes' letters, X to W.
-const AXIS_LETTERS: [char; 9] = ['x', 'y', 'z', 'a', 'b', 'c', 'u', 'v', 'w'];
-
 /// LinuxCNC's halui makes the input pins of every axis letter, X to W,
 /// whatever the machine's axes (its status pins only for the machine's
 /// own): a pendant's HAL file that nets `halui.axis.a.plus` loads on a
 /// machine without A. On such an axis the pins do nothing.
 fn absent_axis_inputs(comp: &Component, layout: &Layout<'_>) -> hal_core::Result<()> {
-    let absent = AXIS_LETTERS
+    let absent = motion::kins::AXIS_LETTERS
         .iter()
         .filter(|l| !layout.axes.iter().any(|(_, letter)| letter == *l));
     for letter in absent {

@@ -388,10 +388,10 @@ impl IoControl {
             IoRequest::SetNumber { tool } => {
                 let slot = self.slot_for(tool)?;
                 self.load_slot(slot);
-                self.tool_in_spindle = if !self.table.random && slot == 0 {
-                    0
-                } else if self.table.random {
+                self.tool_in_spindle = if self.table.random {
                     random_spindle_tool(&self.table)
+                } else if slot == 0 {
+                    0
                 } else {
                     self.table.tool(0).map_or(0, |t| t.number)
                 };

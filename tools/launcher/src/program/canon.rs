@@ -166,6 +166,7 @@ impl TaskCanon {
                     cmd,
                     Command::Line { .. }
                         | Command::Circle { .. }
+                        | Command::RigidTap { .. }
                         | Command::Dwell { .. }
                         | Command::Probe { .. }
                         | Command::SetDout { .. }
@@ -268,8 +269,7 @@ impl TaskCanon {
         let synched = kind == LineKind::Feed && self.synched.is_some();
         let rates = match self.rates.straight(&self.goal, &goal) {
             Some(rates) => rates,
-            // No caps of its own (0): the axes' limits apply.
-            None if synched => rates::MoveRates { vel: 0.0, acc: 0.0 },
+            None if synched => rates::MoveRates::UNCAPPED,
             None => {
                 // `G0` with no axis word, `G1 X0` at X0: nothing to send.
                 self.goal = goal;
@@ -278,14 +278,7 @@ impl TaskCanon {
         };
         let vel = match kind {
             LineKind::Traverse => rates.vel,
-            LineKind::Feed => {
-                let v = self.synched_speed().unwrap_or(self.feed_per_second());
-                if rates.vel > 0.0 {
-                    v.min(rates.vel)
-                } else {
-                    v
-                }
-            }
+            LineKind::Feed => rates.cap(self.synched_speed().unwrap_or(self.feed_per_second())),
         };
         self.goal = goal;
         self.ops.push_back(Op::Motion(Command::Line {
@@ -379,9 +372,13 @@ impl Canon for TaskCanon {
             arc.rotation
         };
         let center = [c[0], c[1], c[2]];
-        let Some(rates) = self.rates.arc(&self.goal, &goal, center, normal, turns) else {
-            return;
-        };
+        // An arc motion cannot make goes to it without caps of its own
+        // (0), so that motion refuses it, naming the line, rather than
+        // task dropping it.
+        let rates = self
+            .rates
+            .arc(&self.goal, &goal, center, normal, turns)
+            .unwrap_or(rates::MoveRates::UNCAPPED);
         self.goal = goal;
         self.sync_feed_mode();
         self.ops.push_back(Op::Motion(Command::Circle {
@@ -389,7 +386,7 @@ impl Canon for TaskCanon {
             center,
             normal,
             turns,
-            vel: self.feed_per_second().min(rates.vel),
+            vel: rates.cap(self.feed_per_second()),
             ini_maxvel: rates.vel,
             acc: rates.acc,
             id: line,

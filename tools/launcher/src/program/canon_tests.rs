@@ -602,3 +602,18 @@ fn units_per_minute_ends_the_spindle_synchronisation() {
     );
     assert!(c.synched.is_none());
 }
+
+#[test]
+fn a_skipped_rigid_tap_is_dropped_with_the_other_moves() {
+    let mut c = TaskCanon::new(1.0, 0b111);
+    c.set_spindle_speed(0, 600.0);
+    c.start_speed_feed_synch(0, 0.1, false);
+    let from = c.ops.len();
+    c.rigid_tap(4, (0.0, 0.0, -1.0), 1.0);
+    assert!(matches!(
+        c.ops.back(),
+        Some(Op::Motion(Command::RigidTap { .. }))
+    ));
+    c.drop_actions_from(from);
+    assert_eq!(c.ops.len(), from, "{:?}", c.ops);
+}

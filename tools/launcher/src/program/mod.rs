@@ -417,8 +417,10 @@ impl Program {
         if self.state == RunState::Idle {
             // As LinuxCNC's task: the start-up code runs as the
             // interpreter's first line.
-            let startup = std::mem::take(&mut self.startup_due) && self.startup_code.is_some();
-            if let (true, Some(code)) = (startup, &self.startup_code) {
+            let startup = std::mem::take(&mut self.startup_due)
+                .then(|| self.startup_code.clone())
+                .flatten();
+            if let Some(code) = &startup {
                 self.mdi.push_front(code.clone());
             }
             let text = self.mdi.pop_front()?;
@@ -434,7 +436,7 @@ impl Program {
             // While the machine is off its modal settings hold but it
             // moves nothing: LinuxCNC's task sends none of its moves,
             // dwells or outputs then.
-            if startup && !motion.status().is_some_and(|s| s.enabled) {
+            if startup.is_some() && !motion.status().is_some_and(|s| s.enabled) {
                 self.canon.drop_actions_from(0);
             }
         }

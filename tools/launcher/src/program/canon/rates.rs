@@ -39,6 +39,20 @@ pub struct MoveRates {
     pub acc: f64,
 }
 
+impl MoveRates {
+    /// No caps of the move's own (motion's 0): the axes' limits apply.
+    pub const UNCAPPED: MoveRates = MoveRates { vel: 0.0, acc: 0.0 };
+
+    /// A speed asked for, held to the move's own cap if it has one.
+    pub fn cap(&self, vel: f64) -> f64 {
+        if self.vel > 0.0 {
+            vel.min(self.vel)
+        } else {
+            vel
+        }
+    }
+}
+
 fn length(d: &[f64]) -> f64 {
     d.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
@@ -60,9 +74,10 @@ impl AxisRates {
 
     /// The rates of an arc from `from` to `to` about the axis through
     /// `center` (XYZ) along the unit vector `normal`, `turns` as motion's
-    /// SET_CIRCLE has it. The two axes of its plane are counted with the
-    /// whole path length (either may move that fast on the way round);
-    /// the others with their travel.
+    /// SET_CIRCLE has it, with the length motion's planner gives it. The
+    /// two axes of its plane are counted with the whole path length
+    /// (either may move that fast on the way round); the others with
+    /// their travel. `None` for an arc motion refuses or of no length.
     pub fn arc(
         &self,
         from: &[f64; 9],
@@ -71,37 +86,13 @@ impl AxisRates {
         normal: [f64; 3],
         turns: i32,
     ) -> Option<MoveRates> {
-        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-        let radial = |p: &[f64; 9]| {
-            let v = [p[0] - center[0], p[1] - center[1], p[2] - center[2]];
-            let h = dot(v, normal);
-            [
-                v[0] - h * normal[0],
-                v[1] - h * normal[1],
-                v[2] - h * normal[2],
-            ]
-        };
-        let (r0, r1) = (radial(from), radial(to));
-        let cross = [
-            r0[1] * r1[2] - r0[2] * r1[1],
-            r0[2] * r1[0] - r0[0] * r1[2],
-            r0[0] * r1[1] - r0[1] * r1[0],
-        ];
-        // Counter-clockwise about the normal from r0 to r1, in 0..2π.
-        let mut angle = dot(cross, normal).atan2(dot(r0, r1));
-        if angle <= 0.0 {
-            angle += std::f64::consts::TAU;
-        }
-        let (angle, extra) = if turns >= 0 {
-            (angle, turns)
-        } else {
-            (std::f64::consts::TAU - angle, -1 - turns)
-        };
-        let angle = angle + std::f64::consts::TAU * f64::from(extra);
-        let radius = 0.5 * (dot(r0, r0).sqrt() + dot(r1, r1).sqrt());
-        let step = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
-        let helix = dot(step, normal).abs();
-        let len = (radius * angle).hypot(helix);
+        let len = motion::tp::arc_length(
+            &motion::Pose(*from),
+            &motion::Pose(*to),
+            center,
+            normal,
+            turns,
+        )?;
         if len.is_nan() || len < TINY {
             return None;
         }
